@@ -1,0 +1,119 @@
+//! Full-screen passes (lighting, tonemap): one triangle, inputs read with texelFetch.
+
+use std::sync::Arc;
+
+use combustion_vk::{
+    vk, DescriptorSetLayout, Device, GraphicsPipelineDesc, Image, Pipeline, PipelineLayout,
+    ShaderCompiler, ShaderModule, ShaderStage,
+};
+
+use crate::RenderError;
+
+/// A full-screen pass: a fragment shader, its descriptor set layout and push constants.
+pub struct FullscreenPass {
+    pub(crate) set_layout: DescriptorSetLayout,
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+    push_size: u32,
+}
+
+impl FullscreenPass {
+    pub fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        fragment_shader: &str,
+        bindings: &[(u32, vk::DescriptorType)],
+        push_size: u32,
+        output_format: vk::Format,
+    ) -> Result<Self, RenderError> {
+        let bindings: Vec<_> = bindings
+            .iter()
+            .map(|&(b, ty)| (b, ty, vk::ShaderStageFlags::FRAGMENT))
+            .collect();
+        let set_layout = DescriptorSetLayout::new(device, &bindings)?;
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::FRAGMENT,
+            offset: 0,
+            size: push_size,
+        }];
+        let layout = PipelineLayout::new(device, &[&set_layout], &push)?;
+        let vertex = ShaderModule::new(
+            device,
+            &compiler.compile("fullscreen.vert", ShaderStage::Vertex, &[])?,
+            ShaderStage::Vertex,
+        )?;
+        let fragment = ShaderModule::new(
+            device,
+            &compiler.compile(fragment_shader, ShaderStage::Fragment, &[])?,
+            ShaderStage::Fragment,
+        )?;
+        let pipeline = Pipeline::graphics(
+            device,
+            &GraphicsPipelineDesc {
+                vertex: &vertex,
+                fragment: &fragment,
+                layout: &layout,
+                vertex_bindings: &[],
+                vertex_attributes: &[],
+                color_formats: &[output_format],
+                depth_format: None,
+                cull_mode: vk::CullModeFlags::NONE,
+            },
+        )?;
+        Ok(Self {
+            set_layout,
+            layout,
+            pipeline,
+            push_size,
+        })
+    }
+
+    /// Records the pass writing `output` (in COLOR_ATTACHMENT_OPTIMAL).
+    pub fn record(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        output: &Image,
+        set: vk::DescriptorSet,
+        push: &[u8],
+    ) {
+        debug_assert_eq!(push.len() as u32, self.push_size);
+        let extent = output.extent();
+        let attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(output.view())
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let rendering = vk::RenderingInfo::default()
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent,
+            })
+            .layer_count(1)
+            .color_attachments(&attachment);
+        let raw = device.raw();
+        // SAFETY: recording into a command buffer in the recording state.
+        unsafe {
+            raw.cmd_begin_rendering(cmd, &rendering);
+            crate::set_viewport_and_scissor(raw, cmd, extent);
+            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
+            raw.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw(),
+                0,
+                &[set],
+                &[],
+            );
+            raw.cmd_push_constants(
+                cmd,
+                self.layout.raw(),
+                vk::ShaderStageFlags::FRAGMENT,
+                0,
+                push,
+            );
+            raw.cmd_draw(cmd, 3, 1, 0, 0);
+            raw.cmd_end_rendering(cmd);
+        }
+    }
+}

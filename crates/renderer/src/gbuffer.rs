@@ -1,0 +1,326 @@
+//! The G-buffer: its layout, its targets, the pass that fills it, and the CPU decoding
+//! of its texels (used by the parity tests). The layout is documented in docs/gbuffer.md.
+
+use std::sync::Arc;
+
+use combustion_vk::{
+    vk, DescriptorSetLayout, Device, GraphicsPipelineDesc, Image, ImageDesc, Pipeline,
+    PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
+};
+
+use crate::gpu_types::GBufferPush;
+use crate::scene_upload::GpuScene;
+use crate::RenderError;
+
+/// Base colour (sRGB-encoded, 8 bits) and metalness (linear, 8 bits).
+pub const BASE_COLOR_METALNESS_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+/// Octahedral normal (2 × 16-bit unorm), perceptual roughness and anisotropy strength (16-bit unorm).
+pub const NORMAL_ROUGHNESS_ANISOTROPY_FORMAT: vk::Format = vk::Format::R16G16B16A16_UNORM;
+/// Material index (16-bit uint) and anisotropy direction angle (16-bit, [0, π)).
+pub const MATERIAL_DIRECTION_FORMAT: vk::Format = vk::Format::R16G16_UINT;
+/// Depth (32-bit float, 1 = far/background).
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// Bytes per pixel of the whole G-buffer including depth.
+pub const BYTES_PER_PIXEL: u32 = 4 + 8 + 4 + 4;
+
+/// The G-buffer's images at one size.
+pub struct GBufferTargets {
+    pub base_color_metalness: Image,
+    pub normal_roughness_anisotropy: Image,
+    pub material_direction: Image,
+    pub depth: Image,
+}
+
+impl GBufferTargets {
+    pub fn new(device: &Arc<Device>, width: u32, height: u32) -> Result<Self, RenderError> {
+        let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = |name, format, usage| {
+            Image::new(
+                device,
+                &ImageDesc {
+                    name,
+                    format,
+                    width,
+                    height,
+                    usage,
+                },
+            )
+        };
+        Ok(Self {
+            base_color_metalness: image(
+                "gbuffer base colour + metalness",
+                BASE_COLOR_METALNESS_FORMAT,
+                color_usage,
+            )?,
+            normal_roughness_anisotropy: image(
+                "gbuffer normal + roughness + anisotropy",
+                NORMAL_ROUGHNESS_ANISOTROPY_FORMAT,
+                color_usage,
+            )?,
+            material_direction: image(
+                "gbuffer material + anisotropy direction",
+                MATERIAL_DIRECTION_FORMAT,
+                color_usage,
+            )?,
+            depth: image(
+                "gbuffer depth",
+                DEPTH_FORMAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                    | vk::ImageUsageFlags::SAMPLED
+                    | vk::ImageUsageFlags::TRANSFER_SRC,
+            )?,
+        })
+    }
+
+    pub fn colors(&self) -> [&Image; 3] {
+        [
+            &self.base_color_metalness,
+            &self.normal_roughness_anisotropy,
+            &self.material_direction,
+        ]
+    }
+}
+
+/// The G-buffer pass: rasterises every object, writing the G-buffer and depth.
+/// Reads: vertex/index buffers, the object table, the material table. Writes: [`GBufferTargets`].
+pub struct GBufferPass {
+    pub(crate) set_layout: DescriptorSetLayout,
+    pub(crate) layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
+impl GBufferPass {
+    pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler) -> Result<Self, RenderError> {
+        let set_layout = DescriptorSetLayout::new(
+            device,
+            &[
+                (
+                    0,
+                    vk::DescriptorType::STORAGE_BUFFER,
+                    vk::ShaderStageFlags::VERTEX,
+                ),
+                (
+                    1,
+                    vk::DescriptorType::STORAGE_BUFFER,
+                    vk::ShaderStageFlags::FRAGMENT,
+                ),
+            ],
+        )?;
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::VERTEX,
+            offset: 0,
+            size: std::mem::size_of::<GBufferPush>() as u32,
+        }];
+        let layout = PipelineLayout::new(device, &[&set_layout], &push)?;
+        let vertex = ShaderModule::new(
+            device,
+            &compiler.compile("gbuffer.vert", ShaderStage::Vertex, &[])?,
+            ShaderStage::Vertex,
+        )?;
+        let fragment = ShaderModule::new(
+            device,
+            &compiler.compile("gbuffer.frag", ShaderStage::Fragment, &[])?,
+            ShaderStage::Fragment,
+        )?;
+        let stride = std::mem::size_of::<combustion_scene::Vertex>() as u32;
+        let bindings = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let attributes = [
+            vk::VertexInputAttributeDescription {
+                location: 0,
+                binding: 0,
+                format: vk::Format::R32G32B32_SFLOAT,
+                offset: 0,
+            },
+            vk::VertexInputAttributeDescription {
+                location: 1,
+                binding: 0,
+                format: vk::Format::R32G32B32_SFLOAT,
+                offset: 12,
+            },
+            vk::VertexInputAttributeDescription {
+                location: 2,
+                binding: 0,
+                format: vk::Format::R32G32B32A32_SFLOAT,
+                offset: 24,
+            },
+        ];
+        let pipeline = Pipeline::graphics(
+            device,
+            &GraphicsPipelineDesc {
+                vertex: &vertex,
+                fragment: &fragment,
+                layout: &layout,
+                vertex_bindings: &bindings,
+                vertex_attributes: &attributes,
+                color_formats: &[
+                    BASE_COLOR_METALNESS_FORMAT,
+                    NORMAL_ROUGHNESS_ANISOTROPY_FORMAT,
+                    MATERIAL_DIRECTION_FORMAT,
+                ],
+                depth_format: Some(DEPTH_FORMAT),
+                cull_mode: vk::CullModeFlags::BACK,
+            },
+        )?;
+        Ok(Self {
+            set_layout,
+            layout,
+            pipeline,
+        })
+    }
+
+    /// Records the pass. Targets must be in COLOR_ATTACHMENT / DEPTH_ATTACHMENT layouts.
+    pub fn record(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        targets: &GBufferTargets,
+        scene: &GpuScene,
+        set: vk::DescriptorSet,
+        view_projection: glam::Mat4,
+    ) {
+        let extent = targets.depth.extent();
+        let color_attachments: Vec<_> = targets
+            .colors()
+            .iter()
+            .map(|image| {
+                vk::RenderingAttachmentInfo::default()
+                    .image_view(image.view())
+                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(vk::ClearValue {
+                        color: vk::ClearColorValue { uint32: [0; 4] },
+                    })
+            })
+            .collect();
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(targets.depth.view())
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
+        let rendering = vk::RenderingInfo::default()
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent,
+            })
+            .layer_count(1)
+            .color_attachments(&color_attachments)
+            .depth_attachment(&depth_attachment);
+        let raw = device.raw();
+        // SAFETY: recording into a command buffer in the recording state, with resources
+        // that outlive the submission.
+        unsafe {
+            raw.cmd_begin_rendering(cmd, &rendering);
+            crate::set_viewport_and_scissor(raw, cmd, extent);
+            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
+            raw.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw(),
+                0,
+                &[set],
+                &[],
+            );
+            raw.cmd_bind_vertex_buffers(cmd, 0, &[scene.vertices.raw()], &[0]);
+            raw.cmd_bind_index_buffer(cmd, scene.indices.raw(), 0, vk::IndexType::UINT32);
+            for (object_index, draw) in scene.draws.iter().enumerate() {
+                let push = GBufferPush {
+                    view_projection: view_projection.to_cols_array(),
+                    object_index: object_index as u32,
+                    _pad: [0; 3],
+                };
+                raw.cmd_push_constants(
+                    cmd,
+                    self.layout.raw(),
+                    vk::ShaderStageFlags::VERTEX,
+                    0,
+                    bytemuck::bytes_of(&push),
+                );
+                raw.cmd_draw_indexed(
+                    cmd,
+                    draw.index_count,
+                    1,
+                    draw.first_index,
+                    draw.vertex_offset,
+                    0,
+                );
+            }
+            raw.cmd_end_rendering(cmd);
+        }
+    }
+}
+
+/// One G-buffer texel as stored (what the GPU wrote, before any decoding).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GBufferTexel {
+    /// RGBA8_SRGB bytes: sRGB-encoded base colour, linear metalness.
+    pub base_color_metalness: [u8; 4],
+    /// RGBA16_UNORM: octahedral normal xy, perceptual roughness, anisotropy strength.
+    pub normal_roughness_anisotropy: [u16; 4],
+    /// RG16_UINT: material index, anisotropy direction angle.
+    pub material_direction: [u16; 2],
+    /// D32_SFLOAT depth.
+    pub depth: f32,
+}
+
+/// A G-buffer read back to the CPU.
+#[derive(Clone, Debug)]
+pub struct GBufferReadback {
+    pub width: u32,
+    pub height: u32,
+    pub texels: Vec<GBufferTexel>,
+}
+
+/// The sRGB decoding (IEC 61966-2-1) the GPU applies when sampling an _SRGB format.
+pub fn srgb_to_linear(encoded: f64) -> f64 {
+    if encoded <= 0.04045 {
+        encoded / 12.92
+    } else {
+        ((encoded + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// CPU mirror of `octahedral_decode` (gbuffer_encoding.glsl), in f64.
+pub fn octahedral_decode(encoded: [f64; 2]) -> [f64; 3] {
+    let sign = |x: f64| if x >= 0.0 { 1.0 } else { -1.0 };
+    let (ex, ey) = (encoded[0] * 2.0 - 1.0, encoded[1] * 2.0 - 1.0);
+    let mut n = [ex, ey, 1.0 - ex.abs() - ey.abs()];
+    if n[2] < 0.0 {
+        n[0] = (1.0 - ey.abs()) * sign(ex);
+        n[1] = (1.0 - ex.abs()) * sign(ey);
+    }
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    n.map(|c| c / len)
+}
+
+/// CPU mirror of `orthonormal_basis` (gbuffer_encoding.glsl), in f64.
+pub fn orthonormal_basis(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let s = if n[2] >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (s + n[2]);
+    let c = n[0] * n[1] * a;
+    (
+        [1.0 + s * n[0] * n[0] * a, s * c, -s * n[0]],
+        [c, s + n[1] * n[1] * a, -n[1]],
+    )
+}
+
+/// CPU mirror of `anisotropy_direction_decode` (gbuffer_encoding.glsl), in f64.
+pub fn anisotropy_direction_decode(n: [f64; 3], encoded: u16) -> [f64; 3] {
+    let (t0, b0) = orthonormal_basis(n);
+    let phi = f64::from(encoded) * (std::f64::consts::PI / 65536.0);
+    let (s, c) = phi.sin_cos();
+    [0, 1, 2].map(|i| c * t0[i] + s * b0[i])
+}

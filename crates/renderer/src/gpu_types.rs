@@ -1,0 +1,144 @@
+//! CPU mirrors of the structures in `shaders/include/gpu_types.glsl` and of each pass's
+//! push constants. The size assertions below fail the build if a field is added on one
+//! side only; the field order is the GLSL one.
+
+use bytemuck::{Pod, Zeroable};
+use combustion_scene::{Light, Material, Object, Scene};
+use glam::Mat4;
+
+/// `GpuMaterial` (std430, 80 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub base_color_metalness: [f32; 4],
+    pub roughness_anisotropy_ior: [f32; 4],
+    pub conductor_eta_outside_ior: [f32; 4],
+    pub conductor_k_polarisation: [f32; 4],
+    pub diffuse_model_flags: [u32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 80);
+
+impl GpuMaterial {
+    pub fn new(material: &Material, outside_ior: f32) -> Self {
+        let [r, g, b] = material.base_color;
+        let [eta_r, eta_g, eta_b] = material.conductor.eta;
+        let [k_r, k_g, k_b] = material.conductor.k;
+        Self {
+            base_color_metalness: [r, g, b, material.metalness],
+            roughness_anisotropy_ior: [
+                material.roughness,
+                material.anisotropy_strength,
+                material.anisotropy_rotation,
+                material.dielectric_ior,
+            ],
+            conductor_eta_outside_ior: [eta_r, eta_g, eta_b, outside_ior],
+            conductor_k_polarisation: [k_r, k_g, k_b, material.polarisation_weight],
+            diffuse_model_flags: [material.diffuse_model as u32, 0, 0, 0],
+        }
+    }
+}
+
+/// `GpuObject` (std430, 144 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuObject {
+    pub model: [f32; 16],
+    pub normal_matrix: [f32; 16],
+    pub material_index: [u32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuObject>() == 144);
+
+impl GpuObject {
+    pub fn new(object: &Object) -> Self {
+        Self {
+            model: object.transform.to_cols_array(),
+            normal_matrix: object.transform.inverse().transpose().to_cols_array(),
+            material_index: [object.material as u32, 0, 0, 0],
+        }
+    }
+}
+
+/// `LIGHT_KIND_*` in gpu_types.glsl.
+pub const LIGHT_KIND_DIRECTIONAL: f32 = 0.0;
+pub const LIGHT_KIND_POINT: f32 = 1.0;
+
+/// `GpuLight` (std430, 32 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuLight {
+    pub position_or_direction: [f32; 4],
+    pub power_kind: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuLight>() == 32);
+
+impl GpuLight {
+    pub fn new(light: &Light) -> Self {
+        match light {
+            Light::Point {
+                position,
+                intensity,
+            } => Self {
+                position_or_direction: position.extend(1.0).to_array(),
+                power_kind: [intensity[0], intensity[1], intensity[2], LIGHT_KIND_POINT],
+            },
+            Light::Directional {
+                direction,
+                irradiance,
+            } => Self {
+                position_or_direction: direction.normalize().extend(0.0).to_array(),
+                power_kind: [
+                    irradiance[0],
+                    irradiance[1],
+                    irradiance[2],
+                    LIGHT_KIND_DIRECTIONAL,
+                ],
+            },
+        }
+    }
+}
+
+/// The material table of a scene, outside IORs resolved.
+pub fn material_table(scene: &Scene) -> Vec<GpuMaterial> {
+    scene
+        .materials
+        .iter()
+        .map(|m| GpuMaterial::new(m, scene.outside_ior_of(m)))
+        .collect()
+}
+
+/// Push constants of the G-buffer pass (`GBufferPush` in gbuffer.vert).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GBufferPush {
+    pub view_projection: [f32; 16],
+    pub object_index: u32,
+    pub _pad: [u32; 3],
+}
+const _: () = assert!(std::mem::size_of::<GBufferPush>() == 80);
+
+/// Push constants of the lighting pass (`LightingPush` in lighting.frag).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct LightingPush {
+    pub inverse_view_projection: [f32; 16],
+    pub camera_position: [f32; 4],
+    pub counts: [u32; 4],
+}
+const _: () = assert!(std::mem::size_of::<LightingPush>() == 96);
+
+impl LightingPush {
+    pub fn new(view_projection: Mat4, camera_position: glam::Vec3, light_count: u32) -> Self {
+        Self {
+            inverse_view_projection: view_projection.inverse().to_cols_array(),
+            camera_position: camera_position.extend(1.0).to_array(),
+            counts: [light_count, 0, 0, 0],
+        }
+    }
+}
+
+/// Push constants of the tonemap pass (`TonemapPush` in tonemap.frag).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct TonemapPush {
+    pub exposure: f32,
+}

@@ -1,0 +1,86 @@
+//! A scene's data on the GPU: one vertex and one index buffer for all meshes, the
+//! object table, the material table and the light list. Uploaded once, drawn many times.
+
+use std::sync::Arc;
+
+use combustion_scene::Scene;
+use combustion_vk::{vk, Buffer, Device};
+
+use crate::gpu_types::{material_table, GpuLight, GpuObject};
+use crate::RenderError;
+
+/// One draw of the G-buffer pass (object i of the object table).
+#[derive(Clone, Copy, Debug)]
+pub struct Draw {
+    pub first_index: u32,
+    pub index_count: u32,
+    pub vertex_offset: i32,
+}
+
+/// A validated scene uploaded to the GPU.
+pub struct GpuScene {
+    pub(crate) vertices: Buffer,
+    pub(crate) indices: Buffer,
+    pub(crate) objects: Buffer,
+    pub(crate) materials: Buffer,
+    pub(crate) lights: Buffer,
+    pub(crate) draws: Vec<Draw>,
+    pub(crate) light_count: u32,
+    /// The scene as uploaded (camera and all), for the frame's matrices.
+    pub scene: Scene,
+}
+
+impl GpuScene {
+    pub fn new(device: &Arc<Device>, scene: &Scene) -> Result<Self, RenderError> {
+        scene.validate()?;
+        let mut vertices = Vec::new();
+        let mut indices: Vec<u32> = Vec::new();
+        let mut mesh_ranges = Vec::with_capacity(scene.meshes.len());
+        for mesh in &scene.meshes {
+            let vertex_offset = i32::try_from(vertices.len())
+                .map_err(|_| RenderError::TooLarge("more than 2³¹ vertices".into()))?;
+            mesh_ranges.push(Draw {
+                first_index: indices.len() as u32,
+                index_count: mesh.indices.len() as u32,
+                vertex_offset,
+            });
+            vertices.extend_from_slice(&mesh.vertices);
+            indices.extend_from_slice(&mesh.indices);
+        }
+        let draws = scene.objects.iter().map(|o| mesh_ranges[o.mesh]).collect();
+        let objects: Vec<GpuObject> = scene.objects.iter().map(GpuObject::new).collect();
+        let materials = material_table(scene);
+        let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::new).collect();
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        Ok(Self {
+            vertices: Buffer::with_data(
+                device,
+                "vertices",
+                bytemuck::cast_slice(&vertices),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )?,
+            indices: Buffer::with_data(
+                device,
+                "indices",
+                bytemuck::cast_slice(&indices),
+                vk::BufferUsageFlags::INDEX_BUFFER,
+            )?,
+            objects: Buffer::with_data(
+                device,
+                "object table",
+                bytemuck::cast_slice(&objects),
+                storage,
+            )?,
+            materials: Buffer::with_data(
+                device,
+                "material table",
+                bytemuck::cast_slice(&materials),
+                storage,
+            )?,
+            lights: Buffer::with_data(device, "lights", bytemuck::cast_slice(&lights), storage)?,
+            draws,
+            light_count: lights.len() as u32,
+            scene: scene.clone(),
+        })
+    }
+}

@@ -1,0 +1,8 @@
+/// Why a scene can't be built or used.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("unknown built-in scene `{name}`; built-in scenes: {known}")]
+    UnknownBuiltin { name: String, known: String },
+    #[error("invalid scene: {0}")]
+    Invalid(String),
+}

@@ -1,0 +1,136 @@
+use std::f32::consts::PI;
+
+/// A vertex as the G-buffer pass consumes it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    /// Tangent xyz and the bitangent sign w (bitangent = w · normal × tangent), as in glTF.
+    pub tangent: [f32; 4],
+}
+
+/// An indexed triangle mesh.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub name: String,
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    /// A UV sphere of `radius` centred at the origin, with `segments` around the axis
+    /// (y) and `rings` from pole to pole. Tangents point along increasing longitude,
+    /// so anisotropy stretches highlights around the y axis.
+    pub fn uv_sphere(name: &str, radius: f32, segments: u32, rings: u32) -> Mesh {
+        let segments = segments.max(3);
+        let rings = rings.max(2);
+        let mut vertices = Vec::with_capacity(((segments + 1) * (rings + 1)) as usize);
+        for ring in 0..=rings {
+            let theta = PI * ring as f32 / rings as f32;
+            let (sin_t, cos_t) = theta.sin_cos();
+            for seg in 0..=segments {
+                let phi = 2.0 * PI * seg as f32 / segments as f32;
+                let (sin_p, cos_p) = phi.sin_cos();
+                let normal = [sin_t * cos_p, cos_t, -sin_t * sin_p];
+                // d(position)/d(phi), normalised; at the poles use the limit direction.
+                let tangent = [-sin_p, 0.0, -cos_p];
+                vertices.push(Vertex {
+                    position: normal.map(|c| c * radius),
+                    normal,
+                    tangent: [tangent[0], tangent[1], tangent[2], 1.0],
+                });
+            }
+        }
+        let mut indices = Vec::with_capacity((segments * rings * 6) as usize);
+        let row = segments + 1;
+        for ring in 0..rings {
+            for seg in 0..segments {
+                let a = ring * row + seg;
+                let b = a + row;
+                // Counter-clockwise seen from outside.
+                if ring != 0 {
+                    indices.extend_from_slice(&[a, b, a + 1]);
+                }
+                if ring != rings - 1 {
+                    indices.extend_from_slice(&[a + 1, b, b + 1]);
+                }
+            }
+        }
+        Mesh {
+            name: name.to_owned(),
+            vertices,
+            indices,
+        }
+    }
+
+    /// A square of side `size` in the xz plane facing +y, centred at the origin.
+    pub fn plane(name: &str, size: f32) -> Mesh {
+        let h = size / 2.0;
+        let v = |x: f32, z: f32| Vertex {
+            position: [x, 0.0, z],
+            normal: [0.0, 1.0, 0.0],
+            tangent: [1.0, 0.0, 0.0, 1.0],
+        };
+        Mesh {
+            name: name.to_owned(),
+            vertices: vec![v(-h, -h), v(-h, h), v(h, h), v(h, -h)],
+            indices: vec![0, 1, 2, 0, 2, 3],
+        }
+    }
+
+    /// Checks indices and attribute values.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.indices.len() % 3 != 0 {
+            return Err(format!(
+                "{} indices is not a whole number of triangles",
+                self.indices.len()
+            ));
+        }
+        if let Some(&bad) = self
+            .indices
+            .iter()
+            .find(|&&i| i as usize >= self.vertices.len())
+        {
+            return Err(format!(
+                "index {bad} is out of range ({} vertices)",
+                self.vertices.len()
+            ));
+        }
+        let finite = |v: &[f32]| v.iter().all(|x| x.is_finite());
+        if let Some(i) = self
+            .vertices
+            .iter()
+            .position(|v| !(finite(&v.position) && finite(&v.normal) && finite(&v.tangent)))
+        {
+            return Err(format!("vertex {i} has a NaN or infinite attribute"));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sphere_is_closed_and_outward_facing() {
+        let mesh = Mesh::uv_sphere("s", 2.0, 16, 8);
+        mesh.validate().unwrap();
+        // Every triangle's geometric normal points away from the centre (counter-clockwise
+        // winding seen from outside), which the G-buffer pass's back-face culling relies on.
+        for tri in mesh.indices.chunks(3) {
+            let p = tri.map(|i| glam::Vec3::from(mesh.vertices[i as usize].position));
+            let n = (p[1] - p[0]).cross(p[2] - p[0]);
+            let centre = (p[0] + p[1] + p[2]) / 3.0;
+            assert!(n.dot(centre) > 0.0, "triangle {tri:?} faces inwards");
+        }
+        // Tangents are unit and orthogonal to normals (away from the poles' limit).
+        for v in &mesh.vertices {
+            let n = glam::Vec3::from(v.normal);
+            let t = glam::Vec3::from_slice(&v.tangent[..3]);
+            assert!((t.length() - 1.0).abs() < 1e-5);
+            assert!(n.dot(t).abs() < 1e-5);
+        }
+    }
+}

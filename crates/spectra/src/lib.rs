@@ -1,0 +1,36 @@
+//! Measured optical constants of Combustion's built-in metals and dielectrics, and their
+//! reduction to the renderer's three RGB bands.
+//!
+//! * [`Spectrum`]: a tabulated n(λ) + ik(λ), read from the project's CSV format
+//!   ([`Spectrum::from_csv`]); the built-in tables ([`BuiltinMetal`],
+//!   [`BuiltinDielectric`]) are embedded from `assets/spectra/` at compile time, nothing is
+//!   read at run time.
+//! * [`RgbBand`]: Red 620–740 nm, Green 495–570 nm, Blue 450–495 nm (rendering notes §4).
+//! * [`band_weighted_mean`]: the Gaussian-weighted band **mean**
+//!   V = ∫₀¹ f(t) p(t) dt / ∫₀¹ p(t) dt with p(t) = exp(−(t − ½)²) and
+//!   t = (λ − w_min)/(w_max − w_min).
+//! * Method (a), [`rgb_optical_constants`]: band means of η and k, to be fed to the
+//!   Fresnel equations per channel (what the renderer does at run time).
+//! * Method (b), [`rgb_band_averaged_reflectance`]: band mean of the spectral Fresnel
+//!   reflectance.
+//! * [`compare_averaging_methods`] / [`compare_builtin_metals`]: (a) − (b) per channel,
+//!   angle and outside medium (seed-notes 7).
+//!
+//! The Fresnel equations are not implemented here: they come from `combustion-optics`.
+
+mod band;
+mod builtin;
+mod error;
+mod fresnel;
+mod rgb;
+mod spectrum;
+
+pub use band::{band_weight, band_weighted_mean, RgbBand};
+pub use builtin::{BuiltinDielectric, BuiltinMetal};
+pub use error::SpectrumError;
+pub use rgb::{
+    compare_averaging_methods, compare_builtin_metals, rgb_band_averaged_reflectance,
+    rgb_optical_constants, AveragingComparison, RgbOpticalConstants, COMPARISON_ANGLES_DEG,
+    COMPARISON_OUTSIDE_ETAS,
+};
+pub use spectrum::{Spectrum, CSV_HEADER};

@@ -1,0 +1,556 @@
+use std::ffi::{c_void, CStr};
+use std::fmt;
+use std::mem::ManuallyDrop;
+use std::str::FromStr;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use ash::{ext, vk};
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+
+use crate::error::{VkError, VkResultExt};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// Which physical device to use.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum DeviceSelector {
+    /// Prefer a discrete GPU, then integrated, virtual, and finally a CPU device
+    /// (lavapipe) — so lavapipe is picked when it is the only device.
+    #[default]
+    Auto,
+    /// The n-th device in the order the loader enumerates them (see `combustion devices`).
+    Index(usize),
+    /// The first device whose name contains this text (case-insensitive), e.g. `llvmpipe`.
+    NameContains(String),
+}
+
+impl DeviceSelector {
+    /// Environment variable read by [`DeviceSelector::from_env`].
+    pub const ENV_VAR: &'static str = "COMBUSTION_DEVICE";
+
+    /// The selector named by `COMBUSTION_DEVICE`, or `Auto` when it is unset.
+    pub fn from_env() -> Result<Self, VkError> {
+        match std::env::var(Self::ENV_VAR) {
+            Ok(text) => text.parse(),
+            Err(_) => Ok(Self::Auto),
+        }
+    }
+}
+
+impl FromStr for DeviceSelector {
+    type Err = VkError;
+    fn from_str(text: &str) -> Result<Self, VkError> {
+        let text = text.trim();
+        if text.is_empty() {
+            return Err(VkError::BadDeviceSelector(text.to_owned()));
+        }
+        if text.eq_ignore_ascii_case("auto") {
+            return Ok(Self::Auto);
+        }
+        Ok(match text.parse::<usize>() {
+            Ok(index) => Self::Index(index),
+            Err(_) => Self::NameContains(text.to_owned()),
+        })
+    }
+}
+
+impl fmt::Display for DeviceSelector {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Auto => write!(f, "auto"),
+            Self::Index(i) => write!(f, "{i}"),
+            Self::NameContains(name) => write!(f, "{name}"),
+        }
+    }
+}
+
+/// How to create a [`Device`].
+#[derive(Clone, Debug, Default)]
+pub struct DeviceDesc {
+    pub selector: DeviceSelector,
+    /// Enable VK_LAYER_KHRONOS_validation; its warnings and errors go to the `log`
+    /// facade and to the device's [`ValidationLog`]. An error if the layer is missing.
+    pub validation: bool,
+}
+
+/// What the loader reports of one physical device.
+#[derive(Clone, Debug)]
+pub struct DeviceInfo {
+    pub index: usize,
+    pub name: String,
+    pub device_type: vk::PhysicalDeviceType,
+    pub api_version: (u32, u32, u32),
+    pub driver: String,
+    /// Why the device can't be used by Combustion, or `None` when it can.
+    pub unsuitable_because: Option<String>,
+}
+
+/// Validation-layer warnings and errors seen by a device's messenger. Clone it before the
+/// device is dropped to read the leak report issued at device destruction.
+#[derive(Clone, Default)]
+pub struct ValidationLog(Arc<Mutex<Vec<String>>>);
+
+impl ValidationLog {
+    fn lock(&self) -> MutexGuard<'_, Vec<String>> {
+        self.0
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+    /// All warning and error messages so far.
+    pub fn messages(&self) -> Vec<String> {
+        self.lock().clone()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.lock().is_empty()
+    }
+}
+
+unsafe extern "system" fn validation_callback(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    kind: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    let message = if data.is_null() || (*data).p_message.is_null() {
+        "(no message)".to_owned()
+    } else {
+        CStr::from_ptr((*data).p_message)
+            .to_string_lossy()
+            .into_owned()
+    };
+    if severity.intersects(
+        vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
+            | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
+    ) {
+        if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
+            log::error!(target: "vulkan", "{kind:?}: {message}");
+        } else {
+            log::warn!(target: "vulkan", "{kind:?}: {message}");
+        }
+        if !user.is_null() {
+            let log = &*(user as *const Mutex<Vec<String>>);
+            log.lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner())
+                .push(format!("{severity:?} {kind:?}: {message}"));
+        }
+    } else {
+        log::debug!(target: "vulkan", "{kind:?}: {message}");
+    }
+    vk::FALSE
+}
+
+/// The Vulkan instance, the chosen physical device, its logical device with one
+/// graphics queue, and the memory allocator. Shared as `Arc<Device>` by every resource.
+pub struct Device {
+    entry: ash::Entry,
+    instance: ash::Instance,
+    messenger: Option<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    validation_log: ValidationLog,
+    physical_device: vk::PhysicalDevice,
+    info: DeviceInfo,
+    limits: vk::PhysicalDeviceLimits,
+    device: ash::Device,
+    queue_family: u32,
+    queue: Mutex<vk::Queue>,
+    allocator: ManuallyDrop<Mutex<Allocator>>,
+}
+
+fn c_chars_to_string(chars: &[std::ffi::c_char]) -> String {
+    let bytes: Vec<u8> = chars
+        .iter()
+        .take_while(|&&c| c != 0)
+        .map(|&c| c as u8)
+        .collect();
+    String::from_utf8_lossy(&bytes).into_owned()
+}
+
+fn load_entry() -> Result<ash::Entry, VkError> {
+    // SAFETY: loading the system Vulkan loader; its symbols are used through ash only.
+    unsafe { ash::Entry::load() }.map_err(|e| VkError::LoaderMissing(e.to_string()))
+}
+
+fn create_instance(
+    entry: &ash::Entry,
+    validation: bool,
+    messenger_info: &mut vk::DebugUtilsMessengerCreateInfoEXT<'_>,
+) -> Result<ash::Instance, VkError> {
+    let app_info = vk::ApplicationInfo::default()
+        .application_name(c"combustion")
+        .engine_name(c"combustion")
+        .api_version(vk::API_VERSION_1_3);
+    let layers = [VALIDATION_LAYER.as_ptr()];
+    let extensions = [ext::debug_utils::NAME.as_ptr()];
+    let mut create_info = vk::InstanceCreateInfo::default().application_info(&app_info);
+    if validation {
+        // SAFETY: plain enumeration call.
+        let available = unsafe { entry.enumerate_instance_layer_properties() }
+            .what("vkEnumerateInstanceLayerProperties")?;
+        let has_layer = available
+            .iter()
+            .any(|layer| layer.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
+        if !has_layer {
+            return Err(VkError::ValidationLayerMissing);
+        }
+        create_info = create_info
+            .enabled_layer_names(&layers)
+            .enabled_extension_names(&extensions)
+            .push_next(messenger_info);
+    }
+    // SAFETY: create_info and everything it points to outlive the call.
+    match unsafe { entry.create_instance(&create_info, None) } {
+        Ok(instance) => Ok(instance),
+        Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => Err(VkError::NoDevice),
+        Err(result) => Err(VkError::Vk {
+            what: "vkCreateInstance",
+            result,
+        }),
+    }
+}
+
+/// Describes every physical device, in enumeration order, and says which can be used.
+fn describe_devices(
+    instance: &ash::Instance,
+) -> Result<Vec<(vk::PhysicalDevice, DeviceInfo, Option<u32>)>, VkError> {
+    // SAFETY: instance is valid for all calls below.
+    let physical_devices =
+        unsafe { instance.enumerate_physical_devices() }.what("vkEnumeratePhysicalDevices")?;
+    let mut out = Vec::new();
+    for (index, &pd) in physical_devices.iter().enumerate() {
+        let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver_props);
+        unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
+        let props = props2.properties;
+        let driver = format!(
+            "{} {}",
+            c_chars_to_string(&driver_props.driver_name),
+            c_chars_to_string(&driver_props.driver_info)
+        );
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
+        let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
+        unsafe { instance.get_physical_device_features2(pd, &mut features2) };
+        let queue_family = unsafe { instance.get_physical_device_queue_family_properties(pd) }
+            .iter()
+            .position(|q| q.queue_flags.contains(vk::QueueFlags::GRAPHICS))
+            .map(|i| i as u32);
+        let v = props.api_version;
+        let mut missing = Vec::new();
+        if v < vk::API_VERSION_1_3 {
+            missing.push("Vulkan 1.3");
+        }
+        if f13.dynamic_rendering == vk::FALSE {
+            missing.push("dynamicRendering");
+        }
+        if f13.synchronization2 == vk::FALSE {
+            missing.push("synchronization2");
+        }
+        if queue_family.is_none() {
+            missing.push("a graphics queue");
+        }
+        let info = DeviceInfo {
+            index,
+            name: c_chars_to_string(&props.device_name),
+            device_type: props.device_type,
+            api_version: (
+                vk::api_version_major(v),
+                vk::api_version_minor(v),
+                vk::api_version_patch(v),
+            ),
+            driver: driver.trim().to_owned(),
+            unsuitable_because: (!missing.is_empty())
+                .then(|| format!("lacks {}", missing.join(", "))),
+        };
+        out.push((pd, info, queue_family));
+    }
+    Ok(out)
+}
+
+fn type_rank(t: vk::PhysicalDeviceType) -> u32 {
+    match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+        vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+        vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+        vk::PhysicalDeviceType::CPU => 3,
+        _ => 4,
+    }
+}
+
+impl Device {
+    /// Lists the physical devices the Vulkan loader sees (no logical device is created).
+    pub fn enumerate() -> Result<Vec<DeviceInfo>, VkError> {
+        let entry = load_entry()?;
+        let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default();
+        let instance = create_instance(&entry, false, &mut messenger_info)?;
+        let result = describe_devices(&instance);
+        // SAFETY: no object was created from this instance.
+        unsafe { instance.destroy_instance(None) };
+        Ok(result?.into_iter().map(|(_, info, _)| info).collect())
+    }
+
+    /// Creates the instance and the logical device on the selected physical device.
+    pub fn new(desc: &DeviceDesc) -> Result<Arc<Device>, VkError> {
+        let entry = load_entry()?;
+        let validation_log = ValidationLog::default();
+        let log_ptr = Arc::as_ptr(&validation_log.0) as *mut c_void;
+        let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+            .message_severity(
+                vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
+                    | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                    | vk::DebugUtilsMessageSeverityFlagsEXT::INFO,
+            )
+            .message_type(
+                vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                    | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                    | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+            )
+            .pfn_user_callback(Some(validation_callback))
+            .user_data(log_ptr);
+        let instance = create_instance(&entry, desc.validation, &mut messenger_info)?;
+        // From here on, a failure must destroy what was created: the guard does it.
+        let mut guard = PartialDevice {
+            instance: Some(instance),
+            messenger: None,
+        };
+        let instance = guard.instance.as_ref().expect("set above");
+        if desc.validation {
+            let loader = ext::debug_utils::Instance::new(&entry, instance);
+            // SAFETY: messenger_info's user data (the log) outlives the messenger: the
+            // Device keeps the Arc until after the messenger is destroyed.
+            let messenger = unsafe { loader.create_debug_utils_messenger(&messenger_info, None) }
+                .what("vkCreateDebugUtilsMessengerEXT")?;
+            guard.messenger = Some((loader, messenger));
+        }
+        let (physical_device, info, queue_family) = select_device(instance, &desc.selector)?;
+        // SAFETY: valid physical device.
+        let limits = unsafe { instance.get_physical_device_properties(physical_device) }.limits;
+
+        let priorities = [1.0f32];
+        let queue_info = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities)];
+        let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true);
+        let create_info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_info)
+            .push_next(&mut features13);
+        // SAFETY: create_info outlives the call; features were checked in select_device.
+        let device = unsafe { instance.create_device(physical_device, &create_info, None) }
+            .what("vkCreateDevice")?;
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let allocator = match Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device.clone(),
+            physical_device,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        }) {
+            Ok(a) => a,
+            Err(source) => {
+                unsafe { device.destroy_device(None) };
+                return Err(VkError::Allocation {
+                    name: "the allocator".into(),
+                    source,
+                });
+            }
+        };
+        let (instance, messenger) = guard.disarm();
+        log::info!(
+            "Vulkan device {}: {} ({:?}, Vulkan {}.{}.{}, {})",
+            info.index,
+            info.name,
+            info.device_type,
+            info.api_version.0,
+            info.api_version.1,
+            info.api_version.2,
+            info.driver
+        );
+        Ok(Arc::new(Device {
+            entry,
+            instance,
+            messenger,
+            validation_log,
+            physical_device,
+            info,
+            limits,
+            device,
+            queue_family,
+            queue: Mutex::new(queue),
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+        }))
+    }
+
+    pub fn raw(&self) -> &ash::Device {
+        &self.device
+    }
+    pub fn instance(&self) -> &ash::Instance {
+        &self.instance
+    }
+    pub fn entry(&self) -> &ash::Entry {
+        &self.entry
+    }
+    pub fn physical_device(&self) -> vk::PhysicalDevice {
+        self.physical_device
+    }
+    pub fn info(&self) -> &DeviceInfo {
+        &self.info
+    }
+    pub fn limits(&self) -> &vk::PhysicalDeviceLimits {
+        &self.limits
+    }
+    pub fn queue_family(&self) -> u32 {
+        self.queue_family
+    }
+    /// The validation messages seen so far (empty without validation).
+    pub fn validation_log(&self) -> ValidationLog {
+        self.validation_log.clone()
+    }
+    pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
+        self.allocator
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+
+    /// Submits command buffers on the device's queue.
+    pub fn submit(&self, submits: &[vk::SubmitInfo2<'_>], fence: vk::Fence) -> Result<(), VkError> {
+        let queue = self.queue.lock().unwrap_or_else(|p| p.into_inner());
+        // SAFETY: the queue is externally synchronised by the mutex.
+        unsafe { self.device.queue_submit2(*queue, submits, fence) }.what("vkQueueSubmit2")
+    }
+
+    /// Waits until the device is idle (used before tearing resources down).
+    pub fn wait_idle(&self) -> Result<(), VkError> {
+        // SAFETY: plain wait.
+        unsafe { self.device.device_wait_idle() }.what("vkDeviceWaitIdle")
+    }
+
+    /// The maximum 2D image side the device allows.
+    pub fn max_image_dimension_2d(&self) -> u32 {
+        self.limits.max_image_dimension2_d
+    }
+}
+
+fn select_device(
+    instance: &ash::Instance,
+    selector: &DeviceSelector,
+) -> Result<(vk::PhysicalDevice, DeviceInfo, u32), VkError> {
+    let devices = describe_devices(instance)?;
+    if devices.is_empty() {
+        return Err(VkError::NoDevice);
+    }
+    let listing = || {
+        devices
+            .iter()
+            .map(|(_, i, _)| format!("{}: {}", i.index, i.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let chosen = match selector {
+        DeviceSelector::Auto => {
+            let best = devices
+                .iter()
+                .filter(|(_, info, _)| info.unsuitable_because.is_none())
+                .min_by_key(|(_, info, _)| (type_rank(info.device_type), info.index));
+            match best {
+                Some(d) => d,
+                None => {
+                    let why = devices
+                        .iter()
+                        .map(|(_, i, _)| {
+                            format!(
+                                "{} {}",
+                                i.name,
+                                i.unsuitable_because.as_deref().unwrap_or("")
+                            )
+                        })
+                        .collect::<Vec<_>>()
+                        .join("; ");
+                    return Err(VkError::NoSuitableDevice(why));
+                }
+            }
+        }
+        DeviceSelector::Index(index) => {
+            devices.get(*index).ok_or_else(|| VkError::DeviceNotFound {
+                selector: selector.to_string(),
+                available: listing(),
+            })?
+        }
+        DeviceSelector::NameContains(name) => {
+            let needle = name.to_lowercase();
+            devices
+                .iter()
+                .find(|(_, info, _)| info.name.to_lowercase().contains(&needle))
+                .ok_or_else(|| VkError::DeviceNotFound {
+                    selector: selector.to_string(),
+                    available: listing(),
+                })?
+        }
+    };
+    let (pd, info, queue_family) = chosen;
+    if let Some(why) = &info.unsuitable_because {
+        return Err(VkError::NoSuitableDevice(format!("{} {why}", info.name)));
+    }
+    Ok((
+        *pd,
+        info.clone(),
+        queue_family.expect("suitable devices have a graphics queue"),
+    ))
+}
+
+/// Destroys a half-built instance if device creation fails part-way.
+struct PartialDevice {
+    instance: Option<ash::Instance>,
+    messenger: Option<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+}
+
+impl PartialDevice {
+    #[allow(clippy::type_complexity)]
+    fn disarm(
+        mut self,
+    ) -> (
+        ash::Instance,
+        Option<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    ) {
+        (
+            self.instance.take().expect("disarmed once"),
+            self.messenger.take(),
+        )
+    }
+}
+
+impl Drop for PartialDevice {
+    fn drop(&mut self) {
+        // SAFETY: nothing else was created from these handles.
+        unsafe {
+            if let Some((loader, messenger)) = self.messenger.take() {
+                loader.destroy_debug_utils_messenger(messenger, None);
+            }
+            if let Some(instance) = self.instance.take() {
+                instance.destroy_instance(None);
+            }
+        }
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        // SAFETY: every resource holds an Arc<Device>, so none is alive here; the
+        // allocator is dropped before the device, the messenger after it so that the
+        // layer's leak report at vkDestroyDevice reaches the validation log.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+            if let Some((loader, messenger)) = self.messenger.take() {
+                loader.destroy_debug_utils_messenger(messenger, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+impl fmt::Debug for Device {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Device").field("info", &self.info).finish()
+    }
+}

@@ -1,0 +1,44 @@
+use ash::vk;
+
+/// Everything the Vulkan backend can fail with. Messages are one line and, where the
+/// cure is an install, say what to install.
+#[derive(Debug, thiserror::Error)]
+pub enum VkError {
+    #[error("no Vulkan loader could be loaded ({0}); install the loader and a driver, e.g. `apt-get install libvulkan1 mesa-vulkan-drivers`")]
+    LoaderMissing(String),
+    #[error("no Vulkan device found; install a driver, e.g. `apt-get install mesa-vulkan-drivers` for lavapipe (CPU Vulkan)")]
+    NoDevice,
+    #[error("no Vulkan device offers what Combustion needs (Vulkan 1.3 with dynamicRendering and synchronization2, and a graphics queue): {0}")]
+    NoSuitableDevice(String),
+    #[error("no Vulkan device matches `{selector}`; devices: {available}")]
+    DeviceNotFound { selector: String, available: String },
+    #[error("device selector `{0}` is empty; give a device index or part of its name")]
+    BadDeviceSelector(String),
+    #[error("validation was requested but VK_LAYER_KHRONOS_validation is not installed; install it, e.g. `apt-get install vulkan-validationlayers`")]
+    ValidationLayerMissing,
+    #[error("{what} failed: {result}")]
+    Vk {
+        what: &'static str,
+        result: vk::Result,
+    },
+    #[error("allocating memory for {name} failed: {source}")]
+    Allocation {
+        name: String,
+        source: gpu_allocator::AllocationError,
+    },
+    #[error("{0}")]
+    Shader(String),
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// Attaches the name of the failed call to a raw `vk::Result`.
+pub trait VkResultExt<T> {
+    fn what(self, what: &'static str) -> Result<T, VkError>;
+}
+
+impl<T> VkResultExt<T> for Result<T, vk::Result> {
+    fn what(self, what: &'static str) -> Result<T, VkError> {
+        self.map_err(|result| VkError::Vk { what, result })
+    }
+}

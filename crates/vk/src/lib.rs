@@ -1,0 +1,35 @@
+//! Vulkan backend of Combustion.
+//!
+//! Knows nothing of scenes or shading: it owns the instance and device (headless, no
+//! surface needed), memory (gpu-allocator), buffers and images, shader compilation
+//! (shaderc, GLSL with `#include`), one-shot command submission, readback and GPU
+//! timestamp queries, and the validation-layer messenger.
+//!
+//! Ownership: [`Device`] lives in an `Arc`; every resource ([`Buffer`], [`Image`],
+//! [`Pipeline`], ...) holds a clone of that `Arc` and destroys its Vulkan objects in
+//! `Drop`. The device is therefore destroyed only after the last resource, and the
+//! validation layer's leak report at device destruction is captured by [`ValidationLog`].
+//!
+//! `ash` and `gpu_allocator` are re-exported so upper crates don't pin their own versions.
+
+pub use ash;
+pub use ash::vk;
+pub use gpu_allocator;
+
+mod commands;
+mod device;
+mod error;
+mod pipeline;
+mod resources;
+mod shader;
+mod timestamps;
+
+pub use commands::OneShot;
+pub use device::{Device, DeviceDesc, DeviceInfo, DeviceSelector, ValidationLog};
+pub use error::{VkError, VkResultExt};
+pub use pipeline::{
+    DescriptorPool, DescriptorSetLayout, GraphicsPipelineDesc, Pipeline, PipelineLayout,
+};
+pub use resources::{Buffer, Image, ImageDesc};
+pub use shader::{ShaderCompiler, ShaderModule, ShaderSources, ShaderStage};
+pub use timestamps::TimestampQueries;

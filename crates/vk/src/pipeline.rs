@@ -1,0 +1,234 @@
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::device::Device;
+use crate::error::{VkError, VkResultExt};
+use crate::shader::ShaderModule;
+
+/// A descriptor set layout, destroyed when dropped.
+pub struct DescriptorSetLayout {
+    device: Arc<Device>,
+    raw: vk::DescriptorSetLayout,
+}
+
+impl DescriptorSetLayout {
+    /// `bindings`: (binding, type, stages), one descriptor each.
+    pub fn new(
+        device: &Arc<Device>,
+        bindings: &[(u32, vk::DescriptorType, vk::ShaderStageFlags)],
+    ) -> Result<Self, VkError> {
+        let bindings: Vec<_> = bindings
+            .iter()
+            .map(|&(binding, ty, stages)| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(binding)
+                    .descriptor_type(ty)
+                    .descriptor_count(1)
+                    .stage_flags(stages)
+            })
+            .collect();
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        // SAFETY: valid create info.
+        let raw = unsafe { device.raw().create_descriptor_set_layout(&info, None) }
+            .what("vkCreateDescriptorSetLayout")?;
+        Ok(Self {
+            device: device.clone(),
+            raw,
+        })
+    }
+    pub fn raw(&self) -> vk::DescriptorSetLayout {
+        self.raw
+    }
+}
+
+impl Drop for DescriptorSetLayout {
+    fn drop(&mut self) {
+        unsafe {
+            self.device
+                .raw()
+                .destroy_descriptor_set_layout(self.raw, None)
+        };
+    }
+}
+
+/// A pipeline layout, destroyed when dropped.
+pub struct PipelineLayout {
+    device: Arc<Device>,
+    raw: vk::PipelineLayout,
+}
+
+impl PipelineLayout {
+    pub fn new(
+        device: &Arc<Device>,
+        set_layouts: &[&DescriptorSetLayout],
+        push_constants: &[vk::PushConstantRange],
+    ) -> Result<Self, VkError> {
+        let sets: Vec<_> = set_layouts.iter().map(|l| l.raw()).collect();
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&sets)
+            .push_constant_ranges(push_constants);
+        // SAFETY: valid create info.
+        let raw = unsafe { device.raw().create_pipeline_layout(&info, None) }
+            .what("vkCreatePipelineLayout")?;
+        Ok(Self {
+            device: device.clone(),
+            raw,
+        })
+    }
+    pub fn raw(&self) -> vk::PipelineLayout {
+        self.raw
+    }
+}
+
+impl Drop for PipelineLayout {
+    fn drop(&mut self) {
+        unsafe { self.device.raw().destroy_pipeline_layout(self.raw, None) };
+    }
+}
+
+/// What a graphics pipeline for dynamic rendering needs. Viewport and scissor are dynamic.
+pub struct GraphicsPipelineDesc<'a> {
+    pub vertex: &'a ShaderModule,
+    pub fragment: &'a ShaderModule,
+    pub layout: &'a PipelineLayout,
+    pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    pub color_formats: &'a [vk::Format],
+    /// Depth attachment format; depth test (LESS) and write are on when set.
+    pub depth_format: Option<vk::Format>,
+    pub cull_mode: vk::CullModeFlags,
+}
+
+/// A pipeline, destroyed when dropped.
+pub struct Pipeline {
+    device: Arc<Device>,
+    raw: vk::Pipeline,
+}
+
+impl Pipeline {
+    pub fn graphics(
+        device: &Arc<Device>,
+        desc: &GraphicsPipelineDesc<'_>,
+    ) -> Result<Self, VkError> {
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(desc.vertex.raw())
+                .name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(desc.fragment.raw())
+                .name(c"main"),
+        ];
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(desc.vertex_bindings)
+            .vertex_attribute_descriptions(desc.vertex_attributes);
+        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(desc.cull_mode)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(desc.depth_format.is_some())
+            .depth_write_enable(desc.depth_format.is_some())
+            .depth_compare_op(vk::CompareOp::LESS);
+        let blend_attachments: Vec<_> = desc
+            .color_formats
+            .iter()
+            .map(|_| {
+                vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+            })
+            .collect();
+        let blend =
+            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(desc.color_formats)
+            .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(desc.layout.raw())
+            .push_next(&mut rendering);
+        // SAFETY: everything `info` points to lives until the call returns.
+        let raw = unsafe {
+            device
+                .raw()
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, result)| VkError::Vk {
+            what: "vkCreateGraphicsPipelines",
+            result,
+        })?[0];
+        Ok(Self {
+            device: device.clone(),
+            raw,
+        })
+    }
+    pub fn raw(&self) -> vk::Pipeline {
+        self.raw
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        unsafe { self.device.raw().destroy_pipeline(self.raw, None) };
+    }
+}
+
+/// A descriptor pool from which sets are allocated once; destroyed (with its sets) when dropped.
+pub struct DescriptorPool {
+    device: Arc<Device>,
+    raw: vk::DescriptorPool,
+}
+
+impl DescriptorPool {
+    pub fn new(
+        device: &Arc<Device>,
+        max_sets: u32,
+        sizes: &[vk::DescriptorPoolSize],
+    ) -> Result<Self, VkError> {
+        let info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(max_sets)
+            .pool_sizes(sizes);
+        let raw = unsafe { device.raw().create_descriptor_pool(&info, None) }
+            .what("vkCreateDescriptorPool")?;
+        Ok(Self {
+            device: device.clone(),
+            raw,
+        })
+    }
+
+    pub fn allocate(&self, layout: &DescriptorSetLayout) -> Result<vk::DescriptorSet, VkError> {
+        let layouts = [layout.raw()];
+        let info = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(self.raw)
+            .set_layouts(&layouts);
+        let sets = unsafe { self.device.raw().allocate_descriptor_sets(&info) }
+            .what("vkAllocateDescriptorSets")?;
+        Ok(sets[0])
+    }
+}
+
+impl Drop for DescriptorPool {
+    fn drop(&mut self) {
+        unsafe { self.device.raw().destroy_descriptor_pool(self.raw, None) };
+    }
+}

@@ -1,0 +1,310 @@
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+
+use crate::device::Device;
+use crate::error::{VkError, VkResultExt};
+
+/// A buffer and its memory. Destroyed when dropped.
+pub struct Buffer {
+    device: Arc<Device>,
+    raw: vk::Buffer,
+    allocation: Option<Allocation>,
+    size: u64,
+}
+
+impl Buffer {
+    /// Creates a buffer of `size` bytes in `location` (`CpuToGpu` and `GpuToCpu` are mapped).
+    pub fn new(
+        device: &Arc<Device>,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<Buffer, VkError> {
+        let size = size.max(4);
+        let info = vk::BufferCreateInfo::default()
+            .size(size)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let raw_device = device.raw();
+        // SAFETY: valid create info; the buffer is destroyed on every error path below.
+        let raw = unsafe { raw_device.create_buffer(&info, None) }.what("vkCreateBuffer")?;
+        let requirements = unsafe { raw_device.get_buffer_memory_requirements(raw) };
+        let allocation = device.allocator().allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location,
+            linear: true,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(source) => {
+                unsafe { raw_device.destroy_buffer(raw, None) };
+                return Err(VkError::Allocation {
+                    name: name.to_owned(),
+                    source,
+                });
+            }
+        };
+        let buffer = Buffer {
+            device: device.clone(),
+            raw,
+            allocation: Some(allocation),
+            size,
+        };
+        let allocation = buffer.allocation.as_ref().expect("set above");
+        // SAFETY: memory and offset come from the allocator for this buffer's requirements.
+        unsafe { raw_device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
+            .what("vkBindBufferMemory")?;
+        Ok(buffer)
+    }
+
+    /// Creates a host-visible buffer holding `bytes`.
+    pub fn with_data(
+        device: &Arc<Device>,
+        name: &str,
+        bytes: &[u8],
+        usage: vk::BufferUsageFlags,
+    ) -> Result<Buffer, VkError> {
+        let mut buffer = Buffer::new(
+            device,
+            name,
+            bytes.len() as u64,
+            usage,
+            MemoryLocation::CpuToGpu,
+        )?;
+        buffer.write(0, bytes)?;
+        Ok(buffer)
+    }
+
+    pub fn raw(&self) -> vk::Buffer {
+        self.raw
+    }
+    pub fn size(&self) -> u64 {
+        self.size
+    }
+
+    /// Writes into a mapped buffer.
+    pub fn write(&mut self, offset: usize, bytes: &[u8]) -> Result<(), VkError> {
+        let slice = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .ok_or_else(|| VkError::Unsupported("buffer memory is not host-visible".into()))?;
+        let end = offset
+            .checked_add(bytes.len())
+            .filter(|&end| end <= slice.len())
+            .ok_or_else(|| VkError::Unsupported("write past the end of a buffer".into()))?;
+        slice[offset..end].copy_from_slice(bytes);
+        Ok(())
+    }
+
+    /// The contents of a mapped buffer (e.g. a readback buffer after its copy completed).
+    pub fn mapped(&self) -> Result<&[u8], VkError> {
+        let slice = self
+            .allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .ok_or_else(|| VkError::Unsupported("buffer memory is not host-visible".into()))?;
+        Ok(&slice[..self.size as usize])
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        // SAFETY: callers wait for the GPU to finish with a buffer before dropping it.
+        unsafe { self.device.raw().destroy_buffer(self.raw, None) };
+        if let Some(allocation) = self.allocation.take() {
+            if let Err(e) = self.device.allocator().free(allocation) {
+                log::error!("freeing buffer memory: {e}");
+            }
+        }
+    }
+}
+
+/// How to create an [`Image`] (2D, one mip level, one layer).
+#[derive(Clone, Copy, Debug)]
+pub struct ImageDesc<'a> {
+    pub name: &'a str,
+    pub format: vk::Format,
+    pub width: u32,
+    pub height: u32,
+    pub usage: vk::ImageUsageFlags,
+}
+
+/// A 2D image, its memory and a view over all of it. Destroyed when dropped.
+pub struct Image {
+    device: Arc<Device>,
+    raw: vk::Image,
+    view: vk::ImageView,
+    allocation: Option<Allocation>,
+    format: vk::Format,
+    extent: vk::Extent2D,
+    aspect: vk::ImageAspectFlags,
+}
+
+impl Image {
+    pub fn new(device: &Arc<Device>, desc: &ImageDesc<'_>) -> Result<Image, VkError> {
+        let max = device.max_image_dimension_2d();
+        if desc.width == 0 || desc.height == 0 || desc.width > max || desc.height > max {
+            return Err(VkError::Unsupported(format!(
+                "image {} of {}x{} is outside the device's limits (1..={max} per side)",
+                desc.name, desc.width, desc.height
+            )));
+        }
+        let aspect = match desc.format {
+            vk::Format::D32_SFLOAT | vk::Format::D16_UNORM => vk::ImageAspectFlags::DEPTH,
+            _ => vk::ImageAspectFlags::COLOR,
+        };
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(desc.format)
+            .extent(vk::Extent3D {
+                width: desc.width,
+                height: desc.height,
+                depth: 1,
+            })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(desc.usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        let raw_device = device.raw();
+        // SAFETY: valid create info; on error every created object is destroyed by Drop.
+        let raw = unsafe { raw_device.create_image(&info, None) }.what("vkCreateImage")?;
+        let mut image = Image {
+            device: device.clone(),
+            raw,
+            view: vk::ImageView::null(),
+            allocation: None,
+            format: desc.format,
+            extent: vk::Extent2D {
+                width: desc.width,
+                height: desc.height,
+            },
+            aspect,
+        };
+        let requirements = unsafe { raw_device.get_image_memory_requirements(raw) };
+        let allocation = device
+            .allocator()
+            .allocate(&AllocationCreateDesc {
+                name: desc.name,
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|source| VkError::Allocation {
+                name: desc.name.to_owned(),
+                source,
+            })?;
+        // SAFETY: the memory handle stays valid while the allocation lives (in `image`).
+        let (memory, offset) = (unsafe { allocation.memory() }, allocation.offset());
+        image.allocation = Some(allocation);
+        unsafe { raw_device.bind_image_memory(raw, memory, offset) }.what("vkBindImageMemory")?;
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(desc.format)
+            .subresource_range(Self::range(aspect));
+        image.view =
+            unsafe { raw_device.create_image_view(&view_info, None) }.what("vkCreateImageView")?;
+        Ok(image)
+    }
+
+    fn range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+        vk::ImageSubresourceRange {
+            aspect_mask: aspect,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: 1,
+        }
+    }
+
+    pub fn raw(&self) -> vk::Image {
+        self.raw
+    }
+    pub fn view(&self) -> vk::ImageView {
+        self.view
+    }
+    pub fn format(&self) -> vk::Format {
+        self.format
+    }
+    pub fn extent(&self) -> vk::Extent2D {
+        self.extent
+    }
+    pub fn aspect(&self) -> vk::ImageAspectFlags {
+        self.aspect
+    }
+    /// The whole image as a subresource range.
+    pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
+        Self::range(self.aspect)
+    }
+
+    /// A layout transition of the whole image (synchronization2).
+    pub fn barrier(
+        &self,
+        src: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout),
+        dst: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout),
+    ) -> vk::ImageMemoryBarrier2<'static> {
+        vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(src.0)
+            .src_access_mask(src.1)
+            .old_layout(src.2)
+            .dst_stage_mask(dst.0)
+            .dst_access_mask(dst.1)
+            .new_layout(dst.2)
+            .image(self.raw)
+            .subresource_range(self.subresource_range())
+    }
+
+    /// Records a copy of the whole image (in TRANSFER_SRC_OPTIMAL) into `buffer`, tightly packed.
+    pub fn record_copy_to_buffer(&self, cmd: vk::CommandBuffer, buffer: &Buffer) {
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: self.aspect,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(vk::Extent3D {
+                width: self.extent.width,
+                height: self.extent.height,
+                depth: 1,
+            });
+        // SAFETY: the caller records into a command buffer in the recording state.
+        unsafe {
+            self.device.raw().cmd_copy_image_to_buffer(
+                cmd,
+                self.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buffer.raw(),
+                &[region],
+            )
+        };
+    }
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        // SAFETY: callers wait for the GPU to finish with an image before dropping it.
+        unsafe {
+            if self.view != vk::ImageView::null() {
+                self.device.raw().destroy_image_view(self.view, None);
+            }
+            self.device.raw().destroy_image(self.raw, None);
+        }
+        if let Some(allocation) = self.allocation.take() {
+            if let Err(e) = self.device.allocator().free(allocation) {
+                log::error!("freeing image memory: {e}");
+            }
+        }
+    }
+}

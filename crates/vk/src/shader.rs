@@ -1,0 +1,166 @@
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::device::Device;
+use crate::error::{VkError, VkResultExt};
+
+/// GLSL sources by path relative to the shader root (e.g. `lighting.frag`,
+/// `include/brdf.glsl`). Renderers embed theirs at build time, so no file is read at
+/// run time; `#include "x.glsl"` resolves against `include/` and the including file's folder.
+#[derive(Clone, Debug, Default)]
+pub struct ShaderSources {
+    files: HashMap<String, &'static str>,
+}
+
+impl ShaderSources {
+    pub fn new(files: impl IntoIterator<Item = (&'static str, &'static str)>) -> Self {
+        Self {
+            files: files
+                .into_iter()
+                .map(|(path, text)| (path.to_owned(), text))
+                .collect(),
+        }
+    }
+
+    pub fn get(&self, path: &str) -> Option<&'static str> {
+        self.files.get(path).copied()
+    }
+
+    fn resolve(&self, requested: &str, requesting: &str) -> Option<(String, &'static str)> {
+        let folder = requesting.rsplit_once('/').map(|(dir, _)| dir);
+        let candidates = [
+            folder.map(|dir| format!("{dir}/{requested}")),
+            Some(requested.to_owned()),
+            Some(format!("include/{requested}")),
+        ];
+        candidates
+            .into_iter()
+            .flatten()
+            .find_map(|path| self.get(&path).map(|text| (path, text)))
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShaderStage {
+    Vertex,
+    Fragment,
+    Compute,
+}
+
+impl ShaderStage {
+    fn kind(self) -> shaderc::ShaderKind {
+        match self {
+            Self::Vertex => shaderc::ShaderKind::Vertex,
+            Self::Fragment => shaderc::ShaderKind::Fragment,
+            Self::Compute => shaderc::ShaderKind::Compute,
+        }
+    }
+    pub fn flags(self) -> vk::ShaderStageFlags {
+        match self {
+            Self::Vertex => vk::ShaderStageFlags::VERTEX,
+            Self::Fragment => vk::ShaderStageFlags::FRAGMENT,
+            Self::Compute => vk::ShaderStageFlags::COMPUTE,
+        }
+    }
+}
+
+/// Compiles GLSL to SPIR-V (Vulkan 1.3 target) with shaderc.
+pub struct ShaderCompiler {
+    compiler: shaderc::Compiler,
+    sources: ShaderSources,
+}
+
+impl ShaderCompiler {
+    pub fn new(sources: ShaderSources) -> Result<Self, VkError> {
+        let compiler = shaderc::Compiler::new()
+            .map_err(|e| VkError::Shader(format!("cannot start the shader compiler: {e}")))?;
+        Ok(Self { compiler, sources })
+    }
+
+    /// Compiles `path` with `defines` (`NAME` or `NAME=value`). Errors carry
+    /// `file:line: message` as reported by glslang.
+    pub fn compile(
+        &self,
+        path: &str,
+        stage: ShaderStage,
+        defines: &[(&str, Option<&str>)],
+    ) -> Result<Vec<u32>, VkError> {
+        let source = self
+            .sources
+            .get(path)
+            .ok_or_else(|| VkError::Shader(format!("no shader source named {path}")))?;
+        let mut options = shaderc::CompileOptions::new()
+            .map_err(|e| VkError::Shader(format!("cannot create compile options: {e}")))?;
+        options.set_target_env(
+            shaderc::TargetEnv::Vulkan,
+            shaderc::EnvVersion::Vulkan1_3 as u32,
+        );
+        options.set_source_language(shaderc::SourceLanguage::GLSL);
+        options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+        options.set_warnings_as_errors();
+        for (name, value) in defines {
+            options.add_macro_definition(name, *value);
+        }
+        let sources = self.sources.clone();
+        options.set_include_callback(move |requested, _kind, requesting, _depth| {
+            sources
+                .resolve(requested, requesting)
+                .map(|(resolved_name, content)| shaderc::ResolvedInclude {
+                    resolved_name,
+                    content: content.to_owned(),
+                })
+                .ok_or_else(|| format!("cannot find include file {requested}"))
+        });
+        let artifact = self
+            .compiler
+            .compile_into_spirv(source, stage.kind(), path, "main", Some(&options))
+            .map_err(|e| {
+                // glslang reports one `file:line: error: ...` per line; keep them on one line.
+                let messages: Vec<_> = e
+                    .to_string()
+                    .lines()
+                    .map(str::trim)
+                    .filter(|l| !l.is_empty())
+                    .map(str::to_owned)
+                    .collect();
+                VkError::Shader(format!("compiling {path}: {}", messages.join(" | ")))
+            })?;
+        Ok(artifact.as_binary().to_vec())
+    }
+}
+
+/// A `VkShaderModule`, destroyed when dropped.
+pub struct ShaderModule {
+    device: Arc<Device>,
+    raw: vk::ShaderModule,
+    stage: ShaderStage,
+}
+
+impl ShaderModule {
+    pub fn new(device: &Arc<Device>, spirv: &[u32], stage: ShaderStage) -> Result<Self, VkError> {
+        let info = vk::ShaderModuleCreateInfo::default().code(spirv);
+        // SAFETY: SPIR-V comes from shaderc.
+        let raw = unsafe { device.raw().create_shader_module(&info, None) }
+            .what("vkCreateShaderModule")?;
+        Ok(Self {
+            device: device.clone(),
+            raw,
+            stage,
+        })
+    }
+    pub fn raw(&self) -> vk::ShaderModule {
+        self.raw
+    }
+    pub fn stage(&self) -> ShaderStage {
+        self.stage
+    }
+}
+
+impl Drop for ShaderModule {
+    fn drop(&mut self) {
+        // SAFETY: modules are only needed during pipeline creation.
+        unsafe { self.device.raw().destroy_shader_module(self.raw, None) };
+    }
+}

@@ -1,0 +1,82 @@
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::device::Device;
+use crate::error::{VkError, VkResultExt};
+
+/// A timestamp query pool: write a timestamp at the start and at the end of each pass,
+/// read back the durations in milliseconds once the submission has completed.
+pub struct TimestampQueries {
+    device: Arc<Device>,
+    pool: vk::QueryPool,
+    count: u32,
+    period_ns: f64,
+}
+
+impl TimestampQueries {
+    /// `count` timestamps. Fails with `Unsupported` when the device has no timestamps.
+    pub fn new(device: &Arc<Device>, count: u32) -> Result<Self, VkError> {
+        let limits = device.limits();
+        if limits.timestamp_compute_and_graphics == vk::FALSE || limits.timestamp_period <= 0.0 {
+            return Err(VkError::Unsupported(
+                "the device has no timestamp queries on its graphics queue".into(),
+            ));
+        }
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::TIMESTAMP)
+            .query_count(count);
+        // SAFETY: valid create info.
+        let pool =
+            unsafe { device.raw().create_query_pool(&info, None) }.what("vkCreateQueryPool")?;
+        Ok(Self {
+            device: device.clone(),
+            pool,
+            count,
+            period_ns: f64::from(limits.timestamp_period),
+        })
+    }
+
+    /// Records the reset of all queries (outside any rendering scope).
+    pub fn record_reset(&self, cmd: vk::CommandBuffer) {
+        unsafe {
+            self.device
+                .raw()
+                .cmd_reset_query_pool(cmd, self.pool, 0, self.count)
+        };
+    }
+
+    /// Records timestamp `index`, taken once all earlier work reached `stage`.
+    pub fn record(&self, cmd: vk::CommandBuffer, stage: vk::PipelineStageFlags2, index: u32) {
+        unsafe {
+            self.device
+                .raw()
+                .cmd_write_timestamp2(cmd, stage, self.pool, index)
+        };
+    }
+
+    /// Reads all timestamps (waiting for them) and returns them in milliseconds since the first.
+    pub fn read_ms(&self) -> Result<Vec<f64>, VkError> {
+        let mut ticks = vec![0u64; self.count as usize];
+        unsafe {
+            self.device.raw().get_query_pool_results(
+                self.pool,
+                0,
+                &mut ticks,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .what("vkGetQueryPoolResults")?;
+        let first = ticks.first().copied().unwrap_or(0);
+        Ok(ticks
+            .iter()
+            .map(|&t| t.wrapping_sub(first) as f64 * self.period_ns * 1e-6)
+            .collect())
+    }
+}
+
+impl Drop for TimestampQueries {
+    fn drop(&mut self) {
+        unsafe { self.device.raw().destroy_query_pool(self.pool, None) };
+    }
+}

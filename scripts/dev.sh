@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# The two commands of the README:
+#   bash scripts/dev.sh render   install what is missing, render builtin:spheres to spheres.png
+#   bash scripts/dev.sh test     install what is missing, run fmt, clippy and the whole test suite
+# Both first install the system packages Combustion needs on Debian/Ubuntu (lavapipe,
+# the Vulkan loader, the validation layers, and what building shaderc from source needs).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# Debian/Ubuntu packages: lavapipe (CPU Vulkan driver), the loader, the validation layers,
+# and shaderc's build-from-source needs (cmake, python3, a C++ compiler, git for its sources
+# is not needed: the crate ships them).
+PACKAGES=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake python3 g++ pkg-config)
+
+install_packages() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]})); then
+    echo "installing: ${missing[*]}"
+    local sudo=()
+    [ "$(id -u)" -eq 0 ] || sudo=(sudo)
+    "${sudo[@]}" apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq "${missing[@]}"
+  fi
+  if ! command -v cargo >/dev/null; then
+    echo "error: cargo not found; install Rust (https://rustup.rs), then run this again" >&2
+    exit 1
+  fi
+}
+
+case "${1:-}" in
+  render)
+    install_packages
+    shift
+    cargo run --release --locked -- render --scene builtin:spheres --width 1280 --height 720 \
+      -o spheres.png --hdr spheres.exr "$@"
+    ;;
+  test)
+    install_packages
+    start=$(date +%s)
+    cargo fmt --all -- --check
+    cargo clippy --locked --workspace --all-targets -- -D warnings
+    if cargo nextest --version >/dev/null 2>&1; then
+      cargo nextest run --locked --workspace --no-fail-fast
+    else
+      cargo test --locked --workspace --no-fail-fast
+    fi
+    echo "test command took $(( $(date +%s) - start )) s"
+    ;;
+  *)
+    echo "usage: bash scripts/dev.sh render|test" >&2
+    exit 2
+    ;;
+esac

@@ -1,0 +1,83 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_samplerless_texture_functions : require
+// Lighting pass: reads the G-buffer and depth, the material table and the lights, and
+// writes HDR radiance (W·sr⁻¹·m⁻² per RGB channel). Mirrored on the CPU by the parity
+// test in tests/parity.rs.
+#include "gpu_types.glsl"
+#include "gbuffer_encoding.glsl"
+#include "brdf.glsl"
+
+layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;
+layout(set = 0, binding = 1) uniform texture2D gbuffer_normal_roughness_anisotropy;
+layout(set = 0, binding = 2) uniform utexture2D gbuffer_material_direction;
+layout(set = 0, binding = 3) uniform texture2D gbuffer_depth;
+layout(std430, set = 0, binding = 4) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, set = 0, binding = 5) readonly buffer Lights { GpuLight lights[]; };
+
+layout(push_constant) uniform LightingPush {
+    mat4 inverse_view_projection;
+    vec4 camera_position;
+    uvec4 counts;  // x: light count
+} push;
+
+layout(location = 0) out vec4 out_radiance;
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    float depth = texelFetch(gbuffer_depth, pixel, 0).r;
+    if (depth >= 1.0) {
+        out_radiance = vec4(0.0);  // background: nothing was drawn here
+        return;
+    }
+    vec4 base_metal = texelFetch(gbuffer_base_color_metalness, pixel, 0);
+    vec4 nra = texelFetch(gbuffer_normal_roughness_anisotropy, pixel, 0);
+    uvec2 md = texelFetch(gbuffer_material_direction, pixel, 0).xy;
+    GpuMaterial material = materials[md.x];
+
+    vec2 uv = gl_FragCoord.xy / vec2(textureSize(gbuffer_depth, 0));
+    vec4 world = push.inverse_view_projection * vec4(uv * 2.0 - 1.0, depth, 1.0);
+    vec3 position = world.xyz / world.w;
+
+    vec3 n = octahedral_decode(nra.xy);
+    vec3 t = anisotropy_direction_decode(n, md.y);
+    vec3 b = cross(n, t);
+    vec3 v = normalize(push.camera_position.xyz - position);
+
+    float alpha = alpha_from_perceptual_roughness(nra.z);
+    vec2 alphas = anisotropic_alphas(alpha, nra.w);
+    BrdfInputs m;
+    m.base_color = base_metal.rgb;
+    m.metalness = base_metal.a;
+    m.alpha_x = alphas.x;
+    m.alpha_y = alphas.y;
+    m.conductor_eta = material.conductor_eta_outside_ior.rgb;
+    m.conductor_k = material.conductor_k_polarisation.rgb;
+    m.dielectric_eta = material.roughness_anisotropy_ior.w;
+    m.outside_eta = material.conductor_eta_outside_ior.a;
+    m.polarisation_weight = material.conductor_k_polarisation.a;
+    m.diffuse_model = material.diffuse_model_flags.x;
+    m.oren_nayar_sigma = oren_nayar_sigma_from_roughness(nra.z);
+
+    vec3 radiance = vec3(0.0);
+    for (uint i = 0u; i < push.counts.x; ++i) {
+        GpuLight light = lights[i];
+        vec3 l;
+        vec3 irradiance;
+        if (light.power_kind.a == float(LIGHT_KIND_POINT)) {
+            vec3 to_light = light.position_or_direction.xyz - position;
+            float distance_squared = max(dot(to_light, to_light), 1e-12);
+            l = to_light * inversesqrt(distance_squared);
+            irradiance = light.power_kind.rgb / distance_squared;
+        } else {
+            l = -light.position_or_direction.xyz;
+            irradiance = light.power_kind.rgb;
+        }
+        float n_dot_l = dot(n, l);
+        if (n_dot_l <= 0.0) {
+            continue;
+        }
+        radiance += brdf_evaluate(m, n, t, b, v, l) * irradiance * n_dot_l;
+    }
+    out_radiance = vec4(radiance, 1.0);
+}

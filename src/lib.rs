@@ -1,0 +1,149 @@
+//! Combustion: a Vulkan deferred renderer with physically based shading.
+//!
+//! This crate is the public facade: it re-exports the engine crates and offers
+//! [`Headless`], the shortest path from a scene to pixels, used by the `combustion`
+//! command-line tool, the examples and the tests alike.
+//!
+//! ```no_run
+//! use combustion::{Headless, HeadlessDesc, SceneSource};
+//! let mut headless = Headless::new(&HeadlessDesc::default())?;
+//! let scene = SceneSource::parse("builtin:spheres").load()?;
+//! let frame = headless.render(&scene, 1280, 720)?;
+//! combustion::output::write_png("out.png".as_ref(), frame.width, frame.height, &frame.ldr)?;
+//! # Ok::<(), combustion::Error>(())
+//! ```
+
+pub mod output;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+pub use combustion_optics as optics;
+pub use combustion_renderer as renderer;
+pub use combustion_scene as scene;
+pub use combustion_spectra as spectra;
+pub use combustion_vk as vk;
+
+use combustion_renderer::{Frame, Readback, RenderError, Renderer, RendererSettings};
+use combustion_scene::{Scene, SceneError};
+use combustion_vk::{Device, DeviceDesc, DeviceSelector, ValidationLog, VkError};
+
+/// Any failure of the facade, one line each.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error(transparent)]
+    Vulkan(#[from] VkError),
+    #[error(transparent)]
+    Render(#[from] RenderError),
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Output(#[from] output::OutputError),
+    #[error("{0}")]
+    Usage(String),
+    #[error("the Vulkan validation layer reported {count} message(s); first: {first}")]
+    Validation { count: usize, first: String },
+}
+
+/// Where a scene comes from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SceneSource {
+    /// `builtin:NAME`.
+    Builtin(String),
+    /// A scene file.
+    File(PathBuf),
+}
+
+impl SceneSource {
+    pub fn parse(text: &str) -> Self {
+        match text.strip_prefix("builtin:") {
+            Some(name) => Self::Builtin(name.to_owned()),
+            None => Self::File(PathBuf::from(text)),
+        }
+    }
+
+    pub fn load(&self) -> Result<Scene, Error> {
+        match self {
+            Self::Builtin(name) => Ok(combustion_scene::builtin_scene(name)?),
+            Self::File(path) => Err(Error::Usage(format!(
+                "cannot load {}: scene files are not supported yet; use builtin:NAME ({})",
+                path.display(),
+                combustion_scene::BUILTIN_SCENES.join(", ")
+            ))),
+        }
+    }
+}
+
+/// How to set up headless rendering.
+#[derive(Clone, Debug, Default)]
+pub struct HeadlessDesc {
+    pub device: DeviceDesc,
+    pub settings: RendererSettings,
+}
+
+impl HeadlessDesc {
+    /// Device chosen by `COMBUSTION_DEVICE` (or automatically), validation as given.
+    pub fn from_env(validation: bool) -> Result<Self, Error> {
+        Ok(Self {
+            device: DeviceDesc {
+                selector: DeviceSelector::from_env()?,
+                validation,
+            },
+            settings: RendererSettings::default(),
+        })
+    }
+}
+
+/// A device and a renderer, rendering without a window.
+pub struct Headless {
+    renderer: Renderer,
+    validation: ValidationLog,
+}
+
+impl Headless {
+    pub fn new(desc: &HeadlessDesc) -> Result<Self, Error> {
+        let device: Arc<Device> = Device::new(&desc.device)?;
+        let validation = device.validation_log();
+        let renderer = Renderer::new(device, desc.settings)?;
+        Ok(Self {
+            renderer,
+            validation,
+        })
+    }
+
+    pub fn renderer(&mut self) -> &mut Renderer {
+        &mut self.renderer
+    }
+
+    /// Uploads `scene`, renders one frame and reads back the HDR and display images.
+    pub fn render(&mut self, scene: &Scene, width: u32, height: u32) -> Result<Frame, Error> {
+        let gpu_scene = self.renderer.upload(scene)?;
+        let frame = self.renderer.render(
+            &gpu_scene,
+            width,
+            height,
+            Readback {
+                images: true,
+                gbuffer: false,
+            },
+        )?;
+        Ok(frame)
+    }
+
+    /// The validation messages seen so far (stays readable after `self` is dropped).
+    pub fn validation_log(&self) -> ValidationLog {
+        self.validation.clone()
+    }
+}
+
+/// Fails with [`Error::Validation`] if `log` holds any message.
+pub fn check_validation(log: &ValidationLog) -> Result<(), Error> {
+    let messages = log.messages();
+    match messages.first() {
+        None => Ok(()),
+        Some(first) => Err(Error::Validation {
+            count: messages.len(),
+            first: first.clone(),
+        }),
+    }
+}

@@ -1,0 +1,233 @@
+//! Writing frames to files: PNG (8-bit sRGB) and OpenEXR (32-bit float, uncompressed).
+//! Files are written to a temporary name in the same folder and renamed into place,
+//! so a failure never leaves a half-written image behind.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Why an image could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("cannot write {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cannot write {path}: folder {folder} does not exist")]
+    NoFolder { path: PathBuf, folder: PathBuf },
+    #[error("cannot encode PNG {path}: {message}")]
+    Png { path: PathBuf, message: String },
+    #[error("{path}: {count} pixels given for a {width}x{height} image")]
+    SizeMismatch {
+        path: PathBuf,
+        count: usize,
+        width: u32,
+        height: u32,
+    },
+}
+
+/// Checks, before any work is done, that `path` can plausibly be written: its folder
+/// exists and it is not itself a folder.
+pub fn check_writable(path: &Path) -> Result<(), OutputError> {
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if !folder.is_dir() {
+        return Err(OutputError::NoFolder {
+            path: path.to_path_buf(),
+            folder,
+        });
+    }
+    if path.is_dir() {
+        return Err(OutputError::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(std::io::ErrorKind::IsADirectory, "it is a folder"),
+        });
+    }
+    Ok(())
+}
+
+fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> Result<(), OutputError>,
+) -> Result<(), OutputError> {
+    check_writable(path)?;
+    let io = |source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file_name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let temporary = path.with_file_name(format!(".{file_name}.partial-{}", std::process::id()));
+    let result = (|| {
+        let file = File::create(&temporary).map_err(io)?;
+        let mut writer = BufWriter::new(file);
+        write(&mut writer)?;
+        writer.flush().map_err(io)?;
+        drop(writer);
+        std::fs::rename(&temporary, path).map_err(io)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    result
+}
+
+/// Writes 8-bit sRGB RGBA pixels as a PNG (sRGB chunk set).
+pub fn write_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgba: &[[u8; 4]],
+) -> Result<(), OutputError> {
+    if rgba.len() != width as usize * height as usize {
+        return Err(OutputError::SizeMismatch {
+            path: path.to_path_buf(),
+            count: rgba.len(),
+            width,
+            height,
+        });
+    }
+    write_atomically(path, |writer| {
+        let png_error = |e: png::EncodingError| OutputError::Png {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        };
+        let mut encoder = png::Encoder::new(writer, width, height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let mut png_writer = encoder.write_header().map_err(png_error)?;
+        png_writer
+            .write_image_data(rgba.as_flattened())
+            .map_err(png_error)?;
+        png_writer.finish().map_err(png_error)
+    })
+}
+
+/// Writes linear RGB radiance as an uncompressed scanline OpenEXR file with 32-bit
+/// float R, G, B channels (alpha dropped).
+pub fn write_exr(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgba: &[[f32; 4]],
+) -> Result<(), OutputError> {
+    if rgba.len() != width as usize * height as usize {
+        return Err(OutputError::SizeMismatch {
+            path: path.to_path_buf(),
+            count: rgba.len(),
+            width,
+            height,
+        });
+    }
+    let bytes = encode_exr(width, height, rgba);
+    write_atomically(path, |writer| {
+        writer.write_all(&bytes).map_err(|source| OutputError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
+/// The bytes of an uncompressed RGB float OpenEXR image (OpenEXR file layout 2.0).
+pub fn encode_exr(width: u32, height: u32, rgba: &[[f32; 4]]) -> Vec<u8> {
+    fn attribute(out: &mut Vec<u8>, name: &str, kind: &str, value: &[u8]) {
+        out.extend_from_slice(name.as_bytes());
+        out.push(0);
+        out.extend_from_slice(kind.as_bytes());
+        out.push(0);
+        out.extend_from_slice(&(value.len() as i32).to_le_bytes());
+        out.extend_from_slice(value);
+    }
+    let ints = |values: &[i32]| {
+        values
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect::<Vec<u8>>()
+    };
+    let floats = |values: &[f32]| {
+        values
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect::<Vec<u8>>()
+    };
+    let mut out = Vec::new();
+    out.extend_from_slice(&20000630i32.to_le_bytes()); // magic
+    out.extend_from_slice(&2i32.to_le_bytes()); // version 2, scanline, no flags
+                                                // Channels in alphabetical order, as the format requires: B, G, R; FLOAT = 2.
+    let mut channels = Vec::new();
+    for name in ["B", "G", "R"] {
+        channels.extend_from_slice(name.as_bytes());
+        channels.push(0);
+        channels.extend_from_slice(&2i32.to_le_bytes());
+        channels.extend_from_slice(&[0, 0, 0, 0]); // pLinear, reserved
+        channels.extend_from_slice(&ints(&[1, 1])); // x/y sampling
+    }
+    channels.push(0);
+    attribute(&mut out, "channels", "chlist", &channels);
+    attribute(&mut out, "compression", "compression", &[0]);
+    let window = ints(&[0, 0, width as i32 - 1, height as i32 - 1]);
+    attribute(&mut out, "dataWindow", "box2i", &window);
+    attribute(&mut out, "displayWindow", "box2i", &window);
+    attribute(&mut out, "lineOrder", "lineOrder", &[0]);
+    attribute(&mut out, "pixelAspectRatio", "float", &floats(&[1.0]));
+    attribute(&mut out, "screenWindowCenter", "v2f", &floats(&[0.0, 0.0]));
+    attribute(&mut out, "screenWindowWidth", "float", &floats(&[1.0]));
+    out.push(0); // end of header
+    let line_bytes = 3 * 4 * width as usize;
+    let block_bytes = 8 + line_bytes;
+    let table_start = out.len();
+    let first_block = table_start + 8 * height as usize;
+    for y in 0..height as usize {
+        out.extend_from_slice(&((first_block + y * block_bytes) as u64).to_le_bytes());
+    }
+    for y in 0..height as usize {
+        out.extend_from_slice(&(y as i32).to_le_bytes());
+        out.extend_from_slice(&(line_bytes as i32).to_le_bytes());
+        let row = &rgba[y * width as usize..(y + 1) * width as usize];
+        for channel in [2, 1, 0] {
+            for pixel in row {
+                out.extend_from_slice(&pixel[channel].to_le_bytes());
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exr_layout_matches_the_format() {
+        let pixels = [[1.0, 2.0, 3.0, 1.0], [4.0, 5.0, 6.0, 1.0]];
+        let bytes = encode_exr(2, 1, &pixels);
+        assert_eq!(
+            &bytes[..4],
+            &[0x76, 0x2f, 0x31, 0x01],
+            "OpenEXR magic number"
+        );
+        // The offset table's single entry points at the scanline block: y = 0, 24 bytes,
+        // then B B G G R R.
+        let header_end = bytes.len() - (8 + 24) - 8;
+        let offset = u64::from_le_bytes(bytes[header_end..header_end + 8].try_into().unwrap());
+        assert_eq!(offset as usize, header_end + 8);
+        let block = &bytes[offset as usize..];
+        let int = |i: usize| i32::from_le_bytes(block[i..i + 4].try_into().unwrap());
+        let float = |i: usize| f32::from_le_bytes(block[i..i + 4].try_into().unwrap());
+        assert_eq!((int(0), int(4)), (0, 24));
+        let values: Vec<f32> = (0..6).map(|i| float(8 + 4 * i)).collect();
+        assert_eq!(values, [3.0, 6.0, 2.0, 5.0, 1.0, 4.0]);
+    }
+
+    #[test]
+    fn missing_folder_is_a_clear_error_and_leaves_nothing() {
+        let err = write_png(Path::new("/nonexistent-folder/out.png"), 1, 1, &[[0; 4]]).unwrap_err();
+        assert!(err.to_string().contains("does not exist"), "{err}");
+    }
+}
