@@ -15,7 +15,7 @@ mod error;
 mod material;
 mod mesh;
 
-pub use builtin::{builtin_scene, BUILTIN_SCENES};
+pub use builtin::{builtin_scene, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
 pub use camera::Camera;
 pub use error::SceneError;
 pub use material::{ComplexIor, DiffuseModel, Material};

@@ -120,7 +120,8 @@ mod tests {
         // Every triangle's geometric normal points away from the centre (counter-clockwise
         // winding seen from outside), which the G-buffer pass's back-face culling relies on.
         for tri in mesh.indices.chunks(3) {
-            let p = tri.map(|i| glam::Vec3::from(mesh.vertices[i as usize].position));
+            let p: [glam::Vec3; 3] =
+                std::array::from_fn(|k| glam::Vec3::from(mesh.vertices[tri[k] as usize].position));
             let n = (p[1] - p[0]).cross(p[2] - p[0]);
             let centre = (p[0] + p[1] + p[2]) / 3.0;
             assert!(n.dot(centre) > 0.0, "triangle {tri:?} faces inwards");

@@ -11,8 +11,8 @@
 
 use combustion_spectra::{
     compare_builtin_metals, rgb_band_averaged_reflectance, rgb_optical_constants,
-    AveragingComparison, RgbBand, Spectrum, SpectrumError, COMPARISON_ANGLES_DEG,
-    COMPARISON_OUTSIDE_ETAS,
+    AveragingComparison, BuiltinDielectric, RgbBand, Spectrum, SpectrumError,
+    COMPARISON_ANGLES_DEG, COMPARISON_OUTSIDE_ETAS,
 };
 use std::process::ExitCode;
 
@@ -39,6 +39,25 @@ fn max_difference(rows: &[AveragingComparison], outside_eta: f64) -> String {
 }
 
 fn builtin_report() -> Result<(), SpectrumError> {
+    println!("### Dielectrics");
+    println!();
+    println!("| dielectric | data | η (R, G, B) | k (R, G, B) | R(0°), ηi = 1 (R, G, B) |");
+    println!("|---|---|---|---|---|");
+    for dielectric in BuiltinDielectric::ALL {
+        let c = rgb_optical_constants(dielectric.spectrum())?;
+        let r0 = c.reflectance(1.0, 1.0, 0.5)?;
+        println!(
+            "| {} | {} | {} | {:.2e}, {:.2e}, {:.2e} | {} |",
+            dielectric.name(),
+            dielectric.dataset(),
+            triple(c.eta, 5),
+            c.k[0],
+            c.k[1],
+            c.k[2],
+            triple(r0, 5),
+        );
+    }
+    println!();
     let report = compare_builtin_metals()?;
     println!("### Method (a) − method (b), per metal, angle and channel");
     println!();

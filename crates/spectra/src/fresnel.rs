@@ -1,7 +1,11 @@
-//! The one place this crate calls the Fresnel equations of `combustion-optics`.
+//! The one place this crate calls the Fresnel equations: `combustion-optics`'
+//! dielectric–conductor reflectance with an outside medium.
 
-/// Reflectance of the interface outside medium (real index `outside_eta`) → conductor
-/// `eta + i k`, at `cos_theta`, polarisation weight `w` (0 = s, 1 = p).
+use combustion_optics::fresnel::fresnel_conductor;
+
+/// Reflectance of the interface from an outside medium of real index `outside_eta` into a
+/// conductor `eta + i k`, at `cos_theta` (angle of incidence in the outside medium),
+/// polarisation weight `w`: (1 − w)·Rs + w·Rp (0 = s / perpendicular, 1 = p / parallel).
 pub(crate) fn conductor_reflectance(
     cos_theta: f64,
     outside_eta: f64,
@@ -9,7 +13,5 @@ pub(crate) fn conductor_reflectance(
     k: f64,
     w: f64,
 ) -> f64 {
-    // TODO(spectra): call combustion-optics once its conductor Fresnel lands.
-    let _ = (cos_theta, outside_eta, eta, k, w);
-    f64::NAN
+    fresnel_conductor(cos_theta, outside_eta, eta, k).weighted(w)
 }

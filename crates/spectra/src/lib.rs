@@ -18,6 +18,8 @@
 //!
 //! The Fresnel equations are not implemented here: they come from `combustion-optics`.
 
+#![warn(missing_docs)]
+
 mod band;
 mod builtin;
 mod error;
