@@ -2,15 +2,18 @@
 
 use glam::{Mat4, Vec3};
 
-use crate::{Camera, ComplexIor, Light, Material, Mesh, Object, Scene, SceneError};
+use crate::{
+    Camera, ComplexIor, DiffuseModel, Light, Material, Mesh, Object, Scene, SceneError,
+};
 
 /// Names accepted by [`builtin_scene`] (also as `builtin:NAME` on the command line).
-pub const BUILTIN_SCENES: &[&str] = &["spheres"];
+pub const BUILTIN_SCENES: &[&str] = &["spheres", "hard-cases"];
 
 /// Builds the built-in scene `name`.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
     match name {
         "spheres" => Ok(spheres()),
+        "hard-cases" => Ok(hard_cases()),
         _ => Err(SceneError::UnknownBuiltin {
             name: name.to_owned(),
             known: BUILTIN_SCENES.join(", "),
@@ -112,10 +115,168 @@ fn spheres() -> Scene {
     }
 }
 
+/// Numerically hard geometry and materials for the stability and parity tests: a floor
+/// seen and lit at grazing angles, roughness 0 and 1, anisotropy at its ends, η = 1,
+/// η just above 1, η < 1 (silver), very large k, an air bubble under water (TIR), both
+/// Oren–Nayar models, a light at the camera, lights behind surfaces, and a light exactly
+/// opposite the viewer behind a sphere.
+fn hard_cases() -> Scene {
+    use combustion_spectra::BuiltinMetal;
+    let sphere = |name: &str, material: Material| Material {
+        name: name.into(),
+        ..material
+    };
+    let spheres = [
+        sphere(
+            "roughness 0, huge k",
+            Material {
+                metalness: 1.0,
+                roughness: 0.0,
+                conductor: ComplexIor {
+                    eta: [1.5, 0.8, 0.3],
+                    k: [30.0, 60.0, 100.0],
+                },
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "eta = 1: no interface",
+            Material {
+                roughness: 0.0,
+                dielectric_ior: 1.0,
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "anisotropy 1, roughness 1",
+            Material {
+                metalness: 1.0,
+                roughness: 1.0,
+                anisotropy_strength: 1.0,
+                anisotropy_rotation: 0.7,
+                conductor: metal(BuiltinMetal::Aluminium),
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "anisotropy 1, roughness 0.05",
+            Material {
+                metalness: 1.0,
+                roughness: 0.05,
+                anisotropy_strength: 1.0,
+                conductor: metal(BuiltinMetal::Silver),
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "air bubble under water (TIR)",
+            Material {
+                roughness: 0.2,
+                dielectric_ior: 1.0,
+                outside_ior: Some(1.33),
+                base_color: [0.2, 0.4, 0.8],
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "Oren-Nayar full, roughness 1",
+            Material {
+                roughness: 1.0,
+                diffuse_model: DiffuseModel::OrenNayarFull,
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "Oren-Nayar qualitative, roughness 1",
+            Material {
+                roughness: 1.0,
+                diffuse_model: DiffuseModel::OrenNayarQualitative,
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "silver (eta < 1), roughness 0.3, s-polarised",
+            Material {
+                metalness: 1.0,
+                roughness: 0.3,
+                polarisation_weight: 0.0,
+                conductor: metal(BuiltinMetal::Silver),
+                ..Material::default()
+            },
+        ),
+    ];
+    let floor = Material {
+        name: "floor: eta just above 1, smooth".into(),
+        roughness: 0.02,
+        dielectric_ior: 1.0001,
+        base_color: [0.5, 0.5, 0.5],
+        ..Material::default()
+    };
+    let camera_position = Vec3::new(0.0, -0.4, 6.0);
+    let mut materials = vec![floor];
+    let mut objects = vec![Object {
+        mesh: 1,
+        material: 0,
+        transform: Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0)),
+    }];
+    let count = spheres.len();
+    let mut centres = Vec::new();
+    for (i, material) in spheres.into_iter().enumerate() {
+        materials.push(material);
+        let centre = Vec3::new((i as f32 - (count as f32 - 1.0) / 2.0) * 0.95, 0.1, 0.0);
+        centres.push(centre);
+        objects.push(Object {
+            mesh: 0,
+            material: i + 1,
+            transform: Mat4::from_translation(centre),
+        });
+    }
+    // Exactly opposite the viewer, seen through the centre of the second sphere.
+    let opposite = centres[1] + (centres[1] - camera_position).normalize() * 3.0;
+    Scene {
+        name: "hard-cases".into(),
+        meshes: vec![
+            Mesh::uv_sphere("sphere", 0.42, 48, 24),
+            Mesh::plane("floor", 60.0),
+        ],
+        materials,
+        objects,
+        lights: vec![
+            // At the camera: v = l everywhere (retro-reflection).
+            Light::Point {
+                position: camera_position,
+                intensity: [8.0; 3],
+            },
+            Light::Point {
+                position: opposite,
+                intensity: [20.0; 3],
+            },
+            // Behind every sphere.
+            Light::Point {
+                position: Vec3::new(0.0, 0.3, -3.0),
+                intensity: [15.0; 3],
+            },
+            // Grazing on the floor: n·l = 0.001.
+            Light::Directional {
+                direction: Vec3::new(1.0, -0.001, 0.0),
+                irradiance: [2.0; 3],
+            },
+        ],
+        camera: Camera {
+            position: camera_position,
+            target: Vec3::new(0.0, 0.1, 0.0),
+            up: Vec3::Y,
+            vertical_fov: 45f32.to_radians(),
+            near: 0.05,
+            far: 100.0,
+        },
+        outside_ior: 1.0,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::DiffuseModel;
 
     #[test]
     fn builtin_scenes_validate() {

@@ -115,7 +115,7 @@ pub enum SpectrumError {
     /// [`Spectrum`](crate::Spectrum) for the rule).
     #[error(
         "line {line}: the {band} band ({band_min_nm}–{band_max_nm} nm) is resolved by only \
-         {count} sample(s) (this row, at {line_nm} nm, is the last one below the band); at \
+         {count} sample(s) (this row, at {line_nm} nm, is the last one at or below the band's lower edge); at \
          least 2 must lie inside the band or bracket it within {tolerance_nm} nm of its edges"
     )]
     TooSparse {

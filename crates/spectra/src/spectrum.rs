@@ -58,7 +58,8 @@ impl Spectrum {
     /// * Lines whose first non-blank character is `#` are comments; blank lines are
     ///   skipped. Lines may end in `\r\n`.
     /// * The first non-comment line may be the header `wavelength_nm,n,k` (ASCII case and
-    ///   spaces around fields are ignored); it is optional.
+    ///   spaces around fields are ignored); it is optional. A leading byte-order mark is
+    ///   ignored.
     /// * Every other line is a data row `wavelength_nm,n,k`: wavelength in nm (vacuum),
     ///   then n and k. Numbers use Rust's `f64` syntax (`1.5`, `3.1474E-01`, ...).
     ///
@@ -73,6 +74,8 @@ impl Spectrum {
         let mut lines_of_samples: Vec<usize> = Vec::new();
         let mut seen_non_comment = false;
         let mut line_count = 0;
+        // A leading byte-order mark (spreadsheet exports) is not part of the first field.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         for (index, raw) in text.lines().enumerate() {
             let line = index + 1;
             line_count = line;
