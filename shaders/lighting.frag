@@ -64,11 +64,14 @@ void main() {
         GpuLight light = lights[i];
         vec3 l;
         vec3 irradiance;
-        if (light.power_kind.a == float(LIGHT_KIND_POINT)) {
+        if (light.power_kind.a != LIGHT_KIND_DIRECTIONAL) {
             vec3 to_light = light.position_or_direction.xyz - position;
             float distance_squared = max(dot(to_light, to_light), 1e-12);
             l = to_light * inversesqrt(distance_squared);
             irradiance = light.power_kind.rgb / distance_squared;
+            if (light.power_kind.a == LIGHT_KIND_SPOT) {
+                irradiance *= spot_attenuation(light, l);
+            }
         } else {
             l = -light.position_or_direction.xyz;
             irradiance = light.power_kind.rgb;

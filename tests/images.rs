@@ -153,6 +153,7 @@ impl AnalyticSpheres {
                     direction,
                     irradiance,
                 } => (-direction.as_dvec3().normalize(), irradiance.map(f64::from)),
+                Light::Spot { .. } => unreachable!("the sphere grid has no spot lights"),
             };
             let cos = n.dot(l);
             if cos <= 0.0 {

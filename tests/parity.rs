@@ -10,7 +10,7 @@ use combustion::optics::microfacet::{alpha_from_perceptual_roughness, anisotropi
 use combustion::optics::vec3::Vec3 as V;
 use combustion::renderer::gbuffer::{anisotropy_direction_decode, octahedral_decode, srgb_to_linear, GBufferTexel};
 use combustion::renderer::gpu_types::{
-    material_table, GpuLight, GpuMaterial, LightingPush, LIGHT_KIND_POINT,
+    material_table, GpuLight, GpuMaterial, LightingPush, LIGHT_KIND_DIRECTIONAL,
 };
 use combustion::renderer::{Frame, HdrFormat, Readback, RendererSettings};
 use combustion::scene::{builtin_scene, Scene};
@@ -121,10 +121,12 @@ fn shade(inputs: &LightingInputs, texel: &GBufferTexel, x: u32, y: u32, frame: &
     for light in lights {
         let p = f(light.position_or_direction);
         let power = f(light.power_kind);
-        let (l, e) = if light.power_kind[3] == LIGHT_KIND_POINT {
+        let (l, e) = if light.power_kind[3] != LIGHT_KIND_DIRECTIONAL {
             let to = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
             let d2 = (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).max(1e-12);
-            (normalize(to), [power[0] / d2, power[1] / d2, power[2] / d2])
+            let l = normalize(to);
+            let a = light.attenuation(l) / d2;
+            (l, [power[0] * a, power[1] * a, power[2] * a])
         } else {
             ([-p[0], -p[1], -p[2]], [power[0], power[1], power[2]])
         };

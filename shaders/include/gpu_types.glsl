@@ -20,13 +20,24 @@ struct GpuObject {
     uvec4 material_index;           // x: index into the material table
 };
 
-// One light (std430, 32 bytes).
-#define LIGHT_KIND_DIRECTIONAL 0u
-#define LIGHT_KIND_POINT 1u
+// One light (std430, 64 bytes).
+#define LIGHT_KIND_DIRECTIONAL 0.0
+#define LIGHT_KIND_POINT 1.0
+#define LIGHT_KIND_SPOT 2.0
 struct GpuLight {
-    vec4 position_or_direction;     // point: world position; directional: unit direction of travel
-    vec4 power_kind;                // rgb: point intensity (W/sr) or directional irradiance (W/m²);
-                                    // a: LIGHT_KIND_* as a float
+    vec4 position_or_direction;     // point, spot: world position; directional: unit direction of travel
+    vec4 power_kind;                // rgb: point/spot intensity (W/sr) or directional irradiance (W/m²);
+                                    // a: LIGHT_KIND_*
+    vec4 spot_axis;                 // spot: xyz = unit direction of travel along the cone axis
+    vec4 spot_cone;                 // spot: x = 1 / max(1e-3, cos(inner) − cos(outer)),
+                                    //       y = −cos(outer) · x   (KHR_lights_punctual falloff)
 };
+
+// Angular falloff of a spot light for unit direction l from the surface to the light.
+float spot_attenuation(GpuLight light, vec3 l) {
+    float cos_axis = dot(light.spot_axis.xyz, -l);
+    float a = clamp(cos_axis * light.spot_cone.x + light.spot_cone.y, 0.0, 1.0);
+    return a * a;
+}
 
 #endif

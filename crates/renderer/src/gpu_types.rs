@@ -61,39 +61,66 @@ impl GpuObject {
 /// `LIGHT_KIND_*` in gpu_types.glsl.
 pub const LIGHT_KIND_DIRECTIONAL: f32 = 0.0;
 pub const LIGHT_KIND_POINT: f32 = 1.0;
+pub const LIGHT_KIND_SPOT: f32 = 2.0;
 
-/// `GpuLight` (std430, 32 bytes).
+/// `GpuLight` (std430, 64 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuLight {
     pub position_or_direction: [f32; 4],
     pub power_kind: [f32; 4],
+    pub spot_axis: [f32; 4],
+    pub spot_cone: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuLight>() == 32);
+const _: () = assert!(std::mem::size_of::<GpuLight>() == 64);
 
 impl GpuLight {
     pub fn new(light: &Light) -> Self {
+        let power = |p: &[f32; 3], kind| [p[0], p[1], p[2], kind];
         match light {
             Light::Point {
                 position,
                 intensity,
             } => Self {
                 position_or_direction: position.extend(1.0).to_array(),
-                power_kind: [intensity[0], intensity[1], intensity[2], LIGHT_KIND_POINT],
+                power_kind: power(intensity, LIGHT_KIND_POINT),
+                ..Self::zeroed()
             },
             Light::Directional {
                 direction,
                 irradiance,
             } => Self {
                 position_or_direction: direction.normalize().extend(0.0).to_array(),
-                power_kind: [
-                    irradiance[0],
-                    irradiance[1],
-                    irradiance[2],
-                    LIGHT_KIND_DIRECTIONAL,
-                ],
+                power_kind: power(irradiance, LIGHT_KIND_DIRECTIONAL),
+                ..Self::zeroed()
             },
+            Light::Spot {
+                position,
+                direction,
+                intensity,
+                inner_cone,
+                outer_cone,
+            } => {
+                let scale = 1.0 / (inner_cone.cos() - outer_cone.cos()).max(1e-3);
+                Self {
+                    position_or_direction: position.extend(1.0).to_array(),
+                    power_kind: power(intensity, LIGHT_KIND_SPOT),
+                    spot_axis: direction.normalize().extend(0.0).to_array(),
+                    spot_cone: [scale, -outer_cone.cos() * scale, 0.0, 0.0],
+                }
+            }
         }
+    }
+
+    /// CPU mirror of `spot_attenuation` (gpu_types.glsl), in f64; 1 for other lights.
+    pub fn attenuation(&self, l: [f64; 3]) -> f64 {
+        if self.power_kind[3] != LIGHT_KIND_SPOT {
+            return 1.0;
+        }
+        let axis = self.spot_axis.map(f64::from);
+        let cos_axis = -(axis[0] * l[0] + axis[1] * l[1] + axis[2] * l[2]);
+        let a = (cos_axis * f64::from(self.spot_cone[0]) + f64::from(self.spot_cone[1])).clamp(0.0, 1.0);
+        a * a
     }
 }
 

@@ -34,6 +34,17 @@ pub enum Light {
         direction: Vec3,
         irradiance: [f32; 3],
     },
+    /// A point light limited to a cone around `direction` (the direction light travels
+    /// along the axis), with full intensity inside `inner_cone` and none outside
+    /// `outer_cone` (half-angles, radians), falling off between as KHR_lights_punctual
+    /// specifies.
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        intensity: [f32; 3],
+        inner_cone: f32,
+        outer_cone: f32,
+    },
 }
 
 /// One placed mesh.
@@ -129,10 +140,26 @@ impl Scene {
                         && finite3(*irradiance)
                         && irradiance.iter().all(|&x| x >= 0.0)
                 }
+                Light::Spot {
+                    position,
+                    direction,
+                    intensity,
+                    inner_cone,
+                    outer_cone,
+                } => {
+                    position.is_finite()
+                        && direction.is_finite()
+                        && direction.length_squared() > 0.0
+                        && finite3(*intensity)
+                        && intensity.iter().all(|&x| x >= 0.0)
+                        && *inner_cone >= 0.0
+                        && inner_cone < outer_cone
+                        && *outer_cone <= std::f32::consts::FRAC_PI_2
+                }
             };
             if !ok {
                 return invalid(format!(
-                    "light {i} needs finite, non-negative power and a finite position or non-zero direction"
+                    "light {i} needs finite, non-negative power, a finite position or non-zero direction, and (spot) 0 <= inner cone < outer cone <= pi/2"
                 ));
             }
         }
