@@ -11,7 +11,9 @@ fn main() {
 }
 
 fn run() -> Result<(), combustion::Error> {
-    let path = std::env::args().nth(1).unwrap_or_else(|| "minimal.png".into());
+    let path = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "minimal.png".into());
     let scene = SceneSource::parse("builtin:spheres").load()?;
     let mut headless = Headless::new(&HeadlessDesc::from_env(false)?)?;
     let frame = headless.render(&scene, 640, 360)?;

@@ -13,6 +13,7 @@
 //! # Ok::<(), combustion::Error>(())
 //! ```
 
+pub mod eval;
 pub mod output;
 
 use std::path::PathBuf;

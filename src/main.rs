@@ -14,6 +14,11 @@ USAGE:
   combustion render [SCENE] [-o OUT.png] [--hdr OUT.exr] [--width N] [--height N]
                     [--exposure X] [--device SEL] [--validate]
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--device SEL] [--validate]
+  combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
+                    [--alpha A | --roughness R | --alpha-x A --alpha-y A] [--eta E|r,g,b]
+                    [--k K|r,g,b] [--eta-i E] [--sigma S] [--polarisation W] [--rho R|r,g,b]
+                    [--metalness M] [--dielectric-eta E] [--diffuse MODEL] [--f0 F]
+  combustion eval --list
   combustion devices
   combustion help
 
@@ -259,6 +264,24 @@ fn devices() -> Result<(), Error> {
     Ok(())
 }
 
+fn eval(args: &[String]) -> Result<(), Error> {
+    match args.split_first() {
+        None => Err(Error::Usage(
+            "`combustion eval` needs a term; `combustion eval --list` lists them".into(),
+        )),
+        Some((list, _)) if list == "--list" => {
+            for (name, what) in combustion::eval::TERMS {
+                println!("{name:<24} {what}");
+            }
+            Ok(())
+        }
+        Some((term, rest)) => {
+            println!("{}", combustion::eval::evaluate(term, rest)?);
+            Ok(())
+        }
+    }
+}
+
 fn run(args: &[String]) -> Result<(), Error> {
     let (command, rest) = match args.split_first() {
         Some((c, rest)) => (c.as_str(), rest),
@@ -268,6 +291,7 @@ fn run(args: &[String]) -> Result<(), Error> {
         "render" => render(&parse_options(rest, "render")?),
         "bench" => bench(&parse_options(rest, "bench")?),
         "devices" => devices(),
+        "eval" => eval(rest),
         "help" | "--help" | "-h" => {
             println!("{USAGE}");
             Ok(())
@@ -277,7 +301,7 @@ fn run(args: &[String]) -> Result<(), Error> {
             Ok(())
         }
         other => Err(Error::Usage(format!(
-            "unknown command `{other}` (commands: render, bench, devices, help)"
+            "unknown command `{other}` (commands: render, bench, eval, devices, help)"
         ))),
     }
 }

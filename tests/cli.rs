@@ -28,9 +28,20 @@ fn assert_clear_error(args: &[&str], expected: &str) {
     let (code, _stdout, stderr) = combustion(args);
     assert_ne!(code, 0, "{args:?} must fail");
     assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
-    let errors: Vec<_> = stderr.lines().filter(|l| l.starts_with("error: ")).collect();
-    assert_eq!(errors.len(), 1, "{args:?}: one error line expected, got {stderr}");
-    assert!(errors[0].contains(expected), "{args:?}: `{}` should mention `{expected}`", errors[0]);
+    let errors: Vec<_> = stderr
+        .lines()
+        .filter(|l| l.starts_with("error: "))
+        .collect();
+    assert_eq!(
+        errors.len(),
+        1,
+        "{args:?}: one error line expected, got {stderr}"
+    );
+    assert!(
+        errors[0].contains(expected),
+        "{args:?}: `{}` should mention `{expected}`",
+        errors[0]
+    );
 }
 
 #[test]
@@ -39,8 +50,18 @@ fn render_writes_png_and_exr() {
     let png = dir.join("spheres.png");
     let exr = dir.join("spheres.exr");
     let (code, stdout, stderr) = combustion(&[
-        "render", "--scene", "builtin:spheres", "--width", "96", "--height", "64", "-o",
-        png.to_str().unwrap(), "--hdr", exr.to_str().unwrap(), "--validate",
+        "render",
+        "--scene",
+        "builtin:spheres",
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "-o",
+        png.to_str().unwrap(),
+        "--hdr",
+        exr.to_str().unwrap(),
+        "--validate",
     ]);
     assert_eq!(code, 0, "{stdout}{stderr}");
     let png_bytes = std::fs::read(&png).unwrap();
@@ -50,7 +71,10 @@ fn render_writes_png_and_exr() {
     // Header, 64 offsets, 64 scanlines of 8 + 3·4·96 bytes.
     assert!(exr_bytes.len() > 64 * 8 + 64 * (8 + 3 * 4 * 96));
     // Nothing but the two outputs is left in the folder (no partial files).
-    let mut names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     names.sort();
     assert_eq!(names, ["spheres.exr", "spheres.png"]);
     std::fs::remove_dir_all(dir).unwrap();
@@ -58,7 +82,10 @@ fn render_writes_png_and_exr() {
 
 #[test]
 fn unknown_scene() {
-    assert_clear_error(&["render", "--scene", "builtin:teapot"], "unknown built-in scene `teapot`");
+    assert_clear_error(
+        &["render", "--scene", "builtin:teapot"],
+        "unknown built-in scene `teapot`",
+    );
 }
 
 #[test]
@@ -76,7 +103,15 @@ fn absurd_size() {
     let dir = scratch("absurd");
     let out = dir.join("x.png");
     assert_clear_error(
-        &["render", "--width", "1000000", "--height", "8", "-o", out.to_str().unwrap()],
+        &[
+            "render",
+            "--width",
+            "1000000",
+            "--height",
+            "8",
+            "-o",
+            out.to_str().unwrap(),
+        ],
         "between 1 and",
     );
     assert!(!out.exists());
@@ -104,7 +139,10 @@ fn output_is_a_folder() {
 
 #[test]
 fn unknown_device() {
-    assert_clear_error(&["render", "--device", "no-such-gpu"], "no Vulkan device matches `no-such-gpu`");
+    assert_clear_error(
+        &["render", "--device", "no-such-gpu"],
+        "no Vulkan device matches `no-such-gpu`",
+    );
     assert_clear_error(&["render", "--device", "7"], "no Vulkan device matches `7`");
 }
 
@@ -121,14 +159,23 @@ fn no_vulkan_driver() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success());
     assert!(!stderr.contains("panicked"), "{stderr}");
-    let error = stderr.lines().find(|l| l.starts_with("error: ")).expect("an error line");
-    assert!(error.contains("mesa-vulkan-drivers"), "must say what to install: {error}");
+    let error = stderr
+        .lines()
+        .find(|l| l.starts_with("error: "))
+        .expect("an error line");
+    assert!(
+        error.contains("mesa-vulkan-drivers"),
+        "must say what to install: {error}"
+    );
 }
 
 #[test]
 fn unknown_command_and_flag() {
     assert_clear_error(&["paint"], "unknown command `paint`");
-    assert_clear_error(&["render", "--colour", "red"], "unknown argument `--colour`");
+    assert_clear_error(
+        &["render", "--colour", "red"],
+        "unknown argument `--colour`",
+    );
 }
 
 #[test]

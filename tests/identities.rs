@@ -75,7 +75,8 @@ fn matched_ior_plane_is_exactly_lambert() {
         let mut worst = 0.0f64;
         for pixel in &frame.hdr {
             for c in 0..3 {
-                let expected = f64::from(albedo[c]) / std::f64::consts::PI * f64::from(irradiance[c]);
+                let expected =
+                    f64::from(albedo[c]) / std::f64::consts::PI * f64::from(irradiance[c]);
                 worst = worst.max((f64::from(pixel[c]) - expected).abs() / expected);
             }
         }
@@ -113,10 +114,16 @@ fn outside_medium_changes_dielectric_reflection() {
     let lambert = f64::from(material.base_color[0]) / std::f64::consts::PI;
     let water_centre = f64::from(water.hdr[centre][0]);
     let air_centre = f64::from(air.hdr[centre][0]);
-    assert!((water_centre - lambert).abs() < 1e-6 * lambert, "{water_centre} vs {lambert}");
+    assert!(
+        (water_centre - lambert).abs() < 1e-6 * lambert,
+        "{water_centre} vs {lambert}"
+    );
     // In air the view and light are both along the normal at the centre: a specular
     // highlight (F0 = ((1.33−1)/(1.33+1))² = 0.02) adds to the diffuse.
-    assert!(air_centre > water_centre * 1.01, "air {air_centre}, water {water_centre}");
+    assert!(
+        air_centre > water_centre * 1.01,
+        "air {air_centre}, water {water_centre}"
+    );
 }
 
 /// On the sphere grid, highlights tighten as roughness falls: along the gold row (pure
@@ -148,7 +155,11 @@ fn highlights_tighten_as_roughness_falls() {
             .filter(|(t, _)| t.depth < 1.0 && t.material_direction[0] == material)
             .map(|(_, hdr)| common::luminance(*hdr))
             .collect();
-        assert!(values.len() > 100, "sphere {column} covers {} pixels", values.len());
+        assert!(
+            values.len() > 100,
+            "sphere {column} covers {} pixels",
+            values.len()
+        );
         let peak = values.iter().cloned().fold(0.0, f64::max);
         let area = values.iter().filter(|&&v| v > 0.5 * peak).count();
         stats.push((SPHERE_GRID_ROUGHNESS[column], peak, area));
@@ -156,7 +167,13 @@ fn highlights_tighten_as_roughness_falls() {
     eprintln!("(roughness, peak, pixels above half peak): {stats:?}");
     for pair in stats.windows(2) {
         let (smoother, rougher) = (pair[0], pair[1]);
-        assert!(smoother.1 > rougher.1, "peak must fall with roughness: {stats:?}");
-        assert!(smoother.2 < rougher.2, "highlight must grow with roughness: {stats:?}");
+        assert!(
+            smoother.1 > rougher.1,
+            "peak must fall with roughness: {stats:?}"
+        );
+        assert!(
+            smoother.2 < rougher.2,
+            "highlight must grow with roughness: {stats:?}"
+        );
     }
 }

@@ -51,11 +51,18 @@ fn measure_flip_of_a_just_visible_change() {
         exposure: 1.02,
         ..RendererSettings::default()
     });
-    let rgb = |p: &[[u8; 4]]| p.iter().flat_map(|p| [p[0], p[1], p[2]]).collect::<Vec<u8>>();
+    let rgb = |p: &[[u8; 4]]| {
+        p.iter()
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect::<Vec<u8>>()
+    };
     let a = nv_flip::FlipImageRgb8::with_data(WIDTH, HEIGHT, &rgb(&reference.ldr));
     let b = nv_flip::FlipImageRgb8::with_data(WIDTH, HEIGHT, &rgb(&brighter.ldr));
     let map = nv_flip::flip(a, b, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
-    println!("mean FLIP of exposure x1.02: {}", nv_flip::FlipPool::from_image(&map).mean());
+    println!(
+        "mean FLIP of exposure x1.02: {}",
+        nv_flip::FlipPool::from_image(&map).mean()
+    );
 }
 
 /// The analytic reference: the display byte of pixel (x, y) of the sphere grid, or None
@@ -88,7 +95,12 @@ impl AnalyticSpheres {
     fn ray(&self, x: f64, y: f64) -> (DVec3, DVec3) {
         let ndc = |z: f64| {
             let p = self.inverse_view_projection
-                * DVec4::new(x / WIDTH as f64 * 2.0 - 1.0, y / HEIGHT as f64 * 2.0 - 1.0, z, 1.0);
+                * DVec4::new(
+                    x / WIDTH as f64 * 2.0 - 1.0,
+                    y / HEIGHT as f64 * 2.0 - 1.0,
+                    z,
+                    1.0,
+                );
             p.xyz() / p.w
         };
         let (near, far) = (ndc(0.0), ndc(1.0));
@@ -147,7 +159,10 @@ impl AnalyticSpheres {
                     intensity,
                 } => {
                     let to = position.as_dvec3() - p;
-                    (to.normalize(), intensity.map(|i| f64::from(i) / to.length_squared()))
+                    (
+                        to.normalize(),
+                        intensity.map(|i| f64::from(i) / to.length_squared()),
+                    )
                 }
                 Light::Directional {
                     direction,
@@ -159,7 +174,14 @@ impl AnalyticSpheres {
             if cos <= 0.0 {
                 continue;
             }
-            let f = brdf_evaluate(&m, vec(n), vec(direction), vec(n.cross(direction)), vec(v), vec(l));
+            let f = brdf_evaluate(
+                &m,
+                vec(n),
+                vec(direction),
+                vec(n.cross(direction)),
+                vec(v),
+                vec(l),
+            );
             for c in 0..3 {
                 radiance[c] += f[c] * e[c] * cos;
             }
@@ -234,5 +256,10 @@ fn spheres_golden_matches_analytic_reference() {
     // up to ~1e-3 rad, which moves the sharpest highlights (α = 0.01) by several levels.
     // Hence a bound on the bulk and a looser one on the worst pixel.
     assert!(within(1) > 0.99, "at least 99% of samples within 1 level");
-    assert!(worst.0 <= 12, "worst pixel {} levels off at {:?}", worst.0, (worst.1, worst.2));
+    assert!(
+        worst.0 <= 12,
+        "worst pixel {} levels off at {:?}",
+        worst.0,
+        (worst.1, worst.2)
+    );
 }

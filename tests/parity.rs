@@ -8,7 +8,9 @@ use combustion::optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
 use combustion::optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion::optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion::optics::vec3::Vec3 as V;
-use combustion::renderer::gbuffer::{anisotropy_direction_decode, octahedral_decode, srgb_to_linear, GBufferTexel};
+use combustion::renderer::gbuffer::{
+    anisotropy_direction_decode, octahedral_decode, srgb_to_linear, GBufferTexel,
+};
 use combustion::renderer::gpu_types::{
     material_table, GpuLight, GpuMaterial, LightingPush, LIGHT_KIND_DIRECTIONAL,
 };
@@ -38,7 +40,11 @@ fn normalize(a: [f64; 3]) -> [f64; 3] {
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 /// The f64 mirror of lighting.frag for one pixel.
@@ -64,7 +70,13 @@ impl LightingInputs {
     }
 }
 
-fn shade(inputs: &LightingInputs, texel: &GBufferTexel, x: u32, y: u32, frame: &Frame) -> Option<[f64; 3]> {
+fn shade(
+    inputs: &LightingInputs,
+    texel: &GBufferTexel,
+    x: u32,
+    y: u32,
+    frame: &Frame,
+) -> Option<[f64; 3]> {
     if texel.depth >= 1.0 {
         return None;
     }
@@ -81,7 +93,11 @@ fn shade(inputs: &LightingInputs, texel: &GBufferTexel, x: u32, y: u32, frame: &
     let t = anisotropy_direction_decode(n, direction);
     let b = cross(n, t);
 
-    let inv: Vec<f64> = push.inverse_view_projection.iter().map(|&v| f64::from(v)).collect();
+    let inv: Vec<f64> = push
+        .inverse_view_projection
+        .iter()
+        .map(|&v| f64::from(v))
+        .collect();
     let ndc = [
         (f64::from(x) + 0.5) / f64::from(frame.width) * 2.0 - 1.0,
         (f64::from(y) + 0.5) / f64::from(frame.height) * 2.0 - 1.0,
@@ -92,9 +108,17 @@ fn shade(inputs: &LightingInputs, texel: &GBufferTexel, x: u32, y: u32, frame: &
     for (row, w) in world.iter_mut().enumerate() {
         *w = (0..4).map(|col| inv[col * 4 + row] * ndc[col]).sum();
     }
-    let position = [world[0] / world[3], world[1] / world[3], world[2] / world[3]];
+    let position = [
+        world[0] / world[3],
+        world[1] / world[3],
+        world[2] / world[3],
+    ];
     let camera = push.camera_position.map(f64::from);
-    let v = normalize([camera[0] - position[0], camera[1] - position[1], camera[2] - position[2]]);
+    let v = normalize([
+        camera[0] - position[0],
+        camera[1] - position[1],
+        camera[2] - position[2],
+    ]);
 
     let alpha = alpha_from_perceptual_roughness(roughness);
     let (alpha_x, alpha_y) = anisotropic_alphas(alpha, strength);
@@ -177,7 +201,11 @@ fn parity(scene_name: &str, width: u32, height: u32) -> ParityReport {
                 continue;
             }
             let Some(cpu) = shade(&inputs, &gbuffer.texels[i], x, y, &frame) else {
-                assert_eq!(gpu[..3], [0.0; 3], "background pixel ({x}, {y}) must be black");
+                assert_eq!(
+                    gpu[..3],
+                    [0.0; 3],
+                    "background pixel ({x}, {y}) must be black"
+                );
                 continue;
             };
             report.lit_pixels += 1;
@@ -214,8 +242,16 @@ fn sphere_grid_parity() {
     assert_eq!(report.non_finite, 0);
     assert!(report.lit_pixels > 5000);
     // Bounds: see the parity section of README.md for how they were measured.
-    assert!(report.max_relative < PARITY_MAX_RELATIVE, "max {:.3e}", report.max_relative);
-    assert!(report.mean_relative < PARITY_MEAN_RELATIVE, "mean {:.3e}", report.mean_relative);
+    assert!(
+        report.max_relative < PARITY_MAX_RELATIVE,
+        "max {:.3e}",
+        report.max_relative
+    );
+    assert!(
+        report.mean_relative < PARITY_MEAN_RELATIVE,
+        "mean {:.3e}",
+        report.mean_relative
+    );
 }
 
 #[test]
@@ -223,8 +259,16 @@ fn hard_cases_parity() {
     let report = parity("hard-cases", 256, 128);
     assert_eq!(report.non_finite, 0, "NaN/Inf pixels");
     assert!(report.lit_pixels > 5000);
-    assert!(report.max_relative < PARITY_MAX_RELATIVE, "max {:.3e}", report.max_relative);
-    assert!(report.mean_relative < PARITY_MEAN_RELATIVE, "mean {:.3e}", report.mean_relative);
+    assert!(
+        report.max_relative < PARITY_MAX_RELATIVE,
+        "max {:.3e}",
+        report.max_relative
+    );
+    assert!(
+        report.mean_relative < PARITY_MEAN_RELATIVE,
+        "mean {:.3e}",
+        report.mean_relative
+    );
 }
 
 /// Placeholder bounds until measured (set from the first measurement, with reasons).

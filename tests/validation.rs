@@ -20,7 +20,11 @@ fn a_leaked_object_is_reported_at_device_destruction() {
     // Deliberately leak a sampler: created through the raw device, never destroyed.
     let info = vk::SamplerCreateInfo::default();
     let _leaked = unsafe { device.raw().create_sampler(&info, None) }.expect("sampler");
-    assert!(log.is_empty(), "nothing to report before destruction: {:?}", log.messages());
+    assert!(
+        log.is_empty(),
+        "nothing to report before destruction: {:?}",
+        log.messages()
+    );
     drop(device);
     let messages = log.messages();
     assert!(
@@ -64,5 +68,8 @@ fn a_full_frame_with_readback_is_clean() {
     );
     assert_eq!(frame.ldr.len(), 64 * 48);
     assert_eq!(frame.hdr.len(), 64 * 48);
-    assert_eq!(frame.gbuffer.as_ref().map(|g| g.texels.len()), Some(64 * 48));
+    assert_eq!(
+        frame.gbuffer.as_ref().map(|g| g.texels.len()),
+        Some(64 * 48)
+    );
 }

@@ -37,12 +37,20 @@ pub fn finish(headless: Headless) {
 }
 
 /// Renders `scene` on lavapipe with validation and the given readback; checks validation.
-pub fn render(scene: &Scene, width: u32, height: u32, settings: RendererSettings, readback: Readback) -> Frame {
+pub fn render(
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    settings: RendererSettings,
+    readback: Readback,
+) -> Frame {
     let mut headless = lavapipe(settings);
     let frame = {
         let renderer = headless.renderer();
         let gpu_scene = renderer.upload(scene).expect("upload");
-        renderer.render(&gpu_scene, width, height, readback).expect("render")
+        renderer
+            .render(&gpu_scene, width, height, readback)
+            .expect("render")
     };
     finish(headless);
     frame
@@ -76,24 +84,38 @@ pub fn compare_with_golden(name: &str, frame: &Frame, max_mean_flip: f32) {
     let golden = goldens_dir().join(format!("{name}.png"));
     if std::env::var_os("COMBUSTION_BLESS").is_some() {
         combustion::output::write_png(&golden, frame.width, frame.height, &frame.ldr).unwrap();
-        eprintln!("blessed {}: check it independently before committing", golden.display());
+        eprintln!(
+            "blessed {}: check it independently before committing",
+            golden.display()
+        );
         return;
     }
     let (w, h, expected) = read_png(&golden);
     assert_eq!((w, h), (frame.width, frame.height), "golden size of {name}");
-    let rgb = |pixels: &[[u8; 4]]| pixels.iter().flat_map(|p| [p[0], p[1], p[2]]).collect::<Vec<u8>>();
+    let rgb = |pixels: &[[u8; 4]]| {
+        pixels
+            .iter()
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect::<Vec<u8>>()
+    };
     let reference = nv_flip::FlipImageRgb8::with_data(w, h, &rgb(&expected));
     let test = nv_flip::FlipImageRgb8::with_data(w, h, &rgb(&frame.ldr));
     let error_map = nv_flip::flip(reference, test, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
     let pool = nv_flip::FlipPool::from_image(&error_map);
     let mean = pool.mean();
-    eprintln!("{name}: mean FLIP {mean:.6} (max {:.6}), allowed mean {max_mean_flip}", pool.max_value());
+    eprintln!(
+        "{name}: mean FLIP {mean:.6} (max {:.6}), allowed mean {max_mean_flip}",
+        pool.max_value()
+    );
     if mean > max_mean_flip {
         let actual = goldens_dir().join(format!("{name}-actual.png"));
         let difference = goldens_dir().join(format!("{name}-difference.png"));
         combustion::output::write_png(&actual, w, h, &frame.ldr).unwrap();
         let diff_rgb = error_map.apply_color_lut(&nv_flip::magma_lut()).to_vec();
-        let diff: Vec<[u8; 4]> = diff_rgb.chunks_exact(3).map(|c| [c[0], c[1], c[2], 255]).collect();
+        let diff: Vec<[u8; 4]> = diff_rgb
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2], 255])
+            .collect();
         combustion::output::write_png(&difference, w, h, &diff).unwrap();
         panic!(
             "{name}: mean FLIP {mean:.6} exceeds {max_mean_flip}; see {} and {}",

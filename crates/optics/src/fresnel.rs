@@ -77,10 +77,13 @@ pub fn fresnel_conductor<T: Real>(cos_theta_i: T, eta_i: T, eta_t: T, k_t: T) ->
     let c2 = c * c;
     let s2 = (T::ONE - c) * (T::ONE + c);
     let inv_ei2 = T::ONE / (ei * ei);
-    let p = ((et - ei) * (et + ei) - k * k) * inv_ei2;
+    let dk = (et - ei) * (et + ei) - k * k;
+    let p = dk * inv_ei2;
     let q = T::TWO * et * k * inv_ei2;
     let q2 = q * q;
-    let u = p + c2;
+    // u = p + c², formed so that for k = 0 its sign is exactly that of the dielectric's
+    // η_t² cos²θ_t = Δ + η_i² c²: both functions agree on where TIR starts
+    let u = (dk + ei * ei * c2) * inv_ei2;
     let w = (u * u + q2).sqrt();
     let four = T::from_f64(4.0);
     let (a2, b2) = if u >= T::ZERO {

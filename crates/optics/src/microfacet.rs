@@ -214,12 +214,7 @@ fn g2_height_correlated_from_cos<T: Real>(cv: T, a2s2v: T, cl: T, a2s2l: T) -> T
 
 /// Height-correlated Smith G₂ = χ⁺ · 1/(1 + Λ(v) + Λ(l)), isotropic (Heitz 2014, §6.2).
 #[inline]
-pub fn g2_smith_ggx_height_correlated<T: Real>(
-    v: Vec3<T>,
-    l: Vec3<T>,
-    m: Vec3<T>,
-    alpha: T,
-) -> T {
+pub fn g2_smith_ggx_height_correlated<T: Real>(v: Vec3<T>, l: Vec3<T>, m: Vec3<T>, alpha: T) -> T {
     let a = clamp_alpha(alpha);
     g2_smith_ggx_height_correlated_anisotropic(v, l, m, a, a)
 }
@@ -325,7 +320,10 @@ mod tests {
     fn anisotropic_alphas_follow_the_khr_mapping() {
         assert_eq!(anisotropic_alphas(0.25_f64, 0.0), (0.25, 0.25));
         assert_eq!(anisotropic_alphas(0.25_f64, 1.0), (1.0, 0.25));
-        assert_eq!(anisotropic_alphas(0.25_f64, 0.5), (0.25 + 0.75 * 0.25, 0.25));
+        assert_eq!(
+            anisotropic_alphas(0.25_f64, 0.5),
+            (0.25 + 0.75 * 0.25, 0.25)
+        );
         assert_eq!(anisotropic_alphas(0.0_f64, 2.0), (1.0, ALPHA_MIN));
     }
 

@@ -187,7 +187,10 @@ mod tests {
     fn from_f64_rounds_like_a_glsl_literal() {
         // A GLSL float literal is the nearest f32 to its decimal value; `as f32` is too.
         assert_eq!(<f32 as Real>::from_f64(0.45), 0.45_f32);
-        assert_eq!(<f32 as Real>::from_f64(core::f64::consts::PI), core::f32::consts::PI);
+        assert_eq!(
+            <f32 as Real>::from_f64(core::f64::consts::PI),
+            core::f32::consts::PI
+        );
         assert_eq!(<f64 as Real>::from_f64(0.1), 0.1);
     }
 

@@ -24,7 +24,13 @@ use common::*;
 use std::f64::consts::PI;
 
 const ALPHAS: [f64; 7] = [0.02, 0.05, 0.1, 0.2, 0.4, 0.7, 1.0];
-const ANISO: [(f64, f64); 5] = [(0.02, 1.0), (1.0, 0.02), (0.05, 0.3), (0.3, 0.1), (0.02, 0.08)];
+const ANISO: [(f64, f64); 5] = [
+    (0.02, 1.0),
+    (1.0, 0.02),
+    (0.05, 0.3),
+    (0.3, 0.1),
+    (0.02, 0.08),
+];
 
 /// ∫ D(m) (n·m) dω = 1 (seed-notes 2 and 3).
 #[test]
@@ -43,9 +49,9 @@ fn distributions_are_normalised() {
         for scale in [1.0, 1.7, 0.6] {
             let s = a * scale;
             let full = |_| PI / 2.0;
-            let i = integrate_slope_space(s, s, 96, 24, 4, full, |m| d_ggx(m, a) * m.z);
+            let i = integrate_slope_space(s, s, 96, 24, &[], full, |m| d_ggx(m, a) * m.z);
             check(&format!("GGX α={a} scale {scale}"), i);
-            let i = integrate_slope_space(s, s, 96, 24, 4, full, |m| d_beckmann(m, a) * m.z);
+            let i = integrate_slope_space(s, s, 96, 24, &[], full, |m| d_beckmann(m, a) * m.z);
             check(&format!("Beckmann α={a} scale {scale}"), i);
         }
     }
@@ -53,7 +59,7 @@ fn distributions_are_normalised() {
         for scale in [1.0, 1.5] {
             let (sx, sy) = (ax * scale, ay / scale);
             let full = |_| PI / 2.0;
-            let i = integrate_slope_space(sx, sy, 96, 24, 4, full, |m| {
+            let i = integrate_slope_space(sx, sy, 96, 24, &[], full, |m| {
                 d_ggx_anisotropic(m, ax, ay) * m.z
             });
             check(&format!("GGX αx={ax} αy={ay} scale {scale}"), i);
@@ -78,7 +84,7 @@ fn weak_white_furnace() {
                     ay,
                     96,
                     32,
-                    4,
+                    &kappa_zeros(v, ax, ay),
                     u_max_front_facing(v, ax, ay),
                     |m| {
                         g1_smith_ggx_anisotropic(v, m, ax, ay)
@@ -97,15 +103,27 @@ fn weak_white_furnace() {
     println!("weak_white_furnace: worst |I − 1| = {worst:.3e}");
 }
 
-/// ∫ f_spec (n·l) dω_l over the reflection lobe, via the half vector: dω_l = 4(v·h) dω_h.
-fn specular_albedo(v: Vec3<f64>, sx: f64, sy: f64, f: impl Fn(Vec3<f64>, Vec3<f64>) -> f64) -> f64 {
-    integrate_slope_space(sx, sy, 96, 32, 4, u_max_reflection(v, sx, sy), |h| {
+/// ∫ f (n·l) dω_l over the reflection lobe, via the half vector: dω_l = 4(v·h) dω_h,
+/// cut exactly at l.z = 0 (`u_max_reflection`), per channel.
+fn specular_albedo_n<const N: usize>(
+    v: Vec3<f64>,
+    sx: f64,
+    sy: f64,
+    n_u: usize,
+    n_psi: usize,
+    f: impl Fn(Vec3<f64>, Vec3<f64>) -> [f64; N],
+) -> [f64; N] {
+    integrate_slope_space_n(sx, sy, n_u, n_psi, &[], u_max_reflection(v, sx, sy), |h| {
         let l = reflect(v, h);
         if l.z <= 0.0 {
-            return 0.0;
+            return [0.0; N];
         }
-        f(l, h) * l.z * 4.0 * v.dot(h)
+        f(l, h).map(|x| x * l.z * 4.0 * v.dot(h))
     })
+}
+
+fn specular_albedo(v: Vec3<f64>, sx: f64, sy: f64, f: impl Fn(Vec3<f64>, Vec3<f64>) -> f64) -> f64 {
+    specular_albedo_n(v, sx, sy, 96, 32, |l, h| [f(l, h)])[0]
 }
 
 /// Seed-notes 2: with a normalised D the microfacet BRDF divides by 4(n·v)(n·l); the
@@ -157,37 +175,34 @@ fn material(model: DiffuseModel, sigma: f64, ax: f64, ay: f64) -> BrdfInputs<f64
 
 /// Directional albedo ∫ f(v, l) (n·l) dω_l per channel, in the identity frame: the
 /// specular part (base colour 0) in half-vector slope space, the diffuse part (the
-/// difference, linear in base colour for Lambert and the qualitative model, and
-/// computed per channel for the full model) in (θ, φ) split at φ_v ± 90°, where
-/// Oren–Nayar has its kinks.
+/// difference) in (θ, φ) split at φ_v ± 90° and φ_v, φ_v + π, where Oren–Nayar has its
+/// kinks. Quadrature sizes chosen from `albedo_quadrature_is_accurate`.
 fn albedo(m: &BrdfInputs<f64>, v: Vec3<f64>) -> [f64; 3] {
     let z = Vec3::new(0.0, 0.0, 1.0);
     let x = Vec3::new(1.0, 0.0, 0.0);
     let y = Vec3::new(0.0, 1.0, 0.0);
     let mut spec_only = *m;
     spec_only.base_color = [0.0; 3];
-    let spec: Vec<f64> = (0..3)
-        .map(|c| {
-            specular_albedo(v, m.alpha_x, m.alpha_y, |l, _| {
-                brdf_evaluate(&spec_only, z, x, y, v, l)[c]
-            })
-        })
-        .collect();
+    let spec = specular_albedo_n(v, m.alpha_x, m.alpha_y, 48, 12, |l, _| {
+        brdf_evaluate(&spec_only, z, x, y, v, l)
+    });
     let phi_v = v.y.atan2(v.x);
     let breaks = [phi_v + PI / 2.0, phi_v - PI / 2.0, phi_v, phi_v + PI];
-    let mut out = [0.0; 3];
-    for c in 0..3 {
-        let diff = integrate_hemisphere(48, 24, &breaks, |l| {
-            (brdf_evaluate(m, z, x, y, v, l)[c] - brdf_evaluate(&spec_only, z, x, y, v, l)[c])
-                * l.z
-        });
-        out[c] = spec[c] + diff;
-    }
-    out
+    let diff = integrate_hemisphere_n(32, 10, &breaks, |l| {
+        let a = brdf_evaluate(m, z, x, y, v, l);
+        let b = brdf_evaluate(&spec_only, z, x, y, v, l);
+        [
+            (a[0] - b[0]) * l.z,
+            (a[1] - b[1]) * l.z,
+            (a[2] - b[2]) * l.z,
+        ]
+    });
+    [spec[0] + diff[0], spec[1] + diff[1], spec[2] + diff[2]]
 }
 
 /// The quadratures `albedo` uses, on integrands with known integrals: a Lambert-only
-/// material (index-matched dielectric: F = 0, T = 1) has albedo exactly ρ.
+/// material (index-matched dielectric: F = 0, T = 1) has albedo exactly ρ, through the
+/// diffuse quadrature; and a constant through the half-vector one.
 #[test]
 fn albedo_quadrature_is_accurate() {
     let mut m = material(DiffuseModel::Lambert, 0.0, 0.1, 0.1);
@@ -200,51 +215,53 @@ fn albedo_quadrature_is_accurate() {
         for c in 0..3 {
             worst = worst.max((a[c] - m.base_color[c]).abs());
         }
-        // the same known integrand through the half-vector quadrature
         for s in [0.01, 0.3, 1.0] {
-            let i = specular_albedo(v, s, s, |_, _| 0.5 / PI);
+            let i = specular_albedo_n(v, s, 0.7 * s, 48, 12, |_, _| [0.5 / PI])[0];
             worst = worst.max((i - 0.5).abs());
         }
     }
     println!("albedo_quadrature_is_accurate: worst error {worst:.3e}");
-    // measured ≈ 1e-15..1e-9 (printed); the energy test's margin 1e-6 is ≥ 100× this
-    assert!(worst < 1e-8, "{worst}");
+    // measured worst printed (≈ 4e-8); the energy test's margin of 1e-6 is 10× the bound
+    assert!(worst < 1e-7, "{worst}");
 }
 
 /// ∫ f (n·l) dω ≤ 1 for the assembled BRDF: every diffuse model at white albedo, rough
 /// and smooth, isotropic and anisotropic, in air, in water, and seen from inside glass.
 #[test]
 fn assembled_brdf_conserves_energy() {
-    let sigmas = [oren_nayar_sigma_from_roughness(1.0), 0.35];
+    let sigma_max = oren_nayar_sigma_from_roughness(1.0);
     let mut worst = (0.0_f64, String::new());
-    for model in [
-        DiffuseModel::Lambert,
-        DiffuseModel::OrenNayarQualitative,
-        DiffuseModel::OrenNayarFull,
+    for (model, sigma) in [
+        (DiffuseModel::Lambert, 0.0),
+        (DiffuseModel::OrenNayarQualitative, sigma_max),
+        (DiffuseModel::OrenNayarQualitative, 0.35),
+        (DiffuseModel::OrenNayarFull, sigma_max),
+        (DiffuseModel::OrenNayarFull, 0.35),
     ] {
-        for &sigma in &sigmas {
-            for (ax, ay) in [(0.01, 0.01), (0.1, 0.1), (0.5, 0.5), (1.0, 1.0), (0.05, 0.6)] {
-                for (eta_i, eta_d) in [(1.0, 1.5), (1.33, 1.5), (1.5, 1.0), (1.0, 2.4)] {
-                    for deg in [0.0, 45.0, 75.0, 88.0] {
-                        let mut m = material(model, sigma, ax, ay);
-                        m.outside_eta = eta_i;
-                        m.dielectric_eta = eta_d;
-                        m.base_color = [1.0, 1.0, 1.0];
-                        let v = dir(f64::to_radians(deg), 0.4);
-                        let a = albedo(&m, v)[0];
-                        if a > worst.0 {
-                            worst = (a, format!("{model:?} σ={sigma} α=({ax},{ay}) ηi={eta_i} ηd={eta_d} θv={deg}"));
-                        }
-                        // 1e-6 ≥ 100× the quadrature error measured above
-                        assert!(a <= 1.0 + 1e-6, "{model:?} σ={sigma} α=({ax},{ay}) ηi={eta_i} ηd={eta_d} θv={deg}: {a}");
+        for (ax, ay) in [(0.01, 0.01), (0.2, 0.2), (1.0, 1.0), (0.05, 0.6)] {
+            for (eta_i, eta_d) in [(1.0, 1.5), (1.33, 1.5), (1.5, 1.0), (1.0, 2.4)] {
+                for deg in [0.0, 50.0, 80.0, 89.0] {
+                    let mut m = material(model, sigma, ax, ay);
+                    m.outside_eta = eta_i;
+                    m.dielectric_eta = eta_d;
+                    m.base_color = [1.0, 1.0, 1.0];
+                    let v = dir(f64::to_radians(deg), 0.4);
+                    let a = albedo(&m, v)[0];
+                    let case = format!(
+                        "{model:?} σ={sigma:.3} α=({ax},{ay}) ηi={eta_i} ηd={eta_d} θv={deg}"
+                    );
+                    if a > worst.0 {
+                        worst = (a, case.clone());
                     }
+                    // 1e-6 = 10× the quadrature error bound above
+                    assert!(a <= 1.0 + 1e-6, "{case}: {a}");
                 }
             }
         }
     }
-    // conductors: white-furnace-like, F ≤ 1
+    // conductors (a perfect one, F = 1 everywhere, included): single-scattering GGX ≤ 1
     for (ax, ay) in [(0.01, 0.01), (0.3, 0.3), (1.0, 1.0), (0.05, 0.6)] {
-        for deg in [0.0, 60.0, 88.0] {
+        for deg in [0.0, 60.0, 89.0] {
             let mut m = material(DiffuseModel::Lambert, 0.0, ax, ay);
             m.metalness = 1.0;
             m.conductor_eta = [1e-4, 0.2, 1.5];
@@ -255,7 +272,10 @@ fn assembled_brdf_conserves_energy() {
             }
         }
     }
-    println!("assembled_brdf_conserves_energy: largest albedo {:.6} at {}", worst.0, worst.1);
+    println!(
+        "assembled_brdf_conserves_energy: largest albedo {:.6} at {}",
+        worst.0, worst.1
+    );
 }
 
 /// f(v, l) = f(l, v) for the assembled BRDF, including non-unit and skewed frames.
@@ -269,14 +289,31 @@ fn assembled_brdf_is_reciprocal() {
             DiffuseModel::OrenNayarQualitative,
             DiffuseModel::OrenNayarFull,
         ][i % 3];
-        let mut m = material(model, rng.range(0.0, 0.8), rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+        let mut m = material(
+            model,
+            rng.range(0.0, 0.8),
+            rng.range(0.0, 1.0),
+            rng.range(0.0, 1.0),
+        );
         m.metalness = rng.range(0.0, 1.0);
         m.outside_eta = rng.range(1.0, 1.6);
         m.dielectric_eta = rng.range(1.0, 2.5);
         m.polarisation_weight = rng.range(0.0, 1.0);
-        m.base_color = [rng.range(0.0, 1.0), rng.range(0.0, 1.0), rng.range(0.0, 1.0)];
-        let n = Vec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), rng.range(0.5, 2.0));
-        let t = Vec3::new(rng.range(0.5, 2.0), rng.range(-0.5, 0.5), rng.range(-0.5, 0.5));
+        m.base_color = [
+            rng.range(0.0, 1.0),
+            rng.range(0.0, 1.0),
+            rng.range(0.0, 1.0),
+        ];
+        let n = Vec3::new(
+            rng.range(-0.3, 0.3),
+            rng.range(-0.3, 0.3),
+            rng.range(0.5, 2.0),
+        );
+        let t = Vec3::new(
+            rng.range(0.5, 2.0),
+            rng.range(-0.5, 0.5),
+            rng.range(-0.5, 0.5),
+        );
         let b = Vec3::new(0.0, 1.0, 0.0);
         let v = rng.direction_upper() * rng.range(0.5, 3.0);
         let l = rng.direction_upper() * rng.range(0.5, 3.0);
@@ -298,7 +335,14 @@ fn assembled_brdf_is_reciprocal() {
 #[test]
 fn conductor_with_zero_k_is_dielectric() {
     let mut worst: f64 = 0.0;
-    for (ei, et) in [(1.0, 1.5), (1.33, 1.5), (1.0, 1.0001), (1.5, 1.0), (1.0, 0.2), (2.0, 1.9999)] {
+    for (ei, et) in [
+        (1.0, 1.5),
+        (1.33, 1.5),
+        (1.0, 1.0001),
+        (1.5, 1.0),
+        (1.0, 0.2),
+        (2.0, 1.9999),
+    ] {
         for i in 0..=2000 {
             let c = i as f64 / 2000.0;
             let a = fresnel_conductor(c, ei, et, 0.0);
@@ -309,8 +353,18 @@ fn conductor_with_zero_k_is_dielectric() {
             // Both formulas are cancellation-free arrangements of the same quantity; they
             // agree to a few ε relative to R_s (R_p is compared relative to R_s because it
             // has a zero at Brewster's angle). Measured worst printed; bound 64 ε.
-            assert!(es <= 64.0 * f64::EPSILON, "{ei}/{et} c={c}: s {} vs {}", a.s, d.s);
-            assert!(ep <= 64.0 * f64::EPSILON, "{ei}/{et} c={c}: p {} vs {}", a.p, d.p);
+            assert!(
+                es <= 64.0 * f64::EPSILON,
+                "{ei}/{et} c={c}: s {} vs {}",
+                a.s,
+                d.s
+            );
+            assert!(
+                ep <= 64.0 * f64::EPSILON,
+                "{ei}/{et} c={c}: p {} vs {}",
+                a.p,
+                d.p
+            );
             if d.s == 1.0 {
                 assert_eq!((a.s, a.p), (1.0, 1.0), "TIR must be exact in both");
             }
@@ -322,17 +376,34 @@ fn conductor_with_zero_k_is_dielectric() {
 /// R_s = R_p at normal incidence; F(0) = ((η_t − η_i)/(η_t + η_i))² for dielectrics.
 #[test]
 fn normal_incidence() {
-    for (ei, et) in [(1.0_f64, 1.5_f64), (1.33, 1.5), (1.5, 1.0), (1.0, 1.0001), (1.0, 2.4), (1.0, 1.0)] {
+    for (ei, et) in [
+        (1.0_f64, 1.5_f64),
+        (1.33, 1.5),
+        (1.5, 1.0),
+        (1.0, 1.0001),
+        (1.0, 2.4),
+        (1.0, 1.0),
+    ] {
         let f0 = f0_dielectric(ei, et);
         let d = fresnel_dielectric(1.0, ei, et);
         let c = fresnel_conductor(1.0, ei, et, 0.0);
         for r in [d.s, d.p, c.s, c.p] {
-            assert!((r - f0).abs() <= 4.0 * f64::EPSILON * f0, "{ei}/{et}: {r} vs {f0}");
+            assert!(
+                (r - f0).abs() <= 4.0 * f64::EPSILON * f0,
+                "{ei}/{et}: {r} vs {f0}"
+            );
         }
         let ct = fresnel_cook_torrance_1981(1.0, et / ei);
-        assert!((ct - f0).abs() <= 8.0 * f64::EPSILON * f0, "{ei}/{et}: {ct} vs {f0}");
+        assert!(
+            (ct - f0).abs() <= 8.0 * f64::EPSILON * f0,
+            "{ei}/{et}: {ct} vs {f0}"
+        );
     }
-    for (ei, et, k) in [(1.0_f64, 0.18_f64, 3.42_f64), (1.33, 1.2, 7.0), (1.0, 0.05, 4.2)] {
+    for (ei, et, k) in [
+        (1.0_f64, 0.18_f64, 3.42_f64),
+        (1.33, 1.2, 7.0),
+        (1.0, 0.05, 4.2),
+    ] {
         let r = fresnel_conductor(1.0, ei, et, k);
         assert!((r.s - r.p).abs() <= 4.0 * f64::EPSILON, "{r:?}");
         // and the conductor normal-incidence formula ((η−ηi)² + k²)/((η+ηi)² + k²)
@@ -345,7 +416,10 @@ fn normal_incidence() {
 /// it continuous with 1 (seed-notes 9).
 #[test]
 fn total_internal_reflection() {
-    fn check<T: combustion_optics::Real>(ei: T, et: T, near_tol: f64) {
+    fn check<T: combustion_optics::Real>(ei: T, et: T) {
+        // Just inside the critical angle 1 − R ≈ T_p ≈ 4 (η_i/η_t)² √(2 δc/c) for a
+        // cosine δc above critical; within 4 ulps, δc/c ≤ 4ε: bound 5 (η_i/η_t)² √(8ε).
+        let near_tol = 5.0 * (ei / et).to_f64().powi(2) * (8.0 * T::EPSILON.to_f64()).sqrt();
         let ratio = (et / ei).to_f64();
         let c_crit = T::from_f64((1.0 - ratio * ratio).sqrt());
         // past the critical angle (smaller cosine): exactly 1, dielectric and conductor
@@ -368,7 +442,10 @@ fn total_internal_reflection() {
             let d = fresnel_dielectric(c, ei, et);
             let k = fresnel_conductor(c, ei, et, T::ZERO);
             for r in [d.s, d.p, k.s, k.p] {
-                assert!(r <= T::ONE && (T::ONE - r).to_f64() <= near_tol, "c={c}: {r}");
+                assert!(
+                    r <= T::ONE && (T::ONE - r).to_f64() <= near_tol,
+                    "c={c}: {r}"
+                );
             }
             c = next(c);
         }
@@ -384,10 +461,15 @@ fn total_internal_reflection() {
         let eps = T::EPSILON * x.abs().max(T::from_f64(1e-30));
         x - eps * T::HALF
     }
-    for (ei, et) in [(1.5, 1.0), (1.33, 1.0), (1.5, 1.33), (2.4, 1.0), (1.0001, 1.0)] {
-        // √(few ε) scale: f64 1e-7, f32 2e-3 (measured ≈ 2e-8 and 5e-4)
-        check::<f64>(ei, et, 1e-7);
-        check::<f32>(ei as f32, et as f32, 2e-3);
+    for (ei, et) in [
+        (1.5, 1.0),
+        (1.33, 1.0),
+        (1.5, 1.33),
+        (2.4, 1.0),
+        (1.0001, 1.0),
+    ] {
+        check::<f64>(ei, et);
+        check::<f32>(ei as f32, et as f32);
     }
 }
 
@@ -430,7 +512,7 @@ fn oren_nayar_tends_to_lambert() {
 
 /// Seed-notes 5: measure the qualitative model's A-constant, 0.33 (paper) and 0.57
 /// (notes), against the full model with interreflection, and check that the constant
-/// the BRDF uses is the closer one where it matters.
+/// the BRDF uses is the closer one for typical albedos.
 #[test]
 fn oren_nayar_a_constant_choice() {
     // cosine-weighted RMS of (f_q − f_full)/(ρ/π) over (v, l) on a product grid of the
@@ -456,21 +538,21 @@ fn oren_nayar_a_constant_choice() {
     };
     println!("Oren–Nayar qualitative vs full, cosine-weighted RMS of Δf/(ρ/π):");
     println!("   ρ     σ     A=0.33   A=0.57");
-    let mut wins_057 = 0;
-    let mut cases = 0;
     for rho in [0.2, 0.5, 0.8] {
         for sigma in [0.1, 0.3, 0.5, 0.7] {
             let e33 = rms(rho, sigma, OREN_NAYAR_A_CONSTANT_PAPER);
             let e57 = rms(rho, sigma, OREN_NAYAR_A_CONSTANT_NOTES);
             println!("  {rho:.1}  {sigma:.1}   {e33:.4}   {e57:.4}");
-            if rho >= 0.5 {
-                cases += 1;
-                if e57 < e33 {
-                    wins_057 += 1;
-                }
+            // measured (printed; also in the docs of OREN_NAYAR_A_CONSTANT_BRDF): 0.33 is
+            // closer for every σ at ρ ≤ 0.5; 0.57 only wins at ρ = 0.8, σ ≥ 0.3, where
+            // interreflection (∝ ρ²) is large enough for a raised A to imitate it.
+            if rho <= 0.5 {
+                assert!(e33 < e57, "ρ={rho} σ={sigma}: {e33} vs {e57}");
+            }
+            if rho >= 0.8 && sigma >= 0.3 {
+                assert!(e57 < e33, "ρ={rho} σ={sigma}: {e33} vs {e57}");
             }
         }
     }
-    assert_eq!(OREN_NAYAR_A_CONSTANT_BRDF, OREN_NAYAR_A_CONSTANT_NOTES);
-    assert_eq!(wins_057, cases, "0.57 should be the closer constant for ρ ≥ 0.5");
+    assert_eq!(OREN_NAYAR_A_CONSTANT_BRDF, OREN_NAYAR_A_CONSTANT_PAPER);
 }

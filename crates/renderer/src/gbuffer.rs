@@ -370,7 +370,8 @@ mod tests {
     #[test]
     fn octahedral_normals_survive_16_bit_storage() {
         let mut worst = 0.0f64;
-        for n in sphere_points(200_000).chain([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]]) {
+        for n in sphere_points(200_000).chain([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
+        {
             let e = octahedral_encode(n).map(unorm16);
             worst = worst.max(angle(n, octahedral_decode(e)));
         }

@@ -119,7 +119,8 @@ impl GpuLight {
         }
         let axis = self.spot_axis.map(f64::from);
         let cos_axis = -(axis[0] * l[0] + axis[1] * l[1] + axis[2] * l[2]);
-        let a = (cos_axis * f64::from(self.spot_cone[0]) + f64::from(self.spot_cone[1])).clamp(0.0, 1.0);
+        let a = (cos_axis * f64::from(self.spot_cone[0]) + f64::from(self.spot_cone[1]))
+            .clamp(0.0, 1.0);
         a * a
     }
 }

@@ -2,9 +2,7 @@
 
 use glam::{Mat4, Vec3};
 
-use crate::{
-    Camera, ComplexIor, DiffuseModel, Light, Material, Mesh, Object, Scene, SceneError,
-};
+use crate::{Camera, ComplexIor, DiffuseModel, Light, Material, Mesh, Object, Scene, SceneError};
 
 /// Names accepted by [`builtin_scene`] (also as `builtin:NAME` on the command line).
 pub const BUILTIN_SCENES: &[&str] = &["spheres", "hard-cases"];

@@ -33,24 +33,44 @@ pub fn gauss_legendre(n: usize, a: f64, b: f64) -> Vec<(f64, f64)> {
     out
 }
 
+/// Sorted break points in [0, 2π) and the pieces between them (wrapping around).
+fn pieces(breaks: &[f64], min_pieces: usize) -> Vec<(f64, f64)> {
+    let mut b: Vec<f64> = breaks.iter().map(|x| x.rem_euclid(2.0 * PI)).collect();
+    for k in 0..min_pieces {
+        b.push(2.0 * PI * k as f64 / min_pieces as f64);
+    }
+    b.sort_by(f64::total_cmp);
+    b.dedup_by(|x, y| (*x - *y).abs() < 1e-12);
+    (0..b.len())
+        .map(|i| {
+            let end = if i + 1 < b.len() {
+                b[i + 1]
+            } else {
+                b[0] + 2.0 * PI
+            };
+            (b[i], end)
+        })
+        .collect()
+}
+
 /// ∫ g(m) dω over the upper hemisphere, in stretched slope space:
 /// m ∝ (−p, −q, 1), p = sx ρ cosψ, q = sy ρ sinψ, ρ = tan u, u ∈ [0, u_max(ψ)].
 /// dω = cos³θ dp dq = m.z³ sx sy ρ sec²u du dψ. Gauss–Legendre in u (n_u nodes) and in
-/// ψ on `psi_pieces` equal pieces (n_psi nodes each). `u_max(ψ)` ≤ π/2 lets the caller cut
-/// the domain exactly where the integrand has a kink.
-pub fn integrate_slope_space(
+/// ψ (n_psi nodes on each of ≥ 4 pieces, split also at `psi_breaks`, where u_max or g
+/// may have kinks). `u_max(ψ)` ≤ π/2 lets the caller cut the domain exactly where the
+/// integrand has a kink. Vector-valued so one evaluation serves several channels.
+pub fn integrate_slope_space_n<const N: usize>(
     sx: f64,
     sy: f64,
     n_u: usize,
     n_psi: usize,
-    psi_pieces: usize,
+    psi_breaks: &[f64],
     u_max: impl Fn(f64) -> f64,
-    g: impl Fn(Vec3<f64>) -> f64,
-) -> f64 {
-    let mut total = 0.0;
-    let piece = 2.0 * PI / psi_pieces as f64;
-    for k in 0..psi_pieces {
-        for (psi, wpsi) in gauss_legendre(n_psi, k as f64 * piece, (k + 1) as f64 * piece) {
+    g: impl Fn(Vec3<f64>) -> [f64; N],
+) -> [f64; N] {
+    let mut total = [0.0; N];
+    for (a, b) in pieces(psi_breaks, 4) {
+        for (psi, wpsi) in gauss_legendre(n_psi, a, b) {
             let um = u_max(psi);
             if um <= 0.0 {
                 continue;
@@ -61,46 +81,67 @@ pub fn integrate_slope_space(
                 let sec2 = 1.0 + rho * rho;
                 let m = Vec3::new(-sx * rho * cp, -sy * rho * sp, 1.0).normalize();
                 let jac = m.z.powi(3) * sx * sy * rho * sec2;
-                total += wpsi * wu * jac * g(m);
+                let v = g(m);
+                for k in 0..N {
+                    total[k] += wpsi * wu * jac * v[k];
+                }
             }
         }
     }
     total
 }
 
+/// Scalar [`integrate_slope_space_n`].
+pub fn integrate_slope_space(
+    sx: f64,
+    sy: f64,
+    n_u: usize,
+    n_psi: usize,
+    psi_breaks: &[f64],
+    u_max: impl Fn(f64) -> f64,
+    g: impl Fn(Vec3<f64>) -> f64,
+) -> f64 {
+    integrate_slope_space_n(sx, sy, n_u, n_psi, psi_breaks, u_max, |m| [g(m)])[0]
+}
+
 /// ∫ g(l) dω over the upper hemisphere in (θ, φ), Gauss–Legendre in both, with φ split
-/// into pieces at the given break angles (where g may have kinks).
+/// into ≥ 4 pieces, also at the given break angles (where g may have kinks).
+pub fn integrate_hemisphere_n<const N: usize>(
+    n_theta: usize,
+    n_phi: usize,
+    phi_breaks: &[f64],
+    g: impl Fn(Vec3<f64>) -> [f64; N],
+) -> [f64; N] {
+    let mut total = [0.0; N];
+    let thetas = gauss_legendre(n_theta, 0.0, PI / 2.0);
+    for (a, b) in pieces(phi_breaks, 4) {
+        for (phi, wphi) in gauss_legendre(n_phi, a, b) {
+            for &(theta, wt) in &thetas {
+                let v = g(dir(theta, phi));
+                for k in 0..N {
+                    total[k] += wphi * wt * theta.sin() * v[k];
+                }
+            }
+        }
+    }
+    total
+}
+
+/// Scalar [`integrate_hemisphere_n`].
 pub fn integrate_hemisphere(
     n_theta: usize,
     n_phi: usize,
     phi_breaks: &[f64],
     g: impl Fn(Vec3<f64>) -> f64,
 ) -> f64 {
-    let mut breaks: Vec<f64> = phi_breaks
-        .iter()
-        .map(|b| b.rem_euclid(2.0 * PI))
-        .collect();
-    breaks.sort_by(f64::total_cmp);
-    if breaks.is_empty() {
-        breaks.push(0.0);
-    }
-    let mut total = 0.0;
-    let thetas = gauss_legendre(n_theta, 0.0, PI / 2.0);
-    for i in 0..breaks.len() {
-        let a = breaks[i];
-        let b = if i + 1 < breaks.len() {
-            breaks[i + 1]
-        } else {
-            breaks[0] + 2.0 * PI
-        };
-        for (phi, wphi) in gauss_legendre(n_phi, a, b) {
-            for &(theta, wt) in &thetas {
-                let l = dir(theta, phi);
-                total += wphi * wt * theta.sin() * g(l);
-            }
-        }
-    }
-    total
+    integrate_hemisphere_n(n_theta, n_phi, phi_breaks, |l| [g(l)])[0]
+}
+
+/// The azimuths ψ where κ(ψ) = v.x sx cosψ + v.y sy sinψ changes sign (kinks of
+/// [`u_max_front_facing`]).
+pub fn kappa_zeros(v: Vec3<f64>, sx: f64, sy: f64) -> [f64; 2] {
+    let psi0 = (v.y * sy).atan2(v.x * sx);
+    [psi0 + PI / 2.0, psi0 - PI / 2.0]
 }
 
 /// Unit vector at polar angle θ from +z and azimuth φ.

@@ -1,0 +1,513 @@
+//! `combustion eval`: evaluates one term of the optics reference (f64), or the whole
+//! BRDF, for inputs given on the command line, and returns JSON — so users and tools
+//! can check values without writing Rust.
+//!
+//! Directions are in the local shading frame (z = normal, x = tangent, y = bitangent),
+//! given either as angles (`--theta-v`, `--phi-v`, `--theta-l`, `--phi-l`, degrees) or as
+//! vectors (`--v x,y,z`, `--l x,y,z`, normalised here). The microfacet normal is the half
+//! vector of v and l unless `--m x,y,z` is given.
+
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
+use combustion_optics::diffuse::{
+    diffuse_lambert, diffuse_oren_nayar_full, diffuse_oren_nayar_qualitative,
+    oren_nayar_sigma_from_roughness, OREN_NAYAR_A_CONSTANT_NOTES,
+};
+use combustion_optics::fresnel::{
+    fresnel_conductor, fresnel_cook_torrance_1981, fresnel_dielectric, fresnel_schlick,
+};
+use combustion_optics::microfacet::{
+    alpha_from_perceptual_roughness, d_beckmann, d_ggx, d_ggx_anisotropic, g1_smith_ggx,
+    g1_smith_ggx_anisotropic, g2_smith_ggx_height_correlated,
+    g2_smith_ggx_height_correlated_anisotropic, g2_smith_ggx_separable, g_cook_torrance_1981,
+    lambda_ggx, lambda_ggx_anisotropic,
+};
+use combustion_optics::vec3::Vec3;
+
+use crate::Error;
+
+/// The terms `combustion eval` knows, with a one-line description each.
+pub const TERMS: &[(&str, &str)] = &[
+    (
+        "d-ggx",
+        "GGX normal distribution D(m), isotropic (Walter et al. 2007)",
+    ),
+    ("d-ggx-anisotropic", "GGX D(m) with αx, αy (Burley 2012)"),
+    ("d-beckmann", "Beckmann D(m), normalised"),
+    (
+        "lambda-ggx",
+        "Smith Λ(v) for GGX (isotropic, or anisotropic with --alpha-x/--alpha-y)",
+    ),
+    ("g1-smith-ggx", "Smith G1(v, m) for GGX"),
+    ("g2-separable", "Smith G2 = G1(v)·G1(l), separable"),
+    (
+        "g2-height-correlated",
+        "Smith G2 = 1/(1 + Λ(v) + Λ(l)), height-correlated (Heitz 2014)",
+    ),
+    (
+        "g-cook-torrance",
+        "Cook–Torrance 1981 geometric attenuation",
+    ),
+    (
+        "fresnel-conductor",
+        "full dielectric–conductor Fresnel Rs, Rp, R with outside IOR ηi at cosθ = v·m",
+    ),
+    (
+        "fresnel-dielectric",
+        "dielectric Fresnel with total internal reflection (ηi > η) at cosθ = v·m",
+    ),
+    (
+        "fresnel-cook-torrance",
+        "Cook–Torrance 1981 dielectric Fresnel (g, c form) at cosθ = v·m",
+    ),
+    (
+        "fresnel-schlick",
+        "Schlick's approximation with --f0 (or F0 from η, ηi) at cosθ = v·m",
+    ),
+    ("lambert", "Lambert ρ/π"),
+    (
+        "oren-nayar-qualitative",
+        "Oren–Nayar 1994 qualitative model (A constant --oren-nayar-a, default 0.57)",
+    ),
+    (
+        "oren-nayar-full",
+        "Oren–Nayar 1994 full model with interreflection",
+    ),
+    (
+        "brdf",
+        "the assembled BRDF f(v, l) per RGB channel, as the lighting pass evaluates it",
+    ),
+];
+
+#[derive(Default)]
+struct Inputs {
+    values: BTreeMap<String, Vec<f64>>,
+    diffuse: Option<DiffuseModel>,
+}
+
+impl Inputs {
+    fn get(&self, name: &str) -> Option<&[f64]> {
+        self.values.get(name).map(Vec::as_slice)
+    }
+    fn scalar(&self, name: &str, default: f64) -> f64 {
+        self.get(name).map_or(default, |v| v[0])
+    }
+    fn rgb(&self, name: &str, default: f64) -> [f64; 3] {
+        match self.get(name) {
+            Some([x]) => [*x; 3],
+            Some([r, g, b]) => [*r, *g, *b],
+            _ => [default; 3],
+        }
+    }
+}
+
+fn usage(message: String) -> Error {
+    Error::Usage(message)
+}
+
+fn parse_list(flag: &str, text: &str) -> Result<Vec<f64>, Error> {
+    text.split(',')
+        .map(|part| {
+            let value: f64 = part
+                .trim()
+                .parse()
+                .map_err(|_| usage(format!("{flag}: `{part}` is not a number")))?;
+            if value.is_finite() {
+                Ok(value)
+            } else {
+                Err(usage(format!("{flag}: {value} is not finite")))
+            }
+        })
+        .collect()
+}
+
+/// (flag, accepted lengths, lower bound, upper bound)
+const FLAGS: &[(&str, &[usize], f64, f64)] = &[
+    ("--theta-v", &[1], 0.0, 180.0),
+    ("--phi-v", &[1], -360.0, 360.0),
+    ("--theta-l", &[1], 0.0, 180.0),
+    ("--phi-l", &[1], -360.0, 360.0),
+    ("--v", &[3], f64::MIN, f64::MAX),
+    ("--l", &[3], f64::MIN, f64::MAX),
+    ("--m", &[3], f64::MIN, f64::MAX),
+    ("--alpha", &[1], 0.0, 1.0),
+    ("--roughness", &[1], 0.0, 1.0),
+    ("--alpha-x", &[1], 0.0, 1.0),
+    ("--alpha-y", &[1], 0.0, 1.0),
+    ("--eta", &[1, 3], 1e-4, 1e4),
+    ("--k", &[1, 3], 0.0, 1e4),
+    ("--eta-i", &[1], 1e-4, 1e4),
+    ("--dielectric-eta", &[1], 1e-4, 1e4),
+    ("--f0", &[1], 0.0, 1.0),
+    ("--sigma", &[1], 0.0, 10.0),
+    ("--polarisation", &[1], 0.0, 1.0),
+    ("--rho", &[1, 3], 0.0, 1.0),
+    ("--metalness", &[1], 0.0, 1.0),
+    ("--oren-nayar-a", &[1], 0.0, 10.0),
+];
+
+fn parse_inputs(args: &[String]) -> Result<Inputs, Error> {
+    let mut inputs = Inputs::default();
+    let mut i = 0;
+    while i < args.len() {
+        let flag = args[i].as_str();
+        let value = args
+            .get(i + 1)
+            .ok_or_else(|| usage(format!("{flag} needs a value")))?;
+        if flag == "--diffuse" {
+            inputs.diffuse = Some(match value.as_str() {
+                "lambert" => DiffuseModel::Lambert,
+                "oren-nayar-qualitative" => DiffuseModel::OrenNayarQualitative,
+                "oren-nayar-full" => DiffuseModel::OrenNayarFull,
+                other => {
+                    return Err(usage(format!(
+                        "--diffuse: `{other}` is not lambert, oren-nayar-qualitative or oren-nayar-full"
+                    )))
+                }
+            });
+        } else {
+            let &(_, lengths, low, high) = FLAGS
+                .iter()
+                .find(|(name, ..)| *name == flag)
+                .ok_or_else(|| usage(format!("unknown argument `{flag}` for `combustion eval`")))?;
+            let list = parse_list(flag, value)?;
+            if !lengths.contains(&list.len()) {
+                return Err(usage(format!(
+                    "{flag} takes {} value(s), got {}",
+                    lengths
+                        .iter()
+                        .map(usize::to_string)
+                        .collect::<Vec<_>>()
+                        .join(" or "),
+                    list.len()
+                )));
+            }
+            if let Some(bad) = list.iter().find(|&&x| x < low || x > high) {
+                return Err(usage(format!("{flag}: {bad} is outside [{low}, {high}]")));
+            }
+            inputs.values.insert(flag.to_owned(), list);
+        }
+        i += 2;
+    }
+    Ok(inputs)
+}
+
+fn direction(
+    inputs: &Inputs,
+    vector: &str,
+    theta: &str,
+    phi: &str,
+) -> Result<Option<Vec3<f64>>, Error> {
+    if let Some(v) = inputs.get(vector) {
+        let v = Vec3::new(v[0], v[1], v[2]);
+        if v.length_squared() == 0.0 {
+            return Err(usage(format!("{vector} must not be the zero vector")));
+        }
+        return Ok(Some(v.normalize()));
+    }
+    match inputs.get(theta) {
+        None => Ok(None),
+        Some(t) => {
+            let (t, p) = (t[0].to_radians(), inputs.scalar(phi, 0.0).to_radians());
+            Ok(Some(Vec3::new(
+                t.sin() * p.cos(),
+                t.sin() * p.sin(),
+                t.cos(),
+            )))
+        }
+    }
+}
+
+fn need<T>(value: Option<T>, what: &str) -> Result<T, Error> {
+    value.ok_or_else(|| usage(format!("this term needs {what}")))
+}
+
+/// A JSON number (Rust's shortest round-trip form), or null for NaN/Inf.
+fn json_number(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:?}")
+    } else {
+        "null".into()
+    }
+}
+
+fn json_vec(v: Vec3<f64>) -> String {
+    format!(
+        "[{}, {}, {}]",
+        json_number(v.x),
+        json_number(v.y),
+        json_number(v.z)
+    )
+}
+
+/// Evaluates `term` with `args` and returns a JSON object.
+pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
+    if !TERMS.iter().any(|(name, _)| *name == term) {
+        return Err(usage(format!(
+            "unknown term `{term}`; terms: {}",
+            TERMS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+        )));
+    }
+    let inputs = parse_inputs(args)?;
+    let v = direction(&inputs, "--v", "--theta-v", "--phi-v")?;
+    let l = direction(&inputs, "--l", "--theta-l", "--phi-l")?;
+    let m = match inputs.get("--m") {
+        Some(_) => direction(&inputs, "--m", "", "")?,
+        None => match (v, l) {
+            (Some(v), Some(l)) => {
+                let sum = v + l;
+                if sum.length_squared() < 1e-24 {
+                    return Err(usage(
+                        "v and l are opposite: the half vector is undefined; give --m".into(),
+                    ));
+                }
+                Some(sum.normalize())
+            }
+            _ => None,
+        },
+    };
+    let alpha = match (inputs.get("--alpha"), inputs.get("--roughness")) {
+        (Some(a), _) => Some(a[0]),
+        (None, Some(r)) => Some(alpha_from_perceptual_roughness(r[0])),
+        (None, None) => None,
+    };
+    let alphas = match (inputs.get("--alpha-x"), inputs.get("--alpha-y")) {
+        (Some(x), Some(y)) => Some((x[0], y[0])),
+        (None, None) => alpha.map(|a| (a, a)),
+        _ => return Err(usage("give both --alpha-x and --alpha-y".into())),
+    };
+    let eta_i = inputs.scalar("--eta-i", 1.0);
+    let w = inputs.scalar("--polarisation", 0.5);
+    let cos_vm = || -> Result<f64, Error> {
+        Ok(need(v, "--v or --theta-v")?.dot(need(m, "--m, or both v and l")?))
+    };
+    let mut out = BTreeMap::<&str, String>::new();
+    match term {
+        "d-ggx" => {
+            out.insert(
+                "value",
+                json_number(d_ggx(
+                    need(m, "m (--m, or v and l)")?,
+                    need(alpha, "--alpha or --roughness")?,
+                )),
+            );
+        }
+        "d-ggx-anisotropic" => {
+            let (ax, ay) = need(alphas, "--alpha-x and --alpha-y")?;
+            out.insert(
+                "value",
+                json_number(d_ggx_anisotropic(need(m, "m (--m, or v and l)")?, ax, ay)),
+            );
+        }
+        "d-beckmann" => {
+            out.insert(
+                "value",
+                json_number(d_beckmann(
+                    need(m, "m (--m, or v and l)")?,
+                    need(alpha, "--alpha or --roughness")?,
+                )),
+            );
+        }
+        "lambda-ggx" => {
+            let (ax, ay) = need(alphas, "--alpha (or --alpha-x and --alpha-y)")?;
+            let v = need(v, "--v or --theta-v")?;
+            let value = if ax == ay {
+                lambda_ggx(v, ax)
+            } else {
+                lambda_ggx_anisotropic(v, ax, ay)
+            };
+            out.insert("value", json_number(value));
+        }
+        "g1-smith-ggx" => {
+            let (ax, ay) = need(alphas, "--alpha (or --alpha-x and --alpha-y)")?;
+            let (v, m) = (
+                need(v, "--v or --theta-v")?,
+                need(m, "m (--m, or v and l)")?,
+            );
+            let value = if ax == ay {
+                g1_smith_ggx(v, m, ax)
+            } else {
+                g1_smith_ggx_anisotropic(v, m, ax, ay)
+            };
+            out.insert("value", json_number(value));
+        }
+        "g2-separable" => {
+            let a = need(alpha, "--alpha or --roughness")?;
+            out.insert(
+                "value",
+                json_number(g2_smith_ggx_separable(
+                    need(v, "v")?,
+                    need(l, "l")?,
+                    need(m, "m")?,
+                    a,
+                )),
+            );
+        }
+        "g2-height-correlated" => {
+            let (ax, ay) = need(alphas, "--alpha (or --alpha-x and --alpha-y)")?;
+            let (v, l, m) = (need(v, "v")?, need(l, "l")?, need(m, "m")?);
+            let value = if ax == ay {
+                g2_smith_ggx_height_correlated(v, l, m, ax)
+            } else {
+                g2_smith_ggx_height_correlated_anisotropic(v, l, m, ax, ay)
+            };
+            out.insert("value", json_number(value));
+        }
+        "g-cook-torrance" => {
+            out.insert(
+                "value",
+                json_number(g_cook_torrance_1981(
+                    need(v, "v")?,
+                    need(l, "l")?,
+                    need(m, "m")?,
+                )),
+            );
+        }
+        "fresnel-conductor" => {
+            let c = cos_vm()?;
+            let (eta, k) = (inputs.rgb("--eta", 1.5), inputs.rgb("--k", 0.0));
+            let r: Vec<_> = (0..3)
+                .map(|i| fresnel_conductor(c, eta_i, eta[i], k[i]))
+                .collect();
+            out.insert("cos_theta", json_number(c));
+            out.insert(
+                "rs",
+                format!(
+                    "[{}]",
+                    r.iter()
+                        .map(|p| json_number(p.s))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            );
+            out.insert(
+                "rp",
+                format!(
+                    "[{}]",
+                    r.iter()
+                        .map(|p| json_number(p.p))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            );
+            out.insert(
+                "r",
+                format!(
+                    "[{}]",
+                    r.iter()
+                        .map(|p| json_number(p.weighted(w)))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            );
+        }
+        "fresnel-dielectric" => {
+            let c = cos_vm()?;
+            let r = fresnel_dielectric(c, eta_i, inputs.scalar("--eta", 1.5));
+            out.insert("cos_theta", json_number(c));
+            out.insert("rs", json_number(r.s));
+            out.insert("rp", json_number(r.p));
+            out.insert("r", json_number(r.weighted(w)));
+        }
+        "fresnel-cook-torrance" => {
+            let c = cos_vm()?;
+            out.insert("cos_theta", json_number(c));
+            out.insert(
+                "value",
+                json_number(fresnel_cook_torrance_1981(
+                    c,
+                    inputs.scalar("--eta", 1.5) / eta_i,
+                )),
+            );
+        }
+        "fresnel-schlick" => {
+            let c = cos_vm()?;
+            let f0 = match inputs.get("--f0") {
+                Some(f) => f[0],
+                None => {
+                    let eta = inputs.scalar("--eta", 1.5);
+                    ((eta - eta_i) / (eta + eta_i)).powi(2)
+                }
+            };
+            out.insert("cos_theta", json_number(c));
+            out.insert("f0", json_number(f0));
+            out.insert("value", json_number(fresnel_schlick(c, f0)));
+        }
+        "lambert" => {
+            let rho = inputs.rgb("--rho", 1.0);
+            out.insert(
+                "value",
+                format!(
+                    "[{}]",
+                    rho.map(|r| json_number(diffuse_lambert(r))).join(", ")
+                ),
+            );
+        }
+        "oren-nayar-qualitative" | "oren-nayar-full" => {
+            let rho = inputs.rgb("--rho", 1.0);
+            let sigma = match (inputs.get("--sigma"), inputs.get("--roughness")) {
+                (Some(s), _) => s[0],
+                (None, Some(r)) => oren_nayar_sigma_from_roughness(r[0]),
+                _ => return Err(usage("this term needs --sigma or --roughness".into())),
+            };
+            let (v, l) = (need(v, "v")?, need(l, "l")?);
+            let a = inputs.scalar("--oren-nayar-a", OREN_NAYAR_A_CONSTANT_NOTES);
+            let values = rho.map(|r| {
+                if term == "oren-nayar-full" {
+                    diffuse_oren_nayar_full(r, sigma, v, l)
+                } else {
+                    diffuse_oren_nayar_qualitative(r, sigma, a, v, l)
+                }
+            });
+            out.insert("sigma", json_number(sigma));
+            out.insert("value", format!("[{}]", values.map(json_number).join(", ")));
+        }
+        "brdf" => {
+            let (ax, ay) = need(alphas, "--alpha, --roughness or --alpha-x and --alpha-y")?;
+            let roughness = inputs.scalar("--roughness", alpha.unwrap_or(ax).sqrt());
+            let inputs_brdf = BrdfInputs {
+                base_color: inputs.rgb("--rho", 0.8),
+                metalness: inputs.scalar("--metalness", 0.0),
+                alpha_x: ax,
+                alpha_y: ay,
+                conductor_eta: inputs.rgb("--eta", 1.5),
+                conductor_k: inputs.rgb("--k", 0.0),
+                dielectric_eta: inputs.scalar("--dielectric-eta", 1.5),
+                outside_eta: eta_i,
+                polarisation_weight: w,
+                diffuse_model: inputs.diffuse.unwrap_or_default(),
+                oren_nayar_sigma: inputs
+                    .get("--sigma")
+                    .map_or_else(|| oren_nayar_sigma_from_roughness(roughness), |s| s[0]),
+            };
+            let z = Vec3::new(0.0, 0.0, 1.0);
+            let (x, y) = (Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+            let f = brdf_evaluate(&inputs_brdf, z, x, y, need(v, "v")?, need(l, "l")?);
+            out.insert("value", format!("[{}]", f.map(json_number).join(", ")));
+        }
+        _ => unreachable!("checked against TERMS above"),
+    }
+    let mut json = format!("{{\"term\": \"{term}\"");
+    for (name, value) in [("v", v), ("l", l), ("m", m)] {
+        if let Some(d) = value {
+            let _ = write!(json, ", \"{name}\": {}", json_vec(d));
+        }
+    }
+    for (flag, values) in &inputs.values {
+        let name = flag.trim_start_matches("--").replace('-', "_");
+        let list: Vec<_> = values.iter().map(|x| json_number(*x)).collect();
+        let text = if list.len() == 1 {
+            list[0].clone()
+        } else {
+            format!("[{}]", list.join(", "))
+        };
+        let _ = write!(json, ", \"{name}\": {text}");
+    }
+    for (name, value) in out {
+        let _ = write!(json, ", \"{name}\": {value}");
+    }
+    json.push('}');
+    Ok(json)
+}
