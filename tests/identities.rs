@@ -146,7 +146,7 @@ fn highlights_tighten_as_roughness_falls() {
     let columns = SPHERE_GRID_ROUGHNESS.len();
     let gold_row = 1;
     let mut stats = Vec::new();
-    for column in 0..columns {
+    for (column, &roughness) in SPHERE_GRID_ROUGHNESS.iter().enumerate() {
         let material = (gold_row * columns + column) as u16;
         let values: Vec<f64> = gbuffer
             .texels
@@ -162,7 +162,7 @@ fn highlights_tighten_as_roughness_falls() {
         );
         let peak = values.iter().cloned().fold(0.0, f64::max);
         let area = values.iter().filter(|&&v| v > 0.5 * peak).count();
-        stats.push((SPHERE_GRID_ROUGHNESS[column], peak, area));
+        stats.push((roughness, peak, area));
     }
     eprintln!("(roughness, peak, pixels above half peak): {stats:?}");
     for pair in stats.windows(2) {
