@@ -155,7 +155,7 @@ pub fn brdf_evaluate<T: Real>(
     let frame = ShadingFrame::new(n, t, b);
     let v = frame.to_local(v.normalize());
     let l = frame.to_local(l.normalize());
-    if !(v.z > T::ZERO && l.z > T::ZERO) {
+    if !(v.z.is_positive() && l.z.is_positive()) {
         return zero;
     }
     let ax = clamp_alpha(m.alpha_x);

@@ -4,7 +4,7 @@
 //! n·l) for view `v` and light `l` given **in the shading frame** (z = normal), and 0
 //! when v.z ≤ 0 or l.z ≤ 0. σ is the standard deviation of the facet slope angle in
 //! radians (clamped to ≥ 0). Cosines that are divided by are raised to
-//! [`COS_MIN`](crate::COS_MIN) first, so results stay finite at grazing angles.
+//! [`COS_MIN`] first, so results stay finite at grazing angles.
 //!
 //! The notes' α and β in Oren–Nayar are max(θ_i, θ_r) and min(θ_i, θ_r), not roughness
 //! (seed-notes 5); the code calls them `theta_max` and `theta_min`.
@@ -64,6 +64,12 @@ pub fn diffuse_lambert<T: Real>(rho: T) -> T {
     rho * T::FRAC_1_PI
 }
 
+/// σ limited to [0, π/2] (NaN → 0).
+#[inline]
+fn clamp_sigma<T: Real>(sigma: T) -> T {
+    sigma.clamp_to(T::ZERO, T::HALF * T::PI)
+}
+
 /// Local cosines, sines and the azimuthal products the Oren–Nayar models share.
 struct OrenNayarGeometry<T> {
     /// cosθ_i, cosθ_r, raised to COS_MIN
@@ -78,7 +84,7 @@ struct OrenNayarGeometry<T> {
 
 #[inline]
 fn geometry<T: Real>(v: Vec3<T>, l: Vec3<T>) -> Option<OrenNayarGeometry<T>> {
-    if !(v.z > T::ZERO && l.z > T::ZERO) {
+    if !(v.z.is_positive() && l.z.is_positive()) {
         return None;
     }
     let cmin = T::from_f64(COS_MIN);
@@ -111,8 +117,12 @@ pub fn diffuse_oren_nayar_qualitative<T: Real>(
     let Some(g) = geometry(v, l) else {
         return T::ZERO;
     };
-    let s2 = sigma.max(T::ZERO).sq();
-    let a = T::ONE - T::HALF * s2 / (s2 + a_constant.max(T::ZERO));
+    let s2 = clamp_sigma(sigma).sq();
+    let a = if s2 > T::ZERO {
+        T::ONE - T::HALF * s2 / (s2 + a_constant.max(T::ZERO))
+    } else {
+        T::ONE
+    };
     let b = T::from_f64(0.45) * s2 / (s2 + T::from_f64(0.09));
     let x = g.sin_sin_cos_phi.max(T::ZERO) / g.ci.max(g.cr);
     rho * T::FRAC_1_PI * (a + b * x)
@@ -127,11 +137,14 @@ pub fn diffuse_oren_nayar_qualitative<T: Real>(
 ///   C3 = 0.125 σ²/(σ² + 0.09) (4αβ/π²)²,
 /// * L₂ = 0.17 ρ² σ²/(σ² + 0.13) (1 − cosφ (2β/π)²) (interreflection),
 ///
-/// α = max(θ_i, θ_r), β = min(θ_i, θ_r), φ = φ_r − φ_i. Arrangement:
+/// α = max(θ_i, θ_r), β = min(θ_i, θ_r), φ = φ_r − φ_i. Arrangement (f32, grazing):
 /// θ = atan2(sinθ, cosθ) with sinθ from the frame (not acos, which loses accuracy near
-/// 0); tan((α + β)/2) = (sinθ_i + sinθ_r)/(cosθ_i + cosθ_r) (sum of positives);
+/// 0) and 1 − 2β/π from atan2(cos β, sin β) (accurate near π/2);
+/// tan((α + β)/2) = (sinθ_i + sinθ_r)/(cosθ_i + cosθ_r) (sum of positives);
 /// cosφ and 1 − |cosφ| = sin²φ/(1 + |cosφ|) from the normalised tangent-plane
-/// projections. ρ enters squared in L₂, so this is evaluated per channel.
+/// projections; C2's sin α − (2β/π)³ and L₂'s 1 − cosφ(2β/π)² as sums of non-negative
+/// terms (both would otherwise cancel near grazing, where C2 is multiplied by
+/// tan β ≈ 1/cos β). ρ enters squared in L₂, so this is evaluated per channel.
 ///
 /// The paper's L₁ dips below zero for σ ≳ 0.6 rad at near-grazing forward scattering
 /// (cosφ = −1, θ_i, θ_r ≳ 87°), where C2's (2β/π)³ correction over-subtracts; L₁ is
@@ -140,14 +153,17 @@ pub fn diffuse_oren_nayar_full<T: Real>(rho: T, sigma: T, v: Vec3<T>, l: Vec3<T>
     let Some(g) = geometry(v, l) else {
         return T::ZERO;
     };
-    let s2 = sigma.max(T::ZERO).sq();
+    let s2 = clamp_sigma(sigma).sq();
     let theta_i = g.si.atan2(g.ci);
     let theta_r = g.sr.atan2(g.cr);
     let theta_max = theta_i.max(theta_r);
     let theta_min = theta_i.min(theta_r);
-    let c_min_angle = g.ci.max(g.cr); // cos β
-    let s_min_angle = if theta_i < theta_r { g.si } else { g.sr }; // sin β
-    let s_max_angle = if theta_i < theta_r { g.sr } else { g.si }; // sin α
+    // (sin, cos) of α = max(θ_i, θ_r) and of β = min(θ_i, θ_r)
+    let (s_max_angle, c_max_angle, s_min_angle, c_min_angle) = if theta_i < theta_r {
+        (g.sr, g.cr, g.si, g.ci)
+    } else {
+        (g.si, g.ci, g.sr, g.cr)
+    };
     let tan_beta = s_min_angle / c_min_angle;
 
     // cosφ and 1 − |cosφ| from the unit projections onto the tangent plane
@@ -168,10 +184,19 @@ pub fn diffuse_oren_nayar_full<T: Real>(rho: T, sigma: T, v: Vec3<T>, l: Vec3<T>
     let tmp = s2 / (s2 + T::from_f64(0.09));
     let c1 = T::ONE - T::HALF * s2 / (s2 + T::from_f64(0.33));
     let two_beta_over_pi = T::TWO * theta_min * T::FRAC_1_PI;
+    // x = 1 − 2β/π from the complementary angle, accurate as β → π/2
+    let x = T::TWO * T::FRAC_1_PI * c_min_angle.atan2(s_min_angle);
     let c2 = if cos_phi >= T::ZERO {
         T::from_f64(0.45) * tmp * s_max_angle
     } else {
-        T::from_f64(0.45) * tmp * (s_max_angle - two_beta_over_pi.sq() * two_beta_over_pi)
+        // sin α − (2β/π)³ = (1 − (1 − x)³) − (1 − sin α)
+        //                 = x (3 − 3x + x²) − cos²α/(1 + sin α):
+        // near grazing both are small and the naive difference cancels, while it is
+        // multiplied by tan β ≈ 1/cos β; the first term dominates (β ≤ α), so this is
+        // free of cancellation.
+        let three = T::from_f64(3.0);
+        let one_minus_sin_alpha = c_max_angle * c_max_angle / (T::ONE + s_max_angle);
+        T::from_f64(0.45) * tmp * (x * (three - three * x + x * x) - one_minus_sin_alpha)
     };
     let four_ab_over_pi2 = T::from_f64(4.0) * theta_max * theta_min * T::FRAC_1_PI * T::FRAC_1_PI;
     let c3 = T::from_f64(0.125) * tmp * four_ab_over_pi2.sq();
@@ -179,7 +204,14 @@ pub fn diffuse_oren_nayar_full<T: Real>(rho: T, sigma: T, v: Vec3<T>, l: Vec3<T>
     let l1 = rho
         * (c1 + cos_phi * c2 * tan_beta + one_minus_abs_cos_phi * c3 * tan_half_sum).max(T::ZERO);
     let c4 = T::from_f64(0.17) * s2 / (s2 + T::from_f64(0.13));
-    let l2 = rho * rho * c4 * (T::ONE - cos_phi * two_beta_over_pi.sq());
+    // 1 − cosφ (2β/π)²; for cosφ > 0 as (1 − cosφ) + cosφ (1 − (2β/π)²), both ≥ 0,
+    // with 1 − cosφ = 1 − |cosφ| and 1 − (2β/π)² = x (2 − x)
+    let interreflection = if cos_phi > T::ZERO {
+        one_minus_abs_cos_phi + cos_phi * x * (T::TWO - x)
+    } else {
+        T::ONE - cos_phi * two_beta_over_pi.sq()
+    };
+    let l2 = rho * rho * c4 * interreflection;
     (l1 + l2) * T::FRAC_1_PI
 }
 

@@ -173,7 +173,7 @@ fn dielectric_terms<T: Real>(cos_theta_i: T, eta_i: T, eta_t: T) -> Dielectric<T
     }
     // ηt² cos²θt = ηt² − ηi² sin²θ = (ηt² − ηi²) + ηi² cos²θ
     let et2_ct2 = delta + ei * ei * c * c;
-    if !(et2_ct2 > T::ZERO) {
+    if !et2_ct2.is_positive() {
         return Dielectric::Total;
     }
     let et_ct = et2_ct2.sqrt();
@@ -214,9 +214,12 @@ pub fn fresnel_dielectric<T: Real>(cos_theta_i: T, eta_i: T, eta_t: T) -> Polari
             let den_p = d.et * d.c + d.ei_ct;
             let rp = d.delta * (d.et * d.c - d.ei * s) * (d.et * d.c + d.ei * s)
                 / (d.et * d.et * den_p * den_p);
+            let r_s = (rs * rs).min(T::ONE);
+            // |r_p| ≤ |r_s| for every dielectric interface; near a critical angle the two
+            // are each accurate only to ε times its condition number, so keep the order
             Polarised {
-                s: (rs * rs).min(T::ONE),
-                p: (rp * rp).min(T::ONE),
+                s: r_s,
+                p: (rp * rp).min(r_s),
             }
         }
     }
@@ -269,7 +272,7 @@ pub fn fresnel_cook_torrance_1981<T: Real>(cos_theta: T, eta: T) -> T {
         return T::ZERO;
     }
     let g2 = n2m1 + c * c;
-    if !(g2 > T::ZERO) {
+    if !g2.is_positive() {
         return T::ONE;
     }
     let g = g2.sqrt();

@@ -6,7 +6,10 @@
 //! sin²θ = |n × m|² = m.x² + m.y², formed without cancellation (seed-notes, hard cases:
 //! "1 − (n·h)² cancellation in f32"). Every α argument is clamped to
 //! [[`ALPHA_MIN`], 1]; every cosine that is divided by is raised to [`COS_MIN`] first.
-//! Results are finite for any input, NaN included.
+//! Results are finite for any finite vectors (unit length expected; other lengths give
+//! finite but unphysical values) and any α, NaN included. Vectors with NaN or infinite
+//! components give unspecified results: [`crate::brdf_evaluate`] normalises and
+//! sanitises its inputs before calling these.
 //!
 //! GLSL mirror: `shaders/include/microfacet.glsl` (same names, same arrangements).
 
@@ -53,7 +56,7 @@ pub fn anisotropic_alphas<T: Real>(alpha: T, strength: T) -> (T, T) {
 #[inline]
 pub fn d_ggx<T: Real>(m: Vec3<T>, alpha: T) -> T {
     let c = m.z;
-    if !(c > T::ZERO) {
+    if !c.is_positive() {
         return T::ZERO;
     }
     let a2 = clamp_alpha(alpha).sq();
@@ -68,7 +71,7 @@ pub fn d_ggx<T: Real>(m: Vec3<T>, alpha: T) -> T {
 #[inline]
 pub fn d_ggx_anisotropic<T: Real>(m: Vec3<T>, alpha_x: T, alpha_y: T) -> T {
     let c = m.z;
-    if !(c > T::ZERO) {
+    if !c.is_positive() {
         return T::ZERO;
     }
     let ax = clamp_alpha(alpha_x);
@@ -87,14 +90,14 @@ pub fn d_ggx_anisotropic<T: Real>(m: Vec3<T>, alpha_x: T, alpha_y: T) -> T {
 #[inline]
 pub fn d_beckmann<T: Real>(m: Vec3<T>, alpha: T) -> T {
     let c = m.z;
-    if !(c > T::ZERO) {
+    if !c.is_positive() {
         return T::ZERO;
     }
     let a2 = clamp_alpha(alpha).sq();
     let c2 = c * c;
     let s2 = m.x * m.x + m.y * m.y;
     let e = (-(s2 / a2) / c2).exp();
-    if !(e > T::ZERO) {
+    if !e.is_positive() {
         return T::ZERO;
     }
     e / (T::PI * a2 * c2 * c2)
@@ -116,10 +119,10 @@ fn alpha2_sin2<T: Real>(v: Vec3<T>, ax: T, ay: T) -> T {
 /// Λ = α² sin²θ / (2c (S + c)): no tangent, no cancellation.
 #[inline]
 fn lambda_from_cos<T: Real>(c: T, a2s2: T) -> T {
-    if !(c > T::ZERO) {
+    if !c.is_positive() {
         return T::MAX;
     }
-    if !(a2s2 > T::ZERO) {
+    if !a2s2.is_positive() {
         return T::ZERO;
     }
     let s = (c * c + a2s2).sqrt();
@@ -129,7 +132,7 @@ fn lambda_from_cos<T: Real>(c: T, a2s2: T) -> T {
 /// Smith G₁ for GGX from c = n·v > 0: 1/(1 + Λ) = 2c/(c + √(c² + α² sin²θ)).
 #[inline]
 fn g1_from_cos<T: Real>(c: T, a2s2: T) -> T {
-    if !(c > T::ZERO) {
+    if !c.is_positive() {
         return T::ZERO;
     }
     let s = (c * c + a2s2).sqrt();
@@ -164,7 +167,7 @@ pub fn lambda_ggx_anisotropic<T: Real>(v: Vec3<T>, alpha_x: T, alpha_y: T) -> T 
 /// sign matters, so it is tested as v·m > 0 and v.z > 0 without dividing.
 #[inline]
 pub fn g1_smith_ggx<T: Real>(v: Vec3<T>, m: Vec3<T>, alpha: T) -> T {
-    if !(v.dot(m) > T::ZERO) {
+    if !v.dot(m).is_positive() {
         return T::ZERO;
     }
     let a = clamp_alpha(alpha);
@@ -174,7 +177,7 @@ pub fn g1_smith_ggx<T: Real>(v: Vec3<T>, m: Vec3<T>, alpha: T) -> T {
 /// Smith G₁(v, m) for GGX, anisotropic (Heitz 2014, §5.3): 1/(1 + Λ_aniso(v)) · χ⁺.
 #[inline]
 pub fn g1_smith_ggx_anisotropic<T: Real>(v: Vec3<T>, m: Vec3<T>, alpha_x: T, alpha_y: T) -> T {
-    if !(v.dot(m) > T::ZERO) {
+    if !v.dot(m).is_positive() {
         return T::ZERO;
     }
     g1_from_cos(
@@ -228,7 +231,8 @@ pub fn g2_smith_ggx_height_correlated_anisotropic<T: Real>(
     alpha_x: T,
     alpha_y: T,
 ) -> T {
-    if !(v.z > T::ZERO && l.z > T::ZERO && v.dot(m) > T::ZERO && l.dot(m) > T::ZERO) {
+    if !(v.z.is_positive() && l.z.is_positive() && v.dot(m).is_positive() && l.dot(m).is_positive())
+    {
         return T::ZERO;
     }
     let ax = clamp_alpha(alpha_x);
@@ -251,7 +255,7 @@ pub fn visibility_smith_ggx_height_correlated_anisotropic<T: Real>(
     alpha_x: T,
     alpha_y: T,
 ) -> T {
-    if !(v.z > T::ZERO && l.z > T::ZERO) {
+    if !(v.z.is_positive() && l.z.is_positive()) {
         return T::ZERO;
     }
     let ax = clamp_alpha(alpha_x);
@@ -272,7 +276,7 @@ pub fn visibility_smith_ggx_height_correlated_anisotropic<T: Real>(
 #[inline]
 pub fn g_cook_torrance_1981<T: Real>(v: Vec3<T>, l: Vec3<T>, h: Vec3<T>) -> T {
     let vh = v.dot(h);
-    if !(v.z > T::ZERO && l.z > T::ZERO && h.z > T::ZERO && vh > T::ZERO) {
+    if !(v.z.is_positive() && l.z.is_positive() && h.z.is_positive() && vh.is_positive()) {
         return T::ZERO;
     }
     (T::TWO * h.z * v.z.min(l.z) / vh).min(T::ONE)
@@ -287,7 +291,7 @@ pub fn g_cook_torrance_1981<T: Real>(v: Vec3<T>, l: Vec3<T>, h: Vec3<T>) -> T {
 /// raised to [`COS_MIN`].
 #[inline]
 pub fn specular_microfacet<T: Real>(d: T, f: T, g: T, cos_v: T, cos_l: T) -> T {
-    if !(cos_v > T::ZERO && cos_l > T::ZERO) {
+    if !(cos_v.is_positive() && cos_l.is_positive()) {
         return T::ZERO;
     }
     let cmin = T::from_f64(COS_MIN);

@@ -83,6 +83,13 @@ pub trait Real:
     /// NaN.
     fn is_nan(self) -> bool;
 
+    /// `self > 0`; false for NaN. The guards of this crate are written
+    /// `if !x.is_positive() { return 0 }` so that NaN takes the early exit.
+    #[inline]
+    fn is_positive(self) -> bool {
+        self > Self::ZERO
+    }
+
     /// `self` limited to `[lo, hi]`; NaN maps to `lo` (see the trait docs).
     #[inline]
     fn clamp_to(self, lo: Self, hi: Self) -> Self {

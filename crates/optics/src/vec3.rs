@@ -200,7 +200,7 @@ impl<T: Real> ShadingFrame<T> {
     /// Unit vector along the part of `v` orthogonal to unit `n`, or `None` if degenerate.
     fn orthogonal_unit(n: Vec3<T>, v: Vec3<T>) -> Option<Vec3<T>> {
         let v2 = v.length_squared();
-        if !(v2 > T::ZERO && v2.is_finite()) {
+        if !(v2.is_positive() && v2.is_finite()) {
             return None;
         }
         let r = v.reject_from(n);

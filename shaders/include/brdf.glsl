@@ -1,0 +1,138 @@
+// The assembled BRDF of the lighting pass. GLSL mirror of crates/optics/src/brdf.rs
+// (brdf_evaluate, BrdfInputs, DiffuseModel) and of ShadingFrame / Vec3::normalize in
+// crates/optics/src/vec3.rs: same names, inputs in the same order, same arrangements,
+// so the CPU reference and this shader can be compared per pixel.
+#ifndef COMBUSTION_BRDF_GLSL
+#define COMBUSTION_BRDF_GLSL
+
+#include "constants.glsl"
+#include "microfacet.glsl"
+#include "fresnel.glsl"
+#include "diffuse.glsl"
+
+// DiffuseModel discriminants (Rust: #[repr(u32)] enum DiffuseModel). Any other value
+// evaluates as Lambert here; the Rust side rejects it in TryFrom<u32>.
+#define DIFFUSE_MODEL_LAMBERT 0u
+#define DIFFUSE_MODEL_OREN_NAYAR_QUALITATIVE 1u
+#define DIFFUSE_MODEL_OREN_NAYAR_FULL 2u
+
+struct BrdfInputs {
+    vec3 base_color;          // linear RGB albedo of the dielectric part
+    float metalness;          // 0 dielectric .. 1 conductor, linear blend of the lobes
+    float alpha_x;            // GGX α along the tangent (already mapped)
+    float alpha_y;            // GGX α along the bitangent
+    vec3 conductor_eta;       // conductor η per channel (complex IOR η + ik)
+    vec3 conductor_k;         // conductor k per channel
+    float dielectric_eta;     // real IOR of the dielectric part
+    float outside_eta;        // η_i of the surrounding medium
+    float polarisation_weight;  // 0 = s, 1 = p, 0.5 unpolarised
+    uint diffuse_model;       // DIFFUSE_MODEL_*
+    float oren_nayar_sigma;   // radians
+};
+
+// v/|v|, or 0 when |v|² is 0, underflows, or is not finite (Rust: Vec3::normalize).
+vec3 safe_normalize(vec3 v) {
+    float l2 = dot(v, v);
+    if (l2 > 0.0 && !isinf(l2)) {
+        return v * (1.0 / sqrt(l2));
+    }
+    return vec3(0.0);
+}
+
+// Unit vector along the part of v orthogonal to unit n (Gram–Schmidt twice), or 0 if v
+// is degenerate (zero, not finite, or within TANGENT_DEGENERATE_FRACTION_SQ of ±n).
+vec3 shading_frame_orthogonal_unit(vec3 n, vec3 v) {
+    float v2 = dot(v, v);
+    if (!(v2 > 0.0 && !isinf(v2))) {
+        return vec3(0.0);
+    }
+    vec3 r = v - n * dot(n, v);
+    r = r - n * dot(n, r);
+    if (dot(r, r) > TANGENT_DEGENERATE_FRACTION_SQ * v2) {
+        return safe_normalize(r);
+    }
+    return vec3(0.0);
+}
+
+// Orthonormal frame as mat3 columns (t, b, n) from a possibly non-unit, non-orthogonal
+// normal, tangent and bitangent (Rust: ShadingFrame::new). Tangent fallback: b⊥ × n,
+// then a basis from n alone (Duff et al. 2017). A zero normal gives the zero matrix.
+mat3 shading_frame(vec3 n_in, vec3 t_in, vec3 b_in) {
+    vec3 n = safe_normalize(n_in);
+    if (dot(n, n) == 0.0) {
+        return mat3(0.0);
+    }
+    vec3 t = shading_frame_orthogonal_unit(n, t_in);
+    if (dot(t, t) == 0.0) {
+        vec3 bb = shading_frame_orthogonal_unit(n, b_in);
+        if (dot(bb, bb) > 0.0) {
+            t = cross(bb, n);
+        } else {
+            float sgn = n.z >= 0.0 ? 1.0 : -1.0;
+            float a = -1.0 / (sgn + n.z);
+            float bxy = n.x * n.y * a;
+            t = vec3(1.0 + sgn * n.x * n.x * a, sgn * bxy, -sgn * n.x);
+        }
+    }
+    return mat3(t, cross(n, t), n);
+}
+
+// World → local: (t·v, b·v, n·v) (Rust: ShadingFrame::to_local).
+vec3 shading_frame_to_local(mat3 frame, vec3 v) {
+    return vec3(dot(frame[0], v), dot(frame[1], v), dot(frame[2], v));
+}
+
+// f(v, l) per channel, NOT multiplied by n·l; 0 when n·l ≤ 0 or n·v ≤ 0.
+// Specular: D_GGX,aniso(h) · V_Smith,height-correlated(v, l) · F(v·h), v·h = |v + l|/2;
+// conductor lobe F = R_w(η_i; η + ik per channel), dielectric lobe F = R_w(η_i; η_d) with
+// TIR (white). Diffuse (dielectric part only): base_color × diffuse model × T_w(n·l)
+// T_w(n·v), the Fresnel transmittance in and out (symmetric, so f stays reciprocal).
+vec3 brdf_evaluate(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v, vec3 l) {
+    mat3 frame = shading_frame(n, t, b);
+    vec3 vl = shading_frame_to_local(frame, safe_normalize(v));
+    vec3 ll = shading_frame_to_local(frame, safe_normalize(l));
+    if (!(vl.z > 0.0 && ll.z > 0.0)) {
+        return vec3(0.0);
+    }
+    float ax = clamp_alpha(m.alpha_x);
+    float ay = clamp_alpha(m.alpha_y);
+    float metal = min(max(m.metalness, 0.0), 1.0);
+    float w = min(max(m.polarisation_weight, 0.0), 1.0);
+    float eta_i = m.outside_eta;
+
+    vec3 sum = vl + ll;
+    float len = sqrt(dot(sum, sum));
+    vec3 h = sum * (1.0 / len);
+    float cos_h = min(0.5 * len, 1.0);
+    float lobe = d_ggx_anisotropic(h, ax, ay)
+               * visibility_smith_ggx_height_correlated_anisotropic(vl, ll, ax, ay);
+
+    vec3 result = vec3(0.0);
+    if (metal < 1.0) {
+        float eta_d = m.dielectric_eta;
+        float spec = lobe * polarised_weighted(fresnel_dielectric(cos_h, eta_i, eta_d), w);
+        float diffuse_weight =
+            polarised_weighted(fresnel_dielectric_transmittance(ll.z, eta_i, eta_d), w)
+          * polarised_weighted(fresnel_dielectric_transmittance(vl.z, eta_i, eta_d), w);
+        vec3 rho = min(max(m.base_color, vec3(0.0)), vec3(1.0));
+        vec3 diffuse;
+        if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_QUALITATIVE) {
+            diffuse = diffuse_oren_nayar_qualitative(rho, m.oren_nayar_sigma, OREN_NAYAR_A_CONSTANT_BRDF, vl, ll);
+        } else if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_FULL) {
+            diffuse = diffuse_oren_nayar_full(rho, m.oren_nayar_sigma, vl, ll);
+        } else {
+            diffuse = diffuse_lambert(rho);
+        }
+        result = (1.0 - metal) * (vec3(spec) + diffuse_weight * diffuse);
+    }
+    if (metal > 0.0) {
+        vec2 r0 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.x, m.conductor_k.x);
+        vec2 r1 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.y, m.conductor_k.y);
+        vec2 r2 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.z, m.conductor_k.z);
+        vec3 f = vec3(polarised_weighted(r0, w), polarised_weighted(r1, w), polarised_weighted(r2, w));
+        result += metal * lobe * f;
+    }
+    return result;
+}
+
+#endif // COMBUSTION_BRDF_GLSL
