@@ -23,7 +23,7 @@ pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
 pub const SPHERE_GRID_ROUGHNESS: [f32; 6] = [0.1, 0.25, 0.4, 0.55, 0.75, 1.0];
 
 fn metal(metal: combustion_spectra::BuiltinMetal) -> ComplexIor {
-    let constants = combustion_spectra::rgb_optical_constants(&metal.spectrum())
+    let constants = combustion_spectra::rgb_optical_constants(metal.spectrum())
         .expect("built-in metal tables cover the RGB bands (checked by the spectra crate's tests)");
     ComplexIor {
         eta: constants.eta.map(|x| x as f32),

@@ -12,13 +12,17 @@
 mod builtin;
 mod camera;
 mod error;
+pub mod gltf;
 mod material;
 mod mesh;
 
 pub use builtin::{builtin_scene, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
 pub use camera::Camera;
 pub use error::SceneError;
-pub use material::{ComplexIor, DiffuseModel, Material};
+pub use material::{
+    conductor_from_reflectivity, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Material,
+    Sampler, Texture, TextureRef, TextureSlot, WrapMode,
+};
 pub use mesh::{Mesh, Vertex};
 
 use glam::{Mat4, Vec3};
@@ -164,5 +168,220 @@ impl Scene {
             }
         }
         self.camera.validate()
+    }
+}
+
+/// Every distinct image and texture of a scene, for upload: images deduplicated by
+/// identity (`Arc`), textures by (image, sampler).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TextureTable {
+    pub images: Vec<std::sync::Arc<Image>>,
+    pub textures: Vec<TextureTableEntry>,
+    /// Per material (scene order), per slot in [`TextureSlot::ALL`] order: the index into
+    /// `textures`, if the material uses that slot.
+    pub material_textures: Vec<[Option<usize>; 8]>,
+}
+
+/// One texture of a [`TextureTable`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TextureTableEntry {
+    /// Index into [`TextureTable::images`].
+    pub image: usize,
+    pub sampler: Sampler,
+}
+
+/// What a scene exercises, for `combustion info` and for choosing tests. Material counts
+/// cover every material of the scene, used or not.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SceneFeatures {
+    /// Materials with a conductor part (metalness > 0 or a metallic-roughness texture)
+    /// whose η + ik is given (measured, named or explicit).
+    pub conductors: usize,
+    /// Materials with a conductor part derived from the base colour (glTF metals).
+    pub conductors_from_base_color: usize,
+    /// Materials with anisotropy (strength > 0 or an anisotropy texture).
+    pub anisotropic: usize,
+    /// The scene's outside-medium IOR, or any material's override, differs from 1.
+    pub outside_ior_not_one: bool,
+    /// Distinct diffuse models, in [`DiffuseModel`] order.
+    pub diffuse_models: Vec<DiffuseModel>,
+    /// Per texture slot (in [`TextureSlot::ALL`] order): how many materials use it.
+    pub textures: [usize; 8],
+    /// Distinct images.
+    pub images: usize,
+    /// Materials that emit light (emissive factor · strength > 0).
+    pub emissive: usize,
+    /// Materials with a non-default KHR_materials_specular factor, colour or texture.
+    pub specular: usize,
+    pub double_sided: usize,
+    pub point_lights: usize,
+    pub spot_lights: usize,
+    pub directional_lights: usize,
+}
+
+impl SceneFeatures {
+    /// How many materials use texture slot `slot`.
+    pub fn texture_count(&self, slot: TextureSlot) -> usize {
+        let i = TextureSlot::ALL
+            .iter()
+            .position(|&s| s == slot)
+            .unwrap_or(0);
+        self.textures[i]
+    }
+}
+
+impl std::fmt::Display for SceneFeatures {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(f, "conductors (given η+ik): {}", self.conductors)?;
+        writeln!(
+            f,
+            "conductors from base colour: {}",
+            self.conductors_from_base_color
+        )?;
+        writeln!(f, "anisotropic materials: {}", self.anisotropic)?;
+        writeln!(
+            f,
+            "outside IOR ≠ 1: {}",
+            if self.outside_ior_not_one {
+                "yes"
+            } else {
+                "no"
+            }
+        )?;
+        let models: Vec<&str> = self
+            .diffuse_models
+            .iter()
+            .map(|m| match m {
+                DiffuseModel::Lambert => "lambert",
+                DiffuseModel::OrenNayarQualitative => "oren-nayar-qualitative",
+                DiffuseModel::OrenNayarFull => "oren-nayar-full",
+            })
+            .collect();
+        writeln!(
+            f,
+            "diffuse models: {}",
+            if models.is_empty() {
+                "none".into()
+            } else {
+                models.join(", ")
+            }
+        )?;
+        let textures: Vec<String> = TextureSlot::ALL
+            .iter()
+            .zip(self.textures)
+            .filter(|(_, n)| *n > 0)
+            .map(|(slot, n)| format!("{} {n}", slot.name()))
+            .collect();
+        writeln!(
+            f,
+            "textured materials: {} ({} images)",
+            if textures.is_empty() {
+                "none".into()
+            } else {
+                textures.join(", ")
+            },
+            self.images
+        )?;
+        writeln!(f, "emissive materials: {}", self.emissive)?;
+        writeln!(f, "KHR_materials_specular materials: {}", self.specular)?;
+        writeln!(f, "double-sided materials: {}", self.double_sided)?;
+        write!(
+            f,
+            "lights: {} point, {} spot, {} directional",
+            self.point_lights, self.spot_lights, self.directional_lights
+        )
+    }
+}
+
+impl Scene {
+    /// What this scene exercises (see [`SceneFeatures`]).
+    pub fn features(&self) -> SceneFeatures {
+        let mut features = SceneFeatures {
+            outside_ior_not_one: self.outside_ior != 1.0,
+            images: self.texture_table().images.len(),
+            ..SceneFeatures::default()
+        };
+        let defaults = Material::default();
+        for m in &self.materials {
+            if m.metalness > 0.0 || m.metallic_roughness_texture.is_some() {
+                if m.conductor_from_base_color {
+                    features.conductors_from_base_color += 1;
+                } else {
+                    features.conductors += 1;
+                }
+            }
+            if m.anisotropy_strength > 0.0 || m.anisotropy_texture.is_some() {
+                features.anisotropic += 1;
+            }
+            if m.outside_ior.is_some_and(|ior| ior != 1.0) {
+                features.outside_ior_not_one = true;
+            }
+            if !features.diffuse_models.contains(&m.diffuse_model) {
+                features.diffuse_models.push(m.diffuse_model);
+            }
+            for (i, (_, texture)) in m.texture_slots().iter().enumerate() {
+                if texture.is_some() {
+                    features.textures[i] += 1;
+                }
+            }
+            if m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&x| x > 0.0) {
+                features.emissive += 1;
+            }
+            if m.specular_factor != defaults.specular_factor
+                || m.specular_color_factor != defaults.specular_color_factor
+                || m.specular_texture.is_some()
+                || m.specular_color_texture.is_some()
+            {
+                features.specular += 1;
+            }
+            if m.double_sided {
+                features.double_sided += 1;
+            }
+        }
+        features.diffuse_models.sort_by_key(|&m| m as u32);
+        for light in &self.lights {
+            match light {
+                Light::Point { .. } => features.point_lights += 1,
+                Light::Spot { .. } => features.spot_lights += 1,
+                Light::Directional { .. } => features.directional_lights += 1,
+            }
+        }
+        features
+    }
+
+    /// The scene's distinct images and textures and which material uses which.
+    pub fn texture_table(&self) -> TextureTable {
+        let mut table = TextureTable::default();
+        for m in &self.materials {
+            let mut slots = [None; 8];
+            for (i, (_, texture)) in m.texture_slots().iter().enumerate() {
+                let Some(texture) = texture else { continue };
+                let image = &texture.texture.image;
+                let image = match table
+                    .images
+                    .iter()
+                    .position(|known| std::sync::Arc::ptr_eq(known, image))
+                {
+                    Some(index) => index,
+                    None => {
+                        table.images.push(image.clone());
+                        table.images.len() - 1
+                    }
+                };
+                let entry = TextureTableEntry {
+                    image,
+                    sampler: texture.texture.sampler,
+                };
+                slots[i] = Some(match table.textures.iter().position(|&t| t == entry) {
+                    Some(index) => index,
+                    None => {
+                        table.textures.push(entry);
+                        table.textures.len() - 1
+                    }
+                });
+            }
+            table.material_textures.push(slots);
+        }
+        table
     }
 }

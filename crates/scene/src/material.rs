@@ -1,3 +1,5 @@
+use std::sync::Arc;
+
 use crate::SceneError;
 
 /// Which diffuse BRDF the dielectric part of a material uses.
@@ -45,6 +47,44 @@ pub struct Material {
     /// Polarisation weight: 0 = s (perpendicular), 1 = p (parallel), 0.5 = unpolarised.
     pub polarisation_weight: f32,
     pub diffuse_model: DiffuseModel,
+    /// The conductor part was not measured but derived from the base colour (glTF metals):
+    /// `conductor` then holds η, k computed from the base colour *factor* (see
+    /// `docs/gltf.md`, "Metals"), and a renderer may instead derive them per pixel from the
+    /// textured base colour with the same mapping ([`conductor_from_reflectivity`]).
+    pub conductor_from_base_color: bool,
+    /// Render both faces (glTF `doubleSided`); false: back faces may be culled.
+    pub double_sided: bool,
+    /// Base colour (RGB, sRGB-encoded) multiplied into `base_color`.
+    pub base_color_texture: Option<TextureRef>,
+    /// glTF metallic-roughness texture (linear): B = metalness, G = perceptual roughness,
+    /// multiplied into `metalness` and `roughness`.
+    pub metallic_roughness_texture: Option<TextureRef>,
+    /// Tangent-space normal map (linear, glTF convention: +X right, +Y up).
+    pub normal_texture: Option<TextureRef>,
+    /// Scale of the normal map's X and Y (glTF `normalTexture.scale`).
+    pub normal_scale: f32,
+    /// Ambient occlusion (linear, R channel).
+    pub occlusion_texture: Option<TextureRef>,
+    /// 1 + strength · (occlusion − 1) (glTF `occlusionTexture.strength`), in [0, 1].
+    pub occlusion_strength: f32,
+    /// Emitted radiance factor (linear RGB); the radiance is
+    /// `emissive_factor · emissive_strength · texture`, in W/(sr·m²) per channel.
+    pub emissive_factor: [f32; 3],
+    /// KHR_materials_emissive_strength (≥ 0).
+    pub emissive_strength: f32,
+    /// Emission colour (RGB, sRGB-encoded).
+    pub emissive_texture: Option<TextureRef>,
+    /// KHR_materials_anisotropy texture (linear): RG = direction in tangent space mapped
+    /// to [0, 1], B = strength multiplier.
+    pub anisotropy_texture: Option<TextureRef>,
+    /// KHR_materials_specular `specularFactor` ∈ [0, 1] (1 = unchanged).
+    pub specular_factor: f32,
+    /// KHR_materials_specular `specularColorFactor` (linear RGB, ≥ 0; may exceed 1).
+    pub specular_color_factor: [f32; 3],
+    /// KHR_materials_specular strength texture (linear, A channel).
+    pub specular_texture: Option<TextureRef>,
+    /// KHR_materials_specular colour texture (RGB, sRGB-encoded).
+    pub specular_color_texture: Option<TextureRef>,
 }
 
 impl Default for Material {
@@ -65,6 +105,22 @@ impl Default for Material {
             outside_ior: None,
             polarisation_weight: 0.5,
             diffuse_model: DiffuseModel::Lambert,
+            conductor_from_base_color: false,
+            double_sided: false,
+            base_color_texture: None,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            occlusion_texture: None,
+            occlusion_strength: 1.0,
+            emissive_factor: [0.0; 3],
+            emissive_strength: 1.0,
+            emissive_texture: None,
+            anisotropy_texture: None,
+            specular_factor: 1.0,
+            specular_color_factor: [1.0; 3],
+            specular_texture: None,
+            specular_color_texture: None,
         }
     }
 }
@@ -93,15 +149,358 @@ impl Material {
             Some("outside IOR must be positive")
         } else if !unit(self.polarisation_weight) {
             Some("polarisation weight must lie in [0, 1]")
+        } else if !self.normal_scale.is_finite() {
+            Some("normal scale must be finite")
+        } else if !unit(self.occlusion_strength) {
+            Some("occlusion strength must lie in [0, 1]")
+        } else if !self
+            .emissive_factor
+            .iter()
+            .all(|&x| x.is_finite() && x >= 0.0)
+        {
+            Some("emissive factor must be finite and non-negative")
+        } else if !(self.emissive_strength.is_finite() && self.emissive_strength >= 0.0) {
+            Some("emissive strength must be finite and non-negative")
+        } else if !unit(self.specular_factor) {
+            Some("specular factor must lie in [0, 1]")
+        } else if !self
+            .specular_color_factor
+            .iter()
+            .all(|&x| x.is_finite() && x >= 0.0)
+        {
+            Some("specular colour factor must be finite and non-negative")
         } else {
             None
         };
-        match problem {
-            Some(p) => Err(SceneError::Invalid(format!(
+        if let Some(p) = problem {
+            return Err(SceneError::Invalid(format!(
                 "material `{}`: {p}",
                 self.name
-            ))),
-            None => Ok(()),
+            )));
         }
+        for (slot, texture) in self.texture_slots() {
+            if let Some(texture) = texture {
+                texture.validate(slot).map_err(|e| {
+                    SceneError::Invalid(format!(
+                        "material `{}`: {} texture: {e}",
+                        self.name,
+                        slot.name()
+                    ))
+                })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Every texture slot with its texture, in a fixed order.
+    pub fn texture_slots(&self) -> [(TextureSlot, Option<&TextureRef>); 8] {
+        [
+            (TextureSlot::BaseColor, self.base_color_texture.as_ref()),
+            (
+                TextureSlot::MetallicRoughness,
+                self.metallic_roughness_texture.as_ref(),
+            ),
+            (TextureSlot::Normal, self.normal_texture.as_ref()),
+            (TextureSlot::Occlusion, self.occlusion_texture.as_ref()),
+            (TextureSlot::Emissive, self.emissive_texture.as_ref()),
+            (TextureSlot::Anisotropy, self.anisotropy_texture.as_ref()),
+            (TextureSlot::Specular, self.specular_texture.as_ref()),
+            (
+                TextureSlot::SpecularColor,
+                self.specular_color_texture.as_ref(),
+            ),
+        ]
+    }
+
+    /// Whether the material needs a tangent frame that follows the texture coordinates
+    /// (a normal map or anisotropy).
+    pub fn needs_uv_tangents(&self) -> bool {
+        self.normal_texture.is_some()
+            || self.anisotropy_strength > 0.0
+            || self.anisotropy_texture.is_some()
+    }
+}
+
+/// How the 8-bit values of an image encode numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ColorSpace {
+    /// RGB use the sRGB transfer curve (colours: base colour, emissive, specular colour);
+    /// alpha is linear. Upload as `R8G8B8A8_SRGB`.
+    Srgb,
+    /// Plain unorm data (normals, metallic-roughness, occlusion, anisotropy, specular).
+    Linear,
+}
+
+/// A decoded image: RGBA, 8 bits per channel, rows top to bottom (the first row is at
+/// v = 0), no padding.
+#[derive(Clone, PartialEq)]
+pub struct Image {
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    pub color_space: ColorSpace,
+    /// `width · height · 4` bytes.
+    pub pixels: Vec<u8>,
+}
+
+impl std::fmt::Debug for Image {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Image")
+            .field("name", &self.name)
+            .field("width", &self.width)
+            .field("height", &self.height)
+            .field("color_space", &self.color_space)
+            .field("pixels", &format_args!("[{} bytes]", self.pixels.len()))
+            .finish()
+    }
+}
+
+impl Image {
+    pub fn validate(&self) -> Result<(), String> {
+        let expected = u64::from(self.width) * u64::from(self.height) * 4;
+        if self.width == 0 || self.height == 0 {
+            Err(format!(
+                "image `{}` has no pixels ({}×{})",
+                self.name, self.width, self.height
+            ))
+        } else if self.pixels.len() as u64 != expected {
+            Err(format!(
+                "image `{}` is {}×{} RGBA8 ({expected} bytes) but holds {} bytes",
+                self.name,
+                self.width,
+                self.height,
+                self.pixels.len()
+            ))
+        } else {
+            Ok(())
+        }
+    }
+}
+
+/// Texel filter (glTF `magFilter`/`minFilter`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Filter {
+    Nearest,
+    Linear,
+}
+
+/// Texture-coordinate wrapping outside [0, 1] (glTF `wrapS`/`wrapT`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WrapMode {
+    Repeat,
+    MirroredRepeat,
+    ClampToEdge,
+}
+
+/// How a texture is sampled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Sampler {
+    pub mag_filter: Filter,
+    pub min_filter: Filter,
+    /// Filter between mip levels; `None`: no mipmaps (glTF `NEAREST`/`LINEAR` min filters).
+    pub mipmap_filter: Option<Filter>,
+    pub wrap_u: WrapMode,
+    pub wrap_v: WrapMode,
+}
+
+impl Default for Sampler {
+    /// glTF's default when a texture names no sampler: repeat, trilinear.
+    fn default() -> Self {
+        Self {
+            mag_filter: Filter::Linear,
+            min_filter: Filter::Linear,
+            mipmap_filter: Some(Filter::Linear),
+            wrap_u: WrapMode::Repeat,
+            wrap_v: WrapMode::Repeat,
+        }
+    }
+}
+
+/// An image and how to sample it. Images are shared (`Arc`): the same image may be used
+/// by many textures and materials; [`crate::Scene::texture_table`] lists each once.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    pub image: Arc<Image>,
+    pub sampler: Sampler,
+}
+
+/// A material's use of a texture.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextureRef {
+    pub texture: Texture,
+    /// Texture-coordinate set; only 0 (`Vertex::uv`) is supported.
+    pub tex_coord: u32,
+}
+
+impl TextureRef {
+    fn validate(&self, slot: TextureSlot) -> Result<(), String> {
+        self.texture.image.validate()?;
+        if self.tex_coord != 0 {
+            return Err(format!(
+                "uses texture-coordinate set {}; only set 0 is supported",
+                self.tex_coord
+            ));
+        }
+        let image = &self.texture.image;
+        if image.color_space != slot.color_space() {
+            return Err(format!(
+                "image `{}` is {:?} but this slot needs {:?}",
+                image.name,
+                image.color_space,
+                slot.color_space()
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The texture slots of a [`Material`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TextureSlot {
+    BaseColor,
+    MetallicRoughness,
+    Normal,
+    Occlusion,
+    Emissive,
+    Anisotropy,
+    Specular,
+    SpecularColor,
+}
+
+impl TextureSlot {
+    pub const ALL: [TextureSlot; 8] = [
+        TextureSlot::BaseColor,
+        TextureSlot::MetallicRoughness,
+        TextureSlot::Normal,
+        TextureSlot::Occlusion,
+        TextureSlot::Emissive,
+        TextureSlot::Anisotropy,
+        TextureSlot::Specular,
+        TextureSlot::SpecularColor,
+    ];
+
+    pub const fn name(self) -> &'static str {
+        match self {
+            TextureSlot::BaseColor => "base colour",
+            TextureSlot::MetallicRoughness => "metallic-roughness",
+            TextureSlot::Normal => "normal",
+            TextureSlot::Occlusion => "occlusion",
+            TextureSlot::Emissive => "emissive",
+            TextureSlot::Anisotropy => "anisotropy",
+            TextureSlot::Specular => "specular",
+            TextureSlot::SpecularColor => "specular colour",
+        }
+    }
+
+    /// The colour space glTF prescribes for the slot.
+    pub const fn color_space(self) -> ColorSpace {
+        match self {
+            TextureSlot::BaseColor | TextureSlot::Emissive | TextureSlot::SpecularColor => {
+                ColorSpace::Srgb
+            }
+            _ => ColorSpace::Linear,
+        }
+    }
+}
+
+/// Complex IOR of a metal given only its reflectivity at normal incidence `r` (per
+/// channel, e.g. a glTF base colour), after Gulbrandsen 2014, "Artist Friendly Metallic
+/// Fresnel" (JCGT 3(4)): η(r, g) = g·(1−r)/(1+r) + (1−g)·(1+√r)/(1−√r),
+/// k = √((r·(η+1)² − (η−1)²)/(1−r)). The edge tint g, which glTF does not give, is
+/// chosen per channel so that the unpolarised Fresnel reflectance of η + ik in air is
+/// the least-squares fit (weighted by cos θ) to Schlick's curve r + (1−r)(1−cos θ)⁵, the
+/// Fresnel term glTF's metallic-roughness model uses. r is clamped to [0, 0.999].
+/// Normal-incidence reflectance of the result equals r by construction.
+pub fn conductor_from_reflectivity(r: [f32; 3]) -> ComplexIor {
+    let mut eta = [1.0f32; 3];
+    let mut k = [0.0f32; 3];
+    for c in 0..3 {
+        let r = f64::from(r[c]);
+        let r = if r.is_finite() {
+            r.clamp(0.0, 0.999)
+        } else {
+            0.0
+        };
+        let g = gulbrandsen::best_edge_tint(r);
+        let (n, kk) = gulbrandsen::eta_k(r, g);
+        eta[c] = n as f32;
+        k[c] = kk as f32;
+    }
+    ComplexIor { eta, k }
+}
+
+mod gulbrandsen {
+    /// η, k for reflectivity r ∈ [0, 0.999] and edge tint g ∈ [0, 1].
+    pub fn eta_k(r: f64, g: f64) -> (f64, f64) {
+        let sr = r.sqrt();
+        let n_min = (1.0 - r) / (1.0 + r);
+        let n_max = (1.0 + sr) / (1.0 - sr);
+        let n = g * n_min + (1.0 - g) * n_max;
+        let k2 = (r * (n + 1.0) * (n + 1.0) - (n - 1.0) * (n - 1.0)) / (1.0 - r);
+        (n, k2.max(0.0).sqrt())
+    }
+
+    /// Unpolarised reflectance of η + ik seen from air at cos θ (the full Fresnel
+    /// equations for a conductor).
+    pub fn fresnel(cos: f64, n: f64, k: f64) -> f64 {
+        let cos2 = cos * cos;
+        let sin2 = 1.0 - cos2;
+        let a = n * n - k * k - sin2;
+        let b = (a * a + 4.0 * n * n * k * k).sqrt();
+        let a2b2 = b; // a² + b² of the usual notation
+        let a_ = ((a2b2 + a) / 2.0).max(0.0).sqrt();
+        let t1 = a2b2 + cos2;
+        let t2 = 2.0 * a_ * cos;
+        let rs = (t1 - t2) / (t1 + t2);
+        let t3 = cos2 * a2b2 + sin2 * sin2;
+        let t4 = t2 * sin2;
+        let rp = rs * (t3 - t4) / (t3 + t4);
+        0.5 * (rs + rp)
+    }
+
+    fn misfit(r: f64, g: f64) -> f64 {
+        let (n, k) = eta_k(r, g);
+        const N: usize = 64;
+        (0..N)
+            .map(|i| {
+                let cos = (i as f64 + 0.5) / N as f64;
+                let schlick = r + (1.0 - r) * (1.0 - cos).powi(5);
+                let d = fresnel(cos, n, k) - schlick;
+                d * d * cos
+            })
+            .sum()
+    }
+
+    /// The edge tint minimising [`misfit`]: a coarse scan, then golden-section search.
+    pub fn best_edge_tint(r: f64) -> f64 {
+        if r <= 0.0 {
+            return 1.0;
+        }
+        let steps = 32;
+        let mut best = 0;
+        let mut best_value = f64::INFINITY;
+        for i in 0..=steps {
+            let value = misfit(r, i as f64 / steps as f64);
+            if value < best_value {
+                best_value = value;
+                best = i;
+            }
+        }
+        let step = 1.0 / steps as f64;
+        let (mut lo, mut hi) = (
+            (best as f64 * step - step).max(0.0),
+            (best as f64 * step + step).min(1.0),
+        );
+        let phi = (5f64.sqrt() - 1.0) / 2.0;
+        for _ in 0..40 {
+            let a = hi - phi * (hi - lo);
+            let b = lo + phi * (hi - lo);
+            if misfit(r, a) < misfit(r, b) {
+                hi = b;
+            } else {
+                lo = a;
+            }
+        }
+        (lo + hi) / 2.0
     }
 }

@@ -8,6 +8,10 @@ pub struct Vertex {
     pub normal: [f32; 3],
     /// Tangent xyz and the bitangent sign w (bitangent = w · normal × tangent), as in glTF.
     pub tangent: [f32; 4],
+    /// Texture coordinates (glTF TEXCOORD_0 convention: u right, v down, (0, 0) is the
+    /// top-left corner of the image's first row). Appended last: the renderer reads
+    /// position, normal and tangent at byte offsets 0, 12 and 24.
+    pub uv: [f32; 2],
 }
 
 /// An indexed triangle mesh.
@@ -39,6 +43,7 @@ impl Mesh {
                     position: normal.map(|c| c * radius),
                     normal,
                     tangent: [tangent[0], tangent[1], tangent[2], 1.0],
+                    uv: [seg as f32 / segments as f32, ring as f32 / rings as f32],
                 });
             }
         }
@@ -71,6 +76,7 @@ impl Mesh {
             position: [x, 0.0, z],
             normal: [0.0, 1.0, 0.0],
             tangent: [1.0, 0.0, 0.0, 1.0],
+            uv: [x / size + 0.5, z / size + 0.5],
         };
         Mesh {
             name: name.to_owned(),
@@ -98,11 +104,9 @@ impl Mesh {
             ));
         }
         let finite = |v: &[f32]| v.iter().all(|x| x.is_finite());
-        if let Some(i) = self
-            .vertices
-            .iter()
-            .position(|v| !(finite(&v.position) && finite(&v.normal) && finite(&v.tangent)))
-        {
+        if let Some(i) = self.vertices.iter().position(|v| {
+            !(finite(&v.position) && finite(&v.normal) && finite(&v.tangent) && finite(&v.uv))
+        }) {
             return Err(format!("vertex {i} has a NaN or infinite attribute"));
         }
         Ok(())

@@ -35,8 +35,10 @@ impl OneShot {
             .command_buffer_count(1);
         this.cmd =
             unsafe { raw.allocate_command_buffers(&alloc) }.what("vkAllocateCommandBuffers")?[0];
-        this.fence = unsafe { raw.create_fence(&vk::FenceCreateInfo::default(), None) }
-            .what("vkCreateFence")?;
+        // Created signalled: "nothing pending", so Drop never waits on a fence that was
+        // never submitted (e.g. when recording failed).
+        let fence_info = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
+        this.fence = unsafe { raw.create_fence(&fence_info, None) }.what("vkCreateFence")?;
         Ok(this)
     }
 
@@ -74,7 +76,10 @@ impl Drop for OneShot {
         // SAFETY: wait for any submitted work before destroying what it uses.
         unsafe {
             if self.fence != vk::Fence::null() {
-                let _ = raw.wait_for_fences(&[self.fence], true, u64::MAX);
+                // Bounded: a fence left unsignalled by a failed submission must not hang teardown.
+                if raw.wait_for_fences(&[self.fence], true, 10_000_000_000).is_err() {
+                    log::error!("command buffer still pending after 10 s at teardown");
+                }
                 raw.destroy_fence(self.fence, None);
             }
             raw.destroy_command_pool(self.pool, None);

@@ -1,0 +1,301 @@
+//! Reading accessors with every range checked (no trust in the JSON).
+
+use gltf::json;
+use gltf::json::accessor::{ComponentType, Type};
+use gltf::json::validation::Checked;
+
+use super::source::Buffers;
+
+/// Accessors without a buffer view are zeros (plus sparse values); they cost memory
+/// without any data backing them, so their element count is capped.
+pub(crate) const MAX_UNBACKED_ELEMENTS: u64 = 1 << 22;
+
+fn component_size(c: ComponentType) -> usize {
+    match c {
+        ComponentType::I8 | ComponentType::U8 => 1,
+        ComponentType::I16 | ComponentType::U16 => 2,
+        ComponentType::U32 | ComponentType::F32 => 4,
+    }
+}
+
+fn type_name(t: Type) -> &'static str {
+    match t {
+        Type::Scalar => "SCALAR",
+        Type::Vec2 => "VEC2",
+        Type::Vec3 => "VEC3",
+        Type::Vec4 => "VEC4",
+        Type::Mat2 => "MAT2",
+        Type::Mat3 => "MAT3",
+        Type::Mat4 => "MAT4",
+    }
+}
+
+fn dimensions(t: Type) -> usize {
+    match t {
+        Type::Scalar => 1,
+        Type::Vec2 => 2,
+        Type::Vec3 => 3,
+        Type::Vec4 | Type::Mat2 => 4,
+        Type::Mat3 => 9,
+        Type::Mat4 => 16,
+    }
+}
+
+fn read_component(bytes: &[u8], c: ComponentType, normalized: bool) -> f32 {
+    match c {
+        ComponentType::F32 => f32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]),
+        ComponentType::U32 => u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as f32,
+        ComponentType::U16 => {
+            let v = f32::from(u16::from_le_bytes([bytes[0], bytes[1]]));
+            if normalized {
+                v / 65535.0
+            } else {
+                v
+            }
+        }
+        ComponentType::I16 => {
+            let v = f32::from(i16::from_le_bytes([bytes[0], bytes[1]]));
+            if normalized {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
+        }
+        ComponentType::U8 => {
+            let v = f32::from(bytes[0]);
+            if normalized {
+                v / 255.0
+            } else {
+                v
+            }
+        }
+        ComponentType::I8 => {
+            let v = f32::from(bytes[0] as i8);
+            if normalized {
+                (v / 127.0).max(-1.0)
+            } else {
+                v
+            }
+        }
+    }
+}
+
+fn read_index(bytes: &[u8], c: ComponentType) -> u32 {
+    match c {
+        ComponentType::U8 | ComponentType::I8 => u32::from(bytes[0]),
+        ComponentType::U16 | ComponentType::I16 => {
+            u32::from(u16::from_le_bytes([bytes[0], bytes[1]]))
+        }
+        ComponentType::U32 | ComponentType::F32 => {
+            u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
+        }
+    }
+}
+
+/// Byte range checks for `count` elements of `element_size` bytes at `offset` with
+/// `stride` inside a view of `view_length` bytes.
+fn check_range(
+    offset: u64,
+    count: u64,
+    element_size: usize,
+    stride: usize,
+    view_length: usize,
+) -> Result<(), String> {
+    if count == 0 {
+        return Ok(());
+    }
+    let last = (count - 1)
+        .checked_mul(stride as u64)
+        .and_then(|x| x.checked_add(offset))
+        .and_then(|x| x.checked_add(element_size as u64));
+    match last {
+        Some(end) if end <= view_length as u64 => Ok(()),
+        _ => Err(format!(
+            "{count} elements of {element_size} bytes (stride {stride}) from byte {offset} need more than the buffer view's {view_length} bytes"
+        )),
+    }
+}
+
+/// Reads accessor `index` as `N` floats per element (integer components converted, and
+/// normalised when the accessor says so).
+pub(crate) fn read_floats<const N: usize>(
+    root: &json::Root,
+    buffers: &mut Buffers,
+    index: usize,
+) -> Result<Vec<[f32; N]>, String> {
+    let accessor = root
+        .accessors
+        .get(index)
+        .ok_or_else(|| format!("accessor {index} does not exist"))?;
+    let (Checked::Valid(component), Checked::Valid(ty)) =
+        (&accessor.component_type, &accessor.type_)
+    else {
+        return Err(format!(
+            "accessor {index} has an invalid componentType or type"
+        ));
+    };
+    let component = component.0;
+    if dimensions(*ty) != N {
+        return Err(format!(
+            "accessor {index} is {}, expected {} components",
+            type_name(*ty),
+            N
+        ));
+    }
+    let count = accessor.count.0;
+    let csize = component_size(component);
+    let element_size = csize * N;
+    let mut out: Vec<[f32; N]> = match accessor.buffer_view {
+        None => {
+            if count > MAX_UNBACKED_ELEMENTS {
+                return Err(format!(
+                    "accessor {index} has no buffer view and {count} elements (at most {MAX_UNBACKED_ELEMENTS} are allowed)"
+                ));
+            }
+            vec![[0.0; N]; count as usize]
+        }
+        Some(view_index) => {
+            let (data, range, stride) = buffers
+                .view(view_index.value())
+                .map_err(|e| format!("accessor {index}: {e}"))?;
+            let stride = stride.unwrap_or(element_size);
+            if stride < element_size {
+                return Err(format!(
+                    "accessor {index}: byteStride {stride} is smaller than an element ({element_size} bytes)"
+                ));
+            }
+            let view = &data[range];
+            let offset = accessor.byte_offset.map_or(0, |o| o.0);
+            check_range(offset, count, element_size, stride, view.len())
+                .map_err(|e| format!("accessor {index}: {e}"))?;
+            let offset = offset as usize;
+            (0..count as usize)
+                .map(|i| {
+                    let at = offset + i * stride;
+                    std::array::from_fn(|c| {
+                        let s = at + c * csize;
+                        read_component(&view[s..s + csize], component, accessor.normalized)
+                    })
+                })
+                .collect()
+        }
+    };
+    if let Some(sparse) = &accessor.sparse {
+        let sparse_count = sparse.count.0;
+        if sparse_count > count {
+            return Err(format!(
+                "accessor {index}: sparse count {sparse_count} exceeds the accessor's count {count}"
+            ));
+        }
+        let Checked::Valid(index_type) = &sparse.indices.component_type else {
+            return Err(format!(
+                "accessor {index}: invalid sparse index componentType"
+            ));
+        };
+        let index_type = index_type.0;
+        if !matches!(
+            index_type,
+            ComponentType::U8 | ComponentType::U16 | ComponentType::U32
+        ) {
+            return Err(format!(
+                "accessor {index}: sparse indices must be unsigned integers"
+            ));
+        }
+        let isize = component_size(index_type);
+        let (idata, irange, _) = buffers
+            .view(sparse.indices.buffer_view.value())
+            .map_err(|e| format!("accessor {index} sparse indices: {e}"))?;
+        let iview = &idata[irange];
+        let ioffset = sparse.indices.byte_offset.0;
+        check_range(ioffset, sparse_count, isize, isize, iview.len())
+            .map_err(|e| format!("accessor {index} sparse indices: {e}"))?;
+        let (vdata, vrange, _) = buffers
+            .view(sparse.values.buffer_view.value())
+            .map_err(|e| format!("accessor {index} sparse values: {e}"))?;
+        let vview = &vdata[vrange];
+        let voffset = sparse.values.byte_offset.0;
+        check_range(
+            voffset,
+            sparse_count,
+            element_size,
+            element_size,
+            vview.len(),
+        )
+        .map_err(|e| format!("accessor {index} sparse values: {e}"))?;
+        for k in 0..sparse_count as usize {
+            let at = ioffset as usize + k * isize;
+            let target = read_index(&iview[at..at + isize], index_type) as usize;
+            let slot = out.get_mut(target).ok_or_else(|| {
+                format!(
+                    "accessor {index}: sparse index {target} is out of range ({count} elements)"
+                )
+            })?;
+            let at = voffset as usize + k * element_size;
+            *slot = std::array::from_fn(|c| {
+                let s = at + c * csize;
+                read_component(&vview[s..s + csize], component, accessor.normalized)
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Reads an index accessor (unsigned byte, short or int scalars).
+pub(crate) fn read_indices(
+    root: &json::Root,
+    buffers: &mut Buffers,
+    index: usize,
+) -> Result<Vec<u32>, String> {
+    let accessor = root
+        .accessors
+        .get(index)
+        .ok_or_else(|| format!("accessor {index} does not exist"))?;
+    let (Checked::Valid(component), Checked::Valid(ty)) =
+        (&accessor.component_type, &accessor.type_)
+    else {
+        return Err(format!(
+            "accessor {index} has an invalid componentType or type"
+        ));
+    };
+    let component = component.0;
+    if *ty != Type::Scalar
+        || !matches!(
+            component,
+            ComponentType::U8 | ComponentType::U16 | ComponentType::U32
+        )
+    {
+        return Err(format!(
+            "index accessor {index} must be SCALAR unsigned byte, short or int, not {} {:?}",
+            type_name(*ty),
+            component
+        ));
+    }
+    if accessor.sparse.is_some() || accessor.buffer_view.is_none() {
+        // Rare but legal: go through the general path, then convert (exact below 2²⁴).
+        let values = read_floats::<1>(root, buffers, index)?;
+        return Ok(values.into_iter().map(|[v]| v as u32).collect());
+    }
+    let count = accessor.count.0;
+    let size = component_size(component);
+    let view_index = accessor.buffer_view.map(|v| v.value()).unwrap_or(0);
+    let (data, range, stride) = buffers
+        .view(view_index)
+        .map_err(|e| format!("index accessor {index}: {e}"))?;
+    let stride = stride.unwrap_or(size);
+    if stride < size {
+        return Err(format!(
+            "index accessor {index}: byteStride {stride} is smaller than an index ({size} bytes)"
+        ));
+    }
+    let view = &data[range];
+    let offset = accessor.byte_offset.map_or(0, |o| o.0);
+    check_range(offset, count, size, stride, view.len())
+        .map_err(|e| format!("index accessor {index}: {e}"))?;
+    let offset = offset as usize;
+    Ok((0..count as usize)
+        .map(|i| {
+            let at = offset + i * stride;
+            read_index(&view[at..at + size], component)
+        })
+        .collect())
+}

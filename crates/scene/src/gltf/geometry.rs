@@ -1,0 +1,418 @@
+//! One glTF primitive's attributes → a [`Mesh`]: checks, degenerate triangles, normals
+//! (flat when missing, glTF's rule), tangents (given, MikkTSpace, or a frame from the
+//! normal), welding.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use crate::{Mesh, Vertex};
+
+/// The attributes of one primitive, as read.
+pub(crate) struct PrimitiveData {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Option<Vec<[f32; 3]>>,
+    pub tangents: Option<Vec<[f32; 4]>>,
+    pub uvs: Option<Vec<[f32; 2]>>,
+    /// A triangle list.
+    pub indices: Vec<u32>,
+}
+
+/// What building the mesh did, for the report.
+#[derive(Debug, Default)]
+pub(crate) struct BuildStats {
+    pub degenerate: usize,
+    pub generated_normals: bool,
+    pub repaired_normals: usize,
+    pub generated_tangents: bool,
+    pub repaired_tangents: usize,
+    pub warnings: Vec<String>,
+}
+
+/// Tolerance on |v| − 1 under which a given normal or tangent is kept bit for bit.
+const UNIT_TOLERANCE: f32 = 1e-5;
+
+fn finite_check<const N: usize>(name: &str, values: &[[f32; N]]) -> Result<(), String> {
+    match values.iter().position(|v| !v.iter().all(|x| x.is_finite())) {
+        Some(i) => Err(format!(
+            "{name} of vertex {i} is not finite ({:?})",
+            values[i]
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Whether triangle (a, b, c) has no area: repeated indices, or edges collinear to f32
+/// precision (|e₁ × e₂| ≤ 2⁻²³·|e₁|·|e₂|, computed in f64).
+fn degenerate(p: &[[f32; 3]], a: u32, b: u32, c: u32) -> bool {
+    if a == b || b == c || a == c {
+        return true;
+    }
+    let v = |i: u32| glam::DVec3::from(p[i as usize].map(f64::from));
+    let (p0, p1, p2) = (v(a), v(b), v(c));
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let cross = e1.cross(e2).length();
+    let limit = f64::from(f32::EPSILON) * e1.length() * e2.length();
+    !cross.is_finite() || cross <= limit
+}
+
+/// A unit vector orthogonal to `n` (Duff et al. 2017, "Building an Orthonormal Basis,
+/// Revisited"): the tangent of the normal's reference basis, as the G-buffer uses it.
+pub(crate) fn reference_tangent(n: Vec3) -> Vec3 {
+    let sign = 1f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x)
+}
+
+fn face_normal(p: &[[f32; 3]], t: &[u32]) -> Vec3 {
+    let v = |i: u32| glam::DVec3::from(p[i as usize].map(f64::from));
+    let n = (v(t[1]) - v(t[0])).cross(v(t[2]) - v(t[0]));
+    n.normalize_or_zero().as_vec3()
+}
+
+/// Builds the mesh. `needs_uv_tangents`: the material has a normal map or anisotropy, so
+/// missing tangents are generated with MikkTSpace. `flip`: reverse the winding (the
+/// mesh is placed by a transform with negative determinant).
+pub(crate) fn build_mesh(
+    name: String,
+    data: PrimitiveData,
+    needs_uv_tangents: bool,
+    flip: bool,
+) -> Result<(Mesh, BuildStats), String> {
+    let mut stats = BuildStats::default();
+    let count = data.positions.len();
+    let check_len = |what: &str, n: usize| {
+        if n == count {
+            Ok(())
+        } else {
+            Err(format!("{what} has {n} elements but POSITION has {count}"))
+        }
+    };
+    finite_check("POSITION", &data.positions)?;
+    if let Some(normals) = &data.normals {
+        check_len("NORMAL", normals.len())?;
+        finite_check("NORMAL", normals)?;
+    }
+    if let Some(tangents) = &data.tangents {
+        check_len("TANGENT", tangents.len())?;
+        finite_check("TANGENT", tangents)?;
+    }
+    if let Some(uvs) = &data.uvs {
+        check_len("TEXCOORD_0", uvs.len())?;
+        finite_check("TEXCOORD_0", uvs)?;
+    }
+    if let Some(&bad) = data.indices.iter().find(|&&i| i as usize >= count) {
+        return Err(format!("index {bad} is out of range ({count} vertices)"));
+    }
+    let total = data.indices.len() / 3;
+    let mut triangles: Vec<u32> = Vec::with_capacity(total * 3);
+    for t in data.indices.chunks_exact(3) {
+        if degenerate(&data.positions, t[0], t[1], t[2]) {
+            stats.degenerate += 1;
+        } else {
+            triangles.extend_from_slice(t);
+        }
+    }
+    if triangles.is_empty() {
+        return Err(if total == 0 {
+            "has no triangles".to_owned()
+        } else {
+            format!("all {total} triangles are degenerate (zero area)")
+        });
+    }
+    if stats.degenerate > 0 {
+        stats.warnings.push(format!(
+            "dropped {} degenerate (zero-area) triangle(s) of {total}",
+            stats.degenerate
+        ));
+    }
+
+    let uv_of = |i: u32| data.uvs.as_ref().map_or([0.0; 2], |uv| uv[i as usize]);
+    let (mut vertices, mut indices, tangents_missing) = match &data.normals {
+        None => {
+            // glTF: flat normals, and given tangents are ignored.
+            stats.generated_normals = true;
+            let mut vertices = Vec::with_capacity(triangles.len());
+            for t in triangles.chunks_exact(3) {
+                let n = face_normal(&data.positions, t);
+                for &i in t {
+                    vertices.push(Vertex {
+                        position: data.positions[i as usize],
+                        normal: n.to_array(),
+                        tangent: [0.0; 4],
+                        uv: uv_of(i),
+                    });
+                }
+            }
+            let indices = (0..vertices.len() as u32).collect();
+            (vertices, indices, true)
+        }
+        Some(normals) => {
+            let mut vertices: Vec<Vertex> = (0..count)
+                .map(|i| Vertex {
+                    position: data.positions[i],
+                    normal: normals[i],
+                    tangent: data.tangents.as_ref().map_or([0.0; 4], |t| t[i]),
+                    uv: uv_of(i as u32),
+                })
+                .collect();
+            // Normals must be unit: normalise those that are not; replace zero ones by
+            // the area-weighted mean of the adjacent faces.
+            let mut zero = Vec::new();
+            for (i, v) in vertices.iter_mut().enumerate() {
+                let n = Vec3::from(v.normal);
+                let length = n.length();
+                if (length - 1.0).abs() > UNIT_TOLERANCE {
+                    if length > 1e-12 {
+                        v.normal = (n / length).to_array();
+                    } else {
+                        zero.push(i);
+                    }
+                }
+            }
+            if !zero.is_empty() {
+                let mut sums = vec![glam::DVec3::ZERO; count];
+                for t in triangles.chunks_exact(3) {
+                    let v = |i: u32| glam::DVec3::from(data.positions[i as usize].map(f64::from));
+                    let n = (v(t[1]) - v(t[0])).cross(v(t[2]) - v(t[0]));
+                    for &i in t {
+                        sums[i as usize] += n;
+                    }
+                }
+                for &i in &zero {
+                    let n = sums[i].normalize_or_zero().as_vec3();
+                    vertices[i].normal = if n == Vec3::ZERO { Vec3::Z } else { n }.to_array();
+                }
+                stats.repaired_normals = zero.len();
+                stats.warnings.push(format!(
+                    "{} zero-length normal(s) replaced by the mean of the adjacent faces",
+                    zero.len()
+                ));
+            }
+            (vertices, triangles, data.tangents.is_none())
+        }
+    };
+
+    if tangents_missing {
+        if needs_uv_tangents && data.uvs.is_some() {
+            let (v, i) = mikktspace(&vertices, &indices);
+            vertices = v;
+            indices = i;
+            stats.generated_tangents = true;
+        } else {
+            if needs_uv_tangents {
+                stats.warnings.push(
+                    "the material needs tangents (normal map or anisotropy) but the primitive has neither TANGENT nor TEXCOORD_0; using an arbitrary tangent frame".into(),
+                );
+            }
+            for v in &mut vertices {
+                let t = reference_tangent(Vec3::from(v.normal));
+                v.tangent = [t.x, t.y, t.z, 1.0];
+            }
+        }
+    } else {
+        // Given tangents: unit xyz, w = ±1; replace unusable ones.
+        let mut repaired = 0;
+        for v in &mut vertices {
+            let n = Vec3::from(v.normal);
+            let t = Vec3::new(v.tangent[0], v.tangent[1], v.tangent[2]);
+            let w = if v.tangent[3] < 0.0 { -1.0 } else { 1.0 };
+            let length = t.length();
+            let along_normal = t.normalize_or_zero().dot(n).abs();
+            if length <= 1e-12 || along_normal > 0.9999 {
+                let r = reference_tangent(n);
+                v.tangent = [r.x, r.y, r.z, w];
+                repaired += 1;
+            } else if (length - 1.0).abs() > UNIT_TOLERANCE {
+                let t = t / length;
+                v.tangent = [t.x, t.y, t.z, w];
+            } else {
+                v.tangent[3] = w;
+            }
+        }
+        if repaired > 0 {
+            stats.repaired_tangents = repaired;
+            stats.warnings.push(format!(
+                "{repaired} zero or normal-parallel tangent(s) replaced by the normal's reference tangent"
+            ));
+        }
+    }
+
+    if stats.generated_normals || stats.generated_tangents {
+        (vertices, indices) = weld(&vertices, &indices);
+    }
+    if flip {
+        for t in indices.chunks_exact_mut(3) {
+            t.swap(1, 2);
+        }
+    }
+    Ok((
+        Mesh {
+            name,
+            vertices,
+            indices,
+        },
+        stats,
+    ))
+}
+
+/// Merges bit-identical vertices, keeping first-use order.
+fn weld(vertices: &[Vertex], indices: &[u32]) -> (Vec<Vertex>, Vec<u32>) {
+    const WORDS: usize = std::mem::size_of::<Vertex>() / 4;
+    let mut map: HashMap<[u32; WORDS], u32> = HashMap::with_capacity(indices.len());
+    let mut out = Vec::new();
+    let new_indices = indices
+        .iter()
+        .map(|&i| {
+            let v = vertices[i as usize];
+            let words: &[u32] = bytemuck::cast_slice(std::slice::from_ref(&v));
+            let mut key = [0u32; WORDS];
+            key.copy_from_slice(words);
+            *map.entry(key).or_insert_with(|| {
+                out.push(v);
+                out.len() as u32 - 1
+            })
+        })
+        .collect();
+    (out, new_indices)
+}
+
+struct MikkGeometry<'a> {
+    vertices: &'a [Vertex],
+    indices: &'a [u32],
+    tangents: Vec<Option<[f32; 4]>>,
+}
+
+impl bevy_mikktspace::Geometry for MikkGeometry<'_> {
+    fn num_faces(&self) -> usize {
+        self.indices.len() / 3
+    }
+    fn num_vertices_of_face(&self, _face: usize) -> usize {
+        3
+    }
+    fn position(&self, face: usize, vert: usize) -> [f32; 3] {
+        self.vertices[self.indices[face * 3 + vert] as usize].position
+    }
+    fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
+        self.vertices[self.indices[face * 3 + vert] as usize].normal
+    }
+    fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
+        self.vertices[self.indices[face * 3 + vert] as usize].uv
+    }
+    fn set_tangent(
+        &mut self,
+        tangent_space: Option<bevy_mikktspace::TangentSpace>,
+        face: usize,
+        vert: usize,
+    ) {
+        if let Some(slot) = self.tangents.get_mut(face * 3 + vert) {
+            *slot = tangent_space.map(|t| t.tangent_encoded());
+        }
+    }
+}
+
+/// MikkTSpace tangents per triangle corner, then unindexed corners (welded later).
+fn mikktspace(vertices: &[Vertex], indices: &[u32]) -> (Vec<Vertex>, Vec<u32>) {
+    let mut geometry = MikkGeometry {
+        vertices,
+        indices,
+        tangents: vec![None; indices.len()],
+    };
+    // The error type has no variants: generation cannot fail.
+    let _ = bevy_mikktspace::generate_tangents(&mut geometry);
+    let corners: Vec<Vertex> = indices
+        .iter()
+        .zip(&geometry.tangents)
+        .map(|(&i, tangent)| {
+            let mut v = vertices[i as usize];
+            let n = Vec3::from(v.normal);
+            v.tangent = match tangent {
+                Some(t)
+                    if t[..3].iter().all(|x| x.is_finite())
+                        && Vec3::new(t[0], t[1], t[2]).length() > 0.5 =>
+                {
+                    *t
+                }
+                _ => {
+                    let r = reference_tangent(n);
+                    [r.x, r.y, r.z, 1.0]
+                }
+            };
+            v
+        })
+        .collect();
+    let indices = (0..corners.len() as u32).collect();
+    (corners, indices)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reference_tangent_is_orthonormal() {
+        for n in [
+            Vec3::X,
+            Vec3::Y,
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(1.0, 2.0, -3.0).normalize(),
+        ] {
+            let t = reference_tangent(n);
+            assert!(
+                (t.length() - 1.0).abs() < 1e-6 && t.dot(n).abs() < 1e-6,
+                "{n} {t}"
+            );
+        }
+    }
+
+    fn quad(normals: bool, uvs: bool) -> PrimitiveData {
+        PrimitiveData {
+            positions: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
+            normals: normals.then(|| vec![[0.0, 0.0, 1.0]; 4]),
+            tangents: None,
+            uvs: uvs.then(|| vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
+            indices: vec![0, 1, 2, 0, 2, 3],
+        }
+    }
+
+    #[test]
+    fn flat_normals_follow_the_winding() {
+        let (mesh, stats) = build_mesh("q".into(), quad(false, false), false, false).unwrap();
+        assert!(stats.generated_normals);
+        // The two triangles are coplanar: welding merges the shared corners again.
+        assert_eq!(mesh.vertices.len(), 4);
+        for v in &mesh.vertices {
+            assert_eq!(v.normal, [0.0, 0.0, 1.0]);
+        }
+    }
+
+    #[test]
+    fn mikktspace_tangents_follow_u() {
+        let (mesh, stats) = build_mesh("q".into(), quad(true, true), true, false).unwrap();
+        assert!(stats.generated_tangents);
+        for v in &mesh.vertices {
+            let t = Vec3::new(v.tangent[0], v.tangent[1], v.tangent[2]);
+            assert!((t - Vec3::X).length() < 1e-5, "{:?}", v.tangent);
+        }
+    }
+
+    #[test]
+    fn degenerate_triangles_are_dropped_or_refused() {
+        let mut data = quad(true, false);
+        data.indices.extend_from_slice(&[0, 0, 1, 0, 1, 1]);
+        let (mesh, stats) = build_mesh("q".into(), data, false, false).unwrap();
+        assert_eq!((stats.degenerate, mesh.indices.len()), (2, 6));
+        let mut data = quad(true, false);
+        data.positions = vec![[0.0; 3]; 4];
+        let err = build_mesh("q".into(), data, false, false).unwrap_err();
+        assert!(err.contains("degenerate"), "{err}");
+    }
+}

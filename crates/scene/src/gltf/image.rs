@@ -1,0 +1,155 @@
+//! PNG and JPEG decoding to RGBA8, with the size limit checked before any pixel buffer
+//! is allocated.
+
+pub(crate) enum DecodeError {
+    TooLarge { width: u32, height: u32 },
+    Other(String),
+}
+
+pub(crate) struct Decoded {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+}
+
+const PNG_MAGIC: &[u8] = b"\x89PNG\r\n\x1a\n";
+
+/// Decodes PNG or JPEG (told by the content; `mime` only improves the message for
+/// other formats).
+pub(crate) fn decode(
+    bytes: &[u8],
+    mime: Option<&str>,
+    max_dimension: u32,
+) -> Result<Decoded, DecodeError> {
+    if bytes.starts_with(PNG_MAGIC) {
+        decode_png(bytes, max_dimension)
+    } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
+        decode_jpeg(bytes, max_dimension)
+    } else {
+        let head: Vec<String> = bytes.iter().take(8).map(|b| format!("{b:02X}")).collect();
+        Err(DecodeError::Other(format!(
+            "not a PNG or JPEG image{} (first bytes: {}); only PNG and JPEG are supported",
+            mime.map(|m| format!(" (declared `{m}`)"))
+                .unwrap_or_default(),
+            if head.is_empty() {
+                "none".into()
+            } else {
+                head.join(" ")
+            }
+        )))
+    }
+}
+
+fn check_size(width: u32, height: u32, max: u32) -> Result<(), DecodeError> {
+    if width == 0 || height == 0 {
+        return Err(DecodeError::Other(format!(
+            "the image is {width}×{height} pixels"
+        )));
+    }
+    if width > max || height > max {
+        return Err(DecodeError::TooLarge { width, height });
+    }
+    Ok(())
+}
+
+fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
+    let bad = |e: png::DecodingError| DecodeError::Other(format!("undecodable PNG: {e}"));
+    // Room for the largest image allowed at 16 bits per channel, plus bookkeeping.
+    let limit = (u64::from(max) * u64::from(max) * 8 + (1 << 20)).min(usize::MAX as u64) as usize;
+    let mut decoder =
+        png::Decoder::new_with_limits(std::io::Cursor::new(bytes), png::Limits { bytes: limit });
+    decoder.set_transformations(png::Transformations::normalize_to_color8());
+    let mut reader = decoder.read_info().map_err(bad)?;
+    let (width, height) = reader.info().size();
+    check_size(width, height, max)?;
+    let mut buffer = vec![0; reader.output_buffer_size()];
+    let frame = reader.next_frame(&mut buffer).map_err(bad)?;
+    if frame.bit_depth != png::BitDepth::Eight {
+        return Err(DecodeError::Other(format!(
+            "PNG decoded to {:?} bits per channel, expected 8",
+            frame.bit_depth
+        )));
+    }
+    let data = &buffer[..frame.buffer_size()];
+    let pixels = width as usize * height as usize;
+    let rgba = match frame.color_type {
+        png::ColorType::Rgba => data.to_vec(),
+        png::ColorType::Rgb => expand(data, 3, pixels, |p| [p[0], p[1], p[2], 255]),
+        png::ColorType::GrayscaleAlpha => expand(data, 2, pixels, |p| [p[0], p[0], p[0], p[1]]),
+        png::ColorType::Grayscale => expand(data, 1, pixels, |p| [p[0], p[0], p[0], 255]),
+        png::ColorType::Indexed => {
+            return Err(DecodeError::Other("indexed PNG was not expanded".into()))
+        }
+    };
+    if rgba.len() != pixels * 4 {
+        return Err(DecodeError::Other(
+            "PNG decoded to an unexpected size".into(),
+        ));
+    }
+    Ok(Decoded {
+        width,
+        height,
+        rgba,
+    })
+}
+
+fn expand(data: &[u8], channels: usize, pixels: usize, f: impl Fn(&[u8]) -> [u8; 4]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(pixels * 4);
+    for p in data.chunks_exact(channels).take(pixels) {
+        out.extend_from_slice(&f(p));
+    }
+    out
+}
+
+fn decode_jpeg(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
+    let bad = |e: jpeg_decoder::Error| DecodeError::Other(format!("undecodable JPEG: {e}"));
+    let mut decoder = jpeg_decoder::Decoder::new(bytes);
+    decoder.read_info().map_err(bad)?;
+    let info = decoder
+        .info()
+        .ok_or_else(|| DecodeError::Other("undecodable JPEG: no frame header".into()))?;
+    let (width, height) = (u32::from(info.width), u32::from(info.height));
+    check_size(width, height, max)?;
+    decoder.set_max_decoding_buffer_size(
+        (u64::from(max) * u64::from(max) * 4).min(usize::MAX as u64) as usize,
+    );
+    let data = decoder.decode().map_err(bad)?;
+    let pixels = width as usize * height as usize;
+    use jpeg_decoder::PixelFormat;
+    let rgba = match info.pixel_format {
+        PixelFormat::L8 => expand(&data, 1, pixels, |p| [p[0], p[0], p[0], 255]),
+        // Big-endian 16-bit: keep the high byte.
+        PixelFormat::L16 => expand(&data, 2, pixels, |p| [p[0], p[0], p[0], 255]),
+        PixelFormat::RGB24 => expand(&data, 3, pixels, |p| [p[0], p[1], p[2], 255]),
+        PixelFormat::CMYK32 => expand(&data, 4, pixels, |p| {
+            let k = u16::from(255 - p[3]);
+            let c = |x: u8| ((u16::from(255 - x) * k + 127) / 255) as u8;
+            [c(p[0]), c(p[1]), c(p[2]), 255]
+        }),
+    };
+    if rgba.len() != pixels * 4 {
+        return Err(DecodeError::Other(format!(
+            "undecodable JPEG: {} bytes of pixels for {width}×{height}",
+            data.len()
+        )));
+    }
+    Ok(Decoded {
+        width,
+        height,
+        rgba,
+    })
+}
+
+/// Encodes RGBA8 as PNG.
+pub(crate) fn encode_png(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut out, width, height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+        writer.write_image_data(rgba).map_err(|e| e.to_string())?;
+        writer.finish().map_err(|e| e.to_string())?;
+    }
+    Ok(out)
+}

@@ -1,0 +1,918 @@
+//! The import driver: container → JSON → validation → node hierarchy → materials,
+//! meshes, objects, lights, camera → a validated [`Scene`].
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+use std::rc::Rc;
+use std::sync::Arc;
+
+use glam::{Mat4, Quat, Vec3};
+use gltf::json;
+use gltf::json::validation::{Checked, Validate};
+
+use super::accessor::{read_floats, read_indices};
+use super::geometry::{build_mesh, PrimitiveData};
+use super::image::Decoded;
+use super::material::default_material;
+use super::optics_ext;
+use super::source::{split_container, Buffers, Container};
+use super::{
+    CameraSource, ImportError, ImportOptions, ImportProblem, ImportReport, OPTICS_EXTENSION,
+    SUPPORTED_EXTENSIONS,
+};
+use crate::{Camera, ColorSpace, Image, Light, Material, Object, Scene};
+
+/// Everything an import in progress holds.
+pub(crate) struct Importer<'a> {
+    pub file: &'a Path,
+    pub root: &'a json::Root,
+    pub buffers: Buffers<'a>,
+    pub base: Option<&'a Path>,
+    pub options: &'a ImportOptions,
+    pub warnings: Vec<String>,
+    pub decoded: HashMap<usize, Rc<Decoded>>,
+    pub images: HashMap<(usize, ColorSpace), Arc<Image>>,
+    /// Materials that ask for transparency (reported once).
+    pub transparency: Vec<usize>,
+}
+
+impl Importer<'_> {
+    pub(crate) fn warn(&mut self, message: String) {
+        log::warn!("{}: {message}", self.file.display());
+        self.warnings.push(message);
+    }
+}
+
+pub(crate) fn import_bytes(
+    bytes: &[u8],
+    file: &Path,
+    base: Option<&Path>,
+    options: &ImportOptions,
+) -> Result<(Scene, ImportReport), ImportError> {
+    // The importer is written not to panic; should it anyway, the caller still gets an
+    // error naming the file rather than an abort.
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        import_inner(bytes, file, base, options)
+    }));
+    match result {
+        Ok(result) => result.map_err(|problem| ImportError::new(file, problem)),
+        Err(panic) => {
+            let message = panic
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_owned())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            Err(ImportError::new(file, ImportProblem::Internal(message)))
+        }
+    }
+}
+
+/// Placed primitives (objects) an import accepts: far beyond real scenes, but it bounds
+/// the memory a small file can ask for by instancing many primitives many times.
+const MAX_OBJECTS: usize = 1 << 21;
+
+/// One placement of a primitive.
+struct Instance {
+    key: MeshKey,
+    /// Index into the glTF materials, `None` for the default material.
+    material: Option<usize>,
+    world: Mat4,
+}
+
+/// What makes two primitives the same [`crate::Mesh`]: the same accessors, topology and
+/// the same generated data.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+struct MeshKey {
+    attributes: Vec<(String, usize)>,
+    indices: Option<usize>,
+    mode: u32,
+    flip: bool,
+    uv_tangents: bool,
+}
+
+fn semantic_name(s: &json::mesh::Semantic) -> String {
+    use json::mesh::Semantic;
+    match s {
+        Semantic::Positions => "POSITION".into(),
+        Semantic::Normals => "NORMAL".into(),
+        Semantic::Tangents => "TANGENT".into(),
+        Semantic::Colors(n) => format!("COLOR_{n}"),
+        Semantic::TexCoords(n) => format!("TEXCOORD_{n}"),
+        Semantic::Joints(n) => format!("JOINTS_{n}"),
+        Semantic::Weights(n) => format!("WEIGHTS_{n}"),
+        Semantic::Extras(name) => name.clone(),
+    }
+}
+
+fn validation_problems(root: &json::Root) -> Vec<String> {
+    let mut problems = Vec::new();
+    // gltf-json's primitive check indexes the POSITION accessor without a bounds check
+    // (it panics on an out-of-range index): check that first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            for (semantic, accessor) in &primitive.attributes {
+                if accessor.value() >= root.accessors.len() {
+                    let name = match semantic {
+                        Checked::Valid(s) => semantic_name(s),
+                        Checked::Invalid => "?".into(),
+                    };
+                    problems.push(format!(
+                        "meshes[{m}].primitives[{p}].attributes[\"{name}\"]: Index out of bounds (accessor {} of {})",
+                        accessor.value(),
+                        root.accessors.len()
+                    ));
+                }
+            }
+        }
+    }
+    if !problems.is_empty() {
+        return problems;
+    }
+    root.validate(root, json::Path::new, &mut |path, error| {
+        let path = path().to_string();
+        // Required extensions are checked (with a better message) before.
+        if path.starts_with("extensionsRequired") {
+            return;
+        }
+        problems.push(format!("{path}: {error}"));
+    });
+    problems
+}
+
+fn import_inner(
+    bytes: &[u8],
+    file: &Path,
+    base: Option<&Path>,
+    options: &ImportOptions,
+) -> Result<(Scene, ImportReport), ImportProblem> {
+    let mut early_warnings = Vec::new();
+    let container: Container = split_container(bytes, &mut early_warnings)?;
+    let root: json::Root = serde_json::from_slice(container.json).map_err(|e| {
+        ImportProblem::Json(if e.is_eof() {
+            format!("{e} (the file is truncated)")
+        } else {
+            e.to_string()
+        })
+    })?;
+    if !root.asset.version.starts_with("2.") {
+        return Err(ImportProblem::Invalid(format!(
+            "asset.version is `{}`; only glTF 2.x is supported",
+            root.asset.version
+        )));
+    }
+    for name in &root.extensions_required {
+        if !SUPPORTED_EXTENSIONS.contains(&name.as_str()) {
+            return Err(ImportProblem::UnsupportedExtension {
+                name: name.clone(),
+                supported: SUPPORTED_EXTENSIONS.join(", "),
+            });
+        }
+    }
+    let problems = validation_problems(&root);
+    if !problems.is_empty() {
+        let shown: Vec<&str> = problems.iter().take(5).map(String::as_str).collect();
+        let more = if problems.len() > 5 {
+            format!(" (and {} more)", problems.len() - 5)
+        } else {
+            String::new()
+        };
+        return Err(ImportProblem::Invalid(format!(
+            "{}{more}",
+            shown.join("; ")
+        )));
+    }
+
+    let mut importer = Importer {
+        file,
+        root: &root,
+        buffers: Buffers::new(&root, &container, base, options.allow_external_uris),
+        base,
+        options,
+        warnings: Vec::new(),
+        decoded: HashMap::new(),
+        images: HashMap::new(),
+        transparency: Vec::new(),
+    };
+    for w in early_warnings {
+        importer.warn(w);
+    }
+    let mut report = ImportReport {
+        file: file.to_path_buf(),
+        generator: root.asset.generator.clone(),
+        cameras: root.cameras.len(),
+        extensions_used: root.extensions_used.clone(),
+        extensions_required: root.extensions_required.clone(),
+        ..ImportReport::default()
+    };
+    for name in &root.extensions_used {
+        if !SUPPORTED_EXTENSIONS.contains(&name.as_str()) {
+            report.extensions_ignored.push(name.clone());
+            importer.warn(format!(
+                "ignoring the optional extension `{name}`, which Combustion does not support"
+            ));
+        }
+    }
+    importer.build(report)
+}
+
+impl Importer<'_> {
+    fn node_error(&self, index: usize, message: String) -> ImportProblem {
+        ImportProblem::Node {
+            index,
+            name: self.root.nodes.get(index).and_then(|n| n.name.clone()),
+            message,
+        }
+    }
+
+    fn local_transform(&self, index: usize) -> Result<Mat4, ImportProblem> {
+        let node = &self.root.nodes[index];
+        if let Some(m) = node.matrix {
+            if !m.iter().all(|x| x.is_finite()) {
+                return Err(self.node_error(index, "matrix has a non-finite element".into()));
+            }
+            return Ok(Mat4::from_cols_array(&m));
+        }
+        let t = node.translation.unwrap_or([0.0; 3]);
+        let s = node.scale.unwrap_or([1.0; 3]);
+        let r = node.rotation.map_or([0.0, 0.0, 0.0, 1.0], |q| q.0);
+        if !(t.iter().chain(&s).chain(&r).all(|x| x.is_finite())) {
+            return Err(self.node_error(
+                index,
+                "translation, rotation or scale has a non-finite element".into(),
+            ));
+        }
+        let q = Quat::from_array(r);
+        let length = q.length();
+        if length < 1e-6 {
+            return Err(self.node_error(index, format!("rotation {r:?} is not a unit quaternion")));
+        }
+        Ok(Mat4::from_scale_rotation_translation(
+            Vec3::from(s),
+            q / length,
+            Vec3::from(t),
+        ))
+    }
+
+    fn build(mut self, mut report: ImportReport) -> Result<(Scene, ImportReport), ImportProblem> {
+        let root = self.root;
+        // The scene to show: `scene`, else the first, else every root node.
+        let scene_index = root
+            .scene
+            .map(|s| s.value())
+            .or((!root.scenes.is_empty()).then_some(0));
+        let roots: Vec<usize> = match scene_index {
+            Some(s) => root.scenes[s].nodes.iter().map(|n| n.value()).collect(),
+            None => {
+                let mut is_child = vec![false; root.nodes.len()];
+                for node in &root.nodes {
+                    for child in node.children.iter().flatten() {
+                        if let Some(flag) = is_child.get_mut(child.value()) {
+                            *flag = true;
+                        }
+                    }
+                }
+                if !root.nodes.is_empty() {
+                    self.warn("the file has no scene; showing every root node".into());
+                }
+                (0..root.nodes.len()).filter(|&i| !is_child[i]).collect()
+            }
+        };
+
+        // Walk the hierarchy (iteratively: depth is not bounded by the file).
+        let mut visited = vec![false; root.nodes.len()];
+        let mut stack: Vec<(usize, Option<Mat4>)> =
+            roots.iter().rev().map(|&n| (n, None)).collect();
+        let mut instances = Vec::new();
+        let mut cameras: Vec<(usize, usize, Mat4)> = Vec::new();
+        let mut lights: Vec<(usize, Mat4)> = Vec::new();
+        let mut skinned = 0;
+        let mut morphed = 0;
+        let mut other_modes = 0;
+        while let Some((index, parent)) = stack.pop() {
+            let node = root
+                .nodes
+                .get(index)
+                .ok_or_else(|| ImportProblem::Invalid(format!("node {index} does not exist")))?;
+            if std::mem::replace(&mut visited[index], true) {
+                return Err(self.node_error(
+                    index,
+                    "is reached twice: the node hierarchy has a cycle or a node with two parents"
+                        .into(),
+                ));
+            }
+            let local = self.local_transform(index)?;
+            let world = match parent {
+                Some(parent) => parent * local,
+                None => local,
+            };
+            if !world.is_finite() {
+                return Err(self.node_error(index, "its world transform is not finite".into()));
+            }
+            if node.skin.is_some() {
+                skinned += 1;
+            }
+            if let Some(mesh_index) = node.mesh {
+                let mesh_index = mesh_index.value();
+                let mesh = &root.meshes[mesh_index];
+                if mesh.weights.is_some() || mesh.primitives.iter().any(|p| p.targets.is_some()) {
+                    morphed += 1;
+                }
+                for (p, primitive) in mesh.primitives.iter().enumerate() {
+                    use json::mesh::Mode;
+                    let mode = match primitive.mode {
+                        Checked::Valid(mode) => mode,
+                        Checked::Invalid => {
+                            return Err(ImportProblem::Invalid(format!(
+                                "mesh {mesh_index} primitive {p}: invalid mode"
+                            )))
+                        }
+                    };
+                    let mode_number = match mode {
+                        Mode::Triangles => 4,
+                        Mode::TriangleStrip => 5,
+                        Mode::TriangleFan => 6,
+                        _ => {
+                            other_modes += 1;
+                            continue;
+                        }
+                    };
+                    let material = primitive.material.map(|m| m.value());
+                    let attributes = primitive
+                        .attributes
+                        .iter()
+                        .filter_map(|(semantic, accessor)| match semantic {
+                            Checked::Valid(s) => Some((semantic_name(s), accessor.value())),
+                            Checked::Invalid => None,
+                        })
+                        .collect();
+                    instances.push((
+                        (mesh_index, p),
+                        Instance {
+                            key: MeshKey {
+                                attributes,
+                                indices: primitive.indices.map(|i| i.value()),
+                                mode: mode_number,
+                                flip: world.determinant() < 0.0,
+                                uv_tangents: false, // set once materials are known
+                            },
+                            material,
+                            world,
+                        },
+                    ));
+                }
+            }
+            if instances.len() > MAX_OBJECTS {
+                return Err(ImportProblem::Invalid(format!(
+                    "the scene places more than {MAX_OBJECTS} primitives; refused"
+                )));
+            }
+            if let Some(camera) = node.camera {
+                cameras.push((camera.value(), index, world));
+            }
+            if let Some(light) = node
+                .extensions
+                .as_ref()
+                .and_then(|e| e.khr_lights_punctual.as_ref())
+            {
+                lights.push((light.light.value(), world));
+            }
+            for child in node.children.iter().flatten().rev() {
+                stack.push((child.value(), Some(world)));
+            }
+        }
+        if skinned > 0 {
+            self.warn(format!("{skinned} skinned node(s): skins are not supported; meshes are shown in their bind pose"));
+        }
+        if morphed > 0 {
+            self.warn(format!("{morphed} node(s) with morph targets: morph targets are not supported; base shapes are shown"));
+        }
+        if other_modes > 0 {
+            self.warn(format!(
+                "{other_modes} point or line primitive(s) skipped: only triangles are rendered"
+            ));
+        }
+        if !root.animations.is_empty() {
+            self.warn(format!("{} animation(s) ignored", root.animations.len()));
+        }
+
+        // Materials: the used ones in document order, the default one last.
+        let mut used: Vec<usize> = instances.iter().filter_map(|(_, i)| i.material).collect();
+        used.sort_unstable();
+        used.dedup();
+        let mut materials: Vec<Material> = Vec::with_capacity(used.len() + 1);
+        let mut material_index: HashMap<Option<usize>, usize> = HashMap::new();
+        for &m in &used {
+            let material = self.material(m)?;
+            material_index.insert(Some(m), materials.len());
+            materials.push(material);
+        }
+        if instances.iter().any(|(_, i)| i.material.is_none()) {
+            material_index.insert(None, materials.len());
+            materials.push(default_material());
+        }
+        if !self.transparency.is_empty() {
+            let list: Vec<String> = self.transparency.iter().map(|i| i.to_string()).collect();
+            self.warn(format!(
+                "material(s) {} ask for transparency (alphaMode or alpha < 1); rendered opaque",
+                list.join(", ")
+            ));
+        }
+        for (_, instance) in &mut instances {
+            let m = &materials[material_index[&instance.material]];
+            instance.key.uv_tangents = m.needs_uv_tangents()
+                && !instance.key.attributes.iter().any(|(s, _)| s == "TANGENT");
+        }
+
+        // Meshes: one per distinct key, ordered by the first glTF (mesh, primitive) using it.
+        let mut first_use: BTreeMap<MeshKey, (usize, usize)> = BTreeMap::new();
+        for (mp, instance) in &instances {
+            first_use
+                .entry(instance.key.clone())
+                .and_modify(|e| *e = (*e).min(*mp))
+                .or_insert(*mp);
+        }
+        let mut keys: Vec<(&MeshKey, (usize, usize))> =
+            first_use.iter().map(|(k, v)| (k, *v)).collect();
+        keys.sort_by_key(|(k, mp)| (*mp, k.flip, k.uv_tangents));
+        let mut meshes = Vec::with_capacity(keys.len());
+        let mut mesh_index: HashMap<MeshKey, usize> = HashMap::new();
+        for (key, (m, p)) in keys {
+            let mesh = self.build_mesh(key, m, p, &mut report)?;
+            mesh_index.insert(key.clone(), meshes.len());
+            meshes.push(mesh);
+        }
+
+        let mut objects = Vec::with_capacity(instances.len());
+        let mut singular = 0;
+        for (_, instance) in &instances {
+            if instance.world.determinant().abs() < 1e-12 {
+                singular += 1;
+                continue;
+            }
+            objects.push(Object {
+                mesh: mesh_index[&instance.key],
+                material: material_index[&instance.material],
+                transform: instance.world,
+            });
+        }
+        if singular > 0 {
+            self.warn(format!(
+                "{singular} object(s) with a singular transform (e.g. scale 0) left out"
+            ));
+        }
+
+        let lights = lights
+            .into_iter()
+            .map(|(light, world)| self.light(light, world))
+            .collect::<Result<Vec<Light>, _>>()?;
+
+        let outside_ior = self.outside_ior(scene_index)?;
+        let (camera, source) = self.camera(&cameras, &meshes, &objects)?;
+
+        let name = scene_index
+            .and_then(|s| root.scenes[s].name.clone())
+            .or_else(|| {
+                self.file
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+            })
+            .unwrap_or_else(|| "glTF scene".into());
+        let scene = Scene {
+            name,
+            meshes,
+            materials,
+            objects,
+            lights,
+            camera,
+            outside_ior,
+        };
+        scene.validate().map_err(ImportProblem::Scene)?;
+
+        let table = scene.texture_table();
+        report.meshes = scene.meshes.len();
+        report.triangles = scene.meshes.iter().map(|m| m.indices.len() / 3).sum();
+        report.instanced_triangles = scene
+            .objects
+            .iter()
+            .map(|o| scene.meshes[o.mesh].indices.len() / 3)
+            .sum();
+        report.objects = scene.objects.len();
+        report.materials = scene.materials.len();
+        report.images = table.images.len();
+        report.textures = table.textures.len();
+        report.lights = scene.lights.len();
+        report.camera = source;
+        report.warnings = std::mem::take(&mut self.warnings);
+        Ok((scene, report))
+    }
+
+    fn build_mesh(
+        &mut self,
+        key: &MeshKey,
+        mesh_index: usize,
+        primitive: usize,
+        report: &mut ImportReport,
+    ) -> Result<crate::Mesh, ImportProblem> {
+        let root = self.root;
+        let gltf_mesh = &root.meshes[mesh_index];
+        let err = |message: String| ImportProblem::Primitive {
+            mesh: mesh_index,
+            name: gltf_mesh.name.clone(),
+            primitive,
+            message,
+        };
+        let attribute = |name: &str| {
+            key.attributes
+                .iter()
+                .find(|(s, _)| s == name)
+                .map(|(_, a)| *a)
+        };
+        let position =
+            attribute("POSITION").ok_or_else(|| err("has no POSITION attribute".into()))?;
+        let positions = read_floats::<3>(root, &mut self.buffers, position)
+            .map_err(|e| err(format!("POSITION: {e}")))?;
+        let normals = attribute("NORMAL")
+            .map(|a| read_floats::<3>(root, &mut self.buffers, a))
+            .transpose()
+            .map_err(|e| err(format!("NORMAL: {e}")))?;
+        let tangents = attribute("TANGENT")
+            .map(|a| read_floats::<4>(root, &mut self.buffers, a))
+            .transpose()
+            .map_err(|e| err(format!("TANGENT: {e}")))?;
+        let uvs = attribute("TEXCOORD_0")
+            .map(|a| read_floats::<2>(root, &mut self.buffers, a))
+            .transpose()
+            .map_err(|e| err(format!("TEXCOORD_0: {e}")))?;
+        let raw: Vec<u32> = match key.indices {
+            Some(a) => read_indices(root, &mut self.buffers, a)
+                .map_err(|e| err(format!("indices: {e}")))?,
+            None => {
+                let n = u32::try_from(positions.len())
+                    .map_err(|_| err("has more than 2³² vertices".into()))?;
+                (0..n).collect()
+            }
+        };
+        let indices = match key.mode {
+            4 => {
+                if raw.len() % 3 != 0 {
+                    self.warn(format!(
+                        "mesh {mesh_index} primitive {primitive}: {} indices is not a multiple of 3; the last {} ignored",
+                        raw.len(),
+                        raw.len() % 3
+                    ));
+                }
+                raw[..raw.len() / 3 * 3].to_vec()
+            }
+            5 => {
+                let mut out = Vec::with_capacity(raw.len().saturating_sub(2) * 3);
+                for i in 2..raw.len() {
+                    if i % 2 == 0 {
+                        out.extend_from_slice(&[raw[i - 2], raw[i - 1], raw[i]]);
+                    } else {
+                        out.extend_from_slice(&[raw[i - 1], raw[i - 2], raw[i]]);
+                    }
+                }
+                out
+            }
+            _ => {
+                let mut out = Vec::with_capacity(raw.len().saturating_sub(2) * 3);
+                for i in 2..raw.len() {
+                    out.extend_from_slice(&[raw[i - 1], raw[i], raw[0]]);
+                }
+                out
+            }
+        };
+        let name = match &gltf_mesh.name {
+            Some(name) if gltf_mesh.primitives.len() == 1 => name.clone(),
+            Some(name) => format!("{name} primitive {primitive}"),
+            None if gltf_mesh.primitives.len() == 1 => format!("mesh {mesh_index}"),
+            None => format!("mesh {mesh_index} primitive {primitive}"),
+        };
+        let (mesh, stats) = build_mesh(
+            name,
+            PrimitiveData {
+                positions,
+                normals,
+                tangents,
+                uvs,
+                indices,
+            },
+            key.uv_tangents,
+            key.flip,
+        )
+        .map_err(err)?;
+        report.degenerate_triangles += stats.degenerate;
+        if stats.generated_normals || stats.repaired_normals > 0 {
+            report.generated_normals += 1;
+        }
+        if stats.generated_tangents {
+            report.generated_tangents += 1;
+        }
+        for w in stats.warnings {
+            self.warn(format!("mesh {mesh_index} primitive {primitive}: {w}"));
+        }
+        Ok(mesh)
+    }
+
+    fn light(&mut self, index: usize, world: Mat4) -> Result<Light, ImportProblem> {
+        use json::extensions::scene::khr_lights_punctual::Type;
+        let root = self.root;
+        let light = root
+            .extensions
+            .as_ref()
+            .and_then(|e| e.khr_lights_punctual.as_ref())
+            .and_then(|l| l.lights.get(index))
+            .ok_or_else(|| ImportProblem::Light {
+                index,
+                message: "does not exist".into(),
+            })?;
+        let err = |message: String| ImportProblem::Light { index, message };
+        let power = light.color.map(|c| c * light.intensity);
+        if !power.iter().all(|x| x.is_finite() && *x >= 0.0) {
+            return Err(err(format!(
+                "colour {:?} × intensity {} must be finite and non-negative",
+                light.color, light.intensity
+            )));
+        }
+        if let Some(range) = light.range {
+            log::debug!(
+                "{}: light {index}: range {range} ignored (lights follow the inverse-square law to infinity)",
+                self.file.display()
+            );
+        }
+        let position = world.w_axis.truncate();
+        let direction = -world.z_axis.truncate();
+        if !(direction.is_finite() && direction.length_squared() > 0.0) {
+            return Err(err(
+                "the node's transform gives no direction (its -Z axis is zero)".into(),
+            ));
+        }
+        Ok(match light.type_ {
+            Checked::Valid(Type::Point) => Light::Point {
+                position,
+                intensity: power,
+            },
+            Checked::Valid(Type::Directional) => Light::Directional {
+                direction,
+                irradiance: power,
+            },
+            Checked::Valid(Type::Spot) => {
+                let (mut inner, mut outer) = light
+                    .spot
+                    .as_ref()
+                    .map_or((0.0, std::f32::consts::FRAC_PI_4), |s| {
+                        (s.inner_cone_angle, s.outer_cone_angle)
+                    });
+                if !(inner.is_finite() && outer.is_finite() && outer > 0.0 && inner >= 0.0) {
+                    return Err(err(format!(
+                        "spot cone angles inner {inner}, outer {outer}: need 0 ≤ inner < outer ≤ π/2"
+                    )));
+                }
+                if outer > std::f32::consts::FRAC_PI_2 {
+                    self.warn(format!(
+                        "light {index}: outer cone angle {outer} > π/2 clamped to π/2"
+                    ));
+                    outer = std::f32::consts::FRAC_PI_2;
+                }
+                if inner >= outer {
+                    let fixed = outer * 0.999;
+                    self.warn(format!(
+                        "light {index}: inner cone angle {inner} ≥ outer {outer}; set to {fixed}"
+                    ));
+                    inner = fixed;
+                }
+                Light::Spot {
+                    position,
+                    direction,
+                    intensity: power,
+                    inner_cone: inner,
+                    outer_cone: outer,
+                }
+            }
+            Checked::Invalid => return Err(err("invalid type".into())),
+        })
+    }
+
+    fn outside_ior(&mut self, scene: Option<usize>) -> Result<f32, ImportProblem> {
+        let root = self.root;
+        let mut outside = 1.0;
+        let mut warnings = Vec::new();
+        let parse = |value: &serde_json::Value, warnings: &mut Vec<String>, at: &str| {
+            optics_ext::parse_scene_level(value, warnings)
+                .map_err(|e| ImportProblem::Invalid(format!("{at}: {OPTICS_EXTENSION}: {e}")))
+        };
+        if let Some(value) = root
+            .extensions
+            .as_ref()
+            .and_then(|e| e.others.get(OPTICS_EXTENSION))
+        {
+            if let Some(ior) = parse(value, &mut warnings, "root extensions")? {
+                outside = ior;
+            }
+        }
+        if let Some(value) = scene
+            .and_then(|s| root.scenes[s].extensions.as_ref())
+            .and_then(|e| e.others.get(OPTICS_EXTENSION))
+        {
+            if let Some(ior) = parse(
+                value,
+                &mut warnings,
+                &format!("scene {}", scene.unwrap_or(0)),
+            )? {
+                outside = ior;
+            }
+        }
+        for w in warnings {
+            self.warn(w);
+        }
+        Ok(outside)
+    }
+
+    fn camera(
+        &mut self,
+        placed: &[(usize, usize, Mat4)],
+        meshes: &[crate::Mesh],
+        objects: &[Object],
+    ) -> Result<(Camera, CameraSource), ImportProblem> {
+        let root = self.root;
+        let bounds = world_bounds(meshes, objects);
+        let is_perspective = |index: usize| {
+            root.cameras.get(index).is_some_and(|c| {
+                c.perspective.is_some()
+                    && matches!(c.type_, Checked::Valid(json::camera::Type::Perspective))
+            })
+        };
+        let chosen = match self.options.camera {
+            Some(index) => {
+                let err = |message: String| ImportProblem::Camera { index, message };
+                if index >= root.cameras.len() {
+                    return Err(err(format!(
+                        "was asked for (ImportOptions::camera) but the file has {} camera(s)",
+                        root.cameras.len()
+                    )));
+                }
+                if !is_perspective(index) {
+                    return Err(err(
+                        "is orthographic; only perspective cameras are supported".into(),
+                    ));
+                }
+                let placement = placed
+                    .iter()
+                    .find(|(c, _, _)| *c == index)
+                    .ok_or_else(|| err("is not placed by any node of the scene".into()))?;
+                Some(*placement)
+            }
+            None => {
+                let best = placed
+                    .iter()
+                    .filter(|(c, _, _)| is_perspective(*c))
+                    .min_by_key(|(c, node, _)| (*c, *node))
+                    .copied();
+                if best.is_none() && !placed.is_empty() {
+                    self.warn("the scene's cameras are all orthographic (unsupported); using a camera framing the scene".into());
+                }
+                best
+            }
+        };
+        let Some((index, node, world)) = chosen else {
+            return Ok((framing_camera(bounds), CameraSource::Framing));
+        };
+        let err = |message: String| ImportProblem::Camera { index, message };
+        let camera = &root.cameras[index];
+        let Some(p) = &camera.perspective else {
+            return Err(err("has no perspective parameters".into()));
+        };
+        if !(p.yfov.is_finite() && p.yfov > 0.0 && p.yfov < std::f32::consts::PI) {
+            return Err(err(format!("yfov {} must lie in (0, π)", p.yfov)));
+        }
+        if !(p.znear.is_finite() && p.znear > 0.0) {
+            return Err(err(format!("znear {} must be positive", p.znear)));
+        }
+        let position = world.w_axis.truncate();
+        let forward = (-world.z_axis.truncate()).normalize_or_zero();
+        let mut up = world.y_axis.truncate().normalize_or_zero();
+        if forward == Vec3::ZERO || up == Vec3::ZERO || forward.cross(up).length() < 1e-6 {
+            return Err(err(format!("node {node} gives no usable view direction")));
+        }
+        let mut target = position + forward;
+        // Exact look-at written by Combustion's writer (see docs/gltf.md).
+        if let Some((t, u)) = exact_look_at(root.nodes[node].extras.as_deref()) {
+            let dir = (t - position).normalize_or_zero();
+            if dir.dot(forward) > 0.9999 && u.cross(dir).length() > 1e-6 {
+                target = t;
+                up = u;
+            }
+        }
+        let far = match p.zfar {
+            Some(zfar) => {
+                if !(zfar.is_finite() && zfar > p.znear) {
+                    return Err(err(format!(
+                        "zfar {zfar} must be larger than znear {}",
+                        p.znear
+                    )));
+                }
+                zfar
+            }
+            None => {
+                // Infinite projection: far enough to hold the whole scene.
+                let reach = bounds.map_or(0.0, |(lo, hi)| {
+                    let mut reach: f32 = 0.0;
+                    for i in 0..8 {
+                        let corner = Vec3::new(
+                            if i & 1 == 0 { lo.x } else { hi.x },
+                            if i & 2 == 0 { lo.y } else { hi.y },
+                            if i & 4 == 0 { lo.z } else { hi.z },
+                        );
+                        reach = reach.max((corner - position).length());
+                    }
+                    reach
+                });
+                (reach * 1.5).max(p.znear * 1000.0)
+            }
+        };
+        if p.aspect_ratio.is_some() {
+            log::debug!(
+                "{}: camera {index}: aspectRatio ignored (the renderer's image size decides)",
+                self.file.display()
+            );
+        }
+        Ok((
+            Camera {
+                position,
+                target,
+                up,
+                vertical_fov: p.yfov,
+                near: p.znear,
+                far,
+            },
+            CameraSource::Gltf { index, node },
+        ))
+    }
+}
+
+/// `extras.combustion.{target, up}` of a camera node.
+fn exact_look_at(extras: Option<&serde_json::value::RawValue>) -> Option<(Vec3, Vec3)> {
+    let value: serde_json::Value = serde_json::from_str(extras?.get()).ok()?;
+    let object = value.get("combustion")?;
+    let vec = |key: &str| -> Option<Vec3> {
+        let a = object.get(key)?.as_array()?;
+        if a.len() != 3 {
+            return None;
+        }
+        let v = Vec3::new(
+            a[0].as_f64()? as f32,
+            a[1].as_f64()? as f32,
+            a[2].as_f64()? as f32,
+        );
+        v.is_finite().then_some(v)
+    };
+    Some((vec("target")?, vec("up")?))
+}
+
+/// World-space bounding box of every object.
+fn world_bounds(meshes: &[crate::Mesh], objects: &[Object]) -> Option<(Vec3, Vec3)> {
+    let mut bounds: Option<(Vec3, Vec3)> = None;
+    for object in objects {
+        let mesh = &meshes[object.mesh];
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for v in &mesh.vertices {
+            lo = lo.min(Vec3::from(v.position));
+            hi = hi.max(Vec3::from(v.position));
+        }
+        if lo.x > hi.x {
+            continue;
+        }
+        for i in 0..8 {
+            let corner = Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            );
+            let p = object.transform.transform_point3(corner);
+            bounds = Some(match bounds {
+                None => (p, p),
+                Some((a, b)) => (a.min(p), b.max(p)),
+            });
+        }
+    }
+    bounds
+}
+
+/// A camera on the +Z side of the bounding box looking at its centre (glTF's forward
+/// view), far enough for the box's bounding sphere to fill the 45° field of view.
+pub(crate) fn framing_camera(bounds: Option<(Vec3, Vec3)>) -> Camera {
+    let (lo, hi) = bounds.unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
+    let centre = (lo + hi) / 2.0;
+    let radius = ((hi - lo).length() / 2.0).max(1e-3);
+    let fov = 45f32.to_radians();
+    let distance = radius / (fov / 2.0).sin() * 1.05;
+    Camera {
+        position: centre + Vec3::Z * distance,
+        target: centre,
+        up: Vec3::Y,
+        vertical_fov: fov,
+        near: (distance - radius).max(distance * 1e-3),
+        far: distance + radius * 2.0,
+    }
+}

@@ -1,0 +1,410 @@
+//! glTF materials, textures, samplers and images → [`Material`], [`TextureRef`].
+
+use std::rc::Rc;
+use std::sync::Arc;
+
+use gltf::json;
+use gltf::json::validation::Checked;
+
+use super::image::{decode, DecodeError, Decoded};
+use super::import::Importer;
+use super::optics_ext::{self, ConductorSpec};
+use super::source::{read_resolved, resolve_uri};
+use super::{ImportProblem, OPTICS_EXTENSION};
+use crate::{
+    conductor_from_reflectivity, ColorSpace, Filter, Image, Material, Sampler, Texture, TextureRef,
+    TextureSlot, WrapMode,
+};
+
+/// glTF's default material (base colour 1, metallic 1, roughness 1), used by primitives
+/// without one.
+pub(crate) fn default_material() -> Material {
+    let base_color = [1.0; 3];
+    Material {
+        name: "glTF default material".into(),
+        base_color,
+        metalness: 1.0,
+        roughness: 1.0,
+        conductor: conductor_from_reflectivity(base_color),
+        conductor_from_base_color: true,
+        ..Material::default()
+    }
+}
+
+pub(crate) fn convert_sampler(sampler: Option<&json::texture::Sampler>) -> Sampler {
+    use json::texture::{MagFilter, MinFilter, WrappingMode};
+    let Some(s) = sampler else {
+        return Sampler::default();
+    };
+    let mag_filter = match s.mag_filter {
+        Some(Checked::Valid(MagFilter::Nearest)) => Filter::Nearest,
+        _ => Filter::Linear,
+    };
+    let (min_filter, mipmap_filter) = match s.min_filter {
+        Some(Checked::Valid(MinFilter::Nearest)) => (Filter::Nearest, None),
+        Some(Checked::Valid(MinFilter::Linear)) => (Filter::Linear, None),
+        Some(Checked::Valid(MinFilter::NearestMipmapNearest)) => {
+            (Filter::Nearest, Some(Filter::Nearest))
+        }
+        Some(Checked::Valid(MinFilter::LinearMipmapNearest)) => {
+            (Filter::Linear, Some(Filter::Nearest))
+        }
+        Some(Checked::Valid(MinFilter::NearestMipmapLinear)) => {
+            (Filter::Nearest, Some(Filter::Linear))
+        }
+        _ => (Filter::Linear, Some(Filter::Linear)),
+    };
+    let wrap = |w: &Checked<WrappingMode>| match w {
+        Checked::Valid(WrappingMode::ClampToEdge) => WrapMode::ClampToEdge,
+        Checked::Valid(WrappingMode::MirroredRepeat) => WrapMode::MirroredRepeat,
+        _ => WrapMode::Repeat,
+    };
+    Sampler {
+        mag_filter,
+        min_filter,
+        mipmap_filter,
+        wrap_u: wrap(&s.wrap_s),
+        wrap_v: wrap(&s.wrap_t),
+    }
+}
+
+impl Importer<'_> {
+    fn material_error(&self, index: usize, message: String) -> ImportProblem {
+        ImportProblem::Material {
+            index,
+            name: self.root.materials.get(index).and_then(|m| m.name.clone()),
+            message,
+        }
+    }
+
+    /// A factor glTF bounds to [0, 1]: NaN is an error, out of range is clamped.
+    fn unit_factor(&mut self, index: usize, what: &str, x: f32) -> Result<f32, ImportProblem> {
+        if !x.is_finite() {
+            return Err(self.material_error(index, format!("{what} is not finite ({x})")));
+        }
+        if !(0.0..=1.0).contains(&x) {
+            let clamped = x.clamp(0.0, 1.0);
+            self.warn(format!(
+                "material {index}: {what} {x} is outside [0, 1]; clamped to {clamped}"
+            ));
+            return Ok(clamped);
+        }
+        Ok(x)
+    }
+
+    pub(crate) fn material(&mut self, index: usize) -> Result<Material, ImportProblem> {
+        let root = self.root;
+        let m = root
+            .materials
+            .get(index)
+            .ok_or_else(|| self.material_error(index, "does not exist".into()))?;
+        let pbr = &m.pbr_metallic_roughness;
+        let [r, g, b, a] = pbr.base_color_factor.0;
+        let base_color = [
+            self.unit_factor(index, "base colour factor", r)?,
+            self.unit_factor(index, "base colour factor", g)?,
+            self.unit_factor(index, "base colour factor", b)?,
+        ];
+        let alpha = self.unit_factor(index, "base colour alpha", a)?;
+        let opaque = matches!(
+            m.alpha_mode,
+            Checked::Valid(json::material::AlphaMode::Opaque)
+        );
+        if !opaque || alpha < 1.0 {
+            self.transparency.push(index);
+        }
+        let metalness = self.unit_factor(index, "metallic factor", pbr.metallic_factor.0)?;
+        let roughness = self.unit_factor(index, "roughness factor", pbr.roughness_factor.0)?;
+        let mut material = Material {
+            name: m
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("material {index}")),
+            base_color,
+            metalness,
+            roughness,
+            double_sided: m.double_sided,
+            ..Material::default()
+        };
+        material.base_color_texture = self.texture_info(
+            index,
+            TextureSlot::BaseColor,
+            pbr.base_color_texture
+                .as_ref()
+                .map(|t| (t.index.value(), t.tex_coord)),
+        )?;
+        material.metallic_roughness_texture = self.texture_info(
+            index,
+            TextureSlot::MetallicRoughness,
+            pbr.metallic_roughness_texture
+                .as_ref()
+                .map(|t| (t.index.value(), t.tex_coord)),
+        )?;
+        if let Some(normal) = &m.normal_texture {
+            if !normal.scale.is_finite() {
+                return Err(self.material_error(
+                    index,
+                    format!("normalTexture.scale is not finite ({})", normal.scale),
+                ));
+            }
+            material.normal_scale = normal.scale;
+            material.normal_texture = self.texture_info(
+                index,
+                TextureSlot::Normal,
+                Some((normal.index.value(), normal.tex_coord)),
+            )?;
+        }
+        if let Some(occlusion) = &m.occlusion_texture {
+            material.occlusion_strength =
+                self.unit_factor(index, "occlusionTexture.strength", occlusion.strength.0)?;
+            material.occlusion_texture = self.texture_info(
+                index,
+                TextureSlot::Occlusion,
+                Some((occlusion.index.value(), occlusion.tex_coord)),
+            )?;
+        }
+        // Kept as given even above 1 (glTF bounds it to [0, 1]; Combustion does not).
+        let emissive = m.emissive_factor.0;
+        if !emissive.iter().all(|x| x.is_finite() && *x >= 0.0) {
+            return Err(self.material_error(
+                index,
+                format!("emissiveFactor must be non-negative numbers, found {emissive:?}"),
+            ));
+        }
+        material.emissive_factor = emissive;
+        material.emissive_texture = self.texture_info(
+            index,
+            TextureSlot::Emissive,
+            m.emissive_texture
+                .as_ref()
+                .map(|t| (t.index.value(), t.tex_coord)),
+        )?;
+
+        let mut optics = optics_ext::MaterialOptics::default();
+        if let Some(ext) = &m.extensions {
+            if let Some(ior) = &ext.ior {
+                let ior = ior.ior.0;
+                if !(ior.is_finite() && ior > 0.0) {
+                    return Err(self.material_error(
+                        index,
+                        format!("KHR_materials_ior: ior must be a positive number, found {ior}"),
+                    ));
+                }
+                material.dielectric_ior = ior;
+            }
+            if let Some(strength) = &ext.emissive_strength {
+                let s = strength.emissive_strength.0;
+                if !(s.is_finite() && s >= 0.0) {
+                    return Err(self.material_error(
+                        index,
+                        format!("KHR_materials_emissive_strength: emissiveStrength must be a non-negative number, found {s}"),
+                    ));
+                }
+                material.emissive_strength = s;
+            }
+            if let Some(specular) = &ext.specular {
+                material.specular_factor =
+                    self.unit_factor(index, "specularFactor", specular.specular_factor.0)?;
+                let color = specular.specular_color_factor.0;
+                if !color.iter().all(|x| x.is_finite() && *x >= 0.0) {
+                    return Err(self.material_error(
+                        index,
+                        format!("KHR_materials_specular: specularColorFactor must be non-negative numbers, found {color:?}"),
+                    ));
+                }
+                material.specular_color_factor = color;
+                material.specular_texture = self.texture_info(
+                    index,
+                    TextureSlot::Specular,
+                    specular
+                        .specular_texture
+                        .as_ref()
+                        .map(|t| (t.index.value(), t.tex_coord)),
+                )?;
+                material.specular_color_texture = self.texture_info(
+                    index,
+                    TextureSlot::SpecularColor,
+                    specular
+                        .specular_color_texture
+                        .as_ref()
+                        .map(|t| (t.index.value(), t.tex_coord)),
+                )?;
+            }
+            if let Some(value) = ext.others.get("KHR_materials_anisotropy") {
+                let anisotropy = optics_ext::parse_anisotropy(value).map_err(|e| {
+                    self.material_error(index, format!("KHR_materials_anisotropy: {e}"))
+                })?;
+                material.anisotropy_strength = anisotropy.strength;
+                material.anisotropy_rotation = anisotropy.rotation;
+                material.anisotropy_texture =
+                    self.texture_info(index, TextureSlot::Anisotropy, anisotropy.texture)?;
+            }
+            if let Some(value) = ext.others.get(OPTICS_EXTENSION) {
+                let base = self.base;
+                let allow = self.options.allow_external_uris;
+                let mut read_spectrum = |path: &str| -> Result<String, String> {
+                    let resolved = resolve_uri(path, base, allow).map_err(|e| e.to_string())?;
+                    let (_, bytes) = read_resolved(path, resolved).map_err(|e| e.to_string())?;
+                    String::from_utf8(bytes)
+                        .map_err(|_| format!("spectral table `{path}` is not UTF-8 text"))
+                };
+                let mut warnings = Vec::new();
+                optics = optics_ext::parse_material(value, &mut read_spectrum, &mut warnings)
+                    .map_err(|e| self.material_error(index, format!("{OPTICS_EXTENSION}: {e}")))?;
+                for w in warnings {
+                    self.warn(format!("material {index}: {w}"));
+                }
+            }
+        }
+        if let Some(ior) = optics.outside_ior {
+            material.outside_ior = Some(ior);
+        }
+        if let Some(w) = optics.polarisation_weight {
+            material.polarisation_weight = w;
+        }
+        if let Some(model) = optics.diffuse_model {
+            material.diffuse_model = model;
+        }
+        match optics.conductor {
+            Some(ConductorSpec::Given {
+                ior,
+                from_base_color,
+            }) => {
+                material.conductor = ior;
+                material.conductor_from_base_color = from_base_color;
+            }
+            Some(ConductorSpec::FromBaseColor) => {
+                material.conductor = conductor_from_reflectivity(material.base_color);
+                material.conductor_from_base_color = true;
+            }
+            None => {
+                // glTF's metals: reflectivity = base colour.
+                if material.metalness > 0.0 || material.metallic_roughness_texture.is_some() {
+                    material.conductor = conductor_from_reflectivity(material.base_color);
+                    material.conductor_from_base_color = true;
+                }
+            }
+        }
+        Ok(material)
+    }
+
+    fn texture_info(
+        &mut self,
+        material: usize,
+        slot: TextureSlot,
+        info: Option<(usize, u32)>,
+    ) -> Result<Option<TextureRef>, ImportProblem> {
+        let Some((texture_index, tex_coord)) = info else {
+            return Ok(None);
+        };
+        if tex_coord != 0 {
+            self.warn(format!(
+                "material {material}: the {} texture uses texture-coordinate set {tex_coord}; only set 0 is supported, so the texture is ignored",
+                slot.name()
+            ));
+            return Ok(None);
+        }
+        let root = self.root;
+        let texture = root.textures.get(texture_index).ok_or_else(|| {
+            self.material_error(
+                material,
+                format!(
+                    "{} texture {texture_index} does not exist ({} textures)",
+                    slot.name(),
+                    root.textures.len()
+                ),
+            )
+        })?;
+        let sampler = match texture.sampler {
+            None => None,
+            Some(s) => Some(root.samplers.get(s.value()).ok_or_else(|| {
+                self.material_error(
+                    material,
+                    format!(
+                        "texture {texture_index}: sampler {} does not exist",
+                        s.value()
+                    ),
+                )
+            })?),
+        };
+        let image = self.image(texture.source.value(), slot.color_space())?;
+        Ok(Some(TextureRef {
+            texture: Texture {
+                image,
+                sampler: convert_sampler(sampler),
+            },
+            tex_coord: 0,
+        }))
+    }
+
+    fn image(
+        &mut self,
+        index: usize,
+        color_space: ColorSpace,
+    ) -> Result<Arc<Image>, ImportProblem> {
+        if let Some(image) = self.images.get(&(index, color_space)) {
+            return Ok(image.clone());
+        }
+        let root = self.root;
+        let json_image = root.images.get(index).ok_or_else(|| ImportProblem::Image {
+            index,
+            name: None,
+            message: format!("does not exist ({} images)", root.images.len()),
+        })?;
+        let name = json_image.name.clone();
+        let err = |message: String| ImportProblem::Image {
+            index,
+            name: name.clone(),
+            message,
+        };
+        let decoded: Rc<Decoded> = match self.decoded.get(&index) {
+            Some(d) => d.clone(),
+            None => {
+                let declared = json_image.mime_type.as_ref().map(|m| m.0.clone());
+                let (mime, bytes): (Option<String>, Vec<u8>) =
+                    match (&json_image.uri, json_image.buffer_view) {
+                        (Some(uri), _) => {
+                            let resolved =
+                                resolve_uri(uri, self.base, self.options.allow_external_uris)?;
+                            read_resolved(uri, resolved)?
+                        }
+                        (None, Some(view)) => {
+                            let (data, range, _) = self.buffers.view(view.value()).map_err(err)?;
+                            (None, data[range].to_vec())
+                        }
+                        (None, None) => {
+                            return Err(err("has neither a URI nor a buffer view".into()))
+                        }
+                    };
+                let mime = declared.or(mime);
+                let decoded = decode(&bytes, mime.as_deref(), self.options.max_image_dimension)
+                    .map_err(|e| match e {
+                        DecodeError::TooLarge { width, height } => ImportProblem::ImageTooLarge {
+                            index,
+                            name: name.clone(),
+                            width,
+                            height,
+                            limit: self.options.max_image_dimension,
+                        },
+                        DecodeError::Other(message) => err(message),
+                    })?;
+                let decoded = Rc::new(decoded);
+                self.decoded.insert(index, decoded.clone());
+                decoded
+            }
+        };
+        let display_name = name.clone().unwrap_or_else(|| match &json_image.uri {
+            Some(uri) if !uri.starts_with("data:") => uri.clone(),
+            _ => format!("image {index}"),
+        });
+        let image = Arc::new(Image {
+            name: display_name,
+            width: decoded.width,
+            height: decoded.height,
+            color_space,
+            pixels: decoded.rgba.clone(),
+        });
+        self.images.insert((index, color_space), image.clone());
+        Ok(image)
+    }
+}

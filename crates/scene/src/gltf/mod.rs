@@ -1,0 +1,186 @@
+//! glTF 2.0 import and export (CPU side): `.gltf` (+ `.bin`, images) and `.glb` into a
+//! [`Scene`], and a [`Scene`] back to `.gltf`. The mapping, the units and the project
+//! extension `COMBUSTION_materials_optics` are documented in `docs/gltf.md`.
+//!
+//! Import never panics on bad input and never returns a half-built scene: every problem
+//! is an [`ImportError`] naming the file and what is wrong; recoverable oddities
+//! (degenerate triangles, unknown optional extensions, ...) are `log::warn!`ed and listed
+//! in [`ImportReport::warnings`].
+
+mod accessor;
+mod error;
+mod geometry;
+mod image;
+mod import;
+mod material;
+mod optics_ext;
+mod source;
+mod writer;
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+pub use error::{ImportError, ImportProblem, SaveError, SaveProblem};
+pub use writer::save_gltf;
+
+use crate::Scene;
+
+/// Name of the project extension (materials and scene level), see `docs/gltf.md`.
+pub const OPTICS_EXTENSION: &str = "COMBUSTION_materials_optics";
+
+/// Extensions the importer understands; a file that *requires* any other is refused.
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_ior",
+    "KHR_materials_specular",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_anisotropy",
+    OPTICS_EXTENSION,
+];
+
+/// What the importer may do.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ImportOptions {
+    /// Images wider or taller than this many pixels are refused (before decoding).
+    pub max_image_dimension: u32,
+    /// Allow URIs that leave the scene's folder (`../`), absolute paths and `file:` URIs.
+    /// Network schemes (`http:` ...) are refused regardless; `data:` URIs and relative
+    /// paths inside the scene's folder are always allowed.
+    pub allow_external_uris: bool,
+    /// Index into the glTF `cameras` array of the camera to use; `None`: the first
+    /// perspective camera placed in the scene, else a camera framing the scene.
+    pub camera: Option<usize>,
+}
+
+impl Default for ImportOptions {
+    fn default() -> Self {
+        Self {
+            max_image_dimension: 8192,
+            allow_external_uris: false,
+            camera: None,
+        }
+    }
+}
+
+/// Where the scene's camera came from.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum CameraSource {
+    /// glTF camera `index`, placed by node `node`.
+    Gltf { index: usize, node: usize },
+    /// No usable camera in the file: one looking at the scene's bounding box.
+    #[default]
+    Framing,
+}
+
+/// What an import found and did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ImportReport {
+    /// The file imported (`<memory>` for [`import_slice`]).
+    pub file: PathBuf,
+    /// `asset.generator` of the file.
+    pub generator: Option<String>,
+    /// Meshes of the scene (one per distinct glTF primitive used).
+    pub meshes: usize,
+    /// Triangles in those meshes (each mesh counted once), after dropping degenerate ones.
+    pub triangles: usize,
+    /// Triangles drawn: every object's mesh counted.
+    pub instanced_triangles: usize,
+    pub objects: usize,
+    pub materials: usize,
+    /// Distinct decoded images (an image used both as colour and as data counts twice).
+    pub images: usize,
+    /// Distinct (image, sampler) textures.
+    pub textures: usize,
+    pub lights: usize,
+    /// Cameras defined in the file.
+    pub cameras: usize,
+    pub camera: CameraSource,
+    pub extensions_used: Vec<String>,
+    pub extensions_required: Vec<String>,
+    /// Optional extensions the importer does not understand and ignored.
+    pub extensions_ignored: Vec<String>,
+    /// Degenerate (zero-area) triangles dropped.
+    pub degenerate_triangles: usize,
+    /// Primitives whose normals were generated (flat, glTF's rule) or repaired.
+    pub generated_normals: usize,
+    /// Primitives whose tangents were generated with MikkTSpace.
+    pub generated_tangents: usize,
+    pub warnings: Vec<String>,
+}
+
+impl fmt::Display for ImportReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "file: {}", self.file.display())?;
+        if let Some(generator) = &self.generator {
+            writeln!(f, "generator: {generator}")?;
+        }
+        writeln!(
+            f,
+            "meshes: {} ({} triangles; {} drawn), objects: {}",
+            self.meshes, self.triangles, self.instanced_triangles, self.objects
+        )?;
+        writeln!(
+            f,
+            "materials: {}, textures: {}, images: {}",
+            self.materials, self.textures, self.images
+        )?;
+        writeln!(
+            f,
+            "lights: {}, cameras in file: {}",
+            self.lights, self.cameras
+        )?;
+        match self.camera {
+            CameraSource::Gltf { index, node } => {
+                writeln!(f, "camera: glTF camera {index} (node {node})")?
+            }
+            CameraSource::Framing => writeln!(f, "camera: framing the scene's bounds")?,
+        }
+        let list = |v: &[String]| {
+            if v.is_empty() {
+                "none".to_owned()
+            } else {
+                v.join(", ")
+            }
+        };
+        writeln!(f, "extensions used: {}", list(&self.extensions_used))?;
+        writeln!(
+            f,
+            "extensions required: {}",
+            list(&self.extensions_required)
+        )?;
+        writeln!(f, "extensions ignored: {}", list(&self.extensions_ignored))?;
+        writeln!(
+            f,
+            "generated: normals for {} primitive(s), tangents for {}; {} degenerate triangle(s) dropped",
+            self.generated_normals, self.generated_tangents, self.degenerate_triangles
+        )?;
+        write!(f, "warnings: {}", self.warnings.len())?;
+        for warning in &self.warnings {
+            write!(f, "\n  {warning}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Imports a `.gltf` (with its `.bin` and image files) or a `.glb` file. The format is
+/// told by the content (GLB magic), not by the extension.
+pub fn import(path: &Path, options: &ImportOptions) -> Result<(Scene, ImportReport), ImportError> {
+    let bytes = std::fs::read(path).map_err(|e| ImportError::new(path, ImportProblem::Io(e)))?;
+    let base = path.parent().map(|p| {
+        if p.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            p.to_path_buf()
+        }
+    });
+    import::import_bytes(&bytes, path, base.as_deref(), options)
+}
+
+/// Imports glTF JSON or GLB from memory. Relative URIs cannot be resolved (there is no
+/// folder): only `data:` URIs and the GLB's binary chunk can supply buffers and images.
+pub fn import_slice(
+    bytes: &[u8],
+    options: &ImportOptions,
+) -> Result<(Scene, ImportReport), ImportError> {
+    import::import_bytes(bytes, Path::new("<memory>"), None, options)
+}

@@ -1,0 +1,370 @@
+//! The raw-JSON extensions: `COMBUSTION_materials_optics` (the project's, see
+//! `docs/gltf.md`) and `KHR_materials_anisotropy` (which the `gltf` crate does not parse).
+
+use serde_json::{Map, Value};
+
+use crate::{ComplexIor, DiffuseModel};
+
+/// The conductor a material's `COMBUSTION_materials_optics` asks for.
+#[derive(Debug, PartialEq)]
+pub(crate) enum ConductorSpec {
+    /// η + ik given (named metal, per-channel values or a spectral table). With
+    /// `from_base_color`, the material is still flagged as a base-colour conductor.
+    Given {
+        ior: ComplexIor,
+        from_base_color: bool,
+    },
+    /// Derive η + ik from the base colour (glTF's behaviour, stated explicitly).
+    FromBaseColor,
+}
+
+#[derive(Debug, Default, PartialEq)]
+pub(crate) struct MaterialOptics {
+    pub conductor: Option<ConductorSpec>,
+    pub outside_ior: Option<f32>,
+    pub polarisation_weight: Option<f32>,
+    pub diffuse_model: Option<DiffuseModel>,
+}
+
+pub(crate) const DIFFUSE_MODEL_NAMES: [(&str, DiffuseModel); 3] = [
+    ("lambert", DiffuseModel::Lambert),
+    ("oren-nayar-qualitative", DiffuseModel::OrenNayarQualitative),
+    ("oren-nayar-full", DiffuseModel::OrenNayarFull),
+];
+
+pub(crate) fn diffuse_model_name(model: DiffuseModel) -> &'static str {
+    DIFFUSE_MODEL_NAMES
+        .iter()
+        .find(|(_, m)| *m == model)
+        .map_or("lambert", |(name, _)| name)
+}
+
+fn object<'a>(value: &'a Value, what: &str) -> Result<&'a Map<String, Value>, String> {
+    value
+        .as_object()
+        .ok_or_else(|| format!("{what} must be a JSON object"))
+}
+
+fn number(value: &Value, what: &str) -> Result<f32, String> {
+    let x = value
+        .as_f64()
+        .ok_or_else(|| format!("{what} must be a number, found {}", short(value)))?;
+    let x = x as f32;
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(format!(
+            "{what} must be a finite number, found {}",
+            short(value)
+        ))
+    }
+}
+
+fn triple(value: &Value, what: &str) -> Result<[f32; 3], String> {
+    let items = value.as_array().filter(|a| a.len() == 3).ok_or_else(|| {
+        format!(
+            "{what} must be an array of 3 numbers (R, G, B), found {}",
+            short(value)
+        )
+    })?;
+    Ok([
+        number(&items[0], what)?,
+        number(&items[1], what)?,
+        number(&items[2], what)?,
+    ])
+}
+
+fn short(value: &Value) -> String {
+    let mut text = value.to_string();
+    if text.len() > 60 {
+        let mut end = 60;
+        while !text.is_char_boundary(end) {
+            end -= 1;
+        }
+        text.truncate(end);
+        text.push('…');
+    }
+    text
+}
+
+fn unknown_keys(map: &Map<String, Value>, known: &[&str], what: &str, warnings: &mut Vec<String>) {
+    for key in map.keys() {
+        if !known.contains(&key.as_str()) {
+            warnings.push(format!("{what}: unknown property `{key}` ignored"));
+        }
+    }
+}
+
+/// The scene-level object (`extensions.COMBUSTION_materials_optics` of the glTF root or
+/// of a scene): the outside medium's IOR.
+pub(crate) fn parse_scene_level(
+    value: &Value,
+    warnings: &mut Vec<String>,
+) -> Result<Option<f32>, String> {
+    let map = object(value, "COMBUSTION_materials_optics")?;
+    unknown_keys(
+        map,
+        &["outsideIor"],
+        "COMBUSTION_materials_optics",
+        warnings,
+    );
+    map.get("outsideIor")
+        .map(|v| positive(v, "outsideIor"))
+        .transpose()
+}
+
+fn positive(value: &Value, what: &str) -> Result<f32, String> {
+    let x = number(value, what)?;
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("{what} must be positive, found {x}"))
+    }
+}
+
+/// A material's object. `read_spectrum` reads a CSV file named relative to the scene.
+pub(crate) fn parse_material(
+    value: &Value,
+    read_spectrum: &mut dyn FnMut(&str) -> Result<String, String>,
+    warnings: &mut Vec<String>,
+) -> Result<MaterialOptics, String> {
+    let map = object(value, "COMBUSTION_materials_optics")?;
+    unknown_keys(
+        map,
+        &[
+            "conductor",
+            "outsideIor",
+            "polarisationWeight",
+            "diffuseModel",
+        ],
+        "COMBUSTION_materials_optics",
+        warnings,
+    );
+    let mut optics = MaterialOptics::default();
+    if let Some(v) = map.get("outsideIor") {
+        optics.outside_ior = Some(positive(v, "outsideIor")?);
+    }
+    if let Some(v) = map.get("polarisationWeight") {
+        let w = number(v, "polarisationWeight")?;
+        if !(0.0..=1.0).contains(&w) {
+            return Err(format!("polarisationWeight must lie in [0, 1], found {w}"));
+        }
+        optics.polarisation_weight = Some(w);
+    }
+    if let Some(v) = map.get("diffuseModel") {
+        let name = v
+            .as_str()
+            .ok_or_else(|| format!("diffuseModel must be a string, found {}", short(v)))?;
+        let model = DIFFUSE_MODEL_NAMES
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name.trim()))
+            .map(|(_, m)| *m)
+            .ok_or_else(|| {
+                format!(
+                    "unknown diffuseModel `{name}` (known: {})",
+                    DIFFUSE_MODEL_NAMES.map(|(n, _)| n).join(", ")
+                )
+            })?;
+        optics.diffuse_model = Some(model);
+    }
+    if let Some(v) = map.get("conductor") {
+        optics.conductor = Some(parse_conductor(v, read_spectrum, warnings)?);
+    }
+    Ok(optics)
+}
+
+fn parse_conductor(
+    value: &Value,
+    read_spectrum: &mut dyn FnMut(&str) -> Result<String, String>,
+    warnings: &mut Vec<String>,
+) -> Result<ConductorSpec, String> {
+    let map = object(value, "conductor")?;
+    unknown_keys(
+        map,
+        &["metal", "eta", "k", "spectrum", "fromBaseColor"],
+        "COMBUSTION_materials_optics.conductor",
+        warnings,
+    );
+    let from_base_color = match map.get("fromBaseColor") {
+        None => false,
+        Some(Value::Bool(b)) => *b,
+        Some(v) => {
+            return Err(format!(
+                "conductor.fromBaseColor must be true or false, found {}",
+                short(v)
+            ))
+        }
+    };
+    let forms = ["metal", "spectrum", "eta"]
+        .iter()
+        .filter(|k| map.contains_key(**k))
+        .count()
+        + usize::from(map.contains_key("k") && !map.contains_key("eta"));
+    if forms > 1 {
+        return Err("conductor must give exactly one of `metal`, `spectrum` or `eta` + `k`".into());
+    }
+    let reduce = |spectrum: &combustion_spectra::Spectrum, what: &str| {
+        combustion_spectra::rgb_optical_constants(spectrum)
+            .map(|c| ComplexIor {
+                eta: c.eta.map(|x| x as f32),
+                k: c.k.map(|x| x as f32),
+            })
+            .map_err(|e| format!("{what}: {e}"))
+    };
+    let ior = if let Some(v) = map.get("metal") {
+        let name = v
+            .as_str()
+            .ok_or_else(|| format!("conductor.metal must be a string, found {}", short(v)))?;
+        let metal = combustion_spectra::BuiltinMetal::from_name(name).ok_or_else(|| {
+            format!(
+                "unknown metal `{name}` (built-in: {})",
+                combustion_spectra::BuiltinMetal::ALL
+                    .map(|m| m.name())
+                    .join(", ")
+            )
+        })?;
+        Some(reduce(metal.spectrum(), &format!("metal `{name}`"))?)
+    } else if let Some(v) = map.get("spectrum") {
+        let path = v.as_str().ok_or_else(|| {
+            format!(
+                "conductor.spectrum must be a path string, found {}",
+                short(v)
+            )
+        })?;
+        let text = read_spectrum(path)?;
+        let spectrum = combustion_spectra::Spectrum::from_csv(&text)
+            .map_err(|e| format!("spectral table `{path}`: {e}"))?;
+        Some(reduce(&spectrum, &format!("spectral table `{path}`"))?)
+    } else if map.contains_key("eta") || map.contains_key("k") {
+        let eta = triple(
+            map.get("eta").ok_or("conductor.k needs conductor.eta")?,
+            "conductor.eta",
+        )?;
+        let k = triple(
+            map.get("k").ok_or("conductor.eta needs conductor.k")?,
+            "conductor.k",
+        )?;
+        if !eta.iter().all(|&x| x > 0.0) {
+            return Err(format!("conductor.eta must be positive, found {eta:?}"));
+        }
+        if !k.iter().all(|&x| x >= 0.0) {
+            return Err(format!("conductor.k must not be negative, found {k:?}"));
+        }
+        Some(ComplexIor { eta, k })
+    } else {
+        None
+    };
+    match (ior, from_base_color) {
+        (Some(ior), from_base_color) => Ok(ConductorSpec::Given {
+            ior,
+            from_base_color,
+        }),
+        (None, true) => Ok(ConductorSpec::FromBaseColor),
+        (None, false) => {
+            Err("conductor needs `metal`, `spectrum`, `eta` + `k`, or `fromBaseColor: true`".into())
+        }
+    }
+}
+
+/// KHR_materials_anisotropy.
+#[derive(Debug, Default, PartialEq)]
+pub(crate) struct Anisotropy {
+    pub strength: f32,
+    pub rotation: f32,
+    /// (texture index, texCoord).
+    pub texture: Option<(usize, u32)>,
+}
+
+pub(crate) fn parse_anisotropy(value: &Value) -> Result<Anisotropy, String> {
+    let map = object(value, "KHR_materials_anisotropy")?;
+    let mut out = Anisotropy::default();
+    if let Some(v) = map.get("anisotropyStrength") {
+        out.strength = number(v, "anisotropyStrength")?;
+        if !(0.0..=1.0).contains(&out.strength) {
+            return Err(format!(
+                "anisotropyStrength must lie in [0, 1], found {}",
+                out.strength
+            ));
+        }
+    }
+    if let Some(v) = map.get("anisotropyRotation") {
+        out.rotation = number(v, "anisotropyRotation")?;
+    }
+    if let Some(v) = map.get("anisotropyTexture") {
+        let info = object(v, "anisotropyTexture")?;
+        let index = info
+            .get("index")
+            .and_then(Value::as_u64)
+            .ok_or("anisotropyTexture needs a non-negative integer `index`")?;
+        let tex_coord = match info.get("texCoord") {
+            None => 0,
+            Some(v) => v
+                .as_u64()
+                .and_then(|t| u32::try_from(t).ok())
+                .ok_or("anisotropyTexture.texCoord must be a non-negative integer")?,
+        };
+        out.texture = Some((usize::try_from(index).unwrap_or(usize::MAX), tex_coord));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn parse(value: Value) -> Result<MaterialOptics, String> {
+        parse_material(
+            &value,
+            &mut |_| Err("no files here".into()),
+            &mut Vec::new(),
+        )
+    }
+
+    #[test]
+    fn named_metal_and_explicit_constants() {
+        let gold = parse(json!({"conductor": {"metal": "Au"}})).unwrap();
+        let Some(ConductorSpec::Given {
+            ior,
+            from_base_color: false,
+        }) = gold.conductor
+        else {
+            panic!("{gold:?}")
+        };
+        assert!(ior.k[0] > 2.0 && ior.eta[0] < 0.5, "{ior:?}");
+        let explicit = parse(json!({"conductor": {"eta": [1, 2, 3], "k": [0, 1, 2]}, "diffuseModel": "oren-nayar-full", "polarisationWeight": 0.25, "outsideIor": 1.33})).unwrap();
+        assert_eq!(explicit.diffuse_model, Some(DiffuseModel::OrenNayarFull));
+        assert_eq!(explicit.outside_ior, Some(1.33));
+        assert_eq!(explicit.polarisation_weight, Some(0.25));
+    }
+
+    #[test]
+    fn bad_values_are_named() {
+        for (value, needle) in [
+            (
+                json!({"conductor": {"metal": "unobtainium"}}),
+                "unknown metal",
+            ),
+            (
+                json!({"conductor": {"eta": [1, 2], "k": [0, 0, 0]}}),
+                "3 numbers",
+            ),
+            (
+                json!({"conductor": {"eta": [1, 2, 3]}}),
+                "needs conductor.k",
+            ),
+            (
+                json!({"conductor": {"metal": "gold", "eta": [1, 1, 1], "k": [1, 1, 1]}}),
+                "exactly one",
+            ),
+            (json!({"conductor": {"spectrum": "x.csv"}}), "no files here"),
+            (json!({"diffuseModel": "phong"}), "unknown diffuseModel"),
+            (json!({"polarisationWeight": 2}), "[0, 1]"),
+            (json!({"outsideIor": -1}), "positive"),
+            (json!([1]), "JSON object"),
+        ] {
+            let err = parse(value).unwrap_err();
+            assert!(err.contains(needle), "{err}");
+        }
+    }
+}

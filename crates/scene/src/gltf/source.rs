@@ -1,0 +1,527 @@
+//! The container (GLB or JSON), URIs (`data:`, relative files, and what is refused) and
+//! buffers.
+
+use std::path::{Component, Path, PathBuf};
+use std::rc::Rc;
+
+use gltf::json;
+
+use super::ImportProblem;
+
+/// A parsed container: the JSON text and the GLB binary chunk, if any.
+pub(crate) struct Container<'a> {
+    pub json: &'a [u8],
+    pub bin: Option<&'a [u8]>,
+    pub is_glb: bool,
+}
+
+pub(crate) fn split_container<'a>(
+    bytes: &'a [u8],
+    warnings: &mut Vec<String>,
+) -> Result<Container<'a>, ImportProblem> {
+    if !bytes.starts_with(b"glTF") {
+        let json = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+        if json.len() != bytes.len() {
+            warnings
+                .push("the JSON starts with a byte-order mark, which glTF forbids; ignored".into());
+        }
+        return Ok(Container {
+            json,
+            bin: None,
+            is_glb: false,
+        });
+    }
+    let glb = |m: String| ImportProblem::Glb(m);
+    let u32_at = |at: usize| -> Option<u32> {
+        bytes
+            .get(at..at + 4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    };
+    let (Some(version), Some(length)) = (u32_at(4), u32_at(8)) else {
+        return Err(glb(format!(
+            "truncated: {} bytes, but the GLB header alone is 12",
+            bytes.len()
+        )));
+    };
+    if version != 2 {
+        return Err(glb(format!(
+            "version {version}; only GLB version 2 (glTF 2.0) is supported"
+        )));
+    }
+    let length = length as usize;
+    if length > bytes.len() {
+        return Err(glb(format!(
+            "truncated: the header declares {length} bytes but the file has {}",
+            bytes.len()
+        )));
+    }
+    if length < bytes.len() {
+        warnings.push(format!(
+            "GLB: ignoring {} bytes after the declared length of {length}",
+            bytes.len() - length
+        ));
+    }
+    let data = &bytes[..length];
+    let mut offset = 12;
+    let mut json = None;
+    let mut bin = None;
+    let mut index = 0;
+    while offset < data.len() {
+        let header = data.get(offset..offset + 8).ok_or_else(|| {
+            glb(format!(
+                "truncated: chunk {index} at byte {offset} has no complete 8-byte header"
+            ))
+        })?;
+        let chunk_length =
+            u32::from_le_bytes([header[0], header[1], header[2], header[3]]) as usize;
+        let kind = [header[4], header[5], header[6], header[7]];
+        let start = offset + 8;
+        let body = data
+            .get(start..)
+            .and_then(|rest| rest.get(..chunk_length))
+            .ok_or_else(|| {
+                glb(format!(
+                    "truncated: chunk {index} ({}) at byte {offset} declares {chunk_length} bytes but only {} remain",
+                    chunk_name(kind),
+                    data.len().saturating_sub(start)
+                ))
+            })?;
+        match &kind {
+            b"JSON" if index == 0 => json = Some(body),
+            b"JSON" => return Err(glb(format!("a second JSON chunk (chunk {index})"))),
+            b"BIN\0" if index == 1 => bin = Some(body),
+            b"BIN\0" => {
+                return Err(glb(format!(
+                    "BIN chunk at position {index}; it must directly follow the JSON chunk"
+                )))
+            }
+            _ if index == 0 => {
+                return Err(glb(format!(
+                    "the first chunk is {}, not JSON",
+                    chunk_name(kind)
+                )))
+            }
+            _ => warnings.push(format!(
+                "GLB: ignoring chunk {index} of unknown type {}",
+                chunk_name(kind)
+            )),
+        }
+        // Chunks are padded to 4 bytes; tolerate a missing final padding.
+        offset = start + chunk_length;
+        offset = (offset + 3) & !3;
+        index += 1;
+    }
+    let json = json.ok_or_else(|| glb("no JSON chunk".into()))?;
+    // Pad bytes of the JSON chunk are spaces; some writers use NULs.
+    let end = json
+        .iter()
+        .rposition(|&b| !matches!(b, b' ' | b'\0' | b'\n' | b'\r' | b'\t'))
+        .map_or(0, |i| i + 1);
+    Ok(Container {
+        json: &json[..end],
+        bin,
+        is_glb: true,
+    })
+}
+
+fn chunk_name(kind: [u8; 4]) -> String {
+    if kind.iter().all(|b| b.is_ascii_graphic()) {
+        format!("`{}`", String::from_utf8_lossy(&kind))
+    } else {
+        format!("0x{:08X}", u32::from_le_bytes(kind))
+    }
+}
+
+/// Where an URI's bytes come from.
+pub(crate) enum Resolved {
+    Data {
+        mime: Option<String>,
+        bytes: Vec<u8>,
+    },
+    File(PathBuf),
+}
+
+/// Resolves `uri` against `base` (the scene's folder; `None` when loaded from memory),
+/// refusing what `allow_external` does not allow.
+pub(crate) fn resolve_uri(
+    uri: &str,
+    base: Option<&Path>,
+    allow_external: bool,
+) -> Result<Resolved, ImportProblem> {
+    let refuse = |reason: String| ImportProblem::UriRefused {
+        uri: truncate(uri),
+        reason,
+    };
+    if let Some(rest) = strip_prefix_ignore_case(uri, "data:") {
+        let (header, payload) = rest
+            .split_once(',')
+            .ok_or_else(|| refuse("data URI without a `,`".into()))?;
+        let Some(mime) = strip_suffix_ignore_case(header, ";base64") else {
+            return Err(refuse(
+                "only base64 data URIs (`data:...;base64,...`) are supported".into(),
+            ));
+        };
+        let bytes = decode_base64(payload)
+            .map_err(|e| refuse(format!("invalid base64 in the data URI: {e}")))?;
+        let mime = (!mime.is_empty()).then(|| mime.to_ascii_lowercase());
+        return Ok(Resolved::Data { mime, bytes });
+    }
+    if let Some(scheme) = uri_scheme(uri) {
+        if scheme.len() == 1 {
+            // `C:/...`: a Windows absolute path.
+            if !allow_external {
+                return Err(refuse(
+                    "absolute paths are refused (ImportOptions::allow_external_uris)".into(),
+                ));
+            }
+            return Ok(Resolved::File(PathBuf::from(percent_decode(uri)?)));
+        }
+        if scheme.eq_ignore_ascii_case("file") {
+            if !allow_external {
+                return Err(refuse(
+                    "`file:` URIs are refused (ImportOptions::allow_external_uris)".into(),
+                ));
+            }
+            let path = &uri[5..];
+            let path = path
+                .strip_prefix("//localhost")
+                .or_else(|| path.strip_prefix("//"))
+                .unwrap_or(path);
+            return Ok(Resolved::File(PathBuf::from(percent_decode(path)?)));
+        }
+        return Err(refuse(format!(
+            "the `{scheme}:` scheme is not supported; Combustion reads local files and data URIs only"
+        )));
+    }
+    let decoded = percent_decode(uri)?;
+    if decoded.contains('\0') {
+        return Err(refuse("the path contains a NUL character".into()));
+    }
+    let relative = Path::new(&decoded);
+    let absolute = decoded.starts_with('/') || decoded.starts_with('\\') || relative.is_absolute();
+    if absolute {
+        if !allow_external {
+            return Err(refuse(
+                "absolute paths are refused (ImportOptions::allow_external_uris)".into(),
+            ));
+        }
+        return Ok(Resolved::File(relative.to_path_buf()));
+    }
+    // Lexically: does the path climb above the scene's folder?
+    let mut depth: i64 = 0;
+    for part in decoded.split(['/', '\\']) {
+        match part {
+            "" | "." => {}
+            ".." => depth -= 1,
+            _ => depth += 1,
+        }
+        if depth < 0 && !allow_external {
+            return Err(refuse(
+                "it leaves the scene's folder (`..`); refused (ImportOptions::allow_external_uris)"
+                    .into(),
+            ));
+        }
+    }
+    let Some(base) = base else {
+        return Err(refuse(
+            "relative URIs cannot be resolved when the glTF is loaded from memory".into(),
+        ));
+    };
+    let mut path = base.to_path_buf();
+    for component in relative.components() {
+        match component {
+            Component::Normal(part) => path.push(part),
+            Component::ParentDir => path.push(".."),
+            _ => {}
+        }
+    }
+    Ok(Resolved::File(path))
+}
+
+fn truncate(uri: &str) -> String {
+    const MAX: usize = 80;
+    if uri.len() <= MAX {
+        uri.to_owned()
+    } else {
+        let mut end = MAX;
+        while !uri.is_char_boundary(end) {
+            end -= 1;
+        }
+        format!("{}…", &uri[..end])
+    }
+}
+
+fn strip_prefix_ignore_case<'a>(s: &'a str, prefix: &str) -> Option<&'a str> {
+    let head = s.get(..prefix.len())?;
+    head.eq_ignore_ascii_case(prefix)
+        .then(|| &s[prefix.len()..])
+}
+
+fn strip_suffix_ignore_case<'a>(s: &'a str, suffix: &str) -> Option<&'a str> {
+    let at = s.len().checked_sub(suffix.len())?;
+    let tail = s.get(at..)?;
+    tail.eq_ignore_ascii_case(suffix).then(|| &s[..at])
+}
+
+/// The scheme of an absolute URI (RFC 3986: ALPHA *( ALPHA / DIGIT / "+" / "-" / "." ) ":").
+fn uri_scheme(uri: &str) -> Option<&str> {
+    let colon = uri.find(':')?;
+    let scheme = &uri[..colon];
+    let mut chars = scheme.chars();
+    let first = chars.next()?;
+    (first.is_ascii_alphabetic()
+        && chars.all(|c| c.is_ascii_alphanumeric() || matches!(c, '+' | '-' | '.')))
+    .then_some(scheme)
+}
+
+fn percent_decode(s: &str) -> Result<String, ImportProblem> {
+    if !s.contains('%') {
+        return Ok(s.to_owned());
+    }
+    let bytes = s.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' {
+            let hex = bytes
+                .get(i + 1..i + 3)
+                .and_then(|h| std::str::from_utf8(h).ok())
+                .and_then(|h| u8::from_str_radix(h, 16).ok());
+            match hex {
+                Some(b) => {
+                    out.push(b);
+                    i += 3;
+                    continue;
+                }
+                None => {
+                    return Err(ImportProblem::UriRefused {
+                        uri: truncate(s),
+                        reason: format!("invalid percent escape at byte {i}"),
+                    })
+                }
+            }
+        }
+        out.push(bytes[i]);
+        i += 1;
+    }
+    String::from_utf8(out).map_err(|_| ImportProblem::UriRefused {
+        uri: truncate(s),
+        reason: "percent escapes do not decode to UTF-8".into(),
+    })
+}
+
+/// Standard base64 (RFC 4648 §4), padding optional, ASCII whitespace ignored.
+pub(crate) fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
+    let mut out = Vec::with_capacity(text.len() / 4 * 3 + 3);
+    let mut acc: u32 = 0;
+    let mut bits = 0;
+    let mut padding = 0;
+    for (i, c) in text.bytes().enumerate() {
+        let value = match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' => 62,
+            b'/' => 63,
+            b'=' => {
+                padding += 1;
+                continue;
+            }
+            b' ' | b'\n' | b'\r' | b'\t' => continue,
+            _ => return Err(format!("unexpected character at offset {i}")),
+        };
+        if padding > 0 {
+            return Err(format!("data after `=` padding at offset {i}"));
+        }
+        acc = (acc << 6) | u32::from(value);
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            out.push((acc >> bits) as u8);
+            acc &= (1 << bits) - 1;
+        }
+    }
+    if bits >= 6 || padding > 2 {
+        return Err("truncated base64 data".into());
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+pub(crate) fn encode_base64(bytes: &[u8]) -> String {
+    const TABLE: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(TABLE[((n >> (18 - 6 * k)) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// Reads a resolved URI's bytes.
+pub(crate) fn read_resolved(
+    uri: &str,
+    resolved: Resolved,
+) -> Result<(Option<String>, Vec<u8>), ImportProblem> {
+    match resolved {
+        Resolved::Data { mime, bytes } => Ok((mime, bytes)),
+        Resolved::File(path) => match std::fs::read(&path) {
+            Ok(bytes) => Ok((None, bytes)),
+            Err(source) => Err(ImportProblem::ExternalIo {
+                uri: truncate(uri),
+                path,
+                source,
+            }),
+        },
+    }
+}
+
+/// A buffer view: its buffer, the view's byte range in it, and its byte stride.
+pub(crate) type ViewBytes = (Rc<[u8]>, std::ops::Range<usize>, Option<usize>);
+
+/// The glTF buffers, loaded on first use.
+pub(crate) struct Buffers<'a> {
+    root: &'a json::Root,
+    bin: Option<&'a [u8]>,
+    is_glb: bool,
+    base: Option<&'a Path>,
+    allow_external: bool,
+    loaded: Vec<Option<Rc<[u8]>>>,
+}
+
+impl<'a> Buffers<'a> {
+    pub fn new(
+        root: &'a json::Root,
+        container: &Container<'a>,
+        base: Option<&'a Path>,
+        allow_external: bool,
+    ) -> Self {
+        Self {
+            root,
+            bin: container.bin,
+            is_glb: container.is_glb,
+            base,
+            allow_external,
+            loaded: vec![None; root.buffers.len()],
+        }
+    }
+
+    /// Buffer `index`, exactly `byteLength` bytes long.
+    pub fn get(&mut self, index: usize) -> Result<Rc<[u8]>, ImportProblem> {
+        if let Some(Some(data)) = self.loaded.get(index) {
+            return Ok(data.clone());
+        }
+        let buffer = self
+            .root
+            .buffers
+            .get(index)
+            .ok_or_else(|| ImportProblem::Buffer {
+                index,
+                message: format!("does not exist ({} buffers)", self.root.buffers.len()),
+            })?;
+        let err = |message: String| ImportProblem::Buffer { index, message };
+        let declared = buffer.byte_length.0;
+        let data: Vec<u8> = match &buffer.uri {
+            None if self.is_glb && index == 0 => match self.bin {
+                Some(bin) => bin.to_vec(),
+                None => {
+                    return Err(err(
+                        "has no URI, so it is the GLB's binary chunk, but the file has none".into(),
+                    ))
+                }
+            },
+            None if self.is_glb => {
+                return Err(err(
+                    "has no URI; only buffer 0 of a .glb may (it is the binary chunk)".into(),
+                ))
+            }
+            None => {
+                return Err(err(
+                    "has no URI (only a .glb's first buffer may omit it)".into()
+                ))
+            }
+            Some(uri) => {
+                let resolved = resolve_uri(uri, self.base, self.allow_external)?;
+                read_resolved(uri, resolved)?.1
+            }
+        };
+        if (data.len() as u64) < declared {
+            return Err(err(format!(
+                "is short: byteLength is {declared} bytes but only {} are available",
+                data.len()
+            )));
+        }
+        let data: Rc<[u8]> = Rc::from(&data[..declared as usize]);
+        if let Some(slot) = self.loaded.get_mut(index) {
+            *slot = Some(data.clone());
+        }
+        Ok(data)
+    }
+
+    /// The bytes of buffer view `index`.
+    pub fn view(&mut self, index: usize) -> Result<ViewBytes, String> {
+        let view = self
+            .root
+            .buffer_views
+            .get(index)
+            .ok_or_else(|| format!("buffer view {index} does not exist"))?;
+        let buffer = view.buffer.value();
+        let data = self.get(buffer).map_err(|e| e.to_string())?;
+        let offset = view.byte_offset.map_or(0, |o| o.0);
+        let length = view.byte_length.0;
+        let end = offset.checked_add(length).filter(|&end| end <= data.len() as u64).ok_or_else(|| {
+            format!(
+                "buffer view {index} (bytes {offset}..{offset}+{length}) exceeds buffer {buffer} ({} bytes)",
+                data.len()
+            )
+        })?;
+        let stride = view.byte_stride.map(|s| s.0);
+        Ok((data, offset as usize..end as usize, stride))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_round_trips() {
+        for n in 0..20 {
+            let bytes: Vec<u8> = (0..n).map(|i| (i * 37 + 11) as u8).collect();
+            assert_eq!(decode_base64(&encode_base64(&bytes)).unwrap(), bytes);
+        }
+        assert!(decode_base64("QQ=A").is_err());
+        assert!(decode_base64("Q").is_err());
+        assert!(decode_base64("Q*==").is_err());
+    }
+
+    #[test]
+    fn uris_leaving_the_folder_are_refused() {
+        let base = Path::new("/scenes");
+        let ok = |uri: &str| resolve_uri(uri, Some(base), false).is_ok();
+        assert!(ok("a.bin"));
+        assert!(ok("sub/../a.bin"));
+        assert!(ok("a%20b.bin"));
+        assert!(!ok("../a.bin"));
+        assert!(!ok("sub/../../a.bin"));
+        assert!(!ok("/etc/passwd"));
+        assert!(!ok("C:/x.bin"));
+        assert!(!ok("file:///etc/passwd"));
+        assert!(!ok("http://example.com/a.bin"));
+        assert!(resolve_uri("../a.bin", Some(base), true).is_ok());
+        assert!(resolve_uri("https://example.com/a.bin", Some(base), true).is_err());
+        assert!(resolve_uri("a.bin", None, true).is_err());
+        assert!(ok("data:application/octet-stream;base64,AAAA"));
+    }
+}

@@ -1,0 +1,259 @@
+//! Every file in `tests/bad-gltf/` (made by its `generate.py`, one defect each, named for
+//! it) is refused with an error that names the file and the problem, without panicking.
+
+use std::path::{Path, PathBuf};
+
+use combustion_scene::gltf::{import, import_slice, ImportOptions};
+
+fn corpus() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/bad-gltf")
+}
+
+/// (file, words the error must contain).
+const EXPECTED: &[(&str, &[&str])] = &[
+    ("empty-file.gltf", &["malformed JSON", "truncated"]),
+    ("truncated-json.gltf", &["malformed JSON", "truncated"]),
+    ("garbled-json.gltf", &["malformed JSON", "line 1"]),
+    ("not-gltf-2.gltf", &["asset.version is `1.0`"]),
+    ("truncated.glb", &["malformed GLB", "truncated", "declares"]),
+    ("glb-version-1.glb", &["malformed GLB", "version 1"]),
+    (
+        "glb-first-chunk-not-json.glb",
+        &["malformed GLB", "first chunk is `XXXX`"],
+    ),
+    (
+        "glb-missing-bin-chunk.glb",
+        &["buffer 0", "binary chunk", "has none"],
+    ),
+    (
+        "missing-buffer-file.gltf",
+        &["cannot read `missing-buffer.bin`"],
+    ),
+    ("short-buffer.gltf", &["buffer 0", "is short"]),
+    (
+        "buffer-view-out-of-range.gltf",
+        &["buffer view 2", "exceeds buffer 0"],
+    ),
+    (
+        "accessor-out-of-range.gltf",
+        &["POSITION", "accessor 0", "30 elements"],
+    ),
+    (
+        "index-out-of-range.gltf",
+        &["mesh 0 primitive 0", "index 7 is out of range"],
+    ),
+    (
+        "accessor-index-missing.gltf",
+        &["invalid glTF", "POSITION", "Index out of bounds"],
+    ),
+    (
+        "wrong-accessor-type.gltf",
+        &["accessor 0 is VEC2", "expected 3"],
+    ),
+    (
+        "missing-position.gltf",
+        &["invalid glTF", "attributes[\"POSITION\"]: Missing data"],
+    ),
+    (
+        "mismatched-attribute-counts.gltf",
+        &["NORMAL has 2 elements but POSITION has 3"],
+    ),
+    ("nan-position.gltf", &["POSITION of vertex 1 is not finite"]),
+    (
+        "infinite-position.gltf",
+        &["POSITION of vertex 2 is not finite"],
+    ),
+    (
+        "all-degenerate-triangles.gltf",
+        &["all 1 triangles are degenerate"],
+    ),
+    (
+        "undecodable-png.gltf",
+        &["image 0 (`texture`)", "undecodable PNG"],
+    ),
+    (
+        "unsupported-image-format.gltf",
+        &["image 0", "not a PNG or JPEG", "image/gif"],
+    ),
+    (
+        "huge-image.gltf",
+        &["image 0", "20000×20000", "limit of 8192"],
+    ),
+    ("image-over-limit.gltf", &["image 0", "16×16", "limit of 8"]),
+    (
+        "uri-leaves-folder.gltf",
+        &["`../outside.bin` refused", "leaves the scene's folder"],
+    ),
+    (
+        "uri-absolute-path.gltf",
+        &["`/etc/hostname` refused", "absolute paths"],
+    ),
+    ("uri-file-scheme.gltf", &["refused", "`file:` URIs"]),
+    (
+        "uri-http-scheme.gltf",
+        &["refused", "`https:` scheme is not supported"],
+    ),
+    ("uri-bad-base64.gltf", &["refused", "invalid base64"]),
+    (
+        "unsupported-required-extension.gltf",
+        &["requires the extension `KHR_draco_mesh_compression`"],
+    ),
+    ("node-cycle.gltf", &["node 0", "cycle"]),
+    (
+        "optics-unknown-metal.gltf",
+        &[
+            "material 0 (`grey`)",
+            "COMBUSTION_materials_optics",
+            "unknown metal `unobtainium`",
+        ],
+    ),
+    (
+        "optics-spectrum-outside-folder.gltf",
+        &["material 0", "leaves the scene's folder"],
+    ),
+    (
+        "anisotropy-strength-not-a-number.gltf",
+        &[
+            "KHR_materials_anisotropy",
+            "anisotropyStrength must be a number",
+        ],
+    ),
+    ("camera-zero-fov.gltf", &["camera 0", "yfov 0"]),
+    (
+        "light-negative-intensity.gltf",
+        &["light 0", "non-negative"],
+    ),
+];
+
+fn options_for(file: &str) -> ImportOptions {
+    ImportOptions {
+        max_image_dimension: if file == "image-over-limit.gltf" {
+            8
+        } else {
+            8192
+        },
+        ..ImportOptions::default()
+    }
+}
+
+#[test]
+fn every_bad_file_gives_its_error() {
+    let mut failures = Vec::new();
+    for (file, needles) in EXPECTED {
+        let path = corpus().join(file);
+        assert!(
+            path.is_file(),
+            "{} is missing; run tests/bad-gltf/generate.py",
+            path.display()
+        );
+        match import(&path, &options_for(file)) {
+            Ok(_) => failures.push(format!("{file}: imported without error")),
+            Err(e) => {
+                let message = e.to_string();
+                eprintln!("{message}");
+                if !message.contains(file) {
+                    failures.push(format!(
+                        "{file}: the error does not name the file: {message}"
+                    ));
+                }
+                for needle in *needles {
+                    if !message.contains(needle) {
+                        failures.push(format!("{file}: expected `{needle}` in: {message}"));
+                    }
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+}
+
+/// No file in the corpus goes untested.
+#[test]
+fn every_file_in_the_corpus_is_expected() {
+    for entry in std::fs::read_dir(corpus()).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        if name.ends_with(".gltf") || name.ends_with(".glb") {
+            assert!(
+                EXPECTED.iter().any(|(f, _)| *f == name),
+                "{name} has no expected error in crates/scene/tests/bad_gltf.rs"
+            );
+        }
+    }
+}
+
+/// The same bytes from memory: external URIs cannot be resolved at all, and nothing
+/// panics; prefixes of every bad file (truncation at any point) are refused too.
+#[test]
+fn bad_files_from_memory_and_truncated_never_panic() {
+    for (file, _) in EXPECTED {
+        let bytes = std::fs::read(corpus().join(file)).unwrap();
+        assert!(import_slice(&bytes, &options_for(file)).is_err(), "{file}");
+        let step = (bytes.len() / 64).max(1);
+        for cut in (0..bytes.len()).step_by(step) {
+            let _ = import_slice(&bytes[..cut], &options_for(file));
+        }
+    }
+}
+
+/// Degenerate triangles alone are dropped with a warning, not an error.
+#[test]
+fn some_degenerate_triangles_are_dropped_with_a_warning() {
+    let base = corpus().join("index-out-of-range.gltf");
+    let mut root: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(base).unwrap()).unwrap();
+    // Three vertices, six u16 indices: (0 1 2) and (0 0 1).
+    let data: Vec<u8> = [
+        0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 1., 0., 0., 1.,
+    ]
+    .iter()
+    .flat_map(|x| x.to_le_bytes())
+    .chain([0u16, 1, 2, 0, 0, 1].iter().flat_map(|x| x.to_le_bytes()))
+    .collect();
+    let uri = format!("data:application/octet-stream;base64,{}", base64(&data));
+    root["buffers"][0] = serde_json::json!({ "byteLength": data.len(), "uri": uri });
+    root["bufferViews"][2]["byteLength"] = 12.into();
+    root["accessors"][2]["count"] = 6.into();
+    let (scene, report) =
+        import_slice(root.to_string().as_bytes(), &ImportOptions::default()).unwrap();
+    assert_eq!(scene.meshes[0].indices, vec![0, 1, 2]);
+    assert_eq!(report.degenerate_triangles, 1);
+    assert!(
+        report.warnings.iter().any(|w| w.contains("degenerate")),
+        "{report}"
+    );
+}
+
+fn base64(bytes: &[u8]) -> String {
+    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for c in bytes.chunks(3) {
+        let n = (u32::from(c[0]) << 16)
+            | (u32::from(*c.get(1).unwrap_or(&0)) << 8)
+            | u32::from(*c.get(2).unwrap_or(&0));
+        for k in 0..4 {
+            out.push(if k <= c.len() {
+                T[((n >> (18 - 6 * k)) & 63) as usize] as char
+            } else {
+                '='
+            });
+        }
+    }
+    out
+}
+
+/// Unknown optional extensions are a warning and listed in the report.
+#[test]
+fn unknown_optional_extension_is_reported() {
+    let bytes = std::fs::read(corpus().join("unsupported-required-extension.gltf")).unwrap();
+    let mut root: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
+    root.as_object_mut().unwrap().remove("extensionsRequired");
+    let (_, report) = import_slice(root.to_string().as_bytes(), &ImportOptions::default()).unwrap();
+    assert_eq!(
+        report.extensions_ignored,
+        vec!["KHR_draco_mesh_compression".to_owned()]
+    );
+    assert!(report
+        .warnings
+        .iter()
+        .any(|w| w.contains("KHR_draco_mesh_compression")));
+}

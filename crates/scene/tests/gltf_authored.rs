@@ -1,0 +1,584 @@
+//! The scenes in `assets/scenes/` are made here, from code, with the writer
+//! (`COMBUSTION_BLESS=1 cargo test -p combustion-scene --test gltf_authored` rewrites
+//! them); the tests check that the files on disk import to exactly these scenes, and
+//! that every built-in scene survives a save → import round trip unchanged.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use combustion_scene::gltf::{import, save_gltf, CameraSource, ImportOptions};
+use combustion_scene::{
+    builtin_scene, Camera, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Light, Material,
+    Mesh, Object, Sampler, Scene, Texture, TextureRef, TextureSlot, WrapMode, BUILTIN_SCENES,
+};
+use glam::{Mat4, Quat, Vec3};
+
+fn assets() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes")
+}
+
+/// With `COMBUSTION_BLESS=1`, (re)writes `assets/scenes/` once per test run.
+fn bless() {
+    static WRITE: std::sync::Once = std::sync::Once::new();
+    if std::env::var_os("COMBUSTION_BLESS").is_some_and(|v| v == "1") {
+        WRITE.call_once(|| write_authored(&assets()));
+    }
+}
+
+/// A fresh, empty temporary folder.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("combustion-gltf-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn assert_same_scene(expected: &Scene, actual: &Scene) {
+    assert_eq!(expected.name, actual.name);
+    assert_eq!(expected.meshes.len(), actual.meshes.len(), "mesh count");
+    for (a, b) in expected.meshes.iter().zip(&actual.meshes) {
+        assert_eq!(a.name, b.name);
+        assert_eq!(a.indices, b.indices, "{}", a.name);
+        assert_eq!(a.vertices, b.vertices, "{}", a.name);
+    }
+    assert_eq!(
+        expected.materials.len(),
+        actual.materials.len(),
+        "material count"
+    );
+    for (a, b) in expected.materials.iter().zip(&actual.materials) {
+        assert_eq!(a, b, "material `{}`", a.name);
+    }
+    assert_eq!(expected.objects, actual.objects);
+    assert_eq!(expected.lights, actual.lights);
+    assert_eq!(expected.camera, actual.camera);
+    assert_eq!(expected.outside_ior, actual.outside_ior);
+}
+
+fn image(name: &str, color_space: ColorSpace, f: impl Fn(u32, u32) -> [u8; 4]) -> Arc<Image> {
+    let (width, height) = (16, 16);
+    let mut pixels = Vec::with_capacity(16 * 16 * 4);
+    for y in 0..height {
+        for x in 0..width {
+            pixels.extend_from_slice(&f(x, y));
+        }
+    }
+    Arc::new(Image {
+        name: name.into(),
+        width,
+        height,
+        color_space,
+        pixels,
+    })
+}
+
+fn texture(image: &Arc<Image>, sampler: Sampler) -> Option<TextureRef> {
+    Some(TextureRef {
+        texture: Texture {
+            image: image.clone(),
+            sampler,
+        },
+        tex_coord: 0,
+    })
+}
+
+/// Every texture slot, the sampler variants, all three light kinds, a placed camera.
+fn textured_scene() -> Scene {
+    let checker = image("checker", ColorSpace::Srgb, |x, y| {
+        if (x / 4 + y / 4) % 2 == 0 {
+            [230, 200, 150, 255]
+        } else {
+            [40, 60, 90, 255]
+        }
+    });
+    let metal_rough = image("metal-rough", ColorSpace::Linear, |x, y| {
+        [0, (x * 16) as u8, if y < 8 { 255 } else { 0 }, 255]
+    });
+    let bumps = image("bumps", ColorSpace::Linear, |x, _| {
+        let slope = (x as f32 / 16.0 * std::f32::consts::TAU).sin() * 0.5;
+        let n = Vec3::new(slope, 0.0, 1.0).normalize();
+        [
+            ((n.x * 0.5 + 0.5) * 255.0).round() as u8,
+            ((n.y * 0.5 + 0.5) * 255.0).round() as u8,
+            ((n.z * 0.5 + 0.5) * 255.0).round() as u8,
+            255,
+        ]
+    });
+    let occlusion = image("occlusion", ColorSpace::Linear, |x, y| {
+        let d = (x as i32 - 8).pow(2) + (y as i32 - 8).pow(2);
+        let v = (255 - d * 2).clamp(0, 255) as u8;
+        [v, v, v, 255]
+    });
+    let glow = image("glow", ColorSpace::Srgb, |x, y| {
+        if x == y || x + y == 15 {
+            [255, 120, 20, 255]
+        } else {
+            [0, 0, 0, 255]
+        }
+    });
+    let swirl = image("anisotropy-swirl", ColorSpace::Linear, |x, y| {
+        let angle = (y as f32 - 7.5).atan2(x as f32 - 7.5) + std::f32::consts::FRAC_PI_2;
+        [
+            ((angle.cos() * 0.5 + 0.5) * 255.0).round() as u8,
+            ((angle.sin() * 0.5 + 0.5) * 255.0).round() as u8,
+            255,
+            255,
+        ]
+    });
+    let specular = image("specular", ColorSpace::Linear, |x, _| {
+        [255, 255, 255, (x * 17) as u8]
+    });
+    let specular_color = image("specular-colour", ColorSpace::Srgb, |_, y| {
+        [255, (y * 17) as u8, 128, 255]
+    });
+
+    let nearest_clamp = Sampler {
+        mag_filter: Filter::Nearest,
+        min_filter: Filter::Nearest,
+        mipmap_filter: None,
+        wrap_u: WrapMode::ClampToEdge,
+        wrap_v: WrapMode::ClampToEdge,
+    };
+    let mirrored = Sampler {
+        mag_filter: Filter::Linear,
+        min_filter: Filter::Nearest,
+        mipmap_filter: Some(Filter::Nearest),
+        wrap_u: WrapMode::MirroredRepeat,
+        wrap_v: WrapMode::Repeat,
+    };
+    let trilinear = Sampler::default();
+    let floor = Material {
+        name: "textured floor".into(),
+        base_color: [0.9, 0.9, 0.9],
+        roughness: 0.7,
+        base_color_texture: texture(&checker, nearest_clamp),
+        occlusion_texture: texture(&occlusion, trilinear),
+        occlusion_strength: 0.8,
+        normal_texture: texture(&bumps, mirrored),
+        normal_scale: 0.75,
+        ..Material::default()
+    };
+    let metal = Material {
+        name: "textured brushed metal".into(),
+        base_color: [0.95, 0.64, 0.54],
+        metalness: 1.0,
+        roughness: 0.35,
+        conductor: combustion_scene::conductor_from_reflectivity([0.95, 0.64, 0.54]),
+        conductor_from_base_color: true,
+        metallic_roughness_texture: texture(&metal_rough, trilinear),
+        anisotropy_strength: 0.6,
+        anisotropy_rotation: 0.3,
+        anisotropy_texture: texture(&swirl, trilinear),
+        ..Material::default()
+    };
+    let glowing = Material {
+        name: "glowing specular plastic".into(),
+        base_color: [0.1, 0.2, 0.5],
+        roughness: 0.3,
+        dielectric_ior: 1.45,
+        emissive_factor: [1.0, 0.5, 0.25],
+        emissive_strength: 4.0,
+        emissive_texture: texture(&glow, trilinear),
+        specular_factor: 0.8,
+        specular_color_factor: [1.0, 0.9, 0.8],
+        specular_texture: texture(&specular, trilinear),
+        specular_color_texture: texture(&specular_color, trilinear),
+        double_sided: true,
+        ..Material::default()
+    };
+    Scene {
+        name: "textured".into(),
+        meshes: vec![
+            Mesh::plane("floor", 4.0),
+            Mesh::uv_sphere("sphere", 0.5, 24, 12),
+        ],
+        materials: vec![floor, metal, glowing],
+        objects: vec![
+            Object {
+                mesh: 0,
+                material: 0,
+                transform: Mat4::IDENTITY,
+            },
+            Object {
+                mesh: 1,
+                material: 1,
+                transform: Mat4::from_translation(Vec3::new(-0.7, 0.5, 0.0)),
+            },
+            Object {
+                mesh: 1,
+                material: 2,
+                transform: Mat4::from_scale_rotation_translation(
+                    Vec3::splat(0.8),
+                    Quat::from_rotation_y(0.5),
+                    Vec3::new(0.7, 0.4, 0.2),
+                ),
+            },
+        ],
+        lights: vec![
+            Light::Point {
+                position: Vec3::new(-2.0, 3.0, 2.0),
+                intensity: [30.0, 28.0, 25.0],
+            },
+            Light::Spot {
+                position: Vec3::new(2.0, 3.0, 1.0),
+                direction: Vec3::new(-0.5, -1.0, -0.3),
+                intensity: [40.0, 40.0, 50.0],
+                inner_cone: 0.2,
+                outer_cone: 0.5,
+            },
+            Light::Directional {
+                direction: Vec3::new(0.2, -1.0, -0.5),
+                irradiance: [0.5, 0.5, 0.6],
+            },
+        ],
+        camera: Camera {
+            position: Vec3::new(0.0, 1.6, 3.5),
+            target: Vec3::new(0.0, 0.3, 0.0),
+            up: Vec3::Y,
+            vertical_fov: 45f32.to_radians(),
+            near: 0.1,
+            far: 50.0,
+        },
+        outside_ior: 1.0,
+    }
+}
+
+/// What glTF cannot say, through `COMBUSTION_materials_optics`: spheres under water
+/// (scene outside IOR 1.33), a named metal, a spectral table, explicit η + ik, a
+/// base-colour conductor, an air bubble (material outside IOR), all three diffuse
+/// models and polarisation weights. Before saving, [`optics_postprocess`] rewrites the
+/// conductors into the extension's other forms, removes TANGENT from the normal-mapped
+/// sphere (so MikkTSpace must make them) and NORMAL from the floor (flat normals).
+fn optics_scene() -> Scene {
+    let sphere = |name: &str, m: Material| Material {
+        name: name.into(),
+        ..m
+    };
+    let materials = vec![
+        sphere(
+            "gold (named metal)",
+            Material {
+                metalness: 1.0,
+                roughness: 0.3,
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "copper (spectral table)",
+            Material {
+                metalness: 1.0,
+                roughness: 0.4,
+                polarisation_weight: 0.0,
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "explicit eta + ik",
+            Material {
+                metalness: 1.0,
+                roughness: 0.2,
+                conductor: ComplexIor {
+                    eta: [0.2, 0.9, 1.1],
+                    k: [3.0, 2.5, 2.0],
+                },
+                polarisation_weight: 1.0,
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "base-colour metal",
+            Material {
+                base_color: [0.9, 0.9, 0.3],
+                metalness: 1.0,
+                roughness: 0.25,
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "air bubble, Oren-Nayar full",
+            Material {
+                base_color: [0.7, 0.7, 0.7],
+                roughness: 0.9,
+                dielectric_ior: 1.0,
+                outside_ior: Some(1.0),
+                diffuse_model: DiffuseModel::OrenNayarFull,
+                ..Material::default()
+            },
+        ),
+        sphere(
+            "normal-mapped Oren-Nayar qualitative",
+            Material {
+                base_color: [0.6, 0.3, 0.2],
+                roughness: 0.8,
+                diffuse_model: DiffuseModel::OrenNayarQualitative,
+                normal_texture: texture(
+                    &image("ripples", ColorSpace::Linear, |x, y| {
+                        let s = ((x + y) as f32 * 0.8).sin();
+                        [(128.0 + s * 60.0) as u8, 128, 255, 255]
+                    }),
+                    Sampler::default(),
+                ),
+                ..Material::default()
+            },
+        ),
+        Material {
+            name: "sand floor".into(),
+            base_color: [0.76, 0.7, 0.5],
+            roughness: 1.0,
+            ..Material::default()
+        },
+    ];
+    let mut objects = Vec::new();
+    for i in 0..6 {
+        objects.push(Object {
+            mesh: if i == 5 { 1 } else { 0 },
+            material: i,
+            transform: Mat4::from_translation(Vec3::new(i as f32 * 1.1 - 2.75, 0.5, 0.0)),
+        });
+    }
+    objects.push(Object {
+        mesh: 2,
+        material: 6,
+        transform: Mat4::IDENTITY,
+    });
+    Scene {
+        name: "optics".into(),
+        meshes: vec![
+            Mesh::uv_sphere("sphere", 0.5, 32, 16),
+            Mesh::uv_sphere("normal-mapped sphere", 0.5, 32, 16),
+            Mesh::plane("floor", 10.0),
+        ],
+        materials,
+        objects,
+        lights: vec![Light::Directional {
+            direction: Vec3::new(0.3, -1.0, -0.6),
+            irradiance: [3.0; 3],
+        }],
+        camera: Camera {
+            position: Vec3::new(0.0, 2.0, 6.0),
+            target: Vec3::new(0.0, 0.5, 0.0),
+            up: Vec3::Y,
+            vertical_fov: 40f32.to_radians(),
+            near: 0.1,
+            far: 100.0,
+        },
+        outside_ior: 1.33,
+    }
+}
+
+/// Rewrites the writer's output for `optics_scene` into the extension's other forms.
+fn optics_postprocess(gltf: &Path) {
+    let mut root: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(gltf).unwrap()).unwrap();
+    let set_conductor =
+        |root: &mut serde_json::Value, material: usize, conductor: serde_json::Value| {
+            root["materials"][material]["extensions"]["COMBUSTION_materials_optics"]["conductor"] =
+                conductor;
+        };
+    set_conductor(&mut root, 0, serde_json::json!({ "metal": "gold" }));
+    set_conductor(
+        &mut root,
+        1,
+        serde_json::json!({ "spectrum": "copper.csv" }),
+    );
+    set_conductor(&mut root, 3, serde_json::json!({ "fromBaseColor": true }));
+    // The scene's outside IOR on the scene rather than the root.
+    let optics = root["extensions"]
+        .as_object_mut()
+        .unwrap()
+        .remove("COMBUSTION_materials_optics")
+        .unwrap();
+    root["scenes"][0]["extensions"] = serde_json::json!({ "COMBUSTION_materials_optics": optics });
+    // The normal-mapped sphere: no TANGENT (MikkTSpace). The floor: no NORMAL, no TANGENT
+    // (flat normals, reference tangents).
+    for mesh in root["meshes"].as_array_mut().unwrap() {
+        let name = mesh["name"].as_str().unwrap().to_owned();
+        let attributes = mesh["primitives"][0]["attributes"].as_object_mut().unwrap();
+        if name == "normal-mapped sphere" {
+            attributes.remove("TANGENT");
+        }
+        if name == "floor" {
+            attributes.remove("TANGENT");
+            attributes.remove("NORMAL");
+        }
+    }
+    std::fs::write(gltf, serde_json::to_string_pretty(&root).unwrap() + "\n").unwrap();
+    let copper = combustion_spectra::BuiltinMetal::Copper.csv();
+    std::fs::write(gltf.with_file_name("copper.csv"), copper).unwrap();
+}
+
+fn write_authored(dir: &Path) {
+    std::fs::create_dir_all(dir.join("textured")).unwrap();
+    std::fs::create_dir_all(dir.join("optics")).unwrap();
+    save_gltf(&textured_scene(), &dir.join("textured/textured.gltf")).unwrap();
+    let optics = dir.join("optics/optics.gltf");
+    save_gltf(&optics_scene(), &optics).unwrap();
+    optics_postprocess(&optics);
+}
+
+#[test]
+fn authored_scenes_are_current() {
+    bless();
+    let (scene, report) = import(
+        &assets().join("textured/textured.gltf"),
+        &ImportOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e} (regenerate with COMBUSTION_BLESS=1)"));
+    assert_same_scene(&textured_scene(), &scene);
+    assert!(report.warnings.is_empty(), "{report}");
+    assert_eq!(report.camera, CameraSource::Gltf { index: 0, node: 6 });
+    let features = scene.features();
+    for slot in TextureSlot::ALL {
+        assert!(
+            features.texture_count(slot) > 0,
+            "{slot:?} unused: {features}"
+        );
+    }
+    assert_eq!(
+        (
+            features.point_lights,
+            features.spot_lights,
+            features.directional_lights
+        ),
+        (1, 1, 1)
+    );
+    assert_eq!(
+        (
+            features.emissive,
+            features.anisotropic,
+            features.conductors_from_base_color
+        ),
+        (1, 1, 1)
+    );
+}
+
+#[test]
+fn authored_optics_scene_uses_the_extension() {
+    bless();
+    let (scene, report) = import(
+        &assets().join("optics/optics.gltf"),
+        &ImportOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e} (regenerate with COMBUSTION_BLESS=1)"));
+    let expected = optics_scene();
+    assert_eq!(scene.outside_ior, 1.33);
+    let constants = |metal: combustion_spectra::BuiltinMetal| {
+        let c = combustion_spectra::rgb_optical_constants(metal.spectrum()).unwrap();
+        ComplexIor {
+            eta: c.eta.map(|x| x as f32),
+            k: c.k.map(|x| x as f32),
+        }
+    };
+    assert_eq!(
+        scene.materials[0].conductor,
+        constants(combustion_spectra::BuiltinMetal::Gold)
+    );
+    assert_eq!(
+        scene.materials[1].conductor,
+        constants(combustion_spectra::BuiltinMetal::Copper)
+    );
+    assert_eq!(
+        scene.materials[2].conductor,
+        expected.materials[2].conductor
+    );
+    assert!(scene.materials[3].conductor_from_base_color);
+    assert_eq!(
+        scene.materials[3].conductor,
+        combustion_scene::conductor_from_reflectivity([0.9, 0.9, 0.3])
+    );
+    assert_eq!(scene.materials[4].outside_ior, Some(1.0));
+    assert_eq!(scene.materials[1].polarisation_weight, 0.0);
+    assert_eq!(scene.materials[2].polarisation_weight, 1.0);
+    let features = scene.features();
+    assert_eq!(features.diffuse_models.len(), 3);
+    assert!(features.outside_ior_not_one);
+    assert_eq!(
+        (features.conductors, features.conductors_from_base_color),
+        (3, 1)
+    );
+    // MikkTSpace for the normal-mapped sphere, flat normals for the floor.
+    assert_eq!(
+        (report.generated_tangents, report.generated_normals),
+        (1, 1),
+        "{report}"
+    );
+    let floor = scene.meshes.iter().find(|m| m.name == "floor").unwrap();
+    assert!(floor.vertices.iter().all(|v| v.normal == [0.0, 1.0, 0.0]));
+    let mapped = scene
+        .meshes
+        .iter()
+        .find(|m| m.name == "normal-mapped sphere")
+        .unwrap();
+    for v in &mapped.vertices {
+        let n = Vec3::from(v.normal);
+        let t = Vec3::from_slice(&v.tangent[..3]);
+        assert!(
+            (t.length() - 1.0).abs() < 1e-3 && n.dot(t).abs() < 1e-2,
+            "{v:?}"
+        );
+    }
+    // The rest is as written.
+    for (a, b) in expected.materials.iter().zip(&scene.materials) {
+        assert_eq!(
+            (a.diffuse_model, a.roughness, a.outside_ior),
+            (b.diffuse_model, b.roughness, b.outside_ior)
+        );
+    }
+}
+
+#[test]
+fn assets_stay_small() {
+    let mut total = 0;
+    let mut stack = vec![assets()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let entry = entry.unwrap();
+            if entry.file_type().unwrap().is_dir() {
+                stack.push(entry.path());
+            } else {
+                total += entry.metadata().unwrap().len();
+            }
+        }
+    }
+    assert!(total < 1 << 20, "assets/scenes holds {total} bytes");
+}
+
+#[test]
+fn builtin_scenes_round_trip_exactly() {
+    for name in BUILTIN_SCENES {
+        let scene = builtin_scene(name).unwrap();
+        let dir = temp_dir(name);
+        let path = dir.join(format!("{name}.gltf"));
+        save_gltf(&scene, &path).unwrap();
+        let (loaded, report) = import(&path, &ImportOptions::default()).unwrap();
+        assert_same_scene(&scene, &loaded);
+        assert!(report.warnings.is_empty(), "{report}");
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
+
+#[test]
+fn textured_scene_round_trips_through_a_temporary_folder() {
+    let scene = textured_scene();
+    let dir = temp_dir("textured");
+    let path = dir.join("t.gltf");
+    save_gltf(&scene, &path).unwrap();
+    let (loaded, _) = import(&path, &ImportOptions::default()).unwrap();
+    assert_same_scene(&scene, &loaded);
+    // One image shared by two slots stays one file.
+    let table = loaded.texture_table();
+    assert_eq!(table.images.len(), 8);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn saving_an_invalid_scene_names_the_problem() {
+    let mut scene = textured_scene();
+    scene.materials[0].roughness = 2.0;
+    let dir = temp_dir("invalid");
+    let err = save_gltf(&scene, &dir.join("x.gltf"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("x.gltf") && err.contains("roughness"), "{err}");
+    let _ = std::fs::remove_dir_all(dir);
+}

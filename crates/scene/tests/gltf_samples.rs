@@ -1,0 +1,221 @@
+//! The Khronos glTF sample models in `../shared/data/gltf` (beside the workspace; not part
+//! of the repository) must import. Skipped, with a note, when the folder is absent.
+
+use std::path::{Path, PathBuf};
+
+use combustion_scene::gltf::{import, CameraSource, ImportOptions};
+use combustion_scene::{Scene, TextureSlot};
+
+fn samples() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/gltf");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!(
+            "skipped: the glTF sample models are not at {} (they live in the shared data folder, not in the repository)",
+            dir.display()
+        );
+        None
+    }
+}
+
+fn load(dir: &Path, relative: &str) -> Scene {
+    let path = dir.join(relative);
+    let (scene, report) =
+        import(&path, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    eprintln!("{report}\n{}", scene.features());
+    scene.validate().unwrap();
+    assert!(!scene.objects.is_empty(), "{relative}: no objects");
+    scene
+}
+
+/// Every .gltf and .glb in the folder imports.
+#[test]
+fn every_sample_model_imports() {
+    let Some(dir) = samples() else { return };
+    let mut count = 0;
+    for model in std::fs::read_dir(&dir).unwrap() {
+        let model = model.unwrap().path();
+        for variant in ["glTF", "glTF-Binary", "glTF-Embedded"] {
+            let Ok(entries) = std::fs::read_dir(model.join(variant)) else {
+                continue;
+            };
+            for entry in entries {
+                let path = entry.unwrap().path();
+                let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+                if ext == "gltf" || ext == "glb" {
+                    let relative = path
+                        .strip_prefix(&dir)
+                        .unwrap()
+                        .to_string_lossy()
+                        .into_owned();
+                    load(&dir, &relative);
+                    count += 1;
+                }
+            }
+        }
+    }
+    assert!(count >= 10, "only {count} sample files found");
+}
+
+/// The three forms of BoxTextured give the same scene (apart from the name).
+#[test]
+fn box_textured_forms_agree() {
+    let Some(dir) = samples() else { return };
+    let gltf = load(&dir, "BoxTextured/glTF/BoxTextured.gltf");
+    let glb = load(&dir, "BoxTextured/glTF-Binary/BoxTextured.glb");
+    let embedded = load(&dir, "BoxTextured/glTF-Embedded/BoxTextured.gltf");
+    for other in [&glb, &embedded] {
+        assert_eq!(gltf.meshes, other.meshes);
+        assert_eq!(gltf.objects, other.objects);
+        assert_eq!(gltf.materials.len(), other.materials.len());
+        let (a, b) = (&gltf.materials[0], &other.materials[0]);
+        let (ta, tb) = (
+            a.base_color_texture.as_ref().unwrap(),
+            b.base_color_texture.as_ref().unwrap(),
+        );
+        assert_eq!(ta.texture.image.pixels, tb.texture.image.pixels);
+        assert_eq!(ta.texture.sampler, tb.texture.sampler);
+    }
+    let features = gltf.features();
+    assert_eq!(features.texture_count(TextureSlot::BaseColor), 1);
+}
+
+fn load_with_report(dir: &Path, relative: &str) -> (Scene, combustion_scene::gltf::ImportReport) {
+    import(&dir.join(relative), &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// KHR_materials_anisotropy is read from the raw extension JSON: strength, rotation and
+/// texture, in both forms of the file.
+#[test]
+fn anisotropy_rotation_test_has_its_anisotropy() {
+    let Some(dir) = samples() else { return };
+    for relative in [
+        "AnisotropyRotationTest/glTF/AnisotropyRotationTest.gltf",
+        "AnisotropyRotationTest/glTF-Binary/AnisotropyRotationTest.glb",
+    ] {
+        let (scene, report) = load_with_report(&dir, relative);
+        assert!(report
+            .extensions_used
+            .contains(&"KHR_materials_anisotropy".to_owned()));
+        assert!(
+            report.extensions_ignored.is_empty(),
+            "{:?}",
+            report.extensions_ignored
+        );
+        let find = |name: &str| {
+            scene
+                .materials
+                .iter()
+                .find(|m| m.name == name)
+                .unwrap_or_else(|| panic!("{relative}: no material `{name}`"))
+        };
+        let plain = find("Aniso Tangents");
+        assert_eq!(
+            (plain.anisotropy_strength, plain.anisotropy_rotation),
+            (0.5, 0.0)
+        );
+        assert!(plain.anisotropy_texture.is_none());
+        let rotated = find("Aniso Tan + Rotation");
+        assert_eq!(rotated.anisotropy_strength, 0.5);
+        assert!((rotated.anisotropy_rotation - std::f32::consts::FRAC_PI_6).abs() < 1e-6);
+        let textured = find("Aniso Tan + Texture");
+        let texture = textured
+            .anisotropy_texture
+            .as_ref()
+            .expect("anisotropy texture");
+        assert_eq!(
+            texture.texture.image.color_space,
+            combustion_scene::ColorSpace::Linear
+        );
+        let both = find("Aniso Tan + Rotation + Texture");
+        assert!((both.anisotropy_rotation - 0.349_065_85).abs() < 1e-6);
+        assert!(both.anisotropy_texture.is_some());
+        assert!(scene.features().anisotropic >= 4);
+        assert_eq!(report.camera, CameraSource::Framing);
+    }
+}
+
+/// AnisotropyStrengthTest: strengths 0 … 1 in sixths on 49 spheres sharing one set of
+/// accessors (so one mesh); the label has no TANGENT and no anisotropy, so it gets the
+/// reference frame of its normals rather than MikkTSpace.
+#[test]
+fn anisotropy_strength_test_has_its_strengths() {
+    let Some(dir) = samples() else { return };
+    for relative in [
+        "AnisotropyStrengthTest/glTF/AnisotropyStrengthTest.gltf",
+        "AnisotropyStrengthTest/glTF-Binary/AnisotropyStrengthTest.glb",
+    ] {
+        let (scene, report) = load_with_report(&dir, relative);
+        let mut strengths: Vec<f32> = scene
+            .materials
+            .iter()
+            .map(|m| m.anisotropy_strength)
+            .collect();
+        strengths.sort_by(f32::total_cmp);
+        strengths.dedup();
+        assert_eq!(strengths.len(), 7, "{strengths:?}");
+        assert_eq!((strengths[0], strengths[6]), (0.0, 1.0));
+        assert_eq!(
+            (scene.meshes.len(), report.generated_tangents),
+            (2, 0),
+            "{report}"
+        );
+        for mesh in &scene.meshes {
+            for v in &mesh.vertices {
+                let t = glam::Vec3::from_slice(&v.tangent[..3]);
+                assert!(
+                    (t.length() - 1.0).abs() < 1e-3,
+                    "{}: tangent {:?}",
+                    mesh.name,
+                    v.tangent
+                );
+                assert!(v.tangent[3] == 1.0 || v.tangent[3] == -1.0);
+            }
+        }
+    }
+}
+
+/// KHR_materials_specular factors, colours (also above 1) and textures are stored.
+#[test]
+fn specular_test_has_its_specular() {
+    let Some(dir) = samples() else { return };
+    let (scene, _) = load_with_report(&dir, "SpecularTest/glTF/SpecularTest.gltf");
+    let find = |name: &str| scene.materials.iter().find(|m| m.name == name).unwrap();
+    assert_eq!(find("M1.1_specFac").specular_factor, 0.0);
+    assert_eq!(find("M1.3_specFac").specular_factor, 0.212231);
+    assert!(find("M2_SpecTex").specular_texture.is_some());
+    assert_eq!(
+        find("M5.4_yellowFac").specular_color_factor,
+        [0.520996, 0.520996, 0.0]
+    );
+    assert_eq!(find("M7.5_HDR").specular_color_factor, [25.0; 3]);
+    let colour = find("M6_yellowTex")
+        .specular_color_texture
+        .as_ref()
+        .unwrap();
+    assert_eq!(
+        colour.texture.image.color_space,
+        combustion_scene::ColorSpace::Srgb
+    );
+    assert!(scene.features().specular >= 20);
+}
+
+/// Metals without textures: each metal's conductor is derived from its base colour.
+#[test]
+fn metal_rough_spheres_are_base_colour_conductors() {
+    let Some(dir) = samples() else { return };
+    let (scene, report) = load_with_report(
+        &dir,
+        "MetalRoughSpheresNoTextures/glTF/MetalRoughSpheresNoTextures.gltf",
+    );
+    let features = scene.features();
+    assert!(features.conductors_from_base_color > 50, "{features}");
+    assert_eq!(features.conductors, 0);
+    for m in scene.materials.iter().filter(|m| m.metalness > 0.0) {
+        assert!(m.conductor_from_base_color);
+        let expected = combustion_scene::conductor_from_reflectivity(m.base_color);
+        assert_eq!(m.conductor, expected);
+    }
+    assert!(report.objects >= 98, "{report}");
+}
