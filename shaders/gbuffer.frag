@@ -4,6 +4,7 @@
 // Layout: docs/gbuffer.md.
 #include "gpu_types.glsl"
 #include "gbuffer_encoding.glsl"
+#include "srgb.glsl"
 
 layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
@@ -12,7 +13,7 @@ layout(location = 3) flat in uint in_material;
 
 layout(std430, set = 0, binding = 1) readonly buffer Materials { GpuMaterial materials[]; };
 
-layout(location = 0) out vec4 out_base_color_metalness;       // RGBA8_SRGB
+layout(location = 0) out vec4 out_base_color_metalness;       // RGBA8_UNORM, sRGB-encoded rgb
 layout(location = 1) out vec4 out_normal_roughness_anisotropy; // RGBA16_UNORM
 layout(location = 2) out uvec2 out_material_direction;         // RG16_UINT
 
@@ -38,7 +39,9 @@ void main() {
     float rotation = material.roughness_anisotropy_ior.z;
     vec3 direction = cos(rotation) * t + sin(rotation) * b;
 
-    out_base_color_metalness = material.base_color_metalness;
+    out_base_color_metalness = vec4(
+        srgb_encode(material.base_color_metalness.rgb),
+        material.base_color_metalness.a);
     out_normal_roughness_anisotropy = vec4(
         octahedral_encode(n),
         material.roughness_anisotropy_ior.x,

@@ -6,6 +6,7 @@
 // test in tests/parity.rs.
 #include "gpu_types.glsl"
 #include "gbuffer_encoding.glsl"
+#include "srgb.glsl"
 #include "brdf.glsl"
 
 layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;
@@ -47,7 +48,7 @@ void main() {
     float alpha = alpha_from_perceptual_roughness(nra.z);
     vec2 alphas = anisotropic_alphas(alpha, nra.w);
     BrdfInputs m;
-    m.base_color = base_metal.rgb;
+    m.base_color = srgb_decode_unorm8(base_metal.rgb);
     m.metalness = base_metal.a;
     m.alpha_x = alphas.x;
     m.alpha_y = alphas.y;

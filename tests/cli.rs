@@ -191,10 +191,25 @@ fn eval_prints_json_for_a_term() {
     // reflectance ((η−1)² + k²)/((η+1)² + k²) computed by hand for the red channel is
     // ((0.1132−1)² + 4.0955²)/((1.1132)² + 4.0955²) = 17.5596/18.0124 = 0.97486.
     let (code, stdout, stderr) = combustion(&[
-        "eval", "fresnel-conductor", "--theta-v", "0", "--theta-l", "0", "--eta", "0.1132", "--k", "4.0955",
+        "eval",
+        "fresnel-conductor",
+        "--theta-v",
+        "0",
+        "--theta-l",
+        "0",
+        "--eta",
+        "0.1132",
+        "--k",
+        "4.0955",
     ]);
     assert_eq!(code, 0, "{stderr}");
-    let r = stdout.split("\"r\": [").nth(1).unwrap().split(',').next().unwrap();
+    let r = stdout
+        .split("\"r\": [")
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap();
     let r: f64 = r.trim().parse().unwrap();
     assert!((r - 0.974_86).abs() < 1e-5, "{stdout}");
     assert!(stdout.trim_start().starts_with('{') && stdout.trim_end().ends_with('}'));
@@ -204,19 +219,52 @@ fn eval_prints_json_for_a_term() {
 fn eval_total_internal_reflection_is_exactly_one() {
     // An air bubble under water (ηi = 1.33 > η = 1) past the critical angle (48.75°).
     let (code, stdout, _) = combustion(&[
-        "eval", "fresnel-dielectric", "--theta-v", "60", "--theta-l", "60", "--phi-l", "180", "--eta", "1.0",
-        "--eta-i", "1.33",
+        "eval",
+        "fresnel-dielectric",
+        "--theta-v",
+        "60",
+        "--theta-l",
+        "60",
+        "--phi-l",
+        "180",
+        "--eta",
+        "1.0",
+        "--eta-i",
+        "1.33",
     ]);
     assert_eq!(code, 0);
-    assert!(stdout.contains("\"r\": 1.0,") && stdout.contains("\"rs\": 1.0"), "{stdout}");
+    assert!(
+        stdout.contains("\"r\": 1.0,") && stdout.contains("\"rs\": 1.0"),
+        "{stdout}"
+    );
 }
 
 #[test]
 fn eval_bad_input() {
-    assert_clear_error(&["eval", "d-ggx", "--theta-v", "0", "--theta-l", "0", "--alpha", "-1"], "outside");
+    assert_clear_error(
+        &[
+            "eval",
+            "d-ggx",
+            "--theta-v",
+            "0",
+            "--theta-l",
+            "0",
+            "--alpha",
+            "-1",
+        ],
+        "outside",
+    );
     assert_clear_error(&["eval", "d-gx"], "unknown term `d-gx`");
-    assert_clear_error(&["eval", "fresnel-conductor", "--eta", "1,2"], "takes 1 or 3 value(s)");
-    assert_clear_error(&["eval", "d-ggx", "--v", "0,0,1", "--l", "0,0,-1", "--alpha", "0.5"], "opposite");
+    assert_clear_error(
+        &["eval", "fresnel-conductor", "--eta", "1,2"],
+        "takes 1 or 3 value(s)",
+    );
+    assert_clear_error(
+        &[
+            "eval", "d-ggx", "--v", "0,0,1", "--l", "0,0,-1", "--alpha", "0.5",
+        ],
+        "opposite",
+    );
     assert_clear_error(&["eval", "lambert", "--rho", "NaN"], "not finite");
     assert_clear_error(&["eval", "d-ggx", "--theta-v", "10"], "needs m");
 }

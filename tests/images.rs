@@ -16,10 +16,10 @@ const HEIGHT: u32 = 256;
 
 /// Mean FLIP allowed between a render and its golden. Lavapipe is deterministic for a
 /// given Mesa/LLVM build, so the same machine gives 0. The bound is half the mean FLIP
-/// that a just-visible change produces — exposure ×1.02 on this scene measured 0.0046
-/// (see tests/goldens/README.md) — so such a change fails while LLVM code-generation
-/// noise (a few 8-bit steps in isolated pixels) passes.
-const SPHERES_MAX_MEAN_FLIP: f32 = 0.0023;
+/// that a just-visible change produces — exposure ×1.02 on this scene measured 0.0096
+/// (`measure_flip_of_a_just_visible_change`) — so such a change fails while LLVM
+/// code-generation noise (a few 8-bit steps in isolated pixels) passes.
+const SPHERES_MAX_MEAN_FLIP: f32 = 0.0048;
 
 fn render_spheres(settings: RendererSettings) -> (Scene, combustion::renderer::Frame) {
     let scene = builtin_scene("spheres").unwrap();
@@ -125,7 +125,10 @@ impl AnalyticSpheres {
         best.map(|(t, i)| (origin + dir * t, i))
     }
 
-    fn radiance(&self, x: u32, y: u32) -> Option<[f64; 3]> {
+    /// The display bytes the analytic spheres give at pixel (x, y), for the analytic
+    /// normal and for that normal tilted by `tilt` radians in four directions; None where
+    /// the pixel is near a silhouette or misses every sphere.
+    fn display_bytes(&self, x: u32, y: u32, tilt: f64) -> Option<[[f64; 3]; 5]> {
         let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
         let (p, sphere) = self.hit(px, py)?;
         // Interior pixels only: the four neighbours hit the same sphere, and the surface
@@ -142,6 +145,20 @@ impl AnalyticSpheres {
         if n.dot(v) < 0.3 {
             return None;
         }
+        let (e1, e2) = n.any_orthonormal_pair();
+        let mut out = [[0.0; 3]; 5];
+        for (k, (a, b)) in [(0.0, 0.0), (1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)]
+            .into_iter()
+            .enumerate()
+        {
+            let tilted = (n + (e1 * a + e2 * b) * tilt).normalize();
+            let radiance = self.shade(p, tilted, v, material_index);
+            out[k] = radiance.map(|r| linear_to_srgb(tonemap_exponential(r)) * 255.0);
+        }
+        Some(out)
+    }
+
+    fn shade(&self, p: DVec3, n: DVec3, v: DVec3, material_index: usize) -> [f64; 3] {
         // The UV sphere's tangent: along increasing longitude φ, n = (sinθcosφ, cosθ, −sinθsinφ).
         let phi = (-n.z).atan2(n.x);
         let t = DVec3::new(-phi.sin(), 0.0, -phi.cos());
@@ -186,7 +203,7 @@ impl AnalyticSpheres {
                 radiance[c] += f[c] * e[c] * cos;
             }
         }
-        Some(radiance)
+        radiance
     }
 }
 
@@ -211,26 +228,46 @@ fn brdf_inputs(material: &Material, outside_ior: f32) -> BrdfInputs<f64> {
     }
 }
 
-/// The committed golden agrees with the analytic f64 reference, pixel by pixel (interior
-/// pixels of every sphere). This is the independent check of the golden: it reads the PNG
-/// on disk, not a render.
+/// How far the tessellated sphere's shading normal can stray from the analytic normal
+/// at the same pixel. The 64×32 UV sphere's flat triangles lie inside the sphere by up to
+/// the sagitta r(1 − cos(π/64)) = 5.1e-4 r; seen at n·v ≥ 0.3 (tan θ ≤ 3.18) the ray meets
+/// the triangle up to 3.18 · 5.1e-4 r from where it meets the sphere, so the normals
+/// differ by up to 1.6e-3 rad; interpolation adds much less. Twice that, to be safe.
+const TESSELLATION_NORMAL_ERROR: f64 = 3.2e-3;
+
+/// The committed golden agrees with the analytic f64 reference, pixel by pixel, on the
+/// interior of every sphere. This is the independent check of the golden: it reads the
+/// PNG on disk, not a render, and computes every expected pixel from the analytic
+/// spheres with the optics crate in f64.
+///
+/// Pixels whose expected value changes by more than 2 levels when the normal is tilted
+/// by the tessellation error (the sharpest highlights) can't be decided by an analytic
+/// sphere and are counted but not compared.
 #[test]
 fn spheres_golden_matches_analytic_reference() {
     let scene = builtin_scene("spheres").unwrap();
     let (w, h, golden) = common::read_png(&common::goldens_dir().join("spheres_256.png"));
     assert_eq!((w, h), (WIDTH, HEIGHT));
     let reference = AnalyticSpheres::new(scene);
+    let (mut compared, mut ill_conditioned) = (0usize, 0usize);
     let mut histogram = [0usize; 256];
     let mut worst = (0u8, 0, 0);
     for y in 0..HEIGHT {
         for x in 0..WIDTH {
-            let Some(radiance) = reference.radiance(x, y) else {
+            let Some(bytes) = reference.display_bytes(x, y, TESSELLATION_NORMAL_ERROR) else {
                 continue;
             };
             let pixel = golden[(y * WIDTH + x) as usize];
             for c in 0..3 {
-                let expected = (linear_to_srgb(tonemap_exponential(radiance[c])) * 255.0).round();
-                let diff = (f64::from(pixel[c]) - expected).abs() as u8;
+                let values = bytes.map(|b| b[c]);
+                let spread = values.iter().cloned().fold(f64::MIN, f64::max)
+                    - values.iter().cloned().fold(f64::MAX, f64::min);
+                if spread > 2.0 {
+                    ill_conditioned += 1;
+                    continue;
+                }
+                compared += 1;
+                let diff = (f64::from(pixel[c]) - values[0].round()).abs() as u8;
                 histogram[diff as usize] += 1;
                 if diff > worst.0 {
                     worst = (diff, x, y);
@@ -238,28 +275,36 @@ fn spheres_golden_matches_analytic_reference() {
             }
         }
     }
-    let total: usize = histogram.iter().sum();
-    let within = |levels: usize| histogram[..=levels].iter().sum::<usize>() as f64 / total as f64;
+    let within =
+        |levels: usize| histogram[..=levels].iter().sum::<usize>() as f64 / compared as f64;
     eprintln!(
-        "{total} channel samples; within 0: {:.4}, 1: {:.4}, 2: {:.4}, 4: {:.4}; worst {} levels at {:?}",
+        "{compared} channel samples compared ({ill_conditioned} ill-conditioned left out); within 0 levels: {:.4}, 1: {:.4}, 2: {:.4}; worst {} levels at {:?}",
         within(0),
         within(1),
         within(2),
-        within(4),
         worst.0,
         (worst.1, worst.2)
     );
-    assert!(total > 20_000, "too few interior pixels checked: {total}");
-    // Error sources between the analytic spheres and the render, all small except one:
-    // 8-bit sRGB storage of base colour (≤ 0.5 step), 16-bit normal/roughness (negligible),
-    // and the 64×32 tessellation: interpolated normals deviate from the analytic normal by
-    // up to ~1e-3 rad, which moves the sharpest highlights (α = 0.01) by several levels.
-    // Hence a bound on the bulk and a looser one on the worst pixel.
-    assert!(within(1) > 0.99, "at least 99% of samples within 1 level");
     assert!(
-        worst.0 <= 12,
+        compared > 20_000,
+        "too few interior pixels compared: {compared}"
+    );
+    // Measured: 6.2 % of interior samples lie in highlights too sharp to decide (the
+    // smooth columns); the comparison must still cover at least 90 % of them.
+    assert!(
+        compared as f64 > 0.9 * (compared + ill_conditioned) as f64,
+        "the comparison must cover the bulk of the spheres"
+    );
+    // What remains between the analytic spheres and the render: the 8-bit sRGB storage of
+    // base colour (≤ half a step of albedo), the 8-bit output rounding (half a level), and
+    // the tessellation (≤ 2 levels by the conditioning filter above).
+    assert!(
+        worst.0 <= 3,
         "worst pixel {} levels off at {:?}",
         worst.0,
         (worst.1, worst.2)
     );
+    // Away from the few pixels where those add up, only the two roundings remain (the
+    // reference's and the output's, half a level each): nearly all within one level.
+    assert!(within(1) >= 0.99, "{:.4} within one level", within(1));
 }

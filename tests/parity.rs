@@ -271,6 +271,14 @@ fn hard_cases_parity() {
     );
 }
 
-/// Placeholder bounds until measured (set from the first measurement, with reasons).
-const PARITY_MAX_RELATIVE: f64 = 1e-2;
-const PARITY_MEAN_RELATIVE: f64 = 1e-4;
+/// Bound on the worst pixel. The GPU reconstructs the position from a 32-bit depth; at
+/// the grid's 9 m with a 0.1 m near plane one depth step is ≈ 5e-5 m along the view, which
+/// turns v and l by up to ≈ 1e-5 rad. The narrowest lobe (α = 0.01) changes by up to
+/// 2 tanθ/α² ≈ 200 per radian, so a highlight pixel may differ by up to ≈ 2e-3 relative
+/// without any fault in the shading; f32 rounding adds (16 + κ) ε ≈ 1e-5 (optics crate's
+/// f32 table). Measured: 2.8e-4 (spheres), 2.1e-4 (hard cases). Asserted: 1e-3.
+const PARITY_MAX_RELATIVE: f64 = 1e-3;
+/// Bound on the mean over lit pixels: most pixels are well conditioned, where f32 gives
+/// ≈ 10 ε ≈ 1e-6. Measured: 3.7e-6 (spheres), 7.4e-6 (hard cases). Asserted: 2e-5, so a
+/// systematic error of 0.002 % over the image fails.
+const PARITY_MEAN_RELATIVE: f64 = 2e-5;

@@ -5,7 +5,6 @@
 #define COMBUSTION_GBUFFER_ENCODING_GLSL
 
 #include "constants.glsl"
-
 vec2 sign_not_zero(vec2 v) {
     return vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0);
 }

@@ -125,7 +125,7 @@ pub fn tonemap_exponential(x: f64) -> f64 {
     1.0 - (-x.max(0.0)).exp()
 }
 
-/// The sRGB encoding (IEC 61966-2-1) the GPU applies when writing an _SRGB format.
+/// The sRGB encoding (IEC 61966-2-1) the tonemap pass applies (`srgb_encode`).
 pub fn linear_to_srgb(linear: f64) -> f64 {
     if linear <= 0.0031308 {
         linear * 12.92
@@ -180,7 +180,7 @@ impl FrameTargets {
                 device,
                 &ImageDesc {
                     name: "display (sRGB)",
-                    format: vk::Format::R8G8B8A8_SRGB,
+                    format: vk::Format::R8G8B8A8_UNORM,
                     width,
                     height,
                     usage: output_usage,
@@ -280,7 +280,7 @@ impl Renderer {
             "tonemap.frag",
             &[(0, sampled)],
             std::mem::size_of::<TonemapPush>() as u32,
-            vk::Format::R8G8B8A8_SRGB,
+            vk::Format::R8G8B8A8_UNORM,
         )?;
         let descriptor_pool = DescriptorPool::new(
             &device,

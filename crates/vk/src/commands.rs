@@ -77,7 +77,10 @@ impl Drop for OneShot {
         unsafe {
             if self.fence != vk::Fence::null() {
                 // Bounded: a fence left unsignalled by a failed submission must not hang teardown.
-                if raw.wait_for_fences(&[self.fence], true, 10_000_000_000).is_err() {
+                if raw
+                    .wait_for_fences(&[self.fence], true, 10_000_000_000)
+                    .is_err()
+                {
                     log::error!("command buffer still pending after 10 s at teardown");
                 }
                 raw.destroy_fence(self.fence, None);
