@@ -10,18 +10,34 @@ layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec4 in_tangent;
 layout(location = 3) flat in uint in_material;
+layout(location = 4) in vec2 in_uv;
 
 layout(std430, set = 0, binding = 1) readonly buffer Materials { GpuMaterial materials[]; };
+// The material's textures (set 1, bound per material; empty slots hold a 1×1 white
+// texture and are not sampled: the material table's index is -1 for them).
+layout(set = 1, binding = 0) uniform sampler2D base_color_texture;
+layout(set = 1, binding = 1) uniform sampler2D metallic_roughness_texture;
+layout(set = 1, binding = 2) uniform sampler2D normal_texture;
+layout(set = 1, binding = 3) uniform sampler2D occlusion_texture;  // no ambient light yet: unused
+layout(set = 1, binding = 4) uniform sampler2D emissive_texture;
+layout(set = 1, binding = 5) uniform sampler2D anisotropy_texture;
 
 layout(location = 0) out vec4 out_base_color_metalness;       // RGBA8_UNORM, sRGB-encoded rgb
 layout(location = 1) out vec4 out_normal_roughness_anisotropy; // RGBA16_UNORM
 layout(location = 2) out uvec2 out_material_direction;         // RG16_UINT
+#ifdef EMISSIVE
+layout(location = 3) out vec4 out_emissive;                    // RGBA16F, radiance
+#endif
 
 void main() {
     GpuMaterial material = materials[in_material];
+    ivec4 tex0 = material.textures_base_mr_normal_occlusion;
+    ivec4 tex1 = material.textures_emissive_anisotropy_specular;
+
+    // Geometric frame: interpolated normal (facet normal if it is degenerate) and the
+    // mesh tangent made orthogonal to it.
     vec3 geometric = cross(dFdx(in_world_position), dFdy(in_world_position));
     vec3 n = in_normal;
-    // A zero or non-finite interpolated normal falls back to the facet normal.
     if (!(dot(n, n) > 1e-20) || any(isnan(n)) || any(isinf(n))) {
         n = geometric;
     }
@@ -36,15 +52,53 @@ void main() {
     }
     t = normalize(t);
     vec3 b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
-    float rotation = material.roughness_anisotropy_ior.z;
-    vec3 direction = cos(rotation) * t + sin(rotation) * b;
 
-    out_base_color_metalness = vec4(
-        srgb_encode(material.base_color_metalness.rgb),
-        material.base_color_metalness.a);
-    out_normal_roughness_anisotropy = vec4(
-        octahedral_encode(n),
-        material.roughness_anisotropy_ior.x,
-        material.roughness_anisotropy_ior.y);
-    out_material_direction = uvec2(in_material, anisotropy_direction_encode(n, direction));
+    // Normal map (tangent space, glTF convention), scaled in x and y.
+    if (tex0.z >= 0) {
+        vec3 m = texture(normal_texture, in_uv).xyz * 2.0 - 1.0;
+        m.xy *= material.emissive_normal_scale.a;
+        vec3 mapped = mat3(t, b, n) * m;
+        if (dot(mapped, mapped) > 1e-20) {
+            n = normalize(mapped);
+            t = normalize(t - n * dot(n, t));
+            b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
+        }
+    }
+
+    vec4 base = material.base_color_metalness;
+    if (tex0.x >= 0) {
+        base.rgb *= texture(base_color_texture, in_uv).rgb;
+    }
+    vec4 metal_rough = tex0.y >= 0 ? texture(metallic_roughness_texture, in_uv) : vec4(1.0);
+    // glTF: G = roughness, B = metalness
+    float metalness = base.a * metal_rough.b;
+    float roughness = material.roughness_anisotropy_ior.x * metal_rough.g;
+
+    // Anisotropy (KHR_materials_anisotropy): direction in tangent space from the texture's
+    // RG (or +x), rotated by the material's rotation; strength × the texture's B.
+    float strength = material.roughness_anisotropy_ior.y;
+    vec2 along = vec2(1.0, 0.0);
+    if (tex1.y >= 0) {
+        vec3 a = texture(anisotropy_texture, in_uv).rgb;
+        along = a.rg * 2.0 - 1.0;
+        strength *= a.b;
+    }
+    float rotation = material.roughness_anisotropy_ior.z;
+    float c = cos(rotation), s = sin(rotation);
+    along = vec2(c * along.x - s * along.y, s * along.x + c * along.y);
+    vec3 direction = along.x * t + along.y * b;
+    if (!(dot(direction, direction) > 1e-20)) {
+        direction = t;
+    }
+
+    out_base_color_metalness = vec4(srgb_encode(base.rgb), metalness);
+    out_normal_roughness_anisotropy = vec4(octahedral_encode(n), roughness, strength);
+    out_material_direction = uvec2(in_material, anisotropy_direction_encode(n, normalize(direction)));
+#ifdef EMISSIVE
+    vec3 emissive = material.emissive_normal_scale.rgb;
+    if (tex1.x >= 0) {
+        emissive *= texture(emissive_texture, in_uv).rgb;
+    }
+    out_emissive = vec4(emissive, 1.0);
+#endif
 }

@@ -6,6 +6,7 @@
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec4 in_tangent;
+layout(location = 3) in vec2 in_uv;
 
 layout(std430, set = 0, binding = 0) readonly buffer Objects { GpuObject objects[]; };
 
@@ -18,6 +19,7 @@ layout(location = 0) out vec3 out_world_position;
 layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec4 out_tangent;
 layout(location = 3) flat out uint out_material;
+layout(location = 4) out vec2 out_uv;
 
 void main() {
     GpuObject object = objects[push.object_index];
@@ -26,5 +28,6 @@ void main() {
     out_normal = mat3(object.normal_matrix) * in_normal;
     out_tangent = vec4(mat3(object.model) * in_tangent.xyz, in_tangent.w);
     out_material = object.material_index.x;
+    out_uv = in_uv;
     gl_Position = push.view_projection * world;
 }

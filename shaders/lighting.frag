@@ -15,6 +15,12 @@ layout(set = 0, binding = 2) uniform utexture2D gbuffer_material_direction;
 layout(set = 0, binding = 3) uniform texture2D gbuffer_depth;
 layout(std430, set = 0, binding = 4) readonly buffer Materials { GpuMaterial materials[]; };
 layout(std430, set = 0, binding = 5) readonly buffer Lights { GpuLight lights[]; };
+// η, k of a conductor derived from its base colour, per stored 8-bit code
+// (combustion_renderer::gpu_types::conductor_from_base_color_table).
+layout(std430, set = 0, binding = 6) readonly buffer ConductorTable { vec2 conductor_from_code[]; };
+#ifdef EMISSIVE
+layout(set = 0, binding = 7) uniform texture2D gbuffer_emissive;
+#endif
 
 layout(push_constant) uniform LightingPush {
     mat4 inverse_view_projection;
@@ -54,6 +60,14 @@ void main() {
     m.alpha_y = alphas.y;
     m.conductor_eta = material.conductor_eta_outside_ior.rgb;
     m.conductor_k = material.conductor_k_polarisation.rgb;
+    if ((material.diffuse_model_flags.y & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR) != 0u) {
+        ivec3 code = ivec3(round(base_metal.rgb * 255.0));
+        vec2 red = conductor_from_code[code.r];
+        vec2 green = conductor_from_code[code.g];
+        vec2 blue = conductor_from_code[code.b];
+        m.conductor_eta = vec3(red.x, green.x, blue.x);
+        m.conductor_k = vec3(red.y, green.y, blue.y);
+    }
     m.dielectric_eta = material.roughness_anisotropy_ior.w;
     m.outside_eta = material.conductor_eta_outside_ior.a;
     m.polarisation_weight = material.conductor_k_polarisation.a;
@@ -83,5 +97,8 @@ void main() {
         }
         radiance += brdf_evaluate(m, n, t, b, v, l) * irradiance * n_dot_l;
     }
+#ifdef EMISSIVE
+    radiance += texelFetch(gbuffer_emissive, pixel, 0).rgb;
+#endif
     out_radiance = vec4(radiance, 1.0);
 }

@@ -26,6 +26,7 @@ pub use combustion_spectra as spectra;
 pub use combustion_vk as vk;
 
 use combustion_renderer::{Frame, Readback, RenderError, Renderer, RendererSettings};
+use combustion_scene::gltf::{ImportError, ImportOptions};
 use combustion_scene::{Scene, SceneError};
 use combustion_vk::{Device, DeviceDesc, DeviceSelector, ValidationLog, VkError};
 
@@ -38,6 +39,8 @@ pub enum Error {
     Render(#[from] RenderError),
     #[error(transparent)]
     Scene(#[from] SceneError),
+    #[error(transparent)]
+    Import(#[from] ImportError),
     #[error(transparent)]
     Output(#[from] output::OutputError),
     #[error("{0}")]
@@ -63,16 +66,51 @@ impl SceneSource {
         }
     }
 
+    /// Builds or imports the scene. glTF files (.gltf, .glb) go through
+    /// [`combustion_scene::gltf::import`] with default options (external URIs outside the
+    /// scene's folder refused); warnings go to the log. A scene without lights gets
+    /// [`default_light_rig`].
     pub fn load(&self) -> Result<Scene, Error> {
+        self.load_with(&ImportOptions::default())
+    }
+
+    /// As [`SceneSource::load`], with import options for files.
+    pub fn load_with(&self, options: &ImportOptions) -> Result<Scene, Error> {
         match self {
             Self::Builtin(name) => Ok(combustion_scene::builtin_scene(name)?),
-            Self::File(path) => Err(Error::Usage(format!(
-                "cannot load {}: scene files are not supported yet; use builtin:NAME ({})",
-                path.display(),
-                combustion_scene::BUILTIN_SCENES.join(", ")
-            ))),
+            Self::File(path) => {
+                // The importer logs its own warnings (and lists them in the report).
+                let (mut scene, _report) = combustion_scene::gltf::import(path, options)?;
+                if scene.lights.is_empty() {
+                    log::warn!(
+                        "{}: the scene has no lights; adding the default camera-relative light rig",
+                        path.display()
+                    );
+                    scene.lights = default_light_rig(&scene.camera);
+                }
+                Ok(scene)
+            }
         }
     }
+}
+
+/// Lights for scenes that bring none (most glTF sample models): a key light from the
+/// upper left behind the camera (irradiance 3 W/m²) and a cooler, weaker fill from the
+/// lower right (0.8 W/m²), both directional and fixed relative to the camera.
+pub fn default_light_rig(camera: &combustion_scene::Camera) -> Vec<combustion_scene::Light> {
+    let forward = (camera.target - camera.position).normalize();
+    let right = forward.cross(camera.up).normalize();
+    let up = right.cross(forward);
+    vec![
+        combustion_scene::Light::Directional {
+            direction: (forward - up * 0.8 + right * 0.6).normalize(),
+            irradiance: [3.0, 2.95, 2.85],
+        },
+        combustion_scene::Light::Directional {
+            direction: (forward + up * 0.3 - right * 0.8).normalize(),
+            irradiance: [0.7, 0.75, 0.8],
+        },
+    ]
 }
 
 /// How to set up headless rendering.

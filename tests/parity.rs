@@ -12,7 +12,8 @@ use combustion::renderer::gbuffer::{
     anisotropy_direction_decode, octahedral_decode, srgb_to_linear, GBufferTexel,
 };
 use combustion::renderer::gpu_types::{
-    material_table, GpuLight, GpuMaterial, LightingPush, LIGHT_KIND_DIRECTIONAL,
+    conductor_from_base_color_table, material_table, GpuLight, GpuMaterial, LightingPush,
+    LIGHT_KIND_DIRECTIONAL,
 };
 use combustion::renderer::{Frame, HdrFormat, Readback, RendererSettings};
 use combustion::scene::{builtin_scene, Scene};
@@ -64,7 +65,7 @@ impl LightingInputs {
                 camera.position,
                 scene.lights.len() as u32,
             ),
-            materials: material_table(scene),
+            materials: material_table(scene, &[]),
             lights: scene.lights.iter().map(GpuLight::new).collect(),
         }
     }
@@ -128,13 +129,25 @@ fn shade(
         f(material.conductor_eta_outside_ior),
         f(material.conductor_k_polarisation),
     );
+    // Conductors derived from the base colour look η, k up per channel by stored code.
+    let (mut conductor_eta, mut conductor_k) = (
+        [eta_out[0], eta_out[1], eta_out[2]],
+        [k_pol[0], k_pol[1], k_pol[2]],
+    );
+    if material.conductor_from_base_color() {
+        let table = conductor_from_base_color_table();
+        for (c, code) in [b0, b1, b2].into_iter().enumerate() {
+            conductor_eta[c] = f64::from(table[code as usize][0]);
+            conductor_k[c] = f64::from(table[code as usize][1]);
+        }
+    }
     let m = BrdfInputs {
         base_color,
         metalness,
         alpha_x,
         alpha_y,
-        conductor_eta: [eta_out[0], eta_out[1], eta_out[2]],
-        conductor_k: [k_pol[0], k_pol[1], k_pol[2]],
+        conductor_eta,
+        conductor_k,
         dielectric_eta: rai[3],
         outside_eta: eta_out[3],
         polarisation_weight: k_pol[3],

@@ -3,14 +3,19 @@
 #ifndef COMBUSTION_GPU_TYPES_GLSL
 #define COMBUSTION_GPU_TYPES_GLSL
 
-// One entry of the material table (std430, 80 bytes).
+#define MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR 1u
+
+// One entry of the material table (std430, 128 bytes).
 struct GpuMaterial {
     vec4 base_color_metalness;      // rgb: linear base colour, a: metalness
     vec4 roughness_anisotropy_ior;  // x: perceptual roughness, y: anisotropy strength,
                                     // z: anisotropy rotation (rad), w: dielectric IOR
     vec4 conductor_eta_outside_ior; // rgb: conductor η, a: outside-medium IOR ηi (resolved)
     vec4 conductor_k_polarisation;  // rgb: conductor k, a: polarisation weight
-    uvec4 diffuse_model_flags;      // x: diffuse model (DIFFUSE_MODEL_*), yzw: reserved (0)
+    uvec4 diffuse_model_flags;      // x: diffuse model (DIFFUSE_MODEL_*), y: MATERIAL_FLAG_*
+    ivec4 textures_base_mr_normal_occlusion;     // texture-array indices, -1: none
+    ivec4 textures_emissive_anisotropy_specular; // (specular: not rendered yet)
+    vec4 emissive_normal_scale;     // rgb: emitted radiance factor × strength, a: normal scale
 };
 
 // One placed mesh (std430, 144 bytes).

@@ -22,13 +22,14 @@ impl FullscreenPass {
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
         fragment_shader: &str,
+        defines: &[(&str, Option<&str>)],
         bindings: &[(u32, vk::DescriptorType)],
         push_size: u32,
         output_format: vk::Format,
     ) -> Result<Self, RenderError> {
         let bindings: Vec<_> = bindings
             .iter()
-            .map(|&(b, ty)| (b, ty, vk::ShaderStageFlags::FRAGMENT))
+            .map(|&(b, ty)| (b, ty, 1, vk::ShaderStageFlags::FRAGMENT))
             .collect();
         let set_layout = DescriptorSetLayout::new(device, &bindings)?;
         let push = [vk::PushConstantRange {
@@ -44,7 +45,7 @@ impl FullscreenPass {
         )?;
         let fragment = ShaderModule::new(
             device,
-            &compiler.compile(fragment_shader, ShaderStage::Fragment, &[])?,
+            &compiler.compile(fragment_shader, ShaderStage::Fragment, defines)?,
             ShaderStage::Fragment,
         )?;
         let pipeline = Pipeline::graphics(
@@ -57,7 +58,6 @@ impl FullscreenPass {
                 vertex_attributes: &[],
                 color_formats: &[output_format],
                 depth_format: None,
-                cull_mode: vk::CullModeFlags::NONE,
             },
         )?;
         Ok(Self {
@@ -96,6 +96,7 @@ impl FullscreenPass {
         unsafe {
             raw.cmd_begin_rendering(cmd, &rendering);
             crate::set_viewport_and_scissor(raw, cmd, extent);
+            raw.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
             raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
             raw.cmd_bind_descriptor_sets(
                 cmd,

@@ -10,7 +10,7 @@ use combustion_vk::{
 
 use crate::gpu_types::GBufferPush;
 use crate::scene_upload::GpuScene;
-use crate::RenderError;
+use crate::{RenderError, ShaderVariant};
 
 /// Base colour (sRGB-encoded by the shader, 8 bits) and metalness (linear, 8 bits).
 /// UNORM, not _SRGB: the shaders encode and decode exactly (see gbuffer_encoding.glsl).
@@ -19,6 +19,8 @@ pub const BASE_COLOR_METALNESS_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 pub const NORMAL_ROUGHNESS_ANISOTROPY_FORMAT: vk::Format = vk::Format::R16G16B16A16_UNORM;
 /// Material index (16-bit uint) and anisotropy direction angle (16-bit, [0, π)).
 pub const MATERIAL_DIRECTION_FORMAT: vk::Format = vk::Format::R16G16_UINT;
+/// Emitted radiance (only in scenes with emissive materials: the `EMISSIVE` variant).
+pub const EMISSIVE_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 /// Depth (32-bit float, 1 = far/background).
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
@@ -31,10 +33,17 @@ pub struct GBufferTargets {
     pub normal_roughness_anisotropy: Image,
     pub material_direction: Image,
     pub depth: Image,
+    /// Present in the `EMISSIVE` variant only.
+    pub emissive: Option<Image>,
 }
 
 impl GBufferTargets {
-    pub fn new(device: &Arc<Device>, width: u32, height: u32) -> Result<Self, RenderError> {
+    pub fn new(
+        device: &Arc<Device>,
+        width: u32,
+        height: u32,
+        variant: ShaderVariant,
+    ) -> Result<Self, RenderError> {
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
             | vk::ImageUsageFlags::SAMPLED
             | vk::ImageUsageFlags::TRANSFER_SRC;
@@ -47,6 +56,7 @@ impl GBufferTargets {
                     width,
                     height,
                     usage,
+                    mip_levels: 1,
                 },
             )
         };
@@ -73,15 +83,28 @@ impl GBufferTargets {
                     | vk::ImageUsageFlags::SAMPLED
                     | vk::ImageUsageFlags::TRANSFER_SRC,
             )?,
+            emissive: if variant.emissive {
+                Some(image("gbuffer emissive", EMISSIVE_FORMAT, color_usage)?)
+            } else {
+                None
+            },
         })
     }
 
+    /// The three targets every variant has (what parity tests read back).
     pub fn colors(&self) -> [&Image; 3] {
         [
             &self.base_color_metalness,
             &self.normal_roughness_anisotropy,
             &self.material_direction,
         ]
+    }
+
+    /// Every colour attachment of the G-buffer pass, in attachment order.
+    pub fn attachments(&self) -> Vec<&Image> {
+        let mut all = self.colors().to_vec();
+        all.extend(self.emissive.as_ref());
+        all
     }
 }
 
@@ -94,39 +117,48 @@ pub struct GBufferPass {
 }
 
 impl GBufferPass {
-    pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler) -> Result<Self, RenderError> {
+    pub fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        material_set_layout: &DescriptorSetLayout,
+        variant: ShaderVariant,
+    ) -> Result<Self, RenderError> {
         let set_layout = DescriptorSetLayout::new(
             device,
             &[
                 (
                     0,
                     vk::DescriptorType::STORAGE_BUFFER,
+                    1,
                     vk::ShaderStageFlags::VERTEX,
                 ),
                 (
                     1,
                     vk::DescriptorType::STORAGE_BUFFER,
+                    1,
                     vk::ShaderStageFlags::FRAGMENT,
                 ),
             ],
         )?;
+        let defines = variant.defines();
         let push = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::VERTEX,
             offset: 0,
             size: std::mem::size_of::<GBufferPush>() as u32,
         }];
-        let layout = PipelineLayout::new(device, &[&set_layout], &push)?;
+        let layout = PipelineLayout::new(device, &[&set_layout, material_set_layout], &push)?;
         let vertex = ShaderModule::new(
             device,
-            &compiler.compile("gbuffer.vert", ShaderStage::Vertex, &[])?,
+            &compiler.compile("gbuffer.vert", ShaderStage::Vertex, &defines)?,
             ShaderStage::Vertex,
         )?;
         let fragment = ShaderModule::new(
             device,
-            &compiler.compile("gbuffer.frag", ShaderStage::Fragment, &[])?,
+            &compiler.compile("gbuffer.frag", ShaderStage::Fragment, &defines)?,
             ShaderStage::Fragment,
         )?;
-        let stride = std::mem::size_of::<combustion_scene::Vertex>() as u32;
+        use combustion_scene::Vertex;
+        let stride = std::mem::size_of::<Vertex>() as u32;
         let bindings = [vk::VertexInputBindingDescription {
             binding: 0,
             stride,
@@ -137,21 +169,35 @@ impl GBufferPass {
                 location: 0,
                 binding: 0,
                 format: vk::Format::R32G32B32_SFLOAT,
-                offset: 0,
+                offset: std::mem::offset_of!(Vertex, position) as u32,
             },
             vk::VertexInputAttributeDescription {
                 location: 1,
                 binding: 0,
                 format: vk::Format::R32G32B32_SFLOAT,
-                offset: 12,
+                offset: std::mem::offset_of!(Vertex, normal) as u32,
             },
             vk::VertexInputAttributeDescription {
                 location: 2,
                 binding: 0,
                 format: vk::Format::R32G32B32A32_SFLOAT,
-                offset: 24,
+                offset: std::mem::offset_of!(Vertex, tangent) as u32,
+            },
+            vk::VertexInputAttributeDescription {
+                location: 3,
+                binding: 0,
+                format: vk::Format::R32G32_SFLOAT,
+                offset: std::mem::offset_of!(Vertex, uv) as u32,
             },
         ];
+        let mut color_formats = vec![
+            BASE_COLOR_METALNESS_FORMAT,
+            NORMAL_ROUGHNESS_ANISOTROPY_FORMAT,
+            MATERIAL_DIRECTION_FORMAT,
+        ];
+        if variant.emissive {
+            color_formats.push(EMISSIVE_FORMAT);
+        }
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
@@ -160,13 +206,8 @@ impl GBufferPass {
                 layout: &layout,
                 vertex_bindings: &bindings,
                 vertex_attributes: &attributes,
-                color_formats: &[
-                    BASE_COLOR_METALNESS_FORMAT,
-                    NORMAL_ROUGHNESS_ANISOTROPY_FORMAT,
-                    MATERIAL_DIRECTION_FORMAT,
-                ],
+                color_formats: &color_formats,
                 depth_format: Some(DEPTH_FORMAT),
-                cull_mode: vk::CullModeFlags::BACK,
             },
         )?;
         Ok(Self {
@@ -188,7 +229,7 @@ impl GBufferPass {
     ) {
         let extent = targets.depth.extent();
         let color_attachments: Vec<_> = targets
-            .colors()
+            .attachments()
             .iter()
             .map(|image| {
                 vk::RenderingAttachmentInfo::default()
@@ -237,7 +278,30 @@ impl GBufferPass {
             );
             raw.cmd_bind_vertex_buffers(cmd, 0, &[scene.vertices.raw()], &[0]);
             raw.cmd_bind_index_buffer(cmd, scene.indices.raw(), 0, vk::IndexType::UINT32);
-            for (object_index, draw) in scene.draws.iter().enumerate() {
+            let mut bound_material = None;
+            for (object_index, (draw, &double_sided)) in
+                scene.draws.iter().zip(&scene.double_sided).enumerate()
+            {
+                let material = scene.draw_materials[object_index];
+                if bound_material != Some(material) {
+                    raw.cmd_bind_descriptor_sets(
+                        cmd,
+                        vk::PipelineBindPoint::GRAPHICS,
+                        self.layout.raw(),
+                        1,
+                        &[scene.textures.material_sets[material]],
+                        &[],
+                    );
+                    bound_material = Some(material);
+                }
+                raw.cmd_set_cull_mode(
+                    cmd,
+                    if double_sided {
+                        vk::CullModeFlags::NONE
+                    } else {
+                        vk::CullModeFlags::BACK
+                    },
+                );
                 let push = GBufferPush {
                     view_projection: view_projection.to_cols_array(),
                     object_index: object_index as u32,

@@ -6,7 +6,10 @@ use bytemuck::{Pod, Zeroable};
 use combustion_scene::{Light, Material, Object, Scene};
 use glam::Mat4;
 
-/// `GpuMaterial` (std430, 80 bytes).
+/// `MATERIAL_FLAG_*` in gpu_types.glsl.
+pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
+
+/// `GpuMaterial` (std430, 128 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -15,11 +18,16 @@ pub struct GpuMaterial {
     pub conductor_eta_outside_ior: [f32; 4],
     pub conductor_k_polarisation: [f32; 4],
     pub diffuse_model_flags: [u32; 4],
+    pub textures_base_mr_normal_occlusion: [i32; 4],
+    pub textures_emissive_anisotropy_specular: [i32; 4],
+    pub emissive_normal_scale: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 80);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 128);
 
 impl GpuMaterial {
-    pub fn new(material: &Material, outside_ior: f32) -> Self {
+    /// The table entry of `material`; `textures` are its texture-array indices per
+    /// `TextureSlot::ALL` slot (-1: none).
+    pub fn new(material: &Material, outside_ior: f32, textures: [i32; 8]) -> Self {
         let [r, g, b] = material.base_color;
         let [eta_r, eta_g, eta_b] = material.conductor.eta;
         let [k_r, k_g, k_b] = material.conductor.k;
@@ -33,8 +41,34 @@ impl GpuMaterial {
             ],
             conductor_eta_outside_ior: [eta_r, eta_g, eta_b, outside_ior],
             conductor_k_polarisation: [k_r, k_g, k_b, material.polarisation_weight],
-            diffuse_model_flags: [material.diffuse_model as u32, 0, 0, 0],
+            diffuse_model_flags: [
+                material.diffuse_model as u32,
+                if material.conductor_from_base_color {
+                    MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR
+                } else {
+                    0
+                },
+                0,
+                0,
+            ],
+            textures_base_mr_normal_occlusion: [textures[0], textures[1], textures[2], textures[3]],
+            textures_emissive_anisotropy_specular: [
+                textures[4],
+                textures[5],
+                textures[6],
+                textures[7],
+            ],
+            emissive_normal_scale: {
+                let e = material
+                    .emissive_factor
+                    .map(|c| c * material.emissive_strength);
+                [e[0], e[1], e[2], material.normal_scale]
+            },
         }
+    }
+
+    pub fn conductor_from_base_color(&self) -> bool {
+        self.diffuse_model_flags[1] & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR != 0
     }
 }
 
@@ -125,13 +159,35 @@ impl GpuLight {
     }
 }
 
-/// The material table of a scene, outside IORs resolved.
-pub fn material_table(scene: &Scene) -> Vec<GpuMaterial> {
+/// The material table of a scene, outside IORs resolved, texture slots from
+/// `texture_indices` (per material; missing entries mean no textures).
+pub fn material_table(scene: &Scene, texture_indices: &[[i32; 8]]) -> Vec<GpuMaterial> {
     scene
         .materials
         .iter()
-        .map(|m| GpuMaterial::new(m, scene.outside_ior_of(m)))
+        .enumerate()
+        .map(|(i, m)| {
+            let textures = texture_indices.get(i).copied().unwrap_or([-1; 8]);
+            GpuMaterial::new(m, scene.outside_ior_of(m), textures)
+        })
         .collect()
+}
+
+/// η, k of a conductor derived from its base colour, for every 8-bit code the G-buffer
+/// can store (`conductor_from_base_color` materials, e.g. glTF metals): entry c is
+/// `conductor_from_reflectivity(sRGB⁻¹(c/255))`. The lighting pass looks each channel up
+/// by its stored code, so the per-pixel mapping is exact and costs one fetch.
+pub fn conductor_from_base_color_table() -> &'static [[f32; 2]; 256] {
+    static TABLE: std::sync::OnceLock<[[f32; 2]; 256]> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        let mut table = [[0.0; 2]; 256];
+        for (code, entry) in table.iter_mut().enumerate() {
+            let r = crate::gbuffer::srgb_to_linear(code as f64 / 255.0) as f32;
+            let ior = combustion_scene::conductor_from_reflectivity([r; 3]);
+            *entry = [ior.eta[0], ior.k[0]];
+        }
+        table
+    })
 }
 
 /// Push constants of the G-buffer pass (`GBufferPush` in gbuffer.vert).

@@ -18,19 +18,41 @@ pub mod gpu_types;
 mod fullscreen;
 mod scene_upload;
 mod shader_sources;
+mod textures;
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use combustion_scene::{Scene, SceneError};
 use combustion_vk::{
-    vk, Buffer, DescriptorPool, Device, Image, ImageDesc, OneShot, ShaderCompiler,
-    TimestampQueries, VkError,
+    vk, Buffer, DescriptorPool, DescriptorSetLayout, Device, Image, ImageDesc, OneShot,
+    ShaderCompiler, TimestampQueries, VkError,
 };
 
 use fullscreen::FullscreenPass;
 use gbuffer::{GBufferPass, GBufferReadback, GBufferTargets, GBufferTexel};
 use gpu_types::{LightingPush, TonemapPush};
 pub use scene_upload::GpuScene;
+
+/// The shader features a scene needs. Each distinct variant gets its own G-buffer and
+/// lighting pipelines (compile-time `#define`s), so a scene does not pay for features it
+/// lacks; variants are built on first use and kept.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ShaderVariant {
+    /// An emissive target in the G-buffer, added to the lit radiance.
+    pub emissive: bool,
+}
+
+impl ShaderVariant {
+    /// The `#define`s of this variant.
+    pub(crate) fn defines(&self) -> Vec<(&'static str, Option<&'static str>)> {
+        let mut defines = Vec::new();
+        if self.emissive {
+            defines.push(("EMISSIVE", None));
+        }
+        defines
+    }
+}
 
 /// Why rendering failed.
 #[derive(Debug, thiserror::Error)]
@@ -136,6 +158,7 @@ pub fn linear_to_srgb(linear: f64) -> f64 {
 
 /// The images of one frame size, their readback buffers and descriptor sets.
 struct FrameTargets {
+    variant: ShaderVariant,
     gbuffer: GBufferTargets,
     hdr: Image,
     ldr: Image,
@@ -150,6 +173,7 @@ impl FrameTargets {
         width: u32,
         height: u32,
         hdr_format: HdrFormat,
+        variant: ShaderVariant,
     ) -> Result<Self, RenderError> {
         let pixels = u64::from(width) * u64::from(height);
         let readback = |name: &str, bytes_per_pixel: u64| {
@@ -164,28 +188,24 @@ impl FrameTargets {
         let output_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
             | vk::ImageUsageFlags::SAMPLED
             | vk::ImageUsageFlags::TRANSFER_SRC;
+        let output = |name, format| {
+            Image::new(
+                device,
+                &ImageDesc {
+                    name,
+                    format,
+                    width,
+                    height,
+                    usage: output_usage,
+                    mip_levels: 1,
+                },
+            )
+        };
         Ok(Self {
-            gbuffer: GBufferTargets::new(device, width, height)?,
-            hdr: Image::new(
-                device,
-                &ImageDesc {
-                    name: "hdr radiance",
-                    format: hdr_format.vk(),
-                    width,
-                    height,
-                    usage: output_usage,
-                },
-            )?,
-            ldr: Image::new(
-                device,
-                &ImageDesc {
-                    name: "display (sRGB)",
-                    format: vk::Format::R8G8B8A8_UNORM,
-                    width,
-                    height,
-                    usage: output_usage,
-                },
-            )?,
+            variant,
+            gbuffer: GBufferTargets::new(device, width, height, variant)?,
+            hdr: output("hdr radiance", hdr_format.vk())?,
+            ldr: output("display (sRGB-encoded)", vk::Format::R8G8B8A8_UNORM)?,
             hdr_readback: readback("hdr readback", hdr_format.bytes_per_pixel())?,
             ldr_readback: readback("display readback", 4)?,
             gbuffer_readback: [
@@ -231,17 +251,83 @@ pub(crate) fn set_viewport_and_scissor(
 /// Timestamp slots: start, after G-buffer, after lighting, after tonemap.
 const TIMESTAMPS: u32 = 4;
 
+/// The G-buffer and lighting passes of one [`ShaderVariant`], with their descriptor sets.
+struct VariantPasses {
+    gbuffer_set: vk::DescriptorSet,
+    lighting_set: vk::DescriptorSet,
+    /// Owns the two descriptor sets above.
+    _descriptor_pool: DescriptorPool,
+    gbuffer: GBufferPass,
+    lighting: FullscreenPass,
+}
+
+impl VariantPasses {
+    fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        material_set_layout: &DescriptorSetLayout,
+        variant: ShaderVariant,
+        hdr_format: HdrFormat,
+    ) -> Result<Self, RenderError> {
+        let gbuffer = GBufferPass::new(device, compiler, material_set_layout, variant)?;
+        let sampled = vk::DescriptorType::SAMPLED_IMAGE;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let mut bindings = vec![
+            (0, sampled),
+            (1, sampled),
+            (2, sampled),
+            (3, sampled),
+            (4, storage),
+            (5, storage),
+            (6, storage),
+        ];
+        if variant.emissive {
+            bindings.push((7, sampled));
+        }
+        let lighting = FullscreenPass::new(
+            device,
+            compiler,
+            "lighting.frag",
+            &variant.defines(),
+            &bindings,
+            std::mem::size_of::<LightingPush>() as u32,
+            hdr_format.vk(),
+        )?;
+        let pool = DescriptorPool::new(
+            device,
+            2,
+            &[
+                vk::DescriptorPoolSize {
+                    ty: sampled,
+                    descriptor_count: 5,
+                },
+                vk::DescriptorPoolSize {
+                    ty: storage,
+                    descriptor_count: 5,
+                },
+            ],
+        )?;
+        Ok(Self {
+            gbuffer_set: pool.allocate(&gbuffer.set_layout)?,
+            lighting_set: pool.allocate(&lighting.set_layout)?,
+            _descriptor_pool: pool,
+            gbuffer,
+            lighting,
+        })
+    }
+}
+
 /// The deferred renderer. One per device; renders [`GpuScene`]s at any size.
 pub struct Renderer {
     // Field order is drop order: everything below holds the device alive.
     targets: Option<FrameTargets>,
-    gbuffer_set: vk::DescriptorSet,
-    lighting_set: vk::DescriptorSet,
+    variants: HashMap<ShaderVariant, VariantPasses>,
+    compiler: ShaderCompiler,
+    /// Set 1 of the G-buffer pass: one material's textures.
+    material_set_layout: DescriptorSetLayout,
     tonemap_set: vk::DescriptorSet,
-    /// Owns the three descriptor sets above.
-    _descriptor_pool: DescriptorPool,
-    gbuffer_pass: GBufferPass,
-    lighting_pass: FullscreenPass,
+    /// Owns the tonemap descriptor set.
+    _tonemap_pool: DescriptorPool,
     tonemap_pass: FullscreenPass,
     commands: OneShot,
     timestamps: Option<TimestampQueries>,
@@ -256,49 +342,39 @@ impl Renderer {
             return Err(RenderError::InvalidExposure(settings.exposure));
         }
         let compiler = ShaderCompiler::new(shader_sources::sources())?;
-        let gbuffer_pass = GBufferPass::new(&device, &compiler)?;
         let sampled = vk::DescriptorType::SAMPLED_IMAGE;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let lighting_pass = FullscreenPass::new(
-            &device,
-            &compiler,
-            "lighting.frag",
-            &[
-                (0, sampled),
-                (1, sampled),
-                (2, sampled),
-                (3, sampled),
-                (4, storage),
-                (5, storage),
-            ],
-            std::mem::size_of::<LightingPush>() as u32,
-            settings.hdr_format.vk(),
-        )?;
         let tonemap_pass = FullscreenPass::new(
             &device,
             &compiler,
             "tonemap.frag",
+            &[],
             &[(0, sampled)],
             std::mem::size_of::<TonemapPush>() as u32,
             vk::Format::R8G8B8A8_UNORM,
         )?;
-        let descriptor_pool = DescriptorPool::new(
+        let tonemap_pool = DescriptorPool::new(
             &device,
-            3,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: sampled,
-                    descriptor_count: 5,
-                },
-                vk::DescriptorPoolSize {
-                    ty: storage,
-                    descriptor_count: 4,
-                },
-            ],
+            1,
+            &[vk::DescriptorPoolSize {
+                ty: sampled,
+                descriptor_count: 1,
+            }],
         )?;
-        let gbuffer_set = descriptor_pool.allocate(&gbuffer_pass.set_layout)?;
-        let lighting_set = descriptor_pool.allocate(&lighting_pass.set_layout)?;
-        let tonemap_set = descriptor_pool.allocate(&tonemap_pass.set_layout)?;
+        let tonemap_set = tonemap_pool.allocate(&tonemap_pass.set_layout)?;
+        let material_set_layout = textures::material_set_layout(&device)?;
+        // The plain variant is built now, so shader errors surface at construction.
+        let mut variants = HashMap::new();
+        let plain = ShaderVariant::default();
+        variants.insert(
+            plain,
+            VariantPasses::new(
+                &device,
+                &compiler,
+                &material_set_layout,
+                plain,
+                settings.hdr_format,
+            )?,
+        );
         let timestamps = match TimestampQueries::new(&device, TIMESTAMPS) {
             Ok(t) => Some(t),
             Err(VkError::Unsupported(why)) => {
@@ -309,12 +385,11 @@ impl Renderer {
         };
         Ok(Self {
             targets: None,
-            gbuffer_set,
-            lighting_set,
+            variants,
+            compiler,
+            material_set_layout,
             tonemap_set,
-            _descriptor_pool: descriptor_pool,
-            gbuffer_pass,
-            lighting_pass,
+            _tonemap_pool: tonemap_pool,
             tonemap_pass,
             commands: OneShot::new(&device)?,
             timestamps,
@@ -333,31 +408,46 @@ impl Renderer {
 
     /// Validates and uploads a scene.
     pub fn upload(&self, scene: &Scene) -> Result<GpuScene, RenderError> {
-        GpuScene::new(&self.device, scene)
+        GpuScene::new(&self.device, scene, &self.material_set_layout)
     }
 
-    fn ensure_targets(&mut self, width: u32, height: u32) -> Result<&FrameTargets, RenderError> {
+    fn ensure_targets(
+        &mut self,
+        width: u32,
+        height: u32,
+        variant: ShaderVariant,
+    ) -> Result<(), RenderError> {
         let max = self.device.max_image_dimension_2d();
         if width == 0 || height == 0 || width > max || height > max {
             return Err(RenderError::InvalidSize { width, height, max });
         }
-        let fits = self
-            .targets
-            .as_ref()
-            .is_some_and(|t| t.ldr.extent() == vk::Extent2D { width, height });
+        let fits = self.targets.as_ref().is_some_and(|t| {
+            t.ldr.extent() == vk::Extent2D { width, height } && t.variant == variant
+        });
         if !fits {
-            self.targets = None; // free the old size first
+            self.targets = None; // free the old targets first
             self.targets = Some(FrameTargets::new(
                 &self.device,
                 width,
                 height,
                 self.settings.hdr_format,
+                variant,
             )?);
         }
-        Ok(self.targets.as_ref().expect("set above"))
+        if !self.variants.contains_key(&variant) {
+            let passes = VariantPasses::new(
+                &self.device,
+                &self.compiler,
+                &self.material_set_layout,
+                variant,
+                self.settings.hdr_format,
+            )?;
+            self.variants.insert(variant, passes);
+        }
+        Ok(())
     }
 
-    fn write_descriptors(&self, targets: &FrameTargets, scene: &GpuScene) {
+    fn write_descriptors(&self, passes: &VariantPasses, targets: &FrameTargets, scene: &GpuScene) {
         let image_info = |image: &Image, layout| {
             [vk::DescriptorImageInfo {
                 sampler: vk::Sampler::null(),
@@ -373,35 +463,29 @@ impl Renderer {
             }]
         };
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let depth_read = vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL;
         let g = &targets.gbuffer;
-        let images = [
+        let lighting = passes.lighting_set;
+        let mut images = vec![
+            (lighting, 0, image_info(&g.base_color_metalness, read)),
             (
-                self.lighting_set,
-                0,
-                image_info(&g.base_color_metalness, read),
-            ),
-            (
-                self.lighting_set,
+                lighting,
                 1,
                 image_info(&g.normal_roughness_anisotropy, read),
             ),
-            (
-                self.lighting_set,
-                2,
-                image_info(&g.material_direction, read),
-            ),
-            (
-                self.lighting_set,
-                3,
-                image_info(&g.depth, vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL),
-            ),
+            (lighting, 2, image_info(&g.material_direction, read)),
+            (lighting, 3, image_info(&g.depth, depth_read)),
             (self.tonemap_set, 0, image_info(&targets.hdr, read)),
         ];
+        if let Some(emissive) = &g.emissive {
+            images.push((lighting, 7, image_info(emissive, read)));
+        }
         let buffers = [
-            (self.gbuffer_set, 0, buffer_info(&scene.objects)),
-            (self.gbuffer_set, 1, buffer_info(&scene.materials)),
-            (self.lighting_set, 4, buffer_info(&scene.materials)),
-            (self.lighting_set, 5, buffer_info(&scene.lights)),
+            (passes.gbuffer_set, 0, buffer_info(&scene.objects)),
+            (passes.gbuffer_set, 1, buffer_info(&scene.materials)),
+            (lighting, 4, buffer_info(&scene.materials)),
+            (lighting, 5, buffer_info(&scene.lights)),
+            (lighting, 6, buffer_info(&scene.conductor_table)),
         ];
         let mut writes: Vec<vk::WriteDescriptorSet<'_>> = images
             .iter()
@@ -433,9 +517,10 @@ impl Renderer {
         height: u32,
         readback: Readback,
     ) -> Result<Frame, RenderError> {
-        self.ensure_targets(width, height)?;
+        self.ensure_targets(width, height, scene.variant)?;
         let targets = self.targets.as_ref().expect("ensured");
-        self.write_descriptors(targets, scene);
+        let passes = &self.variants[&scene.variant];
+        self.write_descriptors(passes, targets, scene);
         let camera = &scene.scene.camera;
         let view_projection = camera.view_projection(width as f32 / height as f32);
         let lighting_push = LightingPush::new(view_projection, camera.position, scene.light_count);
@@ -484,27 +569,30 @@ impl Renderer {
             A::SHADER_SAMPLED_READ,
             L::DEPTH_READ_ONLY_OPTIMAL,
         );
-        barrier(&[
-            g.base_color_metalness.barrier(undefined, color_out),
-            g.normal_roughness_anisotropy.barrier(undefined, color_out),
-            g.material_direction.barrier(undefined, color_out),
-            g.depth.barrier(undefined, depth_out),
-        ]);
-        self.gbuffer_pass
-            .record(device, cmd, g, scene, self.gbuffer_set, view_projection);
+        let mut to_attachment: Vec<_> = g
+            .attachments()
+            .into_iter()
+            .map(|image| image.barrier(undefined, color_out))
+            .collect();
+        to_attachment.push(g.depth.barrier(undefined, depth_out));
+        barrier(&to_attachment);
+        passes
+            .gbuffer
+            .record(device, cmd, g, scene, passes.gbuffer_set, view_projection);
         stamp(1);
-        barrier(&[
-            g.base_color_metalness.barrier(color_out, sampled),
-            g.normal_roughness_anisotropy.barrier(color_out, sampled),
-            g.material_direction.barrier(color_out, sampled),
-            g.depth.barrier(depth_out, depth_sampled),
-            targets.hdr.barrier(undefined, color_out),
-        ]);
-        self.lighting_pass.record(
+        let mut to_sampled: Vec<_> = g
+            .attachments()
+            .into_iter()
+            .map(|image| image.barrier(color_out, sampled))
+            .collect();
+        to_sampled.push(g.depth.barrier(depth_out, depth_sampled));
+        to_sampled.push(targets.hdr.barrier(undefined, color_out));
+        barrier(&to_sampled);
+        passes.lighting.record(
             device,
             cmd,
             &targets.hdr,
-            self.lighting_set,
+            passes.lighting_set,
             bytemuck::bytes_of(&lighting_push),
         );
         stamp(2);

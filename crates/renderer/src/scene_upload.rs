@@ -4,9 +4,10 @@
 use std::sync::Arc;
 
 use combustion_scene::Scene;
-use combustion_vk::{vk, Buffer, Device};
+use combustion_vk::{vk, Buffer, DescriptorSetLayout, Device};
 
-use crate::gpu_types::{material_table, GpuLight, GpuObject};
+use crate::gpu_types::{conductor_from_base_color_table, material_table, GpuLight, GpuObject};
+use crate::textures::SceneTextures;
 use crate::RenderError;
 
 /// One draw of the G-buffer pass (object i of the object table).
@@ -24,14 +25,27 @@ pub struct GpuScene {
     pub(crate) objects: Buffer,
     pub(crate) materials: Buffer,
     pub(crate) lights: Buffer,
+    /// `conductor_from_base_color_table()`, or one dummy entry when no material needs it.
+    pub(crate) conductor_table: Buffer,
+    pub(crate) textures: SceneTextures,
     pub(crate) draws: Vec<Draw>,
+    /// Per draw: render back faces too (double-sided material).
+    pub(crate) double_sided: Vec<bool>,
+    /// Per draw: the material (index into `textures.material_sets`).
+    pub(crate) draw_materials: Vec<usize>,
+    /// Shader features this scene needs (selects the pipeline variant).
+    pub(crate) variant: crate::ShaderVariant,
     pub(crate) light_count: u32,
     /// The scene as uploaded (camera and all), for the frame's matrices.
     pub scene: Scene,
 }
 
 impl GpuScene {
-    pub fn new(device: &Arc<Device>, scene: &Scene) -> Result<Self, RenderError> {
+    pub fn new(
+        device: &Arc<Device>,
+        scene: &Scene,
+        material_set_layout: &DescriptorSetLayout,
+    ) -> Result<Self, RenderError> {
         scene.validate()?;
         let mut vertices = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
@@ -49,7 +63,20 @@ impl GpuScene {
         }
         let draws = scene.objects.iter().map(|o| mesh_ranges[o.mesh]).collect();
         let objects: Vec<GpuObject> = scene.objects.iter().map(GpuObject::new).collect();
-        let materials = material_table(scene);
+        let textures = SceneTextures::new(device, scene, material_set_layout)?;
+        let materials = material_table(scene, &textures.material_indices);
+        let needs_table = scene.materials.iter().any(|m| m.conductor_from_base_color);
+        let conductor_table: &[[f32; 2]] = if needs_table {
+            conductor_from_base_color_table()
+        } else {
+            &[[1.0, 0.0]]
+        };
+        let variant = crate::ShaderVariant {
+            emissive: scene
+                .materials
+                .iter()
+                .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
+        };
         let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::new).collect();
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         Ok(Self {
@@ -78,6 +105,20 @@ impl GpuScene {
                 storage,
             )?,
             lights: Buffer::with_data(device, "lights", bytemuck::cast_slice(&lights), storage)?,
+            conductor_table: Buffer::with_data(
+                device,
+                "conductor-from-base-colour table",
+                bytemuck::cast_slice(conductor_table),
+                storage,
+            )?,
+            textures,
+            double_sided: scene
+                .objects
+                .iter()
+                .map(|o| scene.materials[o.material].double_sided)
+                .collect(),
+            draw_materials: scene.objects.iter().map(|o| o.material).collect(),
+            variant,
             draws,
             light_count: lights.len() as u32,
             scene: scene.clone(),

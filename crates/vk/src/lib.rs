@@ -28,8 +28,8 @@ pub use commands::OneShot;
 pub use device::{Device, DeviceDesc, DeviceInfo, DeviceSelector, ValidationLog};
 pub use error::{VkError, VkResultExt};
 pub use pipeline::{
-    DescriptorPool, DescriptorSetLayout, GraphicsPipelineDesc, Pipeline, PipelineLayout,
+    DescriptorPool, DescriptorSetLayout, GraphicsPipelineDesc, Pipeline, PipelineLayout, Sampler,
 };
-pub use resources::{Buffer, Image, ImageDesc};
+pub use resources::{full_mip_chain, Buffer, Image, ImageDesc};
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources, ShaderStage};
 pub use timestamps::TimestampQueries;

@@ -13,18 +13,18 @@ pub struct DescriptorSetLayout {
 }
 
 impl DescriptorSetLayout {
-    /// `bindings`: (binding, type, stages), one descriptor each.
+    /// `bindings`: (binding, type, descriptor count, stages).
     pub fn new(
         device: &Arc<Device>,
-        bindings: &[(u32, vk::DescriptorType, vk::ShaderStageFlags)],
+        bindings: &[(u32, vk::DescriptorType, u32, vk::ShaderStageFlags)],
     ) -> Result<Self, VkError> {
         let bindings: Vec<_> = bindings
             .iter()
-            .map(|&(binding, ty, stages)| {
+            .map(|&(binding, ty, count, stages)| {
                 vk::DescriptorSetLayoutBinding::default()
                     .binding(binding)
                     .descriptor_type(ty)
-                    .descriptor_count(1)
+                    .descriptor_count(count)
                     .stage_flags(stages)
             })
             .collect();
@@ -49,6 +49,32 @@ impl Drop for DescriptorSetLayout {
                 .raw()
                 .destroy_descriptor_set_layout(self.raw, None)
         };
+    }
+}
+
+/// A `VkSampler`, destroyed when dropped.
+pub struct Sampler {
+    device: Arc<Device>,
+    raw: vk::Sampler,
+}
+
+impl Sampler {
+    pub fn new(device: &Arc<Device>, info: &vk::SamplerCreateInfo<'_>) -> Result<Self, VkError> {
+        // SAFETY: valid create info.
+        let raw = unsafe { device.raw().create_sampler(info, None) }.what("vkCreateSampler")?;
+        Ok(Self {
+            device: device.clone(),
+            raw,
+        })
+    }
+    pub fn raw(&self) -> vk::Sampler {
+        self.raw
+    }
+}
+
+impl Drop for Sampler {
+    fn drop(&mut self) {
+        unsafe { self.device.raw().destroy_sampler(self.raw, None) };
     }
 }
 
@@ -87,7 +113,8 @@ impl Drop for PipelineLayout {
     }
 }
 
-/// What a graphics pipeline for dynamic rendering needs. Viewport and scissor are dynamic.
+/// What a graphics pipeline for dynamic rendering needs. Viewport, scissor and cull mode
+/// are dynamic state (cull mode is core in Vulkan 1.3), set when recording.
 pub struct GraphicsPipelineDesc<'a> {
     pub vertex: &'a ShaderModule,
     pub fragment: &'a ShaderModule,
@@ -97,7 +124,6 @@ pub struct GraphicsPipelineDesc<'a> {
     pub color_formats: &'a [vk::Format],
     /// Depth attachment format; depth test (LESS) and write are on when set.
     pub depth_format: Option<vk::Format>,
-    pub cull_mode: vk::CullModeFlags,
 }
 
 /// A pipeline, destroyed when dropped.
@@ -131,7 +157,7 @@ impl Pipeline {
             .scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(desc.cull_mode)
+            .cull_mode(vk::CullModeFlags::NONE)
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
             .line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
@@ -150,7 +176,11 @@ impl Pipeline {
             .collect();
         let blend =
             vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
-        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic_states = [
+            vk::DynamicState::VIEWPORT,
+            vk::DynamicState::SCISSOR,
+            vk::DynamicState::CULL_MODE,
+        ];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(desc.color_formats)

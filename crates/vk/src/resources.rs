@@ -126,7 +126,7 @@ impl Drop for Buffer {
     }
 }
 
-/// How to create an [`Image`] (2D, one mip level, one layer).
+/// How to create an [`Image`] (2D, one layer).
 #[derive(Clone, Copy, Debug)]
 pub struct ImageDesc<'a> {
     pub name: &'a str,
@@ -134,6 +134,13 @@ pub struct ImageDesc<'a> {
     pub width: u32,
     pub height: u32,
     pub usage: vk::ImageUsageFlags,
+    /// Mip levels (1 = none); see [`full_mip_chain`].
+    pub mip_levels: u32,
+}
+
+/// The number of mip levels down to 1×1 for a `width`×`height` image.
+pub fn full_mip_chain(width: u32, height: u32) -> u32 {
+    32 - width.max(height).max(1).leading_zeros()
 }
 
 /// A 2D image, its memory and a view over all of it. Destroyed when dropped.
@@ -145,6 +152,7 @@ pub struct Image {
     format: vk::Format,
     extent: vk::Extent2D,
     aspect: vk::ImageAspectFlags,
+    mip_levels: u32,
 }
 
 impl Image {
@@ -168,7 +176,7 @@ impl Image {
                 height: desc.height,
                 depth: 1,
             })
-            .mip_levels(1)
+            .mip_levels(desc.mip_levels.max(1))
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
@@ -189,6 +197,7 @@ impl Image {
                 height: desc.height,
             },
             aspect,
+            mip_levels: desc.mip_levels.max(1),
         };
         let requirements = unsafe { raw_device.get_image_memory_requirements(raw) };
         let allocation = device
@@ -212,20 +221,33 @@ impl Image {
             .image(raw)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(desc.format)
-            .subresource_range(Self::range(aspect));
+            .subresource_range(image.subresource_range());
         image.view =
             unsafe { raw_device.create_image_view(&view_info, None) }.what("vkCreateImageView")?;
         Ok(image)
     }
 
-    fn range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+    fn range(
+        aspect: vk::ImageAspectFlags,
+        base_mip_level: u32,
+        level_count: u32,
+    ) -> vk::ImageSubresourceRange {
         vk::ImageSubresourceRange {
             aspect_mask: aspect,
-            base_mip_level: 0,
-            level_count: 1,
+            base_mip_level,
+            level_count,
             base_array_layer: 0,
             layer_count: 1,
         }
+    }
+
+    pub fn mip_levels(&self) -> u32 {
+        self.mip_levels
+    }
+
+    /// One mip level as a subresource range.
+    pub fn mip_range(&self, level: u32) -> vk::ImageSubresourceRange {
+        Self::range(self.aspect, level, 1)
     }
 
     pub fn raw(&self) -> vk::Image {
@@ -245,7 +267,7 @@ impl Image {
     }
     /// The whole image as a subresource range.
     pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
-        Self::range(self.aspect)
+        Self::range(self.aspect, 0, self.mip_levels)
     }
 
     /// A layout transition of the whole image (synchronization2).
@@ -263,6 +285,108 @@ impl Image {
             .new_layout(dst.2)
             .image(self.raw)
             .subresource_range(self.subresource_range())
+    }
+
+    /// Records the upload of mip level 0 from `staging` (tightly packed texels) and the
+    /// generation of the other levels by linear blits; leaves every level in
+    /// SHADER_READ_ONLY_OPTIMAL for fragment shaders. The format must support blits with
+    /// linear filtering (RGBA8 does on every device Combustion runs on).
+    pub fn record_upload_with_mips(&self, cmd: vk::CommandBuffer, staging: &Buffer) {
+        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
+        let raw = self.device.raw();
+        let level_barrier = |level: u32, src: (S, A, L), dst: (S, A, L)| {
+            vk::ImageMemoryBarrier2::default()
+                .src_stage_mask(src.0)
+                .src_access_mask(src.1)
+                .old_layout(src.2)
+                .dst_stage_mask(dst.0)
+                .dst_access_mask(dst.1)
+                .new_layout(dst.2)
+                .image(self.raw)
+                .subresource_range(self.mip_range(level))
+        };
+        let barrier = |barriers: &[vk::ImageMemoryBarrier2<'_>]| {
+            let info = vk::DependencyInfo::default().image_memory_barriers(barriers);
+            // SAFETY: recording state is the caller's responsibility.
+            unsafe { raw.cmd_pipeline_barrier2(cmd, &info) };
+        };
+        let dst = (
+            S::COPY | S::BLIT,
+            A::TRANSFER_WRITE,
+            L::TRANSFER_DST_OPTIMAL,
+        );
+        let src = (S::BLIT, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL);
+        let read = (
+            S::FRAGMENT_SHADER,
+            A::SHADER_SAMPLED_READ,
+            L::SHADER_READ_ONLY_OPTIMAL,
+        );
+        let all_to_dst = vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(S::NONE)
+            .dst_stage_mask(dst.0)
+            .dst_access_mask(dst.1)
+            .old_layout(L::UNDEFINED)
+            .new_layout(dst.2)
+            .image(self.raw)
+            .subresource_range(self.subresource_range());
+        barrier(&[all_to_dst]);
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: self.aspect,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(vk::Extent3D {
+                width: self.extent.width,
+                height: self.extent.height,
+                depth: 1,
+            });
+        // SAFETY: recording state; staging holds width·height texels.
+        unsafe {
+            raw.cmd_copy_buffer_to_image(
+                cmd,
+                staging.raw(),
+                self.raw,
+                L::TRANSFER_DST_OPTIMAL,
+                &[region],
+            )
+        };
+        let size = |level: u32| {
+            (
+                (self.extent.width >> level).max(1) as i32,
+                (self.extent.height >> level).max(1) as i32,
+            )
+        };
+        for level in 1..self.mip_levels {
+            barrier(&[level_barrier(level - 1, dst, src)]);
+            let ((sw, sh), (dw, dh)) = (size(level - 1), size(level));
+            let layers = |mip_level| vk::ImageSubresourceLayers {
+                aspect_mask: self.aspect,
+                mip_level,
+                base_array_layer: 0,
+                layer_count: 1,
+            };
+            let blit = vk::ImageBlit::default()
+                .src_subresource(layers(level - 1))
+                .src_offsets([vk::Offset3D::default(), vk::Offset3D { x: sw, y: sh, z: 1 }])
+                .dst_subresource(layers(level))
+                .dst_offsets([vk::Offset3D::default(), vk::Offset3D { x: dw, y: dh, z: 1 }]);
+            // SAFETY: recording state; levels are in the layouts named.
+            unsafe {
+                raw.cmd_blit_image(
+                    cmd,
+                    self.raw,
+                    L::TRANSFER_SRC_OPTIMAL,
+                    self.raw,
+                    L::TRANSFER_DST_OPTIMAL,
+                    &[blit],
+                    vk::Filter::LINEAR,
+                )
+            };
+            barrier(&[level_barrier(level - 1, src, read)]);
+        }
+        barrier(&[level_barrier(self.mip_levels - 1, dst, read)]);
     }
 
     /// Records a copy of the whole image (in TRANSFER_SRC_OPTIMAL) into `buffer`, tightly packed.
