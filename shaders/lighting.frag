@@ -74,6 +74,8 @@ void main() {
     m.diffuse_model = material.diffuse_model_flags.x;
     m.oren_nayar_sigma = oren_nayar_sigma_from_roughness(nra.z);
 
+    // The view-dependent half of the BRDF once per pixel; per light only the rest.
+    BrdfView view = brdf_view(m, n, t, b, v);
     vec3 radiance = vec3(0.0);
     for (uint i = 0u; i < push.counts.x; ++i) {
         GpuLight light = lights[i];
@@ -95,7 +97,7 @@ void main() {
         if (n_dot_l <= 0.0) {
             continue;
         }
-        radiance += brdf_evaluate(m, n, t, b, v, l) * irradiance * n_dot_l;
+        radiance += brdf_evaluate_view(m, view, l) * irradiance * n_dot_l;
     }
 #ifdef EMISSIVE
     radiance += texelFetch(gbuffer_emissive, pixel, 0).rgb;

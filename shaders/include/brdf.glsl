@@ -82,30 +82,53 @@ vec3 shading_frame_to_local(mat3 frame, vec3 v) {
     return vec3(dot(frame[0], v), dot(frame[1], v), dot(frame[2], v));
 }
 
-// f(v, l) per channel, NOT multiplied by n·l; 0 when n·l ≤ 0 or n·v ≤ 0.
-// Specular: D_GGX,aniso(h) · V_Smith,height-correlated(v, l) · F(v·h), v·h = |v + l|/2;
-// conductor lobe F = R_w(η_i; η + ik per channel), dielectric lobe F = R_w(η_i; η_d) with
-// TIR (white). Diffuse (dielectric part only): base_color × diffuse model × T_w(n·l)
-// T_w(n·v), the Fresnel transmittance in and out (symmetric, so f stays reciprocal).
-vec3 brdf_evaluate(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v, vec3 l) {
-    mat3 frame = shading_frame(n, t, b);
-    vec3 vl = shading_frame_to_local(frame, safe_normalize(v));
-    vec3 ll = shading_frame_to_local(frame, safe_normalize(l));
+// Everything of f(v, l) that depends on the view alone (Rust: BrdfView): computed once
+// per pixel by brdf_view, reused for every light by brdf_evaluate_view.
+struct BrdfView {
+    mat3 frame;
+    vec3 v;                // v in the shading frame
+    float ax;
+    float ay;
+    float metal;
+    float w;
+    vec2 visibility_half;  // (c_v, S_v) of smith_ggx_visibility_half
+    float transmittance_v; // T_w(n·v) of the dielectric part (1 when there is none)
+};
+
+BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
+    BrdfView view;
+    view.frame = shading_frame(n, t, b);
+    view.v = shading_frame_to_local(view.frame, safe_normalize(v));
+    view.ax = clamp_alpha(m.alpha_x);
+    view.ay = clamp_alpha(m.alpha_y);
+    view.metal = min(max(m.metalness, 0.0), 1.0);
+    view.w = min(max(m.polarisation_weight, 0.0), 1.0);
+    view.visibility_half = smith_ggx_visibility_half(view.v, view.ax, view.ay);
+    view.transmittance_v = view.metal < 1.0
+        ? polarised_weighted(fresnel_dielectric_transmittance(view.v.z, m.outside_eta, m.dielectric_eta), view.w)
+        : 1.0;
+    return view;
+}
+
+vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
+    vec3 vl = view.v;
+    vec3 ll = shading_frame_to_local(view.frame, safe_normalize(l));
     if (!(vl.z > 0.0 && ll.z > 0.0)) {
         return vec3(0.0);
     }
-    float ax = clamp_alpha(m.alpha_x);
-    float ay = clamp_alpha(m.alpha_y);
-    float metal = min(max(m.metalness, 0.0), 1.0);
-    float w = min(max(m.polarisation_weight, 0.0), 1.0);
+    float ax = view.ax;
+    float ay = view.ay;
+    float metal = view.metal;
+    float w = view.w;
     float eta_i = m.outside_eta;
 
     vec3 sum = vl + ll;
     float len = sqrt(dot(sum, sum));
     vec3 h = sum * (1.0 / len);
     float cos_h = min(0.5 * len, 1.0);
-    float lobe = d_ggx_anisotropic(h, ax, ay)
-               * visibility_smith_ggx_height_correlated_anisotropic(vl, ll, ax, ay);
+    vec2 light_half = smith_ggx_visibility_half(ll, ax, ay);
+    float visibility = 0.5 / (light_half.x * view.visibility_half.y + view.visibility_half.x * light_half.y);
+    float lobe = d_ggx_anisotropic(h, ax, ay) * visibility;
 
     vec3 result = vec3(0.0);
     if (metal < 1.0) {
@@ -113,7 +136,7 @@ vec3 brdf_evaluate(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v, vec3 l) {
         float spec = lobe * polarised_weighted(fresnel_dielectric(cos_h, eta_i, eta_d), w);
         float diffuse_weight =
             polarised_weighted(fresnel_dielectric_transmittance(ll.z, eta_i, eta_d), w)
-          * polarised_weighted(fresnel_dielectric_transmittance(vl.z, eta_i, eta_d), w);
+          * view.transmittance_v;
         vec3 rho = min(max(m.base_color, vec3(0.0)), vec3(1.0));
         vec3 diffuse;
         if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_QUALITATIVE) {
@@ -133,6 +156,15 @@ vec3 brdf_evaluate(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v, vec3 l) {
         result += metal * lobe * f;
     }
     return result;
+}
+
+// f(v, l) per channel, NOT multiplied by n·l; 0 when n·l ≤ 0 or n·v ≤ 0.
+// Specular: D_GGX,aniso(h) · V_Smith,height-correlated(v, l) · F(v·h), v·h = |v + l|/2;
+// conductor lobe F = R_w(η_i; η + ik per channel), dielectric lobe F = R_w(η_i; η_d) with
+// TIR (white). Diffuse (dielectric part only): base_color × diffuse model × T_w(n·l)
+// T_w(n·v), the Fresnel transmittance in and out (symmetric, so f stays reciprocal).
+vec3 brdf_evaluate(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v, vec3 l) {
+    return brdf_evaluate_view(m, brdf_view(m, n, t, b, v), l);
 }
 
 #endif // COMBUSTION_BRDF_GLSL

@@ -157,6 +157,14 @@ float g2_smith_ggx_height_correlated(vec3 v, vec3 l, vec3 m, float alpha) {
     return g2_smith_ggx_height_correlated_anisotropic(v, l, m, a, a);
 }
 
+// One direction's half of the height-correlated visibility: (c, S) with
+// c = max(w·n, COS_MIN), S = √(c² + αx² wx² + αy² wy²); V = ½ / (c_l S_v + c_v S_l).
+// α already clamped. Lets the lighting pass compute the view's half once per pixel.
+vec2 smith_ggx_visibility_half(vec3 w, float ax, float ay) {
+    float c = max(w.z, COS_MIN);
+    return vec2(c, sqrt(c * c + alpha2_sin2(w, ax, ay)));
+}
+
 // V = G₂/(4 n·v n·l) = 1/(2 (c_l S_v + c_v S_l)) for the height-correlated anisotropic
 // Smith G₂ (Heitz 2014, §6.2); cosines raised to COS_MIN.
 float visibility_smith_ggx_height_correlated_anisotropic(vec3 v, vec3 l, float alpha_x, float alpha_y) {
@@ -165,11 +173,9 @@ float visibility_smith_ggx_height_correlated_anisotropic(vec3 v, vec3 l, float a
     }
     float ax = clamp_alpha(alpha_x);
     float ay = clamp_alpha(alpha_y);
-    float cv = max(v.z, COS_MIN);
-    float cl = max(l.z, COS_MIN);
-    float sv = sqrt(cv * cv + alpha2_sin2(v, ax, ay));
-    float sl = sqrt(cl * cl + alpha2_sin2(l, ax, ay));
-    return 0.5 / (cl * sv + cv * sl);
+    vec2 view_half = smith_ggx_visibility_half(v, ax, ay);
+    vec2 light_half = smith_ggx_visibility_half(l, ax, ay);
+    return 0.5 / (light_half.x * view_half.y + view_half.x * light_half.y);
 }
 
 // Cook–Torrance G = min{1, 2(n·h)(n·v)/(v·h), 2(n·h)(n·l)/(v·h)} (Cook & Torrance 1981).

@@ -9,9 +9,7 @@ use crate::diffuse::{
     OREN_NAYAR_A_CONSTANT_BRDF,
 };
 use crate::fresnel::{fresnel_conductor, fresnel_dielectric, fresnel_dielectric_transmittance};
-use crate::microfacet::{
-    clamp_alpha, d_ggx_anisotropic, visibility_smith_ggx_height_correlated_anisotropic,
-};
+use crate::microfacet::{clamp_alpha, d_ggx_anisotropic, smith_ggx_visibility_half};
 use crate::real::Real;
 use crate::vec3::{ShadingFrame, Vec3};
 use core::fmt;
@@ -151,17 +149,71 @@ pub fn brdf_evaluate<T: Real>(
     v: Vec3<T>,
     l: Vec3<T>,
 ) -> [T; 3] {
-    let zero = [T::ZERO; 3];
+    brdf_evaluate_view(m, &brdf_view(m, n, t, b, v), l)
+}
+
+/// Everything of f(v, l) that depends on the view alone: the shading frame, v in it,
+/// the clamped parameters, the view's half of the Smith visibility and the dielectric
+/// transmittance T_w(n·v). A renderer computes it once per pixel and evaluates every
+/// light with [`brdf_evaluate_view`]; [`brdf_evaluate`] is exactly the two in sequence.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BrdfView<T> {
+    frame: ShadingFrame<T>,
+    /// v in the shading frame.
+    v: Vec3<T>,
+    ax: T,
+    ay: T,
+    metal: T,
+    w: T,
+    /// (c_v, S_v) of [`smith_ggx_visibility_half`].
+    cv: T,
+    sv: T,
+    /// T_w(n·v) of the dielectric part (1 when there is none).
+    transmittance_v: T,
+}
+
+/// The per-view part of [`brdf_evaluate`] (see [`BrdfView`]).
+pub fn brdf_view<T: Real>(
+    m: &BrdfInputs<T>,
+    n: Vec3<T>,
+    t: Vec3<T>,
+    b: Vec3<T>,
+    v: Vec3<T>,
+) -> BrdfView<T> {
     let frame = ShadingFrame::new(n, t, b);
     let v = frame.to_local(v.normalize());
-    let l = frame.to_local(l.normalize());
-    if !(v.z.is_positive() && l.z.is_positive()) {
-        return zero;
-    }
     let ax = clamp_alpha(m.alpha_x);
     let ay = clamp_alpha(m.alpha_y);
     let metal = m.metalness.saturate();
     let w = m.polarisation_weight.saturate();
+    let (cv, sv) = smith_ggx_visibility_half(v, ax, ay);
+    let transmittance_v = if metal < T::ONE {
+        fresnel_dielectric_transmittance(v.z, m.outside_eta, m.dielectric_eta).weighted(w)
+    } else {
+        T::ONE
+    };
+    BrdfView {
+        frame,
+        v,
+        ax,
+        ay,
+        metal,
+        w,
+        cv,
+        sv,
+        transmittance_v,
+    }
+}
+
+/// f(v, l) per channel for a view prepared by [`brdf_view`] (see [`brdf_evaluate`]).
+pub fn brdf_evaluate_view<T: Real>(m: &BrdfInputs<T>, view: &BrdfView<T>, l: Vec3<T>) -> [T; 3] {
+    let zero = [T::ZERO; 3];
+    let v = view.v;
+    let l = view.frame.to_local(l.normalize());
+    if !(v.z.is_positive() && l.z.is_positive()) {
+        return zero;
+    }
+    let (ax, ay, metal, w) = (view.ax, view.ay, view.metal, view.w);
     let eta_i = m.outside_eta;
 
     // Shared microfacet lobe. |v + l| > 0 here since v.z + l.z > 0.
@@ -169,15 +221,16 @@ pub fn brdf_evaluate<T: Real>(
     let len = sum.length();
     let h = sum * (T::ONE / len);
     let cos_h = (T::HALF * len).min(T::ONE); // v·h = l·h, symmetric in v and l
-    let lobe = d_ggx_anisotropic(h, ax, ay)
-        * visibility_smith_ggx_height_correlated_anisotropic(v, l, ax, ay);
+    let (cl, sl) = smith_ggx_visibility_half(l, ax, ay);
+    let visibility = T::HALF / (cl * view.sv + view.cv * sl);
+    let lobe = d_ggx_anisotropic(h, ax, ay) * visibility;
 
     let mut out = zero;
     if metal < T::ONE {
         let eta_d = m.dielectric_eta;
         let spec = lobe * fresnel_dielectric(cos_h, eta_i, eta_d).weighted(w);
-        let diffuse_weight = fresnel_dielectric_transmittance(l.z, eta_i, eta_d).weighted(w)
-            * fresnel_dielectric_transmittance(v.z, eta_i, eta_d).weighted(w);
+        let diffuse_weight =
+            fresnel_dielectric_transmittance(l.z, eta_i, eta_d).weighted(w) * view.transmittance_v;
         let sigma = m.oren_nayar_sigma;
         for (o, &rho) in out.iter_mut().zip(&m.base_color) {
             let rho = rho.saturate();

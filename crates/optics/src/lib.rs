@@ -160,7 +160,10 @@ pub mod microfacet;
 pub mod real;
 pub mod vec3;
 
-pub use brdf::{brdf_evaluate, BrdfInputs, DiffuseModel, UnknownDiffuseModel};
+pub use brdf::{
+    brdf_evaluate, brdf_evaluate_view, brdf_view, BrdfInputs, BrdfView, DiffuseModel,
+    UnknownDiffuseModel,
+};
 pub use real::Real;
 pub use vec3::{ShadingFrame, Vec3};
 

@@ -19,7 +19,7 @@ use crate::{ALPHA_MIN, COS_MIN};
 
 /// α limited to [[`ALPHA_MIN`], 1] (NaN → `ALPHA_MIN`).
 #[inline]
-pub(crate) fn clamp_alpha<T: Real>(alpha: T) -> T {
+pub fn clamp_alpha<T: Real>(alpha: T) -> T {
     alpha.clamp_to(T::from_f64(ALPHA_MIN), T::ONE)
 }
 
@@ -260,12 +260,19 @@ pub fn visibility_smith_ggx_height_correlated_anisotropic<T: Real>(
     }
     let ax = clamp_alpha(alpha_x);
     let ay = clamp_alpha(alpha_y);
-    let cmin = T::from_f64(COS_MIN);
-    let cv = v.z.max(cmin);
-    let cl = l.z.max(cmin);
-    let sv = (cv * cv + alpha2_sin2(v, ax, ay)).sqrt();
-    let sl = (cl * cl + alpha2_sin2(l, ax, ay)).sqrt();
+    let (cv, sv) = smith_ggx_visibility_half(v, ax, ay);
+    let (cl, sl) = smith_ggx_visibility_half(l, ax, ay);
     T::HALF / (cl * sv + cv * sl)
+}
+
+/// One direction's half of the height-correlated visibility: (c, S) with
+/// c = max(w·n, COS_MIN) and S = √(c² + αx² wx² + αy² wy²), so that
+/// V = ½ / (c_l S_v + c_v S_l). Lets a renderer compute the view's half once per pixel.
+/// α must already be clamped (`clamp_alpha`).
+#[inline]
+pub fn smith_ggx_visibility_half<T: Real>(w: Vec3<T>, ax: T, ay: T) -> (T, T) {
+    let c = w.z.max(T::from_f64(COS_MIN));
+    (c, (c * c + alpha2_sin2(w, ax, ay)).sqrt())
 }
 
 /// Cook–Torrance geometric attenuation (Cook & Torrance 1981, "A Reflectance Model for
