@@ -1,11 +1,16 @@
-//! `combustion`: render built-in scenes headless, benchmark the passes, list devices.
+//! `combustion`: render built-in scenes headless, benchmark the passes, list devices,
+//! evaluate optics terms, plot reflectance and spectra, describe scenes.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use combustion::renderer::{Readback, RendererSettings};
+use combustion::scene::gltf::{self, ImportOptions};
+use combustion::scene::{DiffuseModel, Light, Material, Scene, BUILTIN_SCENES};
+use combustion::spectra::{BuiltinMetal, Spectrum};
 use combustion::vk::{DeviceDesc, DeviceSelector};
 use combustion::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
+use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
 
 const USAGE: &str = "\
 combustion — Vulkan deferred renderer with physically based shading
@@ -19,13 +24,33 @@ USAGE:
                     [--k K|r,g,b] [--eta-i E] [--sigma S] [--polarisation W] [--rho R|r,g,b]
                     [--metalness M] [--dielectric-eta E] [--diffuse MODEL] [--f0 F]
   combustion eval --list
+  combustion plot reflectance (--metal NAME | --dielectric ETA | --eta E|r,g,b [--k K|r,g,b]
+                    | --csv FILE) [--outside-ior X] [--polarisation W] [PLOT OPTIONS]
+  combustion plot spectrum (--metal NAME | --csv FILE) [PLOT OPTIONS]
+  combustion plot dielectrics [--etas E,E,...] [--outside-ior X] [PLOT OPTIONS]
+  combustion info SCENE
   combustion devices
   combustion help
 
-SCENE is builtin:NAME (built-in scenes: spheres); default builtin:spheres.
+SCENE is builtin:NAME (see below; default builtin:spheres) or a glTF file (.gltf or
+.glb; a file without lights gets a default camera-relative light rig).
 --device SEL picks a Vulkan device by index or by part of its name (e.g. llvmpipe);
 the COMBUSTION_DEVICE environment variable does the same. --validate turns on the
 Khronos validation layer and fails if it reports anything.
+
+plot draws PNG charts with the optics reference (no GPU): `reflectance` Rs, Rp and R
+against the angle of incidence per RGB channel (rendering notes Figs. 10-11), `spectrum`
+a table's n(λ), k(λ) with the RGB bands (Figs. 8-9), `dielectrics` R against angle for
+several ηt (Fig. 12; default 1.1,1.33,1.5,1.8,2.4,3). --metal takes a built-in metal
+(name or symbol), --csv a `wavelength_nm,n,k` table spanning 450-740 nm, --eta/--k one
+value or one per RGB channel (k defaults to 0). --outside-ior is the medium's index ηi
+(default 1; 1.33 for water), --polarisation the weight w of R = (1-w)Rs + wRp (default
+0.5, unpolarised). PLOT OPTIONS: [-o OUT.png] [--width N] [--height N]; the default
+output is reflectance.png, spectrum.png or dielectrics.png, the default size 800x500
+(spectrum 800x600).
+
+info prints what a scene holds (meshes, materials, lights, camera, outside medium) and
+which renderer features it needs; for a glTF file also what the importer found.
 Logging: COMBUSTION_LOG=error|warn|info|debug|trace (default warn).";
 
 struct StderrLogger;
@@ -282,26 +307,521 @@ fn eval(args: &[String]) -> Result<(), Error> {
     }
 }
 
-fn run(args: &[String]) -> Result<(), Error> {
+/// `text` on one line: line breaks (an importer's or parser's detail) become "; ".
+fn one_line(text: &str) -> String {
+    text.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// Flags and values of a `plot` subcommand, in order; every flag takes one value.
+struct PlotArgs {
+    kind: &'static str,
+    values: Vec<(String, String)>,
+}
+
+impl PlotArgs {
+    fn parse(kind: &'static str, args: &[String], allowed: &[&str]) -> Result<Self, CliError> {
+        let mut values: Vec<(String, String)> = Vec::new();
+        let mut i = 0;
+        while i < args.len() {
+            let flag = args[i].as_str();
+            let canonical = if flag == "--output" { "-o" } else { flag };
+            if !allowed.contains(&canonical) {
+                return Err(usage(format!(
+                    "unknown argument `{flag}` for `combustion plot {kind}` (see `combustion help`)"
+                )));
+            }
+            let value = args
+                .get(i + 1)
+                .ok_or_else(|| usage(format!("{flag} needs a value")))?;
+            if values.iter().any(|(f, _)| f == canonical) {
+                return Err(usage(format!("{flag} is given twice")));
+            }
+            values.push((canonical.to_owned(), value.clone()));
+            i += 2;
+        }
+        Ok(Self { kind, values })
+    }
+
+    fn get(&self, flag: &str) -> Option<&str> {
+        self.values
+            .iter()
+            .find(|(f, _)| f == flag)
+            .map(|(_, v)| v.as_str())
+    }
+
+    fn number(&self, flag: &str, default: f64) -> Result<f64, CliError> {
+        match self.get(flag) {
+            None => Ok(default),
+            Some(text) => Ok(parse_list(flag, text, &[1])?[0]),
+        }
+    }
+
+    fn size(&self, default: (u32, u32)) -> Result<(u32, u32), CliError> {
+        let dimension = |flag: &str, default: u32| -> Result<u32, CliError> {
+            match self.get(flag) {
+                None => Ok(default),
+                Some(text) => Ok(number::<u32>(flag, text)?),
+            }
+        };
+        Ok((
+            dimension("--width", default.0)?,
+            dimension("--height", default.1)?,
+        ))
+    }
+
+    /// The output path (default `KIND.png`), checked before any work is done.
+    fn output(&self) -> Result<PathBuf, CliError> {
+        let path = PathBuf::from(
+            self.get("-o")
+                .map_or_else(|| format!("{}.png", self.kind), str::to_owned),
+        );
+        output::check_writable(&path)?;
+        Ok(path)
+    }
+}
+
+/// A comma-separated list of finite numbers whose length is one of `lengths` (any length
+/// if `lengths` is empty).
+fn parse_list(flag: &str, text: &str, lengths: &[usize]) -> Result<Vec<f64>, CliError> {
+    let values = text
+        .split(',')
+        .map(|part| {
+            let value: f64 = part
+                .trim()
+                .parse()
+                .map_err(|_| usage(format!("{flag}: `{}` is not a number", part.trim())))?;
+            if value.is_finite() {
+                Ok(value)
+            } else {
+                Err(usage(format!("{flag}: {value} is not finite")))
+            }
+        })
+        .collect::<Result<Vec<f64>, CliError>>()?;
+    if !lengths.is_empty() && !lengths.contains(&values.len()) {
+        let expected: Vec<String> = lengths.iter().map(usize::to_string).collect();
+        return Err(usage(format!(
+            "{flag} takes {} value(s), got {}",
+            expected.join(" or "),
+            values.len()
+        )));
+    }
+    Ok(values)
+}
+
+/// One value for all three RGB channels, or one per channel.
+fn rgb(flag: &str, text: &str) -> Result<[f64; 3], CliError> {
+    match parse_list(flag, text, &[1, 3])?.as_slice() {
+        [x] => Ok([*x; 3]),
+        [r, g, b] => Ok([*r, *g, *b]),
+        _ => unreachable!("parse_list checked the length"),
+    }
+}
+
+fn builtin_metal(name: &str) -> Result<BuiltinMetal, CliError> {
+    BuiltinMetal::from_name(name).ok_or_else(|| {
+        let known: Vec<&str> = BuiltinMetal::ALL.iter().map(|m| m.name()).collect();
+        usage(format!(
+            "--metal: unknown metal `{name}`; built-in metals: {} (or their chemical symbols)",
+            known.join(", ")
+        ))
+    })
+}
+
+/// Reads a `wavelength_nm,n,k` table; problems name the file and the line.
+fn read_spectrum(path: &str) -> Result<Spectrum, CliError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::Failed(format!("cannot read {path}: {e}")))?;
+    Spectrum::from_csv(&text).map_err(|e| CliError::Failed(format!("{path}: {e}")))
+}
+
+/// The file name of `path` without its folder, for a plot's title.
+fn file_label(path: &str) -> String {
+    Path::new(path)
+        .file_name()
+        .map_or_else(|| path.to_owned(), |n| n.to_string_lossy().into_owned())
+}
+
+fn write_plot(path: &Path, png: &combustion_plots::Png) -> Result<(), CliError> {
+    output::write_file_atomically(path, &png.bytes)?;
+    println!("wrote {} ({}x{})", path.display(), png.width, png.height);
+    Ok(())
+}
+
+fn plot(args: &[String]) -> Result<(), CliError> {
+    const COMMON: [&str; 3] = ["-o", "--width", "--height"];
+    let Some((kind, rest)) = args.split_first() else {
+        return Err(usage(
+            "`combustion plot` needs a kind: reflectance, spectrum or dielectrics".into(),
+        ));
+    };
+    match kind.as_str() {
+        "reflectance" => {
+            let a = PlotArgs::parse(
+                "reflectance",
+                rest,
+                &[
+                    &COMMON[..],
+                    &[
+                        "--metal",
+                        "--dielectric",
+                        "--eta",
+                        "--k",
+                        "--csv",
+                        "--outside-ior",
+                        "--polarisation",
+                    ],
+                ]
+                .concat(),
+            )?;
+            let sources: Vec<&str> = ["--metal", "--dielectric", "--eta", "--csv"]
+                .into_iter()
+                .filter(|f| a.get(f).is_some())
+                .collect();
+            if sources.len() != 1 {
+                return Err(usage(format!(
+                    "`combustion plot reflectance` needs exactly one material: --metal NAME, --dielectric ETA, --eta (with --k) or --csv FILE{}",
+                    if sources.is_empty() {
+                        String::new()
+                    } else {
+                        format!("; got {}", sources.join(", "))
+                    }
+                )));
+            }
+            if a.get("--k").is_some() && a.get("--eta").is_none() {
+                return Err(usage("--k needs --eta".into()));
+            }
+            let (width, height) = a.size((800, 500))?;
+            let outside_eta = a.number("--outside-ior", 1.0)?;
+            let polarisation_weight = a.number("--polarisation", 0.5)?;
+            let path = a.output()?;
+            let material = if let Some(name) = a.get("--metal") {
+                PlotMaterial::Metal(builtin_metal(name)?)
+            } else if let Some(eta) = a.get("--dielectric") {
+                PlotMaterial::Dielectric {
+                    eta: parse_list("--dielectric", eta, &[1])?[0],
+                }
+            } else if let Some(eta) = a.get("--eta") {
+                PlotMaterial::Conductor {
+                    eta: rgb("--eta", eta)?,
+                    k: a.get("--k").map_or(Ok([0.0; 3]), |k| rgb("--k", k))?,
+                }
+            } else {
+                let file = a.get("--csv").unwrap_or_default();
+                PlotMaterial::Spectral {
+                    name: file_label(file),
+                    spectrum: read_spectrum(file)?,
+                }
+            };
+            let png = combustion_plots::plot_reflectance(&ReflectancePlot {
+                material,
+                outside_eta,
+                polarisation_weight,
+                width,
+                height,
+            })?;
+            write_plot(&path, &png)
+        }
+        "spectrum" => {
+            let a = PlotArgs::parse(
+                "spectrum",
+                rest,
+                &[&COMMON[..], &["--metal", "--csv"]].concat(),
+            )?;
+            let (width, height) = a.size((800, 600))?;
+            let (name, spectrum) = match (a.get("--metal"), a.get("--csv")) {
+                (Some(name), None) => {
+                    let metal = builtin_metal(name)?;
+                    (
+                        format!("{} ({}, {})", metal.name(), metal.symbol(), metal.dataset()),
+                        metal.spectrum().clone(),
+                    )
+                }
+                (None, Some(file)) => {
+                    let path = a.output()?;
+                    let spectrum = read_spectrum(file)?;
+                    let png = combustion_plots::plot_spectrum(
+                        &file_label(file),
+                        &spectrum,
+                        width,
+                        height,
+                    )?;
+                    return write_plot(&path, &png);
+                }
+                _ => return Err(usage(
+                    "`combustion plot spectrum` needs exactly one of --metal NAME or --csv FILE"
+                        .into(),
+                )),
+            };
+            let path = a.output()?;
+            let png = combustion_plots::plot_spectrum(&name, &spectrum, width, height)?;
+            write_plot(&path, &png)
+        }
+        "dielectrics" => {
+            let a = PlotArgs::parse(
+                "dielectrics",
+                rest,
+                &[&COMMON[..], &["--etas", "--outside-ior"]].concat(),
+            )?;
+            let etas = match a.get("--etas") {
+                None => FIGURE_12_ETAS.to_vec(),
+                // How many is the plot's to judge (at least one, at most MAX_FAMILY).
+                Some(text) => parse_list("--etas", text, &[])?,
+            };
+            let (width, height) = a.size((800, 500))?;
+            let outside_eta = a.number("--outside-ior", 1.0)?;
+            let path = a.output()?;
+            let png = combustion_plots::plot_dielectric_family(&etas, outside_eta, width, height)?;
+            write_plot(&path, &png)
+        }
+        other => Err(usage(format!(
+            "unknown plot `{other}` (plots: reflectance, spectrum, dielectrics)"
+        ))),
+    }
+}
+
+/// `info SCENE`: what the scene holds and which renderer features it needs.
+fn info(args: &[String]) -> Result<(), CliError> {
+    let [source] = args else {
+        return Err(usage(
+            "`combustion info` takes one scene: builtin:NAME or a .gltf/.glb file".into(),
+        ));
+    };
+    let scene = match SceneSource::parse(source) {
+        SceneSource::Builtin(name) => {
+            let scene = combustion::scene::builtin_scene(&name).map_err(Error::from)?;
+            println!("scene: builtin:{name}");
+            scene
+        }
+        SceneSource::File(path) => {
+            let (mut scene, report) =
+                gltf::import(&path, &ImportOptions::default()).map_err(Error::from)?;
+            println!("{report}");
+            if !scene.name.is_empty() {
+                println!("scene: {}", scene.name);
+            }
+            if scene.lights.is_empty() {
+                // What `render` does with such a file (SceneSource::load).
+                scene.lights = combustion::default_light_rig(&scene.camera);
+                println!(
+                    "note: the file has no lights; render adds the default camera-relative light rig (listed below)"
+                );
+            }
+            scene
+        }
+    };
+    scene.validate().map_err(Error::from)?;
+    print!("{}", describe_scene(&scene));
+    Ok(())
+}
+
+fn fmt3(v: [f32; 3]) -> String {
+    format!("({}, {}, {})", v[0], v[1], v[2])
+}
+
+/// `x` to 3 decimals, for printing.
+fn round3(x: f32) -> f32 {
+    (x * 1000.0).round() / 1000.0
+}
+
+fn fmt_vec(v: glam::Vec3) -> String {
+    format!("({}, {}, {})", round3(v.x), round3(v.y), round3(v.z))
+}
+
+/// One line per material: what its optics are.
+fn describe_material(m: &Material, outside_ior: f32) -> String {
+    let diffuse = match m.diffuse_model {
+        DiffuseModel::Lambert => "Lambert",
+        DiffuseModel::OrenNayarQualitative => "Oren-Nayar qualitative",
+        DiffuseModel::OrenNayarFull => "Oren-Nayar full",
+    };
+    let dielectric = format!(
+        "dielectric η {} over base colour {} ({diffuse})",
+        m.dielectric_ior,
+        fmt3(m.base_color)
+    );
+    let conductor = if m.conductor_from_base_color {
+        "conductor η+ik from the base colour".to_owned()
+    } else {
+        let r = |v: [f32; 3]| fmt3(v.map(|x| (x * 1e4).round() / 1e4));
+        format!("conductor η {} k {}", r(m.conductor.eta), r(m.conductor.k))
+    };
+    let mut parts = vec![if m.metalness >= 1.0 {
+        conductor
+    } else if m.metalness <= 0.0 {
+        dielectric
+    } else {
+        format!("metalness {}: {conductor}; {dielectric}", m.metalness)
+    }];
+    parts.push(format!("roughness {}", m.roughness));
+    if m.anisotropy_strength > 0.0 {
+        parts.push(format!(
+            "anisotropy {} at {}°",
+            m.anisotropy_strength,
+            m.anisotropy_rotation.to_degrees()
+        ));
+    }
+    if m.outside_ior.is_some() {
+        parts.push(format!("outside IOR {outside_ior} (own)"));
+    }
+    if m.polarisation_weight != 0.5 {
+        parts.push(format!("polarisation weight {}", m.polarisation_weight));
+    }
+    let textures: Vec<&str> = m
+        .texture_slots()
+        .iter()
+        .filter(|(_, t)| t.is_some())
+        .map(|(slot, _)| slot.name())
+        .collect();
+    if !textures.is_empty() {
+        parts.push(format!("textures: {}", textures.join(", ")));
+    }
+    parts.join(", ")
+}
+
+fn describe_scene(scene: &Scene) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let triangles: usize = scene.meshes.iter().map(|m| m.indices.len() / 3).sum();
+    let drawn: usize = scene
+        .objects
+        .iter()
+        .map(|o| scene.meshes[o.mesh].indices.len() / 3)
+        .sum();
+    let _ = writeln!(
+        out,
+        "meshes: {} ({triangles} triangles), objects: {} ({drawn} triangles drawn)",
+        scene.meshes.len(),
+        scene.objects.len()
+    );
+    let _ = writeln!(out, "materials: {}", scene.materials.len());
+    for (i, m) in scene.materials.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "  {i}: {}: {}",
+            m.name,
+            describe_material(m, scene.outside_ior_of(m))
+        );
+    }
+    let _ = writeln!(out, "lights: {}", scene.lights.len());
+    for light in &scene.lights {
+        let _ = match light {
+            Light::Point {
+                position,
+                intensity,
+            } => writeln!(
+                out,
+                "  point at {}, intensity {} W/sr",
+                fmt_vec(*position),
+                fmt3(*intensity)
+            ),
+            Light::Directional {
+                direction,
+                irradiance,
+            } => writeln!(
+                out,
+                "  directional along {}, irradiance {} W/m²",
+                fmt_vec(direction.normalize()),
+                fmt3(*irradiance)
+            ),
+            Light::Spot {
+                position,
+                direction,
+                intensity,
+                inner_cone,
+                outer_cone,
+            } => writeln!(
+                out,
+                "  spot at {} along {}, intensity {} W/sr, cone {:.1}°–{:.1}°",
+                fmt_vec(*position),
+                fmt_vec(direction.normalize()),
+                fmt3(*intensity),
+                inner_cone.to_degrees(),
+                outer_cone.to_degrees()
+            ),
+        };
+    }
+    let c = &scene.camera;
+    let _ = writeln!(
+        out,
+        "camera: at {} looking at {}, vertical field of view {:.1}°, near {} far {}",
+        fmt_vec(c.position),
+        fmt_vec(c.target),
+        c.vertical_fov.to_degrees(),
+        round3(c.near),
+        round3(c.far)
+    );
+    let _ = writeln!(out, "outside medium IOR: {}", scene.outside_ior);
+    let _ = writeln!(out, "renderer features needed:");
+    for line in scene.features().to_string().lines() {
+        let _ = writeln!(out, "  {line}");
+    }
+    out
+}
+
+/// A failure of the command: the facade's errors, or one of `plot`'s and `info`'s own
+/// (a bad spectral table or scene file, a plot that could not be drawn).
+enum CliError {
+    Lib(Error),
+    /// Exit status 1, message as is.
+    Failed(String),
+}
+
+impl From<Error> for CliError {
+    fn from(e: Error) -> Self {
+        CliError::Lib(e)
+    }
+}
+
+impl From<output::OutputError> for CliError {
+    fn from(e: output::OutputError) -> Self {
+        CliError::Lib(Error::Output(e))
+    }
+}
+
+/// `plot`'s parameter errors are bad usage (exit 2); drawing and encoding failures are not.
+impl From<PlotError> for CliError {
+    fn from(e: PlotError) -> Self {
+        match e {
+            PlotError::InvalidSize { .. }
+            | PlotError::InvalidParameter { .. }
+            | PlotError::EmptyEtaList
+            | PlotError::TooManyCurves { .. } => CliError::Lib(Error::Usage(e.to_string())),
+            other => CliError::Failed(other.to_string()),
+        }
+    }
+}
+
+fn usage(message: String) -> CliError {
+    CliError::Lib(Error::Usage(message))
+}
+
+fn run(args: &[String]) -> Result<(), CliError> {
     let (command, rest) = match args.split_first() {
         Some((c, rest)) => (c.as_str(), rest),
         None => ("help", &[][..]),
     };
     match command {
-        "render" => render(&parse_options(rest, "render")?),
-        "bench" => bench(&parse_options(rest, "bench")?),
-        "devices" => devices(),
-        "eval" => eval(rest),
+        "render" => Ok(render(&parse_options(rest, "render")?)?),
+        "bench" => Ok(bench(&parse_options(rest, "bench")?)?),
+        "devices" => Ok(devices()?),
+        "eval" => Ok(eval(rest)?),
+        "plot" => plot(rest),
+        "info" => info(rest),
         "help" | "--help" | "-h" => {
             println!("{USAGE}");
+            println!("Built-in scenes: {}.", BUILTIN_SCENES.join(", "));
             Ok(())
         }
         "--version" | "-V" => {
             println!("combustion {}", env!("CARGO_PKG_VERSION"));
             Ok(())
         }
-        other => Err(Error::Usage(format!(
-            "unknown command `{other}` (commands: render, bench, eval, devices, help)"
+        other => Err(usage(format!(
+            "unknown command `{other}` (commands: render, bench, eval, plot, info, devices, help)"
         ))),
     }
 }
@@ -311,12 +831,16 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
+        Err(CliError::Lib(e)) => {
+            eprintln!("error: {}", one_line(&e.to_string()));
             match e {
                 Error::Usage(_) => ExitCode::from(2),
                 _ => ExitCode::FAILURE,
             }
+        }
+        Err(CliError::Failed(message)) => {
+            eprintln!("error: {}", one_line(&message));
+            ExitCode::FAILURE
         }
     }
 }

@@ -77,6 +77,17 @@ fn write_atomically(
     result
 }
 
+/// Writes `bytes` to `path` atomically: to a temporary file in the same folder, renamed into
+/// place when complete (an encoded plot, say).
+pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    write_atomically(path, |writer| {
+        writer.write_all(bytes).map_err(|source| OutputError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
 /// Writes 8-bit sRGB RGBA pixels as a PNG (sRGB chunk set).
 pub fn write_png(
     path: &Path,

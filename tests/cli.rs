@@ -268,3 +268,326 @@ fn eval_bad_input() {
     assert_clear_error(&["eval", "lambert", "--rho", "NaN"], "not finite");
     assert_clear_error(&["eval", "d-ggx", "--theta-v", "10"], "needs m");
 }
+
+/// Width and height from a PNG's IHDR chunk, after checking the signature.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "PNG signature");
+    assert_eq!(&bytes[12..16], b"IHDR", "first chunk is IHDR");
+    let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+/// The names of the files in `dir`, sorted.
+fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+fn repo_file(path: &str) -> String {
+    format!("{}/{path}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn plot_writes_pngs_of_the_requested_size() {
+    let dir = scratch("plot");
+    let out = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    let copper = repo_file("assets/scenes/optics/copper.csv");
+    let runs: [(&[&str], &str, (u32, u32)); 6] = [
+        (
+            &[
+                "reflectance",
+                "--metal",
+                "gold",
+                "--width",
+                "320",
+                "--height",
+                "200",
+            ],
+            "gold.png",
+            (320, 200),
+        ),
+        (
+            &[
+                "reflectance",
+                "--dielectric",
+                "1.0",
+                "--outside-ior",
+                "1.33",
+                "--polarisation",
+                "0",
+            ],
+            "bubble.png",
+            (800, 500),
+        ),
+        (
+            &["reflectance", "--eta", "0.2,0.9,1.1", "--k", "3.9,2.6,2.5"],
+            "eta-k.png",
+            (800, 500),
+        ),
+        (&["reflectance", "--csv", &copper], "copper.png", (800, 500)),
+        (
+            &[
+                "spectrum", "--metal", "Au", "--width", "400", "--height", "300",
+            ],
+            "gold-nk.png",
+            (400, 300),
+        ),
+        (
+            &["dielectrics", "--etas", "1.1,1.5,2.4"],
+            "fig12.png",
+            (800, 500),
+        ),
+    ];
+    let mut expected_files = Vec::new();
+    for (args, name, size) in runs {
+        let path = out(name);
+        let mut full = vec!["plot"];
+        full.extend_from_slice(args);
+        full.extend_from_slice(&["-o", &path]);
+        let (code, stdout, stderr) = combustion(&full);
+        assert_eq!(code, 0, "{full:?}: {stdout}{stderr}");
+        assert!(stdout.contains("wrote"), "{stdout}");
+        assert_eq!(png_size(&std::fs::read(&path).unwrap()), size, "{name}");
+        expected_files.push(name.to_owned());
+    }
+    // Nothing but the plots is left in the folder (no partial files).
+    expected_files.sort();
+    assert_eq!(listing(&dir), expected_files);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn plot_spectrum_of_a_csv_and_the_default_output_name() {
+    let dir = scratch("plot-default");
+    let output = Command::new(env!("CARGO_BIN_EXE_combustion"))
+        .args([
+            "plot",
+            "spectrum",
+            "--csv",
+            &repo_file("assets/scenes/optics/copper.csv"),
+        ])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{output:?}");
+    let bytes = std::fs::read(dir.join("spectrum.png")).unwrap();
+    assert_eq!(png_size(&bytes), (800, 600));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Exit status 2 (bad usage) and a one-line error mentioning `expected`.
+fn assert_usage_error(args: &[&str], expected: &str) {
+    assert_clear_error(args, expected);
+    let (code, ..) = combustion(args);
+    assert_eq!(code, 2, "{args:?} is a usage error");
+}
+
+#[test]
+fn plot_bad_input() {
+    let dir = scratch("plot-bad");
+    let out = dir.join("never.png");
+    let o = out.to_str().unwrap();
+    assert_usage_error(
+        &["plot", "reflectance", "--metal", "unobtainium", "-o", o],
+        "unknown metal `unobtainium`; built-in metals: gold, silver",
+    );
+    assert_usage_error(
+        &["plot", "spectrum", "--metal", "kryptonite", "-o", o],
+        "unknown metal `kryptonite`",
+    );
+    assert_usage_error(
+        &["plot", "dielectrics", "--etas", "1.1,glass,2.4", "-o", o],
+        "--etas: `glass` is not a number",
+    );
+    assert_usage_error(
+        &["plot", "dielectrics", "--etas", "1.1,-1.5", "-o", o],
+        "etas[1] = -1.5",
+    );
+    assert_usage_error(
+        &[
+            "plot",
+            "dielectrics",
+            "--etas",
+            "1,2,3,4,5,6,7,8,9,10,11",
+            "-o",
+            o,
+        ],
+        "at most 10",
+    );
+    assert_usage_error(
+        &["plot", "reflectance", "--eta", "1,2", "-o", o],
+        "--eta takes 1 or 3 value(s), got 2",
+    );
+    assert_usage_error(
+        &[
+            "plot",
+            "reflectance",
+            "--metal",
+            "gold",
+            "--dielectric",
+            "1.5",
+            "-o",
+            o,
+        ],
+        "exactly one material",
+    );
+    assert_usage_error(
+        &[
+            "plot",
+            "reflectance",
+            "--metal",
+            "gold",
+            "--polarisation",
+            "2",
+            "-o",
+            o,
+        ],
+        "polarisation",
+    );
+    assert_usage_error(
+        &[
+            "plot",
+            "reflectance",
+            "--metal",
+            "gold",
+            "--width",
+            "0",
+            "-o",
+            o,
+        ],
+        "size",
+    );
+    assert_usage_error(&["plot", "histogram"], "unknown plot `histogram`");
+    // A bad spectral table: the file, the line and the problem, exit status 1.
+    let csv = dir.join("my-metal.csv");
+    std::fs::write(&csv, "wavelength_nm,n,k\n450,1.0,2.0\n500,abc,2.1\n").unwrap();
+    let csv = csv.to_str().unwrap();
+    for kind in ["reflectance", "spectrum"] {
+        assert_clear_error(
+            &["plot", kind, "--csv", csv, "-o", o],
+            &format!("{csv}: line 3: cannot parse the n field `abc` as a number"),
+        );
+    }
+    let sparse = dir.join("sparse.csv");
+    std::fs::write(&sparse, "400,1,2\n800,1,3\n").unwrap();
+    assert_clear_error(
+        &[
+            "plot",
+            "reflectance",
+            "--csv",
+            sparse.to_str().unwrap(),
+            "-o",
+            o,
+        ],
+        "resolved by only 0 sample(s)",
+    );
+    assert_clear_error(
+        &[
+            "plot",
+            "reflectance",
+            "--csv",
+            "/nonexistent/metal.csv",
+            "-o",
+            o,
+        ],
+        "cannot read /nonexistent/metal.csv",
+    );
+    // The destination is checked before any work.
+    assert_clear_error(
+        &["plot", "dielectrics", "-o", "/nonexistent-folder/fig12.png"],
+        "/nonexistent-folder",
+    );
+    assert!(!out.exists());
+    assert_eq!(listing(&dir), ["my-metal.csv", "sparse.csv"]);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn info_describes_builtin_scenes() {
+    let (code, stdout, stderr) = combustion(&["info", "builtin:underwater"]);
+    assert_eq!(code, 0, "{stderr}");
+    for expected in [
+        "scene: builtin:underwater",
+        "outside medium IOR: 1.33",
+        "air bubble: dielectric η 1",
+        "renderer features needed:",
+        "outside IOR ≠ 1: yes",
+        "conductors (given η+ik): 1",
+        "lights: 0 point, 0 spot, 2 directional",
+    ] {
+        assert!(
+            stdout.contains(expected),
+            "missing `{expected}` in:\n{stdout}"
+        );
+    }
+    let (code, stdout, _) = combustion(&["info", "builtin:diffuse-models"]);
+    assert_eq!(code, 0);
+    assert!(
+        stdout.contains("diffuse models: lambert, oren-nayar-qualitative, oren-nayar-full"),
+        "{stdout}"
+    );
+    assert_clear_error(
+        &["info", "builtin:teapot"],
+        "unknown built-in scene `teapot`",
+    );
+    assert_usage_error(&["info"], "takes one scene");
+}
+
+#[test]
+fn info_describes_gltf_files() {
+    let optics = repo_file("assets/scenes/optics/optics.gltf");
+    let (code, stdout, stderr) = combustion(&["info", &optics]);
+    assert_eq!(code, 0, "{stderr}");
+    for expected in [
+        "file: ",
+        "extensions used: COMBUSTION_materials_optics",
+        "renderer features needed:",
+        "diffuse models: lambert, oren-nayar-qualitative, oren-nayar-full",
+        "conductors from base colour: 1",
+        "outside IOR ≠ 1: yes",
+    ] {
+        assert!(
+            stdout.contains(expected),
+            "missing `{expected}` in:\n{stdout}"
+        );
+    }
+    let textured = repo_file("assets/scenes/textured/textured.gltf");
+    let (code, stdout, stderr) = combustion(&["info", &textured]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("textured materials: base colour"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("lights: 1 point, 1 spot, 1 directional"),
+        "{stdout}"
+    );
+}
+
+/// Every file of the bad-glTF corpus gives the importer's error on one line, naming the
+/// file, exit status 1. (`image-over-limit.gltf` is bad only under a lower image limit than
+/// the default, so it is skipped.)
+#[test]
+fn info_on_bad_gltf_files_gives_one_line_errors() {
+    let dir = std::path::PathBuf::from(repo_file("tests/bad-gltf"));
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if !(name.ends_with(".gltf") || name.ends_with(".glb")) || name == "image-over-limit.gltf" {
+            continue;
+        }
+        let path = path.to_str().unwrap().to_owned();
+        assert_clear_error(&["info", &path], &path);
+        let (code, stdout, stderr) = combustion(&["info", &path]);
+        assert_eq!(code, 1, "{name}");
+        assert!(stdout.is_empty(), "{name}: printed {stdout}");
+        assert_eq!(stderr.lines().count(), 1, "{name}: {stderr}");
+        checked += 1;
+    }
+    assert!(checked >= 30, "only {checked} bad files found");
+}

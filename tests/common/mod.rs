@@ -1,13 +1,20 @@
 //! Shared helpers of the integration tests: a lavapipe device with validation on, golden
-//! image comparison with FLIP, and scene pixel bookkeeping.
+//! image comparison with FLIP, scene pixel bookkeeping, and the analytic reference that
+//! checks goldens of sphere scenes independently of the renderer.
 #![allow(dead_code)]
 
 use std::path::PathBuf;
 
-use combustion::renderer::{Frame, Readback, RendererSettings};
-use combustion::scene::Scene;
+use combustion::optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
+use combustion::optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
+use combustion::optics::vec3::Vec3 as V;
+use combustion::renderer::{
+    linear_to_srgb, tonemap_exponential, Frame, Readback, RendererSettings,
+};
+use combustion::scene::{Light, Material, Scene};
 use combustion::vk::{DeviceDesc, DeviceSelector, ValidationLog};
 use combustion::{Headless, HeadlessDesc};
+use glam::{DMat4, DVec3, DVec4, Vec4Swizzles};
 
 /// Tests always run on lavapipe (Mesa's CPU Vulkan driver), whatever else is installed,
 /// so results don't depend on the machine's GPU. Validation is always on.
@@ -128,4 +135,455 @@ pub fn compare_with_golden(name: &str, frame: &Frame, max_mean_flip: f32) {
 /// Luminance (Rec. 709) of linear RGB.
 pub fn luminance(rgb: [f32; 4]) -> f64 {
     0.2126 * f64::from(rgb[0]) + 0.7152 * f64::from(rgb[1]) + 0.0722 * f64::from(rgb[2])
+}
+
+// ---------------------------------------------------------------------------------------
+// The analytic reference: exact spheres, ray-cast and shaded in f64 with the optics crate.
+// ---------------------------------------------------------------------------------------
+
+/// One analytic sphere of a scene: where it is and which material it has.
+#[derive(Clone, Copy, Debug)]
+pub struct AnalyticSphere {
+    pub centre: DVec3,
+    pub radius: f64,
+    pub material: usize,
+    /// The scene object it stands for.
+    pub object: usize,
+}
+
+/// A scene made only of spheres (every mesh a UV sphere centred at its origin, every
+/// object placed by a translation and a uniform scale), replaced by exact spheres: rays
+/// through pixel centres are intersected in f64 and shaded with the optics crate's
+/// `brdf_evaluate` under every light of the scene (point, directional, spot), tone-mapped
+/// and sRGB-encoded as the tonemap pass does (exposure 1). Nothing of the renderer is used
+/// but its two documented CPU mirrors of the tone curve and the sRGB encoding.
+pub struct AnalyticSpheres {
+    pub scene: Scene,
+    pub width: u32,
+    pub height: u32,
+    inverse_view_projection: DMat4,
+    pub spheres: Vec<AnalyticSphere>,
+}
+
+impl AnalyticSpheres {
+    /// Panics if an object is not a sphere placed by translation and uniform scale.
+    pub fn new(scene: Scene, width: u32, height: u32) -> Self {
+        let aspect = width as f32 / height as f32;
+        let inverse_view_projection = scene.camera.view_projection(aspect).as_dmat4().inverse();
+        let spheres = scene
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(object, o)| {
+                let mesh = &scene.meshes[o.mesh];
+                let radius = glam::Vec3::from(mesh.vertices[0].position).length() as f64;
+                for v in &mesh.vertices {
+                    let r = glam::Vec3::from(v.position).length() as f64;
+                    assert!(
+                        (r - radius).abs() < 1e-5 * radius,
+                        "mesh {} of object {object} is not a sphere centred at its origin",
+                        mesh.name
+                    );
+                }
+                let (scale, rotation, translation) = o.transform.to_scale_rotation_translation();
+                assert!(
+                    (scale - glam::Vec3::splat(scale.x)).abs().max_element() < 1e-6 * scale.x
+                        && rotation.abs_diff_eq(glam::Quat::IDENTITY, 1e-6),
+                    "object {object} must be placed by a translation and a uniform scale"
+                );
+                AnalyticSphere {
+                    centre: translation.as_dvec3(),
+                    radius: radius * f64::from(scale.x),
+                    material: o.material,
+                    object,
+                }
+            })
+            .collect();
+        Self {
+            scene,
+            width,
+            height,
+            inverse_view_projection,
+            spheres,
+        }
+    }
+
+    /// The camera ray through the point (x, y) of the image (pixel units, y down).
+    pub fn ray(&self, x: f64, y: f64) -> (DVec3, DVec3) {
+        let ndc = |z: f64| {
+            let p = self.inverse_view_projection
+                * DVec4::new(
+                    x / f64::from(self.width) * 2.0 - 1.0,
+                    y / f64::from(self.height) * 2.0 - 1.0,
+                    z,
+                    1.0,
+                );
+            p.xyz() / p.w
+        };
+        let (near, far) = (ndc(0.0), ndc(1.0));
+        (near, (far - near).normalize())
+    }
+
+    /// Nearest sphere hit: (point, index into `spheres`).
+    pub fn hit(&self, x: f64, y: f64) -> Option<(DVec3, usize)> {
+        let (origin, dir) = self.ray(x, y);
+        let mut best: Option<(f64, usize)> = None;
+        for (i, s) in self.spheres.iter().enumerate() {
+            let oc = origin - s.centre;
+            let b = oc.dot(dir);
+            let disc = b * b - (oc.length_squared() - s.radius * s.radius);
+            if disc >= 0.0 {
+                let t = -b - disc.sqrt();
+                if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
+                    best = Some((t, i));
+                }
+            }
+        }
+        best.map(|(t, i)| (origin + dir * t, i))
+    }
+
+    /// The pixel's analytic surface point if it is an *interior* pixel: its centre and its
+    /// four neighbours' centres hit the same sphere, and the surface faces the camera
+    /// (n·v ≥ 0.3; silhouette pixels depend on rasterisation coverage). Returns (point,
+    /// normal, direction to the camera, sphere index).
+    pub fn interior(&self, x: u32, y: u32) -> Option<(DVec3, DVec3, DVec3, usize)> {
+        let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+        let (p, sphere) = self.hit(px, py)?;
+        for (dx, dy) in [(-1.0, 0.0), (1.0, 0.0), (0.0, -1.0), (0.0, 1.0)] {
+            if self.hit(px + dx, py + dy).map(|h| h.1) != Some(sphere) {
+                return None;
+            }
+        }
+        let s = &self.spheres[sphere];
+        let n = (p - s.centre) / s.radius;
+        let v = (self.scene.camera.position.as_dvec3() - p).normalize();
+        if n.dot(v) < 0.3 {
+            return None;
+        }
+        Some((p, n, v, sphere))
+    }
+
+    /// The display bytes (0–255, unrounded) the analytic spheres give at pixel (x, y), for
+    /// the analytic normal and for that normal tilted by `tilt` radians in four
+    /// directions; None where the pixel is not interior (see [`Self::interior`]).
+    pub fn display_bytes(&self, x: u32, y: u32, tilt: f64) -> Option<[[f64; 3]; 5]> {
+        let (p, n, v, sphere) = self.interior(x, y)?;
+        let (e1, e2) = n.any_orthonormal_pair();
+        let mut out = [[0.0; 3]; 5];
+        for (k, (a, b)) in [(0.0, 0.0), (1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)]
+            .into_iter()
+            .enumerate()
+        {
+            let tilted = (n + (e1 * a + e2 * b) * tilt).normalize();
+            let radiance = self.shade(p, tilted, v, self.spheres[sphere].material);
+            out[k] = radiance.map(|r| linear_to_srgb(tonemap_exponential(r)) * 255.0);
+        }
+        Some(out)
+    }
+
+    /// Radiance leaving point `p` with normal `n` toward `v`, summed over the lights.
+    pub fn shade(&self, p: DVec3, n: DVec3, v: DVec3, material_index: usize) -> [f64; 3] {
+        let mut radiance = [0.0; 3];
+        for light in self.shade_per_light(p, n, v, material_index) {
+            for c in 0..3 {
+                radiance[c] += light[c];
+            }
+        }
+        radiance
+    }
+
+    /// Radiance leaving point `p` with normal `n` toward `v`, per light of the scene.
+    pub fn shade_per_light(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        v: DVec3,
+        material_index: usize,
+    ) -> Vec<[f64; 3]> {
+        // The UV sphere's tangent: along increasing longitude φ, n = (sinθcosφ, cosθ, −sinθsinφ).
+        let phi = (-n.z).atan2(n.x);
+        let t = DVec3::new(-phi.sin(), 0.0, -phi.cos());
+        let material: &Material = &self.scene.materials[material_index];
+        let rotation = f64::from(material.anisotropy_rotation);
+        let b = n.cross(t);
+        let direction = t * rotation.cos() + b * rotation.sin();
+        let m = brdf_inputs(material, self.scene.outside_ior_of(material));
+        let vec = |d: DVec3| V::new(d.x, d.y, d.z);
+        self.scene
+            .lights
+            .iter()
+            .map(|light| {
+                let Some((l, e)) = light_at(light, p) else {
+                    return [0.0; 3];
+                };
+                let cos = n.dot(l);
+                if cos <= 0.0 {
+                    return [0.0; 3];
+                }
+                let f = brdf_evaluate(
+                    &m,
+                    vec(n),
+                    vec(direction),
+                    vec(n.cross(direction)),
+                    vec(v),
+                    vec(l),
+                );
+                std::array::from_fn(|c| f[c] * e[c] * cos)
+            })
+            .collect()
+    }
+}
+
+/// Direction to the light and the irradiance it gives a surface facing it at `p`, in f64
+/// (KHR_lights_punctual: point and spot lights fall off as 1/d², spot lights also as the
+/// square of the clamped linear ramp between the cone cosines). None outside a spot cone.
+pub fn light_at(light: &Light, p: DVec3) -> Option<(DVec3, [f64; 3])> {
+    match light {
+        Light::Point {
+            position,
+            intensity,
+        } => {
+            let to = position.as_dvec3() - p;
+            let d2 = to.length_squared();
+            Some((to.normalize(), intensity.map(|i| f64::from(i) / d2)))
+        }
+        Light::Directional {
+            direction,
+            irradiance,
+        } => Some((-direction.as_dvec3().normalize(), irradiance.map(f64::from))),
+        Light::Spot {
+            position,
+            direction,
+            intensity,
+            inner_cone,
+            outer_cone,
+        } => {
+            let to = position.as_dvec3() - p;
+            let d2 = to.length_squared();
+            let l = to.normalize();
+            let cos_axis = direction.as_dvec3().normalize().dot(-l);
+            let (cos_inner, cos_outer) =
+                (f64::from(*inner_cone).cos(), f64::from(*outer_cone).cos());
+            let ramp = ((cos_axis - cos_outer) / (cos_inner - cos_outer).max(1e-3)).clamp(0.0, 1.0);
+            let a = ramp * ramp;
+            (a > 0.0).then(|| (l, intensity.map(|i| f64::from(i) * a / d2)))
+        }
+    }
+}
+
+/// The optics crate's inputs for a material, in f64, exactly as the G-buffer + lighting
+/// pass form them (but without the G-buffer's quantisation).
+pub fn brdf_inputs(material: &Material, outside_ior: f32) -> BrdfInputs<f64> {
+    let r = f64::from(material.roughness);
+    let alpha = alpha_from_perceptual_roughness(r);
+    let (alpha_x, alpha_y) = anisotropic_alphas(alpha, f64::from(material.anisotropy_strength));
+    BrdfInputs {
+        base_color: material.base_color.map(f64::from),
+        metalness: f64::from(material.metalness),
+        alpha_x,
+        alpha_y,
+        conductor_eta: material.conductor.eta.map(f64::from),
+        conductor_k: material.conductor.k.map(f64::from),
+        dielectric_eta: f64::from(material.dielectric_ior),
+        outside_eta: f64::from(outside_ior),
+        polarisation_weight: f64::from(material.polarisation_weight),
+        diffuse_model: DiffuseModel::try_from(material.diffuse_model as u32).unwrap(),
+        oren_nayar_sigma: combustion::optics::diffuse::oren_nayar_sigma_from_roughness(r),
+    }
+}
+
+/// What comparing a golden PNG with the analytic spheres found.
+#[derive(Debug)]
+pub struct AnalyticComparison {
+    /// Channel samples compared.
+    pub compared: usize,
+    /// Of those, samples whose analytic value is at least one 8-bit level (lit).
+    pub lit: usize,
+    /// Samples left out: their expected value moves by more than 2 levels when the normal
+    /// is tilted by the tessellation error.
+    pub ill_conditioned: usize,
+    /// histogram[d]: compared samples d levels off.
+    pub histogram: [usize; 256],
+    /// Same, for the lit samples only.
+    pub lit_histogram: [usize; 256],
+    /// (levels, x, y) of the worst sample.
+    pub worst: (u8, u32, u32),
+}
+
+impl AnalyticComparison {
+    /// Fraction of compared samples within `levels` 8-bit levels.
+    pub fn within(&self, levels: usize) -> f64 {
+        self.histogram[..=levels].iter().sum::<usize>() as f64 / self.compared as f64
+    }
+
+    /// Fraction of lit compared samples within `levels` 8-bit levels.
+    pub fn lit_within(&self, levels: usize) -> f64 {
+        self.lit_histogram[..=levels].iter().sum::<usize>() as f64 / self.lit as f64
+    }
+
+    /// Fraction of the interior samples that were compared (not ill-conditioned).
+    pub fn coverage(&self) -> f64 {
+        self.compared as f64 / (self.compared + self.ill_conditioned) as f64
+    }
+
+    /// The bounds every golden is held to (derived in tests/images.rs for spheres_256):
+    /// the comparison covers at least 90 % of the interior samples, the worst compared
+    /// sample is at most 3 levels off (8-bit base colour storage ≤ half a step of albedo,
+    /// the output's rounding, and ≤ 2 levels of tessellation by the conditioning filter),
+    /// and at least 99 % are within one level (the reference's and the output's
+    /// roundings, half a level each).
+    pub fn assert_bounds(&self, name: &str, min_compared: usize) {
+        assert!(
+            self.compared >= min_compared,
+            "{name}: too few interior samples compared: {} < {min_compared}",
+            self.compared
+        );
+        assert!(
+            self.coverage() >= 0.9,
+            "{name}: the comparison must cover the bulk of the spheres ({:.4})",
+            self.coverage()
+        );
+        assert!(
+            self.worst.0 <= 3,
+            "{name}: worst sample {} levels off at {:?}",
+            self.worst.0,
+            (self.worst.1, self.worst.2)
+        );
+        assert!(
+            self.within(1) >= 0.99,
+            "{name}: {:.4} within one level",
+            self.within(1)
+        );
+    }
+}
+
+impl std::fmt::Display for AnalyticComparison {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} channel samples compared ({} lit; {} ill-conditioned left out, coverage {:.4}); within 0 levels: {:.4}, 1: {:.4}, 2: {:.4}; lit within 0: {:.4}, 1: {:.4}; worst {} levels at {:?}",
+            self.compared,
+            self.lit,
+            self.ill_conditioned,
+            self.coverage(),
+            self.within(0),
+            self.within(1),
+            self.within(2),
+            self.lit_within(0),
+            self.lit_within(1),
+            self.worst.0,
+            (self.worst.1, self.worst.2)
+        )
+    }
+}
+
+/// Compares `tests/goldens/GOLDEN.png` — the file on disk, not a render — with the analytic
+/// spheres of `scene`, pixel by pixel on the interior of every sphere. Samples whose
+/// expected value changes by more than 2 levels when the normal is tilted by `tilt`
+/// radians (the tessellation's normal error; the sharpest highlights and the edges where a
+/// Fresnel factor reaches total internal reflection) can't be decided by an analytic
+/// sphere and are counted but not compared.
+pub fn compare_golden_with_analytic(scene: Scene, golden: &str, tilt: f64) -> AnalyticComparison {
+    let (w, h, pixels) = read_png(&goldens_dir().join(format!("{golden}.png")));
+    let reference = AnalyticSpheres::new(scene, w, h);
+    let mut result = AnalyticComparison {
+        compared: 0,
+        lit: 0,
+        ill_conditioned: 0,
+        histogram: [0; 256],
+        lit_histogram: [0; 256],
+        worst: (0, 0, 0),
+    };
+    for y in 0..h {
+        for x in 0..w {
+            let Some(bytes) = reference.display_bytes(x, y, tilt) else {
+                continue;
+            };
+            let pixel = pixels[(y * w + x) as usize];
+            for c in 0..3 {
+                let values = bytes.map(|b| b[c]);
+                let spread = values.iter().cloned().fold(f64::MIN, f64::max)
+                    - values.iter().cloned().fold(f64::MAX, f64::min);
+                if spread > 2.0 {
+                    result.ill_conditioned += 1;
+                    continue;
+                }
+                result.compared += 1;
+                let diff = (f64::from(pixel[c]) - values[0].round()).abs() as u8;
+                result.histogram[diff as usize] += 1;
+                if values[0] >= 1.0 {
+                    result.lit += 1;
+                    result.lit_histogram[diff as usize] += 1;
+                }
+                if diff > result.worst.0 {
+                    result.worst = (diff, x, y);
+                }
+            }
+        }
+    }
+    eprintln!("{golden}: {result}");
+    result
+}
+
+/// The largest angle (radians) between the shading normal the rasteriser interpolates on
+/// the scene's tessellated spheres and the analytic sphere normal at the same pixel, over
+/// every interior pixel (see [`AnalyticSpheres::interior`]) of a `width` × `height` image:
+/// each pixel's ray is intersected with the actual triangles in f64 and the vertex normals
+/// are interpolated barycentrically there (what perspective-correct interpolation gives).
+pub fn measure_tessellation_normal_error(scene: &Scene, width: u32, height: u32) -> f64 {
+    let reference = AnalyticSpheres::new(scene.clone(), width, height);
+    let mut worst = 0.0f64;
+    for y in 0..height {
+        for x in 0..width {
+            let Some((p, n, _, sphere)) = reference.interior(x, y) else {
+                continue;
+            };
+            let s = reference.spheres[sphere];
+            let object = &scene.objects[s.object];
+            let mesh = &scene.meshes[object.mesh];
+            let transform = object.transform.as_dmat4();
+            let (origin, dir) = reference.ray(f64::from(x) + 0.5, f64::from(y) + 0.5);
+            let vertex = |i: u32| {
+                let v = &mesh.vertices[i as usize];
+                (
+                    transform.transform_point3(glam::Vec3::from(v.position).as_dvec3()),
+                    glam::Vec3::from(v.normal).as_dvec3(),
+                )
+            };
+            let mut best: Option<(f64, DVec3)> = None;
+            for tri in mesh.indices.chunks_exact(3) {
+                let [(a, na), (b, nb), (c, nc)] = [vertex(tri[0]), vertex(tri[1]), vertex(tri[2])];
+                // Only triangles near the analytic hit can be hit first.
+                if (a - p).length() > 4.0 * (b - a).length().max((c - a).length()) + 1e-9 {
+                    continue;
+                }
+                // Möller–Trumbore.
+                let (e1, e2) = (b - a, c - a);
+                let q = dir.cross(e2);
+                let det = e1.dot(q);
+                if det.abs() < 1e-15 {
+                    continue;
+                }
+                let s0 = origin - a;
+                let u = s0.dot(q) / det;
+                let r = s0.cross(e1);
+                let v = dir.dot(r) / det;
+                if u < -1e-12 || v < -1e-12 || u + v > 1.0 + 1e-12 {
+                    continue;
+                }
+                let t = e2.dot(r) / det;
+                if t > 0.0 && best.is_none_or(|(bt, _)| t < bt) {
+                    best = Some((t, (na * (1.0 - u - v) + nb * u + nc * v).normalize()));
+                }
+            }
+            let (_, interpolated) = best.expect("the ray hits the tessellated sphere too");
+            worst = worst.max(interpolated.cross(n).length().atan2(interpolated.dot(n)));
+        }
+    }
+    worst
+}
+
+/// Luminance (Rec. 709) of linear RGB in f64.
+pub fn luminance3(rgb: [f64; 3]) -> f64 {
+    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
 }

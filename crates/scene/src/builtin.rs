@@ -5,13 +5,26 @@ use glam::{Mat4, Vec3};
 use crate::{Camera, ComplexIor, DiffuseModel, Light, Material, Mesh, Object, Scene, SceneError};
 
 /// Names accepted by [`builtin_scene`] (also as `builtin:NAME` on the command line).
-pub const BUILTIN_SCENES: &[&str] = &["spheres", "hard-cases"];
+pub const BUILTIN_SCENES: &[&str] = &[
+    "spheres",
+    "hard-cases",
+    "gold-copper",
+    "dielectrics",
+    "diffuse-models",
+    "underwater",
+    "underwater-in-air",
+];
 
 /// Builds the built-in scene `name`.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
     match name {
         "spheres" => Ok(spheres()),
         "hard-cases" => Ok(hard_cases()),
+        "gold-copper" => Ok(gold_copper()),
+        "dielectrics" => Ok(dielectrics()),
+        "diffuse-models" => Ok(diffuse_models()),
+        "underwater" => Ok(underwater(WATER_IOR, "underwater")),
+        "underwater-in-air" => Ok(underwater(1.0, "underwater-in-air")),
         _ => Err(SceneError::UnknownBuiltin {
             name: name.to_owned(),
             known: BUILTIN_SCENES.join(", "),
@@ -272,6 +285,275 @@ fn hard_cases() -> Scene {
     }
 }
 
+/// Index of refraction of water (visible light, 20 °C), the outside medium of `underwater`.
+const WATER_IOR: f32 = 1.33;
+
+/// Centre spacing and radius of the spheres of the figure scenes below.
+const FIGURE_SPACING: f32 = 1.0;
+const FIGURE_RADIUS: f32 = 0.42;
+
+/// Tessellation of the figure scenes' spheres: 48 segments × 24 rings (2 256 triangles),
+/// enough for smooth shading at the sizes the figures are rendered at, a quarter of the
+/// vertex work of the 64 × 32 grid spheres.
+const FIGURE_SEGMENTS: u32 = 96;
+const FIGURE_RINGS: u32 = 48;
+
+/// A camera on the +z axis looking at the origin that frames a grid of `columns` × `rows`
+/// figure spheres with a margin, for images of aspect `aspect` (width / height). The field
+/// of view is a moderate 30°, so every sphere is seen nearly head-on.
+fn grid_camera(columns: usize, rows: usize, aspect: f32) -> Camera {
+    let margin = 0.12;
+    let half_width = columns as f32 * FIGURE_SPACING / 2.0 + margin;
+    let half_height = (rows as f32 * FIGURE_SPACING / 2.0 + margin).max(half_width / aspect);
+    let fov = 30f32.to_radians();
+    Camera {
+        position: Vec3::new(0.0, 0.0, half_height / (fov / 2.0).tan()),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        vertical_fov: fov,
+        near: 0.1,
+        far: 100.0,
+    }
+}
+
+/// Figure spheres on a grid in the z = 0 plane: `rows[r][c]` is the material of row `r`
+/// (top first), column `c` (left first). One mesh, one material per sphere, in reading
+/// order (material i is object i).
+fn sphere_grid(
+    name: &str,
+    rows: Vec<Vec<Material>>,
+    lights: Vec<Light>,
+    camera: Camera,
+    outside_ior: f32,
+) -> Scene {
+    let row_count = rows.len();
+    let mut materials = Vec::new();
+    let mut objects = Vec::new();
+    for (row, row_materials) in rows.into_iter().enumerate() {
+        let columns = row_materials.len();
+        for (column, material) in row_materials.into_iter().enumerate() {
+            let x = (column as f32 - (columns as f32 - 1.0) / 2.0) * FIGURE_SPACING;
+            let y = ((row_count as f32 - 1.0) / 2.0 - row as f32) * FIGURE_SPACING;
+            materials.push(material);
+            objects.push(Object {
+                mesh: 0,
+                material: materials.len() - 1,
+                transform: Mat4::from_translation(Vec3::new(x, y, 0.0)),
+            });
+        }
+    }
+    Scene {
+        name: name.into(),
+        meshes: vec![Mesh::uv_sphere(
+            "sphere",
+            FIGURE_RADIUS,
+            FIGURE_SEGMENTS,
+            FIGURE_RINGS,
+        )],
+        materials,
+        objects,
+        lights,
+        camera,
+        outside_ior,
+    }
+}
+
+/// A directional light coming *from* `towards_light` (any length) with irradiance `e`.
+fn light_from(towards_light: Vec3, e: [f32; 3]) -> Light {
+    Light::Directional {
+        direction: -towards_light.normalize(),
+        irradiance: e,
+    }
+}
+
+/// Perceptual roughness of the columns of `gold-copper`, left to right.
+const GOLD_COPPER_ROUGHNESS: [f32; 4] = [0.15, 0.3, 0.5, 0.75];
+
+/// The rendering notes' Figures 10 and 11: gold (top row) and copper (bottom row) at
+/// roughness 0.15, 0.3, 0.5, 0.75 (left to right), made for a 2:1 image. Their colour is
+/// the Fresnel reflectance of their measured η + ik alone (no diffuse part).
+///
+/// A point light at the camera gives v = l, hence v·h = 1 on every pixel it lights: the
+/// face of each sphere shows the metal's reflectance at normal incidence, F(0°) — gold
+/// pale yellow, copper salmon (linear F(0°): gold 0.97, 0.75, 0.39; copper 0.98, 0.66,
+/// 0.60). Two directional lights from behind the spheres (138° and 144° from the view
+/// direction) light their rims at v·h ≈ 0.36 and 0.31 (angles of incidence 69° and 72°),
+/// where the blue and green reflectance have risen toward the red (gold's blue/red
+/// 0.40 → 0.49): the rim highlights are whiter, the whitening toward grazing of Figures
+/// 10 and 11.
+fn gold_copper() -> Scene {
+    use combustion_spectra::BuiltinMetal;
+    let row = |metal: BuiltinMetal| {
+        GOLD_COPPER_ROUGHNESS
+            .iter()
+            .map(|&roughness| Material {
+                name: format!("{} r={roughness}", metal.name()),
+                metalness: 1.0,
+                roughness,
+                conductor: self::metal(metal),
+                ..Material::default()
+            })
+            .collect::<Vec<_>>()
+    };
+    let camera = grid_camera(4, 2, 2.0);
+    sphere_grid(
+        "gold-copper",
+        vec![row(BuiltinMetal::Gold), row(BuiltinMetal::Copper)],
+        vec![
+            Light::Point {
+                position: camera.position,
+                intensity: [20.0; 3],
+            },
+            light_from(Vec3::new(-0.5, 0.45, -0.75), [2.5; 3]),
+            light_from(Vec3::new(0.5, -0.3, -0.8), [2.5; 3]),
+        ],
+        camera,
+        1.0,
+    )
+}
+
+/// The dielectric IORs of `dielectrics`: the rendering notes' Figure 12.
+const FIGURE_12_ETAS: [f32; 6] = [1.1, 1.33, 1.5, 1.8, 2.4, 3.0];
+
+/// The rendering notes' Figure 12 as spheres: dielectrics of ηt = 1.1, 1.33, 1.5 (top row,
+/// left to right), 1.8, 2.4, 3.0 (bottom row), all with the same dark blue base colour
+/// and roughness 0.3, made for a 3:2 image. A point light at the camera gives v·h = 1:
+/// each face shows a highlight of strength F(0°) = ((ηt − 1)/(ηt + 1))², 0.0023 for 1.1
+/// up to 0.25 for 3.0, so the reflection visibly rises with ηt. A directional light from
+/// behind (133° from the view) lights the rims at v·h ≈ 0.40 (67°), where every ηt
+/// reflects far more than at normal incidence (Figure 12's curves rising toward 90°).
+fn dielectrics() -> Scene {
+    let material = |eta: f32| Material {
+        name: format!("dielectric eta={eta}"),
+        base_color: [0.02, 0.03, 0.06],
+        roughness: 0.3,
+        dielectric_ior: eta,
+        ..Material::default()
+    };
+    let rows = FIGURE_12_ETAS
+        .chunks(3)
+        .map(|etas| etas.iter().map(|&eta| material(eta)).collect())
+        .collect();
+    let camera = grid_camera(3, 2, 1.5);
+    sphere_grid(
+        "dielectrics",
+        rows,
+        vec![
+            Light::Point {
+                position: camera.position,
+                intensity: [30.0; 3],
+            },
+            light_from(Vec3::new(0.5, 0.55, -0.7), [2.0; 3]),
+        ],
+        camera,
+        1.0,
+    )
+}
+
+/// Perceptual roughness of the columns of `diffuse-models` (Oren–Nayar σ = r²/√2 =
+/// 0.18, 0.40, 0.71 rad).
+const DIFFUSE_MODELS_ROUGHNESS: [f32; 3] = [0.5, 0.75, 1.0];
+
+/// The rendering notes' Figure 5: Lambert (top row), Oren–Nayar qualitative (middle) and
+/// Oren–Nayar full (bottom) at roughness 0.5, 0.75, 1 (left to right), a clay-coloured
+/// albedo, made for a square image. The dielectric IOR equals the outside medium's (1), so
+/// there is no interface: no specular lobe and no Fresnel weighting, and the pixels show
+/// the diffuse models alone, as Figure 5 does.
+///
+/// One directional light from the upper left, 31° from the view direction. That is where
+/// Oren–Nayar's flattening shows: rough surfaces back-scatter toward a light near the
+/// viewer, so across the lit face the rough spheres stay nearly uniformly bright where
+/// Lambert falls off as cos θi — the flat, "full moon" look, the stronger the rougher.
+/// Lit from the side or behind, the models differ far less: where light and view lie on
+/// opposite sides of the normal the qualitative model's extra term is 0 and both
+/// Oren–Nayar spheres take Lambert's shape (measured with the analytic reference at 70°,
+/// 90° and 110°), so a side light would hide what the figure is about.
+fn diffuse_models() -> Scene {
+    let models = [
+        ("Lambert", DiffuseModel::Lambert),
+        ("Oren-Nayar qualitative", DiffuseModel::OrenNayarQualitative),
+        ("Oren-Nayar full", DiffuseModel::OrenNayarFull),
+    ];
+    let rows = models
+        .iter()
+        .map(|&(label, model)| {
+            DIFFUSE_MODELS_ROUGHNESS
+                .iter()
+                .map(|&roughness| Material {
+                    name: format!("{label} r={roughness}"),
+                    base_color: [0.7, 0.5, 0.38],
+                    roughness,
+                    dielectric_ior: 1.0,
+                    diffuse_model: model,
+                    ..Material::default()
+                })
+                .collect()
+        })
+        .collect();
+    sphere_grid(
+        "diffuse-models",
+        rows,
+        vec![light_from(Vec3::new(-0.45, 0.25, 0.86), [3.5; 3])],
+        grid_camera(3, 3, 1.0),
+        1.0,
+    )
+}
+
+/// One scene definition seen from two media: `underwater` (outside IOR 1.33) and
+/// `underwater-in-air` (the same objects, lights and camera in air, outside IOR 1). Made for
+/// a 3:2 image. Top row: dielectrics of η = 1.1, 1.33, 1.5; bottom row: η = 1.8, an air
+/// bubble (η = 1, black base colour: nothing behind its surface scatters light), and
+/// silver. All have roughness 0.35, the dielectrics the same dark base colour.
+///
+/// Under water each interface's relative index η/1.33 is closer to 1 for η > √1.33 ≈ 1.15,
+/// so the 1.5 and 1.8 spheres reflect less than in air (the silver too, by 0.3 %: its
+/// k ≫ 1) and the 1.33 sphere not at all (no interface); the 1.1 sphere reflects *more* (its relative index
+/// 0.83 is farther from 1 than 1.1 is). The bubble is invisible in air (η = 1: no
+/// interface, nothing to scatter) but under water shows total internal reflection: past
+/// the critical angle asin(1/1.33) = 48.8° F = 1. A key light from the front left (64°
+/// from the view) lights every face at v·h ≈ 0.85; a light from behind on the right (134°
+/// from the view, v·h ≈ 0.39, i.e. 67° > 48.8°) puts a TIR highlight on the bubble's right
+/// rim, where the key light does not reach.
+fn underwater(outside_ior: f32, name: &str) -> Scene {
+    use combustion_spectra::BuiltinMetal;
+    let roughness = 0.35;
+    let dielectric = |eta: f32| Material {
+        name: format!("dielectric eta={eta}"),
+        base_color: [0.02, 0.03, 0.06],
+        roughness,
+        dielectric_ior: eta,
+        ..Material::default()
+    };
+    let rows = vec![
+        vec![dielectric(1.1), dielectric(1.33), dielectric(1.5)],
+        vec![
+            dielectric(1.8),
+            Material {
+                name: "air bubble".into(),
+                base_color: [0.0; 3],
+                ..dielectric(1.0)
+            },
+            Material {
+                name: "silver".into(),
+                metalness: 1.0,
+                roughness,
+                conductor: metal(BuiltinMetal::Silver),
+                ..Material::default()
+            },
+        ],
+    ];
+    sphere_grid(
+        name,
+        rows,
+        vec![
+            light_from(Vec3::new(-0.8, 0.45, 0.45), [3.0; 3]),
+            light_from(Vec3::new(0.6, 0.4, -0.7), [3.0; 3]),
+        ],
+        grid_camera(3, 2, 1.5),
+        outside_ior,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -287,6 +569,42 @@ mod tests {
     fn unknown_builtin_names_the_known_ones() {
         let err = builtin_scene("teapot").unwrap_err().to_string();
         assert!(err.contains("teapot") && err.contains("spheres"), "{err}");
+    }
+
+    #[test]
+    fn underwater_and_its_air_twin_differ_only_in_the_medium() {
+        let water = builtin_scene("underwater").unwrap();
+        let air = builtin_scene("underwater-in-air").unwrap();
+        assert_eq!((water.outside_ior, air.outside_ior), (1.33, 1.0));
+        assert_eq!(water.meshes, air.meshes);
+        assert_eq!(water.materials, air.materials);
+        assert_eq!(water.objects, air.objects);
+        assert_eq!(water.lights, air.lights);
+        assert_eq!(water.camera, air.camera);
+        assert!(water.materials.iter().all(|m| m.outside_ior.is_none()));
+    }
+
+    #[test]
+    fn figure_scenes_cover_every_material_model() {
+        let features = |name: &str| builtin_scene(name).unwrap().features();
+        assert_eq!(features("gold-copper").conductors, 8);
+        assert_eq!(
+            features("diffuse-models").diffuse_models,
+            [
+                DiffuseModel::Lambert,
+                DiffuseModel::OrenNayarQualitative,
+                DiffuseModel::OrenNayarFull
+            ]
+        );
+        let etas: Vec<f32> = builtin_scene("dielectrics")
+            .unwrap()
+            .materials
+            .iter()
+            .map(|m| m.dielectric_ior)
+            .collect();
+        assert_eq!(etas, FIGURE_12_ETAS);
+        assert!(features("underwater").outside_ior_not_one);
+        assert!(!features("underwater-in-air").outside_ior_not_one);
     }
 
     #[test]
