@@ -53,6 +53,19 @@ info prints what a scene holds (meshes, materials, lights, camera, outside mediu
 which renderer features it needs; for a glTF file also what the importer found.
 Logging: COMBUSTION_LOG=error|warn|info|debug|trace (default warn).";
 
+/// `println!` that ends the program quietly when stdout is closed (`combustion … | head`)
+/// instead of panicking.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+        }
+    }};
+}
+
 struct StderrLogger;
 
 impl log::Log for StderrLogger {
@@ -188,7 +201,7 @@ fn render(o: &Options) -> Result<(), Error> {
     check_validation(&validation)?;
     if let Some(path) = &o.output {
         output::write_png(path, frame.width, frame.height, &frame.ldr)?;
-        println!(
+        outln!(
             "wrote {} ({}x{})",
             path.display(),
             frame.width,
@@ -197,7 +210,7 @@ fn render(o: &Options) -> Result<(), Error> {
     }
     if let Some(path) = &o.hdr {
         output::write_exr(path, frame.width, frame.height, &frame.hdr)?;
-        println!(
+        outln!(
             "wrote {} ({}x{}, linear float)",
             path.display(),
             frame.width,
@@ -205,7 +218,7 @@ fn render(o: &Options) -> Result<(), Error> {
         );
     }
     let t = frame.timings;
-    println!(
+    outln!(
         "GPU time: G-buffer {:.2} ms, lighting {:.2} ms, tonemap {:.2} ms, total {:.2} ms (one frame; `combustion bench` for medians)",
         t.gbuffer_ms, t.lighting_ms, t.tonemap_ms, t.total_ms
     );
@@ -245,17 +258,20 @@ fn bench(o: &Options) -> Result<(), Error> {
     let validation = headless.validation_log();
     drop(headless);
     check_validation(&validation)?;
-    println!(
+    outln!(
         "scene {:?} at {}x{} on {device_name}, n={} frames (GPU timestamps, ms):",
-        o.scene, o.width, o.height, o.frames
+        o.scene,
+        o.width,
+        o.height,
+        o.frames
     );
-    println!("{:<10} {:>9} {:>9} {:>9}", "pass", "median", "p10", "p90");
+    outln!("{:<10} {:>9} {:>9} {:>9}", "pass", "median", "p10", "p90");
     for (name, list) in ["G-buffer", "lighting", "tonemap", "total"]
         .iter()
         .zip(&mut samples)
     {
         list.sort_by(f64::total_cmp);
-        println!(
+        outln!(
             "{:<10} {:>9.2} {:>9.2} {:>9.2}",
             name,
             percentile(list, 0.5),
@@ -272,7 +288,7 @@ fn devices() -> Result<(), Error> {
         return Err(Error::Vulkan(combustion::vk::VkError::NoDevice));
     }
     for d in devices {
-        println!(
+        outln!(
             "{}: {} ({:?}, Vulkan {}.{}.{}, {}){}",
             d.index,
             d.name,
@@ -296,12 +312,12 @@ fn eval(args: &[String]) -> Result<(), Error> {
         )),
         Some((list, _)) if list == "--list" => {
             for (name, what) in combustion::eval::TERMS {
-                println!("{name:<24} {what}");
+                outln!("{name:<24} {what}");
             }
             Ok(())
         }
         Some((term, rest)) => {
-            println!("{}", combustion::eval::evaluate(term, rest)?);
+            outln!("{}", combustion::eval::evaluate(term, rest)?);
             Ok(())
         }
     }
@@ -447,7 +463,7 @@ fn file_label(path: &str) -> String {
 
 fn write_plot(path: &Path, png: &combustion_plots::Png) -> Result<(), CliError> {
     output::write_file_atomically(path, &png.bytes)?;
-    println!("wrote {} ({}x{})", path.display(), png.width, png.height);
+    outln!("wrote {} ({}x{})", path.display(), png.width, png.height);
     Ok(())
 }
 
@@ -593,20 +609,20 @@ fn info(args: &[String]) -> Result<(), CliError> {
     let scene = match SceneSource::parse(source) {
         SceneSource::Builtin(name) => {
             let scene = combustion::scene::builtin_scene(&name).map_err(Error::from)?;
-            println!("scene: builtin:{name}");
+            outln!("scene: builtin:{name}");
             scene
         }
         SceneSource::File(path) => {
             let (mut scene, report) =
                 gltf::import(&path, &ImportOptions::default()).map_err(Error::from)?;
-            println!("{report}");
+            outln!("{report}");
             if !scene.name.is_empty() {
-                println!("scene: {}", scene.name);
+                outln!("scene: {}", scene.name);
             }
             if scene.lights.is_empty() {
                 // What `render` does with such a file (SceneSource::load).
                 scene.lights = combustion::default_light_rig(&scene.camera);
-                println!(
+                outln!(
                     "note: the file has no lights; render adds the default camera-relative light rig (listed below)"
                 );
             }
@@ -812,12 +828,12 @@ fn run(args: &[String]) -> Result<(), CliError> {
         "plot" => plot(rest),
         "info" => info(rest),
         "help" | "--help" | "-h" => {
-            println!("{USAGE}");
-            println!("Built-in scenes: {}.", BUILTIN_SCENES.join(", "));
+            outln!("{USAGE}");
+            outln!("Built-in scenes: {}.", BUILTIN_SCENES.join(", "));
             Ok(())
         }
         "--version" | "-V" => {
-            println!("combustion {}", env!("CARGO_PKG_VERSION"));
+            outln!("combustion {}", env!("CARGO_PKG_VERSION"));
             Ok(())
         }
         other => Err(usage(format!(

@@ -88,6 +88,24 @@ pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputErro
     })
 }
 
+fn check_pixel_count(
+    path: &Path,
+    width: u32,
+    height: u32,
+    count: usize,
+) -> Result<(), OutputError> {
+    if count == width as usize * height as usize {
+        Ok(())
+    } else {
+        Err(OutputError::SizeMismatch {
+            path: path.to_path_buf(),
+            count,
+            width,
+            height,
+        })
+    }
+}
+
 /// Writes 8-bit sRGB RGBA pixels as a PNG (sRGB chunk set).
 pub fn write_png(
     path: &Path,
@@ -95,14 +113,7 @@ pub fn write_png(
     height: u32,
     rgba: &[[u8; 4]],
 ) -> Result<(), OutputError> {
-    if rgba.len() != width as usize * height as usize {
-        return Err(OutputError::SizeMismatch {
-            path: path.to_path_buf(),
-            count: rgba.len(),
-            width,
-            height,
-        });
-    }
+    check_pixel_count(path, width, height, rgba.len())?;
     write_atomically(path, |writer| {
         let png_error = |e: png::EncodingError| OutputError::Png {
             path: path.to_path_buf(),
@@ -128,14 +139,7 @@ pub fn write_exr(
     height: u32,
     rgba: &[[f32; 4]],
 ) -> Result<(), OutputError> {
-    if rgba.len() != width as usize * height as usize {
-        return Err(OutputError::SizeMismatch {
-            path: path.to_path_buf(),
-            count: rgba.len(),
-            width,
-            height,
-        });
-    }
+    check_pixel_count(path, width, height, rgba.len())?;
     let bytes = encode_exr(width, height, rgba);
     write_atomically(path, |writer| {
         writer.write_all(&bytes).map_err(|source| OutputError::Io {

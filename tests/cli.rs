@@ -591,3 +591,26 @@ fn info_on_bad_gltf_files_gives_one_line_errors() {
     }
     assert!(checked >= 30, "only {checked} bad files found");
 }
+
+#[test]
+fn closed_stdout_ends_quietly() {
+    // `combustion eval --list | head -1`: the tool must not panic when the reader goes.
+    use std::io::Read;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_combustion"))
+        .args(["eval", "--list"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // close the pipe before the tool writes
+    let status = child.wait().unwrap();
+    let mut stderr = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut stderr)
+        .unwrap();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(status.success(), "{status:?} {stderr}");
+}

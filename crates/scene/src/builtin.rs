@@ -97,7 +97,7 @@ fn spheres() -> Scene {
     }
     Scene {
         name: "spheres".into(),
-        meshes: vec![Mesh::uv_sphere("sphere", 0.42, 64, 32)],
+        meshes: vec![Mesh::uv_sphere("sphere", 0.42, 96, 48)],
         materials,
         objects,
         lights: vec![
