@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use combustion::renderer::{Readback, RendererSettings};
+use combustion::renderer::{HdrFormat, Readback, RendererSettings};
 use combustion::scene::gltf::{self, ImportOptions};
 use combustion::scene::{DiffuseModel, Light, Material, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, Spectrum};
@@ -17,8 +17,9 @@ combustion — Vulkan deferred renderer with physically based shading
 
 USAGE:
   combustion render [SCENE] [-o OUT.png] [--hdr OUT.exr] [--width N] [--height N]
-                    [--exposure X] [--device SEL] [--validate]
-  combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--device SEL] [--validate]
+                    [--exposure X] [--hdr-format f16|f32] [--device SEL] [--validate]
+  combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--hdr-format f16|f32]
+                    [--device SEL] [--validate]
   combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
                     [--alpha A | --roughness R | --alpha-x A --alpha-y A] [--eta E|r,g,b]
                     [--k K|r,g,b] [--eta-i E] [--sigma S] [--polarisation W] [--rho R|r,g,b]
@@ -98,6 +99,7 @@ struct Options {
     output: Option<PathBuf>,
     hdr: Option<PathBuf>,
     exposure: f32,
+    hdr_format: HdrFormat,
     frames: u32,
     device: Option<DeviceSelector>,
     validate: bool,
@@ -117,6 +119,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         output: None,
         hdr: None,
         exposure: 1.0,
+        hdr_format: HdrFormat::default(),
         frames: 30,
         device: None,
         validate: false,
@@ -141,6 +144,17 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             "-o" | "--output" if command == "render" => o.output = Some(PathBuf::from(value()?)),
             "--hdr" if command == "render" => o.hdr = Some(PathBuf::from(value()?)),
             "--exposure" => o.exposure = number(flag, value()?)?,
+            "--hdr-format" => {
+                o.hdr_format = match value()? {
+                    "f16" => HdrFormat::Rgba16Float,
+                    "f32" => HdrFormat::Rgba32Float,
+                    other => {
+                        return Err(Error::Usage(format!(
+                            "--hdr-format: `{other}` is not f16 or f32"
+                        )))
+                    }
+                }
+            }
             "--frames" if command == "bench" => o.frames = number(flag, value()?)?,
             "--device" => o.device = Some(value()?.parse()?),
             "--validate" => o.validate = true,
@@ -183,6 +197,7 @@ fn headless(o: &Options) -> Result<Headless, Error> {
         },
         settings: RendererSettings {
             exposure: o.exposure,
+            hdr_format: o.hdr_format,
             ..RendererSettings::default()
         },
     })

