@@ -287,6 +287,26 @@ impl Image {
             .subresource_range(self.subresource_range())
     }
 
+    fn layers(&self, mip_level: u32) -> vk::ImageSubresourceLayers {
+        vk::ImageSubresourceLayers {
+            aspect_mask: self.aspect,
+            mip_level,
+            base_array_layer: 0,
+            layer_count: 1,
+        }
+    }
+
+    /// All of mip level 0, tightly packed in a buffer.
+    fn level0_copy_region(&self) -> vk::BufferImageCopy {
+        vk::BufferImageCopy::default()
+            .image_subresource(self.layers(0))
+            .image_extent(vk::Extent3D {
+                width: self.extent.width,
+                height: self.extent.height,
+                depth: 1,
+            })
+    }
+
     /// Records the upload of mip level 0 from `staging` (tightly packed texels) and the
     /// generation of the other levels by linear blits; leaves every level in
     /// SHADER_READ_ONLY_OPTIMAL for fragment shaders. The format must support blits with
@@ -330,18 +350,7 @@ impl Image {
             .image(self.raw)
             .subresource_range(self.subresource_range());
         barrier(&[all_to_dst]);
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: self.aspect,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D {
-                width: self.extent.width,
-                height: self.extent.height,
-                depth: 1,
-            });
+        let region = self.level0_copy_region();
         // SAFETY: recording state; staging holds width·height texels.
         unsafe {
             raw.cmd_copy_buffer_to_image(
@@ -361,16 +370,10 @@ impl Image {
         for level in 1..self.mip_levels {
             barrier(&[level_barrier(level - 1, dst, src)]);
             let ((sw, sh), (dw, dh)) = (size(level - 1), size(level));
-            let layers = |mip_level| vk::ImageSubresourceLayers {
-                aspect_mask: self.aspect,
-                mip_level,
-                base_array_layer: 0,
-                layer_count: 1,
-            };
             let blit = vk::ImageBlit::default()
-                .src_subresource(layers(level - 1))
+                .src_subresource(self.layers(level - 1))
                 .src_offsets([vk::Offset3D::default(), vk::Offset3D { x: sw, y: sh, z: 1 }])
-                .dst_subresource(layers(level))
+                .dst_subresource(self.layers(level))
                 .dst_offsets([vk::Offset3D::default(), vk::Offset3D { x: dw, y: dh, z: 1 }]);
             // SAFETY: recording state; levels are in the layouts named.
             unsafe {
@@ -391,18 +394,7 @@ impl Image {
 
     /// Records a copy of the whole image (in TRANSFER_SRC_OPTIMAL) into `buffer`, tightly packed.
     pub fn record_copy_to_buffer(&self, cmd: vk::CommandBuffer, buffer: &Buffer) {
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: self.aspect,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D {
-                width: self.extent.width,
-                height: self.extent.height,
-                depth: 1,
-            });
+        let region = self.level0_copy_region();
         // SAFETY: the caller records into a command buffer in the recording state.
         unsafe {
             self.device.raw().cmd_copy_image_to_buffer(
