@@ -198,7 +198,6 @@ fn headless(o: &Options) -> Result<Headless, Error> {
         settings: RendererSettings {
             exposure: o.exposure,
             hdr_format: o.hdr_format,
-            ..RendererSettings::default()
         },
     })
 }
