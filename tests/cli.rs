@@ -614,3 +614,40 @@ fn closed_stdout_ends_quietly() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(status.success(), "{status:?} {stderr}");
 }
+
+#[test]
+fn device_chosen_by_index_name_or_environment() {
+    let dir = scratch("device");
+    for (args, env) in [
+        (vec!["--device", "0"], None),
+        (vec!["--device", "LLVMPIPE"], None),
+        (vec![], Some("llvmpipe")),
+    ] {
+        let out = dir.join("d.png");
+        let mut command = Command::new(env!("CARGO_BIN_EXE_combustion"));
+        command
+            .args([
+                "render",
+                "--width",
+                "16",
+                "--height",
+                "16",
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args(&args)
+            .env_remove("COMBUSTION_DEVICE");
+        if let Some(value) = env {
+            command.env("COMBUSTION_DEVICE", value);
+        }
+        let output = command.output().unwrap();
+        assert!(
+            output.status.success(),
+            "{args:?} {env:?}: {}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        assert!(out.exists());
+        std::fs::remove_file(&out).unwrap();
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

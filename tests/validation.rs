@@ -73,3 +73,17 @@ fn a_full_frame_with_readback_is_clean() {
         Some(64 * 48)
     );
 }
+
+#[test]
+fn an_invalid_scene_is_refused_before_anything_is_uploaded() {
+    let mut scene = combustion::scene::builtin_scene("spheres").unwrap();
+    scene.objects[3].material = 999;
+    let mut headless = common::lavapipe(Default::default());
+    let error = match headless.renderer().upload(&scene) {
+        Ok(_) => panic!("an object with a missing material must be refused"),
+        Err(e) => e.to_string(),
+    };
+    assert!(error.contains("object 3 uses material 999"), "{error}");
+    // Nothing was left behind: the device tears down without a leak report.
+    common::finish(headless);
+}
