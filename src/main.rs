@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use combustion::renderer::{HdrFormat, Readback, RendererSettings};
+use combustion::renderer::{FresnelModel, HdrFormat, Readback, RendererSettings};
 use combustion::scene::gltf::{self, ImportOptions};
 use combustion::scene::{DiffuseModel, Light, Material, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, Spectrum};
@@ -17,9 +17,10 @@ combustion — Vulkan deferred renderer with physically based shading
 
 USAGE:
   combustion render [SCENE] [-o OUT.png] [--hdr OUT.exr] [--width N] [--height N]
-                    [--exposure X] [--hdr-format f16|f32] [--device SEL] [--validate]
-  combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--hdr-format f16|f32]
+                    [--exposure X] [--hdr-format f16|f32] [--fresnel full|schlick]
                     [--device SEL] [--validate]
+  combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--hdr-format f16|f32]
+                    [--fresnel full|schlick] [--device SEL] [--validate]
   combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
                     [--alpha A | --roughness R | --alpha-x A --alpha-y A] [--eta E|r,g,b]
                     [--k K|r,g,b] [--eta-i E] [--sigma S] [--polarisation W] [--rho R|r,g,b]
@@ -100,6 +101,7 @@ struct Options {
     hdr: Option<PathBuf>,
     exposure: f32,
     hdr_format: HdrFormat,
+    fresnel: FresnelModel,
     frames: u32,
     device: Option<DeviceSelector>,
     validate: bool,
@@ -120,6 +122,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         hdr: None,
         exposure: 1.0,
         hdr_format: HdrFormat::default(),
+        fresnel: FresnelModel::default(),
         frames: 30,
         device: None,
         validate: false,
@@ -144,6 +147,17 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             "-o" | "--output" if command == "render" => o.output = Some(PathBuf::from(value()?)),
             "--hdr" if command == "render" => o.hdr = Some(PathBuf::from(value()?)),
             "--exposure" => o.exposure = number(flag, value()?)?,
+            "--fresnel" => {
+                o.fresnel = match value()? {
+                    "full" => FresnelModel::Full,
+                    "schlick" => FresnelModel::Schlick,
+                    other => {
+                        return Err(Error::Usage(format!(
+                            "--fresnel: `{other}` is not full or schlick"
+                        )))
+                    }
+                }
+            }
             "--hdr-format" => {
                 o.hdr_format = match value()? {
                     "f16" => HdrFormat::Rgba16Float,
@@ -198,6 +212,7 @@ fn headless(o: &Options) -> Result<Headless, Error> {
         settings: RendererSettings {
             exposure: o.exposure,
             hdr_format: o.hdr_format,
+            fresnel: o.fresnel,
         },
     })
 }

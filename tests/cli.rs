@@ -118,6 +118,18 @@ fn absurd_size() {
 }
 
 #[test]
+fn unknown_fresnel_model_or_hdr_format() {
+    assert_clear_error(
+        &["render", "--fresnel", "fast"],
+        "--fresnel: `fast` is not full or schlick",
+    );
+    assert_clear_error(
+        &["bench", "--hdr-format", "f8"],
+        "--hdr-format: `f8` is not f16 or f32",
+    );
+}
+
+#[test]
 fn not_a_number() {
     assert_clear_error(&["render", "--height", "tall"], "--height");
 }

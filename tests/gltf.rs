@@ -13,7 +13,7 @@ use combustion::renderer::gbuffer::{
     anisotropy_direction_decode, octahedral_decode, srgb_to_linear,
 };
 use combustion::renderer::gpu_types::conductor_from_base_color_table;
-use combustion::renderer::{HdrFormat, Readback, RendererSettings};
+use combustion::renderer::{FresnelModel, HdrFormat, Readback, RendererSettings};
 use combustion::scene::{Camera, Material, Mesh, Object, Scene};
 use combustion::SceneSource;
 use glam::{Mat4, Vec3};
@@ -67,6 +67,7 @@ fn render_file(
         RendererSettings {
             hdr_format: HdrFormat::Rgba32Float,
             exposure: 1.0,
+            fresnel: FresnelModel::Full,
         },
         readback,
     );
@@ -218,6 +219,7 @@ fn emissive_plane_shows_its_radiance() {
         RendererSettings {
             hdr_format: HdrFormat::Rgba32Float,
             exposure: 1.0,
+            fresnel: FresnelModel::Full,
         },
         Readback {
             images: true,

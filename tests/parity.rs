@@ -15,7 +15,7 @@ use combustion::renderer::gpu_types::{
     conductor_from_base_color_table, material_table, GpuLight, GpuMaterial, LightingPush,
     LIGHT_KIND_DIRECTIONAL,
 };
-use combustion::renderer::{Frame, HdrFormat, Readback, RendererSettings};
+use combustion::renderer::{Frame, FresnelModel, HdrFormat, Readback, RendererSettings};
 use combustion::scene::{builtin_scene, Scene};
 
 /// Radiance below which errors are measured absolutely: 1e-4 W·sr⁻¹·m⁻² is a third of an
@@ -180,6 +180,12 @@ fn shade(
 }
 
 fn parity(scene_name: &str, width: u32, height: u32) -> ParityReport {
+    parity_with(scene_name, width, height, FresnelModel::Full)
+}
+
+/// The GPU frame rendered with `fresnel`, against the f64 reference with the full
+/// Fresnel equations.
+fn parity_with(scene_name: &str, width: u32, height: u32, fresnel: FresnelModel) -> ParityReport {
     let scene = builtin_scene(scene_name).unwrap();
     let frame = common::render(
         &scene,
@@ -188,6 +194,7 @@ fn parity(scene_name: &str, width: u32, height: u32) -> ParityReport {
         RendererSettings {
             hdr_format: HdrFormat::Rgba32Float,
             exposure: 1.0,
+            fresnel,
         },
         Readback {
             images: true,
@@ -350,4 +357,25 @@ fn underwater_parity() {
 #[test]
 fn underwater_in_air_parity() {
     assert_parity("underwater-in-air", 192, 128, 5000);
+}
+
+/// The error of the cheaper Schlick variant against the full Fresnel equations (f64
+/// reference), per scene, for the README's speed-against-error table. A measurement, not
+/// a test: run with `cargo test --test parity -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn measure_schlick_error() {
+    for (scene, width, height) in [
+        ("spheres", 192, 128),
+        ("gold-copper", 256, 128),
+        ("dielectrics", 192, 128),
+        ("underwater", 192, 128),
+        ("hard-cases", 256, 128),
+    ] {
+        let report = parity_with(scene, width, height, FresnelModel::Schlick);
+        println!(
+            "Schlick vs full, {scene}: max relative error {:.3e}, mean {:.3e}",
+            report.max_relative, report.mean_relative
+        );
+    }
 }

@@ -93,6 +93,10 @@ struct BrdfView {
     float w;
     vec2 visibility_half;  // (c_v, S_v) of smith_ggx_visibility_half
     float transmittance_v; // T_w(n·v) of the dielectric part (1 when there is none)
+#ifdef FRESNEL_SCHLICK
+    float f0_dielectric;   // exact normal-incidence reflectances for Schlick's curve
+    vec3 f0_conductor;
+#endif
 };
 
 BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
@@ -104,9 +108,22 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
     view.metal = min(max(m.metalness, 0.0), 1.0);
     view.w = min(max(m.polarisation_weight, 0.0), 1.0);
     view.visibility_half = smith_ggx_visibility_half(view.v, view.ax, view.ay);
+#ifdef FRESNEL_SCHLICK
+    // The cheaper, approximate variant (renderer setting FresnelModel::Schlick; its error
+    // against the full equations is measured in tests/parity.rs): Schlick's curve through
+    // the exact normal-incidence reflectance of η (dielectric) and η + ik (conductor)
+    // seen from ηi, and 1 − F for the diffuse transmittance. No total internal reflection.
+    view.f0_dielectric = polarised_weighted(fresnel_dielectric(1.0, m.outside_eta, m.dielectric_eta), view.w);
+    view.f0_conductor = vec3(
+        polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.x, m.conductor_k.x), view.w),
+        polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.y, m.conductor_k.y), view.w),
+        polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.z, m.conductor_k.z), view.w));
+    view.transmittance_v = 1.0 - fresnel_schlick(view.v.z, view.f0_dielectric);
+#else
     view.transmittance_v = view.metal < 1.0
         ? polarised_weighted(fresnel_dielectric_transmittance(view.v.z, m.outside_eta, m.dielectric_eta), view.w)
         : 1.0;
+#endif
     return view;
 }
 
@@ -133,10 +150,15 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
     vec3 result = vec3(0.0);
     if (metal < 1.0) {
         float eta_d = m.dielectric_eta;
+#ifdef FRESNEL_SCHLICK
+        float spec = lobe * fresnel_schlick(cos_h, view.f0_dielectric);
+        float diffuse_weight = (1.0 - fresnel_schlick(ll.z, view.f0_dielectric)) * view.transmittance_v;
+#else
         float spec = lobe * polarised_weighted(fresnel_dielectric(cos_h, eta_i, eta_d), w);
         float diffuse_weight =
             polarised_weighted(fresnel_dielectric_transmittance(ll.z, eta_i, eta_d), w)
           * view.transmittance_v;
+#endif
         vec3 rho = min(max(m.base_color, vec3(0.0)), vec3(1.0));
         vec3 diffuse;
         if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_QUALITATIVE) {
@@ -149,10 +171,16 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
         result = (1.0 - metal) * (vec3(spec) + diffuse_weight * diffuse);
     }
     if (metal > 0.0) {
+#ifdef FRESNEL_SCHLICK
+        float x = 1.0 - cos_h;
+        float x2 = x * x;
+        vec3 f = view.f0_conductor + (1.0 - view.f0_conductor) * (x2 * x2 * x);
+#else
         vec2 r0 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.x, m.conductor_k.x);
         vec2 r1 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.y, m.conductor_k.y);
         vec2 r2 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.z, m.conductor_k.z);
         vec3 f = vec3(polarised_weighted(r0, w), polarised_weighted(r1, w), polarised_weighted(r2, w));
+#endif
         result += metal * lobe * f;
     }
     return result;

@@ -41,6 +41,9 @@ pub use scene_upload::GpuScene;
 pub struct ShaderVariant {
     /// An emissive target in the G-buffer, added to the lit radiance.
     pub emissive: bool,
+    /// Schlick's approximation instead of the full Fresnel equations
+    /// ([`FresnelModel::Schlick`]; a renderer setting, not a scene feature).
+    pub schlick: bool,
 }
 
 impl ShaderVariant {
@@ -49,6 +52,9 @@ impl ShaderVariant {
         let mut defines = Vec::new();
         if self.emissive {
             defines.push(("EMISSIVE", None));
+        }
+        if self.schlick {
+            defines.push(("FRESNEL_SCHLICK", None));
         }
         defines
     }
@@ -136,6 +142,20 @@ pub struct RendererSettings {
     pub hdr_format: HdrFormat,
     /// Multiplies radiance before the tone curve.
     pub exposure: f32,
+    pub fresnel: FresnelModel,
+}
+
+/// Which Fresnel term the lighting pass evaluates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FresnelModel {
+    /// The full dielectric and conductor Fresnel equations with the outside medium's IOR,
+    /// polarisation and total internal reflection (the reference; default).
+    #[default]
+    Full,
+    /// Schlick's curve through the exact normal-incidence reflectance: cheaper, no total
+    /// internal reflection. Its speed and error are measured and reported (README,
+    /// "Performance and accuracy"); it exists for comparison, not as a default.
+    Schlick,
 }
 
 impl Default for RendererSettings {
@@ -143,6 +163,7 @@ impl Default for RendererSettings {
         Self {
             hdr_format: HdrFormat::default(),
             exposure: 1.0,
+            fresnel: FresnelModel::default(),
         }
     }
 }
@@ -369,7 +390,10 @@ impl Renderer {
         let material_set_layout = textures::material_set_layout(&device)?;
         // The plain variant is built now, so shader errors surface at construction.
         let mut variants = HashMap::new();
-        let plain = ShaderVariant::default();
+        let plain = ShaderVariant {
+            schlick: settings.fresnel == FresnelModel::Schlick,
+            ..ShaderVariant::default()
+        };
         variants.insert(
             plain,
             VariantPasses::new(
@@ -522,9 +546,13 @@ impl Renderer {
         height: u32,
         readback: Readback,
     ) -> Result<Frame, RenderError> {
-        self.ensure_targets(width, height, scene.variant)?;
+        let variant = ShaderVariant {
+            schlick: self.settings.fresnel == FresnelModel::Schlick,
+            ..scene.variant
+        };
+        self.ensure_targets(width, height, variant)?;
         let targets = self.targets.as_ref().expect("ensured");
-        let passes = &self.variants[&scene.variant];
+        let passes = &self.variants[&variant];
         self.write_descriptors(passes, targets, scene);
         let camera = &scene.scene.camera;
         let view_projection = camera.view_projection(width as f32 / height as f32);

@@ -76,6 +76,8 @@ impl GpuScene {
                 .materials
                 .iter()
                 .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
+            // The Fresnel model is the renderer's setting, applied at render time.
+            schlick: false,
         };
         let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::new).collect();
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
