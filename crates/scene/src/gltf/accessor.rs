@@ -116,13 +116,11 @@ fn check_range(
     }
 }
 
-/// Reads accessor `index` as `N` floats per element (integer components converted, and
-/// normalised when the accessor says so).
-pub(crate) fn read_floats<const N: usize>(
+/// Accessor `index` with its validated component type and element type.
+fn checked_accessor(
     root: &json::Root,
-    buffers: &mut Buffers,
     index: usize,
-) -> Result<Vec<[f32; N]>, String> {
+) -> Result<(&json::Accessor, json::accessor::ComponentType, &Type), String> {
     let accessor = root
         .accessors
         .get(index)
@@ -134,7 +132,17 @@ pub(crate) fn read_floats<const N: usize>(
             "accessor {index} has an invalid componentType or type"
         ));
     };
-    let component = component.0;
+    Ok((accessor, component.0, ty))
+}
+
+/// Reads accessor `index` as `N` floats per element (integer components converted, and
+/// normalised when the accessor says so).
+pub(crate) fn read_floats<const N: usize>(
+    root: &json::Root,
+    buffers: &mut Buffers,
+    index: usize,
+) -> Result<Vec<[f32; N]>, String> {
+    let (accessor, component, ty) = checked_accessor(root, index)?;
     if dimensions(*ty) != N {
         return Err(format!(
             "accessor {index} is {}, expected {} components",
@@ -246,18 +254,7 @@ pub(crate) fn read_indices(
     buffers: &mut Buffers,
     index: usize,
 ) -> Result<Vec<u32>, String> {
-    let accessor = root
-        .accessors
-        .get(index)
-        .ok_or_else(|| format!("accessor {index} does not exist"))?;
-    let (Checked::Valid(component), Checked::Valid(ty)) =
-        (&accessor.component_type, &accessor.type_)
-    else {
-        return Err(format!(
-            "accessor {index} has an invalid componentType or type"
-        ));
-    };
-    let component = component.0;
+    let (accessor, component, ty) = checked_accessor(root, index)?;
     if *ty != Type::Scalar
         || !matches!(
             component,
