@@ -2,7 +2,8 @@
 //!
 //! This crate is the public facade: it re-exports the engine crates and offers
 //! [`Headless`], the shortest path from a scene to pixels, used by the `combustion`
-//! command-line tool, the examples and the tests alike.
+//! command-line tool, the examples and the tests alike; [`viewer`] shows a scene in a
+//! window (`combustion view`).
 //!
 //! ```no_run
 //! use combustion::{Headless, HeadlessDesc, SceneSource};
@@ -15,6 +16,7 @@
 
 pub mod eval;
 pub mod output;
+pub mod viewer;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -45,6 +47,10 @@ pub enum Error {
     Output(#[from] output::OutputError),
     #[error("{0}")]
     Usage(String),
+    #[error("cannot open a window: {0} (set DISPLAY, or run under Xvfb)")]
+    NoWindow(String),
+    #[error("{0}")]
+    Window(String),
     #[error("the Vulkan validation layer reported {count} message(s); first: {first}")]
     Validation { count: usize, first: String },
 }
@@ -127,6 +133,7 @@ impl HeadlessDesc {
             device: DeviceDesc {
                 selector: DeviceSelector::from_env()?,
                 validation,
+                ..DeviceDesc::default()
             },
             settings: RendererSettings::default(),
         })

@@ -21,6 +21,8 @@ USAGE:
                     [--device SEL] [--validate]
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--hdr-format f16|f32]
                     [--fresnel full|schlick] [--device SEL] [--validate]
+  combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
+                    [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
   combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
                     [--alpha A | --roughness R | --alpha-x A --alpha-y A] [--eta E|r,g,b]
                     [--k K|r,g,b] [--eta-i E] [--sigma S] [--polarisation W] [--rho R|r,g,b]
@@ -50,6 +52,10 @@ value or one per RGB channel (k defaults to 0). --outside-ior is the medium's in
 0.5, unpolarised). PLOT OPTIONS: [-o OUT.png] [--width N] [--height N]; the default
 output is reflectance.png, spectrum.png or dielectrics.png, the default size 800x500
 (spectrum 800x600).
+
+view opens a window (X11: needs DISPLAY, e.g. under Xvfb) and renders the scene every
+frame at the window's size; the title shows the last frame's GPU time. Escape or closing
+the window quits, as does --frames N after N frames; a summary is printed at exit.
 
 info prints what a scene holds (meshes, materials, lights, camera, outside medium) and
 which renderer features it needs; for a glTF file also what the importer found.
@@ -103,6 +109,8 @@ struct Options {
     hdr_format: HdrFormat,
     fresnel: FresnelModel,
     frames: u32,
+    /// `--frames` was given (`view` runs until closed otherwise).
+    frames_given: bool,
     device: Option<DeviceSelector>,
     validate: bool,
 }
@@ -124,6 +132,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         hdr_format: HdrFormat::default(),
         fresnel: FresnelModel::default(),
         frames: 30,
+        frames_given: false,
         device: None,
         validate: false,
     };
@@ -169,7 +178,10 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
                     }
                 }
             }
-            "--frames" if command == "bench" => o.frames = number(flag, value()?)?,
+            "--frames" if command == "bench" || command == "view" => {
+                o.frames = number(flag, value()?)?;
+                o.frames_given = true;
+            }
             "--device" => o.device = Some(value()?.parse()?),
             "--validate" => o.validate = true,
             _ if !flag.starts_with('-') && !scene_given => {
@@ -193,7 +205,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             o.width, o.height
         )));
     }
-    if command == "bench" && o.frames == 0 {
+    if (command == "bench" || o.frames_given) && o.frames == 0 {
         return Err(Error::Usage("--frames must be at least 1".into()));
     }
     Ok(o)
@@ -208,6 +220,7 @@ fn headless(o: &Options) -> Result<Headless, Error> {
         device: DeviceDesc {
             selector,
             validation: o.validate,
+            ..DeviceDesc::default()
         },
         settings: RendererSettings {
             exposure: o.exposure,
@@ -308,6 +321,44 @@ fn bench(o: &Options) -> Result<(), Error> {
             percentile(list, 0.9)
         );
     }
+    Ok(())
+}
+
+fn view(o: &Options) -> Result<(), Error> {
+    let selector = match &o.device {
+        Some(s) => s.clone(),
+        None => DeviceSelector::from_env()?,
+    };
+    let summary = combustion::viewer::run(&combustion::viewer::ViewerDesc {
+        scene: o.scene.clone(),
+        width: o.width,
+        height: o.height,
+        frames: o.frames_given.then_some(o.frames),
+        device: DeviceDesc {
+            selector,
+            validation: o.validate,
+            ..DeviceDesc::default()
+        },
+        settings: RendererSettings {
+            exposure: o.exposure,
+            hdr_format: o.hdr_format,
+            fresnel: o.fresnel,
+        },
+    })?;
+    let median = |list: &[f64]| {
+        let mut sorted = list.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        sorted.get(sorted.len() / 2).copied().unwrap_or(f64::NAN)
+    };
+    outln!(
+        "viewed {} frames at {}x{} on {}: GPU total median {:.2} ms, frame (render, readback, copy, present) median {:.2} ms",
+        summary.frame_ms.len(),
+        summary.width,
+        summary.height,
+        summary.device_name,
+        median(&summary.gpu_total_ms),
+        median(&summary.frame_ms)
+    );
     Ok(())
 }
 
@@ -852,6 +903,7 @@ fn run(args: &[String]) -> Result<(), CliError> {
     match command {
         "render" => Ok(render(&parse_options(rest, "render")?)?),
         "bench" => Ok(bench(&parse_options(rest, "bench")?)?),
+        "view" => Ok(view(&parse_options(rest, "view")?)?),
         "devices" => Ok(devices()?),
         "eval" => Ok(eval(rest)?),
         "plot" => plot(rest),
@@ -866,7 +918,7 @@ fn run(args: &[String]) -> Result<(), CliError> {
             Ok(())
         }
         other => Err(usage(format!(
-            "unknown command `{other}` (commands: render, bench, eval, plot, info, devices, help)"
+            "unknown command `{other}` (commands: render, bench, view, eval, plot, info, devices, help)"
         ))),
     }
 }

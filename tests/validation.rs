@@ -9,6 +9,7 @@ fn lavapipe_device() -> std::sync::Arc<Device> {
     Device::new(&DeviceDesc {
         selector: DeviceSelector::NameContains("llvmpipe".into()),
         validation: true,
+        ..DeviceDesc::default()
     })
     .expect("lavapipe with validation")
 }

@@ -23,6 +23,7 @@ pub fn lavapipe(settings: RendererSettings) -> Headless {
         device: DeviceDesc {
             selector: DeviceSelector::NameContains("llvmpipe".into()),
             validation: true,
+            ..DeviceDesc::default()
         },
         settings,
     })

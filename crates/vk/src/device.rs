@@ -71,6 +71,12 @@ pub struct DeviceDesc {
     /// Enable VK_LAYER_KHRONOS_validation; its warnings and errors go to the `log`
     /// facade and to the device's [`ValidationLog`]. An error if the layer is missing.
     pub validation: bool,
+    /// Extra instance extensions, e.g. a window system's surface extensions
+    /// ([`crate::Surface::instance_extensions`]). Empty for headless rendering.
+    pub instance_extensions: Vec<&'static CStr>,
+    /// Enable `VK_KHR_swapchain` on the device (to present to a window); off for
+    /// headless rendering. An error if the chosen device lacks it.
+    pub swapchain: bool,
 }
 
 /// What the loader reports of one physical device.
@@ -172,6 +178,7 @@ fn load_entry() -> Result<ash::Entry, VkError> {
 fn create_instance(
     entry: &ash::Entry,
     validation: bool,
+    extra_extensions: &[&'static CStr],
     messenger_info: &mut vk::DebugUtilsMessengerCreateInfoEXT<'_>,
 ) -> Result<ash::Instance, VkError> {
     let app_info = vk::ApplicationInfo::default()
@@ -179,7 +186,28 @@ fn create_instance(
         .engine_name(c"combustion")
         .api_version(vk::API_VERSION_1_3);
     let layers = [VALIDATION_LAYER.as_ptr()];
-    let extensions = [ext::debug_utils::NAME.as_ptr()];
+    let mut extensions: Vec<*const std::ffi::c_char> =
+        extra_extensions.iter().map(|e| e.as_ptr()).collect();
+    if !extra_extensions.is_empty() {
+        // SAFETY: plain enumeration call.
+        let available = unsafe { entry.enumerate_instance_extension_properties(None) }
+            .what("vkEnumerateInstanceExtensionProperties")?;
+        let missing: Vec<String> = extra_extensions
+            .iter()
+            .filter(|&&name| {
+                !available
+                    .iter()
+                    .any(|e| e.extension_name_as_c_str() == Ok(name))
+            })
+            .map(|name| name.to_string_lossy().into_owned())
+            .collect();
+        if !missing.is_empty() {
+            return Err(VkError::Unsupported(format!(
+                "the Vulkan loader lacks the instance extension(s) {}",
+                missing.join(", ")
+            )));
+        }
+    }
     let mut create_info = vk::InstanceCreateInfo::default().application_info(&app_info);
     if validation {
         // SAFETY: plain enumeration call.
@@ -191,10 +219,13 @@ fn create_instance(
         if !has_layer {
             return Err(VkError::ValidationLayerMissing);
         }
+        extensions.push(ext::debug_utils::NAME.as_ptr());
         create_info = create_info
             .enabled_layer_names(&layers)
-            .enabled_extension_names(&extensions)
             .push_next(messenger_info);
+    }
+    if !extensions.is_empty() {
+        create_info = create_info.enabled_extension_names(&extensions);
     }
     // SAFETY: create_info and everything it points to outlive the call.
     match unsafe { entry.create_instance(&create_info, None) } {
@@ -279,7 +310,7 @@ impl Device {
     pub fn enumerate() -> Result<Vec<DeviceInfo>, VkError> {
         let entry = load_entry()?;
         let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default();
-        let instance = create_instance(&entry, false, &mut messenger_info)?;
+        let instance = create_instance(&entry, false, &[], &mut messenger_info)?;
         let result = describe_devices(&instance);
         // SAFETY: no object was created from this instance.
         unsafe { instance.destroy_instance(None) };
@@ -304,7 +335,12 @@ impl Device {
             )
             .pfn_user_callback(Some(validation_callback))
             .user_data(log_ptr);
-        let instance = create_instance(&entry, desc.validation, &mut messenger_info)?;
+        let instance = create_instance(
+            &entry,
+            desc.validation,
+            &desc.instance_extensions,
+            &mut messenger_info,
+        )?;
         // From here on, a failure must destroy what was created: the guard does it.
         let mut guard = PartialDevice {
             instance: Some(instance),
@@ -330,9 +366,26 @@ impl Device {
         let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
-        let create_info = vk::DeviceCreateInfo::default()
+        let device_extensions = [ash::khr::swapchain::NAME.as_ptr()];
+        let mut create_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .push_next(&mut features13);
+        if desc.swapchain {
+            // SAFETY: valid physical device.
+            let available =
+                unsafe { instance.enumerate_device_extension_properties(physical_device) }
+                    .what("vkEnumerateDeviceExtensionProperties")?;
+            if !available
+                .iter()
+                .any(|e| e.extension_name_as_c_str() == Ok(ash::khr::swapchain::NAME))
+            {
+                return Err(VkError::Unsupported(format!(
+                    "Vulkan device {} cannot present to windows (no VK_KHR_swapchain)",
+                    info.name
+                )));
+            }
+            create_info = create_info.enabled_extension_names(&device_extensions);
+        }
         // SAFETY: create_info outlives the call; features were checked in select_device.
         let device = unsafe { instance.create_device(physical_device, &create_info, None) }
             .what("vkCreateDevice")?;
@@ -404,6 +457,10 @@ impl Device {
     /// The validation messages seen so far (empty without validation).
     pub fn validation_log(&self) -> ValidationLog {
         self.validation_log.clone()
+    }
+    /// The device's queue, locked (queue operations must be externally synchronised).
+    pub(crate) fn queue(&self) -> MutexGuard<'_, vk::Queue> {
+        self.queue.lock().unwrap_or_else(|p| p.into_inner())
     }
     pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
         self.allocator

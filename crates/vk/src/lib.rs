@@ -1,7 +1,7 @@
 //! Vulkan backend of Combustion.
 //!
-//! Knows nothing of scenes or shading: it owns the instance and device (headless, no
-//! surface needed), memory (gpu-allocator), buffers and images, shader compilation
+//! Knows nothing of scenes or shading: it owns the instance and device (headless by
+//! default; a [`Surface`] and [`Swapchain`] when presenting to a window), memory (gpu-allocator), buffers and images, shader compilation
 //! (shaderc, GLSL with `#include`), one-shot command submission, readback and GPU
 //! timestamp queries, and the validation-layer messenger.
 //!
@@ -22,6 +22,7 @@ mod error;
 mod pipeline;
 mod resources;
 mod shader;
+mod swapchain;
 mod timestamps;
 
 pub use commands::OneShot;
@@ -32,4 +33,5 @@ pub use pipeline::{
 };
 pub use resources::{full_mip_chain, Buffer, Image, ImageDesc};
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources, ShaderStage};
+pub use swapchain::{PresentOutcome, Surface, Swapchain};
 pub use timestamps::TimestampQueries;
