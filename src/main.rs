@@ -211,23 +211,29 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
     Ok(o)
 }
 
-fn headless(o: &Options) -> Result<Headless, Error> {
+/// The device (`--device`, else `COMBUSTION_DEVICE`, else automatic) and renderer
+/// settings the options ask for.
+fn device_and_settings(o: &Options) -> Result<(DeviceDesc, RendererSettings), Error> {
     let selector = match &o.device {
         Some(s) => s.clone(),
         None => DeviceSelector::from_env()?,
     };
-    Headless::new(&HeadlessDesc {
-        device: DeviceDesc {
-            selector,
-            validation: o.validate,
-            ..DeviceDesc::default()
-        },
-        settings: RendererSettings {
-            exposure: o.exposure,
-            hdr_format: o.hdr_format,
-            fresnel: o.fresnel,
-        },
-    })
+    let device = DeviceDesc {
+        selector,
+        validation: o.validate,
+        ..DeviceDesc::default()
+    };
+    let settings = RendererSettings {
+        exposure: o.exposure,
+        hdr_format: o.hdr_format,
+        fresnel: o.fresnel,
+    };
+    Ok((device, settings))
+}
+
+fn headless(o: &Options) -> Result<Headless, Error> {
+    let (device, settings) = device_and_settings(o)?;
+    Headless::new(&HeadlessDesc { device, settings })
 }
 
 fn render(o: &Options) -> Result<(), Error> {
@@ -325,25 +331,14 @@ fn bench(o: &Options) -> Result<(), Error> {
 }
 
 fn view(o: &Options) -> Result<(), Error> {
-    let selector = match &o.device {
-        Some(s) => s.clone(),
-        None => DeviceSelector::from_env()?,
-    };
+    let (device, settings) = device_and_settings(o)?;
     let summary = combustion::viewer::run(&combustion::viewer::ViewerDesc {
         scene: o.scene.clone(),
         width: o.width,
         height: o.height,
         frames: o.frames_given.then_some(o.frames),
-        device: DeviceDesc {
-            selector,
-            validation: o.validate,
-            ..DeviceDesc::default()
-        },
-        settings: RendererSettings {
-            exposure: o.exposure,
-            hdr_format: o.hdr_format,
-            fresnel: o.fresnel,
-        },
+        device,
+        settings,
     })?;
     let median = |list: &[f64]| {
         let mut sorted = list.to_vec();
