@@ -276,6 +276,16 @@ impl Image {
         src: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout),
         dst: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout),
     ) -> vk::ImageMemoryBarrier2<'static> {
+        self.barrier_range(self.subresource_range(), src, dst)
+    }
+
+    /// A layout transition of `range` of this image (synchronization2).
+    fn barrier_range(
+        &self,
+        range: vk::ImageSubresourceRange,
+        src: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout),
+        dst: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout),
+    ) -> vk::ImageMemoryBarrier2<'static> {
         vk::ImageMemoryBarrier2::default()
             .src_stage_mask(src.0)
             .src_access_mask(src.1)
@@ -284,7 +294,7 @@ impl Image {
             .dst_access_mask(dst.1)
             .new_layout(dst.2)
             .image(self.raw)
-            .subresource_range(self.subresource_range())
+            .subresource_range(range)
     }
 
     fn layers(&self, mip_level: u32) -> vk::ImageSubresourceLayers {
@@ -315,15 +325,7 @@ impl Image {
         use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
         let raw = self.device.raw();
         let level_barrier = |level: u32, src: (S, A, L), dst: (S, A, L)| {
-            vk::ImageMemoryBarrier2::default()
-                .src_stage_mask(src.0)
-                .src_access_mask(src.1)
-                .old_layout(src.2)
-                .dst_stage_mask(dst.0)
-                .dst_access_mask(dst.1)
-                .new_layout(dst.2)
-                .image(self.raw)
-                .subresource_range(self.mip_range(level))
+            self.barrier_range(self.mip_range(level), src, dst)
         };
         let barrier = |barriers: &[vk::ImageMemoryBarrier2<'_>]| {
             let info = vk::DependencyInfo::default().image_memory_barriers(barriers);
@@ -341,14 +343,7 @@ impl Image {
             A::SHADER_SAMPLED_READ,
             L::SHADER_READ_ONLY_OPTIMAL,
         );
-        let all_to_dst = vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(S::NONE)
-            .dst_stage_mask(dst.0)
-            .dst_access_mask(dst.1)
-            .old_layout(L::UNDEFINED)
-            .new_layout(dst.2)
-            .image(self.raw)
-            .subresource_range(self.subresource_range());
+        let all_to_dst = self.barrier((S::NONE, A::NONE, L::UNDEFINED), dst);
         barrier(&[all_to_dst]);
         let region = self.level0_copy_region();
         // SAFETY: recording state; staging holds width·height texels.
