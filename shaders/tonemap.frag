@@ -1,9 +1,13 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
-// Tonemap pass: HDR radiance → display. The attachment is RGBA8_UNORM holding
-// sRGB-encoded values; the encoding is done here with the exact formula rather than by
-// the driver's approximate conversion on write.
+// Output pass: HDR radiance → the frame's target (the host's image, or the renderer's
+// own display image). One variant per kind of target format:
+// - default (UNORM targets, e.g. R8G8B8A8_UNORM, B8G8R8A8_UNORM): tone curve, then the
+//   exact sRGB encoding here rather than the driver's approximate conversion on write;
+// - OUTPUT_HARDWARE_SRGB (_SRGB targets): tone curve; the driver encodes on write;
+// - OUTPUT_LINEAR (float targets, e.g. R16G16B16A16_SFLOAT): radiance × exposure, no
+//   tone curve, for a host's own post-processing.
 #include "tonemap.glsl"
 #include "srgb.glsl"
 
@@ -17,5 +21,11 @@ layout(location = 0) out vec4 out_color;
 
 void main() {
     vec3 radiance = texelFetch(hdr_image, ivec2(gl_FragCoord.xy), 0).rgb;
+#if defined(OUTPUT_LINEAR)
+    out_color = vec4(radiance * push.exposure, 1.0);
+#elif defined(OUTPUT_HARDWARE_SRGB)
+    out_color = vec4(tonemap_exponential(radiance * push.exposure), 1.0);
+#else
     out_color = vec4(srgb_encode(tonemap_exponential(radiance * push.exposure)), 1.0);
+#endif
 }

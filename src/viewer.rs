@@ -165,7 +165,7 @@ impl State {
         // SAFETY: the window outlives the surface: `State` drops it last (field order,
         // and `destroy` drops the surface explicitly before it).
         let surface = unsafe { Surface::new(&device, display, window_handle) }?;
-        let renderer = Renderer::new(device.clone(), desc.settings)?;
+        let mut renderer = Renderer::new(device.clone(), desc.settings)?;
         let gpu_scene = renderer.upload(scene)?;
         Ok(State {
             swapchain: None,

@@ -231,6 +231,7 @@ const EXACT: RendererSettings = RendererSettings {
     hdr_format: HdrFormat::Rgba32Float,
     exposure: 1.0,
     fresnel: FresnelModel::Full,
+    frames_in_flight: 2,
 };
 
 /// Renders `figure` with the G-buffer read back.

@@ -68,6 +68,7 @@ fn render_file(
             hdr_format: HdrFormat::Rgba32Float,
             exposure: 1.0,
             fresnel: FresnelModel::Full,
+            frames_in_flight: 2,
         },
         readback,
     );
@@ -220,6 +221,7 @@ fn emissive_plane_shows_its_radiance() {
             hdr_format: HdrFormat::Rgba32Float,
             exposure: 1.0,
             fresnel: FresnelModel::Full,
+            frames_in_flight: 2,
         },
         Readback {
             images: true,

@@ -13,6 +13,7 @@ const EXACT: RendererSettings = RendererSettings {
     hdr_format: HdrFormat::Rgba32Float,
     exposure: 1.0,
     fresnel: FresnelModel::Full,
+    frames_in_flight: 2,
 };
 
 /// A large plane seen from above, lit straight down by a directional light.

@@ -195,6 +195,7 @@ fn parity_with(scene_name: &str, width: u32, height: u32, fresnel: FresnelModel)
             hdr_format: HdrFormat::Rgba32Float,
             exposure: 1.0,
             fresnel,
+            frames_in_flight: 2,
         },
         Readback {
             images: true,

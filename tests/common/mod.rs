@@ -17,12 +17,14 @@ use combustion::{Headless, HeadlessDesc};
 use glam::{DMat4, DVec3, DVec4, Vec4Swizzles};
 
 /// Tests always run on lavapipe (Mesa's CPU Vulkan driver), whatever else is installed,
-/// so results don't depend on the machine's GPU. Validation is always on.
+/// so results don't depend on the machine's GPU. Validation is always on, synchronization
+/// validation included.
 pub fn lavapipe(settings: RendererSettings) -> Headless {
     Headless::new(&HeadlessDesc {
         device: DeviceDesc {
             selector: DeviceSelector::NameContains("llvmpipe".into()),
             validation: true,
+            synchronization_validation: true,
             ..DeviceDesc::default()
         },
         settings,

@@ -3,41 +3,37 @@
 use std::sync::Arc;
 
 use combustion_vk::{
-    vk, DescriptorSetLayout, Device, GraphicsPipelineDesc, Image, Pipeline, PipelineLayout,
+    vk, DescriptorSetLayout, Device, GraphicsPipelineDesc, Pipeline, PipelineCache, PipelineLayout,
     ShaderCompiler, ShaderModule, ShaderStage,
 };
 
 use crate::RenderError;
 
-/// A full-screen pass: a fragment shader, its descriptor set layout and push constants.
+/// A full-screen pass: a fragment shader with one descriptor set and push constants.
 pub struct FullscreenPass {
-    pub(crate) set_layout: DescriptorSetLayout,
     layout: PipelineLayout,
     pipeline: Pipeline,
     push_size: u32,
 }
 
 impl FullscreenPass {
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
+        cache: &PipelineCache,
         fragment_shader: &str,
         defines: &[(&str, Option<&str>)],
-        bindings: &[(u32, vk::DescriptorType)],
+        set_layout: &DescriptorSetLayout,
         push_size: u32,
         output_format: vk::Format,
     ) -> Result<Self, RenderError> {
-        let bindings: Vec<_> = bindings
-            .iter()
-            .map(|&(b, ty)| (b, ty, 1, vk::ShaderStageFlags::FRAGMENT))
-            .collect();
-        let set_layout = DescriptorSetLayout::new(device, &bindings)?;
         let push = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::FRAGMENT,
             offset: 0,
             size: push_size,
         }];
-        let layout = PipelineLayout::new(device, &[&set_layout], &push)?;
+        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
         let vertex = ShaderModule::new(
             device,
             &compiler.compile("fullscreen.vert", ShaderStage::Vertex, &[])?,
@@ -58,29 +54,30 @@ impl FullscreenPass {
                 vertex_attributes: &[],
                 color_formats: &[output_format],
                 depth_format: None,
+                cache: Some(cache),
             },
         )?;
         Ok(Self {
-            set_layout,
             layout,
             pipeline,
             push_size,
         })
     }
 
-    /// Records the pass writing `output` (in COLOR_ATTACHMENT_OPTIMAL).
+    /// Records the pass writing every pixel of `output` (a view in
+    /// COLOR_ATTACHMENT_OPTIMAL of `extent`).
     pub fn record(
         &self,
         device: &Device,
         cmd: vk::CommandBuffer,
-        output: &Image,
+        output: vk::ImageView,
+        extent: vk::Extent2D,
         set: vk::DescriptorSet,
         push: &[u8],
     ) {
         debug_assert_eq!(push.len() as u32, self.push_size);
-        let extent = output.extent();
         let attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(output.view())
+            .image_view(output)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::DONT_CARE)
             .store_op(vk::AttachmentStoreOp::STORE)];

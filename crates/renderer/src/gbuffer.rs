@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use combustion_vk::{
     vk, DescriptorSetLayout, Device, GraphicsPipelineDesc, Image, ImageDesc, Pipeline,
-    PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
+    PipelineCache, PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
 };
 
 use crate::gpu_types::GBufferPush;
@@ -111,42 +111,48 @@ impl GBufferTargets {
 /// The G-buffer pass: rasterises every object, writing the G-buffer and depth.
 /// Reads: vertex/index buffers, the object table, the material table. Writes: [`GBufferTargets`].
 pub struct GBufferPass {
-    pub(crate) set_layout: DescriptorSetLayout,
     pub(crate) layout: PipelineLayout,
     pipeline: Pipeline,
+}
+
+/// The layout of set 0 of the G-buffer pass: the object table (vertex stage) and the
+/// material table (fragment stage).
+pub fn gbuffer_set_layout(device: &Arc<Device>) -> Result<DescriptorSetLayout, RenderError> {
+    Ok(DescriptorSetLayout::new(
+        device,
+        &[
+            (
+                0,
+                vk::DescriptorType::STORAGE_BUFFER,
+                1,
+                vk::ShaderStageFlags::VERTEX,
+            ),
+            (
+                1,
+                vk::DescriptorType::STORAGE_BUFFER,
+                1,
+                vk::ShaderStageFlags::FRAGMENT,
+            ),
+        ],
+    )?)
 }
 
 impl GBufferPass {
     pub fn new(
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        set_layout: &DescriptorSetLayout,
         material_set_layout: &DescriptorSetLayout,
         variant: ShaderVariant,
     ) -> Result<Self, RenderError> {
-        let set_layout = DescriptorSetLayout::new(
-            device,
-            &[
-                (
-                    0,
-                    vk::DescriptorType::STORAGE_BUFFER,
-                    1,
-                    vk::ShaderStageFlags::VERTEX,
-                ),
-                (
-                    1,
-                    vk::DescriptorType::STORAGE_BUFFER,
-                    1,
-                    vk::ShaderStageFlags::FRAGMENT,
-                ),
-            ],
-        )?;
         let defines = variant.defines();
         let push = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::VERTEX,
             offset: 0,
             size: std::mem::size_of::<GBufferPush>() as u32,
         }];
-        let layout = PipelineLayout::new(device, &[&set_layout, material_set_layout], &push)?;
+        let layout = PipelineLayout::new(device, &[set_layout, material_set_layout], &push)?;
         let vertex = ShaderModule::new(
             device,
             &compiler.compile("gbuffer.vert", ShaderStage::Vertex, &defines)?,
@@ -208,13 +214,25 @@ impl GBufferPass {
                 vertex_attributes: &attributes,
                 color_formats: &color_formats,
                 depth_format: Some(DEPTH_FORMAT),
+                cache: Some(cache),
             },
         )?;
-        Ok(Self {
-            set_layout,
-            layout,
-            pipeline,
-        })
+        Ok(Self { layout, pipeline })
+    }
+
+    /// What the pass touches: every G-buffer target is written (cleared first).
+    pub(crate) fn uses(targets: &GBufferTargets) -> crate::graph::PassUses {
+        use crate::graph::ImageUse;
+        let mut images: Vec<_> = targets
+            .attachments()
+            .into_iter()
+            .map(|image| (image.into(), ImageUse::ColorAttachmentWrite))
+            .collect();
+        images.push(((&targets.depth).into(), ImageUse::DepthAttachmentWrite));
+        crate::graph::PassUses {
+            name: "G-buffer",
+            images,
+        }
     }
 
     /// Records the pass. Targets must be in COLOR_ATTACHMENT / DEPTH_ATTACHMENT layouts.

@@ -1,37 +1,50 @@
 //! The deferred renderer of Combustion.
 //!
-//! A frame (`Renderer::render`):
+//! A frame ([`Renderer::record`] into a host's command buffer and image, or
+//! [`Renderer::render`], which submits, waits and reads back):
 //! 1. **G-buffer pass** ([`gbuffer`]): rasterise every object into base colour +
 //!    metalness, normal + roughness + anisotropy, material index + anisotropy direction,
 //!    and depth.
 //! 2. **Lighting pass** (`lighting.frag`): full-screen; per pixel, decode the G-buffer,
 //!    reconstruct the position from depth, evaluate the BRDF (`brdf.glsl`) for every
-//!    light, write HDR radiance.
-//! 3. **Tonemap pass** (`tonemap.frag`): exposure and `1 − e^(−x)` into an sRGB 8-bit image.
-//! 4. Optional readback of the HDR and display images (and the G-buffer, for parity tests).
+//!    light of the frame, write HDR radiance.
+//! 3. **Output pass** (`tonemap.frag`): into the frame's target, by its format: exposure
+//!    and `1 − e^(−x)` with the exact sRGB encoding (UNORM), the same with the driver's
+//!    encoding (_SRGB), or linear radiance × exposure (float formats).
+//! 4. Optional: the G-buffer depth copied into the host's depth image; readback of the
+//!    HDR and display images (and the G-buffer, for parity tests) in [`Renderer::render`].
 //!
-//! GPU timestamps bracket each pass; [`Frame::timings`] reports them.
+//! Each pass declares the images it touches ([`graph`]); the barriers between passes
+//! and frames are derived from those declarations in one place. Frames in flight: each
+//! frame slot has its own descriptor sets, light buffer, timestamp queries and retire
+//! list. GPU timestamps bracket each pass ([`Frame::timings`],
+//! [`Renderer::last_completed_timings`]).
 
 pub mod gbuffer;
 pub mod gpu_types;
+pub mod graph;
 
+mod frame;
 mod fullscreen;
+mod host;
+mod offscreen;
 mod scene_upload;
 mod shader_sources;
+mod targets;
 mod textures;
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use combustion_scene::{Scene, SceneError};
-use combustion_vk::{
-    vk, Buffer, DescriptorPool, DescriptorSetLayout, Device, Image, ImageDesc, OneShot,
-    ShaderCompiler, TimestampQueries, VkError,
-};
+use combustion_vk::{vk, DescriptorSetLayout, Device, PipelineCache, ShaderCompiler, VkError};
 
 use fullscreen::FullscreenPass;
-use gbuffer::{GBufferPass, GBufferReadback, GBufferTargets, GBufferTexel};
+use gbuffer::{GBufferPass, GBufferReadback};
 use gpu_types::{LightingPush, TonemapPush};
+pub use host::{
+    ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, DISPLAY_FORMAT,
+};
 pub use scene_upload::GpuScene;
 
 /// The shader features a scene needs. Each distinct variant gets its own G-buffer and
@@ -73,6 +86,29 @@ pub enum RenderError {
     InvalidExposure(f32),
     #[error("scene too large: {0}")]
     TooLarge(String),
+    #[error("{0} frames in flight are not supported; use 1 to {max}", max = MAX_FRAMES_IN_FLIGHT)]
+    InvalidFramesInFlight(usize),
+    #[error(
+        "frame slot {slot} is out of range: the renderer has {frames_in_flight} frames in flight"
+    )]
+    InvalidFrameSlot {
+        slot: usize,
+        frames_in_flight: usize,
+    },
+    #[error("output format {0:?} is not supported; use an RGBA16F/RGBA32F (linear), RGBA8/BGRA8 UNORM or _SRGB (display) format")]
+    UnsupportedOutputFormat(vk::Format),
+    #[error("output format {0:?} was not prepared; call Renderer::prepare_output before recording frames into it")]
+    OutputNotPrepared(vk::Format),
+    #[error("the scene was uploaded by another renderer, or its pipelines were not built; upload it with this renderer")]
+    VariantNotPrepared,
+    #[error("the host's depth image is {got:?} of {got_width}x{got_height}; it must be D32_SFLOAT of the target's size {width}x{height}")]
+    InvalidDepthTarget {
+        got: vk::Format,
+        got_width: u32,
+        got_height: u32,
+        width: u32,
+        height: u32,
+    },
 }
 
 /// Storage of the HDR (lit) image.
@@ -91,7 +127,7 @@ pub enum HdrFormat {
 }
 
 impl HdrFormat {
-    fn vk(self) -> vk::Format {
+    pub fn vk(self) -> vk::Format {
         match self {
             Self::Rgba16Float => vk::Format::R16G16B16A16_SFLOAT,
             Self::Rgba32Float => vk::Format::R32G32B32A32_SFLOAT,
@@ -136,13 +172,32 @@ pub struct Frame {
     pub timings: PassTimings,
 }
 
+/// The most frames in flight a renderer keeps.
+pub const MAX_FRAMES_IN_FLIGHT: usize = 3;
+
 /// Settings of the renderer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RendererSettings {
     pub hdr_format: HdrFormat,
-    /// Multiplies radiance before the tone curve.
+    /// Multiplies radiance before the tone curve, in [`Renderer::render`] (frames
+    /// recorded with [`Renderer::record`] bring their own, in [`FrameInputs`]).
     pub exposure: f32,
     pub fresnel: FresnelModel,
+    /// Frames the CPU may record ahead of the GPU (1 to [`MAX_FRAMES_IN_FLIGHT`]):
+    /// each has its own descriptor sets, light buffer and timestamp queries.
+    pub frames_in_flight: usize,
+}
+
+impl RendererSettings {
+    fn validate(&self) -> Result<(), RenderError> {
+        if !(self.exposure.is_finite() && self.exposure > 0.0) {
+            return Err(RenderError::InvalidExposure(self.exposure));
+        }
+        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&self.frames_in_flight) {
+            return Err(RenderError::InvalidFramesInFlight(self.frames_in_flight));
+        }
+        Ok(())
+    }
 }
 
 /// Which Fresnel term the lighting pass evaluates.
@@ -164,6 +219,7 @@ impl Default for RendererSettings {
             hdr_format: HdrFormat::default(),
             exposure: 1.0,
             fresnel: FresnelModel::default(),
+            frames_in_flight: 2,
         }
     }
 }
@@ -179,68 +235,6 @@ pub fn linear_to_srgb(linear: f64) -> f64 {
         linear * 12.92
     } else {
         1.055 * linear.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// The images of one frame size, their readback buffers and descriptor sets.
-struct FrameTargets {
-    variant: ShaderVariant,
-    gbuffer: GBufferTargets,
-    hdr: Image,
-    ldr: Image,
-    hdr_readback: Buffer,
-    ldr_readback: Buffer,
-    gbuffer_readback: [Buffer; 4],
-}
-
-impl FrameTargets {
-    fn new(
-        device: &Arc<Device>,
-        width: u32,
-        height: u32,
-        hdr_format: HdrFormat,
-        variant: ShaderVariant,
-    ) -> Result<Self, RenderError> {
-        let pixels = u64::from(width) * u64::from(height);
-        let readback = |name: &str, bytes_per_pixel: u64| {
-            Buffer::new(
-                device,
-                name,
-                pixels * bytes_per_pixel,
-                vk::BufferUsageFlags::TRANSFER_DST,
-                combustion_vk::gpu_allocator::MemoryLocation::GpuToCpu,
-            )
-        };
-        let output_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
-            | vk::ImageUsageFlags::SAMPLED
-            | vk::ImageUsageFlags::TRANSFER_SRC;
-        let output = |name, format| {
-            Image::new(
-                device,
-                &ImageDesc {
-                    name,
-                    format,
-                    width,
-                    height,
-                    usage: output_usage,
-                    mip_levels: 1,
-                },
-            )
-        };
-        Ok(Self {
-            variant,
-            gbuffer: GBufferTargets::new(device, width, height, variant)?,
-            hdr: output("hdr radiance", hdr_format.vk())?,
-            ldr: output("display (sRGB-encoded)", vk::Format::R8G8B8A8_UNORM)?,
-            hdr_readback: readback("hdr readback", hdr_format.bytes_per_pixel())?,
-            ldr_readback: readback("display readback", 4)?,
-            gbuffer_readback: [
-                readback("gbuffer readback 0", 4)?,
-                readback("gbuffer readback 1", 8)?,
-                readback("gbuffer readback 2", 4)?,
-                readback("depth readback", 4)?,
-            ],
-        })
     }
 }
 
@@ -274,31 +268,31 @@ pub(crate) fn set_viewport_and_scissor(
     }
 }
 
-/// Timestamp slots: start, after G-buffer, after lighting, after tonemap.
-const TIMESTAMPS: u32 = 4;
-
-/// The G-buffer and lighting passes of one [`ShaderVariant`], with their descriptor sets.
+/// The G-buffer and lighting pipelines of one [`ShaderVariant`].
 struct VariantPasses {
-    gbuffer_set: vk::DescriptorSet,
-    lighting_set: vk::DescriptorSet,
-    /// Owns the two descriptor sets above.
-    _descriptor_pool: DescriptorPool,
     gbuffer: GBufferPass,
     lighting: FullscreenPass,
 }
 
-impl VariantPasses {
-    fn new(
-        device: &Arc<Device>,
-        compiler: &ShaderCompiler,
-        material_set_layout: &DescriptorSetLayout,
-        variant: ShaderVariant,
-        hdr_format: HdrFormat,
-    ) -> Result<Self, RenderError> {
-        let gbuffer = GBufferPass::new(device, compiler, material_set_layout, variant)?;
+/// The descriptor-set layouts of the passes, shared by every variant and frame slot.
+struct SetLayouts {
+    /// Set 0 of the G-buffer pass: object and material tables.
+    gbuffer: DescriptorSetLayout,
+    /// Set 1 of the G-buffer pass: one material's textures.
+    material: DescriptorSetLayout,
+    /// The lighting pass: G-buffer, depth, material table, lights, conductor table,
+    /// emissive (bound in the EMISSIVE variant only).
+    lighting: DescriptorSetLayout,
+    /// The output pass: the HDR image.
+    output: DescriptorSetLayout,
+}
+
+impl SetLayouts {
+    fn new(device: &Arc<Device>) -> Result<Self, RenderError> {
         let sampled = vk::DescriptorType::SAMPLED_IMAGE;
         let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let mut bindings = vec![
+        let fragment = vk::ShaderStageFlags::FRAGMENT;
+        let lighting: Vec<_> = [
             (0, sampled),
             (1, sampled),
             (2, sampled),
@@ -306,125 +300,105 @@ impl VariantPasses {
             (4, storage),
             (5, storage),
             (6, storage),
-        ];
-        if variant.emissive {
-            bindings.push((7, sampled));
-        }
-        let lighting = FullscreenPass::new(
-            device,
-            compiler,
-            "lighting.frag",
-            &variant.defines(),
-            &bindings,
-            std::mem::size_of::<LightingPush>() as u32,
-            hdr_format.vk(),
-        )?;
-        let pool = DescriptorPool::new(
-            device,
-            2,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: sampled,
-                    descriptor_count: 5,
-                },
-                vk::DescriptorPoolSize {
-                    ty: storage,
-                    descriptor_count: 5,
-                },
-            ],
-        )?;
+            (7, sampled),
+        ]
+        .iter()
+        .map(|&(binding, ty)| (binding, ty, 1, fragment))
+        .collect();
         Ok(Self {
-            gbuffer_set: pool.allocate(&gbuffer.set_layout)?,
-            lighting_set: pool.allocate(&lighting.set_layout)?,
-            _descriptor_pool: pool,
-            gbuffer,
-            lighting,
+            gbuffer: gbuffer::gbuffer_set_layout(device)?,
+            material: textures::material_set_layout(device)?,
+            lighting: DescriptorSetLayout::new(device, &lighting)?,
+            output: DescriptorSetLayout::new(device, &[(0, sampled, 1, fragment)])?,
         })
     }
 }
 
-/// The deferred renderer. One per device; renders [`GpuScene`]s at any size.
+/// The deferred renderer. One per device; renders [`GpuScene`]s at any size, into its
+/// own images ([`Renderer::render`]) or into a host's command buffer and image
+/// ([`Renderer::record`]), with frames in flight.
 pub struct Renderer {
     // Field order is drop order: everything below holds the device alive.
-    targets: Option<FrameTargets>,
+    /// Combustion's own submissions (render, bench), created on first use.
+    offscreen: Option<offscreen::Offscreen>,
+    slots: Vec<frame::FrameSlot>,
+    targets: HashMap<targets::TargetKey, (targets::FrameTargets, u64)>,
     variants: HashMap<ShaderVariant, VariantPasses>,
+    /// Output passes by target format.
+    outputs: HashMap<vk::Format, FullscreenPass>,
+    layouts: SetLayouts,
+    pipeline_cache: PipelineCache,
     compiler: ShaderCompiler,
-    /// Set 1 of the G-buffer pass: one material's textures.
-    material_set_layout: DescriptorSetLayout,
-    tonemap_set: vk::DescriptorSet,
-    /// Owns the tonemap descriptor set.
-    _tonemap_pool: DescriptorPool,
-    tonemap_pass: FullscreenPass,
-    commands: OneShot,
-    timestamps: Option<TimestampQueries>,
+    states: graph::ImageStates,
     settings: RendererSettings,
+    /// Frames recorded so far.
+    frame_number: u64,
+    last_timings: Option<PassTimings>,
+    stats: RendererStats,
+    /// Timings of completed frames not yet taken ([`Renderer::take_completed_timings`]).
+    completed_timings: std::collections::VecDeque<PassTimings>,
     device: Arc<Device>,
 }
 
+/// Counts of what a renderer has built, for hosts and tests that check that steady
+/// frames build nothing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RendererStats {
+    /// Frames recorded.
+    pub frames: u64,
+    /// Sets of targets (G-buffer + HDR image) allocated.
+    pub targets_built: u64,
+    /// Sets of targets retired after going unused.
+    pub targets_retired: u64,
+    /// Graphics pipelines built.
+    pub pipelines_built: u64,
+}
+
+/// How many completed frames' timings are kept until taken.
+const COMPLETED_TIMINGS_KEPT: usize = 1024;
+
 impl Renderer {
-    /// Compiles the shaders and builds the pipelines.
+    /// Compiles the shaders and builds the pipelines of scenes without special
+    /// features, and the output pass for [`DISPLAY_FORMAT`].
     pub fn new(device: Arc<Device>, settings: RendererSettings) -> Result<Self, RenderError> {
-        if !(settings.exposure.is_finite() && settings.exposure > 0.0) {
-            return Err(RenderError::InvalidExposure(settings.exposure));
-        }
+        Self::with_pipeline_cache(device, settings, &[])
+    }
+
+    /// As [`Renderer::new`], with a pipeline cache primed from `cache_data` (what
+    /// [`Renderer::pipeline_cache_data`] returned on an earlier run; data from another
+    /// driver is ignored).
+    pub fn with_pipeline_cache(
+        device: Arc<Device>,
+        settings: RendererSettings,
+        cache_data: &[u8],
+    ) -> Result<Self, RenderError> {
+        settings.validate()?;
         let compiler = ShaderCompiler::new(shader_sources::sources())?;
-        let sampled = vk::DescriptorType::SAMPLED_IMAGE;
-        let tonemap_pass = FullscreenPass::new(
-            &device,
-            &compiler,
-            "tonemap.frag",
-            &[],
-            &[(0, sampled)],
-            std::mem::size_of::<TonemapPush>() as u32,
-            vk::Format::R8G8B8A8_UNORM,
-        )?;
-        let tonemap_pool = DescriptorPool::new(
-            &device,
-            1,
-            &[vk::DescriptorPoolSize {
-                ty: sampled,
-                descriptor_count: 1,
-            }],
-        )?;
-        let tonemap_set = tonemap_pool.allocate(&tonemap_pass.set_layout)?;
-        let material_set_layout = textures::material_set_layout(&device)?;
-        // The plain variant is built now, so shader errors surface at construction.
-        let mut variants = HashMap::new();
-        let plain = ShaderVariant {
-            schlick: settings.fresnel == FresnelModel::Schlick,
-            ..ShaderVariant::default()
-        };
-        variants.insert(
-            plain,
-            VariantPasses::new(
-                &device,
-                &compiler,
-                &material_set_layout,
-                plain,
-                settings.hdr_format,
-            )?,
-        );
-        let timestamps = match TimestampQueries::new(&device, TIMESTAMPS) {
-            Ok(t) => Some(t),
-            Err(VkError::Unsupported(why)) => {
-                log::warn!("pass timings unavailable: {why}");
-                None
-            }
-            Err(e) => return Err(e.into()),
-        };
-        Ok(Self {
-            targets: None,
-            variants,
+        let layouts = SetLayouts::new(&device)?;
+        let slots = (0..settings.frames_in_flight)
+            .map(|_| frame::FrameSlot::new(&device, &layouts))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut renderer = Self {
+            offscreen: None,
+            slots,
+            targets: HashMap::new(),
+            variants: HashMap::new(),
+            outputs: HashMap::new(),
+            pipeline_cache: PipelineCache::new(&device, cache_data)?,
+            layouts,
             compiler,
-            material_set_layout,
-            tonemap_set,
-            _tonemap_pool: tonemap_pool,
-            tonemap_pass,
-            commands: OneShot::new(&device)?,
-            timestamps,
+            states: graph::ImageStates::default(),
             settings,
+            frame_number: 0,
+            last_timings: None,
+            completed_timings: std::collections::VecDeque::new(),
+            stats: RendererStats::default(),
             device,
-        })
+        };
+        // The plain variant is built now, so shader errors surface at construction.
+        renderer.prepare_variant(renderer.variant_of(ShaderVariant::default()))?;
+        renderer.prepare_output(DISPLAY_FORMAT)?;
+        Ok(renderer)
     }
 
     pub fn device(&self) -> &Arc<Device> {
@@ -435,306 +409,153 @@ impl Renderer {
         self.settings
     }
 
-    /// Validates and uploads a scene.
-    pub fn upload(&self, scene: &Scene) -> Result<GpuScene, RenderError> {
-        GpuScene::new(&self.device, scene, &self.material_set_layout)
+    /// The pipeline cache's contents, to save and pass to
+    /// [`Renderer::with_pipeline_cache`] on the next run.
+    pub fn pipeline_cache_data(&self) -> Result<Vec<u8>, RenderError> {
+        Ok(self.pipeline_cache.data()?)
     }
 
-    fn ensure_targets(
-        &mut self,
-        width: u32,
-        height: u32,
-        variant: ShaderVariant,
-    ) -> Result<(), RenderError> {
+    /// The scene's variant with the renderer's settings applied.
+    fn variant_of(&self, scene_variant: ShaderVariant) -> ShaderVariant {
+        ShaderVariant {
+            schlick: self.settings.fresnel == FresnelModel::Schlick,
+            ..scene_variant
+        }
+    }
+
+    /// Builds the pipelines of `variant` if they are not built yet.
+    fn prepare_variant(&mut self, variant: ShaderVariant) -> Result<(), RenderError> {
+        if self.variants.contains_key(&variant) {
+            return Ok(());
+        }
+        let gbuffer = GBufferPass::new(
+            &self.device,
+            &self.compiler,
+            &self.pipeline_cache,
+            &self.layouts.gbuffer,
+            &self.layouts.material,
+            variant,
+        )?;
+        let lighting = FullscreenPass::new(
+            &self.device,
+            &self.compiler,
+            &self.pipeline_cache,
+            "lighting.frag",
+            &variant.defines(),
+            &self.layouts.lighting,
+            std::mem::size_of::<LightingPush>() as u32,
+            self.settings.hdr_format.vk(),
+        )?;
+        self.variants
+            .insert(variant, VariantPasses { gbuffer, lighting });
+        self.stats.pipelines_built += 2;
+        Ok(())
+    }
+
+    /// Builds the output pass for targets of `format`, so that [`Renderer::record`] can
+    /// render into them. [`DISPLAY_FORMAT`] is prepared by [`Renderer::new`]. Formats:
+    /// see [`OutputEncoding::of`].
+    pub fn prepare_output(&mut self, format: vk::Format) -> Result<(), RenderError> {
+        if self.outputs.contains_key(&format) {
+            return Ok(());
+        }
+        let encoding =
+            OutputEncoding::of(format).ok_or(RenderError::UnsupportedOutputFormat(format))?;
+        let pass = FullscreenPass::new(
+            &self.device,
+            &self.compiler,
+            &self.pipeline_cache,
+            "tonemap.frag",
+            &encoding.defines(),
+            &self.layouts.output,
+            std::mem::size_of::<TonemapPush>() as u32,
+            format,
+        )?;
+        self.outputs.insert(format, pass);
+        self.stats.pipelines_built += 1;
+        Ok(())
+    }
+
+    /// Validates and uploads a scene, and builds the pipelines it needs (never inside a
+    /// frame's recording).
+    pub fn upload(&mut self, scene: &Scene) -> Result<GpuScene, RenderError> {
+        let gpu_scene = GpuScene::new(&self.device, scene, &self.layouts.material)?;
+        self.prepare_variant(self.variant_of(gpu_scene.variant))?;
+        Ok(gpu_scene)
+    }
+
+    /// Keeps `resource` (a replaced [`GpuScene`], buffer, image...) alive until the
+    /// frames recorded so far have completed, then drops it. Use it instead of dropping
+    /// a scene that frames in flight may still read.
+    pub fn retire(&mut self, resource: impl std::any::Any + Send) {
+        let slot = self.current_slot();
+        self.slots[slot].retire(Box::new(resource));
+    }
+
+    /// The GPU times of the most recent frame known to have completed (read when its
+    /// frame slot is reused; at once for [`Renderer::render`]).
+    pub fn last_completed_timings(&self) -> Option<PassTimings> {
+        self.last_timings
+    }
+
+    /// What this renderer has built so far.
+    pub fn stats(&self) -> RendererStats {
+        RendererStats {
+            frames: self.frame_number,
+            ..self.stats
+        }
+    }
+
+    /// The GPU times of every completed frame since the last call (oldest first; at
+    /// most the last 1024 are kept).
+    pub fn take_completed_timings(&mut self) -> Vec<PassTimings> {
+        self.completed_timings.drain(..).collect()
+    }
+
+    /// Reads the timestamps of `slot`'s frame, which has completed.
+    pub(crate) fn collect_timings(&mut self, slot: usize) -> Result<(), RenderError> {
+        let s = &mut self.slots[slot];
+        if !s.stamped {
+            return Ok(());
+        }
+        if let Some(t) = &s.timestamps {
+            let stamps: Option<Vec<f64>> = t.read_ms_if_available()?;
+            if let Some(ms) = stamps {
+                let timings = PassTimings::from_stamps(&ms);
+                self.last_timings = Some(timings);
+                if self.completed_timings.len() == COMPLETED_TIMINGS_KEPT {
+                    self.completed_timings.pop_front();
+                }
+                self.completed_timings.push_back(timings);
+            }
+        }
+        s.stamped = false;
+        Ok(())
+    }
+
+    fn check_size(&self, width: u32, height: u32) -> Result<(), RenderError> {
         let max = self.device.max_image_dimension_2d();
         if width == 0 || height == 0 || width > max || height > max {
             return Err(RenderError::InvalidSize { width, height, max });
         }
-        let fits = self.targets.as_ref().is_some_and(|t| {
-            t.ldr.extent() == vk::Extent2D { width, height } && t.variant == variant
-        });
-        if !fits {
-            self.targets = None; // free the old targets first
-            self.targets = Some(FrameTargets::new(
-                &self.device,
-                width,
-                height,
-                self.settings.hdr_format,
-                variant,
-            )?);
-        }
-        if !self.variants.contains_key(&variant) {
-            let passes = VariantPasses::new(
-                &self.device,
-                &self.compiler,
-                &self.material_set_layout,
-                variant,
-                self.settings.hdr_format,
-            )?;
-            self.variants.insert(variant, passes);
-        }
         Ok(())
-    }
-
-    fn write_descriptors(&self, passes: &VariantPasses, targets: &FrameTargets, scene: &GpuScene) {
-        let image_info = |image: &Image, layout| {
-            [vk::DescriptorImageInfo {
-                sampler: vk::Sampler::null(),
-                image_view: image.view(),
-                image_layout: layout,
-            }]
-        };
-        let buffer_info = |buffer: &Buffer| {
-            [vk::DescriptorBufferInfo {
-                buffer: buffer.raw(),
-                offset: 0,
-                range: vk::WHOLE_SIZE,
-            }]
-        };
-        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        let depth_read = vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL;
-        let g = &targets.gbuffer;
-        let lighting = passes.lighting_set;
-        let mut images = vec![
-            (lighting, 0, image_info(&g.base_color_metalness, read)),
-            (
-                lighting,
-                1,
-                image_info(&g.normal_roughness_anisotropy, read),
-            ),
-            (lighting, 2, image_info(&g.material_direction, read)),
-            (lighting, 3, image_info(&g.depth, depth_read)),
-            (self.tonemap_set, 0, image_info(&targets.hdr, read)),
-        ];
-        if let Some(emissive) = &g.emissive {
-            images.push((lighting, 7, image_info(emissive, read)));
-        }
-        let buffers = [
-            (passes.gbuffer_set, 0, buffer_info(&scene.objects)),
-            (passes.gbuffer_set, 1, buffer_info(&scene.materials)),
-            (lighting, 4, buffer_info(&scene.materials)),
-            (lighting, 5, buffer_info(&scene.lights)),
-            (lighting, 6, buffer_info(&scene.conductor_table)),
-        ];
-        let mut writes: Vec<vk::WriteDescriptorSet<'_>> = images
-            .iter()
-            .map(|(set, binding, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(*set)
-                    .dst_binding(*binding)
-                    .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
-                    .image_info(info)
-            })
-            .collect();
-        writes.extend(buffers.iter().map(|(set, binding, info)| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(*set)
-                .dst_binding(*binding)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(info)
-        }));
-        // SAFETY: the previous frame was waited for, so no set is in use.
-        unsafe { self.device.raw().update_descriptor_sets(&writes, &[]) };
-    }
-
-    /// Renders `scene` at `width`×`height` and waits for the GPU; copies back what
-    /// `readback` asks for.
-    pub fn render(
-        &mut self,
-        scene: &GpuScene,
-        width: u32,
-        height: u32,
-        readback: Readback,
-    ) -> Result<Frame, RenderError> {
-        let variant = ShaderVariant {
-            schlick: self.settings.fresnel == FresnelModel::Schlick,
-            ..scene.variant
-        };
-        self.ensure_targets(width, height, variant)?;
-        let targets = self.targets.as_ref().expect("ensured");
-        let passes = &self.variants[&variant];
-        self.write_descriptors(passes, targets, scene);
-        let camera = &scene.scene.camera;
-        let view_projection = camera.view_projection(width as f32 / height as f32);
-        let lighting_push = LightingPush::new(view_projection, camera.position, scene.light_count);
-        let tonemap_push = TonemapPush {
-            exposure: self.settings.exposure,
-        };
-
-        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
-        let device = &*self.device;
-        let raw = device.raw();
-        let cmd = self.commands.begin()?;
-        let stamp = |index: u32| {
-            if let Some(t) = &self.timestamps {
-                t.record(cmd, S::ALL_COMMANDS, index);
-            }
-        };
-        if let Some(t) = &self.timestamps {
-            t.record_reset(cmd);
-        }
-        let barrier = |barriers: &[vk::ImageMemoryBarrier2<'_>]| {
-            let info = vk::DependencyInfo::default().image_memory_barriers(barriers);
-            // SAFETY: recording state.
-            unsafe { raw.cmd_pipeline_barrier2(cmd, &info) };
-        };
-        stamp(0);
-        let g = &targets.gbuffer;
-        let undefined = (S::NONE, A::NONE, L::UNDEFINED);
-        let color_out = (
-            S::COLOR_ATTACHMENT_OUTPUT,
-            A::COLOR_ATTACHMENT_WRITE,
-            L::COLOR_ATTACHMENT_OPTIMAL,
-        );
-        let depth_stages = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
-        let depth_out = (
-            depth_stages,
-            A::DEPTH_STENCIL_ATTACHMENT_WRITE | A::DEPTH_STENCIL_ATTACHMENT_READ,
-            L::DEPTH_ATTACHMENT_OPTIMAL,
-        );
-        let sampled = (
-            S::FRAGMENT_SHADER,
-            A::SHADER_SAMPLED_READ,
-            L::SHADER_READ_ONLY_OPTIMAL,
-        );
-        let depth_sampled = (
-            S::FRAGMENT_SHADER,
-            A::SHADER_SAMPLED_READ,
-            L::DEPTH_READ_ONLY_OPTIMAL,
-        );
-        let mut to_attachment: Vec<_> = g
-            .attachments()
-            .into_iter()
-            .map(|image| image.barrier(undefined, color_out))
-            .collect();
-        to_attachment.push(g.depth.barrier(undefined, depth_out));
-        barrier(&to_attachment);
-        passes
-            .gbuffer
-            .record(device, cmd, g, scene, passes.gbuffer_set, view_projection);
-        stamp(1);
-        let mut to_sampled: Vec<_> = g
-            .attachments()
-            .into_iter()
-            .map(|image| image.barrier(color_out, sampled))
-            .collect();
-        to_sampled.push(g.depth.barrier(depth_out, depth_sampled));
-        to_sampled.push(targets.hdr.barrier(undefined, color_out));
-        barrier(&to_sampled);
-        passes.lighting.record(
-            device,
-            cmd,
-            &targets.hdr,
-            passes.lighting_set,
-            bytemuck::bytes_of(&lighting_push),
-        );
-        stamp(2);
-        barrier(&[
-            targets.hdr.barrier(color_out, sampled),
-            targets.ldr.barrier(undefined, color_out),
-        ]);
-        self.tonemap_pass.record(
-            device,
-            cmd,
-            &targets.ldr,
-            self.tonemap_set,
-            bytemuck::bytes_of(&tonemap_push),
-        );
-        stamp(3);
-        let transfer_src = (S::COPY, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL);
-        let mut copies: Vec<(&Image, &Buffer, (S, A, L))> = Vec::new();
-        if readback.images {
-            copies.push((&targets.hdr, &targets.hdr_readback, sampled));
-            copies.push((&targets.ldr, &targets.ldr_readback, color_out));
-        }
-        if readback.gbuffer {
-            for (image, buffer) in g.colors().into_iter().zip(&targets.gbuffer_readback) {
-                copies.push((image, buffer, sampled));
-            }
-            copies.push((&g.depth, &targets.gbuffer_readback[3], depth_sampled));
-        }
-        if !copies.is_empty() {
-            let to_src: Vec<_> = copies
-                .iter()
-                .map(|(image, _, from)| image.barrier(*from, transfer_src))
-                .collect();
-            barrier(&to_src);
-            for (image, buffer, _) in &copies {
-                image.record_copy_to_buffer(cmd, buffer);
-            }
-            let to_host = [vk::MemoryBarrier2::default()
-                .src_stage_mask(S::COPY)
-                .src_access_mask(A::TRANSFER_WRITE)
-                .dst_stage_mask(S::HOST)
-                .dst_access_mask(A::HOST_READ)];
-            // SAFETY: recording state.
-            unsafe {
-                raw.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&to_host),
-                )
-            };
-        }
-        self.commands.submit_and_wait()?;
-
-        let timings = match &self.timestamps {
-            Some(t) => {
-                let ms = t.read_ms()?;
-                PassTimings {
-                    gbuffer_ms: ms[1] - ms[0],
-                    lighting_ms: ms[2] - ms[1],
-                    tonemap_ms: ms[3] - ms[2],
-                    total_ms: ms[3] - ms[0],
-                }
-            }
-            None => PassTimings::default(),
-        };
-        let mut frame = Frame {
-            width,
-            height,
-            timings,
-            ..Frame::default()
-        };
-        if readback.images {
-            let bytes = targets.hdr_readback.mapped()?;
-            frame.hdr = match self.settings.hdr_format {
-                HdrFormat::Rgba32Float => bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(bytes),
-                HdrFormat::Rgba16Float => bytemuck::pod_collect_to_vec::<u8, [u16; 4]>(bytes)
-                    .into_iter()
-                    .map(|p| p.map(f16_to_f32))
-                    .collect(),
-            };
-            frame.ldr = bytemuck::pod_collect_to_vec(targets.ldr_readback.mapped()?);
-        }
-        if readback.gbuffer {
-            let [b0, b1, b2, b3] = &targets.gbuffer_readback;
-            let base: Vec<[u8; 4]> = bytemuck::pod_collect_to_vec(b0.mapped()?);
-            let nra: Vec<[u16; 4]> = bytemuck::pod_collect_to_vec(b1.mapped()?);
-            let md: Vec<[u16; 2]> = bytemuck::pod_collect_to_vec(b2.mapped()?);
-            let depth: Vec<f32> = bytemuck::pod_collect_to_vec(b3.mapped()?);
-            let texels = (0..base.len())
-                .map(|i| GBufferTexel {
-                    base_color_metalness: base[i],
-                    normal_roughness_anisotropy: nra[i],
-                    material_direction: md[i],
-                    depth: depth[i],
-                })
-                .collect();
-            frame.gbuffer = Some(GBufferReadback {
-                width,
-                height,
-                texels,
-            });
-        }
-        Ok(frame)
     }
 }
 
 impl Drop for Renderer {
     fn drop(&mut self) {
-        // Everything this renderer submitted must be finished before its objects go.
-        if let Err(e) = self.device.wait_idle() {
-            log::error!("waiting for the device before teardown: {e}");
+        // Combustion's own submissions must be finished before its objects go; frames
+        // recorded into a host's command buffers are the host's to wait for
+        // (docs/integration.md). Only an owned device is waited idle as well.
+        if let Some(offscreen) = &self.offscreen {
+            if let Err(e) = offscreen.wait_all() {
+                log::error!("waiting for the renderer's frames before teardown: {e}");
+            }
+        }
+        if self.device.is_owned() {
+            if let Err(e) = self.device.wait_idle() {
+                log::error!("waiting for the device before teardown: {e}");
+            }
         }
     }
 }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use combustion_scene::Scene;
 use combustion_vk::{vk, Buffer, DescriptorSetLayout, Device};
 
-use crate::gpu_types::{conductor_from_base_color_table, material_table, GpuLight, GpuObject};
+use crate::gpu_types::{conductor_from_base_color_table, material_table, GpuObject};
 use crate::textures::SceneTextures;
 use crate::RenderError;
 
@@ -24,7 +24,6 @@ pub struct GpuScene {
     pub(crate) indices: Buffer,
     pub(crate) objects: Buffer,
     pub(crate) materials: Buffer,
-    pub(crate) lights: Buffer,
     /// `conductor_from_base_color_table()`, or one dummy entry when no material needs it.
     pub(crate) conductor_table: Buffer,
     pub(crate) textures: SceneTextures,
@@ -35,8 +34,8 @@ pub struct GpuScene {
     pub(crate) draw_materials: Vec<usize>,
     /// Shader features this scene needs (selects the pipeline variant).
     pub(crate) variant: crate::ShaderVariant,
-    pub(crate) light_count: u32,
-    /// The scene as uploaded (camera and all), for the frame's matrices.
+    /// The scene as uploaded. Its camera and lights are what [`crate::FrameInputs::of_scene`]
+    /// gives; each frame may bring its own.
     pub scene: Scene,
 }
 
@@ -79,7 +78,6 @@ impl GpuScene {
             // The Fresnel model is the renderer's setting, applied at render time.
             schlick: false,
         };
-        let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::new).collect();
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         Ok(Self {
             vertices: Buffer::with_data(
@@ -106,7 +104,6 @@ impl GpuScene {
                 bytemuck::cast_slice(&materials),
                 storage,
             )?,
-            lights: Buffer::with_data(device, "lights", bytemuck::cast_slice(&lights), storage)?,
             conductor_table: Buffer::with_data(
                 device,
                 "conductor-from-base-colour table",
@@ -122,7 +119,6 @@ impl GpuScene {
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),
             variant,
             draws,
-            light_count: lights.len() as u32,
             scene: scene.clone(),
         })
     }

@@ -125,50 +125,52 @@ impl Scene {
                 return invalid(format!("object {i} has a non-finite or singular transform"));
             }
         }
-        for (i, light) in self.lights.iter().enumerate() {
-            let ok = match light {
-                Light::Point {
-                    position,
-                    intensity,
-                } => {
-                    position.is_finite()
-                        && finite3(*intensity)
-                        && intensity.iter().all(|&x| x >= 0.0)
-                }
-                Light::Directional {
-                    direction,
-                    irradiance,
-                } => {
-                    direction.is_finite()
-                        && direction.length_squared() > 0.0
-                        && finite3(*irradiance)
-                        && irradiance.iter().all(|&x| x >= 0.0)
-                }
-                Light::Spot {
-                    position,
-                    direction,
-                    intensity,
-                    inner_cone,
-                    outer_cone,
-                } => {
-                    position.is_finite()
-                        && direction.is_finite()
-                        && direction.length_squared() > 0.0
-                        && finite3(*intensity)
-                        && intensity.iter().all(|&x| x >= 0.0)
-                        && *inner_cone >= 0.0
-                        && inner_cone < outer_cone
-                        && *outer_cone <= std::f32::consts::FRAC_PI_2
-                }
-            };
-            if !ok {
-                return invalid(format!(
-                    "light {i} needs finite, non-negative power, a finite position or non-zero direction, and (spot) 0 <= inner cone < outer cone <= pi/2"
-                ));
-            }
-        }
+        validate_lights(&self.lights)?;
         self.camera.validate()
     }
+}
+
+/// Checks every light's values (the scene's, or a frame's own lights).
+pub fn validate_lights(lights: &[Light]) -> Result<(), SceneError> {
+    for (i, light) in lights.iter().enumerate() {
+        let ok = match light {
+            Light::Point {
+                position,
+                intensity,
+            } => position.is_finite() && finite3(*intensity) && intensity.iter().all(|&x| x >= 0.0),
+            Light::Directional {
+                direction,
+                irradiance,
+            } => {
+                direction.is_finite()
+                    && direction.length_squared() > 0.0
+                    && finite3(*irradiance)
+                    && irradiance.iter().all(|&x| x >= 0.0)
+            }
+            Light::Spot {
+                position,
+                direction,
+                intensity,
+                inner_cone,
+                outer_cone,
+            } => {
+                position.is_finite()
+                    && direction.is_finite()
+                    && direction.length_squared() > 0.0
+                    && finite3(*intensity)
+                    && intensity.iter().all(|&x| x >= 0.0)
+                    && *inner_cone >= 0.0
+                    && inner_cone < outer_cone
+                    && *outer_cone <= std::f32::consts::FRAC_PI_2
+            }
+        };
+        if !ok {
+            return Err(SceneError::Invalid(format!(
+                "light {i} needs finite, non-negative power, a finite position or non-zero direction, and (spot) 0 <= inner cone < outer cone <= pi/2"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Every distinct image and texture of a scene, for upload: images deduplicated by

@@ -89,3 +89,144 @@ impl Drop for OneShot {
         }
     }
 }
+
+/// Command buffers for frames in flight, each with its own pool and fence: a frame
+/// records into slot `n mod N`, and [`FrameRing::begin`] waits only for the fence of the
+/// frame that used that slot last (frame n − N) — the one wait the hot path has.
+/// Used by Combustion's own frames (headless rendering, benchmarks); a host that records
+/// Combustion into its own command buffers keeps its own ring.
+pub struct FrameRing {
+    device: Arc<Device>,
+    slots: Vec<RingSlot>,
+    next: usize,
+}
+
+struct RingSlot {
+    pool: vk::CommandPool,
+    cmd: vk::CommandBuffer,
+    /// Signalled when the slot's last submission completed (created signalled).
+    fence: vk::Fence,
+}
+
+/// A frame being recorded: its slot in the ring and its command buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RingFrame {
+    pub slot: usize,
+    pub cmd: vk::CommandBuffer,
+}
+
+impl FrameRing {
+    /// A ring of `frames_in_flight` slots (at least 1).
+    pub fn new(device: &Arc<Device>, frames_in_flight: usize) -> Result<Self, VkError> {
+        let mut ring = FrameRing {
+            device: device.clone(),
+            slots: Vec::new(),
+            next: 0,
+        };
+        let raw = device.raw();
+        for _ in 0..frames_in_flight.max(1) {
+            let pool_info =
+                vk::CommandPoolCreateInfo::default().queue_family_index(device.queue_family());
+            // SAFETY: valid create infos; Drop destroys what was made, also on error.
+            let pool =
+                unsafe { raw.create_command_pool(&pool_info, None) }.what("vkCreateCommandPool")?;
+            let fence_info = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
+            let fence = match unsafe { raw.create_fence(&fence_info, None) } {
+                Ok(f) => f,
+                Err(e) => {
+                    unsafe { raw.destroy_command_pool(pool, None) };
+                    return Err(VkError::from_result("vkCreateFence", e));
+                }
+            };
+            ring.slots.push(RingSlot {
+                pool,
+                cmd: vk::CommandBuffer::null(),
+                fence,
+            });
+            let alloc = vk::CommandBufferAllocateInfo::default()
+                .command_pool(pool)
+                .level(vk::CommandBufferLevel::PRIMARY)
+                .command_buffer_count(1);
+            let cmd = unsafe { raw.allocate_command_buffers(&alloc) }
+                .what("vkAllocateCommandBuffers")?[0];
+            ring.slots.last_mut().expect("pushed").cmd = cmd;
+        }
+        Ok(ring)
+    }
+
+    pub fn frames_in_flight(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// The slot the next [`FrameRing::begin`] will use.
+    pub fn next_slot(&self) -> usize {
+        self.next
+    }
+
+    /// Waits for the frame that last used the next slot (n − N), resets its command pool
+    /// and begins recording.
+    pub fn begin(&mut self) -> Result<RingFrame, VkError> {
+        let slot = self.next;
+        self.wait(slot)?;
+        let s = &self.slots[slot];
+        let raw = self.device.raw();
+        // SAFETY: the slot's previous submission has completed (its fence is signalled).
+        unsafe {
+            raw.reset_command_pool(s.pool, vk::CommandPoolResetFlags::empty())
+                .what("vkResetCommandPool")?;
+            raw.begin_command_buffer(
+                s.cmd,
+                &vk::CommandBufferBeginInfo::default()
+                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+            )
+            .what("vkBeginCommandBuffer")?;
+        }
+        self.next = (slot + 1) % self.slots.len();
+        Ok(RingFrame { slot, cmd: s.cmd })
+    }
+
+    /// Ends recording and submits the frame; its slot's fence signals when it completes.
+    pub fn submit(&mut self, frame: RingFrame) -> Result<(), VkError> {
+        let s = &self.slots[frame.slot];
+        let raw = self.device.raw();
+        unsafe { raw.end_command_buffer(s.cmd) }.what("vkEndCommandBuffer")?;
+        let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(s.cmd)];
+        let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos)];
+        unsafe { raw.reset_fences(&[s.fence]) }.what("vkResetFences")?;
+        self.device.submit(&submit, s.fence)
+    }
+
+    /// Waits until the last submission of `slot` has completed.
+    pub fn wait(&self, slot: usize) -> Result<(), VkError> {
+        let fence = self.slots[slot].fence;
+        // SAFETY: plain wait on our own fence.
+        unsafe { self.device.raw().wait_for_fences(&[fence], true, u64::MAX) }
+            .what("vkWaitForFences")
+    }
+
+    /// Waits until every submitted frame has completed.
+    pub fn wait_all(&self) -> Result<(), VkError> {
+        let fences: Vec<_> = self.slots.iter().map(|s| s.fence).collect();
+        unsafe { self.device.raw().wait_for_fences(&fences, true, u64::MAX) }
+            .what("vkWaitForFences")
+    }
+}
+
+impl Drop for FrameRing {
+    fn drop(&mut self) {
+        let raw = self.device.raw();
+        for s in &self.slots {
+            // SAFETY: wait (bounded) for our own submissions before destroying their objects.
+            unsafe {
+                if raw
+                    .wait_for_fences(&[s.fence], true, 10_000_000_000)
+                    .is_err()
+                {
+                    log::error!("a frame was still pending after 10 s at teardown");
+                }
+                raw.destroy_fence(s.fence, None);
+                raw.destroy_command_pool(s.pool, None);
+            }
+        }
+    }
+}

@@ -71,6 +71,9 @@ pub struct DeviceDesc {
     /// Enable VK_LAYER_KHRONOS_validation; its warnings and errors go to the `log`
     /// facade and to the device's [`ValidationLog`]. An error if the layer is missing.
     pub validation: bool,
+    /// With `validation`: also the layer's synchronization validation (hazards between
+    /// commands, missing barriers, wrong layouts), reported like every other message.
+    pub synchronization_validation: bool,
     /// Extra instance extensions, e.g. a window system's surface extensions
     /// ([`crate::Surface::instance_extensions`]). Empty for headless rendering.
     pub instance_extensions: Vec<&'static CStr>,
@@ -145,8 +148,92 @@ unsafe extern "system" fn validation_callback(
     vk::FALSE
 }
 
-/// The Vulkan instance, the chosen physical device, its logical device with one
-/// graphics queue, and the memory allocator. Shared as `Arc<Device>` by every resource.
+/// A queue and the lock that serialises every call on it (`vkQueueSubmit2`,
+/// `vkQueuePresentKHR`). A host that shares its queue with Combustion gives the same
+/// `Arc` to [`HostDevice::queue`] and takes the lock around its own queue calls.
+pub type QueueLock = Arc<Mutex<vk::Queue>>;
+
+/// An allocator shared between a host and Combustion (gpu-allocator's, behind the
+/// host's mutex).
+pub type SharedAllocator = Arc<Mutex<Allocator>>;
+
+/// What Combustion needs of a Vulkan device: the API version, the features, and a
+/// graphics queue (timestamps are optional: pass timings are then unavailable).
+/// A host that creates its own device enables these; [`Device::from_host`] checks them.
+pub struct Requirements;
+
+impl Requirements {
+    /// The Vulkan API version (instance and device).
+    pub const API_VERSION: u32 = vk::API_VERSION_1_3;
+    /// Device extensions: none (Vulkan 1.3 core covers what Combustion uses).
+    pub const DEVICE_EXTENSIONS: &'static [&'static CStr] = &[];
+    /// Vulkan 1.3 features, by name.
+    pub const FEATURES_13: &'static [&'static str] = &["dynamicRendering", "synchronization2"];
+
+    /// The Vulkan 1.3 features to chain into `VkDeviceCreateInfo`.
+    pub fn features_13() -> vk::PhysicalDeviceVulkan13Features<'static> {
+        vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true)
+    }
+}
+
+/// What a host enabled when it created its device. Vulkan cannot be asked which features
+/// a device was created with, so the host states them; [`HostDevice::enabled_as_required`]
+/// is right for a host that enabled [`Requirements`].
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct EnabledFeatures {
+    /// The `apiVersion` of the host's `VkApplicationInfo`.
+    pub api_version: u32,
+    pub dynamic_rendering: bool,
+    pub synchronization2: bool,
+    /// Device extensions the host enabled.
+    pub device_extensions: Vec<String>,
+}
+
+/// A host's own Vulkan objects, for [`Device::from_host`]. Combustion never destroys
+/// them and never waits for the device to be idle; the host keeps them alive until the
+/// last Combustion object is dropped, and drops those only after the GPU has finished
+/// the work Combustion recorded (see docs/integration.md).
+pub struct HostDevice {
+    pub entry: ash::Entry,
+    pub instance: ash::Instance,
+    pub physical_device: vk::PhysicalDevice,
+    pub device: ash::Device,
+    /// The queue family and index of the queue Combustion submits to (its own
+    /// convenience frames only; frames recorded into the host's command buffers are
+    /// submitted by the host).
+    pub queue_family: u32,
+    pub queue_index: u32,
+    /// The queue and the host's lock for it.
+    pub queue: QueueLock,
+    /// The host's allocator; `None` makes Combustion create its own on this device.
+    pub allocator: Option<SharedAllocator>,
+    /// What the host enabled (checked against [`Requirements`]).
+    pub enabled: EnabledFeatures,
+}
+
+impl HostDevice {
+    /// `EnabledFeatures` for a host that enabled exactly [`Requirements`] (Vulkan 1.3,
+    /// dynamic rendering, synchronization2) plus `device_extensions`.
+    pub fn enabled_as_required(device_extensions: &[&CStr]) -> EnabledFeatures {
+        EnabledFeatures {
+            api_version: Requirements::API_VERSION,
+            dynamic_rendering: true,
+            synchronization2: true,
+            device_extensions: device_extensions
+                .iter()
+                .map(|e| e.to_string_lossy().into_owned())
+                .collect(),
+        }
+    }
+}
+
+/// The Vulkan context a renderer runs on: instance, physical device, logical device,
+/// one queue and the memory allocator — either created by Combustion ([`Device::new`],
+/// which then owns and destroys them) or borrowed from a host ([`Device::from_host`]).
+/// Ownership decides who destroys and who may wait for the device to be idle; nothing
+/// else differs. Shared as `Arc<Device>` by every resource.
 pub struct Device {
     entry: ash::Entry,
     instance: ash::Instance,
@@ -157,8 +244,10 @@ pub struct Device {
     limits: vk::PhysicalDeviceLimits,
     device: ash::Device,
     queue_family: u32,
-    queue: Mutex<vk::Queue>,
-    allocator: ManuallyDrop<Mutex<Allocator>>,
+    queue: QueueLock,
+    allocator: ManuallyDrop<SharedAllocator>,
+    /// Created (and so destroyed) by Combustion; `false` for a host's device.
+    owned: bool,
 }
 
 fn c_chars_to_string(chars: &[std::ffi::c_char]) -> String {
@@ -178,6 +267,7 @@ fn load_entry() -> Result<ash::Entry, VkError> {
 fn create_instance(
     entry: &ash::Entry,
     validation: bool,
+    synchronization_validation: bool,
     extra_extensions: &[&'static CStr],
     messenger_info: &mut vk::DebugUtilsMessengerCreateInfoEXT<'_>,
 ) -> Result<ash::Instance, VkError> {
@@ -223,6 +313,12 @@ fn create_instance(
         create_info = create_info
             .enabled_layer_names(&layers)
             .push_next(messenger_info);
+    }
+    let enabled_features = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+    let mut validation_features =
+        vk::ValidationFeaturesEXT::default().enabled_validation_features(&enabled_features);
+    if validation && synchronization_validation {
+        create_info = create_info.push_next(&mut validation_features);
     }
     if !extensions.is_empty() {
         create_info = create_info.enabled_extension_names(&extensions);
@@ -310,7 +406,7 @@ impl Device {
     pub fn enumerate() -> Result<Vec<DeviceInfo>, VkError> {
         let entry = load_entry()?;
         let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default();
-        let instance = create_instance(&entry, false, &[], &mut messenger_info)?;
+        let instance = create_instance(&entry, false, false, &[], &mut messenger_info)?;
         let result = describe_devices(&instance);
         // SAFETY: no object was created from this instance.
         unsafe { instance.destroy_instance(None) };
@@ -338,6 +434,7 @@ impl Device {
         let instance = create_instance(
             &entry,
             desc.validation,
+            desc.synchronization_validation,
             &desc.instance_extensions,
             &mut messenger_info,
         )?;
@@ -363,9 +460,7 @@ impl Device {
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
-        let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
-            .dynamic_rendering(true)
-            .synchronization2(true);
+        let mut features13 = Requirements::features_13();
         let device_extensions = [ash::khr::swapchain::NAME.as_ptr()];
         let mut create_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
@@ -428,9 +523,140 @@ impl Device {
             limits,
             device,
             queue_family,
-            queue: Mutex::new(queue),
-            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            queue: Arc::new(Mutex::new(queue)),
+            allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
+            owned: true,
         }))
+    }
+
+    /// A context on a host's own instance, device and queue (and optionally its
+    /// allocator). Checks everything Combustion needs and fails with one
+    /// [`VkError::HostDeviceUnsuitable`] listing all that is missing. Nothing here is
+    /// destroyed by Combustion, and it never waits for this device to be idle.
+    pub fn from_host(host: HostDevice) -> Result<Arc<Device>, VkError> {
+        let instance = &host.instance;
+        let pd = host.physical_device;
+        // SAFETY: the host guarantees valid handles.
+        let props = unsafe { instance.get_physical_device_properties(pd) };
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
+        let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
+        unsafe { instance.get_physical_device_features2(pd, &mut features2) };
+        let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
+        let mut missing = Vec::new();
+        let version = |v: u32| format!("{}.{}", vk::api_version_major(v), vk::api_version_minor(v));
+        if props.api_version < Requirements::API_VERSION {
+            missing.push(format!(
+                "the physical device supports Vulkan {}, Combustion needs {}",
+                version(props.api_version),
+                version(Requirements::API_VERSION)
+            ));
+        }
+        if host.enabled.api_version < Requirements::API_VERSION {
+            missing.push(format!(
+                "the instance was created for Vulkan {} (apiVersion), Combustion needs {}",
+                version(host.enabled.api_version),
+                version(Requirements::API_VERSION)
+            ));
+        }
+        for (name, supported, enabled) in [
+            (
+                "dynamicRendering",
+                f13.dynamic_rendering,
+                host.enabled.dynamic_rendering,
+            ),
+            (
+                "synchronization2",
+                f13.synchronization2,
+                host.enabled.synchronization2,
+            ),
+        ] {
+            if supported == vk::FALSE {
+                missing.push(format!("the physical device lacks the feature {name}"));
+            } else if !enabled {
+                missing.push(format!("the feature {name} is not enabled on the device"));
+            }
+        }
+        for extension in Requirements::DEVICE_EXTENSIONS {
+            let name = extension.to_string_lossy();
+            if !host.enabled.device_extensions.iter().any(|e| *e == name) {
+                missing.push(format!("the device extension {name} is not enabled"));
+            }
+        }
+        match families.get(host.queue_family as usize) {
+            None => missing.push(format!(
+                "queue family {} does not exist ({} families)",
+                host.queue_family,
+                families.len()
+            )),
+            Some(family) => {
+                if !family.queue_flags.contains(vk::QueueFlags::GRAPHICS) {
+                    missing.push(format!(
+                        "queue family {} has no graphics support",
+                        host.queue_family
+                    ));
+                }
+                if host.queue_index >= family.queue_count {
+                    missing.push(format!(
+                        "queue index {} is outside family {}'s {} queue(s)",
+                        host.queue_index, host.queue_family, family.queue_count
+                    ));
+                }
+            }
+        }
+        if !missing.is_empty() {
+            return Err(VkError::HostDeviceUnsuitable(missing.join("; ")));
+        }
+        let allocator = match host.allocator {
+            Some(shared) => shared,
+            None => {
+                let allocator = Allocator::new(&AllocatorCreateDesc {
+                    instance: host.instance.clone(),
+                    device: host.device.clone(),
+                    physical_device: pd,
+                    debug_settings: Default::default(),
+                    buffer_device_address: false,
+                    allocation_sizes: Default::default(),
+                })
+                .map_err(|source| VkError::Allocation {
+                    name: "the allocator".into(),
+                    source,
+                })?;
+                Arc::new(Mutex::new(allocator))
+            }
+        };
+        let v = props.api_version;
+        let info = DeviceInfo {
+            index: 0,
+            name: c_chars_to_string(&props.device_name),
+            device_type: props.device_type,
+            api_version: (
+                vk::api_version_major(v),
+                vk::api_version_minor(v),
+                vk::api_version_patch(v),
+            ),
+            driver: String::new(),
+            unsuitable_because: None,
+        };
+        log::info!("Combustion on the host's Vulkan device {}", info.name);
+        Ok(Arc::new(Device {
+            entry: host.entry,
+            instance: host.instance,
+            messenger: None,
+            validation_log: ValidationLog::default(),
+            physical_device: pd,
+            info,
+            limits: props.limits,
+            device: host.device,
+            queue_family: host.queue_family,
+            queue: host.queue,
+            allocator: ManuallyDrop::new(allocator),
+            owned: false,
+        }))
+    }
+
+    /// Whether Combustion created this device (and so destroys it and may wait idle).
+    pub fn is_owned(&self) -> bool {
+        self.owned
     }
 
     pub fn raw(&self) -> &ash::Device {
@@ -462,7 +688,8 @@ impl Device {
     pub(crate) fn queue(&self) -> MutexGuard<'_, vk::Queue> {
         self.queue.lock().unwrap_or_else(|p| p.into_inner())
     }
-    pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
+    /// The memory allocator, locked.
+    pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
         self.allocator
             .lock()
             .unwrap_or_else(|poisoned| poisoned.into_inner())
@@ -475,8 +702,13 @@ impl Device {
         unsafe { self.device.queue_submit2(*queue, submits, fence) }.what("vkQueueSubmit2")
     }
 
-    /// Waits until the device is idle (used before tearing resources down).
+    /// Waits until the device is idle (used before tearing resources down). Only on a
+    /// device Combustion owns: a host's device fails with [`VkError::NotOwned`], since
+    /// only the host may stall its own device.
     pub fn wait_idle(&self) -> Result<(), VkError> {
+        if !self.owned {
+            return Err(VkError::NotOwned("vkDeviceWaitIdle"));
+        }
         // SAFETY: plain wait.
         unsafe { self.device.device_wait_idle() }.what("vkDeviceWaitIdle")
     }
@@ -591,6 +823,13 @@ impl Drop for PartialDevice {
 
 impl Drop for Device {
     fn drop(&mut self) {
+        if !self.owned {
+            // A host's device: release our handle on the allocator (the host's, or the
+            // one made for this context) and leave every Vulkan object to the host.
+            // SAFETY: not used after this.
+            unsafe { ManuallyDrop::drop(&mut self.allocator) };
+            return;
+        }
         // SAFETY: every resource holds an Arc<Device>, so none is alive here; the
         // allocator is dropped before the device, the messenger after it so that the
         // layer's leak report at vkDestroyDevice reaches the validation log.

@@ -30,6 +30,19 @@ pub enum VkError {
     Shader(String),
     #[error("{0}")]
     Unsupported(String),
+    #[error("the host's Vulkan device cannot run Combustion: {0}")]
+    HostDeviceUnsuitable(String),
+    #[error("{0} is not called on a device Combustion does not own")]
+    NotOwned(&'static str),
+    #[error(
+        "the Vulkan device was lost ({what}); the renderer and its resources must be recreated"
+    )]
+    DeviceLost { what: &'static str },
+    #[error("out of {kind} memory ({what})")]
+    OutOfMemory {
+        what: &'static str,
+        kind: &'static str,
+    },
 }
 
 /// Attaches the name of the failed call to a raw `vk::Result`.
@@ -39,6 +52,22 @@ pub trait VkResultExt<T> {
 
 impl<T> VkResultExt<T> for Result<T, vk::Result> {
     fn what(self, what: &'static str) -> Result<T, VkError> {
-        self.map_err(|result| VkError::Vk { what, result })
+        self.map_err(|result| VkError::from_result(what, result))
+    }
+}
+
+impl VkError {
+    /// A failed call's result, with device loss and out-of-memory as their own variants
+    /// (a host reacts to those differently from other failures).
+    pub fn from_result(what: &'static str, result: vk::Result) -> VkError {
+        match result {
+            vk::Result::ERROR_DEVICE_LOST => VkError::DeviceLost { what },
+            vk::Result::ERROR_OUT_OF_DEVICE_MEMORY => VkError::OutOfMemory {
+                what,
+                kind: "device",
+            },
+            vk::Result::ERROR_OUT_OF_HOST_MEMORY => VkError::OutOfMemory { what, kind: "host" },
+            result => VkError::Vk { what, result },
+        }
     }
 }

@@ -25,13 +25,17 @@ mod shader;
 mod swapchain;
 mod timestamps;
 
-pub use commands::OneShot;
-pub use device::{Device, DeviceDesc, DeviceInfo, DeviceSelector, ValidationLog};
+pub use commands::{FrameRing, OneShot, RingFrame};
+pub use device::{
+    Device, DeviceDesc, DeviceInfo, DeviceSelector, EnabledFeatures, HostDevice, QueueLock,
+    Requirements, SharedAllocator, ValidationLog,
+};
 pub use error::{VkError, VkResultExt};
 pub use pipeline::{
-    DescriptorPool, DescriptorSetLayout, GraphicsPipelineDesc, Pipeline, PipelineLayout, Sampler,
+    DescriptorPool, DescriptorSetLayout, GraphicsPipelineDesc, Pipeline, PipelineCache,
+    PipelineLayout, Sampler,
 };
-pub use resources::{full_mip_chain, Buffer, Image, ImageDesc};
+pub use resources::{full_mip_chain, image_barrier, Buffer, Image, ImageDesc, ImageState};
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources, ShaderStage};
 pub use swapchain::{PresentOutcome, Surface, Swapchain};
 pub use timestamps::TimestampQueries;

@@ -124,6 +124,8 @@ pub struct GraphicsPipelineDesc<'a> {
     pub color_formats: &'a [vk::Format],
     /// Depth attachment format; depth test (LESS) and write are on when set.
     pub depth_format: Option<vk::Format>,
+    /// Where compiled pipelines are cached (saved and loaded by the host).
+    pub cache: Option<&'a PipelineCache>,
 }
 
 /// A pipeline, destroyed when dropped.
@@ -199,21 +201,91 @@ impl Pipeline {
             .push_next(&mut rendering);
         // SAFETY: everything `info` points to lives until the call returns.
         let raw = unsafe {
-            device
-                .raw()
-                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+            device.raw().create_graphics_pipelines(
+                PipelineCache::raw_or_null(desc.cache),
+                &[info],
+                None,
+            )
         }
-        .map_err(|(_, result)| VkError::Vk {
-            what: "vkCreateGraphicsPipelines",
-            result,
-        })?[0];
+        .map_err(|(_, result)| VkError::from_result("vkCreateGraphicsPipelines", result))?[0];
         Ok(Self {
             device: device.clone(),
             raw,
         })
     }
+    /// A compute pipeline from `module` (entry point `main`).
+    pub fn compute(
+        device: &Arc<Device>,
+        module: &ShaderModule,
+        layout: &PipelineLayout,
+        cache: Option<&PipelineCache>,
+    ) -> Result<Self, VkError> {
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module.raw())
+            .name(c"main");
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout.raw());
+        // SAFETY: everything `info` points to lives until the call returns.
+        let raw = unsafe {
+            device
+                .raw()
+                .create_compute_pipelines(PipelineCache::raw_or_null(cache), &[info], None)
+        }
+        .map_err(|(_, result)| VkError::from_result("vkCreateComputePipelines", result))?[0];
+        Ok(Self {
+            device: device.clone(),
+            raw,
+        })
+    }
+
     pub fn raw(&self) -> vk::Pipeline {
         self.raw
+    }
+}
+
+/// A `VkPipelineCache`: pipelines built through it are found again on the next build of
+/// the same state, and its contents can be saved and given back on the next run.
+pub struct PipelineCache {
+    device: Arc<Device>,
+    raw: vk::PipelineCache,
+}
+
+impl PipelineCache {
+    /// A cache primed with `initial` (what [`PipelineCache::data`] returned on an earlier
+    /// run; empty for none). Data from another driver or device is ignored by Vulkan,
+    /// which checks the header.
+    pub fn new(device: &Arc<Device>, initial: &[u8]) -> Result<Self, VkError> {
+        let info = vk::PipelineCacheCreateInfo::default().initial_data(initial);
+        // SAFETY: valid create info; the implementation validates the data's header.
+        let raw = unsafe { device.raw().create_pipeline_cache(&info, None) }
+            .what("vkCreatePipelineCache")?;
+        Ok(Self {
+            device: device.clone(),
+            raw,
+        })
+    }
+
+    /// The cache's contents, to save and pass to [`PipelineCache::new`] next time.
+    pub fn data(&self) -> Result<Vec<u8>, VkError> {
+        // SAFETY: valid cache.
+        unsafe { self.device.raw().get_pipeline_cache_data(self.raw) }
+            .what("vkGetPipelineCacheData")
+    }
+
+    pub fn raw(&self) -> vk::PipelineCache {
+        self.raw
+    }
+
+    fn raw_or_null(cache: Option<&PipelineCache>) -> vk::PipelineCache {
+        cache.map_or(vk::PipelineCache::null(), |c| c.raw)
+    }
+}
+
+impl Drop for PipelineCache {
+    fn drop(&mut self) {
+        unsafe { self.device.raw().destroy_pipeline_cache(self.raw, None) };
     }
 }
 

@@ -126,6 +126,68 @@ impl Drop for Buffer {
     }
 }
 
+/// Where an image stands for synchronisation: its layout, and the pipeline stages and
+/// accesses of its last use (before a barrier) or next use (after it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageState {
+    pub stage: vk::PipelineStageFlags2,
+    pub access: vk::AccessFlags2,
+    pub layout: vk::ImageLayout,
+}
+
+impl ImageState {
+    /// Never used: contents undefined, nothing to wait for.
+    pub const UNDEFINED: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::NONE,
+        vk::AccessFlags2::NONE,
+        vk::ImageLayout::UNDEFINED,
+    );
+
+    pub const fn new(
+        stage: vk::PipelineStageFlags2,
+        access: vk::AccessFlags2,
+        layout: vk::ImageLayout,
+    ) -> Self {
+        Self {
+            stage,
+            access,
+            layout,
+        }
+    }
+
+    /// Whether the access includes a write.
+    pub fn writes(&self) -> bool {
+        use vk::AccessFlags2 as A;
+        self.access.intersects(
+            A::SHADER_WRITE
+                | A::SHADER_STORAGE_WRITE
+                | A::COLOR_ATTACHMENT_WRITE
+                | A::DEPTH_STENCIL_ATTACHMENT_WRITE
+                | A::TRANSFER_WRITE
+                | A::HOST_WRITE
+                | A::MEMORY_WRITE,
+        )
+    }
+}
+
+/// A barrier moving `range` of `image` from `from` to `to` (synchronization2).
+pub fn image_barrier(
+    image: vk::Image,
+    range: vk::ImageSubresourceRange,
+    from: ImageState,
+    to: ImageState,
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(from.stage)
+        .src_access_mask(from.access)
+        .old_layout(from.layout)
+        .dst_stage_mask(to.stage)
+        .dst_access_mask(to.access)
+        .new_layout(to.layout)
+        .image(image)
+        .subresource_range(range)
+}
+
 /// How to create an [`Image`] (2D, one layer).
 #[derive(Clone, Copy, Debug)]
 pub struct ImageDesc<'a> {
@@ -286,15 +348,12 @@ impl Image {
         src: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout),
         dst: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout),
     ) -> vk::ImageMemoryBarrier2<'static> {
-        vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(src.0)
-            .src_access_mask(src.1)
-            .old_layout(src.2)
-            .dst_stage_mask(dst.0)
-            .dst_access_mask(dst.1)
-            .new_layout(dst.2)
-            .image(self.raw)
-            .subresource_range(range)
+        image_barrier(
+            self.raw,
+            range,
+            ImageState::new(src.0, src.1, src.2),
+            ImageState::new(dst.0, dst.1, dst.2),
+        )
     }
 
     fn layers(&self, mip_level: u32) -> vk::ImageSubresourceLayers {

@@ -75,6 +75,34 @@ impl TimestampQueries {
     }
 }
 
+impl TimestampQueries {
+    /// Reads all timestamps if the GPU has written them (never waits): `None` while any
+    /// is pending. Milliseconds since the first.
+    pub fn read_ms_if_available(&self) -> Result<Option<Vec<f64>>, VkError> {
+        let mut ticks = vec![0u64; self.count as usize];
+        let result = unsafe {
+            self.device.raw().get_query_pool_results(
+                self.pool,
+                0,
+                &mut ticks,
+                vk::QueryResultFlags::TYPE_64,
+            )
+        };
+        match result {
+            Ok(()) => {}
+            Err(vk::Result::NOT_READY) => return Ok(None),
+            Err(e) => return Err(VkError::from_result("vkGetQueryPoolResults", e)),
+        }
+        let first = ticks.first().copied().unwrap_or(0);
+        Ok(Some(
+            ticks
+                .iter()
+                .map(|&t| t.wrapping_sub(first) as f64 * self.period_ns * 1e-6)
+                .collect(),
+        ))
+    }
+}
+
 impl Drop for TimestampQueries {
     fn drop(&mut self) {
         unsafe { self.device.raw().destroy_query_pool(self.pool, None) };

@@ -1,0 +1,485 @@
+//! Recording one frame into a command buffer: per-frame-slot resources, the passes in
+//! order with the barriers their declarations imply, and the retire list.
+
+use std::any::Any;
+use std::sync::Arc;
+
+use combustion_vk::{vk, Buffer, DescriptorPool, Device, ImageState, TimestampQueries, VkError};
+
+use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
+use crate::graph::{ImageUse, PassUses, TrackedImage};
+use crate::targets::{FrameTargets, TargetKey};
+use crate::{FrameInputs, FrameTarget, GpuScene, PassTimings, RenderError, Renderer, SetLayouts};
+
+/// Timestamp slots: start, after G-buffer, after lighting, after output.
+const TIMESTAMPS: u32 = 4;
+
+/// Targets unused for this many frames are retired (a window resized, a viewport closed).
+const TARGETS_KEPT_FOR_FRAMES: u64 = 16;
+
+/// What one frame in flight owns. Reused only once the frame that used it last has
+/// completed (the host's promise when it records into the same slot again).
+pub(crate) struct FrameSlot {
+    gbuffer_set: vk::DescriptorSet,
+    lighting_set: vk::DescriptorSet,
+    output_set: vk::DescriptorSet,
+    /// Owns the three sets.
+    _pool: DescriptorPool,
+    /// The frame's lights (host-visible; grows when a frame brings more lights).
+    lights: Buffer,
+    pub(crate) timestamps: Option<TimestampQueries>,
+    /// Timestamps were written by this slot's last frame.
+    pub(crate) stamped: bool,
+    /// Objects replaced while this slot's frame was the latest recorded: dropped when
+    /// the slot is reused, i.e. once that frame (and so every earlier one) completed.
+    retired: Vec<Box<dyn Any + Send>>,
+}
+
+impl FrameSlot {
+    pub fn new(device: &Arc<Device>, layouts: &SetLayouts) -> Result<Self, RenderError> {
+        let pool = DescriptorPool::new(
+            device,
+            3,
+            &[
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::SAMPLED_IMAGE,
+                    descriptor_count: 6,
+                },
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::STORAGE_BUFFER,
+                    descriptor_count: 5,
+                },
+            ],
+        )?;
+        let timestamps = match TimestampQueries::new(device, TIMESTAMPS) {
+            Ok(t) => Some(t),
+            Err(VkError::Unsupported(why)) => {
+                log::warn!("pass timings unavailable: {why}");
+                None
+            }
+            Err(e) => return Err(e.into()),
+        };
+        Ok(Self {
+            gbuffer_set: pool.allocate(&layouts.gbuffer)?,
+            lighting_set: pool.allocate(&layouts.lighting)?,
+            output_set: pool.allocate(&layouts.output)?,
+            _pool: pool,
+            lights: light_buffer(device, 4)?,
+            timestamps,
+            stamped: false,
+            retired: Vec::new(),
+        })
+    }
+
+    pub fn retire(&mut self, resource: Box<dyn Any + Send>) {
+        self.retired.push(resource);
+    }
+}
+
+fn light_buffer(device: &Arc<Device>, capacity: usize) -> Result<Buffer, VkError> {
+    Buffer::new(
+        device,
+        "frame lights",
+        (capacity * std::mem::size_of::<GpuLight>()) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu,
+    )
+}
+
+/// What the lighting pass touches.
+fn lighting_uses(targets: &FrameTargets) -> PassUses {
+    let g = &targets.gbuffer;
+    let mut images: Vec<(TrackedImage, ImageUse)> = g
+        .attachments()
+        .into_iter()
+        .map(|image| (image.into(), ImageUse::FragmentSampled))
+        .collect();
+    images.push(((&g.depth).into(), ImageUse::DepthFragmentSampled));
+    images.push(((&targets.hdr).into(), ImageUse::ColorAttachmentWrite));
+    PassUses {
+        name: "lighting",
+        images,
+    }
+}
+
+/// What the output pass touches: the HDR image, and the frame's colour target.
+fn output_uses(targets: &FrameTargets, color: TrackedImage) -> PassUses {
+    PassUses {
+        name: "output",
+        images: vec![
+            ((&targets.hdr).into(), ImageUse::FragmentSampled),
+            (color, ImageUse::ColorAttachmentWrite),
+        ],
+    }
+}
+
+/// What the depth copy touches: the G-buffer depth and the host's depth image.
+fn depth_copy_uses(targets: &FrameTargets, depth: TrackedImage) -> PassUses {
+    PassUses {
+        name: "depth copy",
+        images: vec![
+            ((&targets.gbuffer.depth).into(), ImageUse::TransferSource),
+            (depth, ImageUse::TransferDestination),
+        ],
+    }
+}
+
+fn color_range() -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
+fn depth_range() -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: vk::ImageAspectFlags::DEPTH,
+        ..color_range()
+    }
+}
+
+impl Renderer {
+    /// The slot of the frame recorded last (where replaced objects are retired).
+    pub(crate) fn current_slot(&self) -> usize {
+        (self.frame_number.max(1) - 1) as usize % self.slots.len()
+    }
+
+    /// Records the deferred frame of `scene` into the host's command buffer `cmd`
+    /// (recording, outside any render pass), rendering into `target`.
+    ///
+    /// `frame_slot` (0 to `frames_in_flight − 1`) names the per-frame resources to use.
+    /// The host promises that the GPU has completed the frame it last recorded with the
+    /// same slot (it has waited for that frame's fence), and that it submits frames on
+    /// the device's queue in the order they were recorded. Nothing here waits, reads
+    /// back or compiles: pipelines for the scene and for the target's format must have
+    /// been built ([`Renderer::upload`], [`Renderer::prepare_output`]). Every argument is
+    /// checked before anything is recorded, so an error leaves `cmd` untouched.
+    pub fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        frame_slot: usize,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        target: &FrameTarget,
+    ) -> Result<(), RenderError> {
+        // Checks first: nothing half-recorded on bad input.
+        let frames_in_flight = self.slots.len();
+        if frame_slot >= frames_in_flight {
+            return Err(RenderError::InvalidFrameSlot {
+                slot: frame_slot,
+                frames_in_flight,
+            });
+        }
+        let extent = target.color.extent;
+        self.check_size(extent.width, extent.height)?;
+        if !(inputs.exposure.is_finite() && inputs.exposure > 0.0) {
+            return Err(RenderError::InvalidExposure(inputs.exposure));
+        }
+        inputs.camera.validate()?;
+        combustion_scene::validate_lights(inputs.lights)?;
+        if !self.outputs.contains_key(&target.color.format) {
+            return Err(match crate::OutputEncoding::of(target.color.format) {
+                Some(_) => RenderError::OutputNotPrepared(target.color.format),
+                None => RenderError::UnsupportedOutputFormat(target.color.format),
+            });
+        }
+        let variant = self.variant_of(scene.variant);
+        if !self.variants.contains_key(&variant) {
+            return Err(RenderError::VariantNotPrepared);
+        }
+        if let Some(depth) = &target.depth {
+            if depth.format != crate::gbuffer::DEPTH_FORMAT || depth.extent != extent {
+                return Err(RenderError::InvalidDepthTarget {
+                    got: depth.format,
+                    got_width: depth.extent.width,
+                    got_height: depth.extent.height,
+                    width: extent.width,
+                    height: extent.height,
+                });
+            }
+        }
+
+        // The slot's previous frame has completed: read its timings, free what it
+        // retired, and reuse its resources.
+        self.begin_slot(frame_slot)?;
+        let key = TargetKey {
+            width: extent.width,
+            height: extent.height,
+            emissive: variant.emissive,
+        };
+        self.ensure_targets(key)?;
+        self.write_frame_lights(frame_slot, inputs)?;
+        self.write_descriptors(frame_slot, key, scene);
+        self.record_passes(cmd, frame_slot, key, scene, variant, inputs, target);
+        self.frame_number += 1;
+        self.retire_unused_targets();
+        Ok(())
+    }
+
+    /// Marks the start of a frame in `slot`: its previous frame is complete.
+    fn begin_slot(&mut self, slot: usize) -> Result<(), RenderError> {
+        self.collect_timings(slot)?;
+        self.slots[slot].retired.clear();
+        Ok(())
+    }
+
+    /// Makes sure targets of `key` exist and marks them used by this frame.
+    fn ensure_targets(&mut self, key: TargetKey) -> Result<(), RenderError> {
+        let frame = self.frame_number;
+        if let Some((_, last_used)) = self.targets.get_mut(&key) {
+            *last_used = frame;
+            return Ok(());
+        }
+        let targets = FrameTargets::new(&self.device, key, self.settings.hdr_format)?;
+        self.targets.insert(key, (targets, frame));
+        self.stats.targets_built += 1;
+        Ok(())
+    }
+
+    /// Targets no frame used lately go to the retire list of the frame just recorded.
+    fn retire_unused_targets(&mut self) {
+        let frame = self.frame_number;
+        let stale: Vec<TargetKey> = self
+            .targets
+            .iter()
+            .filter(|(_, (_, last_used))| last_used + TARGETS_KEPT_FOR_FRAMES < frame)
+            .map(|(key, _)| *key)
+            .collect();
+        for key in stale {
+            if let Some((targets, _)) = self.targets.remove(&key) {
+                for image in targets.images() {
+                    self.states.forget(image.raw);
+                }
+                self.retire(targets);
+                self.stats.targets_retired += 1;
+            }
+        }
+    }
+
+    fn write_frame_lights(
+        &mut self,
+        slot: usize,
+        inputs: &FrameInputs<'_>,
+    ) -> Result<(), RenderError> {
+        let lights: Vec<GpuLight> = inputs.lights.iter().map(GpuLight::new).collect();
+        let bytes: &[u8] = bytemuck::cast_slice(&lights);
+        let s = &mut self.slots[slot];
+        if (bytes.len() as u64) > s.lights.size() {
+            // The old buffer was last read by this slot's previous frame, now complete.
+            s.lights = light_buffer(&self.device, lights.len().next_power_of_two())?;
+        }
+        s.lights.write(0, bytes)?;
+        Ok(())
+    }
+
+    fn write_descriptors(&self, slot: usize, key: TargetKey, scene: &GpuScene) {
+        let s = &self.slots[slot];
+        let targets = &self.targets[&key].0;
+        let image_info = |view: vk::ImageView, layout| {
+            [vk::DescriptorImageInfo {
+                sampler: vk::Sampler::null(),
+                image_view: view,
+                image_layout: layout,
+            }]
+        };
+        let buffer_info = |buffer: &Buffer| {
+            [vk::DescriptorBufferInfo {
+                buffer: buffer.raw(),
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }]
+        };
+        let read = ImageUse::FragmentSampled.state().layout;
+        let depth_read = ImageUse::DepthFragmentSampled.state().layout;
+        let g = &targets.gbuffer;
+        let mut images = vec![
+            (
+                s.lighting_set,
+                0,
+                image_info(g.base_color_metalness.view(), read),
+            ),
+            (
+                s.lighting_set,
+                1,
+                image_info(g.normal_roughness_anisotropy.view(), read),
+            ),
+            (
+                s.lighting_set,
+                2,
+                image_info(g.material_direction.view(), read),
+            ),
+            (s.lighting_set, 3, image_info(g.depth.view(), depth_read)),
+            (s.output_set, 0, image_info(targets.hdr.view(), read)),
+        ];
+        if let Some(emissive) = &g.emissive {
+            images.push((s.lighting_set, 7, image_info(emissive.view(), read)));
+        }
+        let buffers = [
+            (s.gbuffer_set, 0, buffer_info(&scene.objects)),
+            (s.gbuffer_set, 1, buffer_info(&scene.materials)),
+            (s.lighting_set, 4, buffer_info(&scene.materials)),
+            (s.lighting_set, 5, buffer_info(&s.lights)),
+            (s.lighting_set, 6, buffer_info(&scene.conductor_table)),
+        ];
+        let mut writes: Vec<vk::WriteDescriptorSet<'_>> = images
+            .iter()
+            .map(|(set, binding, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(*set)
+                    .dst_binding(*binding)
+                    .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
+                    .image_info(info)
+            })
+            .collect();
+        writes.extend(buffers.iter().map(|(set, binding, info)| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(*set)
+                .dst_binding(*binding)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .buffer_info(info)
+        }));
+        // SAFETY: the slot's previous frame has completed, so none of its sets is in use.
+        unsafe { self.device.raw().update_descriptor_sets(&writes, &[]) };
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn record_passes(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        key: TargetKey,
+        scene: &GpuScene,
+        variant: crate::ShaderVariant,
+        inputs: &FrameInputs<'_>,
+        target: &FrameTarget,
+    ) {
+        let device = &*self.device;
+        let raw = device.raw();
+        let s = &mut self.slots[slot];
+        let targets = &self.targets[&key].0;
+        let passes = &self.variants[&variant];
+        let states = &mut self.states;
+        let extent = target.color.extent;
+        let view_projection = inputs
+            .camera
+            .view_projection(extent.width as f32 / extent.height as f32);
+        let stamp = |index: u32| {
+            if let Some(t) = &s.timestamps {
+                t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, index);
+            }
+        };
+        if let Some(t) = &s.timestamps {
+            t.record_reset(cmd);
+        }
+        stamp(0);
+
+        states.transition(raw, cmd, &crate::GBufferPass::uses(&targets.gbuffer));
+        passes.gbuffer.record(
+            device,
+            cmd,
+            &targets.gbuffer,
+            scene,
+            s.gbuffer_set,
+            view_projection,
+        );
+        stamp(1);
+
+        states.transition(raw, cmd, &lighting_uses(targets));
+        let lighting_push = LightingPush::new(
+            view_projection,
+            inputs.camera.position,
+            inputs.lights.len() as u32,
+        );
+        passes.lighting.record(
+            device,
+            cmd,
+            targets.hdr.view(),
+            targets.hdr.extent(),
+            s.lighting_set,
+            bytemuck::bytes_of(&lighting_push),
+        );
+        stamp(2);
+
+        let color = TrackedImage {
+            raw: target.color.image,
+            range: color_range(),
+        };
+        states.set(color.raw, target.color.before);
+        states.transition(raw, cmd, &output_uses(targets, color));
+        let output_push = TonemapPush {
+            exposure: inputs.exposure,
+        };
+        self.outputs[&target.color.format].record(
+            device,
+            cmd,
+            target.color.view,
+            extent,
+            s.output_set,
+            bytemuck::bytes_of(&output_push),
+        );
+        stamp(3);
+        if let Some(depth) = &target.depth {
+            let host_depth = TrackedImage {
+                raw: depth.image,
+                range: depth_range(),
+            };
+            states.set(host_depth.raw, depth.before);
+            states.transition(raw, cmd, &depth_copy_uses(targets, host_depth));
+            let layers = vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::DEPTH,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            };
+            let region = vk::ImageCopy::default()
+                .src_subresource(layers)
+                .dst_subresource(layers)
+                .extent(vk::Extent3D {
+                    width: extent.width,
+                    height: extent.height,
+                    depth: 1,
+                });
+            // SAFETY: recording state; both images are in the layouts named.
+            unsafe {
+                raw.cmd_copy_image(
+                    cmd,
+                    targets.gbuffer.depth.raw(),
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    depth.image,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[region],
+                )
+            };
+            states.release(raw, cmd, host_depth, depth.after);
+            states.forget(host_depth.raw);
+        }
+        states.release(raw, cmd, color, target.color.after);
+        // The host's images are the host's again: their states come with the next frame.
+        states.forget(color.raw);
+        s.stamped = s.timestamps.is_some();
+    }
+}
+
+impl PassTimings {
+    /// From the four timestamps of a frame, in ms since the first.
+    pub(crate) fn from_stamps(ms: &[f64]) -> Self {
+        Self {
+            gbuffer_ms: ms[1] - ms[0],
+            lighting_ms: ms[2] - ms[1],
+            tonemap_ms: ms[3] - ms[2],
+            total_ms: ms[3] - ms[0],
+        }
+    }
+}
+
+/// A host-provided image's state, for the renderer's own display image.
+pub(crate) fn display_after(readback: bool) -> ImageState {
+    if readback {
+        ImageUse::TransferSource.state()
+    } else {
+        ImageUse::FragmentSampled.state()
+    }
+}

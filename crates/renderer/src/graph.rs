@@ -1,0 +1,198 @@
+//! Passes declare the images they touch and how; the barriers and layout transitions
+//! between them are derived here, in one place, from those declarations.
+//!
+//! The frame is small and fixed (G-buffer → lighting → output, plus optional copies), so
+//! there is no general render graph: each pass lists its `(image, use)` pairs, and
+//! [`ImageStates::transition`] turns them into one `vkCmdPipelineBarrier2` against the
+//! state every image was last left in. States persist from frame to frame, so the first
+//! pass of frame n+1 waits for the last reads of frame n (write-after-read), which is
+//! what makes frames in flight safe while they share the renderer's targets.
+
+use std::collections::HashMap;
+
+use combustion_vk::{image_barrier, vk, Image, ImageState};
+
+/// How a pass uses an image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageUse {
+    /// Written as a colour attachment; earlier contents are discarded (cleared, or every
+    /// pixel overwritten).
+    ColorAttachmentWrite,
+    /// Written (and depth-tested) as the depth attachment; cleared first.
+    DepthAttachmentWrite,
+    /// Read by fragment shaders (texelFetch).
+    FragmentSampled,
+    /// A depth image read by fragment shaders.
+    DepthFragmentSampled,
+    /// Copied from.
+    TransferSource,
+    /// Copied to; earlier contents are discarded.
+    TransferDestination,
+}
+
+impl ImageUse {
+    /// The stages, accesses and layout of this use.
+    pub fn state(self) -> ImageState {
+        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
+        match self {
+            Self::ColorAttachmentWrite => ImageState::new(
+                S::COLOR_ATTACHMENT_OUTPUT,
+                A::COLOR_ATTACHMENT_WRITE,
+                L::COLOR_ATTACHMENT_OPTIMAL,
+            ),
+            Self::DepthAttachmentWrite => ImageState::new(
+                S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
+                A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                L::DEPTH_ATTACHMENT_OPTIMAL,
+            ),
+            Self::FragmentSampled => ImageState::new(
+                S::FRAGMENT_SHADER,
+                A::SHADER_SAMPLED_READ,
+                L::SHADER_READ_ONLY_OPTIMAL,
+            ),
+            Self::DepthFragmentSampled => ImageState::new(
+                S::FRAGMENT_SHADER,
+                A::SHADER_SAMPLED_READ,
+                L::DEPTH_READ_ONLY_OPTIMAL,
+            ),
+            Self::TransferSource => {
+                ImageState::new(S::COPY, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL)
+            }
+            Self::TransferDestination => {
+                ImageState::new(S::COPY, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL)
+            }
+        }
+    }
+
+    /// Whether the use replaces the whole contents (so the old layout may be discarded).
+    fn discards_contents(self) -> bool {
+        matches!(
+            self,
+            Self::ColorAttachmentWrite | Self::DepthAttachmentWrite | Self::TransferDestination
+        )
+    }
+}
+
+/// An image as the frame tracks it: its handle and the subresources a pass touches.
+#[derive(Clone, Copy, Debug)]
+pub struct TrackedImage {
+    pub raw: vk::Image,
+    pub range: vk::ImageSubresourceRange,
+}
+
+impl From<&Image> for TrackedImage {
+    fn from(image: &Image) -> Self {
+        Self {
+            raw: image.raw(),
+            range: image.subresource_range(),
+        }
+    }
+}
+
+/// One pass's declaration: its name (for timings and messages) and what it touches.
+pub struct PassUses {
+    pub name: &'static str,
+    pub images: Vec<(TrackedImage, ImageUse)>,
+}
+
+/// The state each image was last left in, carried across passes and frames.
+#[derive(Default)]
+pub struct ImageStates {
+    states: HashMap<vk::Image, ImageState>,
+}
+
+impl ImageStates {
+    /// The state `image` was last left in (`UNDEFINED` if never seen).
+    pub fn get(&self, image: vk::Image) -> ImageState {
+        self.states
+            .get(&image)
+            .copied()
+            .unwrap_or(ImageState::UNDEFINED)
+    }
+
+    /// Declares where an image the renderer does not own stands (a host's target).
+    pub fn set(&mut self, image: vk::Image, state: ImageState) {
+        self.states.insert(image, state);
+    }
+
+    /// Forgets an image that is being destroyed.
+    pub fn forget(&mut self, image: vk::Image) {
+        self.states.remove(&image);
+    }
+
+    /// Records the barriers that bring every image `pass` declares into the state of its
+    /// use, and remembers the new states. No barrier for a read that follows a read in
+    /// the same layout.
+    pub fn transition(
+        &mut self,
+        raw: &combustion_vk::ash::Device,
+        cmd: vk::CommandBuffer,
+        pass: &PassUses,
+    ) {
+        let barriers: Vec<_> = pass
+            .images
+            .iter()
+            .filter_map(|&(image, use_)| {
+                let to = use_.state();
+                let from = self.get(image.raw);
+                self.states.insert(image.raw, to);
+                if from == to && !to.writes() {
+                    return None;
+                }
+                let from = if use_.discards_contents() {
+                    ImageState {
+                        layout: vk::ImageLayout::UNDEFINED,
+                        ..from
+                    }
+                } else {
+                    from
+                };
+                Some(image_barrier(image.raw, image.range, from, to))
+            })
+            .collect();
+        record_barriers(raw, cmd, &barriers);
+    }
+
+    /// Records the barrier that leaves `image` in `to` (a host's "after" state).
+    pub fn release(
+        &mut self,
+        raw: &combustion_vk::ash::Device,
+        cmd: vk::CommandBuffer,
+        image: TrackedImage,
+        to: ImageState,
+    ) {
+        let from = self.get(image.raw);
+        self.states.insert(image.raw, to);
+        if from != to {
+            record_barriers(raw, cmd, &[image_barrier(image.raw, image.range, from, to)]);
+        }
+    }
+}
+
+fn record_barriers(
+    raw: &combustion_vk::ash::Device,
+    cmd: vk::CommandBuffer,
+    barriers: &[vk::ImageMemoryBarrier2<'_>],
+) {
+    if barriers.is_empty() {
+        return;
+    }
+    let info = vk::DependencyInfo::default().image_memory_barriers(barriers);
+    // SAFETY: the caller records into a command buffer in the recording state.
+    unsafe { raw.cmd_pipeline_barrier2(cmd, &info) };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_after_reads_need_no_barrier_and_writes_always_do() {
+        let read = ImageUse::FragmentSampled.state();
+        assert!(!read.writes());
+        assert!(ImageUse::ColorAttachmentWrite.state().writes());
+        assert!(ImageUse::DepthAttachmentWrite.state().writes());
+        assert!(ImageUse::TransferDestination.state().writes());
+        assert!(!ImageUse::TransferSource.state().writes());
+    }
+}

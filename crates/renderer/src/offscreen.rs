@@ -1,0 +1,319 @@
+//! Combustion's own frames: rendered into the renderer's display image with its own
+//! frame ring, either submitted and waited for with readback ([`Renderer::render`], for
+//! the command line and the tests) or pipelined with frames in flight
+//! ([`Renderer::submit_offscreen`], for benchmarks and soak runs). Both go through
+//! [`Renderer::record`], exactly as a host's frames do.
+
+use std::sync::Arc;
+
+use combustion_vk::{
+    gpu_allocator::MemoryLocation, vk, Buffer, Device, FrameRing, Image, ImageDesc, ImageState,
+    RingFrame, VkError,
+};
+
+use crate::frame::display_after;
+use crate::gbuffer::{GBufferReadback, GBufferTexel};
+use crate::graph::{ImageUse, PassUses, TrackedImage};
+use crate::targets::TargetKey;
+use crate::{
+    f16_to_f32, ColorTarget, Frame, FrameInputs, FrameTarget, GpuScene, HdrFormat, Readback,
+    RenderError, Renderer, DISPLAY_FORMAT,
+};
+
+/// The renderer's own submissions.
+pub(crate) struct Offscreen {
+    ring: FrameRing,
+    /// The display image (sRGB-encoded RGBA8) and the state it was left in.
+    display: Option<(Image, ImageState)>,
+    readback: Option<ReadbackBuffers>,
+}
+
+/// Host-visible copies of one frame's images.
+struct ReadbackBuffers {
+    extent: vk::Extent2D,
+    hdr: Buffer,
+    ldr: Buffer,
+    /// The three colour targets every variant has, and depth.
+    gbuffer: [Buffer; 4],
+}
+
+impl ReadbackBuffers {
+    fn new(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        hdr_format: HdrFormat,
+    ) -> Result<Self, VkError> {
+        let pixels = u64::from(extent.width) * u64::from(extent.height);
+        let buffer = |name: &str, bytes_per_pixel: u64| {
+            Buffer::new(
+                device,
+                name,
+                pixels * bytes_per_pixel,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )
+        };
+        Ok(Self {
+            extent,
+            hdr: buffer("hdr readback", hdr_format.bytes_per_pixel())?,
+            ldr: buffer("display readback", 4)?,
+            gbuffer: [
+                buffer("gbuffer readback 0", 4)?,
+                buffer("gbuffer readback 1", 8)?,
+                buffer("gbuffer readback 2", 4)?,
+                buffer("depth readback", 4)?,
+            ],
+        })
+    }
+}
+
+impl Offscreen {
+    fn new(device: &Arc<Device>, frames_in_flight: usize) -> Result<Self, VkError> {
+        Ok(Self {
+            ring: FrameRing::new(device, frames_in_flight)?,
+            display: None,
+            readback: None,
+        })
+    }
+
+    pub fn wait_all(&self) -> Result<(), VkError> {
+        self.ring.wait_all()
+    }
+}
+
+impl Renderer {
+    /// Renders `scene` (its own camera and lights, the settings' exposure) at
+    /// `width`×`height`, submits, waits for the GPU and copies back what `readback`
+    /// asks for. The convenience path of the command line and the tests; a host records
+    /// its frames with [`Renderer::record`] instead.
+    pub fn render(
+        &mut self,
+        scene: &GpuScene,
+        width: u32,
+        height: u32,
+        readback: Readback,
+    ) -> Result<Frame, RenderError> {
+        let frame = self.submit_with_offscreen(scene, width, height, Some(readback))?;
+        let offscreen = self.offscreen.as_ref().expect("created by the submission");
+        offscreen.ring.wait(frame.slot)?;
+        self.collect_timings(frame.slot)?;
+        self.read_back(width, height, readback)
+    }
+
+    /// Records and submits a frame of `scene` into the renderer's display image without
+    /// waiting for it: the frame ring waits only for the frame that used the same slot
+    /// (frames in flight). [`Renderer::last_completed_timings`] then gives the GPU times
+    /// of the latest completed frame; [`Renderer::finish_offscreen`] waits for all.
+    pub fn submit_offscreen(
+        &mut self,
+        scene: &GpuScene,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        self.submit_with_offscreen(scene, width, height, None)
+            .map(|_| ())
+    }
+
+    /// Waits for every frame submitted by [`Renderer::submit_offscreen`] and makes the
+    /// last one's timings available.
+    pub fn finish_offscreen(&mut self) -> Result<(), RenderError> {
+        let Some(offscreen) = &self.offscreen else {
+            return Ok(());
+        };
+        offscreen.ring.wait_all()?;
+        let last = (offscreen.ring.next_slot() + offscreen.ring.frames_in_flight() - 1)
+            % offscreen.ring.frames_in_flight();
+        self.collect_timings(last)
+    }
+
+    fn submit_with_offscreen(
+        &mut self,
+        scene: &GpuScene,
+        width: u32,
+        height: u32,
+        readback: Option<Readback>,
+    ) -> Result<RingFrame, RenderError> {
+        self.check_size(width, height)?;
+        let mut offscreen = match self.offscreen.take() {
+            Some(o) => o,
+            None => Offscreen::new(&self.device, self.slots.len())?,
+        };
+        let result = self.submit_frame(&mut offscreen, scene, width, height, readback);
+        self.offscreen = Some(offscreen);
+        result
+    }
+
+    fn submit_frame(
+        &mut self,
+        offscreen: &mut Offscreen,
+        scene: &GpuScene,
+        width: u32,
+        height: u32,
+        readback: Option<Readback>,
+    ) -> Result<RingFrame, RenderError> {
+        let extent = vk::Extent2D { width, height };
+        if offscreen
+            .display
+            .as_ref()
+            .is_none_or(|(image, _)| image.extent() != extent)
+        {
+            let display = Image::new(
+                &self.device,
+                &ImageDesc {
+                    name: "display (sRGB-encoded)",
+                    format: DISPLAY_FORMAT,
+                    width,
+                    height,
+                    usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
+                        | vk::ImageUsageFlags::SAMPLED
+                        | vk::ImageUsageFlags::TRANSFER_SRC,
+                    mip_levels: 1,
+                },
+            )?;
+            if let Some(old) = offscreen.display.replace((display, ImageState::UNDEFINED)) {
+                self.retire(old.0);
+            }
+        }
+        let wants_copies = readback.is_some_and(|r| r.images || r.gbuffer);
+        if wants_copies
+            && offscreen
+                .readback
+                .as_ref()
+                .is_none_or(|r| r.extent != extent)
+        {
+            let buffers = ReadbackBuffers::new(&self.device, extent, self.settings.hdr_format)?;
+            if let Some(old) = offscreen.readback.replace(buffers) {
+                self.retire(old);
+            }
+        }
+        let (display, display_state) = offscreen.display.as_mut().expect("created above");
+        let after = display_after(readback.is_some_and(|r| r.images));
+        let target = FrameTarget {
+            color: ColorTarget {
+                image: display.raw(),
+                view: display.view(),
+                format: DISPLAY_FORMAT,
+                extent,
+                before: *display_state,
+                after,
+            },
+            depth: None,
+        };
+        let inputs = FrameInputs::of_scene(scene, self.settings.exposure);
+        let frame = offscreen.ring.begin()?;
+        self.record(frame.cmd, frame.slot, scene, &inputs, &target)?;
+        *display_state = after;
+        if let (Some(readback), Some(buffers)) = (readback, &offscreen.readback) {
+            self.record_copies(frame.cmd, display, buffers, extent, readback, scene);
+        }
+        offscreen.ring.submit(frame)?;
+        Ok(frame)
+    }
+
+    /// Records the copies `readback` asks for into host-visible buffers.
+    fn record_copies(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        display: &Image,
+        buffers: &ReadbackBuffers,
+        extent: vk::Extent2D,
+        readback: Readback,
+        scene: &GpuScene,
+    ) {
+        let key = TargetKey {
+            width: extent.width,
+            height: extent.height,
+            emissive: self.variant_of(scene.variant).emissive,
+        };
+        let targets = &self.targets.get(&key).expect("recorded this frame").0;
+        let mut copies: Vec<(&Image, &Buffer)> = Vec::new();
+        if readback.images {
+            copies.push((&targets.hdr, &buffers.hdr));
+            copies.push((display, &buffers.ldr));
+        }
+        if readback.gbuffer {
+            let g = &targets.gbuffer;
+            for (image, buffer) in g.colors().into_iter().zip(&buffers.gbuffer) {
+                copies.push((image, buffer));
+            }
+            copies.push((&g.depth, &buffers.gbuffer[3]));
+        }
+        if copies.is_empty() {
+            return;
+        }
+        // The display image was left in TRANSFER_SRC by the frame; the renderer's own
+        // images are moved there by their declared use.
+        let uses = PassUses {
+            name: "readback",
+            images: copies
+                .iter()
+                .filter(|(image, _)| image.raw() != display.raw())
+                .map(|(image, _)| (TrackedImage::from(*image), ImageUse::TransferSource))
+                .collect(),
+        };
+        let raw = self.device.raw();
+        let states = &mut self.states;
+        states.transition(raw, cmd, &uses);
+        for (image, buffer) in &copies {
+            image.record_copy_to_buffer(cmd, buffer);
+        }
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        let to_host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(S::COPY)
+            .src_access_mask(A::TRANSFER_WRITE)
+            .dst_stage_mask(S::HOST)
+            .dst_access_mask(A::HOST_READ)];
+        // SAFETY: recording state.
+        unsafe {
+            raw.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&to_host),
+            )
+        };
+    }
+
+    /// The frame just completed, from the readback buffers.
+    fn read_back(&self, width: u32, height: u32, readback: Readback) -> Result<Frame, RenderError> {
+        let mut frame = Frame {
+            width,
+            height,
+            timings: self.last_timings.unwrap_or_default(),
+            ..Frame::default()
+        };
+        let Some(buffers) = self.offscreen.as_ref().and_then(|o| o.readback.as_ref()) else {
+            return Ok(frame);
+        };
+        if readback.images {
+            let bytes = buffers.hdr.mapped()?;
+            frame.hdr = match self.settings.hdr_format {
+                HdrFormat::Rgba32Float => bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(bytes),
+                HdrFormat::Rgba16Float => bytemuck::pod_collect_to_vec::<u8, [u16; 4]>(bytes)
+                    .into_iter()
+                    .map(|p| p.map(f16_to_f32))
+                    .collect(),
+            };
+            frame.ldr = bytemuck::pod_collect_to_vec(buffers.ldr.mapped()?);
+        }
+        if readback.gbuffer {
+            let [b0, b1, b2, b3] = &buffers.gbuffer;
+            let base: Vec<[u8; 4]> = bytemuck::pod_collect_to_vec(b0.mapped()?);
+            let nra: Vec<[u16; 4]> = bytemuck::pod_collect_to_vec(b1.mapped()?);
+            let md: Vec<[u16; 2]> = bytemuck::pod_collect_to_vec(b2.mapped()?);
+            let depth: Vec<f32> = bytemuck::pod_collect_to_vec(b3.mapped()?);
+            let texels = (0..base.len())
+                .map(|i| GBufferTexel {
+                    base_color_metalness: base[i],
+                    normal_roughness_anisotropy: nra[i],
+                    material_direction: md[i],
+                    depth: depth[i],
+                })
+                .collect();
+            frame.gbuffer = Some(GBufferReadback {
+                width,
+                height,
+                texels,
+            });
+        }
+        Ok(frame)
+    }
+}

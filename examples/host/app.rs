@@ -1,0 +1,608 @@
+#![allow(dead_code)] // shared with tests/host.rs, which uses a different part of it
+//! The host's frame: it owns a final image (offscreen here; a swapchain image in a
+//! window), clears it, has Combustion render the scene into a viewport image of its own
+//! with its own depth buffer, composes that viewport onto the final image with a blit and
+//! draws a frame of its own around it — all on the device, with frames in flight, no
+//! readback. Shared by the example (`cargo run --example host`) and tests/host.rs.
+
+use std::sync::Arc;
+
+use combustion::renderer::{
+    ColorTarget, DepthTarget, FrameInputs, FrameTarget, GpuScene, Renderer, RendererSettings,
+};
+use combustion::scene::{Camera, Light, Scene};
+use combustion::vk::ash::vk;
+use combustion::vk::gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use combustion::vk::gpu_allocator::MemoryLocation;
+use combustion::vk::{Device, ImageState};
+
+use crate::vulkan::HostVulkan;
+
+/// Pixels between the final image's edge and the viewport Combustion renders.
+pub const BORDER: u32 = 16;
+/// The host's background (RGBA8, what its clear writes).
+pub const BACKGROUND: [f32; 4] = [0.1, 0.2, 0.4, 1.0];
+/// The host's own drawing: a bar along the top border.
+pub const BAR: [f32; 4] = [1.0, 0.5, 0.0, 1.0];
+
+/// One host image with its memory (the host's own, from the shared allocator).
+pub struct HostImage {
+    pub image: vk::Image,
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    allocation: Option<Allocation>,
+}
+
+impl HostImage {
+    pub fn new(
+        host: &HostVulkan,
+        name: &str,
+        format: vk::Format,
+        extent: vk::Extent2D,
+        usage: vk::ImageUsageFlags,
+    ) -> Result<Self, String> {
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        let d = &host.device;
+        let image = unsafe { d.create_image(&info, None) }.map_err(|e| e.to_string())?;
+        let requirements = unsafe { d.get_image_memory_requirements(image) };
+        let allocation = host
+            .allocator
+            .lock()
+            .map_err(|_| "allocator lock")?
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|e| e.to_string())?;
+        unsafe { d.bind_image_memory(image, allocation.memory(), allocation.offset()) }
+            .map_err(|e| e.to_string())?;
+        let aspect = if format == vk::Format::D32_SFLOAT {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            vk::ImageAspectFlags::COLOR
+        };
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(image)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(format)
+            .subresource_range(range(aspect));
+        let view = unsafe { d.create_image_view(&view_info, None) }.map_err(|e| e.to_string())?;
+        Ok(Self {
+            image,
+            view,
+            format,
+            extent,
+            allocation: Some(allocation),
+        })
+    }
+
+    pub fn destroy(mut self, host: &HostVulkan) {
+        unsafe {
+            host.device.destroy_image_view(self.view, None);
+            host.device.destroy_image(self.image, None);
+        }
+        if let (Some(a), Ok(mut allocator)) = (self.allocation.take(), host.allocator.lock()) {
+            let _ = allocator.free(a);
+        }
+    }
+}
+
+pub fn range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: aspect,
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
+fn layers(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceLayers {
+    vk::ImageSubresourceLayers {
+        aspect_mask: aspect,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
+pub fn barrier(
+    device: &combustion::vk::ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    aspect: vk::ImageAspectFlags,
+    from: ImageState,
+    to: ImageState,
+) {
+    let b = [combustion::vk::image_barrier(
+        image,
+        range(aspect),
+        from,
+        to,
+    )];
+    unsafe {
+        device.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&b),
+        )
+    };
+}
+
+/// States the host uses for its images.
+pub mod state {
+    use combustion::vk::ash::vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
+    use combustion::vk::ImageState;
+
+    pub const BLIT_SOURCE: ImageState =
+        ImageState::new(S::BLIT, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL);
+    pub const TRANSFER_DESTINATION: ImageState = ImageState::new(
+        S::from_raw(S::CLEAR.as_raw() | S::BLIT.as_raw()),
+        A::TRANSFER_WRITE,
+        L::TRANSFER_DST_OPTIMAL,
+    );
+    pub const COLOR_ATTACHMENT: ImageState = ImageState::new(
+        S::COLOR_ATTACHMENT_OUTPUT,
+        A::COLOR_ATTACHMENT_WRITE,
+        L::COLOR_ATTACHMENT_OPTIMAL,
+    );
+    /// The host's depth test of its own geometry after Combustion's frame.
+    pub const DEPTH_TEST: ImageState = ImageState::new(
+        S::from_raw(S::EARLY_FRAGMENT_TESTS.as_raw() | S::LATE_FRAGMENT_TESTS.as_raw()),
+        A::from_raw(
+            A::DEPTH_STENCIL_ATTACHMENT_READ.as_raw() | A::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
+        ),
+        L::DEPTH_ATTACHMENT_OPTIMAL,
+    );
+    pub const COPY_SOURCE: ImageState =
+        ImageState::new(S::COPY, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL);
+}
+
+/// The viewport Combustion renders into (the host's images) at one size.
+pub struct Viewport {
+    pub color: HostImage,
+    pub depth: HostImage,
+    pub color_state: ImageState,
+    pub depth_state: ImageState,
+}
+
+impl Viewport {
+    pub fn new(host: &HostVulkan, extent: vk::Extent2D) -> Result<Self, String> {
+        Ok(Self {
+            color: HostImage::new(
+                host,
+                "host viewport",
+                vk::Format::R8G8B8A8_UNORM,
+                extent,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            )?,
+            depth: HostImage::new(
+                host,
+                "host depth",
+                vk::Format::D32_SFLOAT,
+                extent,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                    | vk::ImageUsageFlags::TRANSFER_DST
+                    | vk::ImageUsageFlags::TRANSFER_SRC,
+            )?,
+            color_state: ImageState::UNDEFINED,
+            depth_state: ImageState::UNDEFINED,
+        })
+    }
+
+    pub fn destroy(self, host: &HostVulkan) {
+        self.color.destroy(host);
+        self.depth.destroy(host);
+    }
+}
+
+/// The camera of frame `n`: an orbit around the scene's own camera target.
+pub fn camera_at(base: &Camera, n: u64) -> Camera {
+    let angle = n as f32 * 0.02;
+    let offset = base.position - base.target;
+    let rotation = glam::Quat::from_axis_angle(base.up.normalize(), angle);
+    Camera {
+        position: base.target + rotation * offset,
+        ..*base
+    }
+}
+
+/// Every this many frames, [`lights_at`] adds a light.
+pub const EXTRA_LIGHT_EVERY: u64 = 4;
+
+/// The lights of frame `n`: the scene's, with the first one's power breathing, and every
+/// [`EXTRA_LIGHT_EVERY`] frames an extra point light (the light list changes length
+/// between frames).
+pub fn lights_at(base: &[Light], n: u64) -> Vec<Light> {
+    let mut lights = base.to_vec();
+    let scale = 0.75 + 0.25 * (n as f32 * 0.1).cos();
+    if let Some(first) = lights.first_mut() {
+        match first {
+            Light::Point { intensity, .. } | Light::Spot { intensity, .. } => {
+                *intensity = intensity.map(|c| c * scale)
+            }
+            Light::Directional { irradiance, .. } => *irradiance = irradiance.map(|c| c * scale),
+        }
+    }
+    if n % EXTRA_LIGHT_EVERY == 0 {
+        lights.push(Light::Point {
+            position: glam::Vec3::new(0.0, 3.0, 3.0),
+            intensity: [5.0, 5.0, 5.0],
+        });
+    }
+    lights
+}
+
+/// Per frame in flight: the host's command buffer, its fence, and what the host itself
+/// retired while that frame was the latest.
+struct HostSlot {
+    pool: vk::CommandPool,
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+    retired: Vec<Viewport>,
+}
+
+/// A host: its Vulkan, Combustion on it, and its frame ring.
+pub struct Host {
+    // Drop order matters: Combustion's objects go before the host's device.
+    pub scenes: Vec<GpuScene>,
+    pub renderer: Option<Renderer>,
+    pub combustion_device: Option<Arc<Device>>,
+    slots: Vec<HostSlot>,
+    pub viewport: Option<Viewport>,
+    pub frame: u64,
+    pub vulkan: HostVulkan,
+}
+
+impl Host {
+    pub fn new(
+        vulkan: HostVulkan,
+        frames_in_flight: usize,
+        scenes: &[Scene],
+    ) -> Result<Self, String> {
+        let device = Device::from_host(vulkan.for_combustion()).map_err(|e| e.to_string())?;
+        let mut renderer = Renderer::new(
+            device.clone(),
+            RendererSettings {
+                frames_in_flight,
+                ..RendererSettings::default()
+            },
+        )
+        .map_err(|e| e.to_string())?;
+        let gpu_scenes = scenes
+            .iter()
+            .map(|s| renderer.upload(s))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| e.to_string())?;
+        let mut slots = Vec::new();
+        for _ in 0..frames_in_flight {
+            let d = &vulkan.device;
+            let pool = unsafe {
+                d.create_command_pool(
+                    &vk::CommandPoolCreateInfo::default().queue_family_index(vulkan.queue_family),
+                    None,
+                )
+            }
+            .map_err(|e| e.to_string())?;
+            let cmd = unsafe {
+                d.allocate_command_buffers(
+                    &vk::CommandBufferAllocateInfo::default()
+                        .command_pool(pool)
+                        .level(vk::CommandBufferLevel::PRIMARY)
+                        .command_buffer_count(1),
+                )
+            }
+            .map_err(|e| e.to_string())?[0];
+            let fence = unsafe {
+                d.create_fence(
+                    &vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED),
+                    None,
+                )
+            }
+            .map_err(|e| e.to_string())?;
+            slots.push(HostSlot {
+                pool,
+                cmd,
+                fence,
+                retired: Vec::new(),
+            });
+        }
+        Ok(Self {
+            scenes: gpu_scenes,
+            renderer: Some(renderer),
+            combustion_device: Some(device),
+            slots,
+            viewport: None,
+            frame: 0,
+            vulkan,
+        })
+    }
+
+    pub fn frames_in_flight(&self) -> usize {
+        self.slots.len()
+    }
+
+    pub fn renderer(&mut self) -> &mut Renderer {
+        self.renderer.as_mut().expect("alive until drop")
+    }
+
+    /// Begins frame `self.frame`: waits for the fence of the frame that used this slot
+    /// (the only wait), frees what the host retired then, and begins its command buffer.
+    pub fn begin_frame(&mut self) -> Result<(usize, vk::CommandBuffer), String> {
+        let slot = (self.frame % self.slots.len() as u64) as usize;
+        let d = &self.vulkan.device;
+        let s = &mut self.slots[slot];
+        unsafe { d.wait_for_fences(&[s.fence], true, u64::MAX) }.map_err(|e| e.to_string())?;
+        for viewport in s.retired.drain(..) {
+            viewport.destroy(&self.vulkan);
+        }
+        unsafe {
+            d.reset_command_pool(s.pool, vk::CommandPoolResetFlags::empty())
+                .map_err(|e| e.to_string())?;
+            d.begin_command_buffer(
+                s.cmd,
+                &vk::CommandBufferBeginInfo::default()
+                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+            )
+            .map_err(|e| e.to_string())?;
+        }
+        Ok((slot, s.cmd))
+    }
+
+    /// Ends and submits the frame begun with [`Host::begin_frame`].
+    pub fn submit_frame(&mut self, slot: usize) -> Result<(), String> {
+        let s = &self.slots[slot];
+        let d = &self.vulkan.device;
+        unsafe { d.end_command_buffer(s.cmd) }.map_err(|e| e.to_string())?;
+        unsafe { d.reset_fences(&[s.fence]) }.map_err(|e| e.to_string())?;
+        self.vulkan.submit(s.cmd, s.fence)?;
+        self.frame += 1;
+        Ok(())
+    }
+
+    /// Makes the viewport `extent`; an old one of another size is retired to the current
+    /// slot (destroyed when that slot's fence has signalled), never waited for.
+    pub fn ensure_viewport(&mut self, slot: usize, extent: vk::Extent2D) -> Result<(), String> {
+        if self
+            .viewport
+            .as_ref()
+            .is_some_and(|v| v.color.extent == extent)
+        {
+            return Ok(());
+        }
+        let new = Viewport::new(&self.vulkan, extent)?;
+        if let Some(old) = self.viewport.replace(new) {
+            self.slots[slot].retired.push(old);
+        }
+        Ok(())
+    }
+
+    /// Records the whole host frame into `cmd`: clear the final image, Combustion's
+    /// frame into the viewport (scene `scene`, frame `n`'s camera and lights), the
+    /// viewport blitted into the final image inside the border, and the host's bar.
+    /// `final_image` is left in `final_after`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_frame(
+        &mut self,
+        slot: usize,
+        cmd: vk::CommandBuffer,
+        scene: usize,
+        final_image: &HostImage,
+        final_before: ImageState,
+        final_after: ImageState,
+    ) -> Result<(), String> {
+        let n = self.frame;
+        let extent = final_image.extent;
+        let inner = vk::Extent2D {
+            width: extent.width.saturating_sub(2 * BORDER).max(1),
+            height: extent.height.saturating_sub(2 * BORDER).max(1),
+        };
+        self.ensure_viewport(slot, inner)?;
+        let d = self.vulkan.device.clone();
+        let color = vk::ImageAspectFlags::COLOR;
+
+        // The host's own work before Combustion: clear its final image.
+        barrier(
+            &d,
+            cmd,
+            final_image.image,
+            color,
+            final_before,
+            state::TRANSFER_DESTINATION,
+        );
+        unsafe {
+            d.cmd_clear_color_image(
+                cmd,
+                final_image.image,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &vk::ClearColorValue {
+                    float32: BACKGROUND,
+                },
+                &[range(color)],
+            )
+        };
+
+        // Combustion's frame into the host's viewport and depth.
+        let gpu_scene = &self.scenes[scene];
+        let camera = camera_at(&gpu_scene.scene.camera, n);
+        let lights = lights_at(&gpu_scene.scene.lights, n);
+        let inputs = FrameInputs {
+            camera,
+            exposure: 1.0,
+            lights: &lights,
+        };
+        let viewport = self.viewport.as_mut().expect("ensured");
+        let target = FrameTarget {
+            color: ColorTarget {
+                image: viewport.color.image,
+                view: viewport.color.view,
+                format: viewport.color.format,
+                extent: inner,
+                before: viewport.color_state,
+                after: state::BLIT_SOURCE,
+            },
+            depth: Some(DepthTarget {
+                image: viewport.depth.image,
+                format: viewport.depth.format,
+                extent: inner,
+                before: viewport.depth_state,
+                after: state::DEPTH_TEST,
+            }),
+        };
+        let renderer = self.renderer.as_mut().expect("alive until drop");
+        renderer
+            .record(cmd, slot, &self.scenes[scene], &inputs, &target)
+            .map_err(|e| e.to_string())?;
+        viewport.color_state = state::BLIT_SOURCE;
+        viewport.depth_state = state::DEPTH_TEST;
+
+        // Compose on the device: the viewport into the final image, 1:1, after the clear.
+        barrier(
+            &d,
+            cmd,
+            final_image.image,
+            color,
+            state::TRANSFER_DESTINATION,
+            state::TRANSFER_DESTINATION,
+        );
+        let blit = vk::ImageBlit::default()
+            .src_subresource(layers(color))
+            .src_offsets([
+                vk::Offset3D::default(),
+                vk::Offset3D {
+                    x: inner.width as i32,
+                    y: inner.height as i32,
+                    z: 1,
+                },
+            ])
+            .dst_subresource(layers(color))
+            .dst_offsets([
+                vk::Offset3D {
+                    x: BORDER as i32,
+                    y: BORDER as i32,
+                    z: 0,
+                },
+                vk::Offset3D {
+                    x: (BORDER + inner.width) as i32,
+                    y: (BORDER + inner.height) as i32,
+                    z: 1,
+                },
+            ]);
+        unsafe {
+            d.cmd_blit_image(
+                cmd,
+                viewport.color.image,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                final_image.image,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[blit],
+                vk::Filter::NEAREST,
+            )
+        };
+
+        // The host draws its own: a bar across the top border, in a rendering pass of
+        // its own on the final image.
+        barrier(
+            &d,
+            cmd,
+            final_image.image,
+            color,
+            state::TRANSFER_DESTINATION,
+            state::COLOR_ATTACHMENT,
+        );
+        let attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(final_image.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let rendering = vk::RenderingInfo::default()
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent,
+            })
+            .layer_count(1)
+            .color_attachments(&attachment);
+        unsafe {
+            d.cmd_begin_rendering(cmd, &rendering);
+            d.cmd_clear_attachments(
+                cmd,
+                &[vk::ClearAttachment {
+                    aspect_mask: color,
+                    color_attachment: 0,
+                    clear_value: vk::ClearValue {
+                        color: vk::ClearColorValue { float32: BAR },
+                    },
+                }],
+                &[vk::ClearRect {
+                    rect: vk::Rect2D {
+                        offset: vk::Offset2D { x: 0, y: 0 },
+                        extent: vk::Extent2D {
+                            width: extent.width,
+                            height: (BORDER / 2).min(extent.height),
+                        },
+                    },
+                    base_array_layer: 0,
+                    layer_count: 1,
+                }],
+            );
+            d.cmd_end_rendering(cmd);
+        }
+        barrier(
+            &d,
+            cmd,
+            final_image.image,
+            color,
+            state::COLOR_ATTACHMENT,
+            final_after,
+        );
+        Ok(())
+    }
+
+    /// Waits for the host's own frames (its fences; never the device).
+    pub fn wait_frames(&self) -> Result<(), String> {
+        let fences: Vec<_> = self.slots.iter().map(|s| s.fence).collect();
+        unsafe { self.vulkan.device.wait_for_fences(&fences, true, u64::MAX) }
+            .map_err(|e| e.to_string())
+    }
+}
+
+impl Drop for Host {
+    fn drop(&mut self) {
+        // The GPU must be done with everything before anything goes: the host's fences.
+        if let Err(e) = self.wait_frames() {
+            eprintln!("waiting for the host's frames: {e}");
+        }
+        self.scenes.clear();
+        self.renderer = None;
+        self.combustion_device = None;
+        let d = &self.vulkan.device;
+        for s in self.slots.drain(..) {
+            for viewport in s.retired {
+                viewport.destroy(&self.vulkan);
+            }
+            unsafe {
+                d.destroy_fence(s.fence, None);
+                d.destroy_command_pool(s.pool, None);
+            }
+        }
+        if let Some(viewport) = self.viewport.take() {
+            viewport.destroy(&self.vulkan);
+        }
+    }
+}

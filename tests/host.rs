@@ -1,0 +1,297 @@
+//! Combustion embedded in a host's Vulkan frame: the example host (examples/host) on
+//! lavapipe with validation and synchronization validation. Its frames compose
+//! Combustion's output on the device; the composed image must hold exactly what
+//! Combustion renders on its own for the same camera and lights, and the host's depth
+//! exactly the G-buffer's depth.
+
+#[path = "../examples/host/app.rs"]
+mod app;
+mod common;
+#[path = "../examples/host/headless.rs"]
+mod headless;
+#[path = "../examples/host/vulkan.rs"]
+mod vulkan;
+
+use combustion::renderer::{FresnelModel, HdrFormat, Readback, RendererSettings};
+use combustion::scene::builtin_scene;
+use combustion::vk::ash::vk;
+use combustion::vk::{Device, HostDevice, VkError};
+
+use app::{Host, BACKGROUND, BAR, BORDER};
+use headless::{FinalImage, SoakPlan};
+use vulkan::HostVulkan;
+
+fn lavapipe_host() -> HostVulkan {
+    HostVulkan::new("llvmpipe", true, &[], &[]).expect("lavapipe with validation")
+}
+
+fn assert_no_messages(log: &vulkan::Messages) {
+    let messages = log.lock().unwrap().clone();
+    assert!(
+        messages.is_empty(),
+        "validation reported {} message(s):\n{}",
+        messages.len(),
+        messages.join("\n")
+    );
+}
+
+/// An 8-bit UNORM clear of `c` (the driver rounds to nearest; ties either way).
+fn close_to(texel: [u8; 4], c: [f32; 4]) -> bool {
+    texel
+        .iter()
+        .zip(c)
+        .all(|(&t, c)| (f32::from(t) - c * 255.0).abs() <= 0.5 + 1e-3)
+}
+
+#[test]
+fn host_frames_compose_combustions_output_on_the_device() {
+    let vulkan = lavapipe_host();
+    let log = vulkan.message_log();
+    let scene = builtin_scene("spheres").unwrap();
+    let mut host = Host::new(vulkan, 2, std::slice::from_ref(&scene)).unwrap();
+    let extent = vk::Extent2D {
+        width: 160 + 2 * BORDER,
+        height: 96 + 2 * BORDER,
+    };
+    let mut output = FinalImage::new(&host, extent).unwrap();
+    for _ in 0..5 {
+        headless::frame(&mut host, &mut output, 0).unwrap();
+    }
+    let last = host.frame - 1;
+    let composed = headless::read_back(
+        &host,
+        &output.image,
+        output.state,
+        vk::ImageAspectFlags::COLOR,
+    )
+    .unwrap();
+    let viewport = host.viewport.as_ref().unwrap();
+    let depth = headless::read_back(
+        &host,
+        &viewport.depth,
+        viewport.depth_state,
+        vk::ImageAspectFlags::DEPTH,
+    )
+    .unwrap();
+    // Combustion's own render of the same frame: camera and lights of frame `last`.
+    let mut same = scene.clone();
+    same.camera = app::camera_at(&scene.camera, last);
+    same.lights = app::lights_at(&scene.lights, last);
+    let inner = viewport.color.extent;
+    output.image.destroy(&host.vulkan);
+    drop(host);
+    assert_no_messages(&log);
+
+    let reference = common::render(
+        &same,
+        inner.width,
+        inner.height,
+        RendererSettings {
+            hdr_format: HdrFormat::Rgba32Float,
+            exposure: 1.0,
+            fresnel: FresnelModel::Full,
+            frames_in_flight: 2,
+        },
+        Readback {
+            images: true,
+            gbuffer: true,
+        },
+    );
+    let texel = |x: u32, y: u32| {
+        let i = ((y * extent.width + x) * 4) as usize;
+        [
+            composed[i],
+            composed[i + 1],
+            composed[i + 2],
+            composed[i + 3],
+        ]
+    };
+    let mut inside = 0;
+    for y in 0..extent.height {
+        for x in 0..extent.width {
+            let t = texel(x, y);
+            if y < BORDER / 2 {
+                assert!(close_to(t, BAR), "host bar at ({x}, {y}): {t:?}");
+            } else if x < BORDER
+                || y < BORDER
+                || x >= BORDER + inner.width
+                || y >= BORDER + inner.height
+            {
+                assert!(
+                    close_to(t, BACKGROUND),
+                    "host background at ({x}, {y}): {t:?}"
+                );
+            } else {
+                let r = reference.ldr[((y - BORDER) * inner.width + (x - BORDER)) as usize];
+                assert_eq!(
+                    t, r,
+                    "viewport pixel ({x}, {y}) differs from Combustion's render"
+                );
+                inside += 1;
+            }
+        }
+    }
+    assert_eq!(inside, inner.width * inner.height);
+    let gbuffer = reference.gbuffer.unwrap();
+    let host_depth: Vec<f32> = bytemuck_f32(&depth);
+    assert_eq!(host_depth.len(), gbuffer.texels.len());
+    for (i, (h, g)) in host_depth.iter().zip(&gbuffer.texels).enumerate() {
+        assert_eq!(h.to_bits(), g.depth.to_bits(), "depth texel {i}");
+    }
+    assert!(
+        host_depth.iter().any(|&d| d < 1.0) && host_depth.contains(&1.0),
+        "the depth holds both the spheres and the background"
+    );
+}
+
+fn bytemuck_f32(bytes: &[u8]) -> Vec<f32> {
+    bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect()
+}
+
+/// A short soak: scene edits every 2 frames, alternating scenes and sizes. Sampled at the
+/// same point of each period of the pattern, once warm, the GPU allocator must hold the
+/// same number of live allocations and the same device memory (anything leaked per
+/// frame, per edit or per resize would add up). Allocated bytes include alignment
+/// padding that depends on placement, so they are reported, not compared.
+#[test]
+fn soak_with_edits_and_resizes_keeps_memory_flat() {
+    let vulkan = lavapipe_host();
+    let log = vulkan.message_log();
+    let scenes = [
+        builtin_scene("spheres").unwrap(),
+        builtin_scene("hard-cases").unwrap(),
+    ];
+    let mut host = Host::new(vulkan, 2, &scenes).unwrap();
+    let plan = SoakPlan {
+        frames: 240,
+        edit_every: 2,
+        scene_every: 10,
+        resize_every: 20,
+        report_every: 40,
+        sizes: [
+            vk::Extent2D {
+                width: 96,
+                height: 72,
+            },
+            vk::Extent2D {
+                width: 72,
+                height: 64,
+            },
+        ],
+    };
+    assert_eq!(plan.period(2), 40);
+    let mut samples = Vec::new();
+    headless::soak(&mut host, &scenes, &plan, |m| samples.push(m)).unwrap();
+    let stats = host.renderer().stats();
+    drop(host);
+    assert_no_messages(&log);
+    for m in &samples {
+        eprintln!(
+            "frame {:>4}: RSS {:.1} MiB, GPU allocator {} allocations, {} bytes allocated, {} bytes held",
+            m.frame,
+            m.rss_bytes as f64 / 1048576.0,
+            m.allocations,
+            m.allocated_bytes,
+            m.capacity_bytes
+        );
+    }
+    // Samples fall at the same point of the pattern; the first period is warm-up
+    // (light buffers growing to the largest light count, both sizes' targets made).
+    let warm = &samples[1..];
+    assert!(
+        warm.windows(2)
+            .all(|w| w[0].allocations == w[1].allocations
+                && w[0].capacity_bytes == w[1].capacity_bytes),
+        "GPU memory changes from period to period (allocations, bytes held): {:?}",
+        warm.iter()
+            .map(|m| (m.allocations, m.capacity_bytes))
+            .collect::<Vec<_>>()
+    );
+    // Each resize builds the targets of the new size once (the other size, unused for
+    // longer than the renderer keeps targets, was retired); the frames in between build
+    // nothing.
+    assert_eq!(stats.frames, 240);
+    assert_eq!(
+        stats.targets_built,
+        plan.frames / plan.resize_every,
+        "{stats:?}"
+    );
+    assert_eq!(stats.targets_retired, stats.targets_built - 1, "{stats:?}");
+}
+
+/// Two viewports of different sizes rendered in alternation, and two scenes uploaded
+/// once and rendered in alternation: after the first frame of each, nothing is built.
+#[test]
+fn alternating_viewports_and_scenes_build_nothing_per_frame() {
+    let mut headless = common::lavapipe(RendererSettings::default());
+    let renderer = headless.renderer();
+    let spheres = renderer.upload(&builtin_scene("spheres").unwrap()).unwrap();
+    let hard = renderer
+        .upload(&builtin_scene("hard-cases").unwrap())
+        .unwrap();
+    let sizes = [(64, 48), (40, 72)];
+    for i in 0..8 {
+        let (w, h) = sizes[i % 2];
+        let scene = if i % 4 < 2 { &spheres } else { &hard };
+        renderer.submit_offscreen(scene, w, h).unwrap();
+        if i == 1 {
+            let warm = renderer.stats();
+            assert_eq!(warm.targets_built, 2, "{warm:?}");
+        }
+    }
+    renderer.finish_offscreen().unwrap();
+    let stats = renderer.stats();
+    assert_eq!(stats.frames, 8);
+    assert_eq!(stats.targets_built, 2, "{stats:?}");
+    assert_eq!(stats.targets_retired, 0, "{stats:?}");
+    let pipelines = stats.pipelines_built;
+    renderer.submit_offscreen(&spheres, 64, 48).unwrap();
+    renderer.finish_offscreen().unwrap();
+    assert_eq!(renderer.stats().pipelines_built, pipelines);
+    assert!(renderer.take_completed_timings().len() >= 8);
+    drop((spheres, hard));
+    common::finish(headless);
+}
+
+#[test]
+fn a_host_device_lacking_what_combustion_needs_is_refused_with_everything_missing() {
+    let vulkan = lavapipe_host();
+    let mut host_device: HostDevice = vulkan.for_combustion();
+    host_device.enabled.api_version = combustion::vk::ash::vk::API_VERSION_1_1;
+    host_device.enabled.dynamic_rendering = false;
+    host_device.enabled.synchronization2 = false;
+    host_device.queue_family = 99;
+    let error = match Device::from_host(host_device) {
+        Err(e) => e,
+        Ok(_) => panic!("accepted a device without the required features"),
+    };
+    assert!(matches!(error, VkError::HostDeviceUnsuitable(_)));
+    let text = error.to_string();
+    for needle in [
+        "Vulkan 1.1",
+        "dynamicRendering is not enabled",
+        "synchronization2 is not enabled",
+        "queue family 99 does not exist",
+    ] {
+        assert!(text.contains(needle), "`{needle}` missing from: {text}");
+    }
+    assert!(!text.contains('\n'), "one line: {text}");
+    let log = vulkan.message_log();
+    drop(vulkan);
+    assert_no_messages(&log);
+}
+
+#[test]
+fn a_borrowed_device_is_never_waited_idle_by_combustion() {
+    let vulkan = lavapipe_host();
+    let device = Device::from_host(vulkan.for_combustion()).unwrap();
+    assert!(!device.is_owned());
+    assert!(matches!(device.wait_idle(), Err(VkError::NotOwned(_))));
+    drop(device);
+    let log = vulkan.message_log();
+    drop(vulkan);
+    assert_no_messages(&log);
+}
