@@ -12,10 +12,13 @@ mod headless;
 #[path = "../examples/host/vulkan.rs"]
 mod vulkan;
 
-use combustion::renderer::{FresnelModel, HdrFormat, Readback, RendererSettings};
+use combustion::renderer::{
+    ColorTarget, DepthTarget, FrameInputs, FrameTarget, FresnelModel, HdrFormat, Readback,
+    RendererSettings,
+};
 use combustion::scene::builtin_scene;
 use combustion::vk::ash::vk;
-use combustion::vk::{Device, HostDevice, VkError};
+use combustion::vk::{Device, HostDevice, ImageState, VkError};
 
 use app::{Host, BACKGROUND, BAR, BORDER};
 use headless::{FinalImage, SoakPlan};
@@ -293,5 +296,243 @@ fn a_borrowed_device_is_never_waited_idle_by_combustion() {
     drop(device);
     let log = vulkan.message_log();
     drop(vulkan);
+    assert_no_messages(&log);
+}
+
+/// Frames recorded into host images of every supported output format hold what
+/// Combustion's own render holds: linear radiance × exposure in float formats (RGBA32F
+/// bit for bit), the display bytes in UNORM formats (BGRA swizzled), and the same within
+/// the driver's sRGB conversion in _SRGB formats.
+#[test]
+fn every_output_format_holds_the_frame() {
+    let vulkan = lavapipe_host();
+    let log = vulkan.message_log();
+    let scene = builtin_scene("spheres").unwrap();
+    let mut host = Host::new(vulkan, 2, std::slice::from_ref(&scene)).unwrap();
+    let extent = vk::Extent2D {
+        width: 48,
+        height: 40,
+    };
+    let formats = [
+        vk::Format::R32G32B32A32_SFLOAT,
+        vk::Format::R16G16B16A16_SFLOAT,
+        vk::Format::B8G8R8A8_UNORM,
+        vk::Format::R8G8B8A8_SRGB,
+    ];
+    let mut outputs = Vec::new();
+    for format in formats {
+        host.renderer().prepare_output(format).unwrap();
+        let image = app::HostImage::new(
+            &host.vulkan,
+            "output format test",
+            format,
+            extent,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+        )
+        .unwrap();
+        let (slot, cmd) = host.begin_frame().unwrap();
+        let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
+        let target = FrameTarget {
+            color: ColorTarget {
+                image: image.image,
+                view: image.view,
+                format,
+                extent,
+                before: ImageState::UNDEFINED,
+                after: app::state::COPY_SOURCE,
+            },
+            depth: None,
+        };
+        let renderer = host.renderer.as_mut().unwrap();
+        renderer
+            .record(cmd, slot, &host.scenes[0], &inputs, &target)
+            .unwrap();
+        host.submit_frame(slot).unwrap();
+        let bytes = headless::read_back(
+            &host,
+            &image,
+            app::state::COPY_SOURCE,
+            vk::ImageAspectFlags::COLOR,
+        )
+        .unwrap();
+        image.destroy(&host.vulkan);
+        outputs.push(bytes);
+    }
+    drop(host);
+    assert_no_messages(&log);
+    let reference = common::render(
+        &scene,
+        extent.width,
+        extent.height,
+        RendererSettings::default(),
+        Readback {
+            images: true,
+            gbuffer: false,
+        },
+    );
+    let floats: Vec<f32> = bytemuck_f32(&outputs[0]);
+    for (i, (texel, hdr)) in floats.chunks_exact(4).zip(&reference.hdr).enumerate() {
+        for c in 0..3 {
+            assert_eq!(texel[c].to_bits(), hdr[c].to_bits(), "RGBA32F texel {i}");
+        }
+    }
+    let halves: Vec<f32> = outputs[1]
+        .chunks_exact(2)
+        .map(|c| combustion::renderer::f16_to_f32(u16::from_le_bytes([c[0], c[1]])))
+        .collect();
+    for (i, (texel, hdr)) in halves.chunks_exact(4).zip(&reference.hdr).enumerate() {
+        for c in 0..3 {
+            // One binary16 step: 2⁻¹⁰ relative (round to nearest gives half of it; the
+            // bound allows either rounding mode), or the smallest subnormal near 0.
+            let step = (hdr[c].abs() * 2f32.powi(-10)).max(2f32.powi(-24));
+            assert!(
+                (texel[c] - hdr[c]).abs() <= step,
+                "RGBA16F texel {i} channel {c}: {} vs {}",
+                texel[c],
+                hdr[c]
+            );
+        }
+    }
+    for (i, (bgra, rgba)) in outputs[2].chunks_exact(4).zip(&reference.ldr).enumerate() {
+        assert_eq!(
+            [bgra[2], bgra[1], bgra[0], bgra[3]],
+            *rgba,
+            "BGRA8 texel {i}"
+        );
+    }
+    let mut worst = 0;
+    for (srgb, rgba) in outputs[3].chunks_exact(4).zip(&reference.ldr) {
+        for c in 0..3 {
+            worst = worst.max((i32::from(srgb[c]) - i32::from(rgba[c])).abs());
+        }
+    }
+    eprintln!("R8G8B8A8_SRGB (driver's encoding) vs the exact encoding: worst {worst} levels");
+    // The driver's conversion is ≈ 0.4 % off the exact formula (README, Conventions):
+    // at most 0.004 × 255 ≈ 1 level, plus one level of rounding.
+    assert!(worst <= 2, "worst {worst} levels");
+}
+
+/// Bad arguments to `record` are refused before anything is recorded: the command
+/// buffer stays empty and is submitted without a validation message.
+#[test]
+fn record_refuses_bad_arguments_before_recording() {
+    use combustion::renderer::RenderError;
+    let vulkan = lavapipe_host();
+    let log = vulkan.message_log();
+    let scene = builtin_scene("spheres").unwrap();
+    let mut host = Host::new(vulkan, 2, std::slice::from_ref(&scene)).unwrap();
+    let extent = vk::Extent2D {
+        width: 32,
+        height: 32,
+    };
+    let image = app::HostImage::new(
+        &host.vulkan,
+        "refusal test",
+        vk::Format::R16G16B16A16_SFLOAT,
+        extent,
+        vk::ImageUsageFlags::COLOR_ATTACHMENT,
+    )
+    .unwrap();
+    let color = ColorTarget {
+        image: image.image,
+        view: image.view,
+        format: vk::Format::R16G16B16A16_SFLOAT,
+        extent,
+        before: ImageState::UNDEFINED,
+        after: app::state::COLOR_ATTACHMENT,
+    };
+    let (slot, cmd) = host.begin_frame().unwrap();
+    let lights = host.scenes[0].scene.lights.clone();
+    let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
+    let renderer = host.renderer.as_mut().unwrap();
+    let scene0 = &host.scenes[0];
+    let target = |color: ColorTarget| FrameTarget { color, depth: None };
+    let error = renderer
+        .record(cmd, 7, scene0, &inputs, &target(color))
+        .unwrap_err();
+    assert!(
+        matches!(error, RenderError::InvalidFrameSlot { slot: 7, .. }),
+        "{error}"
+    );
+    let error = renderer
+        .record(cmd, slot, scene0, &inputs, &target(color))
+        .unwrap_err();
+    assert!(
+        matches!(error, RenderError::OutputNotPrepared(_)),
+        "{error}"
+    );
+    let error = renderer
+        .record(
+            cmd,
+            slot,
+            scene0,
+            &inputs,
+            &target(ColorTarget {
+                format: vk::Format::R8_UNORM,
+                ..color
+            }),
+        )
+        .unwrap_err();
+    assert!(
+        matches!(error, RenderError::UnsupportedOutputFormat(_)),
+        "{error}"
+    );
+    renderer
+        .prepare_output(vk::Format::R16G16B16A16_SFLOAT)
+        .unwrap();
+    let bad_inputs = FrameInputs {
+        exposure: f32::NAN,
+        ..inputs
+    };
+    let error = renderer
+        .record(cmd, slot, scene0, &bad_inputs, &target(color))
+        .unwrap_err();
+    assert!(matches!(error, RenderError::InvalidExposure(_)), "{error}");
+    let mut bad_lights = lights.clone();
+    bad_lights.push(combustion::scene::Light::Point {
+        position: glam::Vec3::ZERO,
+        intensity: [f32::INFINITY, 0.0, 0.0],
+    });
+    let error = renderer
+        .record(
+            cmd,
+            slot,
+            scene0,
+            &FrameInputs {
+                lights: &bad_lights,
+                ..inputs
+            },
+            &target(color),
+        )
+        .unwrap_err();
+    assert!(error.to_string().contains("light"), "{error}");
+    let error = renderer
+        .record(
+            cmd,
+            slot,
+            scene0,
+            &inputs,
+            &FrameTarget {
+                color,
+                depth: Some(DepthTarget {
+                    image: image.image,
+                    format: vk::Format::D16_UNORM,
+                    extent,
+                    before: ImageState::UNDEFINED,
+                    after: app::state::DEPTH_TEST,
+                }),
+            },
+        )
+        .unwrap_err();
+    assert!(
+        matches!(error, RenderError::InvalidDepthTarget { .. }),
+        "{error}"
+    );
+    let stats = renderer.stats();
+    assert_eq!(stats.frames, 0, "nothing was recorded");
+    host.submit_frame(slot).unwrap();
+    host.wait_frames().unwrap();
+    image.destroy(&host.vulkan);
+    drop(host);
     assert_no_messages(&log);
 }

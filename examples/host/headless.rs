@@ -177,7 +177,8 @@ pub fn soak(
 }
 
 /// Copies `image` (in `from`) to host memory after waiting for the host's frames; for
-/// tests and screenshots, never in the frame loop. RGBA8 texels, or f32 for depth.
+/// tests and screenshots, never in the frame loop. Tightly packed texels of the image's
+/// format (4 bytes for RGBA8 and D32, 8 for RGBA16F, 16 for RGBA32F).
 pub fn read_back(
     host: &Host,
     image: &HostImage,
@@ -187,7 +188,12 @@ pub fn read_back(
     host.wait_frames()?;
     let v = &host.vulkan;
     let d = &v.device;
-    let size = u64::from(image.extent.width) * u64::from(image.extent.height) * 4;
+    let bytes_per_texel = match image.format {
+        vk::Format::R16G16B16A16_SFLOAT => 8,
+        vk::Format::R32G32B32A32_SFLOAT => 16,
+        _ => 4,
+    };
+    let size = u64::from(image.extent.width) * u64::from(image.extent.height) * bytes_per_texel;
     let buffer = unsafe {
         d.create_buffer(
             &vk::BufferCreateInfo::default()
