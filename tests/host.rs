@@ -11,6 +11,8 @@ mod common;
 mod headless;
 #[path = "../examples/host/vulkan.rs"]
 mod vulkan;
+#[path = "../examples/host/window.rs"]
+mod window;
 
 use combustion::renderer::{
     ColorTarget, DepthTarget, FrameInputs, FrameTarget, FresnelModel, HdrFormat, Readback,
@@ -535,4 +537,43 @@ fn record_refuses_bad_arguments_before_recording() {
     image.destroy(&host.vulkan);
     drop(host);
     assert_no_messages(&log);
+}
+
+/// The host in a window under Xvfb: frames presented through its own swapchain with
+/// Combustion's frame composed on the device, a resize in the middle (the swapchain is
+/// recreated), and no validation message, synchronization validation included.
+#[test]
+fn host_in_a_window_presents_frames_and_survives_a_resize() {
+    let xvfb = common::xvfb::Xvfb::start();
+    // This test binary runs each test in a process of its own under nextest; under
+    // `cargo test` no other test here reads DISPLAY.
+    std::env::set_var("DISPLAY", format!(":{}", xvfb.display));
+    std::env::remove_var("WAYLAND_DISPLAY");
+    let scenes = [builtin_scene("spheres").unwrap()];
+    let summary = window::run(
+        &window::WindowOptions {
+            width: 160,
+            height: 120,
+            frames: Some(12),
+            frames_in_flight: 2,
+            validation: true,
+            device: "llvmpipe".into(),
+            resize_at: Some((4, 200, 150)),
+        },
+        &scenes,
+    )
+    .unwrap();
+    drop(xvfb);
+    assert!(
+        summary.validation_messages.is_empty(),
+        "validation reported {} message(s):\n{}",
+        summary.validation_messages.len(),
+        summary.validation_messages.join("\n")
+    );
+    assert_eq!(summary.presented, 12);
+    assert!(
+        summary.swapchains >= 2,
+        "the resize recreated the swapchain: {summary:?}"
+    );
+    assert!(!summary.gpu_ms.is_empty());
 }

@@ -249,6 +249,24 @@ pub fn lights_at(base: &[Light], n: u64) -> Vec<Light> {
     lights
 }
 
+/// The image a host frame ends in: an offscreen image, or a swapchain image.
+#[derive(Clone, Copy, Debug)]
+pub struct FinalTarget {
+    pub image: vk::Image,
+    pub view: vk::ImageView,
+    pub extent: vk::Extent2D,
+}
+
+impl From<&HostImage> for FinalTarget {
+    fn from(image: &HostImage) -> Self {
+        Self {
+            image: image.image,
+            view: image.view,
+            extent: image.extent,
+        }
+    }
+}
+
 /// Per frame in flight: the host's command buffer, its fence, and what the host itself
 /// retired while that frame was the latest.
 struct HostSlot {
@@ -367,11 +385,21 @@ impl Host {
 
     /// Ends and submits the frame begun with [`Host::begin_frame`].
     pub fn submit_frame(&mut self, slot: usize) -> Result<(), String> {
+        self.submit_frame_with(slot, None)
+    }
+
+    /// As [`Host::submit_frame`], waiting for `wait` (at colour output and transfers)
+    /// and signalling `signal` (a swapchain image's acquire and present semaphores).
+    pub fn submit_frame_with(
+        &mut self,
+        slot: usize,
+        semaphores: Option<(vk::Semaphore, vk::Semaphore)>,
+    ) -> Result<(), String> {
         let s = &self.slots[slot];
         let d = &self.vulkan.device;
         unsafe { d.end_command_buffer(s.cmd) }.map_err(|e| e.to_string())?;
         unsafe { d.reset_fences(&[s.fence]) }.map_err(|e| e.to_string())?;
-        self.vulkan.submit(s.cmd, s.fence)?;
+        self.vulkan.submit(s.cmd, s.fence, semaphores)?;
         self.frame += 1;
         Ok(())
     }
@@ -403,7 +431,7 @@ impl Host {
         slot: usize,
         cmd: vk::CommandBuffer,
         scene: usize,
-        final_image: &HostImage,
+        final_image: FinalTarget,
         final_before: ImageState,
         final_after: ImageState,
     ) -> Result<(), String> {

@@ -42,7 +42,7 @@ pub fn frame(host: &mut Host, output: &mut FinalImage, scene: usize) -> Result<(
         slot,
         cmd,
         scene,
-        &output.image,
+        (&output.image).into(),
         output.state,
         state::COPY_SOURCE,
     )?;
@@ -272,7 +272,7 @@ pub fn read_back(
         );
         d.end_command_buffer(cmd).map_err(|e| e.to_string())?;
     }
-    v.submit(cmd, fence)?;
+    v.submit(cmd, fence, None)?;
     unsafe { d.wait_for_fences(&[fence], true, u64::MAX) }.map_err(|e| e.to_string())?;
     let bytes = allocation
         .mapped_slice()

@@ -7,11 +7,14 @@
 //! cargo run --example host -- --frames 120                 # headless (offscreen final image)
 //! cargo run --example host -- --soak 10000                 # edits, resizes, memory every 1,000 frames
 //! cargo run --example host -- --frames 300 --validate      # validation + synchronization validation
+//! cargo run --example host -- --window                     # in a window (X11); Escape to quit
+//! cargo run --example host -- --frames 30 --screenshot host.png   # the last frame as PNG
 //! ```
 
 mod app;
 mod headless;
 mod vulkan;
+mod window;
 
 use std::time::Instant;
 
@@ -26,6 +29,9 @@ struct Options {
     height: u32,
     validate: bool,
     device: String,
+    window: bool,
+    frames_given: bool,
+    screenshot: Option<String>,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -37,6 +43,9 @@ fn parse(args: &[String]) -> Result<Options, String> {
         height: 360,
         validate: false,
         device: String::new(),
+        window: false,
+        frames_given: false,
+        screenshot: None,
     };
     let mut i = 0;
     while i < args.len() {
@@ -50,14 +59,23 @@ fn parse(args: &[String]) -> Result<Options, String> {
                 .map_err(|_| format!("{flag} takes a whole number, not `{v}`"))
         };
         match flag {
-            "--frames" => o.frames = number(value()?)?,
+            "--frames" => {
+                o.frames = number(value()?)?;
+                o.frames_given = true;
+            }
             "--soak" => o.soak = Some(number(value()?)?),
             "--frames-in-flight" => o.frames_in_flight = number(value()?)? as usize,
             "--width" => o.width = number(value()?)? as u32,
             "--height" => o.height = number(value()?)? as u32,
             "--device" => o.device = value()?.clone(),
+            "--screenshot" => o.screenshot = Some(value()?.clone()),
             "--validate" => {
                 o.validate = true;
+                i += 1;
+                continue;
+            }
+            "--window" => {
+                o.window = true;
                 i += 1;
                 continue;
             }
@@ -87,6 +105,39 @@ fn run(o: &Options) -> Result<(), String> {
         builtin_scene("spheres").map_err(|e| e.to_string())?,
         builtin_scene("hard-cases").map_err(|e| e.to_string())?,
     ];
+    if o.window {
+        let summary = window::run(
+            &window::WindowOptions {
+                width: o.width,
+                height: o.height,
+                frames: o.frames_given.then_some(o.frames),
+                frames_in_flight: o.frames_in_flight,
+                validation: o.validate,
+                device: o.device.clone(),
+                resize_at: None,
+            },
+            &scenes,
+        )?;
+        let median = |v: &[f64]| {
+            let mut v = v.to_vec();
+            v.sort_by(f64::total_cmp);
+            v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+        };
+        println!(
+            "{} frames presented, {} in flight: {:.2} ms per frame wall clock (median), Combustion's GPU time {:.2} ms (median)",
+            summary.presented,
+            o.frames_in_flight,
+            median(&summary.frame_ms),
+            median(&summary.gpu_ms)
+        );
+        if let Some(first) = summary.validation_messages.first() {
+            return Err(format!(
+                "the validation layer reported {} message(s); first: {first}",
+                summary.validation_messages.len()
+            ));
+        }
+        return Ok(());
+    }
     let vulkan = vulkan::HostVulkan::new(&o.device, o.validate, &[], &[])?;
     let mut host = app::Host::new(vulkan, o.frames_in_flight, &scenes)?;
     let extent = vk::Extent2D {
@@ -128,6 +179,21 @@ fn run(o: &Options) -> Result<(), String> {
             headless::frame(&mut host, &mut output, 0)?;
         }
         host.wait_frames()?;
+        if let Some(path) = &o.screenshot {
+            let bytes = headless::read_back(
+                &host,
+                &output.image,
+                output.state,
+                vk::ImageAspectFlags::COLOR,
+            )?;
+            let pixels: Vec<[u8; 4]> = bytes
+                .chunks_exact(4)
+                .map(|c| [c[0], c[1], c[2], c[3]])
+                .collect();
+            combustion::output::write_png(path.as_ref(), o.width, o.height, &pixels)
+                .map_err(|e| e.to_string())?;
+            println!("wrote {path}");
+        }
         output.image.destroy(&host.vulkan);
         o.frames
     };

@@ -208,10 +208,30 @@ impl HostVulkan {
             .unwrap_or_default()
     }
 
-    /// Submits on the shared queue, under the shared lock.
-    pub fn submit(&self, cmd: vk::CommandBuffer, fence: vk::Fence) -> Result<(), String> {
+    /// Submits on the shared queue, under the shared lock; optionally waits for the
+    /// first semaphore (before anything touches the final image) and signals the second.
+    pub fn submit(
+        &self,
+        cmd: vk::CommandBuffer,
+        fence: vk::Fence,
+        semaphores: Option<(vk::Semaphore, vk::Semaphore)>,
+    ) -> Result<(), String> {
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
-        let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
+        let (waits, signals) = match semaphores {
+            Some((wait, signal)) => (
+                vec![vk::SemaphoreSubmitInfo::default()
+                    .semaphore(wait)
+                    .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)],
+                vec![vk::SemaphoreSubmitInfo::default()
+                    .semaphore(signal)
+                    .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)],
+            ),
+            None => (Vec::new(), Vec::new()),
+        };
+        let submit = [vk::SubmitInfo2::default()
+            .command_buffer_infos(&cmds)
+            .wait_semaphore_infos(&waits)
+            .signal_semaphore_infos(&signals)];
         let queue = self.queue.lock().map_err(|_| "queue lock poisoned")?;
         unsafe { self.device.queue_submit2(*queue, &submit, fence) }
             .map_err(|e| format!("vkQueueSubmit2: {e}"))

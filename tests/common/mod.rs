@@ -3,6 +3,8 @@
 //! checks goldens of sphere scenes independently of the renderer.
 #![allow(dead_code)]
 
+pub mod xvfb;
+
 use std::path::PathBuf;
 
 use combustion::optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
