@@ -12,15 +12,13 @@ layout(location = 2) in vec4 in_tangent;
 layout(location = 3) flat in uint in_material;
 layout(location = 4) in vec2 in_uv;
 
-layout(std430, set = 0, binding = 1) readonly buffer Materials { GpuMaterial materials[]; };
-// The material's textures (set 1, bound per material; empty slots hold a 1×1 white
-// texture and are not sampled: the material table's index is -1 for them).
-layout(set = 1, binding = 0) uniform sampler2D base_color_texture;
-layout(set = 1, binding = 1) uniform sampler2D metallic_roughness_texture;
-layout(set = 1, binding = 2) uniform sampler2D normal_texture;
-layout(set = 1, binding = 3) uniform sampler2D occlusion_texture;  // no ambient light yet: unused
-layout(set = 1, binding = 4) uniform sampler2D emissive_texture;
-layout(set = 1, binding = 5) uniform sampler2D anisotropy_texture;
+// Set 0: the object and material tables (combustion_renderer::bindings::GBUFFER).
+#include "bindings/gbuffer.glsl"
+// Set 1: the material's textures, bound per material; empty slots hold a 1×1 white
+// texture and are not sampled: the material table's index is -1 for them. The occlusion
+// and specular slots are bound but not sampled yet (no ambient light; specular is not
+// shaded). See combustion_renderer::bindings::MATERIAL_TEXTURES.
+#include "bindings/material_textures.glsl"
 
 layout(location = 0) out vec4 out_base_color_metalness;       // RGBA8_UNORM, sRGB-encoded rgb
 layout(location = 1) out vec4 out_normal_roughness_anisotropy; // RGBA16_UNORM

@@ -8,7 +8,7 @@ layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec4 in_tangent;
 layout(location = 3) in vec2 in_uv;
 
-layout(std430, set = 0, binding = 0) readonly buffer Objects { GpuObject objects[]; };
+#include "bindings/gbuffer.glsl"  // set 0: see combustion_renderer::bindings::GBUFFER
 
 layout(push_constant) uniform GBufferPush {
     mat4 view_projection;

@@ -9,18 +9,7 @@
 #include "srgb.glsl"
 #include "brdf.glsl"
 
-layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;
-layout(set = 0, binding = 1) uniform texture2D gbuffer_normal_roughness_anisotropy;
-layout(set = 0, binding = 2) uniform utexture2D gbuffer_material_direction;
-layout(set = 0, binding = 3) uniform texture2D gbuffer_depth;
-layout(std430, set = 0, binding = 4) readonly buffer Materials { GpuMaterial materials[]; };
-layout(std430, set = 0, binding = 5) readonly buffer Lights { GpuLight lights[]; };
-// η, k of a conductor derived from its base colour, per stored 8-bit code
-// (combustion_renderer::gpu_types::conductor_from_base_color_table).
-layout(std430, set = 0, binding = 6) readonly buffer ConductorTable { vec2 conductor_from_code[]; };
-#ifdef EMISSIVE
-layout(set = 0, binding = 7) uniform texture2D gbuffer_emissive;
-#endif
+#include "bindings/lighting.glsl"  // set 0: see combustion_renderer::bindings::LIGHTING
 
 layout(push_constant) uniform LightingPush {
     mat4 inverse_view_projection;

@@ -11,7 +11,7 @@
 #include "tonemap.glsl"
 #include "srgb.glsl"
 
-layout(set = 0, binding = 0) uniform texture2D hdr_image;
+#include "bindings/output.glsl"  // set 0: see combustion_renderer::bindings::OUTPUT
 
 layout(push_constant) uniform TonemapPush {
     float exposure;

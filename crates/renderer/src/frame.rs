@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use combustion_vk::{vk, Buffer, DescriptorPool, Device, ImageState, TimestampQueries, VkError};
 
+use crate::bindings;
 use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
 use crate::graph::{ImageUse, PassUses, TrackedImage};
 use crate::targets::{FrameTargets, TargetKey};
@@ -37,20 +38,11 @@ pub(crate) struct FrameSlot {
 
 impl FrameSlot {
     pub fn new(device: &Arc<Device>, layouts: &SetLayouts) -> Result<Self, RenderError> {
-        let pool = DescriptorPool::new(
-            device,
-            3,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::SAMPLED_IMAGE,
-                    descriptor_count: 6,
-                },
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::STORAGE_BUFFER,
-                    descriptor_count: 5,
-                },
-            ],
-        )?;
+        let sizes: Vec<_> = [&bindings::GBUFFER, &bindings::LIGHTING, &bindings::OUTPUT]
+            .iter()
+            .flat_map(|set| set.pool_sizes(1))
+            .collect();
+        let pool = DescriptorPool::new(device, 3, &sizes)?;
         let timestamps = match TimestampQueries::new(device, TIMESTAMPS) {
             Ok(t) => Some(t),
             Err(VkError::Unsupported(why)) => {
@@ -278,71 +270,50 @@ impl Renderer {
     fn write_descriptors(&self, slot: usize, key: TargetKey, scene: &GpuScene) {
         let s = &self.slots[slot];
         let targets = &self.targets[&key].0;
-        let image_info = |view: vk::ImageView, layout| {
-            [vk::DescriptorImageInfo {
-                sampler: vk::Sampler::null(),
-                image_view: view,
-                image_layout: layout,
-            }]
-        };
-        let buffer_info = |buffer: &Buffer| {
-            [vk::DescriptorBufferInfo {
-                buffer: buffer.raw(),
-                offset: 0,
-                range: vk::WHOLE_SIZE,
-            }]
-        };
         let read = ImageUse::FragmentSampled.state().layout;
         let depth_read = ImageUse::DepthFragmentSampled.state().layout;
+        let no_sampler = vk::Sampler::null();
         let g = &targets.gbuffer;
-        let mut images = vec![
-            (
-                s.lighting_set,
-                0,
-                image_info(g.base_color_metalness.view(), read),
-            ),
-            (
-                s.lighting_set,
-                1,
-                image_info(g.normal_roughness_anisotropy.view(), read),
-            ),
-            (
-                s.lighting_set,
-                2,
-                image_info(g.material_direction.view(), read),
-            ),
-            (s.lighting_set, 3, image_info(g.depth.view(), depth_read)),
-            (s.output_set, 0, image_info(targets.hdr.view(), read)),
-        ];
+        let device = &*self.device;
+        // SAFETY (all three): the slot's previous frame has completed, so none of its
+        // sets is in use.
+        bindings::GBUFFER
+            .writer(s.gbuffer_set)
+            .buffer("objects", &scene.objects)
+            .buffer("materials", &scene.materials)
+            .apply(device);
+        let mut lighting = bindings::LIGHTING
+            .writer(s.lighting_set)
+            .image(
+                "gbuffer_base_color_metalness",
+                g.base_color_metalness.view(),
+                read,
+                no_sampler,
+            )
+            .image(
+                "gbuffer_normal_roughness_anisotropy",
+                g.normal_roughness_anisotropy.view(),
+                read,
+                no_sampler,
+            )
+            .image(
+                "gbuffer_material_direction",
+                g.material_direction.view(),
+                read,
+                no_sampler,
+            )
+            .image("gbuffer_depth", g.depth.view(), depth_read, no_sampler)
+            .buffer("materials", &scene.materials)
+            .buffer("lights", &s.lights)
+            .buffer("conductor_from_code", &scene.conductor_table);
         if let Some(emissive) = &g.emissive {
-            images.push((s.lighting_set, 7, image_info(emissive.view(), read)));
+            lighting = lighting.image("gbuffer_emissive", emissive.view(), read, no_sampler);
         }
-        let buffers = [
-            (s.gbuffer_set, 0, buffer_info(&scene.objects)),
-            (s.gbuffer_set, 1, buffer_info(&scene.materials)),
-            (s.lighting_set, 4, buffer_info(&scene.materials)),
-            (s.lighting_set, 5, buffer_info(&s.lights)),
-            (s.lighting_set, 6, buffer_info(&scene.conductor_table)),
-        ];
-        let mut writes: Vec<vk::WriteDescriptorSet<'_>> = images
-            .iter()
-            .map(|(set, binding, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(*set)
-                    .dst_binding(*binding)
-                    .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
-                    .image_info(info)
-            })
-            .collect();
-        writes.extend(buffers.iter().map(|(set, binding, info)| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(*set)
-                .dst_binding(*binding)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(info)
-        }));
-        // SAFETY: the slot's previous frame has completed, so none of its sets is in use.
-        unsafe { self.device.raw().update_descriptor_sets(&writes, &[]) };
+        lighting.apply(device);
+        bindings::OUTPUT
+            .writer(s.output_set)
+            .image("hdr_image", targets.hdr.view(), read, no_sampler)
+            .apply(device);
     }
 
     #[allow(clippy::too_many_arguments)]

@@ -115,28 +115,6 @@ pub struct GBufferPass {
     pipeline: Pipeline,
 }
 
-/// The layout of set 0 of the G-buffer pass: the object table (vertex stage) and the
-/// material table (fragment stage).
-pub fn gbuffer_set_layout(device: &Arc<Device>) -> Result<DescriptorSetLayout, RenderError> {
-    Ok(DescriptorSetLayout::new(
-        device,
-        &[
-            (
-                0,
-                vk::DescriptorType::STORAGE_BUFFER,
-                1,
-                vk::ShaderStageFlags::VERTEX,
-            ),
-            (
-                1,
-                vk::DescriptorType::STORAGE_BUFFER,
-                1,
-                vk::ShaderStageFlags::FRAGMENT,
-            ),
-        ],
-    )?)
-}
-
 impl GBufferPass {
     pub fn new(
         device: &Arc<Device>,

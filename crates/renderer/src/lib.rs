@@ -20,6 +20,7 @@
 //! list. GPU timestamps bracket each pass ([`Frame::timings`],
 //! [`Renderer::last_completed_timings`]).
 
+pub mod bindings;
 pub mod gbuffer;
 pub mod gpu_types;
 pub mod graph;
@@ -289,27 +290,11 @@ struct SetLayouts {
 
 impl SetLayouts {
     fn new(device: &Arc<Device>) -> Result<Self, RenderError> {
-        let sampled = vk::DescriptorType::SAMPLED_IMAGE;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let fragment = vk::ShaderStageFlags::FRAGMENT;
-        let lighting: Vec<_> = [
-            (0, sampled),
-            (1, sampled),
-            (2, sampled),
-            (3, sampled),
-            (4, storage),
-            (5, storage),
-            (6, storage),
-            (7, sampled),
-        ]
-        .iter()
-        .map(|&(binding, ty)| (binding, ty, 1, fragment))
-        .collect();
         Ok(Self {
-            gbuffer: gbuffer::gbuffer_set_layout(device)?,
-            material: textures::material_set_layout(device)?,
-            lighting: DescriptorSetLayout::new(device, &lighting)?,
-            output: DescriptorSetLayout::new(device, &[(0, sampled, 1, fragment)])?,
+            gbuffer: bindings::GBUFFER.layout(device)?,
+            material: bindings::MATERIAL_TEXTURES.layout(device)?,
+            lighting: bindings::LIGHTING.layout(device)?,
+            output: bindings::OUTPUT.layout(device)?,
         })
     }
 }

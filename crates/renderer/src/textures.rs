@@ -13,25 +13,7 @@ use combustion_vk::{
     OneShot, Sampler, VkError,
 };
 
-use crate::RenderError;
-
-/// Texture slots per material (`TextureSlot::ALL`), bindings 0..8 of set 1.
-pub const TEXTURE_SLOTS: u32 = 8;
-
-/// The layout of a material's texture set (set 1 of the G-buffer pass).
-pub fn material_set_layout(device: &Arc<Device>) -> Result<DescriptorSetLayout, VkError> {
-    let bindings: Vec<_> = (0..TEXTURE_SLOTS)
-        .map(|b| {
-            (
-                b,
-                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                1,
-                vk::ShaderStageFlags::FRAGMENT,
-            )
-        })
-        .collect();
-    DescriptorSetLayout::new(device, &bindings)
-}
+use crate::{bindings, RenderError};
 
 /// Textures of one scene.
 pub struct SceneTextures {
@@ -177,44 +159,26 @@ impl SceneTextures {
             .map(|t| sampler_for(&t.sampler))
             .collect::<Result<Vec<_>, _>>()?;
         let material_count = scene.materials.len().max(1) as u32;
-        let pool = DescriptorPool::new(
-            device,
-            material_count,
-            &[vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                descriptor_count: material_count * TEXTURE_SLOTS,
-            }],
-        )?;
+        let decl = &bindings::MATERIAL_TEXTURES;
+        let pool = DescriptorPool::new(device, material_count, &decl.pool_sizes(material_count))?;
         let mut material_sets = Vec::with_capacity(scene.materials.len());
         for slots in &table.material_textures {
             let set = pool.allocate(set_layout)?;
-            let infos: Vec<[vk::DescriptorImageInfo; 1]> = slots
-                .iter()
-                .map(|slot| {
-                    let (image, sampler) = match slot {
-                        Some(t) => (table.textures[*t].image, texture_samplers[*t]),
-                        None => (white, default_sampler),
-                    };
-                    [vk::DescriptorImageInfo {
-                        sampler: samplers[sampler].raw(),
-                        image_view: images[image].view(),
-                        image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    }]
-                })
-                .collect();
-            let writes: Vec<_> = infos
-                .iter()
-                .enumerate()
-                .map(|(binding, info)| {
-                    vk::WriteDescriptorSet::default()
-                        .dst_set(set)
-                        .dst_binding(binding as u32)
-                        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                        .image_info(info)
-                })
-                .collect();
-            // SAFETY: the set is new and not in use.
-            unsafe { device.raw().update_descriptor_sets(&writes, &[]) };
+            let mut writer = decl.writer(set);
+            for (binding, slot) in decl.bindings.iter().zip(slots) {
+                let (image, sampler) = match slot {
+                    Some(t) => (table.textures[*t].image, texture_samplers[*t]),
+                    None => (white, default_sampler),
+                };
+                writer = writer.image(
+                    binding.name,
+                    images[image].view(),
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    samplers[sampler].raw(),
+                );
+            }
+            // The set is new and not in use.
+            writer.apply(device);
             material_sets.push(set);
         }
         let material_indices = table

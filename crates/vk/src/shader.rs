@@ -1,3 +1,4 @@
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -11,7 +12,7 @@ use crate::error::{VkError, VkResultExt};
 /// run time; `#include "x.glsl"` resolves against `include/` and the including file's folder.
 #[derive(Clone, Debug, Default)]
 pub struct ShaderSources {
-    files: HashMap<String, &'static str>,
+    files: HashMap<String, Cow<'static, str>>,
 }
 
 impl ShaderSources {
@@ -19,16 +20,23 @@ impl ShaderSources {
         Self {
             files: files
                 .into_iter()
-                .map(|(path, text)| (path.to_owned(), text))
+                .map(|(path, text)| (path.to_owned(), Cow::Borrowed(text)))
                 .collect(),
         }
     }
 
-    pub fn get(&self, path: &str) -> Option<&'static str> {
-        self.files.get(path).copied()
+    /// Adds (or replaces) a file made at run time, e.g. a header generated from the
+    /// renderer's binding declarations.
+    pub fn with_generated(mut self, path: impl Into<String>, text: String) -> Self {
+        self.files.insert(path.into(), Cow::Owned(text));
+        self
     }
 
-    fn resolve(&self, requested: &str, requesting: &str) -> Option<(String, &'static str)> {
+    pub fn get(&self, path: &str) -> Option<&str> {
+        self.files.get(path).map(|text| &**text)
+    }
+
+    fn resolve(&self, requested: &str, requesting: &str) -> Option<(String, &str)> {
         let folder = requesting.rsplit_once('/').map(|(dir, _)| dir);
         let candidates = [
             folder.map(|dir| format!("{dir}/{requested}")),

@@ -1,0 +1,401 @@
+//! Descriptor sets declared once. Each [`SetDecl`] gives, from one list, the GLSL
+//! declarations the shaders include (`#include "bindings/NAME.glsl"`, generated at
+//! start-up), the Vulkan descriptor-set layout, the pool sizes, and the writes — by
+//! name — so a binding number is never written twice by hand.
+
+use std::sync::Arc;
+
+use combustion_vk::{vk, Buffer, DescriptorSetLayout, Device, VkError};
+
+/// What a binding holds, and how GLSL declares it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BindingKind {
+    /// `texture2D`, read with texelFetch (no sampler).
+    Texture2D,
+    /// `utexture2D`.
+    UTexture2D,
+    /// `sampler2D`: an image with its sampler.
+    Sampler2D,
+    /// `samplerCube`: a cube map with its sampler.
+    SamplerCube,
+    /// `image2D` with the given format qualifier (e.g. `rgba16f`), written by compute.
+    StorageImage2D { format: &'static str },
+    /// `readonly buffer BLOCK { ELEMENT NAME[]; }` (std430).
+    StorageBuffer {
+        block: &'static str,
+        element: &'static str,
+    },
+    /// `buffer BLOCK { ELEMENT NAME[]; }` (std430), written by shaders.
+    RwStorageBuffer {
+        block: &'static str,
+        element: &'static str,
+    },
+}
+
+impl BindingKind {
+    pub fn descriptor_type(self) -> vk::DescriptorType {
+        match self {
+            Self::Texture2D | Self::UTexture2D => vk::DescriptorType::SAMPLED_IMAGE,
+            Self::Sampler2D | Self::SamplerCube => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            Self::StorageImage2D { .. } => vk::DescriptorType::STORAGE_IMAGE,
+            Self::StorageBuffer { .. } | Self::RwStorageBuffer { .. } => {
+                vk::DescriptorType::STORAGE_BUFFER
+            }
+        }
+    }
+}
+
+/// One binding: its GLSL name, kind and stages; `only_with` names a `#define` without
+/// which the shaders do not see it (the layout always has it).
+#[derive(Clone, Copy, Debug)]
+pub struct Binding {
+    pub name: &'static str,
+    pub kind: BindingKind,
+    pub stages: vk::ShaderStageFlags,
+    pub only_with: Option<&'static str>,
+}
+
+impl Binding {
+    pub const fn new(name: &'static str, kind: BindingKind, stages: vk::ShaderStageFlags) -> Self {
+        Self {
+            name,
+            kind,
+            stages,
+            only_with: None,
+        }
+    }
+
+    pub const fn only_with(self, define: &'static str) -> Self {
+        Self {
+            only_with: Some(define),
+            ..self
+        }
+    }
+}
+
+/// A descriptor set: its header's name, its set number, and its bindings (binding i is
+/// `bindings[i]`).
+#[derive(Clone, Copy, Debug)]
+pub struct SetDecl {
+    pub name: &'static str,
+    pub set: u32,
+    pub bindings: &'static [Binding],
+    /// Headers this one's declarations need (e.g. `gpu_types.glsl` for struct types).
+    pub includes: &'static [&'static str],
+}
+
+impl SetDecl {
+    /// The path shaders include: `bindings/NAME.glsl`.
+    pub fn header_path(&self) -> String {
+        format!("bindings/{}.glsl", self.name)
+    }
+
+    /// The GLSL declarations of every binding.
+    pub fn glsl(&self) -> String {
+        let guard = format!("COMBUSTION_BINDINGS_{}_GLSL", self.name.to_uppercase());
+        let mut out = format!(
+            "// Generated from combustion_renderer::bindings::{} (bindings.rs); do not edit.\n#ifndef {guard}\n#define {guard}\n",
+            self.name.to_uppercase()
+        );
+        for include in self.includes {
+            out += &format!("#include \"{include}\"\n");
+        }
+        for (index, b) in self.bindings.iter().enumerate() {
+            let layout = format!("set = {}, binding = {index}", self.set);
+            let declaration = match b.kind {
+                BindingKind::Texture2D => format!("layout({layout}) uniform texture2D {};", b.name),
+                BindingKind::UTexture2D => {
+                    format!("layout({layout}) uniform utexture2D {};", b.name)
+                }
+                BindingKind::Sampler2D => format!("layout({layout}) uniform sampler2D {};", b.name),
+                BindingKind::SamplerCube => {
+                    format!("layout({layout}) uniform samplerCube {};", b.name)
+                }
+                BindingKind::StorageImage2D { format } => {
+                    format!(
+                        "layout({layout}, {format}) uniform writeonly image2D {};",
+                        b.name
+                    )
+                }
+                BindingKind::StorageBuffer { block, element } => format!(
+                    "layout(std430, {layout}) readonly buffer {block} {{ {element} {}[]; }};",
+                    b.name
+                ),
+                BindingKind::RwStorageBuffer { block, element } => format!(
+                    "layout(std430, {layout}) buffer {block} {{ {element} {}[]; }};",
+                    b.name
+                ),
+            };
+            match b.only_with {
+                Some(define) => out += &format!("#ifdef {define}\n{declaration}\n#endif\n"),
+                None => out += &format!("{declaration}\n"),
+            }
+        }
+        out + "#endif\n"
+    }
+
+    /// The binding number of `name`. The names are the crate's own constants, so a
+    /// missing one is a programming error caught by every test that records a frame.
+    pub fn index(&self, name: &str) -> u32 {
+        self.bindings
+            .iter()
+            .position(|b| b.name == name)
+            .unwrap_or_else(|| panic!("descriptor set {} has no binding {name}", self.name))
+            as u32
+    }
+
+    pub fn layout(&self, device: &Arc<Device>) -> Result<DescriptorSetLayout, VkError> {
+        let bindings: Vec<_> = self
+            .bindings
+            .iter()
+            .enumerate()
+            .map(|(i, b)| (i as u32, b.kind.descriptor_type(), 1, b.stages))
+            .collect();
+        DescriptorSetLayout::new(device, &bindings)
+    }
+
+    /// The descriptors `sets` sets of this layout take from a pool.
+    pub fn pool_sizes(&self, sets: u32) -> Vec<vk::DescriptorPoolSize> {
+        let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
+        for b in self.bindings {
+            let ty = b.kind.descriptor_type();
+            match sizes.iter_mut().find(|s| s.ty == ty) {
+                Some(s) => s.descriptor_count += sets,
+                None => sizes.push(vk::DescriptorPoolSize {
+                    ty,
+                    descriptor_count: sets,
+                }),
+            }
+        }
+        sizes
+    }
+
+    /// Starts the writes of one set of this layout.
+    pub fn writer(&'static self, set: vk::DescriptorSet) -> SetWriter {
+        SetWriter {
+            decl: self,
+            set,
+            images: Vec::new(),
+            buffers: Vec::new(),
+        }
+    }
+}
+
+/// Writes of one descriptor set, by binding name.
+pub struct SetWriter {
+    decl: &'static SetDecl,
+    set: vk::DescriptorSet,
+    images: Vec<(u32, [vk::DescriptorImageInfo; 1])>,
+    buffers: Vec<(u32, [vk::DescriptorBufferInfo; 1])>,
+}
+
+impl SetWriter {
+    /// An image (sampled, storage, or with a sampler for combined bindings) in `layout`.
+    pub fn image(
+        mut self,
+        name: &str,
+        view: vk::ImageView,
+        layout: vk::ImageLayout,
+        sampler: vk::Sampler,
+    ) -> Self {
+        let index = self.decl.index(name);
+        self.images.push((
+            index,
+            [vk::DescriptorImageInfo {
+                sampler,
+                image_view: view,
+                image_layout: layout,
+            }],
+        ));
+        self
+    }
+
+    /// A whole buffer.
+    pub fn buffer(mut self, name: &str, buffer: &Buffer) -> Self {
+        let index = self.decl.index(name);
+        self.buffers.push((
+            index,
+            [vk::DescriptorBufferInfo {
+                buffer: buffer.raw(),
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }],
+        ));
+        self
+    }
+
+    /// Applies the writes. The set must not be in use by a pending frame.
+    pub fn apply(self, device: &Device) {
+        let ty = |index: u32| self.decl.bindings[index as usize].kind.descriptor_type();
+        let mut writes: Vec<vk::WriteDescriptorSet<'_>> = self
+            .images
+            .iter()
+            .map(|(index, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(self.set)
+                    .dst_binding(*index)
+                    .descriptor_type(ty(*index))
+                    .image_info(info)
+            })
+            .collect();
+        writes.extend(self.buffers.iter().map(|(index, info)| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(self.set)
+                .dst_binding(*index)
+                .descriptor_type(ty(*index))
+                .buffer_info(info)
+        }));
+        // SAFETY: the caller guarantees the set is not in use by a pending frame.
+        unsafe { device.raw().update_descriptor_sets(&writes, &[]) };
+    }
+}
+
+const FRAGMENT: vk::ShaderStageFlags = vk::ShaderStageFlags::FRAGMENT;
+const VERTEX: vk::ShaderStageFlags = vk::ShaderStageFlags::VERTEX;
+
+/// Set 0 of the G-buffer pass: the object table (vertex stage) and the material table.
+pub static GBUFFER: SetDecl = SetDecl {
+    name: "gbuffer",
+    set: 0,
+    bindings: &[
+        Binding::new(
+            "objects",
+            BindingKind::StorageBuffer {
+                block: "Objects",
+                element: "GpuObject",
+            },
+            VERTEX,
+        ),
+        Binding::new(
+            "materials",
+            BindingKind::StorageBuffer {
+                block: "Materials",
+                element: "GpuMaterial",
+            },
+            FRAGMENT,
+        ),
+    ],
+    includes: &["gpu_types.glsl"],
+};
+
+/// Set 1 of the G-buffer pass: one material's textures, in `TextureSlot::ALL` order.
+pub static MATERIAL_TEXTURES: SetDecl = SetDecl {
+    name: "material_textures",
+    set: 1,
+    bindings: &[
+        Binding::new("base_color_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new(
+            "metallic_roughness_texture",
+            BindingKind::Sampler2D,
+            FRAGMENT,
+        ),
+        Binding::new("normal_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("occlusion_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("emissive_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("anisotropy_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("specular_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("specular_color_texture", BindingKind::Sampler2D, FRAGMENT),
+    ],
+    includes: &[],
+};
+
+/// The lighting pass: the G-buffer and depth, the material table, the frame's lights,
+/// the conductor-from-base-colour table, and the emissive target (EMISSIVE variant).
+pub static LIGHTING: SetDecl = SetDecl {
+    name: "lighting",
+    set: 0,
+    bindings: &[
+        Binding::new(
+            "gbuffer_base_color_metalness",
+            BindingKind::Texture2D,
+            FRAGMENT,
+        ),
+        Binding::new(
+            "gbuffer_normal_roughness_anisotropy",
+            BindingKind::Texture2D,
+            FRAGMENT,
+        ),
+        Binding::new(
+            "gbuffer_material_direction",
+            BindingKind::UTexture2D,
+            FRAGMENT,
+        ),
+        Binding::new("gbuffer_depth", BindingKind::Texture2D, FRAGMENT),
+        Binding::new(
+            "materials",
+            BindingKind::StorageBuffer {
+                block: "Materials",
+                element: "GpuMaterial",
+            },
+            FRAGMENT,
+        ),
+        Binding::new(
+            "lights",
+            BindingKind::StorageBuffer {
+                block: "Lights",
+                element: "GpuLight",
+            },
+            FRAGMENT,
+        ),
+        // η, k of a conductor derived from its base colour, per stored 8-bit code
+        // (gpu_types::conductor_from_base_color_table).
+        Binding::new(
+            "conductor_from_code",
+            BindingKind::StorageBuffer {
+                block: "ConductorTable",
+                element: "vec2",
+            },
+            FRAGMENT,
+        ),
+        Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT).only_with("EMISSIVE"),
+    ],
+    includes: &["gpu_types.glsl"],
+};
+
+/// The output pass: the HDR image.
+pub static OUTPUT: SetDecl = SetDecl {
+    name: "output",
+    set: 0,
+    bindings: &[Binding::new("hdr_image", BindingKind::Texture2D, FRAGMENT)],
+    includes: &[],
+};
+
+/// Every set, for generating the headers.
+pub static ALL: [&SetDecl; 4] = [&GBUFFER, &MATERIAL_TEXTURES, &LIGHTING, &OUTPUT];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn headers_number_bindings_in_declaration_order() {
+        let glsl = LIGHTING.glsl();
+        assert!(glsl.contains(
+            "layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;"
+        ));
+        assert!(glsl.contains(
+            "layout(std430, set = 0, binding = 5) readonly buffer Lights { GpuLight lights[]; };"
+        ));
+        assert!(glsl.contains(
+            "#ifdef EMISSIVE\nlayout(set = 0, binding = 7) uniform texture2D gbuffer_emissive;\n#endif"
+        ));
+        assert_eq!(LIGHTING.index("gbuffer_emissive"), 7);
+        assert_eq!(
+            MATERIAL_TEXTURES.bindings.len(),
+            combustion_scene::TextureSlot::ALL.len()
+        );
+    }
+
+    #[test]
+    fn pool_sizes_count_each_descriptor_type() {
+        let sizes = LIGHTING.pool_sizes(2);
+        let count = |ty| {
+            sizes
+                .iter()
+                .find(|s| s.ty == ty)
+                .map_or(0, |s| s.descriptor_count)
+        };
+        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 10);
+        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 6);
+    }
+}
