@@ -46,7 +46,7 @@ use gpu_types::{LightingPush, TonemapPush};
 pub use host::{
     ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, DISPLAY_FORMAT,
 };
-pub use scene_upload::GpuScene;
+pub use scene_upload::{GpuScene, SceneEditReport};
 
 /// The shader features a scene needs. Each distinct variant gets its own G-buffer and
 /// lighting pipelines (compile-time `#define`s), so a scene does not pay for features it
@@ -469,12 +469,39 @@ impl Renderer {
         Ok(gpu_scene)
     }
 
+    /// Edits an uploaded scene between frames without uploading it again: `edit` changes
+    /// a copy of its CPU scene (add, remove or change objects, materials, lights,
+    /// meshes, textures); only the parts that changed are rebuilt (see
+    /// [`SceneEditReport`]), the replaced ones are retired until the frames in flight
+    /// that read them have completed, and a shader feature the edit needs is built now,
+    /// ahead of the next frame. On error (an invalid edit) the scene is unchanged.
+    pub fn edit_scene(
+        &mut self,
+        scene: &mut GpuScene,
+        edit: impl FnOnce(&mut Scene),
+    ) -> Result<SceneEditReport, RenderError> {
+        let mut next = scene.scene.clone();
+        edit(&mut next);
+        let (mut report, retired) = scene.edited(&self.device, next, &self.layouts.material)?;
+        for part in retired {
+            self.retire_boxed(part);
+        }
+        let before = self.stats.pipelines_built;
+        self.prepare_variant(self.variant_of(scene.variant))?;
+        report.pipelines_built = self.stats.pipelines_built - before;
+        Ok(report)
+    }
+
     /// Keeps `resource` (a replaced [`GpuScene`], buffer, image...) alive until the
     /// frames recorded so far have completed, then drops it. Use it instead of dropping
     /// a scene that frames in flight may still read.
     pub fn retire(&mut self, resource: impl std::any::Any + Send) {
+        self.retire_boxed(Box::new(resource));
+    }
+
+    fn retire_boxed(&mut self, resource: Box<dyn std::any::Any + Send>) {
         let slot = self.current_slot();
-        self.slots[slot].retire(Box::new(resource));
+        self.slots[slot].retire(resource);
     }
 
     /// The GPU times of the most recent frame known to have completed (read when its

@@ -1,5 +1,7 @@
 //! A scene's data on the GPU: one vertex and one index buffer for all meshes, the
-//! object table, the material table and the light list. Uploaded once, drawn many times.
+//! textures, the object table and the material table. Uploaded once, drawn many times;
+//! edited between frames by rebuilding only the parts an edit touches (lights are each
+//! frame's own, in `FrameInputs`).
 
 use std::sync::Arc;
 
@@ -27,6 +29,8 @@ pub struct GpuScene {
     /// `conductor_from_base_color_table()`, or one dummy entry when no material needs it.
     pub(crate) conductor_table: Buffer,
     pub(crate) textures: SceneTextures,
+    /// Per mesh: its range in the vertex and index buffers.
+    mesh_ranges: Vec<Draw>,
     pub(crate) draws: Vec<Draw>,
     /// Per draw: render back faces too (double-sided material).
     pub(crate) double_sided: Vec<bool>,
@@ -39,13 +43,28 @@ pub struct GpuScene {
     pub scene: Scene,
 }
 
-impl GpuScene {
-    pub fn new(
-        device: &Arc<Device>,
-        scene: &Scene,
-        material_set_layout: &DescriptorSetLayout,
-    ) -> Result<Self, RenderError> {
-        scene.validate()?;
+/// What [`crate::Renderer::edit_scene`] rebuilt. Parts not named were kept as they were.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SceneEditReport {
+    /// The vertex and index buffers (meshes changed).
+    pub geometry: bool,
+    /// The textures and the per-material texture sets (images, textures or samplers changed).
+    pub textures: bool,
+    /// The object and material tables and the draw list (always: they are small).
+    pub tables: bool,
+    /// Pipelines built because the edit needs a shader feature the renderer had not built.
+    pub pipelines_built: u64,
+}
+
+/// The vertex and index buffers of every mesh, and each mesh's range in them.
+struct Geometry {
+    vertices: Buffer,
+    indices: Buffer,
+    mesh_ranges: Vec<Draw>,
+}
+
+impl Geometry {
+    fn new(device: &Arc<Device>, scene: &Scene) -> Result<Self, RenderError> {
         let mut vertices = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
         let mut mesh_ranges = Vec::with_capacity(scene.meshes.len());
@@ -60,25 +79,6 @@ impl GpuScene {
             vertices.extend_from_slice(&mesh.vertices);
             indices.extend_from_slice(&mesh.indices);
         }
-        let draws = scene.objects.iter().map(|o| mesh_ranges[o.mesh]).collect();
-        let objects: Vec<GpuObject> = scene.objects.iter().map(GpuObject::new).collect();
-        let textures = SceneTextures::new(device, scene, material_set_layout)?;
-        let materials = material_table(scene, &textures.material_indices);
-        let needs_table = scene.materials.iter().any(|m| m.conductor_from_base_color);
-        let conductor_table: &[[f32; 2]] = if needs_table {
-            conductor_from_base_color_table()
-        } else {
-            &[[1.0, 0.0]]
-        };
-        let variant = crate::ShaderVariant {
-            emissive: scene
-                .materials
-                .iter()
-                .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
-            // The Fresnel model is the renderer's setting, applied at render time.
-            schlick: false,
-        };
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         Ok(Self {
             vertices: Buffer::with_data(
                 device,
@@ -92,6 +92,39 @@ impl GpuScene {
                 bytemuck::cast_slice(&indices),
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
+            mesh_ranges,
+        })
+    }
+}
+
+/// The object and material tables, the conductor table, and the draw list.
+struct Tables {
+    objects: Buffer,
+    materials: Buffer,
+    conductor_table: Buffer,
+    draws: Vec<Draw>,
+    double_sided: Vec<bool>,
+    draw_materials: Vec<usize>,
+    variant: crate::ShaderVariant,
+}
+
+impl Tables {
+    fn new(
+        device: &Arc<Device>,
+        scene: &Scene,
+        mesh_ranges: &[Draw],
+        textures: &SceneTextures,
+    ) -> Result<Self, RenderError> {
+        let objects: Vec<GpuObject> = scene.objects.iter().map(GpuObject::new).collect();
+        let materials = material_table(scene, &textures.material_indices);
+        let needs_table = scene.materials.iter().any(|m| m.conductor_from_base_color);
+        let conductor_table: &[[f32; 2]] = if needs_table {
+            conductor_from_base_color_table()
+        } else {
+            &[[1.0, 0.0]]
+        };
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        Ok(Self {
             objects: Buffer::with_data(
                 device,
                 "object table",
@@ -110,16 +143,117 @@ impl GpuScene {
                 bytemuck::cast_slice(conductor_table),
                 storage,
             )?,
-            textures,
+            draws: scene.objects.iter().map(|o| mesh_ranges[o.mesh]).collect(),
             double_sided: scene
                 .objects
                 .iter()
                 .map(|o| scene.materials[o.material].double_sided)
                 .collect(),
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),
-            variant,
-            draws,
-            scene: scene.clone(),
+            variant: crate::ShaderVariant {
+                emissive: scene.materials.iter().any(|m| {
+                    m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)
+                }),
+                // The Fresnel model is the renderer's setting, applied at render time.
+                schlick: false,
+            },
         })
+    }
+}
+
+impl GpuScene {
+    pub fn new(
+        device: &Arc<Device>,
+        scene: &Scene,
+        material_set_layout: &DescriptorSetLayout,
+    ) -> Result<Self, RenderError> {
+        scene.validate()?;
+        let geometry = Geometry::new(device, scene)?;
+        let textures = SceneTextures::new(device, scene, material_set_layout)?;
+        let tables = Tables::new(device, scene, &geometry.mesh_ranges, &textures)?;
+        Ok(Self::assemble(geometry, textures, tables, scene.clone()))
+    }
+
+    fn assemble(geometry: Geometry, textures: SceneTextures, tables: Tables, scene: Scene) -> Self {
+        Self {
+            vertices: geometry.vertices,
+            indices: geometry.indices,
+            mesh_ranges: geometry.mesh_ranges,
+            objects: tables.objects,
+            materials: tables.materials,
+            conductor_table: tables.conductor_table,
+            textures,
+            draws: tables.draws,
+            double_sided: tables.double_sided,
+            draw_materials: tables.draw_materials,
+            variant: tables.variant,
+            scene,
+        }
+    }
+
+    /// Builds what `next` needs that differs from this scene: new geometry if the meshes
+    /// changed, new textures if the texture table changed, new tables always. Returns the
+    /// edited scene and this one's replaced parts (to retire), or an error with this
+    /// scene untouched.
+    pub(crate) fn edited(
+        &mut self,
+        device: &Arc<Device>,
+        next: Scene,
+        material_set_layout: &DescriptorSetLayout,
+    ) -> Result<(SceneEditReport, Vec<Box<dyn std::any::Any + Send>>), RenderError> {
+        next.validate()?;
+        let mut report = SceneEditReport {
+            tables: true,
+            ..SceneEditReport::default()
+        };
+        let geometry = if next.meshes != self.scene.meshes {
+            report.geometry = true;
+            Some(Geometry::new(device, &next)?)
+        } else {
+            None
+        };
+        let textures = if next.texture_table() != self.scene.texture_table() {
+            report.textures = true;
+            Some(SceneTextures::new(device, &next, material_set_layout)?)
+        } else {
+            None
+        };
+        let mesh_ranges = geometry
+            .as_ref()
+            .map_or(&self.mesh_ranges, |g| &g.mesh_ranges);
+        let tables = Tables::new(
+            device,
+            &next,
+            mesh_ranges,
+            textures.as_ref().unwrap_or(&self.textures),
+        )?;
+        // Everything new is built: swap it in and hand back what it replaces.
+        let mut retired: Vec<Box<dyn std::any::Any + Send>> = Vec::new();
+        if let Some(g) = geometry {
+            retired.push(Box::new(std::mem::replace(&mut self.vertices, g.vertices)));
+            retired.push(Box::new(std::mem::replace(&mut self.indices, g.indices)));
+            self.mesh_ranges = g.mesh_ranges;
+        }
+        if let Some(t) = textures {
+            retired.push(Box::new(std::mem::replace(&mut self.textures, t)));
+        }
+        retired.push(Box::new(std::mem::replace(
+            &mut self.objects,
+            tables.objects,
+        )));
+        retired.push(Box::new(std::mem::replace(
+            &mut self.materials,
+            tables.materials,
+        )));
+        retired.push(Box::new(std::mem::replace(
+            &mut self.conductor_table,
+            tables.conductor_table,
+        )));
+        self.draws = tables.draws;
+        self.double_sided = tables.double_sided;
+        self.draw_materials = tables.draw_materials;
+        self.variant = tables.variant;
+        self.scene = next;
+        Ok((report, retired))
     }
 }
