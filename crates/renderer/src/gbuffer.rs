@@ -48,17 +48,7 @@ impl GBufferTargets {
             | vk::ImageUsageFlags::SAMPLED
             | vk::ImageUsageFlags::TRANSFER_SRC;
         let image = |name, format, usage| {
-            Image::new(
-                device,
-                &ImageDesc {
-                    name,
-                    format,
-                    width,
-                    height,
-                    usage,
-                    mip_levels: 1,
-                },
-            )
+            Image::new(device, &ImageDesc::new(name, format, width, height, usage))
         };
         Ok(Self {
             base_color_metalness: image(

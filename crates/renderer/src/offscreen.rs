@@ -159,16 +159,15 @@ impl Renderer {
         {
             let display = Image::new(
                 &self.device,
-                &ImageDesc {
-                    name: "display (sRGB-encoded)",
-                    format: DISPLAY_FORMAT,
+                &ImageDesc::new(
+                    "display (sRGB-encoded)",
+                    DISPLAY_FORMAT,
                     width,
                     height,
-                    usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT
                         | vk::ImageUsageFlags::SAMPLED
                         | vk::ImageUsageFlags::TRANSFER_SRC,
-                    mip_levels: 1,
-                },
+                ),
             )?;
             if let Some(old) = offscreen.display.replace((display, ImageState::UNDEFINED)) {
                 self.retire(old.0);

@@ -39,16 +39,15 @@ impl FrameTargets {
             gbuffer: GBufferTargets::new(device, key.width, key.height, variant)?,
             hdr: Image::new(
                 device,
-                &ImageDesc {
-                    name: "hdr radiance",
-                    format: hdr_format.vk(),
-                    width: key.width,
-                    height: key.height,
-                    usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
+                &ImageDesc::new(
+                    "hdr radiance",
+                    hdr_format.vk(),
+                    key.width,
+                    key.height,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT
                         | vk::ImageUsageFlags::SAMPLED
                         | vk::ImageUsageFlags::TRANSFER_SRC,
-                    mip_levels: 1,
-                },
+                ),
             )?,
         })
     }

@@ -87,16 +87,16 @@ fn upload_image(
     };
     let image = Image::new(
         device,
-        &ImageDesc {
+        &ImageDesc::new(
             name,
             format,
             width,
             height,
-            usage: vk::ImageUsageFlags::SAMPLED
+            vk::ImageUsageFlags::SAMPLED
                 | vk::ImageUsageFlags::TRANSFER_DST
                 | vk::ImageUsageFlags::TRANSFER_SRC,
-            mip_levels,
-        },
+        )
+        .mips(mip_levels),
     )?;
     let staging = Buffer::with_data(device, name, pixels, vk::BufferUsageFlags::TRANSFER_SRC)?;
     let cmd = commands.begin()?;

@@ -35,7 +35,9 @@ pub use pipeline::{
     DescriptorPool, DescriptorSetLayout, GraphicsPipelineDesc, Pipeline, PipelineCache,
     PipelineLayout, Sampler,
 };
-pub use resources::{full_mip_chain, image_barrier, Buffer, Image, ImageDesc, ImageState};
+pub use resources::{
+    full_mip_chain, image_barrier, Buffer, Image, ImageDesc, ImageState, ImageView,
+};
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources, ShaderStage};
 pub use swapchain::{PresentOutcome, Surface, Swapchain};
 pub use timestamps::TimestampQueries;

@@ -198,6 +198,98 @@ pub struct ImageDesc<'a> {
     pub usage: vk::ImageUsageFlags,
     /// Mip levels (1 = none); see [`full_mip_chain`].
     pub mip_levels: u32,
+    /// Array layers (1 for a plain image; 6 per cube for a cube map).
+    pub layers: u32,
+    /// A cube map (or an array of them): square, `layers` a multiple of 6, viewed as
+    /// `samplerCube` (`CUBE` or `CUBE_ARRAY`).
+    pub cube: bool,
+}
+
+impl<'a> ImageDesc<'a> {
+    /// A plain 2D image: one mip level, one layer.
+    pub fn new(
+        name: &'a str,
+        format: vk::Format,
+        width: u32,
+        height: u32,
+        usage: vk::ImageUsageFlags,
+    ) -> Self {
+        Self {
+            name,
+            format,
+            width,
+            height,
+            usage,
+            mip_levels: 1,
+            layers: 1,
+            cube: false,
+        }
+    }
+
+    /// With `levels` mip levels.
+    pub fn mips(self, levels: u32) -> Self {
+        Self {
+            mip_levels: levels,
+            ..self
+        }
+    }
+
+    /// With every mip level down to 1×1.
+    pub fn full_mips(self) -> Self {
+        self.mips(full_mip_chain(self.width, self.height))
+    }
+
+    /// An array of `layers` layers.
+    pub fn array(self, layers: u32) -> Self {
+        Self { layers, ..self }
+    }
+
+    /// A cube map of `size`×`size` faces.
+    pub fn cube(name: &'a str, format: vk::Format, size: u32, usage: vk::ImageUsageFlags) -> Self {
+        Self {
+            layers: 6,
+            cube: true,
+            ..Self::new(name, format, size, size, usage)
+        }
+    }
+
+    /// The view type of a view over every layer.
+    fn view_type(&self) -> vk::ImageViewType {
+        match (self.cube, self.layers) {
+            (true, 6) => vk::ImageViewType::CUBE,
+            (true, _) => vk::ImageViewType::CUBE_ARRAY,
+            (false, 1) => vk::ImageViewType::TYPE_2D,
+            (false, _) => vk::ImageViewType::TYPE_2D_ARRAY,
+        }
+    }
+
+    /// Why this description cannot be made, if it cannot.
+    fn check(&self, max: u32) -> Result<(), String> {
+        let name = self.name;
+        if self.width == 0 || self.height == 0 || self.width > max || self.height > max {
+            return Err(format!(
+                "image {name} of {}x{} is outside the device's limits (1..={max} per side)",
+                self.width, self.height
+            ));
+        }
+        let full = full_mip_chain(self.width, self.height);
+        if self.mip_levels == 0 || self.mip_levels > full {
+            return Err(format!(
+                "image {name} asks for {} mip levels; a {}x{} image has 1 to {full}",
+                self.mip_levels, self.width, self.height
+            ));
+        }
+        if self.layers == 0 {
+            return Err(format!("image {name} has no layers"));
+        }
+        if self.cube && (self.width != self.height || self.layers % 6 != 0) {
+            return Err(format!(
+                "cube map {name} must be square with a multiple of 6 layers, not {}x{} with {}",
+                self.width, self.height, self.layers
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// The number of mip levels down to 1×1 for a `width`×`height` image.
@@ -205,7 +297,8 @@ pub fn full_mip_chain(width: u32, height: u32) -> u32 {
     32 - width.max(height).max(1).leading_zeros()
 }
 
-/// A 2D image, its memory and a view over all of it. Destroyed when dropped.
+/// A 2D image (plain, array or cube map, with or without mips), its memory and a view
+/// over all of it. Destroyed when dropped.
 pub struct Image {
     device: Arc<Device>,
     raw: vk::Image,
@@ -215,17 +308,13 @@ pub struct Image {
     extent: vk::Extent2D,
     aspect: vk::ImageAspectFlags,
     mip_levels: u32,
+    layers: u32,
 }
 
 impl Image {
     pub fn new(device: &Arc<Device>, desc: &ImageDesc<'_>) -> Result<Image, VkError> {
-        let max = device.max_image_dimension_2d();
-        if desc.width == 0 || desc.height == 0 || desc.width > max || desc.height > max {
-            return Err(VkError::Unsupported(format!(
-                "image {} of {}x{} is outside the device's limits (1..={max} per side)",
-                desc.name, desc.width, desc.height
-            )));
-        }
+        desc.check(device.max_image_dimension_2d())
+            .map_err(VkError::Unsupported)?;
         let aspect = match desc.format {
             vk::Format::D32_SFLOAT | vk::Format::D16_UNORM => vk::ImageAspectFlags::DEPTH,
             _ => vk::ImageAspectFlags::COLOR,
@@ -238,8 +327,13 @@ impl Image {
                 height: desc.height,
                 depth: 1,
             })
-            .mip_levels(desc.mip_levels.max(1))
-            .array_layers(1)
+            .mip_levels(desc.mip_levels)
+            .array_layers(desc.layers)
+            .flags(if desc.cube {
+                vk::ImageCreateFlags::CUBE_COMPATIBLE
+            } else {
+                vk::ImageCreateFlags::empty()
+            })
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
@@ -259,7 +353,8 @@ impl Image {
                 height: desc.height,
             },
             aspect,
-            mip_levels: desc.mip_levels.max(1),
+            mip_levels: desc.mip_levels,
+            layers: desc.layers,
         };
         let requirements = unsafe { raw_device.get_image_memory_requirements(raw) };
         let allocation = device
@@ -279,28 +374,68 @@ impl Image {
         let (memory, offset) = (unsafe { allocation.memory() }, allocation.offset());
         image.allocation = Some(allocation);
         unsafe { raw_device.bind_image_memory(raw, memory, offset) }.what("vkBindImageMemory")?;
-        let view_info = vk::ImageViewCreateInfo::default()
-            .image(raw)
-            .view_type(vk::ImageViewType::TYPE_2D)
-            .format(desc.format)
-            .subresource_range(image.subresource_range());
-        image.view =
-            unsafe { raw_device.create_image_view(&view_info, None) }.what("vkCreateImageView")?;
+        image.view = image.create_view(desc.view_type(), image.subresource_range())?;
         Ok(image)
     }
 
-    fn range(
-        aspect: vk::ImageAspectFlags,
-        base_mip_level: u32,
-        level_count: u32,
-    ) -> vk::ImageSubresourceRange {
+    fn create_view(
+        &self,
+        view_type: vk::ImageViewType,
+        range: vk::ImageSubresourceRange,
+    ) -> Result<vk::ImageView, VkError> {
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(self.raw)
+            .view_type(view_type)
+            .format(self.format)
+            .subresource_range(range);
+        // SAFETY: valid create info for this image.
+        unsafe { self.device.raw().create_image_view(&view_info, None) }.what("vkCreateImageView")
+    }
+
+    /// A view of part of the image: mip levels `mips`, layers `layers`, as `view_type`
+    /// (e.g. one mip level of a cube map as a `TYPE_2D_ARRAY` storage image for compute,
+    /// or one face as `TYPE_2D`).
+    pub fn view_of(
+        &self,
+        mips: std::ops::Range<u32>,
+        layers: std::ops::Range<u32>,
+        view_type: vk::ImageViewType,
+    ) -> Result<ImageView, VkError> {
+        if mips.is_empty()
+            || mips.end > self.mip_levels
+            || layers.is_empty()
+            || layers.end > self.layers
+        {
+            return Err(VkError::Unsupported(format!(
+                "a view of mips {mips:?} and layers {layers:?} is outside an image of {} mips and {} layers",
+                self.mip_levels, self.layers
+            )));
+        }
+        let range = vk::ImageSubresourceRange {
+            aspect_mask: self.aspect,
+            base_mip_level: mips.start,
+            level_count: mips.len() as u32,
+            base_array_layer: layers.start,
+            layer_count: layers.len() as u32,
+        };
+        Ok(ImageView {
+            device: self.device.clone(),
+            raw: self.create_view(view_type, range)?,
+        })
+    }
+
+    fn range(&self, base_mip_level: u32, level_count: u32) -> vk::ImageSubresourceRange {
         vk::ImageSubresourceRange {
-            aspect_mask: aspect,
+            aspect_mask: self.aspect,
             base_mip_level,
             level_count,
             base_array_layer: 0,
-            layer_count: 1,
+            layer_count: self.layers,
         }
+    }
+
+    pub fn layers(&self) -> u32 {
+        self.layers
     }
 
     pub fn mip_levels(&self) -> u32 {
@@ -309,7 +444,7 @@ impl Image {
 
     /// One mip level as a subresource range.
     pub fn mip_range(&self, level: u32) -> vk::ImageSubresourceRange {
-        Self::range(self.aspect, level, 1)
+        self.range(level, 1)
     }
 
     pub fn raw(&self) -> vk::Image {
@@ -329,7 +464,7 @@ impl Image {
     }
     /// The whole image as a subresource range.
     pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
-        Self::range(self.aspect, 0, self.mip_levels)
+        self.range(0, self.mip_levels)
     }
 
     /// A layout transition of the whole image (synchronization2).
@@ -356,24 +491,38 @@ impl Image {
         )
     }
 
-    fn layers(&self, mip_level: u32) -> vk::ImageSubresourceLayers {
+    fn subresource_layers(&self, mip_level: u32, layer: u32) -> vk::ImageSubresourceLayers {
         vk::ImageSubresourceLayers {
             aspect_mask: self.aspect,
             mip_level,
-            base_array_layer: 0,
+            base_array_layer: layer,
             layer_count: 1,
         }
     }
 
-    /// All of mip level 0, tightly packed in a buffer.
-    fn level0_copy_region(&self) -> vk::BufferImageCopy {
+    /// The size of mip level `level`.
+    pub fn mip_extent(&self, level: u32) -> vk::Extent2D {
+        vk::Extent2D {
+            width: (self.extent.width >> level).max(1),
+            height: (self.extent.height >> level).max(1),
+        }
+    }
+
+    /// All of one mip level of one layer, tightly packed in a buffer.
+    fn copy_region(&self, mip_level: u32, layer: u32) -> vk::BufferImageCopy {
+        let extent = self.mip_extent(mip_level);
         vk::BufferImageCopy::default()
-            .image_subresource(self.layers(0))
+            .image_subresource(self.subresource_layers(mip_level, layer))
             .image_extent(vk::Extent3D {
-                width: self.extent.width,
-                height: self.extent.height,
+                width: extent.width,
+                height: extent.height,
                 depth: 1,
             })
+    }
+
+    /// All of mip level 0 of layer 0, tightly packed in a buffer.
+    fn level0_copy_region(&self) -> vk::BufferImageCopy {
+        self.copy_region(0, 0)
     }
 
     /// Records the upload of mip level 0 from `staging` (tightly packed texels) and the
@@ -425,9 +574,9 @@ impl Image {
             barrier(&[level_barrier(level - 1, dst, src)]);
             let ((sw, sh), (dw, dh)) = (size(level - 1), size(level));
             let blit = vk::ImageBlit::default()
-                .src_subresource(self.layers(level - 1))
+                .src_subresource(self.subresource_layers(level - 1, 0))
                 .src_offsets([vk::Offset3D::default(), vk::Offset3D { x: sw, y: sh, z: 1 }])
-                .dst_subresource(self.layers(level))
+                .dst_subresource(self.subresource_layers(level, 0))
                 .dst_offsets([vk::Offset3D::default(), vk::Offset3D { x: dw, y: dh, z: 1 }]);
             // SAFETY: recording state; levels are in the layouts named.
             unsafe {
@@ -448,7 +597,19 @@ impl Image {
 
     /// Records a copy of the whole image (in TRANSFER_SRC_OPTIMAL) into `buffer`, tightly packed.
     pub fn record_copy_to_buffer(&self, cmd: vk::CommandBuffer, buffer: &Buffer) {
-        let region = self.level0_copy_region();
+        self.record_level_copy_to_buffer(cmd, buffer, 0, 0);
+    }
+
+    /// Records a copy of mip level `mip_level` of layer `layer` (in TRANSFER_SRC_OPTIMAL)
+    /// into `buffer`, tightly packed.
+    pub fn record_level_copy_to_buffer(
+        &self,
+        cmd: vk::CommandBuffer,
+        buffer: &Buffer,
+        mip_level: u32,
+        layer: u32,
+    ) {
+        let region = self.copy_region(mip_level, layer);
         // SAFETY: the caller records into a command buffer in the recording state.
         unsafe {
             self.device.raw().cmd_copy_image_to_buffer(
@@ -459,6 +620,26 @@ impl Image {
                 &[region],
             )
         };
+    }
+}
+
+/// A view of part of an [`Image`] ([`Image::view_of`]), destroyed when dropped (before
+/// its image: it holds no reference to it, so keep the image alive while it is used).
+pub struct ImageView {
+    device: Arc<Device>,
+    raw: vk::ImageView,
+}
+
+impl ImageView {
+    pub fn raw(&self) -> vk::ImageView {
+        self.raw
+    }
+}
+
+impl Drop for ImageView {
+    fn drop(&mut self) {
+        // SAFETY: the caller keeps views alive only while frames using them are pending.
+        unsafe { self.device.raw().destroy_image_view(self.raw, None) };
     }
 }
 
