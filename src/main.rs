@@ -20,8 +20,8 @@ USAGE:
   combustion render [SCENE] [-o OUT.png] [--hdr OUT.exr] [--width N] [--height N]
                     [--exposure X] [--hdr-format f16|f32] [--fresnel full|schlick]
                     [--device SEL] [--validate]
-  combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--hdr-format f16|f32]
-                    [--fresnel full|schlick] [--device SEL] [--validate]
+  combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
+                    [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
                     [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
   combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
@@ -53,6 +53,10 @@ value or one per RGB channel (k defaults to 0). --outside-ior is the medium's in
 0.5, unpolarised). PLOT OPTIONS: [-o OUT.png] [--width N] [--height N]; the default
 output is reflectance.png, spectrum.png or dielectrics.png, the default size 800x500
 (spectrum 800x600).
+
+bench submits N frames with frames in flight (default 2; 1 to 3): each waits only for
+the frame that used its slot. It prints the GPU time of each pass (timestamps: median,
+p10, p90), the wall-clock interval between submissions, and the throughput.
 
 view opens a window (X11: needs DISPLAY, e.g. under Xvfb) and renders the scene every
 frame at the window's size; the title shows the last frame's GPU time. Escape or closing
@@ -112,6 +116,8 @@ struct Options {
     frames: u32,
     /// `--frames` was given (`view` runs until closed otherwise).
     frames_given: bool,
+    /// `bench`: frames the CPU may record ahead of the GPU.
+    frames_in_flight: usize,
     device: Option<DeviceSelector>,
     validate: bool,
 }
@@ -134,6 +140,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         fresnel: FresnelModel::default(),
         frames: 30,
         frames_given: false,
+        frames_in_flight: RendererSettings::default().frames_in_flight,
         device: None,
         validate: false,
     };
@@ -183,6 +190,16 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
                 o.frames = number(flag, value()?)?;
                 o.frames_given = true;
             }
+            "--frames-in-flight" if command == "bench" => {
+                o.frames_in_flight = number(flag, value()?)?;
+                if !(1..=combustion::renderer::MAX_FRAMES_IN_FLIGHT).contains(&o.frames_in_flight) {
+                    return Err(Error::Usage(format!(
+                        "--frames-in-flight: {} is not between 1 and {}",
+                        o.frames_in_flight,
+                        combustion::renderer::MAX_FRAMES_IN_FLIGHT
+                    )));
+                }
+            }
             "--device" => o.device = Some(value()?.parse()?),
             "--validate" => o.validate = true,
             _ if !flag.starts_with('-') && !scene_given => {
@@ -229,7 +246,7 @@ fn device_and_settings(o: &Options) -> Result<(DeviceDesc, RendererSettings), Er
         exposure: o.exposure,
         hdr_format: o.hdr_format,
         fresnel: o.fresnel,
-        ..RendererSettings::default()
+        frames_in_flight: o.frames_in_flight,
     };
     Ok((device, settings))
 }

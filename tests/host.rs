@@ -30,6 +30,16 @@ fn lavapipe_host() -> HostVulkan {
     HostVulkan::new("llvmpipe", true, &[], &[]).expect("lavapipe with validation")
 }
 
+/// The example host on lavapipe with builtin:spheres uploaded, 2 frames in flight; its
+/// validation log; the scene.
+fn spheres_host() -> (Host, vulkan::Messages, combustion::scene::Scene) {
+    let vulkan = lavapipe_host();
+    let log = vulkan.message_log();
+    let scene = builtin_scene("spheres").unwrap();
+    let host = Host::new(vulkan, 2, std::slice::from_ref(&scene)).unwrap();
+    (host, log, scene)
+}
+
 fn assert_no_messages(log: &vulkan::Messages) {
     let messages = log.lock().unwrap().clone();
     assert!(
@@ -50,10 +60,7 @@ fn close_to(texel: [u8; 4], c: [f32; 4]) -> bool {
 
 #[test]
 fn host_frames_compose_combustions_output_on_the_device() {
-    let vulkan = lavapipe_host();
-    let log = vulkan.message_log();
-    let scene = builtin_scene("spheres").unwrap();
-    let mut host = Host::new(vulkan, 2, std::slice::from_ref(&scene)).unwrap();
+    let (mut host, log, scene) = spheres_host();
     let extent = vk::Extent2D {
         width: 160 + 2 * BORDER,
         height: 96 + 2 * BORDER,
@@ -307,10 +314,7 @@ fn a_borrowed_device_is_never_waited_idle_by_combustion() {
 /// the driver's sRGB conversion in _SRGB formats.
 #[test]
 fn every_output_format_holds_the_frame() {
-    let vulkan = lavapipe_host();
-    let log = vulkan.message_log();
-    let scene = builtin_scene("spheres").unwrap();
-    let mut host = Host::new(vulkan, 2, std::slice::from_ref(&scene)).unwrap();
+    let (mut host, log, scene) = spheres_host();
     let extent = vk::Extent2D {
         width: 48,
         height: 40,
@@ -419,10 +423,7 @@ fn every_output_format_holds_the_frame() {
 #[test]
 fn record_refuses_bad_arguments_before_recording() {
     use combustion::renderer::RenderError;
-    let vulkan = lavapipe_host();
-    let log = vulkan.message_log();
-    let scene = builtin_scene("spheres").unwrap();
-    let mut host = Host::new(vulkan, 2, std::slice::from_ref(&scene)).unwrap();
+    let (mut host, log, _scene) = spheres_host();
     let extent = vk::Extent2D {
         width: 32,
         height: 32,

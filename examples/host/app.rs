@@ -310,30 +310,7 @@ impl Host {
             .map_err(|e| e.to_string())?;
         let mut slots = Vec::new();
         for _ in 0..frames_in_flight {
-            let d = &vulkan.device;
-            let pool = unsafe {
-                d.create_command_pool(
-                    &vk::CommandPoolCreateInfo::default().queue_family_index(vulkan.queue_family),
-                    None,
-                )
-            }
-            .map_err(|e| e.to_string())?;
-            let cmd = unsafe {
-                d.allocate_command_buffers(
-                    &vk::CommandBufferAllocateInfo::default()
-                        .command_pool(pool)
-                        .level(vk::CommandBufferLevel::PRIMARY)
-                        .command_buffer_count(1),
-                )
-            }
-            .map_err(|e| e.to_string())?[0];
-            let fence = unsafe {
-                d.create_fence(
-                    &vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED),
-                    None,
-                )
-            }
-            .map_err(|e| e.to_string())?;
+            let (pool, cmd, fence) = vulkan.command_buffer(true)?;
             slots.push(HostSlot {
                 pool,
                 cmd,

@@ -78,8 +78,9 @@ pub fn rss_bytes() -> u64 {
 #[derive(Clone, Copy, Debug)]
 pub struct SoakPlan {
     pub frames: u64,
-    /// Every this many frames the current scene is edited: an object moved, the scene
-    /// uploaded again and the old upload retired to Combustion (not waited for).
+    /// Every this many frames the current scene is edited: an object moved, with
+    /// `Renderer::edit_scene` three times in four and by uploading the scene anew (the
+    /// old upload retired to Combustion, not waited for) the fourth.
     pub edit_every: u64,
     /// The scenes alternate every this many frames.
     pub scene_every: u64,
@@ -146,15 +147,29 @@ pub fn soak(
         }
         let scene = ((n / plan.scene_every) % scenes.len() as u64) as usize;
         if n % plan.edit_every == 0 {
-            let mut edited = scenes[scene].clone();
-            if let Some(object) = edited.objects.first_mut() {
-                let shift = 0.1 * ((n / plan.edit_every) % 4) as f32;
-                object.transform = glam::Mat4::from_translation(glam::Vec3::new(shift, 0.0, 0.0))
-                    * object.transform;
+            // The first object moves to one of four places; three edits in four go
+            // through `edit_scene` (only the tables are rebuilt), the fourth uploads the
+            // edited scene anew and retires the old upload.
+            let step = (n / plan.edit_every) % 4;
+            let original = scenes[scene].objects.first().map(|o| o.transform);
+            let place = move |edited: &mut Scene| {
+                if let (Some(object), Some(original)) = (edited.objects.first_mut(), original) {
+                    let shift = glam::Vec3::new(0.1 * step as f32, 0.0, 0.0);
+                    object.transform = glam::Mat4::from_translation(shift) * original;
+                }
+            };
+            if step == 3 {
+                let mut edited = scenes[scene].clone();
+                place(&mut edited);
+                let upload = host.renderer().upload(&edited).map_err(|e| e.to_string())?;
+                let old = std::mem::replace(&mut host.scenes[scene], upload);
+                host.renderer().retire(old);
+            } else {
+                let renderer = host.renderer.as_mut().expect("alive until drop");
+                renderer
+                    .edit_scene(&mut host.scenes[scene], place)
+                    .map_err(|e| e.to_string())?;
             }
-            let upload = host.renderer().upload(&edited).map_err(|e| e.to_string())?;
-            let old = std::mem::replace(&mut host.scenes[scene], upload);
-            host.renderer().retire(old);
         }
         frame(host, &mut output, scene)?;
         if (n + 1) % every == 0 {
@@ -218,24 +233,7 @@ pub fn read_back(
         .map_err(|e| e.to_string())?;
     unsafe { d.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) }
         .map_err(|e| e.to_string())?;
-    let pool = unsafe {
-        d.create_command_pool(
-            &vk::CommandPoolCreateInfo::default().queue_family_index(v.queue_family),
-            None,
-        )
-    }
-    .map_err(|e| e.to_string())?;
-    let cmd = unsafe {
-        d.allocate_command_buffers(
-            &vk::CommandBufferAllocateInfo::default()
-                .command_pool(pool)
-                .level(vk::CommandBufferLevel::PRIMARY)
-                .command_buffer_count(1),
-        )
-    }
-    .map_err(|e| e.to_string())?[0];
-    let fence = unsafe { d.create_fence(&vk::FenceCreateInfo::default(), None) }
-        .map_err(|e| e.to_string())?;
+    let (pool, cmd, fence) = v.command_buffer(false)?;
     unsafe {
         d.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default())
             .map_err(|e| e.to_string())?;

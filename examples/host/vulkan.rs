@@ -208,6 +208,46 @@ impl HostVulkan {
             .unwrap_or_default()
     }
 
+    /// A command pool with one primary command buffer, and a fence (signalled or not).
+    pub fn command_buffer(
+        &self,
+        signalled: bool,
+    ) -> Result<(vk::CommandPool, vk::CommandBuffer, vk::Fence), String> {
+        let d = &self.device;
+        let pool = unsafe {
+            d.create_command_pool(
+                &vk::CommandPoolCreateInfo::default().queue_family_index(self.queue_family),
+                None,
+            )
+        }
+        .map_err(|e| e.to_string())?;
+        let created = unsafe {
+            d.allocate_command_buffers(
+                &vk::CommandBufferAllocateInfo::default()
+                    .command_pool(pool)
+                    .level(vk::CommandBufferLevel::PRIMARY)
+                    .command_buffer_count(1),
+            )
+        }
+        .and_then(|cmds| {
+            let flags = if signalled {
+                vk::FenceCreateFlags::SIGNALED
+            } else {
+                vk::FenceCreateFlags::empty()
+            };
+            let fence =
+                unsafe { d.create_fence(&vk::FenceCreateInfo::default().flags(flags), None) }?;
+            Ok((cmds[0], fence))
+        });
+        match created {
+            Ok((cmd, fence)) => Ok((pool, cmd, fence)),
+            Err(e) => {
+                unsafe { d.destroy_command_pool(pool, None) };
+                Err(e.to_string())
+            }
+        }
+    }
+
     /// Submits on the shared queue, under the shared lock; optionally waits for the
     /// first semaphore (before anything touches the final image) and signals the second.
     pub fn submit(

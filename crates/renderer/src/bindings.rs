@@ -253,6 +253,16 @@ impl SetWriter {
 const FRAGMENT: vk::ShaderStageFlags = vk::ShaderStageFlags::FRAGMENT;
 const VERTEX: vk::ShaderStageFlags = vk::ShaderStageFlags::VERTEX;
 
+/// The material table, read by the G-buffer and the lighting passes.
+const MATERIALS: Binding = Binding::new(
+    "materials",
+    BindingKind::StorageBuffer {
+        block: "Materials",
+        element: "GpuMaterial",
+    },
+    FRAGMENT,
+);
+
 /// Set 0 of the G-buffer pass: the object table (vertex stage) and the material table.
 pub static GBUFFER: SetDecl = SetDecl {
     name: "gbuffer",
@@ -266,14 +276,7 @@ pub static GBUFFER: SetDecl = SetDecl {
             },
             VERTEX,
         ),
-        Binding::new(
-            "materials",
-            BindingKind::StorageBuffer {
-                block: "Materials",
-                element: "GpuMaterial",
-            },
-            FRAGMENT,
-        ),
+        MATERIALS,
     ],
     includes: &["gpu_types.glsl"],
 };
@@ -321,14 +324,7 @@ pub static LIGHTING: SetDecl = SetDecl {
             FRAGMENT,
         ),
         Binding::new("gbuffer_depth", BindingKind::Texture2D, FRAGMENT),
-        Binding::new(
-            "materials",
-            BindingKind::StorageBuffer {
-                block: "Materials",
-                element: "GpuMaterial",
-            },
-            FRAGMENT,
-        ),
+        MATERIALS,
         Binding::new(
             "lights",
             BindingKind::StorageBuffer {
