@@ -8,7 +8,7 @@ use combustion_vk::{vk, Buffer, DescriptorPool, Device, ImageState, TimestampQue
 
 use crate::bindings;
 use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
-use crate::graph::{ImageUse, PassUses, TrackedImage};
+use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
 use crate::targets::{FrameTargets, TargetKey};
 use crate::{FrameInputs, FrameTarget, GpuScene, PassTimings, RenderError, Renderer, SetLayouts};
 
@@ -79,7 +79,7 @@ fn light_buffer(device: &Arc<Device>, capacity: usize) -> Result<Buffer, VkError
 }
 
 /// What the lighting pass touches.
-fn lighting_uses(targets: &FrameTargets) -> PassUses {
+fn lighting_uses(targets: &FrameTargets, scene: &GpuScene, lights: &Buffer) -> PassUses {
     let g = &targets.gbuffer;
     let mut images: Vec<(TrackedImage, ImageUse)> = g
         .attachments()
@@ -88,32 +88,33 @@ fn lighting_uses(targets: &FrameTargets) -> PassUses {
         .collect();
     images.push(((&g.depth).into(), ImageUse::DepthFragmentSampled));
     images.push(((&targets.hdr).into(), ImageUse::ColorAttachmentWrite));
-    PassUses {
-        name: "lighting",
-        images,
-    }
+    PassUses::images("lighting", images).with_buffers(vec![
+        (scene.materials.raw(), BufferUse::FragmentStorageRead),
+        (lights.raw(), BufferUse::FragmentStorageRead),
+        (scene.conductor_table.raw(), BufferUse::FragmentStorageRead),
+    ])
 }
 
 /// What the output pass touches: the HDR image, and the frame's colour target.
 fn output_uses(targets: &FrameTargets, color: TrackedImage) -> PassUses {
-    PassUses {
-        name: "output",
-        images: vec![
+    PassUses::images(
+        "output",
+        vec![
             ((&targets.hdr).into(), ImageUse::FragmentSampled),
             (color, ImageUse::ColorAttachmentWrite),
         ],
-    }
+    )
 }
 
 /// What the depth copy touches: the G-buffer depth and the host's depth image.
 fn depth_copy_uses(targets: &FrameTargets, depth: TrackedImage) -> PassUses {
-    PassUses {
-        name: "depth copy",
-        images: vec![
+    PassUses::images(
+        "depth copy",
+        vec![
             ((&targets.gbuffer.depth).into(), ImageUse::TransferSource),
             (depth, ImageUse::TransferDestination),
         ],
-    }
+    )
 }
 
 fn color_range() -> vk::ImageSubresourceRange {
@@ -347,7 +348,7 @@ impl Renderer {
         }
         stamp(0);
 
-        states.transition(raw, cmd, &crate::GBufferPass::uses(&targets.gbuffer));
+        states.transition(raw, cmd, &crate::GBufferPass::uses(&targets.gbuffer, scene));
         passes.gbuffer.record(
             device,
             cmd,
@@ -358,7 +359,7 @@ impl Renderer {
         );
         stamp(1);
 
-        states.transition(raw, cmd, &lighting_uses(targets));
+        states.transition(raw, cmd, &lighting_uses(targets, scene, &s.lights));
         let lighting_push = LightingPush::new(
             view_projection,
             inputs.camera.position,

@@ -28,6 +28,11 @@ pub enum ImageUse {
     TransferSource,
     /// Copied to; earlier contents are discarded.
     TransferDestination,
+    /// Read by compute shaders through a sampler or texelFetch.
+    ComputeSampled,
+    /// Written by compute shaders as a storage image (GENERAL layout); earlier contents
+    /// are kept (a compute pass may write part of an image).
+    ComputeStorageWrite,
 }
 
 impl ImageUse {
@@ -61,6 +66,14 @@ impl ImageUse {
             Self::TransferDestination => {
                 ImageState::new(S::COPY, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL)
             }
+            Self::ComputeSampled => ImageState::new(
+                S::COMPUTE_SHADER,
+                A::SHADER_SAMPLED_READ,
+                L::SHADER_READ_ONLY_OPTIMAL,
+            ),
+            Self::ComputeStorageWrite => {
+                ImageState::new(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, L::GENERAL)
+            }
         }
     }
 
@@ -89,16 +102,72 @@ impl From<&Image> for TrackedImage {
     }
 }
 
+/// How a pass uses a buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BufferUse {
+    /// Read as a storage buffer by vertex shaders.
+    VertexStorageRead,
+    /// Read as a storage buffer by fragment shaders.
+    FragmentStorageRead,
+    /// Read as a storage buffer by compute shaders.
+    ComputeStorageRead,
+    /// Written as a storage buffer by compute shaders.
+    ComputeStorageWrite,
+    /// Copied to.
+    TransferDestination,
+    /// Read by the CPU once the frame has completed (readback).
+    HostRead,
+}
+
+impl BufferUse {
+    /// The stages and accesses of this use.
+    pub fn state(self) -> (vk::PipelineStageFlags2, vk::AccessFlags2) {
+        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
+        match self {
+            Self::VertexStorageRead => (S::VERTEX_SHADER, A::SHADER_STORAGE_READ),
+            Self::FragmentStorageRead => (S::FRAGMENT_SHADER, A::SHADER_STORAGE_READ),
+            Self::ComputeStorageRead => (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
+            Self::ComputeStorageWrite => (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
+            Self::TransferDestination => (S::COPY, A::TRANSFER_WRITE),
+            Self::HostRead => (S::HOST, A::HOST_READ),
+        }
+    }
+
+    fn writes(self) -> bool {
+        matches!(self, Self::ComputeStorageWrite | Self::TransferDestination)
+    }
+}
+
 /// One pass's declaration: its name (for timings and messages) and what it touches.
+/// Buffers the CPU writes before submission (scene tables, the frame's lights) are
+/// declared too: their host writes are visible to the whole submission, so they never
+/// need a barrier, but a GPU write to them later would.
 pub struct PassUses {
     pub name: &'static str,
     pub images: Vec<(TrackedImage, ImageUse)>,
+    pub buffers: Vec<(vk::Buffer, BufferUse)>,
 }
 
-/// The state each image was last left in, carried across passes and frames.
+impl PassUses {
+    pub fn images(name: &'static str, images: Vec<(TrackedImage, ImageUse)>) -> Self {
+        Self {
+            name,
+            images,
+            buffers: Vec::new(),
+        }
+    }
+
+    pub fn with_buffers(self, buffers: Vec<(vk::Buffer, BufferUse)>) -> Self {
+        Self { buffers, ..self }
+    }
+}
+
+/// The state each image was last left in, and the GPU use of each buffer since its last
+/// barrier, carried across passes and frames.
 #[derive(Default)]
 pub struct ImageStates {
     states: HashMap<vk::Image, ImageState>,
+    buffers: HashMap<vk::Buffer, BufferUse>,
 }
 
 impl ImageStates {
@@ -118,6 +187,11 @@ impl ImageStates {
     /// Forgets an image that is being destroyed.
     pub fn forget(&mut self, image: vk::Image) {
         self.states.remove(&image);
+    }
+
+    /// Forgets a buffer that is being destroyed.
+    pub fn forget_buffer(&mut self, buffer: vk::Buffer) {
+        self.buffers.remove(&buffer);
     }
 
     /// Records the barriers that bring every image `pass` declares into the state of its
@@ -150,7 +224,39 @@ impl ImageStates {
                 Some(image_barrier(image.raw, image.range, from, to))
             })
             .collect();
-        record_barriers(raw, cmd, &barriers);
+        // Buffers: only those the GPU writes are tracked (data the CPU wrote before the
+        // submission is visible to all of it). A barrier after a GPU write (read after
+        // write, write after write) and before a GPU write that follows GPU reads;
+        // none after the CPU read a buffer, since it waited for the frame to do so.
+        let memory: Vec<_> = pass
+            .buffers
+            .iter()
+            .filter_map(|&(buffer, use_)| {
+                let Some(&before) = self.buffers.get(&buffer) else {
+                    if use_.writes() {
+                        self.buffers.insert(buffer, use_);
+                    }
+                    return None;
+                };
+                self.buffers.insert(buffer, use_);
+                if before == BufferUse::HostRead || !(before.writes() || use_.writes()) {
+                    return None;
+                }
+                let (src_stage, src_access) = before.state();
+                let (dst_stage, dst_access) = use_.state();
+                Some(
+                    vk::BufferMemoryBarrier2::default()
+                        .src_stage_mask(src_stage)
+                        .src_access_mask(src_access)
+                        .dst_stage_mask(dst_stage)
+                        .dst_access_mask(dst_access)
+                        .buffer(buffer)
+                        .offset(0)
+                        .size(vk::WHOLE_SIZE),
+                )
+            })
+            .collect();
+        record_barriers(raw, cmd, &barriers, &memory);
     }
 
     /// Records the barrier that leaves `image` in `to` (a host's "after" state).
@@ -164,7 +270,12 @@ impl ImageStates {
         let from = self.get(image.raw);
         self.states.insert(image.raw, to);
         if from != to {
-            record_barriers(raw, cmd, &[image_barrier(image.raw, image.range, from, to)]);
+            record_barriers(
+                raw,
+                cmd,
+                &[image_barrier(image.raw, image.range, from, to)],
+                &[],
+            );
         }
     }
 }
@@ -172,12 +283,15 @@ impl ImageStates {
 fn record_barriers(
     raw: &combustion_vk::ash::Device,
     cmd: vk::CommandBuffer,
-    barriers: &[vk::ImageMemoryBarrier2<'_>],
+    images: &[vk::ImageMemoryBarrier2<'_>],
+    buffers: &[vk::BufferMemoryBarrier2<'_>],
 ) {
-    if barriers.is_empty() {
+    if images.is_empty() && buffers.is_empty() {
         return;
     }
-    let info = vk::DependencyInfo::default().image_memory_barriers(barriers);
+    let info = vk::DependencyInfo::default()
+        .image_memory_barriers(images)
+        .buffer_memory_barriers(buffers);
     // SAFETY: the caller records into a command buffer in the recording state.
     unsafe { raw.cmd_pipeline_barrier2(cmd, &info) };
 }

@@ -13,7 +13,7 @@ use combustion_vk::{
 
 use crate::frame::display_after;
 use crate::gbuffer::{GBufferReadback, GBufferTexel};
-use crate::graph::{ImageUse, PassUses, TrackedImage};
+use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
 use crate::targets::TargetKey;
 use crate::{
     f16_to_f32, ColorTarget, Frame, FrameInputs, FrameTarget, GpuScene, HdrFormat, Readback,
@@ -64,6 +64,12 @@ impl ReadbackBuffers {
                 buffer("depth readback", 4)?,
             ],
         })
+    }
+}
+
+impl ReadbackBuffers {
+    fn all(&self) -> impl Iterator<Item = &Buffer> {
+        [&self.hdr, &self.ldr].into_iter().chain(&self.gbuffer)
     }
 }
 
@@ -182,6 +188,9 @@ impl Renderer {
         {
             let buffers = ReadbackBuffers::new(&self.device, extent, self.settings.hdr_format)?;
             if let Some(old) = offscreen.readback.replace(buffers) {
+                for buffer in old.all() {
+                    self.states.forget_buffer(buffer.raw());
+                }
                 self.retire(old);
             }
         }
@@ -242,33 +251,33 @@ impl Renderer {
         }
         // The display image was left in TRANSFER_SRC by the frame; the renderer's own
         // images are moved there by their declared use.
-        let uses = PassUses {
-            name: "readback",
-            images: copies
+        let uses = PassUses::images(
+            "readback",
+            copies
                 .iter()
                 .filter(|(image, _)| image.raw() != display.raw())
                 .map(|(image, _)| (TrackedImage::from(*image), ImageUse::TransferSource))
                 .collect(),
-        };
+        )
+        .with_buffers(
+            copies
+                .iter()
+                .map(|(_, buffer)| (buffer.raw(), BufferUse::TransferDestination))
+                .collect(),
+        );
         let raw = self.device.raw();
         let states = &mut self.states;
         states.transition(raw, cmd, &uses);
         for (image, buffer) in &copies {
             image.record_copy_to_buffer(cmd, buffer);
         }
-        use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
-        let to_host = [vk::MemoryBarrier2::default()
-            .src_stage_mask(S::COPY)
-            .src_access_mask(A::TRANSFER_WRITE)
-            .dst_stage_mask(S::HOST)
-            .dst_access_mask(A::HOST_READ)];
-        // SAFETY: recording state.
-        unsafe {
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().memory_barriers(&to_host),
-            )
-        };
+        let host_read = PassUses::images("host read", Vec::new()).with_buffers(
+            copies
+                .iter()
+                .map(|(_, buffer)| (buffer.raw(), BufferUse::HostRead))
+                .collect(),
+        );
+        states.transition(raw, cmd, &host_read);
     }
 
     /// The frame just completed, from the readback buffers.
