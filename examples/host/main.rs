@@ -151,8 +151,8 @@ fn run(o: &Options) -> Result<(), String> {
             height: o.height * 3 / 4,
         };
         println!(
-            "{:>8} {:>12} {:>16}",
-            "frame", "RSS (MiB)", "allocated (MiB)"
+            "{:>8} {:>10} {:>12} {:>14} {:>14}",
+            "frame", "RSS (MiB)", "allocations", "allocated (B)", "held (B)"
         );
         let plan = headless::SoakPlan {
             frames,
