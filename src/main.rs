@@ -340,11 +340,12 @@ fn bench(o: &Options) -> Result<(), Error> {
         }
     }
     outln!(
-        "scene {:?} at {}x{} on {device_name}, n={} frames, {frames_in_flight} in flight (GPU timestamps, ms):",
+        "scene {:?} at {}x{} on {device_name}, n={} frames ({} timed), {frames_in_flight} in flight (GPU timestamps, ms):",
         o.scene,
         o.width,
         o.height,
-        o.frames
+        o.frames,
+        timings.len()
     );
     outln!("{:<10} {:>9} {:>9} {:>9}", "pass", "median", "p10", "p90");
     for (name, list) in ["G-buffer", "lighting", "tonemap", "total"]

@@ -663,3 +663,40 @@ fn device_chosen_by_index_name_or_environment() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn bench_reports_gpu_and_wall_clock_time_with_frames_in_flight() {
+    let (code, stdout, stderr) = combustion(&[
+        "bench",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--frames",
+        "4",
+        "--frames-in-flight",
+        "3",
+        "--device",
+        "llvmpipe",
+        "--validate",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("3 in flight"), "{stdout}");
+    for row in ["G-buffer", "lighting", "tonemap", "total", "wall"] {
+        assert!(
+            stdout.lines().any(|l| l.starts_with(row)),
+            "no `{row}` row: {stdout}"
+        );
+    }
+    assert!(stdout.contains("wall clock:"), "{stdout}");
+    // Every measured frame's timings are collected, also the last ones in flight.
+    assert!(stdout.contains("n=4 frames (4 timed)"), "{stdout}");
+    assert_clear_error(
+        &["bench", "--frames-in-flight", "0"],
+        "--frames-in-flight: 0 is not between 1 and 3",
+    );
+    assert_clear_error(
+        &["render", "--frames-in-flight", "2"],
+        "unknown argument `--frames-in-flight`",
+    );
+}

@@ -120,16 +120,21 @@ impl Renderer {
             .map(|_| ())
     }
 
-    /// Waits for every frame submitted by [`Renderer::submit_offscreen`] and makes the
-    /// last one's timings available.
+    /// Waits for every frame submitted by [`Renderer::submit_offscreen`] and collects
+    /// the timings of those not collected yet, oldest first.
     pub fn finish_offscreen(&mut self) -> Result<(), RenderError> {
         let Some(offscreen) = &self.offscreen else {
             return Ok(());
         };
         offscreen.ring.wait_all()?;
-        let last = (offscreen.ring.next_slot() + offscreen.ring.frames_in_flight() - 1)
-            % offscreen.ring.frames_in_flight();
-        self.collect_timings(last)
+        let (next, count) = (
+            offscreen.ring.next_slot(),
+            offscreen.ring.frames_in_flight(),
+        );
+        for i in 0..count {
+            self.collect_timings((next + i) % count)?;
+        }
+        Ok(())
     }
 
     fn submit_with_offscreen(
