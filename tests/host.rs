@@ -578,3 +578,110 @@ fn host_in_a_window_presents_frames_and_survives_a_resize() {
     );
     assert!(!summary.gpu_ms.is_empty());
 }
+
+/// Slots chosen by the host need not follow Combustion's frame count: here a frame is
+/// skipped (an empty submission, as when a swapchain is out of date), a scene edit
+/// retires buffers while frame 2 (slot 0) is in flight, and frame 3 uses slot 1. The
+/// retired buffers must outlive frame 2: the validation layer reports a buffer destroyed
+/// while a pending command buffer uses it (checked: retiring to the slot the frame count
+/// implies fails this test). The target is also left in the state of a colour-attachment
+/// write and the host draws into it next; that write-after-write gets its barrier from
+/// `ImageStates::release` (this layer version did not report its absence when it was
+/// removed, so only the rule covers it, not this test).
+#[test]
+fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
+    let (mut host, log, _scene) = spheres_host();
+    let extent = vk::Extent2D {
+        width: 320,
+        height: 240,
+    };
+    let image = app::HostImage::new(
+        &host.vulkan,
+        "attachment after-state test",
+        vk::Format::R8G8B8A8_UNORM,
+        extent,
+        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+    )
+    .unwrap();
+    let mut state = ImageState::UNDEFINED;
+    for frame in 0..6 {
+        let (slot, cmd) = host.begin_frame().unwrap();
+        if frame == 1 {
+            // Skipped: submitted empty, slot 1.
+            host.submit_frame(slot).unwrap();
+            continue;
+        }
+        let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
+        let target = FrameTarget {
+            color: ColorTarget {
+                image: image.image,
+                view: image.view,
+                format: vk::Format::R8G8B8A8_UNORM,
+                extent,
+                before: state,
+                after: app::state::COLOR_ATTACHMENT,
+            },
+            depth: None,
+        };
+        let renderer = host.renderer.as_mut().unwrap();
+        renderer
+            .record(cmd, slot, &host.scenes[0], &inputs, &target)
+            .unwrap();
+        // The host's own drawing on top, in the state it asked for.
+        let d = host.vulkan.device.clone();
+        let attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(image.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        unsafe {
+            d.cmd_begin_rendering(
+                cmd,
+                &vk::RenderingInfo::default()
+                    .render_area(vk::Rect2D {
+                        offset: vk::Offset2D::default(),
+                        extent,
+                    })
+                    .layer_count(1)
+                    .color_attachments(&attachment),
+            );
+            d.cmd_clear_attachments(
+                cmd,
+                &[vk::ClearAttachment {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    color_attachment: 0,
+                    clear_value: vk::ClearValue {
+                        color: vk::ClearColorValue { float32: BAR },
+                    },
+                }],
+                &[vk::ClearRect {
+                    rect: vk::Rect2D {
+                        offset: vk::Offset2D::default(),
+                        extent: vk::Extent2D {
+                            width: 8,
+                            height: 8,
+                        },
+                    },
+                    base_array_layer: 0,
+                    layer_count: 1,
+                }],
+            );
+            d.cmd_end_rendering(cmd);
+        }
+        state = app::state::COLOR_ATTACHMENT;
+        host.submit_frame(slot).unwrap();
+        if frame == 2 {
+            // Frame 2 (slot 0) is in flight; the edit's replaced tables are retired.
+            let renderer = host.renderer.as_mut().unwrap();
+            renderer
+                .edit_scene(&mut host.scenes[0], |scene| {
+                    scene.materials[0].base_color = [0.2, 0.4, 0.9];
+                })
+                .unwrap();
+        }
+    }
+    host.wait_frames().unwrap();
+    image.destroy(&host.vulkan);
+    drop(host);
+    assert_no_messages(&log);
+}

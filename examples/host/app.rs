@@ -162,6 +162,12 @@ pub mod state {
         A::COLOR_ATTACHMENT_WRITE,
         L::COLOR_ATTACHMENT_OPTIMAL,
     );
+    /// Drawn into on top of what is there (load op LOAD: read and write).
+    pub const COLOR_ATTACHMENT_LOAD: ImageState = ImageState::new(
+        S::COLOR_ATTACHMENT_OUTPUT,
+        A::from_raw(A::COLOR_ATTACHMENT_READ.as_raw() | A::COLOR_ATTACHMENT_WRITE.as_raw()),
+        L::COLOR_ATTACHMENT_OPTIMAL,
+    );
     /// The host's depth test of its own geometry after Combustion's frame.
     pub const DEPTH_TEST: ImageState = ImageState::new(
         S::from_raw(S::EARLY_FRAGMENT_TESTS.as_raw() | S::LATE_FRAGMENT_TESTS.as_raw()),
@@ -529,7 +535,7 @@ impl Host {
             final_image.image,
             color,
             state::TRANSFER_DESTINATION,
-            state::COLOR_ATTACHMENT,
+            state::COLOR_ATTACHMENT_LOAD,
         );
         let attachment = [vk::RenderingAttachmentInfo::default()
             .image_view(final_image.view)
@@ -573,7 +579,7 @@ impl Host {
             cmd,
             final_image.image,
             color,
-            state::COLOR_ATTACHMENT,
+            state::COLOR_ATTACHMENT_LOAD,
             final_after,
         );
         Ok(())

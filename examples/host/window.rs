@@ -25,7 +25,8 @@ use crate::vulkan::HostVulkan;
 pub struct WindowOptions {
     pub width: u32,
     pub height: u32,
-    /// Stop after this many presented frames (`None`: until the window is closed).
+    /// Stop after this many presented frames (`None`: until the window is closed); with
+    /// `resize_at`, not before the resize has arrived (at most ten times as many).
     pub frames: Option<u64>,
     pub frames_in_flight: usize,
     pub validation: bool,
@@ -370,11 +371,12 @@ impl App {
                             let _ = state.window.request_inner_size(PhysicalSize::new(w, h));
                         }
                     }
-                    if self
-                        .options
-                        .frames
-                        .is_some_and(|n| self.summary.presented >= n)
-                    {
+                    // With a resize requested, the run goes on (up to ten times as
+                    // long) until the window system has delivered it.
+                    let resized = self.options.resize_at.is_none() || self.summary.swapchains >= 2;
+                    if self.options.frames.is_some_and(|n| {
+                        self.summary.presented >= n && (resized || self.summary.presented >= 10 * n)
+                    }) {
                         event_loop.exit();
                         return;
                     }

@@ -1,7 +1,6 @@
 //! A virtual X server for the tests that open windows (`combustion view`, the example
 //! host in a window).
 
-use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -9,54 +8,56 @@ use std::time::{Duration, Instant};
 pub struct Xvfb {
     child: Child,
     pub display: u32,
-    /// The socket appeared: this server made it (and its lock file).
+    /// The server reported its display: it made that display's socket and lock file.
     ready: bool,
 }
 
 impl Xvfb {
-    /// Starts Xvfb on the first free display of :90..:99 and waits (bounded) for its socket.
+    /// Starts Xvfb on a display it picks itself (`-displayfd`: the server takes the first
+    /// free display atomically and writes its number once it accepts connections), so
+    /// tests starting servers at the same time never share or remove each other's.
     pub fn start() -> Xvfb {
-        for display in 90..100 {
-            if Path::new(&format!("/tmp/.X11-unix/X{display}")).exists()
-                || Path::new(&format!("/tmp/.X{display}-lock")).exists()
-            {
-                continue;
+        use std::io::Read;
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1024x768x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start Xvfb (install xvfb and xauth: bash scripts/dev.sh test does)");
+        // The number arrives as one line when the server is ready; EOF if it failed.
+        let mut stdout = child.stdout.take().expect("piped");
+        let (sender, receiver) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let mut text = String::new();
+            let mut byte = [0u8; 1];
+            while stdout.read(&mut byte).is_ok_and(|n| n == 1) && byte[0] != b'\n' {
+                text.push(byte[0] as char);
             }
-            let child = Command::new("Xvfb")
-                .args([
-                    &format!(":{display}"),
-                    "-screen",
-                    "0",
-                    "1024x768x24",
-                    "-nolisten",
-                    "tcp",
-                ])
-                .stdin(Stdio::null())
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .spawn()
-                .expect("start Xvfb (install xvfb and xauth: bash scripts/dev.sh test does)");
-            let mut server = Xvfb {
-                child,
-                display,
-                ready: false,
-            };
-            let socket = format!("/tmp/.X11-unix/X{display}");
-            let deadline = Instant::now() + Duration::from_secs(10);
-            while Instant::now() < deadline {
-                if Path::new(&socket).exists() {
-                    server.ready = true;
-                    return server;
-                }
-                // Exited early: the display was taken meanwhile; try the next one.
-                if server.child.try_wait().expect("poll Xvfb").is_some() {
-                    break;
-                }
-                std::thread::sleep(Duration::from_millis(20));
-            }
-            drop(server);
+            let _ = sender.send(text);
+        });
+        let display = receiver
+            .recv_timeout(Duration::from_secs(20))
+            .ok()
+            .and_then(|text| text.trim().parse::<u32>().ok());
+        let mut server = Xvfb {
+            child,
+            display: display.unwrap_or(0),
+            ready: display.is_some(),
+        };
+        if !server.ready {
+            let _ = server.child.kill();
+            panic!("Xvfb did not start (no display number within 20 s)");
         }
-        panic!("could not start Xvfb on any display of :90..:99");
+        server
     }
 }
 
@@ -70,10 +71,12 @@ impl Drop for Xvfb {
         while matches!(self.child.try_wait(), Ok(None)) && Instant::now() < deadline {
             std::thread::sleep(Duration::from_millis(10));
         }
+        let exited = matches!(self.child.try_wait(), Ok(Some(_)));
         let _ = self.child.kill();
         let _ = self.child.wait();
-        // After a SIGKILL the server leaves both behind; they were free when it started.
-        if !self.ready {
+        // Only after a SIGKILL does the server leave its socket and lock file behind
+        // (after SIGTERM it removed them, and another server may own that number now).
+        if exited || !self.ready {
             return;
         }
         let _ = std::fs::remove_file(format!("/tmp/.X11-unix/X{}", self.display));

@@ -135,11 +135,6 @@ fn depth_range() -> vk::ImageSubresourceRange {
 }
 
 impl Renderer {
-    /// The slot of the frame recorded last (where replaced objects are retired).
-    pub(crate) fn current_slot(&self) -> usize {
-        (self.frame_number.max(1) - 1) as usize % self.slots.len()
-    }
-
     /// Records the deferred frame of `scene` into the host's command buffer `cmd`
     /// (recording, outside any render pass), rendering into `target`.
     ///
@@ -158,7 +153,34 @@ impl Renderer {
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
     ) -> Result<(), RenderError> {
-        // Checks first: nothing half-recorded on bad input.
+        let variant = self.check_frame(frame_slot, scene, inputs, target)?;
+        let extent = target.color.extent;
+        // The slot's previous frame has completed: read its timings, free what it
+        // retired, and reuse its resources.
+        self.begin_slot(frame_slot)?;
+        let key = TargetKey {
+            width: extent.width,
+            height: extent.height,
+            emissive: variant.emissive,
+        };
+        self.ensure_targets(key)?;
+        self.write_frame_lights(frame_slot, inputs)?;
+        self.write_descriptors(frame_slot, key, scene);
+        self.record_passes(cmd, frame_slot, key, scene, variant, inputs, target);
+        self.frame_number += 1;
+        self.last_slot = Some(frame_slot);
+        self.retire_unused_targets();
+        Ok(())
+    }
+
+    /// Checks everything [`Renderer::record`] is given; the variant the scene needs.
+    pub(crate) fn check_frame(
+        &self,
+        frame_slot: usize,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        target: &FrameTarget,
+    ) -> Result<crate::ShaderVariant, RenderError> {
         let frames_in_flight = self.slots.len();
         if frame_slot >= frames_in_flight {
             return Err(RenderError::InvalidFrameSlot {
@@ -183,6 +205,17 @@ impl Renderer {
         if !self.variants.contains_key(&variant) {
             return Err(RenderError::VariantNotPrepared);
         }
+        for (what, layout) in [
+            ("colour", Some(target.color.after.layout)),
+            ("depth", target.depth.map(|d| d.after.layout)),
+        ] {
+            if matches!(
+                layout,
+                Some(vk::ImageLayout::UNDEFINED | vk::ImageLayout::PREINITIALIZED)
+            ) {
+                return Err(RenderError::InvalidAfterLayout(what));
+            }
+        }
         if let Some(depth) = &target.depth {
             if depth.format != crate::gbuffer::DEPTH_FORMAT || depth.extent != extent {
                 return Err(RenderError::InvalidDepthTarget {
@@ -195,21 +228,7 @@ impl Renderer {
             }
         }
 
-        // The slot's previous frame has completed: read its timings, free what it
-        // retired, and reuse its resources.
-        self.begin_slot(frame_slot)?;
-        let key = TargetKey {
-            width: extent.width,
-            height: extent.height,
-            emissive: variant.emissive,
-        };
-        self.ensure_targets(key)?;
-        self.write_frame_lights(frame_slot, inputs)?;
-        self.write_descriptors(frame_slot, key, scene);
-        self.record_passes(cmd, frame_slot, key, scene, variant, inputs, target);
-        self.frame_number += 1;
-        self.retire_unused_targets();
-        Ok(())
+        Ok(variant)
     }
 
     /// Marks the start of a frame in `slot`: its previous frame is complete.

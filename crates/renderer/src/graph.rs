@@ -269,7 +269,9 @@ impl ImageStates {
     ) {
         let from = self.get(image.raw);
         self.states.insert(image.raw, to);
-        if from != to {
+        // A write is made available to the next use even when that use has the same
+        // stages, accesses and layout (a write after a write needs its barrier too).
+        if from != to || from.writes() {
             record_barriers(
                 raw,
                 cmd,

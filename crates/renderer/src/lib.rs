@@ -102,6 +102,8 @@ pub enum RenderError {
     OutputNotPrepared(vk::Format),
     #[error("the scene was uploaded by another renderer, or its pipelines were not built; upload it with this renderer")]
     VariantNotPrepared,
+    #[error("the {0} target's `after` layout must be a layout an image can be left in, not UNDEFINED or PREINITIALIZED")]
+    InvalidAfterLayout(&'static str),
     #[error("the host's depth image is {got:?} of {got_width}x{got_height}; it must be D32_SFLOAT of the target's size {width}x{height}")]
     InvalidDepthTarget {
         got: vk::Format,
@@ -318,6 +320,9 @@ pub struct Renderer {
     settings: RendererSettings,
     /// Frames recorded so far.
     frame_number: u64,
+    /// The slot of the frame recorded last: what is replaced now is retired to it, and
+    /// freed when that slot is reused (its frame, and every earlier one, complete).
+    last_slot: Option<usize>,
     last_timings: Option<PassTimings>,
     stats: RendererStats,
     /// Timings of completed frames not yet taken ([`Renderer::take_completed_timings`]).
@@ -375,6 +380,7 @@ impl Renderer {
             states: graph::ImageStates::default(),
             settings,
             frame_number: 0,
+            last_slot: None,
             last_timings: None,
             completed_timings: std::collections::VecDeque::new(),
             stats: RendererStats::default(),
@@ -482,14 +488,19 @@ impl Renderer {
     ) -> Result<SceneEditReport, RenderError> {
         let mut next = scene.scene.clone();
         edit(&mut next);
-        let (mut report, retired) = scene.edited(&self.device, next, &self.layouts.material)?;
+        next.validate()?;
+        // The pipelines first: if they cannot be built, the scene stays as it was.
+        let before = self.stats.pipelines_built;
+        self.prepare_variant(self.variant_of(scene_upload::scene_variant(&next)))?;
+        let pipelines_built = self.stats.pipelines_built - before;
+        let (report, retired) = scene.edited(&self.device, next, &self.layouts.material)?;
         for part in retired {
             self.retire_boxed(part);
         }
-        let before = self.stats.pipelines_built;
-        self.prepare_variant(self.variant_of(scene.variant))?;
-        report.pipelines_built = self.stats.pipelines_built - before;
-        Ok(report)
+        Ok(SceneEditReport {
+            pipelines_built,
+            ..report
+        })
     }
 
     /// Keeps `resource` (a replaced [`GpuScene`], buffer, image...) alive until the
@@ -500,8 +511,11 @@ impl Renderer {
     }
 
     fn retire_boxed(&mut self, resource: Box<dyn std::any::Any + Send>) {
-        let slot = self.current_slot();
-        self.slots[slot].retire(resource);
+        match self.last_slot {
+            Some(slot) => self.slots[slot].retire(resource),
+            // No frame was ever recorded: nothing can be using it.
+            None => drop(resource),
+        }
     }
 
     /// The GPU times of the most recent frame known to have completed (read when its
@@ -556,14 +570,10 @@ impl Renderer {
 
 impl Drop for Renderer {
     fn drop(&mut self) {
-        // Combustion's own submissions must be finished before its objects go; frames
-        // recorded into a host's command buffers are the host's to wait for
-        // (docs/integration.md). Only an owned device is waited idle as well.
-        if let Some(offscreen) = &self.offscreen {
-            if let Err(e) = offscreen.wait_all() {
-                log::error!("waiting for the renderer's frames before teardown: {e}");
-            }
-        }
+        // Combustion's own submissions are waited for (bounded) by the frame ring's Drop,
+        // which runs first (the first field); frames recorded into a host's command
+        // buffers are the host's to wait for (docs/integration.md). Only an owned device
+        // is waited idle as well.
         if self.device.is_owned() {
             if let Err(e) = self.device.wait_idle() {
                 log::error!("waiting for the device before teardown: {e}");

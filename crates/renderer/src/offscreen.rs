@@ -81,10 +81,6 @@ impl Offscreen {
             readback: None,
         })
     }
-
-    pub fn wait_all(&self) -> Result<(), VkError> {
-        self.ring.wait_all()
-    }
 }
 
 impl Renderer {
@@ -213,6 +209,8 @@ impl Renderer {
             depth: None,
         };
         let inputs = FrameInputs::of_scene(scene, self.settings.exposure);
+        // Checked before the ring advances: a refused frame takes no slot.
+        self.check_frame(offscreen.ring.next_slot(), scene, &inputs, &target)?;
         let frame = offscreen.ring.begin()?;
         self.record(frame.cmd, frame.slot, scene, &inputs, &target)?;
         *display_state = after;

@@ -56,6 +56,18 @@ pub struct SceneEditReport {
     pub pipelines_built: u64,
 }
 
+/// The shader features `scene` needs.
+pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
+    crate::ShaderVariant {
+        emissive: scene
+            .materials
+            .iter()
+            .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
+        // The Fresnel model is the renderer's setting, applied at render time.
+        schlick: false,
+    }
+}
+
 /// The vertex and index buffers of every mesh, and each mesh's range in them.
 struct Geometry {
     vertices: Buffer,
@@ -150,13 +162,7 @@ impl Tables {
                 .map(|o| scene.materials[o.material].double_sided)
                 .collect(),
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),
-            variant: crate::ShaderVariant {
-                emissive: scene.materials.iter().any(|m| {
-                    m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)
-                }),
-                // The Fresnel model is the renderer's setting, applied at render time.
-                schlick: false,
-            },
+            variant: scene_variant(scene),
         })
     }
 }

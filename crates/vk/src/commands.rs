@@ -106,6 +106,9 @@ struct RingSlot {
     cmd: vk::CommandBuffer,
     /// Signalled when the slot's last submission completed (created signalled).
     fence: vk::Fence,
+    /// The fence belongs to a submission that was made (a failed submission leaves it
+    /// unsignalled, and nothing must wait for it then).
+    pending: bool,
 }
 
 /// A frame being recorded: its slot in the ring and its command buffer.
@@ -142,6 +145,7 @@ impl FrameRing {
                 pool,
                 cmd: vk::CommandBuffer::null(),
                 fence,
+                pending: false,
             });
             let alloc = vk::CommandBufferAllocateInfo::default()
                 .command_pool(pool)
@@ -187,17 +191,24 @@ impl FrameRing {
 
     /// Ends recording and submits the frame; its slot's fence signals when it completes.
     pub fn submit(&mut self, frame: RingFrame) -> Result<(), VkError> {
-        let s = &self.slots[frame.slot];
+        let s = &mut self.slots[frame.slot];
         let raw = self.device.raw();
         unsafe { raw.end_command_buffer(s.cmd) }.what("vkEndCommandBuffer")?;
         let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(s.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos)];
+        s.pending = false;
         unsafe { raw.reset_fences(&[s.fence]) }.what("vkResetFences")?;
-        self.device.submit(&submit, s.fence)
+        self.device.submit(&submit, s.fence)?;
+        s.pending = true;
+        Ok(())
     }
 
-    /// Waits until the last submission of `slot` has completed.
+    /// Waits until the last submission of `slot` has completed (at once if it had none,
+    /// or if that submission failed).
     pub fn wait(&self, slot: usize) -> Result<(), VkError> {
+        if !self.slots[slot].pending {
+            return Ok(());
+        }
         let fence = self.slots[slot].fence;
         // SAFETY: plain wait on our own fence.
         unsafe { self.device.raw().wait_for_fences(&[fence], true, u64::MAX) }
@@ -206,7 +217,15 @@ impl FrameRing {
 
     /// Waits until every submitted frame has completed.
     pub fn wait_all(&self) -> Result<(), VkError> {
-        let fences: Vec<_> = self.slots.iter().map(|s| s.fence).collect();
+        let fences: Vec<_> = self
+            .slots
+            .iter()
+            .filter(|s| s.pending)
+            .map(|s| s.fence)
+            .collect();
+        if fences.is_empty() {
+            return Ok(());
+        }
         unsafe { self.device.raw().wait_for_fences(&fences, true, u64::MAX) }
             .what("vkWaitForFences")
     }

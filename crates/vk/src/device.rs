@@ -496,10 +496,7 @@ impl Device {
             Ok(a) => a,
             Err(source) => {
                 unsafe { device.destroy_device(None) };
-                return Err(VkError::Allocation {
-                    name: "the allocator".into(),
-                    source,
-                });
+                return Err(VkError::allocation("the allocator", source));
             }
         };
         let (instance, messenger) = guard.disarm();
@@ -600,6 +597,20 @@ impl Device {
                         "queue index {} is outside family {}'s {} queue(s)",
                         host.queue_index, host.queue_family, family.queue_count
                     ));
+                } else {
+                    // SAFETY: family and index exist; the device was created with them
+                    // if the host's queue is right, which is what this checks.
+                    let queue = unsafe {
+                        host.device
+                            .get_device_queue(host.queue_family, host.queue_index)
+                    };
+                    let given = *host.queue.lock().unwrap_or_else(|p| p.into_inner());
+                    if queue != given {
+                        missing.push(format!(
+                            "the queue given is not queue {} of family {}",
+                            host.queue_index, host.queue_family
+                        ));
+                    }
                 }
             }
         }
@@ -617,10 +628,7 @@ impl Device {
                     buffer_device_address: false,
                     allocation_sizes: Default::default(),
                 })
-                .map_err(|source| VkError::Allocation {
-                    name: "the allocator".into(),
-                    source,
-                })?;
+                .map_err(|source| VkError::allocation("the allocator", source))?;
                 Arc::new(Mutex::new(allocator))
             }
         };

@@ -39,10 +39,7 @@ pub enum VkError {
     )]
     DeviceLost { what: &'static str },
     #[error("out of {kind} memory ({what})")]
-    OutOfMemory {
-        what: &'static str,
-        kind: &'static str,
-    },
+    OutOfMemory { what: String, kind: &'static str },
 }
 
 /// Attaches the name of the failed call to a raw `vk::Result`.
@@ -63,11 +60,29 @@ impl VkError {
         match result {
             vk::Result::ERROR_DEVICE_LOST => VkError::DeviceLost { what },
             vk::Result::ERROR_OUT_OF_DEVICE_MEMORY => VkError::OutOfMemory {
-                what,
+                what: what.to_owned(),
                 kind: "device",
             },
-            vk::Result::ERROR_OUT_OF_HOST_MEMORY => VkError::OutOfMemory { what, kind: "host" },
+            vk::Result::ERROR_OUT_OF_HOST_MEMORY => VkError::OutOfMemory {
+                what: what.to_owned(),
+                kind: "host",
+            },
             result => VkError::Vk { what, result },
+        }
+    }
+
+    /// An allocator failure for `name`; running out of memory is
+    /// [`VkError::OutOfMemory`], like the same failure of a Vulkan call.
+    pub fn allocation(name: &str, source: gpu_allocator::AllocationError) -> VkError {
+        match source {
+            gpu_allocator::AllocationError::OutOfMemory => VkError::OutOfMemory {
+                what: format!("allocating {name}"),
+                kind: "device",
+            },
+            source => VkError::Allocation {
+                name: name.to_owned(),
+                source,
+            },
         }
     }
 }

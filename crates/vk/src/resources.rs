@@ -44,10 +44,7 @@ impl Buffer {
             Ok(a) => a,
             Err(source) => {
                 unsafe { raw_device.destroy_buffer(raw, None) };
-                return Err(VkError::Allocation {
-                    name: name.to_owned(),
-                    source,
-                });
+                return Err(VkError::allocation(name, source));
             }
         };
         let buffer = Buffer {
@@ -366,10 +363,7 @@ impl Image {
                 linear: false,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             })
-            .map_err(|source| VkError::Allocation {
-                name: desc.name.to_owned(),
-                source,
-            })?;
+            .map_err(|source| VkError::allocation(desc.name, source))?;
         // SAFETY: the memory handle stays valid while the allocation lives (in `image`).
         let (memory, offset) = (unsafe { allocation.memory() }, allocation.offset());
         image.allocation = Some(allocation);
