@@ -374,21 +374,48 @@ fn describe_devices(
             missing.push("a graphics queue");
         }
         let info = DeviceInfo {
-            index,
-            name: c_chars_to_string(&props.device_name),
-            device_type: props.device_type,
-            api_version: (
-                vk::api_version_major(v),
-                vk::api_version_minor(v),
-                vk::api_version_patch(v),
-            ),
-            driver: driver.trim().to_owned(),
             unsuitable_because: (!missing.is_empty())
                 .then(|| format!("lacks {}", missing.join(", "))),
+            ..device_info(index, &props, driver.trim().to_owned())
         };
         out.push((pd, info, queue_family));
     }
     Ok(out)
+}
+
+/// gpu-allocator's allocator on `device`, with default settings.
+fn create_allocator(
+    instance: &ash::Instance,
+    device: &ash::Device,
+    physical_device: vk::PhysicalDevice,
+) -> Result<Allocator, VkError> {
+    Allocator::new(&AllocatorCreateDesc {
+        instance: instance.clone(),
+        device: device.clone(),
+        physical_device,
+        debug_settings: Default::default(),
+        buffer_device_address: false,
+        allocation_sizes: Default::default(),
+    })
+    .map_err(|source| VkError::allocation("the allocator", source))
+}
+
+/// What the loader reports of a physical device, as [`DeviceInfo`] (`unsuitable_because`
+/// unset).
+fn device_info(index: usize, props: &vk::PhysicalDeviceProperties, driver: String) -> DeviceInfo {
+    let v = props.api_version;
+    DeviceInfo {
+        index,
+        name: c_chars_to_string(&props.device_name),
+        device_type: props.device_type,
+        api_version: (
+            vk::api_version_major(v),
+            vk::api_version_minor(v),
+            vk::api_version_patch(v),
+        ),
+        driver,
+        unsuitable_because: None,
+    }
 }
 
 fn type_rank(t: vk::PhysicalDeviceType) -> u32 {
@@ -485,18 +512,11 @@ impl Device {
         let device = unsafe { instance.create_device(physical_device, &create_info, None) }
             .what("vkCreateDevice")?;
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let allocator = match Allocator::new(&AllocatorCreateDesc {
-            instance: instance.clone(),
-            device: device.clone(),
-            physical_device,
-            debug_settings: Default::default(),
-            buffer_device_address: false,
-            allocation_sizes: Default::default(),
-        }) {
+        let allocator = match create_allocator(instance, &device, physical_device) {
             Ok(a) => a,
-            Err(source) => {
+            Err(error) => {
                 unsafe { device.destroy_device(None) };
-                return Err(VkError::allocation("the allocator", source));
+                return Err(error);
             }
         };
         let (instance, messenger) = guard.disarm();
@@ -619,32 +639,13 @@ impl Device {
         }
         let allocator = match host.allocator {
             Some(shared) => shared,
-            None => {
-                let allocator = Allocator::new(&AllocatorCreateDesc {
-                    instance: host.instance.clone(),
-                    device: host.device.clone(),
-                    physical_device: pd,
-                    debug_settings: Default::default(),
-                    buffer_device_address: false,
-                    allocation_sizes: Default::default(),
-                })
-                .map_err(|source| VkError::allocation("the allocator", source))?;
-                Arc::new(Mutex::new(allocator))
-            }
+            None => Arc::new(Mutex::new(create_allocator(
+                &host.instance,
+                &host.device,
+                pd,
+            )?)),
         };
-        let v = props.api_version;
-        let info = DeviceInfo {
-            index: 0,
-            name: c_chars_to_string(&props.device_name),
-            device_type: props.device_type,
-            api_version: (
-                vk::api_version_major(v),
-                vk::api_version_minor(v),
-                vk::api_version_patch(v),
-            ),
-            driver: String::new(),
-            unsuitable_because: None,
-        };
+        let info = device_info(0, &props, String::new());
         log::info!("Combustion on the host's Vulkan device {}", info.name);
         Ok(Arc::new(Device {
             entry: host.entry,
