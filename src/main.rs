@@ -23,6 +23,7 @@ USAGE:
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
                     [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
+                    [--vsync on|off] [--frames-in-flight N]
                     [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
   combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
                     [--alpha A | --roughness R | --alpha-x A --alpha-y A] [--eta E|r,g,b]
@@ -59,7 +60,9 @@ the frame that used its slot. It prints the GPU time of each pass (timestamps: m
 p10, p90), the wall-clock interval between submissions, and the throughput.
 
 view opens a window (X11: needs DISPLAY, e.g. under Xvfb) and renders the scene every
-frame at the window's size; the title shows the last frame's GPU time. Escape or closing
+frame at the window's size, into the swapchain image on the device, with frames in
+flight (default 2); --vsync off presents without waiting for the display's refresh
+where the window system allows it (default on). The title shows the GPU time. Escape or closing
 the window quits, as does --frames N after N frames; a summary is printed at exit.
 
 info prints what a scene holds (meshes, materials, lights, camera, outside medium) and
@@ -116,8 +119,10 @@ struct Options {
     frames: u32,
     /// `--frames` was given (`view` runs until closed otherwise).
     frames_given: bool,
-    /// `bench`: frames the CPU may record ahead of the GPU.
+    /// `bench`, `view`: frames the CPU may record ahead of the GPU.
     frames_in_flight: usize,
+    /// `view`: wait for the display's refresh.
+    vsync: bool,
     device: Option<DeviceSelector>,
     validate: bool,
 }
@@ -141,6 +146,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         frames: 30,
         frames_given: false,
         frames_in_flight: RendererSettings::default().frames_in_flight,
+        vsync: true,
         device: None,
         validate: false,
     };
@@ -190,7 +196,16 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
                 o.frames = number(flag, value()?)?;
                 o.frames_given = true;
             }
-            "--frames-in-flight" if command == "bench" => {
+            "--vsync" if command == "view" => {
+                o.vsync = match value()? {
+                    "on" => true,
+                    "off" => false,
+                    other => {
+                        return Err(Error::Usage(format!("--vsync: `{other}` is not on or off")))
+                    }
+                }
+            }
+            "--frames-in-flight" if command == "bench" || command == "view" => {
                 o.frames_in_flight = number(flag, value()?)?;
                 if !(1..=combustion::renderer::MAX_FRAMES_IN_FLIGHT).contains(&o.frames_in_flight) {
                     return Err(Error::Usage(format!(
@@ -395,6 +410,7 @@ fn view(o: &Options) -> Result<(), Error> {
         frames: o.frames_given.then_some(o.frames),
         device,
         settings,
+        vsync: o.vsync,
     })?;
     let median = |list: &[f64]| {
         let mut sorted = list.to_vec();
@@ -402,13 +418,14 @@ fn view(o: &Options) -> Result<(), Error> {
         sorted.get(sorted.len() / 2).copied().unwrap_or(f64::NAN)
     };
     outln!(
-        "viewed {} frames at {}x{} on {}: GPU total median {:.2} ms, frame (render, readback, copy, present) median {:.2} ms",
-        summary.frame_ms.len(),
+        "viewed {} frames at {}x{} on {}: GPU total median {:.2} ms, wall clock per frame median {:.2} ms ({} in flight, on-device presentation)",
+        summary.presented,
         summary.width,
         summary.height,
         summary.device_name,
         median(&summary.gpu_total_ms),
-        median(&summary.frame_ms)
+        median(&summary.frame_ms),
+        settings.frames_in_flight
     );
     Ok(())
 }

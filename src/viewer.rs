@@ -1,22 +1,26 @@
 //! `combustion view`: a scene in a window (winit, X11), re-rendered every frame.
 //!
-//! Each frame is rendered by the unchanged [`Renderer`] with the display image read back
-//! (`Readback { images: true, .. }`), and [`Swapchain::present_rgba8`] copies those
-//! sRGB-encoded bytes through a host-visible staging buffer into the swapchain image
-//! (`vkCmdCopyBufferToImage`). This readback-and-copy path is deliberate: the renderer
-//! stays exactly as headless rendering uses it, and on lavapipe "GPU" memory is host
-//! memory anyway, so the round trip costs little. A device-side copy of the display
-//! image into the swapchain image is the change to make for real GPUs.
+//! The viewer is a host of the engine API ([`Renderer::record`]), like a game engine:
+//! each frame takes the next slot of its [`FrameRing`] (waiting only for the frame that
+//! used that slot last), acquires a swapchain image, records the deferred frame with the
+//! output pass writing straight into the swapchain image (its exact sRGB encoding into an
+//! 8-bit UNORM image), submits waiting for the acquisition and signalling the image's
+//! "rendered" semaphore, and presents. No pixel goes through the CPU.
 //!
-//! The swapchain is recreated when the window is resized (frames are skipped while it
-//! has no area). Closing the window, Escape, or reaching `frames` ends the loop; then the
-//! device is idled and everything destroyed — swapchain, surface, scene, renderer,
-//! device — before the window, and the validation log is checked.
+//! The swapchain is recreated when the window is resized, or the swapchain is out of date
+//! or suboptimal; that is the one place the viewer waits for its (own) device, because
+//! presents hold semaphores no fence covers. While the window has no area (minimised) no
+//! frame is drawn and no redraw is asked for, so the loop sleeps in the event queue.
+//! Closing the window, Escape, or reaching `frames` ends the loop; then the device is
+//! idled and everything destroyed — swapchain, surface, scene, renderer, device — before
+//! the window, and the validation log is checked.
 
 use std::time::Instant;
 
-use combustion_renderer::{Readback, Renderer, RendererSettings};
-use combustion_vk::{Device, DeviceDesc, PresentOutcome, Surface, Swapchain};
+use combustion_renderer::{ColorTarget, FrameInputs, FrameTarget, Renderer, RendererSettings};
+use combustion_vk::{
+    vk, Device, DeviceDesc, FrameRing, ImageState, PresentOutcome, Surface, Swapchain,
+};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, KeyEvent, WindowEvent};
@@ -40,6 +44,8 @@ pub struct ViewerDesc {
     /// are added by the viewer.
     pub device: DeviceDesc,
     pub settings: RendererSettings,
+    /// Wait for the display's refresh (FIFO); off: MAILBOX or IMMEDIATE where offered.
+    pub vsync: bool,
 }
 
 /// What a viewer run did.
@@ -49,10 +55,15 @@ pub struct ViewSummary {
     /// Size of the last presented frame.
     pub width: u32,
     pub height: u32,
-    /// GPU time of each presented frame's passes (timestamps), ms.
+    /// GPU time of the passes of each completed frame (timestamps), ms.
     pub gpu_total_ms: Vec<f64>,
-    /// Wall time of each presented frame: render, readback, copy and present, ms.
+    /// Wall-clock time from one presented frame to the next, ms (frames in flight: the
+    /// CPU records a frame while the GPU renders the previous one).
     pub frame_ms: Vec<f64>,
+    /// Swapchains created (1 + recreations after resizes and out-of-date swapchains).
+    pub swapchains: u32,
+    /// Frames presented.
+    pub presented: u64,
 }
 
 /// A winit error without its "os error at FILE:LINE: " prefix (the crate's source path
@@ -93,14 +104,19 @@ pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
         state: None,
         error: None,
         summary: ViewSummary::default(),
+        presented: 0,
     };
     let result = event_loop.run_app(&mut app);
     // Vulkan objects go before the window, the device last of them (it is behind Arcs),
     // and only then is the validation log complete (leaks are reported at destruction).
     let validation = app.state.as_ref().map(|s| s.device.validation_log());
-    if let Some(state) = app.state.take() {
+    if let Some(mut state) = app.state.take() {
+        if let Err(e) = state.finish(&mut app.summary) {
+            app.error.get_or_insert(e);
+        }
         state.destroy();
     }
+    app.summary.presented = app.presented;
     if let Some(e) = app.error.take() {
         return Err(e);
     }
@@ -124,15 +140,21 @@ struct App<'a> {
     state: Option<State>,
     error: Option<Error>,
     summary: ViewSummary,
+    /// Frames presented so far.
+    presented: u64,
 }
 
 /// Everything the viewer owns while the window is open.
 struct State {
     swapchain: Option<Swapchain>,
     surface: Surface,
+    /// The viewer's command buffers and fences, one per frame in flight.
+    ring: FrameRing,
     gpu_scene: combustion_renderer::GpuScene,
     renderer: Renderer,
     device: std::sync::Arc<Device>,
+    /// When the last frame was presented.
+    last_present: Option<Instant>,
     /// Recreate the swapchain before the next frame (resize, out of date, suboptimal).
     stale: bool,
     window: Window,
@@ -167,22 +189,27 @@ impl State {
         let surface = unsafe { Surface::new(&device, display, window_handle) }?;
         let mut renderer = Renderer::new(device.clone(), desc.settings)?;
         let gpu_scene = renderer.upload(scene)?;
+        let ring = FrameRing::new(&device, desc.settings.frames_in_flight)?;
         Ok(State {
             swapchain: None,
             surface,
+            ring,
             gpu_scene,
             renderer,
             device,
+            last_present: None,
             stale: true,
             window,
         })
     }
 
-    /// Tears down in order: swapchain, surface, scene, renderer (waits idle), device, window.
+    /// Tears down in order: swapchain, surface, frame ring, scene, renderer, device,
+    /// window (after waiting for the viewer's own device).
     fn destroy(self) {
         let State {
             swapchain,
             surface,
+            ring,
             gpu_scene,
             renderer,
             device,
@@ -194,6 +221,7 @@ impl State {
         }
         drop(swapchain);
         drop(surface);
+        drop(ring);
         drop(gpu_scene);
         drop(renderer);
         drop(device);
@@ -201,44 +229,97 @@ impl State {
     }
 
     /// Renders and presents one frame. `Ok(None)` when nothing was shown (no area, or
-    /// the swapchain went out of date), else the GPU total and the wall time in ms.
-    fn draw(&mut self) -> Result<Option<(f64, f64)>, Error> {
+    /// the swapchain went out of date), else the wall time since the last present in ms
+    /// (`None` for the first frame).
+    fn draw(
+        &mut self,
+        vsync: bool,
+        summary: &mut ViewSummary,
+    ) -> Result<Option<Option<f64>>, Error> {
         let size = self.window.inner_size();
         if size.width == 0 || size.height == 0 {
             return Ok(None);
         }
         if self.stale || self.swapchain.is_none() {
+            // The old swapchain's images and semaphores may still be in use by presents,
+            // which no fence covers: the viewer waits for its own device, once per
+            // recreation (never per frame).
+            self.device.wait_idle()?;
             self.swapchain = None; // the old one must go before a new one is made
-            self.swapchain = Some(Swapchain::new(
+            let swapchain = Swapchain::new(
                 &self.device,
                 &self.surface,
                 size.width,
                 size.height,
-            )?);
+                vsync,
+                self.ring.frames_in_flight(),
+            )?;
+            self.renderer.prepare_output(swapchain.format())?;
+            self.swapchain = Some(swapchain);
+            summary.swapchains += 1;
             self.stale = false;
+            self.last_present = None;
         }
-        let swapchain = self.swapchain.as_mut().expect("created above");
+        let swapchain = self.swapchain.as_ref().expect("created above");
         let extent = swapchain.extent();
-        let start = Instant::now();
-        let frame = self.renderer.render(
-            &self.gpu_scene,
-            extent.width,
-            extent.height,
-            Readback {
-                images: true,
-                gbuffer: false,
+        // The only wait of a frame: for the one that used this slot last.
+        let frame = self.ring.begin()?;
+        let Some(image) = swapchain.acquire(frame.slot)? else {
+            self.stale = true;
+            self.ring.submit(frame)?; // empty: keeps the ring's slots in step
+            return Ok(None);
+        };
+        let present_state = ImageState::new(
+            vk::PipelineStageFlags2::NONE,
+            vk::AccessFlags2::NONE,
+            vk::ImageLayout::PRESENT_SRC_KHR,
+        );
+        let target = FrameTarget {
+            color: ColorTarget {
+                image: image.image,
+                view: image.view,
+                format: swapchain.format(),
+                extent,
+                // The acquisition's semaphore is waited for before any command.
+                before: ImageState::UNDEFINED,
+                after: present_state,
             },
-        )?;
-        match swapchain.present_rgba8(&frame.ldr)? {
+            depth: None,
+        };
+        let inputs = FrameInputs::of_scene(&self.gpu_scene, self.renderer.settings().exposure);
+        self.renderer
+            .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
+        self.ring
+            .submit_with(frame, Some(image.acquired), Some(image.rendered))?;
+        match swapchain.present(&image)? {
             PresentOutcome::Presented => {}
-            PresentOutcome::PresentedSuboptimal => self.stale = true,
-            PresentOutcome::OutOfDate => {
-                self.stale = true;
-                return Ok(None);
-            }
+            PresentOutcome::PresentedSuboptimal | PresentOutcome::OutOfDate => self.stale = true,
         }
-        let wall = start.elapsed().as_secs_f64() * 1e3;
-        Ok(Some((frame.timings.total_ms, wall)))
+        summary.gpu_total_ms.extend(
+            self.renderer
+                .take_completed_timings()
+                .iter()
+                .map(|t| t.total_ms),
+        );
+        let now = Instant::now();
+        let wall = self
+            .last_present
+            .replace(now)
+            .map(|last| (now - last).as_secs_f64() * 1e3);
+        Ok(Some(wall))
+    }
+
+    /// Waits for every frame in flight and collects their GPU times.
+    fn finish(&mut self, summary: &mut ViewSummary) -> Result<(), Error> {
+        self.ring.wait_all()?;
+        self.renderer.frames_completed()?;
+        summary.gpu_total_ms.extend(
+            self.renderer
+                .take_completed_timings()
+                .iter()
+                .map(|t| t.total_ms),
+        );
+        Ok(())
     }
 }
 
@@ -252,7 +333,7 @@ impl App<'_> {
         let Some(state) = self.state.as_mut() else {
             return;
         };
-        match state.draw() {
+        match state.draw(self.desc.vsync, &mut self.summary) {
             Err(e) => self.fail(event_loop, e),
             Ok(None) => {
                 // Out of date: try again at once; no area: wait for a resize.
@@ -260,19 +341,24 @@ impl App<'_> {
                     state.window.request_redraw();
                 }
             }
-            Ok(Some((gpu_ms, wall_ms))) => {
+            Ok(Some(wall_ms)) => {
                 let extent = state.swapchain.as_ref().map(|s| s.extent());
                 if let Some(extent) = extent {
                     self.summary.width = extent.width;
                     self.summary.height = extent.height;
                 }
-                self.summary.gpu_total_ms.push(gpu_ms);
-                self.summary.frame_ms.push(wall_ms);
-                state
-                    .window
-                    .set_title(&format!("combustion — {} — {gpu_ms:.1} ms GPU", self.label));
-                let shown = self.summary.gpu_total_ms.len();
-                if self.desc.frames.is_some_and(|n| shown >= n as usize) {
+                self.presented += 1;
+                self.summary.frame_ms.extend(wall_ms);
+                if let Some(gpu_ms) = self.summary.gpu_total_ms.last() {
+                    state
+                        .window
+                        .set_title(&format!("combustion — {} — {gpu_ms:.1} ms GPU", self.label));
+                }
+                if self
+                    .desc
+                    .frames
+                    .is_some_and(|n| self.presented >= u64::from(n))
+                {
                     event_loop.exit();
                 } else {
                     state.window.request_redraw();

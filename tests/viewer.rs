@@ -46,9 +46,11 @@ fn view(display: &str, args: &[&str]) -> (Option<i32>, String, String) {
 #[test]
 fn view_renders_frames_in_a_window_and_exits_cleanly() {
     let xvfb = Xvfb::start();
-    let (code, stdout, stderr) = view(
-        &format!(":{}", xvfb.display),
-        &[
+    for extra in [
+        &["--vsync", "on"][..],
+        &["--vsync", "off", "--frames-in-flight", "3"][..],
+    ] {
+        let mut args = vec![
             "builtin:spheres",
             "--width",
             "160",
@@ -57,21 +59,34 @@ fn view_renders_frames_in_a_window_and_exits_cleanly() {
             "--frames",
             "5",
             "--validate",
-        ],
-    );
+        ];
+        args.extend_from_slice(extra);
+        let (code, stdout, stderr) = view(&format!(":{}", xvfb.display), &args);
+        assert_eq!(
+            code,
+            Some(0),
+            "{args:?}\nstdout: {stdout}\nstderr: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        // No error and no logged warning (a driver's own banner would be tolerated).
+        assert!(
+            !stderr.contains("error") && !stderr.contains("[WARN") && !stderr.contains("[ERROR"),
+            "{stderr}"
+        );
+        assert!(
+            stdout.starts_with("viewed 5 frames at 160x120 on llvmpipe"),
+            "{stdout}"
+        );
+        assert!(stdout.contains("on-device presentation"), "{stdout}");
+        assert_eq!(stdout.lines().count(), 1, "{stdout}");
+    }
     drop(xvfb);
-    assert_eq!(code, Some(0), "stdout: {stdout}\nstderr: {stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    // No error and no logged warning (a driver's own banner would be tolerated).
+    let (code, _, stderr) = view(":0", &["--vsync", "sometimes"]);
+    assert_eq!(code, Some(2), "{stderr}");
     assert!(
-        !stderr.contains("error") && !stderr.contains("[WARN") && !stderr.contains("[ERROR"),
+        stderr.contains("--vsync: `sometimes` is not on or off"),
         "{stderr}"
     );
-    assert!(
-        stdout.starts_with("viewed 5 frames at 160x120 on llvmpipe"),
-        "{stdout}"
-    );
-    assert_eq!(stdout.lines().count(), 1, "{stdout}");
 }
 
 #[test]

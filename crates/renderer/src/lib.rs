@@ -538,6 +538,18 @@ impl Renderer {
         self.completed_timings.drain(..).collect()
     }
 
+    /// The host has waited for every frame it recorded (e.g. at exit or before a pause):
+    /// collects the timings of every slot's last frame, so that
+    /// [`Renderer::take_completed_timings`] has them all.
+    pub fn frames_completed(&mut self) -> Result<(), RenderError> {
+        let count = self.slots.len();
+        let first = self.last_slot.map_or(0, |last| (last + 1) % count);
+        for i in 0..count {
+            self.collect_timings((first + i) % count)?;
+        }
+        Ok(())
+    }
+
     /// Reads the timestamps of `slot`'s frame, which has completed.
     pub(crate) fn collect_timings(&mut self, slot: usize) -> Result<(), RenderError> {
         let s = &mut self.slots[slot];

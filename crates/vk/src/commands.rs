@@ -191,11 +191,33 @@ impl FrameRing {
 
     /// Ends recording and submits the frame; its slot's fence signals when it completes.
     pub fn submit(&mut self, frame: RingFrame) -> Result<(), VkError> {
+        self.submit_with(frame, None, None)
+    }
+
+    /// As [`FrameRing::submit`], waiting for `wait` before any of the frame's commands
+    /// (e.g. a swapchain image's acquisition) and signalling `signal` when they are done
+    /// (e.g. for its presentation).
+    pub fn submit_with(
+        &mut self,
+        frame: RingFrame,
+        wait: Option<vk::Semaphore>,
+        signal: Option<vk::Semaphore>,
+    ) -> Result<(), VkError> {
         let s = &mut self.slots[frame.slot];
         let raw = self.device.raw();
         unsafe { raw.end_command_buffer(s.cmd) }.what("vkEndCommandBuffer")?;
         let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(s.cmd)];
-        let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos)];
+        let semaphore = |semaphore| {
+            vk::SemaphoreSubmitInfo::default()
+                .semaphore(semaphore)
+                .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+        };
+        let waits: Vec<_> = wait.into_iter().map(semaphore).collect();
+        let signals: Vec<_> = signal.into_iter().map(semaphore).collect();
+        let submit = [vk::SubmitInfo2::default()
+            .command_buffer_infos(&cmd_infos)
+            .wait_semaphore_infos(&waits)
+            .signal_semaphore_infos(&signals)];
         s.pending = false;
         unsafe { raw.reset_fences(&[s.fence]) }.what("vkResetFences")?;
         self.device.submit(&submit, s.fence)?;

@@ -39,5 +39,5 @@ pub use resources::{
     full_mip_chain, image_barrier, Buffer, Image, ImageDesc, ImageState, ImageView,
 };
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources, ShaderStage};
-pub use swapchain::{PresentOutcome, Surface, Swapchain};
+pub use swapchain::{AcquiredImage, PresentOutcome, Surface, Swapchain};
 pub use timestamps::TimestampQueries;

@@ -1,23 +1,21 @@
-//! Presenting to a window: a [`Surface`] and a [`Swapchain`] that shows CPU-side RGBA8
-//! frames.
+//! Presenting to a window: a [`Surface`] and a [`Swapchain`] whose images frames are
+//! rendered into on the device.
 //!
-//! The swapchain does not render into its images. [`Swapchain::present_rgba8`] copies
-//! pixels the renderer already read back (the tonemapped, sRGB-encoded display image)
-//! into a host-visible staging buffer and from there, with `vkCmdCopyBufferToImage`,
-//! into the acquired image. This keeps the renderer exactly as it is for headless use;
-//! the extra copy is cheap on lavapipe, where "GPU" memory is host memory anyway, and a
-//! device-side blit can replace it when a real GPU makes it matter.
+//! A frame acquires an image ([`Swapchain::acquire`], signalling the frame slot's
+//! semaphore), renders into its view (the renderer's output pass writes the swapchain
+//! image directly: `COLOR_ATTACHMENT` usage, an 8-bit UNORM format that takes the
+//! shader's exact sRGB encoding), waits for the acquisition and signals the image's
+//! "rendered" semaphore in its submission, and presents ([`Swapchain::present`]). No
+//! pixel goes through the CPU.
 
 use std::ffi::CStr;
 use std::sync::Arc;
 
 use ash::{khr, vk};
-use gpu_allocator::MemoryLocation;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
 use crate::device::Device;
 use crate::error::{VkError, VkResultExt};
-use crate::resources::Buffer;
 
 /// How long acquiring an image may take before the frame is given up as an error.
 const ACQUIRE_TIMEOUT_NS: u64 = 10_000_000_000;
@@ -103,7 +101,7 @@ impl Drop for Surface {
     }
 }
 
-/// What [`Swapchain::present_rgba8`] did.
+/// What a present did.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PresentOutcome {
     /// The frame is on its way to the screen.
@@ -115,45 +113,60 @@ pub enum PresentOutcome {
     OutOfDate,
 }
 
-/// A swapchain with what it takes to copy CPU frames into its images: a command pool and
-/// buffer, a fence, semaphores, and a host-visible staging buffer. Everything is
-/// destroyed when dropped (after the device is idle). One frame is in flight at most:
-/// each present waits for the previous copy to finish.
+/// An image acquired for one frame.
+#[derive(Clone, Copy, Debug)]
+pub struct AcquiredImage {
+    pub index: u32,
+    pub image: vk::Image,
+    /// A 2D colour view of the image.
+    pub view: vk::ImageView,
+    /// Signalled when the image may be written: the frame's submission waits for it.
+    pub acquired: vk::Semaphore,
+    /// The frame's submission signals it; the present waits for it.
+    pub rendered: vk::Semaphore,
+    /// The swapchain still works but no longer matches the surface: recreate it after
+    /// this frame.
+    pub suboptimal: bool,
+}
+
+/// A swapchain whose images are rendered into on the device, with one acquisition
+/// semaphore per frame in flight and one "rendered" semaphore per image. Drop it only
+/// when its queue has drained (presents wait for its semaphores, and no fence tells when
+/// they are done): the viewer waits for its own device once per recreation. Nothing
+/// here waits for the device.
 pub struct Swapchain {
-    // The raw objects are destroyed in `Drop::drop`, before `staging` is freed.
-    staging: Buffer,
     device: Arc<Device>,
     loader: khr::swapchain::Device,
     raw: vk::SwapchainKHR,
     images: Vec<vk::Image>,
+    views: Vec<vk::ImageView>,
     format: vk::Format,
     extent: vk::Extent2D,
-    pool: vk::CommandPool,
-    cmd: vk::CommandBuffer,
-    fence: vk::Fence,
-    image_available: vk::Semaphore,
-    /// One per swapchain image: signalled by the copy, waited on by the present.
-    copy_done: Vec<vk::Semaphore>,
+    present_mode: vk::PresentModeKHR,
+    /// Per frame slot: signalled by the acquisition of that slot's image.
+    acquired: Vec<vk::Semaphore>,
+    /// Per image: signalled by the frame rendered into it, waited for by its present.
+    rendered: Vec<vk::Semaphore>,
 }
 
-/// The swapchain formats that take sRGB-encoded bytes as they are, and whether the
-/// red and blue channels are swapped relative to RGBA.
-const UNORM_FORMATS: [(vk::Format, bool); 2] = [
-    (vk::Format::B8G8R8A8_UNORM, true),
-    (vk::Format::R8G8B8A8_UNORM, false),
-];
+/// The swapchain formats the renderer's output pass writes with the exact sRGB encoding.
+const UNORM_FORMATS: [vk::Format; 2] = [vk::Format::B8G8R8A8_UNORM, vk::Format::R8G8B8A8_UNORM];
 
 impl Swapchain {
     /// Creates a swapchain of about `width`×`height` (the surface may dictate its own
-    /// size: see [`Swapchain::extent`]). Drop the previous swapchain of the surface first.
+    /// size: see [`Swapchain::extent`]) for `frames_in_flight` frames. `vsync`: FIFO
+    /// (wait for the display's refresh); without it MAILBOX or IMMEDIATE where the
+    /// surface offers one, else FIFO. Drop the previous swapchain of the surface first.
     ///
-    /// The image format is B8G8R8A8_UNORM or R8G8B8A8_UNORM: the frames are already
-    /// sRGB-encoded, so an `_SRGB` format would encode them twice.
+    /// The image format is B8G8R8A8_UNORM or R8G8B8A8_UNORM: the renderer encodes sRGB
+    /// exactly in its shader, which an `_SRGB` format would do again.
     pub fn new(
         device: &Arc<Device>,
         surface: &Surface,
         width: u32,
         height: u32,
+        vsync: bool,
+        frames_in_flight: usize,
     ) -> Result<Swapchain, VkError> {
         let pd = device.physical_device();
         let caps = surface.capabilities()?;
@@ -166,7 +179,7 @@ impl Swapchain {
         .what("vkGetPhysicalDeviceSurfaceFormatsKHR")?;
         let format = UNORM_FORMATS
             .iter()
-            .find_map(|&(f, _)| {
+            .find_map(|&f| {
                 formats
                     .iter()
                     .find(|s| s.format == f && s.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR)
@@ -174,19 +187,33 @@ impl Swapchain {
             .copied()
             .ok_or_else(|| {
                 VkError::Unsupported(format!(
-                    "the window offers no B8G8R8A8_UNORM or R8G8B8A8_UNORM swapchain format (only {:?}); the viewer copies already sRGB-encoded bytes, which an _SRGB format would encode twice",
+                    "the window offers no B8G8R8A8_UNORM or R8G8B8A8_UNORM swapchain format (only {:?}); the renderer encodes sRGB itself, which an _SRGB format would do twice",
                     formats.iter().map(|f| f.format).collect::<Vec<_>>()
                 ))
             })?;
         if !caps
             .supported_usage_flags
-            .contains(vk::ImageUsageFlags::TRANSFER_DST)
+            .contains(vk::ImageUsageFlags::COLOR_ATTACHMENT)
         {
             return Err(VkError::Unsupported(
-                "the window's swapchain images cannot be copied into (no TRANSFER_DST usage)"
+                "the window's swapchain images cannot be rendered into (no COLOR_ATTACHMENT usage)"
                     .into(),
             ));
         }
+        let modes = unsafe {
+            surface
+                .loader
+                .get_physical_device_surface_present_modes(pd, surface.raw)
+        }
+        .what("vkGetPhysicalDeviceSurfacePresentModesKHR")?;
+        let present_mode = if vsync {
+            vk::PresentModeKHR::FIFO
+        } else {
+            [vk::PresentModeKHR::MAILBOX, vk::PresentModeKHR::IMMEDIATE]
+                .into_iter()
+                .find(|m| modes.contains(m))
+                .unwrap_or(vk::PresentModeKHR::FIFO)
+        };
         let extent = if caps.current_extent.width != u32::MAX {
             caps.current_extent
         } else {
@@ -213,13 +240,6 @@ impl Swapchain {
         .into_iter()
         .find(|&a| caps.supported_composite_alpha.contains(a))
         .unwrap_or(vk::CompositeAlphaFlagsKHR::OPAQUE);
-        let staging = Buffer::new(
-            device,
-            "swapchain staging",
-            u64::from(extent.width) * u64::from(extent.height) * 4,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::CpuToGpu,
-        )?;
         let loader = khr::swapchain::Device::new(device.instance(), device.raw());
         let info = vk::SwapchainCreateInfoKHR::default()
             .surface(surface.raw)
@@ -228,68 +248,68 @@ impl Swapchain {
             .image_color_space(format.color_space)
             .image_extent(extent)
             .image_array_layers(1)
-            .image_usage(vk::ImageUsageFlags::TRANSFER_DST)
+            .image_usage(vk::ImageUsageFlags::COLOR_ATTACHMENT)
             .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
             .pre_transform(caps.current_transform)
             .composite_alpha(composite_alpha)
-            // FIFO: always available, no tearing; the renderer is slower than any
-            // refresh rate on lavapipe anyway.
-            .present_mode(vk::PresentModeKHR::FIFO)
+            .present_mode(present_mode)
             .clipped(true);
         // SAFETY: valid create info; from here on Drop destroys whatever was created.
         let raw = unsafe { loader.create_swapchain(&info, None) }.what("vkCreateSwapchainKHR")?;
         let mut this = Swapchain {
-            staging,
             device: device.clone(),
             loader,
             raw,
             images: Vec::new(),
+            views: Vec::new(),
             format: format.format,
             extent,
-            pool: vk::CommandPool::null(),
-            cmd: vk::CommandBuffer::null(),
-            fence: vk::Fence::null(),
-            image_available: vk::Semaphore::null(),
-            copy_done: Vec::new(),
+            present_mode,
+            acquired: Vec::new(),
+            rendered: Vec::new(),
         };
         let rd = device.raw();
+        let semaphore_info = vk::SemaphoreCreateInfo::default();
         unsafe {
             this.images = this
                 .loader
                 .get_swapchain_images(raw)
                 .what("vkGetSwapchainImagesKHR")?;
-            let pool_info = vk::CommandPoolCreateInfo::default()
-                .queue_family_index(device.queue_family())
-                .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-            this.pool = rd
-                .create_command_pool(&pool_info, None)
-                .what("vkCreateCommandPool")?;
-            let alloc = vk::CommandBufferAllocateInfo::default()
-                .command_pool(this.pool)
-                .level(vk::CommandBufferLevel::PRIMARY)
-                .command_buffer_count(1);
-            this.cmd = rd
-                .allocate_command_buffers(&alloc)
-                .what("vkAllocateCommandBuffers")?[0];
-            let fence_info = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
-            this.fence = rd.create_fence(&fence_info, None).what("vkCreateFence")?;
-            let semaphore_info = vk::SemaphoreCreateInfo::default();
-            this.image_available = rd
-                .create_semaphore(&semaphore_info, None)
-                .what("vkCreateSemaphore")?;
-            for _ in 0..this.images.len() {
-                let s = rd
-                    .create_semaphore(&semaphore_info, None)
-                    .what("vkCreateSemaphore")?;
-                this.copy_done.push(s);
+            for &image in &this.images.clone() {
+                let view_info = vk::ImageViewCreateInfo::default()
+                    .image(image)
+                    .view_type(vk::ImageViewType::TYPE_2D)
+                    .format(format.format)
+                    .subresource_range(vk::ImageSubresourceRange {
+                        aspect_mask: vk::ImageAspectFlags::COLOR,
+                        base_mip_level: 0,
+                        level_count: 1,
+                        base_array_layer: 0,
+                        layer_count: 1,
+                    });
+                this.views.push(
+                    rd.create_image_view(&view_info, None)
+                        .what("vkCreateImageView")?,
+                );
+                this.rendered.push(
+                    rd.create_semaphore(&semaphore_info, None)
+                        .what("vkCreateSemaphore")?,
+                );
+            }
+            for _ in 0..frames_in_flight.max(1) {
+                this.acquired.push(
+                    rd.create_semaphore(&semaphore_info, None)
+                        .what("vkCreateSemaphore")?,
+                );
             }
         }
         log::info!(
-            "swapchain: {} images of {}x{} {:?}",
+            "swapchain: {} images of {}x{} {:?}, {:?}",
             this.images.len(),
             extent.width,
             extent.height,
-            format.format
+            format.format,
+            present_mode
         );
         Ok(this)
     }
@@ -303,177 +323,69 @@ impl Swapchain {
         self.format
     }
 
-    /// Shows `pixels` — `extent().width × extent().height` RGBA8 texels, rows top-down,
-    /// already sRGB-encoded (the renderer's `Frame::ldr`) — in the next swapchain image.
-    /// Alpha is ignored (the window is opaque).
-    pub fn present_rgba8(&mut self, pixels: &[[u8; 4]]) -> Result<PresentOutcome, VkError> {
-        let (w, h) = (self.extent.width, self.extent.height);
-        if pixels.len() != (w as usize) * (h as usize) {
-            return Err(VkError::Unsupported(format!(
-                "a frame of {} pixels does not fit a {w}x{h} swapchain",
-                pixels.len()
-            )));
-        }
-        let rd = self.device.raw();
-        // The previous copy must be done before the staging buffer and command buffer
-        // are reused.
-        unsafe { rd.wait_for_fences(&[self.fence], true, ACQUIRE_TIMEOUT_NS) }
-            .what("vkWaitForFences")?;
-        // SAFETY: valid handles; the semaphore is unsignalled (the last submit waited on it).
-        let acquired = unsafe {
+    pub fn present_mode(&self) -> vk::PresentModeKHR {
+        self.present_mode
+    }
+
+    /// Acquires the next image for the frame in `frame_slot` (whose previous frame has
+    /// completed, so its semaphore is free). `Ok(None)`: the swapchain is out of date;
+    /// recreate it.
+    pub fn acquire(&self, frame_slot: usize) -> Result<Option<AcquiredImage>, VkError> {
+        let acquired = self.acquired[frame_slot % self.acquired.len()];
+        // SAFETY: valid handles; the semaphore is unsignalled (its last wait completed).
+        let result = unsafe {
             self.loader.acquire_next_image(
                 self.raw,
                 ACQUIRE_TIMEOUT_NS,
-                self.image_available,
+                acquired,
                 vk::Fence::null(),
             )
         };
-        let (index, suboptimal) = match acquired {
-            Ok(r) => r,
-            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => return Ok(PresentOutcome::OutOfDate),
-            Err(result) => {
-                return Err(VkError::Vk {
-                    what: "vkAcquireNextImageKHR",
-                    result,
-                })
-            }
-        };
-        let swap_red_blue = UNORM_FORMATS
-            .iter()
-            .any(|&(f, swap)| f == self.format && swap);
-        let bytes: Vec<u8> = pixels
-            .iter()
-            .flat_map(|&[r, g, b, _]| {
-                if swap_red_blue {
-                    [b, g, r, 255]
-                } else {
-                    [r, g, b, 255]
-                }
-            })
-            .collect();
-        self.staging.write(0, &bytes)?;
-
-        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
-        let image = self.images[index as usize];
-        let range = vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            base_mip_level: 0,
-            level_count: 1,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        let to_dst = vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(S::COPY)
-            .src_access_mask(A::NONE)
-            .old_layout(L::UNDEFINED)
-            .dst_stage_mask(S::COPY)
-            .dst_access_mask(A::TRANSFER_WRITE)
-            .new_layout(L::TRANSFER_DST_OPTIMAL)
-            .image(image)
-            .subresource_range(range);
-        let to_present = vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(S::COPY)
-            .src_access_mask(A::TRANSFER_WRITE)
-            .old_layout(L::TRANSFER_DST_OPTIMAL)
-            .dst_stage_mask(S::NONE)
-            .dst_access_mask(A::NONE)
-            .new_layout(L::PRESENT_SRC_KHR)
-            .image(image)
-            .subresource_range(range);
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D {
-                width: w,
-                height: h,
-                depth: 1,
-            });
-        let copy_done = self.copy_done[index as usize];
-        // SAFETY: the fence wait above makes the command buffer and staging buffer free;
-        // the image was acquired and is only touched after `image_available`.
-        unsafe {
-            rd.reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
-                .what("vkResetCommandBuffer")?;
-            rd.begin_command_buffer(
-                self.cmd,
-                &vk::CommandBufferBeginInfo::default()
-                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
-            )
-            .what("vkBeginCommandBuffer")?;
-            rd.cmd_pipeline_barrier2(
-                self.cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&[to_dst]),
-            );
-            rd.cmd_copy_buffer_to_image(
-                self.cmd,
-                self.staging.raw(),
-                image,
-                L::TRANSFER_DST_OPTIMAL,
-                &[region],
-            );
-            rd.cmd_pipeline_barrier2(
-                self.cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&[to_present]),
-            );
-            rd.end_command_buffer(self.cmd).what("vkEndCommandBuffer")?;
-            let waits = [vk::SemaphoreSubmitInfo::default()
-                .semaphore(self.image_available)
-                .stage_mask(S::COPY)];
-            let signals = [vk::SemaphoreSubmitInfo::default()
-                .semaphore(copy_done)
-                .stage_mask(S::COPY)];
-            let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
-            let submit = [vk::SubmitInfo2::default()
-                .wait_semaphore_infos(&waits)
-                .command_buffer_infos(&cmds)
-                .signal_semaphore_infos(&signals)];
-            rd.reset_fences(&[self.fence]).what("vkResetFences")?;
-            self.device.submit(&submit, self.fence)?;
+        match result {
+            Ok((index, suboptimal)) => Ok(Some(AcquiredImage {
+                index,
+                image: self.images[index as usize],
+                view: self.views[index as usize],
+                acquired,
+                rendered: self.rendered[index as usize],
+                suboptimal,
+            })),
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(None),
+            Err(result) => Err(VkError::from_result("vkAcquireNextImageKHR", result)),
         }
-        let wait = [copy_done];
+    }
+
+    /// Presents `image` once its frame (submitted with `image.rendered` to signal) is done.
+    pub fn present(&self, image: &AcquiredImage) -> Result<PresentOutcome, VkError> {
+        let wait = [image.rendered];
         let swapchains = [self.raw];
-        let indices = [index];
+        let indices = [image.index];
         let present = vk::PresentInfoKHR::default()
             .wait_semaphores(&wait)
             .swapchains(&swapchains)
             .image_indices(&indices);
         let queue = self.device.queue();
-        // SAFETY: the queue is externally synchronised by the device's mutex.
+        // SAFETY: the queue is externally synchronised by the device's lock.
         match unsafe { self.loader.queue_present(*queue, &present) } {
-            Ok(false) if !suboptimal => Ok(PresentOutcome::Presented),
+            Ok(false) if !image.suboptimal => Ok(PresentOutcome::Presented),
             Ok(_) => Ok(PresentOutcome::PresentedSuboptimal),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(PresentOutcome::OutOfDate),
-            Err(result) => Err(VkError::Vk {
-                what: "vkQueuePresentKHR",
-                result,
-            }),
+            Err(result) => Err(VkError::from_result("vkQueuePresentKHR", result)),
         }
     }
 }
 
 impl Drop for Swapchain {
     fn drop(&mut self) {
-        if let Err(e) = self.device.wait_idle() {
-            log::error!("waiting for the device before destroying the swapchain: {e}");
-        }
         let rd = self.device.raw();
-        // SAFETY: the device is idle, so nothing uses these objects any more.
+        // SAFETY: the caller has waited for every frame that used the swapchain (see the
+        // type's docs); presents still pending hold only the swapchain, destroyed last.
         unsafe {
-            for &s in &self.copy_done {
+            for &s in self.acquired.iter().chain(&self.rendered) {
                 rd.destroy_semaphore(s, None);
             }
-            if self.image_available != vk::Semaphore::null() {
-                rd.destroy_semaphore(self.image_available, None);
-            }
-            if self.fence != vk::Fence::null() {
-                rd.destroy_fence(self.fence, None);
-            }
-            if self.pool != vk::CommandPool::null() {
-                rd.destroy_command_pool(self.pool, None);
+            for &view in &self.views {
+                rd.destroy_image_view(view, None);
             }
             self.loader.destroy_swapchain(self.raw, None);
         }
