@@ -23,8 +23,8 @@ USAGE:
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
                     [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
-                    [--vsync on|off] [--frames-in-flight N]
-                    [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
+                    [--vsync on|off] [--frames-in-flight N] [--screenshot OUT.png]
+                    [--camera-path FILE] [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
   combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
                     [--alpha A | --roughness R | --alpha-x A --alpha-y A] [--eta E|r,g,b]
                     [--k K|r,g,b] [--eta-i E] [--sigma S] [--polarisation W] [--rho R|r,g,b]
@@ -123,6 +123,10 @@ struct Options {
     frames_in_flight: usize,
     /// `view`: wait for the display's refresh.
     vsync: bool,
+    /// `view`: write the last frame to this PNG.
+    screenshot: Option<PathBuf>,
+    /// `view`: a scripted camera path.
+    camera_path: Option<PathBuf>,
     device: Option<DeviceSelector>,
     validate: bool,
 }
@@ -147,6 +151,8 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         frames_given: false,
         frames_in_flight: RendererSettings::default().frames_in_flight,
         vsync: true,
+        screenshot: None,
+        camera_path: None,
         device: None,
         validate: false,
     };
@@ -196,6 +202,8 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
                 o.frames = number(flag, value()?)?;
                 o.frames_given = true;
             }
+            "--screenshot" if command == "view" => o.screenshot = Some(PathBuf::from(value()?)),
+            "--camera-path" if command == "view" => o.camera_path = Some(PathBuf::from(value()?)),
             "--vsync" if command == "view" => {
                 o.vsync = match value()? {
                     "on" => true,
@@ -411,6 +419,8 @@ fn view(o: &Options) -> Result<(), Error> {
         device,
         settings,
         vsync: o.vsync,
+        screenshot: o.screenshot.clone(),
+        camera_path: o.camera_path.clone(),
     })?;
     let median = |list: &[f64]| {
         let mut sorted = list.to_vec();
@@ -418,14 +428,19 @@ fn view(o: &Options) -> Result<(), Error> {
         sorted.get(sorted.len() / 2).copied().unwrap_or(f64::NAN)
     };
     outln!(
-        "viewed {} frames at {}x{} on {}: GPU total median {:.2} ms, wall clock per frame median {:.2} ms ({} in flight, on-device presentation)",
+        "viewed {} frames at {}x{} on {}: GPU total median {:.2} ms, wall clock per frame median {:.2} ms ({} in flight, on-device presentation){}",
         summary.presented,
         summary.width,
         summary.height,
         summary.device_name,
         median(&summary.gpu_total_ms),
         median(&summary.frame_ms),
-        settings.frames_in_flight
+        settings.frames_in_flight,
+        summary
+            .screenshots
+            .iter()
+            .map(|p| format!("; screenshot {}", p.display()))
+            .collect::<String>()
     );
     Ok(())
 }

@@ -109,3 +109,103 @@ fn view_without_a_display_is_a_one_line_error() {
     );
     assert!(stdout.is_empty(), "{stdout}");
 }
+
+/// A scripted run (`--camera-path`) with `--screenshot`: the PNG, copied from the
+/// presented swapchain image, holds exactly what the headless renderer makes of the same
+/// scene, camera and size — both are the same output pass with the same exact sRGB
+/// encoding, into B8G8R8A8_UNORM and R8G8B8A8_UNORM, so byte equality is expected (a
+/// FLIP threshold would only hide a difference).
+#[test]
+fn screenshot_of_a_scripted_run_equals_the_headless_render() {
+    use combustion::renderer::{Readback, RendererSettings};
+    use combustion::viewer::camera::CameraPath;
+    use combustion::viewer::PATH_FRAMES_PER_SECOND;
+
+    let dir = std::env::temp_dir().join(format!("combustion-view-shot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path_file = dir.join("path.txt");
+    let path_text = "# time eye target\n0  0 1 6  0 0 0\n1  3 1 5  0 0 0\n";
+    std::fs::write(&path_file, path_text).unwrap();
+    let shot = dir.join("shot.png");
+    let xvfb = Xvfb::start();
+    let (code, stdout, stderr) = view(
+        &format!(":{}", xvfb.display),
+        &[
+            "builtin:spheres",
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--frames",
+            "7",
+            "--camera-path",
+            path_file.to_str().unwrap(),
+            "--screenshot",
+            shot.to_str().unwrap(),
+            "--validate",
+        ],
+    );
+    drop(xvfb);
+    assert_eq!(code, Some(0), "stdout: {stdout}\nstderr: {stderr}");
+    assert!(stdout.contains("; screenshot "), "{stdout}");
+    let (width, height, pixels) = common::read_png(&shot);
+    assert_eq!((width, height), (160, 120));
+
+    // Frame 6 (the seventh) is shown at 6/30 s on the path.
+    let mut scene = combustion::scene::builtin_scene("spheres").unwrap();
+    let path = CameraPath::parse(path_text).unwrap();
+    scene.camera = path.at(6.0 / PATH_FRAMES_PER_SECOND, &scene.camera);
+    let reference = common::render(
+        &scene,
+        width,
+        height,
+        RendererSettings::default(),
+        Readback {
+            images: true,
+            gbuffer: false,
+        },
+    );
+    let lit = pixels.iter().filter(|p| p[..3] != [0, 0, 0]).count();
+    assert!(
+        lit > pixels.len() / 10,
+        "the spheres are in view: {lit} lit pixels"
+    );
+    let differing = pixels
+        .iter()
+        .zip(&reference.ldr)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(
+        differing, 0,
+        "{differing} pixels differ from the headless render"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn a_bad_camera_path_is_a_one_line_error_naming_file_and_line() {
+    let dir = std::env::temp_dir().join(format!("combustion-view-path-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path_file = dir.join("bad.txt");
+    std::fs::write(&path_file, "0 0 1 6 0 0 0\n0 1 1 6 0 0 0\n").unwrap();
+    let (code, _, stderr) = view(":0", &["--camera-path", path_file.to_str().unwrap()]);
+    assert_eq!(code, Some(2), "{stderr}");
+    let lines: Vec<_> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{stderr}");
+    assert!(
+        lines[0].contains("bad.txt:2: times must increase"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The README's key table lists every key the viewer handles, with the same text.
+#[test]
+fn the_readme_lists_every_key() {
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    for (key, does) in combustion::viewer::KEYS {
+        let row = format!("| {key} | {does} |");
+        assert!(readme.contains(&row), "README lacks `{row}`");
+    }
+}

@@ -191,9 +191,16 @@ impl State {
             return Ok(false); // minimised: no frame until it has an area again
         }
         if self.stale || self.swapchain.is_none() {
-            // The old swapchain's images may still be in use by frames in flight: wait
-            // for the host's own frames (its fences), then replace it.
+            // The old swapchain's images may still be in use by frames in flight, and
+            // its semaphores by presents, which no fence covers: the host waits for its
+            // own queue to drain (its device; Combustion never does this), then
+            // replaces it.
             self.host.wait_frames()?;
+            {
+                let queue = self.host.vulkan.queue.lock().map_err(|_| "queue lock")?;
+                unsafe { self.host.vulkan.device.queue_wait_idle(*queue) }
+                    .map_err(|e| format!("vkQueueWaitIdle: {e}"))?;
+            }
             if let Some(old) = self.swapchain.take() {
                 old.destroy(&self.host.vulkan);
             }

@@ -78,6 +78,11 @@ fn finite3(v: [f32; 3]) -> bool {
 }
 
 impl Scene {
+    /// The world-space box around every object (`None` for an empty scene).
+    pub fn world_bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
+        gltf::import::world_bounds(&self.meshes, &self.objects)
+    }
+
     /// The outside-medium IOR that applies to `material`.
     pub fn outside_ior_of(&self, material: &Material) -> f32 {
         material.outside_ior.unwrap_or(self.outside_ior)

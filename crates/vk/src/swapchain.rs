@@ -143,6 +143,8 @@ pub struct Swapchain {
     format: vk::Format,
     extent: vk::Extent2D,
     present_mode: vk::PresentModeKHR,
+    /// The images can be copied from (`TRANSFER_SRC`).
+    copyable: bool,
     /// Per frame slot: signalled by the acquisition of that slot's image.
     acquired: Vec<vk::Semaphore>,
     /// Per image: signalled by the frame rendered into it, waited for by its present.
@@ -240,6 +242,15 @@ impl Swapchain {
         .into_iter()
         .find(|&a| caps.supported_composite_alpha.contains(a))
         .unwrap_or(vk::CompositeAlphaFlagsKHR::OPAQUE);
+        // Copies out of the images (screenshots) where the surface allows them.
+        let copyable = caps
+            .supported_usage_flags
+            .contains(vk::ImageUsageFlags::TRANSFER_SRC);
+        let usage = if copyable {
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
+        } else {
+            vk::ImageUsageFlags::COLOR_ATTACHMENT
+        };
         let loader = khr::swapchain::Device::new(device.instance(), device.raw());
         let info = vk::SwapchainCreateInfoKHR::default()
             .surface(surface.raw)
@@ -248,7 +259,7 @@ impl Swapchain {
             .image_color_space(format.color_space)
             .image_extent(extent)
             .image_array_layers(1)
-            .image_usage(vk::ImageUsageFlags::COLOR_ATTACHMENT)
+            .image_usage(usage)
             .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
             .pre_transform(caps.current_transform)
             .composite_alpha(composite_alpha)
@@ -265,6 +276,7 @@ impl Swapchain {
             format: format.format,
             extent,
             present_mode,
+            copyable,
             acquired: Vec::new(),
             rendered: Vec::new(),
         };
@@ -325,6 +337,11 @@ impl Swapchain {
 
     pub fn present_mode(&self) -> vk::PresentModeKHR {
         self.present_mode
+    }
+
+    /// Whether the images can be copied from (for screenshots).
+    pub fn copyable(&self) -> bool {
+        self.copyable
     }
 
     /// Acquires the next image for the frame in `frame_slot` (whose previous frame has

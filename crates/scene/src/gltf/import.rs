@@ -870,7 +870,7 @@ fn exact_look_at(extras: Option<&serde_json::value::RawValue>) -> Option<(Vec3, 
 }
 
 /// World-space bounding box of every object.
-fn world_bounds(meshes: &[crate::Mesh], objects: &[Object]) -> Option<(Vec3, Vec3)> {
+pub(crate) fn world_bounds(meshes: &[crate::Mesh], objects: &[Object]) -> Option<(Vec3, Vec3)> {
     let mut bounds: Option<(Vec3, Vec3)> = None;
     for object in objects {
         let mesh = &meshes[object.mesh];

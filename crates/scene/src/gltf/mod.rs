@@ -11,7 +11,7 @@ mod accessor;
 mod error;
 mod geometry;
 mod image;
-mod import;
+pub(crate) mod import;
 mod material;
 mod optics_ext;
 mod source;

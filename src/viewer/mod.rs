@@ -15,6 +15,9 @@
 //! idled and everything destroyed — swapchain, surface, scene, renderer, device — before
 //! the window, and the validation log is checked.
 
+pub mod camera;
+
+use std::path::PathBuf;
 use std::time::Instant;
 
 use combustion_renderer::{ColorTarget, FrameInputs, FrameTarget, Renderer, RendererSettings};
@@ -23,7 +26,7 @@ use combustion_vk::{
 };
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
-use winit::event::{ElementState, KeyEvent, WindowEvent};
+use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
@@ -46,7 +49,32 @@ pub struct ViewerDesc {
     pub settings: RendererSettings,
     /// Wait for the display's refresh (FIFO); off: MAILBOX or IMMEDIATE where offered.
     pub vsync: bool,
+    /// Write the last frame shown (with `frames`) to this PNG, copied from the
+    /// swapchain image itself.
+    pub screenshot: Option<PathBuf>,
+    /// Move the camera along this path (see [`camera::CameraPath`]) instead of by the
+    /// mouse and keys; frame n is shown at time n / [`PATH_FRAMES_PER_SECOND`], so a run
+    /// is the same on any machine.
+    pub camera_path: Option<PathBuf>,
 }
+
+/// The clock of scripted runs: frame n of a camera path is at time n / 30 s.
+pub const PATH_FRAMES_PER_SECOND: f32 = 30.0;
+
+/// The keys and mouse buttons of the viewer, for the help text and the README.
+pub const KEYS: &[(&str, &str)] = &[
+    (
+        "left drag",
+        "orbit around the target (with W/A/S/D/Q/E held: look around)",
+    ),
+    ("right or middle drag", "pan"),
+    ("wheel", "zoom"),
+    ("W A S D / Q E", "fly forward, left, back, right / down, up"),
+    ("F", "frame the whole scene"),
+    ("R", "reset the camera"),
+    ("P", "screenshot to combustion-NNNN.png"),
+    ("Escape", "quit"),
+];
 
 /// What a viewer run did.
 #[derive(Clone, Debug, Default)]
@@ -64,6 +92,70 @@ pub struct ViewSummary {
     pub swapchains: u32,
     /// Frames presented.
     pub presented: u64,
+    /// Screenshots written.
+    pub screenshots: Vec<PathBuf>,
+}
+
+/// Records, after the frame's output pass (the image in `from`), a copy of the swapchain
+/// image into a host-visible buffer, and the transition to `to` for presenting.
+fn record_screenshot_copy(
+    device: &std::sync::Arc<Device>,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    extent: vk::Extent2D,
+    from: ImageState,
+    to: ImageState,
+) -> Result<combustion_vk::Buffer, Error> {
+    let buffer = combustion_vk::Buffer::new(
+        device,
+        "screenshot",
+        u64::from(extent.width) * u64::from(extent.height) * 4,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        combustion_vk::gpu_allocator::MemoryLocation::GpuToCpu,
+    )?;
+    let range = vk::ImageSubresourceRange {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    let region = vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        });
+    let raw = device.raw();
+    let to_present = [combustion_vk::image_barrier(image, range, from, to)];
+    let to_host = [vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::COPY)
+        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+    // SAFETY: recording state; the image was left in `from` (TRANSFER_SRC_OPTIMAL).
+    unsafe {
+        raw.cmd_copy_image_to_buffer(
+            cmd,
+            image,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            buffer.raw(),
+            &[region],
+        );
+        raw.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default()
+                .image_memory_barriers(&to_present)
+                .memory_barriers(&to_host),
+        );
+    }
+    Ok(buffer)
 }
 
 /// A winit error without its "os error at FILE:LINE: " prefix (the crate's source path
@@ -96,6 +188,12 @@ fn scene_label(source: &SceneSource) -> String {
 /// [`Error::Validation`] if validation is on and the layer reported anything.
 pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
     let scene = desc.scene.load()?;
+    let path = desc
+        .camera_path
+        .as_deref()
+        .map(camera::CameraPath::read)
+        .transpose()
+        .map_err(Error::Usage)?;
     let event_loop = EventLoop::new().map_err(|e| Error::NoWindow(window_error(e)))?;
     let mut app = App {
         desc,
@@ -105,6 +203,7 @@ pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
         error: None,
         summary: ViewSummary::default(),
         presented: 0,
+        path,
     };
     let result = event_loop.run_app(&mut app);
     // Vulkan objects go before the window, the device last of them (it is behind Arcs),
@@ -142,6 +241,30 @@ struct App<'a> {
     summary: ViewSummary,
     /// Frames presented so far.
     presented: u64,
+    /// The scripted camera, if any.
+    path: Option<camera::CameraPath>,
+}
+
+/// Mouse buttons and keys held, and the cursor's last position.
+#[derive(Default)]
+struct Input {
+    orbiting: bool,
+    panning: bool,
+    cursor: Option<(f64, f64)>,
+    /// x right, y up, z forward: −1, 0 or 1 each.
+    fly: [[bool; 2]; 3],
+}
+
+impl Input {
+    fn flying(&self) -> bool {
+        self.fly.iter().flatten().any(|&held| held)
+    }
+
+    fn motion(&self) -> glam::Vec3 {
+        let axis =
+            |[minus, plus]: [bool; 2]| f32::from(u8::from(plus)) - f32::from(u8::from(minus));
+        glam::Vec3::new(axis(self.fly[0]), axis(self.fly[1]), axis(self.fly[2]))
+    }
 }
 
 /// Everything the viewer owns while the window is open.
@@ -155,6 +278,14 @@ struct State {
     device: std::sync::Arc<Device>,
     /// When the last frame was presented.
     last_present: Option<Instant>,
+    /// When the camera was last moved by held keys.
+    last_step: Instant,
+    orbit: camera::OrbitCamera,
+    input: Input,
+    /// A screenshot to take of the next frame shown.
+    screenshot: Option<PathBuf>,
+    /// Screenshots taken with the P key.
+    screenshots_taken: u32,
     /// Recreate the swapchain before the next frame (resize, out of date, suboptimal).
     stale: bool,
     window: Window,
@@ -194,10 +325,15 @@ impl State {
             swapchain: None,
             surface,
             ring,
+            orbit: camera::OrbitCamera::new(&gpu_scene.scene.camera),
             gpu_scene,
             renderer,
             device,
             last_present: None,
+            last_step: Instant::now(),
+            input: Input::default(),
+            screenshot: None,
+            screenshots_taken: 0,
             stale: true,
             window,
         })
@@ -234,6 +370,7 @@ impl State {
     fn draw(
         &mut self,
         vsync: bool,
+        scripted: Option<combustion_scene::Camera>,
         summary: &mut ViewSummary,
     ) -> Result<Option<Option<f64>>, Error> {
         let size = self.window.inner_size();
@@ -274,6 +411,18 @@ impl State {
             vk::AccessFlags2::NONE,
             vk::ImageLayout::PRESENT_SRC_KHR,
         );
+        let copy_state = ImageState::new(
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_READ,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        );
+        let screenshot = self.screenshot.take();
+        if screenshot.is_some() && !swapchain.copyable() {
+            return Err(Error::Window(
+                "this window's swapchain images cannot be copied, so no screenshot can be taken"
+                    .into(),
+            ));
+        }
         let target = FrameTarget {
             color: ColorTarget {
                 image: image.image,
@@ -282,18 +431,62 @@ impl State {
                 extent,
                 // The acquisition's semaphore is waited for before any command.
                 before: ImageState::UNDEFINED,
-                after: present_state,
+                after: if screenshot.is_some() {
+                    copy_state
+                } else {
+                    present_state
+                },
             },
             depth: None,
         };
-        let inputs = FrameInputs::of_scene(&self.gpu_scene, self.renderer.settings().exposure);
+        // The camera: scripted, or moved by the keys held for the time since last frame.
+        let now = Instant::now();
+        let seconds = (now - self.last_step).as_secs_f32();
+        self.last_step = now;
+        if self.input.flying() {
+            self.orbit.fly(self.input.motion(), seconds);
+        }
+        let inputs = FrameInputs {
+            camera: scripted.unwrap_or_else(|| self.orbit.camera()),
+            exposure: self.renderer.settings().exposure,
+            lights: &self.gpu_scene.scene.lights,
+        };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
+        let copy = match &screenshot {
+            Some(_) => Some(record_screenshot_copy(
+                &self.device,
+                frame.cmd,
+                image.image,
+                extent,
+                copy_state,
+                present_state,
+            )?),
+            None => None,
+        };
         self.ring
             .submit_with(frame, Some(image.acquired), Some(image.rendered))?;
         match swapchain.present(&image)? {
             PresentOutcome::Presented => {}
             PresentOutcome::PresentedSuboptimal | PresentOutcome::OutOfDate => self.stale = true,
+        }
+        if let (Some(path), Some(buffer)) = (screenshot, copy) {
+            // A screenshot waits for its own frame, once; frames otherwise never do.
+            self.ring.wait(frame.slot)?;
+            let bgra = swapchain.format() == vk::Format::B8G8R8A8_UNORM;
+            let pixels: Vec<[u8; 4]> = buffer
+                .mapped()?
+                .chunks_exact(4)
+                .map(|c| {
+                    if bgra {
+                        [c[2], c[1], c[0], 255]
+                    } else {
+                        [c[0], c[1], c[2], 255]
+                    }
+                })
+                .collect();
+            crate::output::write_png(&path, extent.width, extent.height, &pixels)?;
+            summary.screenshots.push(path);
         }
         summary.gpu_total_ms.extend(
             self.renderer
@@ -333,7 +526,23 @@ impl App<'_> {
         let Some(state) = self.state.as_mut() else {
             return;
         };
-        match state.draw(self.desc.vsync, &mut self.summary) {
+        let scripted = self.path.as_ref().map(|path| {
+            path.at(
+                self.presented as f32 / PATH_FRAMES_PER_SECOND,
+                &state.gpu_scene.scene.camera,
+            )
+        });
+        if self
+            .desc
+            .frames
+            .is_some_and(|n| self.presented + 1 == u64::from(n))
+        {
+            // The last frame of the run: the one --screenshot asks for.
+            if let Some(path) = &self.desc.screenshot {
+                state.screenshot = Some(path.clone());
+            }
+        }
+        match state.draw(self.desc.vsync, scripted, &mut self.summary) {
             Err(e) => self.fail(event_loop, e),
             Ok(None) => {
                 // Out of date: try again at once; no area: wait for a resize.
@@ -386,16 +595,7 @@ impl ApplicationHandler for App<'_> {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         match event {
-            WindowEvent::CloseRequested
-            | WindowEvent::KeyboardInput {
-                event:
-                    KeyEvent {
-                        logical_key: Key::Named(NamedKey::Escape),
-                        state: ElementState::Pressed,
-                        ..
-                    },
-                ..
-            } => event_loop.exit(),
+            WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(_) => {
                 if let Some(state) = self.state.as_mut() {
                     state.stale = true;
@@ -403,6 +603,86 @@ impl ApplicationHandler for App<'_> {
                 }
             }
             WindowEvent::RedrawRequested => self.redraw(event_loop),
+            WindowEvent::KeyboardInput { event, .. } => self.key(event_loop, &event),
+            WindowEvent::MouseInput {
+                state: pressed,
+                button,
+                ..
+            } => {
+                if let Some(state) = self.state.as_mut() {
+                    let down = pressed == ElementState::Pressed;
+                    match button {
+                        MouseButton::Left => state.input.orbiting = down,
+                        MouseButton::Right | MouseButton::Middle => state.input.panning = down,
+                        _ => {}
+                    }
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if let Some(state) = self.state.as_mut() {
+                    let now = (position.x, position.y);
+                    if let Some((x, y)) = state.input.cursor.replace(now) {
+                        let (dx, dy) = ((now.0 - x) as f32, (now.1 - y) as f32);
+                        let height = state.window.inner_size().height as f32;
+                        if state.input.orbiting && state.input.flying() {
+                            state.orbit.look(dx, dy);
+                        } else if state.input.orbiting {
+                            state.orbit.orbit(dx, dy);
+                        } else if state.input.panning {
+                            state.orbit.pan(dx, dy, height);
+                        }
+                    }
+                }
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                if let Some(state) = self.state.as_mut() {
+                    let steps = match delta {
+                        MouseScrollDelta::LineDelta(_, y) => y,
+                        MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
+                    };
+                    state.orbit.zoom(steps);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+impl App<'_> {
+    /// Keys: fly (held), frame, reset, screenshot, quit.
+    fn key(&mut self, event_loop: &ActiveEventLoop, event: &KeyEvent) {
+        let down = event.state == ElementState::Pressed;
+        if down && event.logical_key == Key::Named(NamedKey::Escape) {
+            event_loop.exit();
+            return;
+        }
+        let Some(state) = self.state.as_mut() else {
+            return;
+        };
+        let Key::Character(text) = &event.logical_key else {
+            return;
+        };
+        let fly = &mut state.input.fly;
+        match text.to_lowercase().as_str() {
+            "a" => fly[0][0] = down,
+            "d" => fly[0][1] = down,
+            "q" => fly[1][0] = down,
+            "e" => fly[1][1] = down,
+            "s" => fly[2][0] = down,
+            "w" => fly[2][1] = down,
+            "f" if down => {
+                if let Some(bounds) = state.gpu_scene.scene.world_bounds() {
+                    state.orbit.frame(bounds);
+                }
+            }
+            "r" if down => state.orbit.reset(),
+            "p" if down && !event.repeat => {
+                state.screenshots_taken += 1;
+                state.screenshot = Some(PathBuf::from(format!(
+                    "combustion-{:04}.png",
+                    state.screenshots_taken
+                )));
+            }
             _ => {}
         }
     }
