@@ -209,3 +209,112 @@ fn the_readme_lists_every_key() {
         assert!(readme.contains(&row), "README lacks `{row}`");
     }
 }
+
+/// Runs `xdotool ARGS` on `display`; its output.
+fn xdotool(display: &str, args: &[&str]) -> String {
+    let out = Command::new("xdotool")
+        .args(args)
+        .env("DISPLAY", display)
+        .output()
+        .expect("run xdotool (install xdotool: bash scripts/dev.sh test does)");
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Keys and the mouse, typed into the window by xdotool (real X input events): a
+/// built-in scene switched in, the Fresnel, diffuse and medium toggles, exposure, frame
+/// and reset, an orbit drag, zoom, a resize of the window, a screenshot key, and Escape.
+/// The run ends cleanly with no validation message (synchronization included), and the
+/// screenshot is written.
+#[test]
+fn keys_and_mouse_drive_the_viewer() {
+    let xvfb = Xvfb::start();
+    let display = format!(":{}", xvfb.display);
+    let dir = std::env::temp_dir().join(format!("combustion-view-keys-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_combustion"))
+        .args([
+            "view",
+            "builtin:spheres",
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--validate",
+        ])
+        .current_dir(&dir)
+        .env("DISPLAY", &display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("COMBUSTION_DEVICE", "llvmpipe")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run combustion");
+    // The window, once it is mapped (bounded wait).
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let window = loop {
+        let found = xdotool(&display, &["search", "--name", "^combustion"]);
+        if let Some(id) = found.lines().next() {
+            break id.to_owned();
+        }
+        assert!(Instant::now() < deadline, "no viewer window appeared");
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the viewer exited early"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let pause = || std::thread::sleep(Duration::from_millis(250));
+    xdotool(&display, &["windowfocus", &window]);
+    pause();
+    xdotool(&display, &["mousemove", "--window", &window, "80", "60"]);
+    for key in [
+        "2", "g", "m", "o", "plus", "f", "r", "m", "o", "g", "minus", "1",
+    ] {
+        xdotool(&display, &["key", key]);
+        pause();
+    }
+    xdotool(&display, &["mousedown", "1"]);
+    xdotool(&display, &["mousemove", "--window", &window, "120", "70"]);
+    xdotool(&display, &["mouseup", "1"]);
+    xdotool(&display, &["click", "4"]);
+    xdotool(&display, &["windowsize", &window, "200", "150"]);
+    pause();
+    pause();
+    xdotool(&display, &["key", "p"]);
+    pause();
+    pause();
+    xdotool(&display, &["key", "Escape"]);
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
+    drop(xvfb);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "stdout: {stdout}\nstderr: {stderr}"
+    );
+    assert!(
+        !stderr.contains("error") && !stderr.contains("[WARN") && !stderr.contains("[ERROR"),
+        "{stderr}"
+    );
+    assert!(
+        stdout.contains("; screenshot combustion-0001.png"),
+        "{stdout}"
+    );
+    let (width, height, _) = common::read_png(&dir.join("combustion-0001.png"));
+    assert_eq!(
+        (width, height),
+        (200, 150),
+        "the screenshot has the resized window's size"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

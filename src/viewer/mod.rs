@@ -16,6 +16,7 @@
 //! the window, and the validation log is checked.
 
 pub mod camera;
+pub mod controls;
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -73,6 +74,19 @@ pub const KEYS: &[(&str, &str)] = &[
     ("F", "frame the whole scene"),
     ("R", "reset the camera"),
     ("P", "screenshot to combustion-NNNN.png"),
+    ("1 … 7", "the built-in scenes, in `combustion help` order"),
+    ("drop a file", "open a glTF file"),
+    (
+        "F5",
+        "reload the scene (also when its file changes on disk)",
+    ),
+    ("G", "Fresnel: full equations / Schlick (comparison)"),
+    (
+        "M",
+        "diffuse model of every material: as loaded, Lambert, Oren–Nayar qualitative, full",
+    ),
+    ("O", "outside medium: as loaded, air, water (η 1.33)"),
+    ("+ / -", "exposure up / down half a stop"),
     ("Escape", "quit"),
 ];
 
@@ -286,6 +300,14 @@ struct State {
     screenshot: Option<PathBuf>,
     /// Screenshots taken with the P key.
     screenshots_taken: u32,
+    /// Where the shown scene came from, the scene as loaded, and the toggles on it.
+    source: SceneSource,
+    original: combustion_scene::Scene,
+    overrides: controls::Overrides,
+    exposure: f32,
+    /// The scene file's modification time when loaded, and when it was last checked.
+    modified: Option<std::time::SystemTime>,
+    last_poll: Instant,
     /// Recreate the swapchain before the next frame (resize, out of date, suboptimal).
     stale: bool,
     window: Window,
@@ -298,6 +320,7 @@ impl State {
         scene: &combustion_scene::Scene,
         title: &str,
     ) -> Result<State, Error> {
+        let source = desc.scene.clone();
         let attributes = Window::default_attributes()
             .with_title(title)
             .with_inner_size(PhysicalSize::new(desc.width, desc.height));
@@ -334,6 +357,12 @@ impl State {
             input: Input::default(),
             screenshot: None,
             screenshots_taken: 0,
+            modified: controls::modified(&source),
+            source,
+            original: scene.clone(),
+            overrides: controls::Overrides::default(),
+            exposure: desc.settings.exposure,
+            last_poll: Instant::now(),
             stale: true,
             window,
         })
@@ -448,7 +477,7 @@ impl State {
         }
         let inputs = FrameInputs {
             camera: scripted.unwrap_or_else(|| self.orbit.camera()),
-            exposure: self.renderer.settings().exposure,
+            exposure: self.exposure,
             lights: &self.gpu_scene.scene.lights,
         };
         self.renderer
@@ -500,6 +529,58 @@ impl State {
             .replace(now)
             .map(|last| (now - last).as_secs_f64() * 1e3);
         Ok(Some(wall))
+    }
+
+    /// Shows the scene from `source`: loaded, uploaded with the current overrides (the
+    /// old upload retired until the frames in flight are done with it), the camera reset
+    /// to the scene's own. On error the current scene stays.
+    fn load(&mut self, source: SceneSource) -> Result<(), Error> {
+        let scene = source.load()?;
+        let upload = self.renderer.upload(&self.overrides.apply(&scene))?;
+        let old = std::mem::replace(&mut self.gpu_scene, upload);
+        self.renderer.retire(old);
+        self.orbit = camera::OrbitCamera::new(&scene.camera);
+        self.modified = controls::modified(&source);
+        self.original = scene;
+        self.source = source;
+        Ok(())
+    }
+
+    /// Applies the overrides to the scene as loaded, as an edit between frames.
+    fn apply_overrides(&mut self) -> Result<(), Error> {
+        let scene = self.overrides.apply(&self.original);
+        self.renderer
+            .edit_scene(&mut self.gpu_scene, move |s| *s = scene)?;
+        Ok(())
+    }
+
+    /// Reloads a scene file that changed on disk (checked once a second).
+    fn poll_file(&mut self) -> Result<(), Error> {
+        if self.last_poll.elapsed().as_secs_f32() < 1.0 {
+            return Ok(());
+        }
+        self.last_poll = Instant::now();
+        let now = controls::modified(&self.source);
+        if now.is_some() && now != self.modified {
+            log::info!("{}: changed on disk, reloading", scene_label(&self.source));
+            self.load(self.source.clone())?;
+        }
+        Ok(())
+    }
+
+    /// The window's title: the scene, the toggles, the GPU time.
+    fn title(&self, gpu_ms: Option<f64>) -> String {
+        let fresnel = match self.renderer.settings().fresnel {
+            combustion_renderer::FresnelModel::Full => "full Fresnel",
+            combustion_renderer::FresnelModel::Schlick => "Schlick (comparison)",
+        };
+        let gpu = gpu_ms.map_or(String::new(), |ms| format!(" — {ms:.1} ms GPU"));
+        format!(
+            "combustion — {} — {fresnel}, {}, exposure {:.2}{gpu}",
+            scene_label(&self.source),
+            self.overrides.describe(),
+            self.exposure
+        )
     }
 
     /// Waits for every frame in flight and collects their GPU times.
@@ -558,10 +639,10 @@ impl App<'_> {
                 }
                 self.presented += 1;
                 self.summary.frame_ms.extend(wall_ms);
-                if let Some(gpu_ms) = self.summary.gpu_total_ms.last() {
-                    state
-                        .window
-                        .set_title(&format!("combustion — {} — {gpu_ms:.1} ms GPU", self.label));
+                let title = state.title(self.summary.gpu_total_ms.last().copied());
+                state.window.set_title(&title);
+                if let Err(e) = state.poll_file() {
+                    log::error!("{e}");
                 }
                 if self
                     .desc
@@ -604,6 +685,13 @@ impl ApplicationHandler for App<'_> {
             }
             WindowEvent::RedrawRequested => self.redraw(event_loop),
             WindowEvent::KeyboardInput { event, .. } => self.key(event_loop, &event),
+            WindowEvent::DroppedFile(path) => {
+                if let Some(state) = self.state.as_mut() {
+                    if let Err(e) = state.load(controls::dropped(path)) {
+                        log::error!("{e}");
+                    }
+                }
+            }
             WindowEvent::MouseInput {
                 state: pressed,
                 button,
@@ -649,6 +737,33 @@ impl ApplicationHandler for App<'_> {
 }
 
 impl App<'_> {
+    /// The keys that change the scene or its toggles; unknown keys do nothing.
+    fn toggle(state: &mut State, text: &str) -> Result<(), Error> {
+        match text {
+            "g" | "G" => {
+                let model = controls::toggle_fresnel(state.renderer.settings().fresnel);
+                state.renderer.set_fresnel(model);
+                state.renderer.prepare(&state.gpu_scene)?;
+            }
+            "m" | "M" => {
+                state.overrides.cycle_diffuse();
+                state.apply_overrides()?;
+            }
+            "o" | "O" => {
+                state.overrides.cycle_medium();
+                state.apply_overrides()?;
+            }
+            "+" | "=" => state.exposure *= controls::EXPOSURE_STEP,
+            "-" | "_" => state.exposure /= controls::EXPOSURE_STEP,
+            digit => {
+                if let Some(source) = digit.parse::<u32>().ok().and_then(controls::builtin_on_key) {
+                    state.load(source)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Keys: fly (held), frame, reset, screenshot, quit.
     fn key(&mut self, event_loop: &ActiveEventLoop, event: &KeyEvent) {
         let down = event.state == ElementState::Pressed;
@@ -659,9 +774,21 @@ impl App<'_> {
         let Some(state) = self.state.as_mut() else {
             return;
         };
+        if down && event.logical_key == Key::Named(NamedKey::F5) {
+            let source = state.source.clone();
+            if let Err(e) = state.load(source) {
+                log::error!("{e}");
+            }
+            return;
+        }
         let Key::Character(text) = &event.logical_key else {
             return;
         };
+        if down && !event.repeat {
+            if let Err(e) = Self::toggle(state, text) {
+                log::error!("{e}");
+            }
+        }
         let fly = &mut state.input.fly;
         match text.to_lowercase().as_str() {
             "a" => fly[0][0] = down,

@@ -467,6 +467,19 @@ impl Renderer {
         Ok(())
     }
 
+    /// Switches the Fresnel term between frames (the Schlick comparison variant, or the
+    /// full equations). Pipelines are built by [`Renderer::prepare`] or the next upload
+    /// or edit, never by a frame's recording.
+    pub fn set_fresnel(&mut self, model: FresnelModel) {
+        self.settings.fresnel = model;
+    }
+
+    /// Builds the pipelines `scene` needs with the current settings, if they are not
+    /// built yet (after [`Renderer::set_fresnel`]).
+    pub fn prepare(&mut self, scene: &GpuScene) -> Result<(), RenderError> {
+        self.prepare_variant(self.variant_of(scene.variant))
+    }
+
     /// Validates and uploads a scene, and builds the pipelines it needs (never inside a
     /// frame's recording).
     pub fn upload(&mut self, scene: &Scene) -> Result<GpuScene, RenderError> {

@@ -1,0 +1,161 @@
+//! What the viewer's keys change besides the camera: which scene is shown, and the
+//! toggles applied to it — the Fresnel model, a diffuse model for every material, the
+//! outside medium, the exposure. Pure data; the viewer turns changes into uploads and
+//! scene edits between frames.
+
+use std::path::PathBuf;
+use std::time::SystemTime;
+
+use combustion_renderer::FresnelModel;
+use combustion_scene::{DiffuseModel, Scene};
+
+use crate::SceneSource;
+
+/// Overrides applied on top of the scene as loaded.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Overrides {
+    /// Every material's diffuse model (`None`: each its own).
+    pub diffuse: Option<DiffuseModel>,
+    /// The outside medium's index for the scene and every material (`None`: as loaded).
+    pub medium: Option<f32>,
+}
+
+impl Overrides {
+    /// The next diffuse override: as loaded → Lambert → Oren–Nayar qualitative → full.
+    pub fn cycle_diffuse(&mut self) {
+        self.diffuse = match self.diffuse {
+            None => Some(DiffuseModel::Lambert),
+            Some(DiffuseModel::Lambert) => Some(DiffuseModel::OrenNayarQualitative),
+            Some(DiffuseModel::OrenNayarQualitative) => Some(DiffuseModel::OrenNayarFull),
+            Some(DiffuseModel::OrenNayarFull) => None,
+        };
+    }
+
+    /// The next outside medium: as loaded → air (1.0) → water (1.33).
+    pub fn cycle_medium(&mut self) {
+        self.medium = match self.medium {
+            None => Some(1.0),
+            Some(1.0) => Some(WATER_IOR),
+            Some(_) => None,
+        };
+    }
+
+    /// `scene` with these overrides.
+    pub fn apply(&self, scene: &Scene) -> Scene {
+        let mut out = scene.clone();
+        if let Some(model) = self.diffuse {
+            for m in &mut out.materials {
+                m.diffuse_model = model;
+            }
+        }
+        if let Some(ior) = self.medium {
+            out.outside_ior = ior;
+            for m in &mut out.materials {
+                m.outside_ior = None;
+            }
+        }
+        out
+    }
+
+    /// A short description, for the title.
+    pub fn describe(&self) -> String {
+        let diffuse = match self.diffuse {
+            None => "as loaded",
+            Some(DiffuseModel::Lambert) => "Lambert",
+            Some(DiffuseModel::OrenNayarQualitative) => "Oren–Nayar qualitative",
+            Some(DiffuseModel::OrenNayarFull) => "Oren–Nayar full",
+        };
+        let medium = match self.medium {
+            None => "as loaded".to_owned(),
+            Some(1.0) => "air".to_owned(),
+            Some(m) => format!("η {m}"),
+        };
+        format!("diffuse {diffuse}, medium {medium}")
+    }
+}
+
+/// Water's index of refraction, the outside medium the `O` key offers after air.
+pub const WATER_IOR: f32 = 1.33;
+
+/// Exposure steps of the `+` and `-` keys: half a stop.
+pub const EXPOSURE_STEP: f32 = std::f32::consts::SQRT_2;
+
+/// The next Fresnel model (full ↔ Schlick's comparison variant).
+pub fn toggle_fresnel(model: FresnelModel) -> FresnelModel {
+    match model {
+        FresnelModel::Full => FresnelModel::Schlick,
+        FresnelModel::Schlick => FresnelModel::Full,
+    }
+}
+
+/// The built-in scene on number key `n` (1-based), if any.
+pub fn builtin_on_key(n: u32) -> Option<SceneSource> {
+    let names = combustion_scene::BUILTIN_SCENES;
+    let index = usize::try_from(n.checked_sub(1)?).ok()?;
+    names
+        .get(index)
+        .map(|name| SceneSource::Builtin((*name).to_owned()))
+}
+
+/// When a scene file last changed (`None` for built-in scenes or unreadable files).
+pub fn modified(source: &SceneSource) -> Option<SystemTime> {
+    match source {
+        SceneSource::Builtin(_) => None,
+        SceneSource::File(path) => std::fs::metadata(path).and_then(|m| m.modified()).ok(),
+    }
+}
+
+/// A file dropped on the window, as a scene source.
+pub fn dropped(path: PathBuf) -> SceneSource {
+    SceneSource::File(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overrides_cycle_and_apply_to_every_material() {
+        let scene = combustion_scene::builtin_scene("diffuse-models").unwrap();
+        let mut o = Overrides::default();
+        let same = o.apply(&scene);
+        assert_eq!(same.materials, scene.materials);
+        assert_eq!(same.outside_ior, scene.outside_ior);
+        o.cycle_diffuse();
+        o.cycle_diffuse();
+        assert_eq!(o.diffuse, Some(DiffuseModel::OrenNayarQualitative));
+        o.cycle_medium();
+        o.cycle_medium();
+        assert_eq!(o.medium, Some(WATER_IOR));
+        let applied = o.apply(&scene);
+        assert!(applied
+            .materials
+            .iter()
+            .all(|m| m.diffuse_model == DiffuseModel::OrenNayarQualitative
+                && m.outside_ior.is_none()));
+        assert_eq!(applied.outside_ior, WATER_IOR);
+        assert_eq!(applied.meshes, scene.meshes, "geometry is untouched");
+        o.cycle_diffuse();
+        o.cycle_diffuse();
+        o.cycle_medium();
+        assert_eq!(
+            o,
+            Overrides::default(),
+            "both cycles come back to the scene's own"
+        );
+    }
+
+    #[test]
+    fn number_keys_name_the_builtin_scenes() {
+        assert_eq!(
+            builtin_on_key(1),
+            Some(SceneSource::Builtin("spheres".into()))
+        );
+        assert_eq!(builtin_on_key(0), None);
+        assert_eq!(builtin_on_key(99), None);
+        assert_eq!(
+            toggle_fresnel(toggle_fresnel(FresnelModel::Full)),
+            FresnelModel::Full
+        );
+    }
+}
