@@ -14,8 +14,12 @@
 layout(push_constant) uniform LightingPush {
     mat4 inverse_view_projection;
     vec4 camera_position;
-    uvec4 counts;  // x: light count
+    uvec4 counts;  // x: light count; y: debug view (DEBUG_VIEWS variant; 0: none)
 } push;
+
+#ifdef DEBUG_VIEWS
+#include "debug_views.glsl"
+#endif
 
 layout(location = 0) out vec4 out_radiance;
 
@@ -65,6 +69,28 @@ void main() {
 
     // The view-dependent half of the BRDF once per pixel; per light only the rest.
     BrdfView view = brdf_view(m, n, t, b, v);
+#ifdef DEBUG_VIEWS
+    if (push.counts.y != 0u) {
+        vec3 l0 = vec3(0.0, 0.0, 1.0);
+        if (push.counts.x > 0u) {
+            GpuLight first = lights[0];
+            l0 = first.power_kind.a != LIGHT_KIND_DIRECTIONAL
+                ? normalize(first.position_or_direction.xyz - position)
+                : -first.position_or_direction.xyz;
+        }
+        DebugSurface surface;
+        surface.base_color = m.base_color;
+        surface.metalness = m.metalness;
+        surface.normal = n;
+        surface.tangent = t;
+        surface.roughness = nra.z;
+        surface.anisotropy = nra.w;
+        surface.material = md.x;
+        surface.distance = length(push.camera_position.xyz - position);
+        out_radiance = vec4(debug_view_radiance(push.counts.y, surface, m, view, l0, push.counts.x > 0u), 1.0);
+        return;
+    }
+#endif
     vec3 radiance = vec3(0.0);
     for (uint i = 0u; i < push.counts.x; ++i) {
         GpuLight light = lights[i];

@@ -64,6 +64,7 @@ impl LightingInputs {
                 camera.view_projection(width as f32 / height as f32),
                 camera.position,
                 scene.lights.len() as u32,
+                0,
             ),
             materials: material_table(scene, &[]),
             lights: scene.lights.iter().map(GpuLight::new).collect(),

@@ -222,7 +222,8 @@ fn xdotool(display: &str, args: &[&str]) -> String {
 
 /// Keys and the mouse, typed into the window by xdotool (real X input events): a
 /// built-in scene switched in, the Fresnel, diffuse and medium toggles, exposure, frame
-/// and reset, an orbit drag, zoom, a resize of the window, a screenshot key, and Escape.
+/// and reset, every debug view, an orbit drag, zoom, a resize of the window, a
+/// screenshot key, and Escape.
 /// The run ends cleanly with no validation message (synchronization included), and the
 /// screenshot is written.
 #[test]
@@ -268,9 +269,15 @@ fn keys_and_mouse_drive_the_viewer() {
     xdotool(&display, &["windowfocus", &window]);
     pause();
     xdotool(&display, &["mousemove", "--window", &window, "80", "60"]);
-    for key in [
+    let mut keys = vec![
         "2", "g", "m", "o", "plus", "f", "r", "m", "o", "g", "minus", "1",
-    ] {
+    ];
+    // Every debug view once, and back to radiance.
+    keys.extend(std::iter::repeat_n(
+        "v",
+        combustion::renderer::DebugView::ALL.len(),
+    ));
+    for key in keys {
         xdotool(&display, &["key", key]);
         pause();
     }

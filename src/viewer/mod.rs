@@ -87,6 +87,7 @@ pub const KEYS: &[(&str, &str)] = &[
     ),
     ("O", "outside medium: as loaded, air, water (η 1.33)"),
     ("+ / -", "exposure up / down half a stop"),
+    ("V", "debug view: radiance, base colour, normal, roughness, anisotropy strength and direction, metalness, material index, distance, D, G2, F, diffuse"),
     ("Escape", "quit"),
 ];
 
@@ -477,7 +478,12 @@ impl State {
         }
         let inputs = FrameInputs {
             camera: scripted.unwrap_or_else(|| self.orbit.camera()),
-            exposure: self.exposure,
+            // Debug views are written for exposure 1 (their values come back as written).
+            exposure: if self.renderer.debug_view() == combustion_renderer::DebugView::None {
+                self.exposure
+            } else {
+                1.0
+            },
             lights: &self.gpu_scene.scene.lights,
         };
         self.renderer
@@ -576,8 +582,9 @@ impl State {
         };
         let gpu = gpu_ms.map_or(String::new(), |ms| format!(" — {ms:.1} ms GPU"));
         format!(
-            "combustion — {} — {fresnel}, {}, exposure {:.2}{gpu}",
+            "combustion — {} — {} — {fresnel}, {}, exposure {:.2}{gpu}",
             scene_label(&self.source),
+            self.renderer.debug_view().name(),
             self.overrides.describe(),
             self.exposure
         )
@@ -752,6 +759,11 @@ impl App<'_> {
             "o" | "O" => {
                 state.overrides.cycle_medium();
                 state.apply_overrides()?;
+            }
+            "v" | "V" => {
+                let view = state.renderer.debug_view().next();
+                state.renderer.set_debug_view(view);
+                state.renderer.prepare(&state.gpu_scene)?;
             }
             "+" | "=" => state.exposure *= controls::EXPOSURE_STEP,
             "-" | "_" => state.exposure /= controls::EXPOSURE_STEP,

@@ -349,6 +349,7 @@ impl Renderer {
     ) {
         let device = &*self.device;
         let raw = device.raw();
+        let debug_view = self.debug_view;
         let s = &mut self.slots[slot];
         let targets = &self.targets[&key].0;
         let passes = &self.variants[&variant];
@@ -383,6 +384,7 @@ impl Renderer {
             view_projection,
             inputs.camera.position,
             inputs.lights.len() as u32,
+            debug_view as u32,
         );
         passes.lighting.record(
             device,

@@ -211,11 +211,17 @@ pub struct LightingPush {
 const _: () = assert!(std::mem::size_of::<LightingPush>() == 96);
 
 impl LightingPush {
-    pub fn new(view_projection: Mat4, camera_position: glam::Vec3, light_count: u32) -> Self {
+    /// `debug_view`: `DebugView as u32` (0: radiance).
+    pub fn new(
+        view_projection: Mat4,
+        camera_position: glam::Vec3,
+        light_count: u32,
+        debug_view: u32,
+    ) -> Self {
         Self {
             inverse_view_projection: view_projection.inverse().to_cols_array(),
             camera_position: camera_position.extend(1.0).to_array(),
-            counts: [light_count, 0, 0, 0],
+            counts: [light_count, debug_view, 0, 0],
         }
     }
 }

@@ -58,6 +58,86 @@ pub struct ShaderVariant {
     /// Schlick's approximation instead of the full Fresnel equations
     /// ([`FresnelModel::Schlick`]; a renderer setting, not a scene feature).
     pub schlick: bool,
+    /// The lighting pass can show a G-buffer channel or a BRDF term instead of radiance
+    /// ([`DebugView`]; a renderer setting).
+    pub debug_views: bool,
+}
+
+/// What the lighting pass shows instead of radiance (`debug_views.glsl` has the same
+/// numbering). With a debug view, render at exposure 1: the view's values are written so
+/// that the output pass's tone curve and sRGB encoding give them back.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DebugView {
+    /// Radiance: the frame itself.
+    #[default]
+    None = 0,
+    /// The base colour, as a colour.
+    BaseColor = 1,
+    /// The normal, n·½ + ½ as RGB codes.
+    Normal = 2,
+    /// Perceptual roughness as a grey code.
+    Roughness = 3,
+    /// Anisotropy strength as a grey code.
+    AnisotropyStrength = 4,
+    /// The anisotropy direction, t·½ + ½ as RGB codes.
+    AnisotropyDirection = 5,
+    /// Metalness as a grey code.
+    Metalness = 6,
+    /// A colour per material index.
+    MaterialIndex = 7,
+    /// Distance d from the eye, as the grey code d / (1 + d).
+    Depth = 8,
+    /// GGX's D for the first light's half vector, through the tone curve.
+    Distribution = 9,
+    /// The Smith masking–shadowing G2 for the first light, as a grey code.
+    Smith = 10,
+    /// The Fresnel reflectance per channel at the first light's half vector.
+    Fresnel = 11,
+    /// The diffuse lobe × π (the albedo it shows), for the first light.
+    Diffuse = 12,
+}
+
+impl DebugView {
+    /// Every view, in key order.
+    pub const ALL: [DebugView; 13] = [
+        DebugView::None,
+        DebugView::BaseColor,
+        DebugView::Normal,
+        DebugView::Roughness,
+        DebugView::AnisotropyStrength,
+        DebugView::AnisotropyDirection,
+        DebugView::Metalness,
+        DebugView::MaterialIndex,
+        DebugView::Depth,
+        DebugView::Distribution,
+        DebugView::Smith,
+        DebugView::Fresnel,
+        DebugView::Diffuse,
+    ];
+
+    /// The next view (after the last: none).
+    pub fn next(self) -> DebugView {
+        let i = Self::ALL.iter().position(|&v| v == self).unwrap_or(0);
+        Self::ALL[(i + 1) % Self::ALL.len()]
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::None => "radiance",
+            Self::BaseColor => "base colour",
+            Self::Normal => "normal",
+            Self::Roughness => "roughness",
+            Self::AnisotropyStrength => "anisotropy strength",
+            Self::AnisotropyDirection => "anisotropy direction",
+            Self::Metalness => "metalness",
+            Self::MaterialIndex => "material index",
+            Self::Depth => "distance",
+            Self::Distribution => "D (GGX)",
+            Self::Smith => "G2 (Smith)",
+            Self::Fresnel => "Fresnel F",
+            Self::Diffuse => "diffuse",
+        }
+    }
 }
 
 impl ShaderVariant {
@@ -69,6 +149,9 @@ impl ShaderVariant {
         }
         if self.schlick {
             defines.push(("FRESNEL_SCHLICK", None));
+        }
+        if self.debug_views {
+            defines.push(("DEBUG_VIEWS", None));
         }
         defines
     }
@@ -318,6 +401,7 @@ pub struct Renderer {
     compiler: ShaderCompiler,
     states: graph::ImageStates,
     settings: RendererSettings,
+    debug_view: DebugView,
     /// Frames recorded so far.
     frame_number: u64,
     /// The slot of the frame recorded last: what is replaced now is retired to it, and
@@ -379,6 +463,7 @@ impl Renderer {
             compiler,
             states: graph::ImageStates::default(),
             settings,
+            debug_view: DebugView::None,
             frame_number: 0,
             last_slot: None,
             last_timings: None,
@@ -410,6 +495,7 @@ impl Renderer {
     fn variant_of(&self, scene_variant: ShaderVariant) -> ShaderVariant {
         ShaderVariant {
             schlick: self.settings.fresnel == FresnelModel::Schlick,
+            debug_views: self.debug_view != DebugView::None,
             ..scene_variant
         }
     }
@@ -472,6 +558,16 @@ impl Renderer {
     /// or edit, never by a frame's recording.
     pub fn set_fresnel(&mut self, model: FresnelModel) {
         self.settings.fresnel = model;
+    }
+
+    /// Shows a G-buffer channel or a BRDF term instead of radiance from the next frame
+    /// on (render it at exposure 1). Pipelines as for [`Renderer::set_fresnel`].
+    pub fn set_debug_view(&mut self, view: DebugView) {
+        self.debug_view = view;
+    }
+
+    pub fn debug_view(&self) -> DebugView {
+        self.debug_view
     }
 
     /// Builds the pipelines `scene` needs with the current settings, if they are not

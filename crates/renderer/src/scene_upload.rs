@@ -63,8 +63,9 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
             .materials
             .iter()
             .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
-        // The Fresnel model is the renderer's setting, applied at render time.
+        // The Fresnel model and the debug views are the renderer's settings.
         schlick: false,
+        debug_views: false,
     }
 }
 

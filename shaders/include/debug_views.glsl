@@ -1,0 +1,123 @@
+#ifndef COMBUSTION_DEBUG_VIEWS_GLSL
+#define COMBUSTION_DEBUG_VIEWS_GLSL
+// Debug views of the lighting pass (the DEBUG_VIEWS variant; combustion_renderer::DebugView
+// mirrors the numbering). Each view writes a radiance that the output pass, at exposure 1,
+// turns back into the value shown: a "display" value c in [0, 1] becomes the 8-bit code c
+// (the tone curve and the sRGB encoding are undone here), a colour is shown as the colour
+// it is (linear, through the tone curve only), and an unbounded term (D) goes through the
+// tone curve as radiance would.
+#include "brdf.glsl"
+#include "constants.glsl"
+
+#define DEBUG_VIEW_BASE_COLOR 1u
+#define DEBUG_VIEW_NORMAL 2u
+#define DEBUG_VIEW_ROUGHNESS 3u
+#define DEBUG_VIEW_ANISOTROPY_STRENGTH 4u
+#define DEBUG_VIEW_ANISOTROPY_DIRECTION 5u
+#define DEBUG_VIEW_METALNESS 6u
+#define DEBUG_VIEW_MATERIAL_INDEX 7u
+#define DEBUG_VIEW_DEPTH 8u
+#define DEBUG_VIEW_DISTRIBUTION 9u
+#define DEBUG_VIEW_SMITH 10u
+#define DEBUG_VIEW_FRESNEL 11u
+#define DEBUG_VIEW_DIFFUSE 12u
+
+struct DebugSurface {
+    vec3 base_color;
+    float metalness;
+    vec3 normal;
+    vec3 tangent;
+    float roughness;
+    float anisotropy;
+    uint material;
+    float distance;
+};
+
+// The radiance the tone curve 1 − e^(−x) maps to the linear value y.
+vec3 debug_untonemap(vec3 y) {
+    return -log(vec3(1.0) - clamp(y, vec3(0.0), vec3(0.999)));
+}
+
+// The exact sRGB decoding of an encoded value e in [0, 1].
+vec3 debug_srgb_decode(vec3 e) {
+    return mix(e / 12.92, pow((e + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), e));
+}
+
+// The radiance shown as the display code c (the sRGB encoding undone too).
+vec3 debug_code(vec3 c) {
+    return debug_untonemap(debug_srgb_decode(clamp(c, vec3(0.0), vec3(1.0))));
+}
+
+// A colour per material index (a hash), for telling materials apart.
+vec3 debug_index_colour(uint i) {
+    uint h = i * 2654435761u;
+    return vec3(float((h >> 8) & 255u), float((h >> 16) & 255u), float((h >> 24) & 255u)) / 255.0;
+}
+
+vec3 debug_view_radiance(uint which, DebugSurface s, BrdfInputs m, BrdfView view, vec3 l, bool lit) {
+    if (which == DEBUG_VIEW_BASE_COLOR) {
+        return debug_untonemap(s.base_color);
+    } else if (which == DEBUG_VIEW_NORMAL) {
+        return debug_code(s.normal * 0.5 + 0.5);
+    } else if (which == DEBUG_VIEW_ROUGHNESS) {
+        return debug_code(vec3(s.roughness));
+    } else if (which == DEBUG_VIEW_ANISOTROPY_STRENGTH) {
+        return debug_code(vec3(s.anisotropy));
+    } else if (which == DEBUG_VIEW_ANISOTROPY_DIRECTION) {
+        return debug_code(s.tangent * 0.5 + 0.5);
+    } else if (which == DEBUG_VIEW_METALNESS) {
+        return debug_code(vec3(s.metalness));
+    } else if (which == DEBUG_VIEW_MATERIAL_INDEX) {
+        return debug_code(debug_index_colour(s.material));
+    } else if (which == DEBUG_VIEW_DEPTH) {
+        // Distance d from the eye as d / (1 + d): monotonic, 0.5 at one unit.
+        return debug_code(vec3(s.distance / (1.0 + s.distance)));
+    }
+    // The BRDF's terms for the frame's first light (black without lights or below the
+    // horizon), in the shading frame the lighting pass uses.
+    vec3 vl = view.v;
+    vec3 ll = shading_frame_to_local(view.frame, safe_normalize(l));
+    if (!lit || !(vl.z > 0.0 && ll.z > 0.0)) {
+        return vec3(0.0);
+    }
+    vec3 sum = vl + ll;
+    float len = sqrt(dot(sum, sum));
+    vec3 h = sum * (1.0 / len);
+    float cos_h = min(0.5 * len, 1.0);
+    if (which == DEBUG_VIEW_DISTRIBUTION) {
+        return vec3(d_ggx_anisotropic(h, view.ax, view.ay));
+    } else if (which == DEBUG_VIEW_SMITH) {
+        vec2 light_half = smith_ggx_visibility_half(ll, view.ax, view.ay);
+        float visibility = 0.5 / (light_half.x * view.visibility_half.y + view.visibility_half.x * light_half.y);
+        return debug_code(vec3(visibility * 4.0 * vl.z * ll.z));
+    } else if (which == DEBUG_VIEW_FRESNEL) {
+        float eta_i = m.outside_eta;
+        float w = view.w;
+#ifdef FRESNEL_SCHLICK
+        float x = 1.0 - cos_h;
+        float x5 = x * x * x * x * x;
+        float fd = view.f0_dielectric + (1.0 - view.f0_dielectric) * x5;
+        vec3 fc = view.f0_conductor + (1.0 - view.f0_conductor) * x5;
+#else
+        float fd = polarised_weighted(fresnel_dielectric(cos_h, eta_i, m.dielectric_eta), w);
+        vec3 fc = vec3(
+            polarised_weighted(fresnel_conductor(cos_h, eta_i, m.conductor_eta.x, m.conductor_k.x), w),
+            polarised_weighted(fresnel_conductor(cos_h, eta_i, m.conductor_eta.y, m.conductor_k.y), w),
+            polarised_weighted(fresnel_conductor(cos_h, eta_i, m.conductor_eta.z, m.conductor_k.z), w));
+#endif
+        return debug_code(mix(vec3(fd), fc, view.metal));
+    }
+    // DEBUG_VIEW_DIFFUSE: the diffuse lobe times π (the albedo it shows), weighted by the
+    // dielectric part.
+    vec3 rho = clamp(m.base_color, vec3(0.0), vec3(1.0));
+    vec3 diffuse;
+    if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_QUALITATIVE) {
+        diffuse = diffuse_oren_nayar_qualitative(rho, m.oren_nayar_sigma, OREN_NAYAR_A_CONSTANT_BRDF, vl, ll);
+    } else if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_FULL) {
+        diffuse = diffuse_oren_nayar_full(rho, m.oren_nayar_sigma, vl, ll);
+    } else {
+        diffuse = diffuse_lambert(rho);
+    }
+    return debug_untonemap(diffuse * PI * (1.0 - view.metal));
+}
+#endif
