@@ -246,6 +246,11 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             o.width, o.height
         )));
     }
+    if o.screenshot.is_some() && !o.frames_given {
+        return Err(Error::Usage(
+            "--screenshot writes the last frame of a run: give --frames N too".into(),
+        ));
+    }
     if (command == "bench" || o.frames_given) && o.frames == 0 {
         return Err(Error::Usage("--frames must be at least 1".into()));
     }

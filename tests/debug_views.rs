@@ -6,7 +6,7 @@
 
 mod common;
 
-use combustion::renderer::gbuffer::{octahedral_decode, GBufferTexel};
+use combustion::renderer::gbuffer::{anisotropy_direction_decode, octahedral_decode, GBufferTexel};
 use combustion::renderer::{DebugView, Frame, Readback, RendererSettings};
 use combustion::scene::builtin_scene;
 
@@ -86,6 +86,17 @@ fn gbuffer_views_show_what_the_gbuffer_holds() {
                 let n = t.normal_roughness_anisotropy;
                 octahedral_decode([unorm16(n[0]), unorm16(n[1])]).map(|c| c * 0.5 + 0.5)
             }),
+            DebugView::AnisotropyDirection => worst_step(frame, |t| {
+                let n = t.normal_roughness_anisotropy;
+                let normal = octahedral_decode([unorm16(n[0]), unorm16(n[1])]);
+                anisotropy_direction_decode(normal, t.material_direction[1]).map(|c| c * 0.5 + 0.5)
+            }),
+            DebugView::MaterialIndex => worst_step(frame, |t| {
+                // debug_index_colour: a multiplicative hash of the index.
+                let h = u32::from(t.material_direction[0]).wrapping_mul(2654435761);
+                [8, 16, 24].map(|shift| f64::from((h >> shift) & 255) / 255.0)
+            }),
+            // Radiance, distance, and the BRDF terms: the next test.
             _ => 0,
         };
         assert!(worst <= 1, "{view:?}: {worst} steps from the G-buffer");
@@ -109,9 +120,10 @@ fn gbuffer_views_show_what_the_gbuffer_holds() {
     }
 }
 
-/// The BRDF-term views stay in their ranges: G2, F and the diffuse albedo in [0, 1]
-/// (their display bytes are codes of values that cannot exceed 1, so nothing clips at
-/// the top where the value is meant to be below it), D finite and non-negative.
+/// The views that must be non-zero on lit surfaces are, and the BRDF-term views stay in their
+/// ranges: G2, F and the diffuse albedo in [0, 1] (their display bytes are codes of
+/// values that cannot exceed 1), D finite and non-negative. (Their values are not
+/// compared with the f64 BRDF here: that is the error view's work, not done yet.)
 #[test]
 fn brdf_term_views_stay_in_range_on_the_hard_cases() {
     for (view, frame) in render_views("hard-cases") {
@@ -120,6 +132,24 @@ fn brdf_term_views_stay_in_range_on_the_hard_cases() {
             .iter()
             .all(|p| p[..3].iter().all(|x| x.is_finite() && *x >= 0.0));
         assert!(hdr_ok, "{view:?}: a negative or non-finite value");
+        if matches!(
+            view,
+            DebugView::Normal
+                | DebugView::Depth
+                | DebugView::Distribution
+                | DebugView::Smith
+                | DebugView::Fresnel
+                | DebugView::Diffuse
+        ) {
+            // These show something wherever the hard cases have a surface lit by the
+            // first light (a view of zeros, e.g. with that light wrongly taken as
+            // missing, would not).
+            let shown = frame.ldr.iter().filter(|p| p[..3] != [0, 0, 0]).count();
+            assert!(
+                shown > frame.ldr.len() / 20,
+                "{view:?}: only {shown} pixels are not black"
+            );
+        }
         if matches!(
             view,
             DebugView::Smith | DebugView::Fresnel | DebugView::Diffuse

@@ -87,6 +87,9 @@ fn view_renders_frames_in_a_window_and_exits_cleanly() {
         stderr.contains("--vsync: `sometimes` is not on or off"),
         "{stderr}"
     );
+    let (code, _, stderr) = view(":0", &["--screenshot", "shot.png"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("give --frames N too"), "{stderr}");
 }
 
 #[test]
@@ -297,17 +300,45 @@ fn keys_and_mouse_drive_the_viewer() {
     xdotool(&display, &["windowfocus", &window]);
     pause();
     xdotool(&display, &["mousemove", "--window", &window, "80", "60"]);
+    // Each key, and what the window's title must say after it (it names the scene, the
+    // debug view and every toggle).
     let mut keys = vec![
-        "2", "g", "m", "o", "plus", "f", "r", "m", "o", "g", "minus", "1",
+        ("2", "builtin:hard-cases"),
+        ("g", "Schlick (comparison)"),
+        ("m", "diffuse Lambert"),
+        ("o", "medium air"),
+        ("plus", "exposure 1.41"),
+        ("f", "exposure 1.41"),
+        ("r", "exposure 1.41"),
+        ("m", "diffuse Oren–Nayar qualitative"),
+        ("o", "medium η 1.33"),
+        ("g", "full Fresnel"),
+        ("minus", "exposure 1.00"),
+        ("1", "builtin:spheres"),
     ];
     // Every debug view once, and back to radiance.
-    keys.extend(std::iter::repeat_n(
-        "v",
-        combustion::renderer::DebugView::ALL.len(),
-    ));
-    for key in keys {
+    for view in combustion::renderer::DebugView::ALL
+        .iter()
+        .skip(1)
+        .chain([&combustion::renderer::DebugView::None])
+    {
+        keys.push(("v", view.name()));
+    }
+    for (key, expected) in keys {
         xdotool(&display, &["key", key]);
-        pause();
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            let title = xdotool(&display, &["getwindowname", &window]);
+            if title.contains(expected) {
+                break;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "after `{key}` the title is `{}`, not naming `{expected}`",
+                title.trim()
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
     }
     xdotool(&display, &["mousedown", "1"]);
     xdotool(&display, &["mousemove", "--window", &window, "120", "70"]);

@@ -252,10 +252,16 @@ impl State {
             vk::AccessFlags2::NONE,
             vk::ImageLayout::PRESENT_SRC_KHR,
         );
-        // The acquire semaphore's wait covers ALL_COMMANDS, so the first use may start
-        // from nothing (UNDEFINED: the image's old contents are not needed).
+        // The acquire semaphore is waited for at every stage; the first barrier's first
+        // scope names a stage of that wait (colour output) so that the layout change
+        // comes after it. UNDEFINED: the image's old contents are not needed.
+        let acquired_state = ImageState::new(
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::NONE,
+            vk::ImageLayout::UNDEFINED,
+        );
         self.host
-            .record_frame(slot, cmd, 0, target, ImageState::UNDEFINED, present)?;
+            .record_frame(slot, cmd, 0, target, acquired_state, present)?;
         let render_done = swapchain.render_done[index];
         self.host
             .submit_frame_with(slot, Some((acquired, render_done)))?;

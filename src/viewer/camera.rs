@@ -120,12 +120,15 @@ impl OrbitCamera {
         self.target += (right * motion.x + self.up * motion.y + forward * motion.z) * step;
     }
 
-    /// Looks at the middle of `bounds` from far enough for all of it to fit.
-    pub fn frame(&mut self, bounds: (Vec3, Vec3)) {
+    /// Looks at the middle of `bounds` from far enough for all of it to fit a view of
+    /// `aspect` (width / height): the narrower of the two fields of view decides.
+    pub fn frame(&mut self, bounds: (Vec3, Vec3), aspect: f32) {
         let (lo, hi) = bounds;
         let radius = ((hi - lo).length() / 2.0).max(1e-3);
+        let half_vertical = self.vertical_fov / 2.0;
+        let half_horizontal = (half_vertical.tan() * aspect.max(1e-3)).atan();
         self.target = (lo + hi) / 2.0;
-        self.distance = radius / (self.vertical_fov / 2.0).sin() * 1.05;
+        self.distance = radius / half_vertical.min(half_horizontal).sin() * 1.05;
     }
 
     /// Back to the camera the orbit started from.
@@ -304,10 +307,16 @@ mod tests {
     #[test]
     fn framing_fits_the_bounds_and_zoom_scales_the_distance() {
         let mut orbit = OrbitCamera::new(&start());
-        orbit.frame((Vec3::splat(-2.0), Vec3::splat(2.0)));
+        orbit.frame((Vec3::splat(-2.0), Vec3::splat(2.0)), 1.5);
         assert!(close(orbit.target, Vec3::ZERO));
         let radius = 12f32.sqrt();
         assert!(orbit.distance * (0.4f32).sin() >= radius);
+        // A tall window: the horizontal field of view is the narrower one.
+        let mut tall = orbit;
+        tall.frame((Vec3::splat(-2.0), Vec3::splat(2.0)), 0.5);
+        let half_horizontal = ((0.4f32).tan() * 0.5).atan();
+        assert!(tall.distance * half_horizontal.sin() >= radius);
+        assert!(tall.distance > orbit.distance);
         let before = orbit.distance;
         orbit.zoom(2.0);
         assert!((orbit.distance - before * 0.81).abs() < 1e-4);

@@ -429,6 +429,12 @@ impl State {
         }
         let swapchain = self.swapchain.as_ref().expect("created above");
         let extent = swapchain.extent();
+        if self.screenshot.is_some() && !swapchain.copyable() {
+            self.screenshot = None;
+            log::error!(
+                "this window's swapchain images cannot be copied, so no screenshot can be taken"
+            );
+        }
         // The only wait of a frame: for the one that used this slot last.
         let frame = self.ring.begin()?;
         let Some(image) = swapchain.acquire(frame.slot)? else {
@@ -447,20 +453,20 @@ impl State {
             vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
         );
         let screenshot = self.screenshot.take();
-        if screenshot.is_some() && !swapchain.copyable() {
-            return Err(Error::Window(
-                "this window's swapchain images cannot be copied, so no screenshot can be taken"
-                    .into(),
-            ));
-        }
         let target = FrameTarget {
             color: ColorTarget {
                 image: image.image,
                 view: image.view,
                 format: swapchain.format(),
                 extent,
-                // The acquisition's semaphore is waited for before any command.
-                before: ImageState::UNDEFINED,
+                // The acquisition's semaphore is waited for (at every stage) before the
+                // layout change; the change's first scope must include a stage of that
+                // wait, so it names colour output rather than none.
+                before: ImageState::new(
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::NONE,
+                    vk::ImageLayout::UNDEFINED,
+                ),
                 after: if screenshot.is_some() {
                     copy_state
                 } else {
@@ -501,13 +507,17 @@ impl State {
         };
         self.ring
             .submit_with(frame, Some(image.acquired), Some(image.rendered))?;
-        match swapchain.present(&image)? {
+        let presented = swapchain.present(&image);
+        if copy.is_some() {
+            // A screenshot waits for its own frame, once (frames otherwise never do),
+            // also before an error can drop the buffer the frame writes.
+            self.ring.wait(frame.slot)?;
+        }
+        match presented? {
             PresentOutcome::Presented => {}
             PresentOutcome::PresentedSuboptimal | PresentOutcome::OutOfDate => self.stale = true,
         }
         if let (Some(path), Some(buffer)) = (screenshot, copy) {
-            // A screenshot waits for its own frame, once; frames otherwise never do.
-            self.ring.wait(frame.slot)?;
             let bgra = swapchain.format() == vk::Format::B8G8R8A8_UNORM;
             let pixels: Vec<[u8; 4]> = buffer
                 .mapped()?
@@ -520,8 +530,11 @@ impl State {
                     }
                 })
                 .collect();
-            crate::output::write_png(&path, extent.width, extent.height, &pixels)?;
-            summary.screenshots.push(path);
+            // A screenshot that cannot be written is reported; the viewer goes on.
+            match crate::output::write_png(&path, extent.width, extent.height, &pixels) {
+                Ok(()) => summary.screenshots.push(path),
+                Err(e) => log::error!("{e}"),
+            }
         }
         summary.gpu_total_ms.extend(
             self.renderer
@@ -692,6 +705,17 @@ impl ApplicationHandler for App<'_> {
             }
             WindowEvent::RedrawRequested => self.redraw(event_loop),
             WindowEvent::KeyboardInput { event, .. } => self.key(event_loop, &event),
+            WindowEvent::Focused(false) => {
+                // Keys and buttons released elsewhere never come back as releases.
+                if let Some(state) = self.state.as_mut() {
+                    state.input = Input::default();
+                }
+            }
+            WindowEvent::CursorLeft { .. } => {
+                if let Some(state) = self.state.as_mut() {
+                    state.input.cursor = None;
+                }
+            }
             WindowEvent::DroppedFile(path) => {
                 if let Some(state) = self.state.as_mut() {
                     if let Err(e) = state.load(controls::dropped(path)) {
@@ -748,22 +772,32 @@ impl App<'_> {
     fn toggle(state: &mut State, text: &str) -> Result<(), Error> {
         match text {
             "g" | "G" => {
-                let model = controls::toggle_fresnel(state.renderer.settings().fresnel);
-                state.renderer.set_fresnel(model);
-                state.renderer.prepare(&state.gpu_scene)?;
+                let old = state.renderer.settings().fresnel;
+                state.renderer.set_fresnel(controls::toggle_fresnel(old));
+                if let Err(e) = state.renderer.prepare(&state.gpu_scene) {
+                    state.renderer.set_fresnel(old); // the pipelines it has still work
+                    return Err(e.into());
+                }
             }
-            "m" | "M" => {
-                state.overrides.cycle_diffuse();
-                state.apply_overrides()?;
-            }
-            "o" | "O" => {
-                state.overrides.cycle_medium();
-                state.apply_overrides()?;
+            "m" | "M" | "o" | "O" => {
+                let old = state.overrides;
+                if text.eq_ignore_ascii_case("m") {
+                    state.overrides.cycle_diffuse();
+                } else {
+                    state.overrides.cycle_medium();
+                }
+                if let Err(e) = state.apply_overrides() {
+                    state.overrides = old; // the edit changed nothing
+                    return Err(e);
+                }
             }
             "v" | "V" => {
-                let view = state.renderer.debug_view().next();
-                state.renderer.set_debug_view(view);
-                state.renderer.prepare(&state.gpu_scene)?;
+                let old = state.renderer.debug_view();
+                state.renderer.set_debug_view(old.next());
+                if let Err(e) = state.renderer.prepare(&state.gpu_scene) {
+                    state.renderer.set_debug_view(old);
+                    return Err(e.into());
+                }
             }
             "+" | "=" => state.exposure *= controls::EXPOSURE_STEP,
             "-" | "_" => state.exposure /= controls::EXPOSURE_STEP,
@@ -786,7 +820,7 @@ impl App<'_> {
         let Some(state) = self.state.as_mut() else {
             return;
         };
-        if down && event.logical_key == Key::Named(NamedKey::F5) {
+        if down && !event.repeat && event.logical_key == Key::Named(NamedKey::F5) {
             let source = state.source.clone();
             if let Err(e) = state.load(source) {
                 log::error!("{e}");
@@ -811,16 +845,23 @@ impl App<'_> {
             "w" => fly[2][1] = down,
             "f" if down => {
                 if let Some(bounds) = state.gpu_scene.scene.world_bounds() {
-                    state.orbit.frame(bounds);
+                    let size = state.window.inner_size();
+                    let aspect = size.width.max(1) as f32 / size.height.max(1) as f32;
+                    state.orbit.frame(bounds, aspect);
                 }
             }
             "r" if down => state.orbit.reset(),
             "p" if down && !event.repeat => {
-                state.screenshots_taken += 1;
-                state.screenshot = Some(PathBuf::from(format!(
-                    "combustion-{:04}.png",
-                    state.screenshots_taken
-                )));
+                // The first name not taken yet: earlier sessions' screenshots stay.
+                let path = loop {
+                    state.screenshots_taken += 1;
+                    let path =
+                        PathBuf::from(format!("combustion-{:04}.png", state.screenshots_taken));
+                    if !path.exists() || state.screenshots_taken >= 9999 {
+                        break path;
+                    }
+                };
+                state.screenshot = Some(path);
             }
             _ => {}
         }

@@ -259,9 +259,10 @@ impl Drop for FrameRing {
         for s in &self.slots {
             // SAFETY: wait (bounded) for our own submissions before destroying their objects.
             unsafe {
-                if raw
-                    .wait_for_fences(&[s.fence], true, 10_000_000_000)
-                    .is_err()
+                if s.pending
+                    && raw
+                        .wait_for_fences(&[s.fence], true, 10_000_000_000)
+                        .is_err()
                 {
                     log::error!("a frame was still pending after 10 s at teardown");
                 }
