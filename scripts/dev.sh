@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.."
 # is not needed: the crate ships them); for `combustion view` and its test, the X libraries
 # winit loads at run time and a virtual X server (Xvfb; xauth for xvfb-run).
 PACKAGES=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake python3 g++ pkg-config
-  xvfb xauth xdotool libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0)
+  xvfb xauth xdotool procps libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0)
 
 install_packages() {
   local missing=()

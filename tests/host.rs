@@ -339,14 +339,7 @@ fn every_output_format_holds_the_frame() {
         let (slot, cmd) = host.begin_frame().unwrap();
         let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
         let target = FrameTarget {
-            color: ColorTarget {
-                image: image.image,
-                view: image.view,
-                format,
-                extent,
-                before: ImageState::UNDEFINED,
-                after: app::state::COPY_SOURCE,
-            },
+            color: image.color_target(ImageState::UNDEFINED, app::state::COPY_SOURCE),
             depth: None,
         };
         let renderer = host.renderer.as_mut().unwrap();
@@ -436,14 +429,7 @@ fn record_refuses_bad_arguments_before_recording() {
         vk::ImageUsageFlags::COLOR_ATTACHMENT,
     )
     .unwrap();
-    let color = ColorTarget {
-        image: image.image,
-        view: image.view,
-        format: vk::Format::R16G16B16A16_SFLOAT,
-        extent,
-        before: ImageState::UNDEFINED,
-        after: app::state::COLOR_ATTACHMENT,
-    };
+    let color = image.color_target(ImageState::UNDEFINED, app::state::COLOR_ATTACHMENT);
     let (slot, cmd) = host.begin_frame().unwrap();
     let lights = host.scenes[0].scene.lights.clone();
     let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
@@ -613,14 +599,7 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
         }
         let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
         let target = FrameTarget {
-            color: ColorTarget {
-                image: image.image,
-                view: image.view,
-                format: vk::Format::R8G8B8A8_UNORM,
-                extent,
-                before: state,
-                after: app::state::COLOR_ATTACHMENT,
-            },
+            color: image.color_target(state, app::state::COLOR_ATTACHMENT),
             depth: None,
         };
         let renderer = host.renderer.as_mut().unwrap();

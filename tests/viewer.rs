@@ -10,6 +10,15 @@ use std::time::{Duration, Instant};
 
 use common::xvfb::Xvfb;
 
+/// No error and no logged warning on stderr (info lines, or a driver's own banner, are
+/// tolerated).
+fn assert_quiet(stderr: &str) {
+    assert!(
+        !stderr.contains("error") && !stderr.contains("[WARN") && !stderr.contains("[ERROR"),
+        "{stderr}"
+    );
+}
+
 /// Runs `combustion view ARGS` with `DISPLAY=display`, killing it after 60 s.
 fn view(display: &str, args: &[&str]) -> (Option<i32>, String, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_combustion"))
@@ -69,10 +78,7 @@ fn view_renders_frames_in_a_window_and_exits_cleanly() {
         );
         assert!(!stderr.contains("panicked"), "{stderr}");
         // No error and no logged warning (a driver's own banner would be tolerated).
-        assert!(
-            !stderr.contains("error") && !stderr.contains("[WARN") && !stderr.contains("[ERROR"),
-            "{stderr}"
-        );
+        assert_quiet(&stderr);
         assert!(
             stdout.starts_with("viewed 5 frames at 160x120 on llvmpipe"),
             "{stdout}"
@@ -370,10 +376,7 @@ fn keys_and_mouse_drive_the_viewer() {
         Some(0),
         "stdout: {stdout}\nstderr: {stderr}"
     );
-    assert!(
-        !stderr.contains("error") && !stderr.contains("[WARN") && !stderr.contains("[ERROR"),
-        "{stderr}"
-    );
+    assert_quiet(&stderr);
     assert!(
         stdout.contains("; screenshot combustion-0001.png"),
         "{stdout}"

@@ -93,6 +93,18 @@ impl HostImage {
         })
     }
 
+    /// This image as the colour target of a Combustion frame.
+    pub fn color_target(&self, before: ImageState, after: ImageState) -> ColorTarget {
+        ColorTarget {
+            image: self.image,
+            view: self.view,
+            format: self.format,
+            extent: self.extent,
+            before,
+            after,
+        }
+    }
+
     pub fn destroy(mut self, host: &HostVulkan) {
         unsafe {
             host.device.destroy_image_view(self.view, None);
@@ -460,14 +472,9 @@ impl Host {
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {
-            color: ColorTarget {
-                image: viewport.color.image,
-                view: viewport.color.view,
-                format: viewport.color.format,
-                extent: inner,
-                before: viewport.color_state,
-                after: state::BLIT_SOURCE,
-            },
+            color: viewport
+                .color
+                .color_target(viewport.color_state, state::BLIT_SOURCE),
             depth: Some(DepthTarget {
                 image: viewport.depth.image,
                 format: viewport.depth.format,

@@ -127,6 +127,44 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
     return view;
 }
 
+// The material's diffuse lobe (Lambert or Oren–Nayar, by m.diffuse_model) for v and l
+// in the shading frame.
+vec3 brdf_diffuse_lobe(BrdfInputs m, vec3 vl, vec3 ll) {
+    vec3 rho = min(max(m.base_color, vec3(0.0)), vec3(1.0));
+    if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_QUALITATIVE) {
+        return diffuse_oren_nayar_qualitative(rho, m.oren_nayar_sigma, OREN_NAYAR_A_CONSTANT_BRDF, vl, ll);
+    } else if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_FULL) {
+        return diffuse_oren_nayar_full(rho, m.oren_nayar_sigma, vl, ll);
+    }
+    return diffuse_lambert(rho);
+}
+
+// Reflectance of the dielectric part at the microfacet angle cos_h (full equations with
+// the outside medium, or Schlick's comparison curve in the FRESNEL_SCHLICK variant).
+float brdf_dielectric_fresnel(BrdfInputs m, BrdfView view, float cos_h) {
+#ifdef FRESNEL_SCHLICK
+    return fresnel_schlick(cos_h, view.f0_dielectric);
+#else
+    return polarised_weighted(fresnel_dielectric(cos_h, m.outside_eta, m.dielectric_eta), view.w);
+#endif
+}
+
+// Reflectance of the conductor part per channel at cos_h (as above).
+vec3 brdf_conductor_fresnel(BrdfInputs m, BrdfView view, float cos_h) {
+#ifdef FRESNEL_SCHLICK
+    float x = 1.0 - cos_h;
+    float x2 = x * x;
+    return view.f0_conductor + (1.0 - view.f0_conductor) * (x2 * x2 * x);
+#else
+    float eta_i = m.outside_eta;
+    float w = view.w;
+    vec2 r0 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.x, m.conductor_k.x);
+    vec2 r1 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.y, m.conductor_k.y);
+    vec2 r2 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.z, m.conductor_k.z);
+    return vec3(polarised_weighted(r0, w), polarised_weighted(r1, w), polarised_weighted(r2, w));
+#endif
+}
+
 vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
     vec3 vl = view.v;
     vec3 ll = shading_frame_to_local(view.frame, safe_normalize(l));
@@ -150,38 +188,18 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
     vec3 result = vec3(0.0);
     if (metal < 1.0) {
         float eta_d = m.dielectric_eta;
+        float spec = lobe * brdf_dielectric_fresnel(m, view, cos_h);
 #ifdef FRESNEL_SCHLICK
-        float spec = lobe * fresnel_schlick(cos_h, view.f0_dielectric);
         float diffuse_weight = (1.0 - fresnel_schlick(ll.z, view.f0_dielectric)) * view.transmittance_v;
 #else
-        float spec = lobe * polarised_weighted(fresnel_dielectric(cos_h, eta_i, eta_d), w);
         float diffuse_weight =
             polarised_weighted(fresnel_dielectric_transmittance(ll.z, eta_i, eta_d), w)
           * view.transmittance_v;
 #endif
-        vec3 rho = min(max(m.base_color, vec3(0.0)), vec3(1.0));
-        vec3 diffuse;
-        if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_QUALITATIVE) {
-            diffuse = diffuse_oren_nayar_qualitative(rho, m.oren_nayar_sigma, OREN_NAYAR_A_CONSTANT_BRDF, vl, ll);
-        } else if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_FULL) {
-            diffuse = diffuse_oren_nayar_full(rho, m.oren_nayar_sigma, vl, ll);
-        } else {
-            diffuse = diffuse_lambert(rho);
-        }
-        result = (1.0 - metal) * (vec3(spec) + diffuse_weight * diffuse);
+        result = (1.0 - metal) * (vec3(spec) + diffuse_weight * brdf_diffuse_lobe(m, vl, ll));
     }
     if (metal > 0.0) {
-#ifdef FRESNEL_SCHLICK
-        float x = 1.0 - cos_h;
-        float x2 = x * x;
-        vec3 f = view.f0_conductor + (1.0 - view.f0_conductor) * (x2 * x2 * x);
-#else
-        vec2 r0 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.x, m.conductor_k.x);
-        vec2 r1 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.y, m.conductor_k.y);
-        vec2 r2 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.z, m.conductor_k.z);
-        vec3 f = vec3(polarised_weighted(r0, w), polarised_weighted(r1, w), polarised_weighted(r2, w));
-#endif
-        result += metal * lobe * f;
+        result += metal * lobe * brdf_conductor_fresnel(m, view, cos_h);
     }
     return result;
 }

@@ -91,33 +91,12 @@ vec3 debug_view_radiance(uint which, DebugSurface s, BrdfInputs m, BrdfView view
         float visibility = 0.5 / (light_half.x * view.visibility_half.y + view.visibility_half.x * light_half.y);
         return debug_code(vec3(visibility * 4.0 * vl.z * ll.z));
     } else if (which == DEBUG_VIEW_FRESNEL) {
-        float eta_i = m.outside_eta;
-        float w = view.w;
-#ifdef FRESNEL_SCHLICK
-        float x = 1.0 - cos_h;
-        float x5 = x * x * x * x * x;
-        float fd = view.f0_dielectric + (1.0 - view.f0_dielectric) * x5;
-        vec3 fc = view.f0_conductor + (1.0 - view.f0_conductor) * x5;
-#else
-        float fd = polarised_weighted(fresnel_dielectric(cos_h, eta_i, m.dielectric_eta), w);
-        vec3 fc = vec3(
-            polarised_weighted(fresnel_conductor(cos_h, eta_i, m.conductor_eta.x, m.conductor_k.x), w),
-            polarised_weighted(fresnel_conductor(cos_h, eta_i, m.conductor_eta.y, m.conductor_k.y), w),
-            polarised_weighted(fresnel_conductor(cos_h, eta_i, m.conductor_eta.z, m.conductor_k.z), w));
-#endif
-        return debug_code(mix(vec3(fd), fc, view.metal));
+        vec3 f = mix(vec3(brdf_dielectric_fresnel(m, view, cos_h)),
+                     brdf_conductor_fresnel(m, view, cos_h), view.metal);
+        return debug_code(f);
     }
     // DEBUG_VIEW_DIFFUSE: the diffuse lobe times π (the albedo it shows), weighted by the
     // dielectric part.
-    vec3 rho = clamp(m.base_color, vec3(0.0), vec3(1.0));
-    vec3 diffuse;
-    if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_QUALITATIVE) {
-        diffuse = diffuse_oren_nayar_qualitative(rho, m.oren_nayar_sigma, OREN_NAYAR_A_CONSTANT_BRDF, vl, ll);
-    } else if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_FULL) {
-        diffuse = diffuse_oren_nayar_full(rho, m.oren_nayar_sigma, vl, ll);
-    } else {
-        diffuse = diffuse_lambert(rho);
-    }
-    return debug_untonemap(diffuse * PI * (1.0 - view.metal));
+    return debug_untonemap(brdf_diffuse_lobe(m, vl, ll) * PI * (1.0 - view.metal));
 }
 #endif

@@ -111,6 +111,35 @@ pub struct ViewSummary {
     pub screenshots: Vec<PathBuf>,
 }
 
+/// Writes the pending screenshot, whose frame has completed. A file that cannot be
+/// written is reported and the viewer goes on.
+fn write_screenshot(
+    shot: Option<PendingScreenshot>,
+    summary: &mut ViewSummary,
+) -> Result<(), Error> {
+    let Some(shot) = shot else {
+        return Ok(());
+    };
+    let pixels: Vec<[u8; 4]> = shot
+        .buffer
+        .mapped()?
+        .chunks_exact(4)
+        .map(|c| {
+            if shot.bgra {
+                [c[2], c[1], c[0], 255]
+            } else {
+                [c[0], c[1], c[2], 255]
+            }
+        })
+        .collect();
+    let (w, h) = (shot.extent.width, shot.extent.height);
+    match crate::output::write_png(&shot.path, w, h, &pixels) {
+        Ok(()) => summary.screenshots.push(shot.path),
+        Err(e) => log::error!("{e}"),
+    }
+    Ok(())
+}
+
 /// Records, after the frame's output pass (the image in `from`), a copy of the swapchain
 /// image into a host-visible buffer, and the transition to `to` for presenting.
 fn record_screenshot_copy(
@@ -260,6 +289,16 @@ struct App<'a> {
     path: Option<camera::CameraPath>,
 }
 
+/// A copy of a presented image in host-visible memory, and where it goes.
+struct PendingScreenshot {
+    /// The frame slot of the frame that copies it.
+    slot: usize,
+    buffer: combustion_vk::Buffer,
+    path: PathBuf,
+    extent: vk::Extent2D,
+    bgra: bool,
+}
+
 /// Mouse buttons and keys held, and the cursor's last position.
 #[derive(Default)]
 struct Input {
@@ -301,6 +340,10 @@ struct State {
     screenshot: Option<PathBuf>,
     /// Screenshots taken with the P key.
     screenshots_taken: u32,
+    /// A screenshot copied by a frame that may still be in flight.
+    pending_screenshot: Option<PendingScreenshot>,
+    /// The title last set (it is set again only when it changes).
+    title: String,
     /// Where the shown scene came from, the scene as loaded, and the toggles on it.
     source: SceneSource,
     original: combustion_scene::Scene,
@@ -358,6 +401,8 @@ impl State {
             input: Input::default(),
             screenshot: None,
             screenshots_taken: 0,
+            pending_screenshot: None,
+            title: String::new(),
             modified: controls::modified(&source),
             source,
             original: scene.clone(),
@@ -437,6 +482,14 @@ impl State {
         }
         // The only wait of a frame: for the one that used this slot last.
         let frame = self.ring.begin()?;
+        // This slot's previous frame has completed: a screenshot it took can be read.
+        if self
+            .pending_screenshot
+            .as_ref()
+            .is_some_and(|p| p.slot == frame.slot)
+        {
+            write_screenshot(self.pending_screenshot.take(), summary)?;
+        }
         let Some(image) = swapchain.acquire(frame.slot)? else {
             self.stale = true;
             self.ring.submit(frame)?; // empty: keeps the ring's slots in step
@@ -494,47 +547,30 @@ impl State {
         };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
-        let copy = match &screenshot {
-            Some(_) => Some(record_screenshot_copy(
+        if let Some(path) = screenshot {
+            let buffer = record_screenshot_copy(
                 &self.device,
                 frame.cmd,
                 image.image,
                 extent,
                 copy_state,
                 present_state,
-            )?),
-            None => None,
-        };
+            )?;
+            // Read when the frame has completed: when its slot comes round again (the
+            // ring waits for that anyway) or at the end; no frame waits for it.
+            self.pending_screenshot = Some(PendingScreenshot {
+                slot: frame.slot,
+                buffer,
+                path,
+                extent,
+                bgra: swapchain.format() == vk::Format::B8G8R8A8_UNORM,
+            });
+        }
         self.ring
             .submit_with(frame, Some(image.acquired), Some(image.rendered))?;
-        let presented = swapchain.present(&image);
-        if copy.is_some() {
-            // A screenshot waits for its own frame, once (frames otherwise never do),
-            // also before an error can drop the buffer the frame writes.
-            self.ring.wait(frame.slot)?;
-        }
-        match presented? {
+        match swapchain.present(&image)? {
             PresentOutcome::Presented => {}
             PresentOutcome::PresentedSuboptimal | PresentOutcome::OutOfDate => self.stale = true,
-        }
-        if let (Some(path), Some(buffer)) = (screenshot, copy) {
-            let bgra = swapchain.format() == vk::Format::B8G8R8A8_UNORM;
-            let pixels: Vec<[u8; 4]> = buffer
-                .mapped()?
-                .chunks_exact(4)
-                .map(|c| {
-                    if bgra {
-                        [c[2], c[1], c[0], 255]
-                    } else {
-                        [c[0], c[1], c[2], 255]
-                    }
-                })
-                .collect();
-            // A screenshot that cannot be written is reported; the viewer goes on.
-            match crate::output::write_png(&path, extent.width, extent.height, &pixels) {
-                Ok(()) => summary.screenshots.push(path),
-                Err(e) => log::error!("{e}"),
-            }
         }
         summary.gpu_total_ms.extend(
             self.renderer
@@ -606,6 +642,7 @@ impl State {
     /// Waits for every frame in flight and collects their GPU times.
     fn finish(&mut self, summary: &mut ViewSummary) -> Result<(), Error> {
         self.ring.wait_all()?;
+        write_screenshot(self.pending_screenshot.take(), summary)?;
         self.renderer.frames_completed()?;
         summary.gpu_total_ms.extend(
             self.renderer
@@ -660,7 +697,10 @@ impl App<'_> {
                 self.presented += 1;
                 self.summary.frame_ms.extend(wall_ms);
                 let title = state.title(self.summary.gpu_total_ms.last().copied());
-                state.window.set_title(&title);
+                if title != state.title {
+                    state.window.set_title(&title);
+                    state.title = title;
+                }
                 if let Err(e) = state.poll_file() {
                     log::error!("{e}");
                 }

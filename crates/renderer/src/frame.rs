@@ -154,6 +154,19 @@ impl Renderer {
         target: &FrameTarget,
     ) -> Result<(), RenderError> {
         let variant = self.check_frame(frame_slot, scene, inputs, target)?;
+        self.record_checked(cmd, frame_slot, scene, inputs, target, variant)
+    }
+
+    /// [`Renderer::record`] once its arguments have passed [`Renderer::check_frame`].
+    pub(crate) fn record_checked(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        frame_slot: usize,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        target: &FrameTarget,
+        variant: crate::ShaderVariant,
+    ) -> Result<(), RenderError> {
         let extent = target.color.extent;
         // The slot's previous frame has completed: read its timings, free what it
         // retired, and reuse its resources.

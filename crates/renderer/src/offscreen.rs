@@ -123,14 +123,7 @@ impl Renderer {
             return Ok(());
         };
         offscreen.ring.wait_all()?;
-        let (next, count) = (
-            offscreen.ring.next_slot(),
-            offscreen.ring.frames_in_flight(),
-        );
-        for i in 0..count {
-            self.collect_timings((next + i) % count)?;
-        }
-        Ok(())
+        self.frames_completed()
     }
 
     fn submit_with_offscreen(
@@ -210,9 +203,9 @@ impl Renderer {
         };
         let inputs = FrameInputs::of_scene(scene, self.settings.exposure);
         // Checked before the ring advances: a refused frame takes no slot.
-        self.check_frame(offscreen.ring.next_slot(), scene, &inputs, &target)?;
+        let variant = self.check_frame(offscreen.ring.next_slot(), scene, &inputs, &target)?;
         let frame = offscreen.ring.begin()?;
-        self.record(frame.cmd, frame.slot, scene, &inputs, &target)?;
+        self.record_checked(frame.cmd, frame.slot, scene, &inputs, &target, variant)?;
         *display_state = after;
         if let (Some(readback), Some(buffers)) = (readback, &offscreen.readback) {
             self.record_copies(frame.cmd, display, buffers, extent, readback, scene);

@@ -55,27 +55,6 @@ impl TimestampQueries {
         };
     }
 
-    /// Reads all timestamps (waiting for them) and returns them in milliseconds since the first.
-    pub fn read_ms(&self) -> Result<Vec<f64>, VkError> {
-        let mut ticks = vec![0u64; self.count as usize];
-        unsafe {
-            self.device.raw().get_query_pool_results(
-                self.pool,
-                0,
-                &mut ticks,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-            )
-        }
-        .what("vkGetQueryPoolResults")?;
-        let first = ticks.first().copied().unwrap_or(0);
-        Ok(ticks
-            .iter()
-            .map(|&t| t.wrapping_sub(first) as f64 * self.period_ns * 1e-6)
-            .collect())
-    }
-}
-
-impl TimestampQueries {
     /// Reads all timestamps if the GPU has written them (never waits): `None` while any
     /// is pending. Milliseconds since the first.
     pub fn read_ms_if_available(&self) -> Result<Option<Vec<f64>>, VkError> {
