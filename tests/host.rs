@@ -259,6 +259,7 @@ fn alternating_viewports_and_scenes_build_nothing_per_frame() {
     assert_eq!(stats.frames, 8);
     assert_eq!(stats.targets_built, 2, "{stats:?}");
     assert_eq!(stats.targets_retired, 0, "{stats:?}");
+    assert_eq!(stats.display_images_built, 2, "{stats:?}");
     let pipelines = stats.pipelines_built;
     renderer.submit_offscreen(&spheres, 64, 48).unwrap();
     renderer.finish_offscreen().unwrap();

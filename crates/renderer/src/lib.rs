@@ -426,6 +426,8 @@ pub struct RendererStats {
     pub targets_retired: u64,
     /// Graphics pipelines built.
     pub pipelines_built: u64,
+    /// Display images of [`Renderer::render`] and [`Renderer::submit_offscreen`] made.
+    pub display_images_built: u64,
 }
 
 /// How many completed frames' timings are kept until taken.

@@ -20,11 +20,15 @@ use crate::{
     RenderError, Renderer, DISPLAY_FORMAT,
 };
 
+/// Display image sizes kept (the least recently used beyond this is retired).
+const DISPLAY_SIZES_KEPT: usize = 4;
+
 /// The renderer's own submissions.
 pub(crate) struct Offscreen {
     ring: FrameRing,
-    /// The display image (sRGB-encoded RGBA8) and the state it was left in.
-    display: Option<(Image, ImageState)>,
+    /// Display images (sRGB-encoded RGBA8) by size and the state each was left in, the
+    /// one in use last; a few sizes are kept so that alternating sizes rebuild nothing.
+    displays: Vec<(Image, ImageState)>,
     readback: Option<ReadbackBuffers>,
 }
 
@@ -77,7 +81,7 @@ impl Offscreen {
     fn new(device: &Arc<Device>, frames_in_flight: usize) -> Result<Self, VkError> {
         Ok(Self {
             ring: FrameRing::new(device, frames_in_flight)?,
-            display: None,
+            displays: Vec::new(),
             readback: None,
         })
     }
@@ -152,25 +156,34 @@ impl Renderer {
         readback: Option<Readback>,
     ) -> Result<RingFrame, RenderError> {
         let extent = vk::Extent2D { width, height };
-        if offscreen
-            .display
-            .as_ref()
-            .is_none_or(|(image, _)| image.extent() != extent)
+        match offscreen
+            .displays
+            .iter()
+            .position(|(image, _)| image.extent() == extent)
         {
-            let display = Image::new(
-                &self.device,
-                &ImageDesc::new(
-                    "display (sRGB-encoded)",
-                    DISPLAY_FORMAT,
-                    width,
-                    height,
-                    vk::ImageUsageFlags::COLOR_ATTACHMENT
-                        | vk::ImageUsageFlags::SAMPLED
-                        | vk::ImageUsageFlags::TRANSFER_SRC,
-                ),
-            )?;
-            if let Some(old) = offscreen.display.replace((display, ImageState::UNDEFINED)) {
-                self.retire(old.0);
+            Some(i) => {
+                let found = offscreen.displays.remove(i);
+                offscreen.displays.push(found);
+            }
+            None => {
+                let display = Image::new(
+                    &self.device,
+                    &ImageDesc::new(
+                        "display (sRGB-encoded)",
+                        DISPLAY_FORMAT,
+                        width,
+                        height,
+                        vk::ImageUsageFlags::COLOR_ATTACHMENT
+                            | vk::ImageUsageFlags::SAMPLED
+                            | vk::ImageUsageFlags::TRANSFER_SRC,
+                    ),
+                )?;
+                self.stats.display_images_built += 1;
+                offscreen.displays.push((display, ImageState::UNDEFINED));
+                if offscreen.displays.len() > DISPLAY_SIZES_KEPT {
+                    let (old, _) = offscreen.displays.remove(0);
+                    self.retire(old);
+                }
             }
         }
         let wants_copies = readback.is_some_and(|r| r.images || r.gbuffer);
@@ -188,7 +201,7 @@ impl Renderer {
                 self.retire(old);
             }
         }
-        let (display, display_state) = offscreen.display.as_mut().expect("created above");
+        let (display, display_state) = offscreen.displays.last_mut().expect("made above");
         let after = display_after(readback.is_some_and(|r| r.images));
         let target = FrameTarget {
             color: ColorTarget {
