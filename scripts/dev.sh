@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 # and shaderc's build-from-source needs (cmake, python3, a C++ compiler, git for its sources
 # is not needed: the crate ships them); for `combustion view` and its test, the X libraries
 # winit loads at run time and a virtual X server (Xvfb; xauth for xvfb-run).
-PACKAGES=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake python3 g++ pkg-config
+PACKAGES=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake make python3 g++ pkg-config
   xvfb xauth xdotool procps libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0)
 
 install_packages() {
