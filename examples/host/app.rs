@@ -469,6 +469,7 @@ impl Host {
             camera,
             exposure: 1.0,
             lights: &lights,
+            overlay: &[],
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {

@@ -544,6 +544,7 @@ impl State {
                 1.0
             },
             lights: &self.gpu_scene.scene.lights,
+            overlay: &[],
         };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;

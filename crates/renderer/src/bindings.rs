@@ -356,8 +356,33 @@ pub static OUTPUT: SetDecl = SetDecl {
     includes: &[],
 };
 
+/// The text overlay (drawn in the output pass): the frame's quads and the font atlas.
+pub static OVERLAY: SetDecl = SetDecl {
+    name: "overlay",
+    set: 0,
+    bindings: &[
+        Binding::new(
+            "overlay_quads",
+            BindingKind::StorageBuffer {
+                block: "OverlayQuads",
+                element: "OverlayQuad",
+            },
+            VERTEX,
+        ),
+        Binding::new(
+            "overlay_atlas",
+            BindingKind::StorageBuffer {
+                block: "OverlayAtlas",
+                element: "uint",
+            },
+            FRAGMENT,
+        ),
+    ],
+    includes: &["overlay.glsl"],
+};
+
 /// Every set, for generating the headers.
-pub static ALL: [&SetDecl; 4] = [&GBUFFER, &MATERIAL_TEXTURES, &LIGHTING, &OUTPUT];
+pub static ALL: [&SetDecl; 5] = [&GBUFFER, &MATERIAL_TEXTURES, &LIGHTING, &OUTPUT, &OVERLAY];
 
 #[cfg(test)]
 mod tests {

@@ -9,6 +9,7 @@ use combustion_vk::{vk, Buffer, DescriptorPool, Device, ImageState, TimestampQue
 use crate::bindings;
 use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
+use crate::overlay::OverlayQuad;
 use crate::targets::{FrameTargets, TargetKey};
 use crate::{FrameInputs, FrameTarget, GpuScene, PassTimings, RenderError, Renderer, SetLayouts};
 
@@ -24,10 +25,15 @@ pub(crate) struct FrameSlot {
     gbuffer_set: vk::DescriptorSet,
     lighting_set: vk::DescriptorSet,
     output_set: vk::DescriptorSet,
-    /// Owns the three sets.
+    overlay_set: vk::DescriptorSet,
+    /// Owns the four sets.
     _pool: DescriptorPool,
     /// The frame's lights (host-visible; grows when a frame brings more lights).
     lights: Buffer,
+    /// The frame's overlay quads (host-visible; grows as lights do).
+    overlay_quads: Buffer,
+    /// How many quads this slot's frame draws.
+    overlay_quad_count: u32,
     pub(crate) timestamps: Option<TimestampQueries>,
     /// Timestamps were written by this slot's last frame.
     pub(crate) stamped: bool,
@@ -38,11 +44,16 @@ pub(crate) struct FrameSlot {
 
 impl FrameSlot {
     pub fn new(device: &Arc<Device>, layouts: &SetLayouts) -> Result<Self, RenderError> {
-        let sizes: Vec<_> = [&bindings::GBUFFER, &bindings::LIGHTING, &bindings::OUTPUT]
-            .iter()
-            .flat_map(|set| set.pool_sizes(1))
-            .collect();
-        let pool = DescriptorPool::new(device, 3, &sizes)?;
+        let sizes: Vec<_> = [
+            &bindings::GBUFFER,
+            &bindings::LIGHTING,
+            &bindings::OUTPUT,
+            &bindings::OVERLAY,
+        ]
+        .iter()
+        .flat_map(|set| set.pool_sizes(1))
+        .collect();
+        let pool = DescriptorPool::new(device, 4, &sizes)?;
         let timestamps = match TimestampQueries::new(device, TIMESTAMPS) {
             Ok(t) => Some(t),
             Err(VkError::Unsupported(why)) => {
@@ -55,8 +66,11 @@ impl FrameSlot {
             gbuffer_set: pool.allocate(&layouts.gbuffer)?,
             lighting_set: pool.allocate(&layouts.lighting)?,
             output_set: pool.allocate(&layouts.output)?,
+            overlay_set: pool.allocate(&layouts.overlay)?,
             _pool: pool,
             lights: light_buffer(device, 4)?,
+            overlay_quads: overlay_buffer(device, 64)?,
+            overlay_quad_count: 0,
             timestamps,
             stamped: false,
             retired: Vec::new(),
@@ -73,6 +87,16 @@ fn light_buffer(device: &Arc<Device>, capacity: usize) -> Result<Buffer, VkError
         device,
         "frame lights",
         (capacity * std::mem::size_of::<GpuLight>()) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu,
+    )
+}
+
+fn overlay_buffer(device: &Arc<Device>, capacity: usize) -> Result<Buffer, VkError> {
+    Buffer::new(
+        device,
+        "frame overlay quads",
+        (capacity * std::mem::size_of::<OverlayQuad>()) as u64,
         vk::BufferUsageFlags::STORAGE_BUFFER,
         combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu,
     )
@@ -178,6 +202,7 @@ impl Renderer {
         };
         self.ensure_targets(key)?;
         self.write_frame_lights(frame_slot, inputs)?;
+        self.write_frame_overlay(frame_slot, inputs, extent)?;
         self.write_descriptors(frame_slot, key, scene);
         self.record_passes(cmd, frame_slot, key, scene, variant, inputs, target);
         self.frame_number += 1;
@@ -300,6 +325,29 @@ impl Renderer {
         Ok(())
     }
 
+    fn write_frame_overlay(
+        &mut self,
+        slot: usize,
+        inputs: &FrameInputs<'_>,
+        extent: vk::Extent2D,
+    ) -> Result<(), RenderError> {
+        let quads = self
+            .overlay_font
+            .layout(inputs.overlay, [extent.width, extent.height]);
+        let s = &mut self.slots[slot];
+        s.overlay_quad_count = quads.len() as u32;
+        if quads.is_empty() {
+            return Ok(());
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(&quads);
+        if (bytes.len() as u64) > s.overlay_quads.size() {
+            // As for lights: the old buffer's last reader, this slot's frame, completed.
+            s.overlay_quads = overlay_buffer(&self.device, quads.len().next_power_of_two())?;
+        }
+        s.overlay_quads.write(0, bytes)?;
+        Ok(())
+    }
+
     fn write_descriptors(&self, slot: usize, key: TargetKey, scene: &GpuScene) {
         let s = &self.slots[slot];
         let targets = &self.targets[&key].0;
@@ -346,6 +394,11 @@ impl Renderer {
         bindings::OUTPUT
             .writer(s.output_set)
             .image("hdr_image", targets.hdr.view(), read, no_sampler)
+            .apply(device);
+        bindings::OVERLAY
+            .writer(s.overlay_set)
+            .buffer("overlay_quads", &s.overlay_quads)
+            .buffer("overlay_atlas", &self.overlay_atlas)
             .apply(device);
     }
 
@@ -418,13 +471,22 @@ impl Renderer {
         let output_push = TonemapPush {
             exposure: inputs.exposure,
         };
-        self.outputs[&target.color.format].record(
+        let passes = &self.outputs[&target.color.format];
+        let (overlay_set, overlay_quads) = (s.overlay_set, s.overlay_quad_count);
+        passes.output.record_then(
             device,
             cmd,
             target.color.view,
             extent,
             s.output_set,
             bytemuck::bytes_of(&output_push),
+            |cmd| {
+                if overlay_quads > 0 {
+                    passes
+                        .overlay
+                        .record(device, cmd, extent, overlay_set, overlay_quads);
+                }
+            },
         );
         stamp(3);
         if let Some(depth) = &target.depth {

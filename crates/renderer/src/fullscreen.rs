@@ -54,6 +54,7 @@ impl FullscreenPass {
                 vertex_attributes: &[],
                 color_formats: &[output_format],
                 depth_format: None,
+                alpha_blend: false,
                 cache: Some(cache),
             },
         )?;
@@ -74,6 +75,22 @@ impl FullscreenPass {
         extent: vk::Extent2D,
         set: vk::DescriptorSet,
         push: &[u8],
+    ) {
+        self.record_then(device, cmd, output, extent, set, push, |_| {});
+    }
+
+    /// As [`FullscreenPass::record`], then `then` records more draws into the same
+    /// rendering (e.g. the overlay over the output pass).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_then(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        output: vk::ImageView,
+        extent: vk::Extent2D,
+        set: vk::DescriptorSet,
+        push: &[u8],
+        then: impl FnOnce(vk::CommandBuffer),
     ) {
         debug_assert_eq!(push.len() as u32, self.push_size);
         let attachment = [vk::RenderingAttachmentInfo::default()
@@ -111,6 +128,10 @@ impl FullscreenPass {
                 push,
             );
             raw.cmd_draw(cmd, 3, 1, 0, 0);
+        }
+        then(cmd);
+        // SAFETY: as above; ends the rendering begun here.
+        unsafe {
             raw.cmd_end_rendering(cmd);
         }
     }

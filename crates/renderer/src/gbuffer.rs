@@ -182,6 +182,7 @@ impl GBufferPass {
                 vertex_attributes: &attributes,
                 color_formats: &color_formats,
                 depth_format: Some(DEPTH_FORMAT),
+                alpha_blend: false,
                 cache: Some(cache),
             },
         )?;

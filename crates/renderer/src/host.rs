@@ -5,7 +5,7 @@
 use combustion_scene::{Camera, Light};
 use combustion_vk::{vk, ImageState};
 
-use crate::GpuScene;
+use crate::{GpuScene, OverlayPanel};
 
 /// The format of the renderer's own display image ([`crate::Renderer::render`]), whose
 /// output pass is prepared at construction.
@@ -94,7 +94,7 @@ pub struct FrameTarget {
 }
 
 /// What changes from frame to frame without touching the uploaded scene: the camera,
-/// the exposure, and the lights.
+/// the exposure, the lights, and the text drawn over the frame.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameInputs<'a> {
     pub camera: Camera,
@@ -102,6 +102,8 @@ pub struct FrameInputs<'a> {
     pub exposure: f32,
     /// This frame's lights (any number; validated like a scene's).
     pub lights: &'a [Light],
+    /// Text panels drawn over the frame by the output pass (none: nothing drawn).
+    pub overlay: &'a [OverlayPanel<'a>],
 }
 
 impl<'a> FrameInputs<'a> {
@@ -111,6 +113,7 @@ impl<'a> FrameInputs<'a> {
             camera: scene.scene.camera,
             exposure,
             lights: &scene.scene.lights,
+            overlay: &[],
         }
     }
 }

@@ -24,6 +24,8 @@ pub mod bindings;
 pub mod gbuffer;
 pub mod gpu_types;
 pub mod graph;
+pub mod overlay;
+pub mod reference;
 
 mod frame;
 mod fullscreen;
@@ -46,6 +48,7 @@ use gpu_types::{LightingPush, TonemapPush};
 pub use host::{
     ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, DISPLAY_FORMAT,
 };
+pub use overlay::{Corner, OverlayPanel};
 pub use scene_upload::{GpuScene, SceneEditReport};
 
 /// The shader features a scene needs. Each distinct variant gets its own G-buffer and
@@ -187,6 +190,8 @@ pub enum RenderError {
     VariantNotPrepared,
     #[error("the {0} target's `after` layout must be a layout an image can be left in, not UNDEFINED or PREINITIALIZED")]
     InvalidAfterLayout(&'static str),
+    #[error("overlay: {0}")]
+    Overlay(String),
     #[error("the host's depth image is {got:?} of {got_width}x{got_height}; it must be D32_SFLOAT of the target's size {width}x{height}")]
     InvalidDepthTarget {
         got: vk::Format,
@@ -371,6 +376,15 @@ struct SetLayouts {
     lighting: DescriptorSetLayout,
     /// The output pass: the HDR image.
     output: DescriptorSetLayout,
+    /// The overlay: the frame's quads and the font atlas.
+    overlay: DescriptorSetLayout,
+}
+
+/// The passes that write a target of one format: the output pass and the overlay
+/// drawn over it.
+struct OutputPasses {
+    output: FullscreenPass,
+    overlay: overlay::OverlayPass,
 }
 
 impl SetLayouts {
@@ -380,6 +394,7 @@ impl SetLayouts {
             material: bindings::MATERIAL_TEXTURES.layout(device)?,
             lighting: bindings::LIGHTING.layout(device)?,
             output: bindings::OUTPUT.layout(device)?,
+            overlay: bindings::OVERLAY.layout(device)?,
         })
     }
 }
@@ -394,8 +409,11 @@ pub struct Renderer {
     slots: Vec<frame::FrameSlot>,
     targets: HashMap<targets::TargetKey, (targets::FrameTargets, u64)>,
     variants: HashMap<ShaderVariant, VariantPasses>,
-    /// Output passes by target format.
-    outputs: HashMap<vk::Format, FullscreenPass>,
+    /// Output passes (and overlays) by target format.
+    outputs: HashMap<vk::Format, OutputPasses>,
+    overlay_font: overlay::OverlayFont,
+    /// The font's atlas, read by the overlay's fragment shader.
+    overlay_atlas: combustion_vk::Buffer,
     layouts: SetLayouts,
     pipeline_cache: PipelineCache,
     compiler: ShaderCompiler,
@@ -451,6 +469,20 @@ impl Renderer {
         settings.validate()?;
         let compiler = ShaderCompiler::new(shader_sources::sources())?;
         let layouts = SetLayouts::new(&device)?;
+        let overlay_font = overlay::OverlayFont::new()?;
+        let overlay_atlas = {
+            let words = overlay::atlas_words(&overlay_font);
+            let bytes: &[u8] = bytemuck::cast_slice(&words);
+            let mut buffer = combustion_vk::Buffer::new(
+                &device,
+                "overlay font atlas",
+                bytes.len() as u64,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu,
+            )?;
+            buffer.write(0, bytes)?;
+            buffer
+        };
         let slots = (0..settings.frames_in_flight)
             .map(|_| frame::FrameSlot::new(&device, &layouts))
             .collect::<Result<Vec<_>, _>>()?;
@@ -460,6 +492,8 @@ impl Renderer {
             targets: HashMap::new(),
             variants: HashMap::new(),
             outputs: HashMap::new(),
+            overlay_font,
+            overlay_atlas,
             pipeline_cache: PipelineCache::new(&device, cache_data)?,
             layouts,
             compiler,
@@ -531,7 +565,12 @@ impl Renderer {
         Ok(())
     }
 
-    /// Builds the output pass for targets of `format`, so that [`Renderer::record`] can
+    /// The overlay's font (its atlas and text layout), e.g. to check a frame's overlay.
+    pub fn overlay_font(&self) -> &overlay::OverlayFont {
+        &self.overlay_font
+    }
+
+    /// Builds the output pass (and the overlay over it) for targets of `format`, so that [`Renderer::record`] can
     /// render into them. [`DISPLAY_FORMAT`] is prepared by [`Renderer::new`]. Formats:
     /// see [`OutputEncoding::of`].
     pub fn prepare_output(&mut self, format: vk::Format) -> Result<(), RenderError> {
@@ -540,7 +579,7 @@ impl Renderer {
         }
         let encoding =
             OutputEncoding::of(format).ok_or(RenderError::UnsupportedOutputFormat(format))?;
-        let pass = FullscreenPass::new(
+        let output = FullscreenPass::new(
             &self.device,
             &self.compiler,
             &self.pipeline_cache,
@@ -550,8 +589,17 @@ impl Renderer {
             std::mem::size_of::<TonemapPush>() as u32,
             format,
         )?;
-        self.outputs.insert(format, pass);
-        self.stats.pipelines_built += 1;
+        let overlay = overlay::OverlayPass::new(
+            &self.device,
+            &self.compiler,
+            &self.pipeline_cache,
+            &self.layouts.overlay,
+            &encoding.defines(),
+            format,
+        )?;
+        self.outputs
+            .insert(format, OutputPasses { output, overlay });
+        self.stats.pipelines_built += 2;
         Ok(())
     }
 

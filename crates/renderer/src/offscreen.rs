@@ -99,7 +99,21 @@ impl Renderer {
         height: u32,
         readback: Readback,
     ) -> Result<Frame, RenderError> {
-        let frame = self.submit_with_offscreen(scene, width, height, Some(readback))?;
+        let inputs = FrameInputs::of_scene(scene, self.settings.exposure);
+        self.render_with(scene, &inputs, width, height, readback)
+    }
+
+    /// As [`Renderer::render`], with the frame's camera, exposure, lights and overlay
+    /// given (e.g. a viewer's current frame, rendered again to be read back).
+    pub fn render_with(
+        &mut self,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        width: u32,
+        height: u32,
+        readback: Readback,
+    ) -> Result<Frame, RenderError> {
+        let frame = self.submit_with_offscreen(scene, inputs, width, height, Some(readback))?;
         let offscreen = self.offscreen.as_ref().expect("created by the submission");
         offscreen.ring.wait(frame.slot)?;
         self.collect_timings(frame.slot)?;
@@ -116,7 +130,8 @@ impl Renderer {
         width: u32,
         height: u32,
     ) -> Result<(), RenderError> {
-        self.submit_with_offscreen(scene, width, height, None)
+        let inputs = FrameInputs::of_scene(scene, self.settings.exposure);
+        self.submit_with_offscreen(scene, &inputs, width, height, None)
             .map(|_| ())
     }
 
@@ -133,6 +148,7 @@ impl Renderer {
     fn submit_with_offscreen(
         &mut self,
         scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
         width: u32,
         height: u32,
         readback: Option<Readback>,
@@ -142,7 +158,7 @@ impl Renderer {
             Some(o) => o,
             None => Offscreen::new(&self.device, self.slots.len())?,
         };
-        let result = self.submit_frame(&mut offscreen, scene, width, height, readback);
+        let result = self.submit_frame(&mut offscreen, scene, inputs, width, height, readback);
         self.offscreen = Some(offscreen);
         result
     }
@@ -151,6 +167,7 @@ impl Renderer {
         &mut self,
         offscreen: &mut Offscreen,
         scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
         width: u32,
         height: u32,
         readback: Option<Readback>,
@@ -214,11 +231,10 @@ impl Renderer {
             },
             depth: None,
         };
-        let inputs = FrameInputs::of_scene(scene, self.settings.exposure);
         // Checked before the ring advances: a refused frame takes no slot.
-        let variant = self.check_frame(offscreen.ring.next_slot(), scene, &inputs, &target)?;
+        let variant = self.check_frame(offscreen.ring.next_slot(), scene, inputs, &target)?;
         let frame = offscreen.ring.begin()?;
-        self.record_checked(frame.cmd, frame.slot, scene, &inputs, &target, variant)?;
+        self.record_checked(frame.cmd, frame.slot, scene, inputs, &target, variant)?;
         *display_state = after;
         if let (Some(readback), Some(buffers)) = (readback, &offscreen.readback) {
             self.record_copies(frame.cmd, display, buffers, extent, readback, scene);

@@ -124,6 +124,9 @@ pub struct GraphicsPipelineDesc<'a> {
     pub color_formats: &'a [vk::Format],
     /// Depth attachment format; depth test (LESS) and write are on when set.
     pub depth_format: Option<vk::Format>,
+    /// Blends the output over the attachment's contents with the fragment's alpha
+    /// (`src·α + dst·(1 − α)` for colour; alpha kept), for overlays.
+    pub alpha_blend: bool,
     /// Where compiled pipelines are cached (saved and loaded by the host).
     pub cache: Option<&'a PipelineCache>,
 }
@@ -172,8 +175,20 @@ impl Pipeline {
             .color_formats
             .iter()
             .map(|_| {
-                vk::PipelineColorBlendAttachmentState::default()
-                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+                let state = vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA);
+                if desc.alpha_blend {
+                    state
+                        .blend_enable(true)
+                        .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
+                        .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+                        .color_blend_op(vk::BlendOp::ADD)
+                        .src_alpha_blend_factor(vk::BlendFactor::ZERO)
+                        .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+                        .alpha_blend_op(vk::BlendOp::ADD)
+                } else {
+                    state
+                }
             })
             .collect();
         let blend =

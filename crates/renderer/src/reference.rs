@@ -1,0 +1,328 @@
+//! The f64 optics reference applied to a rendered frame: every pixel shaded again on the
+//! CPU in f64 (`combustion_optics`) from exactly the G-buffer values the GPU wrote, and
+//! the same f32 matrices, materials and lights it got, then compared with the GPU's HDR
+//! radiance. The parity tests assert bounds on it; the viewer's error view shows it.
+
+use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
+use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
+use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
+use combustion_optics::vec3::Vec3 as V;
+use combustion_scene::Scene;
+
+use crate::gbuffer::{
+    anisotropy_direction_decode, octahedral_decode, srgb_to_linear, GBufferTexel,
+};
+use crate::gpu_types::{
+    conductor_from_base_color_table, material_table, GpuLight, GpuMaterial, LightingPush,
+    LIGHT_KIND_DIRECTIONAL,
+};
+use crate::{Frame, FrameInputs};
+
+/// Radiance below which errors are measured absolutely: 1e-4 W·sr⁻¹·m⁻² is a third of an
+/// 8-bit step after the tone curve and sRGB encoding at black (1e-4 · 12.92 · 255 = 0.33).
+pub const RADIANCE_FLOOR: f64 = 1e-4;
+
+/// What the lighting pass reads besides the G-buffer, as the GPU got it (f32).
+pub struct ReferenceShading {
+    push: LightingPush,
+    materials: Vec<GpuMaterial>,
+    lights: Vec<GpuLight>,
+    /// Per material: it emits (the GPU adds emission the reference does not model).
+    emits: Vec<bool>,
+    width: u32,
+    height: u32,
+}
+
+fn v3(a: [f64; 3]) -> V<f64> {
+    V::new(a[0], a[1], a[2])
+}
+
+fn normalize(a: [f64; 3]) -> [f64; 3] {
+    let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    a.map(|c| c / l)
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+impl ReferenceShading {
+    /// For a frame of `scene` (as uploaded) with `inputs`' camera and lights, at
+    /// `width`×`height`.
+    pub fn new(scene: &Scene, inputs: &FrameInputs<'_>, width: u32, height: u32) -> Self {
+        let camera = &inputs.camera;
+        Self {
+            push: LightingPush::new(
+                camera.view_projection(width as f32 / height as f32),
+                camera.position,
+                inputs.lights.len() as u32,
+                0,
+            ),
+            materials: material_table(scene, &[]),
+            lights: inputs.lights.iter().map(GpuLight::new).collect(),
+            emits: scene
+                .materials
+                .iter()
+                .map(|m| {
+                    m.emissive_texture.is_some()
+                        || m.emissive_factor
+                            .iter()
+                            .any(|&e| e * m.emissive_strength != 0.0)
+                })
+                .collect(),
+            width,
+            height,
+        }
+    }
+
+    /// The f64 radiance of pixel (`x`, `y`) from its G-buffer texel (`None`: background).
+    pub fn shade(&self, texel: &GBufferTexel, x: u32, y: u32) -> Option<[f64; 3]> {
+        if texel.depth >= 1.0 {
+            return None;
+        }
+        let (push, materials, lights) = (&self.push, &self.materials, &self.lights);
+        let [b0, b1, b2, b3] = texel.base_color_metalness;
+        let base_color = [b0, b1, b2].map(|c| srgb_to_linear(f64::from(c) / 255.0));
+        let metalness = f64::from(b3) / 255.0;
+        let unorm = |v: u16| f64::from(v) / 65535.0;
+        let [nx, ny, r, s] = texel.normal_roughness_anisotropy;
+        let n = octahedral_decode([unorm(nx), unorm(ny)]);
+        let (roughness, strength) = (unorm(r), unorm(s));
+        let [material_index, direction] = texel.material_direction;
+        let material = &materials[material_index as usize];
+        let t = anisotropy_direction_decode(n, direction);
+        let b = cross(n, t);
+
+        let inv = push.inverse_view_projection.map(f64::from);
+        let ndc = [
+            (f64::from(x) + 0.5) / f64::from(self.width) * 2.0 - 1.0,
+            (f64::from(y) + 0.5) / f64::from(self.height) * 2.0 - 1.0,
+            f64::from(texel.depth),
+            1.0,
+        ];
+        let mut world = [0.0; 4];
+        for (row, w) in world.iter_mut().enumerate() {
+            *w = (0..4).map(|col| inv[col * 4 + row] * ndc[col]).sum();
+        }
+        let position = [
+            world[0] / world[3],
+            world[1] / world[3],
+            world[2] / world[3],
+        ];
+        let camera = push.camera_position.map(f64::from);
+        let v = normalize([
+            camera[0] - position[0],
+            camera[1] - position[1],
+            camera[2] - position[2],
+        ]);
+
+        let alpha = alpha_from_perceptual_roughness(roughness);
+        let (alpha_x, alpha_y) = anisotropic_alphas(alpha, strength);
+        let f = |a: [f32; 4]| a.map(f64::from);
+        let (rai, eta_out, k_pol) = (
+            f(material.roughness_anisotropy_ior),
+            f(material.conductor_eta_outside_ior),
+            f(material.conductor_k_polarisation),
+        );
+        // Conductors derived from the base colour look η, k up per channel by stored code.
+        let (mut conductor_eta, mut conductor_k) = (
+            [eta_out[0], eta_out[1], eta_out[2]],
+            [k_pol[0], k_pol[1], k_pol[2]],
+        );
+        if material.conductor_from_base_color() {
+            let table = conductor_from_base_color_table();
+            for (c, code) in [b0, b1, b2].into_iter().enumerate() {
+                conductor_eta[c] = f64::from(table[code as usize][0]);
+                conductor_k[c] = f64::from(table[code as usize][1]);
+            }
+        }
+        let m = BrdfInputs {
+            base_color,
+            metalness,
+            alpha_x,
+            alpha_y,
+            conductor_eta,
+            conductor_k,
+            dielectric_eta: rai[3],
+            outside_eta: eta_out[3],
+            polarisation_weight: k_pol[3],
+            diffuse_model: DiffuseModel::try_from(material.diffuse_model_flags[0])
+                .unwrap_or(DiffuseModel::Lambert),
+            oren_nayar_sigma: oren_nayar_sigma_from_roughness(roughness),
+        };
+        let mut radiance = [0.0; 3];
+        for light in lights {
+            let p = f(light.position_or_direction);
+            let power = f(light.power_kind);
+            let (l, e) = if light.power_kind[3] != LIGHT_KIND_DIRECTIONAL {
+                let to = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
+                let d2 = (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).max(1e-12);
+                let l = normalize(to);
+                let a = light.attenuation(l) / d2;
+                (l, [power[0] * a, power[1] * a, power[2] * a])
+            } else {
+                ([-p[0], -p[1], -p[2]], [power[0], power[1], power[2]])
+            };
+            let cos = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
+            if cos <= 0.0 {
+                continue;
+            }
+            let brdf = brdf_evaluate(&m, v3(n), v3(t), v3(b), v3(v), v3(l));
+            for c in 0..3 {
+                radiance[c] += brdf[c] * e[c] * cos;
+            }
+        }
+        Some(radiance)
+    }
+
+    fn emits(&self, texel: &GBufferTexel) -> bool {
+        self.emits
+            .get(texel.material_direction[0] as usize)
+            .copied()
+            .unwrap_or(false)
+    }
+}
+
+/// A frame's error against the reference, per pixel and in summary.
+#[derive(Clone, Debug, Default)]
+pub struct ErrorMap {
+    pub width: u32,
+    pub height: u32,
+    /// Per pixel (row-major from the top-left): the largest relative error of its three
+    /// channels, `|gpu − f64| / max(|f64|, RADIANCE_FLOOR)`; NaN where nothing was
+    /// compared (background, emissive materials, non-finite GPU values).
+    pub relative: Vec<f32>,
+    pub max_relative: f64,
+    pub mean_relative: f64,
+    pub worst_pixel: (u32, u32),
+    /// The GPU's and the reference's radiance at the worst pixel.
+    pub worst_values: ([f32; 3], [f64; 3]),
+    /// Pixels compared.
+    pub lit_pixels: usize,
+    /// Background pixels that were not black (the GPU wrote radiance where nothing is).
+    pub background_not_black: usize,
+    /// Pixels of emissive materials (emission is added by the GPU, not modelled here).
+    pub emissive_pixels: usize,
+    pub non_finite: usize,
+}
+
+/// Compares `frame` (read back with its HDR image and G-buffer) with `reference`, using
+/// up to `threads` threads.
+pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) -> ErrorMap {
+    let (width, height) = (frame.width, frame.height);
+    let mut map = ErrorMap {
+        width,
+        height,
+        relative: vec![f32::NAN; (width * height) as usize],
+        ..ErrorMap::default()
+    };
+    let Some(gbuffer) = frame.gbuffer.as_ref() else {
+        return map;
+    };
+    if frame.hdr.len() != map.relative.len() || gbuffer.texels.len() != map.relative.len() {
+        return map;
+    }
+    let rows_per_chunk = height.div_ceil(threads.max(1) as u32).max(1) as usize;
+    let row = width as usize;
+    // Per chunk: its summary, worst first.
+    let chunks: Vec<ErrorMap> = std::thread::scope(|scope| {
+        let handles: Vec<_> = map
+            .relative
+            .chunks_mut(rows_per_chunk * row)
+            .enumerate()
+            .map(|(chunk, out)| {
+                let first = chunk * rows_per_chunk * row;
+                scope.spawn(move || {
+                    let mut part = ErrorMap::default();
+                    let mut sum = 0.0;
+                    for (offset, error) in out.iter_mut().enumerate() {
+                        let i = first + offset;
+                        let (x, y) = ((i % row) as u32, (i / row) as u32);
+                        let gpu = frame.hdr[i];
+                        let texel = &gbuffer.texels[i];
+                        if gpu.iter().any(|c| !c.is_finite()) {
+                            part.non_finite += 1;
+                            continue;
+                        }
+                        let Some(cpu) = reference.shade(texel, x, y) else {
+                            if gpu[..3] != [0.0; 3] {
+                                part.background_not_black += 1;
+                            }
+                            continue;
+                        };
+                        if reference.emits(texel) {
+                            part.emissive_pixels += 1;
+                            continue;
+                        }
+                        part.lit_pixels += 1;
+                        let mut pixel_error = 0.0f64;
+                        for c in 0..3 {
+                            let e = (f64::from(gpu[c]) - cpu[c]).abs()
+                                / cpu[c].abs().max(RADIANCE_FLOOR);
+                            pixel_error = pixel_error.max(e);
+                        }
+                        *error = pixel_error as f32;
+                        sum += pixel_error;
+                        if pixel_error > part.max_relative || part.lit_pixels == 1 {
+                            part.max_relative = pixel_error;
+                            part.worst_pixel = (x, y);
+                            part.worst_values = ([gpu[0], gpu[1], gpu[2]], cpu);
+                        }
+                    }
+                    part.mean_relative = sum; // the sum, until all chunks are in
+                    part
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("an error-map thread panicked"))
+            .collect()
+    });
+    let mut sum = 0.0;
+    for part in chunks {
+        sum += part.mean_relative;
+        map.lit_pixels += part.lit_pixels;
+        map.background_not_black += part.background_not_black;
+        map.emissive_pixels += part.emissive_pixels;
+        map.non_finite += part.non_finite;
+        if part.lit_pixels > 0 && part.max_relative >= map.max_relative {
+            map.max_relative = part.max_relative;
+            map.worst_pixel = part.worst_pixel;
+            map.worst_values = part.worst_values;
+        }
+    }
+    map.mean_relative = sum / map.lit_pixels.max(1) as f64;
+    map
+}
+
+/// The heat-map colour of a relative error: log-scaled from [`HEAT_MAP_RANGE`]'s lower
+/// end (dark blue) through cyan, green and yellow to its upper end and above (red);
+/// pixels not compared are dark grey. sRGB-encoded RGBA8.
+pub fn heat_map_color(relative: f32) -> [u8; 4] {
+    if !relative.is_finite() {
+        return [24, 24, 24, 255];
+    }
+    let (lo, hi) = HEAT_MAP_RANGE;
+    let t = ((f64::from(relative).max(1e-30).log10() - lo.log10()) / (hi.log10() - lo.log10()))
+        .clamp(0.0, 1.0);
+    const STOPS: [[f64; 3]; 5] = [
+        [0.05, 0.05, 0.45],
+        [0.0, 0.65, 0.9],
+        [0.1, 0.8, 0.2],
+        [0.95, 0.9, 0.1],
+        [0.9, 0.1, 0.05],
+    ];
+    let scaled = t * (STOPS.len() - 1) as f64;
+    let i = (scaled.floor() as usize).min(STOPS.len() - 2);
+    let f = scaled - i as f64;
+    let c = |k: usize| ((STOPS[i][k] * (1.0 - f) + STOPS[i + 1][k] * f) * 255.0).round() as u8;
+    [c(0), c(1), c(2), 255]
+}
+
+/// The relative errors the heat map spans: f32 rounding (1e-7) to 10 %.
+pub const HEAT_MAP_RANGE: (f64, f64) = (1e-7, 1e-1);

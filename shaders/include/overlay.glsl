@@ -1,0 +1,17 @@
+// One quad of the text overlay. Mirrors combustion_renderer::overlay::OverlayQuad.
+#ifndef COMBUSTION_OVERLAY_GLSL
+#define COMBUSTION_OVERLAY_GLSL
+
+struct OverlayQuad {
+    vec4 rect;   // target pixels x0, y0, x1, y1 (whole pixels, y down)
+    vec4 atlas;  // xy: the atlas texel at the top-left corner; z: 1 solid, 0 glyph
+    vec4 color;  // sRGB-encoded colour and opacity
+};
+
+layout(push_constant) uniform OverlayPush {
+    vec2 target_size;
+    uint atlas_width;
+    uint padding;
+} push;
+
+#endif

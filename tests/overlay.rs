@@ -1,0 +1,91 @@
+//! The text overlay (`FrameInputs::overlay`): drawn by the output pass over the frame,
+//! on lavapipe with validation. Every pixel of a frame with panels is checked against
+//! the same frame without them, composited on the CPU from the laid-out quads and the
+//! font atlas (`OverlayFont::composite_unorm8`, src·α + dst·(1 − α) in f64): the GPU's
+//! result may differ by one 8-bit step (its blend is rounded once more to 8 bits).
+//! Pixels under no quad must be byte-identical.
+
+mod common;
+
+use combustion::renderer::{Corner, FrameInputs, OverlayPanel, Readback, RendererSettings};
+use combustion::scene::builtin_scene;
+
+const W: u32 = 320;
+const H: u32 = 200;
+
+#[test]
+fn overlay_panels_blend_exactly_over_the_frame() {
+    let mut headless = common::lavapipe(RendererSettings::default());
+    let renderer = headless.renderer();
+    let gpu = renderer.upload(&builtin_scene("spheres").unwrap()).unwrap();
+    let panels = [
+        OverlayPanel {
+            text: "spheres 320×200\nGPU 72.8 ms · 13.7 fps",
+            corner: Corner::TopLeft,
+        },
+        OverlayPanel {
+            text: "H\thelp\nV\tdebug view (G-buffer, BRDF terms)",
+            corner: Corner::TopRight,
+        },
+        OverlayPanel {
+            text: "ημ≤ unknown: ☃",
+            corner: Corner::BottomRight,
+        },
+    ];
+    let readback = Readback {
+        images: true,
+        gbuffer: false,
+    };
+    let plain = renderer.render(&gpu, W, H, readback).unwrap();
+    let inputs = FrameInputs {
+        overlay: &panels,
+        ..FrameInputs::of_scene(&gpu, renderer.settings().exposure)
+    };
+    let with_text = renderer.render_with(&gpu, &inputs, W, H, readback).unwrap();
+    let font = renderer.overlay_font();
+    let quads = font.layout(&panels, [W, H]);
+    assert_eq!(
+        quads.iter().filter(|q| q.atlas[2] == 1.0).count(),
+        panels.len()
+    );
+
+    let (mut covered, mut changed, mut worst) = (0usize, 0usize, 0.0f64);
+    for y in 0..H {
+        for x in 0..W {
+            let i = (y * W + x) as usize;
+            let (below, got) = (plain.ldr[i], with_text.ldr[i]);
+            let under_quad = quads.iter().any(|q| {
+                let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
+                px >= q.rect[0] && px < q.rect[2] && py >= q.rect[1] && py < q.rect[3]
+            });
+            if !under_quad {
+                assert_eq!(got, below, "pixel ({x}, {y}) is under no panel");
+                continue;
+            }
+            covered += 1;
+            let expected = font.composite_unorm8(&quads, x, y, below);
+            for c in 0..3 {
+                let e = (f64::from(got[c]) - expected[c] * 255.0).abs();
+                worst = worst.max(e);
+                assert!(
+                    e <= 1.0,
+                    "pixel ({x}, {y}) channel {c}: GPU {} CPU {:.2}",
+                    got[c],
+                    expected[c] * 255.0
+                );
+            }
+            if got[..3].iter().any(|&v| v > 200) {
+                changed += 1;
+            }
+        }
+    }
+    eprintln!("{covered} pixels under panels, {changed} bright (text), worst {worst:.2} codes");
+    // The panels cover part of the frame and the text puts bright pixels on dark panels.
+    assert!(
+        covered > 2000 && covered < (W * H / 2) as usize,
+        "{covered}"
+    );
+    assert!(changed > 300, "{changed} text pixels");
+    drop(gpu);
+    common::finish(headless);
+}
