@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Text overlay: a glyph's coverage from the atlas (exact texel, no filtering) times the
+// Text overlay: the overlay image's texel (under the panels), or a glyph's coverage from the atlas (exact texel, no filtering) times the
 // quad's opacity, blended over the output (src·α + dst·(1 − α)). Colours are given as
 // displayed (sRGB-encoded); targets the driver encodes (_SRGB) or that hold linear values
 // (float formats) get them decoded first (the OUTPUT_* defines of tonemap.frag).
@@ -16,13 +16,15 @@ layout(location = 0) out vec4 out_color;
 
 void main() {
     float coverage = 1.0;
+    vec3 rgb = color.rgb;
+    uvec2 texel = uvec2(floor(atlas_texel));
     if (solid == 0.0) {
-        uvec2 texel = uvec2(floor(atlas_texel));
         uint index = texel.y * push.atlas_width + texel.x;
         uint word = overlay_atlas[index >> 2];
         coverage = float((word >> ((index & 3u) * 8u)) & 0xffu) / 255.0;
+    } else if (solid == 2.0) {
+        rgb = unpackUnorm4x8(overlay_image[texel.y * push.image_width + texel.x]).rgb;
     }
-    vec3 rgb = color.rgb;
 #if defined(OUTPUT_LINEAR) || defined(OUTPUT_HARDWARE_SRGB)
     rgb = srgb_decode_unorm8(rgb);
 #endif

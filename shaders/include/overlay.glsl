@@ -4,14 +4,15 @@
 
 struct OverlayQuad {
     vec4 rect;   // target pixels x0, y0, x1, y1 (whole pixels, y down)
-    vec4 atlas;  // xy: the atlas texel at the top-left corner; z: 1 solid, 0 glyph
+    vec4 atlas;  // xy: the atlas (or image) texel at the top-left corner;
+                 // z: 0 glyph, 1 solid, 2 the overlay image
     vec4 color;  // sRGB-encoded colour and opacity
 };
 
 layout(push_constant) uniform OverlayPush {
     vec2 target_size;
     uint atlas_width;
-    uint padding;
+    uint image_width;
 } push;
 
 #endif

@@ -356,7 +356,8 @@ pub static OUTPUT: SetDecl = SetDecl {
     includes: &[],
 };
 
-/// The text overlay (drawn in the output pass): the frame's quads and the font atlas.
+/// The text overlay (drawn in the output pass): the frame's quads, the font atlas and the
+/// overlay image (RGBA8 packed in `uint`s).
 pub static OVERLAY: SetDecl = SetDecl {
     name: "overlay",
     set: 0,
@@ -373,6 +374,14 @@ pub static OVERLAY: SetDecl = SetDecl {
             "overlay_atlas",
             BindingKind::StorageBuffer {
                 block: "OverlayAtlas",
+                element: "uint",
+            },
+            FRAGMENT,
+        ),
+        Binding::new(
+            "overlay_image",
+            BindingKind::StorageBuffer {
+                block: "OverlayImage",
                 element: "uint",
             },
             FRAGMENT,

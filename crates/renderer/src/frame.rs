@@ -331,9 +331,11 @@ impl Renderer {
         inputs: &FrameInputs<'_>,
         extent: vk::Extent2D,
     ) -> Result<(), RenderError> {
-        let quads = self
-            .overlay_font
-            .layout(inputs.overlay, [extent.width, extent.height]);
+        let quads = self.overlay_font.layout(
+            inputs.overlay,
+            [extent.width, extent.height],
+            self.overlay_image.1,
+        );
         let s = &mut self.slots[slot];
         s.overlay_quad_count = quads.len() as u32;
         if quads.is_empty() {
@@ -399,6 +401,7 @@ impl Renderer {
             .writer(s.overlay_set)
             .buffer("overlay_quads", &s.overlay_quads)
             .buffer("overlay_atlas", &self.overlay_atlas)
+            .buffer("overlay_image", &self.overlay_image.0)
             .apply(device);
     }
 
@@ -473,6 +476,7 @@ impl Renderer {
         };
         let passes = &self.outputs[&target.color.format];
         let (overlay_set, overlay_quads) = (s.overlay_set, s.overlay_quad_count);
+        let image_width = self.overlay_image.1.map_or(1, |[w, _]| w);
         passes.output.record_then(
             device,
             cmd,
@@ -482,9 +486,14 @@ impl Renderer {
             bytemuck::bytes_of(&output_push),
             |cmd| {
                 if overlay_quads > 0 {
-                    passes
-                        .overlay
-                        .record(device, cmd, extent, overlay_set, overlay_quads);
+                    passes.overlay.record(
+                        device,
+                        cmd,
+                        extent,
+                        overlay_set,
+                        overlay_quads,
+                        image_width,
+                    );
                 }
             },
         );

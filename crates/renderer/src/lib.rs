@@ -48,7 +48,7 @@ use gpu_types::{LightingPush, TonemapPush};
 pub use host::{
     ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, DISPLAY_FORMAT,
 };
-pub use overlay::{Corner, OverlayPanel};
+pub use overlay::{Corner, OverlayImage, OverlayPanel};
 pub use scene_upload::{GpuScene, SceneEditReport};
 
 /// The shader features a scene needs. Each distinct variant gets its own G-buffer and
@@ -414,6 +414,9 @@ pub struct Renderer {
     overlay_font: overlay::OverlayFont,
     /// The font's atlas, read by the overlay's fragment shader.
     overlay_atlas: combustion_vk::Buffer,
+    /// The overlay image ([`Renderer::set_overlay_image`]) and its size; or a one-texel
+    /// placeholder, bound when no image is shown.
+    overlay_image: (combustion_vk::Buffer, Option<[u32; 2]>),
     layouts: SetLayouts,
     pipeline_cache: PipelineCache,
     compiler: ShaderCompiler,
@@ -483,6 +486,7 @@ impl Renderer {
             buffer.write(0, bytes)?;
             buffer
         };
+        let overlay_image = (overlay_image_buffer(&device, &[[0; 4]])?, None);
         let slots = (0..settings.frames_in_flight)
             .map(|_| frame::FrameSlot::new(&device, &layouts))
             .collect::<Result<Vec<_>, _>>()?;
@@ -494,6 +498,7 @@ impl Renderer {
             outputs: HashMap::new(),
             overlay_font,
             overlay_atlas,
+            overlay_image,
             pipeline_cache: PipelineCache::new(&device, cache_data)?,
             layouts,
             compiler,
@@ -562,6 +567,34 @@ impl Renderer {
         self.variants
             .insert(variant, VariantPasses { gbuffer, lighting });
         self.stats.pipelines_built += 2;
+        Ok(())
+    }
+
+    /// Shows `image` over the frames recorded from now on (under their text panels, at
+    /// the top-left, one texel a pixel), or no image. The previous image is kept until
+    /// the frames in flight that show it have completed.
+    pub fn set_overlay_image(&mut self, image: Option<&OverlayImage>) -> Result<(), RenderError> {
+        let next = match image {
+            Some(i) => {
+                if i.width == 0 || i.height == 0 || i.rgba.len() != (i.width * i.height) as usize {
+                    return Err(RenderError::Overlay(format!(
+                        "an overlay image of {}x{} needs {} texels, not {}",
+                        i.width,
+                        i.height,
+                        u64::from(i.width) * u64::from(i.height),
+                        i.rgba.len()
+                    )));
+                }
+                self.check_size(i.width, i.height)?;
+                (
+                    overlay_image_buffer(&self.device, &i.rgba)?,
+                    Some([i.width, i.height]),
+                )
+            }
+            None => (overlay_image_buffer(&self.device, &[[0; 4]])?, None),
+        };
+        let old = std::mem::replace(&mut self.overlay_image, next);
+        self.retire(old.0);
         Ok(())
     }
 
@@ -751,6 +784,23 @@ impl Drop for Renderer {
             }
         }
     }
+}
+
+/// A host-visible buffer holding RGBA8 texels, as the overlay reads them.
+fn overlay_image_buffer(
+    device: &Arc<Device>,
+    rgba: &[[u8; 4]],
+) -> Result<combustion_vk::Buffer, RenderError> {
+    let bytes: &[u8] = bytemuck::cast_slice(rgba);
+    let mut buffer = combustion_vk::Buffer::new(
+        device,
+        "overlay image",
+        bytes.len() as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu,
+    )?;
+    buffer.write(0, bytes)?;
+    Ok(buffer)
 }
 
 /// IEEE 754 binary16 → binary32 (exact).

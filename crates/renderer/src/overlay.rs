@@ -62,8 +62,8 @@ pub struct OverlayPanel<'a> {
 pub struct OverlayQuad {
     /// Target pixels: x0, y0, x1, y1 (whole pixels; y down).
     pub rect: [f32; 4],
-    /// The atlas texel at the quad's top-left corner (x, y), and 1 for a solid quad (no
-    /// atlas lookup) or 0 for a glyph.
+    /// The atlas texel at the quad's top-left corner (x, y), and 0 for a glyph, 1 for a
+    /// solid quad (no lookup), 2 for the overlay image (x, y its texel there).
     pub atlas: [f32; 4],
     /// Colour (sRGB-encoded, as displayed) and opacity.
     pub color: [f32; 4],
@@ -182,10 +182,23 @@ impl OverlayFont {
         text.chars().map(|c| self.glyph(c).advance).sum()
     }
 
-    /// The quads of `panels` on a target of `extent` pixels: per panel its background,
-    /// then its glyphs.
-    pub fn layout(&self, panels: &[OverlayPanel<'_>], extent: [u32; 2]) -> Vec<OverlayQuad> {
+    /// The quads of `panels` on a target of `extent` pixels: the overlay image of
+    /// `image` texels first (at the top-left, one texel a pixel), then per panel its
+    /// background and its glyphs.
+    pub fn layout(
+        &self,
+        panels: &[OverlayPanel<'_>],
+        extent: [u32; 2],
+        image: Option<[u32; 2]>,
+    ) -> Vec<OverlayQuad> {
         let mut quads = Vec::new();
+        if let Some([w, h]) = image {
+            quads.push(OverlayQuad {
+                rect: [0.0, 0.0, w as f32, h as f32],
+                atlas: [0.0, 0.0, 2.0, 0.0],
+                color: [1.0; 4],
+            });
+        }
         // How far each corner's stack of panels reaches from its edge.
         let mut stacked = [0.0f32; 4];
         for panel in panels {
@@ -253,10 +266,11 @@ impl OverlayFont {
     /// What the overlay's blend gives for one pixel of an 8-bit target holding
     /// `below` (sRGB-encoded values of a UNORM target), for tests: each quad covering
     /// the pixel's centre in order, `src·α + dst·(1 − α)`, the target holding the
-    /// result rounded to 8 bits between quads.
+    /// result rounded to 8 bits between quads; `image` is the overlay image, if shown.
     pub fn composite_unorm8(
         &self,
         quads: &[OverlayQuad],
+        image: Option<&OverlayImage>,
         x: u32,
         y: u32,
         below: [u8; 4],
@@ -268,15 +282,22 @@ impl OverlayFont {
             if px < x0 || px >= x1 || py < y0 || py >= y1 {
                 continue;
             }
-            let coverage = if q.atlas[2] == 1.0 {
+            let mut color = q.color;
+            let coverage = if q.atlas[2] == 2.0 {
+                let texel = image.map_or([0; 4], |i| i.rgba[(y * i.width + x) as usize]);
+                for (c, v) in color.iter_mut().zip(texel).take(3) {
+                    *c = f32::from(v) / 255.0;
+                }
+                1.0
+            } else if q.atlas[2] == 1.0 {
                 1.0
             } else {
                 let ax = q.atlas[0] as u32 + (px - x0) as u32;
                 let ay = q.atlas[1] as u32 + (py - y0) as u32;
                 f64::from(self.atlas[(ay * ATLAS_WIDTH + ax) as usize]) / 255.0
             };
-            let alpha = f64::from(q.color[3]) * coverage;
-            for (value, color) in rgba.iter_mut().zip(q.color).take(3) {
+            let alpha = f64::from(color[3]) * coverage;
+            for (value, color) in rgba.iter_mut().zip(color).take(3) {
                 let blended = f64::from(color) * alpha + *value * (1.0 - alpha);
                 *value = (blended * 255.0).round() / 255.0;
             }
@@ -291,7 +312,7 @@ impl OverlayFont {
 struct OverlayPush {
     target_size: [f32; 2],
     atlas_width: u32,
-    padding: u32,
+    image_width: u32,
 }
 
 /// The overlay's pipeline for one target format (blending over the output pass's
@@ -351,11 +372,12 @@ impl OverlayPass {
         extent: vk::Extent2D,
         set: vk::DescriptorSet,
         quads: u32,
+        image_width: u32,
     ) {
         let push = OverlayPush {
             target_size: [extent.width as f32, extent.height as f32],
             atlas_width: ATLAS_WIDTH,
-            padding: 0,
+            image_width,
         };
         let raw = device.raw();
         // SAFETY: inside a rendering instance of a command buffer in the recording state.
@@ -379,6 +401,16 @@ impl OverlayPass {
             raw.cmd_draw(cmd, 6, quads, 0, 0);
         }
     }
+}
+
+/// An sRGB-encoded RGBA8 image shown over the frame, under the text panels, at the
+/// target's top-left corner, one texel a pixel (e.g. the viewer's error heat map).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OverlayImage {
+    pub width: u32,
+    pub height: u32,
+    /// Row-major from the top-left; `width · height` texels.
+    pub rgba: Vec<[u8; 4]>,
 }
 
 /// The atlas packed four texels to a `uint` (little-endian), as the shader reads it.
@@ -433,7 +465,7 @@ mod tests {
                 corner: Corner::TopRight,
             },
         ];
-        let quads = font.layout(&panels, [640, 480]);
+        let quads = font.layout(&panels, [640, 480], None);
         let backgrounds: Vec<_> = quads.iter().filter(|q| q.atlas[2] == 1.0).collect();
         assert_eq!(backgrounds.len(), 2);
         assert_eq!(backgrounds[0].rect[2], 640.0 - PANEL_MARGIN);
