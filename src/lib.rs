@@ -82,11 +82,29 @@ impl SceneSource {
 
     /// As [`SceneSource::load`], with import options for files.
     pub fn load_with(&self, options: &ImportOptions) -> Result<Scene, Error> {
+        self.load_with_cameras(options).map(|(scene, _)| scene)
+    }
+
+    /// As [`SceneSource::load_with`], and the views the scene offers: a file's
+    /// perspective cameras placed in the scene (`ImportReport::scene_cameras`), or the
+    /// scene's own camera when it has none of them (built-in scenes, framing cameras).
+    pub fn load_with_cameras(
+        &self,
+        options: &ImportOptions,
+    ) -> Result<(Scene, Vec<combustion_scene::Camera>), Error> {
         match self {
-            Self::Builtin(name) => Ok(combustion_scene::builtin_scene(name)?),
+            Self::Builtin(name) => {
+                let scene = combustion_scene::builtin_scene(name)?;
+                let cameras = vec![scene.camera];
+                Ok((scene, cameras))
+            }
             Self::File(path) => {
                 // The importer logs its own warnings (and lists them in the report).
-                let (mut scene, _report) = combustion_scene::gltf::import(path, options)?;
+                let (mut scene, report) = combustion_scene::gltf::import(path, options)?;
+                let mut cameras: Vec<_> = report.scene_cameras.iter().map(|c| c.camera).collect();
+                if cameras.is_empty() {
+                    cameras.push(scene.camera);
+                }
                 if scene.lights.is_empty() {
                     log::warn!(
                         "{}: the scene has no lights; adding the default camera-relative light rig",
@@ -94,7 +112,7 @@ impl SceneSource {
                     );
                     scene.lights = default_light_rig(&scene.camera);
                 }
-                Ok(scene)
+                Ok((scene, cameras))
             }
         }
     }

@@ -24,7 +24,7 @@ USAGE:
                     [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
                     [--vsync on|off] [--frames-in-flight N] [--screenshot OUT.png]
-                    [--camera-path FILE] [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
+                    [--camera-path FILE] [--overlay on|off] [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
   combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
                     [--alpha A | --roughness R | --alpha-x A --alpha-y A] [--eta E|r,g,b]
                     [--k K|r,g,b] [--eta-i E] [--sigma S] [--polarisation W] [--rho R|r,g,b]
@@ -62,7 +62,8 @@ p10, p90), the wall-clock interval between submissions, and the throughput.
 view opens a window (X11: needs DISPLAY, e.g. under Xvfb) and renders the scene every
 frame at the window's size, into the swapchain image on the device, with frames in
 flight (default 2); --vsync off presents without waiting for the display's refresh
-where the window system allows it (default on). The title shows the GPU time. Escape or closing
+where the window system allows it (default on). The title and the statistics panel
+(--overlay off hides it; Tab while running) show the GPU time; H lists the keys. Escape or closing
 the window quits, as does --frames N after N frames; a summary is printed at exit.
 
 info prints what a scene holds (meshes, materials, lights, camera, outside medium) and
@@ -127,6 +128,8 @@ struct Options {
     screenshot: Option<PathBuf>,
     /// `view`: a scripted camera path.
     camera_path: Option<PathBuf>,
+    /// `view`: the statistics panel over the frames.
+    overlay: bool,
     device: Option<DeviceSelector>,
     validate: bool,
 }
@@ -135,6 +138,14 @@ fn number<T: std::str::FromStr>(flag: &str, value: &str) -> Result<T, Error> {
     value
         .parse()
         .map_err(|_| Error::Usage(format!("{flag}: `{value}` is not a valid number")))
+}
+
+fn on_off(flag: &str, value: &str) -> Result<bool, Error> {
+    match value {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        other => Err(Error::Usage(format!("{flag}: `{other}` is not on or off"))),
+    }
 }
 
 fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
@@ -153,6 +164,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         vsync: true,
         screenshot: None,
         camera_path: None,
+        overlay: true,
         device: None,
         validate: false,
     };
@@ -204,15 +216,8 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             }
             "--screenshot" if command == "view" => o.screenshot = Some(PathBuf::from(value()?)),
             "--camera-path" if command == "view" => o.camera_path = Some(PathBuf::from(value()?)),
-            "--vsync" if command == "view" => {
-                o.vsync = match value()? {
-                    "on" => true,
-                    "off" => false,
-                    other => {
-                        return Err(Error::Usage(format!("--vsync: `{other}` is not on or off")))
-                    }
-                }
-            }
+            "--vsync" if command == "view" => o.vsync = on_off(flag, value()?)?,
+            "--overlay" if command == "view" => o.overlay = on_off(flag, value()?)?,
             "--frames-in-flight" if command == "bench" || command == "view" => {
                 o.frames_in_flight = number(flag, value()?)?;
                 if !(1..=combustion::renderer::MAX_FRAMES_IN_FLIGHT).contains(&o.frames_in_flight) {
@@ -426,6 +431,7 @@ fn view(o: &Options) -> Result<(), Error> {
         vsync: o.vsync,
         screenshot: o.screenshot.clone(),
         camera_path: o.camera_path.clone(),
+        overlay: o.overlay,
     })?;
     let median = |list: &[f64]| {
         let mut sorted = list.to_vec();

@@ -17,11 +17,14 @@
 
 pub mod camera;
 pub mod controls;
+pub mod inspect;
 
 use std::path::PathBuf;
 use std::time::Instant;
 
-use combustion_renderer::{ColorTarget, FrameInputs, FrameTarget, Renderer, RendererSettings};
+use combustion_renderer::{
+    ColorTarget, Corner, FrameInputs, FrameTarget, OverlayPanel, Renderer, RendererSettings,
+};
 use combustion_vk::{
     vk, Device, DeviceDesc, FrameRing, ImageState, PresentOutcome, Surface, Swapchain,
 };
@@ -57,6 +60,8 @@ pub struct ViewerDesc {
     /// mouse and keys; frame n is shown at time n / [`PATH_FRAMES_PER_SECOND`], so a run
     /// is the same on any machine.
     pub camera_path: Option<PathBuf>,
+    /// Draw the statistics panel over the frames (Tab toggles it while running).
+    pub overlay: bool,
 }
 
 /// The clock of scripted runs: frame n of a camera path is at time n / 30 s.
@@ -73,6 +78,10 @@ pub const KEYS: &[(&str, &str)] = &[
     ("W A S D / Q E", "fly forward, left, back, right / down, up"),
     ("F", "frame the whole scene"),
     ("R", "reset the camera"),
+    (
+        "C",
+        "next camera of the glTF file (its placed perspective cameras)",
+    ),
     ("P", "screenshot to combustion-NNNN.png"),
     ("1 … 7", "the built-in scenes, in `combustion help` order"),
     ("drop a file", "open a glTF file"),
@@ -86,8 +95,21 @@ pub const KEYS: &[(&str, &str)] = &[
         "diffuse model of every material: as loaded, Lambert, Oren–Nayar qualitative, full",
     ),
     ("O", "outside medium: as loaded, air, water (η 1.33)"),
+    (
+        "I",
+        "type the outside medium's index (digits, Enter applies, Escape cancels)",
+    ),
     ("+ / -", "exposure up / down half a stop"),
-    ("V", "debug view: radiance, base colour, normal, roughness, anisotropy strength and direction, metalness, material index, distance, D, G2, F, diffuse"),
+    (
+        "V",
+        "debug view: each G-buffer channel, then the BRDF terms D, G2, F, diffuse",
+    ),
+    (
+        "X",
+        "error view: the frame re-shaded in f64, relative error as a heat map",
+    ),
+    ("H", "help (this list)"),
+    ("Tab", "statistics panel on / off"),
     ("Escape", "quit"),
 ];
 
@@ -231,7 +253,7 @@ fn scene_label(source: &SceneSource) -> String {
 /// shown). Fails with [`Error::NoWindow`] when no window can be opened, and with
 /// [`Error::Validation`] if validation is on and the layer reported anything.
 pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
-    let scene = desc.scene.load()?;
+    let (scene, cameras) = desc.scene.load_with_cameras(&Default::default())?;
     let path = desc
         .camera_path
         .as_deref()
@@ -241,7 +263,7 @@ pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
     let event_loop = EventLoop::new().map_err(|e| Error::NoWindow(window_error(e)))?;
     let mut app = App {
         desc,
-        scene: Some(scene),
+        scene: Some((scene, cameras)),
         label: scene_label(&desc.scene),
         state: None,
         error: None,
@@ -277,8 +299,8 @@ pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
 
 struct App<'a> {
     desc: &'a ViewerDesc,
-    /// The CPU scene, until it is uploaded.
-    scene: Option<combustion_scene::Scene>,
+    /// The CPU scene and its views, until it is uploaded.
+    scene: Option<(combustion_scene::Scene, Vec<combustion_scene::Camera>)>,
     label: String,
     state: Option<State>,
     error: Option<Error>,
@@ -354,14 +376,54 @@ struct State {
     last_poll: Instant,
     /// Recreate the swapchain before the next frame (resize, out of date, suboptimal).
     stale: bool,
+    /// The views the scene offers (C cycles them) and the one shown last.
+    cameras: Vec<combustion_scene::Camera>,
+    camera_index: usize,
+    /// Triangles drawn per frame (every object's mesh).
+    triangles: usize,
+    /// Counts scene loads and edits (an error map of an older scene is stale).
+    scene_generation: u64,
+    /// Panels shown: statistics (Tab), help (H).
+    show_stats: bool,
+    show_help: bool,
+    error_view: Option<inspect::ErrorView>,
+    /// When the view last changed while the error view was on.
+    view_changed: Instant,
+    /// The outside medium's index being typed (I), if any.
+    typing: Option<String>,
+    /// The window is hidden (occluded or minimised): no frames until it is shown.
+    hidden: bool,
     window: Window,
 }
+
+/// Triangles drawn per frame: every object's mesh counted.
+fn triangles_drawn(scene: &combustion_scene::Scene) -> usize {
+    scene
+        .objects
+        .iter()
+        .map(|o| scene.meshes[o.mesh].indices.len() / 3)
+        .sum()
+}
+
+/// Median of the last (up to) 30 values.
+fn recent_median(values: &[f64]) -> Option<f64> {
+    let mut recent: Vec<f64> = values.iter().rev().take(30).copied().collect();
+    if recent.is_empty() {
+        return None;
+    }
+    recent.sort_by(f64::total_cmp);
+    Some(recent[recent.len() / 2])
+}
+
+/// How long the view must stay unchanged before the error view measures it again.
+const ERROR_VIEW_SETTLE_SECONDS: f32 = 0.3;
 
 impl State {
     fn new(
         event_loop: &ActiveEventLoop,
         desc: &ViewerDesc,
         scene: &combustion_scene::Scene,
+        cameras: Vec<combustion_scene::Camera>,
         title: &str,
     ) -> Result<State, Error> {
         let source = desc.scene.clone();
@@ -410,6 +472,16 @@ impl State {
             exposure: desc.settings.exposure,
             last_poll: Instant::now(),
             stale: true,
+            cameras,
+            camera_index: 0,
+            triangles: triangles_drawn(scene),
+            scene_generation: 0,
+            show_stats: desc.overlay,
+            show_help: false,
+            error_view: None,
+            view_changed: Instant::now(),
+            typing: None,
+            hidden: false,
             window,
         })
     }
@@ -449,7 +521,12 @@ impl State {
         summary: &mut ViewSummary,
     ) -> Result<Option<Option<f64>>, Error> {
         let size = self.window.inner_size();
-        if size.width == 0 || size.height == 0 {
+        // Minimised (where the window system says so) or occluded: nothing is drawn and
+        // no redraw asked for until the window is shown again (`Occluded(false)`).
+        if self.window.is_minimized() == Some(true) {
+            self.hidden = true;
+        }
+        if size.width == 0 || size.height == 0 || self.hidden {
             return Ok(None);
         }
         if self.stale || self.swapchain.is_none() {
@@ -472,8 +549,17 @@ impl State {
             self.stale = false;
             self.last_present = None;
         }
+        let extent = self.swapchain.as_ref().expect("created above").extent();
+        // The camera: scripted, or moved by the keys held for the time since last frame.
+        let now = Instant::now();
+        let seconds = (now - self.last_step).as_secs_f32();
+        self.last_step = now;
+        if self.input.flying() {
+            self.orbit.fly(self.input.motion(), seconds);
+        }
+        let camera = scripted.unwrap_or_else(|| self.orbit.camera());
+        self.update_error_view(camera, extent)?;
         let swapchain = self.swapchain.as_ref().expect("created above");
-        let extent = swapchain.extent();
         if self.screenshot.is_some() && !swapchain.copyable() {
             self.screenshot = None;
             log::error!(
@@ -528,15 +614,23 @@ impl State {
             },
             depth: None,
         };
-        // The camera: scripted, or moved by the keys held for the time since last frame.
-        let now = Instant::now();
-        let seconds = (now - self.last_step).as_secs_f32();
-        self.last_step = now;
-        if self.input.flying() {
-            self.orbit.fly(self.input.motion(), seconds);
+        let stats = self.show_stats.then(|| self.stats_text(extent, summary));
+        let help = self.show_help.then(|| inspect::help_text(KEYS));
+        let mut panels = Vec::new();
+        if let Some(text) = &stats {
+            panels.push(OverlayPanel {
+                text,
+                corner: Corner::TopLeft,
+            });
+        }
+        if let Some(text) = &help {
+            panels.push(OverlayPanel {
+                text,
+                corner: Corner::TopRight,
+            });
         }
         let inputs = FrameInputs {
-            camera: scripted.unwrap_or_else(|| self.orbit.camera()),
+            camera,
             // Debug views are written for exposure 1 (their values come back as written).
             exposure: if self.renderer.debug_view() == combustion_renderer::DebugView::None {
                 self.exposure
@@ -544,7 +638,7 @@ impl State {
                 1.0
             },
             lights: &self.gpu_scene.scene.lights,
-            overlay: &[],
+            overlay: &panels,
         };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
@@ -591,11 +685,15 @@ impl State {
     /// old upload retired until the frames in flight are done with it), the camera reset
     /// to the scene's own. On error the current scene stays.
     fn load(&mut self, source: SceneSource) -> Result<(), Error> {
-        let scene = source.load()?;
+        let (scene, cameras) = source.load_with_cameras(&Default::default())?;
         let upload = self.renderer.upload(&self.overrides.apply(&scene))?;
         let old = std::mem::replace(&mut self.gpu_scene, upload);
         self.renderer.retire(old);
         self.orbit = camera::OrbitCamera::new(&scene.camera);
+        self.cameras = cameras;
+        self.camera_index = 0;
+        self.triangles = triangles_drawn(&scene);
+        self.scene_generation += 1;
         self.modified = controls::modified(&source);
         self.original = scene;
         self.source = source;
@@ -607,6 +705,112 @@ impl State {
         let scene = self.overrides.apply(&self.original);
         self.renderer
             .edit_scene(&mut self.gpu_scene, move |s| *s = scene)?;
+        self.scene_generation += 1;
+        Ok(())
+    }
+
+    /// The statistics panel's text.
+    fn stats_text(&self, extent: vk::Extent2D, summary: &ViewSummary) -> String {
+        let label = scene_label(&self.source);
+        inspect::Stats {
+            label: &label,
+            extent: (extent.width, extent.height),
+            triangles: self.triangles,
+            lights: self.gpu_scene.scene.lights.len(),
+            frame_ms: recent_median(&summary.frame_ms),
+            timings: self.renderer.last_completed_timings(),
+            view: self.renderer.debug_view().name(),
+            fresnel: self.renderer.settings().fresnel,
+            overrides: &self.overrides.describe(),
+            exposure: self.exposure,
+            camera: (self.camera_index, self.cameras.len()),
+            hdr_format: self.renderer.settings().hdr_format,
+            error_view: self.error_view,
+            typing: self.typing.as_deref(),
+        }
+        .text()
+    }
+
+    /// Keeps the error view's map current: a map of another view is taken away at
+    /// once, and the view is measured again once it has stopped changing.
+    fn update_error_view(
+        &mut self,
+        camera: combustion_scene::Camera,
+        extent: vk::Extent2D,
+    ) -> Result<(), Error> {
+        let Some(view) = self.error_view.as_mut() else {
+            return Ok(());
+        };
+        let key = inspect::ViewKey {
+            camera,
+            extent: (extent.width, extent.height),
+            scene_generation: self.scene_generation,
+            fresnel: self.renderer.settings().fresnel,
+        };
+        match view.measured {
+            Some((measured, _)) if measured == key => return Ok(()),
+            Some(_) => {
+                view.measured = None;
+                self.view_changed = Instant::now();
+                self.renderer.set_overlay_image(None)?;
+                return Ok(());
+            }
+            None if self.view_changed.elapsed().as_secs_f32() < ERROR_VIEW_SETTLE_SECONDS => {
+                return Ok(())
+            }
+            None => {}
+        }
+        // This frame uses the renderer's frame slots too: the viewer's own frames must
+        // have completed (a diagnostic pause, not part of a normal frame).
+        self.ring.wait_all()?;
+        let inputs = FrameInputs {
+            camera,
+            exposure: self.exposure,
+            lights: &self.gpu_scene.scene.lights,
+            overlay: &[],
+        };
+        let summary = inspect::measure_error(
+            &mut self.renderer,
+            &self.gpu_scene,
+            &inputs,
+            (extent.width, extent.height),
+        )?;
+        if let Some(view) = self.error_view.as_mut() {
+            view.measured = Some((key, summary));
+        }
+        Ok(())
+    }
+
+    /// Turns the error view on (measuring the next frame at once) or off.
+    fn toggle_error_view(&mut self) -> Result<(), Error> {
+        if self.error_view.take().is_some() {
+            self.renderer.set_overlay_image(None)?;
+            return Ok(());
+        }
+        // The map is of radiance: the debug view goes back to it.
+        if self.renderer.debug_view() != combustion_renderer::DebugView::None {
+            self.renderer
+                .set_debug_view(combustion_renderer::DebugView::None);
+            self.renderer.prepare(&self.gpu_scene)?;
+        }
+        self.error_view = Some(inspect::ErrorView::default());
+        self.view_changed = Instant::now() - std::time::Duration::from_secs(1);
+        Ok(())
+    }
+
+    /// Applies the typed outside medium's index (I, then Enter).
+    fn apply_typed_medium(&mut self, typed: &str) -> Result<(), Error> {
+        let ior: f32 = typed
+            .trim()
+            .parse()
+            .map_err(|_| Error::Usage(format!("outside medium: `{typed}` is not a number")))?;
+        // The scene's validation (in the edit) refuses what no medium can be.
+        let old = self.overrides;
+        self.overrides.medium = Some(ior);
+        if let Err(e) = self.apply_overrides() {
+            self.overrides = old;
+            return Err(e);
+        }
         Ok(())
     }
 
@@ -624,15 +828,33 @@ impl State {
         Ok(())
     }
 
-    /// The window's title: the scene, the toggles, the GPU time.
+    /// The window's title: the scene, the toggles, the error view, the GPU time.
     fn title(&self, gpu_ms: Option<f64>) -> String {
         let fresnel = match self.renderer.settings().fresnel {
             combustion_renderer::FresnelModel::Full => "full Fresnel",
             combustion_renderer::FresnelModel::Schlick => "Schlick (comparison)",
         };
         let gpu = gpu_ms.map_or(String::new(), |ms| format!(" — {ms:.1} ms GPU"));
+        let error = match self.error_view.map(|v| v.measured) {
+            None => String::new(),
+            Some(None) => " — error view (measuring)".to_owned(),
+            Some(Some((_, e))) => format!(" — error view max {:.2e}", e.max_relative),
+        };
+        let typing = self
+            .typing
+            .as_ref()
+            .map_or(String::new(), |t| format!(" — typing η {t}_"));
+        let camera = if self.cameras.len() > 1 {
+            format!(
+                " — camera {} of {}",
+                self.camera_index + 1,
+                self.cameras.len()
+            )
+        } else {
+            String::new()
+        };
         format!(
-            "combustion — {} — {} — {fresnel}, {}, exposure {:.2}{gpu}",
+            "combustion — {} — {} — {fresnel}, {}, exposure {:.2}{camera}{error}{typing}{gpu}",
             scene_label(&self.source),
             self.renderer.debug_view().name(),
             self.overrides.describe(),
@@ -721,11 +943,11 @@ impl App<'_> {
 
 impl ApplicationHandler for App<'_> {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        let Some(scene) = self.scene.take() else {
+        let Some((scene, cameras)) = self.scene.take() else {
             return; // already set up (resumed is called again on some platforms)
         };
         let title = format!("combustion — {}", self.label);
-        match State::new(event_loop, self.desc, &scene, &title) {
+        match State::new(event_loop, self.desc, &scene, cameras, &title) {
             Ok(state) => {
                 self.summary.device_name = state.device.info().name.clone();
                 state.window.request_redraw();
@@ -745,6 +967,16 @@ impl ApplicationHandler for App<'_> {
                 }
             }
             WindowEvent::RedrawRequested => self.redraw(event_loop),
+            WindowEvent::Occluded(hidden) => {
+                // Minimised or fully covered: no frames (and no busy loop) until shown.
+                if let Some(state) = self.state.as_mut() {
+                    log::info!("window {}", if hidden { "hidden" } else { "shown" });
+                    state.hidden = hidden;
+                    if !hidden {
+                        state.window.request_redraw();
+                    }
+                }
+            }
             WindowEvent::KeyboardInput { event, .. } => self.key(event_loop, &event),
             WindowEvent::Focused(false) => {
                 // Keys and buttons released elsewhere never come back as releases.
@@ -832,7 +1064,19 @@ impl App<'_> {
                     return Err(e);
                 }
             }
+            "h" | "H" => state.show_help = !state.show_help,
+            "i" | "I" => state.typing = Some(String::new()),
+            "x" | "X" => state.toggle_error_view()?,
+            "c" | "C" => {
+                if !state.cameras.is_empty() {
+                    state.camera_index = (state.camera_index + 1) % state.cameras.len();
+                    state.orbit = camera::OrbitCamera::new(&state.cameras[state.camera_index]);
+                }
+            }
             "v" | "V" => {
+                if state.error_view.is_some() {
+                    state.toggle_error_view()?; // back to the debug views
+                }
                 let old = state.renderer.debug_view();
                 state.renderer.set_debug_view(old.next());
                 if let Err(e) = state.renderer.prepare(&state.gpu_scene) {
@@ -851,9 +1095,40 @@ impl App<'_> {
         Ok(())
     }
 
+    /// While the outside medium's index is typed, keys edit it: digits and `.` add,
+    /// Backspace removes, Enter applies, Escape cancels. Whether the key was taken.
+    fn typing_key(state: Option<&mut State>, event: &KeyEvent) -> bool {
+        let Some(state) = state else {
+            return false;
+        };
+        let Some(typed) = state.typing.as_mut() else {
+            return false;
+        };
+        match &event.logical_key {
+            Key::Named(NamedKey::Escape) => state.typing = None,
+            Key::Named(NamedKey::Backspace) => {
+                typed.pop();
+            }
+            Key::Named(NamedKey::Enter) => {
+                let typed = state.typing.take().unwrap_or_default();
+                if let Err(e) = state.apply_typed_medium(&typed) {
+                    log::error!("{e}");
+                }
+            }
+            Key::Character(text) if typed.len() < 16 => {
+                typed.extend(text.chars().filter(|c| c.is_ascii_digit() || *c == '.'));
+            }
+            _ => {}
+        }
+        true
+    }
+
     /// Keys: fly (held), frame, reset, screenshot, quit.
     fn key(&mut self, event_loop: &ActiveEventLoop, event: &KeyEvent) {
         let down = event.state == ElementState::Pressed;
+        if down && Self::typing_key(self.state.as_mut(), event) {
+            return;
+        }
         if down && event.logical_key == Key::Named(NamedKey::Escape) {
             event_loop.exit();
             return;
@@ -861,6 +1136,10 @@ impl App<'_> {
         let Some(state) = self.state.as_mut() else {
             return;
         };
+        if down && !event.repeat && event.logical_key == Key::Named(NamedKey::Tab) {
+            state.show_stats = !state.show_stats;
+            return;
+        }
         if down && !event.repeat && event.logical_key == Key::Named(NamedKey::F5) {
             let source = state.source.clone();
             if let Err(e) = state.load(source) {

@@ -223,6 +223,70 @@ fn some_degenerate_triangles_are_dropped_with_a_warning() {
     );
 }
 
+/// The views a file offers: every perspective camera placed in the scene, in (camera,
+/// node) order; orthographic and unplaced cameras left out; each the camera the importer
+/// gives when asked for it by index.
+#[test]
+fn placed_perspective_cameras_are_listed_in_order() {
+    let base = corpus().join("index-out-of-range.gltf");
+    let mut root: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(base).unwrap()).unwrap();
+    let data: Vec<u8> = [
+        0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 1., 0., 0., 1.,
+    ]
+    .iter()
+    .flat_map(|x| x.to_le_bytes())
+    .chain([0u16, 1, 2].iter().flat_map(|x| x.to_le_bytes()))
+    .collect();
+    let uri = format!("data:application/octet-stream;base64,{}", base64(&data));
+    root["buffers"][0] = serde_json::json!({ "byteLength": data.len(), "uri": uri });
+    let perspective = |name: &str| {
+        serde_json::json!({ "name": name, "type": "perspective",
+            "perspective": { "yfov": 0.8, "znear": 0.1, "zfar": 100.0 } })
+    };
+    root["cameras"] = serde_json::json!([
+        perspective("front"),
+        { "type": "orthographic", "orthographic": { "xmag": 1.0, "ymag": 1.0, "znear": 0.1, "zfar": 10.0 } },
+        perspective("unplaced"),
+        perspective("side"),
+    ]);
+    root["nodes"] = serde_json::json!([
+        { "mesh": 0 },
+        { "camera": 3, "translation": [5.0, 0.0, 0.0] },
+        { "camera": 1, "translation": [0.0, 5.0, 0.0] },
+        { "camera": 0, "translation": [0.0, 0.0, 5.0] },
+    ]);
+    root["scenes"][0]["nodes"] = serde_json::json!([0, 1, 2, 3]);
+    let bytes = root.to_string();
+    let (scene, report) = import_slice(bytes.as_bytes(), &ImportOptions::default()).unwrap();
+    let listed: Vec<_> = report
+        .scene_cameras
+        .iter()
+        .map(|c| {
+            (
+                c.index,
+                c.node,
+                c.name.as_deref(),
+                c.camera.position.to_array(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        listed,
+        vec![
+            (0, 3, Some("front"), [0.0, 0.0, 5.0]),
+            (3, 1, Some("side"), [5.0, 0.0, 0.0]),
+        ]
+    );
+    assert_eq!(scene.camera, report.scene_cameras[0].camera);
+    let options = ImportOptions {
+        camera: Some(3),
+        ..ImportOptions::default()
+    };
+    let (side, _) = import_slice(bytes.as_bytes(), &options).unwrap();
+    assert_eq!(side.camera, report.scene_cameras[1].camera);
+}
+
 fn base64(bytes: &[u8]) -> String {
     const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::new();

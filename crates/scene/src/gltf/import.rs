@@ -1,6 +1,7 @@
 //! The import driver: container → JSON → validation → node hierarchy → materials,
 //! meshes, objects, lights, camera → a validated [`Scene`].
 
+use crate::gltf::PlacedCamera;
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 use std::rc::Rc;
@@ -468,6 +469,7 @@ impl Importer<'_> {
 
         let outside_ior = self.outside_ior(scene_index)?;
         let (camera, source) = self.camera(&cameras, &meshes, &objects)?;
+        report.scene_cameras = self.scene_cameras(&cameras, &meshes, &objects);
 
         let name = scene_index
             .and_then(|s| root.scenes[s].name.clone())
@@ -777,7 +779,55 @@ impl Importer<'_> {
         let Some((index, node, world)) = chosen else {
             return Ok((framing_camera(bounds), CameraSource::Framing));
         };
+        let camera = self.placed_camera(index, node, world, bounds)?;
+        Ok((camera, CameraSource::Gltf { index, node }))
+    }
+
+    /// Every perspective camera placed in the scene that makes a usable view, in
+    /// (camera, node) order (for viewers that switch between them).
+    fn scene_cameras(
+        &self,
+        placed: &[(usize, usize, Mat4)],
+        meshes: &[crate::Mesh],
+        objects: &[Object],
+    ) -> Vec<PlacedCamera> {
+        let bounds = world_bounds(meshes, objects);
+        let mut placed = placed.to_vec();
+        placed.sort_by_key(|(c, node, _)| (*c, *node));
+        placed
+            .into_iter()
+            .filter_map(|(index, node, world)| {
+                let camera = self.placed_camera(index, node, world, bounds).ok()?;
+                Some(PlacedCamera {
+                    index,
+                    node,
+                    name: self.root.cameras[index].name.clone(),
+                    camera,
+                })
+            })
+            .collect()
+    }
+
+    /// Camera `index` placed by `node` at `world`, checked.
+    fn placed_camera(
+        &self,
+        index: usize,
+        node: usize,
+        world: Mat4,
+        bounds: Option<(Vec3, Vec3)>,
+    ) -> Result<Camera, ImportProblem> {
+        let root = self.root;
         let err = |message: String| ImportProblem::Camera { index, message };
+        if root.cameras[index].perspective.is_none()
+            || !matches!(
+                root.cameras[index].type_,
+                Checked::Valid(json::camera::Type::Perspective)
+            )
+        {
+            return Err(err(
+                "is orthographic; only perspective cameras are supported".into(),
+            ));
+        }
         let camera = &root.cameras[index];
         let Some(p) = &camera.perspective else {
             return Err(err("has no perspective parameters".into()));
@@ -836,17 +886,14 @@ impl Importer<'_> {
                 self.file.display()
             );
         }
-        Ok((
-            Camera {
-                position,
-                target,
-                up,
-                vertical_fov: p.yfov,
-                near: p.znear,
-                far,
-            },
-            CameraSource::Gltf { index, node },
-        ))
+        Ok(Camera {
+            position,
+            target,
+            up,
+            vertical_fov: p.yfov,
+            near: p.znear,
+            far,
+        })
     }
 }
 

@@ -94,6 +94,10 @@ pub struct ImportReport {
     pub lights: usize,
     /// Cameras defined in the file.
     pub cameras: usize,
+    /// The perspective cameras placed in the scene that give a usable view, in
+    /// (camera, node) order; the scene's camera is one of them unless it frames the
+    /// scene.
+    pub scene_cameras: Vec<PlacedCamera>,
     pub camera: CameraSource,
     pub extensions_used: Vec<String>,
     pub extensions_required: Vec<String>,
@@ -106,6 +110,16 @@ pub struct ImportReport {
     /// Primitives whose tangents were generated with MikkTSpace.
     pub generated_tangents: usize,
     pub warnings: Vec<String>,
+}
+
+/// A glTF camera placed by a node of the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlacedCamera {
+    /// Index into the file's `cameras` array.
+    pub index: usize,
+    pub node: usize,
+    pub name: Option<String>,
+    pub camera: crate::Camera,
 }
 
 impl fmt::Display for ImportReport {

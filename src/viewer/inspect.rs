@@ -1,0 +1,213 @@
+//! What the viewer shows about its frames: the statistics and help panels of the
+//! overlay, and the error view (the frame re-shaded in f64 by the optics reference, its
+//! relative error shown as a heat map).
+
+use combustion_renderer::reference::{error_map, heat_map_color, ReferenceShading, HEAT_MAP_RANGE};
+use combustion_renderer::{
+    FrameInputs, FresnelModel, GpuScene, HdrFormat, OverlayImage, PassTimings, Readback, Renderer,
+};
+use combustion_scene::Camera;
+
+use crate::Error;
+
+/// What a measured error map was measured of: a change of any of these makes it stale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewKey {
+    pub camera: Camera,
+    pub extent: (u32, u32),
+    /// Counts scene loads and edits.
+    pub scene_generation: u64,
+    pub fresnel: FresnelModel,
+}
+
+/// The summary of a measured error map, for the overlay.
+#[derive(Clone, Copy, Debug)]
+pub struct ErrorSummary {
+    pub max_relative: f64,
+    pub mean_relative: f64,
+    pub worst_pixel: (u32, u32),
+    pub compared: usize,
+    pub emissive: usize,
+    /// CPU time of the f64 re-shading, ms.
+    pub reshade_ms: f64,
+}
+
+/// The error view while it is on.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ErrorView {
+    /// The view measured last and its errors (`None`: not measured, or stale).
+    pub measured: Option<(ViewKey, ErrorSummary)>,
+}
+
+/// Renders the frame of `inputs` at `extent` again with its HDR image and G-buffer read
+/// back, re-shades every pixel in f64, and shows the relative error as the renderer's
+/// overlay image. The caller has waited for its frames in flight (this frame uses the
+/// renderer's frame slots too). A diagnostic: it waits for the GPU and reads back.
+pub fn measure_error(
+    renderer: &mut Renderer,
+    scene: &GpuScene,
+    inputs: &FrameInputs<'_>,
+    extent: (u32, u32),
+) -> Result<ErrorSummary, Error> {
+    let (width, height) = extent;
+    let readback = Readback {
+        images: true,
+        gbuffer: true,
+    };
+    let frame = renderer.render_with(scene, inputs, width, height, readback)?;
+    let started = std::time::Instant::now();
+    let reference = ReferenceShading::new(&scene.scene, inputs, width, height);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let map = error_map(&frame, &reference, threads);
+    let reshade_ms = started.elapsed().as_secs_f64() * 1e3;
+    let image = OverlayImage {
+        width,
+        height,
+        rgba: map.relative.iter().map(|&e| heat_map_color(e)).collect(),
+    };
+    renderer.set_overlay_image(Some(&image))?;
+    log::info!(
+        "error view: max relative error {:.3e} at {:?}, mean {:.3e}, {} pixels compared ({} emissive skipped), re-shaded in {reshade_ms:.0} ms",
+        map.max_relative,
+        map.worst_pixel,
+        map.mean_relative,
+        map.lit_pixels,
+        map.emissive_pixels
+    );
+    Ok(ErrorSummary {
+        max_relative: map.max_relative,
+        mean_relative: map.mean_relative,
+        worst_pixel: map.worst_pixel,
+        compared: map.lit_pixels,
+        emissive: map.emissive_pixels,
+        reshade_ms,
+    })
+}
+
+/// The statistics panel's facts.
+pub struct Stats<'a> {
+    pub label: &'a str,
+    pub extent: (u32, u32),
+    pub triangles: usize,
+    pub lights: usize,
+    /// Median wall time between presents over the last frames, ms.
+    pub frame_ms: Option<f64>,
+    pub timings: Option<PassTimings>,
+    pub view: &'a str,
+    pub fresnel: FresnelModel,
+    pub overrides: &'a str,
+    pub exposure: f32,
+    pub camera: (usize, usize),
+    pub hdr_format: HdrFormat,
+    pub error_view: Option<ErrorView>,
+    /// The outside medium's index being typed, if any.
+    pub typing: Option<&'a str>,
+}
+
+/// Groups of three digits: 194304 → "194,304".
+fn thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+impl Stats<'_> {
+    pub fn text(&self) -> String {
+        let (w, h) = self.extent;
+        let mut lines = vec![format!(
+            "{} · {w}×{h} · {} triangles · {} lights",
+            self.label,
+            thousands(self.triangles),
+            self.lights
+        )];
+        let mut timing = match self.frame_ms {
+            Some(ms) => format!("{:.1} fps · frame {ms:.1} ms", 1e3 / ms),
+            None => "first frame".to_owned(),
+        };
+        if let Some(t) = self.timings {
+            timing += &format!(
+                " · GPU {:.1} ms: G-buffer {:.1}, lighting {:.1}, output {:.1}",
+                t.total_ms, t.gbuffer_ms, t.lighting_ms, t.tonemap_ms
+            );
+        }
+        lines.push(timing);
+        let fresnel = match self.fresnel {
+            FresnelModel::Full => "full Fresnel",
+            FresnelModel::Schlick => "Schlick (comparison)",
+        };
+        lines.push(format!(
+            "view: {} · {fresnel} · {} · exposure {:.2}",
+            self.view, self.overrides, self.exposure
+        ));
+        if self.camera.1 > 1 {
+            lines.push(format!("camera {} of {}", self.camera.0 + 1, self.camera.1));
+        }
+        if let Some(error_view) = self.error_view {
+            let (lo, hi) = HEAT_MAP_RANGE;
+            let hdr = match self.hdr_format {
+                HdrFormat::Rgba16Float => "f16",
+                HdrFormat::Rgba32Float => "f32",
+            };
+            match error_view.measured {
+                Some((_, e)) => {
+                    lines.push(format!(
+                        "error view: relative error against the f64 reference (HDR {hdr})"
+                    ));
+                    lines.push(format!(
+                        "max {:.2e} at ({}, {}) · mean {:.2e} · {} pixels{} · re-shaded in {:.0} ms",
+                        e.max_relative,
+                        e.worst_pixel.0,
+                        e.worst_pixel.1,
+                        e.mean_relative,
+                        thousands(e.compared),
+                        if e.emissive > 0 {
+                            format!(" ({} emissive not compared)", thousands(e.emissive))
+                        } else {
+                            String::new()
+                        },
+                        e.reshade_ms
+                    ));
+                    lines.push(format!(
+                        "heat map, log scale: blue {lo:.0e} · cyan · green · yellow · red ≥ {hi:.0e}; grey: not compared"
+                    ));
+                }
+                None => lines.push("error view: measured when the view stops changing".into()),
+            }
+        }
+        if let Some(typed) = self.typing {
+            lines.push(format!(
+                "outside medium η: {typed}_   (Enter applies, Escape cancels)"
+            ));
+        }
+        lines.push("H: help · Tab: hide".into());
+        lines.join("\n")
+    }
+}
+
+/// The help panel: every key, two columns.
+pub fn help_text(keys: &[(&str, &str)]) -> String {
+    keys.iter()
+        .map(|(key, what)| format!("{key}\t{what}"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thousands_are_grouped() {
+        assert_eq!(thousands(0), "0");
+        assert_eq!(thousands(999), "999");
+        assert_eq!(thousands(1000), "1,000");
+        assert_eq!(thousands(194_304), "194,304");
+        assert_eq!(thousands(1_234_567), "1,234,567");
+    }
+}
