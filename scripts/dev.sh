@@ -10,9 +10,12 @@ cd "$(dirname "$0")/.."
 # Debian/Ubuntu packages: lavapipe (CPU Vulkan driver), the loader, the validation layers,
 # and shaderc's build-from-source needs (cmake, python3, a C++ compiler, git for its sources
 # is not needed: the crate ships them); for `combustion view` and its test, the X libraries
-# winit loads at run time and a virtual X server (Xvfb; xauth for xvfb-run).
+# winit loads at run time and a virtual X server (Xvfb; xauth for xvfb-run); a headless
+# Wayland compositor (weston) for the viewer's Wayland test (it brings libwayland-client,
+# which winit loads at run time on Wayland).
 PACKAGES=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake make python3 g++ pkg-config
-  xvfb xauth xdotool procps libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0)
+  xvfb xauth xdotool procps libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0
+  weston libwayland-client0 libxkbcommon0)
 
 install_packages() {
   local missing=()

@@ -59,12 +59,13 @@ bench submits N frames with frames in flight (default 2; 1 to 3): each waits onl
 the frame that used its slot. It prints the GPU time of each pass (timestamps: median,
 p10, p90), the wall-clock interval between submissions, and the throughput.
 
-view opens a window (X11: needs DISPLAY, e.g. under Xvfb) and renders the scene every
-frame at the window's size, into the swapchain image on the device, with frames in
-flight (default 2); --vsync off presents without waiting for the display's refresh
-where the window system allows it (default on). The title and the statistics panel
-(--overlay off hides it; Tab while running) show the GPU time; H lists the keys. Escape or closing
-the window quits, as does --frames N after N frames; a summary is printed at exit.
+view opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under
+Xvfb) and renders the scene every frame at the window's size, into the swapchain image
+on the device, with frames in flight (default 2); --vsync off presents without waiting
+for the display's refresh where the window system allows it (default on). The title
+and the statistics panel (--overlay off hides it; Tab while running) show the GPU time;
+H lists the keys, X shows the error against the f64 reference. Escape or closing the
+window quits, as does --frames N after N frames; a summary is printed at exit.
 
 info prints what a scene holds (meshes, materials, lights, camera, outside medium) and
 which renderer features it needs; for a glTF file also what the importer found.

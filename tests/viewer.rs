@@ -8,6 +8,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+use common::weston::Weston;
 use common::xvfb::Xvfb;
 
 /// No error and no logged warning on stderr (info lines, or a driver's own banner, are
@@ -22,11 +23,28 @@ fn assert_quiet(stderr: &str) {
 
 /// Runs `combustion view ARGS` with `DISPLAY=display`, killing it after 60 s.
 fn view(display: &str, args: &[&str]) -> (Option<i32>, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_combustion"))
+    let mut command = Command::new(env!("CARGO_BIN_EXE_combustion"));
+    command
+        .env("DISPLAY", display)
+        .env_remove("WAYLAND_DISPLAY");
+    run_view(command, args)
+}
+
+/// Runs `combustion view ARGS` on the Wayland compositor `weston` (no X display).
+fn view_on_wayland(weston: &Weston, args: &[&str]) -> (Option<i32>, String, String) {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_combustion"));
+    command
+        .env_remove("DISPLAY")
+        .env("XDG_RUNTIME_DIR", &weston.runtime_dir)
+        .env("WAYLAND_DISPLAY", &weston.socket);
+    run_view(command, args)
+}
+
+/// Runs `command view ARGS` on lavapipe, killing it after 60 s; its exit code and output.
+fn run_view(mut command: Command, args: &[&str]) -> (Option<i32>, String, String) {
+    let mut child = command
         .arg("view")
         .args(args)
-        .env("DISPLAY", display)
-        .env_remove("WAYLAND_DISPLAY")
         .env("COMBUSTION_DEVICE", "llvmpipe")
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
@@ -127,37 +145,54 @@ fn view_without_a_display_is_a_one_line_error() {
 /// FLIP threshold would only hide a difference).
 #[test]
 fn screenshot_of_a_scripted_run_equals_the_headless_render() {
+    let xvfb = Xvfb::start();
+    let display = format!(":{}", xvfb.display);
+    scripted_screenshot_equals_headless("x11", |args| view(&display, args));
+}
+
+/// The same on Wayland (a headless Weston): the window, its surface and swapchain come
+/// from the Wayland backend of winit and ash-window.
+#[test]
+fn screenshot_on_wayland_equals_the_headless_render() {
+    let weston = Weston::start();
+    scripted_screenshot_equals_headless("wayland", |args| view_on_wayland(&weston, args));
+}
+
+/// Runs a scripted view with `run` and compares its screenshot with the headless
+/// render of the same scene, camera and size.
+fn scripted_screenshot_equals_headless(
+    name: &str,
+    run: impl FnOnce(&[&str]) -> (Option<i32>, String, String),
+) {
     use combustion::renderer::{Readback, RendererSettings};
     use combustion::viewer::camera::CameraPath;
     use combustion::viewer::PATH_FRAMES_PER_SECOND;
 
-    let dir = std::env::temp_dir().join(format!("combustion-view-shot-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!(
+        "combustion-view-shot-{name}-{}",
+        std::process::id()
+    ));
     std::fs::create_dir_all(&dir).unwrap();
     let path_file = dir.join("path.txt");
     let path_text = "# time eye target\n0  0 1 6  0 0 0\n1  3 1 5  0 0 0\n";
     std::fs::write(&path_file, path_text).unwrap();
     let shot = dir.join("shot.png");
-    let xvfb = Xvfb::start();
-    let (code, stdout, stderr) = view(
-        &format!(":{}", xvfb.display),
-        &[
-            "builtin:spheres",
-            "--width",
-            "160",
-            "--height",
-            "120",
-            "--frames",
-            "7",
-            "--camera-path",
-            path_file.to_str().unwrap(),
-            "--screenshot",
-            shot.to_str().unwrap(),
-            "--overlay",
-            "off",
-            "--validate",
-        ],
-    );
-    drop(xvfb);
+    let (code, stdout, stderr) = run(&[
+        "builtin:spheres",
+        "--width",
+        "160",
+        "--height",
+        "120",
+        "--frames",
+        "7",
+        "--camera-path",
+        path_file.to_str().unwrap(),
+        "--screenshot",
+        shot.to_str().unwrap(),
+        "--overlay",
+        "off",
+        "--validate",
+    ]);
     assert_eq!(code, Some(0), "stdout: {stdout}\nstderr: {stderr}");
     assert!(stdout.contains("; screenshot "), "{stdout}");
     let (width, height, pixels) = common::read_png(&shot);

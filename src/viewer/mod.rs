@@ -1,4 +1,4 @@
-//! `combustion view`: a scene in a window (winit, X11), re-rendered every frame.
+//! `combustion view`: a scene in a window (winit: Wayland or X11), re-rendered every frame.
 //!
 //! The viewer is a host of the engine API ([`Renderer::record`]), like a game engine:
 //! each frame takes the next slot of its [`FrameRing`] (waiting only for the frame that
@@ -9,8 +9,12 @@
 //!
 //! The swapchain is recreated when the window is resized, or the swapchain is out of date
 //! or suboptimal; that is the one place the viewer waits for its (own) device, because
-//! presents hold semaphores no fence covers. While the window has no area (minimised) no
-//! frame is drawn and no redraw is asked for, so the loop sleeps in the event queue.
+//! presents hold semaphores no fence covers. While the window has no area, is minimised
+//! or occluded (as far as the window system tells) no frame is drawn and no redraw is
+//! asked for, so the loop sleeps in the event queue.
+//!
+//! Over the frame the renderer draws the statistics and help panels (its text overlay);
+//! the error view ([`inspect`]) re-shades a frame in f64 and shows its relative error.
 //! Closing the window, Escape, or reaching `frames` ends the loop; then the device is
 //! idled and everything destroyed — swapchain, surface, scene, renderer, device — before
 //! the window, and the validation log is checked.

@@ -3,6 +3,7 @@
 //! checks goldens of sphere scenes independently of the renderer.
 #![allow(dead_code)]
 
+pub mod weston;
 pub mod xvfb;
 
 use std::path::PathBuf;
