@@ -2,8 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 // Lighting pass: reads the G-buffer and depth, the material table and the lights, and
-// writes HDR radiance (W·sr⁻¹·m⁻² per RGB channel). Mirrored on the CPU by the parity
-// test in tests/parity.rs.
+// writes HDR radiance (W·sr⁻¹·m⁻² per RGB channel). Mirrored on the CPU by
+// combustion_renderer::reference (the parity tests and the viewer's error view).
+// Specialised per scene (combustion_renderer::LightingFeatures): NO_ANISOTROPY,
+// NO_CONDUCTORS, NO_CONDUCTOR_TABLE, NO_DIELECTRICS, OUTSIDE_ETA_ONE, NO_LAMBERT,
+// NO_OREN_NAYAR_QUALITATIVE, NO_OREN_NAYAR_FULL remove what the scene cannot use.
 #include "gpu_types.glsl"
 #include "gbuffer_encoding.glsl"
 #include "srgb.glsl"
@@ -53,6 +56,7 @@ void main() {
     m.alpha_y = alphas.y;
     m.conductor_eta = material.conductor_eta_outside_ior.rgb;
     m.conductor_k = material.conductor_k_polarisation.rgb;
+#ifndef NO_CONDUCTOR_TABLE
     if ((material.diffuse_model_flags.y & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR) != 0u) {
         ivec3 code = ivec3(round(base_metal.rgb * 255.0));
         vec2 red = conductor_from_code[code.r];
@@ -61,8 +65,13 @@ void main() {
         m.conductor_eta = vec3(red.x, green.x, blue.x);
         m.conductor_k = vec3(red.y, green.y, blue.y);
     }
+#endif
     m.dielectric_eta = material.roughness_anisotropy_ior.w;
+#ifdef OUTSIDE_ETA_ONE
+    m.outside_eta = 1.0;  // every material's, as the table holds it
+#else
     m.outside_eta = material.conductor_eta_outside_ior.a;
+#endif
     m.polarisation_weight = material.conductor_k_polarisation.a;
     m.diffuse_model = material.diffuse_model_flags.x;
     m.oren_nayar_sigma = oren_nayar_sigma_from_roughness(nra.z);

@@ -23,7 +23,9 @@ void main() {
         uint word = overlay_atlas[index >> 2];
         coverage = float((word >> ((index & 3u) * 8u)) & 0xffu) / 255.0;
     } else if (solid == 2.0) {
-        rgb = unpackUnorm4x8(overlay_image[texel.y * push.image_width + texel.x]).rgb;
+        vec4 image = unpackUnorm4x8(overlay_image[texel.y * push.image_width + texel.x]);
+        rgb = image.rgb;
+        coverage = image.a;
     }
 #if defined(OUTPUT_LINEAR) || defined(OUTPUT_HARDWARE_SRGB)
     rgb = srgb_decode_unorm8(rgb);

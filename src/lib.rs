@@ -86,8 +86,9 @@ impl SceneSource {
     }
 
     /// As [`SceneSource::load_with`], and the views the scene offers: a file's
-    /// perspective cameras placed in the scene (`ImportReport::scene_cameras`), or the
-    /// scene's own camera when it has none of them (built-in scenes, framing cameras).
+    /// perspective cameras placed in the scene (`ImportReport::scene_cameras`), the
+    /// scene's own camera first (added when it is none of them: built-in scenes,
+    /// framing cameras).
     pub fn load_with_cameras(
         &self,
         options: &ImportOptions,
@@ -102,8 +103,10 @@ impl SceneSource {
                 // The importer logs its own warnings (and lists them in the report).
                 let (mut scene, report) = combustion_scene::gltf::import(path, options)?;
                 let mut cameras: Vec<_> = report.scene_cameras.iter().map(|c| c.camera).collect();
-                if cameras.is_empty() {
-                    cameras.push(scene.camera);
+                // The scene's own camera first (the one ImportOptions::camera chose).
+                match cameras.iter().position(|c| *c == scene.camera) {
+                    Some(i) => cameras.rotate_left(i),
+                    None => cameras.insert(0, scene.camera),
                 }
                 if scene.lights.is_empty() {
                     log::warn!(

@@ -21,7 +21,8 @@ USAGE:
                     [--exposure X] [--hdr-format f16|f32] [--fresnel full|schlick]
                     [--device SEL] [--validate]
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
-                    [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
+                    [--hdr-format f16|f32] [--fresnel full|schlick] [--specialised on|off]
+                    [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
                     [--vsync on|off] [--frames-in-flight N] [--screenshot OUT.png]
                     [--camera-path FILE] [--overlay on|off] [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
@@ -57,7 +58,9 @@ output is reflectance.png, spectrum.png or dielectrics.png, the default size 800
 
 bench submits N frames with frames in flight (default 2; 1 to 3): each waits only for
 the frame that used its slot. It prints the GPU time of each pass (timestamps: median,
-p10, p90), the wall-clock interval between submissions, and the throughput.
+p10, p90), the wall-clock interval between submissions, and the throughput. The
+lighting pipeline is specialised to what the scene's materials use; --specialised off
+measures the general pipeline instead.
 
 view opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under
 Xvfb) and renders the scene every frame at the window's size, into the swapchain image
@@ -131,6 +134,8 @@ struct Options {
     camera_path: Option<PathBuf>,
     /// `view`: the statistics panel over the frames.
     overlay: bool,
+    /// `bench`: lighting pipelines specialised to the scene (off: the general one).
+    specialised: bool,
     device: Option<DeviceSelector>,
     validate: bool,
 }
@@ -166,6 +171,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         screenshot: None,
         camera_path: None,
         overlay: true,
+        specialised: true,
         device: None,
         validate: false,
     };
@@ -219,6 +225,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             "--camera-path" if command == "view" => o.camera_path = Some(PathBuf::from(value()?)),
             "--vsync" if command == "view" => o.vsync = on_off(flag, value()?)?,
             "--overlay" if command == "view" => o.overlay = on_off(flag, value()?)?,
+            "--specialised" if command == "bench" => o.specialised = on_off(flag, value()?)?,
             "--frames-in-flight" if command == "bench" || command == "view" => {
                 o.frames_in_flight = number(flag, value()?)?;
                 if !(1..=combustion::renderer::MAX_FRAMES_IN_FLIGHT).contains(&o.frames_in_flight) {
@@ -341,7 +348,9 @@ fn bench(o: &Options) -> Result<(), Error> {
     };
     let renderer = headless.renderer();
     let frames_in_flight = renderer.settings().frames_in_flight;
+    renderer.set_specialised(o.specialised);
     let gpu_scene = renderer.upload(&scene)?;
+    let features = renderer.lighting_features(&gpu_scene);
     // One warm-up frame (first-touch allocations, driver caches) is not counted.
     renderer.render(&gpu_scene, o.width, o.height, Readback::default())?;
     renderer.take_completed_timings();
@@ -380,6 +389,14 @@ fn bench(o: &Options) -> Result<(), Error> {
         o.height,
         o.frames,
         timings.len()
+    );
+    outln!(
+        "lighting pipeline: {}",
+        if features == combustion::renderer::LightingFeatures::ALL {
+            "general (every feature)".to_owned()
+        } else {
+            format!("specialised to {features:?}")
+        }
     );
     outln!("{:<10} {:>9} {:>9} {:>9}", "pass", "median", "p10", "p90");
     for (name, list) in ["G-buffer", "lighting", "tonemap", "total"]

@@ -90,10 +90,23 @@ fn check_overlay(
 ) -> (usize, usize) {
     let font = renderer.overlay_font();
     let quads = font.layout(panels, [W, H], image.map(|i| [i.width, i.height]));
-    assert_eq!(
-        quads.iter().filter(|q| q.atlas[2] == 1.0).count(),
-        panels.len()
-    );
+    // The layout itself: one background per panel, inside the target; every glyph
+    // inside a background.
+    let backgrounds: Vec<_> = quads.iter().filter(|q| q.atlas[2] == 1.0).collect();
+    assert_eq!(backgrounds.len(), panels.len());
+    for b in &backgrounds {
+        assert!(b.rect[0] >= 0.0 && b.rect[1] >= 0.0, "{b:?}");
+        assert!(b.rect[2] <= W as f32 && b.rect[3] <= H as f32, "{b:?}");
+    }
+    for g in quads.iter().filter(|q| q.atlas[2] == 0.0) {
+        assert!(
+            backgrounds.iter().any(|b| b.rect[0] <= g.rect[0]
+                && b.rect[1] <= g.rect[1]
+                && g.rect[2] <= b.rect[2]
+                && g.rect[3] <= b.rect[3]),
+            "glyph {g:?} outside every panel"
+        );
+    }
     let (mut covered, mut bright, mut worst) = (0usize, 0usize, 0.0f64);
     for y in 0..H {
         for x in 0..W {

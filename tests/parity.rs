@@ -39,6 +39,20 @@ fn parity_with(scene_name: &str, width: u32, height: u32, fresnel: FresnelModel)
     };
     let reference = ReferenceShading::new(&scene, &inputs, width, height);
     let report = error_map(&frame, &reference, 2);
+    let one_thread = error_map(&frame, &reference, 1);
+    assert!(
+        report.max_relative == one_thread.max_relative
+            && report.worst_pixel == one_thread.worst_pixel
+            && report.lit_pixels == one_thread.lit_pixels
+            && (report.mean_relative - one_thread.mean_relative).abs()
+                <= 1e-12 * report.mean_relative
+            && report
+                .relative
+                .iter()
+                .zip(&one_thread.relative)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+        "the error map does not depend on the number of threads"
+    );
     eprintln!(
         "{scene_name} {width}x{height}: {} lit pixels, max relative error {:.3e} at {:?} (GPU {:?}, CPU {:?}), mean {:.3e}, non-finite {}",
         report.lit_pixels,

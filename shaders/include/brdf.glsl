@@ -119,6 +119,8 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
         polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.y, m.conductor_k.y), view.w),
         polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.z, m.conductor_k.z), view.w));
     view.transmittance_v = 1.0 - fresnel_schlick(view.v.z, view.f0_dielectric);
+#elif defined(NO_DIELECTRICS)
+    view.transmittance_v = 1.0;
 #else
     view.transmittance_v = view.metal < 1.0
         ? polarised_weighted(fresnel_dielectric_transmittance(view.v.z, m.outside_eta, m.dielectric_eta), view.w)
@@ -129,14 +131,29 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
 
 // The material's diffuse lobe (Lambert or Oren–Nayar, by m.diffuse_model) for v and l
 // in the shading frame.
+// Specialised: only the models the scene has are tested for (NO_* defines); the last
+// one left needs no test.
 vec3 brdf_diffuse_lobe(BrdfInputs m, vec3 vl, vec3 ll) {
     vec3 rho = min(max(m.base_color, vec3(0.0)), vec3(1.0));
+#if !defined(NO_LAMBERT) || !defined(NO_OREN_NAYAR_FULL)
+#ifndef NO_OREN_NAYAR_QUALITATIVE
     if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_QUALITATIVE) {
         return diffuse_oren_nayar_qualitative(rho, m.oren_nayar_sigma, OREN_NAYAR_A_CONSTANT_BRDF, vl, ll);
-    } else if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_FULL) {
+    }
+#endif
+#ifndef NO_LAMBERT
+#ifndef NO_OREN_NAYAR_FULL
+    if (m.diffuse_model == DIFFUSE_MODEL_OREN_NAYAR_FULL) {
         return diffuse_oren_nayar_full(rho, m.oren_nayar_sigma, vl, ll);
     }
+#endif
     return diffuse_lambert(rho);
+#else
+    return diffuse_oren_nayar_full(rho, m.oren_nayar_sigma, vl, ll);
+#endif
+#else
+    return diffuse_oren_nayar_qualitative(rho, m.oren_nayar_sigma, OREN_NAYAR_A_CONSTANT_BRDF, vl, ll);
+#endif
 }
 
 // Reflectance of the dielectric part at the microfacet angle cos_h (full equations with
@@ -183,9 +200,14 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
     float cos_h = min(0.5 * len, 1.0);
     vec2 light_half = smith_ggx_visibility_half(ll, ax, ay);
     float visibility = 0.5 / (light_half.x * view.visibility_half.y + view.visibility_half.x * light_half.y);
+#ifdef NO_ANISOTROPY
+    float lobe = d_ggx(h, ax) * visibility;  // α_x = α_y: the isotropic form
+#else
     float lobe = d_ggx_anisotropic(h, ax, ay) * visibility;
+#endif
 
     vec3 result = vec3(0.0);
+#ifndef NO_DIELECTRICS
     if (metal < 1.0) {
         float eta_d = m.dielectric_eta;
         float spec = lobe * brdf_dielectric_fresnel(m, view, cos_h);
@@ -198,9 +220,12 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
 #endif
         result = (1.0 - metal) * (vec3(spec) + diffuse_weight * brdf_diffuse_lobe(m, vl, ll));
     }
+#endif
+#ifndef NO_CONDUCTORS
     if (metal > 0.0) {
         result += metal * lobe * brdf_conductor_fresnel(m, view, cos_h);
     }
+#endif
     return result;
 }
 

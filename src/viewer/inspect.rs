@@ -37,6 +37,9 @@ pub struct ErrorSummary {
 pub struct ErrorView {
     /// The view measured last and its errors (`None`: not measured, or stale).
     pub measured: Option<(ViewKey, ErrorSummary)>,
+    /// While not measured: the view of the last frame (measured once it stays the same
+    /// for a while).
+    pub pending: Option<ViewKey>,
 }
 
 /// Renders the frame of `inputs` at `extent` again with its HDR image and G-buffer read

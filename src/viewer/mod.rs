@@ -395,8 +395,10 @@ struct State {
     view_changed: Instant,
     /// The outside medium's index being typed (I), if any.
     typing: Option<String>,
-    /// The window is hidden (occluded or minimised): no frames until it is shown.
-    hidden: bool,
+    /// The window is occluded, or minimised (as the window system says): no frames
+    /// until it is shown again.
+    occluded: bool,
+    minimized: bool,
     window: Window,
 }
 
@@ -417,6 +419,14 @@ fn recent_median(values: &[f64]) -> Option<f64> {
     }
     recent.sort_by(f64::total_cmp);
     Some(recent[recent.len() / 2])
+}
+
+fn shown_or_hidden(shown: bool) -> &'static str {
+    if shown {
+        "shown"
+    } else {
+        "hidden"
+    }
 }
 
 /// How long the view must stay unchanged before the error view measures it again.
@@ -485,9 +495,24 @@ impl State {
             error_view: None,
             view_changed: Instant::now(),
             typing: None,
-            hidden: false,
+            occluded: false,
+            minimized: false,
             window,
         })
+    }
+
+    /// Occluded or minimised: nothing to draw.
+    fn hidden(&self) -> bool {
+        self.occluded || self.minimized
+    }
+
+    /// Asks the window system whether the window is minimised (on events that come
+    /// with a change of it), and for a frame if it is shown.
+    fn check_minimized(&mut self) {
+        self.minimized = self.window.is_minimized() == Some(true);
+        if !self.hidden() {
+            self.window.request_redraw();
+        }
     }
 
     /// Tears down in order: swapchain, surface, frame ring, scene, renderer, device,
@@ -525,12 +550,9 @@ impl State {
         summary: &mut ViewSummary,
     ) -> Result<Option<Option<f64>>, Error> {
         let size = self.window.inner_size();
-        // Minimised (where the window system says so) or occluded: nothing is drawn and
-        // no redraw asked for until the window is shown again (`Occluded(false)`).
-        if self.window.is_minimized() == Some(true) {
-            self.hidden = true;
-        }
-        if size.width == 0 || size.height == 0 || self.hidden {
+        // Minimised or occluded: nothing is drawn and no redraw asked for until the
+        // window is shown, resized or focused again.
+        if size.width == 0 || size.height == 0 || self.hidden() {
             return Ok(None);
         }
         if self.stale || self.swapchain.is_none() {
@@ -562,7 +584,7 @@ impl State {
             self.orbit.fly(self.input.motion(), seconds);
         }
         let camera = scripted.unwrap_or_else(|| self.orbit.camera());
-        self.update_error_view(camera, extent)?;
+        self.update_error_view(camera, extent, summary)?;
         let swapchain = self.swapchain.as_ref().expect("created above");
         if self.screenshot.is_some() && !swapchain.copyable() {
             self.screenshot = None;
@@ -741,6 +763,7 @@ impl State {
         &mut self,
         camera: combustion_scene::Camera,
         extent: vk::Extent2D,
+        summary: &mut ViewSummary,
     ) -> Result<(), Error> {
         let Some(view) = self.error_view.as_mut() else {
             return Ok(());
@@ -755,32 +778,50 @@ impl State {
             Some((measured, _)) if measured == key => return Ok(()),
             Some(_) => {
                 view.measured = None;
+                view.pending = Some(key);
                 self.view_changed = Instant::now();
                 self.renderer.set_overlay_image(None)?;
                 return Ok(());
             }
-            None if self.view_changed.elapsed().as_secs_f32() < ERROR_VIEW_SETTLE_SECONDS => {
+            None if view.pending.is_some_and(|pending| pending != key) => {
+                // Still changing: wait until it has stayed put.
+                view.pending = Some(key);
+                self.view_changed = Instant::now();
+                return Ok(());
+            }
+            None if view.pending.is_some()
+                && self.view_changed.elapsed().as_secs_f32() < ERROR_VIEW_SETTLE_SECONDS =>
+            {
                 return Ok(())
             }
             None => {}
         }
         // This frame uses the renderer's frame slots too: the viewer's own frames must
-        // have completed (a diagnostic pause, not part of a normal frame).
+        // have completed (a diagnostic pause, not part of a normal frame). Their GPU
+        // times are collected first; the measured frame's are not the viewer's.
         self.ring.wait_all()?;
+        self.renderer.frames_completed()?;
+        summary.gpu_total_ms.extend(
+            self.renderer
+                .take_completed_timings()
+                .iter()
+                .map(|t| t.total_ms),
+        );
         let inputs = FrameInputs {
             camera,
             exposure: self.exposure,
             lights: &self.gpu_scene.scene.lights,
             overlay: &[],
         };
-        let summary = inspect::measure_error(
+        let error = inspect::measure_error(
             &mut self.renderer,
             &self.gpu_scene,
             &inputs,
             (extent.width, extent.height),
         )?;
+        drop(self.renderer.take_completed_timings());
         if let Some(view) = self.error_view.as_mut() {
-            view.measured = Some((key, summary));
+            view.measured = Some((key, error));
         }
         Ok(())
     }
@@ -797,8 +838,8 @@ impl State {
                 .set_debug_view(combustion_renderer::DebugView::None);
             self.renderer.prepare(&self.gpu_scene)?;
         }
+        // Measured at once: nothing is pending yet.
         self.error_view = Some(inspect::ErrorView::default());
-        self.view_changed = Instant::now() - std::time::Duration::from_secs(1);
         Ok(())
     }
 
@@ -910,9 +951,13 @@ impl App<'_> {
         match state.draw(self.desc.vsync, scripted, &mut self.summary) {
             Err(e) => self.fail(event_loop, e),
             Ok(None) => {
-                // Out of date: try again at once; no area: wait for a resize.
-                if state.stale {
-                    state.window.request_redraw();
+                // Out of date: try again at once; no area or hidden: wait for an event
+                // that shows the window again (no busy loop).
+                if state.stale && !state.hidden() {
+                    let size = state.window.inner_size();
+                    if size.width > 0 && size.height > 0 {
+                        state.window.request_redraw();
+                    }
                 }
             }
             Ok(Some(wall_ms)) => {
@@ -967,25 +1012,26 @@ impl ApplicationHandler for App<'_> {
             WindowEvent::Resized(_) => {
                 if let Some(state) = self.state.as_mut() {
                     state.stale = true;
-                    state.window.request_redraw();
+                    state.check_minimized();
                 }
             }
             WindowEvent::RedrawRequested => self.redraw(event_loop),
             WindowEvent::Occluded(hidden) => {
                 // Minimised or fully covered: no frames (and no busy loop) until shown.
                 if let Some(state) = self.state.as_mut() {
-                    log::info!("window {}", if hidden { "hidden" } else { "shown" });
-                    state.hidden = hidden;
-                    if !hidden {
-                        state.window.request_redraw();
-                    }
+                    log::info!("window {}", if hidden { "occluded" } else { "shown" });
+                    state.occluded = hidden;
+                    state.check_minimized();
                 }
             }
             WindowEvent::KeyboardInput { event, .. } => self.key(event_loop, &event),
-            WindowEvent::Focused(false) => {
-                // Keys and buttons released elsewhere never come back as releases.
+            WindowEvent::Focused(focused) => {
                 if let Some(state) = self.state.as_mut() {
-                    state.input = Input::default();
+                    if !focused {
+                        // Keys and buttons released elsewhere never come back as releases.
+                        state.input = Input::default();
+                    }
+                    state.check_minimized();
                 }
             }
             WindowEvent::CursorLeft { .. } => {
@@ -1068,13 +1114,21 @@ impl App<'_> {
                     return Err(e);
                 }
             }
-            "h" | "H" => state.show_help = !state.show_help,
+            "h" | "H" => {
+                state.show_help = !state.show_help;
+                log::info!("help panel {}", shown_or_hidden(state.show_help));
+            }
             "i" | "I" => state.typing = Some(String::new()),
             "x" | "X" => state.toggle_error_view()?,
             "c" | "C" => {
                 if !state.cameras.is_empty() {
                     state.camera_index = (state.camera_index + 1) % state.cameras.len();
                     state.orbit = camera::OrbitCamera::new(&state.cameras[state.camera_index]);
+                    log::info!(
+                        "camera {} of {}",
+                        state.camera_index + 1,
+                        state.cameras.len()
+                    );
                 }
             }
             "v" | "V" => {
@@ -1142,6 +1196,7 @@ impl App<'_> {
         };
         if down && !event.repeat && event.logical_key == Key::Named(NamedKey::Tab) {
             state.show_stats = !state.show_stats;
+            log::info!("statistics panel {}", shown_or_hidden(state.show_stats));
             return;
         }
         if down && !event.repeat && event.logical_key == Key::Named(NamedKey::F5) {

@@ -51,9 +51,96 @@ pub use host::{
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
 pub use scene_upload::{GpuScene, SceneEditReport};
 
+/// The parts of the material model a lighting pipeline contains. A scene's pipeline
+/// holds only what its materials use ([`LightingFeatures::of`]): each part left out is
+/// a `NO_*` (or `OUTSIDE_ETA_ONE`) `#define` that removes its code from the shader, so
+/// no pixel pays for a branch the scene cannot take. [`LightingFeatures::ALL`] is the
+/// general pipeline (debug views, and the comparison [`Renderer::set_specialised`]
+/// turns on); both give the same radiance up to f32 rounding (tests/specialisation.rs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct LightingFeatures {
+    /// Anisotropic GGX (else the isotropic D and Smith forms: α_x = α_y everywhere).
+    pub anisotropy: bool,
+    /// A conductor part (some material's metalness can exceed 0).
+    pub conductors: bool,
+    /// Conductors whose η + ik come from the base colour's codes (the table lookup).
+    pub conductor_table: bool,
+    /// A dielectric part (some material's metalness can be below 1): its specular
+    /// lobe, Fresnel transmittance, total internal reflection and the diffuse lobe.
+    pub dielectrics: bool,
+    /// An outside medium other than η_i = 1 (else η_i is the constant 1).
+    pub outside_medium: bool,
+    pub lambert: bool,
+    pub oren_nayar_qualitative: bool,
+    pub oren_nayar_full: bool,
+}
+
+impl LightingFeatures {
+    /// Every part: the general pipeline.
+    pub const ALL: LightingFeatures = LightingFeatures {
+        anisotropy: true,
+        conductors: true,
+        conductor_table: true,
+        dielectrics: true,
+        outside_medium: true,
+        lambert: true,
+        oren_nayar_qualitative: true,
+        oren_nayar_full: true,
+    };
+
+    /// What `scene`'s materials can use (every material counts, drawn or not).
+    pub fn of(scene: &Scene) -> LightingFeatures {
+        let f = scene.features();
+        let textured_metal =
+            |m: &combustion_scene::Material| m.metallic_roughness_texture.is_some();
+        LightingFeatures {
+            anisotropy: f.anisotropic > 0,
+            conductors: f.conductors + f.conductors_from_base_color > 0,
+            conductor_table: f.conductors_from_base_color > 0,
+            dielectrics: scene
+                .materials
+                .iter()
+                .any(|m| m.metalness < 1.0 || textured_metal(m)),
+            outside_medium: f.outside_ior_not_one,
+            lambert: f
+                .diffuse_models
+                .contains(&combustion_scene::DiffuseModel::Lambert),
+            oren_nayar_qualitative: f
+                .diffuse_models
+                .contains(&combustion_scene::DiffuseModel::OrenNayarQualitative),
+            oren_nayar_full: f
+                .diffuse_models
+                .contains(&combustion_scene::DiffuseModel::OrenNayarFull),
+        }
+    }
+
+    fn defines(&self, defines: &mut Vec<(&'static str, Option<&'static str>)>) {
+        for (present, define) in [
+            (self.anisotropy, "NO_ANISOTROPY"),
+            (self.conductors, "NO_CONDUCTORS"),
+            (self.conductor_table, "NO_CONDUCTOR_TABLE"),
+            (self.dielectrics, "NO_DIELECTRICS"),
+            (self.outside_medium, "OUTSIDE_ETA_ONE"),
+            (self.lambert, "NO_LAMBERT"),
+            (self.oren_nayar_qualitative, "NO_OREN_NAYAR_QUALITATIVE"),
+            (self.oren_nayar_full, "NO_OREN_NAYAR_FULL"),
+        ] {
+            if !present {
+                defines.push((define, None));
+            }
+        }
+    }
+}
+
+impl Default for LightingFeatures {
+    fn default() -> Self {
+        Self::ALL
+    }
+}
+
 /// The shader features a scene needs. Each distinct variant gets its own G-buffer and
 /// lighting pipelines (compile-time `#define`s), so a scene does not pay for features it
-/// lacks; variants are built on first use and kept.
+/// lacks; variants are built at upload (or edit) and kept.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct ShaderVariant {
     /// An emissive target in the G-buffer, added to the lit radiance.
@@ -64,6 +151,8 @@ pub struct ShaderVariant {
     /// The lighting pass can show a G-buffer channel or a BRDF term instead of radiance
     /// ([`DebugView`]; a renderer setting).
     pub debug_views: bool,
+    /// The parts of the material model the lighting pipeline contains.
+    pub features: LightingFeatures,
 }
 
 /// What the lighting pass shows instead of radiance (`debug_views.glsl` has the same
@@ -156,6 +245,7 @@ impl ShaderVariant {
         if self.debug_views {
             defines.push(("DEBUG_VIEWS", None));
         }
+        self.features.defines(&mut defines);
         defines
     }
 }
@@ -376,7 +466,7 @@ struct SetLayouts {
     lighting: DescriptorSetLayout,
     /// The output pass: the HDR image.
     output: DescriptorSetLayout,
-    /// The overlay: the frame's quads and the font atlas.
+    /// The overlay: the frame's quads, the font atlas and the overlay image.
     overlay: DescriptorSetLayout,
 }
 
@@ -423,6 +513,8 @@ pub struct Renderer {
     states: graph::ImageStates,
     settings: RendererSettings,
     debug_view: DebugView,
+    /// Lighting pipelines specialised to the scene ([`Renderer::set_specialised`]).
+    specialised: bool,
     /// Frames recorded so far.
     frame_number: u64,
     /// The slot of the frame recorded last: what is replaced now is retired to it, and
@@ -505,6 +597,7 @@ impl Renderer {
             states: graph::ImageStates::default(),
             settings,
             debug_view: DebugView::None,
+            specialised: true,
             frame_number: 0,
             last_slot: None,
             last_timings: None,
@@ -534,9 +627,16 @@ impl Renderer {
 
     /// The scene's variant with the renderer's settings applied.
     fn variant_of(&self, scene_variant: ShaderVariant) -> ShaderVariant {
+        let debug_views = self.debug_view != DebugView::None;
         ShaderVariant {
             schlick: self.settings.fresnel == FresnelModel::Schlick,
-            debug_views: self.debug_view != DebugView::None,
+            debug_views,
+            // Debug views show every term, so they get the general pipeline.
+            features: if self.specialised && !debug_views {
+                scene_variant.features
+            } else {
+                LightingFeatures::ALL
+            },
             ..scene_variant
         }
     }
@@ -576,16 +676,25 @@ impl Renderer {
     pub fn set_overlay_image(&mut self, image: Option<&OverlayImage>) -> Result<(), RenderError> {
         let next = match image {
             Some(i) => {
-                if i.width == 0 || i.height == 0 || i.rgba.len() != (i.width * i.height) as usize {
+                self.check_size(i.width, i.height)?;
+                let texels = u64::from(i.width) * u64::from(i.height);
+                if i.rgba.len() as u64 != texels {
                     return Err(RenderError::Overlay(format!(
-                        "an overlay image of {}x{} needs {} texels, not {}",
+                        "an overlay image of {}x{} needs {texels} texels, not {}",
                         i.width,
                         i.height,
-                        u64::from(i.width) * u64::from(i.height),
                         i.rgba.len()
                     )));
                 }
-                self.check_size(i.width, i.height)?;
+                let range = u64::from(self.device.limits().max_storage_buffer_range);
+                if texels * 4 > range {
+                    return Err(RenderError::Overlay(format!(
+                        "an overlay image of {}x{} takes {} bytes; this device reads at most {range} from one buffer",
+                        i.width,
+                        i.height,
+                        texels * 4
+                    )));
+                }
                 (
                     overlay_image_buffer(&self.device, &i.rgba)?,
                     Some([i.width, i.height]),
@@ -641,6 +750,22 @@ impl Renderer {
     /// or edit, never by a frame's recording.
     pub fn set_fresnel(&mut self, model: FresnelModel) {
         self.settings.fresnel = model;
+    }
+
+    /// Lighting pipelines specialised to each scene's features ([`LightingFeatures::of`];
+    /// the default), or the general pipeline for every scene (to compare the two).
+    /// Pipelines as for [`Renderer::set_fresnel`].
+    pub fn set_specialised(&mut self, specialised: bool) {
+        self.specialised = specialised;
+    }
+
+    pub fn specialised(&self) -> bool {
+        self.specialised
+    }
+
+    /// The lighting features of the pipeline `scene`'s frames use now.
+    pub fn lighting_features(&self, scene: &GpuScene) -> LightingFeatures {
+        self.variant_of(scene.variant).features
     }
 
     /// Shows a G-buffer channel or a BRDF term instead of radiance from the next frame

@@ -104,7 +104,9 @@ impl Renderer {
     }
 
     /// As [`Renderer::render`], with the frame's camera, exposure, lights and overlay
-    /// given (e.g. a viewer's current frame, rendered again to be read back).
+    /// given (e.g. a viewer's current frame, rendered again to be read back). A host
+    /// that records its own frames ([`Renderer::record`]) calls it only once all of
+    /// them have completed: both use the renderer's frame slots (docs/integration.md).
     pub fn render_with(
         &mut self,
         scene: &GpuScene,

@@ -285,7 +285,7 @@ impl OverlayFont {
             let mut color = q.color;
             let coverage = if q.atlas[2] == 2.0 {
                 let texel = image.map_or([0; 4], |i| i.rgba[(y * i.width + x) as usize]);
-                for (c, v) in color.iter_mut().zip(texel).take(3) {
+                for (c, v) in color.iter_mut().zip(texel) {
                     *c = f32::from(v) / 255.0;
                 }
                 1.0
@@ -404,7 +404,8 @@ impl OverlayPass {
 }
 
 /// An sRGB-encoded RGBA8 image shown over the frame, under the text panels, at the
-/// target's top-left corner, one texel a pixel (e.g. the viewer's error heat map).
+/// target's top-left corner, one texel a pixel, blended with its alpha (e.g. the
+/// viewer's error heat map, opaque).
 #[derive(Clone, Debug, PartialEq)]
 pub struct OverlayImage {
     pub width: u32,

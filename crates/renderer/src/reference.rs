@@ -150,6 +150,7 @@ impl ReferenceShading {
             dielectric_eta: rai[3],
             outside_eta: eta_out[3],
             polarisation_weight: k_pol[3],
+            // The shader evaluates an unknown code as Lambert; so does its mirror.
             diffuse_model: DiffuseModel::try_from(material.diffuse_model_flags[0])
                 .unwrap_or(DiffuseModel::Lambert),
             oren_nayar_sigma: oren_nayar_sigma_from_roughness(roughness),
@@ -207,6 +208,7 @@ pub struct ErrorMap {
     pub background_not_black: usize,
     /// Pixels of emissive materials (emission is added by the GPU, not modelled here).
     pub emissive_pixels: usize,
+    /// Pixels whose GPU or reference radiance is not finite.
     pub non_finite: usize,
 }
 
@@ -248,7 +250,12 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
                             part.non_finite += 1;
                             continue;
                         }
-                        let Some(cpu) = reference.shade(texel, x, y) else {
+                        let shaded = reference.shade(texel, x, y);
+                        if shaded.is_some_and(|cpu| cpu.iter().any(|c| !c.is_finite())) {
+                            part.non_finite += 1;
+                            continue;
+                        }
+                        let Some(cpu) = shaded else {
                             if gpu[..3] != [0.0; 3] {
                                 part.background_not_black += 1;
                             }
@@ -286,11 +293,14 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
     let mut sum = 0.0;
     for part in chunks {
         sum += part.mean_relative;
+        let first_lit = map.lit_pixels == 0;
         map.lit_pixels += part.lit_pixels;
         map.background_not_black += part.background_not_black;
         map.emissive_pixels += part.emissive_pixels;
         map.non_finite += part.non_finite;
-        if part.lit_pixels > 0 && part.max_relative >= map.max_relative {
+        // The first chunk in row order wins a tie, as the first pixel does within a
+        // chunk, so the worst pixel does not depend on the number of threads.
+        if part.lit_pixels > 0 && (first_lit || part.max_relative > map.max_relative) {
             map.max_relative = part.max_relative;
             map.worst_pixel = part.worst_pixel;
             map.worst_values = part.worst_values;

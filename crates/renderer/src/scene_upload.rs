@@ -66,6 +66,7 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
         // The Fresnel model and the debug views are the renderer's settings.
         schlick: false,
         debug_views: false,
+        features: crate::LightingFeatures::of(scene),
     }
 }
 
