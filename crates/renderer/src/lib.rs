@@ -7,10 +7,12 @@
 //!    and depth.
 //! 2. **Lighting pass** (`lighting.frag`): full-screen; per pixel, decode the G-buffer,
 //!    reconstruct the position from depth, evaluate the BRDF (`brdf.glsl`) for every
-//!    light of the frame, write HDR radiance.
+//!    light of the frame, write HDR radiance. The pipeline holds only the parts of the
+//!    material model the scene uses ([`LightingFeatures`]).
 //! 3. **Output pass** (`tonemap.frag`): into the frame's target, by its format: exposure
 //!    and `1 − e^(−x)` with the exact sRGB encoding (UNORM), the same with the driver's
-//!    encoding (_SRGB), or linear radiance × exposure (float formats).
+//!    encoding (_SRGB), or linear radiance × exposure (float formats); then the frame's
+//!    overlay ([`overlay`]: an image and text panels) in the same rendering.
 //! 4. Optional: the G-buffer depth copied into the host's depth image; readback of the
 //!    HDR and display images (and the G-buffer, for parity tests) in [`Renderer::render`].
 //!
