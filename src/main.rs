@@ -25,7 +25,7 @@ USAGE:
                     [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
                     [--vsync on|off] [--frames-in-flight N] [--screenshot OUT.png]
-                    [--camera-path FILE] [--overlay on|off] [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
+                    [--camera-path FILE] [--overlay on|off] [--error-view] [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
   combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
                     [--alpha A | --roughness R | --alpha-x A --alpha-y A] [--eta E|r,g,b]
                     [--k K|r,g,b] [--eta-i E] [--sigma S] [--polarisation W] [--rho R|r,g,b]
@@ -67,7 +67,8 @@ Xvfb) and renders the scene every frame at the window's size, into the swapchain
 on the device, with frames in flight (default 2); --vsync off presents without waiting
 for the display's refresh where the window system allows it (default on). The title
 and the statistics panel (--overlay off hides it; Tab while running) show the GPU time;
-H lists the keys, X shows the error against the f64 reference. Escape or closing the
+H lists the keys, X (or --error-view from the start) shows the error against the f64
+reference. Escape or closing the
 window quits, as does --frames N after N frames; a summary is printed at exit.
 
 info prints what a scene holds (meshes, materials, lights, camera, outside medium) and
@@ -136,6 +137,8 @@ struct Options {
     overlay: bool,
     /// `bench`: lighting pipelines specialised to the scene (off: the general one).
     specialised: bool,
+    /// `view`: start in the error view.
+    error_view: bool,
     device: Option<DeviceSelector>,
     validate: bool,
 }
@@ -172,6 +175,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         camera_path: None,
         overlay: true,
         specialised: true,
+        error_view: false,
         device: None,
         validate: false,
     };
@@ -238,6 +242,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             }
             "--device" => o.device = Some(value()?.parse()?),
             "--validate" => o.validate = true,
+            "--error-view" if command == "view" => o.error_view = true,
             _ if !flag.starts_with('-') && !scene_given => {
                 o.scene = SceneSource::parse(flag);
                 scene_given = true;
@@ -450,6 +455,7 @@ fn view(o: &Options) -> Result<(), Error> {
         screenshot: o.screenshot.clone(),
         camera_path: o.camera_path.clone(),
         overlay: o.overlay,
+        error_view: o.error_view,
     })?;
     let median = |list: &[f64]| {
         let mut sorted = list.to_vec();

@@ -229,6 +229,85 @@ fn scripted_screenshot_equals_headless(
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// The error view (`--error-view`, as the X key): the screenshot of a scripted run is,
+/// byte for byte, the heat map of the f64 reference's relative error for the headless
+/// render of the same scene, camera and size — the viewer shows the very error map the
+/// library computes (`reference::error_map`), nothing else.
+#[test]
+fn the_error_view_shows_the_reference_error_map() {
+    use combustion::renderer::reference::{error_map, heat_map_color, ReferenceShading};
+    use combustion::renderer::{FrameInputs, Readback, RendererSettings};
+
+    let dir = std::env::temp_dir().join(format!("combustion-view-error-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let shot = dir.join("shot.png");
+    let path_file = dir.join("path.txt");
+    let path_text = "0  1 1.5 6  0 0.2 0\n1  1 1.5 6  0 0.2 0\n";
+    std::fs::write(&path_file, path_text).unwrap();
+    let xvfb = Xvfb::start();
+    let (code, stdout, stderr) = view(
+        &format!(":{}", xvfb.display),
+        &[
+            "builtin:hard-cases",
+            "--width",
+            "192",
+            "--height",
+            "128",
+            "--frames",
+            "4",
+            "--camera-path",
+            path_file.to_str().unwrap(),
+            "--screenshot",
+            shot.to_str().unwrap(),
+            "--overlay",
+            "off",
+            "--error-view",
+            "--validate",
+        ],
+    );
+    drop(xvfb);
+    assert_eq!(code, Some(0), "stdout: {stdout}\nstderr: {stderr}");
+    let (width, height, pixels) = common::read_png(&shot);
+
+    let mut scene = combustion::scene::builtin_scene("hard-cases").unwrap();
+    let path = combustion::viewer::camera::CameraPath::parse(path_text).unwrap();
+    scene.camera = path.at(0.1, &scene.camera);
+    let frame = common::render(
+        &scene,
+        width,
+        height,
+        RendererSettings::default(),
+        Readback {
+            images: true,
+            gbuffer: true,
+        },
+    );
+    let inputs = FrameInputs {
+        camera: scene.camera,
+        exposure: 1.0,
+        lights: &scene.lights,
+        overlay: &[],
+    };
+    let map = error_map(
+        &frame,
+        &ReferenceShading::new(&scene, &inputs, width, height),
+        2,
+    );
+    assert!(map.lit_pixels > 1000, "{} pixels compared", map.lit_pixels);
+    let expected: Vec<[u8; 4]> = map.relative.iter().map(|&e| heat_map_color(e)).collect();
+    let differing = pixels.iter().zip(&expected).filter(|(a, b)| a != b).count();
+    assert_eq!(
+        differing, 0,
+        "{differing} pixels differ from the reference's heat map"
+    );
+    // The map is not uniform: errors span several colours.
+    let mut colours: Vec<[u8; 4]> = expected.clone();
+    colours.sort();
+    colours.dedup();
+    assert!(colours.len() > 20, "{} distinct colours", colours.len());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// The statistics panel (on by default) is drawn over the frame in the top-left corner
 /// and changes nothing else: the screenshot equals the headless render below the panel.
 #[test]

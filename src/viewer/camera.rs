@@ -210,7 +210,9 @@ impl CameraPath {
             (_, Some(&(t1, e1, g1))) => {
                 let (t0, e0, g0) = self.keys[i - 1];
                 let s = (time - t0) / (t1 - t0);
-                (e0.lerp(e1, s), g0.lerp(g1, s))
+                // a + (b − a)·s: exactly a where a key repeats (a camera that holds still
+                // is the same camera every frame).
+                (e0 + (e1 - e0) * s, g0 + (g1 - g0) * s)
             }
         };
         Camera {

@@ -66,6 +66,8 @@ pub struct ViewerDesc {
     pub camera_path: Option<PathBuf>,
     /// Draw the statistics panel over the frames (Tab toggles it while running).
     pub overlay: bool,
+    /// Start in the error view (X toggles it while running).
+    pub error_view: bool,
 }
 
 /// The clock of scripted runs: frame n of a camera path is at time n / 30 s.
@@ -492,7 +494,7 @@ impl State {
             scene_generation: 0,
             show_stats: desc.overlay,
             show_help: false,
-            error_view: None,
+            error_view: desc.error_view.then(inspect::ErrorView::default),
             view_changed: Instant::now(),
             typing: None,
             occluded: false,
@@ -650,9 +652,10 @@ impl State {
             });
         }
         if let Some(text) = &help {
+            // Below the statistics (panels in one corner stack, never overlap).
             panels.push(OverlayPanel {
                 text,
-                corner: Corner::TopRight,
+                corner: Corner::TopLeft,
             });
         }
         let inputs = FrameInputs {

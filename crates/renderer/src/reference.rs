@@ -336,3 +336,32 @@ pub fn heat_map_color(relative: f32) -> [u8; 4] {
 
 /// The relative errors the heat map spans: f32 rounding (1e-7) to 10 %.
 pub const HEAT_MAP_RANGE: (f64, f64) = (1e-7, 1e-1);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn heat_map_runs_from_blue_to_red_on_a_log_scale() {
+        let (lo, hi) = HEAT_MAP_RANGE;
+        assert_eq!(heat_map_color(lo as f32), [13, 13, 115, 255]);
+        assert_eq!(heat_map_color(hi as f32), [230, 26, 13, 255]);
+        // Below and above the range: its ends; not compared: grey.
+        assert_eq!(heat_map_color(0.0), heat_map_color(lo as f32));
+        assert_eq!(heat_map_color(1e3), heat_map_color(hi as f32));
+        assert_eq!(heat_map_color(f32::NAN), [24, 24, 24, 255]);
+        // The middle stop (green) sits at the geometric mean of the range.
+        let middle = heat_map_color((lo * hi).sqrt() as f32);
+        let green = [26, 204, 51, 255];
+        assert!(
+            middle.iter().zip(green).all(|(&a, b)| a.abs_diff(b) <= 1),
+            "{middle:?}"
+        );
+        // Ten times more error is never the same colour inside the range.
+        let mut e = lo;
+        while e * 10.0 <= hi {
+            assert_ne!(heat_map_color(e as f32), heat_map_color((e * 10.0) as f32));
+            e *= 10.0;
+        }
+    }
+}
