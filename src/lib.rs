@@ -16,6 +16,7 @@
 
 pub mod eval;
 pub mod output;
+pub mod report;
 pub mod viewer;
 
 use std::path::PathBuf;
@@ -45,9 +46,11 @@ pub enum Error {
     Import(#[from] ImportError),
     #[error(transparent)]
     Output(#[from] output::OutputError),
+    #[error(transparent)]
+    Plot(#[from] combustion_plots::PlotError),
     #[error("{0}")]
     Usage(String),
-    #[error("cannot open a window: {0} (set DISPLAY, or run under Xvfb)")]
+    #[error("cannot open a window: {0} (set WAYLAND_DISPLAY or DISPLAY, or run under Xvfb)")]
     NoWindow(String),
     #[error("{0}")]
     Window(String),
@@ -69,6 +72,14 @@ impl SceneSource {
         match text.strip_prefix("builtin:") {
             Some(name) => Self::Builtin(name.to_owned()),
             None => Self::File(PathBuf::from(text)),
+        }
+    }
+
+    /// `builtin:NAME` or the file's path.
+    pub fn label(&self) -> String {
+        match self {
+            Self::Builtin(name) => format!("builtin:{name}"),
+            Self::File(path) => path.display().to_string(),
         }
     }
 

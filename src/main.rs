@@ -22,7 +22,7 @@ USAGE:
                     [--device SEL] [--validate]
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
                     [--hdr-format f16|f32] [--fresnel full|schlick] [--specialised on|off]
-                    [--device SEL] [--validate]
+                    [--report DIR] [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
                     [--vsync on|off] [--frames-in-flight N] [--screenshot OUT.png]
                     [--camera-path FILE] [--overlay on|off] [--error-view] [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
@@ -60,7 +60,11 @@ bench submits N frames with frames in flight (default 2; 1 to 3): each waits onl
 the frame that used its slot. It prints the GPU time of each pass (timestamps: median,
 p10, p90), the wall-clock interval between submissions, and the throughput. The
 lighting pipeline is specialised to what the scene's materials use; --specialised off
-measures the general pipeline instead.
+measures the general pipeline instead. --report DIR measures every variant set (Fresnel
+full/Schlick × HDR f32/f16 × specialised/general pipeline) on every built-in scene (or
+the scene named): GPU time per pass and the error of one frame against the f64
+reference, written to DIR as report.md, report.csv and speed-vs-error.png (with the
+Pareto front).
 
 view opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under
 Xvfb) and renders the scene every frame at the window's size, into the swapchain image
@@ -139,6 +143,10 @@ struct Options {
     specialised: bool,
     /// `view`: start in the error view.
     error_view: bool,
+    /// `bench`: write the speed-against-error report here.
+    report: Option<PathBuf>,
+    /// A scene was named on the command line.
+    scene_given: bool,
     device: Option<DeviceSelector>,
     validate: bool,
 }
@@ -176,6 +184,8 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         overlay: true,
         specialised: true,
         error_view: false,
+        report: None,
+        scene_given: false,
         device: None,
         validate: false,
     };
@@ -230,6 +240,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             "--vsync" if command == "view" => o.vsync = on_off(flag, value()?)?,
             "--overlay" if command == "view" => o.overlay = on_off(flag, value()?)?,
             "--specialised" if command == "bench" => o.specialised = on_off(flag, value()?)?,
+            "--report" if command == "bench" => o.report = Some(PathBuf::from(value()?)),
             "--frames-in-flight" if command == "bench" || command == "view" => {
                 o.frames_in_flight = number(flag, value()?)?;
                 if !(1..=combustion::renderer::MAX_FRAMES_IN_FLIGHT).contains(&o.frames_in_flight) {
@@ -246,6 +257,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             _ if !flag.starts_with('-') && !scene_given => {
                 o.scene = SceneSource::parse(flag);
                 scene_given = true;
+                o.scene_given = true;
             }
             _ => {
                 return Err(Error::Usage(format!(
@@ -344,7 +356,61 @@ fn percentile(sorted: &[f64], p: f64) -> f64 {
     sorted[index]
 }
 
+/// `bench --report DIR`: every variant set on the built-in scenes (or the scene named).
+fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
+    use combustion::report::{ReportDesc, VariantSet};
+    let (device, _) = device_and_settings(o)?;
+    let scenes = if o.scene_given {
+        vec![o.scene.clone()]
+    } else {
+        combustion::scene::BUILTIN_SCENES
+            .iter()
+            .map(|name| SceneSource::Builtin((*name).to_owned()))
+            .collect()
+    };
+    let desc = ReportDesc {
+        scenes,
+        sets: VariantSet::all(),
+        width: o.width,
+        height: o.height,
+        frames: o.frames,
+        device,
+    };
+    let started = Instant::now();
+    let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let (rows, device_name) = combustion::report::measure(&desc, |done, total, what| {
+        let width = 30;
+        let filled = done * width / total.max(1);
+        let bar = format!(
+            "[{}{}] {done}/{total} {what:<48.48}",
+            "#".repeat(filled),
+            ".".repeat(width - filled)
+        );
+        // A bar redrawn in place on a terminal; one line per step in a log.
+        if terminal {
+            eprint!("\r{bar}");
+            if done == total {
+                eprintln!();
+            }
+        } else {
+            eprintln!("{}", bar.trim_end());
+        }
+    })?;
+    combustion::report::write(dir, &rows, &desc, &device_name)?;
+    outln!(
+        "wrote {} (report.md, report.csv, speed-vs-error.png): {} scene(s) × {} variant sets in {:.0} s",
+        dir.display(),
+        desc.scenes.len(),
+        desc.sets.len(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
 fn bench(o: &Options) -> Result<(), Error> {
+    if let Some(dir) = &o.report {
+        return bench_report(o, dir);
+    }
     let scene = o.scene.load()?;
     let mut headless = headless(o)?;
     let device_name = {

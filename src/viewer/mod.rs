@@ -249,10 +249,7 @@ fn window_error(error: impl std::fmt::Display) -> String {
 
 /// `builtin:NAME` or the file's path, for the window title.
 fn scene_label(source: &SceneSource) -> String {
-    match source {
-        SceneSource::Builtin(name) => format!("builtin:{name}"),
-        SceneSource::File(path) => path.display().to_string(),
-    }
+    source.label()
 }
 
 /// Opens a window on `desc.scene` and renders until it is closed (or `desc.frames` are

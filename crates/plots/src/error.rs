@@ -29,6 +29,18 @@ pub enum PlotError {
         /// What is accepted.
         expected: &'static str,
     },
+    /// [`plot_speed_vs_error`](crate::plot_speed_vs_error) was given no point.
+    #[error("no variant set given: the speed-against-error plot needs at least one point")]
+    NoPoints,
+    /// A point of [`plot_speed_vs_error`](crate::plot_speed_vs_error) has a time or an
+    /// error that cannot be drawn.
+    #[error("variant set `{label}`: {reason}")]
+    InvalidPoint {
+        /// The point's label.
+        label: String,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// [`plot_dielectric_family`](crate::plot_dielectric_family) was given no η.
     #[error("no η given: the dielectric family plot needs at least one ηt")]
     EmptyEtaList,

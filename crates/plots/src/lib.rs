@@ -10,6 +10,8 @@
 //!   (rendering notes Figure 12).
 //! * [`plot_spectrum`]: a spectrum's n(λ) and k(λ), samples and interpolation, with the RGB
 //!   bands and their band means (rendering notes Figures 8 and 9).
+//! * [`plot_speed_vs_error`]: measured variant sets, time against relative error, with
+//!   their Pareto front ([`pareto_front`]).
 //!
 //! The Fresnel equations are `combustion-optics`' ([`fresnel_conductor`] and
 //! [`fresnel_dielectric`], f64); the band means are `combustion-spectra`'s
@@ -29,6 +31,7 @@ mod error;
 mod font;
 mod reflectance;
 mod spectral;
+mod speed_error;
 
 pub use combustion_spectra::{BuiltinMetal, Spectrum};
 pub use error::PlotError;
@@ -36,6 +39,7 @@ pub use reflectance::{
     plot_dielectric_family, plot_reflectance, PlotMaterial, ReflectancePlot, MAX_FAMILY,
 };
 pub use spectral::plot_spectrum;
+pub use speed_error::{pareto_front, plot_speed_vs_error, SpeedErrorPoint, PARETO_ERROR_TOLERANCE};
 
 use combustion_optics::{ETA_MAX, ETA_MIN};
 

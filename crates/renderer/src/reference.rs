@@ -199,6 +199,8 @@ pub struct ErrorMap {
     pub relative: Vec<f32>,
     pub max_relative: f64,
     pub mean_relative: f64,
+    /// √(mean of the squared per-pixel errors).
+    pub rms_relative: f64,
     pub worst_pixel: (u32, u32),
     /// The GPU's and the reference's radiance at the worst pixel.
     pub worst_values: ([f32; 3], [f64; 3]),
@@ -240,7 +242,7 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
                 let first = chunk * rows_per_chunk * row;
                 scope.spawn(move || {
                     let mut part = ErrorMap::default();
-                    let mut sum = 0.0;
+                    let (mut sum, mut sum_squares) = (0.0, 0.0);
                     for (offset, error) in out.iter_mut().enumerate() {
                         let i = first + offset;
                         let (x, y) = ((i % row) as u32, (i / row) as u32);
@@ -274,13 +276,16 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
                         }
                         *error = pixel_error as f32;
                         sum += pixel_error;
+                        sum_squares += pixel_error * pixel_error;
                         if pixel_error > part.max_relative || part.lit_pixels == 1 {
                             part.max_relative = pixel_error;
                             part.worst_pixel = (x, y);
                             part.worst_values = ([gpu[0], gpu[1], gpu[2]], cpu);
                         }
                     }
-                    part.mean_relative = sum; // the sum, until all chunks are in
+                    // The sums, until all chunks are in.
+                    part.mean_relative = sum;
+                    part.rms_relative = sum_squares;
                     part
                 })
             })
@@ -290,9 +295,10 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
             .map(|h| h.join().expect("an error-map thread panicked"))
             .collect()
     });
-    let mut sum = 0.0;
+    let (mut sum, mut sum_squares) = (0.0, 0.0);
     for part in chunks {
         sum += part.mean_relative;
+        sum_squares += part.rms_relative;
         let first_lit = map.lit_pixels == 0;
         map.lit_pixels += part.lit_pixels;
         map.background_not_black += part.background_not_black;
@@ -307,6 +313,7 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
         }
     }
     map.mean_relative = sum / map.lit_pixels.max(1) as f64;
+    map.rms_relative = (sum_squares / map.lit_pixels.max(1) as f64).sqrt();
     map
 }
 

@@ -1,0 +1,352 @@
+//! `combustion bench --report DIR`: speed against error. For each scene and each
+//! *variant set* (Fresnel model × HDR storage × lighting pipeline), the GPU time of every
+//! pass over N frames after a warm-up (median, p10, p90; timestamps), and the error of
+//! one frame against the f64 reference (`combustion_renderer::reference`: every pixel
+//! re-shaded from its own G-buffer with the full Fresnel equations; max, mean and RMS
+//! relative error). Written as `report.md`, `report.csv` and `speed-vs-error.png` (one
+//! point per variant set — time and error averaged over the scenes — with the Pareto
+//! front).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use combustion_plots::{pareto_front, plot_speed_vs_error, SpeedErrorPoint};
+use combustion_renderer::reference::{error_map, ReferenceShading};
+use combustion_renderer::{FrameInputs, FresnelModel, HdrFormat, Readback, RendererSettings};
+use combustion_vk::DeviceDesc;
+
+use crate::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
+
+/// One combination of the renderer's measured options.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VariantSet {
+    pub fresnel: FresnelModel,
+    pub hdr: HdrFormat,
+    /// Lighting pipeline specialised to the scene (else the general one).
+    pub specialised: bool,
+}
+
+impl VariantSet {
+    /// Every set the report measures.
+    pub fn all() -> Vec<VariantSet> {
+        let mut sets = Vec::new();
+        for hdr in [HdrFormat::Rgba32Float, HdrFormat::Rgba16Float] {
+            for fresnel in [FresnelModel::Full, FresnelModel::Schlick] {
+                for specialised in [true, false] {
+                    sets.push(VariantSet {
+                        fresnel,
+                        hdr,
+                        specialised,
+                    });
+                }
+            }
+        }
+        sets
+    }
+
+    /// A short name, e.g. `full/f32/specialised`.
+    pub fn name(&self) -> String {
+        format!(
+            "{}/{}/{}",
+            match self.fresnel {
+                FresnelModel::Full => "full",
+                FresnelModel::Schlick => "schlick",
+            },
+            match self.hdr {
+                HdrFormat::Rgba32Float => "f32",
+                HdrFormat::Rgba16Float => "f16",
+            },
+            if self.specialised {
+                "specialised"
+            } else {
+                "general"
+            }
+        )
+    }
+}
+
+/// Median and spread of one pass's GPU time, ms.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Spread {
+    pub median: f64,
+    pub p10: f64,
+    pub p90: f64,
+}
+
+impl Spread {
+    fn of(mut values: Vec<f64>) -> Spread {
+        if values.is_empty() {
+            return Spread::default();
+        }
+        values.sort_by(f64::total_cmp);
+        let at = |p: f64| values[((values.len() - 1) as f64 * p).round() as usize];
+        Spread {
+            median: at(0.5),
+            p10: at(0.1),
+            p90: at(0.9),
+        }
+    }
+}
+
+/// One scene under one variant set.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReportRow {
+    pub scene: String,
+    pub set: VariantSet,
+    pub gbuffer: Spread,
+    pub lighting: Spread,
+    pub output: Spread,
+    pub total: Spread,
+    /// Frames timed.
+    pub frames: usize,
+    pub max_relative: f64,
+    pub mean_relative: f64,
+    pub rms_relative: f64,
+    /// Pixels compared with the reference.
+    pub compared: usize,
+}
+
+/// What to measure.
+#[derive(Clone, Debug)]
+pub struct ReportDesc {
+    pub scenes: Vec<SceneSource>,
+    pub sets: Vec<VariantSet>,
+    pub width: u32,
+    pub height: u32,
+    /// Frames timed per scene and set (after one warm-up frame).
+    pub frames: u32,
+    pub device: DeviceDesc,
+}
+
+/// Measures every scene under every variant set; `progress(done, total, what)` is
+/// called before each measurement. The rows, and the device's name.
+pub fn measure(
+    desc: &ReportDesc,
+    mut progress: impl FnMut(usize, usize, &str),
+) -> Result<(Vec<ReportRow>, String), Error> {
+    let mut device_name = String::new();
+    let scenes = desc
+        .scenes
+        .iter()
+        .map(|source| Ok((source.label(), source.load()?)))
+        .collect::<Result<Vec<_>, Error>>()?;
+    let total = scenes.len() * desc.sets.len();
+    let mut rows = Vec::with_capacity(total);
+    // One renderer per HDR format (a renderer's HDR storage is fixed at creation).
+    for hdr in [HdrFormat::Rgba32Float, HdrFormat::Rgba16Float] {
+        let sets: Vec<VariantSet> = desc.sets.iter().copied().filter(|s| s.hdr == hdr).collect();
+        if sets.is_empty() {
+            continue;
+        }
+        let mut headless = Headless::new(&HeadlessDesc {
+            device: desc.device.clone(),
+            settings: RendererSettings {
+                hdr_format: hdr,
+                ..RendererSettings::default()
+            },
+        })?;
+        let renderer = headless.renderer();
+        device_name.clone_from(&renderer.device().info().name);
+        for (label, scene) in &scenes {
+            let gpu = renderer.upload(scene)?;
+            for set in &sets {
+                progress(rows.len(), total, &format!("{label} {}", set.name()));
+                renderer.set_fresnel(set.fresnel);
+                renderer.set_specialised(set.specialised);
+                renderer.prepare(&gpu)?;
+                // The error of one frame (read back), which is also the warm-up.
+                let inputs = FrameInputs::of_scene(&gpu, 1.0);
+                let frame = renderer.render_with(
+                    &gpu,
+                    &inputs,
+                    desc.width,
+                    desc.height,
+                    Readback {
+                        images: true,
+                        gbuffer: true,
+                    },
+                )?;
+                let reference = ReferenceShading::new(&gpu.scene, &inputs, desc.width, desc.height);
+                let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+                let map = error_map(&frame, &reference, threads);
+                renderer.take_completed_timings();
+                for _ in 0..desc.frames {
+                    renderer.submit_offscreen(&gpu, desc.width, desc.height)?;
+                }
+                renderer.finish_offscreen()?;
+                let timings = renderer.take_completed_timings();
+                let pick = |f: fn(&combustion_renderer::PassTimings) -> f64| {
+                    Spread::of(timings.iter().map(f).collect())
+                };
+                rows.push(ReportRow {
+                    scene: label.clone(),
+                    set: *set,
+                    gbuffer: pick(|t| t.gbuffer_ms),
+                    lighting: pick(|t| t.lighting_ms),
+                    output: pick(|t| t.tonemap_ms),
+                    total: pick(|t| t.total_ms),
+                    frames: timings.len(),
+                    max_relative: map.max_relative,
+                    mean_relative: map.mean_relative,
+                    rms_relative: map.rms_relative,
+                    compared: map.lit_pixels,
+                });
+            }
+            renderer.retire(gpu);
+        }
+        let validation = headless.validation_log();
+        drop(headless);
+        check_validation(&validation)?;
+    }
+    progress(total, total, "done");
+    Ok((rows, device_name))
+}
+
+/// Per variant set: its name, the mean over scenes of the total frame time's median and
+/// of the mean relative error, and the largest max relative error.
+pub fn summarise(rows: &[ReportRow]) -> Vec<(VariantSet, f64, f64, f64)> {
+    let mut sets: Vec<VariantSet> = Vec::new();
+    for row in rows {
+        if !sets.contains(&row.set) {
+            sets.push(row.set);
+        }
+    }
+    sets.into_iter()
+        .map(|set| {
+            let of: Vec<&ReportRow> = rows.iter().filter(|r| r.set == set).collect();
+            let n = of.len() as f64;
+            let ms = of.iter().map(|r| r.total.median).sum::<f64>() / n;
+            let mean = of.iter().map(|r| r.mean_relative).sum::<f64>() / n;
+            let max = of.iter().map(|r| r.max_relative).fold(0.0, f64::max);
+            (set, ms, mean, max)
+        })
+        .collect()
+}
+
+/// The CSV: one row per scene and variant set.
+pub fn csv(rows: &[ReportRow]) -> String {
+    let mut out = String::from(
+        "scene,fresnel,hdr,pipeline,frames,gbuffer_ms,gbuffer_p10,gbuffer_p90,lighting_ms,lighting_p10,lighting_p90,output_ms,output_p10,output_p90,total_ms,total_p10,total_p90,max_relative_error,mean_relative_error,rms_relative_error,pixels_compared\n",
+    );
+    for r in rows {
+        let name = r.set.name();
+        let parts: Vec<&str> = name.split('/').collect();
+        let _ = write!(
+            out,
+            "{},{},{},{},{}",
+            csv_field(&r.scene),
+            parts[0],
+            parts[1],
+            parts[2],
+            r.frames
+        );
+        for s in [r.gbuffer, r.lighting, r.output, r.total] {
+            let _ = write!(out, ",{:.3},{:.3},{:.3}", s.median, s.p10, s.p90);
+        }
+        let _ = writeln!(
+            out,
+            ",{:.3e},{:.3e},{:.3e},{}",
+            r.max_relative, r.mean_relative, r.rms_relative, r.compared
+        );
+    }
+    out
+}
+
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_owned()
+    }
+}
+
+/// The Markdown report.
+pub fn markdown(rows: &[ReportRow], desc: &ReportDesc, device: &str) -> String {
+    let mut out = format!(
+        "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4).\n\nVariant sets: Fresnel `full` (the equations with complex η + ik and the outside medium) or `schlick` (Schlick's curve through the exact normal-incidence reflectance); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`.\n\n",
+        desc.width, desc.height, desc.frames
+    );
+    let summary = summarise(rows);
+    let points: Vec<SpeedErrorPoint> = summary
+        .iter()
+        .map(|(set, ms, mean, _)| SpeedErrorPoint {
+            label: set.name(),
+            ms: *ms,
+            error: *mean,
+        })
+        .collect();
+    let front = pareto_front(&points);
+    let _ = write!(
+        out,
+        "Pareto front: the sets less wrong, by more than {:.0} % of the error, than every faster set (errors closer than that differ by rounding).\n\n",
+        combustion_plots::PARETO_ERROR_TOLERANCE * 100.0
+    );
+    out += "## Variant sets (mean over the scenes)\n\n| variant set | frame ms | mean relative error | largest max relative error | Pareto front |\n|---|---|---|---|---|\n";
+    for (i, (set, ms, mean, max)) in summary.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "| {} | {ms:.2} | {mean:.2e} | {max:.2e} | {} |",
+            set.name(),
+            if front.contains(&i) { "yes" } else { "" }
+        );
+    }
+    out += "\n![speed against error](speed-vs-error.png)\n\n## Per scene\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    for r in rows {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.2} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {} |",
+            r.scene,
+            r.set.name(),
+            r.gbuffer.median,
+            r.lighting.median,
+            r.lighting.p10,
+            r.lighting.p90,
+            r.output.median,
+            r.total.median,
+            r.max_relative,
+            r.mean_relative,
+            r.rms_relative,
+            r.compared
+        );
+    }
+    out
+}
+
+/// Writes `report.md`, `report.csv` and `speed-vs-error.png` into `dir` (made if needed).
+pub fn write(dir: &Path, rows: &[ReportRow], desc: &ReportDesc, device: &str) -> Result<(), Error> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        Error::Output(output::OutputError::Io {
+            path: dir.to_path_buf(),
+            source: e,
+        })
+    })?;
+    let summary = summarise(rows);
+    let points: Vec<SpeedErrorPoint> = summary
+        .iter()
+        .map(|(set, ms, mean, _)| SpeedErrorPoint {
+            label: set.name(),
+            ms: *ms,
+            error: *mean,
+        })
+        .collect();
+    let png = plot_speed_vs_error(
+        "Speed against error",
+        &format!(
+            "{device}, {}×{}; each point a variant set, mean over {} scene(s); red: Pareto front",
+            desc.width,
+            desc.height,
+            desc.scenes.len()
+        ),
+        "frame time, GPU ms (median)",
+        &points,
+        1000,
+        620,
+    )?;
+    output::write_file_atomically(&dir.join("speed-vs-error.png"), &png.bytes)?;
+    output::write_file_atomically(&dir.join("report.csv"), csv(rows).as_bytes())?;
+    output::write_file_atomically(
+        &dir.join("report.md"),
+        markdown(rows, desc, device).as_bytes(),
+    )?;
+    Ok(())
+}
