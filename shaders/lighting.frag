@@ -110,6 +110,9 @@ void main() {
             float distance_squared = max(dot(to_light, to_light), 1e-12);
             l = to_light * inversesqrt(distance_squared);
             irradiance = light.power_kind.rgb / distance_squared;
+            if (light.spot_cone.z != 0.0) {  // a range: the window (none: exact 1/d²)
+                irradiance *= range_attenuation(light, distance_squared);
+            }
             if (light.power_kind.a == LIGHT_KIND_SPOT) {
                 irradiance *= spot_attenuation(light, l);
             }

@@ -907,6 +907,11 @@ fn round3(x: f32) -> f32 {
     (x * 1000.0).round() / 1000.0
 }
 
+/// `, range R m` for a light with a range.
+fn fmt_range(range: Option<f32>) -> String {
+    range.map_or(String::new(), |r| format!(", range {r} m"))
+}
+
 fn fmt_vec(v: glam::Vec3) -> String {
     format!("({}, {}, {})", round3(v.x), round3(v.y), round3(v.z))
 }
@@ -992,11 +997,13 @@ fn describe_scene(scene: &Scene) -> String {
             Light::Point {
                 position,
                 intensity,
+                range,
             } => writeln!(
                 out,
-                "  point at {}, intensity {} W/sr",
+                "  point at {}, intensity {} W/sr{}",
                 fmt_vec(*position),
-                fmt3(*intensity)
+                fmt3(*intensity),
+                fmt_range(*range)
             ),
             Light::Directional {
                 direction,
@@ -1013,14 +1020,16 @@ fn describe_scene(scene: &Scene) -> String {
                 intensity,
                 inner_cone,
                 outer_cone,
+                range,
             } => writeln!(
                 out,
-                "  spot at {} along {}, intensity {} W/sr, cone {:.1}°–{:.1}°",
+                "  spot at {} along {}, intensity {} W/sr, cone {:.1}°–{:.1}°{}",
                 fmt_vec(*position),
                 fmt_vec(direction.normalize()),
                 fmt3(*intensity),
                 inner_cone.to_degrees(),
-                outer_cone.to_degrees()
+                outer_cone.to_degrees(),
+                fmt_range(*range)
             ),
         };
     }

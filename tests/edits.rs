@@ -57,6 +57,7 @@ fn edits_between_frames_render_as_a_fresh_upload() {
             scene.lights.push(Light::Point {
                 position: Vec3::new(0.0, 2.0, 4.0),
                 intensity: [3.0, 3.0, 3.0],
+                range: None,
             });
         })
         .unwrap();

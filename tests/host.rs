@@ -482,6 +482,7 @@ fn record_refuses_bad_arguments_before_recording() {
     bad_lights.push(combustion::scene::Light::Point {
         position: glam::Vec3::ZERO,
         intensity: [f32::INFINITY, 0.0, 0.0],
+        range: None,
     });
     let error = renderer
         .record(

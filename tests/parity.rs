@@ -6,7 +6,7 @@ mod common;
 
 use combustion::renderer::reference::{error_map, ErrorMap, ReferenceShading};
 use combustion::renderer::{FrameInputs, FresnelModel, HdrFormat, Readback, RendererSettings};
-use combustion::scene::builtin_scene;
+use combustion::scene::{builtin_scene, Light, Scene};
 
 fn parity(scene_name: &str, width: u32, height: u32) -> ErrorMap {
     parity_with(scene_name, width, height, FresnelModel::Full)
@@ -15,7 +15,24 @@ fn parity(scene_name: &str, width: u32, height: u32) -> ErrorMap {
 /// The GPU frame rendered with `fresnel`, against the f64 reference with the full
 /// Fresnel equations.
 fn parity_with(scene_name: &str, width: u32, height: u32, fresnel: FresnelModel) -> ErrorMap {
-    let scene = builtin_scene(scene_name).unwrap();
+    parity_of(
+        &builtin_scene(scene_name).unwrap(),
+        scene_name,
+        width,
+        height,
+        fresnel,
+    )
+}
+
+/// As [`parity_with`], for any scene.
+fn parity_of(
+    scene: &Scene,
+    scene_name: &str,
+    width: u32,
+    height: u32,
+    fresnel: FresnelModel,
+) -> ErrorMap {
+    let scene = scene.clone();
     let frame = common::render(
         &scene,
         width,
@@ -193,4 +210,66 @@ fn measure_schlick_error() {
             report.max_relative, report.mean_relative
         );
     }
+}
+
+/// Lights with a KHR_lights_punctual range: the window (max(0, 1 − (d/r)⁴))² on the
+/// inverse-square law, on the GPU and in the f64 reference, with ranges that end inside
+/// the sphere grid (so the window's whole falloff, and its zero, are on screen).
+#[test]
+fn ranged_lights_parity() {
+    let mut scene = builtin_scene("spheres").unwrap();
+    let mut ranged = 0;
+    for light in &mut scene.lights {
+        if let Light::Point {
+            position, range, ..
+        } = light
+        {
+            *range = Some(position.length() * 0.9);
+            ranged += 1;
+        }
+    }
+    assert!(ranged > 0);
+    let report = parity_of(
+        &scene,
+        "spheres with ranged lights",
+        192,
+        128,
+        FresnelModel::Full,
+    );
+    assert_eq!(report.non_finite, 0);
+    assert!(report.lit_pixels > 2000, "{}", report.lit_pixels);
+    assert!(
+        report.max_relative < PARITY_MAX_RELATIVE,
+        "max {:.3e}",
+        report.max_relative
+    );
+    assert!(
+        report.mean_relative < PARITY_MEAN_RELATIVE,
+        "mean {:.3e}",
+        report.mean_relative
+    );
+    // The window only ever darkens (w ≤ 1 per light, and rounding is monotone), and it
+    // does darken part of the frame.
+    let settings = RendererSettings {
+        hdr_format: HdrFormat::Rgba32Float,
+        ..RendererSettings::default()
+    };
+    let readback = Readback {
+        images: true,
+        gbuffer: false,
+    };
+    let with = common::render(&scene, 192, 128, settings, readback);
+    let without = common::render(
+        &builtin_scene("spheres").unwrap(),
+        192,
+        128,
+        settings,
+        readback,
+    );
+    let mut darker = 0;
+    for (a, b) in with.hdr.iter().zip(&without.hdr) {
+        assert!((0..3).all(|c| a[c] <= b[c]), "{a:?} brighter than {b:?}");
+        darker += usize::from(a[..3] != b[..3]);
+    }
+    assert!(darker > 1000, "{darker} pixels darkened by the window");
 }

@@ -262,6 +262,7 @@ pub fn lights_at(base: &[Light], n: u64) -> Vec<Light> {
         lights.push(Light::Point {
             position: glam::Vec3::new(0.0, 3.0, 3.0),
             intensity: [5.0, 5.0, 5.0],
+            range: None,
         });
     }
     lights

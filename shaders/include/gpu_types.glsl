@@ -36,9 +36,22 @@ struct GpuLight {
     vec4 spot_axis;                 // spot: xyz = unit direction of travel along the cone axis
     vec4 spot_cone;                 // spot: x = 1 / max(1e-3, cos(inner) − cos(outer)),
                                     //       y = −cos(outer) · x   (KHR_lights_punctual falloff)
+                                    // point, spot: z = 1/range² (0: no range, no window)
 };
 
 // Angular falloff of a spot light for unit direction l from the surface to the light.
+// The range window (max(0, 1 − (d²/r²)²))² at squared distance d2; 1 without range
+// (combustion_scene::range_window; CPU mirror GpuLight::range_attenuation).
+float range_attenuation(GpuLight light, float d2) {
+    float inverse_r2 = light.spot_cone.z;
+    if (inverse_r2 == 0.0) {
+        return 1.0;
+    }
+    float x2 = d2 * inverse_r2;
+    float w = max(1.0 - x2 * x2, 0.0);
+    return w * w;
+}
+
 float spot_attenuation(GpuLight light, vec3 l) {
     float cos_axis = dot(light.spot_axis.xyz, -l);
     float a = clamp(cos_axis * light.spot_cone.x + light.spot_cone.y, 0.0, 1.0);

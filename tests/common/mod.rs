@@ -341,17 +341,22 @@ impl AnalyticSpheres {
 }
 
 /// Direction to the light and the irradiance it gives a surface facing it at `p`, in f64
-/// (KHR_lights_punctual: point and spot lights fall off as 1/d², spot lights also as the
-/// square of the clamped linear ramp between the cone cosines). None outside a spot cone.
+/// (KHR_lights_punctual: point and spot lights fall off as 1/d², windowed to 0 at their
+/// range if they have one, spot lights also as the square of the clamped linear ramp
+/// between the cone cosines). None outside a spot cone.
 pub fn light_at(light: &Light, p: DVec3) -> Option<(DVec3, [f64; 3])> {
     match light {
         Light::Point {
             position,
             intensity,
+            range,
         } => {
             let to = position.as_dvec3() - p;
             let d2 = to.length_squared();
-            Some((to.normalize(), intensity.map(|i| f64::from(i) / d2)))
+            let w = range.map_or(1.0, |r| {
+                combustion::scene::range_window(d2.sqrt(), f64::from(r))
+            });
+            Some((to.normalize(), intensity.map(|i| f64::from(i) * w / d2)))
         }
         Light::Directional {
             direction,
@@ -363,6 +368,7 @@ pub fn light_at(light: &Light, p: DVec3) -> Option<(DVec3, [f64; 3])> {
             intensity,
             inner_cone,
             outer_cone,
+            range,
         } => {
             let to = position.as_dvec3() - p;
             let d2 = to.length_squared();
@@ -371,7 +377,10 @@ pub fn light_at(light: &Light, p: DVec3) -> Option<(DVec3, [f64; 3])> {
             let (cos_inner, cos_outer) =
                 (f64::from(*inner_cone).cos(), f64::from(*outer_cone).cos());
             let ramp = ((cos_axis - cos_outer) / (cos_inner - cos_outer).max(1e-3)).clamp(0.0, 1.0);
-            let a = ramp * ramp;
+            let w = range.map_or(1.0, |r| {
+                combustion::scene::range_window(d2.sqrt(), f64::from(r))
+            });
+            let a = ramp * ramp * w;
             (a > 0.0).then(|| (l, intensity.map(|i| f64::from(i) * a / d2)))
         }
     }

@@ -115,9 +115,11 @@ impl GpuLight {
             Light::Point {
                 position,
                 intensity,
+                range,
             } => Self {
                 position_or_direction: position.extend(1.0).to_array(),
                 power_kind: power(intensity, LIGHT_KIND_POINT),
+                spot_cone: [0.0, 0.0, inverse_range_squared(*range), 0.0],
                 ..Self::zeroed()
             },
             Light::Directional {
@@ -134,16 +136,34 @@ impl GpuLight {
                 intensity,
                 inner_cone,
                 outer_cone,
+                range,
             } => {
                 let scale = 1.0 / (inner_cone.cos() - outer_cone.cos()).max(1e-3);
                 Self {
                     position_or_direction: position.extend(1.0).to_array(),
                     power_kind: power(intensity, LIGHT_KIND_SPOT),
                     spot_axis: direction.normalize().extend(0.0).to_array(),
-                    spot_cone: [scale, -outer_cone.cos() * scale, 0.0, 0.0],
+                    spot_cone: [
+                        scale,
+                        -outer_cone.cos() * scale,
+                        inverse_range_squared(*range),
+                        0.0,
+                    ],
                 }
             }
         }
+    }
+
+    /// CPU mirror of `range_attenuation` (gpu_types.glsl) at squared distance `d2`, in
+    /// f64: (max(0, 1 − (d²/r²)²))², or 1 for a light without range.
+    pub fn range_attenuation(&self, d2: f64) -> f64 {
+        let inverse_r2 = f64::from(self.spot_cone[2]);
+        if inverse_r2 == 0.0 {
+            return 1.0;
+        }
+        let x2 = d2 * inverse_r2;
+        let w = (1.0 - x2 * x2).max(0.0);
+        w * w
     }
 
     /// CPU mirror of `spot_attenuation` (gpu_types.glsl), in f64; 1 for other lights.
@@ -157,6 +177,11 @@ impl GpuLight {
             .clamp(0.0, 1.0);
         a * a
     }
+}
+
+/// 1/range² of a light with a range (its window, `range_attenuation`), 0 without.
+fn inverse_range_squared(range: Option<f32>) -> f32 {
+    range.map_or(0.0, |r| 1.0 / (r * r))
 }
 
 /// The material table of a scene, outside IORs resolved, texture slots from

@@ -163,7 +163,7 @@ impl ReferenceShading {
                 let to = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
                 let d2 = (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).max(1e-12);
                 let l = normalize(to);
-                let a = light.attenuation(l) / d2;
+                let a = light.attenuation(l) * light.range_attenuation(d2) / d2;
                 (l, [power[0] * a, power[1] * a, power[2] * a])
             } else {
                 ([-p[0], -p[1], -p[2]], [power[0], power[1], power[2]])

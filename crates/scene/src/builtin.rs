@@ -104,10 +104,12 @@ fn spheres() -> Scene {
             Light::Point {
                 position: Vec3::new(-4.0, 4.0, 6.0),
                 intensity: [60.0; 3],
+                range: None,
             },
             Light::Point {
                 position: Vec3::new(5.0, -2.0, 5.0),
                 intensity: [12.0, 13.0, 15.0],
+                range: None,
             },
             Light::Directional {
                 direction: Vec3::new(-0.3, -1.0, -0.4),
@@ -257,15 +259,18 @@ fn hard_cases() -> Scene {
             Light::Point {
                 position: camera_position,
                 intensity: [8.0; 3],
+                range: None,
             },
             Light::Point {
                 position: opposite,
                 intensity: [20.0; 3],
+                range: None,
             },
             // Behind every sphere.
             Light::Point {
                 position: Vec3::new(0.0, 0.3, -3.0),
                 intensity: [15.0; 3],
+                range: None,
             },
             // Grazing on the floor: n·l = 0.001.
             Light::Directional {
@@ -403,6 +408,7 @@ fn gold_copper() -> Scene {
             Light::Point {
                 position: camera.position,
                 intensity: [20.0; 3],
+                range: None,
             },
             light_from(Vec3::new(-0.5, 0.45, -0.75), [2.5; 3]),
             light_from(Vec3::new(0.5, -0.3, -0.8), [2.5; 3]),
@@ -442,6 +448,7 @@ fn dielectrics() -> Scene {
             Light::Point {
                 position: camera.position,
                 intensity: [30.0; 3],
+                range: None,
             },
             light_from(Vec3::new(0.5, 0.55, -0.7), [2.0; 3]),
         ],

@@ -218,6 +218,7 @@ fn textured_scene() -> Scene {
             Light::Point {
                 position: Vec3::new(-2.0, 3.0, 2.0),
                 intensity: [30.0, 28.0, 25.0],
+                range: None,
             },
             Light::Spot {
                 position: Vec3::new(2.0, 3.0, 1.0),
@@ -225,6 +226,7 @@ fn textured_scene() -> Scene {
                 intensity: [40.0, 40.0, 50.0],
                 inner_cone: 0.2,
                 outer_cone: 0.5,
+                range: None,
             },
             Light::Directional {
                 direction: Vec3::new(0.2, -1.0, -0.5),
@@ -555,6 +557,47 @@ fn builtin_scenes_round_trip_exactly() {
         assert!(report.warnings.is_empty(), "{report}");
         let _ = std::fs::remove_dir_all(dir);
     }
+}
+
+/// KHR_lights_punctual `range` is read and written; a range that is not a finite
+/// number above 0 is refused with the light named.
+#[test]
+fn light_ranges_round_trip_and_bad_ranges_are_refused() {
+    let mut scene = builtin_scene("spheres").unwrap();
+    for (i, light) in scene.lights.iter_mut().enumerate() {
+        if let Light::Point { range, .. } = light {
+            *range = Some(4.0 + i as f32);
+        }
+    }
+    scene.lights.push(Light::Spot {
+        position: Vec3::new(0.0, 3.0, 2.0),
+        direction: Vec3::new(0.0, -1.0, -0.5),
+        intensity: [10.0; 3],
+        inner_cone: 0.3,
+        outer_cone: 0.6,
+        range: Some(7.5),
+    });
+    let dir = temp_dir("ranges");
+    let path = dir.join("ranges.gltf");
+    save_gltf(&scene, &path).unwrap();
+    let (loaded, _) = import(&path, &ImportOptions::default()).unwrap();
+    assert_same_scene(&scene, &loaded);
+    assert!(loaded
+        .lights
+        .iter()
+        .any(|l| matches!(l, Light::Spot { range: Some(r), .. } if *r == 7.5)));
+    let mut json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    json["extensions"]["KHR_lights_punctual"]["lights"][0]["range"] = (-1.0).into();
+    std::fs::write(&path, json.to_string()).unwrap();
+    let error = import(&path, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("light 0") && error.contains("range -1"),
+        "{error}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]

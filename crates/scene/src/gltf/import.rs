@@ -636,11 +636,13 @@ impl Importer<'_> {
                 light.color, light.intensity
             )));
         }
-        if let Some(range) = light.range {
-            log::debug!(
-                "{}: light {index}: range {range} ignored (lights follow the inverse-square law to infinity)",
-                self.file.display()
-            );
+        // The range is the light's own (node scale does not change it); its window on
+        // the inverse-square law is `crate::range_window`. Directional lights have none.
+        let range = light.range;
+        if let Some(r) = range {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(err(format!("range {r} must be a finite number above 0")));
+            }
         }
         let position = world.w_axis.truncate();
         let direction = -world.z_axis.truncate();
@@ -653,6 +655,7 @@ impl Importer<'_> {
             Checked::Valid(Type::Point) => Light::Point {
                 position,
                 intensity: power,
+                range,
             },
             Checked::Valid(Type::Directional) => Light::Directional {
                 direction,
@@ -689,6 +692,7 @@ impl Importer<'_> {
                     intensity: power,
                     inner_cone: inner,
                     outer_cone: outer,
+                    range,
                 }
             }
             Checked::Invalid => return Err(err("invalid type".into())),

@@ -371,11 +371,18 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
     }
     let mut lights = Vec::new();
     for (i, light) in scene.lights.iter().enumerate() {
-        let (kind, matrix, power, spot) = match light {
+        let (kind, matrix, power, spot, range) = match light {
             Light::Point {
                 position,
                 intensity,
-            } => ("point", Mat4::from_translation(*position), intensity, None),
+                range,
+            } => (
+                "point",
+                Mat4::from_translation(*position),
+                intensity,
+                None,
+                *range,
+            ),
             Light::Directional {
                 direction,
                 irradiance,
@@ -384,6 +391,7 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
                 aim_matrix(Vec3::ZERO, *direction),
                 irradiance,
                 None,
+                None,
             ),
             Light::Spot {
                 position,
@@ -391,6 +399,7 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
                 intensity,
                 inner_cone,
                 outer_cone,
+                range,
             } => (
                 "spot",
                 aim_matrix(*position, *direction),
@@ -398,12 +407,16 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
                 Some(
                     json!({ "innerConeAngle": num(*inner_cone), "outerConeAngle": num(*outer_cone) }),
                 ),
+                *range,
             ),
         };
         let (color, intensity) = color_intensity(*power);
         let mut light = json!({ "type": kind, "color": nums(&color), "intensity": num(intensity) });
         if let Some(spot) = spot {
             light["spot"] = spot;
+        }
+        if let Some(range) = range {
+            light["range"] = num(range);
         }
         lights.push(light);
         nodes.push(json!({
