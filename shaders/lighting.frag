@@ -17,7 +17,8 @@
 layout(push_constant) uniform LightingPush {
     mat4 inverse_view_projection;
     vec4 camera_position;
-    uvec4 counts;  // x: light count; y: debug view (DEBUG_VIEWS variant; 0: none)
+    uvec4 counts;  // x: light count; y: debug view (DEBUG_VIEWS variant; 0: none);
+                   // z: tiles across (0: no culling, every light); w: tile list stride
 } push;
 
 #ifdef DEBUG_VIEWS
@@ -78,6 +79,17 @@ void main() {
 
     // The view-dependent half of the BRDF once per pixel; per light only the rest.
     BrdfView view = brdf_view(m, n, t, b, v);
+
+    // Culled frames: only the lights the tile's list names, in index order (the same
+    // sum as over every light, less terms that are exactly 0 here).
+    bool culled = push.counts.z != 0u;
+    uint list = 0u;
+    uint light_count = push.counts.x;
+    if (culled) {
+        uvec2 tile = uvec2(pixel) / 16u;
+        list = (tile.y * push.counts.z + tile.x) * push.counts.w;
+        light_count = tile_lights[list];
+    }
 #ifdef DEBUG_VIEWS
     if (push.counts.y != 0u) {
         vec3 l0 = vec3(0.0, 0.0, 1.0);
@@ -96,12 +108,14 @@ void main() {
         surface.anisotropy = nra.w;
         surface.material = md.x;
         surface.distance = length(push.camera_position.xyz - position);
+        surface.tile_light_fraction = float(light_count) / float(max(push.counts.x, 1u));
         out_radiance = vec4(debug_view_radiance(push.counts.y, surface, m, view, l0, push.counts.x > 0u), 1.0);
         return;
     }
 #endif
     vec3 radiance = vec3(0.0);
-    for (uint i = 0u; i < push.counts.x; ++i) {
+    for (uint j = 0u; j < light_count; ++j) {
+        uint i = culled ? tile_lights[list + 1u + j] : j;
         GpuLight light = lights[i];
         vec3 l;
         vec3 irradiance;

@@ -151,6 +151,39 @@ pub fn default_light_rig(camera: &combustion_scene::Camera) -> Vec<combustion_sc
     ]
 }
 
+/// `scene` with `n` more point lights, each with a range of a fifth of the scene's
+/// diagonal, scattered through its bounding box (a fixed sequence: the same lights on
+/// every run), for measuring how frame time grows with localised lights. Intensity is
+/// (range/4)² W/sr × a colour in [0.5, 1.5)³: about 1 W/m² at a quarter of the range.
+pub fn with_localised_lights(scene: &Scene, n: usize) -> Scene {
+    let mut out = scene.clone();
+    let (lo, hi) = scene
+        .world_bounds()
+        .unwrap_or((glam::Vec3::splat(-1.0), glam::Vec3::splat(1.0)));
+    let range = ((hi - lo).length() * 0.2).max(1e-3);
+    let mut state = 0x9e37_79b9_u32;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        (state >> 8) as f32 / (1u32 << 24) as f32
+    };
+    let power = (range / 4.0) * (range / 4.0);
+    for _ in 0..n {
+        let t = glam::Vec3::new(next(), next(), next());
+        out.lights.push(combustion_scene::Light::Point {
+            position: lo + (hi - lo) * t,
+            intensity: [
+                power * (0.5 + next()),
+                power * (0.5 + next()),
+                power * (0.5 + next()),
+            ],
+            range: Some(range),
+        });
+    }
+    out
+}
+
 /// How to set up headless rendering.
 #[derive(Clone, Debug, Default)]
 pub struct HeadlessDesc {

@@ -22,7 +22,8 @@ USAGE:
                     [--device SEL] [--validate]
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
                     [--hdr-format f16|f32] [--fresnel full|schlick] [--specialised on|off]
-                    [--report DIR] [--device SEL] [--validate]
+                    [--extra-lights N] [--culling auto|always|never] [--report DIR]
+                    [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
                     [--vsync on|off] [--frames-in-flight N] [--screenshot OUT.png]
                     [--camera-path FILE] [--overlay on|off] [--error-view] [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
@@ -60,7 +61,10 @@ bench submits N frames with frames in flight (default 2; 1 to 3): each waits onl
 the frame that used its slot. It prints the GPU time of each pass (timestamps: median,
 p10, p90), the wall-clock interval between submissions, and the throughput. The
 lighting pipeline is specialised to what the scene's materials use; --specialised off
-measures the general pipeline instead. --report DIR measures every variant set (Fresnel
+measures the general pipeline instead. --extra-lights N adds N point lights with a
+range (a fifth of the scene's size) scattered through it; --culling chooses when
+frames cull their lights into 16×16-pixel tile lists (auto: when a light has a range;
+the culling pass is timed with the lighting pass). --report DIR measures every variant set (Fresnel
 full/Schlick × HDR f32/f16 × specialised/general pipeline) on every built-in scene (or
 the scene named): GPU time per pass and the error of one frame against the f64
 reference, written to DIR as report.md, report.csv and speed-vs-error.png (with the
@@ -145,6 +149,10 @@ struct Options {
     error_view: bool,
     /// `bench`: write the speed-against-error report here.
     report: Option<PathBuf>,
+    /// `bench`: localised lights (with range) added to the scene.
+    extra_lights: usize,
+    /// `bench`: when frames cull their lights.
+    culling: combustion::renderer::LightCulling,
     /// A scene was named on the command line.
     scene_given: bool,
     device: Option<DeviceSelector>,
@@ -185,6 +193,8 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         specialised: true,
         error_view: false,
         report: None,
+        extra_lights: 0,
+        culling: combustion::renderer::LightCulling::Auto,
         scene_given: false,
         device: None,
         validate: false,
@@ -241,6 +251,27 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             "--overlay" if command == "view" => o.overlay = on_off(flag, value()?)?,
             "--specialised" if command == "bench" => o.specialised = on_off(flag, value()?)?,
             "--report" if command == "bench" => o.report = Some(PathBuf::from(value()?)),
+            "--extra-lights" if command == "bench" => {
+                o.extra_lights = number(flag, value()?)?;
+                if o.extra_lights > 65536 {
+                    return Err(Error::Usage(format!(
+                        "--extra-lights: {} is more than 65536",
+                        o.extra_lights
+                    )));
+                }
+            }
+            "--culling" if command == "bench" => {
+                o.culling = match value()? {
+                    "auto" => combustion::renderer::LightCulling::Auto,
+                    "always" => combustion::renderer::LightCulling::Always,
+                    "never" => combustion::renderer::LightCulling::Never,
+                    other => {
+                        return Err(Error::Usage(format!(
+                            "--culling: `{other}` is not auto, always or never"
+                        )))
+                    }
+                }
+            }
             "--frames-in-flight" if command == "bench" || command == "view" => {
                 o.frames_in_flight = number(flag, value()?)?;
                 if !(1..=combustion::renderer::MAX_FRAMES_IN_FLIGHT).contains(&o.frames_in_flight) {
@@ -411,7 +442,7 @@ fn bench(o: &Options) -> Result<(), Error> {
     if let Some(dir) = &o.report {
         return bench_report(o, dir);
     }
-    let scene = o.scene.load()?;
+    let scene = combustion::with_localised_lights(&o.scene.load()?, o.extra_lights);
     let mut headless = headless(o)?;
     let device_name = {
         let renderer = headless.renderer();
@@ -420,6 +451,7 @@ fn bench(o: &Options) -> Result<(), Error> {
     let renderer = headless.renderer();
     let frames_in_flight = renderer.settings().frames_in_flight;
     renderer.set_specialised(o.specialised);
+    renderer.set_light_culling(o.culling);
     let gpu_scene = renderer.upload(&scene)?;
     let features = renderer.lighting_features(&gpu_scene);
     // One warm-up frame (first-touch allocations, driver caches) is not counted.
@@ -467,6 +499,26 @@ fn bench(o: &Options) -> Result<(), Error> {
             "general (every feature)".to_owned()
         } else {
             format!("specialised to {features:?}")
+        }
+    );
+    let ranged = scene
+        .lights
+        .iter()
+        .filter(|l| {
+            matches!(
+                l,
+                Light::Point { range: Some(_), .. } | Light::Spot { range: Some(_), .. }
+            )
+        })
+        .count();
+    outln!(
+        "lights: {} ({ranged} with a range); light culling: {:?} ({})",
+        scene.lights.len(),
+        o.culling,
+        if o.culling.culls(&scene.lights) {
+            "culled into tile lists"
+        } else {
+            "every pixel loops over every light"
         }
     );
     outln!("{:<10} {:>9} {:>9} {:>9}", "pass", "median", "p10", "p90");

@@ -21,6 +21,7 @@
 #define DEBUG_VIEW_SMITH 10u
 #define DEBUG_VIEW_FRESNEL 11u
 #define DEBUG_VIEW_DIFFUSE 12u
+#define DEBUG_VIEW_LIGHTS_PER_TILE 13u
 
 struct DebugSurface {
     vec3 base_color;
@@ -31,6 +32,7 @@ struct DebugSurface {
     float anisotropy;
     uint material;
     float distance;
+    float tile_light_fraction;  // lights the pixel's tile loops over / the frame's lights
 };
 
 // The radiance the tone curve 1 − e^(−x) maps to the linear value y.
@@ -72,6 +74,8 @@ vec3 debug_view_radiance(uint which, DebugSurface s, BrdfInputs m, BrdfView view
     } else if (which == DEBUG_VIEW_DEPTH) {
         // Distance d from the eye as d / (1 + d): monotonic, 0.5 at one unit.
         return debug_code(vec3(s.distance / (1.0 + s.distance)));
+    } else if (which == DEBUG_VIEW_LIGHTS_PER_TILE) {
+        return debug_code(vec3(s.tile_light_fraction));
     }
     // The BRDF's terms for the frame's first light (black without lights or below the
     // horizon), in the shading frame the lighting pass uses.

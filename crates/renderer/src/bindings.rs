@@ -252,6 +252,7 @@ impl SetWriter {
 
 const FRAGMENT: vk::ShaderStageFlags = vk::ShaderStageFlags::FRAGMENT;
 const VERTEX: vk::ShaderStageFlags = vk::ShaderStageFlags::VERTEX;
+const COMPUTE: vk::ShaderStageFlags = vk::ShaderStageFlags::COMPUTE;
 
 /// The material table, read by the G-buffer and the lighting passes.
 const MATERIALS: Binding = Binding::new(
@@ -343,6 +344,16 @@ pub static LIGHTING: SetDecl = SetDecl {
             },
             FRAGMENT,
         ),
+        // Per 16×16 tile: the number of lights that can reach it, then their indices
+        // (written by the light-culling pass; read only in frames that cull).
+        Binding::new(
+            "tile_lights",
+            BindingKind::StorageBuffer {
+                block: "TileLights",
+                element: "uint",
+            },
+            FRAGMENT,
+        ),
         Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT).only_with("EMISSIVE"),
     ],
     includes: &["gpu_types.glsl"],
@@ -354,6 +365,33 @@ pub static OUTPUT: SetDecl = SetDecl {
     set: 0,
     bindings: &[Binding::new("hdr_image", BindingKind::Texture2D, FRAGMENT)],
     includes: &[],
+};
+
+/// Tiled light culling (compute): the G-buffer depth and the frame's lights in, each
+/// tile's light list out.
+pub static LIGHT_CULL: SetDecl = SetDecl {
+    name: "light_cull",
+    set: 0,
+    bindings: &[
+        Binding::new("gbuffer_depth", BindingKind::Texture2D, COMPUTE),
+        Binding::new(
+            "lights",
+            BindingKind::StorageBuffer {
+                block: "Lights",
+                element: "GpuLight",
+            },
+            COMPUTE,
+        ),
+        Binding::new(
+            "tile_lights",
+            BindingKind::RwStorageBuffer {
+                block: "TileLights",
+                element: "uint",
+            },
+            COMPUTE,
+        ),
+    ],
+    includes: &["gpu_types.glsl"],
 };
 
 /// The text overlay (drawn in the output pass): the frame's quads, the font atlas and the
@@ -391,7 +429,14 @@ pub static OVERLAY: SetDecl = SetDecl {
 };
 
 /// Every set, for generating the headers.
-pub static ALL: [&SetDecl; 5] = [&GBUFFER, &MATERIAL_TEXTURES, &LIGHTING, &OUTPUT, &OVERLAY];
+pub static ALL: [&SetDecl; 6] = [
+    &GBUFFER,
+    &MATERIAL_TEXTURES,
+    &LIGHTING,
+    &OUTPUT,
+    &OVERLAY,
+    &LIGHT_CULL,
+];
 
 #[cfg(test)]
 mod tests {
@@ -407,9 +452,9 @@ mod tests {
             "layout(std430, set = 0, binding = 5) readonly buffer Lights { GpuLight lights[]; };"
         ));
         assert!(glsl.contains(
-            "#ifdef EMISSIVE\nlayout(set = 0, binding = 7) uniform texture2D gbuffer_emissive;\n#endif"
+            "#ifdef EMISSIVE\nlayout(set = 0, binding = 8) uniform texture2D gbuffer_emissive;\n#endif"
         ));
-        assert_eq!(LIGHTING.index("gbuffer_emissive"), 7);
+        assert_eq!(LIGHTING.index("gbuffer_emissive"), 8);
         assert_eq!(
             MATERIAL_TEXTURES.bindings.len(),
             combustion_scene::TextureSlot::ALL.len()
@@ -426,6 +471,7 @@ mod tests {
                 .map_or(0, |s| s.descriptor_count)
         };
         assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 10);
-        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 6);
+        // Materials, lights, the conductor table and the tile light lists, twice.
+        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 8);
     }
 }

@@ -26,8 +26,14 @@ pub(crate) struct FrameSlot {
     lighting_set: vk::DescriptorSet,
     output_set: vk::DescriptorSet,
     overlay_set: vk::DescriptorSet,
-    /// Owns the four sets.
+    cull_set: vk::DescriptorSet,
+    /// Owns the five sets.
     _pool: DescriptorPool,
+    /// The tile light lists of the slot's frame (device memory, written by the culling
+    /// pass; grows with the tile count × lights).
+    tile_lights: Buffer,
+    /// Whether the slot's frame culls its lights, and its tile grid and list stride.
+    culling: Option<(u32, u32)>,
     /// The frame's lights (host-visible; grows when a frame brings more lights).
     lights: Buffer,
     /// The frame's overlay quads (host-visible; grows as lights do).
@@ -49,11 +55,12 @@ impl FrameSlot {
             &bindings::LIGHTING,
             &bindings::OUTPUT,
             &bindings::OVERLAY,
+            &bindings::LIGHT_CULL,
         ]
         .iter()
         .flat_map(|set| set.pool_sizes(1))
         .collect();
-        let pool = DescriptorPool::new(device, 4, &sizes)?;
+        let pool = DescriptorPool::new(device, 5, &sizes)?;
         let timestamps = match TimestampQueries::new(device, TIMESTAMPS) {
             Ok(t) => Some(t),
             Err(VkError::Unsupported(why)) => {
@@ -67,7 +74,10 @@ impl FrameSlot {
             lighting_set: pool.allocate(&layouts.lighting)?,
             output_set: pool.allocate(&layouts.output)?,
             overlay_set: pool.allocate(&layouts.overlay)?,
+            cull_set: pool.allocate(&layouts.light_cull)?,
             _pool: pool,
+            tile_lights: tile_list_buffer(device, 1)?,
+            culling: None,
             lights: light_buffer(device, 4)?,
             overlay_quads: overlay_buffer(device, 64)?,
             overlay_quad_count: 0,
@@ -92,6 +102,28 @@ fn light_buffer(device: &Arc<Device>, capacity: usize) -> Result<Buffer, VkError
     )
 }
 
+fn tile_list_buffer(device: &Arc<Device>, words: u64) -> Result<Buffer, VkError> {
+    Buffer::new(
+        device,
+        "tile light lists",
+        words * 4,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        combustion_vk::gpu_allocator::MemoryLocation::GpuOnly,
+    )
+}
+
+/// What the light-culling pass touches.
+fn cull_uses(targets: &FrameTargets, tile_lights: &Buffer) -> PassUses {
+    PassUses::images(
+        "light culling",
+        vec![(
+            (&targets.gbuffer.depth).into(),
+            ImageUse::DepthComputeSampled,
+        )],
+    )
+    .with_buffers(vec![(tile_lights.raw(), BufferUse::ComputeStorageWrite)])
+}
+
 fn overlay_buffer(device: &Arc<Device>, capacity: usize) -> Result<Buffer, VkError> {
     Buffer::new(
         device,
@@ -102,8 +134,13 @@ fn overlay_buffer(device: &Arc<Device>, capacity: usize) -> Result<Buffer, VkErr
     )
 }
 
-/// What the lighting pass touches.
-fn lighting_uses(targets: &FrameTargets, scene: &GpuScene, lights: &Buffer) -> PassUses {
+/// What the lighting pass touches (the tile lists only in frames that cull).
+fn lighting_uses(
+    targets: &FrameTargets,
+    scene: &GpuScene,
+    lights: &Buffer,
+    tile_lights: Option<&Buffer>,
+) -> PassUses {
     let g = &targets.gbuffer;
     let mut images: Vec<(TrackedImage, ImageUse)> = g
         .attachments()
@@ -112,11 +149,15 @@ fn lighting_uses(targets: &FrameTargets, scene: &GpuScene, lights: &Buffer) -> P
         .collect();
     images.push(((&g.depth).into(), ImageUse::DepthFragmentSampled));
     images.push(((&targets.hdr).into(), ImageUse::ColorAttachmentWrite));
-    PassUses::images("lighting", images).with_buffers(vec![
+    let mut buffers = vec![
         (scene.materials.raw(), BufferUse::FragmentStorageRead),
         (lights.raw(), BufferUse::FragmentStorageRead),
         (scene.conductor_table.raw(), BufferUse::FragmentStorageRead),
-    ])
+    ];
+    if let Some(tile_lights) = tile_lights {
+        buffers.push((tile_lights.raw(), BufferUse::FragmentStorageRead));
+    }
+    PassUses::images("lighting", images).with_buffers(buffers)
 }
 
 /// What the output pass touches: the HDR image, and the frame's colour target.
@@ -202,6 +243,7 @@ impl Renderer {
         };
         self.ensure_targets(key)?;
         self.write_frame_lights(frame_slot, inputs)?;
+        self.prepare_culling(frame_slot, inputs, extent)?;
         self.write_frame_overlay(frame_slot, inputs, extent)?;
         self.write_descriptors(frame_slot, key, scene);
         self.record_passes(cmd, frame_slot, key, scene, variant, inputs, target);
@@ -325,6 +367,31 @@ impl Renderer {
         Ok(())
     }
 
+    /// Decides whether the slot's frame culls its lights, and makes its tile lists large
+    /// enough.
+    fn prepare_culling(
+        &mut self,
+        slot: usize,
+        inputs: &FrameInputs<'_>,
+        extent: vk::Extent2D,
+    ) -> Result<(), RenderError> {
+        let culls = self.light_culling.culls(inputs.lights);
+        let s = &mut self.slots[slot];
+        s.culling = None;
+        if !culls {
+            return Ok(());
+        }
+        let (x, y) = crate::light_cull::tiles(extent);
+        let stride = inputs.lights.len() as u32 + 1;
+        let words = u64::from(x) * u64::from(y) * u64::from(stride);
+        if words * 4 > s.tile_lights.size() {
+            // Its last reader, this slot's previous frame, has completed.
+            s.tile_lights = tile_list_buffer(&self.device, words.next_power_of_two())?;
+        }
+        s.culling = Some((x, stride));
+        Ok(())
+    }
+
     fn write_frame_overlay(
         &mut self,
         slot: usize,
@@ -388,7 +455,8 @@ impl Renderer {
             .image("gbuffer_depth", g.depth.view(), depth_read, no_sampler)
             .buffer("materials", &scene.materials)
             .buffer("lights", &s.lights)
-            .buffer("conductor_from_code", &scene.conductor_table);
+            .buffer("conductor_from_code", &scene.conductor_table)
+            .buffer("tile_lights", &s.tile_lights);
         if let Some(emissive) = &g.emissive {
             lighting = lighting.image("gbuffer_emissive", emissive.view(), read, no_sampler);
         }
@@ -396,6 +464,12 @@ impl Renderer {
         bindings::OUTPUT
             .writer(s.output_set)
             .image("hdr_image", targets.hdr.view(), read, no_sampler)
+            .apply(device);
+        bindings::LIGHT_CULL
+            .writer(s.cull_set)
+            .image("gbuffer_depth", g.depth.view(), depth_read, no_sampler)
+            .buffer("lights", &s.lights)
+            .buffer("tile_lights", &s.tile_lights)
             .apply(device);
         bindings::OVERLAY
             .writer(s.overlay_set)
@@ -448,12 +522,28 @@ impl Renderer {
         );
         stamp(1);
 
-        states.transition(raw, cmd, &lighting_uses(targets, scene, &s.lights));
-        let lighting_push = LightingPush::new(
+        let mut lighting_push = LightingPush::new(
             view_projection,
             inputs.camera.position,
             inputs.lights.len() as u32,
             debug_view as u32,
+        );
+        // Light culling (timed with the lighting pass): the tiles' light lists.
+        if let Some((tiles_x, stride)) = s.culling {
+            states.transition(raw, cmd, &cull_uses(targets, &s.tile_lights));
+            let push = crate::gpu_types::CullPush {
+                inverse_view_projection: lighting_push.inverse_view_projection,
+                counts: [inputs.lights.len() as u32, tiles_x, stride, 0],
+            };
+            self.light_cull
+                .record(device, cmd, s.cull_set, &push, extent);
+            lighting_push = lighting_push.with_tile_lists(tiles_x, stride);
+        }
+        let tile_lights = s.culling.map(|_| &s.tile_lights);
+        states.transition(
+            raw,
+            cmd,
+            &lighting_uses(targets, scene, &s.lights, tile_lights),
         );
         passes.lighting.record(
             device,

@@ -249,6 +249,24 @@ impl LightingPush {
             counts: [light_count, debug_view, 0, 0],
         }
     }
+
+    /// The lighting pass reads the tile lists of a culled frame: `tiles_x` tiles across,
+    /// each list `stride` words long.
+    pub fn with_tile_lists(self, tiles_x: u32, stride: u32) -> Self {
+        Self {
+            counts: [self.counts[0], self.counts[1], tiles_x, stride],
+            ..self
+        }
+    }
+}
+
+/// Push constants of the light-culling pass (`CullPush` in light_cull.comp).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct CullPush {
+    pub inverse_view_projection: [f32; 16],
+    /// x: lights; y: tiles across; z: list stride (1 + lights); w: 0.
+    pub counts: [u32; 4],
 }
 
 /// Push constants of the tonemap pass (`TonemapPush` in tonemap.frag).

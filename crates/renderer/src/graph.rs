@@ -30,6 +30,9 @@ pub enum ImageUse {
     TransferDestination,
     /// Read by compute shaders through a sampler or texelFetch.
     ComputeSampled,
+    /// A depth image read by compute shaders (texelFetch), in the layout fragment
+    /// shaders read it in too.
+    DepthComputeSampled,
     /// Written by compute shaders as a storage image (GENERAL layout); earlier contents
     /// are kept (a compute pass may write part of an image).
     ComputeStorageWrite,
@@ -70,6 +73,11 @@ impl ImageUse {
                 S::COMPUTE_SHADER,
                 A::SHADER_SAMPLED_READ,
                 L::SHADER_READ_ONLY_OPTIMAL,
+            ),
+            Self::DepthComputeSampled => ImageState::new(
+                S::COMPUTE_SHADER,
+                A::SHADER_SAMPLED_READ,
+                L::DEPTH_READ_ONLY_OPTIMAL,
             ),
             Self::ComputeStorageWrite => {
                 ImageState::new(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, L::GENERAL)

@@ -26,6 +26,7 @@ pub mod bindings;
 pub mod gbuffer;
 pub mod gpu_types;
 pub mod graph;
+pub mod light_cull;
 pub mod overlay;
 pub mod reference;
 
@@ -50,6 +51,7 @@ use gpu_types::{LightingPush, TonemapPush};
 pub use host::{
     ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, DISPLAY_FORMAT,
 };
+pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
 pub use scene_upload::{GpuScene, SceneEditReport};
 
@@ -189,11 +191,14 @@ pub enum DebugView {
     Fresnel = 11,
     /// The diffuse lobe × π (the albedo it shows), for the first light.
     Diffuse = 12,
+    /// The share of the frame's lights the pixel's tile loops over (1 where frames do
+    /// not cull): light culling made visible.
+    LightsPerTile = 13,
 }
 
 impl DebugView {
     /// Every view, in key order.
-    pub const ALL: [DebugView; 13] = [
+    pub const ALL: [DebugView; 14] = [
         DebugView::None,
         DebugView::BaseColor,
         DebugView::Normal,
@@ -207,6 +212,7 @@ impl DebugView {
         DebugView::Smith,
         DebugView::Fresnel,
         DebugView::Diffuse,
+        DebugView::LightsPerTile,
     ];
 
     /// The next view (after the last: none).
@@ -230,6 +236,7 @@ impl DebugView {
             Self::Smith => "G2 (Smith)",
             Self::Fresnel => "Fresnel F",
             Self::Diffuse => "diffuse",
+            Self::LightsPerTile => "lights per tile",
         }
     }
 }
@@ -470,6 +477,8 @@ struct SetLayouts {
     output: DescriptorSetLayout,
     /// The overlay: the frame's quads, the font atlas and the overlay image.
     overlay: DescriptorSetLayout,
+    /// Light culling: the G-buffer depth, the frame's lights, the tile lists.
+    light_cull: DescriptorSetLayout,
 }
 
 /// The passes that write a target of one format: the output pass and the overlay
@@ -487,6 +496,7 @@ impl SetLayouts {
             lighting: bindings::LIGHTING.layout(device)?,
             output: bindings::OUTPUT.layout(device)?,
             overlay: bindings::OVERLAY.layout(device)?,
+            light_cull: bindings::LIGHT_CULL.layout(device)?,
         })
     }
 }
@@ -517,6 +527,9 @@ pub struct Renderer {
     debug_view: DebugView,
     /// Lighting pipelines specialised to the scene ([`Renderer::set_specialised`]).
     specialised: bool,
+    /// When frames cull their lights ([`Renderer::set_light_culling`]).
+    light_culling: LightCulling,
+    light_cull: light_cull::LightCullPass,
     /// Frames recorded so far.
     frame_number: u64,
     /// The slot of the frame recorded last: what is replaced now is retired to it, and
@@ -581,6 +594,13 @@ impl Renderer {
             buffer
         };
         let overlay_image = (overlay_image_buffer(&device, &[[0; 4]])?, None);
+        let pipeline_cache = PipelineCache::new(&device, cache_data)?;
+        let light_cull = light_cull::LightCullPass::new(
+            &device,
+            &compiler,
+            &pipeline_cache,
+            &layouts.light_cull,
+        )?;
         let slots = (0..settings.frames_in_flight)
             .map(|_| frame::FrameSlot::new(&device, &layouts))
             .collect::<Result<Vec<_>, _>>()?;
@@ -593,13 +613,15 @@ impl Renderer {
             overlay_font,
             overlay_atlas,
             overlay_image,
-            pipeline_cache: PipelineCache::new(&device, cache_data)?,
+            pipeline_cache,
             layouts,
             compiler,
             states: graph::ImageStates::default(),
             settings,
             debug_view: DebugView::None,
             specialised: true,
+            light_culling: LightCulling::Auto,
+            light_cull,
             frame_number: 0,
             last_slot: None,
             last_timings: None,
@@ -752,6 +774,17 @@ impl Renderer {
     /// or edit, never by a frame's recording.
     pub fn set_fresnel(&mut self, model: FresnelModel) {
         self.settings.fresnel = model;
+    }
+
+    /// When frames cull their lights (tiled light lists, [`LightCulling`]); from the next
+    /// frame on. Culling never changes a pixel: it leaves out only lights whose range
+    /// window is exactly 0 over a whole tile.
+    pub fn set_light_culling(&mut self, culling: LightCulling) {
+        self.light_culling = culling;
+    }
+
+    pub fn light_culling(&self) -> LightCulling {
+        self.light_culling
     }
 
     /// Lighting pipelines specialised to each scene's features ([`LightingFeatures::of`];

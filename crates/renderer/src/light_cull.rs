@@ -1,0 +1,125 @@
+//! Tiled light culling (`light_cull.comp`): per 16×16-pixel tile, the list of the
+//! frame's lights that can reach a pixel of it, for the lighting pass to loop over
+//! instead of every light. Only lights with a range (KHR_lights_punctual) can be left
+//! out; the lists keep index order, so a culled frame is the same sum as an unculled
+//! one, less terms that are exactly zero (tests/light_culling.rs checks bit equality).
+
+use std::sync::Arc;
+
+use combustion_vk::{
+    vk, DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
+    ShaderModule, ShaderStage,
+};
+
+use crate::gpu_types::CullPush;
+use crate::RenderError;
+
+/// Tile edge in pixels (`TILE_SIZE` in light_cull.comp and lighting.frag).
+pub const TILE_SIZE: u32 = 16;
+
+/// The most lights a frame can cull (the compute pass keeps one bit per light in shared
+/// memory); frames with more light every pixel with every light.
+pub const MAX_CULLED_LIGHTS: usize = 1024;
+
+/// When frames cull their lights.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LightCulling {
+    /// When some light of the frame has a range (the only lights culling can leave out),
+    /// and the frame has at most [`MAX_CULLED_LIGHTS`] lights.
+    #[default]
+    Auto,
+    /// Every frame with 1 to [`MAX_CULLED_LIGHTS`] lights (for tests and measurements).
+    Always,
+    /// Never: every pixel loops over every light.
+    Never,
+}
+
+impl LightCulling {
+    /// Whether a frame with `lights` culls them.
+    pub fn culls(self, lights: &[combustion_scene::Light]) -> bool {
+        use combustion_scene::Light;
+        let fits = !lights.is_empty() && lights.len() <= MAX_CULLED_LIGHTS;
+        match self {
+            Self::Never => false,
+            Self::Always => fits,
+            Self::Auto => {
+                fits && lights.iter().any(|l| {
+                    matches!(
+                        l,
+                        Light::Point { range: Some(_), .. } | Light::Spot { range: Some(_), .. }
+                    )
+                })
+            }
+        }
+    }
+}
+
+/// The tile grid of a target: tiles across and down.
+pub fn tiles(extent: vk::Extent2D) -> (u32, u32) {
+    (
+        extent.width.div_ceil(TILE_SIZE),
+        extent.height.div_ceil(TILE_SIZE),
+    )
+}
+
+/// The culling pass's pipeline.
+pub(crate) struct LightCullPass {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
+impl LightCullPass {
+    pub fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        set_layout: &DescriptorSetLayout,
+    ) -> Result<Self, RenderError> {
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::COMPUTE,
+            offset: 0,
+            size: std::mem::size_of::<CullPush>() as u32,
+        }];
+        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
+        let module = ShaderModule::new(
+            device,
+            &compiler.compile("light_cull.comp", ShaderStage::Compute, &[])?,
+            ShaderStage::Compute,
+        )?;
+        let pipeline = Pipeline::compute(device, &module, &layout, Some(cache))?;
+        Ok(Self { layout, pipeline })
+    }
+
+    /// Dispatches one workgroup per tile of `extent`.
+    pub fn record(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        push: &CullPush,
+        extent: vk::Extent2D,
+    ) {
+        let (x, y) = tiles(extent);
+        let raw = device.raw();
+        // SAFETY: recording state; the set's resources are in the states declared.
+        unsafe {
+            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw());
+            raw.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout.raw(),
+                0,
+                &[set],
+                &[],
+            );
+            raw.cmd_push_constants(
+                cmd,
+                self.layout.raw(),
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::bytes_of(push),
+            );
+            raw.cmd_dispatch(cmd, x, y, 1);
+        }
+    }
+}
