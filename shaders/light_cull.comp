@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
-// Tiled light culling: one workgroup per 16×16-pixel tile. The tile's depth range (of
+// Tiled light culling: one invocation per 16×16-pixel tile (no shared memory, atomics or
+// barriers: on a CPU driver those cost more than the work). The tile's depth range (of
 // the pixels where something was drawn) and its pixel rectangle bound every position the
 // lighting pass reconstructs there; the 8 corners of that slab, unprojected, give a
 // world-space box. A light is listed for the tile unless it has a range whose sphere
@@ -11,59 +12,43 @@
 #include "gpu_types.glsl"
 #include "bindings/light_cull.glsl"  // set 0: see combustion_renderer::bindings::LIGHT_CULL
 
-#define TILE_SIZE 16u
-#define MAX_CULLED_LIGHTS 1024u  // combustion_renderer: MAX_CULLED_LIGHTS
+#define TILE_SIZE 16  // combustion_renderer::TILE_SIZE
 
-layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x = 64) in;
 
 layout(push_constant) uniform CullPush {
     mat4 inverse_view_projection;
-    uvec4 counts;  // x: lights; y: tiles across; z: list stride (1 + lights)
+    uvec4 counts;  // x: lights; y: tiles across; z: list stride (1 + lights); w: tiles
 } push;
 
-shared uint depth_min_bits;
-shared uint depth_max_bits;
-shared uint light_mask[MAX_CULLED_LIGHTS / 32u];
-
 void main() {
-    uint local = gl_LocalInvocationIndex;
-    if (local == 0u) {
-        depth_min_bits = floatBitsToUint(1.0);
-        depth_max_bits = 0u;
-    }
-    for (uint i = local; i < MAX_CULLED_LIGHTS / 32u; i += TILE_SIZE * TILE_SIZE) {
-        light_mask[i] = 0u;
-    }
-    barrier();
-
-    ivec2 size = textureSize(gbuffer_depth, 0);
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (pixel.x < size.x && pixel.y < size.y) {
-        float depth = texelFetch(gbuffer_depth, pixel, 0).r;
-        if (depth < 1.0) {
-            // Depths in [0, 1): their bit patterns order as the values do.
-            atomicMin(depth_min_bits, floatBitsToUint(depth));
-            atomicMax(depth_max_bits, floatBitsToUint(depth));
-        }
-    }
-    barrier();
-
-    uint tile = gl_WorkGroupID.y * push.counts.y + gl_WorkGroupID.x;
-    uint base = tile * push.counts.z;
-    if (depth_min_bits == floatBitsToUint(1.0)) {
-        // Nothing drawn in this tile: the lighting pass shades none of its pixels.
-        if (local == 0u) {
-            tile_lights[base] = 0u;
-        }
+    uint tile = gl_GlobalInvocationID.x;
+    if (tile >= push.counts.w) {
         return;
     }
-    float z0 = uintBitsToFloat(depth_min_bits);
-    float z1 = uintBitsToFloat(depth_max_bits);
+    uint base = tile * push.counts.z;
+    ivec2 size = textureSize(gbuffer_depth, 0);
+    ivec2 first = ivec2(int(tile % push.counts.y), int(tile / push.counts.y)) * TILE_SIZE;
+    ivec2 last = min(first + ivec2(TILE_SIZE), size);
+    float z0 = 1.0;
+    float z1 = 0.0;
+    for (int y = first.y; y < last.y; ++y) {
+        for (int x = first.x; x < last.x; ++x) {
+            float depth = texelFetch(gbuffer_depth, ivec2(x, y), 0).r;
+            if (depth < 1.0) {
+                z0 = min(z0, depth);
+                z1 = max(z1, depth);
+            }
+        }
+    }
+    if (z0 == 1.0) {
+        // Nothing drawn in this tile: the lighting pass shades none of its pixels.
+        tile_lights[base] = 0u;
+        return;
+    }
     // The tile's rectangle in the lighting pass's NDC (uv · 2 − 1, uv = pixel / size).
-    vec2 first = vec2(gl_WorkGroupID.xy * TILE_SIZE);
-    vec2 last = min(first + vec2(TILE_SIZE), vec2(size));
-    vec2 ndc0 = first / vec2(size) * 2.0 - 1.0;
-    vec2 ndc1 = last / vec2(size) * 2.0 - 1.0;
+    vec2 ndc0 = vec2(first) / vec2(size) * 2.0 - 1.0;
+    vec2 ndc1 = vec2(last) / vec2(size) * 2.0 - 1.0;
     vec3 lo = vec3(3.0e38);
     vec3 hi = vec3(-3.0e38);
     for (uint c = 0u; c < 8u; ++c) {
@@ -77,38 +62,26 @@ void main() {
         hi = max(hi, p);
     }
     // Room for the f32 rounding of the lighting pass's own reconstruction.
-    vec3 pad = vec3(1e-4 * max(max(abs(lo.x), abs(hi.x)), max(max(abs(lo.y), abs(hi.y)), max(abs(lo.z), abs(hi.z)))) + 1e-6);
+    vec3 extent = max(abs(lo), abs(hi));
+    vec3 pad = vec3(1e-4 * max(extent.x, max(extent.y, extent.z)) + 1e-6);
     lo -= pad;
     hi += pad;
 
-    for (uint i = local; i < push.counts.x; i += TILE_SIZE * TILE_SIZE) {
+    uint n = 0u;
+    for (uint i = 0u; i < push.counts.x; ++i) {
         GpuLight light = lights[i];
         bool listed = true;
         float inverse_r2 = light.spot_cone.z;
         if (light.power_kind.a != LIGHT_KIND_DIRECTIONAL && inverse_r2 > 0.0) {
             vec3 centre = light.position_or_direction.xyz;
-            vec3 nearest = clamp(centre, lo, hi);
-            vec3 gap = centre - nearest;
+            vec3 gap = centre - clamp(centre, lo, hi);
             // Within the range (with 0.1 % to spare): the window may be above 0 here.
             listed = dot(gap, gap) * inverse_r2 <= 1.002;
         }
         if (listed) {
-            atomicOr(light_mask[i >> 5u], 1u << (i & 31u));
+            tile_lights[base + 1u + n] = i;
+            n += 1u;
         }
     }
-    barrier();
-    if (local == 0u) {
-        uint n = 0u;
-        uint words = (push.counts.x + 31u) / 32u;
-        for (uint w = 0u; w < words; ++w) {
-            uint bits = light_mask[w];
-            while (bits != 0u) {
-                uint b = uint(findLSB(bits));
-                tile_lights[base + 1u + n] = w * 32u + b;
-                n += 1u;
-                bits &= bits - 1u;
-            }
-        }
-        tile_lights[base] = n;
-    }
+    tile_lights[base] = n;
 }

@@ -108,7 +108,7 @@ pub const KEYS: &[(&str, &str)] = &[
     ("+ / -", "exposure up / down half a stop"),
     (
         "V",
-        "debug view: each G-buffer channel, then the BRDF terms D, G2, F, diffuse",
+        "debug view: each G-buffer channel, the BRDF terms D, G2, F, diffuse, lights per tile",
     ),
     (
         "X",

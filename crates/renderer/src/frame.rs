@@ -533,7 +533,12 @@ impl Renderer {
             states.transition(raw, cmd, &cull_uses(targets, &s.tile_lights));
             let push = crate::gpu_types::CullPush {
                 inverse_view_projection: lighting_push.inverse_view_projection,
-                counts: [inputs.lights.len() as u32, tiles_x, stride, 0],
+                counts: [
+                    inputs.lights.len() as u32,
+                    tiles_x,
+                    stride,
+                    tiles_x * crate::light_cull::tiles(extent).1,
+                ],
             };
             self.light_cull
                 .record(device, cmd, s.cull_set, &push, extent);

@@ -265,7 +265,7 @@ impl LightingPush {
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct CullPush {
     pub inverse_view_projection: [f32; 16],
-    /// x: lights; y: tiles across; z: list stride (1 + lights); w: 0.
+    /// x: lights; y: tiles across; z: list stride (1 + lights); w: tiles.
     pub counts: [u32; 4],
 }
 

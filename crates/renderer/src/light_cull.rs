@@ -17,8 +17,9 @@ use crate::RenderError;
 /// Tile edge in pixels (`TILE_SIZE` in light_cull.comp and lighting.frag).
 pub const TILE_SIZE: u32 = 16;
 
-/// The most lights a frame can cull (the compute pass keeps one bit per light in shared
-/// memory); frames with more light every pixel with every light.
+/// The most lights a frame can cull (each tile's list has room for every light: at
+/// 1280×720, 3,600 tiles × 1,025 words = 14.8 MB); frames with more light every pixel
+/// with every light.
 pub const MAX_CULLED_LIGHTS: usize = 1024;
 
 /// When frames cull their lights.
@@ -90,7 +91,7 @@ impl LightCullPass {
         Ok(Self { layout, pipeline })
     }
 
-    /// Dispatches one workgroup per tile of `extent`.
+    /// Dispatches one invocation per tile of `extent` (64 to a workgroup).
     pub fn record(
         &self,
         device: &Device,
@@ -101,6 +102,7 @@ impl LightCullPass {
     ) {
         let (x, y) = tiles(extent);
         let raw = device.raw();
+        let groups = (x * y).div_ceil(64);
         // SAFETY: recording state; the set's resources are in the states declared.
         unsafe {
             raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw());
@@ -119,7 +121,7 @@ impl LightCullPass {
                 0,
                 bytemuck::bytes_of(push),
             );
-            raw.cmd_dispatch(cmd, x, y, 1);
+            raw.cmd_dispatch(cmd, groups, 1, 1);
         }
     }
 }
