@@ -89,7 +89,8 @@ pub fn plot_speed_vs_error(
         let y_range = (e_min / 3.0)..(e_max * 3.0);
         let mut chart = ChartBuilder::on(&area)
             .margin_left(s.px(6.0))
-            .margin_right(s.px(28.0))
+            // Room for the labels of the slowest points, written to their right.
+            .margin_right(s.px(120.0))
             .margin_top(s.px(6.0))
             .margin_bottom(s.px(8.0))
             .x_label_area_size(s.px(48.0))
