@@ -28,6 +28,20 @@ layout(location = 3) out vec4 out_emissive;                    // RGBA16F, radia
 #endif
 
 void main() {
+#ifdef FLOOR_GEOMETRY
+    // Measurement floor (combustion_renderer::MeasurementFloor::Geometry): the same
+    // meshes, vertex format and targets with a trivial fragment stage (every input
+    // read, so the interpolation is the real pass's).
+    out_base_color_metalness = vec4(
+        clamp(in_world_position + in_normal + in_tangent.xyz + vec3(in_uv, in_tangent.w), 0.0, 1.0),
+        0.0);
+    out_normal_roughness_anisotropy = vec4(0.5, 0.5, 0.5, 0.0);
+    out_material_direction = uvec2(in_material, 0u);
+#ifdef EMISSIVE
+    out_emissive = vec4(0.0);
+#endif
+    return;
+#endif
     GpuMaterial material = materials[in_material];
     ivec4 tex0 = material.textures_base_mr_normal_occlusion;
     ivec4 tex1 = material.textures_emissive_anisotropy_specular;

@@ -37,6 +37,12 @@ void main() {
     vec4 base_metal = texelFetch(gbuffer_base_color_metalness, pixel, 0);
     vec4 nra = texelFetch(gbuffer_normal_roughness_anisotropy, pixel, 0);
     uvec2 md = texelFetch(gbuffer_material_direction, pixel, 0).xy;
+#ifdef FLOOR_FETCH
+    // Measurement floor (combustion_renderer::MeasurementFloor::LightingFetch): fetch
+    // the G-buffer and write, nothing shaded.
+    out_radiance = vec4(base_metal.rgb * nra.xyz + vec3(float(md.x) + depth + nra.w), 1.0);
+    return;
+#endif
     GpuMaterial material = materials[md.x];
 
     vec2 uv = gl_FragCoord.xy / vec2(textureSize(gbuffer_depth, 0));
@@ -48,6 +54,52 @@ void main() {
     vec3 b = cross(n, t);
     vec3 v = normalize(push.camera_position.xyz - position);
 
+#ifdef FLOOR_PLAIN_GGX
+    // Measurement floor (MeasurementFloor::LightingPlainGgx): a plain isotropic GGX D,
+    // height-correlated Smith visibility and the full conductor Fresnel equations (η_i
+    // = 1) per channel, for every light: no shading frame, no dielectric, no diffuse.
+    {
+        float a = clamp_alpha(alpha_from_perceptual_roughness(nra.z));
+        float a2 = a * a;
+        vec3 eta = material.conductor_eta_outside_ior.rgb;
+        vec3 k = material.conductor_k_polarisation.rgb;
+        float nv = max(dot(n, v), COS_MIN);
+        vec3 sum = vec3(0.0);
+        for (uint i = 0u; i < push.counts.x; ++i) {
+            GpuLight light = lights[i];
+            vec3 l;
+            vec3 e;
+            if (light.power_kind.a != LIGHT_KIND_DIRECTIONAL) {
+                vec3 to_light = light.position_or_direction.xyz - position;
+                float d2 = max(dot(to_light, to_light), 1e-12);
+                l = to_light * inversesqrt(d2);
+                e = light.power_kind.rgb / d2;
+            } else {
+                l = -light.position_or_direction.xyz;
+                e = light.power_kind.rgb;
+            }
+            float nl = dot(n, l);
+            if (nl <= 0.0) {
+                continue;
+            }
+            vec3 h = normalize(v + l);
+            float nh = dot(n, h);
+            float t = nh * nh * (a2 - 1.0) + 1.0;
+            float d = a2 / (PI * t * t);
+            float sv = sqrt(nv * nv * (1.0 - a2) + a2);
+            float sl = sqrt(nl * nl * (1.0 - a2) + a2);
+            float vis = 0.5 / (nl * sv + nv * sl);
+            float vh = clamp(dot(v, h), 0.0, 1.0);
+            vec3 f = vec3(
+                polarised_weighted(fresnel_conductor(vh, 1.0, eta.x, k.x), 0.5),
+                polarised_weighted(fresnel_conductor(vh, 1.0, eta.y, k.y), 0.5),
+                polarised_weighted(fresnel_conductor(vh, 1.0, eta.z, k.z), 0.5));
+            sum += d * vis * f * e * nl;
+        }
+        out_radiance = vec4(sum, 1.0);
+        return;
+    }
+#endif
     float alpha = alpha_from_perceptual_roughness(nra.z);
     vec2 alphas = anisotropic_alphas(alpha, nra.w);
     BrdfInputs m;

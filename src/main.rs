@@ -67,8 +67,9 @@ frames cull their lights into 16×16-pixel tile lists (auto: when a light has a 
 the culling pass is timed with the lighting pass). --report DIR measures every variant set (Fresnel
 full/Schlick × HDR f32/f16 × specialised/general pipeline) on every built-in scene (or
 the scene named): GPU time per pass and the error of one frame against the f64
-reference, written to DIR as report.md, report.csv and speed-vs-error.png (with the
-Pareto front).
+reference, and each scene's measurement floors (trivial G-buffer fragment stage;
+lighting that only fetches; plain GGX + Smith + conductor Fresnel), written to DIR as
+report.md, report.csv, floors.csv and speed-vs-error.png (with the Pareto front).
 
 view opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under
 Xvfb) and renders the scene every frame at the window's size, into the swapchain image
@@ -409,7 +410,7 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
     };
     let started = Instant::now();
     let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
-    let (rows, device_name) = combustion::report::measure(&desc, |done, total, what| {
+    let measured = combustion::report::measure(&desc, |done, total, what| {
         let width = 30;
         let filled = done * width / total.max(1);
         let bar = format!(
@@ -427,9 +428,9 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
             eprintln!("{}", bar.trim_end());
         }
     })?;
-    combustion::report::write(dir, &rows, &desc, &device_name)?;
+    combustion::report::write(dir, &measured, &desc)?;
     outln!(
-        "wrote {} (report.md, report.csv, speed-vs-error.png): {} scene(s) × {} variant sets in {:.0} s",
+        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png): {} scene(s) × {} variant sets and the floors in {:.0} s",
         dir.display(),
         desc.scenes.len(),
         desc.sets.len(),

@@ -3,16 +3,20 @@
 //! pass over N frames after a warm-up (median, p10, p90; timestamps), and the error of
 //! one frame against the f64 reference (`combustion_renderer::reference`: every pixel
 //! re-shaded from its own G-buffer with the full Fresnel equations; max, mean and RMS
-//! relative error). Written as `report.md`, `report.csv` and `speed-vs-error.png` (one
-//! point per variant set — time and error averaged over the scenes — with the Pareto
-//! front).
+//! relative error); and per scene, in the same run, the measurement floors
+//! (`MeasurementFloor`) every pass is stated as a multiple of. Written as `report.md`,
+//! `report.csv`, `floors.csv` and `speed-vs-error.png` (one point per variant set — time
+//! and error averaged over the scenes — with the Pareto front).
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use combustion_plots::{pareto_front, plot_speed_vs_error, SpeedErrorPoint};
 use combustion_renderer::reference::{error_map, ReferenceShading};
-use combustion_renderer::{FrameInputs, FresnelModel, HdrFormat, Readback, RendererSettings};
+use combustion_renderer::{
+    FrameInputs, FresnelModel, GpuScene, HdrFormat, MeasurementFloor, PassTimings, Readback,
+    Renderer, RendererSettings,
+};
 use combustion_vk::DeviceDesc;
 
 use crate::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
@@ -106,6 +110,42 @@ pub struct ReportRow {
     pub compared: usize,
 }
 
+/// A scene's measurement floors (f32 HDR, full Fresnel, specialised pipeline), ms.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FloorRow {
+    pub scene: String,
+    /// G-buffer pass with a trivial fragment stage.
+    pub geometry: Spread,
+    /// Lighting pass that only fetches the G-buffer and writes.
+    pub fetch: Spread,
+    /// Lighting pass with a plain GGX + Smith + full conductor Fresnel per light.
+    pub plain_ggx: Spread,
+}
+
+/// Everything measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Measurements {
+    pub rows: Vec<ReportRow>,
+    pub floors: Vec<FloorRow>,
+    pub device: String,
+}
+
+/// GPU timings of `frames` frames of `scene` (after the frames already taken).
+fn time_frames(
+    renderer: &mut Renderer,
+    scene: &GpuScene,
+    width: u32,
+    height: u32,
+    frames: u32,
+) -> Result<Vec<PassTimings>, Error> {
+    renderer.take_completed_timings();
+    for _ in 0..frames {
+        renderer.submit_offscreen(scene, width, height)?;
+    }
+    renderer.finish_offscreen()?;
+    Ok(renderer.take_completed_timings())
+}
+
 /// What to measure.
 #[derive(Clone, Debug)]
 pub struct ReportDesc {
@@ -118,19 +158,20 @@ pub struct ReportDesc {
     pub device: DeviceDesc,
 }
 
-/// Measures every scene under every variant set; `progress(done, total, what)` is
-/// called before each measurement. The rows, and the device's name.
+/// Measures every scene under every variant set, and each scene's floors (with the
+/// f32 renderer); `progress(done, total, what)` is called before each measurement.
 pub fn measure(
     desc: &ReportDesc,
     mut progress: impl FnMut(usize, usize, &str),
-) -> Result<(Vec<ReportRow>, String), Error> {
+) -> Result<Measurements, Error> {
     let mut device_name = String::new();
+    let mut floors = Vec::new();
     let scenes = desc
         .scenes
         .iter()
         .map(|source| Ok((source.label(), source.load()?)))
         .collect::<Result<Vec<_>, Error>>()?;
-    let total = scenes.len() * desc.sets.len();
+    let total = scenes.len() * (desc.sets.len() + 1);
     let mut rows = Vec::with_capacity(total);
     // One renderer per HDR format (a renderer's HDR storage is fixed at creation).
     for hdr in [HdrFormat::Rgba32Float, HdrFormat::Rgba16Float] {
@@ -149,8 +190,45 @@ pub fn measure(
         device_name.clone_from(&renderer.device().info().name);
         for (label, scene) in &scenes {
             let gpu = renderer.upload(scene)?;
+            if hdr == HdrFormat::Rgba32Float {
+                progress(rows.len() + floors.len(), total, &format!("{label} floors"));
+                renderer.set_fresnel(FresnelModel::Full);
+                renderer.set_specialised(true);
+                let mut spreads = Vec::new();
+                for floor in [
+                    MeasurementFloor::Geometry,
+                    MeasurementFloor::LightingFetch,
+                    MeasurementFloor::LightingPlainGgx,
+                ] {
+                    renderer.set_measurement_floor(Some(floor));
+                    renderer.prepare(&gpu)?;
+                    renderer.render(&gpu, desc.width, desc.height, Readback::default())?;
+                    let timings =
+                        time_frames(renderer, &gpu, desc.width, desc.height, desc.frames)?;
+                    spreads.push(Spread::of(
+                        timings
+                            .iter()
+                            .map(|t| match floor {
+                                MeasurementFloor::Geometry => t.gbuffer_ms,
+                                _ => t.lighting_ms,
+                            })
+                            .collect(),
+                    ));
+                }
+                renderer.set_measurement_floor(None);
+                floors.push(FloorRow {
+                    scene: label.clone(),
+                    geometry: spreads[0],
+                    fetch: spreads[1],
+                    plain_ggx: spreads[2],
+                });
+            }
             for set in &sets {
-                progress(rows.len(), total, &format!("{label} {}", set.name()));
+                progress(
+                    rows.len() + floors.len(),
+                    total,
+                    &format!("{label} {}", set.name()),
+                );
                 renderer.set_fresnel(set.fresnel);
                 renderer.set_specialised(set.specialised);
                 renderer.prepare(&gpu)?;
@@ -169,12 +247,7 @@ pub fn measure(
                 let reference = ReferenceShading::new(&gpu.scene, &inputs, desc.width, desc.height);
                 let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
                 let map = error_map(&frame, &reference, threads);
-                renderer.take_completed_timings();
-                for _ in 0..desc.frames {
-                    renderer.submit_offscreen(&gpu, desc.width, desc.height)?;
-                }
-                renderer.finish_offscreen()?;
-                let timings = renderer.take_completed_timings();
+                let timings = time_frames(renderer, &gpu, desc.width, desc.height, desc.frames)?;
                 let pick = |f: fn(&combustion_renderer::PassTimings) -> f64| {
                     Spread::of(timings.iter().map(f).collect())
                 };
@@ -199,7 +272,11 @@ pub fn measure(
         check_validation(&validation)?;
     }
     progress(total, total, "done");
-    Ok((rows, device_name))
+    Ok(Measurements {
+        rows,
+        floors,
+        device: device_name,
+    })
 }
 
 /// Per variant set: its name, the mean over scenes of the total frame time's median and
@@ -260,8 +337,60 @@ fn csv_field(text: &str) -> String {
     }
 }
 
+/// The floors' CSV: one row per scene.
+pub fn floors_csv(floors: &[FloorRow]) -> String {
+    let mut out = String::from(
+        "scene,geometry_floor_ms,geometry_floor_p10,geometry_floor_p90,fetch_floor_ms,fetch_floor_p10,fetch_floor_p90,plain_ggx_ms,plain_ggx_p10,plain_ggx_p90\n",
+    );
+    for f in floors {
+        let _ = write!(out, "{}", csv_field(&f.scene));
+        for s in [f.geometry, f.fetch, f.plain_ggx] {
+            let _ = write!(out, ",{:.3},{:.3},{:.3}", s.median, s.p10, s.p90);
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// The floors and each pass of the default set (full/f32/specialised) as a multiple of
+/// them, per scene.
+fn floors_markdown(m: &Measurements) -> String {
+    let mut out = String::from(
+        "## Against the floors (same run)\n\nFloors: the G-buffer pass with a trivial fragment stage (geometry), the lighting pass that only fetches the G-buffer and writes (fetch), and a lighting pass with a plain isotropic GGX, height-correlated Smith and the full conductor Fresnel per light (plain GGX); the same scene, lights, size and frames. Passes of the default set, full/f32/specialised.\n\n| scene | geometry floor ms | G-buffer ms (× floor) | fetch floor ms | plain GGX ms | lighting ms (× fetch, × plain GGX) |\n|---|---|---|---|---|---|\n",
+    );
+    let default = VariantSet {
+        fresnel: FresnelModel::Full,
+        hdr: HdrFormat::Rgba32Float,
+        specialised: true,
+    };
+    for f in &m.floors {
+        let Some(r) = m
+            .rows
+            .iter()
+            .find(|r| r.scene == f.scene && r.set == default)
+        else {
+            continue;
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {:.2} | {:.2} (×{:.2}) | {:.2} | {:.2} | {:.2} (×{:.1}, ×{:.2}) |",
+            f.scene,
+            f.geometry.median,
+            r.gbuffer.median,
+            r.gbuffer.median / f.geometry.median,
+            f.fetch.median,
+            f.plain_ggx.median,
+            r.lighting.median,
+            r.lighting.median / f.fetch.median,
+            r.lighting.median / f.plain_ggx.median
+        );
+    }
+    out + "\n"
+}
+
 /// The Markdown report.
-pub fn markdown(rows: &[ReportRow], desc: &ReportDesc, device: &str) -> String {
+pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
+    let (rows, device) = (&m.rows[..], &m.device);
     let mut out = format!(
         "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4).\n\nVariant sets: Fresnel `full` (the equations with complex η + ik and the outside medium) or `schlick` (Schlick's curve through the exact normal-incidence reflectance); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`.\n\n",
         desc.width, desc.height, desc.frames
@@ -290,7 +419,9 @@ pub fn markdown(rows: &[ReportRow], desc: &ReportDesc, device: &str) -> String {
             if front.contains(&i) { "yes" } else { "" }
         );
     }
-    out += "\n![speed against error](speed-vs-error.png)\n\n## Per scene\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    out += "\n![speed against error](speed-vs-error.png)\n\n";
+    out += &floors_markdown(m);
+    out += "## Per scene\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels |\n|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let _ = writeln!(
             out,
@@ -312,8 +443,10 @@ pub fn markdown(rows: &[ReportRow], desc: &ReportDesc, device: &str) -> String {
     out
 }
 
-/// Writes `report.md`, `report.csv` and `speed-vs-error.png` into `dir` (made if needed).
-pub fn write(dir: &Path, rows: &[ReportRow], desc: &ReportDesc, device: &str) -> Result<(), Error> {
+/// Writes `report.md`, `report.csv`, `floors.csv` and `speed-vs-error.png` into `dir`
+/// (made if needed).
+pub fn write(dir: &Path, m: &Measurements, desc: &ReportDesc) -> Result<(), Error> {
+    let (rows, device) = (&m.rows[..], &m.device);
     std::fs::create_dir_all(dir).map_err(|e| {
         Error::Output(output::OutputError::Io {
             path: dir.to_path_buf(),
@@ -344,9 +477,7 @@ pub fn write(dir: &Path, rows: &[ReportRow], desc: &ReportDesc, device: &str) ->
     )?;
     output::write_file_atomically(&dir.join("speed-vs-error.png"), &png.bytes)?;
     output::write_file_atomically(&dir.join("report.csv"), csv(rows).as_bytes())?;
-    output::write_file_atomically(
-        &dir.join("report.md"),
-        markdown(rows, desc, device).as_bytes(),
-    )?;
+    output::write_file_atomically(&dir.join("floors.csv"), floors_csv(&m.floors).as_bytes())?;
+    output::write_file_atomically(&dir.join("report.md"), markdown(m, desc).as_bytes())?;
     Ok(())
 }

@@ -51,13 +51,22 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
         },
     };
     let mut steps = Vec::new();
-    let (rows, device) =
+    let measured =
         combustion::report::measure(&desc, |done, total, _| steps.push((done, total))).unwrap();
+    let (rows, device) = (&measured.rows, &measured.device);
     assert!(device.contains("llvmpipe"), "{device}");
     assert_eq!(rows.len(), 6);
-    assert_eq!(steps.first(), Some(&(0, 6)));
-    assert_eq!(steps.last(), Some(&(6, 6)));
-    for row in &rows {
+    // Per scene: its floors, then its sets.
+    assert_eq!(steps.first(), Some(&(0, 8)));
+    assert_eq!(steps.last(), Some(&(8, 8)));
+    assert_eq!(measured.floors.len(), 2);
+    for f in &measured.floors {
+        assert!(
+            f.geometry.median > 0.0 && f.fetch.median > 0.0 && f.plain_ggx.median > 0.0,
+            "{f:?}"
+        );
+    }
+    for row in rows {
         assert_eq!(row.frames, 3, "{row:?}");
         assert!(
             row.total.median > 0.0 && row.lighting.median > 0.0,
@@ -109,7 +118,9 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
     assert!((row.mean_relative - map.mean_relative).abs() <= 1e-12 * map.mean_relative);
 
     let dir = std::env::temp_dir().join(format!("combustion-report-{}", std::process::id()));
-    combustion::report::write(&dir, &rows, &desc, &device).unwrap();
+    combustion::report::write(&dir, &measured, &desc).unwrap();
+    let floors = std::fs::read_to_string(dir.join("floors.csv")).unwrap();
+    assert_eq!(floors.lines().count(), 3, "{floors}");
     let csv = std::fs::read_to_string(dir.join("report.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + rows.len());
     assert!(csv.lines().all(|l| l.split(',').count() == 21), "{csv}");
@@ -118,6 +129,8 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
         assert!(md.contains(&format!("| {} |", set.name())), "{md}");
     }
     assert!(md.contains("| yes |"), "a Pareto front is marked");
+    assert!(md.contains("| builtin:spheres | "), "{md}");
+    assert!(md.contains("## Against the floors"), "{md}");
     let plot = std::fs::File::open(dir.join("speed-vs-error.png")).unwrap();
     let reader = png::Decoder::new(std::io::BufReader::new(plot))
         .read_info()

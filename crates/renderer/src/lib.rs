@@ -142,6 +142,20 @@ impl Default for LightingFeatures {
     }
 }
 
+/// Stripped-down passes to measure the real ones against (`combustion bench --report`):
+/// what the same frame costs with the shading taken out. Not images to look at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MeasurementFloor {
+    /// The G-buffer pass with the same meshes, vertex format and targets but a fragment
+    /// stage that writes constants (the geometry floor).
+    Geometry,
+    /// The lighting pass fetching the G-buffer and writing, nothing shaded.
+    LightingFetch,
+    /// The lighting pass with a plain isotropic GGX, height-correlated Smith and the
+    /// full conductor Fresnel equations per light (no frame, dielectric or diffuse).
+    LightingPlainGgx,
+}
+
 /// The shader features a scene needs. Each distinct variant gets its own G-buffer and
 /// lighting pipelines (compile-time `#define`s), so a scene does not pay for features it
 /// lacks; variants are built at upload (or edit) and kept.
@@ -157,6 +171,8 @@ pub struct ShaderVariant {
     pub debug_views: bool,
     /// The parts of the material model the lighting pipeline contains.
     pub features: LightingFeatures,
+    /// A measurement floor instead of the real pass ([`Renderer::set_measurement_floor`]).
+    pub floor: Option<MeasurementFloor>,
 }
 
 /// What the lighting pass shows instead of radiance (`debug_views.glsl` has the same
@@ -255,6 +271,12 @@ impl ShaderVariant {
             defines.push(("DEBUG_VIEWS", None));
         }
         self.features.defines(&mut defines);
+        match self.floor {
+            None => {}
+            Some(MeasurementFloor::Geometry) => defines.push(("FLOOR_GEOMETRY", None)),
+            Some(MeasurementFloor::LightingFetch) => defines.push(("FLOOR_FETCH", None)),
+            Some(MeasurementFloor::LightingPlainGgx) => defines.push(("FLOOR_PLAIN_GGX", None)),
+        }
         defines
     }
 }
@@ -527,6 +549,8 @@ pub struct Renderer {
     debug_view: DebugView,
     /// Lighting pipelines specialised to the scene ([`Renderer::set_specialised`]).
     specialised: bool,
+    /// A measurement floor in place of the real passes.
+    floor: Option<MeasurementFloor>,
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     light_culling: LightCulling,
     light_cull: light_cull::LightCullPass,
@@ -620,6 +644,7 @@ impl Renderer {
             settings,
             debug_view: DebugView::None,
             specialised: true,
+            floor: None,
             light_culling: LightCulling::Auto,
             light_cull,
             frame_number: 0,
@@ -661,6 +686,7 @@ impl Renderer {
             } else {
                 LightingFeatures::ALL
             },
+            floor: if debug_views { None } else { self.floor },
             ..scene_variant
         }
     }
@@ -774,6 +800,13 @@ impl Renderer {
     /// or edit, never by a frame's recording.
     pub fn set_fresnel(&mut self, model: FresnelModel) {
         self.settings.fresnel = model;
+    }
+
+    /// Renders a [`MeasurementFloor`] instead of the real pass (or the real passes
+    /// again), to time a frame against what it would cost without shading. Pipelines
+    /// as for [`Renderer::set_fresnel`].
+    pub fn set_measurement_floor(&mut self, floor: Option<MeasurementFloor>) {
+        self.floor = floor;
     }
 
     /// When frames cull their lights (tiled light lists, [`LightCulling`]); from the next

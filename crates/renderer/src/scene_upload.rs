@@ -67,6 +67,7 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
         schlick: false,
         debug_views: false,
         features: crate::LightingFeatures::of(scene),
+        floor: None,
     }
 }
 
