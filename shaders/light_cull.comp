@@ -49,21 +49,31 @@ void main() {
     // The tile's rectangle in the lighting pass's NDC (uv · 2 − 1, uv = pixel / size).
     vec2 ndc0 = vec2(first) / vec2(size) * 2.0 - 1.0;
     vec2 ndc1 = vec2(last) / vec2(size) * 2.0 - 1.0;
+    mat4 m = push.inverse_view_projection;
+    mat4 magnitude = mat4(abs(m[0]), abs(m[1]), abs(m[2]), abs(m[3]));
     vec3 lo = vec3(3.0e38);
     vec3 hi = vec3(-3.0e38);
+    float error = 0.0;
     for (uint c = 0u; c < 8u; ++c) {
         vec4 corner = vec4((c & 1u) != 0u ? ndc1.x : ndc0.x,
                            (c & 2u) != 0u ? ndc1.y : ndc0.y,
                            (c & 4u) != 0u ? z1 : z0,
                            1.0);
-        vec4 world = push.inverse_view_projection * corner;
+        vec4 world = m * corner;
         vec3 p = world.xyz / world.w;
         lo = min(lo, p);
         hi = max(hi, p);
+        // How far the lighting pass's f32 reconstruction (the same product, with its
+        // own rounding of uv) can land from p: each component of m·c is off by at most
+        // a few ulps of Σ|m_ij c_j| (its cancellation, e.g. in w near the far plane with
+        // a small near plane, is what makes it large), and the division adds w's error.
+        vec4 sums = magnitude * abs(corner);
+        float w_relative = sums.w / abs(world.w);
+        vec3 p_error = sums.xyz / abs(world.w) + abs(p) * w_relative;
+        error = max(error, max(p_error.x, max(p_error.y, p_error.z)));
     }
-    // Room for the f32 rounding of the lighting pass's own reconstruction.
-    vec3 extent = max(abs(lo), abs(hi));
-    vec3 pad = vec3(1e-4 * max(extent.x, max(extent.y, extent.z)) + 1e-6);
+    // 16 ulps of slack on that bound, and a floor for coordinates near 0.
+    vec3 pad = vec3(16.0 * 1.1920929e-7 * error + 1e-6);
     lo -= pad;
     hi += pad;
 

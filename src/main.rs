@@ -391,6 +391,16 @@ fn percentile(sorted: &[f64], p: f64) -> f64 {
 /// `bench --report DIR`: every variant set on the built-in scenes (or the scene named).
 fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
     use combustion::report::{ReportDesc, VariantSet};
+    if o.extra_lights > 0
+        || o.culling != combustion::renderer::LightCulling::Auto
+        || !o.specialised
+        || o.fresnel != FresnelModel::default()
+        || o.hdr_format != HdrFormat::default()
+    {
+        return Err(Error::Usage(
+            "--report measures every Fresnel model, HDR format and pipeline itself; it takes no --fresnel, --hdr-format, --specialised, --extra-lights or --culling".into(),
+        ));
+    }
     let (device, _) = device_and_settings(o)?;
     let scenes = if o.scene_given {
         vec![o.scene.clone()]

@@ -248,6 +248,11 @@ pub fn measure(
                 let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
                 let map = error_map(&frame, &reference, threads);
                 let timings = time_frames(renderer, &gpu, desc.width, desc.height, desc.frames)?;
+                if timings.is_empty() {
+                    return Err(Error::Usage(
+                        "this device gives no GPU timestamps; the report needs them".into(),
+                    ));
+                }
                 let pick = |f: fn(&combustion_renderer::PassTimings) -> f64| {
                     Spread::of(timings.iter().map(f).collect())
                 };
@@ -329,6 +334,11 @@ pub fn csv(rows: &[ReportRow]) -> String {
     out
 }
 
+/// `text` for a Markdown table cell.
+fn md_cell(text: &str) -> String {
+    text.replace('|', "\\|")
+}
+
 fn csv_field(text: &str) -> String {
     if text.contains([',', '"', '\n']) {
         format!("\"{}\"", text.replace('"', "\"\""))
@@ -374,7 +384,7 @@ fn floors_markdown(m: &Measurements) -> String {
         let _ = writeln!(
             out,
             "| {} | {:.2} | {:.2} (×{:.2}) | {:.2} | {:.2} | {:.2} (×{:.1}, ×{:.2}) |",
-            f.scene,
+            md_cell(&f.scene),
             f.geometry.median,
             r.gbuffer.median,
             r.gbuffer.median / f.geometry.median,
@@ -407,7 +417,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     let front = pareto_front(&points);
     let _ = write!(
         out,
-        "Pareto front: the sets less wrong, by more than {:.0} % of the error, than every faster set (errors closer than that differ by rounding).\n\n",
+        "Pareto front, fastest first: each set less wrong, by more than {:.0} % of the error, than the front's previous set (errors closer than that differ by rounding).\n\n",
         combustion_plots::PARETO_ERROR_TOLERANCE * 100.0
     );
     out += "## Variant sets (mean over the scenes)\n\n| variant set | frame ms | mean relative error | largest max relative error | Pareto front |\n|---|---|---|---|---|\n";
@@ -426,7 +436,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
         let _ = writeln!(
             out,
             "| {} | {} | {:.2} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {} |",
-            r.scene,
+            md_cell(&r.scene),
             r.set.name(),
             r.gbuffer.median,
             r.lighting.median,

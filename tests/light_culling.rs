@@ -94,6 +94,21 @@ fn culling_changes_no_pixel() {
             "{mode:?}: {differing} pixels differ from the unculled frame"
         );
     }
+    // A near plane 5·10⁵ times closer than the scene: the depth → position reconstruction
+    // loses digits (w cancels), which the culling pass's error bound covers. (The
+    // earlier, size-relative padding passed this case too: no frame here was seen to
+    // break it; the bound is the reason it holds in general.)
+    let mut near = many_lights(96);
+    near.camera.near = 1e-5;
+    let frames = render_all(&near, &modes[..2], DebugView::None);
+    let lit = frames[0].iter().filter(|p| p[..3] != [0.0; 3]).count();
+    assert!(lit > (W * H / 8) as usize, "{lit} lit pixels");
+    let differing = frames[1]
+        .iter()
+        .zip(&frames[0])
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differing, 0, "near plane 1e-5: {differing} pixels differ");
 }
 
 #[test]

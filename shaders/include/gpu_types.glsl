@@ -39,7 +39,6 @@ struct GpuLight {
                                     // point, spot: z = 1/range² (0: no range, no window)
 };
 
-// Angular falloff of a spot light for unit direction l from the surface to the light.
 // The range window (max(0, 1 − (d²/r²)²))² at squared distance d2; 1 without range
 // (combustion_scene::range_window; CPU mirror GpuLight::range_attenuation).
 float range_attenuation(GpuLight light, float d2) {
@@ -52,6 +51,7 @@ float range_attenuation(GpuLight light, float d2) {
     return w * w;
 }
 
+// Angular falloff of a spot light for unit direction l from the surface to the light.
 float spot_attenuation(GpuLight light, vec3 l) {
     float cos_axis = dot(light.spot_axis.xyz, -l);
     float a = clamp(cos_axis * light.spot_cone.x + light.spot_cone.y, 0.0, 1.0);

@@ -23,8 +23,9 @@ pub struct SpeedErrorPoint {
 pub const PARETO_ERROR_TOLERANCE: f64 = 0.01;
 
 /// The indices of the points on the Pareto front, fastest first: each is less wrong, by
-/// more than [`PARETO_ERROR_TOLERANCE`], than every faster point (of equal times, the
-/// less wrong comes first).
+/// more than [`PARETO_ERROR_TOLERANCE`], than the front's previous (faster) point, and
+/// so than every faster point on the front (of equal times, the less wrong comes
+/// first).
 pub fn pareto_front(points: &[SpeedErrorPoint]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..points.len()).collect();
     order.sort_by(|&a, &b| {

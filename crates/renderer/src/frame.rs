@@ -384,9 +384,17 @@ impl Renderer {
         let (x, y) = crate::light_cull::tiles(extent);
         let stride = inputs.lights.len() as u32 + 1;
         let words = u64::from(x) * u64::from(y) * u64::from(stride);
+        let limit = u64::from(self.device.limits().max_storage_buffer_range);
+        if words * 4 > limit {
+            // The lists would not fit one buffer binding: this frame lights every pixel
+            // with every light (the same image, slower).
+            return Ok(());
+        }
         if words * 4 > s.tile_lights.size() {
             // Its last reader, this slot's previous frame, has completed.
-            s.tile_lights = tile_list_buffer(&self.device, words.next_power_of_two())?;
+            let grown = (words * 4).next_power_of_two().min(limit) / 4;
+            let old = std::mem::replace(&mut s.tile_lights, tile_list_buffer(&self.device, grown)?);
+            self.states.forget_buffer(old.raw());
         }
         s.culling = Some((x, stride));
         Ok(())

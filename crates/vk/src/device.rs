@@ -357,7 +357,10 @@ fn describe_devices(
         unsafe { instance.get_physical_device_features2(pd, &mut features2) };
         let queue_family = unsafe { instance.get_physical_device_queue_family_properties(pd) }
             .iter()
-            .position(|q| q.queue_flags.contains(vk::QueueFlags::GRAPHICS))
+            .position(|q| {
+                q.queue_flags
+                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+            })
             .map(|i| i as u32);
         let v = props.api_version;
         let mut missing = Vec::new();
@@ -606,9 +609,12 @@ impl Device {
                 families.len()
             )),
             Some(family) => {
-                if !family.queue_flags.contains(vk::QueueFlags::GRAPHICS) {
+                if !family
+                    .queue_flags
+                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+                {
                     missing.push(format!(
-                        "queue family {} has no graphics support",
+                        "queue family {} lacks graphics or compute support (light culling dispatches compute work)",
                         host.queue_family
                     ));
                 }
