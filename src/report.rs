@@ -305,6 +305,18 @@ pub fn summarise(rows: &[ReportRow]) -> Vec<(VariantSet, f64, f64, f64)> {
         .collect()
 }
 
+/// One plot point per variant set: its mean frame time and mean relative error.
+fn points(rows: &[ReportRow]) -> Vec<SpeedErrorPoint> {
+    summarise(rows)
+        .iter()
+        .map(|(set, ms, mean, _)| SpeedErrorPoint {
+            label: set.name(),
+            ms: *ms,
+            error: *mean,
+        })
+        .collect()
+}
+
 /// The CSV: one row per scene and variant set.
 pub fn csv(rows: &[ReportRow]) -> String {
     let mut out = String::from(
@@ -406,15 +418,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
         desc.width, desc.height, desc.frames
     );
     let summary = summarise(rows);
-    let points: Vec<SpeedErrorPoint> = summary
-        .iter()
-        .map(|(set, ms, mean, _)| SpeedErrorPoint {
-            label: set.name(),
-            ms: *ms,
-            error: *mean,
-        })
-        .collect();
-    let front = pareto_front(&points);
+    let front = pareto_front(&points(rows));
     let _ = write!(
         out,
         "Pareto front, fastest first: each set less wrong, by more than {:.0} % of the error, than the front's previous set (errors closer than that differ by rounding).\n\n",
@@ -463,15 +467,6 @@ pub fn write(dir: &Path, m: &Measurements, desc: &ReportDesc) -> Result<(), Erro
             source: e,
         })
     })?;
-    let summary = summarise(rows);
-    let points: Vec<SpeedErrorPoint> = summary
-        .iter()
-        .map(|(set, ms, mean, _)| SpeedErrorPoint {
-            label: set.name(),
-            ms: *ms,
-            error: *mean,
-        })
-        .collect();
     let png = plot_speed_vs_error(
         "Speed against error",
         &format!(
@@ -481,7 +476,7 @@ pub fn write(dir: &Path, m: &Measurements, desc: &ReportDesc) -> Result<(), Erro
             desc.scenes.len()
         ),
         "frame time, GPU ms (median)",
-        &points,
+        &points(rows),
         1000,
         620,
     )?;

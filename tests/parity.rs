@@ -32,31 +32,24 @@ fn parity_of(
     height: u32,
     fresnel: FresnelModel,
 ) -> ErrorMap {
-    let scene = scene.clone();
-    let frame = common::render(
-        &scene,
-        width,
-        height,
-        RendererSettings {
-            hdr_format: HdrFormat::Rgba32Float,
-            exposure: 1.0,
-            fresnel,
-            frames_in_flight: 2,
-        },
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
-    );
+    let settings = RendererSettings {
+        hdr_format: HdrFormat::Rgba32Float,
+        exposure: 1.0,
+        fresnel,
+        frames_in_flight: 2,
+    };
+    let (frame, report) = common::render_with_error_map(scene, width, height, settings, 2);
     let inputs = FrameInputs {
         camera: scene.camera,
         exposure: 1.0,
         lights: &scene.lights,
         overlay: &[],
     };
-    let reference = ReferenceShading::new(&scene, &inputs, width, height);
-    let report = error_map(&frame, &reference, 2);
-    let one_thread = error_map(&frame, &reference, 1);
+    let one_thread = error_map(
+        &frame,
+        &ReferenceShading::new(scene, &inputs, width, height),
+        1,
+    );
     assert!(
         report.max_relative == one_thread.max_relative
             && report.worst_pixel == one_thread.worst_pixel
@@ -147,7 +140,12 @@ const PARITY_MEAN_RELATIVE: f64 = 2e-5;
 /// max at a pixel of 1.3e-4 W·sr⁻¹·m⁻², near the radiance floor), underwater
 /// 1.33e-4 / 9.2e-7, underwater-in-air 1.13e-4 / 7.2e-7.
 fn assert_parity(scene: &str, width: u32, height: u32, min_lit: usize) {
-    let report = parity(scene, width, height);
+    assert_within_parity_bounds(&parity(scene, width, height), scene, min_lit);
+}
+
+/// No non-finite pixel, more than `min_lit` lit ones, and the max and mean within the
+/// parity bounds.
+fn assert_within_parity_bounds(report: &ErrorMap, scene: &str, min_lit: usize) {
     assert_eq!(report.non_finite, 0, "{scene}: NaN/Inf pixels");
     assert!(
         report.lit_pixels > min_lit,
@@ -236,18 +234,7 @@ fn ranged_lights_parity() {
         128,
         FresnelModel::Full,
     );
-    assert_eq!(report.non_finite, 0);
-    assert!(report.lit_pixels > 2000, "{}", report.lit_pixels);
-    assert!(
-        report.max_relative < PARITY_MAX_RELATIVE,
-        "max {:.3e}",
-        report.max_relative
-    );
-    assert!(
-        report.mean_relative < PARITY_MEAN_RELATIVE,
-        "mean {:.3e}",
-        report.mean_relative
-    );
+    assert_within_parity_bounds(&report, "spheres with ranged lights", 2000);
     // The window only ever darkens (w ≤ 1 per light, and rounding is monotone), and it
     // does darken part of the frame.
     let settings = RendererSettings {

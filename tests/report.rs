@@ -5,8 +5,7 @@
 
 mod common;
 
-use combustion::renderer::reference::{error_map, ReferenceShading};
-use combustion::renderer::{FrameInputs, FresnelModel, HdrFormat, Readback, RendererSettings};
+use combustion::renderer::{FresnelModel, HdrFormat, RendererSettings};
 use combustion::report::{ReportDesc, VariantSet};
 use combustion::scene::builtin_scene;
 use combustion::vk::{DeviceDesc, DeviceSelector};
@@ -85,27 +84,12 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
     assert!(underwater(&sets[1]).mean_relative > 100.0 * underwater(&sets[0]).mean_relative);
 
     // The error columns are the parity check's error map of the same frame.
-    let scene = builtin_scene("spheres").unwrap();
-    let frame = common::render(
-        &scene,
-        W,
-        H,
-        RendererSettings {
-            hdr_format: HdrFormat::Rgba32Float,
-            ..RendererSettings::default()
-        },
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
-    );
-    let inputs = FrameInputs {
-        camera: scene.camera,
-        exposure: 1.0,
-        lights: &scene.lights,
-        overlay: &[],
+    let settings = RendererSettings {
+        hdr_format: HdrFormat::Rgba32Float,
+        ..RendererSettings::default()
     };
-    let map = error_map(&frame, &ReferenceShading::new(&scene, &inputs, W, H), 1);
+    let (_, map) =
+        common::render_with_error_map(&builtin_scene("spheres").unwrap(), W, H, settings, 1);
     let row = rows
         .iter()
         .find(|r| r.scene == "builtin:spheres" && r.set == sets[0])

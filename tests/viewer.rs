@@ -158,6 +158,55 @@ fn screenshot_on_wayland_equals_the_headless_render() {
     scripted_screenshot_equals_headless("wayland", |args| view_on_wayland(&weston, args));
 }
 
+/// A scripted run: `combustion view SCENE` at `size` for `frames` frames along the camera
+/// path `path_text`, with `--screenshot` and `extra` arguments, started by `run`. The
+/// screenshot's pixels, and the scene with its camera at the last frame.
+fn scripted_screenshot(
+    name: &str,
+    run: impl FnOnce(&[&str]) -> (Option<i32>, String, String),
+    scene: &str,
+    size: (u32, u32),
+    frames: u32,
+    path_text: &str,
+    extra: &[&str],
+) -> (Vec<[u8; 4]>, combustion::scene::Scene) {
+    use combustion::viewer::camera::CameraPath;
+    use combustion::viewer::PATH_FRAMES_PER_SECOND;
+
+    let dir = std::env::temp_dir().join(format!("combustion-view-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path_file = dir.join("path.txt");
+    std::fs::write(&path_file, path_text).unwrap();
+    let shot = dir.join("shot.png");
+    let (width, height, frame_count) = (size.0.to_string(), size.1.to_string(), frames.to_string());
+    let mut args = vec![
+        scene,
+        "--width",
+        &width,
+        "--height",
+        &height,
+        "--frames",
+        &frame_count,
+        "--camera-path",
+        path_file.to_str().unwrap(),
+        "--screenshot",
+        shot.to_str().unwrap(),
+        "--validate",
+    ];
+    args.extend_from_slice(extra);
+    let (code, stdout, stderr) = run(&args);
+    assert_eq!(code, Some(0), "stdout: {stdout}\nstderr: {stderr}");
+    assert!(stdout.contains("; screenshot "), "{stdout}");
+    let (w, h, pixels) = common::read_png(&shot);
+    assert_eq!((w, h), size);
+    std::fs::remove_dir_all(dir).unwrap();
+    // The last frame (frames − 1) is shown at (frames − 1)/30 s on the path.
+    let mut scene = combustion::scene::builtin_scene(scene.trim_start_matches("builtin:")).unwrap();
+    let path = CameraPath::parse(path_text).unwrap();
+    scene.camera = path.at((frames - 1) as f32 / PATH_FRAMES_PER_SECOND, &scene.camera);
+    (pixels, scene)
+}
+
 /// Runs a scripted view with `run` and compares its screenshot with the headless
 /// render of the same scene, camera and size.
 fn scripted_screenshot_equals_headless(
@@ -165,47 +214,21 @@ fn scripted_screenshot_equals_headless(
     run: impl FnOnce(&[&str]) -> (Option<i32>, String, String),
 ) {
     use combustion::renderer::{Readback, RendererSettings};
-    use combustion::viewer::camera::CameraPath;
-    use combustion::viewer::PATH_FRAMES_PER_SECOND;
 
-    let dir = std::env::temp_dir().join(format!(
-        "combustion-view-shot-{name}-{}",
-        std::process::id()
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path_file = dir.join("path.txt");
     let path_text = "# time eye target\n0  0 1 6  0 0 0\n1  3 1 5  0 0 0\n";
-    std::fs::write(&path_file, path_text).unwrap();
-    let shot = dir.join("shot.png");
-    let (code, stdout, stderr) = run(&[
+    let (pixels, scene) = scripted_screenshot(
+        &format!("shot-{name}"),
+        run,
         "builtin:spheres",
-        "--width",
-        "160",
-        "--height",
-        "120",
-        "--frames",
-        "7",
-        "--camera-path",
-        path_file.to_str().unwrap(),
-        "--screenshot",
-        shot.to_str().unwrap(),
-        "--overlay",
-        "off",
-        "--validate",
-    ]);
-    assert_eq!(code, Some(0), "stdout: {stdout}\nstderr: {stderr}");
-    assert!(stdout.contains("; screenshot "), "{stdout}");
-    let (width, height, pixels) = common::read_png(&shot);
-    assert_eq!((width, height), (160, 120));
-
-    // Frame 6 (the seventh) is shown at 6/30 s on the path.
-    let mut scene = combustion::scene::builtin_scene("spheres").unwrap();
-    let path = CameraPath::parse(path_text).unwrap();
-    scene.camera = path.at(6.0 / PATH_FRAMES_PER_SECOND, &scene.camera);
+        (160, 120),
+        7,
+        path_text,
+        &["--overlay", "off"],
+    );
     let reference = common::render(
         &scene,
-        width,
-        height,
+        160,
+        120,
         RendererSettings::default(),
         Readback {
             images: true,
@@ -226,7 +249,6 @@ fn scripted_screenshot_equals_headless(
         differing, 0,
         "{differing} pixels differ from the headless render"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// The error view (`--error-view`, as the X key): the screenshot of a scripted run is,
@@ -235,64 +257,22 @@ fn scripted_screenshot_equals_headless(
 /// library computes (`reference::error_map`), nothing else.
 #[test]
 fn the_error_view_shows_the_reference_error_map() {
-    use combustion::renderer::reference::{error_map, heat_map_color, ReferenceShading};
-    use combustion::renderer::{FrameInputs, Readback, RendererSettings};
+    use combustion::renderer::reference::heat_map_color;
+    use combustion::renderer::RendererSettings;
 
-    let dir = std::env::temp_dir().join(format!("combustion-view-error-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let shot = dir.join("shot.png");
-    let path_file = dir.join("path.txt");
-    let path_text = "0  1 1.5 6  0 0.2 0\n1  1 1.5 6  0 0.2 0\n";
-    std::fs::write(&path_file, path_text).unwrap();
     let xvfb = Xvfb::start();
-    let (code, stdout, stderr) = view(
-        &format!(":{}", xvfb.display),
-        &[
-            "builtin:hard-cases",
-            "--width",
-            "192",
-            "--height",
-            "128",
-            "--frames",
-            "4",
-            "--camera-path",
-            path_file.to_str().unwrap(),
-            "--screenshot",
-            shot.to_str().unwrap(),
-            "--overlay",
-            "off",
-            "--error-view",
-            "--validate",
-        ],
+    let display = format!(":{}", xvfb.display);
+    let (pixels, scene) = scripted_screenshot(
+        "error",
+        |args| view(&display, args),
+        "builtin:hard-cases",
+        (192, 128),
+        4,
+        "0  1 1.5 6  0 0.2 0\n1  1 1.5 6  0 0.2 0\n",
+        &["--overlay", "off", "--error-view"],
     );
     drop(xvfb);
-    assert_eq!(code, Some(0), "stdout: {stdout}\nstderr: {stderr}");
-    let (width, height, pixels) = common::read_png(&shot);
-
-    let mut scene = combustion::scene::builtin_scene("hard-cases").unwrap();
-    let path = combustion::viewer::camera::CameraPath::parse(path_text).unwrap();
-    scene.camera = path.at(0.1, &scene.camera);
-    let frame = common::render(
-        &scene,
-        width,
-        height,
-        RendererSettings::default(),
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
-    );
-    let inputs = FrameInputs {
-        camera: scene.camera,
-        exposure: 1.0,
-        lights: &scene.lights,
-        overlay: &[],
-    };
-    let map = error_map(
-        &frame,
-        &ReferenceShading::new(&scene, &inputs, width, height),
-        2,
-    );
+    let (_, map) = common::render_with_error_map(&scene, 192, 128, RendererSettings::default(), 2);
     assert!(map.lit_pixels > 1000, "{} pixels compared", map.lit_pixels);
     let expected: Vec<[u8; 4]> = map.relative.iter().map(|&e| heat_map_color(e)).collect();
     let differing = pixels.iter().zip(&expected).filter(|(a, b)| a != b).count();
@@ -305,7 +285,6 @@ fn the_error_view_shows_the_reference_error_map() {
     colours.sort();
     colours.dedup();
     assert!(colours.len() > 20, "{} distinct colours", colours.len());
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// The statistics panel (on by default) is drawn over the frame in the top-left corner
@@ -314,37 +293,20 @@ fn the_error_view_shows_the_reference_error_map() {
 fn the_statistics_panel_covers_only_its_corner() {
     use combustion::renderer::{Readback, RendererSettings};
 
-    let dir = std::env::temp_dir().join(format!("combustion-view-panel-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let shot = dir.join("shot.png");
-    // The same camera in both renders (the viewer's orbit camera is rebuilt from it).
-    let path_file = dir.join("path.txt");
-    let path_text = "0  0 1 6  0 0 0\n1  0 1 6  0 0 0\n";
-    std::fs::write(&path_file, path_text).unwrap();
+    let (width, height) = (480, 270);
     let xvfb = Xvfb::start();
-    let (code, stdout, stderr) = view(
-        &format!(":{}", xvfb.display),
-        &[
-            "builtin:spheres",
-            "--width",
-            "480",
-            "--height",
-            "270",
-            "--frames",
-            "4",
-            "--camera-path",
-            path_file.to_str().unwrap(),
-            "--screenshot",
-            shot.to_str().unwrap(),
-            "--validate",
-        ],
+    let display = format!(":{}", xvfb.display);
+    // A camera held still: the same camera in both renders.
+    let (pixels, scene) = scripted_screenshot(
+        "panel",
+        |args| view(&display, args),
+        "builtin:spheres",
+        (width, height),
+        4,
+        "0  0 1 6  0 0 0\n1  0 1 6  0 0 0\n",
+        &[],
     );
     drop(xvfb);
-    assert_eq!(code, Some(0), "stdout: {stdout}\nstderr: {stderr}");
-    let (width, height, pixels) = common::read_png(&shot);
-    let mut scene = combustion::scene::builtin_scene("spheres").unwrap();
-    let path = combustion::viewer::camera::CameraPath::parse(path_text).unwrap();
-    scene.camera = path.at(0.1, &scene.camera);
     let reference = common::render(
         &scene,
         width,
@@ -367,7 +329,6 @@ fn the_statistics_panel_covers_only_its_corner() {
         differing.iter().all(|&(x, _)| x >= 8),
         "the panel keeps its margin"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]

@@ -49,6 +49,41 @@ pub fn finish(headless: Headless) {
     );
 }
 
+/// Renders `scene` (its camera and lights) on lavapipe with validation, reading back
+/// its HDR image and G-buffer, and compares every pixel with the f64 reference on
+/// `threads` threads (`combustion_renderer::reference::error_map`).
+pub fn render_with_error_map(
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    settings: RendererSettings,
+    threads: usize,
+) -> (Frame, combustion::renderer::reference::ErrorMap) {
+    use combustion::renderer::reference::{error_map, ReferenceShading};
+    let frame = render(
+        scene,
+        width,
+        height,
+        settings,
+        Readback {
+            images: true,
+            gbuffer: true,
+        },
+    );
+    let inputs = combustion::renderer::FrameInputs {
+        camera: scene.camera,
+        exposure: 1.0,
+        lights: &scene.lights,
+        overlay: &[],
+    };
+    let map = error_map(
+        &frame,
+        &ReferenceShading::new(scene, &inputs, width, height),
+        threads,
+    );
+    (frame, map)
+}
+
 /// Renders `scene` on lavapipe with validation and the given readback; checks validation.
 pub fn render(
     scene: &Scene,

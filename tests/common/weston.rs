@@ -68,15 +68,7 @@ impl Weston {
 
 impl Drop for Weston {
     fn drop(&mut self) {
-        let _ = Command::new("kill")
-            .args(["-TERM", &self.child.id().to_string()])
-            .status();
-        let deadline = Instant::now() + Duration::from_secs(10);
-        while matches!(self.child.try_wait(), Ok(None)) && Instant::now() < deadline {
-            std::thread::sleep(Duration::from_millis(10));
-        }
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        super::xvfb::terminate(&mut self.child);
         let _ = std::fs::remove_dir_all(&self.runtime_dir);
     }
 }

@@ -91,20 +91,25 @@ impl Xvfb {
     }
 }
 
+/// Stops a server: SIGTERM (it removes its own socket and lock file), then SIGKILL if it
+/// lingers past 10 s.
+pub fn terminate(child: &mut Child) {
+    let _ = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while matches!(child.try_wait(), Ok(None)) && Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+}
+
 impl Drop for Xvfb {
     fn drop(&mut self) {
-        // SIGTERM lets Xvfb remove its socket and lock file; SIGKILL only if it lingers.
         // Nothing is removed here: after a SIGKILL the next server finds the stale lock
         // (its process is gone) and takes the display over, whereas removing the files
         // here could delete those of a server that has just taken the number.
-        let _ = Command::new("kill")
-            .args(["-TERM", &self.child.id().to_string()])
-            .status();
-        let deadline = Instant::now() + Duration::from_secs(10);
-        while matches!(self.child.try_wait(), Ok(None)) && Instant::now() < deadline {
-            std::thread::sleep(Duration::from_millis(10));
-        }
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        terminate(&mut self.child);
     }
 }

@@ -111,20 +111,14 @@ impl FullscreenPass {
             raw.cmd_begin_rendering(cmd, &rendering);
             crate::set_viewport_and_scissor(raw, cmd, extent);
             raw.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
-            raw.cmd_bind_descriptor_sets(
+            crate::bind_pass(
+                raw,
                 cmd,
                 vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw(),
-                0,
-                &[set],
-                &[],
-            );
-            raw.cmd_push_constants(
-                cmd,
-                self.layout.raw(),
+                &self.pipeline,
+                &self.layout,
+                set,
                 vk::ShaderStageFlags::FRAGMENT,
-                0,
                 push,
             );
             raw.cmd_draw(cmd, 3, 1, 0, 0);

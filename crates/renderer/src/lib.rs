@@ -450,6 +450,29 @@ pub fn linear_to_srgb(linear: f64) -> f64 {
     }
 }
 
+/// Binds `pipeline` at `bind_point` with its one descriptor set (set 0) and, if any,
+/// its push constants for `stages`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn bind_pass(
+    raw: &combustion_vk::ash::Device,
+    cmd: vk::CommandBuffer,
+    bind_point: vk::PipelineBindPoint,
+    pipeline: &combustion_vk::Pipeline,
+    layout: &combustion_vk::PipelineLayout,
+    set: vk::DescriptorSet,
+    stages: vk::ShaderStageFlags,
+    push: &[u8],
+) {
+    // SAFETY: recording state is the caller's responsibility; the set matches the layout.
+    unsafe {
+        raw.cmd_bind_pipeline(cmd, bind_point, pipeline.raw());
+        raw.cmd_bind_descriptor_sets(cmd, bind_point, layout.raw(), 0, &[set], &[]);
+        if !push.is_empty() {
+            raw.cmd_push_constants(cmd, layout.raw(), stages, 0, push);
+        }
+    }
+}
+
 pub(crate) fn set_viewport_and_scissor(
     raw: &combustion_vk::ash::Device,
     cmd: vk::CommandBuffer,

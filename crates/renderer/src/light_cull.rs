@@ -103,25 +103,17 @@ impl LightCullPass {
         let (x, y) = tiles(extent);
         let raw = device.raw();
         let groups = (x * y).div_ceil(64);
+        crate::bind_pass(
+            raw,
+            cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            &self.pipeline,
+            &self.layout,
+            set,
+            vk::ShaderStageFlags::COMPUTE,
+            bytemuck::bytes_of(push),
+        );
         // SAFETY: recording state; the set's resources are in the states declared.
-        unsafe {
-            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw());
-            raw.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.layout.raw(),
-                0,
-                &[set],
-                &[],
-            );
-            raw.cmd_push_constants(
-                cmd,
-                self.layout.raw(),
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                bytemuck::bytes_of(push),
-            );
-            raw.cmd_dispatch(cmd, groups, 1, 1);
-        }
+        unsafe { raw.cmd_dispatch(cmd, groups, 1, 1) };
     }
 }

@@ -380,26 +380,18 @@ impl OverlayPass {
             image_width,
         };
         let raw = device.raw();
+        crate::bind_pass(
+            raw,
+            cmd,
+            vk::PipelineBindPoint::GRAPHICS,
+            &self.pipeline,
+            &self.layout,
+            set,
+            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+            bytemuck::bytes_of(&push),
+        );
         // SAFETY: inside a rendering instance of a command buffer in the recording state.
-        unsafe {
-            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
-            raw.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw(),
-                0,
-                &[set],
-                &[],
-            );
-            raw.cmd_push_constants(
-                cmd,
-                self.layout.raw(),
-                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-                0,
-                bytemuck::bytes_of(&push),
-            );
-            raw.cmd_draw(cmd, 6, quads, 0, 0);
-        }
+        unsafe { raw.cmd_draw(cmd, 6, quads, 0, 0) };
     }
 }
 

@@ -198,19 +198,8 @@ fn bad_files_from_memory_and_truncated_never_panic() {
 /// Degenerate triangles alone are dropped with a warning, not an error.
 #[test]
 fn some_degenerate_triangles_are_dropped_with_a_warning() {
-    let base = corpus().join("index-out-of-range.gltf");
-    let mut root: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(base).unwrap()).unwrap();
     // Three vertices, six u16 indices: (0 1 2) and (0 0 1).
-    let data: Vec<u8> = [
-        0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 1., 0., 0., 1.,
-    ]
-    .iter()
-    .flat_map(|x| x.to_le_bytes())
-    .chain([0u16, 1, 2, 0, 0, 1].iter().flat_map(|x| x.to_le_bytes()))
-    .collect();
-    let uri = format!("data:application/octet-stream;base64,{}", base64(&data));
-    root["buffers"][0] = serde_json::json!({ "byteLength": data.len(), "uri": uri });
+    let mut root = one_triangle_file(&[0, 1, 2, 0, 0, 1]);
     root["bufferViews"][2]["byteLength"] = 12.into();
     root["accessors"][2]["count"] = 6.into();
     let (scene, report) =
@@ -228,18 +217,7 @@ fn some_degenerate_triangles_are_dropped_with_a_warning() {
 /// gives when asked for it by index.
 #[test]
 fn placed_perspective_cameras_are_listed_in_order() {
-    let base = corpus().join("index-out-of-range.gltf");
-    let mut root: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(base).unwrap()).unwrap();
-    let data: Vec<u8> = [
-        0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 1., 0., 0., 1.,
-    ]
-    .iter()
-    .flat_map(|x| x.to_le_bytes())
-    .chain([0u16, 1, 2].iter().flat_map(|x| x.to_le_bytes()))
-    .collect();
-    let uri = format!("data:application/octet-stream;base64,{}", base64(&data));
-    root["buffers"][0] = serde_json::json!({ "byteLength": data.len(), "uri": uri });
+    let mut root = one_triangle_file(&[0, 1, 2]);
     let perspective = |name: &str| {
         serde_json::json!({ "name": name, "type": "perspective",
             "perspective": { "yfov": 0.8, "znear": 0.1, "zfar": 100.0 } })
@@ -285,6 +263,24 @@ fn placed_perspective_cameras_are_listed_in_order() {
     };
     let (side, _) = import_slice(bytes.as_bytes(), &options).unwrap();
     assert_eq!(side.camera, report.scene_cameras[1].camera);
+}
+
+/// The corpus's index-out-of-range.gltf made valid: three vertices (positions and
+/// normals) in an embedded buffer, with `indices` (u16) after them.
+fn one_triangle_file(indices: &[u16]) -> serde_json::Value {
+    let base = corpus().join("index-out-of-range.gltf");
+    let mut root: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(base).unwrap()).unwrap();
+    let data: Vec<u8> = [
+        0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 1., 0., 0., 1.,
+    ]
+    .iter()
+    .flat_map(|x| x.to_le_bytes())
+    .chain(indices.iter().flat_map(|x| x.to_le_bytes()))
+    .collect();
+    let uri = format!("data:application/octet-stream;base64,{}", base64(&data));
+    root["buffers"][0] = serde_json::json!({ "byteLength": data.len(), "uri": uri });
+    root
 }
 
 fn base64(bytes: &[u8]) -> String {
