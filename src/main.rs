@@ -64,11 +64,13 @@ lighting pipeline is specialised to what the scene's materials use; --specialise
 measures the general pipeline instead. --extra-lights N adds N point lights with a
 range (a fifth of the scene's size) scattered through it; --culling chooses when
 frames cull their lights into 16×16-pixel tile lists (auto: when a light has a range;
-the culling pass is timed with the lighting pass). --report DIR measures every variant set (Fresnel
-full/Schlick × HDR f32/f16 × specialised/general pipeline) on every built-in scene (or
-the scene named): GPU time per pass and the error of one frame against the f64
-reference, and each scene's measurement floors (trivial G-buffer fragment stage;
-lighting that only fetches; plain GGX + Smith + conductor Fresnel), written to DIR as
+the culling pass is timed with the lighting pass). --report DIR measures variant sets
+on every built-in scene (or the scene named): the default (full Fresnel, f32 HDR,
+specialised pipeline, height-correlated masking), each term changed alone (general
+pipeline, Schlick, f16, separable or approximate masking) and every cheap choice at
+once; per set the GPU time of each pass and the error of one frame against the f64
+reference, and per scene the measurement floors (trivial G-buffer fragment stage;
+lighting that only fetches; plain GGX + Smith + conductor Fresnel); written to DIR as
 report.md, report.csv, floors.csv and speed-vs-error.png (with the Pareto front).
 
 view opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under
@@ -398,7 +400,7 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
         || o.hdr_format != HdrFormat::default()
     {
         return Err(Error::Usage(
-            "--report measures every Fresnel model, HDR format and pipeline itself; it takes no --fresnel, --hdr-format, --specialised, --extra-lights or --culling".into(),
+            "--report measures the Fresnel models, HDR formats, pipelines and masking terms itself; it takes no --fresnel, --hdr-format, --specialised, --extra-lights or --culling".into(),
         ));
     }
     let (device, _) = device_and_settings(o)?;

@@ -1,5 +1,6 @@
 //! `combustion bench --report DIR`: speed against error. For each scene and each
-//! *variant set* (Fresnel model × HDR storage × lighting pipeline), the GPU time of every
+//! *variant set* (Fresnel model, HDR storage, lighting pipeline, masking term: the
+//! default, each term changed alone, and all the cheap choices together), the GPU time of every
 //! pass over N frames after a warm-up (median, p10, p90; timestamps), and the error of
 //! one frame against the f64 reference (`combustion_renderer::reference`: every pixel
 //! re-shaded from its own G-buffer with the full Fresnel equations; max, mean and RMS
@@ -14,8 +15,8 @@ use std::path::Path;
 use combustion_plots::{pareto_front, plot_speed_vs_error, SpeedErrorPoint};
 use combustion_renderer::reference::{error_map, ReferenceShading};
 use combustion_renderer::{
-    FrameInputs, FresnelModel, GpuScene, HdrFormat, MeasurementFloor, PassTimings, Readback,
-    Renderer, RendererSettings,
+    FrameInputs, FresnelModel, GpuScene, HdrFormat, Masking, MeasurementFloor, PassTimings,
+    Readback, Renderer, RendererSettings,
 };
 use combustion_vk::DeviceDesc;
 
@@ -28,30 +29,58 @@ pub struct VariantSet {
     pub hdr: HdrFormat,
     /// Lighting pipeline specialised to the scene (else the general one).
     pub specialised: bool,
+    pub masking: Masking,
 }
 
 impl VariantSet {
-    /// Every set the report measures.
+    /// The renderer's defaults: the exact model, f32 HDR, specialised pipeline.
+    pub const DEFAULT: VariantSet = VariantSet {
+        fresnel: FresnelModel::Full,
+        hdr: HdrFormat::Rgba32Float,
+        specialised: true,
+        masking: Masking::HeightCorrelated,
+    };
+
+    /// Every set the report measures: the default; each term changed alone (the general
+    /// pipeline, Schlick's Fresnel, f16 HDR, the separable and the approximate masking
+    /// term); and every cheap choice at once.
     pub fn all() -> Vec<VariantSet> {
-        let mut sets = Vec::new();
-        for hdr in [HdrFormat::Rgba32Float, HdrFormat::Rgba16Float] {
-            for fresnel in [FresnelModel::Full, FresnelModel::Schlick] {
-                for specialised in [true, false] {
-                    sets.push(VariantSet {
-                        fresnel,
-                        hdr,
-                        specialised,
-                    });
-                }
-            }
-        }
-        sets
+        let d = Self::DEFAULT;
+        vec![
+            d,
+            VariantSet {
+                specialised: false,
+                ..d
+            },
+            VariantSet {
+                fresnel: FresnelModel::Schlick,
+                ..d
+            },
+            VariantSet {
+                hdr: HdrFormat::Rgba16Float,
+                ..d
+            },
+            VariantSet {
+                masking: Masking::Separable,
+                ..d
+            },
+            VariantSet {
+                masking: Masking::Approximate,
+                ..d
+            },
+            VariantSet {
+                fresnel: FresnelModel::Schlick,
+                hdr: HdrFormat::Rgba16Float,
+                masking: Masking::Approximate,
+                ..d
+            },
+        ]
     }
 
-    /// A short name, e.g. `full/f32/specialised`.
+    /// A short name, e.g. `full/f32/specialised/correlated`.
     pub fn name(&self) -> String {
         format!(
-            "{}/{}/{}",
+            "{}/{}/{}/{}",
             match self.fresnel {
                 FresnelModel::Full => "full",
                 FresnelModel::Schlick => "schlick",
@@ -64,7 +93,8 @@ impl VariantSet {
                 "specialised"
             } else {
                 "general"
-            }
+            },
+            self.masking.name()
         )
     }
 }
@@ -194,6 +224,7 @@ pub fn measure(
                 progress(rows.len() + floors.len(), total, &format!("{label} floors"));
                 renderer.set_fresnel(FresnelModel::Full);
                 renderer.set_specialised(true);
+                renderer.set_masking(Masking::HeightCorrelated);
                 let mut spreads = Vec::new();
                 for floor in [
                     MeasurementFloor::Geometry,
@@ -231,6 +262,7 @@ pub fn measure(
                 );
                 renderer.set_fresnel(set.fresnel);
                 renderer.set_specialised(set.specialised);
+                renderer.set_masking(set.masking);
                 renderer.prepare(&gpu)?;
                 // The error of one frame (read back), which is also the warm-up.
                 let inputs = FrameInputs::of_scene(&gpu, 1.0);
@@ -320,18 +352,19 @@ fn points(rows: &[ReportRow]) -> Vec<SpeedErrorPoint> {
 /// The CSV: one row per scene and variant set.
 pub fn csv(rows: &[ReportRow]) -> String {
     let mut out = String::from(
-        "scene,fresnel,hdr,pipeline,frames,gbuffer_ms,gbuffer_p10,gbuffer_p90,lighting_ms,lighting_p10,lighting_p90,output_ms,output_p10,output_p90,total_ms,total_p10,total_p90,max_relative_error,mean_relative_error,rms_relative_error,pixels_compared\n",
+        "scene,fresnel,hdr,pipeline,masking,frames,gbuffer_ms,gbuffer_p10,gbuffer_p90,lighting_ms,lighting_p10,lighting_p90,output_ms,output_p10,output_p90,total_ms,total_p10,total_p90,max_relative_error,mean_relative_error,rms_relative_error,pixels_compared\n",
     );
     for r in rows {
         let name = r.set.name();
         let parts: Vec<&str> = name.split('/').collect();
         let _ = write!(
             out,
-            "{},{},{},{},{}",
+            "{},{},{},{},{},{}",
             csv_field(&r.scene),
             parts[0],
             parts[1],
             parts[2],
+            parts[3],
             r.frames
         );
         for s in [r.gbuffer, r.lighting, r.output, r.total] {
@@ -374,17 +407,13 @@ pub fn floors_csv(floors: &[FloorRow]) -> String {
     out
 }
 
-/// The floors and each pass of the default set (full/f32/specialised) as a multiple of
+/// The floors and each pass of the default set ([`VariantSet::DEFAULT`]) as a multiple of
 /// them, per scene.
 fn floors_markdown(m: &Measurements) -> String {
     let mut out = String::from(
-        "## Against the floors (same run)\n\nFloors: the G-buffer pass with a trivial fragment stage (geometry), the lighting pass that only fetches the G-buffer and writes (fetch), and a lighting pass with a plain isotropic GGX, height-correlated Smith and the full conductor Fresnel per light (plain GGX); the same scene, lights, size and frames. Passes of the default set, full/f32/specialised.\n\n| scene | geometry floor ms | G-buffer ms (× floor) | fetch floor ms | plain GGX ms | lighting ms (× fetch, × plain GGX) |\n|---|---|---|---|---|---|\n",
+        "## Against the floors (same run)\n\nFloors: the G-buffer pass with a trivial fragment stage (geometry), the lighting pass that only fetches the G-buffer and writes (fetch), and a lighting pass with a plain isotropic GGX, height-correlated Smith and the full conductor Fresnel per light (plain GGX); the same scene, lights, size and frames. Passes of the default set, full/f32/specialised/correlated.\n\n| scene | geometry floor ms | G-buffer ms (× floor) | fetch floor ms | plain GGX ms | lighting ms (× fetch, × plain GGX) |\n|---|---|---|---|---|---|\n",
     );
-    let default = VariantSet {
-        fresnel: FresnelModel::Full,
-        hdr: HdrFormat::Rgba32Float,
-        specialised: true,
-    };
+    let default = VariantSet::DEFAULT;
     for f in &m.floors {
         let Some(r) = m
             .rows
@@ -414,7 +443,7 @@ fn floors_markdown(m: &Measurements) -> String {
 pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     let (rows, device) = (&m.rows[..], &m.device);
     let mut out = format!(
-        "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4).\n\nVariant sets: Fresnel `full` (the equations with complex η + ik and the outside medium) or `schlick` (Schlick's curve through the exact normal-incidence reflectance); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`.\n\n",
+        "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4).\n\nVariant sets (fresnel/hdr/pipeline/masking): Fresnel `full` (the equations with complex η + ik and the outside medium) or `schlick` (Schlick's curve through the exact normal-incidence reflectance); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`; masking–shadowing `correlated` (Smith height-correlated, the reference's), `separable` (G₁·G₁) or `approximate` (Hammon 2017). The default, each term changed alone, and every cheap choice at once.\n\n",
         desc.width, desc.height, desc.frames
     );
     let summary = summarise(rows);

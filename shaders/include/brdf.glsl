@@ -199,7 +199,17 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
     vec3 h = sum * (1.0 / len);
     float cos_h = min(0.5 * len, 1.0);
     vec2 light_half = smith_ggx_visibility_half(ll, ax, ay);
+#if defined(SMITH_SEPARABLE)
+    // Comparison variant (combustion_renderer::Masking::Separable): G₁(v)·G₁(l), the form
+    // of Cook–Torrance and several offline renderers; V = 1/((c_v + S_v)(c_l + S_l)).
+    float visibility = 1.0 / ((view.visibility_half.x + view.visibility_half.y) * (light_half.x + light_half.y));
+#elif defined(SMITH_APPROXIMATE)
+    // Comparison variant (Masking::Approximate): Hammon 2017's fit of the
+    // height-correlated term, V ≈ ½ / mix(2 n·l n·v, n·l + n·v, α), α = √(α_x α_y).
+    float visibility = 0.5 / mix(2.0 * light_half.x * view.visibility_half.x, light_half.x + view.visibility_half.x, sqrt(ax * ay));
+#else
     float visibility = 0.5 / (light_half.x * view.visibility_half.y + view.visibility_half.x * light_half.y);
+#endif
 #ifdef NO_ANISOTROPY
     float lobe = d_ggx(h, ax) * visibility;  // α_x = α_y: the isotropic form
 #else

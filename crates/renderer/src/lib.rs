@@ -142,6 +142,30 @@ impl Default for LightingFeatures {
     }
 }
 
+/// The masking–shadowing term of the lighting pass. The default is the exact model (the
+/// one the f64 reference evaluates); the others are comparison variants whose error the
+/// report measures.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Masking {
+    /// Smith's height-correlated G₂ (Heitz 2014).
+    #[default]
+    HeightCorrelated,
+    /// The separable G₁(v)·G₁(l).
+    Separable,
+    /// Hammon 2017's approximation of the height-correlated visibility.
+    Approximate,
+}
+
+impl Masking {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::HeightCorrelated => "correlated",
+            Self::Separable => "separable",
+            Self::Approximate => "approximate",
+        }
+    }
+}
+
 /// Stripped-down passes to measure the real ones against (`combustion bench --report`):
 /// what the same frame costs with the shading taken out. Not images to look at.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -173,6 +197,8 @@ pub struct ShaderVariant {
     pub features: LightingFeatures,
     /// A measurement floor instead of the real pass ([`Renderer::set_measurement_floor`]).
     pub floor: Option<MeasurementFloor>,
+    /// The masking–shadowing term ([`Renderer::set_masking`]).
+    pub masking: Masking,
 }
 
 /// What the lighting pass shows instead of radiance (`debug_views.glsl` has the same
@@ -271,6 +297,11 @@ impl ShaderVariant {
             defines.push(("DEBUG_VIEWS", None));
         }
         self.features.defines(&mut defines);
+        match self.masking {
+            Masking::HeightCorrelated => {}
+            Masking::Separable => defines.push(("SMITH_SEPARABLE", None)),
+            Masking::Approximate => defines.push(("SMITH_APPROXIMATE", None)),
+        }
         match self.floor {
             None => {}
             Some(MeasurementFloor::Geometry) => defines.push(("FLOOR_GEOMETRY", None)),
@@ -574,6 +605,8 @@ pub struct Renderer {
     specialised: bool,
     /// A measurement floor in place of the real passes.
     floor: Option<MeasurementFloor>,
+    /// The masking–shadowing term ([`Renderer::set_masking`]).
+    masking: Masking,
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     light_culling: LightCulling,
     light_cull: light_cull::LightCullPass,
@@ -668,6 +701,7 @@ impl Renderer {
             debug_view: DebugView::None,
             specialised: true,
             floor: None,
+            masking: Masking::HeightCorrelated,
             light_culling: LightCulling::Auto,
             light_cull,
             frame_number: 0,
@@ -710,6 +744,7 @@ impl Renderer {
                 LightingFeatures::ALL
             },
             floor: if debug_views { None } else { self.floor },
+            masking: self.masking,
             ..scene_variant
         }
     }
@@ -823,6 +858,17 @@ impl Renderer {
     /// or edit, never by a frame's recording.
     pub fn set_fresnel(&mut self, model: FresnelModel) {
         self.settings.fresnel = model;
+    }
+
+    /// The masking–shadowing term from the next frame on (the exact height-correlated
+    /// form by default; the others are comparison variants). Pipelines as for
+    /// [`Renderer::set_fresnel`].
+    pub fn set_masking(&mut self, masking: Masking) {
+        self.masking = masking;
+    }
+
+    pub fn masking(&self) -> Masking {
+        self.masking
     }
 
     /// Renders a [`MeasurementFloor`] instead of the real pass (or the real passes

@@ -68,6 +68,7 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
         debug_views: false,
         features: crate::LightingFeatures::of(scene),
         floor: None,
+        masking: crate::Masking::HeightCorrelated,
     }
 }
 
