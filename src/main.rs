@@ -19,7 +19,7 @@ combustion — Vulkan deferred renderer with physically based shading
 USAGE:
   combustion render [SCENE] [-o OUT.png] [--hdr OUT.exr] [--width N] [--height N]
                     [--exposure X] [--hdr-format f16|f32] [--fresnel full|schlick]
-                    [--device SEL] [--validate]
+                    [--max-error E] [--device SEL] [--validate]
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
                     [--hdr-format f16|f32] [--fresnel full|schlick] [--specialised on|off]
                     [--extra-lights N] [--culling auto|always|never] [--report DIR]
@@ -36,7 +36,7 @@ USAGE:
                     | --csv FILE) [--outside-ior X] [--polarisation W] [PLOT OPTIONS]
   combustion plot spectrum (--metal NAME | --csv FILE) [PLOT OPTIONS]
   combustion plot dielectrics [--etas E,E,...] [--outside-ior X] [PLOT OPTIONS]
-  combustion info SCENE
+  combustion info SCENE [--max-error E]
   combustion devices
   combustion help
 
@@ -83,7 +83,10 @@ reference. Escape or closing the
 window quits, as does --frames N after N frames; a summary is printed at exit.
 
 info prints what a scene holds (meshes, materials, lights, camera, outside medium) and
-which renderer features it needs; for a glTF file also what the importer found.
+which renderer features it needs; for a glTF file also what the importer found. With
+--max-error E (an accuracy budget: the mean relative error against the f64 reference)
+it measures the report's variant sets on the scene at 640x360 and says which is the
+fastest within E, as render --max-error E chooses (measured there at the render's size).
 Logging: COMBUSTION_LOG=error|warn|info|debug|trace (default warn).";
 
 /// `println!` that ends the program quietly when stdout is closed (`combustion … | head`)
@@ -152,6 +155,8 @@ struct Options {
     error_view: bool,
     /// `bench`: write the speed-against-error report here.
     report: Option<PathBuf>,
+    /// `render`: the accuracy budget (mean relative error against the f64 reference).
+    max_error: Option<f64>,
     /// `bench`: localised lights (with range) added to the scene.
     extra_lights: usize,
     /// `bench`: when frames cull their lights.
@@ -166,6 +171,16 @@ fn number<T: std::str::FromStr>(flag: &str, value: &str) -> Result<T, Error> {
     value
         .parse()
         .map_err(|_| Error::Usage(format!("{flag}: `{value}` is not a valid number")))
+}
+
+/// An accuracy budget: a relative error above 0.
+fn max_error(value: &str) -> Result<f64, Error> {
+    match value.parse::<f64>() {
+        Ok(e) if e.is_finite() && e > 0.0 => Ok(e),
+        _ => Err(Error::Usage(format!(
+            "--max-error: `{value}` is not a relative error above 0 (e.g. 1e-3)"
+        ))),
+    }
 }
 
 fn on_off(flag: &str, value: &str) -> Result<bool, Error> {
@@ -196,6 +211,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         specialised: true,
         error_view: false,
         report: None,
+        max_error: None,
         extra_lights: 0,
         culling: combustion::renderer::LightCulling::Auto,
         scene_given: false,
@@ -254,6 +270,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             "--overlay" if command == "view" => o.overlay = on_off(flag, value()?)?,
             "--specialised" if command == "bench" => o.specialised = on_off(flag, value()?)?,
             "--report" if command == "bench" => o.report = Some(PathBuf::from(value()?)),
+            "--max-error" if command == "render" => o.max_error = Some(max_error(value()?)?),
             "--extra-lights" if command == "bench" => {
                 o.extra_lights = number(flag, value()?)?;
                 if o.extra_lights > 65536 {
@@ -354,7 +371,34 @@ fn render(o: &Options) -> Result<(), Error> {
         output::check_writable(path)?;
     }
     let scene = o.scene.load()?;
-    let mut headless = headless(o)?;
+    let (device, mut settings) = device_and_settings(o)?;
+    // An accuracy budget: the fastest variant set within it, measured on this scene at
+    // this size (5 frames each).
+    let mut chosen = None;
+    if let Some(budget) = o.max_error {
+        let choice =
+            combustion::report::choose(&o.scene, budget, o.width, o.height, 5, device.clone())?;
+        let Some(set) = choice.chosen else {
+            let best = choice
+                .candidates
+                .iter()
+                .min_by(|a, b| a.mean_relative.total_cmp(&b.mean_relative));
+            return Err(Error::Usage(format!(
+                "--max-error {budget:e}: no variant set is within it on this scene (the most accurate, {}, has mean relative error {:.2e})",
+                best.map_or("none".into(), |r| r.set.name()),
+                best.map_or(f64::NAN, |r| r.mean_relative)
+            )));
+        };
+        settings.fresnel = set.fresnel;
+        settings.hdr_format = set.hdr;
+        chosen = Some(set);
+        outln!("variant set {} (--max-error {budget:e}; `combustion info SCENE --max-error {budget:e}` says why)", set.name());
+    }
+    let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
+    if let Some(set) = chosen {
+        headless.renderer().set_specialised(set.specialised);
+        headless.renderer().set_masking(set.masking);
+    }
     let frame = headless.render(&scene, o.width, o.height)?;
     let validation = headless.validation_log();
     drop(headless);
@@ -419,6 +463,7 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
         height: o.height,
         frames: o.frames,
         device,
+        floors: true,
     };
     let started = Instant::now();
     let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
@@ -930,10 +975,14 @@ fn plot(args: &[String]) -> Result<(), CliError> {
 
 /// `info SCENE`: what the scene holds and which renderer features it needs.
 fn info(args: &[String]) -> Result<(), CliError> {
-    let [source] = args else {
-        return Err(usage(
-            "`combustion info` takes one scene: builtin:NAME or a .gltf/.glb file".into(),
-        ));
+    let (source, budget) = match args {
+        [source] => (source, None),
+        [source, flag, value] if flag == "--max-error" => (source, Some(max_error(value)?)),
+        _ => {
+            return Err(usage(
+                "`combustion info` takes one scene (builtin:NAME or a .gltf/.glb file), then optionally --max-error E".into(),
+            ))
+        }
     };
     let scene = match SceneSource::parse(source) {
         SceneSource::Builtin(name) => {
@@ -960,6 +1009,17 @@ fn info(args: &[String]) -> Result<(), CliError> {
     };
     scene.validate().map_err(Error::from)?;
     print!("{}", describe_scene(&scene));
+    if let Some(budget) = budget {
+        // What `render --max-error` would choose, measured here at 640×360.
+        let device = DeviceDesc {
+            selector: DeviceSelector::from_env().map_err(Error::from)?,
+            ..DeviceDesc::default()
+        };
+        let choice =
+            combustion::report::choose(&SceneSource::parse(source), budget, 640, 360, 10, device)?;
+        outln!("variant sets measured at 640x360 (10 frames each), fastest first:");
+        print!("{}", choice.explain(budget));
+    }
     Ok(())
 }
 

@@ -186,6 +186,8 @@ pub struct ReportDesc {
     /// Frames timed per scene and set (after one warm-up frame).
     pub frames: u32,
     pub device: DeviceDesc,
+    /// Measure each scene's floors too.
+    pub floors: bool,
 }
 
 /// Measures every scene under every variant set, and each scene's floors (with the
@@ -201,7 +203,7 @@ pub fn measure(
         .iter()
         .map(|source| Ok((source.label(), source.load()?)))
         .collect::<Result<Vec<_>, Error>>()?;
-    let total = scenes.len() * (desc.sets.len() + 1);
+    let total = scenes.len() * (desc.sets.len() + usize::from(desc.floors));
     let mut rows = Vec::with_capacity(total);
     // One renderer per HDR format (a renderer's HDR storage is fixed at creation).
     for hdr in [HdrFormat::Rgba32Float, HdrFormat::Rgba16Float] {
@@ -220,7 +222,7 @@ pub fn measure(
         device_name.clone_from(&renderer.device().info().name);
         for (label, scene) in &scenes {
             let gpu = renderer.upload(scene)?;
-            if hdr == HdrFormat::Rgba32Float {
+            if desc.floors && hdr == HdrFormat::Rgba32Float {
                 progress(rows.len() + floors.len(), total, &format!("{label} floors"));
                 renderer.set_fresnel(FresnelModel::Full);
                 renderer.set_specialised(true);
@@ -314,6 +316,74 @@ pub fn measure(
         floors,
         device: device_name,
     })
+}
+
+/// What an accuracy budget chose for a scene ([`choose`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Choice {
+    /// The fastest set whose mean relative error is within the budget (`None`: none is).
+    pub chosen: Option<VariantSet>,
+    /// Every set measured, fastest first.
+    pub candidates: Vec<ReportRow>,
+}
+
+/// The accuracy budget: measures every variant set on `scene` (without floors) and
+/// picks the fastest whose mean relative error against the f64 reference is at most
+/// `max_error`.
+pub fn choose(
+    scene: &SceneSource,
+    max_error: f64,
+    width: u32,
+    height: u32,
+    frames: u32,
+    device: DeviceDesc,
+) -> Result<Choice, Error> {
+    let desc = ReportDesc {
+        scenes: vec![scene.clone()],
+        sets: VariantSet::all(),
+        width,
+        height,
+        frames,
+        device,
+        floors: false,
+    };
+    let mut candidates = measure(&desc, |_, _, _| {})?.rows;
+    candidates.sort_by(|a, b| a.total.median.total_cmp(&b.total.median));
+    let chosen = candidates
+        .iter()
+        .find(|r| r.mean_relative <= max_error)
+        .map(|r| r.set);
+    Ok(Choice { chosen, candidates })
+}
+
+impl Choice {
+    /// What was chosen and why: every candidate with its time and errors.
+    pub fn explain(&self, max_error: f64) -> String {
+        let mut out = format!(
+            "accuracy budget: mean relative error ≤ {max_error:.1e} against the f64 reference\n"
+        );
+        for r in &self.candidates {
+            let verdict = if Some(r.set) == self.chosen {
+                "chosen: the fastest within the budget"
+            } else if r.mean_relative <= max_error {
+                "within, slower"
+            } else {
+                "over the budget"
+            };
+            let _ = writeln!(
+                out,
+                "  {:<38} {:>8.2} ms  mean {:.2e}  max {:.2e}  {verdict}",
+                r.set.name(),
+                r.total.median,
+                r.mean_relative,
+                r.max_relative
+            );
+        }
+        if self.chosen.is_none() {
+            out += "  no variant set is within the budget\n";
+        }
+        out
+    }
 }
 
 /// Per variant set: its name, the mean over scenes of the total frame time's median and

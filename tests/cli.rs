@@ -700,3 +700,66 @@ fn bench_reports_gpu_and_wall_clock_time_with_frames_in_flight() {
         "unknown argument `--frames-in-flight`",
     );
 }
+
+/// The accuracy budget: `render --max-error E` renders with the fastest variant set
+/// whose mean relative error against the f64 reference is within E (measured on the
+/// scene first); a budget no set meets, or a budget that is no number above 0, is a
+/// one-line error; `info --max-error` lists every set with its time and errors.
+#[test]
+fn an_accuracy_budget_picks_a_variant_set_or_says_why_not() {
+    let dir = scratch("budget");
+    let png = dir.join("out.png");
+    let (code, stdout, stderr) = combustion(&[
+        "render",
+        "builtin:underwater",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--max-error",
+        "1e-3",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    // Schlick's mean error under water is of order 1: it cannot be the choice.
+    let chosen = stdout
+        .lines()
+        .find(|l| l.starts_with("variant set "))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(chosen.starts_with("variant set full/"), "{chosen}");
+    assert!(png.exists());
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:underwater",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--max-error",
+            "1e-12",
+            "-o",
+            png.to_str().unwrap(),
+        ],
+        "no variant set is within it",
+    );
+    for bad in ["0", "-1", "x", "inf"] {
+        assert_clear_error(
+            &["render", "--max-error", bad],
+            "is not a relative error above 0",
+        );
+    }
+    let (code, stdout, stderr) =
+        combustion(&["info", "builtin:dielectrics", "--max-error", "1e-2"]);
+    assert_eq!(code, 0, "{stderr}");
+    let listed = stdout.lines().filter(|l| l.contains(" ms  mean ")).count();
+    assert_eq!(listed, 7, "{stdout}");
+    assert_eq!(
+        stdout
+            .matches("chosen: the fastest within the budget")
+            .count(),
+        1
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

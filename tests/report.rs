@@ -44,6 +44,7 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
             synchronization_validation: true,
             ..DeviceDesc::default()
         },
+        floors: true,
     };
     let mut steps = Vec::new();
     let measured =
