@@ -173,12 +173,7 @@ vec3 brdf_conductor_fresnel(BrdfInputs m, BrdfView view, float cos_h) {
     float x2 = x * x;
     return view.f0_conductor + (1.0 - view.f0_conductor) * (x2 * x2 * x);
 #else
-    float eta_i = m.outside_eta;
-    float w = view.w;
-    vec2 r0 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.x, m.conductor_k.x);
-    vec2 r1 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.y, m.conductor_k.y);
-    vec2 r2 = fresnel_conductor(cos_h, eta_i, m.conductor_eta.z, m.conductor_k.z);
-    return vec3(polarised_weighted(r0, w), polarised_weighted(r1, w), polarised_weighted(r2, w));
+    return fresnel_conductor_rgb(cos_h, m.outside_eta, m.conductor_eta, m.conductor_k, view.w);
 #endif
 }
 

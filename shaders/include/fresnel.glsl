@@ -67,6 +67,51 @@ vec2 fresnel_conductor(float cos_theta_i, float eta_i, float eta_t, float k_t) {
     return vec2(rs, rs * factor);
 }
 
+// fresnel_conductor for three channels at once, weighted by polarisation: the same
+// arrangement, with what depends on the angle alone (c², s², s, 1/η_i²) computed once
+// and the per-channel branches as selects. The lighting pass's conductor lobe.
+vec3 fresnel_conductor_rgb(float cos_theta_i, float eta_i, vec3 eta_t, vec3 k_t, float polarisation_weight) {
+    float c = min(max(cos_theta_i, 0.0), 1.0);
+    float ei = clamp_eta(eta_i);
+    vec3 et = min(max(eta_t, vec3(ETA_MIN)), vec3(ETA_MAX));
+    vec3 k = min(max(abs(k_t), vec3(0.0)), vec3(ETA_MAX));
+    float c2 = c * c;
+    float s2 = (1.0 - c) * (1.0 + c);
+    float s = sqrt(s2);
+    float inv_ei2 = 1.0 / (ei * ei);
+    vec3 dk = (et - ei) * (et + ei) - k * k;
+    vec3 p = dk * inv_ei2;
+    vec3 q = 2.0 * et * k * inv_ei2;
+    vec3 q2 = q * q;
+    vec3 u = (dk + ei * ei * c2) * inv_ei2;
+    vec3 w = sqrt(u * u + q2);
+    vec3 zero = vec3(0.0);
+    vec3 half_sum = 0.5 * (w + u);   // a² where u ≥ 0
+    vec3 half_diff = 0.5 * (w - u);  // b² where u < 0
+    bvec3 u_positive = greaterThanEqual(u, zero);
+    vec3 a2 = mix(mix(q2 / (4.0 * half_diff), zero, lessThanEqual(half_diff, zero)), half_sum, u_positive);
+    vec3 b2 = mix(half_diff, mix(q2 / (4.0 * half_sum), zero, lessThanEqual(half_sum, zero)), u_positive);
+    vec3 a = sqrt(a2);
+    bvec3 a_positive = greaterThan(a, zero);
+    vec3 w_plus_c2 = w + c2;
+    vec3 w_minus_c2 = mix(zero, (p * (p + 2.0 * c2) + q2) / w_plus_c2, greaterThan(w_plus_c2, zero));
+    vec3 d = 0.5 * (w_minus_c2 + p);  // a² − c²
+    vec3 a_plus_c = a + c;
+    vec3 a_minus_c = mix(vec3(-c), d / a_plus_c, a_positive);
+    vec3 rs_den = a_plus_c * a_plus_c + b2;
+    vec3 rs = mix(zero, min((a_minus_c * a_minus_c + b2) / rs_den, vec3(1.0)), greaterThan(rs_den, zero));
+    vec3 ac = a * c;
+    vec3 ac_minus_s2 = mix(vec3(-s2), (c2 * d + (c - s) * (c + s)) / (ac + s2), a_positive);
+    vec3 ac_plus_s2 = ac + s2;
+    vec3 b2c2 = b2 * c2;
+    vec3 rp_den = ac_plus_s2 * ac_plus_s2 + b2c2;
+    vec3 factor = mix(vec3(1.0), min((ac_minus_s2 * ac_minus_s2 + b2c2) / rp_den, vec3(1.0)), greaterThan(rp_den, zero));
+    float pw = min(max(polarisation_weight, 0.0), 1.0);
+    vec3 r = (1.0 - pw) * rs + pw * (rs * factor);
+    // A conductor that matches the medium exactly reflects nothing.
+    return mix(r, zero, bvec3(uvec3(equal(et, vec3(ei))) & uvec3(equal(k, zero))));
+}
+
 // Dielectric Fresnel with total internal reflection (Born & Wolf §1.5.2):
 // r_s = −Δ/(η_i c + η_t c_t)², r_p = Δ (η_t c − η_i s)(η_t c + η_i s)/(η_t² (η_t c + η_i c_t)²),
 // Δ = (η_t − η_i)(η_t + η_i), η_t c_t = √(Δ + η_i² c²); exactly 1 at/past the critical angle.
