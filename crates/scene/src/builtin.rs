@@ -13,6 +13,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "diffuse-models",
     "underwater",
     "underwater-in-air",
+    "grid-7x7",
 ];
 
 /// Builds the built-in scene `name`.
@@ -25,6 +26,7 @@ pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
         "diffuse-models" => Ok(diffuse_models()),
         "underwater" => Ok(underwater(WATER_IOR, "underwater")),
         "underwater-in-air" => Ok(underwater(1.0, "underwater-in-air")),
+        "grid-7x7" => Ok(grid_7x7()),
         _ => Err(SceneError::UnknownBuiltin {
             name: name.to_owned(),
             known: BUILTIN_SCENES.join(", "),
@@ -41,6 +43,92 @@ fn metal(metal: combustion_spectra::BuiltinMetal) -> ComplexIor {
     ComplexIor {
         eta: constants.eta.map(|x| x as f32),
         k: constants.k.map(|x| x as f32),
+    }
+}
+
+/// The performance grid: 7×7 spheres of 64×32 segments (194,432 triangles), seven
+/// materials down the rows (plastic, gold, silver, copper, anisotropic aluminium, glass,
+/// rough clay with Oren–Nayar), roughness 0.05–1 along the columns, four point lights.
+fn grid_7x7() -> Scene {
+    use combustion_spectra::BuiltinMetal;
+    let conductor = |name: &str, which: BuiltinMetal| Material {
+        name: name.into(),
+        metalness: 1.0,
+        conductor: metal(which),
+        ..Material::default()
+    };
+    let rows = [
+        Material {
+            name: "blue plastic".into(),
+            base_color: [0.05, 0.2, 0.7],
+            ..Material::default()
+        },
+        conductor("gold", BuiltinMetal::Gold),
+        conductor("silver", BuiltinMetal::Silver),
+        conductor("copper", BuiltinMetal::Copper),
+        Material {
+            anisotropy_strength: 0.7,
+            ..conductor("anisotropic aluminium", BuiltinMetal::Aluminium)
+        },
+        Material {
+            name: "glass".into(),
+            base_color: [0.02, 0.02, 0.02],
+            dielectric_ior: 1.5,
+            ..Material::default()
+        },
+        Material {
+            name: "clay".into(),
+            base_color: [0.6, 0.35, 0.25],
+            diffuse_model: DiffuseModel::OrenNayarFull,
+            ..Material::default()
+        },
+    ];
+    let mut materials = Vec::new();
+    let mut objects = Vec::new();
+    for (row, base) in rows.iter().enumerate() {
+        for column in 0..7 {
+            let roughness = 0.05 + 0.95 * column as f32 / 6.0;
+            materials.push(Material {
+                name: format!("{} r={roughness:.2}", base.name),
+                roughness,
+                ..base.clone()
+            });
+            objects.push(Object {
+                mesh: 0,
+                material: materials.len() - 1,
+                transform: Mat4::from_translation(Vec3::new(
+                    column as f32 - 3.0,
+                    3.0 - row as f32,
+                    0.0,
+                )),
+            });
+        }
+    }
+    let light = |x: f32, y: f32, i: f32| Light::Point {
+        position: Vec3::new(x, y, 5.0),
+        intensity: [i; 3],
+        range: None,
+    };
+    Scene {
+        name: "grid-7x7".into(),
+        meshes: vec![Mesh::uv_sphere("sphere", 0.42, 64, 32)],
+        materials,
+        objects,
+        lights: vec![
+            light(-5.0, 5.0, 60.0),
+            light(5.0, 4.0, 40.0),
+            light(-4.0, -5.0, 25.0),
+            light(5.0, -5.0, 20.0),
+        ],
+        camera: Camera {
+            position: Vec3::new(0.0, 0.0, 12.5),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            vertical_fov: 40f32.to_radians(),
+            near: 0.1,
+            far: 100.0,
+        },
+        outside_ior: 1.0,
     }
 }
 
