@@ -559,16 +559,7 @@ fn bench(o: &Options) -> Result<(), Error> {
             format!("specialised to {features:?}")
         }
     );
-    let ranged = scene
-        .lights
-        .iter()
-        .filter(|l| {
-            matches!(
-                l,
-                Light::Point { range: Some(_), .. } | Light::Spot { range: Some(_), .. }
-            )
-        })
-        .count();
+    let ranged = scene.lights.iter().filter(|l| l.range().is_some()).count();
     outln!(
         "lights: {} ({ranged} with a range); light culling: {:?} ({})",
         scene.lights.len(),

@@ -115,11 +115,7 @@ fn culling_changes_no_pixel() {
 fn tiles_list_fewer_lights_but_never_fewer_than_the_unranged() {
     let scene = many_lights(96);
     let total = scene.lights.len() as f64;
-    let unranged = scene
-        .lights
-        .iter()
-        .filter(|l| !matches!(l, Light::Point { range: Some(_), .. }))
-        .count() as f64;
+    let unranged = scene.lights.iter().filter(|l| l.range().is_none()).count() as f64;
     let frames = render_all(
         &scene,
         &[LightCulling::Never, LightCulling::Always],

@@ -247,11 +247,6 @@ fn window_error(error: impl std::fmt::Display) -> String {
     }
 }
 
-/// `builtin:NAME` or the file's path, for the window title.
-fn scene_label(source: &SceneSource) -> String {
-    source.label()
-}
-
 /// Opens a window on `desc.scene` and renders until it is closed (or `desc.frames` are
 /// shown). Fails with [`Error::NoWindow`] when no window can be opened, and with
 /// [`Error::Validation`] if validation is on and the layer reported anything.
@@ -267,7 +262,7 @@ pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
     let mut app = App {
         desc,
         scene: Some((scene, cameras)),
-        label: scene_label(&desc.scene),
+        label: desc.scene.label(),
         state: None,
         error: None,
         summary: ViewSummary::default(),
@@ -389,6 +384,8 @@ struct State {
     /// Panels shown: statistics (Tab), help (H).
     show_stats: bool,
     show_help: bool,
+    /// The help panel's text (the keys never change).
+    help_text: String,
     error_view: Option<inspect::ErrorView>,
     /// When the view last changed while the error view was on.
     view_changed: Instant,
@@ -491,6 +488,7 @@ impl State {
             scene_generation: 0,
             show_stats: desc.overlay,
             show_help: false,
+            help_text: inspect::help_text(KEYS),
             error_view: desc.error_view.then(inspect::ErrorView::default),
             view_changed: Instant::now(),
             typing: None,
@@ -640,7 +638,7 @@ impl State {
             depth: None,
         };
         let stats = self.show_stats.then(|| self.stats_text(extent, summary));
-        let help = self.show_help.then(|| inspect::help_text(KEYS));
+        let help = self.show_help.then_some(self.help_text.as_str());
         let mut panels = Vec::new();
         if let Some(text) = &stats {
             panels.push(OverlayPanel {
@@ -737,7 +735,7 @@ impl State {
 
     /// The statistics panel's text.
     fn stats_text(&self, extent: vk::Extent2D, summary: &ViewSummary) -> String {
-        let label = scene_label(&self.source);
+        let label = self.source.label();
         inspect::Stats {
             label: &label,
             extent: (extent.width, extent.height),
@@ -867,7 +865,7 @@ impl State {
         self.last_poll = Instant::now();
         let now = controls::modified(&self.source);
         if now.is_some() && now != self.modified {
-            log::info!("{}: changed on disk, reloading", scene_label(&self.source));
+            log::info!("{}: changed on disk, reloading", self.source.label());
             self.load(self.source.clone())?;
         }
         Ok(())
@@ -900,7 +898,7 @@ impl State {
         };
         format!(
             "combustion — {} — {} — {fresnel}, {}, exposure {:.2}{camera}{error}{typing}{gpu}",
-            scene_label(&self.source),
+            self.source.label(),
             self.renderer.debug_view().name(),
             self.overrides.describe(),
             self.exposure

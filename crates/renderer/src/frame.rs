@@ -76,10 +76,20 @@ impl FrameSlot {
             overlay_set: pool.allocate(&layouts.overlay)?,
             cull_set: pool.allocate(&layouts.light_cull)?,
             _pool: pool,
-            tile_lights: tile_list_buffer(device, 1)?,
+            tile_lights: storage_buffer(device, TILE_LISTS, 4, GPU_ONLY)?,
             culling: None,
-            lights: light_buffer(device, 4)?,
-            overlay_quads: overlay_buffer(device, 64)?,
+            lights: storage_buffer(
+                device,
+                LIGHTS,
+                4 * std::mem::size_of::<GpuLight>() as u64,
+                CPU_TO_GPU,
+            )?,
+            overlay_quads: storage_buffer(
+                device,
+                OVERLAY_QUADS,
+                64 * std::mem::size_of::<OverlayQuad>() as u64,
+                CPU_TO_GPU,
+            )?,
             overlay_quad_count: 0,
             timestamps,
             stamped: false,
@@ -92,25 +102,62 @@ impl FrameSlot {
     }
 }
 
-fn light_buffer(device: &Arc<Device>, capacity: usize) -> Result<Buffer, VkError> {
+/// A storage buffer of `bytes` bytes (at least 4) in `location`.
+pub(crate) fn storage_buffer(
+    device: &Arc<Device>,
+    name: &str,
+    bytes: u64,
+    location: combustion_vk::gpu_allocator::MemoryLocation,
+) -> Result<Buffer, VkError> {
     Buffer::new(
         device,
-        "frame lights",
-        (capacity * std::mem::size_of::<GpuLight>()) as u64,
+        name,
+        bytes.max(4),
         vk::BufferUsageFlags::STORAGE_BUFFER,
-        combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu,
+        location,
     )
 }
 
-fn tile_list_buffer(device: &Arc<Device>, words: u64) -> Result<Buffer, VkError> {
-    Buffer::new(
-        device,
-        "tile light lists",
-        words * 4,
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        combustion_vk::gpu_allocator::MemoryLocation::GpuOnly,
-    )
+/// A host-visible storage buffer holding `bytes`.
+pub(crate) fn filled_storage_buffer(
+    device: &Arc<Device>,
+    name: &str,
+    bytes: &[u8],
+) -> Result<Buffer, VkError> {
+    let mut buffer = storage_buffer(device, name, bytes.len() as u64, CPU_TO_GPU)?;
+    buffer.write(0, bytes)?;
+    Ok(buffer)
 }
+
+/// Writes `bytes` at the start of a per-slot host-visible `buffer`, replacing it by one
+/// of the next power-of-two size when they do not fit. The caller guarantees that the
+/// slot's previous frame, the old buffer's last reader, has completed.
+fn write_growing(
+    device: &Arc<Device>,
+    buffer: &mut Buffer,
+    name: &str,
+    bytes: &[u8],
+) -> Result<(), VkError> {
+    if bytes.len() as u64 > buffer.size() {
+        *buffer = storage_buffer(
+            device,
+            name,
+            (bytes.len() as u64).next_power_of_two(),
+            CPU_TO_GPU,
+        )?;
+    }
+    buffer.write(0, bytes)
+}
+
+const CPU_TO_GPU: combustion_vk::gpu_allocator::MemoryLocation =
+    combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu;
+const GPU_ONLY: combustion_vk::gpu_allocator::MemoryLocation =
+    combustion_vk::gpu_allocator::MemoryLocation::GpuOnly;
+
+/// Names of the per-slot buffers (for the allocator's reports).
+const LIGHTS: &str = "frame lights";
+const TILE_LISTS: &str = "tile light lists";
+const OVERLAY_QUADS: &str = "frame overlay quads";
 
 /// What the light-culling pass touches.
 fn cull_uses(targets: &FrameTargets, tile_lights: &Buffer) -> PassUses {
@@ -122,16 +169,6 @@ fn cull_uses(targets: &FrameTargets, tile_lights: &Buffer) -> PassUses {
         )],
     )
     .with_buffers(vec![(tile_lights.raw(), BufferUse::ComputeStorageWrite)])
-}
-
-fn overlay_buffer(device: &Arc<Device>, capacity: usize) -> Result<Buffer, VkError> {
-    Buffer::new(
-        device,
-        "frame overlay quads",
-        (capacity * std::mem::size_of::<OverlayQuad>()) as u64,
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu,
-    )
 }
 
 /// What the lighting pass touches (the tile lists only in frames that cull).
@@ -357,13 +394,13 @@ impl Renderer {
         inputs: &FrameInputs<'_>,
     ) -> Result<(), RenderError> {
         let lights: Vec<GpuLight> = inputs.lights.iter().map(GpuLight::new).collect();
-        let bytes: &[u8] = bytemuck::cast_slice(&lights);
         let s = &mut self.slots[slot];
-        if (bytes.len() as u64) > s.lights.size() {
-            // The old buffer was last read by this slot's previous frame, now complete.
-            s.lights = light_buffer(&self.device, lights.len().next_power_of_two())?;
-        }
-        s.lights.write(0, bytes)?;
+        write_growing(
+            &self.device,
+            &mut s.lights,
+            LIGHTS,
+            bytemuck::cast_slice(&lights),
+        )?;
         Ok(())
     }
 
@@ -392,8 +429,11 @@ impl Renderer {
         }
         if words * 4 > s.tile_lights.size() {
             // Its last reader, this slot's previous frame, has completed.
-            let grown = (words * 4).next_power_of_two().min(limit) / 4;
-            let old = std::mem::replace(&mut s.tile_lights, tile_list_buffer(&self.device, grown)?);
+            let bytes = (words * 4).next_power_of_two().min(limit);
+            let old = std::mem::replace(
+                &mut s.tile_lights,
+                storage_buffer(&self.device, TILE_LISTS, bytes, GPU_ONLY)?,
+            );
             self.states.forget_buffer(old.raw());
         }
         s.culling = Some((x, stride));
@@ -416,12 +456,12 @@ impl Renderer {
         if quads.is_empty() {
             return Ok(());
         }
-        let bytes: &[u8] = bytemuck::cast_slice(&quads);
-        if (bytes.len() as u64) > s.overlay_quads.size() {
-            // As for lights: the old buffer's last reader, this slot's frame, completed.
-            s.overlay_quads = overlay_buffer(&self.device, quads.len().next_power_of_two())?;
-        }
-        s.overlay_quads.write(0, bytes)?;
+        write_growing(
+            &self.device,
+            &mut s.overlay_quads,
+            OVERLAY_QUADS,
+            bytemuck::cast_slice(&quads),
+        )?;
         Ok(())
     }
 
@@ -565,6 +605,7 @@ impl Renderer {
             targets.hdr.extent(),
             s.lighting_set,
             bytemuck::bytes_of(&lighting_push),
+            |_| {},
         );
         stamp(2);
 
@@ -580,7 +621,7 @@ impl Renderer {
         let passes = &self.outputs[&target.color.format];
         let (overlay_set, overlay_quads) = (s.overlay_set, s.overlay_quad_count);
         let image_width = self.overlay_image.1.map_or(1, |[w, _]| w);
-        passes.output.record_then(
+        passes.output.record(
             device,
             cmd,
             target.color.view,

@@ -9,6 +9,61 @@ use combustion_vk::{
 
 use crate::RenderError;
 
+/// What [`screen_pipeline`] builds: shaders by name, one descriptor set, push constants
+/// for `push_stages`, one colour target, no vertex input and no depth.
+pub(crate) struct ScreenPipelineDesc<'a> {
+    pub vertex_shader: &'a str,
+    pub fragment_shader: &'a str,
+    /// `#define`s of the fragment shader.
+    pub defines: &'a [(&'a str, Option<&'a str>)],
+    pub set_layout: &'a DescriptorSetLayout,
+    pub push_stages: vk::ShaderStageFlags,
+    pub push_size: u32,
+    pub format: vk::Format,
+    pub alpha_blend: bool,
+}
+
+/// A pipeline drawing into one colour target without vertex buffers (the full-screen
+/// passes, the overlay), and its layout.
+pub(crate) fn screen_pipeline(
+    device: &Arc<Device>,
+    compiler: &ShaderCompiler,
+    cache: &PipelineCache,
+    desc: &ScreenPipelineDesc<'_>,
+) -> Result<(PipelineLayout, Pipeline), RenderError> {
+    let push = [vk::PushConstantRange {
+        stage_flags: desc.push_stages,
+        offset: 0,
+        size: desc.push_size,
+    }];
+    let layout = PipelineLayout::new(device, &[desc.set_layout], &push)?;
+    let vertex = ShaderModule::new(
+        device,
+        &compiler.compile(desc.vertex_shader, ShaderStage::Vertex, &[])?,
+        ShaderStage::Vertex,
+    )?;
+    let fragment = ShaderModule::new(
+        device,
+        &compiler.compile(desc.fragment_shader, ShaderStage::Fragment, desc.defines)?,
+        ShaderStage::Fragment,
+    )?;
+    let pipeline = Pipeline::graphics(
+        device,
+        &GraphicsPipelineDesc {
+            vertex: &vertex,
+            fragment: &fragment,
+            layout: &layout,
+            vertex_bindings: &[],
+            vertex_attributes: &[],
+            color_formats: &[desc.format],
+            depth_format: None,
+            alpha_blend: desc.alpha_blend,
+            cache: Some(cache),
+        },
+    )?;
+    Ok((layout, pipeline))
+}
+
 /// A full-screen pass: a fragment shader with one descriptor set and push constants.
 pub struct FullscreenPass {
     layout: PipelineLayout,
@@ -28,34 +83,19 @@ impl FullscreenPass {
         push_size: u32,
         output_format: vk::Format,
     ) -> Result<Self, RenderError> {
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::FRAGMENT,
-            offset: 0,
-            size: push_size,
-        }];
-        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
-        let vertex = ShaderModule::new(
+        let (layout, pipeline) = screen_pipeline(
             device,
-            &compiler.compile("fullscreen.vert", ShaderStage::Vertex, &[])?,
-            ShaderStage::Vertex,
-        )?;
-        let fragment = ShaderModule::new(
-            device,
-            &compiler.compile(fragment_shader, ShaderStage::Fragment, defines)?,
-            ShaderStage::Fragment,
-        )?;
-        let pipeline = Pipeline::graphics(
-            device,
-            &GraphicsPipelineDesc {
-                vertex: &vertex,
-                fragment: &fragment,
-                layout: &layout,
-                vertex_bindings: &[],
-                vertex_attributes: &[],
-                color_formats: &[output_format],
-                depth_format: None,
+            compiler,
+            cache,
+            &ScreenPipelineDesc {
+                vertex_shader: "fullscreen.vert",
+                fragment_shader,
+                defines,
+                set_layout,
+                push_stages: vk::ShaderStageFlags::FRAGMENT,
+                push_size,
+                format: output_format,
                 alpha_blend: false,
-                cache: Some(cache),
             },
         )?;
         Ok(Self {
@@ -66,23 +106,10 @@ impl FullscreenPass {
     }
 
     /// Records the pass writing every pixel of `output` (a view in
-    /// COLOR_ATTACHMENT_OPTIMAL of `extent`).
-    pub fn record(
-        &self,
-        device: &Device,
-        cmd: vk::CommandBuffer,
-        output: vk::ImageView,
-        extent: vk::Extent2D,
-        set: vk::DescriptorSet,
-        push: &[u8],
-    ) {
-        self.record_then(device, cmd, output, extent, set, push, |_| {});
-    }
-
-    /// As [`FullscreenPass::record`], then `then` records more draws into the same
-    /// rendering (e.g. the overlay over the output pass).
+    /// COLOR_ATTACHMENT_OPTIMAL of `extent`), then `then` records more draws into the
+    /// same rendering (e.g. the overlay over the output pass).
     #[allow(clippy::too_many_arguments)]
-    pub fn record_then(
+    pub fn record(
         &self,
         device: &Device,
         cmd: vk::CommandBuffer,

@@ -161,9 +161,7 @@ impl GpuLight {
         if inverse_r2 == 0.0 {
             return 1.0;
         }
-        let x2 = d2 * inverse_r2;
-        let w = (1.0 - x2 * x2).max(0.0);
-        w * w
+        combustion_scene::range_window_of_squared(d2 * inverse_r2)
     }
 
     /// CPU mirror of `spot_attenuation` (gpu_types.glsl), in f64; 1 for other lights.

@@ -534,10 +534,23 @@ pub(crate) fn set_viewport_and_scissor(
     }
 }
 
-/// The G-buffer and lighting pipelines of one [`ShaderVariant`].
+/// The G-buffer and lighting pipelines of one [`ShaderVariant`]. Variants that differ
+/// only in what the lighting pass reads share one G-buffer pipeline.
 struct VariantPasses {
-    gbuffer: GBufferPass,
+    gbuffer: Arc<GBufferPass>,
     lighting: FullscreenPass,
+}
+
+impl ShaderVariant {
+    /// The part of the variant the G-buffer shader reads (the emissive target and the
+    /// geometry floor); every other feature is the lighting pass's.
+    fn gbuffer_part(self) -> ShaderVariant {
+        ShaderVariant {
+            emissive: self.emissive,
+            floor: self.floor.filter(|f| *f == MeasurementFloor::Geometry),
+            ..ShaderVariant::default()
+        }
+    }
 }
 
 /// The descriptor-set layouts of the passes, shared by every variant and frame slot.
@@ -587,6 +600,8 @@ pub struct Renderer {
     slots: Vec<frame::FrameSlot>,
     targets: HashMap<targets::TargetKey, (targets::FrameTargets, u64)>,
     variants: HashMap<ShaderVariant, VariantPasses>,
+    /// G-buffer pipelines by [`ShaderVariant::gbuffer_part`].
+    gbuffer_passes: HashMap<ShaderVariant, Arc<GBufferPass>>,
     /// Output passes (and overlays) by target format.
     outputs: HashMap<vk::Format, OutputPasses>,
     overlay_font: overlay::OverlayFont,
@@ -660,19 +675,11 @@ impl Renderer {
         let compiler = ShaderCompiler::new(shader_sources::sources())?;
         let layouts = SetLayouts::new(&device)?;
         let overlay_font = overlay::OverlayFont::new()?;
-        let overlay_atlas = {
-            let words = overlay::atlas_words(&overlay_font);
-            let bytes: &[u8] = bytemuck::cast_slice(&words);
-            let mut buffer = combustion_vk::Buffer::new(
-                &device,
-                "overlay font atlas",
-                bytes.len() as u64,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu,
-            )?;
-            buffer.write(0, bytes)?;
-            buffer
-        };
+        let overlay_atlas = frame::filled_storage_buffer(
+            &device,
+            "overlay font atlas",
+            bytemuck::cast_slice(&overlay::atlas_words(&overlay_font)),
+        )?;
         let overlay_image = (overlay_image_buffer(&device, &[[0; 4]])?, None);
         let pipeline_cache = PipelineCache::new(&device, cache_data)?;
         let light_cull = light_cull::LightCullPass::new(
@@ -689,6 +696,7 @@ impl Renderer {
             slots,
             targets: HashMap::new(),
             variants: HashMap::new(),
+            gbuffer_passes: HashMap::new(),
             outputs: HashMap::new(),
             overlay_font,
             overlay_atlas,
@@ -754,14 +762,23 @@ impl Renderer {
         if self.variants.contains_key(&variant) {
             return Ok(());
         }
-        let gbuffer = GBufferPass::new(
-            &self.device,
-            &self.compiler,
-            &self.pipeline_cache,
-            &self.layouts.gbuffer,
-            &self.layouts.material,
-            variant,
-        )?;
+        let gbuffer_key = variant.gbuffer_part();
+        let gbuffer = match self.gbuffer_passes.get(&gbuffer_key) {
+            Some(pass) => pass.clone(),
+            None => {
+                let pass = Arc::new(GBufferPass::new(
+                    &self.device,
+                    &self.compiler,
+                    &self.pipeline_cache,
+                    &self.layouts.gbuffer,
+                    &self.layouts.material,
+                    gbuffer_key,
+                )?);
+                self.stats.pipelines_built += 1;
+                self.gbuffer_passes.insert(gbuffer_key, pass.clone());
+                pass
+            }
+        };
         let lighting = FullscreenPass::new(
             &self.device,
             &self.compiler,
@@ -774,7 +791,7 @@ impl Renderer {
         )?;
         self.variants
             .insert(variant, VariantPasses { gbuffer, lighting });
-        self.stats.pipelines_built += 2;
+        self.stats.pipelines_built += 1;
         Ok(())
     }
 
@@ -1053,16 +1070,11 @@ fn overlay_image_buffer(
     device: &Arc<Device>,
     rgba: &[[u8; 4]],
 ) -> Result<combustion_vk::Buffer, RenderError> {
-    let bytes: &[u8] = bytemuck::cast_slice(rgba);
-    let mut buffer = combustion_vk::Buffer::new(
+    Ok(frame::filled_storage_buffer(
         device,
         "overlay image",
-        bytes.len() as u64,
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu,
-    )?;
-    buffer.write(0, bytes)?;
-    Ok(buffer)
+        bytemuck::cast_slice(rgba),
+    )?)
 }
 
 /// IEEE 754 binary16 → binary32 (exact).

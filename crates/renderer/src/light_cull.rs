@@ -38,19 +38,11 @@ pub enum LightCulling {
 impl LightCulling {
     /// Whether a frame with `lights` culls them.
     pub fn culls(self, lights: &[combustion_scene::Light]) -> bool {
-        use combustion_scene::Light;
         let fits = !lights.is_empty() && lights.len() <= MAX_CULLED_LIGHTS;
         match self {
             Self::Never => false,
             Self::Always => fits,
-            Self::Auto => {
-                fits && lights.iter().any(|l| {
-                    matches!(
-                        l,
-                        Light::Point { range: Some(_), .. } | Light::Spot { range: Some(_), .. }
-                    )
-                })
-            }
+            Self::Auto => fits && lights.iter().any(|l| l.range().is_some()),
         }
     }
 }

@@ -13,8 +13,7 @@ use std::sync::Arc;
 
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 use combustion_vk::{
-    vk, DescriptorSetLayout, Device, GraphicsPipelineDesc, Pipeline, PipelineCache, PipelineLayout,
-    ShaderCompiler, ShaderModule, ShaderStage,
+    vk, DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
 };
 
 use crate::RenderError;
@@ -331,34 +330,19 @@ impl OverlayPass {
         defines: &[(&str, Option<&str>)],
         format: vk::Format,
     ) -> Result<Self, RenderError> {
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-            offset: 0,
-            size: std::mem::size_of::<OverlayPush>() as u32,
-        }];
-        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
-        let vertex = ShaderModule::new(
+        let (layout, pipeline) = crate::fullscreen::screen_pipeline(
             device,
-            &compiler.compile("overlay.vert", ShaderStage::Vertex, &[])?,
-            ShaderStage::Vertex,
-        )?;
-        let fragment = ShaderModule::new(
-            device,
-            &compiler.compile("overlay.frag", ShaderStage::Fragment, defines)?,
-            ShaderStage::Fragment,
-        )?;
-        let pipeline = Pipeline::graphics(
-            device,
-            &GraphicsPipelineDesc {
-                vertex: &vertex,
-                fragment: &fragment,
-                layout: &layout,
-                vertex_bindings: &[],
-                vertex_attributes: &[],
-                color_formats: &[format],
-                depth_format: None,
+            compiler,
+            cache,
+            &crate::fullscreen::ScreenPipelineDesc {
+                vertex_shader: "overlay.vert",
+                fragment_shader: "overlay.frag",
+                defines,
+                set_layout,
+                push_stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                push_size: std::mem::size_of::<OverlayPush>() as u32,
+                format,
                 alpha_blend: true,
-                cache: Some(cache),
             },
         )?;
         Ok(Self { layout, pipeline })

@@ -232,8 +232,8 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
     }
     let rows_per_chunk = height.div_ceil(threads.max(1) as u32).max(1) as usize;
     let row = width as usize;
-    // Per chunk: its summary, worst first.
-    let chunks: Vec<ErrorMap> = std::thread::scope(|scope| {
+    // Per chunk: its counts and worst pixel, and its sums of errors and squared errors.
+    let chunks: Vec<(ErrorMap, f64, f64)> = std::thread::scope(|scope| {
         let handles: Vec<_> = map
             .relative
             .chunks_mut(rows_per_chunk * row)
@@ -283,10 +283,7 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
                             part.worst_values = ([gpu[0], gpu[1], gpu[2]], cpu);
                         }
                     }
-                    // The sums, until all chunks are in.
-                    part.mean_relative = sum;
-                    part.rms_relative = sum_squares;
-                    part
+                    (part, sum, sum_squares)
                 })
             })
             .collect();
@@ -296,9 +293,9 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
             .collect()
     });
     let (mut sum, mut sum_squares) = (0.0, 0.0);
-    for part in chunks {
-        sum += part.mean_relative;
-        sum_squares += part.rms_relative;
+    for (part, part_sum, part_squares) in chunks {
+        sum += part_sum;
+        sum_squares += part_squares;
         let first_lit = map.lit_pixels == 0;
         map.lit_pixels += part.lit_pixels;
         map.background_not_black += part.background_not_black;

@@ -66,8 +66,24 @@ pub enum Light {
 /// it beyond. Lights without range are not windowed.
 pub fn range_window(d: f64, range: f64) -> f64 {
     let x = d / range;
-    let w = (1.0 - x * x * x * x).max(0.0);
+    range_window_of_squared(x * x)
+}
+
+/// [`range_window`] from x² = (d/range)² (the form the lighting pass evaluates, from
+/// d² and 1/range²).
+pub fn range_window_of_squared(x2: f64) -> f64 {
+    let w = (1.0 - x2 * x2).max(0.0);
     w * w
+}
+
+impl Light {
+    /// The light's range (point and spot lights that have one).
+    pub fn range(&self) -> Option<f32> {
+        match self {
+            Light::Point { range, .. } | Light::Spot { range, .. } => *range,
+            Light::Directional { .. } => None,
+        }
+    }
 }
 
 /// One placed mesh.
