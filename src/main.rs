@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use combustion::renderer::{FresnelModel, HdrFormat, Readback, RendererSettings};
+use combustion::renderer::{Distribution, FresnelModel, HdrFormat, Readback, RendererSettings};
 use combustion::scene::gltf::{self, ImportOptions};
 use combustion::scene::{DiffuseModel, Light, Material, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, Spectrum};
@@ -18,15 +18,17 @@ combustion — Vulkan deferred renderer with physically based shading
 
 USAGE:
   combustion render [SCENE] [-o OUT.png] [--hdr OUT.exr] [--width N] [--height N]
-                    [--exposure X] [--hdr-format f16|f32] [--fresnel full|schlick]
-                    [--max-error E] [--device SEL] [--validate]
+                    [--exposure X] [--hdr-format f16|f32] [--fresnel full|schlick|f82]
+                    [--distribution ggx|beckmann] [--diffuse MODEL] [--max-error E]
+                    [--device SEL] [--validate]
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
-                    [--hdr-format f16|f32] [--fresnel full|schlick] [--specialised on|off]
+                    [--hdr-format f16|f32] [--fresnel full|schlick|f82] [--specialised on|off]
+                    [--distribution ggx|beckmann] [--diffuse MODEL]
                     [--extra-lights N] [--culling auto|always|never] [--report DIR]
                     [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
                     [--vsync on|off] [--frames-in-flight N] [--screenshot OUT.png]
-                    [--camera-path FILE] [--overlay on|off] [--error-view] [--hdr-format f16|f32] [--fresnel full|schlick] [--device SEL] [--validate]
+                    [--camera-path FILE] [--overlay on|off] [--error-view] [--hdr-format f16|f32] [--fresnel full|schlick|f82] [--device SEL] [--validate]
   combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
                     [--alpha A | --roughness R | --alpha-x A --alpha-y A] [--eta E|r,g,b]
                     [--k K|r,g,b] [--eta-i E] [--sigma S] [--polarisation W] [--rho R|r,g,b]
@@ -66,12 +68,19 @@ range (a fifth of the scene's size) scattered through it; --culling chooses when
 frames cull their lights into 16×16-pixel tile lists (auto: when a light has a range;
 the culling pass is timed with the lighting pass). --report DIR measures variant sets
 on every built-in scene (or the scene named): the default (full Fresnel, f32 HDR,
-specialised pipeline, height-correlated masking), each term changed alone (general
-pipeline, Schlick, f16, separable or approximate masking) and every cheap choice at
-once; per set the GPU time of each pass and the error of one frame against the f64
-reference, and per scene the measurement floors (trivial G-buffer fragment stage;
-lighting that only fetches; plain GGX + Smith + conductor Fresnel); written to DIR as
-report.md, report.csv, floors.csv and speed-vs-error.png (with the Pareto front).
+specialised pipeline, height-correlated masking, GGX, each material's diffuse model),
+each term changed alone (general pipeline; Schlick or F82; f16; separable or
+approximate masking; Beckmann; Lambert, qualitative or full Oren-Nayar for every
+material) and every cheap choice at once; per set the GPU time of each pass and the
+error of one frame against the f64 reference (relative errors and mean FLIP), per scene
+the measurement floors (trivial G-buffer fragment stage; lighting that only fetches;
+plain GGX + Smith + conductor Fresnel), and frame time against size (0.5x, 1x, 1.5x)
+and against 1-256 localised lights culled and not (on grid-7x7, or the scene named);
+written to DIR as report.md, report.csv, floors.csv, scaling.csv, speed-vs-error.png
+(with the Pareto front), scaling-resolution.png and scaling-lights.png.
+--fresnel f82, --distribution beckmann and --diffuse MODEL (lambert,
+oren-nayar-qualitative, oren-nayar-full; material: each its own) render or bench one
+comparison variant.
 
 view opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under
 Xvfb) and renders the scene every frame at the window's size, into the swapchain image
@@ -136,6 +145,10 @@ struct Options {
     exposure: f32,
     hdr_format: HdrFormat,
     fresnel: FresnelModel,
+    /// `render`, `bench`: the microfacet distribution.
+    distribution: Distribution,
+    /// `render`, `bench`: one diffuse model for every material (`None`: each its own).
+    diffuse: Option<DiffuseModel>,
     frames: u32,
     /// `--frames` was given (`view` runs until closed otherwise).
     frames_given: bool,
@@ -201,6 +214,8 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         exposure: 1.0,
         hdr_format: HdrFormat::default(),
         fresnel: FresnelModel::default(),
+        distribution: Distribution::Ggx,
+        diffuse: None,
         frames: 30,
         frames_given: false,
         frames_in_flight: RendererSettings::default().frames_in_flight,
@@ -242,11 +257,33 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
                 o.fresnel = match value()? {
                     "full" => FresnelModel::Full,
                     "schlick" => FresnelModel::Schlick,
+                    "f82" => FresnelModel::F82,
                     other => {
                         return Err(Error::Usage(format!(
-                            "--fresnel: `{other}` is not full or schlick"
+                            "--fresnel: `{other}` is not full, schlick or f82"
                         )))
                     }
+                }
+            }
+            "--distribution" if command == "render" || command == "bench" => {
+                o.distribution = match value()? {
+                    "ggx" => Distribution::Ggx,
+                    "beckmann" => Distribution::Beckmann,
+                    other => {
+                        return Err(Error::Usage(format!(
+                            "--distribution: `{other}` is not ggx or beckmann"
+                        )))
+                    }
+                }
+            }
+            "--diffuse" if command == "render" || command == "bench" => {
+                o.diffuse = match value()? {
+                    "material" => None,
+                    other => Some(DiffuseModel::parse(other).ok_or_else(|| {
+                        Error::Usage(format!(
+                            "--diffuse: `{other}` is not material, lambert, oren-nayar-qualitative or oren-nayar-full"
+                        ))
+                    })?),
                 }
             }
             "--hdr-format" => {
@@ -396,8 +433,10 @@ fn render(o: &Options) -> Result<(), Error> {
     }
     let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
     if let Some(set) = chosen {
-        headless.renderer().set_specialised(set.specialised);
-        headless.renderer().set_masking(set.masking);
+        set.apply(headless.renderer());
+    } else {
+        headless.renderer().set_distribution(o.distribution);
+        headless.renderer().set_diffuse_override(o.diffuse);
     }
     let frame = headless.render(&scene, o.width, o.height)?;
     let validation = headless.validation_log();
@@ -442,9 +481,11 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
         || !o.specialised
         || o.fresnel != FresnelModel::default()
         || o.hdr_format != HdrFormat::default()
+        || o.distribution != Distribution::Ggx
+        || o.diffuse.is_some()
     {
         return Err(Error::Usage(
-            "--report measures the Fresnel models, HDR formats, pipelines and masking terms itself; it takes no --fresnel, --hdr-format, --specialised, --extra-lights or --culling".into(),
+            "--report measures the variant sets and light counts itself; it takes no --fresnel, --hdr-format, --specialised, --distribution, --diffuse, --extra-lights or --culling".into(),
         ));
     }
     let (device, _) = device_and_settings(o)?;
@@ -464,6 +505,13 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
         frames: o.frames,
         device,
         floors: true,
+        // Frame time against size and light count: on the scene named, else on the
+        // performance scene.
+        scaling: Some(if o.scene_given {
+            o.scene.clone()
+        } else {
+            SceneSource::Builtin("grid-7x7".to_owned())
+        }),
     };
     let started = Instant::now();
     let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
@@ -510,6 +558,8 @@ fn bench(o: &Options) -> Result<(), Error> {
     let frames_in_flight = renderer.settings().frames_in_flight;
     renderer.set_specialised(o.specialised);
     renderer.set_light_culling(o.culling);
+    renderer.set_distribution(o.distribution);
+    renderer.set_diffuse_override(o.diffuse);
     let gpu_scene = renderer.upload(&scene)?;
     let features = renderer.lighting_features(&gpu_scene);
     // One warm-up frame (first-touch allocations, driver caches) is not counted.

@@ -12,12 +12,16 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use combustion_plots::{pareto_front, plot_speed_vs_error, SpeedErrorPoint};
-use combustion_renderer::reference::{error_map, ReferenceShading};
-use combustion_renderer::{
-    FrameInputs, FresnelModel, GpuScene, HdrFormat, Masking, MeasurementFloor, PassTimings,
-    Readback, Renderer, RendererSettings,
+use combustion_plots::{
+    pareto_front, plot_scaling, plot_speed_vs_error, Png, Series, SpeedErrorPoint, XAxis,
 };
+use combustion_renderer::reference::{error_map, ErrorMap, ReferenceShading};
+use combustion_renderer::{
+    linear_to_srgb, tonemap_exponential, Distribution, Frame, FrameInputs, FresnelModel, GpuScene,
+    HdrFormat, LightCulling, Masking, MeasurementFloor, PassTimings, Readback, Renderer,
+    RendererSettings,
+};
+use combustion_scene::DiffuseModel;
 use combustion_vk::DeviceDesc;
 
 use crate::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
@@ -30,6 +34,9 @@ pub struct VariantSet {
     /// Lighting pipeline specialised to the scene (else the general one).
     pub specialised: bool,
     pub masking: Masking,
+    pub distribution: Distribution,
+    /// One diffuse model for every material (`None`: each material's own).
+    pub diffuse: Option<DiffuseModel>,
 }
 
 impl VariantSet {
@@ -39,11 +46,14 @@ impl VariantSet {
         hdr: HdrFormat::Rgba32Float,
         specialised: true,
         masking: Masking::HeightCorrelated,
+        distribution: Distribution::Ggx,
+        diffuse: None,
     };
 
     /// Every set the report measures: the default; each term changed alone (the general
-    /// pipeline, Schlick's Fresnel, f16 HDR, the separable and the approximate masking
-    /// term); and every cheap choice at once.
+    /// pipeline; Schlick's and Hoffman's F82 Fresnel; f16 HDR; the separable and the
+    /// approximate masking term; Beckmann's D; Lambert, qualitative and full Oren–Nayar
+    /// for every material); and every cheap choice at once.
     pub fn all() -> Vec<VariantSet> {
         let d = Self::DEFAULT;
         vec![
@@ -54,6 +64,10 @@ impl VariantSet {
             },
             VariantSet {
                 fresnel: FresnelModel::Schlick,
+                ..d
+            },
+            VariantSet {
+                fresnel: FresnelModel::F82,
                 ..d
             },
             VariantSet {
@@ -69,22 +83,37 @@ impl VariantSet {
                 ..d
             },
             VariantSet {
+                distribution: Distribution::Beckmann,
+                ..d
+            },
+            VariantSet {
+                diffuse: Some(DiffuseModel::Lambert),
+                ..d
+            },
+            VariantSet {
+                diffuse: Some(DiffuseModel::OrenNayarQualitative),
+                ..d
+            },
+            VariantSet {
+                diffuse: Some(DiffuseModel::OrenNayarFull),
+                ..d
+            },
+            VariantSet {
                 fresnel: FresnelModel::Schlick,
                 hdr: HdrFormat::Rgba16Float,
                 masking: Masking::Approximate,
+                diffuse: Some(DiffuseModel::Lambert),
                 ..d
             },
         ]
     }
 
-    /// A short name, e.g. `full/f32/specialised/correlated`.
+    /// A short name, e.g. `full/f32/specialised/correlated/ggx/material`: Fresnel, HDR,
+    /// pipeline, masking, distribution, diffuse.
     pub fn name(&self) -> String {
         format!(
-            "{}/{}/{}/{}",
-            match self.fresnel {
-                FresnelModel::Full => "full",
-                FresnelModel::Schlick => "schlick",
-            },
+            "{}/{}/{}/{}/{}/{}",
+            self.fresnel.name(),
             match self.hdr {
                 HdrFormat::Rgba32Float => "f32",
                 HdrFormat::Rgba16Float => "f16",
@@ -94,8 +123,28 @@ impl VariantSet {
             } else {
                 "general"
             },
-            self.masking.name()
+            self.masking.name(),
+            self.distribution.name(),
+            diffuse_name(self.diffuse)
         )
+    }
+
+    /// Sets the renderer's options to this set's (all but the HDR format, which is
+    /// fixed when a renderer is made).
+    pub fn apply(&self, renderer: &mut Renderer) {
+        renderer.set_fresnel(self.fresnel);
+        renderer.set_specialised(self.specialised);
+        renderer.set_masking(self.masking);
+        renderer.set_distribution(self.distribution);
+        renderer.set_diffuse_override(self.diffuse);
+    }
+}
+
+/// The report's name of a diffuse override.
+fn diffuse_name(diffuse: Option<DiffuseModel>) -> &'static str {
+    match diffuse {
+        None => "material",
+        Some(model) => model.name(),
     }
 }
 
@@ -138,6 +187,8 @@ pub struct ReportRow {
     pub rms_relative: f64,
     /// Pixels compared with the reference.
     pub compared: usize,
+    /// Mean FLIP between the display image and the reference's ([`flip_against_reference`]).
+    pub flip_mean: f64,
 }
 
 /// A scene's measurement floors (f32 HDR, full Fresnel, specialised pipeline), ms.
@@ -152,11 +203,37 @@ pub struct FloorRow {
     pub plain_ggx: Spread,
 }
 
+/// Light counts the scaling measurement replaces the scene's lights with.
+pub const SCALING_LIGHT_COUNTS: [usize; 5] = [1, 4, 16, 64, 256];
+
+/// Sizes the scaling measurement renders at, as multiples of the report's size.
+pub const SCALING_SIZES: [f64; 3] = [0.5, 1.0, 1.5];
+
+/// One configuration of the scaling measurement (the default variant set, f32 HDR).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScalingRow {
+    pub width: u32,
+    pub height: u32,
+    /// Localised lights ([`crate::with_localised_lights`]) in place of the scene's own
+    /// (`None`: the scene's lights).
+    pub localised_lights: Option<usize>,
+    /// Whether frames culled their lights into tile lists.
+    pub culled: bool,
+    pub gbuffer: Spread,
+    pub lighting: Spread,
+    pub total: Spread,
+}
+
 /// Everything measured.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Measurements {
     pub rows: Vec<ReportRow>,
     pub floors: Vec<FloorRow>,
+    /// Frame time against size (the scene's lights), then against localised lights
+    /// culled and not culled; empty unless [`ReportDesc::scaling`] names a scene.
+    pub scaling: Vec<ScalingRow>,
+    /// The scaling measurement's scene.
+    pub scaling_scene: String,
     pub device: String,
 }
 
@@ -188,6 +265,94 @@ pub struct ReportDesc {
     pub device: DeviceDesc,
     /// Measure each scene's floors too.
     pub floors: bool,
+    /// Measure frame time against size and light count on this scene
+    /// ([`SCALING_SIZES`], [`SCALING_LIGHT_COUNTS`] culled and not).
+    pub scaling: Option<SceneSource>,
+}
+
+impl ReportDesc {
+    /// Steps of the scaling measurement.
+    fn scaling_steps(&self) -> usize {
+        if self.scaling.is_some() {
+            SCALING_SIZES.len() + 2 * SCALING_LIGHT_COUNTS.len()
+        } else {
+            0
+        }
+    }
+}
+
+/// Times `scene` at `width`×`height` with `culling` (one warm-up frame, then
+/// `frames`), with the renderer's current variant set.
+fn time_configuration(
+    renderer: &mut Renderer,
+    scene: &combustion_scene::Scene,
+    (width, height): (u32, u32),
+    culling: LightCulling,
+    frames: u32,
+    localised_lights: Option<usize>,
+) -> Result<ScalingRow, Error> {
+    renderer.set_light_culling(culling);
+    let gpu = renderer.upload(scene)?;
+    renderer.prepare(&gpu)?;
+    renderer.render(&gpu, width, height, Readback::default())?;
+    let timings = time_frames(renderer, &gpu, width, height, frames)?;
+    renderer.retire(gpu);
+    renderer.set_light_culling(LightCulling::Auto);
+    let pick = |f: fn(&PassTimings) -> f64| Spread::of(timings.iter().map(f).collect());
+    Ok(ScalingRow {
+        width,
+        height,
+        localised_lights,
+        culled: culling.culls(&scene.lights),
+        gbuffer: pick(|t| t.gbuffer_ms),
+        lighting: pick(|t| t.lighting_ms),
+        total: pick(|t| t.total_ms),
+    })
+}
+
+/// The scaling measurement on `scene` (default variant set): `step(what)` before each.
+fn measure_scaling(
+    renderer: &mut Renderer,
+    scene: &combustion_scene::Scene,
+    desc: &ReportDesc,
+    mut step: impl FnMut(&str),
+) -> Result<Vec<ScalingRow>, Error> {
+    VariantSet::DEFAULT.apply(renderer);
+    let mut rows = Vec::new();
+    for factor in SCALING_SIZES {
+        let size = (
+            ((f64::from(desc.width) * factor).round() as u32).max(1),
+            ((f64::from(desc.height) * factor).round() as u32).max(1),
+        );
+        step(&format!("scaling {}×{}", size.0, size.1));
+        rows.push(time_configuration(
+            renderer,
+            scene,
+            size,
+            LightCulling::Auto,
+            desc.frames,
+            None,
+        )?);
+    }
+    let unlit = combustion_scene::Scene {
+        lights: Vec::new(),
+        ..scene.clone()
+    };
+    for n in SCALING_LIGHT_COUNTS {
+        let lit = crate::with_localised_lights(&unlit, n);
+        for culling in [LightCulling::Auto, LightCulling::Never] {
+            step(&format!("scaling {n} lights, culling {culling:?}"));
+            rows.push(time_configuration(
+                renderer,
+                &lit,
+                (desc.width, desc.height),
+                culling,
+                desc.frames,
+                Some(n),
+            )?);
+        }
+    }
+    Ok(rows)
 }
 
 /// Measures every scene under every variant set, and each scene's floors (with the
@@ -203,8 +368,13 @@ pub fn measure(
         .iter()
         .map(|source| Ok((source.label(), source.load()?)))
         .collect::<Result<Vec<_>, Error>>()?;
-    let total = scenes.len() * (desc.sets.len() + usize::from(desc.floors));
+    let scaling_scene = match &desc.scaling {
+        Some(source) => Some((source.label(), source.load()?)),
+        None => None,
+    };
+    let total = scenes.len() * (desc.sets.len() + usize::from(desc.floors)) + desc.scaling_steps();
     let mut rows = Vec::with_capacity(total);
+    let mut scaling = Vec::new();
     // One renderer per HDR format (a renderer's HDR storage is fixed at creation).
     for hdr in [HdrFormat::Rgba32Float, HdrFormat::Rgba16Float] {
         let sets: Vec<VariantSet> = desc.sets.iter().copied().filter(|s| s.hdr == hdr).collect();
@@ -223,10 +393,12 @@ pub fn measure(
         for (label, scene) in &scenes {
             let gpu = renderer.upload(scene)?;
             if desc.floors && hdr == HdrFormat::Rgba32Float {
-                progress(rows.len() + floors.len(), total, &format!("{label} floors"));
-                renderer.set_fresnel(FresnelModel::Full);
-                renderer.set_specialised(true);
-                renderer.set_masking(Masking::HeightCorrelated);
+                progress(
+                    rows.len() + floors.len() + scaling.len(),
+                    total,
+                    &format!("{label} floors"),
+                );
+                VariantSet::DEFAULT.apply(renderer);
                 let mut spreads = Vec::new();
                 for floor in [
                     MeasurementFloor::Geometry,
@@ -258,13 +430,11 @@ pub fn measure(
             }
             for set in &sets {
                 progress(
-                    rows.len() + floors.len(),
+                    rows.len() + floors.len() + scaling.len(),
                     total,
                     &format!("{label} {}", set.name()),
                 );
-                renderer.set_fresnel(set.fresnel);
-                renderer.set_specialised(set.specialised);
-                renderer.set_masking(set.masking);
+                set.apply(renderer);
                 renderer.prepare(&gpu)?;
                 // The error of one frame (read back), which is also the warm-up.
                 let inputs = FrameInputs::of_scene(&gpu, 1.0);
@@ -281,6 +451,7 @@ pub fn measure(
                 let reference = ReferenceShading::new(&gpu.scene, &inputs, desc.width, desc.height);
                 let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
                 let map = error_map(&frame, &reference, threads);
+                let flip_mean = flip_against_reference(&frame, &map, inputs.exposure);
                 let timings = time_frames(renderer, &gpu, desc.width, desc.height, desc.frames)?;
                 if timings.is_empty() {
                     return Err(Error::Usage(
@@ -302,9 +473,18 @@ pub fn measure(
                     mean_relative: map.mean_relative,
                     rms_relative: map.rms_relative,
                     compared: map.lit_pixels,
+                    flip_mean,
                 });
             }
             renderer.retire(gpu);
+        }
+        if let (Some((_, scene)), HdrFormat::Rgba32Float) = (&scaling_scene, hdr) {
+            let done = rows.len() + floors.len() + scaling.len();
+            let mut i = 0;
+            scaling = measure_scaling(renderer, scene, desc, |what| {
+                progress(done + i, total, what);
+                i += 1;
+            })?;
         }
         let validation = headless.validation_log();
         drop(headless);
@@ -314,8 +494,39 @@ pub fn measure(
     Ok(Measurements {
         rows,
         floors,
+        scaling,
+        scaling_scene: scaling_scene.map(|(label, _)| label).unwrap_or_default(),
         device: device_name,
     })
+}
+
+/// Mean FLIP (the perceptual image difference of Andersson et al. 2020, `nv-flip`, at
+/// its default 67 pixels per degree) between `frame`'s display image and the reference
+/// radiance of `map` through the same output transform: × `exposure`, the exponential
+/// tone curve, the exact sRGB encoding, rounded to 8 bits. Pixels the reference does
+/// not shade carry the GPU's own values (`ErrorMap::reference_radiance`), so this is
+/// the shading's (and the HDR storage's) error as a viewer would see it.
+pub fn flip_against_reference(frame: &Frame, map: &ErrorMap, exposure: f32) -> f64 {
+    let n = (frame.width * frame.height) as usize;
+    if frame.ldr.len() != n || map.reference_radiance.len() != n {
+        return f64::NAN;
+    }
+    let encode = |c: f32| {
+        let display = tonemap_exponential(f64::from(c) * f64::from(exposure));
+        (linear_to_srgb(display).clamp(0.0, 1.0) * 255.0).round() as u8
+    };
+    let reference: Vec<u8> = map
+        .reference_radiance
+        .iter()
+        .flat_map(|p| p.map(encode))
+        .collect();
+    let test: Vec<u8> = frame.ldr.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
+    let flip = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(frame.width, frame.height, &reference),
+        nv_flip::FlipImageRgb8::with_data(frame.width, frame.height, &test),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    f64::from(nv_flip::FlipPool::from_image(&flip).mean())
 }
 
 /// What an accuracy budget chose for a scene ([`choose`]).
@@ -346,6 +557,7 @@ pub fn choose(
         frames,
         device,
         floors: false,
+        scaling: None,
     };
     let mut candidates = measure(&desc, |_, _, _| {})?.rows;
     candidates.sort_by(|a, b| a.total.median.total_cmp(&b.total.median));
@@ -386,9 +598,22 @@ impl Choice {
     }
 }
 
-/// Per variant set: its name, the mean over scenes of the total frame time's median and
-/// of the mean relative error, and the largest max relative error.
-pub fn summarise(rows: &[ReportRow]) -> Vec<(VariantSet, f64, f64, f64)> {
+/// One variant set over every scene measured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SetSummary {
+    pub set: VariantSet,
+    /// Mean over the scenes of the total frame time's median, ms.
+    pub ms: f64,
+    /// Mean over the scenes of the mean relative error.
+    pub mean_relative: f64,
+    /// The largest max relative error of any scene.
+    pub max_relative: f64,
+    /// Mean over the scenes of the mean FLIP.
+    pub flip_mean: f64,
+}
+
+/// Per variant set, in the order first measured: its time and errors over the scenes.
+pub fn summarise(rows: &[ReportRow]) -> Vec<SetSummary> {
     let mut sets: Vec<VariantSet> = Vec::new();
     for row in rows {
         if !sets.contains(&row.set) {
@@ -399,10 +624,14 @@ pub fn summarise(rows: &[ReportRow]) -> Vec<(VariantSet, f64, f64, f64)> {
         .map(|set| {
             let of: Vec<&ReportRow> = rows.iter().filter(|r| r.set == set).collect();
             let n = of.len() as f64;
-            let ms = of.iter().map(|r| r.total.median).sum::<f64>() / n;
-            let mean = of.iter().map(|r| r.mean_relative).sum::<f64>() / n;
-            let max = of.iter().map(|r| r.max_relative).fold(0.0, f64::max);
-            (set, ms, mean, max)
+            let mean_of = |f: fn(&ReportRow) -> f64| of.iter().map(|r| f(r)).sum::<f64>() / n;
+            SetSummary {
+                set,
+                ms: mean_of(|r| r.total.median),
+                mean_relative: mean_of(|r| r.mean_relative),
+                max_relative: of.iter().map(|r| r.max_relative).fold(0.0, f64::max),
+                flip_mean: mean_of(|r| r.flip_mean),
+            }
         })
         .collect()
 }
@@ -411,10 +640,10 @@ pub fn summarise(rows: &[ReportRow]) -> Vec<(VariantSet, f64, f64, f64)> {
 fn points(rows: &[ReportRow]) -> Vec<SpeedErrorPoint> {
     summarise(rows)
         .iter()
-        .map(|(set, ms, mean, _)| SpeedErrorPoint {
-            label: set.name(),
-            ms: *ms,
-            error: *mean,
+        .map(|s| SpeedErrorPoint {
+            label: s.set.name(),
+            ms: s.ms,
+            error: s.mean_relative,
         })
         .collect()
 }
@@ -422,19 +651,16 @@ fn points(rows: &[ReportRow]) -> Vec<SpeedErrorPoint> {
 /// The CSV: one row per scene and variant set.
 pub fn csv(rows: &[ReportRow]) -> String {
     let mut out = String::from(
-        "scene,fresnel,hdr,pipeline,masking,frames,gbuffer_ms,gbuffer_p10,gbuffer_p90,lighting_ms,lighting_p10,lighting_p90,output_ms,output_p10,output_p90,total_ms,total_p10,total_p90,max_relative_error,mean_relative_error,rms_relative_error,pixels_compared\n",
+        "scene,fresnel,hdr,pipeline,masking,distribution,diffuse,frames,gbuffer_ms,gbuffer_p10,gbuffer_p90,lighting_ms,lighting_p10,lighting_p90,output_ms,output_p10,output_p90,total_ms,total_p10,total_p90,max_relative_error,mean_relative_error,rms_relative_error,pixels_compared,flip_mean\n",
     );
     for r in rows {
         let name = r.set.name();
         let parts: Vec<&str> = name.split('/').collect();
         let _ = write!(
             out,
-            "{},{},{},{},{},{}",
+            "{},{},{}",
             csv_field(&r.scene),
-            parts[0],
-            parts[1],
-            parts[2],
-            parts[3],
+            parts.join(","),
             r.frames
         );
         for s in [r.gbuffer, r.lighting, r.output, r.total] {
@@ -442,8 +668,8 @@ pub fn csv(rows: &[ReportRow]) -> String {
         }
         let _ = writeln!(
             out,
-            ",{:.3e},{:.3e},{:.3e},{}",
-            r.max_relative, r.mean_relative, r.rms_relative, r.compared
+            ",{:.3e},{:.3e},{:.3e},{},{:.3e}",
+            r.max_relative, r.mean_relative, r.rms_relative, r.compared, r.flip_mean
         );
     }
     out
@@ -509,11 +735,131 @@ fn floors_markdown(m: &Measurements) -> String {
     out + "\n"
 }
 
+/// The scaling measurement's CSV: one row per configuration.
+pub fn scaling_csv(rows: &[ScalingRow]) -> String {
+    let mut out = String::from(
+        "width,height,localised_lights,culled,gbuffer_ms,gbuffer_p10,gbuffer_p90,lighting_ms,lighting_p10,lighting_p90,total_ms,total_p10,total_p90\n",
+    );
+    for r in rows {
+        let lights = r
+            .localised_lights
+            .map_or("scene".to_owned(), |n| n.to_string());
+        let _ = write!(out, "{},{},{lights},{}", r.width, r.height, r.culled);
+        for s in [r.gbuffer, r.lighting, r.total] {
+            let _ = write!(out, ",{:.3},{:.3},{:.3}", s.median, s.p10, s.p90);
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// The scaling section: frame time against size, and against localised lights.
+fn scaling_markdown(m: &Measurements) -> String {
+    if m.scaling.is_empty() {
+        return String::new();
+    }
+    let mut out = format!(
+        "## Scaling ({}, default variant set)\n\nFrame time against size (the scene's own lights):\n\n| size | megapixels | G-buffer ms | lighting ms | total ms | total ms per megapixel |\n|---|---|---|---|---|---|\n",
+        md_cell(&m.scaling_scene)
+    );
+    for r in m.scaling.iter().filter(|r| r.localised_lights.is_none()) {
+        let mp = f64::from(r.width) * f64::from(r.height) / 1e6;
+        let _ = writeln!(
+            out,
+            "| {}×{} | {mp:.2} | {:.2} | {:.2} | {:.2} | {:.1} |",
+            r.width,
+            r.height,
+            r.gbuffer.median,
+            r.lighting.median,
+            r.total.median,
+            r.total.median / mp
+        );
+    }
+    out += "\n![frame time against size](scaling-resolution.png)\n\nAgainst light count: the scene's lights replaced by N localised point lights (each with a range of a fifth of the scene's diagonal, scattered through it); lighting ms includes the culling pass. × 4 lights: the lighting pass against the same set's 4-light figure.\n\n| lights | culled lighting ms (× 4 lights) | unculled lighting ms (× 4 lights) | culled total ms | unculled total ms |\n|---|---|---|---|---|\n";
+    let lighting_of = |n: usize, culled: bool| {
+        m.scaling
+            .iter()
+            .find(|r| r.localised_lights == Some(n) && r.culled == culled)
+    };
+    for n in SCALING_LIGHT_COUNTS {
+        let (Some(c), Some(u)) = (lighting_of(n, true), lighting_of(n, false)) else {
+            continue;
+        };
+        let ratio = |r: &ScalingRow, culled: bool| {
+            lighting_of(4, culled).map_or(f64::NAN, |four| r.lighting.median / four.lighting.median)
+        };
+        let _ = writeln!(
+            out,
+            "| {n} | {:.2} (×{:.2}) | {:.2} (×{:.2}) | {:.2} | {:.2} |",
+            c.lighting.median,
+            ratio(c, true),
+            u.lighting.median,
+            ratio(u, false),
+            c.total.median,
+            u.total.median
+        );
+    }
+    out + "\n![frame time against light count](scaling-lights.png)\n\n"
+}
+
+/// The scaling plots: (size, lights) PNGs.
+fn scaling_plots(m: &Measurements, device: &str) -> Result<(Png, Png), Error> {
+    let series = |label: &str, f: &dyn Fn(&ScalingRow) -> Option<(f64, f64)>| Series {
+        label: label.to_owned(),
+        points: m.scaling.iter().filter_map(f).collect(),
+    };
+    let by_size = |pass: fn(&ScalingRow) -> f64| {
+        move |r: &ScalingRow| {
+            r.localised_lights
+                .is_none()
+                .then(|| (f64::from(r.width) * f64::from(r.height) / 1e6, pass(r)))
+        }
+    };
+    let size = plot_scaling(
+        "Frame time against size",
+        &format!("{device}, {}; GPU medians", m.scaling_scene),
+        "megapixels",
+        "GPU ms (median)",
+        XAxis::Linear,
+        &[
+            series("total", &by_size(|r| r.total.median)),
+            series("G-buffer", &by_size(|r| r.gbuffer.median)),
+            series("lighting", &by_size(|r| r.lighting.median)),
+        ],
+        900,
+        560,
+    )?;
+    let by_lights = |culled: bool| {
+        move |r: &ScalingRow| {
+            r.localised_lights
+                .filter(|_| r.culled == culled)
+                .map(|n| (n as f64, r.lighting.median))
+        }
+    };
+    let lights = plot_scaling(
+        "Lighting pass against light count",
+        &format!(
+            "{device}, {}; localised point lights; GPU medians",
+            m.scaling_scene
+        ),
+        "localised lights",
+        "lighting ms (median, with culling)",
+        XAxis::Log2,
+        &[
+            series("tiled culling", &by_lights(true)),
+            series("every light per pixel", &by_lights(false)),
+        ],
+        900,
+        560,
+    )?;
+    Ok((size, lights))
+}
+
 /// The Markdown report.
 pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     let (rows, device) = (&m.rows[..], &m.device);
     let mut out = format!(
-        "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4).\n\nVariant sets (fresnel/hdr/pipeline/masking): Fresnel `full` (the equations with complex η + ik and the outside medium) or `schlick` (Schlick's curve through the exact normal-incidence reflectance); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`; masking–shadowing `correlated` (Smith height-correlated, the reference's), `separable` (G₁·G₁) or `approximate` (Hammon 2017). The default, each term changed alone, and every cheap choice at once.\n\n",
+        "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4). Mean FLIP (Andersson et al. 2020, 67 pixels per degree): the display image against the reference radiance through the same exposure, tone curve and sRGB encoding.\n\nVariant sets (fresnel/hdr/pipeline/masking/distribution/diffuse): Fresnel `full` (the equations with complex η + ik and the outside medium), `schlick` (Schlick's curve through the exact normal-incidence reflectance) or `f82` (Hoffman 2019: Schlick's curve less b μ(1 − μ)⁶, through the exact reflectance at normal incidence and at cos θ = 1/7); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`; masking–shadowing `correlated` (Smith height-correlated, the reference's), `separable` (G₁·G₁) or `approximate` (Hammon 2017); normal distribution `ggx` (the reference's) or `beckmann` (with Beckmann's Smith Λ, Walter et al. 2007); diffuse `material` (each material's own model, the reference's) or one model for every material (`lambert`, `oren-nayar-qualitative`, `oren-nayar-full`). The default, each term changed alone, and every cheap choice at once.\n\n",
         desc.width, desc.height, desc.frames
     );
     let summary = summarise(rows);
@@ -523,22 +869,27 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
         "Pareto front, fastest first: each set less wrong, by more than {:.0} % of the error, than the front's previous set (errors closer than that differ by rounding).\n\n",
         combustion_plots::PARETO_ERROR_TOLERANCE * 100.0
     );
-    out += "## Variant sets (mean over the scenes)\n\n| variant set | frame ms | mean relative error | largest max relative error | Pareto front |\n|---|---|---|---|---|\n";
-    for (i, (set, ms, mean, max)) in summary.iter().enumerate() {
+    out += "## Variant sets (mean over the scenes)\n\n| variant set | frame ms | mean relative error | largest max relative error | mean FLIP | Pareto front |\n|---|---|---|---|---|---|\n";
+    for (i, s) in summary.iter().enumerate() {
         let _ = writeln!(
             out,
-            "| {} | {ms:.2} | {mean:.2e} | {max:.2e} | {} |",
-            set.name(),
+            "| {} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {} |",
+            s.set.name(),
+            s.ms,
+            s.mean_relative,
+            s.max_relative,
+            s.flip_mean,
             if front.contains(&i) { "yes" } else { "" }
         );
     }
     out += "\n![speed against error](speed-vs-error.png)\n\n";
     out += &floors_markdown(m);
-    out += "## Per scene\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    out += &scaling_markdown(m);
+    out += "## Per scene\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let _ = writeln!(
             out,
-            "| {} | {} | {:.2} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {} |",
+            "| {} | {} | {:.2} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {} | {:.2e} |",
             md_cell(&r.scene),
             r.set.name(),
             r.gbuffer.median,
@@ -550,7 +901,8 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
             r.max_relative,
             r.mean_relative,
             r.rms_relative,
-            r.compared
+            r.compared,
+            r.flip_mean
         );
     }
     out
@@ -582,6 +934,15 @@ pub fn write(dir: &Path, m: &Measurements, desc: &ReportDesc) -> Result<(), Erro
     output::write_file_atomically(&dir.join("speed-vs-error.png"), &png.bytes)?;
     output::write_file_atomically(&dir.join("report.csv"), csv(rows).as_bytes())?;
     output::write_file_atomically(&dir.join("floors.csv"), floors_csv(&m.floors).as_bytes())?;
+    if !m.scaling.is_empty() {
+        let (size, lights) = scaling_plots(m, device)?;
+        output::write_file_atomically(&dir.join("scaling-resolution.png"), &size.bytes)?;
+        output::write_file_atomically(&dir.join("scaling-lights.png"), &lights.bytes)?;
+        output::write_file_atomically(
+            &dir.join("scaling.csv"),
+            scaling_csv(&m.scaling).as_bytes(),
+        )?;
+    }
     output::write_file_atomically(&dir.join("report.md"), markdown(m, desc).as_bytes())?;
     Ok(())
 }

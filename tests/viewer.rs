@@ -458,6 +458,7 @@ fn keys_and_mouse_drive_the_viewer() {
         ("r", "exposure 1.41"),
         ("m", "diffuse Oren–Nayar qualitative"),
         ("o", "medium η 1.33"),
+        ("g", "F82 (comparison)"),
         ("g", "full Fresnel"),
         ("minus", "exposure 1.00"),
         ("1", "builtin:spheres"),

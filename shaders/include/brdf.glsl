@@ -10,6 +10,13 @@
 #include "fresnel.glsl"
 #include "diffuse.glsl"
 
+// The comparison variants that replace the Fresnel equations by a curve through exact
+// points (FRESNEL_SCHLICK: Schlick's, through F0; FRESNEL_F82: Hoffman's F82, through F0
+// and F(1/7)). Neither has total internal reflection beyond what its points see.
+#if defined(FRESNEL_SCHLICK) || defined(FRESNEL_F82)
+#define FRESNEL_CURVE
+#endif
+
 // DiffuseModel discriminants (Rust: #[repr(u32)] enum DiffuseModel). Any other value
 // evaluates as Lambert here; the Rust side rejects it in TryFrom<u32>.
 #define DIFFUSE_MODEL_LAMBERT 0u
@@ -93,11 +100,29 @@ struct BrdfView {
     float w;
     vec2 visibility_half;  // (c_v, S_v) of smith_ggx_visibility_half
     float transmittance_v; // T_w(n·v) of the dielectric part (1 when there is none)
-#ifdef FRESNEL_SCHLICK
-    float f0_dielectric;   // exact normal-incidence reflectances for Schlick's curve
+#ifdef FRESNEL_CURVE
+    float f0_dielectric;   // exact normal-incidence reflectances the curve starts from
     vec3 f0_conductor;
 #endif
+#ifdef FRESNEL_F82
+    float b_dielectric;    // F82 coefficients (fresnel_f82_coefficient) from the exact
+    vec3 b_conductor;      // reflectance at cos θ = F82_COS
+#endif
+#ifdef D_BECKMANN
+    float lambda_v;        // Beckmann's Smith Λ(v) (comparison variant)
+#endif
 };
+
+// The dielectric part's reflectance on the variant's curve (FRESNEL_CURVE variants).
+#ifdef FRESNEL_CURVE
+float brdf_dielectric_curve(BrdfView view, float cos_theta) {
+#ifdef FRESNEL_F82
+    return fresnel_f82(cos_theta, view.f0_dielectric, view.b_dielectric);
+#else
+    return fresnel_schlick(cos_theta, view.f0_dielectric);
+#endif
+}
+#endif
 
 BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
     BrdfView view;
@@ -108,17 +133,30 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
     view.metal = min(max(m.metalness, 0.0), 1.0);
     view.w = min(max(m.polarisation_weight, 0.0), 1.0);
     view.visibility_half = smith_ggx_visibility_half(view.v, view.ax, view.ay);
-#ifdef FRESNEL_SCHLICK
-    // The cheaper, approximate variant (renderer setting FresnelModel::Schlick; its error
-    // against the full equations is measured in tests/parity.rs): Schlick's curve through
-    // the exact normal-incidence reflectance of η (dielectric) and η + ik (conductor)
-    // seen from ηi, and 1 − F for the diffuse transmittance. No total internal reflection.
+#ifdef D_BECKMANN
+    view.lambda_v = lambda_beckmann_anisotropic(view.v, view.ax, view.ay);
+#endif
+#ifdef FRESNEL_CURVE
+    // The cheaper, approximate variants (renderer setting FresnelModel::Schlick or F82;
+    // their error against the full equations is measured in tests/parity.rs and the
+    // report): a curve through the exact normal-incidence reflectance of η (dielectric)
+    // and η + ik (conductor) seen from ηi (F82: and through the exact reflectance at
+    // cos θ = 1/7), and 1 − F for the diffuse transmittance.
     view.f0_dielectric = polarised_weighted(fresnel_dielectric(1.0, m.outside_eta, m.dielectric_eta), view.w);
     view.f0_conductor = vec3(
         polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.x, m.conductor_k.x), view.w),
         polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.y, m.conductor_k.y), view.w),
         polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.z, m.conductor_k.z), view.w));
-    view.transmittance_v = 1.0 - fresnel_schlick(view.v.z, view.f0_dielectric);
+#ifdef FRESNEL_F82
+    view.b_dielectric = fresnel_f82_coefficient(view.f0_dielectric,
+        polarised_weighted(fresnel_dielectric(F82_COS, m.outside_eta, m.dielectric_eta), view.w));
+    vec3 at_f82 = fresnel_conductor_rgb(F82_COS, m.outside_eta, m.conductor_eta, m.conductor_k, view.w);
+    view.b_conductor = vec3(
+        fresnel_f82_coefficient(view.f0_conductor.x, at_f82.x),
+        fresnel_f82_coefficient(view.f0_conductor.y, at_f82.y),
+        fresnel_f82_coefficient(view.f0_conductor.z, at_f82.z));
+#endif
+    view.transmittance_v = 1.0 - brdf_dielectric_curve(view, view.v.z);
 #elif defined(NO_DIELECTRICS)
     view.transmittance_v = 1.0;
 #else
@@ -157,10 +195,10 @@ vec3 brdf_diffuse_lobe(BrdfInputs m, vec3 vl, vec3 ll) {
 }
 
 // Reflectance of the dielectric part at the microfacet angle cos_h (full equations with
-// the outside medium, or Schlick's comparison curve in the FRESNEL_SCHLICK variant).
+// the outside medium, or the comparison curve of a FRESNEL_CURVE variant).
 float brdf_dielectric_fresnel(BrdfInputs m, BrdfView view, float cos_h) {
-#ifdef FRESNEL_SCHLICK
-    return fresnel_schlick(cos_h, view.f0_dielectric);
+#ifdef FRESNEL_CURVE
+    return brdf_dielectric_curve(view, cos_h);
 #else
     return polarised_weighted(fresnel_dielectric(cos_h, m.outside_eta, m.dielectric_eta), view.w);
 #endif
@@ -168,10 +206,15 @@ float brdf_dielectric_fresnel(BrdfInputs m, BrdfView view, float cos_h) {
 
 // Reflectance of the conductor part per channel at cos_h (as above).
 vec3 brdf_conductor_fresnel(BrdfInputs m, BrdfView view, float cos_h) {
-#ifdef FRESNEL_SCHLICK
+#ifdef FRESNEL_CURVE
     float x = 1.0 - cos_h;
     float x2 = x * x;
-    return view.f0_conductor + (1.0 - view.f0_conductor) * (x2 * x2 * x);
+    vec3 schlick = view.f0_conductor + (1.0 - view.f0_conductor) * (x2 * x2 * x);
+#ifdef FRESNEL_F82
+    return clamp(schlick - view.b_conductor * (cos_h * x2 * x2 * x2), 0.0, 1.0);
+#else
+    return schlick;
+#endif
 #else
     return fresnel_conductor_rgb(cos_h, m.outside_eta, m.conductor_eta, m.conductor_k, view.w);
 #endif
@@ -193,6 +236,19 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
     float len = sqrt(dot(sum, sum));
     vec3 h = sum * (1.0 / len);
     float cos_h = min(0.5 * len, 1.0);
+#ifdef D_BECKMANN
+    // Comparison variant (combustion_renderer::Distribution::Beckmann): Beckmann's D with
+    // its own Smith Λ, height-correlated 1/(1 + Λ_v + Λ_l) or, with SMITH_SEPARABLE,
+    // 1/((1 + Λ_v)(1 + Λ_l)); V = G₂/(4 n·v n·l). (Hammon's fit is of GGX's term: with
+    // Beckmann, SMITH_APPROXIMATE evaluates the height-correlated form.)
+    float lambda_l = lambda_beckmann_anisotropic(ll, ax, ay);
+#ifdef SMITH_SEPARABLE
+    float g2 = 1.0 / ((1.0 + view.lambda_v) * (1.0 + lambda_l));
+#else
+    float g2 = 1.0 / (1.0 + view.lambda_v + lambda_l);
+#endif
+    float lobe = d_beckmann_anisotropic(h, ax, ay) * g2 / (4.0 * max(vl.z, COS_MIN) * max(ll.z, COS_MIN));
+#else
     vec2 light_half = smith_ggx_visibility_half(ll, ax, ay);
 #if defined(SMITH_SEPARABLE)
     // Comparison variant (combustion_renderer::Masking::Separable): G₁(v)·G₁(l), the form
@@ -210,14 +266,15 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
 #else
     float lobe = d_ggx_anisotropic(h, ax, ay) * visibility;
 #endif
+#endif  // D_BECKMANN
 
     vec3 result = vec3(0.0);
 #ifndef NO_DIELECTRICS
     if (metal < 1.0) {
         float eta_d = m.dielectric_eta;
         float spec = lobe * brdf_dielectric_fresnel(m, view, cos_h);
-#ifdef FRESNEL_SCHLICK
-        float diffuse_weight = (1.0 - fresnel_schlick(ll.z, view.f0_dielectric)) * view.transmittance_v;
+#ifdef FRESNEL_CURVE
+        float diffuse_weight = (1.0 - brdf_dielectric_curve(view, ll.z)) * view.transmittance_v;
 #else
         float diffuse_weight =
             polarised_weighted(fresnel_dielectric_transmittance(ll.z, eta_i, eta_d), w)

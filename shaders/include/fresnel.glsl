@@ -190,6 +190,24 @@ float fresnel_schlick(float cos_theta, float f0) {
     return f + (1.0 - f) * m2 * m2 * m;
 }
 
+// Hoffman's F82 model (comparison variant FRESNEL_F82; Rust: fresnel_f82_coefficient,
+// fresnel_f82): Schlick's curve less b μ (1 − μ)⁶, b fitted so the curve passes through
+// the exact reflectance at μ̄ = F82_COS = 1/7.
+const float F82_COS = 1.0 / 7.0;
+
+float fresnel_f82_coefficient(float f0, float f_at_f82_cos) {
+    float m = 1.0 - F82_COS;
+    float m3 = m * m * m;
+    return (fresnel_schlick(F82_COS, f0) - f_at_f82_cos) / (F82_COS * m3 * m3);
+}
+
+float fresnel_f82(float cos_theta, float f0, float b) {
+    float mu = min(max(cos_theta, 0.0), 1.0);
+    float m = 1.0 - mu;
+    float m3 = m * m * m;
+    return min(max(fresnel_schlick(mu, f0) - b * mu * m3 * m3, 0.0), 1.0);
+}
+
 // F(0) = ((η_t − η_i)/(η_t + η_i))².
 float f0_dielectric(float eta_i, float eta_t) {
     float ei = clamp_eta(eta_i);

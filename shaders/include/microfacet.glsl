@@ -72,6 +72,24 @@ float d_beckmann(vec3 m, float alpha) {
     return e / (PI * a2 * c2 * c2);
 }
 
+// Beckmann D, anisotropic (comparison variant D_BECKMANN; Rust: d_beckmann_anisotropic).
+float d_beckmann_anisotropic(vec3 m, float alpha_x, float alpha_y) {
+    float c = m.z;
+    if (!(c > 0.0)) {
+        return 0.0;
+    }
+    float ax = clamp_alpha(alpha_x);
+    float ay = clamp_alpha(alpha_y);
+    float c2 = c * c;
+    float tx = m.x / ax;
+    float ty = m.y / ay;
+    float e = exp(-(tx * tx + ty * ty) / c2);
+    if (!(e > 0.0)) {
+        return 0.0;
+    }
+    return e / (PI * ax * ay * c2 * c2);
+}
+
 // (α_x v.x)² + (α_y v.y)², the α² sin²θ of the anisotropic Smith Λ (Heitz 2014, §5.3).
 float alpha2_sin2(vec3 v, float ax, float ay) {
     float x = ax * v.x;
@@ -89,6 +107,21 @@ float lambda_from_cos(float c, float a2s2) {
     }
     float s = sqrt(c * c + a2s2);
     return min(a2s2 / (2.0 * c * (s + c)), FLT_MAX);
+}
+
+// Smith Λ for Beckmann, anisotropic, Walter et al. 2007's rational form (comparison
+// variant D_BECKMANN; Rust: lambda_beckmann_anisotropic). FLT_MAX for v.z ≤ 0.
+float lambda_beckmann_anisotropic(vec3 v, float alpha_x, float alpha_y) {
+    float c = v.z;
+    if (!(c > 0.0)) {
+        return FLT_MAX;
+    }
+    float a2s2 = alpha2_sin2(v, clamp_alpha(alpha_x), clamp_alpha(alpha_y));
+    if (c * c >= 2.56 * a2s2) {
+        return 0.0;
+    }
+    float a = c / sqrt(a2s2);
+    return (1.0 - 1.259 * a + 0.396 * a * a) / (3.535 * a + 2.181 * a * a);
 }
 
 // G₁ = 2c/(c + √(c² + α² sin²θ)).

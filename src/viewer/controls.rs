@@ -80,11 +80,13 @@ pub const WATER_IOR: f32 = 1.33;
 /// Exposure steps of the `+` and `-` keys: half a stop.
 pub const EXPOSURE_STEP: f32 = std::f32::consts::SQRT_2;
 
-/// The next Fresnel model (full ↔ Schlick's comparison variant).
+/// The next Fresnel model (full → Schlick → F82 → full; the last two are comparison
+/// variants).
 pub fn toggle_fresnel(model: FresnelModel) -> FresnelModel {
     match model {
         FresnelModel::Full => FresnelModel::Schlick,
-        FresnelModel::Schlick => FresnelModel::Full,
+        FresnelModel::Schlick => FresnelModel::F82,
+        FresnelModel::F82 => FresnelModel::Full,
     }
 }
 
@@ -154,7 +156,7 @@ mod tests {
         assert_eq!(builtin_on_key(0), None);
         assert_eq!(builtin_on_key(99), None);
         assert_eq!(
-            toggle_fresnel(toggle_fresnel(FresnelModel::Full)),
+            toggle_fresnel(toggle_fresnel(toggle_fresnel(FresnelModel::Full))),
             FresnelModel::Full
         );
     }

@@ -140,10 +140,7 @@ impl Stats<'_> {
             );
         }
         lines.push(timing);
-        let fresnel = match self.fresnel {
-            FresnelModel::Full => "full Fresnel",
-            FresnelModel::Schlick => "Schlick (comparison)",
-        };
+        let fresnel = self.fresnel.description();
         lines.push(format!(
             "view: {} · {fresnel} · {} · exposure {:.2}",
             self.view, self.overrides, self.exposure

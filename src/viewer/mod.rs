@@ -95,7 +95,7 @@ pub const KEYS: &[(&str, &str)] = &[
         "F5",
         "reload the scene (also when its file changes on disk)",
     ),
-    ("G", "Fresnel: full equations / Schlick (comparison)"),
+    ("G", "Fresnel: full equations / Schlick / F82 (comparisons)"),
     (
         "M",
         "diffuse model of every material: as loaded, Lambert, Oren–Nayar qualitative, full",
@@ -873,10 +873,7 @@ impl State {
 
     /// The window's title: the scene, the toggles, the error view, the GPU time.
     fn title(&self, gpu_ms: Option<f64>) -> String {
-        let fresnel = match self.renderer.settings().fresnel {
-            combustion_renderer::FresnelModel::Full => "full Fresnel",
-            combustion_renderer::FresnelModel::Schlick => "Schlick (comparison)",
-        };
+        let fresnel = self.renderer.settings().fresnel.description();
         let gpu = gpu_ms.map_or(String::new(), |ms| format!(" — {ms:.1} ms GPU"));
         let error = match self.error_view.map(|v| v.measured) {
             None => String::new(),

@@ -296,6 +296,36 @@ pub fn fresnel_schlick<T: Real>(cos_theta: T, f0: T) -> T {
     f0 + (T::ONE - f0) * m2 * m2 * m
 }
 
+/// The cosine at which Hoffman's F82 model is fitted: cos θ̄ = 1/7 (θ̄ ≈ 82°, where the
+/// reflectance of most metals dips below Schlick's curve the most).
+pub const F82_COS: f64 = 1.0 / 7.0;
+
+/// The coefficient b of Hoffman's F82 model (Hoffman 2019, "Fresnel Equations
+/// Considered Harmful"; the form of OpenPBR and Adobe's standard material) that makes
+/// [`fresnel_f82`] pass through `f_at_f82_cos`, the reflectance at cos θ = [`F82_COS`]:
+/// b = (Schlick(μ̄; F0) − F(μ̄)) / (μ̄ (1 − μ̄)⁶). Fitted to the full equations here (F0
+/// and F(μ̄) computed exactly), so it is a cheaper curve through two exact points; a
+/// comparison variant, not the reference.
+#[inline]
+pub fn fresnel_f82_coefficient<T: Real>(f0: T, f_at_f82_cos: T) -> T {
+    let mu = T::from_f64(F82_COS);
+    let m = T::ONE - mu;
+    let m3 = m * m * m;
+    (fresnel_schlick(mu, f0) - f_at_f82_cos) / (mu * m3 * m3)
+}
+
+/// Hoffman's F82 curve: Schlick's F0 + (1 − F0)(1 − μ)⁵ less b μ (1 − μ)⁶, with b from
+/// [`fresnel_f82_coefficient`]; clamped to [0, 1]. Exact at μ = 1 and μ = [`F82_COS`]
+/// by construction, 1 at grazing. No outside medium of its own (F0 and b carry it), no
+/// total internal reflection beyond what the fit point sees.
+#[inline]
+pub fn fresnel_f82<T: Real>(cos_theta: T, f0: T, b: T) -> T {
+    let mu = cos_theta.saturate();
+    let m = T::ONE - mu;
+    let m3 = m * m * m;
+    (fresnel_schlick(mu, f0) - b * mu * m3 * m3).saturate()
+}
+
 /// Normal-incidence reflectance of a dielectric interface,
 /// F(0) = ((η_t − η_i)/(η_t + η_i))² (Born & Wolf §1.5.2).
 #[inline]
@@ -321,6 +351,29 @@ pub fn eta_from_f0<T: Real>(f0: T) -> T {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn f82_passes_through_its_two_exact_points_and_beats_schlick_on_metals() {
+        // gold, copper, aluminium at ~550 nm, in air and in water
+        for (eta_i, eta, k) in [(1.0, 0.42, 2.35), (1.0, 1.12, 2.6), (1.33, 0.96, 6.69)] {
+            let exact = |c: f64| fresnel_conductor(c, eta_i, eta, k).unpolarised();
+            let f0 = exact(1.0);
+            let b = fresnel_f82_coefficient(f0, exact(F82_COS));
+            assert!((fresnel_f82(1.0, f0, b) - f0).abs() < 1e-15);
+            assert!((fresnel_f82(F82_COS, f0, b) - exact(F82_COS)).abs() < 1e-14);
+            assert_eq!(fresnel_f82(0.0, f0, b), 1.0);
+            let (mut worst_f82, mut worst_schlick) = (0.0_f64, 0.0_f64);
+            for i in 0..=1000 {
+                let c = i as f64 / 1000.0;
+                worst_f82 = worst_f82.max((fresnel_f82(c, f0, b) - exact(c)).abs());
+                worst_schlick = worst_schlick.max((fresnel_schlick(c, f0) - exact(c)).abs());
+            }
+            assert!(
+                worst_f82 < worst_schlick,
+                "{eta} {k}: {worst_f82} vs {worst_schlick}"
+            );
+        }
+    }
 
     /// Textbook (Born & Wolf) dielectric Fresnel via Snell's law, in f64, for comparison
     /// away from the ill-conditioned regions.

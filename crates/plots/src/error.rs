@@ -29,8 +29,9 @@ pub enum PlotError {
         /// What is accepted.
         expected: &'static str,
     },
-    /// [`plot_speed_vs_error`](crate::plot_speed_vs_error) was given no point.
-    #[error("no variant set given: the speed-against-error plot needs at least one point")]
+    /// [`plot_speed_vs_error`](crate::plot_speed_vs_error) or
+    /// [`plot_scaling`](crate::plot_scaling) was given no point.
+    #[error("no point given: the plot needs at least one")]
     NoPoints,
     /// A point of [`plot_speed_vs_error`](crate::plot_speed_vs_error) has a time or an
     /// error that cannot be drawn.

@@ -12,6 +12,7 @@
 //!   bands and their band means (rendering notes Figures 8 and 9).
 //! * [`plot_speed_vs_error`]: measured variant sets, time against relative error, with
 //!   their Pareto front ([`pareto_front`]).
+//! * [`plot_scaling`]: measured times against pixels or light count, a line per series.
 //!
 //! The Fresnel equations are `combustion-optics`' ([`fresnel_conductor`] and
 //! [`fresnel_dielectric`], f64); the band means are `combustion-spectra`'s
@@ -30,6 +31,7 @@ mod canvas;
 mod error;
 mod font;
 mod reflectance;
+mod scaling;
 mod spectral;
 mod speed_error;
 
@@ -38,6 +40,7 @@ pub use error::PlotError;
 pub use reflectance::{
     plot_dielectric_family, plot_reflectance, PlotMaterial, ReflectancePlot, MAX_FAMILY,
 };
+pub use scaling::{plot_scaling, Series, XAxis};
 pub use spectral::plot_spectrum;
 pub use speed_error::{pareto_front, plot_speed_vs_error, SpeedErrorPoint, PARETO_ERROR_TOLERANCE};
 

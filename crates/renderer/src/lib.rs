@@ -42,7 +42,7 @@ mod textures;
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use combustion_scene::{Scene, SceneError};
+use combustion_scene::{DiffuseModel, Scene, SceneError};
 use combustion_vk::{vk, DescriptorSetLayout, Device, PipelineCache, ShaderCompiler, VkError};
 
 use fullscreen::FullscreenPass;
@@ -166,6 +166,29 @@ impl Masking {
     }
 }
 
+/// The microfacet normal distribution of the lighting pass. GGX (the reference's) by
+/// default; Beckmann is a comparison variant whose error the report measures.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Distribution {
+    /// GGX / Trowbridge–Reitz, isotropic or anisotropic (Walter et al. 2007; Burley 2012).
+    #[default]
+    Ggx,
+    /// Beckmann's distribution with the same α (anisotropic form), and Beckmann's own
+    /// Smith Λ in Walter et al. 2007's rational form, height-correlated or separable as
+    /// [`Masking`] says. Hammon's fit ([`Masking::Approximate`]) is of GGX's term: with
+    /// Beckmann it evaluates the height-correlated form.
+    Beckmann,
+}
+
+impl Distribution {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Ggx => "ggx",
+            Self::Beckmann => "beckmann",
+        }
+    }
+}
+
 /// Stripped-down passes to measure the real ones against (`combustion bench --report`):
 /// what the same frame costs with the shading taken out. Not images to look at.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -187,9 +210,8 @@ pub enum MeasurementFloor {
 pub struct ShaderVariant {
     /// An emissive target in the G-buffer, added to the lit radiance.
     pub emissive: bool,
-    /// Schlick's approximation instead of the full Fresnel equations
-    /// ([`FresnelModel::Schlick`]; a renderer setting, not a scene feature).
-    pub schlick: bool,
+    /// The Fresnel term ([`FresnelModel`]; a renderer setting, not a scene feature).
+    pub fresnel: FresnelModel,
     /// The lighting pass can show a G-buffer channel or a BRDF term instead of radiance
     /// ([`DebugView`]; a renderer setting).
     pub debug_views: bool,
@@ -199,6 +221,8 @@ pub struct ShaderVariant {
     pub floor: Option<MeasurementFloor>,
     /// The masking–shadowing term ([`Renderer::set_masking`]).
     pub masking: Masking,
+    /// The normal distribution ([`Renderer::set_distribution`]).
+    pub distribution: Distribution,
 }
 
 /// What the lighting pass shows instead of radiance (`debug_views.glsl` has the same
@@ -290,8 +314,10 @@ impl ShaderVariant {
         if self.emissive {
             defines.push(("EMISSIVE", None));
         }
-        if self.schlick {
-            defines.push(("FRESNEL_SCHLICK", None));
+        match self.fresnel {
+            FresnelModel::Full => {}
+            FresnelModel::Schlick => defines.push(("FRESNEL_SCHLICK", None)),
+            FresnelModel::F82 => defines.push(("FRESNEL_F82", None)),
         }
         if self.debug_views {
             defines.push(("DEBUG_VIEWS", None));
@@ -301,6 +327,9 @@ impl ShaderVariant {
             Masking::HeightCorrelated => {}
             Masking::Separable => defines.push(("SMITH_SEPARABLE", None)),
             Masking::Approximate => defines.push(("SMITH_APPROXIMATE", None)),
+        }
+        if self.distribution == Distribution::Beckmann {
+            defines.push(("D_BECKMANN", None));
         }
         match self.floor {
             None => {}
@@ -444,7 +473,7 @@ impl RendererSettings {
 }
 
 /// Which Fresnel term the lighting pass evaluates.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum FresnelModel {
     /// The full dielectric and conductor Fresnel equations with the outside medium's IOR,
     /// polarisation and total internal reflection (the reference; default).
@@ -454,6 +483,30 @@ pub enum FresnelModel {
     /// internal reflection. Its speed and error are measured and reported (README,
     /// "Performance and accuracy"); it exists for comparison, not as a default.
     Schlick,
+    /// Hoffman's F82 model (Hoffman 2019; the form of OpenPBR): Schlick's curve less
+    /// b μ (1 − μ)⁶, fitted per pixel to the exact reflectance at normal incidence and at
+    /// cos θ = 1/7 (`combustion_optics::fresnel::fresnel_f82`). Cheaper per light than the
+    /// full equations, closer than Schlick on metals; a comparison variant.
+    F82,
+}
+
+impl FresnelModel {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Full => "full",
+            Self::Schlick => "schlick",
+            Self::F82 => "f82",
+        }
+    }
+
+    /// How the viewer's title and statistics panel name it.
+    pub fn description(self) -> &'static str {
+        match self {
+            Self::Full => "full Fresnel",
+            Self::Schlick => "Schlick (comparison)",
+            Self::F82 => "F82 (comparison)",
+        }
+    }
 }
 
 impl Default for RendererSettings {
@@ -622,6 +675,10 @@ pub struct Renderer {
     floor: Option<MeasurementFloor>,
     /// The masking–shadowing term ([`Renderer::set_masking`]).
     masking: Masking,
+    /// The normal distribution ([`Renderer::set_distribution`]).
+    distribution: Distribution,
+    /// One diffuse model for every material ([`Renderer::set_diffuse_override`]).
+    diffuse_override: Option<DiffuseModel>,
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     light_culling: LightCulling,
     light_cull: light_cull::LightCullPass,
@@ -710,6 +767,8 @@ impl Renderer {
             specialised: true,
             floor: None,
             masking: Masking::HeightCorrelated,
+            distribution: Distribution::Ggx,
+            diffuse_override: None,
             light_culling: LightCulling::Auto,
             light_cull,
             frame_number: 0,
@@ -742,17 +801,31 @@ impl Renderer {
     /// The scene's variant with the renderer's settings applied.
     fn variant_of(&self, scene_variant: ShaderVariant) -> ShaderVariant {
         let debug_views = self.debug_view != DebugView::None;
+        // Debug views show every term, so they get the general pipeline (and GGX, whose
+        // terms they show).
+        let mut features = if self.specialised && !debug_views {
+            scene_variant.features
+        } else {
+            LightingFeatures::ALL
+        };
+        if let Some(model) = self.diffuse_override {
+            // The one model left is the one every material evaluates (brdf_diffuse_lobe
+            // needs no test when a single model remains).
+            features.lambert = model == DiffuseModel::Lambert;
+            features.oren_nayar_qualitative = model == DiffuseModel::OrenNayarQualitative;
+            features.oren_nayar_full = model == DiffuseModel::OrenNayarFull;
+        }
         ShaderVariant {
-            schlick: self.settings.fresnel == FresnelModel::Schlick,
+            fresnel: self.settings.fresnel,
             debug_views,
-            // Debug views show every term, so they get the general pipeline.
-            features: if self.specialised && !debug_views {
-                scene_variant.features
-            } else {
-                LightingFeatures::ALL
-            },
+            features,
             floor: if debug_views { None } else { self.floor },
             masking: self.masking,
+            distribution: if debug_views {
+                Distribution::Ggx
+            } else {
+                self.distribution
+            },
             ..scene_variant
         }
     }
@@ -886,6 +959,28 @@ impl Renderer {
 
     pub fn masking(&self) -> Masking {
         self.masking
+    }
+
+    /// The microfacet normal distribution from the next frame on (GGX by default;
+    /// Beckmann is a comparison variant). Pipelines as for [`Renderer::set_fresnel`].
+    pub fn set_distribution(&mut self, distribution: Distribution) {
+        self.distribution = distribution;
+    }
+
+    pub fn distribution(&self) -> Distribution {
+        self.distribution
+    }
+
+    /// One diffuse model for every material's dielectric part from the next frame on
+    /// (a comparison variant: the f64 reference keeps each material's own model), or
+    /// `None` for each material's own (the default). Pipelines as for
+    /// [`Renderer::set_fresnel`].
+    pub fn set_diffuse_override(&mut self, model: Option<DiffuseModel>) {
+        self.diffuse_override = model;
+    }
+
+    pub fn diffuse_override(&self) -> Option<DiffuseModel> {
+        self.diffuse_override
     }
 
     /// Renders a [`MeasurementFloor`] instead of the real pass (or the real passes

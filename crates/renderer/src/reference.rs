@@ -212,6 +212,12 @@ pub struct ErrorMap {
     pub emissive_pixels: usize,
     /// Pixels whose GPU or reference radiance is not finite.
     pub non_finite: usize,
+    /// The reference's radiance per pixel, rounded to f32 (row-major, as `relative`):
+    /// where nothing was compared, the GPU's own value (0 on the background, the GPU's
+    /// emission on emissive pixels; 0 where either was not finite), so an image metric
+    /// over the whole frame (the report's FLIP) sees the shading's error alone.
+    /// Empty when the frame has no G-buffer or HDR image to compare.
+    pub reference_radiance: Vec<[f32; 3]>,
 }
 
 /// Compares `frame` (read back with its HDR image and G-buffer) with `reference`, using
@@ -224,6 +230,7 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
         relative: vec![f32::NAN; (width * height) as usize],
         ..ErrorMap::default()
     };
+    let mut reference_radiance = vec![[0.0f32; 3]; map.relative.len()];
     let Some(gbuffer) = frame.gbuffer.as_ref() else {
         return map;
     };
@@ -237,24 +244,30 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
         let handles: Vec<_> = map
             .relative
             .chunks_mut(rows_per_chunk * row)
+            .zip(reference_radiance.chunks_mut(rows_per_chunk * row))
             .enumerate()
-            .map(|(chunk, out)| {
+            .map(|(chunk, (out, radiance_out))| {
                 let first = chunk * rows_per_chunk * row;
                 scope.spawn(move || {
                     let mut part = ErrorMap::default();
                     let (mut sum, mut sum_squares) = (0.0, 0.0);
-                    for (offset, error) in out.iter_mut().enumerate() {
+                    for (offset, (error, radiance)) in
+                        out.iter_mut().zip(radiance_out.iter_mut()).enumerate()
+                    {
                         let i = first + offset;
                         let (x, y) = ((i % row) as u32, (i / row) as u32);
                         let gpu = frame.hdr[i];
+                        *radiance = [gpu[0], gpu[1], gpu[2]];
                         let texel = &gbuffer.texels[i];
                         if gpu.iter().any(|c| !c.is_finite()) {
                             part.non_finite += 1;
+                            *radiance = [0.0; 3];
                             continue;
                         }
                         let shaded = reference.shade(texel, x, y);
                         if shaded.is_some_and(|cpu| cpu.iter().any(|c| !c.is_finite())) {
                             part.non_finite += 1;
+                            *radiance = [0.0; 3];
                             continue;
                         }
                         let Some(cpu) = shaded else {
@@ -268,6 +281,7 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
                             continue;
                         }
                         part.lit_pixels += 1;
+                        *radiance = cpu.map(|c| c as f32);
                         let mut pixel_error = 0.0f64;
                         for c in 0..3 {
                             let e = (f64::from(gpu[c]) - cpu[c]).abs()
@@ -309,6 +323,7 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
             map.worst_values = part.worst_values;
         }
     }
+    map.reference_radiance = reference_radiance;
     map.mean_relative = sum / map.lit_pixels.max(1) as f64;
     map.rms_relative = (sum_squares / map.lit_pixels.max(1) as f64).sqrt();
     map

@@ -64,11 +64,12 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
             .iter()
             .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
         // The Fresnel model and the debug views are the renderer's settings.
-        schlick: false,
+        fresnel: crate::FresnelModel::Full,
         debug_views: false,
         features: crate::LightingFeatures::of(scene),
         floor: None,
         masking: crate::Masking::HeightCorrelated,
+        distribution: crate::Distribution::Ggx,
     }
 }
 

@@ -3,7 +3,7 @@ use std::sync::Arc;
 use crate::SceneError;
 
 /// Which diffuse BRDF the dielectric part of a material uses.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[repr(u32)]
 pub enum DiffuseModel {
     /// ρ/π.
@@ -13,6 +13,28 @@ pub enum DiffuseModel {
     OrenNayarQualitative = 1,
     /// Oren–Nayar 1994, full model with interreflection.
     OrenNayarFull = 2,
+}
+
+impl DiffuseModel {
+    /// The command line's name: `lambert`, `oren-nayar-qualitative`, `oren-nayar-full`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Lambert => "lambert",
+            Self::OrenNayarQualitative => "oren-nayar-qualitative",
+            Self::OrenNayarFull => "oren-nayar-full",
+        }
+    }
+
+    /// The model of a [`DiffuseModel::name`].
+    pub fn parse(name: &str) -> Option<Self> {
+        [
+            Self::Lambert,
+            Self::OrenNayarQualitative,
+            Self::OrenNayarFull,
+        ]
+        .into_iter()
+        .find(|m| m.name() == name)
+    }
 }
 
 /// A complex index of refraction η + ik per RGB channel.
