@@ -251,3 +251,124 @@ fn conductor_table_reflects_its_base_colour_at_normal_incidence() {
     // The table holds f32 η, k: their rounding moves F0 by a few 1e-7.
     assert!(worst < 2e-6, "worst |F0 − r| = {worst:e}");
 }
+
+/// `scene` with every length multiplied by `s`: meshes, placements, camera, lights and
+/// their ranges; point and spot intensities × s², so every irradiance, and so every
+/// pixel's radiance, stays the same (radiometry has no length scale of its own).
+fn scaled_world(scene: &Scene, s: f32) -> Scene {
+    use combustion::scene::Light;
+    let mut out = scene.clone();
+    for object in &mut out.objects {
+        object.transform = Mat4::from_scale(Vec3::splat(s)) * object.transform;
+    }
+    let camera = &mut out.camera;
+    camera.position *= s;
+    camera.target *= s;
+    camera.near *= s;
+    camera.far *= s;
+    for light in &mut out.lights {
+        match light {
+            Light::Point {
+                position,
+                intensity,
+                range,
+            }
+            | Light::Spot {
+                position,
+                intensity,
+                range,
+                ..
+            } => {
+                *position *= s;
+                *intensity = intensity.map(|i| i * s * s);
+                *range = range.map(|r| r * s);
+            }
+            Light::Directional { .. } => {}
+        }
+    }
+    out
+}
+
+/// Pixels of two display images that differ by more than one 8-bit step in a channel.
+fn pixels_apart(a: &combustion::renderer::Frame, b: &combustion::renderer::Frame) -> usize {
+    a.ldr
+        .iter()
+        .zip(&b.ldr)
+        .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 1))
+        .count()
+}
+
+/// Issue 12, "any scale a file uses": a centimetre export (positions × 1e4 under a node
+/// scale of 1e-4) imports as the same 1 m objects and renders as its metre twin, and the
+/// whole world scaled to millimetres or to kilometres renders the same image. Identical
+/// up to f32 rounding of positions (shading moves by ~1e-7 relative: at most one 8-bit
+/// step) and the rasteriser's coverage of silhouette pixels, which the rounding can tip:
+/// at most 0.2 % of the pixels may differ by more than one step.
+#[test]
+fn any_scale_renders_as_its_metre_twin() {
+    use combustion::scene::gltf::save_gltf;
+    let (width, height) = (192, 128);
+    let allowed = (width * height) as usize / 500;
+    let metre = combustion::scene::builtin_scene("spheres").unwrap();
+    let render = |scene: &Scene| {
+        common::render(
+            scene,
+            width,
+            height,
+            RendererSettings {
+                hdr_format: HdrFormat::Rgba32Float,
+                exposure: 1.0,
+                fresnel: FresnelModel::Full,
+                frames_in_flight: 2,
+            },
+            Readback {
+                images: true,
+                gbuffer: false,
+            },
+        )
+    };
+    let reference = render(&metre);
+
+    // The centimetre export, through the importer.
+    let mut centimetre = metre.clone();
+    for mesh in &mut centimetre.meshes {
+        for v in &mut mesh.vertices {
+            v.position = v.position.map(|x| x * 1e4);
+        }
+    }
+    for object in &mut centimetre.objects {
+        object.transform *= Mat4::from_scale(Vec3::splat(1e-4));
+    }
+    let dir = std::env::temp_dir().join(format!("combustion-scale-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut imported = Vec::new();
+    for (name, scene) in [("metre", &metre), ("centimetre", &centimetre)] {
+        let path = dir.join(format!("{name}.gltf"));
+        save_gltf(scene, &path).unwrap();
+        let loaded = SceneSource::File(path).load().unwrap();
+        assert_eq!(
+            loaded.objects.len(),
+            metre.objects.len(),
+            "{name}: every object kept"
+        );
+        imported.push(render(&loaded));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    let apart = pixels_apart(&imported[0], &imported[1]);
+    eprintln!("centimetre export against its metre twin: {apart} pixels apart");
+    assert!(
+        apart <= allowed,
+        "{apart} pixels differ by more than one step"
+    );
+
+    // The whole world from millimetres to kilometres.
+    for s in [1e-3, 1e3, 1e4] {
+        let frame = render(&scaled_world(&metre, s));
+        let apart = pixels_apart(&reference, &frame);
+        eprintln!("world × {s}: {apart} pixels apart");
+        assert!(
+            apart <= allowed,
+            "world × {s}: {apart} pixels differ by more than one step"
+        );
+    }
+}

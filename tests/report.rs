@@ -14,6 +14,15 @@ use combustion::SceneSource;
 const W: u32 = 96;
 const H: u32 = 64;
 
+fn lavapipe_with_validation() -> DeviceDesc {
+    DeviceDesc {
+        selector: DeviceSelector::NameContains("llvmpipe".into()),
+        validation: true,
+        synchronization_validation: true,
+        ..DeviceDesc::default()
+    }
+}
+
 #[test]
 fn report_measures_every_set_and_its_errors_match_the_parity_check() {
     let sets = vec![
@@ -38,12 +47,7 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
         width: W,
         height: H,
         frames: 3,
-        device: DeviceDesc {
-            selector: DeviceSelector::NameContains("llvmpipe".into()),
-            validation: true,
-            synchronization_validation: true,
-            ..DeviceDesc::default()
-        },
+        device: lavapipe_with_validation(),
         floors: true,
         scaling: Some(SceneSource::Builtin("spheres".into())),
     };
@@ -193,12 +197,7 @@ fn comparison_variants_move_the_error_as_their_physics_says() {
         width: W,
         height: H,
         frames: 1,
-        device: DeviceDesc {
-            selector: DeviceSelector::NameContains("llvmpipe".into()),
-            validation: true,
-            synchronization_validation: true,
-            ..DeviceDesc::default()
-        },
+        device: lavapipe_with_validation(),
         floors: false,
         scaling: None,
     };

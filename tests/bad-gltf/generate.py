@@ -167,6 +167,9 @@ g["extensionsUsed"] = ["KHR_lights_punctual"]
 g["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": -5.0}]}}
 g["nodes"].append({"extensions": {"KHR_lights_punctual": {"light": 0}}}); g["scenes"][0]["nodes"].append(1)
 bad("light-negative-intensity.gltf", g)
+g = triangle(positions=[(0.0, 0.0, 0.0), (1e10, 0.0, 0.0), (0.0, 1e10, 0.0)])
+g["nodes"] = [{"mesh": 0, "name": "huge", "scale": [1e30, 1e30, 1e30]}]
+bad("object-overflows-f32.gltf", g)
 
 for old in os.listdir(HERE):
     if old.endswith((".gltf", ".glb")):

@@ -86,10 +86,28 @@ impl GpuObject {
     pub fn new(object: &Object) -> Self {
         Self {
             model: object.transform.to_cols_array(),
-            normal_matrix: object.transform.inverse().transpose().to_cols_array(),
+            normal_matrix: normal_matrix(&object.transform).to_cols_array(),
             material_index: [object.material as u32, 0, 0, 0],
         }
     }
+}
+
+/// The inverse transpose of `transform`'s linear part (normals, normalised in the
+/// G-buffer shader, keep only its direction), computed from the transform divided by
+/// its largest axis length: the same directions, but no determinant of a tiny (1e-13)
+/// or huge scale under- or overflows f32 on the way.
+fn normal_matrix(transform: &glam::Mat4) -> glam::Mat4 {
+    let linear = glam::Mat3::from_mat4(*transform);
+    let scale = [linear.x_axis, linear.y_axis, linear.z_axis]
+        .map(glam::Vec3::length)
+        .into_iter()
+        .fold(0.0f32, f32::max);
+    let unit = if scale > 0.0 && scale.is_finite() {
+        linear * (1.0 / scale)
+    } else {
+        linear
+    };
+    glam::Mat4::from_mat3(unit.inverse().transpose())
 }
 
 /// `LIGHT_KIND_*` in gpu_types.glsl.

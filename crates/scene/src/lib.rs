@@ -108,6 +108,37 @@ pub struct Scene {
     pub outside_ior: f32,
 }
 
+/// Smallest |[`normalised_axes_determinant`]| of a transform that places a mesh: below it
+/// the transform's axes are so close to coplanar (a scale of 0 on some axis, after any
+/// rotation) that the object has no volume left to shade and its normals are undefined.
+pub const MIN_AXES_DETERMINANT: f32 = 1e-6;
+
+/// The determinant of `transform`'s linear part with each axis column first scaled to
+/// unit length: its sign is the transform's handedness, its magnitude (0 … 1) how far
+/// the axes are from coplanar, whatever the transform's own scale (a scale of 1e-4
+/// gives 1, as a scale of 1 does; its plain determinant, 1e-12, says nothing about
+/// singularity). NaN when an axis has zero or non-finite length.
+pub fn normalised_axes_determinant(transform: &glam::Mat4) -> f32 {
+    let axes = [transform.x_axis, transform.y_axis, transform.z_axis].map(|c| c.truncate());
+    let mut unit = [glam::Vec3::ZERO; 3];
+    for (u, axis) in unit.iter_mut().zip(axes) {
+        // Scaled by the largest component first, so tiny or huge axes neither underflow
+        // nor overflow when squared.
+        let largest = axis.abs().max_element();
+        if !(largest > 0.0 && largest.is_finite()) {
+            return f32::NAN;
+        }
+        *u = (axis / largest).normalize();
+    }
+    glam::Mat3::from_cols(unit[0], unit[1], unit[2]).determinant()
+}
+
+/// Whether `transform` cannot place a mesh: not finite, or its axes (scale-relative,
+/// [`normalised_axes_determinant`]) are within [`MIN_AXES_DETERMINANT`] of coplanar.
+pub fn transform_is_degenerate(transform: &glam::Mat4) -> bool {
+    !(transform.is_finite() && normalised_axes_determinant(transform).abs() >= MIN_AXES_DETERMINANT)
+}
+
 fn finite3(v: [f32; 3]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
@@ -161,7 +192,7 @@ impl Scene {
                     self.materials.len()
                 ));
             }
-            if !object.transform.is_finite() || object.transform.determinant().abs() < 1e-12 {
+            if transform_is_degenerate(&object.transform) {
                 return invalid(format!("object {i} has a non-finite or singular transform"));
             }
         }
@@ -469,5 +500,49 @@ mod range_tests {
         for bad in [0.0, -1.0, f32::NAN, f32::INFINITY] {
             assert!(validate_lights(&[light(Some(bad))]).is_err(), "{bad}");
         }
+    }
+}
+
+#[cfg(test)]
+mod transform_tests {
+    use super::*;
+    use glam::{Mat4, Quat, Vec3, Vec4};
+
+    #[test]
+    fn singularity_is_relative_to_the_transforms_own_scale() {
+        let turn = Mat4::from_quat(Quat::from_euler(glam::EulerRot::XYZ, 0.3, 1.1, -0.7));
+        for s in [1e-20_f32, 1e-4, 1.0, 1e4, 1e20] {
+            let m = turn * Mat4::from_scale(Vec3::splat(s));
+            assert!((normalised_axes_determinant(&m) - 1.0).abs() < 1e-5, "{s}");
+            assert!(!transform_is_degenerate(&m), "{s}");
+            // a mirror keeps its handedness, whatever the scale
+            let mirrored = m * Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+            assert!(
+                (normalised_axes_determinant(&mirrored) + 1.0).abs() < 1e-5,
+                "{s}"
+            );
+        }
+        // a flattened (but not collapsed) object keeps its volume of axes
+        assert!(!transform_is_degenerate(&Mat4::from_scale(Vec3::new(
+            1.0, 1.0, 1e-7
+        ))));
+        // a scale of 0 on an axis, before or after a rotation
+        let flat = Mat4::from_scale(Vec3::new(1.0, 0.0, 1.0));
+        assert!(transform_is_degenerate(&flat));
+        assert!(transform_is_degenerate(&(turn * flat)));
+        // axes that are not zero but coplanar
+        let coplanar = Mat4::from_cols(
+            Vec4::new(1.0, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, 1.0, 0.0, 0.0),
+            Vec4::new(1.0, 1.0, 1e-8, 0.0),
+            Vec4::W,
+        );
+        assert!(transform_is_degenerate(&coplanar));
+        assert!(transform_is_degenerate(&Mat4::from_scale(Vec3::splat(
+            f32::NAN
+        ))));
+        assert!(transform_is_degenerate(&Mat4::from_scale(Vec3::splat(
+            f32::INFINITY
+        ))));
     }
 }

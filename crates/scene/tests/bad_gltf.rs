@@ -123,6 +123,10 @@ const EXPECTED: &[(&str, &[&str])] = &[
         "light-negative-intensity.gltf",
         &["light 0", "non-negative"],
     ),
+    (
+        "object-overflows-f32.gltf",
+        &["node 0 (`huge`)", "beyond what f32 can hold"],
+    ),
 ];
 
 fn options_for(file: &str) -> ImportOptions {

@@ -78,6 +78,8 @@ struct Instance {
     /// Index into the glTF materials, `None` for the default material.
     material: Option<usize>,
     world: Mat4,
+    /// The node that places it.
+    node: usize,
 }
 
 /// What makes two primitives the same [`crate::Mesh`]: the same accessors, topology and
@@ -353,11 +355,12 @@ impl Importer<'_> {
                                 attributes,
                                 indices: primitive.indices.map(|i| i.value()),
                                 mode: mode_number,
-                                flip: world.determinant() < 0.0,
+                                flip: crate::normalised_axes_determinant(&world) < 0.0,
                                 uv_tangents: false, // set once materials are known
                             },
                             material,
                             world,
+                            node: index,
                         },
                     ));
                 }
@@ -446,9 +449,20 @@ impl Importer<'_> {
         let mut objects = Vec::with_capacity(instances.len());
         let mut singular = 0;
         for (_, instance) in &instances {
-            if instance.world.determinant().abs() < 1e-12 {
+            // Singular relative to the transform's own scale: a node scale of 1e-4 on a
+            // mesh 1e4 across (a centimetre export) is a 1 m object, kept.
+            if crate::transform_is_degenerate(&instance.world) {
                 singular += 1;
                 continue;
+            }
+            let mesh = &meshes[mesh_index[&instance.key]];
+            if object_bounds(mesh, &instance.world).is_some_and(|(lo, hi)| {
+                !(lo.is_finite() && hi.is_finite() && (hi - lo).is_finite())
+            }) {
+                return Err(self.node_error(
+                    instance.node,
+                    "places its mesh beyond what f32 can hold: the mesh's extent times the world transform overflows".into(),
+                ));
             }
             objects.push(Object {
                 mesh: mesh_index[&instance.key],
@@ -742,6 +756,13 @@ impl Importer<'_> {
     ) -> Result<(Camera, CameraSource), ImportProblem> {
         let root = self.root;
         let bounds = world_bounds(meshes, objects);
+        if let Some((lo, hi)) = bounds {
+            if !(hi - lo).length().is_finite() {
+                return Err(ImportProblem::Invalid(format!(
+                    "the scene spans from {lo} to {hi}: more than f32 can hold (each object fits; their distances apart do not)"
+                )));
+            }
+        }
         let is_perspective = |index: usize| {
             root.cameras.get(index).is_some_and(|c| {
                 c.perspective.is_some()
@@ -922,32 +943,34 @@ fn exact_look_at(extras: Option<&serde_json::value::RawValue>) -> Option<(Vec3, 
 
 /// World-space bounding box of every object.
 pub(crate) fn world_bounds(meshes: &[crate::Mesh], objects: &[Object]) -> Option<(Vec3, Vec3)> {
-    let mut bounds: Option<(Vec3, Vec3)> = None;
-    for object in objects {
-        let mesh = &meshes[object.mesh];
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for v in &mesh.vertices {
-            lo = lo.min(Vec3::from(v.position));
-            hi = hi.max(Vec3::from(v.position));
-        }
-        if lo.x > hi.x {
-            continue;
-        }
-        for i in 0..8 {
-            let corner = Vec3::new(
+    objects
+        .iter()
+        .filter_map(|object| object_bounds(&meshes[object.mesh], &object.transform))
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+}
+
+/// The world-space box around `mesh` placed by `transform` (its local box's corners
+/// transformed); `None` for a mesh without vertices.
+fn object_bounds(mesh: &crate::Mesh, transform: &Mat4) -> Option<(Vec3, Vec3)> {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for v in &mesh.vertices {
+        lo = lo.min(Vec3::from(v.position));
+        hi = hi.max(Vec3::from(v.position));
+    }
+    if lo.x > hi.x {
+        return None;
+    }
+    (0..8)
+        .map(|i| {
+            transform.transform_point3(Vec3::new(
                 if i & 1 == 0 { lo.x } else { hi.x },
                 if i & 2 == 0 { lo.y } else { hi.y },
                 if i & 4 == 0 { lo.z } else { hi.z },
-            );
-            let p = object.transform.transform_point3(corner);
-            bounds = Some(match bounds {
-                None => (p, p),
-                Some((a, b)) => (a.min(p), b.max(p)),
-            });
-        }
-    }
-    bounds
+            ))
+        })
+        .map(|p| (p, p))
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
 }
 
 /// A camera on the +Z side of the bounding box looking at its centre (glTF's forward
@@ -955,7 +978,9 @@ pub(crate) fn world_bounds(meshes: &[crate::Mesh], objects: &[Object]) -> Option
 pub(crate) fn framing_camera(bounds: Option<(Vec3, Vec3)>) -> Camera {
     let (lo, hi) = bounds.unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
     let centre = (lo + hi) / 2.0;
-    let radius = ((hi - lo).length() / 2.0).max(1e-3);
+    // Any size from a millimetre to beyond 10 km frames the same way (a floor only for a
+    // single point).
+    let radius = ((hi - lo).length() / 2.0).max(1e-6);
     let fov = 45f32.to_radians();
     let distance = radius / (fov / 2.0).sin() * 1.05;
     Camera {
