@@ -50,6 +50,8 @@ pub enum Error {
     Plot(#[from] combustion_plots::PlotError),
     #[error("{0}")]
     Usage(String),
+    #[error("previous report `{}`: {message}", path.display())]
+    PreviousReport { path: PathBuf, message: String },
     #[error("cannot open a window: {0} (set WAYLAND_DISPLAY or DISPLAY, or run under Xvfb)")]
     NoWindow(String),
     #[error("{0}")]

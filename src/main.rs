@@ -24,7 +24,8 @@ USAGE:
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
                     [--hdr-format f16|f32] [--fresnel full|schlick|f82] [--specialised on|off]
                     [--distribution ggx|beckmann] [--diffuse MODEL]
-                    [--extra-lights N] [--culling auto|always|never] [--report DIR]
+                    [--extra-lights N] [--culling auto|always|never]
+                    [--report DIR [--against PREVIOUS_DIR]]
                     [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
                     [--vsync on|off] [--frames-in-flight N] [--screenshot OUT.png]
@@ -80,7 +81,8 @@ written to DIR as report.md, report.csv, floors.csv, scaling.csv, speed-vs-error
 (with the Pareto front), scaling-resolution.png and scaling-lights.png.
 --fresnel f82, --distribution beckmann and --diffuse MODEL (lambert,
 oren-nayar-qualitative, oren-nayar-full; material: each its own) render or bench one
-comparison variant.
+comparison variant. --against PREVIOUS_DIR adds how this run reproduces an earlier
+report: rows with identical error columns, and the spread of the frame-time ratios.
 
 view opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under
 Xvfb) and renders the scene every frame at the window's size, into the swapchain image
@@ -168,6 +170,8 @@ struct Options {
     error_view: bool,
     /// `bench`: write the speed-against-error report here.
     report: Option<PathBuf>,
+    /// `bench --report`: an earlier report's directory to compare this run with.
+    against: Option<PathBuf>,
     /// `render`: the accuracy budget (mean relative error against the f64 reference).
     max_error: Option<f64>,
     /// `bench`: localised lights (with range) added to the scene.
@@ -226,6 +230,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         specialised: true,
         error_view: false,
         report: None,
+        against: None,
         max_error: None,
         extra_lights: 0,
         culling: combustion::renderer::LightCulling::Auto,
@@ -307,6 +312,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             "--overlay" if command == "view" => o.overlay = on_off(flag, value()?)?,
             "--specialised" if command == "bench" => o.specialised = on_off(flag, value()?)?,
             "--report" if command == "bench" => o.report = Some(PathBuf::from(value()?)),
+            "--against" if command == "bench" => o.against = Some(PathBuf::from(value()?)),
             "--max-error" if command == "render" => o.max_error = Some(max_error(value()?)?),
             "--extra-lights" if command == "bench" => {
                 o.extra_lights = number(flag, value()?)?;
@@ -488,6 +494,12 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
             "--report measures the variant sets and light counts itself; it takes no --fresnel, --hdr-format, --specialised, --distribution, --diffuse, --extra-lights or --culling".into(),
         ));
     }
+    // An unreadable previous report is refused before minutes of measuring.
+    let previous = o
+        .against
+        .as_deref()
+        .map(combustion::report::PreviousRun::read)
+        .transpose()?;
     let (device, _) = device_and_settings(o)?;
     let scenes = if o.scene_given {
         vec![o.scene.clone()]
@@ -533,9 +545,10 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
             eprintln!("{}", bar.trim_end());
         }
     })?;
-    combustion::report::write(dir, &measured, &desc)?;
+    let reproduction = previous.map(|p| p.compare(&measured.rows));
+    combustion::report::write(dir, &measured, &desc, reproduction.as_ref())?;
     outln!(
-        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png): {} scene(s) × {} variant sets and the floors in {:.0} s",
+        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png): {} scene(s) × {} variant sets, the floors and the scaling in {:.0} s",
         dir.display(),
         desc.scenes.len(),
         desc.sets.len(),
@@ -547,6 +560,11 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
 fn bench(o: &Options) -> Result<(), Error> {
     if let Some(dir) = &o.report {
         return bench_report(o, dir);
+    }
+    if o.against.is_some() {
+        return Err(Error::Usage(
+            "--against compares a --report run with an earlier one; give --report DIR too".into(),
+        ));
     }
     let scene = combustion::with_localised_lights(&o.scene.load()?, o.extra_lights);
     let mut headless = headless(o)?;

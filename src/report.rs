@@ -908,9 +908,160 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     out
 }
 
+/// The rows of an earlier run's `report.csv` ([`csv`]): per scene and variant set (the
+/// first seven columns joined), its total frame time and its error columns as written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PreviousRun {
+    /// The CSV's path (for the report's text).
+    pub path: std::path::PathBuf,
+    rows: Vec<(String, f64, [String; 4])>,
+}
+
+/// Splits one CSV line ([`csv_field`]'s quoting: a field in double quotes, `""` inside).
+fn csv_split(line: &str) -> Vec<String> {
+    let mut fields = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                chars.next();
+                fields.last_mut().unwrap().push('"');
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => fields.push(String::new()),
+            (c, _) => fields.last_mut().unwrap().push(c),
+        }
+    }
+    fields
+}
+
+/// The key and error columns of a row as [`csv`] writes them.
+fn csv_key_and_errors(r: &ReportRow) -> (String, [String; 4]) {
+    let key = format!("{},{}", r.scene, r.set.name().replace('/', ","));
+    let errors = [
+        format!("{:.3e}", r.max_relative),
+        format!("{:.3e}", r.mean_relative),
+        format!("{:.3e}", r.rms_relative),
+        format!("{:.3e}", r.flip_mean),
+    ];
+    (key, errors)
+}
+
+impl PreviousRun {
+    /// Reads `dir/report.csv` of an earlier `bench --report` run.
+    pub fn read(dir: &Path) -> Result<PreviousRun, Error> {
+        let path = dir.join("report.csv");
+        let problem = |message: String| Error::PreviousReport {
+            path: path.clone(),
+            message,
+        };
+        let text = std::fs::read_to_string(&path).map_err(|e| problem(e.to_string()))?;
+        let mut lines = text.lines();
+        let header = csv_split(lines.next().ok_or_else(|| problem("empty".into()))?);
+        let column = |name: &str| {
+            header.iter().position(|h| h == name).ok_or_else(|| {
+                problem(format!(
+                    "no `{name}` column (not a report.csv of this version)"
+                ))
+            })
+        };
+        let total = column("total_ms")?;
+        let errors = [
+            column("max_relative_error")?,
+            column("mean_relative_error")?,
+            column("rms_relative_error")?,
+            column("flip_mean")?,
+        ];
+        let mut rows = Vec::new();
+        for (i, line) in lines.enumerate() {
+            let fields = csv_split(line);
+            if fields.len() != header.len() {
+                return Err(problem(format!(
+                    "line {} has {} fields, the header {}",
+                    i + 2,
+                    fields.len(),
+                    header.len()
+                )));
+            }
+            let ms: f64 = fields[total].parse().map_err(|_| {
+                problem(format!(
+                    "line {}: total_ms `{}` is not a number",
+                    i + 2,
+                    fields[total]
+                ))
+            })?;
+            rows.push((fields[..7].join(","), ms, errors.map(|c| fields[c].clone())));
+        }
+        Ok(PreviousRun { path, rows })
+    }
+
+    /// This run against the previous one: rows matched, rows whose error columns are
+    /// identical, and the spread (min, median, max) of this run's total frame time over
+    /// the previous run's, per matched row.
+    pub fn compare(&self, rows: &[ReportRow]) -> Reproduction {
+        let mut ratios = Vec::new();
+        let mut identical = 0;
+        for r in rows {
+            let (key, errors) = csv_key_and_errors(r);
+            if let Some((_, ms, previous)) = self.rows.iter().find(|(k, _, _)| *k == key) {
+                ratios.push(r.total.median / ms);
+                identical += usize::from(*previous == errors);
+            }
+        }
+        ratios.sort_by(f64::total_cmp);
+        Reproduction {
+            previous: self.path.clone(),
+            matched: ratios.len(),
+            errors_identical: identical,
+            total_ratio_min: ratios.first().copied().unwrap_or(f64::NAN),
+            total_ratio_median: ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),
+            total_ratio_max: ratios.last().copied().unwrap_or(f64::NAN),
+        }
+    }
+}
+
+/// A run against an earlier one ([`PreviousRun::compare`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reproduction {
+    pub previous: std::path::PathBuf,
+    /// Rows (scene × variant set) found in both runs.
+    pub matched: usize,
+    /// Matched rows whose max, mean, RMS relative error and mean FLIP are equal as written.
+    pub errors_identical: usize,
+    /// This run's total frame time over the previous run's: smallest, median, largest.
+    pub total_ratio_min: f64,
+    pub total_ratio_median: f64,
+    pub total_ratio_max: f64,
+}
+
+impl Reproduction {
+    fn markdown(&self) -> String {
+        let percent = |r: f64| format!("{:+.1} %", (r - 1.0) * 100.0);
+        format!(
+            "## Against a previous run
+
+The same measurement run before this one (`{}`): {} scene × variant set rows in both; their error columns (max, mean, RMS relative error, mean FLIP) are identical in {} of them; this run's total frame time against that run's, per row: {} … {} (median {}).
+
+",
+            self.previous.display(),
+            self.matched,
+            self.errors_identical,
+            percent(self.total_ratio_min),
+            percent(self.total_ratio_max),
+            percent(self.total_ratio_median)
+        )
+    }
+}
+
 /// Writes `report.md`, `report.csv`, `floors.csv` and `speed-vs-error.png` into `dir`
-/// (made if needed).
-pub fn write(dir: &Path, m: &Measurements, desc: &ReportDesc) -> Result<(), Error> {
+/// (made if needed), with the comparison against a previous run if there is one.
+pub fn write(
+    dir: &Path,
+    m: &Measurements,
+    desc: &ReportDesc,
+    reproduction: Option<&Reproduction>,
+) -> Result<(), Error> {
     let (rows, device) = (&m.rows[..], &m.device);
     std::fs::create_dir_all(dir).map_err(|e| {
         Error::Output(output::OutputError::Io {
@@ -943,6 +1094,10 @@ pub fn write(dir: &Path, m: &Measurements, desc: &ReportDesc) -> Result<(), Erro
             scaling_csv(&m.scaling).as_bytes(),
         )?;
     }
-    output::write_file_atomically(&dir.join("report.md"), markdown(m, desc).as_bytes())?;
+    let mut md = markdown(m, desc);
+    if let Some(r) = reproduction {
+        md += &r.markdown();
+    }
+    output::write_file_atomically(&dir.join("report.md"), md.as_bytes())?;
     Ok(())
 }

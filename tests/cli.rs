@@ -695,6 +695,23 @@ fn bench_reports_gpu_and_wall_clock_time_with_frames_in_flight() {
         &["bench", "--frames-in-flight", "0"],
         "--frames-in-flight: 0 is not between 1 and 3",
     );
+    assert_clear_error(&["bench", "--against", "old"], "give --report DIR too");
+    assert_clear_error(
+        &["bench", "--report", "new", "--against", "no-such-dir"],
+        "previous report `no-such-dir/report.csv`",
+    );
+    assert_clear_error(
+        &["bench", "--report", "new", "--diffuse", "lambert"],
+        "it takes no --fresnel",
+    );
+    assert_clear_error(
+        &["render", "--distribution", "phong"],
+        "--distribution: `phong` is not ggx or beckmann",
+    );
+    assert_clear_error(
+        &["render", "--diffuse", "minnaert"],
+        "--diffuse: `minnaert` is not material, lambert",
+    );
     assert_clear_error(
         &["render", "--frames-in-flight", "2"],
         "unknown argument `--frames-in-flight`",

@@ -127,7 +127,27 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
     assert!((row.mean_relative - map.mean_relative).abs() <= 1e-12 * map.mean_relative);
 
     let dir = std::env::temp_dir().join(format!("combustion-report-{}", std::process::id()));
-    combustion::report::write(&dir, &measured, &desc).unwrap();
+    combustion::report::write(&dir, &measured, &desc, None).unwrap();
+    // A run compared with itself: every row matched, every error column identical,
+    // every time ratio exactly 1.
+    let itself = combustion::report::PreviousRun::read(&dir)
+        .unwrap()
+        .compare(&measured.rows);
+    assert_eq!(
+        (itself.matched, itself.errors_identical),
+        (rows.len(), rows.len())
+    );
+    // Times are written with 3 decimals (±0.0005 ms), so the ratio is 1 within that
+    // rounding over the shortest frame.
+    let shortest = rows.iter().map(|r| r.total.median).fold(f64::MAX, f64::min);
+    for ratio in [itself.total_ratio_min, itself.total_ratio_max] {
+        assert!((ratio - 1.0).abs() <= 0.0005 / shortest, "{itself:?}");
+    }
+    let missing = combustion::report::PreviousRun::read(&dir.join("nowhere")).unwrap_err();
+    assert!(
+        missing.to_string().starts_with("previous report `"),
+        "{missing}"
+    );
     let floors = std::fs::read_to_string(dir.join("floors.csv")).unwrap();
     assert_eq!(floors.lines().count(), 3, "{floors}");
     let csv = std::fs::read_to_string(dir.join("report.csv")).unwrap();
