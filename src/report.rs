@@ -129,6 +129,24 @@ impl VariantSet {
         )
     }
 
+    /// What differs from [`VariantSet::DEFAULT`], joined by `+` (`default` for it), e.g.
+    /// `schlick+f16`: the plot's labels.
+    pub fn short_name(&self) -> String {
+        let name = self.name();
+        let default = Self::DEFAULT.name();
+        let changed: Vec<&str> = name
+            .split('/')
+            .zip(default.split('/'))
+            .filter(|(a, b)| a != b)
+            .map(|(a, _)| a)
+            .collect();
+        if changed.is_empty() {
+            "default".to_owned()
+        } else {
+            changed.join("+")
+        }
+    }
+
     /// Sets the renderer's options to this set's (all but the HDR format, which is
     /// fixed when a renderer is made).
     pub fn apply(&self, renderer: &mut Renderer) {
@@ -641,7 +659,7 @@ fn points(rows: &[ReportRow]) -> Vec<SpeedErrorPoint> {
     summarise(rows)
         .iter()
         .map(|s| SpeedErrorPoint {
-            label: s.set.name(),
+            label: s.set.short_name(),
             ms: s.ms,
             error: s.mean_relative,
         })
@@ -869,12 +887,13 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
         "Pareto front, fastest first: each set less wrong, by more than {:.0} % of the error, than the front's previous set (errors closer than that differ by rounding).\n\n",
         combustion_plots::PARETO_ERROR_TOLERANCE * 100.0
     );
-    out += "## Variant sets (mean over the scenes)\n\n| variant set | frame ms | mean relative error | largest max relative error | mean FLIP | Pareto front |\n|---|---|---|---|---|---|\n";
+    out += "## Variant sets (mean over the scenes)\n\n| variant set | in the plot | frame ms | mean relative error | largest max relative error | mean FLIP | Pareto front |\n|---|---|---|---|---|---|---|\n";
     for (i, s) in summary.iter().enumerate() {
         let _ = writeln!(
             out,
-            "| {} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {} |",
+            "| {} | {} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {} |",
             s.set.name(),
+            s.set.short_name(),
             s.ms,
             s.mean_relative,
             s.max_relative,
@@ -1072,7 +1091,7 @@ pub fn write(
     let png = plot_speed_vs_error(
         "Speed against error",
         &format!(
-            "{device}, {}×{}; each point a variant set, mean over {} scene(s); red: Pareto front",
+            "{device}, {}×{}, {} scene(s); labels: what differs from the default; red: Pareto front",
             desc.width,
             desc.height,
             desc.scenes.len()

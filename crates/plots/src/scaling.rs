@@ -98,7 +98,7 @@ pub fn plot_scaling(
                         .draw_series(LineSeries::new(line.points.clone(), style(colour)))?
                         .label(line.label.clone())
                         .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 20, y)], ShapeStyle::from(&colour))
+                            PathElement::new(vec![(x, y), (x + 20, y)], style(colour))
                         });
                     chart.draw_series(
                         line.points.iter().map(|&p| {
