@@ -10,7 +10,11 @@ layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec4 in_tangent;
 layout(location = 3) flat in uint in_material;
+#ifndef TEXTURE_TRANSFORMS
 layout(location = 4) in vec2 in_uv;
+#else
+layout(location = 5) in vec4 in_slot_uv[3];  // gbuffer.vert: each slot's mapped coordinates
+#endif
 
 // Set 0: the object and material tables (combustion_renderer::bindings::GBUFFER).
 #include "bindings/gbuffer.glsl"
@@ -27,13 +31,34 @@ layout(location = 2) out uvec2 out_material_direction;         // RG16_UINT
 layout(location = 3) out vec4 out_emissive;                    // RGBA16F, radiance
 #endif
 
+// Where each sampled slot samples: its coordinate set through its KHR_texture_transform
+// (mapped per vertex in the TEXTURE_TRANSFORMS variant), else the mesh's first set.
+#ifdef TEXTURE_TRANSFORMS
+#define UV_BASE_COLOR in_slot_uv[0].xy
+#define UV_METALLIC_ROUGHNESS in_slot_uv[0].zw
+#define UV_NORMAL in_slot_uv[1].xy
+#define UV_EMISSIVE in_slot_uv[1].zw
+#define UV_ANISOTROPY in_slot_uv[2].xy
+#else
+#define UV_BASE_COLOR in_uv
+#define UV_METALLIC_ROUGHNESS in_uv
+#define UV_NORMAL in_uv
+#define UV_EMISSIVE in_uv
+#define UV_ANISOTROPY in_uv
+#endif
+
 void main() {
 #ifdef FLOOR_GEOMETRY
     // Measurement floor (combustion_renderer::MeasurementFloor::Geometry): the same
     // meshes, vertex format and targets with a trivial fragment stage (every input
     // read, so the interpolation is the real pass's).
+#ifdef TEXTURE_TRANSFORMS
+    vec2 uv = in_slot_uv[0].xy + in_slot_uv[0].zw + in_slot_uv[1].xy + in_slot_uv[1].zw + in_slot_uv[2].xy;
+#else
+    vec2 uv = in_uv;
+#endif
     out_base_color_metalness = vec4(
-        clamp(in_world_position + in_normal + in_tangent.xyz + vec3(in_uv, in_tangent.w), 0.0, 1.0),
+        clamp(in_world_position + in_normal + in_tangent.xyz + vec3(uv, in_tangent.w), 0.0, 1.0),
         0.0);
     out_normal_roughness_anisotropy = vec4(0.5, 0.5, 0.5, 0.0);
     out_material_direction = uvec2(in_material, 0u);
@@ -67,7 +92,7 @@ void main() {
 
     // Normal map (tangent space, glTF convention), scaled in x and y.
     if (tex0.z >= 0) {
-        vec3 m = texture(normal_texture, in_uv).xyz * 2.0 - 1.0;
+        vec3 m = texture(normal_texture, UV_NORMAL).xyz * 2.0 - 1.0;
         m.xy *= material.emissive_normal_scale.a;
         vec3 mapped = mat3(t, b, n) * m;
         if (dot(mapped, mapped) > 1e-20) {
@@ -79,9 +104,11 @@ void main() {
 
     vec4 base = material.base_color_metalness;
     if (tex0.x >= 0) {
-        base.rgb *= texture(base_color_texture, in_uv).rgb;
+        base.rgb *= texture(base_color_texture, UV_BASE_COLOR).rgb;
     }
-    vec4 metal_rough = tex0.y >= 0 ? texture(metallic_roughness_texture, in_uv) : vec4(1.0);
+    vec4 metal_rough = tex0.y >= 0
+        ? texture(metallic_roughness_texture, UV_METALLIC_ROUGHNESS)
+        : vec4(1.0);
     // glTF: G = roughness, B = metalness
     float metalness = base.a * metal_rough.b;
     float roughness = material.roughness_anisotropy_ior.x * metal_rough.g;
@@ -91,7 +118,7 @@ void main() {
     float strength = material.roughness_anisotropy_ior.y;
     vec2 along = vec2(1.0, 0.0);
     if (tex1.y >= 0) {
-        vec3 a = texture(anisotropy_texture, in_uv).rgb;
+        vec3 a = texture(anisotropy_texture, UV_ANISOTROPY).rgb;
         along = a.rg * 2.0 - 1.0;
         strength *= a.b;
     }
@@ -109,7 +136,7 @@ void main() {
 #ifdef EMISSIVE
     vec3 emissive = material.emissive_normal_scale.rgb;
     if (tex1.x >= 0) {
-        emissive *= texture(emissive_texture, in_uv).rgb;
+        emissive *= texture(emissive_texture, UV_EMISSIVE).rgb;
     }
     out_emissive = vec4(emissive, 1.0);
 #endif

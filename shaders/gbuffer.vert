@@ -7,6 +7,9 @@ layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec4 in_tangent;
 layout(location = 3) in vec2 in_uv;
+#ifdef TEXTURE_TRANSFORMS
+layout(location = 4) in vec2 in_uv1;
+#endif
 
 #include "bindings/gbuffer.glsl"  // set 0: see combustion_renderer::bindings::GBUFFER
 
@@ -19,7 +22,21 @@ layout(location = 0) out vec3 out_world_position;
 layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec4 out_tangent;
 layout(location = 3) flat out uint out_material;
+#ifndef TEXTURE_TRANSFORMS
 layout(location = 4) out vec2 out_uv;
+#else
+// Each sampled slot's coordinates, mapped here per vertex (an affine map interpolates
+// exactly), so the fragment stage's derivatives, helper invocations included, see the
+// mapped coordinates: (base colour, metallic-roughness), (normal, emissive), (anisotropy).
+layout(location = 5) out vec4 out_slot_uv[3];
+
+vec2 slot_uv(uint material, uint slot) {
+    vec4 r0 = materials[material].uv_transforms[2u * slot];
+    vec4 r1 = materials[material].uv_transforms[2u * slot + 1u];
+    vec3 uv = vec3(r0.w != 0.0 ? in_uv1 : in_uv, 1.0);
+    return vec2(dot(r0.xyz, uv), dot(r1.xyz, uv));
+}
+#endif
 
 void main() {
     GpuObject object = objects[push.object_index];
@@ -28,6 +45,14 @@ void main() {
     out_normal = mat3(object.normal_matrix) * in_normal;
     out_tangent = vec4(mat3(object.model) * in_tangent.xyz, in_tangent.w);
     out_material = object.material_index.x;
+#ifndef TEXTURE_TRANSFORMS
     out_uv = in_uv;
+#else
+    // Slots in combustion_scene::TextureSlot::ALL order.
+    uint m = object.material_index.x;
+    out_slot_uv[0] = vec4(slot_uv(m, 0u), slot_uv(m, 1u));
+    out_slot_uv[1] = vec4(slot_uv(m, 2u), slot_uv(m, 4u));
+    out_slot_uv[2] = vec4(slot_uv(m, 5u), 0.0, 0.0);
+#endif
     gl_Position = push.view_projection * world;
 }

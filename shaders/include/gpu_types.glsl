@@ -5,7 +5,7 @@
 
 #define MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR 1u
 
-// One entry of the material table (std430, 128 bytes).
+// One entry of the material table (std430, 384 bytes).
 struct GpuMaterial {
     vec4 base_color_metalness;      // rgb: linear base colour, a: metalness
     vec4 roughness_anisotropy_ior;  // x: perceptual roughness, y: anisotropy strength,
@@ -16,6 +16,10 @@ struct GpuMaterial {
     ivec4 textures_base_mr_normal_occlusion;     // texture-array indices, -1: none
     ivec4 textures_emissive_anisotropy_specular; // (specular: not rendered yet)
     vec4 emissive_normal_scale;     // rgb: emitted radiance factor × strength, a: normal scale
+    // Per texture slot s (TextureSlot::ALL order): [2s] = (a, b, c, set), [2s + 1] =
+    // (d, e, f, 0): samples at (a u + b v + c, d u + e v + f) of set 0 or 1
+    // (KHR_texture_transform). Read only by the TEXTURE_TRANSFORMS G-buffer variant.
+    vec4 uv_transforms[16];
 };
 
 // One placed mesh (std430, 144 bytes).

@@ -254,7 +254,8 @@ const FRAGMENT: vk::ShaderStageFlags = vk::ShaderStageFlags::FRAGMENT;
 const VERTEX: vk::ShaderStageFlags = vk::ShaderStageFlags::VERTEX;
 const COMPUTE: vk::ShaderStageFlags = vk::ShaderStageFlags::COMPUTE;
 
-/// The material table, read by the G-buffer and the lighting passes.
+/// The material table as the lighting pass reads it (the G-buffer pass declares its own,
+/// also visible to its vertex stage).
 const MATERIALS: Binding = Binding::new(
     "materials",
     BindingKind::StorageBuffer {
@@ -264,7 +265,8 @@ const MATERIALS: Binding = Binding::new(
     FRAGMENT,
 );
 
-/// Set 0 of the G-buffer pass: the object table (vertex stage) and the material table.
+/// Set 0 of the G-buffer pass: the object table (vertex stage) and the material table
+/// (both stages).
 pub static GBUFFER: SetDecl = SetDecl {
     name: "gbuffer",
     set: 0,
@@ -277,7 +279,15 @@ pub static GBUFFER: SetDecl = SetDecl {
             },
             VERTEX,
         ),
-        MATERIALS,
+        // The vertex stage reads the texture transforms (TEXTURE_TRANSFORMS variant).
+        Binding::new(
+            "materials",
+            BindingKind::StorageBuffer {
+                block: "Materials",
+                element: "GpuMaterial",
+            },
+            vk::ShaderStageFlags::from_raw(FRAGMENT.as_raw() | VERTEX.as_raw()),
+        ),
     ],
     includes: &["gpu_types.glsl"],
 };

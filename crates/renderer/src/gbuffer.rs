@@ -138,7 +138,7 @@ impl GBufferPass {
             stride,
             input_rate: vk::VertexInputRate::VERTEX,
         }];
-        let attributes = [
+        let mut attributes = vec![
             vk::VertexInputAttributeDescription {
                 location: 0,
                 binding: 0,
@@ -164,6 +164,15 @@ impl GBufferPass {
                 offset: std::mem::offset_of!(Vertex, uv) as u32,
             },
         ];
+        // The second coordinate set only where the shader reads it.
+        if variant.texture_transforms {
+            attributes.push(vk::VertexInputAttributeDescription {
+                location: 4,
+                binding: 0,
+                format: vk::Format::R32G32_SFLOAT,
+                offset: std::mem::offset_of!(Vertex, uv1) as u32,
+            });
+        }
         let mut color_formats = vec![
             BASE_COLOR_METALNESS_FORMAT,
             NORMAL_ROUGHNESS_ANISOTROPY_FORMAT,

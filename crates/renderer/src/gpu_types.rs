@@ -9,7 +9,7 @@ use glam::Mat4;
 /// `MATERIAL_FLAG_*` in gpu_types.glsl.
 pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 
-/// `GpuMaterial` (std430, 128 bytes).
+/// `GpuMaterial` (std430, 384 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -21,8 +21,12 @@ pub struct GpuMaterial {
     pub textures_base_mr_normal_occlusion: [i32; 4],
     pub textures_emissive_anisotropy_specular: [i32; 4],
     pub emissive_normal_scale: [f32; 4],
+    /// Per texture slot s (`TextureSlot::ALL` order): `[2s]` = (a, b, c, set),
+    /// `[2s + 1]` = (d, e, f, 0): the slot samples at (a u + b v + c, d u + e v + f) of
+    /// texture-coordinate set `set` (KHR_texture_transform; identity on set 0 by default).
+    pub uv_transforms: [[f32; 4]; 16],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 128);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 384);
 
 impl GpuMaterial {
     /// The table entry of `material`; `textures` are its texture-array indices per
@@ -63,6 +67,19 @@ impl GpuMaterial {
                     .emissive_factor
                     .map(|c| c * material.emissive_strength);
                 [e[0], e[1], e[2], material.normal_scale]
+            },
+            uv_transforms: {
+                let mut rows = [[0.0; 4]; 16];
+                for (s, (_, texture)) in material.texture_slots().iter().enumerate() {
+                    let (transform, set) = texture
+                        .map_or((combustion_scene::UvTransform::IDENTITY, 0), |t| {
+                            (t.transform, t.tex_coord)
+                        });
+                    let [r0, r1] = transform.rows();
+                    rows[2 * s] = [r0[0], r0[1], r0[2], set as f32];
+                    rows[2 * s + 1] = [r1[0], r1[1], r1[2], 0.0];
+                }
+                rows
             },
         }
     }

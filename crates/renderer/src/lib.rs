@@ -210,6 +210,10 @@ pub enum MeasurementFloor {
 pub struct ShaderVariant {
     /// An emissive target in the G-buffer, added to the lit radiance.
     pub emissive: bool,
+    /// Some texture slot samples the second coordinate set or through a
+    /// KHR_texture_transform: the G-buffer shader reads `Vertex::uv1` and maps each
+    /// slot's coordinates (else it samples every slot at `Vertex::uv` as it is).
+    pub texture_transforms: bool,
     /// The Fresnel term ([`FresnelModel`]; a renderer setting, not a scene feature).
     pub fresnel: FresnelModel,
     /// The lighting pass can show a G-buffer channel or a BRDF term instead of radiance
@@ -313,6 +317,9 @@ impl ShaderVariant {
         let mut defines = Vec::new();
         if self.emissive {
             defines.push(("EMISSIVE", None));
+        }
+        if self.texture_transforms {
+            defines.push(("TEXTURE_TRANSFORMS", None));
         }
         match self.fresnel {
             FresnelModel::Full => {}
@@ -600,6 +607,7 @@ impl ShaderVariant {
     fn gbuffer_part(self) -> ShaderVariant {
         ShaderVariant {
             emissive: self.emissive,
+            texture_transforms: self.texture_transforms,
             floor: self.floor.filter(|f| *f == MeasurementFloor::Geometry),
             ..ShaderVariant::default()
         }

@@ -63,6 +63,11 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
             .materials
             .iter()
             .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
+        texture_transforms: scene.materials.iter().any(|m| {
+            m.texture_slots()
+                .iter()
+                .any(|(_, t)| t.is_some_and(|t| t.maps_coordinates()))
+        }),
         // The Fresnel model and the debug views are the renderer's settings.
         fresnel: crate::FresnelModel::Full,
         debug_views: false,

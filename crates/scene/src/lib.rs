@@ -21,7 +21,7 @@ pub use camera::Camera;
 pub use error::SceneError;
 pub use material::{
     conductor_from_reflectivity, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Material,
-    Sampler, Texture, TextureRef, TextureSlot, WrapMode,
+    Sampler, Texture, TextureRef, TextureSlot, UvTransform, WrapMode,
 };
 pub use mesh::{Mesh, Vertex};
 

@@ -346,22 +346,81 @@ pub struct Texture {
     pub sampler: Sampler,
 }
 
+/// KHR_texture_transform: an affine map of a slot's texture coordinates, applied as
+/// uv' = offset + R(rotation) · (scale ⊙ uv), with R turning the coordinates
+/// counter-clockwise (u right, v down): u' = s_u cos θ u + s_v sin θ v + o_u,
+/// v' = −s_u sin θ u + s_v cos θ v + o_v.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    pub offset: [f32; 2],
+    /// Radians.
+    pub rotation: f32,
+    pub scale: [f32; 2],
+}
+
+impl UvTransform {
+    /// No change: offset 0, rotation 0, scale 1.
+    pub const IDENTITY: UvTransform = UvTransform {
+        offset: [0.0, 0.0],
+        rotation: 0.0,
+        scale: [1.0, 1.0],
+    };
+
+    /// The map as two rows (a, b, c): u' = a u + b v + c, and likewise v'.
+    pub fn rows(&self) -> [[f32; 3]; 2] {
+        let (sin, cos) = self.rotation.sin_cos();
+        let [su, sv] = self.scale;
+        let [ou, ov] = self.offset;
+        [[su * cos, sv * sin, ou], [-su * sin, sv * cos, ov]]
+    }
+
+    /// `uv` mapped.
+    pub fn apply(&self, uv: [f32; 2]) -> [f32; 2] {
+        let [r0, r1] = self.rows();
+        [
+            r0[0] * uv[0] + r0[1] * uv[1] + r0[2],
+            r1[0] * uv[0] + r1[1] * uv[1] + r1[2],
+        ]
+    }
+
+    pub fn is_identity(&self) -> bool {
+        *self == Self::IDENTITY
+    }
+}
+
+impl Default for UvTransform {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
 /// A material's use of a texture.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TextureRef {
     pub texture: Texture,
-    /// Texture-coordinate set; only 0 (`Vertex::uv`) is supported.
+    /// Texture-coordinate set: 0 (`Vertex::uv`, glTF TEXCOORD_0) or 1 (`Vertex::uv1`).
     pub tex_coord: u32,
+    /// KHR_texture_transform (identity when the file gives none).
+    pub transform: UvTransform,
 }
 
 impl TextureRef {
+    /// Whether sampling it needs more than `Vertex::uv` as it is: set 1 or a transform.
+    pub fn maps_coordinates(&self) -> bool {
+        self.tex_coord != 0 || !self.transform.is_identity()
+    }
+
     fn validate(&self, slot: TextureSlot) -> Result<(), String> {
         self.texture.image.validate()?;
-        if self.tex_coord != 0 {
+        if self.tex_coord > 1 {
             return Err(format!(
-                "uses texture-coordinate set {}; only set 0 is supported",
+                "uses texture-coordinate set {}; sets 0 and 1 are supported",
                 self.tex_coord
             ));
+        }
+        let t = &self.transform;
+        if !(t.offset.iter().chain(&t.scale).all(|x| x.is_finite()) && t.rotation.is_finite()) {
+            return Err(format!("has a non-finite texture transform {t:?}"));
         }
         let image = &self.texture.image;
         if image.color_space != slot.color_space() {
@@ -524,5 +583,42 @@ mod gulbrandsen {
             }
         }
         (lo + hi) / 2.0
+    }
+}
+
+#[cfg(test)]
+mod uv_transform_tests {
+    use super::UvTransform;
+
+    /// The KHR_texture_transform specification's example: offset (0, 1), rotation 90°,
+    /// scale ½ "utilizes only the lower left quadrant of the source image, rotated
+    /// clockwise 90°": the unit square's corners land on u ∈ [0, ½], v ∈ [½, 1].
+    #[test]
+    fn the_specifications_example_maps_onto_the_lower_left_quadrant() {
+        let t = UvTransform {
+            offset: [0.0, 1.0],
+            rotation: std::f32::consts::FRAC_PI_2,
+            scale: [0.5, 0.5],
+        };
+        let close =
+            |a: [f32; 2], b: [f32; 2]| (a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6;
+        // (u, v) → (½ v, 1 − ½ u)
+        for (uv, expected) in [
+            ([0.0, 0.0], [0.0, 1.0]),
+            ([1.0, 0.0], [0.0, 0.5]),
+            ([0.0, 1.0], [0.5, 1.0]),
+            ([1.0, 1.0], [0.5, 0.5]),
+        ] {
+            assert!(close(t.apply(uv), expected), "{uv:?} → {:?}", t.apply(uv));
+        }
+        assert!(UvTransform::IDENTITY.is_identity());
+        assert_eq!(UvTransform::IDENTITY.apply([0.3, 0.7]), [0.3, 0.7]);
+        // The inverted-T example: offset (0, 1), scale (1, −1) gives a bottom-left origin.
+        let flip = UvTransform {
+            offset: [0.0, 1.0],
+            rotation: 0.0,
+            scale: [1.0, -1.0],
+        };
+        assert_eq!(flip.apply([0.25, 0.0]), [0.25, 1.0]);
     }
 }

@@ -12,6 +12,9 @@ pub struct Vertex {
     /// top-left corner of the image's first row). Appended last: the renderer reads
     /// position, normal and tangent at byte offsets 0, 12 and 24.
     pub uv: [f32; 2],
+    /// The second texture-coordinate set (glTF TEXCOORD_1; a copy of `uv` where the
+    /// mesh has none), for texture slots that ask for set 1.
+    pub uv1: [f32; 2],
 }
 
 /// An indexed triangle mesh.
@@ -44,6 +47,7 @@ impl Mesh {
                     normal,
                     tangent: [tangent[0], tangent[1], tangent[2], 1.0],
                     uv: [seg as f32 / segments as f32, ring as f32 / rings as f32],
+                    uv1: [seg as f32 / segments as f32, ring as f32 / rings as f32],
                 });
             }
         }
@@ -77,6 +81,7 @@ impl Mesh {
             normal: [0.0, 1.0, 0.0],
             tangent: [1.0, 0.0, 0.0, 1.0],
             uv: [x / size + 0.5, z / size + 0.5],
+            uv1: [x / size + 0.5, z / size + 0.5],
         };
         Mesh {
             name: name.to_owned(),

@@ -9,7 +9,8 @@ use std::sync::Arc;
 use combustion_scene::gltf::{import, save_gltf, CameraSource, ImportOptions};
 use combustion_scene::{
     builtin_scene, Camera, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Light, Material,
-    Mesh, Object, Sampler, Scene, Texture, TextureRef, TextureSlot, WrapMode, BUILTIN_SCENES,
+    Mesh, Object, Sampler, Scene, Texture, TextureRef, TextureSlot, UvTransform, WrapMode,
+    BUILTIN_SCENES,
 };
 use glam::{Mat4, Quat, Vec3};
 
@@ -79,6 +80,7 @@ fn texture(image: &Arc<Image>, sampler: Sampler) -> Option<TextureRef> {
             sampler,
         },
         tex_coord: 0,
+        transform: UvTransform::IDENTITY,
     })
 }
 
@@ -612,6 +614,39 @@ fn textured_scene_round_trips_through_a_temporary_folder() {
     let table = loaded.texture_table();
     assert_eq!(table.images.len(), 8);
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// KHR_texture_transform and TEXCOORD_1 survive a save and an import: a slot on set 1
+/// with an offset, rotation and scale, a mesh whose second set differs from its first.
+#[test]
+fn texture_transforms_and_the_second_set_round_trip() {
+    let mut scene = textured_scene();
+    let material = &mut scene.materials[0];
+    let base = material.base_color_texture.as_mut().unwrap();
+    base.tex_coord = 1;
+    base.transform = UvTransform {
+        offset: [0.25, -0.5],
+        rotation: 0.3,
+        scale: [2.0, 0.5],
+    };
+    let emissive_or_normal = material
+        .normal_texture
+        .as_mut()
+        .or(material.emissive_texture.as_mut());
+    emissive_or_normal.unwrap().transform.offset = [0.125, 0.0];
+    let mesh = scene.objects[0].mesh;
+    for v in &mut scene.meshes[mesh].vertices {
+        v.uv1 = [v.uv[1], 1.0 - v.uv[0]];
+    }
+    let dir = temp_dir("texture-transform");
+    let path = dir.join("transformed.gltf");
+    save_gltf(&scene, &path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("KHR_texture_transform") && text.contains("TEXCOORD_1"));
+    let (imported, report) = import(&path, &ImportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{report}");
+    assert_same_scene(&scene, &imported);
+    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]

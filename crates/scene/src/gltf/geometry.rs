@@ -14,6 +14,8 @@ pub(crate) struct PrimitiveData {
     pub normals: Option<Vec<[f32; 3]>>,
     pub tangents: Option<Vec<[f32; 4]>>,
     pub uvs: Option<Vec<[f32; 2]>>,
+    /// TEXCOORD_1.
+    pub uvs1: Option<Vec<[f32; 2]>>,
     /// A triangle list.
     pub indices: Vec<u32>,
 }
@@ -99,9 +101,11 @@ pub(crate) fn build_mesh(
         check_len("TANGENT", tangents.len())?;
         finite_check("TANGENT", tangents)?;
     }
-    if let Some(uvs) = &data.uvs {
-        check_len("TEXCOORD_0", uvs.len())?;
-        finite_check("TEXCOORD_0", uvs)?;
+    for (name, uvs) in [("TEXCOORD_0", &data.uvs), ("TEXCOORD_1", &data.uvs1)] {
+        if let Some(uvs) = uvs {
+            check_len(name, uvs.len())?;
+            finite_check(name, uvs)?;
+        }
     }
     if let Some(&bad) = data.indices.iter().find(|&&i| i as usize >= count) {
         return Err(format!("index {bad} is out of range ({count} vertices)"));
@@ -130,6 +134,8 @@ pub(crate) fn build_mesh(
     }
 
     let uv_of = |i: u32| data.uvs.as_ref().map_or([0.0; 2], |uv| uv[i as usize]);
+    // Set 1 falls back to set 0 where the primitive has none.
+    let uv1_of = |i: u32| data.uvs1.as_ref().map_or(uv_of(i), |uv| uv[i as usize]);
     let (mut vertices, mut indices, tangents_missing) = match &data.normals {
         None => {
             // glTF: flat normals, and given tangents are ignored.
@@ -143,6 +149,7 @@ pub(crate) fn build_mesh(
                         normal: n.to_array(),
                         tangent: [0.0; 4],
                         uv: uv_of(i),
+                        uv1: uv1_of(i),
                     });
                 }
             }
@@ -156,6 +163,7 @@ pub(crate) fn build_mesh(
                     normal: normals[i],
                     tangent: data.tangents.as_ref().map_or([0.0; 4], |t| t[i]),
                     uv: uv_of(i as u32),
+                    uv1: uv1_of(i as u32),
                 })
                 .collect();
             // Normals must be unit: normalise those that are not; replace zero ones by
@@ -379,6 +387,7 @@ mod tests {
             normals: normals.then(|| vec![[0.0, 0.0, 1.0]; 4]),
             tangents: None,
             uvs: uvs.then(|| vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
+            uvs1: None,
             indices: vec![0, 1, 2, 0, 2, 3],
         }
     }

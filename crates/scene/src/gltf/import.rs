@@ -559,6 +559,10 @@ impl Importer<'_> {
             .map(|a| read_floats::<2>(root, &mut self.buffers, a))
             .transpose()
             .map_err(|e| err(format!("TEXCOORD_0: {e}")))?;
+        let uvs1 = attribute("TEXCOORD_1")
+            .map(|a| read_floats::<2>(root, &mut self.buffers, a))
+            .transpose()
+            .map_err(|e| err(format!("TEXCOORD_1: {e}")))?;
         let raw: Vec<u32> = match key.indices {
             Some(a) => read_indices(root, &mut self.buffers, a)
                 .map_err(|e| err(format!("indices: {e}")))?,
@@ -611,6 +615,7 @@ impl Importer<'_> {
                 normals,
                 tangents,
                 uvs,
+                uvs1,
                 indices,
             },
             key.uv_tangents,

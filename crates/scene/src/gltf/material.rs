@@ -8,12 +8,12 @@ use gltf::json::validation::Checked;
 
 use super::image::{decode, DecodeError, Decoded};
 use super::import::Importer;
-use super::optics_ext::{self, ConductorSpec};
+use super::optics_ext::{self, parse_texture_transform, ConductorSpec, TextureInfo};
 use super::source::{read_resolved, resolve_uri};
 use super::{ImportProblem, OPTICS_EXTENSION};
 use crate::{
     conductor_from_reflectivity, ColorSpace, Filter, Image, Material, Sampler, Texture, TextureRef,
-    TextureSlot, WrapMode,
+    TextureSlot, UvTransform, WrapMode,
 };
 
 /// glTF's default material (base colour 1, metallic 1, roughness 1), used by primitives
@@ -129,16 +129,12 @@ impl Importer<'_> {
         material.base_color_texture = self.texture_info(
             index,
             TextureSlot::BaseColor,
-            pbr.base_color_texture
-                .as_ref()
-                .map(|t| (t.index.value(), t.tex_coord)),
+            pbr.base_color_texture.as_ref().map(info_of),
         )?;
         material.metallic_roughness_texture = self.texture_info(
             index,
             TextureSlot::MetallicRoughness,
-            pbr.metallic_roughness_texture
-                .as_ref()
-                .map(|t| (t.index.value(), t.tex_coord)),
+            pbr.metallic_roughness_texture.as_ref().map(info_of),
         )?;
         if let Some(normal) = &m.normal_texture {
             if !normal.scale.is_finite() {
@@ -151,7 +147,11 @@ impl Importer<'_> {
             material.normal_texture = self.texture_info(
                 index,
                 TextureSlot::Normal,
-                Some((normal.index.value(), normal.tex_coord)),
+                Some(TextureInfo {
+                    index: normal.index.value(),
+                    tex_coord: normal.tex_coord,
+                    transform: extension_transform(normal.extensions.as_ref().map(|e| &e.others)),
+                }),
             )?;
         }
         if let Some(occlusion) = &m.occlusion_texture {
@@ -160,7 +160,13 @@ impl Importer<'_> {
             material.occlusion_texture = self.texture_info(
                 index,
                 TextureSlot::Occlusion,
-                Some((occlusion.index.value(), occlusion.tex_coord)),
+                Some(TextureInfo {
+                    index: occlusion.index.value(),
+                    tex_coord: occlusion.tex_coord,
+                    transform: extension_transform(
+                        occlusion.extensions.as_ref().map(|e| &e.others),
+                    ),
+                }),
             )?;
         }
         // Kept as given even above 1 (glTF bounds it to [0, 1]; Combustion does not).
@@ -175,9 +181,7 @@ impl Importer<'_> {
         material.emissive_texture = self.texture_info(
             index,
             TextureSlot::Emissive,
-            m.emissive_texture
-                .as_ref()
-                .map(|t| (t.index.value(), t.tex_coord)),
+            m.emissive_texture.as_ref().map(info_of),
         )?;
 
         let mut optics = optics_ext::MaterialOptics::default();
@@ -216,18 +220,12 @@ impl Importer<'_> {
                 material.specular_texture = self.texture_info(
                     index,
                     TextureSlot::Specular,
-                    specular
-                        .specular_texture
-                        .as_ref()
-                        .map(|t| (t.index.value(), t.tex_coord)),
+                    specular.specular_texture.as_ref().map(info_of),
                 )?;
                 material.specular_color_texture = self.texture_info(
                     index,
                     TextureSlot::SpecularColor,
-                    specular
-                        .specular_color_texture
-                        .as_ref()
-                        .map(|t| (t.index.value(), t.tex_coord)),
+                    specular.specular_color_texture.as_ref().map(info_of),
                 )?;
             }
             if let Some(value) = ext.others.get("KHR_materials_anisotropy") {
@@ -292,14 +290,27 @@ impl Importer<'_> {
         &mut self,
         material: usize,
         slot: TextureSlot,
-        info: Option<(usize, u32)>,
+        info: Option<TextureInfo>,
     ) -> Result<Option<TextureRef>, ImportProblem> {
-        let Some((texture_index, tex_coord)) = info else {
+        let Some(info) = info else {
             return Ok(None);
         };
-        if tex_coord != 0 {
+        let texture_index = info.index;
+        let (transform, tex_coord) = match &info.transform {
+            None => (UvTransform::IDENTITY, info.tex_coord),
+            Some(value) => {
+                let (transform, tex_coord) = parse_texture_transform(value).map_err(|e| {
+                    self.material_error(
+                        material,
+                        format!("{} texture: KHR_texture_transform: {e}", slot.name()),
+                    )
+                })?;
+                (transform, tex_coord.unwrap_or(info.tex_coord))
+            }
+        };
+        if tex_coord > 1 {
             self.warn(format!(
-                "material {material}: the {} texture uses texture-coordinate set {tex_coord}; only set 0 is supported, so the texture is ignored",
+                "material {material}: the {} texture uses texture-coordinate set {tex_coord}; sets 0 and 1 are supported, so the texture is ignored",
                 slot.name()
             ));
             return Ok(None);
@@ -333,7 +344,8 @@ impl Importer<'_> {
                 image,
                 sampler: convert_sampler(sampler),
             },
-            tex_coord: 0,
+            tex_coord,
+            transform,
         }))
     }
 
@@ -407,4 +419,22 @@ impl Importer<'_> {
         self.images.insert((index, color_space), image.clone());
         Ok(image)
     }
+}
+
+/// The importer's view of a core textureInfo.
+fn info_of(t: &json::texture::Info) -> TextureInfo {
+    TextureInfo {
+        index: t.index.value(),
+        tex_coord: t.tex_coord,
+        transform: extension_transform(t.extensions.as_ref().map(|e| &e.others)),
+    }
+}
+
+/// The KHR_texture_transform object among a textureInfo's extensions.
+fn extension_transform(
+    extensions: Option<&serde_json::Map<String, serde_json::Value>>,
+) -> Option<serde_json::Value> {
+    extensions
+        .and_then(|e| e.get("KHR_texture_transform"))
+        .cloned()
 }

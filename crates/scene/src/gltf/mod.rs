@@ -35,6 +35,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_emissive_strength",
     "KHR_materials_anisotropy",
+    "KHR_texture_transform",
     OPTICS_EXTENSION,
 ];
 

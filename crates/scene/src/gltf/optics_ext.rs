@@ -267,12 +267,61 @@ fn parse_conductor(
 }
 
 /// KHR_materials_anisotropy.
+/// A textureInfo as the importer reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct TextureInfo {
+    pub index: usize,
+    pub tex_coord: u32,
+    /// Its `extensions.KHR_texture_transform` object, unparsed.
+    pub transform: Option<Value>,
+}
+
+/// Parses a KHR_texture_transform object: the transform (offset, rotation, scale, each
+/// finite, defaults 0, 0, 1) and the texCoord it overrides the textureInfo's with.
+pub(crate) fn parse_texture_transform(
+    value: &Value,
+) -> Result<(crate::material::UvTransform, Option<u32>), String> {
+    let map = object(value, "KHR_texture_transform")?;
+    let pair = |key: &str, default: [f32; 2]| -> Result<[f32; 2], String> {
+        match map.get(key) {
+            None => Ok(default),
+            Some(v) => match v.as_array().map(Vec::as_slice) {
+                Some([a, b]) => Ok([number(a, key)?, number(b, key)?]),
+                _ => Err(format!(
+                    "{key} must be an array of 2 numbers, found {}",
+                    short(v)
+                )),
+            },
+        }
+    };
+    let transform = crate::material::UvTransform {
+        offset: pair("offset", [0.0, 0.0])?,
+        rotation: map
+            .get("rotation")
+            .map_or(Ok(0.0), |v| number(v, "rotation"))?,
+        scale: pair("scale", [1.0, 1.0])?,
+    };
+    let tex_coord = match map.get("texCoord") {
+        None => None,
+        Some(v) => Some(
+            v.as_u64()
+                .and_then(|t| u32::try_from(t).ok())
+                .ok_or_else(|| {
+                    format!(
+                        "texCoord must be a non-negative integer, found {}",
+                        short(v)
+                    )
+                })?,
+        ),
+    };
+    Ok((transform, tex_coord))
+}
+
 #[derive(Debug, Default, PartialEq)]
 pub(crate) struct Anisotropy {
     pub strength: f32,
     pub rotation: f32,
-    /// (texture index, texCoord).
-    pub texture: Option<(usize, u32)>,
+    pub texture: Option<TextureInfo>,
 }
 
 pub(crate) fn parse_anisotropy(value: &Value) -> Result<Anisotropy, String> {
@@ -303,7 +352,14 @@ pub(crate) fn parse_anisotropy(value: &Value) -> Result<Anisotropy, String> {
                 .and_then(|t| u32::try_from(t).ok())
                 .ok_or("anisotropyTexture.texCoord must be a non-negative integer")?,
         };
-        out.texture = Some((usize::try_from(index).unwrap_or(usize::MAX), tex_coord));
+        out.texture = Some(TextureInfo {
+            index: usize::try_from(index).unwrap_or(usize::MAX),
+            tex_coord,
+            transform: info
+                .get("extensions")
+                .and_then(|e| e.get("KHR_texture_transform"))
+                .cloned(),
+        });
     }
     Ok(out)
 }

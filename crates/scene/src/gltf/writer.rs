@@ -11,7 +11,7 @@ use super::error::{SaveError, SaveProblem};
 use super::image::encode_png;
 use super::optics_ext::diffuse_model_name;
 use super::OPTICS_EXTENSION;
-use crate::{Filter, Light, Material, Sampler, Scene, TextureSlot, WrapMode};
+use crate::{Filter, Light, Material, Sampler, Scene, TextureRef, TextureSlot, WrapMode};
 
 fn num(x: f32) -> Value {
     // The exact binary value as f64: reads back as the same f32 through any parser.
@@ -144,9 +144,31 @@ fn color_intensity(power: [f32; 3]) -> ([f32; 3], f32) {
     (power.map(|p| p / scale), scale)
 }
 
+/// A textureInfo: the texture's index, its texCoord (when not 0) and its
+/// KHR_texture_transform (when not the identity).
+fn texture_info_json(index: usize, texture: Option<&TextureRef>) -> Value {
+    let mut info = json!({ "index": index });
+    if let Some(t) = texture {
+        if t.tex_coord != 0 {
+            info["texCoord"] = json!(t.tex_coord);
+        }
+        if !t.transform.is_identity() {
+            info["extensions"] = json!({ "KHR_texture_transform": {
+                "offset": nums(&t.transform.offset),
+                "rotation": num(t.transform.rotation),
+                "scale": nums(&t.transform.scale),
+            } });
+        }
+    }
+    info
+}
+
 fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>) -> Value {
     let defaults = Material::default();
-    let info = |slot| texture_of(slot).map(|index| json!({ "index": index }));
+    let slots = m.texture_slots();
+    let reference =
+        |slot: TextureSlot| slots.iter().find(|(s, _)| *s == slot).and_then(|(_, t)| *t);
+    let info = |slot| texture_of(slot).map(|index| texture_info_json(index, reference(slot)));
     let mut pbr = json!({
         "baseColorFactor": nums(&[m.base_color[0], m.base_color[1], m.base_color[2], 1.0]),
         "metallicFactor": num(m.metalness),
@@ -164,11 +186,13 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
         "emissiveFactor": nums(&m.emissive_factor),
         "doubleSided": m.double_sided,
     });
-    if let Some(index) = texture_of(TextureSlot::Normal) {
-        out["normalTexture"] = json!({ "index": index, "scale": num(m.normal_scale) });
+    if let Some(mut t) = info(TextureSlot::Normal) {
+        t["scale"] = num(m.normal_scale);
+        out["normalTexture"] = t;
     }
-    if let Some(index) = texture_of(TextureSlot::Occlusion) {
-        out["occlusionTexture"] = json!({ "index": index, "strength": num(m.occlusion_strength) });
+    if let Some(mut t) = info(TextureSlot::Occlusion) {
+        t["strength"] = num(m.occlusion_strength);
+        out["occlusionTexture"] = t;
     }
     if let Some(t) = info(TextureSlot::Emissive) {
         out["emissiveTexture"] = t;
@@ -287,12 +311,17 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
         let normals: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.normal).collect();
         let tangents: Vec<[f32; 4]> = mesh.vertices.iter().map(|v| v.tangent).collect();
         let uvs: Vec<[f32; 2]> = mesh.vertices.iter().map(|v| v.uv).collect();
-        let attributes = json!({
+        let mut attributes = json!({
             "POSITION": bin.floats(&positions, true),
             "NORMAL": bin.floats(&normals, false),
             "TANGENT": bin.floats(&tangents, false),
             "TEXCOORD_0": bin.floats(&uvs, false),
         });
+        // Set 1 only where it differs from set 0 (the importer copies set 0 otherwise).
+        if mesh.vertices.iter().any(|v| v.uv1 != v.uv) {
+            let uvs1: Vec<[f32; 2]> = mesh.vertices.iter().map(|v| v.uv1).collect();
+            attributes["TEXCOORD_1"] = json!(bin.floats(&uvs1, false));
+        }
         let indices = bin.indices(&mesh.indices);
         mesh_attributes[i] = Some((attributes, indices));
     }
@@ -446,6 +475,13 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
     }));
 
     let mut used = vec![OPTICS_EXTENSION.to_owned()];
+    if scene.materials.iter().any(|m| {
+        m.texture_slots()
+            .iter()
+            .any(|(_, t)| t.is_some_and(|t| !t.transform.is_identity()))
+    }) {
+        used.push("KHR_texture_transform".into());
+    }
     for material in &materials {
         if let Some(ext) = material["extensions"].as_object() {
             for name in ext.keys() {
