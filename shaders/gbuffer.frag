@@ -28,7 +28,7 @@ layout(location = 0) out vec4 out_base_color_metalness;       // RGBA8_UNORM, sR
 layout(location = 1) out vec4 out_normal_roughness_anisotropy; // RGBA16_UNORM
 layout(location = 2) out uvec2 out_material_direction;         // RG16_UINT
 #ifdef EMISSIVE
-layout(location = 3) out vec4 out_emissive;                    // RGBA16F, radiance
+layout(location = 3) out vec4 out_emissive;                    // the HDR image's format (f16/f32), radiance
 #endif
 
 // Where each sampled slot samples: its coordinate set through its KHR_texture_transform

@@ -189,6 +189,16 @@ fn anisotropy_rotation_model_is_horizontal_everywhere() {
 #[test]
 fn emissive_plane_shows_its_radiance() {
     let emitted = [0.25f32, 1.5, 4.0];
+    let frame = render_emissive_plane(emitted, HdrFormat::Rgba32Float);
+    for pixel in &frame.hdr {
+        // factor × strength is exact here (a power of two), and nothing else lights it.
+        assert_eq!(&pixel[..3], &emitted[..], "{pixel:?} vs {emitted:?}");
+    }
+}
+
+/// A plane emitting `emitted` (W·sr⁻¹·m⁻², factor × strength 2), no lights, seen from
+/// above, rendered at 32×32 into `hdr`.
+fn render_emissive_plane(emitted: [f32; 3], hdr: HdrFormat) -> combustion::renderer::Frame {
     let scene = Scene {
         name: "emissive plane".into(),
         meshes: vec![Mesh::plane("plane", 100.0)],
@@ -213,12 +223,12 @@ fn emissive_plane_shows_its_radiance() {
         },
         outside_ior: 1.0,
     };
-    let frame = common::render(
+    common::render(
         &scene,
         32,
         32,
         RendererSettings {
-            hdr_format: HdrFormat::Rgba32Float,
+            hdr_format: hdr,
             exposure: 1.0,
             fresnel: FresnelModel::Full,
             frames_in_flight: 2,
@@ -227,13 +237,31 @@ fn emissive_plane_shows_its_radiance() {
             images: true,
             gbuffer: false,
         },
-    );
-    for pixel in &frame.hdr {
+    )
+}
+
+/// Issue 9, "precision": the emissive target has the HDR image's format, so an f32 frame
+/// keeps emission above f16's largest value (65504) and below its 11-bit step (1000.1 is
+/// not 1000.0); an f16 frame rounds it as its own storage does.
+#[test]
+fn emission_keeps_the_frames_precision() {
+    let emitted = [1000.1f32, 70000.0, 0.3];
+    let f32_frame = render_emissive_plane(emitted, HdrFormat::Rgba32Float);
+    for pixel in &f32_frame.hdr {
         for c in 0..3 {
-            // Stored in RGBA16F: relative step 2⁻¹¹ (half a step is the error bound).
-            let error = (pixel[c] - emitted[c]).abs() / emitted[c];
-            assert!(error <= 2f32.powi(-12), "{pixel:?} vs {emitted:?}");
+            // factor × strength 2 undoes the halving exactly (a power of two)
+            assert_eq!(pixel[c], emitted[c], "{pixel:?}");
         }
+    }
+    let f16_frame = render_emissive_plane(emitted, HdrFormat::Rgba16Float);
+    for pixel in &f16_frame.hdr {
+        // Vulkan lets a render-target write round to nearest or toward zero (lavapipe
+        // truncates: 0.3 → 0.2998), so the bound is one step of 11 bits, 2⁻¹⁰ relative.
+        // 1000.1 lies between the f16 neighbours 1000.0 and 1000.5: both roundings give
+        // 1000.0; 70000 is beyond f16 (65504 when truncated, +∞ when rounded).
+        assert_eq!(pixel[0], 1000.0, "{pixel:?}");
+        assert!(pixel[1] >= 65504.0, "{pixel:?}");
+        assert!((pixel[2] - 0.3).abs() <= 0.3 * 2f32.powi(-10), "{pixel:?}");
     }
 }
 

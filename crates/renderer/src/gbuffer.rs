@@ -19,8 +19,6 @@ pub const BASE_COLOR_METALNESS_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 pub const NORMAL_ROUGHNESS_ANISOTROPY_FORMAT: vk::Format = vk::Format::R16G16B16A16_UNORM;
 /// Material index (16-bit uint) and anisotropy direction angle (16-bit, [0, π)).
 pub const MATERIAL_DIRECTION_FORMAT: vk::Format = vk::Format::R16G16_UINT;
-/// Emitted radiance (only in scenes with emissive materials: the `EMISSIVE` variant).
-pub const EMISSIVE_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 /// Depth (32-bit float, 1 = far/background).
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
@@ -33,7 +31,9 @@ pub struct GBufferTargets {
     pub normal_roughness_anisotropy: Image,
     pub material_direction: Image,
     pub depth: Image,
-    /// Present in the `EMISSIVE` variant only.
+    /// Emitted radiance, present in the `EMISSIVE` variant only, in the HDR image's
+    /// format (f16 or f32): emission is stored at the precision of the frame it is
+    /// added to, so an f32 frame neither rounds it to 11 bits nor saturates it at 65504.
     pub emissive: Option<Image>,
 }
 
@@ -43,6 +43,7 @@ impl GBufferTargets {
         width: u32,
         height: u32,
         variant: ShaderVariant,
+        emissive_format: vk::Format,
     ) -> Result<Self, RenderError> {
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
             | vk::ImageUsageFlags::SAMPLED
@@ -74,7 +75,7 @@ impl GBufferTargets {
                     | vk::ImageUsageFlags::TRANSFER_SRC,
             )?,
             emissive: if variant.emissive {
-                Some(image("gbuffer emissive", EMISSIVE_FORMAT, color_usage)?)
+                Some(image("gbuffer emissive", emissive_format, color_usage)?)
             } else {
                 None
             },
@@ -113,6 +114,7 @@ impl GBufferPass {
         set_layout: &DescriptorSetLayout,
         material_set_layout: &DescriptorSetLayout,
         variant: ShaderVariant,
+        emissive_format: vk::Format,
     ) -> Result<Self, RenderError> {
         let defines = variant.defines();
         let push = [vk::PushConstantRange {
@@ -179,7 +181,7 @@ impl GBufferPass {
             MATERIAL_DIRECTION_FORMAT,
         ];
         if variant.emissive {
-            color_formats.push(EMISSIVE_FORMAT);
+            color_formats.push(emissive_format);
         }
         let pipeline = Pipeline::graphics(
             device,

@@ -854,6 +854,7 @@ impl Renderer {
                     &self.layouts.gbuffer,
                     &self.layouts.material,
                     gbuffer_key,
+                    self.settings.hdr_format.vk(),
                 )?);
                 self.stats.pipelines_built += 1;
                 self.gbuffer_passes.insert(gbuffer_key, pass.clone());

@@ -36,7 +36,7 @@ impl FrameTargets {
             ..ShaderVariant::default()
         };
         Ok(Self {
-            gbuffer: GBufferTargets::new(device, key.width, key.height, variant)?,
+            gbuffer: GBufferTargets::new(device, key.width, key.height, variant, hdr_format.vk())?,
             hdr: Image::new(
                 device,
                 &ImageDesc::new(
