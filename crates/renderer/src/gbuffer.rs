@@ -133,9 +133,9 @@ impl GBufferPass {
             &compiler.compile("gbuffer.frag", ShaderStage::Fragment, &defines)?,
             ShaderStage::Fragment,
         )?;
-        use combustion_scene::Vertex;
+        use crate::gpu_types::GpuVertex as Vertex;
         let stride = std::mem::size_of::<Vertex>() as u32;
-        let bindings = [vk::VertexInputBindingDescription {
+        let mut bindings = vec![vk::VertexInputBindingDescription {
             binding: 0,
             stride,
             input_rate: vk::VertexInputRate::VERTEX,
@@ -166,13 +166,18 @@ impl GBufferPass {
                 offset: std::mem::offset_of!(Vertex, uv) as u32,
             },
         ];
-        // The second coordinate set only where the shader reads it.
+        // The second coordinate set, a stream of its own, only where the shader reads it.
         if variant.texture_transforms {
+            bindings.push(vk::VertexInputBindingDescription {
+                binding: 1,
+                stride: std::mem::size_of::<[f32; 2]>() as u32,
+                input_rate: vk::VertexInputRate::VERTEX,
+            });
             attributes.push(vk::VertexInputAttributeDescription {
                 location: 4,
-                binding: 0,
+                binding: 1,
                 format: vk::Format::R32G32_SFLOAT,
-                offset: std::mem::offset_of!(Vertex, uv1) as u32,
+                offset: 0,
             });
         }
         let mut color_formats = vec![
@@ -275,7 +280,8 @@ impl GBufferPass {
                 &[set],
                 &[],
             );
-            raw.cmd_bind_vertex_buffers(cmd, 0, &[scene.vertices.raw()], &[0]);
+            // Stream 1 (coordinate set 1) is read only by the TEXTURE_TRANSFORMS pipelines.
+            raw.cmd_bind_vertex_buffers(cmd, 0, &[scene.vertices.raw(), scene.uv1.raw()], &[0, 0]);
             raw.cmd_bind_index_buffer(cmd, scene.indices.raw(), 0, vk::IndexType::UINT32);
             let mut bound_material = None;
             for (object_index, (draw, &double_sided)) in

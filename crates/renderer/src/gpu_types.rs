@@ -89,6 +89,31 @@ impl GpuMaterial {
     }
 }
 
+/// A vertex in the G-buffer pass's first vertex stream (48 bytes): `Vertex` without its
+/// second coordinate set, which goes to a stream of its own (`Vertex::uv1`, 8 bytes)
+/// read only by the TEXTURE_TRANSFORMS variant, so scenes that do not use it read no
+/// more bytes per vertex than before it existed (the pass is vertex-bound on lavapipe).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub tangent: [f32; 4],
+    pub uv: [f32; 2],
+}
+const _: () = assert!(std::mem::size_of::<GpuVertex>() == 48);
+
+impl GpuVertex {
+    pub fn new(v: &combustion_scene::Vertex) -> Self {
+        Self {
+            position: v.position,
+            normal: v.normal,
+            tangent: v.tangent,
+            uv: v.uv,
+        }
+    }
+}
+
 /// `GpuObject` (std430, 144 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]

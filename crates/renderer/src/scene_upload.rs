@@ -8,7 +8,7 @@ use std::sync::Arc;
 use combustion_scene::Scene;
 use combustion_vk::{vk, Buffer, DescriptorSetLayout, Device};
 
-use crate::gpu_types::{conductor_from_base_color_table, material_table, GpuObject};
+use crate::gpu_types::{conductor_from_base_color_table, material_table, GpuObject, GpuVertex};
 use crate::textures::SceneTextures;
 use crate::RenderError;
 
@@ -23,6 +23,8 @@ pub struct Draw {
 /// A validated scene uploaded to the GPU.
 pub struct GpuScene {
     pub(crate) vertices: Buffer,
+    /// Every vertex's second coordinate set (the TEXTURE_TRANSFORMS variant's stream).
+    pub(crate) uv1: Buffer,
     pub(crate) indices: Buffer,
     pub(crate) objects: Buffer,
     pub(crate) materials: Buffer,
@@ -81,13 +83,15 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
 /// The vertex and index buffers of every mesh, and each mesh's range in them.
 struct Geometry {
     vertices: Buffer,
+    uv1: Buffer,
     indices: Buffer,
     mesh_ranges: Vec<Draw>,
 }
 
 impl Geometry {
     fn new(device: &Arc<Device>, scene: &Scene) -> Result<Self, RenderError> {
-        let mut vertices = Vec::new();
+        let mut vertices: Vec<GpuVertex> = Vec::new();
+        let mut uv1: Vec<[f32; 2]> = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
         let mut mesh_ranges = Vec::with_capacity(scene.meshes.len());
         for mesh in &scene.meshes {
@@ -98,7 +102,8 @@ impl Geometry {
                 index_count: mesh.indices.len() as u32,
                 vertex_offset,
             });
-            vertices.extend_from_slice(&mesh.vertices);
+            vertices.extend(mesh.vertices.iter().map(GpuVertex::new));
+            uv1.extend(mesh.vertices.iter().map(|v| v.uv1));
             indices.extend_from_slice(&mesh.indices);
         }
         Ok(Self {
@@ -106,6 +111,12 @@ impl Geometry {
                 device,
                 "vertices",
                 bytemuck::cast_slice(&vertices),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )?,
+            uv1: Buffer::with_data(
+                device,
+                "vertex coordinate set 1",
+                bytemuck::cast_slice(&uv1),
                 vk::BufferUsageFlags::VERTEX_BUFFER,
             )?,
             indices: Buffer::with_data(
@@ -193,6 +204,7 @@ impl GpuScene {
     fn assemble(geometry: Geometry, textures: SceneTextures, tables: Tables, scene: Scene) -> Self {
         Self {
             vertices: geometry.vertices,
+            uv1: geometry.uv1,
             indices: geometry.indices,
             mesh_ranges: geometry.mesh_ranges,
             objects: tables.objects,
@@ -247,6 +259,7 @@ impl GpuScene {
         let mut retired: Vec<Box<dyn std::any::Any + Send>> = Vec::new();
         if let Some(g) = geometry {
             retired.push(Box::new(std::mem::replace(&mut self.vertices, g.vertices)));
+            retired.push(Box::new(std::mem::replace(&mut self.uv1, g.uv1)));
             retired.push(Box::new(std::mem::replace(&mut self.indices, g.indices)));
             self.mesh_ranges = g.mesh_ranges;
         }

@@ -9,8 +9,8 @@ pub struct Vertex {
     /// Tangent xyz and the bitangent sign w (bitangent = w · normal × tangent), as in glTF.
     pub tangent: [f32; 4],
     /// Texture coordinates (glTF TEXCOORD_0 convention: u right, v down, (0, 0) is the
-    /// top-left corner of the image's first row). Appended last: the renderer reads
-    /// position, normal and tangent at byte offsets 0, 12 and 24.
+    /// top-left corner of the image's first row). The renderer uploads position,
+    /// normal, tangent and uv as one 48-byte stream and `uv1` as a second one.
     pub uv: [f32; 2],
     /// The second texture-coordinate set (glTF TEXCOORD_1; a copy of `uv` where the
     /// mesh has none), for texture slots that ask for set 1.
