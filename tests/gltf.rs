@@ -223,21 +223,11 @@ fn render_emissive_plane(emitted: [f32; 3], hdr: HdrFormat) -> combustion::rende
         },
         outside_ior: 1.0,
     };
-    common::render(
-        &scene,
-        32,
-        32,
-        RendererSettings {
-            hdr_format: hdr,
-            exposure: 1.0,
-            fresnel: FresnelModel::Full,
-            frames_in_flight: 2,
-        },
-        Readback {
-            images: true,
-            gbuffer: false,
-        },
-    )
+    let settings = RendererSettings {
+        hdr_format: hdr,
+        ..common::exact_f32()
+    };
+    common::render_images(&scene, 32, 32, settings)
 }
 
 /// Issue 9, "precision": the emissive target has the HDR image's format, so an f32 frame
@@ -317,15 +307,6 @@ fn scaled_world(scene: &Scene, s: f32) -> Scene {
     out
 }
 
-/// Pixels of two display images that differ by more than one 8-bit step in a channel.
-fn pixels_apart(a: &combustion::renderer::Frame, b: &combustion::renderer::Frame) -> usize {
-    a.ldr
-        .iter()
-        .zip(&b.ldr)
-        .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 1))
-        .count()
-}
-
 /// Issue 12, "any scale a file uses": a centimetre export (positions × 1e4 under a node
 /// scale of 1e-4) imports as the same 1 m objects and renders as its metre twin, and the
 /// whole world scaled to millimetres or to kilometres renders the same image. Identical
@@ -338,23 +319,7 @@ fn any_scale_renders_as_its_metre_twin() {
     let (width, height) = (192, 128);
     let allowed = (width * height) as usize / 500;
     let metre = combustion::scene::builtin_scene("spheres").unwrap();
-    let render = |scene: &Scene| {
-        common::render(
-            scene,
-            width,
-            height,
-            RendererSettings {
-                hdr_format: HdrFormat::Rgba32Float,
-                exposure: 1.0,
-                fresnel: FresnelModel::Full,
-                frames_in_flight: 2,
-            },
-            Readback {
-                images: true,
-                gbuffer: false,
-            },
-        )
-    };
+    let render = |scene: &Scene| common::render_images(scene, width, height, common::exact_f32());
     let reference = render(&metre);
 
     // The centimetre export, through the importer.
@@ -382,7 +347,7 @@ fn any_scale_renders_as_its_metre_twin() {
         imported.push(render(&loaded));
     }
     std::fs::remove_dir_all(&dir).unwrap();
-    let apart = pixels_apart(&imported[0], &imported[1]);
+    let apart = common::pixels_apart(&imported[0], &imported[1]);
     eprintln!("centimetre export against its metre twin: {apart} pixels apart");
     assert!(
         apart <= allowed,
@@ -392,7 +357,7 @@ fn any_scale_renders_as_its_metre_twin() {
     // The whole world from millimetres to kilometres.
     for s in [1e-3, 1e3, 1e4] {
         let frame = render(&scaled_world(&metre, s));
-        let apart = pixels_apart(&reference, &frame);
+        let apart = common::pixels_apart(&reference, &frame);
         eprintln!("world × {s}: {apart} pixels apart");
         assert!(
             apart <= allowed,

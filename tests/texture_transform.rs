@@ -9,7 +9,6 @@ mod common;
 
 use std::sync::Arc;
 
-use combustion::renderer::{FresnelModel, HdrFormat, Readback, RendererSettings};
 use combustion::scene::{
     Camera, ColorSpace, Image, Light, Material, Mesh, Object, Sampler, Scene, Texture, TextureRef,
     UvTransform,
@@ -86,29 +85,7 @@ fn scene(
 }
 
 fn render(scene: &Scene) -> combustion::renderer::Frame {
-    common::render(
-        scene,
-        W,
-        H,
-        RendererSettings {
-            hdr_format: HdrFormat::Rgba32Float,
-            exposure: 1.0,
-            fresnel: FresnelModel::Full,
-            frames_in_flight: 2,
-        },
-        Readback {
-            images: true,
-            gbuffer: false,
-        },
-    )
-}
-
-fn pixels_apart(a: &combustion::renderer::Frame, b: &combustion::renderer::Frame) -> usize {
-    a.ldr
-        .iter()
-        .zip(&b.ldr)
-        .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 1))
-        .count()
+    common::render_images(scene, W, H, common::exact_f32())
 }
 
 #[test]
@@ -143,14 +120,14 @@ fn a_transformed_slot_samples_where_the_transform_says() {
         ("set 1", &set1),
         ("set 1 through the transform", &set1_transformed),
     ] {
-        let apart = pixels_apart(&cpu, frame);
+        let apart = common::pixels_apart(&cpu, frame);
         eprintln!("{name}: {apart} pixels apart from the CPU-mapped coordinates");
         assert!(
             apart <= allowed,
             "{name}: {apart} pixels differ by more than one step"
         );
     }
-    let changed = pixels_apart(&cpu, &plain);
+    let changed = common::pixels_apart(&cpu, &plain);
     assert!(
         changed > (W * H) as usize / 4,
         "the transform changes the image: {changed}"

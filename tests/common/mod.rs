@@ -104,6 +104,39 @@ pub fn render(
     frame
 }
 
+/// The exact model, f32 HDR, exposure 1, 2 frames in flight: what most tests render with.
+pub fn exact_f32() -> RendererSettings {
+    RendererSettings {
+        hdr_format: combustion::renderer::HdrFormat::Rgba32Float,
+        exposure: 1.0,
+        fresnel: combustion::renderer::FresnelModel::Full,
+        frames_in_flight: 2,
+    }
+}
+
+/// Renders `scene` with `settings` and reads back its HDR and display images.
+pub fn render_images(scene: &Scene, width: u32, height: u32, settings: RendererSettings) -> Frame {
+    render(
+        scene,
+        width,
+        height,
+        settings,
+        Readback {
+            images: true,
+            gbuffer: false,
+        },
+    )
+}
+
+/// Pixels of two display images that differ by more than one 8-bit step in a channel.
+pub fn pixels_apart(a: &Frame, b: &Frame) -> usize {
+    a.ldr
+        .iter()
+        .zip(&b.ldr)
+        .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 1))
+        .count()
+}
+
 pub fn goldens_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/goldens")
 }
