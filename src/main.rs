@@ -100,17 +100,26 @@ it measures the report's variant sets on the scene at 640x360 and says which is 
 fastest within E, as render --max-error E chooses (measured there at the render's size).
 Logging: COMBUSTION_LOG=error|warn|info|debug|trace (default warn).";
 
-/// `println!` that ends the program quietly when stdout is closed (`combustion … | head`)
-/// instead of panicking.
-macro_rules! outln {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
-            if e.kind() == std::io::ErrorKind::BrokenPipe {
-                std::process::exit(0);
-            }
+/// Writes `text` to standard output: a closed pipe (`combustion … | head`) ends the
+/// program quietly (exit 0: the reader has what it wanted); any other write error (a
+/// full disk, `> /dev/full`) is reported in one line and exits 1, never ignored.
+fn write_stdout(text: std::fmt::Arguments<'_>) {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(text).and_then(|()| out.flush()) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
         }
-    }};
+        eprintln!("error: cannot write to standard output: {e}");
+        std::process::exit(1);
+    }
+}
+
+/// `println!` through [`write_stdout`].
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        write_stdout(format_args!("{}\n", format_args!($($arg)*)))
+    };
 }
 
 struct StderrLogger;
@@ -410,8 +419,19 @@ fn headless(o: &Options) -> Result<Headless, Error> {
 
 fn render(o: &Options) -> Result<(), Error> {
     // Fail on an unwritable destination before spending time on the render.
-    for path in o.output.iter().chain(o.hdr.iter()) {
-        output::check_writable(path)?;
+    let targets = o
+        .output
+        .iter()
+        .chain(o.hdr.iter())
+        .map(|path| output::check_writable(path))
+        .collect::<Result<Vec<_>, _>>()?;
+    if let [png, exr] = &targets[..] {
+        if output::same_file(png, exr) {
+            return Err(Error::Usage(format!(
+                "-o and --hdr name the same file ({}): give each its own",
+                png.display()
+            )));
+        }
     }
     let scene = o.scene.load()?;
     let (device, mut settings) = device_and_settings(o)?;
@@ -1067,7 +1087,7 @@ fn info(args: &[String]) -> Result<(), CliError> {
         }
     };
     scene.validate().map_err(Error::from)?;
-    print!("{}", describe_scene(&scene));
+    write_stdout(format_args!("{}", describe_scene(&scene)));
     if let Some(budget) = budget {
         // What `render --max-error` would choose, measured here at 640×360.
         let device = DeviceDesc {
@@ -1077,7 +1097,7 @@ fn info(args: &[String]) -> Result<(), CliError> {
         let choice =
             combustion::report::choose(&SceneSource::parse(source), budget, 640, 360, 10, device)?;
         outln!("variant sets measured at 640x360 (10 frames each), fastest first:");
-        print!("{}", choice.explain(budget));
+        write_stdout(format_args!("{}", choice.explain(budget)));
     }
     Ok(())
 }

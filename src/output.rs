@@ -1,6 +1,11 @@
 //! Writing frames to files: PNG (8-bit sRGB) and OpenEXR (32-bit float, uncompressed).
-//! Files are written to a temporary name in the same folder and renamed into place,
-//! so a failure never leaves a half-written image behind.
+//!
+//! The rule for every output path: an output is a regular file, written to a temporary
+//! name in its folder and renamed into place, so a failure never leaves a half-written
+//! file behind. A symlink is followed to its target (the target is replaced, the link
+//! stays); an existing special file (device, FIFO, socket) or read-only file is refused,
+//! never replaced; an empty name or one ending in `/` is refused; the folder must exist
+//! and take a new file, checked before any work is done ([`check_writable`]).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -16,6 +21,16 @@ pub enum OutputError {
     },
     #[error("cannot write {path}: folder {folder} does not exist")]
     NoFolder { path: PathBuf, folder: PathBuf },
+    #[error("cannot write to an empty file name")]
+    EmptyName,
+    #[error("cannot write {path}: it names a folder, not a file")]
+    FolderName { path: PathBuf },
+    #[error("cannot write {path}: it is not a regular file (a device, FIFO or socket); write to a regular file")]
+    NotRegular { path: PathBuf },
+    #[error("cannot write {path}: it is read-only; it is left as it is")]
+    ReadOnly { path: PathBuf },
+    #[error("cannot write {path}: the symlink chain is too long or circular")]
+    SymlinkLoop { path: PathBuf },
     #[error("cannot encode PNG {path}: {message}")]
     Png { path: PathBuf, message: String },
     #[error("{path}: {count} pixels given for a {width}x{height} image")]
@@ -27,33 +42,78 @@ pub enum OutputError {
     },
 }
 
-/// Checks, before any work is done, that `path` can plausibly be written: its folder
-/// exists and it is not itself a folder.
-pub fn check_writable(path: &Path) -> Result<(), OutputError> {
-    let folder = match path.parent() {
+/// The folder `path` is in (`.` for a bare file name).
+fn folder_of(path: &Path) -> PathBuf {
+    match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
-    };
-    if !folder.is_dir() {
-        return Err(OutputError::NoFolder {
-            path: path.to_path_buf(),
-            folder,
-        });
     }
-    if path.is_dir() {
-        return Err(OutputError::Io {
-            path: path.to_path_buf(),
-            source: std::io::Error::new(std::io::ErrorKind::IsADirectory, "it is a folder"),
-        });
+}
+
+/// Checks, before any work is done, that `path` can be written by the rule of this
+/// module, and returns the file that will be written: `path` itself, or the end of
+/// the symlink chain it starts.
+pub fn check_writable(path: &Path) -> Result<PathBuf, OutputError> {
+    let named = path.to_path_buf();
+    if path.as_os_str().is_empty() {
+        return Err(OutputError::EmptyName);
     }
-    Ok(())
+    if path.as_os_str().as_encoded_bytes().ends_with(b"/") || path.file_name().is_none() {
+        return Err(OutputError::FolderName { path: named });
+    }
+    // Follow symlinks to the file they name (up to 40 links, as the kernel does).
+    let mut target = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&target) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let next = std::fs::read_link(&target).map_err(|source| OutputError::Io {
+                    path: named.clone(),
+                    source,
+                })?;
+                target = folder_of(&target).join(next);
+            }
+            Ok(meta) if meta.is_dir() => return Err(OutputError::FolderName { path: named }),
+            Ok(meta) if !meta.is_file() => return Err(OutputError::NotRegular { path: named }),
+            Ok(meta) if meta.permissions().readonly() => {
+                return Err(OutputError::ReadOnly { path: named })
+            }
+            _ => {
+                let folder = folder_of(&target);
+                if !folder.is_dir() {
+                    return Err(OutputError::NoFolder {
+                        path: named,
+                        folder,
+                    });
+                }
+                // The folder takes a new file (the temporary one is made there).
+                let probe = folder.join(format!(".combustion-probe-{}", std::process::id()));
+                File::create(&probe).map_err(|source| OutputError::Io {
+                    path: named.clone(),
+                    source,
+                })?;
+                let _ = std::fs::remove_file(&probe);
+                return Ok(target);
+            }
+        }
+    }
+    Err(OutputError::SymlinkLoop { path: named })
+}
+
+/// Whether two checked outputs ([`check_writable`]'s results) are one file: the same
+/// name in the same folder, folders compared after resolving their own links.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    let canonical_folder = |p: &Path| std::fs::canonicalize(folder_of(p)).ok();
+    a.file_name() == b.file_name()
+        && canonical_folder(a).is_some()
+        && canonical_folder(a) == canonical_folder(b)
 }
 
 fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> Result<(), OutputError>,
 ) -> Result<(), OutputError> {
-    check_writable(path)?;
+    let target = check_writable(path)?;
+    let path = target.as_path();
     let io = |source| OutputError::Io {
         path: path.to_path_buf(),
         source,

@@ -784,3 +784,108 @@ fn an_accuracy_budget_picks_a_variant_set_or_says_why_not() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Issue 9, output paths: outputs are regular files written atomically; a symlink is
+/// followed to its target (the link stays); special files (a FIFO here, /dev/full in the
+/// report) and read-only files are refused, not replaced; two outputs may not name one
+/// file; an empty or folder-like name is refused before any rendering; a write error on
+/// standard output is reported, and a closed pipe ends the program quietly.
+#[test]
+fn output_paths_are_regular_files_and_every_write_error_is_reported() {
+    use std::os::unix::fs::{FileTypeExt, PermissionsExt};
+    let dir = scratch("output-paths");
+    let at = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    let small = ["--width", "16", "--height", "16"];
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", "builtin:spheres"];
+        args.extend_from_slice(&small);
+        args.extend_from_slice(extra);
+        combustion(&args)
+    };
+
+    // A FIFO is refused and stays a FIFO.
+    let fifo = at("pipe.png");
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    assert_clear_error(
+        &["render", "builtin:spheres", "-o", &fifo],
+        "is not a regular file",
+    );
+    assert!(std::fs::symlink_metadata(&fifo)
+        .unwrap()
+        .file_type()
+        .is_fifo());
+
+    // A symlink is followed: the target is written, the link stays a link.
+    let target = at("real.png");
+    let link = at("link.png");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    let (code, _, stderr) = render(&["-o", &link]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(std::fs::read(&target).unwrap().starts_with(b"\x89PNG"));
+
+    // A read-only file is not replaced.
+    let locked = at("locked.png");
+    std::fs::write(&locked, b"keep").unwrap();
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o444)).unwrap();
+    assert_clear_error(
+        &["render", "builtin:spheres", "-o", &locked],
+        "is read-only",
+    );
+    assert_eq!(std::fs::read(&locked).unwrap(), b"keep");
+
+    // Two outputs naming one file, directly or through the link.
+    let same = at("same.png");
+    assert_clear_error(
+        &["render", "builtin:spheres", "-o", &same, "--hdr", &same],
+        "name the same file",
+    );
+    assert_clear_error(
+        &["render", "builtin:spheres", "-o", &link, "--hdr", &target],
+        "name the same file",
+    );
+    assert!(!std::path::Path::new(&same).exists());
+
+    // Names that cannot be a file, refused before rendering.
+    assert_clear_error(&["render", "builtin:spheres", "-o", ""], "empty file name");
+    let folder_like = format!("{}/", at("newdir"));
+    assert_clear_error(
+        &["render", "builtin:spheres", "-o", &folder_like],
+        "names a folder",
+    );
+
+    // Standard output: a write error is an error; a closed pipe is a quiet end.
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_combustion"))
+        .args(["eval", "--list"])
+        .stdout(full)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("cannot write to standard output"),
+        "{stderr}"
+    );
+    for args in [&["info", "builtin:spheres"][..], &["eval", "--list"]] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_combustion"))
+            .args(args)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take()); // the reader goes away at once, as `| head -0` would
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {stderr}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
