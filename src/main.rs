@@ -193,10 +193,27 @@ struct Options {
     validate: bool,
 }
 
+/// `text` for an error message: at most 40 characters, the rest elided.
+fn shortened(text: &str) -> String {
+    match text.char_indices().nth(40) {
+        Some((cut, _)) => format!("{}… ({} characters)", &text[..cut], text.chars().count()),
+        None => text.to_owned(),
+    }
+}
+
 fn number<T: std::str::FromStr>(flag: &str, value: &str) -> Result<T, Error> {
-    value
-        .parse()
-        .map_err(|_| Error::Usage(format!("{flag}: `{value}` is not a valid number")))
+    value.parse().map_err(|_| {
+        let shown = shortened(value);
+        let numeric = value.parse::<f64>().is_ok_and(f64::is_finite);
+        let reason = if numeric && value.starts_with('-') && "-1".parse::<T>().is_err() {
+            "is negative; it takes a number of at least 0"
+        } else if numeric && value.parse::<f64>().is_ok_and(|x| x.fract() == 0.0) {
+            "is out of range"
+        } else {
+            "is not a valid number"
+        };
+        Error::Usage(format!("{flag}: `{shown}` {reason}"))
+    })
 }
 
 /// An accuracy budget: a relative error above 0.
@@ -1297,6 +1314,14 @@ fn run(args: &[String]) -> Result<(), CliError> {
         Some((c, rest)) => (c.as_str(), rest),
         None => ("help", &[][..]),
     };
+    // `combustion COMMAND --help`: the command's lines of the usage.
+    if rest.iter().any(|a| a == "--help" || a == "-h") {
+        let known = ["render", "bench", "view", "eval", "plot", "info", "devices"];
+        if known.contains(&command) {
+            outln!("{}", command_usage(command));
+            return Ok(());
+        }
+    }
     match command {
         "render" => Ok(render(&parse_options(rest, "render")?)?),
         "bench" => Ok(bench(&parse_options(rest, "bench")?)?),
@@ -1320,9 +1345,44 @@ fn run(args: &[String]) -> Result<(), CliError> {
     }
 }
 
+/// The usage lines of `command` (its entries in [`USAGE`] with their continuation lines).
+fn command_usage(command: &str) -> String {
+    let start = format!("  combustion {command} ");
+    let bare = format!("  combustion {command}");
+    let mut out = String::from("USAGE:\n");
+    let mut inside = false;
+    for line in USAGE.lines() {
+        if line.starts_with("  combustion ") {
+            inside = line.starts_with(&start) || line == bare;
+        } else if !line.starts_with("    ") {
+            inside = false;
+        }
+        if inside {
+            out += line;
+            out.push('\n');
+        }
+    }
+    out + "(`combustion help` explains every option.)"
+}
+
 fn main() -> ExitCode {
     init_logging();
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    // Arguments that are not UTF-8 (a file name with byte 0xff) are refused by name,
+    // not a panic.
+    let mut args = Vec::new();
+    for (i, arg) in std::env::args_os().skip(1).enumerate() {
+        match arg.into_string() {
+            Ok(arg) => args.push(arg),
+            Err(raw) => {
+                eprintln!(
+                    "error: argument {} (`{}`) is not valid UTF-8; Combustion takes UTF-8 arguments and file names",
+                    i + 1,
+                    shortened(&raw.to_string_lossy())
+                );
+                return ExitCode::from(2);
+            }
+        }
+    }
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(CliError::Lib(e)) => {

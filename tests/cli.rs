@@ -889,3 +889,45 @@ fn output_paths_are_regular_files_and_every_write_error_is_reported() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Issue 9, arguments: a non-UTF-8 argument is refused by name (exit 2, no panic); every
+/// command answers --help with its usage; numbers are refused with why (negative, out of
+/// range) and without echoing hundreds of digits.
+#[test]
+fn arguments_are_refused_with_why_and_every_command_has_help() {
+    use std::os::unix::ffi::OsStrExt;
+    let bad = std::ffi::OsStr::from_bytes(b"scene-\xff.gltf");
+    let out = Command::new(env!("CARGO_BIN_EXE_combustion"))
+        .arg("render")
+        .arg(bad)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        stderr.contains("argument 2") && stderr.contains("not valid UTF-8"),
+        "{stderr}"
+    );
+
+    for command in ["render", "bench", "view", "eval", "plot", "info", "devices"] {
+        for flag in ["--help", "-h"] {
+            let (code, stdout, stderr) = combustion(&[command, flag]);
+            assert_eq!(code, 0, "{command} {flag}: {stderr}");
+            assert!(
+                stdout.contains(&format!("combustion {command}")),
+                "{command} {flag}: {stdout}"
+            );
+        }
+    }
+
+    assert_clear_error(&["render", "--width", "-5"], "`-5` is negative");
+    let digits = "9".repeat(300);
+    let (code, _, stderr) = combustion(&["render", "--width", &digits]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("is out of range"), "{stderr}");
+    assert!(
+        stderr.len() < 200,
+        "the message echoes the whole number: {stderr}"
+    );
+}
