@@ -23,6 +23,13 @@ use super::{
 };
 use crate::{Camera, ColorSpace, Image, Light, Material, Object, Scene};
 
+/// Where an image's bytes come from.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum ImageSource {
+    Uri(String),
+    BufferView(usize),
+}
+
 /// Everything an import in progress holds.
 pub(crate) struct Importer<'a> {
     pub file: &'a Path,
@@ -31,8 +38,14 @@ pub(crate) struct Importer<'a> {
     pub base: Option<&'a Path>,
     pub options: &'a ImportOptions,
     pub warnings: Vec<String>,
-    pub decoded: HashMap<usize, Rc<Decoded>>,
-    pub images: HashMap<(usize, ColorSpace), Arc<Image>>,
+    /// Per image source (a URI or a buffer view), its decoded pixels: each source is
+    /// decoded once, however many `images` entries name it.
+    pub decoded: HashMap<ImageSource, Rc<Decoded>>,
+    /// Per image source and colour space, the scene's image (pixels shared, not copied
+    /// per `images` entry).
+    pub images: HashMap<(ImageSource, ColorSpace), Arc<Image>>,
+    /// Pixels decoded so far (against `ImportOptions::max_decoded_pixels`).
+    pub decoded_pixels: u64,
     /// Materials that ask for transparency (reported once).
     pub transparency: Vec<usize>,
 }
@@ -184,16 +197,31 @@ fn import_inner(
             shown.join("; ")
         )));
     }
+    // Counts the renderer cannot take are refused before any work on them.
+    if root.materials.len() > usize::from(u16::MAX) {
+        return Err(ImportProblem::Invalid(format!(
+            "{} materials; at most {} fit the G-buffer's 16-bit material index",
+            root.materials.len(),
+            u16::MAX
+        )));
+    }
 
     let mut importer = Importer {
         file,
         root: &root,
-        buffers: Buffers::new(&root, &container, base, options.allow_external_uris),
+        buffers: Buffers::new(
+            &root,
+            &container,
+            base,
+            options.allow_external_uris,
+            options.max_file_bytes,
+        ),
         base,
         options,
         warnings: Vec::new(),
         decoded: HashMap::new(),
         images: HashMap::new(),
+        decoded_pixels: 0,
         transparency: Vec::new(),
     };
     for w in early_warnings {

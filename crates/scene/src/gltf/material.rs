@@ -7,7 +7,7 @@ use gltf::json;
 use gltf::json::validation::Checked;
 
 use super::image::{decode, DecodeError, Decoded};
-use super::import::Importer;
+use super::import::{ImageSource, Importer};
 use super::optics_ext::{self, parse_texture_transform, ConductorSpec, TextureInfo};
 use super::source::{read_resolved, resolve_uri};
 use super::{ImportProblem, OPTICS_EXTENSION};
@@ -240,9 +240,11 @@ impl Importer<'_> {
             if let Some(value) = ext.others.get(OPTICS_EXTENSION) {
                 let base = self.base;
                 let allow = self.options.allow_external_uris;
+                let limit = self.options.max_file_bytes;
                 let mut read_spectrum = |path: &str| -> Result<String, String> {
                     let resolved = resolve_uri(path, base, allow).map_err(|e| e.to_string())?;
-                    let (_, bytes) = read_resolved(path, resolved).map_err(|e| e.to_string())?;
+                    let (_, bytes) =
+                        read_resolved(path, resolved, limit).map_err(|e| e.to_string())?;
                     String::from_utf8(bytes)
                         .map_err(|_| format!("spectral table `{path}` is not UTF-8 text"))
                 };
@@ -354,9 +356,6 @@ impl Importer<'_> {
         index: usize,
         color_space: ColorSpace,
     ) -> Result<Arc<Image>, ImportProblem> {
-        if let Some(image) = self.images.get(&(index, color_space)) {
-            return Ok(image.clone());
-        }
         let root = self.root;
         let json_image = root.images.get(index).ok_or_else(|| ImportProblem::Image {
             index,
@@ -369,25 +368,29 @@ impl Importer<'_> {
             name: name.clone(),
             message,
         };
-        let decoded: Rc<Decoded> = match self.decoded.get(&index) {
+        let source = match (&json_image.uri, json_image.buffer_view) {
+            (Some(uri), _) => ImageSource::Uri(uri.clone()),
+            (None, Some(view)) => ImageSource::BufferView(view.value()),
+            (None, None) => return Err(err("has neither a URI nor a buffer view".into())),
+        };
+        if let Some(image) = self.images.get(&(source.clone(), color_space)) {
+            return Ok(image.clone());
+        }
+        let decoded: Rc<Decoded> = match self.decoded.get(&source) {
             Some(d) => d.clone(),
             None => {
                 let declared = json_image.mime_type.as_ref().map(|m| m.0.clone());
-                let (mime, bytes): (Option<String>, Vec<u8>) =
-                    match (&json_image.uri, json_image.buffer_view) {
-                        (Some(uri), _) => {
-                            let resolved =
-                                resolve_uri(uri, self.base, self.options.allow_external_uris)?;
-                            read_resolved(uri, resolved)?
-                        }
-                        (None, Some(view)) => {
-                            let (data, range, _) = self.buffers.view(view.value()).map_err(err)?;
-                            (None, data[range].to_vec())
-                        }
-                        (None, None) => {
-                            return Err(err("has neither a URI nor a buffer view".into()))
-                        }
-                    };
+                let (mime, bytes): (Option<String>, Vec<u8>) = match &source {
+                    ImageSource::Uri(uri) => {
+                        let resolved =
+                            resolve_uri(uri, self.base, self.options.allow_external_uris)?;
+                        read_resolved(uri, resolved, self.options.max_file_bytes)?
+                    }
+                    ImageSource::BufferView(view) => {
+                        let (data, range, _) = self.buffers.view(*view).map_err(err)?;
+                        (None, data[range].to_vec())
+                    }
+                };
                 let mime = declared.or(mime);
                 let decoded = decode(&bytes, mime.as_deref(), self.options.max_image_dimension)
                     .map_err(|e| match e {
@@ -400,8 +403,15 @@ impl Importer<'_> {
                         },
                         DecodeError::Other(message) => err(message),
                     })?;
+                self.decoded_pixels += u64::from(decoded.width) * u64::from(decoded.height);
+                if self.decoded_pixels > self.options.max_decoded_pixels {
+                    return Err(err(format!(
+                        "decoding it brings the scene's decoded images to {} pixels, over the budget of {} (ImportOptions::max_decoded_pixels)",
+                        self.decoded_pixels, self.options.max_decoded_pixels
+                    )));
+                }
                 let decoded = Rc::new(decoded);
-                self.decoded.insert(index, decoded.clone());
+                self.decoded.insert(source.clone(), decoded.clone());
                 decoded
             }
         };
@@ -416,7 +426,7 @@ impl Importer<'_> {
             color_space,
             pixels: decoded.rgba.clone(),
         });
-        self.images.insert((index, color_space), image.clone());
+        self.images.insert((source, color_space), image.clone());
         Ok(image)
     }
 }

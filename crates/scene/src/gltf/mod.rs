@@ -51,6 +51,13 @@ pub struct ImportOptions {
     /// Index into the glTF `cameras` array of the camera to use; `None`: the first
     /// perspective camera placed in the scene, else a camera framing the scene.
     pub camera: Option<usize>,
+    /// Largest file read (the glTF itself, each buffer, image and spectral table), in
+    /// bytes, checked before reading. Only regular files are read: a device, FIFO or
+    /// socket is refused without being opened.
+    pub max_file_bytes: u64,
+    /// Largest total of decoded image pixels (width × height summed over the distinct
+    /// image sources; each source is decoded once, however many images name it).
+    pub max_decoded_pixels: u64,
 }
 
 impl Default for ImportOptions {
@@ -59,6 +66,10 @@ impl Default for ImportOptions {
             max_image_dimension: 8192,
             allow_external_uris: false,
             camera: None,
+            // 2 GiB: more than any glTF buffer or image a real scene ships.
+            max_file_bytes: 1 << 31,
+            // 2²⁸ pixels (1 GiB as RGBA8): sixteen 4096² images.
+            max_decoded_pixels: 1 << 28,
         }
     }
 }
@@ -180,7 +191,8 @@ impl fmt::Display for ImportReport {
 /// Imports a `.gltf` (with its `.bin` and image files) or a `.glb` file. The format is
 /// told by the content (GLB magic), not by the extension.
 pub fn import(path: &Path, options: &ImportOptions) -> Result<(Scene, ImportReport), ImportError> {
-    let bytes = std::fs::read(path).map_err(|e| ImportError::new(path, ImportProblem::Io(e)))?;
+    let bytes = source::read_regular_file(path, options.max_file_bytes)
+        .map_err(|e| ImportError::new(path, ImportProblem::Io(e)))?;
     let base = path.parent().map(|p| {
         if p.as_os_str().is_empty() {
             PathBuf::from(".")

@@ -370,13 +370,48 @@ pub(crate) fn encode_base64(bytes: &[u8]) -> String {
 }
 
 /// Reads a resolved URI's bytes.
+/// Reads `path` if it is a regular file (after symlinks) of at most `limit` bytes, both
+/// checked before reading: a device, FIFO or socket is refused without being opened
+/// (so `/dev/zero` is not read without end and a FIFO does not block), and the read
+/// itself stops past `limit` in case the file grows meanwhile.
+pub(crate) fn read_regular_file(path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
+    use std::io::Read as _;
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file (a folder, device, FIFO or socket)",
+        ));
+    }
+    let too_large = |size: u64| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "{size} bytes is more than the limit of {limit} (ImportOptions::max_file_bytes)"
+            ),
+        )
+    };
+    if meta.len() > limit {
+        return Err(too_large(meta.len()));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    std::fs::File::open(path)?
+        .take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
 pub(crate) fn read_resolved(
     uri: &str,
     resolved: Resolved,
+    limit: u64,
 ) -> Result<(Option<String>, Vec<u8>), ImportProblem> {
     match resolved {
         Resolved::Data { mime, bytes } => Ok((mime, bytes)),
-        Resolved::File(path) => match std::fs::read(&path) {
+        Resolved::File(path) => match read_regular_file(&path, limit) {
             Ok(bytes) => Ok((None, bytes)),
             Err(source) => Err(ImportProblem::ExternalIo {
                 uri: truncate(uri),
@@ -397,6 +432,7 @@ pub(crate) struct Buffers<'a> {
     is_glb: bool,
     base: Option<&'a Path>,
     allow_external: bool,
+    max_file_bytes: u64,
     loaded: Vec<Option<Rc<[u8]>>>,
 }
 
@@ -406,11 +442,13 @@ impl<'a> Buffers<'a> {
         container: &Container<'a>,
         base: Option<&'a Path>,
         allow_external: bool,
+        max_file_bytes: u64,
     ) -> Self {
         Self {
             root,
             bin: container.bin,
             is_glb: container.is_glb,
+            max_file_bytes,
             base,
             allow_external,
             loaded: vec![None; root.buffers.len()],
@@ -453,7 +491,7 @@ impl<'a> Buffers<'a> {
             }
             Some(uri) => {
                 let resolved = resolve_uri(uri, self.base, self.allow_external)?;
-                read_resolved(uri, resolved)?.1
+                read_resolved(uri, resolved, self.max_file_bytes)?.1
             }
         };
         if (data.len() as u64) < declared {

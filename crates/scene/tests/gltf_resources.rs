@@ -1,0 +1,153 @@
+//! Issue 9, resource use: each distinct image source is decoded once under a total
+//! decoded-pixel budget; only regular files of a bounded size are read (a FIFO would
+//! block, /dev/zero would never end); counts the renderer cannot take are refused first.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use combustion_scene::gltf::{import, ImportOptions};
+use serde_json::json;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "combustion-resources-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A 4×4 grey PNG.
+fn small_png() -> Vec<u8> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, 4, 4);
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().unwrap();
+    writer.write_image_data(&[128u8; 4 * 4 * 4]).unwrap();
+    drop(writer);
+    bytes
+}
+
+/// `dir/scene.gltf`: one triangle drawn `materials` times (one primitive per material),
+/// material i textured by image i, every image the same PNG in buffer view 1 of
+/// `buffer_uri` (written to `dir/scene.bin` unless `write_buffer` is false).
+fn write_scene(dir: &Path, materials: usize, buffer_uri: &str, write_buffer: bool) -> PathBuf {
+    let positions: Vec<u8> = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
+        .collect();
+    let png = small_png();
+    let mut data = positions.clone();
+    data.extend_from_slice(&png);
+    if write_buffer {
+        std::fs::write(dir.join("scene.bin"), &data).unwrap();
+    }
+    let primitives: Vec<_> = (0..materials)
+        .map(|m| json!({ "attributes": { "POSITION": 0 }, "material": m }))
+        .collect();
+    let gltf = json!({
+        "asset": { "version": "2.0" },
+        "scene": 0,
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": primitives }],
+        "materials": (0..materials)
+            .map(|m| json!({ "pbrMetallicRoughness": { "baseColorTexture": { "index": m } } }))
+            .collect::<Vec<_>>(),
+        "textures": (0..materials).map(|m| json!({ "source": m })).collect::<Vec<_>>(),
+        "images": (0..materials)
+            .map(|_| json!({ "bufferView": 1, "mimeType": "image/png" }))
+            .collect::<Vec<_>>(),
+        "accessors": [{ "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                        "min": [0, 0, 0], "max": [1, 1, 0] }],
+        "bufferViews": [
+            { "buffer": 0, "byteOffset": 0, "byteLength": positions.len() },
+            { "buffer": 0, "byteOffset": positions.len(), "byteLength": png.len() },
+        ],
+        "buffers": [{ "byteLength": data.len(), "uri": buffer_uri }],
+    });
+    let path = dir.join("scene.gltf");
+    std::fs::write(&path, serde_json::to_vec_pretty(&gltf).unwrap()).unwrap();
+    path
+}
+
+#[test]
+fn one_image_source_is_decoded_once_and_the_budget_holds() {
+    let dir = temp_dir("one-source");
+    let path = write_scene(&dir, 300, "scene.bin", true);
+    let (scene, _) = import(&path, &ImportOptions::default()).unwrap();
+    assert_eq!(scene.materials.len(), 300);
+    let first = scene.materials[0].base_color_texture.as_ref().unwrap();
+    for m in &scene.materials {
+        let t = m.base_color_texture.as_ref().unwrap();
+        assert!(
+            Arc::ptr_eq(&t.texture.image, &first.texture.image),
+            "decoded again"
+        );
+    }
+    assert_eq!(scene.texture_table().images.len(), 1);
+
+    // 16 pixels decoded; a budget of 15 refuses it, naming the option.
+    let tight = ImportOptions {
+        max_decoded_pixels: 15,
+        ..ImportOptions::default()
+    };
+    let error = import(&path, &tight).unwrap_err().to_string();
+    assert!(error.contains("max_decoded_pixels"), "{error}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn only_regular_files_of_a_bounded_size_are_read() {
+    let dir = temp_dir("special");
+    // A FIFO as the buffer: refused at once (reading it would block forever).
+    let fifo = dir.join("pipe.bin");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let path = write_scene(&dir, 1, "pipe.bin", false);
+    let error = import(&path, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("not a regular file"), "{error}");
+    // A link to /dev/zero: refused (read, it would never end).
+    std::os::unix::fs::symlink("/dev/zero", dir.join("zero.bin")).unwrap();
+    let path = write_scene(&dir, 1, "zero.bin", false);
+    let error = import(&path, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("not a regular file"), "{error}");
+    // A regular buffer over the size limit, refused before it is read.
+    let path = write_scene(&dir, 1, "scene.bin", true);
+    let small = ImportOptions {
+        max_file_bytes: 64,
+        ..ImportOptions::default()
+    };
+    let error = import(&path, &small).unwrap_err().to_string();
+    assert!(error.contains("max_file_bytes"), "{error}");
+    // The glTF file itself too.
+    let tiny = ImportOptions {
+        max_file_bytes: 16,
+        ..ImportOptions::default()
+    };
+    let error = import(&path, &tiny).unwrap_err().to_string();
+    assert!(error.contains("max_file_bytes"), "{error}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn too_many_materials_are_refused_before_any_work() {
+    let gltf = json!({
+        "asset": { "version": "2.0" },
+        "materials": vec![json!({}); 70_000],
+    });
+    let bytes = serde_json::to_vec(&gltf).unwrap();
+    let error = combustion_scene::gltf::import_slice(&bytes, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("70000 materials"), "{error}");
+}
