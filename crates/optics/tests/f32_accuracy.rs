@@ -401,6 +401,16 @@ fn brdf_f32_matches_f64_in_world_space() {
     println!("BRDF f32 vs f64 (world space): worst error / bound = {worst_ratio:.2}");
 }
 
+/// f32 values from `lo` to `hi` (both included) on a grid of 2²⁴ steps: proptest's own f32
+/// range sampler can trip a debug assertion on some seeds (proptest-rs issues #343, #479
+/// and their kin), which made this test fail at random.
+fn uniform(lo: f32, hi: f32) -> impl Strategy<Value = f32> {
+    (0u32..=1 << 24).prop_map(move |i| {
+        let t = i as f32 / (1u32 << 24) as f32;
+        (lo + (hi - lo) * t).clamp(lo, hi)
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig {
         cases: 512,
@@ -411,10 +421,10 @@ proptest! {
     /// Random interfaces and angles, including the seed-notes extremes.
     #[test]
     fn prop_fresnel_f32(
-        c in prop_oneof![0.0_f32..=1.0, 0.0_f32..1e-3, (1.0_f32 - 1e-3)..=1.0],
-        ei in prop_oneof![Just(1.0_f32), 1.0_f32..2.5],
-        et in prop_oneof![Just(1.0_f32), 0.02_f32..3.0, 0.999_f32..1.001],
-        k in prop_oneof![Just(0.0_f32), 0.0_f32..10.0, 10.0_f32..200.0],
+        c in prop_oneof![uniform(0.0, 1.0), uniform(0.0, 1e-3), uniform(1.0 - 1e-3, 1.0)],
+        ei in prop_oneof![Just(1.0_f32), uniform(1.0, 2.5)],
+        et in prop_oneof![Just(1.0_f32), uniform(0.02, 3.0), uniform(0.999, 1.001)],
+        k in prop_oneof![Just(0.0_f32), uniform(0.0, 10.0), uniform(10.0, 200.0)],
     ) {
         let cond = fresnel_condition(f(c), f(ei), f(et), f(k));
         let e = fresnel_err(

@@ -197,6 +197,23 @@ fn import_inner(
             shown.join("; ")
         )));
     }
+    // What glTF forbids anywhere in the file, also outside the scene shown: a mesh
+    // without primitives, a node with two parents, a cycle of nodes.
+    if let Some((i, mesh)) = root
+        .meshes
+        .iter()
+        .enumerate()
+        .find(|(_, m)| m.primitives.is_empty())
+    {
+        let name = mesh
+            .name
+            .as_deref()
+            .map_or(String::new(), |n| format!(" (`{n}`)"));
+        return Err(ImportProblem::Invalid(format!(
+            "mesh {i}{name} has no primitives (glTF requires at least one)"
+        )));
+    }
+    check_node_forest(&root)?;
     // Counts the renderer cannot take are refused before any work on them.
     if root.materials.len() > usize::from(u16::MAX) {
         return Err(ImportProblem::Invalid(format!(
@@ -512,6 +529,9 @@ impl Importer<'_> {
         let outside_ior = self.outside_ior(scene_index)?;
         let (camera, source) = self.camera(&cameras, &meshes, &objects)?;
         report.scene_cameras = self.scene_cameras(&cameras, &meshes, &objects);
+        for warning in camera_range_warnings(&camera, world_bounds(&meshes, &objects)) {
+            self.warn(warning);
+        }
 
         let name = scene_index
             .and_then(|s| root.scenes[s].name.clone())
@@ -1024,4 +1044,68 @@ pub(crate) fn framing_camera(bounds: Option<(Vec3, Vec3)>) -> Camera {
         near: (distance - radius).max(distance * 1e-3),
         far: distance + radius * 2.0,
     }
+}
+
+/// glTF's nodes form disjoint trees: no node is the child of two nodes, and following
+/// children never comes back to a node. Checked over every node, not only those the
+/// scene shows.
+fn check_node_forest(root: &json::Root) -> Result<(), ImportProblem> {
+    let n = root.nodes.len();
+    let mut parent: Vec<Option<usize>> = vec![None; n];
+    for (i, node) in root.nodes.iter().enumerate() {
+        for child in node.children.iter().flatten() {
+            let c = child.value();
+            if c >= n {
+                return Err(ImportProblem::Invalid(format!(
+                    "node {i} names child {c}, but there are {n} nodes"
+                )));
+            }
+            if let Some(other) = parent[c].replace(i) {
+                return Err(ImportProblem::Invalid(format!(
+                    "node {c} is a child of both node {other} and node {i} (glTF nodes form trees)"
+                )));
+            }
+        }
+    }
+    // With one parent at most, a node no root reaches lies on (or under) a cycle.
+    let mut reached = vec![false; n];
+    let mut stack: Vec<usize> = (0..n).filter(|&i| parent[i].is_none()).collect();
+    while let Some(i) = stack.pop() {
+        reached[i] = true;
+        stack.extend(root.nodes[i].children.iter().flatten().map(|c| c.value()));
+    }
+    if let Some(i) = reached.iter().position(|r| !r) {
+        return Err(ImportProblem::Invalid(format!(
+            "node {i} is its own ancestor: the node hierarchy has a cycle"
+        )));
+    }
+    Ok(())
+}
+
+/// What would make a frame of `camera` black with no error: the scene (its bounding
+/// sphere) wholly outside the near … far range, or a near plane so small against the
+/// scene's distance that f32 depth rounds every surface to 1, the background (the
+/// projection's depth is about 1 − near/z: it needs near/z above 2⁻²³ or so).
+pub(crate) fn camera_range_warnings(camera: &Camera, bounds: Option<(Vec3, Vec3)>) -> Vec<String> {
+    let Some((lo, hi)) = bounds else {
+        return Vec::new();
+    };
+    let centre = (lo + hi) / 2.0;
+    let radius = (hi - lo).length() / 2.0;
+    let forward = (camera.target - camera.position).normalize_or_zero();
+    let along = (centre - camera.position).dot(forward);
+    let (nearest, farthest) = (along - radius, along + radius);
+    let mut warnings = Vec::new();
+    if farthest < camera.near || nearest > camera.far {
+        warnings.push(format!(
+            "the scene lies {:.3e} … {:.3e} in front of the camera, outside its near … far range {:.3e} … {:.3e}: the image will be empty",
+            nearest, farthest, camera.near, camera.far
+        ));
+    } else if camera.near < farthest.max(0.0) * 2f32.powi(-22) {
+        warnings.push(format!(
+            "the camera's near plane ({:.3e}) is below 2⁻²² of the scene's distance ({:.3e}): f32 depth rounds its far part to the background; raise znear",
+            camera.near, farthest
+        ));
+    }
+    warnings
 }

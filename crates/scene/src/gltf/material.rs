@@ -188,13 +188,20 @@ impl Importer<'_> {
         if let Some(ext) = &m.extensions {
             if let Some(ior) = &ext.ior {
                 let ior = ior.ior.0;
-                if !(ior.is_finite() && ior > 0.0) {
+                // The ratified extension: ior ≥ 1, or exactly 0, the specular-glossiness
+                // compatibility mode whose Fresnel term is 1 everywhere: an infinite IOR,
+                // here the largest the optics clamp to (ETA_MAX = 1e4: R ≥ 0.9996 but
+                // within 0.01° of grazing).
+                if ior == 0.0 {
+                    material.dielectric_ior = KHR_IOR_ZERO_MEANS;
+                } else if ior.is_finite() && ior >= 1.0 {
+                    material.dielectric_ior = ior;
+                } else {
                     return Err(self.material_error(
                         index,
-                        format!("KHR_materials_ior: ior must be a positive number, found {ior}"),
+                        format!("KHR_materials_ior: ior must be at least 1, or exactly 0 (the specular-glossiness mode), found {ior}"),
                     ));
                 }
-                material.dielectric_ior = ior;
             }
             if let Some(strength) = &ext.emissive_strength {
                 let s = strength.emissive_strength.0;
@@ -430,6 +437,10 @@ impl Importer<'_> {
         Ok(image)
     }
 }
+
+/// The dielectric IOR KHR_materials_ior's `ior: 0` stands for (its Fresnel term is 1 at
+/// every angle: an infinite IOR; this is the optics crate's `ETA_MAX`).
+pub const KHR_IOR_ZERO_MEANS: f32 = 1.0e4;
 
 /// The importer's view of a core textureInfo.
 fn info_of(t: &json::texture::Info) -> TextureInfo {

@@ -21,6 +21,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 pub use error::{ImportError, ImportProblem, SaveError, SaveProblem};
+pub use material::KHR_IOR_ZERO_MEANS;
 pub use writer::save_gltf;
 
 use crate::Scene;

@@ -1,0 +1,162 @@
+//! Issue 9, "valid files refused, invalid files accepted": what the glTF specification
+//! and its ratified extensions allow is imported, what they forbid is refused by name.
+
+use combustion_scene::gltf::{import_slice, ImportOptions, KHR_IOR_ZERO_MEANS};
+use serde_json::{json, Value};
+
+/// The bytes of a data URI holding `bytes` (base64).
+fn data_uri(bytes: &[u8]) -> String {
+    const TABLE: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::from("data:application/octet-stream;base64,");
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for i in 0..4 {
+            if i <= chunk.len() {
+                out.push(TABLE[((n >> (18 - 6 * i)) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// One triangle (positions in a data URI), material 0 as given.
+fn triangle(material: Value) -> Value {
+    let positions: Vec<u8> = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
+        .collect();
+    json!({
+        "asset": { "version": "2.0" },
+        "scene": 0,
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "material": 0 }] }],
+        "materials": [material],
+        "accessors": [{ "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                        "min": [0, 0, 0], "max": [1, 1, 0] }],
+        "bufferViews": [{ "buffer": 0, "byteLength": positions.len() }],
+        "buffers": [{ "byteLength": positions.len(), "uri": data_uri(&positions) }],
+    })
+}
+
+fn import(gltf: &Value) -> Result<combustion_scene::Scene, String> {
+    import_slice(
+        &serde_json::to_vec(gltf).unwrap(),
+        &ImportOptions::default(),
+    )
+    .map(|(scene, _)| scene)
+    .map_err(|e| e.to_string())
+}
+
+#[test]
+fn khr_materials_ior_takes_one_and_above_or_zero() {
+    let with_ior = |ior: f64| {
+        let mut g = triangle(json!({ "extensions": { "KHR_materials_ior": { "ior": ior } } }));
+        g["extensionsUsed"] = json!(["KHR_materials_ior"]);
+        g
+    };
+    assert_eq!(
+        import(&with_ior(1.0)).unwrap().materials[0].dielectric_ior,
+        1.0
+    );
+    assert_eq!(
+        import(&with_ior(2.4)).unwrap().materials[0].dielectric_ior,
+        2.4
+    );
+    // 0: the specular-glossiness mode, Fresnel 1 everywhere: the largest IOR the optics take.
+    let zero = import(&with_ior(0.0)).unwrap();
+    assert_eq!(zero.materials[0].dielectric_ior, KHR_IOR_ZERO_MEANS);
+    assert_eq!(f64::from(KHR_IOR_ZERO_MEANS), combustion_optics::ETA_MAX);
+    for bad in [0.5, -1.0] {
+        let error = import(&with_ior(bad)).unwrap_err();
+        assert!(error.contains("at least 1, or exactly 0"), "{bad}: {error}");
+    }
+}
+
+#[test]
+fn an_accessor_without_a_buffer_view_is_zeros_plus_its_sparse_values() {
+    // Positions: no buffer view (zeros) with two sparse values making a triangle.
+    let indices: Vec<u8> = [1u16, 2].iter().flat_map(|i| i.to_le_bytes()).collect();
+    let values: Vec<u8> = [[1.0f32, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
+        .collect();
+    let mut data = indices.clone();
+    data.extend_from_slice(&values);
+    let mut g = triangle(json!({}));
+    g["accessors"] = json!([{
+        "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0],
+        "sparse": {
+            "count": 2,
+            "indices": { "bufferView": 0, "componentType": 5123 },
+            "values": { "bufferView": 1 },
+        },
+    }]);
+    g["bufferViews"] = json!([
+        { "buffer": 0, "byteLength": indices.len() },
+        { "buffer": 0, "byteOffset": indices.len(), "byteLength": values.len() },
+    ]);
+    g["buffers"] = json!([{ "byteLength": data.len(), "uri": data_uri(&data) }]);
+    let scene = import(&g).unwrap_or_else(|e| panic!("{e}"));
+    let positions: Vec<[f32; 3]> = scene.meshes[0]
+        .vertices
+        .iter()
+        .map(|v| v.position)
+        .collect();
+    for p in [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        assert!(positions.contains(&p), "{positions:?}");
+    }
+}
+
+#[test]
+fn a_mesh_without_primitives_and_a_cycle_outside_the_scene_are_refused() {
+    let mut g = triangle(json!({}));
+    g["meshes"] = json!([{ "primitives": [] }]);
+    let error = import(&g).unwrap_err();
+    assert!(
+        error.contains("mesh 0") && error.contains("no primitives"),
+        "{error}"
+    );
+
+    // Nodes 1 and 2 name each other as children; the scene shows node 0 only.
+    let mut g = triangle(json!({}));
+    g["nodes"] = json!([{ "mesh": 0 }, { "children": [2] }, { "children": [1] }]);
+    let error = import(&g).unwrap_err();
+    assert!(error.contains("cycle"), "{error}");
+}
+
+/// A camera whose frames would be black with no error gets a warning that says why.
+#[test]
+fn a_camera_that_cannot_show_the_scene_is_warned_about() {
+    let with_camera = |znear: f64, zfar: Option<f64>| {
+        let mut g = triangle(json!({}));
+        let mut perspective = json!({ "yfov": 0.8, "znear": znear });
+        if let Some(zfar) = zfar {
+            perspective["zfar"] = json!(zfar);
+        }
+        g["cameras"] = json!([{ "type": "perspective", "perspective": perspective }]);
+        g["nodes"] = json!([{ "mesh": 0 }, { "camera": 0, "translation": [0.2, 0.2, 3.0] }]);
+        g["scenes"] = json!([{ "nodes": [0, 1] }]);
+        let (_, report) =
+            import_slice(&serde_json::to_vec(&g).unwrap(), &ImportOptions::default()).unwrap();
+        report.warnings
+    };
+    assert!(with_camera(0.1, Some(100.0)).is_empty());
+    let tiny_near = with_camera(1e-7, None);
+    assert!(
+        tiny_near.iter().any(|w| w.contains("raise znear")),
+        "{tiny_near:?}"
+    );
+    let short_far = with_camera(0.1, Some(1.0));
+    assert!(
+        short_far.iter().any(|w| w.contains("image will be empty")),
+        "{short_far:?}"
+    );
+}
