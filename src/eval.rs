@@ -8,7 +8,8 @@
 //! vector of v and l unless `--m x,y,z` is given.
 
 use std::collections::BTreeMap;
-use std::fmt::Write;
+
+use serde_json::{Map, Value};
 
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
 use combustion_optics::diffuse::{
@@ -19,8 +20,8 @@ use combustion_optics::fresnel::{
     fresnel_conductor, fresnel_cook_torrance_1981, fresnel_dielectric, fresnel_schlick,
 };
 use combustion_optics::microfacet::{
-    alpha_from_perceptual_roughness, d_beckmann, d_ggx, d_ggx_anisotropic, g1_smith_ggx,
-    g1_smith_ggx_anisotropic, g2_smith_ggx_height_correlated,
+    alpha_from_perceptual_roughness, clamp_alpha, d_beckmann, d_ggx, d_ggx_anisotropic,
+    g1_smith_ggx, g1_smith_ggx_anisotropic, g2_smith_ggx_height_correlated,
     g2_smith_ggx_height_correlated_anisotropic, g2_smith_ggx_separable, g_cook_torrance_1981,
     lambda_ggx, lambda_ggx_anisotropic,
 };
@@ -210,12 +211,13 @@ fn direction(
     match inputs.get(theta) {
         None => Ok(None),
         Some(t) => {
-            let (t, p) = (t[0].to_radians(), inputs.scalar(phi, 0.0).to_radians());
-            Ok(Some(Vec3::new(
-                t.sin() * p.cos(),
-                t.sin() * p.sin(),
-                t.cos(),
-            )))
+            // cos θ as sin(90° − θ): exactly 0 at θ = 90°, as the vector (1, 0, 0) gives,
+            // where cos(π/2) would leave 6e-17 and a grazing direction would count as lit
+            // (and sin θ exactly 0 at θ = 0).
+            let sin_t = t[0].to_radians().sin();
+            let cos_t = (90.0 - t[0]).to_radians().sin();
+            let p = inputs.scalar(phi, 0.0).to_radians();
+            Ok(Some(Vec3::new(sin_t * p.cos(), sin_t * p.sin(), cos_t)))
         }
     }
 }
@@ -224,22 +226,19 @@ fn need<T>(value: Option<T>, what: &str) -> Result<T, Error> {
     value.ok_or_else(|| usage(format!("this term needs {what}")))
 }
 
-/// A JSON number (Rust's shortest round-trip form), or null for NaN/Inf.
-fn json_number(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:?}")
-    } else {
-        "null".into()
-    }
+/// A JSON number (serde_json writes the shortest form that reads back as the same
+/// f64), or null for NaN/Inf.
+fn json_number(x: f64) -> Value {
+    serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number)
 }
 
-fn json_vec(v: Vec3<f64>) -> String {
-    format!(
-        "[{}, {}, {}]",
-        json_number(v.x),
-        json_number(v.y),
-        json_number(v.z)
-    )
+fn json_vec(v: Vec3<f64>) -> Value {
+    Value::Array(vec![json_number(v.x), json_number(v.y), json_number(v.z)])
+}
+
+/// A JSON array of numbers.
+fn json_list(values: impl IntoIterator<Item = f64>) -> Value {
+    Value::Array(values.into_iter().map(json_number).collect())
 }
 
 /// Evaluates `term` with `args` and returns a JSON object.
@@ -283,11 +282,11 @@ pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
     let cos_vm = || -> Result<f64, Error> {
         Ok(need(v, "--v or --theta-v")?.dot(need(m, "--m, or both v and l")?))
     };
-    let mut out = BTreeMap::<&str, String>::new();
+    let mut out = Map::new();
     match term {
         "d-ggx" => {
             out.insert(
-                "value",
+                "value".into(),
                 json_number(d_ggx(
                     need(m, "m (--m, or v and l)")?,
                     need(alpha, "--alpha or --roughness")?,
@@ -297,13 +296,13 @@ pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
         "d-ggx-anisotropic" => {
             let (ax, ay) = need(alphas, "--alpha-x and --alpha-y")?;
             out.insert(
-                "value",
+                "value".into(),
                 json_number(d_ggx_anisotropic(need(m, "m (--m, or v and l)")?, ax, ay)),
             );
         }
         "d-beckmann" => {
             out.insert(
-                "value",
+                "value".into(),
                 json_number(d_beckmann(
                     need(m, "m (--m, or v and l)")?,
                     need(alpha, "--alpha or --roughness")?,
@@ -318,7 +317,7 @@ pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
             } else {
                 lambda_ggx_anisotropic(v, ax, ay)
             };
-            out.insert("value", json_number(value));
+            out.insert("value".into(), json_number(value));
         }
         "g1-smith-ggx" => {
             let (ax, ay) = need(alphas, "--alpha (or --alpha-x and --alpha-y)")?;
@@ -331,12 +330,12 @@ pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
             } else {
                 g1_smith_ggx_anisotropic(v, m, ax, ay)
             };
-            out.insert("value", json_number(value));
+            out.insert("value".into(), json_number(value));
         }
         "g2-separable" => {
             let a = need(alpha, "--alpha or --roughness")?;
             out.insert(
-                "value",
+                "value".into(),
                 json_number(g2_smith_ggx_separable(
                     need(v, "v")?,
                     need(l, "l")?,
@@ -353,11 +352,11 @@ pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
             } else {
                 g2_smith_ggx_height_correlated_anisotropic(v, l, m, ax, ay)
             };
-            out.insert("value", json_number(value));
+            out.insert("value".into(), json_number(value));
         }
         "g-cook-torrance" => {
             out.insert(
-                "value",
+                "value".into(),
                 json_number(g_cook_torrance_1981(
                     need(v, "v")?,
                     need(l, "l")?,
@@ -371,51 +370,24 @@ pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
             let r: Vec<_> = (0..3)
                 .map(|i| fresnel_conductor(c, eta_i, eta[i], k[i]))
                 .collect();
-            out.insert("cos_theta", json_number(c));
-            out.insert(
-                "rs",
-                format!(
-                    "[{}]",
-                    r.iter()
-                        .map(|p| json_number(p.s))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            );
-            out.insert(
-                "rp",
-                format!(
-                    "[{}]",
-                    r.iter()
-                        .map(|p| json_number(p.p))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            );
-            out.insert(
-                "r",
-                format!(
-                    "[{}]",
-                    r.iter()
-                        .map(|p| json_number(p.weighted(w)))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            );
+            out.insert("cos_theta".into(), json_number(c));
+            out.insert("rs".into(), json_list(r.iter().map(|p| p.s)));
+            out.insert("rp".into(), json_list(r.iter().map(|p| p.p)));
+            out.insert("r".into(), json_list(r.iter().map(|p| p.weighted(w))));
         }
         "fresnel-dielectric" => {
             let c = cos_vm()?;
             let r = fresnel_dielectric(c, eta_i, inputs.scalar("--eta", 1.5));
-            out.insert("cos_theta", json_number(c));
-            out.insert("rs", json_number(r.s));
-            out.insert("rp", json_number(r.p));
-            out.insert("r", json_number(r.weighted(w)));
+            out.insert("cos_theta".into(), json_number(c));
+            out.insert("rs".into(), json_number(r.s));
+            out.insert("rp".into(), json_number(r.p));
+            out.insert("r".into(), json_number(r.weighted(w)));
         }
         "fresnel-cook-torrance" => {
             let c = cos_vm()?;
-            out.insert("cos_theta", json_number(c));
+            out.insert("cos_theta".into(), json_number(c));
             out.insert(
-                "value",
+                "value".into(),
                 json_number(fresnel_cook_torrance_1981(
                     c,
                     inputs.scalar("--eta", 1.5) / eta_i,
@@ -431,19 +403,13 @@ pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
                     ((eta - eta_i) / (eta + eta_i)).powi(2)
                 }
             };
-            out.insert("cos_theta", json_number(c));
-            out.insert("f0", json_number(f0));
-            out.insert("value", json_number(fresnel_schlick(c, f0)));
+            out.insert("cos_theta".into(), json_number(c));
+            out.insert("f0".into(), json_number(f0));
+            out.insert("value".into(), json_number(fresnel_schlick(c, f0)));
         }
         "lambert" => {
             let rho = inputs.rgb("--rho", 1.0);
-            out.insert(
-                "value",
-                format!(
-                    "[{}]",
-                    rho.map(|r| json_number(diffuse_lambert(r))).join(", ")
-                ),
-            );
+            out.insert("value".into(), json_list(rho.map(diffuse_lambert)));
         }
         "oren-nayar-qualitative" | "oren-nayar-full" => {
             let rho = inputs.rgb("--rho", 1.0);
@@ -461,8 +427,8 @@ pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
                     diffuse_oren_nayar_qualitative(r, sigma, a, v, l)
                 }
             });
-            out.insert("sigma", json_number(sigma));
-            out.insert("value", format!("[{}]", values.map(json_number).join(", ")));
+            out.insert("sigma".into(), json_number(sigma));
+            out.insert("value".into(), json_list(values));
         }
         "brdf" => {
             let (ax, ay) = need(alphas, "--alpha, --roughness or --alpha-x and --alpha-y")?;
@@ -485,29 +451,39 @@ pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
             let z = Vec3::new(0.0, 0.0, 1.0);
             let (x, y) = (Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
             let f = brdf_evaluate(&inputs_brdf, z, x, y, need(v, "v")?, need(l, "l")?);
-            out.insert("value", format!("[{}]", f.map(json_number).join(", ")));
+            out.insert("value".into(), json_list(f));
         }
         _ => unreachable!("checked against TERMS above"),
     }
-    let mut json = format!("{{\"term\": \"{term}\"");
-    for (name, value) in [("v", v), ("l", l), ("m", m)] {
-        if let Some(d) = value {
-            let _ = write!(json, ", \"{name}\": {}", json_vec(d));
-        }
-    }
+    // One key each: the term, the input as given, what was evaluated from it (directions
+    // normalised or made from angles, the half vector, α after its clamp), the result.
+    let mut input = Map::new();
     for (flag, values) in &inputs.values {
         let name = flag.trim_start_matches("--").replace('-', "_");
-        let list: Vec<_> = values.iter().map(|x| json_number(*x)).collect();
-        let text = if list.len() == 1 {
-            list[0].clone()
-        } else {
-            format!("[{}]", list.join(", "))
+        let value = match values.as_slice() {
+            [x] => json_number(*x),
+            _ => json_list(values.iter().copied()),
         };
-        let _ = write!(json, ", \"{name}\": {text}");
+        input.insert(name, value);
     }
-    for (name, value) in out {
-        let _ = write!(json, ", \"{name}\": {value}");
+    if let Some(model) = inputs.diffuse {
+        input.insert("diffuse".into(), Value::from(format!("{model:?}")));
     }
-    json.push('}');
-    Ok(json)
+    let mut used = Map::new();
+    for (name, value) in [("v", v), ("l", l), ("m", m)] {
+        if let Some(d) = value {
+            used.insert(name.into(), json_vec(d));
+        }
+    }
+    if let Some((ax, ay)) = alphas {
+        used.insert("alpha_x".into(), json_number(clamp_alpha(ax)));
+        used.insert("alpha_y".into(), json_number(clamp_alpha(ay)));
+    }
+    let json = serde_json::json!({
+        "term": term,
+        "input": input,
+        "used": used,
+        "result": out,
+    });
+    serde_json::to_string_pretty(&json).map_err(|e| usage(format!("cannot write JSON: {e}")))
 }

@@ -215,16 +215,59 @@ fn eval_prints_json_for_a_term() {
         "4.0955",
     ]);
     assert_eq!(code, 0, "{stderr}");
-    let r = stdout
-        .split("\"r\": [")
-        .nth(1)
-        .unwrap()
-        .split(',')
-        .next()
-        .unwrap();
-    let r: f64 = r.trim().parse().unwrap();
+    let json: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let r = json["result"]["r"][0].as_f64().unwrap();
     assert!((r - 0.974_86).abs() < 1e-5, "{stdout}");
-    assert!(stdout.trim_start().starts_with('{') && stdout.trim_end().ends_with('}'));
+    assert_eq!(json["term"], "fresnel-conductor");
+    assert_eq!(json["input"]["eta"], 0.1132);
+}
+
+/// Issue 9, `eval` output: one key for the input as given, one for what was evaluated,
+/// one for the result (a vector input no longer repeats `v`, `l`, `m`); α = 0 says the
+/// clamped α it was evaluated at; a direction given as angles at θ = 90° equals the same
+/// direction given as a vector (n·l exactly 0, not 6e-17).
+#[test]
+fn eval_json_has_one_key_each_and_says_what_it_evaluated() {
+    let run = |args: &[&str]| -> serde_json::Value {
+        let (code, stdout, stderr) = combustion(args);
+        assert_eq!(code, 0, "{stderr}");
+        // serde_json refuses nothing here, but a repeated key would show in the text.
+        for key in ["\"v\":", "\"l\":", "\"m\":"] {
+            assert!(stdout.matches(key).count() <= 2, "{key} repeated: {stdout}");
+        }
+        serde_json::from_str(&stdout).unwrap()
+    };
+    let json = run(&[
+        "eval", "d-ggx", "--v", "0.3,0,1", "--l", "-0.3,0,1", "--alpha", "0",
+    ]);
+    assert_eq!(json["input"]["alpha"], 0.0);
+    assert_eq!(json["used"]["alpha_x"], combustion::optics::ALPHA_MIN);
+    assert_eq!(json["input"]["v"], serde_json::json!([0.3, 0.0, 1.0]));
+    let used_v = json["used"]["v"][2].as_f64().unwrap();
+    assert!((used_v - 1.0 / 1.09f64.sqrt()).abs() < 1e-15, "{json}");
+
+    let angles = run(&[
+        "eval",
+        "brdf",
+        "--theta-v",
+        "30",
+        "--theta-l",
+        "90",
+        "--alpha",
+        "0.5",
+    ]);
+    let vector = run(&[
+        "eval",
+        "brdf",
+        "--theta-v",
+        "30",
+        "--l",
+        "1,0,0",
+        "--alpha",
+        "0.5",
+    ]);
+    assert_eq!(angles["used"]["l"][2], 0.0);
+    assert_eq!(angles["result"], vector["result"], "{angles} {vector}");
 }
 
 #[test]
@@ -245,10 +288,9 @@ fn eval_total_internal_reflection_is_exactly_one() {
         "1.33",
     ]);
     assert_eq!(code, 0);
-    assert!(
-        stdout.contains("\"r\": 1.0,") && stdout.contains("\"rs\": 1.0"),
-        "{stdout}"
-    );
+    let json: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(json["result"]["r"], 1.0, "{stdout}");
+    assert_eq!(json["result"]["rs"], 1.0, "{stdout}");
 }
 
 #[test]
