@@ -1,4 +1,4 @@
-//! Writing frames to files: PNG (8-bit sRGB) and OpenEXR (32-bit float, uncompressed).
+//! Writing frames to files: PNG (8-bit sRGB) and OpenEXR (32-bit float, ZIP-compressed).
 //!
 //! The rule for every output path: an output is a regular file, written to a temporary
 //! name in its folder and renamed into place, so a failure never leaves a half-written
@@ -33,6 +33,8 @@ pub enum OutputError {
     SymlinkLoop { path: PathBuf },
     #[error("cannot encode PNG {path}: {message}")]
     Png { path: PathBuf, message: String },
+    #[error("cannot encode OpenEXR {path}: {message}")]
+    Exr { path: PathBuf, message: String },
     #[error("{path}: {count} pixels given for a {width}x{height} image")]
     SizeMismatch {
         path: PathBuf,
@@ -191,114 +193,42 @@ pub fn write_png(
     })
 }
 
-/// Writes linear RGB radiance as an uncompressed scanline OpenEXR file with 32-bit
-/// float R, G, B channels (alpha dropped).
+/// Writes linear RGB radiance as an OpenEXR file with 32-bit float R, G, B channels
+/// (alpha dropped), ZIP-compressed scan lines (lossless: the file reads back bit for bit),
+/// through the `exr` crate.
 pub fn write_exr(
     path: &Path,
     width: u32,
     height: u32,
     rgba: &[[f32; 4]],
 ) -> Result<(), OutputError> {
+    use exr::prelude::*;
     check_pixel_count(path, width, height, rgba.len())?;
-    let bytes = encode_exr(width, height, rgba);
+    let row = width as usize;
+    let channels = SpecificChannels::rgb(|at: Vec2<usize>| {
+        let [r, g, b, _] = rgba[at.y() * row + at.x()];
+        (r, g, b)
+    });
+    let encoding = Encoding {
+        compression: Compression::ZIP16,
+        blocks: Blocks::ScanLines,
+        line_order: LineOrder::Increasing,
+    };
+    let image = Image::from_encoded_channels((row, height as usize), encoding, channels);
     write_atomically(path, |writer| {
-        writer.write_all(&bytes).map_err(|source| OutputError::Io {
-            path: path.to_path_buf(),
-            source,
-        })
+        image
+            .write()
+            .to_buffered(writer)
+            .map_err(|e| OutputError::Exr {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            })
     })
-}
-
-/// The bytes of an uncompressed RGB float OpenEXR image (OpenEXR file layout 2.0).
-pub fn encode_exr(width: u32, height: u32, rgba: &[[f32; 4]]) -> Vec<u8> {
-    fn attribute(out: &mut Vec<u8>, name: &str, kind: &str, value: &[u8]) {
-        out.extend_from_slice(name.as_bytes());
-        out.push(0);
-        out.extend_from_slice(kind.as_bytes());
-        out.push(0);
-        out.extend_from_slice(&(value.len() as i32).to_le_bytes());
-        out.extend_from_slice(value);
-    }
-    let ints = |values: &[i32]| {
-        values
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect::<Vec<u8>>()
-    };
-    let floats = |values: &[f32]| {
-        values
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect::<Vec<u8>>()
-    };
-    let mut out = Vec::new();
-    out.extend_from_slice(&20000630i32.to_le_bytes()); // magic
-    out.extend_from_slice(&2i32.to_le_bytes()); // version 2, scanline, no flags
-                                                // Channels in alphabetical order, as the format requires: B, G, R; FLOAT = 2.
-    let mut channels = Vec::new();
-    for name in ["B", "G", "R"] {
-        channels.extend_from_slice(name.as_bytes());
-        channels.push(0);
-        channels.extend_from_slice(&2i32.to_le_bytes());
-        channels.extend_from_slice(&[0, 0, 0, 0]); // pLinear, reserved
-        channels.extend_from_slice(&ints(&[1, 1])); // x/y sampling
-    }
-    channels.push(0);
-    attribute(&mut out, "channels", "chlist", &channels);
-    attribute(&mut out, "compression", "compression", &[0]);
-    let window = ints(&[0, 0, width as i32 - 1, height as i32 - 1]);
-    attribute(&mut out, "dataWindow", "box2i", &window);
-    attribute(&mut out, "displayWindow", "box2i", &window);
-    attribute(&mut out, "lineOrder", "lineOrder", &[0]);
-    attribute(&mut out, "pixelAspectRatio", "float", &floats(&[1.0]));
-    attribute(&mut out, "screenWindowCenter", "v2f", &floats(&[0.0, 0.0]));
-    attribute(&mut out, "screenWindowWidth", "float", &floats(&[1.0]));
-    out.push(0); // end of header
-    let line_bytes = 3 * 4 * width as usize;
-    let block_bytes = 8 + line_bytes;
-    let table_start = out.len();
-    let first_block = table_start + 8 * height as usize;
-    for y in 0..height as usize {
-        out.extend_from_slice(&((first_block + y * block_bytes) as u64).to_le_bytes());
-    }
-    for y in 0..height as usize {
-        out.extend_from_slice(&(y as i32).to_le_bytes());
-        out.extend_from_slice(&(line_bytes as i32).to_le_bytes());
-        let row = &rgba[y * width as usize..(y + 1) * width as usize];
-        for channel in [2, 1, 0] {
-            for pixel in row {
-                out.extend_from_slice(&pixel[channel].to_le_bytes());
-            }
-        }
-    }
-    out
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn exr_layout_matches_the_format() {
-        let pixels = [[1.0, 2.0, 3.0, 1.0], [4.0, 5.0, 6.0, 1.0]];
-        let bytes = encode_exr(2, 1, &pixels);
-        assert_eq!(
-            &bytes[..4],
-            &[0x76, 0x2f, 0x31, 0x01],
-            "OpenEXR magic number"
-        );
-        // The offset table's single entry points at the scanline block: y = 0, 24 bytes,
-        // then B B G G R R.
-        let header_end = bytes.len() - (8 + 24) - 8;
-        let offset = u64::from_le_bytes(bytes[header_end..header_end + 8].try_into().unwrap());
-        assert_eq!(offset as usize, header_end + 8);
-        let block = &bytes[offset as usize..];
-        let int = |i: usize| i32::from_le_bytes(block[i..i + 4].try_into().unwrap());
-        let float = |i: usize| f32::from_le_bytes(block[i..i + 4].try_into().unwrap());
-        assert_eq!((int(0), int(4)), (0, 24));
-        let values: Vec<f32> = (0..6).map(|i| float(8 + 4 * i)).collect();
-        assert_eq!(values, [3.0, 6.0, 2.0, 5.0, 1.0, 4.0]);
-    }
 
     #[test]
     fn missing_folder_is_a_clear_error_and_leaves_nothing() {

@@ -68,8 +68,19 @@ fn render_writes_png_and_exr() {
     assert_eq!(&png_bytes[..8], b"\x89PNG\r\n\x1a\n");
     let exr_bytes = std::fs::read(&exr).unwrap();
     assert_eq!(&exr_bytes[..4], &[0x76, 0x2f, 0x31, 0x01]);
-    // Header, 64 offsets, 64 scanlines of 8 + 3·4·96 bytes.
-    assert!(exr_bytes.len() > 64 * 8 + 64 * (8 + 3 * 4 * 96));
+    // 96×64 RGB f32 radiance, ZIP-compressed: it reads back as such (exr crate).
+    let image = exr::prelude::read_first_rgba_layer_from_file(
+        &exr,
+        |resolution, _| (resolution.width(), resolution.height()),
+        |_: &mut (usize, usize), _, _: (f32, f32, f32, f32)| {},
+    )
+    .unwrap();
+    assert_eq!(image.layer_data.channel_data.pixels, (96, 64));
+    assert!(
+        exr_bytes.len() < 96 * 64 * 12,
+        "compressed: {} bytes",
+        exr_bytes.len()
+    );
     // Nothing but the two outputs is left in the folder (no partial files).
     let mut names: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -972,4 +983,39 @@ fn arguments_are_refused_with_why_and_every_command_has_help() {
         stderr.len() < 200,
         "the message echoes the whole number: {stderr}"
     );
+}
+
+/// Issue 9, OpenEXR through the `exr` crate: `--hdr` files are ZIP-compressed and read
+/// back bit for bit (radiance from 0 through subnormal-small to above f16's range).
+#[test]
+fn exr_output_reads_back_bit_for_bit() {
+    use exr::prelude::*;
+    let dir = scratch("exr");
+    let (width, height) = (37u32, 23u32);
+    let pixels: Vec<[f32; 4]> = (0..width * height)
+        .map(|i| {
+            let x = i as f32;
+            [x * 0.013, 1e-30 * x, 70000.0 + x, 1.0]
+        })
+        .collect();
+    let path = dir.join("radiance.exr");
+    combustion::output::write_exr(&path, width, height, &pixels).unwrap();
+    let w = width as usize;
+    let image = read_first_rgba_layer_from_file(
+        &path,
+        |resolution, _| vec![[0.0f32; 3]; resolution.width() * resolution.height()],
+        move |out: &mut Vec<[f32; 3]>, at: Vec2<usize>, (r, g, b, _a): (f32, f32, f32, f32)| {
+            out[at.y() * w + at.x()] = [r, g, b];
+        },
+    )
+    .unwrap();
+    assert_eq!(image.layer_data.encoding.compression, Compression::ZIP16);
+    let read = &image.layer_data.channel_data.pixels;
+    for (a, b) in pixels.iter().zip(read) {
+        assert_eq!(
+            a[..3].iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+            b.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+        );
+    }
+    std::fs::remove_dir_all(dir).unwrap();
 }
