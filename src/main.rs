@@ -205,12 +205,15 @@ fn number<T: std::str::FromStr>(flag: &str, value: &str) -> Result<T, Error> {
     value.parse().map_err(|_| {
         let shown = shortened(value);
         let numeric = value.parse::<f64>().is_ok_and(f64::is_finite);
-        let reason = if numeric && value.starts_with('-') && "-1".parse::<T>().is_err() {
-            "is negative; it takes a number of at least 0"
-        } else if numeric && value.parse::<f64>().is_ok_and(|x| x.fract() == 0.0) {
-            "is out of range"
-        } else {
+        let whole_only = "0.5".parse::<T>().is_err();
+        let reason = if !numeric {
             "is not a valid number"
+        } else if value.starts_with('-') && "-1".parse::<T>().is_err() {
+            "is negative; it takes a number of at least 0"
+        } else if whole_only && value.contains(['.', 'e', 'E']) {
+            "is not written as a whole number (digits only)"
+        } else {
+            "is out of range"
         };
         Error::Usage(format!("{flag}: `{shown}` {reason}"))
     })
@@ -531,12 +534,20 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
             "--report measures the variant sets and light counts itself; it takes no --fresnel, --hdr-format, --specialised, --distribution, --diffuse, --extra-lights or --culling".into(),
         ));
     }
-    // An unreadable previous report is refused before minutes of measuring.
+    // An unreadable previous report and an unwritable report folder are refused before
+    // minutes of measuring.
     let previous = o
         .against
         .as_deref()
         .map(combustion::report::PreviousRun::read)
         .transpose()?;
+    std::fs::create_dir_all(dir).map_err(|e| {
+        Error::Output(output::OutputError::Io {
+            path: dir.to_path_buf(),
+            source: e,
+        })
+    })?;
+    output::check_writable(&dir.join("report.md"))?;
     let (device, _) = device_and_settings(o)?;
     let scenes = if o.scene_given {
         vec![o.scene.clone()]

@@ -44,6 +44,29 @@ pub enum OutputError {
     },
 }
 
+/// A new file beside `path`, `.NAME.KIND-PID-N`, made with `create_new` (never following a
+/// planted link or truncating a file already there: a name in use is skipped).
+fn create_new_beside(path: &Path, kind: &str) -> std::io::Result<(PathBuf, File)> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut last = None;
+    for n in 0..100 {
+        let candidate = path.with_file_name(format!(".{name}.{kind}-{}-{n}", std::process::id()));
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&candidate)
+        {
+            Ok(file) => return Ok((candidate, file)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(last.unwrap_or_else(|| std::io::Error::other("no free temporary name")))
+}
+
 /// The folder `path` is in (`.` for a bare file name).
 fn folder_of(path: &Path) -> PathBuf {
     match path.parent() {
@@ -76,7 +99,15 @@ pub fn check_writable(path: &Path) -> Result<PathBuf, OutputError> {
             }
             Ok(meta) if meta.is_dir() => return Err(OutputError::FolderName { path: named }),
             Ok(meta) if !meta.is_file() => return Err(OutputError::NotRegular { path: named }),
-            Ok(meta) if meta.permissions().readonly() => {
+            // Read-only by its mode bits (which root would override), or not writable by
+            // this user (opened for writing without truncating: nothing changes).
+            Ok(meta)
+                if meta.permissions().readonly()
+                    || std::fs::OpenOptions::new()
+                        .write(true)
+                        .open(&target)
+                        .is_err() =>
+            {
                 return Err(OutputError::ReadOnly { path: named })
             }
             _ => {
@@ -88,11 +119,11 @@ pub fn check_writable(path: &Path) -> Result<PathBuf, OutputError> {
                     });
                 }
                 // The folder takes a new file (the temporary one is made there).
-                let probe = folder.join(format!(".combustion-probe-{}", std::process::id()));
-                File::create(&probe).map_err(|source| OutputError::Io {
-                    path: named.clone(),
-                    source,
-                })?;
+                let (probe, _) =
+                    create_new_beside(&target, "probe").map_err(|source| OutputError::Io {
+                        path: named.clone(),
+                        source,
+                    })?;
                 let _ = std::fs::remove_file(&probe);
                 return Ok(target);
             }
@@ -120,17 +151,19 @@ fn write_atomically(
         path: path.to_path_buf(),
         source,
     };
-    let file_name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let temporary = path.with_file_name(format!(".{file_name}.partial-{}", std::process::id()));
+    let (temporary, file) = create_new_beside(path, "partial").map_err(io)?;
     let result = (|| {
-        let file = File::create(&temporary).map_err(io)?;
+        // The replaced file's permissions carry over (a new file gets the umask's).
+        if let Ok(meta) = std::fs::metadata(path) {
+            file.set_permissions(meta.permissions()).map_err(io)?;
+        }
         let mut writer = BufWriter::new(file);
         write(&mut writer)?;
         writer.flush().map_err(io)?;
-        drop(writer);
+        let file = writer.into_inner().map_err(|e| io(e.into_error()))?;
+        // On disk before it takes the name, so a crash leaves the old file or the new.
+        file.sync_all().map_err(io)?;
+        drop(file);
         std::fs::rename(&temporary, path).map_err(io)
     })();
     if result.is_err() {

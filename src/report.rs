@@ -985,6 +985,12 @@ impl PreviousRun {
                 ))
             })
         };
+        if header.len() < 7 {
+            return Err(problem(format!(
+                "{} columns; a report.csv starts with 7 naming the scene and variant set",
+                header.len()
+            )));
+        }
         let total = column("total_ms")?;
         let errors = [
             column("max_relative_error")?,

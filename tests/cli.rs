@@ -986,7 +986,7 @@ fn arguments_are_refused_with_why_and_every_command_has_help() {
 }
 
 /// Issue 9, OpenEXR through the `exr` crate: `--hdr` files are ZIP-compressed and read
-/// back bit for bit (radiance from 0 through subnormal-small to above f16's range).
+/// back bit for bit (radiance from 0 through 1e-30-small to above f16's range).
 #[test]
 fn exr_output_reads_back_bit_for_bit() {
     use exr::prelude::*;
@@ -1011,6 +1011,7 @@ fn exr_output_reads_back_bit_for_bit() {
     .unwrap();
     assert_eq!(image.layer_data.encoding.compression, Compression::ZIP16);
     let read = &image.layer_data.channel_data.pixels;
+    assert_eq!(read.len(), pixels.len());
     for (a, b) in pixels.iter().zip(read) {
         assert_eq!(
             a[..3].iter().map(|x| x.to_bits()).collect::<Vec<_>>(),

@@ -132,4 +132,34 @@ fn a_transformed_slot_samples_where_the_transform_says() {
         changed > (W * H) as usize / 4,
         "the transform changes the image: {changed}"
     );
+
+    // Two slots with two transforms (base colour and emission): each slot reads its own
+    // row of the table. On the CPU side set 0 carries the first map, set 1 the second.
+    let other = UvTransform {
+        offset: [-0.1, 0.45],
+        rotation: -1.1,
+        scale: [0.6, 2.0],
+    };
+    let with_emission = |mut s: Scene, tex_coord, transform| {
+        let m = &mut s.materials[0];
+        m.emissive_factor = [0.3, 0.3, 0.3];
+        m.emissive_texture = Some(slot(tex_coord, transform));
+        s
+    };
+    let cpu_two = render(&with_emission(
+        scene(slot(0, UvTransform::IDENTITY), mapped, |uv| other.apply(uv)),
+        1,
+        UvTransform::IDENTITY,
+    ));
+    let gpu_two = render(&with_emission(
+        scene(slot(0, transform), same, same),
+        0,
+        other,
+    ));
+    let apart = common::pixels_apart(&cpu_two, &gpu_two);
+    eprintln!("two slots: {apart} pixels apart");
+    assert!(
+        apart <= allowed,
+        "two slots: {apart} pixels differ by more than one step"
+    );
 }

@@ -109,28 +109,27 @@ pub struct Scene {
 }
 
 /// Smallest |[`normalised_axes_determinant`]| of a transform that places a mesh: below it
-/// the transform's axes are so close to coplanar (a scale of 0 on some axis, after any
-/// rotation) that the object has no volume left to shade and its normals are undefined.
-pub const MIN_AXES_DETERMINANT: f32 = 1e-6;
+/// the transform has collapsed an axis (a scale of 0, before or after any rotation) and
+/// the normal matrix, its inverse transpose, would not fit f32 (its entries grow as
+/// 1/determinant). A very flat object (a scale of 1e-7 on one axis) stays well above.
+pub const MIN_AXES_DETERMINANT: f32 = 1e-30;
 
-/// The determinant of `transform`'s linear part with each axis column first scaled to
-/// unit length: its sign is the transform's handedness, its magnitude (0 … 1) how far
-/// the axes are from coplanar, whatever the transform's own scale (a scale of 1e-4
-/// gives 1, as a scale of 1 does; its plain determinant, 1e-12, says nothing about
-/// singularity). NaN when an axis has zero or non-finite length.
+/// The determinant of `transform`'s linear part divided by its largest component
+/// cubed: its sign is the transform's handedness, and its magnitude does not depend on
+/// the transform's own scale (a scale of 1e-4 gives what a scale of 1 gives; the plain
+/// determinant, 1e-12, says nothing about singularity), nor, beyond a factor of at most
+/// 3√3, on the order in which a rotation and a flattening are applied. NaN when the
+/// linear part is zero or not finite.
 pub fn normalised_axes_determinant(transform: &glam::Mat4) -> f32 {
-    let axes = [transform.x_axis, transform.y_axis, transform.z_axis].map(|c| c.truncate());
-    let mut unit = [glam::Vec3::ZERO; 3];
-    for (u, axis) in unit.iter_mut().zip(axes) {
-        // Scaled by the largest component first, so tiny or huge axes neither underflow
-        // nor overflow when squared.
-        let largest = axis.abs().max_element();
-        if !(largest > 0.0 && largest.is_finite()) {
-            return f32::NAN;
-        }
-        *u = (axis / largest).normalize();
+    let linear = glam::Mat3::from_mat4(*transform);
+    let largest = [linear.x_axis, linear.y_axis, linear.z_axis]
+        .iter()
+        .map(|axis| axis.abs().max_element())
+        .fold(0.0f32, f32::max);
+    if !(largest > 0.0 && largest.is_finite()) {
+        return f32::NAN;
     }
-    glam::Mat3::from_cols(unit[0], unit[1], unit[2]).determinant()
+    (linear * (1.0 / largest)).determinant()
 }
 
 /// Whether `transform` cannot place a mesh: not finite, or its axes (scale-relative,
@@ -511,30 +510,36 @@ mod transform_tests {
     #[test]
     fn singularity_is_relative_to_the_transforms_own_scale() {
         let turn = Mat4::from_quat(Quat::from_euler(glam::EulerRot::XYZ, 0.3, 1.1, -0.7));
-        for s in [1e-20_f32, 1e-4, 1.0, 1e4, 1e20] {
+        let at_one = normalised_axes_determinant(&turn);
+        assert!(at_one >= 1.0, "{at_one}");
+        for s in [1e-12_f32, 1e-4, 1.0, 1e4, 1e12] {
             let m = turn * Mat4::from_scale(Vec3::splat(s));
-            assert!((normalised_axes_determinant(&m) - 1.0).abs() < 1e-5, "{s}");
+            let d = normalised_axes_determinant(&m);
+            assert!((d - at_one).abs() < 1e-5 * at_one, "{s}: {d} vs {at_one}");
             assert!(!transform_is_degenerate(&m), "{s}");
             // a mirror keeps its handedness, whatever the scale
             let mirrored = m * Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
-            assert!(
-                (normalised_axes_determinant(&mirrored) + 1.0).abs() < 1e-5,
-                "{s}"
-            );
+            let dm = normalised_axes_determinant(&mirrored);
+            assert!((dm + d).abs() < 1e-5 * at_one, "{s}: {dm}");
         }
-        // a flattened (but not collapsed) object keeps its volume of axes
-        assert!(!transform_is_degenerate(&Mat4::from_scale(Vec3::new(
-            1.0, 1.0, 1e-7
-        ))));
+        // a flattened (but not collapsed) object is kept, flattened before or after a
+        // rotation, with the same measure up to the rotation's largest component
+        let thin = Mat4::from_scale(Vec3::new(1.0, 1.0, 1e-7));
+        for m in [thin, turn * thin, thin * turn] {
+            assert!(!transform_is_degenerate(&m), "{m:?}");
+            let d = normalised_axes_determinant(&m);
+            assert!((1e-7..=6e-7).contains(&d), "{d}");
+        }
         // a scale of 0 on an axis, before or after a rotation
         let flat = Mat4::from_scale(Vec3::new(1.0, 0.0, 1.0));
         assert!(transform_is_degenerate(&flat));
         assert!(transform_is_degenerate(&(turn * flat)));
-        // axes that are not zero but coplanar
+        assert!(transform_is_degenerate(&(flat * turn)));
+        // axes that are not zero but exactly coplanar
         let coplanar = Mat4::from_cols(
             Vec4::new(1.0, 0.0, 0.0, 0.0),
             Vec4::new(0.0, 1.0, 0.0, 0.0),
-            Vec4::new(1.0, 1.0, 1e-8, 0.0),
+            Vec4::new(1.0, 1.0, 0.0, 0.0),
             Vec4::W,
         );
         assert!(transform_is_degenerate(&coplanar));

@@ -41,6 +41,8 @@ fn write_scene(dir: &Path, materials: usize, buffer_uri: &str, write_buffer: boo
     let png = small_png();
     let mut data = positions.clone();
     data.extend_from_slice(&png);
+    // Padding no view covers, so the buffer (16 KiB) is larger than the glTF file.
+    data.resize(data.len() + 16 * 1024, 0);
     if write_buffer {
         std::fs::write(dir.join("scene.bin"), &data).unwrap();
     }
@@ -89,13 +91,20 @@ fn one_image_source_is_decoded_once_and_the_budget_holds() {
     }
     assert_eq!(scene.texture_table().images.len(), 1);
 
-    // 16 pixels decoded; a budget of 15 refuses it, naming the option.
-    let tight = ImportOptions {
-        max_decoded_pixels: 15,
-        ..ImportOptions::default()
-    };
-    let error = import(&path, &tight).unwrap_err().to_string();
-    assert!(error.contains("max_decoded_pixels"), "{error}");
+    // 16 pixels decoded and 16 in the scene's copy: 32 fit, 31 and 15 do not.
+    for (budget, fits) in [(15, false), (31, false), (32, true)] {
+        let options = ImportOptions {
+            max_decoded_pixels: budget,
+            ..ImportOptions::default()
+        };
+        match import(&path, &options) {
+            Ok(_) => assert!(fits, "{budget}"),
+            Err(e) => {
+                assert!(!fits, "{budget}: {e}");
+                assert!(e.to_string().contains("max_decoded_pixels"), "{e}");
+            }
+        }
+    }
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -121,14 +130,21 @@ fn only_regular_files_of_a_bounded_size_are_read() {
         .unwrap_err()
         .to_string();
     assert!(error.contains("not a regular file"), "{error}");
-    // A regular buffer over the size limit, refused before it is read.
+    // A regular buffer over the size limit, refused before it is read: the limit lies
+    // between the glTF file's size and the buffer's.
     let path = write_scene(&dir, 1, "scene.bin", true);
+    let gltf_size = std::fs::metadata(&path).unwrap().len();
+    let buffer_size = std::fs::metadata(dir.join("scene.bin")).unwrap().len();
+    assert!(gltf_size < 8 * 1024 && buffer_size > 16 * 1024);
     let small = ImportOptions {
-        max_file_bytes: 64,
+        max_file_bytes: 8 * 1024,
         ..ImportOptions::default()
     };
     let error = import(&path, &small).unwrap_err().to_string();
-    assert!(error.contains("max_file_bytes"), "{error}");
+    assert!(
+        error.contains("scene.bin") && error.contains("max_file_bytes"),
+        "{error}"
+    );
     // The glTF file itself too.
     let tiny = ImportOptions {
         max_file_bytes: 16,
@@ -141,8 +157,16 @@ fn only_regular_files_of_a_bounded_size_are_read() {
 
 #[test]
 fn too_many_materials_are_refused_before_any_work() {
+    // 70,000 materials, each used by a primitive of one mesh (the importer keeps the
+    // used ones only, so unused ones would be no problem).
+    let primitives: Vec<_> = (0..70_000)
+        .map(|m| json!({ "attributes": { "POSITION": 0 }, "material": m }))
+        .collect();
     let gltf = json!({
         "asset": { "version": "2.0" },
+        "meshes": [{ "primitives": primitives }],
+        "accessors": [{ "componentType": 5126, "count": 3, "type": "VEC3",
+                        "min": [0, 0, 0], "max": [0, 0, 0] }],
         "materials": vec![json!({}); 70_000],
     });
     let bytes = serde_json::to_vec(&gltf).unwrap();

@@ -160,3 +160,17 @@ fn a_camera_that_cannot_show_the_scene_is_warned_about() {
         "{short_far:?}"
     );
 }
+
+/// An accessor with neither a buffer view nor sparse values is all zeros, valid glTF
+/// (gltf-json's validation asks for a buffer view; the importer does not).
+#[test]
+fn an_accessor_without_a_buffer_view_or_sparse_values_is_zeros() {
+    let mut g = triangle(json!({}));
+    g["accessors"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({ "componentType": 5126, "count": 3, "type": "VEC2" }));
+    g["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(1);
+    let scene = import(&g).unwrap_or_else(|e| panic!("{e}"));
+    assert!(scene.meshes[0].vertices.iter().all(|v| v.uv == [0.0, 0.0]));
+}

@@ -324,6 +324,19 @@ impl Importer<'_> {
             ));
             return Ok(None);
         }
+        // The tangent frame follows TEXCOORD_0 as it is: a tangent-space texture read on
+        // another set, rotated or mirrored is sampled right but turned wrong.
+        let turns = transform.rotation != 0.0 || transform.scale.iter().any(|&s| s < 0.0);
+        if matches!(slot, TextureSlot::Normal | TextureSlot::Anisotropy)
+            && (tex_coord != 0 || turns)
+        {
+            self.warn(format!(
+                "material {material}: the {} texture is read on set {tex_coord} with rotation {} and scale {:?}; its tangent frame follows TEXCOORD_0 untransformed, so its directions are turned",
+                slot.name(),
+                transform.rotation,
+                transform.scale
+            ));
+        }
         let root = self.root;
         let texture = root.textures.get(texture_index).ok_or_else(|| {
             self.material_error(
@@ -410,18 +423,15 @@ impl Importer<'_> {
                         },
                         DecodeError::Other(message) => err(message),
                     })?;
-                self.decoded_pixels += u64::from(decoded.width) * u64::from(decoded.height);
-                if self.decoded_pixels > self.options.max_decoded_pixels {
-                    return Err(err(format!(
-                        "decoding it brings the scene's decoded images to {} pixels, over the budget of {} (ImportOptions::max_decoded_pixels)",
-                        self.decoded_pixels, self.options.max_decoded_pixels
-                    )));
-                }
+                self.charge_pixels(&decoded).map_err(err)?;
                 let decoded = Rc::new(decoded);
                 self.decoded.insert(source.clone(), decoded.clone());
                 decoded
             }
         };
+        // The scene's image is a copy of the decoded pixels (one per colour space it is
+        // used in), held beside the decode cache: it counts against the budget too.
+        self.charge_pixels(&decoded).map_err(err)?;
         let display_name = name.clone().unwrap_or_else(|| match &json_image.uri {
             Some(uri) if !uri.starts_with("data:") => uri.clone(),
             _ => format!("image {index}"),
@@ -441,6 +451,20 @@ impl Importer<'_> {
 /// The dielectric IOR KHR_materials_ior's `ior: 0` stands for (its Fresnel term is 1 at
 /// every angle: an infinite IOR; this is the optics crate's `ETA_MAX`).
 pub const KHR_IOR_ZERO_MEANS: f32 = 1.0e4;
+
+impl Importer<'_> {
+    /// Counts `decoded`'s pixels against `ImportOptions::max_decoded_pixels`.
+    fn charge_pixels(&mut self, decoded: &Decoded) -> Result<(), String> {
+        self.decoded_pixels += u64::from(decoded.width) * u64::from(decoded.height);
+        if self.decoded_pixels > self.options.max_decoded_pixels {
+            return Err(format!(
+                "it brings the scene's decoded image pixels (decodes and their copies) to {}, over the budget of {} (ImportOptions::max_decoded_pixels)",
+                self.decoded_pixels, self.options.max_decoded_pixels
+            ));
+        }
+        Ok(())
+    }
+}
 
 /// The importer's view of a core textureInfo.
 fn info_of(t: &json::texture::Info) -> TextureInfo {

@@ -266,7 +266,6 @@ fn parse_conductor(
     }
 }
 
-/// KHR_materials_anisotropy.
 /// A textureInfo as the importer reads it.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct TextureInfo {
@@ -317,6 +316,7 @@ pub(crate) fn parse_texture_transform(
     Ok((transform, tex_coord))
 }
 
+/// KHR_materials_anisotropy.
 #[derive(Debug, Default, PartialEq)]
 pub(crate) struct Anisotropy {
     pub strength: f32,

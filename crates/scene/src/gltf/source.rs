@@ -369,7 +369,6 @@ pub(crate) fn encode_base64(bytes: &[u8]) -> String {
     out
 }
 
-/// Reads a resolved URI's bytes.
 /// Reads `path` if it is a regular file (after symlinks) of at most `limit` bytes, both
 /// checked before reading: a device, FIFO or socket is refused without being opened
 /// (so `/dev/zero` is not read without end and a FIFO does not block), and the read
@@ -404,6 +403,7 @@ pub(crate) fn read_regular_file(path: &Path, limit: u64) -> std::io::Result<Vec<
     Ok(bytes)
 }
 
+/// Reads a resolved URI's bytes (a file within `limit` bytes, as [`read_regular_file`]).
 pub(crate) fn read_resolved(
     uri: &str,
     resolved: Resolved,
