@@ -12,8 +12,9 @@ cd "$(dirname "$0")/.."
 # is not needed: the crate ships them); for `combustion view` and its test, the X libraries
 # winit loads at run time and a virtual X server (Xvfb; xauth for xvfb-run); a headless
 # Wayland compositor (weston) for the viewer's Wayland test (it brings libwayland-client,
-# which winit loads at run time on Wayland).
-PACKAGES=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake make python3 g++ pkg-config
+# which winit loads at run time on Wayland); coreutils for mkfifo in the output-path tests
+# (Essential on Debian, listed so a slimmed image says so).
+PACKAGES=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake make python3 g++ pkg-config coreutils
   xvfb xauth xdotool procps libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0
   weston libwayland-client0 libxkbcommon0)
 

@@ -229,12 +229,26 @@ fn max_error(value: &str) -> Result<f64, Error> {
     }
 }
 
-fn on_off(flag: &str, value: &str) -> Result<bool, Error> {
-    match value {
-        "on" => Ok(true),
-        "off" => Ok(false),
-        other => Err(Error::Usage(format!("{flag}: `{other}` is not on or off"))),
+/// The option `value` names among `options` (name, value); otherwise a usage error
+/// listing the names: "`--flag: `x` is not a, b or c`".
+fn choice<T: Copy>(flag: &str, value: &str, options: &[(&str, T)]) -> Result<T, Error> {
+    if let Some(&(_, chosen)) = options.iter().find(|(name, _)| *name == value) {
+        return Ok(chosen);
     }
+    let names: Vec<&str> = options.iter().map(|(name, _)| *name).collect();
+    let listed = match names.split_last() {
+        Some((last, [])) => (*last).to_owned(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    };
+    Err(Error::Usage(format!(
+        "{flag}: `{}` is not {listed}",
+        shortened(value)
+    )))
+}
+
+fn on_off(flag: &str, value: &str) -> Result<bool, Error> {
+    choice(flag, value, &[("on", true), ("off", false)])
 }
 
 fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
@@ -288,48 +302,27 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
             "--hdr" if command == "render" => o.hdr = Some(PathBuf::from(value()?)),
             "--exposure" => o.exposure = number(flag, value()?)?,
             "--fresnel" => {
-                o.fresnel = match value()? {
-                    "full" => FresnelModel::Full,
-                    "schlick" => FresnelModel::Schlick,
-                    "f82" => FresnelModel::F82,
-                    other => {
-                        return Err(Error::Usage(format!(
-                            "--fresnel: `{other}` is not full, schlick or f82"
-                        )))
-                    }
-                }
+                let models = [FresnelModel::Full, FresnelModel::Schlick, FresnelModel::F82];
+                o.fresnel = choice(flag, value()?, &models.map(|m| (m.name(), m)))?;
             }
             "--distribution" if command == "render" || command == "bench" => {
-                o.distribution = match value()? {
-                    "ggx" => Distribution::Ggx,
-                    "beckmann" => Distribution::Beckmann,
-                    other => {
-                        return Err(Error::Usage(format!(
-                            "--distribution: `{other}` is not ggx or beckmann"
-                        )))
-                    }
-                }
+                let kinds = [Distribution::Ggx, Distribution::Beckmann];
+                o.distribution = choice(flag, value()?, &kinds.map(|d| (d.name(), d)))?;
             }
             "--diffuse" if command == "render" || command == "bench" => {
-                o.diffuse = match value()? {
-                    "material" => None,
-                    other => Some(DiffuseModel::parse(other).ok_or_else(|| {
-                        Error::Usage(format!(
-                            "--diffuse: `{other}` is not material, lambert, oren-nayar-qualitative or oren-nayar-full"
-                        ))
-                    })?),
-                }
+                let mut options = vec![("material", None)];
+                options.extend(DiffuseModel::ALL.map(|m| (m.name(), Some(m))));
+                o.diffuse = choice(flag, value()?, &options)?;
             }
             "--hdr-format" => {
-                o.hdr_format = match value()? {
-                    "f16" => HdrFormat::Rgba16Float,
-                    "f32" => HdrFormat::Rgba32Float,
-                    other => {
-                        return Err(Error::Usage(format!(
-                            "--hdr-format: `{other}` is not f16 or f32"
-                        )))
-                    }
-                }
+                o.hdr_format = choice(
+                    flag,
+                    value()?,
+                    &[
+                        ("f16", HdrFormat::Rgba16Float),
+                        ("f32", HdrFormat::Rgba32Float),
+                    ],
+                )?;
             }
             "--frames" if command == "bench" || command == "view" => {
                 o.frames = number(flag, value()?)?;
@@ -353,16 +346,16 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
                 }
             }
             "--culling" if command == "bench" => {
-                o.culling = match value()? {
-                    "auto" => combustion::renderer::LightCulling::Auto,
-                    "always" => combustion::renderer::LightCulling::Always,
-                    "never" => combustion::renderer::LightCulling::Never,
-                    other => {
-                        return Err(Error::Usage(format!(
-                            "--culling: `{other}` is not auto, always or never"
-                        )))
-                    }
-                }
+                use combustion::renderer::LightCulling;
+                o.culling = choice(
+                    flag,
+                    value()?,
+                    &[
+                        ("auto", LightCulling::Auto),
+                        ("always", LightCulling::Always),
+                        ("never", LightCulling::Never),
+                    ],
+                )?;
             }
             "--frames-in-flight" if command == "bench" || command == "view" => {
                 o.frames_in_flight = number(flag, value()?)?;

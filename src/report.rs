@@ -446,6 +446,10 @@ pub fn measure(
                     plain_ggx: spreads[2],
                 });
             }
+            // What every set is measured against: one f64 reference per scene and size.
+            let inputs = FrameInputs::of_scene(&gpu, 1.0);
+            let reference = ReferenceShading::new(&gpu.scene, &inputs, desc.width, desc.height);
+            let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
             for set in &sets {
                 progress(
                     rows.len() + floors.len() + scaling.len(),
@@ -455,7 +459,6 @@ pub fn measure(
                 set.apply(renderer);
                 renderer.prepare(&gpu)?;
                 // The error of one frame (read back), which is also the warm-up.
-                let inputs = FrameInputs::of_scene(&gpu, 1.0);
                 let frame = renderer.render_with(
                     &gpu,
                     &inputs,
@@ -466,8 +469,6 @@ pub fn measure(
                         gbuffer: true,
                     },
                 )?;
-                let reference = ReferenceShading::new(&gpu.scene, &inputs, desc.width, desc.height);
-                let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
                 let map = error_map(&frame, &reference, threads);
                 let flip_mean = flip_against_reference(&frame, &map, inputs.exposure);
                 let timings = time_frames(renderer, &gpu, desc.width, desc.height, desc.frames)?;
@@ -672,23 +673,19 @@ pub fn csv(rows: &[ReportRow]) -> String {
         "scene,fresnel,hdr,pipeline,masking,distribution,diffuse,frames,gbuffer_ms,gbuffer_p10,gbuffer_p90,lighting_ms,lighting_p10,lighting_p90,output_ms,output_p10,output_p90,total_ms,total_p10,total_p90,max_relative_error,mean_relative_error,rms_relative_error,pixels_compared,flip_mean\n",
     );
     for r in rows {
-        let name = r.set.name();
-        let parts: Vec<&str> = name.split('/').collect();
+        // The error columns as PreviousRun::compare reads them back.
+        let (_, [max, mean, rms, flip]) = csv_key_and_errors(r);
         let _ = write!(
             out,
             "{},{},{}",
             csv_field(&r.scene),
-            parts.join(","),
+            r.set.name().replace('/', ","),
             r.frames
         );
         for s in [r.gbuffer, r.lighting, r.output, r.total] {
             let _ = write!(out, ",{:.3},{:.3},{:.3}", s.median, s.p10, s.p90);
         }
-        let _ = writeln!(
-            out,
-            ",{:.3e},{:.3e},{:.3e},{},{:.3e}",
-            r.max_relative, r.mean_relative, r.rms_relative, r.compared, r.flip_mean
-        );
+        let _ = writeln!(out, ",{max},{mean},{rms},{},{flip}", r.compared);
     }
     out
 }

@@ -25,16 +25,12 @@ impl DiffuseModel {
         }
     }
 
-    /// The model of a [`DiffuseModel::name`].
-    pub fn parse(name: &str) -> Option<Self> {
-        [
-            Self::Lambert,
-            Self::OrenNayarQualitative,
-            Self::OrenNayarFull,
-        ]
-        .into_iter()
-        .find(|m| m.name() == name)
-    }
+    /// Every model, in discriminant order.
+    pub const ALL: [DiffuseModel; 3] = [
+        Self::Lambert,
+        Self::OrenNayarQualitative,
+        Self::OrenNayarFull,
+    ];
 }
 
 /// A complex index of refraction η + ik per RGB channel.
