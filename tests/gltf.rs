@@ -222,6 +222,7 @@ fn render_emissive_plane(emitted: [f32; 3], hdr: HdrFormat) -> combustion::rende
             far: 100.0,
         },
         outside_ior: 1.0,
+        environment: None,
     };
     let settings = RendererSettings {
         hdr_format: hdr,

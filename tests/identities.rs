@@ -40,6 +40,7 @@ fn lit_plane(material: Material, outside_ior: f32, irradiance: [f32; 3]) -> Scen
             far: 100.0,
         },
         outside_ior,
+        environment: None,
     }
 }
 

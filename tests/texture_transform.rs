@@ -81,6 +81,7 @@ fn scene(
             far: 10.0,
         },
         outside_ior: 1.0,
+        environment: None,
     }
 }
 

@@ -155,6 +155,7 @@
 
 pub mod brdf;
 pub mod diffuse;
+pub mod environment;
 pub mod fresnel;
 pub mod microfacet;
 pub mod real;

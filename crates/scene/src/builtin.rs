@@ -129,6 +129,7 @@ fn grid_7x7() -> Scene {
             far: 100.0,
         },
         outside_ior: 1.0,
+        environment: None,
     }
 }
 
@@ -213,6 +214,7 @@ fn spheres() -> Scene {
             far: 100.0,
         },
         outside_ior: 1.0,
+        environment: None,
     }
 }
 
@@ -375,6 +377,7 @@ fn hard_cases() -> Scene {
             far: 100.0,
         },
         outside_ior: 1.0,
+        environment: None,
     }
 }
 
@@ -448,6 +451,7 @@ fn sphere_grid(
         lights,
         camera,
         outside_ior,
+        environment: None,
     }
 }
 

@@ -11,6 +11,7 @@
 
 mod builtin;
 mod camera;
+mod environment;
 mod error;
 pub mod gltf;
 mod material;
@@ -18,6 +19,9 @@ mod mesh;
 
 pub use builtin::{builtin_scene, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
 pub use camera::Camera;
+pub use environment::{
+    studio_radiance, Environment, STUDIO_BOXES, STUDIO_GROUND, STUDIO_SKY,
+};
 pub use error::SceneError;
 pub use material::{
     conductor_from_reflectivity, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Material,
@@ -106,6 +110,8 @@ pub struct Scene {
     /// Index of refraction of the medium the scene sits in (air ≈ 1.0, water ≈ 1.33);
     /// a material may override it.
     pub outside_ior: f32,
+    /// Light from every direction besides `lights` (image-based lighting), or none.
+    pub environment: Option<Environment>,
 }
 
 /// Smallest |[`normalised_axes_determinant`]| of a transform that places a mesh: below it
@@ -175,6 +181,9 @@ impl Scene {
         }
         for material in &self.materials {
             material.validate()?;
+        }
+        if let Some(environment) = &self.environment {
+            environment.validate()?;
         }
         for (i, object) in self.objects.iter().enumerate() {
             if object.mesh >= self.meshes.len() {

@@ -244,6 +244,7 @@ fn textured_scene() -> Scene {
             far: 50.0,
         },
         outside_ior: 1.0,
+        environment: None,
     }
 }
 
@@ -367,6 +368,7 @@ fn optics_scene() -> Scene {
             far: 100.0,
         },
         outside_ior: 1.33,
+        environment: None,
     }
 }
 

@@ -565,6 +565,7 @@ impl Importer<'_> {
             lights,
             camera,
             outside_ior,
+            environment: None,
         };
         scene.validate().map_err(ImportProblem::Scene)?;
 
