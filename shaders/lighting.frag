@@ -25,6 +25,92 @@ layout(push_constant) uniform LightingPush {
 #include "debug_views.glsl"
 #endif
 
+#ifdef ENVIRONMENT
+#include "environment.glsl"
+
+// Bilinear lookup in material `material`'s albedo table (environment_albedo.comp), part
+// `part` (0: specular, 1: diffuse), at (n·v, r); cell-centred, clamped at the edges.
+vec4 environment_table(uint material, uint part, vec2 coord) {
+    const uint size = ENVIRONMENT_TABLE_SIZE;
+    vec2 x = clamp(coord * float(size) - 0.5, vec2(0.0), vec2(float(size - 1u)));
+    uvec2 i0 = uvec2(x);
+    uvec2 i1 = min(i0 + 1u, uvec2(size - 1u));
+    vec2 f = x - vec2(i0);
+    uint base = material * size * size;
+    vec4 a = environment_albedo[(base + i0.y * size + i0.x) * 2u + part];
+    vec4 b = environment_albedo[(base + i0.y * size + i1.x) * 2u + part];
+    vec4 c = environment_albedo[(base + i1.y * size + i0.x) * 2u + part];
+    vec4 d = environment_albedo[(base + i1.y * size + i1.x) * 2u + part];
+    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+}
+
+// The same in per-code table `table` (environment_code_albedo.comp), code `code`.
+float environment_code_table(uint table, uint code, vec2 coord) {
+    const uint size = ENVIRONMENT_CODE_TABLE_SIZE;
+    vec2 x = clamp(coord * float(size) - 0.5, vec2(0.0), vec2(float(size - 1u)));
+    uvec2 i0 = uvec2(x);
+    uvec2 i1 = min(i0 + 1u, uvec2(size - 1u));
+    vec2 f = x - vec2(i0);
+    uint base = (table * 256u + code) * size * size;
+    float a = environment_code_albedo[base + i0.y * size + i0.x];
+    float b = environment_code_albedo[base + i0.y * size + i1.x];
+    float c = environment_code_albedo[base + i1.y * size + i0.x];
+    float d = environment_code_albedo[base + i1.y * size + i1.x];
+    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+}
+
+// The split-sum environment term (combustion_renderer::environment): the prefiltered
+// radiance along the mirror direction times the material's specular directional albedo
+// (full Fresnel), plus the cosine-weighted mean radiance about n times its diffuse
+// albedo ρ D1 + ρ² D2. Anisotropic pixels use their isotropic roughness r.
+vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs m, BrdfView view,
+                          vec3 n, vec3 v, float roughness, vec3 base_color_codes) {
+    float nv = view.v.z;
+    if (!(nv > 0.0)) {
+        return vec3(0.0);
+    }
+#ifndef NO_ANISOTROPY
+    // An anisotropic lobe is looked up (tables and cube) at the roughness of its mean α.
+    roughness = sqrt(0.5 * (view.ax + view.ay));
+#endif
+    vec2 coord = vec2(nv, roughness);
+    vec4 specular = environment_table(material_index, 0u, coord);
+    vec4 diffuse = environment_table(material_index, 1u, coord);
+    vec3 conductor = specular.rgb;
+    if ((material.diffuse_model_flags.y & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR) != 0u) {
+        uint table = environment_code_table_of_material[material_index];
+        uvec3 code = uvec3(round(base_color_codes * 255.0));
+        conductor = vec3(environment_code_table(table, code.r, coord),
+                         environment_code_table(table, code.g, coord),
+                         environment_code_table(table, code.b, coord));
+    }
+    float metal = view.metal;
+    vec3 rho = clamp(m.base_color, vec3(0.0), vec3(1.0));
+    vec3 specular_albedo = (1.0 - metal) * specular.a + metal * conductor;
+    vec3 diffuse_albedo = (1.0 - metal) * (rho * diffuse.x + rho * rho * diffuse.y);
+    // The lookup direction: for anisotropic pixels the reflection about a normal bent
+    // towards the one the stretched lobe favours (McAuley 2015, as Filament does); then
+    // the lobe's dominant direction, pulled from the mirror direction towards the normal
+    // as roughness grows (Lagarde & de Rousiers 2014, eq. 55).
+    vec3 lookup_normal = n;
+#ifndef NO_ANISOTROPY
+    float strength = view.ax != view.ay ? abs(view.ax - view.ay) / max(view.ax, view.ay) : 0.0;
+    if (strength > 0.0) {
+        vec3 direction = view.ax > view.ay ? view.frame[1] : view.frame[0];
+        vec3 anisotropic_normal = cross(cross(direction, v), direction);
+        float bend = strength * clamp(5.0 * roughness, 0.0, 1.0);
+        lookup_normal = normalize(mix(n, anisotropic_normal, bend));
+    }
+#endif
+    float alpha = roughness * roughness;
+    float smoothness = 1.0 - alpha;
+    vec3 r = normalize(mix(n, reflect(-v, lookup_normal), smoothness * (sqrt(smoothness) + alpha)));
+    float lod = clamp(roughness, 0.0, 1.0) * float(textureQueryLevels(environment_specular) - 1);
+    return textureLod(environment_specular, r, lod).rgb * specular_albedo
+         + textureLod(environment_irradiance, n, 0.0).rgb * diffuse_albedo;
+}
+#endif
+
 layout(location = 0) out vec4 out_radiance;
 
 void main() {
@@ -192,6 +278,9 @@ void main() {
         }
         radiance += brdf_evaluate_view(m, view, l) * irradiance * n_dot_l;
     }
+#ifdef ENVIRONMENT
+    radiance += environment_radiance(material, md.x, m, view, view.frame[2], normalize(v), nra.z, base_metal.rgb);
+#endif
 #ifdef EMISSIVE
     radiance += texelFetch(gbuffer_emissive, pixel, 0).rgb;
 #endif

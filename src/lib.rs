@@ -87,8 +87,9 @@ impl SceneSource {
 
     /// Builds or imports the scene. glTF files (.gltf, .glb) go through
     /// [`combustion_scene::gltf::import`] with default options (external URIs outside the
-    /// scene's folder refused); warnings go to the log. A scene without lights gets
-    /// [`default_light_rig`].
+    /// scene's folder refused); warnings go to the log. A file without lights is lit by
+    /// the built-in studio environment ([`combustion_scene::Environment::Studio`]; the
+    /// camera-relative [`default_light_rig`] is the command line's `--light-rig`).
     pub fn load(&self) -> Result<Scene, Error> {
         self.load_with(&ImportOptions::default())
     }
@@ -121,12 +122,12 @@ impl SceneSource {
                     Some(i) => cameras.rotate_left(i),
                     None => cameras.insert(0, scene.camera),
                 }
-                if scene.lights.is_empty() {
+                if scene.lights.is_empty() && scene.environment.is_none() {
                     log::warn!(
-                        "{}: the scene has no lights; adding the default camera-relative light rig",
+                        "{}: the scene has no lights; lighting it with the studio environment",
                         path.display()
                     );
-                    scene.lights = default_light_rig(&scene.camera);
+                    scene.environment = Some(combustion_scene::Environment::Studio);
                 }
                 Ok((scene, cameras))
             }

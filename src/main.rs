@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use combustion::renderer::{Distribution, FresnelModel, HdrFormat, Readback, RendererSettings};
 use combustion::scene::gltf::{self, ImportOptions};
-use combustion::scene::{DiffuseModel, Light, Material, Scene, BUILTIN_SCENES};
+use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, Spectrum};
 use combustion::vk::{DeviceDesc, DeviceSelector};
 use combustion::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
@@ -20,11 +20,13 @@ USAGE:
   combustion render [SCENE] [-o OUT.png] [--hdr OUT.exr] [--width N] [--height N]
                     [--exposure X] [--hdr-format f16|f32] [--fresnel full|schlick|f82]
                     [--distribution ggx|beckmann] [--diffuse MODEL] [--max-error E]
+                    [--environment studio|none|uniform:R,G,B] [--light-rig]
                     [--device SEL] [--validate]
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
                     [--hdr-format f16|f32] [--fresnel full|schlick|f82] [--specialised on|off]
                     [--distribution ggx|beckmann] [--diffuse MODEL]
                     [--extra-lights N] [--culling auto|always|never]
+                    [--environment studio|none|uniform:R,G,B] [--light-rig]
                     [--report DIR [--against PREVIOUS_DIR]]
                     [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
@@ -44,7 +46,10 @@ USAGE:
   combustion help
 
 SCENE is builtin:NAME (see below; default builtin:spheres) or a glTF file (.gltf or
-.glb; a file without lights gets a default camera-relative light rig).
+.glb; a file without lights is lit by the built-in studio environment).
+--environment lights the scene by the studio (an analytic sky, ground and two soft
+boxes), a uniform radiance (W/sr/m² per channel), or none; --light-rig adds the
+camera-relative key and fill lights (the earlier default for files without lights).
 --device SEL picks a Vulkan device by index or by part of its name (e.g. llvmpipe);
 the COMBUSTION_DEVICE environment variable does the same. --validate turns on the
 Khronos validation layer and fails if it reports anything.
@@ -187,6 +192,11 @@ struct Options {
     extra_lights: usize,
     /// `bench`: when frames cull their lights.
     culling: combustion::renderer::LightCulling,
+    /// `render`, `bench`: the environment in place of the scene's own (`Some(None)`:
+    /// none).
+    environment: Option<Option<Environment>>,
+    /// `render`, `bench`: add the camera-relative light rig.
+    light_rig: bool,
     /// A scene was named on the command line.
     scene_given: bool,
     device: Option<DeviceSelector>,
@@ -247,6 +257,46 @@ fn choice<T: Copy>(flag: &str, value: &str, options: &[(&str, T)]) -> Result<T, 
     )))
 }
 
+/// `--environment`: `studio`, `none` or `uniform:R,G,B` (radiance per channel).
+fn environment_option(flag: &str, value: &str) -> Result<Option<Environment>, Error> {
+    if let Some(rgb) = value.strip_prefix("uniform:") {
+        let parts: Vec<&str> = rgb.split(',').collect();
+        let channel = |text: &str| -> Result<f32, Error> { number(flag, text) };
+        let radiance = match parts[..] {
+            [r, g, b] => [channel(r)?, channel(g)?, channel(b)?],
+            [l] => [channel(l)?; 3],
+            _ => {
+                return Err(Error::Usage(format!(
+                    "{flag}: `{}` is not uniform:L or uniform:R,G,B",
+                    shortened(value)
+                )))
+            }
+        };
+        return Ok(Some(Environment::Uniform(radiance)));
+    }
+    match value {
+        "studio" => Ok(Some(Environment::Studio)),
+        "none" => Ok(None),
+        _ => Err(Error::Usage(format!(
+            "{flag}: `{}` is not studio, none or uniform:R,G,B",
+            shortened(value)
+        ))),
+    }
+}
+
+/// The scene with `--environment` and `--light-rig` applied.
+fn lit_as_asked(mut scene: Scene, o: &Options) -> Scene {
+    if let Some(environment) = &o.environment {
+        scene.environment = environment.clone();
+    }
+    if o.light_rig {
+        scene
+            .lights
+            .extend(combustion::default_light_rig(&scene.camera));
+    }
+    scene
+}
+
 fn on_off(flag: &str, value: &str) -> Result<bool, Error> {
     choice(flag, value, &[("on", true), ("off", false)])
 }
@@ -277,6 +327,8 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         max_error: None,
         extra_lights: 0,
         culling: combustion::renderer::LightCulling::Auto,
+        environment: None,
+        light_rig: false,
         scene_given: false,
         device: None,
         validate: false,
@@ -314,6 +366,10 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
                 options.extend(DiffuseModel::ALL.map(|m| (m.name(), Some(m))));
                 o.diffuse = choice(flag, value()?, &options)?;
             }
+            "--environment" if command == "render" || command == "bench" => {
+                o.environment = Some(environment_option(flag, value()?)?);
+            }
+            "--light-rig" if command == "render" || command == "bench" => o.light_rig = true,
             "--hdr-format" => {
                 o.hdr_format = choice(
                     flag,
@@ -446,7 +502,7 @@ fn render(o: &Options) -> Result<(), Error> {
             )));
         }
     }
-    let scene = o.scene.load()?;
+    let scene = lit_as_asked(o.scene.load()?, o);
     let (device, mut settings) = device_and_settings(o)?;
     // An accuracy budget: the fastest variant set within it, measured on this scene at
     // this size (5 frames each).
@@ -607,7 +663,8 @@ fn bench(o: &Options) -> Result<(), Error> {
             "--against compares a --report run with an earlier one; give --report DIR too".into(),
         ));
     }
-    let scene = combustion::with_localised_lights(&o.scene.load()?, o.extra_lights);
+    let scene =
+        combustion::with_localised_lights(&lit_as_asked(o.scene.load()?, o), o.extra_lights);
     let mut headless = headless(o)?;
     let device_name = {
         let renderer = headless.renderer();
@@ -1097,11 +1154,11 @@ fn info(args: &[String]) -> Result<(), CliError> {
             if !scene.name.is_empty() {
                 outln!("scene: {}", scene.name);
             }
-            if scene.lights.is_empty() {
+            if scene.lights.is_empty() && scene.environment.is_none() {
                 // What `render` does with such a file (SceneSource::load).
-                scene.lights = combustion::default_light_rig(&scene.camera);
+                scene.environment = Some(Environment::Studio);
                 outln!(
-                    "note: the file has no lights; render adds the default camera-relative light rig (listed below)"
+                    "note: the file has no lights; render lights it with the studio environment (--light-rig adds the camera-relative key and fill lights)"
                 );
             }
             scene
@@ -1216,6 +1273,14 @@ fn describe_scene(scene: &Scene) -> String {
             describe_material(m, scene.outside_ior_of(m))
         );
     }
+    let _ = writeln!(
+        out,
+        "environment: {}",
+        scene
+            .environment
+            .as_ref()
+            .map_or("none".into(), |e| e.name())
+    );
     let _ = writeln!(out, "lights: {}", scene.lights.len());
     for light in &scene.lights {
         let _ = match light {

@@ -15,9 +15,19 @@ use crate::vec3::{ShadingFrame, Vec3};
 /// A Monte Carlo estimate per RGB channel with its standard error.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Estimate {
+    /// The estimated integral.
     pub mean: [f64; 3],
     /// σ/√N of each channel (one standard deviation of the mean).
     pub standard_error: [f64; 3],
+}
+
+/// How many samples an estimate takes, and where its pseudo-random sequence starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sampling {
+    /// Samples of each strategy.
+    pub iterations: u32,
+    /// The sequence's seed: the same seed gives the same estimate.
+    pub seed: u64,
 }
 
 /// A small, fast, reproducible generator (SplitMix64): uniform f64 in [0, 1).
@@ -25,10 +35,12 @@ pub struct Estimate {
 pub struct SplitMix64(u64);
 
 impl SplitMix64 {
+    /// A generator started from `seed`.
     pub fn new(seed: u64) -> Self {
         Self(seed)
     }
 
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
@@ -88,7 +100,7 @@ pub fn sample_cosine(u1: f64, u2: f64) -> Vec3<f64> {
 /// L_o(v) = ∫ f(v, l) L(l) (n·l) dl for the BRDF `m` at a surface with normal, tangent
 /// and bitangent `n`, `t`, `b` (world space, as [`crate::brdf::brdf_evaluate`] takes
 /// them), viewed from `v`, under the environment `radiance` (world direction the light
-/// comes from → W·sr⁻¹·m⁻² per channel), with `iterations` samples of each strategy.
+/// comes from → W·sr⁻¹·m⁻² per channel), with `sampling`'s samples of each strategy.
 /// Zero when n·v ≤ 0.
 pub fn integrate_environment(
     m: &BrdfInputs<f64>,
@@ -97,9 +109,9 @@ pub fn integrate_environment(
     b: Vec3<f64>,
     v: Vec3<f64>,
     radiance: impl Fn([f64; 3]) -> [f64; 3],
-    iterations: u32,
-    seed: u64,
+    sampling: Sampling,
 ) -> Estimate {
+    let Sampling { iterations, seed } = sampling;
     let view = brdf_view(m, n, t, b, v);
     let frame = ShadingFrame::new(n, t, b);
     let v_local = frame.to_local(v.normalize());
@@ -107,7 +119,7 @@ pub fn integrate_environment(
         mean: [0.0; 3],
         standard_error: [0.0; 3],
     };
-    if !(v_local.z > 0.0) || iterations == 0 {
+    if v_local.z.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || iterations == 0 {
         return zero;
     }
     let (ax, ay) = (clamp_alpha(m.alpha_x), clamp_alpha(m.alpha_y));
@@ -126,7 +138,7 @@ pub fn integrate_environment(
             } else {
                 sample_cosine(u1, u2)
             };
-            if !(l.z > 0.0) {
+            if l.z.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                 continue;
             }
             let pdf_vndf = pdf_ggx_vndf_reflection(v_local, l, ax, ay);
@@ -167,10 +179,9 @@ pub fn directional_albedo(
     t: Vec3<f64>,
     b: Vec3<f64>,
     v: Vec3<f64>,
-    iterations: u32,
-    seed: u64,
+    sampling: Sampling,
 ) -> Estimate {
-    integrate_environment(m, n, t, b, v, |_| [1.0; 3], iterations, seed)
+    integrate_environment(m, n, t, b, v, |_| [1.0; 3], sampling)
 }
 
 #[cfg(test)]
@@ -252,7 +263,17 @@ mod tests {
         let mut m = inputs(0.0, 0.3);
         m.dielectric_eta = 1.0;
         let (n, t, b) = axes();
-        let e = directional_albedo(&m, n, t, b, Vec3::new(0.3, 0.1, 0.9), 20_000, 1);
+        let e = directional_albedo(
+            &m,
+            n,
+            t,
+            b,
+            Vec3::new(0.3, 0.1, 0.9),
+            Sampling {
+                iterations: 20_000,
+                seed: 1,
+            },
+        );
         for c in 0..3 {
             assert!(
                 (e.mean[c] - m.base_color[c]).abs() < 4.0 * e.standard_error[c] + 1e-12,
@@ -269,7 +290,17 @@ mod tests {
         let m = inputs(1.0, 0.5);
         let (n, t, b) = axes();
         let v = Vec3::new(0.5, 0.0, 0.866_025_403_784_438_6);
-        let e = directional_albedo(&m, n, t, b, v, 40_000, 7);
+        let e = directional_albedo(
+            &m,
+            n,
+            t,
+            b,
+            v,
+            Sampling {
+                iterations: 40_000,
+                seed: 7,
+            },
+        );
         let (nt, np) = (600, 600);
         let view = brdf_view(&m, n, t, b, v);
         let mut q = [0.0; 3];

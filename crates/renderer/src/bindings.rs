@@ -20,6 +20,9 @@ pub enum BindingKind {
     SamplerCube,
     /// `image2D` with the given format qualifier (e.g. `rgba16f`), written by compute.
     StorageImage2D { format: &'static str },
+    /// `image2DArray` (e.g. one mip level of a cube map, a layer per face), written by
+    /// compute.
+    StorageImage2DArray { format: &'static str },
     /// `readonly buffer BLOCK { ELEMENT NAME[]; }` (std430).
     StorageBuffer {
         block: &'static str,
@@ -37,7 +40,9 @@ impl BindingKind {
         match self {
             Self::Texture2D | Self::UTexture2D => vk::DescriptorType::SAMPLED_IMAGE,
             Self::Sampler2D | Self::SamplerCube => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-            Self::StorageImage2D { .. } => vk::DescriptorType::STORAGE_IMAGE,
+            Self::StorageImage2D { .. } | Self::StorageImage2DArray { .. } => {
+                vk::DescriptorType::STORAGE_IMAGE
+            }
             Self::StorageBuffer { .. } | Self::RwStorageBuffer { .. } => {
                 vk::DescriptorType::STORAGE_BUFFER
             }
@@ -114,6 +119,12 @@ impl SetDecl {
                 BindingKind::StorageImage2D { format } => {
                     format!(
                         "layout({layout}, {format}) uniform writeonly image2D {};",
+                        b.name
+                    )
+                }
+                BindingKind::StorageImage2DArray { format } => {
+                    format!(
+                        "layout({layout}, {format}) uniform writeonly image2DArray {};",
                         b.name
                     )
                 }
@@ -365,6 +376,41 @@ pub static LIGHTING: SetDecl = SetDecl {
             FRAGMENT,
         ),
         Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT).only_with("EMISSIVE"),
+        // Environment lighting (ENVIRONMENT variant; see crate::environment): the
+        // prefiltered specular cube, the irradiance cube, the directional-albedo tables
+        // per material, the per-code tables of conductors derived from the base colour
+        // and which of those each material reads.
+        Binding::new("environment_specular", BindingKind::SamplerCube, FRAGMENT)
+            .only_with("ENVIRONMENT"),
+        Binding::new("environment_irradiance", BindingKind::SamplerCube, FRAGMENT)
+            .only_with("ENVIRONMENT"),
+        Binding::new(
+            "environment_albedo",
+            BindingKind::StorageBuffer {
+                block: "EnvironmentAlbedo",
+                element: "vec4",
+            },
+            FRAGMENT,
+        )
+        .only_with("ENVIRONMENT"),
+        Binding::new(
+            "environment_code_albedo",
+            BindingKind::StorageBuffer {
+                block: "EnvironmentCodeAlbedo",
+                element: "float",
+            },
+            FRAGMENT,
+        )
+        .only_with("ENVIRONMENT"),
+        Binding::new(
+            "environment_code_table_of_material",
+            BindingKind::StorageBuffer {
+                block: "EnvironmentCodeTableOfMaterial",
+                element: "uint",
+            },
+            FRAGMENT,
+        )
+        .only_with("ENVIRONMENT"),
     ],
     includes: &["gpu_types.glsl"],
 };
@@ -438,14 +484,64 @@ pub static OVERLAY: SetDecl = SetDecl {
     includes: &["overlay.glsl"],
 };
 
+/// The environment bake (compute, at upload; crate::environment): a radiance cube read
+/// with its mips, one cube level written (as a layer per face), the material table and
+/// the conductor-from-code table in, the directional-albedo tables out.
+pub static ENVIRONMENT_BAKE: SetDecl = SetDecl {
+    name: "environment_bake",
+    set: 0,
+    bindings: &[
+        Binding::new("environment_source", BindingKind::SamplerCube, COMPUTE),
+        Binding::new(
+            "environment_target",
+            BindingKind::StorageImage2DArray { format: "rgba32f" },
+            COMPUTE,
+        ),
+        Binding::new(
+            "materials",
+            BindingKind::StorageBuffer {
+                block: "Materials",
+                element: "GpuMaterial",
+            },
+            COMPUTE,
+        ),
+        Binding::new(
+            "conductor_from_code",
+            BindingKind::StorageBuffer {
+                block: "ConductorTable",
+                element: "vec2",
+            },
+            COMPUTE,
+        ),
+        Binding::new(
+            "environment_albedo",
+            BindingKind::RwStorageBuffer {
+                block: "EnvironmentAlbedo",
+                element: "vec4",
+            },
+            COMPUTE,
+        ),
+        Binding::new(
+            "environment_code_albedo",
+            BindingKind::RwStorageBuffer {
+                block: "EnvironmentCodeAlbedo",
+                element: "float",
+            },
+            COMPUTE,
+        ),
+    ],
+    includes: &["gpu_types.glsl"],
+};
+
 /// Every set, for generating the headers.
-pub static ALL: [&SetDecl; 6] = [
+pub static ALL: [&SetDecl; 7] = [
     &GBUFFER,
     &MATERIAL_TEXTURES,
     &LIGHTING,
     &OUTPUT,
     &OVERLAY,
     &LIGHT_CULL,
+    &ENVIRONMENT_BAKE,
 ];
 
 #[cfg(test)]
@@ -481,7 +577,10 @@ mod tests {
                 .map_or(0, |s| s.descriptor_count)
         };
         assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 10);
-        // Materials, lights, the conductor table and the tile light lists, twice.
-        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 8);
+        // The two environment cubes, twice.
+        assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 4);
+        // Materials, lights, the conductor table, the tile light lists and the three
+        // environment tables, twice.
+        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 14);
     }
 }

@@ -194,6 +194,16 @@ fn lighting_uses(
     if let Some(tile_lights) = tile_lights {
         buffers.push((tile_lights.raw(), BufferUse::FragmentStorageRead));
     }
+    if let Some(environment) = &scene.environment {
+        for table in [
+            &environment.albedo,
+            &environment.code_albedo,
+            &environment.code_table_of_material,
+        ] {
+            buffers.push((table.raw(), BufferUse::FragmentStorageRead));
+        }
+    }
+    // (The placeholder's tables, bound without ENVIRONMENT, are never read.)
     PassUses::images("lighting", images).with_buffers(buffers)
 }
 
@@ -507,6 +517,31 @@ impl Renderer {
             .buffer("tile_lights", &s.tile_lights);
         if let Some(emissive) = &g.emissive {
             lighting = lighting.image("gbuffer_emissive", emissive.view(), read, no_sampler);
+        }
+        // Every binding is written (a driver may read a set's descriptors when it is
+        // bound, used or not): the scene's environment, or the placeholder.
+        {
+            let environment = scene.environment.as_ref().unwrap_or(&self.no_environment);
+            let sampler = environment.sampler.raw();
+            lighting = lighting
+                .image(
+                    "environment_specular",
+                    environment.specular.view(),
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    sampler,
+                )
+                .image(
+                    "environment_irradiance",
+                    environment.irradiance.view(),
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    sampler,
+                )
+                .buffer("environment_albedo", &environment.albedo)
+                .buffer("environment_code_albedo", &environment.code_albedo)
+                .buffer(
+                    "environment_code_table_of_material",
+                    &environment.code_table_of_material,
+                );
         }
         lighting.apply(device);
         bindings::OUTPUT

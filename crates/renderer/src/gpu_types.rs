@@ -333,3 +333,58 @@ pub struct CullPush {
 pub struct TonemapPush {
     pub exposure: f32,
 }
+
+/// An environment's source radiance as the bake shaders evaluate it (`EnvironmentSource`
+/// in environment.glsl): L(ω) = ground + (sky − ground)(1 + ω_y)/2 + Σ_i B_i max(0, ω·k_i)^p_i.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct EnvironmentSource {
+    pub sky: [f32; 4],
+    pub ground: [f32; 4],
+    /// xyz: unit k_i.
+    pub box_direction: [[f32; 4]; 2],
+    /// rgb: B_i, a: p_i.
+    pub box_radiance_exponent: [[f32; 4]; 2],
+}
+
+impl EnvironmentSource {
+    pub fn new(environment: &combustion_scene::Environment) -> Self {
+        use combustion_scene::Environment;
+        let rgb = |c: [f64; 3], a: f64| [c[0] as f32, c[1] as f32, c[2] as f32, a as f32];
+        match environment {
+            Environment::Uniform(l) => Self {
+                sky: [l[0], l[1], l[2], 0.0],
+                ground: [l[0], l[1], l[2], 0.0],
+                box_direction: [[0.0, 1.0, 0.0, 0.0]; 2],
+                box_radiance_exponent: [[0.0, 0.0, 0.0, 1.0]; 2],
+            },
+            Environment::Studio => {
+                let boxes = combustion_scene::STUDIO_BOXES;
+                let unit = |k: [f64; 3]| {
+                    let len = (k[0] * k[0] + k[1] * k[1] + k[2] * k[2]).sqrt();
+                    rgb(k.map(|c| c / len), 0.0)
+                };
+                Self {
+                    sky: rgb(combustion_scene::STUDIO_SKY, 0.0),
+                    ground: rgb(combustion_scene::STUDIO_GROUND, 0.0),
+                    box_direction: [unit(boxes[0].0), unit(boxes[1].0)],
+                    box_radiance_exponent: [
+                        rgb(boxes[0].1, boxes[0].2),
+                        rgb(boxes[1].1, boxes[1].2),
+                    ],
+                }
+            }
+        }
+    }
+}
+
+/// Push constants of the environment bake shaders (`EnvironmentBakePush` in
+/// environment_bake.glsl); `params` and `values` mean what each shader's header says.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct EnvironmentBakePush {
+    pub source: EnvironmentSource,
+    pub params: [u32; 4],
+    pub values: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<EnvironmentBakePush>() == 128);

@@ -23,6 +23,7 @@
 //! [`Renderer::last_completed_timings`]).
 
 pub mod bindings;
+pub mod environment;
 pub mod gbuffer;
 pub mod gpu_types;
 pub mod graph;
@@ -227,6 +228,9 @@ pub struct ShaderVariant {
     pub masking: Masking,
     /// The normal distribution ([`Renderer::set_distribution`]).
     pub distribution: Distribution,
+    /// Environment lighting ([`combustion_scene::Scene::environment`]): the lighting pass
+    /// adds the split-sum term of [`environment`].
+    pub environment: bool,
 }
 
 /// What the lighting pass shows instead of radiance (`debug_views.glsl` has the same
@@ -338,6 +342,9 @@ impl ShaderVariant {
         if self.distribution == Distribution::Beckmann {
             defines.push(("D_BECKMANN", None));
         }
+        if self.environment {
+            defines.push(("ENVIRONMENT", None));
+        }
         match self.floor {
             None => {}
             Some(MeasurementFloor::Geometry) => defines.push(("FLOOR_GEOMETRY", None)),
@@ -380,6 +387,8 @@ pub enum RenderError {
     InvalidAfterLayout(&'static str),
     #[error("overlay: {0}")]
     Overlay(String),
+    #[error("this device cannot render environment lighting: {0}")]
+    EnvironmentUnsupported(String),
     #[error("the host's depth image is {got:?} of {got_width}x{got_height}; it must be D32_SFLOAT of the target's size {width}x{height}")]
     InvalidDepthTarget {
         got: vk::Format,
@@ -671,6 +680,8 @@ pub struct Renderer {
     /// The overlay image ([`Renderer::set_overlay_image`]) and its size; or a one-texel
     /// placeholder, bound when no image is shown.
     overlay_image: (combustion_vk::Buffer, Option<[u32; 2]>),
+    /// Bound in the lighting set for scenes without an environment.
+    no_environment: environment::GpuEnvironment,
     layouts: SetLayouts,
     pipeline_cache: PipelineCache,
     compiler: ShaderCompiler,
@@ -687,6 +698,8 @@ pub struct Renderer {
     distribution: Distribution,
     /// One diffuse model for every material ([`Renderer::set_diffuse_override`]).
     diffuse_override: Option<DiffuseModel>,
+    /// The environment bake's pipelines, built for the first scene with an environment.
+    environment_baker: Option<environment::EnvironmentBaker>,
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     light_culling: LightCulling,
     light_cull: light_cull::LightCullPass,
@@ -746,6 +759,7 @@ impl Renderer {
             bytemuck::cast_slice(&overlay::atlas_words(&overlay_font)),
         )?;
         let overlay_image = (overlay_image_buffer(&device, &[[0; 4]])?, None);
+        let no_environment = environment::GpuEnvironment::placeholder(&device)?;
         let pipeline_cache = PipelineCache::new(&device, cache_data)?;
         let light_cull = light_cull::LightCullPass::new(
             &device,
@@ -766,6 +780,7 @@ impl Renderer {
             overlay_font,
             overlay_atlas,
             overlay_image,
+            no_environment,
             pipeline_cache,
             layouts,
             compiler,
@@ -777,6 +792,7 @@ impl Renderer {
             masking: Masking::HeightCorrelated,
             distribution: Distribution::Ggx,
             diffuse_override: None,
+            environment_baker: None,
             light_culling: LightCulling::Auto,
             light_cull,
             frame_number: 0,
@@ -1045,9 +1061,41 @@ impl Renderer {
     /// Validates and uploads a scene, and builds the pipelines it needs (never inside a
     /// frame's recording).
     pub fn upload(&mut self, scene: &Scene) -> Result<GpuScene, RenderError> {
-        let gpu_scene = GpuScene::new(&self.device, scene, &self.layouts.material)?;
+        let mut gpu_scene = GpuScene::new(&self.device, scene, &self.layouts.material)?;
         self.prepare_variant(self.variant_of(gpu_scene.variant))?;
+        gpu_scene.environment = self.bake_environment(&gpu_scene)?;
         Ok(gpu_scene)
+    }
+
+    /// The scene's environment baked for its materials (None without one).
+    fn bake_environment(
+        &mut self,
+        scene: &GpuScene,
+    ) -> Result<Option<environment::GpuEnvironment>, RenderError> {
+        let Some(source) = &scene.scene.environment else {
+            return Ok(None);
+        };
+        if self.environment_baker.is_none() {
+            self.environment_baker = Some(environment::EnvironmentBaker::new(
+                &self.device,
+                &self.compiler,
+                &self.pipeline_cache,
+            )?);
+        }
+        let baker = self.environment_baker.as_ref().expect("built above");
+        let baked = baker.bake(
+            &self.device,
+            source,
+            &scene.scene,
+            &scene.materials,
+            &scene.conductor_table,
+        )?;
+        log::info!(
+            "environment {} baked in {:.1} ms",
+            source.name(),
+            baked.bake_ms
+        );
+        Ok(Some(baked))
     }
 
     /// Edits an uploaded scene between frames without uploading it again: `edit` changes
@@ -1071,6 +1119,11 @@ impl Renderer {
         let (report, retired) = scene.edited(&self.device, next, &self.layouts.material)?;
         for part in retired {
             self.retire_boxed(part);
+        }
+        // The tables follow the materials, which an edit may change: bake again.
+        let environment = self.bake_environment(scene)?;
+        if let Some(old) = std::mem::replace(&mut scene.environment, environment) {
+            self.retire(old);
         }
         Ok(SceneEditReport {
             pipelines_built,

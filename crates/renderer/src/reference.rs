@@ -5,9 +5,10 @@
 
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
+use combustion_optics::environment::{integrate_environment, Estimate, Sampling};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::vec3::Vec3 as V;
-use combustion_scene::Scene;
+use combustion_scene::{Environment, Scene};
 
 use crate::gbuffer::{
     anisotropy_direction_decode, octahedral_decode, srgb_to_linear, GBufferTexel,
@@ -21,6 +22,18 @@ use crate::{Frame, FrameInputs};
 /// Radiance below which errors are measured absolutely: 1e-4 W·sr⁻¹·m⁻² is a third of an
 /// 8-bit step after the tone curve and sRGB encoding at black (1e-4 · 12.92 · 255 = 0.33).
 pub const RADIANCE_FLOOR: f64 = 1e-4;
+
+/// A pixel as the lighting pass sees it, in f64: the BRDF inputs, the normal, tangent
+/// and bitangent, the direction to the eye and the world position.
+#[derive(Clone, Copy, Debug)]
+pub struct PixelInputs {
+    pub brdf: BrdfInputs<f64>,
+    pub n: [f64; 3],
+    pub t: [f64; 3],
+    pub b: [f64; 3],
+    pub v: [f64; 3],
+    pub position: [f64; 3],
+}
 
 /// What the lighting pass reads besides the G-buffer, as the GPU got it (f32).
 pub struct ReferenceShading {
@@ -79,12 +92,74 @@ impl ReferenceShading {
         }
     }
 
-    /// The f64 radiance of pixel (`x`, `y`) from its G-buffer texel (`None`: background).
+    /// The f64 radiance of pixel (`x`, `y`) from its G-buffer texel (`None`: background)
+    /// under the frame's lights (not the environment: see [`Self::shade_environment`]).
     pub fn shade(&self, texel: &GBufferTexel, x: u32, y: u32) -> Option<[f64; 3]> {
+        let PixelInputs {
+            brdf: m,
+            n,
+            t,
+            b,
+            v,
+            position,
+        } = self.pixel(texel, x, y)?;
+        let f = |a: [f32; 4]| a.map(f64::from);
+        let mut radiance = [0.0; 3];
+        for light in &self.lights {
+            let p = f(light.position_or_direction);
+            let power = f(light.power_kind);
+            let (l, e) = if light.power_kind[3] != LIGHT_KIND_DIRECTIONAL {
+                let to = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
+                let d2 = (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).max(1e-12);
+                let l = normalize(to);
+                let a = light.attenuation(l) * light.range_attenuation(d2) / d2;
+                (l, [power[0] * a, power[1] * a, power[2] * a])
+            } else {
+                ([-p[0], -p[1], -p[2]], [power[0], power[1], power[2]])
+            };
+            let cos = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
+            if cos <= 0.0 {
+                continue;
+            }
+            let brdf = brdf_evaluate(&m, v3(n), v3(t), v3(b), v3(v), v3(l));
+            for c in 0..3 {
+                radiance[c] += brdf[c] * e[c] * cos;
+            }
+        }
+        Some(radiance)
+    }
+
+    /// The f64 environment oracle at pixel (`x`, `y`): the rendering equation
+    /// ∫ f(v, l) L(l) (n·l) dl against `environment` for the pixel's G-buffer texel,
+    /// integrated by Monte Carlo ([`integrate_environment`], `iterations` samples of
+    /// each strategy, with its standard error). `None` on the background.
+    pub fn shade_environment(
+        &self,
+        texel: &GBufferTexel,
+        x: u32,
+        y: u32,
+        environment: &Environment,
+        iterations: u32,
+    ) -> Option<Estimate> {
+        let p = self.pixel(texel, x, y)?;
+        let seed = u64::from(y) << 32 | u64::from(x);
+        Some(integrate_environment(
+            &p.brdf,
+            v3(p.n),
+            v3(p.t),
+            v3(p.b),
+            v3(p.v),
+            |l| environment.radiance(l),
+            Sampling { iterations, seed },
+        ))
+    }
+
+    /// What the lighting pass reconstructs at pixel (`x`, `y`) from its texel, in f64.
+    pub fn pixel(&self, texel: &GBufferTexel, x: u32, y: u32) -> Option<PixelInputs> {
         if texel.depth >= 1.0 {
             return None;
         }
-        let (push, materials, lights) = (&self.push, &self.materials, &self.lights);
+        let (push, materials) = (&self.push, &self.materials);
         let [b0, b1, b2, b3] = texel.base_color_metalness;
         let base_color = [b0, b1, b2].map(|c| srgb_to_linear(f64::from(c) / 255.0));
         let metalness = f64::from(b3) / 255.0;
@@ -155,29 +230,14 @@ impl ReferenceShading {
                 .unwrap_or(DiffuseModel::Lambert),
             oren_nayar_sigma: oren_nayar_sigma_from_roughness(roughness),
         };
-        let mut radiance = [0.0; 3];
-        for light in lights {
-            let p = f(light.position_or_direction);
-            let power = f(light.power_kind);
-            let (l, e) = if light.power_kind[3] != LIGHT_KIND_DIRECTIONAL {
-                let to = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
-                let d2 = (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).max(1e-12);
-                let l = normalize(to);
-                let a = light.attenuation(l) * light.range_attenuation(d2) / d2;
-                (l, [power[0] * a, power[1] * a, power[2] * a])
-            } else {
-                ([-p[0], -p[1], -p[2]], [power[0], power[1], power[2]])
-            };
-            let cos = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
-            if cos <= 0.0 {
-                continue;
-            }
-            let brdf = brdf_evaluate(&m, v3(n), v3(t), v3(b), v3(v), v3(l));
-            for c in 0..3 {
-                radiance[c] += brdf[c] * e[c] * cos;
-            }
-        }
-        Some(radiance)
+        Some(PixelInputs {
+            brdf: m,
+            n,
+            t,
+            b,
+            v,
+            position,
+        })
     }
 
     fn emits(&self, texel: &GBufferTexel) -> bool {

@@ -40,6 +40,8 @@ pub struct GpuScene {
     pub(crate) draw_materials: Vec<usize>,
     /// Shader features this scene needs (selects the pipeline variant).
     pub(crate) variant: crate::ShaderVariant,
+    /// Its environment, baked ([`crate::Renderer::upload`]; None without one).
+    pub environment: Option<crate::environment::GpuEnvironment>,
     /// The scene as uploaded. Its camera and lights are what [`crate::FrameInputs::of_scene`]
     /// gives; each frame may bring its own.
     pub scene: Scene,
@@ -77,6 +79,7 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
         floor: None,
         masking: crate::Masking::HeightCorrelated,
         distribution: crate::Distribution::Ggx,
+        environment: scene.environment.is_some(),
     }
 }
 
@@ -215,6 +218,7 @@ impl GpuScene {
             double_sided: tables.double_sided,
             draw_materials: tables.draw_materials,
             variant: tables.variant,
+            environment: None,
             scene,
         }
     }

@@ -119,7 +119,9 @@ mod tests {
     #[test]
     fn negative_or_nan_uniform_radiance_is_refused() {
         assert!(Environment::Uniform([1.0, -1.0, 0.0]).validate().is_err());
-        assert!(Environment::Uniform([f32::NAN, 1.0, 0.0]).validate().is_err());
+        assert!(Environment::Uniform([f32::NAN, 1.0, 0.0])
+            .validate()
+            .is_err());
         assert!(Environment::Uniform([0.0, 2.0, 1.0]).validate().is_ok());
         assert!(Environment::Studio.validate().is_ok());
     }

@@ -1,0 +1,478 @@
+//! Environment lighting (image-based): what a scene's [`Environment`] becomes on the GPU,
+//! baked by compute shaders at upload or edit (never inside a frame), and read by the
+//! lighting pass's ENVIRONMENT variant as a split sum (Karis 2013) whose second factor
+//! keeps the project's physics:
+//!
+//! L_o ≈ L̃_spec(r_v, r) · A_spec(n·v, r) + L̄_cos(n) · A_diff(n·v, r, ρ)
+//!
+//! * L̃_spec: the radiance cube ([`RADIANCE_SIZE`], every mip) prefiltered with GGX by
+//!   importance sampling, one level per roughness ([`SPECULAR_LEVELS`], r = level /
+//!   (levels − 1)), looked up along the mirror direction;
+//! * L̄_cos = E/π: the cosine-weighted mean radiance about the normal (irradiance cube,
+//!   [`IRRADIANCE_SIZE`]);
+//! * A_spec, A_diff: directional albedos over (n·v, r) computed per material with the
+//!   lighting pass's own BRDF — the full Fresnel equations with the material's η + ik per
+//!   channel, the outside medium η_i, the polarisation weight and total internal
+//!   reflection — instead of the usual Schlick-from-F0 pre-integration; conductors
+//!   derived from the base colour get one table per stored 8-bit code.
+//!
+//! The approximation's error against the f64 rendering equation
+//! ([`combustion_optics::environment::integrate_environment`]) is measured in
+//! tests/environment.rs.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use combustion_scene::{Environment, Scene};
+use combustion_vk::gpu_allocator::MemoryLocation;
+use combustion_vk::{
+    vk, Buffer, DescriptorPool, DescriptorSetLayout, Device, Image, ImageDesc, ImageView, OneShot,
+    Pipeline, PipelineCache, PipelineLayout, Sampler, ShaderCompiler, ShaderModule, ShaderStage,
+};
+
+use crate::bindings;
+use crate::gpu_types::{material_table, EnvironmentBakePush, EnvironmentSource, GpuMaterial};
+use crate::RenderError;
+
+/// Entries per side of a material's directional-albedo table over (n·v, r)
+/// (`ENVIRONMENT_TABLE_SIZE` in environment.glsl).
+pub const TABLE_SIZE: u32 = 32;
+/// Entries per side of a per-code conductor table (`ENVIRONMENT_CODE_TABLE_SIZE`).
+pub const CODE_TABLE_SIZE: u32 = 16;
+/// Texels per side of a face of the radiance cube's level 0 (and of the specular cube).
+pub const RADIANCE_SIZE: u32 = 128;
+/// Levels of the prefiltered specular cube: 128 … 4 texels, r = 0, 0.2, … 1.
+pub const SPECULAR_LEVELS: u32 = 6;
+/// Texels per side of a face of the irradiance cube.
+pub const IRRADIANCE_SIZE: u32 = 16;
+/// The radiance cube level the irradiance sums over (32 texels per side).
+pub const IRRADIANCE_SOURCE_LEVEL: u32 = 2;
+/// GGX samples per texel of the specular cube.
+pub const PREFILTER_SAMPLES: u32 = 256;
+/// Samples per part (specular, diffuse) per entry of a material's table.
+pub const ALBEDO_SAMPLES: u32 = 512;
+/// Samples per entry of a per-code conductor table.
+pub const CODE_ALBEDO_SAMPLES: u32 = 256;
+/// Per-code tables: one for each stored 8-bit code.
+const CODES: u32 = 256;
+
+/// The cubes' format. f32, not f16: the bake's normalised sums come out within a few f32
+/// ulps of a uniform environment's radiance, and storing them as f16 (which lavapipe
+/// rounds towards zero) would move them by up to an f16 step (5e-4 relative).
+const FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+/// Refuses devices that cannot write [`FORMAT`] from compute and filter it linearly.
+fn check_format(device: &Device) -> Result<(), RenderError> {
+    // SAFETY: plain query.
+    let properties = unsafe {
+        device
+            .instance()
+            .get_physical_device_format_properties(device.physical_device(), FORMAT)
+    };
+    let needed =
+        vk::FormatFeatureFlags::STORAGE_IMAGE | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR;
+    if properties.optimal_tiling_features.contains(needed) {
+        Ok(())
+    } else {
+        Err(RenderError::EnvironmentUnsupported(format!(
+            "{} cannot write {FORMAT:?} from compute shaders or filter it linearly",
+            device.info().name
+        )))
+    }
+}
+
+/// A scene's environment on the GPU, ready for the lighting pass.
+pub struct GpuEnvironment {
+    pub(crate) specular: Image,
+    pub(crate) irradiance: Image,
+    /// Per material, `TABLE_SIZE`² entries of 2 vec4 (environment_albedo.comp).
+    pub(crate) albedo: Buffer,
+    /// Per distinct (η_i, w) of base-colour conductors, 256 codes × `CODE_TABLE_SIZE`².
+    pub(crate) code_albedo: Buffer,
+    /// Per material: its per-code table (0 when it has none).
+    pub(crate) code_table_of_material: Buffer,
+    pub(crate) sampler: Sampler,
+    /// What was baked.
+    pub environment: Environment,
+    /// Wall-clock time of the bake (recording, GPU work and the wait), ms.
+    pub bake_ms: f64,
+}
+
+impl GpuEnvironment {
+    /// What the lighting set binds for scenes without an environment (the bindings
+    /// exist in every variant's layout; the shaders without ENVIRONMENT never read
+    /// them): 1×1 black cubes and one-entry tables.
+    pub(crate) fn placeholder(device: &Arc<Device>) -> Result<Self, RenderError> {
+        let usage = vk::ImageUsageFlags::SAMPLED;
+        let cube = |name| Image::new(device, &ImageDesc::cube(name, FORMAT, 1, usage));
+        let (specular, irradiance) = (
+            cube("environment placeholder")?,
+            cube("environment placeholder")?,
+        );
+        let mut commands = OneShot::new(device)?;
+        let cmd = commands.begin()?;
+        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
+        let read = (
+            S::FRAGMENT_SHADER,
+            A::SHADER_SAMPLED_READ,
+            L::SHADER_READ_ONLY_OPTIMAL,
+        );
+        let barriers = [&specular, &irradiance]
+            .map(|image| image.barrier((S::NONE, A::NONE, L::UNDEFINED), read));
+        // SAFETY: recording state; the images live until the wait below.
+        unsafe {
+            device.raw().cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&barriers),
+            )
+        };
+        commands.submit_and_wait()?;
+        let table = |name| crate::frame::filled_storage_buffer(device, name, &[0; 32]);
+        Ok(Self {
+            specular,
+            irradiance,
+            albedo: table("environment placeholder table")?,
+            code_albedo: table("environment placeholder table")?,
+            code_table_of_material: table("environment placeholder table")?,
+            sampler: linear_sampler(device, 1)?,
+            environment: Environment::Uniform([0.0; 3]),
+            bake_ms: 0.0,
+        })
+    }
+}
+
+/// The bake's compute pipelines, built on the first scene with an environment.
+pub(crate) struct EnvironmentBaker {
+    set_layout: DescriptorSetLayout,
+    layout: PipelineLayout,
+    radiance: Pipeline,
+    prefilter: Pipeline,
+    irradiance: Pipeline,
+    albedo: Pipeline,
+    code_albedo: Pipeline,
+}
+
+fn linear_sampler(device: &Arc<Device>, levels: u32) -> Result<Sampler, RenderError> {
+    let info = vk::SamplerCreateInfo::default()
+        .mag_filter(vk::Filter::LINEAR)
+        .min_filter(vk::Filter::LINEAR)
+        .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+        .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+        .min_lod(0.0)
+        .max_lod(levels as f32);
+    Ok(Sampler::new(device, &info)?)
+}
+
+/// The distinct (η_i, w) of the materials whose conductor comes from the base colour,
+/// and each material's index among them (0 for the others).
+fn code_tables(materials: &[GpuMaterial]) -> (Vec<[f32; 2]>, Vec<u32>) {
+    let mut keys: Vec<[f32; 2]> = Vec::new();
+    let of_material = materials
+        .iter()
+        .map(|m| {
+            if !m.conductor_from_base_color() {
+                return 0;
+            }
+            let key = [
+                m.conductor_eta_outside_ior[3],
+                m.conductor_k_polarisation[3],
+            ];
+            let index = keys
+                .iter()
+                .position(|k| k.map(f32::to_bits) == key.map(f32::to_bits))
+                .unwrap_or_else(|| {
+                    keys.push(key);
+                    keys.len() - 1
+                });
+            index as u32
+        })
+        .collect();
+    (keys, of_material)
+}
+
+impl EnvironmentBaker {
+    pub fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+    ) -> Result<Self, RenderError> {
+        let set_layout = bindings::ENVIRONMENT_BAKE.layout(device)?;
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::COMPUTE,
+            offset: 0,
+            size: std::mem::size_of::<EnvironmentBakePush>() as u32,
+        }];
+        let layout = PipelineLayout::new(device, &[&set_layout], &push)?;
+        let build = |file: &str| -> Result<Pipeline, RenderError> {
+            let module = ShaderModule::new(
+                device,
+                &compiler.compile(file, ShaderStage::Compute, &[])?,
+                ShaderStage::Compute,
+            )?;
+            Ok(Pipeline::compute(device, &module, &layout, Some(cache))?)
+        };
+        Ok(Self {
+            radiance: build("environment_radiance.comp")?,
+            prefilter: build("environment_prefilter.comp")?,
+            irradiance: build("environment_irradiance.comp")?,
+            albedo: build("environment_albedo.comp")?,
+            code_albedo: build("environment_code_albedo.comp")?,
+            set_layout,
+            layout,
+        })
+    }
+
+    /// Bakes `environment` for `scene`'s materials (`materials`, `conductor_table`: the
+    /// uploaded tables the lighting pass reads). Waits for the GPU: an upload step.
+    pub fn bake(
+        &self,
+        device: &Arc<Device>,
+        environment: &Environment,
+        scene: &Scene,
+        materials: &Buffer,
+        conductor_table: &Buffer,
+    ) -> Result<GpuEnvironment, RenderError> {
+        let start = Instant::now();
+        check_format(device)?;
+        let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED;
+        let radiance = Image::new(
+            device,
+            &ImageDesc::cube("environment radiance", FORMAT, RADIANCE_SIZE, usage).full_mips(),
+        )?;
+        let specular = Image::new(
+            device,
+            &ImageDesc::cube("environment specular", FORMAT, RADIANCE_SIZE, usage)
+                .mips(SPECULAR_LEVELS),
+        )?;
+        let irradiance = Image::new(
+            device,
+            &ImageDesc::cube("environment irradiance", FORMAT, IRRADIANCE_SIZE, usage),
+        )?;
+        let gpu_materials = material_table(scene, &[]);
+        let material_count = gpu_materials.len().max(1) as u64;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let albedo = Buffer::new(
+            device,
+            "environment albedo tables",
+            material_count * u64::from(TABLE_SIZE * TABLE_SIZE) * 2 * 16,
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let (keys, of_material) = code_tables(&gpu_materials);
+        let code_albedo = Buffer::new(
+            device,
+            "environment per-code conductor tables",
+            keys.len().max(1) as u64 * u64::from(CODES * CODE_TABLE_SIZE * CODE_TABLE_SIZE) * 4,
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let code_table_of_material = crate::frame::filled_storage_buffer(
+            device,
+            "environment per-code table of each material",
+            bytemuck::cast_slice(&of_material),
+        )?;
+        let sampler = linear_sampler(device, radiance.mip_levels())?;
+        let level_view = |image: &Image, level: u32| -> Result<ImageView, RenderError> {
+            Ok(image.view_of(level..level + 1, 0..6, vk::ImageViewType::TYPE_2D_ARRAY)?)
+        };
+        let radiance_levels = radiance.mip_levels();
+        let dispatches = radiance_levels + SPECULAR_LEVELS + 2 + keys.len() as u32;
+        let decl = &bindings::ENVIRONMENT_BAKE;
+        let pool = DescriptorPool::new(device, dispatches, &decl.pool_sizes(dispatches))?;
+        let mut views = Vec::new();
+
+        let mut commands = OneShot::new(device)?;
+        let cmd = commands.begin()?;
+        let raw = device.raw();
+        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
+        let general = (
+            S::COMPUTE_SHADER,
+            A::SHADER_STORAGE_WRITE | A::SHADER_SAMPLED_READ,
+            L::GENERAL,
+        );
+        let to_general: Vec<_> = [&radiance, &specular, &irradiance]
+            .iter()
+            .map(|image| image.barrier((S::NONE, A::NONE, L::UNDEFINED), general))
+            .collect();
+        // SAFETY (every command below): recording state; the resources live until the
+        // wait at the end, and are in the layouts and states the barriers name.
+        unsafe {
+            raw.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&to_general),
+            )
+        };
+        let source = EnvironmentSource::new(environment);
+        let compute_to_compute = [vk::MemoryBarrier2::default()
+            .src_stage_mask(S::COMPUTE_SHADER)
+            .src_access_mask(A::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(S::COMPUTE_SHADER)
+            .dst_access_mask(A::SHADER_SAMPLED_READ | A::SHADER_STORAGE_READ)];
+        let dispatch = |pipeline: &Pipeline,
+                        target: &ImageView,
+                        params: [u32; 4],
+                        values: [f32; 4],
+                        groups: [u32; 3]|
+         -> Result<(), RenderError> {
+            let set = pool.allocate(&self.set_layout)?;
+            // The set is new and not in use.
+            decl.writer(set)
+                .image(
+                    "environment_source",
+                    radiance.view(),
+                    L::GENERAL,
+                    sampler.raw(),
+                )
+                .image(
+                    "environment_target",
+                    target.raw(),
+                    L::GENERAL,
+                    vk::Sampler::null(),
+                )
+                .buffer("materials", materials)
+                .buffer("conductor_from_code", conductor_table)
+                .buffer("environment_albedo", &albedo)
+                .buffer("environment_code_albedo", &code_albedo)
+                .apply(device);
+            let push = EnvironmentBakePush {
+                source,
+                params,
+                values,
+            };
+            crate::bind_pass(
+                raw,
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                pipeline,
+                &self.layout,
+                set,
+                vk::ShaderStageFlags::COMPUTE,
+                bytemuck::bytes_of(&push),
+            );
+            unsafe {
+                raw.cmd_dispatch(cmd, groups[0], groups[1], groups[2]);
+                raw.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().memory_barriers(&compute_to_compute),
+                );
+            }
+            Ok(())
+        };
+        let groups = |size: u32, z: u32| [size.div_ceil(8), size.div_ceil(8), z];
+
+        // The radiance cube: level 0 from the source, each next level the mean of the
+        // one before.
+        for level in 0..radiance_levels {
+            let view = level_view(&radiance, level)?;
+            let size = radiance.mip_extent(level).width;
+            let params = [size, u32::from(level > 0), level.saturating_sub(1), 0];
+            dispatch(&self.radiance, &view, params, [0.0; 4], groups(size, 6))?;
+            views.push(view);
+        }
+        for level in 0..SPECULAR_LEVELS {
+            let view = level_view(&specular, level)?;
+            let size = specular.mip_extent(level).width;
+            let roughness = level as f32 / (SPECULAR_LEVELS - 1) as f32;
+            let params = [size, PREFILTER_SAMPLES, RADIANCE_SIZE, 0];
+            let values = [roughness, 0.0, 0.0, 0.0];
+            dispatch(&self.prefilter, &view, params, values, groups(size, 6))?;
+            views.push(view);
+        }
+        let view = level_view(&irradiance, 0)?;
+        let source_size = radiance.mip_extent(IRRADIANCE_SOURCE_LEVEL).width;
+        let params = [IRRADIANCE_SIZE, 0, IRRADIANCE_SOURCE_LEVEL, source_size];
+        dispatch(
+            &self.irradiance,
+            &view,
+            params,
+            [0.0; 4],
+            groups(IRRADIANCE_SIZE, 6),
+        )?;
+        // The tables (any target view will do: these shaders write buffers only).
+        let tables = [ALBEDO_SAMPLES, 0, 0, 0];
+        let count = gpu_materials.len() as u32;
+        if count > 0 {
+            dispatch(
+                &self.albedo,
+                &view,
+                tables,
+                [0.0; 4],
+                groups(TABLE_SIZE, count),
+            )?;
+        }
+        for (index, [eta_i, w]) in keys.iter().enumerate() {
+            let params = [CODE_ALBEDO_SAMPLES, index as u32, 0, 0];
+            dispatch(
+                &self.code_albedo,
+                &view,
+                params,
+                [*eta_i, *w, 0.0, 0.0],
+                groups(CODE_TABLE_SIZE, CODES),
+            )?;
+        }
+        views.push(view);
+
+        // Hand the cubes and tables to the lighting pass's fragment shader.
+        let read = (
+            S::FRAGMENT_SHADER,
+            A::SHADER_SAMPLED_READ,
+            L::SHADER_READ_ONLY_OPTIMAL,
+        );
+        let to_read = [
+            specular.barrier(general, read),
+            irradiance.barrier(general, read),
+        ];
+        let tables_to_fragment = [vk::MemoryBarrier2::default()
+            .src_stage_mask(S::COMPUTE_SHADER)
+            .src_access_mask(A::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(S::FRAGMENT_SHADER)
+            .dst_access_mask(A::SHADER_STORAGE_READ)];
+        unsafe {
+            raw.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default()
+                    .image_memory_barriers(&to_read)
+                    .memory_barriers(&tables_to_fragment),
+            )
+        };
+        commands.submit_and_wait()?;
+        drop(views);
+        drop(pool);
+        drop(radiance);
+        Ok(GpuEnvironment {
+            specular,
+            irradiance,
+            albedo,
+            code_albedo,
+            code_table_of_material,
+            sampler: linear_sampler(device, SPECULAR_LEVELS)?,
+            environment: environment.clone(),
+            bake_ms: start.elapsed().as_secs_f64() * 1e3,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base_colour_conductors_share_a_table_per_outside_medium_and_polarisation() {
+        let mut scene = combustion_scene::builtin_scene("spheres").expect("built in");
+        let mut gltf_metal = combustion_scene::Material {
+            conductor_from_base_color: true,
+            metalness: 1.0,
+            ..combustion_scene::Material::default()
+        };
+        scene.materials.push(gltf_metal.clone());
+        scene.materials.push(gltf_metal.clone());
+        gltf_metal.outside_ior = Some(1.33);
+        scene.materials.push(gltf_metal);
+        let (keys, of_material) = code_tables(&material_table(&scene, &[]));
+        assert_eq!(keys.len(), 2);
+        let n = of_material.len();
+        assert_eq!(&of_material[n - 3..], &[0, 0, 1]);
+    }
+}

@@ -1,0 +1,97 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Per material (invocation z) and table entry (n·v, r) (x, y; cell-centred): the
+// directional albedos the split sum multiplies the prefiltered radiance and the
+// irradiance by, with the material's own BRDF (brdf.glsl: full Fresnel with its η + ik
+// per channel, outside medium, polarisation weight, TIR; its diffuse model):
+//   [0].rgb  ∫ f_conductor cos        (metalness 1)
+//   [0].a    ∫ f_dielectric,specular cos
+//   [1].x    D1, [1].y D2: ∫ T T f_diffuse(ρ) cos = ρ D1 + ρ² D2 (D2 ≠ 0 only for the
+//            full Oren–Nayar model's interreflection term)
+// Specular parts by sampling GGX's visible normals, diffuse by cosine-weighted
+// directions, Hammersley points. params.x: samples per part.
+#include "environment_bake.glsl"
+#include "diffuse.glsl"
+#include "brdf.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+void main() {
+    uvec3 id = gl_GlobalInvocationID;
+    uint size = ENVIRONMENT_TABLE_SIZE;
+    if (id.x >= size || id.y >= size) {
+        return;
+    }
+    GpuMaterial material = materials[id.z];
+    float nv = (float(id.x) + 0.5) / float(size);
+    float r = (float(id.y) + 0.5) / float(size);
+    float a = clamp_alpha(alpha_from_perceptual_roughness(r));
+    BrdfInputs m;
+    m.base_color = vec3(0.0);
+    m.metalness = 1.0;
+    m.alpha_x = a;
+    m.alpha_y = a;
+    m.conductor_eta = material.conductor_eta_outside_ior.rgb;
+    m.conductor_k = material.conductor_k_polarisation.rgb;
+    m.dielectric_eta = material.roughness_anisotropy_ior.w;
+    m.outside_eta = material.conductor_eta_outside_ior.a;
+    m.polarisation_weight = material.conductor_k_polarisation.a;
+    m.diffuse_model = material.diffuse_model_flags.x;
+    m.oren_nayar_sigma = oren_nayar_sigma_from_roughness(r);
+    vec3 n = vec3(0.0, 0.0, 1.0);
+    vec3 t = vec3(1.0, 0.0, 0.0);
+    vec3 b = vec3(0.0, 1.0, 0.0);
+    vec3 v = vec3(sqrt(max(1.0 - nv * nv, 0.0)), 0.0, nv);
+    BrdfInputs md = m;
+    md.metalness = 0.0;
+    BrdfView conductor = brdf_view(m, n, t, b, v);
+    BrdfView dielectric = brdf_view(md, n, t, b, v);
+    float g1_v = 1.0 / (1.0 + lambda_ggx(v, a));
+    uint samples = push.params.x;
+
+    vec3 conductor_sum = vec3(0.0);
+    float specular_sum = 0.0;
+    for (uint i = 0u; i < samples; ++i) {
+        vec3 h = sample_ggx_vndf(v, a, a, hammersley(i, samples));
+        vec3 l = 2.0 * dot(v, h) * h - v;
+        if (l.z <= 0.0) {
+            continue;
+        }
+        float pdf = d_ggx(h, a) * g1_v / (4.0 * nv);
+        float w = l.z / pdf;
+        conductor_sum += brdf_evaluate_view(m, conductor, l) * w;
+        specular_sum += brdf_evaluate_view(md, dielectric, l).x * w;
+    }
+    // Compensated (Kahan) sums, so a constant integrand (Lambert behind no interface:
+    // f·π = ρ for every direction) comes out within an ulp or two.
+    precise float one = 0.0;
+    precise float one_error = 0.0;
+    precise float half_ = 0.0;
+    precise float half_error = 0.0;
+    for (uint i = 0u; i < samples; ++i) {
+        vec3 l = sample_cosine(hammersley(i, samples));
+        if (l.z <= 0.0) {
+            continue;
+        }
+        BrdfInputs lit = md;
+        float none = brdf_evaluate_view(md, dielectric, l).x;
+        lit.base_color = vec3(1.0);
+        precise float term = (brdf_evaluate_view(lit, dielectric, l).x - none) - one_error;
+        precise float next = one + term;
+        one_error = (next - one) - term;
+        one = next;
+        lit.base_color = vec3(0.5);
+        term = (brdf_evaluate_view(lit, dielectric, l).x - none) - half_error;
+        next = half_ + term;
+        half_error = (next - half_) - term;
+        half_ = next;
+    }
+    // f·cos/pdf = f·π for cosine-weighted directions.
+    one *= PI / float(samples);
+    half_ *= PI / float(samples);
+    float d2 = 2.0 * (one - 2.0 * half_);
+    float d1 = one - d2;
+    uint entry = ((id.z * size + id.y) * size + id.x) * 2u;
+    environment_albedo[entry] = vec4(conductor_sum, specular_sum) / float(samples);
+    environment_albedo[entry + 1u] = vec4(d1, d2, 0.0, 0.0);
+}

@@ -1,0 +1,41 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Conductors derived from the base colour: per stored 8-bit code (invocation z) and
+// entry (n·v, r), the directional albedo ∫ D V F cos of the conductor whose η + ik that
+// code stands for (conductor_from_code), seen from η_i with polarisation weight w. With
+// normals sampled from GGX's visible normals, each sample's weight is F(v·h) G2/G1(v)
+// exactly (height-correlated G2 = 1/(1 + Λ(v) + Λ(l))).
+// params.x: samples; params.y: which table (its offset in environment_code_albedo);
+// values.x: η_i; values.y: w.
+#include "environment_bake.glsl"
+#include "fresnel.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+void main() {
+    uvec3 id = gl_GlobalInvocationID;
+    uint size = ENVIRONMENT_CODE_TABLE_SIZE;
+    if (id.x >= size || id.y >= size) {
+        return;
+    }
+    vec2 eta_k = conductor_from_code[id.z];
+    float nv = (float(id.x) + 0.5) / float(size);
+    float r = (float(id.y) + 0.5) / float(size);
+    float a = clamp_alpha(alpha_from_perceptual_roughness(r));
+    vec3 v = vec3(sqrt(max(1.0 - nv * nv, 0.0)), 0.0, nv);
+    float lambda_v = lambda_ggx(v, a);
+    uint samples = push.params.x;
+    float sum = 0.0;
+    for (uint i = 0u; i < samples; ++i) {
+        vec3 h = sample_ggx_vndf(v, a, a, hammersley(i, samples));
+        float vh = dot(v, h);
+        vec3 l = 2.0 * vh * h - v;
+        if (l.z <= 0.0) {
+            continue;
+        }
+        float f = polarised_weighted(fresnel_conductor(min(vh, 1.0), push.values.x, eta_k.x, eta_k.y), push.values.y);
+        sum += f * (1.0 + lambda_v) / (1.0 + lambda_v + lambda_ggx(l, a));
+    }
+    uint entry = ((push.params.y * 256u + id.z) * size + id.y) * size + id.x;
+    environment_code_albedo[entry] = sum / float(samples);
+}
