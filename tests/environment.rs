@@ -147,25 +147,42 @@ fn uniform_environment_on_a_matched_lambert_sphere_is_rho_times_l() {
 
 /// A white furnace (uniform radiance 1) shows each pixel's directional albedo: for gold
 /// at three roughnesses the GPU's per-material table (full Fresnel with η + ik per
-/// channel) must match the f64 reference's directional albedo by Monte Carlo.
+/// channel) must match the f64 reference's directional albedo by Monte Carlo; so must
+/// a glTF metal (η + ik derived from its base colour, per 8-bit code: the per-code
+/// tables), in air and under water.
 #[test]
 fn white_furnace_conductor_matches_the_f64_directional_albedo() {
-    for roughness in [0.15f32, 0.5, 0.85] {
-        let material = Material {
-            metalness: 1.0,
-            roughness,
-            conductor: ComplexIor {
-                eta: [0.18, 0.42, 1.37],
-                k: [3.42, 2.35, 1.77],
-            },
-            ..Material::default()
-        };
-        let scene = sphere(material, 1.0, Environment::Uniform([1.0; 3]));
+    let gold = |roughness| Material {
+        metalness: 1.0,
+        roughness,
+        conductor: ComplexIor {
+            eta: [0.18, 0.42, 1.37],
+            k: [3.42, 2.35, 1.77],
+        },
+        ..Material::default()
+    };
+    let gltf_metal = |roughness| Material {
+        metalness: 1.0,
+        roughness,
+        base_color: [0.95, 0.64, 0.54],
+        conductor_from_base_color: true,
+        ..Material::default()
+    };
+    let cases = [
+        ("gold", gold(0.15), 1.0),
+        ("gold", gold(0.5), 1.0),
+        ("gold", gold(0.85), 1.0),
+        ("base-colour metal", gltf_metal(0.4), 1.0),
+        ("base-colour metal in water", gltf_metal(0.4), 1.33),
+    ];
+    for (name, material, outside_ior) in cases {
+        let roughness = material.roughness;
+        let scene = sphere(material, outside_ior, Environment::Uniform([1.0; 3]));
         let frame = render(&scene, 64, 64);
         let compared = compare_with_oracle(&scene, &frame, 5, 40_000);
         let (max, mean, median, noise) = summary(&compared);
         eprintln!(
-            "gold r = {roughness}: {} pixels, max {max:.2e}, mean {mean:.2e}, median {median:.2e} (oracle σ ≤ {noise:.1e})",
+            "{name} r = {roughness}: {} pixels, max {max:.2e}, mean {mean:.2e}, median {median:.2e} (oracle σ ≤ {noise:.1e})",
             compared.len()
         );
         assert!(compared.len() > 60);
@@ -175,7 +192,7 @@ fn white_furnace_conductor_matches_the_f64_directional_albedo() {
         for c in &compared {
             assert!(
                 c.error < 1e-2 + 4.0 * c.noise,
-                "r = {roughness}: error {:e} with oracle σ {:e}",
+                "{name} r = {roughness}: error {:e} with oracle σ {:e}",
                 c.error,
                 c.noise
             );
