@@ -205,6 +205,27 @@ mod tests {
         }
     }
 
+    /// Calls `visit(l, dω)` at the midpoints of a `steps` × `steps` (θ, φ) grid over the
+    /// upper hemisphere.
+    fn upper_hemisphere_midpoints(steps: u32, mut visit: impl FnMut(Vec3<f64>, f64)) {
+        let (d_theta, d_phi) = (
+            std::f64::consts::FRAC_PI_2 / f64::from(steps),
+            2.0 * std::f64::consts::PI / f64::from(steps),
+        );
+        for i in 0..steps {
+            let theta = (f64::from(i) + 0.5) * d_theta;
+            for j in 0..steps {
+                let phi = (f64::from(j) + 0.5) * d_phi;
+                let l = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                );
+                visit(l, theta.sin() * d_theta * d_phi);
+            }
+        }
+    }
+
     fn axes() -> (Vec3<f64>, Vec3<f64>, Vec3<f64>) {
         (
             Vec3::new(0.0, 0.0, 1.0),
@@ -219,23 +240,10 @@ mod tests {
         // the sampled normals reflect below the horizon.
         let v = Vec3::new(0.6, 0.0, 0.8);
         let (ax, ay) = (0.5, 0.25);
-        let (nt, np) = (400, 400);
         let mut total = 0.0;
-        for i in 0..nt {
-            let theta = (i as f64 + 0.5) / nt as f64 * std::f64::consts::FRAC_PI_2;
-            for j in 0..np {
-                let phi = (j as f64 + 0.5) / np as f64 * 2.0 * std::f64::consts::PI;
-                let l = Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                );
-                let d_omega = theta.sin()
-                    * (std::f64::consts::FRAC_PI_2 / nt as f64)
-                    * (2.0 * std::f64::consts::PI / np as f64);
-                total += pdf_ggx_vndf_reflection(v, l, ax, ay) * d_omega;
-            }
-        }
+        upper_hemisphere_midpoints(400, |l, d_omega| {
+            total += pdf_ggx_vndf_reflection(v, l, ax, ay) * d_omega;
+        });
         // The sampler's own share of directions above the horizon must be that integral
         // (density and sampler agree), and a real share of them reflects below.
         let mut rng = SplitMix64::new(3);
@@ -301,28 +309,14 @@ mod tests {
                 seed: 7,
             },
         );
-        let (nt, np) = (600, 600);
         let view = brdf_view(&m, n, t, b, v);
         let mut q = [0.0; 3];
-        for i in 0..nt {
-            let theta = (i as f64 + 0.5) / nt as f64 * std::f64::consts::FRAC_PI_2;
-            for j in 0..np {
-                let phi = (j as f64 + 0.5) / np as f64 * 2.0 * std::f64::consts::PI;
-                let l = Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                );
-                let w = theta.cos()
-                    * theta.sin()
-                    * (std::f64::consts::FRAC_PI_2 / nt as f64)
-                    * (2.0 * std::f64::consts::PI / np as f64);
-                let f = brdf_evaluate_view(&m, &view, l);
-                for c in 0..3 {
-                    q[c] += f[c] * w;
-                }
+        upper_hemisphere_midpoints(600, |l, d_omega| {
+            let f = brdf_evaluate_view(&m, &view, l);
+            for c in 0..3 {
+                q[c] += f[c] * l.z * d_omega;
             }
-        }
+        });
         for c in 0..3 {
             assert!(
                 (e.mean[c] - q[c]).abs() < 4.0 * e.standard_error[c] + 1e-4,
