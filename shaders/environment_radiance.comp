@@ -1,10 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// One level of the environment's radiance cube: level 0 evaluates the source at each
-// texel's centre; level i > 0 is the mean of the four texels of level i − 1 it covers
-// (one bilinear sample at their shared corner, which is the level-i texel's centre).
-// params.x: the level's size; params.y: 0 = evaluate the source, 1 = reduce level
-// params.z of environment_source.
+// One level of the environment's radiance cube: level 0 evaluates the analytic source
+// at each texel's centre, or averages the equirectangular image over the texel (4 × 4
+// bilinear samples); level i > 0 is the mean of the four texels of level i − 1 it
+// covers (one bilinear sample at their shared corner, the level-i texel's centre).
+// params.x: the level's size; params.y: 0 = evaluate the analytic source, 1 = reduce
+// level params.z of environment_source, 2 = average environment_equirect.
 #include "environment_bake.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -16,8 +17,21 @@ void main() {
         return;
     }
     vec3 d = cube_texel_direction(id.z, id.xy, size);
-    vec3 l = push.params.y == 0u
-        ? environment_source_radiance(push.source, d)
-        : textureLod(environment_source, d, float(push.params.z)).rgb;
+    vec3 l;
+    if (push.params.y == 0u) {
+        l = environment_source_radiance(push.source, d);
+    } else if (push.params.y == 1u) {
+        l = textureLod(environment_source, d, float(push.params.z)).rgb;
+    } else {
+        l = vec3(0.0);
+        for (uint j = 0u; j < 4u; ++j) {
+            for (uint i = 0u; i < 4u; ++i) {
+                vec2 at = (vec2(id.xy) + (vec2(i, j) + 0.5) * 0.25) / float(size) * 2.0 - 1.0;
+                vec2 uv = equirect_coordinates(cube_face_direction(id.z, at));
+                l += textureLod(environment_equirect, uv, 0.0).rgb;
+            }
+        }
+        l *= 1.0 / 16.0;
+    }
     imageStore(environment_target, ivec3(id), vec4(l, 1.0));
 }

@@ -20,13 +20,13 @@ USAGE:
   combustion render [SCENE] [-o OUT.png] [--hdr OUT.exr] [--width N] [--height N]
                     [--exposure X] [--hdr-format f16|f32] [--fresnel full|schlick|f82]
                     [--distribution ggx|beckmann] [--diffuse MODEL] [--max-error E]
-                    [--environment studio|none|uniform:R,G,B] [--light-rig]
+                    [--environment studio|none|uniform:R,G,B|FILE] [--light-rig]
                     [--device SEL] [--validate]
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
                     [--hdr-format f16|f32] [--fresnel full|schlick|f82] [--specialised on|off]
                     [--distribution ggx|beckmann] [--diffuse MODEL]
                     [--extra-lights N] [--culling auto|always|never]
-                    [--environment studio|none|uniform:R,G,B] [--light-rig]
+                    [--environment studio|none|uniform:R,G,B|FILE] [--light-rig]
                     [--report DIR [--against PREVIOUS_DIR]]
                     [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
@@ -48,7 +48,8 @@ USAGE:
 SCENE is builtin:NAME (see below; default builtin:spheres) or a glTF file (.gltf or
 .glb; a file without lights is lit by the built-in studio environment).
 --environment lights the scene by the studio (an analytic sky, ground and two soft
-boxes), a uniform radiance (W/sr/m² per channel), or none; --light-rig adds the
+boxes), a uniform radiance (W/sr/m² per channel), an equirectangular Radiance .hdr or
+OpenEXR .exr image (row 0 at +y, the centre column along -z), or none; --light-rig adds the
 camera-relative key and fill lights (the earlier default for files without lights).
 --device SEL picks a Vulkan device by index or by part of its name (e.g. llvmpipe);
 the COMBUSTION_DEVICE environment variable does the same. --validate turns on the
@@ -257,7 +258,8 @@ fn choice<T: Copy>(flag: &str, value: &str, options: &[(&str, T)]) -> Result<T, 
     )))
 }
 
-/// `--environment`: `studio`, `none` or `uniform:R,G,B` (radiance per channel).
+/// `--environment`: `studio`, `none`, `uniform:R,G,B` (radiance per channel) or an
+/// equirectangular `.hdr` or `.exr` file.
 fn environment_option(flag: &str, value: &str) -> Result<Option<Environment>, Error> {
     if let Some(rgb) = value.strip_prefix("uniform:") {
         let parts: Vec<&str> = rgb.split(',').collect();
@@ -277,8 +279,12 @@ fn environment_option(flag: &str, value: &str) -> Result<Option<Environment>, Er
     match value {
         "studio" => Ok(Some(Environment::Studio)),
         "none" => Ok(None),
+        _ if value.ends_with(".hdr") || value.ends_with(".exr") => {
+            let image = combustion::scene::EnvironmentImage::load(Path::new(value))?;
+            Ok(Some(Environment::Image(std::sync::Arc::new(image))))
+        }
         _ => Err(Error::Usage(format!(
-            "{flag}: `{}` is not studio, none or uniform:R,G,B",
+            "{flag}: `{}` is not studio, none, uniform:R,G,B or an .hdr or .exr file",
             shortened(value)
         ))),
     }

@@ -141,6 +141,50 @@ fn unknown_fresnel_model_or_hdr_format() {
 }
 
 #[test]
+fn bad_environments_are_one_line_errors() {
+    assert_clear_error(
+        &["render", "--environment", "sunset"],
+        "--environment: `sunset` is not studio, none, uniform:R,G,B or an .hdr or .exr file",
+    );
+    assert_clear_error(
+        &["render", "--environment", "uniform:1,2"],
+        "is not uniform:L or uniform:R,G,B",
+    );
+    assert_clear_error(
+        &[
+            "render",
+            "--environment",
+            "uniform:1,-2,3",
+            "--width",
+            "8",
+            "--height",
+            "8",
+        ],
+        "must be finite and ≥ 0",
+    );
+    let dir = scratch("environment");
+    let missing = dir.join("missing.hdr");
+    assert_clear_error(
+        &["render", "--environment", missing.to_str().unwrap()],
+        "missing.hdr",
+    );
+    let out = dir.join("out.png");
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "--environment",
+        "uniform:0.5",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(out.exists());
+}
+
+#[test]
 fn not_a_number() {
     assert_clear_error(&["render", "--height", "tall"], "--height");
 }

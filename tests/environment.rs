@@ -6,9 +6,12 @@ mod common;
 
 use combustion::renderer::gbuffer::srgb_to_linear;
 use combustion::renderer::reference::{ReferenceShading, RADIANCE_FLOOR};
-use combustion::renderer::{Frame, FrameInputs, Readback};
+use combustion::renderer::{Frame, FrameInputs, Readback, RendererSettings};
+use std::sync::Arc;
+
 use combustion::scene::{
-    builtin_scene, Camera, ComplexIor, Environment, Material, Mesh, Object, Scene,
+    builtin_scene, studio_radiance, Camera, ComplexIor, Environment, EnvironmentImage, Material,
+    Mesh, Object, Scene,
 };
 use glam::{Mat4, Vec3};
 
@@ -105,23 +108,53 @@ fn summary(compared: &[Compared]) -> (f64, f64, f64, f64) {
     (max, mean, median, noise)
 }
 
+/// An equirectangular image sampled from `radiance` at its texel centres.
+fn equirect_of(width: u32, height: u32, radiance: impl Fn([f64; 3]) -> [f64; 3]) -> Environment {
+    let mut texels = Vec::new();
+    for y in 0..height {
+        for x in 0..width {
+            let phi = 2.0 * std::f64::consts::PI * ((f64::from(x) + 0.5) / f64::from(width) - 0.5);
+            let theta = std::f64::consts::PI * (f64::from(y) + 0.5) / f64::from(height);
+            let d = [
+                theta.sin() * phi.sin(),
+                theta.cos(),
+                -theta.sin() * phi.cos(),
+            ];
+            texels.push(radiance(d).map(|c| c as f32));
+        }
+    }
+    Environment::Image(Arc::new(EnvironmentImage {
+        name: "test image".into(),
+        width,
+        height,
+        texels,
+    }))
+}
+
 /// With the dielectric's IOR equal to the outside medium's there is no interface, so a
 /// Lambert sphere in a uniform environment of radiance L reflects exactly ρ·L in every
 /// pixel and direction (its directional albedo is ρ at every angle): in air and under
-/// water. L is exact in f16, the cube maps' format.
+/// water, from a uniform source and from an equirectangular image of constant texels.
 #[test]
 fn uniform_environment_on_a_matched_lambert_sphere_is_rho_times_l() {
     let codes = [200u8, 128, 60];
     let albedo = codes.map(|c| srgb_to_linear(f64::from(c) / 255.0) as f32);
     let radiance = [0.75f32, 1.5, 2.25];
-    for ior in [1.0f32, 1.33] {
+    let sources = [
+        Environment::Uniform(radiance),
+        equirect_of(16, 8, |_| radiance.map(f64::from)),
+    ];
+    let cases = sources
+        .iter()
+        .flat_map(|source| [1.0f32, 1.33].map(|ior| (ior, source)));
+    for (ior, source) in cases {
         let material = Material {
             base_color: albedo,
             dielectric_ior: ior,
             roughness: 0.6,
             ..Material::default()
         };
-        let scene = sphere(material, ior, Environment::Uniform(radiance));
+        let scene = sphere(material, ior, source.clone());
         let frame = render(&scene, 96, 96);
         let gbuffer = frame.gbuffer.as_ref().expect("G-buffer");
         let mut worst = 0.0f64;
@@ -136,7 +169,10 @@ fn uniform_environment_on_a_matched_lambert_sphere_is_rho_times_l() {
                 worst = worst.max((f64::from(pixel[c]) - expected).abs() / expected);
             }
         }
-        eprintln!("ior {ior}: {lit} pixels, worst relative error {worst:e}");
+        eprintln!(
+            "{}, ior {ior}: {lit} pixels, worst relative error {worst:e}",
+            source.name()
+        );
         assert!(lit > 3000, "the sphere covers the view");
         // The bake's sums are compensated (Kahan) and normalised, so the budget is the
         // direct-light identity's: a few f32 ulps (6e-8), 1e-6 with the sRGB decode of
@@ -200,18 +236,31 @@ fn white_furnace_conductor_matches_the_f64_directional_albedo() {
     }
 }
 
-/// The split sum under the studio environment, on the sphere grid lit by it alone:
-/// its error against the f64 rendering equation, reported per material kind.
+/// The split sum under the studio environment, on the sphere grid lit by it alone —
+/// analytic, and as a 256×128 equirectangular image of it (the oracle integrating the
+/// bilinear image itself): its error against the f64 rendering equation.
 #[test]
 fn studio_split_sum_error_against_the_oracle() {
-    let mut scene = builtin_scene("spheres").expect("built in");
-    scene.lights.clear();
-    scene.environment = Some(Environment::Studio);
-    let frame = render(&scene, 160, 96);
-    let compared = compare_with_oracle(&scene, &frame, 4, 4_000);
+    for source in [Environment::Studio, equirect_of(256, 128, studio_radiance)] {
+        let mut scene = builtin_scene("spheres").expect("built in");
+        scene.lights.clear();
+        scene.environment = Some(source);
+        split_sum_against_the_oracle(&scene);
+    }
+}
+
+fn split_sum_against_the_oracle(scene: &Scene) {
+    let frame = render(scene, 160, 96);
+    let compared = compare_with_oracle(scene, &frame, 4, 4_000);
     let (max, mean, median, noise) = summary(&compared);
+    let name = scene
+        .environment
+        .as_ref()
+        .map(Environment::name)
+        .unwrap_or_default();
     eprintln!(
-        "studio, spheres: {} pixels, max {max:.3e}, mean {mean:.3e}, median {median:.3e} (oracle σ ≤ {noise:.1e})",
+        "{name}, {}: {} pixels, max {max:.3e}, mean {mean:.3e}, median {median:.3e} (oracle σ ≤ {noise:.1e})",
+        scene.name,
         compared.len()
     );
     assert!(compared.len() > 150);
@@ -228,4 +277,140 @@ fn studio_split_sum_error_against_the_oracle() {
         mean < 0.15 && median < 0.08,
         "mean {mean:e}, median {median:e}"
     );
+}
+
+/// The environment-lit built-in scenes and their goldens' sizes.
+const ENVIRONMENT_SCENES: [(&str, u32, u32); 2] = [
+    ("spheres-studio", 192, 128),
+    ("gold-copper-underwater", 256, 128),
+];
+
+/// Mean FLIP allowed between a render and its golden, per scene: half of what a
+/// just-visible change (exposure ×1.02) gives on it at that size, measured by
+/// `measure_flip_of_a_just_visible_change_under_the_studio` (ignored): 0.01132
+/// (spheres-studio), 0.02050 (gold-copper-underwater).
+const ENVIRONMENT_MAX_MEAN_FLIP: [f32; 2] = [0.00566, 0.01025];
+
+fn golden_name(name: &str, width: u32, height: u32) -> String {
+    format!("{name}_{width}x{height}")
+}
+
+#[test]
+fn environment_scenes_match_their_goldens() {
+    for ((name, width, height), max_flip) in ENVIRONMENT_SCENES
+        .into_iter()
+        .zip(ENVIRONMENT_MAX_MEAN_FLIP)
+    {
+        let scene = builtin_scene(name).expect("built in");
+        let frame = common::render_images(&scene, width, height, RendererSettings::default());
+        common::compare_with_golden(&golden_name(name, width, height), &frame, max_flip);
+    }
+}
+
+/// How the FLIP thresholds above were derived (run with --ignored to re-measure).
+#[test]
+#[ignore]
+fn measure_flip_of_a_just_visible_change_under_the_studio() {
+    for (name, width, height) in ENVIRONMENT_SCENES {
+        let scene = builtin_scene(name).expect("built in");
+        let render = |exposure| {
+            common::render_images(
+                &scene,
+                width,
+                height,
+                RendererSettings {
+                    exposure,
+                    ..RendererSettings::default()
+                },
+            )
+        };
+        let rgb = |f: &Frame| {
+            f.ldr
+                .iter()
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect::<Vec<u8>>()
+        };
+        let (a, b) = (render(1.0), render(1.02));
+        let map = nv_flip::flip(
+            nv_flip::FlipImageRgb8::with_data(width, height, &rgb(&a)),
+            nv_flip::FlipImageRgb8::with_data(width, height, &rgb(&b)),
+            nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+        );
+        println!(
+            "{name}: mean FLIP of exposure ×1.02: {}",
+            nv_flip::FlipPool::from_image(&map).mean()
+        );
+    }
+}
+
+/// The radiance range an 8-bit display code stands for after the output pass (exposure
+/// 1, 1 − e^(−x), sRGB): the radiances whose encoding rounds to `code`.
+fn radiance_interval(code: u8) -> (f64, f64) {
+    let decode = |c: f64| {
+        let t = srgb_to_linear((c / 255.0).clamp(0.0, 1.0));
+        if t >= 1.0 {
+            f64::INFINITY
+        } else {
+            -(1.0 - t).ln()
+        }
+    };
+    let c = f64::from(code);
+    (decode(c - 0.5).max(0.0), decode(c + 0.5))
+}
+
+/// The independent check of the environment goldens: each sampled pixel of the PNG on
+/// disk, read back to the radiance interval its code stands for, against the f64
+/// rendering equation at that pixel's G-buffer texel (the oracle). The error is how far
+/// the oracle lies outside the interval (8-bit quantisation removed), relative to it;
+/// the bounds are the split sum's (`studio_split_sum_error_against_the_oracle`).
+#[test]
+fn environment_goldens_agree_with_the_oracle() {
+    for (name, width, height) in ENVIRONMENT_SCENES {
+        let scene = builtin_scene(name).expect("built in");
+        let golden =
+            common::goldens_dir().join(format!("{}.png", golden_name(name, width, height)));
+        let (w, h, codes) = common::read_png(&golden);
+        assert_eq!((w, h), (width, height));
+        let frame = render(&scene, width, height);
+        let gbuffer = frame.gbuffer.as_ref().expect("G-buffer");
+        let inputs = FrameInputs {
+            camera: scene.camera,
+            exposure: 1.0,
+            lights: &[],
+            overlay: &[],
+        };
+        let reference = ReferenceShading::new(&scene, &inputs, width, height);
+        let environment = scene.environment.as_ref().expect("lit by an environment");
+        let mut errors = Vec::new();
+        for y in (2..height).step_by(4) {
+            for x in (2..width).step_by(4) {
+                let i = (y * width + x) as usize;
+                let Some(estimate) =
+                    reference.shade_environment(&gbuffer.texels[i], x, y, environment, 4_000)
+                else {
+                    continue;
+                };
+                let mut error = 0.0f64;
+                for (c, &oracle) in estimate.mean.iter().enumerate() {
+                    let (low, high) = radiance_interval(codes[i][c]);
+                    let outside = (low - oracle).max(oracle - high).max(0.0);
+                    error = error.max(outside / oracle.max(RADIANCE_FLOOR));
+                }
+                errors.push(error);
+            }
+        }
+        errors.sort_by(f64::total_cmp);
+        let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+        let median = errors[errors.len() / 2];
+        eprintln!(
+            "{name} golden against the oracle: {} pixels, mean {mean:.3e}, median {median:.3e}, max {:.3e}",
+            errors.len(),
+            errors[errors.len() - 1]
+        );
+        assert!(errors.len() > 200, "{name}: {} pixels", errors.len());
+        assert!(
+            mean < 0.15 && median < 0.08,
+            "{name}: mean {mean:e}, median {median:e}"
+        );
+    }
 }

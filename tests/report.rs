@@ -276,3 +276,39 @@ fn comparison_variants_move_the_error_as_their_physics_says() {
         "no pixel is lost to a non-finite value"
     );
 }
+
+/// A scene lit by an environment is measured against the f64 rendering equation on a
+/// grid of pixels (`report::ENVIRONMENT_SAMPLING`): the split sum's error is in the
+/// report beside the other variants', and its mean-FLIP cell says why it is empty.
+#[test]
+fn the_split_sum_error_is_in_the_report() {
+    let desc = ReportDesc {
+        scenes: vec![SceneSource::Builtin("spheres-studio".into())],
+        sets: vec![VariantSet::DEFAULT],
+        width: 320,
+        height: 192,
+        frames: 1,
+        device: lavapipe_with_validation(),
+        floors: false,
+        scaling: None,
+    };
+    let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
+    let md = combustion::report::markdown(&measured, &desc);
+    let row = &measured.rows[0];
+    eprintln!(
+        "spheres-studio: {} pixels, mean {:.3e}, max {:.3e}",
+        row.compared, row.mean_relative, row.max_relative
+    );
+    let stride = combustion::report::ENVIRONMENT_SAMPLING.stride;
+    // Lit pixels on the grid only: fewer than one per stride² block.
+    assert!(row.compared > 20 && row.compared <= ((320 / stride) * (192 / stride)) as usize);
+    // The split sum's error (tests/environment.rs: mean 8.5 %), not the missing
+    // environment's (the reference without it would be ~100 % off).
+    assert!(
+        row.mean_relative > 1e-3 && row.mean_relative < 0.15,
+        "{}",
+        row.mean_relative
+    );
+    assert!(row.flip_mean.is_nan());
+    assert!(md.contains("— (environment)"), "{md}");
+}

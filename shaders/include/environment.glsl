@@ -36,10 +36,9 @@ vec3 environment_source_radiance(EnvironmentSource s, vec3 d) {
     return l;
 }
 
-// The unit direction through texel `texel` of face `face` (+X, −X, +Y, −Y, +Z, −Z) of a
-// cube level `size` texels across (Vulkan's cube-map face selection, inverted).
-vec3 cube_texel_direction(uint face, uvec2 texel, uint size) {
-    vec2 uv = (vec2(texel) + 0.5) / float(size) * 2.0 - 1.0;
+// The unit direction through face coordinates `uv` (−1 … 1) of face `face` (+X, −X,
+// +Y, −Y, +Z, −Z) of a cube map (Vulkan's cube-map face selection, inverted).
+vec3 cube_face_direction(uint face, vec2 uv) {
     vec3 d;
     switch (face) {
         case 0u: d = vec3(1.0, -uv.y, -uv.x); break;
@@ -50,6 +49,18 @@ vec3 cube_texel_direction(uint face, uvec2 texel, uint size) {
         default: d = vec3(-uv.x, -uv.y, -1.0); break;
     }
     return normalize(d);
+}
+
+// The unit direction through the centre of texel `texel` of face `face` of a cube level
+// `size` texels across.
+vec3 cube_texel_direction(uint face, uvec2 texel, uint size) {
+    return cube_face_direction(face, (vec2(texel) + 0.5) / float(size) * 2.0 - 1.0);
+}
+
+// (u, v) of a unit direction on an equirectangular image, row 0 at +y, the centre column
+// along −z (combustion_scene::equirect_coordinates).
+vec2 equirect_coordinates(vec3 d) {
+    return vec2(0.5 + atan(d.x, -d.z) * (0.5 * INV_PI), acos(clamp(d.y, -1.0, 1.0)) * INV_PI);
 }
 
 // Solid angle of the texel of a cube face spanning [x0, x1] × [y0, y1] in face

@@ -90,10 +90,10 @@ pub fn toggle_fresnel(model: FresnelModel) -> FresnelModel {
     }
 }
 
-/// The built-in scene on number key `n` (1-based), if any.
+/// The built-in scene on number key `n` (1 … 9 the first nine, 0 the tenth), if any.
 pub fn builtin_on_key(n: u32) -> Option<SceneSource> {
     let names = combustion_scene::BUILTIN_SCENES;
-    let index = usize::try_from(n.checked_sub(1)?).ok()?;
+    let index = usize::try_from(if n == 0 { 9 } else { n - 1 }).ok()?;
     names
         .get(index)
         .map(|name| SceneSource::Builtin((*name).to_owned()))
@@ -153,7 +153,12 @@ mod tests {
             builtin_on_key(1),
             Some(SceneSource::Builtin("spheres".into()))
         );
-        assert_eq!(builtin_on_key(0), None);
+        assert_eq!(
+            builtin_on_key(0),
+            Some(SceneSource::Builtin(
+                combustion_scene::BUILTIN_SCENES[9].into()
+            ))
+        );
         assert_eq!(builtin_on_key(99), None);
         assert_eq!(
             toggle_fresnel(toggle_fresnel(toggle_fresnel(FresnelModel::Full))),

@@ -89,7 +89,10 @@ pub const KEYS: &[(&str, &str)] = &[
         "next camera of the glTF file (its placed perspective cameras)",
     ),
     ("P", "screenshot to combustion-NNNN.png"),
-    ("1 … 8", "the built-in scenes, in `combustion help` order"),
+    (
+        "1 … 9, 0",
+        "the built-in scenes, in `combustion help` order (0: the tenth)",
+    ),
     ("drop a file", "open a glTF file"),
     (
         "F5",

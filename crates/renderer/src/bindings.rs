@@ -492,6 +492,8 @@ pub static ENVIRONMENT_BAKE: SetDecl = SetDecl {
     set: 0,
     bindings: &[
         Binding::new("environment_source", BindingKind::SamplerCube, COMPUTE),
+        // An equirectangular source image (or a 1×1 placeholder).
+        Binding::new("environment_equirect", BindingKind::Sampler2D, COMPUTE),
         Binding::new(
             "environment_target",
             BindingKind::StorageImage2DArray { format: "rgba32f" },

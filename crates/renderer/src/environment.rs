@@ -165,6 +165,113 @@ fn linear_sampler(device: &Arc<Device>, levels: u32) -> Result<Sampler, RenderEr
     Ok(Sampler::new(device, &info)?)
 }
 
+/// The equirectangular source as an RGBA32F image with its sampler (wrapping in u,
+/// clamped at the poles), and the staging buffer its texels come from: a 1×1 black
+/// placeholder for analytic sources.
+struct Equirect {
+    image: Image,
+    staging: Buffer,
+    sampler: Sampler,
+}
+
+impl Equirect {
+    fn new(device: &Arc<Device>, environment: &Environment) -> Result<Self, RenderError> {
+        let (width, height, texels): (u32, u32, Vec<[f32; 4]>) = match environment {
+            Environment::Image(image) => (
+                image.width,
+                image.height,
+                image
+                    .texels
+                    .iter()
+                    .map(|t| [t[0], t[1], t[2], 1.0])
+                    .collect(),
+            ),
+            _ => (1, 1, vec![[0.0; 4]]),
+        };
+        let max = device.max_image_dimension_2d();
+        if width > max || height > max {
+            return Err(RenderError::TooLarge(format!(
+                "environment image of {width}×{height}: this device takes at most {max} per side"
+            )));
+        }
+        let image = Image::new(
+            device,
+            &ImageDesc::new(
+                "environment equirect",
+                FORMAT,
+                width,
+                height,
+                vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            ),
+        )?;
+        let staging = Buffer::with_data(
+            device,
+            "environment equirect staging",
+            bytemuck::cast_slice(&texels),
+            vk::BufferUsageFlags::TRANSFER_SRC,
+        )?;
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::REPEAT)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .max_lod(0.0);
+        Ok(Self {
+            image,
+            staging,
+            sampler: Sampler::new(device, &info)?,
+        })
+    }
+
+    /// Records the copy from the staging buffer, leaving the image for compute reads.
+    fn record_upload(&self, device: &Device, cmd: vk::CommandBuffer) {
+        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
+        let dst = (S::COPY, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL);
+        let read = (
+            S::COMPUTE_SHADER,
+            A::SHADER_SAMPLED_READ,
+            L::SHADER_READ_ONLY_OPTIMAL,
+        );
+        let extent = self.image.extent();
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            });
+        let raw = device.raw();
+        // SAFETY: recording state; image and buffer live until the bake's wait.
+        unsafe {
+            raw.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&[self
+                    .image
+                    .barrier((S::NONE, A::NONE, L::UNDEFINED), dst)]),
+            );
+            raw.cmd_copy_buffer_to_image(
+                cmd,
+                self.staging.raw(),
+                self.image.raw(),
+                L::TRANSFER_DST_OPTIMAL,
+                &[region],
+            );
+            raw.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default()
+                    .image_memory_barriers(&[self.image.barrier(dst, read)]),
+            );
+        }
+    }
+}
+
 /// The distinct (η_i, w) of the materials whose conductor comes from the base colour,
 /// and each material's index among them (0 for the others).
 fn code_tables(materials: &[GpuMaterial]) -> (Vec<[f32; 2]>, Vec<u32>) {
@@ -274,6 +381,7 @@ impl EnvironmentBaker {
             bytemuck::cast_slice(&of_material),
         )?;
         let sampler = linear_sampler(device, radiance.mip_levels())?;
+        let equirect = Equirect::new(device, environment)?;
         let level_view = |image: &Image, level: u32| -> Result<ImageView, RenderError> {
             Ok(image.view_of(level..level + 1, 0..6, vk::ImageViewType::TYPE_2D_ARRAY)?)
         };
@@ -286,6 +394,7 @@ impl EnvironmentBaker {
         let mut commands = OneShot::new(device)?;
         let cmd = commands.begin()?;
         let raw = device.raw();
+        equirect.record_upload(device, cmd);
         use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
         let general = (
             S::COMPUTE_SHADER,
@@ -324,6 +433,12 @@ impl EnvironmentBaker {
                     radiance.view(),
                     L::GENERAL,
                     sampler.raw(),
+                )
+                .image(
+                    "environment_equirect",
+                    equirect.image.view(),
+                    L::SHADER_READ_ONLY_OPTIMAL,
+                    equirect.sampler.raw(),
                 )
                 .image(
                     "environment_target",
@@ -367,7 +482,12 @@ impl EnvironmentBaker {
         for level in 0..radiance_levels {
             let view = level_view(&radiance, level)?;
             let size = radiance.mip_extent(level).width;
-            let params = [size, u32::from(level > 0), level.saturating_sub(1), 0];
+            let mode = match (level, environment) {
+                (0, Environment::Image(_)) => 2,
+                (0, _) => 0,
+                _ => 1,
+            };
+            let params = [size, mode, level.saturating_sub(1), 0];
             dispatch(&self.radiance, &view, params, [0.0; 4], groups(size, 6))?;
             views.push(view);
         }
@@ -441,6 +561,7 @@ impl EnvironmentBaker {
         drop(views);
         drop(pool);
         drop(radiance);
+        drop(equirect);
         Ok(GpuEnvironment {
             specular,
             irradiance,

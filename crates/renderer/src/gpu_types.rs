@@ -358,6 +358,8 @@ impl EnvironmentSource {
                 box_direction: [[0.0, 1.0, 0.0, 0.0]; 2],
                 box_radiance_exponent: [[0.0, 0.0, 0.0, 1.0]; 2],
             },
+            // Read from the equirectangular image instead.
+            Environment::Image(_) => Self::new(&Environment::Uniform([0.0; 3])),
             Environment::Studio => {
                 let boxes = combustion_scene::STUDIO_BOXES;
                 let unit = |k: [f64; 3]| {

@@ -35,8 +35,19 @@ pub struct PixelInputs {
     pub position: [f64; 3],
 }
 
+/// How the reference integrates an environment in [`error_map`]: Monte Carlo with
+/// `iterations` samples of each strategy at one pixel in `stride` along each axis (the
+/// pixel at stride/2 of each `stride`×`stride` block); the other pixels are not compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EnvironmentSampling {
+    pub iterations: u32,
+    pub stride: u32,
+}
+
 /// What the lighting pass reads besides the G-buffer, as the GPU got it (f32).
 pub struct ReferenceShading {
+    /// The environment [`ReferenceShading::shade`] adds, and how it is sampled.
+    environment: Option<(Environment, EnvironmentSampling)>,
     push: LightingPush,
     materials: Vec<GpuMaterial>,
     lights: Vec<GpuLight>,
@@ -89,6 +100,31 @@ impl ReferenceShading {
                 .collect(),
             width,
             height,
+            environment: None,
+        }
+    }
+
+    /// The same, adding the environment's radiance, integrated as `sampling` says
+    /// ([`Self::shade_environment`]): the reference for frames of scenes lit by one.
+    pub fn with_environment(self, environment: Environment, sampling: EnvironmentSampling) -> Self {
+        Self {
+            environment: Some((
+                environment,
+                EnvironmentSampling {
+                    stride: sampling.stride.max(1),
+                    ..sampling
+                },
+            )),
+            ..self
+        }
+    }
+
+    /// Whether pixel (`x`, `y`) is compared: every pixel, or with an environment one
+    /// per `stride`×`stride` block.
+    pub fn compares(&self, x: u32, y: u32) -> bool {
+        match &self.environment {
+            Some((_, s)) => x % s.stride == s.stride / 2 && y % s.stride == s.stride / 2,
+            None => true,
         }
     }
 
@@ -124,6 +160,14 @@ impl ReferenceShading {
             let brdf = brdf_evaluate(&m, v3(n), v3(t), v3(b), v3(v), v3(l));
             for c in 0..3 {
                 radiance[c] += brdf[c] * e[c] * cos;
+            }
+        }
+        if let Some((environment, sampling)) = &self.environment {
+            let from_environment = self
+                .shade_environment(texel, x, y, environment, sampling.iterations)
+                .map_or([0.0; 3], |e| e.mean);
+            for c in 0..3 {
+                radiance[c] += from_environment[c];
             }
         }
         Some(radiance)
@@ -318,6 +362,9 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
                         let (x, y) = ((i % row) as u32, (i / row) as u32);
                         let gpu = frame.hdr[i];
                         *radiance = [gpu[0], gpu[1], gpu[2]];
+                        if !reference.compares(x, y) {
+                            continue;
+                        }
                         let texel = &gbuffer.texels[i];
                         if gpu.iter().any(|c| !c.is_finite()) {
                             part.non_finite += 1;
@@ -383,7 +430,10 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
             map.worst_values = part.worst_values;
         }
     }
-    map.reference_radiance = reference_radiance;
+    // Sampled pixels only (an environment): no reference image to compare whole.
+    if reference.environment.is_none() {
+        map.reference_radiance = reference_radiance;
+    }
     map.mean_relative = sum / map.lit_pixels.max(1) as f64;
     map.rms_relative = (sum_squares / map.lit_pixels.max(1) as f64).sqrt();
     map

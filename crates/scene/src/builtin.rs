@@ -14,6 +14,8 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "underwater",
     "underwater-in-air",
     "grid-7x7",
+    "spheres-studio",
+    "gold-copper-underwater",
 ];
 
 /// Builds the built-in scene `name`.
@@ -27,10 +29,30 @@ pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
         "underwater" => Ok(underwater(WATER_IOR, "underwater")),
         "underwater-in-air" => Ok(underwater(1.0, "underwater-in-air")),
         "grid-7x7" => Ok(grid_7x7()),
+        "spheres-studio" => Ok(under_studio(spheres(), "spheres-studio")),
+        "gold-copper-underwater" => Ok(under_studio(
+            Scene {
+                outside_ior: WATER_IOR,
+                ..gold_copper()
+            },
+            "gold-copper-underwater",
+        )),
         _ => Err(SceneError::UnknownBuiltin {
             name: name.to_owned(),
             known: BUILTIN_SCENES.join(", "),
         }),
+    }
+}
+
+/// `scene` lit by the studio environment alone (its lights removed): environment
+/// lighting's built-in scenes (`spheres-studio`, the sphere grid; `gold-copper-underwater`,
+/// gold and copper in water, η_i = 1.33).
+fn under_studio(scene: Scene, name: &str) -> Scene {
+    Scene {
+        name: name.into(),
+        lights: Vec::new(),
+        environment: Some(crate::Environment::Studio),
+        ..scene
     }
 }
 

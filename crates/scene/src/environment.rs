@@ -6,7 +6,187 @@
 //! evaluates the same formula in GLSL (`shaders/include/environment.glsl`), and the f64
 //! environment oracle (`combustion_renderer::reference`) integrates against these.
 
+use std::path::Path;
+use std::sync::Arc;
+
 use crate::SceneError;
+
+/// The most bytes an environment file may have (checked before reading).
+pub const MAX_ENVIRONMENT_FILE_BYTES: u64 = 1 << 30;
+/// The most texels an environment image may decode to (8192 × 4096 × 2).
+pub const MAX_ENVIRONMENT_TEXELS: u64 = 1 << 26;
+
+/// An equirectangular (latitude–longitude) radiance image, W·sr⁻¹·m⁻² per RGB channel,
+/// row 0 at the zenith (+y). Its radiance is the image bilinearly interpolated, wrapping
+/// around in u and clamped at the poles, at
+/// u = ½ + atan2(ω_x, −ω_z)/2π, v = acos(ω_y)/π
+/// (the image's centre column looks along −z, the default camera's view).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvironmentImage {
+    /// The file it came from (for messages).
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    /// Row-major from the top-left.
+    pub texels: Vec<[f32; 3]>,
+}
+
+impl EnvironmentImage {
+    /// Reads a Radiance `.hdr` (RGBE) or OpenEXR `.exr` file: a regular file of at most
+    /// [`MAX_ENVIRONMENT_FILE_BYTES`], decoding to at most [`MAX_ENVIRONMENT_TEXELS`]
+    /// texels, every value finite and ≥ 0.
+    pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let fail = |reason: String| SceneError::EnvironmentImage {
+            path: path.display().to_string(),
+            reason,
+        };
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        let bytes = crate::gltf::read_regular_file(path, MAX_ENVIRONMENT_FILE_BYTES)
+            .map_err(|e| fail(e.to_string()))?;
+        let image = match extension.as_deref() {
+            Some("hdr") => decode_radiance_hdr(&bytes),
+            Some("exr") => decode_exr(&bytes),
+            _ => Err("not a .hdr or .exr file".into()),
+        }
+        .map_err(fail)?;
+        let image = Self {
+            name: path.display().to_string(),
+            ..image
+        };
+        image.validate()?;
+        Ok(image)
+    }
+
+    /// The image's own checks: a size that fits, texels for every pixel, values finite
+    /// and ≥ 0.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let fail = |reason: String| {
+            Err(SceneError::EnvironmentImage {
+                path: self.name.clone(),
+                reason,
+            })
+        };
+        let count = u64::from(self.width) * u64::from(self.height);
+        if self.width == 0 || self.height == 0 || count != self.texels.len() as u64 {
+            return fail(format!(
+                "{}×{} with {} texels",
+                self.width,
+                self.height,
+                self.texels.len()
+            ));
+        }
+        if let Some(i) = self
+            .texels
+            .iter()
+            .position(|t| !t.iter().all(|&c| c.is_finite() && c >= 0.0))
+        {
+            return fail(format!(
+                "texel ({}, {}) is {:?}: radiance must be finite and ≥ 0",
+                i as u32 % self.width,
+                i as u32 / self.width,
+                self.texels[i]
+            ));
+        }
+        Ok(())
+    }
+
+    /// The bilinearly interpolated radiance towards `direction` (unit length).
+    pub fn radiance(&self, d: [f64; 3]) -> [f64; 3] {
+        let (u, v) = equirect_coordinates(d);
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        let x = u * w - 0.5;
+        let y = (v * h - 0.5).clamp(0.0, h - 1.0);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let column = |i: f64| (i as i64).rem_euclid(i64::from(self.width)) as usize;
+        let row = |j: f64| (j as i64).clamp(0, i64::from(self.height) - 1) as usize;
+        let at = |i: f64, j: f64| self.texels[row(j) * self.width as usize + column(i)];
+        let (a, b, c, e) = (
+            at(x0, y0),
+            at(x0 + 1.0, y0),
+            at(x0, y0 + 1.0),
+            at(x0 + 1.0, y0 + 1.0),
+        );
+        let mut out = [0.0; 3];
+        for (k, o) in out.iter_mut().enumerate() {
+            let top = f64::from(a[k]) * (1.0 - fx) + f64::from(b[k]) * fx;
+            let bottom = f64::from(c[k]) * (1.0 - fx) + f64::from(e[k]) * fx;
+            *o = top * (1.0 - fy) + bottom * fy;
+        }
+        out
+    }
+}
+
+/// (u, v) of a unit direction on an equirectangular image ([`EnvironmentImage`]).
+pub fn equirect_coordinates(d: [f64; 3]) -> (f64, f64) {
+    let u = 0.5 + d[0].atan2(-d[2]) / (2.0 * std::f64::consts::PI);
+    let v = d[1].clamp(-1.0, 1.0).acos() / std::f64::consts::PI;
+    (u, v)
+}
+
+fn check_size(width: usize, height: usize) -> Result<(u32, u32), String> {
+    let count = (width as u64).saturating_mul(height as u64);
+    if width == 0 || height == 0 || count > MAX_ENVIRONMENT_TEXELS {
+        return Err(format!(
+            "{width}×{height} is outside 1 … {MAX_ENVIRONMENT_TEXELS} texels"
+        ));
+    }
+    Ok((width as u32, height as u32))
+}
+
+fn decode_radiance_hdr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
+    use image::ImageDecoder as _;
+    let decoder = image::codecs::hdr::HdrDecoder::new(std::io::Cursor::new(bytes))
+        .map_err(|e| e.to_string())?;
+    let (w, h) = decoder.dimensions();
+    let (width, height) = check_size(w as usize, h as usize)?;
+    let mut raw = vec![0u8; decoder.total_bytes() as usize];
+    decoder.read_image(&mut raw).map_err(|e| e.to_string())?;
+    let floats: &[f32] = bytemuck::try_cast_slice(&raw).map_err(|e| e.to_string())?;
+    let texels = floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    Ok(EnvironmentImage {
+        name: String::new(),
+        width,
+        height,
+        texels,
+    })
+}
+
+fn decode_exr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
+    use exr::prelude::*;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |resolution, _| {
+                let (w, h) = (resolution.width(), resolution.height());
+                let ok = check_size(w, h).is_ok();
+                // Refused sizes allocate nothing; the size is checked again below.
+                (vec![[0.0f32; 3]; if ok { w * h } else { 0 }], w, ok)
+            },
+            |(texels, width, ok), position, (r, g, b, _a): (f32, f32, f32, f32)| {
+                if *ok {
+                    texels[position.y() * *width + position.x()] = [r, g, b];
+                }
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| e.to_string())?;
+    let size = image.layer_data.size;
+    let (width, height) = check_size(size.width(), size.height())?;
+    let (texels, _, _) = image.layer_data.channel_data.pixels;
+    Ok(EnvironmentImage {
+        name: String::new(),
+        width,
+        height,
+        texels,
+    })
+}
 
 /// The studio environment's sky colour at the zenith (W·sr⁻¹·m⁻²).
 pub const STUDIO_SKY: [f64; 3] = [0.60, 0.70, 0.85];
@@ -30,6 +210,8 @@ pub enum Environment {
     /// with S = [`STUDIO_SKY`], G = [`STUDIO_GROUND`], (k_i, B_i, p_i) = [`STUDIO_BOXES`]
     /// (k_i normalised). Smooth everywhere, so a cube map of it has no aliasing to hide.
     Studio,
+    /// An equirectangular radiance image ([`EnvironmentImage`]; `--environment FILE`).
+    Image(Arc<EnvironmentImage>),
 }
 
 impl Environment {
@@ -39,6 +221,7 @@ impl Environment {
         match self {
             Environment::Uniform(l) => l.map(f64::from),
             Environment::Studio => studio_radiance(direction),
+            Environment::Image(image) => image.radiance(unit(direction)),
         }
     }
 
@@ -50,6 +233,7 @@ impl Environment {
                     "uniform environment radiance {l:?} must be finite and ≥ 0"
                 )))
             }
+            Environment::Image(image) => image.validate(),
             _ => Ok(()),
         }
     }
@@ -59,6 +243,9 @@ impl Environment {
         match self {
             Environment::Uniform(l) => format!("uniform {},{},{}", l[0], l[1], l[2]),
             Environment::Studio => "studio".into(),
+            Environment::Image(image) => {
+                format!("{} ({}×{})", image.name, image.width, image.height)
+            }
         }
     }
 }
@@ -114,6 +301,111 @@ mod tests {
                 gradient + STUDIO_BOXES[0].1[c] + STUDIO_BOXES[1].1[c] * other.powf(12.0);
             assert!((at_key[c] - expected).abs() < 1e-12);
         }
+    }
+
+    fn temporary(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("combustion-env-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    /// A smooth test pattern with values from 0.01 to above f16's range.
+    fn pattern(x: usize, y: usize) -> [f32; 3] {
+        [
+            0.01 + x as f32 * 0.5,
+            1.0 + y as f32 * 0.25,
+            7.0e4 * (x % 2) as f32,
+        ]
+    }
+
+    #[test]
+    fn exr_images_read_back_exactly() {
+        let path = temporary("pattern.exr");
+        exr::prelude::write_rgb_file(&path, 8, 4, |x, y| {
+            let [r, g, b] = pattern(x, y);
+            (r, g, b)
+        })
+        .unwrap();
+        let image = EnvironmentImage::load(&path).unwrap();
+        assert_eq!((image.width, image.height), (8, 4));
+        for y in 0..4 {
+            for x in 0..8 {
+                assert_eq!(image.texels[y * 8 + x], pattern(x, y));
+            }
+        }
+    }
+
+    #[test]
+    fn radiance_hdr_images_read_back_within_rgbe_precision() {
+        use image::ImageEncoder as _;
+        let path = temporary("pattern.hdr");
+        let texels: Vec<[f32; 3]> = (0..4)
+            .flat_map(|y| (0..8).map(move |x| pattern(x, y)))
+            .collect();
+        let file = std::fs::File::create(&path).unwrap();
+        image::codecs::hdr::HdrEncoder::new(file)
+            .write_image(
+                bytemuck::cast_slice(&texels),
+                8,
+                4,
+                image::ExtendedColorType::Rgb32F,
+            )
+            .unwrap();
+        let image = EnvironmentImage::load(&path).unwrap();
+        assert_eq!((image.width, image.height), (8, 4));
+        for (read, written) in image.texels.iter().zip(&texels) {
+            // RGBE: an 8-bit mantissa per channel under the largest channel's exponent.
+            let largest = written.iter().copied().fold(0.0f32, f32::max);
+            for c in 0..3 {
+                assert!(
+                    (read[c] - written[c]).abs() <= largest / 128.0,
+                    "{read:?} against {written:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn bad_environment_files_are_refused_with_the_reason() {
+        let text = temporary("not-an-image.hdr");
+        std::fs::write(&text, b"hello").unwrap();
+        let wrong = temporary("image.png");
+        std::fs::write(&wrong, b"\x89PNG").unwrap();
+        let negative = temporary("negative.exr");
+        exr::prelude::write_rgb_file(&negative, 2, 2, |x, _| (x as f32 - 1.0, 0.0, 0.0)).unwrap();
+        for (path, expected) in [
+            (text, "environment image"),
+            (wrong, "not a .hdr or .exr file"),
+            (negative, "radiance must be finite and ≥ 0"),
+            (temporary("missing.exr"), "No such file"),
+            (std::env::temp_dir(), "not a regular file"),
+        ] {
+            let message = EnvironmentImage::load(&path).unwrap_err().to_string();
+            assert!(message.contains(expected), "{}: {message}", path.display());
+        }
+    }
+
+    #[test]
+    fn equirect_radiance_is_bilinear_and_wraps_around() {
+        // 4×2 texels: columns 0…3 with radiance 0, 1, 2, 3 on both rows.
+        let image = EnvironmentImage {
+            name: "ramp".into(),
+            width: 4,
+            height: 2,
+            texels: (0..8).map(|i| [(i % 4) as f32; 3]).collect(),
+        };
+        let along = |u: f64| {
+            let phi = 2.0 * std::f64::consts::PI * (u - 0.5);
+            image.radiance([phi.sin(), 0.0, -phi.cos()])[0]
+        };
+        // Texel centres at u = 1/8, 3/8, …; half-way between column 3 and column 0
+        // (wrapping round) is 1.5; the image's centre column looks along −z.
+        assert!((along(3.0 / 8.0) - 1.0).abs() < 1e-12);
+        assert!((along(0.5) - 1.5).abs() < 1e-12);
+        assert!((along(0.999_999_999) - 1.5).abs() < 1e-6);
+        assert!((along(0.0) - 1.5).abs() < 1e-12);
+        let (u, v) = equirect_coordinates([0.0, 0.0, -1.0]);
+        assert!((u - 0.5).abs() < 1e-15 && (v - 0.5).abs() < 1e-15);
     }
 
     #[test]

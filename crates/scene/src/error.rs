@@ -5,4 +5,6 @@ pub enum SceneError {
     UnknownBuiltin { name: String, known: String },
     #[error("invalid scene: {0}")]
     Invalid(String),
+    #[error("environment image {path}: {reason}")]
+    EnvironmentImage { path: String, reason: String },
 }

@@ -19,7 +19,10 @@ mod mesh;
 
 pub use builtin::{builtin_scene, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
 pub use camera::Camera;
-pub use environment::{studio_radiance, Environment, STUDIO_BOXES, STUDIO_GROUND, STUDIO_SKY};
+pub use environment::{
+    equirect_coordinates, studio_radiance, Environment, EnvironmentImage,
+    MAX_ENVIRONMENT_FILE_BYTES, MAX_ENVIRONMENT_TEXELS, STUDIO_BOXES, STUDIO_GROUND, STUDIO_SKY,
+};
 pub use error::SceneError;
 pub use material::{
     conductor_from_reflectivity, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Material,

@@ -15,6 +15,7 @@ pub(crate) mod import;
 mod material;
 mod optics_ext;
 mod source;
+pub(crate) use source::read_regular_file;
 mod writer;
 
 use std::fmt;
