@@ -59,7 +59,18 @@ pub fn measure_error(
     };
     let frame = renderer.render_with(scene, inputs, width, height, readback)?;
     let started = std::time::Instant::now();
-    let reference = ReferenceShading::new(&scene.scene, inputs, width, height);
+    let mut reference = ReferenceShading::new(&scene.scene, inputs, width, height);
+    if let Some(environment) = &scene.scene.environment {
+        // The environment's integral costs thousands of BRDF evaluations a pixel: one
+        // pixel in 4×4 is compared (the rest grey), with 500 samples of each strategy.
+        reference = reference.with_environment(
+            environment.clone(),
+            combustion_renderer::reference::EnvironmentSampling {
+                iterations: 500,
+                stride: 4,
+            },
+        );
+    }
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let map = error_map(&frame, &reference, threads);
     let reshade_ms = started.elapsed().as_secs_f64() * 1e3;
