@@ -20,15 +20,16 @@ layout(location = 5) in vec4 in_slot_uv[3];  // gbuffer.vert: each slot's mapped
 #include "bindings/gbuffer.glsl"
 // Set 1: the material's textures, bound per material; empty slots hold a 1×1 white
 // texture and are not sampled: the material table's index is -1 for them. The occlusion
-// and specular slots are bound but not sampled yet (no ambient light; specular is not
-// shaded). See combustion_renderer::bindings::MATERIAL_TEXTURES.
+// slot is sampled in the OCCLUSION variant (environment lighting); the specular slots are
+// bound but not sampled (specular is not shaded). See
+// combustion_renderer::bindings::MATERIAL_TEXTURES.
 #include "bindings/material_textures.glsl"
 
 layout(location = 0) out vec4 out_base_color_metalness;       // RGBA8_UNORM, sRGB-encoded rgb
 layout(location = 1) out vec4 out_normal_roughness_anisotropy; // RGBA16_UNORM
 layout(location = 2) out uvec2 out_material_direction;         // RG16_UINT
-#ifdef EMISSIVE
-layout(location = 3) out vec4 out_emissive;                    // the HDR image's format (f16/f32), radiance
+#ifdef EMISSIVE_OCCLUSION_TARGET
+layout(location = 3) out vec4 out_emissive;  // the HDR image's format (f16/f32): rgb emitted radiance, a occlusion
 #endif
 
 // Where each sampled slot samples: its coordinate set through its KHR_texture_transform
@@ -39,12 +40,14 @@ layout(location = 3) out vec4 out_emissive;                    // the HDR image'
 #define UV_NORMAL in_slot_uv[1].xy
 #define UV_EMISSIVE in_slot_uv[1].zw
 #define UV_ANISOTROPY in_slot_uv[2].xy
+#define UV_OCCLUSION in_slot_uv[2].zw
 #else
 #define UV_BASE_COLOR in_uv
 #define UV_METALLIC_ROUGHNESS in_uv
 #define UV_NORMAL in_uv
 #define UV_EMISSIVE in_uv
 #define UV_ANISOTROPY in_uv
+#define UV_OCCLUSION in_uv
 #endif
 
 void main() {
@@ -62,7 +65,7 @@ void main() {
         0.0);
     out_normal_roughness_anisotropy = vec4(0.5, 0.5, 0.5, 0.0);
     out_material_direction = uvec2(in_material, 0u);
-#ifdef EMISSIVE
+#ifdef EMISSIVE_OCCLUSION_TARGET
     out_emissive = vec4(0.0);
 #endif
     return;
@@ -133,11 +136,22 @@ void main() {
     out_base_color_metalness = vec4(srgb_encode(base.rgb), metalness);
     out_normal_roughness_anisotropy = vec4(octahedral_encode(n), roughness, strength);
     out_material_direction = uvec2(in_material, anisotropy_direction_encode(n, normalize(direction)));
+#ifdef EMISSIVE_OCCLUSION_TARGET
+    vec3 emissive = vec3(0.0);
 #ifdef EMISSIVE
-    vec3 emissive = material.emissive_normal_scale.rgb;
+    emissive = material.emissive_normal_scale.rgb;
     if (tex1.x >= 0) {
         emissive *= texture(emissive_texture, UV_EMISSIVE).rgb;
     }
-    out_emissive = vec4(emissive, 1.0);
+#endif
+    // glTF occlusion: 1 + strength · (R − 1), from the texture's red channel.
+    float occlusion = 1.0;
+#ifdef OCCLUSION
+    if (tex0.w >= 0) {
+        float strength = uintBitsToFloat(material.diffuse_model_flags.z);
+        occlusion = 1.0 + strength * (texture(occlusion_texture, UV_OCCLUSION).r - 1.0);
+    }
+#endif
+    out_emissive = vec4(emissive, occlusion);
 #endif
 }

@@ -27,7 +27,8 @@ layout(location = 4) out vec2 out_uv;
 #else
 // Each sampled slot's coordinates, mapped here per vertex (an affine map interpolates
 // exactly), so the fragment stage's derivatives, helper invocations included, see the
-// mapped coordinates: (base colour, metallic-roughness), (normal, emissive), (anisotropy).
+// mapped coordinates: (base colour, metallic-roughness), (normal, emissive), (anisotropy,
+// occlusion).
 layout(location = 5) out vec4 out_slot_uv[3];
 
 vec2 slot_uv(uint material, uint slot) {
@@ -52,7 +53,7 @@ void main() {
     uint m = object.material_index.x;
     out_slot_uv[0] = vec4(slot_uv(m, 0u), slot_uv(m, 1u));
     out_slot_uv[1] = vec4(slot_uv(m, 2u), slot_uv(m, 4u));
-    out_slot_uv[2] = vec4(slot_uv(m, 5u), 0.0, 0.0);
+    out_slot_uv[2] = vec4(slot_uv(m, 5u), slot_uv(m, 3u));
 #endif
     gl_Position = push.view_projection * world;
 }

@@ -64,7 +64,8 @@ float environment_code_table(uint table, uint code, vec2 coord) {
 // (full Fresnel), plus the cosine-weighted mean radiance about n times its diffuse
 // albedo ρ D1 + ρ² D2. Anisotropic pixels use their isotropic roughness r.
 vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs m, BrdfView view,
-                          vec3 n, vec3 v, float roughness, vec3 base_color_codes) {
+                          vec3 n, vec3 v, float roughness, vec3 base_color_codes,
+                          float occlusion) {
     float nv = view.v.z;
     if (!(nv > 0.0)) {
         return vec3(0.0);
@@ -86,8 +87,15 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     }
     float metal = view.metal;
     vec3 rho = clamp(m.base_color, vec3(0.0), vec3(1.0));
-    vec3 specular_albedo = (1.0 - metal) * specular.a + metal * conductor;
-    vec3 diffuse_albedo = (1.0 - metal) * (rho * diffuse.x + rho * rho * diffuse.y);
+    // Occlusion (glTF occlusion textures, OCCLUSION variant; 1 otherwise) darkens the
+    // diffuse term as it is, and the specular term by Lagarde & de Rousiers' (2014,
+    // eq. 58) specular occlusion, which fades to none at normal incidence on smooth
+    // surfaces; direct lights are never occluded.
+    float alpha_occlusion = roughness * roughness;
+    float specular_occlusion = clamp(
+        pow(nv + occlusion, exp2(-16.0 * alpha_occlusion - 1.0)) - 1.0 + occlusion, 0.0, 1.0);
+    vec3 specular_albedo = ((1.0 - metal) * specular.a + metal * conductor) * specular_occlusion;
+    vec3 diffuse_albedo = (1.0 - metal) * (rho * diffuse.x + rho * rho * diffuse.y) * occlusion;
     // The lookup direction: for anisotropic pixels the reflection about a normal bent
     // towards the one the stretched lobe favours (McAuley 2015, as Filament does); then
     // the lobe's dominant direction, pulled from the mirror direction towards the normal
@@ -278,11 +286,20 @@ void main() {
         }
         radiance += brdf_evaluate_view(m, view, l) * irradiance * n_dot_l;
     }
+#ifdef EMISSIVE_OCCLUSION_TARGET
+    vec4 emissive_occlusion = texelFetch(gbuffer_emissive, pixel, 0);
+#endif
 #ifdef ENVIRONMENT
-    radiance += environment_radiance(material, md.x, m, view, view.frame[2], normalize(v), nra.z, base_metal.rgb);
+#ifdef OCCLUSION
+    float occlusion = emissive_occlusion.a;
+#else
+    float occlusion = 1.0;
+#endif
+    radiance += environment_radiance(material, md.x, m, view, view.frame[2], normalize(v), nra.z,
+                                     base_metal.rgb, occlusion);
 #endif
 #ifdef EMISSIVE
-    radiance += texelFetch(gbuffer_emissive, pixel, 0).rgb;
+    radiance += emissive_occlusion.rgb;
 #endif
     out_radiance = vec4(radiance, 1.0);
 }

@@ -10,8 +10,8 @@ use combustion::renderer::{Frame, FrameInputs, Readback, RendererSettings};
 use std::sync::Arc;
 
 use combustion::scene::{
-    builtin_scene, studio_radiance, Camera, ComplexIor, Environment, EnvironmentImage, Material,
-    Mesh, Object, Scene,
+    builtin_scene, studio_radiance, Camera, ColorSpace, ComplexIor, Environment, EnvironmentImage,
+    Image, Light, Material, Mesh, Object, Sampler, Scene, Texture, TextureRef, UvTransform,
 };
 use glam::{Mat4, Vec3};
 
@@ -413,4 +413,85 @@ fn environment_goldens_agree_with_the_oracle() {
             "{name}: mean {mean:e}, median {median:e}"
         );
     }
+}
+
+/// A 2×2 occlusion texture whose red channel is `code` everywhere.
+fn flat_occlusion(code: u8) -> TextureRef {
+    TextureRef {
+        texture: Texture {
+            image: Arc::new(Image {
+                name: "occlusion".into(),
+                width: 2,
+                height: 2,
+                color_space: ColorSpace::Linear,
+                pixels: [code, 0, 0, 255].repeat(4),
+            }),
+            sampler: Sampler::default(),
+        },
+        tex_coord: 0,
+        transform: UvTransform::IDENTITY,
+    }
+}
+
+/// glTF occlusion textures darken the environment's light and never a light's: a
+/// matched Lambert sphere whose occlusion texture reads R everywhere reflects
+/// ρ·L·(1 + s(R − 1)) in a uniform environment (strength s = 1 and ½), and under a
+/// directional light (environment black) the texture changes no pixel at all.
+#[test]
+fn occlusion_darkens_the_environment_and_never_a_light() {
+    let codes = [200u8, 128, 60];
+    let albedo = codes.map(|c| srgb_to_linear(f64::from(c) / 255.0) as f32);
+    let radiance = [0.75f32, 1.5, 2.25];
+    let material = |strength: f32, occlusion: Option<TextureRef>| Material {
+        base_color: albedo,
+        dielectric_ior: 1.0,
+        roughness: 0.6,
+        occlusion_texture: occlusion,
+        occlusion_strength: strength,
+        ..Material::default()
+    };
+    for strength in [1.0f32, 0.5] {
+        let scene = sphere(
+            material(strength, Some(flat_occlusion(128))),
+            1.0,
+            Environment::Uniform(radiance),
+        );
+        let frame = render(&scene, 64, 64);
+        let occlusion = 1.0 + f64::from(strength) * (128.0 / 255.0 - 1.0);
+        let gbuffer = frame.gbuffer.as_ref().expect("G-buffer");
+        let mut worst = 0.0f64;
+        for (pixel, texel) in frame.hdr.iter().zip(&gbuffer.texels) {
+            if texel.depth >= 1.0 {
+                continue;
+            }
+            for c in 0..3 {
+                let expected = f64::from(albedo[c]) * f64::from(radiance[c]) * occlusion;
+                worst = worst.max((f64::from(pixel[c]) - expected).abs() / expected);
+            }
+        }
+        eprintln!("occlusion strength {strength}: worst relative error {worst:e}");
+        // As the unoccluded identity, with one more f32 product.
+        assert!(worst < 1e-6, "strength {strength}: {worst:e}");
+    }
+    let lit = |occlusion: Option<TextureRef>| {
+        let mut scene = sphere(
+            material(1.0, occlusion),
+            1.0,
+            Environment::Uniform([0.0; 3]),
+        );
+        scene.lights = vec![Light::Directional {
+            direction: Vec3::new(-0.3, -1.0, -0.4).normalize(),
+            irradiance: [2.0, 2.5, 3.0],
+        }];
+        render(&scene, 64, 64)
+    };
+    let (with, without) = (lit(Some(flat_occlusion(0))), lit(None));
+    assert!(
+        with.hdr.iter().any(|p| p[0] > 0.0),
+        "the light reaches the sphere"
+    );
+    assert_eq!(
+        with.hdr, without.hdr,
+        "occlusion must not touch direct light"
+    );
 }

@@ -12,7 +12,8 @@ struct GpuMaterial {
                                     // z: anisotropy rotation (rad), w: dielectric IOR
     vec4 conductor_eta_outside_ior; // rgb: conductor η, a: outside-medium IOR ηi (resolved)
     vec4 conductor_k_polarisation;  // rgb: conductor k, a: polarisation weight
-    uvec4 diffuse_model_flags;      // x: diffuse model (DIFFUSE_MODEL_*), y: MATERIAL_FLAG_*
+    uvec4 diffuse_model_flags;      // x: diffuse model (DIFFUSE_MODEL_*), y: MATERIAL_FLAG_*,
+                                    // z: occlusion strength (f32 bits), w: unused
     ivec4 textures_base_mr_normal_occlusion;     // texture-array indices, -1: none
     ivec4 textures_emissive_anisotropy_specular; // (specular: not rendered yet)
     vec4 emissive_normal_scale;     // rgb: emitted radiance factor × strength, a: normal scale

@@ -375,7 +375,9 @@ pub static LIGHTING: SetDecl = SetDecl {
             },
             FRAGMENT,
         ),
-        Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT).only_with("EMISSIVE"),
+        // Emitted radiance (rgb) and occlusion (a) (EMISSIVE, OCCLUSION variants).
+        Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT)
+            .only_with("EMISSIVE_OCCLUSION_TARGET"),
         // Environment lighting (ENVIRONMENT variant; see crate::environment): the
         // prefiltered specular cube, the irradiance cube, the directional-albedo tables
         // per material, the per-code tables of conductors derived from the base colour
@@ -560,7 +562,7 @@ mod tests {
             "layout(std430, set = 0, binding = 5) readonly buffer Lights { GpuLight lights[]; };"
         ));
         assert!(glsl.contains(
-            "#ifdef EMISSIVE\nlayout(set = 0, binding = 8) uniform texture2D gbuffer_emissive;\n#endif"
+            "#ifdef EMISSIVE_OCCLUSION_TARGET\nlayout(set = 0, binding = 8) uniform texture2D gbuffer_emissive;\n#endif"
         ));
         assert_eq!(LIGHTING.index("gbuffer_emissive"), 8);
         assert_eq!(

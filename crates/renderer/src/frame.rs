@@ -286,7 +286,7 @@ impl Renderer {
         let key = TargetKey {
             width: extent.width,
             height: extent.height,
-            emissive: variant.emissive,
+            emissive_occlusion: variant.has_emissive_occlusion_target(),
         };
         self.ensure_targets(key)?;
         self.write_frame_lights(frame_slot, inputs)?;

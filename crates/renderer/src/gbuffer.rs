@@ -31,9 +31,10 @@ pub struct GBufferTargets {
     pub normal_roughness_anisotropy: Image,
     pub material_direction: Image,
     pub depth: Image,
-    /// Emitted radiance, present in the `EMISSIVE` variant only, in the HDR image's
-    /// format (f16 or f32): emission is stored at the precision of the frame it is
-    /// added to, so an f32 frame neither rounds it to 11 bits nor saturates it at 65504.
+    /// Emitted radiance (rgb) and occlusion (a), present in the `EMISSIVE` and
+    /// `OCCLUSION` variants only, in the HDR image's format (f16 or f32): emission is
+    /// stored at the precision of the frame it is added to, so an f32 frame neither
+    /// rounds it to 11 bits nor saturates it at 65504.
     pub emissive: Option<Image>,
 }
 
@@ -74,8 +75,12 @@ impl GBufferTargets {
                     | vk::ImageUsageFlags::SAMPLED
                     | vk::ImageUsageFlags::TRANSFER_SRC,
             )?,
-            emissive: if variant.emissive {
-                Some(image("gbuffer emissive", emissive_format, color_usage)?)
+            emissive: if variant.has_emissive_occlusion_target() {
+                Some(image(
+                    "gbuffer emissive + occlusion",
+                    emissive_format,
+                    color_usage,
+                )?)
             } else {
                 None
             },
@@ -185,7 +190,7 @@ impl GBufferPass {
             NORMAL_ROUGHNESS_ANISOTROPY_FORMAT,
             MATERIAL_DIRECTION_FORMAT,
         ];
-        if variant.emissive {
+        if variant.has_emissive_occlusion_target() {
             color_formats.push(emissive_format);
         }
         let pipeline = Pipeline::graphics(

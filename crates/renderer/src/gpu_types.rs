@@ -52,7 +52,7 @@ impl GpuMaterial {
                 } else {
                     0
                 },
-                0,
+                material.occlusion_strength.to_bits(),
                 0,
             ],
             textures_base_mr_normal_occlusion: [textures[0], textures[1], textures[2], textures[3]],

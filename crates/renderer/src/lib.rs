@@ -231,6 +231,10 @@ pub struct ShaderVariant {
     /// Environment lighting ([`combustion_scene::Scene::environment`]): the lighting pass
     /// adds the split-sum term of [`environment`].
     pub environment: bool,
+    /// glTF occlusion textures attenuate the environment term (scenes with an
+    /// environment and a material with an occlusion texture): the G-buffer stores the
+    /// occlusion in the emissive target's alpha.
+    pub occlusion: bool,
 }
 
 /// What the lighting pass shows instead of radiance (`debug_views.glsl` has the same
@@ -316,11 +320,23 @@ impl DebugView {
 }
 
 impl ShaderVariant {
+    /// Whether the G-buffer has its fourth target: emitted radiance (rgb, EMISSIVE) and
+    /// occlusion (a, OCCLUSION).
+    pub(crate) fn has_emissive_occlusion_target(&self) -> bool {
+        self.emissive || self.occlusion
+    }
+
     /// The `#define`s of this variant.
     pub(crate) fn defines(&self) -> Vec<(&'static str, Option<&'static str>)> {
         let mut defines = Vec::new();
         if self.emissive {
             defines.push(("EMISSIVE", None));
+        }
+        if self.occlusion {
+            defines.push(("OCCLUSION", None));
+        }
+        if self.has_emissive_occlusion_target() {
+            defines.push(("EMISSIVE_OCCLUSION_TARGET", None));
         }
         if self.texture_transforms {
             defines.push(("TEXTURE_TRANSFORMS", None));
@@ -616,6 +632,7 @@ impl ShaderVariant {
     fn gbuffer_part(self) -> ShaderVariant {
         ShaderVariant {
             emissive: self.emissive,
+            occlusion: self.occlusion,
             texture_transforms: self.texture_transforms,
             floor: self.floor.filter(|f| *f == MeasurementFloor::Geometry),
             ..ShaderVariant::default()

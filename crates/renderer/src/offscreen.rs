@@ -258,7 +258,9 @@ impl Renderer {
         let key = TargetKey {
             width: extent.width,
             height: extent.height,
-            emissive: self.variant_of(scene.variant).emissive,
+            emissive_occlusion: self
+                .variant_of(scene.variant)
+                .has_emissive_occlusion_target(),
         };
         let targets = &self.targets.get(&key).expect("recorded this frame").0;
         let mut copies: Vec<(&Image, &Buffer)> = Vec::new();

@@ -80,6 +80,11 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
         masking: crate::Masking::HeightCorrelated,
         distribution: crate::Distribution::Ggx,
         environment: scene.environment.is_some(),
+        occlusion: scene.environment.is_some()
+            && scene
+                .materials
+                .iter()
+                .any(|m| m.occlusion_texture.is_some() && m.occlusion_strength > 0.0),
     }
 }
 

@@ -15,8 +15,8 @@ use crate::{HdrFormat, RenderError, ShaderVariant};
 pub(crate) struct TargetKey {
     pub width: u32,
     pub height: u32,
-    /// Whether the G-buffer has the emissive target.
-    pub emissive: bool,
+    /// Whether the G-buffer has the emissive + occlusion target.
+    pub emissive_occlusion: bool,
 }
 
 /// The images of one frame size.
@@ -32,7 +32,7 @@ impl FrameTargets {
         hdr_format: HdrFormat,
     ) -> Result<Self, RenderError> {
         let variant = ShaderVariant {
-            emissive: key.emissive,
+            emissive: key.emissive_occlusion,
             ..ShaderVariant::default()
         };
         Ok(Self {
