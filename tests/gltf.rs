@@ -60,6 +60,12 @@ fn render_file(
     let scene = SceneSource::File(path.to_path_buf())
         .load()
         .unwrap_or_else(|e| panic!("{e}"));
+    // A file without lights is lit by the default environment (the studio).
+    assert!(
+        !scene.lights.is_empty() || scene.environment.is_some(),
+        "{}: neither lights nor an environment",
+        path.display()
+    );
     let frame = common::render(
         &scene,
         width,
