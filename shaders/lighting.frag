@@ -25,6 +25,25 @@ layout(push_constant) uniform LightingPush {
 #include "debug_views.glsl"
 #endif
 
+#ifdef ENERGY_COMPENSATION
+// E(μ, α) bilinear in the white specular albedo table over (μ, r = √α), cell-centred,
+// clamped at the edges (combustion_renderer::environment::white_specular_albedo_table).
+#define ENERGY_TABLE_SIZE 32u
+float energy_white_albedo_lookup(float cos_v, float alpha) {
+    const uint size = ENERGY_TABLE_SIZE;
+    vec2 coord = vec2(cos_v, sqrt(max(alpha, 0.0)));
+    vec2 x = clamp(coord * float(size) - 0.5, vec2(0.0), vec2(float(size - 1u)));
+    uvec2 i0 = uvec2(x);
+    uvec2 i1 = min(i0 + 1u, uvec2(size - 1u));
+    vec2 f = x - vec2(i0);
+    float a = energy_white_albedo[i0.y * size + i0.x];
+    float b = energy_white_albedo[i0.y * size + i1.x];
+    float c = energy_white_albedo[i1.y * size + i0.x];
+    float d = energy_white_albedo[i1.y * size + i1.x];
+    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+}
+#endif
+
 #ifdef ENVIRONMENT
 #include "environment.glsl"
 
@@ -94,7 +113,12 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     float alpha_occlusion = roughness * roughness;
     float specular_occlusion = clamp(
         pow(nv + occlusion, exp2(-16.0 * alpha_occlusion - 1.0)) - 1.0 + occlusion, 0.0, 1.0);
+#ifdef ENERGY_COMPENSATION
+    vec3 specular_albedo = ((1.0 - metal) * specular.a * view.compensation_dielectric
+                            + metal * conductor * view.compensation_conductor) * specular_occlusion;
+#else
     vec3 specular_albedo = ((1.0 - metal) * specular.a + metal * conductor) * specular_occlusion;
+#endif
     vec3 diffuse_albedo = (1.0 - metal) * (rho * diffuse.x + rho * rho * diffuse.y) * occlusion;
     // The lookup direction: for anisotropic pixels the reflection about a normal bent
     // towards the one the stretched lobe favours (McAuley 2015, as Filament does); then

@@ -21,12 +21,14 @@ USAGE:
                     [--exposure X] [--hdr-format f16|f32] [--fresnel full|schlick|f82]
                     [--distribution ggx|beckmann] [--diffuse MODEL] [--max-error E]
                     [--environment studio|none|uniform:R,G,B|FILE] [--light-rig]
+                    [--energy-compensation on|off]
                     [--device SEL] [--validate]
   combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
                     [--hdr-format f16|f32] [--fresnel full|schlick|f82] [--specialised on|off]
                     [--distribution ggx|beckmann] [--diffuse MODEL]
                     [--extra-lights N] [--culling auto|always|never]
                     [--environment studio|none|uniform:R,G,B|FILE] [--light-rig]
+                    [--energy-compensation on|off]
                     [--report DIR [--against PREVIOUS_DIR]]
                     [--device SEL] [--validate]
   combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
@@ -51,6 +53,9 @@ SCENE is builtin:NAME (see below; default builtin:spheres) or a glTF file (.gltf
 boxes), a uniform radiance (W/sr/m² per channel), an equirectangular Radiance .hdr or
 OpenEXR .exr image (row 0 at +y, the centre column along -z), or none; --light-rig adds the
 camera-relative key and fill lights (the earlier default for files without lights).
+--energy-compensation on scales every specular lobe by 1 + F0 (1 - E)/E (Turquin 2019),
+putting back the energy single-scattering GGX loses on rough surfaces (off by default:
+the f64 reference is single-scattering).
 --device SEL picks a Vulkan device by index or by part of its name (e.g. llvmpipe);
 the COMBUSTION_DEVICE environment variable does the same. --validate turns on the
 Khronos validation layer and fails if it reports anything.
@@ -198,6 +203,8 @@ struct Options {
     environment: Option<Option<Environment>>,
     /// `render`, `bench`: add the camera-relative light rig.
     light_rig: bool,
+    /// `render`, `bench`: multiple-scattering energy compensation.
+    energy_compensation: bool,
     /// A scene was named on the command line.
     scene_given: bool,
     device: Option<DeviceSelector>,
@@ -335,6 +342,7 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
         culling: combustion::renderer::LightCulling::Auto,
         environment: None,
         light_rig: false,
+        energy_compensation: false,
         scene_given: false,
         device: None,
         validate: false,
@@ -376,6 +384,9 @@ fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
                 o.environment = Some(environment_option(flag, value()?)?);
             }
             "--light-rig" if command == "render" || command == "bench" => o.light_rig = true,
+            "--energy-compensation" if command == "render" || command == "bench" => {
+                o.energy_compensation = on_off(flag, value()?)?;
+            }
             "--hdr-format" => {
                 o.hdr_format = choice(
                     flag,
@@ -539,6 +550,9 @@ fn render(o: &Options) -> Result<(), Error> {
         headless.renderer().set_distribution(o.distribution);
         headless.renderer().set_diffuse_override(o.diffuse);
     }
+    headless
+        .renderer()
+        .set_energy_compensation(o.energy_compensation)?;
     let frame = headless.render(&scene, o.width, o.height)?;
     let validation = headless.validation_log();
     drop(headless);
@@ -682,6 +696,7 @@ fn bench(o: &Options) -> Result<(), Error> {
     renderer.set_light_culling(o.culling);
     renderer.set_distribution(o.distribution);
     renderer.set_diffuse_override(o.diffuse);
+    renderer.set_energy_compensation(o.energy_compensation)?;
     let gpu_scene = renderer.upload(&scene)?;
     let features = renderer.lighting_features(&gpu_scene);
     // One warm-up frame (first-touch allocations, driver caches) is not counted.

@@ -17,6 +17,13 @@
 #define FRESNEL_CURVE
 #endif
 
+#ifdef ENERGY_COMPENSATION
+// Multiple-scattering energy compensation (combustion_renderer::Renderer::
+// set_energy_compensation): E(μ, α), the white GGX lobe's directional albedo, defined by
+// the shader that includes this file (lighting.frag, from its table).
+float energy_white_albedo_lookup(float cos_v, float alpha);
+#endif
+
 // DiffuseModel discriminants (Rust: #[repr(u32)] enum DiffuseModel). Any other value
 // evaluates as Lambert here; the Rust side rejects it in TryFrom<u32>.
 #define DIFFUSE_MODEL_LAMBERT 0u
@@ -111,6 +118,12 @@ struct BrdfView {
 #ifdef D_BECKMANN
     float lambda_v;        // Beckmann's Smith Λ(v) (comparison variant)
 #endif
+#ifdef ENERGY_COMPENSATION
+    // Turquin 2019: each specular lobe × 1 + F₀ (1 − E)/E, F₀ the exact reflectance at
+    // normal incidence (the outside medium's), E = E(n·v, α) of the white lobe.
+    vec3 compensation_conductor;
+    float compensation_dielectric;
+#endif
 };
 
 // The dielectric part's reflectance on the variant's curve (FRESNEL_CURVE variants).
@@ -163,6 +176,16 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
     view.transmittance_v = view.metal < 1.0
         ? polarised_weighted(fresnel_dielectric_transmittance(view.v.z, m.outside_eta, m.dielectric_eta), view.w)
         : 1.0;
+#endif
+#ifdef ENERGY_COMPENSATION
+    {
+        float e = max(energy_white_albedo_lookup(view.v.z, 0.5 * (view.ax + view.ay)), 1e-3);
+        float lost = (1.0 - e) / e;
+        vec3 f0_conductor = fresnel_conductor_rgb(1.0, m.outside_eta, m.conductor_eta, m.conductor_k, view.w);
+        float f0_dielectric = polarised_weighted(fresnel_dielectric(1.0, m.outside_eta, m.dielectric_eta), view.w);
+        view.compensation_conductor = 1.0 + f0_conductor * lost;
+        view.compensation_dielectric = 1.0 + f0_dielectric * lost;
+    }
 #endif
     return view;
 }
@@ -273,6 +296,9 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
     if (metal < 1.0) {
         float eta_d = m.dielectric_eta;
         float spec = lobe * brdf_dielectric_fresnel(m, view, cos_h);
+#ifdef ENERGY_COMPENSATION
+        spec *= view.compensation_dielectric;
+#endif
 #ifdef FRESNEL_CURVE
         float diffuse_weight = (1.0 - brdf_dielectric_curve(view, ll.z)) * view.transmittance_v;
 #else
@@ -285,7 +311,11 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
 #endif
 #ifndef NO_CONDUCTORS
     if (metal > 0.0) {
+#ifdef ENERGY_COMPENSATION
+        result += metal * lobe * brdf_conductor_fresnel(m, view, cos_h) * view.compensation_conductor;
+#else
         result += metal * lobe * brdf_conductor_fresnel(m, view, cos_h);
+#endif
     }
 #endif
     return result;

@@ -184,6 +184,29 @@ pub fn directional_albedo(
     integrate_environment(m, n, t, b, v, |_| [1.0; 3], sampling)
 }
 
+/// The directional albedo of the GGX specular lobe alone with a white Fresnel term (F =
+/// 1), E(μ, α) = ∫ D V (n·l) dl for a view at cos θ = `mu` (isotropic α, height-
+/// correlated Smith): the energy single scattering keeps, 1 − E what it loses. By
+/// sampling GGX's visible normals with `samples` Hammersley points, where each sample's
+/// weight is G₂/G₁(v) = (1 + Λ(v))/(1 + Λ(v) + Λ(l)) exactly.
+pub fn specular_albedo_white(mu: f64, alpha: f64, samples: u32) -> f64 {
+    let mu = mu.clamp(1e-6, 1.0);
+    let v = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
+    let a = clamp_alpha(alpha);
+    let lambda_v = lambda_ggx_anisotropic(v, a, a);
+    let mut sum = 0.0;
+    for i in 0..samples {
+        let u1 = f64::from(i) / f64::from(samples);
+        let u2 = f64::from(i.reverse_bits()) * (1.0 / 4_294_967_296.0);
+        let h = sample_ggx_vndf(v, a, a, u1, u2);
+        let l = h * (2.0 * v.dot(h)) - v;
+        if l.z > 0.0 {
+            sum += (1.0 + lambda_v) / (1.0 + lambda_v + lambda_ggx_anisotropic(l, a, a));
+        }
+    }
+    sum / f64::from(samples.max(1))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -261,6 +284,32 @@ mod tests {
             "∫ pdf = {total}, sampled share above the horizon {above}"
         );
         assert!(total < 1.0 && total > 0.5, "∫ pdf = {total}");
+    }
+
+    #[test]
+    fn white_specular_albedo_matches_quadrature_and_loses_energy_when_rough() {
+        for (mu, alpha) in [(0.9, 0.2), (0.5, 0.6), (0.2, 1.0)] {
+            let sampled = specular_albedo_white(mu, alpha, 4096);
+            let v = Vec3::new((1.0f64 - mu * mu).sqrt(), 0.0, mu);
+            let mut q = 0.0;
+            upper_hemisphere_midpoints(800, |l, d_omega| {
+                let h = (v + l).normalize();
+                q += d_ggx_anisotropic(h, alpha, alpha)
+                    * crate::microfacet::visibility_smith_ggx_height_correlated_anisotropic(
+                        v, l, alpha, alpha,
+                    )
+                    * l.z
+                    * d_omega;
+            });
+            assert!(
+                (sampled - q).abs() < 2e-3,
+                "μ {mu}, α {alpha}: {sampled} vs {q}"
+            );
+            assert!(sampled < 1.0);
+        }
+        // Single scattering loses a real share of the energy of rough surfaces.
+        assert!(specular_albedo_white(0.5, 1.0, 4096) < 0.8);
+        assert!(specular_albedo_white(0.9, 0.05, 4096) > 0.99);
     }
 
     #[test]

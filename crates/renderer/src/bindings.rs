@@ -378,6 +378,17 @@ pub static LIGHTING: SetDecl = SetDecl {
         // Emitted radiance (rgb) and occlusion (a) (EMISSIVE, OCCLUSION variants).
         Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT)
             .only_with("EMISSIVE_OCCLUSION_TARGET"),
+        // The white specular lobe's directional albedo over (n·v, r) (read in the
+        // ENERGY_COMPENSATION variant; environment::white_specular_albedo_table).
+        Binding::new(
+            "energy_white_albedo",
+            BindingKind::StorageBuffer {
+                block: "EnergyWhiteAlbedo",
+                element: "float",
+            },
+            FRAGMENT,
+        )
+        .only_with("ENERGY_COMPENSATION"),
         // Environment lighting (ENVIRONMENT variant; see crate::environment): the
         // prefiltered specular cube, the irradiance cube, the directional-albedo tables
         // per material, the per-code tables of conductors derived from the base colour
@@ -583,8 +594,8 @@ mod tests {
         assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 10);
         // The two environment cubes, twice.
         assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 4);
-        // Materials, lights, the conductor table, the tile light lists and the three
-        // environment tables, twice.
-        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 14);
+        // Materials, lights, the conductor table, the tile light lists, the energy
+        // table and the three environment tables, twice.
+        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 16);
     }
 }

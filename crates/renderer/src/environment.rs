@@ -81,6 +81,34 @@ fn check_format(device: &Device) -> Result<(), RenderError> {
     }
 }
 
+/// Entries per side of the white specular albedo table over (n·v, r)
+/// (`ENERGY_TABLE_SIZE` in brdf.glsl), cell-centred as the albedo tables.
+pub const ENERGY_TABLE_SIZE: u32 = 32;
+/// Hammersley samples per entry of that table.
+pub const ENERGY_TABLE_SAMPLES: u32 = 1024;
+
+/// E(μ, r), the GGX specular lobe's directional albedo with F = 1
+/// ([`combustion_optics::environment::specular_albedo_white`]) over `ENERGY_TABLE_SIZE`²
+/// cell-centred entries, μ along rows' entries, r = √α down the rows: the single
+/// scattering's share of energy, which multiple-scattering energy compensation
+/// ([`crate::Renderer::set_energy_compensation`]) makes up for.
+pub fn white_specular_albedo_table() -> Vec<f32> {
+    let size = ENERGY_TABLE_SIZE;
+    let at = |i: u32| (f64::from(i) + 0.5) / f64::from(size);
+    (0..size)
+        .flat_map(|j| {
+            (0..size).map(move |i| {
+                let r = at(j);
+                combustion_optics::environment::specular_albedo_white(
+                    at(i),
+                    r * r,
+                    ENERGY_TABLE_SAMPLES,
+                ) as f32
+            })
+        })
+        .collect()
+}
+
 /// A scene's environment on the GPU, ready for the lighting pass.
 pub struct GpuEnvironment {
     pub(crate) specular: Image,

@@ -514,7 +514,8 @@ impl Renderer {
             .buffer("materials", &scene.materials)
             .buffer("lights", &s.lights)
             .buffer("conductor_from_code", &scene.conductor_table)
-            .buffer("tile_lights", &s.tile_lights);
+            .buffer("tile_lights", &s.tile_lights)
+            .buffer("energy_white_albedo", &self.energy_table);
         if let Some(emissive) = &g.emissive {
             lighting = lighting.image("gbuffer_emissive", emissive.view(), read, no_sampler);
         }

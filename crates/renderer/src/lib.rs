@@ -235,6 +235,9 @@ pub struct ShaderVariant {
     /// environment and a material with an occlusion texture): the G-buffer stores the
     /// occlusion in the emissive target's alpha.
     pub occlusion: bool,
+    /// Multiple-scattering energy compensation of the specular lobes
+    /// ([`Renderer::set_energy_compensation`]; a renderer setting).
+    pub energy_compensation: bool,
 }
 
 /// What the lighting pass shows instead of radiance (`debug_views.glsl` has the same
@@ -337,6 +340,9 @@ impl ShaderVariant {
         }
         if self.has_emissive_occlusion_target() {
             defines.push(("EMISSIVE_OCCLUSION_TARGET", None));
+        }
+        if self.energy_compensation {
+            defines.push(("ENERGY_COMPENSATION", None));
         }
         if self.texture_transforms {
             defines.push(("TEXTURE_TRANSFORMS", None));
@@ -717,6 +723,11 @@ pub struct Renderer {
     diffuse_override: Option<DiffuseModel>,
     /// The environment bake's pipelines, built for the first scene with an environment.
     environment_baker: Option<environment::EnvironmentBaker>,
+    /// Multiple-scattering energy compensation ([`Renderer::set_energy_compensation`]).
+    energy_compensation: bool,
+    /// [`environment::white_specular_albedo_table`] once compensation was asked for (a
+    /// 16-byte placeholder before: the binding exists in every lighting layout).
+    energy_table: combustion_vk::Buffer,
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     light_culling: LightCulling,
     light_cull: light_cull::LightCullPass,
@@ -777,6 +788,8 @@ impl Renderer {
         )?;
         let overlay_image = (overlay_image_buffer(&device, &[[0; 4]])?, None);
         let no_environment = environment::GpuEnvironment::placeholder(&device)?;
+        let energy_table =
+            frame::filled_storage_buffer(&device, "energy table placeholder", &[0; 16])?;
         let pipeline_cache = PipelineCache::new(&device, cache_data)?;
         let light_cull = light_cull::LightCullPass::new(
             &device,
@@ -810,6 +823,8 @@ impl Renderer {
             distribution: Distribution::Ggx,
             diffuse_override: None,
             environment_baker: None,
+            energy_compensation: false,
+            energy_table,
             light_culling: LightCulling::Auto,
             light_cull,
             frame_number: 0,
@@ -867,6 +882,7 @@ impl Renderer {
             } else {
                 self.distribution
             },
+            energy_compensation: self.energy_compensation && !debug_views,
             ..scene_variant
         }
     }
@@ -1011,6 +1027,32 @@ impl Renderer {
 
     pub fn distribution(&self) -> Distribution {
         self.distribution
+    }
+
+    /// Multiple-scattering energy compensation from the next frame on (off by default):
+    /// every specular lobe, of lights and of the environment, is scaled by
+    /// 1 + F₀ (1 − E)/E (Turquin 2019), E the white lobe's directional albedo at the
+    /// pixel's n·v and roughness ([`environment::white_specular_albedo_table`]) and F₀
+    /// the exact Fresnel reflectance at normal incidence (per channel, with the outside
+    /// medium), so a white rough conductor keeps the energy single scattering loses.
+    /// The f64 reference stays single-scattering: the difference is this option's
+    /// measured deviation from it. The table is built on first use (not in a frame).
+    pub fn set_energy_compensation(&mut self, on: bool) -> Result<(), RenderError> {
+        if on && self.energy_table.size() <= 16 {
+            let table = frame::filled_storage_buffer(
+                &self.device,
+                "white specular albedo table",
+                bytemuck::cast_slice(&environment::white_specular_albedo_table()),
+            )?;
+            let placeholder = std::mem::replace(&mut self.energy_table, table);
+            self.retire(placeholder);
+        }
+        self.energy_compensation = on;
+        Ok(())
+    }
+
+    pub fn energy_compensation(&self) -> bool {
+        self.energy_compensation
     }
 
     /// One diffuse model for every material's dielectric part from the next frame on

@@ -85,6 +85,8 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
                 .materials
                 .iter()
                 .any(|m| m.occlusion_texture.is_some() && m.occlusion_strength > 0.0),
+        // A renderer setting.
+        energy_compensation: false,
     }
 }
 
