@@ -215,6 +215,9 @@ pub struct ReportRow {
     pub compared: usize,
     /// Mean FLIP between the display image and the reference's ([`flip_against_reference`]).
     pub flip_mean: f64,
+    /// The scene is lit by an environment: its error is the split sum's against the
+    /// f64 rendering equation, on a grid of pixels ([`ENVIRONMENT_SAMPLING`]).
+    pub environment: bool,
 }
 
 /// A scene's measurement floors (f32 HDR, full Fresnel, specialised pipeline), ms.
@@ -504,6 +507,7 @@ pub fn measure(
                     rms_relative: map.rms_relative,
                     compared: map.lit_pixels,
                     flip_mean,
+                    environment: gpu.scene.environment.is_some(),
                 });
             }
             renderer.retire(gpu);
@@ -642,8 +646,13 @@ pub struct SetSummary {
     pub flip_mean: f64,
 }
 
-/// Per variant set, in the order first measured: its time and errors over the scenes.
+/// Per variant set, in the order first measured: its time and errors over the scenes
+/// lit by lights (the comparison variants change lights only; scenes lit by an
+/// environment alone are summarised by [`environment_markdown`]), or over every scene
+/// when all are lit by an environment.
 pub fn summarise(rows: &[ReportRow]) -> Vec<SetSummary> {
+    let lit: Vec<ReportRow> = rows.iter().filter(|r| !r.environment).cloned().collect();
+    let rows = if lit.is_empty() { rows } else { &lit[..] };
     let mut sets: Vec<VariantSet> = Vec::new();
     for row in rows {
         if !sets.contains(&row.set) {
@@ -918,6 +927,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
         );
     }
     out += "\n![speed against error](speed-vs-error.png)\n\n";
+    out += &environment_markdown(rows);
     out += &floors_markdown(m);
     out += &scaling_markdown(m);
     out += "## Per scene\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -945,6 +955,44 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
         );
     }
     out
+}
+
+/// The section on scenes lit by an environment: the split sum's error against the f64
+/// rendering equation per scene, with the default variant set.
+pub fn environment_markdown(rows: &[ReportRow]) -> String {
+    let lit: Vec<&ReportRow> = rows
+        .iter()
+        .filter(|r| r.environment && r.set == VariantSet::DEFAULT)
+        .collect();
+    if lit.is_empty() {
+        return String::new();
+    }
+    let sampling = ENVIRONMENT_SAMPLING;
+    let mut out = format!(
+        "## Environment lighting: the split sum against the rendering equation
+
+Scenes lit by an environment alone, default variant set: the GPU's split sum (prefiltered radiance × each material's full-Fresnel directional albedo, irradiance × its diffuse albedo; `combustion_renderer::environment`) against the f64 rendering equation integrated by Monte Carlo at one pixel in {s}×{s} ({} samples of each strategy; `combustion_optics::environment::integrate_environment`). These rows are left out of the variant sets' means above: the comparison variants change the lights' shading, not the environment term, so their errors here are the default's.
+
+| scene | pixels | max rel. error | mean | RMS | total ms |
+|---|---|---|---|---|---|
+",
+        sampling.iterations,
+        s = sampling.stride
+    );
+    for r in lit {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.2e} | {:.2e} | {:.2e} | {:.2} |",
+            md_cell(&r.scene),
+            r.compared,
+            r.max_relative,
+            r.mean_relative,
+            r.rms_relative,
+            r.total.median
+        );
+    }
+    out + "
+"
 }
 
 /// The rows of an earlier run's `report.csv` ([`csv`]): per scene and variant set (the

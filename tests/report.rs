@@ -309,6 +309,10 @@ fn the_split_sum_error_is_in_the_report() {
         "{}",
         row.mean_relative
     );
-    assert!(row.flip_mean.is_nan());
+    assert!(row.flip_mean.is_nan() && row.environment);
+    assert!(
+        md.contains("## Environment lighting: the split sum against the rendering equation"),
+        "{md}"
+    );
     assert!(md.contains("— (environment)"), "{md}");
 }
