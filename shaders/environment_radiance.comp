@@ -1,11 +1,13 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // One level of the environment's radiance cube: level 0 evaluates the analytic source
-// at each texel's centre, or averages the equirectangular image over the texel (4 × 4
-// bilinear samples); level i > 0 is the mean of the four texels of level i − 1 it
-// covers (one bilinear sample at their shared corner, the level-i texel's centre).
+// at each texel's centre, or averages the equirectangular image over the texel (n × n
+// bilinear samples, n at least the image's texels across one cube texel); level i > 0
+// is the mean of the four texels of level i − 1 it covers (one bilinear sample at their
+// shared corner, the level-i texel's centre).
 // params.x: the level's size; params.y: 0 = evaluate the analytic source, 1 = reduce
-// level params.z of environment_source, 2 = average environment_equirect.
+// level params.z of environment_source, 2 = average environment_equirect with n =
+// params.z.
 #include "environment_bake.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -23,15 +25,16 @@ void main() {
     } else if (push.params.y == 1u) {
         l = textureLod(environment_source, d, float(push.params.z)).rgb;
     } else {
+        uint n = max(push.params.z, 1u);
         l = vec3(0.0);
-        for (uint j = 0u; j < 4u; ++j) {
-            for (uint i = 0u; i < 4u; ++i) {
-                vec2 at = (vec2(id.xy) + (vec2(i, j) + 0.5) * 0.25) / float(size) * 2.0 - 1.0;
+        for (uint j = 0u; j < n; ++j) {
+            for (uint i = 0u; i < n; ++i) {
+                vec2 at = (vec2(id.xy) + (vec2(i, j) + 0.5) / float(n)) / float(size) * 2.0 - 1.0;
                 vec2 uv = equirect_coordinates(cube_face_direction(id.z, at));
                 l += textureLod(environment_equirect, uv, 0.0).rgb;
             }
         }
-        l *= 1.0 / 16.0;
+        l *= 1.0 / float(n * n);
     }
     imageStore(environment_target, ivec3(id), vec4(l, 1.0));
 }

@@ -56,7 +56,8 @@ void main() {
     // meshes, vertex format and targets with a trivial fragment stage (every input
     // read, so the interpolation is the real pass's).
 #ifdef TEXTURE_TRANSFORMS
-    vec2 uv = in_slot_uv[0].xy + in_slot_uv[0].zw + in_slot_uv[1].xy + in_slot_uv[1].zw + in_slot_uv[2].xy;
+    vec2 uv = in_slot_uv[0].xy + in_slot_uv[0].zw + in_slot_uv[1].xy + in_slot_uv[1].zw + in_slot_uv[2].xy
+            + in_slot_uv[2].zw;
 #else
     vec2 uv = in_uv;
 #endif

@@ -81,7 +81,7 @@ float environment_code_table(uint table, uint code, vec2 coord) {
 // The split-sum environment term (combustion_renderer::environment): the prefiltered
 // radiance along the mirror direction times the material's specular directional albedo
 // (full Fresnel), plus the cosine-weighted mean radiance about n times its diffuse
-// albedo ρ D1 + ρ² D2. Anisotropic pixels use their isotropic roughness r.
+// albedo ρ D1 + ρ² D2. Anisotropic pixels use the roughness of their mean α.
 vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs m, BrdfView view,
                           vec3 n, vec3 v, float roughness, vec3 base_color_codes,
                           float occlusion) {
@@ -90,8 +90,11 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
         return vec3(0.0);
     }
 #ifndef NO_ANISOTROPY
-    // An anisotropic lobe is looked up (tables and cube) at the roughness of its mean α.
-    roughness = sqrt(0.5 * (view.ax + view.ay));
+    // An anisotropic lobe is looked up (tables and cube) at the roughness of its mean α
+    // (an isotropic one at its own r, as the specialised pipeline without anisotropy).
+    if (view.ax != view.ay) {
+        roughness = sqrt(0.5 * (view.ax + view.ay));
+    }
 #endif
     vec2 coord = vec2(nv, roughness);
     vec4 specular = environment_table(material_index, 0u, coord);
@@ -108,8 +111,8 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     vec3 rho = clamp(m.base_color, vec3(0.0), vec3(1.0));
     // Occlusion (glTF occlusion textures, OCCLUSION variant; 1 otherwise) darkens the
     // diffuse term as it is, and the specular term by Lagarde & de Rousiers' (2014,
-    // eq. 58) specular occlusion, which fades to none at normal incidence on smooth
-    // surfaces; direct lights are never occluded.
+    // eq. 58) specular occlusion, weaker than the diffuse occlusion at normal incidence
+    // and on smooth surfaces; direct lights are never occluded.
     float alpha_occlusion = roughness * roughness;
     float specular_occlusion = clamp(
         pow(nv + occlusion, exp2(-16.0 * alpha_occlusion - 1.0)) - 1.0 + occlusion, 0.0, 1.0);

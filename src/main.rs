@@ -286,7 +286,10 @@ fn environment_option(flag: &str, value: &str) -> Result<Option<Environment>, Er
     match value {
         "studio" => Ok(Some(Environment::Studio)),
         "none" => Ok(None),
-        _ if value.ends_with(".hdr") || value.ends_with(".exr") => {
+        _ if [".hdr", ".exr"]
+            .iter()
+            .any(|e| value.to_ascii_lowercase().ends_with(e)) =>
+        {
             let image = combustion::scene::EnvironmentImage::load(Path::new(value))?;
             Ok(Some(Environment::Image(std::sync::Arc::new(image))))
         }

@@ -562,3 +562,51 @@ fn energy_compensation_keeps_a_white_furnace_white() {
         );
     }
 }
+
+/// Edits bake the environment again for the edited materials, before replacing anything:
+/// adding an environment and a material to an uploaded scene, then taking the
+/// environment away, renders what a fresh upload of each edited scene renders.
+#[test]
+fn edits_bake_the_environment_for_the_edited_scene() {
+    let mut base = builtin_scene("spheres").expect("built in");
+    base.lights.truncate(1);
+    let add = |scene: &mut Scene| {
+        scene.environment = Some(Environment::Studio);
+        scene.materials.push(Material {
+            metalness: 1.0,
+            roughness: 0.3,
+            base_color: [0.9, 0.6, 0.3],
+            conductor_from_base_color: true,
+            ..Material::default()
+        });
+        let last = scene.materials.len() - 1;
+        scene.objects[0].material = last;
+    };
+    let remove = |scene: &mut Scene| scene.environment = None;
+    let mut headless = common::lavapipe(common::exact_f32());
+    {
+        let renderer = headless.renderer();
+        let mut gpu = renderer.upload(&base).expect("upload");
+        let mut expected = base.clone();
+        for edit in [&add as &dyn Fn(&mut Scene), &remove] {
+            renderer.edit_scene(&mut gpu, edit).expect("edit");
+            edit(&mut expected);
+            let images = Readback {
+                images: true,
+                gbuffer: false,
+            };
+            let edited = renderer.render(&gpu, 96, 64, images).expect("render");
+            let fresh_scene = renderer.upload(&expected).expect("upload");
+            let fresh = renderer
+                .render(&fresh_scene, 96, 64, images)
+                .expect("render");
+            assert_eq!(edited.hdr.len(), 96 * 64);
+            assert!(edited.hdr.iter().any(|p| p[0] > 0.0));
+            assert_eq!(edited.hdr, fresh.hdr, "edited against fresh upload");
+            assert_eq!(gpu.environment.is_some(), expected.environment.is_some());
+            renderer.retire(fresh_scene);
+        }
+        renderer.retire(gpu);
+    }
+    common::finish(headless);
+}

@@ -195,18 +195,7 @@ fn record_screenshot_copy(
         base_array_layer: 0,
         layer_count: 1,
     };
-    let region = vk::BufferImageCopy::default()
-        .image_subresource(vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        })
-        .image_extent(vk::Extent3D {
-            width: extent.width,
-            height: extent.height,
-            depth: 1,
-        });
+    let region = combustion_vk::color_level0_copy_region(extent);
     let raw = device.raw();
     let to_present = [combustion_vk::image_barrier(image, range, from, to)];
     let to_host = [vk::MemoryBarrier2::default()

@@ -31,7 +31,10 @@ use combustion_vk::{
 };
 
 use crate::bindings;
-use crate::gpu_types::{material_table, EnvironmentBakePush, EnvironmentSource, GpuMaterial};
+use crate::gpu_types::{
+    conductor_from_base_color_table, material_table, EnvironmentBakePush, EnvironmentSource,
+    GpuMaterial,
+};
 use crate::RenderError;
 
 /// Entries per side of a material's directional-albedo table over (n·v, r)
@@ -129,7 +132,7 @@ pub struct GpuEnvironment {
 impl GpuEnvironment {
     /// What the lighting set binds for scenes without an environment (the bindings
     /// exist in every variant's layout; the shaders without ENVIRONMENT never read
-    /// them): 1×1 black cubes and one-entry tables.
+    /// them): 1×1 cubes (never written, never read) and small zeroed tables.
     pub(crate) fn placeholder(device: &Arc<Device>) -> Result<Self, RenderError> {
         let usage = vk::ImageUsageFlags::SAMPLED;
         let cube = |name| Image::new(device, &ImageDesc::cube(name, FORMAT, 1, usage));
@@ -181,10 +184,18 @@ pub(crate) struct EnvironmentBaker {
 }
 
 fn linear_sampler(device: &Arc<Device>, levels: u32) -> Result<Sampler, RenderError> {
+    sampler_with_mips(device, levels, vk::SamplerMipmapMode::LINEAR)
+}
+
+fn sampler_with_mips(
+    device: &Arc<Device>,
+    levels: u32,
+    mipmap_mode: vk::SamplerMipmapMode,
+) -> Result<Sampler, RenderError> {
     let info = vk::SamplerCreateInfo::default()
         .mag_filter(vk::Filter::LINEAR)
         .min_filter(vk::Filter::LINEAR)
-        .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+        .mipmap_mode(mipmap_mode)
         .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
         .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
         .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
@@ -262,19 +273,7 @@ impl Equirect {
             A::SHADER_SAMPLED_READ,
             L::SHADER_READ_ONLY_OPTIMAL,
         );
-        let extent = self.image.extent();
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            });
+        let region = self.image.level0_copy_region();
         let raw = device.raw();
         // SAFETY: recording state; image and buffer live until the bake's wait.
         unsafe {
@@ -359,15 +358,14 @@ impl EnvironmentBaker {
         })
     }
 
-    /// Bakes `environment` for `scene`'s materials (`materials`, `conductor_table`: the
-    /// uploaded tables the lighting pass reads). Waits for the GPU: an upload step.
+    /// Bakes `environment` for `scene`'s materials (with their own copies of the
+    /// material and conductor tables, so nothing of an uploaded scene is needed: an edit
+    /// bakes before it replaces anything). Waits for the GPU: an upload step.
     pub fn bake(
         &self,
         device: &Arc<Device>,
         environment: &Environment,
         scene: &Scene,
-        materials: &Buffer,
-        conductor_table: &Buffer,
     ) -> Result<GpuEnvironment, RenderError> {
         let start = Instant::now();
         check_format(device)?;
@@ -386,6 +384,16 @@ impl EnvironmentBaker {
             &ImageDesc::cube("environment irradiance", FORMAT, IRRADIANCE_SIZE, usage),
         )?;
         let gpu_materials = material_table(scene, &[]);
+        let materials = crate::frame::filled_storage_buffer(
+            device,
+            "environment bake material table",
+            bytemuck::cast_slice(&gpu_materials),
+        )?;
+        let conductor_table = crate::frame::filled_storage_buffer(
+            device,
+            "environment bake conductor table",
+            bytemuck::cast_slice(conductor_from_base_color_table()),
+        )?;
         let material_count = gpu_materials.len().max(1) as u64;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let albedo = Buffer::new(
@@ -409,6 +417,13 @@ impl EnvironmentBaker {
             bytemuck::cast_slice(&of_material),
         )?;
         let sampler = linear_sampler(device, radiance.mip_levels())?;
+        // Building level L reads level L − 1 alone: a nearest-mip sampler never touches
+        // level L, which the same dispatch writes.
+        let one_level_sampler = sampler_with_mips(
+            device,
+            radiance.mip_levels(),
+            vk::SamplerMipmapMode::NEAREST,
+        )?;
         let equirect = Equirect::new(device, environment)?;
         let level_view = |image: &Image, level: u32| -> Result<ImageView, RenderError> {
             Ok(image.view_of(level..level + 1, 0..6, vk::ImageViewType::TYPE_2D_ARRAY)?)
@@ -448,6 +463,7 @@ impl EnvironmentBaker {
             .dst_stage_mask(S::COMPUTE_SHADER)
             .dst_access_mask(A::SHADER_SAMPLED_READ | A::SHADER_STORAGE_READ)];
         let dispatch = |pipeline: &Pipeline,
+                        source_sampler: &Sampler,
                         target: &ImageView,
                         params: [u32; 4],
                         values: [f32; 4],
@@ -460,7 +476,7 @@ impl EnvironmentBaker {
                     "environment_source",
                     radiance.view(),
                     L::GENERAL,
-                    sampler.raw(),
+                    source_sampler.raw(),
                 )
                 .image(
                     "environment_equirect",
@@ -474,8 +490,8 @@ impl EnvironmentBaker {
                     L::GENERAL,
                     vk::Sampler::null(),
                 )
-                .buffer("materials", materials)
-                .buffer("conductor_from_code", conductor_table)
+                .buffer("materials", &materials)
+                .buffer("conductor_from_code", &conductor_table)
                 .buffer("environment_albedo", &albedo)
                 .buffer("environment_code_albedo", &code_albedo)
                 .apply(device);
@@ -510,13 +526,24 @@ impl EnvironmentBaker {
         for level in 0..radiance_levels {
             let view = level_view(&radiance, level)?;
             let size = radiance.mip_extent(level).width;
-            let mode = match (level, environment) {
-                (0, Environment::Image(_)) => 2,
-                (0, _) => 0,
-                _ => 1,
+            let params = match (level, environment) {
+                // n × n samples a texel: at least the image's texels across one (its
+                // width spans the four side faces), 4 to 32.
+                (0, Environment::Image(image)) => {
+                    let across = image.width.div_ceil(4 * RADIANCE_SIZE);
+                    [size, 2, across.clamp(4, 32), 0]
+                }
+                (0, _) => [size, 0, 0, 0],
+                _ => [size, 1, level - 1, 0],
             };
-            let params = [size, mode, level.saturating_sub(1), 0];
-            dispatch(&self.radiance, &view, params, [0.0; 4], groups(size, 6))?;
+            dispatch(
+                &self.radiance,
+                &one_level_sampler,
+                &view,
+                params,
+                [0.0; 4],
+                groups(size, 6),
+            )?;
             views.push(view);
         }
         for level in 0..SPECULAR_LEVELS {
@@ -525,7 +552,14 @@ impl EnvironmentBaker {
             let roughness = level as f32 / (SPECULAR_LEVELS - 1) as f32;
             let params = [size, PREFILTER_SAMPLES, RADIANCE_SIZE, 0];
             let values = [roughness, 0.0, 0.0, 0.0];
-            dispatch(&self.prefilter, &view, params, values, groups(size, 6))?;
+            dispatch(
+                &self.prefilter,
+                &sampler,
+                &view,
+                params,
+                values,
+                groups(size, 6),
+            )?;
             views.push(view);
         }
         let view = level_view(&irradiance, 0)?;
@@ -533,6 +567,7 @@ impl EnvironmentBaker {
         let params = [IRRADIANCE_SIZE, 0, IRRADIANCE_SOURCE_LEVEL, source_size];
         dispatch(
             &self.irradiance,
+            &sampler,
             &view,
             params,
             [0.0; 4],
@@ -544,6 +579,7 @@ impl EnvironmentBaker {
         if count > 0 {
             dispatch(
                 &self.albedo,
+                &sampler,
                 &view,
                 tables,
                 [0.0; 4],
@@ -554,6 +590,7 @@ impl EnvironmentBaker {
             let params = [CODE_ALBEDO_SAMPLES, index as u32, 0, 0];
             dispatch(
                 &self.code_albedo,
+                &sampler,
                 &view,
                 params,
                 [*eta_i, *w, 0.0, 0.0],

@@ -1122,16 +1122,16 @@ impl Renderer {
     pub fn upload(&mut self, scene: &Scene) -> Result<GpuScene, RenderError> {
         let mut gpu_scene = GpuScene::new(&self.device, scene, &self.layouts.material)?;
         self.prepare_variant(self.variant_of(gpu_scene.variant))?;
-        gpu_scene.environment = self.bake_environment(&gpu_scene)?;
+        gpu_scene.environment = self.bake_environment(&gpu_scene.scene)?;
         Ok(gpu_scene)
     }
 
     /// The scene's environment baked for its materials (None without one).
     fn bake_environment(
         &mut self,
-        scene: &GpuScene,
+        scene: &Scene,
     ) -> Result<Option<environment::GpuEnvironment>, RenderError> {
-        let Some(source) = &scene.scene.environment else {
+        let Some(source) = &scene.environment else {
             return Ok(None);
         };
         if self.environment_baker.is_none() {
@@ -1142,13 +1142,7 @@ impl Renderer {
             )?);
         }
         let baker = self.environment_baker.as_ref().expect("built above");
-        let baked = baker.bake(
-            &self.device,
-            source,
-            &scene.scene,
-            &scene.materials,
-            &scene.conductor_table,
-        )?;
+        let baked = baker.bake(&self.device, source, scene)?;
         log::info!(
             "environment {} baked in {:.1} ms",
             source.name(),
@@ -1175,12 +1169,14 @@ impl Renderer {
         let before = self.stats.pipelines_built;
         self.prepare_variant(self.variant_of(scene_upload::scene_variant(&next)))?;
         let pipelines_built = self.stats.pipelines_built - before;
+        // The environment's tables follow the materials, which an edit may change: bake
+        // again, before anything of the scene is replaced, so a failed bake leaves it
+        // as it was.
+        let environment = self.bake_environment(&next)?;
         let (report, retired) = scene.edited(&self.device, next, &self.layouts.material)?;
         for part in retired {
             self.retire_boxed(part);
         }
-        // The tables follow the materials, which an edit may change: bake again.
-        let environment = self.bake_environment(scene)?;
         if let Some(old) = std::mem::replace(&mut scene.environment, environment) {
             self.retire(old);
         }

@@ -362,13 +362,18 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
                         let (x, y) = ((i % row) as u32, (i / row) as u32);
                         let gpu = frame.hdr[i];
                         *radiance = [gpu[0], gpu[1], gpu[2]];
-                        if !reference.compares(x, y) {
-                            continue;
-                        }
                         let texel = &gbuffer.texels[i];
                         if gpu.iter().any(|c| !c.is_finite()) {
                             part.non_finite += 1;
                             *radiance = [0.0; 3];
+                            continue;
+                        }
+                        // Pixels not compared (an environment's grid) are still checked
+                        // for non-finite values (above) and a lit background (here).
+                        if !reference.compares(x, y) {
+                            if texel.depth >= 1.0 && gpu[..3] != [0.0; 3] {
+                                part.background_not_black += 1;
+                            }
                             continue;
                         }
                         let shaded = reference.shade(texel, x, y);

@@ -143,9 +143,11 @@ fn decode_radiance_hdr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
         .map_err(|e| e.to_string())?;
     let (w, h) = decoder.dimensions();
     let (width, height) = check_size(w as usize, h as usize)?;
-    let mut raw = vec![0u8; decoder.total_bytes() as usize];
-    decoder.read_image(&mut raw).map_err(|e| e.to_string())?;
-    let floats: &[f32] = bytemuck::try_cast_slice(&raw).map_err(|e| e.to_string())?;
+    // Decoded into f32s (the codec's output) so the bytes are aligned for them.
+    let mut floats = vec![0f32; decoder.total_bytes() as usize / 4];
+    decoder
+        .read_image(bytemuck::cast_slice_mut(&mut floats))
+        .map_err(|e| e.to_string())?;
     let texels = floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     Ok(EnvironmentImage {
         name: String::new(),

@@ -36,7 +36,8 @@ pub use pipeline::{
     PipelineLayout, Sampler,
 };
 pub use resources::{
-    full_mip_chain, image_barrier, Buffer, Image, ImageDesc, ImageState, ImageView,
+    color_level0_copy_region, full_mip_chain, image_barrier, Buffer, Image, ImageDesc, ImageState,
+    ImageView,
 };
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources, ShaderStage};
 pub use swapchain::{AcquiredImage, PresentOutcome, Surface, Swapchain};

@@ -185,6 +185,24 @@ pub fn image_barrier(
         .subresource_range(range)
 }
 
+/// A buffer ↔ image copy of all of mip level 0 of layer 0 of a colour image of `extent`,
+/// tightly packed (for images made elsewhere, such as a swapchain's; an [`Image`] has
+/// [`Image::level0_copy_region`]).
+pub fn color_level0_copy_region(extent: vk::Extent2D) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        })
+}
+
 /// How to create an [`Image`] (2D, one layer).
 #[derive(Clone, Copy, Debug)]
 pub struct ImageDesc<'a> {
@@ -515,7 +533,7 @@ impl Image {
     }
 
     /// All of mip level 0 of layer 0, tightly packed in a buffer.
-    fn level0_copy_region(&self) -> vk::BufferImageCopy {
+    pub fn level0_copy_region(&self) -> vk::BufferImageCopy {
         self.copy_region(0, 0)
     }
 
