@@ -583,13 +583,28 @@ fn edits_bake_the_environment_for_the_edited_scene() {
         scene.objects[0].material = last;
     };
     let remove = |scene: &mut Scene| scene.environment = None;
+    // A light-only edit keeps the baked environment (and must still render as fresh).
+    let lights_only = |scene: &mut Scene| {
+        scene.lights.push(Light::Directional {
+            direction: Vec3::new(0.3, -1.0, -0.2).normalize(),
+            irradiance: [1.0, 0.8, 0.6],
+        })
+    };
     let mut headless = common::lavapipe(common::exact_f32());
     {
         let renderer = headless.renderer();
         let mut gpu = renderer.upload(&base).expect("upload");
         let mut expected = base.clone();
-        for edit in [&add as &dyn Fn(&mut Scene), &remove] {
+        for edit in [&add as &dyn Fn(&mut Scene), &lights_only, &remove] {
+            let baked_before = gpu.environment.as_ref().map(|e| e.bake_ms);
             renderer.edit_scene(&mut gpu, edit).expect("edit");
+            if std::ptr::eq(edit, &lights_only as &dyn Fn(&mut Scene)) {
+                assert_eq!(
+                    gpu.environment.as_ref().map(|e| e.bake_ms),
+                    baked_before,
+                    "a light-only edit keeps the bake"
+                );
+            }
             edit(&mut expected);
             let images = Readback {
                 images: true,

@@ -1169,16 +1169,26 @@ impl Renderer {
         let before = self.stats.pipelines_built;
         self.prepare_variant(self.variant_of(scene_upload::scene_variant(&next)))?;
         let pipelines_built = self.stats.pipelines_built - before;
-        // The environment's tables follow the materials, which an edit may change: bake
-        // again, before anything of the scene is replaced, so a failed bake leaves it
-        // as it was.
-        let environment = self.bake_environment(&next)?;
+        // The environment's tables follow the materials: bake again when the edit
+        // changes them or the environment (not for lights, objects or the camera),
+        // before anything of the scene is replaced, so a failed bake leaves it as it was.
+        let old = &scene.scene;
+        let environment = if next.environment != old.environment
+            || next.materials != old.materials
+            || next.outside_ior != old.outside_ior
+        {
+            Some(self.bake_environment(&next)?)
+        } else {
+            None
+        };
         let (report, retired) = scene.edited(&self.device, next, &self.layouts.material)?;
         for part in retired {
             self.retire_boxed(part);
         }
-        if let Some(old) = std::mem::replace(&mut scene.environment, environment) {
-            self.retire(old);
+        if let Some(environment) = environment {
+            if let Some(old) = std::mem::replace(&mut scene.environment, environment) {
+                self.retire(old);
+            }
         }
         Ok(SceneEditReport {
             pipelines_built,
