@@ -82,13 +82,23 @@ pub const TERMS: &[(&str, &str)] = &[
     ),
 ];
 
-#[derive(Default)]
-struct Inputs {
-    values: BTreeMap<String, Vec<f64>>,
+/// The inputs of one evaluation: each flag's list of numbers (checked by
+/// [`parse_value`]) and the diffuse model.
+#[derive(Clone, Debug, Default)]
+pub struct Inputs {
+    values: BTreeMap<&'static str, Vec<f64>>,
     diffuse: Option<DiffuseModel>,
 }
 
 impl Inputs {
+    /// Sets `flag`'s values (as [`parse_value`] returned them for it).
+    pub fn set(&mut self, flag: &'static EvalFlag, values: Vec<f64>) {
+        self.values.insert(flag.name, values);
+    }
+    /// Sets the diffuse model of the `brdf` term.
+    pub fn set_diffuse(&mut self, model: DiffuseModel) {
+        self.diffuse = Some(model);
+    }
     fn get(&self, name: &str) -> Option<&[f64]> {
         self.values.get(name).map(Vec::as_slice)
     }
@@ -108,91 +118,227 @@ fn usage(message: String) -> Error {
     Error::Usage(message)
 }
 
-fn parse_list(flag: &str, text: &str) -> Result<Vec<f64>, Error> {
-    text.split(',')
-        .map(|part| {
-            let value: f64 = part
-                .trim()
-                .parse()
-                .map_err(|_| usage(format!("{flag}: `{part}` is not a number")))?;
-            if value.is_finite() {
-                Ok(value)
-            } else {
-                Err(usage(format!("{flag}: {value} is not finite")))
-            }
-        })
-        .collect()
+/// A numeric input of `combustion eval`: its flag, how many comma-separated values it
+/// takes, the range each must lie in, and what it means.
+#[derive(Debug)]
+pub struct EvalFlag {
+    /// The flag with its dashes, e.g. `--theta-v`.
+    pub name: &'static str,
+    /// The accepted numbers of values (1 for a scalar, 3 for a vector or RGB).
+    pub lengths: &'static [usize],
+    pub low: f64,
+    pub high: f64,
+    pub help: &'static str,
 }
 
-/// (flag, accepted lengths, lower bound, upper bound)
-const FLAGS: &[(&str, &[usize], f64, f64)] = &[
-    ("--theta-v", &[1], 0.0, 180.0),
-    ("--phi-v", &[1], -360.0, 360.0),
-    ("--theta-l", &[1], 0.0, 180.0),
-    ("--phi-l", &[1], -360.0, 360.0),
-    ("--v", &[3], f64::MIN, f64::MAX),
-    ("--l", &[3], f64::MIN, f64::MAX),
-    ("--m", &[3], f64::MIN, f64::MAX),
-    ("--alpha", &[1], 0.0, 1.0),
-    ("--roughness", &[1], 0.0, 1.0),
-    ("--alpha-x", &[1], 0.0, 1.0),
-    ("--alpha-y", &[1], 0.0, 1.0),
-    ("--eta", &[1, 3], 1e-4, 1e4),
-    ("--k", &[1, 3], 0.0, 1e4),
-    ("--eta-i", &[1], 1e-4, 1e4),
-    ("--dielectric-eta", &[1], 1e-4, 1e4),
-    ("--f0", &[1], 0.0, 1.0),
-    ("--sigma", &[1], 0.0, 10.0),
-    ("--polarisation", &[1], 0.0, 1.0),
-    ("--rho", &[1, 3], 0.0, 1.0),
-    ("--metalness", &[1], 0.0, 1.0),
-    ("--oren-nayar-a", &[1], 0.0, 10.0),
+impl EvalFlag {
+    /// The flag without its dashes (`theta-v`).
+    pub fn long(&self) -> &'static str {
+        self.name.trim_start_matches('-')
+    }
+}
+
+/// The diffuse models `--diffuse` names.
+pub const DIFFUSE_MODELS: [(&str, DiffuseModel); 3] = [
+    ("lambert", DiffuseModel::Lambert),
+    ("oren-nayar-qualitative", DiffuseModel::OrenNayarQualitative),
+    ("oren-nayar-full", DiffuseModel::OrenNayarFull),
 ];
 
-fn parse_inputs(args: &[String]) -> Result<Inputs, Error> {
-    let mut inputs = Inputs::default();
-    let mut i = 0;
-    while i < args.len() {
-        let flag = args[i].as_str();
-        let value = args
-            .get(i + 1)
-            .ok_or_else(|| usage(format!("{flag} needs a value")))?;
-        if flag == "--diffuse" {
-            inputs.diffuse = Some(match value.as_str() {
-                "lambert" => DiffuseModel::Lambert,
-                "oren-nayar-qualitative" => DiffuseModel::OrenNayarQualitative,
-                "oren-nayar-full" => DiffuseModel::OrenNayarFull,
-                other => {
-                    return Err(usage(format!(
-                        "--diffuse: `{other}` is not lambert, oren-nayar-qualitative or oren-nayar-full"
-                    )))
-                }
-            });
-        } else {
-            let &(_, lengths, low, high) = FLAGS
-                .iter()
-                .find(|(name, ..)| *name == flag)
-                .ok_or_else(|| usage(format!("unknown argument `{flag}` for `combustion eval`")))?;
-            let list = parse_list(flag, value)?;
-            if !lengths.contains(&list.len()) {
-                return Err(usage(format!(
-                    "{flag} takes {} value(s), got {}",
-                    lengths
-                        .iter()
-                        .map(usize::to_string)
-                        .collect::<Vec<_>>()
-                        .join(" or "),
-                    list.len()
-                )));
-            }
-            if let Some(bad) = list.iter().find(|&&x| x < low || x > high) {
-                return Err(usage(format!("{flag}: {bad} is outside [{low}, {high}]")));
-            }
-            inputs.values.insert(flag.to_owned(), list);
-        }
-        i += 2;
+const fn flag(
+    name: &'static str,
+    lengths: &'static [usize],
+    low: f64,
+    high: f64,
+    help: &'static str,
+) -> EvalFlag {
+    EvalFlag {
+        name,
+        lengths,
+        low,
+        high,
+        help,
     }
-    Ok(inputs)
+}
+
+/// Every numeric input `combustion eval` takes.
+pub const FLAGS: &[EvalFlag] = &[
+    flag(
+        "--theta-v",
+        &[1],
+        0.0,
+        180.0,
+        "polar angle of v from the normal, degrees",
+    ),
+    flag(
+        "--phi-v",
+        &[1],
+        -360.0,
+        360.0,
+        "azimuth of v from the tangent, degrees (default 0)",
+    ),
+    flag(
+        "--theta-l",
+        &[1],
+        0.0,
+        180.0,
+        "polar angle of l from the normal, degrees",
+    ),
+    flag(
+        "--phi-l",
+        &[1],
+        -360.0,
+        360.0,
+        "azimuth of l from the tangent, degrees (default 0)",
+    ),
+    flag(
+        "--v",
+        &[3],
+        f64::MIN,
+        f64::MAX,
+        "view direction x,y,z (normalised here)",
+    ),
+    flag(
+        "--l",
+        &[3],
+        f64::MIN,
+        f64::MAX,
+        "light direction x,y,z (normalised here)",
+    ),
+    flag(
+        "--m",
+        &[3],
+        f64::MIN,
+        f64::MAX,
+        "microfacet normal x,y,z (default: the half vector of v and l)",
+    ),
+    flag(
+        "--alpha",
+        &[1],
+        0.0,
+        1.0,
+        "GGX/Beckmann width α (clamped as the renderer clamps it)",
+    ),
+    flag(
+        "--roughness",
+        &[1],
+        0.0,
+        1.0,
+        "perceptual roughness r (α = r²)",
+    ),
+    flag(
+        "--alpha-x",
+        &[1],
+        0.0,
+        1.0,
+        "anisotropic α along the tangent",
+    ),
+    flag(
+        "--alpha-y",
+        &[1],
+        0.0,
+        1.0,
+        "anisotropic α along the bitangent",
+    ),
+    flag(
+        "--eta",
+        &[1, 3],
+        1e-4,
+        1e4,
+        "the surface's η, one value or one per RGB channel (default 1.5)",
+    ),
+    flag(
+        "--k",
+        &[1, 3],
+        0.0,
+        1e4,
+        "the conductor's extinction k, one value or per channel (default 0)",
+    ),
+    flag(
+        "--eta-i",
+        &[1],
+        1e-4,
+        1e4,
+        "the outside medium's index ηi (default 1)",
+    ),
+    flag(
+        "--dielectric-eta",
+        &[1],
+        1e-4,
+        1e4,
+        "`brdf`: the dielectric layer's η (default 1.5)",
+    ),
+    flag(
+        "--f0",
+        &[1],
+        0.0,
+        1.0,
+        "`fresnel-schlick`: F0 (default: from η and ηi)",
+    ),
+    flag(
+        "--sigma",
+        &[1],
+        0.0,
+        10.0,
+        "Oren–Nayar σ, radians (default: from the roughness)",
+    ),
+    flag(
+        "--polarisation",
+        &[1],
+        0.0,
+        1.0,
+        "weight w of R = (1 − w)Rs + wRp (default 0.5)",
+    ),
+    flag(
+        "--rho",
+        &[1, 3],
+        0.0,
+        1.0,
+        "diffuse albedo ρ, one value or per channel",
+    ),
+    flag(
+        "--metalness",
+        &[1],
+        0.0,
+        1.0,
+        "`brdf`: metalness (default 0)",
+    ),
+    flag(
+        "--oren-nayar-a",
+        &[1],
+        0.0,
+        10.0,
+        "the qualitative model's A constant (default 0.57)",
+    ),
+];
+
+/// `flag`'s value: comma-separated finite numbers, as many as the flag takes, each in its
+/// range. The error says why, without the value (the command line shows it).
+pub fn parse_value(flag: &EvalFlag, text: &str) -> Result<Vec<f64>, String> {
+    let list = text
+        .split(',')
+        .map(|part| match part.trim().parse::<f64>() {
+            Ok(value) if value.is_finite() => Ok(value),
+            Ok(value) => Err(format!("{value} is not finite")),
+            Err(_) => Err(format!("`{}` is not a number", part.trim())),
+        })
+        .collect::<Result<Vec<f64>, String>>()?;
+    if !flag.lengths.contains(&list.len()) {
+        return Err(format!(
+            "{} takes {} value(s), got {}",
+            flag.name,
+            flag.lengths
+                .iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(" or "),
+            list.len()
+        ));
+    }
+    if let Some(bad) = list.iter().find(|&&x| x < flag.low || x > flag.high) {
+        return Err(format!("{bad} is outside [{}, {}]", flag.low, flag.high));
+    }
+    Ok(list)
 }
 
 fn direction(
@@ -241,19 +387,18 @@ fn json_list(values: impl IntoIterator<Item = f64>) -> Value {
     Value::Array(values.into_iter().map(json_number).collect())
 }
 
-/// Evaluates `term` with `args` and returns a JSON object.
-pub fn evaluate(term: &str, args: &[String]) -> Result<String, Error> {
+/// Evaluates `term` with `inputs` and returns a JSON object.
+pub fn evaluate(term: &str, inputs: &Inputs) -> Result<String, Error> {
     if !TERMS.iter().any(|(name, _)| *name == term) {
         return Err(usage(format!(
             "unknown term `{term}`; terms: {}",
             TERMS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
         )));
     }
-    let inputs = parse_inputs(args)?;
-    let v = direction(&inputs, "--v", "--theta-v", "--phi-v")?;
-    let l = direction(&inputs, "--l", "--theta-l", "--phi-l")?;
+    let v = direction(inputs, "--v", "--theta-v", "--phi-v")?;
+    let l = direction(inputs, "--l", "--theta-l", "--phi-l")?;
     let m = match inputs.get("--m") {
-        Some(_) => direction(&inputs, "--m", "", "")?,
+        Some(_) => direction(inputs, "--m", "", "")?,
         None => match (v, l) {
             (Some(v), Some(l)) => {
                 let sum = v + l;

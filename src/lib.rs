@@ -77,6 +77,15 @@ impl SceneSource {
         }
     }
 
+    /// As [`SceneSource::parse`], for a command-line argument: a file path may be any
+    /// bytes the system allows (not only UTF-8).
+    pub fn parse_os(text: &std::ffi::OsStr) -> Self {
+        match text.to_str() {
+            Some(text) => Self::parse(text),
+            None => Self::File(PathBuf::from(text)),
+        }
+    }
+
     /// `builtin:NAME` or the file's path.
     pub fn label(&self) -> String {
         match self {

@@ -1,11 +1,23 @@
 //! `combustion`: render built-in scenes headless, benchmark the passes, list devices,
 //! evaluate optics terms, plot reflectance and spectra, describe scenes.
+//!
+//! The command line is declared with clap's derive API below: every subcommand has
+//! `--help`, bad usage exits 2 with clap's message, paths are taken as `OsString`s (any
+//! bytes the system allows), and `combustion completions SHELL` prints completions made
+//! from the same declaration.
 
+use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use combustion::renderer::{Distribution, FresnelModel, HdrFormat, Readback, RendererSettings};
+use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{ArgAction, ArgGroup, Args, CommandFactory, Parser, Subcommand};
+
+use combustion::renderer::{
+    Distribution, FresnelModel, HdrFormat, LightCulling, Readback, RendererSettings,
+    MAX_FRAMES_IN_FLIGHT,
+};
 use combustion::scene::gltf::{self, ImportOptions};
 use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, Spectrum};
@@ -13,103 +25,755 @@ use combustion::vk::{DeviceDesc, DeviceSelector};
 use combustion::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
 use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
 
-const USAGE: &str = "\
-combustion — Vulkan deferred renderer with physically based shading
+const ABOUT: &str = "Vulkan deferred renderer with physically based shading";
 
-USAGE:
-  combustion render [SCENE] [-o OUT.png] [--hdr OUT.exr] [--width N] [--height N]
-                    [--exposure X] [--hdr-format f16|f32] [--fresnel full|schlick|f82]
-                    [--distribution ggx|beckmann] [--diffuse MODEL] [--max-error E]
-                    [--environment studio|none|uniform:R,G,B|FILE] [--light-rig]
-                    [--energy-compensation on|off]
-                    [--device SEL] [--validate]
-  combustion bench  [SCENE] [--width N] [--height N] [--frames N] [--frames-in-flight N]
-                    [--hdr-format f16|f32] [--fresnel full|schlick|f82] [--specialised on|off]
-                    [--distribution ggx|beckmann] [--diffuse MODEL]
-                    [--extra-lights N] [--culling auto|always|never]
-                    [--environment studio|none|uniform:R,G,B|FILE] [--light-rig]
-                    [--energy-compensation on|off]
-                    [--report DIR [--against PREVIOUS_DIR]]
-                    [--device SEL] [--validate]
-  combustion view   [SCENE] [--width N] [--height N] [--frames N] [--exposure X]
-                    [--vsync on|off] [--frames-in-flight N] [--screenshot OUT.png]
-                    [--camera-path FILE] [--overlay on|off] [--error-view] [--hdr-format f16|f32] [--fresnel full|schlick|f82] [--device SEL] [--validate]
-  combustion eval TERM [--theta-v DEG --theta-l DEG ... | --v x,y,z --l x,y,z]
-                    [--alpha A | --roughness R | --alpha-x A --alpha-y A] [--eta E|r,g,b]
-                    [--k K|r,g,b] [--eta-i E] [--sigma S] [--polarisation W] [--rho R|r,g,b]
-                    [--metalness M] [--dielectric-eta E] [--diffuse MODEL] [--f0 F]
-  combustion eval --list
-  combustion plot reflectance (--metal NAME | --dielectric ETA | --eta E|r,g,b [--k K|r,g,b]
-                    | --csv FILE) [--outside-ior X] [--polarisation W] [PLOT OPTIONS]
-  combustion plot spectrum (--metal NAME | --csv FILE) [PLOT OPTIONS]
-  combustion plot dielectrics [--etas E,E,...] [--outside-ior X] [PLOT OPTIONS]
-  combustion info SCENE [--max-error E]
-  combustion devices
-  combustion help
+const LONG_ABOUT: &str = "\
+Vulkan deferred renderer with physically based shading: Cook-Torrance with GGX (isotropic
+and anisotropic), Oren-Nayar diffuse and the full Fresnel equations with complex IOR and
+the outside medium's index, checked against an f64 optics reference.
 
-SCENE is builtin:NAME (see below; default builtin:spheres) or a glTF file (.gltf or
-.glb; a file without lights is lit by the built-in studio environment).
---environment lights the scene by the studio (an analytic sky, ground and two soft
-boxes), a uniform radiance (W/sr/m² per channel), an equirectangular Radiance .hdr or
-OpenEXR .exr image (row 0 at +y, the centre column along -z), or none; --light-rig adds the
-camera-relative key and fill lights (the earlier default for files without lights).
---energy-compensation on scales every specular lobe by 1 + F0 (1 - E)/E (Turquin 2019),
-putting back the energy single-scattering GGX loses on rough surfaces (off by default:
-the f64 reference is single-scattering).
---device SEL picks a Vulkan device by index or by part of its name (e.g. llvmpipe);
-the COMBUSTION_DEVICE environment variable does the same. --validate turns on the
-Khronos validation layer and fails if it reports anything.
+SCENE is builtin:NAME (the list is below; default builtin:spheres) or a glTF file (.gltf
+or .glb; a file without lights is lit by the built-in studio environment).
 
-plot draws PNG charts with the optics reference (no GPU): `reflectance` Rs, Rp and R
-against the angle of incidence per RGB channel (rendering notes Figs. 10-11), `spectrum`
-a table's n(λ), k(λ) with the RGB bands (Figs. 8-9), `dielectrics` R against angle for
-several ηt (Fig. 12; default 1.1,1.33,1.5,1.8,2.4,3). --metal takes a built-in metal
-(name or symbol), --csv a `wavelength_nm,n,k` table spanning 450-740 nm, --eta/--k one
-value or one per RGB channel (k defaults to 0). --outside-ior is the medium's index ηi
-(default 1; 1.33 for water), --polarisation the weight w of R = (1-w)Rs + wRp (default
-0.5, unpolarised). PLOT OPTIONS: [-o OUT.png] [--width N] [--height N]; the default
-output is reflectance.png, spectrum.png or dielectrics.png, the default size 800x500
-(spectrum 800x600).
-
-bench submits N frames with frames in flight (default 2; 1 to 3): each waits only for
-the frame that used its slot. It prints the GPU time of each pass (timestamps: median,
-p10, p90), the wall-clock interval between submissions, and the throughput. The
-lighting pipeline is specialised to what the scene's materials use; --specialised off
-measures the general pipeline instead. --extra-lights N adds N point lights with a
-range (a fifth of the scene's size) scattered through it; --culling chooses when
-frames cull their lights into 16×16-pixel tile lists (auto: when a light has a range;
-the culling pass is timed with the lighting pass). --report DIR measures variant sets
-on every built-in scene (or the scene named): the default (full Fresnel, f32 HDR,
-specialised pipeline, height-correlated masking, GGX, each material's diffuse model),
-each term changed alone (general pipeline; Schlick or F82; f16; separable or
-approximate masking; Beckmann; Lambert, qualitative or full Oren-Nayar for every
-material) and every cheap choice at once; per set the GPU time of each pass and the
-error of one frame against the f64 reference (relative errors and mean FLIP), per scene
-the measurement floors (trivial G-buffer fragment stage; lighting that only fetches;
-plain GGX + Smith + conductor Fresnel), and frame time against size (0.5x, 1x, 1.5x)
-and against 1-256 localised lights culled and not (on grid-7x7, or the scene named);
-written to DIR as report.md, report.csv, floors.csv, scaling.csv, speed-vs-error.png
-(with the Pareto front), scaling-resolution.png and scaling-lights.png.
---fresnel f82, --distribution beckmann and --diffuse MODEL (lambert,
-oren-nayar-qualitative, oren-nayar-full; material: each its own) render or bench one
-comparison variant. --against PREVIOUS_DIR adds how this run reproduces an earlier
-report: rows with identical error columns, and the spread of the frame-time ratios.
-
-view opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under
-Xvfb) and renders the scene every frame at the window's size, into the swapchain image
-on the device, with frames in flight (default 2); --vsync off presents without waiting
-for the display's refresh where the window system allows it (default on). The title
-and the statistics panel (--overlay off hides it; Tab while running) show the GPU time;
-H lists the keys, X (or --error-view from the start) shows the error against the f64
-reference. Escape or closing the
-window quits, as does --frames N after N frames; a summary is printed at exit.
-
-info prints what a scene holds (meshes, materials, lights, camera, outside medium) and
-which renderer features it needs; for a glTF file also what the importer found. With
---max-error E (an accuracy budget: the mean relative error against the f64 reference)
-it measures the report's variant sets on the scene at 640x360 and says which is the
-fastest within E, as render --max-error E chooses (measured there at the render's size).
+`combustion COMMAND --help` explains each command's options.
 Logging: COMBUSTION_LOG=error|warn|info|debug|trace (default warn).";
+
+const BENCH_ABOUT: &str = "\
+Submits N frames with frames in flight (default 2; 1 to 3): each waits only for the frame
+that used its slot. Prints the GPU time of each pass (timestamps: median, p10, p90), the
+wall-clock interval between submissions, and the throughput. The lighting pipeline is
+specialised to what the scene's materials use; --specialised off measures the general
+pipeline instead.
+
+--report DIR measures variant sets on every built-in scene (or the scene named): the
+default (full Fresnel, f32 HDR, specialised pipeline, height-correlated masking, GGX, each
+material's diffuse model), each term changed alone (general pipeline; Schlick or F82;
+f16; separable or approximate masking; Beckmann; Lambert, qualitative or full Oren-Nayar
+for every material) and every cheap choice at once; per set the GPU time of each pass and
+the error of one frame against the f64 reference (relative errors and mean FLIP), per
+scene the measurement floors (trivial G-buffer fragment stage; lighting that only
+fetches; plain GGX + Smith + conductor Fresnel), and frame time against size (0.5x, 1x,
+1.5x) and against 1-256 localised lights culled and not (on grid-7x7, or the scene
+named); written to DIR as report.md, report.csv, floors.csv, scaling.csv,
+speed-vs-error.png (with the Pareto front), scaling-resolution.png and
+scaling-lights.png.";
+
+const VIEW_ABOUT: &str = "\
+Opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under Xvfb)
+and renders the scene every frame at the window's size, into the swapchain image on the
+device, with frames in flight (default 2). The title and the statistics panel show the
+GPU time; H lists the keys, X (or --error-view from the start) shows the error against
+the f64 reference. Escape or closing the window quits, as does --frames N after N frames;
+a summary is printed at exit.";
+
+const PLOT_ABOUT: &str = "\
+Draws PNG charts with the optics reference (no GPU): `reflectance` Rs, Rp and R against
+the angle of incidence per RGB channel (rendering notes Figs. 10-11), `spectrum` a
+table's n(λ), k(λ) with the RGB bands (Figs. 8-9), `dielectrics` R against angle for
+several ηt (Fig. 12).";
+
+const INFO_ABOUT: &str = "\
+Prints what a scene holds (meshes, materials, lights, camera, outside medium) and which
+renderer features it needs; for a glTF file also what the importer found. With
+--max-error E it measures the report's variant sets on the scene at 640x360 and says
+which is the fastest within E, as render --max-error E chooses (measured there at the
+render's size).";
+
+/// `--help`'s closing lines: the built-in scenes, in the order the viewer's number keys
+/// follow.
+fn builtin_scenes_note() -> String {
+    format!("Built-in scenes: {}.", BUILTIN_SCENES.join(", "))
+}
+
+#[derive(Parser)]
+#[command(
+    name = "combustion",
+    version,
+    about = ABOUT,
+    long_about = LONG_ABOUT,
+    after_help = builtin_scenes_note(),
+    subcommand_required = true,
+    arg_required_else_help = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene headless to a PNG (tone-mapped) and/or an OpenEXR file (linear)
+    #[command(allow_negative_numbers = true, after_help = builtin_scenes_note())]
+    Render(RenderArgs),
+    /// Measure the passes' GPU time over many frames, or write the speed-against-error
+    /// report
+    #[command(long_about = BENCH_ABOUT, allow_negative_numbers = true, after_help = builtin_scenes_note())]
+    Bench(BenchArgs),
+    /// Open a window and render the scene every frame
+    #[command(long_about = VIEW_ABOUT, allow_negative_numbers = true, after_help = builtin_scenes_note())]
+    View(ViewArgs),
+    /// Evaluate one term of the f64 optics reference (or the whole BRDF) and print JSON
+    Eval(EvalArgs),
+    /// Draw reflectance and spectrum charts as PNG files
+    #[command(long_about = PLOT_ABOUT, subcommand)]
+    Plot(PlotCommand),
+    /// Describe what a scene holds and which renderer features it needs
+    #[command(long_about = INFO_ABOUT, allow_negative_numbers = true, after_help = builtin_scenes_note())]
+    Info(InfoArgs),
+    /// List the Vulkan devices and whether each can run the renderer
+    Devices,
+    /// Print shell completions for this command line (e.g. `combustion completions bash
+    /// > /etc/bash_completion.d/combustion`)
+    Completions {
+        /// The shell to complete for
+        #[arg(value_parser = clap::value_parser!(clap_complete::Shell))]
+        shell: clap_complete::Shell,
+    },
+}
+
+/// The scene: positional, or as `--scene`.
+#[derive(Args)]
+struct SceneArg {
+    /// builtin:NAME or a glTF file (.gltf, .glb) [default: builtin:spheres]
+    #[arg(value_name = "SCENE", value_parser = scene_source())]
+    scene: Option<SceneSource>,
+    /// The same as SCENE
+    #[arg(
+        long = "scene",
+        value_name = "SCENE",
+        value_parser = scene_source(),
+        conflicts_with = "scene"
+    )]
+    scene_option: Option<SceneSource>,
+}
+
+impl SceneArg {
+    /// The scene named, if one was.
+    fn given(&self) -> Option<&SceneSource> {
+        self.scene.as_ref().or(self.scene_option.as_ref())
+    }
+    fn source(&self) -> SceneSource {
+        self.given()
+            .cloned()
+            .unwrap_or_else(|| SceneSource::Builtin("spheres".to_owned()))
+    }
+}
+
+/// What every frame is rendered with: size, exposure, Fresnel term, HDR target format.
+#[derive(Args)]
+struct FrameArgs {
+    /// Image width in pixels
+    #[arg(long, value_name = "N", default_value = "1280", value_parser = at_least_one)]
+    width: u32,
+    /// Image height in pixels
+    #[arg(long, value_name = "N", default_value = "720", value_parser = at_least_one)]
+    height: u32,
+    /// Exposure: the factor applied to radiance before tone mapping
+    #[arg(long, value_name = "X", default_value = "1", value_parser = positive_finite::<f32>)]
+    exposure: f32,
+    /// The Fresnel term: the full equations, or a comparison variant
+    #[arg(long, value_name = "MODEL", default_value = FresnelModel::default().name(), value_parser = named([FresnelModel::Full, FresnelModel::Schlick, FresnelModel::F82].map(|m| (m.name(), m))))]
+    fresnel: FresnelModel,
+    /// The HDR target's format: 16- or 32-bit float per channel
+    #[arg(long, value_name = "FORMAT", default_value = "f32", value_parser = named(HDR_FORMATS))]
+    hdr_format: HdrFormat,
+}
+
+const HDR_FORMATS: [(&str, HdrFormat); 2] = [
+    ("f16", HdrFormat::Rgba16Float),
+    ("f32", HdrFormat::Rgba32Float),
+];
+
+/// How the scene is shaded and lit (`render`, `bench`).
+#[derive(Args)]
+struct ShadingArgs {
+    /// The microfacet distribution (beckmann: a comparison variant)
+    #[arg(long, value_name = "KIND", default_value = "ggx", value_parser = named([Distribution::Ggx, Distribution::Beckmann].map(|d| (d.name(), d))))]
+    distribution: Distribution,
+    /// One diffuse model for every material (material: each its own)
+    #[arg(long, value_name = "MODEL", default_value = "material", value_parser = diffuse_override())]
+    // Spelled out so that clap takes the value as parsed (`material` is `None`) rather than
+    // as an optional argument.
+    diffuse: std::option::Option<DiffuseModel>,
+    /// Light the scene by the studio (an analytic sky, ground and two soft boxes), a
+    /// uniform radiance (W/sr/m² per channel), an equirectangular Radiance .hdr or OpenEXR
+    /// .exr image (row 0 at +y, the centre column along -z), or none
+    #[arg(long, value_name = "studio|none|uniform:R,G,B|FILE", value_parser = OsStringValueParser::new().try_map(EnvironmentChoice::parse))]
+    environment: Option<EnvironmentChoice>,
+    /// Add the camera-relative key and fill lights (the earlier default for files without
+    /// lights)
+    #[arg(long)]
+    light_rig: bool,
+    /// Scale every specular lobe by 1 + F0 (1 - E)/E (Turquin 2019), putting back the
+    /// energy single-scattering GGX loses on rough surfaces (off by default: the f64
+    /// reference is single-scattering)
+    #[arg(long, value_name = "on|off", default_value = "off", action = ArgAction::Set, value_parser = on_off())]
+    energy_compensation: bool,
+}
+
+/// The Vulkan device and validation.
+#[derive(Args)]
+struct DeviceArgs {
+    /// Pick a Vulkan device by index or by part of its name (e.g. llvmpipe); the
+    /// COMBUSTION_DEVICE environment variable does the same
+    #[arg(long, value_name = "SEL", value_parser = |text: &str| text.parse::<DeviceSelector>())]
+    device: Option<DeviceSelector>,
+    /// Turn on the Khronos validation layer and fail if it reports anything
+    #[arg(long)]
+    validate: bool,
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    #[command(flatten)]
+    scene: SceneArg,
+    /// The tone-mapped image (PNG) [default: out.png when --hdr is not given]
+    #[arg(short = 'o', long = "output", value_name = "OUT.png")]
+    output: Option<PathBuf>,
+    /// The linear radiance (OpenEXR, ZIP-compressed)
+    #[arg(long, value_name = "OUT.exr")]
+    hdr: Option<PathBuf>,
+    /// An accuracy budget: render with the fastest variant set whose mean relative error
+    /// against the f64 reference is within E, measured on this scene at this size
+    #[arg(long, value_name = "E", value_parser = relative_error)]
+    max_error: Option<f64>,
+    #[command(flatten)]
+    frame: FrameArgs,
+    #[command(flatten)]
+    shading: ShadingArgs,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    #[command(flatten)]
+    scene: SceneArg,
+    /// Frames to measure
+    #[arg(long, value_name = "N", default_value = "30", value_parser = at_least_one)]
+    frames: u32,
+    /// Frames the CPU may record ahead of the GPU
+    #[arg(long, value_name = "N", default_value_t = RendererSettings::default().frames_in_flight, value_parser = frames_in_flight)]
+    frames_in_flight: usize,
+    /// Light pipelines specialised to the scene's materials (off: the general one)
+    #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
+    specialised: bool,
+    /// Add N point lights with a range (a fifth of the scene's size) scattered through it
+    #[arg(long, value_name = "N", default_value = "0", value_parser = extra_lights)]
+    extra_lights: usize,
+    /// When frames cull their lights into 16×16-pixel tile lists (auto: when a light has
+    /// a range; the culling pass is timed with the lighting pass)
+    #[arg(long, value_name = "WHEN", default_value = "auto", value_parser = named(CULLING))]
+    culling: LightCulling,
+    /// Measure the variant sets and write the speed-against-error report to DIR
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "specialised", "distribution", "diffuse", "extra_lights", "culling"])]
+    report: Option<PathBuf>,
+    /// With --report: add how this run reproduces an earlier report (rows with identical
+    /// error columns, the spread of the frame-time ratios)
+    #[arg(long, value_name = "PREVIOUS_DIR", requires = "report")]
+    against: Option<PathBuf>,
+    #[command(flatten)]
+    frame: FrameArgs,
+    #[command(flatten)]
+    shading: ShadingArgs,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+const CULLING: [(&str, LightCulling); 3] = [
+    ("auto", LightCulling::Auto),
+    ("always", LightCulling::Always),
+    ("never", LightCulling::Never),
+];
+
+#[derive(Args)]
+struct ViewArgs {
+    #[command(flatten)]
+    scene: SceneArg,
+    /// Quit after N frames (default: run until the window is closed)
+    #[arg(long, value_name = "N", value_parser = at_least_one)]
+    frames: Option<u32>,
+    /// Wait for the display's refresh (off: present at once where the window system
+    /// allows it)
+    #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
+    vsync: bool,
+    /// Frames the CPU may record ahead of the GPU
+    #[arg(long, value_name = "N", default_value_t = RendererSettings::default().frames_in_flight, value_parser = frames_in_flight)]
+    frames_in_flight: usize,
+    /// Write the last frame of the run to this PNG (needs --frames)
+    #[arg(long, value_name = "OUT.png", requires = "frames")]
+    screenshot: Option<PathBuf>,
+    /// A scripted camera path
+    #[arg(long, value_name = "FILE")]
+    camera_path: Option<PathBuf>,
+    /// The statistics panel over the frames (Tab toggles it while running)
+    #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
+    overlay: bool,
+    /// Start in the error view (the error against the f64 reference)
+    #[arg(long)]
+    error_view: bool,
+    #[command(flatten)]
+    frame: FrameArgs,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+#[derive(Args)]
+struct InfoArgs {
+    /// builtin:NAME or a glTF file (.gltf, .glb)
+    #[arg(value_name = "SCENE", value_parser = scene_source())]
+    scene: SceneSource,
+    /// An accuracy budget (the mean relative error against the f64 reference): measure
+    /// the variant sets at 640x360 and say which is the fastest within it
+    #[arg(long, value_name = "E", value_parser = relative_error)]
+    max_error: Option<f64>,
+}
+
+/// `eval`'s arguments: the term, and the numeric inputs of
+/// [`combustion::eval::FLAGS`], declared from that table (see the `Args` impl).
+struct EvalArgs {
+    list: bool,
+    term: Option<String>,
+    inputs: combustion::eval::Inputs,
+}
+
+impl clap::FromArgMatches for EvalArgs {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut inputs = combustion::eval::Inputs::default();
+        for flag in combustion::eval::FLAGS {
+            if let Some(values) = matches.get_one::<Vec<f64>>(flag.long()) {
+                inputs.set(flag, values.clone());
+            }
+        }
+        if let Some(model) = matches.get_one("diffuse") {
+            inputs.set_diffuse(*model);
+        }
+        Ok(Self {
+            list: matches.get_flag("list"),
+            term: matches.get_one::<String>("term").cloned(),
+            inputs,
+        })
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(matches)?;
+        Ok(())
+    }
+}
+
+impl Args for EvalArgs {
+    fn augment_args(command: clap::Command) -> clap::Command {
+        use clap::Arg;
+        let terms = combustion::eval::TERMS
+            .iter()
+            .map(|(name, what)| PossibleValue::new(*name).help(*what));
+        let command = command
+            .about(
+                "Evaluate one term of the f64 optics reference (or the whole BRDF) and print JSON",
+            )
+            .long_about(
+                "Evaluates one term of the f64 optics reference, or the whole BRDF, and prints \
+                 JSON: the term, the input as given, what was evaluated from it (directions \
+                 normalised or made from angles, the half vector, α after its clamp) and the \
+                 result. Directions are in the local shading frame (z = normal, x = tangent, \
+                 y = bitangent), as angles or as vectors.",
+            )
+            .allow_negative_numbers(true)
+            .arg(
+                Arg::new("term")
+                    .value_name("TERM")
+                    .help("The term to evaluate")
+                    .value_parser(PossibleValuesParser::new(terms))
+                    .required_unless_present("list"),
+            )
+            .arg(
+                Arg::new("list")
+                    .long("list")
+                    .action(ArgAction::SetTrue)
+                    .conflicts_with("term")
+                    .help("List the terms with what each evaluates"),
+            )
+            .arg(
+                Arg::new("diffuse")
+                    .long("diffuse")
+                    .value_name("MODEL")
+                    .help("`brdf`: the diffuse model (default lambert)")
+                    .value_parser(named(combustion::eval::DIFFUSE_MODELS)),
+            );
+        combustion::eval::FLAGS
+            .iter()
+            .fold(command, |command, flag| {
+                let value_name = match flag.lengths {
+                    [1] => "X",
+                    [3] => "X,Y,Z",
+                    _ => "X|R,G,B",
+                };
+                command.arg(
+                    Arg::new(flag.long())
+                        .long(flag.long())
+                        .value_name(value_name)
+                        .help(flag.help)
+                        // Vectors may start with a minus sign (`--v -1,0,1`).
+                        .allow_hyphen_values(true)
+                        .value_parser(move |text: &str| combustion::eval::parse_value(flag, text)),
+                )
+            })
+    }
+
+    fn augment_args_for_update(command: clap::Command) -> clap::Command {
+        Self::augment_args(command)
+    }
+}
+
+#[derive(Subcommand)]
+enum PlotCommand {
+    /// Rs, Rp and R against the angle of incidence per RGB channel (Figs. 10-11)
+    Reflectance(ReflectanceArgs),
+    /// A table's n(λ), k(λ) with the RGB bands (Figs. 8-9)
+    Spectrum(SpectrumArgs),
+    /// R against the angle of incidence for several dielectrics (Fig. 12)
+    Dielectrics(DielectricsArgs),
+}
+
+/// Where a plot goes and its size.
+#[derive(Args)]
+struct PlotImageArgs {
+    /// The PNG to write [default: reflectance.png, spectrum.png or dielectrics.png]
+    #[arg(short = 'o', long = "output", value_name = "OUT.png")]
+    output: Option<PathBuf>,
+    /// Width in pixels [default: 800]
+    #[arg(long, value_name = "N", value_parser = whole_number::<u32>)]
+    width: Option<u32>,
+    /// Height in pixels [default: 500; spectrum 600]
+    #[arg(long, value_name = "N", value_parser = whole_number::<u32>)]
+    height: Option<u32>,
+}
+
+impl PlotImageArgs {
+    fn size(&self, default: (u32, u32)) -> (u32, u32) {
+        (
+            self.width.unwrap_or(default.0),
+            self.height.unwrap_or(default.1),
+        )
+    }
+
+    /// The output path (default `KIND.png`), checked before any work is done.
+    fn output(&self, kind: &str) -> Result<PathBuf, CliError> {
+        let path = self
+            .output
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(format!("{kind}.png")));
+        output::check_writable(&path)?;
+        Ok(path)
+    }
+}
+
+#[derive(Args)]
+#[command(group(ArgGroup::new("material").required(true).args(["metal", "dielectric", "eta", "csv"])))]
+struct ReflectanceArgs {
+    /// A built-in metal (name or chemical symbol)
+    #[arg(long, value_name = "NAME", value_parser = builtin_metal)]
+    metal: Option<BuiltinMetal>,
+    /// A dielectric of index ETA
+    #[arg(long, value_name = "ETA", value_parser = finite)]
+    dielectric: Option<f64>,
+    /// A conductor's η, one value or one per RGB channel
+    #[arg(long, value_name = "E|R,G,B", value_parser = rgb)]
+    eta: Option<[f64; 3]>,
+    /// The conductor's k, one value or one per RGB channel [default: 0]
+    #[arg(long, value_name = "K|R,G,B", value_parser = rgb, requires = "eta")]
+    k: Option<[f64; 3]>,
+    /// A `wavelength_nm,n,k` table spanning 450-740 nm
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    /// The outside medium's index ηi (1.33 for water)
+    #[arg(long, value_name = "X", default_value = "1", value_parser = finite)]
+    outside_ior: f64,
+    /// The weight w of R = (1-w)Rs + wRp (0.5: unpolarised)
+    #[arg(long, value_name = "W", default_value = "0.5", value_parser = finite)]
+    polarisation: f64,
+    #[command(flatten)]
+    image: PlotImageArgs,
+}
+
+#[derive(Args)]
+#[command(group(ArgGroup::new("table").required(true).args(["metal", "csv"])))]
+struct SpectrumArgs {
+    /// A built-in metal (name or chemical symbol)
+    #[arg(long, value_name = "NAME", value_parser = builtin_metal)]
+    metal: Option<BuiltinMetal>,
+    /// A `wavelength_nm,n,k` table spanning 450-740 nm
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    #[command(flatten)]
+    image: PlotImageArgs,
+}
+
+#[derive(Args)]
+struct DielectricsArgs {
+    /// The indices ηt to plot [default: 1.1,1.33,1.5,1.8,2.4,3]
+    #[arg(long, value_name = "E,E,...", value_parser = |text: &str| parse_list(text, &[]).map(Etas))]
+    etas: Option<Etas>,
+    /// The outside medium's index ηi
+    #[arg(long, value_name = "X", default_value = "1", value_parser = finite)]
+    outside_ior: f64,
+    #[command(flatten)]
+    image: PlotImageArgs,
+}
+
+/// `--etas`: one value holding a list (an `Option<Vec<_>>` field would be a list of
+/// values to clap).
+#[derive(Clone)]
+struct Etas(Vec<f64>);
+
+// ---- Value parsers: each says why a value is refused; clap shows the value and the flag.
+
+/// `text` for an error message: at most 40 characters, the rest elided.
+fn shortened(text: &str) -> String {
+    match text.char_indices().nth(40) {
+        Some((cut, _)) => format!("{}… ({} characters)", &text[..cut], text.chars().count()),
+        None => text.to_owned(),
+    }
+}
+
+/// A whole number of type `T`; the error says why not (negative, written with a point,
+/// out of range) rather than only "invalid".
+fn whole_number<T: std::str::FromStr>(text: &str) -> Result<T, String> {
+    text.parse().map_err(|_| {
+        let numeric = text.parse::<f64>().is_ok_and(f64::is_finite);
+        if !numeric {
+            "is not a valid number"
+        } else if text.starts_with('-') && "-1".parse::<T>().is_err() {
+            "is negative"
+        } else if text.contains(['.', 'e', 'E']) {
+            "is not written as a whole number (digits only)"
+        } else {
+            "is out of range"
+        }
+        .to_owned()
+    })
+}
+
+/// A whole number in `low..=high`.
+fn whole_in<T>(text: &str, low: T, high: T) -> Result<T, String>
+where
+    T: std::str::FromStr + PartialOrd + std::fmt::Display,
+{
+    let value = whole_number::<T>(text)?;
+    if value < low || value > high {
+        return Err(format!("is not between {low} and {high}"));
+    }
+    Ok(value)
+}
+
+/// An image size or a frame count: at least 1.
+fn at_least_one(text: &str) -> Result<u32, String> {
+    let value = whole_number::<u32>(text)?;
+    if value == 0 {
+        return Err("is 0; it must be at least 1".to_owned());
+    }
+    Ok(value)
+}
+
+fn frames_in_flight(text: &str) -> Result<usize, String> {
+    whole_in(text, 1, MAX_FRAMES_IN_FLIGHT)
+}
+
+fn extra_lights(text: &str) -> Result<usize, String> {
+    whole_in(text, 0, 65536)
+}
+
+/// A finite number.
+fn finite(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(value) if value.is_finite() => Ok(value),
+        Ok(_) => Err("is not finite".to_owned()),
+        Err(_) => Err("is not a number".to_owned()),
+    }
+}
+
+/// A finite number above 0.
+fn positive_finite<T: std::str::FromStr + Into<f64> + Copy>(text: &str) -> Result<T, String> {
+    match text.parse::<T>() {
+        Ok(value) if value.into().is_finite() && value.into() > 0.0 => Ok(value),
+        Ok(_) => Err("is not a finite number above 0".to_owned()),
+        Err(_) => Err("is not a number".to_owned()),
+    }
+}
+
+/// An accuracy budget: a relative error above 0.
+fn relative_error(text: &str) -> Result<f64, String> {
+    positive_finite::<f64>(text).map_err(|_| "is not a relative error above 0 (e.g. 1e-3)".into())
+}
+
+/// A comma-separated list of finite numbers whose length is one of `lengths` (any length
+/// if `lengths` is empty).
+fn parse_list(text: &str, lengths: &[usize]) -> Result<Vec<f64>, String> {
+    let values = text
+        .split(',')
+        .map(|part| finite(part).map_err(|why| format!("`{}` {why}", part.trim())))
+        .collect::<Result<Vec<f64>, String>>()?;
+    if !lengths.is_empty() && !lengths.contains(&values.len()) {
+        let expected: Vec<String> = lengths.iter().map(usize::to_string).collect();
+        return Err(format!(
+            "takes {} value(s), got {}",
+            expected.join(" or "),
+            values.len()
+        ));
+    }
+    Ok(values)
+}
+
+/// One value for all three RGB channels, or one per channel.
+fn rgb(text: &str) -> Result<[f64; 3], String> {
+    match parse_list(text, &[1, 3])?.as_slice() {
+        [x] => Ok([*x; 3]),
+        [r, g, b] => Ok([*r, *g, *b]),
+        _ => Err("takes 1 or 3 values".to_owned()),
+    }
+}
+
+fn builtin_metal(name: &str) -> Result<BuiltinMetal, String> {
+    BuiltinMetal::from_name(name).ok_or_else(|| {
+        let known: Vec<&str> = BuiltinMetal::ALL.iter().map(|m| m.name()).collect();
+        format!(
+            "not a built-in metal; built-in metals: {} (or their chemical symbols)",
+            known.join(", ")
+        )
+    })
+}
+
+/// A value parser choosing among named values; clap lists the names in `--help` and in
+/// its error for any other value.
+fn named<T, const N: usize>(options: [(&'static str, T); N]) -> impl TypedValueParser<Value = T>
+where
+    T: Copy + Send + Sync + 'static,
+{
+    PossibleValuesParser::new(options.map(|(name, _)| name)).map(move |chosen: String| {
+        options
+            .iter()
+            .find(|(name, _)| *name == chosen)
+            .map(|(_, value)| *value)
+            .unwrap_or(options[0].1)
+    })
+}
+
+fn on_off() -> impl TypedValueParser<Value = bool> {
+    named([("on", true), ("off", false)])
+}
+
+/// `--diffuse`: `material` (each material's own model) or one model for all.
+fn diffuse_override() -> impl TypedValueParser<Value = Option<DiffuseModel>> {
+    let [a, b, c] = DiffuseModel::ALL;
+    named([
+        ("material", None),
+        (a.name(), Some(a)),
+        (b.name(), Some(b)),
+        (c.name(), Some(c)),
+    ])
+}
+
+/// SCENE: `builtin:NAME`, or a file path in whatever bytes the system allows.
+fn scene_source() -> impl TypedValueParser<Value = SceneSource> {
+    OsStringValueParser::new().map(|text: OsString| SceneSource::parse_os(&text))
+}
+
+/// `--environment`, as given; [`EnvironmentChoice::load`] reads a file.
+#[derive(Clone, Debug)]
+enum EnvironmentChoice {
+    None,
+    Studio,
+    Uniform([f32; 3]),
+    File(PathBuf),
+}
+
+impl EnvironmentChoice {
+    fn parse(text: OsString) -> Result<Self, String> {
+        const EXPECTED: &str = "is not studio, none, uniform:R,G,B or an .hdr or .exr file";
+        let path = PathBuf::from(&text);
+        let image = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("hdr") || e.eq_ignore_ascii_case("exr"));
+        let Some(text) = text.to_str() else {
+            return if image {
+                Ok(Self::File(path))
+            } else {
+                Err(EXPECTED.to_owned())
+            };
+        };
+        if let Some(rgb) = text.strip_prefix("uniform:") {
+            let channel = |part: &str| -> Result<f32, String> {
+                finite(part)
+                    .map(|x| x as f32)
+                    .map_err(|why| format!("`{}` {why}", shortened(part)))
+            };
+            let parts: Vec<&str> = rgb.split(',').collect();
+            return match parts[..] {
+                [r, g, b] => Ok(Self::Uniform([channel(r)?, channel(g)?, channel(b)?])),
+                [l] => Ok(Self::Uniform([channel(l)?; 3])),
+                _ => Err("is not uniform:L or uniform:R,G,B".to_owned()),
+            };
+        }
+        match text {
+            "studio" => Ok(Self::Studio),
+            "none" => Ok(Self::None),
+            _ if image => Ok(Self::File(path)),
+            _ => Err(EXPECTED.to_owned()),
+        }
+    }
+
+    /// The environment (a file read and checked here).
+    fn load(&self) -> Result<Option<Environment>, Error> {
+        Ok(match self {
+            Self::None => None,
+            Self::Studio => Some(Environment::Studio),
+            Self::Uniform(radiance) => Some(Environment::Uniform(*radiance)),
+            Self::File(path) => {
+                let image = combustion::scene::EnvironmentImage::load(path)?;
+                Some(Environment::Image(std::sync::Arc::new(image)))
+            }
+        })
+    }
+}
+
+/// The scene with `--environment` and `--light-rig` applied.
+fn lit_as_asked(mut scene: Scene, shading: &ShadingArgs) -> Result<Scene, Error> {
+    if let Some(environment) = &shading.environment {
+        scene.environment = environment.load()?;
+    }
+    if shading.light_rig {
+        scene
+            .lights
+            .extend(combustion::default_light_rig(&scene.camera));
+    }
+    Ok(scene)
+}
+
+/// The device (`--device`, else `COMBUSTION_DEVICE`, else automatic) and renderer
+/// settings the options ask for.
+fn device_and_settings(
+    device: &DeviceArgs,
+    frame: &FrameArgs,
+    frames_in_flight: usize,
+) -> Result<(DeviceDesc, RendererSettings), Error> {
+    let selector = match &device.device {
+        Some(s) => s.clone(),
+        None => DeviceSelector::from_env()?,
+    };
+    let desc = DeviceDesc {
+        selector,
+        validation: device.validate,
+        synchronization_validation: device.validate,
+        ..DeviceDesc::default()
+    };
+    let settings = RendererSettings {
+        exposure: frame.exposure,
+        hdr_format: frame.hdr_format,
+        fresnel: frame.fresnel,
+        frames_in_flight,
+    };
+    Ok((desc, settings))
+}
 
 /// Writes `text` to standard output: a closed pipe (`combustion … | head`) ends the
 /// program quietly (exit 0: the reader has what it wanted); any other write error (a
@@ -157,359 +821,11 @@ fn init_logging() {
     log::set_max_level(level);
 }
 
-/// Options common to `render` and `bench`.
-struct Options {
-    scene: SceneSource,
-    width: u32,
-    height: u32,
-    output: Option<PathBuf>,
-    hdr: Option<PathBuf>,
-    exposure: f32,
-    hdr_format: HdrFormat,
-    fresnel: FresnelModel,
-    /// `render`, `bench`: the microfacet distribution.
-    distribution: Distribution,
-    /// `render`, `bench`: one diffuse model for every material (`None`: each its own).
-    diffuse: Option<DiffuseModel>,
-    frames: u32,
-    /// `--frames` was given (`view` runs until closed otherwise).
-    frames_given: bool,
-    /// `bench`, `view`: frames the CPU may record ahead of the GPU.
-    frames_in_flight: usize,
-    /// `view`: wait for the display's refresh.
-    vsync: bool,
-    /// `view`: write the last frame to this PNG.
-    screenshot: Option<PathBuf>,
-    /// `view`: a scripted camera path.
-    camera_path: Option<PathBuf>,
-    /// `view`: the statistics panel over the frames.
-    overlay: bool,
-    /// `bench`: lighting pipelines specialised to the scene (off: the general one).
-    specialised: bool,
-    /// `view`: start in the error view.
-    error_view: bool,
-    /// `bench`: write the speed-against-error report here.
-    report: Option<PathBuf>,
-    /// `bench --report`: an earlier report's directory to compare this run with.
-    against: Option<PathBuf>,
-    /// `render`: the accuracy budget (mean relative error against the f64 reference).
-    max_error: Option<f64>,
-    /// `bench`: localised lights (with range) added to the scene.
-    extra_lights: usize,
-    /// `bench`: when frames cull their lights.
-    culling: combustion::renderer::LightCulling,
-    /// `render`, `bench`: the environment in place of the scene's own (`Some(None)`:
-    /// none).
-    environment: Option<Option<Environment>>,
-    /// `render`, `bench`: add the camera-relative light rig.
-    light_rig: bool,
-    /// `render`, `bench`: multiple-scattering energy compensation.
-    energy_compensation: bool,
-    /// A scene was named on the command line.
-    scene_given: bool,
-    device: Option<DeviceSelector>,
-    validate: bool,
-}
-
-/// `text` for an error message: at most 40 characters, the rest elided.
-fn shortened(text: &str) -> String {
-    match text.char_indices().nth(40) {
-        Some((cut, _)) => format!("{}… ({} characters)", &text[..cut], text.chars().count()),
-        None => text.to_owned(),
-    }
-}
-
-fn number<T: std::str::FromStr>(flag: &str, value: &str) -> Result<T, Error> {
-    value.parse().map_err(|_| {
-        let shown = shortened(value);
-        let numeric = value.parse::<f64>().is_ok_and(f64::is_finite);
-        let whole_only = "0.5".parse::<T>().is_err();
-        let reason = if !numeric {
-            "is not a valid number"
-        } else if value.starts_with('-') && "-1".parse::<T>().is_err() {
-            "is negative; it takes a number of at least 0"
-        } else if whole_only && value.contains(['.', 'e', 'E']) {
-            "is not written as a whole number (digits only)"
-        } else {
-            "is out of range"
-        };
-        Error::Usage(format!("{flag}: `{shown}` {reason}"))
-    })
-}
-
-/// An accuracy budget: a relative error above 0.
-fn max_error(value: &str) -> Result<f64, Error> {
-    match value.parse::<f64>() {
-        Ok(e) if e.is_finite() && e > 0.0 => Ok(e),
-        _ => Err(Error::Usage(format!(
-            "--max-error: `{value}` is not a relative error above 0 (e.g. 1e-3)"
-        ))),
-    }
-}
-
-/// The option `value` names among `options` (name, value); otherwise a usage error
-/// listing the names: "`--flag: `x` is not a, b or c`".
-fn choice<T: Copy>(flag: &str, value: &str, options: &[(&str, T)]) -> Result<T, Error> {
-    if let Some(&(_, chosen)) = options.iter().find(|(name, _)| *name == value) {
-        return Ok(chosen);
-    }
-    let names: Vec<&str> = options.iter().map(|(name, _)| *name).collect();
-    let listed = match names.split_last() {
-        Some((last, [])) => (*last).to_owned(),
-        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
-        None => String::new(),
-    };
-    Err(Error::Usage(format!(
-        "{flag}: `{}` is not {listed}",
-        shortened(value)
-    )))
-}
-
-/// `--environment`: `studio`, `none`, `uniform:R,G,B` (radiance per channel) or an
-/// equirectangular `.hdr` or `.exr` file.
-fn environment_option(flag: &str, value: &str) -> Result<Option<Environment>, Error> {
-    if let Some(rgb) = value.strip_prefix("uniform:") {
-        let parts: Vec<&str> = rgb.split(',').collect();
-        let channel = |text: &str| -> Result<f32, Error> { number(flag, text) };
-        let radiance = match parts[..] {
-            [r, g, b] => [channel(r)?, channel(g)?, channel(b)?],
-            [l] => [channel(l)?; 3],
-            _ => {
-                return Err(Error::Usage(format!(
-                    "{flag}: `{}` is not uniform:L or uniform:R,G,B",
-                    shortened(value)
-                )))
-            }
-        };
-        return Ok(Some(Environment::Uniform(radiance)));
-    }
-    match value {
-        "studio" => Ok(Some(Environment::Studio)),
-        "none" => Ok(None),
-        _ if [".hdr", ".exr"]
-            .iter()
-            .any(|e| value.to_ascii_lowercase().ends_with(e)) =>
-        {
-            let image = combustion::scene::EnvironmentImage::load(Path::new(value))?;
-            Ok(Some(Environment::Image(std::sync::Arc::new(image))))
-        }
-        _ => Err(Error::Usage(format!(
-            "{flag}: `{}` is not studio, none, uniform:R,G,B or an .hdr or .exr file",
-            shortened(value)
-        ))),
-    }
-}
-
-/// The scene with `--environment` and `--light-rig` applied.
-fn lit_as_asked(mut scene: Scene, o: &Options) -> Scene {
-    if let Some(environment) = &o.environment {
-        scene.environment = environment.clone();
-    }
-    if o.light_rig {
-        scene
-            .lights
-            .extend(combustion::default_light_rig(&scene.camera));
-    }
-    scene
-}
-
-fn on_off(flag: &str, value: &str) -> Result<bool, Error> {
-    choice(flag, value, &[("on", true), ("off", false)])
-}
-
-fn parse_options(args: &[String], command: &str) -> Result<Options, Error> {
-    let mut o = Options {
-        scene: SceneSource::parse("builtin:spheres"),
-        width: 1280,
-        height: 720,
-        output: None,
-        hdr: None,
-        exposure: 1.0,
-        hdr_format: HdrFormat::default(),
-        fresnel: FresnelModel::default(),
-        distribution: Distribution::Ggx,
-        diffuse: None,
-        frames: 30,
-        frames_given: false,
-        frames_in_flight: RendererSettings::default().frames_in_flight,
-        vsync: true,
-        screenshot: None,
-        camera_path: None,
-        overlay: true,
-        specialised: true,
-        error_view: false,
-        report: None,
-        against: None,
-        max_error: None,
-        extra_lights: 0,
-        culling: combustion::renderer::LightCulling::Auto,
-        environment: None,
-        light_rig: false,
-        energy_compensation: false,
-        scene_given: false,
-        device: None,
-        validate: false,
-    };
-    let mut scene_given = false;
-    let mut i = 0;
-    while i < args.len() {
-        let flag = args[i].as_str();
-        let mut value = || -> Result<&str, Error> {
-            i += 1;
-            args.get(i)
-                .map(String::as_str)
-                .ok_or_else(|| Error::Usage(format!("{flag} needs a value")))
-        };
-        match flag {
-            "--scene" => {
-                o.scene = SceneSource::parse(value()?);
-                scene_given = true;
-            }
-            "--width" => o.width = number(flag, value()?)?,
-            "--height" => o.height = number(flag, value()?)?,
-            "-o" | "--output" if command == "render" => o.output = Some(PathBuf::from(value()?)),
-            "--hdr" if command == "render" => o.hdr = Some(PathBuf::from(value()?)),
-            "--exposure" => o.exposure = number(flag, value()?)?,
-            "--fresnel" => {
-                let models = [FresnelModel::Full, FresnelModel::Schlick, FresnelModel::F82];
-                o.fresnel = choice(flag, value()?, &models.map(|m| (m.name(), m)))?;
-            }
-            "--distribution" if command == "render" || command == "bench" => {
-                let kinds = [Distribution::Ggx, Distribution::Beckmann];
-                o.distribution = choice(flag, value()?, &kinds.map(|d| (d.name(), d)))?;
-            }
-            "--diffuse" if command == "render" || command == "bench" => {
-                let mut options = vec![("material", None)];
-                options.extend(DiffuseModel::ALL.map(|m| (m.name(), Some(m))));
-                o.diffuse = choice(flag, value()?, &options)?;
-            }
-            "--environment" if command == "render" || command == "bench" => {
-                o.environment = Some(environment_option(flag, value()?)?);
-            }
-            "--light-rig" if command == "render" || command == "bench" => o.light_rig = true,
-            "--energy-compensation" if command == "render" || command == "bench" => {
-                o.energy_compensation = on_off(flag, value()?)?;
-            }
-            "--hdr-format" => {
-                o.hdr_format = choice(
-                    flag,
-                    value()?,
-                    &[
-                        ("f16", HdrFormat::Rgba16Float),
-                        ("f32", HdrFormat::Rgba32Float),
-                    ],
-                )?;
-            }
-            "--frames" if command == "bench" || command == "view" => {
-                o.frames = number(flag, value()?)?;
-                o.frames_given = true;
-            }
-            "--screenshot" if command == "view" => o.screenshot = Some(PathBuf::from(value()?)),
-            "--camera-path" if command == "view" => o.camera_path = Some(PathBuf::from(value()?)),
-            "--vsync" if command == "view" => o.vsync = on_off(flag, value()?)?,
-            "--overlay" if command == "view" => o.overlay = on_off(flag, value()?)?,
-            "--specialised" if command == "bench" => o.specialised = on_off(flag, value()?)?,
-            "--report" if command == "bench" => o.report = Some(PathBuf::from(value()?)),
-            "--against" if command == "bench" => o.against = Some(PathBuf::from(value()?)),
-            "--max-error" if command == "render" => o.max_error = Some(max_error(value()?)?),
-            "--extra-lights" if command == "bench" => {
-                o.extra_lights = number(flag, value()?)?;
-                if o.extra_lights > 65536 {
-                    return Err(Error::Usage(format!(
-                        "--extra-lights: {} is more than 65536",
-                        o.extra_lights
-                    )));
-                }
-            }
-            "--culling" if command == "bench" => {
-                use combustion::renderer::LightCulling;
-                o.culling = choice(
-                    flag,
-                    value()?,
-                    &[
-                        ("auto", LightCulling::Auto),
-                        ("always", LightCulling::Always),
-                        ("never", LightCulling::Never),
-                    ],
-                )?;
-            }
-            "--frames-in-flight" if command == "bench" || command == "view" => {
-                o.frames_in_flight = number(flag, value()?)?;
-                if !(1..=combustion::renderer::MAX_FRAMES_IN_FLIGHT).contains(&o.frames_in_flight) {
-                    return Err(Error::Usage(format!(
-                        "--frames-in-flight: {} is not between 1 and {}",
-                        o.frames_in_flight,
-                        combustion::renderer::MAX_FRAMES_IN_FLIGHT
-                    )));
-                }
-            }
-            "--device" => o.device = Some(value()?.parse()?),
-            "--validate" => o.validate = true,
-            "--error-view" if command == "view" => o.error_view = true,
-            _ if !flag.starts_with('-') && !scene_given => {
-                o.scene = SceneSource::parse(flag);
-                scene_given = true;
-                o.scene_given = true;
-            }
-            _ => {
-                return Err(Error::Usage(format!(
-                    "unknown argument `{flag}` for `combustion {command}` (see `combustion help`)"
-                )))
-            }
-        }
-        i += 1;
-    }
-    if command == "render" && o.output.is_none() && o.hdr.is_none() {
-        o.output = Some(PathBuf::from("out.png"));
-    }
-    if o.width == 0 || o.height == 0 {
-        return Err(Error::Usage(format!(
-            "image size {}x{} is empty; --width and --height must be at least 1",
-            o.width, o.height
-        )));
-    }
-    if o.screenshot.is_some() && !o.frames_given {
-        return Err(Error::Usage(
-            "--screenshot writes the last frame of a run: give --frames N too".into(),
-        ));
-    }
-    if (command == "bench" || o.frames_given) && o.frames == 0 {
-        return Err(Error::Usage("--frames must be at least 1".into()));
-    }
-    Ok(o)
-}
-
-/// The device (`--device`, else `COMBUSTION_DEVICE`, else automatic) and renderer
-/// settings the options ask for.
-fn device_and_settings(o: &Options) -> Result<(DeviceDesc, RendererSettings), Error> {
-    let selector = match &o.device {
-        Some(s) => s.clone(),
-        None => DeviceSelector::from_env()?,
-    };
-    let device = DeviceDesc {
-        selector,
-        validation: o.validate,
-        synchronization_validation: o.validate,
-        ..DeviceDesc::default()
-    };
-    let settings = RendererSettings {
-        exposure: o.exposure,
-        hdr_format: o.hdr_format,
-        fresnel: o.fresnel,
-        frames_in_flight: o.frames_in_flight,
-    };
-    Ok((device, settings))
-}
-
-fn headless(o: &Options) -> Result<Headless, Error> {
-    let (device, settings) = device_and_settings(o)?;
-    Headless::new(&HeadlessDesc { device, settings })
-}
-
-fn render(o: &Options) -> Result<(), Error> {
+fn render(o: &RenderArgs) -> Result<(), Error> {
     // Fail on an unwritable destination before spending time on the render.
-    let targets = o
-        .output
+    let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
+    let png_path = o.output.clone().or(default_output);
+    let targets = png_path
         .iter()
         .chain(o.hdr.iter())
         .map(|path| output::check_writable(path))
@@ -522,14 +838,25 @@ fn render(o: &Options) -> Result<(), Error> {
             )));
         }
     }
-    let scene = lit_as_asked(o.scene.load()?, o);
-    let (device, mut settings) = device_and_settings(o)?;
+    let source = o.scene.source();
+    let scene = lit_as_asked(source.load()?, &o.shading)?;
+    let (device, mut settings) = device_and_settings(
+        &o.device,
+        &o.frame,
+        RendererSettings::default().frames_in_flight,
+    )?;
     // An accuracy budget: the fastest variant set within it, measured on this scene at
     // this size (5 frames each).
     let mut chosen = None;
     if let Some(budget) = o.max_error {
-        let choice =
-            combustion::report::choose(&o.scene, budget, o.width, o.height, 5, device.clone())?;
+        let choice = combustion::report::choose(
+            &source,
+            budget,
+            o.frame.width,
+            o.frame.height,
+            5,
+            device.clone(),
+        )?;
         let Some(set) = choice.chosen else {
             let best = choice
                 .candidates
@@ -550,17 +877,17 @@ fn render(o: &Options) -> Result<(), Error> {
     if let Some(set) = chosen {
         set.apply(headless.renderer());
     } else {
-        headless.renderer().set_distribution(o.distribution);
-        headless.renderer().set_diffuse_override(o.diffuse);
+        headless.renderer().set_distribution(o.shading.distribution);
+        headless.renderer().set_diffuse_override(o.shading.diffuse);
     }
     headless
         .renderer()
-        .set_energy_compensation(o.energy_compensation)?;
-    let frame = headless.render(&scene, o.width, o.height)?;
+        .set_energy_compensation(o.shading.energy_compensation)?;
+    let frame = headless.render(&scene, o.frame.width, o.frame.height)?;
     let validation = headless.validation_log();
     drop(headless);
     check_validation(&validation)?;
-    if let Some(path) = &o.output {
+    if let Some(path) = &png_path {
         output::write_png(path, frame.width, frame.height, &frame.ldr)?;
         outln!(
             "wrote {} ({}x{})",
@@ -592,20 +919,10 @@ fn percentile(sorted: &[f64], p: f64) -> f64 {
 }
 
 /// `bench --report DIR`: every variant set on the built-in scenes (or the scene named).
-fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
+fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), Error> {
     use combustion::report::{ReportDesc, VariantSet};
-    if o.extra_lights > 0
-        || o.culling != combustion::renderer::LightCulling::Auto
-        || !o.specialised
-        || o.fresnel != FresnelModel::default()
-        || o.hdr_format != HdrFormat::default()
-        || o.distribution != Distribution::Ggx
-        || o.diffuse.is_some()
-    {
-        return Err(Error::Usage(
-            "--report measures the variant sets and light counts itself; it takes no --fresnel, --hdr-format, --specialised, --distribution, --diffuse, --extra-lights or --culling".into(),
-        ));
-    }
+    // clap refuses --report with the options it sets itself (--fresnel, --hdr-format,
+    // --specialised, --distribution, --diffuse, --extra-lights, --culling).
     // An unreadable previous report and an unwritable report folder are refused before
     // minutes of measuring.
     let previous = o
@@ -620,9 +937,9 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
         })
     })?;
     output::check_writable(&dir.join("report.md"))?;
-    let (device, _) = device_and_settings(o)?;
-    let scenes = if o.scene_given {
-        vec![o.scene.clone()]
+    let (device, _) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    let scenes = if let Some(scene) = o.scene.given() {
+        vec![scene.clone()]
     } else {
         combustion::scene::BUILTIN_SCENES
             .iter()
@@ -632,15 +949,15 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
     let desc = ReportDesc {
         scenes,
         sets: VariantSet::all(),
-        width: o.width,
-        height: o.height,
+        width: o.frame.width,
+        height: o.frame.height,
         frames: o.frames,
         device,
         floors: true,
         // Frame time against size and light count: on the scene named, else on the
         // performance scene.
-        scaling: Some(if o.scene_given {
-            o.scene.clone()
+        scaling: Some(if let Some(scene) = o.scene.given() {
+            scene.clone()
         } else {
             SceneSource::Builtin("grid-7x7".to_owned())
         }),
@@ -677,18 +994,16 @@ fn bench_report(o: &Options, dir: &std::path::Path) -> Result<(), Error> {
     Ok(())
 }
 
-fn bench(o: &Options) -> Result<(), Error> {
+fn bench(o: &BenchArgs) -> Result<(), Error> {
     if let Some(dir) = &o.report {
         return bench_report(o, dir);
     }
-    if o.against.is_some() {
-        return Err(Error::Usage(
-            "--against compares a --report run with an earlier one; give --report DIR too".into(),
-        ));
-    }
-    let scene =
-        combustion::with_localised_lights(&lit_as_asked(o.scene.load()?, o), o.extra_lights);
-    let mut headless = headless(o)?;
+    let scene = combustion::with_localised_lights(
+        &lit_as_asked(o.scene.source().load()?, &o.shading)?,
+        o.extra_lights,
+    );
+    let (device, settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
     let device_name = {
         let renderer = headless.renderer();
         renderer.device().info().name.clone()
@@ -697,13 +1012,18 @@ fn bench(o: &Options) -> Result<(), Error> {
     let frames_in_flight = renderer.settings().frames_in_flight;
     renderer.set_specialised(o.specialised);
     renderer.set_light_culling(o.culling);
-    renderer.set_distribution(o.distribution);
-    renderer.set_diffuse_override(o.diffuse);
-    renderer.set_energy_compensation(o.energy_compensation)?;
+    renderer.set_distribution(o.shading.distribution);
+    renderer.set_diffuse_override(o.shading.diffuse);
+    renderer.set_energy_compensation(o.shading.energy_compensation)?;
     let gpu_scene = renderer.upload(&scene)?;
     let features = renderer.lighting_features(&gpu_scene);
     // One warm-up frame (first-touch allocations, driver caches) is not counted.
-    renderer.render(&gpu_scene, o.width, o.height, Readback::default())?;
+    renderer.render(
+        &gpu_scene,
+        o.frame.width,
+        o.frame.height,
+        Readback::default(),
+    )?;
     renderer.take_completed_timings();
     // Frames in flight: each submission waits only for the frame that used its slot,
     // so CPU recording overlaps GPU work; the wall clock is taken between submissions.
@@ -711,7 +1031,7 @@ fn bench(o: &Options) -> Result<(), Error> {
     let start = Instant::now();
     let mut last = start;
     for _ in 0..o.frames {
-        renderer.submit_offscreen(&gpu_scene, o.width, o.height)?;
+        renderer.submit_offscreen(&gpu_scene, o.frame.width, o.frame.height)?;
         let now = Instant::now();
         wall_ms.push((now - last).as_secs_f64() * 1e3);
         last = now;
@@ -735,9 +1055,9 @@ fn bench(o: &Options) -> Result<(), Error> {
     }
     outln!(
         "scene {:?} at {}x{} on {device_name}, n={} frames ({} timed), {frames_in_flight} in flight (GPU timestamps, ms):",
-        o.scene,
-        o.width,
-        o.height,
+        o.scene.source(),
+        o.frame.width,
+        o.frame.height,
         o.frames,
         timings.len()
     );
@@ -799,13 +1119,13 @@ fn bench(o: &Options) -> Result<(), Error> {
     Ok(())
 }
 
-fn view(o: &Options) -> Result<(), Error> {
-    let (device, settings) = device_and_settings(o)?;
+fn view(o: &ViewArgs) -> Result<(), Error> {
+    let (device, settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
     let summary = combustion::viewer::run(&combustion::viewer::ViewerDesc {
-        scene: o.scene.clone(),
-        width: o.width,
-        height: o.height,
-        frames: o.frames_given.then_some(o.frames),
+        scene: o.scene.source(),
+        width: o.frame.width,
+        height: o.frame.height,
+        frames: o.frames,
         device,
         settings,
         vsync: o.vsync,
@@ -860,24 +1180,6 @@ fn devices() -> Result<(), Error> {
     Ok(())
 }
 
-fn eval(args: &[String]) -> Result<(), Error> {
-    match args.split_first() {
-        None => Err(Error::Usage(
-            "`combustion eval` needs a term; `combustion eval --list` lists them".into(),
-        )),
-        Some((list, _)) if list == "--list" => {
-            for (name, what) in combustion::eval::TERMS {
-                outln!("{name:<24} {what}");
-            }
-            Ok(())
-        }
-        Some((term, rest)) => {
-            outln!("{}", combustion::eval::evaluate(term, rest)?);
-            Ok(())
-        }
-    }
-}
-
 /// `text` on one line: line breaks (an importer's or parser's detail) become "; ".
 fn one_line(text: &str) -> String {
     text.lines()
@@ -887,133 +1189,19 @@ fn one_line(text: &str) -> String {
         .join("; ")
 }
 
-/// Flags and values of a `plot` subcommand, in order; every flag takes one value.
-struct PlotArgs {
-    kind: &'static str,
-    values: Vec<(String, String)>,
-}
-
-impl PlotArgs {
-    fn parse(kind: &'static str, args: &[String], allowed: &[&str]) -> Result<Self, CliError> {
-        let mut values: Vec<(String, String)> = Vec::new();
-        let mut i = 0;
-        while i < args.len() {
-            let flag = args[i].as_str();
-            let canonical = if flag == "--output" { "-o" } else { flag };
-            if !allowed.contains(&canonical) {
-                return Err(usage(format!(
-                    "unknown argument `{flag}` for `combustion plot {kind}` (see `combustion help`)"
-                )));
-            }
-            let value = args
-                .get(i + 1)
-                .ok_or_else(|| usage(format!("{flag} needs a value")))?;
-            if values.iter().any(|(f, _)| f == canonical) {
-                return Err(usage(format!("{flag} is given twice")));
-            }
-            values.push((canonical.to_owned(), value.clone()));
-            i += 2;
-        }
-        Ok(Self { kind, values })
-    }
-
-    fn get(&self, flag: &str) -> Option<&str> {
-        self.values
-            .iter()
-            .find(|(f, _)| f == flag)
-            .map(|(_, v)| v.as_str())
-    }
-
-    fn number(&self, flag: &str, default: f64) -> Result<f64, CliError> {
-        match self.get(flag) {
-            None => Ok(default),
-            Some(text) => Ok(parse_list(flag, text, &[1])?[0]),
-        }
-    }
-
-    fn size(&self, default: (u32, u32)) -> Result<(u32, u32), CliError> {
-        let dimension = |flag: &str, default: u32| -> Result<u32, CliError> {
-            match self.get(flag) {
-                None => Ok(default),
-                Some(text) => Ok(number::<u32>(flag, text)?),
-            }
-        };
-        Ok((
-            dimension("--width", default.0)?,
-            dimension("--height", default.1)?,
-        ))
-    }
-
-    /// The output path (default `KIND.png`), checked before any work is done.
-    fn output(&self) -> Result<PathBuf, CliError> {
-        let path = PathBuf::from(
-            self.get("-o")
-                .map_or_else(|| format!("{}.png", self.kind), str::to_owned),
-        );
-        output::check_writable(&path)?;
-        Ok(path)
-    }
-}
-
-/// A comma-separated list of finite numbers whose length is one of `lengths` (any length
-/// if `lengths` is empty).
-fn parse_list(flag: &str, text: &str, lengths: &[usize]) -> Result<Vec<f64>, CliError> {
-    let values = text
-        .split(',')
-        .map(|part| {
-            let value: f64 = part
-                .trim()
-                .parse()
-                .map_err(|_| usage(format!("{flag}: `{}` is not a number", part.trim())))?;
-            if value.is_finite() {
-                Ok(value)
-            } else {
-                Err(usage(format!("{flag}: {value} is not finite")))
-            }
-        })
-        .collect::<Result<Vec<f64>, CliError>>()?;
-    if !lengths.is_empty() && !lengths.contains(&values.len()) {
-        let expected: Vec<String> = lengths.iter().map(usize::to_string).collect();
-        return Err(usage(format!(
-            "{flag} takes {} value(s), got {}",
-            expected.join(" or "),
-            values.len()
-        )));
-    }
-    Ok(values)
-}
-
-/// One value for all three RGB channels, or one per channel.
-fn rgb(flag: &str, text: &str) -> Result<[f64; 3], CliError> {
-    match parse_list(flag, text, &[1, 3])?.as_slice() {
-        [x] => Ok([*x; 3]),
-        [r, g, b] => Ok([*r, *g, *b]),
-        _ => unreachable!("parse_list checked the length"),
-    }
-}
-
-fn builtin_metal(name: &str) -> Result<BuiltinMetal, CliError> {
-    BuiltinMetal::from_name(name).ok_or_else(|| {
-        let known: Vec<&str> = BuiltinMetal::ALL.iter().map(|m| m.name()).collect();
-        usage(format!(
-            "--metal: unknown metal `{name}`; built-in metals: {} (or their chemical symbols)",
-            known.join(", ")
-        ))
-    })
-}
-
 /// Reads a `wavelength_nm,n,k` table; problems name the file and the line.
-fn read_spectrum(path: &str) -> Result<Spectrum, CliError> {
+fn read_spectrum(path: &Path) -> Result<Spectrum, CliError> {
     let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError::Failed(format!("cannot read {path}: {e}")))?;
-    Spectrum::from_csv(&text).map_err(|e| CliError::Failed(format!("{path}: {e}")))
+        .map_err(|e| CliError::Failed(format!("cannot read {}: {e}", path.display())))?;
+    Spectrum::from_csv(&text).map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))
 }
 
 /// The file name of `path` without its folder, for a plot's title.
-fn file_label(path: &str) -> String {
-    Path::new(path)
-        .file_name()
-        .map_or_else(|| path.to_owned(), |n| n.to_string_lossy().into_owned())
+fn file_label(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }
 
 fn write_plot(path: &Path, png: &combustion_plots::Png) -> Result<(), CliError> {
@@ -1022,66 +1210,36 @@ fn write_plot(path: &Path, png: &combustion_plots::Png) -> Result<(), CliError> 
     Ok(())
 }
 
-fn plot(args: &[String]) -> Result<(), CliError> {
-    const COMMON: [&str; 3] = ["-o", "--width", "--height"];
-    let Some((kind, rest)) = args.split_first() else {
-        return Err(usage(
-            "`combustion plot` needs a kind: reflectance, spectrum or dielectrics".into(),
-        ));
-    };
-    match kind.as_str() {
-        "reflectance" => {
-            let a = PlotArgs::parse(
-                "reflectance",
-                rest,
-                &[
-                    &COMMON[..],
-                    &[
-                        "--metal",
-                        "--dielectric",
-                        "--eta",
-                        "--k",
-                        "--csv",
-                        "--outside-ior",
-                        "--polarisation",
-                    ],
-                ]
-                .concat(),
-            )?;
-            let sources: Vec<&str> = ["--metal", "--dielectric", "--eta", "--csv"]
-                .into_iter()
-                .filter(|f| a.get(f).is_some())
-                .collect();
-            if sources.len() != 1 {
-                return Err(usage(format!(
-                    "`combustion plot reflectance` needs exactly one material: --metal NAME, --dielectric ETA, --eta (with --k) or --csv FILE{}",
-                    if sources.is_empty() {
-                        String::new()
-                    } else {
-                        format!("; got {}", sources.join(", "))
-                    }
-                )));
-            }
-            if a.get("--k").is_some() && a.get("--eta").is_none() {
-                return Err(usage("--k needs --eta".into()));
-            }
-            let (width, height) = a.size((800, 500))?;
-            let outside_eta = a.number("--outside-ior", 1.0)?;
-            let polarisation_weight = a.number("--polarisation", 0.5)?;
-            let path = a.output()?;
-            let material = if let Some(name) = a.get("--metal") {
-                PlotMaterial::Metal(builtin_metal(name)?)
-            } else if let Some(eta) = a.get("--dielectric") {
-                PlotMaterial::Dielectric {
-                    eta: parse_list("--dielectric", eta, &[1])?[0],
-                }
-            } else if let Some(eta) = a.get("--eta") {
+fn eval(o: &EvalArgs) -> Result<(), Error> {
+    if o.list {
+        for (name, what) in combustion::eval::TERMS {
+            outln!("{name:<24} {what}");
+        }
+        return Ok(());
+    }
+    // clap requires TERM without --list.
+    let term = o.term.as_deref().unwrap_or_default();
+    outln!("{}", combustion::eval::evaluate(term, &o.inputs)?);
+    Ok(())
+}
+
+fn plot(command: &PlotCommand) -> Result<(), CliError> {
+    match command {
+        PlotCommand::Reflectance(a) => {
+            let (width, height) = a.image.size((800, 500));
+            let path = a.image.output("reflectance")?;
+            // clap's group admits exactly one material.
+            let material = if let Some(metal) = a.metal {
+                PlotMaterial::Metal(metal)
+            } else if let Some(eta) = a.dielectric {
+                PlotMaterial::Dielectric { eta }
+            } else if let Some(eta) = a.eta {
                 PlotMaterial::Conductor {
-                    eta: rgb("--eta", eta)?,
-                    k: a.get("--k").map_or(Ok([0.0; 3]), |k| rgb("--k", k))?,
+                    eta,
+                    k: a.k.unwrap_or([0.0; 3]),
                 }
             } else {
-                let file = a.get("--csv").unwrap_or_default();
+                let file = a.csv.as_deref().unwrap_or(Path::new(""));
                 PlotMaterial::Spectral {
                     name: file_label(file),
                     spectrum: read_spectrum(file)?,
@@ -1089,91 +1247,56 @@ fn plot(args: &[String]) -> Result<(), CliError> {
             };
             let png = combustion_plots::plot_reflectance(&ReflectancePlot {
                 material,
-                outside_eta,
-                polarisation_weight,
+                outside_eta: a.outside_ior,
+                polarisation_weight: a.polarisation,
                 width,
                 height,
             })?;
             write_plot(&path, &png)
         }
-        "spectrum" => {
-            let a = PlotArgs::parse(
-                "spectrum",
-                rest,
-                &[&COMMON[..], &["--metal", "--csv"]].concat(),
-            )?;
-            let (width, height) = a.size((800, 600))?;
-            let (name, spectrum) = match (a.get("--metal"), a.get("--csv")) {
-                (Some(name), None) => {
-                    let metal = builtin_metal(name)?;
-                    (
-                        format!("{} ({}, {})", metal.name(), metal.symbol(), metal.dataset()),
-                        metal.spectrum().clone(),
-                    )
+        PlotCommand::Spectrum(a) => {
+            let (width, height) = a.image.size((800, 600));
+            let path = a.image.output("spectrum")?;
+            // clap's group admits exactly one of --metal and --csv.
+            let (name, spectrum) = match (a.metal, &a.csv) {
+                (Some(metal), _) => (
+                    format!("{} ({}, {})", metal.name(), metal.symbol(), metal.dataset()),
+                    metal.spectrum().clone(),
+                ),
+                (None, file) => {
+                    let file = file.as_deref().unwrap_or(Path::new(""));
+                    (file_label(file), read_spectrum(file)?)
                 }
-                (None, Some(file)) => {
-                    let path = a.output()?;
-                    let spectrum = read_spectrum(file)?;
-                    let png = combustion_plots::plot_spectrum(
-                        &file_label(file),
-                        &spectrum,
-                        width,
-                        height,
-                    )?;
-                    return write_plot(&path, &png);
-                }
-                _ => return Err(usage(
-                    "`combustion plot spectrum` needs exactly one of --metal NAME or --csv FILE"
-                        .into(),
-                )),
             };
-            let path = a.output()?;
             let png = combustion_plots::plot_spectrum(&name, &spectrum, width, height)?;
             write_plot(&path, &png)
         }
-        "dielectrics" => {
-            let a = PlotArgs::parse(
-                "dielectrics",
-                rest,
-                &[&COMMON[..], &["--etas", "--outside-ior"]].concat(),
-            )?;
-            let etas = match a.get("--etas") {
-                None => FIGURE_12_ETAS.to_vec(),
-                // How many is the plot's to judge (at least one, at most MAX_FAMILY).
-                Some(text) => parse_list("--etas", text, &[])?,
-            };
-            let (width, height) = a.size((800, 500))?;
-            let outside_eta = a.number("--outside-ior", 1.0)?;
-            let path = a.output()?;
-            let png = combustion_plots::plot_dielectric_family(&etas, outside_eta, width, height)?;
+        PlotCommand::Dielectrics(a) => {
+            // How many is the plot's to judge (at least one, at most MAX_FAMILY).
+            let etas = a
+                .etas
+                .as_ref()
+                .map_or_else(|| FIGURE_12_ETAS.to_vec(), |e| e.0.clone());
+            let (width, height) = a.image.size((800, 500));
+            let path = a.image.output("dielectrics")?;
+            let png =
+                combustion_plots::plot_dielectric_family(&etas, a.outside_ior, width, height)?;
             write_plot(&path, &png)
         }
-        other => Err(usage(format!(
-            "unknown plot `{other}` (plots: reflectance, spectrum, dielectrics)"
-        ))),
     }
 }
 
 /// `info SCENE`: what the scene holds and which renderer features it needs.
-fn info(args: &[String]) -> Result<(), CliError> {
-    let (source, budget) = match args {
-        [source] => (source, None),
-        [source, flag, value] if flag == "--max-error" => (source, Some(max_error(value)?)),
-        _ => {
-            return Err(usage(
-                "`combustion info` takes one scene (builtin:NAME or a .gltf/.glb file), then optionally --max-error E".into(),
-            ))
-        }
-    };
-    let scene = match SceneSource::parse(source) {
+fn info(o: &InfoArgs) -> Result<(), CliError> {
+    let scene = match &o.scene {
         SceneSource::Builtin(name) => {
-            let scene = combustion::scene::builtin_scene(&name).map_err(Error::from)?;
+            let scene = combustion::scene::builtin_scene(name).map_err(Error::from)?;
             outln!("scene: builtin:{name}");
             scene
         }
         SceneSource::File(path) => {
             let (mut scene, report) =
-                gltf::import(&path, &ImportOptions::default()).map_err(Error::from)?;
+                gltf::import(path, &ImportOptions::default()).map_err(Error::from)?;
             outln!("{report}");
             if !scene.name.is_empty() {
                 outln!("scene: {}", scene.name);
@@ -1190,14 +1313,13 @@ fn info(args: &[String]) -> Result<(), CliError> {
     };
     scene.validate().map_err(Error::from)?;
     write_stdout(format_args!("{}", describe_scene(&scene)));
-    if let Some(budget) = budget {
+    if let Some(budget) = o.max_error {
         // What `render --max-error` would choose, measured here at 640×360.
         let device = DeviceDesc {
             selector: DeviceSelector::from_env().map_err(Error::from)?,
             ..DeviceDesc::default()
         };
-        let choice =
-            combustion::report::choose(&SceneSource::parse(source), budget, 640, 360, 10, device)?;
+        let choice = combustion::report::choose(&o.scene, budget, 640, 360, 10, device)?;
         outln!("variant sets measured at 640x360 (10 frames each), fastest first:");
         write_stdout(format_args!("{}", choice.explain(budget)));
     }
@@ -1398,85 +1520,50 @@ impl From<PlotError> for CliError {
     }
 }
 
-fn usage(message: String) -> CliError {
-    CliError::Lib(Error::Usage(message))
-}
-
-fn run(args: &[String]) -> Result<(), CliError> {
-    let (command, rest) = match args.split_first() {
-        Some((c, rest)) => (c.as_str(), rest),
-        None => ("help", &[][..]),
-    };
-    // `combustion COMMAND --help`: the command's lines of the usage.
-    if rest.iter().any(|a| a == "--help" || a == "-h") {
-        let known = ["render", "bench", "view", "eval", "plot", "info", "devices"];
-        if known.contains(&command) {
-            outln!("{}", command_usage(command));
-            return Ok(());
-        }
-    }
-    match command {
-        "render" => Ok(render(&parse_options(rest, "render")?)?),
-        "bench" => Ok(bench(&parse_options(rest, "bench")?)?),
-        "view" => Ok(view(&parse_options(rest, "view")?)?),
-        "devices" => Ok(devices()?),
-        "eval" => Ok(eval(rest)?),
-        "plot" => plot(rest),
-        "info" => info(rest),
-        "help" | "--help" | "-h" => {
-            outln!("{USAGE}");
-            outln!("Built-in scenes: {}.", BUILTIN_SCENES.join(", "));
+fn run(cli: Cli) -> Result<(), CliError> {
+    match cli.command {
+        Command::Render(o) => Ok(render(&o)?),
+        Command::Bench(o) => Ok(bench(&o)?),
+        Command::View(o) => Ok(view(&o)?),
+        Command::Devices => Ok(devices()?),
+        Command::Eval(o) => Ok(eval(&o)?),
+        Command::Plot(kind) => plot(&kind),
+        Command::Info(o) => info(&o),
+        Command::Completions { shell } => {
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "combustion", &mut script);
+            write_stdout(format_args!("{}", String::from_utf8_lossy(&script)));
             Ok(())
         }
-        "--version" | "-V" => {
-            outln!("combustion {}", env!("CARGO_PKG_VERSION"));
-            Ok(())
-        }
-        other => Err(usage(format!(
-            "unknown command `{other}` (commands: render, bench, view, eval, plot, info, devices, help)"
-        ))),
     }
 }
 
-/// The usage lines of `command` (its entries in [`USAGE`] with their continuation lines).
-fn command_usage(command: &str) -> String {
-    let start = format!("  combustion {command} ");
-    let bare = format!("  combustion {command}");
-    let mut out = String::from("USAGE:\n");
-    let mut inside = false;
-    for line in USAGE.lines() {
-        if line.starts_with("  combustion ") {
-            inside = line.starts_with(&start) || line == bare;
-        } else if !line.starts_with("    ") {
-            inside = false;
-        }
-        if inside {
-            out += line;
-            out.push('\n');
+/// A command line clap refused, or `--help`/`--version`: help and version go to standard
+/// output (exit 0); usage errors to standard error with clap's message (exit 2), a long
+/// value shortened to 40 characters.
+fn refused(mut error: clap::Error) -> ExitCode {
+    use clap::error::{ContextKind, ContextValue};
+    if !error.use_stderr() {
+        write_stdout(format_args!("{}", error.render()));
+        return ExitCode::SUCCESS;
+    }
+    if let Some(ContextValue::String(value)) = error.get(ContextKind::InvalidValue) {
+        let short = shortened(value);
+        if short != *value {
+            error.insert(ContextKind::InvalidValue, ContextValue::String(short));
         }
     }
-    out + "(`combustion help` explains every option.)"
+    let _ = error.print();
+    ExitCode::from(u8::try_from(error.exit_code()).unwrap_or(2))
 }
 
 fn main() -> ExitCode {
     init_logging();
-    // Arguments that are not UTF-8 (a file name with byte 0xff) are refused by name,
-    // not a panic.
-    let mut args = Vec::new();
-    for (i, arg) in std::env::args_os().skip(1).enumerate() {
-        match arg.into_string() {
-            Ok(arg) => args.push(arg),
-            Err(raw) => {
-                eprintln!(
-                    "error: argument {} (`{}`) is not valid UTF-8; Combustion takes UTF-8 arguments and file names",
-                    i + 1,
-                    shortened(&raw.to_string_lossy())
-                );
-                return ExitCode::from(2);
-            }
-        }
-    }
-    match run(&args) {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => return refused(error),
+    };
+    match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(CliError::Lib(e)) => {
             eprintln!("error: {}", one_line(&e.to_string()));
@@ -1488,6 +1575,59 @@ fn main() -> ExitCode {
         Err(CliError::Failed(message)) => {
             eprintln!("error: {}", one_line(&message));
             ExitCode::FAILURE
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// clap's own consistency checks of the declaration (names, groups, requirements).
+    #[test]
+    fn the_command_line_declaration_is_consistent() {
+        use clap::CommandFactory;
+        super::Cli::command().debug_assert();
+    }
+
+    /// Every option of every command, given at once where they go together: each value
+    /// reaches its field with the type its parser makes (a mismatch would panic here,
+    /// not in a user's hands).
+    #[test]
+    fn every_option_reaches_its_field() {
+        use clap::Parser;
+        let frame = "--width 8 --height 9 --exposure 2 --fresnel f82 --hdr-format f16";
+        let shading = "--distribution beckmann --diffuse lambert --environment uniform:1,2,3 \
+                       --light-rig --energy-compensation on";
+        let device = "--device llvmpipe --validate";
+        let lines = [
+            format!("render builtin:spheres -o a.png --hdr a.exr --max-error 0.1 {frame} {shading} {device}"),
+            format!("render --scene x.gltf --environment sky.EXR {frame}"),
+            format!("bench builtin:grid-7x7 --frames 3 --frames-in-flight 3 --specialised off \
+                     --extra-lights 4 --culling always {frame} {shading} {device}"),
+            "bench --report r --against q --environment none".to_owned(),
+            format!("view --frames 2 --vsync off --frames-in-flight 1 --screenshot s.png \
+                     --camera-path p.txt --overlay off --error-view {frame} {device}"),
+            "eval brdf --theta-v 10 --phi-v -30 --l -1,0,1 --alpha 0.2 --roughness 0.3 \
+             --alpha-x 0.1 --alpha-y 0.2 --eta 1,2,3 --k 2 --eta-i 1.33 --dielectric-eta 1.5 \
+             --f0 0.04 --sigma 0.3 --polarisation 0.4 --rho 0.5 --metalness 1 \
+             --oren-nayar-a 0.5 --diffuse oren-nayar-full --m 0,0,1 --theta-l 5 --phi-l 3 --v 0,0,1"
+                .to_owned(),
+            "eval --list".to_owned(),
+            "plot reflectance --eta 1,2,3 --k 4 --outside-ior 1.33 --polarisation 0 -o a.png --width 10 --height 20".to_owned(),
+            "plot reflectance --metal Au".to_owned(),
+            "plot reflectance --dielectric 1.5".to_owned(),
+            "plot reflectance --csv m.csv".to_owned(),
+            "plot spectrum --metal gold -o s.png".to_owned(),
+            "plot spectrum --csv m.csv".to_owned(),
+            "plot dielectrics --etas 1.1,2 --outside-ior 1.33".to_owned(),
+            "info builtin:spheres --max-error 1e-3".to_owned(),
+            "devices".to_owned(),
+            "completions zsh".to_owned(),
+        ];
+        for line in lines {
+            let words = std::iter::once("combustion").chain(line.split_whitespace());
+            if let Err(e) = super::Cli::try_parse_from(words) {
+                panic!("{line}: {e}");
+            }
         }
     }
 }

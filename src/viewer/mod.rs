@@ -91,7 +91,7 @@ pub const KEYS: &[(&str, &str)] = &[
     ("P", "screenshot to combustion-NNNN.png"),
     (
         "1 … 9, 0",
-        "the built-in scenes, in `combustion help` order (0: the tenth)",
+        "the built-in scenes, in the order `combustion --help` lists them (0: the tenth)",
     ),
     ("drop a file", "open a glTF file"),
     (
