@@ -13,10 +13,11 @@ cd "$(dirname "$0")/.."
 # winit loads at run time and a virtual X server (Xvfb; xauth for xvfb-run); a headless
 # Wayland compositor (weston) for the viewer's Wayland test (it brings libwayland-client,
 # which winit loads at run time on Wayland); coreutils for mkfifo in the output-path tests
-# (Essential on Debian, listed so a slimmed image says so).
+# (Essential on Debian, listed so a slimmed image says so); tar and xz-utils to unpack the
+# fuzz corpora the replay tests read (fuzz/seeds/*.tar.xz).
 PACKAGES=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake make python3 g++ pkg-config coreutils
   xvfb xauth xdotool procps libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0
-  weston libwayland-client0 libxkbcommon0)
+  weston libwayland-client0 libxkbcommon0 tar xz-utils)
 
 install_packages() {
   local missing=()

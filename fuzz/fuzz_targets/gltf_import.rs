@@ -1,44 +1,9 @@
-//! Fuzzes the glTF importer from bytes: the input as it is (JSON, or GLB when it starts
-//! with the magic), and the input wrapped in a well-formed GLB container (the first two
-//! bytes give the length of the JSON chunk, the rest is the binary chunk) so that the
-//! mutator reaches the JSON and accessor code behind a valid container.
+//! Fuzzes the glTF importer from bytes: the input as it is, and wrapped in a well-formed
+//! GLB container (see `common/gltf.rs`).
 
 #![no_main]
 
-use combustion_scene::gltf::{import_slice, ImportOptions};
-use libfuzzer_sys::fuzz_target;
+#[path = "../common/gltf.rs"]
+mod common;
 
-fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
-    let pad = |n: usize| (4 - n % 4) % 4;
-    let json_len = json.len() + pad(json.len());
-    let bin_len = bin.len() + pad(bin.len());
-    let total = 12 + 8 + json_len + if bin.is_empty() { 0 } else { 8 + bin_len };
-    let mut out = Vec::with_capacity(total);
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(json_len as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(json);
-    out.resize(out.len() + pad(json.len()), b' ');
-    if !bin.is_empty() {
-        out.extend_from_slice(&(bin_len as u32).to_le_bytes());
-        out.extend_from_slice(b"BIN\0");
-        out.extend_from_slice(bin);
-        out.resize(out.len() + pad(bin.len()), 0);
-    }
-    out
-}
-
-fuzz_target!(|data: &[u8]| {
-    let options = ImportOptions {
-        // Keep decoded images small so each run stays fast.
-        max_image_dimension: 256,
-        ..ImportOptions::default()
-    };
-    let _ = import_slice(data, &options);
-    if data.len() >= 2 {
-        let split = (usize::from(u16::from_le_bytes([data[0], data[1]])) + 2).min(data.len());
-        let _ = import_slice(&glb(&data[2..split], &data[split..]), &options);
-    }
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| common::import_both_ways(data));

@@ -1,16 +1,8 @@
-//! Fuzzes the spectral-table parser (`wavelength_nm,n,k` CSV, as `plot spectrum --csv`
-//! and `COMBUSTION_materials_optics` spectra read it) and the RGB band means computed
-//! from whatever it accepts.
+//! Fuzzes the spectral-table parser and the RGB band means (see `common/spectrum.rs`).
 
 #![no_main]
 
-use libfuzzer_sys::fuzz_target;
+#[path = "../common/spectrum.rs"]
+mod common;
 
-fuzz_target!(|data: &[u8]| {
-    let Ok(text) = std::str::from_utf8(data) else {
-        return;
-    };
-    if let Ok(spectrum) = combustion_spectra::Spectrum::from_csv(text) {
-        let _ = combustion_spectra::rgb_optical_constants(&spectrum);
-    }
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| common::parse_and_reduce(data));

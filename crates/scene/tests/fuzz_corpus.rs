@@ -1,0 +1,69 @@
+//! The committed fuzz corpora (fuzz/seeds/gltf_import.tar.xz and
+//! gltf_import_validate.tar.xz: each target's corpus after an hour's run, minimised with
+//! libFuzzer's `-merge=1`) replayed through the code each fuzz target runs
+//! (fuzz/common/gltf.rs): no input may panic the importer or `Scene::validate`. A change
+//! that breaks an input the fuzzer had reached fails here, in the ordinary test run, with
+//! the input's name.
+
+#[path = "../../../fuzz/common/gltf.rs"]
+mod fuzz_target;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Unpacks `fuzz/seeds/NAME.tar.xz` into a fresh folder and returns its files.
+fn corpus(name: &str) -> (PathBuf, Vec<PathBuf>) {
+    let archive = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fuzz/seeds")
+        .join(format!("{name}.tar.xz"));
+    let dir = std::env::temp_dir().join(format!("combustion-corpus-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let status = Command::new("tar")
+        .arg("-xJf")
+        .arg(&archive)
+        .arg("-C")
+        .arg(&dir)
+        .status()
+        .expect("tar (with xz) unpacks the corpus: scripts/dev.sh installs xz-utils");
+    assert!(status.success(), "tar -xJf {}", archive.display());
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .collect();
+    files.sort();
+    (dir, files)
+}
+
+/// Every input of `name`'s corpus through `run`; the inputs that panicked, by name.
+fn replay(name: &str, run: fn(&[u8])) -> usize {
+    let (dir, files) = corpus(name);
+    let mut panicked = Vec::new();
+    for file in &files {
+        let data = std::fs::read(file).unwrap();
+        if std::panic::catch_unwind(|| run(&data)).is_err() {
+            panicked.push(file.file_name().unwrap().to_string_lossy().into_owned());
+        }
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+    assert!(
+        panicked.is_empty(),
+        "{} of {} inputs of {name} panicked: {panicked:?}",
+        panicked.len(),
+        files.len()
+    );
+    files.len()
+}
+
+#[test]
+fn the_importer_corpus_replays_without_a_panic() {
+    let inputs = replay("gltf_import", fuzz_target::import_both_ways);
+    // The archive holds the minimised corpus, not a stub.
+    assert!(inputs > 10_000, "{inputs} inputs");
+}
+
+#[test]
+fn the_import_and_validate_corpus_replays_without_a_panic() {
+    let inputs = replay("gltf_import_validate", fuzz_target::import_and_validate);
+    assert!(inputs > 10_000, "{inputs} inputs");
+}
