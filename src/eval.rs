@@ -320,7 +320,10 @@ pub fn parse_value(flag: &EvalFlag, text: &str) -> Result<Vec<f64>, String> {
         .map(|part| match part.trim().parse::<f64>() {
             Ok(value) if value.is_finite() => Ok(value),
             Ok(value) => Err(format!("{value} is not finite")),
-            Err(_) => Err(format!("`{}` is not a number", part.trim())),
+            Err(_) => Err(format!(
+                "`{}` is not a number",
+                crate::shortened(part.trim())
+            )),
         })
         .collect::<Result<Vec<f64>, String>>()?;
     if !flag.lengths.contains(&list.len()) {

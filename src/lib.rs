@@ -33,6 +33,15 @@ use combustion_scene::gltf::{ImportError, ImportOptions};
 use combustion_scene::{Scene, SceneError};
 use combustion_vk::{Device, DeviceDesc, DeviceSelector, ValidationLog, VkError};
 
+/// `text` for an error message: at most 40 characters, the rest elided with the count
+/// (a hostile or careless value of thousands of characters is not echoed whole).
+pub fn shortened(text: &str) -> String {
+    match text.char_indices().nth(40) {
+        Some((cut, _)) => format!("{}… ({} characters)", &text[..cut], text.chars().count()),
+        None => text.to_owned(),
+    }
+}
+
 /// Any failure of the facade, one line each.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
@@ -52,6 +61,9 @@ pub enum Error {
     Usage(String),
     #[error("previous report `{}`: {message}", path.display())]
     PreviousReport { path: PathBuf, message: String },
+    /// A scripted camera path that cannot be read or parsed (file and line named).
+    #[error("{0}")]
+    CameraPath(String),
     #[error("cannot open a window: {0} (set WAYLAND_DISPLAY or DISPLAY, or run under Xvfb)")]
     NoWindow(String),
     #[error("{0}")]

@@ -22,7 +22,7 @@ use combustion::scene::gltf::{self, ImportOptions};
 use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, Spectrum};
 use combustion::vk::{DeviceDesc, DeviceSelector};
-use combustion::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
+use combustion::{check_validation, output, shortened, Error, Headless, HeadlessDesc, SceneSource};
 use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
 
 const ABOUT: &str = "Vulkan deferred renderer with physically based shading";
@@ -103,14 +103,14 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene headless to a PNG (tone-mapped) and/or an OpenEXR file (linear)
-    #[command(allow_negative_numbers = true, after_help = builtin_scenes_note())]
+    #[command(allow_negative_numbers = true, args_override_self = true, after_help = builtin_scenes_note())]
     Render(RenderArgs),
     /// Measure the passes' GPU time over many frames, or write the speed-against-error
     /// report
-    #[command(long_about = BENCH_ABOUT, allow_negative_numbers = true, after_help = builtin_scenes_note())]
+    #[command(long_about = BENCH_ABOUT, allow_negative_numbers = true, args_override_self = true, after_help = builtin_scenes_note())]
     Bench(BenchArgs),
     /// Open a window and render the scene every frame
-    #[command(long_about = VIEW_ABOUT, allow_negative_numbers = true, after_help = builtin_scenes_note())]
+    #[command(long_about = VIEW_ABOUT, allow_negative_numbers = true, args_override_self = true, after_help = builtin_scenes_note())]
     View(ViewArgs),
     /// Evaluate one term of the f64 optics reference (or the whole BRDF) and print JSON
     Eval(EvalArgs),
@@ -118,7 +118,7 @@ enum Command {
     #[command(long_about = PLOT_ABOUT, subcommand)]
     Plot(PlotCommand),
     /// Describe what a scene holds and which renderer features it needs
-    #[command(long_about = INFO_ABOUT, allow_negative_numbers = true, after_help = builtin_scenes_note())]
+    #[command(long_about = INFO_ABOUT, allow_negative_numbers = true, args_override_self = true, after_help = builtin_scenes_note())]
     Info(InfoArgs),
     /// List the Vulkan devices and whether each can run the renderer
     Devices,
@@ -195,10 +195,11 @@ struct ShadingArgs {
     // Spelled out so that clap takes the value as parsed (`material` is `None`) rather than
     // as an optional argument.
     diffuse: std::option::Option<DiffuseModel>,
-    /// Light the scene by the studio (an analytic sky, ground and two soft boxes), a
-    /// uniform radiance (W/sr/m² per channel), an equirectangular Radiance .hdr or OpenEXR
-    /// .exr image (row 0 at +y, the centre column along -z), or none
-    #[arg(long, value_name = "studio|none|uniform:R,G,B|FILE", value_parser = OsStringValueParser::new().try_map(EnvironmentChoice::parse))]
+    /// Light the scene by `studio` (an analytic sky, ground and two soft boxes),
+    /// `uniform:R,G,B` or `uniform:L` (a uniform radiance, W/sr/m² per channel), an
+    /// equirectangular Radiance .hdr or OpenEXR .exr image FILE (row 0 at +y, the centre
+    /// column along -z), or `none`
+    #[arg(long, value_name = "ENVIRONMENT", value_parser = OsStringValueParser::new().try_map(EnvironmentChoice::parse))]
     environment: Option<EnvironmentChoice>,
     /// Add the camera-relative key and fill lights (the earlier default for files without
     /// lights)
@@ -252,7 +253,7 @@ struct BenchArgs {
     /// Frames to measure
     #[arg(long, value_name = "N", default_value = "30", value_parser = at_least_one)]
     frames: u32,
-    /// Frames the CPU may record ahead of the GPU
+    /// Frames the CPU may record ahead of the GPU (1 to 3)
     #[arg(long, value_name = "N", default_value_t = RendererSettings::default().frames_in_flight, value_parser = frames_in_flight)]
     frames_in_flight: usize,
     /// Light pipelines specialised to the scene's materials (off: the general one)
@@ -266,7 +267,7 @@ struct BenchArgs {
     #[arg(long, value_name = "WHEN", default_value = "auto", value_parser = named(CULLING))]
     culling: LightCulling,
     /// Measure the variant sets and write the speed-against-error report to DIR
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "specialised", "distribution", "diffuse", "extra_lights", "culling"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "exposure", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation"])]
     report: Option<PathBuf>,
     /// With --report: add how this run reproduces an earlier report (rows with identical
     /// error columns, the spread of the frame-time ratios)
@@ -297,7 +298,7 @@ struct ViewArgs {
     /// allows it)
     #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
     vsync: bool,
-    /// Frames the CPU may record ahead of the GPU
+    /// Frames the CPU may record ahead of the GPU (1 to 3)
     #[arg(long, value_name = "N", default_value_t = RendererSettings::default().frames_in_flight, value_parser = frames_in_flight)]
     frames_in_flight: usize,
     /// Write the last frame of the run to this PNG (needs --frames)
@@ -379,6 +380,7 @@ impl Args for EvalArgs {
                  y = bitangent), as angles or as vectors.",
             )
             .allow_negative_numbers(true)
+            .args_override_self(true)
             .arg(
                 Arg::new("term")
                     .value_name("TERM")
@@ -413,8 +415,9 @@ impl Args for EvalArgs {
                         .long(flag.long())
                         .value_name(value_name)
                         .help(flag.help)
-                        // Vectors may start with a minus sign (`--v -1,0,1`).
-                        .allow_hyphen_values(true)
+                        // Lists may start with a minus sign (`--v -1,0,1`), which clap would
+                        // take for a flag; single numbers are negative numbers to it.
+                        .allow_hyphen_values(flag.lengths != [1])
                         .value_parser(move |text: &str| combustion::eval::parse_value(flag, text)),
                 )
             })
@@ -428,23 +431,26 @@ impl Args for EvalArgs {
 #[derive(Subcommand)]
 enum PlotCommand {
     /// Rs, Rp and R against the angle of incidence per RGB channel (Figs. 10-11)
+    #[command(allow_negative_numbers = true, args_override_self = true)]
     Reflectance(ReflectanceArgs),
     /// A table's n(λ), k(λ) with the RGB bands (Figs. 8-9)
+    #[command(allow_negative_numbers = true, args_override_self = true)]
     Spectrum(SpectrumArgs),
     /// R against the angle of incidence for several dielectrics (Fig. 12)
+    #[command(allow_negative_numbers = true, args_override_self = true)]
     Dielectrics(DielectricsArgs),
 }
 
 /// Where a plot goes and its size.
 #[derive(Args)]
 struct PlotImageArgs {
-    /// The PNG to write [default: reflectance.png, spectrum.png or dielectrics.png]
+    /// The PNG to write [default: KIND.png, after the plot's kind]
     #[arg(short = 'o', long = "output", value_name = "OUT.png")]
     output: Option<PathBuf>,
     /// Width in pixels [default: 800]
     #[arg(long, value_name = "N", value_parser = whole_number::<u32>)]
     width: Option<u32>,
-    /// Height in pixels [default: 500; spectrum 600]
+    /// Height in pixels [default: 500; 600 for `plot spectrum`]
     #[arg(long, value_name = "N", value_parser = whole_number::<u32>)]
     height: Option<u32>,
 }
@@ -481,7 +487,9 @@ struct ReflectanceArgs {
     #[arg(long, value_name = "E|R,G,B", value_parser = rgb)]
     eta: Option<[f64; 3]>,
     /// The conductor's k, one value or one per RGB channel [default: 0]
-    #[arg(long, value_name = "K|R,G,B", value_parser = rgb, requires = "eta")]
+    // clap drops `requires` when a conflicting member of the group is present, so the
+    // other materials are refused by name.
+    #[arg(long, value_name = "K|R,G,B", value_parser = rgb, requires = "eta", conflicts_with_all = ["metal", "dielectric", "csv"])]
     k: Option<[f64; 3]>,
     /// A `wavelength_nm,n,k` table spanning 450-740 nm
     #[arg(long, value_name = "FILE")]
@@ -527,14 +535,6 @@ struct DielectricsArgs {
 struct Etas(Vec<f64>);
 
 // ---- Value parsers: each says why a value is refused; clap shows the value and the flag.
-
-/// `text` for an error message: at most 40 characters, the rest elided.
-fn shortened(text: &str) -> String {
-    match text.char_indices().nth(40) {
-        Some((cut, _)) => format!("{}… ({} characters)", &text[..cut], text.chars().count()),
-        None => text.to_owned(),
-    }
-}
 
 /// A whole number of type `T`; the error says why not (negative, written with a point,
 /// out of range) rather than only "invalid".
@@ -611,7 +611,7 @@ fn relative_error(text: &str) -> Result<f64, String> {
 fn parse_list(text: &str, lengths: &[usize]) -> Result<Vec<f64>, String> {
     let values = text
         .split(',')
-        .map(|part| finite(part).map_err(|why| format!("`{}` {why}", part.trim())))
+        .map(|part| finite(part).map_err(|why| format!("`{}` {why}", shortened(part.trim()))))
         .collect::<Result<Vec<f64>, String>>()?;
     if !lengths.is_empty() && !lengths.contains(&values.len()) {
         let expected: Vec<String> = lengths.iter().map(usize::to_string).collect();
@@ -702,10 +702,16 @@ impl EnvironmentChoice {
             };
         };
         if let Some(rgb) = text.strip_prefix("uniform:") {
+            // A radiance: finite as the f32 the renderer keeps, and ≥ 0.
             let channel = |part: &str| -> Result<f32, String> {
-                finite(part)
-                    .map(|x| x as f32)
-                    .map_err(|why| format!("`{}` {why}", shortened(part)))
+                match part.trim().parse::<f32>() {
+                    Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+                    Ok(_) => Err(format!(
+                        "`{}` must be finite and ≥ 0 (a radiance)",
+                        shortened(part)
+                    )),
+                    Err(_) => Err(format!("`{}` is not a number", shortened(part))),
+                }
             };
             let parts: Vec<&str> = rgb.split(',').collect();
             return match parts[..] {
@@ -1592,6 +1598,21 @@ mod tests {
     /// reaches its field with the type its parser makes (a mismatch would panic here,
     /// not in a user's hands).
     #[test]
+    fn a_repeated_option_takes_its_last_value() {
+        use clap::Parser;
+        let line =
+            "combustion render --width 8 --width 16 --validate --validate --light-rig --light-rig";
+        let Ok(super::Cli {
+            command: super::Command::Render(render),
+        }) = super::Cli::try_parse_from(line.split(' '))
+        else {
+            panic!("{line} is refused");
+        };
+        assert_eq!(render.frame.width, 16);
+        assert!(render.device.validate && render.shading.light_rig);
+    }
+
+    #[test]
     fn every_option_reaches_its_field() {
         use clap::Parser;
         let frame = "--width 8 --height 9 --exposure 2 --fresnel f82 --hdr-format f16";
@@ -1603,7 +1624,7 @@ mod tests {
             format!("render --scene x.gltf --environment sky.EXR {frame}"),
             format!("bench builtin:grid-7x7 --frames 3 --frames-in-flight 3 --specialised off \
                      --extra-lights 4 --culling always {frame} {shading} {device}"),
-            "bench --report r --against q --environment none".to_owned(),
+            "bench --report r --against q --frames 2".to_owned(),
             format!("view --frames 2 --vsync off --frames-in-flight 1 --screenshot s.png \
                      --camera-path p.txt --overlay off --error-view {frame} {device}"),
             "eval brdf --theta-v 10 --phi-v -30 --l -1,0,1 --alpha 0.2 --roughness 0.3 \

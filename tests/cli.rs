@@ -168,7 +168,7 @@ fn unknown_fresnel_model_or_hdr_format() {
 fn bad_environments_are_one_line_errors() {
     assert_refused(
         &["render", "--environment", "sunset"],
-        &["invalid value 'sunset' for '--environment <studio|none|uniform:R,G,B|FILE>': is not studio, none, uniform:R,G,B or an .hdr or .exr file"],
+        &["invalid value 'sunset' for '--environment <ENVIRONMENT>': is not studio, none, uniform:R,G,B or an .hdr or .exr file"],
     );
     assert_refused(
         &["render", "--environment", "uniform:1,2"],
@@ -177,6 +177,11 @@ fn bad_environments_are_one_line_errors() {
     assert_refused(
         &["render", "--environment", "uniform:1,x,3"],
         &["invalid value 'uniform:1,x,3'", "`x` is not a number"],
+    );
+    // Finite as an f64 but not as the f32 the renderer keeps.
+    assert_refused(
+        &["render", "--environment", "uniform:1e39"],
+        &["`1e39` must be finite and ≥ 0 (a radiance)"],
     );
     assert_clear_error(
         &[
@@ -617,6 +622,25 @@ fn plot_bad_input() {
         "<--metal <NAME>|--dielectric <ETA>|--eta <E|R,G,B>|--csv <FILE>>",
     );
     assert_usage_error(&["plot", "reflectance", "--k", "2", "-o", o], "--eta");
+    // --k belongs to --eta: with another material it is refused, not ignored.
+    assert_usage_error(
+        &[
+            "plot",
+            "reflectance",
+            "--metal",
+            "gold",
+            "--k",
+            "1",
+            "-o",
+            o,
+        ],
+        "the argument '--metal <NAME>' cannot be used with '--k <K|R,G,B>'",
+    );
+    // A negative value reaches the plot's own check (clap takes it for a value).
+    assert_usage_error(
+        &["plot", "reflectance", "--eta", "-1", "-o", o],
+        "eta[0] (Red) = -1: an index of refraction must be finite and > 0",
+    );
     assert_usage_error(
         &["plot", "histogram"],
         "unrecognized subcommand 'histogram'",
@@ -862,6 +886,11 @@ fn bench_reports_gpu_and_wall_clock_time_with_frames_in_flight() {
     assert_refused(
         &["bench", "--report", "new", "--diffuse", "lambert"],
         &["the argument '--report <DIR>' cannot be used with '--diffuse <MODEL>'"],
+    );
+    // The report sets its own lighting too: an environment would be ignored.
+    assert_refused(
+        &["bench", "--report", "new", "--environment", "studio"],
+        &["the argument '--report <DIR>' cannot be used with '--environment <ENVIRONMENT>'"],
     );
     assert_refused(
         &["render", "--distribution", "phong"],

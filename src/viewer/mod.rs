@@ -249,7 +249,7 @@ pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
         .as_deref()
         .map(camera::CameraPath::read)
         .transpose()
-        .map_err(Error::Usage)?;
+        .map_err(Error::CameraPath)?;
     let event_loop = EventLoop::new().map_err(|e| Error::NoWindow(window_error(e)))?;
     let mut app = App {
         desc,
