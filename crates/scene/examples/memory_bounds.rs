@@ -181,6 +181,63 @@ fn main() {
         rise,
     );
 
+    // Accessors without a buffer view: zeros no byte of the file holds, capped at 2²²
+    // elements per file. Two worst small files: 2²² − 1 zero positions (no indices), and
+    // 2²² − 1 zero indices under three positions; in each, two sparse values make the
+    // first triangle not degenerate. The data present is what the accessor declares.
+    let count = (1u64 << 22) - 1;
+    let bytes = |words: &[u32], floats: &[f32]| -> Vec<u8> {
+        let mut out: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+        out.extend(floats.iter().flat_map(|f| f.to_le_bytes()));
+        out
+    };
+    let sparse = r#""sparse":{"count":2,"indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":1}}"#;
+    let cases = [
+        (
+            "2²² − 1 positions, no buffer view",
+            12,
+            // Sparse indices 1, 2; values (1, 0, 0), (0, 1, 0).
+            bytes(&[1, 2], &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0]),
+            r#"[{"buffer":0,"byteLength":8},{"buffer":0,"byteOffset":8,"byteLength":24}]"#,
+            r#"{"POSITION":0}"#,
+            format!(
+                r#"[{{"componentType":5126,"count":{count},"type":"VEC3","min":[0,0,0],"max":[1,1,0],{sparse}}}]"#
+            ),
+        ),
+        (
+            "2²² − 1 indices, no buffer view",
+            4,
+            // Sparse indices 1, 2; values 1, 2; then three positions.
+            bytes(
+                &[1, 2, 1, 2],
+                &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+            ),
+            r#"[{"buffer":0,"byteLength":8},{"buffer":0,"byteOffset":8,"byteLength":8},{"buffer":0,"byteOffset":16,"byteLength":36}]"#,
+            r#"{"POSITION":1},"indices":0"#,
+            format!(
+                r#"[{{"componentType":5125,"count":{count},"type":"SCALAR",{sparse}}},
+{{"bufferView":2,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]"#
+            ),
+        ),
+    ];
+    for (label, element_bytes, bin, views, attributes, accessors) in cases {
+        let path = dir.join("unbacked.gltf");
+        std::fs::write(dir.join("unbacked.bin"), &bin).expect("write");
+        let json = format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{attributes}}}]}}],"accessors":{accessors},"bufferViews":{views},
+"buffers":[{{"byteLength":{},"uri":"unbacked.bin"}}]}}"#,
+            bin.len()
+        );
+        std::fs::write(&path, &json).expect("write");
+        let (result, rise) = peak_rise(|| import(&path, &options).map(|_| ()));
+        println!(
+            "unbacked accessors: {result:?} ({} bytes of JSON and .bin)",
+            json.len() + bin.len()
+        );
+        report("unbacked", label, count * element_bytes, rise);
+    }
+
     // Spectra: a measured n, k table of 200,000 rows.
     let rows = 200_000;
     let mut csv = String::from("wavelength_nm,n,k\n");

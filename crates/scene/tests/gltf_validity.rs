@@ -115,6 +115,59 @@ fn an_accessor_without_a_buffer_view_is_zeros_plus_its_sparse_values() {
     }
 }
 
+/// Accessors without a buffer view hold zeros that cost memory without any bytes in the
+/// file: they are budgeted per file, not per accessor, so a few hundred bytes of JSON
+/// naming many of them cannot ask for gigabytes. Two index accessors of 2²¹ + 3 zeros
+/// each (each within 2²²) together pass the file's 2²² and are refused; one is imported.
+#[test]
+fn accessors_without_a_buffer_view_share_one_budget_per_file() {
+    let count = (1u64 << 21) + 3;
+    // Zeros but for elements 1 and 2 (sparse values 1 and 2): one triangle that is not
+    // degenerate among 2²¹/3 that are.
+    let sparse: Vec<u8> = [1u32, 2, 1, 2]
+        .iter()
+        .flat_map(|i| i.to_le_bytes())
+        .collect();
+    let with_index_accessors = |primitives: usize| {
+        let mut g = triangle(json!({}));
+        g["bufferViews"].as_array_mut().unwrap().extend([
+            json!({ "buffer": 1, "byteLength": 8 }),
+            json!({ "buffer": 1, "byteOffset": 8, "byteLength": 8 }),
+        ]);
+        g["buffers"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({ "byteLength": 16, "uri": data_uri(&sparse) }));
+        let mut accessors = vec![g["accessors"][0].clone()];
+        accessors.extend((0..primitives).map(|_| {
+            json!({
+                "componentType": 5125, "count": count, "type": "SCALAR",
+                "sparse": {
+                    "count": 2,
+                    "indices": { "bufferView": 1, "componentType": 5125 },
+                    "values": { "bufferView": 2 },
+                },
+            })
+        }));
+        g["accessors"] = json!(accessors);
+        g["meshes"] = json!([{
+            "primitives": (1..=primitives)
+                .map(|i| json!({ "attributes": { "POSITION": 0 }, "indices": i, "material": 0 }))
+                .collect::<Vec<_>>()
+        }]);
+        g
+    };
+    let one = import(&with_index_accessors(1)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(!one.meshes[0].indices.is_empty());
+    let error = import(&with_index_accessors(2)).unwrap_err();
+    assert!(
+        error.contains("accessor 2 has no buffer view")
+            && error.contains("would hold 4194310 elements")
+            && error.contains("at most 4194304 per file"),
+        "{error}"
+    );
+}
+
 #[test]
 fn a_mesh_without_primitives_and_a_cycle_outside_the_scene_are_refused() {
     let mut g = triangle(json!({}));

@@ -7,7 +7,9 @@ use gltf::json::validation::Checked;
 use super::source::Buffers;
 
 /// Accessors without a buffer view are zeros (plus sparse values); they cost memory
-/// without any data backing them, so their element count is capped.
+/// without any data backing them, so the elements such accessors give, every read of
+/// them counted, are capped per file (a per-accessor cap alone would let a file of a few
+/// hundred bytes name a thousand of them).
 pub(crate) const MAX_UNBACKED_ELEMENTS: u64 = 1 << 22;
 
 fn component_size(c: ComponentType) -> usize {
@@ -155,11 +157,13 @@ pub(crate) fn read_floats<const N: usize>(
     let element_size = csize * N;
     let mut out: Vec<[f32; N]> = match accessor.buffer_view {
         None => {
-            if count > MAX_UNBACKED_ELEMENTS {
+            let total = buffers.unbacked_elements.saturating_add(count);
+            if total > MAX_UNBACKED_ELEMENTS {
                 return Err(format!(
-                    "accessor {index} has no buffer view and {count} elements (at most {MAX_UNBACKED_ELEMENTS} are allowed)"
+                    "accessor {index} has no buffer view and {count} elements: the file's accessors without one would hold {total} elements, at most {MAX_UNBACKED_ELEMENTS} per file"
                 ));
             }
+            buffers.unbacked_elements = total;
             vec![[0.0; N]; count as usize]
         }
         Some(view_index) => {

@@ -434,6 +434,9 @@ pub(crate) struct Buffers<'a> {
     allow_external: bool,
     max_file_bytes: u64,
     loaded: Vec<Option<Rc<[u8]>>>,
+    /// Elements read so far from accessors without a buffer view (zeros that no byte of
+    /// the file holds), against `accessor::MAX_UNBACKED_ELEMENTS`.
+    pub unbacked_elements: u64,
 }
 
 impl<'a> Buffers<'a> {
@@ -452,6 +455,7 @@ impl<'a> Buffers<'a> {
             base,
             allow_external,
             loaded: vec![None; root.buffers.len()],
+            unbacked_elements: 0,
         }
     }
 
