@@ -1120,19 +1120,18 @@ fn arguments_are_refused_with_why_and_every_command_has_help() {
     assert_eq!(code, Some(2), "{stderr}");
     assert!(stderr.contains("invalid UTF-8"), "{stderr}");
 
-    for command in [
+    const COMMANDS: [&str; 8] = [
         "render",
         "bench",
         "view",
         "eval",
         "plot",
-        "plot reflectance",
-        "plot spectrum",
-        "plot dielectrics",
         "info",
         "devices",
         "completions",
-    ] {
+    ];
+    let plot_kinds = ["plot reflectance", "plot spectrum", "plot dielectrics"];
+    for command in COMMANDS.into_iter().chain(plot_kinds) {
         for flag in ["--help", "-h"] {
             let mut args: Vec<&str> = command.split(' ').collect();
             args.push(flag);
@@ -1150,16 +1149,7 @@ fn arguments_are_refused_with_why_and_every_command_has_help() {
     assert!(stdout.contains("--report <DIR>"), "{stdout}");
     let (code, stdout, _) = combustion(&["--help"]);
     assert_eq!(code, 0);
-    for command in [
-        "render",
-        "bench",
-        "view",
-        "eval",
-        "plot",
-        "info",
-        "devices",
-        "completions",
-    ] {
+    for command in COMMANDS {
         assert!(
             stdout.contains(&format!("\n  {command} ")),
             "{command}: {stdout}"
