@@ -4,7 +4,24 @@
 
 #![allow(dead_code)] // each target uses one of the two
 
-use combustion_scene::gltf::{import_slice, ImportOptions};
+use combustion_scene::gltf::{
+    import_slice, ImportError, ImportOptions, ImportProblem, ImportReport,
+};
+use combustion_scene::Scene;
+
+/// The importer catches its own panics and returns them as `ImportProblem::Internal`
+/// (a user gets an error, not an abort); for a fuzzer or a replay that is the crash it
+/// looks for, so it panics again here.
+pub fn imported(result: Result<(Scene, ImportReport), ImportError>) -> Option<Scene> {
+    match result {
+        Ok((scene, _report)) => Some(scene),
+        Err(ImportError {
+            problem: ImportProblem::Internal(message),
+            ..
+        }) => panic!("the importer panicked: {message}"),
+        Err(_) => None,
+    }
+}
 
 /// `data` wrapped in a well-formed GLB container: the first two bytes give the length of
 /// the JSON chunk, the rest is the binary chunk, so that the mutator reaches the JSON and
@@ -39,10 +56,13 @@ pub fn import_both_ways(data: &[u8]) {
         max_image_dimension: 256,
         ..ImportOptions::default()
     };
-    let _ = import_slice(data, &options);
+    imported(import_slice(data, &options));
     if data.len() >= 2 {
         let split = (usize::from(u16::from_le_bytes([data[0], data[1]])) + 2).min(data.len());
-        let _ = import_slice(&glb(&data[2..split], &data[split..]), &options);
+        imported(import_slice(
+            &glb(&data[2..split], &data[split..]),
+            &options,
+        ));
     }
 }
 
@@ -55,7 +75,7 @@ pub fn import_and_validate(data: &[u8]) {
         max_decoded_pixels: 1 << 20,
         ..ImportOptions::default()
     };
-    if let Ok((scene, _report)) = import_slice(data, &options) {
+    if let Some(scene) = imported(import_slice(data, &options)) {
         let _ = scene.validate();
         let _ = scene.features();
         let _ = scene.texture_table();

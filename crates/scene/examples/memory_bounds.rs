@@ -182,9 +182,10 @@ fn main() {
     );
 
     // Accessors without a buffer view: zeros no byte of the file holds, capped at 2²²
-    // elements per file. Two worst small files: 2²² − 1 zero positions (no indices), and
-    // 2²² − 1 zero indices under three positions; in each, two sparse values make the
-    // first triangle not degenerate. The data present is what the accessor declares.
+    // elements per file. Two small files: 2²¹ − 2 zero positions and as many zero normals
+    // (no indices), and 2²² − 1 zero indices under three positions; in each, two sparse
+    // values make the first triangle not degenerate. The data present is what the
+    // accessors declare.
     let count = (1u64 << 22) - 1;
     let bytes = |words: &[u32], floats: &[f32]| -> Vec<u8> {
         let mut out: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
@@ -194,14 +195,16 @@ fn main() {
     let sparse = r#""sparse":{"count":2,"indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":1}}"#;
     let cases = [
         (
-            "2²² − 1 positions, no buffer view",
-            12,
+            "2 × (2²¹ − 2) positions, normals, no view",
+            24,
             // Sparse indices 1, 2; values (1, 0, 0), (0, 1, 0).
             bytes(&[1, 2], &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0]),
             r#"[{"buffer":0,"byteLength":8},{"buffer":0,"byteOffset":8,"byteLength":24}]"#,
-            r#"{"POSITION":0}"#,
+            r#"{"POSITION":0,"NORMAL":1}"#,
             format!(
-                r#"[{{"componentType":5126,"count":{count},"type":"VEC3","min":[0,0,0],"max":[1,1,0],{sparse}}}]"#
+                r#"[{{"componentType":5126,"count":{half},"type":"VEC3","min":[0,0,0],"max":[1,1,0],{sparse}}},
+{{"componentType":5126,"count":{half},"type":"VEC3"}}]"#,
+                half = (1u64 << 21) - 2
             ),
         ),
         (
@@ -235,7 +238,12 @@ fn main() {
             "unbacked accessors: {result:?} ({} bytes of JSON and .bin)",
             json.len() + bin.len()
         );
-        report("unbacked", label, count * element_bytes, rise);
+        let elements = if element_bytes == 24 {
+            (1 << 21) - 2
+        } else {
+            count
+        };
+        report("unbacked", label, elements * element_bytes, rise);
     }
 
     // Spectra: a measured n, k table of 200,000 rows.
@@ -255,6 +263,89 @@ fn main() {
         "spectra",
         "200,000 rows of wavelength, n, k",
         csv.len() as u64,
+        rise,
+    );
+
+    // Meshes: 100,000 vertices with normals (2.4 MB of .bin), placed by 1,000 primitives
+    // whose index accessors alias one triangle: each primitive is a mesh of all 100,000
+    // vertices, until the file's mesh budget (256 MiB + 256 × the bytes read) refuses.
+    let path = dir.join("aliased.gltf");
+    let vertices = 100_000u32;
+    let mut bin: Vec<u8> = (0..vertices)
+        .flat_map(|i| [(i % 1000) as f32 * 1e-3, (i / 1000) as f32 * 1e-2, 0.0])
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    bin.extend(
+        (0..vertices)
+            .flat_map(|_| [0.0f32, 0.0, 1.0])
+            .flat_map(f32::to_le_bytes),
+    );
+    bin.extend([0u32, 1, 1000].iter().flat_map(|i| i.to_le_bytes()));
+    std::fs::write(dir.join("aliased.bin"), &bin).expect("write");
+    let n = vertices as usize * 12;
+    let aliases = 1000;
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{}]}}],"accessors":[
+{{"bufferView":0,"componentType":5126,"count":{vertices},"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+{{"bufferView":1,"componentType":5126,"count":{vertices},"type":"VEC3"}},{}],
+"bufferViews":[{{"buffer":0,"byteLength":{n}}},{{"buffer":0,"byteOffset":{n},"byteLength":{n}}},
+{{"buffer":0,"byteOffset":{},"byteLength":12}}],
+"buffers":[{{"byteLength":{},"uri":"aliased.bin"}}]}}"#,
+        (0..aliases)
+            .map(|i| format!(
+                r#"{{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":{}}}"#,
+                i + 2
+            ))
+            .collect::<Vec<_>>()
+            .join(","),
+        (0..aliases)
+            .map(|_| r#"{"bufferView":2,"componentType":5125,"count":3,"type":"SCALAR"}"#)
+            .collect::<Vec<_>>()
+            .join(","),
+        2 * n,
+        bin.len()
+    );
+    std::fs::write(&path, &json).expect("write");
+    let (result, rise) = peak_rise(|| import(&path, &options).map(|_| ()));
+    println!("meshes: {result:?}");
+    report(
+        "meshes",
+        "1,000 aliases of 100,000 vertices",
+        (json.len() + bin.len()) as u64,
+        rise,
+    );
+
+    // Placements: 1,448 nodes each placing a mesh of 1,448 primitives (2,096,704, near
+    // the 2²¹ limit) from 66 KB of JSON: the limit is the bound.
+    let path = dir.join("placements.gltf");
+    let side = 1448;
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[{}]}}],"nodes":[{}],
+"meshes":[{{"primitives":[{}]}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}],
+"bufferViews":[{{"buffer":0,"byteLength":36}}],
+"buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}}]}}"#,
+        (0..side)
+            .map(|i| i.to_string())
+            .collect::<Vec<_>>()
+            .join(","),
+        (0..side)
+            .map(|i| format!(r#"{{"mesh":0,"translation":[{i},0,0]}}"#))
+            .collect::<Vec<_>>()
+            .join(","),
+        (0..side)
+            .map(|_| r#"{"attributes":{"POSITION":0}}"#)
+            .collect::<Vec<_>>()
+            .join(","),
+    );
+    std::fs::write(&path, &json).expect("write");
+    let (result, rise) = peak_rise(|| import(&path, &options).map(|_| ()));
+    println!("placements: {result:?}");
+    report(
+        "placements",
+        "2,096,704 placements",
+        json.len() as u64,
         rise,
     );
 

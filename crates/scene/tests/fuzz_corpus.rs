@@ -67,3 +67,15 @@ fn the_import_and_validate_corpus_replays_without_a_panic() {
     let inputs = replay("gltf_import_validate", fuzz_target::import_and_validate);
     assert!(inputs > 10_000, "{inputs} inputs");
 }
+
+/// The importer turns its own panics into `ImportProblem::Internal` errors; the replay
+/// (and the fuzzer, which runs the same code) counts such an error as the crash it is.
+#[test]
+#[should_panic(expected = "the importer panicked: index out of bounds")]
+fn an_internal_error_of_the_importer_is_a_crash_to_the_replay() {
+    use combustion_scene::gltf::{ImportError, ImportProblem};
+    fuzz_target::imported(Err(ImportError {
+        file: "<memory>".into(),
+        problem: ImportProblem::Internal("index out of bounds".into()),
+    }));
+}

@@ -203,14 +203,24 @@ pub(crate) fn build_mesh(
         }
     };
 
+    let crowded = if tangents_missing && needs_uv_tangents && data.uvs.is_some() {
+        most_triangles_on_one_edge(&vertices, &indices)
+            .filter(|&n| n > MAX_TRIANGLES_PER_EDGE_FOR_MIKKTSPACE)
+    } else {
+        None
+    };
     if tangents_missing {
-        if needs_uv_tangents && data.uvs.is_some() {
+        if needs_uv_tangents && data.uvs.is_some() && crowded.is_none() {
             let (v, i) = mikktspace(&vertices, &indices);
             vertices = v;
             indices = i;
             stats.generated_tangents = true;
         } else {
-            if needs_uv_tangents {
+            if let Some(n) = crowded {
+                stats.warnings.push(format!(
+                    "{n} triangles share one edge (MikkTSpace's neighbour search grows with the square of that): tangents from the normals instead, not from the texture coordinates"
+                ));
+            } else if needs_uv_tangents {
                 stats.warnings.push(
                     "the material needs tangents (normal map or anisotropy) but the primitive has neither TANGENT nor TEXCOORD_0; using an arbitrary tangent frame".into(),
                 );
@@ -319,6 +329,40 @@ impl bevy_mikktspace::Geometry for MikkGeometry<'_> {
             *slot = tangent_space.map(|t| t.tangent_encoded());
         }
     }
+}
+
+/// Triangles one edge may join before MikkTSpace is not run on a mesh: a manifold mesh
+/// has two per edge, real non-manifold art a few; MikkTSpace matches the triangles of an
+/// edge pairwise, so a file whose thousands of triangles share one edge would take
+/// minutes (333,000 triangles on 4 vertices: 500 s).
+const MAX_TRIANGLES_PER_EDGE_FOR_MIKKTSPACE: usize = 64;
+
+/// The largest number of triangles that share one edge, vertices counted as MikkTSpace
+/// welds them (equal position, normal and texture coordinates are one vertex).
+fn most_triangles_on_one_edge(vertices: &[Vertex], indices: &[u32]) -> Option<usize> {
+    // Position, normal and texture coordinates, bit for bit.
+    type Attributes = ([u32; 3], [u32; 3], [u32; 2]);
+    let mut welded: HashMap<Attributes, u32> = HashMap::new();
+    let ids: Vec<u32> = vertices
+        .iter()
+        .map(|v| {
+            let key = (
+                v.position.map(f32::to_bits),
+                v.normal.map(f32::to_bits),
+                v.uv.map(f32::to_bits),
+            );
+            let next = welded.len() as u32;
+            *welded.entry(key).or_insert(next)
+        })
+        .collect();
+    let mut edges: HashMap<(u32, u32), usize> = HashMap::new();
+    for t in indices.chunks_exact(3) {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            let (a, b) = (ids[a as usize], ids[b as usize]);
+            *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    edges.into_values().max()
 }
 
 /// MikkTSpace tangents per triangle corner, then unindexed corners (welded later).

@@ -46,6 +46,10 @@ pub(crate) struct Importer<'a> {
     pub images: HashMap<(ImageSource, ColorSpace), Arc<Image>>,
     /// Pixels decoded so far (against `ImportOptions::max_decoded_pixels`).
     pub decoded_pixels: u64,
+    /// The bytes of the glTF or GLB file itself.
+    pub file_bytes: u64,
+    /// Bytes of meshes built so far (vertices and indices), against [`mesh_budget`].
+    pub mesh_bytes: u64,
     /// Materials that ask for transparency (reported once).
     pub transparency: Vec<usize>,
 }
@@ -85,6 +89,23 @@ pub(crate) fn import_bytes(
 /// the memory a small file can ask for by instancing many primitives many times.
 const MAX_OBJECTS: usize = 1 << 21;
 
+/// The meshes a file builds may take, together, this many bytes (vertices and indices)
+/// whatever the file holds, and [`MESH_BYTES_PER_BYTE_READ`] more per byte of the file
+/// and the buffers it read. Meshes legitimately grow past their data (a 2-byte index
+/// becomes a 56-byte vertex for a mesh without normals; strips triple their indices;
+/// primitives sharing one vertex buffer each get all of it), but not without end: a few
+/// kilobytes of JSON naming one buffer from a thousand primitives are refused.
+const MESH_BYTES_FLOOR: u64 = 256 << 20;
+/// See [`MESH_BYTES_FLOOR`].
+const MESH_BYTES_PER_BYTE_READ: u64 = 256;
+
+/// The vertex attributes a [`crate::Mesh`] is built from.
+const MESH_ATTRIBUTES: [&str; 5] = ["POSITION", "NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1"];
+
+/// A primitive's vertex attributes (name, accessor), shared by every placement of it (a
+/// file may place one primitive two million times).
+type MeshAttributes = Rc<[(String, usize)]>;
+
 /// One placement of a primitive.
 struct Instance {
     key: MeshKey,
@@ -99,7 +120,7 @@ struct Instance {
 /// the same generated data.
 #[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 struct MeshKey {
-    attributes: Vec<(String, usize)>,
+    attributes: MeshAttributes,
     indices: Option<usize>,
     mode: u32,
     flip: bool,
@@ -116,7 +137,9 @@ fn semantic_name(s: &json::mesh::Semantic) -> String {
         Semantic::TexCoords(n) => format!("TEXCOORD_{n}"),
         Semantic::Joints(n) => format!("JOINTS_{n}"),
         Semantic::Weights(n) => format!("WEIGHTS_{n}"),
-        Semantic::Extras(name) => name.clone(),
+        // gltf-json keeps an application-specific name without its leading underscore:
+        // put it back, so that `_POSITION` can never stand for `POSITION`.
+        Semantic::Extras(name) => format!("_{name}"),
     }
 }
 
@@ -255,6 +278,8 @@ fn import_inner(
         decoded: HashMap::new(),
         images: HashMap::new(),
         decoded_pixels: 0,
+        file_bytes: bytes.len() as u64,
+        mesh_bytes: 0,
         transparency: Vec::new(),
     };
     for w in early_warnings {
@@ -347,6 +372,7 @@ impl Importer<'_> {
         let mut stack: Vec<(usize, Option<Mat4>)> =
             roots.iter().rev().map(|&n| (n, None)).collect();
         let mut instances = Vec::new();
+        let mut primitive_attributes: HashMap<(usize, usize), MeshAttributes> = HashMap::new();
         let mut cameras: Vec<(usize, usize, Mat4)> = Vec::new();
         let mut lights: Vec<(usize, Mat4)> = Vec::new();
         let mut skinned = 0;
@@ -401,14 +427,23 @@ impl Importer<'_> {
                         }
                     };
                     let material = primitive.material.map(|m| m.value());
-                    let attributes = primitive
-                        .attributes
-                        .iter()
-                        .filter_map(|(semantic, accessor)| match semantic {
-                            Checked::Valid(s) => Some((semantic_name(s), accessor.value())),
-                            Checked::Invalid => None,
+                    // Only the attributes a mesh is built from: others (colours, joints,
+                    // application-specific ones) would make keys differ, and copies of one
+                    // mesh, without changing it.
+                    let attributes = primitive_attributes
+                        .entry((mesh_index, p))
+                        .or_insert_with(|| {
+                            primitive
+                                .attributes
+                                .iter()
+                                .filter_map(|(semantic, accessor)| match semantic {
+                                    Checked::Valid(s) => Some((semantic_name(s), accessor.value())),
+                                    Checked::Invalid => None,
+                                })
+                                .filter(|(name, _)| MESH_ATTRIBUTES.contains(&name.as_str()))
+                                .collect()
                         })
-                        .collect();
+                        .clone();
                     instances.push((
                         (mesh_index, p),
                         Instance {
@@ -507,6 +542,7 @@ impl Importer<'_> {
             meshes.push(mesh);
         }
 
+        let boxes: Vec<_> = meshes.iter().map(mesh_bounds).collect();
         let mut objects = Vec::with_capacity(instances.len());
         let mut singular = 0;
         for (_, instance) in &instances {
@@ -516,10 +552,9 @@ impl Importer<'_> {
                 singular += 1;
                 continue;
             }
-            let mesh = &meshes[mesh_index[&instance.key]];
-            if object_bounds(mesh, &instance.world).is_some_and(|(lo, hi)| {
-                !(lo.is_finite() && hi.is_finite() && (hi - lo).is_finite())
-            }) {
+            if placed_bounds(boxes[mesh_index[&instance.key]], &instance.world).is_some_and(
+                |(lo, hi)| !(lo.is_finite() && hi.is_finite() && (hi - lo).is_finite()),
+            ) {
                 return Err(self.node_error(
                     instance.node,
                     "places its mesh beyond what f32 can hold: the mesh's extent times the world transform overflows".into(),
@@ -667,6 +702,27 @@ impl Importer<'_> {
                 out
             }
         };
+        // What the mesh will take (a vertex per corner when normals are generated flat),
+        // against the file's budget for meshes, before it is built.
+        let vertices = if normals.is_some() {
+            positions.len()
+        } else {
+            indices.len()
+        };
+        let bytes = (vertices * std::mem::size_of::<crate::Vertex>() + indices.len() * 4) as u64;
+        let budget = MESH_BYTES_FLOOR
+            + MESH_BYTES_PER_BYTE_READ * (self.file_bytes + self.buffers.bytes_read());
+        self.mesh_bytes = self.mesh_bytes.saturating_add(bytes);
+        if self.mesh_bytes > budget {
+            return Err(err(format!(
+                "the meshes built so far would take {} MiB, more than this file may ask for ({} MiB: {} MiB + {} × the {} bytes of the file and its buffers)",
+                self.mesh_bytes >> 20,
+                budget >> 20,
+                MESH_BYTES_FLOOR >> 20,
+                MESH_BYTES_PER_BYTE_READ,
+                self.file_bytes + self.buffers.bytes_read()
+            )));
+        }
         let name = match &gltf_mesh.name {
             Some(name) if gltf_mesh.primitives.len() == 1 => name.clone(),
             Some(name) => format!("{name} primitive {primitive}"),
@@ -1013,24 +1069,29 @@ fn exact_look_at(extras: Option<&serde_json::value::RawValue>) -> Option<(Vec3, 
 
 /// World-space bounding box of every object.
 pub(crate) fn world_bounds(meshes: &[crate::Mesh], objects: &[Object]) -> Option<(Vec3, Vec3)> {
+    // Each mesh's own box once, not once per object that places it.
+    let boxes: Vec<_> = meshes.iter().map(mesh_bounds).collect();
     objects
         .iter()
-        .filter_map(|object| object_bounds(&meshes[object.mesh], &object.transform))
+        .filter_map(|object| placed_bounds(boxes[object.mesh], &object.transform))
         .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
 }
 
-/// The world-space box around `mesh` placed by `transform` (its local box's corners
-/// transformed); `None` for a mesh without vertices.
-fn object_bounds(mesh: &crate::Mesh, transform: &Mat4) -> Option<(Vec3, Vec3)> {
+/// The box around `mesh`'s vertices; `None` for a mesh without vertices.
+fn mesh_bounds(mesh: &crate::Mesh) -> Option<(Vec3, Vec3)> {
     let mut lo = Vec3::splat(f32::INFINITY);
     let mut hi = Vec3::splat(f32::NEG_INFINITY);
     for v in &mesh.vertices {
         lo = lo.min(Vec3::from(v.position));
         hi = hi.max(Vec3::from(v.position));
     }
-    if lo.x > hi.x {
-        return None;
-    }
+    (lo.x <= hi.x).then_some((lo, hi))
+}
+
+/// The world-space box around a mesh whose own box is `local`, placed by `transform`
+/// (the local box's corners transformed).
+fn placed_bounds(local: Option<(Vec3, Vec3)>, transform: &Mat4) -> Option<(Vec3, Vec3)> {
+    let (lo, hi) = local?;
     (0..8)
         .map(|i| {
             transform.transform_point3(Vec3::new(

@@ -1,6 +1,7 @@
 //! The container (GLB or JSON), URIs (`data:`, relative files, and what is refused) and
 //! buffers.
 
+use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
 use std::rc::Rc;
 
@@ -433,7 +434,14 @@ pub(crate) struct Buffers<'a> {
     base: Option<&'a Path>,
     allow_external: bool,
     max_file_bytes: u64,
-    loaded: Vec<Option<Rc<[u8]>>>,
+    /// Per buffer: the bytes it reads from (shared) and its byteLength.
+    loaded: Vec<Option<(Rc<[u8]>, usize)>>,
+    /// Each distinct source's bytes (a URI's text, or the file it resolves to), read
+    /// once however many `buffers` entries name it.
+    sources: HashMap<String, Rc<[u8]>>,
+    /// Bytes read from distinct sources outside the file (a GLB's binary chunk is part of
+    /// the file).
+    bytes_read: u64,
     /// Elements read so far from accessors without a buffer view (zeros that no byte of
     /// the file holds), against `accessor::MAX_UNBACKED_ELEMENTS`.
     pub unbacked_elements: u64,
@@ -455,14 +463,16 @@ impl<'a> Buffers<'a> {
             base,
             allow_external,
             loaded: vec![None; root.buffers.len()],
+            sources: HashMap::new(),
+            bytes_read: 0,
             unbacked_elements: 0,
         }
     }
 
-    /// Buffer `index`, exactly `byteLength` bytes long.
-    pub fn get(&mut self, index: usize) -> Result<Rc<[u8]>, ImportProblem> {
-        if let Some(Some(data)) = self.loaded.get(index) {
-            return Ok(data.clone());
+    /// Buffer `index`: the bytes it reads from and its byteLength (checked to be there).
+    pub fn get(&mut self, index: usize) -> Result<(Rc<[u8]>, usize), ImportProblem> {
+        if let Some(Some(loaded)) = self.loaded.get(index) {
+            return Ok(loaded.clone());
         }
         let buffer = self
             .root
@@ -474,9 +484,10 @@ impl<'a> Buffers<'a> {
             })?;
         let err = |message: String| ImportProblem::Buffer { index, message };
         let declared = buffer.byte_length.0;
-        let data: Vec<u8> = match &buffer.uri {
+        let data: Rc<[u8]> = match &buffer.uri {
             None if self.is_glb && index == 0 => match self.bin {
-                Some(bin) => bin.to_vec(),
+                // Part of the file itself, which the caller counts.
+                Some(bin) => Rc::from(bin),
                 None => {
                     return Err(err(
                         "has no URI, so it is the GLB's binary chunk, but the file has none".into(),
@@ -493,10 +504,29 @@ impl<'a> Buffers<'a> {
                     "has no URI (only a .glb's first buffer may omit it)".into()
                 ))
             }
-            Some(uri) => {
-                let resolved = resolve_uri(uri, self.base, self.allow_external)?;
-                read_resolved(uri, resolved, self.max_file_bytes)?.1
-            }
+            Some(uri) => match self.sources.get(&format!("uri {uri}")) {
+                Some(bytes) => bytes.clone(),
+                None => {
+                    let resolved = resolve_uri(uri, self.base, self.allow_external)?;
+                    let file_key = match &resolved {
+                        Resolved::File(path) => Some(format!("file {}", path.display())),
+                        Resolved::Data { .. } => None,
+                    };
+                    let bytes = match file_key.as_ref().and_then(|k| self.sources.get(k)) {
+                        Some(bytes) => bytes.clone(),
+                        None => {
+                            let bytes = read_resolved(uri, resolved, self.max_file_bytes)?.1;
+                            self.bytes_read += bytes.len() as u64;
+                            Rc::from(bytes)
+                        }
+                    };
+                    self.sources.insert(format!("uri {uri}"), bytes.clone());
+                    if let Some(key) = file_key {
+                        self.sources.insert(key, bytes.clone());
+                    }
+                    bytes
+                }
+            },
         };
         if (data.len() as u64) < declared {
             return Err(err(format!(
@@ -504,11 +534,16 @@ impl<'a> Buffers<'a> {
                 data.len()
             )));
         }
-        let data: Rc<[u8]> = Rc::from(&data[..declared as usize]);
+        let loaded = (data, declared as usize);
         if let Some(slot) = self.loaded.get_mut(index) {
-            *slot = Some(data.clone());
+            *slot = Some(loaded.clone());
         }
-        Ok(data)
+        Ok(loaded)
+    }
+
+    /// Bytes read so far from the buffers' distinct sources.
+    pub fn bytes_read(&self) -> u64 {
+        self.bytes_read
     }
 
     /// The bytes of buffer view `index`.
@@ -519,13 +554,12 @@ impl<'a> Buffers<'a> {
             .get(index)
             .ok_or_else(|| format!("buffer view {index} does not exist"))?;
         let buffer = view.buffer.value();
-        let data = self.get(buffer).map_err(|e| e.to_string())?;
+        let (data, buffer_length) = self.get(buffer).map_err(|e| e.to_string())?;
         let offset = view.byte_offset.map_or(0, |o| o.0);
         let length = view.byte_length.0;
-        let end = offset.checked_add(length).filter(|&end| end <= data.len() as u64).ok_or_else(|| {
+        let end = offset.checked_add(length).filter(|&end| end <= buffer_length as u64).ok_or_else(|| {
             format!(
-                "buffer view {index} (bytes {offset}..{offset}+{length}) exceeds buffer {buffer} ({} bytes)",
-                data.len()
+                "buffer view {index} (bytes {offset}..{offset}+{length}) exceeds buffer {buffer} ({buffer_length} bytes)"
             )
         })?;
         let stride = view.byte_stride.map(|s| s.0);
