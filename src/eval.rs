@@ -315,29 +315,7 @@ pub const FLAGS: &[EvalFlag] = &[
 /// `flag`'s value: comma-separated finite numbers, as many as the flag takes, each in its
 /// range. The error says why, without the value (the command line shows it).
 pub fn parse_value(flag: &EvalFlag, text: &str) -> Result<Vec<f64>, String> {
-    let list = text
-        .split(',')
-        .map(|part| match part.trim().parse::<f64>() {
-            Ok(value) if value.is_finite() => Ok(value),
-            Ok(value) => Err(format!("{value} is not finite")),
-            Err(_) => Err(format!(
-                "`{}` is not a number",
-                crate::shortened(part.trim())
-            )),
-        })
-        .collect::<Result<Vec<f64>, String>>()?;
-    if !flag.lengths.contains(&list.len()) {
-        return Err(format!(
-            "{} takes {} value(s), got {}",
-            flag.name,
-            flag.lengths
-                .iter()
-                .map(usize::to_string)
-                .collect::<Vec<_>>()
-                .join(" or "),
-            list.len()
-        ));
-    }
+    let list = crate::number_list(text, flag.lengths)?;
     if let Some(bad) = list.iter().find(|&&x| x < flag.low || x > flag.high) {
         return Err(format!("{bad} is outside [{}, {}]", flag.low, flag.high));
     }

@@ -42,6 +42,36 @@ pub fn shortened(text: &str) -> String {
     }
 }
 
+/// A finite number; the error says why not, without the value (clap's message shows it).
+pub fn finite_number(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(value) if value.is_finite() => Ok(value),
+        Ok(_) => Err("is not finite".to_owned()),
+        Err(_) => Err("is not a number".to_owned()),
+    }
+}
+
+/// A comma-separated list of finite numbers whose length is one of `lengths` (any length
+/// if `lengths` is empty): `eval`'s inputs and `plot`'s η, k and ηt lists. The error names
+/// the bad part (shortened) or the count.
+pub fn number_list(text: &str, lengths: &[usize]) -> Result<Vec<f64>, String> {
+    let values = text
+        .split(',')
+        .map(|part| {
+            finite_number(part).map_err(|why| format!("`{}` {why}", shortened(part.trim())))
+        })
+        .collect::<Result<Vec<f64>, String>>()?;
+    if !lengths.is_empty() && !lengths.contains(&values.len()) {
+        let expected: Vec<String> = lengths.iter().map(usize::to_string).collect();
+        return Err(format!(
+            "takes {} value(s), got {}",
+            expected.join(" or "),
+            values.len()
+        ));
+    }
+    Ok(values)
+}
+
 /// Any failure of the facade, one line each.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {

@@ -22,7 +22,10 @@ use combustion::scene::gltf::{self, ImportOptions};
 use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, Spectrum};
 use combustion::vk::{DeviceDesc, DeviceSelector};
-use combustion::{check_validation, output, shortened, Error, Headless, HeadlessDesc, SceneSource};
+use combustion::{
+    check_validation, finite_number, number_list, output, shortened, Error, Headless, HeadlessDesc,
+    SceneSource,
+};
 use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
 
 const ABOUT: &str = "Vulkan deferred renderer with physically based shading";
@@ -481,7 +484,7 @@ struct ReflectanceArgs {
     #[arg(long, value_name = "NAME", value_parser = builtin_metal)]
     metal: Option<BuiltinMetal>,
     /// A dielectric of index ETA
-    #[arg(long, value_name = "ETA", value_parser = finite)]
+    #[arg(long, value_name = "ETA", value_parser = finite_number)]
     dielectric: Option<f64>,
     /// A conductor's η, one value or one per RGB channel
     #[arg(long, value_name = "E|R,G,B", value_parser = rgb)]
@@ -495,10 +498,10 @@ struct ReflectanceArgs {
     #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
     /// The outside medium's index ηi (1.33 for water)
-    #[arg(long, value_name = "X", default_value = "1", value_parser = finite)]
+    #[arg(long, value_name = "X", default_value = "1", value_parser = finite_number)]
     outside_ior: f64,
     /// The weight w of R = (1-w)Rs + wRp (0.5: unpolarised)
-    #[arg(long, value_name = "W", default_value = "0.5", value_parser = finite)]
+    #[arg(long, value_name = "W", default_value = "0.5", value_parser = finite_number)]
     polarisation: f64,
     #[command(flatten)]
     image: PlotImageArgs,
@@ -520,10 +523,10 @@ struct SpectrumArgs {
 #[derive(Args)]
 struct DielectricsArgs {
     /// The indices ηt to plot [default: 1.1,1.33,1.5,1.8,2.4,3]
-    #[arg(long, value_name = "E,E,...", value_parser = |text: &str| parse_list(text, &[]).map(Etas))]
+    #[arg(long, value_name = "E,E,...", value_parser = |text: &str| number_list(text, &[]).map(Etas))]
     etas: Option<Etas>,
     /// The outside medium's index ηi
-    #[arg(long, value_name = "X", default_value = "1", value_parser = finite)]
+    #[arg(long, value_name = "X", default_value = "1", value_parser = finite_number)]
     outside_ior: f64,
     #[command(flatten)]
     image: PlotImageArgs,
@@ -583,15 +586,6 @@ fn extra_lights(text: &str) -> Result<usize, String> {
     whole_in(text, 0, 65536)
 }
 
-/// A finite number.
-fn finite(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(value) if value.is_finite() => Ok(value),
-        Ok(_) => Err("is not finite".to_owned()),
-        Err(_) => Err("is not a number".to_owned()),
-    }
-}
-
 /// A finite number above 0.
 fn positive_finite<T: std::str::FromStr + Into<f64> + Copy>(text: &str) -> Result<T, String> {
     match text.parse::<T>() {
@@ -606,27 +600,9 @@ fn relative_error(text: &str) -> Result<f64, String> {
     positive_finite::<f64>(text).map_err(|_| "is not a relative error above 0 (e.g. 1e-3)".into())
 }
 
-/// A comma-separated list of finite numbers whose length is one of `lengths` (any length
-/// if `lengths` is empty).
-fn parse_list(text: &str, lengths: &[usize]) -> Result<Vec<f64>, String> {
-    let values = text
-        .split(',')
-        .map(|part| finite(part).map_err(|why| format!("`{}` {why}", shortened(part.trim()))))
-        .collect::<Result<Vec<f64>, String>>()?;
-    if !lengths.is_empty() && !lengths.contains(&values.len()) {
-        let expected: Vec<String> = lengths.iter().map(usize::to_string).collect();
-        return Err(format!(
-            "takes {} value(s), got {}",
-            expected.join(" or "),
-            values.len()
-        ));
-    }
-    Ok(values)
-}
-
 /// One value for all three RGB channels, or one per channel.
 fn rgb(text: &str) -> Result<[f64; 3], String> {
-    match parse_list(text, &[1, 3])?.as_slice() {
+    match number_list(text, &[1, 3])?.as_slice() {
         [x] => Ok([*x; 3]),
         [r, g, b] => Ok([*r, *g, *b]),
         _ => Err("takes 1 or 3 values".to_owned()),

@@ -408,7 +408,7 @@ fn eval_bad_input() {
     );
     assert_refused(
         &["eval", "fresnel-conductor", "--eta", "1,2"],
-        &["invalid value '1,2' for '--eta <X|R,G,B>': --eta takes 1 or 3 value(s), got 2"],
+        &["invalid value '1,2' for '--eta <X|R,G,B>': takes 1 or 3 value(s), got 2"],
     );
     assert_refused(
         &["eval"],

@@ -26,12 +26,17 @@ fn data_uri(bytes: &[u8]) -> String {
     out
 }
 
+/// The little-endian bytes of `values` (f32 or u32 components, as glTF stores them).
+fn le_bytes<T: Copy, const N: usize>(values: &[T], to_bytes: fn(T) -> [u8; N]) -> Vec<u8> {
+    values.iter().flat_map(|&v| to_bytes(v)).collect()
+}
+
 /// One triangle (positions in a data URI), material 0 as given.
 fn triangle(material: Value) -> Value {
-    let positions: Vec<u8> = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
-        .iter()
-        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
-        .collect();
+    let positions: Vec<u8> = le_bytes(
+        &[[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].concat(),
+        f32::to_le_bytes,
+    );
     json!({
         "asset": { "version": "2.0" },
         "scene": 0,
@@ -83,11 +88,11 @@ fn khr_materials_ior_takes_one_and_above_or_zero() {
 #[test]
 fn an_accessor_without_a_buffer_view_is_zeros_plus_its_sparse_values() {
     // Positions: no buffer view (zeros) with two sparse values making a triangle.
-    let indices: Vec<u8> = [1u16, 2].iter().flat_map(|i| i.to_le_bytes()).collect();
-    let values: Vec<u8> = [[1.0f32, 0.0, 0.0], [0.0, 1.0, 0.0]]
-        .iter()
-        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
-        .collect();
+    let indices: Vec<u8> = le_bytes(&[1u16, 2], u16::to_le_bytes);
+    let values: Vec<u8> = le_bytes(
+        &[[1.0f32, 0.0, 0.0], [0.0, 1.0, 0.0]].concat(),
+        f32::to_le_bytes,
+    );
     let mut data = indices.clone();
     data.extend_from_slice(&values);
     let mut g = triangle(json!({}));
@@ -124,10 +129,7 @@ fn accessors_without_a_buffer_view_share_one_budget_per_file() {
     let count = (1u64 << 21) + 3;
     // Zeros but for elements 1 and 2 (sparse values 1 and 2): one triangle that is not
     // degenerate among 2²¹/3 that are.
-    let sparse: Vec<u8> = [1u32, 2, 1, 2]
-        .iter()
-        .flat_map(|i| i.to_le_bytes())
-        .collect();
+    let sparse: Vec<u8> = le_bytes(&[1u32, 2, 1, 2], u32::to_le_bytes);
     let with_index_accessors = |primitives: usize| {
         let mut g = triangle(json!({}));
         g["bufferViews"].as_array_mut().unwrap().extend([
@@ -286,15 +288,16 @@ fn meshes_built_from_aliased_accessors_are_budgeted() {
     let strip: Vec<u8> = (0..24_000u32).map(|i| (i % 4) as u8).collect();
     let mut g = triangle(json!({}));
     // Four positions, not all in a line, so strips of them are not degenerate.
-    let positions: Vec<u8> = [
-        [0.0f32, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [1.0, 1.0, 0.5],
-    ]
-    .iter()
-    .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
-    .collect();
+    let positions: Vec<u8> = le_bytes(
+        &[
+            [0.0f32, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.5],
+        ]
+        .concat(),
+        f32::to_le_bytes,
+    );
     let mut data = positions.clone();
     data.extend_from_slice(&strip);
     g["buffers"] = json!([{ "byteLength": data.len(), "uri": data_uri(&data) }]);
@@ -348,11 +351,10 @@ fn a_mesh_crowding_one_edge_gets_tangents_without_mikktspace() {
         views.push(json!({ "buffer": 0, "byteOffset": data.len(), "byteLength": bytes.len() }));
         data.extend_from_slice(&bytes);
     };
-    let floats = |v: &[f32]| v.iter().flat_map(|c| c.to_le_bytes()).collect::<Vec<u8>>();
-    push(floats(&positions.concat()));
-    push(floats(&normals.concat()));
-    push(floats(&uvs.concat()));
-    push(indices.iter().flat_map(|i| i.to_le_bytes()).collect());
+    push(le_bytes(&positions.concat(), f32::to_le_bytes));
+    push(le_bytes(&normals.concat(), f32::to_le_bytes));
+    push(le_bytes(&uvs.concat(), f32::to_le_bytes));
+    push(le_bytes(&indices, u32::to_le_bytes));
     let mut g = triangle(
         json!({ "extensions": { "KHR_materials_anisotropy": { "anisotropyStrength": 0.5 } } }),
     );
