@@ -25,22 +25,26 @@ layout(push_constant) uniform LightingPush {
 #include "debug_views.glsl"
 #endif
 
-#ifdef ENERGY_COMPENSATION
-// E(μ, α) bilinear in the white specular albedo table over (μ, r = √α), cell-centred,
-// clamped at the edges (combustion_renderer::environment::white_specular_albedo_table).
-#define ENERGY_TABLE_SIZE 32u
-float energy_white_albedo_lookup(float cos_v, float alpha) {
-    const uint size = ENERGY_TABLE_SIZE;
-    vec2 coord = vec2(cos_v, sqrt(max(alpha, 0.0)));
+// The four cells (row-major indices into a size × size table: (x0,y0), (x1,y0), (x0,y1),
+// (x1,y1)) and weights of a bilinear lookup at coord in [0, 1]², cell-centred and
+// clamped at the edges, as every albedo table here is read.
+uvec4 bilinear_cells(vec2 coord, uint size, out vec2 f) {
     vec2 x = clamp(coord * float(size) - 0.5, vec2(0.0), vec2(float(size - 1u)));
     uvec2 i0 = uvec2(x);
     uvec2 i1 = min(i0 + 1u, uvec2(size - 1u));
-    vec2 f = x - vec2(i0);
-    float a = energy_white_albedo[i0.y * size + i0.x];
-    float b = energy_white_albedo[i0.y * size + i1.x];
-    float c = energy_white_albedo[i1.y * size + i0.x];
-    float d = energy_white_albedo[i1.y * size + i1.x];
-    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+    f = x - vec2(i0);
+    return uvec4(i0.y * size + i0.x, i0.y * size + i1.x, i1.y * size + i0.x, i1.y * size + i1.x);
+}
+
+#ifdef ENERGY_COMPENSATION
+// E(μ, α) bilinear in the white specular albedo table over (μ, r = √α)
+// (combustion_renderer::environment::white_specular_albedo_table).
+#define ENERGY_TABLE_SIZE 32u
+float energy_white_albedo_lookup(float cos_v, float alpha) {
+    vec2 f;
+    uvec4 c = bilinear_cells(vec2(cos_v, sqrt(max(alpha, 0.0))), ENERGY_TABLE_SIZE, f);
+    return mix(mix(energy_white_albedo[c.x], energy_white_albedo[c.y], f.x),
+               mix(energy_white_albedo[c.z], energy_white_albedo[c.w], f.x), f.y);
 }
 #endif
 
@@ -50,32 +54,21 @@ float energy_white_albedo_lookup(float cos_v, float alpha) {
 // Bilinear lookup in material `material`'s albedo table (environment_albedo.comp), part
 // `part` (0: specular, 1: diffuse), at (n·v, r); cell-centred, clamped at the edges.
 vec4 environment_table(uint material, uint part, vec2 coord) {
-    const uint size = ENVIRONMENT_TABLE_SIZE;
-    vec2 x = clamp(coord * float(size) - 0.5, vec2(0.0), vec2(float(size - 1u)));
-    uvec2 i0 = uvec2(x);
-    uvec2 i1 = min(i0 + 1u, uvec2(size - 1u));
-    vec2 f = x - vec2(i0);
-    uint base = material * size * size;
-    vec4 a = environment_albedo[(base + i0.y * size + i0.x) * 2u + part];
-    vec4 b = environment_albedo[(base + i0.y * size + i1.x) * 2u + part];
-    vec4 c = environment_albedo[(base + i1.y * size + i0.x) * 2u + part];
-    vec4 d = environment_albedo[(base + i1.y * size + i1.x) * 2u + part];
-    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+    vec2 f;
+    uvec4 c = bilinear_cells(coord, ENVIRONMENT_TABLE_SIZE, f)
+            + material * ENVIRONMENT_TABLE_SIZE * ENVIRONMENT_TABLE_SIZE;
+    c = c * 2u + part;
+    return mix(mix(environment_albedo[c.x], environment_albedo[c.y], f.x),
+               mix(environment_albedo[c.z], environment_albedo[c.w], f.x), f.y);
 }
 
 // The same in per-code table `table` (environment_code_albedo.comp), code `code`.
 float environment_code_table(uint table, uint code, vec2 coord) {
-    const uint size = ENVIRONMENT_CODE_TABLE_SIZE;
-    vec2 x = clamp(coord * float(size) - 0.5, vec2(0.0), vec2(float(size - 1u)));
-    uvec2 i0 = uvec2(x);
-    uvec2 i1 = min(i0 + 1u, uvec2(size - 1u));
-    vec2 f = x - vec2(i0);
-    uint base = (table * 256u + code) * size * size;
-    float a = environment_code_albedo[base + i0.y * size + i0.x];
-    float b = environment_code_albedo[base + i0.y * size + i1.x];
-    float c = environment_code_albedo[base + i1.y * size + i0.x];
-    float d = environment_code_albedo[base + i1.y * size + i1.x];
-    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+    vec2 f;
+    uvec4 c = bilinear_cells(coord, ENVIRONMENT_CODE_TABLE_SIZE, f)
+            + (table * 256u + code) * ENVIRONMENT_CODE_TABLE_SIZE * ENVIRONMENT_CODE_TABLE_SIZE;
+    return mix(mix(environment_code_albedo[c.x], environment_code_albedo[c.y], f.x),
+               mix(environment_code_albedo[c.z], environment_code_albedo[c.w], f.x), f.y);
 }
 
 // The split-sum environment term (combustion_renderer::environment): the prefiltered
@@ -90,12 +83,14 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
         return vec3(0.0);
     }
 #ifndef NO_ANISOTROPY
+    bool anisotropic = view.ax != view.ay;
     // An anisotropic lobe is looked up (tables and cube) at the roughness of its mean α
     // (an isotropic one at its own r, as the specialised pipeline without anisotropy).
-    if (view.ax != view.ay) {
+    if (anisotropic) {
         roughness = sqrt(0.5 * (view.ax + view.ay));
     }
 #endif
+    float alpha = roughness * roughness;
     vec2 coord = vec2(nv, roughness);
     vec4 specular = environment_table(material_index, 0u, coord);
     vec4 diffuse = environment_table(material_index, 1u, coord);
@@ -113,9 +108,12 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     // diffuse term as it is, and the specular term by Lagarde & de Rousiers' (2014,
     // eq. 58) specular occlusion, weaker than the diffuse occlusion at normal incidence
     // and on smooth surfaces; direct lights are never occluded.
-    float alpha_occlusion = roughness * roughness;
+    #ifdef OCCLUSION
     float specular_occlusion = clamp(
-        pow(nv + occlusion, exp2(-16.0 * alpha_occlusion - 1.0)) - 1.0 + occlusion, 0.0, 1.0);
+        pow(nv + occlusion, exp2(-16.0 * alpha - 1.0)) - 1.0 + occlusion, 0.0, 1.0);
+#else
+    const float specular_occlusion = 1.0;
+#endif
 #ifdef ENERGY_COMPENSATION
     vec3 specular_albedo = ((1.0 - metal) * specular.a * view.compensation_dielectric
                             + metal * conductor * view.compensation_conductor) * specular_occlusion;
@@ -129,7 +127,7 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     // as roughness grows (Lagarde & de Rousiers 2014, eq. 55).
     vec3 lookup_normal = n;
 #ifndef NO_ANISOTROPY
-    float strength = view.ax != view.ay ? abs(view.ax - view.ay) / max(view.ax, view.ay) : 0.0;
+    float strength = anisotropic ? abs(view.ax - view.ay) / max(view.ax, view.ay) : 0.0;
     if (strength > 0.0) {
         vec3 direction = view.ax > view.ay ? view.frame[1] : view.frame[0];
         vec3 anisotropic_normal = cross(cross(direction, v), direction);
@@ -137,7 +135,6 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
         lookup_normal = normalize(mix(n, anisotropic_normal, bend));
     }
 #endif
-    float alpha = roughness * roughness;
     float smoothness = 1.0 - alpha;
     vec3 r = normalize(mix(n, reflect(-v, lookup_normal), smoothness * (sqrt(smoothness) + alpha)));
     float lod = clamp(roughness, 0.0, 1.0) * float(textureQueryLevels(environment_specular) - 1);

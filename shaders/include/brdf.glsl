@@ -107,9 +107,9 @@ struct BrdfView {
     float w;
     vec2 visibility_half;  // (c_v, S_v) of smith_ggx_visibility_half
     float transmittance_v; // T_w(n·v) of the dielectric part (1 when there is none)
-#ifdef FRESNEL_CURVE
-    float f0_dielectric;   // exact normal-incidence reflectances the curve starts from
-    vec3 f0_conductor;
+#if defined(FRESNEL_CURVE) || defined(ENERGY_COMPENSATION)
+    float f0_dielectric;   // exact normal-incidence reflectances (seen from ηi): where the
+    vec3 f0_conductor;     // Fresnel curves start, and what energy compensation scales by
 #endif
 #ifdef FRESNEL_F82
     float b_dielectric;    // F82 coefficients (fresnel_f82_coefficient) from the exact
@@ -149,17 +149,16 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
 #ifdef D_BECKMANN
     view.lambda_v = lambda_beckmann_anisotropic(view.v, view.ax, view.ay);
 #endif
+#if defined(FRESNEL_CURVE) || defined(ENERGY_COMPENSATION)
+    view.f0_dielectric = polarised_weighted(fresnel_dielectric(1.0, m.outside_eta, m.dielectric_eta), view.w);
+    view.f0_conductor = fresnel_conductor_rgb(1.0, m.outside_eta, m.conductor_eta, m.conductor_k, view.w);
+#endif
 #ifdef FRESNEL_CURVE
     // The cheaper, approximate variants (renderer setting FresnelModel::Schlick or F82;
     // their error against the full equations is measured in tests/parity.rs and the
     // report): a curve through the exact normal-incidence reflectance of η (dielectric)
     // and η + ik (conductor) seen from ηi (F82: and through the exact reflectance at
     // cos θ = 1/7), and 1 − F for the diffuse transmittance.
-    view.f0_dielectric = polarised_weighted(fresnel_dielectric(1.0, m.outside_eta, m.dielectric_eta), view.w);
-    view.f0_conductor = vec3(
-        polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.x, m.conductor_k.x), view.w),
-        polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.y, m.conductor_k.y), view.w),
-        polarised_weighted(fresnel_conductor(1.0, m.outside_eta, m.conductor_eta.z, m.conductor_k.z), view.w));
 #ifdef FRESNEL_F82
     view.b_dielectric = fresnel_f82_coefficient(view.f0_dielectric,
         polarised_weighted(fresnel_dielectric(F82_COS, m.outside_eta, m.dielectric_eta), view.w));
@@ -181,10 +180,8 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
     {
         float e = max(energy_white_albedo_lookup(view.v.z, 0.5 * (view.ax + view.ay)), 1e-3);
         float lost = (1.0 - e) / e;
-        vec3 f0_conductor = fresnel_conductor_rgb(1.0, m.outside_eta, m.conductor_eta, m.conductor_k, view.w);
-        float f0_dielectric = polarised_weighted(fresnel_dielectric(1.0, m.outside_eta, m.dielectric_eta), view.w);
-        view.compensation_conductor = 1.0 + f0_conductor * lost;
-        view.compensation_dielectric = 1.0 + f0_dielectric * lost;
+        view.compensation_conductor = 1.0 + view.f0_conductor * lost;
+        view.compensation_dielectric = 1.0 + view.f0_dielectric * lost;
     }
 #endif
     return view;

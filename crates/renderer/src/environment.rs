@@ -85,7 +85,7 @@ fn check_format(device: &Device) -> Result<(), RenderError> {
 }
 
 /// Entries per side of the white specular albedo table over (n·v, r)
-/// (`ENERGY_TABLE_SIZE` in brdf.glsl), cell-centred as the albedo tables.
+/// (`ENERGY_TABLE_SIZE` in lighting.frag), cell-centred as the albedo tables.
 pub const ENERGY_TABLE_SIZE: u32 = 32;
 /// Hammersley samples per entry of that table.
 pub const ENERGY_TABLE_SAMPLES: u32 = 1024;

@@ -1170,17 +1170,19 @@ impl Renderer {
         self.prepare_variant(self.variant_of(scene_upload::scene_variant(&next)))?;
         let pipelines_built = self.stats.pipelines_built - before;
         // The environment's tables follow the materials: bake again when the edit
-        // changes them or the environment (not for lights, objects or the camera),
+        // changes what the bake reads — the environment or the material table (optics
+        // and the outside medium, not names, textures, lights, objects or the camera) —
         // before anything of the scene is replaced, so a failed bake leaves it as it was.
         let old = &scene.scene;
-        let environment = if next.environment != old.environment
-            || next.materials != old.materials
-            || next.outside_ior != old.outside_ior
+        let environment = if !same_environment(&next.environment, &old.environment)
+            || bytemuck::cast_slice::<_, u8>(&gpu_types::material_table(&next, &[]))
+                != bytemuck::cast_slice::<_, u8>(&gpu_types::material_table(old, &[]))
         {
             Some(self.bake_environment(&next)?)
         } else {
             None
         };
+        let rebaked = environment.is_some();
         let (report, retired) = scene.edited(&self.device, next, &self.layouts.material)?;
         for part in retired {
             self.retire_boxed(part);
@@ -1192,6 +1194,7 @@ impl Renderer {
         }
         Ok(SceneEditReport {
             pipelines_built,
+            environment: rebaked,
             ..report
         })
     }
@@ -1309,6 +1312,19 @@ pub fn f16_to_f32(bits: u16) -> f32 {
         31 if mantissa == 0.0 => sign * f32::INFINITY,
         31 => f32::NAN,
         e => sign * (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+/// Whether two scenes' environments are the same, an image shared through its `Arc` at
+/// once (comparing 2²⁶ texels on every edit would cost more than the edit).
+fn same_environment(
+    a: &Option<combustion_scene::Environment>,
+    b: &Option<combustion_scene::Environment>,
+) -> bool {
+    use combustion_scene::Environment::Image;
+    match (a, b) {
+        (Some(Image(a)), Some(Image(b))) => std::sync::Arc::ptr_eq(a, b) || a == b,
+        _ => a == b,
     }
 }
 

@@ -368,26 +368,26 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
                             *radiance = [0.0; 3];
                             continue;
                         }
-                        // Pixels not compared (an environment's grid) are still checked
+                        // Every pixel, compared or not (an environment's grid), is checked
                         // for non-finite values (above) and a lit background (here).
-                        if !reference.compares(x, y) {
-                            if texel.depth >= 1.0 && gpu[..3] != [0.0; 3] {
-                                part.background_not_black += 1;
-                            }
-                            continue;
-                        }
-                        let shaded = reference.shade(texel, x, y);
-                        if shaded.is_some_and(|cpu| cpu.iter().any(|c| !c.is_finite())) {
-                            part.non_finite += 1;
-                            *radiance = [0.0; 3];
-                            continue;
-                        }
-                        let Some(cpu) = shaded else {
+                        if texel.depth >= 1.0 {
                             if gpu[..3] != [0.0; 3] {
                                 part.background_not_black += 1;
                             }
                             continue;
+                        }
+                        if !reference.compares(x, y) {
+                            continue;
+                        }
+                        // `None` only for the background, handled above.
+                        let Some(cpu) = reference.shade(texel, x, y) else {
+                            continue;
                         };
+                        if cpu.iter().any(|c| !c.is_finite()) {
+                            part.non_finite += 1;
+                            *radiance = [0.0; 3];
+                            continue;
+                        }
                         if reference.emits(texel) {
                             part.emissive_pixels += 1;
                             continue;

@@ -58,6 +58,9 @@ pub struct SceneEditReport {
     pub tables: bool,
     /// Pipelines built because the edit needs a shader feature the renderer had not built.
     pub pipelines_built: u64,
+    /// The environment's cubes and tables, baked again (the environment, or the material
+    /// table the bake reads, changed).
+    pub environment: bool,
 }
 
 /// The shader features `scene` needs.

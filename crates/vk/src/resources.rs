@@ -189,13 +189,24 @@ pub fn image_barrier(
 /// tightly packed (for images made elsewhere, such as a swapchain's; an [`Image`] has
 /// [`Image::level0_copy_region`]).
 pub fn color_level0_copy_region(extent: vk::Extent2D) -> vk::BufferImageCopy {
-    vk::BufferImageCopy::default()
-        .image_subresource(vk::ImageSubresourceLayers {
+    packed_copy_region(
+        vk::ImageSubresourceLayers {
             aspect_mask: vk::ImageAspectFlags::COLOR,
             mip_level: 0,
             base_array_layer: 0,
             layer_count: 1,
-        })
+        },
+        extent,
+    )
+}
+
+/// A buffer ↔ image copy of all of `subresource` (of size `extent`), tightly packed.
+fn packed_copy_region(
+    subresource: vk::ImageSubresourceLayers,
+    extent: vk::Extent2D,
+) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .image_subresource(subresource)
         .image_extent(vk::Extent3D {
             width: extent.width,
             height: extent.height,
@@ -522,14 +533,10 @@ impl Image {
 
     /// All of one mip level of one layer, tightly packed in a buffer.
     fn copy_region(&self, mip_level: u32, layer: u32) -> vk::BufferImageCopy {
-        let extent = self.mip_extent(mip_level);
-        vk::BufferImageCopy::default()
-            .image_subresource(self.subresource_layers(mip_level, layer))
-            .image_extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            })
+        packed_copy_region(
+            self.subresource_layers(mip_level, layer),
+            self.mip_extent(mip_level),
+        )
     }
 
     /// All of mip level 0 of layer 0, tightly packed in a buffer.
