@@ -7,6 +7,8 @@
 
 #[path = "../../../fuzz/common/gltf.rs"]
 mod fuzz_target;
+#[path = "../../../fuzz/common/replay.rs"]
+mod replay;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -38,21 +40,14 @@ fn corpus(name: &str) -> (PathBuf, Vec<PathBuf>) {
 /// Every input of `name`'s corpus through `run`; the inputs that panicked, by name.
 fn replay(name: &str, run: fn(&[u8])) -> usize {
     let (dir, files) = corpus(name);
-    let mut panicked = Vec::new();
-    for file in &files {
-        let data = std::fs::read(file).unwrap();
-        if std::panic::catch_unwind(|| run(&data)).is_err() {
-            panicked.push(file.file_name().unwrap().to_string_lossy().into_owned());
-        }
-    }
+    let (inputs, panicked) = replay::replay(&files, run);
     std::fs::remove_dir_all(dir).unwrap();
     assert!(
         panicked.is_empty(),
-        "{} of {} inputs of {name} panicked: {panicked:?}",
+        "{} of {inputs} inputs of {name} panicked: {panicked:?}",
         panicked.len(),
-        files.len()
     );
-    files.len()
+    inputs
 }
 
 #[test]

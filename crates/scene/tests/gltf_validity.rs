@@ -257,26 +257,41 @@ fn application_specific_attributes_neither_replace_nor_copy_a_mesh() {
     assert!(positions.contains(&[1.0, 0.0, 0.0]), "{positions:?}");
 }
 
-/// Buffers naming one source share its bytes (read once), each still limited to its own
+/// Buffers naming one source share its bytes (a file is read once), each still limited to its own
 /// byteLength: a view past the shorter buffer's length is refused.
 #[test]
 fn buffers_naming_one_source_share_it_within_their_own_lengths() {
+    // One .bin beside the file, named two ways (read once: both spellings are one file).
+    let dir = std::env::temp_dir().join(format!("combustion-shared-bin-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let positions = le_bytes(
+        &[[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].concat(),
+        f32::to_le_bytes,
+    );
+    std::fs::write(dir.join("tri.bin"), &positions).unwrap();
     let mut g = triangle(json!({}));
-    let uri = g["buffers"][0]["uri"].clone();
-    g["buffers"]
-        .as_array_mut()
-        .unwrap()
-        .push(json!({ "byteLength": 36, "uri": uri }));
+    g["buffers"] = json!([
+        { "byteLength": 36, "uri": "tri.bin" },
+        { "byteLength": 36, "uri": "./tri.bin" },
+    ]);
     g["bufferViews"]
         .as_array_mut()
         .unwrap()
         .push(json!({ "buffer": 1, "byteLength": 36 }));
     g["accessors"][0]["bufferView"] = json!(1);
-    let scene = import(&g).unwrap_or_else(|e| panic!("{e}"));
+    let file = dir.join("shared.gltf");
+    let import_file = |g: &Value| {
+        std::fs::write(&file, serde_json::to_vec(g).unwrap()).unwrap();
+        combustion_scene::gltf::import(&file, &ImportOptions::default())
+            .map(|(scene, _)| scene)
+            .map_err(|e| e.to_string())
+    };
+    let scene = import_file(&g).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.meshes[0].vertices.len(), 3);
     g["buffers"][1]["byteLength"] = json!(12);
-    let error = import(&g).unwrap_err();
+    let error = import_file(&g).unwrap_err();
     assert!(error.contains("exceeds buffer 1 (12 bytes)"), "{error}");
+    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// The meshes a file builds are budgeted against what it holds (256 MiB + 256 × the

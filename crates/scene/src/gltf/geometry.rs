@@ -203,14 +203,16 @@ pub(crate) fn build_mesh(
         }
     };
 
-    let crowded = if tangents_missing && needs_uv_tangents && data.uvs.is_some() {
+    // Tangents from the texture coordinates (MikkTSpace), unless an edge is crowded.
+    let from_uvs = tangents_missing && needs_uv_tangents && data.uvs.is_some();
+    let crowded = if from_uvs {
         most_triangles_on_one_edge(&vertices, &indices)
             .filter(|&n| n > MAX_TRIANGLES_PER_EDGE_FOR_MIKKTSPACE)
     } else {
         None
     };
     if tangents_missing {
-        if needs_uv_tangents && data.uvs.is_some() && crowded.is_none() {
+        if from_uvs && crowded.is_none() {
             let (v, i) = mikktspace(&vertices, &indices);
             vertices = v;
             indices = i;

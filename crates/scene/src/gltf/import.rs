@@ -48,7 +48,8 @@ pub(crate) struct Importer<'a> {
     pub decoded_pixels: u64,
     /// The bytes of the glTF or GLB file itself.
     pub file_bytes: u64,
-    /// Bytes of meshes built so far (vertices and indices), against [`mesh_budget`].
+    /// Bytes of meshes built so far (vertices and indices), against
+    /// [`Importer::charge_mesh_bytes`]'s budget.
     pub mesh_bytes: u64,
     /// Materials that ask for transparency (reported once).
     pub transparency: Vec<usize>,
@@ -542,7 +543,10 @@ impl Importer<'_> {
             meshes.push(mesh);
         }
 
+        // Each mesh's box once; the world box gathered from the objects as they are placed
+        // (the cameras and their warnings use it).
         let boxes: Vec<_> = meshes.iter().map(mesh_bounds).collect();
+        let mut bounds: Option<(Vec3, Vec3)> = None;
         let mut objects = Vec::with_capacity(instances.len());
         let mut singular = 0;
         for (_, instance) in &instances {
@@ -552,16 +556,21 @@ impl Importer<'_> {
                 singular += 1;
                 continue;
             }
-            if placed_bounds(boxes[mesh_index[&instance.key]], &instance.world).is_some_and(
-                |(lo, hi)| !(lo.is_finite() && hi.is_finite() && (hi - lo).is_finite()),
-            ) {
+            let mesh = mesh_index[&instance.key];
+            let placed = placed_bounds(boxes[mesh], &instance.world);
+            if placed.is_some_and(|(lo, hi)| {
+                !(lo.is_finite() && hi.is_finite() && (hi - lo).is_finite())
+            }) {
                 return Err(self.node_error(
                     instance.node,
                     "places its mesh beyond what f32 can hold: the mesh's extent times the world transform overflows".into(),
                 ));
             }
+            if let Some((lo, hi)) = placed {
+                bounds = Some(bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+            }
             objects.push(Object {
-                mesh: mesh_index[&instance.key],
+                mesh,
                 material: material_index[&instance.material],
                 transform: instance.world,
             });
@@ -578,9 +587,9 @@ impl Importer<'_> {
             .collect::<Result<Vec<Light>, _>>()?;
 
         let outside_ior = self.outside_ior(scene_index)?;
-        let (camera, source) = self.camera(&cameras, &meshes, &objects)?;
-        report.scene_cameras = self.scene_cameras(&cameras, &meshes, &objects);
-        for warning in camera_range_warnings(&camera, world_bounds(&meshes, &objects)) {
+        let (camera, source) = self.camera(&cameras, bounds)?;
+        report.scene_cameras = self.scene_cameras(&cameras, bounds);
+        for warning in camera_range_warnings(&camera, bounds) {
             self.warn(warning);
         }
 
@@ -702,27 +711,19 @@ impl Importer<'_> {
                 out
             }
         };
-        // What the mesh will take (a vertex per corner when normals are generated flat),
-        // against the file's budget for meshes, before it is built.
-        let vertices = if normals.is_some() {
-            positions.len()
+        // What the mesh will take, against the file's budget for meshes, before it is
+        // built: a vertex per corner at most when normals are generated flat or MikkTSpace
+        // splits the vertices (welding merges some back), else the given vertices.
+        let per_corner = normals.is_none() || (key.uv_tangents && uvs.is_some());
+        let vertices = if per_corner {
+            positions.len().max(indices.len())
         } else {
-            indices.len()
+            positions.len()
         };
-        let bytes = (vertices * std::mem::size_of::<crate::Vertex>() + indices.len() * 4) as u64;
-        let budget = MESH_BYTES_FLOOR
-            + MESH_BYTES_PER_BYTE_READ * (self.file_bytes + self.buffers.bytes_read());
-        self.mesh_bytes = self.mesh_bytes.saturating_add(bytes);
-        if self.mesh_bytes > budget {
-            return Err(err(format!(
-                "the meshes built so far would take {} MiB, more than this file may ask for ({} MiB: {} MiB + {} × the {} bytes of the file and its buffers)",
-                self.mesh_bytes >> 20,
-                budget >> 20,
-                MESH_BYTES_FLOOR >> 20,
-                MESH_BYTES_PER_BYTE_READ,
-                self.file_bytes + self.buffers.bytes_read()
-            )));
-        }
+        self.charge_mesh_bytes(
+            (vertices * std::mem::size_of::<crate::Vertex>() + indices.len() * 4) as u64,
+        )
+        .map_err(err)?;
         let name = match &gltf_mesh.name {
             Some(name) if gltf_mesh.primitives.len() == 1 => name.clone(),
             Some(name) => format!("{name} primitive {primitive}"),
@@ -754,6 +755,24 @@ impl Importer<'_> {
             self.warn(format!("mesh {mesh_index} primitive {primitive}: {w}"));
         }
         Ok(mesh)
+    }
+
+    /// Adds `bytes` of mesh to the file's total: an error past [`MESH_BYTES_FLOOR`] +
+    /// [`MESH_BYTES_PER_BYTE_READ`] × the bytes of the file and the buffers it read.
+    fn charge_mesh_bytes(&mut self, bytes: u64) -> Result<(), String> {
+        let read = self.file_bytes + self.buffers.bytes_read();
+        let budget = MESH_BYTES_FLOOR + MESH_BYTES_PER_BYTE_READ * read;
+        self.mesh_bytes = self.mesh_bytes.saturating_add(bytes);
+        if self.mesh_bytes > budget {
+            return Err(format!(
+                "the meshes built so far would take {} MiB, more than this file may ask for ({} MiB: {} MiB + {} × the {read} bytes of the file and its buffers)",
+                self.mesh_bytes >> 20,
+                budget >> 20,
+                MESH_BYTES_FLOOR >> 20,
+                MESH_BYTES_PER_BYTE_READ,
+            ));
+        }
+        Ok(())
     }
 
     fn light(&mut self, index: usize, world: Mat4) -> Result<Light, ImportProblem> {
@@ -877,11 +896,9 @@ impl Importer<'_> {
     fn camera(
         &mut self,
         placed: &[(usize, usize, Mat4)],
-        meshes: &[crate::Mesh],
-        objects: &[Object],
+        bounds: Option<(Vec3, Vec3)>,
     ) -> Result<(Camera, CameraSource), ImportProblem> {
         let root = self.root;
-        let bounds = world_bounds(meshes, objects);
         if let Some((lo, hi)) = bounds {
             if !(hi - lo).length().is_finite() {
                 return Err(ImportProblem::Invalid(format!(
@@ -939,10 +956,8 @@ impl Importer<'_> {
     fn scene_cameras(
         &self,
         placed: &[(usize, usize, Mat4)],
-        meshes: &[crate::Mesh],
-        objects: &[Object],
+        bounds: Option<(Vec3, Vec3)>,
     ) -> Vec<PlacedCamera> {
-        let bounds = world_bounds(meshes, objects);
         let mut placed = placed.to_vec();
         placed.sort_by_key(|(c, node, _)| (*c, *node));
         placed

@@ -436,11 +436,10 @@ pub(crate) struct Buffers<'a> {
     max_file_bytes: u64,
     /// Per buffer: the bytes it reads from (shared) and its byteLength.
     loaded: Vec<Option<(Rc<[u8]>, usize)>>,
-    /// Each distinct source's bytes (a URI's text, or the file it resolves to), read
-    /// once however many `buffers` entries name it.
-    sources: HashMap<String, Rc<[u8]>>,
-    /// Bytes read from distinct sources outside the file (a GLB's binary chunk is part of
-    /// the file).
+    /// Each file read for a buffer, once however many `buffers` entries name it.
+    files: HashMap<PathBuf, Rc<[u8]>>,
+    /// Bytes of the files read for buffers (a data URI or a GLB's binary chunk is part of
+    /// the glTF file itself, which the importer counts).
     bytes_read: u64,
     /// Elements read so far from accessors without a buffer view (zeros that no byte of
     /// the file holds), against `accessor::MAX_UNBACKED_ELEMENTS`.
@@ -463,7 +462,7 @@ impl<'a> Buffers<'a> {
             base,
             allow_external,
             loaded: vec![None; root.buffers.len()],
-            sources: HashMap::new(),
+            files: HashMap::new(),
             bytes_read: 0,
             unbacked_elements: 0,
         }
@@ -504,27 +503,24 @@ impl<'a> Buffers<'a> {
                     "has no URI (only a .glb's first buffer may omit it)".into()
                 ))
             }
-            Some(uri) => match self.sources.get(&format!("uri {uri}")) {
-                Some(bytes) => bytes.clone(),
-                None => {
-                    let resolved = resolve_uri(uri, self.base, self.allow_external)?;
-                    let file_key = match &resolved {
-                        Resolved::File(path) => Some(format!("file {}", path.display())),
-                        Resolved::Data { .. } => None,
-                    };
-                    let bytes = match file_key.as_ref().and_then(|k| self.sources.get(k)) {
+            Some(uri) => match resolve_uri(uri, self.base, self.allow_external)? {
+                // In the file's own text: decoded per entry, bounded by the file.
+                Resolved::Data { bytes, .. } => Rc::from(bytes),
+                // A file outside: read once however many entries name it (as the
+                // system names it, so `a.bin` and `d/../a.bin` are one file).
+                Resolved::File(path) => {
+                    let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+                    match self.files.get(&key) {
                         Some(bytes) => bytes.clone(),
                         None => {
-                            let bytes = read_resolved(uri, resolved, self.max_file_bytes)?.1;
+                            let bytes: Rc<[u8]> = Rc::from(
+                                read_resolved(uri, Resolved::File(path), self.max_file_bytes)?.1,
+                            );
                             self.bytes_read += bytes.len() as u64;
-                            Rc::from(bytes)
+                            self.files.insert(key, bytes.clone());
+                            bytes
                         }
-                    };
-                    self.sources.insert(format!("uri {uri}"), bytes.clone());
-                    if let Some(key) = file_key {
-                        self.sources.insert(key, bytes.clone());
                     }
-                    bytes
                 }
             },
         };
@@ -541,7 +537,7 @@ impl<'a> Buffers<'a> {
         Ok(loaded)
     }
 
-    /// Bytes read so far from the buffers' distinct sources.
+    /// Bytes of the files read for buffers so far, each file once.
     pub fn bytes_read(&self) -> u64 {
         self.bytes_read
     }
