@@ -43,7 +43,7 @@ impl GBufferTargets {
         device: &Arc<Device>,
         width: u32,
         height: u32,
-        variant: ShaderVariant,
+        emissive_occlusion: bool,
         emissive_format: vk::Format,
     ) -> Result<Self, RenderError> {
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
@@ -75,7 +75,7 @@ impl GBufferTargets {
                     | vk::ImageUsageFlags::SAMPLED
                     | vk::ImageUsageFlags::TRANSFER_SRC,
             )?,
-            emissive: if variant.has_emissive_occlusion_target() {
+            emissive: if emissive_occlusion {
                 Some(image(
                     "gbuffer emissive + occlusion",
                     emissive_format,

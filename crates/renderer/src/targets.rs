@@ -8,7 +8,7 @@ use combustion_vk::{vk, Device, Image, ImageDesc};
 
 use crate::gbuffer::GBufferTargets;
 use crate::graph::TrackedImage;
-use crate::{HdrFormat, RenderError, ShaderVariant};
+use crate::{HdrFormat, RenderError};
 
 /// Identifies one set of targets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -31,12 +31,14 @@ impl FrameTargets {
         key: TargetKey,
         hdr_format: HdrFormat,
     ) -> Result<Self, RenderError> {
-        let variant = ShaderVariant {
-            emissive: key.emissive_occlusion,
-            ..ShaderVariant::default()
-        };
         Ok(Self {
-            gbuffer: GBufferTargets::new(device, key.width, key.height, variant, hdr_format.vk())?,
+            gbuffer: GBufferTargets::new(
+                device,
+                key.width,
+                key.height,
+                key.emissive_occlusion,
+                hdr_format.vk(),
+            )?,
             hdr: Image::new(
                 device,
                 &ImageDesc::new(
