@@ -459,8 +459,9 @@ pub fn measure(
             }
             // What every set is measured against: one f64 reference per scene and size.
             let inputs = FrameInputs::of_scene(&gpu, 1.0);
-            let mut reference = ReferenceShading::new(&gpu.scene, &inputs, desc.width, desc.height);
-            if let Some(environment) = &gpu.scene.environment {
+            let mut reference =
+                ReferenceShading::new(gpu.scene(), &inputs, desc.width, desc.height);
+            if let Some(environment) = &gpu.scene().environment {
                 reference = reference.with_environment(environment.clone(), ENVIRONMENT_SAMPLING);
             }
             let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -507,7 +508,7 @@ pub fn measure(
                     rms_relative: map.rms_relative,
                     compared: map.lit_pixels,
                     flip_mean,
-                    environment: gpu.scene.environment.is_some(),
+                    environment: gpu.scene().environment.is_some(),
                 });
             }
             renderer.retire(gpu);

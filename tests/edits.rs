@@ -69,7 +69,7 @@ fn edits_between_frames_render_as_a_fresh_upload() {
     assert_eq!(renderer.stats().pipelines_built, pipelines);
     renderer.submit_offscreen(&gpu, W, H).unwrap();
     let edited_frame = renderer.render(&gpu, W, H, IMAGES).unwrap();
-    let edited_scene = gpu.scene.clone();
+    let edited_scene = gpu.scene().clone();
     assert_ne!(edited_frame.ldr, before.ldr, "the edit shows");
     let reference = fresh(renderer, &edited_scene);
     assert_same(&edited_frame, &reference, "edited vs fresh upload");
@@ -105,7 +105,7 @@ fn edits_build_only_what_they_need_and_invalid_edits_change_nothing() {
         "G-buffer and lighting of the emissive variant"
     );
     let emissive = renderer.render(&gpu, W, H, IMAGES).unwrap();
-    let reference = fresh(renderer, &gpu.scene.clone());
+    let reference = fresh(renderer, &gpu.scene().clone());
     assert_same(&emissive, &reference, "emissive edit vs fresh upload");
 
     let report = renderer
@@ -117,7 +117,7 @@ fn edits_build_only_what_they_need_and_invalid_edits_change_nothing() {
         .unwrap();
     assert!(report.geometry && !report.textures, "{report:?}");
     let shrunk = renderer.render(&gpu, W, H, IMAGES).unwrap();
-    let reference = fresh(renderer, &gpu.scene.clone());
+    let reference = fresh(renderer, &gpu.scene().clone());
     assert_same(&shrunk, &reference, "mesh edit vs fresh upload");
     drop(gpu);
     common::finish(headless);
@@ -146,5 +146,151 @@ fn pipeline_cache_saves_and_loads() {
         assert_same(&frame, &expected, "renderer with a loaded cache");
     }
     drop(device);
+    common::finish(headless);
+}
+
+/// A scene whose first material samples a 32×32 base-colour image.
+fn textured_spheres() -> Scene {
+    use combustion::scene::{ColorSpace, Image, Sampler, Texture, TextureRef, UvTransform};
+    let mut scene = builtin_scene("spheres").unwrap();
+    let pixels = (0..32 * 32)
+        .flat_map(|i| [(i % 32 * 8) as u8, (i / 32 * 8) as u8, 128, 255])
+        .collect();
+    scene.materials[0].base_color_texture = Some(TextureRef {
+        texture: Texture {
+            image: std::sync::Arc::new(Image {
+                name: "gradient".into(),
+                width: 32,
+                height: 32,
+                color_space: ColorSpace::Srgb,
+                pixels,
+            }),
+            sampler: Sampler::default(),
+        },
+        tex_coord: 0,
+        transform: UvTransform::default(),
+    });
+    scene
+}
+
+/// Issue 19, defect 6: edits upload only the items they add or change — an untextured
+/// material added to a textured scene uploads no image (every texture was uploaded
+/// again before), a mesh added uploads that mesh alone (all geometry before) — and the
+/// report says exactly that; an edit of a scene without an environment reports no
+/// environment bake (it said `true` before). Items are named by stable handles: an
+/// object removed before another leaves the other's handle naming it, and an edit is
+/// undone by handle. Each edited frame equals a fresh upload of the same scene.
+#[test]
+fn edits_upload_only_what_they_add_and_handles_stay_stable() {
+    use combustion::renderer::{EditError, RenderError};
+    use combustion::scene::Material;
+    let mut headless = common::lavapipe(RendererSettings::default());
+    let renderer = headless.renderer();
+    let original = textured_spheres();
+    let mut gpu = renderer.upload(&original).unwrap();
+    let objects = gpu.object_ids().to_vec();
+    assert_eq!(objects.len(), original.objects.len());
+
+    // An untextured material, and an object using it with a mesh of its own.
+    let started = std::time::Instant::now();
+    let (added_material, report) = renderer
+        .try_edit_scene(&mut gpu, |e| {
+            Ok(e.add_material(Material {
+                base_color: [0.9, 0.1, 0.1],
+                ..Material::default()
+            }))
+        })
+        .unwrap();
+    eprintln!(
+        "adding an untextured material: {:.1} ms, {report:?}",
+        started.elapsed().as_secs_f64() * 1e3
+    );
+    assert_eq!(report.images_uploaded, 0, "{report:?}");
+    assert!(
+        !report.environment && report.meshes_uploaded == 0,
+        "{report:?}"
+    );
+    let started = std::time::Instant::now();
+    let ((added_mesh, added_object), report) = renderer
+        .try_edit_scene(&mut gpu, |e| {
+            let mesh = e.add_mesh(combustion::scene::Mesh::plane("floor", 3.0));
+            let object = e.add_object(
+                mesh,
+                added_material,
+                Mat4::from_translation(Vec3::new(0.0, -1.2, 0.0)),
+            )?;
+            Ok((mesh, object))
+        })
+        .unwrap();
+    eprintln!(
+        "adding a mesh and an object: {:.1} ms, {report:?}",
+        started.elapsed().as_secs_f64() * 1e3
+    );
+    assert!(report.geometry && report.meshes_uploaded == 1, "{report:?}");
+    assert!(
+        !report.textures && report.images_uploaded == 0,
+        "{report:?}"
+    );
+    let frame = renderer.render(&gpu, W, H, IMAGES).unwrap();
+    let reference = fresh(renderer, &gpu.scene().clone());
+    assert_same(
+        &frame,
+        &reference,
+        "added mesh, material and object vs fresh upload",
+    );
+
+    // Removing the first object shifts every index; the handles still name the same
+    // objects (the last original object keeps its transform under its handle).
+    let last = *objects.last().unwrap();
+    let last_transform = original.objects.last().unwrap().transform;
+    let ((removed_mesh, removed_material, removed_transform), _) = renderer
+        .try_edit_scene(&mut gpu, |e| e.remove_object(objects[0]))
+        .unwrap();
+    let index = gpu.object_ids().iter().position(|&id| id == last).unwrap();
+    assert_eq!(index, original.objects.len() - 2);
+    assert_eq!(gpu.scene().objects[index].transform, last_transform);
+    // A material in use is refused, and the scene stays as it was.
+    let before = gpu.scene().objects.len();
+    let error = renderer
+        .try_edit_scene(&mut gpu, |e| e.remove_material(added_material).map(|_| ()))
+        .unwrap_err();
+    assert!(
+        matches!(
+            error,
+            RenderError::Edit(EditError::MaterialInUse { objects: 1, .. })
+        ),
+        "{error}"
+    );
+    assert_eq!(gpu.scene().objects.len(), before);
+    // Undo every edit by handle: the first object back (at the end of the list: the
+    // same image), the added object, material and mesh removed.
+    let original_frame = fresh(renderer, &original);
+    let (_, report) = renderer
+        .try_edit_scene(&mut gpu, |e| {
+            e.remove_object(added_object)?;
+            e.remove_material(added_material)?;
+            e.remove_mesh(added_mesh)?;
+            e.add_object(removed_mesh, removed_material, removed_transform)
+        })
+        .unwrap();
+    assert_eq!(report.meshes_uploaded, 0, "{report:?}");
+    assert_eq!(gpu.scene().objects.len(), original.objects.len());
+    assert_eq!(gpu.scene().materials.len(), original.materials.len());
+    assert_eq!(gpu.scene().meshes.len(), original.meshes.len());
+    let undone = renderer.render(&gpu, W, H, IMAGES).unwrap();
+    assert_same(
+        &undone,
+        &original_frame,
+        "every edit undone vs the original",
+    );
+    // A handle of a removed item is refused.
+    let error = renderer
+        .try_edit_scene(&mut gpu, |e| e.set_transform(added_object, Mat4::IDENTITY))
+        .unwrap_err();
+    assert!(
+        matches!(error, RenderError::Edit(EditError::UnknownObject(_))),
+        "{error}"
+    );
+    drop(gpu);
     common::finish(headless);
 }

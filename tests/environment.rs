@@ -595,16 +595,22 @@ fn edits_bake_the_environment_for_the_edited_scene() {
         let renderer = headless.renderer();
         let mut gpu = renderer.upload(&base).expect("upload");
         let mut expected = base.clone();
-        // (edit, whether it bakes the environment again)
+        // (edit, whether it bakes the environment again, whether it keeps the bake);
+        // taking the environment away bakes nothing (the report said it did before
+        // issue 19's fix).
         type Edit<'a> = &'a dyn Fn(&mut Scene);
-        let edits: [(Edit, bool); 3] = [(&add, true), (&lights_only, false), (&remove, true)];
-        for (edit, rebakes) in edits {
-            let baked_before = gpu.environment.as_ref().map(|e| e.bake_ms);
+        let edits: [(Edit, bool, bool); 3] = [
+            (&add, true, false),
+            (&lights_only, false, true),
+            (&remove, false, false),
+        ];
+        for (edit, rebakes, keeps) in edits {
+            let baked_before = gpu.environment().map(|e| e.bake_ms);
             let report = renderer.edit_scene(&mut gpu, edit).expect("edit");
             assert_eq!(report.environment, rebakes);
-            if !rebakes {
+            if keeps {
                 assert_eq!(
-                    gpu.environment.as_ref().map(|e| e.bake_ms),
+                    gpu.environment().map(|e| e.bake_ms),
                     baked_before,
                     "a light-only edit keeps the bake"
                 );
@@ -622,7 +628,7 @@ fn edits_bake_the_environment_for_the_edited_scene() {
             assert_eq!(edited.hdr.len(), 96 * 64);
             assert!(edited.hdr.iter().any(|p| p[0] > 0.0));
             assert_eq!(edited.hdr, fresh.hdr, "edited against fresh upload");
-            assert_eq!(gpu.environment.is_some(), expected.environment.is_some());
+            assert_eq!(gpu.environment().is_some(), expected.environment.is_some());
             renderer.retire(fresh_scene);
         }
         renderer.retire(gpu);

@@ -22,8 +22,14 @@ fn workspace() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The sample models, or None (with a note) when ../shared is not beside the workspace.
+/// The sample models tests/sample-models.txt lists as importing, or None (with a note)
+/// when ../shared is not beside the workspace. (Those refused, and models missing from
+/// the list, are the importer's test: crates/scene/tests/gltf_samples.rs.)
 fn sample_models() -> Option<Vec<PathBuf>> {
+    let importing: Vec<&str> = include_str!("sample-models.txt")
+        .lines()
+        .filter_map(|line| line.strip_suffix(" imports"))
+        .collect();
     let root = workspace().join("../shared/data/gltf");
     if !root.is_dir() {
         eprintln!("skipped: {} is not present", root.display());
@@ -32,6 +38,10 @@ fn sample_models() -> Option<Vec<PathBuf>> {
     let mut files = Vec::new();
     for model in std::fs::read_dir(&root).unwrap() {
         let model = model.unwrap().path();
+        let name = model.file_name().unwrap().to_string_lossy().into_owned();
+        if !importing.contains(&name.as_str()) {
+            continue;
+        }
         for variant in ["glTF", "glTF-Binary", "glTF-Embedded"] {
             let Ok(entries) = std::fs::read_dir(model.join(variant)) else {
                 continue;
@@ -371,4 +381,74 @@ fn any_scale_renders_as_its_metre_twin() {
             "world × {s}: {apart} pixels differ by more than one step"
         );
     }
+}
+
+/// Edits of a textured, emissive sample model (LightsPunctualLamp, 6 images) upload
+/// only what they add: an untextured material uploads no image, where every image was
+/// uploaded again before issue 19's fix — the cost of that, measured here by an edit
+/// that gives every texture a new image (an `Arc` of its own), is printed beside it.
+/// Timings are printed, not asserted.
+#[test]
+fn edits_of_a_textured_sample_model_upload_no_image_they_do_not_add() {
+    use std::time::Instant;
+    let Some(files) = sample_models() else { return };
+    let Some(path) = files
+        .iter()
+        .find(|p| p.to_string_lossy().contains("LightsPunctualLamp"))
+    else {
+        eprintln!("skipped: LightsPunctualLamp is not among the sample models");
+        return;
+    };
+    let scene = SceneSource::File(path.clone()).load().unwrap();
+    let images = scene.texture_table().images.len();
+    assert!(images >= 2, "{images} images");
+    let mut headless = common::lavapipe(RendererSettings::default());
+    let renderer = headless.renderer();
+    let mut gpu = renderer.upload(&scene).unwrap();
+    let ms = |t: Instant| t.elapsed().as_secs_f64() * 1e3;
+    let mut material_ms = Vec::new();
+    let mut all_images_ms = Vec::new();
+    for _ in 0..3 {
+        let t = Instant::now();
+        let report = renderer
+            .edit_scene(&mut gpu, |s| s.materials.push(Material::default()))
+            .unwrap();
+        material_ms.push(ms(t));
+        assert_eq!(report.images_uploaded, 0, "{report:?}");
+        assert!(report.textures, "the texture sets follow the materials");
+        let t = Instant::now();
+        let report = renderer
+            .edit_scene(&mut gpu, |s| {
+                for m in &mut s.materials {
+                    for t in [
+                        &mut m.base_color_texture,
+                        &mut m.metallic_roughness_texture,
+                        &mut m.normal_texture,
+                        &mut m.occlusion_texture,
+                        &mut m.emissive_texture,
+                        &mut m.anisotropy_texture,
+                        &mut m.specular_texture,
+                        &mut m.specular_color_texture,
+                    ]
+                    .into_iter()
+                    .flatten()
+                    {
+                        // A new image (one texel changed, so it is not the same image).
+                        let mut image = (*t.texture.image).clone();
+                        image.pixels[0] ^= 1;
+                        t.texture.image = std::sync::Arc::new(image);
+                    }
+                }
+            })
+            .unwrap();
+        all_images_ms.push(ms(t));
+        assert!(report.images_uploaded >= images, "{report:?}");
+    }
+    eprintln!(
+        "LightsPunctualLamp ({images} images): adding an untextured material {:.1?} ms; an edit uploading every image again {:.1?} ms",
+        material_ms, all_images_ms
+    );
+    renderer.render(&gpu, 64, 48, Readback::default()).unwrap();
+    drop(gpu);
+    common::finish(headless);
 }

@@ -269,13 +269,31 @@ fn alternating_viewports_and_scenes_build_nothing_per_frame() {
     common::finish(headless);
 }
 
+/// Issue 19, defect 5: a device created without the features Combustion needs is
+/// refused, from the create info it was really created with (a host could earlier state
+/// features it never enabled and be accepted, with undefined behaviour later).
 #[test]
-fn a_host_device_lacking_what_combustion_needs_is_refused_with_everything_missing() {
+fn a_host_device_created_without_what_combustion_needs_is_refused_with_everything_missing() {
+    use combustion::vk::EnabledFeatures;
     let vulkan = lavapipe_host();
+    // A second device on the same physical device, created with no features chained.
+    let priorities = [1.0];
+    let queues = [vk::DeviceQueueCreateInfo::default()
+        .queue_family_index(vulkan.queue_family)
+        .queue_priorities(&priorities)];
+    let bare_info = vk::DeviceCreateInfo::default().queue_create_infos(&queues);
+    let bare = unsafe {
+        vulkan
+            .instance
+            .create_device(vulkan.physical_device, &bare_info, None)
+    }
+    .unwrap();
+    // SAFETY: the create info `bare` was created with.
+    let enabled = unsafe { EnabledFeatures::from_create_info(vk::API_VERSION_1_1, &bare_info) };
+    assert!(!enabled.dynamic_rendering() && !enabled.synchronization2());
     let mut host_device: HostDevice = vulkan.for_combustion();
-    host_device.enabled.api_version = combustion::vk::ash::vk::API_VERSION_1_1;
-    host_device.enabled.dynamic_rendering = false;
-    host_device.enabled.synchronization2 = false;
+    host_device.device = bare.clone();
+    host_device.enabled = enabled;
     host_device.queue_family = 99;
     let error = match Device::from_host(host_device) {
         Err(e) => e,
@@ -292,9 +310,37 @@ fn a_host_device_lacking_what_combustion_needs_is_refused_with_everything_missin
         assert!(text.contains(needle), "`{needle}` missing from: {text}");
     }
     assert!(!text.contains('\n'), "one line: {text}");
+    // The host's own device, read from its create info, is accepted.
+    assert!(vulkan.for_combustion().enabled.dynamic_rendering());
+    unsafe { bare.destroy_device(None) };
     let log = vulkan.message_log();
     drop(vulkan);
     assert_no_messages(&log);
+}
+
+/// The features are found wherever the create info's chain enables them: in
+/// `VkPhysicalDeviceVulkan13Features` or in the two features' own structures, behind a
+/// `VkPhysicalDeviceFeatures2`; the extension names are read too.
+#[test]
+fn enabled_features_are_read_from_anywhere_in_the_create_info_chain() {
+    use combustion::vk::EnabledFeatures;
+    let mut dynamic = vk::PhysicalDeviceDynamicRenderingFeatures::default().dynamic_rendering(true);
+    let mut sync2 = vk::PhysicalDeviceSynchronization2Features::default().synchronization2(true);
+    let mut features2 = vk::PhysicalDeviceFeatures2::default();
+    let extensions = [c"VK_KHR_swapchain".as_ptr()];
+    let info = vk::DeviceCreateInfo::default()
+        .enabled_extension_names(&extensions)
+        .push_next(&mut features2)
+        .push_next(&mut dynamic)
+        .push_next(&mut sync2);
+    let enabled = unsafe { EnabledFeatures::from_create_info(vk::API_VERSION_1_3, &info) };
+    assert!(enabled.dynamic_rendering() && enabled.synchronization2());
+    assert_eq!(enabled.device_extensions(), ["VK_KHR_swapchain"]);
+    assert_eq!(enabled.api_version(), vk::API_VERSION_1_3);
+    let mut only_dynamic = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true);
+    let info = vk::DeviceCreateInfo::default().push_next(&mut only_dynamic);
+    let enabled = unsafe { EnabledFeatures::from_create_info(vk::API_VERSION_1_3, &info) };
+    assert!(enabled.dynamic_rendering() && !enabled.synchronization2());
 }
 
 #[test]
@@ -340,7 +386,9 @@ fn every_output_format_holds_the_frame() {
         let (slot, cmd) = host.begin_frame().unwrap();
         let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
         let target = FrameTarget {
-            color: image.color_target(ImageState::UNDEFINED, app::state::COPY_SOURCE),
+            color: image
+                .color_target(ImageState::UNDEFINED, ImageState::COPY_SOURCE)
+                .unwrap(),
             depth: None,
         };
         let renderer = host.renderer.as_mut().unwrap();
@@ -351,7 +399,7 @@ fn every_output_format_holds_the_frame() {
         let bytes = headless::read_back(
             &host,
             &image,
-            app::state::COPY_SOURCE,
+            ImageState::COPY_SOURCE,
             vk::ImageAspectFlags::COLOR,
         )
         .unwrap();
@@ -430,9 +478,11 @@ fn record_refuses_bad_arguments_before_recording() {
         vk::ImageUsageFlags::COLOR_ATTACHMENT,
     )
     .unwrap();
-    let color = image.color_target(ImageState::UNDEFINED, app::state::COLOR_ATTACHMENT);
+    let color = image
+        .color_target(ImageState::UNDEFINED, ImageState::COLOR_ATTACHMENT_WRITE)
+        .unwrap();
     let (slot, cmd) = host.begin_frame().unwrap();
-    let lights = host.scenes[0].scene.lights.clone();
+    let lights = host.scenes[0].scene().lights.clone();
     let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
     let renderer = host.renderer.as_mut().unwrap();
     let scene0 = &host.scenes[0];
@@ -509,8 +559,9 @@ fn record_refuses_bad_arguments_before_recording() {
                     image: image.image,
                     format: vk::Format::D16_UNORM,
                     extent,
+                    usage: vk::ImageUsageFlags::TRANSFER_DST,
                     before: ImageState::UNDEFINED,
-                    after: app::state::DEPTH_TEST,
+                    after: ImageState::DEPTH_ATTACHMENT_READ_WRITE,
                 }),
             },
         )
@@ -519,6 +570,107 @@ fn record_refuses_bad_arguments_before_recording() {
         matches!(error, RenderError::InvalidDepthTarget { .. }),
         "{error}"
     );
+    // Images without the usage a frame needs (issue 19, defect 4): refused by type.
+    use combustion::renderer::TargetImageProblem;
+    let error = renderer
+        .record(
+            cmd,
+            slot,
+            scene0,
+            &inputs,
+            &target(ColorTarget {
+                usage: vk::ImageUsageFlags::SAMPLED,
+                ..color
+            }),
+        )
+        .unwrap_err();
+    assert!(
+        matches!(
+            error,
+            RenderError::InvalidTargetImage {
+                target: "colour",
+                problem: TargetImageProblem::MissingUsage(vk::ImageUsageFlags::COLOR_ATTACHMENT)
+            }
+        ),
+        "{error}"
+    );
+    let depth_info = vk::ImageCreateInfo::default()
+        .image_type(vk::ImageType::TYPE_2D)
+        .format(vk::Format::D32_SFLOAT)
+        .extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        })
+        .mip_levels(1)
+        .array_layers(1)
+        .samples(vk::SampleCountFlags::TYPE_1)
+        .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
+    let sampled_only_depth = DepthTarget::from_create_info(
+        image.image,
+        &depth_info,
+        ImageState::UNDEFINED,
+        ImageState::DEPTH_ATTACHMENT_READ_WRITE,
+    )
+    .unwrap();
+    assert_eq!(sampled_only_depth.extent, extent, "the extent as created");
+    let error = renderer
+        .record(
+            cmd,
+            slot,
+            scene0,
+            &inputs,
+            &FrameTarget {
+                color,
+                depth: Some(sampled_only_depth),
+            },
+        )
+        .unwrap_err();
+    assert!(
+        matches!(
+            error,
+            RenderError::InvalidTargetImage {
+                target: "depth",
+                problem: TargetImageProblem::MissingUsage(vk::ImageUsageFlags::TRANSFER_DST)
+            }
+        ),
+        "{error}"
+    );
+    // Create infos of images no frame can use.
+    let multisampled = depth_info.samples(vk::SampleCountFlags::TYPE_4);
+    let error = DepthTarget::from_create_info(
+        image.image,
+        &multisampled,
+        ImageState::UNDEFINED,
+        ImageState::DEPTH_ATTACHMENT_READ_WRITE,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            error,
+            RenderError::InvalidTargetImage {
+                problem: TargetImageProblem::Multisampled(_),
+                ..
+            }
+        ),
+        "{error}"
+    );
+    let volume = depth_info
+        .image_type(vk::ImageType::TYPE_3D)
+        .extent(vk::Extent3D {
+            width: 8,
+            height: 8,
+            depth: 8,
+        });
+    let error = ColorTarget::from_create_info(
+        image.image,
+        image.view,
+        &volume,
+        ImageState::UNDEFINED,
+        ImageState::COLOR_ATTACHMENT_WRITE,
+    )
+    .unwrap_err();
+    assert!(error.to_string().contains("not a 2D one"), "{error}");
     let stats = renderer.stats();
     assert_eq!(stats.frames, 0, "nothing was recorded");
     host.submit_frame(slot).unwrap();
@@ -601,7 +753,9 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
         }
         let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
         let target = FrameTarget {
-            color: image.color_target(state, app::state::COLOR_ATTACHMENT),
+            color: image
+                .color_target(state, ImageState::COLOR_ATTACHMENT_WRITE)
+                .unwrap(),
             depth: None,
         };
         let renderer = host.renderer.as_mut().unwrap();
@@ -649,7 +803,7 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
             );
             d.cmd_end_rendering(cmd);
         }
-        state = app::state::COLOR_ATTACHMENT;
+        state = ImageState::COLOR_ATTACHMENT_WRITE;
         host.submit_frame(slot).unwrap();
         if frame == 2 {
             // Frame 2 (slot 0) is in flight; the edit's replaced tables are retired.
@@ -662,6 +816,211 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
         }
     }
     host.wait_frames().unwrap();
+    image.destroy(&host.vulkan);
+    drop(host);
+    assert_no_messages(&log);
+}
+
+/// Issue 19, defect 1: scenes with and without the G-buffer's emissive + occlusion
+/// target (and with and without an environment) rendered in alternation, each run of
+/// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
+/// flight. The targets of the scene not shown are retired and destroyed while the
+/// frame slots' lighting sets are reused: every binding must name an image of this
+/// frame (or a placeholder), never one of a retired frame's targets. Before the fix the
+/// sets kept the emissive view of the first scene: `vkDestroyImageView-imageView-01026`,
+/// then a crash.
+#[test]
+fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_target() {
+    let vulkan = lavapipe_host();
+    let log = vulkan.message_log();
+    let mut emissive = builtin_scene("spheres").unwrap();
+    emissive.materials[0].emissive_factor = [1.0, 0.5, 0.25];
+    emissive.materials[0].emissive_strength = 2.0;
+    let scenes = [
+        emissive,
+        builtin_scene("spheres").unwrap(),
+        builtin_scene("spheres-studio").unwrap(),
+    ];
+    let mut host = Host::new(vulkan, 3, &scenes).unwrap();
+    let extent = vk::Extent2D {
+        width: 48 + 2 * BORDER,
+        height: 40 + 2 * BORDER,
+    };
+    let mut output = FinalImage::new(&host, extent).unwrap();
+    // Each scene for 24 frames (past the 16-frame retire delay), twice round.
+    for round in 0..2 {
+        for scene in [0, 1, 0, 2] {
+            for _ in 0..24 {
+                headless::frame(&mut host, &mut output, scene).unwrap();
+            }
+        }
+        let stats = host.renderer().stats();
+        assert!(
+            stats.targets_retired >= 2 * (round + 1),
+            "targets of the scene not shown were retired: {stats:?}"
+        );
+    }
+    host.wait_frames().unwrap();
+    output.image.destroy(&host.vulkan);
+    drop(host);
+    assert_no_messages(&log);
+}
+
+/// Issue 19, defect 2: a slot recorded again before the GPU completed the frame last
+/// recorded with it is refused with a typed error (its descriptor sets and buffers are
+/// in use), told by the slot's last timestamp, written after every command of the
+/// frame. Here the first frame is not even submitted yet when the slot is asked for
+/// again; once it has completed, the slot records.
+#[test]
+fn a_slot_recorded_again_while_its_frame_is_in_flight_is_refused() {
+    use combustion::renderer::RenderError;
+    let vulkan = lavapipe_host();
+    let log = vulkan.message_log();
+    let scenes = [builtin_scene("spheres").unwrap()];
+    let mut host = Host::new(vulkan, 1, &scenes).unwrap();
+    let extent = vk::Extent2D {
+        width: 32,
+        height: 24,
+    };
+    let image = app::HostImage::new(
+        &host.vulkan,
+        "slot reuse test",
+        vk::Format::R8G8B8A8_UNORM,
+        extent,
+        vk::ImageUsageFlags::COLOR_ATTACHMENT,
+    )
+    .unwrap();
+    let target = FrameTarget {
+        color: image
+            .color_target(ImageState::UNDEFINED, ImageState::COLOR_ATTACHMENT_WRITE)
+            .unwrap(),
+        depth: None,
+    };
+    let (pool, other_cmd, fence) = host.vulkan.command_buffer(false).unwrap();
+    let d = host.vulkan.device.clone();
+    let begin = |cmd| unsafe {
+        d.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default())
+            .unwrap()
+    };
+    let record = |host: &mut Host, cmd| {
+        let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
+        let renderer = host.renderer.as_mut().unwrap();
+        renderer.record(cmd, 0, &host.scenes[0], &inputs, &target)
+    };
+
+    let (slot, cmd) = host.begin_frame().unwrap();
+    assert_eq!(slot, 0);
+    record(&mut host, cmd).unwrap();
+    begin(other_cmd);
+    let error = record(&mut host, other_cmd).unwrap_err();
+    assert!(
+        matches!(error, RenderError::FrameSlotInFlight { slot: 0 }),
+        "{error}"
+    );
+    assert!(error.to_string().contains("fence"), "{error}");
+    unsafe { d.end_command_buffer(other_cmd).unwrap() };
+    host.submit_frame(slot).unwrap();
+    host.wait_frames().unwrap();
+    // Completed: the slot records again.
+    let (slot, cmd) = host.begin_frame().unwrap();
+    record(&mut host, cmd).unwrap();
+    host.submit_frame(slot).unwrap();
+    host.wait_frames().unwrap();
+    unsafe {
+        d.destroy_fence(fence, None);
+        d.destroy_command_pool(pool, None);
+    }
+    image.destroy(&host.vulkan);
+    drop(host);
+    assert_no_messages(&log);
+}
+
+/// Issue 19, defect 3: a `GpuScene` dropped (not retired) right after a frame that
+/// reads it was submitted. Its buffers must outlive that frame — the validation layer
+/// takes the frame as pending until the host has waited for its fence, so freeing them
+/// at the drop reports `vkDestroyBuffer-buffer-00922` (as it did before the fix, then a
+/// crash) — and must be freed once the frames that read it have completed: the shared
+/// allocator then holds fewer allocations than while the scene was alive.
+#[test]
+fn a_gpu_scene_dropped_while_frames_read_it_is_freed_once_they_complete() {
+    let vulkan = lavapipe_host();
+    let log = vulkan.message_log();
+    let scenes = [
+        builtin_scene("spheres").unwrap(),
+        builtin_scene("hard-cases").unwrap(),
+    ];
+    let mut host = Host::new(vulkan, 2, &scenes).unwrap();
+    let extent = vk::Extent2D {
+        width: 40 + 2 * BORDER,
+        height: 32 + 2 * BORDER,
+    };
+    let mut output = FinalImage::new(&host, extent).unwrap();
+    for scene in [0, 1, 0, 1] {
+        headless::frame(&mut host, &mut output, scene).unwrap();
+    }
+    let (alive, _, _) = host.vulkan.allocator_usage();
+    // Frame 4 reads scene 1 and is in flight when the scene is dropped.
+    headless::frame(&mut host, &mut output, 1).unwrap();
+    drop(host.scenes.remove(1));
+    for _ in 0..4 {
+        headless::frame(&mut host, &mut output, 0).unwrap();
+    }
+    let (after, _, _) = host.vulkan.allocator_usage();
+    eprintln!("GPU allocations: {alive} with both scenes, {after} after the drop");
+    assert!(
+        after < alive,
+        "the dropped scene's resources were freed: {alive} → {after} allocations"
+    );
+    host.wait_frames().unwrap();
+    output.image.destroy(&host.vulkan);
+    drop(host);
+    assert_no_messages(&log);
+}
+
+/// A scene uploaded by another renderer is refused by `record` and `edit_scene` (its
+/// pipelines, retire queue and descriptor layouts are the other renderer's).
+#[test]
+fn a_scene_of_another_renderer_is_refused() {
+    use combustion::renderer::{RenderError, Renderer};
+    let (mut host, log, scene) = spheres_host();
+    let device = host.combustion_device.clone().unwrap();
+    let mut other = Renderer::new(device, RendererSettings::default()).unwrap();
+    let mut foreign = other.upload(&scene).unwrap();
+    let image = app::HostImage::new(
+        &host.vulkan,
+        "foreign scene test",
+        vk::Format::R8G8B8A8_UNORM,
+        vk::Extent2D {
+            width: 16,
+            height: 16,
+        },
+        vk::ImageUsageFlags::COLOR_ATTACHMENT,
+    )
+    .unwrap();
+    let (slot, cmd) = host.begin_frame().unwrap();
+    let inputs = FrameInputs::of_scene(&foreign, 1.0);
+    let target = FrameTarget {
+        color: image
+            .color_target(ImageState::UNDEFINED, ImageState::COLOR_ATTACHMENT_WRITE)
+            .unwrap(),
+        depth: None,
+    };
+    let renderer = host.renderer.as_mut().unwrap();
+    let error = renderer
+        .record(cmd, slot, &foreign, &inputs, &target)
+        .unwrap_err();
+    assert!(
+        matches!(error, RenderError::SceneOfAnotherRenderer),
+        "{error}"
+    );
+    let error = renderer.edit_scene(&mut foreign, |_| {}).unwrap_err();
+    assert!(
+        matches!(error, RenderError::SceneOfAnotherRenderer),
+        "{error}"
+    );
+    host.submit_frame(slot).unwrap();
+    host.wait_frames().unwrap();
+    drop((foreign, other));
     image.destroy(&host.vulkan);
     drop(host);
     assert_no_messages(&log);

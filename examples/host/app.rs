@@ -31,6 +31,8 @@ pub struct HostImage {
     pub view: vk::ImageView,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
+    /// What the image was created with (it points to nothing: no queue family list).
+    created: vk::ImageCreateInfo<'static>,
     allocation: Option<Allocation>,
 }
 
@@ -89,20 +91,30 @@ impl HostImage {
             view,
             format,
             extent,
+            created: info,
             allocation: Some(allocation),
         })
     }
 
-    /// This image as the colour target of a Combustion frame.
-    pub fn color_target(&self, before: ImageState, after: ImageState) -> ColorTarget {
-        ColorTarget {
-            image: self.image,
-            view: self.view,
-            format: self.format,
-            extent: self.extent,
-            before,
-            after,
-        }
+    /// This image as the colour target of a Combustion frame, described by the create
+    /// info it was created with.
+    pub fn color_target(
+        &self,
+        before: ImageState,
+        after: ImageState,
+    ) -> Result<ColorTarget, String> {
+        ColorTarget::from_create_info(self.image, self.view, &self.created, before, after)
+            .map_err(|e| e.to_string())
+    }
+
+    /// This image as the depth target of a Combustion frame.
+    pub fn depth_target(
+        &self,
+        before: ImageState,
+        after: ImageState,
+    ) -> Result<DepthTarget, String> {
+        DepthTarget::from_create_info(self.image, &self.created, before, after)
+            .map_err(|e| e.to_string())
     }
 
     pub fn destroy(mut self, host: &HostVulkan) {
@@ -155,41 +167,6 @@ pub fn barrier(
             &vk::DependencyInfo::default().image_memory_barriers(&b),
         )
     };
-}
-
-/// States the host uses for its images.
-pub mod state {
-    use combustion::vk::ash::vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
-    use combustion::vk::ImageState;
-
-    pub const BLIT_SOURCE: ImageState =
-        ImageState::new(S::BLIT, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL);
-    pub const TRANSFER_DESTINATION: ImageState = ImageState::new(
-        S::from_raw(S::CLEAR.as_raw() | S::BLIT.as_raw()),
-        A::TRANSFER_WRITE,
-        L::TRANSFER_DST_OPTIMAL,
-    );
-    pub const COLOR_ATTACHMENT: ImageState = ImageState::new(
-        S::COLOR_ATTACHMENT_OUTPUT,
-        A::COLOR_ATTACHMENT_WRITE,
-        L::COLOR_ATTACHMENT_OPTIMAL,
-    );
-    /// Drawn into on top of what is there (load op LOAD: read and write).
-    pub const COLOR_ATTACHMENT_LOAD: ImageState = ImageState::new(
-        S::COLOR_ATTACHMENT_OUTPUT,
-        A::from_raw(A::COLOR_ATTACHMENT_READ.as_raw() | A::COLOR_ATTACHMENT_WRITE.as_raw()),
-        L::COLOR_ATTACHMENT_OPTIMAL,
-    );
-    /// The host's depth test of its own geometry after Combustion's frame.
-    pub const DEPTH_TEST: ImageState = ImageState::new(
-        S::from_raw(S::EARLY_FRAGMENT_TESTS.as_raw() | S::LATE_FRAGMENT_TESTS.as_raw()),
-        A::from_raw(
-            A::DEPTH_STENCIL_ATTACHMENT_READ.as_raw() | A::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
-        ),
-        L::DEPTH_ATTACHMENT_OPTIMAL,
-    );
-    pub const COPY_SOURCE: ImageState =
-        ImageState::new(S::COPY, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL);
 }
 
 /// The viewport Combustion renders into (the host's images) at one size.
@@ -448,7 +425,7 @@ impl Host {
             final_image.image,
             color,
             final_before,
-            state::TRANSFER_DESTINATION,
+            ImageState::BLIT_DESTINATION,
         );
         unsafe {
             d.cmd_clear_color_image(
@@ -464,8 +441,8 @@ impl Host {
 
         // Combustion's frame into the host's viewport and depth.
         let gpu_scene = &self.scenes[scene];
-        let camera = camera_at(&gpu_scene.scene.camera, n);
-        let lights = lights_at(&gpu_scene.scene.lights, n);
+        let camera = camera_at(&gpu_scene.scene().camera, n);
+        let lights = lights_at(&gpu_scene.scene().lights, n);
         let inputs = FrameInputs {
             camera,
             exposure: 1.0,
@@ -476,21 +453,18 @@ impl Host {
         let target = FrameTarget {
             color: viewport
                 .color
-                .color_target(viewport.color_state, state::BLIT_SOURCE),
-            depth: Some(DepthTarget {
-                image: viewport.depth.image,
-                format: viewport.depth.format,
-                extent: inner,
-                before: viewport.depth_state,
-                after: state::DEPTH_TEST,
-            }),
+                .color_target(viewport.color_state, ImageState::BLIT_SOURCE)?,
+            depth: Some(viewport.depth.depth_target(
+                viewport.depth_state,
+                ImageState::DEPTH_ATTACHMENT_READ_WRITE,
+            )?),
         };
         let renderer = self.renderer.as_mut().expect("alive until drop");
         renderer
             .record(cmd, slot, &self.scenes[scene], &inputs, &target)
             .map_err(|e| e.to_string())?;
-        viewport.color_state = state::BLIT_SOURCE;
-        viewport.depth_state = state::DEPTH_TEST;
+        viewport.color_state = ImageState::BLIT_SOURCE;
+        viewport.depth_state = ImageState::DEPTH_ATTACHMENT_READ_WRITE;
 
         // Compose on the device: the viewport into the final image, 1:1, after the clear.
         barrier(
@@ -498,8 +472,8 @@ impl Host {
             cmd,
             final_image.image,
             color,
-            state::TRANSFER_DESTINATION,
-            state::TRANSFER_DESTINATION,
+            ImageState::BLIT_DESTINATION,
+            ImageState::BLIT_DESTINATION,
         );
         let blit = vk::ImageBlit::default()
             .src_subresource(layers(color))
@@ -543,8 +517,8 @@ impl Host {
             cmd,
             final_image.image,
             color,
-            state::TRANSFER_DESTINATION,
-            state::COLOR_ATTACHMENT_LOAD,
+            ImageState::BLIT_DESTINATION,
+            ImageState::COLOR_ATTACHMENT_READ_WRITE,
         );
         let attachment = [vk::RenderingAttachmentInfo::default()
             .image_view(final_image.view)
@@ -588,7 +562,7 @@ impl Host {
             cmd,
             final_image.image,
             color,
-            state::COLOR_ATTACHMENT_LOAD,
+            ImageState::COLOR_ATTACHMENT_READ_WRITE,
             final_after,
         );
         Ok(())

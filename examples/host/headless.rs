@@ -10,7 +10,7 @@ use combustion::vk::gpu_allocator::vulkan::{AllocationCreateDesc, AllocationSche
 use combustion::vk::gpu_allocator::MemoryLocation;
 use combustion::vk::ImageState;
 
-use crate::app::{barrier, state, Host, HostImage};
+use crate::app::{barrier, Host, HostImage};
 
 /// The host's offscreen final image and the state it was left in.
 pub struct FinalImage {
@@ -44,9 +44,9 @@ pub fn frame(host: &mut Host, output: &mut FinalImage, scene: usize) -> Result<(
         scene,
         (&output.image).into(),
         output.state,
-        state::COPY_SOURCE,
+        ImageState::COPY_SOURCE,
     )?;
-    output.state = state::COPY_SOURCE;
+    output.state = ImageState::COPY_SOURCE;
     host.submit_frame(slot)
 }
 
@@ -80,7 +80,7 @@ pub struct SoakPlan {
     pub frames: u64,
     /// Every this many frames the current scene is edited: an object moved, with
     /// `Renderer::edit_scene` three times in four and by uploading the scene anew (the
-    /// old upload retired to Combustion, not waited for) the fourth.
+    /// old upload dropped, not waited for) the fourth.
     pub edit_every: u64,
     /// The scenes alternate every this many frames.
     pub scene_every: u64,
@@ -103,7 +103,8 @@ impl SoakPlan {
             }
             a / x * b
         };
-        // Edits cycle through 4 positions; scenes through 2; sizes through 2.
+        // Edits cycle through 4 positions; scenes through 2 (the tests' soaks alternate
+        // two); sizes through 2.
         let pattern = lcm(
             lcm(4 * self.edit_every, 2 * self.scene_every),
             2 * self.resize_every,
@@ -162,8 +163,9 @@ pub fn soak(
                 let mut edited = scenes[scene].clone();
                 place(&mut edited);
                 let upload = host.renderer().upload(&edited).map_err(|e| e.to_string())?;
-                let old = std::mem::replace(&mut host.scenes[scene], upload);
-                host.renderer().retire(old);
+                // The old upload is dropped while frames in flight read it: Combustion
+                // keeps its resources until those frames have completed.
+                drop(std::mem::replace(&mut host.scenes[scene], upload));
             } else {
                 let renderer = host.renderer.as_mut().expect("alive until drop");
                 renderer
@@ -238,7 +240,7 @@ pub fn read_back(
         d.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default())
             .map_err(|e| e.to_string())?;
     }
-    barrier(d, cmd, image.image, aspect, from, state::COPY_SOURCE);
+    barrier(d, cmd, image.image, aspect, from, ImageState::COPY_SOURCE);
     let region = vk::BufferImageCopy::default()
         .image_subresource(vk::ImageSubresourceLayers {
             aspect_mask: aspect,

@@ -9,7 +9,12 @@
 //! cargo run --example host -- --frames 300 --validate      # validation + synchronization validation
 //! cargo run --example host -- --window                     # in a window (X11); Escape to quit
 //! cargo run --example host -- --frames 30 --screenshot host.png   # the last frame as PNG
+//! cargo run --example host -- --soak 1000 --validate --scene builtin:all --scene model.glb
 //! ```
+//!
+//! `--scene SOURCE` (repeatable): `builtin:NAME`, `builtin:all` (every built-in scene) or a
+//! glTF file; the soak alternates between them (default: builtin:spheres and
+//! builtin:hard-cases). Frames without `--soak` show the first.
 
 mod app;
 mod headless;
@@ -32,6 +37,7 @@ struct Options {
     window: bool,
     frames_given: bool,
     screenshot: Option<String>,
+    scenes: Vec<String>,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -46,6 +52,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         window: false,
         frames_given: false,
         screenshot: None,
+        scenes: Vec::new(),
     };
     let mut i = 0;
     while i < args.len() {
@@ -69,6 +76,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--height" => o.height = number(value()?)? as u32,
             "--device" => o.device = value()?.clone(),
             "--screenshot" => o.screenshot = Some(value()?.clone()),
+            "--scene" => o.scenes.push(value()?.clone()),
             "--validate" => {
                 o.validate = true;
                 i += 1;
@@ -100,11 +108,36 @@ fn main() {
     }
 }
 
-fn run(o: &Options) -> Result<(), String> {
-    let scenes = [
-        builtin_scene("spheres").map_err(|e| e.to_string())?,
-        builtin_scene("hard-cases").map_err(|e| e.to_string())?,
+/// The scenes `--scene` names, in order (`builtin:all`: every built-in scene).
+fn load_scenes(sources: &[String]) -> Result<Vec<combustion::scene::Scene>, String> {
+    let defaults = [
+        "builtin:spheres".to_owned(),
+        "builtin:hard-cases".to_owned(),
     ];
+    let sources = if sources.is_empty() {
+        &defaults[..]
+    } else {
+        sources
+    };
+    let mut scenes = Vec::new();
+    for source in sources {
+        if source == "builtin:all" {
+            for name in combustion::scene::BUILTIN_SCENES {
+                scenes.push(builtin_scene(name).map_err(|e| e.to_string())?);
+            }
+        } else {
+            scenes.push(
+                combustion::SceneSource::parse(source)
+                    .load()
+                    .map_err(|e| format!("{source}: {e}"))?,
+            );
+        }
+    }
+    Ok(scenes)
+}
+
+fn run(o: &Options) -> Result<(), String> {
+    let scenes = load_scenes(&o.scenes)?;
     if o.window {
         let summary = window::run(
             &window::WindowOptions {
@@ -144,6 +177,15 @@ fn run(o: &Options) -> Result<(), String> {
         width: o.width,
         height: o.height,
     };
+    println!(
+        "{} scene(s): {}",
+        scenes.len(),
+        scenes
+            .iter()
+            .map(|s| s.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     let start = Instant::now();
     let frames = if let Some(frames) = o.soak {
         let other = vk::Extent2D {

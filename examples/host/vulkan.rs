@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex};
 
 use combustion::vk::ash::{self, ext, vk};
 use combustion::vk::gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
-use combustion::vk::{HostDevice, Requirements};
+use combustion::vk::{EnabledFeatures, HostDevice, Requirements};
 
 /// Validation messages the host's messenger received.
 pub type Messages = Arc<Mutex<Vec<String>>>;
@@ -25,7 +25,8 @@ pub struct HostVulkan {
     pub queue_family: u32,
     pub queue: Arc<Mutex<vk::Queue>>,
     pub allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
-    device_extensions: Vec<&'static CStr>,
+    /// What the device was created with, read from its create info.
+    enabled: EnabledFeatures,
 }
 
 unsafe extern "system" fn on_message(
@@ -123,9 +124,12 @@ impl HostVulkan {
                     return None;
                 }
                 let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
-                let family = families
-                    .iter()
-                    .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))?;
+                // Combustion records graphics and compute work (light culling) into
+                // the host's command buffers: one family must do both.
+                let family = families.iter().position(|f| {
+                    f.queue_flags
+                        .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+                })?;
                 Some((pd, family as u32))
             })
             .ok_or_else(|| format!("no Vulkan device named like `{device_name}`"))?;
@@ -146,6 +150,9 @@ impl HostVulkan {
             .push_next(&mut features13);
         let device = unsafe { instance.create_device(physical_device, &device_info, None) }
             .map_err(|e| format!("vkCreateDevice: {e}"))?;
+        // SAFETY: the create info the device was just created with, still alive.
+        let enabled =
+            unsafe { EnabledFeatures::from_create_info(Requirements::API_VERSION, &device_info) };
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.clone(),
@@ -166,7 +173,7 @@ impl HostVulkan {
             queue_family,
             queue: Arc::new(Mutex::new(queue)),
             allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
-            device_extensions: device_extensions.to_vec(),
+            enabled,
         })
     }
 
@@ -182,7 +189,7 @@ impl HostVulkan {
             queue_index: 0,
             queue: self.queue.clone(),
             allocator: Some(Arc::clone(&self.allocator)),
-            enabled: HostDevice::enabled_as_required(&self.device_extensions),
+            enabled: self.enabled.clone(),
         }
     }
 

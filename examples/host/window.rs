@@ -247,21 +247,17 @@ impl State {
             view: swapchain.views[index],
             extent: swapchain.extent,
         };
-        let present = ImageState::new(
-            vk::PipelineStageFlags2::ALL_COMMANDS,
-            vk::AccessFlags2::NONE,
-            vk::ImageLayout::PRESENT_SRC_KHR,
-        );
         // The acquire semaphore is waited for at every stage; the first barrier's first
         // scope names a stage of that wait (colour output) so that the layout change
-        // comes after it. UNDEFINED: the image's old contents are not needed.
-        let acquired_state = ImageState::new(
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags2::NONE,
-            vk::ImageLayout::UNDEFINED,
-        );
-        self.host
-            .record_frame(slot, cmd, 0, target, acquired_state, present)?;
+        // comes after it. The image's old contents are not needed.
+        self.host.record_frame(
+            slot,
+            cmd,
+            0,
+            target,
+            ImageState::SWAPCHAIN_ACQUIRED,
+            ImageState::PRESENT,
+        )?;
         let render_done = swapchain.render_done[index];
         self.host
             .submit_frame_with(slot, Some((acquired, render_done)))?;

@@ -59,8 +59,8 @@ pub fn measure_error(
     };
     let frame = renderer.render_with(scene, inputs, width, height, readback)?;
     let started = std::time::Instant::now();
-    let mut reference = ReferenceShading::new(&scene.scene, inputs, width, height);
-    if let Some(environment) = &scene.scene.environment {
+    let mut reference = ReferenceShading::new(scene.scene(), inputs, width, height);
+    if let Some(environment) = &scene.scene().environment {
         // The environment's integral costs thousands of BRDF evaluations a pixel: one
         // pixel in 4×4 is compared (the rest grey), with 500 samples of each strategy.
         reference = reference.with_environment(

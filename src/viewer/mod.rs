@@ -456,7 +456,7 @@ impl State {
             swapchain: None,
             surface,
             ring,
-            orbit: camera::OrbitCamera::new(&gpu_scene.scene.camera),
+            orbit: camera::OrbitCamera::new(&gpu_scene.scene().camera),
             gpu_scene,
             renderer,
             device,
@@ -596,16 +596,6 @@ impl State {
             self.ring.submit(frame)?; // empty: keeps the ring's slots in step
             return Ok(None);
         };
-        let present_state = ImageState::new(
-            vk::PipelineStageFlags2::NONE,
-            vk::AccessFlags2::NONE,
-            vk::ImageLayout::PRESENT_SRC_KHR,
-        );
-        let copy_state = ImageState::new(
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_READ,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-        );
         let screenshot = self.screenshot.take();
         let target = FrameTarget {
             color: ColorTarget {
@@ -613,18 +603,15 @@ impl State {
                 view: image.view,
                 format: swapchain.format(),
                 extent,
+                usage: swapchain.image_usage(),
                 // The acquisition's semaphore is waited for (at every stage) before the
                 // layout change; the change's first scope must include a stage of that
                 // wait, so it names colour output rather than none.
-                before: ImageState::new(
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::NONE,
-                    vk::ImageLayout::UNDEFINED,
-                ),
+                before: ImageState::SWAPCHAIN_ACQUIRED,
                 after: if screenshot.is_some() {
-                    copy_state
+                    ImageState::COPY_SOURCE
                 } else {
-                    present_state
+                    ImageState::PRESENT
                 },
             },
             depth: None,
@@ -653,7 +640,7 @@ impl State {
             } else {
                 1.0
             },
-            lights: &self.gpu_scene.scene.lights,
+            lights: &self.gpu_scene.scene().lights,
             overlay: &panels,
         };
         self.renderer
@@ -664,8 +651,8 @@ impl State {
                 frame.cmd,
                 image.image,
                 extent,
-                copy_state,
-                present_state,
+                ImageState::COPY_SOURCE,
+                ImageState::PRESENT,
             )?;
             // Read when the frame has completed: when its slot comes round again (the
             // ring waits for that anyway) or at the end; no frame waits for it.
@@ -732,7 +719,7 @@ impl State {
             label: &label,
             extent: (extent.width, extent.height),
             triangles: self.triangles,
-            lights: self.gpu_scene.scene.lights.len(),
+            lights: self.gpu_scene.scene().lights.len(),
             frame_ms: recent_median(&summary.frame_ms),
             timings: self.renderer.last_completed_timings(),
             view: self.renderer.debug_view().name(),
@@ -800,7 +787,7 @@ impl State {
         let inputs = FrameInputs {
             camera,
             exposure: self.exposure,
-            lights: &self.gpu_scene.scene.lights,
+            lights: &self.gpu_scene.scene().lights,
             overlay: &[],
         };
         let error = inspect::measure_error(
@@ -922,7 +909,7 @@ impl App<'_> {
         let scripted = self.path.as_ref().map(|path| {
             path.at(
                 self.presented as f32 / PATH_FRAMES_PER_SECOND,
-                &state.gpu_scene.scene.camera,
+                &state.gpu_scene.scene().camera,
             )
         });
         if self
@@ -1210,7 +1197,7 @@ impl App<'_> {
             "s" => fly[2][0] = down,
             "w" => fly[2][1] = down,
             "f" if down => {
-                if let Some(bounds) = state.gpu_scene.scene.world_bounds() {
+                if let Some(bounds) = state.gpu_scene.scene().world_bounds() {
                     let size = state.window.inner_size();
                     let aspect = size.width.max(1) as f32 / size.height.max(1) as f32;
                     state.orbit.frame(bounds, aspect);

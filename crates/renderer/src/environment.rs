@@ -140,24 +140,7 @@ impl GpuEnvironment {
             cube("environment placeholder")?,
             cube("environment placeholder")?,
         );
-        let mut commands = OneShot::new(device)?;
-        let cmd = commands.begin()?;
-        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
-        let read = (
-            S::FRAGMENT_SHADER,
-            A::SHADER_SAMPLED_READ,
-            L::SHADER_READ_ONLY_OPTIMAL,
-        );
-        let barriers = [&specular, &irradiance]
-            .map(|image| image.barrier((S::NONE, A::NONE, L::UNDEFINED), read));
-        // SAFETY: recording state; the images live until the wait below.
-        unsafe {
-            device.raw().cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&barriers),
-            )
-        };
-        commands.submit_and_wait()?;
+        crate::targets::make_sampled_placeholders(device, &[&specular, &irradiance])?;
         let table = |name| crate::frame::filled_storage_buffer(device, name, &[0; 32]);
         Ok(Self {
             specular,

@@ -1,7 +1,6 @@
 //! Recording one frame into a command buffer: per-frame-slot resources, the passes in
 //! order with the barriers their declarations imply, and the retire list.
 
-use std::any::Any;
 use std::sync::Arc;
 
 use combustion_vk::{vk, Buffer, DescriptorPool, Device, ImageState, TimestampQueries, VkError};
@@ -13,8 +12,9 @@ use crate::overlay::OverlayQuad;
 use crate::targets::{FrameTargets, TargetKey};
 use crate::{FrameInputs, FrameTarget, GpuScene, PassTimings, RenderError, Renderer, SetLayouts};
 
-/// Timestamp slots: start, after G-buffer, after lighting, after output.
-const TIMESTAMPS: u32 = 4;
+/// Timestamp slots: start, after G-buffer, after lighting, after output, and the end of
+/// the frame's last command (its availability says the slot's frame has completed).
+const TIMESTAMPS: u32 = 5;
 
 /// Targets unused for this many frames are retired (a window resized, a viewport closed).
 const TARGETS_KEPT_FOR_FRAMES: u64 = 16;
@@ -45,7 +45,7 @@ pub(crate) struct FrameSlot {
     pub(crate) stamped: bool,
     /// Objects replaced while this slot's frame was the latest recorded: dropped when
     /// the slot is reused, i.e. once that frame (and so every earlier one) completed.
-    retired: Vec<Box<dyn Any + Send>>,
+    retired: Vec<crate::retire::Retired>,
 }
 
 impl FrameSlot {
@@ -97,7 +97,7 @@ impl FrameSlot {
         })
     }
 
-    pub fn retire(&mut self, resource: Box<dyn Any + Send>) {
+    pub fn retire(&mut self, resource: crate::retire::Retired) {
         self.retired.push(resource);
     }
 }
@@ -187,14 +187,17 @@ fn lighting_uses(
     images.push(((&g.depth).into(), ImageUse::DepthFragmentSampled));
     images.push(((&targets.hdr).into(), ImageUse::ColorAttachmentWrite));
     let mut buffers = vec![
-        (scene.materials.raw(), BufferUse::FragmentStorageRead),
+        (scene.gpu.materials.raw(), BufferUse::FragmentStorageRead),
         (lights.raw(), BufferUse::FragmentStorageRead),
-        (scene.conductor_table.raw(), BufferUse::FragmentStorageRead),
+        (
+            scene.gpu.conductor_table.raw(),
+            BufferUse::FragmentStorageRead,
+        ),
     ];
     if let Some(tile_lights) = tile_lights {
         buffers.push((tile_lights.raw(), BufferUse::FragmentStorageRead));
     }
-    if let Some(environment) = &scene.environment {
+    if let Some(environment) = &scene.gpu.environment {
         for table in [
             &environment.albedo,
             &environment.code_albedo,
@@ -328,6 +331,9 @@ impl Renderer {
                 None => RenderError::UnsupportedOutputFormat(target.color.format),
             });
         }
+        if !scene.belongs_to(&self.retire_queue) {
+            return Err(RenderError::SceneOfAnotherRenderer);
+        }
         let variant = self.variant_of(scene.variant);
         if !self.variants.contains_key(&variant) {
             return Err(RenderError::VariantNotPrepared);
@@ -343,7 +349,23 @@ impl Renderer {
                 return Err(RenderError::InvalidAfterLayout(what));
             }
         }
+        let missing_usage = |target, usage: vk::ImageUsageFlags, needed| {
+            if usage.contains(needed) {
+                Ok(())
+            } else {
+                Err(RenderError::InvalidTargetImage {
+                    target,
+                    problem: crate::TargetImageProblem::MissingUsage(needed),
+                })
+            }
+        };
+        missing_usage(
+            "colour",
+            target.color.usage,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT,
+        )?;
         if let Some(depth) = &target.depth {
+            missing_usage("depth", depth.usage, vk::ImageUsageFlags::TRANSFER_DST)?;
             if depth.format != crate::gbuffer::DEPTH_FORMAT || depth.extent != extent {
                 return Err(RenderError::InvalidDepthTarget {
                     got: depth.format,
@@ -358,9 +380,18 @@ impl Renderer {
         Ok(variant)
     }
 
-    /// Marks the start of a frame in `slot`: its previous frame is complete.
+    /// Marks the start of a frame in `slot`: its previous frame must be complete (the
+    /// host's promise, checked where the device has timestamps: the slot's last
+    /// timestamp, written after every command of its frame, must be available). What
+    /// scenes dropped since the last frame joins the retire list of the frame recorded
+    /// last (the last that may read it); then what this slot's frame retired is freed.
     fn begin_slot(&mut self, slot: usize) -> Result<(), RenderError> {
-        self.collect_timings(slot)?;
+        if self.collect_timings(slot)? == SlotFrame::Pending {
+            return Err(RenderError::FrameSlotInFlight { slot });
+        }
+        for dropped in self.retire_queue.take() {
+            self.retire_boxed(dropped);
+        }
         self.slots[slot].retired.clear();
         Ok(())
     }
@@ -487,8 +518,8 @@ impl Renderer {
         // sets is in use.
         bindings::GBUFFER
             .writer(s.gbuffer_set)
-            .buffer("objects", &scene.objects)
-            .buffer("materials", &scene.materials)
+            .buffer("objects", &scene.gpu.objects)
+            .buffer("materials", &scene.gpu.materials)
             .apply(device);
         let mut lighting = bindings::LIGHTING
             .writer(s.lighting_set)
@@ -511,18 +542,23 @@ impl Renderer {
                 no_sampler,
             )
             .image("gbuffer_depth", g.depth.view(), depth_read, no_sampler)
-            .buffer("materials", &scene.materials)
+            .buffer("materials", &scene.gpu.materials)
             .buffer("lights", &s.lights)
-            .buffer("conductor_from_code", &scene.conductor_table)
+            .buffer("conductor_from_code", &scene.gpu.conductor_table)
             .buffer("tile_lights", &s.tile_lights)
             .buffer("energy_white_albedo", &self.energy_table);
-        if let Some(emissive) = &g.emissive {
-            lighting = lighting.image("gbuffer_emissive", emissive.view(), read, no_sampler);
-        }
-        // Every binding is written (a driver may read a set's descriptors when it is
-        // bound, used or not): the scene's environment, or the placeholder.
+        // Every binding is written, every frame: a driver may read a set's descriptors
+        // when it is bound, used or not, and a binding left as an earlier frame wrote it
+        // would name that frame's image after it was retired and destroyed. Absent
+        // targets and environments get placeholders.
+        let emissive = g.emissive.as_ref().unwrap_or(&self.absent_target);
+        lighting = lighting.image("gbuffer_emissive", emissive.view(), read, no_sampler);
         {
-            let environment = scene.environment.as_ref().unwrap_or(&self.no_environment);
+            let environment = scene
+                .gpu
+                .environment
+                .as_ref()
+                .unwrap_or(&self.no_environment);
             let sampler = environment.sampler.raw();
             lighting = lighting
                 .image(
@@ -716,12 +752,23 @@ impl Renderer {
         states.release(raw, cmd, color, target.color.after);
         // The host's images are the host's again: their states come with the next frame.
         states.forget(color.raw);
+        stamp(TIMESTAMPS - 1);
         s.stamped = s.timestamps.is_some();
     }
 }
 
+/// Whether a slot's last frame has completed, as its timestamps tell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SlotFrame {
+    /// Completed (its timings were read), or nothing to tell: no frame was recorded in
+    /// the slot since it was last known complete, or the device has no timestamps.
+    Completed,
+    /// Some timestamp of the slot's last frame is not written yet.
+    Pending,
+}
+
 impl PassTimings {
-    /// From the four timestamps of a frame, in ms since the first.
+    /// From the timestamps of a frame, in ms since the first.
     pub(crate) fn from_stamps(ms: &[f64]) -> Self {
         Self {
             gbuffer_ms: ms[1] - ms[0],

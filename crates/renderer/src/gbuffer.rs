@@ -221,8 +221,8 @@ impl GBufferPass {
             .collect();
         images.push(((&targets.depth).into(), ImageUse::DepthAttachmentWrite));
         crate::graph::PassUses::images("G-buffer", images).with_buffers(vec![
-            (scene.objects.raw(), BufferUse::VertexStorageRead),
-            (scene.materials.raw(), BufferUse::FragmentStorageRead),
+            (scene.gpu.objects.raw(), BufferUse::VertexStorageRead),
+            (scene.gpu.materials.raw(), BufferUse::FragmentStorageRead),
         ])
     }
 
@@ -285,13 +285,27 @@ impl GBufferPass {
                 &[set],
                 &[],
             );
-            // Stream 1 (coordinate set 1) is read only by the TEXTURE_TRANSFORMS pipelines.
-            raw.cmd_bind_vertex_buffers(cmd, 0, &[scene.vertices.raw(), scene.uv1.raw()], &[0, 0]);
-            raw.cmd_bind_index_buffer(cmd, scene.indices.raw(), 0, vk::IndexType::UINT32);
             let mut bound_material = None;
-            for (object_index, (draw, &double_sided)) in
-                scene.draws.iter().zip(&scene.double_sided).enumerate()
+            let mut bound_mesh = None;
+            for (object_index, (&mesh, &double_sided)) in scene
+                .draw_meshes
+                .iter()
+                .zip(&scene.double_sided)
+                .enumerate()
             {
+                let buffers = &scene.gpu.meshes[mesh];
+                if bound_mesh != Some(mesh) {
+                    // Stream 1 (coordinate set 1) is read only by the TEXTURE_TRANSFORMS
+                    // pipelines.
+                    raw.cmd_bind_vertex_buffers(
+                        cmd,
+                        0,
+                        &[buffers.vertices.raw(), buffers.uv1.raw()],
+                        &[0, 0],
+                    );
+                    raw.cmd_bind_index_buffer(cmd, buffers.indices.raw(), 0, vk::IndexType::UINT32);
+                    bound_mesh = Some(mesh);
+                }
                 let material = scene.draw_materials[object_index];
                 if bound_material != Some(material) {
                     raw.cmd_bind_descriptor_sets(
@@ -299,7 +313,7 @@ impl GBufferPass {
                         vk::PipelineBindPoint::GRAPHICS,
                         self.layout.raw(),
                         1,
-                        &[scene.textures.material_sets[material]],
+                        &[scene.gpu.textures.material_sets[material]],
                         &[],
                     );
                     bound_material = Some(material);
@@ -324,14 +338,7 @@ impl GBufferPass {
                     0,
                     bytemuck::bytes_of(&push),
                 );
-                raw.cmd_draw_indexed(
-                    cmd,
-                    draw.index_count,
-                    1,
-                    draw.first_index,
-                    draw.vertex_offset,
-                    0,
-                );
+                raw.cmd_draw_indexed(cmd, buffers.index_count, 1, 0, 0, 0);
             }
             raw.cmd_end_rendering(cmd);
         }

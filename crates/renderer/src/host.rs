@@ -5,7 +5,7 @@
 use combustion_scene::{Camera, Light};
 use combustion_vk::{vk, ImageState};
 
-use crate::{GpuScene, OverlayPanel};
+use crate::{GpuScene, OverlayPanel, RenderError};
 
 /// The format of the renderer's own display image ([`crate::Renderer::render`]), whose
 /// output pass is prepared at construction.
@@ -46,9 +46,17 @@ impl OutputEncoding {
     }
 }
 
-/// The colour image a frame is rendered into: a 2D image (one mip level, one layer) with
-/// `COLOR_ATTACHMENT` usage, of a format [`OutputEncoding::of`] accepts and prepared with
-/// [`crate::Renderer::prepare_output`].
+/// The colour image a frame is rendered into: a 2D image (one sample; the frame writes
+/// mip level 0, layer 0) with `COLOR_ATTACHMENT` usage, of a format
+/// [`OutputEncoding::of`] accepts and prepared with [`crate::Renderer::prepare_output`].
+/// The frame covers the whole image.
+///
+/// `format`, `extent` and `usage` are the image's as it was created: take them from the
+/// create info it was created with ([`ColorTarget::from_create_info`],
+/// [`ColorTarget::from_swapchain`]) rather than typing them again. Vulkan cannot be
+/// asked an image's size, so that these are the image's, and that `view` is a 2D view
+/// of its mip level 0 and layer 0, remain the host's promise; everything else is
+/// checked ([`crate::Renderer::record`]).
 ///
 /// Synchronisation contract: the frame's first barrier on this image waits for
 /// `before.stage`/`before.access` (the host's last use, recorded earlier in the same
@@ -60,8 +68,12 @@ pub struct ColorTarget {
     pub image: vk::Image,
     /// A 2D colour view of mip level 0, layer 0.
     pub view: vk::ImageView,
+    /// The image's format.
     pub format: vk::Format,
+    /// The image's extent (width and height it was created with).
     pub extent: vk::Extent2D,
+    /// The image's usage flags (must include `COLOR_ATTACHMENT`).
+    pub usage: vk::ImageUsageFlags,
     /// Where the host left the image. `ImageState::UNDEFINED` is right for an image
     /// whose contents the host does not need (they are overwritten anyway).
     pub before: ImageState,
@@ -70,10 +82,55 @@ pub struct ColorTarget {
     pub after: ImageState,
 }
 
+impl ColorTarget {
+    /// The target for `image`, created with `info`, seen through `view`. Refuses
+    /// images a frame cannot be rendered into (not 2D, multisampled, without
+    /// `COLOR_ATTACHMENT` usage).
+    pub fn from_create_info(
+        image: vk::Image,
+        view: vk::ImageView,
+        info: &vk::ImageCreateInfo<'_>,
+        before: ImageState,
+        after: ImageState,
+    ) -> Result<Self, RenderError> {
+        check_created("colour", info)?;
+        Ok(Self {
+            image,
+            view,
+            format: info.format,
+            extent: extent_2d(info.extent),
+            usage: info.usage,
+            before,
+            after,
+        })
+    }
+
+    /// The target for a swapchain image of the swapchain created with `info`.
+    pub fn from_swapchain(
+        image: vk::Image,
+        view: vk::ImageView,
+        info: &vk::SwapchainCreateInfoKHR<'_>,
+        before: ImageState,
+        after: ImageState,
+    ) -> Self {
+        Self {
+            image,
+            view,
+            format: info.image_format,
+            extent: info.image_extent,
+            usage: info.image_usage,
+            before,
+            after,
+        }
+    }
+}
+
 /// A host's depth image that receives the frame's depth (the G-buffer's, copied), so
 /// that the host can draw its own geometry afterwards, depth-tested against the scene.
 /// `D32_SFLOAT`, of the colour target's extent, with `TRANSFER_DST` usage; depth 1 is the
-/// far plane (nothing drawn), as the projection of [`Camera`] gives.
+/// far plane (nothing drawn), as the projection of [`Camera`] gives. `format`, `extent`
+/// and `usage` are the image's as created, as for [`ColorTarget`]
+/// ([`DepthTarget::from_create_info`]).
 ///
 /// Synchronisation contract as for [`ColorTarget`]: waited for from `before`, written by
 /// a copy, released to `after`.
@@ -82,8 +139,68 @@ pub struct DepthTarget {
     pub image: vk::Image,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
+    /// The image's usage flags (must include `TRANSFER_DST`).
+    pub usage: vk::ImageUsageFlags,
     pub before: ImageState,
     pub after: ImageState,
+}
+
+impl DepthTarget {
+    /// The depth target for `image`, created with `info` (not 2D or multisampled:
+    /// refused).
+    pub fn from_create_info(
+        image: vk::Image,
+        info: &vk::ImageCreateInfo<'_>,
+        before: ImageState,
+        after: ImageState,
+    ) -> Result<Self, RenderError> {
+        check_created("depth", info)?;
+        Ok(Self {
+            image,
+            format: info.format,
+            extent: extent_2d(info.extent),
+            usage: info.usage,
+            before,
+            after,
+        })
+    }
+}
+
+/// What is wrong with an image a host gave as a frame's target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum TargetImageProblem {
+    #[error("was not created with {0:?} usage")]
+    MissingUsage(vk::ImageUsageFlags),
+    #[error("is a {0:?} image, not a 2D one")]
+    NotTwoDimensional(vk::ImageType),
+    #[error("has {0:?} samples per pixel; frames are rendered with one")]
+    Multisampled(vk::SampleCountFlags),
+    #[error("has no mip level or no array layer")]
+    Empty,
+}
+
+fn extent_2d(extent: vk::Extent3D) -> vk::Extent2D {
+    vk::Extent2D {
+        width: extent.width,
+        height: extent.height,
+    }
+}
+
+/// Refuses create infos of images a frame cannot use as its `target`.
+fn check_created(target: &'static str, info: &vk::ImageCreateInfo<'_>) -> Result<(), RenderError> {
+    let problem = if info.image_type != vk::ImageType::TYPE_2D || info.extent.depth != 1 {
+        Some(TargetImageProblem::NotTwoDimensional(info.image_type))
+    } else if info.samples != vk::SampleCountFlags::TYPE_1 {
+        Some(TargetImageProblem::Multisampled(info.samples))
+    } else if info.mip_levels == 0 || info.array_layers == 0 {
+        Some(TargetImageProblem::Empty)
+    } else {
+        None
+    };
+    match problem {
+        Some(problem) => Err(RenderError::InvalidTargetImage { target, problem }),
+        None => Ok(()),
+    }
 }
 
 /// Where a frame goes.
@@ -110,9 +227,9 @@ impl<'a> FrameInputs<'a> {
     /// The scene's own camera and lights, with `exposure`.
     pub fn of_scene(scene: &'a GpuScene, exposure: f32) -> Self {
         Self {
-            camera: scene.scene.camera,
+            camera: scene.scene().camera,
             exposure,
-            lights: &scene.scene.lights,
+            lights: &scene.scene().lights,
             overlay: &[],
         }
     }

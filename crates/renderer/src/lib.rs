@@ -35,6 +35,8 @@ mod frame;
 mod fullscreen;
 mod host;
 mod offscreen;
+mod retire;
+mod scene_edit;
 mod scene_upload;
 mod shader_sources;
 mod targets;
@@ -50,10 +52,12 @@ use fullscreen::FullscreenPass;
 use gbuffer::{GBufferPass, GBufferReadback};
 use gpu_types::{LightingPush, TonemapPush};
 pub use host::{
-    ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, DISPLAY_FORMAT,
+    ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, TargetImageProblem,
+    DISPLAY_FORMAT,
 };
 pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
+pub use scene_edit::{EditError, MaterialId, MeshId, ObjectId, SceneEditor};
 pub use scene_upload::{GpuScene, SceneEditReport};
 
 /// The parts of the material model a lighting pipeline contains. A scene's pipeline
@@ -399,18 +403,29 @@ pub enum RenderError {
         slot: usize,
         frames_in_flight: usize,
     },
+    #[error("frame slot {slot} is still in flight: the GPU has not completed the frame last recorded with it; wait for that frame's fence before recording the slot again (or call Renderer::frames_completed if it was never submitted)")]
+    FrameSlotInFlight { slot: usize },
     #[error("output format {0:?} is not supported; use an RGBA16F/RGBA32F (linear), RGBA8/BGRA8 UNORM or _SRGB (display) format")]
     UnsupportedOutputFormat(vk::Format),
     #[error("output format {0:?} was not prepared; call Renderer::prepare_output before recording frames into it")]
     OutputNotPrepared(vk::Format),
-    #[error("the scene was uploaded by another renderer, or its pipelines were not built; upload it with this renderer")]
+    #[error("the scene's pipelines were not built; call Renderer::prepare after changing the renderer's settings")]
     VariantNotPrepared,
+    #[error("the scene was uploaded by another renderer; upload it with this renderer")]
+    SceneOfAnotherRenderer,
+    #[error("scene edit refused: {0}")]
+    Edit(#[from] EditError),
     #[error("the {0} target's `after` layout must be a layout an image can be left in, not UNDEFINED or PREINITIALIZED")]
     InvalidAfterLayout(&'static str),
     #[error("overlay: {0}")]
     Overlay(String),
     #[error("this device cannot render environment lighting: {0}")]
     EnvironmentUnsupported(String),
+    #[error("the {target} target image {problem}")]
+    InvalidTargetImage {
+        target: &'static str,
+        problem: TargetImageProblem,
+    },
     #[error("the host's depth image is {got:?} of {got_width}x{got_height}; it must be D32_SFLOAT of the target's size {width}x{height}")]
     InvalidDepthTarget {
         got: vk::Format,
@@ -705,6 +720,12 @@ pub struct Renderer {
     overlay_image: (combustion_vk::Buffer, Option<[u32; 2]>),
     /// Bound in the lighting set for scenes without an environment.
     no_environment: environment::GpuEnvironment,
+    /// What this renderer's [`GpuScene`]s hand over when dropped, moved to the retire
+    /// list of the frame recorded last when the next frame begins.
+    retire_queue: Arc<retire::RetireQueue>,
+    /// Bound in the lighting set where the frame's G-buffer has no emissive + occlusion
+    /// target.
+    absent_target: combustion_vk::Image,
     layouts: SetLayouts,
     pipeline_cache: PipelineCache,
     compiler: ShaderCompiler,
@@ -788,6 +809,7 @@ impl Renderer {
         )?;
         let overlay_image = (overlay_image_buffer(&device, &[[0; 4]])?, None);
         let no_environment = environment::GpuEnvironment::placeholder(&device)?;
+        let absent_target = targets::absent_target_placeholder(&device, settings.hdr_format.vk())?;
         let energy_table =
             frame::filled_storage_buffer(&device, "energy table placeholder", &[0; 16])?;
         let pipeline_cache = PipelineCache::new(&device, cache_data)?;
@@ -811,6 +833,8 @@ impl Renderer {
             overlay_atlas,
             overlay_image,
             no_environment,
+            absent_target,
+            retire_queue: retire::RetireQueue::new(),
             pipeline_cache,
             layouts,
             compiler,
@@ -1120,10 +1144,16 @@ impl Renderer {
     /// Validates and uploads a scene, and builds the pipelines it needs (never inside a
     /// frame's recording).
     pub fn upload(&mut self, scene: &Scene) -> Result<GpuScene, RenderError> {
-        let mut gpu_scene = GpuScene::new(&self.device, scene, &self.layouts.material)?;
-        self.prepare_variant(self.variant_of(gpu_scene.variant))?;
-        gpu_scene.environment = self.bake_environment(&gpu_scene.scene)?;
-        Ok(gpu_scene)
+        scene.validate()?;
+        self.prepare_variant(self.variant_of(scene_upload::scene_variant(scene)))?;
+        let environment = self.bake_environment(scene)?;
+        GpuScene::new(
+            &self.device,
+            scene,
+            &self.layouts.material,
+            environment,
+            self.retire_queue.clone(),
+        )
     }
 
     /// The scene's environment baked for its materials (None without one).
@@ -1152,18 +1182,41 @@ impl Renderer {
     }
 
     /// Edits an uploaded scene between frames without uploading it again: `edit` changes
-    /// a copy of its CPU scene (add, remove or change objects, materials, lights,
-    /// meshes, textures); only the parts that changed are rebuilt (see
-    /// [`SceneEditReport`]), the replaced ones are retired until the frames in flight
+    /// a copy of its CPU scene by index (add, remove or change objects, materials,
+    /// lights, meshes, textures); only what changed is uploaded (see
+    /// [`SceneEditReport`]), the replaced parts are retired until the frames in flight
     /// that read them have completed, and a shader feature the edit needs is built now,
     /// ahead of the next frame. On error (an invalid edit) the scene is unchanged.
+    /// [`Renderer::try_edit_scene`] edits by stable handle.
     pub fn edit_scene(
         &mut self,
         scene: &mut GpuScene,
         edit: impl FnOnce(&mut Scene),
     ) -> Result<SceneEditReport, RenderError> {
-        let mut next = scene.scene.clone();
-        edit(&mut next);
+        self.try_edit_scene(scene, |editor| {
+            edit(editor.scene_mut());
+            Ok(())
+        })
+        .map(|((), report)| report)
+    }
+
+    /// As [`Renderer::edit_scene`], with the edit made through a [`SceneEditor`]: items
+    /// added and removed by handle ([`ObjectId`], [`MaterialId`], [`MeshId`]: stable
+    /// across edits; [`GpuScene::object_ids`] and its siblings give those of the items
+    /// uploaded), and changes by index through [`SceneEditor::scene_mut`]. `edit` may
+    /// refuse ([`EditError`]): the scene is then unchanged. Returns what `edit` returned
+    /// (the handles it made, say) and what was rebuilt.
+    pub fn try_edit_scene<T>(
+        &mut self,
+        scene: &mut GpuScene,
+        edit: impl FnOnce(&mut SceneEditor) -> Result<T, EditError>,
+    ) -> Result<(T, SceneEditReport), RenderError> {
+        if !scene.belongs_to(&self.retire_queue) {
+            return Err(RenderError::SceneOfAnotherRenderer);
+        }
+        let mut editor = SceneEditor::new(scene.scene().clone(), scene.ids.clone());
+        let value = edit(&mut editor)?;
+        let (next, ids) = editor.finish();
         next.validate()?;
         // The pipelines first: if they cannot be built, the scene stays as it was.
         let before = self.stats.pipelines_built;
@@ -1173,7 +1226,7 @@ impl Renderer {
         // changes what the bake reads — the environment or the material table (optics
         // and the outside medium, not names, textures, lights, objects or the camera) —
         // before anything of the scene is replaced, so a failed bake leaves it as it was.
-        let old = &scene.scene;
+        let old = scene.scene();
         let environment = if !same_environment(&next.environment, &old.environment)
             || bytemuck::cast_slice::<_, u8>(&gpu_types::material_table(&next, &[]))
                 != bytemuck::cast_slice::<_, u8>(&gpu_types::material_table(old, &[]))
@@ -1182,31 +1235,28 @@ impl Renderer {
         } else {
             None
         };
-        let rebaked = environment.is_some();
-        let (report, retired) = scene.edited(&self.device, next, &self.layouts.material)?;
+        let (report, retired) =
+            scene.edited(&self.device, next, ids, &self.layouts.material, environment)?;
         for part in retired {
             self.retire_boxed(part);
         }
-        if let Some(environment) = environment {
-            if let Some(old) = std::mem::replace(&mut scene.environment, environment) {
-                self.retire(old);
-            }
-        }
-        Ok(SceneEditReport {
-            pipelines_built,
-            environment: rebaked,
-            ..report
-        })
+        Ok((
+            value,
+            SceneEditReport {
+                pipelines_built,
+                ..report
+            },
+        ))
     }
 
-    /// Keeps `resource` (a replaced [`GpuScene`], buffer, image...) alive until the
-    /// frames recorded so far have completed, then drops it. Use it instead of dropping
-    /// a scene that frames in flight may still read.
+    /// Keeps `resource` (a buffer, image or anything holding them) alive until the
+    /// frames recorded so far have completed, then drops it. A [`GpuScene`] needs no
+    /// call: dropping it retires its resources this way.
     pub fn retire(&mut self, resource: impl std::any::Any + Send) {
         self.retire_boxed(Box::new(resource));
     }
 
-    fn retire_boxed(&mut self, resource: Box<dyn std::any::Any + Send>) {
+    fn retire_boxed(&mut self, resource: retire::Retired) {
         match self.last_slot {
             Some(slot) => self.slots[slot].retire(resource),
             // No frame was ever recorded: nothing can be using it.
@@ -1237,34 +1287,39 @@ impl Renderer {
     /// The host has waited for every frame it recorded (e.g. at exit or before a pause):
     /// collects the timings of every slot's last frame, so that
     /// [`Renderer::take_completed_timings`] has them all.
+    /// Every slot is free afterwards, even one whose last frame's timestamps are still
+    /// unwritten (the host's word: its timings are then lost).
     pub fn frames_completed(&mut self) -> Result<(), RenderError> {
         let count = self.slots.len();
         let first = self.last_slot.map_or(0, |last| (last + 1) % count);
         for i in 0..count {
-            self.collect_timings((first + i) % count)?;
+            let slot = (first + i) % count;
+            if self.collect_timings(slot)? == frame::SlotFrame::Pending {
+                // The host's word: it completed (or never ran). Its timings are lost.
+                self.slots[slot].stamped = false;
+            }
         }
         Ok(())
     }
 
-    /// Reads the timestamps of `slot`'s frame, which has completed.
-    pub(crate) fn collect_timings(&mut self, slot: usize) -> Result<(), RenderError> {
+    /// Reads the timestamps of `slot`'s last frame if the GPU has written them all
+    /// (never waits); [`frame::SlotFrame::Pending`] while any is not.
+    pub(crate) fn collect_timings(&mut self, slot: usize) -> Result<frame::SlotFrame, RenderError> {
         let s = &mut self.slots[slot];
-        if !s.stamped {
-            return Ok(());
-        }
-        if let Some(t) = &s.timestamps {
-            let stamps: Option<Vec<f64>> = t.read_ms_if_available()?;
-            if let Some(ms) = stamps {
-                let timings = PassTimings::from_stamps(&ms);
-                self.last_timings = Some(timings);
-                if self.completed_timings.len() == COMPLETED_TIMINGS_KEPT {
-                    self.completed_timings.pop_front();
-                }
-                self.completed_timings.push_back(timings);
-            }
-        }
+        let Some(t) = s.timestamps.as_ref().filter(|_| s.stamped) else {
+            return Ok(frame::SlotFrame::Completed);
+        };
+        let Some(ms) = t.read_ms_if_available()? else {
+            return Ok(frame::SlotFrame::Pending);
+        };
         s.stamped = false;
-        Ok(())
+        let timings = PassTimings::from_stamps(&ms);
+        self.last_timings = Some(timings);
+        if self.completed_timings.len() == COMPLETED_TIMINGS_KEPT {
+            self.completed_timings.pop_front();
+        }
+        self.completed_timings.push_back(timings);
+        Ok(frame::SlotFrame::Completed)
     }
 
     fn check_size(&self, width: u32, height: u32) -> Result<(), RenderError> {
@@ -1278,15 +1333,18 @@ impl Renderer {
 
 impl Drop for Renderer {
     fn drop(&mut self) {
-        // Combustion's own submissions are waited for (bounded) by the frame ring's Drop,
-        // which runs first (the first field); frames recorded into a host's command
-        // buffers are the host's to wait for (docs/integration.md). Only an owned device
-        // is waited idle as well.
+        // Combustion's own submissions are waited for (bounded) by the frame ring's Drop;
+        // frames recorded into a host's command buffers are the host's to wait for
+        // (docs/integration.md). Only an owned device is waited idle as well.
+        drop(self.offscreen.take());
         if self.device.is_owned() {
             if let Err(e) = self.device.wait_idle() {
                 log::error!("waiting for the device before teardown: {e}");
             }
         }
+        // Every frame is complete now: what scenes dropped is freed, and scenes dropped
+        // from here on free their resources at once.
+        drop(self.retire_queue.close());
     }
 }
 

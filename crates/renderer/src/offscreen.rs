@@ -228,6 +228,7 @@ impl Renderer {
                 view: display.view(),
                 format: DISPLAY_FORMAT,
                 extent,
+                usage: display.usage(),
                 before: *display_state,
                 after,
             },
@@ -241,7 +242,11 @@ impl Renderer {
         if let (Some(readback), Some(buffers)) = (readback, &offscreen.readback) {
             self.record_copies(frame.cmd, display, buffers, extent, readback, scene);
         }
-        offscreen.ring.submit(frame)?;
+        if let Err(e) = offscreen.ring.submit(frame) {
+            // The frame will never run: its slot is not waiting for it.
+            self.slots[frame.slot].stamped = false;
+            return Err(e.into());
+        }
         Ok(frame)
     }
 

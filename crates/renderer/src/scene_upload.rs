@@ -3,57 +3,112 @@
 //! edited between frames by rebuilding only the parts an edit touches (lights are each
 //! frame's own, in `FrameInputs`).
 
+use std::mem::ManuallyDrop;
 use std::sync::Arc;
 
-use combustion_scene::Scene;
+use combustion_scene::{Mesh, Scene};
 use combustion_vk::{vk, Buffer, DescriptorSetLayout, Device};
 
 use crate::gpu_types::{conductor_from_base_color_table, material_table, GpuObject, GpuVertex};
+use crate::retire::{RetireQueue, Retired};
+use crate::scene_edit::{MaterialId, MeshId, ObjectId, SceneIds};
 use crate::textures::SceneTextures;
 use crate::RenderError;
 
-/// One draw of the G-buffer pass (object i of the object table).
-#[derive(Clone, Copy, Debug)]
-pub struct Draw {
-    pub first_index: u32,
-    pub index_count: u32,
-    pub vertex_offset: i32,
-}
-
-/// A validated scene uploaded to the GPU.
+/// A validated scene uploaded to the GPU by one [`crate::Renderer`]
+/// ([`crate::Renderer::upload`]), drawn by that renderer's frames.
+///
+/// Dropping it is safe at any time: its buffers, images and environment go to the
+/// renderer's retire queue and are freed only once every frame recorded before the drop
+/// has completed (when the renderer next reuses that frame's slot), never while the GPU
+/// may still read them.
 pub struct GpuScene {
-    pub(crate) vertices: Buffer,
-    /// Every vertex's second coordinate set (the TEXTURE_TRANSFORMS variant's stream).
-    pub(crate) uv1: Buffer,
-    pub(crate) indices: Buffer,
-    pub(crate) objects: Buffer,
-    pub(crate) materials: Buffer,
-    /// `conductor_from_base_color_table()`, or one dummy entry when no material needs it.
-    pub(crate) conductor_table: Buffer,
-    pub(crate) textures: SceneTextures,
-    /// Per mesh: its range in the vertex and index buffers.
-    mesh_ranges: Vec<Draw>,
-    pub(crate) draws: Vec<Draw>,
+    /// What the GPU reads; handed to the retire queue on drop.
+    pub(crate) gpu: ManuallyDrop<SceneResources>,
+    /// Per draw (object i of the object table): its mesh (index into `gpu.meshes`).
+    pub(crate) draw_meshes: Vec<usize>,
     /// Per draw: render back faces too (double-sided material).
     pub(crate) double_sided: Vec<bool>,
     /// Per draw: the material (index into `textures.material_sets`).
     pub(crate) draw_materials: Vec<usize>,
     /// Shader features this scene needs (selects the pipeline variant).
     pub(crate) variant: crate::ShaderVariant,
+    /// The scene as uploaded (or last edited).
+    scene: Scene,
+    /// The handles of its objects, materials and meshes.
+    pub(crate) ids: SceneIds,
+    /// The uploading renderer's retire queue.
+    retire: Arc<RetireQueue>,
+}
+
+/// The GPU resources of a [`GpuScene`].
+pub(crate) struct SceneResources {
+    /// Per mesh of the scene: its buffers.
+    pub(crate) meshes: Vec<Arc<MeshBuffers>>,
+    pub(crate) objects: Buffer,
+    pub(crate) materials: Buffer,
+    /// `conductor_from_base_color_table()`, or one dummy entry when no material needs it.
+    pub(crate) conductor_table: Buffer,
+    pub(crate) textures: SceneTextures,
     /// Its environment, baked ([`crate::Renderer::upload`]; None without one).
-    pub environment: Option<crate::environment::GpuEnvironment>,
-    /// The scene as uploaded. Its camera and lights are what [`crate::FrameInputs::of_scene`]
-    /// gives; each frame may bring its own.
-    pub scene: Scene,
+    pub(crate) environment: Option<crate::environment::GpuEnvironment>,
+}
+
+impl Drop for GpuScene {
+    fn drop(&mut self) {
+        // SAFETY: `gpu` is taken once, here, and never touched again.
+        let gpu = unsafe { ManuallyDrop::take(&mut self.gpu) };
+        self.retire.push(Box::new(gpu));
+    }
+}
+
+impl GpuScene {
+    /// The scene as uploaded, or as the last [`crate::Renderer::edit_scene`] left it.
+    /// Its camera and lights are what [`crate::FrameInputs::of_scene`] gives; each
+    /// frame may bring its own.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// Its environment as baked for its materials (None without one).
+    pub fn environment(&self) -> Option<&crate::environment::GpuEnvironment> {
+        self.gpu.environment.as_ref()
+    }
+
+    /// The handles of the scene's objects, index for index with `scene().objects`.
+    pub fn object_ids(&self) -> &[ObjectId] {
+        &self.ids.objects
+    }
+
+    /// The handles of the scene's materials, index for index.
+    pub fn material_ids(&self) -> &[MaterialId] {
+        &self.ids.materials
+    }
+
+    /// The handles of the scene's meshes, index for index.
+    pub fn mesh_ids(&self) -> &[MeshId] {
+        &self.ids.meshes
+    }
+
+    /// Whether `queue` is the retire queue of the renderer that uploaded this scene.
+    pub(crate) fn belongs_to(&self, queue: &Arc<RetireQueue>) -> bool {
+        Arc::ptr_eq(&self.retire, queue)
+    }
 }
 
 /// What [`crate::Renderer::edit_scene`] rebuilt. Parts not named were kept as they were.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SceneEditReport {
-    /// The vertex and index buffers (meshes changed).
+    /// The mesh list (meshes changed).
     pub geometry: bool,
-    /// The textures and the per-material texture sets (images, textures or samplers changed).
+    /// Meshes uploaded: those the scene did not have before (a mesh kept unchanged, at
+    /// any index, keeps its buffers).
+    pub meshes_uploaded: usize,
+    /// The per-material texture sets and samplers (the materials' textures changed).
     pub textures: bool,
+    /// Images uploaded: those the scene did not have before (an image it kept, the same
+    /// `Arc`, is never uploaded again).
+    pub images_uploaded: usize,
     /// The object and material tables and the draw list (always: they are small).
     pub tables: bool,
     /// Pipelines built because the edit needs a shader feature the renderer had not built.
@@ -93,32 +148,24 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
     }
 }
 
-/// The vertex and index buffers of every mesh, and each mesh's range in them.
-struct Geometry {
-    vertices: Buffer,
-    uv1: Buffer,
-    indices: Buffer,
-    mesh_ranges: Vec<Draw>,
+/// One mesh's vertex streams and indices on the GPU. Shared (`Arc`) by a scene and the
+/// scene an edit makes of it while the mesh is unchanged, so that an edit uploads only
+/// the meshes it adds or changes.
+pub(crate) struct MeshBuffers {
+    pub(crate) vertices: Buffer,
+    /// Every vertex's second coordinate set (the TEXTURE_TRANSFORMS variant's stream).
+    pub(crate) uv1: Buffer,
+    pub(crate) indices: Buffer,
+    pub(crate) index_count: u32,
 }
 
-impl Geometry {
-    fn new(device: &Arc<Device>, scene: &Scene) -> Result<Self, RenderError> {
-        let mut vertices: Vec<GpuVertex> = Vec::new();
-        let mut uv1: Vec<[f32; 2]> = Vec::new();
-        let mut indices: Vec<u32> = Vec::new();
-        let mut mesh_ranges = Vec::with_capacity(scene.meshes.len());
-        for mesh in &scene.meshes {
-            let vertex_offset = i32::try_from(vertices.len())
-                .map_err(|_| RenderError::TooLarge("more than 2³¹ vertices".into()))?;
-            mesh_ranges.push(Draw {
-                first_index: indices.len() as u32,
-                index_count: mesh.indices.len() as u32,
-                vertex_offset,
-            });
-            vertices.extend(mesh.vertices.iter().map(GpuVertex::new));
-            uv1.extend(mesh.vertices.iter().map(|v| v.uv1));
-            indices.extend_from_slice(&mesh.indices);
-        }
+impl MeshBuffers {
+    fn new(device: &Arc<Device>, mesh: &Mesh) -> Result<Self, RenderError> {
+        let index_count = u32::try_from(mesh.indices.len()).map_err(|_| {
+            RenderError::TooLarge(format!("mesh `{}`: more than 2³² indices", mesh.name))
+        })?;
+        let vertices: Vec<GpuVertex> = mesh.vertices.iter().map(GpuVertex::new).collect();
+        let uv1: Vec<[f32; 2]> = mesh.vertices.iter().map(|v| v.uv1).collect();
         Ok(Self {
             vertices: Buffer::with_data(
                 device,
@@ -135,12 +182,42 @@ impl Geometry {
             indices: Buffer::with_data(
                 device,
                 "indices",
-                bytemuck::cast_slice(&indices),
+                bytemuck::cast_slice(&mesh.indices),
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
-            mesh_ranges,
+            index_count,
         })
     }
+}
+
+/// The GPU buffers of `meshes`: a mesh equal to one of `previous` (the meshes before an
+/// edit, with their buffers) shares its buffers — the same index first, then any —
+/// and the others are uploaded. Also returns how many were uploaded.
+fn mesh_buffers(
+    device: &Arc<Device>,
+    meshes: &[Mesh],
+    previous: Option<(&[Mesh], &[Arc<MeshBuffers>])>,
+) -> Result<(Vec<Arc<MeshBuffers>>, usize), RenderError> {
+    let mut uploaded = 0;
+    let mut buffers = Vec::with_capacity(meshes.len());
+    for (i, mesh) in meshes.iter().enumerate() {
+        let kept = previous.and_then(|(old, old_buffers)| {
+            let same = |j: &usize| old[*j] == *mesh;
+            Some(i)
+                .filter(|&i| i < old.len())
+                .filter(same)
+                .or_else(|| (0..old.len()).find(same))
+                .map(|j| old_buffers[j].clone())
+        });
+        buffers.push(match kept {
+            Some(b) => b,
+            None => {
+                uploaded += 1;
+                Arc::new(MeshBuffers::new(device, mesh)?)
+            }
+        });
+    }
+    Ok((buffers, uploaded))
 }
 
 /// The object and material tables, the conductor table, and the draw list.
@@ -148,7 +225,7 @@ struct Tables {
     objects: Buffer,
     materials: Buffer,
     conductor_table: Buffer,
-    draws: Vec<Draw>,
+    draw_meshes: Vec<usize>,
     double_sided: Vec<bool>,
     draw_materials: Vec<usize>,
     variant: crate::ShaderVariant,
@@ -158,7 +235,6 @@ impl Tables {
     fn new(
         device: &Arc<Device>,
         scene: &Scene,
-        mesh_ranges: &[Draw],
         textures: &SceneTextures,
     ) -> Result<Self, RenderError> {
         let objects: Vec<GpuObject> = scene.objects.iter().map(GpuObject::new).collect();
@@ -189,7 +265,7 @@ impl Tables {
                 bytemuck::cast_slice(conductor_table),
                 storage,
             )?,
-            draws: scene.objects.iter().map(|o| mesh_ranges[o.mesh]).collect(),
+            draw_meshes: scene.objects.iter().map(|o| o.mesh).collect(),
             double_sided: scene
                 .objects
                 .iter()
@@ -202,101 +278,114 @@ impl Tables {
 }
 
 impl GpuScene {
-    pub fn new(
+    /// Uploads `scene`, validated by the caller, with its `environment` baked, for the
+    /// renderer whose retire queue is `retire`.
+    pub(crate) fn new(
         device: &Arc<Device>,
         scene: &Scene,
         material_set_layout: &DescriptorSetLayout,
+        environment: Option<crate::environment::GpuEnvironment>,
+        retire: Arc<RetireQueue>,
     ) -> Result<Self, RenderError> {
-        scene.validate()?;
-        let geometry = Geometry::new(device, scene)?;
-        let textures = SceneTextures::new(device, scene, material_set_layout)?;
-        let tables = Tables::new(device, scene, &geometry.mesh_ranges, &textures)?;
-        Ok(Self::assemble(geometry, textures, tables, scene.clone()))
-    }
-
-    fn assemble(geometry: Geometry, textures: SceneTextures, tables: Tables, scene: Scene) -> Self {
-        Self {
-            vertices: geometry.vertices,
-            uv1: geometry.uv1,
-            indices: geometry.indices,
-            mesh_ranges: geometry.mesh_ranges,
-            objects: tables.objects,
-            materials: tables.materials,
-            conductor_table: tables.conductor_table,
-            textures,
-            draws: tables.draws,
+        let (meshes, _) = mesh_buffers(device, &scene.meshes, None)?;
+        let (textures, _) = SceneTextures::new(device, scene, material_set_layout, None)?;
+        let tables = Tables::new(device, scene, &textures)?;
+        Ok(Self {
+            gpu: ManuallyDrop::new(SceneResources {
+                meshes,
+                objects: tables.objects,
+                materials: tables.materials,
+                conductor_table: tables.conductor_table,
+                textures,
+                environment,
+            }),
+            draw_meshes: tables.draw_meshes,
             double_sided: tables.double_sided,
             draw_materials: tables.draw_materials,
             variant: tables.variant,
-            environment: None,
-            scene,
-        }
+            scene: scene.clone(),
+            ids: SceneIds::new(scene),
+            retire,
+        })
     }
 
-    /// Builds what `next` needs that differs from this scene: new geometry if the meshes
-    /// changed, new textures if the texture table changed, new tables always. Returns the
-    /// edited scene and this one's replaced parts (to retire), or an error with this
-    /// scene untouched.
+    /// Builds what `next` needs that differs from this scene: the buffers of meshes it
+    /// adds or changes, the images it adds and the texture sets if the materials'
+    /// textures changed, new tables always; and takes
+    /// `environment` if it is baked anew. Returns what was rebuilt and this scene's
+    /// replaced parts (to retire), or an error with this scene untouched.
     pub(crate) fn edited(
         &mut self,
         device: &Arc<Device>,
         next: Scene,
+        ids: SceneIds,
         material_set_layout: &DescriptorSetLayout,
-    ) -> Result<(SceneEditReport, Vec<Box<dyn std::any::Any + Send>>), RenderError> {
-        next.validate()?;
+        environment: Option<Option<crate::environment::GpuEnvironment>>,
+    ) -> Result<(SceneEditReport, Vec<Retired>), RenderError> {
         let mut report = SceneEditReport {
             tables: true,
             ..SceneEditReport::default()
         };
-        let geometry = if next.meshes != self.scene.meshes {
+        let meshes = if next.meshes != self.scene.meshes {
+            let (meshes, uploaded) = mesh_buffers(
+                device,
+                &next.meshes,
+                Some((&self.scene.meshes, &self.gpu.meshes)),
+            )?;
             report.geometry = true;
-            Some(Geometry::new(device, &next)?)
+            report.meshes_uploaded = uploaded;
+            Some(meshes)
         } else {
             None
         };
         let textures = if next.texture_table() != self.scene.texture_table() {
+            let (textures, uploaded) =
+                SceneTextures::new(device, &next, material_set_layout, Some(&self.gpu.textures))?;
             report.textures = true;
-            Some(SceneTextures::new(device, &next, material_set_layout)?)
+            report.images_uploaded = uploaded;
+            Some(textures)
         } else {
             None
         };
-        let mesh_ranges = geometry
-            .as_ref()
-            .map_or(&self.mesh_ranges, |g| &g.mesh_ranges);
         let tables = Tables::new(
             device,
             &next,
-            mesh_ranges,
-            textures.as_ref().unwrap_or(&self.textures),
+            textures.as_ref().unwrap_or(&self.gpu.textures),
         )?;
-        // Everything new is built: swap it in and hand back what it replaces.
-        let mut retired: Vec<Box<dyn std::any::Any + Send>> = Vec::new();
-        if let Some(g) = geometry {
-            retired.push(Box::new(std::mem::replace(&mut self.vertices, g.vertices)));
-            retired.push(Box::new(std::mem::replace(&mut self.uv1, g.uv1)));
-            retired.push(Box::new(std::mem::replace(&mut self.indices, g.indices)));
-            self.mesh_ranges = g.mesh_ranges;
+        // Everything new is built: swap it in and hand back what it replaces (buffers
+        // still shared with the new parts stay alive through them).
+        let gpu = &mut *self.gpu;
+        let mut retired: Vec<Retired> = Vec::new();
+        if let Some(meshes) = meshes {
+            retired.push(Box::new(std::mem::replace(&mut gpu.meshes, meshes)));
         }
         if let Some(t) = textures {
-            retired.push(Box::new(std::mem::replace(&mut self.textures, t)));
+            retired.push(Box::new(std::mem::replace(&mut gpu.textures, t)));
         }
         retired.push(Box::new(std::mem::replace(
-            &mut self.objects,
+            &mut gpu.objects,
             tables.objects,
         )));
         retired.push(Box::new(std::mem::replace(
-            &mut self.materials,
+            &mut gpu.materials,
             tables.materials,
         )));
         retired.push(Box::new(std::mem::replace(
-            &mut self.conductor_table,
+            &mut gpu.conductor_table,
             tables.conductor_table,
         )));
-        self.draws = tables.draws;
+        if let Some(environment) = environment {
+            report.environment = environment.is_some();
+            if let Some(old) = std::mem::replace(&mut gpu.environment, environment) {
+                retired.push(Box::new(old));
+            }
+        }
+        self.draw_meshes = tables.draw_meshes;
         self.double_sided = tables.double_sided;
         self.draw_materials = tables.draw_materials;
         self.variant = tables.variant;
         self.scene = next;
+        self.ids = ids;
         Ok((report, retired))
     }
 }

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use combustion_vk::{vk, Device, Image, ImageDesc};
+use combustion_vk::{vk, Device, Image, ImageDesc, OneShot};
 
 use crate::gbuffer::GBufferTargets;
 use crate::graph::TrackedImage;
@@ -66,4 +66,55 @@ impl FrameTargets {
         all.push((&self.hdr).into());
         all
     }
+}
+
+/// Leaves `images` (new, never written) in the layout fragment shaders sample in, once,
+/// waiting for the transition: placeholders a set binds where a real image is absent
+/// (every binding of a set is written, since a driver may read a bound set's descriptors
+/// whether the pipeline uses them or not). Never called inside a frame.
+pub(crate) fn make_sampled_placeholders(
+    device: &Arc<Device>,
+    images: &[&Image],
+) -> Result<(), RenderError> {
+    use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
+    let mut commands = OneShot::new(device)?;
+    let cmd = commands.begin()?;
+    let read = (
+        S::FRAGMENT_SHADER,
+        A::SHADER_SAMPLED_READ,
+        L::SHADER_READ_ONLY_OPTIMAL,
+    );
+    let barriers: Vec<_> = images
+        .iter()
+        .map(|image| image.barrier((S::NONE, A::NONE, L::UNDEFINED), read))
+        .collect();
+    // SAFETY: recording state; the images live until the wait below.
+    unsafe {
+        device.raw().cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&barriers),
+        )
+    };
+    commands.submit_and_wait()?;
+    Ok(())
+}
+
+/// A 1×1 image of `format` standing in for an absent G-buffer target in the lighting
+/// set (e.g. the emissive + occlusion target of variants without it).
+pub(crate) fn absent_target_placeholder(
+    device: &Arc<Device>,
+    format: vk::Format,
+) -> Result<Image, RenderError> {
+    let image = Image::new(
+        device,
+        &ImageDesc::new(
+            "absent target placeholder",
+            format,
+            1,
+            1,
+            vk::ImageUsageFlags::SAMPLED,
+        ),
+    )?;
+    make_sampled_placeholders(device, &[&image])?;
+    Ok(image)
 }

@@ -7,7 +7,9 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use combustion_scene::{ColorSpace, Filter, Sampler as SceneSampler, Scene, WrapMode};
+use combustion_scene::{
+    ColorSpace, Filter, Image as SceneImage, Sampler as SceneSampler, Scene, WrapMode,
+};
 use combustion_vk::{
     full_mip_chain, vk, Buffer, DescriptorPool, DescriptorSetLayout, Device, Image, ImageDesc,
     OneShot, Sampler, VkError,
@@ -25,7 +27,11 @@ pub struct SceneTextures {
     /// Owns the sets.
     _pool: DescriptorPool,
     _samplers: Vec<Sampler>,
-    _images: Vec<Image>,
+    /// Each scene image (kept, so that its identity stays its own) with its upload,
+    /// shared with the textures of an edited scene that still uses it.
+    images: Vec<(Arc<SceneImage>, Arc<Image>)>,
+    /// The 1×1 white image of empty slots.
+    white: Arc<Image>,
 }
 
 fn sampler_info(s: &SceneSampler) -> vk::SamplerCreateInfo<'static> {
@@ -106,23 +112,38 @@ fn upload_image(
 }
 
 impl SceneTextures {
+    /// The textures of `scene`: images that `previous` (the textures of the scene
+    /// before an edit) already uploaded — the same scene image, by identity — are
+    /// shared, the others uploaded. Also returns how many images were uploaded.
     pub fn new(
         device: &Arc<Device>,
         scene: &Scene,
         set_layout: &DescriptorSetLayout,
-    ) -> Result<Self, RenderError> {
+        previous: Option<&SceneTextures>,
+    ) -> Result<(Self, usize), RenderError> {
         let table = scene.texture_table();
         let max = device.max_image_dimension_2d();
         let mut commands = OneShot::new(device)?;
-        let mut images = Vec::with_capacity(table.images.len() + 1);
+        let mut uploaded = 0;
+        let mut images: Vec<(Arc<SceneImage>, Arc<Image>)> = Vec::with_capacity(table.images.len());
         for image in &table.images {
+            let earlier = previous.and_then(|p| {
+                p.images
+                    .iter()
+                    .find(|(source, _)| Arc::ptr_eq(source, image))
+                    .map(|(_, gpu)| gpu.clone())
+            });
+            if let Some(gpu) = earlier {
+                images.push((image.clone(), gpu));
+                continue;
+            }
             if image.width > max || image.height > max {
                 return Err(RenderError::TooLarge(format!(
                     "image `{}` is {}×{}, larger than this device's limit of {max} per side",
                     image.name, image.width, image.height
                 )));
             }
-            images.push(upload_image(
+            let gpu = upload_image(
                 device,
                 &mut commands,
                 &image.name,
@@ -130,18 +151,22 @@ impl SceneTextures {
                 image.height,
                 &image.pixels,
                 image.color_space,
-            )?);
+            )?;
+            uploaded += 1;
+            images.push((image.clone(), Arc::new(gpu)));
         }
-        let white = images.len();
-        images.push(upload_image(
-            device,
-            &mut commands,
-            "white 1x1",
-            1,
-            1,
-            &[255; 4],
-            ColorSpace::Linear,
-        )?);
+        let white = match previous {
+            Some(p) => p.white.clone(),
+            None => Arc::new(upload_image(
+                device,
+                &mut commands,
+                "white 1x1",
+                1,
+                1,
+                &[255; 4],
+                ColorSpace::Linear,
+            )?),
+        };
         let mut samplers = Vec::new();
         let mut sampler_index = HashMap::new();
         let mut sampler_for = |s: &SceneSampler| -> Result<usize, VkError> {
@@ -167,12 +192,12 @@ impl SceneTextures {
             let mut writer = decl.writer(set);
             for (binding, slot) in decl.bindings.iter().zip(slots) {
                 let (image, sampler) = match slot {
-                    Some(t) => (table.textures[*t].image, texture_samplers[*t]),
-                    None => (white, default_sampler),
+                    Some(t) => (&images[table.textures[*t].image].1, texture_samplers[*t]),
+                    None => (&white, default_sampler),
                 };
                 writer = writer.image(
                     binding.name,
-                    images[image].view(),
+                    image.view(),
                     vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                     samplers[sampler].raw(),
                 );
@@ -186,12 +211,16 @@ impl SceneTextures {
             .iter()
             .map(|slots| slots.map(|s| s.map_or(-1, |i| i as i32)))
             .collect();
-        Ok(Self {
-            material_sets,
-            material_indices,
-            _pool: pool,
-            _samplers: samplers,
-            _images: images,
-        })
+        Ok((
+            Self {
+                material_sets,
+                material_indices,
+                _pool: pool,
+                _samplers: samplers,
+                images,
+                white,
+            },
+            uploaded,
+        ))
     }
 }

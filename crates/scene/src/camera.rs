@@ -1,6 +1,6 @@
 use glam::{Mat4, Vec3};
 
-use crate::SceneError;
+use crate::{CameraProblem, SceneError};
 
 /// A perspective camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,24 +31,33 @@ impl Camera {
         self.projection(aspect) * self.view()
     }
 
+    /// Checks that the camera gives an image: finite vectors, distinct position and
+    /// target, an up vector off the view direction, a field of view in (0, π) and
+    /// 0 < near < far < ∞.
     pub fn validate(&self) -> Result<(), SceneError> {
         let forward = self.target - self.position;
-        let ok = self.position.is_finite()
-            && self.target.is_finite()
-            && self.up.is_finite()
-            && forward.length_squared() > 0.0
-            && forward.cross(self.up).length_squared() > 0.0
-            && self.vertical_fov > 0.0
-            && self.vertical_fov < std::f32::consts::PI
-            && self.near > 0.0
-            && self.far > self.near
-            && self.far.is_finite();
-        if ok {
-            Ok(())
-        } else {
-            Err(SceneError::Invalid(format!(
-                "camera needs distinct position and target, an up vector not along the view, a field of view in (0, π) and 0 < near < far: {self:?}"
-            )))
+        // (NaN compares false: a NaN length or cross product counts as zero.)
+        let zero = |x: f32| x.is_nan() || x <= 0.0;
+        let problem =
+            if !(self.position.is_finite() && self.target.is_finite() && self.up.is_finite()) {
+                Some(CameraProblem::NotFinite)
+            } else if zero(forward.length_squared()) {
+                Some(CameraProblem::NoViewDirection)
+            } else if zero(forward.cross(self.up).length_squared()) {
+                Some(CameraProblem::UpAlongView)
+            } else if !(self.vertical_fov > 0.0 && self.vertical_fov < std::f32::consts::PI) {
+                Some(CameraProblem::FieldOfView(self.vertical_fov))
+            } else if !(self.near > 0.0 && self.far > self.near && self.far.is_finite()) {
+                Some(CameraProblem::ClipPlanes {
+                    near: self.near,
+                    far: self.far,
+                })
+            } else {
+                None
+            };
+        match problem {
+            Some(problem) => Err(SceneError::InvalidCamera(problem)),
+            None => Ok(()),
         }
     }
 }

@@ -23,7 +23,7 @@ pub use environment::{
     equirect_coordinates, studio_radiance, Environment, EnvironmentImage,
     MAX_ENVIRONMENT_FILE_BYTES, MAX_ENVIRONMENT_TEXELS, STUDIO_BOXES, STUDIO_GROUND, STUDIO_SKY,
 };
-pub use error::SceneError;
+pub use error::{CameraProblem, LightProblem, SceneError};
 pub use material::{
     conductor_from_reflectivity, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Material,
     Sampler, Texture, TextureRef, TextureSlot, UvTransform, WrapMode,
@@ -214,55 +214,61 @@ fn valid_range(range: Option<f32>) -> bool {
     range.is_none_or(|r| r.is_finite() && r > 0.0)
 }
 
-/// Checks every light's values (the scene's, or a frame's own lights).
+/// Checks every light's values (the scene's, or a frame's own lights): the first
+/// problem found, by light index.
 pub fn validate_lights(lights: &[Light]) -> Result<(), SceneError> {
-    for (i, light) in lights.iter().enumerate() {
-        let ok = match light {
-            Light::Point {
-                position,
-                intensity,
-                range,
-            } => {
-                position.is_finite()
-                    && finite3(*intensity)
-                    && intensity.iter().all(|&x| x >= 0.0)
-                    && valid_range(*range)
-            }
-            Light::Directional {
-                direction,
-                irradiance,
-            } => {
-                direction.is_finite()
-                    && direction.length_squared() > 0.0
-                    && finite3(*irradiance)
-                    && irradiance.iter().all(|&x| x >= 0.0)
-            }
-            Light::Spot {
-                position,
-                direction,
-                intensity,
-                inner_cone,
-                outer_cone,
-                range,
-            } => {
-                position.is_finite()
-                    && direction.is_finite()
-                    && direction.length_squared() > 0.0
-                    && finite3(*intensity)
-                    && intensity.iter().all(|&x| x >= 0.0)
-                    && *inner_cone >= 0.0
-                    && inner_cone < outer_cone
-                    && *outer_cone <= std::f32::consts::FRAC_PI_2
-                    && valid_range(*range)
-            }
-        };
-        if !ok {
-            return Err(SceneError::Invalid(format!(
-                "light {i} needs finite, non-negative power, a finite position or non-zero direction, a range (if any) finite and above 0, and (spot) 0 <= inner cone < outer cone <= pi/2"
-            )));
+    for (index, light) in lights.iter().enumerate() {
+        if let Some(problem) = light_problem(light) {
+            return Err(SceneError::InvalidLight { index, problem });
         }
     }
     Ok(())
+}
+
+fn light_problem(light: &Light) -> Option<LightProblem> {
+    let power = |p: [f32; 3]| {
+        (!(finite3(p) && p.iter().all(|&x| x >= 0.0))).then_some(LightProblem::Power(p))
+    };
+    let position = |p: glam::Vec3| (!p.is_finite()).then_some(LightProblem::Position);
+    let direction = |d: glam::Vec3| {
+        (!(d.is_finite() && d.length_squared() > 0.0)).then_some(LightProblem::Direction)
+    };
+    let range = |r: Option<f32>| match r {
+        Some(r) if !valid_range(Some(r)) => Some(LightProblem::Range(r)),
+        _ => None,
+    };
+    match *light {
+        Light::Point {
+            position: p,
+            intensity,
+            range: r,
+        } => position(p).or(power(intensity)).or(range(r)),
+        Light::Directional {
+            direction: d,
+            irradiance,
+        } => direction(d).or(power(irradiance)),
+        Light::Spot {
+            position: p,
+            direction: d,
+            intensity,
+            inner_cone,
+            outer_cone,
+            range: r,
+        } => {
+            let cone = (!(inner_cone >= 0.0
+                && inner_cone < outer_cone
+                && outer_cone <= std::f32::consts::FRAC_PI_2))
+                .then_some(LightProblem::Cone {
+                    inner: inner_cone,
+                    outer: outer_cone,
+                });
+            position(p)
+                .or(direction(d))
+                .or(power(intensity))
+                .or(cone)
+                .or(range(r))
+        }
+    }
 }
 
 /// Every distinct image and texture of a scene, for upload: images deduplicated by

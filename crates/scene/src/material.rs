@@ -250,8 +250,9 @@ pub enum ColorSpace {
 }
 
 /// A decoded image: RGBA, 8 bits per channel, rows top to bottom (the first row is at
-/// v = 0), no padding.
-#[derive(Clone, PartialEq)]
+/// v = 0), no padding. `Eq`, so that comparing two `Arc<Image>`s that are one image
+/// returns at once instead of comparing every texel (scene edits compare texture tables).
+#[derive(Clone, PartialEq, Eq)]
 pub struct Image {
     pub name: String,
     pub width: u32,

@@ -29,13 +29,30 @@ fn load(dir: &Path, relative: &str) -> Scene {
     scene
 }
 
-/// Every .gltf and .glb in the folder imports.
+/// What tests/sample-models.txt says of `model`: `Some(None)` imports, `Some(Some(ext))`
+/// is refused for requiring `ext`, `None` is not listed.
+fn expected_outcome(model: &str) -> Option<Option<String>> {
+    let list = include_str!("../../../tests/sample-models.txt");
+    list.lines()
+        .filter(|l| !l.starts_with('#'))
+        .find_map(
+            |line| match line.split_whitespace().collect::<Vec<_>>()[..] {
+                [name, "imports"] if name == model => Some(None),
+                [name, "refused", extension] if name == model => Some(Some(extension.to_owned())),
+                _ => None,
+            },
+        )
+}
+
+/// Every .gltf and .glb in the folder imports, or is refused with the required
+/// extension tests/sample-models.txt names for it.
 #[test]
-fn every_sample_model_imports() {
+fn every_sample_model_imports_or_is_refused_as_listed() {
     let Some(dir) = samples() else { return };
     let mut count = 0;
     for model in std::fs::read_dir(&dir).unwrap() {
         let model = model.unwrap().path();
+        let name = model.file_name().unwrap().to_string_lossy().into_owned();
         for variant in ["glTF", "glTF-Binary", "glTF-Embedded"] {
             let Ok(entries) = std::fs::read_dir(model.join(variant)) else {
                 continue;
@@ -43,15 +60,33 @@ fn every_sample_model_imports() {
             for entry in entries {
                 let path = entry.unwrap().path();
                 let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-                if ext == "gltf" || ext == "glb" {
-                    let relative = path
-                        .strip_prefix(&dir)
-                        .unwrap()
-                        .to_string_lossy()
-                        .into_owned();
-                    load(&dir, &relative);
-                    count += 1;
+                if ext != "gltf" && ext != "glb" {
+                    continue;
                 }
+                let relative = path
+                    .strip_prefix(&dir)
+                    .unwrap()
+                    .to_string_lossy()
+                    .into_owned();
+                match expected_outcome(&name) {
+                    None => panic!("{relative}: {name} has no line in tests/sample-models.txt"),
+                    Some(None) => {
+                        load(&dir, &relative);
+                    }
+                    Some(Some(extension)) => {
+                        let error = import(&path, &ImportOptions::default())
+                            .map(|_| ())
+                            .expect_err(&format!(
+                                "{relative} imported; the list says it is refused"
+                            ));
+                        let text = error.to_string();
+                        assert!(
+                            text.contains(&format!("requires the extension `{extension}`")),
+                            "{relative}: {text}"
+                        );
+                    }
+                }
+                count += 1;
             }
         }
     }

@@ -178,17 +178,97 @@ impl Requirements {
     }
 }
 
-/// What a host enabled when it created its device. Vulkan cannot be asked which features
-/// a device was created with, so the host states them; [`HostDevice::enabled_as_required`]
-/// is right for a host that enabled [`Requirements`].
+/// What a host enabled when it created its device, read from the very create info it
+/// created the device with ([`EnabledFeatures::from_create_info`]): Vulkan cannot be
+/// asked which features a device was created with, so the host hands over what it
+/// passed to `vkCreateDevice` rather than a statement of it.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct EnabledFeatures {
     /// The `apiVersion` of the host's `VkApplicationInfo`.
-    pub api_version: u32,
-    pub dynamic_rendering: bool,
-    pub synchronization2: bool,
+    api_version: u32,
+    dynamic_rendering: bool,
+    synchronization2: bool,
     /// Device extensions the host enabled.
-    pub device_extensions: Vec<String>,
+    device_extensions: Vec<String>,
+}
+
+impl EnabledFeatures {
+    /// What `info` enables: its extensions, and dynamicRendering and synchronization2
+    /// wherever its `pNext` chain enables them (`VkPhysicalDeviceVulkan13Features`, the
+    /// two features' own structures, or `VkPhysicalDeviceFeatures2` ahead of them);
+    /// `instance_api_version` is the `apiVersion` of the instance's
+    /// `VkApplicationInfo`.
+    ///
+    /// # Safety
+    /// `info` is the create info the device was created with, still valid as
+    /// `vkCreateDevice` required it: its `pNext` chain and extension names point to live
+    /// structures and strings.
+    pub unsafe fn from_create_info(
+        instance_api_version: u32,
+        info: &vk::DeviceCreateInfo<'_>,
+    ) -> EnabledFeatures {
+        let mut enabled = EnabledFeatures {
+            api_version: instance_api_version,
+            ..EnabledFeatures::default()
+        };
+        if !info.pp_enabled_extension_names.is_null() {
+            for i in 0..info.enabled_extension_count as usize {
+                // SAFETY: the caller's: `enabled_extension_count` valid C strings.
+                let name = unsafe { CStr::from_ptr(*info.pp_enabled_extension_names.add(i)) };
+                enabled
+                    .device_extensions
+                    .push(name.to_string_lossy().into_owned());
+            }
+        }
+        let mut next = info.p_next as *const vk::BaseInStructure<'_>;
+        while !next.is_null() {
+            // SAFETY: the caller's: every element of the chain is a valid structure
+            // starting with sType and pNext, of the type its sType names.
+            let base = unsafe { &*next };
+            match base.s_type {
+                vk::StructureType::PHYSICAL_DEVICE_VULKAN_1_3_FEATURES => {
+                    let f = unsafe { &*(next as *const vk::PhysicalDeviceVulkan13Features<'_>) };
+                    enabled.dynamic_rendering |= f.dynamic_rendering == vk::TRUE;
+                    enabled.synchronization2 |= f.synchronization2 == vk::TRUE;
+                }
+                vk::StructureType::PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES => {
+                    let f = unsafe {
+                        &*(next as *const vk::PhysicalDeviceDynamicRenderingFeatures<'_>)
+                    };
+                    enabled.dynamic_rendering |= f.dynamic_rendering == vk::TRUE;
+                }
+                vk::StructureType::PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES => {
+                    let f = unsafe {
+                        &*(next as *const vk::PhysicalDeviceSynchronization2Features<'_>)
+                    };
+                    enabled.synchronization2 |= f.synchronization2 == vk::TRUE;
+                }
+                _ => {}
+            }
+            next = base.p_next;
+        }
+        enabled
+    }
+
+    /// The instance's `apiVersion`.
+    pub fn api_version(&self) -> u32 {
+        self.api_version
+    }
+
+    /// Whether the device was created with dynamicRendering.
+    pub fn dynamic_rendering(&self) -> bool {
+        self.dynamic_rendering
+    }
+
+    /// Whether the device was created with synchronization2.
+    pub fn synchronization2(&self) -> bool {
+        self.synchronization2
+    }
+
+    /// The device extensions the device was created with.
+    pub fn device_extensions(&self) -> &[String] {
+        &self.device_extensions
+    }
 }
 
 /// A host's own Vulkan objects, for [`Device::from_host`]. Combustion never destroys
@@ -209,24 +289,9 @@ pub struct HostDevice {
     pub queue: QueueLock,
     /// The host's allocator; `None` makes Combustion create its own on this device.
     pub allocator: Option<SharedAllocator>,
-    /// What the host enabled (checked against [`Requirements`]).
+    /// What the host's device was created with ([`EnabledFeatures::from_create_info`]),
+    /// checked against [`Requirements`].
     pub enabled: EnabledFeatures,
-}
-
-impl HostDevice {
-    /// `EnabledFeatures` for a host that enabled exactly [`Requirements`] (Vulkan 1.3,
-    /// dynamic rendering, synchronization2) plus `device_extensions`.
-    pub fn enabled_as_required(device_extensions: &[&CStr]) -> EnabledFeatures {
-        EnabledFeatures {
-            api_version: Requirements::API_VERSION,
-            dynamic_rendering: true,
-            synchronization2: true,
-            device_extensions: device_extensions
-                .iter()
-                .map(|e| e.to_string_lossy().into_owned())
-                .collect(),
-        }
-    }
 }
 
 /// The Vulkan context a renderer runs on: instance, physical device, logical device,

@@ -140,6 +140,89 @@ impl ImageState {
         vk::ImageLayout::UNDEFINED,
     );
 
+    /// Written as a colour attachment (a render pass that clears or overwrites it).
+    pub const COLOR_ATTACHMENT_WRITE: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    );
+    /// Drawn into on top of what is there (load op LOAD, blending): read and written.
+    pub const COLOR_ATTACHMENT_READ_WRITE: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::COLOR_ATTACHMENT_READ.as_raw()
+                | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw(),
+        ),
+        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    );
+    /// Depth-tested and written by the host's own geometry.
+    pub const DEPTH_ATTACHMENT_READ_WRITE: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw()
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+        ),
+        vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw()
+                | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
+        ),
+        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+    );
+    /// Sampled by fragment shaders.
+    pub const FRAGMENT_SAMPLED: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+        vk::AccessFlags2::SHADER_SAMPLED_READ,
+        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    );
+    /// Sampled by compute shaders.
+    pub const COMPUTE_SAMPLED: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::COMPUTE_SHADER,
+        vk::AccessFlags2::SHADER_SAMPLED_READ,
+        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    );
+    /// Copied from (`vkCmdCopyImage`, `vkCmdCopyImageToBuffer`).
+    pub const COPY_SOURCE: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_READ,
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+    );
+    /// Copied or cleared into (`vkCmdCopy*`, `vkCmdClearColorImage`).
+    pub const COPY_DESTINATION: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::COPY.as_raw() | vk::PipelineStageFlags2::CLEAR.as_raw(),
+        ),
+        vk::AccessFlags2::TRANSFER_WRITE,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+    );
+    /// Blitted from (`vkCmdBlitImage`).
+    pub const BLIT_SOURCE: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::BLIT,
+        vk::AccessFlags2::TRANSFER_READ,
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+    );
+    /// Blitted or cleared into.
+    pub const BLIT_DESTINATION: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::BLIT.as_raw() | vk::PipelineStageFlags2::CLEAR.as_raw(),
+        ),
+        vk::AccessFlags2::TRANSFER_WRITE,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+    );
+    /// A swapchain image just acquired, its old contents not needed: the layout change
+    /// names colour output, a stage the acquire semaphore's wait covers (submit the
+    /// frame waiting for that semaphore at colour output or at every stage).
+    pub const SWAPCHAIN_ACQUIRED: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        vk::AccessFlags2::NONE,
+        vk::ImageLayout::UNDEFINED,
+    );
+    /// Handed to the presentation engine: no access; the present waits on a semaphore.
+    pub const PRESENT: ImageState = ImageState::new(
+        vk::PipelineStageFlags2::NONE,
+        vk::AccessFlags2::NONE,
+        vk::ImageLayout::PRESENT_SRC_KHR,
+    );
+
+    /// A state of `layout` after (or before) `access` at `stage`.
     pub const fn new(
         stage: vk::PipelineStageFlags2,
         access: vk::AccessFlags2,
@@ -333,6 +416,7 @@ pub struct Image {
     format: vk::Format,
     extent: vk::Extent2D,
     aspect: vk::ImageAspectFlags,
+    usage: vk::ImageUsageFlags,
     mip_levels: u32,
     layers: u32,
 }
@@ -379,6 +463,7 @@ impl Image {
                 height: desc.height,
             },
             aspect,
+            usage: desc.usage,
             mip_levels: desc.mip_levels,
             layers: desc.layers,
         };
@@ -484,6 +569,10 @@ impl Image {
     }
     pub fn aspect(&self) -> vk::ImageAspectFlags {
         self.aspect
+    }
+    /// The usage flags it was created with.
+    pub fn usage(&self) -> vk::ImageUsageFlags {
+        self.usage
     }
     /// The whole image as a subresource range.
     pub fn subresource_range(&self) -> vk::ImageSubresourceRange {

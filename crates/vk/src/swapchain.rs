@@ -246,11 +246,6 @@ impl Swapchain {
         let copyable = caps
             .supported_usage_flags
             .contains(vk::ImageUsageFlags::TRANSFER_SRC);
-        let usage = if copyable {
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
-        } else {
-            vk::ImageUsageFlags::COLOR_ATTACHMENT
-        };
         let loader = khr::swapchain::Device::new(device.instance(), device.raw());
         let info = vk::SwapchainCreateInfoKHR::default()
             .surface(surface.raw)
@@ -259,7 +254,7 @@ impl Swapchain {
             .image_color_space(format.color_space)
             .image_extent(extent)
             .image_array_layers(1)
-            .image_usage(usage)
+            .image_usage(image_usage(copyable))
             .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
             .pre_transform(caps.current_transform)
             .composite_alpha(composite_alpha)
@@ -344,6 +339,11 @@ impl Swapchain {
         self.copyable
     }
 
+    /// The usage flags the images were created with.
+    pub fn image_usage(&self) -> vk::ImageUsageFlags {
+        image_usage(self.copyable)
+    }
+
     /// Acquires the next image for the frame in `frame_slot` (whose previous frame has
     /// completed, so its semaphore is free). `Ok(None)`: the swapchain is out of date;
     /// recreate it.
@@ -406,5 +406,14 @@ impl Drop for Swapchain {
             }
             self.loader.destroy_swapchain(self.raw, None);
         }
+    }
+}
+
+/// The swapchain images' usage: rendered into, and copied from where the surface allows.
+fn image_usage(copyable: bool) -> vk::ImageUsageFlags {
+    if copyable {
+        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
+    } else {
+        vk::ImageUsageFlags::COLOR_ATTACHMENT
     }
 }

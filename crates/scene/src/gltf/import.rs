@@ -1120,7 +1120,9 @@ fn placed_bounds(local: Option<(Vec3, Vec3)>, transform: &Mat4) -> Option<(Vec3,
 }
 
 /// A camera on the +Z side of the bounding box looking at its centre (glTF's forward
-/// view), far enough for the box's bounding sphere to fill the 45° field of view.
+/// view), far enough for the box's bounding sphere to fill the 45° field of view. A
+/// model flat along Y (a floor, a terrain grid: under 1 % of its largest extent high),
+/// which the forward view would see edge-on, is seen from 45° above instead.
 pub(crate) fn framing_camera(bounds: Option<(Vec3, Vec3)>) -> Camera {
     let (lo, hi) = bounds.unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
     let centre = (lo + hi) / 2.0;
@@ -1129,8 +1131,15 @@ pub(crate) fn framing_camera(bounds: Option<(Vec3, Vec3)>) -> Camera {
     let radius = ((hi - lo).length() / 2.0).max(1e-6);
     let fov = 45f32.to_radians();
     let distance = radius / (fov / 2.0).sin() * 1.05;
+    let size = hi - lo;
+    let flat_along_y = size.y < 0.01 * size.max_element();
+    let direction = if flat_along_y {
+        Vec3::new(0.0, 1.0, 1.0).normalize()
+    } else {
+        Vec3::Z
+    };
     Camera {
-        position: centre + Vec3::Z * distance,
+        position: centre + direction * distance,
         target: centre,
         up: Vec3::Y,
         vertical_fov: fov,
