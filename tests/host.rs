@@ -40,6 +40,34 @@ fn spheres_host() -> (Host, vulkan::Messages, combustion::scene::Scene) {
     (host, log, scene)
 }
 
+/// The example host on lavapipe (validation on) with `scenes` uploaded and
+/// `frames_in_flight`, its validation log, and a final image around a viewport of
+/// `width`×`height`.
+fn host_with_output(
+    scenes: &[combustion::scene::Scene],
+    frames_in_flight: usize,
+    width: u32,
+    height: u32,
+) -> (Host, vulkan::Messages, FinalImage) {
+    let vulkan = lavapipe_host();
+    let log = vulkan.message_log();
+    let host = Host::new(vulkan, frames_in_flight, scenes).unwrap();
+    let extent = vk::Extent2D {
+        width: width + 2 * BORDER,
+        height: height + 2 * BORDER,
+    };
+    let output = FinalImage::new(&host, extent).unwrap();
+    (host, log, output)
+}
+
+/// Waits for the host's frames, tears it down and fails on any validation message.
+fn finish_host(host: Host, output: FinalImage, log: &vulkan::Messages) {
+    host.wait_frames().unwrap();
+    output.image.destroy(&host.vulkan);
+    drop(host);
+    assert_no_messages(log);
+}
+
 fn assert_no_messages(log: &vulkan::Messages) {
     let messages = log.lock().unwrap().clone();
     assert!(
@@ -594,18 +622,11 @@ fn record_refuses_bad_arguments_before_recording() {
         ),
         "{error}"
     );
-    let depth_info = vk::ImageCreateInfo::default()
-        .image_type(vk::ImageType::TYPE_2D)
-        .format(vk::Format::D32_SFLOAT)
-        .extent(vk::Extent3D {
-            width: extent.width,
-            height: extent.height,
-            depth: 1,
-        })
-        .mip_levels(1)
-        .array_layers(1)
-        .samples(vk::SampleCountFlags::TYPE_1)
-        .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
+    let depth_info = app::image_info(
+        vk::Format::D32_SFLOAT,
+        extent,
+        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+    );
     let sampled_only_depth = DepthTarget::from_create_info(
         image.image,
         &depth_info,
@@ -822,7 +843,8 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 }
 
 /// Issue 19, defect 1: scenes with and without the G-buffer's emissive + occlusion
-/// target (and with and without an environment) rendered in alternation, each run of
+/// target, with and without an environment, and with and without culled (ranged)
+/// lights, rendered in alternation, each run of
 /// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
 /// flight. The targets of the scene not shown are retired and destroyed while the
 /// frame slots' lighting sets are reused: every binding must name an image of this
@@ -831,25 +853,26 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// then a crash.
 #[test]
 fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_target() {
-    let vulkan = lavapipe_host();
-    let log = vulkan.message_log();
     let mut emissive = builtin_scene("spheres").unwrap();
     emissive.materials[0].emissive_factor = [1.0, 0.5, 0.25];
     emissive.materials[0].emissive_strength = 2.0;
+    // Ranged lights: these frames cull, with the slot's tile lists bound and grown.
+    let mut ranged = builtin_scene("spheres").unwrap();
+    for light in &mut ranged.lights {
+        if let combustion::scene::Light::Point { range, .. } = light {
+            *range = Some(20.0);
+        }
+    }
     let scenes = [
         emissive,
         builtin_scene("spheres").unwrap(),
         builtin_scene("spheres-studio").unwrap(),
+        ranged,
     ];
-    let mut host = Host::new(vulkan, 3, &scenes).unwrap();
-    let extent = vk::Extent2D {
-        width: 48 + 2 * BORDER,
-        height: 40 + 2 * BORDER,
-    };
-    let mut output = FinalImage::new(&host, extent).unwrap();
+    let (mut host, log, mut output) = host_with_output(&scenes, 3, 48, 40);
     // Each scene for 24 frames (past the 16-frame retire delay), twice round.
     for round in 0..2 {
-        for scene in [0, 1, 0, 2] {
+        for scene in [0, 1, 0, 2, 3, 0] {
             for _ in 0..24 {
                 headless::frame(&mut host, &mut output, scene).unwrap();
             }
@@ -860,10 +883,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
             "targets of the scene not shown were retired: {stats:?}"
         );
     }
-    host.wait_frames().unwrap();
-    output.image.destroy(&host.vulkan);
-    drop(host);
-    assert_no_messages(&log);
+    finish_host(host, output, &log);
 }
 
 /// Issue 19, defect 2: a slot recorded again before the GPU completed the frame last
@@ -943,18 +963,11 @@ fn a_slot_recorded_again_while_its_frame_is_in_flight_is_refused() {
 /// allocator then holds fewer allocations than while the scene was alive.
 #[test]
 fn a_gpu_scene_dropped_while_frames_read_it_is_freed_once_they_complete() {
-    let vulkan = lavapipe_host();
-    let log = vulkan.message_log();
     let scenes = [
         builtin_scene("spheres").unwrap(),
         builtin_scene("hard-cases").unwrap(),
     ];
-    let mut host = Host::new(vulkan, 2, &scenes).unwrap();
-    let extent = vk::Extent2D {
-        width: 40 + 2 * BORDER,
-        height: 32 + 2 * BORDER,
-    };
-    let mut output = FinalImage::new(&host, extent).unwrap();
+    let (mut host, log, mut output) = host_with_output(&scenes, 2, 40, 32);
     for scene in [0, 1, 0, 1] {
         headless::frame(&mut host, &mut output, scene).unwrap();
     }
@@ -971,10 +984,7 @@ fn a_gpu_scene_dropped_while_frames_read_it_is_freed_once_they_complete() {
         after < alive,
         "the dropped scene's resources were freed: {alive} → {after} allocations"
     );
-    host.wait_frames().unwrap();
-    output.image.destroy(&host.vulkan);
-    drop(host);
-    assert_no_messages(&log);
+    finish_host(host, output, &log);
 }
 
 /// A scene uploaded by another renderer is refused by `record` and `edit_scene` (its

@@ -44,20 +44,7 @@ impl HostImage {
         extent: vk::Extent2D,
         usage: vk::ImageUsageFlags,
     ) -> Result<Self, String> {
-        let info = vk::ImageCreateInfo::default()
-            .image_type(vk::ImageType::TYPE_2D)
-            .format(format)
-            .extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            })
-            .mip_levels(1)
-            .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
-            .tiling(vk::ImageTiling::OPTIMAL)
-            .usage(usage)
-            .initial_layout(vk::ImageLayout::UNDEFINED);
+        let info = image_info(format, extent, usage);
         let d = &host.device;
         let image = unsafe { d.create_image(&info, None) }.map_err(|e| e.to_string())?;
         let requirements = unsafe { d.get_image_memory_requirements(image) };
@@ -126,6 +113,28 @@ impl HostImage {
             let _ = allocator.free(a);
         }
     }
+}
+
+/// The create info of a host image: 2D, one mip level, one layer, one sample.
+pub fn image_info(
+    format: vk::Format,
+    extent: vk::Extent2D,
+    usage: vk::ImageUsageFlags,
+) -> vk::ImageCreateInfo<'static> {
+    vk::ImageCreateInfo::default()
+        .image_type(vk::ImageType::TYPE_2D)
+        .format(format)
+        .extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        })
+        .mip_levels(1)
+        .array_layers(1)
+        .samples(vk::SampleCountFlags::TYPE_1)
+        .tiling(vk::ImageTiling::OPTIMAL)
+        .usage(usage)
+        .initial_layout(vk::ImageLayout::UNDEFINED)
 }
 
 pub fn range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {

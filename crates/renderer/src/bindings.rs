@@ -235,8 +235,26 @@ impl SetWriter {
         self
     }
 
-    /// Applies the writes. The set must not be in use by a pending frame.
+    /// Applies the writes. The set must not be in use by a pending frame. Every binding
+    /// of the declaration must have been given (a placeholder where a resource is
+    /// absent): a binding left as an earlier write set it may name a resource freed
+    /// since, and a driver may read every descriptor of a bound set.
     pub fn apply(self, device: &Device) {
+        debug_assert!(
+            self.decl.bindings.iter().enumerate().all(|(i, _)| self
+                .images
+                .iter()
+                .map(|(index, _)| index)
+                .chain(self.buffers.iter().map(|(index, _)| index))
+                .any(|&index| index as usize == i)),
+            "set {}: every binding must be written ({:?} declared)",
+            self.decl.name,
+            self.decl
+                .bindings
+                .iter()
+                .map(|b| b.name)
+                .collect::<Vec<_>>()
+        );
         let ty = |index: u32| self.decl.bindings[index as usize].kind.descriptor_type();
         let mut writes: Vec<vk::WriteDescriptorSet<'_>> = self
             .images

@@ -39,41 +39,24 @@ pub enum ImageUse {
 }
 
 impl ImageUse {
-    /// The stages, accesses and layout of this use.
+    /// The stages, accesses and layout of this use (the host's ready-made
+    /// [`ImageState`]s where one fits).
     pub fn state(self) -> ImageState {
         use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
         match self {
-            Self::ColorAttachmentWrite => ImageState::new(
-                S::COLOR_ATTACHMENT_OUTPUT,
-                A::COLOR_ATTACHMENT_WRITE,
-                L::COLOR_ATTACHMENT_OPTIMAL,
-            ),
-            Self::DepthAttachmentWrite => ImageState::new(
-                S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
-                A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                L::DEPTH_ATTACHMENT_OPTIMAL,
-            ),
-            Self::FragmentSampled => ImageState::new(
-                S::FRAGMENT_SHADER,
-                A::SHADER_SAMPLED_READ,
-                L::SHADER_READ_ONLY_OPTIMAL,
-            ),
+            Self::ColorAttachmentWrite => ImageState::COLOR_ATTACHMENT_WRITE,
+            Self::DepthAttachmentWrite => ImageState::DEPTH_ATTACHMENT_READ_WRITE,
+            Self::FragmentSampled => ImageState::FRAGMENT_SAMPLED,
             Self::DepthFragmentSampled => ImageState::new(
                 S::FRAGMENT_SHADER,
                 A::SHADER_SAMPLED_READ,
                 L::DEPTH_READ_ONLY_OPTIMAL,
             ),
-            Self::TransferSource => {
-                ImageState::new(S::COPY, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL)
-            }
+            Self::TransferSource => ImageState::COPY_SOURCE,
             Self::TransferDestination => {
                 ImageState::new(S::COPY, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL)
             }
-            Self::ComputeSampled => ImageState::new(
-                S::COMPUTE_SHADER,
-                A::SHADER_SAMPLED_READ,
-                L::SHADER_READ_ONLY_OPTIMAL,
-            ),
+            Self::ComputeSampled => ImageState::COMPUTE_SAMPLED,
             Self::DepthComputeSampled => ImageState::new(
                 S::COMPUTE_SHADER,
                 A::SHADER_SAMPLED_READ,

@@ -175,22 +175,12 @@ impl SceneEditor {
     /// Removes a material no object uses; returns it.
     pub fn remove_material(&mut self, id: MaterialId) -> Result<Material, EditError> {
         let index = self.material_index(id)?;
-        let users = self
-            .scene
-            .objects
-            .iter()
-            .filter(|o| o.material == index)
-            .count();
+        let users = self.unuse(index, |o| &mut o.material);
         if users > 0 {
             return Err(EditError::MaterialInUse {
                 material: id,
                 objects: users,
             });
-        }
-        for object in &mut self.scene.objects {
-            if object.material > index {
-                object.material -= 1;
-            }
         }
         self.ids.materials.remove(index);
         Ok(self.scene.materials.remove(index))
@@ -199,25 +189,34 @@ impl SceneEditor {
     /// Removes a mesh no object uses; returns it.
     pub fn remove_mesh(&mut self, id: MeshId) -> Result<Mesh, EditError> {
         let index = self.mesh_index(id)?;
-        let users = self
-            .scene
-            .objects
-            .iter()
-            .filter(|o| o.mesh == index)
-            .count();
+        let users = self.unuse(index, |o| &mut o.mesh);
         if users > 0 {
             return Err(EditError::MeshInUse {
                 mesh: id,
                 objects: users,
             });
         }
-        for object in &mut self.scene.objects {
-            if object.mesh > index {
-                object.mesh -= 1;
-            }
-        }
         self.ids.meshes.remove(index);
         Ok(self.scene.meshes.remove(index))
+    }
+
+    /// Ahead of removing item `index` of the list `field` points into: how many
+    /// objects use it; if none, every object's index past it moves down by one.
+    fn unuse(&mut self, index: usize, field: impl Fn(&mut Object) -> &mut usize) -> usize {
+        let objects = &mut self.scene.objects;
+        let mut users = 0;
+        for object in objects.iter_mut() {
+            users += usize::from(*field(object) == index);
+        }
+        if users == 0 {
+            for object in objects.iter_mut() {
+                let i = field(object);
+                if *i > index {
+                    *i -= 1;
+                }
+            }
+        }
+        users
     }
 
     /// Moves an object.

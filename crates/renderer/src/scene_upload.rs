@@ -1,7 +1,7 @@
-//! A scene's data on the GPU: one vertex and one index buffer for all meshes, the
-//! textures, the object table and the material table. Uploaded once, drawn many times;
-//! edited between frames by rebuilding only the parts an edit touches (lights are each
-//! frame's own, in `FrameInputs`).
+//! A scene's data on the GPU: vertex and index buffers per mesh, the textures, the
+//! object table and the material table. Uploaded once, drawn many times; edited between
+//! frames by uploading only the meshes and images an edit adds or changes and rebuilding
+//! the small tables (lights are each frame's own, in `FrameInputs`).
 
 use std::mem::ManuallyDrop;
 use std::sync::Arc;

@@ -76,17 +76,18 @@ pub(crate) fn make_sampled_placeholders(
     device: &Arc<Device>,
     images: &[&Image],
 ) -> Result<(), RenderError> {
-    use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
     let mut commands = OneShot::new(device)?;
     let cmd = commands.begin()?;
-    let read = (
-        S::FRAGMENT_SHADER,
-        A::SHADER_SAMPLED_READ,
-        L::SHADER_READ_ONLY_OPTIMAL,
-    );
     let barriers: Vec<_> = images
         .iter()
-        .map(|image| image.barrier((S::NONE, A::NONE, L::UNDEFINED), read))
+        .map(|image| {
+            combustion_vk::image_barrier(
+                image.raw(),
+                image.subresource_range(),
+                combustion_vk::ImageState::UNDEFINED,
+                combustion_vk::ImageState::FRAGMENT_SAMPLED,
+            )
+        })
         .collect();
     // SAFETY: recording state; the images live until the wait below.
     unsafe {
