@@ -12,6 +12,9 @@ pub struct OneShot {
     pool: vk::CommandPool,
     cmd: vk::CommandBuffer,
     fence: vk::Fence,
+    /// The fence belongs to a submission that was made and not yet waited for (a failed
+    /// submission leaves the fence unsignalled, and nothing must wait for it then).
+    pending: bool,
 }
 
 impl OneShot {
@@ -28,6 +31,7 @@ impl OneShot {
             pool,
             cmd: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
+            pending: false,
         };
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(pool)
@@ -35,8 +39,7 @@ impl OneShot {
             .command_buffer_count(1);
         this.cmd =
             unsafe { raw.allocate_command_buffers(&alloc) }.what("vkAllocateCommandBuffers")?[0];
-        // Created signalled: "nothing pending", so Drop never waits on a fence that was
-        // never submitted (e.g. when recording failed).
+        // Created signalled, so that the first submission resets it like every other.
         let fence_info = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
         this.fence = unsafe { raw.create_fence(&fence_info, None) }.what("vkCreateFence")?;
         Ok(this)
@@ -44,6 +47,9 @@ impl OneShot {
 
     /// Resets the command buffer and begins recording; returns it.
     pub fn begin(&mut self) -> Result<vk::CommandBuffer, VkError> {
+        // A submission whose wait failed may still be running: the buffer is reset only
+        // once it has completed.
+        self.wait()?;
         let raw = self.device.raw();
         unsafe {
             raw.reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
@@ -65,8 +71,27 @@ impl OneShot {
         let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos)];
         unsafe { raw.reset_fences(&[self.fence]) }.what("vkResetFences")?;
+        // Only a submission that was made is waited for, here or in Drop: a failed one
+        // leaves the fence unsignalled for good.
         self.device.submit(&submit, self.fence)?;
-        unsafe { raw.wait_for_fences(&[self.fence], true, u64::MAX) }.what("vkWaitForFences")
+        self.pending = true;
+        self.wait()
+    }
+
+    /// Waits for the last submission if it was made and not yet waited for.
+    fn wait(&mut self) -> Result<(), VkError> {
+        if !self.pending {
+            return Ok(());
+        }
+        // SAFETY: plain wait on our own fence, which a submission will signal.
+        unsafe {
+            self.device
+                .raw()
+                .wait_for_fences(&[self.fence], true, u64::MAX)
+        }
+        .what("vkWaitForFences")?;
+        self.pending = false;
+        Ok(())
     }
 }
 
@@ -76,10 +101,12 @@ impl Drop for OneShot {
         // SAFETY: wait for any submitted work before destroying what it uses.
         unsafe {
             if self.fence != vk::Fence::null() {
-                // Bounded: a fence left unsignalled by a failed submission must not hang teardown.
-                if raw
-                    .wait_for_fences(&[self.fence], true, 10_000_000_000)
-                    .is_err()
+                // Only a submission that was made and whose wait failed (e.g. on device
+                // loss) is still pending; bounded, so that teardown cannot hang.
+                if self.pending
+                    && raw
+                        .wait_for_fences(&[self.fence], true, 10_000_000_000)
+                        .is_err()
                 {
                     log::error!("command buffer still pending after 10 s at teardown");
                 }
@@ -270,5 +297,73 @@ impl Drop for FrameRing {
                 raw.destroy_command_pool(s.pool, None);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::Ordering;
+    use std::time::{Duration, Instant};
+
+    use super::*;
+    use crate::test_support;
+
+    #[test]
+    fn a_failed_submission_is_not_waited_for() {
+        let device = test_support::device();
+        let log = device.validation_log();
+        let mut commands = OneShot::new(&device).unwrap();
+        commands.begin().unwrap();
+        device.fail_submits.store(true, Ordering::Relaxed);
+        let started = Instant::now();
+        assert!(commands.submit_and_wait().is_err());
+        device.fail_submits.store(false, Ordering::Relaxed);
+        drop(commands);
+        let took = started.elapsed();
+        assert!(
+            took < Duration::from_secs(2),
+            "a failed submission and teardown took {took:?}"
+        );
+        test_support::finish(device, log);
+    }
+
+    #[test]
+    fn one_shot_works_again_after_a_failed_submission() {
+        let device = test_support::device();
+        let log = device.validation_log();
+        let mut commands = OneShot::new(&device).unwrap();
+        commands.begin().unwrap();
+        device.fail_submits.store(true, Ordering::Relaxed);
+        assert!(commands.submit_and_wait().is_err());
+        device.fail_submits.store(false, Ordering::Relaxed);
+        let started = Instant::now();
+        commands.begin().unwrap();
+        commands.submit_and_wait().unwrap();
+        commands.begin().unwrap();
+        commands.submit_and_wait().unwrap();
+        drop(commands);
+        assert!(started.elapsed() < Duration::from_secs(2));
+        test_support::finish(device, log);
+    }
+
+    #[test]
+    fn a_ring_slot_whose_submission_failed_is_not_waited_for() {
+        let device = test_support::device();
+        let log = device.validation_log();
+        let mut ring = FrameRing::new(&device, 2).unwrap();
+        let frame = ring.begin().unwrap();
+        device.fail_submits.store(true, Ordering::Relaxed);
+        assert!(ring.submit(frame).is_err());
+        device.fail_submits.store(false, Ordering::Relaxed);
+        let started = Instant::now();
+        ring.wait_all().unwrap();
+        for _ in 0..3 {
+            let frame = ring.begin().unwrap();
+            ring.submit(frame).unwrap();
+        }
+        ring.wait_all().unwrap();
+        drop(ring);
+        assert!(started.elapsed() < Duration::from_secs(2));
+        test_support::finish(device, log);
     }
 }

@@ -313,6 +313,9 @@ pub struct Device {
     allocator: ManuallyDrop<SharedAllocator>,
     /// Created (and so destroyed) by Combustion; `false` for a host's device.
     owned: bool,
+    /// Tests only: [`Device::submit`] fails without submitting while this is set.
+    #[cfg(test)]
+    pub(crate) fail_submits: std::sync::atomic::AtomicBool,
 }
 
 fn c_chars_to_string(chars: &[std::ffi::c_char]) -> String {
@@ -611,6 +614,8 @@ impl Device {
             queue: Arc::new(Mutex::new(queue)),
             allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
             owned: true,
+            #[cfg(test)]
+            fail_submits: Default::default(),
         }))
     }
 
@@ -731,6 +736,8 @@ impl Device {
             queue: host.queue,
             allocator: ManuallyDrop::new(allocator),
             owned: false,
+            #[cfg(test)]
+            fail_submits: Default::default(),
         }))
     }
 
@@ -777,6 +784,13 @@ impl Device {
 
     /// Submits command buffers on the device's queue.
     pub fn submit(&self, submits: &[vk::SubmitInfo2<'_>], fence: vk::Fence) -> Result<(), VkError> {
+        #[cfg(test)]
+        if self.fail_submits.load(std::sync::atomic::Ordering::Relaxed) {
+            return Err(VkError::from_result(
+                "vkQueueSubmit2",
+                vk::Result::ERROR_OUT_OF_HOST_MEMORY,
+            ));
+        }
         let queue = self.queue.lock().unwrap_or_else(|p| p.into_inner());
         // SAFETY: the queue is externally synchronised by the mutex.
         unsafe { self.device.queue_submit2(*queue, submits, fence) }.what("vkQueueSubmit2")

@@ -23,6 +23,8 @@ mod pipeline;
 mod resources;
 mod shader;
 mod swapchain;
+#[cfg(test)]
+mod test_support;
 mod timestamps;
 
 pub use commands::{FrameRing, OneShot, RingFrame};
