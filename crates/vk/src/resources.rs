@@ -401,6 +401,20 @@ impl<'a> ImageDesc<'a> {
     }
 }
 
+/// The aspects of an image of `format`: depth, stencil or both for depth/stencil formats,
+/// colour for every other.
+fn format_aspect(format: vk::Format) -> vk::ImageAspectFlags {
+    use vk::{Format as F, ImageAspectFlags as A};
+    match format {
+        F::D16_UNORM | F::X8_D24_UNORM_PACK32 | F::D32_SFLOAT => A::DEPTH,
+        F::D16_UNORM_S8_UINT | F::D24_UNORM_S8_UINT | F::D32_SFLOAT_S8_UINT => {
+            A::DEPTH | A::STENCIL
+        }
+        F::S8_UINT => A::STENCIL,
+        _ => A::COLOR,
+    }
+}
+
 /// The number of mip levels down to 1×1 for a `width`×`height` image.
 pub fn full_mip_chain(width: u32, height: u32) -> u32 {
     32 - width.max(height).max(1).leading_zeros()
@@ -425,10 +439,7 @@ impl Image {
     pub fn new(device: &Arc<Device>, desc: &ImageDesc<'_>) -> Result<Image, VkError> {
         desc.check(device.max_image_dimension_2d())
             .map_err(VkError::Unsupported)?;
-        let aspect = match desc.format {
-            vk::Format::D32_SFLOAT | vk::Format::D16_UNORM => vk::ImageAspectFlags::DEPTH,
-            _ => vk::ImageAspectFlags::COLOR,
-        };
+        let aspect = format_aspect(desc.format);
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(desc.format)
@@ -764,6 +775,30 @@ impl Drop for Image {
             if let Err(e) = self.device.allocator().free(allocation) {
                 log::error!("freeing image memory: {e}");
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_aspect_follows_the_format() {
+        use vk::{Format as F, ImageAspectFlags as A};
+        for (format, aspect) in [
+            (F::D16_UNORM, A::DEPTH),
+            (F::X8_D24_UNORM_PACK32, A::DEPTH),
+            (F::D32_SFLOAT, A::DEPTH),
+            (F::D16_UNORM_S8_UINT, A::DEPTH | A::STENCIL),
+            (F::D24_UNORM_S8_UINT, A::DEPTH | A::STENCIL),
+            (F::D32_SFLOAT_S8_UINT, A::DEPTH | A::STENCIL),
+            (F::S8_UINT, A::STENCIL),
+            (F::R8G8B8A8_UNORM, A::COLOR),
+            (F::R32G32B32A32_SFLOAT, A::COLOR),
+            (F::B10G11R11_UFLOAT_PACK32, A::COLOR),
+        ] {
+            assert_eq!(format_aspect(format), aspect, "{format:?}");
         }
     }
 }
