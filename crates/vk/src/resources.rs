@@ -623,6 +623,14 @@ impl Image {
         }
     }
 
+    /// Mip level `mip_level` of every layer.
+    fn all_layers(&self, mip_level: u32) -> vk::ImageSubresourceLayers {
+        vk::ImageSubresourceLayers {
+            layer_count: self.layers,
+            ..self.subresource_layers(mip_level, 0)
+        }
+    }
+
     /// The size of mip level `level`.
     pub fn mip_extent(&self, level: u32) -> vk::Extent2D {
         vk::Extent2D {
@@ -644,10 +652,11 @@ impl Image {
         self.copy_region(0, 0)
     }
 
-    /// Records the upload of mip level 0 from `staging` (tightly packed texels) and the
-    /// generation of the other levels by linear blits; leaves every level in
-    /// SHADER_READ_ONLY_OPTIMAL for fragment shaders. The format must support blits with
-    /// linear filtering (RGBA8 does on every device Combustion runs on).
+    /// Records the upload of mip level 0 of every layer from `staging` (tightly packed
+    /// texels, layer after layer) and the generation of the other levels of every layer
+    /// by linear blits; leaves every level in SHADER_READ_ONLY_OPTIMAL for fragment
+    /// shaders. The format must support blits with linear filtering (RGBA8 does on every
+    /// device Combustion runs on).
     pub fn record_upload_with_mips(&self, cmd: vk::CommandBuffer, staging: &Buffer) {
         use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
         let raw = self.device.raw();
@@ -672,8 +681,10 @@ impl Image {
         );
         let all_to_dst = self.barrier((S::NONE, A::NONE, L::UNDEFINED), dst);
         barrier(&[all_to_dst]);
-        let region = self.level0_copy_region();
-        // SAFETY: recording state; staging holds width·height texels.
+        // Tightly packed layers follow each other in the buffer, which is what one
+        // region over every layer reads.
+        let region = packed_copy_region(self.all_layers(0), self.extent);
+        // SAFETY: recording state; staging holds width·height texels per layer.
         unsafe {
             raw.cmd_copy_buffer_to_image(
                 cmd,
@@ -693,11 +704,11 @@ impl Image {
             barrier(&[level_barrier(level - 1, dst, src)]);
             let ((sw, sh), (dw, dh)) = (size(level - 1), size(level));
             let blit = vk::ImageBlit::default()
-                .src_subresource(self.subresource_layers(level - 1, 0))
+                .src_subresource(self.all_layers(level - 1))
                 .src_offsets([vk::Offset3D::default(), vk::Offset3D { x: sw, y: sh, z: 1 }])
-                .dst_subresource(self.subresource_layers(level, 0))
+                .dst_subresource(self.all_layers(level))
                 .dst_offsets([vk::Offset3D::default(), vk::Offset3D { x: dw, y: dh, z: 1 }]);
-            // SAFETY: recording state; levels are in the layouts named.
+            // SAFETY: recording state; levels (of every layer) are in the layouts named.
             unsafe {
                 raw.cmd_blit_image(
                     cmd,
