@@ -40,6 +40,8 @@ pub enum VkError {
     DeviceLost { what: &'static str },
     #[error("out of {kind} memory ({what})")]
     OutOfMemory { what: String, kind: &'static str },
+    #[error("{what}: {why}")]
+    InvalidArgument { what: &'static str, why: String },
 }
 
 /// Attaches the name of the failed call to a raw `vk::Result`.

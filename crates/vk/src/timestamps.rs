@@ -17,6 +17,12 @@ pub struct TimestampQueries {
 impl TimestampQueries {
     /// `count` timestamps. Fails with `Unsupported` when the device has no timestamps.
     pub fn new(device: &Arc<Device>, count: u32) -> Result<Self, VkError> {
+        if count == 0 {
+            return Err(VkError::InvalidArgument {
+                what: "TimestampQueries::new",
+                why: "a timestamp pool needs at least one timestamp, not 0".into(),
+            });
+        }
         let limits = device.limits();
         if limits.timestamp_compute_and_graphics == vk::FALSE || limits.timestamp_period <= 0.0 {
             return Err(VkError::Unsupported(
@@ -85,5 +91,28 @@ impl TimestampQueries {
 impl Drop for TimestampQueries {
     fn drop(&mut self) {
         unsafe { self.device.raw().destroy_query_pool(self.pool, None) };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_support;
+
+    #[test]
+    fn a_pool_of_no_timestamps_is_refused() {
+        let device = test_support::device();
+        let log = device.validation_log();
+        match TimestampQueries::new(&device, 0) {
+            Err(VkError::InvalidArgument { what, why }) => {
+                assert_eq!(what, "TimestampQueries::new");
+                assert!(why.contains("at least one"), "{why}");
+            }
+            Err(e) => panic!("a pool of 0 timestamps was refused with the wrong error: {e}"),
+            Ok(_) => panic!("a pool of 0 timestamps was made"),
+        }
+        let pool = TimestampQueries::new(&device, 2).unwrap();
+        drop(pool);
+        test_support::finish(device, log);
     }
 }
