@@ -157,8 +157,9 @@ pub type QueueLock = Arc<Mutex<vk::Queue>>;
 /// host's mutex).
 pub type SharedAllocator = Arc<Mutex<Allocator>>;
 
-/// What Combustion needs of a Vulkan device: the API version, the features, and a
-/// graphics queue (timestamps are optional: pass timings are then unavailable).
+/// What Combustion needs of a Vulkan device: the API version, the features, and a queue
+/// family with both graphics and compute (timestamps are optional: pass timings are then
+/// unavailable).
 /// A host that creates its own device enables these; [`Device::from_host`] checks them.
 pub struct Requirements;
 
@@ -169,6 +170,11 @@ impl Requirements {
     pub const DEVICE_EXTENSIONS: &'static [&'static CStr] = &[];
     /// Vulkan 1.3 features, by name.
     pub const FEATURES_13: &'static [&'static str] = &["dynamicRendering", "synchronization2"];
+    /// What the queue family Combustion submits to must support: graphics (the G-buffer,
+    /// lighting and output passes) and compute (light culling), on the same queue.
+    pub const QUEUE_FLAGS: vk::QueueFlags = vk::QueueFlags::from_raw(
+        vk::QueueFlags::GRAPHICS.as_raw() | vk::QueueFlags::COMPUTE.as_raw(),
+    );
 
     /// The Vulkan 1.3 features to chain into `VkDeviceCreateInfo`.
     pub fn features_13() -> vk::PhysicalDeviceVulkan13Features<'static> {
@@ -425,10 +431,7 @@ fn describe_devices(
         unsafe { instance.get_physical_device_features2(pd, &mut features2) };
         let queue_family = unsafe { instance.get_physical_device_queue_family_properties(pd) }
             .iter()
-            .position(|q| {
-                q.queue_flags
-                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
-            })
+            .position(|q| missing_queue_capabilities(q.queue_flags).is_none())
             .map(|i| i as u32);
         let v = props.api_version;
         let mut missing = Vec::new();
@@ -442,7 +445,7 @@ fn describe_devices(
             missing.push("synchronization2");
         }
         if queue_family.is_none() {
-            missing.push("a graphics queue");
+            missing.push("a queue family with graphics and compute");
         }
         let info = DeviceInfo {
             unsuitable_because: (!missing.is_empty())
@@ -679,12 +682,9 @@ impl Device {
                 families.len()
             )),
             Some(family) => {
-                if !family
-                    .queue_flags
-                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
-                {
+                if let Some(lacks) = missing_queue_capabilities(family.queue_flags) {
                     missing.push(format!(
-                        "queue family {} lacks graphics or compute support (light culling dispatches compute work)",
+                        "queue family {} lacks {lacks} (Combustion needs graphics and compute on one queue: light culling dispatches compute work between its graphics passes)",
                         host.queue_family
                     ));
                 }
@@ -873,11 +873,29 @@ fn select_device(
     if let Some(why) = &info.unsuitable_because {
         return Err(VkError::NoSuitableDevice(format!("{} {why}", info.name)));
     }
-    Ok((
-        *pd,
-        info.clone(),
-        queue_family.expect("suitable devices have a graphics queue"),
-    ))
+    // A suitable device has such a family (describe_devices says why otherwise).
+    let queue_family = queue_family.ok_or_else(|| {
+        VkError::NoSuitableDevice(format!(
+            "{} lacks a queue family with graphics and compute",
+            info.name
+        ))
+    })?;
+    Ok((*pd, info.clone(), queue_family))
+}
+
+/// What a queue family of `flags` lacks of [`Requirements::QUEUE_FLAGS`], named for a
+/// message (`"compute"`, `"graphics"` or `"graphics and compute"`); `None` when it has
+/// both.
+fn missing_queue_capabilities(flags: vk::QueueFlags) -> Option<&'static str> {
+    match (
+        flags.contains(vk::QueueFlags::GRAPHICS),
+        flags.contains(vk::QueueFlags::COMPUTE),
+    ) {
+        (true, true) => None,
+        (true, false) => Some("compute"),
+        (false, true) => Some("graphics"),
+        (false, false) => Some("graphics and compute"),
+    }
 }
 
 /// Destroys a half-built instance if device creation fails part-way.
@@ -942,5 +960,32 @@ impl Drop for Device {
 impl fmt::Debug for Device {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Device").field("info", &self.info).finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_queue_family_is_told_what_it_lacks() {
+        use vk::QueueFlags as Q;
+        assert_eq!(missing_queue_capabilities(Requirements::QUEUE_FLAGS), None);
+        assert_eq!(
+            missing_queue_capabilities(Q::GRAPHICS | Q::COMPUTE | Q::TRANSFER),
+            None
+        );
+        assert_eq!(
+            missing_queue_capabilities(Q::GRAPHICS | Q::TRANSFER),
+            Some("compute")
+        );
+        assert_eq!(
+            missing_queue_capabilities(Q::COMPUTE | Q::TRANSFER),
+            Some("graphics")
+        );
+        assert_eq!(
+            missing_queue_capabilities(Q::TRANSFER),
+            Some("graphics and compute")
+        );
     }
 }

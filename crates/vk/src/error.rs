@@ -8,7 +8,7 @@ pub enum VkError {
     LoaderMissing(String),
     #[error("no Vulkan device found; install a driver, e.g. `apt-get install mesa-vulkan-drivers` for lavapipe (CPU Vulkan)")]
     NoDevice,
-    #[error("no Vulkan device offers what Combustion needs (Vulkan 1.3 with dynamicRendering and synchronization2, and a graphics queue): {0}")]
+    #[error("no Vulkan device offers what Combustion needs (Vulkan 1.3 with dynamicRendering and synchronization2, and a queue family with graphics and compute): {0}")]
     NoSuitableDevice(String),
     #[error("no Vulkan device matches `{selector}`; devices: {available}")]
     DeviceNotFound { selector: String, available: String },
@@ -86,5 +86,20 @@ impl VkError {
                 source,
             },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_unsuitable_device_message_names_the_queue_combustion_needs() {
+        let message =
+            VkError::NoSuitableDevice("lavapipe lacks synchronization2".into()).to_string();
+        assert!(
+            message.contains("a queue family with graphics and compute"),
+            "{message}"
+        );
     }
 }

@@ -72,7 +72,7 @@ impl Surface {
             .what("vkGetPhysicalDeviceSurfaceSupportKHR")?;
         if !supported {
             return Err(VkError::Unsupported(format!(
-                "Vulkan device {} cannot present to this window (its graphics queue has no presentation support); pick another with --device",
+                "Vulkan device {} cannot present to this window (the queue Combustion submits to has no presentation support); pick another with --device",
                 device.info().name
             )));
         }

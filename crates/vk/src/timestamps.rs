@@ -26,7 +26,7 @@ impl TimestampQueries {
         let limits = device.limits();
         if limits.timestamp_compute_and_graphics == vk::FALSE || limits.timestamp_period <= 0.0 {
             return Err(VkError::Unsupported(
-                "the device has no timestamp queries on its graphics queue".into(),
+                "the device has no timestamp queries on its graphics and compute queues (timestampComputeAndGraphics)".into(),
             ));
         }
         let info = vk::QueryPoolCreateInfo::default()
