@@ -7,6 +7,19 @@ use crate::error::{VkError, VkResultExt};
 
 /// A command pool with one primary command buffer and a fence: record, submit, wait.
 /// Reusable: each [`OneShot::begin`] resets the buffer.
+///
+/// For uploads and set-up work outside the frame loop (it blocks until the GPU is
+/// done); frames use a [`FrameRing`]. Submits to the device's queue, taking the queue
+/// lock for the submission only.
+///
+/// ```no_run
+/// # fn demo(device: &std::sync::Arc<combustion_vk::Device>) -> Result<(), combustion_vk::VkError> {
+/// let mut commands = combustion_vk::OneShot::new(device)?;
+/// let cmd = commands.begin()?;
+/// // ... record into `cmd` ...
+/// commands.submit_and_wait()?;
+/// # Ok(()) }
+/// ```
 pub struct OneShot {
     device: Arc<Device>,
     pool: vk::CommandPool,
@@ -18,6 +31,10 @@ pub struct OneShot {
 }
 
 impl OneShot {
+    /// A command pool on the device's queue family, its command buffer and a fence.
+    ///
+    /// # Errors
+    /// [`VkError`] when a Vulkan object cannot be created (out of memory, mostly).
     pub fn new(device: &Arc<Device>) -> Result<Self, VkError> {
         let raw = device.raw();
         let pool_info = vk::CommandPoolCreateInfo::default()
@@ -45,7 +62,12 @@ impl OneShot {
         Ok(this)
     }
 
-    /// Resets the command buffer and begins recording; returns it.
+    /// Resets the command buffer and begins recording; returns it (valid until the next
+    /// `begin` or until the `OneShot` is dropped). If an earlier submission is still
+    /// pending because its wait failed, waits for it first.
+    ///
+    /// # Errors
+    /// [`VkError`] when the wait, the reset or `vkBeginCommandBuffer` fails.
     pub fn begin(&mut self) -> Result<vk::CommandBuffer, VkError> {
         // A submission whose wait failed may still be running: the buffer is reset only
         // once it has completed.
@@ -64,7 +86,13 @@ impl OneShot {
         Ok(self.cmd)
     }
 
-    /// Ends recording, submits, and waits for the GPU to finish.
+    /// Ends recording, submits, and waits (without a time limit) for the GPU to finish.
+    /// Call after [`OneShot::begin`] and recording.
+    ///
+    /// # Errors
+    /// [`VkError`] when ending the buffer, the submission or the wait fails (e.g.
+    /// [`VkError::DeviceLost`]). A failed submission leaves nothing pending: the
+    /// `OneShot` can begin again, and dropping it does not wait.
     pub fn submit_and_wait(&mut self) -> Result<(), VkError> {
         let raw = self.device.raw();
         unsafe { raw.end_command_buffer(self.cmd) }.what("vkEndCommandBuffer")?;
@@ -141,12 +169,20 @@ struct RingSlot {
 /// A frame being recorded: its slot in the ring and its command buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RingFrame {
+    /// The ring slot, `0..frames_in_flight`: index per-frame resources (uniform
+    /// buffers, descriptor sets, swapchain acquire semaphores) with it.
     pub slot: usize,
+    /// The slot's primary command buffer, in the recording state until the frame is
+    /// submitted.
     pub cmd: vk::CommandBuffer,
 }
 
 impl FrameRing {
-    /// A ring of `frames_in_flight` slots (at least 1).
+    /// A ring of `frames_in_flight` slots (at least 1: 0 is taken as 1), each with its
+    /// own command pool, command buffer and fence, on the device's queue family.
+    ///
+    /// # Errors
+    /// [`VkError`] when a Vulkan object cannot be created; what was made is destroyed.
     pub fn new(device: &Arc<Device>, frames_in_flight: usize) -> Result<Self, VkError> {
         let mut ring = FrameRing {
             device: device.clone(),
@@ -185,6 +221,7 @@ impl FrameRing {
         Ok(ring)
     }
 
+    /// The number of slots: how many frames may be recorded or in flight at once.
     pub fn frames_in_flight(&self) -> usize {
         self.slots.len()
     }
@@ -195,7 +232,11 @@ impl FrameRing {
     }
 
     /// Waits for the frame that last used the next slot (n − N), resets its command pool
-    /// and begins recording.
+    /// and begins recording. Submit the frame with [`FrameRing::submit`] or
+    /// [`FrameRing::submit_with`] before the next `begin`.
+    ///
+    /// # Errors
+    /// [`VkError`] when the wait, the reset or `vkBeginCommandBuffer` fails.
     pub fn begin(&mut self) -> Result<RingFrame, VkError> {
         let slot = self.next;
         self.wait(slot)?;
@@ -217,13 +258,21 @@ impl FrameRing {
     }
 
     /// Ends recording and submits the frame; its slot's fence signals when it completes.
+    ///
+    /// # Errors
+    /// As [`FrameRing::submit_with`].
     pub fn submit(&mut self, frame: RingFrame) -> Result<(), VkError> {
         self.submit_with(frame, None, None)
     }
 
     /// As [`FrameRing::submit`], waiting for `wait` before any of the frame's commands
     /// (e.g. a swapchain image's acquisition) and signalling `signal` when they are done
-    /// (e.g. for its presentation).
+    /// (e.g. for its presentation). Both semaphores are binary; the wait happens at every
+    /// pipeline stage.
+    ///
+    /// # Errors
+    /// [`VkError`] when ending the buffer or the submission fails. A failed submission
+    /// leaves the slot with nothing pending: nothing waits for it later.
     pub fn submit_with(
         &mut self,
         frame: RingFrame,
@@ -253,7 +302,11 @@ impl FrameRing {
     }
 
     /// Waits until the last submission of `slot` has completed (at once if it had none,
-    /// or if that submission failed).
+    /// or if that submission failed). No time limit. `slot` must be below
+    /// [`FrameRing::frames_in_flight`] (it panics otherwise, like any slice index).
+    ///
+    /// # Errors
+    /// [`VkError`] when the wait fails (e.g. [`VkError::DeviceLost`]).
     pub fn wait(&self, slot: usize) -> Result<(), VkError> {
         if !self.slots[slot].pending {
             return Ok(());
@@ -264,7 +317,11 @@ impl FrameRing {
             .what("vkWaitForFences")
     }
 
-    /// Waits until every submitted frame has completed.
+    /// Waits until every submitted frame has completed (e.g. before dropping resources
+    /// the frames use). No time limit.
+    ///
+    /// # Errors
+    /// [`VkError`] when the wait fails (e.g. [`VkError::DeviceLost`]).
     pub fn wait_all(&self) -> Result<(), VkError> {
         let fences: Vec<_> = self
             .slots

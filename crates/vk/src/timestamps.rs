@@ -7,6 +7,10 @@ use crate::error::{VkError, VkResultExt};
 
 /// A timestamp query pool: write a timestamp at the start and at the end of each pass,
 /// read back the durations in milliseconds once the submission has completed.
+///
+/// Per frame: [`TimestampQueries::record_reset`] (outside any rendering scope), then
+/// [`TimestampQueries::record`] for each index in use, then after the submission has
+/// completed [`TimestampQueries::read_ms_if_available`].
 pub struct TimestampQueries {
     device: Arc<Device>,
     pool: vk::QueryPool,
@@ -15,7 +19,13 @@ pub struct TimestampQueries {
 }
 
 impl TimestampQueries {
-    /// `count` timestamps. Fails with `Unsupported` when the device has no timestamps.
+    /// A pool of `count` timestamps (indices `0..count`).
+    ///
+    /// # Errors
+    /// [`VkError::InvalidArgument`] when `count` is 0; [`VkError::Unsupported`] when the
+    /// device has no timestamps on its graphics and compute queues (pass timings are then
+    /// unavailable, which a renderer can live with); [`VkError`] when the pool cannot be
+    /// created.
     pub fn new(device: &Arc<Device>, count: u32) -> Result<Self, VkError> {
         if count == 0 {
             return Err(VkError::InvalidArgument {
@@ -43,7 +53,13 @@ impl TimestampQueries {
         })
     }
 
-    /// Records the reset of all queries (outside any rendering scope).
+    /// The number of timestamps in the pool.
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+
+    /// Records the reset of all queries (outside any rendering scope). `cmd` must be in
+    /// the recording state.
     pub fn record_reset(&self, cmd: vk::CommandBuffer) {
         unsafe {
             self.device
@@ -52,7 +68,10 @@ impl TimestampQueries {
         };
     }
 
-    /// Records timestamp `index`, taken once all earlier work reached `stage`.
+    /// Records timestamp `index`, taken once all earlier work reached `stage`. `cmd` must
+    /// be in the recording state, `index` below [`TimestampQueries::count`], and the
+    /// query reset ([`TimestampQueries::record_reset`]) earlier in the same or an earlier
+    /// submission.
     pub fn record(&self, cmd: vk::CommandBuffer, stage: vk::PipelineStageFlags2, index: u32) {
         unsafe {
             self.device
@@ -62,7 +81,11 @@ impl TimestampQueries {
     }
 
     /// Reads all timestamps if the GPU has written them (never waits): `None` while any
-    /// is pending. Milliseconds since the first.
+    /// is pending. Milliseconds since the first timestamp (index 0), one per index; the
+    /// duration of a pass is the difference of its end and start.
+    ///
+    /// # Errors
+    /// [`VkError`] when reading the results fails (e.g. [`VkError::DeviceLost`]).
     pub fn read_ms_if_available(&self) -> Result<Option<Vec<f64>>, VkError> {
         let mut ticks = vec![0u64; self.count as usize];
         let result = unsafe {
