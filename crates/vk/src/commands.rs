@@ -7,14 +7,34 @@ use crate::error::{VkError, VkResultExt};
 
 /// A command pool with one primary command buffer and a fence: record, submit, wait.
 /// Reusable: each [`OneShot::begin`] resets the buffer.
+///
+/// For uploads and set-up work outside the frame loop (it blocks until the GPU is
+/// done); frames use a [`FrameRing`]. Submits to the device's queue, taking the queue
+/// lock for the submission only.
+///
+/// ```no_run
+/// # fn demo(device: &std::sync::Arc<combustion_vk::Device>) -> Result<(), combustion_vk::VkError> {
+/// let mut commands = combustion_vk::OneShot::new(device)?;
+/// let cmd = commands.begin()?;
+/// // ... record into `cmd` ...
+/// commands.submit_and_wait()?;
+/// # Ok(()) }
+/// ```
 pub struct OneShot {
     device: Arc<Device>,
     pool: vk::CommandPool,
     cmd: vk::CommandBuffer,
     fence: vk::Fence,
+    /// The fence belongs to a submission that was made and not yet waited for (a failed
+    /// submission leaves the fence unsignalled, and nothing must wait for it then).
+    pending: bool,
 }
 
 impl OneShot {
+    /// A command pool on the device's queue family, its command buffer and a fence.
+    ///
+    /// # Errors
+    /// [`VkError`] when a Vulkan object cannot be created (out of memory, mostly).
     pub fn new(device: &Arc<Device>) -> Result<Self, VkError> {
         let raw = device.raw();
         let pool_info = vk::CommandPoolCreateInfo::default()
@@ -28,6 +48,7 @@ impl OneShot {
             pool,
             cmd: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
+            pending: false,
         };
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(pool)
@@ -35,15 +56,22 @@ impl OneShot {
             .command_buffer_count(1);
         this.cmd =
             unsafe { raw.allocate_command_buffers(&alloc) }.what("vkAllocateCommandBuffers")?[0];
-        // Created signalled: "nothing pending", so Drop never waits on a fence that was
-        // never submitted (e.g. when recording failed).
+        // Created signalled, so that the first submission resets it like every other.
         let fence_info = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
         this.fence = unsafe { raw.create_fence(&fence_info, None) }.what("vkCreateFence")?;
         Ok(this)
     }
 
-    /// Resets the command buffer and begins recording; returns it.
+    /// Resets the command buffer and begins recording; returns it (valid until the next
+    /// `begin` or until the `OneShot` is dropped). If an earlier submission is still
+    /// pending because its wait failed, waits for it first.
+    ///
+    /// # Errors
+    /// [`VkError`] when the wait, the reset or `vkBeginCommandBuffer` fails.
     pub fn begin(&mut self) -> Result<vk::CommandBuffer, VkError> {
+        // A submission whose wait failed may still be running: the buffer is reset only
+        // once it has completed.
+        self.wait()?;
         let raw = self.device.raw();
         unsafe {
             raw.reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
@@ -58,15 +86,40 @@ impl OneShot {
         Ok(self.cmd)
     }
 
-    /// Ends recording, submits, and waits for the GPU to finish.
+    /// Ends recording, submits, and waits (without a time limit) for the GPU to finish.
+    /// Call after [`OneShot::begin`] and recording.
+    ///
+    /// # Errors
+    /// [`VkError`] when ending the buffer, the submission or the wait fails (e.g.
+    /// [`VkError::DeviceLost`]). A failed submission leaves nothing pending: the
+    /// `OneShot` can begin again, and dropping it does not wait.
     pub fn submit_and_wait(&mut self) -> Result<(), VkError> {
         let raw = self.device.raw();
         unsafe { raw.end_command_buffer(self.cmd) }.what("vkEndCommandBuffer")?;
         let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos)];
         unsafe { raw.reset_fences(&[self.fence]) }.what("vkResetFences")?;
+        // Only a submission that was made is waited for, here or in Drop: a failed one
+        // leaves the fence unsignalled for good.
         self.device.submit(&submit, self.fence)?;
-        unsafe { raw.wait_for_fences(&[self.fence], true, u64::MAX) }.what("vkWaitForFences")
+        self.pending = true;
+        self.wait()
+    }
+
+    /// Waits for the last submission if it was made and not yet waited for.
+    fn wait(&mut self) -> Result<(), VkError> {
+        if !self.pending {
+            return Ok(());
+        }
+        // SAFETY: plain wait on our own fence, which a submission will signal.
+        unsafe {
+            self.device
+                .raw()
+                .wait_for_fences(&[self.fence], true, u64::MAX)
+        }
+        .what("vkWaitForFences")?;
+        self.pending = false;
+        Ok(())
     }
 }
 
@@ -76,10 +129,12 @@ impl Drop for OneShot {
         // SAFETY: wait for any submitted work before destroying what it uses.
         unsafe {
             if self.fence != vk::Fence::null() {
-                // Bounded: a fence left unsignalled by a failed submission must not hang teardown.
-                if raw
-                    .wait_for_fences(&[self.fence], true, 10_000_000_000)
-                    .is_err()
+                // Only a submission that was made and whose wait failed (e.g. on device
+                // loss) is still pending; bounded, so that teardown cannot hang.
+                if self.pending
+                    && raw
+                        .wait_for_fences(&[self.fence], true, 10_000_000_000)
+                        .is_err()
                 {
                     log::error!("command buffer still pending after 10 s at teardown");
                 }
@@ -114,12 +169,20 @@ struct RingSlot {
 /// A frame being recorded: its slot in the ring and its command buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RingFrame {
+    /// The ring slot, `0..frames_in_flight`: index per-frame resources (uniform
+    /// buffers, descriptor sets, swapchain acquire semaphores) with it.
     pub slot: usize,
+    /// The slot's primary command buffer, in the recording state until the frame is
+    /// submitted.
     pub cmd: vk::CommandBuffer,
 }
 
 impl FrameRing {
-    /// A ring of `frames_in_flight` slots (at least 1).
+    /// A ring of `frames_in_flight` slots (at least 1: 0 is taken as 1), each with its
+    /// own command pool, command buffer and fence, on the device's queue family.
+    ///
+    /// # Errors
+    /// [`VkError`] when a Vulkan object cannot be created; what was made is destroyed.
     pub fn new(device: &Arc<Device>, frames_in_flight: usize) -> Result<Self, VkError> {
         let mut ring = FrameRing {
             device: device.clone(),
@@ -158,6 +221,7 @@ impl FrameRing {
         Ok(ring)
     }
 
+    /// The number of slots: how many frames may be recorded or in flight at once.
     pub fn frames_in_flight(&self) -> usize {
         self.slots.len()
     }
@@ -168,7 +232,11 @@ impl FrameRing {
     }
 
     /// Waits for the frame that last used the next slot (n − N), resets its command pool
-    /// and begins recording.
+    /// and begins recording. Submit the frame with [`FrameRing::submit`] or
+    /// [`FrameRing::submit_with`] before the next `begin`.
+    ///
+    /// # Errors
+    /// [`VkError`] when the wait, the reset or `vkBeginCommandBuffer` fails.
     pub fn begin(&mut self) -> Result<RingFrame, VkError> {
         let slot = self.next;
         self.wait(slot)?;
@@ -190,13 +258,21 @@ impl FrameRing {
     }
 
     /// Ends recording and submits the frame; its slot's fence signals when it completes.
+    ///
+    /// # Errors
+    /// As [`FrameRing::submit_with`].
     pub fn submit(&mut self, frame: RingFrame) -> Result<(), VkError> {
         self.submit_with(frame, None, None)
     }
 
     /// As [`FrameRing::submit`], waiting for `wait` before any of the frame's commands
     /// (e.g. a swapchain image's acquisition) and signalling `signal` when they are done
-    /// (e.g. for its presentation).
+    /// (e.g. for its presentation). Both semaphores are binary; the wait happens at every
+    /// pipeline stage.
+    ///
+    /// # Errors
+    /// [`VkError`] when ending the buffer or the submission fails. A failed submission
+    /// leaves the slot with nothing pending: nothing waits for it later.
     pub fn submit_with(
         &mut self,
         frame: RingFrame,
@@ -226,7 +302,11 @@ impl FrameRing {
     }
 
     /// Waits until the last submission of `slot` has completed (at once if it had none,
-    /// or if that submission failed).
+    /// or if that submission failed). No time limit. `slot` must be below
+    /// [`FrameRing::frames_in_flight`] (it panics otherwise, like any slice index).
+    ///
+    /// # Errors
+    /// [`VkError`] when the wait fails (e.g. [`VkError::DeviceLost`]).
     pub fn wait(&self, slot: usize) -> Result<(), VkError> {
         if !self.slots[slot].pending {
             return Ok(());
@@ -237,7 +317,11 @@ impl FrameRing {
             .what("vkWaitForFences")
     }
 
-    /// Waits until every submitted frame has completed.
+    /// Waits until every submitted frame has completed (e.g. before dropping resources
+    /// the frames use). No time limit.
+    ///
+    /// # Errors
+    /// [`VkError`] when the wait fails (e.g. [`VkError::DeviceLost`]).
     pub fn wait_all(&self) -> Result<(), VkError> {
         let fences: Vec<_> = self
             .slots
@@ -270,5 +354,73 @@ impl Drop for FrameRing {
                 raw.destroy_command_pool(s.pool, None);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::Ordering;
+    use std::time::{Duration, Instant};
+
+    use super::*;
+    use crate::test_support;
+
+    #[test]
+    fn a_failed_submission_is_not_waited_for() {
+        let device = test_support::device();
+        let log = device.validation_log();
+        let mut commands = OneShot::new(&device).unwrap();
+        commands.begin().unwrap();
+        device.fail_submits.store(true, Ordering::Relaxed);
+        let started = Instant::now();
+        assert!(commands.submit_and_wait().is_err());
+        device.fail_submits.store(false, Ordering::Relaxed);
+        drop(commands);
+        let took = started.elapsed();
+        assert!(
+            took < Duration::from_secs(2),
+            "a failed submission and teardown took {took:?}"
+        );
+        test_support::finish(device, log);
+    }
+
+    #[test]
+    fn one_shot_works_again_after_a_failed_submission() {
+        let device = test_support::device();
+        let log = device.validation_log();
+        let mut commands = OneShot::new(&device).unwrap();
+        commands.begin().unwrap();
+        device.fail_submits.store(true, Ordering::Relaxed);
+        assert!(commands.submit_and_wait().is_err());
+        device.fail_submits.store(false, Ordering::Relaxed);
+        let started = Instant::now();
+        commands.begin().unwrap();
+        commands.submit_and_wait().unwrap();
+        commands.begin().unwrap();
+        commands.submit_and_wait().unwrap();
+        drop(commands);
+        assert!(started.elapsed() < Duration::from_secs(2));
+        test_support::finish(device, log);
+    }
+
+    #[test]
+    fn a_ring_slot_whose_submission_failed_is_not_waited_for() {
+        let device = test_support::device();
+        let log = device.validation_log();
+        let mut ring = FrameRing::new(&device, 2).unwrap();
+        let frame = ring.begin().unwrap();
+        device.fail_submits.store(true, Ordering::Relaxed);
+        assert!(ring.submit(frame).is_err());
+        device.fail_submits.store(false, Ordering::Relaxed);
+        let started = Instant::now();
+        ring.wait_all().unwrap();
+        for _ in 0..3 {
+            let frame = ring.begin().unwrap();
+            ring.submit(frame).unwrap();
+        }
+        ring.wait_all().unwrap();
+        drop(ring);
+        assert!(started.elapsed() < Duration::from_secs(2));
+        test_support::finish(device, log);
     }
 }

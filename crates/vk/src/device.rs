@@ -29,6 +29,9 @@ impl DeviceSelector {
     pub const ENV_VAR: &'static str = "COMBUSTION_DEVICE";
 
     /// The selector named by `COMBUSTION_DEVICE`, or `Auto` when it is unset.
+    ///
+    /// # Errors
+    /// [`VkError::BadDeviceSelector`] when the variable is set but empty.
     pub fn from_env() -> Result<Self, VkError> {
         match std::env::var(Self::ENV_VAR) {
             Ok(text) => text.parse(),
@@ -37,6 +40,9 @@ impl DeviceSelector {
     }
 }
 
+/// `auto` (any case) is [`DeviceSelector::Auto`], a number an index, anything else part
+/// of a name; surrounding whitespace is ignored, and empty text is
+/// [`VkError::BadDeviceSelector`].
 impl FromStr for DeviceSelector {
     type Err = VkError;
     fn from_str(text: &str) -> Result<Self, VkError> {
@@ -67,6 +73,7 @@ impl fmt::Display for DeviceSelector {
 /// How to create a [`Device`].
 #[derive(Clone, Debug, Default)]
 pub struct DeviceDesc {
+    /// Which physical device to use.
     pub selector: DeviceSelector,
     /// Enable VK_LAYER_KHRONOS_validation; its warnings and errors go to the `log`
     /// facade and to the device's [`ValidationLog`]. An error if the layer is missing.
@@ -85,10 +92,16 @@ pub struct DeviceDesc {
 /// What the loader reports of one physical device.
 #[derive(Clone, Debug)]
 pub struct DeviceInfo {
+    /// The position in the loader's enumeration ([`DeviceSelector::Index`]); 0 for a
+    /// host's device.
     pub index: usize,
+    /// The device name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
     pub name: String,
+    /// Discrete, integrated, virtual or CPU.
     pub device_type: vk::PhysicalDeviceType,
+    /// The Vulkan version the device supports: (major, minor, patch).
     pub api_version: (u32, u32, u32),
+    /// The driver's name and version information; empty for a host's device.
     pub driver: String,
     /// Why the device can't be used by Combustion, or `None` when it can.
     pub unsuitable_because: Option<String>,
@@ -109,6 +122,8 @@ impl ValidationLog {
     pub fn messages(&self) -> Vec<String> {
         self.lock().clone()
     }
+    /// Whether no warning or error was reported (what tests assert after dropping the
+    /// device).
     pub fn is_empty(&self) -> bool {
         self.lock().is_empty()
     }
@@ -157,18 +172,24 @@ pub type QueueLock = Arc<Mutex<vk::Queue>>;
 /// host's mutex).
 pub type SharedAllocator = Arc<Mutex<Allocator>>;
 
-/// What Combustion needs of a Vulkan device: the API version, the features, and a
-/// graphics queue (timestamps are optional: pass timings are then unavailable).
+/// What Combustion needs of a Vulkan device: the API version, the features, and a queue
+/// family with both graphics and compute (timestamps are optional: pass timings are then
+/// unavailable).
 /// A host that creates its own device enables these; [`Device::from_host`] checks them.
 pub struct Requirements;
 
 impl Requirements {
     /// The Vulkan API version (instance and device).
     pub const API_VERSION: u32 = vk::API_VERSION_1_3;
-    /// Device extensions: none (Vulkan 1.3 core covers what Combustion uses).
+    /// Device extensions, as names: none (Vulkan 1.3 core covers what Combustion uses).
     pub const DEVICE_EXTENSIONS: &'static [&'static CStr] = &[];
     /// Vulkan 1.3 features, by name.
     pub const FEATURES_13: &'static [&'static str] = &["dynamicRendering", "synchronization2"];
+    /// What the queue family Combustion submits to must support: graphics (the G-buffer,
+    /// lighting and output passes) and compute (light culling), on the same queue.
+    pub const QUEUE_FLAGS: vk::QueueFlags = vk::QueueFlags::from_raw(
+        vk::QueueFlags::GRAPHICS.as_raw() | vk::QueueFlags::COMPUTE.as_raw(),
+    );
 
     /// The Vulkan 1.3 features to chain into `VkDeviceCreateInfo`.
     pub fn features_13() -> vk::PhysicalDeviceVulkan13Features<'static> {
@@ -250,7 +271,7 @@ impl EnabledFeatures {
         enabled
     }
 
-    /// The instance's `apiVersion`.
+    /// The instance's `apiVersion` (encoded as by `vk::make_api_version`).
     pub fn api_version(&self) -> u32 {
         self.api_version
     }
@@ -276,14 +297,19 @@ impl EnabledFeatures {
 /// last Combustion object is dropped, and drops those only after the GPU has finished
 /// the work Combustion recorded (see docs/integration.md).
 pub struct HostDevice {
+    /// The host's loaded Vulkan entry points.
     pub entry: ash::Entry,
+    /// The host's instance, created with [`Requirements::API_VERSION`] or later.
     pub instance: ash::Instance,
+    /// The physical device the host's device was created on.
     pub physical_device: vk::PhysicalDevice,
+    /// The host's logical device.
     pub device: ash::Device,
-    /// The queue family and index of the queue Combustion submits to (its own
-    /// convenience frames only; frames recorded into the host's command buffers are
-    /// submitted by the host).
+    /// The queue family of the queue Combustion submits to (its own convenience frames
+    /// and uploads only; frames recorded into the host's command buffers are submitted
+    /// by the host). Must support [`Requirements::QUEUE_FLAGS`].
     pub queue_family: u32,
+    /// The index of that queue within its family.
     pub queue_index: u32,
     /// The queue and the host's lock for it.
     pub queue: QueueLock,
@@ -313,6 +339,9 @@ pub struct Device {
     allocator: ManuallyDrop<SharedAllocator>,
     /// Created (and so destroyed) by Combustion; `false` for a host's device.
     owned: bool,
+    /// Tests only: [`Device::submit`] fails without submitting while this is set.
+    #[cfg(test)]
+    pub(crate) fail_submits: std::sync::atomic::AtomicBool,
 }
 
 fn c_chars_to_string(chars: &[std::ffi::c_char]) -> String {
@@ -422,10 +451,7 @@ fn describe_devices(
         unsafe { instance.get_physical_device_features2(pd, &mut features2) };
         let queue_family = unsafe { instance.get_physical_device_queue_family_properties(pd) }
             .iter()
-            .position(|q| {
-                q.queue_flags
-                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
-            })
+            .position(|q| missing_queue_capabilities(q.queue_flags).is_none())
             .map(|i| i as u32);
         let v = props.api_version;
         let mut missing = Vec::new();
@@ -439,7 +465,7 @@ fn describe_devices(
             missing.push("synchronization2");
         }
         if queue_family.is_none() {
-            missing.push("a graphics queue");
+            missing.push("a queue family with graphics and compute");
         }
         let info = DeviceInfo {
             unsuitable_because: (!missing.is_empty())
@@ -497,7 +523,12 @@ fn type_rank(t: vk::PhysicalDeviceType) -> u32 {
 }
 
 impl Device {
-    /// Lists the physical devices the Vulkan loader sees (no logical device is created).
+    /// Lists the physical devices the Vulkan loader sees (no logical device is created),
+    /// each with why Combustion cannot use it, if it cannot.
+    ///
+    /// # Errors
+    /// [`VkError::LoaderMissing`] without a loader, [`VkError::NoDevice`] when no driver
+    /// is compatible, or a failed Vulkan call.
     pub fn enumerate() -> Result<Vec<DeviceInfo>, VkError> {
         let entry = load_entry()?;
         let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default();
@@ -508,7 +539,18 @@ impl Device {
         Ok(result?.into_iter().map(|(_, info, _)| info).collect())
     }
 
-    /// Creates the instance and the logical device on the selected physical device.
+    /// Creates the instance (with validation if asked), selects a physical device and
+    /// creates the logical device with one queue of a family that supports
+    /// [`Requirements::QUEUE_FLAGS`], and the memory allocator. Combustion owns all of
+    /// them and destroys them when the last `Arc` is dropped.
+    ///
+    /// # Errors
+    /// [`VkError::LoaderMissing`], [`VkError::NoDevice`],
+    /// [`VkError::ValidationLayerMissing`], [`VkError::DeviceNotFound`] (the selector
+    /// matched nothing), [`VkError::NoSuitableDevice`] (the device lacks what
+    /// [`Requirements`] lists), [`VkError::Unsupported`] (a requested instance extension
+    /// or the swapchain extension is missing), or a failed Vulkan call. Whatever was
+    /// created before the failure is destroyed.
     pub fn new(desc: &DeviceDesc) -> Result<Arc<Device>, VkError> {
         let entry = load_entry()?;
         let validation_log = ValidationLog::default();
@@ -611,6 +653,8 @@ impl Device {
             queue: Arc::new(Mutex::new(queue)),
             allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
             owned: true,
+            #[cfg(test)]
+            fail_submits: Default::default(),
         }))
     }
 
@@ -618,6 +662,13 @@ impl Device {
     /// allocator). Checks everything Combustion needs and fails with one
     /// [`VkError::HostDeviceUnsuitable`] listing all that is missing. Nothing here is
     /// destroyed by Combustion, and it never waits for this device to be idle.
+    ///
+    /// The handles in `host` must be valid and stay valid until the returned `Arc` and
+    /// every resource made from it have been dropped (see [`HostDevice`]).
+    ///
+    /// # Errors
+    /// [`VkError::HostDeviceUnsuitable`] as above; [`VkError::Allocation`] or
+    /// [`VkError::OutOfMemory`] when Combustion's own allocator cannot be created.
     pub fn from_host(host: HostDevice) -> Result<Arc<Device>, VkError> {
         let instance = &host.instance;
         let pd = host.physical_device;
@@ -674,12 +725,9 @@ impl Device {
                 families.len()
             )),
             Some(family) => {
-                if !family
-                    .queue_flags
-                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
-                {
+                if let Some(lacks) = missing_queue_capabilities(family.queue_flags) {
                     missing.push(format!(
-                        "queue family {} lacks graphics or compute support (light culling dispatches compute work)",
+                        "queue family {} lacks {lacks} (Combustion needs graphics and compute on one queue: light culling dispatches compute work between its graphics passes)",
                         host.queue_family
                     ));
                 }
@@ -731,6 +779,8 @@ impl Device {
             queue: host.queue,
             allocator: ManuallyDrop::new(allocator),
             owned: false,
+            #[cfg(test)]
+            fail_submits: Default::default(),
         }))
     }
 
@@ -739,24 +789,33 @@ impl Device {
         self.owned
     }
 
+    /// The logical device, for Vulkan calls the crate does not wrap. Objects created
+    /// through it are the caller's to destroy, before the `Device` is dropped.
     pub fn raw(&self) -> &ash::Device {
         &self.device
     }
+    /// The instance the device was created on.
     pub fn instance(&self) -> &ash::Instance {
         &self.instance
     }
+    /// The loaded Vulkan entry points.
     pub fn entry(&self) -> &ash::Entry {
         &self.entry
     }
+    /// The physical device the logical device runs on.
     pub fn physical_device(&self) -> vk::PhysicalDevice {
         self.physical_device
     }
+    /// What the loader reports of the physical device.
     pub fn info(&self) -> &DeviceInfo {
         &self.info
     }
+    /// The physical device's limits (image sizes, timestamp period, alignments, ...).
     pub fn limits(&self) -> &vk::PhysicalDeviceLimits {
         &self.limits
     }
+    /// The queue family of the queue Combustion submits to; command pools for
+    /// Combustion's work are created on it.
     pub fn queue_family(&self) -> u32 {
         self.queue_family
     }
@@ -768,15 +827,30 @@ impl Device {
     pub(crate) fn queue(&self) -> MutexGuard<'_, vk::Queue> {
         self.queue.lock().unwrap_or_else(|p| p.into_inner())
     }
-    /// The memory allocator, locked.
+    /// The memory allocator, locked. Hold the guard briefly: every buffer and image
+    /// creation and drop takes the same lock (a host's, when the allocator is shared).
     pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
         self.allocator
             .lock()
             .unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 
-    /// Submits command buffers on the device's queue.
+    /// Submits command buffers on the device's queue (`vkQueueSubmit2`), holding the
+    /// queue lock for the call; `fence` (or `vk::Fence::null()`) signals when they
+    /// complete. The submit infos must be valid: command buffers ended, semaphores and
+    /// the fence in the states Vulkan requires.
+    ///
+    /// # Errors
+    /// [`VkError`] when the submission fails; nothing was submitted then, and `fence`
+    /// will not be signalled.
     pub fn submit(&self, submits: &[vk::SubmitInfo2<'_>], fence: vk::Fence) -> Result<(), VkError> {
+        #[cfg(test)]
+        if self.fail_submits.load(std::sync::atomic::Ordering::Relaxed) {
+            return Err(VkError::from_result(
+                "vkQueueSubmit2",
+                vk::Result::ERROR_OUT_OF_HOST_MEMORY,
+            ));
+        }
         let queue = self.queue.lock().unwrap_or_else(|p| p.into_inner());
         // SAFETY: the queue is externally synchronised by the mutex.
         unsafe { self.device.queue_submit2(*queue, submits, fence) }.what("vkQueueSubmit2")
@@ -785,6 +859,9 @@ impl Device {
     /// Waits until the device is idle (used before tearing resources down). Only on a
     /// device Combustion owns: a host's device fails with [`VkError::NotOwned`], since
     /// only the host may stall its own device.
+    ///
+    /// # Errors
+    /// [`VkError::NotOwned`] on a host's device; [`VkError`] when the wait fails.
     pub fn wait_idle(&self) -> Result<(), VkError> {
         if !self.owned {
             return Err(VkError::NotOwned("vkDeviceWaitIdle"));
@@ -793,7 +870,7 @@ impl Device {
         unsafe { self.device.device_wait_idle() }.what("vkDeviceWaitIdle")
     }
 
-    /// The maximum 2D image side the device allows.
+    /// The maximum 2D image side the device allows, in texels.
     pub fn max_image_dimension_2d(&self) -> u32 {
         self.limits.max_image_dimension2_d
     }
@@ -859,11 +936,29 @@ fn select_device(
     if let Some(why) = &info.unsuitable_because {
         return Err(VkError::NoSuitableDevice(format!("{} {why}", info.name)));
     }
-    Ok((
-        *pd,
-        info.clone(),
-        queue_family.expect("suitable devices have a graphics queue"),
-    ))
+    // A suitable device has such a family (describe_devices says why otherwise).
+    let queue_family = queue_family.ok_or_else(|| {
+        VkError::NoSuitableDevice(format!(
+            "{} lacks a queue family with graphics and compute",
+            info.name
+        ))
+    })?;
+    Ok((*pd, info.clone(), queue_family))
+}
+
+/// What a queue family of `flags` lacks of [`Requirements::QUEUE_FLAGS`], named for a
+/// message (`"compute"`, `"graphics"` or `"graphics and compute"`); `None` when it has
+/// both.
+fn missing_queue_capabilities(flags: vk::QueueFlags) -> Option<&'static str> {
+    match (
+        flags.contains(vk::QueueFlags::GRAPHICS),
+        flags.contains(vk::QueueFlags::COMPUTE),
+    ) {
+        (true, true) => None,
+        (true, false) => Some("compute"),
+        (false, true) => Some("graphics"),
+        (false, false) => Some("graphics and compute"),
+    }
 }
 
 /// Destroys a half-built instance if device creation fails part-way.
@@ -928,5 +1023,32 @@ impl Drop for Device {
 impl fmt::Debug for Device {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Device").field("info", &self.info).finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_queue_family_is_told_what_it_lacks() {
+        use vk::QueueFlags as Q;
+        assert_eq!(missing_queue_capabilities(Requirements::QUEUE_FLAGS), None);
+        assert_eq!(
+            missing_queue_capabilities(Q::GRAPHICS | Q::COMPUTE | Q::TRANSFER),
+            None
+        );
+        assert_eq!(
+            missing_queue_capabilities(Q::GRAPHICS | Q::TRANSFER),
+            Some("compute")
+        );
+        assert_eq!(
+            missing_queue_capabilities(Q::COMPUTE | Q::TRANSFER),
+            Some("graphics")
+        );
+        assert_eq!(
+            missing_queue_capabilities(Q::TRANSFER),
+            Some("graphics and compute")
+        );
     }
 }

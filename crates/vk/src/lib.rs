@@ -10,7 +10,15 @@
 //! `Drop`. The device is therefore destroyed only after the last resource, and the
 //! validation layer's leak report at device destruction is captured by [`ValidationLog`].
 //!
+//! Failures are [`VkError`]s; a failed Vulkan call names the call.
+//! Synchronisation is the caller's: nothing here waits for the GPU except
+//! [`OneShot::submit_and_wait`], [`FrameRing`]'s waits, [`Device::wait_idle`] and the
+//! teardown of an owned [`Device`]; every resource must be dropped only once the GPU
+//! has finished with it.
+//!
 //! `ash` and `gpu_allocator` are re-exported so upper crates don't pin their own versions.
+
+#![warn(missing_docs)]
 
 pub use ash;
 pub use ash::vk;
@@ -23,6 +31,8 @@ mod pipeline;
 mod resources;
 mod shader;
 mod swapchain;
+#[cfg(test)]
+mod test_support;
 mod timestamps;
 
 pub use commands::{FrameRing, OneShot, RingFrame};

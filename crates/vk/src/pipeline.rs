@@ -13,7 +13,11 @@ pub struct DescriptorSetLayout {
 }
 
 impl DescriptorSetLayout {
-    /// `bindings`: (binding, type, descriptor count, stages).
+    /// A layout of `bindings`: (binding number, descriptor type, descriptor count,
+    /// shader stages that use it).
+    ///
+    /// # Errors
+    /// [`VkError`] when the Vulkan call fails (out of memory, mostly).
     pub fn new(
         device: &Arc<Device>,
         bindings: &[(u32, vk::DescriptorType, u32, vk::ShaderStageFlags)],
@@ -37,6 +41,7 @@ impl DescriptorSetLayout {
             raw,
         })
     }
+    /// The Vulkan layout, valid while `self` lives.
     pub fn raw(&self) -> vk::DescriptorSetLayout {
         self.raw
     }
@@ -59,6 +64,10 @@ pub struct Sampler {
 }
 
 impl Sampler {
+    /// A sampler as `info` describes it.
+    ///
+    /// # Errors
+    /// [`VkError`] when the Vulkan call fails (out of memory, mostly).
     pub fn new(device: &Arc<Device>, info: &vk::SamplerCreateInfo<'_>) -> Result<Self, VkError> {
         // SAFETY: valid create info.
         let raw = unsafe { device.raw().create_sampler(info, None) }.what("vkCreateSampler")?;
@@ -67,6 +76,7 @@ impl Sampler {
             raw,
         })
     }
+    /// The Vulkan sampler, valid while `self` lives.
     pub fn raw(&self) -> vk::Sampler {
         self.raw
     }
@@ -85,6 +95,11 @@ pub struct PipelineLayout {
 }
 
 impl PipelineLayout {
+    /// A layout of `set_layouts` (set 0, 1, ... in order) and `push_constants` (offsets
+    /// and sizes in bytes).
+    ///
+    /// # Errors
+    /// [`VkError`] when the Vulkan call fails (out of memory, mostly).
     pub fn new(
         device: &Arc<Device>,
         set_layouts: &[&DescriptorSetLayout],
@@ -102,6 +117,7 @@ impl PipelineLayout {
             raw,
         })
     }
+    /// The Vulkan pipeline layout, valid while `self` lives.
     pub fn raw(&self) -> vk::PipelineLayout {
         self.raw
     }
@@ -115,12 +131,21 @@ impl Drop for PipelineLayout {
 
 /// What a graphics pipeline for dynamic rendering needs. Viewport, scissor and cull mode
 /// are dynamic state (cull mode is core in Vulkan 1.3), set when recording.
+///
+/// Triangle lists, filled, counter-clockwise front faces, one sample per pixel.
 pub struct GraphicsPipelineDesc<'a> {
+    /// The vertex shader (entry point `main`).
     pub vertex: &'a ShaderModule,
+    /// The fragment shader (entry point `main`).
     pub fragment: &'a ShaderModule,
+    /// The layout the pipeline's descriptor sets and push constants follow.
     pub layout: &'a PipelineLayout,
+    /// Vertex buffer bindings (stride in bytes, input rate); empty for shaders that make
+    /// their own vertices (e.g. a full-screen triangle from `gl_VertexIndex`).
     pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    /// Vertex attributes (location, binding, format, byte offset).
     pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    /// The formats of the colour attachments rendered to, in attachment order.
     pub color_formats: &'a [vk::Format],
     /// Depth attachment format; depth test (LESS) and write are on when set.
     pub depth_format: Option<vk::Format>,
@@ -131,13 +156,18 @@ pub struct GraphicsPipelineDesc<'a> {
     pub cache: Option<&'a PipelineCache>,
 }
 
-/// A pipeline, destroyed when dropped.
+/// A graphics or compute pipeline, destroyed when dropped (once no pending submission
+/// uses it).
 pub struct Pipeline {
     device: Arc<Device>,
     raw: vk::Pipeline,
 }
 
 impl Pipeline {
+    /// A graphics pipeline for dynamic rendering as `desc` describes it.
+    ///
+    /// # Errors
+    /// [`VkError`] when `vkCreateGraphicsPipelines` fails.
     pub fn graphics(
         device: &Arc<Device>,
         desc: &GraphicsPipelineDesc<'_>,
@@ -228,7 +258,10 @@ impl Pipeline {
             raw,
         })
     }
-    /// A compute pipeline from `module` (entry point `main`).
+    /// A compute pipeline from `module` (entry point `main`), through `cache` if given.
+    ///
+    /// # Errors
+    /// [`VkError`] when `vkCreateComputePipelines` fails.
     pub fn compute(
         device: &Arc<Device>,
         module: &ShaderModule,
@@ -255,6 +288,7 @@ impl Pipeline {
         })
     }
 
+    /// The Vulkan pipeline, valid while `self` lives.
     pub fn raw(&self) -> vk::Pipeline {
         self.raw
     }
@@ -271,6 +305,9 @@ impl PipelineCache {
     /// A cache primed with `initial` (what [`PipelineCache::data`] returned on an earlier
     /// run; empty for none). Data from another driver or device is ignored by Vulkan,
     /// which checks the header.
+    ///
+    /// # Errors
+    /// [`VkError`] when the Vulkan call fails (out of memory, mostly).
     pub fn new(device: &Arc<Device>, initial: &[u8]) -> Result<Self, VkError> {
         let info = vk::PipelineCacheCreateInfo::default().initial_data(initial);
         // SAFETY: valid create info; the implementation validates the data's header.
@@ -283,12 +320,16 @@ impl PipelineCache {
     }
 
     /// The cache's contents, to save and pass to [`PipelineCache::new`] next time.
+    ///
+    /// # Errors
+    /// [`VkError`] when `vkGetPipelineCacheData` fails.
     pub fn data(&self) -> Result<Vec<u8>, VkError> {
         // SAFETY: valid cache.
         unsafe { self.device.raw().get_pipeline_cache_data(self.raw) }
             .what("vkGetPipelineCacheData")
     }
 
+    /// The Vulkan pipeline cache, valid while `self` lives.
     pub fn raw(&self) -> vk::PipelineCache {
         self.raw
     }
@@ -317,6 +358,11 @@ pub struct DescriptorPool {
 }
 
 impl DescriptorPool {
+    /// A pool for at most `max_sets` sets holding, in all, at most the descriptors
+    /// `sizes` lists (per type). Sets are not freed one by one.
+    ///
+    /// # Errors
+    /// [`VkError`] when the Vulkan call fails (out of memory, mostly).
     pub fn new(
         device: &Arc<Device>,
         max_sets: u32,
@@ -333,6 +379,12 @@ impl DescriptorPool {
         })
     }
 
+    /// Allocates one set of `layout`; it lives as long as the pool. Write its
+    /// descriptors with `vkUpdateDescriptorSets` before use.
+    ///
+    /// # Errors
+    /// [`VkError`] when the pool is exhausted (`VK_ERROR_OUT_OF_POOL_MEMORY`) or the call
+    /// fails otherwise.
     pub fn allocate(&self, layout: &DescriptorSetLayout) -> Result<vk::DescriptorSet, VkError> {
         let layouts = [layout.raw()];
         let info = vk::DescriptorSetAllocateInfo::default()

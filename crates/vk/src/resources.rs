@@ -7,7 +7,8 @@ use gpu_allocator::MemoryLocation;
 use crate::device::Device;
 use crate::error::{VkError, VkResultExt};
 
-/// A buffer and its memory. Destroyed when dropped.
+/// A buffer and its memory (gpu-allocator). Destroyed when dropped: drop it only once
+/// the GPU has finished every submission that uses it.
 pub struct Buffer {
     device: Arc<Device>,
     raw: vk::Buffer,
@@ -16,7 +17,14 @@ pub struct Buffer {
 }
 
 impl Buffer {
-    /// Creates a buffer of `size` bytes in `location` (`CpuToGpu` and `GpuToCpu` are mapped).
+    /// Creates a buffer of `size` bytes (at least 4: smaller sizes are rounded up) in
+    /// `location` (`CpuToGpu` and `GpuToCpu` are mapped, so [`Buffer::write`] and
+    /// [`Buffer::mapped`] work on them). `name` labels the allocation in the allocator's
+    /// reports and in errors.
+    ///
+    /// # Errors
+    /// [`VkError::OutOfMemory`] or [`VkError::Allocation`] when memory cannot be
+    /// allocated; [`VkError`] when a Vulkan call fails. Nothing is left behind.
     pub fn new(
         device: &Arc<Device>,
         name: &str,
@@ -60,7 +68,11 @@ impl Buffer {
         Ok(buffer)
     }
 
-    /// Creates a host-visible buffer holding `bytes`.
+    /// Creates a host-visible buffer (`CpuToGpu`) holding `bytes`, e.g. a staging buffer
+    /// for an upload. Host writes are visible to the device from the next submission on.
+    ///
+    /// # Errors
+    /// As [`Buffer::new`].
     pub fn with_data(
         device: &Arc<Device>,
         name: &str,
@@ -78,14 +90,21 @@ impl Buffer {
         Ok(buffer)
     }
 
+    /// The Vulkan buffer, valid while `self` lives.
     pub fn raw(&self) -> vk::Buffer {
         self.raw
     }
+    /// The buffer's size in bytes (as created: at least 4).
     pub fn size(&self) -> u64 {
         self.size
     }
 
-    /// Writes into a mapped buffer.
+    /// Writes `bytes` into a mapped buffer at byte `offset`. The GPU must not be using
+    /// the written range (no pending submission reads it).
+    ///
+    /// # Errors
+    /// [`VkError::Unsupported`] when the buffer is not host-visible or the write would
+    /// end past the buffer's end (nothing is written then).
     pub fn write(&mut self, offset: usize, bytes: &[u8]) -> Result<(), VkError> {
         let slice = self
             .allocation
@@ -100,7 +119,11 @@ impl Buffer {
         Ok(())
     }
 
-    /// The contents of a mapped buffer (e.g. a readback buffer after its copy completed).
+    /// The contents of a mapped buffer (e.g. a readback buffer after its copy completed
+    /// and was made visible to the host), [`Buffer::size`] bytes.
+    ///
+    /// # Errors
+    /// [`VkError::Unsupported`] when the buffer is not host-visible.
     pub fn mapped(&self) -> Result<&[u8], VkError> {
         let slice = self
             .allocation
@@ -127,8 +150,11 @@ impl Drop for Buffer {
 /// accesses of its last use (before a barrier) or next use (after it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ImageState {
+    /// The pipeline stages of the use.
     pub stage: vk::PipelineStageFlags2,
+    /// The memory accesses of the use.
     pub access: vk::AccessFlags2,
+    /// The image layout the use needs.
     pub layout: vk::ImageLayout,
 }
 
@@ -300,10 +326,16 @@ fn packed_copy_region(
 /// How to create an [`Image`] (2D, one layer).
 #[derive(Clone, Copy, Debug)]
 pub struct ImageDesc<'a> {
+    /// A label for the allocator's reports and for errors.
     pub name: &'a str,
+    /// The texel format; it decides the image's aspect (colour, depth, stencil).
     pub format: vk::Format,
+    /// Width of mip level 0, in texels (1 to the device's maximum 2D dimension).
     pub width: u32,
+    /// Height of mip level 0, in texels (1 to the device's maximum 2D dimension).
     pub height: u32,
+    /// What the image is used for; uploads need `TRANSFER_DST`, and mip generation
+    /// also `TRANSFER_SRC`.
     pub usage: vk::ImageUsageFlags,
     /// Mip levels (1 = none); see [`full_mip_chain`].
     pub mip_levels: u32,
@@ -315,7 +347,7 @@ pub struct ImageDesc<'a> {
 }
 
 impl<'a> ImageDesc<'a> {
-    /// A plain 2D image: one mip level, one layer.
+    /// A plain 2D image of `width`×`height` texels: one mip level, one layer.
     pub fn new(
         name: &'a str,
         format: vk::Format,
@@ -335,7 +367,7 @@ impl<'a> ImageDesc<'a> {
         }
     }
 
-    /// With `levels` mip levels.
+    /// With `levels` mip levels (1 to [`full_mip_chain`]; checked by [`Image::new`]).
     pub fn mips(self, levels: u32) -> Self {
         Self {
             mip_levels: levels,
@@ -348,12 +380,13 @@ impl<'a> ImageDesc<'a> {
         self.mips(full_mip_chain(self.width, self.height))
     }
 
-    /// An array of `layers` layers.
+    /// An array of `layers` layers (at least 1; checked by [`Image::new`]).
     pub fn array(self, layers: u32) -> Self {
         Self { layers, ..self }
     }
 
-    /// A cube map of `size`×`size` faces.
+    /// A cube map of `size`×`size` faces (6 layers, in the order +X, −X, +Y, −Y, +Z, −Z),
+    /// one mip level; add levels with [`ImageDesc::mips`] or [`ImageDesc::full_mips`].
     pub fn cube(name: &'a str, format: vk::Format, size: u32, usage: vk::ImageUsageFlags) -> Self {
         Self {
             layers: 6,
@@ -401,13 +434,32 @@ impl<'a> ImageDesc<'a> {
     }
 }
 
-/// The number of mip levels down to 1×1 for a `width`×`height` image.
+/// The aspects of an image of `format`: depth, stencil or both for depth/stencil formats,
+/// colour for every other.
+fn format_aspect(format: vk::Format) -> vk::ImageAspectFlags {
+    use vk::{Format as F, ImageAspectFlags as A};
+    match format {
+        F::D16_UNORM | F::X8_D24_UNORM_PACK32 | F::D32_SFLOAT => A::DEPTH,
+        F::D16_UNORM_S8_UINT | F::D24_UNORM_S8_UINT | F::D32_SFLOAT_S8_UINT => {
+            A::DEPTH | A::STENCIL
+        }
+        F::S8_UINT => A::STENCIL,
+        _ => A::COLOR,
+    }
+}
+
+/// The number of mip levels down to 1×1 for a `width`×`height` image (1 for a 1×1 or
+/// empty image).
 pub fn full_mip_chain(width: u32, height: u32) -> u32 {
     32 - width.max(height).max(1).leading_zeros()
 }
 
-/// A 2D image (plain, array or cube map, with or without mips), its memory and a view
-/// over all of it. Destroyed when dropped.
+/// A 2D image (plain, array or cube map, with or without mips), its memory (device-local)
+/// and a view over all of it. Destroyed when dropped: drop it only once the GPU has
+/// finished every submission that uses it.
+///
+/// Created in `UNDEFINED` layout; the caller moves it between layouts with barriers
+/// ([`Image::barrier`], [`image_barrier`] and [`ImageState`]).
 pub struct Image {
     device: Arc<Device>,
     raw: vk::Image,
@@ -422,13 +474,22 @@ pub struct Image {
 }
 
 impl Image {
+    /// Creates the image, binds memory and creates a view of every level and layer
+    /// (`TYPE_2D`, `TYPE_2D_ARRAY`, `CUBE` or `CUBE_ARRAY` by the description). The
+    /// aspect follows the format: `DEPTH` for D16, X8_D24 and D32, `DEPTH | STENCIL` for
+    /// the combined depth-stencil formats, `STENCIL` for S8, `COLOR` for the others.
+    ///
+    /// # Errors
+    /// [`VkError::Unsupported`] when the description is impossible (a side of 0 or
+    /// beyond the device's limit, too many mip levels, no layers, a cube map that is not
+    /// square or whose layers are not a multiple of 6), with the reason;
+    /// [`VkError::OutOfMemory`] or [`VkError::Allocation`] when memory cannot be
+    /// allocated; [`VkError`] when a Vulkan call fails (e.g. the format does not support
+    /// the usage). Nothing is left behind.
     pub fn new(device: &Arc<Device>, desc: &ImageDesc<'_>) -> Result<Image, VkError> {
         desc.check(device.max_image_dimension_2d())
             .map_err(VkError::Unsupported)?;
-        let aspect = match desc.format {
-            vk::Format::D32_SFLOAT | vk::Format::D16_UNORM => vk::ImageAspectFlags::DEPTH,
-            _ => vk::ImageAspectFlags::COLOR,
-        };
+        let aspect = format_aspect(desc.format);
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(desc.format)
@@ -502,7 +563,12 @@ impl Image {
 
     /// A view of part of the image: mip levels `mips`, layers `layers`, as `view_type`
     /// (e.g. one mip level of a cube map as a `TYPE_2D_ARRAY` storage image for compute,
-    /// or one face as `TYPE_2D`).
+    /// or one face as `TYPE_2D`). The view has the image's format and aspect; keep the
+    /// image alive while the view is used.
+    ///
+    /// # Errors
+    /// [`VkError::Unsupported`] when a range is empty or beyond the image; [`VkError`]
+    /// when `vkCreateImageView` fails (e.g. a view type the layers do not fit).
     pub fn view_of(
         &self,
         mips: std::ops::Range<u32>,
@@ -542,31 +608,39 @@ impl Image {
         }
     }
 
+    /// The number of array layers (6 per cube for a cube map).
     pub fn layers(&self) -> u32 {
         self.layers
     }
 
+    /// The number of mip levels.
     pub fn mip_levels(&self) -> u32 {
         self.mip_levels
     }
 
-    /// One mip level as a subresource range.
+    /// One mip level of every layer as a subresource range.
     pub fn mip_range(&self, level: u32) -> vk::ImageSubresourceRange {
         self.range(level, 1)
     }
 
+    /// The Vulkan image, valid while `self` lives.
     pub fn raw(&self) -> vk::Image {
         self.raw
     }
+    /// The view of every mip level and layer, valid while `self` lives.
     pub fn view(&self) -> vk::ImageView {
         self.view
     }
+    /// The texel format.
     pub fn format(&self) -> vk::Format {
         self.format
     }
+    /// The size of mip level 0, in texels.
     pub fn extent(&self) -> vk::Extent2D {
         self.extent
     }
+    /// The aspects of the format (see [`Image::new`]), used by every range, barrier and
+    /// copy region the image makes.
     pub fn aspect(&self) -> vk::ImageAspectFlags {
         self.aspect
     }
@@ -574,12 +648,14 @@ impl Image {
     pub fn usage(&self) -> vk::ImageUsageFlags {
         self.usage
     }
-    /// The whole image as a subresource range.
+    /// The whole image (every level and layer, every aspect) as a subresource range.
     pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
         self.range(0, self.mip_levels)
     }
 
-    /// A layout transition of the whole image (synchronization2).
+    /// A layout transition of the whole image (synchronization2): `src` and `dst` are
+    /// (stages, accesses, layout) before and after, as in [`ImageState`]. Record it with
+    /// `vkCmdPipelineBarrier2`.
     pub fn barrier(
         &self,
         src: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout),
@@ -612,7 +688,15 @@ impl Image {
         }
     }
 
-    /// The size of mip level `level`.
+    /// Mip level `mip_level` of every layer.
+    fn all_layers(&self, mip_level: u32) -> vk::ImageSubresourceLayers {
+        vk::ImageSubresourceLayers {
+            layer_count: self.layers,
+            ..self.subresource_layers(mip_level, 0)
+        }
+    }
+
+    /// The size of mip level `level`, in texels (at least 1×1).
     pub fn mip_extent(&self, level: u32) -> vk::Extent2D {
         vk::Extent2D {
             width: (self.extent.width >> level).max(1),
@@ -628,15 +712,23 @@ impl Image {
         )
     }
 
-    /// All of mip level 0 of layer 0, tightly packed in a buffer.
+    /// All of mip level 0 of layer 0, tightly packed in a buffer, for a copy to or from
+    /// it. With the image's aspect: for a combined depth-stencil image, set one aspect
+    /// before using it (a buffer copy takes one).
     pub fn level0_copy_region(&self) -> vk::BufferImageCopy {
         self.copy_region(0, 0)
     }
 
-    /// Records the upload of mip level 0 from `staging` (tightly packed texels) and the
-    /// generation of the other levels by linear blits; leaves every level in
-    /// SHADER_READ_ONLY_OPTIMAL for fragment shaders. The format must support blits with
-    /// linear filtering (RGBA8 does on every device Combustion runs on).
+    /// Records the upload of mip level 0 of every layer from `staging` (tightly packed
+    /// texels, layer after layer) and the generation of the other levels of every layer
+    /// by linear blits; leaves every level in SHADER_READ_ONLY_OPTIMAL for fragment
+    /// shaders. The format must support blits with linear filtering (RGBA8 does on every
+    /// device Combustion runs on).
+    ///
+    /// The image needs `TRANSFER_DST` usage (and `TRANSFER_SRC` with more than one mip
+    /// level) and a colour format; `staging` holds `width·height·layers` texels of the
+    /// format and stays alive until the submission completes; `cmd` is in the recording
+    /// state. The previous contents are discarded.
     pub fn record_upload_with_mips(&self, cmd: vk::CommandBuffer, staging: &Buffer) {
         use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
         let raw = self.device.raw();
@@ -661,8 +753,10 @@ impl Image {
         );
         let all_to_dst = self.barrier((S::NONE, A::NONE, L::UNDEFINED), dst);
         barrier(&[all_to_dst]);
-        let region = self.level0_copy_region();
-        // SAFETY: recording state; staging holds width·height texels.
+        // Tightly packed layers follow each other in the buffer, which is what one
+        // region over every layer reads.
+        let region = packed_copy_region(self.all_layers(0), self.extent);
+        // SAFETY: recording state; staging holds width·height texels per layer.
         unsafe {
             raw.cmd_copy_buffer_to_image(
                 cmd,
@@ -682,11 +776,11 @@ impl Image {
             barrier(&[level_barrier(level - 1, dst, src)]);
             let ((sw, sh), (dw, dh)) = (size(level - 1), size(level));
             let blit = vk::ImageBlit::default()
-                .src_subresource(self.subresource_layers(level - 1, 0))
+                .src_subresource(self.all_layers(level - 1))
                 .src_offsets([vk::Offset3D::default(), vk::Offset3D { x: sw, y: sh, z: 1 }])
-                .dst_subresource(self.subresource_layers(level, 0))
+                .dst_subresource(self.all_layers(level))
                 .dst_offsets([vk::Offset3D::default(), vk::Offset3D { x: dw, y: dh, z: 1 }]);
-            // SAFETY: recording state; levels are in the layouts named.
+            // SAFETY: recording state; levels (of every layer) are in the layouts named.
             unsafe {
                 raw.cmd_blit_image(
                     cmd,
@@ -703,13 +797,16 @@ impl Image {
         barrier(&[level_barrier(self.mip_levels - 1, dst, read)]);
     }
 
-    /// Records a copy of the whole image (in TRANSFER_SRC_OPTIMAL) into `buffer`, tightly packed.
+    /// Records a copy of mip level 0 of layer 0 (in TRANSFER_SRC_OPTIMAL) into `buffer`,
+    /// tightly packed; the whole image when it has one level and one layer. `buffer`
+    /// needs `TRANSFER_DST` usage and room for the texels.
     pub fn record_copy_to_buffer(&self, cmd: vk::CommandBuffer, buffer: &Buffer) {
         self.record_level_copy_to_buffer(cmd, buffer, 0, 0);
     }
 
     /// Records a copy of mip level `mip_level` of layer `layer` (in TRANSFER_SRC_OPTIMAL)
-    /// into `buffer`, tightly packed.
+    /// into `buffer`, tightly packed. `buffer` needs `TRANSFER_DST` usage and room for
+    /// [`Image::mip_extent`] texels; the level and layer must exist.
     pub fn record_level_copy_to_buffer(
         &self,
         cmd: vk::CommandBuffer,
@@ -739,6 +836,7 @@ pub struct ImageView {
 }
 
 impl ImageView {
+    /// The Vulkan image view, valid while `self` (and its image) live.
     pub fn raw(&self) -> vk::ImageView {
         self.raw
     }
@@ -764,6 +862,30 @@ impl Drop for Image {
             if let Err(e) = self.device.allocator().free(allocation) {
                 log::error!("freeing image memory: {e}");
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_aspect_follows_the_format() {
+        use vk::{Format as F, ImageAspectFlags as A};
+        for (format, aspect) in [
+            (F::D16_UNORM, A::DEPTH),
+            (F::X8_D24_UNORM_PACK32, A::DEPTH),
+            (F::D32_SFLOAT, A::DEPTH),
+            (F::D16_UNORM_S8_UINT, A::DEPTH | A::STENCIL),
+            (F::D24_UNORM_S8_UINT, A::DEPTH | A::STENCIL),
+            (F::D32_SFLOAT_S8_UINT, A::DEPTH | A::STENCIL),
+            (F::S8_UINT, A::STENCIL),
+            (F::R8G8B8A8_UNORM, A::COLOR),
+            (F::R32G32B32A32_SFLOAT, A::COLOR),
+            (F::B10G11R11_UFLOAT_PACK32, A::COLOR),
+        ] {
+            assert_eq!(format_aspect(format), aspect, "{format:?}");
         }
     }
 }

@@ -16,6 +16,7 @@ pub struct ShaderSources {
 }
 
 impl ShaderSources {
+    /// Sources from `(path, text)` pairs, e.g. files embedded with `include_str!`.
     pub fn new(files: impl IntoIterator<Item = (&'static str, &'static str)>) -> Self {
         Self {
             files: files
@@ -32,6 +33,7 @@ impl ShaderSources {
         self
     }
 
+    /// The text of `path`, if there is such a source.
     pub fn get(&self, path: &str) -> Option<&str> {
         self.files.get(path).map(|text| &**text)
     }
@@ -50,10 +52,14 @@ impl ShaderSources {
     }
 }
 
+/// The pipeline stage a shader is compiled for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShaderStage {
+    /// A vertex shader.
     Vertex,
+    /// A fragment shader.
     Fragment,
+    /// A compute shader.
     Compute,
 }
 
@@ -65,6 +71,7 @@ impl ShaderStage {
             Self::Compute => shaderc::ShaderKind::Compute,
         }
     }
+    /// The stage as Vulkan shader stage flags (for layouts and push constants).
     pub fn flags(self) -> vk::ShaderStageFlags {
         match self {
             Self::Vertex => vk::ShaderStageFlags::VERTEX,
@@ -81,6 +88,10 @@ pub struct ShaderCompiler {
 }
 
 impl ShaderCompiler {
+    /// A compiler of `sources`.
+    ///
+    /// # Errors
+    /// [`VkError::Shader`] when shaderc cannot be started.
     pub fn new(sources: ShaderSources) -> Result<Self, VkError> {
         let compiler = shaderc::Compiler::new()
             .map_err(|e| VkError::Shader(format!("cannot start the shader compiler: {e}")))?;
@@ -88,7 +99,12 @@ impl ShaderCompiler {
     }
 
     /// Compiles `path` with `defines` (`NAME` or `NAME=value`). Errors carry
-    /// `file:line: message` as reported by glslang.
+    /// `file:line: message` as reported by glslang. Returns SPIR-V words for
+    /// [`ShaderModule::new`]; warnings are errors, and entry points are `main`.
+    ///
+    /// # Errors
+    /// [`VkError::Shader`] when `path` or an include is not among the sources, or when
+    /// compilation fails (the diagnostics joined on one line with ` | `).
     pub fn compile(
         &self,
         path: &str,
@@ -147,6 +163,10 @@ pub struct ShaderModule {
 }
 
 impl ShaderModule {
+    /// A module of `spirv` (as [`ShaderCompiler::compile`] returns it) for `stage`.
+    ///
+    /// # Errors
+    /// [`VkError`] when `vkCreateShaderModule` fails.
     pub fn new(device: &Arc<Device>, spirv: &[u32], stage: ShaderStage) -> Result<Self, VkError> {
         let info = vk::ShaderModuleCreateInfo::default().code(spirv);
         // SAFETY: SPIR-V comes from shaderc.
@@ -158,9 +178,11 @@ impl ShaderModule {
             stage,
         })
     }
+    /// The Vulkan shader module, valid while `self` lives.
     pub fn raw(&self) -> vk::ShaderModule {
         self.raw
     }
+    /// The stage the module was made for.
     pub fn stage(&self) -> ShaderStage {
         self.stage
     }

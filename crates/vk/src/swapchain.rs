@@ -31,6 +31,9 @@ pub struct Surface {
 impl Surface {
     /// The instance extensions a surface on this display needs; give them to
     /// [`crate::DeviceDesc::instance_extensions`].
+    ///
+    /// # Errors
+    /// [`VkError::Unsupported`] when Vulkan cannot present on this window system.
     pub fn instance_extensions(display: RawDisplayHandle) -> Result<Vec<&'static CStr>, VkError> {
         let names = ash_window::enumerate_required_extensions(display).map_err(|_| {
             VkError::Unsupported(format!(
@@ -49,6 +52,10 @@ impl Surface {
     /// # Safety
     /// The handles must be valid and stay valid until the surface is dropped; `device`
     /// must have been created with [`Surface::instance_extensions`] of this display.
+    ///
+    /// # Errors
+    /// [`VkError::Unsupported`] when the device's queue cannot present to the window;
+    /// [`VkError`] when a Vulkan call fails.
     pub unsafe fn new(
         device: &Arc<Device>,
         display: RawDisplayHandle,
@@ -72,13 +79,14 @@ impl Surface {
             .what("vkGetPhysicalDeviceSurfaceSupportKHR")?;
         if !supported {
             return Err(VkError::Unsupported(format!(
-                "Vulkan device {} cannot present to this window (its graphics queue has no presentation support); pick another with --device",
+                "Vulkan device {} cannot present to this window (the queue Combustion submits to has no presentation support); pick another with --device",
                 device.info().name
             )));
         }
         Ok(surface)
     }
 
+    /// The Vulkan surface, valid while `self` lives.
     pub fn raw(&self) -> vk::SurfaceKHR {
         self.raw
     }
@@ -116,7 +124,10 @@ pub enum PresentOutcome {
 /// An image acquired for one frame.
 #[derive(Clone, Copy, Debug)]
 pub struct AcquiredImage {
+    /// The image's index in the swapchain (what the present names).
     pub index: u32,
+    /// The swapchain image, in an undefined layout until the frame moves it (see
+    /// [`crate::ImageState::SWAPCHAIN_ACQUIRED`]).
     pub image: vk::Image,
     /// A 2D colour view of the image.
     pub view: vk::ImageView,
@@ -162,6 +173,11 @@ impl Swapchain {
     ///
     /// The image format is B8G8R8A8_UNORM or R8G8B8A8_UNORM: the renderer encodes sRGB
     /// exactly in its shader, which an `_SRGB` format would do again.
+    ///
+    /// # Errors
+    /// [`VkError::Unsupported`] when the surface offers neither format, cannot be
+    /// rendered into, or has no area (a minimised window); [`VkError`] when a Vulkan call
+    /// fails.
     pub fn new(
         device: &Arc<Device>,
         surface: &Surface,
@@ -326,10 +342,12 @@ impl Swapchain {
         self.extent
     }
 
+    /// The images' format (B8G8R8A8_UNORM or R8G8B8A8_UNORM).
     pub fn format(&self) -> vk::Format {
         self.format
     }
 
+    /// The present mode chosen (FIFO with vsync; else MAILBOX, IMMEDIATE or FIFO).
     pub fn present_mode(&self) -> vk::PresentModeKHR {
         self.present_mode
     }
@@ -346,7 +364,11 @@ impl Swapchain {
 
     /// Acquires the next image for the frame in `frame_slot` (whose previous frame has
     /// completed, so its semaphore is free). `Ok(None)`: the swapchain is out of date;
-    /// recreate it.
+    /// recreate it. Waits at most 10 s for an image.
+    ///
+    /// # Errors
+    /// [`VkError`] when the acquisition fails or times out (e.g. [`VkError::DeviceLost`],
+    /// or a lost surface).
     pub fn acquire(&self, frame_slot: usize) -> Result<Option<AcquiredImage>, VkError> {
         let acquired = self.acquired[frame_slot % self.acquired.len()];
         // SAFETY: valid handles; the semaphore is unsignalled (its last wait completed).
@@ -372,7 +394,12 @@ impl Swapchain {
         }
     }
 
-    /// Presents `image` once its frame (submitted with `image.rendered` to signal) is done.
+    /// Presents `image` once its frame (submitted with `image.rendered` to signal) is done,
+    /// on the device's queue (under its lock).
+    ///
+    /// # Errors
+    /// [`VkError`] when the present fails other than by the swapchain being out of date
+    /// (which is [`PresentOutcome::OutOfDate`]).
     pub fn present(&self, image: &AcquiredImage) -> Result<PresentOutcome, VkError> {
         let wait = [image.rendered];
         let swapchains = [self.raw];

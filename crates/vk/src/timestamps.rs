@@ -7,6 +7,10 @@ use crate::error::{VkError, VkResultExt};
 
 /// A timestamp query pool: write a timestamp at the start and at the end of each pass,
 /// read back the durations in milliseconds once the submission has completed.
+///
+/// Per frame: [`TimestampQueries::record_reset`] (outside any rendering scope), then
+/// [`TimestampQueries::record`] for each index in use, then after the submission has
+/// completed [`TimestampQueries::read_ms_if_available`].
 pub struct TimestampQueries {
     device: Arc<Device>,
     pool: vk::QueryPool,
@@ -15,12 +19,24 @@ pub struct TimestampQueries {
 }
 
 impl TimestampQueries {
-    /// `count` timestamps. Fails with `Unsupported` when the device has no timestamps.
+    /// A pool of `count` timestamps (indices `0..count`).
+    ///
+    /// # Errors
+    /// [`VkError::InvalidArgument`] when `count` is 0; [`VkError::Unsupported`] when the
+    /// device has no timestamps on its graphics and compute queues (pass timings are then
+    /// unavailable, which a renderer can live with); [`VkError`] when the pool cannot be
+    /// created.
     pub fn new(device: &Arc<Device>, count: u32) -> Result<Self, VkError> {
+        if count == 0 {
+            return Err(VkError::InvalidArgument {
+                what: "TimestampQueries::new",
+                why: "a timestamp pool needs at least one timestamp, not 0".into(),
+            });
+        }
         let limits = device.limits();
         if limits.timestamp_compute_and_graphics == vk::FALSE || limits.timestamp_period <= 0.0 {
             return Err(VkError::Unsupported(
-                "the device has no timestamp queries on its graphics queue".into(),
+                "the device has no timestamp queries on its graphics and compute queues (timestampComputeAndGraphics)".into(),
             ));
         }
         let info = vk::QueryPoolCreateInfo::default()
@@ -37,7 +53,13 @@ impl TimestampQueries {
         })
     }
 
-    /// Records the reset of all queries (outside any rendering scope).
+    /// The number of timestamps in the pool.
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+
+    /// Records the reset of all queries (outside any rendering scope). `cmd` must be in
+    /// the recording state.
     pub fn record_reset(&self, cmd: vk::CommandBuffer) {
         unsafe {
             self.device
@@ -46,7 +68,10 @@ impl TimestampQueries {
         };
     }
 
-    /// Records timestamp `index`, taken once all earlier work reached `stage`.
+    /// Records timestamp `index`, taken once all earlier work reached `stage`. `cmd` must
+    /// be in the recording state, `index` below [`TimestampQueries::count`], and the
+    /// query reset ([`TimestampQueries::record_reset`]) earlier in the same or an earlier
+    /// submission.
     pub fn record(&self, cmd: vk::CommandBuffer, stage: vk::PipelineStageFlags2, index: u32) {
         unsafe {
             self.device
@@ -56,7 +81,11 @@ impl TimestampQueries {
     }
 
     /// Reads all timestamps if the GPU has written them (never waits): `None` while any
-    /// is pending. Milliseconds since the first.
+    /// is pending. Milliseconds since the first timestamp (index 0), one per index; the
+    /// duration of a pass is the difference of its end and start.
+    ///
+    /// # Errors
+    /// [`VkError`] when reading the results fails (e.g. [`VkError::DeviceLost`]).
     pub fn read_ms_if_available(&self) -> Result<Option<Vec<f64>>, VkError> {
         let mut ticks = vec![0u64; self.count as usize];
         let result = unsafe {
@@ -85,5 +114,28 @@ impl TimestampQueries {
 impl Drop for TimestampQueries {
     fn drop(&mut self) {
         unsafe { self.device.raw().destroy_query_pool(self.pool, None) };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_support;
+
+    #[test]
+    fn a_pool_of_no_timestamps_is_refused() {
+        let device = test_support::device();
+        let log = device.validation_log();
+        match TimestampQueries::new(&device, 0) {
+            Err(VkError::InvalidArgument { what, why }) => {
+                assert_eq!(what, "TimestampQueries::new");
+                assert!(why.contains("at least one"), "{why}");
+            }
+            Err(e) => panic!("a pool of 0 timestamps was refused with the wrong error: {e}"),
+            Ok(_) => panic!("a pool of 0 timestamps was made"),
+        }
+        let pool = TimestampQueries::new(&device, 2).unwrap();
+        drop(pool);
+        test_support::finish(device, log);
     }
 }
