@@ -109,10 +109,19 @@ impl Mesh {
             ));
         }
         let finite = |v: &[f32]| v.iter().all(|x| x.is_finite());
-        if let Some(i) = self.vertices.iter().position(|v| {
-            !(finite(&v.position) && finite(&v.normal) && finite(&v.tangent) && finite(&v.uv))
-        }) {
-            return Err(format!("vertex {i} has a NaN or infinite attribute"));
+        for (i, v) in self.vertices.iter().enumerate() {
+            let attributes: [(&str, &[f32]); 5] = [
+                ("position", &v.position),
+                ("normal", &v.normal),
+                ("tangent", &v.tangent),
+                ("uv", &v.uv),
+                ("uv1", &v.uv1),
+            ];
+            if let Some((name, values)) = attributes.iter().find(|(_, values)| !finite(values)) {
+                return Err(format!(
+                    "vertex {i} has a NaN or infinite {name} {values:?}"
+                ));
+            }
         }
         Ok(())
     }
@@ -141,6 +150,31 @@ mod tests {
             let t = glam::Vec3::from_slice(&v.tangent[..3]);
             assert!((t.length() - 1.0).abs() < 1e-5);
             assert!(n.dot(t).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn every_attribute_is_checked_for_finite_values() {
+        type Set = fn(&mut Vertex, f32);
+        let attributes: [(&str, Set); 5] = [
+            ("position", |v, x| v.position[1] = x),
+            ("normal", |v, x| v.normal[2] = x),
+            ("tangent", |v, x| v.tangent[3] = x),
+            ("uv", |v, x| v.uv[0] = x),
+            ("uv1", |v, x| v.uv1[1] = x),
+        ];
+        for (name, set) in attributes {
+            for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+                let mut mesh = Mesh::plane("p", 1.0);
+                set(&mut mesh.vertices[2], bad);
+                let message = mesh
+                    .validate()
+                    .expect_err(&format!("{name} = {bad} accepted"));
+                assert!(
+                    message.contains("vertex 2") && message.contains(&format!("infinite {name} [")),
+                    "{name} = {bad}: {message}"
+                );
+            }
         }
     }
 }
