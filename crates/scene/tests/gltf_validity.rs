@@ -402,3 +402,29 @@ fn a_mesh_crowding_one_edge_gets_tangents_without_mikktspace() {
         assert!((t.length() - 1.0).abs() < 1e-5 && t.z.abs() < 1e-5, "{t}");
     }
 }
+
+/// Accessor problems are found while reading a primitive's attributes or indices and
+/// are reported as [`ImportProblem::Primitive`], naming the mesh, the primitive, the
+/// attribute and the accessor.
+#[test]
+fn accessor_problems_name_the_primitive_that_reads_them() {
+    use combustion_scene::gltf::ImportProblem;
+    let mut g = triangle(json!({}));
+    g["accessors"][0]["count"] = json!(4);
+    let error =
+        import_slice(&serde_json::to_vec(&g).unwrap(), &ImportOptions::default()).unwrap_err();
+    let message = error.to_string();
+    match &error.problem {
+        ImportProblem::Primitive {
+            mesh: 0,
+            primitive: 0,
+            message,
+            ..
+        } => assert!(
+            message.contains("POSITION") && message.contains("accessor 0"),
+            "{message}"
+        ),
+        other => panic!("not a primitive error: {other:?}"),
+    }
+    assert!(message.contains("mesh 0 primitive 0"), "{message}");
+}

@@ -48,8 +48,6 @@ pub enum ImportProblem {
     },
     #[error("buffer {index}: {message}")]
     Buffer { index: usize, message: String },
-    #[error("{context}: {message}")]
-    Accessor { context: String, message: String },
     #[error("mesh {mesh}{} primitive {primitive}: {message}", name_suffix(name))]
     Primitive {
         mesh: usize,
