@@ -150,7 +150,9 @@ fn finite3(v: [f32; 3]) -> bool {
 }
 
 impl Scene {
-    /// The world-space box around every object (`None` for an empty scene).
+    /// The world-space box around every object (`None` for an empty scene). Objects
+    /// naming a mesh that does not exist (which [`Scene::validate`] refuses) are left
+    /// out, not a panic.
     pub fn world_bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
         gltf::import::world_bounds(&self.meshes, &self.objects)
     }
@@ -565,5 +567,33 @@ mod transform_tests {
         assert!(transform_is_degenerate(&Mat4::from_scale(Vec3::splat(
             f32::INFINITY
         ))));
+    }
+}
+
+#[cfg(test)]
+mod bounds_tests {
+    use super::*;
+
+    /// A host may ask an unvalidated scene for its bounds: an object naming a mesh that
+    /// does not exist is left out rather than a panic.
+    #[test]
+    fn world_bounds_of_an_invalid_scene_do_not_panic() {
+        let mut scene = builtin_scene("spheres").unwrap();
+        let before = scene.world_bounds();
+        assert!(before.is_some());
+        scene.objects.push(Object {
+            mesh: scene.meshes.len() + 5,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        });
+        assert_eq!(scene.world_bounds(), before);
+        scene.objects.truncate(0);
+        scene.objects.push(Object {
+            mesh: 99,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        });
+        assert_eq!(scene.world_bounds(), None);
+        assert!(scene.validate().is_err());
     }
 }

@@ -1148,7 +1148,7 @@ pub(crate) fn world_bounds(meshes: &[crate::Mesh], objects: &[Object]) -> Option
     let boxes: Vec<_> = meshes.iter().map(mesh_bounds).collect();
     objects
         .iter()
-        .filter_map(|object| placed_bounds(boxes[object.mesh], &object.transform))
+        .filter_map(|object| placed_bounds(*boxes.get(object.mesh)?, &object.transform))
         .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
 }
 
