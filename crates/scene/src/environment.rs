@@ -25,9 +25,12 @@ pub const MAX_ENVIRONMENT_TEXELS: u64 = 1 << 26;
 pub struct EnvironmentImage {
     /// The file it came from (for messages).
     pub name: String,
+    /// Texels per row (the full 360° of longitude), at least 1.
     pub width: u32,
+    /// Rows (zenith to nadir, 180° of latitude), at least 1.
     pub height: u32,
-    /// Row-major from the top-left.
+    /// `width × height` texels of radiance (linear RGB, W·sr⁻¹·m⁻², finite and ≥ 0),
+    /// row-major from the top-left.
     pub texels: Vec<[f32; 3]>,
 }
 
