@@ -18,7 +18,23 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "gold-copper-underwater",
 ];
 
-/// Builds the built-in scene `name`.
+/// Builds the built-in scene `name` (one of [`BUILTIN_SCENES`]), procedurally, needing no
+/// files. Every built-in scene passes [`Scene::validate`].
+///
+/// - `spheres`: a grid of spheres, roughness ([`SPHERE_GRID_ROUGHNESS`]) along the
+///   columns, material along the rows (plastic, gold, a copper blend, anisotropic
+///   aluminium), lit by point lights;
+/// - `hard-cases`: the renderer's edge cases (grazing angles, roughness 0 and 1, η = 1,
+///   total internal reflection, lights behind surfaces, ...);
+/// - `gold-copper`, `dielectrics`, `diffuse-models`: conductors, dielectrics of rising
+///   IOR, and the three [`DiffuseModel`]s side by side;
+/// - `underwater` and `underwater-in-air`: one set of objects in water (outside IOR 1.33)
+///   and in air;
+/// - `grid-7x7`: the performance grid, 49 finely tessellated spheres;
+/// - `spheres-studio`, `gold-copper-underwater`: lit by [`crate::Environment::Studio`]
+///   alone.
+///
+/// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
     match name {
         "spheres" => Ok(spheres()),

@@ -25,9 +25,12 @@ pub const MAX_ENVIRONMENT_TEXELS: u64 = 1 << 26;
 pub struct EnvironmentImage {
     /// The file it came from (for messages).
     pub name: String,
+    /// Texels per row (the full 360° of longitude), at least 1.
     pub width: u32,
+    /// Rows (zenith to nadir, 180° of latitude), at least 1.
     pub height: u32,
-    /// Row-major from the top-left.
+    /// `width × height` texels of radiance (linear RGB, W·sr⁻¹·m⁻², finite and ≥ 0),
+    /// row-major from the top-left.
     pub texels: Vec<[f32; 3]>,
 }
 
@@ -44,8 +47,12 @@ impl EnvironmentImage {
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
-        let bytes = crate::gltf::read_regular_file(path, MAX_ENVIRONMENT_FILE_BYTES)
-            .map_err(|e| fail(e.to_string()))?;
+        let bytes = crate::gltf::read_regular_file(
+            path,
+            MAX_ENVIRONMENT_FILE_BYTES,
+            "combustion_scene::MAX_ENVIRONMENT_FILE_BYTES",
+        )
+        .map_err(|e| fail(e.to_string()))?;
         let image = match extension.as_deref() {
             Some("hdr") => decode_radiance_hdr(&bytes),
             Some("exr") => decode_exr(&bytes),
@@ -131,7 +138,7 @@ fn check_size(width: usize, height: usize) -> Result<(u32, u32), String> {
     let count = (width as u64).saturating_mul(height as u64);
     if width == 0 || height == 0 || count > MAX_ENVIRONMENT_TEXELS {
         return Err(format!(
-            "{width}×{height} is outside 1 … {MAX_ENVIRONMENT_TEXELS} texels"
+            "{width}×{height} is outside 1 … {MAX_ENVIRONMENT_TEXELS} texels (combustion_scene::MAX_ENVIRONMENT_TEXELS)"
         ));
     }
     Ok((width as u32, height as u32))
@@ -418,5 +425,23 @@ mod tests {
             .is_err());
         assert!(Environment::Uniform([0.0, 2.0, 1.0]).validate().is_ok());
         assert!(Environment::Studio.validate().is_ok());
+    }
+
+    /// The file-size limit is the fixed [`MAX_ENVIRONMENT_FILE_BYTES`], and the message
+    /// says so (not a glTF import option, which does not apply to environments).
+    #[test]
+    fn an_oversized_environment_file_names_its_limit() {
+        let path = temporary("huge.hdr");
+        // Sparse: the size is checked from the metadata, before anything is read.
+        std::fs::File::create(&path)
+            .unwrap()
+            .set_len(MAX_ENVIRONMENT_FILE_BYTES + 1)
+            .unwrap();
+        let message = EnvironmentImage::load(&path).unwrap_err().to_string();
+        std::fs::remove_file(&path).unwrap();
+        assert!(
+            message.contains("MAX_ENVIRONMENT_FILE_BYTES") && !message.contains("ImportOptions"),
+            "{message}"
+        );
     }
 }

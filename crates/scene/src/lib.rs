@@ -8,6 +8,17 @@
 //! - Point lights carry a radiant intensity I (W/sr per RGB channel): irradiance at
 //!   distance d is I/d². Directional lights carry the irradiance E (W/m²) they give a
 //!   surface facing them.
+//! - Angles are radians.
+//! - Transforms are glam `Mat4`s (column-major, points transformed as `m * p`), from an
+//!   object's own space to world space.
+//! - Texture coordinates follow glTF: u right, v down, (0, 0) the image's top-left corner.
+//!
+//! A [`Scene`]'s fields are public and nothing is checked as they are set:
+//! [`Scene::validate`] checks references and value ranges as a whole (the renderer calls
+//! it before uploading), and each part has its own `validate`. Failures are typed
+//! errors ([`SceneError`], [`gltf::ImportError`], [`gltf::SaveError`]), not panics.
+
+#![warn(missing_docs)]
 
 mod builtin;
 mod camera;
@@ -32,21 +43,30 @@ pub use mesh::{Mesh, Vertex};
 
 use glam::{Mat4, Vec3};
 
-/// A light source.
+/// A light source. [`validate_lights`] (called by [`Scene::validate`]) checks each
+/// variant's values as its fields state.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Light {
     /// Radiant intensity `intensity` (W/sr per channel) from `position`. With a `range`
     /// (KHR_lights_punctual), the inverse-square law is windowed smoothly to 0 at that
     /// distance ([`range_window`]); without one it holds at every distance.
     Point {
+        /// World-space position, metres; finite.
         position: Vec3,
+        /// Radiant intensity I per linear RGB channel, W/sr; finite and ≥ 0.
         intensity: [f32; 3],
+        /// Distance (metres) at which the light's effect ends, finite and above 0;
+        /// `None`: unlimited.
         range: Option<f32>,
     },
     /// Parallel light travelling along `direction`, giving irradiance `irradiance`
     /// (W/m² per channel) on a surface facing it.
     Directional {
+        /// World-space direction the light travels along (from the light towards the
+        /// scene); any non-zero length, finite.
         direction: Vec3,
+        /// Irradiance E per linear RGB channel on a surface facing the light, W/m²;
+        /// finite and ≥ 0.
         irradiance: [f32; 3],
     },
     /// A point light limited to a cone around `direction` (the direction light travels
@@ -54,10 +74,16 @@ pub enum Light {
     /// `outer_cone` (half-angles, radians), falling off between as KHR_lights_punctual
     /// specifies.
     Spot {
+        /// World-space position, metres; finite.
         position: Vec3,
+        /// World-space direction of the cone's axis, the way light travels; any
+        /// non-zero length, finite.
         direction: Vec3,
+        /// Radiant intensity I on the axis per linear RGB channel, W/sr; finite and ≥ 0.
         intensity: [f32; 3],
+        /// Half-angle (radians) inside which the intensity is full; 0 ≤ inner < outer.
         inner_cone: f32,
+        /// Half-angle (radians) outside which there is no light; at most π/2.
         outer_cone: f32,
         /// As for [`Light::Point`].
         range: Option<f32>,
@@ -91,22 +117,41 @@ impl Light {
     }
 }
 
-/// One placed mesh.
+/// One placed mesh: an instance of [`Scene::meshes`]`[mesh]` drawn with
+/// [`Scene::materials`]`[material]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Object {
+    /// Index into [`Scene::meshes`].
     pub mesh: usize,
+    /// Index into [`Scene::materials`].
     pub material: usize,
+    /// Object space to world space (column-major, glam convention: a point p is placed
+    /// at `transform * p`). Finite and not singular ([`transform_is_degenerate`]). A
+    /// mirroring transform (negative determinant) turns the mesh's triangles to face
+    /// inwards, which back-face culling then removes: give such an object a
+    /// winding-reversed mesh (as the glTF importer does) or a double-sided material.
     pub transform: Mat4,
 }
 
-/// Everything one frame shows.
+/// Everything one frame shows: meshes and materials, objects placing them, lights, a
+/// camera, the surrounding medium and an optional environment.
+///
+/// Fields are public and nothing is checked as they are set; [`Scene::validate`] checks
+/// the whole (the renderer calls it before uploading).
 #[derive(Clone, Debug)]
 pub struct Scene {
+    /// A name for the user (the built-in scene's name, the glTF scene's or file's).
     pub name: String,
+    /// Meshes, each in its own object space; objects refer to them by index.
     pub meshes: Vec<Mesh>,
+    /// Materials; objects refer to them by index. At most 65535 (the G-buffer's 16-bit
+    /// material index).
     pub materials: Vec<Material>,
+    /// The placed meshes, drawn in this order.
     pub objects: Vec<Object>,
+    /// The scene's lights (a frame may bring its own as well).
     pub lights: Vec<Light>,
+    /// The camera the scene is seen from by default.
     pub camera: Camera,
     /// Index of refraction of the medium the scene sits in (air ≈ 1.0, water ≈ 1.33);
     /// a material may override it.
@@ -150,7 +195,11 @@ fn finite3(v: [f32; 3]) -> bool {
 }
 
 impl Scene {
-    /// The world-space box around every object (`None` for an empty scene).
+    /// The world-space axis-aligned box around every object, as its (min, max) corners
+    /// in metres: each mesh's own box, its corners transformed by the object's transform
+    /// (so a rotated object's box may be larger than it is tight). `None` for a scene
+    /// without objects (or whose meshes have no vertices). Objects naming a mesh that
+    /// does not exist (which [`Scene::validate`] refuses) are left out, not a panic.
     pub fn world_bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
         gltf::import::world_bounds(&self.meshes, &self.objects)
     }
@@ -160,7 +209,13 @@ impl Scene {
         material.outside_ior.unwrap_or(self.outside_ior)
     }
 
-    /// Checks every reference and value range; the renderer calls this before uploading.
+    /// Checks every reference and value range; the renderer calls this before uploading:
+    /// the outside IOR is finite and positive; there are at most 65535 materials; every
+    /// mesh ([`Mesh::validate`]), material ([`Material::validate`]) and the environment
+    /// ([`Environment::validate`]) are valid; every object refers to an existing mesh and
+    /// material and has a finite, non-singular transform; every light
+    /// ([`validate_lights`]) and the camera ([`Camera::validate`]) are valid. Returns the
+    /// first problem found.
     pub fn validate(&self) -> Result<(), SceneError> {
         let invalid = |what: String| Err(SceneError::Invalid(what));
         if !(self.outside_ior.is_finite() && self.outside_ior > 0.0) {
@@ -275,7 +330,9 @@ fn light_problem(light: &Light) -> Option<LightProblem> {
 /// identity (`Arc`), textures by (image, sampler).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TextureTable {
+    /// The distinct images, in the order materials first use them.
     pub images: Vec<std::sync::Arc<Image>>,
+    /// The distinct (image, sampler) pairs, in the order materials first use them.
     pub textures: Vec<TextureTableEntry>,
     /// Per material (scene order), per slot in [`TextureSlot::ALL`] order: the index into
     /// `textures`, if the material uses that slot.
@@ -287,6 +344,7 @@ pub struct TextureTable {
 pub struct TextureTableEntry {
     /// Index into [`TextureTable::images`].
     pub image: usize,
+    /// How the image is sampled.
     pub sampler: Sampler,
 }
 
@@ -313,9 +371,13 @@ pub struct SceneFeatures {
     pub emissive: usize,
     /// Materials with a non-default KHR_materials_specular factor, colour or texture.
     pub specular: usize,
+    /// Materials rendered double-sided.
     pub double_sided: usize,
+    /// [`Light::Point`]s among the scene's lights.
     pub point_lights: usize,
+    /// [`Light::Spot`]s among the scene's lights.
     pub spot_lights: usize,
+    /// [`Light::Directional`]s among the scene's lights.
     pub directional_lights: usize,
 }
 
@@ -565,5 +627,33 @@ mod transform_tests {
         assert!(transform_is_degenerate(&Mat4::from_scale(Vec3::splat(
             f32::INFINITY
         ))));
+    }
+}
+
+#[cfg(test)]
+mod bounds_tests {
+    use super::*;
+
+    /// A host may ask an unvalidated scene for its bounds: an object naming a mesh that
+    /// does not exist is left out rather than a panic.
+    #[test]
+    fn world_bounds_of_an_invalid_scene_do_not_panic() {
+        let mut scene = builtin_scene("spheres").unwrap();
+        let before = scene.world_bounds();
+        assert!(before.is_some());
+        scene.objects.push(Object {
+            mesh: scene.meshes.len() + 5,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        });
+        assert_eq!(scene.world_bounds(), before);
+        scene.objects.truncate(0);
+        scene.objects.push(Object {
+            mesh: 99,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        });
+        assert_eq!(scene.world_bounds(), None);
+        assert!(scene.validate().is_err());
     }
 }

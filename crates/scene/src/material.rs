@@ -33,18 +33,26 @@ impl DiffuseModel {
     ];
 }
 
-/// A complex index of refraction η + ik per RGB channel.
+/// A complex index of refraction η + ik per RGB channel: the material's own constants
+/// (as tabulated, against vacuum); the surrounding medium's IOR
+/// ([`crate::Scene::outside_ior`], [`Material::outside_ior`]) is given separately.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ComplexIor {
+    /// Real part η per linear RGB channel; finite and above 0.
     pub eta: [f32; 3],
+    /// Extinction coefficient k per channel; finite and ≥ 0 (0 for a dielectric).
     pub k: [f32; 3],
 }
 
 /// A surface material: the per-pixel factors the G-buffer stores (base colour,
 /// metalness, roughness, anisotropy) and the optical constants the lighting pass reads
 /// from the material table.
+///
+/// Factors multiply the matching texture, if any (glTF's rule). Nothing is checked when a
+/// material is built; [`Material::validate`] checks the ranges stated on each field.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// A name for messages and tools (not necessarily unique).
     pub name: String,
     /// Linear RGB albedo of the dielectric part.
     pub base_color: [f32; 3],
@@ -64,6 +72,7 @@ pub struct Material {
     pub outside_ior: Option<f32>,
     /// Polarisation weight: 0 = s (perpendicular), 1 = p (parallel), 0.5 = unpolarised.
     pub polarisation_weight: f32,
+    /// The diffuse BRDF of the dielectric part.
     pub diffuse_model: DiffuseModel,
     /// The conductor part was not measured but derived from the base colour (glTF metals):
     /// `conductor` then holds η, k computed from the base colour *factor* (see
@@ -144,6 +153,14 @@ impl Default for Material {
 }
 
 impl Material {
+    /// Checks every factor's range as its field states (base colour, metalness,
+    /// roughness, anisotropy strength, polarisation weight, occlusion strength and
+    /// specular factor in [0, 1]; IORs finite and positive; k, the emissive factor and
+    /// strength and the specular colour finite and ≥ 0; the anisotropy rotation and
+    /// normal scale finite) and every texture: an image whose size matches its pixels, in the colour
+    /// space the slot needs ([`TextureSlot::color_space`]), coordinate set 0 or 1, and
+    /// a finite [`UvTransform`]. The first problem is a [`SceneError::Invalid`] naming
+    /// the material.
     pub fn validate(&self) -> Result<(), SceneError> {
         let unit = |x: f32| (0.0..=1.0).contains(&x);
         let positive = |x: f32| x.is_finite() && x > 0.0;
@@ -254,9 +271,13 @@ pub enum ColorSpace {
 /// returns at once instead of comparing every texel (scene edits compare texture tables).
 #[derive(Clone, PartialEq, Eq)]
 pub struct Image {
+    /// A name for messages (where it came from, when known).
     pub name: String,
+    /// Width in pixels, at least 1.
     pub width: u32,
+    /// Height in pixels, at least 1.
     pub height: u32,
+    /// How its values encode numbers; must be what the texture slot using it needs.
     pub color_space: ColorSpace,
     /// `width · height · 4` bytes.
     pub pixels: Vec<u8>,
@@ -275,6 +296,8 @@ impl std::fmt::Debug for Image {
 }
 
 impl Image {
+    /// Checks that the image has pixels and that `pixels` holds exactly
+    /// `width · height · 4` bytes; the message names the image.
     pub fn validate(&self) -> Result<(), String> {
         let expected = u64::from(self.width) * u64::from(self.height) * 4;
         if self.width == 0 || self.height == 0 {
@@ -299,26 +322,35 @@ impl Image {
 /// Texel filter (glTF `magFilter`/`minFilter`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Filter {
+    /// The nearest texel (or mip level).
     Nearest,
+    /// Linear interpolation between texels (or mip levels).
     Linear,
 }
 
 /// Texture-coordinate wrapping outside [0, 1] (glTF `wrapS`/`wrapT`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum WrapMode {
+    /// The image tiles: only the fractional part of the coordinate counts.
     Repeat,
+    /// The image tiles, every other copy mirrored.
     MirroredRepeat,
+    /// Coordinates are clamped to the edge texels.
     ClampToEdge,
 }
 
 /// How a texture is sampled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Sampler {
+    /// Filter when a texel covers more than a pixel (magnification).
     pub mag_filter: Filter,
+    /// Filter within a mip level when a texel covers less than a pixel (minification).
     pub min_filter: Filter,
     /// Filter between mip levels; `None`: no mipmaps (glTF `NEAREST`/`LINEAR` min filters).
     pub mipmap_filter: Option<Filter>,
+    /// Wrapping along u (glTF `wrapS`).
     pub wrap_u: WrapMode,
+    /// Wrapping along v (glTF `wrapT`).
     pub wrap_v: WrapMode,
 }
 
@@ -339,7 +371,9 @@ impl Default for Sampler {
 /// by many textures and materials; [`crate::Scene::texture_table`] lists each once.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
+    /// The pixels, shared.
     pub image: Arc<Image>,
+    /// How they are sampled.
     pub sampler: Sampler,
 }
 
@@ -349,9 +383,11 @@ pub struct Texture {
 /// v' = −s_u sin θ u + s_v cos θ v + o_v.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct UvTransform {
+    /// Added last, in texture-coordinate units (1 = the image's width or height).
     pub offset: [f32; 2],
-    /// Radians.
+    /// Radians, counter-clockwise in (u right, v down) coordinates.
     pub rotation: f32,
+    /// Multiplies u and v first (negative values mirror).
     pub scale: [f32; 2],
 }
 
@@ -380,6 +416,7 @@ impl UvTransform {
         ]
     }
 
+    /// Whether this is exactly [`UvTransform::IDENTITY`].
     pub fn is_identity(&self) -> bool {
         *self == Self::IDENTITY
     }
@@ -394,6 +431,7 @@ impl Default for UvTransform {
 /// A material's use of a texture.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TextureRef {
+    /// The image and sampler.
     pub texture: Texture,
     /// Texture-coordinate set: 0 (`Vertex::uv`, glTF TEXCOORD_0) or 1 (`Vertex::uv1`).
     pub tex_coord: u32,
@@ -435,17 +473,27 @@ impl TextureRef {
 /// The texture slots of a [`Material`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TextureSlot {
+    /// [`Material::base_color_texture`] (sRGB).
     BaseColor,
+    /// [`Material::metallic_roughness_texture`] (linear).
     MetallicRoughness,
+    /// [`Material::normal_texture`] (linear).
     Normal,
+    /// [`Material::occlusion_texture`] (linear).
     Occlusion,
+    /// [`Material::emissive_texture`] (sRGB).
     Emissive,
+    /// [`Material::anisotropy_texture`] (linear).
     Anisotropy,
+    /// [`Material::specular_texture`] (linear).
     Specular,
+    /// [`Material::specular_color_texture`] (sRGB).
     SpecularColor,
 }
 
 impl TextureSlot {
+    /// Every slot, in the order [`Material::texture_slots`] gives them (the order of the
+    /// per-slot arrays of [`crate::TextureTable`] and [`crate::SceneFeatures`]).
     pub const ALL: [TextureSlot; 8] = [
         TextureSlot::BaseColor,
         TextureSlot::MetallicRoughness,
@@ -457,6 +505,7 @@ impl TextureSlot {
         TextureSlot::SpecularColor,
     ];
 
+    /// A short lower-case name for messages: `base colour`, `metallic-roughness`, ...
     pub const fn name(self) -> &'static str {
         match self {
             TextureSlot::BaseColor => "base colour",

@@ -1,10 +1,16 @@
 use std::f32::consts::PI;
 
-/// A vertex as the G-buffer pass consumes it.
+/// A vertex as the G-buffer pass consumes it: `#[repr(C)]`, 56 bytes, plain old data
+/// (`bytemuck::Pod`), uploaded as is. Every component must be finite
+/// ([`Mesh::validate`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Vertex {
+    /// Position in the mesh's own (object) space, metres; an [`crate::Object`]'s
+    /// transform places it in the world.
     pub position: [f32; 3],
+    /// Shading normal in object space, unit length expected (the shaders normalise it
+    /// after transforming it by the object's normal matrix).
     pub normal: [f32; 3],
     /// Tangent xyz and the bitangent sign w (bitangent = w · normal × tangent), as in glTF.
     pub tangent: [f32; 4],
@@ -17,11 +23,18 @@ pub struct Vertex {
     pub uv1: [f32; 2],
 }
 
-/// An indexed triangle mesh.
+/// An indexed triangle mesh in its own (object) space.
+///
+/// Triangles are counter-clockwise seen from their front (outside), the face back-face
+/// culling keeps. [`Mesh::validate`] checks the indices and that every attribute is
+/// finite.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// A name for messages and tools (not necessarily unique).
     pub name: String,
+    /// The vertices the indices refer to.
     pub vertices: Vec<Vertex>,
+    /// Three indices into `vertices` per triangle, triangle list order.
     pub indices: Vec<u32>,
 }
 
@@ -90,7 +103,10 @@ impl Mesh {
         }
     }
 
-    /// Checks indices and attribute values.
+    /// Checks indices and attribute values: a whole number of triangles, every index
+    /// below the vertex count, and every component of every vertex attribute (`position`,
+    /// `normal`, `tangent`, `uv`, `uv1`) finite. The error message names the first
+    /// problem (the vertex and attribute, or the index).
     pub fn validate(&self) -> Result<(), String> {
         if self.indices.len() % 3 != 0 {
             return Err(format!(
@@ -109,10 +125,19 @@ impl Mesh {
             ));
         }
         let finite = |v: &[f32]| v.iter().all(|x| x.is_finite());
-        if let Some(i) = self.vertices.iter().position(|v| {
-            !(finite(&v.position) && finite(&v.normal) && finite(&v.tangent) && finite(&v.uv))
-        }) {
-            return Err(format!("vertex {i} has a NaN or infinite attribute"));
+        for (i, v) in self.vertices.iter().enumerate() {
+            let attributes: [(&str, &[f32]); 5] = [
+                ("position", &v.position),
+                ("normal", &v.normal),
+                ("tangent", &v.tangent),
+                ("uv", &v.uv),
+                ("uv1", &v.uv1),
+            ];
+            if let Some((name, values)) = attributes.iter().find(|(_, values)| !finite(values)) {
+                return Err(format!(
+                    "vertex {i} has a NaN or infinite {name} {values:?}"
+                ));
+            }
         }
         Ok(())
     }
@@ -141,6 +166,31 @@ mod tests {
             let t = glam::Vec3::from_slice(&v.tangent[..3]);
             assert!((t.length() - 1.0).abs() < 1e-5);
             assert!(n.dot(t).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn every_attribute_is_checked_for_finite_values() {
+        type Set = fn(&mut Vertex, f32);
+        let attributes: [(&str, Set); 5] = [
+            ("position", |v, x| v.position[1] = x),
+            ("normal", |v, x| v.normal[2] = x),
+            ("tangent", |v, x| v.tangent[3] = x),
+            ("uv", |v, x| v.uv[0] = x),
+            ("uv1", |v, x| v.uv1[1] = x),
+        ];
+        for (name, set) in attributes {
+            for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+                let mut mesh = Mesh::plane("p", 1.0);
+                set(&mut mesh.vertices[2], bad);
+                let message = mesh
+                    .validate()
+                    .expect_err(&format!("{name} = {bad} accepted"));
+                assert!(
+                    message.contains("vertex 2") && message.contains(&format!("infinite {name} [")),
+                    "{name} = {bad}: {message}"
+                );
+            }
         }
     }
 }

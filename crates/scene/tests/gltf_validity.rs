@@ -402,3 +402,133 @@ fn a_mesh_crowding_one_edge_gets_tangents_without_mikktspace() {
         assert!((t.length() - 1.0).abs() < 1e-5 && t.z.abs() < 1e-5, "{t}");
     }
 }
+
+/// Every placed perspective camera is checked at import, whether or not it is the one
+/// the scene uses: a bad one is refused with [`ImportProblem::Camera`] naming it, as a
+/// bad light is, rather than dropped from `ImportReport::scene_cameras` unseen or
+/// accepted until something switches to it.
+#[test]
+fn placed_cameras_are_validated_at_import() {
+    use combustion_scene::gltf::ImportProblem;
+    let good = json!({ "type": "perspective",
+                       "perspective": { "yfov": 0.8, "znear": 0.1, "zfar": 100.0 } });
+    // Camera 0 (the scene's camera) is good; camera 1, placed by node 2, is `second`
+    // placed by a node with `placement` as its extra properties.
+    let with_second = |second: Value, placement: Value| {
+        let mut g = triangle(json!({}));
+        g["cameras"] = json!([good, second]);
+        let mut node = json!({ "camera": 1, "translation": [0.0, 0.0, -3.0] });
+        for (key, value) in placement.as_object().unwrap() {
+            node[key] = value.clone();
+        }
+        g["nodes"] = json!([
+            { "mesh": 0 },
+            { "camera": 0, "translation": [0.2, 0.2, 3.0] },
+            node,
+        ]);
+        g["scenes"] = json!([{ "nodes": [0, 1, 2] }]);
+        import_slice(&serde_json::to_vec(&g).unwrap(), &ImportOptions::default())
+    };
+    let perspective = |p: Value| json!({ "type": "perspective", "perspective": p });
+    // The good file imports with both views.
+    let (_, report) = with_second(good.clone(), json!({})).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(report.scene_cameras.len(), 2);
+    let cases = [
+        (
+            perspective(json!({ "yfov": 1e39, "znear": 0.1 })),
+            json!({}),
+            "yfov",
+        ),
+        (
+            perspective(json!({ "yfov": 0.8, "znear": 0.0 })),
+            json!({}),
+            "znear",
+        ),
+        (
+            perspective(json!({ "yfov": 0.8, "znear": 1e39 })),
+            json!({}),
+            "znear",
+        ),
+        (
+            perspective(json!({ "yfov": 0.8, "znear": 1.0, "zfar": 1.0 })),
+            json!({}),
+            "zfar",
+        ),
+        (
+            perspective(json!({ "yfov": 0.8, "znear": 1.0, "zfar": 1e39 })),
+            json!({}),
+            "zfar",
+        ),
+        (
+            perspective(json!({ "yfov": 0.8, "znear": 0.1, "aspectRatio": 0.0 })),
+            json!({}),
+            "aspectRatio",
+        ),
+        (
+            perspective(json!({ "yfov": 0.8, "znear": 0.1, "aspectRatio": -1.5 })),
+            json!({}),
+            "aspectRatio",
+        ),
+        (
+            perspective(json!({ "yfov": 0.8, "znear": 0.1, "aspectRatio": 1e39 })),
+            json!({}),
+            "aspectRatio",
+        ),
+        // A placement that collapses an axis: the view's −Z and +Y are fine, but the
+        // transform has no inverse.
+        (
+            good.clone(),
+            json!({ "scale": [0.0, 1.0, 1.0] }),
+            "invertible",
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (camera, placement, needle) in cases {
+        let what = format!("{camera} placed with {placement}");
+        match with_second(camera, placement) {
+            Ok((_, report)) => failures.push(format!(
+                "{what}: imported ({} views listed)",
+                report.scene_cameras.len()
+            )),
+            Err(e) => {
+                let message = e.to_string();
+                match &e.problem {
+                    ImportProblem::Camera { index: 1, .. } => {}
+                    other => failures.push(format!("{what}: not a camera 1 error: {other:?}")),
+                }
+                if !(message.contains("camera 1") && message.contains(needle)) {
+                    failures.push(format!(
+                        "{what}: expected `camera 1` and `{needle}` in: {message}"
+                    ));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+}
+
+/// Accessor problems are found while reading a primitive's attributes or indices and
+/// are reported as [`ImportProblem::Primitive`], naming the mesh, the primitive, the
+/// attribute and the accessor.
+#[test]
+fn accessor_problems_name_the_primitive_that_reads_them() {
+    use combustion_scene::gltf::ImportProblem;
+    let mut g = triangle(json!({}));
+    g["accessors"][0]["count"] = json!(4);
+    let error =
+        import_slice(&serde_json::to_vec(&g).unwrap(), &ImportOptions::default()).unwrap_err();
+    let message = error.to_string();
+    match &error.problem {
+        ImportProblem::Primitive {
+            mesh: 0,
+            primitive: 0,
+            message,
+            ..
+        } => assert!(
+            message.contains("POSITION") && message.contains("accessor 0"),
+            "{message}"
+        ),
+        other => panic!("not a primitive error: {other:?}"),
+    }
+    assert!(message.contains("mesh 0 primitive 0"), "{message}");
+}

@@ -495,6 +495,9 @@ impl Importer<'_> {
         if !root.animations.is_empty() {
             self.warn(format!("{} animation(s) ignored", root.animations.len()));
         }
+        // Every placed camera checked now, before any mesh is built, whether or not the
+        // scene will use it.
+        let views = self.check_cameras(&cameras)?;
 
         // Materials: the used ones in document order, the default one last.
         let mut used: Vec<usize> = instances.iter().filter_map(|(_, i)| i.material).collect();
@@ -587,8 +590,8 @@ impl Importer<'_> {
             .collect::<Result<Vec<Light>, _>>()?;
 
         let outside_ior = self.outside_ior(scene_index)?;
-        let (camera, source) = self.camera(&cameras, bounds)?;
-        report.scene_cameras = self.scene_cameras(&cameras, bounds);
+        let (camera, source) = self.camera(&cameras, &views, bounds)?;
+        report.scene_cameras = self.scene_cameras(&views, bounds);
         for warning in camera_range_warnings(&camera, bounds) {
             self.warn(warning);
         }
@@ -893,116 +896,77 @@ impl Importer<'_> {
         Ok(outside)
     }
 
-    fn camera(
-        &mut self,
-        placed: &[(usize, usize, Mat4)],
-        bounds: Option<(Vec3, Vec3)>,
-    ) -> Result<(Camera, CameraSource), ImportProblem> {
-        let root = self.root;
-        if let Some((lo, hi)) = bounds {
-            if !(hi - lo).length().is_finite() {
-                return Err(ImportProblem::Invalid(format!(
-                    "the scene spans from {lo} to {hi}: more than f32 can hold (each object fits; their distances apart do not)"
-                )));
-            }
-        }
-        let is_perspective = |index: usize| {
-            root.cameras.get(index).is_some_and(|c| {
-                c.perspective.is_some()
-                    && matches!(c.type_, Checked::Valid(json::camera::Type::Perspective))
-            })
-        };
-        let chosen = match self.options.camera {
-            Some(index) => {
-                let err = |message: String| ImportProblem::Camera { index, message };
-                if index >= root.cameras.len() {
-                    return Err(err(format!(
-                        "was asked for (ImportOptions::camera) but the file has {} camera(s)",
-                        root.cameras.len()
-                    )));
-                }
-                if !is_perspective(index) {
-                    return Err(err(
-                        "is orthographic; only perspective cameras are supported".into(),
-                    ));
-                }
-                let placement = placed
-                    .iter()
-                    .find(|(c, _, _)| *c == index)
-                    .ok_or_else(|| err("is not placed by any node of the scene".into()))?;
-                Some(*placement)
-            }
-            None => {
-                let best = placed
-                    .iter()
-                    .filter(|(c, _, _)| is_perspective(*c))
-                    .min_by_key(|(c, node, _)| (*c, *node))
-                    .copied();
-                if best.is_none() && !placed.is_empty() {
-                    self.warn("the scene's cameras are all orthographic (unsupported); using a camera framing the scene".into());
-                }
-                best
-            }
-        };
-        let Some((index, node, world)) = chosen else {
-            return Ok((framing_camera(bounds), CameraSource::Framing));
-        };
-        let camera = self.placed_camera(index, node, world, bounds)?;
-        Ok((camera, CameraSource::Gltf { index, node }))
-    }
-
-    /// Every perspective camera placed in the scene that makes a usable view, in
-    /// (camera, node) order (for viewers that switch between them).
-    fn scene_cameras(
+    /// Checks every perspective camera placed in the scene (`placed`: camera, node, world
+    /// transform, in the order the nodes were reached), whether or not the scene will use
+    /// it: the first problem is an [`ImportProblem::Camera`], as a bad light's is. The
+    /// checked views, in (camera, node) order. Orthographic cameras are not supported and
+    /// not checked (see [`Importer::camera`]).
+    fn check_cameras(
         &self,
         placed: &[(usize, usize, Mat4)],
-        bounds: Option<(Vec3, Vec3)>,
-    ) -> Vec<PlacedCamera> {
-        let mut placed = placed.to_vec();
-        placed.sort_by_key(|(c, node, _)| (*c, *node));
-        placed
-            .into_iter()
-            .filter_map(|(index, node, world)| {
-                let camera = self.placed_camera(index, node, world, bounds).ok()?;
-                Some(PlacedCamera {
-                    index,
-                    node,
-                    name: self.root.cameras[index].name.clone(),
-                    camera,
-                })
-            })
-            .collect()
+    ) -> Result<Vec<CameraView>, ImportProblem> {
+        let mut views = placed
+            .iter()
+            .filter(|(index, _, _)| self.is_perspective(*index))
+            .map(|&(index, node, world)| self.check_camera(index, node, world))
+            .collect::<Result<Vec<_>, _>>()?;
+        views.sort_by_key(|v| (v.index, v.node));
+        Ok(views)
     }
 
-    /// Camera `index` placed by `node` at `world`, checked.
-    fn placed_camera(
+    /// Whether glTF camera `index` is a perspective one (the only kind supported).
+    fn is_perspective(&self, index: usize) -> bool {
+        self.root.cameras.get(index).is_some_and(|c| {
+            c.perspective.is_some()
+                && matches!(c.type_, Checked::Valid(json::camera::Type::Perspective))
+        })
+    }
+
+    /// Perspective camera `index` placed by `node` at `world`, checked: `yfov` in (0, π),
+    /// `znear` finite and positive, `zfar` (if given) finite and above `znear`,
+    /// `aspectRatio` (if given) finite and positive, and a placement that is finite,
+    /// invertible and gives a view direction with an up vector off it.
+    fn check_camera(
         &self,
         index: usize,
         node: usize,
         world: Mat4,
-        bounds: Option<(Vec3, Vec3)>,
-    ) -> Result<Camera, ImportProblem> {
+    ) -> Result<CameraView, ImportProblem> {
         let root = self.root;
         let err = |message: String| ImportProblem::Camera { index, message };
-        if root.cameras[index].perspective.is_none()
-            || !matches!(
-                root.cameras[index].type_,
-                Checked::Valid(json::camera::Type::Perspective)
-            )
-        {
+        let Some(p) = root.cameras.get(index).and_then(|c| c.perspective.as_ref()) else {
             return Err(err(
-                "is orthographic; only perspective cameras are supported".into(),
+                "is not a perspective camera; only perspective cameras are supported".into(),
             ));
-        }
-        let camera = &root.cameras[index];
-        let Some(p) = &camera.perspective else {
-            return Err(err("has no perspective parameters".into()));
         };
         if !(p.yfov.is_finite() && p.yfov > 0.0 && p.yfov < std::f32::consts::PI) {
             return Err(err(format!("yfov {} must lie in (0, π)", p.yfov)));
         }
         if !(p.znear.is_finite() && p.znear > 0.0) {
-            return Err(err(format!("znear {} must be positive", p.znear)));
+            return Err(err(format!(
+                "znear {} must be a finite number above 0",
+                p.znear
+            )));
+        }
+        if let Some(zfar) = p.zfar {
+            if !(zfar.is_finite() && zfar > p.znear) {
+                return Err(err(format!(
+                    "zfar {zfar} must be finite and larger than znear {}",
+                    p.znear
+                )));
+            }
+        }
+        if let Some(aspect) = p.aspect_ratio {
+            if !(aspect.is_finite() && aspect > 0.0) {
+                return Err(err(format!(
+                    "aspectRatio {aspect} must be a finite number above 0"
+                )));
+            }
+        }
+        if crate::transform_is_degenerate(&world) {
+            return Err(err(format!(
+                "node {node} places it with a transform that is not finite or not invertible (a scale of 0 collapses an axis)"
+            )));
         }
         let position = world.w_axis.truncate();
         let forward = (-world.z_axis.truncate()).normalize_or_zero();
@@ -1019,47 +983,143 @@ impl Importer<'_> {
                 up = u;
             }
         }
-        let far = match p.zfar {
-            Some(zfar) => {
-                if !(zfar.is_finite() && zfar > p.znear) {
-                    return Err(err(format!(
-                        "zfar {zfar} must be larger than znear {}",
-                        p.znear
-                    )));
-                }
-                zfar
-            }
-            None => {
-                // Infinite projection: far enough to hold the whole scene.
-                let reach = bounds.map_or(0.0, |(lo, hi)| {
-                    let mut reach: f32 = 0.0;
-                    for i in 0..8 {
-                        let corner = Vec3::new(
-                            if i & 1 == 0 { lo.x } else { hi.x },
-                            if i & 2 == 0 { lo.y } else { hi.y },
-                            if i & 4 == 0 { lo.z } else { hi.z },
-                        );
-                        reach = reach.max((corner - position).length());
-                    }
-                    reach
-                });
-                (reach * 1.5).max(p.znear * 1000.0)
-            }
-        };
         if p.aspect_ratio.is_some() {
             log::debug!(
                 "{}: camera {index}: aspectRatio ignored (the renderer's image size decides)",
                 self.file.display()
             );
         }
-        Ok(Camera {
+        Ok(CameraView {
+            index,
+            node,
             position,
             target,
             up,
             vertical_fov: p.yfov,
             near: p.znear,
-            far,
+            far: p.zfar,
         })
+    }
+
+    /// The scene's camera: the one [`ImportOptions::camera`] asks for, else the first of
+    /// `views` (checked by [`Importer::check_cameras`]), else one framing the scene.
+    /// `placed` is every placed camera, orthographic ones too (for the messages).
+    fn camera(
+        &mut self,
+        placed: &[(usize, usize, Mat4)],
+        views: &[CameraView],
+        bounds: Option<(Vec3, Vec3)>,
+    ) -> Result<(Camera, CameraSource), ImportProblem> {
+        let root = self.root;
+        if let Some((lo, hi)) = bounds {
+            if !(hi - lo).length().is_finite() {
+                return Err(ImportProblem::Invalid(format!(
+                    "the scene spans from {lo} to {hi}: more than f32 can hold (each object fits; their distances apart do not)"
+                )));
+            }
+        }
+        let chosen = match self.options.camera {
+            Some(index) => {
+                let err = |message: String| ImportProblem::Camera { index, message };
+                if index >= root.cameras.len() {
+                    return Err(err(format!(
+                        "was asked for (ImportOptions::camera) but the file has {} camera(s)",
+                        root.cameras.len()
+                    )));
+                }
+                if !self.is_perspective(index) {
+                    return Err(err(
+                        "is orthographic; only perspective cameras are supported".into(),
+                    ));
+                }
+                let view = views
+                    .iter()
+                    .find(|v| v.index == index)
+                    .ok_or_else(|| err("is not placed by any node of the scene".into()))?;
+                Some(view)
+            }
+            None => {
+                if views.is_empty() && !placed.is_empty() {
+                    self.warn("the scene's cameras are all orthographic (unsupported); using a camera framing the scene".into());
+                }
+                views.first()
+            }
+        };
+        Ok(match chosen {
+            Some(view) => (
+                view.camera(bounds),
+                CameraSource::Gltf {
+                    index: view.index,
+                    node: view.node,
+                },
+            ),
+            None => (framing_camera(bounds), CameraSource::Framing),
+        })
+    }
+
+    /// Every perspective camera placed in the scene, in (camera, node) order (for viewers
+    /// that switch between them).
+    fn scene_cameras(
+        &self,
+        views: &[CameraView],
+        bounds: Option<(Vec3, Vec3)>,
+    ) -> Vec<PlacedCamera> {
+        views
+            .iter()
+            .map(|view| PlacedCamera {
+                index: view.index,
+                node: view.node,
+                name: self.root.cameras[view.index].name.clone(),
+                camera: view.camera(bounds),
+            })
+            .collect()
+    }
+}
+
+/// A placed perspective camera, checked ([`Importer::check_camera`]): its [`Camera`]
+/// but for the far plane of an infinite projection, which the scene's bounds decide.
+#[derive(Clone, Copy, Debug)]
+struct CameraView {
+    /// Index into the glTF `cameras`.
+    index: usize,
+    /// The node that places it.
+    node: usize,
+    position: Vec3,
+    target: Vec3,
+    up: Vec3,
+    vertical_fov: f32,
+    near: f32,
+    /// `zfar`; `None` for an infinite projection.
+    far: Option<f32>,
+}
+
+impl CameraView {
+    /// The camera, with an infinite projection's far plane far enough to hold the whole
+    /// scene: 1.5 × the distance to the farthest corner of `bounds`, at least 1000 × near.
+    fn camera(&self, bounds: Option<(Vec3, Vec3)>) -> Camera {
+        let far = self.far.unwrap_or_else(|| {
+            let reach = bounds.map_or(0.0, |(lo, hi)| {
+                let mut reach: f32 = 0.0;
+                for i in 0..8 {
+                    let corner = Vec3::new(
+                        if i & 1 == 0 { lo.x } else { hi.x },
+                        if i & 2 == 0 { lo.y } else { hi.y },
+                        if i & 4 == 0 { lo.z } else { hi.z },
+                    );
+                    reach = reach.max((corner - self.position).length());
+                }
+                reach
+            });
+            (reach * 1.5).max(self.near * 1000.0)
+        });
+        Camera {
+            position: self.position,
+            target: self.target,
+            up: self.up,
+            vertical_fov: self.vertical_fov,
+            near: self.near,
+            far,
+        }
     }
 }
 
@@ -1088,7 +1148,7 @@ pub(crate) fn world_bounds(meshes: &[crate::Mesh], objects: &[Object]) -> Option
     let boxes: Vec<_> = meshes.iter().map(mesh_bounds).collect();
     objects
         .iter()
-        .filter_map(|object| placed_bounds(boxes[object.mesh], &object.transform))
+        .filter_map(|object| placed_bounds(*boxes.get(object.mesh)?, &object.transform))
         .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
 }
 

@@ -2,10 +2,14 @@
 //! [`Scene`], and a [`Scene`] back to `.gltf`. The mapping, the units and the project
 //! extension `COMBUSTION_materials_optics` are documented in `docs/gltf.md`.
 //!
+//! glTF's conventions are Combustion's (right-handed, y up, metres, linear RGB factors,
+//! texture coordinates with v down), so positions, directions and colours are taken as
+//! they are.
+//!
 //! Import never panics on bad input and never returns a half-built scene: every problem
 //! is an [`ImportError`] naming the file and what is wrong; recoverable oddities
 //! (degenerate triangles, unknown optional extensions, ...) are `log::warn!`ed and listed
-//! in [`ImportReport::warnings`].
+//! in [`ImportReport::warnings`]. The scene returned has passed [`Scene::validate`].
 
 mod accessor;
 mod error;
@@ -50,8 +54,10 @@ pub struct ImportOptions {
     /// Network schemes (`http:` ...) are refused regardless; `data:` URIs and relative
     /// paths inside the scene's folder are always allowed.
     pub allow_external_uris: bool,
-    /// Index into the glTF `cameras` array of the camera to use; `None`: the first
-    /// perspective camera placed in the scene, else a camera framing the scene.
+    /// Index into the glTF `cameras` array of the camera to use (it must be a
+    /// perspective camera placed by a node of the scene, or the import fails with
+    /// [`ImportProblem::Camera`]); `None`: the lowest-numbered perspective camera placed
+    /// in the scene, else a camera framing the scene.
     pub camera: Option<usize>,
     /// Largest file read (the glTF itself, each buffer, image and spectral table), in
     /// bytes, checked before reading. Only regular files are read: a device, FIFO or
@@ -79,8 +85,13 @@ impl Default for ImportOptions {
 /// Where the scene's camera came from.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub enum CameraSource {
-    /// glTF camera `index`, placed by node `node`.
-    Gltf { index: usize, node: usize },
+    /// A camera of the file, placed by a node of the scene.
+    Gltf {
+        /// Index into the file's `cameras` array.
+        index: usize,
+        /// Index into the file's `nodes` array of the node placing it.
+        node: usize,
+    },
     /// No usable camera in the file: one looking at the scene's bounding box.
     #[default]
     Framing,
@@ -99,21 +110,31 @@ pub struct ImportReport {
     pub triangles: usize,
     /// Triangles drawn: every object's mesh counted.
     pub instanced_triangles: usize,
+    /// Objects of the scene (placed primitives; those with a singular transform are left
+    /// out, with a warning).
     pub objects: usize,
+    /// Materials of the scene: those the placed primitives use, plus glTF's default
+    /// material when a primitive names none.
     pub materials: usize,
     /// Distinct decoded images (an image used both as colour and as data counts twice).
     pub images: usize,
     /// Distinct (image, sampler) textures.
     pub textures: usize,
+    /// Lights of the scene (KHR_lights_punctual lights placed by nodes, each placement
+    /// counted).
     pub lights: usize,
     /// Cameras defined in the file.
     pub cameras: usize,
-    /// The perspective cameras placed in the scene that give a usable view, in
-    /// (camera, node) order; the scene's camera is one of them unless it frames the
-    /// scene.
+    /// The perspective cameras placed in the scene, in (camera, node) order; the scene's
+    /// camera is one of them unless it frames the scene. Each was checked at import
+    /// (a placed camera with bad parameters or placement refuses the file, with
+    /// [`ImportProblem::Camera`]); orthographic cameras are not supported and not listed.
     pub scene_cameras: Vec<PlacedCamera>,
+    /// Where the scene's camera came from.
     pub camera: CameraSource,
+    /// The file's `extensionsUsed`.
     pub extensions_used: Vec<String>,
+    /// The file's `extensionsRequired` (all of them supported, or the import fails).
     pub extensions_required: Vec<String>,
     /// Optional extensions the importer does not understand and ignored.
     pub extensions_ignored: Vec<String>,
@@ -123,6 +144,8 @@ pub struct ImportReport {
     pub generated_normals: usize,
     /// Primitives whose tangents were generated with MikkTSpace.
     pub generated_tangents: usize,
+    /// Everything the importer let pass with a change or an omission, one message
+    /// each, in the order found (also logged with `log::warn!`).
     pub warnings: Vec<String>,
 }
 
@@ -131,8 +154,13 @@ pub struct ImportReport {
 pub struct PlacedCamera {
     /// Index into the file's `cameras` array.
     pub index: usize,
+    /// Index into the file's `nodes` array of the node placing it.
     pub node: usize,
+    /// The glTF camera's `name`, if it has one.
     pub name: Option<String>,
+    /// The view it gives: the node's world position, looking along its −Z axis with its
+    /// +Y up; `yfov`, `znear` and `zfar` as given (an infinite projection gets a far
+    /// plane 1.5 times as far as the scene's farthest bounding-box corner).
     pub camera: crate::Camera,
 }
 
@@ -193,8 +221,9 @@ impl fmt::Display for ImportReport {
 /// Imports a `.gltf` (with its `.bin` and image files) or a `.glb` file. The format is
 /// told by the content (GLB magic), not by the extension.
 pub fn import(path: &Path, options: &ImportOptions) -> Result<(Scene, ImportReport), ImportError> {
-    let bytes = source::read_regular_file(path, options.max_file_bytes)
-        .map_err(|e| ImportError::new(path, ImportProblem::Io(e)))?;
+    let bytes =
+        source::read_regular_file(path, options.max_file_bytes, source::MAX_FILE_BYTES_OPTION)
+            .map_err(|e| ImportError::new(path, ImportProblem::Io(e)))?;
     let base = path.parent().map(|p| {
         if p.as_os_str().is_empty() {
             PathBuf::from(".")

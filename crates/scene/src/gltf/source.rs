@@ -373,8 +373,13 @@ pub(crate) fn encode_base64(bytes: &[u8]) -> String {
 /// Reads `path` if it is a regular file (after symlinks) of at most `limit` bytes, both
 /// checked before reading: a device, FIFO or socket is refused without being opened
 /// (so `/dev/zero` is not read without end and a FIFO does not block), and the read
-/// itself stops past `limit` in case the file grows meanwhile.
-pub(crate) fn read_regular_file(path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
+/// itself stops past `limit` in case the file grows meanwhile. `limit_name` is the
+/// option or constant that sets `limit`, for the message when the file exceeds it.
+pub(crate) fn read_regular_file(
+    path: &Path,
+    limit: u64,
+    limit_name: &str,
+) -> std::io::Result<Vec<u8>> {
     use std::io::Read as _;
     let meta = std::fs::metadata(path)?;
     if !meta.is_file() {
@@ -386,9 +391,7 @@ pub(crate) fn read_regular_file(path: &Path, limit: u64) -> std::io::Result<Vec<
     let too_large = |size: u64| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidData,
-            format!(
-                "{size} bytes is more than the limit of {limit} (ImportOptions::max_file_bytes)"
-            ),
+            format!("{size} bytes is more than the limit of {limit} ({limit_name})"),
         )
     };
     if meta.len() > limit {
@@ -404,7 +407,11 @@ pub(crate) fn read_regular_file(path: &Path, limit: u64) -> std::io::Result<Vec<
     Ok(bytes)
 }
 
-/// Reads a resolved URI's bytes (a file within `limit` bytes, as [`read_regular_file`]).
+/// The import option that limits every file an import reads.
+pub(crate) const MAX_FILE_BYTES_OPTION: &str = "ImportOptions::max_file_bytes";
+
+/// Reads a resolved URI's bytes (a file within `limit` bytes, as [`read_regular_file`];
+/// `limit` is [`ImportOptions::max_file_bytes`](super::ImportOptions::max_file_bytes)).
 pub(crate) fn read_resolved(
     uri: &str,
     resolved: Resolved,
@@ -412,7 +419,7 @@ pub(crate) fn read_resolved(
 ) -> Result<(Option<String>, Vec<u8>), ImportProblem> {
     match resolved {
         Resolved::Data { mime, bytes } => Ok((mime, bytes)),
-        Resolved::File(path) => match read_regular_file(&path, limit) {
+        Resolved::File(path) => match read_regular_file(&path, limit, MAX_FILE_BYTES_OPTION) {
             Ok(bytes) => Ok((None, bytes)),
             Err(source) => Err(ImportProblem::ExternalIo {
                 uri: truncate(uri),
