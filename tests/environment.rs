@@ -67,6 +67,7 @@ fn compare_with_oracle(scene: &Scene, frame: &Frame, step: u32, iterations: u32)
         exposure: 1.0,
         lights: &[],
         overlay: &[],
+        environment: None,
     };
     let reference = ReferenceShading::new(scene, &inputs, frame.width, frame.height);
     let environment = scene.environment.as_ref().expect("an environment");
@@ -378,6 +379,7 @@ fn environment_goldens_agree_with_the_oracle() {
             exposure: 1.0,
             lights: &[],
             overlay: &[],
+            environment: None,
         };
         let reference = ReferenceShading::new(&scene, &inputs, width, height);
         let environment = scene.environment.as_ref().expect("lit by an environment");
@@ -632,6 +634,109 @@ fn edits_bake_the_environment_for_the_edited_scene() {
             renderer.retire(fresh_scene);
         }
         renderer.retire(gpu);
+    }
+    common::finish(headless);
+}
+
+/// Issue 19 (item 7): the environment as a per-frame input. The sphere grid with its
+/// lights and no environment of its own is lit, frame by frame and without a scene
+/// edit, by a [`FrameEnvironment`] of the studio, by none, and by a uniform one: each
+/// frame's HDR image equals, bit for bit, the same scene uploaded with that environment
+/// as its own (the same bake) or without one. A frame environment lights the scene it
+/// was baked for while an edit leaves the materials' optics alone (an object moved),
+/// is refused with a typed error for another scene's materials or after an edit
+/// changes them, and its frames' pipelines follow a settings change through `prepare`.
+#[test]
+fn a_frame_environment_lights_as_the_scenes_own_and_changes_without_an_edit() {
+    use combustion::renderer::{FresnelModel, RenderError};
+    let (width, height) = (48, 32);
+    let readback = Readback {
+        images: true,
+        gbuffer: false,
+    };
+    let plain = builtin_scene("spheres").expect("built in");
+    assert!(plain.environment.is_none() && !plain.lights.is_empty());
+    let studio = Environment::Studio;
+    let uniform = Environment::Uniform([0.5, 0.25, 1.0]);
+    let with = |environment: &Environment| Scene {
+        environment: Some(environment.clone()),
+        ..plain.clone()
+    };
+    let mut headless = common::lavapipe(common::exact_f32());
+    {
+        let renderer = headless.renderer();
+        let mut own = |scene: &Scene| {
+            let gpu = renderer.upload(scene).expect("upload");
+            renderer
+                .render(&gpu, width, height, readback)
+                .expect("render")
+                .hdr
+        };
+        let expected = [own(&with(&studio)), own(&plain), own(&with(&uniform))];
+        assert_ne!(expected[0], expected[1], "the studio adds light");
+
+        let mut scene = renderer.upload(&plain).expect("upload");
+        let studio_light = renderer.bake_environment(&scene, &studio).expect("bake");
+        let uniform_light = renderer.bake_environment(&scene, &uniform).expect("bake");
+        assert_eq!(studio_light.environment(), &studio);
+        let frame = |renderer: &mut combustion::renderer::Renderer,
+                     scene: &combustion::renderer::GpuScene,
+                     environment| {
+            let inputs = FrameInputs {
+                environment,
+                ..FrameInputs::of_scene(scene, 1.0)
+            };
+            renderer.render_with(scene, &inputs, width, height, readback)
+        };
+        for _ in 0..2 {
+            for (environment, expected) in
+                [Some(&studio_light), None, Some(&uniform_light)].into_iter().zip(&expected)
+            {
+                let hdr = frame(renderer, &scene, environment).expect("frame").hdr;
+                assert!(
+                    hdr == *expected,
+                    "lit by {:?}: differs from the scene uploaded with it",
+                    environment.map(|e| e.environment().name())
+                );
+            }
+        }
+
+        // An edit that leaves the optics alone keeps the frame environment valid.
+        renderer
+            .edit_scene(&mut scene, |s| {
+                s.objects[0].transform *= Mat4::from_translation(Vec3::new(0.0, 0.1, 0.0));
+            })
+            .expect("edit");
+        frame(renderer, &scene, Some(&studio_light)).expect("moved object, same materials");
+        // Pipelines follow a settings change through prepare.
+        renderer.set_fresnel(FresnelModel::Schlick);
+        renderer.prepare(&scene).expect("prepare");
+        frame(renderer, &scene, Some(&studio_light)).expect("Schlick frames lit by it");
+        renderer.set_fresnel(FresnelModel::Full);
+        // Another scene's materials, and an edit of the optics, are refused.
+        let other = renderer
+            .upload(&builtin_scene("gold-copper").expect("built in"))
+            .expect("upload");
+        let error = frame(renderer, &other, Some(&studio_light)).unwrap_err();
+        assert!(
+            matches!(error, RenderError::EnvironmentOfAnotherScene),
+            "{error}"
+        );
+        renderer
+            .edit_scene(&mut scene, |s| s.materials[0].roughness = 0.9)
+            .expect("edit");
+        let error = frame(renderer, &scene, Some(&studio_light)).unwrap_err();
+        assert!(
+            matches!(error, RenderError::EnvironmentOfAnotherScene),
+            "{error}"
+        );
+        // Baked again, it lights the edited scene.
+        let again = renderer.bake_environment(&scene, &studio).expect("bake");
+        frame(renderer, &scene, Some(&again)).expect("baked for the edited materials");
+        // Dropped while nothing waits for its frames: retired, not freed under them.
+        drop(studio_light);
+        drop(again);
+        frame(renderer, &scene, Some(&uniform_light)).expect("frame after the drops");
     }
     common::finish(headless);
 }

@@ -41,6 +41,7 @@ fn overlay_panels_blend_exactly_over_the_frame() {
     let plain = renderer.render(&gpu, W, H, readback).unwrap();
     let inputs = FrameInputs {
         overlay: &panels,
+        environment: None,
         ..FrameInputs::of_scene(&gpu, renderer.settings().exposure)
     };
     let with_text = renderer.render_with(&gpu, &inputs, W, H, readback).unwrap();

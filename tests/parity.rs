@@ -44,6 +44,7 @@ fn parity_of(
         exposure: 1.0,
         lights: &scene.lights,
         overlay: &[],
+        environment: None,
     };
     let one_thread = error_map(
         &frame,

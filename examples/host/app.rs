@@ -457,6 +457,7 @@ impl Host {
             exposure: 1.0,
             lights: &lights,
             overlay: &[],
+            environment: None,
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {

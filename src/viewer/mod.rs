@@ -642,6 +642,7 @@ impl State {
             },
             lights: &self.gpu_scene.scene().lights,
             overlay: &panels,
+            environment: None,
         };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
@@ -789,6 +790,7 @@ impl State {
             exposure: self.exposure,
             lights: &self.gpu_scene.scene().lights,
             overlay: &[],
+            environment: None,
         };
         let error = inspect::measure_error(
             &mut self.renderer,

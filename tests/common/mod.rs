@@ -75,6 +75,7 @@ pub fn render_with_error_map(
         exposure: 1.0,
         lights: &scene.lights,
         overlay: &[],
+        environment: None,
     };
     let map = error_map(
         &frame,

@@ -155,6 +155,69 @@ impl GpuEnvironment {
     }
 }
 
+/// An environment baked for the materials of an uploaded scene, to light that scene's
+/// frames in place of its own ([`crate::FrameInputs::environment`]): a host changes the
+/// sky per frame or per view — a day's cycle, a probe per viewport — without a scene
+/// edit. Made by [`crate::Renderer::bake_environment`] (an upload step: it waits for
+/// the GPU, never inside a frame).
+///
+/// The bake's directional-albedo tables follow the materials' optics, so it lights any
+/// scene whose material table is the one it was baked for: the scene it was baked with,
+/// until an edit changes a material's optics or the outside medium (then
+/// [`crate::Renderer::record`] refuses it with
+/// [`crate::RenderError::EnvironmentOfAnotherScene`]; bake it again).
+///
+/// Dropping it is safe at any time: as a [`crate::GpuScene`]'s, its resources wait in
+/// the renderer's retire queue until the frames recorded before the drop have completed.
+pub struct FrameEnvironment {
+    pub(crate) gpu: std::mem::ManuallyDrop<GpuEnvironment>,
+    /// The material table (as the bake reads it) it was baked for.
+    pub(crate) materials: Vec<u8>,
+    retire: Arc<crate::retire::RetireQueue>,
+}
+
+impl FrameEnvironment {
+    pub(crate) fn new(
+        gpu: GpuEnvironment,
+        materials: Vec<u8>,
+        retire: Arc<crate::retire::RetireQueue>,
+    ) -> Self {
+        Self {
+            gpu: std::mem::ManuallyDrop::new(gpu),
+            materials,
+            retire,
+        }
+    }
+
+    /// The environment it lights with.
+    pub fn environment(&self) -> &Environment {
+        &self.gpu.environment
+    }
+
+    /// Wall-clock time of its bake (recording, GPU work and the wait), ms.
+    pub fn bake_ms(&self) -> f64 {
+        self.gpu.bake_ms
+    }
+
+    /// Whether it was baked for `scene`'s material table by the renderer whose retire
+    /// queue is `retire`.
+    pub(crate) fn lights(
+        &self,
+        scene: &crate::GpuScene,
+        retire: &Arc<crate::retire::RetireQueue>,
+    ) -> bool {
+        Arc::ptr_eq(&self.retire, retire) && self.materials == scene.bake_materials
+    }
+}
+
+impl Drop for FrameEnvironment {
+    fn drop(&mut self) {
+        // SAFETY: `gpu` is taken once, here, and never touched again.
+        let gpu = unsafe { std::mem::ManuallyDrop::take(&mut self.gpu) };
+        self.retire.push(Box::new(gpu));
+    }
+}
+
 /// The bake's compute pipelines, built on the first scene with an environment.
 pub(crate) struct EnvironmentBaker {
     set_layout: DescriptorSetLayout,

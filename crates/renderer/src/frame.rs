@@ -6,6 +6,7 @@ use std::sync::Arc;
 use combustion_vk::{vk, Buffer, DescriptorPool, Device, ImageState, TimestampQueries, VkError};
 
 use crate::bindings;
+use crate::environment::GpuEnvironment;
 use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
 use crate::overlay::OverlayQuad;
@@ -171,10 +172,22 @@ fn cull_uses(targets: &FrameTargets, tile_lights: &Buffer) -> PassUses {
     .with_buffers(vec![(tile_lights.raw(), BufferUse::ComputeStorageWrite)])
 }
 
+/// The environment lighting a frame: the frame's own, else the scene's (if any).
+fn frame_environment<'a>(
+    scene: &'a GpuScene,
+    inputs: &FrameInputs<'a>,
+) -> Option<&'a GpuEnvironment> {
+    match inputs.environment {
+        Some(environment) => Some(&environment.gpu),
+        None => scene.gpu.environment.as_ref(),
+    }
+}
+
 /// What the lighting pass touches (the tile lists only in frames that cull).
 fn lighting_uses(
     targets: &FrameTargets,
     scene: &GpuScene,
+    environment: Option<&GpuEnvironment>,
     lights: &Buffer,
     tile_lights: Option<&Buffer>,
 ) -> PassUses {
@@ -197,7 +210,7 @@ fn lighting_uses(
     if let Some(tile_lights) = tile_lights {
         buffers.push((tile_lights.raw(), BufferUse::FragmentStorageRead));
     }
-    if let Some(environment) = &scene.gpu.environment {
+    if let Some(environment) = environment {
         for table in [
             &environment.albedo,
             &environment.code_albedo,
@@ -295,7 +308,7 @@ impl Renderer {
         self.write_frame_lights(frame_slot, inputs)?;
         self.prepare_culling(frame_slot, inputs, extent)?;
         self.write_frame_overlay(frame_slot, inputs, extent)?;
-        self.write_descriptors(frame_slot, key, scene);
+        self.write_descriptors(frame_slot, key, scene, frame_environment(scene, inputs));
         self.record_passes(cmd, frame_slot, key, scene, variant, inputs, target);
         self.frame_number += 1;
         self.last_slot = Some(frame_slot);
@@ -334,7 +347,13 @@ impl Renderer {
         if !scene.belongs_to(&self.retire_queue) {
             return Err(RenderError::SceneOfAnotherRenderer);
         }
-        let variant = self.variant_of(scene.variant);
+        let variant = match inputs.environment {
+            None => self.variant_of(scene.variant),
+            Some(environment) if environment.lights(scene, &self.retire_queue) => {
+                self.variant_of(scene.lit_variant)
+            }
+            Some(_) => return Err(RenderError::EnvironmentOfAnotherScene),
+        };
         if !self.variants.contains_key(&variant) {
             return Err(RenderError::VariantNotPrepared);
         }
@@ -506,7 +525,13 @@ impl Renderer {
         Ok(())
     }
 
-    fn write_descriptors(&self, slot: usize, key: TargetKey, scene: &GpuScene) {
+    fn write_descriptors(
+        &self,
+        slot: usize,
+        key: TargetKey,
+        scene: &GpuScene,
+        environment: Option<&GpuEnvironment>,
+    ) {
         let s = &self.slots[slot];
         let targets = &self.targets[&key].0;
         let read = ImageUse::FragmentSampled.state().layout;
@@ -554,11 +579,7 @@ impl Renderer {
         let emissive = g.emissive.as_ref().unwrap_or(&self.absent_target);
         lighting = lighting.image("gbuffer_emissive", emissive.view(), read, no_sampler);
         {
-            let environment = scene
-                .gpu
-                .environment
-                .as_ref()
-                .unwrap_or(&self.no_environment);
+            let environment = environment.unwrap_or(&self.no_environment);
             let sampler = environment.sampler.raw();
             lighting = lighting
                 .image(
@@ -668,7 +689,13 @@ impl Renderer {
         states.transition(
             raw,
             cmd,
-            &lighting_uses(targets, scene, &s.lights, tile_lights),
+            &lighting_uses(
+                targets,
+                scene,
+                frame_environment(scene, inputs),
+                &s.lights,
+                tile_lights,
+            ),
         );
         passes.lighting.record(
             device,

@@ -221,6 +221,10 @@ pub struct FrameInputs<'a> {
     pub lights: &'a [Light],
     /// Text panels drawn over the frame by the output pass (none: nothing drawn).
     pub overlay: &'a [OverlayPanel<'a>],
+    /// The environment lighting this frame in place of the scene's own (None: the
+    /// scene's, if it has one), baked for the scene's materials by
+    /// [`crate::Renderer::bake_environment`].
+    pub environment: Option<&'a crate::FrameEnvironment>,
 }
 
 impl<'a> FrameInputs<'a> {
@@ -231,6 +235,7 @@ impl<'a> FrameInputs<'a> {
             exposure,
             lights: &scene.scene().lights,
             overlay: &[],
+            environment: None,
         }
     }
 }

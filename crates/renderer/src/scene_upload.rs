@@ -33,6 +33,14 @@ pub struct GpuScene {
     pub(crate) draw_materials: Vec<usize>,
     /// Shader features this scene needs (selects the pipeline variant).
     pub(crate) variant: crate::ShaderVariant,
+    /// The shader features of its frames lit by a [`crate::FrameEnvironment`].
+    pub(crate) lit_variant: crate::ShaderVariant,
+    /// Whether a [`crate::FrameEnvironment`] was baked for it: then
+    /// [`crate::Renderer::prepare`] and edits build `lit_variant`'s pipelines too.
+    pub(crate) frame_environments: std::sync::atomic::AtomicBool,
+    /// Its material table as the environment bake reads it (what a
+    /// [`crate::FrameEnvironment`] must have been baked for).
+    pub(crate) bake_materials: Vec<u8>,
     /// The scene as uploaded (or last edited).
     scene: Scene,
     /// The handles of its objects, materials and meshes.
@@ -138,14 +146,27 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
         masking: crate::Masking::HeightCorrelated,
         distribution: crate::Distribution::Ggx,
         environment: scene.environment.is_some(),
-        occlusion: scene.environment.is_some()
-            && scene
-                .materials
-                .iter()
-                .any(|m| m.occlusion_texture.is_some() && m.occlusion_strength > 0.0),
+        occlusion: scene.environment.is_some() && has_occlusion_textures(scene),
         // A renderer setting.
         energy_compensation: false,
     }
+}
+
+/// The shader features `scene`'s frames need when an environment lights them, its own
+/// or a [`crate::FrameEnvironment`].
+pub(crate) fn lit_scene_variant(scene: &Scene) -> crate::ShaderVariant {
+    let mut variant = scene_variant(scene);
+    variant.environment = true;
+    variant.occlusion = has_occlusion_textures(scene);
+    variant
+}
+
+/// Whether a material darkens the environment's light by an occlusion texture.
+fn has_occlusion_textures(scene: &Scene) -> bool {
+    scene
+        .materials
+        .iter()
+        .any(|m| m.occlusion_texture.is_some() && m.occlusion_strength > 0.0)
 }
 
 /// One mesh's vertex streams and indices on the GPU. Shared (`Arc`) by a scene and the
@@ -229,6 +250,8 @@ struct Tables {
     double_sided: Vec<bool>,
     draw_materials: Vec<usize>,
     variant: crate::ShaderVariant,
+    lit_variant: crate::ShaderVariant,
+    bake_materials: Vec<u8>,
 }
 
 impl Tables {
@@ -273,6 +296,8 @@ impl Tables {
                 .collect(),
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),
             variant: scene_variant(scene),
+            lit_variant: lit_scene_variant(scene),
+            bake_materials: bytemuck::cast_slice(&material_table(scene, &[])).to_vec(),
         })
     }
 }
@@ -303,6 +328,9 @@ impl GpuScene {
             double_sided: tables.double_sided,
             draw_materials: tables.draw_materials,
             variant: tables.variant,
+            lit_variant: tables.lit_variant,
+            frame_environments: false.into(),
+            bake_materials: tables.bake_materials,
             scene: scene.clone(),
             ids: SceneIds::new(scene),
             retire,
@@ -384,6 +412,8 @@ impl GpuScene {
         self.double_sided = tables.double_sided;
         self.draw_materials = tables.draw_materials;
         self.variant = tables.variant;
+        self.lit_variant = tables.lit_variant;
+        self.bake_materials = tables.bake_materials;
         self.scene = next;
         self.ids = ids;
         Ok((report, retired))
