@@ -689,8 +689,9 @@ fn a_frame_environment_lights_as_the_scenes_own_and_changes_without_an_edit() {
             renderer.render_with(scene, &inputs, width, height, readback)
         };
         for _ in 0..2 {
-            for (environment, expected) in
-                [Some(&studio_light), None, Some(&uniform_light)].into_iter().zip(&expected)
+            for (environment, expected) in [Some(&studio_light), None, Some(&uniform_light)]
+                .into_iter()
+                .zip(&expected)
             {
                 let hdr = frame(renderer, &scene, environment).expect("frame").hdr;
                 assert!(

@@ -49,6 +49,7 @@ use std::sync::Arc;
 use combustion_scene::{DiffuseModel, Scene, SceneError};
 use combustion_vk::{vk, DescriptorSetLayout, Device, PipelineCache, ShaderCompiler, VkError};
 
+pub use environment::FrameEnvironment;
 use fullscreen::FullscreenPass;
 use gbuffer::{GBufferPass, GBufferReadback};
 use gpu_types::{LightingPush, TonemapPush};
@@ -59,7 +60,6 @@ pub use host::{
 pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
 pub use scene_edit::{EditError, MaterialId, MeshId, ObjectId, SceneEditor};
-pub use environment::FrameEnvironment;
 pub use scene_upload::{GpuScene, SceneEditReport};
 
 /// The parts of the material model a lighting pipeline contains. A scene's pipeline
