@@ -210,6 +210,15 @@ impl FrameEnvironment {
     }
 }
 
+impl std::fmt::Debug for FrameEnvironment {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FrameEnvironment")
+            .field("environment", &self.gpu.environment.name())
+            .field("bake_ms", &self.gpu.bake_ms)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Drop for FrameEnvironment {
     fn drop(&mut self) {
         // SAFETY: `gpu` is taken once, here, and never touched again.
