@@ -638,6 +638,21 @@ fn edits_bake_the_environment_for_the_edited_scene() {
     common::finish(headless);
 }
 
+/// A frame of `scene` at `size` with its own camera and lights at exposure 1, lit by
+/// `environment` (None: the scene's own).
+fn frame(
+    renderer: &mut combustion::renderer::Renderer,
+    scene: &combustion::renderer::GpuScene,
+    environment: Option<&combustion::renderer::FrameEnvironment>,
+    (width, height, readback): (u32, u32, Readback),
+) -> Result<Frame, combustion::renderer::RenderError> {
+    let inputs = FrameInputs {
+        environment,
+        ..FrameInputs::of_scene(scene, 1.0)
+    };
+    renderer.render_with(scene, &inputs, width, height, readback)
+}
+
 /// Issue 19 (item 7): the environment as a per-frame input. The sphere grid with its
 /// lights and no environment of its own is lit, frame by frame and without a scene
 /// edit, by a [`FrameEnvironment`] of the studio, by none, and by a uniform one: each
@@ -679,21 +694,15 @@ fn a_frame_environment_lights_as_the_scenes_own_and_changes_without_an_edit() {
         let studio_light = renderer.bake_environment(&scene, &studio).expect("bake");
         let uniform_light = renderer.bake_environment(&scene, &uniform).expect("bake");
         assert_eq!(studio_light.environment(), &studio);
-        let frame = |renderer: &mut combustion::renderer::Renderer,
-                     scene: &combustion::renderer::GpuScene,
-                     environment| {
-            let inputs = FrameInputs {
-                environment,
-                ..FrameInputs::of_scene(scene, 1.0)
-            };
-            renderer.render_with(scene, &inputs, width, height, readback)
-        };
+        let size = (width, height, readback);
         for _ in 0..2 {
             for (environment, expected) in [Some(&studio_light), None, Some(&uniform_light)]
                 .into_iter()
                 .zip(&expected)
             {
-                let hdr = frame(renderer, &scene, environment).expect("frame").hdr;
+                let hdr = frame(renderer, &scene, environment, size)
+                    .expect("frame")
+                    .hdr;
                 assert!(
                     hdr == *expected,
                     "lit by {:?}: differs from the scene uploaded with it",
@@ -708,17 +717,17 @@ fn a_frame_environment_lights_as_the_scenes_own_and_changes_without_an_edit() {
                 s.objects[0].transform *= Mat4::from_translation(Vec3::new(0.0, 0.1, 0.0));
             })
             .expect("edit");
-        frame(renderer, &scene, Some(&studio_light)).expect("moved object, same materials");
+        frame(renderer, &scene, Some(&studio_light), size).expect("moved object, same materials");
         // Pipelines follow a settings change through prepare.
         renderer.set_fresnel(FresnelModel::Schlick);
         renderer.prepare(&scene).expect("prepare");
-        frame(renderer, &scene, Some(&studio_light)).expect("Schlick frames lit by it");
+        frame(renderer, &scene, Some(&studio_light), size).expect("Schlick frames lit by it");
         renderer.set_fresnel(FresnelModel::Full);
         // Another scene's materials, and an edit of the optics, are refused.
         let other = renderer
             .upload(&builtin_scene("gold-copper").expect("built in"))
             .expect("upload");
-        let error = frame(renderer, &other, Some(&studio_light)).unwrap_err();
+        let error = frame(renderer, &other, Some(&studio_light), size).unwrap_err();
         assert!(
             matches!(error, RenderError::EnvironmentOfAnotherScene),
             "{error}"
@@ -726,18 +735,20 @@ fn a_frame_environment_lights_as_the_scenes_own_and_changes_without_an_edit() {
         renderer
             .edit_scene(&mut scene, |s| s.materials[0].roughness = 0.9)
             .expect("edit");
-        let error = frame(renderer, &scene, Some(&studio_light)).unwrap_err();
+        let error = frame(renderer, &scene, Some(&studio_light), size).unwrap_err();
         assert!(
             matches!(error, RenderError::EnvironmentOfAnotherScene),
             "{error}"
         );
         // Baked again, it lights the edited scene.
         let again = renderer.bake_environment(&scene, &studio).expect("bake");
-        frame(renderer, &scene, Some(&again)).expect("baked for the edited materials");
-        // Dropped while nothing waits for its frames: retired, not freed under them.
+        frame(renderer, &scene, Some(&again), size).expect("baked for the edited materials");
+        // Dropped after frames that read them: retired, not freed under them.
         drop(studio_light);
+        drop(uniform_light);
+        frame(renderer, &scene, Some(&again), size).expect("frame after the drops");
         drop(again);
-        frame(renderer, &scene, Some(&uniform_light)).expect("frame after the drops");
+        frame(renderer, &scene, None, size).expect("frame after the last drop");
     }
     common::finish(headless);
 }
