@@ -930,6 +930,7 @@ impl<'c> Engine<'c> {
                 exposure,
                 lights: &lights,
                 overlay: &[],
+                environment: None,
             };
             if let Err(e) = renderer.record(cmd, slot, scene, &inputs, &target) {
                 // SAFETY: end the (empty) recording so the buffer can be reset later.
