@@ -1,0 +1,827 @@
+//! The command line's declaration (clap derive): commands, their options, value parsers, and
+//! what the options make (the scene as lit, the device and renderer settings).
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{ArgAction, ArgGroup, Args, CommandFactory, Parser, Subcommand};
+
+use combustion::renderer::{
+    Distribution, FresnelModel, HdrFormat, LightCulling, Readback, RendererSettings,
+    MAX_FRAMES_IN_FLIGHT,
+};
+use combustion::scene::gltf::{self, ImportOptions};
+use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
+use combustion::spectra::{BuiltinMetal, Spectrum};
+use combustion::vk::{DeviceDesc, DeviceSelector};
+use combustion::{
+    check_validation, finite_number, number_list, output, shortened, Error, Headless, HeadlessDesc,
+    SceneSource,
+};
+use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
+
+use crate::CliError;
+
+pub(crate) const ABOUT: &str = "Vulkan deferred renderer with physically based shading";
+
+pub(crate) const LONG_ABOUT: &str = "\
+Vulkan deferred renderer with physically based shading: Cook-Torrance with GGX (isotropic
+and anisotropic), Oren-Nayar diffuse and the full Fresnel equations with complex IOR and
+the outside medium's index, checked against an f64 optics reference.
+
+SCENE is builtin:NAME (the list is below; default builtin:spheres) or a glTF file (.gltf
+or .glb; a file without lights is lit by the built-in studio environment).
+
+`combustion COMMAND --help` explains each command's options.
+Logging: COMBUSTION_LOG=error|warn|info|debug|trace (default warn).";
+
+pub(crate) const BENCH_ABOUT: &str = "\
+Submits N frames with frames in flight (default 2; 1 to 3): each waits only for the frame
+that used its slot. Prints the GPU time of each pass (timestamps: median, p10, p90), the
+wall-clock interval between submissions, and the throughput. The lighting pipeline is
+specialised to what the scene's materials use; --specialised off measures the general
+pipeline instead.
+
+--report DIR measures variant sets on every built-in scene (or the scene named): the
+default (full Fresnel, f32 HDR, specialised pipeline, height-correlated masking, GGX, each
+material's diffuse model), each term changed alone (general pipeline; Schlick or F82;
+f16; separable or approximate masking; Beckmann; Lambert, qualitative or full Oren-Nayar
+for every material) and every cheap choice at once; per set the GPU time of each pass and
+the error of one frame against the f64 reference (relative errors and mean FLIP), per
+scene the measurement floors (trivial G-buffer fragment stage; lighting that only
+fetches; plain GGX + Smith + conductor Fresnel), and frame time against size (0.5x, 1x,
+1.5x) and against 1-256 localised lights culled and not (on grid-7x7, or the scene
+named); written to DIR as report.md, report.csv, floors.csv, scaling.csv,
+speed-vs-error.png (with the Pareto front), scaling-resolution.png and
+scaling-lights.png.";
+
+pub(crate) const VIEW_ABOUT: &str = "\
+Opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under Xvfb)
+and renders the scene every frame at the window's size, into the swapchain image on the
+device, with frames in flight (default 2). The title and the statistics panel show the
+GPU time; H lists the keys, X (or --error-view from the start) shows the error against
+the f64 reference. Escape or closing the window quits, as does --frames N after N frames;
+a summary is printed at exit.";
+
+pub(crate) const PLOT_ABOUT: &str = "\
+Draws PNG charts with the optics reference (no GPU): `reflectance` Rs, Rp and R against
+the angle of incidence per RGB channel (rendering notes Figs. 10-11), `spectrum` a
+table's n(λ), k(λ) with the RGB bands (Figs. 8-9), `dielectrics` R against angle for
+several ηt (Fig. 12).";
+
+pub(crate) const INFO_ABOUT: &str = "\
+Prints what a scene holds (meshes, materials, lights, camera, outside medium) and which
+renderer features it needs; for a glTF file also what the importer found. With
+--max-error E it measures the report's variant sets on the scene at 640x360 and says
+which is the fastest within E, as render --max-error E chooses (measured there at the
+render's size).";
+
+/// `--help`'s closing lines: the built-in scenes, in the order the viewer's number keys
+/// follow.
+pub(crate) fn builtin_scenes_note() -> String {
+    format!("Built-in scenes: {}.", BUILTIN_SCENES.join(", "))
+}
+
+#[derive(Parser)]
+#[command(
+    name = "combustion",
+    version,
+    about = ABOUT,
+    long_about = LONG_ABOUT,
+    after_help = builtin_scenes_note(),
+    subcommand_required = true,
+    arg_required_else_help = true
+)]
+pub(crate) struct Cli {
+    #[command(subcommand)]
+    pub(crate) command: Command,
+}
+
+#[derive(Subcommand)]
+pub(crate) enum Command {
+    /// Render a scene headless to a PNG (tone-mapped) and/or an OpenEXR file (linear)
+    #[command(allow_negative_numbers = true, args_override_self = true, after_help = builtin_scenes_note())]
+    Render(RenderArgs),
+    /// Measure the passes' GPU time over many frames, or write the speed-against-error
+    /// report
+    #[command(long_about = BENCH_ABOUT, allow_negative_numbers = true, args_override_self = true, after_help = builtin_scenes_note())]
+    Bench(BenchArgs),
+    /// Open a window and render the scene every frame
+    #[command(long_about = VIEW_ABOUT, allow_negative_numbers = true, args_override_self = true, after_help = builtin_scenes_note())]
+    View(ViewArgs),
+    /// Evaluate one term of the f64 optics reference (or the whole BRDF) and print JSON
+    Eval(EvalArgs),
+    /// Draw reflectance and spectrum charts as PNG files
+    #[command(long_about = PLOT_ABOUT, subcommand)]
+    Plot(PlotCommand),
+    /// Describe what a scene holds and which renderer features it needs
+    #[command(long_about = INFO_ABOUT, allow_negative_numbers = true, args_override_self = true, after_help = builtin_scenes_note())]
+    Info(InfoArgs),
+    /// List the Vulkan devices and whether each can run the renderer
+    Devices,
+    /// Print shell completions for this command line (e.g. `combustion completions bash
+    /// > /etc/bash_completion.d/combustion`)
+    Completions {
+        /// The shell to complete for
+        #[arg(value_parser = clap::value_parser!(clap_complete::Shell))]
+        shell: clap_complete::Shell,
+    },
+}
+
+/// The scene: positional, or as `--scene`.
+#[derive(Args)]
+pub(crate) struct SceneArg {
+    /// builtin:NAME or a glTF file (.gltf, .glb) [default: builtin:spheres]
+    #[arg(value_name = "SCENE", value_parser = scene_source())]
+    pub(crate) scene: Option<SceneSource>,
+    /// The same as SCENE
+    #[arg(
+        long = "scene",
+        value_name = "SCENE",
+        value_parser = scene_source(),
+        conflicts_with = "scene"
+    )]
+    pub(crate) scene_option: Option<SceneSource>,
+}
+
+impl SceneArg {
+    /// The scene named, if one was.
+    fn given(&self) -> Option<&SceneSource> {
+        self.scene.as_ref().or(self.scene_option.as_ref())
+    }
+    fn source(&self) -> SceneSource {
+        self.given()
+            .cloned()
+            .unwrap_or_else(|| SceneSource::Builtin("spheres".to_owned()))
+    }
+}
+
+/// What every frame is rendered with: size, exposure, Fresnel term, HDR target format.
+#[derive(Args)]
+pub(crate) struct FrameArgs {
+    /// Image width in pixels
+    #[arg(long, value_name = "N", default_value = "1280", value_parser = at_least_one)]
+    pub(crate) width: u32,
+    /// Image height in pixels
+    #[arg(long, value_name = "N", default_value = "720", value_parser = at_least_one)]
+    pub(crate) height: u32,
+    /// Exposure: the factor applied to radiance before tone mapping
+    #[arg(long, value_name = "X", default_value = "1", value_parser = positive_finite::<f32>)]
+    pub(crate) exposure: f32,
+    /// The Fresnel term: the full equations, or a comparison variant
+    #[arg(long, value_name = "MODEL", default_value = FresnelModel::default().name(), value_parser = named([FresnelModel::Full, FresnelModel::Schlick, FresnelModel::F82].map(|m| (m.name(), m))))]
+    pub(crate) fresnel: FresnelModel,
+    /// The HDR target's format: 16- or 32-bit float per channel
+    #[arg(long, value_name = "FORMAT", default_value = "f32", value_parser = named(HDR_FORMATS))]
+    pub(crate) hdr_format: HdrFormat,
+}
+
+pub(crate) const HDR_FORMATS: [(&str, HdrFormat); 2] = [
+    ("f16", HdrFormat::Rgba16Float),
+    ("f32", HdrFormat::Rgba32Float),
+];
+
+/// How the scene is shaded and lit (`render`, `bench`).
+#[derive(Args)]
+pub(crate) struct ShadingArgs {
+    /// The microfacet distribution (beckmann: a comparison variant)
+    #[arg(long, value_name = "KIND", default_value = "ggx", value_parser = named([Distribution::Ggx, Distribution::Beckmann].map(|d| (d.name(), d))))]
+    pub(crate) distribution: Distribution,
+    /// One diffuse model for every material (material: each its own)
+    #[arg(long, value_name = "MODEL", default_value = "material", value_parser = diffuse_override())]
+    // Spelled out so that clap takes the value as parsed (`material` is `None`) rather than
+    // as an optional argument.
+    pub(crate) diffuse: std::option::Option<DiffuseModel>,
+    /// Light the scene by `studio` (an analytic sky, ground and two soft boxes),
+    /// `uniform:R,G,B` or `uniform:L` (a uniform radiance, W/sr/m² per channel), an
+    /// equirectangular Radiance .hdr or OpenEXR .exr image FILE (row 0 at +y, the centre
+    /// column along -z), or `none`
+    #[arg(long, value_name = "ENVIRONMENT", value_parser = OsStringValueParser::new().try_map(EnvironmentChoice::parse))]
+    pub(crate) environment: Option<EnvironmentChoice>,
+    /// Add the camera-relative key and fill lights (the earlier default for files without
+    /// lights)
+    #[arg(long)]
+    pub(crate) light_rig: bool,
+    /// Scale every specular lobe by 1 + F0 (1 - E)/E (Turquin 2019), putting back the
+    /// energy single-scattering GGX loses on rough surfaces (off by default: the f64
+    /// reference is single-scattering)
+    #[arg(long, value_name = "on|off", default_value = "off", action = ArgAction::Set, value_parser = on_off())]
+    pub(crate) energy_compensation: bool,
+}
+
+/// The Vulkan device and validation.
+#[derive(Args)]
+pub(crate) struct DeviceArgs {
+    /// Pick a Vulkan device by index or by part of its name (e.g. llvmpipe); the
+    /// COMBUSTION_DEVICE environment variable does the same
+    #[arg(long, value_name = "SEL", value_parser = |text: &str| text.parse::<DeviceSelector>())]
+    pub(crate) device: Option<DeviceSelector>,
+    /// Turn on the Khronos validation layer and fail if it reports anything
+    #[arg(long)]
+    pub(crate) validate: bool,
+}
+
+#[derive(Args)]
+pub(crate) struct RenderArgs {
+    #[command(flatten)]
+    pub(crate) scene: SceneArg,
+    /// The tone-mapped image (PNG) [default: out.png when --hdr is not given]
+    #[arg(short = 'o', long = "output", value_name = "OUT.png")]
+    pub(crate) output: Option<PathBuf>,
+    /// The linear radiance (OpenEXR, ZIP-compressed)
+    #[arg(long, value_name = "OUT.exr")]
+    pub(crate) hdr: Option<PathBuf>,
+    /// An accuracy budget: render with the fastest variant set whose mean relative error
+    /// against the f64 reference is within E, measured on this scene at this size
+    #[arg(long, value_name = "E", value_parser = relative_error)]
+    pub(crate) max_error: Option<f64>,
+    #[command(flatten)]
+    pub(crate) frame: FrameArgs,
+    #[command(flatten)]
+    pub(crate) shading: ShadingArgs,
+    #[command(flatten)]
+    pub(crate) device: DeviceArgs,
+}
+
+#[derive(Args)]
+pub(crate) struct BenchArgs {
+    #[command(flatten)]
+    pub(crate) scene: SceneArg,
+    /// Frames to measure
+    #[arg(long, value_name = "N", default_value = "30", value_parser = at_least_one)]
+    pub(crate) frames: u32,
+    /// Frames the CPU may record ahead of the GPU (1 to 3)
+    #[arg(long, value_name = "N", default_value_t = RendererSettings::default().frames_in_flight, value_parser = frames_in_flight)]
+    pub(crate) frames_in_flight: usize,
+    /// Light pipelines specialised to the scene's materials (off: the general one)
+    #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
+    pub(crate) specialised: bool,
+    /// Add N point lights with a range (a fifth of the scene's size) scattered through it
+    #[arg(long, value_name = "N", default_value = "0", value_parser = extra_lights)]
+    pub(crate) extra_lights: usize,
+    /// When frames cull their lights into 16×16-pixel tile lists (auto: when a light has
+    /// a range; the culling pass is timed with the lighting pass)
+    #[arg(long, value_name = "WHEN", default_value = "auto", value_parser = named(CULLING))]
+    pub(crate) culling: LightCulling,
+    /// Measure the variant sets and write the speed-against-error report to DIR
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "exposure", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation"])]
+    pub(crate) report: Option<PathBuf>,
+    /// With --report: add how this run reproduces an earlier report (rows with identical
+    /// error columns, the spread of the frame-time ratios)
+    #[arg(long, value_name = "PREVIOUS_DIR", requires = "report")]
+    pub(crate) against: Option<PathBuf>,
+    #[command(flatten)]
+    pub(crate) frame: FrameArgs,
+    #[command(flatten)]
+    pub(crate) shading: ShadingArgs,
+    #[command(flatten)]
+    pub(crate) device: DeviceArgs,
+}
+
+pub(crate) const CULLING: [(&str, LightCulling); 3] = [
+    ("auto", LightCulling::Auto),
+    ("always", LightCulling::Always),
+    ("never", LightCulling::Never),
+];
+
+#[derive(Args)]
+pub(crate) struct ViewArgs {
+    #[command(flatten)]
+    pub(crate) scene: SceneArg,
+    /// Quit after N frames (default: run until the window is closed)
+    #[arg(long, value_name = "N", value_parser = at_least_one)]
+    pub(crate) frames: Option<u32>,
+    /// Wait for the display's refresh (off: present at once where the window system
+    /// allows it)
+    #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
+    pub(crate) vsync: bool,
+    /// Frames the CPU may record ahead of the GPU (1 to 3)
+    #[arg(long, value_name = "N", default_value_t = RendererSettings::default().frames_in_flight, value_parser = frames_in_flight)]
+    pub(crate) frames_in_flight: usize,
+    /// Write the last frame of the run to this PNG (needs --frames)
+    #[arg(long, value_name = "OUT.png", requires = "frames")]
+    pub(crate) screenshot: Option<PathBuf>,
+    /// A scripted camera path
+    #[arg(long, value_name = "FILE")]
+    pub(crate) camera_path: Option<PathBuf>,
+    /// The statistics panel over the frames (Tab toggles it while running)
+    #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
+    pub(crate) overlay: bool,
+    /// Start in the error view (the error against the f64 reference)
+    #[arg(long)]
+    pub(crate) error_view: bool,
+    #[command(flatten)]
+    pub(crate) frame: FrameArgs,
+    #[command(flatten)]
+    pub(crate) device: DeviceArgs,
+}
+
+#[derive(Args)]
+pub(crate) struct InfoArgs {
+    /// builtin:NAME or a glTF file (.gltf, .glb)
+    #[arg(value_name = "SCENE", value_parser = scene_source())]
+    pub(crate) scene: SceneSource,
+    /// An accuracy budget (the mean relative error against the f64 reference): measure
+    /// the variant sets at 640x360 and say which is the fastest within it
+    #[arg(long, value_name = "E", value_parser = relative_error)]
+    pub(crate) max_error: Option<f64>,
+}
+
+/// `eval`'s arguments: the term, and the numeric inputs of
+/// [`combustion::eval::FLAGS`], declared from that table (see the `Args` impl).
+pub(crate) struct EvalArgs {
+    pub(crate) list: bool,
+    pub(crate) term: Option<String>,
+    pub(crate) inputs: combustion::eval::Inputs,
+}
+
+impl clap::FromArgMatches for EvalArgs {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut inputs = combustion::eval::Inputs::default();
+        for flag in combustion::eval::FLAGS {
+            if let Some(values) = matches.get_one::<Vec<f64>>(flag.long()) {
+                inputs.set(flag, values.clone());
+            }
+        }
+        if let Some(model) = matches.get_one("diffuse") {
+            inputs.set_diffuse(*model);
+        }
+        Ok(Self {
+            list: matches.get_flag("list"),
+            term: matches.get_one::<String>("term").cloned(),
+            inputs,
+        })
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(matches)?;
+        Ok(())
+    }
+}
+
+impl Args for EvalArgs {
+    fn augment_args(command: clap::Command) -> clap::Command {
+        use clap::Arg;
+        let terms = combustion::eval::TERMS
+            .iter()
+            .map(|(name, what)| PossibleValue::new(*name).help(*what));
+        let command = command
+            .about(
+                "Evaluate one term of the f64 optics reference (or the whole BRDF) and print JSON",
+            )
+            .long_about(
+                "Evaluates one term of the f64 optics reference, or the whole BRDF, and prints \
+                 JSON: the term, the input as given, what was evaluated from it (directions \
+                 normalised or made from angles, the half vector, α after its clamp) and the \
+                 result. Directions are in the local shading frame (z = normal, x = tangent, \
+                 y = bitangent), as angles or as vectors.",
+            )
+            .allow_negative_numbers(true)
+            .args_override_self(true)
+            .arg(
+                Arg::new("term")
+                    .value_name("TERM")
+                    .help("The term to evaluate")
+                    .value_parser(PossibleValuesParser::new(terms))
+                    .required_unless_present("list"),
+            )
+            .arg(
+                Arg::new("list")
+                    .long("list")
+                    .action(ArgAction::SetTrue)
+                    .conflicts_with("term")
+                    .help("List the terms with what each evaluates"),
+            )
+            .arg(
+                Arg::new("diffuse")
+                    .long("diffuse")
+                    .value_name("MODEL")
+                    .help("`brdf`: the diffuse model (default lambert)")
+                    .value_parser(named(combustion::eval::DIFFUSE_MODELS)),
+            );
+        combustion::eval::FLAGS
+            .iter()
+            .fold(command, |command, flag| {
+                let value_name = match flag.lengths {
+                    [1] => "X",
+                    [3] => "X,Y,Z",
+                    _ => "X|R,G,B",
+                };
+                command.arg(
+                    Arg::new(flag.long())
+                        .long(flag.long())
+                        .value_name(value_name)
+                        .help(flag.help)
+                        // Lists may start with a minus sign (`--v -1,0,1`), which clap would
+                        // take for a flag; single numbers are negative numbers to it.
+                        .allow_hyphen_values(flag.lengths != [1])
+                        .value_parser(move |text: &str| combustion::eval::parse_value(flag, text)),
+                )
+            })
+    }
+
+    fn augment_args_for_update(command: clap::Command) -> clap::Command {
+        Self::augment_args(command)
+    }
+}
+
+#[derive(Subcommand)]
+pub(crate) enum PlotCommand {
+    /// Rs, Rp and R against the angle of incidence per RGB channel (Figs. 10-11)
+    #[command(allow_negative_numbers = true, args_override_self = true)]
+    Reflectance(ReflectanceArgs),
+    /// A table's n(λ), k(λ) with the RGB bands (Figs. 8-9)
+    #[command(allow_negative_numbers = true, args_override_self = true)]
+    Spectrum(SpectrumArgs),
+    /// R against the angle of incidence for several dielectrics (Fig. 12)
+    #[command(allow_negative_numbers = true, args_override_self = true)]
+    Dielectrics(DielectricsArgs),
+}
+
+/// Where a plot goes and its size.
+#[derive(Args)]
+pub(crate) struct PlotImageArgs {
+    /// The PNG to write [default: KIND.png, after the plot's kind]
+    #[arg(short = 'o', long = "output", value_name = "OUT.png")]
+    pub(crate) output: Option<PathBuf>,
+    /// Width in pixels [default: 800]
+    #[arg(long, value_name = "N", value_parser = whole_number::<u32>)]
+    pub(crate) width: Option<u32>,
+    /// Height in pixels [default: 500; 600 for `plot spectrum`]
+    #[arg(long, value_name = "N", value_parser = whole_number::<u32>)]
+    pub(crate) height: Option<u32>,
+}
+
+impl PlotImageArgs {
+    fn size(&self, default: (u32, u32)) -> (u32, u32) {
+        (
+            self.width.unwrap_or(default.0),
+            self.height.unwrap_or(default.1),
+        )
+    }
+
+    /// The output path (default `KIND.png`), checked before any work is done.
+    fn output(&self, kind: &str) -> Result<PathBuf, CliError> {
+        let path = self
+            .output
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(format!("{kind}.png")));
+        output::check_writable(&path)?;
+        Ok(path)
+    }
+}
+
+#[derive(Args)]
+#[command(group(ArgGroup::new("material").required(true).args(["metal", "dielectric", "eta", "csv"])))]
+pub(crate) struct ReflectanceArgs {
+    /// A built-in metal (name or chemical symbol)
+    #[arg(long, value_name = "NAME", value_parser = builtin_metal)]
+    pub(crate) metal: Option<BuiltinMetal>,
+    /// A dielectric of index ETA
+    #[arg(long, value_name = "ETA", value_parser = finite_number)]
+    pub(crate) dielectric: Option<f64>,
+    /// A conductor's η, one value or one per RGB channel
+    #[arg(long, value_name = "E|R,G,B", value_parser = rgb)]
+    pub(crate) eta: Option<[f64; 3]>,
+    /// The conductor's k, one value or one per RGB channel [default: 0]
+    // clap drops `requires` when a conflicting member of the group is present, so the
+    // other materials are refused by name.
+    #[arg(long, value_name = "K|R,G,B", value_parser = rgb, requires = "eta", conflicts_with_all = ["metal", "dielectric", "csv"])]
+    pub(crate) k: Option<[f64; 3]>,
+    /// A `wavelength_nm,n,k` table spanning 450-740 nm
+    #[arg(long, value_name = "FILE")]
+    pub(crate) csv: Option<PathBuf>,
+    /// The outside medium's index ηi (1.33 for water)
+    #[arg(long, value_name = "X", default_value = "1", value_parser = finite_number)]
+    pub(crate) outside_ior: f64,
+    /// The weight w of R = (1-w)Rs + wRp (0.5: unpolarised)
+    #[arg(long, value_name = "W", default_value = "0.5", value_parser = finite_number)]
+    pub(crate) polarisation: f64,
+    #[command(flatten)]
+    pub(crate) image: PlotImageArgs,
+}
+
+#[derive(Args)]
+#[command(group(ArgGroup::new("table").required(true).args(["metal", "csv"])))]
+pub(crate) struct SpectrumArgs {
+    /// A built-in metal (name or chemical symbol)
+    #[arg(long, value_name = "NAME", value_parser = builtin_metal)]
+    pub(crate) metal: Option<BuiltinMetal>,
+    /// A `wavelength_nm,n,k` table spanning 450-740 nm
+    #[arg(long, value_name = "FILE")]
+    pub(crate) csv: Option<PathBuf>,
+    #[command(flatten)]
+    pub(crate) image: PlotImageArgs,
+}
+
+#[derive(Args)]
+pub(crate) struct DielectricsArgs {
+    /// The indices ηt to plot [default: 1.1,1.33,1.5,1.8,2.4,3]
+    #[arg(long, value_name = "E,E,...", value_parser = |text: &str| number_list(text, &[]).map(Etas))]
+    pub(crate) etas: Option<Etas>,
+    /// The outside medium's index ηi
+    #[arg(long, value_name = "X", default_value = "1", value_parser = finite_number)]
+    pub(crate) outside_ior: f64,
+    #[command(flatten)]
+    pub(crate) image: PlotImageArgs,
+}
+
+/// `--etas`: one value holding a list (an `Option<Vec<_>>` field would be a list of
+/// values to clap).
+#[derive(Clone)]
+pub(crate) struct Etas(Vec<f64>);
+
+// ---- Value parsers: each says why a value is refused; clap shows the value and the flag.
+
+/// A whole number of type `T`; the error says why not (negative, written with a point,
+/// out of range) rather than only "invalid".
+pub(crate) fn whole_number<T: std::str::FromStr>(text: &str) -> Result<T, String> {
+    text.parse().map_err(|_| {
+        let numeric = text.parse::<f64>().is_ok_and(f64::is_finite);
+        if !numeric {
+            "is not a valid number"
+        } else if text.starts_with('-') && "-1".parse::<T>().is_err() {
+            "is negative"
+        } else if text.contains(['.', 'e', 'E']) {
+            "is not written as a whole number (digits only)"
+        } else {
+            "is out of range"
+        }
+        .to_owned()
+    })
+}
+
+/// A whole number in `low..=high`.
+pub(crate) fn whole_in<T>(text: &str, low: T, high: T) -> Result<T, String>
+where
+    T: std::str::FromStr + PartialOrd + std::fmt::Display,
+{
+    let value = whole_number::<T>(text)?;
+    if value < low || value > high {
+        return Err(format!("is not between {low} and {high}"));
+    }
+    Ok(value)
+}
+
+/// An image size or a frame count: at least 1.
+pub(crate) fn at_least_one(text: &str) -> Result<u32, String> {
+    let value = whole_number::<u32>(text)?;
+    if value == 0 {
+        return Err("is 0; it must be at least 1".to_owned());
+    }
+    Ok(value)
+}
+
+pub(crate) fn frames_in_flight(text: &str) -> Result<usize, String> {
+    whole_in(text, 1, MAX_FRAMES_IN_FLIGHT)
+}
+
+pub(crate) fn extra_lights(text: &str) -> Result<usize, String> {
+    whole_in(text, 0, 65536)
+}
+
+/// A finite number above 0.
+pub(crate) fn positive_finite<T: std::str::FromStr + Into<f64> + Copy>(
+    text: &str,
+) -> Result<T, String> {
+    match text.parse::<T>() {
+        Ok(value) if value.into().is_finite() && value.into() > 0.0 => Ok(value),
+        Ok(_) => Err("is not a finite number above 0".to_owned()),
+        Err(_) => Err("is not a number".to_owned()),
+    }
+}
+
+/// An accuracy budget: a relative error above 0.
+pub(crate) fn relative_error(text: &str) -> Result<f64, String> {
+    positive_finite::<f64>(text).map_err(|_| "is not a relative error above 0 (e.g. 1e-3)".into())
+}
+
+/// One value for all three RGB channels, or one per channel.
+pub(crate) fn rgb(text: &str) -> Result<[f64; 3], String> {
+    match number_list(text, &[1, 3])?.as_slice() {
+        [x] => Ok([*x; 3]),
+        [r, g, b] => Ok([*r, *g, *b]),
+        _ => Err("takes 1 or 3 values".to_owned()),
+    }
+}
+
+pub(crate) fn builtin_metal(name: &str) -> Result<BuiltinMetal, String> {
+    BuiltinMetal::from_name(name).ok_or_else(|| {
+        let known: Vec<&str> = BuiltinMetal::ALL.iter().map(|m| m.name()).collect();
+        format!(
+            "not a built-in metal; built-in metals: {} (or their chemical symbols)",
+            known.join(", ")
+        )
+    })
+}
+
+/// A value parser choosing among named values; clap lists the names in `--help` and in
+/// its error for any other value.
+pub(crate) fn named<T, const N: usize>(
+    options: [(&'static str, T); N],
+) -> impl TypedValueParser<Value = T>
+where
+    T: Copy + Send + Sync + 'static,
+{
+    PossibleValuesParser::new(options.map(|(name, _)| name)).map(move |chosen: String| {
+        options
+            .iter()
+            .find(|(name, _)| *name == chosen)
+            .map(|(_, value)| *value)
+            .unwrap_or(options[0].1)
+    })
+}
+
+pub(crate) fn on_off() -> impl TypedValueParser<Value = bool> {
+    named([("on", true), ("off", false)])
+}
+
+/// `--diffuse`: `material` (each material's own model) or one model for all.
+pub(crate) fn diffuse_override() -> impl TypedValueParser<Value = Option<DiffuseModel>> {
+    let [a, b, c] = DiffuseModel::ALL;
+    named([
+        ("material", None),
+        (a.name(), Some(a)),
+        (b.name(), Some(b)),
+        (c.name(), Some(c)),
+    ])
+}
+
+/// SCENE: `builtin:NAME`, or a file path in whatever bytes the system allows.
+pub(crate) fn scene_source() -> impl TypedValueParser<Value = SceneSource> {
+    OsStringValueParser::new().map(|text: OsString| SceneSource::parse_os(&text))
+}
+
+/// `--environment`, as given; [`EnvironmentChoice::load`] reads a file.
+#[derive(Clone, Debug)]
+pub(crate) enum EnvironmentChoice {
+    None,
+    Studio,
+    Uniform([f32; 3]),
+    File(PathBuf),
+}
+
+impl EnvironmentChoice {
+    fn parse(text: OsString) -> Result<Self, String> {
+        const EXPECTED: &str = "is not studio, none, uniform:R,G,B or an .hdr or .exr file";
+        let path = PathBuf::from(&text);
+        let image = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("hdr") || e.eq_ignore_ascii_case("exr"));
+        let Some(text) = text.to_str() else {
+            return if image {
+                Ok(Self::File(path))
+            } else {
+                Err(EXPECTED.to_owned())
+            };
+        };
+        if let Some(rgb) = text.strip_prefix("uniform:") {
+            // A radiance: finite as the f32 the renderer keeps, and ≥ 0.
+            let channel = |part: &str| -> Result<f32, String> {
+                match part.trim().parse::<f32>() {
+                    Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+                    Ok(_) => Err(format!(
+                        "`{}` must be finite and ≥ 0 (a radiance)",
+                        shortened(part)
+                    )),
+                    Err(_) => Err(format!("`{}` is not a number", shortened(part))),
+                }
+            };
+            let parts: Vec<&str> = rgb.split(',').collect();
+            return match parts[..] {
+                [r, g, b] => Ok(Self::Uniform([channel(r)?, channel(g)?, channel(b)?])),
+                [l] => Ok(Self::Uniform([channel(l)?; 3])),
+                _ => Err("is not uniform:L or uniform:R,G,B".to_owned()),
+            };
+        }
+        match text {
+            "studio" => Ok(Self::Studio),
+            "none" => Ok(Self::None),
+            _ if image => Ok(Self::File(path)),
+            _ => Err(EXPECTED.to_owned()),
+        }
+    }
+
+    /// The environment (a file read and checked here).
+    fn load(&self) -> Result<Option<Environment>, Error> {
+        Ok(match self {
+            Self::None => None,
+            Self::Studio => Some(Environment::Studio),
+            Self::Uniform(radiance) => Some(Environment::Uniform(*radiance)),
+            Self::File(path) => {
+                let image = combustion::scene::EnvironmentImage::load(path)?;
+                Some(Environment::Image(std::sync::Arc::new(image)))
+            }
+        })
+    }
+}
+
+/// The scene with `--environment` and `--light-rig` applied.
+pub(crate) fn lit_as_asked(mut scene: Scene, shading: &ShadingArgs) -> Result<Scene, Error> {
+    if let Some(environment) = &shading.environment {
+        scene.environment = environment.load()?;
+    }
+    if shading.light_rig {
+        scene
+            .lights
+            .extend(combustion::default_light_rig(&scene.camera));
+    }
+    Ok(scene)
+}
+
+/// The device (`--device`, else `COMBUSTION_DEVICE`, else automatic) and renderer
+/// settings the options ask for.
+pub(crate) fn device_and_settings(
+    device: &DeviceArgs,
+    frame: &FrameArgs,
+    frames_in_flight: usize,
+) -> Result<(DeviceDesc, RendererSettings), Error> {
+    let selector = match &device.device {
+        Some(s) => s.clone(),
+        None => DeviceSelector::from_env()?,
+    };
+    let desc = DeviceDesc {
+        selector,
+        validation: device.validate,
+        synchronization_validation: device.validate,
+        ..DeviceDesc::default()
+    };
+    let settings = RendererSettings {
+        exposure: frame.exposure,
+        hdr_format: frame.hdr_format,
+        fresnel: frame.fresnel,
+        frames_in_flight,
+    };
+    Ok((desc, settings))
+}
+
+#[cfg(test)]
+mod tests {
+    /// clap's own consistency checks of the declaration (names, groups, requirements).
+    #[test]
+    fn the_command_line_declaration_is_consistent() {
+        use clap::CommandFactory;
+        super::Cli::command().debug_assert();
+    }
+
+    /// Every option of every command, given at once where they go together: each value
+    /// reaches its field with the type its parser makes (a mismatch would panic here,
+    /// not in a user's hands).
+    #[test]
+    fn a_repeated_option_takes_its_last_value() {
+        use clap::Parser;
+        let line =
+            "combustion render --width 8 --width 16 --validate --validate --light-rig --light-rig";
+        let Ok(super::Cli {
+            command: super::Command::Render(render),
+        }) = super::Cli::try_parse_from(line.split(' '))
+        else {
+            panic!("{line} is refused");
+        };
+        assert_eq!(render.frame.width, 16);
+        assert!(render.device.validate && render.shading.light_rig);
+    }
+
+    #[test]
+    fn every_option_reaches_its_field() {
+        use clap::Parser;
+        let frame = "--width 8 --height 9 --exposure 2 --fresnel f82 --hdr-format f16";
+        let shading = "--distribution beckmann --diffuse lambert --environment uniform:1,2,3 \
+                       --light-rig --energy-compensation on";
+        let device = "--device llvmpipe --validate";
+        let lines = [
+            format!("render builtin:spheres -o a.png --hdr a.exr --max-error 0.1 {frame} {shading} {device}"),
+            format!("render --scene x.gltf --environment sky.EXR {frame}"),
+            format!("bench builtin:grid-7x7 --frames 3 --frames-in-flight 3 --specialised off \
+                     --extra-lights 4 --culling always {frame} {shading} {device}"),
+            "bench --report r --against q --frames 2".to_owned(),
+            format!("view --frames 2 --vsync off --frames-in-flight 1 --screenshot s.png \
+                     --camera-path p.txt --overlay off --error-view {frame} {device}"),
+            "eval brdf --theta-v 10 --phi-v -30 --l -1,0,1 --alpha 0.2 --roughness 0.3 \
+             --alpha-x 0.1 --alpha-y 0.2 --eta 1,2,3 --k 2 --eta-i 1.33 --dielectric-eta 1.5 \
+             --f0 0.04 --sigma 0.3 --polarisation 0.4 --rho 0.5 --metalness 1 \
+             --oren-nayar-a 0.5 --diffuse oren-nayar-full --m 0,0,1 --theta-l 5 --phi-l 3 --v 0,0,1"
+                .to_owned(),
+            "eval --list".to_owned(),
+            "plot reflectance --eta 1,2,3 --k 4 --outside-ior 1.33 --polarisation 0 -o a.png --width 10 --height 20".to_owned(),
+            "plot reflectance --metal Au".to_owned(),
+            "plot reflectance --dielectric 1.5".to_owned(),
+            "plot reflectance --csv m.csv".to_owned(),
+            "plot spectrum --metal gold -o s.png".to_owned(),
+            "plot spectrum --csv m.csv".to_owned(),
+            "plot dielectrics --etas 1.1,2 --outside-ior 1.33".to_owned(),
+            "info builtin:spheres --max-error 1e-3".to_owned(),
+            "devices".to_owned(),
+            "completions zsh".to_owned(),
+        ];
+        for line in lines {
+            let words = std::iter::once("combustion").chain(line.split_whitespace());
+            if let Err(e) = super::Cli::try_parse_from(words) {
+                panic!("{line}: {e}");
+            }
+        }
+    }
+}

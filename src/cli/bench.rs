@@ -1,0 +1,232 @@
+//! `combustion bench`: GPU pass times of a scene, or the speed-against-error report.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{ArgAction, ArgGroup, Args, CommandFactory, Parser, Subcommand};
+
+use combustion::renderer::{
+    Distribution, FresnelModel, HdrFormat, LightCulling, Readback, RendererSettings,
+    MAX_FRAMES_IN_FLIGHT,
+};
+use combustion::scene::gltf::{self, ImportOptions};
+use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
+use combustion::spectra::{BuiltinMetal, Spectrum};
+use combustion::vk::{DeviceDesc, DeviceSelector};
+use combustion::{
+    check_validation, finite_number, number_list, output, shortened, Error, Headless, HeadlessDesc,
+    SceneSource,
+};
+use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
+
+use super::*;
+use crate::{write_stdout, CliError};
+
+pub(crate) fn percentile(sorted: &[f64], p: f64) -> f64 {
+    let index = ((sorted.len() - 1) as f64 * p).round() as usize;
+    sorted[index]
+}
+
+/// `bench --report DIR`: every variant set on the built-in scenes (or the scene named).
+pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), Error> {
+    use combustion::report::{ReportDesc, VariantSet};
+    // clap refuses --report with the options it sets itself (--fresnel, --hdr-format,
+    // --specialised, --distribution, --diffuse, --extra-lights, --culling).
+    // An unreadable previous report and an unwritable report folder are refused before
+    // minutes of measuring.
+    let previous = o
+        .against
+        .as_deref()
+        .map(combustion::report::PreviousRun::read)
+        .transpose()?;
+    std::fs::create_dir_all(dir).map_err(|e| {
+        Error::Output(output::OutputError::Io {
+            path: dir.to_path_buf(),
+            source: e,
+        })
+    })?;
+    output::check_writable(&dir.join("report.md"))?;
+    let (device, _) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    let scenes = if let Some(scene) = o.scene.given() {
+        vec![scene.clone()]
+    } else {
+        combustion::scene::BUILTIN_SCENES
+            .iter()
+            .map(|name| SceneSource::Builtin((*name).to_owned()))
+            .collect()
+    };
+    let desc = ReportDesc {
+        scenes,
+        sets: VariantSet::all(),
+        width: o.frame.width,
+        height: o.frame.height,
+        frames: o.frames,
+        device,
+        floors: true,
+        // Frame time against size and light count: on the scene named, else on the
+        // performance scene.
+        scaling: Some(if let Some(scene) = o.scene.given() {
+            scene.clone()
+        } else {
+            SceneSource::Builtin("grid-7x7".to_owned())
+        }),
+    };
+    let started = Instant::now();
+    let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let measured = combustion::report::measure(&desc, |done, total, what| {
+        let width = 30;
+        let filled = done * width / total.max(1);
+        let bar = format!(
+            "[{}{}] {done}/{total} {what:<48.48}",
+            "#".repeat(filled),
+            ".".repeat(width - filled)
+        );
+        // A bar redrawn in place on a terminal; one line per step in a log.
+        if terminal {
+            eprint!("\r{bar}");
+            if done == total {
+                eprintln!();
+            }
+        } else {
+            eprintln!("{}", bar.trim_end());
+        }
+    })?;
+    let reproduction = previous.map(|p| p.compare(&measured.rows));
+    combustion::report::write(dir, &measured, &desc, reproduction.as_ref())?;
+    outln!(
+        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png): {} scene(s) × {} variant sets, the floors and the scaling in {:.0} s",
+        dir.display(),
+        desc.scenes.len(),
+        desc.sets.len(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
+    if let Some(dir) = &o.report {
+        return bench_report(o, dir);
+    }
+    let scene = combustion::with_localised_lights(
+        &lit_as_asked(o.scene.source().load()?, &o.shading)?,
+        o.extra_lights,
+    );
+    let (device, settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
+    let device_name = {
+        let renderer = headless.renderer();
+        renderer.device().info().name.clone()
+    };
+    let renderer = headless.renderer();
+    let frames_in_flight = renderer.settings().frames_in_flight;
+    renderer.set_specialised(o.specialised);
+    renderer.set_light_culling(o.culling);
+    renderer.set_distribution(o.shading.distribution);
+    renderer.set_diffuse_override(o.shading.diffuse);
+    renderer.set_energy_compensation(o.shading.energy_compensation)?;
+    let gpu_scene = renderer.upload(&scene)?;
+    let features = renderer.lighting_features(&gpu_scene);
+    // One warm-up frame (first-touch allocations, driver caches) is not counted.
+    renderer.render(
+        &gpu_scene,
+        o.frame.width,
+        o.frame.height,
+        Readback::default(),
+    )?;
+    renderer.take_completed_timings();
+    // Frames in flight: each submission waits only for the frame that used its slot,
+    // so CPU recording overlaps GPU work; the wall clock is taken between submissions.
+    let mut wall_ms = Vec::with_capacity(o.frames as usize);
+    let start = Instant::now();
+    let mut last = start;
+    for _ in 0..o.frames {
+        renderer.submit_offscreen(&gpu_scene, o.frame.width, o.frame.height)?;
+        let now = Instant::now();
+        wall_ms.push((now - last).as_secs_f64() * 1e3);
+        last = now;
+    }
+    renderer.finish_offscreen()?;
+    let elapsed = start.elapsed().as_secs_f64();
+    let timings = renderer.take_completed_timings();
+    drop(gpu_scene);
+    let validation = headless.validation_log();
+    drop(headless);
+    check_validation(&validation)?;
+    let mut samples: [Vec<f64>; 4] = Default::default();
+    for t in &timings {
+        for (list, value) in
+            samples
+                .iter_mut()
+                .zip([t.gbuffer_ms, t.lighting_ms, t.tonemap_ms, t.total_ms])
+        {
+            list.push(value);
+        }
+    }
+    outln!(
+        "scene {:?} at {}x{} on {device_name}, n={} frames ({} timed), {frames_in_flight} in flight (GPU timestamps, ms):",
+        o.scene.source(),
+        o.frame.width,
+        o.frame.height,
+        o.frames,
+        timings.len()
+    );
+    outln!(
+        "lighting pipeline: {}",
+        if features == combustion::renderer::LightingFeatures::ALL {
+            "general (every feature)".to_owned()
+        } else {
+            format!("specialised to {features:?}")
+        }
+    );
+    let ranged = scene.lights.iter().filter(|l| l.range().is_some()).count();
+    outln!(
+        "lights: {} ({ranged} with a range); light culling: {:?} ({})",
+        scene.lights.len(),
+        o.culling,
+        if o.culling.culls(&scene.lights) {
+            "culled into tile lists"
+        } else {
+            "every pixel loops over every light"
+        }
+    );
+    outln!("{:<10} {:>9} {:>9} {:>9}", "pass", "median", "p10", "p90");
+    for (name, list) in ["G-buffer", "lighting", "tonemap", "total"]
+        .iter()
+        .zip(&mut samples)
+    {
+        if list.is_empty() {
+            continue;
+        }
+        list.sort_by(f64::total_cmp);
+        outln!(
+            "{:<10} {:>9.2} {:>9.2} {:>9.2}",
+            name,
+            percentile(list, 0.5),
+            percentile(list, 0.1),
+            percentile(list, 0.9)
+        );
+    }
+    wall_ms.sort_by(f64::total_cmp);
+    outln!(
+        "{:<10} {:>9.2} {:>9.2} {:>9.2}",
+        "wall",
+        percentile(&wall_ms, 0.5),
+        percentile(&wall_ms, 0.1),
+        percentile(&wall_ms, 0.9)
+    );
+    outln!(
+        "wall clock: {:.2} ms per frame ({:.1} frames/s) over {} frames; GPU total median {:.2} ms",
+        elapsed * 1e3 / f64::from(o.frames),
+        f64::from(o.frames) / elapsed,
+        o.frames,
+        if samples[3].is_empty() {
+            f64::NAN
+        } else {
+            percentile(&samples[3], 0.5)
+        }
+    );
+    Ok(())
+}

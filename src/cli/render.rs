@@ -1,0 +1,118 @@
+//! `combustion render`: a scene to PNG / EXR, optionally within an accuracy budget.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{ArgAction, ArgGroup, Args, CommandFactory, Parser, Subcommand};
+
+use combustion::renderer::{
+    Distribution, FresnelModel, HdrFormat, LightCulling, Readback, RendererSettings,
+    MAX_FRAMES_IN_FLIGHT,
+};
+use combustion::scene::gltf::{self, ImportOptions};
+use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
+use combustion::spectra::{BuiltinMetal, Spectrum};
+use combustion::vk::{DeviceDesc, DeviceSelector};
+use combustion::{
+    check_validation, finite_number, number_list, output, shortened, Error, Headless, HeadlessDesc,
+    SceneSource,
+};
+use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
+
+use super::*;
+use crate::{write_stdout, CliError};
+
+pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
+    // Fail on an unwritable destination before spending time on the render.
+    let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
+    let png_path = o.output.clone().or(default_output);
+    let targets = png_path
+        .iter()
+        .chain(o.hdr.iter())
+        .map(|path| output::check_writable(path))
+        .collect::<Result<Vec<_>, _>>()?;
+    if let [png, exr] = &targets[..] {
+        if output::same_file(png, exr) {
+            return Err(Error::Usage(format!(
+                "-o and --hdr name the same file ({}): give each its own",
+                png.display()
+            )));
+        }
+    }
+    let source = o.scene.source();
+    let scene = lit_as_asked(source.load()?, &o.shading)?;
+    let (device, mut settings) = device_and_settings(
+        &o.device,
+        &o.frame,
+        RendererSettings::default().frames_in_flight,
+    )?;
+    // An accuracy budget: the fastest variant set within it, measured on this scene at
+    // this size (5 frames each).
+    let mut chosen = None;
+    if let Some(budget) = o.max_error {
+        let choice = combustion::report::choose(
+            &source,
+            budget,
+            o.frame.width,
+            o.frame.height,
+            5,
+            device.clone(),
+        )?;
+        let Some(set) = choice.chosen else {
+            let best = choice
+                .candidates
+                .iter()
+                .min_by(|a, b| a.mean_relative.total_cmp(&b.mean_relative));
+            return Err(Error::Usage(format!(
+                "--max-error {budget:e}: no variant set is within it on this scene (the most accurate, {}, has mean relative error {:.2e})",
+                best.map_or("none".into(), |r| r.set.name()),
+                best.map_or(f64::NAN, |r| r.mean_relative)
+            )));
+        };
+        settings.fresnel = set.fresnel;
+        settings.hdr_format = set.hdr;
+        chosen = Some(set);
+        outln!("variant set {} (--max-error {budget:e}; `combustion info SCENE --max-error {budget:e}` says why)", set.name());
+    }
+    let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
+    if let Some(set) = chosen {
+        set.apply(headless.renderer());
+    } else {
+        headless.renderer().set_distribution(o.shading.distribution);
+        headless.renderer().set_diffuse_override(o.shading.diffuse);
+    }
+    headless
+        .renderer()
+        .set_energy_compensation(o.shading.energy_compensation)?;
+    let frame = headless.render(&scene, o.frame.width, o.frame.height)?;
+    let validation = headless.validation_log();
+    drop(headless);
+    check_validation(&validation)?;
+    if let Some(path) = &png_path {
+        output::write_png(path, frame.width, frame.height, &frame.ldr)?;
+        outln!(
+            "wrote {} ({}x{})",
+            path.display(),
+            frame.width,
+            frame.height
+        );
+    }
+    if let Some(path) = &o.hdr {
+        output::write_exr(path, frame.width, frame.height, &frame.hdr)?;
+        outln!(
+            "wrote {} ({}x{}, linear float)",
+            path.display(),
+            frame.width,
+            frame.height
+        );
+    }
+    let t = frame.timings;
+    outln!(
+        "GPU time: G-buffer {:.2} ms, lighting {:.2} ms, tonemap {:.2} ms, total {:.2} ms (one frame; `combustion bench` for medians)",
+        t.gbuffer_ms, t.lighting_ms, t.tonemap_ms, t.total_ms
+    );
+    Ok(())
+}

@@ -1,0 +1,87 @@
+//! `combustion view` (a window) and `combustion devices`.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{ArgAction, ArgGroup, Args, CommandFactory, Parser, Subcommand};
+
+use combustion::renderer::{
+    Distribution, FresnelModel, HdrFormat, LightCulling, Readback, RendererSettings,
+    MAX_FRAMES_IN_FLIGHT,
+};
+use combustion::scene::gltf::{self, ImportOptions};
+use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
+use combustion::spectra::{BuiltinMetal, Spectrum};
+use combustion::vk::{DeviceDesc, DeviceSelector};
+use combustion::{
+    check_validation, finite_number, number_list, output, shortened, Error, Headless, HeadlessDesc,
+    SceneSource,
+};
+use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
+
+use super::*;
+use crate::{write_stdout, CliError};
+
+pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
+    let (device, settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    let summary = combustion::viewer::run(&combustion::viewer::ViewerDesc {
+        scene: o.scene.source(),
+        width: o.frame.width,
+        height: o.frame.height,
+        frames: o.frames,
+        device,
+        settings,
+        vsync: o.vsync,
+        screenshot: o.screenshot.clone(),
+        camera_path: o.camera_path.clone(),
+        overlay: o.overlay,
+        error_view: o.error_view,
+    })?;
+    let median = |list: &[f64]| {
+        let mut sorted = list.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        sorted.get(sorted.len() / 2).copied().unwrap_or(f64::NAN)
+    };
+    outln!(
+        "viewed {} frames at {}x{} on {}: GPU total median {:.2} ms, wall clock per frame median {:.2} ms ({} in flight, on-device presentation){}",
+        summary.presented,
+        summary.width,
+        summary.height,
+        summary.device_name,
+        median(&summary.gpu_total_ms),
+        median(&summary.frame_ms),
+        settings.frames_in_flight,
+        summary
+            .screenshots
+            .iter()
+            .map(|p| format!("; screenshot {}", p.display()))
+            .collect::<String>()
+    );
+    Ok(())
+}
+
+pub(crate) fn devices() -> Result<(), Error> {
+    let devices = combustion::vk::Device::enumerate()?;
+    if devices.is_empty() {
+        return Err(Error::Vulkan(combustion::vk::VkError::NoDevice));
+    }
+    for d in devices {
+        outln!(
+            "{}: {} ({:?}, Vulkan {}.{}.{}, {}){}",
+            d.index,
+            d.name,
+            d.device_type,
+            d.api_version.0,
+            d.api_version.1,
+            d.api_version.2,
+            d.driver,
+            d.unsuitable_because
+                .map(|why| format!(" — unusable: {why}"))
+                .unwrap_or_default()
+        );
+    }
+    Ok(())
+}
