@@ -2,26 +2,18 @@
 //! what the options make (the scene as lit, the device and renderer settings).
 
 use std::ffi::OsString;
-use std::path::{Path, PathBuf};
-use std::process::ExitCode;
-use std::time::Instant;
+use std::path::PathBuf;
 
 use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, TypedValueParser};
-use clap::{ArgAction, ArgGroup, Args, CommandFactory, Parser, Subcommand};
+use clap::{ArgAction, ArgGroup, Args, Parser, Subcommand};
 
 use combustion::renderer::{
-    Distribution, FresnelModel, HdrFormat, LightCulling, Readback, RendererSettings,
-    MAX_FRAMES_IN_FLIGHT,
+    Distribution, FresnelModel, HdrFormat, LightCulling, RendererSettings, MAX_FRAMES_IN_FLIGHT,
 };
-use combustion::scene::gltf::{self, ImportOptions};
-use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
-use combustion::spectra::{BuiltinMetal, Spectrum};
+use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
+use combustion::spectra::BuiltinMetal;
 use combustion::vk::{DeviceDesc, DeviceSelector};
-use combustion::{
-    check_validation, finite_number, number_list, output, shortened, Error, Headless, HeadlessDesc,
-    SceneSource,
-};
-use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
+use combustion::{finite_number, number_list, output, shortened, Error, SceneSource};
 
 use crate::CliError;
 
@@ -149,10 +141,10 @@ pub(crate) struct SceneArg {
 
 impl SceneArg {
     /// The scene named, if one was.
-    fn given(&self) -> Option<&SceneSource> {
+    pub(crate) fn given(&self) -> Option<&SceneSource> {
         self.scene.as_ref().or(self.scene_option.as_ref())
     }
-    fn source(&self) -> SceneSource {
+    pub(crate) fn source(&self) -> SceneSource {
         self.given()
             .cloned()
             .unwrap_or_else(|| SceneSource::Builtin("spheres".to_owned()))
@@ -456,7 +448,7 @@ pub(crate) struct PlotImageArgs {
 }
 
 impl PlotImageArgs {
-    fn size(&self, default: (u32, u32)) -> (u32, u32) {
+    pub(crate) fn size(&self, default: (u32, u32)) -> (u32, u32) {
         (
             self.width.unwrap_or(default.0),
             self.height.unwrap_or(default.1),
@@ -464,7 +456,7 @@ impl PlotImageArgs {
     }
 
     /// The output path (default `KIND.png`), checked before any work is done.
-    fn output(&self, kind: &str) -> Result<PathBuf, CliError> {
+    pub(crate) fn output(&self, kind: &str) -> Result<PathBuf, CliError> {
         let path = self
             .output
             .clone()
@@ -532,7 +524,7 @@ pub(crate) struct DielectricsArgs {
 /// `--etas`: one value holding a list (an `Option<Vec<_>>` field would be a list of
 /// values to clap).
 #[derive(Clone)]
-pub(crate) struct Etas(Vec<f64>);
+pub(crate) struct Etas(pub(crate) Vec<f64>);
 
 // ---- Value parsers: each says why a value is refused; clap shows the value and the flag.
 
@@ -665,7 +657,7 @@ pub(crate) enum EnvironmentChoice {
 }
 
 impl EnvironmentChoice {
-    fn parse(text: OsString) -> Result<Self, String> {
+    pub(crate) fn parse(text: OsString) -> Result<Self, String> {
         const EXPECTED: &str = "is not studio, none, uniform:R,G,B or an .hdr or .exr file";
         let path = PathBuf::from(&text);
         let image = path
@@ -706,7 +698,7 @@ impl EnvironmentChoice {
     }
 
     /// The environment (a file read and checked here).
-    fn load(&self) -> Result<Option<Environment>, Error> {
+    pub(crate) fn load(&self) -> Result<Option<Environment>, Error> {
         Ok(match self {
             Self::None => None,
             Self::Studio => Some(Environment::Studio),

@@ -1,29 +1,12 @@
 //! `combustion bench`: GPU pass times of a scene, or the speed-against-error report.
 
-use std::ffi::OsString;
-use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::Instant;
 
-use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, TypedValueParser};
-use clap::{ArgAction, ArgGroup, Args, CommandFactory, Parser, Subcommand};
-
-use combustion::renderer::{
-    Distribution, FresnelModel, HdrFormat, LightCulling, Readback, RendererSettings,
-    MAX_FRAMES_IN_FLIGHT,
-};
-use combustion::scene::gltf::{self, ImportOptions};
-use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
-use combustion::spectra::{BuiltinMetal, Spectrum};
-use combustion::vk::{DeviceDesc, DeviceSelector};
-use combustion::{
-    check_validation, finite_number, number_list, output, shortened, Error, Headless, HeadlessDesc,
-    SceneSource,
-};
-use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
+use combustion::renderer::Readback;
+use combustion::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
 
 use super::*;
-use crate::{write_stdout, CliError};
+use crate::write_stdout;
 
 pub(crate) fn percentile(sorted: &[f64], p: f64) -> f64 {
     let index = ((sorted.len() - 1) as f64 * p).round() as usize;

@@ -1,26 +1,10 @@
 //! `combustion eval` (any term of the f64 optics reference as JSON) and `combustion plot`.
 
-use std::ffi::OsString;
-use std::path::{Path, PathBuf};
-use std::process::ExitCode;
-use std::time::Instant;
+use std::path::Path;
 
-use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, TypedValueParser};
-use clap::{ArgAction, ArgGroup, Args, CommandFactory, Parser, Subcommand};
-
-use combustion::renderer::{
-    Distribution, FresnelModel, HdrFormat, LightCulling, Readback, RendererSettings,
-    MAX_FRAMES_IN_FLIGHT,
-};
-use combustion::scene::gltf::{self, ImportOptions};
-use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
-use combustion::spectra::{BuiltinMetal, Spectrum};
-use combustion::vk::{DeviceDesc, DeviceSelector};
-use combustion::{
-    check_validation, finite_number, number_list, output, shortened, Error, Headless, HeadlessDesc,
-    SceneSource,
-};
-use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
+use combustion::spectra::Spectrum;
+use combustion::{output, Error};
+use combustion_plots::{PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
 
 use super::*;
 use crate::{write_stdout, CliError};

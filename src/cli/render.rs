@@ -1,29 +1,12 @@
 //! `combustion render`: a scene to PNG / EXR, optionally within an accuracy budget.
 
-use std::ffi::OsString;
-use std::path::{Path, PathBuf};
-use std::process::ExitCode;
-use std::time::Instant;
+use std::path::PathBuf;
 
-use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, TypedValueParser};
-use clap::{ArgAction, ArgGroup, Args, CommandFactory, Parser, Subcommand};
-
-use combustion::renderer::{
-    Distribution, FresnelModel, HdrFormat, LightCulling, Readback, RendererSettings,
-    MAX_FRAMES_IN_FLIGHT,
-};
-use combustion::scene::gltf::{self, ImportOptions};
-use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene, BUILTIN_SCENES};
-use combustion::spectra::{BuiltinMetal, Spectrum};
-use combustion::vk::{DeviceDesc, DeviceSelector};
-use combustion::{
-    check_validation, finite_number, number_list, output, shortened, Error, Headless, HeadlessDesc,
-    SceneSource,
-};
-use combustion_plots::{PlotError, PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
+use combustion::renderer::RendererSettings;
+use combustion::{check_validation, output, Error, Headless, HeadlessDesc};
 
 use super::*;
-use crate::{write_stdout, CliError};
+use crate::write_stdout;
 
 pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     // Fail on an unwritable destination before spending time on the render.
