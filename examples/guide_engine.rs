@@ -1016,7 +1016,7 @@ unsafe fn record_own_pass(raw: &ash::Device, cmd: vk::CommandBuffer, targets: &m
         .store_op(vk::AttachmentStoreOp::STORE)];
     let depth_attachment = vk::RenderingAttachmentInfo::default()
         .image_view(targets.depth.view)
-        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+        .image_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL)
         .load_op(vk::AttachmentLoadOp::LOAD)
         .store_op(vk::AttachmentStoreOp::STORE);
     let area = vk::Rect2D {

@@ -253,7 +253,7 @@ impl GBufferPass {
             .collect();
         let depth_attachment = vk::RenderingAttachmentInfo::default()
             .image_view(targets.depth.view())
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .image_layout(crate::graph::ImageUse::DepthAttachmentWrite.state().layout)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue {

@@ -50,7 +50,7 @@ impl ImageUse {
             Self::DepthFragmentSampled => ImageState::new(
                 S::FRAGMENT_SHADER,
                 A::SHADER_SAMPLED_READ,
-                L::DEPTH_READ_ONLY_OPTIMAL,
+                L::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
             ),
             Self::TransferSource => ImageState::COPY_SOURCE,
             Self::TransferDestination => {
@@ -60,7 +60,7 @@ impl ImageUse {
             Self::DepthComputeSampled => ImageState::new(
                 S::COMPUTE_SHADER,
                 A::SHADER_SAMPLED_READ,
-                L::DEPTH_READ_ONLY_OPTIMAL,
+                L::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
             ),
             Self::ComputeStorageWrite => {
                 ImageState::new(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, L::GENERAL)
@@ -301,5 +301,52 @@ mod tests {
         assert!(ImageUse::DepthAttachmentWrite.state().writes());
         assert!(ImageUse::TransferDestination.state().writes());
         assert!(!ImageUse::TransferSource.state().writes());
+    }
+
+    /// The depth-only and stencil-only layouts need separateDepthStencilLayouts, a
+    /// feature Combustion does not ask of a device (nor of a host's): every use, and
+    /// every ready-made state a host is offered, keeps to the combined layouts, valid
+    /// for a depth-only format too.
+    #[test]
+    fn no_layout_needs_separate_depth_stencil_layouts() {
+        use vk::ImageLayout as L;
+        let separate = [
+            L::DEPTH_ATTACHMENT_OPTIMAL,
+            L::DEPTH_READ_ONLY_OPTIMAL,
+            L::STENCIL_ATTACHMENT_OPTIMAL,
+            L::STENCIL_READ_ONLY_OPTIMAL,
+        ];
+        let uses = [
+            ImageUse::ColorAttachmentWrite,
+            ImageUse::DepthAttachmentWrite,
+            ImageUse::FragmentSampled,
+            ImageUse::DepthFragmentSampled,
+            ImageUse::TransferSource,
+            ImageUse::TransferDestination,
+            ImageUse::ComputeSampled,
+            ImageUse::DepthComputeSampled,
+            ImageUse::ComputeStorageWrite,
+        ];
+        let host_states = [
+            ImageState::UNDEFINED,
+            ImageState::COLOR_ATTACHMENT_WRITE,
+            ImageState::COLOR_ATTACHMENT_READ_WRITE,
+            ImageState::DEPTH_ATTACHMENT_READ_WRITE,
+            ImageState::FRAGMENT_SAMPLED,
+            ImageState::COMPUTE_SAMPLED,
+            ImageState::COPY_SOURCE,
+            ImageState::COPY_DESTINATION,
+            ImageState::BLIT_SOURCE,
+            ImageState::BLIT_DESTINATION,
+            ImageState::SWAPCHAIN_ACQUIRED,
+            ImageState::PRESENT,
+        ];
+        for state in uses.iter().map(|u| u.state()).chain(host_states) {
+            assert!(
+                !separate.contains(&state.layout),
+                "{:?} needs separateDepthStencilLayouts",
+                state.layout
+            );
+        }
     }
 }

@@ -191,7 +191,7 @@ impl ImageState {
             vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw()
                 | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
         ),
-        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+        vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
     );
     /// Sampled by fragment shaders.
     pub const FRAGMENT_SAMPLED: ImageState = ImageState::new(
