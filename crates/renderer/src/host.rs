@@ -86,8 +86,9 @@ pub struct ColorTarget {
 
 impl ColorTarget {
     /// The target for `image`, created with `info`, seen through `view`. Refuses
-    /// images a frame cannot be rendered into (not 2D, multisampled, without
-    /// `COLOR_ATTACHMENT` usage).
+    /// images a frame cannot be rendered into (not 2D, multisampled, without a mip level
+    /// or layer: [`RenderError::InvalidTargetImage`]); the usage is checked by
+    /// [`crate::Renderer::record`] (`COLOR_ATTACHMENT`).
     pub fn from_create_info(
         image: vk::Image,
         view: vk::ImageView,
@@ -156,8 +157,9 @@ pub struct DepthTarget {
 }
 
 impl DepthTarget {
-    /// The depth target for `image`, created with `info` (not 2D or multisampled:
-    /// refused).
+    /// The depth target for `image`, created with `info` (not 2D, multisampled, or without
+    /// a mip level or layer: refused with [`RenderError::InvalidTargetImage`]); the
+    /// format, extent and usage are checked by [`crate::Renderer::record`].
     pub fn from_create_info(
         image: vk::Image,
         info: &vk::ImageCreateInfo<'_>,

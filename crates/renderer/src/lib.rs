@@ -777,6 +777,17 @@ impl SetLayouts {
 /// The deferred renderer. One per device; renders [`GpuScene`]s at any size, into its
 /// own images ([`Renderer::render`]) or into a host's command buffer and image
 /// ([`Renderer::record`]), with frames in flight.
+///
+/// Pipelines are built by [`Renderer::new`], [`Renderer::upload`],
+/// [`Renderer::edit_scene`], [`Renderer::prepare`] and [`Renderer::prepare_output`],
+/// never while a frame is recorded. Resources it replaces (targets of another size, an
+/// edited scene's old buffers, a dropped [`GpuScene`] or [`FrameEnvironment`]) wait in
+/// a retire list until the frames recorded before have completed.
+///
+/// Teardown: dropping it waits for its own submissions ([`Renderer::render`],
+/// [`Renderer::submit_offscreen`]) and, on a device it created, for the device to be
+/// idle; frames a host recorded into its own command buffers are the host's to wait
+/// for before the drop (docs/integration.md, "Teardown and errors").
 pub struct Renderer {
     // Field order is drop order: everything below holds the device alive.
     /// Combustion's own submissions (render, bench), created on first use.
