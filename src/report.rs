@@ -183,9 +183,9 @@ fn diffuse_name(diffuse: Option<DiffuseModel>) -> &'static str {
 pub struct Spread {
     /// The median, ms.
     pub median: f64,
-    /// The 10th percentile (nearest rank), ms.
+    /// The 10th percentile (the sorted value at index round(0.1 · (n − 1))), ms.
     pub p10: f64,
-    /// The 90th percentile (nearest rank), ms.
+    /// The 90th percentile (the sorted value at index round(0.9 · (n − 1))), ms.
     pub p90: f64,
 }
 

@@ -417,7 +417,7 @@ pub enum RenderError {
     #[error("exposure {0} must be a positive finite number")]
     InvalidExposure(f32),
     /// Something of the scene exceeds a device or format limit (an image larger than the
-    /// device's maximum 2D image size, a mesh with more than 2³² indices); the message names
+    /// device's maximum 2D image size, a mesh of 2³² indices or more); the message names
     /// it.
     #[error("scene too large: {0}")]
     TooLarge(String),
@@ -1245,7 +1245,14 @@ impl Renderer {
     }
 
     /// Validates and uploads a scene, and builds the pipelines it needs (never inside a
-    /// frame's recording).
+    /// frame's recording). A scene with an environment has it baked here, waiting for
+    /// the GPU.
+    ///
+    /// # Errors
+    /// [`RenderError::Scene`] if the scene fails validation; [`RenderError::TooLarge`]
+    /// for an image beyond the device's 2D limit or a mesh of 2³² indices or more;
+    /// [`RenderError::EnvironmentUnsupported`] for an environment the device cannot
+    /// bake; [`RenderError::Vulkan`] if a pipeline, buffer or image cannot be made.
     pub fn upload(&mut self, scene: &Scene) -> Result<GpuScene, RenderError> {
         scene.validate()?;
         self.prepare_variant(self.variant_of(scene_upload::scene_variant(scene)))?;
@@ -1265,6 +1272,11 @@ impl Renderer {
     /// the current settings; [`Renderer::prepare`] keeps them built after a settings
     /// change, and so do edits). Waits for the GPU (0.4–1.6 s on lavapipe): an upload
     /// step, never inside a frame. On error nothing changes.
+    ///
+    /// # Errors
+    /// [`RenderError::SceneOfAnotherRenderer`] for a scene another renderer uploaded;
+    /// [`RenderError::Scene`] for an invalid environment; otherwise as
+    /// [`Renderer::upload`]'s bake.
     pub fn bake_environment(
         &mut self,
         scene: &GpuScene,
