@@ -48,7 +48,7 @@ pub struct PixelInputs {
 pub struct EnvironmentSampling {
     /// Samples of each strategy per compared pixel.
     pub iterations: u32,
-    /// One pixel compared in each `stride` × `stride` block.
+    /// One pixel compared in each `stride` × `stride` block (at least 1).
     pub stride: u32,
 }
 
