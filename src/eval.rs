@@ -126,8 +126,11 @@ pub struct EvalFlag {
     pub name: &'static str,
     /// The accepted numbers of values (1 for a scalar, 3 for a vector or RGB).
     pub lengths: &'static [usize],
+    /// The smallest value accepted (inclusive).
     pub low: f64,
+    /// The largest value accepted (inclusive).
     pub high: f64,
+    /// What the value means, for `--help`.
     pub help: &'static str,
 }
 

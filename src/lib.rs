@@ -14,6 +14,8 @@
 //! # Ok::<(), combustion::Error>(())
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod eval;
 pub mod output;
 pub mod report;
@@ -75,31 +77,54 @@ pub fn number_list(text: &str, lengths: &[usize]) -> Result<Vec<f64>, String> {
 /// Any failure of the facade, one line each.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// The device or a Vulkan call failed (no device, device selection, creation).
     #[error(transparent)]
     Vulkan(#[from] VkError),
+    /// The renderer refused a scene, size or setting, or a Vulkan call of its own failed.
     #[error(transparent)]
     Render(#[from] RenderError),
+    /// A built-in scene's name is unknown, or a scene failed validation.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// A glTF file could not be read or imported.
     #[error(transparent)]
     Import(#[from] ImportError),
+    /// An image could not be written.
     #[error(transparent)]
     Output(#[from] output::OutputError),
+    /// A plot could not be drawn or written.
     #[error(transparent)]
     Plot(#[from] combustion_plots::PlotError),
+    /// A command-line value that is not allowed; the message says which and why.
     #[error("{0}")]
     Usage(String),
+    /// An earlier run's `report.csv` (`bench --report --compare`) cannot be read or
+    /// parsed.
     #[error("previous report `{}`: {message}", path.display())]
-    PreviousReport { path: PathBuf, message: String },
+    PreviousReport {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        message: String,
+    },
     /// A scripted camera path that cannot be read or parsed (file and line named).
     #[error("{0}")]
     CameraPath(String),
+    /// A window cannot be opened: no display server is reached (neither Wayland nor X11),
+    /// or the window has no usable handle.
     #[error("cannot open a window: {0} (set WAYLAND_DISPLAY or DISPLAY, or run under Xvfb)")]
     NoWindow(String),
+    /// The window, its surface or its swapchain failed.
     #[error("{0}")]
     Window(String),
+    /// The Vulkan validation layer reported messages ([`check_validation`]).
     #[error("the Vulkan validation layer reported {count} message(s); first: {first}")]
-    Validation { count: usize, first: String },
+    Validation {
+        /// How many messages.
+        count: usize,
+        /// The first message.
+        first: String,
+    },
 }
 
 /// Where a scene comes from.
@@ -112,6 +137,7 @@ pub enum SceneSource {
 }
 
 impl SceneSource {
+    /// `builtin:NAME` for a built-in scene; any other text is a file path.
     pub fn parse(text: &str) -> Self {
         match text.strip_prefix("builtin:") {
             Some(name) => Self::Builtin(name.to_owned()),
@@ -241,7 +267,9 @@ pub fn with_localised_lights(scene: &Scene, n: usize) -> Scene {
 /// How to set up headless rendering.
 #[derive(Clone, Debug, Default)]
 pub struct HeadlessDesc {
+    /// The device to create: selector, validation.
     pub device: DeviceDesc,
+    /// The renderer's settings.
     pub settings: RendererSettings,
 }
 
@@ -266,6 +294,12 @@ pub struct Headless {
 }
 
 impl Headless {
+    /// Creates the device and the renderer (compiling the shaders and building the
+    /// pipelines of plain scenes).
+    ///
+    /// # Errors
+    /// [`Error::Vulkan`] if no device fits `desc.device` or it cannot be created;
+    /// [`Error::Render`] if the settings are invalid or the pipelines cannot be built.
     pub fn new(desc: &HeadlessDesc) -> Result<Self, Error> {
         let device: Arc<Device> = Device::new(&desc.device)?;
         let validation = device.validation_log();
@@ -276,6 +310,7 @@ impl Headless {
         })
     }
 
+    /// The renderer, e.g. to change its settings or record frames of its own.
     pub fn renderer(&mut self) -> &mut Renderer {
         &mut self.renderer
     }

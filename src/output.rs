@@ -14,32 +14,77 @@ use std::path::{Path, PathBuf};
 /// Why an image could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
+    /// A file-system operation failed (reading a link, creating, writing, syncing or
+    /// renaming the file).
     #[error("cannot write {path}: {source}")]
     Io {
+        /// The output path as given.
         path: PathBuf,
+        /// The system's error.
         source: std::io::Error,
     },
+    /// The folder the file would be written in does not exist.
     #[error("cannot write {path}: folder {folder} does not exist")]
-    NoFolder { path: PathBuf, folder: PathBuf },
+    NoFolder {
+        /// The output path as given.
+        path: PathBuf,
+        /// The missing folder.
+        folder: PathBuf,
+    },
+    /// The output path is empty.
     #[error("cannot write to an empty file name")]
     EmptyName,
+    /// The output path names a folder (or ends in `/`).
     #[error("cannot write {path}: it names a folder, not a file")]
-    FolderName { path: PathBuf },
+    FolderName {
+        /// The output path as given.
+        path: PathBuf,
+    },
+    /// The output path is an existing special file (device, FIFO, socket), never
+    /// replaced.
     #[error("cannot write {path}: it is not a regular file (a device, FIFO or socket); write to a regular file")]
-    NotRegular { path: PathBuf },
+    NotRegular {
+        /// The output path as given.
+        path: PathBuf,
+    },
+    /// The output path is an existing file this process may not write, left as it is.
     #[error("cannot write {path}: it is read-only; it is left as it is")]
-    ReadOnly { path: PathBuf },
+    ReadOnly {
+        /// The output path as given.
+        path: PathBuf,
+    },
+    /// The output path starts a chain of more than 40 symlinks, or a circular one.
     #[error("cannot write {path}: the symlink chain is too long or circular")]
-    SymlinkLoop { path: PathBuf },
+    SymlinkLoop {
+        /// The output path as given.
+        path: PathBuf,
+    },
+    /// The PNG encoder failed.
     #[error("cannot encode PNG {path}: {message}")]
-    Png { path: PathBuf, message: String },
+    Png {
+        /// The output path.
+        path: PathBuf,
+        /// The encoder's message.
+        message: String,
+    },
+    /// The OpenEXR encoder failed.
     #[error("cannot encode OpenEXR {path}: {message}")]
-    Exr { path: PathBuf, message: String },
+    Exr {
+        /// The output path.
+        path: PathBuf,
+        /// The encoder's message.
+        message: String,
+    },
+    /// The pixels given are not `width · height`.
     #[error("{path}: {count} pixels given for a {width}x{height} image")]
     SizeMismatch {
+        /// The output path.
         path: PathBuf,
+        /// Pixels given.
         count: usize,
+        /// The image's width.
         width: u32,
+        /// The image's height.
         height: u32,
     },
 }

@@ -37,11 +37,15 @@ use crate::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource
 /// One combination of the renderer's measured options.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct VariantSet {
+    /// The Fresnel term.
     pub fresnel: FresnelModel,
+    /// The HDR image's format.
     pub hdr: HdrFormat,
     /// Lighting pipeline specialised to the scene (else the general one).
     pub specialised: bool,
+    /// The masking–shadowing term.
     pub masking: Masking,
+    /// The microfacet normal distribution.
     pub distribution: Distribution,
     /// One diffuse model for every material (`None`: each material's own).
     pub diffuse: Option<DiffuseModel>,
@@ -177,8 +181,11 @@ fn diffuse_name(diffuse: Option<DiffuseModel>) -> &'static str {
 /// Median and spread of one pass's GPU time, ms.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Spread {
+    /// The median, ms.
     pub median: f64,
+    /// The 10th percentile (the sorted value at index round(0.1 · (n − 1))), ms.
     pub p10: f64,
+    /// The 90th percentile (the sorted value at index round(0.9 · (n − 1))), ms.
     pub p90: f64,
 }
 
@@ -200,16 +207,25 @@ impl Spread {
 /// One scene under one variant set.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReportRow {
+    /// The scene's label (`builtin:NAME` or the file's path).
     pub scene: String,
+    /// The variant set rendered.
     pub set: VariantSet,
+    /// G-buffer pass time.
     pub gbuffer: Spread,
+    /// Lighting pass time (light culling included).
     pub lighting: Spread,
+    /// Output pass time.
     pub output: Spread,
+    /// Whole frame's GPU time.
     pub total: Spread,
     /// Frames timed.
     pub frames: usize,
+    /// The largest per-pixel relative error against the f64 reference.
     pub max_relative: f64,
+    /// The mean per-pixel relative error against the f64 reference.
     pub mean_relative: f64,
+    /// The root mean square of the per-pixel relative errors.
     pub rms_relative: f64,
     /// Pixels compared with the reference.
     pub compared: usize,
@@ -223,6 +239,7 @@ pub struct ReportRow {
 /// A scene's measurement floors (f32 HDR, full Fresnel, specialised pipeline), ms.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FloorRow {
+    /// The scene's label.
     pub scene: String,
     /// G-buffer pass with a trivial fragment stage.
     pub geometry: Spread,
@@ -241,28 +258,36 @@ pub const SCALING_SIZES: [f64; 3] = [0.5, 1.0, 1.5];
 /// One configuration of the scaling measurement (the default variant set, f32 HDR).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScalingRow {
+    /// Width rendered, pixels.
     pub width: u32,
+    /// Height rendered, pixels.
     pub height: u32,
     /// Localised lights ([`crate::with_localised_lights`]) in place of the scene's own
     /// (`None`: the scene's lights).
     pub localised_lights: Option<usize>,
     /// Whether frames culled their lights into tile lists.
     pub culled: bool,
+    /// G-buffer pass time.
     pub gbuffer: Spread,
+    /// Lighting pass time (light culling included).
     pub lighting: Spread,
+    /// Whole frame's GPU time.
     pub total: Spread,
 }
 
 /// Everything measured.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Measurements {
+    /// One row per scene and variant set.
     pub rows: Vec<ReportRow>,
+    /// Each scene's measurement floors (empty unless [`ReportDesc::floors`]).
     pub floors: Vec<FloorRow>,
     /// Frame time against size (the scene's lights), then against localised lights
     /// culled and not culled; empty unless [`ReportDesc::scaling`] names a scene.
     pub scaling: Vec<ScalingRow>,
     /// The scaling measurement's scene.
     pub scaling_scene: String,
+    /// The name of the device measured on.
     pub device: String,
 }
 
@@ -285,12 +310,17 @@ fn time_frames(
 /// What to measure.
 #[derive(Clone, Debug)]
 pub struct ReportDesc {
+    /// The scenes to measure.
     pub scenes: Vec<SceneSource>,
+    /// The variant sets each scene is measured under.
     pub sets: Vec<VariantSet>,
+    /// Width of the frames, pixels.
     pub width: u32,
+    /// Height of the frames, pixels.
     pub height: u32,
     /// Frames timed per scene and set (after one warm-up frame).
     pub frames: u32,
+    /// The device to measure on.
     pub device: DeviceDesc,
     /// Measure each scene's floors too.
     pub floors: bool,
@@ -636,6 +666,7 @@ impl Choice {
 /// One variant set over every scene measured.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SetSummary {
+    /// The variant set.
     pub set: VariantSet,
     /// Mean over the scenes of the total frame time's median, ms.
     pub ms: f64,
@@ -1118,6 +1149,7 @@ impl PreviousRun {
 /// A run against an earlier one ([`PreviousRun::compare`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Reproduction {
+    /// The previous run's report file.
     pub previous: std::path::PathBuf,
     /// Rows (scene × variant set) found in both runs.
     pub matched: usize,
@@ -1125,7 +1157,9 @@ pub struct Reproduction {
     pub errors_identical: usize,
     /// This run's total frame time over the previous run's: smallest, median, largest.
     pub total_ratio_min: f64,
+    /// Median ratio.
     pub total_ratio_median: f64,
+    /// Largest ratio.
     pub total_ratio_max: f64,
 }
 

@@ -21,9 +21,13 @@ const MAX_STEP_SECONDS: f32 = 0.1;
 /// A camera that orbits `target` at `distance`, from `yaw` (about world up) and `pitch`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OrbitCamera {
+    /// The point orbited and looked at (world space).
     pub target: Vec3,
+    /// Distance from the target to the eye (world units, > 0).
     pub distance: f32,
+    /// Angle about the up direction, radians.
     pub yaw: f32,
+    /// Elevation above the plane normal to the up direction, radians (kept within ±1.55).
     pub pitch: f32,
     up: Vec3,
     vertical_fov: f32,
@@ -66,6 +70,8 @@ impl OrbitCamera {
         (x * sy + z * cy) * cp + y * sp
     }
 
+    /// The camera of the orbit (near and far planes scaled with the distance, so the depth
+    /// precision of the start is kept).
     pub fn camera(&self) -> Camera {
         // Near and far follow the distance, keeping the depth precision of the start.
         let scale = self.distance / (self.home.position - self.home.target).length().max(1e-6);

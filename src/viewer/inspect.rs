@@ -13,20 +13,28 @@ use crate::Error;
 /// What a measured error map was measured of: a change of any of these makes it stale.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ViewKey {
+    /// The camera.
     pub camera: Camera,
+    /// Frame size, pixels.
     pub extent: (u32, u32),
     /// Counts scene loads and edits.
     pub scene_generation: u64,
+    /// The Fresnel term.
     pub fresnel: FresnelModel,
 }
 
 /// The summary of a measured error map, for the overlay.
 #[derive(Clone, Copy, Debug)]
 pub struct ErrorSummary {
+    /// The largest per-pixel relative error.
     pub max_relative: f64,
+    /// The mean per-pixel relative error.
     pub mean_relative: f64,
+    /// The pixel (x, y) with the largest error, from the top-left.
     pub worst_pixel: (u32, u32),
+    /// Pixels compared.
     pub compared: usize,
+    /// Pixels of emissive materials, not compared.
     pub emissive: usize,
     /// CPU time of the f64 re-shading, ms.
     pub reshade_ms: f64,
@@ -100,19 +108,31 @@ pub fn measure_error(
 
 /// The statistics panel's facts.
 pub struct Stats<'a> {
+    /// The scene's label.
     pub label: &'a str,
+    /// Frame size, pixels.
     pub extent: (u32, u32),
+    /// Triangles drawn.
     pub triangles: usize,
+    /// Lights of the frame.
     pub lights: usize,
     /// Median wall time between presents over the last frames, ms.
     pub frame_ms: Option<f64>,
+    /// GPU times of the last completed frame's passes, if known.
     pub timings: Option<PassTimings>,
+    /// The debug view's name ([`crate::renderer::DebugView::name`]).
     pub view: &'a str,
+    /// The Fresnel term.
     pub fresnel: FresnelModel,
+    /// The viewer's material and medium overrides, described.
     pub overrides: &'a str,
+    /// The exposure.
     pub exposure: f32,
+    /// The camera shown (index from 0) and the number of cameras.
     pub camera: (usize, usize),
+    /// The HDR image's format.
     pub hdr_format: HdrFormat,
+    /// The error view, while it is on.
     pub error_view: Option<ErrorView>,
     /// The outside medium's index being typed, if any.
     pub typing: Option<&'a str>,
@@ -132,6 +152,7 @@ fn thousands(n: usize) -> String {
 }
 
 impl Stats<'_> {
+    /// The panel's text, one fact group per line.
     pub fn text(&self) -> String {
         let (w, h) = self.extent;
         let mut lines = vec![format!(

@@ -45,15 +45,18 @@ use crate::{check_validation, Error, SceneSource};
 /// How to run the viewer.
 #[derive(Clone, Debug)]
 pub struct ViewerDesc {
+    /// The scene to show first.
     pub scene: SceneSource,
     /// Initial inner size of the window, in physical pixels.
     pub width: u32,
+    /// Initial inner height of the window, in physical pixels.
     pub height: u32,
     /// Stop after this many presented frames; `None` runs until the window is closed.
     pub frames: Option<u32>,
     /// Device selector and validation; the surface extensions and `VK_KHR_swapchain`
     /// are added by the viewer.
     pub device: DeviceDesc,
+    /// The renderer's settings.
     pub settings: RendererSettings,
     /// Wait for the display's refresh (FIFO); off: MAILBOX or IMMEDIATE where offered.
     pub vsync: bool,
@@ -125,9 +128,11 @@ pub const KEYS: &[(&str, &str)] = &[
 /// What a viewer run did.
 #[derive(Clone, Debug, Default)]
 pub struct ViewSummary {
+    /// The name of the device rendered on.
     pub device_name: String,
     /// Size of the last presented frame.
     pub width: u32,
+    /// Height of the last presented frame.
     pub height: u32,
     /// GPU time of the passes of each completed frame (timestamps), ms.
     pub gpu_total_ms: Vec<f64>,

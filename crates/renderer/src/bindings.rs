@@ -19,23 +19,35 @@ pub enum BindingKind {
     /// `samplerCube`: a cube map with its sampler.
     SamplerCube,
     /// `image2D` with the given format qualifier (e.g. `rgba16f`), written by compute.
-    StorageImage2D { format: &'static str },
+    StorageImage2D {
+        /// The GLSL format qualifier.
+        format: &'static str,
+    },
     /// `image2DArray` (e.g. one mip level of a cube map, a layer per face), written by
     /// compute.
-    StorageImage2DArray { format: &'static str },
+    StorageImage2DArray {
+        /// The GLSL format qualifier.
+        format: &'static str,
+    },
     /// `readonly buffer BLOCK { ELEMENT NAME[]; }` (std430).
     StorageBuffer {
+        /// The block's name.
         block: &'static str,
+        /// The array's element type (a GLSL type or a struct of `gpu_types.glsl`).
         element: &'static str,
     },
     /// `buffer BLOCK { ELEMENT NAME[]; }` (std430), written by shaders.
     RwStorageBuffer {
+        /// The block's name.
         block: &'static str,
+        /// The array's element type (a GLSL type or a struct of `gpu_types.glsl`).
         element: &'static str,
     },
 }
 
 impl BindingKind {
+    /// The Vulkan descriptor type of this kind (sampled image, combined image sampler,
+    /// storage image or storage buffer).
     pub fn descriptor_type(self) -> vk::DescriptorType {
         match self {
             Self::Texture2D | Self::UTexture2D => vk::DescriptorType::SAMPLED_IMAGE,
@@ -54,13 +66,19 @@ impl BindingKind {
 /// which the shaders do not see it (the layout always has it).
 #[derive(Clone, Copy, Debug)]
 pub struct Binding {
+    /// The GLSL name of the binding (and the name [`SetDecl::index`] looks it up by).
     pub name: &'static str,
+    /// What it holds and how GLSL declares it.
     pub kind: BindingKind,
+    /// The shader stages that read or write it (the layout's stage flags).
     pub stages: vk::ShaderStageFlags,
+    /// The `#define` without which the generated GLSL leaves the declaration out (`None`:
+    /// always declared). The layout has the binding either way.
     pub only_with: Option<&'static str>,
 }
 
 impl Binding {
+    /// A binding declared for every shader (`only_with` is `None`).
     pub const fn new(name: &'static str, kind: BindingKind, stages: vk::ShaderStageFlags) -> Self {
         Self {
             name,
@@ -70,6 +88,7 @@ impl Binding {
         }
     }
 
+    /// The same binding, declared in GLSL only where `define` is defined.
     pub const fn only_with(self, define: &'static str) -> Self {
         Self {
             only_with: Some(define),
@@ -82,8 +101,12 @@ impl Binding {
 /// `bindings[i]`).
 #[derive(Clone, Copy, Debug)]
 pub struct SetDecl {
+    /// The header's name: shaders include `bindings/NAME.glsl`, and the GLSL include guard
+    /// derives from it.
     pub name: &'static str,
+    /// The descriptor set number (`layout(set = N, …)`).
     pub set: u32,
+    /// The bindings, binding number i being `bindings[i]`.
     pub bindings: &'static [Binding],
     /// Headers this one's declarations need (e.g. `gpu_types.glsl` for struct types).
     pub includes: &'static [&'static str],
@@ -155,6 +178,11 @@ impl SetDecl {
             as u32
     }
 
+    /// Creates the Vulkan descriptor-set layout: one descriptor per binding, numbered by its
+    /// position, with its kind's descriptor type and its stages.
+    ///
+    /// # Errors
+    /// The device's error if the layout cannot be created.
     pub fn layout(&self, device: &Arc<Device>) -> Result<DescriptorSetLayout, VkError> {
         let bindings: Vec<_> = self
             .bindings

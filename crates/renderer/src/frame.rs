@@ -273,6 +273,34 @@ impl Renderer {
     /// back or compiles: pipelines for the scene and for the target's format must have
     /// been built ([`Renderer::upload`], [`Renderer::prepare_output`]). Every argument is
     /// checked before anything is recorded, so an error leaves `cmd` untouched.
+    ///
+    /// # Host contract
+    /// Not checked (Vulkan cannot be asked): `cmd` is a primary command buffer of this
+    /// device in the recording state, outside any render pass or rendering instance,
+    /// from a pool of the device's queue family (graphics and compute), and is submitted
+    /// on the device's queue; the target's images and views stay alive until the frame
+    /// has completed, and their `format`, `extent` and `usage` are theirs as created
+    /// ([`ColorTarget`](crate::ColorTarget)). The images' synchronisation follows
+    /// [`ColorTarget::before`](crate::ColorTarget::before) and
+    /// [`ColorTarget::after`](crate::ColorTarget::after) (and those of
+    /// [`DepthTarget`](crate::DepthTarget)). `record` leaves its own
+    /// pipelines, descriptor sets, push constants, viewport and scissor bound in `cmd`;
+    /// bind yours again after it.
+    ///
+    /// # Errors
+    /// - [`RenderError::InvalidFrameSlot`]: `frame_slot` out of range;
+    ///   [`RenderError::FrameSlotInFlight`]: its last frame has visibly not completed.
+    /// - [`RenderError::InvalidSize`]: a target side of 0 or beyond the device's limit.
+    /// - [`RenderError::InvalidExposure`], [`RenderError::Scene`]: the inputs' exposure,
+    ///   camera or lights.
+    /// - [`RenderError::UnsupportedOutputFormat`], [`RenderError::OutputNotPrepared`]: the
+    ///   target's format.
+    /// - [`RenderError::SceneOfAnotherRenderer`], [`RenderError::EnvironmentOfAnotherScene`],
+    ///   [`RenderError::VariantNotPrepared`]: the scene, the frame's environment, or
+    ///   pipelines not built after a settings change.
+    /// - [`RenderError::InvalidAfterLayout`], [`RenderError::InvalidTargetImage`] (missing
+    ///   usage), [`RenderError::InvalidDepthTarget`]: the targets.
+    /// - [`RenderError::Vulkan`]: allocating the frame's targets or buffers failed.
     pub fn record(
         &mut self,
         cmd: vk::CommandBuffer,

@@ -27,9 +27,15 @@ pub const BYTES_PER_PIXEL: u32 = 4 + 8 + 4 + 4;
 
 /// The G-buffer's images at one size.
 pub struct GBufferTargets {
+    /// Base colour and metalness ([`BASE_COLOR_METALNESS_FORMAT`]), colour attachment 0.
     pub base_color_metalness: Image,
+    /// Octahedral normal, perceptual roughness and anisotropy strength
+    /// ([`NORMAL_ROUGHNESS_ANISOTROPY_FORMAT`]), colour attachment 1.
     pub normal_roughness_anisotropy: Image,
+    /// Material index and anisotropy direction ([`MATERIAL_DIRECTION_FORMAT`]), colour
+    /// attachment 2.
     pub material_direction: Image,
+    /// Depth ([`DEPTH_FORMAT`], 1 = far plane), the depth attachment.
     pub depth: Image,
     /// Emitted radiance (rgb) and occlusion (a), present in the `EMISSIVE` and
     /// `OCCLUSION` variants only, in the HDR image's format (f16 or f32): emission is
@@ -39,6 +45,13 @@ pub struct GBufferTargets {
 }
 
 impl GBufferTargets {
+    /// Allocates the targets at `width` × `height` pixels (colour targets with colour
+    /// attachment, sampled and transfer-source usage; depth with depth attachment, sampled
+    /// and transfer-source usage). With `emissive_occlusion`, also the emissive + occlusion
+    /// target, of `emissive_format` (the HDR image's format).
+    ///
+    /// # Errors
+    /// [`RenderError::Vulkan`] if an image cannot be created or allocated.
     pub fn new(
         device: &Arc<Device>,
         width: u32,
@@ -112,6 +125,14 @@ pub struct GBufferPass {
 }
 
 impl GBufferPass {
+    /// Compiles `gbuffer.vert` and `gbuffer.frag` with `variant`'s `#define`s and builds the
+    /// pass's graphics pipeline (through `cache`): set 0 of `set_layout` (object and material
+    /// tables), set 1 of `material_set_layout` (one material's textures), the view-projection
+    /// and object index as vertex push constants, and a fourth colour attachment of
+    /// `emissive_format` in variants with the emissive + occlusion target.
+    ///
+    /// # Errors
+    /// [`RenderError::Vulkan`] if a shader does not compile or the pipeline cannot be built.
     pub fn new(
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
@@ -361,8 +382,11 @@ pub struct GBufferTexel {
 /// A G-buffer read back to the CPU.
 #[derive(Clone, Debug)]
 pub struct GBufferReadback {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `width · height` texels, row-major from the top-left.
     pub texels: Vec<GBufferTexel>,
 }
 

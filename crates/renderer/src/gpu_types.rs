@@ -13,13 +13,27 @@ pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
+    /// Linear base colour (rgb) and metalness (a).
     pub base_color_metalness: [f32; 4],
+    /// Perceptual roughness, anisotropy strength, anisotropy rotation (radians) and the
+    /// dielectric part's IOR.
     pub roughness_anisotropy_ior: [f32; 4],
+    /// The conductor's η per channel (rgb) and the outside medium's IOR (a).
     pub conductor_eta_outside_ior: [f32; 4],
+    /// The conductor's extinction coefficient k per channel (rgb) and the polarisation
+    /// weight (a).
     pub conductor_k_polarisation: [f32; 4],
+    /// The diffuse model (`DiffuseModel as u32`), the `MATERIAL_FLAG_*` bits, the occlusion
+    /// strength's f32 bits, and 0.
     pub diffuse_model_flags: [u32; 4],
+    /// Texture-array indices (-1: none) of the base colour, metallic–roughness, normal and
+    /// occlusion slots.
     pub textures_base_mr_normal_occlusion: [i32; 4],
+    /// Texture-array indices (-1: none) of the emissive, anisotropy, specular and
+    /// specular colour slots (`TextureSlot::ALL` order).
     pub textures_emissive_anisotropy_specular: [i32; 4],
+    /// Emitted radiance (rgb: the emissive factor × emissive strength, W·sr⁻¹·m⁻²) and the
+    /// normal-map scale (a).
     pub emissive_normal_scale: [f32; 4],
     /// Per texture slot s (`TextureSlot::ALL` order): `[2s]` = (a, b, c, set),
     /// `[2s + 1]` = (d, e, f, 0): the slot samples at (a u + b v + c, d u + e v + f) of
@@ -84,6 +98,8 @@ impl GpuMaterial {
         }
     }
 
+    /// Whether the conductor's η and k come from the base colour
+    /// ([`MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR`]).
     pub fn conductor_from_base_color(&self) -> bool {
         self.diffuse_model_flags[1] & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR != 0
     }
@@ -96,14 +112,19 @@ impl GpuMaterial {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuVertex {
+    /// Object-space position.
     pub position: [f32; 3],
+    /// Object-space normal.
     pub normal: [f32; 3],
+    /// Object-space tangent (xyz) and the bitangent's sign (w), as glTF stores it.
     pub tangent: [f32; 4],
+    /// The first texture-coordinate set.
     pub uv: [f32; 2],
 }
 const _: () = assert!(std::mem::size_of::<GpuVertex>() == 48);
 
 impl GpuVertex {
+    /// The first stream's part of `v` (its `uv1` is uploaded separately).
     pub fn new(v: &combustion_scene::Vertex) -> Self {
         Self {
             position: v.position,
@@ -118,13 +139,19 @@ impl GpuVertex {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuObject {
+    /// Object-to-world matrix, column-major.
     pub model: [f32; 16],
+    /// The inverse transpose of the model matrix's linear part, scaled by the inverse of its
+    /// largest axis length (column-major): it maps normals to world directions (normalised
+    /// in the shader).
     pub normal_matrix: [f32; 16],
+    /// x: the index of the object's material in the material table; yzw: 0.
     pub material_index: [u32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuObject>() == 144);
 
 impl GpuObject {
+    /// The table entry of `object`: its transform, its normal matrix and its material index.
     pub fn new(object: &Object) -> Self {
         Self {
             model: object.transform.to_cols_array(),
@@ -154,21 +181,32 @@ fn normal_matrix(transform: &glam::Mat4) -> glam::Mat4 {
 
 /// `LIGHT_KIND_*` in gpu_types.glsl.
 pub const LIGHT_KIND_DIRECTIONAL: f32 = 0.0;
+/// `LIGHT_KIND_POINT`: a point light.
 pub const LIGHT_KIND_POINT: f32 = 1.0;
+/// `LIGHT_KIND_SPOT`: a spot light.
 pub const LIGHT_KIND_SPOT: f32 = 2.0;
 
 /// `GpuLight` (std430, 64 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuLight {
+    /// Point and spot lights: the position (w = 1); directional lights: the unit direction
+    /// the light travels in (w = 0).
     pub position_or_direction: [f32; 4],
+    /// rgb: intensity (W·sr⁻¹, point and spot) or irradiance (W·m⁻², directional); a: the
+    /// kind (`LIGHT_KIND_*`).
     pub power_kind: [f32; 4],
+    /// Spot lights: the unit direction of the cone's axis (w = 0); zero for other kinds.
     pub spot_axis: [f32; 4],
+    /// x, y: the spot cone's scale 1/(cos θ_inner − cos θ_outer) and offset
+    /// −cos θ_outer · scale (zero for other kinds); z: 1/range² (0: no range); w: 0.
     pub spot_cone: [f32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuLight>() == 64);
 
 impl GpuLight {
+    /// The table entry of `light` (directions normalised; cone angles in radians, as
+    /// [`combustion_scene::Light`] gives them).
     pub fn new(light: &Light) -> Self {
         let power = |p: &[f32; 3], kind| [p[0], p[1], p[2], kind];
         match light {
@@ -277,8 +315,11 @@ pub fn conductor_from_base_color_table() -> &'static [[f32; 2]; 256] {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GBufferPush {
+    /// The camera's view-projection matrix, column-major.
     pub view_projection: [f32; 16],
+    /// The index of the drawn object in the object table.
     pub object_index: u32,
+    /// Padding to the GLSL block's size.
     pub _pad: [u32; 3],
 }
 const _: () = assert!(std::mem::size_of::<GBufferPush>() == 80);
@@ -287,8 +328,13 @@ const _: () = assert!(std::mem::size_of::<GBufferPush>() == 80);
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct LightingPush {
+    /// The inverse of the camera's view-projection matrix, column-major (depth to world
+    /// position).
     pub inverse_view_projection: [f32; 16],
+    /// The eye's world position (w = 1).
     pub camera_position: [f32; 4],
+    /// x: the frame's lights; y: the debug view (`DebugView as u32`); z: tiles across and
+    /// w: the tile lists' stride in words (0 when the frame does not cull its lights).
     pub counts: [u32; 4],
 }
 const _: () = assert!(std::mem::size_of::<LightingPush>() == 96);
@@ -322,6 +368,7 @@ impl LightingPush {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct CullPush {
+    /// The inverse of the camera's view-projection matrix, column-major.
     pub inverse_view_projection: [f32; 16],
     /// x: lights; y: tiles across; z: list stride (1 + lights); w: tiles.
     pub counts: [u32; 4],
@@ -331,6 +378,7 @@ pub struct CullPush {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct TonemapPush {
+    /// Multiplies radiance before the tone curve (and in linear outputs).
     pub exposure: f32,
 }
 
@@ -339,7 +387,9 @@ pub struct TonemapPush {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct EnvironmentSource {
+    /// The sky's radiance (rgb, W·sr⁻¹·m⁻², straight up); a: 0.
     pub sky: [f32; 4],
+    /// The ground's radiance (rgb, W·sr⁻¹·m⁻², straight down); a: 0.
     pub ground: [f32; 4],
     /// xyz: unit k_i.
     pub box_direction: [[f32; 4]; 2],
@@ -348,6 +398,8 @@ pub struct EnvironmentSource {
 }
 
 impl EnvironmentSource {
+    /// The source of `environment`: uniform (sky = ground), the studio's gradient and two
+    /// boxes, or, for an image (read from its own texture instead), zero radiance.
     pub fn new(environment: &combustion_scene::Environment) -> Self {
         use combustion_scene::Environment;
         let rgb = |c: [f64; 3], a: f64| [c[0] as f32, c[1] as f32, c[2] as f32, a as f32];
@@ -385,8 +437,11 @@ impl EnvironmentSource {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct EnvironmentBakePush {
+    /// The environment's analytic source radiance.
     pub source: EnvironmentSource,
+    /// Integer parameters, per shader.
     pub params: [u32; 4],
+    /// Float parameters, per shader.
     pub values: [f32; 4],
 }
 const _: () = assert!(std::mem::size_of::<EnvironmentBakePush>() == 128);

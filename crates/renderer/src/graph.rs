@@ -80,7 +80,9 @@ impl ImageUse {
 /// An image as the frame tracks it: its handle and the subresources a pass touches.
 #[derive(Clone, Copy, Debug)]
 pub struct TrackedImage {
+    /// The image's handle.
     pub raw: vk::Image,
+    /// The subresources (aspect, mip levels, layers) the pass touches.
     pub range: vk::ImageSubresourceRange,
 }
 
@@ -134,12 +136,16 @@ impl BufferUse {
 /// declared too: their host writes are visible to the whole submission, so they never
 /// need a barrier, but a GPU write to them later would.
 pub struct PassUses {
+    /// The pass's name (in timings and messages).
     pub name: &'static str,
+    /// Each image the pass touches and how.
     pub images: Vec<(TrackedImage, ImageUse)>,
+    /// Each buffer the pass touches and how.
     pub buffers: Vec<(vk::Buffer, BufferUse)>,
 }
 
 impl PassUses {
+    /// A pass that touches `images` and declares no buffers.
     pub fn images(name: &'static str, images: Vec<(TrackedImage, ImageUse)>) -> Self {
         Self {
             name,
@@ -148,6 +154,7 @@ impl PassUses {
         }
     }
 
+    /// The same pass declaring `buffers` too (replacing any declared before).
     pub fn with_buffers(self, buffers: Vec<(vk::Buffer, BufferUse)>) -> Self {
         Self { buffers, ..self }
     }

@@ -65,6 +65,8 @@ impl OutputEncoding {
 /// to `after.stage`/`after.access` and leaves the image in `after.layout`.
 #[derive(Clone, Copy, Debug)]
 pub struct ColorTarget {
+    /// The image (owned by the host, which keeps it alive until the frames recorded into it
+    /// have completed).
     pub image: vk::Image,
     /// A 2D colour view of mip level 0, layer 0.
     pub view: vk::ImageView,
@@ -84,8 +86,9 @@ pub struct ColorTarget {
 
 impl ColorTarget {
     /// The target for `image`, created with `info`, seen through `view`. Refuses
-    /// images a frame cannot be rendered into (not 2D, multisampled, without
-    /// `COLOR_ATTACHMENT` usage).
+    /// images a frame cannot be rendered into (not 2D, multisampled, without a mip level
+    /// or layer: [`RenderError::InvalidTargetImage`]); the usage is checked by
+    /// [`crate::Renderer::record`] (`COLOR_ATTACHMENT`).
     pub fn from_create_info(
         image: vk::Image,
         view: vk::ImageView,
@@ -136,18 +139,27 @@ impl ColorTarget {
 /// a copy, released to `after`.
 #[derive(Clone, Copy, Debug)]
 pub struct DepthTarget {
+    /// The image (owned by the host, which keeps it alive until the frames recorded into it
+    /// have completed).
     pub image: vk::Image,
+    /// The image's format (must be `D32_SFLOAT`).
     pub format: vk::Format,
+    /// The image's extent (must equal the colour target's).
     pub extent: vk::Extent2D,
     /// The image's usage flags (must include `TRANSFER_DST`).
     pub usage: vk::ImageUsageFlags,
+    /// Where the host left the image (`ImageState::UNDEFINED` if its contents do not matter:
+    /// they are overwritten).
     pub before: ImageState,
+    /// Where the host wants it: the layout and the stages/accesses of its next use (not
+    /// `UNDEFINED` or `PREINITIALIZED`).
     pub after: ImageState,
 }
 
 impl DepthTarget {
-    /// The depth target for `image`, created with `info` (not 2D or multisampled:
-    /// refused).
+    /// The depth target for `image`, created with `info` (not 2D, multisampled, or without
+    /// a mip level or layer: refused with [`RenderError::InvalidTargetImage`]); the
+    /// format, extent and usage are checked by [`crate::Renderer::record`].
     pub fn from_create_info(
         image: vk::Image,
         info: &vk::ImageCreateInfo<'_>,
@@ -169,12 +181,17 @@ impl DepthTarget {
 /// What is wrong with an image a host gave as a frame's target.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum TargetImageProblem {
+    /// The image lacks the usage flags the frame needs (`COLOR_ATTACHMENT` for the colour
+    /// target, `TRANSFER_DST` for the depth target).
     #[error("was not created with {0:?} usage")]
     MissingUsage(vk::ImageUsageFlags),
+    /// Not a 2D image of depth 1.
     #[error("is a {0:?} image, not a 2D one")]
     NotTwoDimensional(vk::ImageType),
+    /// More than one sample per pixel.
     #[error("has {0:?} samples per pixel; frames are rendered with one")]
     Multisampled(vk::SampleCountFlags),
+    /// Created with no mip level or no array layer.
     #[error("has no mip level or no array layer")]
     Empty,
 }
@@ -206,7 +223,9 @@ fn check_created(target: &'static str, info: &vk::ImageCreateInfo<'_>) -> Result
 /// Where a frame goes.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameTarget {
+    /// The colour image the frame's output pass writes.
     pub color: ColorTarget,
+    /// A host depth image to receive the frame's depth (`None`: no depth copy).
     pub depth: Option<DepthTarget>,
 }
 
@@ -214,6 +233,7 @@ pub struct FrameTarget {
 /// the exposure, the lights, and the text drawn over the frame.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameInputs<'a> {
+    /// The camera the frame is seen from (validated by [`crate::Renderer::record`]).
     pub camera: Camera,
     /// Multiplies radiance before the tone curve (and in linear outputs).
     pub exposure: f32,

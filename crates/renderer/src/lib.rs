@@ -22,6 +22,8 @@
 //! list. GPU timestamps bracket each pass ([`Frame::timings`],
 //! [`Renderer::last_completed_timings`]).
 
+#![warn(missing_docs)]
+
 pub mod bindings;
 pub mod environment;
 pub mod gbuffer;
@@ -81,8 +83,11 @@ pub struct LightingFeatures {
     pub dielectrics: bool,
     /// An outside medium other than η_i = 1 (else η_i is the constant 1).
     pub outside_medium: bool,
+    /// The Lambertian diffuse model ([`DiffuseModel::Lambert`]).
     pub lambert: bool,
+    /// The qualitative Oren–Nayar diffuse model ([`DiffuseModel::OrenNayarQualitative`]).
     pub oren_nayar_qualitative: bool,
+    /// The full Oren–Nayar diffuse model ([`DiffuseModel::OrenNayarFull`]).
     pub oren_nayar_full: bool,
 }
 
@@ -164,6 +169,8 @@ pub enum Masking {
 }
 
 impl Masking {
+    /// The short name the command line and the report use (`correlated`, `separable`,
+    /// `approximate`).
     pub fn name(self) -> &'static str {
         match self {
             Self::HeightCorrelated => "correlated",
@@ -188,6 +195,7 @@ pub enum Distribution {
 }
 
 impl Distribution {
+    /// The short name the command line and the report use (`ggx`, `beckmann`).
     pub fn name(self) -> &'static str {
         match self {
             Self::Ggx => "ggx",
@@ -308,6 +316,7 @@ impl DebugView {
         Self::ALL[(i + 1) % Self::ALL.len()]
     }
 
+    /// A short lower-case name for titles and panels (`radiance`, `base colour`, …).
     pub fn name(self) -> &'static str {
         match self {
             Self::None => "radiance",
@@ -386,56 +395,106 @@ impl ShaderVariant {
 /// Why rendering failed.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
+    /// A Vulkan call failed: out of device or host memory, a lost device, a shader that does
+    /// not compile, or a pipeline that cannot be built.
     #[error(transparent)]
     Vulkan(#[from] VkError),
+    /// The scene, or a frame's camera or lights, failed validation.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// A frame or overlay image size with a side of 0 or larger than the device's
+    /// maximum 2D image dimension.
     #[error("image size {width}x{height} is not allowed: each side must be between 1 and {max} on this device")]
-    InvalidSize { width: u32, height: u32, max: u32 },
+    InvalidSize {
+        /// The width asked for, in pixels.
+        width: u32,
+        /// The height asked for, in pixels.
+        height: u32,
+        /// The device's largest side (`maxImageDimension2D`).
+        max: u32,
+    },
+    /// An exposure (in the settings or a frame's inputs) that is not finite and positive.
     #[error("exposure {0} must be a positive finite number")]
     InvalidExposure(f32),
+    /// Something of the scene exceeds a device or format limit (an image larger than the
+    /// device's maximum 2D image size, a mesh of 2³² indices or more); the message names
+    /// it.
     #[error("scene too large: {0}")]
     TooLarge(String),
+    /// [`RendererSettings::frames_in_flight`] is outside 1 to [`MAX_FRAMES_IN_FLIGHT`].
     #[error("{0} frames in flight are not supported; use 1 to {max}", max = MAX_FRAMES_IN_FLIGHT)]
     InvalidFramesInFlight(usize),
+    /// A frame slot at or past [`RendererSettings::frames_in_flight`].
     #[error(
         "frame slot {slot} is out of range: the renderer has {frames_in_flight} frames in flight"
     )]
     InvalidFrameSlot {
+        /// The slot asked for.
         slot: usize,
+        /// The renderer's frames in flight.
         frames_in_flight: usize,
     },
+    /// The frame last recorded in the slot has not completed on the GPU (checked where
+    /// the device has timestamp queries): the host must wait for that frame's fence, or
+    /// call [`Renderer::frames_completed`] if it was never submitted.
     #[error("frame slot {slot} is still in flight: the GPU has not completed the frame last recorded with it; wait for that frame's fence before recording the slot again (or call Renderer::frames_completed if it was never submitted)")]
-    FrameSlotInFlight { slot: usize },
+    FrameSlotInFlight {
+        /// The slot.
+        slot: usize,
+    },
+    /// A target format the output pass cannot write ([`OutputEncoding::of`] gives `None`).
     #[error("output format {0:?} is not supported; use an RGBA16F/RGBA32F (linear), RGBA8/BGRA8 UNORM or _SRGB (display) format")]
     UnsupportedOutputFormat(vk::Format),
+    /// A supported target format whose output pass was not built: call
+    /// [`Renderer::prepare_output`] first.
     #[error("output format {0:?} was not prepared; call Renderer::prepare_output before recording frames into it")]
     OutputNotPrepared(vk::Format),
+    /// The pipelines the frame needs with the current settings were not built: call
+    /// [`Renderer::prepare`] after changing a setting.
     #[error("the scene's pipelines were not built; call Renderer::prepare after changing the renderer's settings")]
     VariantNotPrepared,
+    /// The [`GpuScene`] was uploaded by another renderer.
     #[error("the scene was uploaded by another renderer; upload it with this renderer")]
     SceneOfAnotherRenderer,
+    /// The frame's [`FrameEnvironment`] was baked for other materials (another scene, or
+    /// before an edit changed a material's optics) or by another renderer.
     #[error("the frame's environment was baked for other materials (another scene, or before an edit changed a material's optics) or by another renderer; bake it again for this scene with Renderer::bake_environment")]
     EnvironmentOfAnotherScene,
+    /// A scene edit was refused; the scene is unchanged.
     #[error("scene edit refused: {0}")]
     Edit(#[from] EditError),
+    /// A target's `after` layout is `UNDEFINED` or `PREINITIALIZED`, which an image cannot be
+    /// left in; the field names the target (`colour` or `depth`).
     #[error("the {0} target's `after` layout must be a layout an image can be left in, not UNDEFINED or PREINITIALIZED")]
     InvalidAfterLayout(&'static str),
+    /// The overlay cannot be drawn: an overlay image whose texel count is not
+    /// `width · height` or larger than the device reads from one buffer, or an unusable font.
     #[error("overlay: {0}")]
     Overlay(String),
+    /// The device cannot bake or sample environment lighting (it cannot write the cubes'
+    /// format from compute shaders or filter it linearly); the message names the device.
     #[error("this device cannot render environment lighting: {0}")]
     EnvironmentUnsupported(String),
+    /// A host's target image a frame cannot use.
     #[error("the {target} target image {problem}")]
     InvalidTargetImage {
+        /// Which target: `colour` or `depth`.
         target: &'static str,
+        /// What is wrong with it.
         problem: TargetImageProblem,
     },
+    /// The host's depth image is not `D32_SFLOAT` or not of the colour target's extent.
     #[error("the host's depth image is {got:?} of {got_width}x{got_height}; it must be D32_SFLOAT of the target's size {width}x{height}")]
     InvalidDepthTarget {
+        /// The depth image's format.
         got: vk::Format,
+        /// The depth image's width.
         got_width: u32,
+        /// The depth image's height.
         got_height: u32,
+        /// The colour target's width.
         width: u32,
+        /// The colour target's height.
         height: u32,
     },
 }
@@ -456,6 +515,7 @@ pub enum HdrFormat {
 }
 
 impl HdrFormat {
+    /// The Vulkan format.
     pub fn vk(self) -> vk::Format {
         match self {
             Self::Rgba16Float => vk::Format::R16G16B16A16_SFLOAT,
@@ -482,22 +542,31 @@ pub struct Readback {
 /// Per-pass GPU times of one frame, from timestamp queries, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PassTimings {
+    /// The G-buffer pass.
     pub gbuffer_ms: f64,
+    /// The lighting pass, with the light culling that precedes it.
     pub lighting_ms: f64,
+    /// The output pass and its overlay.
     pub tonemap_ms: f64,
+    /// From the frame's first command to the end of the output pass (the depth copy into a
+    /// host's depth image is not included).
     pub total_ms: f64,
 }
 
 /// A rendered frame.
 #[derive(Clone, Debug, Default)]
 pub struct Frame {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     /// Linear HDR radiance, RGBA, row-major from the top-left (empty without readback).
     pub hdr: Vec<[f32; 4]>,
     /// Tonemapped, sRGB-encoded RGBA8 (empty without readback).
     pub ldr: Vec<[u8; 4]>,
+    /// The G-buffer, with [`Readback::gbuffer`] (else `None`).
     pub gbuffer: Option<GBufferReadback>,
+    /// The frame's GPU pass times (zero where the device has no timestamps).
     pub timings: PassTimings,
 }
 
@@ -507,10 +576,12 @@ pub const MAX_FRAMES_IN_FLIGHT: usize = 3;
 /// Settings of the renderer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RendererSettings {
+    /// The HDR (lit) image's format.
     pub hdr_format: HdrFormat,
     /// Multiplies radiance before the tone curve, in [`Renderer::render`] (frames
     /// recorded with [`Renderer::record`] bring their own, in [`FrameInputs`]).
     pub exposure: f32,
+    /// The Fresnel term; changed later with [`Renderer::set_fresnel`].
     pub fresnel: FresnelModel,
     /// Frames the CPU may record ahead of the GPU (1 to [`MAX_FRAMES_IN_FLIGHT`]):
     /// each has its own descriptor sets, light buffer and timestamp queries.
@@ -548,6 +619,7 @@ pub enum FresnelModel {
 }
 
 impl FresnelModel {
+    /// The short name the command line and the report use (`full`, `schlick`, `f82`).
     pub fn name(self) -> &'static str {
         match self {
             Self::Full => "full",
@@ -705,6 +777,17 @@ impl SetLayouts {
 /// The deferred renderer. One per device; renders [`GpuScene`]s at any size, into its
 /// own images ([`Renderer::render`]) or into a host's command buffer and image
 /// ([`Renderer::record`]), with frames in flight.
+///
+/// Pipelines are built by [`Renderer::new`], [`Renderer::upload`],
+/// [`Renderer::edit_scene`], [`Renderer::prepare`] and [`Renderer::prepare_output`],
+/// never while a frame is recorded. Resources it replaces (targets of another size, an
+/// edited scene's old buffers, a dropped [`GpuScene`] or [`FrameEnvironment`]) wait in
+/// a retire list until the frames recorded before have completed.
+///
+/// Teardown: dropping it waits for its own submissions ([`Renderer::render`],
+/// [`Renderer::submit_offscreen`]) and, on a device it created, for the device to be
+/// idle; frames a host recorded into its own command buffers are the host's to wait
+/// for before the drop (docs/integration.md, "Teardown and errors").
 pub struct Renderer {
     // Field order is drop order: everything below holds the device alive.
     /// Combustion's own submissions (render, bench), created on first use.
@@ -868,10 +951,12 @@ impl Renderer {
         Ok(renderer)
     }
 
+    /// The device the renderer was created on.
     pub fn device(&self) -> &Arc<Device> {
         &self.device
     }
 
+    /// The settings, with the Fresnel term [`Renderer::set_fresnel`] chose last.
     pub fn settings(&self) -> RendererSettings {
         self.settings
     }
@@ -1043,6 +1128,7 @@ impl Renderer {
         self.masking = masking;
     }
 
+    /// The masking–shadowing term ([`Renderer::set_masking`]).
     pub fn masking(&self) -> Masking {
         self.masking
     }
@@ -1053,6 +1139,7 @@ impl Renderer {
         self.distribution = distribution;
     }
 
+    /// The normal distribution ([`Renderer::set_distribution`]).
     pub fn distribution(&self) -> Distribution {
         self.distribution
     }
@@ -1079,6 +1166,7 @@ impl Renderer {
         Ok(())
     }
 
+    /// Whether energy compensation is on ([`Renderer::set_energy_compensation`]).
     pub fn energy_compensation(&self) -> bool {
         self.energy_compensation
     }
@@ -1091,6 +1179,8 @@ impl Renderer {
         self.diffuse_override = model;
     }
 
+    /// The diffuse model every material is shaded with, if any
+    /// ([`Renderer::set_diffuse_override`]).
     pub fn diffuse_override(&self) -> Option<DiffuseModel> {
         self.diffuse_override
     }
@@ -1109,6 +1199,7 @@ impl Renderer {
         self.light_culling = culling;
     }
 
+    /// When frames cull their lights ([`Renderer::set_light_culling`]).
     pub fn light_culling(&self) -> LightCulling {
         self.light_culling
     }
@@ -1120,6 +1211,8 @@ impl Renderer {
         self.specialised = specialised;
     }
 
+    /// Whether lighting pipelines are specialised to each scene
+    /// ([`Renderer::set_specialised`]).
     pub fn specialised(&self) -> bool {
         self.specialised
     }
@@ -1135,6 +1228,7 @@ impl Renderer {
         self.debug_view = view;
     }
 
+    /// What the lighting pass shows ([`Renderer::set_debug_view`]).
     pub fn debug_view(&self) -> DebugView {
         self.debug_view
     }
@@ -1151,7 +1245,14 @@ impl Renderer {
     }
 
     /// Validates and uploads a scene, and builds the pipelines it needs (never inside a
-    /// frame's recording).
+    /// frame's recording). A scene with an environment has it baked here, waiting for
+    /// the GPU.
+    ///
+    /// # Errors
+    /// [`RenderError::Scene`] if the scene fails validation; [`RenderError::TooLarge`]
+    /// for an image beyond the device's 2D limit or a mesh of 2³² indices or more;
+    /// [`RenderError::EnvironmentUnsupported`] for an environment the device cannot
+    /// bake; [`RenderError::Vulkan`] if a pipeline, buffer or image cannot be made.
     pub fn upload(&mut self, scene: &Scene) -> Result<GpuScene, RenderError> {
         scene.validate()?;
         self.prepare_variant(self.variant_of(scene_upload::scene_variant(scene)))?;
@@ -1171,6 +1272,11 @@ impl Renderer {
     /// the current settings; [`Renderer::prepare`] keeps them built after a settings
     /// change, and so do edits). Waits for the GPU (0.4–1.6 s on lavapipe): an upload
     /// step, never inside a frame. On error nothing changes.
+    ///
+    /// # Errors
+    /// [`RenderError::SceneOfAnotherRenderer`] for a scene another renderer uploaded;
+    /// [`RenderError::Scene`] for an invalid environment; otherwise as
+    /// [`Renderer::upload`]'s bake.
     pub fn bake_environment(
         &mut self,
         scene: &GpuScene,

@@ -40,9 +40,13 @@ const COLUMN_GAP: f32 = 14.0;
 /// away from it in the order given.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Corner {
+    /// The target's top-left corner.
     TopLeft,
+    /// The target's top-right corner.
     TopRight,
+    /// The target's bottom-left corner.
     BottomLeft,
+    /// The target's bottom-right corner.
     BottomRight,
 }
 
@@ -51,7 +55,9 @@ pub enum Corner {
 /// such as a list of keys).
 #[derive(Clone, Copy, Debug)]
 pub struct OverlayPanel<'a> {
+    /// The panel's text (`\n` between lines, `\t` between columns).
     pub text: &'a str,
+    /// The corner it is placed in.
     pub corner: Corner,
 }
 
@@ -161,10 +167,12 @@ impl OverlayFont {
         &self.atlas
     }
 
+    /// The atlas's width in texels.
     pub fn atlas_width(&self) -> u32 {
         ATLAS_WIDTH
     }
 
+    /// The atlas's height in texels (rows).
     pub fn atlas_height(&self) -> u32 {
         self.height
     }
@@ -384,7 +392,9 @@ impl OverlayPass {
 /// viewer's error heat map, opaque).
 #[derive(Clone, Debug, PartialEq)]
 pub struct OverlayImage {
+    /// Width in texels (= pixels of the target).
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
     /// Row-major from the top-left; `width · height` texels.
     pub rgba: Vec<[u8; 4]>,

@@ -27,11 +27,17 @@ pub const RADIANCE_FLOOR: f64 = 1e-4;
 /// and bitangent, the direction to the eye and the world position.
 #[derive(Clone, Copy, Debug)]
 pub struct PixelInputs {
+    /// The BRDF's inputs, decoded from the G-buffer.
     pub brdf: BrdfInputs<f64>,
+    /// The unit shading normal (world space).
     pub n: [f64; 3],
+    /// The unit tangent (world space; the anisotropy direction).
     pub t: [f64; 3],
+    /// The unit bitangent (world space), completing t and n.
     pub b: [f64; 3],
+    /// The unit direction from the surface point to the eye.
     pub v: [f64; 3],
+    /// The surface point's world position, reconstructed from depth.
     pub position: [f64; 3],
 }
 
@@ -40,7 +46,9 @@ pub struct PixelInputs {
 /// pixel at stride/2 of each `stride`×`stride` block); the other pixels are not compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct EnvironmentSampling {
+    /// Samples of each strategy per compared pixel.
     pub iterations: u32,
+    /// One pixel compared in each `stride` × `stride` block (at least 1).
     pub stride: u32,
 }
 
@@ -295,16 +303,21 @@ impl ReferenceShading {
 /// A frame's error against the reference, per pixel and in summary.
 #[derive(Clone, Debug, Default)]
 pub struct ErrorMap {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     /// Per pixel (row-major from the top-left): the largest relative error of its three
     /// channels, `|gpu − f64| / max(|f64|, RADIANCE_FLOOR)`; NaN where nothing was
     /// compared (background, emissive materials, non-finite GPU values).
     pub relative: Vec<f32>,
+    /// The largest per-pixel relative error (at [`ErrorMap::worst_pixel`]).
     pub max_relative: f64,
+    /// The mean of the per-pixel relative errors over the compared pixels.
     pub mean_relative: f64,
     /// √(mean of the squared per-pixel errors).
     pub rms_relative: f64,
+    /// The pixel (x, y) with the largest error, from the top-left.
     pub worst_pixel: (u32, u32),
     /// The GPU's and the reference's radiance at the worst pixel.
     pub worst_values: ([f32; 3], [f64; 3]),

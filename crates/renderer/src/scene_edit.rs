@@ -30,19 +30,31 @@ handle!(
 /// Why an edit was refused (the scene is then unchanged).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum EditError {
+    /// The object is not in the scene (removed, or of another scene).
     #[error("{0:?} is not in the scene (removed, or of another scene)")]
     UnknownObject(ObjectId),
+    /// The material is not in the scene (removed, or of another scene).
     #[error("{0:?} is not in the scene (removed, or of another scene)")]
     UnknownMaterial(MaterialId),
+    /// The mesh is not in the scene (removed, or of another scene).
     #[error("{0:?} is not in the scene (removed, or of another scene)")]
     UnknownMesh(MeshId),
+    /// The material cannot be removed while objects use it.
     #[error("{material:?} is used by {objects} object(s); remove or change them first")]
     MaterialInUse {
+        /// The material.
         material: MaterialId,
+        /// How many objects use it.
         objects: usize,
     },
+    /// The mesh cannot be removed while objects use it.
     #[error("{mesh:?} is used by {objects} object(s); remove or change them first")]
-    MeshInUse { mesh: MeshId, objects: usize },
+    MeshInUse {
+        /// The mesh.
+        mesh: MeshId,
+        /// How many objects use it.
+        objects: usize,
+    },
 }
 
 /// The handles of a scene's items, index for index.
