@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The two commands of the README:
 #   bash scripts/dev.sh render   install what is missing, render builtin:spheres to spheres.png
-#   bash scripts/dev.sh test     install what is missing, run fmt, clippy and the whole test suite
+#   bash scripts/dev.sh test     install what is missing, run fmt, clippy, rustdoc and the whole test suite
 # Both first install the system packages Combustion needs on Debian/Ubuntu (lavapipe,
 # the Vulkan loader, the validation layers, and what building shaderc from source needs).
 set -euo pipefail
@@ -51,6 +51,9 @@ case "${1:-}" in
     # --profile test: clippy then shares the test build's build-script outputs, so the
     # shaderc C++ build (the bulk of a cold build) runs once, not twice.
     cargo clippy --locked --workspace --all-targets --profile test -- -D warnings
+    # The public API's documentation: every public item documented (missing_docs, denied
+    # by clippy above) and every intra-doc link resolving.
+    RUSTDOCFLAGS="-D warnings" cargo doc --locked --workspace --no-deps
     if cargo nextest --version >/dev/null 2>&1; then
       cargo nextest run --locked --workspace --no-fail-fast
     else
