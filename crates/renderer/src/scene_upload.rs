@@ -183,7 +183,10 @@ pub(crate) struct MeshBuffers {
 impl MeshBuffers {
     fn new(device: &Arc<Device>, mesh: &Mesh) -> Result<Self, RenderError> {
         let index_count = u32::try_from(mesh.indices.len()).map_err(|_| {
-            RenderError::TooLarge(format!("mesh `{}`: 2³² indices or more (at most 2³² − 1)", mesh.name))
+            RenderError::TooLarge(format!(
+                "mesh `{}`: 2³² indices or more (at most 2³² − 1)",
+                mesh.name
+            ))
         })?;
         let vertices: Vec<GpuVertex> = mesh.vertices.iter().map(GpuVertex::new).collect();
         let uv1: Vec<[f32; 2]> = mesh.vertices.iter().map(|v| v.uv1).collect();
