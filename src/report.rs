@@ -190,7 +190,15 @@ pub struct Spread {
 }
 
 impl Spread {
-    fn of(mut values: Vec<f64>) -> Spread {
+    /// No measurement: NaN throughout.
+    pub const NONE: Spread = Spread {
+        median: f64::NAN,
+        p10: f64::NAN,
+        p90: f64::NAN,
+    };
+
+    /// The spread of `values` (zeros when there are none).
+    pub fn of(mut values: Vec<f64>) -> Spread {
         if values.is_empty() {
             return Spread::default();
         }
@@ -204,6 +212,74 @@ impl Spread {
     }
 }
 
+/// Each pass's GPU time over the frames measured, by name ([`PassTimings::passes`]),
+/// in the order the frames ran the passes: the report's columns follow whatever passes
+/// ran.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PassSpreads(pub Vec<(&'static str, Spread)>);
+
+impl PassSpreads {
+    /// The spread of each pass over `timings`.
+    pub fn of(timings: &[PassTimings]) -> Self {
+        let mut lists: Vec<(&'static str, Vec<f64>)> = Vec::new();
+        for t in timings {
+            for pass in &t.passes {
+                match lists.iter_mut().find(|(name, _)| *name == pass.name) {
+                    Some((_, list)) => list.push(pass.ms),
+                    None => lists.push((pass.name, vec![pass.ms])),
+                }
+            }
+        }
+        Self(
+            lists
+                .into_iter()
+                .map(|(name, list)| (name, Spread::of(list)))
+                .collect(),
+        )
+    }
+
+    /// The spread of the pass named `name` (NaN where the frames did not run it).
+    pub fn get(&self, name: &str) -> Spread {
+        self.0
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map_or(Spread::NONE, |(_, spread)| *spread)
+    }
+
+    /// The names of the passes of any of `rows`, in order of first appearance.
+    fn names<'a>(rows: impl IntoIterator<Item = &'a PassSpreads>) -> Vec<&'static str> {
+        let mut names = Vec::new();
+        for spreads in rows {
+            for (name, _) in &spreads.0 {
+                if !names.contains(name) {
+                    names.push(*name);
+                }
+            }
+        }
+        names
+    }
+}
+
+/// CSV columns `NAME_ms,NAME_p10,NAME_p90` for each of `names` (a space in a name
+/// becomes `_`).
+fn spread_columns(names: &[&str]) -> String {
+    names
+        .iter()
+        .map(|name| {
+            let name = name.replace(' ', "_");
+            format!(",{name}_ms,{name}_p10,{name}_p90")
+        })
+        .collect()
+}
+
+/// The CSV values of `spreads` in the columns of `names`.
+fn spread_values(spreads: &[Spread]) -> String {
+    spreads
+        .iter()
+        .map(|s| format!(",{:.3},{:.3},{:.3}", s.median, s.p10, s.p90))
+        .collect()
+}
+
 /// One scene under one variant set.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReportRow {
@@ -211,12 +287,8 @@ pub struct ReportRow {
     pub scene: String,
     /// The variant set rendered.
     pub set: VariantSet,
-    /// G-buffer pass time.
-    pub gbuffer: Spread,
-    /// Lighting pass time (light culling included).
-    pub lighting: Spread,
-    /// Output pass time.
-    pub output: Spread,
+    /// Each pass's time.
+    pub passes: PassSpreads,
     /// Whole frame's GPU time.
     pub total: Spread,
     /// Frames timed.
@@ -267,10 +339,8 @@ pub struct ScalingRow {
     pub localised_lights: Option<usize>,
     /// Whether frames culled their lights into tile lists.
     pub culled: bool,
-    /// G-buffer pass time.
-    pub gbuffer: Spread,
-    /// Lighting pass time (light culling included).
-    pub lighting: Spread,
+    /// Each pass's time.
+    pub passes: PassSpreads,
     /// Whole frame's GPU time.
     pub total: Spread,
 }
@@ -357,15 +427,13 @@ fn time_configuration(
     let timings = time_frames(renderer, &gpu, width, height, frames)?;
     renderer.retire(gpu);
     renderer.set_light_culling(LightCulling::Auto);
-    let pick = |f: fn(&PassTimings) -> f64| Spread::of(timings.iter().map(f).collect());
     Ok(ScalingRow {
         width,
         height,
         localised_lights,
         culled: culling.culls(&scene.lights),
-        gbuffer: pick(|t| t.gbuffer_ms),
-        lighting: pick(|t| t.lighting_ms),
-        total: pick(|t| t.total_ms),
+        passes: PassSpreads::of(&timings),
+        total: Spread::of(timings.iter().map(|t| t.total_ms).collect()),
     })
 }
 
@@ -473,8 +541,8 @@ pub fn measure(
                         timings
                             .iter()
                             .map(|t| match floor {
-                                MeasurementFloor::Geometry => t.gbuffer_ms,
-                                _ => t.lighting_ms,
+                                MeasurementFloor::Geometry => t.ms_or_zero(PassTimings::GBUFFER),
+                                _ => t.ms_or_zero(PassTimings::LIGHTING),
                             })
                             .collect(),
                     ));
@@ -522,16 +590,11 @@ pub fn measure(
                         "this device gives no GPU timestamps; the report needs them".into(),
                     ));
                 }
-                let pick = |f: fn(&combustion_renderer::PassTimings) -> f64| {
-                    Spread::of(timings.iter().map(f).collect())
-                };
                 rows.push(ReportRow {
                     scene: label.clone(),
                     set: *set,
-                    gbuffer: pick(|t| t.gbuffer_ms),
-                    lighting: pick(|t| t.lighting_ms),
-                    output: pick(|t| t.tonemap_ms),
-                    total: pick(|t| t.total_ms),
+                    passes: PassSpreads::of(&timings),
+                    total: Spread::of(timings.iter().map(|t| t.total_ms).collect()),
                     frames: timings.len(),
                     max_relative: map.max_relative,
                     mean_relative: map.mean_relative,
@@ -729,8 +792,11 @@ fn points(rows: &[ReportRow]) -> Vec<SpeedErrorPoint> {
 
 /// The CSV: one row per scene and variant set.
 pub fn csv(rows: &[ReportRow]) -> String {
-    let mut out = String::from(
-        "scene,fresnel,hdr,pipeline,masking,distribution,diffuse,frames,gbuffer_ms,gbuffer_p10,gbuffer_p90,lighting_ms,lighting_p10,lighting_p90,output_ms,output_p10,output_p90,total_ms,total_p10,total_p90,max_relative_error,mean_relative_error,rms_relative_error,pixels_compared,flip_mean\n",
+    let names = PassSpreads::names(rows.iter().map(|r| &r.passes));
+    let mut out = format!(
+        "scene,fresnel,hdr,pipeline,masking,distribution,diffuse,frames{}{},max_relative_error,mean_relative_error,rms_relative_error,pixels_compared,flip_mean\n",
+        spread_columns(&names),
+        spread_columns(&["total"]),
     );
     for r in rows {
         // The error columns as PreviousRun::compare reads them back.
@@ -742,9 +808,9 @@ pub fn csv(rows: &[ReportRow]) -> String {
             r.set.name().replace('/', ","),
             r.frames
         );
-        for s in [r.gbuffer, r.lighting, r.output, r.total] {
-            let _ = write!(out, ",{:.3},{:.3},{:.3}", s.median, s.p10, s.p90);
-        }
+        let spreads: Vec<Spread> = names.iter().map(|n| r.passes.get(n)).collect();
+        out += &spread_values(&spreads);
+        out += &spread_values(&[r.total]);
         let _ = writeln!(out, ",{max},{mean},{rms},{},{flip}", r.compared);
     }
     out
@@ -798,13 +864,13 @@ fn floors_markdown(m: &Measurements) -> String {
             "| {} | {:.2} | {:.2} (×{:.2}) | {:.2} | {:.2} | {:.2} (×{:.1}, ×{:.2}) |",
             md_cell(&f.scene),
             f.geometry.median,
-            r.gbuffer.median,
-            r.gbuffer.median / f.geometry.median,
+            r.passes.get(PassTimings::GBUFFER).median,
+            r.passes.get(PassTimings::GBUFFER).median / f.geometry.median,
             f.fetch.median,
             f.plain_ggx.median,
-            r.lighting.median,
-            r.lighting.median / f.fetch.median,
-            r.lighting.median / f.plain_ggx.median
+            r.passes.get(PassTimings::LIGHTING).median,
+            r.passes.get(PassTimings::LIGHTING).median / f.fetch.median,
+            r.passes.get(PassTimings::LIGHTING).median / f.plain_ggx.median
         );
     }
     out + "\n"
@@ -812,17 +878,20 @@ fn floors_markdown(m: &Measurements) -> String {
 
 /// The scaling measurement's CSV: one row per configuration.
 pub fn scaling_csv(rows: &[ScalingRow]) -> String {
-    let mut out = String::from(
-        "width,height,localised_lights,culled,gbuffer_ms,gbuffer_p10,gbuffer_p90,lighting_ms,lighting_p10,lighting_p90,total_ms,total_p10,total_p90\n",
+    let names = PassSpreads::names(rows.iter().map(|r| &r.passes));
+    let mut out = format!(
+        "width,height,localised_lights,culled{}{}\n",
+        spread_columns(&names),
+        spread_columns(&["total"]),
     );
     for r in rows {
         let lights = r
             .localised_lights
             .map_or("scene".to_owned(), |n| n.to_string());
         let _ = write!(out, "{},{},{lights},{}", r.width, r.height, r.culled);
-        for s in [r.gbuffer, r.lighting, r.total] {
-            let _ = write!(out, ",{:.3},{:.3},{:.3}", s.median, s.p10, s.p90);
-        }
+        let spreads: Vec<Spread> = names.iter().map(|n| r.passes.get(n)).collect();
+        out += &spread_values(&spreads);
+        out += &spread_values(&[r.total]);
         out.push('\n');
     }
     out
@@ -844,8 +913,8 @@ fn scaling_markdown(m: &Measurements) -> String {
             "| {}×{} | {mp:.2} | {:.2} | {:.2} | {:.2} | {:.1} |",
             r.width,
             r.height,
-            r.gbuffer.median,
-            r.lighting.median,
+            r.passes.get(PassTimings::GBUFFER).median,
+            r.passes.get(PassTimings::LIGHTING).median,
             r.total.median,
             r.total.median / mp
         );
@@ -861,14 +930,17 @@ fn scaling_markdown(m: &Measurements) -> String {
             continue;
         };
         let ratio = |r: &ScalingRow, culled: bool| {
-            lighting_of(4, culled).map_or(f64::NAN, |four| r.lighting.median / four.lighting.median)
+            lighting_of(4, culled).map_or(f64::NAN, |four| {
+                r.passes.get(PassTimings::LIGHTING).median
+                    / four.passes.get(PassTimings::LIGHTING).median
+            })
         };
         let _ = writeln!(
             out,
             "| {n} | {:.2} (×{:.2}) | {:.2} (×{:.2}) | {:.2} | {:.2} |",
-            c.lighting.median,
+            c.passes.get(PassTimings::LIGHTING).median,
             ratio(c, true),
-            u.lighting.median,
+            u.passes.get(PassTimings::LIGHTING).median,
             ratio(u, false),
             c.total.median,
             u.total.median
@@ -898,8 +970,14 @@ fn scaling_plots(m: &Measurements, device: &str) -> Result<(Png, Png), Error> {
         XAxis::Linear,
         &[
             series("total", &by_size(|r| r.total.median)),
-            series("G-buffer", &by_size(|r| r.gbuffer.median)),
-            series("lighting", &by_size(|r| r.lighting.median)),
+            series(
+                "G-buffer",
+                &by_size(|r| r.passes.get(PassTimings::GBUFFER).median),
+            ),
+            series(
+                "lighting",
+                &by_size(|r| r.passes.get(PassTimings::LIGHTING).median),
+            ),
         ],
         900,
         560,
@@ -908,7 +986,7 @@ fn scaling_plots(m: &Measurements, device: &str) -> Result<(Png, Png), Error> {
         move |r: &ScalingRow| {
             r.localised_lights
                 .filter(|_| r.culled == culled)
-                .map(|n| (n as f64, r.lighting.median))
+                .map(|n| (n as f64, r.passes.get(PassTimings::LIGHTING).median))
         }
     };
     let lights = plot_scaling(
@@ -969,11 +1047,11 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
             "| {} | {} | {:.2} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {} | {} |",
             md_cell(&r.scene),
             r.set.name(),
-            r.gbuffer.median,
-            r.lighting.median,
-            r.lighting.p10,
-            r.lighting.p90,
-            r.output.median,
+            r.passes.get(PassTimings::GBUFFER).median,
+            r.passes.get(PassTimings::LIGHTING).median,
+            r.passes.get(PassTimings::LIGHTING).p10,
+            r.passes.get(PassTimings::LIGHTING).p90,
+            r.passes.get(PassTimings::OUTPUT).median,
             r.total.median,
             r.max_relative,
             r.mean_relative,

@@ -859,7 +859,7 @@ fn bench_reports_gpu_and_wall_clock_time_with_frames_in_flight() {
     ]);
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("3 in flight"), "{stdout}");
-    for row in ["G-buffer", "lighting", "tonemap", "total", "wall"] {
+    for row in ["gbuffer", "lighting", "output", "total", "wall"] {
         assert!(
             stdout.lines().any(|l| l.starts_with(row)),
             "no `{row}` row: {stdout}"

@@ -15,8 +15,8 @@ mod vulkan;
 mod window;
 
 use combustion::renderer::{
-    ColorTarget, DepthTarget, FrameInputs, FrameTarget, FresnelModel, HdrFormat, Readback,
-    RendererSettings,
+    ColorTarget, DepthTarget, FrameInputs, FrameTarget, FresnelModel, HdrFormat, PassTimings,
+    Readback, RendererSettings,
 };
 use combustion::scene::builtin_scene;
 use combustion::vk::ash::vk;
@@ -292,7 +292,20 @@ fn alternating_viewports_and_scenes_build_nothing_per_frame() {
     renderer.submit_offscreen(&spheres, 64, 48).unwrap();
     renderer.finish_offscreen().unwrap();
     assert_eq!(renderer.stats().pipelines_built, pipelines);
-    assert!(renderer.take_completed_timings().len() >= 8);
+    let timings = renderer.take_completed_timings();
+    assert!(timings.len() >= 8);
+    // Offscreen frames run no depth copy: it is not among their passes.
+    for t in &timings {
+        let names: Vec<&str> = t.passes.iter().map(|p| p.name).collect();
+        assert_eq!(
+            names,
+            [
+                PassTimings::GBUFFER,
+                PassTimings::LIGHTING,
+                PassTimings::OUTPUT
+            ]
+        );
+    }
     drop((spheres, hard));
     common::finish(headless);
 }
@@ -882,6 +895,45 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
             stats.targets_retired >= 2 * (round + 1),
             "targets of the scene not shown were retired: {stats:?}"
         );
+    }
+    finish_host(host, output, &log);
+}
+
+/// Issue 20 (item 2): GPU times by pass name, following the passes each frame ran: a
+/// host frame with a depth image runs the depth copy as a pass of its own, after the
+/// output pass; the frame's total is the sum of its passes (each runs from the end of
+/// the one before).
+#[test]
+fn pass_timings_are_named_after_the_passes_each_frame_ran() {
+    let scenes = [builtin_scene("spheres").unwrap()];
+    let (mut host, log, mut output) = host_with_output(&scenes, 2, 32, 24);
+    for _ in 0..4 {
+        headless::frame(&mut host, &mut output, 0).unwrap();
+    }
+    host.wait_frames().unwrap();
+    let renderer = host.renderer();
+    renderer.frames_completed().unwrap();
+    let timings = renderer.take_completed_timings();
+    assert_eq!(timings.len(), 4);
+    for t in &timings {
+        let names: Vec<&str> = t.passes.iter().map(|p| p.name).collect();
+        assert_eq!(
+            names,
+            [
+                PassTimings::GBUFFER,
+                PassTimings::LIGHTING,
+                PassTimings::OUTPUT,
+                PassTimings::DEPTH_COPY
+            ],
+            "{t:?}"
+        );
+        assert!(
+            t.passes.iter().all(|p| p.ms >= 0.0) && t.total_ms > 0.0,
+            "{t:?}"
+        );
+        let sum: f64 = t.passes.iter().map(|p| p.ms).sum();
+        assert!((t.total_ms - sum).abs() <= 1e-9 * t.total_ms, "{t:?}");
+        assert_eq!(t.ms(PassTimings::DEPTH_COPY), Some(t.passes[3].ms));
     }
     finish_host(host, output, &log);
 }

@@ -8,11 +8,6 @@ use combustion::{check_validation, output, Error, Headless, HeadlessDesc, SceneS
 use super::*;
 use crate::write_stdout;
 
-pub(crate) fn percentile(sorted: &[f64], p: f64) -> f64 {
-    let index = ((sorted.len() - 1) as f64 * p).round() as usize;
-    sorted[index]
-}
-
 /// `bench --report DIR`: every variant set on the built-in scenes (or the scene named).
 pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), Error> {
     use combustion::report::{ReportDesc, VariantSet};
@@ -138,16 +133,9 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     let validation = headless.validation_log();
     drop(headless);
     check_validation(&validation)?;
-    let mut samples: [Vec<f64>; 4] = Default::default();
-    for t in &timings {
-        for (list, value) in
-            samples
-                .iter_mut()
-                .zip([t.gbuffer_ms, t.lighting_ms, t.tonemap_ms, t.total_ms])
-        {
-            list.push(value);
-        }
-    }
+    // Each pass the frames ran, by name in the order they ran, then the frame's total.
+    let passes = combustion::report::PassSpreads::of(&timings);
+    let total = combustion::report::Spread::of(timings.iter().map(|t| t.total_ms).collect());
     outln!(
         "scene {:?} at {}x{} on {device_name}, n={} frames ({} timed), {frames_in_flight} in flight (GPU timestamps, ms):",
         o.scene.source(),
@@ -176,39 +164,31 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
         }
     );
     outln!("{:<10} {:>9} {:>9} {:>9}", "pass", "median", "p10", "p90");
-    for (name, list) in ["G-buffer", "lighting", "tonemap", "total"]
-        .iter()
-        .zip(&mut samples)
-    {
-        if list.is_empty() {
-            continue;
-        }
-        list.sort_by(f64::total_cmp);
+    let wall = combustion::report::Spread::of(wall_ms);
+    let mut rows: Vec<(&str, combustion::report::Spread)> = Vec::new();
+    if !timings.is_empty() {
+        rows.extend(passes.0.iter().copied());
+        rows.push(("total", total));
+    }
+    rows.push(("wall", wall));
+    for (name, spread) in rows {
         outln!(
             "{:<10} {:>9.2} {:>9.2} {:>9.2}",
             name,
-            percentile(list, 0.5),
-            percentile(list, 0.1),
-            percentile(list, 0.9)
+            spread.median,
+            spread.p10,
+            spread.p90
         );
     }
-    wall_ms.sort_by(f64::total_cmp);
-    outln!(
-        "{:<10} {:>9.2} {:>9.2} {:>9.2}",
-        "wall",
-        percentile(&wall_ms, 0.5),
-        percentile(&wall_ms, 0.1),
-        percentile(&wall_ms, 0.9)
-    );
     outln!(
         "wall clock: {:.2} ms per frame ({:.1} frames/s) over {} frames; GPU total median {:.2} ms",
         elapsed * 1e3 / f64::from(o.frames),
         f64::from(o.frames) / elapsed,
         o.frames,
-        if samples[3].is_empty() {
+        if timings.is_empty() {
             f64::NAN
         } else {
-            percentile(&samples[3], 0.5)
+            total.median
         }
     );
     Ok(())

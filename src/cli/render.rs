@@ -92,10 +92,16 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             frame.height
         );
     }
-    let t = frame.timings;
+    let t = &frame.timings;
+    let passes: Vec<String> = t
+        .passes
+        .iter()
+        .map(|p| format!("{} {:.2} ms", p.name, p.ms))
+        .collect();
     outln!(
-        "GPU time: G-buffer {:.2} ms, lighting {:.2} ms, tonemap {:.2} ms, total {:.2} ms (one frame; `combustion bench` for medians)",
-        t.gbuffer_ms, t.lighting_ms, t.tonemap_ms, t.total_ms
+        "GPU time: {}, total {:.2} ms (one frame; `combustion bench` for medians)",
+        passes.join(", "),
+        t.total_ms
     );
     Ok(())
 }

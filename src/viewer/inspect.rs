@@ -165,11 +165,13 @@ impl Stats<'_> {
             Some(ms) => format!("{:.1} fps · frame {ms:.1} ms", 1e3 / ms),
             None => "first frame".to_owned(),
         };
-        if let Some(t) = self.timings {
-            timing += &format!(
-                " · GPU {:.1} ms: G-buffer {:.1}, lighting {:.1}, output {:.1}",
-                t.total_ms, t.gbuffer_ms, t.lighting_ms, t.tonemap_ms
-            );
+        if let Some(t) = &self.timings {
+            let passes: Vec<String> = t
+                .passes
+                .iter()
+                .map(|p| format!("{} {:.1}", p.name, p.ms))
+                .collect();
+            timing += &format!(" · GPU {:.1} ms: {}", t.total_ms, passes.join(", "));
         }
         lines.push(timing);
         let fresnel = self.fresnel.description();

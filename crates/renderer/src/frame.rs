@@ -11,11 +11,13 @@ use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
 use crate::overlay::OverlayQuad;
 use crate::targets::{FrameTargets, TargetKey};
-use crate::{FrameInputs, FrameTarget, GpuScene, PassTimings, RenderError, Renderer, SetLayouts};
+use crate::{
+    FrameInputs, FrameTarget, GpuScene, PassTime, PassTimings, RenderError, Renderer, SetLayouts,
+};
 
-/// Timestamp slots: start, after G-buffer, after lighting, after output, and the end of
-/// the frame's last command (its availability says the slot's frame has completed).
-const TIMESTAMPS: u32 = 5;
+/// Timestamps a frame may write: its start, the end of each pass, and the end of its
+/// last command (whose availability says the slot's frame has completed).
+const MAX_TIMESTAMPS: u32 = 16;
 
 /// Targets unused for this many frames are retired (a window resized, a viewport closed).
 const TARGETS_KEPT_FOR_FRAMES: u64 = 16;
@@ -42,8 +44,9 @@ pub(crate) struct FrameSlot {
     /// How many quads this slot's frame draws.
     overlay_quad_count: u32,
     pub(crate) timestamps: Option<TimestampQueries>,
-    /// Timestamps were written by this slot's last frame.
-    pub(crate) stamped: bool,
+    /// The passes whose end this slot's last frame stamped, in order (empty: no frame
+    /// stamped since its timings were read, or no timestamps).
+    pub(crate) stamped: Vec<&'static str>,
     /// Objects replaced while this slot's frame was the latest recorded: dropped when
     /// the slot is reused, i.e. once that frame (and so every earlier one) completed.
     retired: Vec<crate::retire::Retired>,
@@ -62,7 +65,7 @@ impl FrameSlot {
         .flat_map(|set| set.pool_sizes(1))
         .collect();
         let pool = DescriptorPool::new(device, 5, &sizes)?;
-        let timestamps = match TimestampQueries::new(device, TIMESTAMPS) {
+        let timestamps = match TimestampQueries::new(device, MAX_TIMESTAMPS) {
             Ok(t) => Some(t),
             Err(VkError::Unsupported(why)) => {
                 log::warn!("pass timings unavailable: {why}");
@@ -93,7 +96,7 @@ impl FrameSlot {
             )?,
             overlay_quad_count: 0,
             timestamps,
-            stamped: false,
+            stamped: Vec::new(),
             retired: Vec::new(),
         })
     }
@@ -670,15 +673,22 @@ impl Renderer {
         let view_projection = inputs
             .camera
             .view_projection(extent.width as f32 / extent.height as f32);
-        let stamp = |index: u32| {
+        // The frame's start, then the end of each pass by name ([`PassTimings`]).
+        let mut stamps = Vec::new();
+        let mut stamp = |pass: &'static str| {
             if let Some(t) = &s.timestamps {
-                t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, index);
+                t.record(
+                    cmd,
+                    vk::PipelineStageFlags2::ALL_COMMANDS,
+                    stamps.len() as u32 + 1,
+                );
+                stamps.push(pass);
             }
         };
         if let Some(t) = &s.timestamps {
             t.record_reset(cmd);
+            t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, 0);
         }
-        stamp(0);
 
         states.transition(raw, cmd, &crate::GBufferPass::uses(&targets.gbuffer, scene));
         passes.gbuffer.record(
@@ -689,7 +699,7 @@ impl Renderer {
             s.gbuffer_set,
             view_projection,
         );
-        stamp(1);
+        stamp(PassTimings::GBUFFER);
 
         let mut lighting_push = LightingPush::new(
             view_projection,
@@ -734,7 +744,7 @@ impl Renderer {
             bytemuck::bytes_of(&lighting_push),
             |_| {},
         );
-        stamp(2);
+        stamp(PassTimings::LIGHTING);
 
         let color = TrackedImage {
             raw: target.color.image,
@@ -768,7 +778,7 @@ impl Renderer {
                 }
             },
         );
-        stamp(3);
+        stamp(PassTimings::OUTPUT);
         if let Some(depth) = &target.depth {
             let host_depth = TrackedImage {
                 raw: depth.image,
@@ -801,14 +811,20 @@ impl Renderer {
                     &[region],
                 )
             };
+            stamp(PassTimings::DEPTH_COPY);
             states.release(raw, cmd, host_depth, depth.after);
             states.forget(host_depth.raw);
         }
         states.release(raw, cmd, color, target.color.after);
         // The host's images are the host's again: their states come with the next frame.
         states.forget(color.raw);
-        stamp(TIMESTAMPS - 1);
-        s.stamped = s.timestamps.is_some();
+        // The end of the frame's last command: the slot's frame has completed when it is
+        // available.
+        if let Some(t) = &s.timestamps {
+            let end = stamps.len() as u32 + 1;
+            t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, end);
+        }
+        s.stamped = stamps;
     }
 }
 
@@ -823,13 +839,19 @@ pub(crate) enum SlotFrame {
 }
 
 impl PassTimings {
-    /// From the timestamps of a frame, in ms since the first.
-    pub(crate) fn from_stamps(ms: &[f64]) -> Self {
+    /// From a frame's timestamps in ms since its start (the start, the end of each pass
+    /// in `passes`, then the end of its last command).
+    pub(crate) fn from_stamps(passes: &[&'static str], ms: &[f64]) -> Self {
         Self {
-            gbuffer_ms: ms[1] - ms[0],
-            lighting_ms: ms[2] - ms[1],
-            tonemap_ms: ms[3] - ms[2],
-            total_ms: ms[3] - ms[0],
+            passes: passes
+                .iter()
+                .zip(ms.windows(2))
+                .map(|(&name, pair)| PassTime {
+                    name,
+                    ms: pair[1] - pair[0],
+                })
+                .collect(),
+            total_ms: ms.get(passes.len()).map_or(0.0, |end| end - ms[0]),
         }
     }
 }

@@ -539,18 +539,44 @@ pub struct Readback {
     pub gbuffer: bool,
 }
 
-/// Per-pass GPU times of one frame, from timestamp queries, in milliseconds.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// The GPU times of one frame's passes, by name, from timestamp queries, in
+/// milliseconds: whatever passes the frame ran, in the order it ran them.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct PassTimings {
-    /// The G-buffer pass.
-    pub gbuffer_ms: f64,
-    /// The lighting pass, with the light culling that precedes it.
-    pub lighting_ms: f64,
-    /// The output pass and its overlay.
-    pub tonemap_ms: f64,
-    /// From the frame's first command to the end of the output pass (the depth copy into a
-    /// host's depth image is not included).
+    /// Each pass the frame ran, in order.
+    pub passes: Vec<PassTime>,
+    /// From the frame's first command to the end of its last pass.
     pub total_ms: f64,
+}
+
+/// One pass's GPU time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PassTime {
+    /// The pass's name ([`PassTimings::GBUFFER`], …).
+    pub name: &'static str,
+    /// Milliseconds from the end of the pass before (or the frame's start) to its end.
+    pub ms: f64,
+}
+
+impl PassTimings {
+    /// The G-buffer pass.
+    pub const GBUFFER: &'static str = "gbuffer";
+    /// The lighting pass, with the light culling that precedes it.
+    pub const LIGHTING: &'static str = "lighting";
+    /// The output pass (tone curve, encoding) and its overlay.
+    pub const OUTPUT: &'static str = "output";
+    /// The copy of the scene's depth into a host's depth image (frames given one).
+    pub const DEPTH_COPY: &'static str = "depth copy";
+
+    /// The time of the pass named `name`, if the frame ran it.
+    pub fn ms(&self, name: &str) -> Option<f64> {
+        self.passes.iter().find(|p| p.name == name).map(|p| p.ms)
+    }
+
+    /// The time of the pass named `name`, 0 if the frame did not run it.
+    pub fn ms_or_zero(&self, name: &str) -> f64 {
+        self.ms(name).unwrap_or(0.0)
+    }
 }
 
 /// A rendered frame.
@@ -1419,7 +1445,7 @@ impl Renderer {
     /// The GPU times of the most recent frame known to have completed (read when its
     /// frame slot is reused; at once for [`Renderer::render`]).
     pub fn last_completed_timings(&self) -> Option<PassTimings> {
-        self.last_timings
+        self.last_timings.clone()
     }
 
     /// What this renderer has built so far.
@@ -1448,7 +1474,7 @@ impl Renderer {
             let slot = (first + i) % count;
             if self.collect_timings(slot)? == frame::SlotFrame::Pending {
                 // The host's word: it completed (or never ran). Its timings are lost.
-                self.slots[slot].stamped = false;
+                self.slots[slot].stamped.clear();
             }
         }
         Ok(())
@@ -1458,15 +1484,16 @@ impl Renderer {
     /// (never waits); [`frame::SlotFrame::Pending`] while any is not.
     pub(crate) fn collect_timings(&mut self, slot: usize) -> Result<frame::SlotFrame, RenderError> {
         let s = &mut self.slots[slot];
-        let Some(t) = s.timestamps.as_ref().filter(|_| s.stamped) else {
+        let Some(t) = s.timestamps.as_ref().filter(|_| !s.stamped.is_empty()) else {
             return Ok(frame::SlotFrame::Completed);
         };
-        let Some(ms) = t.read_ms_if_available()? else {
+        // The start, each pass's end, and the frame's end.
+        let written = s.stamped.len() as u32 + 2;
+        let Some(ms) = t.read_first_ms_if_available(written)? else {
             return Ok(frame::SlotFrame::Pending);
         };
-        s.stamped = false;
-        let timings = PassTimings::from_stamps(&ms);
-        self.last_timings = Some(timings);
+        let timings = PassTimings::from_stamps(&std::mem::take(&mut s.stamped), &ms);
+        self.last_timings = Some(timings.clone());
         if self.completed_timings.len() == COMPLETED_TIMINGS_KEPT {
             self.completed_timings.pop_front();
         }

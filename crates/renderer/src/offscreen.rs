@@ -244,7 +244,7 @@ impl Renderer {
         }
         if let Err(e) = offscreen.ring.submit(frame) {
             // The frame will never run: its slot is not waiting for it.
-            self.slots[frame.slot].stamped = false;
+            self.slots[frame.slot].stamped.clear();
             return Err(e.into());
         }
         Ok(frame)
@@ -319,7 +319,7 @@ impl Renderer {
         let mut frame = Frame {
             width,
             height,
-            timings: self.last_timings.unwrap_or_default(),
+            timings: self.last_timings.clone().unwrap_or_default(),
             ..Frame::default()
         };
         let Some(buffers) = self.offscreen.as_ref().and_then(|o| o.readback.as_ref()) else {

@@ -87,7 +87,17 @@ impl TimestampQueries {
     /// # Errors
     /// [`VkError`] when reading the results fails (e.g. [`VkError::DeviceLost`]).
     pub fn read_ms_if_available(&self) -> Result<Option<Vec<f64>>, VkError> {
-        let mut ticks = vec![0u64; self.count as usize];
+        self.read_first_ms_if_available(self.count)
+    }
+
+    /// As [`TimestampQueries::read_ms_if_available`], for the first `count` timestamps
+    /// alone (those a frame wrote; the rest stay unavailable after a reset). `count` is
+    /// clamped to the pool's.
+    ///
+    /// # Errors
+    /// [`VkError`] when reading the results fails (e.g. [`VkError::DeviceLost`]).
+    pub fn read_first_ms_if_available(&self, count: u32) -> Result<Option<Vec<f64>>, VkError> {
+        let mut ticks = vec![0u64; count.min(self.count) as usize];
         let result = unsafe {
             self.device.raw().get_query_pool_results(
                 self.pool,
