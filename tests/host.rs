@@ -296,9 +296,8 @@ fn alternating_viewports_and_scenes_build_nothing_per_frame() {
     assert!(timings.len() >= 8);
     // Offscreen frames run no depth copy: it is not among their passes.
     for t in &timings {
-        let names: Vec<&str> = t.passes.iter().map(|p| p.name).collect();
         assert_eq!(
-            names,
+            t.names(),
             [
                 PassTimings::GBUFFER,
                 PassTimings::LIGHTING,
@@ -916,9 +915,8 @@ fn pass_timings_are_named_after_the_passes_each_frame_ran() {
     let timings = renderer.take_completed_timings();
     assert_eq!(timings.len(), 4);
     for t in &timings {
-        let names: Vec<&str> = t.passes.iter().map(|p| p.name).collect();
         assert_eq!(
-            names,
+            t.names(),
             [
                 PassTimings::GBUFFER,
                 PassTimings::LIGHTING,

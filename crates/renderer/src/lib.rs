@@ -573,6 +573,11 @@ impl PassTimings {
         self.passes.iter().find(|p| p.name == name).map(|p| p.ms)
     }
 
+    /// The names of the passes the frame ran, in order.
+    pub fn names(&self) -> Vec<&'static str> {
+        self.passes.iter().map(|p| p.name).collect()
+    }
+
     /// The time of the pass named `name`, 0 if the frame did not run it.
     pub fn ms_or_zero(&self, name: &str) -> f64 {
         self.ms(name).unwrap_or(0.0)
