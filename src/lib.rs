@@ -17,6 +17,7 @@
 #![warn(missing_docs)]
 
 pub mod eval;
+pub mod input;
 pub mod output;
 pub mod report;
 pub mod viewer;

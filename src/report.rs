@@ -1153,7 +1153,12 @@ impl PreviousRun {
             path: path.clone(),
             message,
         };
-        let text = std::fs::read_to_string(&path).map_err(|e| problem(e.to_string()))?;
+        let text = crate::input::read_text(
+            &path,
+            crate::input::MAX_REPORT_BYTES,
+            "combustion::input::MAX_REPORT_BYTES",
+        )
+        .map_err(problem)?;
         let mut lines = text.lines();
         let header = csv_split(lines.next().ok_or_else(|| problem("empty".into()))?);
         let column = |name: &str| {

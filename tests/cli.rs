@@ -1261,3 +1261,98 @@ fn exr_output_reads_back_bit_for_bit() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Issue 28, defect 1: the command line's readers keep the importer's rule for input
+/// files — a regular file within a limit, checked before reading — so a FIFO does not
+/// block and a link to /dev/zero is not read without end: `plot --csv`, `bench
+/// --against` (its report.csv) and `view --camera-path` each refuse both at once with
+/// one error line. (Before: each blocked, or grew by gigabytes; the runs are bounded
+/// by `timeout` so a regression fails instead of hanging.)
+#[test]
+fn every_reader_refuses_fifos_and_devices_before_reading() {
+    let dir = scratch("special-inputs");
+    let fifo = dir.join("pipe.csv");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let zero = dir.join("zero.csv");
+    std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+    // `bench --against DIR` reads DIR/report.csv.
+    let against_fifo = dir.join("against-fifo");
+    std::fs::create_dir_all(&against_fifo).unwrap();
+    assert!(Command::new("mkfifo")
+        .arg(against_fifo.join("report.csv"))
+        .status()
+        .unwrap()
+        .success());
+    let against_zero = dir.join("against-zero");
+    std::fs::create_dir_all(&against_zero).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", against_zero.join("report.csv")).unwrap();
+    let report = dir.join("report");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
+    let cases: Vec<Vec<String>> = vec![
+        vec![
+            "plot".into(),
+            "reflectance".into(),
+            "--csv".into(),
+            s(&fifo),
+        ],
+        vec!["plot".into(), "spectrum".into(), "--csv".into(), s(&zero)],
+        vec![
+            "bench".into(),
+            "--report".into(),
+            s(&report),
+            "--against".into(),
+            s(&against_fifo),
+        ],
+        vec![
+            "bench".into(),
+            "--report".into(),
+            s(&report),
+            "--against".into(),
+            s(&against_zero),
+        ],
+        vec![
+            "view".into(),
+            "builtin:spheres".into(),
+            "--camera-path".into(),
+            s(&fifo),
+        ],
+        vec![
+            "view".into(),
+            "builtin:spheres".into(),
+            "--camera-path".into(),
+            s(&zero),
+        ],
+    ];
+    for args in cases {
+        let output = Command::new("timeout")
+            .arg("20")
+            .arg(env!("CARGO_BIN_EXE_combustion"))
+            .args(&args)
+            .env("COMBUSTION_DEVICE", "llvmpipe")
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_ne!(
+            output.status.code(),
+            Some(124),
+            "{args:?} blocked or read without end"
+        );
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+        let errors: Vec<_> = stderr
+            .lines()
+            .filter(|l| l.starts_with("error: "))
+            .collect();
+        assert_eq!(errors.len(), 1, "{args:?}: {stderr}");
+        assert!(
+            errors[0].contains("not a regular file"),
+            "{args:?}: {stderr}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

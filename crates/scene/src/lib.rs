@@ -35,6 +35,10 @@ pub use environment::{
     MAX_ENVIRONMENT_FILE_BYTES, MAX_ENVIRONMENT_TEXELS, STUDIO_BOXES, STUDIO_GROUND, STUDIO_SKY,
 };
 pub use error::{CameraProblem, LightProblem, SceneError};
+/// The rule for every file Combustion reads (glTF files and their buffers and images,
+/// environment images, and the command line's tables, reports and camera paths): a
+/// regular file within a size limit, both checked before it is read.
+pub use gltf::read_regular_file;
 pub use material::{
     conductor_from_reflectivity, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Material,
     Sampler, Texture, TextureRef, TextureSlot, UvTransform, WrapMode,

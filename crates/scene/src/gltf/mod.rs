@@ -19,8 +19,9 @@ pub(crate) mod import;
 mod material;
 mod optics_ext;
 mod source;
-pub(crate) use source::read_regular_file;
 mod writer;
+
+pub use source::read_regular_file;
 
 use std::fmt;
 use std::path::{Path, PathBuf};

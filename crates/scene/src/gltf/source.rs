@@ -375,11 +375,7 @@ pub(crate) fn encode_base64(bytes: &[u8]) -> String {
 /// (so `/dev/zero` is not read without end and a FIFO does not block), and the read
 /// itself stops past `limit` in case the file grows meanwhile. `limit_name` is the
 /// option or constant that sets `limit`, for the message when the file exceeds it.
-pub(crate) fn read_regular_file(
-    path: &Path,
-    limit: u64,
-    limit_name: &str,
-) -> std::io::Result<Vec<u8>> {
+pub fn read_regular_file(path: &Path, limit: u64, limit_name: &str) -> std::io::Result<Vec<u8>> {
     use std::io::Read as _;
     let meta = std::fs::metadata(path)?;
     if !meta.is_file() {

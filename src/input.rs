@@ -1,0 +1,75 @@
+//! Reading the command line's input files — spectral tables, an earlier report, camera
+//! paths — by the rule the glTF importer keeps for every file it reads
+//! ([`combustion_scene::read_regular_file`]): a regular file (after symlinks) within a
+//! size limit, both checked before any byte is read, so a FIFO never blocks and
+//! `/dev/zero` is never read without end; then UTF-8 text.
+
+use std::path::Path;
+
+/// The largest spectral table (`--csv`) read: 16 MiB (a table of every nanometre from
+/// 450 to 740 nm takes a few KB).
+pub const MAX_TABLE_BYTES: u64 = 16 << 20;
+/// The largest earlier `report.csv` read (`bench --against`): 64 MiB.
+pub const MAX_REPORT_BYTES: u64 = 64 << 20;
+/// The largest camera path read (`view --camera-path`): 16 MiB.
+pub const MAX_CAMERA_PATH_BYTES: u64 = 16 << 20;
+
+/// Reads `path` as UTF-8 text under the rule above; `limit_name` names the constant that
+/// sets `limit`, for the message. The error is the message alone (the caller names the
+/// file and what it was for).
+pub fn read_text(path: &Path, limit: u64, limit_name: &str) -> Result<String, String> {
+    let bytes =
+        combustion_scene::read_regular_file(path, limit, limit_name).map_err(|e| e.to_string())?;
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("combustion-input-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// A FIFO is refused without being opened (opening it would block until a writer
+    /// came), a link to /dev/zero without being read, a file over the limit and bytes
+    /// that are not UTF-8 with a message; a small text file is read.
+    #[test]
+    fn only_regular_text_files_within_the_limit_are_read() {
+        let dir = scratch("rule");
+        let fifo = dir.join("pipe.csv");
+        assert!(std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success());
+        let zero = dir.join("zero.csv");
+        std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+        let big = dir.join("big.csv");
+        std::fs::write(&big, vec![b'1'; 101]).unwrap();
+        let binary = dir.join("binary.csv");
+        std::fs::write(&binary, [b'a', 0xff, b'b']).unwrap();
+        let good = dir.join("good.csv");
+        std::fs::write(&good, "500,1,2\n").unwrap();
+        for (path, expected) in [
+            (&fifo, "not a regular file"),
+            (&zero, "not a regular file"),
+            (&big, "101 bytes is more than the limit of 100 (LIMIT)"),
+            (&binary, "not UTF-8 text (invalid byte at offset 1)"),
+        ] {
+            let error = read_text(path, 100, "LIMIT").unwrap_err();
+            assert!(error.contains(expected), "{}: {error}", path.display());
+        }
+        assert_eq!(read_text(&good, 100, "LIMIT").unwrap(), "500,1,2\n");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
