@@ -31,6 +31,7 @@ use combustion_vk::{
 };
 
 use crate::bindings;
+use crate::buffers::filled_storage_buffer;
 use crate::gpu_types::{
     conductor_from_base_color_table, material_table, EnvironmentBakePush, EnvironmentSource,
     GpuMaterial,
@@ -140,8 +141,8 @@ impl GpuEnvironment {
             cube("environment placeholder")?,
             cube("environment placeholder")?,
         );
-        crate::targets::make_sampled_placeholders(device, &[&specular, &irradiance])?;
-        let table = |name| crate::frame::filled_storage_buffer(device, name, &[0; 32]);
+        crate::placeholders::make_sampled_placeholders(device, &[&specular, &irradiance])?;
+        let table = |name| filled_storage_buffer(device, name, &[0; 32]);
         Ok(Self {
             specular,
             irradiance,
@@ -199,14 +200,14 @@ impl FrameEnvironment {
         self.gpu.bake_ms
     }
 
-    /// Whether it was baked for `scene`'s material table by the renderer whose retire
-    /// queue is `retire`.
+    /// Whether it was baked for a scene's material table (`bake_materials`, as the bake
+    /// reads it) by the renderer whose retire queue is `retire`.
     pub(crate) fn lights(
         &self,
-        scene: &crate::GpuScene,
+        bake_materials: &[u8],
         retire: &Arc<crate::retire::RetireQueue>,
     ) -> bool {
-        Arc::ptr_eq(&self.retire, retire) && self.materials == scene.bake_materials
+        Arc::ptr_eq(&self.retire, retire) && self.materials == bake_materials
     }
 }
 
@@ -439,12 +440,12 @@ impl EnvironmentBaker {
             &ImageDesc::cube("environment irradiance", FORMAT, IRRADIANCE_SIZE, usage),
         )?;
         let gpu_materials = material_table(scene, &[]);
-        let materials = crate::frame::filled_storage_buffer(
+        let materials = filled_storage_buffer(
             device,
             "environment bake material table",
             bytemuck::cast_slice(&gpu_materials),
         )?;
-        let conductor_table = crate::frame::filled_storage_buffer(
+        let conductor_table = filled_storage_buffer(
             device,
             "environment bake conductor table",
             bytemuck::cast_slice(conductor_from_base_color_table()),
@@ -466,7 +467,7 @@ impl EnvironmentBaker {
             storage,
             MemoryLocation::GpuOnly,
         )?;
-        let code_table_of_material = crate::frame::filled_storage_buffer(
+        let code_table_of_material = filled_storage_buffer(
             device,
             "environment per-code table of each material",
             bytemuck::cast_slice(&of_material),
@@ -555,7 +556,7 @@ impl EnvironmentBaker {
                 params,
                 values,
             };
-            crate::bind_pass(
+            crate::commands::bind_pass(
                 raw,
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,

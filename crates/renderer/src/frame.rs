@@ -6,6 +6,7 @@ use std::sync::Arc;
 use combustion_vk::{vk, Buffer, DescriptorPool, Device, ImageState, TimestampQueries, VkError};
 
 use crate::bindings;
+use crate::buffers::{storage_buffer, write_growing, CPU_TO_GPU, GPU_ONLY};
 use crate::environment::GpuEnvironment;
 use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
@@ -105,58 +106,6 @@ impl FrameSlot {
         self.retired.push(resource);
     }
 }
-
-/// A storage buffer of `bytes` bytes (at least 4) in `location`.
-pub(crate) fn storage_buffer(
-    device: &Arc<Device>,
-    name: &str,
-    bytes: u64,
-    location: combustion_vk::gpu_allocator::MemoryLocation,
-) -> Result<Buffer, VkError> {
-    Buffer::new(
-        device,
-        name,
-        bytes.max(4),
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        location,
-    )
-}
-
-/// A host-visible storage buffer holding `bytes`.
-pub(crate) fn filled_storage_buffer(
-    device: &Arc<Device>,
-    name: &str,
-    bytes: &[u8],
-) -> Result<Buffer, VkError> {
-    let mut buffer = storage_buffer(device, name, bytes.len() as u64, CPU_TO_GPU)?;
-    buffer.write(0, bytes)?;
-    Ok(buffer)
-}
-
-/// Writes `bytes` at the start of a per-slot host-visible `buffer`, replacing it by one
-/// of the next power-of-two size when they do not fit. The caller guarantees that the
-/// slot's previous frame, the old buffer's last reader, has completed.
-fn write_growing(
-    device: &Arc<Device>,
-    buffer: &mut Buffer,
-    name: &str,
-    bytes: &[u8],
-) -> Result<(), VkError> {
-    if bytes.len() as u64 > buffer.size() {
-        *buffer = storage_buffer(
-            device,
-            name,
-            (bytes.len() as u64).next_power_of_two(),
-            CPU_TO_GPU,
-        )?;
-    }
-    buffer.write(0, bytes)
-}
-
-const CPU_TO_GPU: combustion_vk::gpu_allocator::MemoryLocation =
-    combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu;
-const GPU_ONLY: combustion_vk::gpu_allocator::MemoryLocation =
-    combustion_vk::gpu_allocator::MemoryLocation::GpuOnly;
 
 /// Names of the per-slot buffers (for the allocator's reports).
 const LIGHTS: &str = "frame lights";
@@ -380,7 +329,7 @@ impl Renderer {
         }
         let variant = match inputs.environment {
             None => self.variant_of(scene.variant),
-            Some(environment) if environment.lights(scene, &self.retire_queue) => {
+            Some(environment) if environment.lights(&scene.bake_materials, &self.retire_queue) => {
                 self.variant_of(scene.lit_variant)
             }
             Some(_) => return Err(RenderError::EnvironmentOfAnotherScene),

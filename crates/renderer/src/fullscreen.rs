@@ -136,9 +136,9 @@ impl FullscreenPass {
         // SAFETY: recording into a command buffer in the recording state.
         unsafe {
             raw.cmd_begin_rendering(cmd, &rendering);
-            crate::set_viewport_and_scissor(raw, cmd, extent);
+            crate::commands::set_viewport_and_scissor(raw, cmd, extent);
             raw.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-            crate::bind_pass(
+            crate::commands::bind_pass(
                 raw,
                 cmd,
                 vk::PipelineBindPoint::GRAPHICS,

@@ -303,7 +303,7 @@ pub fn conductor_from_base_color_table() -> &'static [[f32; 2]; 256] {
     TABLE.get_or_init(|| {
         let mut table = [[0.0; 2]; 256];
         for (code, entry) in table.iter_mut().enumerate() {
-            let r = crate::gbuffer::srgb_to_linear(code as f64 / 255.0) as f32;
+            let r = crate::color::srgb_to_linear(code as f64 / 255.0) as f32;
             let ior = combustion_scene::conductor_from_reflectivity([r; 3]);
             *entry = [ior.eta[0], ior.k[0]];
         }

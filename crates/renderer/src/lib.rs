@@ -33,10 +33,14 @@ pub mod light_cull;
 pub mod overlay;
 pub mod reference;
 
+mod buffers;
+mod color;
+mod commands;
 mod frame;
 mod fullscreen;
 mod host;
 mod offscreen;
+mod placeholders;
 mod retire;
 mod scene_edit;
 mod scene_upload;
@@ -51,6 +55,7 @@ use std::sync::Arc;
 use combustion_scene::{DiffuseModel, Scene, SceneError};
 use combustion_vk::{vk, DescriptorSetLayout, Device, PipelineCache, ShaderCompiler, VkError};
 
+pub use color::{f16_to_f32, linear_to_srgb, tonemap_exponential};
 pub use environment::FrameEnvironment;
 use fullscreen::FullscreenPass;
 use gbuffer::{GBufferPass, GBufferReadback};
@@ -675,73 +680,6 @@ impl Default for RendererSettings {
     }
 }
 
-/// CPU mirror of `tonemap_exponential` (tonemap.glsl): the display value before sRGB encoding.
-pub fn tonemap_exponential(x: f64) -> f64 {
-    1.0 - (-x.max(0.0)).exp()
-}
-
-/// The sRGB encoding (IEC 61966-2-1) the tonemap pass applies (`srgb_encode`).
-pub fn linear_to_srgb(linear: f64) -> f64 {
-    if linear <= 0.0031308 {
-        linear * 12.92
-    } else {
-        1.055 * linear.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// Binds `pipeline` at `bind_point` with its one descriptor set (set 0) and, if any,
-/// its push constants for `stages`.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn bind_pass(
-    raw: &combustion_vk::ash::Device,
-    cmd: vk::CommandBuffer,
-    bind_point: vk::PipelineBindPoint,
-    pipeline: &combustion_vk::Pipeline,
-    layout: &combustion_vk::PipelineLayout,
-    set: vk::DescriptorSet,
-    stages: vk::ShaderStageFlags,
-    push: &[u8],
-) {
-    // SAFETY: recording state is the caller's responsibility; the set matches the layout.
-    unsafe {
-        raw.cmd_bind_pipeline(cmd, bind_point, pipeline.raw());
-        raw.cmd_bind_descriptor_sets(cmd, bind_point, layout.raw(), 0, &[set], &[]);
-        if !push.is_empty() {
-            raw.cmd_push_constants(cmd, layout.raw(), stages, 0, push);
-        }
-    }
-}
-
-pub(crate) fn set_viewport_and_scissor(
-    raw: &combustion_vk::ash::Device,
-    cmd: vk::CommandBuffer,
-    extent: vk::Extent2D,
-) {
-    // SAFETY: recording state is the caller's responsibility.
-    unsafe {
-        raw.cmd_set_viewport(
-            cmd,
-            0,
-            &[vk::Viewport {
-                x: 0.0,
-                y: 0.0,
-                width: extent.width as f32,
-                height: extent.height as f32,
-                min_depth: 0.0,
-                max_depth: 1.0,
-            }],
-        );
-        raw.cmd_set_scissor(
-            cmd,
-            0,
-            &[vk::Rect2D {
-                offset: vk::Offset2D::default(),
-                extent,
-            }],
-        );
-    }
-}
-
 /// The G-buffer and lighting pipelines of one [`ShaderVariant`]. Variants that differ
 /// only in what the lighting pass reads share one G-buffer pipeline.
 struct VariantPasses {
@@ -915,16 +853,17 @@ impl Renderer {
         let compiler = ShaderCompiler::new(shader_sources::sources())?;
         let layouts = SetLayouts::new(&device)?;
         let overlay_font = overlay::OverlayFont::new()?;
-        let overlay_atlas = frame::filled_storage_buffer(
+        let overlay_atlas = buffers::filled_storage_buffer(
             &device,
             "overlay font atlas",
             bytemuck::cast_slice(&overlay::atlas_words(&overlay_font)),
         )?;
         let overlay_image = (overlay_image_buffer(&device, &[[0; 4]])?, None);
         let no_environment = environment::GpuEnvironment::placeholder(&device)?;
-        let absent_target = targets::absent_target_placeholder(&device, settings.hdr_format.vk())?;
+        let absent_target =
+            placeholders::absent_target_placeholder(&device, settings.hdr_format.vk())?;
         let energy_table =
-            frame::filled_storage_buffer(&device, "energy table placeholder", &[0; 16])?;
+            buffers::filled_storage_buffer(&device, "energy table placeholder", &[0; 16])?;
         let pipeline_cache = PipelineCache::new(&device, cache_data)?;
         let light_cull = light_cull::LightCullPass::new(
             &device,
@@ -1180,7 +1119,7 @@ impl Renderer {
     /// measured deviation from it. The table is built on first use (not in a frame).
     pub fn set_energy_compensation(&mut self, on: bool) -> Result<(), RenderError> {
         if on && self.energy_table.size() <= 16 {
-            let table = frame::filled_storage_buffer(
+            let table = buffers::filled_storage_buffer(
                 &self.device,
                 "white specular albedo table",
                 bytemuck::cast_slice(&environment::white_specular_albedo_table()),
@@ -1532,24 +1471,11 @@ fn overlay_image_buffer(
     device: &Arc<Device>,
     rgba: &[[u8; 4]],
 ) -> Result<combustion_vk::Buffer, RenderError> {
-    Ok(frame::filled_storage_buffer(
+    Ok(buffers::filled_storage_buffer(
         device,
         "overlay image",
         bytemuck::cast_slice(rgba),
     )?)
-}
-
-/// IEEE 754 binary16 → binary32 (exact).
-pub fn f16_to_f32(bits: u16) -> f32 {
-    let sign = if bits & 0x8000 != 0 { -1.0f32 } else { 1.0 };
-    let exponent = i32::from((bits >> 10) & 0x1f);
-    let mantissa = f32::from(bits & 0x3ff);
-    match exponent {
-        0 => sign * mantissa * 2f32.powi(-24),
-        31 if mantissa == 0.0 => sign * f32::INFINITY,
-        31 => f32::NAN,
-        e => sign * (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
-    }
 }
 
 /// Whether two scenes' environments are the same, an image shared through its `Arc` at
@@ -1562,30 +1488,5 @@ fn same_environment(
     match (a, b) {
         (Some(Image(a)), Some(Image(b))) => std::sync::Arc::ptr_eq(a, b) || a == b,
         _ => a == b,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn f16_decoding_matches_known_values() {
-        assert_eq!(f16_to_f32(0x3c00), 1.0);
-        assert_eq!(f16_to_f32(0xc000), -2.0);
-        assert_eq!(f16_to_f32(0x7bff), 65504.0);
-        assert_eq!(f16_to_f32(0x0001), 2f32.powi(-24));
-        assert_eq!(f16_to_f32(0x3555), 0.333_251_95);
-        assert!(f16_to_f32(0x7c00).is_infinite());
-        assert!(f16_to_f32(0x7e00).is_nan());
-    }
-
-    #[test]
-    fn srgb_round_trip() {
-        for i in 0..=255 {
-            let e = f64::from(i) / 255.0;
-            let back = linear_to_srgb(gbuffer::srgb_to_linear(e));
-            assert!((back - e).abs() < 1e-12, "{i}");
-        }
     }
 }

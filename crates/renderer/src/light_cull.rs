@@ -95,7 +95,7 @@ impl LightCullPass {
         let (x, y) = tiles(extent);
         let raw = device.raw();
         let groups = (x * y).div_ceil(64);
-        crate::bind_pass(
+        crate::commands::bind_pass(
             raw,
             cmd,
             vk::PipelineBindPoint::COMPUTE,

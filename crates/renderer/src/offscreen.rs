@@ -11,13 +11,14 @@ use combustion_vk::{
     RingFrame, VkError,
 };
 
+use crate::color::f16_to_f32;
 use crate::frame::display_after;
 use crate::gbuffer::{GBufferReadback, GBufferTexel};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
 use crate::targets::TargetKey;
 use crate::{
-    f16_to_f32, ColorTarget, Frame, FrameInputs, FrameTarget, GpuScene, HdrFormat, Readback,
-    RenderError, Renderer, DISPLAY_FORMAT,
+    ColorTarget, Frame, FrameInputs, FrameTarget, GpuScene, HdrFormat, Readback, RenderError,
+    Renderer, DISPLAY_FORMAT,
 };
 
 /// Display image sizes kept (the least recently used beyond this is retired).

@@ -372,7 +372,7 @@ impl OverlayPass {
             image_width,
         };
         let raw = device.raw();
-        crate::bind_pass(
+        crate::commands::bind_pass(
             raw,
             cmd,
             vk::PipelineBindPoint::GRAPHICS,

@@ -10,9 +10,8 @@ use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic
 use combustion_optics::vec3::Vec3 as V;
 use combustion_scene::{Environment, Scene};
 
-use crate::gbuffer::{
-    anisotropy_direction_decode, octahedral_decode, srgb_to_linear, GBufferTexel,
-};
+use crate::color::srgb_to_linear;
+use crate::gbuffer::{anisotropy_direction_decode, octahedral_decode, GBufferTexel};
 use crate::gpu_types::{
     conductor_from_base_color_table, material_table, GpuLight, GpuMaterial, LightingPush,
     LIGHT_KIND_DIRECTIONAL,
