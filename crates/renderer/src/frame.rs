@@ -12,9 +12,7 @@ use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
 use crate::overlay::OverlayQuad;
 use crate::targets::{FrameTargets, TargetKey};
-use crate::{
-    FrameInputs, FrameTarget, GpuScene, PassTime, PassTimings, RenderError, Renderer, SetLayouts,
-};
+use crate::{FrameInputs, FrameTarget, GpuScene, PassTimings, RenderError, Renderer, SetLayouts};
 
 /// Timestamps a frame may write: its start, the end of each pass, and the end of its
 /// last command (whose availability says the slot's frame has completed).
@@ -385,7 +383,7 @@ impl Renderer {
     /// scenes dropped since the last frame joins the retire list of the frame recorded
     /// last (the last that may read it); then what this slot's frame retired is freed.
     fn begin_slot(&mut self, slot: usize) -> Result<(), RenderError> {
-        if self.collect_timings(slot)? == SlotFrame::Pending {
+        if self.collect_timings(slot)? == crate::results::SlotFrame::Pending {
             return Err(RenderError::FrameSlotInFlight { slot });
         }
         for dropped in self.retire_queue.take() {
@@ -774,34 +772,6 @@ impl Renderer {
             t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, end);
         }
         s.stamped = stamps;
-    }
-}
-
-/// Whether a slot's last frame has completed, as its timestamps tell.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum SlotFrame {
-    /// Completed (its timings were read), or nothing to tell: no frame was recorded in
-    /// the slot since it was last known complete, or the device has no timestamps.
-    Completed,
-    /// Some timestamp of the slot's last frame is not written yet.
-    Pending,
-}
-
-impl PassTimings {
-    /// From a frame's timestamps in ms since its start (the start, the end of each pass
-    /// in `passes`, then the end of its last command).
-    pub(crate) fn from_stamps(passes: &[&'static str], ms: &[f64]) -> Self {
-        Self {
-            passes: passes
-                .iter()
-                .zip(ms.windows(2))
-                .map(|(&name, pair)| PassTime {
-                    name,
-                    ms: pair[1] - pair[0],
-                })
-                .collect(),
-            total_ms: ms.get(passes.len()).map_or(0.0, |end| end - ms[0]),
-        }
     }
 }
 

@@ -5,6 +5,7 @@
 use combustion_scene::{Camera, Light};
 use combustion_vk::{vk, ImageState};
 
+use crate::error::TargetImageProblem;
 use crate::{GpuScene, OverlayPanel, RenderError};
 
 /// The format of the renderer's own display image ([`crate::Renderer::render`]), whose
@@ -176,24 +177,6 @@ impl DepthTarget {
             after,
         })
     }
-}
-
-/// What is wrong with an image a host gave as a frame's target.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum TargetImageProblem {
-    /// The image lacks the usage flags the frame needs (`COLOR_ATTACHMENT` for the colour
-    /// target, `TRANSFER_DST` for the depth target).
-    #[error("was not created with {0:?} usage")]
-    MissingUsage(vk::ImageUsageFlags),
-    /// Not a 2D image of depth 1.
-    #[error("is a {0:?} image, not a 2D one")]
-    NotTwoDimensional(vk::ImageType),
-    /// More than one sample per pixel.
-    #[error("has {0:?} samples per pixel; frames are rendered with one")]
-    Multisampled(vk::SampleCountFlags),
-    /// Created with no mip level or no array layer.
-    #[error("has no mip level or no array layer")]
-    Empty,
 }
 
 fn extent_2d(extent: vk::Extent3D) -> vk::Extent2D {
