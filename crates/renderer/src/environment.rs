@@ -39,9 +39,10 @@ use crate::gpu_types::{
 use crate::RenderError;
 
 /// Entries per side of a material's directional-albedo table over (n·v, r)
-/// (`ENVIRONMENT_TABLE_SIZE` in environment.glsl).
+/// (`ENVIRONMENT_TABLE_SIZE` in the shaders' generated `bindings/constants.glsl`).
 pub const TABLE_SIZE: u32 = 32;
-/// Entries per side of a per-code conductor table (`ENVIRONMENT_CODE_TABLE_SIZE`).
+/// Entries per side of a per-code conductor table (`ENVIRONMENT_CODE_TABLE_SIZE`,
+/// generated).
 pub const CODE_TABLE_SIZE: u32 = 16;
 /// Texels per side of a face of the radiance cube's level 0 (and of the specular cube).
 pub const RADIANCE_SIZE: u32 = 128;
@@ -57,8 +58,9 @@ pub const PREFILTER_SAMPLES: u32 = 256;
 pub const ALBEDO_SAMPLES: u32 = 512;
 /// Samples per entry of a per-code conductor table.
 pub const CODE_ALBEDO_SAMPLES: u32 = 256;
-/// Per-code tables: one for each stored 8-bit code.
-const CODES: u32 = 256;
+/// Per-code tables: one for each stored 8-bit code (`ENVIRONMENT_CODES` in the generated
+/// `bindings/constants.glsl`).
+pub(crate) const CODES: u32 = 256;
 
 /// The cubes' format. f32, not f16: the bake's normalised sums come out within a few f32
 /// ulps of a uniform environment's radiance, and storing them as f16 (which lavapipe
@@ -86,7 +88,7 @@ fn check_format(device: &Device) -> Result<(), RenderError> {
 }
 
 /// Entries per side of the white specular albedo table over (n·v, r)
-/// (`ENERGY_TABLE_SIZE` in lighting.frag), cell-centred as the albedo tables.
+/// (`ENERGY_TABLE_SIZE` in lighting.frag, generated), cell-centred as the albedo tables.
 pub const ENERGY_TABLE_SIZE: u32 = 32;
 /// Hammersley samples per entry of that table.
 pub const ENERGY_TABLE_SAMPLES: u32 = 1024;

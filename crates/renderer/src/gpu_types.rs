@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use combustion_scene::{Light, Material, Object, Scene};
 use glam::Mat4;
 
-/// `MATERIAL_FLAG_*` in gpu_types.glsl.
+/// `MATERIAL_FLAG_*` in the shaders (generated `bindings/constants.glsl`).
 pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 
 /// `GpuMaterial` (std430, 384 bytes).
@@ -179,7 +179,7 @@ fn normal_matrix(transform: &glam::Mat4) -> glam::Mat4 {
     glam::Mat4::from_mat3(unit.inverse().transpose())
 }
 
-/// `LIGHT_KIND_*` in gpu_types.glsl.
+/// `LIGHT_KIND_*` in the shaders (generated `bindings/constants.glsl`).
 pub const LIGHT_KIND_DIRECTIONAL: f32 = 0.0;
 /// `LIGHT_KIND_POINT`: a point light.
 pub const LIGHT_KIND_POINT: f32 = 1.0;

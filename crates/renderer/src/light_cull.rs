@@ -14,7 +14,8 @@ use combustion_vk::{
 use crate::gpu_types::CullPush;
 use crate::RenderError;
 
-/// Tile edge in pixels (`TILE_SIZE` in light_cull.comp and lighting.frag).
+/// Tile edge in pixels (`TILE_SIZE` in light_cull.comp and lighting.frag, from the
+/// generated `bindings/constants.glsl`).
 pub const TILE_SIZE: u32 = 16;
 
 /// The most lights a frame can cull (each tile's list has room for every light: at

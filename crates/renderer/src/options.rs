@@ -112,8 +112,8 @@ pub enum MeasurementFloor {
     LightingPlainGgx,
 }
 
-/// What the lighting pass shows instead of radiance (`debug_views.glsl` has the same
-/// numbering). With a debug view, render at exposure 1: the view's values are written so
+/// What the lighting pass shows instead of radiance (`debug_views.glsl` reads the same
+/// numbering, as `DEBUG_VIEW_*` generated from it). With a debug view, render at exposure 1: the view's values are written so
 /// that the output pass's tone curve and sRGB encoding give them back.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum DebugView {
