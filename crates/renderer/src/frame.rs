@@ -11,8 +11,9 @@ use crate::environment::GpuEnvironment;
 use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
 use crate::overlay::OverlayQuad;
+use crate::pipelines::SetLayouts;
 use crate::targets::{FrameTargets, TargetKey};
-use crate::{FrameInputs, FrameTarget, GpuScene, PassTimings, RenderError, Renderer, SetLayouts};
+use crate::{FrameInputs, FrameTarget, GpuScene, PassTimings, RenderError, Renderer};
 
 /// Timestamps a frame may write: its start, the end of each pass, and the end of its
 /// last command (whose availability says the slot's frame has completed).

@@ -42,6 +42,7 @@ mod fullscreen;
 mod host;
 mod offscreen;
 mod options;
+mod pipelines;
 mod placeholders;
 mod results;
 mod retire;
@@ -58,14 +59,12 @@ use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 use combustion_scene::{DiffuseModel, Scene};
-use combustion_vk::{vk, DescriptorSetLayout, Device, PipelineCache, ShaderCompiler};
+use combustion_vk::{vk, Device, PipelineCache, ShaderCompiler};
 
 pub use color::{f16_to_f32, linear_to_srgb, tonemap_exponential};
 pub use environment::FrameEnvironment;
 pub use error::{RenderError, TargetImageProblem};
-use fullscreen::FullscreenPass;
 use gbuffer::GBufferPass;
-use gpu_types::{LightingPush, TonemapPush};
 pub use host::{
     ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, DISPLAY_FORMAT,
 };
@@ -75,54 +74,11 @@ pub use options::{
     RendererSettings, MAX_FRAMES_IN_FLIGHT,
 };
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
+use pipelines::{OutputPasses, SetLayouts, VariantPasses};
 pub use results::{Frame, PassTime, PassTimings, RendererStats};
 pub use scene_edit::{EditError, MaterialId, MeshId, ObjectId, SceneEditor};
 pub use scene_upload::{GpuScene, SceneEditReport};
 pub use variant::{LightingFeatures, ShaderVariant};
-
-/// The G-buffer and lighting pipelines of one [`ShaderVariant`]. Variants that differ
-/// only in what the lighting pass reads share one G-buffer pipeline.
-struct VariantPasses {
-    gbuffer: Arc<GBufferPass>,
-    lighting: FullscreenPass,
-}
-
-/// The descriptor-set layouts of the passes, shared by every variant and frame slot.
-struct SetLayouts {
-    /// Set 0 of the G-buffer pass: object and material tables.
-    gbuffer: DescriptorSetLayout,
-    /// Set 1 of the G-buffer pass: one material's textures.
-    material: DescriptorSetLayout,
-    /// The lighting pass: G-buffer, depth, material table, lights, conductor table,
-    /// emissive (bound in the EMISSIVE variant only).
-    lighting: DescriptorSetLayout,
-    /// The output pass: the HDR image.
-    output: DescriptorSetLayout,
-    /// The overlay: the frame's quads, the font atlas and the overlay image.
-    overlay: DescriptorSetLayout,
-    /// Light culling: the G-buffer depth, the frame's lights, the tile lists.
-    light_cull: DescriptorSetLayout,
-}
-
-/// The passes that write a target of one format: the output pass and the overlay
-/// drawn over it.
-struct OutputPasses {
-    output: FullscreenPass,
-    overlay: overlay::OverlayPass,
-}
-
-impl SetLayouts {
-    fn new(device: &Arc<Device>) -> Result<Self, RenderError> {
-        Ok(Self {
-            gbuffer: bindings::GBUFFER.layout(device)?,
-            material: bindings::MATERIAL_TEXTURES.layout(device)?,
-            lighting: bindings::LIGHTING.layout(device)?,
-            output: bindings::OUTPUT.layout(device)?,
-            overlay: bindings::OVERLAY.layout(device)?,
-            light_cull: bindings::LIGHT_CULL.layout(device)?,
-        })
-    }
-}
 
 /// The deferred renderer. One per device; renders [`GpuScene`]s at any size, into its
 /// own images ([`Renderer::render`]) or into a host's command buffer and image
@@ -225,7 +181,7 @@ impl Renderer {
             "overlay font atlas",
             bytemuck::cast_slice(&overlay::atlas_words(&overlay_font)),
         )?;
-        let overlay_image = (overlay_image_buffer(&device, &[[0; 4]])?, None);
+        let overlay_image = (settings::overlay_image_buffer(&device, &[[0; 4]])?, None);
         let no_environment = environment::GpuEnvironment::placeholder(&device)?;
         let absent_target =
             placeholders::absent_target_placeholder(&device, settings.hdr_format.vk())?;
@@ -297,131 +253,6 @@ impl Renderer {
     /// [`Renderer::with_pipeline_cache`] on the next run.
     pub fn pipeline_cache_data(&self) -> Result<Vec<u8>, RenderError> {
         Ok(self.pipeline_cache.data()?)
-    }
-
-    /// Builds the pipelines of `variant` if they are not built yet.
-    fn prepare_variant(&mut self, variant: ShaderVariant) -> Result<(), RenderError> {
-        if self.variants.contains_key(&variant) {
-            return Ok(());
-        }
-        let gbuffer_key = variant.gbuffer_part();
-        let gbuffer = match self.gbuffer_passes.get(&gbuffer_key) {
-            Some(pass) => pass.clone(),
-            None => {
-                let pass = Arc::new(GBufferPass::new(
-                    &self.device,
-                    &self.compiler,
-                    &self.pipeline_cache,
-                    &self.layouts.gbuffer,
-                    &self.layouts.material,
-                    gbuffer_key,
-                    self.settings.hdr_format.vk(),
-                )?);
-                self.stats.pipelines_built += 1;
-                self.gbuffer_passes.insert(gbuffer_key, pass.clone());
-                pass
-            }
-        };
-        let lighting = FullscreenPass::new(
-            &self.device,
-            &self.compiler,
-            &self.pipeline_cache,
-            "lighting.frag",
-            &variant.defines(),
-            &self.layouts.lighting,
-            std::mem::size_of::<LightingPush>() as u32,
-            self.settings.hdr_format.vk(),
-        )?;
-        self.variants
-            .insert(variant, VariantPasses { gbuffer, lighting });
-        self.stats.pipelines_built += 1;
-        Ok(())
-    }
-
-    /// Shows `image` over the frames recorded from now on (under their text panels, at
-    /// the top-left, one texel a pixel), or no image. The previous image is kept until
-    /// the frames in flight that show it have completed.
-    pub fn set_overlay_image(&mut self, image: Option<&OverlayImage>) -> Result<(), RenderError> {
-        let next = match image {
-            Some(i) => {
-                self.check_size(i.width, i.height)?;
-                let texels = u64::from(i.width) * u64::from(i.height);
-                if i.rgba.len() as u64 != texels {
-                    return Err(RenderError::Overlay(format!(
-                        "an overlay image of {}x{} needs {texels} texels, not {}",
-                        i.width,
-                        i.height,
-                        i.rgba.len()
-                    )));
-                }
-                let range = u64::from(self.device.limits().max_storage_buffer_range);
-                if texels * 4 > range {
-                    return Err(RenderError::Overlay(format!(
-                        "an overlay image of {}x{} takes {} bytes; this device reads at most {range} from one buffer",
-                        i.width,
-                        i.height,
-                        texels * 4
-                    )));
-                }
-                (
-                    overlay_image_buffer(&self.device, &i.rgba)?,
-                    Some([i.width, i.height]),
-                )
-            }
-            None => (overlay_image_buffer(&self.device, &[[0; 4]])?, None),
-        };
-        let old = std::mem::replace(&mut self.overlay_image, next);
-        self.retire(old.0);
-        Ok(())
-    }
-
-    /// The overlay's font (its atlas and text layout), e.g. to check a frame's overlay.
-    pub fn overlay_font(&self) -> &overlay::OverlayFont {
-        &self.overlay_font
-    }
-
-    /// Builds the output pass (and the overlay over it) for targets of `format`, so that [`Renderer::record`] can
-    /// render into them. [`DISPLAY_FORMAT`] is prepared by [`Renderer::new`]. Formats:
-    /// see [`OutputEncoding::of`].
-    pub fn prepare_output(&mut self, format: vk::Format) -> Result<(), RenderError> {
-        if self.outputs.contains_key(&format) {
-            return Ok(());
-        }
-        let encoding =
-            OutputEncoding::of(format).ok_or(RenderError::UnsupportedOutputFormat(format))?;
-        let output = FullscreenPass::new(
-            &self.device,
-            &self.compiler,
-            &self.pipeline_cache,
-            "tonemap.frag",
-            &encoding.defines(),
-            &self.layouts.output,
-            std::mem::size_of::<TonemapPush>() as u32,
-            format,
-        )?;
-        let overlay = overlay::OverlayPass::new(
-            &self.device,
-            &self.compiler,
-            &self.pipeline_cache,
-            &self.layouts.overlay,
-            &encoding.defines(),
-            format,
-        )?;
-        self.outputs
-            .insert(format, OutputPasses { output, overlay });
-        self.stats.pipelines_built += 2;
-        Ok(())
-    }
-
-    /// Builds the pipelines `scene` needs with the current settings, if they are not
-    /// built yet (after [`Renderer::set_fresnel`]).
-    /// Frames lit by a [`FrameEnvironment`] baked for the scene get theirs too.
-    pub fn prepare(&mut self, scene: &GpuScene) -> Result<(), RenderError> {
-        self.prepare_variant(self.variant_of(scene.variant))?;
-        if scene.frame_environments.load(Ordering::Relaxed) {
-            self.prepare_variant(self.variant_of(scene.lit_variant))?;
-        }
-        Ok(())
     }
 
     /// Validates and uploads a scene, and builds the pipelines it needs (never inside a
@@ -620,18 +451,6 @@ impl Drop for Renderer {
         // from here on free their resources at once.
         drop(self.retire_queue.close());
     }
-}
-
-/// A host-visible buffer holding RGBA8 texels, as the overlay reads them.
-fn overlay_image_buffer(
-    device: &Arc<Device>,
-    rgba: &[[u8; 4]],
-) -> Result<combustion_vk::Buffer, RenderError> {
-    Ok(buffers::filled_storage_buffer(
-        device,
-        "overlay image",
-        bytemuck::cast_slice(rgba),
-    )?)
 }
 
 /// Whether two scenes' environments are the same, an image shared through its `Arc` at

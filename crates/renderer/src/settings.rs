@@ -1,14 +1,18 @@
 //! The renderer's options changed between frames ([`Renderer::set_fresnel`] and its
-//! siblings, and their getters), and the settings' validation at construction. A
+//! siblings, and their getters), the image the frames' overlay shows
+//! ([`Renderer::set_overlay_image`]), and the settings' validation at construction. A
 //! changed option takes effect from the next frame; its pipelines are built by
 //! [`Renderer::prepare`] or the next upload or edit.
 
+use std::sync::Arc;
+
 use combustion_scene::DiffuseModel;
+use combustion_vk::Device;
 
 use crate::{
-    buffers, environment, DebugView, Distribution, FresnelModel, GpuScene, LightCulling,
-    LightingFeatures, Masking, MeasurementFloor, RenderError, Renderer, RendererSettings,
-    MAX_FRAMES_IN_FLIGHT,
+    buffers, environment, overlay, DebugView, Distribution, FresnelModel, GpuScene, LightCulling,
+    LightingFeatures, Masking, MeasurementFloor, OverlayImage, RenderError, Renderer,
+    RendererSettings, MAX_FRAMES_IN_FLIGHT,
 };
 
 impl RendererSettings {
@@ -142,4 +146,60 @@ impl Renderer {
     pub fn lighting_features(&self, scene: &GpuScene) -> LightingFeatures {
         self.variant_of(scene.variant).features
     }
+}
+
+impl Renderer {
+    /// Shows `image` over the frames recorded from now on (under their text panels, at
+    /// the top-left, one texel a pixel), or no image. The previous image is kept until
+    /// the frames in flight that show it have completed.
+    pub fn set_overlay_image(&mut self, image: Option<&OverlayImage>) -> Result<(), RenderError> {
+        let next = match image {
+            Some(i) => {
+                self.check_size(i.width, i.height)?;
+                let texels = u64::from(i.width) * u64::from(i.height);
+                if i.rgba.len() as u64 != texels {
+                    return Err(RenderError::Overlay(format!(
+                        "an overlay image of {}x{} needs {texels} texels, not {}",
+                        i.width,
+                        i.height,
+                        i.rgba.len()
+                    )));
+                }
+                let range = u64::from(self.device.limits().max_storage_buffer_range);
+                if texels * 4 > range {
+                    return Err(RenderError::Overlay(format!(
+                        "an overlay image of {}x{} takes {} bytes; this device reads at most {range} from one buffer",
+                        i.width,
+                        i.height,
+                        texels * 4
+                    )));
+                }
+                (
+                    overlay_image_buffer(&self.device, &i.rgba)?,
+                    Some([i.width, i.height]),
+                )
+            }
+            None => (overlay_image_buffer(&self.device, &[[0; 4]])?, None),
+        };
+        let old = std::mem::replace(&mut self.overlay_image, next);
+        self.retire(old.0);
+        Ok(())
+    }
+
+    /// The overlay's font (its atlas and text layout), e.g. to check a frame's overlay.
+    pub fn overlay_font(&self) -> &overlay::OverlayFont {
+        &self.overlay_font
+    }
+}
+
+/// A host-visible buffer holding RGBA8 texels, as the overlay reads them.
+pub(crate) fn overlay_image_buffer(
+    device: &Arc<Device>,
+    rgba: &[[u8; 4]],
+) -> Result<combustion_vk::Buffer, RenderError> {
+    Ok(buffers::filled_storage_buffer(
+        device,
+        "overlay image",
+        bytemuck::cast_slice(rgba),
+    )?)
 }
