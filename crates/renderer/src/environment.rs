@@ -32,11 +32,11 @@ use combustion_vk::{
 
 use crate::bindings;
 use crate::buffers::filled_storage_buffer;
+use crate::error::RenderError;
 use crate::gpu_types::{
     conductor_from_base_color_table, material_table, EnvironmentBakePush, EnvironmentSource,
     GpuMaterial,
 };
-use crate::RenderError;
 
 /// Entries per side of a material's directional-albedo table over (n·v, r)
 /// (`ENVIRONMENT_TABLE_SIZE` in the shaders' generated `bindings/constants.glsl`).

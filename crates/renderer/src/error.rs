@@ -4,7 +4,8 @@
 use combustion_scene::SceneError;
 use combustion_vk::{vk, VkError};
 
-use crate::{EditError, MAX_FRAMES_IN_FLIGHT};
+use crate::options::MAX_FRAMES_IN_FLIGHT;
+use crate::scene_edit::EditError;
 #[cfg(doc)]
 use crate::{FrameEnvironment, GpuScene, OutputEncoding, Renderer, RendererSettings};
 

@@ -8,12 +8,16 @@ use combustion_vk::{vk, Buffer, DescriptorPool, Device, ImageState, TimestampQue
 use crate::bindings;
 use crate::buffers::{storage_buffer, write_growing, CPU_TO_GPU, GPU_ONLY};
 use crate::environment::GpuEnvironment;
+use crate::error::RenderError;
 use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
+use crate::host::{FrameInputs, FrameTarget};
 use crate::overlay::OverlayQuad;
 use crate::pipelines::SetLayouts;
+use crate::results::PassTimings;
+use crate::scene_upload::GpuScene;
 use crate::targets::{FrameTargets, TargetKey};
-use crate::{FrameInputs, FrameTarget, GpuScene, PassTimings, RenderError, Renderer};
+use crate::Renderer;
 
 /// Timestamps a frame may write: its start, the end of each pass, and the end of its
 /// last command (whose availability says the slot's frame has completed).
@@ -272,7 +276,7 @@ impl Renderer {
         scene: &GpuScene,
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
-        variant: crate::ShaderVariant,
+        variant: crate::variant::ShaderVariant,
     ) -> Result<(), RenderError> {
         let extent = target.color.extent;
         // The slot's previous frame has completed: read its timings, free what it
@@ -302,7 +306,7 @@ impl Renderer {
         scene: &GpuScene,
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
-    ) -> Result<crate::ShaderVariant, RenderError> {
+    ) -> Result<crate::variant::ShaderVariant, RenderError> {
         let frames_in_flight = self.slots.len();
         if frame_slot >= frames_in_flight {
             return Err(RenderError::InvalidFrameSlot {
@@ -318,7 +322,7 @@ impl Renderer {
         inputs.camera.validate()?;
         combustion_scene::validate_lights(inputs.lights)?;
         if !self.outputs.contains_key(&target.color.format) {
-            return Err(match crate::OutputEncoding::of(target.color.format) {
+            return Err(match crate::host::OutputEncoding::of(target.color.format) {
                 Some(_) => RenderError::OutputNotPrepared(target.color.format),
                 None => RenderError::UnsupportedOutputFormat(target.color.format),
             });
@@ -353,7 +357,7 @@ impl Renderer {
             } else {
                 Err(RenderError::InvalidTargetImage {
                     target,
-                    problem: crate::TargetImageProblem::MissingUsage(needed),
+                    problem: crate::error::TargetImageProblem::MissingUsage(needed),
                 })
             }
         };
@@ -606,7 +610,7 @@ impl Renderer {
         slot: usize,
         key: TargetKey,
         scene: &GpuScene,
-        variant: crate::ShaderVariant,
+        variant: crate::variant::ShaderVariant,
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
     ) {
@@ -638,7 +642,11 @@ impl Renderer {
             t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, 0);
         }
 
-        states.transition(raw, cmd, &crate::GBufferPass::uses(&targets.gbuffer, scene));
+        states.transition(
+            raw,
+            cmd,
+            &crate::gbuffer::GBufferPass::uses(&targets.gbuffer, scene),
+        );
         passes.gbuffer.record(
             device,
             cmd,

@@ -7,7 +7,7 @@ use combustion_vk::{
     ShaderCompiler, ShaderModule, ShaderStage,
 };
 
-use crate::RenderError;
+use crate::error::RenderError;
 
 /// What [`screen_pipeline`] builds: shaders by name, one descriptor set, push constants
 /// for `push_stages`, one colour target, no vertex input and no depth.

@@ -8,9 +8,10 @@ use combustion_vk::{
     PipelineCache, PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
 };
 
+use crate::error::RenderError;
 use crate::gpu_types::GBufferPush;
 use crate::scene_upload::GpuScene;
-use crate::{RenderError, ShaderVariant};
+use crate::variant::ShaderVariant;
 
 pub use crate::color::srgb_to_linear;
 

@@ -5,8 +5,10 @@
 use combustion_scene::{Camera, Light};
 use combustion_vk::{vk, ImageState};
 
+use crate::error::RenderError;
 use crate::error::TargetImageProblem;
-use crate::{GpuScene, OverlayPanel, RenderError};
+use crate::overlay::OverlayPanel;
+use crate::scene_upload::GpuScene;
 
 /// The format of the renderer's own display image ([`crate::Renderer::render`]), whose
 /// output pass is prepared at construction.
@@ -227,7 +229,7 @@ pub struct FrameInputs<'a> {
     /// The environment lighting this frame in place of the scene's own (None: the
     /// scene's, if it has one), baked for the scene's materials by
     /// [`crate::Renderer::bake_environment`].
-    pub environment: Option<&'a crate::FrameEnvironment>,
+    pub environment: Option<&'a crate::environment::FrameEnvironment>,
 }
 
 impl<'a> FrameInputs<'a> {

@@ -11,8 +11,8 @@ use combustion_vk::{
     ShaderModule, ShaderStage,
 };
 
+use crate::error::RenderError;
 use crate::gpu_types::CullPush;
-use crate::RenderError;
 
 /// Tile edge in pixels (`TILE_SIZE` in light_cull.comp and lighting.frag, from the
 /// generated `bindings/constants.glsl`).

@@ -16,7 +16,7 @@ use combustion_vk::{
     vk, DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
 };
 
-use crate::RenderError;
+use crate::error::RenderError;
 
 /// DejaVu Sans 2.37 (see `assets/fonts/README.md` for its source and licence).
 static FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");

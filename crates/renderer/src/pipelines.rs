@@ -7,10 +7,14 @@ use std::sync::Arc;
 
 use combustion_vk::{vk, DescriptorSetLayout, Device};
 
+use crate::error::RenderError;
 use crate::fullscreen::FullscreenPass;
 use crate::gbuffer::GBufferPass;
 use crate::gpu_types::{LightingPush, TonemapPush};
-use crate::{bindings, overlay, GpuScene, OutputEncoding, RenderError, Renderer, ShaderVariant};
+use crate::host::OutputEncoding;
+use crate::scene_upload::GpuScene;
+use crate::variant::ShaderVariant;
+use crate::{bindings, overlay, Renderer};
 #[cfg(doc)]
 use crate::{FrameEnvironment, DISPLAY_FORMAT};
 

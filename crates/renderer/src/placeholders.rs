@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use combustion_vk::{vk, Device, Image, ImageDesc, OneShot};
 
-use crate::RenderError;
+use crate::error::RenderError;
 
 /// Leaves `images` (new, never written) in the layout fragment shaders sample in, once,
 /// waiting for the transition: placeholders a set binds where a real image is absent

@@ -1,10 +1,11 @@
 //! What the renderer gives back: a rendered [`Frame`], the GPU times of its passes
 //! ([`PassTimings`]), and counts of what it built ([`RendererStats`]).
 
+use crate::error::RenderError;
 use crate::gbuffer::GBufferReadback;
 #[cfg(doc)]
 use crate::Readback;
-use crate::{RenderError, Renderer};
+use crate::Renderer;
 
 /// A rendered frame.
 #[derive(Clone, Debug, Default)]

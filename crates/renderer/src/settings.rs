@@ -9,11 +9,16 @@ use std::sync::Arc;
 use combustion_scene::DiffuseModel;
 use combustion_vk::Device;
 
-use crate::{
-    buffers, environment, overlay, DebugView, Distribution, FresnelModel, GpuScene, LightCulling,
-    LightingFeatures, Masking, MeasurementFloor, OverlayImage, RenderError, Renderer,
-    RendererSettings, MAX_FRAMES_IN_FLIGHT,
+use crate::error::RenderError;
+use crate::light_cull::LightCulling;
+use crate::options::{
+    DebugView, Distribution, FresnelModel, Masking, MeasurementFloor, RendererSettings,
+    MAX_FRAMES_IN_FLIGHT,
 };
+use crate::overlay::OverlayImage;
+use crate::scene_upload::GpuScene;
+use crate::variant::LightingFeatures;
+use crate::{buffers, environment, overlay, Renderer};
 
 impl RendererSettings {
     pub(crate) fn validate(&self) -> Result<(), RenderError> {

@@ -10,7 +10,7 @@ use crate::gpu_types::{
     MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR,
 };
 use crate::light_cull::TILE_SIZE;
-use crate::DebugView;
+use crate::options::DebugView;
 
 include!(concat!(env!("OUT_DIR"), "/shader_files.rs"));
 

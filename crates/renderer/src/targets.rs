@@ -6,9 +6,10 @@ use std::sync::Arc;
 
 use combustion_vk::{vk, Device, Image, ImageDesc};
 
+use crate::error::RenderError;
 use crate::gbuffer::GBufferTargets;
 use crate::graph::TrackedImage;
-use crate::{HdrFormat, RenderError};
+use crate::options::HdrFormat;
 
 /// Identifies one set of targets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

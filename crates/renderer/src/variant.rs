@@ -6,7 +6,8 @@ use combustion_scene::{DiffuseModel, Scene};
 
 #[cfg(doc)]
 use crate::environment;
-use crate::{DebugView, Distribution, FresnelModel, Masking, MeasurementFloor, Renderer};
+use crate::options::{DebugView, Distribution, FresnelModel, Masking, MeasurementFloor};
+use crate::Renderer;
 
 /// The parts of the material model a lighting pipeline contains. A scene's pipeline
 /// holds only what its materials use ([`LightingFeatures::of`]): each part left out is
