@@ -36,6 +36,6 @@ void main() {
         float f = polarised_weighted(fresnel_conductor(min(vh, 1.0), push.values.x, eta_k.x, eta_k.y), push.values.y);
         sum += f * (1.0 + lambda_v) / (1.0 + lambda_v + lambda_ggx(l, a));
     }
-    uint entry = ((push.params.y * 256u + id.z) * size + id.y) * size + id.x;
+    uint entry = ((push.params.y * ENVIRONMENT_CODES + id.z) * size + id.y) * size + id.x;
     environment_code_albedo[entry] = sum / float(samples);
 }

@@ -12,7 +12,7 @@
 #include "gpu_types.glsl"
 #include "bindings/light_cull.glsl"  // set 0: see combustion_renderer::bindings::LIGHT_CULL
 
-#define TILE_SIZE 16  // combustion_renderer::TILE_SIZE
+#include "bindings/constants.glsl"  // TILE_SIZE: combustion_renderer::TILE_SIZE
 
 layout(local_size_x = 64) in;
 

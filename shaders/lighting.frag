@@ -13,6 +13,7 @@
 #include "brdf.glsl"
 
 #include "bindings/lighting.glsl"  // set 0: see combustion_renderer::bindings::LIGHTING
+#include "bindings/constants.glsl"  // generated from the renderer's Rust constants
 
 layout(push_constant) uniform LightingPush {
     mat4 inverse_view_projection;
@@ -38,8 +39,8 @@ uvec4 bilinear_cells(vec2 coord, uint size, out vec2 f) {
 
 #ifdef ENERGY_COMPENSATION
 // E(μ, α) bilinear in the white specular albedo table over (μ, r = √α)
-// (combustion_renderer::environment::white_specular_albedo_table).
-#define ENERGY_TABLE_SIZE 32u
+// (combustion_renderer::environment::white_specular_albedo_table), ENERGY_TABLE_SIZE²
+// entries (bindings/constants.glsl).
 float energy_white_albedo_lookup(float cos_v, float alpha) {
     vec2 f;
     uvec4 c = bilinear_cells(vec2(cos_v, sqrt(max(alpha, 0.0))), ENERGY_TABLE_SIZE, f);
@@ -256,7 +257,7 @@ void main() {
     uint list = 0u;
     uint light_count = push.counts.x;
     if (culled) {
-        uvec2 tile = uvec2(pixel) / 16u;
+        uvec2 tile = uvec2(pixel) / uint(TILE_SIZE);
         list = (tile.y * push.counts.z + tile.x) * push.counts.w;
         light_count = tile_lights[list];
     }

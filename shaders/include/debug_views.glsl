@@ -9,19 +9,8 @@
 #include "brdf.glsl"
 #include "constants.glsl"
 
-#define DEBUG_VIEW_BASE_COLOR 1u
-#define DEBUG_VIEW_NORMAL 2u
-#define DEBUG_VIEW_ROUGHNESS 3u
-#define DEBUG_VIEW_ANISOTROPY_STRENGTH 4u
-#define DEBUG_VIEW_ANISOTROPY_DIRECTION 5u
-#define DEBUG_VIEW_METALNESS 6u
-#define DEBUG_VIEW_MATERIAL_INDEX 7u
-#define DEBUG_VIEW_DEPTH 8u
-#define DEBUG_VIEW_DISTRIBUTION 9u
-#define DEBUG_VIEW_SMITH 10u
-#define DEBUG_VIEW_FRESNEL 11u
-#define DEBUG_VIEW_DIFFUSE 12u
-#define DEBUG_VIEW_LIGHTS_PER_TILE 13u
+// DEBUG_VIEW_*: generated from combustion_renderer::DebugView.
+#include "bindings/constants.glsl"
 
 struct DebugSurface {
     vec3 base_color;

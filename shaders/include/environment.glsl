@@ -12,9 +12,8 @@
 // roughness r), cell-centred (entry i at (i + ½)/size), clamped at the edges; per
 // material 2 vec4 per entry. Conductors derived from the base colour: one scalar table
 // per stored 8-bit code, ENVIRONMENT_CODE_TABLE_SIZE² entries.
-// (combustion_renderer::environment::{TABLE_SIZE, CODE_TABLE_SIZE})
-#define ENVIRONMENT_TABLE_SIZE 32u
-#define ENVIRONMENT_CODE_TABLE_SIZE 16u
+// (combustion_renderer::environment::{TABLE_SIZE, CODE_TABLE_SIZE}, generated:)
+#include "bindings/constants.glsl"
 
 // The source as push constants (combustion_renderer::gpu_types::EnvironmentSourcePush):
 // L(ω) = ground + (sky − ground)(1 + ω_y)/2 + Σ_i B_i max(0, ω·k_i)^p_i.

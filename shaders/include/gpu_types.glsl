@@ -3,7 +3,8 @@
 #ifndef COMBUSTION_GPU_TYPES_GLSL
 #define COMBUSTION_GPU_TYPES_GLSL
 
-#define MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR 1u
+// MATERIAL_FLAG_* and LIGHT_KIND_*: generated from gpu_types.rs's constants.
+#include "bindings/constants.glsl"
 
 // One entry of the material table (std430, 384 bytes).
 struct GpuMaterial {
@@ -31,9 +32,6 @@ struct GpuObject {
 };
 
 // One light (std430, 64 bytes).
-#define LIGHT_KIND_DIRECTIONAL 0.0
-#define LIGHT_KIND_POINT 1.0
-#define LIGHT_KIND_SPOT 2.0
 struct GpuLight {
     vec4 position_or_direction;     // point, spot: world position; directional: unit direction of travel
     vec4 power_kind;                // rgb: point/spot intensity (W/sr) or directional irradiance (W/m²);

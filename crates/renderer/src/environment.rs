@@ -31,16 +31,18 @@ use combustion_vk::{
 };
 
 use crate::bindings;
+use crate::buffers::filled_storage_buffer;
+use crate::error::RenderError;
 use crate::gpu_types::{
     conductor_from_base_color_table, material_table, EnvironmentBakePush, EnvironmentSource,
     GpuMaterial,
 };
-use crate::RenderError;
 
 /// Entries per side of a material's directional-albedo table over (n·v, r)
-/// (`ENVIRONMENT_TABLE_SIZE` in environment.glsl).
+/// (`ENVIRONMENT_TABLE_SIZE` in the shaders' generated `bindings/constants.glsl`).
 pub const TABLE_SIZE: u32 = 32;
-/// Entries per side of a per-code conductor table (`ENVIRONMENT_CODE_TABLE_SIZE`).
+/// Entries per side of a per-code conductor table (`ENVIRONMENT_CODE_TABLE_SIZE`,
+/// generated).
 pub const CODE_TABLE_SIZE: u32 = 16;
 /// Texels per side of a face of the radiance cube's level 0 (and of the specular cube).
 pub const RADIANCE_SIZE: u32 = 128;
@@ -56,8 +58,9 @@ pub const PREFILTER_SAMPLES: u32 = 256;
 pub const ALBEDO_SAMPLES: u32 = 512;
 /// Samples per entry of a per-code conductor table.
 pub const CODE_ALBEDO_SAMPLES: u32 = 256;
-/// Per-code tables: one for each stored 8-bit code.
-const CODES: u32 = 256;
+/// Per-code tables: one for each stored 8-bit code (`ENVIRONMENT_CODES` in the generated
+/// `bindings/constants.glsl`).
+pub(crate) const CODES: u32 = 256;
 
 /// The cubes' format. f32, not f16: the bake's normalised sums come out within a few f32
 /// ulps of a uniform environment's radiance, and storing them as f16 (which lavapipe
@@ -85,7 +88,7 @@ fn check_format(device: &Device) -> Result<(), RenderError> {
 }
 
 /// Entries per side of the white specular albedo table over (n·v, r)
-/// (`ENERGY_TABLE_SIZE` in lighting.frag), cell-centred as the albedo tables.
+/// (`ENERGY_TABLE_SIZE` in lighting.frag, generated), cell-centred as the albedo tables.
 pub const ENERGY_TABLE_SIZE: u32 = 32;
 /// Hammersley samples per entry of that table.
 pub const ENERGY_TABLE_SAMPLES: u32 = 1024;
@@ -140,8 +143,8 @@ impl GpuEnvironment {
             cube("environment placeholder")?,
             cube("environment placeholder")?,
         );
-        crate::targets::make_sampled_placeholders(device, &[&specular, &irradiance])?;
-        let table = |name| crate::frame::filled_storage_buffer(device, name, &[0; 32]);
+        crate::placeholders::make_sampled_placeholders(device, &[&specular, &irradiance])?;
+        let table = |name| filled_storage_buffer(device, name, &[0; 32]);
         Ok(Self {
             specular,
             irradiance,
@@ -199,14 +202,14 @@ impl FrameEnvironment {
         self.gpu.bake_ms
     }
 
-    /// Whether it was baked for `scene`'s material table by the renderer whose retire
-    /// queue is `retire`.
+    /// Whether it was baked for a scene's material table (`bake_materials`, as the bake
+    /// reads it) by the renderer whose retire queue is `retire`.
     pub(crate) fn lights(
         &self,
-        scene: &crate::GpuScene,
+        bake_materials: &[u8],
         retire: &Arc<crate::retire::RetireQueue>,
     ) -> bool {
-        Arc::ptr_eq(&self.retire, retire) && self.materials == scene.bake_materials
+        Arc::ptr_eq(&self.retire, retire) && self.materials == bake_materials
     }
 }
 
@@ -439,12 +442,12 @@ impl EnvironmentBaker {
             &ImageDesc::cube("environment irradiance", FORMAT, IRRADIANCE_SIZE, usage),
         )?;
         let gpu_materials = material_table(scene, &[]);
-        let materials = crate::frame::filled_storage_buffer(
+        let materials = filled_storage_buffer(
             device,
             "environment bake material table",
             bytemuck::cast_slice(&gpu_materials),
         )?;
-        let conductor_table = crate::frame::filled_storage_buffer(
+        let conductor_table = filled_storage_buffer(
             device,
             "environment bake conductor table",
             bytemuck::cast_slice(conductor_from_base_color_table()),
@@ -466,7 +469,7 @@ impl EnvironmentBaker {
             storage,
             MemoryLocation::GpuOnly,
         )?;
-        let code_table_of_material = crate::frame::filled_storage_buffer(
+        let code_table_of_material = filled_storage_buffer(
             device,
             "environment per-code table of each material",
             bytemuck::cast_slice(&of_material),
@@ -555,7 +558,7 @@ impl EnvironmentBaker {
                 params,
                 values,
             };
-            crate::bind_pass(
+            crate::commands::bind_pass(
                 raw,
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,

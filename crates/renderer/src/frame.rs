@@ -6,14 +6,18 @@ use std::sync::Arc;
 use combustion_vk::{vk, Buffer, DescriptorPool, Device, ImageState, TimestampQueries, VkError};
 
 use crate::bindings;
+use crate::buffers::{storage_buffer, write_growing, CPU_TO_GPU, GPU_ONLY};
 use crate::environment::GpuEnvironment;
+use crate::error::RenderError;
 use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
+use crate::host::{FrameInputs, FrameTarget};
 use crate::overlay::OverlayQuad;
+use crate::pipelines::SetLayouts;
+use crate::results::PassTimings;
+use crate::scene_upload::GpuScene;
 use crate::targets::{FrameTargets, TargetKey};
-use crate::{
-    FrameInputs, FrameTarget, GpuScene, PassTime, PassTimings, RenderError, Renderer, SetLayouts,
-};
+use crate::Renderer;
 
 /// Timestamps a frame may write: its start, the end of each pass, and the end of its
 /// last command (whose availability says the slot's frame has completed).
@@ -105,58 +109,6 @@ impl FrameSlot {
         self.retired.push(resource);
     }
 }
-
-/// A storage buffer of `bytes` bytes (at least 4) in `location`.
-pub(crate) fn storage_buffer(
-    device: &Arc<Device>,
-    name: &str,
-    bytes: u64,
-    location: combustion_vk::gpu_allocator::MemoryLocation,
-) -> Result<Buffer, VkError> {
-    Buffer::new(
-        device,
-        name,
-        bytes.max(4),
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        location,
-    )
-}
-
-/// A host-visible storage buffer holding `bytes`.
-pub(crate) fn filled_storage_buffer(
-    device: &Arc<Device>,
-    name: &str,
-    bytes: &[u8],
-) -> Result<Buffer, VkError> {
-    let mut buffer = storage_buffer(device, name, bytes.len() as u64, CPU_TO_GPU)?;
-    buffer.write(0, bytes)?;
-    Ok(buffer)
-}
-
-/// Writes `bytes` at the start of a per-slot host-visible `buffer`, replacing it by one
-/// of the next power-of-two size when they do not fit. The caller guarantees that the
-/// slot's previous frame, the old buffer's last reader, has completed.
-fn write_growing(
-    device: &Arc<Device>,
-    buffer: &mut Buffer,
-    name: &str,
-    bytes: &[u8],
-) -> Result<(), VkError> {
-    if bytes.len() as u64 > buffer.size() {
-        *buffer = storage_buffer(
-            device,
-            name,
-            (bytes.len() as u64).next_power_of_two(),
-            CPU_TO_GPU,
-        )?;
-    }
-    buffer.write(0, bytes)
-}
-
-const CPU_TO_GPU: combustion_vk::gpu_allocator::MemoryLocation =
-    combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu;
-const GPU_ONLY: combustion_vk::gpu_allocator::MemoryLocation =
-    combustion_vk::gpu_allocator::MemoryLocation::GpuOnly;
 
 /// Names of the per-slot buffers (for the allocator's reports).
 const LIGHTS: &str = "frame lights";
@@ -324,7 +276,7 @@ impl Renderer {
         scene: &GpuScene,
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
-        variant: crate::ShaderVariant,
+        variant: crate::variant::ShaderVariant,
     ) -> Result<(), RenderError> {
         let extent = target.color.extent;
         // The slot's previous frame has completed: read its timings, free what it
@@ -354,7 +306,7 @@ impl Renderer {
         scene: &GpuScene,
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
-    ) -> Result<crate::ShaderVariant, RenderError> {
+    ) -> Result<crate::variant::ShaderVariant, RenderError> {
         let frames_in_flight = self.slots.len();
         if frame_slot >= frames_in_flight {
             return Err(RenderError::InvalidFrameSlot {
@@ -370,7 +322,7 @@ impl Renderer {
         inputs.camera.validate()?;
         combustion_scene::validate_lights(inputs.lights)?;
         if !self.outputs.contains_key(&target.color.format) {
-            return Err(match crate::OutputEncoding::of(target.color.format) {
+            return Err(match crate::host::OutputEncoding::of(target.color.format) {
                 Some(_) => RenderError::OutputNotPrepared(target.color.format),
                 None => RenderError::UnsupportedOutputFormat(target.color.format),
             });
@@ -380,7 +332,7 @@ impl Renderer {
         }
         let variant = match inputs.environment {
             None => self.variant_of(scene.variant),
-            Some(environment) if environment.lights(scene, &self.retire_queue) => {
+            Some(environment) if environment.lights(&scene.bake_materials, &self.retire_queue) => {
                 self.variant_of(scene.lit_variant)
             }
             Some(_) => return Err(RenderError::EnvironmentOfAnotherScene),
@@ -405,7 +357,7 @@ impl Renderer {
             } else {
                 Err(RenderError::InvalidTargetImage {
                     target,
-                    problem: crate::TargetImageProblem::MissingUsage(needed),
+                    problem: crate::error::TargetImageProblem::MissingUsage(needed),
                 })
             }
         };
@@ -436,7 +388,7 @@ impl Renderer {
     /// scenes dropped since the last frame joins the retire list of the frame recorded
     /// last (the last that may read it); then what this slot's frame retired is freed.
     fn begin_slot(&mut self, slot: usize) -> Result<(), RenderError> {
-        if self.collect_timings(slot)? == SlotFrame::Pending {
+        if self.collect_timings(slot)? == crate::results::SlotFrame::Pending {
             return Err(RenderError::FrameSlotInFlight { slot });
         }
         for dropped in self.retire_queue.take() {
@@ -658,7 +610,7 @@ impl Renderer {
         slot: usize,
         key: TargetKey,
         scene: &GpuScene,
-        variant: crate::ShaderVariant,
+        variant: crate::variant::ShaderVariant,
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
     ) {
@@ -690,7 +642,11 @@ impl Renderer {
             t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, 0);
         }
 
-        states.transition(raw, cmd, &crate::GBufferPass::uses(&targets.gbuffer, scene));
+        states.transition(
+            raw,
+            cmd,
+            &crate::gbuffer::GBufferPass::uses(&targets.gbuffer, scene),
+        );
         passes.gbuffer.record(
             device,
             cmd,
@@ -825,34 +781,6 @@ impl Renderer {
             t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, end);
         }
         s.stamped = stamps;
-    }
-}
-
-/// Whether a slot's last frame has completed, as its timestamps tell.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum SlotFrame {
-    /// Completed (its timings were read), or nothing to tell: no frame was recorded in
-    /// the slot since it was last known complete, or the device has no timestamps.
-    Completed,
-    /// Some timestamp of the slot's last frame is not written yet.
-    Pending,
-}
-
-impl PassTimings {
-    /// From a frame's timestamps in ms since its start (the start, the end of each pass
-    /// in `passes`, then the end of its last command).
-    pub(crate) fn from_stamps(passes: &[&'static str], ms: &[f64]) -> Self {
-        Self {
-            passes: passes
-                .iter()
-                .zip(ms.windows(2))
-                .map(|(&name, pair)| PassTime {
-                    name,
-                    ms: pair[1] - pair[0],
-                })
-                .collect(),
-            total_ms: ms.get(passes.len()).map_or(0.0, |end| end - ms[0]),
-        }
     }
 }
 

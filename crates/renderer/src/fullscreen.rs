@@ -7,7 +7,7 @@ use combustion_vk::{
     ShaderCompiler, ShaderModule, ShaderStage,
 };
 
-use crate::RenderError;
+use crate::error::RenderError;
 
 /// What [`screen_pipeline`] builds: shaders by name, one descriptor set, push constants
 /// for `push_stages`, one colour target, no vertex input and no depth.
@@ -136,9 +136,9 @@ impl FullscreenPass {
         // SAFETY: recording into a command buffer in the recording state.
         unsafe {
             raw.cmd_begin_rendering(cmd, &rendering);
-            crate::set_viewport_and_scissor(raw, cmd, extent);
+            crate::commands::set_viewport_and_scissor(raw, cmd, extent);
             raw.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-            crate::bind_pass(
+            crate::commands::bind_pass(
                 raw,
                 cmd,
                 vk::PipelineBindPoint::GRAPHICS,

@@ -8,9 +8,12 @@ use combustion_vk::{
     PipelineCache, PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
 };
 
+use crate::error::RenderError;
 use crate::gpu_types::GBufferPush;
 use crate::scene_upload::GpuScene;
-use crate::{RenderError, ShaderVariant};
+use crate::variant::ShaderVariant;
+
+pub use crate::color::srgb_to_linear;
 
 /// Base colour (sRGB-encoded by the shader, 8 bits) and metalness (linear, 8 bits).
 /// UNORM, not _SRGB: the shaders encode and decode exactly (see gbuffer_encoding.glsl).
@@ -296,7 +299,7 @@ impl GBufferPass {
         // that outlive the submission.
         unsafe {
             raw.cmd_begin_rendering(cmd, &rendering);
-            crate::set_viewport_and_scissor(raw, cmd, extent);
+            crate::commands::set_viewport_and_scissor(raw, cmd, extent);
             raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
             raw.cmd_bind_descriptor_sets(
                 cmd,
@@ -388,15 +391,6 @@ pub struct GBufferReadback {
     pub height: u32,
     /// `width · height` texels, row-major from the top-left.
     pub texels: Vec<GBufferTexel>,
-}
-
-/// The sRGB decoding (IEC 61966-2-1), as the lighting pass's table applies it.
-pub fn srgb_to_linear(encoded: f64) -> f64 {
-    if encoded <= 0.04045 {
-        encoded / 12.92
-    } else {
-        ((encoded + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 /// CPU mirror of `octahedral_decode` (gbuffer_encoding.glsl), in f64.

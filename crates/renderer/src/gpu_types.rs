@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use combustion_scene::{Light, Material, Object, Scene};
 use glam::Mat4;
 
-/// `MATERIAL_FLAG_*` in gpu_types.glsl.
+/// `MATERIAL_FLAG_*` in the shaders (generated `bindings/constants.glsl`).
 pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 
 /// `GpuMaterial` (std430, 384 bytes).
@@ -179,7 +179,7 @@ fn normal_matrix(transform: &glam::Mat4) -> glam::Mat4 {
     glam::Mat4::from_mat3(unit.inverse().transpose())
 }
 
-/// `LIGHT_KIND_*` in gpu_types.glsl.
+/// `LIGHT_KIND_*` in the shaders (generated `bindings/constants.glsl`).
 pub const LIGHT_KIND_DIRECTIONAL: f32 = 0.0;
 /// `LIGHT_KIND_POINT`: a point light.
 pub const LIGHT_KIND_POINT: f32 = 1.0;
@@ -303,7 +303,7 @@ pub fn conductor_from_base_color_table() -> &'static [[f32; 2]; 256] {
     TABLE.get_or_init(|| {
         let mut table = [[0.0; 2]; 256];
         for (code, entry) in table.iter_mut().enumerate() {
-            let r = crate::gbuffer::srgb_to_linear(code as f64 / 255.0) as f32;
+            let r = crate::color::srgb_to_linear(code as f64 / 255.0) as f32;
             let ior = combustion_scene::conductor_from_reflectivity([r; 3]);
             *entry = [ior.eta[0], ior.k[0]];
         }

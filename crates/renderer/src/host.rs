@@ -5,7 +5,10 @@
 use combustion_scene::{Camera, Light};
 use combustion_vk::{vk, ImageState};
 
-use crate::{GpuScene, OverlayPanel, RenderError};
+use crate::error::RenderError;
+use crate::error::TargetImageProblem;
+use crate::overlay::OverlayPanel;
+use crate::scene_upload::GpuScene;
 
 /// The format of the renderer's own display image ([`crate::Renderer::render`]), whose
 /// output pass is prepared at construction.
@@ -178,24 +181,6 @@ impl DepthTarget {
     }
 }
 
-/// What is wrong with an image a host gave as a frame's target.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum TargetImageProblem {
-    /// The image lacks the usage flags the frame needs (`COLOR_ATTACHMENT` for the colour
-    /// target, `TRANSFER_DST` for the depth target).
-    #[error("was not created with {0:?} usage")]
-    MissingUsage(vk::ImageUsageFlags),
-    /// Not a 2D image of depth 1.
-    #[error("is a {0:?} image, not a 2D one")]
-    NotTwoDimensional(vk::ImageType),
-    /// More than one sample per pixel.
-    #[error("has {0:?} samples per pixel; frames are rendered with one")]
-    Multisampled(vk::SampleCountFlags),
-    /// Created with no mip level or no array layer.
-    #[error("has no mip level or no array layer")]
-    Empty,
-}
-
 fn extent_2d(extent: vk::Extent3D) -> vk::Extent2D {
     vk::Extent2D {
         width: extent.width,
@@ -244,7 +229,7 @@ pub struct FrameInputs<'a> {
     /// The environment lighting this frame in place of the scene's own (None: the
     /// scene's, if it has one), baked for the scene's materials by
     /// [`crate::Renderer::bake_environment`].
-    pub environment: Option<&'a crate::FrameEnvironment>,
+    pub environment: Option<&'a crate::environment::FrameEnvironment>,
 }
 
 impl<'a> FrameInputs<'a> {

@@ -11,10 +11,11 @@ use combustion_vk::{
     ShaderModule, ShaderStage,
 };
 
+use crate::error::RenderError;
 use crate::gpu_types::CullPush;
-use crate::RenderError;
 
-/// Tile edge in pixels (`TILE_SIZE` in light_cull.comp and lighting.frag).
+/// Tile edge in pixels (`TILE_SIZE` in light_cull.comp and lighting.frag, from the
+/// generated `bindings/constants.glsl`).
 pub const TILE_SIZE: u32 = 16;
 
 /// The most lights a frame can cull (each tile's list has room for every light: at
@@ -95,7 +96,7 @@ impl LightCullPass {
         let (x, y) = tiles(extent);
         let raw = device.raw();
         let groups = (x * y).div_ceil(64);
-        crate::bind_pass(
+        crate::commands::bind_pass(
             raw,
             cmd,
             vk::PipelineBindPoint::COMPUTE,

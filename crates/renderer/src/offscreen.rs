@@ -11,14 +11,17 @@ use combustion_vk::{
     RingFrame, VkError,
 };
 
+use crate::color::f16_to_f32;
+use crate::error::RenderError;
 use crate::frame::display_after;
 use crate::gbuffer::{GBufferReadback, GBufferTexel};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
+use crate::host::{ColorTarget, FrameInputs, FrameTarget, DISPLAY_FORMAT};
+use crate::options::{HdrFormat, Readback};
+use crate::results::Frame;
+use crate::scene_upload::GpuScene;
 use crate::targets::TargetKey;
-use crate::{
-    f16_to_f32, ColorTarget, Frame, FrameInputs, FrameTarget, GpuScene, HdrFormat, Readback,
-    RenderError, Renderer, DISPLAY_FORMAT,
-};
+use crate::Renderer;
 
 /// Display image sizes kept (the least recently used beyond this is retired).
 const DISPLAY_SIZES_KEPT: usize = 4;

@@ -16,7 +16,7 @@ use combustion_vk::{
     vk, DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
 };
 
-use crate::RenderError;
+use crate::error::RenderError;
 
 /// DejaVu Sans 2.37 (see `assets/fonts/README.md` for its source and licence).
 static FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
@@ -372,7 +372,7 @@ impl OverlayPass {
             image_width,
         };
         let raw = device.raw();
-        crate::bind_pass(
+        crate::commands::bind_pass(
             raw,
             cmd,
             vk::PipelineBindPoint::GRAPHICS,

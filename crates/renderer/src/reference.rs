@@ -10,14 +10,14 @@ use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic
 use combustion_optics::vec3::Vec3 as V;
 use combustion_scene::{Environment, Scene};
 
-use crate::gbuffer::{
-    anisotropy_direction_decode, octahedral_decode, srgb_to_linear, GBufferTexel,
-};
+use crate::color::srgb_to_linear;
+use crate::gbuffer::{anisotropy_direction_decode, octahedral_decode, GBufferTexel};
 use crate::gpu_types::{
     conductor_from_base_color_table, material_table, GpuLight, GpuMaterial, LightingPush,
     LIGHT_KIND_DIRECTIONAL,
 };
-use crate::{Frame, FrameInputs};
+use crate::host::FrameInputs;
+use crate::results::Frame;
 
 /// Radiance below which errors are measured absolutely: 1e-4 W·sr⁻¹·m⁻² is a third of an
 /// 8-bit step after the tone curve and sRGB encoding at black (1e-4 · 12.92 · 255 = 0.33).

@@ -9,11 +9,11 @@ use std::sync::Arc;
 use combustion_scene::{Mesh, Scene};
 use combustion_vk::{vk, Buffer, DescriptorSetLayout, Device};
 
+use crate::error::RenderError;
 use crate::gpu_types::{conductor_from_base_color_table, material_table, GpuObject, GpuVertex};
 use crate::retire::{RetireQueue, Retired};
 use crate::scene_edit::{MaterialId, MeshId, ObjectId, SceneIds};
 use crate::textures::SceneTextures;
-use crate::RenderError;
 
 /// A validated scene uploaded to the GPU by one [`crate::Renderer`]
 /// ([`crate::Renderer::upload`]), drawn by that renderer's frames.
@@ -32,9 +32,9 @@ pub struct GpuScene {
     /// Per draw: the material (index into `textures.material_sets`).
     pub(crate) draw_materials: Vec<usize>,
     /// Shader features this scene needs (selects the pipeline variant).
-    pub(crate) variant: crate::ShaderVariant,
+    pub(crate) variant: crate::variant::ShaderVariant,
     /// The shader features of its frames lit by a [`crate::FrameEnvironment`].
-    pub(crate) lit_variant: crate::ShaderVariant,
+    pub(crate) lit_variant: crate::variant::ShaderVariant,
     /// Whether a [`crate::FrameEnvironment`] was baked for it: then
     /// [`crate::Renderer::prepare`] and edits build `lit_variant`'s pipelines too.
     pub(crate) frame_environments: std::sync::atomic::AtomicBool,
@@ -127,8 +127,8 @@ pub struct SceneEditReport {
 }
 
 /// The shader features `scene` needs.
-pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
-    crate::ShaderVariant {
+pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
+    crate::variant::ShaderVariant {
         emissive: scene
             .materials
             .iter()
@@ -139,12 +139,12 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
                 .any(|(_, t)| t.is_some_and(|t| t.maps_coordinates()))
         }),
         // The Fresnel model and the debug views are the renderer's settings.
-        fresnel: crate::FresnelModel::Full,
+        fresnel: crate::options::FresnelModel::Full,
         debug_views: false,
-        features: crate::LightingFeatures::of(scene),
+        features: crate::variant::LightingFeatures::of(scene),
         floor: None,
-        masking: crate::Masking::HeightCorrelated,
-        distribution: crate::Distribution::Ggx,
+        masking: crate::options::Masking::HeightCorrelated,
+        distribution: crate::options::Distribution::Ggx,
         environment: scene.environment.is_some(),
         occlusion: scene.environment.is_some() && has_occlusion_textures(scene),
         // A renderer setting.
@@ -154,7 +154,7 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::ShaderVariant {
 
 /// The shader features `scene`'s frames need when an environment lights them, its own
 /// or a [`crate::FrameEnvironment`].
-pub(crate) fn lit_scene_variant(scene: &Scene) -> crate::ShaderVariant {
+pub(crate) fn lit_scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
     let mut variant = scene_variant(scene);
     variant.environment = true;
     variant.occlusion = has_occlusion_textures(scene);
@@ -252,8 +252,8 @@ struct Tables {
     draw_meshes: Vec<usize>,
     double_sided: Vec<bool>,
     draw_materials: Vec<usize>,
-    variant: crate::ShaderVariant,
-    lit_variant: crate::ShaderVariant,
+    variant: crate::variant::ShaderVariant,
+    lit_variant: crate::variant::ShaderVariant,
     bake_materials: Vec<u8>,
 }
 

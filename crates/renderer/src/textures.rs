@@ -15,7 +15,8 @@ use combustion_vk::{
     OneShot, Sampler, VkError,
 };
 
-use crate::{bindings, RenderError};
+use crate::bindings;
+use crate::error::RenderError;
 
 /// Textures of one scene.
 pub struct SceneTextures {

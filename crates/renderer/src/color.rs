@@ -1,0 +1,64 @@
+//! Colour encodings shared by the passes, the reference and the tests: the sRGB
+//! transfer functions, the output pass's tone curve, and the half floats an RGBA16F
+//! image is read back as (CPU mirrors of `srgb.glsl` and `tonemap.glsl`).
+
+/// CPU mirror of `tonemap_exponential` (tonemap.glsl): the display value before sRGB encoding.
+pub fn tonemap_exponential(x: f64) -> f64 {
+    1.0 - (-x.max(0.0)).exp()
+}
+
+/// The sRGB encoding (IEC 61966-2-1) the tonemap pass applies (`srgb_encode`).
+pub fn linear_to_srgb(linear: f64) -> f64 {
+    if linear <= 0.0031308 {
+        linear * 12.92
+    } else {
+        1.055 * linear.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The sRGB decoding (IEC 61966-2-1), as the lighting pass's table applies it.
+pub fn srgb_to_linear(encoded: f64) -> f64 {
+    if encoded <= 0.04045 {
+        encoded / 12.92
+    } else {
+        ((encoded + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// IEEE 754 binary16 → binary32 (exact).
+pub fn f16_to_f32(bits: u16) -> f32 {
+    let sign = if bits & 0x8000 != 0 { -1.0f32 } else { 1.0 };
+    let exponent = i32::from((bits >> 10) & 0x1f);
+    let mantissa = f32::from(bits & 0x3ff);
+    match exponent {
+        0 => sign * mantissa * 2f32.powi(-24),
+        31 if mantissa == 0.0 => sign * f32::INFINITY,
+        31 => f32::NAN,
+        e => sign * (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn f16_decoding_matches_known_values() {
+        assert_eq!(f16_to_f32(0x3c00), 1.0);
+        assert_eq!(f16_to_f32(0xc000), -2.0);
+        assert_eq!(f16_to_f32(0x7bff), 65504.0);
+        assert_eq!(f16_to_f32(0x0001), 2f32.powi(-24));
+        assert_eq!(f16_to_f32(0x3555), 0.333_251_95);
+        assert!(f16_to_f32(0x7c00).is_infinite());
+        assert!(f16_to_f32(0x7e00).is_nan());
+    }
+
+    #[test]
+    fn srgb_round_trip() {
+        for i in 0..=255 {
+            let e = f64::from(i) / 255.0;
+            let back = linear_to_srgb(srgb_to_linear(e));
+            assert!((back - e).abs() < 1e-12, "{i}");
+        }
+    }
+}

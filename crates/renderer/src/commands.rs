@@ -1,0 +1,58 @@
+//! Command-recording helpers every pass uses: binding a pass's pipeline with its one
+//! descriptor set and push constants, and setting a full-target viewport.
+
+use combustion_vk::vk;
+
+/// Binds `pipeline` at `bind_point` with its one descriptor set (set 0) and, if any,
+/// its push constants for `stages`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn bind_pass(
+    raw: &combustion_vk::ash::Device,
+    cmd: vk::CommandBuffer,
+    bind_point: vk::PipelineBindPoint,
+    pipeline: &combustion_vk::Pipeline,
+    layout: &combustion_vk::PipelineLayout,
+    set: vk::DescriptorSet,
+    stages: vk::ShaderStageFlags,
+    push: &[u8],
+) {
+    // SAFETY: recording state is the caller's responsibility; the set matches the layout.
+    unsafe {
+        raw.cmd_bind_pipeline(cmd, bind_point, pipeline.raw());
+        raw.cmd_bind_descriptor_sets(cmd, bind_point, layout.raw(), 0, &[set], &[]);
+        if !push.is_empty() {
+            raw.cmd_push_constants(cmd, layout.raw(), stages, 0, push);
+        }
+    }
+}
+
+/// Sets the viewport (depth 0 to 1) and the scissor to the whole of `extent`.
+pub(crate) fn set_viewport_and_scissor(
+    raw: &combustion_vk::ash::Device,
+    cmd: vk::CommandBuffer,
+    extent: vk::Extent2D,
+) {
+    // SAFETY: recording state is the caller's responsibility.
+    unsafe {
+        raw.cmd_set_viewport(
+            cmd,
+            0,
+            &[vk::Viewport {
+                x: 0.0,
+                y: 0.0,
+                width: extent.width as f32,
+                height: extent.height as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            }],
+        );
+        raw.cmd_set_scissor(
+            cmd,
+            0,
+            &[vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent,
+            }],
+        );
+    }
+}

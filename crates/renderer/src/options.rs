@@ -1,0 +1,265 @@
+//! The renderer's settings and shading options: what [`Renderer::new`] is given
+//! ([`RendererSettings`]), the comparison variants of the lighting pass ([`FresnelModel`],
+//! [`Masking`], [`Distribution`], [`MeasurementFloor`]), its debug views and what a frame
+//! reads back. Plain values: the renderer's setters are in `settings.rs`.
+
+#[cfg(doc)]
+use combustion_scene::DiffuseModel;
+use combustion_vk::vk;
+
+#[cfg(doc)]
+use crate::{FrameInputs, LightingFeatures, Renderer};
+
+/// Which Fresnel term the lighting pass evaluates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum FresnelModel {
+    /// The full dielectric and conductor Fresnel equations with the outside medium's IOR,
+    /// polarisation and total internal reflection (the reference; default).
+    #[default]
+    Full,
+    /// Schlick's curve through the exact normal-incidence reflectance: cheaper, no total
+    /// internal reflection. Its speed and error are measured and reported (README,
+    /// "Performance and accuracy"); it exists for comparison, not as a default.
+    Schlick,
+    /// Hoffman's F82 model (Hoffman 2019; the form of OpenPBR): Schlick's curve less
+    /// b μ (1 − μ)⁶, fitted per pixel to the exact reflectance at normal incidence and at
+    /// cos θ = 1/7 (`combustion_optics::fresnel::fresnel_f82`). Cheaper per light than the
+    /// full equations, closer than Schlick on metals; a comparison variant.
+    F82,
+}
+
+impl FresnelModel {
+    /// The short name the command line and the report use (`full`, `schlick`, `f82`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Full => "full",
+            Self::Schlick => "schlick",
+            Self::F82 => "f82",
+        }
+    }
+
+    /// How the viewer's title and statistics panel name it.
+    pub fn description(self) -> &'static str {
+        match self {
+            Self::Full => "full Fresnel",
+            Self::Schlick => "Schlick (comparison)",
+            Self::F82 => "F82 (comparison)",
+        }
+    }
+}
+
+/// The masking–shadowing term of the lighting pass. The default is the exact model (the
+/// one the f64 reference evaluates); the others are comparison variants whose error the
+/// report measures.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Masking {
+    /// Smith's height-correlated G₂ (Heitz 2014).
+    #[default]
+    HeightCorrelated,
+    /// The separable G₁(v)·G₁(l).
+    Separable,
+    /// Hammon 2017's approximation of the height-correlated visibility.
+    Approximate,
+}
+
+impl Masking {
+    /// The short name the command line and the report use (`correlated`, `separable`,
+    /// `approximate`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::HeightCorrelated => "correlated",
+            Self::Separable => "separable",
+            Self::Approximate => "approximate",
+        }
+    }
+}
+
+/// The microfacet normal distribution of the lighting pass. GGX (the reference's) by
+/// default; Beckmann is a comparison variant whose error the report measures.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Distribution {
+    /// GGX / Trowbridge–Reitz, isotropic or anisotropic (Walter et al. 2007; Burley 2012).
+    #[default]
+    Ggx,
+    /// Beckmann's distribution with the same α (anisotropic form), and Beckmann's own
+    /// Smith Λ in Walter et al. 2007's rational form, height-correlated or separable as
+    /// [`Masking`] says. Hammon's fit ([`Masking::Approximate`]) is of GGX's term: with
+    /// Beckmann it evaluates the height-correlated form.
+    Beckmann,
+}
+
+impl Distribution {
+    /// The short name the command line and the report use (`ggx`, `beckmann`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Ggx => "ggx",
+            Self::Beckmann => "beckmann",
+        }
+    }
+}
+
+/// Stripped-down passes to measure the real ones against (`combustion bench --report`):
+/// what the same frame costs with the shading taken out. Not images to look at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MeasurementFloor {
+    /// The G-buffer pass with the same meshes, vertex format and targets but a fragment
+    /// stage that writes constants (the geometry floor).
+    Geometry,
+    /// The lighting pass fetching the G-buffer and writing, nothing shaded.
+    LightingFetch,
+    /// The lighting pass with a plain isotropic GGX, height-correlated Smith and the
+    /// full conductor Fresnel equations per light (no frame, dielectric or diffuse).
+    LightingPlainGgx,
+}
+
+/// What the lighting pass shows instead of radiance (`debug_views.glsl` reads the same
+/// numbering, as `DEBUG_VIEW_*` generated from it). With a debug view, render at exposure 1: the view's values are written so
+/// that the output pass's tone curve and sRGB encoding give them back.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DebugView {
+    /// Radiance: the frame itself.
+    #[default]
+    None = 0,
+    /// The base colour, as a colour.
+    BaseColor = 1,
+    /// The normal, n·½ + ½ as RGB codes.
+    Normal = 2,
+    /// Perceptual roughness as a grey code.
+    Roughness = 3,
+    /// Anisotropy strength as a grey code.
+    AnisotropyStrength = 4,
+    /// The anisotropy direction, t·½ + ½ as RGB codes.
+    AnisotropyDirection = 5,
+    /// Metalness as a grey code.
+    Metalness = 6,
+    /// A colour per material index.
+    MaterialIndex = 7,
+    /// Distance d from the eye, as the grey code d / (1 + d).
+    Depth = 8,
+    /// GGX's D for the first light's half vector, through the tone curve.
+    Distribution = 9,
+    /// The Smith masking–shadowing G2 for the first light, as a grey code.
+    Smith = 10,
+    /// The Fresnel reflectance per channel at the first light's half vector.
+    Fresnel = 11,
+    /// The diffuse lobe × π (the albedo it shows), for the first light.
+    Diffuse = 12,
+    /// The share of the frame's lights the pixel's tile loops over (1 where frames do
+    /// not cull): light culling made visible.
+    LightsPerTile = 13,
+}
+
+impl DebugView {
+    /// Every view, in key order.
+    pub const ALL: [DebugView; 14] = [
+        DebugView::None,
+        DebugView::BaseColor,
+        DebugView::Normal,
+        DebugView::Roughness,
+        DebugView::AnisotropyStrength,
+        DebugView::AnisotropyDirection,
+        DebugView::Metalness,
+        DebugView::MaterialIndex,
+        DebugView::Depth,
+        DebugView::Distribution,
+        DebugView::Smith,
+        DebugView::Fresnel,
+        DebugView::Diffuse,
+        DebugView::LightsPerTile,
+    ];
+
+    /// The next view (after the last: none).
+    pub fn next(self) -> DebugView {
+        let i = Self::ALL.iter().position(|&v| v == self).unwrap_or(0);
+        Self::ALL[(i + 1) % Self::ALL.len()]
+    }
+
+    /// A short lower-case name for titles and panels (`radiance`, `base colour`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::None => "radiance",
+            Self::BaseColor => "base colour",
+            Self::Normal => "normal",
+            Self::Roughness => "roughness",
+            Self::AnisotropyStrength => "anisotropy strength",
+            Self::AnisotropyDirection => "anisotropy direction",
+            Self::Metalness => "metalness",
+            Self::MaterialIndex => "material index",
+            Self::Depth => "distance",
+            Self::Distribution => "D (GGX)",
+            Self::Smith => "G2 (Smith)",
+            Self::Fresnel => "Fresnel F",
+            Self::Diffuse => "diffuse",
+            Self::LightsPerTile => "lights per tile",
+        }
+    }
+}
+
+/// Storage of the HDR (lit) image.
+///
+/// Measured on lavapipe at 1280×720 (builtin:spheres, median of 30 frames): RGBA32F costs
+/// ≈ 0.5 ms more in the lighting pass and ≈ 0.9 ms more in the tonemap pass than RGBA16F
+/// (≈ 1.5 % of the frame), while RGBA16F's rounding (up to 2⁻¹² relative) is larger than
+/// the whole shading error the parity tests measure (mean ≈ 4e-6). Hence RGBA32F by default.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HdrFormat {
+    /// RGBA16F: half the bandwidth; ≈ 3 significant digits (relative step 2⁻¹¹).
+    Rgba16Float,
+    /// RGBA32F: the radiance as the lighting pass computed it.
+    #[default]
+    Rgba32Float,
+}
+
+impl HdrFormat {
+    /// The Vulkan format.
+    pub fn vk(self) -> vk::Format {
+        match self {
+            Self::Rgba16Float => vk::Format::R16G16B16A16_SFLOAT,
+            Self::Rgba32Float => vk::Format::R32G32B32A32_SFLOAT,
+        }
+    }
+    pub(crate) fn bytes_per_pixel(self) -> u64 {
+        match self {
+            Self::Rgba16Float => 8,
+            Self::Rgba32Float => 16,
+        }
+    }
+}
+
+/// What a frame copies back to the CPU.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Readback {
+    /// The HDR radiance and the tonemapped sRGB image.
+    pub images: bool,
+    /// The G-buffer and depth (for parity checks).
+    pub gbuffer: bool,
+}
+
+/// The most frames in flight a renderer keeps.
+pub const MAX_FRAMES_IN_FLIGHT: usize = 3;
+
+/// Settings of the renderer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RendererSettings {
+    /// The HDR (lit) image's format.
+    pub hdr_format: HdrFormat,
+    /// Multiplies radiance before the tone curve, in [`Renderer::render`] (frames
+    /// recorded with [`Renderer::record`] bring their own, in [`FrameInputs`]).
+    pub exposure: f32,
+    /// The Fresnel term; changed later with [`Renderer::set_fresnel`].
+    pub fresnel: FresnelModel,
+    /// Frames the CPU may record ahead of the GPU (1 to [`MAX_FRAMES_IN_FLIGHT`]):
+    /// each has its own descriptor sets, light buffer and timestamp queries.
+    pub frames_in_flight: usize,
+}
+
+impl Default for RendererSettings {
+    fn default() -> Self {
+        Self {
+            hdr_format: HdrFormat::default(),
+            exposure: 1.0,
+            fresnel: FresnelModel::default(),
+            frames_in_flight: 2,
+        }
+    }
+}

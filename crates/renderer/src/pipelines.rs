@@ -1,0 +1,148 @@
+//! The pipelines a renderer builds, never while a frame is recorded: per shader variant
+//! (G-buffer and lighting), per target format (output pass and overlay), and the
+//! descriptor-set layouts they share.
+
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+
+use combustion_vk::{vk, DescriptorSetLayout, Device};
+
+use crate::error::RenderError;
+use crate::fullscreen::FullscreenPass;
+use crate::gbuffer::GBufferPass;
+use crate::gpu_types::{LightingPush, TonemapPush};
+use crate::host::OutputEncoding;
+use crate::scene_upload::GpuScene;
+use crate::variant::ShaderVariant;
+use crate::{bindings, overlay, Renderer};
+#[cfg(doc)]
+use crate::{FrameEnvironment, DISPLAY_FORMAT};
+
+/// The G-buffer and lighting pipelines of one [`ShaderVariant`]. Variants that differ
+/// only in what the lighting pass reads share one G-buffer pipeline.
+pub(crate) struct VariantPasses {
+    pub(crate) gbuffer: Arc<GBufferPass>,
+    pub(crate) lighting: FullscreenPass,
+}
+
+/// The descriptor-set layouts of the passes, shared by every variant and frame slot.
+pub(crate) struct SetLayouts {
+    /// Set 0 of the G-buffer pass: object and material tables.
+    pub(crate) gbuffer: DescriptorSetLayout,
+    /// Set 1 of the G-buffer pass: one material's textures.
+    pub(crate) material: DescriptorSetLayout,
+    /// The lighting pass: G-buffer, depth, material table, lights, conductor table,
+    /// emissive (bound in the EMISSIVE variant only).
+    pub(crate) lighting: DescriptorSetLayout,
+    /// The output pass: the HDR image.
+    pub(crate) output: DescriptorSetLayout,
+    /// The overlay: the frame's quads, the font atlas and the overlay image.
+    pub(crate) overlay: DescriptorSetLayout,
+    /// Light culling: the G-buffer depth, the frame's lights, the tile lists.
+    pub(crate) light_cull: DescriptorSetLayout,
+}
+
+/// The passes that write a target of one format: the output pass and the overlay
+/// drawn over it.
+pub(crate) struct OutputPasses {
+    pub(crate) output: FullscreenPass,
+    pub(crate) overlay: overlay::OverlayPass,
+}
+
+impl SetLayouts {
+    pub(crate) fn new(device: &Arc<Device>) -> Result<Self, RenderError> {
+        Ok(Self {
+            gbuffer: bindings::GBUFFER.layout(device)?,
+            material: bindings::MATERIAL_TEXTURES.layout(device)?,
+            lighting: bindings::LIGHTING.layout(device)?,
+            output: bindings::OUTPUT.layout(device)?,
+            overlay: bindings::OVERLAY.layout(device)?,
+            light_cull: bindings::LIGHT_CULL.layout(device)?,
+        })
+    }
+}
+
+impl Renderer {
+    /// Builds the pipelines of `variant` if they are not built yet.
+    pub(crate) fn prepare_variant(&mut self, variant: ShaderVariant) -> Result<(), RenderError> {
+        if self.variants.contains_key(&variant) {
+            return Ok(());
+        }
+        let gbuffer_key = variant.gbuffer_part();
+        let gbuffer = match self.gbuffer_passes.get(&gbuffer_key) {
+            Some(pass) => pass.clone(),
+            None => {
+                let pass = Arc::new(GBufferPass::new(
+                    &self.device,
+                    &self.compiler,
+                    &self.pipeline_cache,
+                    &self.layouts.gbuffer,
+                    &self.layouts.material,
+                    gbuffer_key,
+                    self.settings.hdr_format.vk(),
+                )?);
+                self.stats.pipelines_built += 1;
+                self.gbuffer_passes.insert(gbuffer_key, pass.clone());
+                pass
+            }
+        };
+        let lighting = FullscreenPass::new(
+            &self.device,
+            &self.compiler,
+            &self.pipeline_cache,
+            "lighting.frag",
+            &variant.defines(),
+            &self.layouts.lighting,
+            std::mem::size_of::<LightingPush>() as u32,
+            self.settings.hdr_format.vk(),
+        )?;
+        self.variants
+            .insert(variant, VariantPasses { gbuffer, lighting });
+        self.stats.pipelines_built += 1;
+        Ok(())
+    }
+
+    /// Builds the output pass (and the overlay over it) for targets of `format`, so that [`Renderer::record`] can
+    /// render into them. [`DISPLAY_FORMAT`] is prepared by [`Renderer::new`]. Formats:
+    /// see [`OutputEncoding::of`].
+    pub fn prepare_output(&mut self, format: vk::Format) -> Result<(), RenderError> {
+        if self.outputs.contains_key(&format) {
+            return Ok(());
+        }
+        let encoding =
+            OutputEncoding::of(format).ok_or(RenderError::UnsupportedOutputFormat(format))?;
+        let output = FullscreenPass::new(
+            &self.device,
+            &self.compiler,
+            &self.pipeline_cache,
+            "tonemap.frag",
+            &encoding.defines(),
+            &self.layouts.output,
+            std::mem::size_of::<TonemapPush>() as u32,
+            format,
+        )?;
+        let overlay = overlay::OverlayPass::new(
+            &self.device,
+            &self.compiler,
+            &self.pipeline_cache,
+            &self.layouts.overlay,
+            &encoding.defines(),
+            format,
+        )?;
+        self.outputs
+            .insert(format, OutputPasses { output, overlay });
+        self.stats.pipelines_built += 2;
+        Ok(())
+    }
+
+    /// Builds the pipelines `scene` needs with the current settings, if they are not
+    /// built yet (after [`Renderer::set_fresnel`]).
+    /// Frames lit by a [`FrameEnvironment`] baked for the scene get theirs too.
+    pub fn prepare(&mut self, scene: &GpuScene) -> Result<(), RenderError> {
+        self.prepare_variant(self.variant_of(scene.variant))?;
+        if scene.frame_environments.load(Ordering::Relaxed) {
+            self.prepare_variant(self.variant_of(scene.lit_variant))?;
+        }
+        Ok(())
+    }
+}

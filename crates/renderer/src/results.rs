@@ -1,0 +1,178 @@
+//! What the renderer gives back: a rendered [`Frame`], the GPU times of its passes
+//! ([`PassTimings`]), and counts of what it built ([`RendererStats`]).
+
+use crate::error::RenderError;
+use crate::gbuffer::GBufferReadback;
+#[cfg(doc)]
+use crate::Readback;
+use crate::Renderer;
+
+/// A rendered frame.
+#[derive(Clone, Debug, Default)]
+pub struct Frame {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Linear HDR radiance, RGBA, row-major from the top-left (empty without readback).
+    pub hdr: Vec<[f32; 4]>,
+    /// Tonemapped, sRGB-encoded RGBA8 (empty without readback).
+    pub ldr: Vec<[u8; 4]>,
+    /// The G-buffer, with [`Readback::gbuffer`] (else `None`).
+    pub gbuffer: Option<GBufferReadback>,
+    /// The frame's GPU pass times (zero where the device has no timestamps).
+    pub timings: PassTimings,
+}
+
+/// The GPU times of one frame's passes, by name, from timestamp queries, in
+/// milliseconds: whatever passes the frame ran, in the order it ran them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PassTimings {
+    /// Each pass the frame ran, in order.
+    pub passes: Vec<PassTime>,
+    /// From the frame's first command to the end of its last pass.
+    pub total_ms: f64,
+}
+
+/// One pass's GPU time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PassTime {
+    /// The pass's name ([`PassTimings::GBUFFER`], …).
+    pub name: &'static str,
+    /// Milliseconds from the end of the pass before (or the frame's start) to its end.
+    pub ms: f64,
+}
+
+impl PassTimings {
+    /// The G-buffer pass.
+    pub const GBUFFER: &'static str = "gbuffer";
+    /// The lighting pass, with the light culling that precedes it.
+    pub const LIGHTING: &'static str = "lighting";
+    /// The output pass (tone curve, encoding) and its overlay.
+    pub const OUTPUT: &'static str = "output";
+    /// The copy of the scene's depth into a host's depth image (frames given one).
+    pub const DEPTH_COPY: &'static str = "depth copy";
+
+    /// The time of the pass named `name`, if the frame ran it.
+    pub fn ms(&self, name: &str) -> Option<f64> {
+        self.passes.iter().find(|p| p.name == name).map(|p| p.ms)
+    }
+
+    /// The names of the passes the frame ran, in order.
+    pub fn names(&self) -> Vec<&'static str> {
+        self.passes.iter().map(|p| p.name).collect()
+    }
+
+    /// The time of the pass named `name`, 0 if the frame did not run it.
+    pub fn ms_or_zero(&self, name: &str) -> f64 {
+        self.ms(name).unwrap_or(0.0)
+    }
+}
+
+/// Counts of what a renderer has built, for hosts and tests that check that steady
+/// frames build nothing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RendererStats {
+    /// Frames recorded.
+    pub frames: u64,
+    /// Sets of targets (G-buffer + HDR image) allocated.
+    pub targets_built: u64,
+    /// Sets of targets retired after going unused.
+    pub targets_retired: u64,
+    /// Graphics pipelines built.
+    pub pipelines_built: u64,
+    /// Display images of [`Renderer::render`] and [`Renderer::submit_offscreen`] made.
+    pub display_images_built: u64,
+}
+
+/// How many completed frames' timings are kept until taken.
+const COMPLETED_TIMINGS_KEPT: usize = 1024;
+
+/// Whether a slot's last frame has completed, as its timestamps tell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SlotFrame {
+    /// Completed (its timings were read), or nothing to tell: no frame was recorded in
+    /// the slot since it was last known complete, or the device has no timestamps.
+    Completed,
+    /// Some timestamp of the slot's last frame is not written yet.
+    Pending,
+}
+
+impl PassTimings {
+    /// From a frame's timestamps in ms since its start (the start, the end of each pass
+    /// in `passes`, then the end of its last command).
+    pub(crate) fn from_stamps(passes: &[&'static str], ms: &[f64]) -> Self {
+        Self {
+            passes: passes
+                .iter()
+                .zip(ms.windows(2))
+                .map(|(&name, pair)| PassTime {
+                    name,
+                    ms: pair[1] - pair[0],
+                })
+                .collect(),
+            total_ms: ms.get(passes.len()).map_or(0.0, |end| end - ms[0]),
+        }
+    }
+}
+
+impl Renderer {
+    /// The GPU times of the most recent frame known to have completed (read when its
+    /// frame slot is reused; at once for [`Renderer::render`]).
+    pub fn last_completed_timings(&self) -> Option<PassTimings> {
+        self.last_timings.clone()
+    }
+
+    /// What this renderer has built so far.
+    pub fn stats(&self) -> RendererStats {
+        RendererStats {
+            frames: self.frame_number,
+            ..self.stats
+        }
+    }
+
+    /// The GPU times of every completed frame since the last call (oldest first; at
+    /// most the last 1024 are kept).
+    pub fn take_completed_timings(&mut self) -> Vec<PassTimings> {
+        self.completed_timings.drain(..).collect()
+    }
+
+    /// The host has waited for every frame it recorded (e.g. at exit or before a pause):
+    /// collects the timings of every slot's last frame, so that
+    /// [`Renderer::take_completed_timings`] has them all.
+    /// Every slot is free afterwards, even one whose last frame's timestamps are still
+    /// unwritten (the host's word: its timings are then lost).
+    pub fn frames_completed(&mut self) -> Result<(), RenderError> {
+        let count = self.slots.len();
+        let first = self.last_slot.map_or(0, |last| (last + 1) % count);
+        for i in 0..count {
+            let slot = (first + i) % count;
+            if self.collect_timings(slot)? == SlotFrame::Pending {
+                // The host's word: it completed (or never ran). Its timings are lost.
+                self.slots[slot].stamped.clear();
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads the timestamps of `slot`'s last frame if the GPU has written them all
+    /// (never waits); [`SlotFrame::Pending`] while any is not.
+    pub(crate) fn collect_timings(&mut self, slot: usize) -> Result<SlotFrame, RenderError> {
+        let s = &mut self.slots[slot];
+        let Some(t) = s.timestamps.as_ref().filter(|_| !s.stamped.is_empty()) else {
+            return Ok(SlotFrame::Completed);
+        };
+        // The start, each pass's end, and the frame's end.
+        let written = s.stamped.len() as u32 + 2;
+        let Some(ms) = t.read_first_ms_if_available(written)? else {
+            return Ok(SlotFrame::Pending);
+        };
+        let timings = PassTimings::from_stamps(&std::mem::take(&mut s.stamped), &ms);
+        self.last_timings = Some(timings.clone());
+        if self.completed_timings.len() == COMPLETED_TIMINGS_KEPT {
+            self.completed_timings.pop_front();
+        }
+        self.completed_timings.push_back(timings);
+        Ok(SlotFrame::Completed)
+    }
+}

@@ -1,0 +1,240 @@
+//! Shader variants: the `#define`s a scene's pipelines are built with, from the scene's
+//! features ([`LightingFeatures`], [`ShaderVariant`]) and the renderer's settings
+//! (`Renderer::variant_of`).
+
+use combustion_scene::{DiffuseModel, Scene};
+
+#[cfg(doc)]
+use crate::environment;
+use crate::options::{DebugView, Distribution, FresnelModel, Masking, MeasurementFloor};
+use crate::Renderer;
+
+/// The parts of the material model a lighting pipeline contains. A scene's pipeline
+/// holds only what its materials use ([`LightingFeatures::of`]): each part left out is
+/// a `NO_*` (or `OUTSIDE_ETA_ONE`) `#define` that removes its code from the shader, so
+/// no pixel pays for a branch the scene cannot take. [`LightingFeatures::ALL`] is the
+/// general pipeline (debug views, and the comparison [`Renderer::set_specialised`]
+/// turns on); both give the same radiance up to f32 rounding (tests/specialisation.rs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct LightingFeatures {
+    /// Anisotropic GGX (else the isotropic D and Smith forms: α_x = α_y everywhere).
+    pub anisotropy: bool,
+    /// A conductor part (some material's metalness can exceed 0).
+    pub conductors: bool,
+    /// Conductors whose η + ik come from the base colour's codes (the table lookup).
+    pub conductor_table: bool,
+    /// A dielectric part (some material's metalness can be below 1): its specular
+    /// lobe, Fresnel transmittance, total internal reflection and the diffuse lobe.
+    pub dielectrics: bool,
+    /// An outside medium other than η_i = 1 (else η_i is the constant 1).
+    pub outside_medium: bool,
+    /// The Lambertian diffuse model ([`DiffuseModel::Lambert`]).
+    pub lambert: bool,
+    /// The qualitative Oren–Nayar diffuse model ([`DiffuseModel::OrenNayarQualitative`]).
+    pub oren_nayar_qualitative: bool,
+    /// The full Oren–Nayar diffuse model ([`DiffuseModel::OrenNayarFull`]).
+    pub oren_nayar_full: bool,
+}
+
+impl LightingFeatures {
+    /// Every part: the general pipeline.
+    pub const ALL: LightingFeatures = LightingFeatures {
+        anisotropy: true,
+        conductors: true,
+        conductor_table: true,
+        dielectrics: true,
+        outside_medium: true,
+        lambert: true,
+        oren_nayar_qualitative: true,
+        oren_nayar_full: true,
+    };
+
+    /// What `scene`'s materials can use (every material counts, drawn or not).
+    pub fn of(scene: &Scene) -> LightingFeatures {
+        let f = scene.features();
+        let textured_metal =
+            |m: &combustion_scene::Material| m.metallic_roughness_texture.is_some();
+        LightingFeatures {
+            anisotropy: f.anisotropic > 0,
+            conductors: f.conductors + f.conductors_from_base_color > 0,
+            conductor_table: f.conductors_from_base_color > 0,
+            dielectrics: scene
+                .materials
+                .iter()
+                .any(|m| m.metalness < 1.0 || textured_metal(m)),
+            outside_medium: f.outside_ior_not_one,
+            lambert: f
+                .diffuse_models
+                .contains(&combustion_scene::DiffuseModel::Lambert),
+            oren_nayar_qualitative: f
+                .diffuse_models
+                .contains(&combustion_scene::DiffuseModel::OrenNayarQualitative),
+            oren_nayar_full: f
+                .diffuse_models
+                .contains(&combustion_scene::DiffuseModel::OrenNayarFull),
+        }
+    }
+
+    fn defines(&self, defines: &mut Vec<(&'static str, Option<&'static str>)>) {
+        for (present, define) in [
+            (self.anisotropy, "NO_ANISOTROPY"),
+            (self.conductors, "NO_CONDUCTORS"),
+            (self.conductor_table, "NO_CONDUCTOR_TABLE"),
+            (self.dielectrics, "NO_DIELECTRICS"),
+            (self.outside_medium, "OUTSIDE_ETA_ONE"),
+            (self.lambert, "NO_LAMBERT"),
+            (self.oren_nayar_qualitative, "NO_OREN_NAYAR_QUALITATIVE"),
+            (self.oren_nayar_full, "NO_OREN_NAYAR_FULL"),
+        ] {
+            if !present {
+                defines.push((define, None));
+            }
+        }
+    }
+}
+
+impl Default for LightingFeatures {
+    fn default() -> Self {
+        Self::ALL
+    }
+}
+
+/// The shader features a scene needs. Each distinct variant gets its own G-buffer and
+/// lighting pipelines (compile-time `#define`s), so a scene does not pay for features it
+/// lacks; variants are built at upload (or edit) and kept.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ShaderVariant {
+    /// An emissive target in the G-buffer, added to the lit radiance.
+    pub emissive: bool,
+    /// Some texture slot samples the second coordinate set or through a
+    /// KHR_texture_transform: the G-buffer shader reads `Vertex::uv1` and maps each
+    /// slot's coordinates (else it samples every slot at `Vertex::uv` as it is).
+    pub texture_transforms: bool,
+    /// The Fresnel term ([`FresnelModel`]; a renderer setting, not a scene feature).
+    pub fresnel: FresnelModel,
+    /// The lighting pass can show a G-buffer channel or a BRDF term instead of radiance
+    /// ([`DebugView`]; a renderer setting).
+    pub debug_views: bool,
+    /// The parts of the material model the lighting pipeline contains.
+    pub features: LightingFeatures,
+    /// A measurement floor instead of the real pass ([`Renderer::set_measurement_floor`]).
+    pub floor: Option<MeasurementFloor>,
+    /// The masking–shadowing term ([`Renderer::set_masking`]).
+    pub masking: Masking,
+    /// The normal distribution ([`Renderer::set_distribution`]).
+    pub distribution: Distribution,
+    /// Environment lighting ([`combustion_scene::Scene::environment`]): the lighting pass
+    /// adds the split-sum term of [`environment`].
+    pub environment: bool,
+    /// glTF occlusion textures attenuate the environment term (scenes with an
+    /// environment and a material with an occlusion texture): the G-buffer stores the
+    /// occlusion in the emissive target's alpha.
+    pub occlusion: bool,
+    /// Multiple-scattering energy compensation of the specular lobes
+    /// ([`Renderer::set_energy_compensation`]; a renderer setting).
+    pub energy_compensation: bool,
+}
+
+impl ShaderVariant {
+    /// Whether the G-buffer has its fourth target: emitted radiance (rgb, EMISSIVE) and
+    /// occlusion (a, OCCLUSION).
+    pub(crate) fn has_emissive_occlusion_target(&self) -> bool {
+        self.emissive || self.occlusion
+    }
+
+    /// The `#define`s of this variant.
+    pub(crate) fn defines(&self) -> Vec<(&'static str, Option<&'static str>)> {
+        let mut defines = Vec::new();
+        if self.emissive {
+            defines.push(("EMISSIVE", None));
+        }
+        if self.occlusion {
+            defines.push(("OCCLUSION", None));
+        }
+        if self.has_emissive_occlusion_target() {
+            defines.push(("EMISSIVE_OCCLUSION_TARGET", None));
+        }
+        if self.energy_compensation {
+            defines.push(("ENERGY_COMPENSATION", None));
+        }
+        if self.texture_transforms {
+            defines.push(("TEXTURE_TRANSFORMS", None));
+        }
+        match self.fresnel {
+            FresnelModel::Full => {}
+            FresnelModel::Schlick => defines.push(("FRESNEL_SCHLICK", None)),
+            FresnelModel::F82 => defines.push(("FRESNEL_F82", None)),
+        }
+        if self.debug_views {
+            defines.push(("DEBUG_VIEWS", None));
+        }
+        self.features.defines(&mut defines);
+        match self.masking {
+            Masking::HeightCorrelated => {}
+            Masking::Separable => defines.push(("SMITH_SEPARABLE", None)),
+            Masking::Approximate => defines.push(("SMITH_APPROXIMATE", None)),
+        }
+        if self.distribution == Distribution::Beckmann {
+            defines.push(("D_BECKMANN", None));
+        }
+        if self.environment {
+            defines.push(("ENVIRONMENT", None));
+        }
+        match self.floor {
+            None => {}
+            Some(MeasurementFloor::Geometry) => defines.push(("FLOOR_GEOMETRY", None)),
+            Some(MeasurementFloor::LightingFetch) => defines.push(("FLOOR_FETCH", None)),
+            Some(MeasurementFloor::LightingPlainGgx) => defines.push(("FLOOR_PLAIN_GGX", None)),
+        }
+        defines
+    }
+}
+
+impl ShaderVariant {
+    /// The part of the variant the G-buffer shader reads (the emissive target and the
+    /// geometry floor); every other feature is the lighting pass's.
+    pub(crate) fn gbuffer_part(self) -> ShaderVariant {
+        ShaderVariant {
+            emissive: self.emissive,
+            occlusion: self.occlusion,
+            texture_transforms: self.texture_transforms,
+            floor: self.floor.filter(|f| *f == MeasurementFloor::Geometry),
+            ..ShaderVariant::default()
+        }
+    }
+}
+
+impl Renderer {
+    /// The scene's variant with the renderer's settings applied.
+    pub(crate) fn variant_of(&self, scene_variant: ShaderVariant) -> ShaderVariant {
+        let debug_views = self.debug_view != DebugView::None;
+        // Debug views show every term, so they get the general pipeline (and GGX, whose
+        // terms they show).
+        let mut features = if self.specialised && !debug_views {
+            scene_variant.features
+        } else {
+            LightingFeatures::ALL
+        };
+        if let Some(model) = self.diffuse_override {
+            // The one model left is the one every material evaluates (brdf_diffuse_lobe
+            // needs no test when a single model remains).
+            features.lambert = model == DiffuseModel::Lambert;
+            features.oren_nayar_qualitative = model == DiffuseModel::OrenNayarQualitative;
+            features.oren_nayar_full = model == DiffuseModel::OrenNayarFull;
+        }
+        ShaderVariant {
+            fresnel: self.settings.fresnel,
+            debug_views,
+            features,
+            floor: if debug_views { None } else { self.floor },
+            masking: self.masking,
+            distribution: if debug_views {
+                Distribution::Ggx
+            } else {
+                self.distribution
+            },
+            energy_compensation: self.energy_compensation && !debug_views,
+            ..scene_variant
+        }
+    }
+}
