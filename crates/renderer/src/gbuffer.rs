@@ -231,22 +231,6 @@ impl GBufferPass {
         Ok(Self { layout, pipeline })
     }
 
-    /// What the pass touches: every G-buffer target is written (cleared first); the
-    /// object table is read by the vertex stage, the material table by the fragment stage.
-    pub(crate) fn uses(targets: &GBufferTargets, scene: &GpuScene) -> crate::graph::PassUses {
-        use crate::graph::{BufferUse, ImageUse};
-        let mut images: Vec<_> = targets
-            .attachments()
-            .into_iter()
-            .map(|image| (image.into(), ImageUse::ColorAttachmentWrite))
-            .collect();
-        images.push(((&targets.depth).into(), ImageUse::DepthAttachmentWrite));
-        crate::graph::PassUses::images("G-buffer", images).with_buffers(vec![
-            (scene.gpu.objects.raw(), BufferUse::VertexStorageRead),
-            (scene.gpu.materials.raw(), BufferUse::FragmentStorageRead),
-        ])
-    }
-
     /// Records the pass. Targets must be in COLOR_ATTACHMENT / DEPTH_ATTACHMENT layouts.
     pub fn record(
         &self,

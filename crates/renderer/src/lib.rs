@@ -37,6 +37,8 @@ mod frame;
 mod fullscreen;
 mod host;
 mod offscreen;
+mod pass_io;
+mod passes;
 mod retire;
 mod scene_edit;
 mod scene_upload;
