@@ -36,6 +36,7 @@ pub mod reference;
 mod frame;
 mod fullscreen;
 mod host;
+mod mesh_draw;
 mod offscreen;
 mod pass_io;
 mod passes;
