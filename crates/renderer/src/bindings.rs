@@ -237,6 +237,24 @@ impl SetWriter {
         layout: vk::ImageLayout,
         sampler: vk::Sampler,
     ) -> Self {
+        self.add_image(name, view, layout, sampler);
+        self
+    }
+
+    /// A whole buffer.
+    pub fn buffer(mut self, name: &str, buffer: &Buffer) -> Self {
+        self.add_buffer(name, buffer);
+        self
+    }
+
+    /// As [`SetWriter::image`], in place.
+    pub fn add_image(
+        &mut self,
+        name: &str,
+        view: vk::ImageView,
+        layout: vk::ImageLayout,
+        sampler: vk::Sampler,
+    ) {
         let index = self.decl.index(name);
         self.images.push((
             index,
@@ -246,11 +264,10 @@ impl SetWriter {
                 image_layout: layout,
             }],
         ));
-        self
     }
 
-    /// A whole buffer.
-    pub fn buffer(mut self, name: &str, buffer: &Buffer) -> Self {
+    /// As [`SetWriter::buffer`], in place.
+    pub fn add_buffer(&mut self, name: &str, buffer: &Buffer) {
         let index = self.decl.index(name);
         self.buffers.push((
             index,
@@ -260,7 +277,6 @@ impl SetWriter {
                 range: vk::WHOLE_SIZE,
             }],
         ));
-        self
     }
 
     /// Applies the writes. The set must not be in use by a pending frame. Every binding

@@ -9,12 +9,12 @@ use crate::bindings;
 use crate::buffers::{storage_buffer, write_growing, CPU_TO_GPU, GPU_ONLY};
 use crate::environment::GpuEnvironment;
 use crate::error::RenderError;
-use crate::gpu_types::{GpuLight, LightingPush, TonemapPush};
-use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
+use crate::gpu_types::{CullPush, GpuLight, LightingPush};
+use crate::graph::{ImageUse, TrackedImage};
 use crate::host::{FrameInputs, FrameTarget};
 use crate::overlay::OverlayQuad;
+use crate::passes::FrameContext;
 use crate::pipelines::SetLayouts;
-use crate::results::PassTimings;
 use crate::scene_upload::GpuScene;
 use crate::targets::{FrameTargets, TargetKey};
 use crate::Renderer;
@@ -29,24 +29,24 @@ const TARGETS_KEPT_FOR_FRAMES: u64 = 16;
 /// What one frame in flight owns. Reused only once the frame that used it last has
 /// completed (the host's promise when it records into the same slot again).
 pub(crate) struct FrameSlot {
-    gbuffer_set: vk::DescriptorSet,
-    lighting_set: vk::DescriptorSet,
-    output_set: vk::DescriptorSet,
-    overlay_set: vk::DescriptorSet,
-    cull_set: vk::DescriptorSet,
-    /// Owns the five sets.
+    pub(crate) gbuffer_set: vk::DescriptorSet,
+    pub(crate) lighting_set: vk::DescriptorSet,
+    pub(crate) output_set: vk::DescriptorSet,
+    pub(crate) overlay_set: vk::DescriptorSet,
+    pub(crate) cull_set: vk::DescriptorSet,
+    /// Owns the sets.
     _pool: DescriptorPool,
     /// The tile light lists of the slot's frame (device memory, written by the culling
     /// pass; grows with the tile count × lights).
-    tile_lights: Buffer,
+    pub(crate) tile_lights: Buffer,
     /// Whether the slot's frame culls its lights, and its tile grid and list stride.
-    culling: Option<(u32, u32)>,
+    pub(crate) culling: Option<(u32, u32)>,
     /// The frame's lights (host-visible; grows when a frame brings more lights).
-    lights: Buffer,
+    pub(crate) lights: Buffer,
     /// The frame's overlay quads (host-visible; grows as lights do).
-    overlay_quads: Buffer,
+    pub(crate) overlay_quads: Buffer,
     /// How many quads this slot's frame draws.
-    overlay_quad_count: u32,
+    pub(crate) overlay_quad_count: u32,
     pub(crate) timestamps: Option<TimestampQueries>,
     /// The passes whose end this slot's last frame stamped, in order (empty: no frame
     /// stamped since its timings were read, or no timestamps).
@@ -58,17 +58,16 @@ pub(crate) struct FrameSlot {
 
 impl FrameSlot {
     pub fn new(device: &Arc<Device>, layouts: &SetLayouts) -> Result<Self, RenderError> {
-        let sizes: Vec<_> = [
+        // One set of each declaration the frame's passes bind, sized by the declarations.
+        let sets = [
             &bindings::GBUFFER,
             &bindings::LIGHTING,
             &bindings::OUTPUT,
             &bindings::OVERLAY,
             &bindings::LIGHT_CULL,
-        ]
-        .iter()
-        .flat_map(|set| set.pool_sizes(1))
-        .collect();
-        let pool = DescriptorPool::new(device, 5, &sizes)?;
+        ];
+        let sizes: Vec<_> = sets.iter().flat_map(|set| set.pool_sizes(1)).collect();
+        let pool = DescriptorPool::new(device, sets.len() as u32, &sizes)?;
         let timestamps = match TimestampQueries::new(device, MAX_TIMESTAMPS) {
             Ok(t) => Some(t),
             Err(VkError::Unsupported(why)) => {
@@ -115,18 +114,6 @@ const LIGHTS: &str = "frame lights";
 const TILE_LISTS: &str = "tile light lists";
 const OVERLAY_QUADS: &str = "frame overlay quads";
 
-/// What the light-culling pass touches.
-fn cull_uses(targets: &FrameTargets, tile_lights: &Buffer) -> PassUses {
-    PassUses::images(
-        "light culling",
-        vec![(
-            (&targets.gbuffer.depth).into(),
-            ImageUse::DepthComputeSampled,
-        )],
-    )
-    .with_buffers(vec![(tile_lights.raw(), BufferUse::ComputeStorageWrite)])
-}
-
 /// The environment lighting a frame: the frame's own, else the scene's (if any).
 fn frame_environment<'a>(
     scene: &'a GpuScene,
@@ -136,68 +123,6 @@ fn frame_environment<'a>(
         Some(environment) => Some(&environment.gpu),
         None => scene.gpu.environment.as_ref(),
     }
-}
-
-/// What the lighting pass touches (the tile lists only in frames that cull).
-fn lighting_uses(
-    targets: &FrameTargets,
-    scene: &GpuScene,
-    environment: Option<&GpuEnvironment>,
-    lights: &Buffer,
-    tile_lights: Option<&Buffer>,
-) -> PassUses {
-    let g = &targets.gbuffer;
-    let mut images: Vec<(TrackedImage, ImageUse)> = g
-        .attachments()
-        .into_iter()
-        .map(|image| (image.into(), ImageUse::FragmentSampled))
-        .collect();
-    images.push(((&g.depth).into(), ImageUse::DepthFragmentSampled));
-    images.push(((&targets.hdr).into(), ImageUse::ColorAttachmentWrite));
-    let mut buffers = vec![
-        (scene.gpu.materials.raw(), BufferUse::FragmentStorageRead),
-        (lights.raw(), BufferUse::FragmentStorageRead),
-        (
-            scene.gpu.conductor_table.raw(),
-            BufferUse::FragmentStorageRead,
-        ),
-    ];
-    if let Some(tile_lights) = tile_lights {
-        buffers.push((tile_lights.raw(), BufferUse::FragmentStorageRead));
-    }
-    if let Some(environment) = environment {
-        for table in [
-            &environment.albedo,
-            &environment.code_albedo,
-            &environment.code_table_of_material,
-        ] {
-            buffers.push((table.raw(), BufferUse::FragmentStorageRead));
-        }
-    }
-    // (The placeholder's tables, bound without ENVIRONMENT, are never read.)
-    PassUses::images("lighting", images).with_buffers(buffers)
-}
-
-/// What the output pass touches: the HDR image, and the frame's colour target.
-fn output_uses(targets: &FrameTargets, color: TrackedImage) -> PassUses {
-    PassUses::images(
-        "output",
-        vec![
-            ((&targets.hdr).into(), ImageUse::FragmentSampled),
-            (color, ImageUse::ColorAttachmentWrite),
-        ],
-    )
-}
-
-/// What the depth copy touches: the G-buffer depth and the host's depth image.
-fn depth_copy_uses(targets: &FrameTargets, depth: TrackedImage) -> PassUses {
-    PassUses::images(
-        "depth copy",
-        vec![
-            ((&targets.gbuffer.depth).into(), ImageUse::TransferSource),
-            (depth, ImageUse::TransferDestination),
-        ],
-    )
 }
 
 fn color_range() -> vk::ImageSubresourceRange {
@@ -291,7 +216,6 @@ impl Renderer {
         self.write_frame_lights(frame_slot, inputs)?;
         self.prepare_culling(frame_slot, inputs, extent)?;
         self.write_frame_overlay(frame_slot, inputs, extent)?;
-        self.write_descriptors(frame_slot, key, scene, frame_environment(scene, inputs));
         self.record_passes(cmd, frame_slot, key, scene, variant, inputs, target);
         self.frame_number += 1;
         self.last_slot = Some(frame_slot);
@@ -508,101 +432,10 @@ impl Renderer {
         Ok(())
     }
 
-    fn write_descriptors(
-        &self,
-        slot: usize,
-        key: TargetKey,
-        scene: &GpuScene,
-        environment: Option<&GpuEnvironment>,
-    ) {
-        let s = &self.slots[slot];
-        let targets = &self.targets[&key].0;
-        let read = ImageUse::FragmentSampled.state().layout;
-        let depth_read = ImageUse::DepthFragmentSampled.state().layout;
-        let no_sampler = vk::Sampler::null();
-        let g = &targets.gbuffer;
-        let device = &*self.device;
-        // SAFETY (all three): the slot's previous frame has completed, so none of its
-        // sets is in use.
-        bindings::GBUFFER
-            .writer(s.gbuffer_set)
-            .buffer("objects", &scene.gpu.objects)
-            .buffer("materials", &scene.gpu.materials)
-            .apply(device);
-        let mut lighting = bindings::LIGHTING
-            .writer(s.lighting_set)
-            .image(
-                "gbuffer_base_color_metalness",
-                g.base_color_metalness.view(),
-                read,
-                no_sampler,
-            )
-            .image(
-                "gbuffer_normal_roughness_anisotropy",
-                g.normal_roughness_anisotropy.view(),
-                read,
-                no_sampler,
-            )
-            .image(
-                "gbuffer_material_direction",
-                g.material_direction.view(),
-                read,
-                no_sampler,
-            )
-            .image("gbuffer_depth", g.depth.view(), depth_read, no_sampler)
-            .buffer("materials", &scene.gpu.materials)
-            .buffer("lights", &s.lights)
-            .buffer("conductor_from_code", &scene.gpu.conductor_table)
-            .buffer("tile_lights", &s.tile_lights)
-            .buffer("energy_white_albedo", &self.energy_table);
-        // Every binding is written, every frame: a driver may read a set's descriptors
-        // when it is bound, used or not, and a binding left as an earlier frame wrote it
-        // would name that frame's image after it was retired and destroyed. Absent
-        // targets and environments get placeholders.
-        let emissive = g.emissive.as_ref().unwrap_or(&self.absent_target);
-        lighting = lighting.image("gbuffer_emissive", emissive.view(), read, no_sampler);
-        {
-            let environment = environment.unwrap_or(&self.no_environment);
-            let sampler = environment.sampler.raw();
-            lighting = lighting
-                .image(
-                    "environment_specular",
-                    environment.specular.view(),
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    sampler,
-                )
-                .image(
-                    "environment_irradiance",
-                    environment.irradiance.view(),
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    sampler,
-                )
-                .buffer("environment_albedo", &environment.albedo)
-                .buffer("environment_code_albedo", &environment.code_albedo)
-                .buffer(
-                    "environment_code_table_of_material",
-                    &environment.code_table_of_material,
-                );
-        }
-        lighting.apply(device);
-        bindings::OUTPUT
-            .writer(s.output_set)
-            .image("hdr_image", targets.hdr.view(), read, no_sampler)
-            .apply(device);
-        bindings::LIGHT_CULL
-            .writer(s.cull_set)
-            .image("gbuffer_depth", g.depth.view(), depth_read, no_sampler)
-            .buffer("lights", &s.lights)
-            .buffer("tile_lights", &s.tile_lights)
-            .apply(device);
-        bindings::OVERLAY
-            .writer(s.overlay_set)
-            .buffer("overlay_quads", &s.overlay_quads)
-            .buffer("overlay_atlas", &self.overlay_atlas)
-            .buffer("overlay_image", &self.overlay_image.0)
-            .apply(device);
-    }
-
+    /// Runs the frame's pass list ([`crate::passes::FRAME`]) into `cmd`: for each pass
+    /// that runs, its declaration's descriptor writes and barriers, its commands, and
+    /// a timestamp under its name; the host's images are released to their `after`
+    /// states at the end.
     #[allow(clippy::too_many_arguments)]
     fn record_passes(
         &mut self,
@@ -614,59 +447,23 @@ impl Renderer {
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
     ) {
-        let device = &*self.device;
-        let raw = device.raw();
-        let debug_view = self.debug_view;
-        let s = &mut self.slots[slot];
-        let targets = &self.targets[&key].0;
-        let passes = &self.variants[&variant];
-        let states = &mut self.states;
+        // The barrier states, carried across frames, are the one thing the passes'
+        // recording changes: taken out so the passes can read the renderer meanwhile.
+        let mut states = std::mem::take(&mut self.states);
         let extent = target.color.extent;
         let view_projection = inputs
             .camera
             .view_projection(extent.width as f32 / extent.height as f32);
-        // The frame's start, then the end of each pass by name ([`PassTimings`]).
-        let mut stamps = Vec::new();
-        let mut stamp = |pass: &'static str| {
-            if let Some(t) = &s.timestamps {
-                t.record(
-                    cmd,
-                    vk::PipelineStageFlags2::ALL_COMMANDS,
-                    stamps.len() as u32 + 1,
-                );
-                stamps.push(pass);
-            }
-        };
-        if let Some(t) = &s.timestamps {
-            t.record_reset(cmd);
-            t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, 0);
-        }
-
-        states.transition(
-            raw,
-            cmd,
-            &crate::gbuffer::GBufferPass::uses(&targets.gbuffer, scene),
-        );
-        passes.gbuffer.record(
-            device,
-            cmd,
-            &targets.gbuffer,
-            scene,
-            s.gbuffer_set,
-            view_projection,
-        );
-        stamp(PassTimings::GBUFFER);
-
+        let s = &self.slots[slot];
         let mut lighting_push = LightingPush::new(
             view_projection,
             inputs.camera.position,
             inputs.lights.len() as u32,
-            debug_view as u32,
+            self.debug_view as u32,
         );
-        // Light culling (timed with the lighting pass): the tiles' light lists.
-        if let Some((tiles_x, stride)) = s.culling {
-            states.transition(raw, cmd, &cull_uses(targets, &s.tile_lights));
-            let push = crate::gpu_types::CullPush {
+        let cull_push = s.culling.map(|(tiles_x, stride)| {
+            lighting_push = lighting_push.with_tile_lists(tiles_x, stride);
+            CullPush {
                 inverse_view_projection: lighting_push.inverse_view_projection,
                 counts: [
                     inputs.lights.len() as u32,
@@ -674,113 +471,74 @@ impl Renderer {
                     stride,
                     tiles_x * crate::light_cull::tiles(extent).1,
                 ],
-            };
-            self.light_cull
-                .record(device, cmd, s.cull_set, &push, extent);
-            lighting_push = lighting_push.with_tile_lists(tiles_x, stride);
-        }
-        let tile_lights = s.culling.map(|_| &s.tile_lights);
-        states.transition(
-            raw,
-            cmd,
-            &lighting_uses(
-                targets,
-                scene,
-                frame_environment(scene, inputs),
-                &s.lights,
-                tile_lights,
-            ),
-        );
-        passes.lighting.record(
-            device,
-            cmd,
-            targets.hdr.view(),
-            targets.hdr.extent(),
-            s.lighting_set,
-            bytemuck::bytes_of(&lighting_push),
-            |_| {},
-        );
-        stamp(PassTimings::LIGHTING);
-
-        let color = TrackedImage {
-            raw: target.color.image,
-            range: color_range(),
-        };
-        states.set(color.raw, target.color.before);
-        states.transition(raw, cmd, &output_uses(targets, color));
-        let output_push = TonemapPush {
-            exposure: inputs.exposure,
-        };
-        let passes = &self.outputs[&target.color.format];
-        let (overlay_set, overlay_quads) = (s.overlay_set, s.overlay_quad_count);
-        let image_width = self.overlay_image.1.map_or(1, |[w, _]| w);
-        passes.output.record(
-            device,
-            cmd,
-            target.color.view,
-            extent,
-            s.output_set,
-            bytemuck::bytes_of(&output_push),
-            |cmd| {
-                if overlay_quads > 0 {
-                    passes.overlay.record(
-                        device,
-                        cmd,
-                        extent,
-                        overlay_set,
-                        overlay_quads,
-                        image_width,
-                    );
-                }
+            }
+        });
+        let frame = FrameContext {
+            renderer: self,
+            slot: s,
+            targets: &self.targets[&key].0,
+            scene,
+            environment: frame_environment(scene, inputs),
+            inputs,
+            target,
+            variant,
+            view_projection,
+            lighting_push,
+            cull_push,
+            color: TrackedImage {
+                raw: target.color.image,
+                range: color_range(),
             },
-        );
-        stamp(PassTimings::OUTPUT);
-        if let Some(depth) = &target.depth {
-            let host_depth = TrackedImage {
+            host_depth: target.depth.map(|depth| TrackedImage {
                 raw: depth.image,
                 range: depth_range(),
-            };
-            states.set(host_depth.raw, depth.before);
-            states.transition(raw, cmd, &depth_copy_uses(targets, host_depth));
-            let layers = vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::DEPTH,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            };
-            let region = vk::ImageCopy::default()
-                .src_subresource(layers)
-                .dst_subresource(layers)
-                .extent(vk::Extent3D {
-                    width: extent.width,
-                    height: extent.height,
-                    depth: 1,
-                });
-            // SAFETY: recording state; both images are in the layouts named.
-            unsafe {
-                raw.cmd_copy_image(
-                    cmd,
-                    targets.gbuffer.depth.raw(),
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    depth.image,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &[region],
-                )
-            };
-            stamp(PassTimings::DEPTH_COPY);
-            states.release(raw, cmd, host_depth, depth.after);
-            states.forget(host_depth.raw);
+            }),
+        };
+        let device = &*self.device;
+        let raw = device.raw();
+        // The host's images stand where the host left them.
+        states.set(frame.color.raw, target.color.before);
+        if let (Some(image), Some(depth)) = (frame.host_depth, &target.depth) {
+            states.set(image.raw, depth.before);
         }
-        states.release(raw, cmd, color, target.color.after);
+        // The frame's start, then the end of each timed pass by name ([`PassTimings`]).
+        let timestamps = s.timestamps.as_ref();
+        if let Some(t) = timestamps {
+            t.record_reset(cmd);
+            t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, 0);
+        }
+        let mut stamped = Vec::new();
+        for pass in crate::passes::FRAME {
+            if !pass.runs(&frame) {
+                continue;
+            }
+            let uses = pass.io(&frame).apply(device);
+            states.transition(raw, cmd, &uses);
+            pass.record(&frame, cmd);
+            if let (Some(t), true) = (timestamps, pass.timed()) {
+                t.record(
+                    cmd,
+                    vk::PipelineStageFlags2::ALL_COMMANDS,
+                    stamped.len() as u32 + 1,
+                );
+                stamped.push(pass.name());
+            }
+        }
         // The host's images are the host's again: their states come with the next frame.
-        states.forget(color.raw);
+        if let (Some(image), Some(depth)) = (frame.host_depth, &target.depth) {
+            states.release(raw, cmd, image, depth.after);
+            states.forget(image.raw);
+        }
+        states.release(raw, cmd, frame.color, target.color.after);
+        states.forget(frame.color.raw);
         // The end of the frame's last command: the slot's frame has completed when it is
         // available.
-        if let Some(t) = &s.timestamps {
-            let end = stamps.len() as u32 + 1;
+        if let Some(t) = timestamps {
+            let end = stamped.len() as u32 + 1;
             t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, end);
         }
-        s.stamped = stamps;
+        self.states = states;
+        self.slots[slot].stamped = stamped;
     }
 }
 

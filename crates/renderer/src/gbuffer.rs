@@ -234,22 +234,6 @@ impl GBufferPass {
         Ok(Self { layout, pipeline })
     }
 
-    /// What the pass touches: every G-buffer target is written (cleared first); the
-    /// object table is read by the vertex stage, the material table by the fragment stage.
-    pub(crate) fn uses(targets: &GBufferTargets, scene: &GpuScene) -> crate::graph::PassUses {
-        use crate::graph::{BufferUse, ImageUse};
-        let mut images: Vec<_> = targets
-            .attachments()
-            .into_iter()
-            .map(|image| (image.into(), ImageUse::ColorAttachmentWrite))
-            .collect();
-        images.push(((&targets.depth).into(), ImageUse::DepthAttachmentWrite));
-        crate::graph::PassUses::images("G-buffer", images).with_buffers(vec![
-            (scene.gpu.objects.raw(), BufferUse::VertexStorageRead),
-            (scene.gpu.materials.raw(), BufferUse::FragmentStorageRead),
-        ])
-    }
-
     /// Records the pass. Targets must be in COLOR_ATTACHMENT / DEPTH_ATTACHMENT layouts.
     pub fn record(
         &self,
@@ -309,50 +293,24 @@ impl GBufferPass {
                 &[set],
                 &[],
             );
+            // Stream 1 (coordinate set 1) is read only by the TEXTURE_TRANSFORMS
+            // pipelines.
             let mut bound_material = None;
-            let mut bound_mesh = None;
-            for (object_index, (&mesh, &double_sided)) in scene
-                .draw_meshes
-                .iter()
-                .zip(&scene.double_sided)
-                .enumerate()
-            {
-                let buffers = &scene.gpu.meshes[mesh];
-                if bound_mesh != Some(mesh) {
-                    // Stream 1 (coordinate set 1) is read only by the TEXTURE_TRANSFORMS
-                    // pipelines.
-                    raw.cmd_bind_vertex_buffers(
-                        cmd,
-                        0,
-                        &[buffers.vertices.raw(), buffers.uv1.raw()],
-                        &[0, 0],
-                    );
-                    raw.cmd_bind_index_buffer(cmd, buffers.indices.raw(), 0, vk::IndexType::UINT32);
-                    bound_mesh = Some(mesh);
-                }
-                let material = scene.draw_materials[object_index];
-                if bound_material != Some(material) {
+            crate::mesh_draw::draw_objects(raw, cmd, scene, |object| {
+                if bound_material != Some(object.material) {
                     raw.cmd_bind_descriptor_sets(
                         cmd,
                         vk::PipelineBindPoint::GRAPHICS,
                         self.layout.raw(),
                         1,
-                        &[scene.gpu.textures.material_sets[material]],
+                        &[scene.gpu.textures.material_sets[object.material]],
                         &[],
                     );
-                    bound_material = Some(material);
+                    bound_material = Some(object.material);
                 }
-                raw.cmd_set_cull_mode(
-                    cmd,
-                    if double_sided {
-                        vk::CullModeFlags::NONE
-                    } else {
-                        vk::CullModeFlags::BACK
-                    },
-                );
                 let push = GBufferPush {
                     view_projection: view_projection.to_cols_array(),
-                    object_index: object_index as u32,
+                    object_index: object.object_index,
                     _pad: [0; 3],
                 };
                 raw.cmd_push_constants(
@@ -362,8 +320,7 @@ impl GBufferPass {
                     0,
                     bytemuck::bytes_of(&push),
                 );
-                raw.cmd_draw_indexed(cmd, buffers.index_count, 1, 0, 0, 0);
-            }
+            });
             raw.cmd_end_rendering(cmd);
         }
     }

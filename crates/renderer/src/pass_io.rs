@@ -1,0 +1,99 @@
+//! What a pass reads and writes, declared once. A pass names each resource it touches
+//! with its use — and, where its shaders reach it through a descriptor, the binding —
+//! in one builder chain; from that one declaration come both the descriptor writes
+//! ([`crate::bindings::SetWriter`]) and the barrier uses ([`PassUses`], for
+//! [`crate::graph::ImageStates::transition`]). A resource is never stated twice, so a
+//! binding cannot name an image whose barrier was forgotten, nor a barrier an image the
+//! pass does not bind.
+
+use combustion_vk::{vk, Buffer, Device, Image};
+
+use crate::bindings::{SetDecl, SetWriter};
+use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
+
+/// One pass's declaration of its inputs and outputs, built per frame.
+pub(crate) struct PassIo {
+    uses: PassUses,
+    /// The descriptor sets the pass binds, each with its writes; bindings go to the last.
+    writers: Vec<SetWriter>,
+}
+
+impl PassIo {
+    /// A pass named `name` (its timings' and messages' name) touching nothing yet.
+    pub fn new(name: &'static str) -> Self {
+        Self {
+            uses: PassUses::images(name, Vec::new()),
+            writers: Vec::new(),
+        }
+    }
+
+    /// The bindings that follow go to `set`, a set of layout `decl` that no pending
+    /// frame uses (a frame slot's own). Every binding of `decl` must be given.
+    pub fn set(mut self, decl: &'static SetDecl, set: vk::DescriptorSet) -> Self {
+        self.writers.push(decl.writer(set));
+        self
+    }
+
+    fn writer(&mut self) -> &mut SetWriter {
+        self.writers
+            .last_mut()
+            .expect("PassIo::set names the descriptor set before its bindings")
+    }
+
+    /// An image the pass's shaders read through `binding` (no sampler: texelFetch),
+    /// in the layout of `use_`, which the barriers bring it into.
+    pub fn image(mut self, binding: &str, image: &Image, use_: ImageUse) -> Self {
+        self.writer().add_image(
+            binding,
+            image.view(),
+            use_.state().layout,
+            vk::Sampler::null(),
+        );
+        self.touches(image.into(), use_)
+    }
+
+    /// A buffer the pass's shaders reach through `binding`, used as `use_`.
+    pub fn buffer(mut self, binding: &str, buffer: &Buffer, use_: BufferUse) -> Self {
+        self = self.bind_buffer(binding, buffer);
+        self.uses.buffers.push((buffer.raw(), use_));
+        self
+    }
+
+    /// An image bound to `binding` that no barrier of the frame concerns: made ready
+    /// once, at upload (an environment's cubes, a placeholder), and only ever read.
+    pub fn bind_image(
+        mut self,
+        binding: &str,
+        view: vk::ImageView,
+        layout: vk::ImageLayout,
+        sampler: vk::Sampler,
+    ) -> Self {
+        self.writer().add_image(binding, view, layout, sampler);
+        self
+    }
+
+    /// A buffer bound to `binding` that no barrier of the frame concerns (written by
+    /// the CPU before the submission, or a placeholder the shaders of this frame do not
+    /// read).
+    pub fn bind_buffer(mut self, binding: &str, buffer: &Buffer) -> Self {
+        self.writer().add_buffer(binding, buffer);
+        self
+    }
+
+    /// An image the pass touches without a descriptor: an attachment it renders into,
+    /// or the source or destination of a copy.
+    pub fn touches(mut self, image: TrackedImage, use_: ImageUse) -> Self {
+        self.uses.images.push((image, use_));
+        self
+    }
+
+    /// Writes the pass's descriptor sets and returns the uses its barriers follow. The
+    /// sets must not be in use by a pending frame, nor bound earlier in the command
+    /// buffer being recorded.
+    pub fn apply(self, device: &Device) -> PassUses {
+        for writer in self.writers {
+            writer.apply(device);
+        }
+        self.uses
+    }
+}

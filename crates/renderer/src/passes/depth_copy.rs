@@ -1,0 +1,61 @@
+//! The scene's depth copied into the host's depth image (frames given one), so the
+//! host can draw its own geometry depth-tested against the scene.
+
+use combustion_vk::vk;
+
+use super::{FrameContext, FramePass};
+use crate::graph::ImageUse;
+use crate::pass_io::PassIo;
+use crate::results::PassTimings;
+
+pub(crate) struct DepthCopy;
+
+impl FramePass for DepthCopy {
+    fn name(&self) -> &'static str {
+        PassTimings::DEPTH_COPY
+    }
+
+    fn runs(&self, frame: &FrameContext<'_>) -> bool {
+        frame.host_depth.is_some()
+    }
+
+    fn io(&self, frame: &FrameContext<'_>) -> PassIo {
+        let host_depth = frame.host_depth.expect("runs only with a depth image");
+        PassIo::new(self.name())
+            .touches(
+                (&frame.targets.gbuffer.depth).into(),
+                ImageUse::TransferSource,
+            )
+            .touches(host_depth, ImageUse::TransferDestination)
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let host_depth = frame.host_depth.expect("runs only with a depth image");
+        let extent = frame.extent();
+        let layers = vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::DEPTH,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let region = vk::ImageCopy::default()
+            .src_subresource(layers)
+            .dst_subresource(layers)
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            });
+        // SAFETY: recording state; both images are in the layouts `io` declared.
+        unsafe {
+            frame.renderer.device.raw().cmd_copy_image(
+                cmd,
+                frame.targets.gbuffer.depth.raw(),
+                ImageUse::TransferSource.state().layout,
+                host_depth.raw,
+                ImageUse::TransferDestination.state().layout,
+                &[region],
+            )
+        };
+    }
+}

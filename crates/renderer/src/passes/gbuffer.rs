@@ -1,0 +1,48 @@
+//! The G-buffer pass: every object of the scene rasterised into the G-buffer's colour
+//! targets and depth (gbuffer.vert/.frag; docs/gbuffer.md).
+
+use combustion_vk::vk;
+
+use super::{FrameContext, FramePass};
+use crate::graph::{BufferUse, ImageUse};
+use crate::pass_io::PassIo;
+use crate::results::PassTimings;
+
+pub(crate) struct GBuffer;
+
+impl FramePass for GBuffer {
+    fn name(&self) -> &'static str {
+        PassTimings::GBUFFER
+    }
+
+    fn io(&self, frame: &FrameContext<'_>) -> PassIo {
+        let g = &frame.targets.gbuffer;
+        let mut io = PassIo::new(self.name())
+            .set(&crate::bindings::GBUFFER, frame.slot.gbuffer_set)
+            .buffer(
+                "objects",
+                &frame.scene.gpu.objects,
+                BufferUse::VertexStorageRead,
+            )
+            .buffer(
+                "materials",
+                &frame.scene.gpu.materials,
+                BufferUse::FragmentStorageRead,
+            );
+        for image in g.attachments() {
+            io = io.touches(image.into(), ImageUse::ColorAttachmentWrite);
+        }
+        io.touches((&g.depth).into(), ImageUse::DepthAttachmentWrite)
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        frame.pipelines().gbuffer.record(
+            &frame.renderer.device,
+            cmd,
+            &frame.targets.gbuffer,
+            frame.scene,
+            frame.slot.gbuffer_set,
+            frame.view_projection,
+        );
+    }
+}

@@ -1,0 +1,111 @@
+//! The lighting pass (fullscreen.vert + lighting.frag): per pixel, the G-buffer decoded
+//! and every light (or the tile's list) shaded with the BRDF, plus the environment's
+//! split sum and the emitted radiance in their variants, into the HDR image.
+
+use combustion_vk::vk;
+
+use super::{FrameContext, FramePass};
+use crate::graph::{BufferUse, ImageUse};
+use crate::pass_io::PassIo;
+use crate::results::PassTimings;
+
+pub(crate) struct Lighting;
+
+impl FramePass for Lighting {
+    fn name(&self) -> &'static str {
+        PassTimings::LIGHTING
+    }
+
+    fn io(&self, frame: &FrameContext<'_>) -> PassIo {
+        let (s, g, r) = (frame.slot, &frame.targets.gbuffer, frame.renderer);
+        let read = BufferUse::FragmentStorageRead;
+        let texel = ImageUse::FragmentSampled;
+        let mut io = PassIo::new(self.name())
+            .set(&crate::bindings::LIGHTING, s.lighting_set)
+            .image(
+                "gbuffer_base_color_metalness",
+                &g.base_color_metalness,
+                texel,
+            )
+            .image(
+                "gbuffer_normal_roughness_anisotropy",
+                &g.normal_roughness_anisotropy,
+                texel,
+            )
+            .image("gbuffer_material_direction", &g.material_direction, texel)
+            .image("gbuffer_depth", &g.depth, ImageUse::DepthFragmentSampled)
+            .buffer("materials", &frame.scene.gpu.materials, read)
+            .buffer("lights", &s.lights, read)
+            .buffer(
+                "conductor_from_code",
+                &frame.scene.gpu.conductor_table,
+                read,
+            )
+            .bind_buffer("energy_white_albedo", &r.energy_table)
+            .touches((&frame.targets.hdr).into(), ImageUse::ColorAttachmentWrite);
+        // Every binding is written, every frame: a driver may read a bound set's
+        // descriptors, used or not, and a binding left as an earlier frame wrote it
+        // would name an image retired since. Absent targets and environments get
+        // placeholders, which no barrier concerns (never written, never read).
+        io = match &g.emissive {
+            Some(emissive) => io.image("gbuffer_emissive", emissive, texel),
+            None => io.bind_image(
+                "gbuffer_emissive",
+                r.absent_target.view(),
+                texel.state().layout,
+                vk::Sampler::null(),
+            ),
+        };
+        io = if frame.cull_push.is_some() {
+            io.buffer("tile_lights", &s.tile_lights, read)
+        } else {
+            io.bind_buffer("tile_lights", &s.tile_lights)
+        };
+        let environment = frame.environment.unwrap_or(&r.no_environment);
+        let sampler = environment.sampler.raw();
+        // The cubes were made ready for fragment reads by their bake.
+        let cube_layout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        io = io
+            .bind_image(
+                "environment_specular",
+                environment.specular.view(),
+                cube_layout,
+                sampler,
+            )
+            .bind_image(
+                "environment_irradiance",
+                environment.irradiance.view(),
+                cube_layout,
+                sampler,
+            );
+        let tables = [
+            ("environment_albedo", &environment.albedo),
+            ("environment_code_albedo", &environment.code_albedo),
+            (
+                "environment_code_table_of_material",
+                &environment.code_table_of_material,
+            ),
+        ];
+        for (binding, table) in tables {
+            io = if frame.environment.is_some() {
+                io.buffer(binding, table, read)
+            } else {
+                io.bind_buffer(binding, table)
+            };
+        }
+        io
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let hdr = &frame.targets.hdr;
+        frame.pipelines().lighting.record(
+            &frame.renderer.device,
+            cmd,
+            hdr.view(),
+            hdr.extent(),
+            frame.slot.lighting_set,
+            bytemuck::bytes_of(&frame.lighting_push),
+            |_| {},
+        );
+    }
+}

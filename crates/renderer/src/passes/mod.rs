@@ -1,0 +1,109 @@
+//! The frame as a list of passes. Each pass is a type (one file each) that says whether
+//! it runs this frame, declares what it reads and writes once ([`PassIo`]: the
+//! descriptor writes and the barriers both come from it), and records its commands.
+//! [`FRAME`] lists them top to bottom; `frame.rs` keeps the frame slots and runs the
+//! list: for each pass that runs, its declaration is applied, its barriers recorded
+//! ([`crate::graph::ImageStates::transition`]), its commands recorded, and its end
+//! stamped under its name ([`crate::PassTimings`]).
+//!
+//! Adding a pass: a file here with a unit struct implementing [`FramePass`], its set
+//! declared in `bindings.rs` (if its shaders bind resources) and allocated per slot,
+//! and one line in [`FRAME`] (docs/architecture.md walks through one).
+
+mod depth_copy;
+mod gbuffer;
+mod light_cull;
+mod lighting;
+mod output;
+
+use combustion_vk::vk;
+
+use crate::environment::GpuEnvironment;
+use crate::frame::FrameSlot;
+use crate::gpu_types::{CullPush, LightingPush};
+use crate::graph::TrackedImage;
+use crate::host::{FrameInputs, FrameTarget};
+use crate::pass_io::PassIo;
+use crate::scene_upload::GpuScene;
+use crate::targets::FrameTargets;
+use crate::Renderer;
+
+/// Everything a frame's passes read, gathered once per frame.
+pub(crate) struct FrameContext<'a> {
+    /// The renderer: its pipelines, placeholders and shared tables.
+    pub renderer: &'a Renderer,
+    /// The frame slot's sets and buffers (its previous frame has completed).
+    pub slot: &'a FrameSlot,
+    /// The G-buffer and HDR targets of the frame's size and variant.
+    pub targets: &'a FrameTargets,
+    /// The scene drawn.
+    pub scene: &'a GpuScene,
+    /// The environment lighting the frame (the frame's own, else the scene's).
+    pub environment: Option<&'a GpuEnvironment>,
+    /// The frame's camera, exposure, lights and overlay.
+    pub inputs: &'a FrameInputs<'a>,
+    /// The host's (or the renderer's own) colour target and optional depth image.
+    pub target: &'a FrameTarget,
+    /// The G-buffer and lighting pipelines of the frame's shader variant.
+    pub variant: crate::ShaderVariant,
+    /// The camera's view-projection at the target's aspect ratio.
+    pub view_projection: glam::Mat4,
+    /// The lighting pass's push constants (with the tile grid in frames that cull).
+    pub lighting_push: LightingPush,
+    /// The culling pass's push constants, in frames that cull their lights.
+    pub cull_push: Option<CullPush>,
+    /// The colour target as the barriers track it.
+    pub color: TrackedImage,
+    /// The host's depth image as the barriers track it, if the frame has one.
+    pub host_depth: Option<TrackedImage>,
+}
+
+impl FrameContext<'_> {
+    /// The frame's extent: the colour target's.
+    pub fn extent(&self) -> vk::Extent2D {
+        self.target.color.extent
+    }
+
+    /// The G-buffer and lighting pipelines of the frame's variant (built before the
+    /// frame: [`Renderer::record`] checks).
+    pub fn pipelines(&self) -> &crate::pipelines::VariantPasses {
+        &self.renderer.variants[&self.variant]
+    }
+
+    /// The output and overlay pipelines of the target's format (prepared: checked).
+    pub fn output_pipelines(&self) -> &crate::pipelines::OutputPasses {
+        &self.renderer.outputs[&self.target.color.format]
+    }
+}
+
+/// One pass of the frame.
+pub(crate) trait FramePass: Sync {
+    /// The pass's name: its timings' ([`crate::PassTimings`]) and its barriers'.
+    fn name(&self) -> &'static str;
+
+    /// Whether the pass runs this frame (default: always).
+    fn runs(&self, _frame: &FrameContext<'_>) -> bool {
+        true
+    }
+
+    /// Whether its end is stamped under its own name; `false` counts its time with the
+    /// next pass that is (light culling with the lighting it prepares).
+    fn timed(&self) -> bool {
+        true
+    }
+
+    /// What it reads and writes this frame, each resource once.
+    fn io(&self, frame: &FrameContext<'_>) -> PassIo;
+
+    /// Records its commands into `cmd`, its resources in the states `io` declared.
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer);
+}
+
+/// The frame, top to bottom.
+pub(crate) const FRAME: &[&dyn FramePass] = &[
+    &gbuffer::GBuffer,
+    &light_cull::LightCull,
+    &lighting::Lighting,
+    &output::Output,
+    &depth_copy::DepthCopy,
+];

@@ -1,0 +1,63 @@
+//! The output pass (tonemap.frag) into the frame's colour target, by its format — the
+//! exposure, then for display formats the tone curve and sRGB encoding — with the
+//! overlay's text panels drawn over it in the same rendering.
+
+use combustion_vk::vk;
+
+use super::{FrameContext, FramePass};
+use crate::gpu_types::TonemapPush;
+use crate::graph::ImageUse;
+use crate::pass_io::PassIo;
+use crate::results::PassTimings;
+
+pub(crate) struct Output;
+
+impl FramePass for Output {
+    fn name(&self) -> &'static str {
+        PassTimings::OUTPUT
+    }
+
+    fn io(&self, frame: &FrameContext<'_>) -> PassIo {
+        let (s, r) = (frame.slot, frame.renderer);
+        PassIo::new(self.name())
+            .set(&crate::bindings::OUTPUT, s.output_set)
+            .image("hdr_image", &frame.targets.hdr, ImageUse::FragmentSampled)
+            .touches(frame.color, ImageUse::ColorAttachmentWrite)
+            // The overlay's quads are the CPU's, its atlas and image made at start.
+            .set(&crate::bindings::OVERLAY, s.overlay_set)
+            .bind_buffer("overlay_quads", &s.overlay_quads)
+            .bind_buffer("overlay_atlas", &r.overlay_atlas)
+            .bind_buffer("overlay_image", &r.overlay_image.0)
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let (s, r) = (frame.slot, frame.renderer);
+        let device = &r.device;
+        let extent = frame.extent();
+        let push = TonemapPush {
+            exposure: frame.inputs.exposure,
+        };
+        let passes = frame.output_pipelines();
+        let image_width = r.overlay_image.1.map_or(1, |[w, _]| w);
+        passes.output.record(
+            device,
+            cmd,
+            frame.target.color.view,
+            extent,
+            s.output_set,
+            bytemuck::bytes_of(&push),
+            |cmd| {
+                if s.overlay_quad_count > 0 {
+                    passes.overlay.record(
+                        device,
+                        cmd,
+                        extent,
+                        s.overlay_set,
+                        s.overlay_quad_count,
+                        image_width,
+                    );
+                }
+            },
+        );
+    }
+}
