@@ -611,7 +611,7 @@ pub static ENVIRONMENT_BAKE: SetDecl = SetDecl {
 };
 
 /// Every set, for generating the headers.
-pub static ALL: [&SetDecl; 7] = [
+pub static ALL: &[&SetDecl] = &[
     &GBUFFER,
     &MATERIAL_TEXTURES,
     &LIGHTING,

@@ -29,11 +29,9 @@ const TARGETS_KEPT_FOR_FRAMES: u64 = 16;
 /// What one frame in flight owns. Reused only once the frame that used it last has
 /// completed (the host's promise when it records into the same slot again).
 pub(crate) struct FrameSlot {
-    pub(crate) gbuffer_set: vk::DescriptorSet,
-    pub(crate) lighting_set: vk::DescriptorSet,
-    pub(crate) output_set: vk::DescriptorSet,
-    pub(crate) overlay_set: vk::DescriptorSet,
-    pub(crate) cull_set: vk::DescriptorSet,
+    /// One descriptor set of each declaration the frame's passes bind
+    /// ([`crate::passes::FramePass::sets`]), by the declaration's name.
+    sets: Vec<(&'static str, vk::DescriptorSet)>,
     /// Owns the sets.
     _pool: DescriptorPool,
     /// The tile light lists of the slot's frame (device memory, written by the culling
@@ -58,16 +56,14 @@ pub(crate) struct FrameSlot {
 
 impl FrameSlot {
     pub fn new(device: &Arc<Device>, layouts: &SetLayouts) -> Result<Self, RenderError> {
-        // One set of each declaration the frame's passes bind, sized by the declarations.
-        let sets = [
-            &bindings::GBUFFER,
-            &bindings::LIGHTING,
-            &bindings::OUTPUT,
-            &bindings::OVERLAY,
-            &bindings::LIGHT_CULL,
-        ];
-        let sizes: Vec<_> = sets.iter().flat_map(|set| set.pool_sizes(1)).collect();
-        let pool = DescriptorPool::new(device, sets.len() as u32, &sizes)?;
+        // One set of each declaration the frame's passes bind, the pool sized by them.
+        let decls = crate::passes::frame_sets();
+        let sizes: Vec<_> = decls.iter().flat_map(|decl| decl.pool_sizes(1)).collect();
+        let pool = DescriptorPool::new(device, decls.len() as u32, &sizes)?;
+        let sets = decls
+            .iter()
+            .map(|decl| Ok((decl.name, pool.allocate(layouts.of(decl))?)))
+            .collect::<Result<_, RenderError>>()?;
         let timestamps = match TimestampQueries::new(device, MAX_TIMESTAMPS) {
             Ok(t) => Some(t),
             Err(VkError::Unsupported(why)) => {
@@ -77,11 +73,7 @@ impl FrameSlot {
             Err(e) => return Err(e.into()),
         };
         Ok(Self {
-            gbuffer_set: pool.allocate(&layouts.gbuffer)?,
-            lighting_set: pool.allocate(&layouts.lighting)?,
-            output_set: pool.allocate(&layouts.output)?,
-            overlay_set: pool.allocate(&layouts.overlay)?,
-            cull_set: pool.allocate(&layouts.light_cull)?,
+            sets,
             _pool: pool,
             tile_lights: storage_buffer(device, TILE_LISTS, 4, GPU_ONLY)?,
             culling: None,
@@ -102,6 +94,15 @@ impl FrameSlot {
             stamped: Vec::new(),
             retired: Vec::new(),
         })
+    }
+
+    /// The slot's set of `decl` (a set some pass of the frame declares).
+    pub fn set(&self, decl: &bindings::SetDecl) -> vk::DescriptorSet {
+        self.sets
+            .iter()
+            .find(|(name, _)| *name == decl.name)
+            .map(|(_, set)| *set)
+            .unwrap_or_else(|| panic!("no pass of the frame declares set {}", decl.name))
     }
 
     pub fn retire(&mut self, resource: crate::retire::Retired) {

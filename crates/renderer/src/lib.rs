@@ -195,7 +195,7 @@ impl Renderer {
             &device,
             &compiler,
             &pipeline_cache,
-            &layouts.light_cull,
+            layouts.of(&bindings::LIGHT_CULL),
         )?;
         let slots = (0..settings.frames_in_flight)
             .map(|_| frame::FrameSlot::new(&device, &layouts))
@@ -274,7 +274,7 @@ impl Renderer {
         GpuScene::new(
             &self.device,
             scene,
-            &self.layouts.material,
+            self.layouts.of(&bindings::MATERIAL_TEXTURES),
             environment,
             self.retire_queue.clone(),
         )
@@ -401,8 +401,13 @@ impl Renderer {
         } else {
             None
         };
-        let (report, retired) =
-            scene.edited(&self.device, next, ids, &self.layouts.material, environment)?;
+        let (report, retired) = scene.edited(
+            &self.device,
+            next,
+            ids,
+            self.layouts.of(&bindings::MATERIAL_TEXTURES),
+            environment,
+        )?;
         for part in retired {
             self.retire_boxed(part);
         }

@@ -25,21 +25,10 @@ pub(crate) struct VariantPasses {
     pub(crate) lighting: FullscreenPass,
 }
 
-/// The descriptor-set layouts of the passes, shared by every variant and frame slot.
+/// The descriptor-set layout of every declared set ([`bindings::ALL`]), shared by every
+/// variant's pipelines and every frame slot.
 pub(crate) struct SetLayouts {
-    /// Set 0 of the G-buffer pass: object and material tables.
-    pub(crate) gbuffer: DescriptorSetLayout,
-    /// Set 1 of the G-buffer pass: one material's textures.
-    pub(crate) material: DescriptorSetLayout,
-    /// The lighting pass: G-buffer, depth, material table, lights, conductor table,
-    /// emissive (bound in the EMISSIVE variant only).
-    pub(crate) lighting: DescriptorSetLayout,
-    /// The output pass: the HDR image.
-    pub(crate) output: DescriptorSetLayout,
-    /// The overlay: the frame's quads, the font atlas and the overlay image.
-    pub(crate) overlay: DescriptorSetLayout,
-    /// Light culling: the G-buffer depth, the frame's lights, the tile lists.
-    pub(crate) light_cull: DescriptorSetLayout,
+    by_name: Vec<(&'static str, DescriptorSetLayout)>,
 }
 
 /// The passes that write a target of one format: the output pass and the overlay
@@ -51,14 +40,20 @@ pub(crate) struct OutputPasses {
 
 impl SetLayouts {
     pub(crate) fn new(device: &Arc<Device>) -> Result<Self, RenderError> {
-        Ok(Self {
-            gbuffer: bindings::GBUFFER.layout(device)?,
-            material: bindings::MATERIAL_TEXTURES.layout(device)?,
-            lighting: bindings::LIGHTING.layout(device)?,
-            output: bindings::OUTPUT.layout(device)?,
-            overlay: bindings::OVERLAY.layout(device)?,
-            light_cull: bindings::LIGHT_CULL.layout(device)?,
-        })
+        let by_name = bindings::ALL
+            .iter()
+            .map(|decl| Ok((decl.name, decl.layout(device)?)))
+            .collect::<Result<_, RenderError>>()?;
+        Ok(Self { by_name })
+    }
+
+    /// The layout of `decl` (one of [`bindings::ALL`]).
+    pub(crate) fn of(&self, decl: &bindings::SetDecl) -> &DescriptorSetLayout {
+        self.by_name
+            .iter()
+            .find(|(name, _)| *name == decl.name)
+            .map(|(_, layout)| layout)
+            .unwrap_or_else(|| panic!("set {} is not in bindings::ALL", decl.name))
     }
 }
 
@@ -76,8 +71,8 @@ impl Renderer {
                     &self.device,
                     &self.compiler,
                     &self.pipeline_cache,
-                    &self.layouts.gbuffer,
-                    &self.layouts.material,
+                    self.layouts.of(&bindings::GBUFFER),
+                    self.layouts.of(&bindings::MATERIAL_TEXTURES),
                     gbuffer_key,
                     self.settings.hdr_format.vk(),
                 )?);
@@ -92,7 +87,7 @@ impl Renderer {
             &self.pipeline_cache,
             "lighting.frag",
             &variant.defines(),
-            &self.layouts.lighting,
+            self.layouts.of(&bindings::LIGHTING),
             std::mem::size_of::<LightingPush>() as u32,
             self.settings.hdr_format.vk(),
         )?;
@@ -117,7 +112,7 @@ impl Renderer {
             &self.pipeline_cache,
             "tonemap.frag",
             &encoding.defines(),
-            &self.layouts.output,
+            self.layouts.of(&bindings::OUTPUT),
             std::mem::size_of::<TonemapPush>() as u32,
             format,
         )?;
@@ -125,7 +120,7 @@ impl Renderer {
             &self.device,
             &self.compiler,
             &self.pipeline_cache,
-            &self.layouts.overlay,
+            self.layouts.of(&bindings::OVERLAY),
             &encoding.defines(),
             format,
         )?;

@@ -4,6 +4,7 @@
 use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
+use crate::bindings::{self, SetDecl};
 use crate::graph::{BufferUse, ImageUse};
 use crate::pass_io::PassIo;
 use crate::results::PassTimings;
@@ -15,10 +16,15 @@ impl FramePass for GBuffer {
         PassTimings::GBUFFER
     }
 
+    fn sets(&self) -> &'static [&'static SetDecl] {
+        static SETS: [&SetDecl; 1] = [&bindings::GBUFFER];
+        &SETS
+    }
+
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
         let g = &frame.targets.gbuffer;
         let mut io = PassIo::new(self.name())
-            .set(&crate::bindings::GBUFFER, frame.slot.gbuffer_set)
+            .set(&bindings::GBUFFER, frame.slot.set(&bindings::GBUFFER))
             .buffer(
                 "objects",
                 &frame.scene.gpu.objects,
@@ -41,7 +47,7 @@ impl FramePass for GBuffer {
             cmd,
             &frame.targets.gbuffer,
             frame.scene,
-            frame.slot.gbuffer_set,
+            frame.slot.set(&bindings::GBUFFER),
             frame.view_projection,
         );
     }

@@ -5,6 +5,7 @@
 use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
+use crate::bindings::{self, SetDecl};
 use crate::graph::{BufferUse, ImageUse};
 use crate::pass_io::PassIo;
 
@@ -13,6 +14,11 @@ pub(crate) struct LightCull;
 impl FramePass for LightCull {
     fn name(&self) -> &'static str {
         "light culling"
+    }
+
+    fn sets(&self) -> &'static [&'static SetDecl] {
+        static SETS: [&SetDecl; 1] = [&bindings::LIGHT_CULL];
+        &SETS
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
@@ -26,7 +32,7 @@ impl FramePass for LightCull {
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
         let s = frame.slot;
         PassIo::new(self.name())
-            .set(&crate::bindings::LIGHT_CULL, s.cull_set)
+            .set(&bindings::LIGHT_CULL, s.set(&bindings::LIGHT_CULL))
             .image(
                 "gbuffer_depth",
                 &frame.targets.gbuffer.depth,
@@ -45,7 +51,7 @@ impl FramePass for LightCull {
         frame.renderer.light_cull.record(
             &frame.renderer.device,
             cmd,
-            frame.slot.cull_set,
+            frame.slot.set(&bindings::LIGHT_CULL),
             push,
             frame.extent(),
         );

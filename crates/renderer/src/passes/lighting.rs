@@ -5,6 +5,7 @@
 use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
+use crate::bindings::{self, SetDecl};
 use crate::graph::{BufferUse, ImageUse};
 use crate::pass_io::PassIo;
 use crate::results::PassTimings;
@@ -16,12 +17,17 @@ impl FramePass for Lighting {
         PassTimings::LIGHTING
     }
 
+    fn sets(&self) -> &'static [&'static SetDecl] {
+        static SETS: [&SetDecl; 1] = [&bindings::LIGHTING];
+        &SETS
+    }
+
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
         let (s, g, r) = (frame.slot, &frame.targets.gbuffer, frame.renderer);
         let read = BufferUse::FragmentStorageRead;
         let texel = ImageUse::FragmentSampled;
         let mut io = PassIo::new(self.name())
-            .set(&crate::bindings::LIGHTING, s.lighting_set)
+            .set(&bindings::LIGHTING, s.set(&bindings::LIGHTING))
             .image(
                 "gbuffer_base_color_metalness",
                 &g.base_color_metalness,
@@ -103,7 +109,7 @@ impl FramePass for Lighting {
             cmd,
             hdr.view(),
             hdr.extent(),
-            frame.slot.lighting_set,
+            frame.slot.set(&bindings::LIGHTING),
             bytemuck::bytes_of(&frame.lighting_push),
             |_| {},
         );

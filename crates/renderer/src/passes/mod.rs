@@ -6,9 +6,10 @@
 //! ([`crate::graph::ImageStates::transition`]), its commands recorded, and its end
 //! stamped under its name ([`crate::PassTimings`]).
 //!
-//! Adding a pass: a file here with a unit struct implementing [`FramePass`], its set
-//! declared in `bindings.rs` (if its shaders bind resources) and allocated per slot,
-//! and one line in [`FRAME`] (docs/architecture.md walks through one).
+//! Adding a pass: a file here with a unit struct implementing [`FramePass`], its
+//! descriptor set declared in `bindings.rs` (if its shaders bind resources: a
+//! [`SetDecl`] listed in `bindings::ALL`, which makes its GLSL header, layout and each
+//! frame slot's set), and one line in [`FRAME`] (docs/architecture.md walks through one).
 
 mod depth_copy;
 mod gbuffer;
@@ -18,6 +19,7 @@ mod output;
 
 use combustion_vk::vk;
 
+use crate::bindings::SetDecl;
 use crate::environment::GpuEnvironment;
 use crate::frame::FrameSlot;
 use crate::gpu_types::{CullPush, LightingPush};
@@ -81,6 +83,12 @@ pub(crate) trait FramePass: Sync {
     /// The pass's name: its timings' ([`crate::PassTimings`]) and its barriers'.
     fn name(&self) -> &'static str;
 
+    /// The descriptor sets it binds (each frame slot holds one of each:
+    /// [`FrameSlot::set`]).
+    fn sets(&self) -> &'static [&'static SetDecl] {
+        &[]
+    }
+
     /// Whether the pass runs this frame (default: always).
     fn runs(&self, _frame: &FrameContext<'_>) -> bool {
         true
@@ -107,3 +115,36 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &output::Output,
     &depth_copy::DepthCopy,
 ];
+
+/// The descriptor sets the frame's passes bind, each once, in the frame's order.
+pub(crate) fn frame_sets() -> Vec<&'static SetDecl> {
+    let mut sets: Vec<&'static SetDecl> = Vec::new();
+    for decl in FRAME.iter().flat_map(|pass| pass.sets()) {
+        if !sets.iter().any(|d| d.name == decl.name) {
+            sets.push(decl);
+        }
+    }
+    sets
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every set a pass binds has its layout made at start (it is in
+    /// `bindings::ALL`), and pass names are unique (timings are looked up by name).
+    #[test]
+    fn the_frames_sets_are_declared_and_its_passes_named_once() {
+        for decl in frame_sets() {
+            assert!(
+                crate::bindings::ALL.iter().any(|d| d.name == decl.name),
+                "set {} is not in bindings::ALL",
+                decl.name
+            );
+        }
+        let names: Vec<&str> = FRAME.iter().map(|p| p.name()).collect();
+        for (i, name) in names.iter().enumerate() {
+            assert!(!names[..i].contains(name), "two passes named {name}");
+        }
+    }
+}

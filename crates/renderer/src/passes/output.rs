@@ -5,6 +5,7 @@
 use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
+use crate::bindings::{self, SetDecl};
 use crate::gpu_types::TonemapPush;
 use crate::graph::ImageUse;
 use crate::pass_io::PassIo;
@@ -17,14 +18,19 @@ impl FramePass for Output {
         PassTimings::OUTPUT
     }
 
+    fn sets(&self) -> &'static [&'static SetDecl] {
+        static SETS: [&SetDecl; 2] = [&bindings::OUTPUT, &bindings::OVERLAY];
+        &SETS
+    }
+
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
         let (s, r) = (frame.slot, frame.renderer);
         PassIo::new(self.name())
-            .set(&crate::bindings::OUTPUT, s.output_set)
+            .set(&bindings::OUTPUT, s.set(&bindings::OUTPUT))
             .image("hdr_image", &frame.targets.hdr, ImageUse::FragmentSampled)
             .touches(frame.color, ImageUse::ColorAttachmentWrite)
             // The overlay's quads are the CPU's, its atlas and image made at start.
-            .set(&crate::bindings::OVERLAY, s.overlay_set)
+            .set(&bindings::OVERLAY, s.set(&bindings::OVERLAY))
             .bind_buffer("overlay_quads", &s.overlay_quads)
             .bind_buffer("overlay_atlas", &r.overlay_atlas)
             .bind_buffer("overlay_image", &r.overlay_image.0)
@@ -44,7 +50,7 @@ impl FramePass for Output {
             cmd,
             frame.target.color.view,
             extent,
-            s.output_set,
+            s.set(&bindings::OUTPUT),
             bytemuck::bytes_of(&push),
             |cmd| {
                 if s.overlay_quad_count > 0 {
@@ -52,7 +58,7 @@ impl FramePass for Output {
                         device,
                         cmd,
                         extent,
-                        s.overlay_set,
+                        s.set(&bindings::OVERLAY),
                         s.overlay_quad_count,
                         image_width,
                     );
