@@ -9,6 +9,7 @@
 use combustion_vk::{vk, Buffer, Device, Image};
 
 use crate::bindings::{SetDecl, SetWriter};
+use crate::frame::FrameSlot;
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
 
 /// One pass's declaration of its inputs and outputs, built per frame.
@@ -32,6 +33,11 @@ impl PassIo {
     pub fn set(mut self, decl: &'static SetDecl, set: vk::DescriptorSet) -> Self {
         self.writers.push(decl.writer(set));
         self
+    }
+
+    /// As [`PassIo::set`], with the frame slot's own set of `decl`.
+    pub fn slot_set(self, slot: &FrameSlot, decl: &'static SetDecl) -> Self {
+        self.set(decl, slot.set(decl))
     }
 
     fn writer(&mut self) -> &mut SetWriter {

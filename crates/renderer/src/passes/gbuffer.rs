@@ -24,7 +24,7 @@ impl FramePass for GBuffer {
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
         let g = &frame.targets.gbuffer;
         let mut io = PassIo::new(self.name())
-            .set(&bindings::GBUFFER, frame.slot.set(&bindings::GBUFFER))
+            .slot_set(frame.slot, &bindings::GBUFFER)
             .buffer(
                 "objects",
                 &frame.scene.gpu.objects,

@@ -32,7 +32,7 @@ impl FramePass for LightCull {
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
         let s = frame.slot;
         PassIo::new(self.name())
-            .set(&bindings::LIGHT_CULL, s.set(&bindings::LIGHT_CULL))
+            .slot_set(frame.slot, &bindings::LIGHT_CULL)
             .image(
                 "gbuffer_depth",
                 &frame.targets.gbuffer.depth,

@@ -27,7 +27,7 @@ impl FramePass for Lighting {
         let read = BufferUse::FragmentStorageRead;
         let texel = ImageUse::FragmentSampled;
         let mut io = PassIo::new(self.name())
-            .set(&bindings::LIGHTING, s.set(&bindings::LIGHTING))
+            .slot_set(frame.slot, &bindings::LIGHTING)
             .image(
                 "gbuffer_base_color_metalness",
                 &g.base_color_metalness,

@@ -26,11 +26,11 @@ impl FramePass for Output {
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
         let (s, r) = (frame.slot, frame.renderer);
         PassIo::new(self.name())
-            .set(&bindings::OUTPUT, s.set(&bindings::OUTPUT))
+            .slot_set(frame.slot, &bindings::OUTPUT)
             .image("hdr_image", &frame.targets.hdr, ImageUse::FragmentSampled)
             .touches(frame.color, ImageUse::ColorAttachmentWrite)
             // The overlay's quads are the CPU's, its atlas and image made at start.
-            .set(&bindings::OVERLAY, s.set(&bindings::OVERLAY))
+            .slot_set(frame.slot, &bindings::OVERLAY)
             .bind_buffer("overlay_quads", &s.overlay_quads)
             .bind_buffer("overlay_atlas", &r.overlay_atlas)
             .bind_buffer("overlay_image", &r.overlay_image.0)
