@@ -666,7 +666,8 @@ fn frame(
 /// as its own (the same bake) or without one. A frame environment lights the scene it
 /// was baked for while an edit leaves the materials' optics alone (an object moved),
 /// is refused with a typed error for another scene's materials or after an edit
-/// changes them, and its frames' pipelines follow a settings change through `prepare`.
+/// changes them, and its frames' pipelines follow a change of shading options through
+/// `set_shading`.
 #[test]
 fn a_frame_environment_lights_as_the_scenes_own_and_changes_without_an_edit() {
     use combustion::renderer::{FresnelModel, RenderError};
