@@ -27,40 +27,38 @@ pub const ENVIRONMENT_SAMPLING: EnvironmentSampling = EnvironmentSampling {
 use combustion_renderer::{
     linear_to_srgb, tonemap_exponential, Distribution, Frame, FrameInputs, FresnelModel, GpuScene,
     HdrFormat, LightCulling, Masking, MeasurementFloor, PassTimings, Readback, Renderer,
-    RendererSettings,
+    RendererSettings, ShadingOptions,
 };
 use combustion_scene::DiffuseModel;
 use combustion_vk::DeviceDesc;
 
 use crate::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
 
-/// One combination of the renderer's measured options.
+/// One combination of the renderer's measured options: shading options and the HDR
+/// format (fixed when a renderer is made, so each format gets its own renderer).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct VariantSet {
-    /// The Fresnel term.
-    pub fresnel: FresnelModel,
+    /// The shading options (the report varies the Fresnel term, the pipeline, the masking
+    /// term, the distribution and the diffuse override; the rest stay at their defaults).
+    pub shading: ShadingOptions,
     /// The HDR image's format.
     pub hdr: HdrFormat,
-    /// Lighting pipeline specialised to the scene (else the general one).
-    pub specialised: bool,
-    /// The masking–shadowing term.
-    pub masking: Masking,
-    /// The microfacet normal distribution.
-    pub distribution: Distribution,
-    /// One diffuse model for every material (`None`: each material's own).
-    pub diffuse: Option<DiffuseModel>,
 }
 
 impl VariantSet {
     /// The renderer's defaults: the exact model, f32 HDR, specialised pipeline.
     pub const DEFAULT: VariantSet = VariantSet {
-        fresnel: FresnelModel::Full,
+        shading: ShadingOptions::DEFAULT,
         hdr: HdrFormat::Rgba32Float,
-        specialised: true,
-        masking: Masking::HeightCorrelated,
-        distribution: Distribution::Ggx,
-        diffuse: None,
     };
+
+    /// The default set with other shading options.
+    pub const fn with(shading: ShadingOptions) -> VariantSet {
+        VariantSet {
+            shading,
+            hdr: HdrFormat::Rgba32Float,
+        }
+    }
 
     /// Every set the report measures: the default; each term changed alone (the general
     /// pipeline; Schlick's and Hoffman's F82 Fresnel; f16 HDR; the separable and the
@@ -68,54 +66,57 @@ impl VariantSet {
     /// for every material); and every cheap choice at once.
     pub fn all() -> Vec<VariantSet> {
         let d = Self::DEFAULT;
+        let o = ShadingOptions::DEFAULT;
         vec![
             d,
-            VariantSet {
+            Self::with(ShadingOptions {
                 specialised: false,
-                ..d
-            },
-            VariantSet {
+                ..o
+            }),
+            Self::with(ShadingOptions {
                 fresnel: FresnelModel::Schlick,
-                ..d
-            },
-            VariantSet {
+                ..o
+            }),
+            Self::with(ShadingOptions {
                 fresnel: FresnelModel::F82,
-                ..d
-            },
+                ..o
+            }),
             VariantSet {
                 hdr: HdrFormat::Rgba16Float,
                 ..d
             },
-            VariantSet {
+            Self::with(ShadingOptions {
                 masking: Masking::Separable,
-                ..d
-            },
-            VariantSet {
+                ..o
+            }),
+            Self::with(ShadingOptions {
                 masking: Masking::Approximate,
-                ..d
-            },
-            VariantSet {
+                ..o
+            }),
+            Self::with(ShadingOptions {
                 distribution: Distribution::Beckmann,
-                ..d
-            },
+                ..o
+            }),
+            Self::with(ShadingOptions {
+                diffuse_override: Some(DiffuseModel::Lambert),
+                ..o
+            }),
+            Self::with(ShadingOptions {
+                diffuse_override: Some(DiffuseModel::OrenNayarQualitative),
+                ..o
+            }),
+            Self::with(ShadingOptions {
+                diffuse_override: Some(DiffuseModel::OrenNayarFull),
+                ..o
+            }),
             VariantSet {
-                diffuse: Some(DiffuseModel::Lambert),
-                ..d
-            },
-            VariantSet {
-                diffuse: Some(DiffuseModel::OrenNayarQualitative),
-                ..d
-            },
-            VariantSet {
-                diffuse: Some(DiffuseModel::OrenNayarFull),
-                ..d
-            },
-            VariantSet {
-                fresnel: FresnelModel::Schlick,
+                shading: ShadingOptions {
+                    fresnel: FresnelModel::Schlick,
+                    masking: Masking::Approximate,
+                    diffuse_override: Some(DiffuseModel::Lambert),
+                    ..o
+                },
                 hdr: HdrFormat::Rgba16Float,
-                masking: Masking::Approximate,
-                diffuse: Some(DiffuseModel::Lambert),
-                ..d
             },
         ]
     }
@@ -123,21 +124,22 @@ impl VariantSet {
     /// A short name, e.g. `full/f32/specialised/correlated/ggx/material`: Fresnel, HDR,
     /// pipeline, masking, distribution, diffuse.
     pub fn name(&self) -> String {
+        let o = &self.shading;
         format!(
             "{}/{}/{}/{}/{}/{}",
-            self.fresnel.name(),
+            o.fresnel.name(),
             match self.hdr {
                 HdrFormat::Rgba32Float => "f32",
                 HdrFormat::Rgba16Float => "f16",
             },
-            if self.specialised {
+            if o.specialised {
                 "specialised"
             } else {
                 "general"
             },
-            self.masking.name(),
-            self.distribution.name(),
-            diffuse_name(self.diffuse)
+            o.masking.name(),
+            o.distribution.name(),
+            diffuse_name(o.diffuse_override)
         )
     }
 
@@ -157,16 +159,6 @@ impl VariantSet {
         } else {
             changed.join("+")
         }
-    }
-
-    /// Sets the renderer's options to this set's (all but the HDR format, which is
-    /// fixed when a renderer is made).
-    pub fn apply(&self, renderer: &mut Renderer) {
-        renderer.set_fresnel(self.fresnel);
-        renderer.set_specialised(self.specialised);
-        renderer.set_masking(self.masking);
-        renderer.set_distribution(self.distribution);
-        renderer.set_diffuse_override(self.diffuse);
     }
 }
 
@@ -422,7 +414,6 @@ fn time_configuration(
 ) -> Result<ScalingRow, Error> {
     renderer.set_light_culling(culling);
     let gpu = renderer.upload(scene)?;
-    renderer.prepare(&gpu)?;
     renderer.render(&gpu, width, height, Readback::default())?;
     let timings = time_frames(renderer, &gpu, width, height, frames)?;
     renderer.retire(gpu);
@@ -444,7 +435,7 @@ fn measure_scaling(
     desc: &ReportDesc,
     mut step: impl FnMut(&str),
 ) -> Result<Vec<ScalingRow>, Error> {
-    VariantSet::DEFAULT.apply(renderer);
+    renderer.set_shading(VariantSet::DEFAULT.shading, &[])?;
     let mut rows = Vec::new();
     for factor in SCALING_SIZES {
         let size = (
@@ -525,15 +516,17 @@ pub fn measure(
                     total,
                     &format!("{label} floors"),
                 );
-                VariantSet::DEFAULT.apply(renderer);
                 let mut spreads = Vec::new();
                 for floor in [
                     MeasurementFloor::Geometry,
                     MeasurementFloor::LightingFetch,
                     MeasurementFloor::LightingPlainGgx,
                 ] {
-                    renderer.set_measurement_floor(Some(floor));
-                    renderer.prepare(&gpu)?;
+                    let shading = ShadingOptions {
+                        measurement_floor: Some(floor),
+                        ..VariantSet::DEFAULT.shading
+                    };
+                    renderer.set_shading(shading, &[&gpu])?;
                     renderer.render(&gpu, desc.width, desc.height, Readback::default())?;
                     let timings =
                         time_frames(renderer, &gpu, desc.width, desc.height, desc.frames)?;
@@ -547,7 +540,6 @@ pub fn measure(
                             .collect(),
                     ));
                 }
-                renderer.set_measurement_floor(None);
                 floors.push(FloorRow {
                     scene: label.clone(),
                     geometry: spreads[0],
@@ -569,8 +561,7 @@ pub fn measure(
                     total,
                     &format!("{label} {}", set.name()),
                 );
-                set.apply(renderer);
-                renderer.prepare(&gpu)?;
+                renderer.set_shading(set.shading, &[&gpu])?;
                 // The error of one frame (read back), which is also the warm-up.
                 let frame = renderer.render_with(
                     &gpu,

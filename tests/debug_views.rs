@@ -1,4 +1,4 @@
-//! The lighting pass's debug views (`Renderer::set_debug_view`): every view renders on
+//! The lighting pass's debug views (`ShadingOptions::debug_view`): every view renders on
 //! lavapipe with validation and gives finite values, and the G-buffer views show exactly
 //! what the G-buffer holds — checked pixel by pixel against the G-buffer read back from
 //! the same frame (within one 8-bit step: the view goes through the f32 tone curve and
@@ -7,7 +7,7 @@
 mod common;
 
 use combustion::renderer::gbuffer::{anisotropy_direction_decode, octahedral_decode, GBufferTexel};
-use combustion::renderer::{DebugView, Frame, Readback, RendererSettings};
+use combustion::renderer::{DebugView, Frame, Readback, RendererSettings, ShadingOptions};
 use combustion::scene::builtin_scene;
 
 const W: u32 = 192;
@@ -21,8 +21,15 @@ fn render_views(scene_name: &str) -> Vec<(DebugView, Frame)> {
         .unwrap();
     let mut frames = Vec::new();
     for view in DebugView::ALL {
-        renderer.set_debug_view(view);
-        renderer.prepare(&gpu).unwrap();
+        renderer
+            .set_shading(
+                ShadingOptions {
+                    debug_view: view,
+                    ..ShadingOptions::default()
+                },
+                &[&gpu],
+            )
+            .unwrap();
         let frame = renderer
             .render(
                 &gpu,

@@ -6,7 +6,7 @@ mod common;
 
 use combustion::renderer::gbuffer::srgb_to_linear;
 use combustion::renderer::reference::{ReferenceShading, RADIANCE_FLOOR};
-use combustion::renderer::{Frame, FrameInputs, Readback, RendererSettings};
+use combustion::renderer::{Frame, FrameInputs, Readback, RendererSettings, ShadingOptions};
 use std::sync::Arc;
 
 use combustion::scene::{
@@ -521,7 +521,13 @@ fn energy_compensation_keeps_a_white_furnace_white() {
             let frame = {
                 let renderer = headless.renderer();
                 renderer
-                    .set_energy_compensation(compensation)
+                    .set_shading(
+                        ShadingOptions {
+                            energy_compensation: compensation,
+                            ..ShadingOptions::default()
+                        },
+                        &[],
+                    )
                     .expect("table");
                 let gpu = renderer.upload(&scene).expect("upload");
                 renderer
@@ -660,7 +666,8 @@ fn frame(
 /// as its own (the same bake) or without one. A frame environment lights the scene it
 /// was baked for while an edit leaves the materials' optics alone (an object moved),
 /// is refused with a typed error for another scene's materials or after an edit
-/// changes them, and its frames' pipelines follow a settings change through `prepare`.
+/// changes them, and its frames' pipelines follow a change of shading options through
+/// `set_shading`.
 #[test]
 fn a_frame_environment_lights_as_the_scenes_own_and_changes_without_an_edit() {
     use combustion::renderer::{FresnelModel, RenderError};
@@ -718,11 +725,18 @@ fn a_frame_environment_lights_as_the_scenes_own_and_changes_without_an_edit() {
             })
             .expect("edit");
         frame(renderer, &scene, Some(&studio_light), size).expect("moved object, same materials");
-        // Pipelines follow a settings change through prepare.
-        renderer.set_fresnel(FresnelModel::Schlick);
-        renderer.prepare(&scene).expect("prepare");
+        // Pipelines follow a change of shading options through set_shading.
+        let schlick = ShadingOptions {
+            fresnel: FresnelModel::Schlick,
+            ..ShadingOptions::default()
+        };
+        renderer
+            .set_shading(schlick, &[&scene])
+            .expect("set_shading");
         frame(renderer, &scene, Some(&studio_light), size).expect("Schlick frames lit by it");
-        renderer.set_fresnel(FresnelModel::Full);
+        renderer
+            .set_shading(ShadingOptions::default(), &[&scene])
+            .expect("set_shading");
         // Another scene's materials, and an edit of the optics, are refused.
         let other = renderer
             .upload(&builtin_scene("gold-copper").expect("built in"))

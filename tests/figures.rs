@@ -13,7 +13,7 @@ use combustion::optics::microfacet::{
 };
 use combustion::optics::vec3::{ShadingFrame, Vec3 as V};
 use combustion::renderer::gbuffer::octahedral_decode;
-use combustion::renderer::{Frame, FresnelModel, HdrFormat, Readback, RendererSettings};
+use combustion::renderer::{Frame, HdrFormat, Readback, RendererSettings, ShadingOptions};
 use combustion::scene::{builtin_scene, Light, Material, Scene};
 use glam::{DVec3, DVec4};
 
@@ -230,7 +230,7 @@ fn underwater_in_air_golden_matches_analytic_reference() {
 const EXACT: RendererSettings = RendererSettings {
     hdr_format: HdrFormat::Rgba32Float,
     exposure: 1.0,
-    fresnel: FresnelModel::Full,
+    shading: ShadingOptions::DEFAULT,
     frames_in_flight: 2,
 };
 

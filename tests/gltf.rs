@@ -13,7 +13,7 @@ use combustion::renderer::gbuffer::{
     anisotropy_direction_decode, octahedral_decode, srgb_to_linear,
 };
 use combustion::renderer::gpu_types::conductor_from_base_color_table;
-use combustion::renderer::{FresnelModel, HdrFormat, Readback, RendererSettings};
+use combustion::renderer::{HdrFormat, Readback, RendererSettings, ShadingOptions};
 use combustion::scene::{Camera, Material, Mesh, Object, Scene};
 use combustion::SceneSource;
 use glam::{Mat4, Vec3};
@@ -83,7 +83,7 @@ fn render_file(
         RendererSettings {
             hdr_format: HdrFormat::Rgba32Float,
             exposure: 1.0,
-            fresnel: FresnelModel::Full,
+            shading: ShadingOptions::DEFAULT,
             frames_in_flight: 2,
         },
         readback,

@@ -15,8 +15,8 @@ mod vulkan;
 mod window;
 
 use combustion::renderer::{
-    ColorTarget, DepthTarget, FrameInputs, FrameTarget, FresnelModel, HdrFormat, PassTimings,
-    Readback, RendererSettings,
+    ColorTarget, DepthTarget, FrameInputs, FrameTarget, HdrFormat, PassTimings, Readback,
+    RendererSettings, ShadingOptions,
 };
 use combustion::scene::builtin_scene;
 use combustion::vk::ash::vk;
@@ -129,7 +129,7 @@ fn host_frames_compose_combustions_output_on_the_device() {
         RendererSettings {
             hdr_format: HdrFormat::Rgba32Float,
             exposure: 1.0,
-            fresnel: FresnelModel::Full,
+            shading: ShadingOptions::DEFAULT,
             frames_in_flight: 2,
         },
         Readback {

@@ -3,7 +3,7 @@
 mod common;
 
 use combustion::renderer::gbuffer::srgb_to_linear;
-use combustion::renderer::{FresnelModel, HdrFormat, Readback, RendererSettings};
+use combustion::renderer::{HdrFormat, Readback, RendererSettings, ShadingOptions};
 use combustion::scene::{
     builtin_scene, Camera, Light, Material, Mesh, Object, Scene, SPHERE_GRID_ROUGHNESS,
 };
@@ -12,7 +12,7 @@ use glam::{Mat4, Vec3};
 const EXACT: RendererSettings = RendererSettings {
     hdr_format: HdrFormat::Rgba32Float,
     exposure: 1.0,
-    fresnel: FresnelModel::Full,
+    shading: ShadingOptions::DEFAULT,
     frames_in_flight: 2,
 };
 

@@ -8,7 +8,7 @@
 mod common;
 
 use combustion::renderer::{
-    DebugView, FrameInputs, HdrFormat, LightCulling, Readback, RendererSettings,
+    DebugView, FrameInputs, HdrFormat, LightCulling, Readback, RendererSettings, ShadingOptions,
 };
 use combustion::scene::{builtin_scene, Light, Scene};
 use glam::Vec3;
@@ -45,7 +45,15 @@ fn render_all(scene: &Scene, culling: &[LightCulling], view: DebugView) -> Vec<V
         ..RendererSettings::default()
     });
     let renderer = headless.renderer();
-    renderer.set_debug_view(view);
+    renderer
+        .set_shading(
+            ShadingOptions {
+                debug_view: view,
+                ..ShadingOptions::default()
+            },
+            &[],
+        )
+        .unwrap();
     let gpu = renderer.upload(scene).unwrap();
     let inputs = FrameInputs::of_scene(&gpu, 1.0);
     let frames = culling

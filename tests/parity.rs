@@ -5,7 +5,9 @@
 mod common;
 
 use combustion::renderer::reference::{error_map, ErrorMap, ReferenceShading};
-use combustion::renderer::{FrameInputs, FresnelModel, HdrFormat, Readback, RendererSettings};
+use combustion::renderer::{
+    FrameInputs, FresnelModel, HdrFormat, Readback, RendererSettings, ShadingOptions,
+};
 use combustion::scene::{builtin_scene, Light, Scene};
 
 fn parity(scene_name: &str, width: u32, height: u32) -> ErrorMap {
@@ -35,7 +37,10 @@ fn parity_of(
     let settings = RendererSettings {
         hdr_format: HdrFormat::Rgba32Float,
         exposure: 1.0,
-        fresnel,
+        shading: ShadingOptions {
+            fresnel,
+            ..ShadingOptions::DEFAULT
+        },
         frames_in_flight: 2,
     };
     let (frame, report) = common::render_with_error_map(scene, width, height, settings, 2);

@@ -6,7 +6,7 @@
 mod common;
 
 use combustion::renderer::{
-    Distribution, FresnelModel, HdrFormat, Masking, PassTimings, RendererSettings,
+    Distribution, FresnelModel, HdrFormat, Masking, PassTimings, RendererSettings, ShadingOptions,
 };
 use combustion::report::{ReportDesc, VariantSet};
 use combustion::scene::{builtin_scene, DiffuseModel};
@@ -29,15 +29,17 @@ fn lavapipe_with_validation() -> DeviceDesc {
 fn report_measures_every_set_and_its_errors_match_the_parity_check() {
     let sets = vec![
         VariantSet::DEFAULT,
-        VariantSet {
+        VariantSet::with(ShadingOptions {
             fresnel: FresnelModel::Schlick,
             specialised: false,
-            ..VariantSet::DEFAULT
-        },
+            ..ShadingOptions::DEFAULT
+        }),
         VariantSet {
             hdr: HdrFormat::Rgba16Float,
-            masking: Masking::Separable,
-            ..VariantSet::DEFAULT
+            shading: ShadingOptions {
+                masking: Masking::Separable,
+                ..ShadingOptions::DEFAULT
+            },
         },
     ];
     let desc = ReportDesc {
@@ -189,26 +191,29 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
 #[test]
 fn comparison_variants_move_the_error_as_their_physics_says() {
     let d = VariantSet::DEFAULT;
-    let f82 = VariantSet {
+    let o = ShadingOptions::DEFAULT;
+    let f82 = VariantSet::with(ShadingOptions {
         fresnel: FresnelModel::F82,
-        ..d
-    };
-    let schlick = VariantSet {
+        ..o
+    });
+    let schlick = VariantSet::with(ShadingOptions {
         fresnel: FresnelModel::Schlick,
-        ..d
-    };
-    let beckmann = VariantSet {
+        ..o
+    });
+    let beckmann = VariantSet::with(ShadingOptions {
         distribution: Distribution::Beckmann,
-        ..d
-    };
+        ..o
+    });
     let overrides = [
         DiffuseModel::Lambert,
         DiffuseModel::OrenNayarQualitative,
         DiffuseModel::OrenNayarFull,
     ]
-    .map(|model| VariantSet {
-        diffuse: Some(model),
-        ..d
+    .map(|model| {
+        VariantSet::with(ShadingOptions {
+            diffuse_override: Some(model),
+            ..o
+        })
     });
     let mut sets = vec![d, f82, schlick, beckmann];
     sets.extend(overrides);

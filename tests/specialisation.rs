@@ -8,7 +8,9 @@
 
 mod common;
 
-use combustion::renderer::{HdrFormat, LightingFeatures, Readback, RendererSettings};
+use combustion::renderer::{
+    HdrFormat, LightingFeatures, Readback, RendererSettings, ShadingOptions,
+};
 use combustion::scene::{builtin_scene, BUILTIN_SCENES};
 
 const W: u32 = 160;
@@ -30,14 +32,19 @@ fn specialised_and_general_pipelines_agree_on_every_builtin_scene() {
     let mut specialised_somewhere = false;
     for name in BUILTIN_SCENES {
         let scene = builtin_scene(name).unwrap();
-        renderer.set_specialised(true);
+        renderer
+            .set_shading(ShadingOptions::default(), &[])
+            .unwrap();
         let gpu = renderer.upload(&scene).unwrap();
         let features = renderer.lighting_features(&gpu);
         assert_eq!(features, LightingFeatures::of(&scene));
         specialised_somewhere |= features != LightingFeatures::ALL;
         let specialised = renderer.render(&gpu, W, H, readback).unwrap();
-        renderer.set_specialised(false);
-        renderer.prepare(&gpu).unwrap();
+        let general = ShadingOptions {
+            specialised: false,
+            ..ShadingOptions::default()
+        };
+        renderer.set_shading(general, &[&gpu]).unwrap();
         assert_eq!(renderer.lighting_features(&gpu), LightingFeatures::ALL);
         let general = renderer.render(&gpu, W, H, readback).unwrap();
         let (mut worst, mut lit, mut identical) = (0.0f64, 0usize, 0usize);

@@ -8,7 +8,8 @@ use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, Ty
 use clap::{ArgAction, ArgGroup, Args, Parser, Subcommand};
 
 use combustion::renderer::{
-    Distribution, FresnelModel, HdrFormat, LightCulling, RendererSettings, MAX_FRAMES_IN_FLIGHT,
+    Distribution, FresnelModel, HdrFormat, LightCulling, RendererSettings, ShadingOptions,
+    MAX_FRAMES_IN_FLIGHT,
 };
 use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
 use combustion::spectra::BuiltinMetal;
@@ -744,7 +745,10 @@ pub(crate) fn device_and_settings(
     let settings = RendererSettings {
         exposure: frame.exposure,
         hdr_format: frame.hdr_format,
-        fresnel: frame.fresnel,
+        shading: ShadingOptions {
+            fresnel: frame.fresnel,
+            ..ShadingOptions::default()
+        },
         frames_in_flight,
     };
     Ok((desc, settings))

@@ -92,7 +92,11 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
         &lit_as_asked(o.scene.source().load()?, &o.shading)?,
         o.extra_lights,
     );
-    let (device, settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    let (device, mut settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    settings.shading.specialised = o.specialised;
+    settings.shading.distribution = o.shading.distribution;
+    settings.shading.diffuse_override = o.shading.diffuse;
+    settings.shading.energy_compensation = o.shading.energy_compensation;
     let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
     let device_name = {
         let renderer = headless.renderer();
@@ -100,11 +104,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     };
     let renderer = headless.renderer();
     let frames_in_flight = renderer.settings().frames_in_flight;
-    renderer.set_specialised(o.specialised);
     renderer.set_light_culling(o.culling);
-    renderer.set_distribution(o.shading.distribution);
-    renderer.set_diffuse_override(o.shading.diffuse);
-    renderer.set_energy_compensation(o.shading.energy_compensation)?;
     let gpu_scene = renderer.upload(&scene)?;
     let features = renderer.lighting_features(&gpu_scene);
     // One warm-up frame (first-touch allocations, driver caches) is not counted.

@@ -34,7 +34,6 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     )?;
     // An accuracy budget: the fastest variant set within it, measured on this scene at
     // this size (5 frames each).
-    let mut chosen = None;
     if let Some(budget) = o.max_error {
         let choice = combustion::report::choose(
             &source,
@@ -55,21 +54,15 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
                 best.map_or(f64::NAN, |r| r.mean_relative)
             )));
         };
-        settings.fresnel = set.fresnel;
+        settings.shading = set.shading;
         settings.hdr_format = set.hdr;
-        chosen = Some(set);
         outln!("variant set {} (--max-error {budget:e}; `combustion info SCENE --max-error {budget:e}` says why)", set.name());
-    }
-    let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
-    if let Some(set) = chosen {
-        set.apply(headless.renderer());
     } else {
-        headless.renderer().set_distribution(o.shading.distribution);
-        headless.renderer().set_diffuse_override(o.shading.diffuse);
+        settings.shading.distribution = o.shading.distribution;
+        settings.shading.diffuse_override = o.shading.diffuse;
     }
-    headless
-        .renderer()
-        .set_energy_compensation(o.shading.energy_compensation)?;
+    settings.shading.energy_compensation = o.shading.energy_compensation;
+    let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
     let frame = headless.render(&scene, o.frame.width, o.frame.height)?;
     let validation = headless.validation_log();
     drop(headless);

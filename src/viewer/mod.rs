@@ -27,7 +27,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use combustion_renderer::{
-    ColorTarget, Corner, FrameInputs, FrameTarget, OverlayPanel, Renderer, RendererSettings,
+    ColorTarget, Corner, DebugView, FrameInputs, FrameTarget, OverlayPanel, Renderer,
+    RendererSettings, ShadingOptions,
 };
 use combustion_vk::{
     vk, Device, DeviceDesc, FrameRing, ImageState, PresentOutcome, Surface, Swapchain,
@@ -640,7 +641,7 @@ impl State {
         let inputs = FrameInputs {
             camera,
             // Debug views are written for exposure 1 (their values come back as written).
-            exposure: if self.renderer.debug_view() == combustion_renderer::DebugView::None {
+            exposure: if self.renderer.shading().debug_view == DebugView::None {
                 self.exposure
             } else {
                 1.0
@@ -728,8 +729,8 @@ impl State {
             lights: self.gpu_scene.scene().lights.len(),
             frame_ms: recent_median(&summary.frame_ms),
             timings: self.renderer.last_completed_timings(),
-            view: self.renderer.debug_view().name(),
-            fresnel: self.renderer.settings().fresnel,
+            view: self.renderer.shading().debug_view.name(),
+            fresnel: self.renderer.shading().fresnel,
             overrides: &self.overrides.describe(),
             exposure: self.exposure,
             camera: (self.camera_index, self.cameras.len()),
@@ -755,7 +756,7 @@ impl State {
             camera,
             extent: (extent.width, extent.height),
             scene_generation: self.scene_generation,
-            fresnel: self.renderer.settings().fresnel,
+            fresnel: self.renderer.shading().fresnel,
         };
         match view.measured {
             Some((measured, _)) if measured == key => return Ok(()),
@@ -817,11 +818,11 @@ impl State {
             return Ok(());
         }
         // The map is of radiance: the debug view goes back to it.
-        if self.renderer.debug_view() != combustion_renderer::DebugView::None {
-            self.renderer
-                .set_debug_view(combustion_renderer::DebugView::None);
-            self.renderer.prepare(&self.gpu_scene)?;
-        }
+        let shading = ShadingOptions {
+            debug_view: DebugView::None,
+            ..self.renderer.shading()
+        };
+        self.renderer.set_shading(shading, &[&self.gpu_scene])?;
         // Measured at once: nothing is pending yet.
         self.error_view = Some(inspect::ErrorView::default());
         Ok(())
@@ -859,7 +860,7 @@ impl State {
 
     /// The window's title: the scene, the toggles, the error view, the GPU time.
     fn title(&self, gpu_ms: Option<f64>) -> String {
-        let fresnel = self.renderer.settings().fresnel.description();
+        let fresnel = self.renderer.shading().fresnel.description();
         let gpu = gpu_ms.map_or(String::new(), |ms| format!(" — {ms:.1} ms GPU"));
         let error = match self.error_view.map(|v| v.measured) {
             None => String::new(),
@@ -882,7 +883,7 @@ impl State {
         format!(
             "combustion — {} — {} — {fresnel}, {}, exposure {:.2}{camera}{error}{typing}{gpu}",
             self.source.label(),
-            self.renderer.debug_view().name(),
+            self.renderer.shading().debug_view.name(),
             self.overrides.describe(),
             self.exposure
         )
@@ -1076,12 +1077,9 @@ impl App<'_> {
     fn toggle(state: &mut State, text: &str) -> Result<(), Error> {
         match text {
             "g" | "G" => {
-                let old = state.renderer.settings().fresnel;
-                state.renderer.set_fresnel(controls::toggle_fresnel(old));
-                if let Err(e) = state.renderer.prepare(&state.gpu_scene) {
-                    state.renderer.set_fresnel(old); // the pipelines it has still work
-                    return Err(e.into());
-                }
+                let mut shading = state.renderer.shading();
+                shading.fresnel = controls::toggle_fresnel(shading.fresnel);
+                state.renderer.set_shading(shading, &[&state.gpu_scene])?;
             }
             "m" | "M" | "o" | "O" => {
                 let old = state.overrides;
@@ -1116,12 +1114,9 @@ impl App<'_> {
                 if state.error_view.is_some() {
                     state.toggle_error_view()?; // back to the debug views
                 }
-                let old = state.renderer.debug_view();
-                state.renderer.set_debug_view(old.next());
-                if let Err(e) = state.renderer.prepare(&state.gpu_scene) {
-                    state.renderer.set_debug_view(old);
-                    return Err(e.into());
-                }
+                let mut shading = state.renderer.shading();
+                shading.debug_view = shading.debug_view.next();
+                state.renderer.set_shading(shading, &[&state.gpu_scene])?;
             }
             "+" | "=" => state.exposure *= controls::EXPOSURE_STEP,
             "-" | "_" => state.exposure /= controls::EXPOSURE_STEP,

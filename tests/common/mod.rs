@@ -110,7 +110,7 @@ pub fn exact_f32() -> RendererSettings {
     RendererSettings {
         hdr_format: combustion::renderer::HdrFormat::Rgba32Float,
         exposure: 1.0,
-        fresnel: combustion::renderer::FresnelModel::Full,
+        shading: combustion::renderer::ShadingOptions::DEFAULT,
         frames_in_flight: 2,
     }
 }

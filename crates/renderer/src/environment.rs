@@ -97,7 +97,7 @@ pub const ENERGY_TABLE_SAMPLES: u32 = 1024;
 /// ([`combustion_optics::environment::specular_albedo_white`]) over `ENERGY_TABLE_SIZE`²
 /// cell-centred entries, μ along rows' entries, r = √α down the rows: the single
 /// scattering's share of energy, which multiple-scattering energy compensation
-/// ([`crate::Renderer::set_energy_compensation`]) makes up for.
+/// ([`crate::ShadingOptions::energy_compensation`]) makes up for.
 pub fn white_specular_albedo_table() -> Vec<f32> {
     let size = ENERGY_TABLE_SIZE;
     let at = |i: u32| (f64::from(i) + 0.5) / f64::from(size);

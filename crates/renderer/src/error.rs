@@ -66,9 +66,10 @@ pub enum RenderError {
     /// [`Renderer::prepare_output`] first.
     #[error("output format {0:?} was not prepared; call Renderer::prepare_output before recording frames into it")]
     OutputNotPrepared(vk::Format),
-    /// The pipelines the frame needs with the current settings were not built: call
-    /// [`Renderer::prepare`] after changing a setting.
-    #[error("the scene's pipelines were not built; call Renderer::prepare after changing the renderer's settings")]
+    /// The pipelines the frame needs with the current shading options were not built:
+    /// pass the scene to [`Renderer::set_shading`] when changing them, or call
+    /// [`Renderer::prepare`] for it after.
+    #[error("the scene's pipelines for the current shading options were not built; pass the scene to Renderer::set_shading, or call Renderer::prepare for it")]
     VariantNotPrepared,
     /// The [`GpuScene`] was uploaded by another renderer.
     #[error("the scene was uploaded by another renderer; upload it with this renderer")]

@@ -178,7 +178,7 @@ impl Renderer {
     ///   target's format.
     /// - [`RenderError::SceneOfAnotherRenderer`], [`RenderError::EnvironmentOfAnotherScene`],
     ///   [`RenderError::VariantNotPrepared`]: the scene, the frame's environment, or
-    ///   pipelines not built after a settings change.
+    ///   pipelines not built for the scene after a change of shading options.
     /// - [`RenderError::InvalidAfterLayout`], [`RenderError::InvalidTargetImage`] (missing
     ///   usage), [`RenderError::InvalidDepthTarget`]: the targets.
     /// - [`RenderError::Vulkan`]: allocating the frame's targets or buffers failed.
@@ -460,7 +460,7 @@ impl Renderer {
             view_projection,
             inputs.camera.position,
             inputs.lights.len() as u32,
-            self.debug_view as u32,
+            self.settings.shading.debug_view as u32,
         );
         let cull_push = s.culling.map(|(tiles_x, stride)| {
             lighting_push = lighting_push.with_tile_lists(tiles_x, stride);

@@ -61,7 +61,7 @@ use std::collections::HashMap;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
-use combustion_scene::{DiffuseModel, Scene};
+use combustion_scene::Scene;
 use combustion_vk::{vk, Device, PipelineCache, ShaderCompiler};
 
 pub use color::{f16_to_f32, linear_to_srgb, tonemap_exponential};
@@ -74,7 +74,7 @@ pub use host::{
 pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{
     DebugView, Distribution, FresnelModel, HdrFormat, Masking, MeasurementFloor, Readback,
-    RendererSettings, MAX_FRAMES_IN_FLIGHT,
+    RendererSettings, ShadingOptions, MAX_FRAMES_IN_FLIGHT,
 };
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
 use pipelines::{OutputPasses, SetLayouts, VariantPasses};
@@ -88,8 +88,8 @@ pub use variant::{LightingFeatures, ShaderVariant};
 /// ([`Renderer::record`]), with frames in flight.
 ///
 /// Pipelines are built by [`Renderer::new`], [`Renderer::upload`],
-/// [`Renderer::edit_scene`], [`Renderer::prepare`] and [`Renderer::prepare_output`],
-/// never while a frame is recorded. Resources it replaces (targets of another size, an
+/// [`Renderer::edit_scene`], [`Renderer::set_shading`], [`Renderer::prepare`] and
+/// [`Renderer::prepare_output`], never while a frame is recorded. Resources it replaces (targets of another size, an
 /// edited scene's old buffers, a dropped [`GpuScene`] or [`FrameEnvironment`]) wait in
 /// a retire list until the frames recorded before have completed.
 ///
@@ -126,22 +126,10 @@ pub struct Renderer {
     pipeline_cache: PipelineCache,
     compiler: ShaderCompiler,
     states: graph::ImageStates,
+    /// The settings, their shading options the current ones ([`Renderer::set_shading`]).
     settings: RendererSettings,
-    debug_view: DebugView,
-    /// Lighting pipelines specialised to the scene ([`Renderer::set_specialised`]).
-    specialised: bool,
-    /// A measurement floor in place of the real passes.
-    floor: Option<MeasurementFloor>,
-    /// The masking–shadowing term ([`Renderer::set_masking`]).
-    masking: Masking,
-    /// The normal distribution ([`Renderer::set_distribution`]).
-    distribution: Distribution,
-    /// One diffuse model for every material ([`Renderer::set_diffuse_override`]).
-    diffuse_override: Option<DiffuseModel>,
     /// The environment bake's pipelines, built for the first scene with an environment.
     environment_baker: Option<environment::EnvironmentBaker>,
-    /// Multiple-scattering energy compensation ([`Renderer::set_energy_compensation`]).
-    energy_compensation: bool,
     /// [`environment::white_specular_albedo_table`] once compensation was asked for (a
     /// 16-byte placeholder before: the binding exists in every lighting layout).
     energy_table: combustion_vk::Buffer,
@@ -188,8 +176,7 @@ impl Renderer {
         let no_environment = environment::GpuEnvironment::placeholder(&device)?;
         let absent_target =
             placeholders::absent_target_placeholder(&device, settings.hdr_format.vk())?;
-        let energy_table =
-            buffers::filled_storage_buffer(&device, "energy table placeholder", &[0; 16])?;
+        let energy_table = settings::energy_table(&device, settings.shading.energy_compensation)?;
         let pipeline_cache = PipelineCache::new(&device, cache_data)?;
         let light_cull = light_cull::LightCullPass::new(
             &device,
@@ -218,14 +205,7 @@ impl Renderer {
             compiler,
             states: graph::ImageStates::default(),
             settings,
-            debug_view: DebugView::None,
-            specialised: true,
-            floor: None,
-            masking: Masking::HeightCorrelated,
-            distribution: Distribution::Ggx,
-            diffuse_override: None,
             environment_baker: None,
-            energy_compensation: false,
             energy_table,
             light_culling: LightCulling::Auto,
             light_cull,
@@ -247,7 +227,7 @@ impl Renderer {
         &self.device
     }
 
-    /// The settings, with the Fresnel term [`Renderer::set_fresnel`] chose last.
+    /// The settings, with the shading options [`Renderer::set_shading`] chose last.
     pub fn settings(&self) -> RendererSettings {
         self.settings
     }
@@ -283,8 +263,8 @@ impl Renderer {
     /// Bakes `environment` for `scene`'s materials, to light its frames in place of its
     /// own through [`FrameInputs::environment`] (a per-frame or per-view environment
     /// changed without a scene edit), and builds the pipelines such frames use (with
-    /// the current settings; [`Renderer::prepare`] keeps them built after a settings
-    /// change, and so do edits). Waits for the GPU (0.4–1.6 s on lavapipe): an upload
+    /// the current shading options; [`Renderer::set_shading`] keeps them built when the
+    /// options change, and so do edits). Waits for the GPU (0.4–1.6 s on lavapipe): an upload
     /// step, never inside a frame. On error nothing changes.
     ///
     /// # Errors

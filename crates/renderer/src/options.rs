@@ -1,14 +1,79 @@
 //! The renderer's settings and shading options: what [`Renderer::new`] is given
-//! ([`RendererSettings`]), the comparison variants of the lighting pass ([`FresnelModel`],
-//! [`Masking`], [`Distribution`], [`MeasurementFloor`]), its debug views and what a frame
-//! reads back. Plain values: the renderer's setters are in `settings.rs`.
+//! ([`RendererSettings`]), how the lighting pass shades ([`ShadingOptions`]: the
+//! comparison variants [`FresnelModel`], [`Masking`], [`Distribution`],
+//! [`MeasurementFloor`], its debug views, …) and what a frame reads back. Plain values:
+//! the renderer switches options with [`Renderer::set_shading`] (`settings.rs`).
 
-#[cfg(doc)]
 use combustion_scene::DiffuseModel;
 use combustion_vk::vk;
 
 #[cfg(doc)]
-use crate::{FrameInputs, LightingFeatures, Renderer};
+use crate::{FrameInputs, GpuScene, LightingFeatures, Renderer};
+
+/// How the lighting pass shades: every option that selects the pipelines a frame uses.
+/// Given at construction ([`RendererSettings::shading`]) and switched between frames,
+/// all at once, with [`Renderer::set_shading`], which builds the pipelines the new
+/// options need for the scenes it is given before it switches (on error nothing
+/// changes). [`ShadingOptions::default`] is the exact model the f64 reference
+/// evaluates, with the specialised pipelines; every other value of a field is a
+/// comparison variant, a debug view or a measurement floor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ShadingOptions {
+    /// The Fresnel term: the full equations (default), or Schlick's or Hoffman's F82
+    /// comparison variant.
+    pub fresnel: FresnelModel,
+    /// The masking–shadowing term: Smith's height-correlated G₂ (default), or the
+    /// separable or approximate comparison variant.
+    pub masking: Masking,
+    /// The microfacet normal distribution: GGX (default), or Beckmann for comparison.
+    pub distribution: Distribution,
+    /// One diffuse model for every material's dielectric part (a comparison variant: the
+    /// f64 reference keeps each material's own model), or `None` for each material's own
+    /// (default).
+    pub diffuse_override: Option<DiffuseModel>,
+    /// Lighting pipelines specialised to each scene's features ([`LightingFeatures::of`];
+    /// default `true`), or the general pipeline for every scene (to compare the two; they
+    /// agree to f32 rounding).
+    pub specialised: bool,
+    /// A G-buffer channel or a BRDF term shown instead of radiance (render it at exposure
+    /// 1); [`DebugView::None`], radiance, by default. A debug view takes the general
+    /// pipeline with GGX and no measurement floor or energy compensation, whatever the
+    /// other fields say.
+    pub debug_view: DebugView,
+    /// Multiple-scattering energy compensation (off by default): every specular lobe, of
+    /// lights and of the environment, is scaled by 1 + F₀ (1 − E)/E (Turquin 2019), E the
+    /// white lobe's directional albedo at the pixel's n·v and roughness
+    /// ([`crate::environment::white_specular_albedo_table`]) and F₀ the exact Fresnel
+    /// reflectance at normal incidence (per channel, with the outside medium), so a white
+    /// rough conductor keeps the energy single scattering loses. The f64 reference stays
+    /// single-scattering: the difference is this option's measured deviation from it.
+    /// The table is built when the option is first turned on (not in a frame).
+    pub energy_compensation: bool,
+    /// A [`MeasurementFloor`] rendered instead of the real pass, to time a frame against
+    /// what it would cost without shading (`None`, the real passes, by default).
+    pub measurement_floor: Option<MeasurementFloor>,
+}
+
+impl ShadingOptions {
+    /// The defaults: the exact model, each material's own diffuse model, specialised
+    /// pipelines, radiance, no energy compensation, the real passes.
+    pub const DEFAULT: ShadingOptions = ShadingOptions {
+        fresnel: FresnelModel::Full,
+        masking: Masking::HeightCorrelated,
+        distribution: Distribution::Ggx,
+        diffuse_override: None,
+        specialised: true,
+        debug_view: DebugView::None,
+        energy_compensation: false,
+        measurement_floor: None,
+    };
+}
+
+impl Default for ShadingOptions {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
 
 /// Which Fresnel term the lighting pass evaluates.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -238,7 +303,10 @@ pub struct Readback {
 /// The most frames in flight a renderer keeps.
 pub const MAX_FRAMES_IN_FLIGHT: usize = 3;
 
-/// Settings of the renderer.
+/// Settings of the renderer. The HDR format and the frames in flight are fixed for the
+/// renderer's life (the G-buffer and lighting pipelines, the frame targets and their
+/// placeholders are made for the format); the shading options change with
+/// [`Renderer::set_shading`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RendererSettings {
     /// The HDR (lit) image's format.
@@ -246,8 +314,10 @@ pub struct RendererSettings {
     /// Multiplies radiance before the tone curve, in [`Renderer::render`] (frames
     /// recorded with [`Renderer::record`] bring their own, in [`FrameInputs`]).
     pub exposure: f32,
-    /// The Fresnel term; changed later with [`Renderer::set_fresnel`].
-    pub fresnel: FresnelModel,
+    /// The shading options the renderer starts with (its pipelines for scenes without
+    /// special features are built at construction); switched later with
+    /// [`Renderer::set_shading`].
+    pub shading: ShadingOptions,
     /// Frames the CPU may record ahead of the GPU (1 to [`MAX_FRAMES_IN_FLIGHT`]):
     /// each has its own descriptor sets, light buffer and timestamp queries.
     pub frames_in_flight: usize,
@@ -258,7 +328,7 @@ impl Default for RendererSettings {
         Self {
             hdr_format: HdrFormat::default(),
             exposure: 1.0,
-            fresnel: FresnelModel::default(),
+            shading: ShadingOptions::DEFAULT,
             frames_in_flight: 2,
         }
     }

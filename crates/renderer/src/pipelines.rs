@@ -130,9 +130,10 @@ impl Renderer {
         Ok(())
     }
 
-    /// Builds the pipelines `scene` needs with the current settings, if they are not
-    /// built yet (after [`Renderer::set_fresnel`]).
-    /// Frames lit by a [`FrameEnvironment`] baked for the scene get theirs too.
+    /// Builds the pipelines `scene` needs with the current shading options, if they are
+    /// not built yet: for a scene left out of [`Renderer::set_shading`]'s list (uploads
+    /// and edits build their own). Frames lit by a [`FrameEnvironment`] baked for the
+    /// scene get theirs too.
     pub fn prepare(&mut self, scene: &GpuScene) -> Result<(), RenderError> {
         self.prepare_variant(self.variant_of(scene.variant))?;
         if scene.frame_environments.load(Ordering::Relaxed) {

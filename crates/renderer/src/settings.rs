@@ -1,20 +1,16 @@
-//! The renderer's options changed between frames ([`Renderer::set_fresnel`] and its
-//! siblings, and their getters), the image the frames' overlay shows
-//! ([`Renderer::set_overlay_image`]), and the settings' validation at construction. A
-//! changed option takes effect from the next frame; its pipelines are built by
-//! [`Renderer::prepare`] or the next upload or edit.
+//! The renderer's options changed between frames ([`Renderer::set_shading`], which
+//! builds the pipelines the new shading options need before it switches, and
+//! [`Renderer::set_light_culling`]), the image the frames' overlay shows
+//! ([`Renderer::set_overlay_image`]), and the settings' validation at construction.
 
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
-use combustion_scene::DiffuseModel;
 use combustion_vk::Device;
 
 use crate::error::RenderError;
 use crate::light_cull::LightCulling;
-use crate::options::{
-    DebugView, Distribution, FresnelModel, Masking, MeasurementFloor, RendererSettings,
-    MAX_FRAMES_IN_FLIGHT,
-};
+use crate::options::{RendererSettings, ShadingOptions, MAX_FRAMES_IN_FLIGHT};
 use crate::overlay::OverlayImage;
 use crate::scene_upload::GpuScene;
 use crate::variant::LightingFeatures;
@@ -33,82 +29,45 @@ impl RendererSettings {
 }
 
 impl Renderer {
-    /// Switches the Fresnel term between frames (the Schlick comparison variant, or the
-    /// full equations). Pipelines are built by [`Renderer::prepare`] or the next upload
-    /// or edit, never by a frame's recording.
-    pub fn set_fresnel(&mut self, model: FresnelModel) {
-        self.settings.fresnel = model;
-    }
-
-    /// The masking–shadowing term from the next frame on (the exact height-correlated
-    /// form by default; the others are comparison variants). Pipelines as for
-    /// [`Renderer::set_fresnel`].
-    pub fn set_masking(&mut self, masking: Masking) {
-        self.masking = masking;
-    }
-
-    /// The masking–shadowing term ([`Renderer::set_masking`]).
-    pub fn masking(&self) -> Masking {
-        self.masking
-    }
-
-    /// The microfacet normal distribution from the next frame on (GGX by default;
-    /// Beckmann is a comparison variant). Pipelines as for [`Renderer::set_fresnel`].
-    pub fn set_distribution(&mut self, distribution: Distribution) {
-        self.distribution = distribution;
-    }
-
-    /// The normal distribution ([`Renderer::set_distribution`]).
-    pub fn distribution(&self) -> Distribution {
-        self.distribution
-    }
-
-    /// Multiple-scattering energy compensation from the next frame on (off by default):
-    /// every specular lobe, of lights and of the environment, is scaled by
-    /// 1 + F₀ (1 − E)/E (Turquin 2019), E the white lobe's directional albedo at the
-    /// pixel's n·v and roughness ([`environment::white_specular_albedo_table`]) and F₀
-    /// the exact Fresnel reflectance at normal incidence (per channel, with the outside
-    /// medium), so a white rough conductor keeps the energy single scattering loses.
-    /// The f64 reference stays single-scattering: the difference is this option's
-    /// measured deviation from it. The table is built on first use (not in a frame).
-    pub fn set_energy_compensation(&mut self, on: bool) -> Result<(), RenderError> {
-        if on && self.energy_table.size() <= 16 {
-            let table = buffers::filled_storage_buffer(
-                &self.device,
-                "white specular albedo table",
-                bytemuck::cast_slice(&environment::white_specular_albedo_table()),
-            )?;
+    /// Switches to `options` from the next frame on, all at once: first builds every
+    /// pipeline the new options need for `scenes` (each scene's own, and those of frames
+    /// lit by a [`crate::FrameEnvironment`] baked for it) and, when energy compensation
+    /// is turned on for the first time, its table; then switches. The scenes listed need
+    /// no [`Renderer::prepare`] before their next frame; a scene left out needs one (its
+    /// frames fail with [`RenderError::VariantNotPrepared`] until then), and scenes
+    /// uploaded or edited later get theirs then.
+    ///
+    /// # Errors
+    /// [`RenderError::SceneOfAnotherRenderer`] for a scene another renderer uploaded;
+    /// [`RenderError::Vulkan`] if a pipeline or the table cannot be built. On error the
+    /// options stay as they were, and so do the frames rendered with them (pipelines
+    /// already built for the new options are kept, unused until asked for).
+    pub fn set_shading(
+        &mut self,
+        options: ShadingOptions,
+        scenes: &[&GpuScene],
+    ) -> Result<(), RenderError> {
+        for scene in scenes {
+            if !scene.belongs_to(&self.retire_queue) {
+                return Err(RenderError::SceneOfAnotherRenderer);
+            }
+            self.prepare_variant(options.variant(scene.variant))?;
+            if scene.frame_environments.load(Ordering::Relaxed) {
+                self.prepare_variant(options.variant(scene.lit_variant))?;
+            }
+        }
+        if options.energy_compensation && self.energy_table.size() <= 16 {
+            let table = energy_table(&self.device, true)?;
             let placeholder = std::mem::replace(&mut self.energy_table, table);
             self.retire(placeholder);
         }
-        self.energy_compensation = on;
+        self.settings.shading = options;
         Ok(())
     }
 
-    /// Whether energy compensation is on ([`Renderer::set_energy_compensation`]).
-    pub fn energy_compensation(&self) -> bool {
-        self.energy_compensation
-    }
-
-    /// One diffuse model for every material's dielectric part from the next frame on
-    /// (a comparison variant: the f64 reference keeps each material's own model), or
-    /// `None` for each material's own (the default). Pipelines as for
-    /// [`Renderer::set_fresnel`].
-    pub fn set_diffuse_override(&mut self, model: Option<DiffuseModel>) {
-        self.diffuse_override = model;
-    }
-
-    /// The diffuse model every material is shaded with, if any
-    /// ([`Renderer::set_diffuse_override`]).
-    pub fn diffuse_override(&self) -> Option<DiffuseModel> {
-        self.diffuse_override
-    }
-
-    /// Renders a [`MeasurementFloor`] instead of the real pass (or the real passes
-    /// again), to time a frame against what it would cost without shading. Pipelines
-    /// as for [`Renderer::set_fresnel`].
-    pub fn set_measurement_floor(&mut self, floor: Option<MeasurementFloor>) {
-        self.floor = floor;
+    /// The shading options frames are rendered with ([`Renderer::set_shading`]).
+    pub fn shading(&self) -> ShadingOptions {
+        self.settings.shading
     }
 
     /// When frames cull their lights (tiled light lists, [`LightCulling`]); from the next
@@ -121,30 +80,6 @@ impl Renderer {
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     pub fn light_culling(&self) -> LightCulling {
         self.light_culling
-    }
-
-    /// Lighting pipelines specialised to each scene's features ([`LightingFeatures::of`];
-    /// the default), or the general pipeline for every scene (to compare the two).
-    /// Pipelines as for [`Renderer::set_fresnel`].
-    pub fn set_specialised(&mut self, specialised: bool) {
-        self.specialised = specialised;
-    }
-
-    /// Whether lighting pipelines are specialised to each scene
-    /// ([`Renderer::set_specialised`]).
-    pub fn specialised(&self) -> bool {
-        self.specialised
-    }
-
-    /// Shows a G-buffer channel or a BRDF term instead of radiance from the next frame
-    /// on (render it at exposure 1). Pipelines as for [`Renderer::set_fresnel`].
-    pub fn set_debug_view(&mut self, view: DebugView) {
-        self.debug_view = view;
-    }
-
-    /// What the lighting pass shows ([`Renderer::set_debug_view`]).
-    pub fn debug_view(&self) -> DebugView {
-        self.debug_view
     }
 
     /// The lighting features of the pipeline `scene`'s frames use now.
@@ -195,6 +130,23 @@ impl Renderer {
     pub fn overlay_font(&self) -> &overlay::OverlayFont {
         &self.overlay_font
     }
+}
+
+/// The table energy compensation reads ([`environment::white_specular_albedo_table`])
+/// when `on`, else a 16-byte placeholder (the binding exists in every lighting layout).
+pub(crate) fn energy_table(
+    device: &Arc<Device>,
+    on: bool,
+) -> Result<combustion_vk::Buffer, RenderError> {
+    Ok(if on {
+        buffers::filled_storage_buffer(
+            device,
+            "white specular albedo table",
+            bytemuck::cast_slice(&environment::white_specular_albedo_table()),
+        )?
+    } else {
+        buffers::filled_storage_buffer(device, "energy table placeholder", &[0; 16])?
+    })
 }
 
 /// A host-visible buffer holding RGBA8 texels, as the overlay reads them.

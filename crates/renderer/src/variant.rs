@@ -1,20 +1,22 @@
 //! Shader variants: the `#define`s a scene's pipelines are built with, from the scene's
-//! features ([`LightingFeatures`], [`ShaderVariant`]) and the renderer's settings
-//! (`Renderer::variant_of`).
+//! features ([`LightingFeatures`], [`ShaderVariant`]) and the renderer's shading options
+//! (`ShadingOptions::variant`).
 
 use combustion_scene::{DiffuseModel, Scene};
 
 #[cfg(doc)]
 use crate::environment;
-use crate::options::{DebugView, Distribution, FresnelModel, Masking, MeasurementFloor};
+use crate::options::{
+    DebugView, Distribution, FresnelModel, Masking, MeasurementFloor, ShadingOptions,
+};
 use crate::Renderer;
 
 /// The parts of the material model a lighting pipeline contains. A scene's pipeline
 /// holds only what its materials use ([`LightingFeatures::of`]): each part left out is
 /// a `NO_*` (or `OUTSIDE_ETA_ONE`) `#define` that removes its code from the shader, so
 /// no pixel pays for a branch the scene cannot take. [`LightingFeatures::ALL`] is the
-/// general pipeline (debug views, and the comparison [`Renderer::set_specialised`]
-/// turns on); both give the same radiance up to f32 rounding (tests/specialisation.rs).
+/// general pipeline (debug views, and the comparison
+/// [`ShadingOptions::specialised`] turns on); both give the same radiance up to f32 rounding (tests/specialisation.rs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LightingFeatures {
     /// Anisotropic GGX (else the isotropic D and Smith forms: α_x = α_y everywhere).
@@ -110,18 +112,19 @@ pub struct ShaderVariant {
     /// KHR_texture_transform: the G-buffer shader reads `Vertex::uv1` and maps each
     /// slot's coordinates (else it samples every slot at `Vertex::uv` as it is).
     pub texture_transforms: bool,
-    /// The Fresnel term ([`FresnelModel`]; a renderer setting, not a scene feature).
+    /// The Fresnel term ([`FresnelModel`]; a shading option, not a scene feature).
     pub fresnel: FresnelModel,
     /// The lighting pass can show a G-buffer channel or a BRDF term instead of radiance
-    /// ([`DebugView`]; a renderer setting).
+    /// ([`DebugView`]; a shading option).
     pub debug_views: bool,
     /// The parts of the material model the lighting pipeline contains.
     pub features: LightingFeatures,
-    /// A measurement floor instead of the real pass ([`Renderer::set_measurement_floor`]).
+    /// A measurement floor instead of the real pass
+    /// ([`ShadingOptions::measurement_floor`]).
     pub floor: Option<MeasurementFloor>,
-    /// The masking–shadowing term ([`Renderer::set_masking`]).
+    /// The masking–shadowing term ([`ShadingOptions::masking`]).
     pub masking: Masking,
-    /// The normal distribution ([`Renderer::set_distribution`]).
+    /// The normal distribution ([`ShadingOptions::distribution`]).
     pub distribution: Distribution,
     /// Environment lighting ([`combustion_scene::Scene::environment`]): the lighting pass
     /// adds the split-sum term of [`environment`].
@@ -131,7 +134,7 @@ pub struct ShaderVariant {
     /// occlusion in the emissive target's alpha.
     pub occlusion: bool,
     /// Multiple-scattering energy compensation of the specular lobes
-    /// ([`Renderer::set_energy_compensation`]; a renderer setting).
+    /// ([`ShadingOptions::energy_compensation`]; a shading option).
     pub energy_compensation: bool,
 }
 
@@ -204,9 +207,9 @@ impl ShaderVariant {
     }
 }
 
-impl Renderer {
-    /// The scene's variant with the renderer's settings applied.
-    pub(crate) fn variant_of(&self, scene_variant: ShaderVariant) -> ShaderVariant {
+impl ShadingOptions {
+    /// The scene's variant with these options applied.
+    pub(crate) fn variant(&self, scene_variant: ShaderVariant) -> ShaderVariant {
         let debug_views = self.debug_view != DebugView::None;
         // Debug views show every term, so they get the general pipeline (and GGX, whose
         // terms they show).
@@ -223,10 +226,14 @@ impl Renderer {
             features.oren_nayar_full = model == DiffuseModel::OrenNayarFull;
         }
         ShaderVariant {
-            fresnel: self.settings.fresnel,
+            fresnel: self.fresnel,
             debug_views,
             features,
-            floor: if debug_views { None } else { self.floor },
+            floor: if debug_views {
+                None
+            } else {
+                self.measurement_floor
+            },
             masking: self.masking,
             distribution: if debug_views {
                 Distribution::Ggx
@@ -236,5 +243,12 @@ impl Renderer {
             energy_compensation: self.energy_compensation && !debug_views,
             ..scene_variant
         }
+    }
+}
+
+impl Renderer {
+    /// The scene's variant with the renderer's shading options applied.
+    pub(crate) fn variant_of(&self, scene_variant: ShaderVariant) -> ShaderVariant {
+        self.settings.shading.variant(scene_variant)
     }
 }
