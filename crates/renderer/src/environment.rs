@@ -34,8 +34,9 @@ use crate::bindings;
 use crate::buffers::filled_storage_buffer;
 use crate::error::RenderError;
 use crate::gpu_types::{
-    conductor_from_base_color_table, material_table, EnvironmentBakePush, EnvironmentSource,
-    GpuMaterial,
+    conductor_from_base_color_table, material_table, EnvironmentAlbedoPush,
+    EnvironmentCodeAlbedoPush, EnvironmentIrradiancePush, EnvironmentPrefilterPush,
+    EnvironmentRadiancePush, EnvironmentSource, GpuMaterial, RadianceMode,
 };
 
 /// Entries per side of a material's directional-albedo table over (n·v, r)
@@ -230,15 +231,21 @@ impl Drop for FrameEnvironment {
     }
 }
 
+/// A bake shader's compute pipeline, with its layout: the bake's descriptor set and,
+/// as push constants, the shader's own push struct.
+struct BakePipeline {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
 /// The bake's compute pipelines, built on the first scene with an environment.
 pub(crate) struct EnvironmentBaker {
     set_layout: DescriptorSetLayout,
-    layout: PipelineLayout,
-    radiance: Pipeline,
-    prefilter: Pipeline,
-    irradiance: Pipeline,
-    albedo: Pipeline,
-    code_albedo: Pipeline,
+    radiance: BakePipeline,
+    prefilter: BakePipeline,
+    irradiance: BakePipeline,
+    albedo: BakePipeline,
+    code_albedo: BakePipeline,
 }
 
 fn linear_sampler(device: &Arc<Device>, levels: u32) -> Result<Sampler, RenderError> {
@@ -391,28 +398,44 @@ impl EnvironmentBaker {
         cache: &PipelineCache,
     ) -> Result<Self, RenderError> {
         let set_layout = bindings::ENVIRONMENT_BAKE.layout(device)?;
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::COMPUTE,
-            offset: 0,
-            size: std::mem::size_of::<EnvironmentBakePush>() as u32,
-        }];
-        let layout = PipelineLayout::new(device, &[&set_layout], &push)?;
-        let build = |file: &str| -> Result<Pipeline, RenderError> {
+        let build = |file: &str, push_size: usize| -> Result<BakePipeline, RenderError> {
+            let push = [vk::PushConstantRange {
+                stage_flags: vk::ShaderStageFlags::COMPUTE,
+                offset: 0,
+                size: push_size as u32,
+            }];
+            let layout = PipelineLayout::new(device, &[&set_layout], &push)?;
             let module = ShaderModule::new(
                 device,
                 &compiler.compile(file, ShaderStage::Compute, &[])?,
                 ShaderStage::Compute,
             )?;
-            Ok(Pipeline::compute(device, &module, &layout, Some(cache))?)
+            let pipeline = Pipeline::compute(device, &module, &layout, Some(cache))?;
+            Ok(BakePipeline { layout, pipeline })
         };
+        use std::mem::size_of;
         Ok(Self {
-            radiance: build("environment_radiance.comp")?,
-            prefilter: build("environment_prefilter.comp")?,
-            irradiance: build("environment_irradiance.comp")?,
-            albedo: build("environment_albedo.comp")?,
-            code_albedo: build("environment_code_albedo.comp")?,
+            radiance: build(
+                "environment_radiance.comp",
+                size_of::<EnvironmentRadiancePush>(),
+            )?,
+            prefilter: build(
+                "environment_prefilter.comp",
+                size_of::<EnvironmentPrefilterPush>(),
+            )?,
+            irradiance: build(
+                "environment_irradiance.comp",
+                size_of::<EnvironmentIrradiancePush>(),
+            )?,
+            albedo: build(
+                "environment_albedo.comp",
+                size_of::<EnvironmentAlbedoPush>(),
+            )?,
+            code_albedo: build(
+                "environment_code_albedo.comp",
+                size_of::<EnvironmentCodeAlbedoPush>(),
+            )?,
             set_layout,
-            layout,
         })
     }
 
@@ -520,11 +543,10 @@ impl EnvironmentBaker {
             .src_access_mask(A::SHADER_STORAGE_WRITE)
             .dst_stage_mask(S::COMPUTE_SHADER)
             .dst_access_mask(A::SHADER_SAMPLED_READ | A::SHADER_STORAGE_READ)];
-        let dispatch = |pipeline: &Pipeline,
+        let dispatch = |shader: &BakePipeline,
                         source_sampler: &Sampler,
                         target: &ImageView,
-                        params: [u32; 4],
-                        values: [f32; 4],
+                        push: &[u8],
                         groups: [u32; 3]|
          -> Result<(), RenderError> {
             let set = pool.allocate(&self.set_layout)?;
@@ -553,20 +575,15 @@ impl EnvironmentBaker {
                 .buffer("environment_albedo", &albedo)
                 .buffer("environment_code_albedo", &code_albedo)
                 .apply(device);
-            let push = EnvironmentBakePush {
-                source,
-                params,
-                values,
-            };
             crate::commands::bind_pass(
                 raw,
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,
-                pipeline,
-                &self.layout,
+                &shader.pipeline,
+                &shader.layout,
                 set,
                 vk::ShaderStageFlags::COMPUTE,
-                bytemuck::bytes_of(&push),
+                push,
             );
             unsafe {
                 raw.cmd_dispatch(cmd, groups[0], groups[1], groups[2]);
@@ -584,22 +601,28 @@ impl EnvironmentBaker {
         for level in 0..radiance_levels {
             let view = level_view(&radiance, level)?;
             let size = radiance.mip_extent(level).width;
-            let params = match (level, environment) {
+            let (mode, source_level, samples_across) = match (level, environment) {
                 // n × n samples a texel: at least the image's texels across one (its
                 // width spans the four side faces), 4 to 32.
                 (0, Environment::Image(image)) => {
                     let across = image.width.div_ceil(4 * RADIANCE_SIZE);
-                    [size, 2, across.clamp(4, 32), 0]
+                    (RadianceMode::Equirect, 0, across.clamp(4, 32))
                 }
-                (0, _) => [size, 0, 0, 0],
-                _ => [size, 1, level - 1, 0],
+                (0, _) => (RadianceMode::Analytic, 0, 0),
+                _ => (RadianceMode::Reduce, level - 1, 0),
+            };
+            let push = EnvironmentRadiancePush {
+                source,
+                size,
+                mode: mode as u32,
+                source_level,
+                samples_across,
             };
             dispatch(
                 &self.radiance,
                 &one_level_sampler,
                 &view,
-                params,
-                [0.0; 4],
+                bytemuck::bytes_of(&push),
                 groups(size, 6),
             )?;
             views.push(view);
@@ -607,51 +630,60 @@ impl EnvironmentBaker {
         for level in 0..SPECULAR_LEVELS {
             let view = level_view(&specular, level)?;
             let size = specular.mip_extent(level).width;
-            let roughness = level as f32 / (SPECULAR_LEVELS - 1) as f32;
-            let params = [size, PREFILTER_SAMPLES, RADIANCE_SIZE, 0];
-            let values = [roughness, 0.0, 0.0, 0.0];
+            let push = EnvironmentPrefilterPush {
+                size,
+                samples: PREFILTER_SAMPLES,
+                radiance_size: RADIANCE_SIZE,
+                roughness: level as f32 / (SPECULAR_LEVELS - 1) as f32,
+            };
             dispatch(
                 &self.prefilter,
                 &sampler,
                 &view,
-                params,
-                values,
+                bytemuck::bytes_of(&push),
                 groups(size, 6),
             )?;
             views.push(view);
         }
         let view = level_view(&irradiance, 0)?;
-        let source_size = radiance.mip_extent(IRRADIANCE_SOURCE_LEVEL).width;
-        let params = [IRRADIANCE_SIZE, 0, IRRADIANCE_SOURCE_LEVEL, source_size];
+        let push = EnvironmentIrradiancePush {
+            size: IRRADIANCE_SIZE,
+            source_level: IRRADIANCE_SOURCE_LEVEL,
+            source_size: radiance.mip_extent(IRRADIANCE_SOURCE_LEVEL).width,
+        };
         dispatch(
             &self.irradiance,
             &sampler,
             &view,
-            params,
-            [0.0; 4],
+            bytemuck::bytes_of(&push),
             groups(IRRADIANCE_SIZE, 6),
         )?;
         // The tables (any target view will do: these shaders write buffers only).
-        let tables = [ALBEDO_SAMPLES, 0, 0, 0];
         let count = gpu_materials.len() as u32;
         if count > 0 {
+            let push = EnvironmentAlbedoPush {
+                samples: ALBEDO_SAMPLES,
+            };
             dispatch(
                 &self.albedo,
                 &sampler,
                 &view,
-                tables,
-                [0.0; 4],
+                bytemuck::bytes_of(&push),
                 groups(TABLE_SIZE, count),
             )?;
         }
-        for (index, [eta_i, w]) in keys.iter().enumerate() {
-            let params = [CODE_ALBEDO_SAMPLES, index as u32, 0, 0];
+        for (table, &[outside_ior, polarisation_weight]) in keys.iter().enumerate() {
+            let push = EnvironmentCodeAlbedoPush {
+                samples: CODE_ALBEDO_SAMPLES,
+                table: table as u32,
+                outside_ior,
+                polarisation_weight,
+            };
             dispatch(
                 &self.code_albedo,
                 &sampler,
                 &view,
-                params,
-                [*eta_i, *w, 0.0, 0.0],
+                bytemuck::bytes_of(&push),
                 groups(CODE_TABLE_SIZE, CODES),
             )?;
         }
@@ -718,5 +750,115 @@ mod tests {
         assert_eq!(keys.len(), 2);
         let n = of_material.len();
         assert_eq!(&of_material[n - 3..], &[0, 0, 1]);
+    }
+
+    /// A push struct's name, size and fields (name and offset, in order) as Rust lays
+    /// it out.
+    macro_rules! push_layout {
+        ($push:ident { $($field:ident),* $(,)? }) => {
+            (
+                stringify!($push),
+                std::mem::size_of::<$push>() as u32,
+                vec![$((stringify!($field).to_owned(), std::mem::offset_of!($push, $field) as u32)),*],
+            )
+        };
+    }
+
+    /// Each bake shader's push-constant block, as its compiled SPIR-V lays it out, is
+    /// the Rust struct the bake pushes: same name, same members by name at the same
+    /// offsets, same size (and the pipeline's push range is that size).
+    #[test]
+    fn each_bake_shader_declares_its_push_struct() {
+        let compiler = ShaderCompiler::new(crate::shader_sources::sources()).expect("shaderc");
+        let shaders = [
+            (
+                "environment_radiance.comp",
+                push_layout!(EnvironmentRadiancePush {
+                    source,
+                    size,
+                    mode,
+                    source_level,
+                    samples_across,
+                }),
+            ),
+            (
+                "environment_prefilter.comp",
+                push_layout!(EnvironmentPrefilterPush {
+                    size,
+                    samples,
+                    radiance_size,
+                    roughness,
+                }),
+            ),
+            (
+                "environment_irradiance.comp",
+                push_layout!(EnvironmentIrradiancePush {
+                    size,
+                    source_level,
+                    source_size,
+                }),
+            ),
+            (
+                "environment_albedo.comp",
+                push_layout!(EnvironmentAlbedoPush { samples }),
+            ),
+            (
+                "environment_code_albedo.comp",
+                push_layout!(EnvironmentCodeAlbedoPush {
+                    samples,
+                    table,
+                    outside_ior,
+                    polarisation_weight,
+                }),
+            ),
+        ];
+        let sources = crate::shader_sources::sources();
+        for (file, (name, size, members)) in shaders {
+            let spirv = compiler
+                .compile(file, ShaderStage::Compute, &[])
+                .expect("compiles");
+            let layout = crate::spirv::push_layout(&spirv)
+                .unwrap_or_else(|| panic!("{file} declares no push constants"));
+            let (block, names) = crate::spirv::glsl_push_members(sources.get(file).unwrap())
+                .unwrap_or_else(|| panic!("{file} declares no push block"));
+            assert_eq!(block, name, "{file}");
+            assert_eq!(layout.size, size, "{file}");
+            let glsl: Vec<_> = names.into_iter().zip(layout.offsets).collect();
+            assert_eq!(glsl, members, "{file}");
+        }
+        // The analytic source inside the radiance push is environment.glsl's struct.
+        assert_eq!(std::mem::size_of::<EnvironmentSource>(), 96);
+    }
+
+    /// The readers of push blocks find another pass's block (the tone map's), and none
+    /// in a shader without push constants. (A nested struct with arrays is read above:
+    /// the radiance push's source.)
+    #[test]
+    fn push_blocks_are_read_from_spirv_and_glsl() {
+        let sources = crate::shader_sources::sources();
+        let compiler = ShaderCompiler::new(sources.clone()).expect("shaderc");
+        let spirv = compiler
+            .compile("tonemap.frag", ShaderStage::Fragment, &[])
+            .expect("compiles");
+        let layout = crate::spirv::push_layout(&spirv).expect("tonemap pushes its exposure");
+        assert_eq!(
+            layout,
+            crate::spirv::PushLayout {
+                size: std::mem::size_of::<crate::gpu_types::TonemapPush>() as u32,
+                offsets: vec![0],
+            }
+        );
+        assert_eq!(
+            crate::spirv::glsl_push_members(sources.get("tonemap.frag").unwrap()),
+            Some(("TonemapPush".to_owned(), vec!["exposure".to_owned()]))
+        );
+        let no_push = compiler
+            .compile("fullscreen.vert", ShaderStage::Vertex, &[])
+            .expect("compiles");
+        assert_eq!(crate::spirv::push_layout(&no_push), None);
+        assert_eq!(
+            crate::spirv::glsl_push_members(sources.get("fullscreen.vert").unwrap()),
+            None
+        );
     }
 }
