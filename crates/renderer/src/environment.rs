@@ -38,6 +38,8 @@ use crate::gpu_types::{
     EnvironmentCodeAlbedoPush, EnvironmentIrradiancePush, EnvironmentPrefilterPush,
     EnvironmentRadiancePush, EnvironmentSource, GpuMaterial, RadianceMode,
 };
+use crate::graph::{BufferUse, ImageStates, ImageUse, PassUses};
+use crate::pass_io::PassIo;
 
 /// Entries per side of a material's directional-albedo table over (n·v, r)
 /// (`ENVIRONMENT_TABLE_SIZE` in the shaders' generated `bindings/constants.glsl`).
@@ -329,36 +331,22 @@ impl Equirect {
         })
     }
 
-    /// Records the copy from the staging buffer, leaving the image for compute reads.
-    fn record_upload(&self, device: &Device, cmd: vk::CommandBuffer) {
-        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
-        let dst = (S::COPY, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL);
-        let read = (
-            S::COMPUTE_SHADER,
-            A::SHADER_SAMPLED_READ,
-            L::SHADER_READ_ONLY_OPTIMAL,
-        );
-        let region = self.image.level0_copy_region();
-        let raw = device.raw();
-        // SAFETY: recording state; image and buffer live until the bake's wait.
+    /// Records the copy from the staging buffer (the barriers before the image's next
+    /// use come from `states`).
+    fn record_upload(&self, device: &Device, cmd: vk::CommandBuffer, states: &mut ImageStates) {
+        let uses = PassIo::new("environment upload")
+            .touches((&self.image).into(), ImageUse::TransferDestination)
+            .apply(device);
+        states.transition(device.raw(), cmd, &uses);
+        // SAFETY: recording state; image and buffer live until the bake's wait, and the
+        // image is in the layout the barrier above left it in.
         unsafe {
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&[self
-                    .image
-                    .barrier((S::NONE, A::NONE, L::UNDEFINED), dst)]),
-            );
-            raw.cmd_copy_buffer_to_image(
+            device.raw().cmd_copy_buffer_to_image(
                 cmd,
                 self.staging.raw(),
                 self.image.raw(),
-                L::TRANSFER_DST_OPTIMAL,
-                &[region],
-            );
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default()
-                    .image_memory_barriers(&[self.image.barrier(dst, read)]),
+                ImageUse::TransferDestination.state().layout,
+                &[self.image.level0_copy_region()],
             );
         }
     }
@@ -442,6 +430,10 @@ impl EnvironmentBaker {
     /// Bakes `environment` for `scene`'s materials (with their own copies of the
     /// material and conductor tables, so nothing of an uploaded scene is needed: an edit
     /// bakes before it replaces anything). Waits for the GPU: an upload step.
+    ///
+    /// Each dispatch declares what it reads and writes ([`PassIo`], in a descriptor set
+    /// of its own), and the barriers between them are derived from those declarations
+    /// ([`ImageStates`]), as the frame's passes' are.
     pub fn bake(
         &self,
         device: &Arc<Device>,
@@ -517,87 +509,38 @@ impl EnvironmentBaker {
 
         let mut commands = OneShot::new(device)?;
         let cmd = commands.begin()?;
-        let raw = device.raw();
-        equirect.record_upload(device, cmd);
-        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
-        let general = (
-            S::COMPUTE_SHADER,
-            A::SHADER_STORAGE_WRITE | A::SHADER_SAMPLED_READ,
-            L::GENERAL,
-        );
-        let to_general: Vec<_> = [&radiance, &specular, &irradiance]
-            .iter()
-            .map(|image| image.barrier((S::NONE, A::NONE, L::UNDEFINED), general))
-            .collect();
-        // SAFETY (every command below): recording state; the resources live until the
-        // wait at the end, and are in the layouts and states the barriers name.
-        unsafe {
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&to_general),
+        let mut states = ImageStates::default();
+        equirect.record_upload(device, cmd, &mut states);
+        let mut record = Recorder {
+            device,
+            cmd,
+            pool: &pool,
+            set_layout: &self.set_layout,
+            states: &mut states,
+        };
+        // The bindings a dispatch's shader does not reach (every binding of the set is
+        // written all the same), in the layouts their images are in: no barrier
+        // concerns them.
+        let sampled_layout = ImageUse::ComputeSampled.state().layout;
+        let no_equirect = |io: PassIo| {
+            io.bind_image(
+                "environment_equirect",
+                equirect.image.view(),
+                sampled_layout,
+                equirect.sampler.raw(),
             )
         };
-        let source = EnvironmentSource::new(environment);
-        let compute_to_compute = [vk::MemoryBarrier2::default()
-            .src_stage_mask(S::COMPUTE_SHADER)
-            .src_access_mask(A::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(S::COMPUTE_SHADER)
-            .dst_access_mask(A::SHADER_SAMPLED_READ | A::SHADER_STORAGE_READ)];
-        let dispatch = |shader: &BakePipeline,
-                        source_sampler: &Sampler,
-                        target: &ImageView,
-                        push: &[u8],
-                        groups: [u32; 3]|
-         -> Result<(), RenderError> {
-            let set = pool.allocate(&self.set_layout)?;
-            // The set is new and not in use.
-            decl.writer(set)
-                .image(
-                    "environment_source",
-                    radiance.view(),
-                    L::GENERAL,
-                    source_sampler.raw(),
-                )
-                .image(
-                    "environment_equirect",
-                    equirect.image.view(),
-                    L::SHADER_READ_ONLY_OPTIMAL,
-                    equirect.sampler.raw(),
-                )
-                .image(
-                    "environment_target",
-                    target.raw(),
-                    L::GENERAL,
-                    vk::Sampler::null(),
-                )
-                .buffer("materials", &materials)
-                .buffer("conductor_from_code", &conductor_table)
-                .buffer("environment_albedo", &albedo)
-                .buffer("environment_code_albedo", &code_albedo)
-                .apply(device);
-            crate::commands::bind_pass(
-                raw,
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                &shader.pipeline,
-                &shader.layout,
-                set,
-                vk::ShaderStageFlags::COMPUTE,
-                push,
-            );
-            unsafe {
-                raw.cmd_dispatch(cmd, groups[0], groups[1], groups[2]);
-                raw.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&compute_to_compute),
-                );
-            }
-            Ok(())
+        let no_tables = |io: PassIo| {
+            io.bind_buffer("materials", &materials)
+                .bind_buffer("conductor_from_code", &conductor_table)
+                .bind_buffer("environment_albedo", &albedo)
+                .bind_buffer("environment_code_albedo", &code_albedo)
         };
         let groups = |size: u32, z: u32| [size.div_ceil(8), size.div_ceil(8), z];
 
         // The radiance cube: level 0 from the source, each next level the mean of the
-        // one before.
+        // one before, which the same dispatch samples while it writes its own.
+        let source = EnvironmentSource::new(environment);
         for level in 0..radiance_levels {
             let view = level_view(&radiance, level)?;
             let size = radiance.mip_extent(level).width;
@@ -611,6 +554,23 @@ impl EnvironmentBaker {
                 (0, _) => (RadianceMode::Analytic, 0, 0),
                 _ => (RadianceMode::Reduce, level - 1, 0),
             };
+            let set = record.set()?;
+            let chain = ImageUse::ComputeSampledStorageWrite;
+            let io = PassIo::new("environment radiance")
+                .set(decl, set)
+                .sampled(
+                    "environment_source",
+                    &radiance,
+                    one_level_sampler.raw(),
+                    chain,
+                )
+                .sampled(
+                    "environment_equirect",
+                    &equirect.image,
+                    equirect.sampler.raw(),
+                    ImageUse::ComputeSampled,
+                )
+                .image_view("environment_target", &radiance, view.raw(), chain);
             let push = EnvironmentRadiancePush {
                 source,
                 size,
@@ -618,100 +578,141 @@ impl EnvironmentBaker {
                 source_level,
                 samples_across,
             };
-            dispatch(
-                &self.radiance,
-                &one_level_sampler,
-                &view,
-                bytemuck::bytes_of(&push),
-                groups(size, 6),
-            )?;
+            record.dispatch(&self.radiance, set, no_tables(io), &push, groups(size, 6));
             views.push(view);
         }
+
+        // The GGX-prefiltered specular cube, a level per roughness, from the whole
+        // radiance cube.
         for level in 0..SPECULAR_LEVELS {
             let view = level_view(&specular, level)?;
             let size = specular.mip_extent(level).width;
+            let set = record.set()?;
+            let io = PassIo::new("environment prefilter")
+                .set(decl, set)
+                .sampled(
+                    "environment_source",
+                    &radiance,
+                    sampler.raw(),
+                    ImageUse::ComputeSampled,
+                )
+                .image_view(
+                    "environment_target",
+                    &specular,
+                    view.raw(),
+                    ImageUse::ComputeStorageWrite,
+                );
             let push = EnvironmentPrefilterPush {
                 size,
                 samples: PREFILTER_SAMPLES,
                 radiance_size: RADIANCE_SIZE,
                 roughness: level as f32 / (SPECULAR_LEVELS - 1) as f32,
             };
-            dispatch(
-                &self.prefilter,
-                &sampler,
-                &view,
-                bytemuck::bytes_of(&push),
-                groups(size, 6),
-            )?;
+            let io = no_tables(no_equirect(io));
+            record.dispatch(&self.prefilter, set, io, &push, groups(size, 6));
             views.push(view);
         }
-        let view = level_view(&irradiance, 0)?;
+
+        // The irradiance cube, from one level of the radiance cube.
+        let irradiance_view = level_view(&irradiance, 0)?;
+        let set = record.set()?;
+        let io = PassIo::new("environment irradiance")
+            .set(decl, set)
+            .sampled(
+                "environment_source",
+                &radiance,
+                sampler.raw(),
+                ImageUse::ComputeSampled,
+            )
+            .image_view(
+                "environment_target",
+                &irradiance,
+                irradiance_view.raw(),
+                ImageUse::ComputeStorageWrite,
+            );
         let push = EnvironmentIrradiancePush {
             size: IRRADIANCE_SIZE,
             source_level: IRRADIANCE_SOURCE_LEVEL,
             source_size: radiance.mip_extent(IRRADIANCE_SOURCE_LEVEL).width,
         };
-        dispatch(
-            &self.irradiance,
-            &sampler,
-            &view,
-            bytemuck::bytes_of(&push),
-            groups(IRRADIANCE_SIZE, 6),
-        )?;
-        // The tables (any target view will do: these shaders write buffers only).
+        let io = no_tables(no_equirect(io));
+        record.dispatch(&self.irradiance, set, io, &push, groups(IRRADIANCE_SIZE, 6));
+
+        // The tables: these shaders read the material and conductor tables and write
+        // buffers only (any target view will do; the irradiance cube's is bound).
+        let tables_io = |name, set| {
+            let io = PassIo::new(name)
+                .set(decl, set)
+                .bind_image(
+                    "environment_source",
+                    radiance.view(),
+                    sampled_layout,
+                    sampler.raw(),
+                )
+                .bind_image(
+                    "environment_target",
+                    irradiance_view.raw(),
+                    ImageUse::ComputeStorageWrite.state().layout,
+                    vk::Sampler::null(),
+                );
+            no_equirect(io)
+        };
         let count = gpu_materials.len() as u32;
         if count > 0 {
+            let set = record.set()?;
+            let io = tables_io("environment albedo", set)
+                .buffer("materials", &materials, BufferUse::ComputeStorageRead)
+                .bind_buffer("conductor_from_code", &conductor_table)
+                .buffer(
+                    "environment_albedo",
+                    &albedo,
+                    BufferUse::ComputeStorageWrite,
+                )
+                .bind_buffer("environment_code_albedo", &code_albedo);
             let push = EnvironmentAlbedoPush {
                 samples: ALBEDO_SAMPLES,
             };
-            dispatch(
-                &self.albedo,
-                &sampler,
-                &view,
-                bytemuck::bytes_of(&push),
-                groups(TABLE_SIZE, count),
-            )?;
+            record.dispatch(&self.albedo, set, io, &push, groups(TABLE_SIZE, count));
         }
         for (table, &[outside_ior, polarisation_weight]) in keys.iter().enumerate() {
+            let set = record.set()?;
+            let io = tables_io("environment code albedo", set)
+                .bind_buffer("materials", &materials)
+                .buffer(
+                    "conductor_from_code",
+                    &conductor_table,
+                    BufferUse::ComputeStorageRead,
+                )
+                .bind_buffer("environment_albedo", &albedo)
+                .buffer(
+                    "environment_code_albedo",
+                    &code_albedo,
+                    BufferUse::ComputeStorageWrite,
+                );
             let push = EnvironmentCodeAlbedoPush {
                 samples: CODE_ALBEDO_SAMPLES,
                 table: table as u32,
                 outside_ior,
                 polarisation_weight,
             };
-            dispatch(
-                &self.code_albedo,
-                &sampler,
-                &view,
-                bytemuck::bytes_of(&push),
-                groups(CODE_TABLE_SIZE, CODES),
-            )?;
+            let groups = groups(CODE_TABLE_SIZE, CODES);
+            record.dispatch(&self.code_albedo, set, io, &push, groups);
         }
-        views.push(view);
+        views.push(irradiance_view);
 
         // Hand the cubes and tables to the lighting pass's fragment shader.
-        let read = (
-            S::FRAGMENT_SHADER,
-            A::SHADER_SAMPLED_READ,
-            L::SHADER_READ_ONLY_OPTIMAL,
-        );
-        let to_read = [
-            specular.barrier(general, read),
-            irradiance.barrier(general, read),
-        ];
-        let tables_to_fragment = [vk::MemoryBarrier2::default()
-            .src_stage_mask(S::COMPUTE_SHADER)
-            .src_access_mask(A::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(S::FRAGMENT_SHADER)
-            .dst_access_mask(A::SHADER_STORAGE_READ)];
-        unsafe {
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default()
-                    .image_memory_barriers(&to_read)
-                    .memory_barriers(&tables_to_fragment),
-            )
-        };
+        let hand_off = PassUses::images(
+            "environment hand-off",
+            vec![
+                ((&specular).into(), ImageUse::FragmentSampled),
+                ((&irradiance).into(), ImageUse::FragmentSampled),
+            ],
+        )
+        .with_buffers(vec![
+            (albedo.raw(), BufferUse::FragmentStorageRead),
+            (code_albedo.raw(), BufferUse::FragmentStorageRead),
+        ]);
+        states.transition(device.raw(), cmd, &hand_off);
         commands.submit_and_wait()?;
         drop(views);
         drop(pool);
@@ -727,6 +728,51 @@ impl EnvironmentBaker {
             environment: environment.clone(),
             bake_ms: start.elapsed().as_secs_f64() * 1e3,
         })
+    }
+}
+
+/// Records the bake's dispatches into one command buffer, each with its own descriptor
+/// set from the bake's pool and the barriers its declaration calls for.
+struct Recorder<'a> {
+    device: &'a Device,
+    cmd: vk::CommandBuffer,
+    pool: &'a DescriptorPool,
+    set_layout: &'a DescriptorSetLayout,
+    states: &'a mut ImageStates,
+}
+
+impl Recorder<'_> {
+    /// A new descriptor set of the bake's layout, for one dispatch.
+    fn set(&self) -> Result<vk::DescriptorSet, RenderError> {
+        Ok(self.pool.allocate(self.set_layout)?)
+    }
+
+    /// Writes `io`'s descriptors (into `set`, new and not in use), records the barriers
+    /// it calls for, then `shader` with `push` over `groups` workgroups.
+    fn dispatch<P: bytemuck::Pod>(
+        &mut self,
+        shader: &BakePipeline,
+        set: vk::DescriptorSet,
+        io: PassIo,
+        push: &P,
+        groups: [u32; 3],
+    ) {
+        let raw = self.device.raw();
+        let uses = io.apply(self.device);
+        self.states.transition(raw, self.cmd, &uses);
+        crate::commands::bind_pass(
+            raw,
+            self.cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            &shader.pipeline,
+            &shader.layout,
+            set,
+            vk::ShaderStageFlags::COMPUTE,
+            bytemuck::bytes_of(push),
+        );
+        // SAFETY: recording state; the resources live until the bake's wait, in the
+        // layouts the barriers above left them in.
+        unsafe { raw.cmd_dispatch(self.cmd, groups[0], groups[1], groups[2]) };
     }
 }
 
