@@ -9,10 +9,14 @@
 //   [1].x    D1, [1].y D2: ∫ T T f_diffuse(ρ) cos = ρ D1 + ρ² D2 (D2 ≠ 0 only for the
 //            full Oren–Nayar model's interreflection term)
 // Specular parts by sampling GGX's visible normals, diffuse by cosine-weighted
-// directions, Hammersley points. params.x: samples per part.
+// directions, Hammersley points.
 #include "environment_bake.glsl"
 #include "diffuse.glsl"
 #include "brdf.glsl"
+
+layout(push_constant) uniform EnvironmentAlbedoPush {
+    uint samples;  // per part per entry
+} push;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -47,7 +51,7 @@ void main() {
     BrdfView conductor = brdf_view(m, n, t, b, v);
     BrdfView dielectric = brdf_view(md, n, t, b, v);
     float g1_v = 1.0 / (1.0 + lambda_ggx(v, a));
-    uint samples = push.params.x;
+    uint samples = push.samples;
 
     vec3 conductor_sum = vec3(0.0);
     float specular_sum = 0.0;

@@ -5,10 +5,15 @@
 // code stands for (conductor_from_code), seen from η_i with polarisation weight w. With
 // normals sampled from GGX's visible normals, each sample's weight is F(v·h) G2/G1(v)
 // exactly (height-correlated G2 = 1/(1 + Λ(v) + Λ(l))).
-// params.x: samples; params.y: which table (its offset in environment_code_albedo);
-// values.x: η_i; values.y: w.
 #include "environment_bake.glsl"
 #include "fresnel.glsl"
+
+layout(push_constant) uniform EnvironmentCodeAlbedoPush {
+    uint samples;               // per entry
+    uint table;                 // which set of tables (its place in environment_code_albedo)
+    float outside_ior;          // η_i
+    float polarisation_weight;  // w
+} push;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -24,7 +29,7 @@ void main() {
     float a = clamp_alpha(alpha_from_perceptual_roughness(r));
     vec3 v = vec3(sqrt(max(1.0 - nv * nv, 0.0)), 0.0, nv);
     float lambda_v = lambda_ggx(v, a);
-    uint samples = push.params.x;
+    uint samples = push.samples;
     float sum = 0.0;
     for (uint i = 0u; i < samples; ++i) {
         vec3 h = sample_ggx_vndf(v, a, a, hammersley(i, samples));
@@ -33,9 +38,9 @@ void main() {
         if (l.z <= 0.0) {
             continue;
         }
-        float f = polarised_weighted(fresnel_conductor(min(vh, 1.0), push.values.x, eta_k.x, eta_k.y), push.values.y);
+        float f = polarised_weighted(fresnel_conductor(min(vh, 1.0), push.outside_ior, eta_k.x, eta_k.y), push.polarisation_weight);
         sum += f * (1.0 + lambda_v) / (1.0 + lambda_v + lambda_ggx(l, a));
     }
-    uint entry = ((push.params.y * ENVIRONMENT_CODES + id.z) * size + id.y) * size + id.x;
+    uint entry = ((push.table * ENVIRONMENT_CODES + id.z) * size + id.y) * size + id.x;
     environment_code_albedo[entry] = sum / float(samples);
 }

@@ -4,21 +4,25 @@
 // E(n)/π = ∫ L(l) max(0, n·l) dl / ∫ max(0, n·l) dl, summed over every texel of one
 // level of the radiance cube with its exact solid angle. Dividing by the discrete ∫ cos
 // (not π) makes a uniform environment come out exactly uniform.
-// params.x: the irradiance cube's size; params.z: the radiance level read; params.w:
-// its size.
 #include "environment_bake.glsl"
+
+layout(push_constant) uniform EnvironmentIrradiancePush {
+    uint size;          // the irradiance cube's texels per side
+    uint source_level;  // the radiance cube's level summed over
+    uint source_size;   // its texels per side
+} push;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 void main() {
     uvec3 id = gl_GlobalInvocationID;
-    uint size = push.params.x;
+    uint size = push.size;
     if (id.x >= size || id.y >= size) {
         return;
     }
     vec3 n = cube_texel_direction(id.z, id.xy, size);
-    uint source_size = push.params.w;
-    float level = float(push.params.z);
+    uint source_size = push.source_size;
+    float level = float(push.source_level);
     // Compensated (Kahan) sums: thousands of terms, kept to a few ulps.
     precise vec3 sum = vec3(0.0);
     precise vec3 sum_error = vec3(0.0);

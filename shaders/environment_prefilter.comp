@@ -5,20 +5,25 @@
 // over directions l reflected about GGX normals sampled with n = v, each read from the
 // radiance cube's mip whose texel solid angle matches the sample's (filtered importance
 // sampling, Křivánek & Colbert 2008), so few samples give no fireflies.
-// params.x: the level's size; params.y: samples; params.z: size of the radiance cube's
-// level 0; values.x: perceptual roughness r of the level (0: a copy of level 0).
 #include "environment_bake.glsl"
+
+layout(push_constant) uniform EnvironmentPrefilterPush {
+    uint size;           // the level's texels per side
+    uint samples;        // GGX samples per texel
+    uint radiance_size;  // texels per side of the radiance cube's level 0
+    float roughness;     // perceptual roughness r of the level (0: a copy of level 0)
+} push;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 void main() {
     uvec3 id = gl_GlobalInvocationID;
-    uint size = push.params.x;
+    uint size = push.size;
     if (id.x >= size || id.y >= size) {
         return;
     }
     vec3 n = cube_texel_direction(id.z, id.xy, size);
-    float r = push.values.x;
+    float r = push.roughness;
     if (r <= 0.0) {
         imageStore(environment_target, ivec3(id), vec4(textureLod(environment_source, n, 0.0).rgb, 1.0));
         return;
@@ -30,8 +35,8 @@ void main() {
     float bxy = n.x * n.y * q;
     vec3 t = vec3(1.0 + sgn * n.x * n.x * q, sgn * bxy, -sgn * n.x);
     vec3 b = vec3(bxy, sgn + n.y * n.y * q, -n.y);
-    uint samples = push.params.y;
-    float base = float(push.params.z);
+    uint samples = push.samples;
+    float base = float(push.radiance_size);
     float texel_solid_angle = 4.0 * PI / (6.0 * base * base);
     float top = float(textureQueryLevels(environment_source) - 1);
     vec3 sum = vec3(0.0);

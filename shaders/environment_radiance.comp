@@ -5,27 +5,33 @@
 // bilinear samples, n at least the image's texels across one cube texel); level i > 0
 // is the mean of the four texels of level i − 1 it covers (one bilinear sample at their
 // shared corner, the level-i texel's centre).
-// params.x: the level's size; params.y: 0 = evaluate the analytic source, 1 = reduce
-// level params.z of environment_source, 2 = average environment_equirect with n =
-// params.z.
 #include "environment_bake.glsl"
+
+layout(push_constant) uniform EnvironmentRadiancePush {
+    EnvironmentSource source;
+    uint size;            // the level's texels per side
+    uint mode;            // 0: evaluate the analytic source; 1: reduce level source_level
+                          // of environment_source; 2: average environment_equirect
+    uint source_level;    // mode 1: the level read
+    uint samples_across;  // mode 2: n
+} push;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 void main() {
     uvec3 id = gl_GlobalInvocationID;
-    uint size = push.params.x;
+    uint size = push.size;
     if (id.x >= size || id.y >= size) {
         return;
     }
     vec3 d = cube_texel_direction(id.z, id.xy, size);
     vec3 l;
-    if (push.params.y == 0u) {
+    if (push.mode == 0u) {
         l = environment_source_radiance(push.source, d);
-    } else if (push.params.y == 1u) {
-        l = textureLod(environment_source, d, float(push.params.z)).rgb;
+    } else if (push.mode == 1u) {
+        l = textureLod(environment_source, d, float(push.source_level)).rgb;
     } else {
-        uint n = max(push.params.z, 1u);
+        uint n = max(push.samples_across, 1u);
         l = vec3(0.0);
         for (uint j = 0u; j < n; ++j) {
             for (uint i = 0u; i < n; ++i) {

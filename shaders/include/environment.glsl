@@ -15,7 +15,7 @@
 // (combustion_renderer::environment::{TABLE_SIZE, CODE_TABLE_SIZE}, generated:)
 #include "bindings/constants.glsl"
 
-// The source as push constants (combustion_renderer::gpu_types::EnvironmentSourcePush):
+// The source as push constants (combustion_renderer::gpu_types::EnvironmentSource):
 // L(ω) = ground + (sky − ground)(1 + ω_y)/2 + Σ_i B_i max(0, ω·k_i)^p_i.
 struct EnvironmentSource {
     vec4 sky;

@@ -34,9 +34,12 @@ use crate::bindings;
 use crate::buffers::filled_storage_buffer;
 use crate::error::RenderError;
 use crate::gpu_types::{
-    conductor_from_base_color_table, material_table, EnvironmentBakePush, EnvironmentSource,
-    GpuMaterial,
+    conductor_from_base_color_table, material_table, EnvironmentAlbedoPush,
+    EnvironmentCodeAlbedoPush, EnvironmentIrradiancePush, EnvironmentPrefilterPush,
+    EnvironmentRadiancePush, EnvironmentSource, GpuMaterial, RadianceMode,
 };
+use crate::graph::{BufferUse, ImageStates, ImageUse, PassUses};
+use crate::pass_io::PassIo;
 
 /// Entries per side of a material's directional-albedo table over (n·v, r)
 /// (`ENVIRONMENT_TABLE_SIZE` in the shaders' generated `bindings/constants.glsl`).
@@ -230,15 +233,21 @@ impl Drop for FrameEnvironment {
     }
 }
 
+/// A bake shader's compute pipeline, with its layout: the bake's descriptor set and,
+/// as push constants, the shader's own push struct.
+struct BakePipeline {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
 /// The bake's compute pipelines, built on the first scene with an environment.
 pub(crate) struct EnvironmentBaker {
     set_layout: DescriptorSetLayout,
-    layout: PipelineLayout,
-    radiance: Pipeline,
-    prefilter: Pipeline,
-    irradiance: Pipeline,
-    albedo: Pipeline,
-    code_albedo: Pipeline,
+    radiance: BakePipeline,
+    prefilter: BakePipeline,
+    irradiance: BakePipeline,
+    albedo: BakePipeline,
+    code_albedo: BakePipeline,
 }
 
 fn linear_sampler(device: &Arc<Device>, levels: u32) -> Result<Sampler, RenderError> {
@@ -322,36 +331,22 @@ impl Equirect {
         })
     }
 
-    /// Records the copy from the staging buffer, leaving the image for compute reads.
-    fn record_upload(&self, device: &Device, cmd: vk::CommandBuffer) {
-        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
-        let dst = (S::COPY, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL);
-        let read = (
-            S::COMPUTE_SHADER,
-            A::SHADER_SAMPLED_READ,
-            L::SHADER_READ_ONLY_OPTIMAL,
-        );
-        let region = self.image.level0_copy_region();
-        let raw = device.raw();
-        // SAFETY: recording state; image and buffer live until the bake's wait.
+    /// Records the copy from the staging buffer (the barriers before the image's next
+    /// use come from `states`).
+    fn record_upload(&self, device: &Device, cmd: vk::CommandBuffer, states: &mut ImageStates) {
+        let uses = PassIo::new("environment upload")
+            .touches((&self.image).into(), ImageUse::TransferDestination)
+            .apply(device);
+        states.transition(device.raw(), cmd, &uses);
+        // SAFETY: recording state; image and buffer live until the bake's wait, and the
+        // image is in the layout the barrier above left it in.
         unsafe {
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&[self
-                    .image
-                    .barrier((S::NONE, A::NONE, L::UNDEFINED), dst)]),
-            );
-            raw.cmd_copy_buffer_to_image(
+            device.raw().cmd_copy_buffer_to_image(
                 cmd,
                 self.staging.raw(),
                 self.image.raw(),
-                L::TRANSFER_DST_OPTIMAL,
-                &[region],
-            );
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default()
-                    .image_memory_barriers(&[self.image.barrier(dst, read)]),
+                ImageUse::TransferDestination.state().layout,
+                &[self.image.level0_copy_region()],
             );
         }
     }
@@ -391,34 +386,54 @@ impl EnvironmentBaker {
         cache: &PipelineCache,
     ) -> Result<Self, RenderError> {
         let set_layout = bindings::ENVIRONMENT_BAKE.layout(device)?;
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::COMPUTE,
-            offset: 0,
-            size: std::mem::size_of::<EnvironmentBakePush>() as u32,
-        }];
-        let layout = PipelineLayout::new(device, &[&set_layout], &push)?;
-        let build = |file: &str| -> Result<Pipeline, RenderError> {
+        let build = |file: &str, push_size: usize| -> Result<BakePipeline, RenderError> {
+            let push = [vk::PushConstantRange {
+                stage_flags: vk::ShaderStageFlags::COMPUTE,
+                offset: 0,
+                size: push_size as u32,
+            }];
+            let layout = PipelineLayout::new(device, &[&set_layout], &push)?;
             let module = ShaderModule::new(
                 device,
                 &compiler.compile(file, ShaderStage::Compute, &[])?,
                 ShaderStage::Compute,
             )?;
-            Ok(Pipeline::compute(device, &module, &layout, Some(cache))?)
+            let pipeline = Pipeline::compute(device, &module, &layout, Some(cache))?;
+            Ok(BakePipeline { layout, pipeline })
         };
+        use std::mem::size_of;
         Ok(Self {
-            radiance: build("environment_radiance.comp")?,
-            prefilter: build("environment_prefilter.comp")?,
-            irradiance: build("environment_irradiance.comp")?,
-            albedo: build("environment_albedo.comp")?,
-            code_albedo: build("environment_code_albedo.comp")?,
+            radiance: build(
+                "environment_radiance.comp",
+                size_of::<EnvironmentRadiancePush>(),
+            )?,
+            prefilter: build(
+                "environment_prefilter.comp",
+                size_of::<EnvironmentPrefilterPush>(),
+            )?,
+            irradiance: build(
+                "environment_irradiance.comp",
+                size_of::<EnvironmentIrradiancePush>(),
+            )?,
+            albedo: build(
+                "environment_albedo.comp",
+                size_of::<EnvironmentAlbedoPush>(),
+            )?,
+            code_albedo: build(
+                "environment_code_albedo.comp",
+                size_of::<EnvironmentCodeAlbedoPush>(),
+            )?,
             set_layout,
-            layout,
         })
     }
 
     /// Bakes `environment` for `scene`'s materials (with their own copies of the
     /// material and conductor tables, so nothing of an uploaded scene is needed: an edit
     /// bakes before it replaces anything). Waits for the GPU: an upload step.
+    ///
+    /// Each dispatch declares what it reads and writes ([`PassIo`], in a descriptor set
+    /// of its own), and the barriers between them are derived from those declarations
+    /// ([`ImageStates`]), as the frame's passes' are.
     pub fn bake(
         &self,
         device: &Arc<Device>,
@@ -494,192 +509,210 @@ impl EnvironmentBaker {
 
         let mut commands = OneShot::new(device)?;
         let cmd = commands.begin()?;
-        let raw = device.raw();
-        equirect.record_upload(device, cmd);
-        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
-        let general = (
-            S::COMPUTE_SHADER,
-            A::SHADER_STORAGE_WRITE | A::SHADER_SAMPLED_READ,
-            L::GENERAL,
-        );
-        let to_general: Vec<_> = [&radiance, &specular, &irradiance]
-            .iter()
-            .map(|image| image.barrier((S::NONE, A::NONE, L::UNDEFINED), general))
-            .collect();
-        // SAFETY (every command below): recording state; the resources live until the
-        // wait at the end, and are in the layouts and states the barriers name.
-        unsafe {
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&to_general),
+        let mut states = ImageStates::default();
+        equirect.record_upload(device, cmd, &mut states);
+        let mut record = Recorder {
+            device,
+            cmd,
+            pool: &pool,
+            set_layout: &self.set_layout,
+            states: &mut states,
+        };
+        // The bindings a dispatch's shader does not reach (every binding of the set is
+        // written all the same), in the layouts their images are in: no barrier
+        // concerns them.
+        let sampled_layout = ImageUse::ComputeSampled.state().layout;
+        let no_equirect = |io: PassIo| {
+            io.bind_image(
+                "environment_equirect",
+                equirect.image.view(),
+                sampled_layout,
+                equirect.sampler.raw(),
             )
         };
-        let source = EnvironmentSource::new(environment);
-        let compute_to_compute = [vk::MemoryBarrier2::default()
-            .src_stage_mask(S::COMPUTE_SHADER)
-            .src_access_mask(A::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(S::COMPUTE_SHADER)
-            .dst_access_mask(A::SHADER_SAMPLED_READ | A::SHADER_STORAGE_READ)];
-        let dispatch = |pipeline: &Pipeline,
-                        source_sampler: &Sampler,
-                        target: &ImageView,
-                        params: [u32; 4],
-                        values: [f32; 4],
-                        groups: [u32; 3]|
-         -> Result<(), RenderError> {
-            let set = pool.allocate(&self.set_layout)?;
-            // The set is new and not in use.
-            decl.writer(set)
-                .image(
-                    "environment_source",
-                    radiance.view(),
-                    L::GENERAL,
-                    source_sampler.raw(),
-                )
-                .image(
-                    "environment_equirect",
-                    equirect.image.view(),
-                    L::SHADER_READ_ONLY_OPTIMAL,
-                    equirect.sampler.raw(),
-                )
-                .image(
-                    "environment_target",
-                    target.raw(),
-                    L::GENERAL,
-                    vk::Sampler::null(),
-                )
-                .buffer("materials", &materials)
-                .buffer("conductor_from_code", &conductor_table)
-                .buffer("environment_albedo", &albedo)
-                .buffer("environment_code_albedo", &code_albedo)
-                .apply(device);
-            let push = EnvironmentBakePush {
-                source,
-                params,
-                values,
-            };
-            crate::commands::bind_pass(
-                raw,
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                pipeline,
-                &self.layout,
-                set,
-                vk::ShaderStageFlags::COMPUTE,
-                bytemuck::bytes_of(&push),
-            );
-            unsafe {
-                raw.cmd_dispatch(cmd, groups[0], groups[1], groups[2]);
-                raw.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&compute_to_compute),
-                );
-            }
-            Ok(())
+        let no_tables = |io: PassIo| {
+            io.bind_buffer("materials", &materials)
+                .bind_buffer("conductor_from_code", &conductor_table)
+                .bind_buffer("environment_albedo", &albedo)
+                .bind_buffer("environment_code_albedo", &code_albedo)
         };
         let groups = |size: u32, z: u32| [size.div_ceil(8), size.div_ceil(8), z];
 
         // The radiance cube: level 0 from the source, each next level the mean of the
-        // one before.
+        // one before, which the same dispatch samples while it writes its own.
+        let source = EnvironmentSource::new(environment);
         for level in 0..radiance_levels {
             let view = level_view(&radiance, level)?;
             let size = radiance.mip_extent(level).width;
-            let params = match (level, environment) {
+            let (mode, source_level, samples_across) = match (level, environment) {
                 // n × n samples a texel: at least the image's texels across one (its
                 // width spans the four side faces), 4 to 32.
                 (0, Environment::Image(image)) => {
                     let across = image.width.div_ceil(4 * RADIANCE_SIZE);
-                    [size, 2, across.clamp(4, 32), 0]
+                    (RadianceMode::Equirect, 0, across.clamp(4, 32))
                 }
-                (0, _) => [size, 0, 0, 0],
-                _ => [size, 1, level - 1, 0],
+                (0, _) => (RadianceMode::Analytic, 0, 0),
+                _ => (RadianceMode::Reduce, level - 1, 0),
             };
-            dispatch(
-                &self.radiance,
-                &one_level_sampler,
-                &view,
-                params,
-                [0.0; 4],
-                groups(size, 6),
-            )?;
+            let set = record.set()?;
+            let chain = ImageUse::ComputeSampledStorageWrite;
+            let io = PassIo::new("environment radiance")
+                .set(decl, set)
+                .sampled(
+                    "environment_source",
+                    &radiance,
+                    one_level_sampler.raw(),
+                    chain,
+                )
+                .sampled(
+                    "environment_equirect",
+                    &equirect.image,
+                    equirect.sampler.raw(),
+                    ImageUse::ComputeSampled,
+                )
+                .image_view("environment_target", &radiance, view.raw(), chain);
+            let push = EnvironmentRadiancePush {
+                source,
+                size,
+                mode: mode as u32,
+                source_level,
+                samples_across,
+            };
+            record.dispatch(&self.radiance, set, no_tables(io), &push, groups(size, 6));
             views.push(view);
         }
+
+        // The GGX-prefiltered specular cube, a level per roughness, from the whole
+        // radiance cube.
         for level in 0..SPECULAR_LEVELS {
             let view = level_view(&specular, level)?;
             let size = specular.mip_extent(level).width;
-            let roughness = level as f32 / (SPECULAR_LEVELS - 1) as f32;
-            let params = [size, PREFILTER_SAMPLES, RADIANCE_SIZE, 0];
-            let values = [roughness, 0.0, 0.0, 0.0];
-            dispatch(
-                &self.prefilter,
-                &sampler,
-                &view,
-                params,
-                values,
-                groups(size, 6),
-            )?;
+            let set = record.set()?;
+            let io = PassIo::new("environment prefilter")
+                .set(decl, set)
+                .sampled(
+                    "environment_source",
+                    &radiance,
+                    sampler.raw(),
+                    ImageUse::ComputeSampled,
+                )
+                .image_view(
+                    "environment_target",
+                    &specular,
+                    view.raw(),
+                    ImageUse::ComputeStorageWrite,
+                );
+            let push = EnvironmentPrefilterPush {
+                size,
+                samples: PREFILTER_SAMPLES,
+                radiance_size: RADIANCE_SIZE,
+                roughness: level as f32 / (SPECULAR_LEVELS - 1) as f32,
+            };
+            let io = no_tables(no_equirect(io));
+            record.dispatch(&self.prefilter, set, io, &push, groups(size, 6));
             views.push(view);
         }
-        let view = level_view(&irradiance, 0)?;
-        let source_size = radiance.mip_extent(IRRADIANCE_SOURCE_LEVEL).width;
-        let params = [IRRADIANCE_SIZE, 0, IRRADIANCE_SOURCE_LEVEL, source_size];
-        dispatch(
-            &self.irradiance,
-            &sampler,
-            &view,
-            params,
-            [0.0; 4],
-            groups(IRRADIANCE_SIZE, 6),
-        )?;
-        // The tables (any target view will do: these shaders write buffers only).
-        let tables = [ALBEDO_SAMPLES, 0, 0, 0];
+
+        // The irradiance cube, from one level of the radiance cube.
+        let irradiance_view = level_view(&irradiance, 0)?;
+        let set = record.set()?;
+        let io = PassIo::new("environment irradiance")
+            .set(decl, set)
+            .sampled(
+                "environment_source",
+                &radiance,
+                sampler.raw(),
+                ImageUse::ComputeSampled,
+            )
+            .image_view(
+                "environment_target",
+                &irradiance,
+                irradiance_view.raw(),
+                ImageUse::ComputeStorageWrite,
+            );
+        let push = EnvironmentIrradiancePush {
+            size: IRRADIANCE_SIZE,
+            source_level: IRRADIANCE_SOURCE_LEVEL,
+            source_size: radiance.mip_extent(IRRADIANCE_SOURCE_LEVEL).width,
+        };
+        let io = no_tables(no_equirect(io));
+        record.dispatch(&self.irradiance, set, io, &push, groups(IRRADIANCE_SIZE, 6));
+
+        // The tables: these shaders read the material and conductor tables and write
+        // buffers only (any target view will do; the irradiance cube's is bound).
+        let tables_io = |name, set| {
+            let io = PassIo::new(name)
+                .set(decl, set)
+                .bind_image(
+                    "environment_source",
+                    radiance.view(),
+                    sampled_layout,
+                    sampler.raw(),
+                )
+                .bind_image(
+                    "environment_target",
+                    irradiance_view.raw(),
+                    ImageUse::ComputeStorageWrite.state().layout,
+                    vk::Sampler::null(),
+                );
+            no_equirect(io)
+        };
         let count = gpu_materials.len() as u32;
         if count > 0 {
-            dispatch(
-                &self.albedo,
-                &sampler,
-                &view,
-                tables,
-                [0.0; 4],
-                groups(TABLE_SIZE, count),
-            )?;
+            let set = record.set()?;
+            let io = tables_io("environment albedo", set)
+                .buffer("materials", &materials, BufferUse::ComputeStorageRead)
+                .bind_buffer("conductor_from_code", &conductor_table)
+                .buffer(
+                    "environment_albedo",
+                    &albedo,
+                    BufferUse::ComputeStorageWrite,
+                )
+                .bind_buffer("environment_code_albedo", &code_albedo);
+            let push = EnvironmentAlbedoPush {
+                samples: ALBEDO_SAMPLES,
+            };
+            record.dispatch(&self.albedo, set, io, &push, groups(TABLE_SIZE, count));
         }
-        for (index, [eta_i, w]) in keys.iter().enumerate() {
-            let params = [CODE_ALBEDO_SAMPLES, index as u32, 0, 0];
-            dispatch(
-                &self.code_albedo,
-                &sampler,
-                &view,
-                params,
-                [*eta_i, *w, 0.0, 0.0],
-                groups(CODE_TABLE_SIZE, CODES),
-            )?;
+        for (table, &[outside_ior, polarisation_weight]) in keys.iter().enumerate() {
+            let set = record.set()?;
+            let io = tables_io("environment code albedo", set)
+                .bind_buffer("materials", &materials)
+                .buffer(
+                    "conductor_from_code",
+                    &conductor_table,
+                    BufferUse::ComputeStorageRead,
+                )
+                .bind_buffer("environment_albedo", &albedo)
+                .buffer(
+                    "environment_code_albedo",
+                    &code_albedo,
+                    BufferUse::ComputeStorageWrite,
+                );
+            let push = EnvironmentCodeAlbedoPush {
+                samples: CODE_ALBEDO_SAMPLES,
+                table: table as u32,
+                outside_ior,
+                polarisation_weight,
+            };
+            let groups = groups(CODE_TABLE_SIZE, CODES);
+            record.dispatch(&self.code_albedo, set, io, &push, groups);
         }
-        views.push(view);
+        views.push(irradiance_view);
 
         // Hand the cubes and tables to the lighting pass's fragment shader.
-        let read = (
-            S::FRAGMENT_SHADER,
-            A::SHADER_SAMPLED_READ,
-            L::SHADER_READ_ONLY_OPTIMAL,
-        );
-        let to_read = [
-            specular.barrier(general, read),
-            irradiance.barrier(general, read),
-        ];
-        let tables_to_fragment = [vk::MemoryBarrier2::default()
-            .src_stage_mask(S::COMPUTE_SHADER)
-            .src_access_mask(A::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(S::FRAGMENT_SHADER)
-            .dst_access_mask(A::SHADER_STORAGE_READ)];
-        unsafe {
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default()
-                    .image_memory_barriers(&to_read)
-                    .memory_barriers(&tables_to_fragment),
-            )
-        };
+        let hand_off = PassUses::images(
+            "environment hand-off",
+            vec![
+                ((&specular).into(), ImageUse::FragmentSampled),
+                ((&irradiance).into(), ImageUse::FragmentSampled),
+            ],
+        )
+        .with_buffers(vec![
+            (albedo.raw(), BufferUse::FragmentStorageRead),
+            (code_albedo.raw(), BufferUse::FragmentStorageRead),
+        ]);
+        states.transition(device.raw(), cmd, &hand_off);
         commands.submit_and_wait()?;
         drop(views);
         drop(pool);
@@ -695,6 +728,51 @@ impl EnvironmentBaker {
             environment: environment.clone(),
             bake_ms: start.elapsed().as_secs_f64() * 1e3,
         })
+    }
+}
+
+/// Records the bake's dispatches into one command buffer, each with its own descriptor
+/// set from the bake's pool and the barriers its declaration calls for.
+struct Recorder<'a> {
+    device: &'a Device,
+    cmd: vk::CommandBuffer,
+    pool: &'a DescriptorPool,
+    set_layout: &'a DescriptorSetLayout,
+    states: &'a mut ImageStates,
+}
+
+impl Recorder<'_> {
+    /// A new descriptor set of the bake's layout, for one dispatch.
+    fn set(&self) -> Result<vk::DescriptorSet, RenderError> {
+        Ok(self.pool.allocate(self.set_layout)?)
+    }
+
+    /// Writes `io`'s descriptors (into `set`, new and not in use), records the barriers
+    /// it calls for, then `shader` with `push` over `groups` workgroups.
+    fn dispatch<P: bytemuck::Pod>(
+        &mut self,
+        shader: &BakePipeline,
+        set: vk::DescriptorSet,
+        io: PassIo,
+        push: &P,
+        groups: [u32; 3],
+    ) {
+        let raw = self.device.raw();
+        let uses = io.apply(self.device);
+        self.states.transition(raw, self.cmd, &uses);
+        crate::commands::bind_pass(
+            raw,
+            self.cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            &shader.pipeline,
+            &shader.layout,
+            set,
+            vk::ShaderStageFlags::COMPUTE,
+            bytemuck::bytes_of(push),
+        );
+        // SAFETY: recording state; the resources live until the bake's wait, in the
+        // layouts the barriers above left them in.
+        unsafe { raw.cmd_dispatch(self.cmd, groups[0], groups[1], groups[2]) };
     }
 }
 
@@ -718,5 +796,115 @@ mod tests {
         assert_eq!(keys.len(), 2);
         let n = of_material.len();
         assert_eq!(&of_material[n - 3..], &[0, 0, 1]);
+    }
+
+    /// A push struct's name, size and fields (name and offset, in order) as Rust lays
+    /// it out.
+    macro_rules! push_layout {
+        ($push:ident { $($field:ident),* $(,)? }) => {
+            (
+                stringify!($push),
+                std::mem::size_of::<$push>() as u32,
+                vec![$((stringify!($field).to_owned(), std::mem::offset_of!($push, $field) as u32)),*],
+            )
+        };
+    }
+
+    /// Each bake shader's push-constant block, as its compiled SPIR-V lays it out, is
+    /// the Rust struct the bake pushes: same name, same members by name at the same
+    /// offsets, same size (and the pipeline's push range is that size).
+    #[test]
+    fn each_bake_shader_declares_its_push_struct() {
+        let compiler = ShaderCompiler::new(crate::shader_sources::sources()).expect("shaderc");
+        let shaders = [
+            (
+                "environment_radiance.comp",
+                push_layout!(EnvironmentRadiancePush {
+                    source,
+                    size,
+                    mode,
+                    source_level,
+                    samples_across,
+                }),
+            ),
+            (
+                "environment_prefilter.comp",
+                push_layout!(EnvironmentPrefilterPush {
+                    size,
+                    samples,
+                    radiance_size,
+                    roughness,
+                }),
+            ),
+            (
+                "environment_irradiance.comp",
+                push_layout!(EnvironmentIrradiancePush {
+                    size,
+                    source_level,
+                    source_size,
+                }),
+            ),
+            (
+                "environment_albedo.comp",
+                push_layout!(EnvironmentAlbedoPush { samples }),
+            ),
+            (
+                "environment_code_albedo.comp",
+                push_layout!(EnvironmentCodeAlbedoPush {
+                    samples,
+                    table,
+                    outside_ior,
+                    polarisation_weight,
+                }),
+            ),
+        ];
+        let sources = crate::shader_sources::sources();
+        for (file, (name, size, members)) in shaders {
+            let spirv = compiler
+                .compile(file, ShaderStage::Compute, &[])
+                .expect("compiles");
+            let layout = crate::spirv::push_layout(&spirv)
+                .unwrap_or_else(|| panic!("{file} declares no push constants"));
+            let (block, names) = crate::spirv::glsl_push_members(sources.get(file).unwrap())
+                .unwrap_or_else(|| panic!("{file} declares no push block"));
+            assert_eq!(block, name, "{file}");
+            assert_eq!(layout.size, size, "{file}");
+            let glsl: Vec<_> = names.into_iter().zip(layout.offsets).collect();
+            assert_eq!(glsl, members, "{file}");
+        }
+        // The analytic source inside the radiance push is environment.glsl's struct.
+        assert_eq!(std::mem::size_of::<EnvironmentSource>(), 96);
+    }
+
+    /// The readers of push blocks find another pass's block (the tone map's), and none
+    /// in a shader without push constants. (A nested struct with arrays is read above:
+    /// the radiance push's source.)
+    #[test]
+    fn push_blocks_are_read_from_spirv_and_glsl() {
+        let sources = crate::shader_sources::sources();
+        let compiler = ShaderCompiler::new(sources.clone()).expect("shaderc");
+        let spirv = compiler
+            .compile("tonemap.frag", ShaderStage::Fragment, &[])
+            .expect("compiles");
+        let layout = crate::spirv::push_layout(&spirv).expect("tonemap pushes its exposure");
+        assert_eq!(
+            layout,
+            crate::spirv::PushLayout {
+                size: std::mem::size_of::<crate::gpu_types::TonemapPush>() as u32,
+                offsets: vec![0],
+            }
+        );
+        assert_eq!(
+            crate::spirv::glsl_push_members(sources.get("tonemap.frag").unwrap()),
+            Some(("TonemapPush".to_owned(), vec!["exposure".to_owned()]))
+        );
+        let no_push = compiler
+            .compile("fullscreen.vert", ShaderStage::Vertex, &[])
+            .expect("compiles");
+        assert_eq!(crate::spirv::push_layout(&no_push), None);
+        assert_eq!(
+            crate::spirv::glsl_push_members(sources.get("fullscreen.vert").unwrap()),
+            None
+        );
     }
 }

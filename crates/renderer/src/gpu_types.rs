@@ -432,16 +432,88 @@ impl EnvironmentSource {
     }
 }
 
-/// Push constants of the environment bake shaders (`EnvironmentBakePush` in
-/// environment_bake.glsl); `params` and `values` mean what each shader's header says.
+/// How environment_radiance.comp makes a level of the radiance cube
+/// ([`EnvironmentRadiancePush::mode`]).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RadianceMode {
+    /// Evaluate the analytic source at each texel's centre (level 0).
+    Analytic = 0,
+    /// The mean of the four texels of the level before (levels above 0).
+    Reduce = 1,
+    /// Average the equirectangular image over each texel (level 0).
+    Equirect = 2,
+}
+
+/// Push constants of environment_radiance.comp (`EnvironmentRadiancePush`): one level of
+/// the radiance cube.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct EnvironmentBakePush {
-    /// The environment's analytic source radiance.
+pub struct EnvironmentRadiancePush {
+    /// The environment's analytic source radiance ([`RadianceMode::Analytic`]).
     pub source: EnvironmentSource,
-    /// Integer parameters, per shader.
-    pub params: [u32; 4],
-    /// Float parameters, per shader.
-    pub values: [f32; 4],
+    /// Texels per side of the level.
+    pub size: u32,
+    /// How the level is made (`RadianceMode as u32`).
+    pub mode: u32,
+    /// [`RadianceMode::Reduce`]: the level read (the one before).
+    pub source_level: u32,
+    /// [`RadianceMode::Equirect`]: n, for n × n samples of the image per texel.
+    pub samples_across: u32,
 }
-const _: () = assert!(std::mem::size_of::<EnvironmentBakePush>() == 128);
+const _: () = assert!(std::mem::size_of::<EnvironmentRadiancePush>() == 112);
+
+/// Push constants of environment_prefilter.comp (`EnvironmentPrefilterPush`): one level
+/// of the GGX-prefiltered specular cube.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct EnvironmentPrefilterPush {
+    /// Texels per side of the level.
+    pub size: u32,
+    /// GGX samples per texel.
+    pub samples: u32,
+    /// Texels per side of the radiance cube's level 0.
+    pub radiance_size: u32,
+    /// The level's perceptual roughness r (0: a copy of the radiance cube's level 0).
+    pub roughness: f32,
+}
+const _: () = assert!(std::mem::size_of::<EnvironmentPrefilterPush>() == 16);
+
+/// Push constants of environment_irradiance.comp (`EnvironmentIrradiancePush`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct EnvironmentIrradiancePush {
+    /// Texels per side of the irradiance cube.
+    pub size: u32,
+    /// The radiance cube's level summed over.
+    pub source_level: u32,
+    /// Texels per side of that level.
+    pub source_size: u32,
+}
+const _: () = assert!(std::mem::size_of::<EnvironmentIrradiancePush>() == 12);
+
+/// Push constants of environment_albedo.comp (`EnvironmentAlbedoPush`): every
+/// material's directional-albedo table.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct EnvironmentAlbedoPush {
+    /// Samples per part (specular, diffuse) per entry.
+    pub samples: u32,
+}
+const _: () = assert!(std::mem::size_of::<EnvironmentAlbedoPush>() == 4);
+
+/// Push constants of environment_code_albedo.comp (`EnvironmentCodeAlbedoPush`): the
+/// per-code conductor tables of one (η_i, w).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct EnvironmentCodeAlbedoPush {
+    /// Samples per entry.
+    pub samples: u32,
+    /// Which set of tables (its place in `environment_code_albedo`).
+    pub table: u32,
+    /// The outside medium's IOR η_i.
+    pub outside_ior: f32,
+    /// The polarisation weight w.
+    pub polarisation_weight: f32,
+}
+const _: () = assert!(std::mem::size_of::<EnvironmentCodeAlbedoPush>() == 16);

@@ -36,6 +36,12 @@ pub enum ImageUse {
     /// Written by compute shaders as a storage image (GENERAL layout); earlier contents
     /// are kept (a compute pass may write part of an image).
     ComputeStorageWrite,
+    /// Sampled and written by compute shaders, both in GENERAL layout: one mip level
+    /// written as a storage image while another is read through a view of the whole
+    /// image (a mip chain built level by level, each from the one before). Tracked for
+    /// the whole image, so each such pass waits for the previous one's writes; earlier
+    /// contents are kept.
+    ComputeSampledStorageWrite,
 }
 
 impl ImageUse {
@@ -65,6 +71,11 @@ impl ImageUse {
             Self::ComputeStorageWrite => {
                 ImageState::new(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE, L::GENERAL)
             }
+            Self::ComputeSampledStorageWrite => ImageState::new(
+                S::COMPUTE_SHADER,
+                A::SHADER_SAMPLED_READ | A::SHADER_STORAGE_WRITE,
+                L::GENERAL,
+            ),
         }
     }
 
@@ -308,6 +319,7 @@ mod tests {
         assert!(ImageUse::DepthAttachmentWrite.state().writes());
         assert!(ImageUse::TransferDestination.state().writes());
         assert!(!ImageUse::TransferSource.state().writes());
+        assert!(ImageUse::ComputeSampledStorageWrite.state().writes());
     }
 
     /// The depth-only and stencil-only layouts need separateDepthStencilLayouts, a
@@ -333,6 +345,7 @@ mod tests {
             ImageUse::ComputeSampled,
             ImageUse::DepthComputeSampled,
             ImageUse::ComputeStorageWrite,
+            ImageUse::ComputeSampledStorageWrite,
         ];
         let host_states = [
             ImageState::UNDEFINED,

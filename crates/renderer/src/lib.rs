@@ -53,6 +53,8 @@ mod scene_edit;
 mod scene_upload;
 mod settings;
 mod shader_sources;
+#[cfg(test)]
+mod spirv;
 mod targets;
 mod textures;
 mod variant;

@@ -58,6 +58,36 @@ impl PassIo {
         self.touches(image.into(), use_)
     }
 
+    /// An image the pass's shaders sample through `binding` with `sampler` (a combined
+    /// image sampler, every level and layer), in the layout of `use_`, which the barriers
+    /// bring it into.
+    pub fn sampled(
+        mut self,
+        binding: &str,
+        image: &Image,
+        sampler: vk::Sampler,
+        use_: ImageUse,
+    ) -> Self {
+        self.writer()
+            .add_image(binding, image.view(), use_.state().layout, sampler);
+        self.touches(image.into(), use_)
+    }
+
+    /// Part of `image` (one mip level, say) that the pass's shaders reach through
+    /// `binding` by `view`, a view of it (no sampler: a storage image or texelFetch), in
+    /// the layout of `use_`. The barriers bring the whole image into that layout.
+    pub fn image_view(
+        mut self,
+        binding: &str,
+        image: &Image,
+        view: vk::ImageView,
+        use_: ImageUse,
+    ) -> Self {
+        self.writer()
+            .add_image(binding, view, use_.state().layout, vk::Sampler::null());
+        self.touches(image.into(), use_)
+    }
+
     /// A buffer the pass's shaders reach through `binding`, used as `use_`.
     pub fn buffer(mut self, binding: &str, buffer: &Buffer, use_: BufferUse) -> Self {
         self = self.bind_buffer(binding, buffer);
@@ -66,7 +96,9 @@ impl PassIo {
     }
 
     /// An image bound to `binding` that no barrier of the frame concerns: made ready
-    /// once, at upload (an environment's cubes, a placeholder), and only ever read.
+    /// once, at upload (an environment's cubes, a placeholder), and only ever read; or
+    /// one the pass's shaders never reach (bound because every binding of a set is
+    /// written), in the layout it is in.
     pub fn bind_image(
         mut self,
         binding: &str,
@@ -88,8 +120,24 @@ impl PassIo {
 
     /// An image the pass touches without a descriptor: an attachment it renders into,
     /// or the source or destination of a copy.
+    ///
+    /// An image declared again with the same use and range is one use (a pass binding
+    /// two views of one image, as a mip level built from the level before it); one image
+    /// in two uses is a mistake (it has one layout at a time), refused in debug builds.
     pub fn touches(mut self, image: TrackedImage, use_: ImageUse) -> Self {
-        self.uses.images.push((image, use_));
+        let mut same = self
+            .uses
+            .images
+            .iter()
+            .filter(|(declared, _)| declared.raw == image.raw);
+        match same.next() {
+            None => self.uses.images.push((image, use_)),
+            Some(&(declared, declared_use)) => debug_assert!(
+                declared_use == use_ && same_range(declared.range, image.range),
+                "{}: an image declared as {declared_use:?} and as {use_:?}",
+                self.uses.name
+            ),
+        }
         self
     }
 
@@ -102,4 +150,20 @@ impl PassIo {
         }
         self.uses
     }
+}
+
+fn same_range(a: vk::ImageSubresourceRange, b: vk::ImageSubresourceRange) -> bool {
+    (
+        a.aspect_mask,
+        a.base_mip_level,
+        a.level_count,
+        a.base_array_layer,
+        a.layer_count,
+    ) == (
+        b.aspect_mask,
+        b.base_mip_level,
+        b.level_count,
+        b.base_array_layer,
+        b.layer_count,
+    )
 }
