@@ -1183,13 +1183,18 @@ impl PreviousRun {
                     header.len()
                 )));
             }
-            let ms: f64 = fields[total].parse().map_err(|_| {
-                problem(format!(
-                    "line {}: total_ms `{}` is not a number",
-                    i + 2,
-                    fields[total]
-                ))
-            })?;
+            // A frame time: finite and above 0 (a ratio against it must be a number).
+            let ms = fields[total]
+                .parse::<f64>()
+                .ok()
+                .filter(|ms| ms.is_finite() && *ms > 0.0)
+                .ok_or_else(|| {
+                    problem(format!(
+                        "line {}: total_ms `{}` is not a frame time (a finite number of ms above 0)",
+                        i + 2,
+                        crate::shortened(&fields[total])
+                    ))
+                })?;
             rows.push((fields[..7].join(","), ms, errors.map(|c| fields[c].clone())));
         }
         Ok(PreviousRun { path, rows })
@@ -1239,6 +1244,16 @@ pub struct Reproduction {
 
 impl Reproduction {
     fn markdown(&self) -> String {
+        if self.matched == 0 {
+            return format!(
+                "## Against a previous run
+
+The run before this one (`{}`) has no scene × variant set row in common with this one: nothing to compare.
+
+",
+                self.previous.display()
+            );
+        }
         let percent = |r: f64| format!("{:+.1} %", (r - 1.0) * 100.0);
         format!(
             "## Against a previous run
@@ -1302,4 +1317,50 @@ pub fn write(
     }
     output::write_file_atomically(&dir.join("report.md"), md.as_bytes())?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 28, defect 7: an earlier report whose `total_ms` is not a frame time — NaN,
+    /// infinite, zero, negative, or beyond f64 — is refused naming the line, instead
+    /// of giving "NaN %", "+inf %" or "−1543 %" ratios.
+    #[test]
+    fn a_previous_report_with_a_frame_time_that_is_not_one_is_refused() {
+        let dir = std::env::temp_dir().join(format!("combustion-previous-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let header = csv(&[]);
+        for total in ["NaN", "inf", "-inf", "0", "-3.5", "1e400", "twelve"] {
+            let row = format!(
+                "builtin:spheres,full,f32,specialised,correlated,ggx,material,30,{total},1,2,1e-3,1e-4,2e-4,100,0.01\n"
+            );
+            std::fs::write(dir.join("report.csv"), format!("{header}{row}")).unwrap();
+            let error = PreviousRun::read(&dir).unwrap_err().to_string();
+            assert!(
+                error.contains(&format!("line 2: total_ms `{total}` is not a frame time")),
+                "{total}: {error}"
+            );
+        }
+        let row = "builtin:spheres,full,f32,specialised,correlated,ggx,material,30,12.5,1,2,1e-3,1e-4,2e-4,100,0.01\n";
+        std::fs::write(dir.join("report.csv"), format!("{header}{row}")).unwrap();
+        let previous = PreviousRun::read(&dir).unwrap();
+        assert_eq!(previous.rows.len(), 1);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Issue 28, defect 7: a comparison with no row in common says so, instead of
+    /// printing NaN percentages.
+    #[test]
+    fn a_comparison_with_no_row_in_common_says_there_is_nothing_to_compare() {
+        let previous = PreviousRun {
+            path: "old/report.csv".into(),
+            rows: Vec::new(),
+        };
+        let reproduction = previous.compare(&[]);
+        assert_eq!(reproduction.matched, 0);
+        let md = reproduction.markdown();
+        assert!(md.contains("nothing to compare"), "{md}");
+        assert!(!md.contains("NaN"), "{md}");
+    }
 }
