@@ -1356,3 +1356,18 @@ fn every_reader_refuses_fifos_and_devices_before_reading() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 28, defect 2: `view --width 65536` (or a height above 65535) panicked inside
+/// winit under X11 (its sizes are 16-bit); it is refused as bad usage before anything is
+/// loaded or any display is asked for.
+#[test]
+fn a_window_side_beyond_the_window_system_is_refused_before_any_window() {
+    assert_refused(
+        &["view", "builtin:spheres", "--width", "65536"],
+        &["at most 65535 pixels per side"],
+    );
+    assert_refused(
+        &["view", "builtin:spheres", "--height", "70000"],
+        &["at most 65535 pixels per side"],
+    );
+}

@@ -245,10 +245,22 @@ fn window_error(error: impl std::fmt::Display) -> String {
     }
 }
 
+/// The largest window side asked of the window system: X11 sizes are 16-bit (a larger
+/// one panics inside winit rather than failing).
+pub const MAX_WINDOW_SIDE: u32 = u16::MAX as u32;
+
 /// Opens a window on `desc.scene` and renders until it is closed (or `desc.frames` are
-/// shown). Fails with [`Error::NoWindow`] when no window can be opened, and with
-/// [`Error::Validation`] if validation is on and the layer reported anything.
+/// shown). Fails with [`Error::Usage`] for a window side above [`MAX_WINDOW_SIDE`]
+/// (checked before anything is loaded), with [`Error::NoWindow`] when no window can be
+/// opened, and with [`Error::Validation`] if validation is on and the layer reported
+/// anything.
 pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
+    if desc.width > MAX_WINDOW_SIDE || desc.height > MAX_WINDOW_SIDE {
+        return Err(Error::Usage(format!(
+            "a window of {}x{}: the window system takes at most {MAX_WINDOW_SIDE} pixels per side",
+            desc.width, desc.height
+        )));
+    }
     let (scene, cameras) = desc.scene.load_with_cameras(&Default::default())?;
     let path = desc
         .camera_path
