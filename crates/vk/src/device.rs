@@ -342,6 +342,9 @@ pub struct Device {
     /// Tests only: [`Device::submit`] fails without submitting while this is set.
     #[cfg(test)]
     pub(crate) fail_submits: std::sync::atomic::AtomicBool,
+    /// Tests only: fences waited for through [`Device::wait_fences`].
+    #[cfg(test)]
+    pub(crate) fences_waited: std::sync::atomic::AtomicUsize,
 }
 
 fn c_chars_to_string(chars: &[std::ffi::c_char]) -> String {
@@ -655,6 +658,8 @@ impl Device {
             owned: true,
             #[cfg(test)]
             fail_submits: Default::default(),
+            #[cfg(test)]
+            fences_waited: Default::default(),
         }))
     }
 
@@ -781,6 +786,8 @@ impl Device {
             owned: false,
             #[cfg(test)]
             fail_submits: Default::default(),
+            #[cfg(test)]
+            fences_waited: Default::default(),
         }))
     }
 
@@ -854,6 +861,21 @@ impl Device {
         let queue = self.queue.lock().unwrap_or_else(|p| p.into_inner());
         // SAFETY: the queue is externally synchronised by the mutex.
         unsafe { self.device.queue_submit2(*queue, submits, fence) }.what("vkQueueSubmit2")
+    }
+
+    /// Waits up to `timeout_ns` for every one of `fences` (fences of this device's own
+    /// submissions): the one way the crate waits for the GPU, so that tests can count
+    /// the waits.
+    pub(crate) fn wait_fences(
+        &self,
+        fences: &[vk::Fence],
+        timeout_ns: u64,
+    ) -> Result<(), vk::Result> {
+        #[cfg(test)]
+        self.fences_waited
+            .fetch_add(fences.len(), std::sync::atomic::Ordering::Relaxed);
+        // SAFETY: the fences are this device's.
+        unsafe { self.device.wait_for_fences(fences, true, timeout_ns) }
     }
 
     /// Waits until the device is idle (used before tearing resources down). Only on a
