@@ -855,8 +855,9 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 }
 
 /// Issue 19, defect 1: scenes with and without the G-buffer's emissive + occlusion
-/// target, with and without an environment, and with and without culled (ranged)
-/// lights, rendered in alternation, each run of
+/// target, with and without an environment (the scene's own, or a frame environment
+/// baked for it, dropped while its frames are in flight), and with and without culled
+/// (ranged) lights, rendered in alternation, each run of
 /// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
 /// flight. The targets of the scene not shown are retired and destroyed while the
 /// frame slots' lighting sets are reused: every binding must name an image of this
@@ -882,13 +883,24 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         ranged,
     ];
     let (mut host, log, mut output) = host_with_output(&scenes, 3, 48, 40);
-    // Each scene for 24 frames (past the 16-frame retire delay), twice round.
+    // Each scene for 24 frames (past the 16-frame retire delay), twice round; the
+    // plain sphere grid (scene 1) is lit by a frame environment in the first round
+    // (the ENVIRONMENT variant's pipelines and targets without the scene having one),
+    // which is dropped at the end of that round while its last frames are in flight.
     for round in 0..2 {
-        for scene in [0, 1, 0, 2, 3, 0] {
+        if round == 0 {
+            let renderer = host.renderer.as_mut().unwrap();
+            let studio = renderer
+                .bake_environment(&host.scenes[1], &combustion::scene::Environment::Studio)
+                .unwrap();
+            host.frame_environments = vec![None, Some(studio)];
+        }
+        for scene in [0, 1, 0, 2, 3, 0, 1] {
             for _ in 0..24 {
                 headless::frame(&mut host, &mut output, scene).unwrap();
             }
         }
+        host.frame_environments.clear();
         let stats = host.renderer().stats();
         assert!(
             stats.targets_retired >= 2 * (round + 1),

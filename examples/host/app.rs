@@ -8,7 +8,8 @@
 use std::sync::Arc;
 
 use combustion::renderer::{
-    ColorTarget, DepthTarget, FrameInputs, FrameTarget, GpuScene, Renderer, RendererSettings,
+    ColorTarget, DepthTarget, FrameEnvironment, FrameInputs, FrameTarget, GpuScene, Renderer,
+    RendererSettings,
 };
 use combustion::scene::{Camera, Light, Scene};
 use combustion::vk::ash::vk;
@@ -284,6 +285,9 @@ struct HostSlot {
 /// A host: its Vulkan, Combustion on it, and its frame ring.
 pub struct Host {
     // Drop order matters: Combustion's objects go before the host's device.
+    /// Per scene (by index), the environment its frames are lit by in place of its own
+    /// (`FrameInputs::environment`); none where absent.
+    pub frame_environments: Vec<Option<FrameEnvironment>>,
     pub scenes: Vec<GpuScene>,
     pub renderer: Option<Renderer>,
     pub combustion_device: Option<Arc<Device>>,
@@ -324,6 +328,7 @@ impl Host {
             });
         }
         Ok(Self {
+            frame_environments: Vec::new(),
             scenes: gpu_scenes,
             renderer: Some(renderer),
             combustion_device: Some(device),
@@ -457,7 +462,7 @@ impl Host {
             exposure: 1.0,
             lights: &lights,
             overlay: &[],
-            environment: None,
+            environment: self.frame_environments.get(scene).and_then(Option::as_ref),
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {
@@ -592,6 +597,7 @@ impl Drop for Host {
         if let Err(e) = self.wait_frames() {
             eprintln!("waiting for the host's frames: {e}");
         }
+        self.frame_environments.clear();
         self.scenes.clear();
         self.renderer = None;
         self.combustion_device = None;
