@@ -110,6 +110,16 @@ impl PassIo {
         self
     }
 
+    /// [`PassIo::buffer`] when `used` (the frame's shaders read it), else
+    /// [`PassIo::bind_buffer`] (bound only, as every binding of a set must be).
+    pub fn buffer_if(self, used: bool, binding: &str, buffer: &Buffer, use_: BufferUse) -> Self {
+        if used {
+            self.buffer(binding, buffer, use_)
+        } else {
+            self.bind_buffer(binding, buffer)
+        }
+    }
+
     /// A buffer bound to `binding` that no barrier of the frame concerns (written by
     /// the CPU before the submission, or a placeholder the shaders of this frame do not
     /// read).

@@ -62,11 +62,12 @@ impl FramePass for Lighting {
                 vk::Sampler::null(),
             ),
         };
-        io = if frame.cull_push.is_some() {
-            io.buffer("tile_lights", &s.tile_lights, read)
-        } else {
-            io.bind_buffer("tile_lights", &s.tile_lights)
-        };
+        io = io.buffer_if(
+            frame.cull_push.is_some(),
+            "tile_lights",
+            &s.tile_lights,
+            read,
+        );
         let environment = frame.environment.unwrap_or(&r.no_environment);
         let sampler = environment.sampler.raw();
         // The cubes were made ready for fragment reads by their bake.
@@ -93,11 +94,7 @@ impl FramePass for Lighting {
             ),
         ];
         for (binding, table) in tables {
-            io = if frame.environment.is_some() {
-                io.buffer(binding, table, read)
-            } else {
-                io.bind_buffer(binding, table)
-            };
+            io = io.buffer_if(frame.environment.is_some(), binding, table, read);
         }
         io
     }
