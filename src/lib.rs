@@ -99,7 +99,7 @@ pub enum Error {
     /// A command-line value that is not allowed; the message says which and why.
     #[error("{0}")]
     Usage(String),
-    /// An earlier run's `report.csv` (`bench --report --compare`) cannot be read or
+    /// An earlier run's `report.csv` (`bench --report --against`) cannot be read or
     /// parsed.
     #[error("previous report `{}`: {message}", path.display())]
     PreviousReport {

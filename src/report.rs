@@ -189,10 +189,10 @@ impl Spread {
         p90: f64::NAN,
     };
 
-    /// The spread of `values` (zeros when there are none).
+    /// The spread of `values` ([`Spread::NONE`] when there are none).
     pub fn of(mut values: Vec<f64>) -> Spread {
         if values.is_empty() {
-            return Spread::default();
+            return Spread::NONE;
         }
         values.sort_by(f64::total_cmp);
         let at = |p: f64| values[((values.len() - 1) as f64 * p).round() as usize];

@@ -185,11 +185,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
         elapsed * 1e3 / f64::from(o.frames),
         f64::from(o.frames) / elapsed,
         o.frames,
-        if timings.is_empty() {
-            f64::NAN
-        } else {
-            total.median
-        }
+        total.median
     );
     Ok(())
 }

@@ -20,11 +20,7 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
         overlay: o.overlay,
         error_view: o.error_view,
     })?;
-    let median = |list: &[f64]| {
-        let mut sorted = list.to_vec();
-        sorted.sort_by(f64::total_cmp);
-        sorted.get(sorted.len() / 2).copied().unwrap_or(f64::NAN)
-    };
+    let median = |list: &[f64]| combustion::report::Spread::of(list.to_vec()).median;
     outln!(
         "viewed {} frames at {}x{} on {}: GPU total median {:.2} ms, wall clock per frame median {:.2} ms ({} in flight, on-device presentation){}",
         summary.presented,

@@ -374,10 +374,10 @@ impl Renderer {
         // changes what the bake reads — the environment or the material table (optics
         // and the outside medium, not names, textures, lights, objects or the camera) —
         // before anything of the scene is replaced, so a failed bake leaves it as it was.
-        let old = scene.scene();
-        let environment = if !same_environment(&next.environment, &old.environment)
+        // (The old table as the bake read it is kept with the scene.)
+        let environment = if !same_environment(&next.environment, &scene.scene().environment)
             || bytemuck::cast_slice::<_, u8>(&gpu_types::material_table(&next, &[]))
-                != bytemuck::cast_slice::<_, u8>(&gpu_types::material_table(old, &[]))
+                != scene.bake_materials.as_slice()
         {
             Some(self.bake_scene_environment(&next)?)
         } else {

@@ -71,7 +71,7 @@ impl FramePass for Lighting {
         let environment = frame.environment.unwrap_or(&r.no_environment);
         let sampler = environment.sampler.raw();
         // The cubes were made ready for fragment reads by their bake.
-        let cube_layout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let cube_layout = texel.state().layout;
         io = io
             .bind_image(
                 "environment_specular",
