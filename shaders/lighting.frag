@@ -6,7 +6,8 @@
 // combustion_renderer::reference (the parity tests and the viewer's error view).
 // Specialised per scene (combustion_renderer::LightingFeatures): NO_ANISOTROPY,
 // NO_CONDUCTORS, NO_CONDUCTOR_TABLE, NO_DIELECTRICS, OUTSIDE_ETA_ONE, NO_LAMBERT,
-// NO_OREN_NAYAR_QUALITATIVE, NO_OREN_NAYAR_FULL remove what the scene cannot use.
+// NO_OREN_NAYAR_QUALITATIVE, NO_OREN_NAYAR_FULL remove what the scene cannot use;
+// SHADOWS (a shading option) multiplies each shadowed light by its shadow maps' verdict.
 #include "gpu_types.glsl"
 #include "gbuffer_encoding.glsl"
 #include "srgb.glsl"
@@ -24,6 +25,10 @@ layout(push_constant) uniform LightingPush {
 
 #ifdef DEBUG_VIEWS
 #include "debug_views.glsl"
+#endif
+
+#ifdef SHADOWS
+#include "shadows.glsl"
 #endif
 
 // The four cells (row-major indices into a size × size table: (x0,y0), (x1,y0), (x0,y1),
@@ -280,6 +285,16 @@ void main() {
         surface.material = md.x;
         surface.distance = length(push.camera_position.xyz - position);
         surface.tile_light_fraction = float(light_count) / float(max(push.counts.x, 1u));
+        surface.shadow = 1.0;
+        surface.cascade = -1;
+#ifdef SHADOWS
+        if (push.counts.x > 0u && lights[0].spot_cone.w != 0.0) {
+            uint first = uint(lights[0].spot_cone.w) - 1u;
+            surface.shadow = shadow_visibility(first, position, n, l0, gl_FragCoord.xy);
+            uint cascade = shadow_cascade_of(first, position, n, l0);
+            surface.cascade = cascade < uint(SHADOW_CASCADES) ? int(cascade) : -1;
+        }
+#endif
         out_radiance = vec4(debug_view_radiance(push.counts.y, surface, m, view, l0, push.counts.x > 0u), 1.0);
         return;
     }
@@ -309,6 +324,12 @@ void main() {
         if (n_dot_l <= 0.0) {
             continue;
         }
+#ifdef SHADOWS
+        if (light.spot_cone.w != 0.0) {
+            irradiance *= shadow_visibility(uint(light.spot_cone.w) - 1u, position, n, l,
+                                            gl_FragCoord.xy);
+        }
+#endif
         radiance += brdf_evaluate_view(m, view, l) * irradiance * n_dot_l;
     }
 #ifdef EMISSIVE_OCCLUSION_TARGET

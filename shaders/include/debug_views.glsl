@@ -22,6 +22,8 @@ struct DebugSurface {
     uint material;
     float distance;
     float tile_light_fraction;  // lights the pixel's tile loops over / the frame's lights
+    float shadow;               // the first light's lit fraction (1 without shadows)
+    int cascade;                // its shadow cascade (−1: none)
 };
 
 // The radiance the tone curve 1 − e^(−x) maps to the linear value y.
@@ -65,6 +67,12 @@ vec3 debug_view_radiance(uint which, DebugSurface s, BrdfInputs m, BrdfView view
         return debug_code(vec3(s.distance / (1.0 + s.distance)));
     } else if (which == DEBUG_VIEW_LIGHTS_PER_TILE) {
         return debug_code(vec3(s.tile_light_fraction));
+    } else if (which == DEBUG_VIEW_SHADOW_FACTOR) {
+        return debug_code(vec3(s.shadow));
+    } else if (which == DEBUG_VIEW_SHADOW_CASCADE) {
+        const vec3 colours[4] = vec3[4](vec3(0.9, 0.2, 0.2), vec3(0.2, 0.8, 0.2),
+                                        vec3(0.2, 0.4, 0.9), vec3(0.9, 0.8, 0.2));
+        return debug_code(s.cascade < 0 ? vec3(0.5) : colours[s.cascade & 3]);
     }
     // The BRDF's terms for the frame's first light (black without lights or below the
     // horizon), in the shading frame the lighting pass uses.

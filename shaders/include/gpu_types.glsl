@@ -40,6 +40,13 @@ struct GpuLight {
     vec4 spot_cone;                 // spot: x = 1 / max(1e-3, cos(inner) − cos(outer)),
                                     //       y = −cos(outer) · x   (KHR_lights_punctual falloff)
                                     // point, spot: z = 1/range² (0: no range, no window)
+                                    // w: 1 + its first shadow cascade's index (0: no shadow)
+};
+
+// One shadow-map layer: a cascade of a directional light (std430, 80 bytes).
+struct GpuShadowCascade {
+    mat4 world_to_clip;             // world → map clip space: xy in [−1, 1], depth in [0, 1]
+    vec4 texel_world_depth_range;   // x: texel side (m); y: metres along the light per unit depth
 };
 
 // The range window (max(0, 1 − (d²/r²)²))² at squared distance d2; 1 without range

@@ -9,7 +9,7 @@ use clap::{ArgAction, ArgGroup, Args, Parser, Subcommand};
 
 use combustion::renderer::{
     Distribution, FresnelModel, HdrFormat, LightCulling, RendererSettings, ShadingOptions,
-    MAX_FRAMES_IN_FLIGHT,
+    ShadowFilter, ShadowSettings, MAX_CASCADES, MAX_FRAMES_IN_FLIGHT,
 };
 use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
 use combustion::spectra::BuiltinMetal;
@@ -203,6 +203,37 @@ pub(crate) struct ShadingArgs {
     /// reference is single-scattering)
     #[arg(long, value_name = "on|off", default_value = "off", action = ArgAction::Set, value_parser = on_off())]
     pub(crate) energy_compensation: bool,
+    /// Shadows of the directional lights (cascaded shadow maps)
+    #[arg(long, value_name = "on|off", default_value = "off", action = ArgAction::Set, value_parser = on_off())]
+    pub(crate) shadows: bool,
+    /// With --shadows on: cascades per directional light (1 to 4)
+    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.cascades, value_parser = cascades)]
+    pub(crate) shadow_cascades: u32,
+    /// With --shadows on: each cascade's map side in texels (64 to the device's limit)
+    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.map_size, value_parser = at_least_one)]
+    pub(crate) shadow_map_size: u32,
+    /// With --shadows on: how shadow lookups are filtered
+    #[arg(long, value_name = "FILTER", default_value = ShadowSettings::DEFAULT.filter.name(), value_parser = named(ShadowFilter::ALL.map(|f| (f.name(), f))))]
+    pub(crate) shadow_filter: ShadowFilter,
+}
+
+impl ShadingArgs {
+    /// The shadow settings asked for (`None`: --shadows off).
+    pub(crate) fn shadows(&self) -> Option<ShadowSettings> {
+        self.shadows.then_some(ShadowSettings {
+            cascades: self.shadow_cascades,
+            map_size: self.shadow_map_size,
+            filter: self.shadow_filter,
+        })
+    }
+}
+
+fn cascades(text: &str) -> Result<u32, String> {
+    let value = whole_number::<u32>(text)?;
+    if !(1..=MAX_CASCADES).contains(&value) {
+        return Err(format!("is {value}; use 1 to {MAX_CASCADES}"));
+    }
+    Ok(value)
 }
 
 /// The Vulkan device and validation.

@@ -97,6 +97,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     settings.shading.distribution = o.shading.distribution;
     settings.shading.diffuse_override = o.shading.diffuse;
     settings.shading.energy_compensation = o.shading.energy_compensation;
+    settings.shading.shadows = o.shading.shadows();
     let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
     let device_name = {
         let renderer = headless.renderer();

@@ -62,6 +62,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         settings.shading.diffuse_override = o.shading.diffuse;
     }
     settings.shading.energy_compensation = o.shading.energy_compensation;
+    settings.shading.shadows = o.shading.shadows();
     let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
     let frame = headless.render(&scene, o.frame.width, o.frame.height)?;
     let validation = headless.validation_log();

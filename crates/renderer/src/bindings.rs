@@ -18,6 +18,8 @@ pub enum BindingKind {
     Sampler2D,
     /// `samplerCube`: a cube map with its sampler.
     SamplerCube,
+    /// `sampler2DArrayShadow`: a depth image's layers with a comparison sampler.
+    Sampler2DArrayShadow,
     /// `image2D` with the given format qualifier (e.g. `rgba16f`), written by compute.
     StorageImage2D {
         /// The GLSL format qualifier.
@@ -51,7 +53,9 @@ impl BindingKind {
     pub fn descriptor_type(self) -> vk::DescriptorType {
         match self {
             Self::Texture2D | Self::UTexture2D => vk::DescriptorType::SAMPLED_IMAGE,
-            Self::Sampler2D | Self::SamplerCube => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            Self::Sampler2D | Self::SamplerCube | Self::Sampler2DArrayShadow => {
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER
+            }
             Self::StorageImage2D { .. } | Self::StorageImage2DArray { .. } => {
                 vk::DescriptorType::STORAGE_IMAGE
             }
@@ -138,6 +142,9 @@ impl SetDecl {
                 BindingKind::Sampler2D => format!("layout({layout}) uniform sampler2D {};", b.name),
                 BindingKind::SamplerCube => {
                     format!("layout({layout}) uniform samplerCube {};", b.name)
+                }
+                BindingKind::Sampler2DArrayShadow => {
+                    format!("layout({layout}) uniform sampler2DArrayShadow {};", b.name)
                 }
                 BindingKind::StorageImage2D { format } => {
                     format!(
@@ -486,7 +493,35 @@ pub static LIGHTING: SetDecl = SetDecl {
             FRAGMENT,
         )
         .only_with("ENVIRONMENT"),
+        // Shadows of directional lights (SHADOWS variant; see crate::shadows): the maps,
+        // a layer per cascade of each shadowed light, and each layer's placement.
+        Binding::new("shadow_maps", BindingKind::Sampler2DArrayShadow, FRAGMENT)
+            .only_with("SHADOWS"),
+        Binding::new(
+            "shadow_cascades",
+            BindingKind::StorageBuffer {
+                block: "ShadowCascades",
+                element: "GpuShadowCascade",
+            },
+            FRAGMENT,
+        )
+        .only_with("SHADOWS"),
     ],
+    includes: &["gpu_types.glsl"],
+};
+
+/// The shadow-caster pass (shadow.vert): the object table.
+pub static SHADOW_CASTERS: SetDecl = SetDecl {
+    name: "shadow_casters",
+    set: 0,
+    bindings: &[Binding::new(
+        "objects",
+        BindingKind::StorageBuffer {
+            block: "Objects",
+            element: "GpuObject",
+        },
+        VERTEX,
+    )],
     includes: &["gpu_types.glsl"],
 };
 
@@ -615,6 +650,7 @@ pub static ALL: &[&SetDecl] = &[
     &GBUFFER,
     &MATERIAL_TEXTURES,
     &LIGHTING,
+    &SHADOW_CASTERS,
     &OUTPUT,
     &OVERLAY,
     &LIGHT_CULL,
@@ -654,10 +690,10 @@ mod tests {
                 .map_or(0, |s| s.descriptor_count)
         };
         assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 10);
-        // The two environment cubes, twice.
-        assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 4);
+        // The two environment cubes and the shadow maps, twice.
+        assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 6);
         // Materials, lights, the conductor table, the tile light lists, the energy
-        // table and the three environment tables, twice.
-        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 16);
+        // table, the three environment tables and the shadow cascades, twice.
+        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 18);
     }
 }

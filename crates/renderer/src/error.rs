@@ -30,6 +30,9 @@ pub enum RenderError {
         /// The device's largest side (`maxImageDimension2D`).
         max: u32,
     },
+    /// [`crate::ShadowSettings`] outside their ranges (the message names the field).
+    #[error("shadow settings refused: {0}")]
+    InvalidShadowSettings(String),
     /// An exposure (in the settings or a frame's inputs) that is not finite and positive.
     #[error("exposure {0} must be a positive finite number")]
     InvalidExposure(f32),

@@ -45,6 +45,11 @@ pub(crate) struct FrameSlot {
     pub(crate) overlay_quads: Buffer,
     /// How many quads this slot's frame draws.
     pub(crate) overlay_quad_count: u32,
+    /// The placement of each shadow-map layer of the slot's frame (host-visible; grows).
+    pub(crate) shadow_cascades: Buffer,
+    /// The world-to-map matrix of each layer the slot's frame renders (empty: no
+    /// shadows this frame).
+    pub(crate) shadow_layers: Vec<glam::Mat4>,
     pub(crate) timestamps: Option<TimestampQueries>,
     /// The passes whose end this slot's last frame stamped, in order (empty: no frame
     /// stamped since its timings were read, or no timestamps).
@@ -90,6 +95,13 @@ impl FrameSlot {
                 CPU_TO_GPU,
             )?,
             overlay_quad_count: 0,
+            shadow_cascades: storage_buffer(
+                device,
+                SHADOW_CASCADES,
+                std::mem::size_of::<crate::gpu_types::GpuShadowCascade>() as u64,
+                CPU_TO_GPU,
+            )?,
+            shadow_layers: Vec::new(),
             timestamps,
             stamped: Vec::new(),
             retired: Vec::new(),
@@ -114,6 +126,7 @@ impl FrameSlot {
 const LIGHTS: &str = "frame lights";
 const TILE_LISTS: &str = "tile light lists";
 const OVERLAY_QUADS: &str = "frame overlay quads";
+const SHADOW_CASCADES: &str = "frame shadow cascades";
 
 /// The environment lighting a frame: the frame's own, else the scene's (if any).
 fn frame_environment<'a>(
@@ -214,7 +227,8 @@ impl Renderer {
             emissive_occlusion: variant.has_emissive_occlusion_target(),
         };
         self.ensure_targets(key)?;
-        self.write_frame_lights(frame_slot, inputs)?;
+        let shadowed = self.prepare_shadows(frame_slot, scene, inputs, extent, variant)?;
+        self.write_frame_lights(frame_slot, inputs, &shadowed)?;
         self.prepare_culling(frame_slot, inputs, extent)?;
         self.write_frame_overlay(frame_slot, inputs, extent)?;
         self.record_passes(cmd, frame_slot, key, scene, variant, inputs, target);
@@ -356,12 +370,83 @@ impl Renderer {
         }
     }
 
+    /// Places the shadow cascades of the frame's shadowed lights (frames whose variant
+    /// has shadows), writes their table into the slot, and makes sure the shadow maps
+    /// have a layer for each. Returns, per shadowed light, its index among the frame's
+    /// lights and its first layer.
+    fn prepare_shadows(
+        &mut self,
+        slot: usize,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        extent: vk::Extent2D,
+        variant: crate::variant::ShaderVariant,
+    ) -> Result<Vec<(usize, u32)>, RenderError> {
+        self.slots[slot].shadow_layers.clear();
+        let Some(settings) = self
+            .settings
+            .shading
+            .shadows
+            .filter(|_| variant.shadows.is_some())
+        else {
+            return Ok(Vec::new());
+        };
+        let lights = crate::shadows::frame_cascades(
+            inputs.lights,
+            &inputs.camera,
+            extent.width as f32 / extent.height as f32,
+            scene.world_bounds,
+            &settings,
+        );
+        let mut table = Vec::new();
+        let mut shadowed = Vec::new();
+        for (index, cascades) in &lights {
+            shadowed.push((*index, table.len() as u32));
+            table.extend(cascades.iter().map(|c| c.gpu()));
+        }
+        // The lighting pipeline samples the maps whether or not a light is shadowed
+        // this frame: they exist (one layer at least) in every frame with shadows.
+        let layers = (table.len() as u32).max(1);
+        if !self
+            .shadow_maps
+            .as_ref()
+            .is_some_and(|maps| maps.fits(settings.map_size, layers))
+        {
+            let maps = crate::shadows::ShadowMaps::new(&self.device, settings.map_size, layers)?;
+            if let Some(old) = self.shadow_maps.replace(maps) {
+                self.states.forget(old.image.raw());
+                self.retire(old);
+            }
+        }
+        if table.is_empty() {
+            table.push(bytemuck::Zeroable::zeroed());
+        }
+        let s = &mut self.slots[slot];
+        write_growing(
+            &self.device,
+            &mut s.shadow_cascades,
+            SHADOW_CASCADES,
+            bytemuck::cast_slice(&table),
+        )?;
+        s.shadow_layers = lights
+            .iter()
+            .flat_map(|(_, cascades)| cascades.iter().map(|c| c.world_to_clip))
+            .collect();
+        Ok(shadowed)
+    }
+
+    /// Writes the frame's lights into the slot; `shadowed` lights (index, first shadow
+    /// layer) carry their layer.
     fn write_frame_lights(
         &mut self,
         slot: usize,
         inputs: &FrameInputs<'_>,
+        shadowed: &[(usize, u32)],
     ) -> Result<(), RenderError> {
-        let lights: Vec<GpuLight> = inputs.lights.iter().map(GpuLight::new).collect();
+        let mut lights: Vec<GpuLight> = inputs.lights.iter().map(GpuLight::new).collect();
+        for &(index, first_layer) in shadowed {
+            lights[index].spot_cone[3] = (first_layer + 1) as f32;
+        }
         let s = &mut self.slots[slot];
         write_growing(
             &self.device,
@@ -494,6 +579,10 @@ impl Renderer {
                 raw: depth.image,
                 range: depth_range(),
             }),
+            shadow_maps: self
+                .shadow_maps
+                .as_ref()
+                .filter(|_| variant.shadows.is_some()),
         };
         let device = &*self.device;
         let raw = device.raw();

@@ -296,31 +296,37 @@ impl GBufferPass {
             // Stream 1 (coordinate set 1) is read only by the TEXTURE_TRANSFORMS
             // pipelines.
             let mut bound_material = None;
-            crate::mesh_draw::draw_objects(raw, cmd, scene, |object| {
-                if bound_material != Some(object.material) {
-                    raw.cmd_bind_descriptor_sets(
+            crate::mesh_draw::draw_objects(
+                raw,
+                cmd,
+                scene,
+                crate::mesh_draw::Faces::OfMaterial,
+                |object| {
+                    if bound_material != Some(object.material) {
+                        raw.cmd_bind_descriptor_sets(
+                            cmd,
+                            vk::PipelineBindPoint::GRAPHICS,
+                            self.layout.raw(),
+                            1,
+                            &[scene.gpu.textures.material_sets[object.material]],
+                            &[],
+                        );
+                        bound_material = Some(object.material);
+                    }
+                    let push = GBufferPush {
+                        view_projection: view_projection.to_cols_array(),
+                        object_index: object.object_index,
+                        _pad: [0; 3],
+                    };
+                    raw.cmd_push_constants(
                         cmd,
-                        vk::PipelineBindPoint::GRAPHICS,
                         self.layout.raw(),
-                        1,
-                        &[scene.gpu.textures.material_sets[object.material]],
-                        &[],
+                        vk::ShaderStageFlags::VERTEX,
+                        0,
+                        bytemuck::bytes_of(&push),
                     );
-                    bound_material = Some(object.material);
-                }
-                let push = GBufferPush {
-                    view_projection: view_projection.to_cols_array(),
-                    object_index: object.object_index,
-                    _pad: [0; 3],
-                };
-                raw.cmd_push_constants(
-                    cmd,
-                    self.layout.raw(),
-                    vk::ShaderStageFlags::VERTEX,
-                    0,
-                    bytemuck::bytes_of(&push),
-                );
-            });
+                },
+            );
             raw.cmd_end_rendering(cmd);
         }
     }

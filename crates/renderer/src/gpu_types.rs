@@ -199,7 +199,9 @@ pub struct GpuLight {
     /// Spot lights: the unit direction of the cone's axis (w = 0); zero for other kinds.
     pub spot_axis: [f32; 4],
     /// x, y: the spot cone's scale 1/(cos θ_inner − cos θ_outer) and offset
-    /// −cos θ_outer · scale (zero for other kinds); z: 1/range² (0: no range); w: 0.
+    /// −cos θ_outer · scale (zero for other kinds); z: 1/range² (0: no range); w: for a
+    /// light casting shadows this frame, 1 + the index of its first shadow cascade
+    /// (`GpuShadowCascade`), else 0.
     pub spot_cone: [f32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuLight>() == 64);
@@ -310,6 +312,20 @@ pub fn conductor_from_base_color_table() -> &'static [[f32; 2]; 256] {
         table
     })
 }
+
+/// `GpuShadowCascade` (std430, 80 bytes): one shadow-map layer's placement
+/// ([`crate::shadows::Cascade`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuShadowCascade {
+    /// World space to the map's clip space (column-major): x, y in [−1, 1] across the
+    /// map, depth in [0, 1] along the light.
+    pub world_to_clip: [f32; 16],
+    /// x: one texel's side in metres; y: metres along the light per unit of map depth;
+    /// z, w: 0.
+    pub texel_world_depth_range: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuShadowCascade>() == 80);
 
 /// Push constants of the G-buffer pass (`GBufferPush` in gbuffer.vert).
 #[repr(C)]

@@ -53,6 +53,7 @@ mod scene_edit;
 mod scene_upload;
 mod settings;
 mod shader_sources;
+mod shadows;
 #[cfg(test)]
 mod spirv;
 mod targets;
@@ -83,6 +84,11 @@ use pipelines::{OutputPasses, SetLayouts, VariantPasses};
 pub use results::{Frame, PassTime, PassTimings, RendererStats};
 pub use scene_edit::{EditError, MaterialId, MeshId, ObjectId, SceneEditor};
 pub use scene_upload::{GpuScene, SceneEditReport};
+pub use shadows::{
+    cascade_splits, directional_cascades, shadow_distance, Cascade, ShadowFilter, ShadowSettings,
+    ShadowShader, CASCADE_BLEND_BAND, MAX_CASCADES, MAX_SHADOWED_LIGHTS, MIN_SHADOW_MAP_SIZE,
+    PCF_RADIUS_TEXELS, SHADOW_MAP_FORMAT, SPLIT_LOGARITHMIC_WEIGHT,
+};
 pub use variant::{LightingFeatures, ShaderVariant};
 
 /// The deferred renderer. One per device; renders [`GpuScene`]s at any size, into its
@@ -138,6 +144,12 @@ pub struct Renderer {
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     light_culling: LightCulling,
     light_cull: light_cull::LightCullPass,
+    /// The shadow maps, made by the first frame with shadows and grown as frames need.
+    shadow_maps: Option<shadows::ShadowMaps>,
+    /// The shadow maps' pipeline, built with the first variant that has shadows.
+    shadow_casters: Option<shadows::ShadowCasterPass>,
+    /// The shadow maps' comparison sampler.
+    shadow_sampler: combustion_vk::Sampler,
     /// Frames recorded so far.
     frame_number: u64,
     /// The slot of the frame recorded last: what is replaced now is retired to it, and
@@ -165,7 +177,7 @@ impl Renderer {
         settings: RendererSettings,
         cache_data: &[u8],
     ) -> Result<Self, RenderError> {
-        settings.validate()?;
+        settings.validate(&device)?;
         let compiler = ShaderCompiler::new(shader_sources::sources())?;
         let layouts = SetLayouts::new(&device)?;
         let overlay_font = overlay::OverlayFont::new()?;
@@ -211,6 +223,9 @@ impl Renderer {
             energy_table,
             light_culling: LightCulling::Auto,
             light_cull,
+            shadow_maps: None,
+            shadow_casters: None,
+            shadow_sampler: shadows::shadow_sampler(&device)?,
             frame_number: 0,
             last_slot: None,
             last_timings: None,

@@ -9,6 +9,16 @@ use combustion_vk::vk;
 
 use crate::scene_upload::GpuScene;
 
+/// Which faces of each object a pass rasterises.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Faces {
+    /// As its material says: front faces only, both for a double-sided material (what
+    /// the camera sees).
+    OfMaterial,
+    /// Both faces of every object (shadow casters: a face blocks light either way).
+    Both,
+}
+
 /// What a pass learns of each object before it is drawn.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ObjectDraw {
@@ -20,12 +30,14 @@ pub(crate) struct ObjectDraw {
 
 /// Records one indexed draw per object of `scene` into `cmd` (recording, inside a
 /// rendering instance whose pipeline reads vertex stream 0 — and stream 1, the second
-/// coordinate set, if it declares one). `per_object` runs before each draw, to bind
-/// what the pass binds per object and push its constants.
+/// coordinate set, if it declares one), culling the faces `faces` says. `per_object`
+/// runs before each draw, to bind what the pass binds per object and push its
+/// constants.
 pub(crate) fn draw_objects(
     raw: &ash::Device,
     cmd: vk::CommandBuffer,
     scene: &GpuScene,
+    faces: Faces,
     mut per_object: impl FnMut(ObjectDraw),
 ) {
     let mut bound_mesh = None;
@@ -52,7 +64,7 @@ pub(crate) fn draw_objects(
             }
             raw.cmd_set_cull_mode(
                 cmd,
-                if double_sided {
+                if double_sided || faces == Faces::Both {
                     vk::CullModeFlags::NONE
                 } else {
                     vk::CullModeFlags::BACK

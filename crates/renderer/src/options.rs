@@ -5,6 +5,8 @@
 //! the renderer switches options with [`Renderer::set_shading`] (`settings.rs`).
 
 use combustion_scene::DiffuseModel;
+
+use crate::shadows::ShadowSettings;
 use combustion_vk::vk;
 
 #[cfg(doc)]
@@ -52,6 +54,12 @@ pub struct ShadingOptions {
     /// A [`MeasurementFloor`] rendered instead of the real pass, to time a frame against
     /// what it would cost without shading (`None`, the real passes, by default).
     pub measurement_floor: Option<MeasurementFloor>,
+    /// Shadows of the frames' directional lights (the first
+    /// [`MAX_SHADOWED_LIGHTS`](crate::MAX_SHADOWED_LIGHTS) of each frame): cascaded shadow
+    /// maps rendered each frame and sampled by the lighting pass; `None` (the default for
+    /// now): no light is blocked, no shadow pass runs and the lighting pipeline has no
+    /// shadow code.
+    pub shadows: Option<ShadowSettings>,
 }
 
 impl ShadingOptions {
@@ -66,6 +74,7 @@ impl ShadingOptions {
         debug_view: DebugView::None,
         energy_compensation: false,
         measurement_floor: None,
+        shadows: None,
     };
 }
 
@@ -212,11 +221,17 @@ pub enum DebugView {
     /// The share of the frame's lights the pixel's tile loops over (1 where frames do
     /// not cull): light culling made visible.
     LightsPerTile = 13,
+    /// The lit fraction of the first light as its shadow map gives it (1: lit, 0:
+    /// shadowed; 1 everywhere without shadows), as a grey code.
+    ShadowFactor = 14,
+    /// The shadow cascade the first light's lookup uses, a colour each (grey: beyond
+    /// the shadow distance, or no shadows).
+    ShadowCascade = 15,
 }
 
 impl DebugView {
     /// Every view, in key order.
-    pub const ALL: [DebugView; 14] = [
+    pub const ALL: [DebugView; 16] = [
         DebugView::None,
         DebugView::BaseColor,
         DebugView::Normal,
@@ -231,6 +246,8 @@ impl DebugView {
         DebugView::Fresnel,
         DebugView::Diffuse,
         DebugView::LightsPerTile,
+        DebugView::ShadowFactor,
+        DebugView::ShadowCascade,
     ];
 
     /// The next view (after the last: none).
@@ -256,6 +273,8 @@ impl DebugView {
             Self::Fresnel => "Fresnel F",
             Self::Diffuse => "diffuse",
             Self::LightsPerTile => "lights per tile",
+            Self::ShadowFactor => "shadow factor",
+            Self::ShadowCascade => "shadow cascade",
         }
     }
 }

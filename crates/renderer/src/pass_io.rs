@@ -73,6 +73,21 @@ impl PassIo {
         self.touches(image.into(), use_)
     }
 
+    /// As [`PassIo::sampled`], through `view`, a view of `image` other than its own (a
+    /// 2D-array view of an image of one layer, say).
+    pub fn sampled_view(
+        mut self,
+        binding: &str,
+        image: &Image,
+        view: vk::ImageView,
+        sampler: vk::Sampler,
+        use_: ImageUse,
+    ) -> Self {
+        self.writer()
+            .add_image(binding, view, use_.state().layout, sampler);
+        self.touches(image.into(), use_)
+    }
+
     /// Part of `image` (one mip level, say) that the pass's shaders reach through
     /// `binding` by `view`, a view of it (no sampler: a storage image or texelFetch), in
     /// the layout of `use_`. The barriers bring the whole image into that layout.

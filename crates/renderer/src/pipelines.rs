@@ -63,6 +63,15 @@ impl Renderer {
         if self.variants.contains_key(&variant) {
             return Ok(());
         }
+        if variant.shadows.is_some() && self.shadow_casters.is_none() {
+            self.shadow_casters = Some(crate::shadows::ShadowCasterPass::new(
+                &self.device,
+                &self.compiler,
+                &self.pipeline_cache,
+                self.layouts.of(&bindings::SHADOW_CASTERS),
+            )?);
+            self.stats.pipelines_built += 1;
+        }
         let gbuffer_key = variant.gbuffer_part();
         let gbuffer = match self.gbuffer_passes.get(&gbuffer_key) {
             Some(pass) => pass.clone(),

@@ -46,6 +46,8 @@ pub struct PassTime {
 impl PassTimings {
     /// The G-buffer pass.
     pub const GBUFFER: &'static str = "gbuffer";
+    /// The shadow maps of the frame's shadowed lights (frames with shadows).
+    pub const SHADOW_MAPS: &'static str = "shadow maps";
     /// The lighting pass, with the light culling that precedes it.
     pub const LIGHTING: &'static str = "lighting";
     /// The output pass (tone curve, encoding) and its overlay.

@@ -41,6 +41,9 @@ pub struct GpuScene {
     /// Its material table as the environment bake reads it (what a
     /// [`crate::FrameEnvironment`] must have been baked for).
     pub(crate) bake_materials: Vec<u8>,
+    /// The world-space bounds of its objects ([`Scene::world_bounds`]), kept so that a
+    /// frame's shadow cascades need not walk the vertices.
+    pub(crate) world_bounds: Option<(glam::Vec3, glam::Vec3)>,
     /// The scene as uploaded (or last edited).
     scene: Scene,
     /// The handles of its objects, materials and meshes.
@@ -147,8 +150,9 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
         distribution: crate::options::Distribution::Ggx,
         environment: scene.environment.is_some(),
         occlusion: scene.environment.is_some() && has_occlusion_textures(scene),
-        // A renderer setting.
+        // Renderer settings.
         energy_compensation: false,
+        shadows: None,
     }
 }
 
@@ -255,6 +259,7 @@ struct Tables {
     variant: crate::variant::ShaderVariant,
     lit_variant: crate::variant::ShaderVariant,
     bake_materials: Vec<u8>,
+    world_bounds: Option<(glam::Vec3, glam::Vec3)>,
 }
 
 impl Tables {
@@ -301,6 +306,7 @@ impl Tables {
             variant: scene_variant(scene),
             lit_variant: lit_scene_variant(scene),
             bake_materials: bytemuck::cast_slice(&material_table(scene, &[])).to_vec(),
+            world_bounds: scene.world_bounds(),
         })
     }
 }
@@ -334,6 +340,7 @@ impl GpuScene {
             lit_variant: tables.lit_variant,
             frame_environments: false.into(),
             bake_materials: tables.bake_materials,
+            world_bounds: tables.world_bounds,
             scene: scene.clone(),
             ids: SceneIds::new(scene),
             retire,
@@ -417,6 +424,7 @@ impl GpuScene {
         self.variant = tables.variant;
         self.lit_variant = tables.lit_variant;
         self.bake_materials = tables.bake_materials;
+        self.world_bounds = tables.world_bounds;
         self.scene = next;
         self.ids = ids;
         Ok((report, retired))

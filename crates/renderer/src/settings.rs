@@ -17,7 +17,11 @@ use crate::variant::LightingFeatures;
 use crate::{buffers, environment, overlay, Renderer};
 
 impl RendererSettings {
-    pub(crate) fn validate(&self) -> Result<(), RenderError> {
+    /// Checks every field; the shadow maps' size against `device`'s limit.
+    pub(crate) fn validate(&self, device: &Device) -> Result<(), RenderError> {
+        if let Some(shadows) = &self.shading.shadows {
+            shadows.validate(device.limits().max_image_dimension2_d)?;
+        }
         if !(self.exposure.is_finite() && self.exposure > 0.0) {
             return Err(RenderError::InvalidExposure(self.exposure));
         }
@@ -47,6 +51,9 @@ impl Renderer {
         options: ShadingOptions,
         scenes: &[&GpuScene],
     ) -> Result<(), RenderError> {
+        if let Some(shadows) = &options.shadows {
+            shadows.validate(self.device.limits().max_image_dimension2_d)?;
+        }
         for scene in scenes {
             if !scene.belongs_to(&self.retire_queue) {
                 return Err(RenderError::SceneOfAnotherRenderer);

@@ -11,6 +11,7 @@ use crate::gpu_types::{
 };
 use crate::light_cull::TILE_SIZE;
 use crate::options::DebugView;
+use crate::shadows::{CASCADE_BLEND_BAND, PCF_RADIUS_TEXELS};
 
 include!(concat!(env!("OUT_DIR"), "/shader_files.rs"));
 
@@ -99,6 +100,16 @@ fn shared_constants() -> Vec<SharedConstant> {
             GlslValue::Float(LIGHT_KIND_SPOT),
             "gpu_types::LIGHT_KIND_SPOT",
         ),
+        constant(
+            "SHADOW_PCF_RADIUS_TEXELS",
+            GlslValue::Float(PCF_RADIUS_TEXELS),
+            "shadows::PCF_RADIUS_TEXELS",
+        ),
+        constant(
+            "SHADOW_CASCADE_BLEND_BAND",
+            GlslValue::Float(CASCADE_BLEND_BAND),
+            "shadows::CASCADE_BLEND_BAND",
+        ),
     ];
     for view in DebugView::ALL {
         if view != DebugView::None {
@@ -173,6 +184,8 @@ mod tests {
             format!("LIGHT_KIND_DIRECTIONAL {LIGHT_KIND_DIRECTIONAL:.1}"),
             format!("LIGHT_KIND_POINT {LIGHT_KIND_POINT:.1}"),
             format!("LIGHT_KIND_SPOT {LIGHT_KIND_SPOT:.1}"),
+            format!("SHADOW_PCF_RADIUS_TEXELS {PCF_RADIUS_TEXELS:?}"),
+            format!("SHADOW_CASCADE_BLEND_BAND {CASCADE_BLEND_BAND:?}"),
         ];
         for (name, view) in [
             ("BASE_COLOR", DebugView::BaseColor),
@@ -188,6 +201,8 @@ mod tests {
             ("FRESNEL", DebugView::Fresnel),
             ("DIFFUSE", DebugView::Diffuse),
             ("LIGHTS_PER_TILE", DebugView::LightsPerTile),
+            ("SHADOW_FACTOR", DebugView::ShadowFactor),
+            ("SHADOW_CASCADE", DebugView::ShadowCascade),
         ] {
             expected.push(format!("DEBUG_VIEW_{name} {}u", view as u32));
         }

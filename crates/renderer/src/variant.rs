@@ -136,6 +136,9 @@ pub struct ShaderVariant {
     /// Multiple-scattering energy compensation of the specular lobes
     /// ([`ShadingOptions::energy_compensation`]; a shading option).
     pub energy_compensation: bool,
+    /// Shadows of directional lights ([`ShadingOptions::shadows`]; a shading option):
+    /// the lighting pass samples the shadow maps with this many cascades and this filter.
+    pub shadows: Option<crate::shadows::ShadowShader>,
 }
 
 impl ShaderVariant {
@@ -182,6 +185,9 @@ impl ShaderVariant {
         }
         if self.environment {
             defines.push(("ENVIRONMENT", None));
+        }
+        if let Some(shadows) = self.shadows {
+            shadows.defines(&mut defines);
         }
         match self.floor {
             None => {}
@@ -241,6 +247,10 @@ impl ShadingOptions {
                 self.distribution
             },
             energy_compensation: self.energy_compensation && !debug_views,
+            shadows: self
+                .shadows
+                .filter(|_| self.measurement_floor.is_none() || debug_views)
+                .map(|s| s.shader()),
             ..scene_variant
         }
     }

@@ -16,6 +16,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "grid-7x7",
     "spheres-studio",
     "gold-copper-underwater",
+    "grid-sun",
 ];
 
 /// Builds the built-in scene `name` (one of [`BUILTIN_SCENES`]), procedurally, needing no
@@ -32,7 +33,9 @@ pub const BUILTIN_SCENES: &[&str] = &[
 ///   and in air;
 /// - `grid-7x7`: the performance grid, 49 finely tessellated spheres;
 /// - `spheres-studio`, `gold-copper-underwater`: lit by [`crate::Environment::Studio`]
-///   alone.
+///   alone;
+/// - `grid-sun`: the performance grid's 49 spheres standing on a floor under a low sun
+///   (20° above the horizon), for shadows.
 ///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
@@ -45,6 +48,7 @@ pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
         "underwater" => Ok(underwater(WATER_IOR, "underwater")),
         "underwater-in-air" => Ok(underwater(1.0, "underwater-in-air")),
         "grid-7x7" => Ok(grid_7x7()),
+        "grid-sun" => Ok(grid_sun()),
         "spheres-studio" => Ok(under_studio(spheres(), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
             Scene {
@@ -87,7 +91,9 @@ fn metal(metal: combustion_spectra::BuiltinMetal) -> ComplexIor {
 /// The performance grid: 7×7 spheres of 64×32 segments (194,432 triangles), seven
 /// materials down the rows (plastic, gold, silver, copper, anisotropic aluminium, glass,
 /// rough clay with Oren–Nayar), roughness 0.05–1 along the columns, four point lights.
-fn grid_7x7() -> Scene {
+/// The performance grid's materials: a material per row (top to bottom), roughness
+/// rising along each row's 7 columns from 0.05 to 1.
+fn grid_materials() -> Vec<Material> {
     use combustion_spectra::BuiltinMetal;
     let conductor = |name: &str, which: BuiltinMetal| Material {
         name: name.into(),
@@ -121,27 +127,36 @@ fn grid_7x7() -> Scene {
             ..Material::default()
         },
     ];
-    let mut materials = Vec::new();
-    let mut objects = Vec::new();
-    for (row, base) in rows.iter().enumerate() {
-        for column in 0..7 {
-            let roughness = 0.05 + 0.95 * column as f32 / 6.0;
-            materials.push(Material {
-                name: format!("{} r={roughness:.2}", base.name),
-                roughness,
-                ..base.clone()
-            });
-            objects.push(Object {
+    rows.iter()
+        .flat_map(|base| {
+            (0..7).map(|column| {
+                let roughness = 0.05 + 0.95 * column as f32 / 6.0;
+                Material {
+                    name: format!("{} r={roughness:.2}", base.name),
+                    roughness,
+                    ..base.clone()
+                }
+            })
+        })
+        .collect()
+}
+
+fn grid_7x7() -> Scene {
+    let materials = grid_materials();
+    let objects = (0..materials.len())
+        .map(|i| {
+            let (row, column) = (i / 7, i % 7);
+            Object {
                 mesh: 0,
-                material: materials.len() - 1,
+                material: i,
                 transform: Mat4::from_translation(Vec3::new(
                     column as f32 - 3.0,
                     3.0 - row as f32,
                     0.0,
                 )),
-            });
-        }
-    }
+            }
+        })
+        .collect();
     let light = |x: f32, y: f32, i: f32| Light::Point {
         position: Vec3::new(x, y, 5.0),
         intensity: [i; 3],
@@ -161,6 +176,68 @@ fn grid_7x7() -> Scene {
         camera: Camera {
             position: Vec3::new(0.0, 0.0, 12.5),
             target: Vec3::ZERO,
+            up: Vec3::Y,
+            vertical_fov: 40f32.to_radians(),
+            near: 0.1,
+            far: 100.0,
+        },
+        outside_ior: 1.0,
+        environment: None,
+    }
+}
+
+/// The performance grid's spheres standing on a grey Lambertian floor in rows 1 m apart,
+/// under a sun 20° above the horizon giving 3 W/m², seen from above and in front.
+fn grid_sun() -> Scene {
+    let mut materials = grid_materials();
+    let spheres = materials.len();
+    let radius = 0.42;
+    let mut objects: Vec<Object> = (0..spheres)
+        .map(|i| {
+            let (row, column) = (i / 7, i % 7);
+            Object {
+                mesh: 0,
+                material: i,
+                transform: Mat4::from_translation(Vec3::new(
+                    column as f32 - 3.0,
+                    radius,
+                    row as f32 - 3.0,
+                )),
+            }
+        })
+        .collect();
+    materials.push(Material {
+        name: "floor".into(),
+        base_color: [0.5, 0.5, 0.5],
+        roughness: 0.8,
+        ..Material::default()
+    });
+    objects.push(Object {
+        mesh: 1,
+        material: spheres,
+        transform: Mat4::IDENTITY,
+    });
+    let (elevation, azimuth) = (20f32.to_radians(), 35f32.to_radians());
+    Scene {
+        name: "grid-sun".into(),
+        meshes: vec![
+            Mesh::uv_sphere("sphere", radius, 64, 32),
+            Mesh::plane("floor", 20.0),
+        ],
+        materials,
+        objects,
+        lights: vec![Light::Directional {
+            // The way the light travels: down, and away from the sun's azimuth.
+            direction: Vec3::new(
+                -elevation.cos() * azimuth.cos(),
+                -elevation.sin(),
+                -elevation.cos() * azimuth.sin(),
+            ),
+            irradiance: [3.0; 3],
+        }],
+        camera: Camera {
+            position: Vec3::new(0.0, 7.0, 9.0),
+            target: Vec3::new(0.0, 0.0, 0.5),
             up: Vec3::Y,
             vertical_fov: 40f32.to_radians(),
             near: 0.1,

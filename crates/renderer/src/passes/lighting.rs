@@ -96,7 +96,23 @@ impl FramePass for Lighting {
         for (binding, table) in tables {
             io = io.buffer_if(frame.environment.is_some(), binding, table, read);
         }
-        io
+        io = match frame.shadow_maps {
+            Some(maps) => io.sampled_view(
+                "shadow_maps",
+                &maps.image,
+                maps.array_view.raw(),
+                r.shadow_sampler.raw(),
+                ImageUse::DepthFragmentSampled,
+            ),
+            // Not declared by pipelines without shadows: any image will do.
+            None => io.bind_image(
+                "shadow_maps",
+                r.absent_target.view(),
+                texel.state().layout,
+                r.shadow_sampler.raw(),
+            ),
+        };
+        io.bind_buffer("shadow_cascades", &s.shadow_cascades)
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {

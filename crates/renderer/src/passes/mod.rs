@@ -16,6 +16,7 @@ mod gbuffer;
 mod light_cull;
 mod lighting;
 mod output;
+mod shadow_maps;
 
 use combustion_vk::vk;
 
@@ -58,6 +59,8 @@ pub(crate) struct FrameContext<'a> {
     pub color: TrackedImage,
     /// The host's depth image as the barriers track it, if the frame has one.
     pub host_depth: Option<TrackedImage>,
+    /// The shadow maps, in frames whose variant has shadows.
+    pub shadow_maps: Option<&'a crate::shadows::ShadowMaps>,
 }
 
 impl FrameContext<'_> {
@@ -109,6 +112,7 @@ pub(crate) trait FramePass: Sync {
 
 /// The frame, top to bottom.
 pub(crate) const FRAME: &[&dyn FramePass] = &[
+    &shadow_maps::ShadowMaps,
     &gbuffer::GBuffer,
     &light_cull::LightCull,
     &lighting::Lighting,

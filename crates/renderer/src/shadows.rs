@@ -1,0 +1,680 @@
+//! Shadows of directional lights: cascaded shadow maps, their settings, the cascades'
+//! placement (on the CPU, per frame), the maps' image and the depth-only pipeline that
+//! renders the scene's objects into them (through [`crate::mesh_draw`]). The lighting
+//! pass samples them (shaders/include/shadows.glsl); docs/shadows.md states the rules.
+//!
+//! Placement (one place for each rule):
+//! - **Range**: the cascades cover the camera's view from its near plane to the *shadow
+//!   distance*: the camera's far plane, or less where the scene ends sooner (the
+//!   farthest corner of the scene's bounds along the view direction), rounded up to a
+//!   power of 2^(1/4) so that it changes in steps, not with every camera move.
+//! - **Splits**: the practical split scheme (Zhang et al. 2006), the mean of the
+//!   logarithmic and the uniform split weighted [`SPLIT_LOGARITHMIC_WEIGHT`].
+//! - **Stability**: each cascade is the bounding sphere of its slice of the view frustum
+//!   (its radius depends only on the slice and the field of view, not on the camera's
+//!   orientation), seen by an orthographic projection 2R wide whose centre is snapped to
+//!   whole texels in light space: a moving or turning camera moves the map by whole
+//!   texels, so shadow edges do not shimmer.
+//! - **Depth**: along the light, every map spans the scene's whole bounds (the casters
+//!   out of view included), whatever the camera's range: casters far larger than the
+//!   view change the depth range (32-bit float), never the maps' texel size.
+
+use std::sync::Arc;
+
+use combustion_scene::{Camera, Light};
+use combustion_vk::{
+    vk, DescriptorSetLayout, Device, GraphicsPipelineDesc, Image, ImageDesc, ImageView, Pipeline,
+    PipelineCache, PipelineLayout, Sampler, ShaderCompiler, ShaderModule, ShaderStage,
+};
+use glam::{Mat4, Vec3};
+
+use crate::error::RenderError;
+use crate::gpu_types::{GBufferPush, GpuShadowCascade};
+use crate::scene_upload::GpuScene;
+
+/// Directional lights that cast shadows in one frame, at most: the first ones of the
+/// frame's lights; later ones light without shadows.
+pub const MAX_SHADOWED_LIGHTS: usize = 4;
+/// Cascades per directional light, at most.
+pub const MAX_CASCADES: u32 = 4;
+/// The shadow maps' format: 32-bit float depth.
+pub const SHADOW_MAP_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// Smallest shadow map side accepted.
+pub const MIN_SHADOW_MAP_SIZE: u32 = 64;
+/// The weight of the logarithmic split in the practical split scheme (1 − it: the
+/// uniform split's).
+pub const SPLIT_LOGARITHMIC_WEIGHT: f32 = 0.75;
+/// Radius of the PCF kernel, in shadow-map texels (the Vogel disk's; [`ShadowFilter`]).
+pub const PCF_RADIUS_TEXELS: f32 = 1.5;
+/// The share of a cascade's map, at its border, over which it fades into the next one.
+pub const CASCADE_BLEND_BAND: f32 = 0.1;
+
+/// How shadow-map lookups are filtered.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ShadowFilter {
+    /// One depth comparison, bilinearly weighted over the 2×2 texels around the lookup
+    /// (the sampler's own percentage-closer filtering): hard edges.
+    Hard,
+    /// Percentage-closer filtering over `taps` comparisons on a Vogel disk of
+    /// [`PCF_RADIUS_TEXELS`], rotated per pixel (interleaved gradient noise), each one
+    /// itself bilinearly weighted.
+    #[default]
+    Pcf16,
+    /// As [`ShadowFilter::Pcf16`] with 8 taps.
+    Pcf8,
+    /// As [`ShadowFilter::Pcf16`] with 32 taps.
+    Pcf32,
+}
+
+impl ShadowFilter {
+    /// Every filter, in the order the viewer cycles them.
+    pub const ALL: [ShadowFilter; 4] = [
+        ShadowFilter::Hard,
+        ShadowFilter::Pcf8,
+        ShadowFilter::Pcf16,
+        ShadowFilter::Pcf32,
+    ];
+
+    /// Depth comparisons per lookup (each bilinearly weighted).
+    pub fn taps(self) -> u32 {
+        match self {
+            Self::Hard => 1,
+            Self::Pcf8 => 8,
+            Self::Pcf16 => 16,
+            Self::Pcf32 => 32,
+        }
+    }
+
+    /// The same count as the shader's `#define` value.
+    fn taps_define(self) -> &'static str {
+        match self {
+            Self::Hard => "1",
+            Self::Pcf8 => "8",
+            Self::Pcf16 => "16",
+            Self::Pcf32 => "32",
+        }
+    }
+
+    /// A short name for titles and tables (`hard`, `pcf16`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Hard => "hard",
+            Self::Pcf8 => "pcf8",
+            Self::Pcf16 => "pcf16",
+            Self::Pcf32 => "pcf32",
+        }
+    }
+}
+
+/// Shadows of directional lights ([`crate::ShadingOptions::shadows`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ShadowSettings {
+    /// Cascades per light, 1 to [`MAX_CASCADES`].
+    pub cascades: u32,
+    /// Each cascade's map side in texels, [`MIN_SHADOW_MAP_SIZE`] to the device's largest
+    /// 2D image side.
+    pub map_size: u32,
+    /// How lookups are filtered.
+    pub filter: ShadowFilter,
+}
+
+impl ShadowSettings {
+    /// Four cascades of 2048² with 16-tap PCF.
+    pub const DEFAULT: ShadowSettings = ShadowSettings {
+        cascades: 4,
+        map_size: 2048,
+        filter: ShadowFilter::Pcf16,
+    };
+
+    /// Checks the ranges the fields state, against a device whose 2D images are at most
+    /// `max_image_side` texels a side.
+    ///
+    /// # Errors
+    /// [`RenderError::InvalidShadowSettings`] naming the field.
+    pub fn validate(&self, max_image_side: u32) -> Result<(), RenderError> {
+        if !(1..=MAX_CASCADES).contains(&self.cascades) {
+            return Err(RenderError::InvalidShadowSettings(format!(
+                "{} cascades; use 1 to {MAX_CASCADES}",
+                self.cascades
+            )));
+        }
+        if !(MIN_SHADOW_MAP_SIZE..=max_image_side).contains(&self.map_size) {
+            return Err(RenderError::InvalidShadowSettings(format!(
+                "a shadow map of {0}x{0}; the side must be {MIN_SHADOW_MAP_SIZE} to {max_image_side} on this device",
+                self.map_size
+            )));
+        }
+        Ok(())
+    }
+
+    /// What the lighting shader's variant needs of these settings.
+    pub(crate) fn shader(&self) -> ShadowShader {
+        ShadowShader {
+            cascades: self.cascades,
+            filter: self.filter,
+        }
+    }
+}
+
+impl Default for ShadowSettings {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// The part of [`ShadowSettings`] compiled into the lighting pipeline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ShadowShader {
+    /// Cascades per light.
+    pub cascades: u32,
+    /// The lookup filter.
+    pub filter: ShadowFilter,
+}
+
+impl ShadowShader {
+    /// Its `#define`s: `SHADOWS`, `SHADOW_CASCADES` and `SHADOW_TAPS`.
+    pub(crate) fn defines(&self, defines: &mut Vec<(&'static str, Option<&'static str>)>) {
+        const COUNTS: [&str; MAX_CASCADES as usize] = ["1", "2", "3", "4"];
+        defines.push(("SHADOWS", None));
+        defines.push((
+            "SHADOW_CASCADES",
+            Some(COUNTS[(self.cascades.clamp(1, MAX_CASCADES) - 1) as usize]),
+        ));
+        defines.push(("SHADOW_TAPS", Some(self.filter.taps_define())));
+    }
+}
+
+/// One cascade of one light, placed for a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cascade {
+    /// World space to the map's clip space (x, y in [−1, 1] across the map, depth in
+    /// [0, 1] along the light): what the caster pass renders with.
+    pub world_to_clip: Mat4,
+    /// The side of one map texel, metres.
+    pub texel_world: f32,
+    /// Metres of the scene along the light per unit of map depth.
+    pub depth_range: f32,
+    /// The view-frustum slice it covers, as distances along the view direction.
+    pub slice: [f32; 2],
+}
+
+impl Cascade {
+    /// The table entry the lighting pass reads.
+    pub(crate) fn gpu(&self) -> GpuShadowCascade {
+        GpuShadowCascade {
+            world_to_clip: self.world_to_clip.to_cols_array(),
+            texel_world_depth_range: [self.texel_world, self.depth_range, 0.0, 0.0],
+        }
+    }
+}
+
+/// The practical split distances of `count` cascades over [near, far]: count + 1
+/// values from `near` to `far`.
+pub fn cascade_splits(near: f32, far: f32, count: u32) -> Vec<f32> {
+    (0..=count)
+        .map(|i| {
+            let t = i as f32 / count as f32;
+            let logarithmic = near * (far / near).powf(t);
+            let uniform = near + (far - near) * t;
+            SPLIT_LOGARITHMIC_WEIGHT * logarithmic + (1.0 - SPLIT_LOGARITHMIC_WEIGHT) * uniform
+        })
+        .collect()
+}
+
+/// The shadow distance of `camera` for a scene within `bounds` (see the module's
+/// rules): at most the far plane, at least a little beyond the near plane.
+pub fn shadow_distance(camera: &Camera, bounds: Option<(Vec3, Vec3)>) -> f32 {
+    let forward = (camera.target - camera.position).normalize();
+    let farthest = bounds.map_or(camera.far, |(min, max)| {
+        (0..8)
+            .map(|i| {
+                let corner = Vec3::new(
+                    if i & 1 == 0 { min.x } else { max.x },
+                    if i & 2 == 0 { min.y } else { max.y },
+                    if i & 4 == 0 { min.z } else { max.z },
+                );
+                (corner - camera.position).dot(forward)
+            })
+            .fold(f32::MIN, f32::max)
+    });
+    // Rounded up to a power of 2^(1/4): the splits change in steps as the camera moves.
+    let quarter_octaves = (farthest.max(camera.near * 2.0) / camera.near).log2() * 4.0;
+    let stepped = camera.near * (quarter_octaves.ceil() / 4.0).exp2();
+    stepped.clamp(camera.near * 1.01, camera.far)
+}
+
+/// A unit vector not parallel to `direction`, for the light's view basis.
+fn light_up(direction: Vec3) -> Vec3 {
+    if direction.y.abs() < 0.99 {
+        Vec3::Y
+    } else {
+        Vec3::Z
+    }
+}
+
+/// The cascades of a directional light travelling along `direction` (unit), for a
+/// frame of `camera` at `aspect` (width / height) over a scene within `bounds`, with
+/// maps of `map_size` texels a side.
+pub fn directional_cascades(
+    camera: &Camera,
+    aspect: f32,
+    direction: Vec3,
+    bounds: Option<(Vec3, Vec3)>,
+    cascades: u32,
+    map_size: u32,
+) -> Vec<Cascade> {
+    let forward = (camera.target - camera.position).normalize();
+    let far = shadow_distance(camera, bounds);
+    let splits = cascade_splits(camera.near, far, cascades);
+    // The half-diagonal of the view frustum per metre of distance.
+    let half_height = (camera.vertical_fov * 0.5).tan();
+    let k2 = half_height * half_height * (1.0 + aspect * aspect);
+    // Light space: rotation only (the light looks along `direction`).
+    let light_view = Mat4::look_to_rh(Vec3::ZERO, direction, light_up(direction));
+    // The scene's extent along the light (view-space z is minus the distance along it).
+    let scene_depth = bounds.map(|(min, max)| {
+        (0..8).fold((f32::MAX, f32::MIN), |(lo, hi), i| {
+            let corner = Vec3::new(
+                if i & 1 == 0 { min.x } else { max.x },
+                if i & 2 == 0 { min.y } else { max.y },
+                if i & 4 == 0 { min.z } else { max.z },
+            );
+            let z = light_view.transform_point3(corner).z;
+            (lo.min(z), hi.max(z))
+        })
+    });
+    splits
+        .windows(2)
+        .map(|slice| {
+            let (n, f) = (slice[0], slice[1]);
+            // The slice's bounding sphere, centred on the view axis at depth c, equally
+            // far from the near and the far corners (or at the far plane's centre when
+            // that is closer).
+            let c = (0.5 * (n + f) * (1.0 + k2)).min(f);
+            let radius = ((f - c) * (f - c) + f * f * k2).sqrt();
+            // Rounded up to 1/64 of itself in steps: a constant radius for a constant slice.
+            let radius = radius * (1.0 + 1.0 / 64.0);
+            let centre = camera.position + forward * c;
+            let texel = 2.0 * radius / map_size as f32;
+            let mut centre_light = light_view.transform_point3(centre);
+            centre_light.x = (centre_light.x / texel).round() * texel;
+            centre_light.y = (centre_light.y / texel).round() * texel;
+            // Depth: the whole scene along the light, and at least the sphere.
+            let (mut lo, mut hi) = (centre_light.z - radius, centre_light.z + radius);
+            if let Some((scene_lo, scene_hi)) = scene_depth {
+                lo = lo.min(scene_lo);
+                hi = hi.max(scene_hi);
+            }
+            // A little margin, so casters on the bounds are not clipped by rounding.
+            let margin = (hi - lo) * 1e-3 + 1e-3;
+            let (near_plane, far_plane) = (-(hi + margin), -(lo - margin));
+            let projection = Mat4::orthographic_rh(
+                centre_light.x - radius,
+                centre_light.x + radius,
+                centre_light.y - radius,
+                centre_light.y + radius,
+                near_plane,
+                far_plane,
+            );
+            Cascade {
+                world_to_clip: projection * light_view,
+                texel_world: texel,
+                depth_range: far_plane - near_plane,
+                slice: [n, f],
+            }
+        })
+        .collect()
+}
+
+/// The frame's shadowed lights: for each of the first [`MAX_SHADOWED_LIGHTS`]
+/// directional lights among `lights`, its index and its cascades (light after light,
+/// in the shadow maps' layer order).
+pub(crate) fn frame_cascades(
+    lights: &[Light],
+    camera: &Camera,
+    aspect: f32,
+    bounds: Option<(Vec3, Vec3)>,
+    settings: &ShadowSettings,
+) -> Vec<(usize, Vec<Cascade>)> {
+    lights
+        .iter()
+        .enumerate()
+        .filter_map(|(index, light)| match light {
+            Light::Directional { direction, .. } => Some((index, direction.normalize())),
+            _ => None,
+        })
+        .take(MAX_SHADOWED_LIGHTS)
+        .map(|(index, direction)| {
+            let cascades = directional_cascades(
+                camera,
+                aspect,
+                direction,
+                bounds,
+                settings.cascades,
+                settings.map_size,
+            );
+            (index, cascades)
+        })
+        .collect()
+}
+
+/// The shadow maps: one depth image with a layer per cascade of each shadowed light,
+/// a view of each layer to render into, and the comparison sampler the lighting pass
+/// reads them with. Shared by every frame slot: frames are submitted in order on one
+/// queue, and the barriers order a frame's caster pass after the previous frame's reads.
+pub(crate) struct ShadowMaps {
+    /// A 2D view of each layer, for rendering (dropped before the image).
+    pub(crate) layer_views: Vec<ImageView>,
+    /// A 2D-array view of every layer, for sampling (also when there is one layer).
+    pub(crate) array_view: ImageView,
+    /// The maps (`layers` layers of `size`², [`SHADOW_MAP_FORMAT`]).
+    pub(crate) image: Image,
+}
+
+impl ShadowMaps {
+    /// Maps of `size`² with `layers` layers.
+    pub(crate) fn new(device: &Arc<Device>, size: u32, layers: u32) -> Result<Self, RenderError> {
+        let image = Image::new(
+            device,
+            &ImageDesc::new(
+                "shadow maps",
+                SHADOW_MAP_FORMAT,
+                size,
+                size,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            )
+            .array(layers),
+        )?;
+        let layer_views = (0..layers)
+            .map(|layer| image.view_of(0..1, layer..layer + 1, vk::ImageViewType::TYPE_2D))
+            .collect::<Result<_, _>>()?;
+        let array_view = image.view_of(0..1, 0..layers, vk::ImageViewType::TYPE_2D_ARRAY)?;
+        Ok(Self {
+            layer_views,
+            array_view,
+            image,
+        })
+    }
+
+    /// Whether these maps are `size`² and have at least `layers` layers.
+    pub(crate) fn fits(&self, size: u32, layers: u32) -> bool {
+        self.image.extent().width == size && self.image.layers() >= layers
+    }
+}
+
+/// The comparison sampler of the shadow maps: bilinear percentage-closer filtering
+/// (a lookup's reference depth compared with the 2×2 texels around it, the results
+/// weighted bilinearly), clamped at the edges.
+pub(crate) fn shadow_sampler(device: &Arc<Device>) -> Result<Sampler, RenderError> {
+    Ok(Sampler::new(
+        device,
+        &vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .compare_enable(true)
+            .compare_op(vk::CompareOp::LESS_OR_EQUAL)
+            .max_lod(0.0),
+    )?)
+}
+
+/// The depth-only pipeline that renders the scene's objects into a shadow map
+/// (shadow.vert, and shadow.frag, which writes nothing): positions only, both faces
+/// (a caster blocks light with either face, as the f64 visibility oracle counts it).
+pub(crate) struct ShadowCasterPass {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
+impl ShadowCasterPass {
+    /// Builds the pipeline: set 0 of `set_layout` (the object table), the map's
+    /// view-projection and the object index as vertex push constants.
+    pub(crate) fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        set_layout: &DescriptorSetLayout,
+    ) -> Result<Self, RenderError> {
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::VERTEX,
+            offset: 0,
+            size: std::mem::size_of::<GBufferPush>() as u32,
+        }];
+        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
+        let vertex = ShaderModule::new(
+            device,
+            &compiler.compile("shadow.vert", ShaderStage::Vertex, &[])?,
+            ShaderStage::Vertex,
+        )?;
+        let fragment = ShaderModule::new(
+            device,
+            &compiler.compile("shadow.frag", ShaderStage::Fragment, &[])?,
+            ShaderStage::Fragment,
+        )?;
+        use crate::gpu_types::GpuVertex as Vertex;
+        let bindings = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: std::mem::size_of::<Vertex>() as u32,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let attributes = [vk::VertexInputAttributeDescription {
+            location: 0,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: std::mem::offset_of!(Vertex, position) as u32,
+        }];
+        let pipeline = Pipeline::graphics(
+            device,
+            &GraphicsPipelineDesc {
+                vertex: &vertex,
+                fragment: &fragment,
+                layout: &layout,
+                vertex_bindings: &bindings,
+                vertex_attributes: &attributes,
+                color_formats: &[],
+                depth_format: Some(SHADOW_MAP_FORMAT),
+                alpha_blend: false,
+                cache: Some(cache),
+            },
+        )?;
+        Ok(Self { layout, pipeline })
+    }
+
+    /// Records `cascades` (one per layer view of `maps`, in order): each layer cleared
+    /// to the far depth and every object of `scene` drawn into it. The maps must be in
+    /// the depth-attachment layout.
+    pub(crate) fn record(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        maps: &ShadowMaps,
+        scene: &GpuScene,
+        set: vk::DescriptorSet,
+        cascades: &[Mat4],
+    ) {
+        let extent = maps.image.extent();
+        let raw = device.raw();
+        for (view, world_to_clip) in maps.layer_views.iter().zip(cascades) {
+            let depth_attachment = vk::RenderingAttachmentInfo::default()
+                .image_view(view.raw())
+                .image_layout(crate::graph::ImageUse::DepthAttachmentWrite.state().layout)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 1.0,
+                        stencil: 0,
+                    },
+                });
+            let rendering = vk::RenderingInfo::default()
+                .render_area(vk::Rect2D {
+                    offset: vk::Offset2D::default(),
+                    extent,
+                })
+                .layer_count(1)
+                .depth_attachment(&depth_attachment);
+            // SAFETY: recording state (the frame's); the maps and the scene outlive the
+            // frame (replaced ones are retired).
+            unsafe {
+                raw.cmd_begin_rendering(cmd, &rendering);
+                crate::commands::set_viewport_and_scissor(raw, cmd, extent);
+                raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
+                raw.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.layout.raw(),
+                    0,
+                    &[set],
+                    &[],
+                );
+            }
+            crate::mesh_draw::draw_objects(
+                raw,
+                cmd,
+                scene,
+                crate::mesh_draw::Faces::Both,
+                |object| {
+                    let push = GBufferPush {
+                        view_projection: world_to_clip.to_cols_array(),
+                        object_index: object.object_index,
+                        _pad: [0; 3],
+                    };
+                    // SAFETY: as above.
+                    unsafe {
+                        raw.cmd_push_constants(
+                            cmd,
+                            self.layout.raw(),
+                            vk::ShaderStageFlags::VERTEX,
+                            0,
+                            bytemuck::bytes_of(&push),
+                        )
+                    };
+                },
+            );
+            // SAFETY: as above.
+            unsafe { raw.cmd_end_rendering(cmd) };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera() -> Camera {
+        Camera {
+            position: Vec3::new(0.0, 3.0, 10.0),
+            target: Vec3::new(0.0, 0.0, 0.0),
+            up: Vec3::Y,
+            vertical_fov: 0.8,
+            near: 0.1,
+            far: 100.0,
+        }
+    }
+
+    /// Every point of the view frustum up to the shadow distance lies inside the map of
+    /// the cascade whose slice holds it, and at its depth between the map's near and
+    /// far planes: the cascades cover the frustum without gaps.
+    #[test]
+    fn cascades_cover_the_view_frustum_without_gaps() {
+        let camera = camera();
+        let aspect = 16.0 / 9.0;
+        let bounds = Some((Vec3::new(-20.0, -1.0, -20.0), Vec3::new(20.0, 5.0, 20.0)));
+        for direction in [
+            Vec3::new(0.3, -1.0, 0.2),
+            Vec3::new(1.0, -0.1, 0.0),
+            Vec3::new(0.0, -1.0, 0.0),
+        ] {
+            let cascades =
+                directional_cascades(&camera, aspect, direction.normalize(), bounds, 4, 1024);
+            assert_eq!(cascades.len(), 4);
+            let inverse = camera.view_projection(aspect).inverse();
+            let view = camera.view();
+            let mut checked = 0;
+            for ix in 0..=16 {
+                for iy in 0..=16 {
+                    for iz in 0..=64 {
+                        let ndc = Vec3::new(
+                            ix as f32 / 8.0 - 1.0,
+                            iy as f32 / 8.0 - 1.0,
+                            iz as f32 / 64.0,
+                        );
+                        let p = inverse.project_point3(ndc);
+                        let distance = -view.transform_point3(p).z;
+                        let Some(cascade) = cascades
+                            .iter()
+                            .find(|c| distance >= c.slice[0] && distance <= c.slice[1])
+                        else {
+                            continue; // beyond the shadow distance
+                        };
+                        let clip = cascade.world_to_clip.project_point3(p);
+                        assert!(
+                            clip.x.abs() <= 1.0
+                                && clip.y.abs() <= 1.0
+                                && (0.0..=1.0).contains(&clip.z),
+                            "{p} (distance {distance}) outside its cascade {:?}: {clip}",
+                            cascade.slice
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+            assert!(checked > 10_000, "{checked} points checked");
+        }
+    }
+
+    /// A camera moved sideways by a fraction of a texel leaves the map where it was, and
+    /// one moved by whole texels moves it by whole texels: texel snapping.
+    #[test]
+    fn cascades_move_by_whole_texels() {
+        let direction = Vec3::new(0.3, -1.0, 0.2).normalize();
+        let bounds = Some((Vec3::splat(-50.0), Vec3::splat(50.0)));
+        let a = directional_cascades(&camera(), 1.5, direction, bounds, 2, 512);
+        for step in [0.001f32, 0.37, 1.3] {
+            let mut moved = camera();
+            moved.position.x += step;
+            moved.target.x += step;
+            let b = directional_cascades(&moved, 1.5, direction, bounds, 2, 512);
+            for (ca, cb) in a.iter().zip(&b) {
+                assert_eq!(ca.texel_world, cb.texel_world);
+                // The map's x, y offset in clip space, in texels: whole numbers.
+                let shift = (cb.world_to_clip.w_axis - ca.world_to_clip.w_axis) * 0.5 * 512.0;
+                for s in [shift.x, shift.y] {
+                    assert!(
+                        (s - s.round()).abs() < 2e-2,
+                        "shift {s} texels at step {step}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn splits_run_from_near_to_the_shadow_distance() {
+        let s = cascade_splits(0.1, 100.0, 4);
+        assert_eq!(s.len(), 5);
+        assert!((s[0] - 0.1).abs() < 1e-6 && (s[4] - 100.0).abs() < 1e-3);
+        assert!(s.windows(2).all(|w| w[0] < w[1]));
+    }
+
+    #[test]
+    fn settings_out_of_range_are_refused() {
+        let ok = ShadowSettings::DEFAULT;
+        assert!(ok.validate(16384).is_ok());
+        for bad in [
+            ShadowSettings { cascades: 0, ..ok },
+            ShadowSettings { cascades: 5, ..ok },
+            ShadowSettings { map_size: 16, ..ok },
+            ShadowSettings {
+                map_size: 32768,
+                ..ok
+            },
+        ] {
+            let e = bad.validate(16384).unwrap_err().to_string();
+            assert!(e.contains("shadow"), "{e}");
+        }
+    }
+}

@@ -1,0 +1,4 @@
+#version 460
+// Shadow-caster pass, fragment stage: depth only, nothing written here.
+void main() {
+}
