@@ -1,0 +1,387 @@
+//! Shadows of directional lights (`ShadingOptions::shadows`), on lavapipe with
+//! validation and synchronisation validation on, checked against geometry computed here
+//! in f64, not against the renderer's own output:
+//! - the shadow of a sphere on a plane is the analytic one (a floor point is shadowed
+//!   exactly when the line from it towards the light passes within the sphere's radius
+//!   of its centre): no floor pixel farther from the analytic edge than the band the
+//!   bias rules and the filter allow (stated below) is misclassified, and the pixels in
+//!   the band are counted;
+//! - a plane lit at up to 85° from its normal does not shadow itself (no acne);
+//! - shadows on changes nothing in a frame whose lights are not directional, and runs no
+//!   shadow pass there.
+
+mod common;
+
+use combustion::renderer::{
+    directional_cascades, DebugView, Frame, Readback, RendererSettings, ShadingOptions,
+    ShadowFilter, ShadowSettings, PCF_RADIUS_TEXELS,
+};
+use combustion::scene::{builtin_scene, Camera, Light, Material, Mesh, Object, Scene};
+use glam::{DMat4, DVec3, DVec4, Mat4, Vec3, Vec4Swizzles};
+
+const W: u32 = 256;
+const H: u32 = 192;
+
+fn with_shadows(settings: ShadowSettings, debug_view: DebugView) -> RendererSettings {
+    RendererSettings {
+        shading: ShadingOptions {
+            shadows: Some(settings),
+            debug_view,
+            ..ShadingOptions::DEFAULT
+        },
+        ..common::exact_f32()
+    }
+}
+
+/// A sun travelling along `direction` (elevation `elevation_deg` above the horizon,
+/// azimuth 30°).
+fn sun(elevation_deg: f64) -> Vec3 {
+    let (e, a) = (elevation_deg.to_radians(), 30f64.to_radians());
+    DVec3::new(-e.cos() * a.cos(), -e.sin(), -e.cos() * a.sin())
+        .normalize()
+        .as_vec3()
+}
+
+/// A floor of side 40 m at y = 0 (material 0, grey Lambert), optionally a sphere of
+/// `radius` centred at `centre` (material 1), lit by one directional light travelling
+/// along `direction`, seen by `camera`.
+fn floor_scene(sphere: Option<(DVec3, f64)>, direction: Vec3, camera: Camera) -> Scene {
+    let mut meshes = vec![Mesh::plane("floor", 40.0)];
+    let mut objects = vec![Object {
+        mesh: 0,
+        material: 0,
+        transform: Mat4::IDENTITY,
+    }];
+    if let Some((centre, radius)) = sphere {
+        meshes.push(Mesh::uv_sphere("sphere", radius as f32, SEGMENTS, RINGS));
+        objects.push(Object {
+            mesh: 1,
+            material: 1,
+            transform: Mat4::from_translation(centre.as_vec3()),
+        });
+    }
+    let grey = Material {
+        name: "grey".into(),
+        base_color: [0.5, 0.5, 0.5],
+        roughness: 1.0,
+        ..Material::default()
+    };
+    Scene {
+        name: "shadow test".into(),
+        meshes,
+        materials: vec![grey.clone(), grey],
+        objects,
+        lights: vec![Light::Directional {
+            direction,
+            irradiance: [2.0; 3],
+        }],
+        camera,
+        outside_ior: 1.0,
+        environment: None,
+    }
+}
+
+const SEGMENTS: u32 = 256;
+const RINGS: u32 = 128;
+
+/// The lit fraction each pixel's shadow-factor view shows (its red code / 255).
+fn shadow_factors(scene: &Scene, settings: ShadowSettings) -> Frame {
+    common::render(
+        scene,
+        W,
+        H,
+        with_shadows(settings, DebugView::ShadowFactor),
+        Readback {
+            images: true,
+            gbuffer: false,
+        },
+    )
+}
+
+/// The point where the camera ray through pixel (x, y)'s centre meets the plane y = 0,
+/// in f64 from the camera alone.
+fn floor_point(camera: &Camera, x: u32, y: u32) -> Option<DVec3> {
+    let inverse: DMat4 = camera
+        .view_projection(W as f32 / H as f32)
+        .as_dmat4()
+        .inverse();
+    let ndc = |z: f64| {
+        let p = inverse
+            * DVec4::new(
+                (f64::from(x) + 0.5) / f64::from(W) * 2.0 - 1.0,
+                (f64::from(y) + 0.5) / f64::from(H) * 2.0 - 1.0,
+                z,
+                1.0,
+            );
+        p.xyz() / p.w
+    };
+    let (near, far) = (ndc(0.0), ndc(1.0));
+    let direction = far - near;
+    if direction.y >= 0.0 {
+        return None;
+    }
+    let t = -near.y / direction.y;
+    let p = near + direction * t;
+    (p.x.abs() < 19.0 && p.z.abs() < 19.0).then_some(p)
+}
+
+/// How far the line from `p` towards the light (against `direction`) passes from the
+/// sphere's centre, minus its radius: negative inside the shadow. This is also the
+/// distance, in the shadow map's plane, from the sphere's silhouette.
+fn signed_silhouette_distance(p: DVec3, direction: DVec3, centre: DVec3, radius: f64) -> f64 {
+    let w = centre - p;
+    let along = w.dot(-direction);
+    if along <= 0.0 {
+        return f64::INFINITY; // the sphere is behind the point, seen from the light
+    }
+    (w.length_squared() - along * along).max(0.0).sqrt() - radius
+}
+
+/// The analytic shadow of a sphere on the floor, compared pixel by pixel with the shadow
+/// maps' verdict (factor below ½: shadowed) for two sun elevations, two filters and two
+/// cascade counts.
+///
+/// The band around the analytic edge where a pixel may be misclassified, in metres of
+/// the shadow map's plane, at a floor point in a cascade of texel side w:
+/// - the filter's reach, [`PCF_RADIUS_TEXELS`] (the 2×2 bilinear comparison of the hard
+///   filter reaches 1 texel),
+/// - one texel for rasterising the silhouette and the map's discrete depth,
+/// - the normal offset's shift in the map plane, (R + 1.5)·w·sin θ (docs/shadows.md),
+/// - the tessellation: the UV sphere's silhouette lies within r(1 − cos(π/segments)
+///   cos(π/rings)) inside the sphere's.
+#[test]
+fn a_spheres_shadow_on_a_plane_is_the_analytic_one() {
+    let centre = DVec3::new(0.0, 1.2, 0.0);
+    let radius = 0.5;
+    let tessellation = radius
+        * (1.0
+            - (std::f64::consts::PI / f64::from(SEGMENTS)).cos()
+                * (std::f64::consts::PI / f64::from(RINGS)).cos());
+    for elevation in [35.0, 15.0] {
+        let direction = sun(elevation);
+        let d = direction.as_dvec3();
+        // The shadow's centre on the floor, where the camera looks.
+        let shadow_centre = centre - d * (centre.y / d.y);
+        let camera = Camera {
+            position: (shadow_centre + DVec3::new(0.0, 6.0, 4.0)).as_vec3(),
+            target: shadow_centre.as_vec3(),
+            up: Vec3::Y,
+            vertical_fov: 45f32.to_radians(),
+            near: 0.1,
+            far: 60.0,
+        };
+        let scene = floor_scene(Some((centre, radius)), direction, camera);
+        for settings in [
+            ShadowSettings {
+                cascades: 4,
+                map_size: 1024,
+                filter: ShadowFilter::Pcf16,
+            },
+            ShadowSettings {
+                cascades: 1,
+                map_size: 2048,
+                filter: ShadowFilter::Hard,
+            },
+        ] {
+            let frame = shadow_factors(&scene, settings);
+            let cascades = directional_cascades(
+                &scene.camera,
+                W as f32 / H as f32,
+                direction,
+                scene.world_bounds(),
+                settings.cascades,
+                settings.map_size,
+            );
+            let reach = match settings.filter {
+                ShadowFilter::Hard => 1.0,
+                _ => f64::from(PCF_RADIUS_TEXELS),
+            };
+            let sin_theta = (1.0 - d.y * d.y).sqrt(); // the floor's normal is +y
+            let (mut shadowed, mut lit, mut in_band, mut wrong) = (0, 0, 0, Vec::new());
+            for y in 0..H {
+                for x in 0..W {
+                    let Some(p) = floor_point(&scene.camera, x, y) else {
+                        continue;
+                    };
+                    // Pixels where the sphere hides the floor (or nearly) are not floor.
+                    if sphere_covers_pixel(&scene.camera, x, y, centre, radius + 0.02) {
+                        continue;
+                    }
+                    // The cascade the lookup uses: the first whose map holds the point.
+                    let Some(cascade) = cascades.iter().find(|c| {
+                        let clip = c.world_to_clip.as_dmat4().project_point3(p);
+                        clip.x.abs() < 0.98 && clip.y.abs() < 0.98
+                    }) else {
+                        continue;
+                    };
+                    let w = f64::from(cascade.texel_world);
+                    let band = w * (reach + 1.0 + (f64::from(PCF_RADIUS_TEXELS) + 1.5) * sin_theta)
+                        + tessellation;
+                    let distance = signed_silhouette_distance(p, d, centre, radius);
+                    let factor = f64::from(frame.ldr[(y * W + x) as usize][0]) / 255.0;
+                    if distance.abs() < band {
+                        in_band += 1;
+                        continue;
+                    }
+                    let expected_shadowed = distance < 0.0;
+                    if expected_shadowed {
+                        shadowed += 1;
+                    } else {
+                        lit += 1;
+                    }
+                    if (factor < 0.5) != expected_shadowed {
+                        wrong.push((x, y, distance, factor));
+                    }
+                }
+            }
+            eprintln!(
+                "sun at {elevation}°, {settings:?}: {shadowed} shadowed and {lit} lit floor pixels outside the band, {in_band} in it, {} misclassified",
+                wrong.len()
+            );
+            assert!(
+                wrong.is_empty(),
+                "sun at {elevation}°, {settings:?}: {} pixels misclassified beyond the band, e.g. {:?}",
+                wrong.len(),
+                &wrong[..wrong.len().min(8)]
+            );
+            // The comparison covers the shadow: its umbra is many pixels wide here.
+            assert!(
+                shadowed > 500 && lit > 10_000,
+                "{shadowed} shadowed, {lit} lit"
+            );
+        }
+    }
+}
+
+/// Whether any corner of pixel (x, y) sees the sphere (centre, radius).
+fn sphere_covers_pixel(camera: &Camera, x: u32, y: u32, centre: DVec3, radius: f64) -> bool {
+    let inverse: DMat4 = camera
+        .view_projection(W as f32 / H as f32)
+        .as_dmat4()
+        .inverse();
+    [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.5)]
+        .iter()
+        .any(|(dx, dy)| {
+            let ndc = |z: f64| {
+                let p = inverse
+                    * DVec4::new(
+                        (f64::from(x) + dx) / f64::from(W) * 2.0 - 1.0,
+                        (f64::from(y) + dy) / f64::from(H) * 2.0 - 1.0,
+                        z,
+                        1.0,
+                    );
+                p.xyz() / p.w
+            };
+            let origin = ndc(0.0);
+            let dir = (ndc(1.0) - origin).normalize();
+            let oc = origin - centre;
+            let b = oc.dot(dir);
+            b * b - (oc.length_squared() - radius * radius) >= 0.0 && -b > 0.0
+        })
+}
+
+/// A plane lit at up to 85° from its normal, with nothing else in the scene, is lit at
+/// every pixel: the normal offset keeps every tap of the filter in front of the plane
+/// (no acne), near the camera and out to the shadow distance.
+#[test]
+fn a_plane_lit_at_grazing_angles_does_not_shadow_itself() {
+    let camera = Camera {
+        position: Vec3::new(0.0, 2.0, 8.0),
+        target: Vec3::new(0.0, 0.0, -4.0),
+        up: Vec3::Y,
+        vertical_fov: 50f32.to_radians(),
+        near: 0.1,
+        far: 60.0,
+    };
+    for from_normal in [0.0, 45.0, 70.0, 80.0, 85.0] {
+        let scene = floor_scene(None, sun(90.0 - from_normal), camera);
+        for filter in [ShadowFilter::Hard, ShadowFilter::Pcf32] {
+            let settings = ShadowSettings {
+                cascades: 4,
+                map_size: 1024,
+                filter,
+            };
+            let frame = shadow_factors(&scene, settings);
+            let mut floor = 0;
+            let mut shadowed = Vec::new();
+            for y in 0..H {
+                for x in 0..W {
+                    if floor_point(&scene.camera, x, y).is_none() {
+                        continue;
+                    }
+                    floor += 1;
+                    let code = frame.ldr[(y * W + x) as usize][0];
+                    if code < 254 {
+                        shadowed.push((x, y, code));
+                    }
+                }
+            }
+            assert!(floor > W * H / 3, "{floor} floor pixels");
+            assert!(
+                shadowed.is_empty(),
+                "light {from_normal}° from the normal, {filter:?}: {} of {floor} floor pixels shadow themselves, e.g. {:?}",
+                shadowed.len(),
+                &shadowed[..shadowed.len().min(8)]
+            );
+        }
+    }
+}
+
+/// Shadows on, in a scene lit by point lights only: the frame is bit for bit the frame
+/// without shadows, and no shadow pass runs.
+#[test]
+fn shadows_on_change_nothing_without_directional_lights() {
+    let scene = builtin_scene("grid-7x7").unwrap();
+    assert!(scene
+        .lights
+        .iter()
+        .all(|l| !matches!(l, Light::Directional { .. })));
+    let plain = common::render_images(&scene, W, H, common::exact_f32());
+    let shadowed = common::render_images(
+        &scene,
+        W,
+        H,
+        with_shadows(ShadowSettings::DEFAULT, DebugView::None),
+    );
+    assert!(
+        plain.hdr == shadowed.hdr,
+        "{} pixels differ",
+        plain
+            .hdr
+            .iter()
+            .zip(&shadowed.hdr)
+            .filter(|(a, b)| a != b)
+            .count()
+    );
+    assert!(shadowed.timings.ms("shadow maps").is_none());
+}
+
+/// The shadow pass runs, and is timed under its name, in a frame with a directional
+/// light; the frame shows shadows (the grid-sun floor has shadowed pixels where it had
+/// none without shadows).
+#[test]
+fn grid_sun_renders_its_shadows() {
+    let scene = builtin_scene("grid-sun").unwrap();
+    let plain = common::render_images(&scene, W, H, common::exact_f32());
+    let shadowed = common::render_images(
+        &scene,
+        W,
+        H,
+        with_shadows(ShadowSettings::DEFAULT, DebugView::None),
+    );
+    assert!(shadowed.timings.ms("shadow maps").is_some());
+    let darker = plain
+        .hdr
+        .iter()
+        .zip(&shadowed.hdr)
+        .filter(|(a, b)| b[1] < 0.5 * a[1])
+        .count();
+    let brighter = plain
+        .hdr
+        .iter()
+        .zip(&shadowed.hdr)
+        .filter(|(a, b)| b[1] > a[1] * 1.000_001 + 1e-9)
+        .count();
+    assert!(darker > 1000, "{darker} pixels darkened by shadows");
+    assert_eq!(brighter, 0, "shadows only ever remove light");
+}
