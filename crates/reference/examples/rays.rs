@@ -48,8 +48,8 @@ fn main() {
         }
     }
     println!(
-        "{:<44} {:>9} {:>9} {:>12} {:>12} {:>12}",
-        "scene", "triangles", "build ms", "camera Mr/s", "random Mr/s", "shadow Mr/s"
+        "{:<44} {:>9} {:>9} {:>12} {:>9} {:>12} {:>12}",
+        "scene", "triangles", "build ms", "camera Mr/s", "hit %", "random Mr/s", "shadow Mr/s"
     );
     for (name, scene) in &scenes {
         measure(name, scene);
@@ -103,7 +103,7 @@ fn measure(name: &str, scene: &Scene) {
         let seconds = start.elapsed().as_secs_f64();
         (rays.len() as f64 / seconds / 1e6, hits)
     };
-    let (camera_rate, _) = rate(&camera_rays, &|ray| {
+    let (camera_rate, camera_hits) = rate(&camera_rays, &|ray| {
         bvh.closest_hit(ray, 0.0, f64::INFINITY).is_some()
     });
     let (random_rate, _) = rate(&random_rays, &|ray| {
@@ -119,11 +119,12 @@ fn measure(name: &str, scene: &Scene) {
         .rev()
         .collect();
     println!(
-        "{:<44} {:>9} {:>9.1} {:>12.2} {:>12.2} {:>12.2}",
+        "{:<44} {:>9} {:>9.1} {:>12.2} {:>9.1} {:>12.2} {:>12.2}",
         short_name,
         bvh.triangle_count(),
         build * 1e3,
         camera_rate,
+        100.0 * camera_hits as f64 / camera_rays.len() as f64,
         random_rate,
         shadow_rate
     );

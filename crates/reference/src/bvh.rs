@@ -374,3 +374,55 @@ pub(crate) fn any(bvh: &SceneBvh, ray: &Ray, t_min: f64, t_max: f64) -> bool {
     }
     false
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shape of the tree on a big built-in scene: depth within the traversal's
+    /// stack, leaves within the heuristic's size, every triangle in exactly one leaf.
+    #[test]
+    fn the_tree_is_shallow_and_covers_every_triangle_once() {
+        let scene = combustion_scene::builtin_scene("grid-7x7").unwrap();
+        let bvh = SceneBvh::new(&scene);
+        let mut covered = vec![0u8; bvh.triangles.len()];
+        let (mut leaves, mut max_depth, mut largest_leaf) = (0, 0, 0);
+        let mut cost = 0.0;
+        let root_area = Aabb {
+            min: bvh.nodes[0].min,
+            max: bvh.nodes[0].max,
+        }
+        .half_area();
+        let mut work = vec![(0usize, 1usize)];
+        while let Some((index, depth)) = work.pop() {
+            let node = bvh.nodes[index];
+            max_depth = max_depth.max(depth);
+            let area = Aabb {
+                min: node.min,
+                max: node.max,
+            }
+            .half_area()
+                / root_area;
+            if node.count > 0 {
+                leaves += 1;
+                largest_leaf = largest_leaf.max(node.count);
+                cost += area * node.count as f64;
+                for i in node.first..node.first + node.count {
+                    covered[i as usize] += 1;
+                }
+            } else {
+                cost += area * TRAVERSAL_COST;
+                work.push((node.first as usize, depth + 1));
+                work.push((node.first as usize + 1, depth + 1));
+            }
+        }
+        println!(
+            "grid-7x7: {} triangles, {} nodes, {leaves} leaves (largest {largest_leaf}), depth {max_depth}, SAH cost {cost:.1}",
+            bvh.triangles.len(),
+            bvh.nodes.len()
+        );
+        assert!(covered.iter().all(|&c| c == 1));
+        assert!(max_depth < STACK);
+        assert!(largest_leaf as usize <= MAX_LEAF);
+    }
+}
