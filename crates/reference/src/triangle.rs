@@ -1,0 +1,143 @@
+//! The watertight ray–triangle test (Woop, Benthin, Wald 2013) in f64; see the crate
+//! docs for why this one.
+
+use crate::Ray;
+
+/// A ray with the test's per-ray constants: the axis `kz` along which the direction is
+/// largest, the other two (`kx`, `ky`, swapped for a negative `kz` component so the
+/// winding is kept), and the shear taking the direction to +z.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShearedRay {
+    pub origin: [f64; 3],
+    /// 1/direction per axis, a zero component's infinity replaced by ±f64::MAX so a
+    /// box test never computes 0 · ∞.
+    pub inverse_direction: [f64; 3],
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    shear_x: f64,
+    shear_y: f64,
+    shear_z: f64,
+}
+
+impl ShearedRay {
+    pub fn new(ray: &Ray) -> ShearedRay {
+        let d = ray.direction;
+        let abs = d.map(f64::abs);
+        let kz = if abs[0] >= abs[1] && abs[0] >= abs[2] {
+            0
+        } else if abs[1] >= abs[2] {
+            1
+        } else {
+            2
+        };
+        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let inverse_direction = d.map(|c| {
+            let inverse = 1.0 / c;
+            if inverse.is_infinite() {
+                f64::MAX.copysign(inverse)
+            } else {
+                inverse
+            }
+        });
+        ShearedRay {
+            origin: ray.origin,
+            inverse_direction,
+            kx,
+            ky,
+            kz,
+            shear_x: d[kx] / d[kz],
+            shear_y: d[ky] / d[kz],
+            shear_z: 1.0 / d[kz],
+        }
+    }
+
+    /// The hit with `t_min < t < t_max` as (t, [b1, b2]), or `None`. Double-sided.
+    #[inline]
+    pub fn intersect(
+        &self,
+        vertices: &[[f64; 3]; 3],
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, [f64; 2])> {
+        let o = self.origin;
+        let relative = |p: &[f64; 3]| [p[0] - o[0], p[1] - o[1], p[2] - o[2]];
+        let a = relative(&vertices[0]);
+        let b = relative(&vertices[1]);
+        let c = relative(&vertices[2]);
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        // Each vertex sheared on its own: the same values in every triangle sharing it.
+        let ax = a[kx] - self.shear_x * a[kz];
+        let ay = a[ky] - self.shear_y * a[kz];
+        let bx = b[kx] - self.shear_x * b[kz];
+        let by = b[ky] - self.shear_y * b[kz];
+        let cx = c[kx] - self.shear_x * c[kz];
+        let cy = c[ky] - self.shear_y * c[kz];
+        // Edge functions (u weighs vertex 0, v vertex 1, w vertex 2).
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let determinant = u + v + w;
+        if determinant == 0.0 {
+            return None;
+        }
+        let az = self.shear_z * a[kz];
+        let bz = self.shear_z * b[kz];
+        let cz = self.shear_z * c[kz];
+        let t = (u * az + v * bz + w * cz) / determinant;
+        // Written so that NaN (a degenerate ray) is a miss.
+        if !(t > t_min && t < t_max) {
+            return None;
+        }
+        Some((t, [v / determinant, w / determinant]))
+    }
+}
+
+/// The watertight, double-sided ray–triangle test on its own (what [`crate::SceneBvh`]
+/// uses for every triangle): the hit with `t_min < t < t_max` as (t, [b1, b2]) — the
+/// point is (1 − b1 − b2)·p0 + b1·p1 + b2·p2 — or `None`. For brute-force checks.
+pub fn intersect_triangle(
+    ray: &Ray,
+    vertices: &[[f64; 3]; 3],
+    t_min: f64,
+    t_max: f64,
+) -> Option<(f64, [f64; 2])> {
+    ShearedRay::new(ray).intersect(vertices, t_min, t_max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hits_report_t_and_barycentrics_of_the_point() {
+        let triangle = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]];
+        for direction in [[0.0, 0.0, -1.0], [0.0, 0.0, 2.0], [0.3, 0.2, 0.5]] {
+            let target = [0.5, 0.25, 0.0];
+            let origin = [
+                target[0] - 3.0 * direction[0],
+                target[1] - 3.0 * direction[1],
+                target[2] - 3.0 * direction[2],
+            ];
+            let ray = Ray::new(origin, direction);
+            let (t, [b1, b2]) = intersect_triangle(&ray, &triangle, 0.0, f64::INFINITY).unwrap();
+            assert!((t - 3.0).abs() < 1e-14, "{t}");
+            assert!((b1 - 0.25).abs() < 1e-14 && (b2 - 0.125).abs() < 1e-14);
+            // The open interval excludes its ends.
+            assert!(intersect_triangle(&ray, &triangle, 0.0, t).is_none());
+            assert!(intersect_triangle(&ray, &triangle, t, f64::INFINITY).is_none());
+        }
+        let miss = Ray::new([1.5, 1.5, 1.0], [0.0, 0.0, -1.0]);
+        assert!(intersect_triangle(&miss, &triangle, 0.0, f64::INFINITY).is_none());
+        let degenerate = Ray::new([0.5, 0.25, 1.0], [0.0, 0.0, 0.0]);
+        assert!(intersect_triangle(&degenerate, &triangle, 0.0, f64::INFINITY).is_none());
+        let nan = Ray::new([f64::NAN, 0.25, 1.0], [0.0, 0.0, -1.0]);
+        assert!(intersect_triangle(&nan, &triangle, 0.0, f64::INFINITY).is_none());
+    }
+}
