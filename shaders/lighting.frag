@@ -290,8 +290,11 @@ void main() {
 #ifdef SHADOWS
         if (push.counts.x > 0u && lights[0].spot_cone.w != 0.0) {
             uint first = uint(lights[0].spot_cone.w) - 1u;
-            surface.shadow = shadow_visibility(first, position, n, l0, gl_FragCoord.xy);
-            uint cascade = shadow_cascade_of(first, position, n, l0);
+            surface.shadow = shadow_visibility(first, position, push.camera_position.xyz, n, l0,
+                                               gl_FragCoord.xy);
+            float blend;
+            uint cascade = shadow_cascade(
+                first, shadow_view_distance(first, position, push.camera_position.xyz), blend);
             surface.cascade = cascade < uint(SHADOW_CASCADES) ? int(cascade) : -1;
         }
 #endif
@@ -326,8 +329,8 @@ void main() {
         }
 #ifdef SHADOWS
         if (light.spot_cone.w != 0.0) {
-            irradiance *= shadow_visibility(uint(light.spot_cone.w) - 1u, position, n, l,
-                                            gl_FragCoord.xy);
+            irradiance *= shadow_visibility(uint(light.spot_cone.w) - 1u, position,
+                                            push.camera_position.xyz, n, l, gl_FragCoord.xy);
         }
 #endif
         radiance += brdf_evaluate_view(m, view, l) * irradiance * n_dot_l;

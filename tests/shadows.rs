@@ -14,7 +14,7 @@ mod common;
 
 use combustion::renderer::{
     directional_cascades, DebugView, Frame, Readback, RendererSettings, ShadingOptions,
-    ShadowFilter, ShadowSettings, PCF_RADIUS_TEXELS,
+    ShadowFilter, ShadowSettings, CASCADE_BLEND_BAND, PCF_RADIUS_TEXELS,
 };
 use combustion::scene::{builtin_scene, Camera, Light, Material, Mesh, Object, Scene};
 use glam::{DMat4, DVec3, DVec4, Mat4, Vec3, Vec4Swizzles};
@@ -207,12 +207,30 @@ fn a_spheres_shadow_on_a_plane_is_the_analytic_one() {
                     if sphere_covers_pixel(&scene.camera, x, y, centre, radius + 0.02) {
                         continue;
                     }
-                    // The cascade the lookup uses: the first whose map holds the point.
-                    let Some(cascade) = cascades.iter().find(|c| {
-                        let clip = c.world_to_clip.as_dmat4().project_point3(p);
-                        clip.x.abs() < 0.98 && clip.y.abs() < 0.98
-                    }) else {
-                        continue;
+                    // The cascade the lookup uses: the one whose view slice holds the
+                    // point; in the slice's last CASCADE_BLEND_BAND the next one's
+                    // (coarser) texel bounds the blend.
+                    let view_distance = (p - scene.camera.position.as_dvec3()).dot(
+                        (scene.camera.target - scene.camera.position)
+                            .normalize()
+                            .as_dvec3(),
+                    );
+                    let Some(index) = cascades
+                        .iter()
+                        .position(|c| view_distance <= f64::from(c.slice[1]))
+                    else {
+                        continue; // beyond the shadow distance: lit by rule
+                    };
+                    let slice_start = match index {
+                        0 => 0.0,
+                        _ => f64::from(cascades[index - 1].slice[1]),
+                    };
+                    let slice_end = f64::from(cascades[index].slice[1]);
+                    let blends = view_distance
+                        > slice_end - f64::from(CASCADE_BLEND_BAND) * (slice_end - slice_start);
+                    let cascade = match cascades.get(index + 1) {
+                        Some(next) if blends => next,
+                        _ => &cascades[index],
                     };
                     let w = f64::from(cascade.texel_world);
                     let band = w * (reach + 1.0 + (f64::from(PCF_RADIUS_TEXELS) + 1.5) * sin_theta)
@@ -384,4 +402,65 @@ fn grid_sun_renders_its_shadows() {
         .count();
     assert!(darker > 1000, "{darker} pixels darkened by shadows");
     assert_eq!(brighter, 0, "shadows only ever remove light");
+}
+
+/// Shadow maps are rendered again only when they would change: a second frame of the
+/// same scene and camera renders none and equals the first bit for bit; a moved camera
+/// (new cascades) or a moved object renders them again, and each such frame equals the
+/// same frame rendered by a fresh renderer, whose maps are new.
+#[test]
+fn shadow_maps_are_kept_until_the_camera_or_the_scene_changes() {
+    use combustion::renderer::FrameInputs;
+    let scene = builtin_scene("grid-sun").unwrap();
+    let settings = with_shadows(ShadowSettings::DEFAULT, DebugView::None);
+    let images = Readback {
+        images: true,
+        gbuffer: false,
+    };
+    let mut moved_camera = scene.camera;
+    moved_camera.position += Vec3::new(0.7, 0.3, -0.4);
+    let lift = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0));
+
+    let mut headless = common::lavapipe(settings);
+    let (first, again, moved, edited) = {
+        let renderer = headless.renderer();
+        let mut gpu = renderer.upload(&scene).unwrap();
+        let first = renderer.render(&gpu, W, H, images).unwrap();
+        let again = renderer.render(&gpu, W, H, images).unwrap();
+        let inputs = FrameInputs {
+            camera: moved_camera,
+            ..FrameInputs::of_scene(&gpu, 1.0)
+        };
+        let moved = renderer.render_with(&gpu, &inputs, W, H, images).unwrap();
+        renderer
+            .edit_scene(&mut gpu, |s| {
+                s.objects[0].transform = lift * s.objects[0].transform
+            })
+            .unwrap();
+        let edited = renderer.render(&gpu, W, H, images).unwrap();
+        (first, again, moved, edited)
+    };
+    common::finish(headless);
+    let rendered_maps = |f: &Frame| f.timings.ms("shadow maps").is_some();
+    assert!(rendered_maps(&first));
+    assert!(
+        !rendered_maps(&again),
+        "the same frame rendered its maps again"
+    );
+    assert!(first.hdr == again.hdr, "kept maps changed the frame");
+    assert!(rendered_maps(&moved) && rendered_maps(&edited));
+
+    // The same frames from fresh renderers (new maps every time).
+    let fresh_moved = {
+        let mut moved_scene = scene.clone();
+        moved_scene.camera = moved_camera;
+        common::render_images(&moved_scene, W, H, settings)
+    };
+    let fresh_edited = {
+        let mut edited_scene = scene.clone();
+        edited_scene.objects[0].transform = lift * edited_scene.objects[0].transform;
+        common::render_images(&edited_scene, W, H, settings)
+    };
+    assert!(moved.hdr == fresh_moved.hdr, "maps after a camera move");
+    assert!(edited.hdr == fresh_edited.hdr, "maps after an edit");
 }

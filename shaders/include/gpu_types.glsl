@@ -43,10 +43,12 @@ struct GpuLight {
                                     // w: 1 + its first shadow cascade's index (0: no shadow)
 };
 
-// One shadow-map layer: a cascade of a directional light (std430, 80 bytes).
+// One shadow-map layer: a cascade of a directional light (std430, 96 bytes).
 struct GpuShadowCascade {
     mat4 world_to_clip;             // world → map clip space: xy in [−1, 1], depth in [0, 1]
-    vec4 texel_world_depth_range;   // x: texel side (m); y: metres along the light per unit depth
+    vec4 texel_depth_slice;         // x: texel side (m); y: metres along the light per unit
+                                    // depth; z: the end of its view slice (m from the eye)
+    vec4 view_forward;              // xyz: the camera's unit view direction
 };
 
 // The range window (max(0, 1 − (d²/r²)²))² at squared distance d2; 1 without range

@@ -428,10 +428,21 @@ impl Renderer {
             SHADOW_CASCADES,
             bytemuck::cast_slice(&table),
         )?;
-        s.shadow_layers = lights
+        // The maps are rendered again only when the scene's geometry or a cascade's
+        // placement changed since they were last rendered.
+        let layers: Vec<glam::Mat4> = lights
             .iter()
             .flat_map(|(_, cascades)| cascades.iter().map(|c| c.world_to_clip))
             .collect();
+        let contents = (
+            scene.geometry_version,
+            layers.iter().map(|m| m.to_cols_array()).collect::<Vec<_>>(),
+        );
+        let maps = self.shadow_maps.as_mut().expect("made above");
+        if maps.contents.as_ref() != Some(&contents) {
+            maps.contents = Some(contents);
+            s.shadow_layers = layers;
+        }
         Ok(shadowed)
     }
 

@@ -325,6 +325,7 @@ impl GBufferPass {
                         0,
                         bytemuck::bytes_of(&push),
                     );
+                    true
                 },
             );
             raw.cmd_end_rendering(cmd);

@@ -313,8 +313,8 @@ pub fn conductor_from_base_color_table() -> &'static [[f32; 2]; 256] {
     })
 }
 
-/// `GpuShadowCascade` (std430, 80 bytes): one shadow-map layer's placement
-/// ([`crate::shadows::Cascade`]).
+/// `GpuShadowCascade` (std430, 96 bytes): one shadow-map layer's placement
+/// ([`crate::Cascade`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuShadowCascade {
@@ -322,10 +322,12 @@ pub struct GpuShadowCascade {
     /// map, depth in [0, 1] along the light.
     pub world_to_clip: [f32; 16],
     /// x: one texel's side in metres; y: metres along the light per unit of map depth;
-    /// z, w: 0.
-    pub texel_world_depth_range: [f32; 4],
+    /// z: the end of the view slice it covers, metres from the eye; w: 0.
+    pub texel_depth_slice: [f32; 4],
+    /// xyz: the camera's unit view direction (the slices' distances are along it); w: 0.
+    pub view_forward: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuShadowCascade>() == 80);
+const _: () = assert!(std::mem::size_of::<GpuShadowCascade>() == 96);
 
 /// Push constants of the G-buffer pass (`GBufferPush` in gbuffer.vert).
 #[repr(C)]

@@ -38,7 +38,7 @@ pub(crate) fn draw_objects(
     cmd: vk::CommandBuffer,
     scene: &GpuScene,
     faces: Faces,
-    mut per_object: impl FnMut(ObjectDraw),
+    mut per_object: impl FnMut(ObjectDraw) -> bool,
 ) {
     let mut bound_mesh = None;
     for (object_index, ((&mesh, &double_sided), &material)) in scene
@@ -71,10 +71,12 @@ pub(crate) fn draw_objects(
                 },
             );
         }
-        per_object(ObjectDraw {
+        if !per_object(ObjectDraw {
             object_index: object_index as u32,
             material,
-        });
+        }) {
+            continue;
+        }
         // SAFETY: as above.
         unsafe { raw.cmd_draw_indexed(cmd, buffers.index_count, 1, 0, 0, 0) };
     }

@@ -44,6 +44,12 @@ pub struct GpuScene {
     /// The world-space bounds of its objects ([`Scene::world_bounds`]), kept so that a
     /// frame's shadow cascades need not walk the vertices.
     pub(crate) world_bounds: Option<(glam::Vec3, glam::Vec3)>,
+    /// Each object's world-space box (shadow casters are culled by them).
+    pub(crate) object_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
+    /// Unique to this scene's geometry as uploaded or last edited (no two scenes, and no
+    /// two states of one, share one): shadow maps rendered from it are kept while it
+    /// and their placement stay the same.
+    pub(crate) geometry_version: u64,
     /// The scene as uploaded (or last edited).
     scene: Scene,
     /// The handles of its objects, materials and meshes.
@@ -127,6 +133,12 @@ pub struct SceneEditReport {
     /// The environment's cubes and tables, baked again (the environment, or the material
     /// table the bake reads, changed).
     pub environment: bool,
+}
+
+/// A fresh [`GpuScene::geometry_version`].
+fn next_geometry_version() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 /// The shader features `scene` needs.
@@ -260,6 +272,7 @@ struct Tables {
     lit_variant: crate::variant::ShaderVariant,
     bake_materials: Vec<u8>,
     world_bounds: Option<(glam::Vec3, glam::Vec3)>,
+    object_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
 }
 
 impl Tables {
@@ -307,6 +320,7 @@ impl Tables {
             lit_variant: lit_scene_variant(scene),
             bake_materials: bytemuck::cast_slice(&material_table(scene, &[])).to_vec(),
             world_bounds: scene.world_bounds(),
+            object_bounds: scene.object_bounds(),
         })
     }
 }
@@ -341,6 +355,8 @@ impl GpuScene {
             frame_environments: false.into(),
             bake_materials: tables.bake_materials,
             world_bounds: tables.world_bounds,
+            object_bounds: tables.object_bounds,
+            geometry_version: next_geometry_version(),
             scene: scene.clone(),
             ids: SceneIds::new(scene),
             retire,
@@ -425,6 +441,8 @@ impl GpuScene {
         self.lit_variant = tables.lit_variant;
         self.bake_materials = tables.bake_materials;
         self.world_bounds = tables.world_bounds;
+        self.object_bounds = tables.object_bounds;
+        self.geometry_version = next_geometry_version();
         self.scene = next;
         self.ids = ids;
         Ok((report, retired))

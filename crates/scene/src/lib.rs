@@ -208,6 +208,12 @@ impl Scene {
         gltf::import::world_bounds(&self.meshes, &self.objects)
     }
 
+    /// Each object's world-space box, as [`Scene::world_bounds`] makes them (in the
+    /// objects' order; `None` for an object whose mesh is missing or empty).
+    pub fn object_bounds(&self) -> Vec<Option<(glam::Vec3, glam::Vec3)>> {
+        gltf::import::object_bounds(&self.meshes, &self.objects)
+    }
+
     /// The outside-medium IOR that applies to `material`.
     pub fn outside_ior_of(&self, material: &Material) -> f32 {
         material.outside_ior.unwrap_or(self.outside_ior)

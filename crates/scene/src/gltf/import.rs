@@ -1144,12 +1144,24 @@ fn exact_look_at(extras: Option<&serde_json::value::RawValue>) -> Option<(Vec3, 
 
 /// World-space bounding box of every object.
 pub(crate) fn world_bounds(meshes: &[crate::Mesh], objects: &[Object]) -> Option<(Vec3, Vec3)> {
+    object_bounds(meshes, objects)
+        .into_iter()
+        .flatten()
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+}
+
+/// Each object's world-space box (`None` for an object whose mesh is missing or has no
+/// vertices).
+pub(crate) fn object_bounds(
+    meshes: &[crate::Mesh],
+    objects: &[Object],
+) -> Vec<Option<(Vec3, Vec3)>> {
     // Each mesh's own box once, not once per object that places it.
     let boxes: Vec<_> = meshes.iter().map(mesh_bounds).collect();
     objects
         .iter()
-        .filter_map(|object| placed_bounds(*boxes.get(object.mesh)?, &object.transform))
-        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+        .map(|object| placed_bounds(*boxes.get(object.mesh)?, &object.transform))
+        .collect()
 }
 
 /// The box around `mesh`'s vertices; `None` for a mesh without vertices.
