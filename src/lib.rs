@@ -26,6 +26,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 pub use combustion_optics as optics;
+pub use combustion_reference as reference;
 pub use combustion_renderer as renderer;
 pub use combustion_scene as scene;
 pub use combustion_spectra as spectra;

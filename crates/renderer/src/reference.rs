@@ -2,13 +2,20 @@
 //! CPU in f64 (`combustion_optics`) from exactly the G-buffer values the GPU wrote, and
 //! the same f32 matrices, materials and lights it got, then compared with the GPU's HDR
 //! radiance. The parity tests assert bounds on it; the viewer's error view shows it.
+//!
+//! With [`ReferenceShading::with_exact_visibility`], each light's term is also
+//! multiplied by its exact visibility from the pixel's point, ray cast in f64 against the
+//! scene's triangles (`combustion_reference`, which shares no code with the renderer):
+//! the reference for frames with shadows, and [`shadow_mismatch`] counts the pixels
+//! whose shadow-map verdict differs from it.
 
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion_optics::environment::{integrate_environment, Estimate, Sampling};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::vec3::Vec3 as V;
-use combustion_scene::{Environment, Scene};
+use combustion_reference::SceneBvh;
+use combustion_scene::{Environment, Light, Scene};
 
 use crate::color::srgb_to_linear;
 use crate::gbuffer::{anisotropy_direction_decode, octahedral_decode, GBufferTexel};
@@ -61,6 +68,8 @@ pub struct ReferenceShading {
     lights: Vec<GpuLight>,
     /// Per material: it emits (the GPU adds emission the reference does not model).
     emits: Vec<bool>,
+    /// Exact visibility: the scene's triangles and the frame's lights as given.
+    visibility: Option<(std::sync::Arc<SceneBvh>, Vec<Light>)>,
     width: u32,
     height: u32,
 }
@@ -109,6 +118,54 @@ impl ReferenceShading {
             width,
             height,
             environment: None,
+            visibility: None,
+        }
+    }
+
+    /// The same, with each light's term multiplied by its exact visibility from the
+    /// pixel's point ([`SceneBvh::light_visibility`], the shadow ray leaving along the
+    /// shading normal): `bvh` holds the frame's scene, `lights` the frame's lights (those
+    /// [`ReferenceShading::new`] was given). The reference for frames with shadows.
+    pub fn with_exact_visibility(self, bvh: std::sync::Arc<SceneBvh>, lights: &[Light]) -> Self {
+        Self {
+            visibility: Some((bvh, lights.to_vec())),
+            ..self
+        }
+    }
+
+    /// The exact visibility (1 or 0) of the frame's light `light` at pixel (`x`, `y`)
+    /// from its G-buffer texel, and n·l there: `None` on the background, without exact
+    /// visibility, or where the light is below the pixel's horizon (n·l ≤ 0: unlit
+    /// either way).
+    pub fn exact_visibility(
+        &self,
+        texel: &GBufferTexel,
+        x: u32,
+        y: u32,
+        light: usize,
+    ) -> Option<(f64, f64)> {
+        let (bvh, lights) = self.visibility.as_ref()?;
+        let p = self.pixel(texel, x, y)?;
+        let gpu_light = self.lights.get(light)?;
+        let (l, _) = self.light_direction(gpu_light, p.position);
+        let cos = p.n[0] * l[0] + p.n[1] * l[1] + p.n[2] * l[2];
+        (cos > 0.0).then(|| (bvh.light_visibility(p.position, p.n, &lights[light]), cos))
+    }
+
+    /// The unit direction from `position` to `light` and the irradiance it gives a
+    /// surface facing it there (attenuation and range window included).
+    fn light_direction(&self, light: &GpuLight, position: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+        let f = |a: [f32; 4]| a.map(f64::from);
+        let p = f(light.position_or_direction);
+        let power = f(light.power_kind);
+        if light.power_kind[3] != LIGHT_KIND_DIRECTIONAL {
+            let to = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
+            let d2 = (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).max(1e-12);
+            let l = normalize(to);
+            let a = light.attenuation(l) * light.range_attenuation(d2) / d2;
+            (l, [power[0] * a, power[1] * a, power[2] * a])
+        } else {
+            ([-p[0], -p[1], -p[2]], [power[0], power[1], power[2]])
         }
     }
 
@@ -147,23 +204,17 @@ impl ReferenceShading {
             v,
             position,
         } = self.pixel(texel, x, y)?;
-        let f = |a: [f32; 4]| a.map(f64::from);
         let mut radiance = [0.0; 3];
-        for light in &self.lights {
-            let p = f(light.position_or_direction);
-            let power = f(light.power_kind);
-            let (l, e) = if light.power_kind[3] != LIGHT_KIND_DIRECTIONAL {
-                let to = [p[0] - position[0], p[1] - position[1], p[2] - position[2]];
-                let d2 = (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).max(1e-12);
-                let l = normalize(to);
-                let a = light.attenuation(l) * light.range_attenuation(d2) / d2;
-                (l, [power[0] * a, power[1] * a, power[2] * a])
-            } else {
-                ([-p[0], -p[1], -p[2]], [power[0], power[1], power[2]])
-            };
+        for (index, light) in self.lights.iter().enumerate() {
+            let (l, e) = self.light_direction(light, position);
             let cos = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
             if cos <= 0.0 {
                 continue;
+            }
+            if let Some((bvh, lights)) = &self.visibility {
+                if bvh.light_visibility(position, n, &lights[index]) == 0.0 {
+                    continue;
+                }
             }
             let brdf = brdf_evaluate(&m, v3(n), v3(t), v3(b), v3(v), v3(l));
             for c in 0..3 {
@@ -455,6 +506,71 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
     map.mean_relative = sum / map.lit_pixels.max(1) as f64;
     map.rms_relative = (sum_squares / map.lit_pixels.max(1) as f64).sqrt();
     map
+}
+
+/// How a frame's shadows differ from exact visibility, for one light: counted over the
+/// pixels where the light stands above the surface (n·l above a bound, see
+/// [`shadow_mismatch`]), a pixel being shadowed when the shadow-factor view
+/// ([`crate::DebugView::ShadowFactor`]) shows less than ½.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ShadowMismatch {
+    /// Pixels compared.
+    pub compared: usize,
+    /// Pixels exactly visible from the light but shadowed by the maps.
+    pub shadowed_should_be_lit: usize,
+    /// Pixels the light cannot see but the maps leave lit.
+    pub lit_should_be_shadowed: usize,
+}
+
+impl ShadowMismatch {
+    /// The share of compared pixels misclassified either way.
+    pub fn fraction(&self) -> f64 {
+        (self.shadowed_should_be_lit + self.lit_should_be_shadowed) as f64
+            / self.compared.max(1) as f64
+    }
+}
+
+/// Compares `shadow_view`, a frame rendered with the shadow-factor debug view (first
+/// light) at exposure 1 and read back with its G-buffer, with the exact visibility of
+/// `reference`'s first light ([`ReferenceShading::with_exact_visibility`]) at the
+/// pixels where n·l (shading normal) exceeds `min_cos`; returns the counts and, per
+/// pixel, whether it is misclassified (row-major).
+///
+/// `min_cos` leaves out the *terminator* of tessellated curved surfaces: within about
+/// one facet's angle of the shading normal's horizon, a triangle mesh shadows itself
+/// (its flat facets block light its interpolated normals face), which exact visibility
+/// counts and a shadow map's normal offset does not; sin of the mesh's largest angle
+/// between neighbouring vertex normals bounds that band.
+pub fn shadow_mismatch(
+    shadow_view: &Frame,
+    reference: &ReferenceShading,
+    min_cos: f64,
+) -> (ShadowMismatch, Vec<bool>) {
+    let mut counts = ShadowMismatch::default();
+    let mut wrong = vec![false; shadow_view.ldr.len()];
+    let Some(gbuffer) = shadow_view.gbuffer.as_ref() else {
+        return (counts, wrong);
+    };
+    let width = shadow_view.width as usize;
+    for (i, texel) in gbuffer.texels.iter().enumerate() {
+        let (x, y) = ((i % width) as u32, (i / width) as u32);
+        let Some((visible, cos)) = reference.exact_visibility(texel, x, y, 0) else {
+            continue;
+        };
+        if cos <= min_cos {
+            continue;
+        }
+        counts.compared += 1;
+        // The view shows the factor as its display code (within an 8-bit step).
+        let shadowed = shadow_view.ldr[i][0] < 128;
+        match (visible > 0.5, shadowed) {
+            (true, true) => counts.shadowed_should_be_lit += 1,
+            (false, false) => counts.lit_should_be_shadowed += 1,
+            _ => continue,
+        }
+        wrong[i] = true;
+    }
+    (counts, wrong)
 }
 
 /// The heat-map colour of a relative error: log-scaled from [`HEAT_MAP_RANGE`]'s lower
