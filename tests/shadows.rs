@@ -529,7 +529,8 @@ fn grid_sun_shadows_against_exact_visibility() {
             with_shadows(settings, DebugView::ShadowFactor),
             both,
         );
-        let (counts, wrong) = shadow_mismatch(&view, &reference, terminator);
+        let (counts, wrong) =
+            shadow_mismatch(&view, |i| view.ldr[i][0] >= 128, &reference, terminator);
         let g = view.gbuffer.as_ref().unwrap();
         // A misclassified pixel is near an edge when a point within the band around
         // its own, across the light, has the other exact verdict.

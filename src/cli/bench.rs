@@ -44,6 +44,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
         frames: o.frames,
         device,
         floors: true,
+        shadows: combustion::report::shadows::SHADOW_SETTINGS.to_vec(),
         // Frame time against size and light count: on the scene named, else on the
         // performance scene.
         scaling: Some(if let Some(scene) = o.scene.given() {

@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 use std::time::SystemTime;
 
-use combustion_renderer::FresnelModel;
+use combustion_renderer::{FresnelModel, ShadowFilter, ShadowSettings};
 use combustion_scene::{DiffuseModel, Scene};
 
 use crate::SceneSource;
@@ -90,6 +90,28 @@ pub fn toggle_fresnel(model: FresnelModel) -> FresnelModel {
     }
 }
 
+/// Shadows on (the default settings) or off, the `K` key.
+pub fn toggle_shadows(shadows: Option<ShadowSettings>) -> Option<ShadowSettings> {
+    match shadows {
+        Some(_) => None,
+        None => Some(ShadowSettings::DEFAULT),
+    }
+}
+
+/// The next shadow filter ([`ShadowFilter::ALL`] in order), the `L` key; shadows on if
+/// they were off.
+pub fn cycle_shadow_filter(shadows: Option<ShadowSettings>) -> Option<ShadowSettings> {
+    let settings = shadows.unwrap_or_default();
+    let i = ShadowFilter::ALL
+        .iter()
+        .position(|&f| f == settings.filter)
+        .unwrap_or(0);
+    Some(ShadowSettings {
+        filter: ShadowFilter::ALL[(i + 1) % ShadowFilter::ALL.len()],
+        ..settings
+    })
+}
+
 /// The built-in scene on number key `n` (1 … 9 the first nine, 0 the tenth), if any.
 pub fn builtin_on_key(n: u32) -> Option<SceneSource> {
     let names = combustion_scene::BUILTIN_SCENES;
@@ -115,6 +137,21 @@ pub fn dropped(path: PathBuf) -> SceneSource {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shadow_keys_toggle_and_cycle_every_filter() {
+        assert_eq!(toggle_shadows(None), Some(ShadowSettings::DEFAULT));
+        assert_eq!(toggle_shadows(Some(ShadowSettings::DEFAULT)), None);
+        let mut shadows = None;
+        let mut seen = Vec::new();
+        for _ in 0..ShadowFilter::ALL.len() {
+            shadows = cycle_shadow_filter(shadows);
+            seen.push(shadows.unwrap().filter);
+        }
+        for filter in ShadowFilter::ALL {
+            assert!(seen.contains(&filter), "{filter:?} never reached");
+        }
+    }
 
     #[test]
     fn overrides_cycle_and_apply_to_every_material() {

@@ -68,6 +68,14 @@ pub fn measure_error(
     let frame = renderer.render_with(scene, inputs, width, height, readback)?;
     let started = std::time::Instant::now();
     let mut reference = ReferenceShading::new(scene.scene(), inputs, width, height);
+    if renderer.shading().shadows.is_some() {
+        // Frames with shadows are measured against exact visibility: each light's term
+        // times its f64 ray-cast visibility (combustion_reference).
+        reference = reference.with_exact_visibility(
+            std::sync::Arc::new(combustion_reference::SceneBvh::new(scene.scene())),
+            inputs.lights,
+        );
+    }
     if let Some(environment) = &scene.scene().environment {
         // The environment's integral costs thousands of BRDF evaluations a pixel: one
         // pixel in 4×4 is compared (the rest grey), with 500 samples of each strategy.

@@ -103,6 +103,8 @@ pub const KEYS: &[(&str, &str)] = &[
         "reload the scene (also when its file changes on disk)",
     ),
     ("G", "Fresnel: full equations / Schlick / F82 (comparisons)"),
+    ("K", "shadows of the directional lights on / off"),
+    ("L", "shadow filter: hard, PCF 8, 16, 32 taps"),
     (
         "M",
         "diffuse model of every material: as loaded, Lambert, Oren–Nayar qualitative, full",
@@ -1092,6 +1094,21 @@ impl App<'_> {
                 let mut shading = state.renderer.shading();
                 shading.fresnel = controls::toggle_fresnel(shading.fresnel);
                 state.renderer.set_shading(shading, &[&state.gpu_scene])?;
+            }
+            "k" | "K" | "l" | "L" => {
+                let mut shading = state.renderer.shading();
+                shading.shadows = if text.eq_ignore_ascii_case("k") {
+                    controls::toggle_shadows(shading.shadows)
+                } else {
+                    controls::cycle_shadow_filter(shading.shadows)
+                };
+                state.renderer.set_shading(shading, &[&state.gpu_scene])?;
+                log::info!(
+                    "shadows {}",
+                    shading
+                        .shadows
+                        .map_or("off".to_owned(), |s| format!("{:?}", s.filter))
+                );
             }
             "m" | "M" | "o" | "O" => {
                 let old = state.overrides;

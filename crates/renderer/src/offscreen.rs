@@ -140,6 +140,19 @@ impl Renderer {
             .map(|_| ())
     }
 
+    /// As [`Renderer::submit_offscreen`], with the frame's camera, exposure, lights and
+    /// overlay given (a camera moving from frame to frame, say).
+    pub fn submit_offscreen_with(
+        &mut self,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        self.submit_with_offscreen(scene, inputs, width, height, None)
+            .map(|_| ())
+    }
+
     /// Waits for every frame submitted by [`Renderer::submit_offscreen`] and collects
     /// the timings of those not collected yet, oldest first.
     pub fn finish_offscreen(&mut self) -> Result<(), RenderError> {

@@ -530,11 +530,13 @@ impl ShadowMismatch {
     }
 }
 
-/// Compares `shadow_view`, a frame rendered with the shadow-factor debug view (first
-/// light) at exposure 1 and read back with its G-buffer, with the exact visibility of
-/// `reference`'s first light ([`ReferenceShading::with_exact_visibility`]) at the
-/// pixels where n·l (shading normal) exceeds `min_cos`; returns the counts and, per
-/// pixel, whether it is misclassified (row-major).
+/// Compares the verdict `gpu_lit(i)` of each pixel i (row-major) of `frame` (read back
+/// with its G-buffer) on the first light of `reference`
+/// ([`ReferenceShading::with_exact_visibility`]) with that light's exact visibility, at
+/// the pixels where n·l (shading normal) exceeds `min_cos`; returns the counts and, per
+/// pixel, whether it is misclassified. For a frame rendered with the shadow-factor view
+/// ([`crate::DebugView::ShadowFactor`], exposure 1), `gpu_lit` is its code ≥ 128; for a
+/// frame without shadows, every pixel is lit.
 ///
 /// `min_cos` leaves out the *terminator* of tessellated curved surfaces: within about
 /// one facet's angle of the shading normal's horizon, a triangle mesh shadows itself
@@ -542,16 +544,17 @@ impl ShadowMismatch {
 /// counts and a shadow map's normal offset does not; sin of the mesh's largest angle
 /// between neighbouring vertex normals bounds that band.
 pub fn shadow_mismatch(
-    shadow_view: &Frame,
+    frame: &Frame,
+    gpu_lit: impl Fn(usize) -> bool,
     reference: &ReferenceShading,
     min_cos: f64,
 ) -> (ShadowMismatch, Vec<bool>) {
     let mut counts = ShadowMismatch::default();
-    let mut wrong = vec![false; shadow_view.ldr.len()];
-    let Some(gbuffer) = shadow_view.gbuffer.as_ref() else {
+    let mut wrong = vec![false; (frame.width * frame.height) as usize];
+    let Some(gbuffer) = frame.gbuffer.as_ref() else {
         return (counts, wrong);
     };
-    let width = shadow_view.width as usize;
+    let width = frame.width as usize;
     for (i, texel) in gbuffer.texels.iter().enumerate() {
         let (x, y) = ((i % width) as u32, (i / width) as u32);
         let Some((visible, cos)) = reference.exact_visibility(texel, x, y, 0) else {
@@ -561,11 +564,9 @@ pub fn shadow_mismatch(
             continue;
         }
         counts.compared += 1;
-        // The view shows the factor as its display code (within an 8-bit step).
-        let shadowed = shadow_view.ldr[i][0] < 128;
-        match (visible > 0.5, shadowed) {
-            (true, true) => counts.shadowed_should_be_lit += 1,
-            (false, false) => counts.lit_should_be_shadowed += 1,
+        match (visible > 0.5, gpu_lit(i)) {
+            (true, false) => counts.shadowed_should_be_lit += 1,
+            (false, true) => counts.lit_should_be_shadowed += 1,
             _ => continue,
         }
         wrong[i] = true;

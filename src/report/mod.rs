@@ -9,6 +9,8 @@
 //! `report.csv`, `floors.csv` and `speed-vs-error.png` (one point per variant set — time
 //! and error averaged over the scenes — with the Pareto front).
 
+pub mod shadows;
+
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -351,6 +353,9 @@ pub struct Measurements {
     pub scaling_scene: String,
     /// The name of the device measured on.
     pub device: String,
+    /// The shadow settings on each scene with a directional light (empty unless
+    /// [`ReportDesc::shadows`] names some).
+    pub shadows: Vec<shadows::ShadowRow>,
 }
 
 /// GPU timings of `frames` frames of `scene` (after the frames already taken).
@@ -389,9 +394,21 @@ pub struct ReportDesc {
     /// Measure frame time against size and light count on this scene
     /// ([`SCALING_SIZES`], [`SCALING_LIGHT_COUNTS`] culled and not).
     pub scaling: Option<SceneSource>,
+    /// The shadow settings measured on each scene with a directional light
+    /// ([`shadows::SHADOW_SETTINGS`]; empty: none).
+    pub shadows: Vec<Option<combustion_renderer::ShadowSettings>>,
 }
 
 impl ReportDesc {
+    /// Steps of the shadow measurement on `scenes`.
+    fn shadow_steps(&self, scenes: &[(String, combustion_scene::Scene)]) -> usize {
+        let suns = scenes
+            .iter()
+            .filter(|(_, scene)| shadows::has_sun(&scene.lights))
+            .count();
+        suns * self.shadows.len()
+    }
+
     /// Steps of the scaling measurement.
     fn scaling_steps(&self) -> usize {
         if self.scaling.is_some() {
@@ -490,9 +507,12 @@ pub fn measure(
         Some(source) => Some((source.label(), source.load()?)),
         None => None,
     };
-    let total = scenes.len() * (desc.sets.len() + usize::from(desc.floors)) + desc.scaling_steps();
+    let total = scenes.len() * (desc.sets.len() + usize::from(desc.floors))
+        + desc.scaling_steps()
+        + desc.shadow_steps(&scenes);
     let mut rows = Vec::with_capacity(total);
     let mut scaling = Vec::new();
+    let mut shadow_rows = Vec::new();
     // One renderer per HDR format (a renderer's HDR storage is fixed at creation).
     for hdr in [HdrFormat::Rgba32Float, HdrFormat::Rgba16Float] {
         let sets: Vec<VariantSet> = desc.sets.iter().copied().filter(|s| s.hdr == hdr).collect();
@@ -595,10 +615,28 @@ pub fn measure(
                     environment: gpu.scene().environment.is_some(),
                 });
             }
+            if hdr == HdrFormat::Rgba32Float
+                && !desc.shadows.is_empty()
+                && shadows::has_sun(&scene.lights)
+            {
+                let done = rows.len() + floors.len() + scaling.len() + shadow_rows.len();
+                let mut i = 0;
+                shadow_rows.extend(shadows::measure_scene(
+                    renderer,
+                    &gpu,
+                    label,
+                    desc,
+                    threads,
+                    |what| {
+                        progress(done + i, total, what);
+                        i += 1;
+                    },
+                )?);
+            }
             renderer.retire(gpu);
         }
         if let (Some((_, scene)), HdrFormat::Rgba32Float) = (&scaling_scene, hdr) {
-            let done = rows.len() + floors.len() + scaling.len();
+            let done = rows.len() + floors.len() + scaling.len() + shadow_rows.len();
             let mut i = 0;
             scaling = measure_scaling(renderer, scene, desc, |what| {
                 progress(done + i, total, what);
@@ -616,6 +654,7 @@ pub fn measure(
         scaling,
         scaling_scene: scaling_scene.map(|(label, _)| label).unwrap_or_default(),
         device: device_name,
+        shadows: shadow_rows,
     })
 }
 
@@ -677,6 +716,7 @@ pub fn choose(
         device,
         floors: false,
         scaling: None,
+        shadows: Vec::new(),
     };
     let mut candidates = measure(&desc, |_, _, _| {})?.rows;
     candidates.sort_by(|a, b| a.total.median.total_cmp(&b.total.median));
@@ -1031,6 +1071,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     out += &environment_markdown(rows);
     out += &floors_markdown(m);
     out += &scaling_markdown(m);
+    out += &shadows::markdown(&m.shadows);
     out += "## Per scene\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let _ = writeln!(
@@ -1302,6 +1343,12 @@ pub fn write(
     output::write_file_atomically(&dir.join("speed-vs-error.png"), &png.bytes)?;
     output::write_file_atomically(&dir.join("report.csv"), csv(rows).as_bytes())?;
     output::write_file_atomically(&dir.join("floors.csv"), floors_csv(&m.floors).as_bytes())?;
+    if !m.shadows.is_empty() {
+        output::write_file_atomically(
+            &dir.join("shadows.csv"),
+            shadows::csv(&m.shadows).as_bytes(),
+        )?;
+    }
     if !m.scaling.is_empty() {
         let (size, lights) = scaling_plots(m, device)?;
         output::write_file_atomically(&dir.join("scaling-resolution.png"), &size.bytes)?;

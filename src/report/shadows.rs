@@ -1,0 +1,227 @@
+//! The report's shadow section: on each scene with a directional light, the cost of each
+//! shadow setting (frames of a static camera, whose maps are kept, and of a camera
+//! moving every frame, whose maps are rendered again each frame) and its error against
+//! exact visibility (`combustion_reference`'s f64 ray casts): the share of pixels whose
+//! shadow verdict is wrong, and the frame's error against the reference with exact
+//! visibility. Written as `shadows.csv` and a section of `report.md`.
+
+use std::fmt::Write as _;
+use std::sync::Arc;
+
+use combustion_reference::SceneBvh;
+use combustion_renderer::reference::{error_map, shadow_mismatch, ReferenceShading};
+use combustion_renderer::{
+    DebugView, FrameInputs, GpuScene, PassTimings, Readback, Renderer, ShadingOptions,
+    ShadowFilter, ShadowSettings,
+};
+use combustion_scene::Light;
+
+use super::{md_cell, time_frames, PassSpreads, ReportDesc, Spread, ENVIRONMENT_SAMPLING};
+use crate::Error;
+
+/// The shadow settings the report measures: none (the frame without shadows), the
+/// default (4 cascades of 2048², hard), PCF over 16 taps, and a cheap one (2 cascades of
+/// 1024², hard).
+pub const SHADOW_SETTINGS: [Option<ShadowSettings>; 4] = [
+    None,
+    Some(ShadowSettings::DEFAULT),
+    Some(ShadowSettings {
+        filter: ShadowFilter::Pcf16,
+        ..ShadowSettings::DEFAULT
+    }),
+    Some(ShadowSettings {
+        cascades: 2,
+        map_size: 1024,
+        filter: ShadowFilter::Hard,
+    }),
+];
+
+/// n·l below which the shadow verdict is not compared: the terminator band of the
+/// built-in scenes' UV spheres, sin of their facet angle (2π/64 ≈ 0.098; see
+/// [`shadow_mismatch`]).
+pub const TERMINATOR_COS: f64 = 0.1;
+
+/// One scene and shadow setting.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShadowRow {
+    /// The scene's label.
+    pub scene: String,
+    /// The setting (`None`: no shadows).
+    pub settings: Option<ShadowSettings>,
+    /// Whole frame's GPU time, static camera (the maps rendered once, then kept).
+    pub static_total: Spread,
+    /// Whole frame's GPU time, the camera moving every frame (the maps rendered again).
+    pub moving_total: Spread,
+    /// The shadow-map pass, camera moving ([`Spread::NONE`] without shadows).
+    pub maps: Spread,
+    /// Pixels whose verdict on the first directional light differs from exact
+    /// visibility (a frame without shadows lights every pixel), and pixels compared.
+    pub misclassified: usize,
+    /// Pixels whose verdict was compared.
+    pub compared: usize,
+    /// The frame's mean relative error against the reference with exact visibility.
+    pub mean_relative: f64,
+    /// Its largest relative error.
+    pub max_relative: f64,
+}
+
+impl ShadowRow {
+    /// The setting's name: `off`, or filter, cascades and map size (`hard-4x2048`).
+    pub fn setting_name(&self) -> String {
+        setting_name(self.settings)
+    }
+}
+
+/// `off`, or filter-cascadesxsize.
+pub fn setting_name(settings: Option<ShadowSettings>) -> String {
+    match settings {
+        None => "off".into(),
+        Some(s) => format!("{}-{}x{}", s.filter.name(), s.cascades, s.map_size),
+    }
+}
+
+/// Whether `lights` has a directional light (what the shadows of this version cover).
+pub fn has_sun(lights: &[Light]) -> bool {
+    lights
+        .iter()
+        .any(|l| matches!(l, Light::Directional { .. }))
+}
+
+/// Measures every setting of `desc.shadows` on `gpu` (a scene with a directional light),
+/// leaving the renderer's shading options at the default.
+pub(super) fn measure_scene(
+    renderer: &mut Renderer,
+    gpu: &GpuScene,
+    label: &str,
+    desc: &ReportDesc,
+    threads: usize,
+    mut progress: impl FnMut(&str),
+) -> Result<Vec<ShadowRow>, Error> {
+    let (width, height) = (desc.width, desc.height);
+    let inputs = FrameInputs::of_scene(gpu, 1.0);
+    let mut reference = ReferenceShading::new(gpu.scene(), &inputs, width, height)
+        .with_exact_visibility(Arc::new(SceneBvh::new(gpu.scene())), inputs.lights);
+    if let Some(environment) = &gpu.scene().environment {
+        reference = reference.with_environment(environment.clone(), ENVIRONMENT_SAMPLING);
+    }
+    let both = Readback {
+        images: true,
+        gbuffer: true,
+    };
+    // The moving camera: the scene's own and one moved a tenth of its distance to the
+    // target sideways, alternately (every frame places new cascades).
+    let mut moved = inputs.camera;
+    let forward = moved.target - moved.position;
+    let sideways = forward.cross(moved.up).normalize_or_zero() * forward.length() * 0.1;
+    moved.position += sideways;
+    moved.target += sideways;
+    let mut rows = Vec::new();
+    for &settings in &desc.shadows {
+        progress(&format!("{label} shadows {}", setting_name(settings)));
+        let shading = ShadingOptions {
+            shadows: settings,
+            ..ShadingOptions::DEFAULT
+        };
+        renderer.set_shading(shading, &[gpu])?;
+        let frame = renderer.render_with(gpu, &inputs, width, height, both)?;
+        let errors = error_map(&frame, &reference, threads);
+        let (counts, _) = if settings.is_some() {
+            renderer.set_shading(
+                ShadingOptions {
+                    debug_view: DebugView::ShadowFactor,
+                    ..shading
+                },
+                &[gpu],
+            )?;
+            let view = renderer.render_with(gpu, &inputs, width, height, both)?;
+            renderer.set_shading(shading, &[gpu])?;
+            shadow_mismatch(&view, |i| view.ldr[i][0] >= 128, &reference, TERMINATOR_COS)
+        } else {
+            shadow_mismatch(&frame, |_| true, &reference, TERMINATOR_COS)
+        };
+        let still = time_frames(renderer, gpu, width, height, desc.frames)?;
+        renderer.take_completed_timings();
+        for i in 0..desc.frames {
+            let frame_inputs = FrameInputs {
+                camera: if i % 2 == 0 { moved } else { inputs.camera },
+                ..inputs
+            };
+            renderer.submit_offscreen_with(gpu, &frame_inputs, width, height)?;
+        }
+        renderer.finish_offscreen()?;
+        let moving = renderer.take_completed_timings();
+        rows.push(ShadowRow {
+            scene: label.to_owned(),
+            settings,
+            static_total: Spread::of(still.iter().map(|t| t.total_ms).collect()),
+            moving_total: Spread::of(moving.iter().map(|t| t.total_ms).collect()),
+            maps: PassSpreads::of(&moving).get(PassTimings::SHADOW_MAPS),
+            misclassified: counts.shadowed_should_be_lit + counts.lit_should_be_shadowed,
+            compared: counts.compared,
+            mean_relative: errors.mean_relative,
+            max_relative: errors.max_relative,
+        });
+    }
+    renderer.set_shading(ShadingOptions::DEFAULT, &[gpu])?;
+    Ok(rows)
+}
+
+/// `shadows.csv`: one row per scene and setting.
+pub fn csv(rows: &[ShadowRow]) -> String {
+    let mut out = String::from(
+        "scene,shadows,static_total_ms,moving_total_ms,shadow_maps_ms,misclassified_pixels,pixels_compared,misclassified_fraction,mean_relative_error_exact_visibility,max_relative_error_exact_visibility\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            out,
+            "{},{},{:.3},{:.3},{},{},{},{:.5},{:.3e},{:.3e}",
+            super::csv_field(&r.scene),
+            r.setting_name(),
+            r.static_total.median,
+            r.moving_total.median,
+            // Empty where no shadow pass ran.
+            if r.maps.median.is_finite() {
+                format!("{:.3}", r.maps.median)
+            } else {
+                String::new()
+            },
+            r.misclassified,
+            r.compared,
+            r.misclassified as f64 / r.compared.max(1) as f64,
+            r.mean_relative,
+            r.max_relative
+        );
+    }
+    out
+}
+
+/// The report's shadow section (empty without rows).
+pub fn markdown(rows: &[ShadowRow]) -> String {
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "## Shadows (scenes with a directional light)\n\nEach shadow setting against exact visibility: the f64 reference with every light's term multiplied by its visibility, ray cast against the scene's triangles (`combustion_reference`). *Misclassified*: pixels whose verdict on the first directional light (the shadow-factor view below ½, or lit everywhere without shadows) differs from exact visibility, where n·l > 0.1 (the spheres' terminator band left out). Frame times: static camera (the maps are kept) and a camera moving every frame (the maps rendered again each frame); medians.\n\n| scene | shadows | frame ms, static | frame ms, moving | shadow maps ms | misclassified | mean rel. error (exact visibility) | max |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.2} | {:.2} | {} | {:.3} % ({} of {}) | {:.2e} | {:.2e} |",
+            md_cell(&r.scene),
+            r.setting_name(),
+            r.static_total.median,
+            r.moving_total.median,
+            if r.maps.median.is_finite() {
+                format!("{:.2}", r.maps.median)
+            } else {
+                "—".into()
+            },
+            100.0 * r.misclassified as f64 / r.compared.max(1) as f64,
+            r.misclassified,
+            r.compared,
+            r.mean_relative,
+            r.max_relative,
+        );
+    }
+    out + "\n"
+}
