@@ -290,12 +290,14 @@ void main() {
 #ifdef SHADOWS
         if (push.counts.x > 0u && lights[0].spot_cone.w != 0.0) {
             uint first = uint(lights[0].spot_cone.w) - 1u;
-            surface.shadow = shadow_visibility(first, position, push.camera_position.xyz, n, l0,
-                                               gl_FragCoord.xy);
-            float blend;
-            uint cascade = shadow_cascade(
-                first, shadow_view_distance(first, position, push.camera_position.xyz), blend);
-            surface.cascade = cascade < uint(SHADOW_CASCADES) ? int(cascade) : -1;
+            surface.shadow = shadow_visibility_of(lights[0], first, position,
+                                                  push.camera_position.xyz, n, l0, gl_FragCoord.xy);
+            if (lights[0].power_kind.a == LIGHT_KIND_DIRECTIONAL) {
+                float blend;
+                uint cascade = shadow_cascade(
+                    first, shadow_view_distance(first, position, push.camera_position.xyz), blend);
+                surface.cascade = cascade < uint(SHADOW_CASCADES) ? int(cascade) : -1;
+            }
         }
 #endif
         out_radiance = vec4(debug_view_radiance(push.counts.y, surface, m, view, l0, push.counts.x > 0u), 1.0);
@@ -329,8 +331,8 @@ void main() {
         }
 #ifdef SHADOWS
         if (light.spot_cone.w != 0.0) {
-            irradiance *= shadow_visibility(uint(light.spot_cone.w) - 1u, position,
-                                            push.camera_position.xyz, n, l, gl_FragCoord.xy);
+            irradiance *= shadow_visibility_of(light, uint(light.spot_cone.w) - 1u, position,
+                                               push.camera_position.xyz, n, l, gl_FragCoord.xy);
         }
 #endif
         radiance += brdf_evaluate_view(m, view, l) * irradiance * n_dot_l;

@@ -1,5 +1,5 @@
-// Shadows of directional lights (SHADOWS variant; combustion_renderer::shadows and
-// docs/shadows.md): each shadowed light has SHADOW_CASCADES layers in shadow_maps, placed
+// Shadows (SHADOWS variant; combustion_renderer::shadows and docs/shadows.md): each
+// shadowed directional light has SHADOW_CASCADES layers in shadow_maps, placed
 // by shadow_cascades; a lookup takes the cascade whose slice of the view holds the point,
 // fading into the next one over the last CASCADE_BLEND_BAND of the slice.
 #ifndef COMBUSTION_SHADOWS_GLSL
@@ -91,6 +91,61 @@ float shadow_visibility(uint first, vec3 position, vec3 eye, vec3 n, vec3 l, vec
         lit = mix(lit, shadow_filter(first + c + 1u, next.xy, next.z, pixel), blend);
     }
     return lit;
+}
+
+// The lit fraction of a spot or point light at `light_position` whose layers start at
+// `first` (`cube`: six faces +X, −X, +Y, −Y, +Z, −Z, chosen by the major axis of the
+// direction from the light; else one layer), at `position`. The normal offset and the
+// half-texel depth bias are those of a cascade, with the texel's side at the point's
+// distance (a perspective layer's texel grows with depth). Points outside the layer
+// are lit.
+float shadow_visibility_local(uint first, bool cube, vec3 light_position, vec3 position,
+                              vec3 n, vec3 l, vec2 pixel) {
+    vec3 from_light = position - light_position;
+    uint layer = first;
+    if (cube) {
+        vec3 a = abs(from_light);
+        if (a.x >= a.y && a.x >= a.z) {
+            layer += from_light.x > 0.0 ? 0u : 1u;
+        } else if (a.y >= a.z) {
+            layer += from_light.y > 0.0 ? 2u : 3u;
+        } else {
+            layer += from_light.z > 0.0 ? 4u : 5u;
+        }
+    }
+    GpuShadowCascade map = shadow_cascades[layer];
+    float texel = map.texel_depth_slice.x * length(from_light);
+    float cos_theta = clamp(dot(n, l), 0.0, 1.0);
+    float sin_theta = sqrt(1.0 - cos_theta * cos_theta);
+    vec3 p = position + n * (texel * (SHADOW_PCF_RADIUS_TEXELS + 1.5) * sin_theta);
+    vec4 clip = map.world_to_clip * vec4(p, 1.0);
+    if (clip.w <= 0.0) {
+        return 1.0;
+    }
+    vec3 ndc = clip.xyz / clip.w;
+    vec2 uv = ndc.xy * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+        return 1.0;
+    }
+    // Map depth is near·far/(far − near)·(1/near − 1/w) at depth w along the layer's
+    // axis: half a texel of world distance there is this much of it.
+    float near_plane = map.texel_depth_slice.y;
+    float far_plane = map.texel_depth_slice.z;
+    float bias = 0.5 * texel * near_plane * far_plane
+               / ((far_plane - near_plane) * clip.w * clip.w);
+    return shadow_filter(layer, uv, ndc.z - bias, pixel);
+}
+
+// The lit fraction of `light` (its layers starting at `first`) at `position` seen from
+// `eye`, whatever its kind.
+float shadow_visibility_of(GpuLight light, uint first, vec3 position, vec3 eye, vec3 n, vec3 l,
+                           vec2 pixel) {
+    if (light.power_kind.a == LIGHT_KIND_DIRECTIONAL) {
+        return shadow_visibility(first, position, eye, n, l, pixel);
+    }
+    bool cube = shadow_cascades[first].texel_depth_slice.w == SHADOW_LAYER_CUBE_FACE;
+    return shadow_visibility_local(first, cube, light.position_or_direction.xyz, position, n, l,
+                                   pixel);
 }
 
 #endif

@@ -391,7 +391,7 @@ impl Renderer {
         else {
             return Ok(Vec::new());
         };
-        let lights = crate::shadows::frame_cascades(
+        let lights = crate::shadows::frame_shadows(
             inputs.lights,
             &inputs.camera,
             extent.width as f32 / extent.height as f32,
@@ -400,9 +400,9 @@ impl Renderer {
         );
         let mut table = Vec::new();
         let mut shadowed = Vec::new();
-        for (index, cascades) in &lights {
+        for (index, layers) in &lights {
             shadowed.push((*index, table.len() as u32));
-            table.extend(cascades.iter().map(|c| c.gpu()));
+            table.extend(layers.iter().map(|layer| layer.gpu));
         }
         // The lighting pipeline samples the maps whether or not a light is shadowed
         // this frame: they exist (one layer at least) in every frame with shadows.
@@ -432,7 +432,7 @@ impl Renderer {
         // placement changed since they were last rendered.
         let layers: Vec<glam::Mat4> = lights
             .iter()
-            .flat_map(|(_, cascades)| cascades.iter().map(|c| c.world_to_clip))
+            .flat_map(|(_, layers)| layers.iter().map(|layer| layer.world_to_clip))
             .collect();
         let contents = (
             scene.geometry_version,

@@ -135,8 +135,8 @@ impl ReferenceShading {
 
     /// The exact visibility (1 or 0) of the frame's light `light` at pixel (`x`, `y`)
     /// from its G-buffer texel, and n·l there: `None` on the background, without exact
-    /// visibility, or where the light is below the pixel's horizon (n·l ≤ 0: unlit
-    /// either way).
+    /// visibility, or where the light cannot light the pixel whether blocked or not
+    /// (below its horizon, n·l ≤ 0; outside a spot light's cone or beyond a range).
     pub fn exact_visibility(
         &self,
         texel: &GBufferTexel,
@@ -147,9 +147,10 @@ impl ReferenceShading {
         let (bvh, lights) = self.visibility.as_ref()?;
         let p = self.pixel(texel, x, y)?;
         let gpu_light = self.lights.get(light)?;
-        let (l, _) = self.light_direction(gpu_light, p.position);
+        let (l, irradiance) = self.light_direction(gpu_light, p.position);
         let cos = p.n[0] * l[0] + p.n[1] * l[1] + p.n[2] * l[2];
-        (cos > 0.0).then(|| (bvh.light_visibility(p.position, p.n, &lights[light]), cos))
+        let reaches = irradiance.iter().any(|&e| e > 0.0);
+        (cos > 0.0 && reaches).then(|| (bvh.light_visibility(p.position, p.n, &lights[light]), cos))
     }
 
     /// The unit direction from `position` to `light` and the irradiance it gives a

@@ -11,7 +11,7 @@ use crate::gpu_types::{
 };
 use crate::light_cull::TILE_SIZE;
 use crate::options::DebugView;
-use crate::shadows::{CASCADE_BLEND_BAND, PCF_RADIUS_TEXELS};
+use crate::shadows::{CASCADE_BLEND_BAND, LAYER_CUBE_FACE, PCF_RADIUS_TEXELS};
 
 include!(concat!(env!("OUT_DIR"), "/shader_files.rs"));
 
@@ -110,6 +110,11 @@ fn shared_constants() -> Vec<SharedConstant> {
             GlslValue::Float(CASCADE_BLEND_BAND),
             "shadows::CASCADE_BLEND_BAND",
         ),
+        constant(
+            "SHADOW_LAYER_CUBE_FACE",
+            GlslValue::Float(LAYER_CUBE_FACE),
+            "shadows::LAYER_CUBE_FACE",
+        ),
     ];
     for view in DebugView::ALL {
         if view != DebugView::None {
@@ -186,6 +191,7 @@ mod tests {
             format!("LIGHT_KIND_SPOT {LIGHT_KIND_SPOT:.1}"),
             format!("SHADOW_PCF_RADIUS_TEXELS {PCF_RADIUS_TEXELS:?}"),
             format!("SHADOW_CASCADE_BLEND_BAND {CASCADE_BLEND_BAND:?}"),
+            format!("SHADOW_LAYER_CUBE_FACE {LAYER_CUBE_FACE:?}"),
         ];
         for (name, view) in [
             ("BASE_COLOR", DebugView::BaseColor),

@@ -1,6 +1,7 @@
-//! Shadows of directional lights: cascaded shadow maps, their settings, the cascades'
-//! placement (on the CPU, per frame), the maps' image and the depth-only pipeline that
-//! renders the scene's objects into them (through [`crate::mesh_draw`]). The lighting
+//! Shadows: cascaded shadow maps of directional lights, a perspective map per spot light
+//! and a cube of six per point light; their settings, their placement (on the CPU, per
+//! frame), the maps' image and the depth-only pipeline that renders the scene's objects
+//! into them (through [`crate::mesh_draw`]). The lighting
 //! pass samples them (shaders/include/shadows.glsl); docs/shadows.md states the rules.
 //!
 //! Placement (one place for each rule):
@@ -331,34 +332,195 @@ pub fn directional_cascades(
         .collect()
 }
 
-/// The frame's shadowed lights: for each of the first [`MAX_SHADOWED_LIGHTS`]
-/// directional lights among `lights`, its index and its cascades (light after light,
-/// in the shadow maps' layer order).
-pub(crate) fn frame_cascades(
+/// A shadow-map layer of the frame: the matrix its casters are rendered with, and what
+/// the lighting pass reads of it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ShadowLayer {
+    pub(crate) world_to_clip: Mat4,
+    pub(crate) gpu: GpuShadowCascade,
+}
+
+/// `GpuShadowCascade::texel_depth_slice.w` of a spot light's one perspective layer (0: a
+/// directional light's orthographic cascade).
+pub const LAYER_PERSPECTIVE: f32 = 1.0;
+/// `GpuShadowCascade::texel_depth_slice.w` of a face of a light's cube of six layers.
+pub const LAYER_CUBE_FACE: f32 = 2.0;
+
+/// The frame's shadowed lights, in the order of `lights`: the first
+/// [`MAX_SHADOWED_LIGHTS`] directional lights (their cascades), spot lights (one
+/// perspective layer; six, as a point light, when the cone is wider than
+/// [`MAX_SPOT_CONE_ONE_LAYER`]) and point lights (six faces of a cube), as long as the
+/// layers fit [`MAX_SHADOW_LAYERS`]; a light whose layers do not fit casts none. Each
+/// with its index and its layers (light after light, in the maps' layer order).
+pub(crate) fn frame_shadows(
     lights: &[Light],
     camera: &Camera,
     aspect: f32,
     bounds: Option<(Vec3, Vec3)>,
     settings: &ShadowSettings,
-) -> Vec<(usize, Vec<Cascade>)> {
-    lights
-        .iter()
-        .enumerate()
-        .filter_map(|(index, light)| match light {
-            Light::Directional { direction, .. } => Some((index, direction.normalize())),
-            _ => None,
-        })
-        .take(MAX_SHADOWED_LIGHTS)
-        .map(|(index, direction)| {
-            let cascades = directional_cascades(
-                camera,
-                aspect,
+) -> Vec<(usize, Vec<ShadowLayer>)> {
+    let mut out: Vec<(usize, Vec<ShadowLayer>)> = Vec::new();
+    let mut layers = 0;
+    let mut suns = 0;
+    for (index, light) in lights.iter().enumerate() {
+        let light_layers: Vec<ShadowLayer> = match *light {
+            Light::Directional { direction, .. } => {
+                if suns == MAX_SHADOWED_LIGHTS {
+                    continue;
+                }
+                suns += 1;
+                directional_cascades(
+                    camera,
+                    aspect,
+                    direction.normalize(),
+                    bounds,
+                    settings.cascades,
+                    settings.map_size,
+                )
+                .iter()
+                .map(|c| ShadowLayer {
+                    world_to_clip: c.world_to_clip,
+                    gpu: c.gpu(),
+                })
+                .collect()
+            }
+            Light::Spot {
+                position,
                 direction,
-                bounds,
-                settings.cascades,
-                settings.map_size,
-            );
-            (index, cascades)
+                outer_cone,
+                range,
+                ..
+            } if outer_cone <= MAX_SPOT_CONE_ONE_LAYER => {
+                let (near, far) = local_depth_range(position, range, bounds);
+                vec![perspective_layer(
+                    position,
+                    direction.normalize(),
+                    outer_cone,
+                    near,
+                    far,
+                    settings.map_size,
+                    LAYER_PERSPECTIVE,
+                )]
+            }
+            Light::Spot {
+                position, range, ..
+            }
+            | Light::Point {
+                position, range, ..
+            } => {
+                let (near, far) = local_depth_range(position, range, bounds);
+                cube_layers(position, near, far, settings.map_size)
+            }
+        };
+        if layers + light_layers.len() > MAX_SHADOW_LAYERS {
+            continue;
+        }
+        layers += light_layers.len();
+        out.push((index, light_layers));
+    }
+    out
+}
+
+/// The side of a shadow-map texel of the spot or point `light` per metre of distance
+/// from it (a texel at distance d is d times this wide), with maps of `map_size`;
+/// `None` for a directional light (its cascades' texels: [`Cascade::texel_world`]).
+pub fn local_texel_per_metre(light: &Light, map_size: u32) -> Option<f32> {
+    let half_angle = match *light {
+        Light::Directional { .. } => return None,
+        Light::Spot { outer_cone, .. } if outer_cone <= MAX_SPOT_CONE_ONE_LAYER => outer_cone,
+        Light::Spot { .. } | Light::Point { .. } => std::f32::consts::FRAC_PI_4,
+    };
+    Some(2.0 * widened(half_angle, map_size).tan() / map_size as f32)
+}
+
+/// Shadow-map layers one frame may use, at most (a directional light takes one per
+/// cascade, a spot light one, a point light six).
+pub const MAX_SHADOW_LAYERS: usize = 32;
+
+/// The widest spot cone (half-angle, radians) shadowed by one perspective layer: 60°.
+/// Wider cones get a point light's six faces.
+pub const MAX_SPOT_CONE_ONE_LAYER: f32 = std::f32::consts::FRAC_PI_3;
+
+/// The near and far planes of a local light's maps: far is the light's range, or the
+/// farthest corner of the scene's bounds (the nearest of the two), near a
+/// ten-thousandth of it (at least 1 mm).
+fn local_depth_range(
+    position: Vec3,
+    range: Option<f32>,
+    bounds: Option<(Vec3, Vec3)>,
+) -> (f32, f32) {
+    let to_bounds = bounds.map(|(min, max)| {
+        (0..8)
+            .map(|i| {
+                let corner = Vec3::new(
+                    if i & 1 == 0 { min.x } else { max.x },
+                    if i & 2 == 0 { min.y } else { max.y },
+                    if i & 4 == 0 { min.z } else { max.z },
+                );
+                corner.distance(position)
+            })
+            .fold(0.0f32, f32::max)
+    });
+    let far = match (range, to_bounds) {
+        (Some(r), Some(b)) => r.min(b),
+        (Some(r), None) => r,
+        (None, Some(b)) => b,
+        (None, None) => 1.0,
+    }
+    .max(1e-2)
+        * 1.01;
+    ((far * 1e-4).max(1e-3).min(far * 0.5), far)
+}
+
+/// The half-angle, beyond `half_angle`, a local light's layer reaches so that every
+/// tap of the filter around a point inside `half_angle` stays on the map:
+/// PCF_RADIUS_TEXELS + 2 texels more on each side.
+fn widened(half_angle: f32, map_size: u32) -> f32 {
+    let extra = 2.0 * (PCF_RADIUS_TEXELS + 2.0) / map_size as f32;
+    (half_angle.tan() * (1.0 + extra)).atan()
+}
+
+/// A perspective layer from `position` along `axis` covering the cone of `half_angle`.
+fn perspective_layer(
+    position: Vec3,
+    axis: Vec3,
+    half_angle: f32,
+    near: f32,
+    far: f32,
+    map_size: u32,
+    kind: f32,
+) -> ShadowLayer {
+    let half = widened(half_angle, map_size);
+    let view = Mat4::look_to_rh(position, axis, light_up(axis));
+    let world_to_clip = Mat4::perspective_rh(2.0 * half, 1.0, near, far) * view;
+    ShadowLayer {
+        world_to_clip,
+        gpu: GpuShadowCascade {
+            world_to_clip: world_to_clip.to_cols_array(),
+            // A texel's side per metre of depth along the axis.
+            texel_depth_slice: [2.0 * half.tan() / map_size as f32, near, far, kind],
+            view_forward: position.extend(0.0).to_array(),
+        },
+    }
+}
+
+/// The six faces of a cube around `position`, in the order +X, −X, +Y, −Y, +Z, −Z (the
+/// lighting pass picks the face by the major axis of the direction from the light), each
+/// a little wider than 90° so a filter near a face's edge stays on its map: the faces
+/// meet without a seam.
+fn cube_layers(position: Vec3, near: f32, far: f32, map_size: u32) -> Vec<ShadowLayer> {
+    [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]
+        .iter()
+        .map(|&axis| {
+            perspective_layer(
+                position,
+                axis,
+                std::f32::consts::FRAC_PI_4,
+                near,
+                far,
+                map_size,
+                LAYER_CUBE_FACE,
+            )
         })
         .collect()
 }
@@ -580,21 +742,27 @@ impl ShadowCasterPass {
     }
 }
 
-/// Whether the box (lo, hi) lies wholly to one side of the map `world_to_clip` renders
-/// (x or y beyond [−1, 1] at every corner).
+/// Whether the box (lo, hi) lies wholly outside one side of the map `world_to_clip`
+/// renders (x or y beyond ±w at every corner, in homogeneous coordinates: right for an
+/// orthographic and a perspective map alike, corners behind a light included).
 fn beside_map(world_to_clip: &Mat4, lo: Vec3, hi: Vec3) -> bool {
-    let corners = (0..8).map(|i| {
-        world_to_clip.project_point3(Vec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        ))
-    });
-    let (min, max) = corners.fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(min, max), c| (min.min(c), max.max(c)),
-    );
-    max.x < -1.0 || min.x > 1.0 || max.y < -1.0 || min.y > 1.0
+    let corners: Vec<glam::Vec4> = (0..8)
+        .map(|i| {
+            *world_to_clip
+                * Vec3::new(
+                    if i & 1 == 0 { lo.x } else { hi.x },
+                    if i & 2 == 0 { lo.y } else { hi.y },
+                    if i & 4 == 0 { lo.z } else { hi.z },
+                )
+                .extend(1.0)
+        })
+        .collect();
+    let all = |outside: fn(&glam::Vec4) -> bool| corners.iter().all(outside);
+    all(|c| c.x > c.w)
+        || all(|c| c.x < -c.w)
+        || all(|c| c.y > c.w)
+        || all(|c| c.y < -c.w)
+        || all(|c| c.w <= 0.0)
 }
 
 #[cfg(test)]

@@ -17,6 +17,8 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "spheres-studio",
     "gold-copper-underwater",
     "grid-sun",
+    "spot-box",
+    "point-among",
 ];
 
 /// Builds the built-in scene `name` (one of [`BUILTIN_SCENES`]), procedurally, needing no
@@ -35,7 +37,10 @@ pub const BUILTIN_SCENES: &[&str] = &[
 /// - `spheres-studio`, `gold-copper-underwater`: lit by [`crate::Environment::Studio`]
 ///   alone;
 /// - `grid-sun`: the performance grid's 49 spheres standing on a floor under a low sun
-///   (20° above the horizon), for shadows.
+///   (20° above the horizon), for shadows;
+/// - `spot-box`: a closed room lit by one spot light from the ceiling, three spheres on
+///   its floor; `point-among`: a point light among a ring of spheres on a floor (shadows
+///   of local lights).
 ///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
@@ -49,6 +54,8 @@ pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
         "underwater-in-air" => Ok(underwater(1.0, "underwater-in-air")),
         "grid-7x7" => Ok(grid_7x7()),
         "grid-sun" => Ok(grid_sun()),
+        "spot-box" => Ok(spot_box()),
+        "point-among" => Ok(point_among()),
         "spheres-studio" => Ok(under_studio(spheres(), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
             Scene {
@@ -242,6 +249,148 @@ fn grid_sun() -> Scene {
             vertical_fov: 40f32.to_radians(),
             near: 0.1,
             far: 100.0,
+        },
+        outside_ior: 1.0,
+        environment: None,
+    }
+}
+
+/// Grey Lambertian walls (material 0) and three spheres (materials 1–3: plastic, gold,
+/// clay) for the local-light shadow scenes.
+fn shadow_scene_materials() -> Vec<Material> {
+    vec![
+        Material {
+            name: "wall".into(),
+            base_color: [0.6, 0.6, 0.6],
+            roughness: 0.9,
+            ..Material::default()
+        },
+        Material {
+            name: "red plastic".into(),
+            base_color: [0.7, 0.08, 0.05],
+            roughness: 0.35,
+            ..Material::default()
+        },
+        Material {
+            name: "gold".into(),
+            metalness: 1.0,
+            roughness: 0.3,
+            conductor: metal(combustion_spectra::BuiltinMetal::Gold),
+            ..Material::default()
+        },
+        Material {
+            name: "clay".into(),
+            base_color: [0.6, 0.35, 0.25],
+            roughness: 0.8,
+            diffuse_model: DiffuseModel::OrenNayarFull,
+            ..Material::default()
+        },
+    ]
+}
+
+/// A room 6 m square and 3 m high (floor, ceiling and four walls facing inwards), a
+/// spot light under the ceiling's centre pointing down (cone 30°–45°, 60 W/sr), and
+/// three spheres of radius 0.5 on the floor, seen from a corner.
+fn spot_box() -> Scene {
+    use std::f32::consts::FRAC_PI_2;
+    let wall = |transform: Mat4| Object {
+        mesh: 1,
+        material: 0,
+        transform,
+    };
+    let mut objects = vec![
+        wall(Mat4::IDENTITY),
+        wall(
+            Mat4::from_translation(Vec3::new(0.0, 3.0, 0.0))
+                * Mat4::from_rotation_x(std::f32::consts::PI),
+        ),
+    ];
+    for turn in 0..4 {
+        // A wall 3 m from the centre, facing it.
+        let around = Mat4::from_rotation_y(turn as f32 * FRAC_PI_2);
+        objects.push(wall(
+            around
+                * Mat4::from_translation(Vec3::new(0.0, 1.5, -3.0))
+                * Mat4::from_rotation_x(FRAC_PI_2)
+                * Mat4::from_scale(Vec3::new(1.0, 1.0, 0.5)),
+        ));
+    }
+    for (i, x) in [-1.4f32, 0.2, 1.5].into_iter().enumerate() {
+        objects.push(Object {
+            mesh: 0,
+            material: i + 1,
+            transform: Mat4::from_translation(Vec3::new(x, 0.5, 0.3 * i as f32 - 0.4)),
+        });
+    }
+    Scene {
+        name: "spot-box".into(),
+        meshes: vec![
+            Mesh::uv_sphere("sphere", 0.5, 64, 32),
+            Mesh::plane("wall", 6.0),
+        ],
+        materials: shadow_scene_materials(),
+        objects,
+        lights: vec![Light::Spot {
+            position: Vec3::new(0.0, 2.9, 0.0),
+            direction: Vec3::new(0.15, -1.0, 0.1),
+            intensity: [60.0; 3],
+            inner_cone: 30f32.to_radians(),
+            outer_cone: 45f32.to_radians(),
+            range: None,
+        }],
+        camera: Camera {
+            position: Vec3::new(2.6, 2.5, 2.6),
+            target: Vec3::new(0.0, 0.4, 0.0),
+            up: Vec3::Y,
+            vertical_fov: 60f32.to_radians(),
+            near: 0.05,
+            far: 20.0,
+        },
+        outside_ior: 1.0,
+        environment: None,
+    }
+}
+
+/// A point light 1.2 m above a floor, among six spheres of radius 0.4 in a ring of
+/// radius 1.6 around it, seen from above and to the side (its six cube faces all cast).
+fn point_among() -> Scene {
+    let mut objects = vec![Object {
+        mesh: 1,
+        material: 0,
+        transform: Mat4::IDENTITY,
+    }];
+    for i in 0..6 {
+        let angle = i as f32 * std::f32::consts::TAU / 6.0 + 0.3;
+        objects.push(Object {
+            mesh: 0,
+            material: 1 + i % 3,
+            transform: Mat4::from_translation(Vec3::new(
+                1.6 * angle.cos(),
+                0.4 + 0.5 * (i % 2) as f32,
+                1.6 * angle.sin(),
+            )),
+        });
+    }
+    Scene {
+        name: "point-among".into(),
+        meshes: vec![
+            Mesh::uv_sphere("sphere", 0.4, 64, 32),
+            Mesh::plane("floor", 16.0),
+        ],
+        materials: shadow_scene_materials(),
+        objects,
+        lights: vec![Light::Point {
+            position: Vec3::new(0.0, 1.2, 0.0),
+            intensity: [20.0; 3],
+            range: None,
+        }],
+        camera: Camera {
+            position: Vec3::new(0.0, 6.0, 5.5),
+            target: Vec3::new(0.0, 0.0, 0.3),
+            up: Vec3::Y,
+            vertical_fov: 50f32.to_radians(),
+            near: 0.05,
+            far: 40.0,
         },
         outside_ior: 1.0,
         environment: None,
