@@ -367,7 +367,7 @@ fn report_measures_shadows_against_exact_visibility() {
     let csv = std::fs::read_to_string(dir.join("shadows.csv")).unwrap();
     assert_eq!(csv.lines().count(), 3, "{csv}");
     assert!(
-        csv.lines().nth(2).unwrap().contains(",hard-4x2048,"),
+        csv.lines().nth(2).unwrap().contains(",hard-4x2048-1024,"),
         "{csv}"
     );
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();

@@ -176,11 +176,13 @@ fn a_spheres_shadow_on_a_plane_is_the_analytic_one() {
                 cascades: 4,
                 map_size: 1024,
                 filter: ShadowFilter::Pcf16,
+                ..ShadowSettings::DEFAULT
             },
             ShadowSettings {
                 cascades: 1,
                 map_size: 2048,
                 filter: ShadowFilter::Hard,
+                ..ShadowSettings::DEFAULT
             },
         ] {
             let frame = shadow_factors(&scene, settings);
@@ -319,6 +321,7 @@ fn a_plane_lit_at_grazing_angles_does_not_shadow_itself() {
                 cascades: 4,
                 map_size: 1024,
                 filter,
+                ..ShadowSettings::DEFAULT
             };
             let frame = shadow_factors(&scene, settings);
             let mut floor = 0;
@@ -534,7 +537,7 @@ fn against_exact_visibility(name: &str, radius: f64) {
             _ => Vec::new(),
         };
         let texel_at = |p: DVec3| -> Option<f64> {
-            match local_texel_per_metre(&light, settings.map_size) {
+            match local_texel_per_metre(&light, settings.local_map_size) {
                 Some(per_metre) => {
                     let (Light::Point { position, .. } | Light::Spot { position, .. }) = light
                     else {

@@ -1,7 +1,9 @@
 // Shadows (SHADOWS variant; combustion_renderer::shadows and docs/shadows.md): each
-// shadowed directional light has SHADOW_CASCADES layers in shadow_maps, placed
-// by shadow_cascades; a lookup takes the cascade whose slice of the view holds the point,
-// fading into the next one over the last CASCADE_BLEND_BAND of the slice.
+// shadowed directional light has SHADOW_CASCADES entries in shadow_cascades, whose maps
+// are layers of shadow_maps; a lookup takes the cascade whose slice of the view holds
+// the point, fading into the next one over the last CASCADE_BLEND_BAND of the slice. A
+// spot light has one entry, a point light six (a cube), their maps in local_shadow_maps.
+// Each entry names its layer in its array (view_forward.w).
 #ifndef COMBUSTION_SHADOWS_GLSL
 #define COMBUSTION_SHADOWS_GLSL
 
@@ -10,25 +12,32 @@ float interleaved_gradient_noise(vec2 pixel) {
     return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
 }
 
-// One tap of the Vogel disk of SHADOW_TAPS taps (radii √((i + ½)/N), angles i times the
-// golden angle, the disk turned by `rotation`).
-float shadow_tap(uint layer, vec2 uv, float z, vec2 texel, float rotation, int i) {
-    float r = sqrt((float(i) + 0.5) / float(SHADOW_TAPS)) * SHADOW_PCF_RADIUS_TEXELS;
-    float a = float(i) * 2.39996323 + rotation;
-    return texture(shadow_maps, vec4(uv + r * vec2(cos(a), sin(a)) * texel, float(layer), z));
+// One depth comparison in layer `layer` of the cascades' maps, or of the local lights'
+// (`local`), at coord.xy with reference depth coord.z (bilinearly weighted over 2×2).
+float shadow_compare(bool local, float layer, vec3 coord) {
+    vec4 c = vec4(coord.xy, layer, coord.z);
+    return local ? texture(local_shadow_maps, c) : texture(shadow_maps, c);
 }
 
-// The lit fraction of layer `layer` at map coordinates uv for a receiver at map depth z:
-// the average of SHADOW_TAPS bilinear comparisons.
-float shadow_filter(uint layer, vec2 uv, float z, vec2 pixel) {
+// The lit fraction of the map of table entry `entry` at uv for a receiver at map depth
+// z: one bilinear comparison, or the average of SHADOW_TAPS on a Vogel disk (radii
+// √((i + ½)/N)·SHADOW_PCF_RADIUS_TEXELS, angles i times the golden angle) turned per
+// pixel.
+float shadow_filter(uint entry, vec2 uv, float z, vec2 pixel) {
+    GpuShadowCascade map = shadow_cascades[entry];
+    bool local = map.texel_depth_slice.w != 0.0;
+    float layer = map.view_forward.w;
 #if SHADOW_TAPS == 1
-    return texture(shadow_maps, vec4(uv, float(layer), z));
+    return shadow_compare(local, layer, vec3(uv, z));
 #else
-    vec2 texel = 1.0 / vec2(textureSize(shadow_maps, 0).xy);
+    vec2 texel = 1.0 / vec2(local ? textureSize(local_shadow_maps, 0).xy
+                                  : textureSize(shadow_maps, 0).xy);
     float rotation = 6.28318531 * interleaved_gradient_noise(pixel);
     float lit = 0.0;
     for (int i = 0; i < SHADOW_TAPS; ++i) {
-        lit += shadow_tap(layer, uv, z, texel, rotation, i);
+        float r = sqrt((float(i) + 0.5) / float(SHADOW_TAPS)) * SHADOW_PCF_RADIUS_TEXELS;
+        float a = float(i) * 2.39996323 + rotation;
+        lit += shadow_compare(local, layer, vec3(uv + r * vec2(cos(a), sin(a)) * texel, z));
     }
     return lit / float(SHADOW_TAPS);
 #endif

@@ -212,6 +212,10 @@ pub(crate) struct ShadingArgs {
     /// With --shadows on: each cascade's map side in texels (64 to the device's limit)
     #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.map_size, value_parser = at_least_one)]
     pub(crate) shadow_map_size: u32,
+    /// With --shadows on: each spot light's map side, and each of a point light's six
+    /// (64 to the device's limit)
+    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.local_map_size, value_parser = at_least_one)]
+    pub(crate) shadow_local_map_size: u32,
     /// With --shadows on: how shadow lookups are filtered
     #[arg(long, value_name = "FILTER", default_value = ShadowSettings::DEFAULT.filter.name(), value_parser = named(ShadowFilter::ALL.map(|f| (f.name(), f))))]
     pub(crate) shadow_filter: ShadowFilter,
@@ -223,6 +227,7 @@ impl ShadingArgs {
         self.shadows.then_some(ShadowSettings {
             cascades: self.shadow_cascades,
             map_size: self.shadow_map_size,
+            local_map_size: self.shadow_local_map_size,
             filter: self.shadow_filter,
         })
     }
@@ -291,7 +296,7 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_name = "WHEN", default_value = "auto", value_parser = named(CULLING))]
     pub(crate) culling: LightCulling,
     /// Measure the variant sets and write the speed-against-error report to DIR
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "exposure", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "exposure", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
     pub(crate) report: Option<PathBuf>,
     /// With --report: add how this run reproduces an earlier report (rows with identical
     /// error columns, the spread of the frame-time ratios)

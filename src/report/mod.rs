@@ -353,7 +353,7 @@ pub struct Measurements {
     pub scaling_scene: String,
     /// The name of the device measured on.
     pub device: String,
-    /// The shadow settings on each scene with a directional light (empty unless
+    /// The shadow settings on each scene with lights (empty unless
     /// [`ReportDesc::shadows`] names some).
     pub shadows: Vec<shadows::ShadowRow>,
 }
@@ -394,7 +394,7 @@ pub struct ReportDesc {
     /// Measure frame time against size and light count on this scene
     /// ([`SCALING_SIZES`], [`SCALING_LIGHT_COUNTS`] culled and not).
     pub scaling: Option<SceneSource>,
-    /// The shadow settings measured on each scene with a directional light
+    /// The shadow settings measured on each scene with lights
     /// ([`shadows::SHADOW_SETTINGS`]; empty: none).
     pub shadows: Vec<Option<combustion_renderer::ShadowSettings>>,
 }
@@ -404,7 +404,7 @@ impl ReportDesc {
     fn shadow_steps(&self, scenes: &[(String, combustion_scene::Scene)]) -> usize {
         let suns = scenes
             .iter()
-            .filter(|(_, scene)| shadows::has_sun(&scene.lights))
+            .filter(|(_, scene)| shadows::has_lights(&scene.lights))
             .count();
         suns * self.shadows.len()
     }
@@ -617,7 +617,7 @@ pub fn measure(
             }
             if hdr == HdrFormat::Rgba32Float
                 && !desc.shadows.is_empty()
-                && shadows::has_sun(&scene.lights)
+                && shadows::has_lights(&scene.lights)
             {
                 let done = rows.len() + floors.len() + scaling.len() + shadow_rows.len();
                 let mut i = 0;

@@ -1,4 +1,4 @@
-//! The report's shadow section: on each scene with a directional light, the cost of each
+//! The report's shadow section: on each scene with lights, the cost of each
 //! shadow setting (frames of a static camera, whose maps are kept, and of a camera
 //! moving every frame, whose maps are rendered again each frame) and its error against
 //! exact visibility (`combustion_reference`'s f64 ray casts): the share of pixels whose
@@ -20,8 +20,8 @@ use super::{md_cell, time_frames, PassSpreads, ReportDesc, Spread, ENVIRONMENT_S
 use crate::Error;
 
 /// The shadow settings the report measures: none (the frame without shadows), the
-/// default (4 cascades of 2048², hard), PCF over 16 taps, and a cheap one (2 cascades of
-/// 1024², hard).
+/// default (4 cascades of 2048², local lights' maps of 1024², hard), PCF over 16 taps,
+/// and a cheap one (2 cascades of 1024², local maps of 512², hard).
 pub const SHADOW_SETTINGS: [Option<ShadowSettings>; 4] = [
     None,
     Some(ShadowSettings::DEFAULT),
@@ -32,6 +32,7 @@ pub const SHADOW_SETTINGS: [Option<ShadowSettings>; 4] = [
     Some(ShadowSettings {
         cascades: 2,
         map_size: 1024,
+        local_map_size: 512,
         filter: ShadowFilter::Hard,
     }),
 ];
@@ -54,8 +55,8 @@ pub struct ShadowRow {
     pub moving_total: Spread,
     /// The shadow-map pass, camera moving ([`Spread::NONE`] without shadows).
     pub maps: Spread,
-    /// Pixels whose verdict on the first directional light differs from exact
-    /// visibility (a frame without shadows lights every pixel), and pixels compared.
+    /// Pixels whose verdict on the scene's first light differs from exact visibility (a
+    /// frame without shadows lights every pixel).
     pub misclassified: usize,
     /// Pixels whose verdict was compared.
     pub compared: usize,
@@ -66,28 +67,33 @@ pub struct ShadowRow {
 }
 
 impl ShadowRow {
-    /// The setting's name: `off`, or filter, cascades and map size (`hard-4x2048`).
+    /// The setting's name: `off`, or filter, cascades, map size and the local lights'
+    /// map size (`hard-4x2048-1024`).
     pub fn setting_name(&self) -> String {
         setting_name(self.settings)
     }
 }
 
-/// `off`, or filter-cascadesxsize.
+/// `off`, or filter-cascadesxsize-localsize (`hard-4x2048-1024`).
 pub fn setting_name(settings: Option<ShadowSettings>) -> String {
     match settings {
         None => "off".into(),
-        Some(s) => format!("{}-{}x{}", s.filter.name(), s.cascades, s.map_size),
+        Some(s) => format!(
+            "{}-{}x{}-{}",
+            s.filter.name(),
+            s.cascades,
+            s.map_size,
+            s.local_map_size
+        ),
     }
 }
 
-/// Whether `lights` has a directional light (what the shadows of this version cover).
-pub fn has_sun(lights: &[Light]) -> bool {
-    lights
-        .iter()
-        .any(|l| matches!(l, Light::Directional { .. }))
+/// Whether a scene with `lights` has shadows to measure (every kind of light casts them).
+pub fn has_lights(lights: &[Light]) -> bool {
+    !lights.is_empty()
 }
 
-/// Measures every setting of `desc.shadows` on `gpu` (a scene with a directional light),
+/// Measures every setting of `desc.shadows` on `gpu` (a scene with lights),
 /// leaving the renderer's shading options at the default.
 pub(super) fn measure_scene(
     renderer: &mut Renderer,
@@ -201,7 +207,7 @@ pub fn markdown(rows: &[ShadowRow]) -> String {
         return String::new();
     }
     let mut out = String::from(
-        "## Shadows (scenes with a directional light)\n\nEach shadow setting against exact visibility: the f64 reference with every light's term multiplied by its visibility, ray cast against the scene's triangles (`combustion_reference`). *Misclassified*: pixels whose verdict on the first directional light (the shadow-factor view below ½, or lit everywhere without shadows) differs from exact visibility, where n·l > 0.1 (the spheres' terminator band left out). Frame times: static camera (the maps are kept) and a camera moving every frame (the maps rendered again each frame); medians.\n\n| scene | shadows | frame ms, static | frame ms, moving | shadow maps ms | misclassified | mean rel. error (exact visibility) | max |\n|---|---|---|---|---|---|---|---|\n",
+        "## Shadows (scenes with lights)\n\nEach shadow setting (filter-cascades×map size-local lights' map size) against exact visibility: the f64 reference with every light's term multiplied by its visibility, ray cast against the scene's triangles (`combustion_reference`). *Misclassified*: pixels whose verdict on the scene's first light (the shadow-factor view below ½, or lit everywhere without shadows) differs from exact visibility, where the light reaches and n·l > 0.1 (the spheres' terminator band left out). Frame times: static camera (the maps are kept) and a camera moving every frame (the maps rendered again each frame); medians.\n\n| scene | shadows | frame ms, static | frame ms, moving | shadow maps ms | misclassified | mean rel. error (exact visibility) | max |\n|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let _ = writeln!(

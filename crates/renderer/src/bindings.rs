@@ -493,10 +493,16 @@ pub static LIGHTING: SetDecl = SetDecl {
             FRAGMENT,
         )
         .only_with("ENVIRONMENT"),
-        // Shadows of directional lights (SHADOWS variant; see crate::shadows): the maps,
-        // a layer per cascade of each shadowed light, and each layer's placement.
+        // Shadows (SHADOWS variant; see crate::shadows): the cascades' maps, the spot and
+        // point lights' maps, and each layer's placement.
         Binding::new("shadow_maps", BindingKind::Sampler2DArrayShadow, FRAGMENT)
             .only_with("SHADOWS"),
+        Binding::new(
+            "local_shadow_maps",
+            BindingKind::Sampler2DArrayShadow,
+            FRAGMENT,
+        )
+        .only_with("SHADOWS"),
         Binding::new(
             "shadow_cascades",
             BindingKind::StorageBuffer {
@@ -690,8 +696,8 @@ mod tests {
                 .map_or(0, |s| s.descriptor_count)
         };
         assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 10);
-        // The two environment cubes and the shadow maps, twice.
-        assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 6);
+        // The two environment cubes and the two arrays of shadow maps, twice.
+        assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 8);
         // Materials, lights, the conductor table, the tile light lists, the energy
         // table, the three environment tables and the shadow cascades, twice.
         assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 18);

@@ -47,9 +47,11 @@ pub(crate) struct FrameSlot {
     pub(crate) overlay_quad_count: u32,
     /// The placement of each shadow-map layer of the slot's frame (host-visible; grows).
     pub(crate) shadow_cascades: Buffer,
-    /// The world-to-map matrix of each layer the slot's frame renders (empty: no
-    /// shadows this frame).
+    /// The world-to-map matrix of each cascade layer the slot's frame renders (empty:
+    /// none rendered this frame, the maps kept or no shadows).
     pub(crate) shadow_layers: Vec<glam::Mat4>,
+    /// The same for the local lights' maps.
+    pub(crate) local_shadow_layers: Vec<glam::Mat4>,
     pub(crate) timestamps: Option<TimestampQueries>,
     /// The passes whose end this slot's last frame stamped, in order (empty: no frame
     /// stamped since its timings were read, or no timestamps).
@@ -102,6 +104,7 @@ impl FrameSlot {
                 CPU_TO_GPU,
             )?,
             shadow_layers: Vec::new(),
+            local_shadow_layers: Vec::new(),
             timestamps,
             stamped: Vec::new(),
             retired: Vec::new(),
@@ -383,6 +386,7 @@ impl Renderer {
         variant: crate::variant::ShaderVariant,
     ) -> Result<Vec<(usize, u32)>, RenderError> {
         self.slots[slot].shadow_layers.clear();
+        self.slots[slot].local_shadow_layers.clear();
         let Some(settings) = self
             .settings
             .shading
@@ -398,50 +402,73 @@ impl Renderer {
             scene.world_bounds,
             &settings,
         );
+        // The table, light after light; each entry names its layer in its own array.
         let mut table = Vec::new();
         let mut shadowed = Vec::new();
+        let (mut cascade_layers, mut local_layers) = (Vec::new(), Vec::new());
         for (index, layers) in &lights {
             shadowed.push((*index, table.len() as u32));
-            table.extend(layers.iter().map(|layer| layer.gpu));
-        }
-        // The lighting pipeline samples the maps whether or not a light is shadowed
-        // this frame: they exist (one layer at least) in every frame with shadows.
-        let layers = (table.len() as u32).max(1);
-        if !self
-            .shadow_maps
-            .as_ref()
-            .is_some_and(|maps| maps.fits(settings.map_size, layers))
-        {
-            let maps = crate::shadows::ShadowMaps::new(&self.device, settings.map_size, layers)?;
-            if let Some(old) = self.shadow_maps.replace(maps) {
-                self.states.forget(old.image.raw());
-                self.retire(old);
+            for layer in layers {
+                let in_array = if layer.local {
+                    &mut local_layers
+                } else {
+                    &mut cascade_layers
+                };
+                let mut gpu = layer.gpu;
+                gpu.view_forward[3] = in_array.len() as f32;
+                in_array.push(layer.world_to_clip);
+                table.push(gpu);
             }
         }
         if table.is_empty() {
             table.push(bytemuck::Zeroable::zeroed());
         }
-        let s = &mut self.slots[slot];
         write_growing(
             &self.device,
-            &mut s.shadow_cascades,
+            &mut self.slots[slot].shadow_cascades,
             SHADOW_CASCADES,
             bytemuck::cast_slice(&table),
         )?;
-        // The maps are rendered again only when the scene's geometry or a cascade's
-        // placement changed since they were last rendered.
-        let layers: Vec<glam::Mat4> = lights
-            .iter()
-            .flat_map(|(_, layers)| layers.iter().map(|layer| layer.world_to_clip))
-            .collect();
-        let contents = (
-            scene.geometry_version,
-            layers.iter().map(|m| m.to_cols_array()).collect::<Vec<_>>(),
-        );
-        let maps = self.shadow_maps.as_mut().expect("made above");
-        if maps.contents.as_ref() != Some(&contents) {
-            maps.contents = Some(contents);
-            s.shadow_layers = layers;
+        // The lighting pipeline samples both arrays whether or not a light is shadowed
+        // this frame: they exist (one layer at least) in every frame with shadows. Each
+        // is rendered again only when the scene's geometry or one of its layers'
+        // placement changed since it was last rendered.
+        for (size, layers, local) in [
+            (settings.map_size, cascade_layers, false),
+            (settings.local_map_size, local_layers, true),
+        ] {
+            let count = (layers.len() as u32).max(1);
+            let maps = if local {
+                &mut self.local_shadow_maps
+            } else {
+                &mut self.shadow_maps
+            };
+            if !maps.as_ref().is_some_and(|m| m.fits(size, count)) {
+                let made = crate::shadows::ShadowMaps::new(&self.device, size, count, local)?;
+                if let Some(old) = maps.replace(made) {
+                    self.states.forget(old.image.raw());
+                    self.retire(old);
+                }
+            }
+            let maps = if local {
+                &mut self.local_shadow_maps
+            } else {
+                &mut self.shadow_maps
+            };
+            let maps = maps.as_mut().expect("made above");
+            let contents = (
+                scene.geometry_version,
+                layers.iter().map(|m| m.to_cols_array()).collect::<Vec<_>>(),
+            );
+            if maps.contents.as_ref() != Some(&contents) {
+                maps.contents = Some(contents);
+                let s = &mut self.slots[slot];
+                if local {
+                    s.local_shadow_layers = layers;
+                } else {
+                    s.shadow_layers = layers;
+                }
+            }
         }
         Ok(shadowed)
     }
@@ -593,6 +620,7 @@ impl Renderer {
             shadow_maps: self
                 .shadow_maps
                 .as_ref()
+                .zip(self.local_shadow_maps.as_ref())
                 .filter(|_| variant.shadows.is_some()),
         };
         let device = &*self.device;

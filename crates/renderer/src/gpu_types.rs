@@ -324,7 +324,9 @@ pub struct GpuShadowCascade {
     /// x: one texel's side in metres; y: metres along the light per unit of map depth;
     /// z: the end of the view slice it covers, metres from the eye; w: 0.
     pub texel_depth_slice: [f32; 4],
-    /// xyz: the camera's unit view direction (the slices' distances are along it); w: 0.
+    /// xyz: a cascade's: the camera's unit view direction (the slices' distances are
+    /// along it); a local light's layer: the light's position; w: the layer's index in
+    /// its array of maps (the cascades' or the local lights').
     pub view_forward: [f32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuShadowCascade>() == 96);

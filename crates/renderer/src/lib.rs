@@ -146,8 +146,11 @@ pub struct Renderer {
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     light_culling: LightCulling,
     light_cull: light_cull::LightCullPass,
-    /// The shadow maps, made by the first frame with shadows and grown as frames need.
+    /// The cascades' shadow maps, made by the first frame with shadows and grown as
+    /// frames need.
     shadow_maps: Option<shadows::ShadowMaps>,
+    /// The spot and point lights' shadow maps, likewise.
+    local_shadow_maps: Option<shadows::ShadowMaps>,
     /// The shadow maps' pipeline, built with the first variant that has shadows.
     shadow_casters: Option<shadows::ShadowCasterPass>,
     /// The shadow maps' comparison sampler.
@@ -226,6 +229,7 @@ impl Renderer {
             light_culling: LightCulling::Auto,
             light_cull,
             shadow_maps: None,
+            local_shadow_maps: None,
             shadow_casters: None,
             shadow_sampler: shadows::shadow_sampler(&device)?,
             frame_number: 0,

@@ -116,15 +116,20 @@ pub struct ShadowSettings {
     /// Each cascade's map side in texels, [`MIN_SHADOW_MAP_SIZE`] to the device's largest
     /// 2D image side.
     pub map_size: u32,
+    /// The side in texels of each map of a spot or point light (one per spot light, six
+    /// per point light), in the same range.
+    pub local_map_size: u32,
     /// How lookups are filtered.
     pub filter: ShadowFilter,
 }
 
 impl ShadowSettings {
-    /// Four cascades of 2048² with the hard (bilinear) filter.
+    /// Four cascades of 2048², spot and point lights' maps of 1024², the hard (bilinear)
+    /// filter.
     pub const DEFAULT: ShadowSettings = ShadowSettings {
         cascades: 4,
         map_size: 2048,
+        local_map_size: 1024,
         filter: ShadowFilter::Hard,
     };
 
@@ -140,11 +145,15 @@ impl ShadowSettings {
                 self.cascades
             )));
         }
-        if !(MIN_SHADOW_MAP_SIZE..=max_image_side).contains(&self.map_size) {
-            return Err(RenderError::InvalidShadowSettings(format!(
-                "a shadow map of {0}x{0}; the side must be {MIN_SHADOW_MAP_SIZE} to {max_image_side} on this device",
-                self.map_size
-            )));
+        for (what, size) in [
+            ("a shadow map", self.map_size),
+            ("a local light's shadow map", self.local_map_size),
+        ] {
+            if !(MIN_SHADOW_MAP_SIZE..=max_image_side).contains(&size) {
+                return Err(RenderError::InvalidShadowSettings(format!(
+                    "{what} of {size}x{size}; the side must be {MIN_SHADOW_MAP_SIZE} to {max_image_side} on this device"
+                )));
+            }
         }
         Ok(())
     }
@@ -338,6 +347,8 @@ pub fn directional_cascades(
 pub(crate) struct ShadowLayer {
     pub(crate) world_to_clip: Mat4,
     pub(crate) gpu: GpuShadowCascade,
+    /// A spot or point light's layer (in the local lights' maps), not a cascade.
+    pub(crate) local: bool,
 }
 
 /// `GpuShadowCascade::texel_depth_slice.w` of a spot light's one perspective layer (0: a
@@ -381,6 +392,7 @@ pub(crate) fn frame_shadows(
                 .map(|c| ShadowLayer {
                     world_to_clip: c.world_to_clip,
                     gpu: c.gpu(),
+                    local: false,
                 })
                 .collect()
             }
@@ -398,7 +410,7 @@ pub(crate) fn frame_shadows(
                     outer_cone,
                     near,
                     far,
-                    settings.map_size,
+                    settings.local_map_size,
                     LAYER_PERSPECTIVE,
                 )]
             }
@@ -409,7 +421,7 @@ pub(crate) fn frame_shadows(
                 position, range, ..
             } => {
                 let (near, far) = local_depth_range(position, range, bounds);
-                cube_layers(position, near, far, settings.map_size)
+                cube_layers(position, near, far, settings.local_map_size)
             }
         };
         if layers + light_layers.len() > MAX_SHADOW_LAYERS {
@@ -422,8 +434,9 @@ pub(crate) fn frame_shadows(
 }
 
 /// The side of a shadow-map texel of the spot or point `light` per metre of distance
-/// from it (a texel at distance d is d times this wide), with maps of `map_size`;
-/// `None` for a directional light (its cascades' texels: [`Cascade::texel_world`]).
+/// from it (a texel at distance d is d times this wide), with maps of `map_size`
+/// ([`ShadowSettings::local_map_size`]); `None` for a directional light (its cascades'
+/// texels: [`Cascade::texel_world`]).
 pub fn local_texel_per_metre(light: &Light, map_size: u32) -> Option<f32> {
     let half_angle = match *light {
         Light::Directional { .. } => return None,
@@ -501,6 +514,7 @@ fn perspective_layer(
             texel_depth_slice: [2.0 * half.tan() / map_size as f32, near, far, kind],
             view_forward: position.extend(0.0).to_array(),
         },
+        local: true,
     }
 }
 
@@ -525,9 +539,8 @@ fn cube_layers(position: Vec3, near: f32, far: f32, map_size: u32) -> Vec<Shadow
         .collect()
 }
 
-/// The shadow maps: one depth image with a layer per cascade of each shadowed light,
-/// a view of each layer to render into, and the comparison sampler the lighting pass
-/// reads them with. Shared by every frame slot: frames are submitted in order on one
+/// One array of shadow maps (the cascades' or the local lights'): a depth image with a
+/// layer per map, a view of each layer to render into, and one of them all to sample. Shared by every frame slot: frames are submitted in order on one
 /// queue, and the barriers order a frame's caster pass after the previous frame's reads.
 pub(crate) struct ShadowMaps {
     /// What the layers hold: the geometry version of the scene rendered into them
@@ -544,12 +557,21 @@ pub(crate) struct ShadowMaps {
 }
 
 impl ShadowMaps {
-    /// Maps of `size`² with `layers` layers.
-    pub(crate) fn new(device: &Arc<Device>, size: u32, layers: u32) -> Result<Self, RenderError> {
+    /// Maps of `size`² with `layers` layers (`local`: the spot and point lights').
+    pub(crate) fn new(
+        device: &Arc<Device>,
+        size: u32,
+        layers: u32,
+        local: bool,
+    ) -> Result<Self, RenderError> {
         let image = Image::new(
             device,
             &ImageDesc::new(
-                "shadow maps",
+                if local {
+                    "local lights' shadow maps"
+                } else {
+                    "shadow cascades"
+                },
                 SHADOW_MAP_FORMAT,
                 size,
                 size,
@@ -873,6 +895,10 @@ mod tests {
             ShadowSettings { cascades: 0, ..ok },
             ShadowSettings { cascades: 5, ..ok },
             ShadowSettings { map_size: 16, ..ok },
+            ShadowSettings {
+                local_map_size: 0,
+                ..ok
+            },
             ShadowSettings {
                 map_size: 32768,
                 ..ok

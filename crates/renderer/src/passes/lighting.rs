@@ -96,22 +96,30 @@ impl FramePass for Lighting {
         for (binding, table) in tables {
             io = io.buffer_if(frame.environment.is_some(), binding, table, read);
         }
-        io = match frame.shadow_maps {
-            Some(maps) => io.sampled_view(
-                "shadow_maps",
-                &maps.image,
-                maps.array_view.raw(),
-                r.shadow_sampler.raw(),
-                ImageUse::DepthFragmentSampled,
-            ),
+        match frame.shadow_maps {
+            Some((cascades, local)) => {
+                for (binding, maps) in [("shadow_maps", cascades), ("local_shadow_maps", local)] {
+                    io = io.sampled_view(
+                        binding,
+                        &maps.image,
+                        maps.array_view.raw(),
+                        r.shadow_sampler.raw(),
+                        ImageUse::DepthFragmentSampled,
+                    );
+                }
+            }
             // Not declared by pipelines without shadows: any image will do.
-            None => io.bind_image(
-                "shadow_maps",
-                r.absent_target.view(),
-                texel.state().layout,
-                r.shadow_sampler.raw(),
-            ),
-        };
+            None => {
+                for binding in ["shadow_maps", "local_shadow_maps"] {
+                    io = io.bind_image(
+                        binding,
+                        r.absent_target.view(),
+                        texel.state().layout,
+                        r.shadow_sampler.raw(),
+                    );
+                }
+            }
+        }
         io.bind_buffer("shadow_cascades", &s.shadow_cascades)
     }
 

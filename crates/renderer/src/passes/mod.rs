@@ -59,8 +59,12 @@ pub(crate) struct FrameContext<'a> {
     pub color: TrackedImage,
     /// The host's depth image as the barriers track it, if the frame has one.
     pub host_depth: Option<TrackedImage>,
-    /// The shadow maps, in frames whose variant has shadows.
-    pub shadow_maps: Option<&'a crate::shadows::ShadowMaps>,
+    /// The cascades' and the local lights' shadow maps, in frames whose variant has
+    /// shadows.
+    pub shadow_maps: Option<(
+        &'a crate::shadows::ShadowMaps,
+        &'a crate::shadows::ShadowMaps,
+    )>,
 }
 
 impl FrameContext<'_> {

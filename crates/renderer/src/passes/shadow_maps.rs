@@ -23,35 +23,51 @@ impl FramePass for ShadowMaps {
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        frame.variant.shadows.is_some() && !frame.slot.shadow_layers.is_empty()
+        frame.variant.shadows.is_some()
+            && !(frame.slot.shadow_layers.is_empty() && frame.slot.local_shadow_layers.is_empty())
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let maps = frame
+        let (cascades, local) = frame
             .shadow_maps
             .expect("frames with shadow layers have shadow maps");
-        PassIo::new(self.name())
+        let mut io = PassIo::new(self.name())
             .slot_set(frame.slot, &bindings::SHADOW_CASTERS)
             .buffer(
                 "objects",
                 &frame.scene.gpu.objects,
                 BufferUse::VertexStorageRead,
-            )
-            .touches((&maps.image).into(), ImageUse::DepthAttachmentWrite)
+            );
+        // Only the arrays rendered this frame: the other keeps its maps.
+        for (maps, layers) in [
+            (cascades, &frame.slot.shadow_layers),
+            (local, &frame.slot.local_shadow_layers),
+        ] {
+            if !layers.is_empty() {
+                io = io.touches((&maps.image).into(), ImageUse::DepthAttachmentWrite);
+            }
+        }
+        io
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let (Some(maps), Some(casters)) = (frame.shadow_maps, &frame.renderer.shadow_casters)
+        let (Some((cascades, local)), Some(casters)) =
+            (frame.shadow_maps, &frame.renderer.shadow_casters)
         else {
             return;
         };
-        casters.record(
-            &frame.renderer.device,
-            cmd,
-            maps,
-            frame.scene,
-            frame.slot.set(&bindings::SHADOW_CASTERS),
-            &frame.slot.shadow_layers,
-        );
+        for (maps, layers) in [
+            (cascades, &frame.slot.shadow_layers),
+            (local, &frame.slot.local_shadow_layers),
+        ] {
+            casters.record(
+                &frame.renderer.device,
+                cmd,
+                maps,
+                frame.scene,
+                frame.slot.set(&bindings::SHADOW_CASTERS),
+                layers,
+            );
+        }
     }
 }
