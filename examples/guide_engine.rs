@@ -1136,6 +1136,8 @@ fn moving_lights(scene: &Scene, angle: f32) -> Vec<Light> {
                 position: pivot + turn * offset,
                 intensity: [d2, d2 * 0.9, d2 * 0.8],
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             });
         }
     }

@@ -225,10 +225,14 @@ pub fn default_light_rig(camera: &combustion_scene::Camera) -> Vec<combustion_sc
         combustion_scene::Light::Directional {
             direction: (forward - up * 0.8 + right * 0.6).normalize(),
             irradiance: [3.0, 2.95, 2.85],
+            casts_shadows: true,
+            angular_diameter: 0.0,
         },
         combustion_scene::Light::Directional {
             direction: (forward + up * 0.3 - right * 0.8).normalize(),
             irradiance: [0.7, 0.75, 0.8],
+            casts_shadows: true,
+            angular_diameter: 0.0,
         },
     ]
 }
@@ -261,6 +265,8 @@ pub fn with_localised_lights(scene: &Scene, n: usize) -> Scene {
                 power * (0.5 + next()),
             ],
             range: Some(range),
+            casts_shadows: true,
+            radius: 0.0,
         });
     }
     out

@@ -58,6 +58,8 @@ fn edits_between_frames_render_as_a_fresh_upload() {
                 position: Vec3::new(0.0, 2.0, 4.0),
                 intensity: [3.0, 3.0, 3.0],
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             });
         })
         .unwrap();

@@ -484,6 +484,8 @@ fn occlusion_darkens_the_environment_and_never_a_light() {
         scene.lights = vec![Light::Directional {
             direction: Vec3::new(-0.3, -1.0, -0.4).normalize(),
             irradiance: [2.0, 2.5, 3.0],
+            casts_shadows: true,
+            angular_diameter: 0.0,
         }];
         render(&scene, 64, 64)
     };
@@ -596,6 +598,8 @@ fn edits_bake_the_environment_for_the_edited_scene() {
         scene.lights.push(Light::Directional {
             direction: Vec3::new(0.3, -1.0, -0.2).normalize(),
             irradiance: [1.0, 0.8, 0.6],
+            casts_shadows: true,
+            angular_diameter: 0.0,
         })
     };
     let mut headless = common::lavapipe(common::exact_f32());

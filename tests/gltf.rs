@@ -307,6 +307,7 @@ fn scaled_world(scene: &Scene, s: f32) -> Scene {
                 position,
                 intensity,
                 range,
+                ..
             }
             | Light::Spot {
                 position,

@@ -573,6 +573,8 @@ fn record_refuses_bad_arguments_before_recording() {
         position: glam::Vec3::ZERO,
         intensity: [f32::INFINITY, 0.0, 0.0],
         range: None,
+        casts_shadows: true,
+        radius: 0.0,
     });
     let error = renderer
         .record(

@@ -30,6 +30,8 @@ fn lit_plane(material: Material, outside_ior: f32, irradiance: [f32; 3]) -> Scen
         lights: vec![Light::Directional {
             direction: Vec3::NEG_Y,
             irradiance,
+            casts_shadows: true,
+            angular_diameter: 0.0,
         }],
         camera: Camera {
             position: Vec3::new(0.0, 3.0, 0.0),

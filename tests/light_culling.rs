@@ -34,6 +34,8 @@ fn many_lights(n: usize) -> Scene {
             position,
             intensity: colour,
             range: Some(1.2),
+            casts_shadows: true,
+            radius: 0.0,
         });
     }
     scene

@@ -74,6 +74,8 @@ fn floor_scene(sphere: Option<(DVec3, f64)>, direction: Vec3, camera: Camera) ->
         lights: vec![Light::Directional {
             direction,
             irradiance: [2.0; 3],
+            casts_shadows: true,
+            angular_diameter: 0.0,
         }],
         camera,
         outside_ior: 1.0,
@@ -636,6 +638,8 @@ fn a_point_lights_cube_has_no_seam() {
         position: Vec3::new(0.3, 1.0, -0.2),
         intensity: [10.0; 3],
         range: None,
+        casts_shadows: true,
+        radius: 0.0,
     }];
     for filter in [ShadowFilter::Hard, ShadowFilter::Pcf32] {
         let frame = shadow_factors(
@@ -667,4 +671,23 @@ fn a_point_lights_cube_has_no_seam() {
             &shadowed[..shadowed.len().min(8)]
         );
     }
+}
+
+/// A light whose `casts_shadows` is false casts none: grid-sun with its sun so marked
+/// renders with shadows on exactly as with shadows off, and no shadow pass runs.
+#[test]
+fn a_light_that_casts_no_shadows_casts_none() {
+    let mut scene = builtin_scene("grid-sun").unwrap();
+    if let Light::Directional { casts_shadows, .. } = &mut scene.lights[0] {
+        *casts_shadows = false;
+    }
+    let plain = common::render_images(&scene, W, H, common::exact_f32());
+    let shadowed = common::render_images(
+        &scene,
+        W,
+        H,
+        with_shadows(ShadowSettings::DEFAULT, DebugView::None),
+    );
+    assert!(plain.hdr == shadowed.hdr);
+    assert!(shadowed.timings.ms("shadow maps").is_none());
 }

@@ -71,6 +71,8 @@ fn scene(
         lights: vec![Light::Directional {
             direction: Vec3::new(0.2, -1.0, 0.1).normalize(),
             irradiance: [2.0, 2.0, 2.0],
+            casts_shadows: true,
+            angular_diameter: 0.0,
         }],
         camera: Camera {
             position: Vec3::new(0.0, 2.5, 0.0),

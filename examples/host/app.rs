@@ -250,6 +250,8 @@ pub fn lights_at(base: &[Light], n: u64) -> Vec<Light> {
             position: glam::Vec3::new(0.0, 3.0, 3.0),
             intensity: [5.0, 5.0, 5.0],
             range: None,
+            casts_shadows: true,
+            radius: 0.0,
         });
     }
     lights

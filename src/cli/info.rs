@@ -156,6 +156,7 @@ pub(crate) fn describe_scene(scene: &Scene) -> String {
                 position,
                 intensity,
                 range,
+                ..
             } => writeln!(
                 out,
                 "  point at {}, intensity {} W/sr{}",
@@ -166,6 +167,7 @@ pub(crate) fn describe_scene(scene: &Scene) -> String {
             Light::Directional {
                 direction,
                 irradiance,
+                ..
             } => writeln!(
                 out,
                 "  directional along {}, irradiance {} W/m²",
@@ -179,6 +181,7 @@ pub(crate) fn describe_scene(scene: &Scene) -> String {
                 inner_cone,
                 outer_cone,
                 range,
+                ..
             } => writeln!(
                 out,
                 "  spot at {} along {}, intensity {} W/sr, cone {:.1}°–{:.1}°{}",

@@ -103,7 +103,7 @@ pub const KEYS: &[(&str, &str)] = &[
         "reload the scene (also when its file changes on disk)",
     ),
     ("G", "Fresnel: full equations / Schlick / F82 (comparisons)"),
-    ("K", "shadows of the directional lights on / off"),
+    ("K", "shadows on / off (every light casts them)"),
     ("L", "shadow filter: hard, PCF 8, 16, 32 taps"),
     (
         "M",

@@ -419,6 +419,7 @@ pub fn light_at(light: &Light, p: DVec3) -> Option<(DVec3, [f64; 3])> {
             position,
             intensity,
             range,
+            ..
         } => {
             let to = position.as_dvec3() - p;
             let d2 = to.length_squared();
@@ -430,6 +431,7 @@ pub fn light_at(light: &Light, p: DVec3) -> Option<(DVec3, [f64; 3])> {
         Light::Directional {
             direction,
             irradiance,
+            ..
         } => Some((-direction.as_dvec3().normalize(), irradiance.map(f64::from))),
         Light::Spot {
             position,
@@ -438,6 +440,7 @@ pub fn light_at(light: &Light, p: DVec3) -> Option<(DVec3, [f64; 3])> {
             inner_cone,
             outer_cone,
             range,
+            ..
         } => {
             let to = position.as_dvec3() - p;
             let d2 = to.length_squared();

@@ -107,6 +107,52 @@ impl SceneBvh {
         }
     }
 
+    /// The visible fraction of `light` from `point`, with its size: a point or spot
+    /// light of radius r > 0 is the disc of radius r facing the point (the sphere's
+    /// silhouette, to O(r²/d²)) sampled by [`SceneBvh::disc_visibility`]; a directional
+    /// light of angular diameter θ > 0, the cone of directions sampled by
+    /// [`SceneBvh::sun_visibility`]; both with `samples_per_axis`² stratified samples
+    /// (their stated error). Lights of size 0: [`SceneBvh::light_visibility`], exact.
+    pub fn light_visible_fraction(
+        &self,
+        point: [f64; 3],
+        offset_normal: [f64; 3],
+        light: &Light,
+        samples_per_axis: u32,
+    ) -> f64 {
+        match *light {
+            Light::Point {
+                position, radius, ..
+            }
+            | Light::Spot {
+                position, radius, ..
+            } if radius > 0.0 => {
+                let center = position.as_dvec3();
+                let facing = (DVec3::from(point) - center).normalize_or_zero();
+                self.disc_visibility(
+                    point,
+                    offset_normal,
+                    center.to_array(),
+                    facing.to_array(),
+                    f64::from(radius),
+                    samples_per_axis,
+                )
+            }
+            Light::Directional {
+                direction,
+                angular_diameter,
+                ..
+            } if angular_diameter > 0.0 => self.sun_visibility(
+                point,
+                offset_normal,
+                (-direction.as_dvec3()).to_array(),
+                f64::from(angular_diameter),
+                samples_per_axis,
+            ),
+            _ => self.light_visibility(point, offset_normal, light),
+        }
+    }
+
     /// The segment from a shadow ray's origin to a light point, ending
     /// [`surface_offset`]`(light)` short of it.
     fn towards_light_visible(&self, origin: [f64; 3], light: [f64; 3]) -> bool {

@@ -12,6 +12,8 @@ fn directional(towards_light: DVec3) -> Light {
     Light::Directional {
         direction: (-towards_light).as_vec3(),
         irradiance: [1.0; 3],
+        casts_shadows: true,
+        angular_diameter: 0.0,
     }
 }
 
@@ -20,6 +22,8 @@ fn point_light(position: DVec3) -> Light {
         position: position.as_vec3(),
         intensity: [1.0; 3],
         range: None,
+        casts_shadows: true,
+        radius: 0.0,
     }
 }
 

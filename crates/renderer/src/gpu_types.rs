@@ -216,6 +216,7 @@ impl GpuLight {
                 position,
                 intensity,
                 range,
+                ..
             } => Self {
                 position_or_direction: position.extend(1.0).to_array(),
                 power_kind: power(intensity, LIGHT_KIND_POINT),
@@ -225,6 +226,7 @@ impl GpuLight {
             Light::Directional {
                 direction,
                 irradiance,
+                ..
             } => Self {
                 position_or_direction: direction.normalize().extend(0.0).to_array(),
                 power_kind: power(irradiance, LIGHT_KIND_DIRECTIONAL),
@@ -237,6 +239,7 @@ impl GpuLight {
                 inner_cone,
                 outer_cone,
                 range,
+                ..
             } => {
                 let scale = 1.0 / (inner_cone.cos() - outer_cone.cos()).max(1e-3);
                 Self {

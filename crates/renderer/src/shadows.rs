@@ -357,7 +357,8 @@ pub const LAYER_PERSPECTIVE: f32 = 1.0;
 /// `GpuShadowCascade::texel_depth_slice.w` of a face of a light's cube of six layers.
 pub const LAYER_CUBE_FACE: f32 = 2.0;
 
-/// The frame's shadowed lights, in the order of `lights`: the first
+/// The frame's shadowed lights (those that cast shadows), in the order of `lights`: the
+/// first
 /// [`MAX_SHADOWED_LIGHTS`] directional lights (their cascades), spot lights (one
 /// perspective layer; six, as a point light, when the cone is wider than
 /// [`MAX_SPOT_CONE_ONE_LAYER`]) and point lights (six faces of a cube), as long as the
@@ -374,6 +375,9 @@ pub(crate) fn frame_shadows(
     let mut layers = 0;
     let mut suns = 0;
     for (index, light) in lights.iter().enumerate() {
+        if !light.casts_shadows() {
+            continue;
+        }
         let light_layers: Vec<ShadowLayer> = match *light {
             Light::Directional { direction, .. } => {
                 if suns == MAX_SHADOWED_LIGHTS {

@@ -168,6 +168,8 @@ fn grid_7x7() -> Scene {
         position: Vec3::new(x, y, 5.0),
         intensity: [i; 3],
         range: None,
+        casts_shadows: true,
+        radius: 0.0,
     };
     Scene {
         name: "grid-7x7".into(),
@@ -241,6 +243,8 @@ fn grid_sun() -> Scene {
                 -elevation.cos() * azimuth.sin(),
             ),
             irradiance: [3.0; 3],
+            casts_shadows: true,
+            angular_diameter: 0.0,
         }],
         camera: Camera {
             position: Vec3::new(0.0, 7.0, 9.0),
@@ -337,6 +341,8 @@ fn spot_box() -> Scene {
             inner_cone: 30f32.to_radians(),
             outer_cone: 45f32.to_radians(),
             range: None,
+            casts_shadows: true,
+            radius: 0.0,
         }],
         camera: Camera {
             position: Vec3::new(2.6, 2.5, 2.6),
@@ -383,6 +389,8 @@ fn point_among() -> Scene {
             position: Vec3::new(0.0, 1.2, 0.0),
             intensity: [20.0; 3],
             range: None,
+            casts_shadows: true,
+            radius: 0.0,
         }],
         camera: Camera {
             position: Vec3::new(0.0, 6.0, 5.5),
@@ -458,15 +466,21 @@ fn spheres() -> Scene {
                 position: Vec3::new(-4.0, 4.0, 6.0),
                 intensity: [60.0; 3],
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             },
             Light::Point {
                 position: Vec3::new(5.0, -2.0, 5.0),
                 intensity: [12.0, 13.0, 15.0],
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             },
             Light::Directional {
                 direction: Vec3::new(-0.3, -1.0, -0.4),
                 irradiance: [0.6, 0.58, 0.55],
+                casts_shadows: true,
+                angular_diameter: 0.0,
             },
         ],
         camera: Camera {
@@ -614,22 +628,30 @@ fn hard_cases() -> Scene {
                 position: camera_position,
                 intensity: [8.0; 3],
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             },
             Light::Point {
                 position: opposite,
                 intensity: [20.0; 3],
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             },
             // Behind every sphere.
             Light::Point {
                 position: Vec3::new(0.0, 0.3, -3.0),
                 intensity: [15.0; 3],
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             },
             // Grazing on the floor: n·l = 0.001.
             Light::Directional {
                 direction: Vec3::new(1.0, -0.001, 0.0),
                 irradiance: [2.0; 3],
+                casts_shadows: true,
+                angular_diameter: 0.0,
             },
         ],
         camera: Camera {
@@ -724,6 +746,8 @@ fn light_from(towards_light: Vec3, e: [f32; 3]) -> Light {
     Light::Directional {
         direction: -towards_light.normalize(),
         irradiance: e,
+        casts_shadows: true,
+        angular_diameter: 0.0,
     }
 }
 
@@ -765,6 +789,8 @@ fn gold_copper() -> Scene {
                 position: camera.position,
                 intensity: [20.0; 3],
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             },
             light_from(Vec3::new(-0.5, 0.45, -0.75), [2.5; 3]),
             light_from(Vec3::new(0.5, -0.3, -0.8), [2.5; 3]),
@@ -805,6 +831,8 @@ fn dielectrics() -> Scene {
                 position: camera.position,
                 intensity: [30.0; 3],
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             },
             light_from(Vec3::new(0.5, 0.55, -0.7), [2.0; 3]),
         ],

@@ -77,6 +77,14 @@ pub enum LightProblem {
     /// The range given is not finite and above 0.
     #[error("its range {0} is not finite and above 0")]
     Range(f32),
+    /// A point or spot light's radius (metres) is not finite, or outside
+    /// 0 ..= [`crate::MAX_LIGHT_RADIUS`].
+    #[error("its radius {0} m is not finite and between 0 and {max}", max = crate::MAX_LIGHT_RADIUS)]
+    Radius(f32),
+    /// A directional light's angular diameter (radians) is not finite, or outside
+    /// 0 ..= [`crate::MAX_ANGULAR_DIAMETER`].
+    #[error("its angular diameter {0} rad is not finite and between 0 and {max}", max = crate::MAX_ANGULAR_DIAMETER)]
+    AngularDiameter(f32),
     /// A spot light's cone half-angles (radians) are not 0 ≤ inner < outer ≤ π/2.
     #[error("its cone angles {inner} and {outer} rad are not 0 <= inner < outer <= π/2")]
     Cone {

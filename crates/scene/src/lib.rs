@@ -62,6 +62,12 @@ pub enum Light {
         /// Distance (metres) at which the light's effect ends, finite and above 0;
         /// `None`: unlimited.
         range: Option<f32>,
+        /// Whether the light casts shadows (when the renderer draws them).
+        casts_shadows: bool,
+        /// The radius (metres) of the sphere the light is, for the softness of its
+        /// shadows; 0: a point (hard shadows). Finite, ≥ 0 and at most
+        /// [`MAX_LIGHT_RADIUS`]. Shading treats the light as a point either way.
+        radius: f32,
     },
     /// Parallel light travelling along `direction`, giving irradiance `irradiance`
     /// (W/m² per channel) on a surface facing it.
@@ -72,6 +78,13 @@ pub enum Light {
         /// Irradiance E per linear RGB channel on a surface facing the light, W/m²;
         /// finite and ≥ 0.
         irradiance: [f32; 3],
+        /// Whether the light casts shadows (when the renderer draws them).
+        casts_shadows: bool,
+        /// The angular diameter (radians) of the disc the light comes from (the Sun's:
+        /// about 0.0093), for the softness of its shadows; 0: parallel light (hard
+        /// shadows). Finite, ≥ 0 and at most [`MAX_ANGULAR_DIAMETER`]. Shading treats
+        /// the light as parallel either way.
+        angular_diameter: f32,
     },
     /// A point light limited to a cone around `direction` (the direction light travels
     /// along the axis), with full intensity inside `inner_cone` and none outside
@@ -91,8 +104,18 @@ pub enum Light {
         outer_cone: f32,
         /// As for [`Light::Point`].
         range: Option<f32>,
+        /// As for [`Light::Point`].
+        casts_shadows: bool,
+        /// As for [`Light::Point`].
+        radius: f32,
     },
 }
+
+/// The largest [`Light::Point`] or [`Light::Spot`] radius accepted, metres.
+pub const MAX_LIGHT_RADIUS: f32 = 1.0e3;
+/// The largest [`Light::Directional`] angular diameter accepted, radians (30°: a sky
+/// patch, far beyond any sun).
+pub const MAX_ANGULAR_DIAMETER: f32 = std::f32::consts::FRAC_PI_6;
 
 /// The window a light's `range` puts on the inverse-square law at distance `d`:
 /// (max(0, 1 − (d/range)⁴))² (Karis 2013; the KHR_lights_punctual recommendation
@@ -112,6 +135,15 @@ pub fn range_window_of_squared(x2: f64) -> f64 {
 }
 
 impl Light {
+    /// Whether the light casts shadows.
+    pub fn casts_shadows(&self) -> bool {
+        match *self {
+            Light::Point { casts_shadows, .. }
+            | Light::Spot { casts_shadows, .. }
+            | Light::Directional { casts_shadows, .. } => casts_shadows,
+        }
+    }
+
     /// The light's range (point and spot lights that have one).
     pub fn range(&self) -> Option<f32> {
         match self {
@@ -302,16 +334,31 @@ fn light_problem(light: &Light) -> Option<LightProblem> {
         Some(r) if !valid_range(Some(r)) => Some(LightProblem::Range(r)),
         _ => None,
     };
+    let radius = |r: f32| {
+        (!(r.is_finite() && (0.0..=MAX_LIGHT_RADIUS).contains(&r)))
+            .then_some(LightProblem::Radius(r))
+    };
     match *light {
         Light::Point {
             position: p,
             intensity,
             range: r,
-        } => position(p).or(power(intensity)).or(range(r)),
+            radius: size,
+            ..
+        } => position(p)
+            .or(power(intensity))
+            .or(range(r))
+            .or(radius(size)),
         Light::Directional {
             direction: d,
             irradiance,
-        } => direction(d).or(power(irradiance)),
+            angular_diameter,
+            ..
+        } => direction(d)
+            .or(power(irradiance))
+            .or((!(angular_diameter.is_finite()
+                && (0.0..=MAX_ANGULAR_DIAMETER).contains(&angular_diameter)))
+            .then_some(LightProblem::AngularDiameter(angular_diameter))),
         Light::Spot {
             position: p,
             direction: d,
@@ -319,6 +366,8 @@ fn light_problem(light: &Light) -> Option<LightProblem> {
             inner_cone,
             outer_cone,
             range: r,
+            radius: size,
+            ..
         } => {
             let cone = (!(inner_cone >= 0.0
                 && inner_cone < outer_cone
@@ -332,6 +381,7 @@ fn light_problem(light: &Light) -> Option<LightProblem> {
                 .or(power(intensity))
                 .or(cone)
                 .or(range(r))
+                .or(radius(size))
         }
     }
 }
@@ -582,6 +632,8 @@ mod range_tests {
             position: Vec3::ZERO,
             intensity: [1.0; 3],
             range,
+            casts_shadows: true,
+            radius: 0.0,
         };
         assert!(validate_lights(&[light(Some(2.0)), light(None)]).is_ok());
         for bad in [0.0, -1.0, f32::NAN, f32::INFINITY] {

@@ -221,6 +221,8 @@ fn textured_scene() -> Scene {
                 position: Vec3::new(-2.0, 3.0, 2.0),
                 intensity: [30.0, 28.0, 25.0],
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             },
             Light::Spot {
                 position: Vec3::new(2.0, 3.0, 1.0),
@@ -229,10 +231,14 @@ fn textured_scene() -> Scene {
                 inner_cone: 0.2,
                 outer_cone: 0.5,
                 range: None,
+                casts_shadows: true,
+                radius: 0.0,
             },
             Light::Directional {
                 direction: Vec3::new(0.2, -1.0, -0.5),
                 irradiance: [0.5, 0.5, 0.6],
+                casts_shadows: true,
+                angular_diameter: 0.0,
             },
         ],
         camera: Camera {
@@ -358,6 +364,8 @@ fn optics_scene() -> Scene {
         lights: vec![Light::Directional {
             direction: Vec3::new(0.3, -1.0, -0.6),
             irradiance: [3.0; 3],
+            casts_shadows: true,
+            angular_diameter: 0.0,
         }],
         camera: Camera {
             position: Vec3::new(0.0, 2.0, 6.0),
@@ -580,6 +588,8 @@ fn light_ranges_round_trip_and_bad_ranges_are_refused() {
         inner_cone: 0.3,
         outer_cone: 0.6,
         range: Some(7.5),
+        casts_shadows: true,
+        radius: 0.0,
     });
     let dir = temp_dir("ranges");
     let path = dir.join("ranges.gltf");
@@ -661,4 +671,165 @@ fn saving_an_invalid_scene_names_the_problem() {
         .to_string();
     assert!(err.contains("x.gltf") && err.contains("roughness"), "{err}");
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `COMBUSTION_lights_shadow`: whether each light casts shadows and its size (a point or
+/// spot light's radius, a directional light's angular diameter) survive a save → import
+/// round trip; the extension is written only where a light differs from the defaults
+/// (casting, no size), and named in `extensionsUsed` then. Bad values get a one-line
+/// error naming the light and the field.
+#[test]
+fn light_shadows_round_trip_and_bad_values_are_refused() {
+    let mut scene = builtin_scene("grid-sun").unwrap();
+    let dir = temp_dir("light-shadows");
+    let path = dir.join("plain.gltf");
+    save_gltf(&scene, &path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        !text.contains("COMBUSTION_lights_shadow"),
+        "defaults are not written"
+    );
+
+    if let Light::Directional {
+        angular_diameter, ..
+    } = &mut scene.lights[0]
+    {
+        *angular_diameter = 0.0093;
+    }
+    scene.lights.push(Light::Point {
+        position: Vec3::new(1.0, 2.0, 0.5),
+        intensity: [5.0; 3],
+        range: None,
+        casts_shadows: false,
+        radius: 0.0,
+    });
+    scene.lights.push(Light::Spot {
+        position: Vec3::new(0.0, 3.0, 2.0),
+        direction: Vec3::new(0.0, -1.0, -0.5),
+        intensity: [10.0; 3],
+        inner_cone: 0.3,
+        outer_cone: 0.6,
+        range: None,
+        casts_shadows: true,
+        radius: 0.25,
+    });
+    let path = dir.join("shadows.gltf");
+    save_gltf(&scene, &path).unwrap();
+    let (loaded, _) = import(&path, &ImportOptions::default()).unwrap();
+    assert_same_scene(&scene, &loaded);
+    assert_eq!(loaded.lights, scene.lights);
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    assert!(json["extensionsUsed"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|e| e == "COMBUSTION_lights_shadow"));
+
+    for (light, field, value, expected) in [
+        (
+            2,
+            "radius",
+            serde_json::json!(-1.0),
+            "radius must be a number from 0 to",
+        ),
+        (
+            2,
+            "radius",
+            serde_json::json!("big"),
+            "radius must be a number from 0 to",
+        ),
+        (
+            0,
+            "angularDiameter",
+            serde_json::json!(2.0),
+            "angularDiameter must be a number from 0 to",
+        ),
+        (
+            2,
+            "angularDiameter",
+            serde_json::json!(0.01),
+            "is for directional lights",
+        ),
+        (
+            0,
+            "radius",
+            serde_json::json!(0.01),
+            "is for point and spot lights",
+        ),
+        (
+            1,
+            "castsShadows",
+            serde_json::json!(1),
+            "castsShadows must be true or false",
+        ),
+        (
+            1,
+            "softness",
+            serde_json::json!(1),
+            "has no field `softness`",
+        ),
+    ] {
+        let mut bad = json.clone();
+        bad["extensions"]["KHR_lights_punctual"]["lights"][light]["extensions"]
+            ["COMBUSTION_lights_shadow"][field] = value;
+        let bad_path = dir.join("bad.gltf");
+        std::fs::write(&bad_path, bad.to_string()).unwrap();
+        let error = match import(&bad_path, &ImportOptions::default()) {
+            Ok(_) => panic!(
+                "{field} = {} was accepted",
+                bad["extensions"]["KHR_lights_punctual"]["lights"][light]
+            ),
+            Err(e) => e.to_string(),
+        };
+        assert!(
+            error.contains(&format!("light {light}")) && error.contains(expected),
+            "{field} = {}: {error}",
+            bad["extensions"]["KHR_lights_punctual"]["lights"][light]["extensions"]
+        );
+        assert_eq!(error.lines().count(), 1, "{error}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A light's shadow size out of range is refused by the scene's validation (hosts build
+/// scenes and frames' lights without the importer), naming the light.
+#[test]
+fn light_sizes_out_of_range_are_refused() {
+    for light in [
+        Light::Point {
+            position: Vec3::ZERO,
+            intensity: [1.0; 3],
+            range: None,
+            casts_shadows: true,
+            radius: -0.1,
+        },
+        Light::Point {
+            position: Vec3::ZERO,
+            intensity: [1.0; 3],
+            range: None,
+            casts_shadows: true,
+            radius: f32::NAN,
+        },
+        Light::Directional {
+            direction: Vec3::NEG_Y,
+            irradiance: [1.0; 3],
+            casts_shadows: true,
+            angular_diameter: 1.0,
+        },
+        Light::Directional {
+            direction: Vec3::NEG_Y,
+            irradiance: [1.0; 3],
+            casts_shadows: true,
+            angular_diameter: f32::INFINITY,
+        },
+    ] {
+        let error = combustion_scene::validate_lights(std::slice::from_ref(&light))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("light 0")
+                && (error.contains("radius") || error.contains("angular diameter")),
+            "{light:?}: {error}"
+        );
+    }
 }

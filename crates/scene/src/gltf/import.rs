@@ -18,8 +18,8 @@ use super::material::default_material;
 use super::optics_ext;
 use super::source::{split_container, Buffers, Container};
 use super::{
-    CameraSource, ImportError, ImportOptions, ImportProblem, ImportReport, OPTICS_EXTENSION,
-    SUPPORTED_EXTENSIONS,
+    CameraSource, ImportError, ImportOptions, ImportProblem, ImportReport, LIGHT_SHADOW_EXTENSION,
+    OPTICS_EXTENSION, SUPPORTED_EXTENSIONS,
 };
 use crate::{Camera, ColorSpace, Image, Light, Material, Object, Scene};
 
@@ -813,15 +813,38 @@ impl Importer<'_> {
                 "the node's transform gives no direction (its -Z axis is zero)".into(),
             ));
         }
+        let shadow = light_shadow(light.extensions.as_deref()).map_err(err)?;
+        let directional = matches!(light.type_, Checked::Valid(Type::Directional));
+        let size_name = if directional {
+            "angularDiameter"
+        } else {
+            "radius"
+        };
+        if let Some((name, _)) = shadow.sizes.iter().find(|(name, _)| *name != size_name) {
+            return Err(err(format!(
+                "{LIGHT_SHADOW_EXTENSION}.{name} is for {} lights; this one takes `{size_name}`",
+                if directional {
+                    "point and spot"
+                } else {
+                    "directional"
+                }
+            )));
+        }
+        let size = shadow.sizes.first().map_or(0.0, |(_, size)| *size);
+        let casts_shadows = shadow.casts_shadows;
         Ok(match light.type_ {
             Checked::Valid(Type::Point) => Light::Point {
                 position,
                 intensity: power,
                 range,
+                casts_shadows,
+                radius: size,
             },
             Checked::Valid(Type::Directional) => Light::Directional {
                 direction,
                 irradiance: power,
+                casts_shadows,
+                angular_diameter: size,
             },
             Checked::Valid(Type::Spot) => {
                 let (mut inner, mut outer) = light
@@ -855,6 +878,8 @@ impl Importer<'_> {
                     inner_cone: inner,
                     outer_cone: outer,
                     range,
+                    casts_shadows,
+                    radius: size,
                 }
             }
             Checked::Invalid => return Err(err("invalid type".into())),
@@ -1282,4 +1307,63 @@ pub(crate) fn camera_range_warnings(camera: &Camera, bounds: Option<(Vec3, Vec3)
         ));
     }
     warnings
+}
+
+/// What a light's `COMBUSTION_lights_shadow` says: whether it casts shadows (default
+/// true) and its size (`radius` in metres for point and spot lights, `angularDiameter`
+/// in radians for directional ones), by the name it was given.
+struct LightShadow {
+    casts_shadows: bool,
+    /// The sizes given, by field name.
+    sizes: Vec<(&'static str, f32)>,
+}
+
+/// Reads `COMBUSTION_lights_shadow` from a light's raw `extensions` (absent: casts
+/// shadows, no size). An error names the field.
+fn light_shadow(extensions: Option<&serde_json::value::RawValue>) -> Result<LightShadow, String> {
+    let mut shadow = LightShadow {
+        casts_shadows: true,
+        sizes: Vec::new(),
+    };
+    let Some(raw) = extensions else {
+        return Ok(shadow);
+    };
+    let value: serde_json::Value = serde_json::from_str(raw.get())
+        .map_err(|e| format!("its extensions are not valid JSON: {e}"))?;
+    let Some(ext) = value.get(LIGHT_SHADOW_EXTENSION) else {
+        return Ok(shadow);
+    };
+    let ext = ext
+        .as_object()
+        .ok_or_else(|| format!("{LIGHT_SHADOW_EXTENSION} must be an object"))?;
+    for (key, value) in ext {
+        match key.as_str() {
+            "castsShadows" => {
+                shadow.casts_shadows = value.as_bool().ok_or_else(|| {
+                    format!("{LIGHT_SHADOW_EXTENSION}.castsShadows must be true or false")
+                })?
+            }
+            "radius" | "angularDiameter" => {
+                let (name, max) = if key == "radius" {
+                    ("radius", crate::MAX_LIGHT_RADIUS)
+                } else {
+                    ("angularDiameter", crate::MAX_ANGULAR_DIAMETER)
+                };
+                let size = value
+                    .as_f64()
+                    .map(|v| v as f32)
+                    .filter(|v| v.is_finite() && (0.0..=max).contains(v))
+                    .ok_or_else(|| {
+                        format!("{LIGHT_SHADOW_EXTENSION}.{name} must be a number from 0 to {max}, not {value}")
+                    })?;
+                shadow.sizes.push((name, size));
+            }
+            other => {
+                return Err(format!(
+                    "{LIGHT_SHADOW_EXTENSION} has no field `{other}` (castsShadows, radius, angularDiameter)"
+                ))
+            }
+        }
+    }
+    Ok(shadow)
 }

@@ -10,7 +10,7 @@ use serde_json::{json, Map, Value};
 use super::error::{SaveError, SaveProblem};
 use super::image::encode_png;
 use super::optics_ext::diffuse_model_name;
-use super::OPTICS_EXTENSION;
+use super::{LIGHT_SHADOW_EXTENSION, OPTICS_EXTENSION};
 use crate::{Filter, Light, Material, Sampler, Scene, TextureRef, TextureSlot, WrapMode};
 
 fn num(x: f32) -> Value {
@@ -399,12 +399,14 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
         }));
     }
     let mut lights = Vec::new();
+    let mut writes_light_shadows = false;
     for (i, light) in scene.lights.iter().enumerate() {
         let (kind, matrix, power, spot, range) = match light {
             Light::Point {
                 position,
                 intensity,
                 range,
+                ..
             } => (
                 "point",
                 Mat4::from_translation(*position),
@@ -415,6 +417,7 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
             Light::Directional {
                 direction,
                 irradiance,
+                ..
             } => (
                 "directional",
                 aim_matrix(Vec3::ZERO, *direction),
@@ -429,6 +432,7 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
                 inner_cone,
                 outer_cone,
                 range,
+                ..
             } => (
                 "spot",
                 aim_matrix(*position, *direction),
@@ -446,6 +450,22 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
         }
         if let Some(range) = range {
             light["range"] = num(range);
+        }
+        // Shadows: written where they differ from the defaults (casting, no size).
+        let (size_name, size) = match scene.lights[i] {
+            Light::Directional {
+                angular_diameter, ..
+            } => ("angularDiameter", angular_diameter),
+            Light::Point { radius, .. } | Light::Spot { radius, .. } => ("radius", radius),
+        };
+        let casts = scene.lights[i].casts_shadows();
+        if !casts || size != 0.0 {
+            let mut ext = json!({ "castsShadows": casts });
+            if size != 0.0 {
+                ext[size_name] = num(size);
+            }
+            light["extensions"] = json!({ LIGHT_SHADOW_EXTENSION: ext });
+            writes_light_shadows = true;
         }
         lights.push(light);
         nodes.push(json!({
@@ -492,6 +512,9 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
         }
     }
     let mut root_extensions = json!({ OPTICS_EXTENSION: { "outsideIor": num(scene.outside_ior) } });
+    if writes_light_shadows {
+        used.push(LIGHT_SHADOW_EXTENSION.into());
+    }
     if !lights.is_empty() {
         used.push("KHR_lights_punctual".into());
         root_extensions["KHR_lights_punctual"] = json!({ "lights": lights });
