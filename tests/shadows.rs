@@ -691,3 +691,74 @@ fn a_light_that_casts_no_shadows_casts_none() {
     assert!(plain.hdr == shadowed.hdr);
     assert!(shadowed.timings.ms("shadow maps").is_none());
 }
+
+/// A sun with a size casts soft shadows, and they are closer to its exact soft shadow
+/// than hard ones: for a sphere above a floor under a sun of 3° angular diameter, the
+/// mean difference between the shadow-factor view and the exact visible fraction of the
+/// sun's disc (f64, 16 × 16 stratified rays) over the floor pixels where the exact
+/// fraction is strictly between 0 and 1 (the penumbra) is less than half with
+/// contact-hardening PCF (the sun's size given) than with the same sun as a point (hard
+/// PCF): 0.082 against 0.209 when written. Both printed.
+#[test]
+fn a_sun_with_a_size_casts_soft_shadows_closer_to_the_exact_ones() {
+    use combustion::reference::SceneBvh;
+    let centre = DVec3::new(0.0, 1.2, 0.0);
+    let direction = sun(40.0);
+    let d = direction.as_dvec3();
+    let shadow_centre = centre - d * (centre.y / d.y);
+    let camera = Camera {
+        position: (shadow_centre + DVec3::new(0.0, 3.0, 2.0)).as_vec3(),
+        target: shadow_centre.as_vec3(),
+        up: Vec3::Y,
+        vertical_fov: 45f32.to_radians(),
+        near: 0.1,
+        far: 60.0,
+    };
+    let mut soft = floor_scene(Some((centre, 0.5)), direction, camera);
+    if let Light::Directional {
+        angular_diameter, ..
+    } = &mut soft.lights[0]
+    {
+        *angular_diameter = 3f32.to_radians();
+    }
+    let bvh = SceneBvh::new(&soft);
+    let mut hard = soft.clone();
+    if let Light::Directional {
+        angular_diameter, ..
+    } = &mut hard.lights[0]
+    {
+        *angular_diameter = 0.0;
+    }
+    let settings = ShadowSettings::DEFAULT;
+    let soft_view = shadow_factors(&soft, settings);
+    let hard_view = shadow_factors(&hard, settings);
+    let (mut soft_error, mut hard_error, mut penumbra) = (0.0, 0.0, 0);
+    for y in 0..H {
+        for x in 0..W {
+            let Some(p) = floor_point(&camera, x, y) else {
+                continue;
+            };
+            if sphere_covers_pixel(&camera, x, y, centre, 0.52) {
+                continue;
+            }
+            let exact =
+                bvh.light_visible_fraction(p.to_array(), [0.0, 1.0, 0.0], &soft.lights[0], 16);
+            if exact <= 0.0 || exact >= 1.0 {
+                continue;
+            }
+            penumbra += 1;
+            let i = (y * W + x) as usize;
+            soft_error += (f64::from(soft_view.ldr[i][0]) / 255.0 - exact).abs();
+            hard_error += (f64::from(hard_view.ldr[i][0]) / 255.0 - exact).abs();
+        }
+    }
+    let (soft_error, hard_error) = (soft_error / penumbra as f64, hard_error / penumbra as f64);
+    eprintln!(
+        "penumbra pixels {penumbra}: mean |factor − exact fraction| {soft_error:.4} soft, {hard_error:.4} hard"
+    );
+    assert!(penumbra > 200, "{penumbra} penumbra pixels");
+    assert!(
+        soft_error < 0.5 * hard_error,
+        "soft {soft_error} not below hard {hard_error}"
+    );
+}

@@ -36,7 +36,9 @@ struct GpuLight {
     vec4 position_or_direction;     // point, spot: world position; directional: unit direction of travel
     vec4 power_kind;                // rgb: point/spot intensity (W/sr) or directional irradiance (W/m²);
                                     // a: LIGHT_KIND_*
-    vec4 spot_axis;                 // spot: xyz = unit direction of travel along the cone axis
+    vec4 spot_axis;                 // spot: xyz = unit direction of travel along the cone axis;
+                                    // w: size for soft shadows: radius (m; point, spot) or
+                                    // tan(angular diameter / 2) (directional); 0: none
     vec4 spot_cone;                 // spot: x = 1 / max(1e-3, cos(inner) − cos(outer)),
                                     //       y = −cos(outer) · x   (KHR_lights_punctual falloff)
                                     // point, spot: z = 1/range² (0: no range, no window)

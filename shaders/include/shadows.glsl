@@ -20,44 +20,171 @@ float shadow_compare(bool local, float layer, vec3 coord) {
 }
 
 // The lit fraction of the map of table entry `entry` at uv for a receiver at map depth
-// z: one bilinear comparison, or the average of SHADOW_TAPS on a Vogel disk (radii
-// √((i + ½)/N)·SHADOW_PCF_RADIUS_TEXELS, angles i times the golden angle) turned per
-// pixel.
-float shadow_filter(uint entry, vec2 uv, float z, vec2 pixel) {
+// z over `taps` bilinear comparisons on a Vogel disk of `radius` texels (radii
+// √((i + ½)/N)·radius, angles i times the golden angle) turned per pixel; one
+// comparison when taps is 1.
+float shadow_pcf(uint entry, vec2 uv, float z, float radius, int taps, vec2 pixel) {
     GpuShadowCascade map = shadow_cascades[entry];
     bool local = map.texel_depth_slice.w != 0.0;
     float layer = map.view_forward.w;
-#if SHADOW_TAPS == 1
-    return shadow_compare(local, layer, vec3(uv, z));
-#else
+    if (taps == 1) {
+        return shadow_compare(local, layer, vec3(uv, z));
+    }
     vec2 texel = 1.0 / vec2(local ? textureSize(local_shadow_maps, 0).xy
                                   : textureSize(shadow_maps, 0).xy);
     float rotation = 6.28318531 * interleaved_gradient_noise(pixel);
     float lit = 0.0;
-    for (int i = 0; i < SHADOW_TAPS; ++i) {
-        float r = sqrt((float(i) + 0.5) / float(SHADOW_TAPS)) * SHADOW_PCF_RADIUS_TEXELS;
+    for (int i = 0; i < taps; ++i) {
+        float r = sqrt((float(i) + 0.5) / float(taps)) * radius;
         float a = float(i) * 2.39996323 + rotation;
         lit += shadow_compare(local, layer, vec3(uv + r * vec2(cos(a), sin(a)) * texel, z));
     }
-    return lit / float(SHADOW_TAPS);
-#endif
+    return lit / float(taps);
 }
 
-// Where a receiver at `position` (unit shading normal n, unit direction l to the light)
-// falls in cascade `layer`: map uv, and the reference depth. The receiver is offset
-// along n by (kernel radius + 1.5) texels × sin θ (θ: n's angle to l), which keeps every
-// tap of a flat receiver in front of its own surface up to grazing light
-// (docs/shadows.md), plus half a texel of depth.
-vec3 shadow_lookup(uint layer, vec3 position, vec3 n, float sin_theta) {
-    GpuShadowCascade cascade = shadow_cascades[layer];
-    float texel = cascade.texel_depth_slice.x;
+// Where a receiver falls in the map of entry `entry`.
+struct ShadowLookup {
+    vec2 uv;         // map coordinates
+    float z;         // reference depth (biased)
+    float texel;     // a texel's side at the receiver, metres
+    float receiver;  // the receiver's distance: from the map's near plane along the light
+                     // (cascade), or its depth along the layer's axis (local light)
+    bool inside;     // the receiver is on the map
+};
+
+// The receiver at `position` (unit shading normal n, sin θ of its angle to the light),
+// offset along n by (SHADOW_PCF_RADIUS_TEXELS + 1.5) texels × sin θ, which keeps every
+// tap of the filter on a flat receiver in front of its own surface up to grazing light
+// (docs/shadows.md), and biased by half a texel of depth; a wider kernel of `radius`
+// texels (a light with a size) adds the depth its extra reach can span on a plane tilted
+// by θ, (radius − SHADOW_PCF_RADIUS_TEXELS) texels × tan θ (θ at most 85°), as depth
+// bias rather than a longer offset, which would shift the shadow sideways. A local
+// light's texel is taken at the point's distance from `light_position`.
+ShadowLookup shadow_locate(uint entry, vec3 position, vec3 n, float sin_theta, float radius,
+                           vec3 light_position) {
+    GpuShadowCascade map = shadow_cascades[entry];
+    ShadowLookup at;
+    at.inside = true;
+    bool local = map.texel_depth_slice.w != 0.0;
+    float texel = local ? map.texel_depth_slice.x * length(position - light_position)
+                        : map.texel_depth_slice.x;
     vec3 p = position + n * (texel * (SHADOW_PCF_RADIUS_TEXELS + 1.5) * sin_theta);
-    vec4 clip = cascade.world_to_clip * vec4(p, 1.0);
-    float bias = 0.5 * texel / cascade.texel_depth_slice.y;
-    return vec3(clip.xy * 0.5 + 0.5, clip.z - bias);
+    float cos_theta = sqrt(max(1.0 - sin_theta * sin_theta, 0.0));
+    float tan_theta = min(sin_theta / max(cos_theta, 1e-6), 11.43);
+    // World distance along the light the comparison is biased by.
+    float bias = texel * (0.5 + max(radius - SHADOW_PCF_RADIUS_TEXELS, 0.0) * tan_theta);
+    vec4 clip = map.world_to_clip * vec4(p, 1.0);
+    at.texel = texel;
+    if (!local) {
+        at.uv = clip.xy * 0.5 + 0.5;
+        at.z = clip.z - bias / map.texel_depth_slice.y;
+        at.receiver = clip.z * map.texel_depth_slice.y;
+        return at;
+    }
+    if (clip.w <= 0.0) {
+        at.inside = false;
+        return at;
+    }
+    vec3 ndc = clip.xyz / clip.w;
+    at.uv = ndc.xy * 0.5 + 0.5;
+    at.inside = all(greaterThanEqual(at.uv, vec2(0.0))) && all(lessThanEqual(at.uv, vec2(1.0)));
+    // Map depth is near·far/(far − near)·(1/near − 1/w) at depth w along the layer's
+    // axis: a world distance b there is b·near·far/((far − near)·w²) of it.
+    float near_plane = map.texel_depth_slice.y;
+    float far_plane = map.texel_depth_slice.z;
+    at.z = ndc.z - bias * near_plane * far_plane / ((far_plane - near_plane) * clip.w * clip.w);
+    at.receiver = clip.w;
+    return at;
 }
 
-// The cascade of the light whose cascades start at layer `first` that covers a point
+// The raw depth of the map of entry `entry` at the texel holding uv.
+float shadow_depth(uint entry, vec2 uv) {
+    GpuShadowCascade map = shadow_cascades[entry];
+    int layer = int(map.view_forward.w);
+    if (map.texel_depth_slice.w != 0.0) {
+        ivec2 size = textureSize(local_shadow_depths, 0).xy;
+        ivec2 t = clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
+        return texelFetch(local_shadow_depths, ivec3(t, layer), 0).r;
+    }
+    ivec2 size = textureSize(shadow_depths, 0).xy;
+    ivec2 t = clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
+    return texelFetch(shadow_depths, ivec3(t, layer), 0).r;
+}
+
+// Contact-hardening softness (PCSS, Fernando 2005) for a light of size `size` (the
+// radius of a local light, tan of half a sun's angular diameter): the average depth of
+// the blockers SHADOW_SOFT_TAPS depth reads find around the receiver, within the
+// region the light's size can shadow it from (capped at SHADOW_SOFT_MAX_RADIUS_TEXELS),
+// gives the penumbra's width at the receiver; its half, in texels, is the PCF radius
+// (at least SHADOW_PCF_RADIUS_TEXELS, at most the cap). Negative: no blocker, lit.
+float shadow_soft_radius(uint entry, ShadowLookup at, float size, vec2 pixel) {
+    GpuShadowCascade map = shadow_cascades[entry];
+    bool local = map.texel_depth_slice.w != 0.0;
+    float near_plane = map.texel_depth_slice.y;
+    float far_plane = map.texel_depth_slice.z;
+    // How far from the receiver, in texels, a blocker can shadow it (one on the map's
+    // near plane): a sun's cone over the receiver's distance from the near plane; a local
+    // light's disc seen from the receiver, projected onto the near plane (the usual
+    // PCSS search width).
+    float search = local
+        ? size * (at.receiver - near_plane) / (at.receiver * near_plane * map.texel_depth_slice.x)
+        : size * at.receiver / at.texel;
+    search = clamp(search, SHADOW_PCF_RADIUS_TEXELS, SHADOW_SOFT_MAX_RADIUS_TEXELS);
+    vec2 texel = 1.0 / vec2(local ? textureSize(local_shadow_maps, 0).xy
+                                  : textureSize(shadow_maps, 0).xy);
+    float rotation = 6.28318531 * interleaved_gradient_noise(pixel.yx);
+    float sum = 0.0;
+    float blockers = 0.0;
+    for (int i = 0; i < SHADOW_SOFT_TAPS; ++i) {
+        float r = sqrt((float(i) + 0.5) / float(SHADOW_SOFT_TAPS)) * search;
+        float a = float(i) * 2.39996323 + rotation;
+        float d = shadow_depth(entry, at.uv + r * vec2(cos(a), sin(a)) * texel);
+        if (d < at.z) {
+            sum += d;
+            blockers += 1.0;
+        }
+    }
+    if (blockers == 0.0) {
+        return -1.0;
+    }
+    float blocker = sum / blockers;
+    float penumbra;
+    if (local) {
+        // Similar triangles from the light's disc: w = 2 r (d_receiver − d_blocker) / d_blocker.
+        float distance = near_plane * far_plane / (far_plane - blocker * (far_plane - near_plane));
+        penumbra = 2.0 * size * max(at.receiver - distance, 0.0) / distance;
+    } else {
+        penumbra = 2.0 * size * max(at.z - blocker, 0.0) * map.texel_depth_slice.y;
+    }
+    return clamp(0.5 * penumbra / at.texel, SHADOW_PCF_RADIUS_TEXELS, SHADOW_SOFT_MAX_RADIUS_TEXELS);
+}
+
+// The lit fraction of the map of entry `entry` at `position`: the frame's filter, or for
+// a light with a size (`size` > 0) contact-hardening PCF over the penumbra it casts.
+// Points off the map are lit.
+float shadow_filtered(uint entry, vec3 position, vec3 n, float sin_theta, vec3 light_position,
+                      float size, vec2 pixel) {
+    ShadowLookup at = shadow_locate(entry, position, n, sin_theta, SHADOW_PCF_RADIUS_TEXELS,
+                                    light_position);
+    if (!at.inside) {
+        return 1.0;
+    }
+    if (size <= 0.0) {
+        return shadow_pcf(entry, at.uv, at.z, SHADOW_PCF_RADIUS_TEXELS, SHADOW_TAPS, pixel);
+    }
+    float radius = shadow_soft_radius(entry, at, size, pixel);
+    if (radius < 0.0) {
+        return 1.0;
+    }
+    // Offset again for the wider kernel.
+    at = shadow_locate(entry, position, n, sin_theta, radius, light_position);
+    if (!at.inside) {
+        return 1.0;
+    }
+    return shadow_pcf(entry, at.uv, at.z, radius, SHADOW_SOFT_TAPS, pixel);
+}
+
+// The cascade of the light whose cascades start at entry `first` that covers a point
 // `distance` metres in front of the eye (SHADOW_CASCADES beyond the shadow distance),
 // and how far into its slice's last CASCADE_BLEND_BAND the point is (0 before it, 1 at
 // the slice's end).
@@ -81,80 +208,46 @@ float shadow_view_distance(uint first, vec3 position, vec3 eye) {
     return dot(position - eye, shadow_cascades[first].view_forward.xyz);
 }
 
-// The lit fraction of the light whose cascades start at layer `first`, at `position`
-// seen from `eye`: the cascade is chosen by the point's view distance (the cascades'
-// maps hold their slices of the view frustum whole), and the last part of each slice
-// fades into the next cascade. Points beyond the shadow distance are lit.
-float shadow_visibility(uint first, vec3 position, vec3 eye, vec3 n, vec3 l, vec2 pixel) {
-    float blend;
-    uint c = shadow_cascade(first, shadow_view_distance(first, position, eye), blend);
-    if (c >= uint(SHADOW_CASCADES)) {
-        return 1.0;
-    }
-    float cos_theta = clamp(dot(n, l), 0.0, 1.0);
-    float sin_theta = sqrt(1.0 - cos_theta * cos_theta);
-    vec3 lookup = shadow_lookup(first + c, position, n, sin_theta);
-    float lit = shadow_filter(first + c, lookup.xy, lookup.z, pixel);
-    if (blend > 0.0 && c + 1u < uint(SHADOW_CASCADES)) {
-        vec3 next = shadow_lookup(first + c + 1u, position, n, sin_theta);
-        lit = mix(lit, shadow_filter(first + c + 1u, next.xy, next.z, pixel), blend);
-    }
-    return lit;
-}
-
-// The lit fraction of a spot or point light at `light_position` whose layers start at
-// `first` (`cube`: six faces +X, −X, +Y, −Y, +Z, −Z, chosen by the major axis of the
-// direction from the light; else one layer), at `position`. The normal offset and the
-// half-texel depth bias are those of a cascade, with the texel's side at the point's
-// distance (a perspective layer's texel grows with depth). Points outside the layer
-// are lit.
-float shadow_visibility_local(uint first, bool cube, vec3 light_position, vec3 position,
-                              vec3 n, vec3 l, vec2 pixel) {
-    vec3 from_light = position - light_position;
-    uint layer = first;
-    if (cube) {
-        vec3 a = abs(from_light);
-        if (a.x >= a.y && a.x >= a.z) {
-            layer += from_light.x > 0.0 ? 0u : 1u;
-        } else if (a.y >= a.z) {
-            layer += from_light.y > 0.0 ? 2u : 3u;
-        } else {
-            layer += from_light.z > 0.0 ? 4u : 5u;
-        }
-    }
-    GpuShadowCascade map = shadow_cascades[layer];
-    float texel = map.texel_depth_slice.x * length(from_light);
-    float cos_theta = clamp(dot(n, l), 0.0, 1.0);
-    float sin_theta = sqrt(1.0 - cos_theta * cos_theta);
-    vec3 p = position + n * (texel * (SHADOW_PCF_RADIUS_TEXELS + 1.5) * sin_theta);
-    vec4 clip = map.world_to_clip * vec4(p, 1.0);
-    if (clip.w <= 0.0) {
-        return 1.0;
-    }
-    vec3 ndc = clip.xyz / clip.w;
-    vec2 uv = ndc.xy * 0.5 + 0.5;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
-        return 1.0;
-    }
-    // Map depth is near·far/(far − near)·(1/near − 1/w) at depth w along the layer's
-    // axis: half a texel of world distance there is this much of it.
-    float near_plane = map.texel_depth_slice.y;
-    float far_plane = map.texel_depth_slice.z;
-    float bias = 0.5 * texel * near_plane * far_plane
-               / ((far_plane - near_plane) * clip.w * clip.w);
-    return shadow_filter(layer, uv, ndc.z - bias, pixel);
-}
-
-// The lit fraction of `light` (its layers starting at `first`) at `position` seen from
-// `eye`, whatever its kind.
+// The lit fraction of `light` (its entries starting at `first`) at `position` seen from
+// `eye`, whatever its kind. A directional light's cascade is chosen by the point's view
+// distance (the cascades' maps hold their slices of the view frustum whole), and the
+// last part of each slice fades into the next cascade; points beyond the shadow
+// distance are lit. A spot light has one entry; a point light (or a wide spot) six, the
+// cube's faces +X, −X, +Y, −Y, +Z, −Z, the one of the major axis of the direction from
+// the light taken.
 float shadow_visibility_of(GpuLight light, uint first, vec3 position, vec3 eye, vec3 n, vec3 l,
                            vec2 pixel) {
+    float cos_theta = clamp(dot(n, l), 0.0, 1.0);
+    float sin_theta = sqrt(1.0 - cos_theta * cos_theta);
+    float size = light.spot_axis.w;
+    vec3 light_position = light.position_or_direction.xyz;
     if (light.power_kind.a == LIGHT_KIND_DIRECTIONAL) {
-        return shadow_visibility(first, position, eye, n, l, pixel);
+        float blend;
+        uint c = shadow_cascade(first, shadow_view_distance(first, position, eye), blend);
+        if (c >= uint(SHADOW_CASCADES)) {
+            return 1.0;
+        }
+        float lit = shadow_filtered(first + c, position, n, sin_theta, light_position, size,
+                                    pixel);
+        if (blend > 0.0 && c + 1u < uint(SHADOW_CASCADES)) {
+            lit = mix(lit, shadow_filtered(first + c + 1u, position, n, sin_theta,
+                                           light_position, size, pixel), blend);
+        }
+        return lit;
     }
-    bool cube = shadow_cascades[first].texel_depth_slice.w == SHADOW_LAYER_CUBE_FACE;
-    return shadow_visibility_local(first, cube, light.position_or_direction.xyz, position, n, l,
-                                   pixel);
+    uint entry = first;
+    if (shadow_cascades[first].texel_depth_slice.w == SHADOW_LAYER_CUBE_FACE) {
+        vec3 from_light = position - light_position;
+        vec3 a = abs(from_light);
+        if (a.x >= a.y && a.x >= a.z) {
+            entry += from_light.x > 0.0 ? 0u : 1u;
+        } else if (a.y >= a.z) {
+            entry += from_light.y > 0.0 ? 2u : 3u;
+        } else {
+            entry += from_light.z > 0.0 ? 4u : 5u;
+        }
+    }
+    return shadow_filtered(entry, position, n, sin_theta, light_position, size, pixel);
 }
 
 #endif

@@ -20,6 +20,9 @@ pub enum BindingKind {
     SamplerCube,
     /// `sampler2DArrayShadow`: a depth image's layers with a comparison sampler.
     Sampler2DArrayShadow,
+    /// `texture2DArray`, read with texelFetch (no sampler): e.g. a depth image's layers
+    /// as depths.
+    Texture2DArray,
     /// `image2D` with the given format qualifier (e.g. `rgba16f`), written by compute.
     StorageImage2D {
         /// The GLSL format qualifier.
@@ -52,7 +55,9 @@ impl BindingKind {
     /// storage image or storage buffer).
     pub fn descriptor_type(self) -> vk::DescriptorType {
         match self {
-            Self::Texture2D | Self::UTexture2D => vk::DescriptorType::SAMPLED_IMAGE,
+            Self::Texture2D | Self::UTexture2D | Self::Texture2DArray => {
+                vk::DescriptorType::SAMPLED_IMAGE
+            }
             Self::Sampler2D | Self::SamplerCube | Self::Sampler2DArrayShadow => {
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER
             }
@@ -145,6 +150,9 @@ impl SetDecl {
                 }
                 BindingKind::Sampler2DArrayShadow => {
                     format!("layout({layout}) uniform sampler2DArrayShadow {};", b.name)
+                }
+                BindingKind::Texture2DArray => {
+                    format!("layout({layout}) uniform texture2DArray {};", b.name)
                 }
                 BindingKind::StorageImage2D { format } => {
                     format!(
@@ -503,6 +511,10 @@ pub static LIGHTING: SetDecl = SetDecl {
             FRAGMENT,
         )
         .only_with("SHADOWS"),
+        // The same maps read as depths, for the blocker search of lights with a size.
+        Binding::new("shadow_depths", BindingKind::Texture2DArray, FRAGMENT).only_with("SHADOWS"),
+        Binding::new("local_shadow_depths", BindingKind::Texture2DArray, FRAGMENT)
+            .only_with("SHADOWS"),
         Binding::new(
             "shadow_cascades",
             BindingKind::StorageBuffer {
@@ -695,7 +707,8 @@ mod tests {
                 .find(|s| s.ty == ty)
                 .map_or(0, |s| s.descriptor_count)
         };
-        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 10);
+        // The G-buffer's five and the two arrays of shadow maps as depths, twice.
+        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 14);
         // The two environment cubes and the two arrays of shadow maps, twice.
         assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 8);
         // Materials, lights, the conductor table, the tile light lists, the energy

@@ -196,7 +196,9 @@ pub struct GpuLight {
     /// rgb: intensity (W·sr⁻¹, point and spot) or irradiance (W·m⁻², directional); a: the
     /// kind (`LIGHT_KIND_*`).
     pub power_kind: [f32; 4],
-    /// Spot lights: the unit direction of the cone's axis (w = 0); zero for other kinds.
+    /// Spot lights: the unit direction of the cone's axis (xyz; zero for other kinds).
+    /// w: the light's size for its shadows' softness: the radius (metres) of a point or
+    /// spot light, tan(angular diameter / 2) of a directional one; 0: none.
     pub spot_axis: [f32; 4],
     /// x, y: the spot cone's scale 1/(cos θ_inner − cos θ_outer) and offset
     /// −cos θ_outer · scale (zero for other kinds); z: 1/range² (0: no range); w: for a
@@ -216,20 +218,23 @@ impl GpuLight {
                 position,
                 intensity,
                 range,
+                radius,
                 ..
             } => Self {
                 position_or_direction: position.extend(1.0).to_array(),
                 power_kind: power(intensity, LIGHT_KIND_POINT),
+                spot_axis: [0.0, 0.0, 0.0, *radius],
                 spot_cone: [0.0, 0.0, inverse_range_squared(*range), 0.0],
-                ..Self::zeroed()
             },
             Light::Directional {
                 direction,
                 irradiance,
+                angular_diameter,
                 ..
             } => Self {
                 position_or_direction: direction.normalize().extend(0.0).to_array(),
                 power_kind: power(irradiance, LIGHT_KIND_DIRECTIONAL),
+                spot_axis: [0.0, 0.0, 0.0, (angular_diameter * 0.5).tan()],
                 ..Self::zeroed()
             },
             Light::Spot {
@@ -239,13 +244,14 @@ impl GpuLight {
                 inner_cone,
                 outer_cone,
                 range,
+                radius,
                 ..
             } => {
                 let scale = 1.0 / (inner_cone.cos() - outer_cone.cos()).max(1e-3);
                 Self {
                     position_or_direction: position.extend(1.0).to_array(),
                     power_kind: power(intensity, LIGHT_KIND_SPOT),
-                    spot_axis: direction.normalize().extend(0.0).to_array(),
+                    spot_axis: direction.normalize().extend(*radius).to_array(),
                     spot_cone: [
                         scale,
                         -outer_cone.cos() * scale,

@@ -11,7 +11,9 @@ use crate::gpu_types::{
 };
 use crate::light_cull::TILE_SIZE;
 use crate::options::DebugView;
-use crate::shadows::{CASCADE_BLEND_BAND, LAYER_CUBE_FACE, PCF_RADIUS_TEXELS};
+use crate::shadows::{
+    CASCADE_BLEND_BAND, LAYER_CUBE_FACE, PCF_RADIUS_TEXELS, SOFT_MAX_RADIUS_TEXELS, SOFT_TAPS,
+};
 
 include!(concat!(env!("OUT_DIR"), "/shader_files.rs"));
 
@@ -111,6 +113,16 @@ fn shared_constants() -> Vec<SharedConstant> {
             "shadows::CASCADE_BLEND_BAND",
         ),
         constant(
+            "SHADOW_SOFT_TAPS",
+            GlslValue::Int(i64::from(SOFT_TAPS)),
+            "shadows::SOFT_TAPS",
+        ),
+        constant(
+            "SHADOW_SOFT_MAX_RADIUS_TEXELS",
+            GlslValue::Float(SOFT_MAX_RADIUS_TEXELS),
+            "shadows::SOFT_MAX_RADIUS_TEXELS",
+        ),
+        constant(
             "SHADOW_LAYER_CUBE_FACE",
             GlslValue::Float(LAYER_CUBE_FACE),
             "shadows::LAYER_CUBE_FACE",
@@ -191,6 +203,8 @@ mod tests {
             format!("LIGHT_KIND_SPOT {LIGHT_KIND_SPOT:.1}"),
             format!("SHADOW_PCF_RADIUS_TEXELS {PCF_RADIUS_TEXELS:?}"),
             format!("SHADOW_CASCADE_BLEND_BAND {CASCADE_BLEND_BAND:?}"),
+            format!("SHADOW_SOFT_TAPS {SOFT_TAPS}"),
+            format!("SHADOW_SOFT_MAX_RADIUS_TEXELS {SOFT_MAX_RADIUS_TEXELS:?}"),
             format!("SHADOW_LAYER_CUBE_FACE {LAYER_CUBE_FACE:?}"),
         ];
         for (name, view) in [

@@ -47,8 +47,15 @@ pub const MIN_SHADOW_MAP_SIZE: u32 = 64;
 pub const SPLIT_LOGARITHMIC_WEIGHT: f32 = 0.75;
 /// Radius of the PCF kernel, in shadow-map texels (the Vogel disk's; [`ShadowFilter`]).
 pub const PCF_RADIUS_TEXELS: f32 = 1.5;
-/// The share of a cascade's map, at its border, over which it fades into the next one.
+/// The share of a cascade's slice of the view, at its end, over which it fades into the
+/// next one.
 pub const CASCADE_BLEND_BAND: f32 = 0.1;
+/// Depth reads of the blocker search, and comparisons of the filter, of a light with a
+/// size (contact-hardening PCF, PCSS).
+pub const SOFT_TAPS: u32 = 16;
+/// The widest blocker search and filter of a light with a size, in texels (the
+/// penumbra is capped at twice this).
+pub const SOFT_MAX_RADIUS_TEXELS: f32 = 16.0;
 
 /// How shadow-map lookups are filtered.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -98,14 +98,24 @@ impl FramePass for Lighting {
         }
         match frame.shadow_maps {
             Some((cascades, local)) => {
-                for (binding, maps) in [("shadow_maps", cascades), ("local_shadow_maps", local)] {
-                    io = io.sampled_view(
-                        binding,
-                        &maps.image,
-                        maps.array_view.raw(),
-                        r.shadow_sampler.raw(),
-                        ImageUse::DepthFragmentSampled,
-                    );
+                for (binding, depths, maps) in [
+                    ("shadow_maps", "shadow_depths", cascades),
+                    ("local_shadow_maps", "local_shadow_depths", local),
+                ] {
+                    io = io
+                        .sampled_view(
+                            binding,
+                            &maps.image,
+                            maps.array_view.raw(),
+                            r.shadow_sampler.raw(),
+                            ImageUse::DepthFragmentSampled,
+                        )
+                        .image_view(
+                            depths,
+                            &maps.image,
+                            maps.array_view.raw(),
+                            ImageUse::DepthFragmentSampled,
+                        );
                 }
             }
             // Not declared by pipelines without shadows: any image will do.
@@ -116,6 +126,14 @@ impl FramePass for Lighting {
                         r.absent_target.view(),
                         texel.state().layout,
                         r.shadow_sampler.raw(),
+                    );
+                }
+                for binding in ["shadow_depths", "local_shadow_depths"] {
+                    io = io.bind_image(
+                        binding,
+                        r.absent_target.view(),
+                        texel.state().layout,
+                        vk::Sampler::null(),
                     );
                 }
             }
