@@ -127,6 +127,33 @@ fn floor_point(camera: &Camera, x: u32, y: u32) -> Option<DVec3> {
     (p.x.abs() < 19.0 && p.z.abs() < 19.0).then_some(p)
 }
 
+/// Asserts that every floor pixel of a shadow-factor view (the plane y = 0 seen by
+/// `camera`; more than a third of the image) is fully lit (code 254 or 255: one 8-bit
+/// step of rounding allowed); `what` names the case in the message.
+fn assert_floor_lit(view: &Frame, camera: &Camera, what: &str) {
+    let mut floor = 0;
+    let mut shadowed = Vec::new();
+    for y in 0..H {
+        for x in 0..W {
+            if floor_point(camera, x, y).is_none() {
+                continue;
+            }
+            floor += 1;
+            let code = view.ldr[(y * W + x) as usize][0];
+            if code < 254 {
+                shadowed.push((x, y, code));
+            }
+        }
+    }
+    assert!(floor > W * H / 3, "{what}: {floor} floor pixels");
+    assert!(
+        shadowed.is_empty(),
+        "{what}: {} of {floor} floor pixels shadowed, e.g. {:?}",
+        shadowed.len(),
+        &shadowed[..shadowed.len().min(8)]
+    );
+}
+
 /// How far the line from `p` towards the light (against `direction`) passes from the
 /// sphere's centre, minus its radius: negative inside the shadow. This is also the
 /// distance, in the shadow map's plane, from the sphere's silhouette.
@@ -325,27 +352,10 @@ fn a_plane_lit_at_grazing_angles_does_not_shadow_itself() {
                 filter,
                 ..ShadowSettings::DEFAULT
             };
-            let frame = shadow_factors(&scene, settings);
-            let mut floor = 0;
-            let mut shadowed = Vec::new();
-            for y in 0..H {
-                for x in 0..W {
-                    if floor_point(&scene.camera, x, y).is_none() {
-                        continue;
-                    }
-                    floor += 1;
-                    let code = frame.ldr[(y * W + x) as usize][0];
-                    if code < 254 {
-                        shadowed.push((x, y, code));
-                    }
-                }
-            }
-            assert!(floor > W * H / 3, "{floor} floor pixels");
-            assert!(
-                shadowed.is_empty(),
-                "light {from_normal}° from the normal, {filter:?}: {} of {floor} floor pixels shadow themselves, e.g. {:?}",
-                shadowed.len(),
-                &shadowed[..shadowed.len().min(8)]
+            assert_floor_lit(
+                &shadow_factors(&scene, settings),
+                &scene.camera,
+                &format!("light {from_normal}° from the normal, {filter:?}"),
             );
         }
     }
@@ -642,33 +652,14 @@ fn a_point_lights_cube_has_no_seam() {
         radius: 0.0,
     }];
     for filter in [ShadowFilter::Hard, ShadowFilter::Pcf32] {
-        let frame = shadow_factors(
-            &scene,
-            ShadowSettings {
-                filter,
-                ..ShadowSettings::DEFAULT
-            },
-        );
-        let mut floor = 0;
-        let mut shadowed = Vec::new();
-        for y in 0..H {
-            for x in 0..W {
-                if floor_point(&scene.camera, x, y).is_none() {
-                    continue;
-                }
-                floor += 1;
-                let code = frame.ldr[(y * W + x) as usize][0];
-                if code < 254 {
-                    shadowed.push((x, y, code));
-                }
-            }
-        }
-        assert!(floor > W * H / 3, "{floor} floor pixels");
-        assert!(
-            shadowed.is_empty(),
-            "{filter:?}: {} of {floor} floor pixels shadowed, e.g. {:?}",
-            shadowed.len(),
-            &shadowed[..shadowed.len().min(8)]
+        let settings = ShadowSettings {
+            filter,
+            ..ShadowSettings::DEFAULT
+        };
+        assert_floor_lit(
+            &shadow_factors(&scene, settings),
+            &scene.camera,
+            &format!("{filter:?}"),
         );
     }
 }

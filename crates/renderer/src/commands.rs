@@ -26,6 +26,32 @@ pub(crate) fn bind_pass(
     }
 }
 
+/// A depth attachment of `view`, in the depth-attachment layout, cleared to the far
+/// plane (1) and stored: what a pass that rasterises the scene with depth renders into.
+pub(crate) fn cleared_depth_attachment(
+    view: vk::ImageView,
+) -> vk::RenderingAttachmentInfo<'static> {
+    vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(crate::graph::ImageUse::DepthAttachmentWrite.state().layout)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .clear_value(vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue {
+                depth: 1.0,
+                stencil: 0,
+            },
+        })
+}
+
+/// The whole of `extent`, from the origin: a pass's render area.
+pub(crate) fn whole(extent: vk::Extent2D) -> vk::Rect2D {
+    vk::Rect2D {
+        offset: vk::Offset2D::default(),
+        extent,
+    }
+}
+
 /// Sets the viewport (depth 0 to 1) and the scissor to the whole of `extent`.
 pub(crate) fn set_viewport_and_scissor(
     raw: &combustion_vk::ash::Device,

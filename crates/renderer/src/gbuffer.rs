@@ -259,22 +259,9 @@ impl GBufferPass {
                     })
             })
             .collect();
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(targets.depth.view())
-            .image_layout(crate::graph::ImageUse::DepthAttachmentWrite.state().layout)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 1.0,
-                    stencil: 0,
-                },
-            });
+        let depth_attachment = crate::commands::cleared_depth_attachment(targets.depth.view());
         let rendering = vk::RenderingInfo::default()
-            .render_area(vk::Rect2D {
-                offset: vk::Offset2D::default(),
-                extent,
-            })
+            .render_area(crate::commands::whole(extent))
             .layer_count(1)
             .color_attachments(&color_attachments)
             .depth_attachment(&depth_attachment);

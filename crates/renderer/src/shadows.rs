@@ -22,7 +22,7 @@
 
 use std::sync::Arc;
 
-use combustion_scene::{Camera, Light};
+use combustion_scene::{box_corners, Camera, Light};
 use combustion_vk::{
     vk, DescriptorSetLayout, Device, GraphicsPipelineDesc, Image, ImageDesc, ImageView, Pipeline,
     PipelineCache, PipelineLayout, Sampler, ShaderCompiler, ShaderModule, ShaderStage,
@@ -247,15 +247,9 @@ pub fn cascade_splits(near: f32, far: f32, count: u32) -> Vec<f32> {
 pub fn shadow_distance(camera: &Camera, bounds: Option<(Vec3, Vec3)>) -> f32 {
     let forward = (camera.target - camera.position).normalize();
     let farthest = bounds.map_or(camera.far, |(min, max)| {
-        (0..8)
-            .map(|i| {
-                let corner = Vec3::new(
-                    if i & 1 == 0 { min.x } else { max.x },
-                    if i & 2 == 0 { min.y } else { max.y },
-                    if i & 4 == 0 { min.z } else { max.z },
-                );
-                (corner - camera.position).dot(forward)
-            })
+        box_corners(min, max)
+            .iter()
+            .map(|corner| (*corner - camera.position).dot(forward))
             .fold(f32::MIN, f32::max)
     });
     // Rounded up to a power of 2^(1/4): the splits change in steps as the camera moves.
@@ -294,15 +288,12 @@ pub fn directional_cascades(
     let light_view = Mat4::look_to_rh(Vec3::ZERO, direction, light_up(direction));
     // The scene's extent along the light (view-space z is minus the distance along it).
     let scene_depth = bounds.map(|(min, max)| {
-        (0..8).fold((f32::MAX, f32::MIN), |(lo, hi), i| {
-            let corner = Vec3::new(
-                if i & 1 == 0 { min.x } else { max.x },
-                if i & 2 == 0 { min.y } else { max.y },
-                if i & 4 == 0 { min.z } else { max.z },
-            );
-            let z = light_view.transform_point3(corner).z;
-            (lo.min(z), hi.max(z))
-        })
+        box_corners(min, max)
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(lo, hi), corner| {
+                let z = light_view.transform_point3(*corner).z;
+                (lo.min(z), hi.max(z))
+            })
     });
     splits
         .windows(2)
@@ -474,15 +465,9 @@ fn local_depth_range(
     bounds: Option<(Vec3, Vec3)>,
 ) -> (f32, f32) {
     let to_bounds = bounds.map(|(min, max)| {
-        (0..8)
-            .map(|i| {
-                let corner = Vec3::new(
-                    if i & 1 == 0 { min.x } else { max.x },
-                    if i & 2 == 0 { min.y } else { max.y },
-                    if i & 4 == 0 { min.z } else { max.z },
-                );
-                corner.distance(position)
-            })
+        box_corners(min, max)
+            .iter()
+            .map(|corner| corner.distance(position))
             .fold(0.0f32, f32::max)
     });
     let far = match (range, to_bounds) {
@@ -704,22 +689,9 @@ impl ShadowCasterPass {
         let extent = maps.image.extent();
         let raw = device.raw();
         for (view, world_to_clip) in maps.layer_views.iter().zip(cascades) {
-            let depth_attachment = vk::RenderingAttachmentInfo::default()
-                .image_view(view.raw())
-                .image_layout(crate::graph::ImageUse::DepthAttachmentWrite.state().layout)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(vk::ClearValue {
-                    depth_stencil: vk::ClearDepthStencilValue {
-                        depth: 1.0,
-                        stencil: 0,
-                    },
-                });
+            let depth_attachment = crate::commands::cleared_depth_attachment(view.raw());
             let rendering = vk::RenderingInfo::default()
-                .render_area(vk::Rect2D {
-                    offset: vk::Offset2D::default(),
-                    extent,
-                })
+                .render_area(crate::commands::whole(extent))
                 .layer_count(1)
                 .depth_attachment(&depth_attachment);
             // SAFETY: recording state (the frame's); the maps and the scene outlive the
@@ -779,17 +751,7 @@ impl ShadowCasterPass {
 /// renders (x or y beyond ±w at every corner, in homogeneous coordinates: right for an
 /// orthographic and a perspective map alike, corners behind a light included).
 fn beside_map(world_to_clip: &Mat4, lo: Vec3, hi: Vec3) -> bool {
-    let corners: Vec<glam::Vec4> = (0..8)
-        .map(|i| {
-            *world_to_clip
-                * Vec3::new(
-                    if i & 1 == 0 { lo.x } else { hi.x },
-                    if i & 2 == 0 { lo.y } else { hi.y },
-                    if i & 4 == 0 { lo.z } else { hi.z },
-                )
-                .extend(1.0)
-        })
-        .collect();
+    let corners = box_corners(lo, hi).map(|corner| *world_to_clip * corner.extend(1.0));
     let all = |outside: fn(&glam::Vec4) -> bool| corners.iter().all(outside);
     all(|c| c.x > c.w)
         || all(|c| c.x < -c.w)

@@ -220,6 +220,17 @@ pub fn normalised_axes_determinant(transform: &glam::Mat4) -> f32 {
     (linear * (1.0 / largest)).determinant()
 }
 
+/// The eight corners of the axis-aligned box (`lo`, `hi`).
+pub fn box_corners(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
+    std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
+}
+
 /// Whether `transform` cannot place a mesh: not finite, or its axes (scale-relative,
 /// [`normalised_axes_determinant`]) are within [`MIN_AXES_DETERMINANT`] of coplanar.
 pub fn transform_is_degenerate(transform: &glam::Mat4) -> bool {

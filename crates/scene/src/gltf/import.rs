@@ -1124,16 +1124,10 @@ impl CameraView {
     fn camera(&self, bounds: Option<(Vec3, Vec3)>) -> Camera {
         let far = self.far.unwrap_or_else(|| {
             let reach = bounds.map_or(0.0, |(lo, hi)| {
-                let mut reach: f32 = 0.0;
-                for i in 0..8 {
-                    let corner = Vec3::new(
-                        if i & 1 == 0 { lo.x } else { hi.x },
-                        if i & 2 == 0 { lo.y } else { hi.y },
-                        if i & 4 == 0 { lo.z } else { hi.z },
-                    );
-                    reach = reach.max((corner - self.position).length());
-                }
-                reach
+                crate::box_corners(lo, hi)
+                    .iter()
+                    .map(|corner| (*corner - self.position).length())
+                    .fold(0.0f32, f32::max)
             });
             (reach * 1.5).max(self.near * 1000.0)
         });
@@ -1204,14 +1198,9 @@ fn mesh_bounds(mesh: &crate::Mesh) -> Option<(Vec3, Vec3)> {
 /// (the local box's corners transformed).
 fn placed_bounds(local: Option<(Vec3, Vec3)>, transform: &Mat4) -> Option<(Vec3, Vec3)> {
     let (lo, hi) = local?;
-    (0..8)
-        .map(|i| {
-            transform.transform_point3(Vec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            ))
-        })
+    crate::box_corners(lo, hi)
+        .iter()
+        .map(|corner| transform.transform_point3(*corner))
         .map(|p| (p, p))
         .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
 }
