@@ -3,7 +3,10 @@
 // are layers of shadow_maps; a lookup takes the cascade whose slice of the view holds
 // the point, fading into the next one over the last CASCADE_BLEND_BAND of the slice. A
 // spot light has one entry, a point light six (a cube), their maps in local_shadow_maps.
-// Each entry names its layer in its array (view_forward.w).
+// Each entry names its layer in its array (view_forward.w). The variant compiles only
+// the kinds of shadow the scene's lights cast (ShadowShader): SHADOW_CASCADED
+// (directional lights), SHADOW_LOCAL (spot and point lights), SHADOW_SOFT (lights with
+// a size) — a GPU that runs both sides of a branch pays for none it cannot take.
 #ifndef COMBUSTION_SHADOWS_GLSL
 #define COMBUSTION_SHADOWS_GLSL
 
@@ -16,7 +19,25 @@ float interleaved_gradient_noise(vec2 pixel) {
 // (`local`), at coord.xy with reference depth coord.z (bilinearly weighted over 2×2).
 float shadow_compare(bool local, float layer, vec3 coord) {
     vec4 c = vec4(coord.xy, layer, coord.z);
+#if defined(SHADOW_CASCADED) && defined(SHADOW_LOCAL)
     return local ? texture(local_shadow_maps, c) : texture(shadow_maps, c);
+#elif defined(SHADOW_LOCAL)
+    return texture(local_shadow_maps, c);
+#else
+    return texture(shadow_maps, c);
+#endif
+}
+
+// A texel's side in map coordinates, in the cascades' maps or the local lights'.
+vec2 shadow_texel_uv(bool local) {
+#if defined(SHADOW_CASCADED) && defined(SHADOW_LOCAL)
+    return 1.0 / vec2(local ? textureSize(local_shadow_maps, 0).xy
+                            : textureSize(shadow_maps, 0).xy);
+#elif defined(SHADOW_LOCAL)
+    return 1.0 / vec2(textureSize(local_shadow_maps, 0).xy);
+#else
+    return 1.0 / vec2(textureSize(shadow_maps, 0).xy);
+#endif
 }
 
 // The lit fraction of the map of table entry `entry` at uv for a receiver at map depth
@@ -30,8 +51,7 @@ float shadow_pcf(uint entry, vec2 uv, float z, float radius, int taps, vec2 pixe
     if (taps == 1) {
         return shadow_compare(local, layer, vec3(uv, z));
     }
-    vec2 texel = 1.0 / vec2(local ? textureSize(local_shadow_maps, 0).xy
-                                  : textureSize(shadow_maps, 0).xy);
+    vec2 texel = shadow_texel_uv(local);
     float rotation = 6.28318531 * interleaved_gradient_noise(pixel);
     float lit = 0.0;
     for (int i = 0; i < taps; ++i) {
@@ -75,12 +95,15 @@ ShadowLookup shadow_locate(uint entry, vec3 position, vec3 n, float sin_theta, f
     float bias = texel * (0.5 + max(radius - SHADOW_PCF_RADIUS_TEXELS, 0.0) * tan_theta);
     vec4 clip = map.world_to_clip * vec4(p, 1.0);
     at.texel = texel;
+#ifdef SHADOW_CASCADED
     if (!local) {
         at.uv = clip.xy * 0.5 + 0.5;
         at.z = clip.z - bias / map.texel_depth_slice.y;
         at.receiver = clip.z * map.texel_depth_slice.y;
         return at;
     }
+#endif
+#ifdef SHADOW_LOCAL
     if (clip.w <= 0.0) {
         at.inside = false;
         return at;
@@ -94,21 +117,29 @@ ShadowLookup shadow_locate(uint entry, vec3 position, vec3 n, float sin_theta, f
     float far_plane = map.texel_depth_slice.z;
     at.z = ndc.z - bias * near_plane * far_plane / ((far_plane - near_plane) * clip.w * clip.w);
     at.receiver = clip.w;
+#endif
     return at;
 }
 
+#ifdef SHADOW_SOFT
 // The raw depth of the map of entry `entry` at the texel holding uv.
 float shadow_depth(uint entry, vec2 uv) {
     GpuShadowCascade map = shadow_cascades[entry];
     int layer = int(map.view_forward.w);
+#ifdef SHADOW_LOCAL
     if (map.texel_depth_slice.w != 0.0) {
         ivec2 size = textureSize(local_shadow_depths, 0).xy;
         ivec2 t = clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
         return texelFetch(local_shadow_depths, ivec3(t, layer), 0).r;
     }
+#endif
+#ifdef SHADOW_CASCADED
     ivec2 size = textureSize(shadow_depths, 0).xy;
     ivec2 t = clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
     return texelFetch(shadow_depths, ivec3(t, layer), 0).r;
+#else
+    return 1.0;
+#endif
 }
 
 // Contact-hardening softness (PCSS, Fernando 2005) for a light of size `size` (the
@@ -130,8 +161,7 @@ float shadow_soft_radius(uint entry, ShadowLookup at, float size, vec2 pixel) {
         ? size * (at.receiver - near_plane) / (at.receiver * near_plane * map.texel_depth_slice.x)
         : size * at.receiver / at.texel;
     search = clamp(search, SHADOW_PCF_RADIUS_TEXELS, SHADOW_SOFT_MAX_RADIUS_TEXELS);
-    vec2 texel = 1.0 / vec2(local ? textureSize(local_shadow_maps, 0).xy
-                                  : textureSize(shadow_maps, 0).xy);
+    vec2 texel = shadow_texel_uv(local);
     float rotation = 6.28318531 * interleaved_gradient_noise(pixel.yx);
     float sum = 0.0;
     float blockers = 0.0;
@@ -159,6 +189,8 @@ float shadow_soft_radius(uint entry, ShadowLookup at, float size, vec2 pixel) {
     return clamp(0.5 * penumbra / at.texel, SHADOW_PCF_RADIUS_TEXELS, SHADOW_SOFT_MAX_RADIUS_TEXELS);
 }
 
+#endif
+
 // The lit fraction of the map of entry `entry` at `position`: the frame's filter, or for
 // a light with a size (`size` > 0) contact-hardening PCF over the penumbra it casts.
 // Points off the map are lit.
@@ -169,6 +201,7 @@ float shadow_filtered(uint entry, vec3 position, vec3 n, float sin_theta, vec3 l
     if (!at.inside) {
         return 1.0;
     }
+#ifdef SHADOW_SOFT
     if (size <= 0.0) {
         return shadow_pcf(entry, at.uv, at.z, SHADOW_PCF_RADIUS_TEXELS, SHADOW_TAPS, pixel);
     }
@@ -182,6 +215,9 @@ float shadow_filtered(uint entry, vec3 position, vec3 n, float sin_theta, vec3 l
         return 1.0;
     }
     return shadow_pcf(entry, at.uv, at.z, radius, SHADOW_SOFT_TAPS, pixel);
+#else
+    return shadow_pcf(entry, at.uv, at.z, SHADOW_PCF_RADIUS_TEXELS, SHADOW_TAPS, pixel);
+#endif
 }
 
 // The cascade of the light whose cascades start at entry `first` that covers a point
@@ -221,6 +257,7 @@ float shadow_visibility_of(GpuLight light, uint first, vec3 position, vec3 eye, 
     float sin_theta = sqrt(1.0 - cos_theta * cos_theta);
     float size = light.spot_axis.w;
     vec3 light_position = light.position_or_direction.xyz;
+#ifdef SHADOW_CASCADED
     if (light.power_kind.a == LIGHT_KIND_DIRECTIONAL) {
         float blend;
         uint c = shadow_cascade(first, shadow_view_distance(first, position, eye), blend);
@@ -235,6 +272,8 @@ float shadow_visibility_of(GpuLight light, uint first, vec3 position, vec3 eye, 
         }
         return lit;
     }
+#endif
+#ifdef SHADOW_LOCAL
     uint entry = first;
     if (shadow_cascades[first].texel_depth_slice.w == SHADOW_LAYER_CUBE_FACE) {
         vec3 from_light = position - light_position;
@@ -248,6 +287,9 @@ float shadow_visibility_of(GpuLight light, uint first, vec3 position, vec3 eye, 
         }
     }
     return shadow_filtered(entry, position, n, sin_theta, light_position, size, pixel);
+#else
+    return 1.0;
+#endif
 }
 
 #endif

@@ -387,11 +387,7 @@ impl Renderer {
     ) -> Result<Vec<(usize, u32)>, RenderError> {
         self.slots[slot].shadow_layers.clear();
         self.slots[slot].local_shadow_layers.clear();
-        let Some(settings) = self
-            .settings
-            .shading
-            .shadows
-            .filter(|_| variant.shadows.is_some())
+        let (Some(settings), Some(shader)) = (self.settings.shading.shadows, variant.shadows)
         else {
             return Ok(Vec::new());
         };
@@ -401,6 +397,7 @@ impl Renderer {
             extent.width as f32 / extent.height as f32,
             scene.world_bounds,
             &settings,
+            shader.kinds,
         );
         // The table, light after light; each entry names its layer in its own array.
         let mut table = Vec::new();

@@ -165,6 +165,7 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
         // Renderer settings.
         energy_compensation: false,
         shadows: None,
+        shadow_kinds: crate::shadows::ShadowKinds::of(&scene.lights),
     }
 }
 

@@ -165,11 +165,13 @@ impl ShadowSettings {
         Ok(())
     }
 
-    /// What the lighting shader's variant needs of these settings.
-    pub(crate) fn shader(&self) -> ShadowShader {
+    /// What the lighting shader's variant needs of these settings, for a scene whose
+    /// lights cast `kinds` of shadow.
+    pub(crate) fn shader(&self, kinds: ShadowKinds) -> ShadowShader {
         ShadowShader {
             cascades: self.cascades,
             filter: self.filter,
+            kinds,
         }
     }
 }
@@ -180,6 +182,50 @@ impl Default for ShadowSettings {
     }
 }
 
+/// The kinds of shadow a scene's lights cast (those whose `casts_shadows` is set): the
+/// lighting pipeline compiles only their code. A frame's lights of another kind (a host
+/// may bring its own) light it unshadowed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ShadowKinds {
+    /// Directional lights: cascades.
+    pub cascaded: bool,
+    /// Spot and point lights: perspective maps and cubes.
+    pub local: bool,
+    /// Lights with a size: contact-hardening soft shadows.
+    pub soft: bool,
+}
+
+impl ShadowKinds {
+    /// The kinds `lights` cast.
+    pub fn of(lights: &[Light]) -> ShadowKinds {
+        let mut kinds = ShadowKinds::default();
+        for light in lights.iter().filter(|l| l.casts_shadows()) {
+            match *light {
+                Light::Directional {
+                    angular_diameter, ..
+                } => {
+                    kinds.cascaded = true;
+                    kinds.soft |= angular_diameter > 0.0;
+                }
+                Light::Point { radius, .. } | Light::Spot { radius, .. } => {
+                    kinds.local = true;
+                    kinds.soft |= radius > 0.0;
+                }
+            }
+        }
+        kinds
+    }
+
+    /// Whether `light` casts a shadow of these kinds.
+    pub fn cast_by(&self, light: &Light) -> bool {
+        light.casts_shadows()
+            && match light {
+                Light::Directional { .. } => self.cascaded,
+                Light::Point { .. } | Light::Spot { .. } => self.local,
+            }
+    }
+}
+
 /// The part of [`ShadowSettings`] compiled into the lighting pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ShadowShader {
@@ -187,13 +233,25 @@ pub struct ShadowShader {
     pub cascades: u32,
     /// The lookup filter.
     pub filter: ShadowFilter,
+    /// The kinds of shadow compiled in (the scene's lights').
+    pub kinds: ShadowKinds,
 }
 
 impl ShadowShader {
-    /// Its `#define`s: `SHADOWS`, `SHADOW_CASCADES` and `SHADOW_TAPS`.
+    /// Its `#define`s: `SHADOWS`, `SHADOW_CASCADES`, `SHADOW_TAPS`, and
+    /// `SHADOW_CASCADED`, `SHADOW_LOCAL`, `SHADOW_SOFT` by its kinds.
     pub(crate) fn defines(&self, defines: &mut Vec<(&'static str, Option<&'static str>)>) {
         const COUNTS: [&str; MAX_CASCADES as usize] = ["1", "2", "3", "4"];
         defines.push(("SHADOWS", None));
+        for (present, define) in [
+            (self.kinds.cascaded, "SHADOW_CASCADED"),
+            (self.kinds.local, "SHADOW_LOCAL"),
+            (self.kinds.soft, "SHADOW_SOFT"),
+        ] {
+            if present {
+                defines.push((define, None));
+            }
+        }
         defines.push((
             "SHADOW_CASCADES",
             Some(COUNTS[(self.cascades.clamp(1, MAX_CASCADES) - 1) as usize]),
@@ -355,8 +413,8 @@ pub const LAYER_PERSPECTIVE: f32 = 1.0;
 /// `GpuShadowCascade::texel_depth_slice.w` of a face of a light's cube of six layers.
 pub const LAYER_CUBE_FACE: f32 = 2.0;
 
-/// The frame's shadowed lights (those that cast shadows), in the order of `lights`: the
-/// first
+/// The frame's shadowed lights (those that cast shadows of the pipeline's `kinds`), in
+/// the order of `lights`: the first
 /// [`MAX_SHADOWED_LIGHTS`] directional lights (their cascades), spot lights (one
 /// perspective layer; six, as a point light, when the cone is wider than
 /// [`MAX_SPOT_CONE_ONE_LAYER`]) and point lights (six faces of a cube), as long as the
@@ -368,12 +426,13 @@ pub(crate) fn frame_shadows(
     aspect: f32,
     bounds: Option<(Vec3, Vec3)>,
     settings: &ShadowSettings,
+    kinds: ShadowKinds,
 ) -> Vec<(usize, Vec<ShadowLayer>)> {
     let mut out: Vec<(usize, Vec<ShadowLayer>)> = Vec::new();
     let mut layers = 0;
     let mut suns = 0;
     for (index, light) in lights.iter().enumerate() {
-        if !light.casts_shadows() {
+        if !kinds.cast_by(light) {
             continue;
         }
         let light_layers: Vec<ShadowLayer> = match *light {
@@ -850,6 +909,49 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The kinds compiled follow the lights that cast shadows: a sun alone compiles
+    /// cascades only; a point light adds the local maps; a size adds soft shadows; a
+    /// light that casts none adds nothing.
+    #[test]
+    fn shadow_kinds_follow_the_casting_lights() {
+        let sun = |angular_diameter, casts_shadows| Light::Directional {
+            direction: Vec3::NEG_Y,
+            irradiance: [1.0; 3],
+            casts_shadows,
+            angular_diameter,
+        };
+        let point = |radius, casts_shadows| Light::Point {
+            position: Vec3::Y,
+            intensity: [1.0; 3],
+            range: None,
+            casts_shadows,
+            radius,
+        };
+        let kinds = |cascaded, local, soft| ShadowKinds {
+            cascaded,
+            local,
+            soft,
+        };
+        assert_eq!(
+            ShadowKinds::of(&[sun(0.0, true)]),
+            kinds(true, false, false)
+        );
+        assert_eq!(
+            ShadowKinds::of(&[sun(0.0, true), point(0.0, true)]),
+            kinds(true, true, false)
+        );
+        assert_eq!(
+            ShadowKinds::of(&[point(0.1, true)]),
+            kinds(false, true, true)
+        );
+        assert_eq!(
+            ShadowKinds::of(&[sun(0.01, false), point(0.1, false)]),
+            ShadowKinds::default()
+        );
+        let only_suns = kinds(true, false, false);
+        assert!(only_suns.cast_by(&sun(0.0, true)) && !only_suns.cast_by(&point(0.0, true)));
     }
 
     #[test]

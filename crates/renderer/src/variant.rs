@@ -136,9 +136,13 @@ pub struct ShaderVariant {
     /// Multiple-scattering energy compensation of the specular lobes
     /// ([`ShadingOptions::energy_compensation`]; a shading option).
     pub energy_compensation: bool,
-    /// Shadows of directional lights ([`ShadingOptions::shadows`]; a shading option):
-    /// the lighting pass samples the shadow maps with this many cascades and this filter.
+    /// Shadows ([`ShadingOptions::shadows`]; a shading option): the lighting pass
+    /// samples the shadow maps with this many cascades, this filter, for these kinds of
+    /// light.
     pub shadows: Option<crate::shadows::ShadowShader>,
+    /// The kinds of shadow the scene's lights cast (a scene feature, read when shadows
+    /// are on; cleared otherwise, so that it splits no pipeline).
+    pub shadow_kinds: crate::shadows::ShadowKinds,
 }
 
 impl ShaderVariant {
@@ -250,7 +254,8 @@ impl ShadingOptions {
             shadows: self
                 .shadows
                 .filter(|_| self.measurement_floor.is_none() || debug_views)
-                .map(|s| s.shader()),
+                .map(|s| s.shader(scene_variant.shadow_kinds)),
+            shadow_kinds: Default::default(),
             ..scene_variant
         }
     }
