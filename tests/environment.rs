@@ -25,6 +25,7 @@ fn sphere(material: Material, outside_ior: f32, environment: Environment) -> Sce
             mesh: 0,
             material: 0,
             transform: Mat4::IDENTITY,
+            casts_shadows: true,
         }],
         lights: Vec::new(),
         camera: Camera {

@@ -227,6 +227,7 @@ fn render_emissive_plane(emitted: [f32; 3], hdr: HdrFormat) -> combustion::rende
             mesh: 0,
             material: 0,
             transform: Mat4::IDENTITY,
+            casts_shadows: true,
         }],
         lights: vec![],
         camera: Camera {

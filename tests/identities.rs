@@ -26,6 +26,7 @@ fn lit_plane(material: Material, outside_ior: f32, irradiance: [f32; 3]) -> Scen
             mesh: 0,
             material: 0,
             transform: Mat4::IDENTITY,
+            casts_shadows: true,
         }],
         lights: vec![Light::Directional {
             direction: Vec3::NEG_Y,

@@ -51,6 +51,7 @@ fn floor_scene(sphere: Option<(DVec3, f64)>, direction: Vec3, camera: Camera) ->
         mesh: 0,
         material: 0,
         transform: Mat4::IDENTITY,
+        casts_shadows: true,
     }];
     if let Some((centre, radius)) = sphere {
         meshes.push(Mesh::uv_sphere("sphere", radius as f32, SEGMENTS, RINGS));
@@ -58,6 +59,7 @@ fn floor_scene(sphere: Option<(DVec3, f64)>, direction: Vec3, camera: Camera) ->
             mesh: 1,
             material: 1,
             transform: Mat4::from_translation(centre.as_vec3()),
+            casts_shadows: true,
         });
     }
     let grey = Material {
@@ -505,7 +507,7 @@ fn against_exact_visibility(name: &str, radius: f64) {
     use combustion::renderer::{local_texel_per_metre, FrameInputs};
     let scene = builtin_scene(name).unwrap();
     let light = scene.lights[0].clone();
-    let bvh = std::sync::Arc::new(SceneBvh::new(&scene));
+    let bvh = std::sync::Arc::new(SceneBvh::shadow_casters(&scene));
     let inputs = FrameInputs {
         camera: scene.camera,
         exposure: 1.0,
@@ -712,7 +714,7 @@ fn a_sun_with_a_size_casts_soft_shadows_closer_to_the_exact_ones() {
     {
         *angular_diameter = 3f32.to_radians();
     }
-    let bvh = SceneBvh::new(&soft);
+    let bvh = SceneBvh::shadow_casters(&soft);
     let mut hard = soft.clone();
     if let Light::Directional {
         angular_diameter, ..
@@ -752,4 +754,31 @@ fn a_sun_with_a_size_casts_soft_shadows_closer_to_the_exact_ones() {
         soft_error < 0.5 * hard_error,
         "soft {soft_error} not below hard {hard_error}"
     );
+}
+
+/// Objects whose `casts_shadows` is false cast none: grid-sun with only its floor
+/// casting (the spheres not) renders with shadows on as without them (the floor cannot
+/// shadow what stands on it), while the shadow pass still runs for the floor.
+#[test]
+fn objects_that_cast_no_shadows_cast_none() {
+    let mut scene = builtin_scene("grid-sun").unwrap();
+    let floor = scene.objects.len() - 1;
+    for object in &mut scene.objects[..floor] {
+        object.casts_shadows = false;
+    }
+    let plain = common::render_images(&scene, W, H, common::exact_f32());
+    let shadowed = common::render_images(
+        &scene,
+        W,
+        H,
+        with_shadows(ShadowSettings::DEFAULT, DebugView::None),
+    );
+    assert!(shadowed.timings.ms("shadow maps").is_some());
+    let differ = plain
+        .hdr
+        .iter()
+        .zip(&shadowed.hdr)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differ, 0, "{differ} pixels differ");
 }

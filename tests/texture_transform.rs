@@ -67,6 +67,7 @@ fn scene(
             mesh: 0,
             material: 0,
             transform: Mat4::IDENTITY,
+            casts_shadows: true,
         }],
         lights: vec![Light::Directional {
             direction: Vec3::new(0.2, -1.0, 0.1).normalize(),

@@ -106,7 +106,10 @@ pub(super) fn measure_scene(
     let (width, height) = (desc.width, desc.height);
     let inputs = FrameInputs::of_scene(gpu, 1.0);
     let mut reference = ReferenceShading::new(gpu.scene(), &inputs, width, height)
-        .with_exact_visibility(Arc::new(SceneBvh::new(gpu.scene())), inputs.lights);
+        .with_exact_visibility(
+            Arc::new(SceneBvh::shadow_casters(gpu.scene())),
+            inputs.lights,
+        );
     if let Some(environment) = &gpu.scene().environment {
         reference = reference.with_environment(environment.clone(), ENVIRONMENT_SAMPLING);
     }

@@ -72,7 +72,9 @@ pub fn measure_error(
         // Frames with shadows are measured against exact visibility: each light's term
         // times its f64 ray-cast visibility (combustion_reference).
         reference = reference.with_exact_visibility(
-            std::sync::Arc::new(combustion_reference::SceneBvh::new(scene.scene())),
+            std::sync::Arc::new(combustion_reference::SceneBvh::shadow_casters(
+                scene.scene(),
+            )),
             inputs.lights,
         );
     }

@@ -150,8 +150,22 @@ impl SceneBvh {
     /// that are not [proper](WorldTriangle::is_proper) (non-finite or zero-area) are
     /// left out; nothing panics.
     pub fn new(scene: &Scene) -> SceneBvh {
+        Self::of_objects(scene, |_| true)
+    }
+
+    /// As [`SceneBvh::new`], of the objects that cast shadows
+    /// ([`combustion_scene::Object::casts_shadows`]): what blocks light, for
+    /// [`SceneBvh::light_visibility`] and its kin.
+    pub fn shadow_casters(scene: &Scene) -> SceneBvh {
+        Self::of_objects(scene, |object| object.casts_shadows)
+    }
+
+    fn of_objects(scene: &Scene, keep: impl Fn(&combustion_scene::Object) -> bool) -> SceneBvh {
         let mut triangles = Vec::new();
         for (object_index, object) in scene.objects.iter().enumerate() {
+            if !keep(object) {
+                continue;
+            }
             let Some(mesh) = scene.meshes.get(object.mesh) else {
                 continue;
             };

@@ -131,7 +131,8 @@ impl ReferenceShading {
     /// The same, with each light's term multiplied by its exact visibility from the
     /// pixel's point ([`SceneBvh::light_visible_fraction`], shadow rays leaving along the
     /// shading normal; the visible fraction of a light with a size, sampled with
-    /// [`SIZED_LIGHT_SAMPLES_PER_AXIS`]² rays): `bvh` holds the frame's scene, `lights` the frame's lights (those
+    /// [`SIZED_LIGHT_SAMPLES_PER_AXIS`]² rays): `bvh` holds the frame's scene's shadow
+    /// casters ([`SceneBvh::shadow_casters`]), `lights` the frame's lights (those
     /// [`ReferenceShading::new`] was given). The reference for frames with shadows.
     pub fn with_exact_visibility(self, bvh: std::sync::Arc<SceneBvh>, lights: &[Light]) -> Self {
         Self {

@@ -162,6 +162,7 @@ impl SceneEditor {
             mesh: self.mesh_index(mesh)?,
             material: self.material_index(material)?,
             transform,
+            casts_shadows: true,
         };
         self.scene.objects.push(object);
         let id = ObjectId(self.ids.fresh());

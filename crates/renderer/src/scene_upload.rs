@@ -29,6 +29,8 @@ pub struct GpuScene {
     pub(crate) draw_meshes: Vec<usize>,
     /// Per draw: render back faces too (double-sided material).
     pub(crate) double_sided: Vec<bool>,
+    /// Per draw: the object casts shadows (drawn into shadow maps).
+    pub(crate) casts_shadows: Vec<bool>,
     /// Per draw: the material (index into `textures.material_sets`).
     pub(crate) draw_materials: Vec<usize>,
     /// Shader features this scene needs (selects the pipeline variant).
@@ -274,6 +276,7 @@ struct Tables {
     bake_materials: Vec<u8>,
     world_bounds: Option<(glam::Vec3, glam::Vec3)>,
     object_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
+    casts_shadows: Vec<bool>,
 }
 
 impl Tables {
@@ -322,6 +325,7 @@ impl Tables {
             bake_materials: bytemuck::cast_slice(&material_table(scene, &[])).to_vec(),
             world_bounds: scene.world_bounds(),
             object_bounds: scene.object_bounds(),
+            casts_shadows: scene.objects.iter().map(|o| o.casts_shadows).collect(),
         })
     }
 }
@@ -350,6 +354,7 @@ impl GpuScene {
             }),
             draw_meshes: tables.draw_meshes,
             double_sided: tables.double_sided,
+            casts_shadows: tables.casts_shadows,
             draw_materials: tables.draw_materials,
             variant: tables.variant,
             lit_variant: tables.lit_variant,
@@ -437,6 +442,7 @@ impl GpuScene {
         }
         self.draw_meshes = tables.draw_meshes;
         self.double_sided = tables.double_sided;
+        self.casts_shadows = tables.casts_shadows;
         self.draw_materials = tables.draw_materials;
         self.variant = tables.variant;
         self.lit_variant = tables.lit_variant;

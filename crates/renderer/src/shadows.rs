@@ -774,9 +774,13 @@ impl ShadowCasterPass {
                 scene,
                 crate::mesh_draw::Faces::Both,
                 |object| {
+                    let index = object.object_index as usize;
+                    if !scene.casts_shadows.get(index).copied().unwrap_or(true) {
+                        return false;
+                    }
                     // Objects wholly beside the map cast nothing into it (along the
                     // light, the map spans the whole scene).
-                    let bounds = scene.object_bounds.get(object.object_index as usize);
+                    let bounds = scene.object_bounds.get(index);
                     if let Some(Some((lo, hi))) = bounds {
                         if beside_map(world_to_clip, *lo, *hi) {
                             return false;

@@ -66,6 +66,7 @@ fn scene(meshes: Vec<Mesh>, material: Material) -> Scene {
                 mesh,
                 material: 0,
                 transform: Mat4::IDENTITY,
+                casts_shadows: true,
             })
             .collect(),
         meshes,

@@ -161,6 +161,7 @@ fn grid_7x7() -> Scene {
                     3.0 - row as f32,
                     0.0,
                 )),
+                casts_shadows: true,
             }
         })
         .collect();
@@ -212,6 +213,7 @@ fn grid_sun() -> Scene {
                     radius,
                     row as f32 - 3.0,
                 )),
+                casts_shadows: true,
             }
         })
         .collect();
@@ -225,6 +227,7 @@ fn grid_sun() -> Scene {
         mesh: 1,
         material: spheres,
         transform: Mat4::IDENTITY,
+        casts_shadows: true,
     });
     let (elevation, azimuth) = (20f32.to_radians(), 35f32.to_radians());
     Scene {
@@ -301,6 +304,7 @@ fn spot_box() -> Scene {
         mesh: 1,
         material: 0,
         transform,
+        casts_shadows: true,
     };
     let mut objects = vec![
         wall(Mat4::IDENTITY),
@@ -324,6 +328,7 @@ fn spot_box() -> Scene {
             mesh: 0,
             material: i + 1,
             transform: Mat4::from_translation(Vec3::new(x, 0.5, 0.3 * i as f32 - 0.4)),
+            casts_shadows: true,
         });
     }
     Scene {
@@ -364,6 +369,7 @@ fn point_among() -> Scene {
         mesh: 1,
         material: 0,
         transform: Mat4::IDENTITY,
+        casts_shadows: true,
     }];
     for i in 0..6 {
         let angle = i as f32 * std::f32::consts::TAU / 6.0 + 0.3;
@@ -375,6 +381,7 @@ fn point_among() -> Scene {
                 0.4 + 0.5 * (i % 2) as f32,
                 1.6 * angle.sin(),
             )),
+            casts_shadows: true,
         });
     }
     Scene {
@@ -453,6 +460,7 @@ fn spheres() -> Scene {
                 mesh: 0,
                 material: materials.len() - 1,
                 transform: Mat4::from_translation(Vec3::new(x, y, 0.0)),
+                casts_shadows: true,
             });
         }
     }
@@ -599,6 +607,7 @@ fn hard_cases() -> Scene {
         mesh: 1,
         material: 0,
         transform: Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0)),
+        casts_shadows: true,
     }];
     let count = spheres.len();
     let mut centres = Vec::new();
@@ -610,6 +619,7 @@ fn hard_cases() -> Scene {
             mesh: 0,
             material: i + 1,
             transform: Mat4::from_translation(centre),
+            casts_shadows: true,
         });
     }
     // Exactly opposite the viewer, seen through the centre of the second sphere.
@@ -721,6 +731,7 @@ fn sphere_grid(
                 mesh: 0,
                 material: materials.len() - 1,
                 transform: Mat4::from_translation(Vec3::new(x, y, 0.0)),
+                casts_shadows: true,
             });
         }
     }

@@ -167,6 +167,8 @@ pub struct Object {
     /// inwards, which back-face culling then removes: give such an object a
     /// winding-reversed mesh (as the glTF importer does) or a double-sided material.
     pub transform: Mat4,
+    /// Whether the object casts shadows (it is lit, and receives them, either way).
+    pub casts_shadows: bool,
 }
 
 /// Everything one frame shows: meshes and materials, objects placing them, lights, a
@@ -718,6 +720,7 @@ mod bounds_tests {
             mesh: scene.meshes.len() + 5,
             material: 0,
             transform: Mat4::IDENTITY,
+            casts_shadows: true,
         });
         assert_eq!(scene.world_bounds(), before);
         scene.objects.truncate(0);
@@ -725,6 +728,7 @@ mod bounds_tests {
             mesh: 99,
             material: 0,
             transform: Mat4::IDENTITY,
+            casts_shadows: true,
         });
         assert_eq!(scene.world_bounds(), None);
         assert!(scene.validate().is_err());

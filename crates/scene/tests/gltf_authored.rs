@@ -200,11 +200,13 @@ fn textured_scene() -> Scene {
                 mesh: 0,
                 material: 0,
                 transform: Mat4::IDENTITY,
+                casts_shadows: true,
             },
             Object {
                 mesh: 1,
                 material: 1,
                 transform: Mat4::from_translation(Vec3::new(-0.7, 0.5, 0.0)),
+                casts_shadows: true,
             },
             Object {
                 mesh: 1,
@@ -214,6 +216,7 @@ fn textured_scene() -> Scene {
                     Quat::from_rotation_y(0.5),
                     Vec3::new(0.7, 0.4, 0.2),
                 ),
+                casts_shadows: true,
             },
         ],
         lights: vec![
@@ -345,12 +348,14 @@ fn optics_scene() -> Scene {
             mesh: if i == 5 { 1 } else { 0 },
             material: i,
             transform: Mat4::from_translation(Vec3::new(i as f32 * 1.1 - 2.75, 0.5, 0.0)),
+            casts_shadows: true,
         });
     }
     objects.push(Object {
         mesh: 2,
         material: 6,
         transform: Mat4::IDENTITY,
+        casts_shadows: true,
     });
     Scene {
         name: "optics".into(),
@@ -673,20 +678,21 @@ fn saving_an_invalid_scene_names_the_problem() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
-/// `COMBUSTION_lights_shadow`: whether each light casts shadows and its size (a point or
+/// `COMBUSTION_shadows`: whether each light casts shadows and its size (a point or
 /// spot light's radius, a directional light's angular diameter) survive a save → import
-/// round trip; the extension is written only where a light differs from the defaults
+/// round trip, and so does an object's (a node's) flag; the extension is written only
+/// where a light or an object differs from the defaults
 /// (casting, no size), and named in `extensionsUsed` then. Bad values get a one-line
 /// error naming the light and the field.
 #[test]
-fn light_shadows_round_trip_and_bad_values_are_refused() {
+fn shadow_flags_and_light_sizes_round_trip_and_bad_values_are_refused() {
     let mut scene = builtin_scene("grid-sun").unwrap();
     let dir = temp_dir("light-shadows");
     let path = dir.join("plain.gltf");
     save_gltf(&scene, &path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(
-        !text.contains("COMBUSTION_lights_shadow"),
+        !text.contains("COMBUSTION_shadows"),
         "defaults are not written"
     );
 
@@ -703,6 +709,8 @@ fn light_shadows_round_trip_and_bad_values_are_refused() {
         casts_shadows: false,
         radius: 0.0,
     });
+    // An object that casts none (a node's flag).
+    scene.objects[3].casts_shadows = false;
     scene.lights.push(Light::Spot {
         position: Vec3::new(0.0, 3.0, 2.0),
         direction: Vec3::new(0.0, -1.0, -0.5),
@@ -723,7 +731,7 @@ fn light_shadows_round_trip_and_bad_values_are_refused() {
         .as_array()
         .unwrap()
         .iter()
-        .any(|e| e == "COMBUSTION_lights_shadow"));
+        .any(|e| e == "COMBUSTION_shadows"));
 
     for (light, field, value, expected) in [
         (
@@ -771,7 +779,7 @@ fn light_shadows_round_trip_and_bad_values_are_refused() {
     ] {
         let mut bad = json.clone();
         bad["extensions"]["KHR_lights_punctual"]["lights"][light]["extensions"]
-            ["COMBUSTION_lights_shadow"][field] = value;
+            ["COMBUSTION_shadows"][field] = value;
         let bad_path = dir.join("bad.gltf");
         std::fs::write(&bad_path, bad.to_string()).unwrap();
         let error = match import(&bad_path, &ImportOptions::default()) {
@@ -787,6 +795,36 @@ fn light_shadows_round_trip_and_bad_values_are_refused() {
             bad["extensions"]["KHR_lights_punctual"]["lights"][light]["extensions"]
         );
         assert_eq!(error.lines().count(), 1, "{error}");
+    }
+    // A node's flag that is not a boolean, or an unknown field on a node.
+    let node = json["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n.get("extensions").is_some())
+        .unwrap();
+    for (value, expected) in [
+        (
+            serde_json::json!({ "castsShadows": "no" }),
+            "castsShadows must be true or false",
+        ),
+        (
+            serde_json::json!({ "radius": 1.0 }),
+            "has no field `radius`",
+        ),
+    ] {
+        let mut bad = json.clone();
+        bad["nodes"][node]["extensions"]["COMBUSTION_shadows"] = value;
+        let bad_path = dir.join("bad-node.gltf");
+        std::fs::write(&bad_path, bad.to_string()).unwrap();
+        let error = match import(&bad_path, &ImportOptions::default()) {
+            Ok(_) => panic!("node {node}: accepted"),
+            Err(e) => e.to_string(),
+        };
+        assert!(
+            error.contains(&format!("node {node}")) && error.contains(expected),
+            "{error}"
+        );
     }
     let _ = std::fs::remove_dir_all(dir);
 }

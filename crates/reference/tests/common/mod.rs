@@ -64,6 +64,7 @@ pub fn scene_of(meshes: Vec<Mesh>, objects: &[(usize, Mat4)]) -> Scene {
                 mesh,
                 material: 0,
                 transform,
+                casts_shadows: true,
             })
             .collect(),
         lights: Vec::new(),

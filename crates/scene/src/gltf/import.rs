@@ -18,8 +18,8 @@ use super::material::default_material;
 use super::optics_ext;
 use super::source::{split_container, Buffers, Container};
 use super::{
-    CameraSource, ImportError, ImportOptions, ImportProblem, ImportReport, LIGHT_SHADOW_EXTENSION,
-    OPTICS_EXTENSION, SUPPORTED_EXTENSIONS,
+    CameraSource, ImportError, ImportOptions, ImportProblem, ImportReport, OPTICS_EXTENSION,
+    SHADOW_EXTENSION, SUPPORTED_EXTENSIONS,
 };
 use crate::{Camera, ColorSpace, Image, Light, Material, Object, Scene};
 
@@ -576,6 +576,7 @@ impl Importer<'_> {
                 mesh,
                 material: material_index[&instance.material],
                 transform: instance.world,
+                casts_shadows: self.node_casts_shadows(instance.node)?,
             });
         }
         if singular > 0 {
@@ -778,6 +779,42 @@ impl Importer<'_> {
         Ok(())
     }
 
+    /// Whether node `node`'s mesh casts shadows: its `COMBUSTION_shadows.castsShadows`,
+    /// true without one.
+    fn node_casts_shadows(&self, node: usize) -> Result<bool, ImportProblem> {
+        let Some(ext) = self
+            .root
+            .nodes
+            .get(node)
+            .and_then(|n| n.extensions.as_ref())
+            .and_then(|e| e.others.get(SHADOW_EXTENSION))
+        else {
+            return Ok(true);
+        };
+        let problem = |message: String| self.node_error(node, message);
+        let ext = ext
+            .as_object()
+            .ok_or_else(|| problem(format!("{SHADOW_EXTENSION} must be an object")))?;
+        let mut casts = true;
+        for (key, value) in ext {
+            match key.as_str() {
+                "castsShadows" => {
+                    casts = value.as_bool().ok_or_else(|| {
+                        problem(format!(
+                            "{SHADOW_EXTENSION}.castsShadows must be true or false"
+                        ))
+                    })?
+                }
+                other => {
+                    return Err(problem(format!(
+                        "{SHADOW_EXTENSION} on a node has no field `{other}` (castsShadows)"
+                    )))
+                }
+            }
+        }
+        Ok(casts)
+    }
+
     fn light(&mut self, index: usize, world: Mat4) -> Result<Light, ImportProblem> {
         use json::extensions::scene::khr_lights_punctual::Type;
         let root = self.root;
@@ -822,7 +859,7 @@ impl Importer<'_> {
         };
         if let Some((name, _)) = shadow.sizes.iter().find(|(name, _)| *name != size_name) {
             return Err(err(format!(
-                "{LIGHT_SHADOW_EXTENSION}.{name} is for {} lights; this one takes `{size_name}`",
+                "{SHADOW_EXTENSION}.{name} is for {} lights; this one takes `{size_name}`",
                 if directional {
                     "point and spot"
                 } else {
@@ -1298,7 +1335,7 @@ pub(crate) fn camera_range_warnings(camera: &Camera, bounds: Option<(Vec3, Vec3)
     warnings
 }
 
-/// What a light's `COMBUSTION_lights_shadow` says: whether it casts shadows (default
+/// What a light's `COMBUSTION_shadows` says: whether it casts shadows (default
 /// true) and its size (`radius` in metres for point and spot lights, `angularDiameter`
 /// in radians for directional ones), by the name it was given.
 struct LightShadow {
@@ -1307,7 +1344,7 @@ struct LightShadow {
     sizes: Vec<(&'static str, f32)>,
 }
 
-/// Reads `COMBUSTION_lights_shadow` from a light's raw `extensions` (absent: casts
+/// Reads `COMBUSTION_shadows` from a light's raw `extensions` (absent: casts
 /// shadows, no size). An error names the field.
 fn light_shadow(extensions: Option<&serde_json::value::RawValue>) -> Result<LightShadow, String> {
     let mut shadow = LightShadow {
@@ -1319,17 +1356,17 @@ fn light_shadow(extensions: Option<&serde_json::value::RawValue>) -> Result<Ligh
     };
     let value: serde_json::Value = serde_json::from_str(raw.get())
         .map_err(|e| format!("its extensions are not valid JSON: {e}"))?;
-    let Some(ext) = value.get(LIGHT_SHADOW_EXTENSION) else {
+    let Some(ext) = value.get(SHADOW_EXTENSION) else {
         return Ok(shadow);
     };
     let ext = ext
         .as_object()
-        .ok_or_else(|| format!("{LIGHT_SHADOW_EXTENSION} must be an object"))?;
+        .ok_or_else(|| format!("{SHADOW_EXTENSION} must be an object"))?;
     for (key, value) in ext {
         match key.as_str() {
             "castsShadows" => {
                 shadow.casts_shadows = value.as_bool().ok_or_else(|| {
-                    format!("{LIGHT_SHADOW_EXTENSION}.castsShadows must be true or false")
+                    format!("{SHADOW_EXTENSION}.castsShadows must be true or false")
                 })?
             }
             "radius" | "angularDiameter" => {
@@ -1343,14 +1380,14 @@ fn light_shadow(extensions: Option<&serde_json::value::RawValue>) -> Result<Ligh
                     .map(|v| v as f32)
                     .filter(|v| v.is_finite() && (0.0..=max).contains(v))
                     .ok_or_else(|| {
-                        format!("{LIGHT_SHADOW_EXTENSION}.{name} must be a number from 0 to {max}, not {value}")
+                        format!("{SHADOW_EXTENSION}.{name} must be a number from 0 to {max}, not {value}")
                     })?;
                 shadow.sizes.push((name, size));
             }
             other => {
                 return Err(format!(
-                    "{LIGHT_SHADOW_EXTENSION} has no field `{other}` (castsShadows, radius, angularDiameter)"
-                ))
+                "{SHADOW_EXTENSION} has no field `{other}` (castsShadows, radius, angularDiameter)"
+            ))
             }
         }
     }

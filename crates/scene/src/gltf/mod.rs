@@ -35,13 +35,14 @@ use crate::Scene;
 /// Name of the project extension (materials and scene level), see `docs/gltf.md`.
 pub const OPTICS_EXTENSION: &str = "COMBUSTION_materials_optics";
 
-/// Name of the project's light extension (on a KHR_lights_punctual light: whether it
-/// casts shadows and its size), see `docs/gltf.md`.
-pub const LIGHT_SHADOW_EXTENSION: &str = "COMBUSTION_lights_shadow";
+/// Name of the project's shadow extension: on a KHR_lights_punctual light, whether it
+/// casts shadows and its size; on a node, whether its mesh casts shadows. See
+/// `docs/gltf.md`.
+pub const SHADOW_EXTENSION: &str = "COMBUSTION_shadows";
 
 /// Extensions the importer understands; a file that *requires* any other is refused.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
-    LIGHT_SHADOW_EXTENSION,
+    SHADOW_EXTENSION,
     "KHR_lights_punctual",
     "KHR_materials_ior",
     "KHR_materials_specular",

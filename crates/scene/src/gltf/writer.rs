@@ -10,7 +10,7 @@ use serde_json::{json, Map, Value};
 use super::error::{SaveError, SaveProblem};
 use super::image::encode_png;
 use super::optics_ext::diffuse_model_name;
-use super::{LIGHT_SHADOW_EXTENSION, OPTICS_EXTENSION};
+use super::{OPTICS_EXTENSION, SHADOW_EXTENSION};
 use crate::{Filter, Light, Material, Sampler, Scene, TextureRef, TextureSlot, WrapMode};
 
 fn num(x: f32) -> Value {
@@ -387,19 +387,26 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
         .collect();
 
     let mut nodes = Vec::new();
+    // Whether COMBUSTION_shadows is written (an object or a light that differs from the
+    // defaults).
+    let mut writes_shadows = false;
     for (i, object) in scene.objects.iter().enumerate() {
         let mesh = pairs
             .iter()
             .position(|&p| p == (object.mesh, object.material))
             .unwrap_or(0);
-        nodes.push(json!({
+        let mut node = json!({
             "name": format!("object {i}"),
             "mesh": mesh,
             "matrix": nums(&object.transform.to_cols_array()),
-        }));
+        });
+        if !object.casts_shadows {
+            node["extensions"] = json!({ SHADOW_EXTENSION: { "castsShadows": false } });
+            writes_shadows = true;
+        }
+        nodes.push(node);
     }
     let mut lights = Vec::new();
-    let mut writes_light_shadows = false;
     for (i, light) in scene.lights.iter().enumerate() {
         let (kind, matrix, power, spot, range) = match light {
             Light::Point {
@@ -464,8 +471,8 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
             if size != 0.0 {
                 ext[size_name] = num(size);
             }
-            light["extensions"] = json!({ LIGHT_SHADOW_EXTENSION: ext });
-            writes_light_shadows = true;
+            light["extensions"] = json!({ SHADOW_EXTENSION: ext });
+            writes_shadows = true;
         }
         lights.push(light);
         nodes.push(json!({
@@ -512,8 +519,8 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
         }
     }
     let mut root_extensions = json!({ OPTICS_EXTENSION: { "outsideIor": num(scene.outside_ior) } });
-    if writes_light_shadows {
-        used.push(LIGHT_SHADOW_EXTENSION.into());
+    if writes_shadows {
+        used.push(SHADOW_EXTENSION.into());
     }
     if !lights.is_empty() {
         used.push("KHR_lights_punctual".into());
