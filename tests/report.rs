@@ -354,11 +354,14 @@ fn report_measures_shadows_against_exact_visibility() {
     assert!(off.compared > 0 && off.compared == on.compared);
     // Without shadows every exactly shadowed pixel is lit: a large share of the floor.
     assert!(
-        on.misclassified * 10 < off.misclassified,
+        on.misclassified() * 10 < off.misclassified(),
         "with shadows {} misclassified, without {}",
-        on.misclassified,
-        off.misclassified
+        on.misclassified(),
+        off.misclassified()
     );
+    // Without shadows the only mistakes are shadowed pixels left lit.
+    assert_eq!(off.shadowed_should_be_lit, 0);
+    assert!(off.edge_error.0 > 0.0 && off.edge_error.1 >= off.edge_error.0);
     assert!(on.mean_relative < off.mean_relative);
     assert!(on.maps.median > 0.0 && off.maps.median.is_nan());
     assert!(on.static_total.median > 0.0 && on.moving_total.median > 0.0);

@@ -55,9 +55,14 @@ pub struct ShadowRow {
     pub moving_total: Spread,
     /// The shadow-map pass, camera moving ([`Spread::NONE`] without shadows).
     pub maps: Spread,
-    /// Pixels whose verdict on the scene's first light differs from exact visibility (a
+    /// Pixels the maps leave lit though exactly shadowed from the scene's first light (a
     /// frame without shadows lights every pixel).
-    pub misclassified: usize,
+    pub lit_should_be_shadowed: usize,
+    /// Pixels the maps shadow though exactly lit.
+    pub shadowed_should_be_lit: usize,
+    /// The mean and the largest absolute radiance error (W·sr⁻¹·m⁻², green channel) at
+    /// the misclassified pixels (shadow edges, and whole shadows without shadows).
+    pub edge_error: (f64, f64),
     /// Pixels whose verdict was compared.
     pub compared: usize,
     /// The frame's mean relative error against the reference with exact visibility.
@@ -134,7 +139,7 @@ pub(super) fn measure_scene(
         renderer.set_shading(shading, &[gpu])?;
         let frame = renderer.render_with(gpu, &inputs, width, height, both)?;
         let errors = error_map(&frame, &reference, threads);
-        let (counts, _) = if settings.is_some() {
+        let (counts, wrong) = if settings.is_some() {
             renderer.set_shading(
                 ShadingOptions {
                     debug_view: DebugView::ShadowFactor,
@@ -165,7 +170,9 @@ pub(super) fn measure_scene(
             static_total: Spread::of(still.iter().map(|t| t.total_ms).collect()),
             moving_total: Spread::of(moving.iter().map(|t| t.total_ms).collect()),
             maps: PassSpreads::of(&moving).get(PassTimings::SHADOW_MAPS),
-            misclassified: counts.shadowed_should_be_lit + counts.lit_should_be_shadowed,
+            lit_should_be_shadowed: counts.lit_should_be_shadowed,
+            shadowed_should_be_lit: counts.shadowed_should_be_lit,
+            edge_error: edge_error(&frame, &errors, &wrong),
             compared: counts.compared,
             mean_relative: errors.mean_relative,
             max_relative: errors.max_relative,
@@ -175,15 +182,47 @@ pub(super) fn measure_scene(
     Ok(rows)
 }
 
+/// The mean and largest absolute radiance error (green) of `frame` against the
+/// reference radiance of `errors` over the pixels marked in `wrong` ((0, 0) if none).
+fn edge_error(
+    frame: &combustion_renderer::Frame,
+    errors: &combustion_renderer::reference::ErrorMap,
+    wrong: &[bool],
+) -> (f64, f64) {
+    let values: Vec<f64> = wrong
+        .iter()
+        .enumerate()
+        .filter(|(_, &w)| w)
+        .filter_map(|(i, _)| {
+            let reference = errors.reference_radiance.get(i)?;
+            Some((f64::from(frame.hdr[i][1]) - f64::from(reference[1])).abs())
+        })
+        .collect();
+    if values.is_empty() {
+        return (0.0, 0.0);
+    }
+    (
+        values.iter().sum::<f64>() / values.len() as f64,
+        values.iter().fold(0.0, |a: f64, &b| a.max(b)),
+    )
+}
+
+impl ShadowRow {
+    /// Pixels misclassified either way.
+    pub fn misclassified(&self) -> usize {
+        self.lit_should_be_shadowed + self.shadowed_should_be_lit
+    }
+}
+
 /// `shadows.csv`: one row per scene and setting.
 pub fn csv(rows: &[ShadowRow]) -> String {
     let mut out = String::from(
-        "scene,shadows,static_total_ms,moving_total_ms,shadow_maps_ms,misclassified_pixels,pixels_compared,misclassified_fraction,mean_relative_error_exact_visibility,max_relative_error_exact_visibility\n",
+        "scene,shadows,static_total_ms,moving_total_ms,shadow_maps_ms,lit_should_be_shadowed,shadowed_should_be_lit,pixels_compared,misclassified_fraction,edge_mean_abs_error,edge_max_abs_error,mean_relative_error_exact_visibility,max_relative_error_exact_visibility\n",
     );
     for r in rows {
         let _ = writeln!(
             out,
-            "{},{},{:.3},{:.3},{},{},{},{:.5},{:.3e},{:.3e}",
+            "{},{},{:.3},{:.3},{},{},{},{},{:.5},{:.3e},{:.3e},{:.3e},{:.3e}",
             super::csv_field(&r.scene),
             r.setting_name(),
             r.static_total.median,
@@ -194,9 +233,12 @@ pub fn csv(rows: &[ShadowRow]) -> String {
             } else {
                 String::new()
             },
-            r.misclassified,
+            r.lit_should_be_shadowed,
+            r.shadowed_should_be_lit,
             r.compared,
-            r.misclassified as f64 / r.compared.max(1) as f64,
+            r.misclassified() as f64 / r.compared.max(1) as f64,
+            r.edge_error.0,
+            r.edge_error.1,
             r.mean_relative,
             r.max_relative
         );
@@ -210,12 +252,12 @@ pub fn markdown(rows: &[ShadowRow]) -> String {
         return String::new();
     }
     let mut out = String::from(
-        "## Shadows (scenes with lights)\n\nEach shadow setting (filter-cascades×map size-local lights' map size) against exact visibility: the f64 reference with every light's term multiplied by its visibility, ray cast against the scene's triangles (`combustion_reference`). *Misclassified*: pixels whose verdict on the scene's first light (the shadow-factor view below ½, or lit everywhere without shadows) differs from exact visibility, where the light reaches and n·l > 0.1 (the spheres' terminator band left out). Frame times: static camera (the maps are kept) and a camera moving every frame (the maps rendered again each frame); medians.\n\n| scene | shadows | frame ms, static | frame ms, moving | shadow maps ms | misclassified | mean rel. error (exact visibility) | max |\n|---|---|---|---|---|---|---|---|\n",
+        "## Shadows (scenes with lights)\n\nEach shadow setting (filter-cascades×map size-local lights' map size) against exact visibility: the f64 reference with every light's term multiplied by its visibility, ray cast against the scene's triangles (`combustion_reference`). *Misclassified*: pixels whose verdict on the scene's first light (the shadow-factor view below ½, or lit everywhere without shadows) differs from exact visibility, where the light reaches and n·l > 0.1 (the spheres' terminator band left out). Lit/shadowed: pixels left lit that are exactly shadowed, and shadowed that are exactly lit. Edge error: the absolute radiance error (W/sr/m², green) at those pixels, mean and max. Frame times: static camera (the maps are kept) and a camera moving every frame (the maps rendered again each frame); medians.\n\n| scene | shadows | frame ms, static | frame ms, moving | shadow maps ms | misclassified | lit / shadowed | edge error mean / max | mean rel. error (exact visibility) |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let _ = writeln!(
             out,
-            "| {} | {} | {:.2} | {:.2} | {} | {:.3} % ({} of {}) | {:.2e} | {:.2e} |",
+            "| {} | {} | {:.2} | {:.2} | {} | {:.3} % of {} | {} / {} | {:.2e} / {:.2e} | {:.2e} |",
             md_cell(&r.scene),
             r.setting_name(),
             r.static_total.median,
@@ -225,11 +267,13 @@ pub fn markdown(rows: &[ShadowRow]) -> String {
             } else {
                 "—".into()
             },
-            100.0 * r.misclassified as f64 / r.compared.max(1) as f64,
-            r.misclassified,
+            100.0 * r.misclassified() as f64 / r.compared.max(1) as f64,
             r.compared,
+            r.lit_should_be_shadowed,
+            r.shadowed_should_be_lit,
+            r.edge_error.0,
+            r.edge_error.1,
             r.mean_relative,
-            r.max_relative,
         );
     }
     out + "\n"
