@@ -4,8 +4,9 @@
 //! visibility ([`visibility`]).
 //!
 //! It is the oracle that the renderer's approximations are measured against: shadow
-//! maps against exact point-to-light visibility, and (later) the rasterised image
-//! against an f64 ray-cast reference. It therefore shares no code with the renderer's
+//! maps against exact point-to-light visibility, and the rasterised G-buffer against
+//! what the camera's primary rays hit ([`primary`]; shading from the scene is the next
+//! step of the end-to-end reference). It therefore shares no code with the renderer's
 //! GPU path: it reads the CPU scene model and nothing else.
 //!
 //! Conventions (beyond the scene's own, see [`combustion_scene`]):
@@ -39,6 +40,7 @@
 #![warn(missing_docs)]
 
 mod bvh;
+pub mod primary;
 mod triangle;
 pub mod visibility;
 
