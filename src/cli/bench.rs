@@ -76,10 +76,16 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
     let reproduction = previous.map(|p| p.compare(&measured.rows));
     combustion::report::write(dir, &measured, &desc, reproduction.as_ref())?;
     outln!(
-        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png): {} scene(s) × {} variant sets, the floors and the scaling in {:.0} s",
+        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png{}): {} scene(s) × {} variant sets, the floors, the scaling and {} shadow measurement(s) in {:.0} s",
         dir.display(),
+        if measured.shadows.is_empty() {
+            ""
+        } else {
+            ", shadows.csv"
+        },
         desc.scenes.len(),
         desc.sets.len(),
+        measured.shadows.len(),
         started.elapsed().as_secs_f64()
     );
     Ok(())
