@@ -480,6 +480,131 @@ fn shadow_maps_are_kept_until_the_camera_or_the_scene_changes() {
     assert!(edited.hdr == fresh_edited.hdr, "maps after an edit");
 }
 
+/// Exact shadow edges of a built-in scene's first light, for `settings`: the f64
+/// reference with exact visibility, and whether a pixel lies within the band a shadow
+/// map may misplace an edge by (the filter's reach, a texel, the normal offset's shift,
+/// the UV spheres' tessellation; the texel measured at the pixel's point: a cascade's,
+/// or a local light's at its distance) of an exact edge, across the light's direction.
+struct ExactEdges {
+    reference: combustion::renderer::reference::ReferenceShading,
+    bvh: std::sync::Arc<combustion::reference::SceneBvh>,
+    light: Light,
+    camera: Camera,
+    cascades: Vec<Cascade>,
+    settings: ShadowSettings,
+    tessellation: f64,
+    /// n·l below which a tessellated sphere's facets shadow themselves (sin of the
+    /// 64-segment UV sphere's facet angle): not compared.
+    terminator: f64,
+}
+
+impl ExactEdges {
+    fn new(scene: &Scene, settings: ShadowSettings, sphere_radius: f64) -> Self {
+        use combustion::reference::SceneBvh;
+        use combustion::renderer::reference::ReferenceShading;
+        use combustion::renderer::FrameInputs;
+        let bvh = std::sync::Arc::new(SceneBvh::shadow_casters(scene));
+        let inputs = FrameInputs {
+            camera: scene.camera,
+            exposure: 1.0,
+            lights: &scene.lights,
+            overlay: &[],
+            environment: None,
+        };
+        let light = scene.lights[0].clone();
+        let cascades = match light {
+            Light::Directional { direction, .. } => directional_cascades(
+                &scene.camera,
+                W as f32 / H as f32,
+                direction,
+                scene.world_bounds(),
+                settings.cascades,
+                settings.map_size,
+            ),
+            _ => Vec::new(),
+        };
+        Self {
+            reference: ReferenceShading::new(scene, &inputs, W, H)
+                .with_exact_visibility(bvh.clone(), &scene.lights),
+            bvh,
+            light,
+            camera: scene.camera,
+            cascades,
+            settings,
+            tessellation: sphere_radius
+                * (1.0 - (std::f64::consts::PI / 64.0).cos() * (std::f64::consts::PI / 32.0).cos()),
+            terminator: (std::f64::consts::TAU / 64.0).sin(),
+        }
+    }
+
+    /// The unit direction from `p` towards the light.
+    fn towards_light(&self, p: DVec3) -> DVec3 {
+        match self.light {
+            Light::Directional { direction, .. } => -direction.normalize().as_dvec3(),
+            Light::Point { position, .. } | Light::Spot { position, .. } => {
+                (position.as_dvec3() - p).normalize()
+            }
+        }
+    }
+
+    /// The map texel's side at `p`; None beyond the shadow distance (lit by rule).
+    fn texel_at(&self, p: DVec3) -> Option<f64> {
+        match combustion::renderer::local_texel_per_metre(&self.light, self.settings.local_map_size)
+        {
+            Some(per_metre) => {
+                let (Light::Point { position, .. } | Light::Spot { position, .. }) = self.light
+                else {
+                    unreachable!()
+                };
+                Some(f64::from(per_metre) * p.distance(position.as_dvec3()))
+            }
+            None => lookup_texel(&self.cascades, &self.camera, p),
+        }
+    }
+
+    /// Whether the pixel (`x`, `y`) of G-buffer texel `texel` lies within the band of
+    /// an exact edge: a point within it, across the light, has the other exact verdict.
+    fn near_edge(
+        &self,
+        texel: &combustion::renderer::gbuffer::GBufferTexel,
+        x: u32,
+        y: u32,
+    ) -> bool {
+        let Some(pixel) = self.reference.pixel(texel, x, y) else {
+            return false;
+        };
+        let p = DVec3::from(pixel.position);
+        let n = DVec3::from(pixel.n);
+        let Some(w) = self.texel_at(p) else {
+            return true;
+        };
+        let reach = match self.settings.filter {
+            ShadowFilter::Hard => 1.0,
+            _ => f64::from(PCF_RADIUS_TEXELS),
+        };
+        let l = self.towards_light(p);
+        let sin_theta = (1.0 - n.dot(l).powi(2)).max(0.0).sqrt();
+        let band = w * (reach + 1.0 + (f64::from(PCF_RADIUS_TEXELS) + 1.5) * sin_theta)
+            + self.tessellation;
+        let across = l.any_orthonormal_vector();
+        let across2 = l.cross(across);
+        let visible = |q: DVec3| {
+            self.bvh
+                .light_visibility(q.to_array(), n.to_array(), &self.light)
+                > 0.5
+        };
+        let own = visible(p);
+        (1..=4).any(|ring| {
+            (0..16).any(|k| {
+                let angle = std::f64::consts::TAU * f64::from(k) / 16.0;
+                let offset =
+                    (across * angle.cos() + across2 * angle.sin()) * (band * f64::from(ring) / 4.0);
+                visible(p + offset) != own
+            })
+        })
+    }
+}
+
 /// Each shadow scene (grid-sun's sun, spot-box's spot light, point-among's point light
 /// and its six cube faces), against the f64 reference with exact visibility (ray cast
 /// against the scene's triangles by `combustion_reference`): the shadow-factor view's
@@ -502,70 +627,19 @@ fn shadows_against_exact_visibility() {
 /// [`shadows_against_exact_visibility`] for builtin scene `name` (UV spheres of
 /// `radius`, 64 × 32).
 fn against_exact_visibility(name: &str, radius: f64) {
-    use combustion::reference::SceneBvh;
-    use combustion::renderer::reference::{error_map, shadow_mismatch, ReferenceShading};
-    use combustion::renderer::{local_texel_per_metre, FrameInputs};
+    use combustion::renderer::reference::{error_map, shadow_mismatch};
     let scene = builtin_scene(name).unwrap();
-    let light = scene.lights[0].clone();
-    let bvh = std::sync::Arc::new(SceneBvh::shadow_casters(&scene));
-    let inputs = FrameInputs {
-        camera: scene.camera,
-        exposure: 1.0,
-        lights: &scene.lights,
-        overlay: &[],
-        environment: None,
-    };
-    let reference = ReferenceShading::new(&scene, &inputs, W, H)
-        .with_exact_visibility(bvh.clone(), &scene.lights);
     let both = Readback {
         images: true,
         gbuffer: true,
     };
-    let tessellation =
-        radius * (1.0 - (std::f64::consts::PI / 64.0).cos() * (std::f64::consts::PI / 32.0).cos());
-    let terminator = (std::f64::consts::TAU / 64.0).sin();
-    // The unit direction from p towards the light, and whether the light is visible
-    // from q (offset along n) by the oracle.
-    let towards_light = |p: DVec3| match light {
-        Light::Directional { direction, .. } => -direction.normalize().as_dvec3(),
-        Light::Point { position, .. } | Light::Spot { position, .. } => {
-            (position.as_dvec3() - p).normalize()
-        }
-    };
-    let visible =
-        |q: DVec3, n: DVec3| bvh.light_visibility(q.to_array(), n.to_array(), &light) > 0.5;
     for filter in [ShadowFilter::Hard, ShadowFilter::Pcf16] {
         let settings = ShadowSettings {
             filter,
             ..ShadowSettings::DEFAULT
         };
-        let cascades = match light {
-            Light::Directional { direction, .. } => directional_cascades(
-                &scene.camera,
-                W as f32 / H as f32,
-                direction,
-                scene.world_bounds(),
-                settings.cascades,
-                settings.map_size,
-            ),
-            _ => Vec::new(),
-        };
-        let texel_at = |p: DVec3| -> Option<f64> {
-            match local_texel_per_metre(&light, settings.local_map_size) {
-                Some(per_metre) => {
-                    let (Light::Point { position, .. } | Light::Spot { position, .. }) = light
-                    else {
-                        unreachable!()
-                    };
-                    Some(f64::from(per_metre) * p.distance(position.as_dvec3()))
-                }
-                None => lookup_texel(&cascades, &scene.camera, p),
-            }
-        };
-        let reach = match filter {
-            ShadowFilter::Hard => 1.0,
-            _ => f64::from(PCF_RADIUS_TEXELS),
-        };
+        let exact = ExactEdges::new(&scene, settings, radius);
+        let reference = &exact.reference;
         let view = common::render(
             &scene,
             W,
@@ -573,41 +647,20 @@ fn against_exact_visibility(name: &str, radius: f64) {
             with_shadows(settings, DebugView::ShadowFactor),
             both,
         );
-        let (counts, wrong) =
-            shadow_mismatch(&view, |i| view.ldr[i][0] >= 128, &reference, terminator);
+        let (counts, wrong) = shadow_mismatch(
+            &view,
+            |i| view.ldr[i][0] >= 128,
+            reference,
+            exact.terminator,
+        );
         let g = view.gbuffer.as_ref().unwrap();
-        // A misclassified pixel is near an edge when a point within the band around
-        // its own, across the light, has the other exact verdict.
-        let near_edge = |i: usize| -> bool {
-            let (x, y) = ((i as u32) % W, (i as u32) / W);
-            let pixel = reference.pixel(&g.texels[i], x, y).unwrap();
-            let p = DVec3::from(pixel.position);
-            let n = DVec3::from(pixel.n);
-            let Some(w) = texel_at(p) else {
-                return true; // lit by rule beyond the shadow distance
-            };
-            let l = towards_light(p);
-            let sin_theta = (1.0 - n.dot(l).powi(2)).max(0.0).sqrt();
-            let band =
-                w * (reach + 1.0 + (f64::from(PCF_RADIUS_TEXELS) + 1.5) * sin_theta) + tessellation;
-            let across = l.any_orthonormal_vector();
-            let across2 = l.cross(across);
-            let own = visible(p, n);
-            (1..=4).any(|ring| {
-                (0..16).any(|k| {
-                    let angle = std::f64::consts::TAU * f64::from(k) / 16.0;
-                    let offset = (across * angle.cos() + across2 * angle.sin())
-                        * (band * f64::from(ring) / 4.0);
-                    visible(p + offset, n) != own
-                })
-            })
-        };
+        let near_edge = |i: usize| exact.near_edge(&g.texels[i], (i as u32) % W, (i as u32) / W);
         let away: Vec<(u32, u32)> = (0..(W * H) as usize)
             .filter(|&i| wrong[i] && !near_edge(i))
             .map(|i| ((i as u32) % W, (i as u32) / W))
             .collect();
         let frame = common::render(&scene, W, H, with_shadows(settings, DebugView::None), both);
-        let errors = error_map(&frame, &reference, 2);
+        let errors = error_map(&frame, reference, 2);
         // The radiance error where the verdicts differ, absolute (W/sr/m², green).
         let wrong_errors: Vec<f64> = (0..(W * H) as usize)
             .filter(|&i| wrong[i])
