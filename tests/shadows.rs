@@ -835,3 +835,141 @@ fn objects_that_cast_no_shadows_cast_none() {
         .count();
     assert_eq!(differ, 0, "{differ} pixels differ");
 }
+
+/// The three shadow scenes and their spheres' radius.
+const SHADOW_SCENES: [(&str, f64); 3] =
+    [("grid-sun", 0.42), ("spot-box", 0.5), ("point-among", 0.4)];
+
+/// Mean FLIP allowed between a shadow scene's render and its golden: half the mean FLIP
+/// of a just-visible change (exposure ×1.02) of the same scene at this size, measured by
+/// `measure_flip_of_a_just_visible_change_with_shadows` (ignored): 0.024119 (grid-sun),
+/// 0.013854 (spot-box), 0.018188 (point-among), in SHADOW_SCENES' order.
+const SHADOW_GOLDEN_MAX_MEAN_FLIP: [f32; 3] = [0.0120, 0.0069, 0.0090];
+
+/// A shadow scene rendered with the default shadows at `exposure`, its display image and
+/// G-buffer read back.
+fn render_with_default_shadows(scene: &Scene, exposure: f32) -> Frame {
+    common::render(
+        scene,
+        W,
+        H,
+        RendererSettings {
+            exposure,
+            ..with_shadows(ShadowSettings::DEFAULT, DebugView::None)
+        },
+        Readback {
+            images: true,
+            gbuffer: true,
+        },
+    )
+}
+
+/// How SHADOW_GOLDEN_MAX_MEAN_FLIP was measured (run with --ignored).
+#[test]
+#[ignore]
+fn measure_flip_of_a_just_visible_change_with_shadows() {
+    for (name, _) in SHADOW_SCENES {
+        let scene = builtin_scene(name).unwrap();
+        let rgb = |f: &Frame| {
+            f.ldr
+                .iter()
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect::<Vec<u8>>()
+        };
+        let a = render_with_default_shadows(&scene, 1.0);
+        let b = render_with_default_shadows(&scene, 1.02);
+        let map = nv_flip::flip(
+            nv_flip::FlipImageRgb8::with_data(W, H, &rgb(&a)),
+            nv_flip::FlipImageRgb8::with_data(W, H, &rgb(&b)),
+            nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+        );
+        println!(
+            "{name}: mean FLIP of exposure x1.02: {:.6}",
+            nv_flip::FlipPool::from_image(&map).mean()
+        );
+    }
+}
+
+/// The shadow scenes render as their goldens (mean FLIP within half a just-visible change;
+/// each golden checked against exact visibility by
+/// `shadow_goldens_agree_with_exact_visibility`).
+#[test]
+fn shadow_scenes_match_their_goldens() {
+    for ((name, _), max) in SHADOW_SCENES.iter().zip(SHADOW_GOLDEN_MAX_MEAN_FLIP) {
+        let frame = render_with_default_shadows(&builtin_scene(name).unwrap(), 1.0);
+        common::compare_with_golden(&format!("{name}-shadows_{W}x{H}"), &frame, max);
+    }
+}
+
+/// Each shadow golden, read from its PNG, against the f64 reference with exact
+/// visibility at the same pixels (the geometry from a fresh render's G-buffer): every
+/// pixel's codes stand for the reference's radiance within one 8-bit step beyond their
+/// own rounding, except pixels within the stated band of an exact shadow edge
+/// (ExactEdges) and the spheres' terminators, which are counted.
+#[test]
+fn shadow_goldens_agree_with_exact_visibility() {
+    for (name, radius) in SHADOW_SCENES {
+        let scene = builtin_scene(name).unwrap();
+        let golden = common::goldens_dir().join(format!("{name}-shadows_{W}x{H}.png"));
+        let (w, h, codes) = common::read_png(&golden);
+        assert_eq!((w, h), (W, H));
+        let frame = render_with_default_shadows(&scene, 1.0);
+        let g = frame.gbuffer.as_ref().unwrap();
+        let exact = ExactEdges::new(&scene, ShadowSettings::DEFAULT, radius);
+        let (mut agree, mut at_edges, mut terminators, mut away) = (0, 0, 0, Vec::new());
+        for y in 0..H {
+            for x in 0..W {
+                let i = (y * W + x) as usize;
+                let texel = &g.texels[i];
+                let Some(radiance) = exact.reference.shade(texel, x, y) else {
+                    continue;
+                };
+                let within = (0..3).all(|c| {
+                    let (low, high) = radiance_interval(codes[i][c], 1.5);
+                    (low..=high).contains(&radiance[c])
+                });
+                if within {
+                    agree += 1;
+                } else if exact
+                    .reference
+                    .exact_visibility(texel, x, y, 0)
+                    .is_some_and(|(_, cos)| cos <= exact.terminator)
+                {
+                    terminators += 1;
+                } else if exact.near_edge(texel, x, y) {
+                    at_edges += 1;
+                } else {
+                    away.push((x, y, codes[i], radiance));
+                }
+            }
+        }
+        eprintln!(
+            "{name} golden against exact visibility: {agree} pixels agree, {at_edges} at shadow edges, {terminators} at terminators, {} elsewhere",
+            away.len()
+        );
+        assert!(agree > (W * H / 4) as usize, "{name}: {agree} pixels agree");
+        assert!(
+            away.is_empty(),
+            "{name}: {} pixels differ from exact visibility away from any edge, e.g. {:?}",
+            away.len(),
+            &away[..away.len().min(6)]
+        );
+    }
+}
+
+/// The radiance range an 8-bit display code stands for at exposure 1 (the output pass
+/// inverted: sRGB decoding, then x = −ln(1 − t)), widened to `half_width` codes on each
+/// side.
+fn radiance_interval(code: u8, half_width: f64) -> (f64, f64) {
+    let radiance = |c: f64| {
+        let t = (c / 255.0).clamp(0.0, 1.0);
+        let linear = if t <= 0.04045 {
+            t / 12.92
+        } else {
+            ((t + 0.055) / 1.055).powf(2.4)
+        };
+        -(1.0 - linear.min(1.0 - 1e-12)).ln()
+    };
+    let c = f64::from(code);
+    (radiance(c - half_width), radiance(c + half_width))
+}
