@@ -363,30 +363,40 @@ fn a_plane_lit_at_grazing_angles_does_not_shadow_itself() {
     }
 }
 
+/// `scene` rendered without shadows and with the default ones (display and HDR images).
+fn without_and_with_shadows(scene: &Scene) -> (Frame, Frame) {
+    (
+        common::render_images(scene, W, H, common::exact_f32()),
+        common::render_images(
+            scene,
+            W,
+            H,
+            with_shadows(ShadowSettings::DEFAULT, DebugView::None),
+        ),
+    )
+}
+
+/// Asserts that `scene` renders with the default shadows bit for bit as without, and
+/// whether the shadow pass ran (`pass_runs`).
+fn assert_shadows_change_nothing(scene: &Scene, pass_runs: bool) {
+    let (plain, shadowed) = without_and_with_shadows(scene);
+    let differ = plain
+        .hdr
+        .iter()
+        .zip(&shadowed.hdr)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differ, 0, "{}: {differ} pixels differ", scene.name);
+    assert_eq!(shadowed.timings.ms("shadow maps").is_some(), pass_runs);
+}
+
 /// Shadows on, in a scene with no light to shadow (lit by its environment alone): the
 /// frame is bit for bit the frame without shadows, and no shadow pass runs.
 #[test]
 fn shadows_on_change_nothing_without_lights() {
     let scene = builtin_scene("spheres-studio").unwrap();
     assert!(scene.lights.is_empty());
-    let plain = common::render_images(&scene, W, H, common::exact_f32());
-    let shadowed = common::render_images(
-        &scene,
-        W,
-        H,
-        with_shadows(ShadowSettings::DEFAULT, DebugView::None),
-    );
-    assert!(
-        plain.hdr == shadowed.hdr,
-        "{} pixels differ",
-        plain
-            .hdr
-            .iter()
-            .zip(&shadowed.hdr)
-            .filter(|(a, b)| a != b)
-            .count()
-    );
-    assert!(shadowed.timings.ms("shadow maps").is_none());
+    assert_shadows_change_nothing(&scene, false);
 }
 
 /// The shadow pass runs, and is timed under its name, in a frame with a directional
@@ -395,13 +405,7 @@ fn shadows_on_change_nothing_without_lights() {
 #[test]
 fn grid_sun_renders_its_shadows() {
     let scene = builtin_scene("grid-sun").unwrap();
-    let plain = common::render_images(&scene, W, H, common::exact_f32());
-    let shadowed = common::render_images(
-        &scene,
-        W,
-        H,
-        with_shadows(ShadowSettings::DEFAULT, DebugView::None),
-    );
+    let (plain, shadowed) = without_and_with_shadows(&scene);
     assert!(shadowed.timings.ms("shadow maps").is_some());
     let darker = plain
         .hdr
@@ -727,15 +731,7 @@ fn a_light_that_casts_no_shadows_casts_none() {
     if let Light::Directional { casts_shadows, .. } = &mut scene.lights[0] {
         *casts_shadows = false;
     }
-    let plain = common::render_images(&scene, W, H, common::exact_f32());
-    let shadowed = common::render_images(
-        &scene,
-        W,
-        H,
-        with_shadows(ShadowSettings::DEFAULT, DebugView::None),
-    );
-    assert!(plain.hdr == shadowed.hdr);
-    assert!(shadowed.timings.ms("shadow maps").is_none());
+    assert_shadows_change_nothing(&scene, false);
 }
 
 /// A sun with a size casts soft shadows, and they are closer to its exact soft shadow
@@ -819,21 +815,7 @@ fn objects_that_cast_no_shadows_cast_none() {
     for object in &mut scene.objects[..floor] {
         object.casts_shadows = false;
     }
-    let plain = common::render_images(&scene, W, H, common::exact_f32());
-    let shadowed = common::render_images(
-        &scene,
-        W,
-        H,
-        with_shadows(ShadowSettings::DEFAULT, DebugView::None),
-    );
-    assert!(shadowed.timings.ms("shadow maps").is_some());
-    let differ = plain
-        .hdr
-        .iter()
-        .zip(&shadowed.hdr)
-        .filter(|(a, b)| a != b)
-        .count();
-    assert_eq!(differ, 0, "{differ} pixels differ");
+    assert_shadows_change_nothing(&scene, true);
 }
 
 /// The three shadow scenes and their spheres' radius.
