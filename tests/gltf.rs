@@ -121,6 +121,52 @@ fn every_sample_model_renders_cleanly() {
     }
 }
 
+/// The sample models that ship lights render with shadows on (every light casts them,
+/// glTF having no flag against it) with no validation message and no NaN, and their
+/// frame runs the shadow pass.
+#[test]
+fn sample_models_with_lights_render_their_shadows() {
+    let Some(files) = sample_models() else { return };
+    let mut with_lights = 0;
+    for path in files {
+        let scene = SceneSource::File(path.clone())
+            .load()
+            .unwrap_or_else(|e| panic!("{e}"));
+        if scene.lights.is_empty() {
+            continue;
+        }
+        with_lights += 1;
+        let frame = common::render(
+            &scene,
+            96,
+            72,
+            RendererSettings {
+                shading: ShadingOptions {
+                    shadows: Some(combustion::renderer::ShadowSettings::DEFAULT),
+                    ..ShadingOptions::DEFAULT
+                },
+                ..common::exact_f32()
+            },
+            Readback {
+                images: true,
+                gbuffer: false,
+            },
+        );
+        assert!(
+            frame.hdr.iter().flatten().all(|c| c.is_finite()),
+            "{}: a value is not finite",
+            path.display()
+        );
+        assert!(
+            frame.timings.ms("shadow maps").is_some(),
+            "{}: no shadow pass",
+            path.display()
+        );
+        eprintln!("rendered {} with shadows", path.display());
+    }
+    assert!(with_lights >= 1, "no sample model with lights found");
+}
+
 #[test]
 fn every_authored_scene_renders_cleanly() {
     let dir = workspace().join("assets/scenes");
