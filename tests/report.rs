@@ -375,5 +375,14 @@ fn report_measures_shadows_against_exact_visibility() {
     );
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("## Shadows"), "{md}");
+    // The settings' own speed-against-error plot and front: shadows less wrong (and
+    // slower) than none, so both are on it.
+    assert!(dir.join("shadows-speed-vs-error.png").is_file());
+    let front: Vec<&str> = md
+        .lines()
+        .filter(|l| l.starts_with("| off |") || l.starts_with("| hard-4x2048-1024 |"))
+        .filter(|l| l.ends_with("| yes |"))
+        .collect();
+    assert_eq!(front.len(), 2, "{md}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -1336,6 +1336,7 @@ pub fn write(
             desc.scenes.len()
         ),
         "frame time, GPU ms (median)",
+        combustion_plots::RELATIVE_ERROR_AXIS,
         &points(rows),
         1000,
         620,
@@ -1348,6 +1349,8 @@ pub fn write(
             &dir.join("shadows.csv"),
             shadows::csv(&m.shadows).as_bytes(),
         )?;
+        let png = shadows::plot(&m.shadows, device, desc)?;
+        output::write_file_atomically(&dir.join("shadows-speed-vs-error.png"), &png.bytes)?;
     }
     if !m.scaling.is_empty() {
         let (size, lights) = scaling_plots(m, device)?;

@@ -16,6 +16,8 @@ use combustion_renderer::{
 };
 use combustion_scene::Light;
 
+use combustion_plots::{pareto_front, plot_speed_vs_error, Png, SpeedErrorPoint};
+
 use super::{md_cell, time_frames, PassSpreads, ReportDesc, Spread, ENVIRONMENT_SAMPLING};
 use crate::Error;
 
@@ -214,6 +216,50 @@ impl ShadowRow {
     }
 }
 
+/// One point per shadow setting, over the scenes measured: its mean static frame time
+/// and its mean share of misclassified pixels (the error shadows add or remove).
+pub fn points(rows: &[ShadowRow]) -> Vec<SpeedErrorPoint> {
+    let mut settings: Vec<Option<ShadowSettings>> = Vec::new();
+    for row in rows {
+        if !settings.contains(&row.settings) {
+            settings.push(row.settings);
+        }
+    }
+    settings
+        .into_iter()
+        .map(|setting| {
+            let of: Vec<&ShadowRow> = rows.iter().filter(|r| r.settings == setting).collect();
+            let n = of.len() as f64;
+            SpeedErrorPoint {
+                label: setting_name(setting),
+                ms: of.iter().map(|r| r.static_total.median).sum::<f64>() / n,
+                error: of
+                    .iter()
+                    .map(|r| r.misclassified() as f64 / r.compared.max(1) as f64)
+                    .sum::<f64>()
+                    / n,
+            }
+        })
+        .collect()
+}
+
+/// The shadow settings' speed against error, with their Pareto front
+/// (`shadows-speed-vs-error.png`).
+pub fn plot(rows: &[ShadowRow], device: &str, desc: &ReportDesc) -> Result<Png, Error> {
+    Ok(plot_speed_vs_error(
+        "Shadows: speed against error",
+        &format!(
+            "{device}, {}×{}, scenes with lights; red: Pareto front",
+            desc.width, desc.height
+        ),
+        "frame time, GPU ms (median, static camera)",
+        "share of pixels misclassified against exact visibility",
+        &points(rows),
+        1000,
+        620,
+    )?)
+}
+
 /// `shadows.csv`: one row per scene and setting.
 pub fn csv(rows: &[ShadowRow]) -> String {
     let mut out = String::from(
@@ -274,6 +320,19 @@ pub fn markdown(rows: &[ShadowRow]) -> String {
             r.edge_error.0,
             r.edge_error.1,
             r.mean_relative,
+        );
+    }
+    let points = points(rows);
+    let front = pareto_front(&points);
+    out += "\nPer setting over the scenes (mean static frame time, mean share misclassified; `shadows-speed-vs-error.png`):\n\n| shadows | frame ms | misclassified | Pareto front |\n|---|---|---|---|\n";
+    for (i, p) in points.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "| {} | {:.2} | {:.3} % | {} |",
+            p.label,
+            p.ms,
+            100.0 * p.error,
+            if front.contains(&i) { "yes" } else { "" }
         );
     }
     out + "\n"

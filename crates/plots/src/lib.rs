@@ -42,7 +42,9 @@ pub use reflectance::{
 };
 pub use scaling::{plot_scaling, Series, XAxis};
 pub use spectral::plot_spectrum;
-pub use speed_error::{pareto_front, plot_speed_vs_error, SpeedErrorPoint, PARETO_ERROR_TOLERANCE};
+pub use speed_error::{
+    pareto_front, plot_speed_vs_error, SpeedErrorPoint, PARETO_ERROR_TOLERANCE, RELATIVE_ERROR_AXIS,
+};
 
 use combustion_optics::{ETA_MAX, ETA_MIN};
 
