@@ -203,7 +203,8 @@ pub(crate) struct ShadingArgs {
     /// reference is single-scattering)
     #[arg(long, value_name = "on|off", default_value = "off", action = ArgAction::Set, value_parser = on_off())]
     pub(crate) energy_compensation: bool,
-    /// Shadows of the directional lights (cascaded shadow maps)
+    /// Shadows of every light that casts them (cascaded maps for directional lights, a
+    /// map per spot light, a cube per point light)
     #[arg(long, value_name = "on|off", default_value = "off", action = ArgAction::Set, value_parser = on_off())]
     pub(crate) shadows: bool,
     /// With --shadows on: cascades per directional light (1 to 4)

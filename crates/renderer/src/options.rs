@@ -54,11 +54,11 @@ pub struct ShadingOptions {
     /// A [`MeasurementFloor`] rendered instead of the real pass, to time a frame against
     /// what it would cost without shading (`None`, the real passes, by default).
     pub measurement_floor: Option<MeasurementFloor>,
-    /// Shadows of the frames' directional lights (the first
-    /// [`MAX_SHADOWED_LIGHTS`](crate::MAX_SHADOWED_LIGHTS) of each frame): cascaded shadow
-    /// maps rendered each frame and sampled by the lighting pass; `None` (the default for
-    /// now): no light is blocked, no shadow pass runs and the lighting pipeline has no
-    /// shadow code.
+    /// Shadows of the frames' lights that cast them (cascades for up to
+    /// [`MAX_SHADOWED_LIGHTS`](crate::MAX_SHADOWED_LIGHTS) directional lights, a map per
+    /// spot light, a cube per point light; docs/shadows.md), rendered when they change and
+    /// sampled by the lighting pass; `None` (the default): no light is blocked, no shadow
+    /// pass runs and the lighting pipeline has no shadow code.
     pub shadows: Option<ShadowSettings>,
 }
 
