@@ -12,12 +12,13 @@
 
 mod common;
 
+use combustion::reference::primary::camera_ray;
 use combustion::renderer::{
     directional_cascades, Cascade, DebugView, Frame, Readback, RendererSettings, ShadingOptions,
     ShadowFilter, ShadowSettings, CASCADE_BLEND_BAND, PCF_RADIUS_TEXELS,
 };
 use combustion::scene::{builtin_scene, Camera, Light, Material, Mesh, Object, Scene};
-use glam::{DMat4, DVec3, DVec4, Mat4, Vec3, Vec4Swizzles};
+use glam::{DVec3, Mat4, Vec3};
 
 const W: u32 = 256;
 const H: u32 = 192;
@@ -105,27 +106,12 @@ fn shadow_factors(scene: &Scene, settings: ShadowSettings) -> Frame {
 /// The point where the camera ray through pixel (x, y)'s centre meets the plane y = 0,
 /// in f64 from the camera alone.
 fn floor_point(camera: &Camera, x: u32, y: u32) -> Option<DVec3> {
-    let inverse: DMat4 = camera
-        .view_projection(W as f32 / H as f32)
-        .as_dmat4()
-        .inverse();
-    let ndc = |z: f64| {
-        let p = inverse
-            * DVec4::new(
-                (f64::from(x) + 0.5) / f64::from(W) * 2.0 - 1.0,
-                (f64::from(y) + 0.5) / f64::from(H) * 2.0 - 1.0,
-                z,
-                1.0,
-            );
-        p.xyz() / p.w
-    };
-    let (near, far) = (ndc(0.0), ndc(1.0));
-    let direction = far - near;
+    let ray = camera_ray(camera, W, H, f64::from(x) + 0.5, f64::from(y) + 0.5);
+    let (origin, direction) = (DVec3::from(ray.origin), DVec3::from(ray.direction));
     if direction.y >= 0.0 {
         return None;
     }
-    let t = -near.y / direction.y;
-    let p = near + direction * t;
+    let p = origin + direction * (-origin.y / direction.y);
     (p.x.abs() < 19.0 && p.z.abs() < 19.0).then_some(p)
 }
 
@@ -191,16 +177,7 @@ fn a_spheres_shadow_on_a_plane_is_the_analytic_one() {
     for elevation in [35.0, 15.0] {
         let direction = sun(elevation);
         let d = direction.as_dvec3();
-        // The shadow's centre on the floor, where the camera looks.
-        let shadow_centre = centre - d * (centre.y / d.y);
-        let camera = Camera {
-            position: (shadow_centre + DVec3::new(0.0, 6.0, 4.0)).as_vec3(),
-            target: shadow_centre.as_vec3(),
-            up: Vec3::Y,
-            vertical_fov: 45f32.to_radians(),
-            near: 0.1,
-            far: 60.0,
-        };
+        let camera = camera_over_shadow(centre, direction, DVec3::new(0.0, 6.0, 4.0));
         let scene = floor_scene(Some((centre, radius)), direction, camera);
         for settings in [
             ShadowSettings {
@@ -305,28 +282,29 @@ fn lookup_texel(cascades: &[Cascade], camera: &Camera, p: DVec3) -> Option<f64> 
     Some(f64::from(cascade.texel_world))
 }
 
+/// A camera looking at where a sphere centred at `centre` casts its shadow on the
+/// floor under a sun travelling along `direction`, from `offset` above and behind it.
+fn camera_over_shadow(centre: DVec3, direction: Vec3, offset: DVec3) -> Camera {
+    let d = direction.as_dvec3();
+    let shadow_centre = centre - d * (centre.y / d.y);
+    Camera {
+        position: (shadow_centre + offset).as_vec3(),
+        target: shadow_centre.as_vec3(),
+        up: Vec3::Y,
+        vertical_fov: 45f32.to_radians(),
+        near: 0.1,
+        far: 60.0,
+    }
+}
+
 /// Whether any corner of pixel (x, y) sees the sphere (centre, radius).
 fn sphere_covers_pixel(camera: &Camera, x: u32, y: u32, centre: DVec3, radius: f64) -> bool {
-    let inverse: DMat4 = camera
-        .view_projection(W as f32 / H as f32)
-        .as_dmat4()
-        .inverse();
     [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.5)]
         .iter()
         .any(|(dx, dy)| {
-            let ndc = |z: f64| {
-                let p = inverse
-                    * DVec4::new(
-                        (f64::from(x) + dx) / f64::from(W) * 2.0 - 1.0,
-                        (f64::from(y) + dy) / f64::from(H) * 2.0 - 1.0,
-                        z,
-                        1.0,
-                    );
-                p.xyz() / p.w
-            };
-            let origin = ndc(0.0);
-            let dir = (ndc(1.0) - origin).normalize();
-            let oc = origin - centre;
+            let ray = camera_ray(camera, W, H, f64::from(x) + dx, f64::from(y) + dy);
+            let dir = DVec3::from(ray.direction).normalize();
+            let oc = DVec3::from(ray.origin) - centre;
             let b = oc.dot(dir);
             b * b - (oc.length_squared() - radius * radius) >= 0.0 && -b > 0.0
         })
@@ -746,16 +724,7 @@ fn a_sun_with_a_size_casts_soft_shadows_closer_to_the_exact_ones() {
     use combustion::reference::SceneBvh;
     let centre = DVec3::new(0.0, 1.2, 0.0);
     let direction = sun(40.0);
-    let d = direction.as_dvec3();
-    let shadow_centre = centre - d * (centre.y / d.y);
-    let camera = Camera {
-        position: (shadow_centre + DVec3::new(0.0, 3.0, 2.0)).as_vec3(),
-        target: shadow_centre.as_vec3(),
-        up: Vec3::Y,
-        vertical_fov: 45f32.to_radians(),
-        near: 0.1,
-        far: 60.0,
-    };
+    let camera = camera_over_shadow(centre, direction, DVec3::new(0.0, 3.0, 2.0));
     let mut soft = floor_scene(Some((centre, 0.5)), direction, camera);
     if let Light::Directional {
         angular_diameter, ..

@@ -50,8 +50,8 @@ struct GpuShadowCascade {
     mat4 world_to_clip;             // world → map clip space: xy in [−1, 1], depth in [0, 1]
     vec4 texel_depth_slice;         // x: texel side (m); y: metres along the light per unit
                                     // depth; z: the end of its view slice (m from the eye)
-    vec4 view_forward;              // xyz: the camera's unit view direction (cascades) or the
-                                    // light's position; w: its layer in its array of maps
+    vec4 view_forward;              // xyz: the camera's unit view direction (cascades; zero
+                                    // for local lights); w: its layer in its array of maps
 };
 
 // The range window (max(0, 1 − (d²/r²)²))² at squared distance d2; 1 without range

@@ -404,7 +404,7 @@ impl ReportDesc {
     fn shadow_steps(&self, scenes: &[(String, combustion_scene::Scene)]) -> usize {
         let suns = scenes
             .iter()
-            .filter(|(_, scene)| shadows::has_lights(&scene.lights))
+            .filter(|(_, scene)| !scene.lights.is_empty())
             .count();
         suns * self.shadows.len()
     }
@@ -615,9 +615,7 @@ pub fn measure(
                     environment: gpu.scene().environment.is_some(),
                 });
             }
-            if hdr == HdrFormat::Rgba32Float
-                && !desc.shadows.is_empty()
-                && shadows::has_lights(&scene.lights)
+            if hdr == HdrFormat::Rgba32Float && !desc.shadows.is_empty() && !scene.lights.is_empty()
             {
                 let done = rows.len() + floors.len() + scaling.len() + shadow_rows.len();
                 let mut i = 0;

@@ -14,7 +14,6 @@ use combustion_renderer::{
     DebugView, FrameInputs, GpuScene, PassTimings, Readback, Renderer, ShadingOptions,
     ShadowFilter, ShadowSettings,
 };
-use combustion_scene::Light;
 
 use combustion_plots::{pareto_front, plot_speed_vs_error, Png, SpeedErrorPoint};
 
@@ -93,11 +92,6 @@ pub fn setting_name(settings: Option<ShadowSettings>) -> String {
             s.local_map_size
         ),
     }
-}
-
-/// Whether a scene with `lights` has shadows to measure (every kind of light casts them).
-pub fn has_lights(lights: &[Light]) -> bool {
-    !lights.is_empty()
 }
 
 /// Measures every setting of `desc.shadows` on `gpu` (a scene with lights),

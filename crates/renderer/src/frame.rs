@@ -413,7 +413,7 @@ impl Renderer {
                 };
                 let mut gpu = layer.gpu;
                 gpu.view_forward[3] = in_array.len() as f32;
-                in_array.push(layer.world_to_clip);
+                in_array.push(layer.world_to_clip());
                 table.push(gpu);
             }
         }
@@ -435,39 +435,52 @@ impl Renderer {
             (settings.local_map_size, local_layers, true),
         ] {
             let count = (layers.len() as u32).max(1);
-            let maps = if local {
-                &mut self.local_shadow_maps
-            } else {
-                &mut self.shadow_maps
-            };
-            if !maps.as_ref().is_some_and(|m| m.fits(size, count)) {
-                let made = crate::shadows::ShadowMaps::new(&self.device, size, count, local)?;
-                if let Some(old) = maps.replace(made) {
-                    self.states.forget(old.image.raw());
-                    self.retire(old);
-                }
-            }
-            let maps = if local {
-                &mut self.local_shadow_maps
-            } else {
-                &mut self.shadow_maps
-            };
-            let maps = maps.as_mut().expect("made above");
             let contents = (
                 scene.geometry_version,
                 layers.iter().map(|m| m.to_cols_array()).collect::<Vec<_>>(),
             );
-            if maps.contents.as_ref() != Some(&contents) {
-                maps.contents = Some(contents);
-                let s = &mut self.slots[slot];
-                if local {
-                    s.local_shadow_layers = layers;
-                } else {
-                    s.shadow_layers = layers;
-                }
+            let maps = self.fitted_shadow_maps(local, size, count)?;
+            if maps.contents.as_ref() == Some(&contents) {
+                continue;
+            }
+            maps.contents = Some(contents);
+            let s = &mut self.slots[slot];
+            if local {
+                s.local_shadow_layers = layers;
+            } else {
+                s.shadow_layers = layers;
             }
         }
         Ok(shadowed)
+    }
+
+    /// One array of shadow maps (`local`: the spot and point lights', else the
+    /// cascades'), made, or replaced and the old one retired, to hold `layers` layers of
+    /// `size`².
+    fn fitted_shadow_maps(
+        &mut self,
+        local: bool,
+        size: u32,
+        layers: u32,
+    ) -> Result<&mut crate::shadows::ShadowMaps, RenderError> {
+        fn array(r: &mut Renderer, local: bool) -> &mut Option<crate::shadows::ShadowMaps> {
+            if local {
+                &mut r.local_shadow_maps
+            } else {
+                &mut r.shadow_maps
+            }
+        }
+        if !array(self, local)
+            .as_ref()
+            .is_some_and(|m| m.fits(size, layers))
+        {
+            let made = crate::shadows::ShadowMaps::new(&self.device, size, layers, local)?;
+            if let Some(old) = array(self, local).replace(made) {
+                self.states.forget(old.image.raw());
+                self.retire(old);
+            }
+        }
+        Ok(array(self, local).as_mut().expect("made above"))
     }
 
     /// Writes the frame's lights into the slot; `shadowed` lights (index, first shadow

@@ -334,8 +334,8 @@ pub struct GpuShadowCascade {
     /// z: the end of the view slice it covers, metres from the eye; w: 0.
     pub texel_depth_slice: [f32; 4],
     /// xyz: a cascade's: the camera's unit view direction (the slices' distances are
-    /// along it); a local light's layer: the light's position; w: the layer's index in
-    /// its array of maps (the cascades' or the local lights').
+    /// along it); zero for a local light's layer; w: the layer's index in its array of
+    /// maps (the cascades' or the local lights').
     pub view_forward: [f32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuShadowCascade>() == 96);

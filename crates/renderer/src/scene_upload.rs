@@ -286,6 +286,7 @@ impl Tables {
         textures: &SceneTextures,
     ) -> Result<Self, RenderError> {
         let objects: Vec<GpuObject> = scene.objects.iter().map(GpuObject::new).collect();
+        let object_bounds = scene.object_bounds();
         let materials = material_table(scene, &textures.material_indices);
         let needs_table = scene.materials.iter().any(|m| m.conductor_from_base_color);
         let conductor_table: &[[f32; 2]] = if needs_table {
@@ -323,8 +324,13 @@ impl Tables {
             variant: scene_variant(scene),
             lit_variant: lit_scene_variant(scene),
             bake_materials: bytemuck::cast_slice(&material_table(scene, &[])).to_vec(),
-            world_bounds: scene.world_bounds(),
-            object_bounds: scene.object_bounds(),
+            // The world box is the objects' boxes together (one walk over the vertices).
+            world_bounds: object_bounds
+                .iter()
+                .flatten()
+                .copied()
+                .reduce(|(a, b), (c, d)| (a.min(c), b.max(d))),
+            object_bounds,
             casts_shadows: scene.objects.iter().map(|o| o.casts_shadows).collect(),
         })
     }

@@ -401,10 +401,18 @@ pub fn directional_cascades(
 /// the lighting pass reads of it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct ShadowLayer {
-    pub(crate) world_to_clip: Mat4,
+    /// What the lighting pass reads; its `world_to_clip` is also what the casters are
+    /// rendered with ([`ShadowLayer::world_to_clip`]).
     pub(crate) gpu: GpuShadowCascade,
     /// A spot or point light's layer (in the local lights' maps), not a cascade.
     pub(crate) local: bool,
+}
+
+impl ShadowLayer {
+    /// The matrix the layer's casters are rendered with.
+    pub(crate) fn world_to_clip(&self) -> Mat4 {
+        Mat4::from_cols_array(&self.gpu.world_to_clip)
+    }
 }
 
 /// `GpuShadowCascade::texel_depth_slice.w` of a spot light's one perspective layer (0: a
@@ -451,7 +459,6 @@ pub(crate) fn frame_shadows(
                 )
                 .iter()
                 .map(|c| ShadowLayer {
-                    world_to_clip: c.world_to_clip,
                     gpu: c.gpu(),
                     local: false,
                 })
@@ -504,7 +511,13 @@ pub fn local_texel_per_metre(light: &Light, map_size: u32) -> Option<f32> {
         Light::Spot { outer_cone, .. } if outer_cone <= MAX_SPOT_CONE_ONE_LAYER => outer_cone,
         Light::Spot { .. } | Light::Point { .. } => std::f32::consts::FRAC_PI_4,
     };
-    Some(2.0 * widened(half_angle, map_size).tan() / map_size as f32)
+    Some(texel_per_metre(half_angle, map_size))
+}
+
+/// A texel's side per metre of depth along the axis of a layer covering a cone of
+/// `half_angle` (widened for the filter) with `map_size` texels a side.
+fn texel_per_metre(half_angle: f32, map_size: u32) -> f32 {
+    2.0 * widened(half_angle, map_size).tan() / map_size as f32
 }
 
 /// Shadow-map layers one frame may use, at most (a directional light takes one per
@@ -558,16 +571,15 @@ fn perspective_layer(
     map_size: u32,
     kind: f32,
 ) -> ShadowLayer {
-    let half = widened(half_angle, map_size);
     let view = Mat4::look_to_rh(position, axis, light_up(axis));
-    let world_to_clip = Mat4::perspective_rh(2.0 * half, 1.0, near, far) * view;
+    let world_to_clip =
+        Mat4::perspective_rh(2.0 * widened(half_angle, map_size), 1.0, near, far) * view;
     ShadowLayer {
-        world_to_clip,
         gpu: GpuShadowCascade {
             world_to_clip: world_to_clip.to_cols_array(),
-            // A texel's side per metre of depth along the axis.
-            texel_depth_slice: [2.0 * half.tan() / map_size as f32, near, far, kind],
-            view_forward: position.extend(0.0).to_array(),
+            texel_depth_slice: [texel_per_metre(half_angle, map_size), near, far, kind],
+            // The layer in its array (filled in when the frame's layers are counted).
+            view_forward: [0.0; 4],
         },
         local: true,
     }
@@ -755,19 +767,19 @@ impl ShadowCasterPass {
                 .depth_attachment(&depth_attachment);
             // SAFETY: recording state (the frame's); the maps and the scene outlive the
             // frame (replaced ones are retired).
-            unsafe {
-                raw.cmd_begin_rendering(cmd, &rendering);
-                crate::commands::set_viewport_and_scissor(raw, cmd, extent);
-                raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
-                raw.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    self.layout.raw(),
-                    0,
-                    &[set],
-                    &[],
-                );
-            }
+            unsafe { raw.cmd_begin_rendering(cmd, &rendering) };
+            crate::commands::set_viewport_and_scissor(raw, cmd, extent);
+            // Push constants per object, below.
+            crate::commands::bind_pass(
+                raw,
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                &self.pipeline,
+                &self.layout,
+                set,
+                vk::ShaderStageFlags::VERTEX,
+                &[],
+            );
             crate::mesh_draw::draw_objects(
                 raw,
                 cmd,

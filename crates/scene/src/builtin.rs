@@ -295,6 +295,31 @@ fn shadow_scene_materials() -> Vec<Material> {
     ]
 }
 
+/// A scene of the local-light shadow scenes: mesh 0 a UV sphere of `sphere_radius`
+/// (64 × 32), mesh 1 a square of side `plane_side`, the shared materials, one light.
+fn local_light_scene(
+    name: &str,
+    sphere_radius: f32,
+    plane_side: f32,
+    objects: Vec<Object>,
+    light: Light,
+    camera: Camera,
+) -> Scene {
+    Scene {
+        name: name.into(),
+        meshes: vec![
+            Mesh::uv_sphere("sphere", sphere_radius, 64, 32),
+            Mesh::plane("plane", plane_side),
+        ],
+        materials: shadow_scene_materials(),
+        objects,
+        lights: vec![light],
+        camera,
+        outside_ior: 1.0,
+        environment: None,
+    }
+}
+
 /// A room 6 m square and 3 m high (floor, ceiling and four walls facing inwards), a
 /// spot light under the ceiling's centre pointing down (cone 30°–45°, 60 W/sr), and
 /// three spheres of radius 0.5 on the floor, seen from a corner.
@@ -331,35 +356,25 @@ fn spot_box() -> Scene {
             casts_shadows: true,
         });
     }
-    Scene {
-        name: "spot-box".into(),
-        meshes: vec![
-            Mesh::uv_sphere("sphere", 0.5, 64, 32),
-            Mesh::plane("wall", 6.0),
-        ],
-        materials: shadow_scene_materials(),
-        objects,
-        lights: vec![Light::Spot {
-            position: Vec3::new(0.0, 2.9, 0.0),
-            direction: Vec3::new(0.15, -1.0, 0.1),
-            intensity: [60.0; 3],
-            inner_cone: 30f32.to_radians(),
-            outer_cone: 45f32.to_radians(),
-            range: None,
-            casts_shadows: true,
-            radius: 0.0,
-        }],
-        camera: Camera {
-            position: Vec3::new(2.6, 2.5, 2.6),
-            target: Vec3::new(0.0, 0.4, 0.0),
-            up: Vec3::Y,
-            vertical_fov: 60f32.to_radians(),
-            near: 0.05,
-            far: 20.0,
-        },
-        outside_ior: 1.0,
-        environment: None,
-    }
+    let light = Light::Spot {
+        position: Vec3::new(0.0, 2.9, 0.0),
+        direction: Vec3::new(0.15, -1.0, 0.1),
+        intensity: [60.0; 3],
+        inner_cone: 30f32.to_radians(),
+        outer_cone: 45f32.to_radians(),
+        range: None,
+        casts_shadows: true,
+        radius: 0.0,
+    };
+    let camera = Camera {
+        position: Vec3::new(2.6, 2.5, 2.6),
+        target: Vec3::new(0.0, 0.4, 0.0),
+        up: Vec3::Y,
+        vertical_fov: 60f32.to_radians(),
+        near: 0.05,
+        far: 20.0,
+    };
+    local_light_scene("spot-box", 0.5, 6.0, objects, light, camera)
 }
 
 /// A point light 1.2 m above a floor, among six spheres of radius 0.4 in a ring of
@@ -384,32 +399,22 @@ fn point_among() -> Scene {
             casts_shadows: true,
         });
     }
-    Scene {
-        name: "point-among".into(),
-        meshes: vec![
-            Mesh::uv_sphere("sphere", 0.4, 64, 32),
-            Mesh::plane("floor", 16.0),
-        ],
-        materials: shadow_scene_materials(),
-        objects,
-        lights: vec![Light::Point {
-            position: Vec3::new(0.0, 1.2, 0.0),
-            intensity: [20.0; 3],
-            range: None,
-            casts_shadows: true,
-            radius: 0.0,
-        }],
-        camera: Camera {
-            position: Vec3::new(0.0, 6.0, 5.5),
-            target: Vec3::new(0.0, 0.0, 0.3),
-            up: Vec3::Y,
-            vertical_fov: 50f32.to_radians(),
-            near: 0.05,
-            far: 40.0,
-        },
-        outside_ior: 1.0,
-        environment: None,
-    }
+    let light = Light::Point {
+        position: Vec3::new(0.0, 1.2, 0.0),
+        intensity: [20.0; 3],
+        range: None,
+        casts_shadows: true,
+        radius: 0.0,
+    };
+    let camera = Camera {
+        position: Vec3::new(0.0, 6.0, 5.5),
+        target: Vec3::new(0.0, 0.0, 0.3),
+        up: Vec3::Y,
+        vertical_fov: 50f32.to_radians(),
+        near: 0.05,
+        far: 40.0,
+    };
+    local_light_scene("point-among", 0.4, 16.0, objects, light, camera)
 }
 
 /// The sphere grid: roughness varies along columns, material along rows (top to bottom:

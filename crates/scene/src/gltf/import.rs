@@ -798,13 +798,7 @@ impl Importer<'_> {
         let mut casts = true;
         for (key, value) in ext {
             match key.as_str() {
-                "castsShadows" => {
-                    casts = value.as_bool().ok_or_else(|| {
-                        problem(format!(
-                            "{SHADOW_EXTENSION}.castsShadows must be true or false"
-                        ))
-                    })?
-                }
+                "castsShadows" => casts = casts_shadows_field(value).map_err(problem)?,
                 other => {
                     return Err(problem(format!(
                         "{SHADOW_EXTENSION} on a node has no field `{other}` (castsShadows)"
@@ -1364,11 +1358,7 @@ fn light_shadow(extensions: Option<&serde_json::value::RawValue>) -> Result<Ligh
         .ok_or_else(|| format!("{SHADOW_EXTENSION} must be an object"))?;
     for (key, value) in ext {
         match key.as_str() {
-            "castsShadows" => {
-                shadow.casts_shadows = value.as_bool().ok_or_else(|| {
-                    format!("{SHADOW_EXTENSION}.castsShadows must be true or false")
-                })?
-            }
+            "castsShadows" => shadow.casts_shadows = casts_shadows_field(value)?,
             "radius" | "angularDiameter" => {
                 let (name, max) = if key == "radius" {
                     ("radius", crate::MAX_LIGHT_RADIUS)
@@ -1392,4 +1382,11 @@ fn light_shadow(extensions: Option<&serde_json::value::RawValue>) -> Result<Ligh
         }
     }
     Ok(shadow)
+}
+
+/// `COMBUSTION_shadows.castsShadows`, on a light or a node: a boolean.
+fn casts_shadows_field(value: &serde_json::Value) -> Result<bool, String> {
+    value
+        .as_bool()
+        .ok_or_else(|| format!("{SHADOW_EXTENSION}.castsShadows must be true or false"))
 }
