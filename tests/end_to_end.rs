@@ -24,10 +24,12 @@
 mod common;
 
 use combustion::reference::primary::primary_hits;
+use combustion::reference::shading::{GBufferPrecision, SceneShading};
 use combustion::reference::SceneBvh;
 use combustion::renderer::gbuffer::octahedral_decode;
+use combustion::renderer::reference::RADIANCE_FLOOR;
 use combustion::renderer::Readback;
-use combustion::scene::builtin_scene;
+use combustion::scene::{builtin_scene, Light, Scene, BUILTIN_SCENES};
 use glam::DVec3;
 
 const W: u32 = 160;
@@ -135,4 +137,213 @@ fn the_gbuffer_is_what_the_cameras_rays_hit() {
             &normal_failures[..normal_failures.len().min(6)]
         );
     }
+}
+
+/// Relative error of `a` against `b`: the largest over the channels of
+/// |a − b| / max(|b|, `RADIANCE_FLOOR`).
+fn relative(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|c| (a[c] - b[c]).abs() / b[c].abs().max(RADIANCE_FLOOR))
+        .fold(0.0, f64::max)
+}
+
+/// The f32 shading bound the parity tests hold the lighting pass to (relative, from the
+/// G-buffer values it reads).
+const SHADING_F32: f64 = 1e-3;
+
+/// How far the renderer may place a surface point from the ray's, relative to its view
+/// distance (the f32 camera term of the depth bound above).
+const POSITION_RELATIVE: f64 = 1e-5;
+
+/// How far the renderer's shading normal may turn from the interpolated f64 one away
+/// from silhouettes, radians (the normal bound above).
+const NORMAL_ANGLE: f64 = 1e-4;
+
+/// Mean, 99th percentile and maximum of `errors`.
+fn summary(mut errors: Vec<f64>) -> (f64, f64, f64) {
+    errors.sort_by(f64::total_cmp);
+    let n = errors.len().max(1);
+    let mean = errors.iter().sum::<f64>() / n as f64;
+    let at = |q: usize| errors.get((n - 1) * q / 100).copied().unwrap_or(0.0);
+    (mean, at(99), at(100))
+}
+
+/// A frame compared with the f64 reference shaded from its scene alone.
+struct SceneComparison {
+    compared: usize,
+    /// Pixels showing another material than the ray sees, away from any silhouette.
+    away: Vec<(u32, u32)>,
+    /// Per compared pixel: the GPU's relative error against the exact reference.
+    total: Vec<f64>,
+    /// Per compared pixel: the G-buffer storage's share (the reference shaded from the
+    /// stored inputs, against the exact one).
+    storage: Vec<f64>,
+    /// Per compared pixel: the GPU against the reference shaded from the stored inputs.
+    rest: Vec<f64>,
+    /// Pixels whose `rest` exceeds their bound: (x, y, error, bound).
+    beyond: Vec<(u32, u32, f64, f64)>,
+}
+
+/// Renders `scene` with `frame_lights` on lavapipe at `width`×`height` and compares each
+/// pixel with `SceneShading` of the scene and its own lights.
+///
+/// Each pixel's bound, for the GPU against the reference shaded from the inputs as the
+/// G-buffer stores them (`GBufferPrecision::COMBUSTION`): [`SHADING_F32`] plus how much the
+/// reference's radiance changes when the normal turns by [`NORMAL_ANGLE`] (four ways) or
+/// the point moves by [`POSITION_RELATIVE`] of its view distance (six ways) — the
+/// G-buffer test's own bounds, carried through the shading by the reference itself (a
+/// highlight's peak or a spot cone's edge is steep, a Lambert floor is not). Pixels at a
+/// silhouette are counted, not compared.
+fn compare_with_scene(
+    scene: &Scene,
+    frame_lights: &[Light],
+    width: u32,
+    height: u32,
+) -> SceneComparison {
+    let frame = common::render_with_lights(scene, frame_lights, width, height);
+    let g = frame.gbuffer.as_ref().unwrap();
+    let bvh = SceneBvh::new(scene);
+    let shading = SceneShading::new(scene, &bvh, &scene.lights, width, height);
+    let surfaces = shading.surfaces(2);
+    let seen: Vec<Option<usize>> = surfaces
+        .iter()
+        .map(|s| s.map(|s| scene.objects[s.hit.object].material))
+        .collect();
+    let at_silhouette = |x: u32, y: u32| {
+        let own = seen[(y * width + x) as usize];
+        (y.saturating_sub(1)..(y + 2).min(height)).any(|yy| {
+            (x.saturating_sub(1)..(x + 2).min(width))
+                .any(|xx| seen[(yy * width + xx) as usize] != own)
+        })
+    };
+    let mut out = SceneComparison {
+        compared: 0,
+        away: Vec::new(),
+        total: Vec::new(),
+        storage: Vec::new(),
+        rest: Vec::new(),
+        beyond: Vec::new(),
+    };
+    for y in 0..height {
+        for x in 0..width {
+            let i = (y * width + x) as usize;
+            let texel = &g.texels[i];
+            let gpu_material =
+                (texel.depth < 1.0).then_some(usize::from(texel.material_direction[0]));
+            if gpu_material != seen[i] {
+                if !at_silhouette(x, y) {
+                    out.away.push((x, y));
+                }
+                continue;
+            }
+            let Some(surface) = surfaces[i] else {
+                continue; // background both
+            };
+            if at_silhouette(x, y) {
+                continue;
+            }
+            let material = &scene.materials[scene.objects[surface.hit.object].material];
+            let exact = shading.radiance(&surface);
+            let stored =
+                GBufferPrecision::COMBUSTION.store(&surface, material.conductor_from_base_color);
+            let as_stored = shading.radiance(&stored);
+            let gpu = [0, 1, 2].map(|c| f64::from(frame.hdr[i][c]));
+            let mut sensitivity = 0.0f64;
+            for axis in [stored.t, -stored.t, stored.b, -stored.b] {
+                let mut turned = stored;
+                turned.n = (stored.n + axis * NORMAL_ANGLE.tan()).normalize();
+                turned.t = stored.t.reject_from_normalized(turned.n).normalize();
+                turned.b = turned.n.cross(turned.t);
+                sensitivity = sensitivity.max(relative(shading.radiance(&turned), as_stored));
+            }
+            let step = POSITION_RELATIVE * stored.hit.view_depth;
+            for axis in [
+                DVec3::X,
+                DVec3::NEG_X,
+                DVec3::Y,
+                DVec3::NEG_Y,
+                DVec3::Z,
+                DVec3::NEG_Z,
+            ] {
+                let mut moved = stored;
+                moved.hit.position = (DVec3::from(stored.hit.position) + axis * step).to_array();
+                sensitivity = sensitivity.max(relative(shading.radiance(&moved), as_stored));
+            }
+            let bound = SHADING_F32 + sensitivity;
+            let rest = relative(gpu, as_stored);
+            out.compared += 1;
+            out.total.push(relative(gpu, exact));
+            out.storage.push(relative(as_stored, exact));
+            out.rest.push(rest);
+            if rest > bound {
+                out.beyond.push((x, y, rest, bound));
+            }
+        }
+    }
+    out
+}
+
+/// Every built-in scene without an environment (spot, point and directional lights, with
+/// and without ranges; conductors measured and derived from the base colour; every
+/// diffuse model; water as the outside medium), shaded by the f64 reference from the
+/// scene alone (`combustion_reference::shading`: its own materials, lights, vertex
+/// interpolation and BRDF evaluation from the optics crate) and compared per pixel with
+/// the GPU's HDR radiance. Environment-lit scenes are compared by tests/environment.rs.
+#[test]
+fn the_frame_is_what_the_scene_shows() {
+    for &name in BUILTIN_SCENES {
+        let scene = builtin_scene(name).unwrap();
+        if scene.environment.is_some() {
+            continue;
+        }
+        let c = compare_with_scene(&scene, &scene.lights, W, H);
+        let (total, storage, rest) = (summary(c.total), summary(c.storage), summary(c.rest));
+        eprintln!(
+            "{name} {W}x{H}: {} pixels compared; error mean {:.1e}, p99 {:.1e}, max {:.1e}; \
+             of it the G-buffer's storage mean {:.1e}, max {:.1e}; the rest mean {:.1e}, max {:.1e}",
+            c.compared, total.0, total.1, total.2, storage.0, storage.2, rest.0, rest.2
+        );
+        assert!(c.compared > 1000, "{name}: {} pixels compared", c.compared);
+        assert!(
+            c.away.is_empty(),
+            "{name}: {} pixels show another material away from any silhouette, e.g. {:?}",
+            c.away.len(),
+            &c.away[..c.away.len().min(6)]
+        );
+        assert!(
+            c.beyond.is_empty(),
+            "{name}: {} pixels beyond their bound (x, y, error, bound), e.g. {:?}",
+            c.beyond.len(),
+            &c.beyond[..c.beyond.len().min(6)]
+        );
+    }
+}
+
+/// The comparison sees a light 1 % too bright: the same frame rendered with every
+/// light's power × 1.01 puts most lit pixels beyond their bound.
+#[test]
+fn the_scene_comparison_sees_a_one_percent_light_error() {
+    let scene = builtin_scene("spot-box").unwrap();
+    let brighter: Vec<Light> = scene
+        .lights
+        .iter()
+        .map(|light| {
+            let mut light = light.clone();
+            match &mut light {
+                Light::Point { intensity, .. } | Light::Spot { intensity, .. } => {
+                    *intensity = intensity.map(|i| i * 1.01)
+                }
+                Light::Directional { irradiance, .. } => *irradiance = irradiance.map(|e| e * 1.01),
+            }
+            light
+        })
+        .collect();
+    let c = compare_with_scene(&scene, &brighter, W, H);
+    let lit = c.total.iter().filter(|&&e| e > 0.0).count();
+    eprintln!(
+        "{} of {} lit pixels beyond their bound",
+        c.beyond.len(),
+        lit
+    );
+    assert!(c.beyond.len() * 2 > lit, "{} of {lit}", c.beyond.len());
 }

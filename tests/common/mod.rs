@@ -105,6 +105,32 @@ pub fn render(
     frame
 }
 
+/// Renders `scene` lit by `lights` (its camera, exposure 1, [`exact_f32`] settings) and
+/// reads back its HDR image and G-buffer.
+pub fn render_with_lights(scene: &Scene, lights: &[Light], width: u32, height: u32) -> Frame {
+    let mut headless = lavapipe(exact_f32());
+    let frame = {
+        let renderer = headless.renderer();
+        let gpu_scene = renderer.upload(scene).expect("upload");
+        let inputs = combustion::renderer::FrameInputs {
+            camera: scene.camera,
+            exposure: 1.0,
+            lights,
+            overlay: &[],
+            environment: None,
+        };
+        let readback = Readback {
+            images: true,
+            gbuffer: true,
+        };
+        renderer
+            .render_with(&gpu_scene, &inputs, width, height, readback)
+            .expect("render")
+    };
+    finish(headless);
+    frame
+}
+
 /// The exact model, f32 HDR, exposure 1, 2 frames in flight: what most tests render with.
 pub fn exact_f32() -> RendererSettings {
     RendererSettings {

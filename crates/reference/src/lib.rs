@@ -1,13 +1,16 @@
-//! f64 ground truth for Combustion's scene geometry: every triangle of a
+//! f64 ground truth for Combustion, from the scene alone: every triangle of a
 //! [`combustion_scene::Scene`] placed in world space in f64, in a bounding-volume
 //! hierarchy ([`SceneBvh`]), with closest-hit and any-hit ray casts and exact light
-//! visibility ([`visibility`]).
+//! visibility ([`visibility`]); what the camera's primary rays hit ([`primary`]); and the
+//! frame shaded from the scene's own materials, textures and lights with the optics
+//! crate's BRDF ([`shading`], with [`texture`]'s f64 filtering).
 //!
 //! It is the oracle that the renderer's approximations are measured against: shadow
-//! maps against exact point-to-light visibility, and the rasterised G-buffer against
-//! what the camera's primary rays hit ([`primary`]; shading from the scene is the next
-//! step of the end-to-end reference). It therefore shares no code with the renderer's
-//! GPU path: it reads the CPU scene model and nothing else.
+//! maps against exact point-to-light visibility, the rasterised G-buffer against what
+//! the primary rays hit, and the rendered frame against the scene shaded in f64 (the
+//! G-buffer's storage precision modelled separately, so its share of the error is
+//! known). It therefore shares no code with the renderer's GPU path: it reads the CPU
+//! scene model and nothing else.
 //!
 //! Conventions (beyond the scene's own, see [`combustion_scene`]):
 //! - Every computation is in f64. A vertex's f32 position and its object's f32
@@ -41,6 +44,8 @@
 
 mod bvh;
 pub mod primary;
+pub mod shading;
+pub mod texture;
 mod triangle;
 pub mod visibility;
 

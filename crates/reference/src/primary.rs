@@ -22,6 +22,9 @@ pub struct PrimaryHit {
     pub object: usize,
     /// The hit triangle within the object's mesh.
     pub triangle: usize,
+    /// The hit's barycentric coordinates (b1, b2) on the triangle (see [`crate::Hit`]),
+    /// the weights a vertex attribute is interpolated with.
+    pub barycentrics: [f64; 2],
     /// The hit point, world space, metres.
     pub position: [f64; 3],
     /// The unit shading normal there: the mesh's vertex normals interpolated with the
@@ -53,7 +56,9 @@ pub fn camera_ray(camera: &Camera, width: u32, height: u32, x: f64, y: f64) -> R
 
 /// What the primary ray through pixel (`x`, `y`)'s centre hits in `scene` (whose
 /// triangles `bvh` holds: [`SceneBvh::new`]), between the camera's near and far planes;
-/// `None` where it hits nothing there.
+/// `None` where it hits nothing there. The back face of a triangle whose material is
+/// not double-sided is not seen (the ray goes on past it), as glTF allows a renderer
+/// to cull it and Combustion's rasteriser does.
 pub fn primary_hit(
     scene: &Scene,
     bvh: &SceneBvh,
@@ -70,8 +75,21 @@ pub fn primary_hit(
         f64::from(x) + 0.5,
         f64::from(y) + 0.5,
     );
-    let hit = bvh.closest_hit(&ray, f64::from(camera.near), f64::from(camera.far))?;
-    let object = scene.objects.get(hit.object)?;
+    let (mut t_min, far) = (f64::from(camera.near), f64::from(camera.far));
+    let (hit, object) = loop {
+        let hit = bvh.closest_hit(&ray, t_min, far)?;
+        let object = scene.objects.get(hit.object)?;
+        let back = DVec3::from(hit.normal).dot(DVec3::from(ray.direction)) > 0.0;
+        let double_sided = scene
+            .materials
+            .get(object.material)
+            .is_some_and(|m| m.double_sided);
+        if !back || double_sided {
+            break (hit, object);
+        }
+        // The hit interval is open: the next cast starts just past this triangle.
+        t_min = hit.t;
+    };
     let mesh = scene.meshes.get(object.mesh)?;
     let corner = |k: usize| -> Option<DVec3> {
         let index = *mesh.indices.get(3 * hit.triangle + k)? as usize;
@@ -86,6 +104,7 @@ pub fn primary_hit(
     Some(PrimaryHit {
         object: hit.object,
         triangle: hit.triangle,
+        barycentrics: hit.barycentrics,
         position: ray.at(hit.t),
         normal: normal.to_array(),
         geometric_normal: hit.normal,
@@ -102,8 +121,22 @@ pub fn primary_hits(
     height: u32,
     threads: usize,
 ) -> Vec<Option<PrimaryHit>> {
+    per_pixel(width, height, threads, |x, y| {
+        primary_hit(scene, bvh, width, height, x, y)
+    })
+}
+
+/// `f(x, y)` for every pixel of a `width` × `height` image, row-major from the
+/// top-left, rows split between up to `threads` threads.
+pub(crate) fn per_pixel<T: Send>(
+    width: u32,
+    height: u32,
+    threads: usize,
+    f: impl Fn(u32, u32) -> T + Sync,
+) -> Vec<T> {
     let rows: Vec<u32> = (0..height).collect();
     let per_thread = rows.len().div_ceil(threads.max(1)).max(1);
+    let f = &f;
     std::thread::scope(|scope| {
         let handles: Vec<_> = rows
             .chunks(per_thread)
@@ -111,16 +144,14 @@ pub fn primary_hits(
                 scope.spawn(move || {
                     chunk
                         .iter()
-                        .flat_map(|&y| {
-                            (0..width).map(move |x| primary_hit(scene, bvh, width, height, x, y))
-                        })
+                        .flat_map(|&y| (0..width).map(move |x| f(x, y)))
                         .collect::<Vec<_>>()
                 })
             })
             .collect();
         handles
             .into_iter()
-            .flat_map(|h| h.join().expect("a primary-ray thread panicked"))
+            .flat_map(|h| h.join().expect("a per-pixel thread panicked"))
             .collect()
     })
 }

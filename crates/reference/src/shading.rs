@@ -1,0 +1,714 @@
+//! A frame shaded in f64 from the scene alone: the second half of the end-to-end
+//! reference. For each pixel, the primary ray's hit ([`crate::primary`]) is turned into
+//! the BRDF's inputs from the scene's own description — the mesh's vertex attributes
+//! interpolated with the hit's barycentrics, the material's factors times its textures
+//! (sampled by [`crate::texture`]'s f64 filtering at a level of detail from ray
+//! differentials), glTF's normal-map and KHR_materials_anisotropy rules, a conductor
+//! derived from the textured base colour where the material says so — and lit by the
+//! scene's lights as their types define them (inverse-square law, KHR_lights_punctual's
+//! spot cone and the range window), shaded with the optics crate's f64 BRDF, plus the
+//! material's emission.
+//!
+//! It reads nothing the renderer computes: not its material table, light buffer,
+//! matrices, G-buffer or encodings. So the difference between a rendered frame and this
+//! reference is every error the renderer makes: rasterisation, interpolation, texture
+//! filtering, the G-buffer's storage precision, the conversion of lights and materials,
+//! and the lighting pass's f32 arithmetic.
+//!
+//! Not modelled (a frame that uses them is compared only where they do not act): the
+//! environment's light, KHR_materials_specular (the renderer does not shade it either),
+//! and shadows unless [`SceneShading::with_visibility`] adds exact visibility.
+
+use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel as OpticsDiffuse};
+use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
+use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
+use combustion_optics::vec3::Vec3 as OpticsVec3;
+use combustion_scene::{
+    conductor_from_reflectivity, range_window, DiffuseModel, Light, Material, Scene, TextureRef,
+    Vertex,
+};
+use glam::{DMat3, DVec2, DVec3};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use crate::primary::{camera_ray, per_pixel, primary_hit, PrimaryHit};
+use crate::texture::{
+    level_of_detail, srgb_decode, transformed_derivative, transformed_uv, MipChain,
+};
+use crate::SceneBvh;
+
+/// Samples per axis of a light with a size when [`SceneShading::with_visibility`]
+/// gives exact visibility: 12² = 144 stratified shadow rays.
+pub const SIZED_LIGHT_SAMPLES: u32 = 12;
+
+/// What the reference finds at one pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadedPixel {
+    /// The object the pixel's primary ray hits.
+    pub object: usize,
+    /// That object's material.
+    pub material: usize,
+    /// The radiance towards the eye, W/(sr·m²) per linear RGB channel: reflected light
+    /// plus emission.
+    pub radiance: [f64; 3],
+    /// The emitted part of `radiance`.
+    pub emitted: [f64; 3],
+}
+
+/// The surface at a pixel, as the scene describes it, in f64.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfacePoint {
+    /// The primary ray's hit.
+    pub hit: PrimaryHit,
+    /// The BRDF's inputs there (factors times textures).
+    pub brdf: BrdfInputs<f64>,
+    /// The unit shading normal (normal map applied, facing the eye's side for a
+    /// double-sided material seen from behind).
+    pub n: DVec3,
+    /// The unit anisotropy direction, orthogonal to `n`.
+    pub t: DVec3,
+    /// n × t.
+    pub b: DVec3,
+    /// The unit direction to the eye.
+    pub v: DVec3,
+    /// Emitted radiance (factor × strength × texture).
+    pub emitted: [f64; 3],
+    /// The perceptual roughness r the BRDF's α come from (factor × texture).
+    pub roughness: f64,
+    /// The anisotropy strength s (factor × texture).
+    pub anisotropy_strength: f64,
+}
+
+/// The scene shaded per pixel in f64 for a `width` × `height` frame of its own camera.
+pub struct SceneShading<'a> {
+    scene: &'a Scene,
+    bvh: &'a SceneBvh,
+    lights: &'a [Light],
+    width: u32,
+    height: u32,
+    /// Every image the materials use, decoded once, by its address.
+    mips: HashMap<usize, MipChain>,
+    visibility: Option<&'a SceneBvh>,
+}
+
+fn optics_vec(v: DVec3) -> OpticsVec3<f64> {
+    OpticsVec3::new(v.x, v.y, v.z)
+}
+
+fn optics_diffuse(model: DiffuseModel) -> OpticsDiffuse {
+    match model {
+        DiffuseModel::Lambert => OpticsDiffuse::Lambert,
+        DiffuseModel::OrenNayarQualitative => OpticsDiffuse::OrenNayarQualitative,
+        DiffuseModel::OrenNayarFull => OpticsDiffuse::OrenNayarFull,
+    }
+}
+
+/// The irradiance `light` gives a surface at `point` facing it, and the unit direction
+/// to it, from the light's definition ([`Light`]): I/d² for point and spot lights,
+/// times the range window ([`range_window`]) where there is a range and, for a spot,
+/// KHR_lights_punctual's cone falloff (the square of the clamped linear ramp in the
+/// cosine from the outer to the inner cone); E along −direction for a directional light.
+pub fn light_at(light: &Light, point: DVec3) -> (DVec3, [f64; 3]) {
+    let f3 = |a: [f32; 3]| a.map(f64::from);
+    match *light {
+        Light::Directional {
+            direction,
+            irradiance,
+            ..
+        } => (-direction.as_dvec3().normalize(), f3(irradiance)),
+        Light::Point {
+            position,
+            intensity,
+            range,
+            ..
+        } => point_light(position.as_dvec3() - point, f3(intensity), range, 1.0),
+        Light::Spot {
+            position,
+            direction,
+            intensity,
+            inner_cone,
+            outer_cone,
+            range,
+            ..
+        } => {
+            let to_light = position.as_dvec3() - point;
+            let cos_axis = (-to_light.normalize()).dot(direction.as_dvec3().normalize());
+            let (cos_outer, cos_inner) = (f64::from(outer_cone).cos(), f64::from(inner_cone).cos());
+            let ramp = ((cos_axis - cos_outer) / (cos_inner - cos_outer)).clamp(0.0, 1.0);
+            point_light(to_light, f3(intensity), range, ramp * ramp)
+        }
+    }
+}
+
+fn point_light(
+    to_light: DVec3,
+    intensity: [f64; 3],
+    range: Option<f32>,
+    cone: f64,
+) -> (DVec3, [f64; 3]) {
+    let d2 = to_light.length_squared();
+    let window = range.map_or(1.0, |r| range_window(d2.sqrt(), f64::from(r)));
+    let scale = cone * window / d2;
+    (to_light.normalize(), intensity.map(|i| i * scale))
+}
+
+/// An image's identity: the address of the shared image (a scene's textures share
+/// them by `Arc`).
+fn image_key(image: &Arc<combustion_scene::Image>) -> usize {
+    Arc::as_ptr(image) as usize
+}
+
+/// A texture's value at a surface point, with the derivatives of its coordinate sets.
+struct TextureLookup<'m> {
+    mips: &'m HashMap<usize, MipChain>,
+    uv: [DVec2; 2],
+    duv_dx: [DVec2; 2],
+    duv_dy: [DVec2; 2],
+}
+
+impl TextureLookup<'_> {
+    fn sample(&self, texture: &TextureRef) -> [f64; 4] {
+        let set = (texture.tex_coord as usize).min(1);
+        let uv = transformed_uv(texture, self.uv[set].to_array());
+        let dx = transformed_derivative(texture, self.duv_dx[set].to_array());
+        let dy = transformed_derivative(texture, self.duv_dy[set].to_array());
+        match self.mips.get(&image_key(&texture.texture.image)) {
+            Some(chain) => chain.sample(
+                &texture.texture.sampler,
+                uv,
+                level_of_detail(chain.size(), dx, dy),
+            ),
+            None => [1.0; 4],
+        }
+    }
+
+    fn sample_or(&self, texture: Option<&TextureRef>, absent: [f64; 4]) -> [f64; 4] {
+        texture.map_or(absent, |t| self.sample(t))
+    }
+}
+
+impl<'a> SceneShading<'a> {
+    /// For `scene` seen by its camera at `width` × `height`, its triangles in `bvh`
+    /// ([`SceneBvh::new`]), lit by `lights` (the frame's: usually the scene's own).
+    /// Decodes every image the materials use.
+    pub fn new(
+        scene: &'a Scene,
+        bvh: &'a SceneBvh,
+        lights: &'a [Light],
+        width: u32,
+        height: u32,
+    ) -> Self {
+        let mut mips = HashMap::new();
+        for material in &scene.materials {
+            for (_, texture) in material.texture_slots() {
+                if let Some(texture) = texture {
+                    let image = &texture.texture.image;
+                    mips.entry(image_key(image))
+                        .or_insert_with(|| MipChain::new(image));
+                }
+            }
+        }
+        SceneShading {
+            scene,
+            bvh,
+            lights,
+            width,
+            height,
+            mips,
+            visibility: None,
+        }
+    }
+
+    /// The same, each light's term multiplied by its exact visibility from the shaded
+    /// point ([`SceneBvh::light_visible_fraction`] with [`SIZED_LIGHT_SAMPLES`]² rays for
+    /// a light with a size): `casters` holds the scene's shadow casters
+    /// ([`SceneBvh::shadow_casters`]). The reference for frames with shadows.
+    pub fn with_visibility(self, casters: &'a SceneBvh) -> Self {
+        SceneShading {
+            visibility: Some(casters),
+            ..self
+        }
+    }
+
+    /// The world-space vertices and scene vertices of `hit`'s triangle.
+    fn triangle(&self, hit: &PrimaryHit) -> Option<([DVec3; 3], [Vertex; 3])> {
+        let object = self.scene.objects.get(hit.object)?;
+        let mesh = self.scene.meshes.get(object.mesh)?;
+        let transform = object.transform.as_dmat4();
+        let mut world = [DVec3::ZERO; 3];
+        let mut vertices = [Vertex::default(); 3];
+        for k in 0..3 {
+            let index = *mesh.indices.get(3 * hit.triangle + k)? as usize;
+            vertices[k] = *mesh.vertices.get(index)?;
+            world[k] = transform.transform_point3(DVec3::from(vertices[k].position.map(f64::from)));
+        }
+        Some((world, vertices))
+    }
+
+    /// The surface pixel (`x`, `y`) shows, `None` where its ray hits nothing.
+    pub fn surface(&self, x: u32, y: u32) -> Option<SurfacePoint> {
+        let scene = self.scene;
+        let hit = primary_hit(scene, self.bvh, self.width, self.height, x, y)?;
+        let object = &scene.objects[hit.object];
+        let material = scene.materials.get(object.material)?;
+        let (world, vertices) = self.triangle(&hit)?;
+        let [b1, b2] = hit.barycentrics;
+        let weights = [1.0 - b1 - b2, b1, b2];
+        let mix2 = |f: fn(&Vertex) -> [f32; 2], w: [f64; 3]| -> DVec2 {
+            (0..3)
+                .map(|k| DVec2::from(f(&vertices[k]).map(f64::from)) * w[k])
+                .sum()
+        };
+        let uv = [mix2(|v| v.uv, weights), mix2(|v| v.uv1, weights)];
+
+        // Texture-coordinate derivatives per pixel: the rays through the neighbouring
+        // pixels' centres (x ± 1, y ± 1), met on the hit triangle's plane, central
+        // differences of their (extrapolated) barycentric interpolation.
+        let camera = &scene.camera;
+        let edge1 = world[1] - world[0];
+        let edge2 = world[2] - world[0];
+        let plane_normal = edge1.cross(edge2);
+        let barycentrics_along = |px: f64, py: f64| -> Option<[f64; 3]> {
+            let ray = camera_ray(camera, self.width, self.height, px, py);
+            let (o, d) = (DVec3::from(ray.origin), DVec3::from(ray.direction));
+            let t = (world[0] - o).dot(plane_normal) / d.dot(plane_normal);
+            let p = o + d * t;
+            let area = plane_normal.length_squared();
+            let w1 = (p - world[0]).cross(edge2).dot(plane_normal) / area;
+            let w2 = edge1.cross(p - world[0]).dot(plane_normal) / area;
+            let w = [1.0 - w1 - w2, w1, w2];
+            w.iter().all(|c| c.is_finite()).then_some(w)
+        };
+        let (cx, cy) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+        let derivative = |a: Option<[f64; 3]>, b: Option<[f64; 3]>| -> [DVec2; 2] {
+            match (a, b) {
+                (Some(a), Some(b)) => {
+                    let w = [0, 1, 2].map(|k| (b[k] - a[k]) * 0.5);
+                    [mix2(|v| v.uv, w), mix2(|v| v.uv1, w)]
+                }
+                _ => [DVec2::ZERO; 2],
+            }
+        };
+        let lookup = TextureLookup {
+            mips: &self.mips,
+            uv,
+            duv_dx: derivative(
+                barycentrics_along(cx - 1.0, cy),
+                barycentrics_along(cx + 1.0, cy),
+            ),
+            duv_dy: derivative(
+                barycentrics_along(cx, cy - 1.0),
+                barycentrics_along(cx, cy + 1.0),
+            ),
+        };
+        Some(self.shade_inputs(hit, material, &vertices, weights, &lookup))
+    }
+
+    fn shade_inputs(
+        &self,
+        hit: PrimaryHit,
+        material: &Material,
+        vertices: &[Vertex; 3],
+        weights: [f64; 3],
+        lookup: &TextureLookup<'_>,
+    ) -> SurfacePoint {
+        let object = &self.scene.objects[hit.object];
+        let linear = DMat3::from_mat4(object.transform.as_dmat4());
+        let eye = self.scene.camera.position.as_dvec3();
+        let position = DVec3::from(hit.position);
+        let v = (eye - position).normalize();
+
+        // The tangent frame: interpolated normal (world, by the inverse transpose:
+        // `hit.normal`), interpolated tangent carried by the transform and made
+        // orthogonal to it, bitangent n × t times the tangent's sign.
+        let mut n = DVec3::from(hit.normal);
+        let tangent_local: DVec3 = (0..3)
+            .map(|k| glam::Vec4::from(vertices[k].tangent).truncate().as_dvec3() * weights[k])
+            .sum();
+        let sign = if (0..3)
+            .map(|k| f64::from(vertices[k].tangent[3]) * weights[k])
+            .sum::<f64>()
+            < 0.0
+        {
+            -1.0
+        } else {
+            1.0
+        };
+        // A tangent along the normal (or not finite) gives way to any orthogonal one.
+        let t_carried = (linear * tangent_local).reject_from_normalized(n);
+        let mut t = if t_carried.length_squared() > 1e-30 {
+            t_carried.normalize()
+        } else {
+            n.any_orthonormal_vector()
+        };
+        let mut b = n.cross(t) * sign;
+
+        // Normal map: n' = TBN · ((m · 2 − 1) ⊙ (scale, scale, 1)), normalised.
+        if let Some(normal_map) = &material.normal_texture {
+            let m = lookup.sample(normal_map);
+            let scale = f64::from(material.normal_scale);
+            let mapped = t * ((m[0] * 2.0 - 1.0) * scale)
+                + b * ((m[1] * 2.0 - 1.0) * scale)
+                + n * (m[2] * 2.0 - 1.0);
+            if mapped.length_squared() > 1e-30 {
+                n = mapped.normalize();
+                t = t.reject_from_normalized(n).normalize();
+                b = n.cross(t) * sign;
+            }
+        }
+        // glTF: a back face of a double-sided material is shaded with the normal
+        // reversed (primary hits see no other back faces).
+        if DVec3::from(hit.geometric_normal).dot(position - eye) > 0.0 {
+            n = -n;
+            b = -b;
+        }
+
+        let base_texture = lookup.sample_or(material.base_color_texture.as_ref(), [1.0; 4]);
+        let base_color: [f64; 3] =
+            std::array::from_fn(|c| f64::from(material.base_color[c]) * base_texture[c]);
+        let metal_rough = lookup.sample_or(material.metallic_roughness_texture.as_ref(), [1.0; 4]);
+        let metalness = f64::from(material.metalness) * metal_rough[2];
+        let roughness = f64::from(material.roughness) * metal_rough[1];
+
+        // KHR_materials_anisotropy: the direction (1, 0) or the texture's RG mapped to
+        // [−1, 1], turned by the rotation, in the (t, b) plane; strength × texture B.
+        let mut strength = f64::from(material.anisotropy_strength);
+        let mut along = DVec2::X;
+        if let Some(texture) = &material.anisotropy_texture {
+            let a = lookup.sample(texture);
+            along = DVec2::new(a[0] * 2.0 - 1.0, a[1] * 2.0 - 1.0);
+            strength *= a[2];
+        }
+        let along = DVec2::from_angle(f64::from(material.anisotropy_rotation)).rotate(along);
+        let direction = t * along.x + b * along.y;
+        let anisotropy_t = if direction.length_squared() > 1e-30 {
+            direction.reject_from_normalized(n).normalize()
+        } else {
+            t
+        };
+        let anisotropy_b = n.cross(anisotropy_t);
+
+        let alpha = alpha_from_perceptual_roughness(roughness);
+        let (alpha_x, alpha_y) = anisotropic_alphas(alpha, strength);
+        let conductor = if material.conductor_from_base_color {
+            conductor_from_reflectivity(base_color.map(|c| c as f32))
+        } else {
+            material.conductor
+        };
+        let brdf = BrdfInputs {
+            base_color,
+            metalness,
+            alpha_x,
+            alpha_y,
+            conductor_eta: conductor.eta.map(f64::from),
+            conductor_k: conductor.k.map(f64::from),
+            dielectric_eta: f64::from(material.dielectric_ior),
+            outside_eta: f64::from(self.scene.outside_ior_of(material)),
+            polarisation_weight: f64::from(material.polarisation_weight),
+            diffuse_model: optics_diffuse(material.diffuse_model),
+            oren_nayar_sigma: oren_nayar_sigma_from_roughness(roughness),
+        };
+
+        let emissive_texture = lookup.sample_or(material.emissive_texture.as_ref(), [1.0; 4]);
+        let emitted = std::array::from_fn(|c| {
+            f64::from(material.emissive_factor[c])
+                * f64::from(material.emissive_strength)
+                * emissive_texture[c]
+        });
+        SurfacePoint {
+            hit,
+            brdf,
+            n,
+            t: anisotropy_t,
+            b: anisotropy_b,
+            v,
+            emitted,
+            roughness,
+            anisotropy_strength: strength,
+        }
+    }
+
+    /// The radiance pixel (`x`, `y`) shows and what it hits; `None` where its ray hits
+    /// nothing.
+    pub fn pixel(&self, x: u32, y: u32) -> Option<ShadedPixel> {
+        let surface = self.surface(x, y)?;
+        let object = surface.hit.object;
+        Some(ShadedPixel {
+            object,
+            material: self.scene.objects[object].material,
+            radiance: self.radiance(&surface),
+            emitted: surface.emitted,
+        })
+    }
+
+    /// The radiance `surface` sends to the eye: its emission plus each light's
+    /// f(v, l) E (n·l), times the light's exact visibility with
+    /// [`SceneShading::with_visibility`].
+    pub fn radiance(&self, surface: &SurfacePoint) -> [f64; 3] {
+        let position = DVec3::from(surface.hit.position);
+        let mut radiance = surface.emitted;
+        for light in self.lights {
+            let (l, irradiance) = light_at(light, position);
+            let cos = surface.n.dot(l);
+            // NaN compares false: a light that cannot be evaluated adds nothing.
+            let faces_light = cos > 0.0;
+            if !faces_light || irradiance.iter().all(|&e| e <= 0.0) {
+                continue;
+            }
+            let visible = match self.visibility {
+                Some(casters) => casters.light_visible_fraction(
+                    surface.hit.position,
+                    surface.n.to_array(),
+                    light,
+                    SIZED_LIGHT_SAMPLES,
+                ),
+                None => 1.0,
+            };
+            if visible == 0.0 {
+                continue;
+            }
+            let f = brdf_evaluate(
+                &surface.brdf,
+                optics_vec(surface.n),
+                optics_vec(surface.t),
+                optics_vec(surface.b),
+                optics_vec(surface.v),
+                optics_vec(l),
+            );
+            for c in 0..3 {
+                radiance[c] += f[c] * irradiance[c] * cos * visible;
+            }
+        }
+        radiance
+    }
+
+    /// [`SceneShading::surface`] for every pixel, row-major from the top-left, on up to
+    /// `threads` threads.
+    pub fn surfaces(&self, threads: usize) -> Vec<Option<SurfacePoint>> {
+        per_pixel(self.width, self.height, threads, |x, y| self.surface(x, y))
+    }
+
+    /// [`SceneShading::pixel`] for every pixel, row-major from the top-left, on up to
+    /// `threads` threads.
+    pub fn render(&self, threads: usize) -> Vec<Option<ShadedPixel>> {
+        per_pixel(self.width, self.height, threads, |x, y| self.pixel(x, y))
+    }
+}
+
+/// What a G-buffer keeps of a surface: the precision each stored input is rounded to
+/// before the lighting pass reads it, so the reference can shade a surface both exactly
+/// and as stored, and a frame's error splits into the storage's share and the rest.
+/// The formats are Combustion's documented G-buffer (docs/gbuffer.md); this models
+/// their rounding from that description, not from the renderer's code.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GBufferPrecision {
+    /// Bits of the base colour, stored through the sRGB curve (unorm).
+    pub base_color_srgb_bits: u32,
+    /// Bits of the metalness (linear unorm).
+    pub metalness_bits: u32,
+    /// Bits of the perceptual roughness and of the anisotropy strength (linear unorm).
+    pub roughness_bits: u32,
+    /// Bits of each of the normal's two octahedral coordinates (unorm).
+    pub normal_octahedral_bits: u32,
+}
+
+impl GBufferPrecision {
+    /// Combustion's G-buffer: 8-bit sRGB base colour, 8-bit metalness, 16-bit roughness,
+    /// anisotropy strength and octahedral normal.
+    pub const COMBUSTION: GBufferPrecision = GBufferPrecision {
+        base_color_srgb_bits: 8,
+        metalness_bits: 8,
+        roughness_bits: 16,
+        normal_octahedral_bits: 16,
+    };
+
+    /// `surface` as the G-buffer stores it, for a material whose conductor is derived
+    /// from the base colour when `conductor_from_base_color` (then derived again from
+    /// the stored base colour): each input rounded to the nearest stored value.
+    pub fn store(&self, surface: &SurfacePoint, conductor_from_base_color: bool) -> SurfacePoint {
+        let unorm = |x: f64, bits: u32| {
+            let steps = f64::from((1u32 << bits) - 1);
+            (x.clamp(0.0, 1.0) * steps).round() / steps
+        };
+        let mut stored = *surface;
+        let m = &mut stored.brdf;
+        m.base_color = m
+            .base_color
+            .map(|c| srgb_decode(unorm(srgb_encode(c), self.base_color_srgb_bits)));
+        if conductor_from_base_color {
+            let conductor = conductor_from_reflectivity(m.base_color.map(|c| c as f32));
+            m.conductor_eta = conductor.eta.map(f64::from);
+            m.conductor_k = conductor.k.map(f64::from);
+        }
+        m.metalness = unorm(m.metalness, self.metalness_bits);
+        // α and the anisotropic α_t come from the stored r and s.
+        let roughness = unorm(surface.roughness, self.roughness_bits);
+        let strength = unorm(surface.anisotropy_strength, self.roughness_bits);
+        (m.alpha_x, m.alpha_y) =
+            anisotropic_alphas(alpha_from_perceptual_roughness(roughness), strength);
+        stored.roughness = roughness;
+        stored.anisotropy_strength = strength;
+        m.oren_nayar_sigma = oren_nayar_sigma_from_roughness(roughness);
+        let n = octahedral_decode(
+            octahedral_encode(surface.n).map(|c| unorm(c, self.normal_octahedral_bits)),
+        );
+        stored.t = surface.t.reject_from_normalized(n).normalize_or(surface.t);
+        stored.b = n.cross(stored.t);
+        stored.n = n;
+        stored
+    }
+}
+
+/// The sRGB encoding of a linear value in [0, 1] (IEC 61966-2-1), the inverse of
+/// [`srgb_decode`].
+pub fn srgb_encode(linear: f64) -> f64 {
+    let c = linear.clamp(0.0, 1.0);
+    if c <= 0.0031308 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The octahedral map of a unit vector to [0, 1]² (Cigolle et al. 2014).
+pub fn octahedral_encode(n: DVec3) -> [f64; 2] {
+    let p = n / (n.x.abs() + n.y.abs() + n.z.abs());
+    let (x, y) = if p.z >= 0.0 {
+        (p.x, p.y)
+    } else {
+        (
+            (1.0 - p.y.abs()) * p.x.signum(),
+            (1.0 - p.x.abs()) * p.y.signum(),
+        )
+    };
+    [x * 0.5 + 0.5, y * 0.5 + 0.5]
+}
+
+/// The unit vector of an octahedral map's point (the inverse of [`octahedral_encode`]).
+pub fn octahedral_decode(e: [f64; 2]) -> DVec3 {
+    let (x, y) = (e[0] * 2.0 - 1.0, e[1] * 2.0 - 1.0);
+    let z = 1.0 - x.abs() - y.abs();
+    let (x, y) = if z < 0.0 {
+        ((1.0 - y.abs()) * x.signum(), (1.0 - x.abs()) * y.signum())
+    } else {
+        (x, y)
+    };
+    DVec3::new(x, y, z).normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn spot(inner: f32, outer: f32, range: Option<f32>) -> Light {
+        Light::Spot {
+            position: Vec3::new(0.0, 2.0, 0.0),
+            direction: Vec3::NEG_Y,
+            intensity: [4.0, 2.0, 1.0],
+            inner_cone: inner,
+            outer_cone: outer,
+            range,
+            casts_shadows: false,
+            radius: 0.0,
+        }
+    }
+
+    /// A spot light by hand: on the axis 2 m below, I/d² = 1 W/m² for I = 4; at 45°
+    /// off the axis of a 30°/60° cone, the ramp (cos 45° − cos 60°)/(cos 30° − cos 60°)
+    /// = 0.5658, squared 0.3201, times I/d² at d = 2√2; outside the outer cone, nothing;
+    /// a range of 4 m windows d = 2 by (1 − (1/2)⁴)² = 0.8789.
+    #[test]
+    fn spot_lights_by_hand() {
+        let light = spot(30f32.to_radians(), 60f32.to_radians(), None);
+        let (l, e) = light_at(&light, DVec3::ZERO);
+        assert!((l - DVec3::Y).length() < 1e-12);
+        assert!((e[0] - 1.0).abs() < 1e-12 && (e[2] - 0.25).abs() < 1e-12);
+        let (cos30, cos45, cos60) = (0.75f64.sqrt(), 0.5f64.sqrt(), 0.5);
+        let ramp = (cos45 - cos60) / (cos30 - cos60);
+        let (_, e) = light_at(&light, DVec3::new(2.0, 0.0, 0.0));
+        assert!((e[0] - 4.0 / 8.0 * ramp * ramp).abs() < 1e-6, "{e:?}");
+        let (_, e) = light_at(&light, DVec3::new(10.0, 1.9, 0.0));
+        assert_eq!(e, [0.0; 3]);
+        let ranged = spot(30f32.to_radians(), 60f32.to_radians(), Some(4.0));
+        let (_, e) = light_at(&ranged, DVec3::ZERO);
+        assert!((e[0] - (1.0 - 1.0 / 16.0f64).powi(2)).abs() < 1e-12);
+    }
+
+    /// A directional light gives its irradiance from against its direction.
+    #[test]
+    fn directional_light_by_hand() {
+        let light = Light::Directional {
+            direction: Vec3::new(0.0, -2.0, 0.0),
+            irradiance: [3.0, 2.0, 1.0],
+            casts_shadows: false,
+            angular_diameter: 0.0,
+        };
+        let (l, e) = light_at(&light, DVec3::new(5.0, 6.0, 7.0));
+        assert_eq!((l, e), (DVec3::Y, [3.0, 2.0, 1.0]));
+    }
+
+    /// The octahedral map is its own inverse in f64 over the whole sphere.
+    #[test]
+    fn octahedral_round_trip() {
+        for i in 0..2000 {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / 2000.0;
+            let phi = i as f64 * 2.399963;
+            let r = (1.0 - z * z).sqrt();
+            let n = DVec3::new(r * phi.cos(), r * phi.sin(), z);
+            let back = octahedral_decode(octahedral_encode(n));
+            assert!((back - n).length() < 1e-12, "{n} → {back}");
+        }
+    }
+
+    /// Stored in 8-bit sRGB, a base colour of 0.8 becomes code 231, 0.79910 (1.12e-3
+    /// low: the whole error of a Lambert floor of that colour); 16-bit roughness 0.3
+    /// stays within 1/131070, an 8-bit metalness of 0.5 rounds to 128/255, and the
+    /// normal turns by less than the octahedral format's bound.
+    #[test]
+    fn storage_rounds_as_the_formats_say() {
+        let brdf = BrdfInputs {
+            base_color: [0.8; 3],
+            metalness: 0.5,
+            alpha_x: 0.09,
+            alpha_y: 0.09,
+            conductor_eta: [1.0; 3],
+            conductor_k: [0.0; 3],
+            dielectric_eta: 1.5,
+            outside_eta: 1.0,
+            polarisation_weight: 0.5,
+            diffuse_model: OpticsDiffuse::Lambert,
+            oren_nayar_sigma: 0.0,
+        };
+        let surface = SurfacePoint {
+            hit: PrimaryHit {
+                object: 0,
+                triangle: 0,
+                barycentrics: [0.0; 2],
+                position: [0.0; 3],
+                normal: [0.0, 1.0, 0.0],
+                geometric_normal: [0.0, 1.0, 0.0],
+                view_depth: 1.0,
+            },
+            brdf,
+            n: DVec3::Y,
+            t: DVec3::X,
+            b: DVec3::NEG_Z,
+            v: DVec3::Y,
+            emitted: [0.0; 3],
+            roughness: 0.3,
+            anisotropy_strength: 0.0,
+        };
+        let stored = GBufferPrecision::COMBUSTION.store(&surface, false);
+        let expected = srgb_decode(231.0 / 255.0);
+        assert!((stored.brdf.base_color[0] - expected).abs() < 1e-15);
+        assert!((expected / 0.8 - 1.0 + 1.1216e-3).abs() < 1e-6);
+        assert_eq!(stored.brdf.metalness, 128.0 / 255.0);
+        assert!((stored.roughness - 0.3).abs() <= 0.5 / 65535.0);
+        // 0.5 has no 16-bit unorm code: +y moves by half a step, within the format's
+        // documented 6.3e-5 rad.
+        let angle = stored.n.angle_between(DVec3::Y);
+        assert!(angle > 0.0 && angle < 6.3e-5, "{angle}");
+        assert!(stored.t.dot(stored.n).abs() < 1e-12);
+    }
+}
