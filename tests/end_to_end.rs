@@ -23,13 +23,17 @@
 
 mod common;
 
-use combustion::reference::primary::primary_hits;
-use combustion::reference::shading::{GBufferPrecision, SceneShading};
+use combustion::optics::diffuse::oren_nayar_sigma_from_roughness;
+use combustion::optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
+use combustion::reference::primary::{camera_ray, primary_hits};
+use combustion::reference::shading::{GBufferPrecision, SceneShading, SurfacePoint};
+use combustion::reference::texture::{srgb_decode, srgb_encode};
 use combustion::reference::SceneBvh;
 use combustion::renderer::gbuffer::octahedral_decode;
 use combustion::renderer::reference::RADIANCE_FLOOR;
 use combustion::renderer::Readback;
 use combustion::scene::{builtin_scene, Light, Scene, BUILTIN_SCENES};
+use combustion::scene::{conductor_from_reflectivity, Material};
 use glam::DVec3;
 
 const W: u32 = 160;
@@ -159,19 +163,227 @@ const POSITION_RELATIVE: f64 = 1e-5;
 /// from silhouettes, radians (the normal bound above).
 const NORMAL_ANGLE: f64 = 1e-4;
 
-/// Mean, 99th percentile and maximum of `errors`.
-fn summary(mut errors: Vec<f64>) -> (f64, f64, f64) {
-    errors.sort_by(f64::total_cmp);
-    let n = errors.len().max(1);
-    let mean = errors.iter().sum::<f64>() / n as f64;
-    let at = |q: usize| errors.get((n - 1) * q / 100).copied().unwrap_or(0.0);
-    (mean, at(99), at(100))
+/// Mean, median, 99th percentile and maximum of `values`.
+struct Summary {
+    mean: f64,
+    median: f64,
+    p99: f64,
+    max: f64,
+}
+
+fn summary(values: &[f64]) -> Summary {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len().max(1);
+    let at = |q: usize| sorted.get((n - 1) * q / 100).copied().unwrap_or(0.0);
+    Summary {
+        mean: sorted.iter().sum::<f64>() / n as f64,
+        median: at(50),
+        p99: at(99),
+        max: at(100),
+    }
+}
+
+/// Where a float-to-unorm conversion may round the other way: within this fraction of
+/// a step of a tie (Vulkan allows either neighbouring code; lavapipe was seen taking the
+/// lower one 1.3e-6 of a step above a tie, its f32 product's rounding).
+const TIE_MARGIN: f64 = 1e-3;
+
+/// The relative error of the driver's sRGB decoding of `_SRGB` textures (lavapipe's is a
+/// polynomial measured at ≈ 0.4 %: docs/gbuffer.md, "sRGB by hand").
+const SRGB_TEXTURE_DECODE: f64 = 4e-3;
+
+/// The device's sub-texel precision (`VkPhysicalDeviceLimits::subTexelPrecisionBits`;
+/// lavapipe reports 8): a filter's sample position is rounded to 2^−bits of a texel.
+const SUB_TEXEL_BITS: i32 = 8;
+
+/// Codes of 8-bit error a texture value may carry at level of detail `lod` where the
+/// filter's neighbouring texels differ by up to `contrast` (code / 255): half a code for
+/// the filter's output (lavapipe filters 8-bit textures in 8-bit arithmetic); the sample
+/// position's rounding, half a sub-texel step on each axis, times that contrast; and
+/// half a code for each 8-bit level the mip chain stores on the way down (each level is
+/// made from the one above and rounded again).
+fn texture_codes(lod: f64, contrast: f64) -> f64 {
+    let sub_texel = 2.0 * contrast * 255.0 * 2f64.powi(-SUB_TEXEL_BITS - 1);
+    0.5 + sub_texel + 0.5 * lod.max(0.0).ceil()
+}
+
+/// The radiance of `surface` with its normal turned by `angle` in eight directions of
+/// its tangent plane (along ±t, ±b and the diagonals): the largest relative change.
+fn turned_normal_change(shading: &SceneShading, surface: &SurfacePoint, angle: f64) -> f64 {
+    let reference = shading.radiance(surface);
+    (0..8)
+        .map(|k| {
+            let (sin, cos) = (f64::from(k) * std::f64::consts::FRAC_PI_4).sin_cos();
+            let axis = surface.t * cos + surface.b * sin;
+            let mut turned = *surface;
+            turned.n = (surface.n + axis * angle.tan()).normalize();
+            turned.t = surface.t.reject_from_normalized(turned.n).normalize();
+            turned.b = turned.n.cross(turned.t);
+            relative(shading.radiance(&turned), reference)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// How far the GPU's radiance may lie from the reference's for `stored` (a surface as
+/// the G-buffer stores it; `exact` before storage) besides [`SHADING_F32`], relative: each source of deviation
+/// the formats and the Vulkan specification allow, carried through the shading by the
+/// reference itself (a highlight's peak or a spot cone's edge is steep, a Lambert floor
+/// is not), the sources summed (first order):
+/// - the normal turned by [`NORMAL_ANGLE`], or by what a normal map's texture error
+///   allows (2·codes/255 in x and y, times its scale);
+/// - the point moved by [`POSITION_RELATIVE`] of its view distance;
+/// - a conversion rounding the other way near a tie ([`TIE_MARGIN`]);
+/// - textures sampled half a level finer or coarser (`lod_neighbours`: the Vulkan scale
+///   factor's latitude), and every textured input off by [`texture_codes`] 8-bit codes.
+fn allowance(
+    shading: &SceneShading,
+    material: &Material,
+    exact: &SurfacePoint,
+    stored: &SurfacePoint,
+    lod_neighbours: &[SurfacePoint],
+) -> f64 {
+    let reference = shading.radiance(stored);
+    let change = |other: &SurfacePoint| relative(shading.radiance(other), reference);
+    let largest = |others: &mut dyn Iterator<Item = SurfacePoint>| {
+        others.map(|o| change(&o)).fold(0.0, f64::max)
+    };
+    let codes = stored
+        .texture_lod
+        .map_or(0.0, |lod| texture_codes(lod, stored.texture_contrast));
+    let step = codes / 255.0;
+
+    let mut normal_angle = NORMAL_ANGLE;
+    if material.normal_texture.is_some() {
+        let tilt =
+            (2.0 * step * std::f64::consts::SQRT_2 * f64::from(material.normal_scale).abs()).atan();
+        normal_angle = normal_angle.max(tilt);
+    }
+    let mut total = turned_normal_change(shading, stored, normal_angle);
+
+    let distance = POSITION_RELATIVE * stored.hit.view_depth;
+    total += largest(
+        &mut [
+            DVec3::X,
+            DVec3::NEG_X,
+            DVec3::Y,
+            DVec3::NEG_Y,
+            DVec3::Z,
+            DVec3::NEG_Z,
+        ]
+        .into_iter()
+        .map(|axis| {
+            let mut moved = *stored;
+            moved.hit.position = (DVec3::from(stored.hit.position) + axis * distance).to_array();
+            moved
+        }),
+    );
+
+    let other_way = GBufferPrecision::COMBUSTION.store_other_way_near_ties(
+        exact,
+        material.conductor_from_base_color,
+        TIE_MARGIN,
+    );
+    total += change(&other_way);
+    total += largest(&mut lod_neighbours.iter().copied());
+
+    // Textured inputs: the exact value shifted by the texture's error (and, for the
+    // 8-bit targets, half a code of the G-buffer's own rounding, which may then go
+    // either way), against the reference as stored.
+    if material.base_color_texture.is_some() {
+        let shift = step + 0.5 / 255.0;
+        let shifts = [
+            (-shift, 1.0 - SRGB_TEXTURE_DECODE),
+            (shift, 1.0 + SRGB_TEXTURE_DECODE),
+        ];
+        total += largest(&mut shifts.into_iter().map(|(d, factor)| {
+            let mut shifted = *exact;
+            shifted.brdf.base_color = exact
+                .brdf
+                .base_color
+                .map(|c| (srgb_decode((srgb_encode(c) + d).clamp(0.0, 1.0)) * factor).min(1.0));
+            if material.conductor_from_base_color {
+                let conductor =
+                    conductor_from_reflectivity(shifted.brdf.base_color.map(|c| c as f32));
+                shifted.brdf.conductor_eta = conductor.eta.map(f64::from);
+                shifted.brdf.conductor_k = conductor.k.map(f64::from);
+            }
+            shifted
+        }));
+    }
+    if material.metallic_roughness_texture.is_some() {
+        let metal_step = step * f64::from(material.metalness) + 0.5 / 255.0;
+        total += largest(&mut [-metal_step, metal_step].into_iter().map(|d| {
+            let mut shifted = *exact;
+            shifted.brdf.metalness = (exact.brdf.metalness + d).clamp(0.0, 1.0);
+            shifted
+        }));
+        let rough_step = step * f64::from(material.roughness) + 0.5 / 65535.0;
+        total += largest(
+            &mut [-rough_step, rough_step]
+                .into_iter()
+                .map(|d| with_roughness(exact, exact.roughness + d, exact.anisotropy_strength)),
+        );
+    }
+    if material.anisotropy_texture.is_some() {
+        let strength_step = step * f64::from(material.anisotropy_strength);
+        total += largest(
+            &mut [-strength_step, strength_step]
+                .into_iter()
+                .map(|d| with_roughness(stored, stored.roughness, stored.anisotropy_strength + d)),
+        );
+        let turn = (2.0 * step * std::f64::consts::SQRT_2).atan();
+        total += largest(&mut [-turn, turn].into_iter().map(|angle| {
+            let mut turned = *stored;
+            let rotation = glam::DQuat::from_axis_angle(stored.n, angle);
+            turned.t = rotation * stored.t;
+            turned.b = stored.n.cross(turned.t);
+            turned
+        }));
+    }
+    if material.emissive_texture.is_some() {
+        // Emission adds to the radiance: its own shift, channel by channel.
+        let scale = material
+            .emissive_factor
+            .map(|f| f64::from(f) * f64::from(material.emissive_strength));
+        let shift: [f64; 3] = std::array::from_fn(|c| {
+            let e = if scale[c] > 0.0 {
+                exact.emitted[c] / scale[c]
+            } else {
+                0.0
+            };
+            let shifted =
+                srgb_decode((srgb_encode(e) + step).min(1.0)) * (1.0 + SRGB_TEXTURE_DECODE);
+            scale[c] * (shifted - e)
+        });
+        total += (0..3)
+            .map(|c| shift[c] / reference[c].abs().max(RADIANCE_FLOOR))
+            .fold(0.0, f64::max);
+    }
+    total
+}
+
+/// `surface` with roughness `roughness` and anisotropy strength `strength` (each
+/// clamped to [0, 1]): its α and Oren–Nayar σ follow.
+fn with_roughness(surface: &SurfacePoint, roughness: f64, strength: f64) -> SurfacePoint {
+    let mut out = *surface;
+    out.roughness = roughness.clamp(0.0, 1.0);
+    out.anisotropy_strength = strength.clamp(0.0, 1.0);
+    (out.brdf.alpha_x, out.brdf.alpha_y) = anisotropic_alphas(
+        alpha_from_perceptual_roughness(out.roughness),
+        out.anisotropy_strength,
+    );
+    out.brdf.oren_nayar_sigma = oren_nayar_sigma_from_roughness(out.roughness);
+    out
 }
 
 /// A frame compared with the f64 reference shaded from its scene alone.
 struct SceneComparison {
     compared: usize,
-    /// Pixels showing another material than the ray sees, away from any silhouette.
+    /// Compared pixels the reference has above [`RADIANCE_FLOOR`] in some channel.
+    lit: usize,
+    /// Pixels showing another material than the ray sees, with no ray within a
+    /// rasteriser's sub-pixel snapping of the pixel's centre seeing it either.
     away: Vec<(u32, u32)>,
     /// Per compared pixel: the GPU's relative error against the exact reference.
     total: Vec<f64>,
@@ -180,20 +392,58 @@ struct SceneComparison {
     storage: Vec<f64>,
     /// Per compared pixel: the GPU against the reference shaded from the stored inputs.
     rest: Vec<f64>,
+    /// Per compared pixel: the bound `rest` is held to.
+    bounds: Vec<f64>,
     /// Pixels whose `rest` exceeds their bound: (x, y, error, bound).
     beyond: Vec<(u32, u32, f64, f64)>,
 }
 
-/// Renders `scene` with `frame_lights` on lavapipe at `width`×`height` and compares each
-/// pixel with `SceneShading` of the scene and its own lights.
-///
-/// Each pixel's bound, for the GPU against the reference shaded from the inputs as the
-/// G-buffer stores them (`GBufferPrecision::COMBUSTION`): [`SHADING_F32`] plus how much the
-/// reference's radiance changes when the normal turns by [`NORMAL_ANGLE`] (four ways) or
-/// the point moves by [`POSITION_RELATIVE`] of its view distance (six ways) — the
-/// G-buffer test's own bounds, carried through the shading by the reference itself (a
-/// highlight's peak or a spot cone's edge is steep, a Lambert floor is not). Pixels at a
-/// silhouette are counted, not compared.
+impl SceneComparison {
+    fn describe(&self, name: &str, width: u32, height: u32) -> String {
+        let (total, storage, rest, bounds) = (
+            summary(&self.total),
+            summary(&self.storage),
+            summary(&self.rest),
+            summary(&self.bounds),
+        );
+        format!(
+            "{name} {width}x{height}: {} pixels compared; error against the exact reference mean {:.1e}, \
+             p99 {:.1e}, max {:.1e}; the G-buffer storage's share mean {:.1e}, max {:.1e}; \
+             the rest mean {:.1e}, max {:.1e}, against bounds of median {:.1e}, p99 {:.1e}",
+            self.compared, total.mean, total.p99, total.max, storage.mean, storage.max, rest.mean,
+            rest.max, bounds.median, bounds.p99
+        )
+    }
+
+    /// Fails unless every pixel agrees on what it shows (silhouettes aside) and every
+    /// compared pixel is within its bound.
+    fn assert_within_bounds(&self, name: &str) {
+        assert!(
+            self.compared > 500,
+            "{name}: {} pixels compared",
+            self.compared
+        );
+        assert!(
+            self.away.is_empty(),
+            "{name}: {} pixels show another material away from any silhouette, e.g. {:?}",
+            self.away.len(),
+            &self.away[..self.away.len().min(6)]
+        );
+        assert!(
+            self.beyond.is_empty(),
+            "{name}: {} pixels beyond their bound (x, y, error, bound), e.g. {:?}",
+            self.beyond.len(),
+            &self.beyond[..self.beyond.len().min(6)]
+        );
+    }
+}
+
+/// Renders `scene` lit by `frame_lights` on lavapipe at `width`×`height` and compares each
+/// pixel with `SceneShading` of the scene lit by its own lights: the GPU's radiance
+/// against the reference shaded from the inputs as the G-buffer stores them
+/// (`GBufferPrecision::COMBUSTION`), within [`SHADING_F32`] plus the pixel's
+/// [`allowance`]. Pixels at a silhouette (within one pixel of a pixel whose ray sees
+/// another material or nothing) are counted, not compared.
 fn compare_with_scene(
     scene: &Scene,
     frame_lights: &[Light],
@@ -205,9 +455,27 @@ fn compare_with_scene(
     let bvh = SceneBvh::new(scene);
     let shading = SceneShading::new(scene, &bvh, &scene.lights, width, height);
     let surfaces = shading.surfaces(2);
+    // Textures sampled half a level finer and coarser (the Vulkan scale factor's
+    // latitude), where the scene has any.
+    let textured = scene
+        .materials
+        .iter()
+        .any(|m| m.texture_slots().iter().any(|(_, t)| t.is_some()));
+    let lod_extremes: Vec<Vec<Option<SurfacePoint>>> = if textured {
+        [-0.5, 0.5]
+            .map(|bias| {
+                SceneShading::new(scene, &bvh, &scene.lights, width, height)
+                    .with_lod_bias(bias)
+                    .surfaces(2)
+            })
+            .into()
+    } else {
+        Vec::new()
+    };
+    let material_of = |s: &SurfacePoint| scene.objects[s.hit.object].material;
     let seen: Vec<Option<usize>> = surfaces
         .iter()
-        .map(|s| s.map(|s| scene.objects[s.hit.object].material))
+        .map(|s| s.as_ref().map(material_of))
         .collect();
     let at_silhouette = |x: u32, y: u32| {
         let own = seen[(y * width + x) as usize];
@@ -216,12 +484,33 @@ fn compare_with_scene(
                 .any(|xx| seen[(yy * width + xx) as usize] != own)
         })
     };
+    // Whether a ray within two sub-pixel steps (2/256 of a pixel: the rasteriser snaps
+    // vertices to 2^-subPixelPrecisionBits, 8 on lavapipe) of the pixel's centre sees
+    // `material`: geometry thinner than a pixel has no silhouette pixel beside it.
+    let seen_within_snapping = |x: u32, y: u32, material: Option<usize>| {
+        let reach = 2.0 / 256.0;
+        (0..8).any(|k| {
+            let (sin, cos) = (f64::from(k) * std::f64::consts::FRAC_PI_4).sin_cos();
+            let ray = camera_ray(
+                &scene.camera,
+                width,
+                height,
+                f64::from(x) + 0.5 + reach * cos,
+                f64::from(y) + 0.5 + reach * sin,
+            );
+            let camera = &scene.camera;
+            let hit = bvh.closest_hit(&ray, f64::from(camera.near), f64::from(camera.far));
+            hit.map(|h| scene.objects[h.object].material) == material
+        })
+    };
     let mut out = SceneComparison {
         compared: 0,
+        lit: 0,
         away: Vec::new(),
         total: Vec::new(),
         storage: Vec::new(),
         rest: Vec::new(),
+        bounds: Vec::new(),
         beyond: Vec::new(),
     };
     for y in 0..height {
@@ -231,7 +520,7 @@ fn compare_with_scene(
             let gpu_material =
                 (texel.depth < 1.0).then_some(usize::from(texel.material_direction[0]));
             if gpu_material != seen[i] {
-                if !at_silhouette(x, y) {
+                if !at_silhouette(x, y) && !seen_within_snapping(x, y, gpu_material) {
                     out.away.push((x, y));
                 }
                 continue;
@@ -242,39 +531,27 @@ fn compare_with_scene(
             if at_silhouette(x, y) {
                 continue;
             }
-            let material = &scene.materials[scene.objects[surface.hit.object].material];
+            let material = &scene.materials[material_of(&surface)];
+            let store = |s: &SurfacePoint| {
+                GBufferPrecision::COMBUSTION.store(s, material.conductor_from_base_color)
+            };
             let exact = shading.radiance(&surface);
-            let stored =
-                GBufferPrecision::COMBUSTION.store(&surface, material.conductor_from_base_color);
+            let stored = store(&surface);
             let as_stored = shading.radiance(&stored);
             let gpu = [0, 1, 2].map(|c| f64::from(frame.hdr[i][c]));
-            let mut sensitivity = 0.0f64;
-            for axis in [stored.t, -stored.t, stored.b, -stored.b] {
-                let mut turned = stored;
-                turned.n = (stored.n + axis * NORMAL_ANGLE.tan()).normalize();
-                turned.t = stored.t.reject_from_normalized(turned.n).normalize();
-                turned.b = turned.n.cross(turned.t);
-                sensitivity = sensitivity.max(relative(shading.radiance(&turned), as_stored));
-            }
-            let step = POSITION_RELATIVE * stored.hit.view_depth;
-            for axis in [
-                DVec3::X,
-                DVec3::NEG_X,
-                DVec3::Y,
-                DVec3::NEG_Y,
-                DVec3::Z,
-                DVec3::NEG_Z,
-            ] {
-                let mut moved = stored;
-                moved.hit.position = (DVec3::from(stored.hit.position) + axis * step).to_array();
-                sensitivity = sensitivity.max(relative(shading.radiance(&moved), as_stored));
-            }
-            let bound = SHADING_F32 + sensitivity;
+            let lod_neighbours: Vec<SurfacePoint> = lod_extremes
+                .iter()
+                .filter_map(|extreme| extreme[i].as_ref().map(store))
+                .collect();
+            let bound =
+                SHADING_F32 + allowance(&shading, material, &surface, &stored, &lod_neighbours);
             let rest = relative(gpu, as_stored);
             out.compared += 1;
+            out.lit += usize::from(exact.iter().any(|&c| c > RADIANCE_FLOOR));
             out.total.push(relative(gpu, exact));
             out.storage.push(relative(as_stored, exact));
             out.rest.push(rest);
+            out.bounds.push(bound);
             if rest > bound {
                 out.beyond.push((x, y, rest, bound));
             }
@@ -296,54 +573,113 @@ fn the_frame_is_what_the_scene_shows() {
         if scene.environment.is_some() {
             continue;
         }
-        let c = compare_with_scene(&scene, &scene.lights, W, H);
-        let (total, storage, rest) = (summary(c.total), summary(c.storage), summary(c.rest));
-        eprintln!(
-            "{name} {W}x{H}: {} pixels compared; error mean {:.1e}, p99 {:.1e}, max {:.1e}; \
-             of it the G-buffer's storage mean {:.1e}, max {:.1e}; the rest mean {:.1e}, max {:.1e}",
-            c.compared, total.0, total.1, total.2, storage.0, storage.2, rest.0, rest.2
-        );
-        assert!(c.compared > 1000, "{name}: {} pixels compared", c.compared);
-        assert!(
-            c.away.is_empty(),
-            "{name}: {} pixels show another material away from any silhouette, e.g. {:?}",
-            c.away.len(),
-            &c.away[..c.away.len().min(6)]
-        );
-        assert!(
-            c.beyond.is_empty(),
-            "{name}: {} pixels beyond their bound (x, y, error, bound), e.g. {:?}",
-            c.beyond.len(),
-            &c.beyond[..c.beyond.len().min(6)]
-        );
+        let comparison = compare_with_scene(&scene, &scene.lights, W, H);
+        eprintln!("{}", comparison.describe(name, W, H));
+        comparison.assert_within_bounds(name);
     }
 }
 
-/// The comparison sees a light 1 % too bright: the same frame rendered with every
-/// light's power × 1.01 puts most lit pixels beyond their bound.
+fn workspace() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The project's own glTF scenes (assets/scenes): every texture slot with nearest,
+/// clamped, mirrored and trilinear samplers, a normal map and an anisotropy texture, a
+/// base-colour metal, point, spot and directional lights; the optics extension's
+/// conductors, outside media and diffuse models, a MikkTSpace-tangent sphere. Each is
+/// read by the importer and then compared with the f64 reference of the scene it gave.
 #[test]
-fn the_scene_comparison_sees_a_one_percent_light_error() {
-    let scene = builtin_scene("spot-box").unwrap();
-    let brighter: Vec<Light> = scene
-        .lights
+fn the_authored_gltf_scenes_are_what_they_show() {
+    for name in ["textured", "optics"] {
+        let path = workspace().join(format!("assets/scenes/{name}/{name}.gltf"));
+        let scene = combustion::SceneSource::File(path).load().unwrap();
+        let comparison = compare_with_scene(&scene, &scene.lights, W, H);
+        eprintln!("{}", comparison.describe(name, W, H));
+        comparison.assert_within_bounds(name);
+    }
+}
+
+/// `scene` lit by a directional light from above the camera's right shoulder instead of
+/// an environment, if it has no lights of its own (the reference does not integrate
+/// environments per pixel).
+fn lit_for_comparison(mut scene: Scene) -> Scene {
+    if scene.lights.is_empty() {
+        scene.environment = None;
+        let camera = scene.camera;
+        let forward = (camera.target - camera.position).normalize();
+        scene.lights.push(Light::Directional {
+            direction: (forward + glam::Vec3::new(0.3, -0.8, 0.2)).normalize(),
+            irradiance: [2.0; 3],
+            casts_shadows: false,
+            angular_diameter: 0.0,
+        });
+    }
+    scene
+}
+
+/// Khronos sample models (../shared/data/gltf) with textures, normal maps, anisotropy
+/// textures, double-sided planes and a lamp of point lights: compared as above. Without
+/// ../shared the test says so and passes, unless `COMBUSTION_REQUIRE_SHARED` is set.
+#[test]
+fn the_sample_models_are_what_they_show() {
+    let Some(root) = common::shared_gltf_samples() else {
+        return;
+    };
+    for model in [
+        "BoxTextured",
+        "TwoSidedPlane",
+        "AnisotropyRotationTest",
+        "MetalRoughSpheresNoTextures",
+        "LightsPunctualLamp",
+        "SpecularTest",
+    ] {
+        let path = root.join(model).join(format!("glTF/{model}.gltf"));
+        let scene = combustion::SceneSource::File(path).load().unwrap();
+        let scene = lit_for_comparison(scene);
+        let comparison = compare_with_scene(&scene, &scene.lights, W, H);
+        eprintln!("{}", comparison.describe(model, W, H));
+        comparison.assert_within_bounds(model);
+    }
+}
+
+/// `lights` with every power × `factor`.
+fn scaled(lights: &[Light], factor: f32) -> Vec<Light> {
+    lights
         .iter()
         .map(|light| {
             let mut light = light.clone();
             match &mut light {
                 Light::Point { intensity, .. } | Light::Spot { intensity, .. } => {
-                    *intensity = intensity.map(|i| i * 1.01)
+                    *intensity = intensity.map(|i| i * factor)
                 }
-                Light::Directional { irradiance, .. } => *irradiance = irradiance.map(|e| e * 1.01),
+                Light::Directional { irradiance, .. } => {
+                    *irradiance = irradiance.map(|e| e * factor)
+                }
             }
             light
         })
-        .collect();
-    let c = compare_with_scene(&scene, &brighter, W, H);
-    let lit = c.total.iter().filter(|&&e| e > 0.0).count();
-    eprintln!(
-        "{} of {} lit pixels beyond their bound",
-        c.beyond.len(),
-        lit
-    );
-    assert!(c.beyond.len() * 2 > lit, "{} of {lit}", c.beyond.len());
+        .collect()
+}
+
+/// The comparison sees a light too bright: the same frame rendered with every light's
+/// power × 1.01 puts most lit pixels of a built-in scene beyond their bound; on the
+/// textured glTF scene, whose 8-bit textures widen the bounds (half a code and more of
+/// a dark checker is a few per cent), a 10 % error does.
+#[test]
+fn the_scene_comparison_sees_a_light_error() {
+    let textured = workspace().join("assets/scenes/textured/textured.gltf");
+    for (name, scene, factor) in [
+        ("spot-box", builtin_scene("spot-box").unwrap(), 1.01),
+        (
+            "textured",
+            combustion::SceneSource::File(textured).load().unwrap(),
+            1.1,
+        ),
+    ] {
+        let comparison = compare_with_scene(&scene, &scaled(&scene.lights, factor), W, H);
+        let beyond = comparison.beyond.len();
+        let lit = comparison.lit;
+        eprintln!("{name}: {beyond} of {lit} lit pixels beyond their bound");
+        assert!(beyond * 2 > lit, "{name}: {beyond} of {lit}");
+    }
 }

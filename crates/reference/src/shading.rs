@@ -33,7 +33,7 @@ use std::sync::Arc;
 
 use crate::primary::{camera_ray, per_pixel, primary_hit, PrimaryHit};
 use crate::texture::{
-    level_of_detail, srgb_decode, transformed_derivative, transformed_uv, MipChain,
+    level_of_detail, srgb_decode, srgb_encode, transformed_derivative, transformed_uv, MipChain,
 };
 use crate::SceneBvh;
 
@@ -75,6 +75,14 @@ pub struct SurfacePoint {
     pub emitted: [f64; 3],
     /// The perceptual roughness r the BRDF's α come from (factor × texture).
     pub roughness: f64,
+    /// Texture coordinates (sets 0 and 1) at the hit, before any KHR_texture_transform.
+    pub uv: [[f64; 2]; 2],
+    /// The largest level of detail λ at which a texture was sampled here (`None`: the
+    /// material has no texture); below 0 the textures are magnified.
+    pub texture_lod: Option<f64>,
+    /// The largest difference between neighbouring texels any texture's filter read
+    /// here ([`MipChain::footprint_contrast`], in stored units: code / 255).
+    pub texture_contrast: f64,
     /// The anisotropy strength s (factor × texture).
     pub anisotropy_strength: f64,
 }
@@ -89,6 +97,7 @@ pub struct SceneShading<'a> {
     /// Every image the materials use, decoded once, by its address.
     mips: HashMap<usize, MipChain>,
     visibility: Option<&'a SceneBvh>,
+    lod_bias: f64,
 }
 
 fn optics_vec(v: DVec3) -> OpticsVec3<f64> {
@@ -161,6 +170,11 @@ fn image_key(image: &Arc<combustion_scene::Image>) -> usize {
 /// A texture's value at a surface point, with the derivatives of its coordinate sets.
 struct TextureLookup<'m> {
     mips: &'m HashMap<usize, MipChain>,
+    lod_bias: f64,
+    /// The largest level of detail sampled so far.
+    largest_lod: std::cell::Cell<Option<f64>>,
+    /// The largest footprint contrast sampled so far.
+    contrast: std::cell::Cell<f64>,
     uv: [DVec2; 2],
     duv_dx: [DVec2; 2],
     duv_dy: [DVec2; 2],
@@ -173,11 +187,15 @@ impl TextureLookup<'_> {
         let dx = transformed_derivative(texture, self.duv_dx[set].to_array());
         let dy = transformed_derivative(texture, self.duv_dy[set].to_array());
         match self.mips.get(&image_key(&texture.texture.image)) {
-            Some(chain) => chain.sample(
-                &texture.texture.sampler,
-                uv,
-                level_of_detail(chain.size(), dx, dy),
-            ),
+            Some(chain) => {
+                let lod = level_of_detail(chain.size(), dx, dy) + self.lod_bias;
+                let largest = self.largest_lod.get().map_or(lod, |l| l.max(lod));
+                self.largest_lod.set(Some(largest));
+                let sampler = &texture.texture.sampler;
+                let contrast = chain.footprint_contrast(sampler, uv, lod);
+                self.contrast.set(self.contrast.get().max(contrast));
+                chain.sample(sampler, uv, lod)
+            }
             None => [1.0; 4],
         }
     }
@@ -216,6 +234,7 @@ impl<'a> SceneShading<'a> {
             height,
             mips,
             visibility: None,
+            lod_bias: 0.0,
         }
     }
 
@@ -226,6 +245,18 @@ impl<'a> SceneShading<'a> {
     pub fn with_visibility(self, casters: &'a SceneBvh) -> Self {
         SceneShading {
             visibility: Some(casters),
+            ..self
+        }
+    }
+
+    /// The same, every texture sampled at its level of detail plus `bias` (levels). The
+    /// Vulkan specification lets an implementation take the scale factor ρ anywhere
+    /// between the largest derivative component and the sum of the components, which
+    /// is λ within ±½ of the exact λ this reference uses: shading with a bias of ±½
+    /// bounds what a conforming GPU may sample.
+    pub fn with_lod_bias(self, bias: f64) -> Self {
+        SceneShading {
+            lod_bias: bias,
             ..self
         }
     }
@@ -291,6 +322,9 @@ impl<'a> SceneShading<'a> {
         };
         let lookup = TextureLookup {
             mips: &self.mips,
+            lod_bias: self.lod_bias,
+            largest_lod: std::cell::Cell::new(None),
+            contrast: std::cell::Cell::new(0.0),
             uv,
             duv_dx: derivative(
                 barycentrics_along(cx - 1.0, cy),
@@ -424,6 +458,9 @@ impl<'a> SceneShading<'a> {
             v,
             emitted,
             roughness,
+            uv: lookup.uv.map(|uv| uv.to_array()),
+            texture_lod: lookup.largest_lod.get(),
+            texture_contrast: lookup.contrast.get(),
             anisotropy_strength: strength,
         }
     }
@@ -526,9 +563,43 @@ impl GBufferPrecision {
     /// from the base colour when `conductor_from_base_color` (then derived again from
     /// the stored base colour): each input rounded to the nearest stored value.
     pub fn store(&self, surface: &SurfacePoint, conductor_from_base_color: bool) -> SurfacePoint {
+        self.store_rounded(surface, conductor_from_base_color, &f64::round)
+    }
+
+    /// As [`GBufferPrecision::store`], but each value whose scaled form lies within
+    /// `margin` (a fraction of a step) of a tie between two codes rounded to the other
+    /// one. Vulkan lets a float-to-unorm conversion return either neighbouring code
+    /// ("should" round to nearest); a GPU's arithmetic may land on either side of a tie.
+    pub fn store_other_way_near_ties(
+        &self,
+        surface: &SurfacePoint,
+        conductor_from_base_color: bool,
+        margin: f64,
+    ) -> SurfacePoint {
+        let other_way = |scaled: f64| {
+            let nearest = scaled.round();
+            if (scaled - scaled.floor() - 0.5).abs() < margin {
+                if nearest > scaled {
+                    nearest - 1.0
+                } else {
+                    nearest + 1.0
+                }
+            } else {
+                nearest
+            }
+        };
+        self.store_rounded(surface, conductor_from_base_color, &other_way)
+    }
+
+    fn store_rounded(
+        &self,
+        surface: &SurfacePoint,
+        conductor_from_base_color: bool,
+        round: &dyn Fn(f64) -> f64,
+    ) -> SurfacePoint {
         let unorm = |x: f64, bits: u32| {
             let steps = f64::from((1u32 << bits) - 1);
-            (x.clamp(0.0, 1.0) * steps).round() / steps
+            round(x.clamp(0.0, 1.0) * steps).clamp(0.0, steps) / steps
         };
         let mut stored = *surface;
         let m = &mut stored.brdf;
@@ -546,9 +617,9 @@ impl GBufferPrecision {
         let strength = unorm(surface.anisotropy_strength, self.roughness_bits);
         (m.alpha_x, m.alpha_y) =
             anisotropic_alphas(alpha_from_perceptual_roughness(roughness), strength);
+        m.oren_nayar_sigma = oren_nayar_sigma_from_roughness(roughness);
         stored.roughness = roughness;
         stored.anisotropy_strength = strength;
-        m.oren_nayar_sigma = oren_nayar_sigma_from_roughness(roughness);
         let n = octahedral_decode(
             octahedral_encode(surface.n).map(|c| unorm(c, self.normal_octahedral_bits)),
         );
@@ -556,17 +627,6 @@ impl GBufferPrecision {
         stored.b = n.cross(stored.t);
         stored.n = n;
         stored
-    }
-}
-
-/// The sRGB encoding of a linear value in [0, 1] (IEC 61966-2-1), the inverse of
-/// [`srgb_decode`].
-pub fn srgb_encode(linear: f64) -> f64 {
-    let c = linear.clamp(0.0, 1.0);
-    if c <= 0.0031308 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
     }
 }
 
@@ -697,6 +757,9 @@ mod tests {
             v: DVec3::Y,
             emitted: [0.0; 3],
             roughness: 0.3,
+            uv: [[0.0; 2]; 2],
+            texture_lod: None,
+            texture_contrast: 0.0,
             anisotropy_strength: 0.0,
         };
         let stored = GBufferPrecision::COMBUSTION.store(&surface, false);

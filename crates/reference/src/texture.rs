@@ -19,6 +19,17 @@ pub fn srgb_decode(encoded: f64) -> f64 {
     }
 }
 
+/// The exact sRGB encoding of a linear value in [0, 1] (IEC 61966-2-1), the inverse of
+/// [`srgb_decode`].
+pub fn srgb_encode(linear: f64) -> f64 {
+    let c = linear.clamp(0.0, 1.0);
+    if c <= 0.0031308 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
 /// One level of a [`MipChain`]: RGBA values, row-major from the top-left.
 #[derive(Clone, Debug)]
 struct Level {
@@ -62,6 +73,40 @@ impl Level {
         )
     }
 
+    /// The largest difference, over channels, between the 2×2 texels around (`uv`) — the
+    /// texels a bilinear filter blends there, and those a nearest filter may pick when
+    /// the position is rounded — with `encode` applied to each value first.
+    fn footprint_contrast(
+        &self,
+        uv: [f64; 2],
+        wrap: (WrapMode, WrapMode),
+        encode: impl Fn(f64, usize) -> f64,
+    ) -> f64 {
+        let (x, y) = (
+            uv[0] * self.width as f64 - 0.5,
+            uv[1] * self.height as f64 - 0.5,
+        );
+        let (x0, y0) = (x.floor() as i64, y.floor() as i64);
+        let texels: Vec<[f64; 4]> = [(0, 0), (1, 0), (0, 1), (1, 1)]
+            .iter()
+            .map(|&(dx, dy)| {
+                self.texel(
+                    wrap_index(x0 + dx, self.width, wrap.0),
+                    wrap_index(y0 + dy, self.height, wrap.1),
+                )
+            })
+            .collect();
+        (0..4)
+            .map(|c| {
+                let values = texels.iter().map(|t| encode(t[c], c));
+                let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(v), hi.max(v))
+                });
+                hi - lo
+            })
+            .fold(0.0, f64::max)
+    }
+
     fn filtered(&self, uv: [f64; 2], filter: Filter, wrap: (WrapMode, WrapMode)) -> [f64; 4] {
         let (u, v) = (uv[0] * self.width as f64, uv[1] * self.height as f64);
         match filter {
@@ -93,6 +138,7 @@ fn wrap_index(i: i64, size: usize, mode: WrapMode) -> usize {
 #[derive(Clone, Debug)]
 pub struct MipChain {
     levels: Vec<Level>,
+    color_space: ColorSpace,
 }
 
 impl MipChain {
@@ -137,7 +183,10 @@ impl MipChain {
                 texels,
             });
         }
-        MipChain { levels }
+        MipChain {
+            levels,
+            color_space: image.color_space,
+        }
     }
 
     /// Level 0's width and height in texels.
@@ -158,24 +207,50 @@ impl MipChain {
     /// level 0 only.
     pub fn sample(&self, sampler: &Sampler, uv: [f64; 2], lod: f64) -> [f64; 4] {
         let wrap = (sampler.wrap_u, sampler.wrap_v);
+        let mut out = [0.0; 4];
+        for (level, weight, filter) in self.levels_sampled(sampler, lod) {
+            let value = self.levels[level].filtered(uv, filter, wrap);
+            for c in 0..4 {
+                out[c] += weight * value[c];
+            }
+        }
+        out
+    }
+
+    /// The largest difference between neighbouring texels that [`MipChain::sample`]
+    /// blends (or may pick) at `uv` and `lod`, over channels and the levels it reads,
+    /// in the image's stored units (the 8-bit code / 255, sRGB-encoded for colour): how
+    /// much a filter's rounding of the sample position can move its result per texel.
+    pub fn footprint_contrast(&self, sampler: &Sampler, uv: [f64; 2], lod: f64) -> f64 {
+        let wrap = (sampler.wrap_u, sampler.wrap_v);
+        let srgb = self.color_space == ColorSpace::Srgb;
+        let encode = |v: f64, c: usize| if srgb && c < 3 { srgb_encode(v) } else { v };
+        self.levels_sampled(sampler, lod)
+            .into_iter()
+            .map(|(level, _, _)| self.levels[level].footprint_contrast(uv, wrap, encode))
+            .fold(0.0, f64::max)
+    }
+
+    /// The levels [`MipChain::sample`] reads at `lod`, with their weights and the
+    /// filter within each (see there).
+    fn levels_sampled(&self, sampler: &Sampler, lod: f64) -> Vec<(usize, f64, Filter)> {
         if lod <= 0.0 || !lod.is_finite() {
-            return self.levels[0].filtered(uv, sampler.mag_filter, wrap);
+            return vec![(0, 1.0, sampler.mag_filter)];
         }
         let last = (self.levels.len() - 1) as f64;
         let lod = lod.min(last);
+        let filter = sampler.min_filter;
         match sampler.mipmap_filter {
-            None => self.levels[0].filtered(uv, sampler.min_filter, wrap),
+            None => vec![(0, 1.0, filter)],
             Some(Filter::Nearest) => {
                 let level = ((lod + 0.5).ceil() - 1.0).clamp(0.0, last) as usize;
-                self.levels[level].filtered(uv, sampler.min_filter, wrap)
+                vec![(level, 1.0, filter)]
             }
             Some(Filter::Linear) => {
                 let lower = lod.floor().min(last) as usize;
                 let upper = (lower + 1).min(self.levels.len() - 1);
                 let f = lod - lower as f64;
-                let a = self.levels[lower].filtered(uv, sampler.min_filter, wrap);
-                let b = self.levels[upper].filtered(uv, sampler.min_filter, wrap);
-                std::array::from_fn(|c| a[c] * (1.0 - f) + b[c] * f)
+                vec![(lower, 1.0 - f, filter), (upper, f, filter)]
             }
         }
     }
@@ -260,6 +335,26 @@ mod tests {
         assert!((chain.sample(&BILINEAR_REPEAT, [0.1, 0.9], 1.0)[0] - 0.5).abs() < 1e-15);
         // Half-way between the levels at a texel centre: halfway between 0 and ½.
         assert!((chain.sample(&BILINEAR_REPEAT, [0.25, 0.25], 0.5)[0] - 0.25).abs() < 1e-15);
+    }
+
+    /// The footprint contrast: a 0/255 checker's neighbours differ by the whole range; a
+    /// flat image's by nothing; an sRGB image's in encoded units (code / 255).
+    #[test]
+    fn footprint_contrast_in_stored_units() {
+        let px = |v: u8| [v, v, v, 255];
+        let checker = [px(0), px(255), px(255), px(0)].concat();
+        let chain = MipChain::new(&image(2, 2, checker, ColorSpace::Srgb));
+        let full = chain.footprint_contrast(&BILINEAR_REPEAT, [0.5, 0.5], -1.0);
+        assert!((full - 1.0).abs() < 1e-12, "{full}");
+        // Level 1 alone (λ = 1) is one grey texel.
+        assert_eq!(
+            chain.footprint_contrast(&BILINEAR_REPEAT, [0.5, 0.5], 1.0),
+            0.0
+        );
+        let steps = [px(100), px(110), px(100), px(110)].concat();
+        let chain = MipChain::new(&image(2, 2, steps, ColorSpace::Srgb));
+        let contrast = chain.footprint_contrast(&BILINEAR_REPEAT, [0.5, 0.5], -1.0);
+        assert!((contrast - 10.0 / 255.0).abs() < 1e-12, "{contrast}");
     }
 
     /// Wrapping by the specification's rules, and a 3×1 image reduced by the linear
