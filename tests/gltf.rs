@@ -23,18 +23,15 @@ fn workspace() -> PathBuf {
 }
 
 /// The sample models tests/sample-models.txt lists as importing, or None (with a note)
-/// when ../shared is not beside the workspace. (Those refused, and models missing from
+/// when ../shared is not beside the workspace (a failure when CI requires it:
+/// `common::REQUIRE_SHARED`). (Those refused, and models missing from
 /// the list, are the importer's test: crates/scene/tests/gltf_samples.rs.)
 fn sample_models() -> Option<Vec<PathBuf>> {
     let importing: Vec<&str> = include_str!("sample-models.txt")
         .lines()
         .filter_map(|line| line.strip_suffix(" imports"))
         .collect();
-    let root = workspace().join("../shared/data/gltf");
-    if !root.is_dir() {
-        eprintln!("skipped: {} is not present", root.display());
-        return None;
-    }
+    let root = common::shared_gltf_samples()?;
     let mut files = Vec::new();
     for model in std::fs::read_dir(&root).unwrap() {
         let model = model.unwrap().path();

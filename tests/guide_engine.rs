@@ -3,6 +3,7 @@
 //! the two sample glTF files when the shared data is present, scene edits by handle, a
 //! resize, three frames in flight. No validation message and no error.
 
+mod common;
 #[allow(dead_code)]
 #[path = "../examples/guide_engine.rs"]
 mod guide_engine;
@@ -11,18 +12,14 @@ use std::path::PathBuf;
 
 #[test]
 fn guide_engine_runs_40_frames_without_validation_messages() {
-    let gltf_root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/gltf");
-    let gltf: Vec<PathBuf> = ["LightsPunctualLamp", "ClearCoatTest"]
-        .iter()
-        .map(|name| gltf_root.join(name))
-        .filter(|path| path.is_dir())
-        .collect();
-    if gltf.is_empty() {
-        eprintln!(
-            "{} is missing: running the built-in scenes only",
-            gltf_root.display()
-        );
-    }
+    let gltf: Vec<PathBuf> = common::shared_gltf_samples()
+        .map(|root| {
+            ["LightsPunctualLamp", "ClearCoatTest"]
+                .iter()
+                .map(|name| root.join(name))
+                .collect()
+        })
+        .unwrap_or_default();
     let options = guide_engine::Options {
         frames: 40,
         width: 96,

@@ -1,5 +1,7 @@
 //! The Khronos glTF sample models in `../shared/data/gltf` (beside the workspace; not part
-//! of the repository) must import. Skipped, with a note, when the folder is absent.
+//! of the repository) must import. Skipped, with a note, when the folder is absent —
+//! unless `COMBUSTION_REQUIRE_SHARED` is set (CI sets it), which makes its absence a
+//! failure.
 
 use std::path::{Path, PathBuf};
 
@@ -11,6 +13,11 @@ fn samples() -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
+        assert!(
+            std::env::var_os("COMBUSTION_REQUIRE_SHARED").is_none(),
+            "{} is missing and COMBUSTION_REQUIRE_SHARED is set",
+            dir.display()
+        );
         eprintln!(
             "skipped: the glTF sample models are not at {} (they live in the shared data folder, not in the repository)",
             dir.display()
