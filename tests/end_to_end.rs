@@ -23,9 +23,10 @@
 
 mod common;
 
+use combustion::end_to_end::{relative, SceneReference};
 use combustion::optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion::optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
-use combustion::reference::primary::{camera_ray, primary_hits};
+use combustion::reference::primary::primary_hits;
 use combustion::reference::shading::{GBufferPrecision, SceneShading, SurfacePoint};
 use combustion::reference::texture::{srgb_decode, srgb_encode};
 use combustion::reference::SceneBvh;
@@ -141,14 +142,6 @@ fn the_gbuffer_is_what_the_cameras_rays_hit() {
             &normal_failures[..normal_failures.len().min(6)]
         );
     }
-}
-
-/// Relative error of `a` against `b`: the largest over the channels of
-/// |a − b| / max(|b|, `RADIANCE_FLOOR`).
-fn relative(a: [f64; 3], b: [f64; 3]) -> f64 {
-    (0..3)
-        .map(|c| (a[c] - b[c]).abs() / b[c].abs().max(RADIANCE_FLOOR))
-        .fold(0.0, f64::max)
 }
 
 /// The f32 shading bound the parity tests hold the lighting pass to (relative, from the
@@ -439,11 +432,10 @@ impl SceneComparison {
 }
 
 /// Renders `scene` lit by `frame_lights` on lavapipe at `width`×`height` and compares each
-/// pixel with `SceneShading` of the scene lit by its own lights: the GPU's radiance
-/// against the reference shaded from the inputs as the G-buffer stores them
-/// (`GBufferPrecision::COMBUSTION`), within [`SHADING_F32`] plus the pixel's
-/// [`allowance`]. Pixels at a silhouette (within one pixel of a pixel whose ray sees
-/// another material or nothing) are counted, not compared.
+/// pixel with the f64 reference of the scene lit by its own lights
+/// (`combustion::end_to_end`): the GPU's radiance against the reference shaded from the
+/// inputs as the G-buffer stores them, within [`SHADING_F32`] plus the pixel's
+/// [`allowance`].
 fn compare_with_scene(
     scene: &Scene,
     frame_lights: &[Light],
@@ -451,10 +443,10 @@ fn compare_with_scene(
     height: u32,
 ) -> SceneComparison {
     let frame = common::render_with_lights(scene, frame_lights, width, height);
-    let g = frame.gbuffer.as_ref().unwrap();
     let bvh = SceneBvh::new(scene);
-    let shading = SceneShading::new(scene, &bvh, &scene.lights, width, height);
-    let surfaces = shading.surfaces(2);
+    let reference = SceneReference::new(scene, &bvh, &scene.lights, width, height, 2);
+    let compared = reference.compare(&frame);
+    assert_eq!(compared.non_finite, 0, "non-finite GPU radiance");
     // Textures sampled half a level finer and coarser (the Vulkan scale factor's
     // latitude), where the scene has any.
     let textured = scene
@@ -472,89 +464,42 @@ fn compare_with_scene(
     } else {
         Vec::new()
     };
-    let material_of = |s: &SurfacePoint| scene.objects[s.hit.object].material;
-    let seen: Vec<Option<usize>> = surfaces
-        .iter()
-        .map(|s| s.as_ref().map(material_of))
-        .collect();
-    let at_silhouette = |x: u32, y: u32| {
-        let own = seen[(y * width + x) as usize];
-        (y.saturating_sub(1)..(y + 2).min(height)).any(|yy| {
-            (x.saturating_sub(1)..(x + 2).min(width))
-                .any(|xx| seen[(yy * width + xx) as usize] != own)
-        })
-    };
-    // Whether a ray within two sub-pixel steps (2/256 of a pixel: the rasteriser snaps
-    // vertices to 2^-subPixelPrecisionBits, 8 on lavapipe) of the pixel's centre sees
-    // `material`: geometry thinner than a pixel has no silhouette pixel beside it.
-    let seen_within_snapping = |x: u32, y: u32, material: Option<usize>| {
-        let reach = 2.0 / 256.0;
-        (0..8).any(|k| {
-            let (sin, cos) = (f64::from(k) * std::f64::consts::FRAC_PI_4).sin_cos();
-            let ray = camera_ray(
-                &scene.camera,
-                width,
-                height,
-                f64::from(x) + 0.5 + reach * cos,
-                f64::from(y) + 0.5 + reach * sin,
-            );
-            let camera = &scene.camera;
-            let hit = bvh.closest_hit(&ray, f64::from(camera.near), f64::from(camera.far));
-            hit.map(|h| scene.objects[h.object].material) == material
-        })
-    };
     let mut out = SceneComparison {
-        compared: 0,
+        compared: compared.pixels.len(),
         lit: 0,
-        away: Vec::new(),
+        away: compared.away.clone(),
         total: Vec::new(),
         storage: Vec::new(),
         rest: Vec::new(),
         bounds: Vec::new(),
         beyond: Vec::new(),
     };
-    for y in 0..height {
-        for x in 0..width {
-            let i = (y * width + x) as usize;
-            let texel = &g.texels[i];
-            let gpu_material =
-                (texel.depth < 1.0).then_some(usize::from(texel.material_direction[0]));
-            if gpu_material != seen[i] {
-                if !at_silhouette(x, y) && !seen_within_snapping(x, y, gpu_material) {
-                    out.away.push((x, y));
-                }
-                continue;
-            }
-            let Some(surface) = surfaces[i] else {
-                continue; // background both
-            };
-            if at_silhouette(x, y) {
-                continue;
-            }
-            let material = &scene.materials[material_of(&surface)];
-            let store = |s: &SurfacePoint| {
-                GBufferPrecision::COMBUSTION.store(s, material.conductor_from_base_color)
-            };
-            let exact = shading.radiance(&surface);
-            let stored = store(&surface);
-            let as_stored = shading.radiance(&stored);
-            let gpu = [0, 1, 2].map(|c| f64::from(frame.hdr[i][c]));
-            let lod_neighbours: Vec<SurfacePoint> = lod_extremes
-                .iter()
-                .filter_map(|extreme| extreme[i].as_ref().map(store))
-                .collect();
-            let bound =
-                SHADING_F32 + allowance(&shading, material, &surface, &stored, &lod_neighbours);
-            let rest = relative(gpu, as_stored);
-            out.compared += 1;
-            out.lit += usize::from(exact.iter().any(|&c| c > RADIANCE_FLOOR));
-            out.total.push(relative(gpu, exact));
-            out.storage.push(relative(as_stored, exact));
-            out.rest.push(rest);
-            out.bounds.push(bound);
-            if rest > bound {
-                out.beyond.push((x, y, rest, bound));
-            }
+    for p in &compared.pixels {
+        let r = reference
+            .pixel(p.x, p.y)
+            .expect("a compared pixel has a reference");
+        let material = &scene.materials[r.material];
+        let i = (p.y * width + p.x) as usize;
+        let lod_neighbours: Vec<SurfacePoint> = lod_extremes
+            .iter()
+            .filter_map(|extreme| extreme[i].as_ref())
+            .map(|s| GBufferPrecision::COMBUSTION.store(s, material.conductor_from_base_color))
+            .collect();
+        let bound = SHADING_F32
+            + allowance(
+                &reference.shading,
+                material,
+                &r.surface,
+                &r.stored,
+                &lod_neighbours,
+            );
+        out.lit += usize::from(r.exact.iter().any(|&c| c > RADIANCE_FLOOR));
+        out.total.push(p.total);
+        out.storage.push(p.storage);
+        out.rest.push(p.rest);
+        out.bounds.push(bound);
+        if p.rest > bound {
+            out.beyond.push((p.x, p.y, p.rest, bound));
         }
     }
     out

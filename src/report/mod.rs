@@ -17,7 +17,10 @@ use std::path::Path;
 use combustion_plots::{
     pareto_front, plot_scaling, plot_speed_vs_error, Png, Series, SpeedErrorPoint, XAxis,
 };
+use combustion_reference::SceneBvh;
 use combustion_renderer::reference::{error_map, EnvironmentSampling, ErrorMap, ReferenceShading};
+
+use crate::end_to_end::{EndToEndErrors, SceneReference};
 
 /// How the report's reference integrates an environment: 2 000 samples of each strategy
 /// (oracle noise ≈ 1–3 % at the noisiest pixels, `tests/environment.rs`) at one pixel in
@@ -300,6 +303,10 @@ pub struct ReportRow {
     /// The scene is lit by an environment: its error is the split sum's against the
     /// f64 rendering equation, on a grid of pixels ([`ENVIRONMENT_SAMPLING`]).
     pub environment: bool,
+    /// The frame against the scene itself ([`crate::end_to_end`]: ray cast and shaded
+    /// in f64 from the scene, not from the G-buffer); `None` for scenes lit by an
+    /// environment, which that reference does not integrate.
+    pub end_to_end: Option<EndToEndErrors>,
 }
 
 /// A scene's measurement floors (f32 HDR, full Fresnel, specialised pipeline), ms.
@@ -567,14 +574,27 @@ pub fn measure(
                     plain_ggx: spreads[2],
                 });
             }
-            // What every set is measured against: one f64 reference per scene and size.
+            // What every set is measured against: one f64 reference per scene and size,
+            // from the G-buffer (the lighting pass's error) and from the scene itself
+            // (the frame's, end to end; not for environment lighting).
+            let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+            let bvh = SceneBvh::new(gpu.scene());
+            let scene_reference = gpu.scene().environment.is_none().then(|| {
+                SceneReference::new(
+                    gpu.scene(),
+                    &bvh,
+                    &gpu.scene().lights,
+                    desc.width,
+                    desc.height,
+                    threads,
+                )
+            });
             let inputs = FrameInputs::of_scene(&gpu, 1.0);
             let mut reference =
                 ReferenceShading::new(gpu.scene(), &inputs, desc.width, desc.height);
             if let Some(environment) = &gpu.scene().environment {
                 reference = reference.with_environment(environment.clone(), ENVIRONMENT_SAMPLING);
             }
-            let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
             for set in &sets {
                 progress(
                     rows.len() + floors.len() + scaling.len(),
@@ -594,6 +614,9 @@ pub fn measure(
                     },
                 )?;
                 let map = error_map(&frame, &reference, threads);
+                let end_to_end = scene_reference
+                    .as_ref()
+                    .map(|r| r.compare(&frame).summary());
                 let flip_mean = flip_against_reference(&frame, &map, inputs.exposure);
                 let timings = time_frames(renderer, &gpu, desc.width, desc.height, desc.frames)?;
                 if timings.is_empty() {
@@ -613,6 +636,7 @@ pub fn measure(
                     compared: map.lit_pixels,
                     flip_mean,
                     environment: gpu.scene().environment.is_some(),
+                    end_to_end,
                 });
             }
             if hdr == HdrFormat::Rgba32Float && !desc.shadows.is_empty() && !scene.lights.is_empty()
@@ -823,7 +847,7 @@ fn points(rows: &[ReportRow]) -> Vec<SpeedErrorPoint> {
 pub fn csv(rows: &[ReportRow]) -> String {
     let names = PassSpreads::names(rows.iter().map(|r| &r.passes));
     let mut out = format!(
-        "scene,fresnel,hdr,pipeline,masking,distribution,diffuse,frames{}{},max_relative_error,mean_relative_error,rms_relative_error,pixels_compared,flip_mean\n",
+        "scene,fresnel,hdr,pipeline,masking,distribution,diffuse,frames{}{},max_relative_error,mean_relative_error,rms_relative_error,pixels_compared,flip_mean,end_to_end_max_relative_error,end_to_end_mean_relative_error,end_to_end_storage_mean,end_to_end_pixels_compared\n",
         spread_columns(&names),
         spread_columns(&["total"]),
     );
@@ -840,9 +864,52 @@ pub fn csv(rows: &[ReportRow]) -> String {
         let spreads: Vec<Spread> = names.iter().map(|n| r.passes.get(n)).collect();
         out += &spread_values(&spreads);
         out += &spread_values(&[r.total]);
-        let _ = writeln!(out, ",{max},{mean},{rms},{},{flip}", r.compared);
+        let _ = write!(out, ",{max},{mean},{rms},{},{flip}", r.compared);
+        match &r.end_to_end {
+            Some(e) => {
+                let _ = writeln!(
+                    out,
+                    ",{:.3e},{:.3e},{:.3e},{}",
+                    e.total.max, e.total.mean, e.storage.mean, e.compared
+                );
+            }
+            None => out += ",,,,\n",
+        }
     }
     out
+}
+
+/// The section on the frame against the scene itself, default variant set: per scene,
+/// the end-to-end error and its split into the G-buffer storage's share and the rest.
+pub fn end_to_end_markdown(rows: &[ReportRow]) -> String {
+    let compared: Vec<(&ReportRow, &EndToEndErrors)> = rows
+        .iter()
+        .filter(|r| r.set == VariantSet::DEFAULT)
+        .filter_map(|r| r.end_to_end.as_ref().map(|e| (r, e)))
+        .collect();
+    if compared.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "## End to end: the frame against the scene\n\nDefault variant set. Each pixel's primary ray cast in f64 against the scene's triangles through the camera's own description, the hit shaded from the scene's own materials, textures and lights with the optics crate (`combustion::end_to_end`, `combustion_reference::shading`): it shares no code with the GPU path, so the error is every error the renderer makes, G-buffer storage included. The reference also shades each surface as the G-buffer stores it (8-bit sRGB base colour and metalness, 16-bit roughness and octahedral normal), splitting the error into the storage's share and the rest (rasterisation, interpolation, texture sampling, f32 shading). Pixels at silhouettes are counted, not compared; \"wrong\" counts pixels showing another material away from any silhouette. tests/end_to_end.rs holds every pixel's rest to a bound derived from the formats and the Vulkan specification (README, \"What is proven\"). Relative error per pixel as above; scenes lit by an environment are not compared here.\n\n| scene | pixels | at silhouettes | wrong | error mean | max | storage's share: mean | max | the rest: mean | max |\n|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for (r, e) in compared {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} |",
+            md_cell(&r.scene),
+            e.compared,
+            e.silhouette,
+            e.away,
+            e.total.mean,
+            e.total.max,
+            e.storage.mean,
+            e.storage.max,
+            e.rest.mean,
+            e.rest.max
+        );
+    }
+    out + "\n"
 }
 
 /// `text` for a Markdown table cell.
@@ -1041,7 +1108,7 @@ fn scaling_plots(m: &Measurements, device: &str) -> Result<(Png, Png), Error> {
 pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     let (rows, device) = (&m.rows[..], &m.device);
     let mut out = format!(
-        "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4). Mean FLIP (Andersson et al. 2020, 67 pixels per degree): the display image against the reference radiance through the same exposure, tone curve and sRGB encoding.\n\nVariant sets (fresnel/hdr/pipeline/masking/distribution/diffuse): Fresnel `full` (the equations with complex η + ik and the outside medium), `schlick` (Schlick's curve through the exact normal-incidence reflectance) or `f82` (Hoffman 2019: Schlick's curve less b μ(1 − μ)⁶, through the exact reflectance at normal incidence and at cos θ = 1/7); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`; masking–shadowing `correlated` (Smith height-correlated, the reference's), `separable` (G₁·G₁) or `approximate` (Hammon 2017); normal distribution `ggx` (the reference's) or `beckmann` (with Beckmann's Smith Λ, Walter et al. 2007); diffuse `material` (each material's own model, the reference's) or one model for every material (`lambert`, `oren-nayar-qualitative`, `oren-nayar-full`). The default, each term changed alone, and every cheap choice at once.\n\n",
+        "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error of the lighting pass: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4). Error of the whole frame, end to end: the same frame against the scene itself ray cast and shaded in f64 (section \"End to end\" and the per-scene table's last columns). Mean FLIP (Andersson et al. 2020, 67 pixels per degree): the display image against the reference radiance through the same exposure, tone curve and sRGB encoding.\n\nVariant sets (fresnel/hdr/pipeline/masking/distribution/diffuse): Fresnel `full` (the equations with complex η + ik and the outside medium), `schlick` (Schlick's curve through the exact normal-incidence reflectance) or `f82` (Hoffman 2019: Schlick's curve less b μ(1 − μ)⁶, through the exact reflectance at normal incidence and at cos θ = 1/7); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`; masking–shadowing `correlated` (Smith height-correlated, the reference's), `separable` (G₁·G₁) or `approximate` (Hammon 2017); normal distribution `ggx` (the reference's) or `beckmann` (with Beckmann's Smith Λ, Walter et al. 2007); diffuse `material` (each material's own model, the reference's) or one model for every material (`lambert`, `oren-nayar-qualitative`, `oren-nayar-full`). The default, each term changed alone, and every cheap choice at once.\n\n",
         desc.width, desc.height, desc.frames
     );
     let summary = summarise(rows);
@@ -1066,15 +1133,16 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
         );
     }
     out += "\n![speed against error](speed-vs-error.png)\n\n";
+    out += &end_to_end_markdown(rows);
     out += &environment_markdown(rows);
     out += &floors_markdown(m);
     out += &scaling_markdown(m);
     out += &shadows::markdown(&m.shadows);
-    out += "## Per scene\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    out += "## Per scene\n\nErrors of the lighting pass (from the frame's own G-buffer) and, where the scene has no environment, of the frame end to end (from the scene).\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP | end to end: mean | max |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let _ = writeln!(
             out,
-            "| {} | {} | {:.2} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {} | {} |",
+            "| {} | {} | {:.2} | {:.2} ({:.2}–{:.2}) | {:.2} | {:.2} | {:.2e} | {:.2e} | {:.2e} | {} | {} | {} |",
             md_cell(&r.scene),
             r.set.name(),
             r.passes.get(PassTimings::GBUFFER).median,
@@ -1091,7 +1159,11 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
                 format!("{:.2e}", r.flip_mean)
             } else {
                 "— (environment)".into()
-            }
+            },
+            r.end_to_end.map_or("— | —".into(), |e| format!(
+                "{:.2e} | {:.2e}",
+                e.total.mean, e.total.max
+            ))
         );
     }
     out

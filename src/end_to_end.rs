@@ -1,0 +1,294 @@
+//! A rendered frame against the scene itself: the f64 reference of
+//! `combustion_reference::shading` (primary rays cast through the scene's triangles,
+//! each hit shaded from the scene's own materials, textures and lights) computed once
+//! per scene and size, then compared with any number of frames of it — the report's
+//! end-to-end error columns and `tests/end_to_end.rs`.
+//!
+//! Each pixel the reference shades twice: exactly, and from the inputs as Combustion's
+//! G-buffer stores them ([`GBufferPrecision::COMBUSTION`]), so a frame's error splits
+//! into the storage's share and the rest. Pixels at a silhouette (within one pixel of a
+//! pixel whose ray sees another material or nothing) are counted, not compared.
+
+use combustion_reference::primary::camera_ray;
+use combustion_reference::shading::{GBufferPrecision, SceneShading, SurfacePoint};
+use combustion_reference::SceneBvh;
+use combustion_renderer::reference::RADIANCE_FLOOR;
+use combustion_renderer::Frame;
+use combustion_scene::{Light, Scene};
+
+/// Relative error of `a` against `b`: the largest over the channels of
+/// |a − b| / max(|b|, [`RADIANCE_FLOOR`]).
+pub fn relative(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|c| (a[c] - b[c]).abs() / b[c].abs().max(RADIANCE_FLOOR))
+        .fold(0.0, f64::max)
+}
+
+/// One pixel of the reference.
+#[derive(Clone, Copy, Debug)]
+pub struct ReferencePixel {
+    /// The surface the pixel's ray hits, exactly as the scene describes it.
+    pub surface: SurfacePoint,
+    /// The same surface as the G-buffer stores it.
+    pub stored: SurfacePoint,
+    /// The material the ray sees.
+    pub material: usize,
+    /// The radiance of `surface`.
+    pub exact: [f64; 3],
+    /// The radiance of `stored`.
+    pub as_stored: [f64; 3],
+}
+
+/// The scene's f64 reference for one camera, size and set of lights.
+pub struct SceneReference<'a> {
+    scene: &'a Scene,
+    bvh: &'a SceneBvh,
+    /// How it shades (for re-shading perturbed surfaces).
+    pub shading: SceneShading<'a>,
+    width: u32,
+    height: u32,
+    /// Per pixel, row-major from the top-left; `None` where the ray hits nothing.
+    pub pixels: Vec<Option<ReferencePixel>>,
+    /// The material each pixel's ray sees (`None`: nothing).
+    seen: Vec<Option<usize>>,
+}
+
+/// One pixel of a frame compared with the reference.
+#[derive(Clone, Copy, Debug)]
+pub struct ComparedPixel {
+    /// Column, from the left.
+    pub x: u32,
+    /// Row, from the top.
+    pub y: u32,
+    /// The GPU's HDR radiance.
+    pub gpu: [f64; 3],
+    /// The GPU against the exact reference.
+    pub total: f64,
+    /// The storage's share: the stored reference against the exact one.
+    pub storage: f64,
+    /// The GPU against the stored reference.
+    pub rest: f64,
+}
+
+/// A frame compared with a [`SceneReference`].
+#[derive(Clone, Debug, Default)]
+pub struct FrameComparison {
+    /// Every compared pixel (both see the same material, away from silhouettes).
+    pub pixels: Vec<ComparedPixel>,
+    /// Pixels at silhouettes, not compared.
+    pub silhouette: usize,
+    /// Pixels whose material differs from the reference's away from any silhouette,
+    /// with no ray within the rasteriser's snapping of the pixel's centre seeing it
+    /// either: what the frame shows there is wrong.
+    pub away: Vec<(u32, u32)>,
+    /// Compared pixels whose GPU radiance is not finite.
+    pub non_finite: usize,
+}
+
+/// Mean and maximum of some per-pixel errors.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MeanMax {
+    /// The mean.
+    pub mean: f64,
+    /// The largest.
+    pub max: f64,
+}
+
+impl MeanMax {
+    /// Of `values` (0 and 0 when empty).
+    pub fn of(values: impl Iterator<Item = f64>) -> MeanMax {
+        let (mut sum, mut max, mut n) = (0.0, 0.0f64, 0usize);
+        for v in values {
+            sum += v;
+            max = max.max(v);
+            n += 1;
+        }
+        MeanMax {
+            mean: sum / n.max(1) as f64,
+            max,
+        }
+    }
+}
+
+/// A frame's end-to-end errors in summary.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EndToEndErrors {
+    /// Pixels compared.
+    pub compared: usize,
+    /// Pixels at silhouettes.
+    pub silhouette: usize,
+    /// Pixels showing the wrong material away from silhouettes.
+    pub away: usize,
+    /// The GPU against the exact reference.
+    pub total: MeanMax,
+    /// The G-buffer storage's share.
+    pub storage: MeanMax,
+    /// The GPU against the stored reference.
+    pub rest: MeanMax,
+}
+
+impl FrameComparison {
+    /// The errors in summary.
+    pub fn summary(&self) -> EndToEndErrors {
+        EndToEndErrors {
+            compared: self.pixels.len(),
+            silhouette: self.silhouette,
+            away: self.away.len(),
+            total: MeanMax::of(self.pixels.iter().map(|p| p.total)),
+            storage: MeanMax::of(self.pixels.iter().map(|p| p.storage)),
+            rest: MeanMax::of(self.pixels.iter().map(|p| p.rest)),
+        }
+    }
+}
+
+impl<'a> SceneReference<'a> {
+    /// The reference of `scene` (its triangles in `bvh`: [`SceneBvh::new`]) seen by its
+    /// camera at `width` × `height`, lit by `lights`, on up to `threads` threads.
+    pub fn new(
+        scene: &'a Scene,
+        bvh: &'a SceneBvh,
+        lights: &'a [Light],
+        width: u32,
+        height: u32,
+        threads: usize,
+    ) -> Self {
+        let shading = SceneShading::new(scene, bvh, lights, width, height);
+        let surfaces = shading.surfaces(threads);
+        let pixels: Vec<Option<ReferencePixel>> = {
+            let shading = &shading;
+            let chunk = surfaces.len().div_ceil(threads.max(1)).max(1);
+            std::thread::scope(|scope| {
+                let handles: Vec<_> = surfaces
+                    .chunks(chunk)
+                    .map(|part| {
+                        scope.spawn(move || {
+                            part.iter()
+                                .map(|s| s.map(|surface| reference_pixel(scene, shading, surface)))
+                                .collect::<Vec<_>>()
+                        })
+                    })
+                    .collect();
+                handles
+                    .into_iter()
+                    .flat_map(|h| h.join().expect("a reference thread panicked"))
+                    .collect()
+            })
+        };
+        let seen = pixels.iter().map(|p| p.map(|p| p.material)).collect();
+        SceneReference {
+            scene,
+            bvh,
+            shading,
+            width,
+            height,
+            pixels,
+            seen,
+        }
+    }
+
+    /// Whether pixel (`x`, `y`) lies within one pixel of a pixel whose ray sees another
+    /// material (or nothing where it sees something).
+    pub fn at_silhouette(&self, x: u32, y: u32) -> bool {
+        let (w, h) = (self.width, self.height);
+        let own = self.seen[(y * w + x) as usize];
+        (y.saturating_sub(1)..(y + 2).min(h)).any(|yy| {
+            (x.saturating_sub(1)..(x + 2).min(w)).any(|xx| self.seen[(yy * w + xx) as usize] != own)
+        })
+    }
+
+    /// Whether a ray within two sub-pixel steps (2/256 of a pixel: a rasteriser snaps
+    /// vertices to 2^−subPixelPrecisionBits, 8 on lavapipe) of pixel (`x`, `y`)'s centre
+    /// sees `material`: geometry thinner than a pixel has no silhouette pixel beside it.
+    fn seen_within_snapping(&self, x: u32, y: u32, material: Option<usize>) -> bool {
+        let reach = 2.0 / 256.0;
+        let camera = &self.scene.camera;
+        (0..8).any(|k| {
+            let (sin, cos) = (f64::from(k) * std::f64::consts::FRAC_PI_4).sin_cos();
+            let ray = camera_ray(
+                camera,
+                self.width,
+                self.height,
+                f64::from(x) + 0.5 + reach * cos,
+                f64::from(y) + 0.5 + reach * sin,
+            );
+            let hit = self
+                .bvh
+                .closest_hit(&ray, f64::from(camera.near), f64::from(camera.far));
+            hit.map(|h| self.scene.objects[h.object].material) == material
+        })
+    }
+
+    /// Compares `frame` (read back with its HDR image and G-buffer, at this reference's
+    /// size) pixel by pixel; an empty comparison if it lacks them or its size differs.
+    pub fn compare(&self, frame: &Frame) -> FrameComparison {
+        let mut out = FrameComparison::default();
+        let Some(g) = frame.gbuffer.as_ref() else {
+            return out;
+        };
+        let n = (self.width * self.height) as usize;
+        if (frame.width, frame.height) != (self.width, self.height)
+            || g.texels.len() != n
+            || frame.hdr.len() != n
+        {
+            return out;
+        }
+        for y in 0..self.height {
+            for x in 0..self.width {
+                let i = (y * self.width + x) as usize;
+                let texel = &g.texels[i];
+                let gpu_material =
+                    (texel.depth < 1.0).then_some(usize::from(texel.material_direction[0]));
+                if gpu_material != self.seen[i] {
+                    if self.at_silhouette(x, y) {
+                        out.silhouette += 1;
+                    } else if !self.seen_within_snapping(x, y, gpu_material) {
+                        out.away.push((x, y));
+                    }
+                    continue;
+                }
+                let Some(p) = &self.pixels[i] else {
+                    continue; // background both
+                };
+                if self.at_silhouette(x, y) {
+                    out.silhouette += 1;
+                    continue;
+                }
+                let gpu = [0, 1, 2].map(|c| f64::from(frame.hdr[i][c]));
+                if gpu.iter().any(|c| !c.is_finite()) {
+                    out.non_finite += 1;
+                    continue;
+                }
+                out.pixels.push(ComparedPixel {
+                    x,
+                    y,
+                    gpu,
+                    total: relative(gpu, p.exact),
+                    storage: relative(p.as_stored, p.exact),
+                    rest: relative(gpu, p.as_stored),
+                });
+            }
+        }
+        out
+    }
+
+    /// The reference pixel at (`x`, `y`).
+    pub fn pixel(&self, x: u32, y: u32) -> Option<&ReferencePixel> {
+        self.pixels.get((y * self.width + x) as usize)?.as_ref()
+    }
+}
+
+fn reference_pixel(scene: &Scene, shading: &SceneShading, surface: SurfacePoint) -> ReferencePixel {
+    let material = scene.objects[surface.hit.object].material;
+    let from_base_color = scene
+        .materials
+        .get(material)
+        .is_some_and(|m| m.conductor_from_base_color);
+    let stored = GBufferPrecision::COMBUSTION.store(&surface, from_base_color);
+    ReferencePixel {
+        surface,
+        stored,
+        material,
+        exact: shading.radiance(&surface),
+        as_stored: shading.radiance(&stored),
+    }
+}
