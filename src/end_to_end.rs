@@ -6,8 +6,11 @@
 //!
 //! Each pixel the reference shades twice: exactly, and from the inputs as Combustion's
 //! G-buffer stores them ([`GBufferPrecision::COMBUSTION`]), so a frame's error splits
-//! into the storage's share and the rest. Pixels at a silhouette (within one pixel of a
-//! pixel whose ray sees another material or nothing) are counted, not compared.
+//! into the storage's share and the rest. Pixels at an edge (within one pixel of a
+//! pixel whose ray sees another object, another material or nothing, or a triangle
+//! sharing no vertex with its own whose shading normal is more than [`CREASE_ANGLE`]
+//! away: a crease; which side of an edge a pixel whose centre lies within rounding of
+//! it shows is the rasteriser's call) are counted, not compared.
 
 use combustion_reference::primary::camera_ray;
 use combustion_reference::shading::{GBufferPrecision, SceneShading, SurfacePoint};
@@ -23,6 +26,13 @@ pub fn relative(a: [f64; 3], b: [f64; 3]) -> f64 {
         .map(|c| (a[c] - b[c]).abs() / b[c].abs().max(RADIANCE_FLOOR))
         .fold(0.0, f64::max)
 }
+
+/// Neighbouring pixels whose triangles share no vertex and whose shading normals differ
+/// by more than this (radians, 29°) lie on either side of a crease (a hard edge, where a
+/// mesh's vertices are split to give each face its own normal). A smooth surface turns
+/// its normal by far less from one pixel to the next, except at its rim (a silhouette
+/// anyway) or when it spans a few pixels.
+pub const CREASE_ANGLE: f64 = 0.5;
 
 /// One pixel of the reference.
 #[derive(Clone, Copy, Debug)]
@@ -75,7 +85,7 @@ pub struct ComparedPixel {
 pub struct FrameComparison {
     /// Every compared pixel (both see the same material, away from silhouettes).
     pub pixels: Vec<ComparedPixel>,
-    /// Pixels at silhouettes, not compared.
+    /// Pixels at edges (silhouettes and creases), not compared.
     pub silhouette: usize,
     /// Pixels whose material differs from the reference's away from any silhouette,
     /// with no ray within the rasteriser's snapping of the pixel's centre seeing it
@@ -186,13 +196,43 @@ impl<'a> SceneReference<'a> {
         }
     }
 
-    /// Whether pixel (`x`, `y`) lies within one pixel of a pixel whose ray sees another
-    /// material (or nothing where it sees something).
+    /// Whether two hits' triangles of one object share a vertex index (so the shading
+    /// normal is continuous between them where they meet).
+    fn share_a_vertex(&self, a: &SurfacePoint, b: &SurfacePoint) -> bool {
+        let indices = |s: &SurfacePoint| -> Option<&[u32]> {
+            let mesh = self
+                .scene
+                .meshes
+                .get(self.scene.objects.get(s.hit.object)?.mesh)?;
+            mesh.indices.get(3 * s.hit.triangle..3 * s.hit.triangle + 3)
+        };
+        match (indices(a), indices(b)) {
+            (Some(p), Some(q)) => p.iter().any(|i| q.contains(i)),
+            _ => false,
+        }
+    }
+
+    /// Whether pixel (`x`, `y`) lies within one pixel of an edge: a pixel whose ray sees
+    /// another object or material (or nothing where it sees something), or across a
+    /// crease (a triangle sharing no vertex with its own, its shading normal more than
+    /// [`CREASE_ANGLE`] from its own).
     pub fn at_silhouette(&self, x: u32, y: u32) -> bool {
         let (w, h) = (self.width, self.height);
-        let own = self.seen[(y * w + x) as usize];
+        let own = &self.pixels[(y * w + x) as usize];
         (y.saturating_sub(1)..(y + 2).min(h)).any(|yy| {
-            (x.saturating_sub(1)..(x + 2).min(w)).any(|xx| self.seen[(yy * w + xx) as usize] != own)
+            (x.saturating_sub(1)..(x + 2).min(w)).any(|xx| {
+                let other = &self.pixels[(yy * w + xx) as usize];
+                match (own, other) {
+                    (None, None) => false,
+                    (Some(a), Some(b)) => {
+                        a.material != b.material
+                            || a.surface.hit.object != b.surface.hit.object
+                            || (a.surface.n.angle_between(b.surface.n) > CREASE_ANGLE
+                                && !self.share_a_vertex(&a.surface, &b.surface))
+                    }
+                    _ => true,
+                }
+            })
         })
     }
 
