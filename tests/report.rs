@@ -119,7 +119,10 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
     for row in rows {
         let e = row.end_to_end.expect("no environment: compared end to end");
         // At 96×64 the spheres' edges are most of them: at least 1 % of the frame.
-        assert!(e.compared * 100 >= (W * H) as usize && e.away == 0, "{row:?}");
+        assert!(
+            e.compared * 100 >= (W * H) as usize && e.away == 0,
+            "{row:?}"
+        );
         assert!(
             e.total.mean <= e.total.max && e.storage.mean <= e.storage.max,
             "{e:?}"
