@@ -159,6 +159,7 @@ pub mod environment;
 pub mod fresnel;
 pub mod microfacet;
 pub mod real;
+pub mod variants;
 pub mod vec3;
 
 pub use brdf::{

@@ -13,6 +13,9 @@ use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion_optics::environment::{integrate_environment, Estimate, Sampling};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
+use combustion_optics::variants::{
+    brdf_evaluate_variant, BrdfVariant, DistributionForm, FresnelForm, MaskingForm,
+};
 use combustion_optics::vec3::Vec3 as V;
 use combustion_reference::SceneBvh;
 use combustion_scene::{Environment, Light, Scene};
@@ -24,6 +27,7 @@ use crate::gpu_types::{
     LIGHT_KIND_DIRECTIONAL,
 };
 use crate::host::FrameInputs;
+use crate::options::{Distribution, FresnelModel, Masking, ShadingOptions};
 use crate::results::Frame;
 
 /// Samples per axis of a light with a size in the exact visibility
@@ -76,6 +80,10 @@ pub struct ReferenceShading {
     emits: Vec<bool>,
     /// Exact visibility: the scene's triangles and the frame's lights as given.
     visibility: Option<(std::sync::Arc<SceneBvh>, Vec<Light>)>,
+    /// The BRDF's terms ([`BrdfVariant::EXACT`] unless [`ReferenceShading::with_variant`]).
+    variant: BrdfVariant,
+    /// One diffuse model for every material, as [`ShadingOptions::diffuse_override`].
+    diffuse_override: Option<DiffuseModel>,
     width: u32,
     height: u32,
 }
@@ -125,6 +133,27 @@ impl ReferenceShading {
             height,
             environment: None,
             visibility: None,
+            variant: BrdfVariant::EXACT,
+            diffuse_override: None,
+        }
+    }
+
+    /// The same, shaded with the terms a comparison variant evaluates (its Fresnel curve,
+    /// masking form, distribution and forced diffuse model; from
+    /// [`combustion_optics::variants`], written from each term's own formula): what a
+    /// frame rendered with `options` must match, so each variant's shader is checked
+    /// against its claim, not only measured against the exact model.
+    pub fn with_variant(self, options: &ShadingOptions) -> Self {
+        Self {
+            variant: brdf_variant(options),
+            diffuse_override: options.diffuse_override.map(|d| match d {
+                combustion_scene::DiffuseModel::Lambert => DiffuseModel::Lambert,
+                combustion_scene::DiffuseModel::OrenNayarQualitative => {
+                    DiffuseModel::OrenNayarQualitative
+                }
+                combustion_scene::DiffuseModel::OrenNayarFull => DiffuseModel::OrenNayarFull,
+            }),
+            ..self
         }
     }
 
@@ -214,6 +243,23 @@ impl ReferenceShading {
     /// The f64 radiance of pixel (`x`, `y`) from its G-buffer texel (`None`: background)
     /// under the frame's lights (not the environment: see [`Self::shade_environment`]).
     pub fn shade(&self, texel: &GBufferTexel, x: u32, y: u32) -> Option<[f64; 3]> {
+        let mut radiance = self.shade_lights(&self.pixel(texel, x, y)?);
+        if let Some((environment, sampling)) = &self.environment {
+            let from_environment = self
+                .shade_environment(texel, x, y, environment, sampling.iterations)
+                .map_or([0.0; 3], |e| e.mean);
+            for c in 0..3 {
+                radiance[c] += from_environment[c];
+            }
+        }
+        Some(radiance)
+    }
+
+    /// The radiance the frame's lights give a pixel reconstructed as `p` (exact
+    /// visibility included with [`ReferenceShading::with_exact_visibility`], the
+    /// environment not): what [`ReferenceShading::shade`] adds up, open to a caller
+    /// that perturbs the inputs (to measure how sensitive a pixel is to them).
+    pub fn shade_lights(&self, p: &PixelInputs) -> [f64; 3] {
         let PixelInputs {
             brdf: m,
             n,
@@ -221,7 +267,7 @@ impl ReferenceShading {
             b,
             v,
             position,
-        } = self.pixel(texel, x, y)?;
+        } = *p;
         let mut radiance = [0.0; 3];
         for (index, light) in self.lights.iter().enumerate() {
             let (l, e) = self.light_direction(light, position);
@@ -241,20 +287,22 @@ impl ReferenceShading {
                     continue;
                 }
             }
-            let brdf = brdf_evaluate(&m, v3(n), v3(t), v3(b), v3(v), v3(l));
+            let brdf = if self.variant == BrdfVariant::EXACT {
+                brdf_evaluate(&m, v3(n), v3(t), v3(b), v3(v), v3(l))
+            } else {
+                brdf_evaluate_variant(&m, &self.variant, v3(n), v3(t), v3(b), v3(v), v3(l))
+            };
             for c in 0..3 {
                 radiance[c] += brdf[c] * e[c] * cos * visible;
             }
         }
-        if let Some((environment, sampling)) = &self.environment {
-            let from_environment = self
-                .shade_environment(texel, x, y, environment, sampling.iterations)
-                .map_or([0.0; 3], |e| e.mean);
-            for c in 0..3 {
-                radiance[c] += from_environment[c];
-            }
-        }
-        Some(radiance)
+        radiance
+    }
+
+    /// The camera position the frame was rendered from (f32, as the GPU got it).
+    pub fn camera_position(&self) -> [f64; 3] {
+        let [x, y, z, _] = self.push.camera_position.map(f64::from);
+        [x, y, z]
     }
 
     /// The f64 environment oracle at pixel (`x`, `y`): the rendering equation
@@ -354,8 +402,10 @@ impl ReferenceShading {
             outside_eta: eta_out[3],
             polarisation_weight: k_pol[3],
             // The shader evaluates an unknown code as Lambert; so does its mirror.
-            diffuse_model: DiffuseModel::try_from(material.diffuse_model_flags[0])
-                .unwrap_or(DiffuseModel::Lambert),
+            diffuse_model: self.diffuse_override.unwrap_or(
+                DiffuseModel::try_from(material.diffuse_model_flags[0])
+                    .unwrap_or(DiffuseModel::Lambert),
+            ),
             oren_nayar_sigma: oren_nayar_sigma_from_roughness(roughness),
         };
         Some(PixelInputs {
@@ -373,6 +423,26 @@ impl ReferenceShading {
             .get(texel.material_direction[0] as usize)
             .copied()
             .unwrap_or(false)
+    }
+}
+
+/// The terms `options` shades with, as the optics crate's variant names them.
+pub fn brdf_variant(options: &ShadingOptions) -> BrdfVariant {
+    BrdfVariant {
+        fresnel: match options.fresnel {
+            FresnelModel::Full => FresnelForm::Full,
+            FresnelModel::Schlick => FresnelForm::Schlick,
+            FresnelModel::F82 => FresnelForm::F82,
+        },
+        masking: match options.masking {
+            Masking::HeightCorrelated => MaskingForm::HeightCorrelated,
+            Masking::Separable => MaskingForm::Separable,
+            Masking::Approximate => MaskingForm::Approximate,
+        },
+        distribution: match options.distribution {
+            Distribution::Ggx => DistributionForm::Ggx,
+            Distribution::Beckmann => DistributionForm::Beckmann,
+        },
     }
 }
 
