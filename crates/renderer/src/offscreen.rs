@@ -122,6 +122,7 @@ impl Renderer {
         let offscreen = self.offscreen.as_ref().expect("created by the submission");
         offscreen.ring.wait(frame.slot)?;
         self.collect_timings(frame.slot)?;
+        self.stats.readbacks += 1;
         self.read_back(width, height, readback)
     }
 

@@ -85,6 +85,12 @@ pub struct RendererStats {
     pub pipelines_built: u64,
     /// Display images of [`Renderer::render`] and [`Renderer::submit_offscreen`] made.
     pub display_images_built: u64,
+    /// Shaders compiled (GLSL to SPIR-V, at start-up and when a new pipeline variant is
+    /// first needed; never while a frame records).
+    pub shaders_compiled: u64,
+    /// Frames read back to the CPU ([`Renderer::render`] and its kin; never in a
+    /// frame a host records).
+    pub readbacks: u64,
 }
 
 /// How many completed frames' timings are kept until taken.
@@ -129,6 +135,7 @@ impl Renderer {
     pub fn stats(&self) -> RendererStats {
         RendererStats {
             frames: self.frame_number,
+            shaders_compiled: self.compiler.compilations(),
             ..self.stats
         }
     }

@@ -363,14 +363,20 @@ impl Drop for FrameRing {
 
 #[cfg(test)]
 mod tests {
-    use std::sync::atomic::Ordering;
+    use std::cell::Cell;
 
     use super::*;
     use crate::test_support;
+    use crate::InjectedFault;
 
-    /// Fences waited for on `device` since the last call.
-    fn fences_waited(device: &Device) -> usize {
-        device.fences_waited.swap(0, Ordering::Relaxed)
+    thread_local! {
+        static LAST_COUNT: Cell<u64> = const { Cell::new(0) };
+    }
+
+    /// Fences waited for on `device` since the last call (on this thread).
+    fn fences_waited(device: &Device) -> u64 {
+        let now = device.counters().fence_waits;
+        now - LAST_COUNT.with(|last| last.replace(now))
     }
 
     /// A failed submission signals no fence: nothing waits for it, neither the failed
@@ -382,9 +388,8 @@ mod tests {
         let mut commands = OneShot::new(&device).unwrap();
         commands.begin().unwrap();
         fences_waited(&device);
-        device.fail_submits.store(true, Ordering::Relaxed);
+        device.fail_submission(0, InjectedFault::OutOfMemory);
         assert!(commands.submit_and_wait().is_err());
-        device.fail_submits.store(false, Ordering::Relaxed);
         drop(commands);
         assert_eq!(
             fences_waited(&device),
@@ -402,9 +407,8 @@ mod tests {
         let log = device.validation_log();
         let mut commands = OneShot::new(&device).unwrap();
         commands.begin().unwrap();
-        device.fail_submits.store(true, Ordering::Relaxed);
+        device.fail_submission(0, InjectedFault::OutOfMemory);
         assert!(commands.submit_and_wait().is_err());
-        device.fail_submits.store(false, Ordering::Relaxed);
         fences_waited(&device);
         commands.begin().unwrap();
         commands.submit_and_wait().unwrap();
@@ -423,9 +427,8 @@ mod tests {
         let log = device.validation_log();
         let mut ring = FrameRing::new(&device, 2).unwrap();
         let frame = ring.begin().unwrap();
-        device.fail_submits.store(true, Ordering::Relaxed);
+        device.fail_submission(0, InjectedFault::OutOfMemory);
         assert!(ring.submit(frame).is_err());
-        device.fail_submits.store(false, Ordering::Relaxed);
         fences_waited(&device);
         ring.wait_all().unwrap();
         assert_eq!(

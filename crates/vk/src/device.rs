@@ -8,6 +8,7 @@ use ash::{ext, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use crate::error::{VkError, VkResultExt};
+use crate::probe::{DeviceCounters, DeviceProbe, InjectedFault};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
@@ -339,12 +340,8 @@ pub struct Device {
     allocator: ManuallyDrop<SharedAllocator>,
     /// Created (and so destroyed) by Combustion; `false` for a host's device.
     owned: bool,
-    /// Tests only: [`Device::submit`] fails without submitting while this is set.
-    #[cfg(test)]
-    pub(crate) fail_submits: std::sync::atomic::AtomicBool,
-    /// Tests only: fences waited for through [`Device::wait_fences`].
-    #[cfg(test)]
-    pub(crate) fences_waited: std::sync::atomic::AtomicUsize,
+    /// Counts of submissions, waits and allocations, and the faults armed for them.
+    probe: DeviceProbe,
 }
 
 fn c_chars_to_string(chars: &[std::ffi::c_char]) -> String {
@@ -656,10 +653,7 @@ impl Device {
             queue: Arc::new(Mutex::new(queue)),
             allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
             owned: true,
-            #[cfg(test)]
-            fail_submits: Default::default(),
-            #[cfg(test)]
-            fences_waited: Default::default(),
+            probe: DeviceProbe::default(),
         }))
     }
 
@@ -784,10 +778,7 @@ impl Device {
             queue: host.queue,
             allocator: ManuallyDrop::new(allocator),
             owned: false,
-            #[cfg(test)]
-            fail_submits: Default::default(),
-            #[cfg(test)]
-            fences_waited: Default::default(),
+            probe: DeviceProbe::default(),
         }))
     }
 
@@ -851,12 +842,12 @@ impl Device {
     /// [`VkError`] when the submission fails; nothing was submitted then, and `fence`
     /// will not be signalled.
     pub fn submit(&self, submits: &[vk::SubmitInfo2<'_>], fence: vk::Fence) -> Result<(), VkError> {
-        #[cfg(test)]
-        if self.fail_submits.load(std::sync::atomic::Ordering::Relaxed) {
-            return Err(VkError::from_result(
-                "vkQueueSubmit2",
-                vk::Result::ERROR_OUT_OF_HOST_MEMORY,
-            ));
+        if let Some(fault) = self.probe.submission() {
+            let code = match fault {
+                InjectedFault::DeviceLost => vk::Result::ERROR_DEVICE_LOST,
+                InjectedFault::OutOfMemory => vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
+            };
+            return Err(VkError::from_result("vkQueueSubmit2", code));
         }
         let queue = self.queue.lock().unwrap_or_else(|p| p.into_inner());
         // SAFETY: the queue is externally synchronised by the mutex.
@@ -871,9 +862,7 @@ impl Device {
         fences: &[vk::Fence],
         timeout_ns: u64,
     ) -> Result<(), vk::Result> {
-        #[cfg(test)]
-        self.fences_waited
-            .fetch_add(fences.len(), std::sync::atomic::Ordering::Relaxed);
+        self.probe.fences_waited(fences.len());
         // SAFETY: the fences are this device's.
         unsafe { self.device.wait_for_fences(fences, true, timeout_ns) }
     }
@@ -888,8 +877,49 @@ impl Device {
         if !self.owned {
             return Err(VkError::NotOwned("vkDeviceWaitIdle"));
         }
+        self.probe.idle_wait();
         // SAFETY: plain wait.
         unsafe { self.device.device_wait_idle() }.what("vkDeviceWaitIdle")
+    }
+
+    /// Allocates memory from the device's allocator (every allocation Combustion makes
+    /// goes through here, counted in [`Device::counters`]).
+    ///
+    /// # Errors
+    /// The allocator's error; `OutOfMemory` when [`Device::fail_allocation`] armed it.
+    pub fn allocate(
+        &self,
+        desc: &gpu_allocator::vulkan::AllocationCreateDesc<'_>,
+    ) -> Result<gpu_allocator::vulkan::Allocation, gpu_allocator::AllocationError> {
+        if self.probe.allocation_fails() {
+            return Err(gpu_allocator::AllocationError::OutOfMemory);
+        }
+        self.allocator().allocate(desc)
+    }
+
+    /// What the device was asked to do since it was made: submissions, fence waits,
+    /// idle waits and allocations through it (not a host's own calls on the raw device).
+    pub fn counters(&self) -> DeviceCounters {
+        self.probe.counters()
+    }
+
+    /// Arms a fault: the submission after the next `after` ones (0: the next) fails
+    /// with `fault` without submitting anything, as a driver's would. For testing how
+    /// a renderer or host handles failure; it fires once.
+    pub fn fail_submission(&self, after: u64, fault: InjectedFault) {
+        self.probe.fail_submission(after, fault);
+    }
+
+    /// Arms a fault: the allocation after the next `after` ones (0: the next) fails as
+    /// out of device memory. For testing; it fires once.
+    pub fn fail_allocation(&self, after: u64) {
+        self.probe.fail_allocation(after);
+    }
+
+    /// Disarms every fault armed by [`Device::fail_submission`] and
+    /// [`Device::fail_allocation`] that has not fired.
+    pub fn clear_faults(&self) {
+        self.probe.clear_faults();
     }
 
     /// The maximum 2D image side the device allows, in texels.

@@ -28,6 +28,7 @@ mod commands;
 mod device;
 mod error;
 mod pipeline;
+mod probe;
 mod resources;
 mod shader;
 mod swapchain;
@@ -45,6 +46,7 @@ pub use pipeline::{
     DescriptorPool, DescriptorSetLayout, GraphicsPipelineDesc, Pipeline, PipelineCache,
     PipelineLayout, Sampler,
 };
+pub use probe::{DeviceCounters, InjectedFault};
 pub use resources::{
     color_level0_copy_region, full_mip_chain, image_barrier, Buffer, Image, ImageDesc, ImageState,
     ImageView,

@@ -41,7 +41,7 @@ impl Buffer {
         // SAFETY: valid create info; the buffer is destroyed on every error path below.
         let raw = unsafe { raw_device.create_buffer(&info, None) }.what("vkCreateBuffer")?;
         let requirements = unsafe { raw_device.get_buffer_memory_requirements(raw) };
-        let allocation = device.allocator().allocate(&AllocationCreateDesc {
+        let allocation = device.allocate(&AllocationCreateDesc {
             name,
             requirements,
             location,
@@ -530,7 +530,6 @@ impl Image {
         };
         let requirements = unsafe { raw_device.get_image_memory_requirements(raw) };
         let allocation = device
-            .allocator()
             .allocate(&AllocationCreateDesc {
                 name: desc.name,
                 requirements,

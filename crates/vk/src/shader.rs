@@ -85,6 +85,8 @@ impl ShaderStage {
 pub struct ShaderCompiler {
     compiler: shaderc::Compiler,
     sources: ShaderSources,
+    /// Compilations attempted ([`ShaderCompiler::compilations`]).
+    compilations: std::sync::atomic::AtomicU64,
 }
 
 impl ShaderCompiler {
@@ -95,7 +97,16 @@ impl ShaderCompiler {
     pub fn new(sources: ShaderSources) -> Result<Self, VkError> {
         let compiler = shaderc::Compiler::new()
             .map_err(|e| VkError::Shader(format!("cannot start the shader compiler: {e}")))?;
-        Ok(Self { compiler, sources })
+        Ok(Self {
+            compiler,
+            sources,
+            compilations: Default::default(),
+        })
+    }
+
+    /// How many compilations were asked of this compiler (failed ones included).
+    pub fn compilations(&self) -> u64 {
+        self.compilations.load(std::sync::atomic::Ordering::Relaxed)
     }
 
     /// Compiles `path` with `defines` (`NAME` or `NAME=value`). Errors carry
@@ -111,6 +122,8 @@ impl ShaderCompiler {
         stage: ShaderStage,
         defines: &[(&str, Option<&str>)],
     ) -> Result<Vec<u32>, VkError> {
+        self.compilations
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let source = self
             .sources
             .get(path)
