@@ -718,13 +718,37 @@ fn record_refuses_bad_arguments_before_recording() {
 /// The host in a window under Xvfb: frames presented through its own swapchain with
 /// Combustion's frame composed on the device, a resize in the middle (the swapchain is
 /// recreated), and no validation message, synchronization validation included.
+///
+/// The window system is chosen by the process's environment (DISPLAY), which a test must
+/// not change for the other tests of its process: the test starts Xvfb and runs its own
+/// body again in a child process of this test binary with that environment.
 #[test]
 fn host_in_a_window_presents_frames_and_survives_a_resize() {
-    let xvfb = common::xvfb::Xvfb::start();
-    // This test binary runs each test in a process of its own under nextest; under
-    // `cargo test` no other test here reads DISPLAY.
-    std::env::set_var("DISPLAY", format!(":{}", xvfb.display));
-    std::env::remove_var("WAYLAND_DISPLAY");
+    const CHILD: &str = "COMBUSTION_WINDOW_TEST_CHILD";
+    if std::env::var_os(CHILD).is_none() {
+        let xvfb = common::xvfb::Xvfb::start();
+        let output = std::process::Command::new(std::env::current_exe().unwrap())
+            .args([
+                "--exact",
+                "host_in_a_window_presents_frames_and_survives_a_resize",
+                "--nocapture",
+                "--test-threads",
+                "1",
+            ])
+            .env(CHILD, "1")
+            .env("DISPLAY", format!(":{}", xvfb.display))
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .unwrap();
+        drop(xvfb);
+        let said = String::from_utf8_lossy(&output.stdout);
+        assert!(
+            output.status.success() && said.contains("1 passed"),
+            "the windowed run failed:\n{said}\n{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        return;
+    }
     let scenes = [builtin_scene("spheres").unwrap()];
     let summary = window::run(
         &window::WindowOptions {
@@ -739,7 +763,6 @@ fn host_in_a_window_presents_frames_and_survives_a_resize() {
         &scenes,
     )
     .unwrap();
-    drop(xvfb);
     assert!(
         summary.validation_messages.is_empty(),
         "validation reported {} message(s):\n{}",

@@ -411,10 +411,18 @@ fn uniform(lo: f32, hi: f32) -> impl Strategy<Value = f32> {
     })
 }
 
+/// The proptests' seed: fixed, so every run tries the same cases.
+const PROPTEST_SEED: u64 = 0x0c0b_u64 << 32 | 0x2026;
+
 proptest! {
+    // A fixed seed (the same cases every run, so a failure reproduces) and failures
+    // saved beside the crate (proptest-regressions/, replayed first on the next run).
     #![proptest_config(ProptestConfig {
         cases: 512,
-        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(PROPTEST_SEED),
+        failure_persistence: Some(Box::new(
+            proptest::test_runner::FileFailurePersistence::SourceParallel("proptest-regressions"),
+        )),
         ..ProptestConfig::default()
     })]
 
