@@ -448,9 +448,30 @@ fn keys_and_mouse_drive_the_viewer() {
         .next()
         .expect("the viewer's window")
         .to_owned();
-    let pause = || std::thread::sleep(Duration::from_millis(250));
+    // Lines of the viewer's log (info level) containing `said`.
+    let logged = |said: &str| {
+        stderr_lines
+            .lock()
+            .unwrap()
+            .iter()
+            .filter(|l| l.contains(said))
+            .count()
+    };
+    // Waits (10 s at most) until the log has more lines containing `said` than `before`:
+    // the viewer has handled the event that says it.
+    let await_log = |said: &str, before: usize, after_what: &str| {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while logged(said) <= before {
+            assert!(
+                Instant::now() < deadline,
+                "after {after_what} the log never said `{said}`"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
     xdotool(&display, &["windowfocus", &window]);
-    pause();
+    // Focused once at least (it may have been before this asked for it).
+    await_log("window focused", 0, "focusing the window");
     xdotool(&display, &["mousemove", "--window", &window, "80", "60"]);
     // Each key, and what the window's title must say after it (it names the scene, the
     // debug view and every toggle).
@@ -514,44 +535,29 @@ fn keys_and_mouse_drive_the_viewer() {
         ("Tab", "statistics panel shown"),
         ("c", "camera 1 of 1"),
     ] {
-        let count = || {
-            stderr_lines
-                .lock()
-                .unwrap()
-                .iter()
-                .filter(|l| l.contains(said))
-                .count()
-        };
-        let before = count();
+        let before = logged(said);
         xdotool(&display, &["key", key]);
-        let deadline = Instant::now() + Duration::from_secs(10);
-        while count() == before {
-            assert!(
-                Instant::now() < deadline,
-                "after `{key}` the log never said `{said}`"
-            );
-            std::thread::sleep(Duration::from_millis(50));
-        }
+        await_log(said, before, &format!("`{key}`"));
     }
     xdotool(&display, &["mousedown", "1"]);
     xdotool(&display, &["mousemove", "--window", &window, "120", "70"]);
     xdotool(&display, &["mouseup", "1"]);
     xdotool(&display, &["click", "4"]);
     xdotool(&display, &["windowsize", &window, "200", "150"]);
-    pause();
-    pause();
+    await_log("images of 200x150", 0, "resizing to 200x150");
     // Hidden and shown again (unmapped, as a window manager does when minimising; Xvfb
     // has none to ask): the viewer goes on afterwards.
+    let unfocused = logged("window unfocused");
     xdotool(&display, &["windowunmap", &window]);
-    pause();
-    pause();
+    await_log("window unfocused", unfocused, "unmapping the window");
+    let shown = logged("window shown");
     xdotool(&display, &["windowmap", &window]);
-    pause();
+    await_log("window shown", shown, "mapping the window again");
+    let focused = logged("window focused");
     xdotool(&display, &["windowfocus", &window]);
-    pause();
+    await_log("window focused", focused, "focusing the window again");
     xdotool(&display, &["key", "p"]);
-    pause();
-    pause();
+    await_log("screenshot written", 0, "`p`");
     xdotool(&display, &["key", "Escape"]);
     let deadline = Instant::now() + Duration::from_secs(30);
     while child.try_wait().unwrap().is_none() {

@@ -173,7 +173,10 @@ fn write_screenshot(
         .collect();
     let (w, h) = (shot.extent.width, shot.extent.height);
     match crate::output::write_png(&shot.path, w, h, &pixels) {
-        Ok(()) => summary.screenshots.push(shot.path),
+        Ok(()) => {
+            log::info!("screenshot written to {} ({w}x{h})", shot.path.display());
+            summary.screenshots.push(shot.path)
+        }
         Err(e) => log::error!("{e}"),
     }
     Ok(())
@@ -518,7 +521,18 @@ impl State {
     /// Asks the window system whether the window is minimised (on events that come
     /// with a change of it), and for a frame if it is shown.
     fn check_minimized(&mut self) {
+        let was_hidden = self.hidden();
         self.minimized = self.window.is_minimized() == Some(true);
+        if self.hidden() != was_hidden {
+            log::info!(
+                "drawing {}",
+                if self.hidden() {
+                    "paused (window hidden)"
+                } else {
+                    "resumed"
+                }
+            );
+        }
         if !self.hidden() {
             self.window.request_redraw();
         }
@@ -1016,12 +1030,24 @@ impl ApplicationHandler for App<'_> {
                 // Minimised or fully covered: no frames (and no busy loop) until shown.
                 if let Some(state) = self.state.as_mut() {
                     log::info!("window {}", if hidden { "occluded" } else { "shown" });
+                    let was_hidden = state.hidden();
                     state.occluded = hidden;
+                    if state.hidden() != was_hidden {
+                        log::info!(
+                            "drawing {}",
+                            if hidden {
+                                "paused (window hidden)"
+                            } else {
+                                "resumed"
+                            }
+                        );
+                    }
                     state.check_minimized();
                 }
             }
             WindowEvent::KeyboardInput { event, .. } => self.key(event_loop, &event),
             WindowEvent::Focused(focused) => {
+                log::info!("window {}", if focused { "focused" } else { "unfocused" });
                 if let Some(state) = self.state.as_mut() {
                     if !focused {
                         // Keys and buttons released elsewhere never come back as releases.
