@@ -101,3 +101,26 @@ fn measure_tessellation_normal_error() {
     let error = common::measure_tessellation_normal_error(&scene, WIDTH, HEIGHT);
     println!("spheres {WIDTH}x{HEIGHT}: largest normal error {error:.3e} rad");
 }
+
+/// The golden gate sees a local regression the mean dilutes: a 20×20 patch of
+/// spheres_256 made 30 levels brighter stays under the mean bound but puts hundreds of
+/// pixels above the noise level, more than the gate allows.
+#[test]
+fn a_local_regression_fails_the_golden_gate_though_the_mean_passes() {
+    let (_, mut frame) = render_spheres(RendererSettings::default());
+    for y in 100..120 {
+        for x in 100..120 {
+            let p = &mut frame.ldr[(y * frame.width + x) as usize];
+            for c in 0..3 {
+                p[c] = p[c].saturating_add(30);
+            }
+        }
+    }
+    let d = common::golden_difference("spheres_256", &frame);
+    assert!(d.mean <= SPHERES_MAX_MEAN_FLIP, "{}", d.mean);
+    assert!(
+        d.above_noise > d.allowed_above_noise,
+        "{} pixels",
+        d.above_noise
+    );
+}

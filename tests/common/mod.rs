@@ -183,8 +183,13 @@ pub fn read_png(path: &std::path::Path) -> (u32, u32, Vec<[u8; 4]>) {
 }
 
 /// Compares the frame's display image with `tests/goldens/NAME.png` using FLIP and fails
-/// when the mean FLIP error exceeds `max_mean_flip`. On failure writes
-/// `NAME-actual.png` and `NAME-difference.png` (gitignored) beside the golden and names them.
+/// when the mean FLIP error exceeds `max_mean_flip`, or when more than
+/// [`GOLDEN_LOCAL_SHARE`] of the pixels differ by more than code-generation noise does: a
+/// local regression (one mesh's normals, one material) is diluted in the mean but not
+/// here. The noise level is measured per golden: the largest FLIP of the golden against
+/// itself with every channel [`GOLDEN_NOISE_LEVELS`] 8-bit levels brighter. On failure
+/// writes `NAME-actual.png` and `NAME-difference.png` (gitignored) beside the golden and
+/// names them.
 ///
 /// To update goldens on purpose: `COMBUSTION_BLESS=1 cargo test --test images`, then check
 /// the new images independently (see tests/goldens/README.md) before committing.
@@ -198,7 +203,48 @@ pub fn compare_with_golden(name: &str, frame: &Frame, max_mean_flip: f32) {
         );
         return;
     }
-    let (w, h, expected) = read_png(&golden);
+    let d = golden_difference(name, frame);
+    eprintln!(
+        "{name}: mean FLIP {:.6} (max {:.6}), allowed mean {max_mean_flip}; {} pixels above the noise level {:.4}, allowed {}",
+        d.mean, d.max, d.above_noise, d.noise, d.allowed_above_noise
+    );
+    if d.mean > max_mean_flip || d.above_noise > d.allowed_above_noise {
+        let (w, h) = (frame.width, frame.height);
+        let actual = goldens_dir().join(format!("{name}-actual.png"));
+        let difference = goldens_dir().join(format!("{name}-difference.png"));
+        combustion::output::write_png(&actual, w, h, &frame.ldr).unwrap();
+        combustion::output::write_png(&difference, w, h, &d.heat_map).unwrap();
+        panic!(
+            "{name}: mean FLIP {:.6} (allowed {max_mean_flip}), {} pixels above the noise level (allowed {}); see {} and {}",
+            d.mean,
+            d.above_noise,
+            d.allowed_above_noise,
+            actual.display(),
+            difference.display()
+        );
+    }
+}
+
+/// A frame against its golden, by FLIP ([`compare_with_golden`]'s measures).
+pub struct GoldenDifference {
+    /// Mean FLIP.
+    pub mean: f32,
+    /// Largest FLIP.
+    pub max: f32,
+    /// The noise level: the largest FLIP of the golden against itself
+    /// [`GOLDEN_NOISE_LEVELS`] levels brighter.
+    pub noise: f32,
+    /// Pixels whose FLIP exceeds the noise level.
+    pub above_noise: usize,
+    /// How many may ([`GOLDEN_LOCAL_SHARE`] of the pixels).
+    pub allowed_above_noise: usize,
+    /// The FLIP map in the magma colours, RGBA8.
+    pub heat_map: Vec<[u8; 4]>,
+}
+
+/// Measures `frame` against `tests/goldens/NAME.png` (same size).
+pub fn golden_difference(name: &str, frame: &Frame) -> GoldenDifference {
+    let (w, h, expected) = read_png(&goldens_dir().join(format!("{name}.png")));
     assert_eq!((w, h), (frame.width, frame.height), "golden size of {name}");
     let rgb = |pixels: &[[u8; 4]]| {
         pixels
@@ -206,32 +252,45 @@ pub fn compare_with_golden(name: &str, frame: &Frame, max_mean_flip: f32) {
             .flat_map(|p| [p[0], p[1], p[2]])
             .collect::<Vec<u8>>()
     };
-    let reference = nv_flip::FlipImageRgb8::with_data(w, h, &rgb(&expected));
-    let test = nv_flip::FlipImageRgb8::with_data(w, h, &rgb(&frame.ldr));
-    let error_map = nv_flip::flip(reference, test, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
+    let flip = |a: &[[u8; 4]], b: &[[u8; 4]]| {
+        nv_flip::flip(
+            nv_flip::FlipImageRgb8::with_data(w, h, &rgb(a)),
+            nv_flip::FlipImageRgb8::with_data(w, h, &rgb(b)),
+            nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+        )
+    };
+    let error_map = flip(&expected, &frame.ldr);
     let pool = nv_flip::FlipPool::from_image(&error_map);
-    let mean = pool.mean();
-    eprintln!(
-        "{name}: mean FLIP {mean:.6} (max {:.6}), allowed mean {max_mean_flip}",
-        pool.max_value()
-    );
-    if mean > max_mean_flip {
-        let actual = goldens_dir().join(format!("{name}-actual.png"));
-        let difference = goldens_dir().join(format!("{name}-difference.png"));
-        combustion::output::write_png(&actual, w, h, &frame.ldr).unwrap();
-        let diff_rgb = error_map.apply_color_lut(&nv_flip::magma_lut()).to_vec();
-        let diff: Vec<[u8; 4]> = diff_rgb
+    // The FLIP of code-generation noise: the golden against itself a few levels off.
+    let noisy: Vec<[u8; 4]> = expected
+        .iter()
+        .map(|p| p.map(|c| c.saturating_add(GOLDEN_NOISE_LEVELS)))
+        .collect();
+    let noise = nv_flip::FlipPool::from_image(&flip(&expected, &noisy)).max_value();
+    GoldenDifference {
+        mean: pool.mean(),
+        max: pool.max_value(),
+        noise,
+        above_noise: error_map.to_vec().iter().filter(|&&v| v > noise).count(),
+        allowed_above_noise: (GOLDEN_LOCAL_SHARE * f64::from(w * h)) as usize,
+        heat_map: error_map
+            .apply_color_lut(&nv_flip::magma_lut())
+            .to_vec()
             .chunks_exact(3)
             .map(|c| [c[0], c[1], c[2], 255])
-            .collect();
-        combustion::output::write_png(&difference, w, h, &diff).unwrap();
-        panic!(
-            "{name}: mean FLIP {mean:.6} exceeds {max_mean_flip}; see {} and {}",
-            actual.display(),
-            difference.display()
-        );
+            .collect(),
     }
 }
+
+/// Levels of 8-bit difference taken as code-generation noise (a different LLVM build's
+/// rounding in isolated pixels: a few steps), for [`compare_with_golden`].
+pub const GOLDEN_NOISE_LEVELS: u8 = 3;
+
+/// The share of a golden's pixels that may differ by more than noise: 0.1 %, a few
+/// dozen isolated pixels at the goldens' sizes (65 at 256×256), so a regression
+/// confined to one object fails once the object covers more than a 8×8-pixel patch
+/// (a 20×20 patch 30 levels off in spheres_256 fails this and passes the mean).
+pub const GOLDEN_LOCAL_SHARE: f64 = 1e-3;
 
 /// Luminance (Rec. 709) of linear RGB.
 pub fn luminance(rgb: [f32; 4]) -> f64 {
