@@ -111,8 +111,8 @@ fn a_local_regression_fails_the_golden_gate_though_the_mean_passes() {
     for y in 100..120 {
         for x in 100..120 {
             let p = &mut frame.ldr[(y * frame.width + x) as usize];
-            for c in 0..3 {
-                p[c] = p[c].saturating_add(30);
+            for c in &mut p[..3] {
+                *c = c.saturating_add(30);
             }
         }
     }
