@@ -598,12 +598,15 @@ impl AnalyticComparison {
         self.compared as f64 / (self.compared + self.ill_conditioned) as f64
     }
 
-    /// The bounds every golden is held to (derived in tests/images.rs for spheres_256):
-    /// the comparison covers at least 90 % of the interior samples, the worst compared
-    /// sample is at most 3 levels off (8-bit base colour storage ≤ half a step of albedo,
-    /// the output's rounding, and ≤ 2 levels of tessellation by the conditioning filter),
-    /// and at least 99 % are within one level (the reference's and the output's
-    /// roundings, half a level each).
+    /// The bounds every golden is held to (derived in tests/images.rs for spheres_256).
+    /// Two make sure the comparison is not vacuous, and depend on the analytic scene
+    /// only: at least `min_compared` samples, covering at least 90 % of the interior.
+    /// Three hold the image: the worst compared sample at most 3 levels off (8-bit base
+    /// colour storage ≤ half a step of albedo, the output's rounding, and ≤ 2 levels of
+    /// tessellation by the conditioning filter), and at least 99 % of all compared
+    /// samples and 99 % of the lit ones (at least one level: the shading, not the black
+    /// background) within one level (the reference's and the output's roundings, half
+    /// a level each).
     pub fn assert_bounds(&self, name: &str, min_compared: usize) {
         assert!(
             self.compared >= min_compared,
@@ -625,6 +628,12 @@ impl AnalyticComparison {
             self.within(1) >= 0.99,
             "{name}: {:.4} within one level",
             self.within(1)
+        );
+        assert!(
+            self.lit > 0 && self.lit_within(1) >= 0.99,
+            "{name}: {:.4} of {} lit samples within one level",
+            self.lit_within(1),
+            self.lit
         );
     }
 }
