@@ -301,7 +301,7 @@ fn gold_and_copper_colour_at_normal_incidence_and_whiten_toward_grazing() {
             for (k, light) in scene.lights.iter().enumerate().skip(1) {
                 let gpu = common::luminance(frame.hdr[i]);
                 if total > 0.0 && per_light[k] >= 0.95 * total && gpu > rim[sphere].0 {
-                    let (l, _) = common::light_at(light, p).unwrap();
+                    let (l, _) = combustion::reference::shading::light_at(light, p);
                     rim[sphere] = (gpu, i, v.dot((v + l).normalize()));
                 }
             }
@@ -449,7 +449,7 @@ fn reflections_are_weaker_under_water_except_below_the_crossover() {
                         .collect();
                     let total: f64 = per_light.iter().sum();
                     if total > 0.0 && per_light[k] >= 0.9 * total {
-                        let (l, _) = common::light_at(light, p).unwrap();
+                        let (l, _) = combustion::reference::shading::light_at(light, p);
                         let analytic_water =
                             common::luminance3(reference_water.shade(p, n, v, index));
                         dominated.push((i, v.dot((v + l).normalize()), total, analytic_water));
@@ -584,7 +584,7 @@ fn bubble_under_water_shows_total_internal_reflection() {
             let mut expected = 0.0;
             let mut all_tir = true;
             for light in &scene.lights {
-                let (l, e) = common::light_at(light, p).unwrap();
+                let (l, e) = combustion::reference::shading::light_at(light, p);
                 let cos = n.dot(l);
                 if cos <= 0.0 {
                     continue;

@@ -5,9 +5,7 @@
 mod common;
 
 use combustion::renderer::reference::{error_map, ErrorMap, ReferenceShading, RADIANCE_FLOOR};
-use combustion::renderer::{
-    FrameInputs, FresnelModel, HdrFormat, Readback, RendererSettings, ShadingOptions,
-};
+use combustion::renderer::{FresnelModel, HdrFormat, Readback, RendererSettings, ShadingOptions};
 use combustion::scene::{builtin_scene, Light, Scene};
 
 fn parity(scene_name: &str, width: u32, height: u32) -> ErrorMap {
@@ -44,13 +42,7 @@ fn parity_of(
         frames_in_flight: 2,
     };
     let (frame, report) = common::render_with_error_map(scene, width, height, settings, 2);
-    let inputs = FrameInputs {
-        camera: scene.camera,
-        exposure: 1.0,
-        lights: &scene.lights,
-        overlay: &[],
-        environment: None,
-    };
+    let inputs = common::frame_inputs(scene, &scene.lights);
     let one_thread = error_map(
         &frame,
         &ReferenceShading::new(scene, &inputs, width, height),
@@ -448,13 +440,7 @@ fn every_comparison_variant_is_its_own_formula() {
     ];
     for (scene_name, width, height) in [("hard-cases", 192, 128), ("diffuse-models", 128, 128)] {
         let scene = builtin_scene(scene_name).unwrap();
-        let inputs = FrameInputs {
-            camera: scene.camera,
-            exposure: 1.0,
-            lights: &scene.lights,
-            overlay: &[],
-            environment: None,
-        };
+        let inputs = common::frame_inputs(&scene, &scene.lights);
         for (name, shading) in &variants {
             if scene_name == "diffuse-models" && !on_diffuse_models.contains(name) {
                 continue;

@@ -11,6 +11,7 @@ use std::path::PathBuf;
 use combustion::optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
 use combustion::optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion::optics::vec3::Vec3 as V;
+use combustion::reference::shading::light_at;
 use combustion::renderer::{
     linear_to_srgb, tonemap_exponential, Frame, Readback, RendererSettings,
 };
@@ -70,19 +71,28 @@ pub fn render_with_error_map(
             gbuffer: true,
         },
     );
-    let inputs = combustion::renderer::FrameInputs {
-        camera: scene.camera,
-        exposure: 1.0,
-        lights: &scene.lights,
-        overlay: &[],
-        environment: None,
-    };
+    let inputs = frame_inputs(scene, &scene.lights);
     let map = error_map(
         &frame,
         &ReferenceShading::new(scene, &inputs, width, height),
         threads,
     );
     (frame, map)
+}
+
+/// A frame of `scene` from its camera, exposure 1, lit by `lights`, no overlay, no
+/// environment of its own.
+pub fn frame_inputs<'a>(
+    scene: &Scene,
+    lights: &'a [Light],
+) -> combustion::renderer::FrameInputs<'a> {
+    combustion::renderer::FrameInputs {
+        camera: scene.camera,
+        exposure: 1.0,
+        lights,
+        overlay: &[],
+        environment: None,
+    }
 }
 
 /// Renders `scene` on lavapipe with validation and the given readback; checks validation.
@@ -112,13 +122,7 @@ pub fn render_with_lights(scene: &Scene, lights: &[Light], width: u32, height: u
     let frame = {
         let renderer = headless.renderer();
         let gpu_scene = renderer.upload(scene).expect("upload");
-        let inputs = combustion::renderer::FrameInputs {
-            camera: scene.camera,
-            exposure: 1.0,
-            lights,
-            overlay: &[],
-            environment: None,
-        };
+        let inputs = frame_inputs(scene, lights);
         let readback = Readback {
             images: true,
             gbuffer: true,
@@ -473,9 +477,7 @@ impl AnalyticSpheres {
             .lights
             .iter()
             .map(|light| {
-                let Some((l, e)) = light_at(light, p) else {
-                    return [0.0; 3];
-                };
+                let (l, e) = light_at(light, p);
                 let cos = n.dot(l);
                 if cos <= 0.0 {
                     return [0.0; 3];
@@ -491,55 +493,6 @@ impl AnalyticSpheres {
                 std::array::from_fn(|c| f[c] * e[c] * cos)
             })
             .collect()
-    }
-}
-
-/// Direction to the light and the irradiance it gives a surface facing it at `p`, in f64
-/// (KHR_lights_punctual: point and spot lights fall off as 1/d², windowed to 0 at their
-/// range if they have one, spot lights also as the square of the clamped linear ramp
-/// between the cone cosines). None outside a spot cone.
-pub fn light_at(light: &Light, p: DVec3) -> Option<(DVec3, [f64; 3])> {
-    match light {
-        Light::Point {
-            position,
-            intensity,
-            range,
-            ..
-        } => {
-            let to = position.as_dvec3() - p;
-            let d2 = to.length_squared();
-            let w = range.map_or(1.0, |r| {
-                combustion::scene::range_window(d2.sqrt(), f64::from(r))
-            });
-            Some((to.normalize(), intensity.map(|i| f64::from(i) * w / d2)))
-        }
-        Light::Directional {
-            direction,
-            irradiance,
-            ..
-        } => Some((-direction.as_dvec3().normalize(), irradiance.map(f64::from))),
-        Light::Spot {
-            position,
-            direction,
-            intensity,
-            inner_cone,
-            outer_cone,
-            range,
-            ..
-        } => {
-            let to = position.as_dvec3() - p;
-            let d2 = to.length_squared();
-            let l = to.normalize();
-            let cos_axis = direction.as_dvec3().normalize().dot(-l);
-            let (cos_inner, cos_outer) =
-                (f64::from(*inner_cone).cos(), f64::from(*outer_cone).cos());
-            let ramp = ((cos_axis - cos_outer) / (cos_inner - cos_outer).max(1e-3)).clamp(0.0, 1.0);
-            let w = range.map_or(1.0, |r| {
-                combustion::scene::range_window(d2.sqrt(), f64::from(r))
-            });
-            let a = ramp * ramp * w;
-            (a > 0.0).then(|| (l, intensity.map(|i| f64::from(i) * a / d2)))
-        }
     }
 }
 

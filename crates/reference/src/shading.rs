@@ -112,11 +112,13 @@ fn optics_diffuse(model: DiffuseModel) -> OpticsDiffuse {
     }
 }
 
-/// The irradiance `light` gives a surface at `point` facing it, and the unit direction
-/// to it, from the light's definition ([`Light`]): I/d² for point and spot lights,
-/// times the range window ([`range_window`]) where there is a range and, for a spot,
-/// KHR_lights_punctual's cone falloff (the square of the clamped linear ramp in the
-/// cosine from the outer to the inner cone); E along −direction for a directional light.
+/// The unit direction to `light` from `point` and the irradiance it gives a surface
+/// facing it there, from the light's definition ([`Light`]): I/d² for point and spot
+/// lights, times the range window ([`range_window`]) where there is a range and, for a
+/// spot, KHR_lights_punctual's cone falloff as its specification implements it (the
+/// square of the linear ramp in the cosine from the outer to the inner cone, clamped to
+/// [0, 1], the ramp's width at least 0.001); E along −direction for a directional
+/// light. Zero irradiance outside a spot's cone or beyond a range.
 pub fn light_at(light: &Light, point: DVec3) -> (DVec3, [f64; 3]) {
     let f3 = |a: [f32; 3]| a.map(f64::from);
     match *light {
@@ -143,7 +145,8 @@ pub fn light_at(light: &Light, point: DVec3) -> (DVec3, [f64; 3]) {
             let to_light = position.as_dvec3() - point;
             let cos_axis = (-to_light.normalize()).dot(direction.as_dvec3().normalize());
             let (cos_outer, cos_inner) = (f64::from(outer_cone).cos(), f64::from(inner_cone).cos());
-            let ramp = ((cos_axis - cos_outer) / (cos_inner - cos_outer)).clamp(0.0, 1.0);
+            let width = (cos_inner - cos_outer).max(1e-3);
+            let ramp = ((cos_axis - cos_outer) / width).clamp(0.0, 1.0);
             point_light(to_light, f3(intensity), range, ramp * ramp)
         }
     }
