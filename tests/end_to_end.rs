@@ -97,7 +97,7 @@ fn the_gbuffer_is_what_the_cameras_rays_hit() {
                 // The view distance the stored depth stands for.
                 let d = f64::from(texel.depth);
                 let z = near * far / (far - d * (far - near));
-                let allowed = position_bound(&scene.camera, hit.view_depth);
+                let allowed = common::position_bound(&scene.camera, hit.view_depth);
                 let depth_error = (z - hit.view_depth).abs();
                 worst_depth = worst_depth.max(depth_error / allowed);
                 if depth_error > allowed {
@@ -145,15 +145,6 @@ fn the_gbuffer_is_what_the_cameras_rays_hit() {
 /// The f32 shading bound the parity tests hold the lighting pass to (relative, from the
 /// G-buffer values it reads).
 const SHADING_F32: f64 = 1e-3;
-
-/// How far (metres) the renderer may place a surface point at view distance `z` from
-/// the ray's, by the depth bound above: eight steps of the 32-bit depth there,
-/// z²/near · (far − near)/far · 2⁻²⁴ each, plus 1e-5 z for the f32 camera.
-fn position_bound(camera: &Camera, z: f64) -> f64 {
-    let (near, far) = (f64::from(camera.near), f64::from(camera.far));
-    let step = z * z / near * (far - near) / far * 2f64.powi(-24);
-    8.0 * step + 1e-5 * z
-}
 
 /// How far the renderer's shading normal may turn from the interpolated f64 one away
 /// from silhouettes, radians (the normal bound above).
@@ -228,7 +219,7 @@ fn turned_normal_change(shading: &SceneShading, surface: &SurfacePoint, angle: f
 /// is not), the sources summed (first order):
 /// - the normal turned by [`NORMAL_ANGLE`], or by what a normal map's texture error
 ///   allows (2·codes/255 in x and y, times its scale);
-/// - the point moved by [`position_bound`] along each axis;
+/// - the point moved by `common::position_bound` along each axis;
 /// - a conversion rounding the other way near a tie ([`TIE_MARGIN`]);
 /// - textures sampled half a level finer or coarser (`lod_neighbours`: the Vulkan scale
 ///   factor's latitude), and every textured input off by [`texture_codes`] 8-bit codes.
@@ -258,7 +249,7 @@ fn allowance(
     }
     let mut total = turned_normal_change(shading, stored, normal_angle);
 
-    let distance = position_bound(camera, stored.hit.view_depth);
+    let distance = common::position_bound(camera, stored.hit.view_depth);
     total += largest(
         &mut [
             DVec3::X,

@@ -4,7 +4,8 @@
 
 mod common;
 
-use combustion::renderer::reference::{error_map, ErrorMap, ReferenceShading, RADIANCE_FLOOR};
+use combustion::end_to_end::relative;
+use combustion::renderer::reference::{error_map, ErrorMap, ReferenceShading};
 use combustion::renderer::{FresnelModel, HdrFormat, Readback, RendererSettings, ShadingOptions};
 use combustion::scene::{builtin_scene, Light, Scene};
 
@@ -264,18 +265,9 @@ fn ranged_lights_parity() {
     assert!(darker > 1000, "{darker} pixels darkened by the window");
 }
 
-/// How far (metres) the GPU's reconstructed position may lie from the true one at view
-/// distance `z`: eight steps of the 32-bit depth there, z²/near · (far − near)/far · 2⁻²⁴
-/// each, plus 1e-5 z for the f32 matrices (the bound tests/end_to_end.rs holds the
-/// G-buffer's depth to).
-fn position_bound(scene: &Scene, z: f64) -> f64 {
-    let (near, far) = (f64::from(scene.camera.near), f64::from(scene.camera.far));
-    8.0 * z * z / near * (far - near) / far * 2f64.powi(-24) + 1e-5 * z
-}
-
 /// The parity bounds, the maximum held per pixel: [`PARITY_MAX_RELATIVE`] plus how much
 /// the reference's own radiance changes when the reconstructed point moves by
-/// [`position_bound`] along each axis (v and l turning with it) — a narrow highlight is
+/// `common::position_bound` along each axis (v and l turning with it) — a narrow highlight is
 /// that ill-conditioned, whichever model shades it (at α = 10⁻³ a grazing lobe changes by
 /// ~10⁷ per radian).
 fn assert_within_parity_bounds_where_conditioned(
@@ -301,11 +293,6 @@ fn assert_within_parity_bounds_where_conditioned(
     let forward = (scene.camera.target - scene.camera.position)
         .normalize()
         .as_dvec3();
-    let relative = |a: [f64; 3], b: [f64; 3]| {
-        (0..3)
-            .map(|c| (a[c] - b[c]).abs() / b[c].abs().max(RADIANCE_FLOOR))
-            .fold(0.0, f64::max)
-    };
     let mut beyond = Vec::new();
     for (i, &error) in map.relative.iter().enumerate() {
         // NaN: not compared.
@@ -321,7 +308,7 @@ fn assert_within_parity_bounds_where_conditioned(
         let position = glam::DVec3::from(p.position);
         let z = (position - glam::DVec3::from(eye)).dot(forward);
         let at = reference.shade_lights(&p);
-        let step = position_bound(scene, z);
+        let step = common::position_bound(&scene.camera, z);
         let mut sensitivity = 0.0f64;
         for axis in [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z] {
             for sign in [-1.0, 1.0] {

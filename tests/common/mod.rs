@@ -80,6 +80,16 @@ pub fn render_with_error_map(
     (frame, map)
 }
 
+/// How far (metres) the renderer may place a surface point at view distance `z` from the
+/// true one, the bound tests/end_to_end.rs holds the G-buffer's depth to: eight steps of
+/// the 32-bit depth there, z²/near · (far − near)/far · 2⁻²⁴ each, plus 1e-5 z for the
+/// f32 camera.
+pub fn position_bound(camera: &combustion::scene::Camera, z: f64) -> f64 {
+    let (near, far) = (f64::from(camera.near), f64::from(camera.far));
+    let step = z * z / near * (far - near) / far * 2f64.powi(-24);
+    8.0 * step + 1e-5 * z
+}
+
 /// A frame of `scene` from its camera, exposure 1, lit by `lights`, no overlay, no
 /// environment of its own.
 pub fn frame_inputs<'a>(
