@@ -25,8 +25,8 @@ layout(location = 5) in vec4 in_slot_uv[3];  // gbuffer.vert: each slot's mapped
 // combustion_renderer::bindings::MATERIAL_TEXTURES.
 #include "bindings/material_textures.glsl"
 
-layout(location = 0) out vec4 out_base_color_metalness;       // RGBA8_UNORM, sRGB-encoded rgb
-layout(location = 1) out vec4 out_normal_roughness_anisotropy; // RGBA16_UNORM
+layout(location = 0) out vec4 out_base_color_metalness;       // GBufferStorage: sRGB-encoded rgb in RGBA8/16_UNORM, linear in RGBA16F
+layout(location = 1) out vec4 out_normal_roughness_anisotropy; // RGBA16_UNORM or RGBA8_UNORM
 layout(location = 2) out uvec2 out_material_direction;         // RG16_UINT
 #ifdef EMISSIVE_OCCLUSION_TARGET
 layout(location = 3) out vec4 out_emissive;  // the HDR image's format (f16/f32): rgb emitted radiance, a occlusion
@@ -134,9 +134,13 @@ void main() {
         direction = t;
     }
 
+#ifdef BASE_COLOR_LINEAR
+    out_base_color_metalness = vec4(clamp(base.rgb, 0.0, 1.0), metalness);  // RGBA16F
+#else
     out_base_color_metalness = vec4(srgb_encode(base.rgb), metalness);
+#endif
     out_normal_roughness_anisotropy = vec4(octahedral_encode(n), roughness, strength);
-    out_material_direction = uvec2(in_material, anisotropy_direction_encode(n, normalize(direction)));
+    out_material_direction = uvec2(in_material, anisotropy_direction_encode(stored_normal(n), normalize(direction)));
 #ifdef EMISSIVE_OCCLUSION_TARGET
     vec3 emissive = vec3(0.0);
 #ifdef EMISSIVE

@@ -82,7 +82,7 @@ float environment_code_table(uint table, uint code, vec2 coord) {
 // (full Fresnel), plus the cosine-weighted mean radiance about n times its diffuse
 // albedo ρ D1 + ρ² D2. Anisotropic pixels use the roughness of their mean α.
 vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs m, BrdfView view,
-                          vec3 n, vec3 v, float roughness, vec3 base_color_codes,
+                          vec3 n, vec3 v, float roughness, vec3 base_color_code,
                           float occlusion) {
     float nv = view.v.z;
     if (!(nv > 0.0)) {
@@ -103,7 +103,7 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     vec3 conductor = specular.rgb;
     if ((material.diffuse_model_flags.y & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR) != 0u) {
         uint table = environment_code_table_of_material[material_index];
-        uvec3 code = uvec3(round(base_color_codes * 255.0));
+        uvec3 code = uvec3(base_color_code);
         conductor = vec3(environment_code_table(table, code.r, coord),
                          environment_code_table(table, code.g, coord),
                          environment_code_table(table, code.b, coord));
@@ -227,7 +227,7 @@ void main() {
     float alpha = alpha_from_perceptual_roughness(nra.z);
     vec2 alphas = anisotropic_alphas(alpha, nra.w);
     BrdfInputs m;
-    m.base_color = srgb_decode_unorm8(base_metal.rgb);
+    m.base_color = base_color_decode(base_metal.rgb);
     m.metalness = base_metal.a;
     m.alpha_x = alphas.x;
     m.alpha_y = alphas.y;
@@ -235,7 +235,7 @@ void main() {
     m.conductor_k = material.conductor_k_polarisation.rgb;
 #ifndef NO_CONDUCTOR_TABLE
     if ((material.diffuse_model_flags.y & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR) != 0u) {
-        ivec3 code = ivec3(round(base_metal.rgb * 255.0));
+        ivec3 code = ivec3(base_color_srgb8_code(base_metal.rgb));
         vec2 red = conductor_from_code[code.r];
         vec2 green = conductor_from_code[code.g];
         vec2 blue = conductor_from_code[code.b];
@@ -347,7 +347,7 @@ void main() {
     float occlusion = 1.0;
 #endif
     radiance += environment_radiance(material, md.x, m, view, view.frame[2], normalize(v), nra.z,
-                                     base_metal.rgb, occlusion);
+                                     base_color_srgb8_code(base_metal.rgb), occlusion);
 #endif
 #ifdef EMISSIVE
     radiance += emissive_occlusion.rgb;

@@ -4,8 +4,8 @@
 //! per scene and size, then compared with any number of frames of it — the report's
 //! end-to-end error columns and `tests/end_to_end.rs`.
 //!
-//! Each pixel the reference shades twice: exactly, and from the inputs as Combustion's
-//! G-buffer stores them ([`GBufferPrecision::COMBUSTION`]), so a frame's error splits
+//! Each pixel the reference shades twice: exactly, and from the inputs as the frame's
+//! G-buffer stores them ([`precision_of`] its [`GBufferStorage`]), so a frame's error splits
 //! into the storage's share and the rest. Pixels at an edge (within one pixel of a
 //! pixel whose ray sees another object, another material or nothing, or a triangle
 //! sharing no vertex with its own whose shading normal is more than [`CREASE_ANGLE`]
@@ -13,10 +13,10 @@
 //! it shows is the rasteriser's call) are counted, not compared.
 
 use combustion_reference::primary::camera_ray;
-use combustion_reference::shading::{GBufferPrecision, SceneShading, SurfacePoint};
+use combustion_reference::shading::{GBufferPrecision, SceneShading, StoredValue, SurfacePoint};
 use combustion_reference::SceneBvh;
 use combustion_renderer::reference::RADIANCE_FLOOR;
-use combustion_renderer::Frame;
+use combustion_renderer::{BaseColorStorage, Frame, GBufferStorage};
 use combustion_scene::{Light, Scene};
 
 /// Relative error of `a` against `b`: the largest over the channels of
@@ -33,6 +33,22 @@ pub fn relative(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// its normal by far less from one pixel to the next, except at its rim (a silhouette
 /// anyway) or when it spans a few pixels.
 pub const CREASE_ANGLE: f64 = 0.5;
+
+/// What the reference models of the G-buffer `storage` keeps: its formats as
+/// docs/gbuffer.md describes them.
+pub fn precision_of(storage: GBufferStorage) -> GBufferPrecision {
+    let (base_color, metalness) = match storage.base_color {
+        BaseColorStorage::Srgb8 => (StoredValue::Unorm(8), StoredValue::Unorm(8)),
+        BaseColorStorage::Srgb16 => (StoredValue::Unorm(16), StoredValue::Unorm(16)),
+        BaseColorStorage::LinearHalf => (StoredValue::Half, StoredValue::Half),
+    };
+    GBufferPrecision {
+        base_color,
+        metalness,
+        roughness_bits: storage.surface.bits(),
+        normal_octahedral_bits: storage.surface.bits(),
+    }
+}
 
 /// One pixel of the reference.
 #[derive(Clone, Copy, Debug)]
@@ -153,13 +169,14 @@ impl FrameComparison {
 
 impl<'a> SceneReference<'a> {
     /// The reference of `scene` (its triangles in `bvh`: [`SceneBvh::new`]) seen by its
-    /// camera at `width` × `height`, lit by `lights`, on up to `threads` threads.
+    /// camera at `width` × `height`, lit by `lights`, stored with `precision` (a frame's
+    /// G-buffer storage: [`precision_of`]), on up to `threads` threads.
     pub fn new(
         scene: &'a Scene,
         bvh: &'a SceneBvh,
         lights: &'a [Light],
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
+        precision: GBufferPrecision,
         threads: usize,
     ) -> Self {
         let shading = SceneShading::new(scene, bvh, lights, width, height);
@@ -173,7 +190,11 @@ impl<'a> SceneReference<'a> {
                     .map(|part| {
                         scope.spawn(move || {
                             part.iter()
-                                .map(|s| s.map(|surface| reference_pixel(scene, shading, surface)))
+                                .map(|s| {
+                                    s.map(|surface| {
+                                        reference_pixel(scene, shading, &precision, surface, None)
+                                    })
+                                })
                                 .collect::<Vec<_>>()
                         })
                     })
@@ -311,24 +332,53 @@ impl<'a> SceneReference<'a> {
         out
     }
 
+    /// Stores every pixel's surface again with `precision` (another G-buffer storage:
+    /// [`precision_of`]), on up to `threads` threads: the rays, hits and exact radiance
+    /// are kept.
+    pub fn store_as(&mut self, precision: GBufferPrecision, threads: usize) {
+        let (scene, shading) = (self.scene, &self.shading);
+        let chunk = self.pixels.len().div_ceil(threads.max(1)).max(1);
+        std::thread::scope(|scope| {
+            for part in self.pixels.chunks_mut(chunk) {
+                scope.spawn(move || {
+                    for pixel in part.iter_mut().flatten() {
+                        *pixel = reference_pixel(
+                            scene,
+                            shading,
+                            &precision,
+                            pixel.surface,
+                            Some(pixel.exact),
+                        );
+                    }
+                });
+            }
+        });
+    }
+
     /// The reference pixel at (`x`, `y`).
     pub fn pixel(&self, x: u32, y: u32) -> Option<&ReferencePixel> {
         self.pixels.get((y * self.width + x) as usize)?.as_ref()
     }
 }
 
-fn reference_pixel(scene: &Scene, shading: &SceneShading, surface: SurfacePoint) -> ReferencePixel {
+fn reference_pixel(
+    scene: &Scene,
+    shading: &SceneShading,
+    precision: &GBufferPrecision,
+    surface: SurfacePoint,
+    exact: Option<[f64; 3]>,
+) -> ReferencePixel {
     let material = scene.objects[surface.hit.object].material;
     let from_base_color = scene
         .materials
         .get(material)
         .is_some_and(|m| m.conductor_from_base_color);
-    let stored = GBufferPrecision::COMBUSTION.store(&surface, from_base_color);
+    let stored = precision.store(&surface, from_base_color);
     ReferencePixel {
         surface,
         stored,
         material,
-        exact: shading.radiance(&surface),
+        exact: exact.unwrap_or_else(|| shading.radiance(&surface)),
         as_stored: shading.radiance(&stored),
     }
 }

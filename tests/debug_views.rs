@@ -69,33 +69,28 @@ fn worst_step(frame: &Frame, expected: impl Fn(&GBufferTexel) -> [f64; 3]) -> u3
 #[test]
 fn gbuffer_views_show_what_the_gbuffer_holds() {
     let frames = render_views("spheres");
-    let unorm16 = |x: u16| f64::from(x) / 65535.0;
     for (view, frame) in &frames {
         assert!(
             frame.hdr.iter().flatten().all(|x| x.is_finite()),
             "{view:?}: a value is not finite"
         );
         let worst = match view {
-            DebugView::Roughness => {
-                worst_step(frame, |t| [unorm16(t.normal_roughness_anisotropy[2]); 3])
-            }
+            DebugView::Roughness => worst_step(frame, |t| [t.normal_roughness_anisotropy[2]; 3]),
             DebugView::AnisotropyStrength => {
-                worst_step(frame, |t| [unorm16(t.normal_roughness_anisotropy[3]); 3])
+                worst_step(frame, |t| [t.normal_roughness_anisotropy[3]; 3])
             }
-            DebugView::Metalness => {
-                worst_step(frame, |t| [f64::from(t.base_color_metalness[3]) / 255.0; 3])
-            }
+            DebugView::Metalness => worst_step(frame, |t| [t.base_color_metalness[3]; 3]),
             DebugView::BaseColor => worst_step(frame, |t| {
                 let b = t.base_color_metalness;
-                [b[0], b[1], b[2]].map(|c| f64::from(c) / 255.0)
+                [b[0], b[1], b[2]]
             }),
             DebugView::Normal => worst_step(frame, |t| {
                 let n = t.normal_roughness_anisotropy;
-                octahedral_decode([unorm16(n[0]), unorm16(n[1])]).map(|c| c * 0.5 + 0.5)
+                octahedral_decode([n[0], n[1]]).map(|c| c * 0.5 + 0.5)
             }),
             DebugView::AnisotropyDirection => worst_step(frame, |t| {
                 let n = t.normal_roughness_anisotropy;
-                let normal = octahedral_decode([unorm16(n[0]), unorm16(n[1])]);
+                let normal = octahedral_decode([n[0], n[1]]);
                 anisotropy_direction_decode(normal, t.material_direction[1]).map(|c| c * 0.5 + 0.5)
             }),
             DebugView::MaterialIndex => worst_step(frame, |t| {

@@ -79,6 +79,7 @@ fn render_file(
         height,
         RendererSettings {
             hdr_format: HdrFormat::Rgba32Float,
+            gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
             exposure: 1.0,
             shading: ShadingOptions::DEFAULT,
             frames_in_flight: 2,
@@ -221,10 +222,10 @@ fn anisotropy_rotation_model_is_horizontal_everywhere() {
     let (mut anisotropic, mut horizontal) = (0usize, 0usize);
     for texel in &frame.gbuffer.unwrap().texels {
         let [nx, ny, _, strength] = texel.normal_roughness_anisotropy;
-        if texel.depth >= 1.0 || strength < 6554 {
+        if texel.depth >= 1.0 || strength < 0.1 {
             continue; // background, or strength below 0.1
         }
-        let n = octahedral_decode([f64::from(nx) / 65535.0, f64::from(ny) / 65535.0]);
+        let n = octahedral_decode([nx, ny]);
         let d = anisotropy_direction_decode(n, texel.material_direction[1]);
         // Horizontal: no component along the camera's (and the model's) up axis. The
         // surfaces curve, so the direction may point into the screen; it must not tilt.

@@ -128,6 +128,7 @@ fn host_frames_compose_combustions_output_on_the_device() {
         inner.height,
         RendererSettings {
             hdr_format: HdrFormat::Rgba32Float,
+            gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
             exposure: 1.0,
             shading: ShadingOptions::DEFAULT,
             frames_in_flight: 2,

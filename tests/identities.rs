@@ -11,6 +11,7 @@ use glam::{Mat4, Vec3};
 
 const EXACT: RendererSettings = RendererSettings {
     hdr_format: HdrFormat::Rgba32Float,
+    gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
     exposure: 1.0,
     shading: ShadingOptions::DEFAULT,
     frames_in_flight: 2,

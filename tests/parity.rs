@@ -35,6 +35,7 @@ fn parity_of(
 ) -> ErrorMap {
     let settings = RendererSettings {
         hdr_format: HdrFormat::Rgba32Float,
+        gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
         exposure: 1.0,
         shading: ShadingOptions {
             fresnel,

@@ -5,6 +5,30 @@
 #define COMBUSTION_GBUFFER_ENCODING_GLSL
 
 #include "constants.glsl"
+#include "srgb.glsl"
+
+// The base colour as the lighting pass reads it from its target (GBufferStorage,
+// docs/gbuffer.md): the linear albedo.
+vec3 base_color_decode(vec3 stored) {
+#if defined(BASE_COLOR_LINEAR)
+    return stored;
+#elif defined(BASE_COLOR_SRGB16)
+    return srgb_decode(stored);
+#else
+    return srgb_decode_unorm8(stored);
+#endif
+}
+
+// The base colour's 8-bit sRGB code per channel (0 to 255, as a float): the index of the
+// conductor tables of materials whose conductor is derived from the base colour, in
+// every storage.
+vec3 base_color_srgb8_code(vec3 stored) {
+#ifdef BASE_COLOR_LINEAR
+    return round(srgb_encode(stored) * 255.0);
+#else
+    return round(stored * 255.0);
+#endif
+}
 vec2 sign_not_zero(vec2 v) {
     return vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0);
 }
@@ -34,6 +58,22 @@ void orthonormal_basis(vec3 n, out vec3 t, out vec3 b) {
     float c = n.x * n.y * a;
     t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
     b = vec3(c, s + n.y * n.y * a, -n.y);
+}
+
+// The largest code of the normal's octahedral coordinates (GBufferStorage's surface
+// target: 16- or 8-bit unorm).
+#ifdef SURFACE_UNORM8
+const float SURFACE_CODE_MAX = 255.0;
+#else
+const float SURFACE_CODE_MAX = 65535.0;
+#endif
+
+// The normal the lighting pass will decode from the surface target: the anisotropy
+// direction is stored in its basis, so that the tangent read back is the direction's
+// projection on the stored normal's plane (and not turned by the difference between
+// the bases of the exact and the stored normal, 10⁻² rad at 8 bits).
+vec3 stored_normal(vec3 n) {
+    return octahedral_decode(round(octahedral_encode(n) * SURFACE_CODE_MAX) / SURFACE_CODE_MAX);
 }
 
 // The anisotropy direction is stored as its angle φ in the basis of n, folded into

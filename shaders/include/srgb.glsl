@@ -14,10 +14,13 @@ vec3 srgb_encode(vec3 linear) {
     return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
 }
 
+vec3 srgb_decode(vec3 e) {
+    return mix(e / 12.92, pow((e + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), e));
+}
+
 // `stored` is the UNORM value c/255 of an 8-bit code c.
 vec3 srgb_decode_unorm8(vec3 stored) {
-    vec3 e = round(stored * 255.0) / 255.0;
-    return mix(e / 12.92, pow((e + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), e));
+    return srgb_decode(round(stored * 255.0) / 255.0);
 }
 
 #endif

@@ -8,8 +8,9 @@ use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, Ty
 use clap::{ArgAction, ArgGroup, Args, Parser, Subcommand};
 
 use combustion::renderer::{
-    Distribution, FresnelModel, HdrFormat, LightCulling, RendererSettings, ShadingOptions,
-    ShadowFilter, ShadowSettings, MAX_CASCADES, MAX_FRAMES_IN_FLIGHT,
+    BaseColorStorage, Distribution, FresnelModel, GBufferStorage, HdrFormat, LightCulling,
+    RendererSettings, ShadingOptions, ShadowFilter, ShadowSettings, SurfaceStorage, MAX_CASCADES,
+    MAX_FRAMES_IN_FLIGHT,
 };
 use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
 use combustion::spectra::BuiltinMetal;
@@ -170,6 +171,13 @@ pub(crate) struct FrameArgs {
     /// The HDR target's format: 16- or 32-bit float per channel
     #[arg(long, value_name = "FORMAT", default_value = "f32", value_parser = named(HDR_FORMATS))]
     pub(crate) hdr_format: HdrFormat,
+    /// The G-buffer's base colour and metalness: 8- or 16-bit unorm through the sRGB
+    /// curve, or linear f16 (docs/gbuffer.md measures each)
+    #[arg(long, value_name = "STORAGE", default_value = BaseColorStorage::default().name(), value_parser = named(BaseColorStorage::ALL.map(|s| (s.name(), s))))]
+    pub(crate) gbuffer_base_color: BaseColorStorage,
+    /// The G-buffer's normal, roughness and anisotropy strength: 16- or 8-bit unorm
+    #[arg(long, value_name = "STORAGE", default_value = SurfaceStorage::default().name(), value_parser = named(SurfaceStorage::ALL.map(|s| (s.name(), s))))]
+    pub(crate) gbuffer_surface: SurfaceStorage,
 }
 
 pub(crate) const HDR_FORMATS: [(&str, HdrFormat); 2] = [
@@ -297,7 +305,7 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_name = "WHEN", default_value = "auto", value_parser = named(CULLING))]
     pub(crate) culling: LightCulling,
     /// Measure the variant sets and write the speed-against-error report to DIR
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "exposure", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "gbuffer_base_color", "gbuffer_surface", "exposure", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
     pub(crate) report: Option<PathBuf>,
     /// With --report: add how this run reproduces an earlier report (rows with identical
     /// error columns, the spread of the frame-time ratios)
@@ -782,6 +790,10 @@ pub(crate) fn device_and_settings(
     let settings = RendererSettings {
         exposure: frame.exposure,
         hdr_format: frame.hdr_format,
+        gbuffer: GBufferStorage {
+            base_color: frame.gbuffer_base_color,
+            surface: frame.gbuffer_surface,
+        },
         shading: ShadingOptions {
             fresnel: frame.fresnel,
             ..ShadingOptions::default()
@@ -819,9 +831,35 @@ mod tests {
     }
 
     #[test]
+    fn the_gbuffer_storage_options_reach_the_renderer_settings() {
+        use clap::Parser;
+        use combustion::renderer::{BaseColorStorage, GBufferStorage, SurfaceStorage};
+        let settings = |line: &str| {
+            let words = ["combustion"].into_iter().chain(line.split_whitespace());
+            let super::Command::Bench(o) = super::Cli::try_parse_from(words).unwrap().command
+            else {
+                panic!("not bench");
+            };
+            super::device_and_settings(&o.device, &o.frame, o.frames_in_flight)
+                .unwrap()
+                .1
+                .gbuffer
+        };
+        assert_eq!(settings("bench --device llvmpipe"), GBufferStorage::DEFAULT);
+        assert_eq!(
+            settings("bench --device llvmpipe --gbuffer-base-color f16 --gbuffer-surface unorm8"),
+            GBufferStorage {
+                base_color: BaseColorStorage::LinearHalf,
+                surface: SurfaceStorage::Unorm8,
+            }
+        );
+    }
+
+    #[test]
     fn every_option_reaches_its_field() {
         use clap::Parser;
-        let frame = "--width 8 --height 9 --exposure 2 --fresnel f82 --hdr-format f16";
+        let frame = "--width 8 --height 9 --exposure 2 --fresnel f82 --hdr-format f16 \
+                     --gbuffer-base-color srgb16 --gbuffer-surface unorm8";
         let shading = "--distribution beckmann --diffuse lambert --environment uniform:1,2,3 \
                        --light-rig --energy-compensation on";
         let device = "--device llvmpipe --validate";

@@ -45,6 +45,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
         device,
         floors: true,
         shadows: combustion::report::shadows::SHADOW_SETTINGS.to_vec(),
+        storages: combustion::report::storage::all_storages(),
         // Frame time against size and light count: on the scene named, else on the
         // performance scene.
         scaling: Some(if let Some(scene) = o.scene.given() {

@@ -10,6 +10,7 @@
 //! and error averaged over the scenes — with the Pareto front).
 
 pub mod shadows;
+pub mod storage;
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -20,7 +21,7 @@ use combustion_plots::{
 use combustion_reference::SceneBvh;
 use combustion_renderer::reference::{error_map, EnvironmentSampling, ErrorMap, ReferenceShading};
 
-use crate::end_to_end::{EndToEndErrors, SceneReference};
+use crate::end_to_end::{precision_of, EndToEndErrors, SceneReference};
 
 /// How the report's reference integrates an environment: 2 000 samples of each strategy
 /// (oracle noise ≈ 1–3 % at the noisiest pixels, `tests/environment.rs`) at one pixel in
@@ -30,9 +31,9 @@ pub const ENVIRONMENT_SAMPLING: EnvironmentSampling = EnvironmentSampling {
     stride: 16,
 };
 use combustion_renderer::{
-    linear_to_srgb, tonemap_exponential, Distribution, Frame, FrameInputs, FresnelModel, GpuScene,
-    HdrFormat, LightCulling, Masking, MeasurementFloor, PassTimings, Readback, Renderer,
-    RendererSettings, ShadingOptions,
+    linear_to_srgb, tonemap_exponential, Distribution, Frame, FrameInputs, FresnelModel,
+    GBufferStorage, GpuScene, HdrFormat, LightCulling, Masking, MeasurementFloor, PassTimings,
+    Readback, Renderer, RendererSettings, ShadingOptions,
 };
 use combustion_scene::DiffuseModel;
 use combustion_vk::DeviceDesc;
@@ -363,6 +364,9 @@ pub struct Measurements {
     /// The shadow settings on each scene with lights (empty unless
     /// [`ReportDesc::shadows`] names some).
     pub shadows: Vec<shadows::ShadowRow>,
+    /// Each G-buffer storage on each scene without an environment (empty unless
+    /// [`ReportDesc::storages`] names some).
+    pub storages: Vec<storage::StorageRow>,
 }
 
 /// GPU timings of `frames` frames of `scene` (after the frames already taken).
@@ -404,6 +408,9 @@ pub struct ReportDesc {
     /// The shadow settings measured on each scene with lights
     /// ([`shadows::SHADOW_SETTINGS`]; empty: none).
     pub shadows: Vec<Option<combustion_renderer::ShadowSettings>>,
+    /// The G-buffer storages measured on each scene without an environment
+    /// ([`storage::all_storages`]; empty: none).
+    pub storages: Vec<GBufferStorage>,
 }
 
 impl ReportDesc {
@@ -414,6 +421,15 @@ impl ReportDesc {
             .filter(|(_, scene)| !scene.lights.is_empty())
             .count();
         suns * self.shadows.len()
+    }
+
+    /// Steps of the storage measurement on `scenes`.
+    fn storage_steps(&self, scenes: &[(String, combustion_scene::Scene)]) -> usize {
+        let lit_by_lights = scenes
+            .iter()
+            .filter(|(_, scene)| scene.environment.is_none())
+            .count();
+        lit_by_lights * self.storages.len()
     }
 
     /// Steps of the scaling measurement.
@@ -516,7 +532,8 @@ pub fn measure(
     };
     let total = scenes.len() * (desc.sets.len() + usize::from(desc.floors))
         + desc.scaling_steps()
-        + desc.shadow_steps(&scenes);
+        + desc.shadow_steps(&scenes)
+        + desc.storage_steps(&scenes);
     let mut rows = Vec::with_capacity(total);
     let mut scaling = Vec::new();
     let mut shadow_rows = Vec::new();
@@ -584,8 +601,8 @@ pub fn measure(
                     gpu.scene(),
                     &bvh,
                     &gpu.scene().lights,
-                    desc.width,
-                    desc.height,
+                    (desc.width, desc.height),
+                    precision_of(GBufferStorage::DEFAULT),
                     threads,
                 )
             });
@@ -669,8 +686,16 @@ pub fn measure(
         drop(headless);
         check_validation(&validation)?;
     }
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let done = rows.len() + floors.len() + scaling.len() + shadow_rows.len();
+    let mut i = 0;
+    let storage_rows = storage::measure(&scenes, desc, threads, |what| {
+        progress(done + i, total, what);
+        i += 1;
+    })?;
     progress(total, total, "done");
     Ok(Measurements {
+        storages: storage_rows,
         rows,
         floors,
         scaling,
@@ -739,6 +764,7 @@ pub fn choose(
         floors: false,
         scaling: None,
         shadows: Vec::new(),
+        storages: Vec::new(),
     };
     let mut candidates = measure(&desc, |_, _, _| {})?.rows;
     candidates.sort_by(|a, b| a.total.median.total_cmp(&b.total.median));
@@ -1138,6 +1164,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     out += &floors_markdown(m);
     out += &scaling_markdown(m);
     out += &shadows::markdown(&m.shadows);
+    out += &storage::markdown(&m.storages);
     out += "## Per scene\n\nErrors of the lighting pass (from the frame's own G-buffer) and, where the scene has no environment, of the frame end to end (from the scene).\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP | end to end: mean | max |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let _ = writeln!(
@@ -1421,6 +1448,12 @@ pub fn write(
         )?;
         let png = shadows::plot(&m.shadows, device, desc)?;
         output::write_file_atomically(&dir.join("shadows-speed-vs-error.png"), &png.bytes)?;
+    }
+    if !m.storages.is_empty() {
+        output::write_file_atomically(
+            &dir.join("gbuffer-storage.csv"),
+            storage::csv(&m.storages).as_bytes(),
+        )?;
     }
     if !m.scaling.is_empty() {
         let (size, lights) = scaling_plots(m, device)?;

@@ -128,7 +128,18 @@ pub fn render(
 /// Renders `scene` lit by `lights` (its camera, exposure 1, [`exact_f32`] settings) and
 /// reads back its HDR image and G-buffer.
 pub fn render_with_lights(scene: &Scene, lights: &[Light], width: u32, height: u32) -> Frame {
-    let mut headless = lavapipe(exact_f32());
+    render_with_lights_in(scene, lights, width, height, exact_f32())
+}
+
+/// As [`render_with_lights`], with `settings`.
+pub fn render_with_lights_in(
+    scene: &Scene,
+    lights: &[Light],
+    width: u32,
+    height: u32,
+    settings: RendererSettings,
+) -> Frame {
+    let mut headless = lavapipe(settings);
     let frame = {
         let renderer = headless.renderer();
         let gpu_scene = renderer.upload(scene).expect("upload");
@@ -149,6 +160,7 @@ pub fn render_with_lights(scene: &Scene, lights: &[Light], width: u32, height: u
 pub fn exact_f32() -> RendererSettings {
     RendererSettings {
         hdr_format: combustion::renderer::HdrFormat::Rgba32Float,
+        gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
         exposure: 1.0,
         shading: combustion::renderer::ShadingOptions::DEFAULT,
         frames_in_flight: 2,

@@ -535,6 +535,16 @@ impl<'a> SceneShading<'a> {
     }
 }
 
+/// How one G-buffer value is stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StoredValue {
+    /// An unsigned normalised integer of this many bits: the value rounded to the
+    /// nearest of 2ⁿ − 1 steps over [0, 1] (the base colour through the sRGB curve).
+    Unorm(u32),
+    /// An IEEE half float (11 significant bits; the base colour linear).
+    Half,
+}
+
 /// What a G-buffer keeps of a surface: the precision each stored input is rounded to
 /// before the lighting pass reads it, so the reference can shade a surface both exactly
 /// and as stored, and a frame's error splits into the storage's share and the rest.
@@ -542,56 +552,92 @@ impl<'a> SceneShading<'a> {
 /// their rounding from that description, not from the renderer's code.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct GBufferPrecision {
-    /// Bits of the base colour, stored through the sRGB curve (unorm).
-    pub base_color_srgb_bits: u32,
-    /// Bits of the metalness (linear unorm).
-    pub metalness_bits: u32,
+    /// The base colour: through the sRGB curve in unorm, or linear in f16.
+    pub base_color: StoredValue,
+    /// The metalness (linear).
+    pub metalness: StoredValue,
     /// Bits of the perceptual roughness and of the anisotropy strength (linear unorm).
     pub roughness_bits: u32,
     /// Bits of each of the normal's two octahedral coordinates (unorm).
     pub normal_octahedral_bits: u32,
 }
 
+/// How near a tie (in steps) a stored value's exact form must lie for
+/// [`GBufferPrecision::store_other_way_near_ties`] to round it the other way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TieMargins {
+    /// For every unorm value but the normal's coordinates.
+    pub values: f64,
+    /// For the octahedral normal's coordinates (whose GPU form carries the
+    /// interpolation's error).
+    pub normal: f64,
+}
+
+/// Bits of the base colour's sRGB code that index the conductor tables of materials
+/// whose conductor is derived from the base colour, whatever the storage.
+pub const CONDUCTOR_CODE_BITS: u32 = 8;
+
 impl GBufferPrecision {
-    /// Combustion's G-buffer: 8-bit sRGB base colour, 8-bit metalness, 16-bit roughness,
-    /// anisotropy strength and octahedral normal.
+    /// Combustion's default G-buffer: 8-bit sRGB base colour, 8-bit metalness, 16-bit
+    /// roughness, anisotropy strength and octahedral normal.
     pub const COMBUSTION: GBufferPrecision = GBufferPrecision {
-        base_color_srgb_bits: 8,
-        metalness_bits: 8,
+        base_color: StoredValue::Unorm(8),
+        metalness: StoredValue::Unorm(8),
         roughness_bits: 16,
         normal_octahedral_bits: 16,
     };
 
     /// `surface` as the G-buffer stores it, for a material whose conductor is derived
     /// from the base colour when `conductor_from_base_color` (then derived again from
-    /// the stored base colour): each input rounded to the nearest stored value.
+    /// the stored base colour's [`CONDUCTOR_CODE_BITS`]-bit sRGB code): each input
+    /// rounded to the nearest stored value.
     pub fn store(&self, surface: &SurfacePoint, conductor_from_base_color: bool) -> SurfacePoint {
-        self.store_rounded(surface, conductor_from_base_color, &f64::round)
+        self.store_rounded(surface, conductor_from_base_color, &f64::round, &f64::round)
     }
 
-    /// As [`GBufferPrecision::store`], but each value whose scaled form lies within
-    /// `margin` (a fraction of a step) of a tie between two codes rounded to the other
-    /// one. Vulkan lets a float-to-unorm conversion return either neighbouring code
-    /// ("should" round to nearest); a GPU's arithmetic may land on either side of a tie.
+    /// As [`GBufferPrecision::store`], but each unorm value whose scaled form lies
+    /// within a margin (a fraction of a step: `margins.normal` for the octahedral
+    /// normal's coordinates, `margins.values` for the rest) of a tie between two codes
+    /// rounded to the other one, and every half float rounded to its other neighbour.
+    /// Vulkan lets a float-to-unorm conversion return either neighbouring code ("should"
+    /// round to nearest), and a write to a 16-bit float target round toward zero instead
+    /// of to nearest; a GPU's arithmetic may land on either side of a tie.
     pub fn store_other_way_near_ties(
         &self,
         surface: &SurfacePoint,
         conductor_from_base_color: bool,
-        margin: f64,
+        margins: TieMargins,
     ) -> SurfacePoint {
-        let other_way = |scaled: f64| {
-            let nearest = scaled.round();
-            if (scaled - scaled.floor() - 0.5).abs() < margin {
-                if nearest > scaled {
-                    nearest - 1.0
+        let other_way = |margin: f64| {
+            move |scaled: f64| {
+                let nearest = scaled.round();
+                if scaled == nearest {
+                    nearest // stored exactly: no rounding to go either way
+                } else if (scaled - scaled.floor() - 0.5).abs() < margin {
+                    if nearest > scaled {
+                        nearest - 1.0
+                    } else {
+                        nearest + 1.0
+                    }
                 } else {
-                    nearest + 1.0
+                    nearest
                 }
-            } else {
-                nearest
             }
         };
-        self.store_rounded(surface, conductor_from_base_color, &other_way)
+        let mut stored = self.store_rounded(
+            surface,
+            conductor_from_base_color,
+            &other_way(margins.values),
+            &other_way(f64::INFINITY),
+        );
+        let normal = self.store_rounded(
+            surface,
+            conductor_from_base_color,
+            &other_way(margins.normal),
+            &f64::round,
+        );
+        (stored.n, stored.t, stored.b) = (normal.n, normal.t, normal.b);
+        stored
     }
 
     fn store_rounded(
@@ -599,22 +645,42 @@ impl GBufferPrecision {
         surface: &SurfacePoint,
         conductor_from_base_color: bool,
         round: &dyn Fn(f64) -> f64,
+        round_half: &dyn Fn(f64) -> f64,
     ) -> SurfacePoint {
         let unorm = |x: f64, bits: u32| {
             let steps = f64::from((1u32 << bits) - 1);
             round(x.clamp(0.0, 1.0) * steps).clamp(0.0, steps) / steps
         };
+        let half = |x: f64| {
+            let x = x.clamp(0.0, 1.0);
+            // The step of x's binade (2⁻²⁴ among the subnormals below 2⁻¹⁴).
+            let exponent = if x > 0.0 {
+                x.log2().floor().max(-14.0)
+            } else {
+                -14.0
+            };
+            let step = (exponent - 10.0).exp2();
+            (round_half(x / step) * step).clamp(0.0, 1.0)
+        };
         let mut stored = *surface;
         let m = &mut stored.brdf;
-        m.base_color = m
-            .base_color
-            .map(|c| srgb_decode(unorm(srgb_encode(c), self.base_color_srgb_bits)));
+        m.base_color = m.base_color.map(|c| match self.base_color {
+            StoredValue::Unorm(bits) => srgb_decode(unorm(srgb_encode(c), bits)),
+            StoredValue::Half => half(c),
+        });
         if conductor_from_base_color {
-            let conductor = conductor_from_reflectivity(m.base_color.map(|c| c as f32));
+            let code = |c: f64| {
+                let steps = f64::from((1u32 << CONDUCTOR_CODE_BITS) - 1);
+                srgb_decode((srgb_encode(c) * steps).round() / steps)
+            };
+            let conductor = conductor_from_reflectivity(m.base_color.map(|c| code(c) as f32));
             m.conductor_eta = conductor.eta.map(f64::from);
             m.conductor_k = conductor.k.map(f64::from);
         }
-        m.metalness = unorm(m.metalness, self.metalness_bits);
+        m.metalness = match self.metalness {
+            StoredValue::Unorm(bits) => unorm(m.metalness, bits),
+            StoredValue::Half => half(m.metalness),
+        };
         // α and the anisotropic α_t come from the stored r and s.
         let roughness = unorm(surface.roughness, self.roughness_bits);
         let strength = unorm(surface.anisotropy_strength, self.roughness_bits);
@@ -776,5 +842,42 @@ mod tests {
         let angle = stored.n.angle_between(DVec3::Y);
         assert!(angle > 0.0 && angle < 6.3e-5, "{angle}");
         assert!(stored.t.dot(stored.n).abs() < 1e-12);
+
+        // 16-bit sRGB: 0.8 is code 59 396.45 of 65 535, stored as 59 396.
+        let srgb16 = GBufferPrecision {
+            base_color: StoredValue::Unorm(16),
+            metalness: StoredValue::Unorm(16),
+            ..GBufferPrecision::COMBUSTION
+        };
+        let stored = srgb16.store(&surface, false);
+        let expected = srgb_decode(59396.0 / 65535.0);
+        assert!((stored.brdf.base_color[0] - expected).abs() < 1e-15);
+        assert!((expected / 0.8 - 1.0).abs() < 2e-5);
+        // f16: 0.8 lies in [0.5, 1), steps of 2⁻¹¹; 1638.4 steps round to 1638 (to
+        // nearest), to 1639 the other way; 0.5 is stored exactly either way.
+        let half = GBufferPrecision {
+            base_color: StoredValue::Half,
+            metalness: StoredValue::Half,
+            ..GBufferPrecision::COMBUSTION
+        };
+        let step = 2f64.powi(-11);
+        assert_eq!(
+            half.store(&surface, false).brdf.base_color[0],
+            1638.0 * step
+        );
+        let margins = TieMargins {
+            values: 0.0,
+            normal: 0.0,
+        };
+        let other_way = half.store_other_way_near_ties(&surface, false, margins);
+        assert_eq!(other_way.brdf.base_color[0], 1639.0 * step);
+        assert_eq!(other_way.brdf.metalness, 0.5);
+        // Below 2⁻¹⁴ the subnormals' step of 2⁻²⁴.
+        let mut dark = surface;
+        dark.brdf.base_color = [3.3 * 2f64.powi(-24); 3];
+        assert_eq!(
+            half.store(&dark, false).brdf.base_color[0],
+            3.0 * 2f64.powi(-24)
+        );
     }
 }

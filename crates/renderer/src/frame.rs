@@ -347,7 +347,12 @@ impl Renderer {
             *last_used = frame;
             return Ok(());
         }
-        let targets = FrameTargets::new(&self.device, key, self.settings.hdr_format)?;
+        let targets = FrameTargets::new(
+            &self.device,
+            key,
+            self.settings.hdr_format,
+            self.settings.gbuffer,
+        )?;
         self.targets.insert(key, (targets, frame));
         self.stats.targets_built += 1;
         Ok(())

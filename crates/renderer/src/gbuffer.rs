@@ -10,30 +10,25 @@ use combustion_vk::{
 
 use crate::error::RenderError;
 use crate::gpu_types::GBufferPush;
+#[cfg(doc)]
+use crate::options::SurfaceStorage;
+use crate::options::{BaseColorStorage, GBufferStorage};
 use crate::scene_upload::GpuScene;
 use crate::variant::ShaderVariant;
 
 pub use crate::color::srgb_to_linear;
 
-/// Base colour (sRGB-encoded by the shader, 8 bits) and metalness (linear, 8 bits).
-/// UNORM, not _SRGB: the shaders encode and decode exactly (see gbuffer_encoding.glsl).
-pub const BASE_COLOR_METALNESS_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
-/// Octahedral normal (2 × 16-bit unorm), perceptual roughness and anisotropy strength (16-bit unorm).
-pub const NORMAL_ROUGHNESS_ANISOTROPY_FORMAT: vk::Format = vk::Format::R16G16B16A16_UNORM;
 /// Material index (16-bit uint) and anisotropy direction angle (16-bit, [0, π)).
 pub const MATERIAL_DIRECTION_FORMAT: vk::Format = vk::Format::R16G16_UINT;
 /// Depth (32-bit float, 1 = far/background).
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// Bytes per pixel of the whole G-buffer including depth.
-pub const BYTES_PER_PIXEL: u32 = 4 + 8 + 4 + 4;
-
 /// The G-buffer's images at one size.
 pub struct GBufferTargets {
-    /// Base colour and metalness ([`BASE_COLOR_METALNESS_FORMAT`]), colour attachment 0.
+    /// Base colour and metalness ([`BaseColorStorage::vk`]), colour attachment 0.
     pub base_color_metalness: Image,
     /// Octahedral normal, perceptual roughness and anisotropy strength
-    /// ([`NORMAL_ROUGHNESS_ANISOTROPY_FORMAT`]), colour attachment 1.
+    /// ([`SurfaceStorage::vk`]), colour attachment 1.
     pub normal_roughness_anisotropy: Image,
     /// Material index and anisotropy direction ([`MATERIAL_DIRECTION_FORMAT`]), colour
     /// attachment 2.
@@ -48,7 +43,7 @@ pub struct GBufferTargets {
 }
 
 impl GBufferTargets {
-    /// Allocates the targets at `width` × `height` pixels (colour targets with colour
+    /// Allocates the targets at `width` × `height` pixels in `storage`'s formats (colour targets with colour
     /// attachment, sampled and transfer-source usage; depth with depth attachment, sampled
     /// and transfer-source usage). With `emissive_occlusion`, also the emissive + occlusion
     /// target, of `emissive_format` (the HDR image's format).
@@ -59,6 +54,7 @@ impl GBufferTargets {
         device: &Arc<Device>,
         width: u32,
         height: u32,
+        storage: GBufferStorage,
         emissive_occlusion: bool,
         emissive_format: vk::Format,
     ) -> Result<Self, RenderError> {
@@ -71,12 +67,12 @@ impl GBufferTargets {
         Ok(Self {
             base_color_metalness: image(
                 "gbuffer base colour + metalness",
-                BASE_COLOR_METALNESS_FORMAT,
+                storage.base_color.vk(),
                 color_usage,
             )?,
             normal_roughness_anisotropy: image(
                 "gbuffer normal + roughness + anisotropy",
-                NORMAL_ROUGHNESS_ANISOTROPY_FORMAT,
+                storage.surface.vk(),
                 color_usage,
             )?,
             material_direction: image(
@@ -128,7 +124,7 @@ pub struct GBufferPass {
 }
 
 impl GBufferPass {
-    /// Compiles `gbuffer.vert` and `gbuffer.frag` with `variant`'s `#define`s and builds the
+    /// Compiles `gbuffer.vert` and `gbuffer.frag` with `variant`'s and `storage`'s `#define`s and builds the
     /// pass's graphics pipeline (through `cache`): set 0 of `set_layout` (object and material
     /// tables), set 1 of `material_set_layout` (one material's textures), the view-projection
     /// and object index as vertex push constants, and a fourth colour attachment of
@@ -140,12 +136,13 @@ impl GBufferPass {
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
         cache: &PipelineCache,
-        set_layout: &DescriptorSetLayout,
-        material_set_layout: &DescriptorSetLayout,
+        [set_layout, material_set_layout]: [&DescriptorSetLayout; 2],
         variant: ShaderVariant,
+        storage: GBufferStorage,
         emissive_format: vk::Format,
     ) -> Result<Self, RenderError> {
-        let defines = variant.defines();
+        let mut defines = variant.defines();
+        defines.extend(storage.defines());
         let push = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::VERTEX,
             offset: 0,
@@ -210,8 +207,8 @@ impl GBufferPass {
             });
         }
         let mut color_formats = vec![
-            BASE_COLOR_METALNESS_FORMAT,
-            NORMAL_ROUGHNESS_ANISOTROPY_FORMAT,
+            storage.base_color.vk(),
+            storage.surface.vk(),
             MATERIAL_DIRECTION_FORMAT,
         ];
         if variant.has_emissive_occlusion_target() {
@@ -320,13 +317,18 @@ impl GBufferPass {
     }
 }
 
-/// One G-buffer texel as stored (what the GPU wrote, before any decoding).
+/// One G-buffer texel as stored: what the lighting pass's `texelFetch` reads, before
+/// the shader decodes it (a unorm code c of n bits as c / (2ⁿ − 1), exactly in f64; an
+/// f16 as its value).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GBufferTexel {
-    /// RGBA8_UNORM bytes: sRGB-encoded base colour, linear metalness.
-    pub base_color_metalness: [u8; 4],
-    /// RGBA16_UNORM: octahedral normal xy, perceptual roughness, anisotropy strength.
-    pub normal_roughness_anisotropy: [u16; 4],
+    /// Base colour (sRGB-encoded, or linear with [`BaseColorStorage::LinearHalf`]) and
+    /// linear metalness.
+    pub base_color_metalness: [f64; 4],
+    /// How the base colour is stored (what decodes it).
+    pub base_color_storage: BaseColorStorage,
+    /// Octahedral normal xy, perceptual roughness, anisotropy strength.
+    pub normal_roughness_anisotropy: [f64; 4],
     /// RG16_UINT: material index, anisotropy direction angle.
     pub material_direction: [u16; 2],
     /// D32_SFLOAT depth.
@@ -336,12 +338,37 @@ pub struct GBufferTexel {
 /// A G-buffer read back to the CPU.
 #[derive(Clone, Debug)]
 pub struct GBufferReadback {
+    /// The storage the texels were read from.
+    pub storage: GBufferStorage,
     /// Width in pixels.
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
     /// `width · height` texels, row-major from the top-left.
     pub texels: Vec<GBufferTexel>,
+}
+
+impl GBufferTexel {
+    /// The linear base colour the lighting pass decodes (`base_color_decode`,
+    /// gbuffer_encoding.glsl), in f64.
+    pub fn base_color(&self) -> [f64; 3] {
+        let [r, g, b, _] = self.base_color_metalness;
+        match self.base_color_storage {
+            BaseColorStorage::Srgb8 | BaseColorStorage::Srgb16 => [r, g, b].map(srgb_to_linear),
+            BaseColorStorage::LinearHalf => [r, g, b],
+        }
+    }
+
+    /// The base colour's 8-bit sRGB codes (`base_color_srgb8_code`): the conductor
+    /// tables' index.
+    pub fn base_color_srgb8_code(&self) -> [u8; 3] {
+        let [r, g, b, _] = self.base_color_metalness;
+        let code = |e: f64| (e * 255.0).round().clamp(0.0, 255.0) as u8;
+        match self.base_color_storage {
+            BaseColorStorage::Srgb8 | BaseColorStorage::Srgb16 => [r, g, b].map(code),
+            BaseColorStorage::LinearHalf => [r, g, b].map(|c| code(crate::linear_to_srgb(c))),
+        }
+    }
 }
 
 /// CPU mirror of `octahedral_decode` (gbuffer_encoding.glsl), in f64.

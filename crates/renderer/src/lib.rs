@@ -76,8 +76,9 @@ pub use host::{
 };
 pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{
-    DebugView, Distribution, FresnelModel, HdrFormat, Masking, MeasurementFloor, Readback,
-    RendererSettings, ShadingOptions, MAX_FRAMES_IN_FLIGHT,
+    BaseColorStorage, DebugView, Distribution, FresnelModel, GBufferStorage, HdrFormat, Masking,
+    MeasurementFloor, Readback, RendererSettings, ShadingOptions, SurfaceStorage,
+    MAX_FRAMES_IN_FLIGHT,
 };
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
 use pipelines::{OutputPasses, SetLayouts, VariantPasses};

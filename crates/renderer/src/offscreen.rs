@@ -17,7 +17,7 @@ use crate::frame::display_after;
 use crate::gbuffer::{GBufferReadback, GBufferTexel};
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
 use crate::host::{ColorTarget, FrameInputs, FrameTarget, DISPLAY_FORMAT};
-use crate::options::{HdrFormat, Readback};
+use crate::options::{BaseColorStorage, GBufferStorage, HdrFormat, Readback, SurfaceStorage};
 use crate::results::Frame;
 use crate::scene_upload::GpuScene;
 use crate::targets::TargetKey;
@@ -49,6 +49,7 @@ impl ReadbackBuffers {
         device: &Arc<Device>,
         extent: vk::Extent2D,
         hdr_format: HdrFormat,
+        storage: GBufferStorage,
     ) -> Result<Self, VkError> {
         let pixels = u64::from(extent.width) * u64::from(extent.height);
         let buffer = |name: &str, bytes_per_pixel: u64| {
@@ -65,8 +66,14 @@ impl ReadbackBuffers {
             hdr: buffer("hdr readback", hdr_format.bytes_per_pixel())?,
             ldr: buffer("display readback", 4)?,
             gbuffer: [
-                buffer("gbuffer readback 0", 4)?,
-                buffer("gbuffer readback 1", 8)?,
+                buffer(
+                    "gbuffer readback 0",
+                    storage.base_color.bytes_per_pixel().into(),
+                )?,
+                buffer(
+                    "gbuffer readback 1",
+                    storage.surface.bytes_per_pixel().into(),
+                )?,
                 buffer("gbuffer readback 2", 4)?,
                 buffer("depth readback", 4)?,
             ],
@@ -229,7 +236,12 @@ impl Renderer {
                 .as_ref()
                 .is_none_or(|r| r.extent != extent)
         {
-            let buffers = ReadbackBuffers::new(&self.device, extent, self.settings.hdr_format)?;
+            let buffers = ReadbackBuffers::new(
+                &self.device,
+                extent,
+                self.settings.hdr_format,
+                self.settings.gbuffer,
+            )?;
             if let Some(old) = offscreen.readback.replace(buffers) {
                 for buffer in old.all() {
                     self.states.forget_buffer(buffer.raw());
@@ -355,19 +367,34 @@ impl Renderer {
         }
         if readback.gbuffer {
             let [b0, b1, b2, b3] = &buffers.gbuffer;
-            let base: Vec<[u8; 4]> = bytemuck::pod_collect_to_vec(b0.mapped()?);
-            let nra: Vec<[u16; 4]> = bytemuck::pod_collect_to_vec(b1.mapped()?);
+            let storage = self.settings.gbuffer;
+            let base = match storage.base_color {
+                BaseColorStorage::Srgb8 => unorm_texels::<u8>(b0.mapped()?),
+                BaseColorStorage::Srgb16 => unorm_texels::<u16>(b0.mapped()?),
+                BaseColorStorage::LinearHalf => {
+                    bytemuck::pod_collect_to_vec::<u8, [u16; 4]>(b0.mapped()?)
+                        .into_iter()
+                        .map(|p| p.map(|h| f64::from(f16_to_f32(h))))
+                        .collect()
+                }
+            };
+            let nra = match storage.surface {
+                SurfaceStorage::Unorm16 => unorm_texels::<u16>(b1.mapped()?),
+                SurfaceStorage::Unorm8 => unorm_texels::<u8>(b1.mapped()?),
+            };
             let md: Vec<[u16; 2]> = bytemuck::pod_collect_to_vec(b2.mapped()?);
             let depth: Vec<f32> = bytemuck::pod_collect_to_vec(b3.mapped()?);
             let texels = (0..base.len())
                 .map(|i| GBufferTexel {
                     base_color_metalness: base[i],
+                    base_color_storage: storage.base_color,
                     normal_roughness_anisotropy: nra[i],
                     material_direction: md[i],
                     depth: depth[i],
                 })
                 .collect();
             frame.gbuffer = Some(GBufferReadback {
+                storage,
                 width,
                 height,
                 texels,
@@ -375,4 +402,24 @@ impl Renderer {
         }
         Ok(frame)
     }
+}
+
+/// An unsigned normalised code's type.
+trait UnormCode: bytemuck::Pod + Into<f64> {
+    /// 2ⁿ − 1.
+    const MAX: f64;
+}
+impl UnormCode for u8 {
+    const MAX: f64 = 255.0;
+}
+impl UnormCode for u16 {
+    const MAX: f64 = 65535.0;
+}
+
+/// Four-channel unorm texels as the shaders read them: code / (2ⁿ − 1), in f64.
+fn unorm_texels<T: UnormCode>(bytes: &[u8]) -> Vec<[f64; 4]> {
+    bytemuck::pod_collect_to_vec::<u8, [T; 4]>(bytes)
+        .into_iter()
+        .map(|p| p.map(|c| c.into() / T::MAX))
+        .collect()
 }

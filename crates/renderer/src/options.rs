@@ -310,6 +310,152 @@ impl HdrFormat {
     }
 }
 
+/// Storage of the G-buffer's base colour and metalness (colour attachment 0).
+///
+/// One of the G-buffer's precision choices, measured end to end (the frame against the
+/// scene's f64 reference) and for cost in the speed-against-error report's "G-buffer
+/// storage" section; docs/gbuffer.md states the figures and why the default is
+/// 8-bit sRGB.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum BaseColorStorage {
+    /// `R8G8B8A8_UNORM`: base colour through the sRGB curve, 8 bits (the shaders encode
+    /// and decode exactly); metalness linear, 8 bits. 4 bytes.
+    #[default]
+    Srgb8,
+    /// `R16G16B16A16_UNORM`: base colour through the sRGB curve, 16 bits; metalness
+    /// linear, 16 bits. 8 bytes.
+    Srgb16,
+    /// `R16G16B16A16_SFLOAT`: base colour linear in f16 (11 significant bits, a relative
+    /// step of 2⁻¹¹ at every level); metalness f16. 8 bytes.
+    LinearHalf,
+}
+
+impl BaseColorStorage {
+    /// Every storage, the default first.
+    pub const ALL: [BaseColorStorage; 3] = [Self::Srgb8, Self::Srgb16, Self::LinearHalf];
+
+    /// The Vulkan format of the target.
+    pub fn vk(self) -> vk::Format {
+        match self {
+            Self::Srgb8 => vk::Format::R8G8B8A8_UNORM,
+            Self::Srgb16 => vk::Format::R16G16B16A16_UNORM,
+            Self::LinearHalf => vk::Format::R16G16B16A16_SFLOAT,
+        }
+    }
+
+    /// Bytes per pixel of the target.
+    pub fn bytes_per_pixel(self) -> u32 {
+        match self {
+            Self::Srgb8 => 4,
+            Self::Srgb16 | Self::LinearHalf => 8,
+        }
+    }
+
+    /// Short name (command line, report).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Srgb8 => "srgb8",
+            Self::Srgb16 => "srgb16",
+            Self::LinearHalf => "f16",
+        }
+    }
+}
+
+/// Storage of the G-buffer's octahedral normal, perceptual roughness and anisotropy
+/// strength (colour attachment 1), all unorm. See [`BaseColorStorage`] for where the
+/// choice is measured.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SurfaceStorage {
+    /// `R16G16B16A16_UNORM`: 16 bits each (normal to 6.3·10⁻⁵ rad). 8 bytes.
+    #[default]
+    Unorm16,
+    /// `R8G8B8A8_UNORM`: 8 bits each (normal to ≈ 1.6·10⁻² rad; α steps of up to 0.8 %
+    /// of 2r/255). 4 bytes.
+    Unorm8,
+}
+
+impl SurfaceStorage {
+    /// Every storage, the default first.
+    pub const ALL: [SurfaceStorage; 2] = [Self::Unorm16, Self::Unorm8];
+
+    /// The Vulkan format of the target.
+    pub fn vk(self) -> vk::Format {
+        match self {
+            Self::Unorm16 => vk::Format::R16G16B16A16_UNORM,
+            Self::Unorm8 => vk::Format::R8G8B8A8_UNORM,
+        }
+    }
+
+    /// Bytes per pixel of the target.
+    pub fn bytes_per_pixel(self) -> u32 {
+        match self {
+            Self::Unorm16 => 8,
+            Self::Unorm8 => 4,
+        }
+    }
+
+    /// Bits per channel.
+    pub fn bits(self) -> u32 {
+        match self {
+            Self::Unorm16 => 16,
+            Self::Unorm8 => 8,
+        }
+    }
+
+    /// Short name (command line, report).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Unorm16 => "unorm16",
+            Self::Unorm8 => "unorm8",
+        }
+    }
+}
+
+/// The G-buffer's storage choices (its other targets, the material index with the
+/// anisotropy direction and the depth, have one form). Fixed for a renderer's life, as
+/// the HDR format is: the G-buffer and lighting pipelines and the targets are made for it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct GBufferStorage {
+    /// Base colour and metalness.
+    pub base_color: BaseColorStorage,
+    /// Normal, roughness and anisotropy strength.
+    pub surface: SurfaceStorage,
+}
+
+impl GBufferStorage {
+    /// 8-bit sRGB base colour and metalness, 16-bit normal, roughness and anisotropy:
+    /// the default, chosen by the measurement in docs/gbuffer.md.
+    pub const DEFAULT: GBufferStorage = GBufferStorage {
+        base_color: BaseColorStorage::Srgb8,
+        surface: SurfaceStorage::Unorm16,
+    };
+
+    /// Bytes per pixel of the whole G-buffer, depth included (the emissive + occlusion
+    /// target of scenes that need it not counted).
+    pub fn bytes_per_pixel(self) -> u32 {
+        self.base_color.bytes_per_pixel() + self.surface.bytes_per_pixel() + 4 + 4
+    }
+
+    /// Short name: `srgb8+unorm16` for the default.
+    pub fn name(self) -> String {
+        format!("{}+{}", self.base_color.name(), self.surface.name())
+    }
+
+    /// The `#define`s of the G-buffer and lighting shaders for this storage (none for
+    /// the default).
+    pub(crate) fn defines(self) -> Vec<(&'static str, Option<&'static str>)> {
+        let mut defines = match self.base_color {
+            BaseColorStorage::Srgb8 => Vec::new(),
+            BaseColorStorage::Srgb16 => vec![("BASE_COLOR_SRGB16", None)],
+            BaseColorStorage::LinearHalf => vec![("BASE_COLOR_LINEAR", None)],
+        };
+        if self.surface == SurfaceStorage::Unorm8 {
+            defines.push(("SURFACE_UNORM8", None));
+        }
+        defines
+    }
+}
+
 /// What a frame copies back to the CPU.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Readback {
@@ -322,14 +468,17 @@ pub struct Readback {
 /// The most frames in flight a renderer keeps.
 pub const MAX_FRAMES_IN_FLIGHT: usize = 3;
 
-/// Settings of the renderer. The HDR format and the frames in flight are fixed for the
-/// renderer's life (the G-buffer and lighting pipelines, the frame targets and their
-/// placeholders are made for the format); the shading options change with
+/// Settings of the renderer. The HDR format, the G-buffer's storage and the frames in
+/// flight are fixed for the renderer's life (the G-buffer and lighting pipelines, the
+/// frame targets and their placeholders are made for the formats); the shading options
+/// change with
 /// [`Renderer::set_shading`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RendererSettings {
     /// The HDR (lit) image's format.
     pub hdr_format: HdrFormat,
+    /// The G-buffer's storage of base colour, metalness, normal and roughness.
+    pub gbuffer: GBufferStorage,
     /// Multiplies radiance before the tone curve, in [`Renderer::render`] (frames
     /// recorded with [`Renderer::record`] bring their own, in [`FrameInputs`]).
     pub exposure: f32,
@@ -346,6 +495,7 @@ impl Default for RendererSettings {
     fn default() -> Self {
         Self {
             hdr_format: HdrFormat::default(),
+            gbuffer: GBufferStorage::DEFAULT,
             exposure: 1.0,
             shading: ShadingOptions::DEFAULT,
             frames_in_flight: 2,

@@ -80,9 +80,12 @@ impl Renderer {
                     &self.device,
                     &self.compiler,
                     &self.pipeline_cache,
-                    self.layouts.of(&bindings::GBUFFER),
-                    self.layouts.of(&bindings::MATERIAL_TEXTURES),
+                    [
+                        self.layouts.of(&bindings::GBUFFER),
+                        self.layouts.of(&bindings::MATERIAL_TEXTURES),
+                    ],
                     gbuffer_key,
+                    self.settings.gbuffer,
                     self.settings.hdr_format.vk(),
                 )?);
                 self.stats.pipelines_built += 1;
@@ -90,12 +93,14 @@ impl Renderer {
                 pass
             }
         };
+        let mut defines = variant.defines();
+        defines.extend(self.settings.gbuffer.defines());
         let lighting = FullscreenPass::new(
             &self.device,
             &self.compiler,
             &self.pipeline_cache,
             "lighting.frag",
-            &variant.defines(),
+            &defines,
             self.layouts.of(&bindings::LIGHTING),
             std::mem::size_of::<LightingPush>() as u32,
             self.settings.hdr_format.vk(),

@@ -20,7 +20,6 @@ use combustion_optics::vec3::Vec3 as V;
 use combustion_reference::SceneBvh;
 use combustion_scene::{Environment, Light, Scene};
 
-use crate::color::srgb_to_linear;
 use crate::gbuffer::{anisotropy_direction_decode, octahedral_decode, GBufferTexel};
 use crate::gpu_types::{
     conductor_from_base_color_table, material_table, GpuLight, GpuMaterial, LightingPush,
@@ -336,13 +335,10 @@ impl ReferenceShading {
             return None;
         }
         let (push, materials) = (&self.push, &self.materials);
-        let [b0, b1, b2, b3] = texel.base_color_metalness;
-        let base_color = [b0, b1, b2].map(|c| srgb_to_linear(f64::from(c) / 255.0));
-        let metalness = f64::from(b3) / 255.0;
-        let unorm = |v: u16| f64::from(v) / 65535.0;
-        let [nx, ny, r, s] = texel.normal_roughness_anisotropy;
-        let n = octahedral_decode([unorm(nx), unorm(ny)]);
-        let (roughness, strength) = (unorm(r), unorm(s));
+        let base_color = texel.base_color();
+        let metalness = texel.base_color_metalness[3];
+        let [nx, ny, roughness, strength] = texel.normal_roughness_anisotropy;
+        let n = octahedral_decode([nx, ny]);
         let [material_index, direction] = texel.material_direction;
         let material = &materials[material_index as usize];
         let t = anisotropy_direction_decode(n, direction);
@@ -386,7 +382,7 @@ impl ReferenceShading {
         );
         if material.conductor_from_base_color() {
             let table = conductor_from_base_color_table();
-            for (c, code) in [b0, b1, b2].into_iter().enumerate() {
+            for (c, code) in texel.base_color_srgb8_code().into_iter().enumerate() {
                 conductor_eta[c] = f64::from(table[code as usize][0]);
                 conductor_k[c] = f64::from(table[code as usize][1]);
             }

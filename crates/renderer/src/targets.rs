@@ -9,7 +9,7 @@ use combustion_vk::{vk, Device, Image, ImageDesc};
 use crate::error::RenderError;
 use crate::gbuffer::GBufferTargets;
 use crate::graph::TrackedImage;
-use crate::options::HdrFormat;
+use crate::options::{GBufferStorage, HdrFormat};
 
 /// Identifies one set of targets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -31,12 +31,14 @@ impl FrameTargets {
         device: &Arc<Device>,
         key: TargetKey,
         hdr_format: HdrFormat,
+        storage: GBufferStorage,
     ) -> Result<Self, RenderError> {
         Ok(Self {
             gbuffer: GBufferTargets::new(
                 device,
                 key.width,
                 key.height,
+                storage,
                 key.emissive_occlusion,
                 hdr_format.vk(),
             )?,
