@@ -1,6 +1,8 @@
 //! The command-line tool: a render produces a PNG and an EXR; bad input gets a one-line
 //! error and a non-zero exit, never a panic, and leaves no file behind.
 
+mod common;
+
 use std::process::Command;
 
 fn combustion(args: &[&str]) -> (i32, String, String) {
@@ -919,7 +921,8 @@ fn bench_reports_gpu_and_wall_clock_time_with_frames_in_flight() {
 /// The accuracy budget: `render --max-error E` renders with the fastest variant set
 /// whose mean relative error against the f64 reference is within E (measured on the
 /// scene first); a budget no set meets, or a budget that is no number above 0, is a
-/// one-line error; `info --max-error` lists every set with its time and errors.
+/// one-line error; `info --max-error` lists every set with its time and errors, and the
+/// one it marks chosen is the fastest of those within the budget.
 #[test]
 fn an_accuracy_budget_picks_a_variant_set_or_says_why_not() {
     let dir = scratch("budget");
@@ -982,6 +985,33 @@ fn an_accuracy_budget_picks_a_variant_set_or_says_why_not() {
             .count(),
         1
     );
+    // The rule itself, on the listed measurements: the chosen set is within the budget
+    // and no faster set is; every set within it is as slow or slower.
+    let sets: Vec<(f64, f64, &str)> = stdout
+        .lines()
+        .filter_map(|l| {
+            let (left, right) = l.split_once(" ms  mean ")?;
+            let ms: f64 = left.split_whitespace().last()?.parse().ok()?;
+            let mean: f64 = right.split_whitespace().next()?.parse().ok()?;
+            Some((ms, mean, l))
+        })
+        .collect();
+    let budget = 1e-2;
+    let &(chosen_ms, chosen_mean, _) = sets
+        .iter()
+        .find(|(_, _, l)| l.ends_with("chosen: the fastest within the budget"))
+        .unwrap();
+    assert!(chosen_mean <= budget);
+    for &(ms, mean, line) in &sets {
+        if mean <= budget {
+            assert!(ms >= chosen_ms, "faster and within the budget: {line}");
+        }
+        assert_eq!(
+            line.ends_with("over the budget"),
+            mean > budget,
+            "verdict of {line}"
+        );
+    }
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -1370,4 +1400,170 @@ fn a_window_side_beyond_the_window_system_is_refused_before_any_window() {
         &["view", "builtin:spheres", "--height", "70000"],
         &["at most 65535 pixels per side"],
     );
+}
+
+/// Reads an OpenEXR file's RGB channels (row-major from the top-left).
+fn read_exr(path: &std::path::Path) -> (usize, usize, Vec<[f32; 3]>) {
+    use exr::prelude::*;
+    let image = read_first_rgba_layer_from_file(
+        path,
+        |resolution, _| {
+            (
+                resolution.width(),
+                vec![[0.0f32; 3]; resolution.width() * resolution.height()],
+            )
+        },
+        |(w, out): &mut (usize, Vec<[f32; 3]>),
+         at: Vec2<usize>,
+         (r, g, b, _a): (f32, f32, f32, f32)| {
+            out[at.y() * *w + at.x()] = [r, g, b];
+        },
+    )
+    .unwrap();
+    let (w, pixels) = image.layer_data.channel_data.pixels;
+    let h = pixels.len() / w;
+    (w, h, pixels)
+}
+
+/// `--hdr` holds the frame's linear radiance, and `--exposure` scales what the PNG
+/// shows, not the radiance: on spot-box (a spot light with a range over a Lambert floor)
+/// the EXR is bit for bit the HDR image of the library's render of the scene (the frame
+/// tests/end_to_end.rs holds per pixel to the scene's f64 reference) whatever the
+/// exposure, and each PNG is that radiance × the exposure through the exponential tone
+/// curve and the sRGB encoding, to within one 8-bit code (f32 on the GPU, f64 here).
+/// Shown to fail: with the command line's exposure dropped (the settings' exposure left
+/// at 1), the exposure-4 PNG is codes away from what its radiance makes.
+#[test]
+fn the_hdr_file_is_the_frames_radiance_and_exposure_changes_only_the_image() {
+    use combustion::renderer::{linear_to_srgb, tonemap_exponential};
+    let dir = scratch("exposure");
+    let (width, height) = (64u32, 48u32);
+    let mut outputs = Vec::new();
+    for exposure in ["1", "4"] {
+        let png = dir.join(format!("x{exposure}.png"));
+        let exr = dir.join(format!("x{exposure}.exr"));
+        let (code, stdout, stderr) = combustion(&[
+            "render",
+            "builtin:spot-box",
+            "--width",
+            &width.to_string(),
+            "--height",
+            &height.to_string(),
+            "--exposure",
+            exposure,
+            "-o",
+            png.to_str().unwrap(),
+            "--hdr",
+            exr.to_str().unwrap(),
+            "--validate",
+        ]);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        outputs.push((exposure.parse::<f64>().unwrap(), png, exr));
+    }
+    let scene = combustion::scene::builtin_scene("spot-box").unwrap();
+    let frame = common::render_images(&scene, width, height, common::exact_f32());
+    let mut pngs = Vec::new();
+    for (exposure, png, exr) in &outputs {
+        let (w, h, radiance) = read_exr(exr);
+        assert_eq!((w, h), (width as usize, height as usize));
+        let bits = |p: &[f32]| p.iter().map(|c| c.to_bits()).collect::<Vec<_>>();
+        for (i, (file, gpu)) in radiance.iter().zip(&frame.hdr).enumerate() {
+            assert_eq!(
+                bits(file),
+                bits(&gpu[..3]),
+                "pixel {i}, exposure {exposure}"
+            );
+        }
+        // Linear radiance, not a display value: the spot's pool is brighter than 1.
+        assert!(radiance.iter().flatten().any(|&c| c > 1.0));
+        let (pw, ph, codes) = common::read_png(png);
+        assert_eq!((pw, ph), (width, height));
+        let mut worst = 0i32;
+        for (rgb, code) in radiance.iter().zip(&codes) {
+            for c in 0..3 {
+                let display = linear_to_srgb(tonemap_exponential(exposure * f64::from(rgb[c])));
+                let expected = (display * 255.0).round() as i32;
+                worst = worst.max((expected - i32::from(code[c])).abs());
+            }
+        }
+        assert!(worst <= 1, "exposure {exposure}: a code {worst} off");
+        pngs.push(codes);
+    }
+    // Every pixel the spot lights (neither black nor white at exposure 1) is brighter
+    // at exposure 4.
+    let lit: Vec<(u8, u8)> = pngs[0]
+        .iter()
+        .zip(&pngs[1])
+        .map(|(a, b)| (a[1], b[1]))
+        .filter(|(a, _)| (1..=250).contains(a))
+        .collect();
+    let brighter = lit.iter().filter(|(a, b)| b > a).count();
+    assert!(lit.len() > 500, "{} lit pixels", lit.len());
+    assert_eq!(
+        brighter,
+        lit.len(),
+        "{brighter} of {} lit pixels brighter",
+        lit.len()
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `--validate` turns any message of the validation layer into a failed run: one error
+/// line, a non-zero exit and no output written. The layer is asked for its
+/// best-practices checks through its own environment variable (`VK_LAYER_ENABLES`),
+/// which warn about choices Combustion makes on purpose (debug utils, resettable
+/// command buffers); without `--validate` the same run succeeds.
+#[test]
+fn validate_fails_the_run_on_any_validation_message() {
+    let dir = scratch("validate");
+    let png = dir.join("out.png");
+    let run = |validate: bool| {
+        let mut args = vec![
+            "render",
+            "builtin:spheres",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "-o",
+            png.to_str().unwrap(),
+        ];
+        if validate {
+            args.push("--validate");
+        }
+        Command::new(env!("CARGO_BIN_EXE_combustion"))
+            .args(&args)
+            .env("COMBUSTION_DEVICE", "llvmpipe")
+            .env(
+                "VK_LAYER_ENABLES",
+                "VK_VALIDATION_FEATURE_ENABLE_BEST_PRACTICES_EXT",
+            )
+            .output()
+            .expect("run combustion")
+    };
+    let failed = run(true);
+    let stderr = String::from_utf8_lossy(&failed.stderr);
+    assert_eq!(failed.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let errors: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("error: "))
+        .collect();
+    assert_eq!(errors.len(), 1, "{stderr}");
+    assert!(
+        errors[0].contains("the Vulkan validation layer reported")
+            && errors[0].contains("BestPractices"),
+        "{}",
+        errors[0]
+    );
+    assert!(!png.exists(), "a failed run wrote its image");
+    let passed = run(false);
+    assert_eq!(
+        passed.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&passed.stderr)
+    );
+    assert!(png.exists());
+    std::fs::remove_dir_all(dir).unwrap();
 }

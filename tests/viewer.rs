@@ -262,28 +262,65 @@ fn scripted_screenshot_equals_headless(
 /// library computes (`reference::error_map`), nothing else.
 #[test]
 fn the_error_view_shows_the_reference_error_map() {
-    use combustion::renderer::reference::heat_map_color;
-    use combustion::renderer::RendererSettings;
+    assert_error_view_is_the_reference_map("builtin:hard-cases");
+}
+
+/// The error view of an environment-lit scene (spheres-studio): the same, against the
+/// reference that integrates the environment (one pixel in 4×4, 500 samples of each
+/// strategy, the rest grey), as the viewer measures it.
+#[test]
+fn the_error_view_of_an_environment_lit_scene_is_the_reference_map() {
+    assert_error_view_is_the_reference_map("builtin:spheres-studio");
+}
+
+/// A scripted `--error-view` run of `scene_name` at 192×128: its screenshot equals the
+/// heat map of the library's error map for the headless frame, pixel for pixel.
+fn assert_error_view_is_the_reference_map(scene_name: &str) {
+    use combustion::renderer::reference::{
+        error_map, heat_map_color, EnvironmentSampling, ReferenceShading,
+    };
+    use combustion::renderer::{Readback, RendererSettings};
 
     let xvfb = Xvfb::start();
     let display = format!(":{}", xvfb.display);
     let (pixels, scene) = scripted_screenshot(
         "error",
         |args| view(&display, args),
-        "builtin:hard-cases",
+        scene_name,
         (192, 128),
         4,
         "0  1 1.5 6  0 0.2 0\n1  1 1.5 6  0 0.2 0\n",
         &["--overlay", "off", "--error-view"],
     );
     drop(xvfb);
-    let (_, map) = common::render_with_error_map(&scene, 192, 128, RendererSettings::default(), 2);
-    assert!(map.lit_pixels > 1000, "{} pixels compared", map.lit_pixels);
+    let frame = common::render(
+        &scene,
+        192,
+        128,
+        RendererSettings::default(),
+        Readback {
+            images: true,
+            gbuffer: true,
+        },
+    );
+    let inputs = common::frame_inputs(&scene, &scene.lights);
+    let mut reference = ReferenceShading::new(&scene, &inputs, 192, 128);
+    if let Some(environment) = &scene.environment {
+        reference = reference.with_environment(
+            environment.clone(),
+            EnvironmentSampling {
+                iterations: 500,
+                stride: 4,
+            },
+        );
+    }
+    let map = error_map(&frame, &reference, 2);
+    assert!(map.lit_pixels > 500, "{} pixels compared", map.lit_pixels);
     let expected: Vec<[u8; 4]> = map.relative.iter().map(|&e| heat_map_color(e)).collect();
     let differing = pixels.iter().zip(&expected).filter(|(a, b)| a != b).count();
     assert_eq!(
         differing, 0,
-        "{differing} pixels differ from the reference's heat map"
+        "{scene_name}: {differing} pixels differ from the reference's heat map"
     );
     // The map is not uniform: errors span several colours.
     let mut colours: Vec<[u8; 4]> = expected.clone();
@@ -366,6 +403,198 @@ fn the_readme_lists_every_key() {
 }
 
 /// Runs `xdotool ARGS` on `display`; its output.
+/// A viewer run under a test's X display with its log (info level) collected as it comes,
+/// so that a test can wait for what the viewer says it handled.
+struct LoggedViewer {
+    child: std::process::Child,
+    lines: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
+    reader: std::thread::JoinHandle<()>,
+    display: String,
+    /// The window's X id (xdotool's).
+    window: String,
+}
+
+impl LoggedViewer {
+    /// Runs `combustion view ARGS` in `dir` on `display` and waits (30 s at most) until
+    /// it has made its swapchain; finds its window.
+    fn start(display: &str, dir: &Path, args: &[&str]) -> LoggedViewer {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_combustion"))
+            .arg("view")
+            .args(args)
+            .current_dir(dir)
+            .env("DISPLAY", display)
+            .env_remove("WAYLAND_DISPLAY")
+            .env("COMBUSTION_DEVICE", "llvmpipe")
+            // The viewer logs its swapchain at info level: the sign that its window is
+            // up, so xdotool need not poll for it.
+            .env("COMBUSTION_LOG", "info")
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("run combustion");
+        let lines = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
+        let reader = {
+            use std::io::BufRead;
+            let stderr = child.stderr.take().unwrap();
+            let lines = lines.clone();
+            std::thread::spawn(move || {
+                for line in std::io::BufReader::new(stderr)
+                    .lines()
+                    .map_while(Result::ok)
+                {
+                    lines.lock().unwrap().push(line);
+                }
+            })
+        };
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while !lines
+            .lock()
+            .unwrap()
+            .iter()
+            .any(|l| l.contains("swapchain:"))
+        {
+            assert!(
+                Instant::now() < deadline,
+                "the viewer never made its swapchain"
+            );
+            if child.try_wait().unwrap().is_some() {
+                panic!(
+                    "the viewer exited early: {}",
+                    lines.lock().unwrap().join("\n")
+                );
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let found = xdotool(display, &["search", "--name", "^combustion"]);
+        let window = found
+            .lines()
+            .next()
+            .expect("the viewer's window")
+            .to_owned();
+        LoggedViewer {
+            child,
+            lines,
+            reader,
+            display: display.to_owned(),
+            window,
+        }
+    }
+
+    /// Lines of the log containing `said`.
+    fn logged(&self, said: &str) -> usize {
+        self.lines
+            .lock()
+            .unwrap()
+            .iter()
+            .filter(|l| l.contains(said))
+            .count()
+    }
+
+    /// Waits (10 s at most) until the log has more lines containing `said` than
+    /// `before`: the viewer has handled the event that says it.
+    fn await_log(&self, said: &str, before: usize, after_what: &str) {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while self.logged(said) <= before {
+            assert!(
+                Instant::now() < deadline,
+                "after {after_what} the log never said `{said}`: {}",
+                self.lines.lock().unwrap().join("\n")
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    /// Presses Escape and waits (30 s at most, then kills it) for the viewer to exit:
+    /// its exit code, standard output and log.
+    fn quit(mut self) -> (Option<i32>, String, String) {
+        xdotool(&self.display, &["key", "Escape"]);
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while self.child.try_wait().unwrap().is_none() {
+            if Instant::now() > deadline {
+                let _ = self.child.kill();
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let out = self.child.wait_with_output().unwrap();
+        self.reader.join().unwrap();
+        let stderr = self.lines.lock().unwrap().join("\n");
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            stderr,
+        )
+    }
+}
+
+/// F5 loads the scene again, and a scene file that changes on disk is reloaded (the
+/// viewer looks once a second); a change that breaks the file is a logged error and the
+/// scene shown stays; the file mended, it is loaded again. Drag and drop opens files
+/// through the same `load` (`WindowEvent::DroppedFile`); Xvfb has no drag source to
+/// test it with.
+#[test]
+fn f5_and_a_changed_file_reload_the_scene() {
+    let xvfb = Xvfb::start();
+    let display = format!(":{}", xvfb.display);
+    let dir = std::env::temp_dir().join(format!("combustion-view-reload-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // The project's optics scene with its buffer and its measured-metal table.
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/optics");
+    for entry in std::fs::read_dir(&source).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, dir.join(path.file_name().unwrap())).unwrap();
+    }
+    let scene = dir.join("optics.gltf");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let viewer = LoggedViewer::start(
+        &display,
+        &dir,
+        &[
+            scene.to_str().unwrap(),
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--validate",
+        ],
+    );
+    let loaded = "optics.gltf: loaded";
+    let changed = "changed on disk, reloading";
+    xdotool(&display, &["windowfocus", &viewer.window]);
+    viewer.await_log("window focused", 0, "focusing the window");
+    let before = viewer.logged(loaded);
+    xdotool(&display, &["key", "F5"]);
+    viewer.await_log(loaded, before, "F5");
+    // A newer modification time: reloaded within about a second.
+    let touch = |seconds: u64| {
+        let file = std::fs::File::options().write(true).open(&scene).unwrap();
+        file.set_modified(std::time::SystemTime::now() + Duration::from_secs(seconds))
+            .unwrap();
+    };
+    let (before_change, before_load) = (viewer.logged(changed), viewer.logged(loaded));
+    touch(10);
+    viewer.await_log(changed, before_change, "touching the file");
+    viewer.await_log(loaded, before_load, "touching the file");
+    // Broken: an error, and the viewer goes on with the scene it shows.
+    std::fs::write(&scene, "{ not glTF").unwrap();
+    touch(20);
+    let errors = viewer.logged("[ERROR");
+    viewer.await_log("[ERROR", errors, "breaking the file");
+    let before_load = viewer.logged(loaded);
+    std::fs::write(&scene, &text).unwrap();
+    touch(30);
+    viewer.await_log(loaded, before_load, "mending the file");
+    let (code, stdout, stderr) = viewer.quit();
+    drop(xvfb);
+    assert_eq!(code, Some(0), "stdout: {stdout}\nstderr: {stderr}");
+    // The one error is the broken file's, naming it.
+    let error_lines: Vec<&str> = stderr.lines().filter(|l| l.contains("[ERROR")).collect();
+    assert_eq!(error_lines.len(), 1, "{stderr}");
+    assert!(error_lines[0].contains("optics.gltf"), "{}", error_lines[0]);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 fn xdotool(display: &str, args: &[&str]) -> String {
     let out = Command::new("xdotool")
         .args(args)
@@ -387,88 +616,22 @@ fn keys_and_mouse_drive_the_viewer() {
     let display = format!(":{}", xvfb.display);
     let dir = std::env::temp_dir().join(format!("combustion-view-keys-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_combustion"))
-        .args([
-            "view",
+    let viewer = LoggedViewer::start(
+        &display,
+        &dir,
+        &[
             "builtin:spheres",
             "--width",
             "160",
             "--height",
             "120",
             "--validate",
-        ])
-        .current_dir(&dir)
-        .env("DISPLAY", &display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("COMBUSTION_DEVICE", "llvmpipe")
-        // The viewer logs its swapchain at info level: the sign that its window is up,
-        // so xdotool need not poll for it.
-        .env("COMBUSTION_LOG", "info")
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run combustion");
-    let stderr_lines = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
-    let reader = {
-        use std::io::BufRead;
-        let stderr = child.stderr.take().unwrap();
-        let lines = stderr_lines.clone();
-        std::thread::spawn(move || {
-            for line in std::io::BufReader::new(stderr)
-                .lines()
-                .map_while(Result::ok)
-            {
-                lines.lock().unwrap().push(line);
-            }
-        })
-    };
-    let deadline = Instant::now() + Duration::from_secs(30);
-    while !stderr_lines
-        .lock()
-        .unwrap()
-        .iter()
-        .any(|l| l.contains("swapchain:"))
-    {
-        assert!(
-            Instant::now() < deadline,
-            "the viewer never made its swapchain"
-        );
-        if child.try_wait().unwrap().is_some() {
-            panic!(
-                "the viewer exited early: {}",
-                stderr_lines.lock().unwrap().join("\n")
-            );
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let found = xdotool(&display, &["search", "--name", "^combustion"]);
-    let window = found
-        .lines()
-        .next()
-        .expect("the viewer's window")
-        .to_owned();
-    // Lines of the viewer's log (info level) containing `said`.
-    let logged = |said: &str| {
-        stderr_lines
-            .lock()
-            .unwrap()
-            .iter()
-            .filter(|l| l.contains(said))
-            .count()
-    };
-    // Waits (10 s at most) until the log has more lines containing `said` than `before`:
-    // the viewer has handled the event that says it.
-    let await_log = |said: &str, before: usize, after_what: &str| {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        while logged(said) <= before {
-            assert!(
-                Instant::now() < deadline,
-                "after {after_what} the log never said `{said}`"
-            );
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    };
+        ],
+    );
+    let window = viewer.window.clone();
+    let logged = |said: &str| viewer.logged(said);
+    let await_log =
+        |said: &str, before: usize, after_what: &str| viewer.await_log(said, before, after_what);
     xdotool(&display, &["windowfocus", &window]);
     // Focused once at least (it may have been before this asked for it).
     await_log("window focused", 0, "focusing the window");
@@ -558,26 +721,10 @@ fn keys_and_mouse_drive_the_viewer() {
     await_log("window focused", focused, "focusing the window again");
     xdotool(&display, &["key", "p"]);
     await_log("screenshot written", 0, "`p`");
-    xdotool(&display, &["key", "Escape"]);
-    let deadline = Instant::now() + Duration::from_secs(30);
-    while child.try_wait().unwrap().is_none() {
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let out = child.wait_with_output().unwrap();
-    reader.join().unwrap();
+    let (code, stdout, stderr) = viewer.quit();
     drop(xvfb);
-    let stdout = String::from_utf8_lossy(&out.stdout);
     // Info lines are expected (the swapchain's); warnings and errors are not.
-    let stderr = stderr_lines.lock().unwrap().join("\n");
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "stdout: {stdout}\nstderr: {stderr}"
-    );
+    assert_eq!(code, Some(0), "stdout: {stdout}\nstderr: {stderr}");
     assert_quiet(&stderr);
     assert!(
         stdout.contains("; screenshot combustion-0001.png"),

@@ -734,6 +734,7 @@ impl State {
         self.scene_generation += 1;
         self.modified = controls::modified(&source);
         self.original = scene;
+        log::info!("{}: loaded", source.label());
         self.source = source;
         Ok(())
     }
@@ -881,6 +882,9 @@ impl State {
         let now = controls::modified(&self.source);
         if now.is_some() && now != self.modified {
             log::info!("{}: changed on disk, reloading", self.source.label());
+            // Tried once per change: a file broken on disk is reported once, not every
+            // second, and read again when it changes next.
+            self.modified = now;
             self.load(self.source.clone())?;
         }
         Ok(())

@@ -21,6 +21,7 @@
 
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel as OpticsDiffuse};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
+use combustion_optics::environment::{integrate_environment, Estimate, Sampling};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::vec3::Vec3 as OpticsVec3;
 use combustion_scene::{
@@ -98,6 +99,9 @@ pub struct SceneShading<'a> {
     mips: HashMap<usize, MipChain>,
     visibility: Option<&'a SceneBvh>,
     lod_bias: f64,
+    /// Samples of each strategy of the environment's integral (`None`: the environment,
+    /// if the scene has one, is left out).
+    environment_samples: Option<u32>,
 }
 
 fn optics_vec(v: DVec3) -> OpticsVec3<f64> {
@@ -238,7 +242,48 @@ impl<'a> SceneShading<'a> {
             mips,
             visibility: None,
             lod_bias: 0.0,
+            environment_samples: None,
         }
+    }
+
+    /// The same, with the scene's environment (if it has one) lighting every point:
+    /// L = ∫ f(v, l) L_env(l) (n·l) dl over the hemisphere, estimated by
+    /// [`integrate_environment`] with `samples` samples of each strategy (BRDF and
+    /// cosine sampling, combined by multiple importance), the sequence seeded by the
+    /// point's position (so one point always gets one estimate). Unoccluded: the
+    /// environment reaches every point from every direction above it (the renderer's
+    /// environment has no shadows either, and the built-in scenes no occlusion
+    /// textures). [`SceneShading::environment_estimate`] gives its standard error.
+    pub fn with_environment(self, samples: u32) -> Self {
+        SceneShading {
+            environment_samples: Some(samples),
+            ..self
+        }
+    }
+
+    /// The environment's share of `surface`'s radiance with its standard error, where
+    /// [`SceneShading::with_environment`] asked for it and the scene has an environment.
+    pub fn environment_estimate(&self, surface: &SurfacePoint) -> Option<Estimate> {
+        let (environment, samples) = (self.scene.environment.as_ref()?, self.environment_samples?);
+        let seed = surface
+            .hit
+            .position
+            .iter()
+            .fold(0x9e37_79b9_7f4a_7c15u64, |h, c| {
+                (h ^ c.to_bits()).wrapping_mul(0x1000_0000_01b3)
+            });
+        Some(integrate_environment(
+            &surface.brdf,
+            optics_vec(surface.n),
+            optics_vec(surface.t),
+            optics_vec(surface.b),
+            optics_vec(surface.v),
+            |l| environment.radiance(l),
+            Sampling {
+                iterations: samples,
+                seed,
+            },
+        ))
     }
 
     /// The same, each light's term multiplied by its exact visibility from the shaded
@@ -483,7 +528,8 @@ impl<'a> SceneShading<'a> {
 
     /// The radiance `surface` sends to the eye: its emission plus each light's
     /// f(v, l) E (n·l), times the light's exact visibility with
-    /// [`SceneShading::with_visibility`].
+    /// [`SceneShading::with_visibility`], plus the environment's integral with
+    /// [`SceneShading::with_environment`].
     pub fn radiance(&self, surface: &SurfacePoint) -> [f64; 3] {
         let position = DVec3::from(surface.hit.position);
         let mut radiance = surface.emitted;
@@ -517,6 +563,11 @@ impl<'a> SceneShading<'a> {
             );
             for c in 0..3 {
                 radiance[c] += f[c] * irradiance[c] * cos * visible;
+            }
+        }
+        if let Some(estimate) = self.environment_estimate(surface) {
+            for (r, e) in radiance.iter_mut().zip(estimate.mean) {
+                *r += e;
             }
         }
         radiance

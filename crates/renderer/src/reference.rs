@@ -138,7 +138,7 @@ impl ReferenceShading {
     }
 
     /// The same, shaded with the terms a comparison variant evaluates (its Fresnel curve,
-    /// masking form, distribution and forced diffuse model; from
+    /// masking form, distribution, energy compensation and forced diffuse model; from
     /// [`combustion_optics::variants`], written from each term's own formula): what a
     /// frame rendered with `options` must match, so each variant's shader is checked
     /// against its claim, not only measured against the exact model.
@@ -439,6 +439,7 @@ pub fn brdf_variant(options: &ShadingOptions) -> BrdfVariant {
             Distribution::Ggx => DistributionForm::Ggx,
             Distribution::Beckmann => DistributionForm::Beckmann,
         },
+        energy_compensation: options.energy_compensation,
     }
 }
 
