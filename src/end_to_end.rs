@@ -50,6 +50,15 @@ pub fn precision_of(storage: GBufferStorage) -> GBufferPrecision {
     }
 }
 
+/// How [`SceneReference::with_environment`] samples a frame lit by an environment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EnvironmentReference {
+    /// Samples of each strategy of the environment's integral per shaded pixel.
+    pub samples: u32,
+    /// One pixel in `stride`² is shaded (and compared).
+    pub stride: u32,
+}
+
 /// One pixel of the reference.
 #[derive(Clone, Copy, Debug)]
 pub struct ReferencePixel {
@@ -59,10 +68,18 @@ pub struct ReferencePixel {
     pub stored: SurfacePoint,
     /// The material the ray sees.
     pub material: usize,
-    /// The radiance of `surface`.
+    /// The radiance of `surface` (NaN where the reference samples the frame and this
+    /// pixel is not shaded: [`SceneReference::with_environment`]).
     pub exact: [f64; 3],
-    /// The radiance of `stored`.
+    /// The radiance of `stored` (NaN likewise).
     pub as_stored: [f64; 3],
+}
+
+impl ReferencePixel {
+    /// Whether the reference shaded this pixel.
+    pub fn is_shaded(&self) -> bool {
+        !self.exact[0].is_nan()
+    }
 }
 
 /// The scene's f64 reference for one camera, size and set of lights.
@@ -180,19 +197,63 @@ impl<'a> SceneReference<'a> {
         threads: usize,
     ) -> Self {
         let shading = SceneShading::new(scene, bvh, lights, width, height);
+        Self::shaded(scene, bvh, shading, precision, 1, threads)
+    }
+
+    /// As [`SceneReference::new`] for a scene lit by its environment too: the
+    /// environment's integral ([`SceneShading::with_environment`], `sampling.samples`
+    /// samples of each strategy) costs thousands of BRDF evaluations a pixel, so one
+    /// pixel in `sampling.stride`² (the centre of each block) is shaded and compared; the
+    /// others still tell edges apart.
+    pub fn with_environment(
+        scene: &'a Scene,
+        bvh: &'a SceneBvh,
+        lights: &'a [Light],
+        (width, height): (u32, u32),
+        precision: GBufferPrecision,
+        sampling: EnvironmentReference,
+        threads: usize,
+    ) -> Self {
+        let shading =
+            SceneShading::new(scene, bvh, lights, width, height).with_environment(sampling.samples);
+        Self::shaded(scene, bvh, shading, precision, sampling.stride, threads)
+    }
+
+    fn shaded(
+        scene: &'a Scene,
+        bvh: &'a SceneBvh,
+        shading: SceneShading<'a>,
+        precision: GBufferPrecision,
+        stride: u32,
+        threads: usize,
+    ) -> Self {
+        let (width, height) = (shading.width(), shading.height());
         let surfaces = shading.surfaces(threads);
+        let stride = stride.max(1);
+        let shaded = |i: usize| {
+            let (x, y) = (i as u32 % width, i as u32 / width);
+            x % stride == stride / 2 && y % stride == stride / 2
+        };
         let pixels: Vec<Option<ReferencePixel>> = {
             let shading = &shading;
             let chunk = surfaces.len().div_ceil(threads.max(1)).max(1);
             std::thread::scope(|scope| {
                 let handles: Vec<_> = surfaces
                     .chunks(chunk)
-                    .map(|part| {
+                    .enumerate()
+                    .map(|(k, part)| {
                         scope.spawn(move || {
                             part.iter()
-                                .map(|s| {
+                                .enumerate()
+                                .map(|(j, s)| {
                                     s.map(|surface| {
-                                        reference_pixel(scene, shading, &precision, surface, None)
+                                        if shaded(k * chunk + j) {
+                                            reference_pixel(
+                                                scene, shading, &precision, surface, None,
+                                            )
+                                        } else {
+                                            unshaded_pixel(scene, &precision, surface)
+                                        }
                                     })
                                 })
                                 .collect::<Vec<_>>()
@@ -314,6 +375,9 @@ impl<'a> SceneReference<'a> {
                     out.silhouette += 1;
                     continue;
                 }
+                if !p.is_shaded() {
+                    continue; // not sampled
+                }
                 let gpu = [0, 1, 2].map(|c| f64::from(frame.hdr[i][c]));
                 if gpu.iter().any(|c| !c.is_finite()) {
                     out.non_finite += 1;
@@ -341,7 +405,7 @@ impl<'a> SceneReference<'a> {
         std::thread::scope(|scope| {
             for part in self.pixels.chunks_mut(chunk) {
                 scope.spawn(move || {
-                    for pixel in part.iter_mut().flatten() {
+                    for pixel in part.iter_mut().flatten().filter(|p| p.is_shaded()) {
                         *pixel = reference_pixel(
                             scene,
                             shading,
@@ -358,6 +422,26 @@ impl<'a> SceneReference<'a> {
     /// The reference pixel at (`x`, `y`).
     pub fn pixel(&self, x: u32, y: u32) -> Option<&ReferencePixel> {
         self.pixels.get((y * self.width + x) as usize)?.as_ref()
+    }
+}
+
+/// A pixel the reference does not shade: its surface, stored, and NaN radiance.
+fn unshaded_pixel(
+    scene: &Scene,
+    precision: &GBufferPrecision,
+    surface: SurfacePoint,
+) -> ReferencePixel {
+    let material = scene.objects[surface.hit.object].material;
+    let from_base_color = scene
+        .materials
+        .get(material)
+        .is_some_and(|m| m.conductor_from_base_color);
+    ReferencePixel {
+        surface,
+        stored: precision.store(&surface, from_base_color),
+        material,
+        exact: [f64::NAN; 3],
+        as_stored: [f64::NAN; 3],
     }
 }
 

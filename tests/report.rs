@@ -349,6 +349,12 @@ fn the_split_sum_error_is_in_the_report() {
         row.mean_relative
     );
     assert!(row.flip_mean.is_nan() && row.environment);
+    // End to end on the same grid: the scene's own reference integrating the
+    // environment; the error is the split sum's, no pixel shows another material.
+    let e = row.end_to_end.expect("compared end to end");
+    assert!(e.compared > 20 && e.compared <= ((320 / stride) * (192 / stride)) as usize);
+    assert_eq!(e.away, 0);
+    assert!(e.total.mean > 1e-3 && e.total.mean < 0.15, "{:?}", e.total);
     assert!(
         md.contains("## Environment lighting: the split sum against the rendering equation"),
         "{md}"

@@ -21,7 +21,7 @@ use combustion_plots::{
 use combustion_reference::SceneBvh;
 use combustion_renderer::reference::{error_map, EnvironmentSampling, ErrorMap, ReferenceShading};
 
-use crate::end_to_end::{precision_of, EndToEndErrors, SceneReference};
+use crate::end_to_end::{precision_of, EndToEndErrors, EnvironmentReference, SceneReference};
 
 /// How the report's reference integrates an environment: 2 000 samples of each strategy
 /// (oracle noise ≈ 1–3 % at the noisiest pixels, `tests/environment.rs`) at one pixel in
@@ -593,18 +593,29 @@ pub fn measure(
             }
             // What every set is measured against: one f64 reference per scene and size,
             // from the G-buffer (the lighting pass's error) and from the scene itself
-            // (the frame's, end to end; not for environment lighting).
+            // (the frame's, end to end; for environment lighting on the same sampled
+            // pixels as the lighting pass's reference).
             let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
             let bvh = SceneBvh::new(gpu.scene());
-            let scene_reference = gpu.scene().environment.is_none().then(|| {
-                SceneReference::new(
+            let size = (desc.width, desc.height);
+            let precision = precision_of(GBufferStorage::DEFAULT);
+            let lights = &gpu.scene().lights;
+            let scene_reference = Some(if gpu.scene().environment.is_some() {
+                let sampling = EnvironmentReference {
+                    samples: ENVIRONMENT_SAMPLING.iterations,
+                    stride: ENVIRONMENT_SAMPLING.stride,
+                };
+                SceneReference::with_environment(
                     gpu.scene(),
                     &bvh,
-                    &gpu.scene().lights,
-                    (desc.width, desc.height),
-                    precision_of(GBufferStorage::DEFAULT),
+                    lights,
+                    size,
+                    precision,
+                    sampling,
                     threads,
                 )
+            } else {
+                SceneReference::new(gpu.scene(), &bvh, lights, size, precision, threads)
             });
             let inputs = FrameInputs::of_scene(&gpu, 1.0);
             let mut reference =
@@ -917,7 +928,7 @@ pub fn end_to_end_markdown(rows: &[ReportRow]) -> String {
         return String::new();
     }
     let mut out = String::from(
-        "## End to end: the frame against the scene\n\nDefault variant set. Each pixel's primary ray cast in f64 against the scene's triangles through the camera's own description, the hit shaded from the scene's own materials, textures and lights with the optics crate (`combustion::end_to_end`, `combustion_reference::shading`): it shares no code with the GPU path, so the error is every error the renderer makes, G-buffer storage included. The reference also shades each surface as the G-buffer stores it (8-bit sRGB base colour and metalness, 16-bit roughness and octahedral normal), splitting the error into the storage's share and the rest (rasterisation, interpolation, texture sampling, f32 shading). Pixels at edges (silhouettes, where objects or materials meet, creases) are counted, not compared; \"wrong\" counts pixels showing another material away from any edge. tests/end_to_end.rs holds every pixel's rest to a bound derived from the formats and the Vulkan specification (README, \"What is proven\"). Relative error per pixel as above; scenes lit by an environment are not compared here.\n\n| scene | pixels | at edges | wrong | error mean | max | storage's share: mean | max | the rest: mean | max |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "## End to end: the frame against the scene\n\nDefault variant set. Each pixel's primary ray cast in f64 against the scene's triangles through the camera's own description, the hit shaded from the scene's own materials, textures and lights with the optics crate (`combustion::end_to_end`, `combustion_reference::shading`): it shares no code with the GPU path, so the error is every error the renderer makes, G-buffer storage included. The reference also shades each surface as the G-buffer stores it (8-bit sRGB base colour and metalness, 16-bit roughness and octahedral normal), splitting the error into the storage's share and the rest (rasterisation, interpolation, texture sampling, f32 shading). Pixels at edges (silhouettes, where objects or materials meet, creases) are counted, not compared; \"wrong\" counts pixels showing another material away from any edge. tests/end_to_end.rs holds every pixel's rest to a bound derived from the formats and the Vulkan specification (README, \"What is proven\"). Relative error per pixel as above. Scenes lit by an environment are compared at one pixel in 16×16 (the reference integrates the environment with 2 000 samples of each strategy; edges and wrong pixels are counted over the whole frame): their error is mostly the split sum's approximation, which no bound holds per pixel.\n\n| scene | pixels | at edges | wrong | error mean | max | storage's share: mean | max | the rest: mean | max |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for (r, e) in compared {
         let _ = writeln!(

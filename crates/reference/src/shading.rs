@@ -246,6 +246,16 @@ impl<'a> SceneShading<'a> {
         }
     }
 
+    /// The frame's width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// The frame's height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
     /// The same, with the scene's environment (if it has one) lighting every point:
     /// L = ∫ f(v, l) L_env(l) (n·l) dl over the hemisphere, estimated by
     /// [`integrate_environment`] with `samples` samples of each strategy (BRDF and
