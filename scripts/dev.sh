@@ -10,13 +10,14 @@ cd "$(dirname "$0")/.."
 # Debian/Ubuntu packages: lavapipe (CPU Vulkan driver), the loader, the validation layers,
 # and shaderc's build-from-source needs (cmake, python3, a C++ compiler, git for its sources
 # is not needed: the crate ships them); for `combustion view` and its test, the X libraries
-# winit loads at run time and a virtual X server (Xvfb; xauth for xvfb-run); a headless
+# winit loads at run time and a virtual X server (Xvfb; xauth for xvfb-run; xdotool and
+# x11-utils' xprop to drive and minimise its window as a window manager would); a headless
 # Wayland compositor (weston) for the viewer's Wayland test (it brings libwayland-client,
 # which winit loads at run time on Wayland); coreutils for mkfifo in the output-path tests
 # (Essential on Debian, listed so a slimmed image says so); tar and xz-utils to unpack the
 # fuzz corpora the replay tests read (fuzz/seeds/*.tar.xz).
 PACKAGES=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake make python3 g++ pkg-config coreutils
-  xvfb xauth xdotool procps libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0
+  xvfb xauth xdotool x11-utils procps libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0
   weston libwayland-client0 libxkbcommon0 tar xz-utils)
 
 install_packages() {

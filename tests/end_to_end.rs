@@ -579,8 +579,8 @@ fn the_frame_is_what_the_scene_shows() {
 /// storage. And the finer base-colour storages are finer on the GPU: on spot-box (a
 /// Lambert floor of base colour 0.8 under a spot light, which 8-bit sRGB stores 1.12e-3
 /// low) the frame's mean error against the exact reference is below half of that
-/// (measured: 3.7e-5 with 16-bit sRGB, 2.9e-4 with f16, whose writes lavapipe rounds
-/// toward zero; 2.2e-3 with the default storage).
+/// (measured: 3.7e-5 with 16-bit sRGB, the default, 2.9e-4 with f16, whose writes
+/// lavapipe rounds toward zero; 2.2e-3 with 8-bit sRGB).
 #[test]
 fn every_gbuffer_storage_is_what_the_scene_shows() {
     let scenes = ["spheres", "dielectrics", "spot-box"];
@@ -599,7 +599,8 @@ fn every_gbuffer_storage_is_what_the_scene_shows() {
                 let label = format!("{name} with {}", storage.name());
                 eprintln!("{}", comparison.describe(&label, W, H));
                 comparison.assert_within_bounds(&label);
-                if name == "spot-box" && surface == SurfaceStorage::Unorm16 {
+                let finer = base_color != BaseColorStorage::Srgb8;
+                if name == "spot-box" && surface == SurfaceStorage::Unorm16 && finer {
                     let mean = summary(&comparison.total).mean;
                     assert!(
                         mean < 0.5 * LAMBERT_FLOOR_8_BIT,

@@ -708,17 +708,43 @@ fn keys_and_mouse_drive_the_viewer() {
     xdotool(&display, &["click", "4"]);
     xdotool(&display, &["windowsize", &window, "200", "150"]);
     await_log("images of 200x150", 0, "resizing to 200x150");
-    // Hidden and shown again (unmapped, as a window manager does when minimising; Xvfb
-    // has none to ask): the viewer goes on afterwards.
-    let unfocused = logged("window unfocused");
+    // Minimised and restored as a window manager does it (Xvfb has none to ask): the
+    // window marked _NET_WM_STATE_HIDDEN and unmapped, then the mark removed and the
+    // window mapped and focused. The viewer stops drawing while minimised and draws
+    // again afterwards.
+    let xprop = |args: &[&str]| {
+        let status = Command::new("xprop")
+            .args(["-id", &window])
+            .args(args)
+            .env("DISPLAY", &display)
+            .status()
+            .expect("run xprop");
+        assert!(status.success(), "xprop {args:?}");
+    };
+    let paused = logged("drawing paused (window hidden)");
+    xprop(&[
+        "-f",
+        "_NET_WM_STATE",
+        "32a",
+        "-set",
+        "_NET_WM_STATE",
+        "_NET_WM_STATE_HIDDEN",
+    ]);
     xdotool(&display, &["windowunmap", &window]);
-    await_log("window unfocused", unfocused, "unmapping the window");
+    await_log(
+        "drawing paused (window hidden)",
+        paused,
+        "minimising the window",
+    );
+    let resumed = logged("drawing resumed");
+    xprop(&["-remove", "_NET_WM_STATE"]);
     let shown = logged("window shown");
     xdotool(&display, &["windowmap", &window]);
     await_log("window shown", shown, "mapping the window again");
     let focused = logged("window focused");
     xdotool(&display, &["windowfocus", &window]);
     await_log("window focused", focused, "focusing the window again");
+    await_log("drawing resumed", resumed, "restoring the window");
     xdotool(&display, &["key", "p"]);
     await_log("screenshot written", 0, "`p`");
     let (code, stdout, stderr) = viewer.quit();

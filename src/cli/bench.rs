@@ -77,16 +77,22 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
     let reproduction = previous.map(|p| p.compare(&measured.rows));
     combustion::report::write(dir, &measured, &desc, reproduction.as_ref())?;
     outln!(
-        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png{}): {} scene(s) × {} variant sets, the floors, the scaling and {} shadow measurement(s) in {:.0} s",
+        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png{}{}): {} scene(s) × {} variant sets, the floors, the scaling, {} shadow and {} G-buffer storage measurement(s) in {:.0} s",
         dir.display(),
         if measured.shadows.is_empty() {
             ""
         } else {
             ", shadows.csv"
         },
+        if measured.storages.is_empty() {
+            ""
+        } else {
+            ", gbuffer-storage.csv"
+        },
         desc.scenes.len(),
         desc.sets.len(),
         measured.shadows.len(),
+        measured.storages.len(),
         started.elapsed().as_secs_f64()
     );
     Ok(())

@@ -639,9 +639,9 @@ pub struct TieMargins {
 pub const CONDUCTOR_CODE_BITS: u32 = 8;
 
 impl GBufferPrecision {
-    /// Combustion's default G-buffer: 8-bit sRGB base colour, 8-bit metalness, 16-bit
-    /// roughness, anisotropy strength and octahedral normal.
-    pub const COMBUSTION: GBufferPrecision = GBufferPrecision {
+    /// 8-bit sRGB base colour, 8-bit metalness, 16-bit roughness, anisotropy strength
+    /// and octahedral normal (Combustion's `srgb8+unorm16` storage).
+    pub const SRGB8: GBufferPrecision = GBufferPrecision {
         base_color: StoredValue::Unorm(8),
         metalness: StoredValue::Unorm(8),
         roughness_bits: 16,
@@ -892,7 +892,7 @@ mod tests {
             texture_contrast: 0.0,
             anisotropy_strength: 0.0,
         };
-        let stored = GBufferPrecision::COMBUSTION.store(&surface, false);
+        let stored = GBufferPrecision::SRGB8.store(&surface, false);
         let expected = srgb_decode(231.0 / 255.0);
         assert!((stored.brdf.base_color[0] - expected).abs() < 1e-15);
         assert!((expected / 0.8 - 1.0 + 1.1216e-3).abs() < 1e-6);
@@ -908,7 +908,7 @@ mod tests {
         let srgb16 = GBufferPrecision {
             base_color: StoredValue::Unorm(16),
             metalness: StoredValue::Unorm(16),
-            ..GBufferPrecision::COMBUSTION
+            ..GBufferPrecision::SRGB8
         };
         let stored = srgb16.store(&surface, false);
         let expected = srgb_decode(59396.0 / 65535.0);
@@ -919,7 +919,7 @@ mod tests {
         let half = GBufferPrecision {
             base_color: StoredValue::Half,
             metalness: StoredValue::Half,
-            ..GBufferPrecision::COMBUSTION
+            ..GBufferPrecision::SRGB8
         };
         let step = 2f64.powi(-11);
         assert_eq!(
