@@ -27,7 +27,9 @@ use combustion::end_to_end::{precision_of, relative, SceneReference};
 use combustion::optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion::optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion::reference::primary::primary_hits;
-use combustion::reference::shading::{GBufferPrecision, SceneShading, SurfacePoint, TieMargins};
+use combustion::reference::shading::{
+    GBufferPrecision, SceneShading, StoredValue, SurfacePoint, TieMargins,
+};
 use combustion::reference::texture::{srgb_decode, srgb_encode};
 use combustion::reference::SceneBvh;
 use combustion::renderer::gbuffer::octahedral_decode;
@@ -177,6 +179,17 @@ fn summary(values: &[f64]) -> Summary {
 /// lower one 1.3e-6 of a step above a tie, its f32 product's rounding).
 const TIE_MARGIN: f64 = 1e-3;
 
+/// Half a step of a stored value in [0, 1] (for the base colour, of its sRGB-encoded
+/// form): half a code of a unorm. A half float may be off by up to 2⁻¹⁰ of its value
+/// (writes may round toward zero): the linear value moves by at most 2⁻¹¹ in [0, 1],
+/// and its sRGB encoding by at most (1.055/2.4)·2⁻¹⁰ < 2⁻¹¹ (the curve's slope times x).
+fn storage_half_step(stored: StoredValue) -> f64 {
+    match stored {
+        StoredValue::Unorm(bits) => 0.5 / f64::from((1u32 << bits) - 1),
+        StoredValue::Half => 2f64.powi(-11),
+    }
+}
+
 /// The tie margins of `precision`: [`TIE_MARGIN`] for values, and for the octahedral
 /// normal's coordinates also how far the GPU's normal (within [`NORMAL_ANGLE`] of the
 /// exact one) may move them, in steps: a coordinate of the octahedral map moves by at
@@ -302,11 +315,11 @@ fn allowance(
     }
     total += largest(&mut lod_neighbours.iter().copied());
 
-    // Textured inputs: the exact value shifted by the texture's error (and, for the
-    // 8-bit targets, half a code of the G-buffer's own rounding, which may then go
-    // either way), against the reference as stored.
+    // Textured inputs: the exact value shifted by the texture's error (and half a step
+    // of the G-buffer's own storage, whose rounding may then go either way), against
+    // the reference as stored.
     if material.base_color_texture.is_some() {
-        let shift = step + 0.5 / 255.0;
+        let shift = step + storage_half_step(precision.base_color);
         let shifts = [
             (-shift, 1.0 - SRGB_TEXTURE_DECODE),
             (shift, 1.0 + SRGB_TEXTURE_DECODE),
@@ -327,13 +340,15 @@ fn allowance(
         }));
     }
     if material.metallic_roughness_texture.is_some() {
-        let metal_step = step * f64::from(material.metalness) + 0.5 / 255.0;
+        let metal_step =
+            step * f64::from(material.metalness) + storage_half_step(precision.metalness);
         total += largest(&mut [-metal_step, metal_step].into_iter().map(|d| {
             let mut shifted = *exact;
             shifted.brdf.metalness = (exact.brdf.metalness + d).clamp(0.0, 1.0);
             shifted
         }));
-        let rough_step = step * f64::from(material.roughness) + 0.5 / 65535.0;
+        let rough_step = step * f64::from(material.roughness)
+            + storage_half_step(StoredValue::Unorm(precision.roughness_bits));
         total += largest(
             &mut [-rough_step, rough_step]
                 .into_iter()
