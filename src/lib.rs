@@ -120,6 +120,16 @@ pub enum Error {
     /// The window, its surface or its swapchain failed.
     #[error("{0}")]
     Window(String),
+    /// A rendered frame holds NaN or infinite radiance: the scene's radiances overflow
+    /// the frame's floats (32-bit shading; 65504 in a 16-bit HDR frame). Nothing is
+    /// written from such a frame.
+    #[error("{count} of {pixels} pixels of the frame are NaN or infinite: the scene's radiances are too large for the frame's floats (f32, or 65504 with --hdr-format f16); nothing written")]
+    NonFiniteFrame {
+        /// Pixels with a NaN or infinite channel.
+        count: usize,
+        /// Pixels in the frame.
+        pixels: usize,
+    },
     /// The Vulkan validation layer reported messages ([`check_validation`]).
     #[error("the Vulkan validation layer reported {count} message(s); first: {first}")]
     Validation {

@@ -180,11 +180,14 @@ fn bad_environments_are_one_line_errors() {
         &["render", "--environment", "uniform:1,x,3"],
         &["invalid value 'uniform:1,x,3'", "`x` is not a number"],
     );
-    // Finite as an f64 but not as the f32 the renderer keeps.
-    assert_refused(
-        &["render", "--environment", "uniform:1e39"],
-        &["`1e39` must be finite and ≥ 0 (a radiance)"],
-    );
+    // Finite as an f64 but not as the f32 the renderer keeps; finite as an f32 but
+    // beyond what the shading's products keep finite (issue 28, defect 3).
+    for big in ["1e39", "3e38", "5e36"] {
+        assert_refused(
+            &["render", "--environment", &format!("uniform:{big}")],
+            &[&format!("`{big}` must be between 0 and 1e30 (a radiance")],
+        );
+    }
     assert_clear_error(
         &[
             "render",
@@ -195,7 +198,7 @@ fn bad_environments_are_one_line_errors() {
             "--height",
             "8",
         ],
-        "must be finite and ≥ 0",
+        "must be between 0 and 1e30",
     );
     let dir = scratch("environment");
     let missing = dir.join("missing.hdr");

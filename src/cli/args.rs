@@ -717,13 +717,15 @@ impl EnvironmentChoice {
             };
         };
         if let Some(rgb) = text.strip_prefix("uniform:") {
-            // A radiance: finite as the f32 the renderer keeps, and ≥ 0.
+            // A radiance: between 0 and the scene's bound (an f32 the shading's products
+            // keep finite).
             let channel = |part: &str| -> Result<f32, String> {
                 match part.trim().parse::<f32>() {
-                    Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+                    Ok(x) if (0.0..=combustion::scene::MAX_RADIANCE).contains(&x) => Ok(x),
                     Ok(_) => Err(format!(
-                        "`{}` must be finite and ≥ 0 (a radiance)",
-                        shortened(part)
+                        "`{}` must be between 0 and {:e} (a radiance, W·sr⁻¹·m⁻²)",
+                        shortened(part),
+                        combustion::scene::MAX_RADIANCE
                     )),
                     Err(_) => Err(format!("`{}` is not a number", shortened(part))),
                 }

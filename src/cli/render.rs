@@ -68,6 +68,15 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     let validation = headless.validation_log();
     drop(headless);
     check_validation(&validation)?;
+    // A frame that overflowed is refused, not written: its PNG would show the NaN
+    // pixels black and its EXR carry them.
+    let count = frame.non_finite_pixels();
+    if count > 0 {
+        return Err(Error::NonFiniteFrame {
+            count,
+            pixels: frame.hdr.len(),
+        });
+    }
     if let Some(path) = &png_path {
         output::write_png(path, frame.width, frame.height, &frame.ldr)?;
         outln!(

@@ -24,6 +24,17 @@ pub struct Frame {
     pub timings: PassTimings,
 }
 
+impl Frame {
+    /// Pixels of the HDR image with a NaN or infinite colour channel: radiance that
+    /// overflowed the frame's floats (0 without readback).
+    pub fn non_finite_pixels(&self) -> usize {
+        self.hdr
+            .iter()
+            .filter(|p| !p[..3].iter().all(|c| c.is_finite()))
+            .count()
+    }
+}
+
 /// The GPU times of one frame's passes, by name, from timestamp queries, in
 /// milliseconds: whatever passes the frame ran, in the order it ran them.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -183,5 +194,29 @@ impl Renderer {
         }
         self.completed_timings.push_back(timings);
         Ok(SlotFrame::Completed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn non_finite_pixels_are_counted_by_their_colour() {
+        let frame = Frame {
+            width: 5,
+            height: 1,
+            hdr: vec![
+                [1.0, 2.0, 3.0, 1.0],
+                [f32::NAN, 0.0, 0.0, 1.0],
+                [0.0, f32::INFINITY, 0.0, 1.0],
+                [0.0, 0.0, f32::NEG_INFINITY, 1.0],
+                // Alpha is not radiance.
+                [0.0, 0.0, 0.0, f32::NAN],
+            ],
+            ..Frame::default()
+        };
+        assert_eq!(frame.non_finite_pixels(), 3);
+        assert_eq!(Frame::default().non_finite_pixels(), 0);
     }
 }

@@ -29,7 +29,8 @@ pub struct EnvironmentImage {
     pub width: u32,
     /// Rows (zenith to nadir, 180° of latitude), at least 1.
     pub height: u32,
-    /// `width × height` texels of radiance (linear RGB, W·sr⁻¹·m⁻², finite and ≥ 0),
+    /// `width × height` texels of radiance (linear RGB, W·sr⁻¹·m⁻², between 0 and
+    /// [`crate::MAX_RADIANCE`]),
     /// row-major from the top-left.
     pub texels: Vec<[f32; 3]>,
 }
@@ -37,7 +38,7 @@ pub struct EnvironmentImage {
 impl EnvironmentImage {
     /// Reads a Radiance `.hdr` (RGBE) or OpenEXR `.exr` file: a regular file of at most
     /// [`MAX_ENVIRONMENT_FILE_BYTES`], decoding to at most [`MAX_ENVIRONMENT_TEXELS`]
-    /// texels, every value finite and ≥ 0.
+    /// texels, every value between 0 and [`crate::MAX_RADIANCE`].
     pub fn load(path: &Path) -> Result<Self, SceneError> {
         let fail = |reason: String| SceneError::EnvironmentImage {
             path: path.display().to_string(),
@@ -67,8 +68,8 @@ impl EnvironmentImage {
         Ok(image)
     }
 
-    /// The image's own checks: a size that fits, texels for every pixel, values finite
-    /// and ≥ 0.
+    /// The image's own checks: a size that fits, texels for every pixel, values between
+    /// 0 and [`crate::MAX_RADIANCE`].
     pub fn validate(&self) -> Result<(), SceneError> {
         let fail = |reason: String| {
             Err(SceneError::EnvironmentImage {
@@ -88,13 +89,14 @@ impl EnvironmentImage {
         if let Some(i) = self
             .texels
             .iter()
-            .position(|t| !t.iter().all(|&c| c.is_finite() && c >= 0.0))
+            .position(|t| !t.iter().all(|&c| (0.0..=crate::MAX_RADIANCE).contains(&c)))
         {
+            let [r, g, b] = self.texels[i].map(crate::error::readable);
             return fail(format!(
-                "texel ({}, {}) is {:?}: radiance must be finite and ≥ 0",
+                "texel ({}, {}) is {r} {g} {b}: radiance must be between 0 and {:e} W·sr⁻¹·m⁻²",
                 i as u32 % self.width,
                 i as u32 / self.width,
-                self.texels[i]
+                crate::MAX_RADIANCE
             ));
         }
         Ok(())
@@ -234,12 +236,16 @@ impl Environment {
         }
     }
 
-    /// Every radiance finite and ≥ 0.
+    /// Every radiance between 0 and [`crate::MAX_RADIANCE`].
     pub fn validate(&self) -> Result<(), SceneError> {
         match self {
-            Environment::Uniform(l) if !l.iter().all(|&x| x.is_finite() && x >= 0.0) => {
+            Environment::Uniform(l)
+                if !l.iter().all(|&x| (0.0..=crate::MAX_RADIANCE).contains(&x)) =>
+            {
+                let [r, g, b] = l.map(crate::error::readable);
                 Err(SceneError::Invalid(format!(
-                    "uniform environment radiance {l:?} must be finite and ≥ 0"
+                    "uniform environment radiance {r} {g} {b} must be between 0 and {:e} W·sr⁻¹·m⁻²",
+                    crate::MAX_RADIANCE
                 )))
             }
             Environment::Image(image) => image.validate(),
@@ -382,10 +388,26 @@ mod tests {
         std::fs::write(&wrong, b"\x89PNG").unwrap();
         let negative = temporary("negative.exr");
         exr::prelude::write_rgb_file(&negative, 2, 2, |x, _| (x as f32 - 1.0, 0.0, 0.0)).unwrap();
+        // A well-formed RGBE texel of the largest exponent: 255 · 2^(255 − 136) ≈ 1.7e38,
+        // and an EXR texel of 3e38 (issue 28, defect 3: each made every lit pixel NaN).
+        let rgbe_max = temporary("largest.hdr");
+        let mut bytes = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 1\n".to_vec();
+        bytes.extend([255, 255, 255, 255]);
+        std::fs::write(&rgbe_max, bytes).unwrap();
+        let huge = temporary("huge.exr");
+        exr::prelude::write_rgb_file(&huge, 8, 4, |x, y| {
+            (if (x, y) == (3, 2) { 3e38 } else { 1.0 }, 1.0, 1.0)
+        })
+        .unwrap();
         for (path, expected) in [
             (text, "environment image"),
             (wrong, "not a .hdr or .exr file"),
-            (negative, "radiance must be finite and ≥ 0"),
+            (negative, "radiance must be between 0 and 1e30"),
+            (rgbe_max, "radiance must be between 0 and 1e30"),
+            (
+                huge,
+                "texel (3, 2) is 3e38 1 1: radiance must be between 0 and 1e30",
+            ),
             (temporary("missing.exr"), "No such file"),
             (std::env::temp_dir(), "not a regular file"),
         ] {

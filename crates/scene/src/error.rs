@@ -71,8 +71,8 @@ pub enum LightProblem {
     #[error("its direction is zero or not finite")]
     Direction,
     /// The intensity (point, spot) or irradiance (directional) given, per channel, is
-    /// negative or not finite.
-    #[error("its power (intensity or irradiance) {0:?} is not finite and non-negative")]
+    /// negative, not finite, or above [`crate::MAX_RADIANCE`].
+    #[error("its power (intensity or irradiance) {} {} {} is not between 0 and {max:e}", readable(.0[0]), readable(.0[1]), readable(.0[2]), max = crate::MAX_RADIANCE)]
     Power([f32; 3]),
     /// The range given is not finite and above 0.
     #[error("its range {0} is not finite and above 0")]
@@ -93,4 +93,14 @@ pub enum LightProblem {
         /// The outer half-angle given.
         outer: f32,
     },
+}
+
+/// `x` for a message: plain where that is short, in exponent form for very large or
+/// very small magnitudes (never 39 digits).
+pub(crate) fn readable(x: f32) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }

@@ -57,7 +57,8 @@ pub enum Light {
     Point {
         /// World-space position, metres; finite.
         position: Vec3,
-        /// Radiant intensity I per linear RGB channel, W/sr; finite and ≥ 0.
+        /// Radiant intensity I per linear RGB channel, W/sr; between 0 and
+        /// [`MAX_RADIANCE`].
         intensity: [f32; 3],
         /// Distance (metres) at which the light's effect ends, finite and above 0;
         /// `None`: unlimited.
@@ -76,7 +77,7 @@ pub enum Light {
         /// scene); any non-zero length, finite.
         direction: Vec3,
         /// Irradiance E per linear RGB channel on a surface facing the light, W/m²;
-        /// finite and ≥ 0.
+        /// between 0 and [`MAX_RADIANCE`].
         irradiance: [f32; 3],
         /// Whether the light casts shadows (when the renderer draws them).
         casts_shadows: bool,
@@ -96,7 +97,8 @@ pub enum Light {
         /// World-space direction of the cone's axis, the way light travels; any
         /// non-zero length, finite.
         direction: Vec3,
-        /// Radiant intensity I on the axis per linear RGB channel, W/sr; finite and ≥ 0.
+        /// Radiant intensity I on the axis per linear RGB channel, W/sr; between 0 and
+        /// [`MAX_RADIANCE`].
         intensity: [f32; 3],
         /// Half-angle (radians) inside which the intensity is full; 0 ≤ inner < outer.
         inner_cone: f32,
@@ -113,6 +115,14 @@ pub enum Light {
 
 /// The largest [`Light::Point`] or [`Light::Spot`] radius accepted, metres.
 pub const MAX_LIGHT_RADIUS: f32 = 1.0e3;
+
+/// The largest radiance (W·sr⁻¹·m⁻²), light intensity (W/sr) or irradiance (W/m²) a
+/// scene may give, per channel. The shading multiplies these by BRDF values up to
+/// ~10¹¹ (a lobe of α = 10⁻³ seen at grazing) and an environment's bake sums about 10³
+/// samples of them, so 10³⁰ keeps every product within f32's 3.4·10³⁸ with room to
+/// spare; what can still overflow (a light of 10³⁰ W/sr a micrometre from a surface,
+/// or any radiance above 65504 in a 16-bit HDR frame) is caught after the render.
+pub const MAX_RADIANCE: f32 = 1.0e30;
 /// The largest [`Light::Directional`] angular diameter accepted, radians (30°: a sky
 /// patch, far beyond any sun).
 pub const MAX_ANGULAR_DIAMETER: f32 = std::f32::consts::FRAC_PI_6;
@@ -337,7 +347,8 @@ pub fn validate_lights(lights: &[Light]) -> Result<(), SceneError> {
 
 fn light_problem(light: &Light) -> Option<LightProblem> {
     let power = |p: [f32; 3]| {
-        (!(finite3(p) && p.iter().all(|&x| x >= 0.0))).then_some(LightProblem::Power(p))
+        (!(finite3(p) && p.iter().all(|&x| (0.0..=MAX_RADIANCE).contains(&x))))
+            .then_some(LightProblem::Power(p))
     };
     let position = |p: glam::Vec3| (!p.is_finite()).then_some(LightProblem::Position);
     let direction = |d: glam::Vec3| {
@@ -732,5 +743,35 @@ mod bounds_tests {
         });
         assert_eq!(scene.world_bounds(), None);
         assert!(scene.validate().is_err());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 28, defect 3: a light's power above [`MAX_RADIANCE`] (3e38 W/sr, finite in
+    /// f32, made pixels infinite) is refused with the bound named; the bound itself is
+    /// taken.
+    #[test]
+    fn light_power_is_bounded() {
+        let point = |intensity: f32| Light::Point {
+            position: glam::Vec3::ZERO,
+            intensity: [intensity, 1.0, 1.0],
+            range: None,
+            casts_shadows: false,
+            radius: 0.0,
+        };
+        let error = validate_lights(&[point(1.0), point(3e38)]).unwrap_err();
+        assert!(
+            matches!(error, SceneError::InvalidLight { index: 1, .. }),
+            "{error:?}"
+        );
+        let message = error.to_string();
+        assert!(
+            message.contains("3e38 1 1 is not between 0 and 1e30"),
+            "{message}"
+        );
+        assert!(validate_lights(&[point(MAX_RADIANCE)]).is_ok());
     }
 }
