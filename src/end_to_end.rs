@@ -445,6 +445,8 @@ fn unshaded_pixel(
     }
 }
 
+/// A shaded pixel: its surface stored with `precision`, each shaded (the exact radiance
+/// taken as given when known).
 fn reference_pixel(
     scene: &Scene,
     shading: &SceneShading,
@@ -452,17 +454,10 @@ fn reference_pixel(
     surface: SurfacePoint,
     exact: Option<[f64; 3]>,
 ) -> ReferencePixel {
-    let material = scene.objects[surface.hit.object].material;
-    let from_base_color = scene
-        .materials
-        .get(material)
-        .is_some_and(|m| m.conductor_from_base_color);
-    let stored = precision.store(&surface, from_base_color);
+    let pixel = unshaded_pixel(scene, precision, surface);
     ReferencePixel {
-        surface,
-        stored,
-        material,
         exact: exact.unwrap_or_else(|| shading.radiance(&surface)),
-        as_stored: shading.radiance(&stored),
+        as_stored: shading.radiance(&pixel.stored),
+        ..pixel
     }
 }

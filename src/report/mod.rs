@@ -600,7 +600,7 @@ pub fn measure(
             let size = (desc.width, desc.height);
             let precision = precision_of(GBufferStorage::DEFAULT);
             let lights = &gpu.scene().lights;
-            let scene_reference = Some(if gpu.scene().environment.is_some() {
+            let scene_reference = if gpu.scene().environment.is_some() {
                 let sampling = EnvironmentReference {
                     samples: ENVIRONMENT_SAMPLING.iterations,
                     stride: ENVIRONMENT_SAMPLING.stride,
@@ -616,7 +616,7 @@ pub fn measure(
                 )
             } else {
                 SceneReference::new(gpu.scene(), &bvh, lights, size, precision, threads)
-            });
+            };
             let inputs = FrameInputs::of_scene(&gpu, 1.0);
             let mut reference =
                 ReferenceShading::new(gpu.scene(), &inputs, desc.width, desc.height);
@@ -642,9 +642,7 @@ pub fn measure(
                     },
                 )?;
                 let map = error_map(&frame, &reference, threads);
-                let end_to_end = scene_reference
-                    .as_ref()
-                    .map(|r| r.compare(&frame).summary());
+                let end_to_end = Some(scene_reference.compare(&frame).summary());
                 let flip_mean = flip_against_reference(&frame, &map, inputs.exposure);
                 let timings = time_frames(renderer, &gpu, desc.width, desc.height, desc.frames)?;
                 if timings.is_empty() {
