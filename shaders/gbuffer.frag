@@ -5,6 +5,9 @@
 #include "gpu_types.glsl"
 #include "gbuffer_encoding.glsl"
 #include "srgb.glsl"
+#ifdef ALPHA_MASK
+#include "alpha_mask.glsl"
+#endif
 
 layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
@@ -74,6 +77,11 @@ void main() {
     GpuMaterial material = materials[in_material];
     ivec4 tex0 = material.textures_base_mr_normal_occlusion;
     ivec4 tex1 = material.textures_emissive_anisotropy_specular;
+#ifdef ALPHA_MASK
+    // Cut-out materials (their own pipeline): the test is made here, the discard at the
+    // end, so every implicit derivative below is taken with the whole quad alive.
+    bool cut_away = alpha_cut_away(material, base_color_texture, UV_BASE_COLOR);
+#endif
 
     // Geometric frame: interpolated normal (facet normal if it is degenerate) and the
     // mesh tangent made orthogonal to it.
@@ -158,5 +166,10 @@ void main() {
     }
 #endif
     out_emissive = vec4(emissive, occlusion);
+#endif
+#ifdef ALPHA_MASK
+    if (cut_away) {
+        discard;
+    }
 #endif
 }

@@ -30,13 +30,7 @@ layout(location = 4) out vec2 out_uv;
 // mapped coordinates: (base colour, metallic-roughness), (normal, emissive), (anisotropy,
 // occlusion).
 layout(location = 5) out vec4 out_slot_uv[3];
-
-vec2 slot_uv(uint material, uint slot) {
-    vec4 r0 = materials[material].uv_transforms[2u * slot];
-    vec4 r1 = materials[material].uv_transforms[2u * slot + 1u];
-    vec3 uv = vec3(r0.w != 0.0 ? in_uv1 : in_uv, 1.0);
-    return vec2(dot(r0.xyz, uv), dot(r1.xyz, uv));
-}
+#include "texture_slots.glsl"
 #endif
 
 void main() {
@@ -51,9 +45,9 @@ void main() {
 #else
     // Slots in combustion_scene::TextureSlot::ALL order.
     uint m = object.material_index.x;
-    out_slot_uv[0] = vec4(slot_uv(m, 0u), slot_uv(m, 1u));
-    out_slot_uv[1] = vec4(slot_uv(m, 2u), slot_uv(m, 4u));
-    out_slot_uv[2] = vec4(slot_uv(m, 5u), slot_uv(m, 3u));
+    out_slot_uv[0] = vec4(slot_uv(m, 0u, in_uv, in_uv1), slot_uv(m, 1u, in_uv, in_uv1));
+    out_slot_uv[1] = vec4(slot_uv(m, 2u, in_uv, in_uv1), slot_uv(m, 4u, in_uv, in_uv1));
+    out_slot_uv[2] = vec4(slot_uv(m, 5u, in_uv, in_uv1), slot_uv(m, 3u, in_uv, in_uv1));
 #endif
     gl_Position = push.view_projection * world;
 }

@@ -46,14 +46,21 @@ const H: u32 = 120;
 
 #[test]
 fn the_gbuffer_is_what_the_cameras_rays_hit() {
-    for name in [
+    let builtins = [
         "spheres",
         "hard-cases",
         "grid-sun",
         "spot-box",
         "point-among",
-    ] {
-        let scene = builtin_scene(name).unwrap();
+    ]
+    .map(|name| (name, builtin_scene(name).unwrap()));
+    // The cut-outs: the rays pass through their holes (the alpha at the hit), the
+    // rasteriser discards there.
+    let cutout =
+        combustion::SceneSource::File(workspace().join("assets/scenes/cutout/cutout.gltf"))
+            .load()
+            .unwrap();
+    for (name, scene) in builtins.into_iter().chain([("cutout", cutout)]) {
         let frame = common::render(
             &scene,
             W,
@@ -124,6 +131,19 @@ fn the_gbuffer_is_what_the_cameras_rays_hit() {
             "{name} {W}x{H}: {compared} pixels compared, {silhouette} at silhouettes; depth error at most {worst_depth:.3} of its bound, normal error at most {worst_normal:.2e} rad ({worst_rim:.2e} at silhouettes)"
         );
         assert!(compared > 1000, "{name}: {compared} pixels compared");
+        if name == "cutout" {
+            // The holes are really seen through: the same triangles without their
+            // alpha test (a hierarchy of the bare triangles) hide this many pixels' hits.
+            let solid = SceneBvh::from_triangles(bvh.triangles().to_vec());
+            let solid_hits = primary_hits(&scene, &solid, W, H, 2);
+            let through = hits
+                .iter()
+                .zip(&solid_hits)
+                .filter(|(cut, solid)| cut.map(|h| h.object) != solid.map(|h| h.object))
+                .count();
+            eprintln!("cutout: {through} pixels see through a cut-out");
+            assert!(through > 1000, "{through} pixels see through a cut-out");
+        }
         assert!(
             away.is_empty(),
             "{name}: {} pixels disagree away from any silhouette, e.g. {:?}",
@@ -717,11 +737,12 @@ fn workspace() -> std::path::PathBuf {
 /// The project's own glTF scenes (assets/scenes): every texture slot with nearest,
 /// clamped, mirrored and trilinear samplers, a normal map and an anisotropy texture, a
 /// base-colour metal, point, spot and directional lights; the optics extension's
-/// conductors, outside media and diffuse models, a MikkTSpace-tangent sphere. Each is
+/// conductors, outside media and diffuse models, a MikkTSpace-tangent sphere; cut-outs
+/// (alphaMode MASK: a texture's alpha, a factor × texture, a factor alone). Each is
 /// read by the importer and then compared with the f64 reference of the scene it gave.
 #[test]
 fn the_authored_gltf_scenes_are_what_they_show() {
-    for name in ["textured", "optics"] {
+    for name in ["textured", "optics", "cutout"] {
         let path = workspace().join(format!("assets/scenes/{name}/{name}.gltf"));
         let scene = combustion::SceneSource::File(path).load().unwrap();
         let comparison = compare_with_scene(&scene, &scene.lights, W, H);

@@ -346,6 +346,7 @@ fn a_host_device_created_without_what_combustion_needs_is_refused_with_everythin
         "Vulkan 1.1",
         "dynamicRendering is not enabled",
         "synchronization2 is not enabled",
+        "shaderDemoteToHelperInvocation is not enabled",
         "queue family 99 does not exist",
     ] {
         assert!(text.contains(needle), "`{needle}` missing from: {text}");
@@ -360,28 +361,33 @@ fn a_host_device_created_without_what_combustion_needs_is_refused_with_everythin
 }
 
 /// The features are found wherever the create info's chain enables them: in
-/// `VkPhysicalDeviceVulkan13Features` or in the two features' own structures, behind a
+/// `VkPhysicalDeviceVulkan13Features` or in the features' own structures, behind a
 /// `VkPhysicalDeviceFeatures2`; the extension names are read too.
 #[test]
 fn enabled_features_are_read_from_anywhere_in_the_create_info_chain() {
     use combustion::vk::EnabledFeatures;
     let mut dynamic = vk::PhysicalDeviceDynamicRenderingFeatures::default().dynamic_rendering(true);
     let mut sync2 = vk::PhysicalDeviceSynchronization2Features::default().synchronization2(true);
+    let mut demote = vk::PhysicalDeviceShaderDemoteToHelperInvocationFeatures::default()
+        .shader_demote_to_helper_invocation(true);
     let mut features2 = vk::PhysicalDeviceFeatures2::default();
     let extensions = [c"VK_KHR_swapchain".as_ptr()];
     let info = vk::DeviceCreateInfo::default()
         .enabled_extension_names(&extensions)
         .push_next(&mut features2)
         .push_next(&mut dynamic)
-        .push_next(&mut sync2);
+        .push_next(&mut sync2)
+        .push_next(&mut demote);
     let enabled = unsafe { EnabledFeatures::from_create_info(vk::API_VERSION_1_3, &info) };
     assert!(enabled.dynamic_rendering() && enabled.synchronization2());
+    assert!(enabled.shader_demote_to_helper_invocation());
     assert_eq!(enabled.device_extensions(), ["VK_KHR_swapchain"]);
     assert_eq!(enabled.api_version(), vk::API_VERSION_1_3);
     let mut only_dynamic = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true);
     let info = vk::DeviceCreateInfo::default().push_next(&mut only_dynamic);
     let enabled = unsafe { EnabledFeatures::from_create_info(vk::API_VERSION_1_3, &info) };
     assert!(enabled.dynamic_rendering() && !enabled.synchronization2());
+    assert!(!enabled.shader_demote_to_helper_invocation());
 }
 
 #[test]

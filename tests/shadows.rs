@@ -602,15 +602,27 @@ impl ExactEdges {
 #[test]
 fn shadows_against_exact_visibility() {
     for (name, radius) in [("grid-sun", 0.42), ("spot-box", 0.5), ("point-among", 0.4)] {
-        against_exact_visibility(name, radius);
+        against_exact_visibility(name, &builtin_scene(name).unwrap(), radius);
     }
 }
 
-/// [`shadows_against_exact_visibility`] for builtin scene `name` (UV spheres of
-/// `radius`, 64 × 32).
-fn against_exact_visibility(name: &str, radius: f64) {
+/// The same for cut-outs (alphaMode MASK, assets/scenes/cutout: a lattice panel with
+/// 2×2-texel holes, a gradient panel cut at a threshold, a panel cut everywhere) in a
+/// sun: the light passes through the holes as the exact casts against the alpha at each
+/// hit say, and a panel that is nowhere casts no shadow. No spheres: no tessellation
+/// band.
+#[test]
+fn cut_out_shadows_against_exact_visibility() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/cutout/cutout.gltf");
+    let scene = combustion::SceneSource::File(path).load().unwrap();
+    against_exact_visibility("cutout", &scene, 0.0);
+}
+
+/// [`shadows_against_exact_visibility`] for `scene` (UV spheres of `radius`, 64 × 32;
+/// its first light the one compared).
+fn against_exact_visibility(name: &str, scene: &Scene, radius: f64) {
     use combustion::renderer::reference::{error_map, shadow_mismatch};
-    let scene = builtin_scene(name).unwrap();
     let both = Readback {
         images: true,
         gbuffer: true,
@@ -620,10 +632,10 @@ fn against_exact_visibility(name: &str, radius: f64) {
             filter,
             ..ShadowSettings::DEFAULT
         };
-        let exact = ExactEdges::new(&scene, settings, radius);
+        let exact = ExactEdges::new(scene, settings, radius);
         let reference = &exact.reference;
         let view = common::render(
-            &scene,
+            scene,
             W,
             H,
             with_shadows(settings, DebugView::ShadowFactor),
@@ -641,7 +653,7 @@ fn against_exact_visibility(name: &str, radius: f64) {
             .filter(|&i| wrong[i] && !near_edge(i))
             .map(|i| ((i as u32) % W, (i as u32) / W))
             .collect();
-        let frame = common::render(&scene, W, H, with_shadows(settings, DebugView::None), both);
+        let frame = common::render(scene, W, H, with_shadows(settings, DebugView::None), both);
         let errors = error_map(&frame, reference, 2);
         // The radiance error where the verdicts differ, absolute (W/sr/m², green).
         let wrong_errors: Vec<f64> = (0..(W * H) as usize)

@@ -6,7 +6,7 @@
 // MATERIAL_FLAG_* and LIGHT_KIND_*: generated from gpu_types.rs's constants.
 #include "bindings/constants.glsl"
 
-// One entry of the material table (std430, 384 bytes).
+// One entry of the material table (std430, 400 bytes).
 struct GpuMaterial {
     vec4 base_color_metalness;      // rgb: linear base colour, a: metalness
     vec4 roughness_anisotropy_ior;  // x: perceptual roughness, y: anisotropy strength,
@@ -22,6 +22,8 @@ struct GpuMaterial {
     // (d, e, f, 0): samples at (a u + b v + c, d u + e v + f) of set 0 or 1
     // (KHR_texture_transform). Read only by the TEXTURE_TRANSFORMS G-buffer variant.
     vec4 uv_transforms[16];
+    vec4 alpha_cutoff;              // x: base colour factor's alpha, y: alphaCutoff of a cut-out
+                                    // (MASK) material; read by the ALPHA_MASK pipelines
 };
 
 // One placed mesh (std430, 144 bytes).

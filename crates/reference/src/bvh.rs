@@ -291,6 +291,9 @@ pub(crate) fn closest(
                 else {
                     continue;
                 };
+                if !bvh.surface_present(&bvh.triangles[i], barycentrics) {
+                    continue;
+                }
                 let better = match best {
                     None => true,
                     Some((j, t_best, _)) => t < t_best || (t == t_best && key(i) < key(j)),
@@ -362,7 +365,10 @@ pub(crate) fn any(bvh: &SceneBvh, ray: &Ray, t_min: f64, t_max: f64) -> bool {
             let first = node.first as usize;
             if bvh.triangles[first..first + node.count as usize]
                 .iter()
-                .any(|triangle| ray.intersect(&triangle.vertices, t_min, t_max).is_some())
+                .any(|triangle| {
+                    ray.intersect(&triangle.vertices, t_min, t_max)
+                        .is_some_and(|(_, b)| bvh.surface_present(triangle, b))
+                })
             {
                 return true;
             }

@@ -43,6 +43,7 @@
 #![warn(missing_docs)]
 
 mod bvh;
+mod cutout;
 pub mod primary;
 pub mod shading;
 pub mod texture;
@@ -141,6 +142,10 @@ impl WorldTriangle {
 /// The scene's triangles in world space (f64) in a bounding-volume hierarchy, for exact
 /// ray casts.
 ///
+/// Cut-out objects (alphaMode MASK) are hit only where their alpha reaches the cutoff
+/// (the texture's level 0 at the hit point; see `docs/gltf.md`, "Alpha modes"), by
+/// every cast: primary rays and shadow rays alike.
+///
 /// Built with a binned surface-area heuristic (16 bins on each axis, leaves of at most 4
 /// triangles), nodes flattened into one array; traversal is iterative with a fixed
 /// stack, nearer child first. A [`Scene`] is read once: later edits to it are not seen.
@@ -149,6 +154,9 @@ pub struct SceneBvh {
     /// The kept triangles, in the hierarchy's leaf order.
     triangles: Vec<WorldTriangle>,
     nodes: Vec<bvh::Node>,
+    /// The scene's cut-out objects (alphaMode MASK), whose triangles are hit only where
+    /// their alpha reaches the cutoff; `None` without any.
+    cutouts: Option<cutout::Cutouts>,
 }
 
 impl SceneBvh {
@@ -168,6 +176,7 @@ impl SceneBvh {
     }
 
     fn of_objects(scene: &Scene, keep: impl Fn(&combustion_scene::Object) -> bool) -> SceneBvh {
+        let cutouts = cutout::Cutouts::of(scene, &keep);
         let mut triangles = Vec::new();
         for (object_index, object) in scene.objects.iter().enumerate() {
             if !keep(object) {
@@ -203,7 +212,10 @@ impl SceneBvh {
                 }
             }
         }
-        SceneBvh::from_triangles(triangles)
+        SceneBvh {
+            cutouts,
+            ..SceneBvh::from_triangles(triangles)
+        }
     }
 
     /// A hierarchy over the given world-space triangles (a synthetic scene); those that
@@ -212,7 +224,19 @@ impl SceneBvh {
     pub fn from_triangles(mut triangles: Vec<WorldTriangle>) -> SceneBvh {
         triangles.retain(WorldTriangle::is_proper);
         let (triangles, nodes) = bvh::build(triangles);
-        SceneBvh { triangles, nodes }
+        SceneBvh {
+            triangles,
+            nodes,
+            cutouts: None,
+        }
+    }
+
+    /// Whether `triangle`'s surface is present at barycentrics `b`: everywhere but in a
+    /// cut-out's holes.
+    pub(crate) fn surface_present(&self, triangle: &WorldTriangle, b: [f64; 2]) -> bool {
+        self.cutouts
+            .as_ref()
+            .is_none_or(|cutouts| cutouts.present(triangle, b))
     }
 
     /// How many triangles the hierarchy holds (the scene's proper triangles, one per

@@ -148,24 +148,7 @@ impl MipChain {
     /// level above at its own centre, clamped at the edges (a linear blit's result: the
     /// mean of 2×2 texels where the size is even).
     pub fn new(image: &Image) -> MipChain {
-        let decode = |byte: u8, channel: usize| {
-            let value = f64::from(byte) / 255.0;
-            if image.color_space == ColorSpace::Srgb && channel < 3 {
-                srgb_decode(value)
-            } else {
-                value
-            }
-        };
-        let texels = image
-            .pixels
-            .chunks_exact(4)
-            .map(|p| std::array::from_fn(|c| decode(p[c], c)))
-            .collect();
-        let mut levels = vec![Level {
-            width: image.width as usize,
-            height: image.height as usize,
-            texels,
-        }];
+        let mut levels = vec![decoded(image)];
         while let Some(above) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
             let (width, height) = ((above.width / 2).max(1), (above.height / 2).max(1));
             let (sx, sy) = (
@@ -185,6 +168,16 @@ impl MipChain {
         }
         MipChain {
             levels,
+            color_space: image.color_space,
+        }
+    }
+
+    /// Level 0 alone (what [`MipChain::sample`] reads at λ ≤ 0, and at every λ when
+    /// there is no other level): the image's values at its own resolution, without
+    /// reducing it.
+    pub fn level_zero(image: &Image) -> MipChain {
+        MipChain {
+            levels: vec![decoded(image)],
             color_space: image.color_space,
         }
     }
@@ -283,6 +276,28 @@ pub fn transformed_derivative(texture: &TextureRef, d: [f64; 2]) -> [f64; 2] {
     let origin = transformed_uv(texture, [0.0, 0.0]);
     let moved = transformed_uv(texture, d);
     [moved[0] - origin[0], moved[1] - origin[1]]
+}
+
+/// `image`'s texels decoded: RGB through the exact sRGB curve when its colour space is
+/// sRGB, alpha and linear images as value/255.
+fn decoded(image: &Image) -> Level {
+    let decode = |byte: u8, channel: usize| {
+        let value = f64::from(byte) / 255.0;
+        if image.color_space == ColorSpace::Srgb && channel < 3 {
+            srgb_decode(value)
+        } else {
+            value
+        }
+    };
+    Level {
+        width: image.width as usize,
+        height: image.height as usize,
+        texels: image
+            .pixels
+            .chunks_exact(4)
+            .map(|p| std::array::from_fn(|c| decode(p[c], c)))
+            .collect(),
+    }
 }
 
 #[cfg(test)]

@@ -532,14 +532,26 @@ pub static LIGHTING: SetDecl = SetDecl {
 pub static SHADOW_CASTERS: SetDecl = SetDecl {
     name: "shadow_casters",
     set: 0,
-    bindings: &[Binding::new(
-        "objects",
-        BindingKind::StorageBuffer {
-            block: "Objects",
-            element: "GpuObject",
-        },
-        VERTEX,
-    )],
+    bindings: &[
+        Binding::new(
+            "objects",
+            BindingKind::StorageBuffer {
+                block: "Objects",
+                element: "GpuObject",
+            },
+            VERTEX,
+        ),
+        // Read by the cut-out casters' pipeline (ALPHA_MASK): the base colour slot's
+        // transform (vertex) and the alpha factor, cutoff and texture (fragment).
+        Binding::new(
+            "materials",
+            BindingKind::StorageBuffer {
+                block: "Materials",
+                element: "GpuMaterial",
+            },
+            vk::ShaderStageFlags::from_raw(FRAGMENT.as_raw() | VERTEX.as_raw()),
+        ),
+    ],
     includes: &["gpu_types.glsl"],
 };
 

@@ -116,11 +116,15 @@ impl GBufferTargets {
     }
 }
 
-/// The G-buffer pass: rasterises every object, writing the G-buffer and depth.
+/// The G-buffer pass: rasterises every object, writing the G-buffer and depth; cut-out
+/// objects (`AlphaMode::Mask`) after the others, through an alpha-testing pipeline.
 /// Reads: vertex/index buffers, the object table, the material table. Writes: [`GBufferTargets`].
 pub struct GBufferPass {
     pub(crate) layout: PipelineLayout,
     pipeline: Pipeline,
+    /// The cut-out objects' pipeline (`ALPHA_MASK`: alpha tested, discarded where the
+    /// surface is absent), in variants with cut-out materials.
+    masked: Option<Pipeline>,
 }
 
 impl GBufferPass {
@@ -154,11 +158,13 @@ impl GBufferPass {
             &compiler.compile("gbuffer.vert", ShaderStage::Vertex, &defines)?,
             ShaderStage::Vertex,
         )?;
-        let fragment = ShaderModule::new(
-            device,
-            &compiler.compile("gbuffer.frag", ShaderStage::Fragment, &defines)?,
-            ShaderStage::Fragment,
-        )?;
+        let fragment = |defines: &[(&str, Option<&str>)]| {
+            ShaderModule::new(
+                device,
+                &compiler.compile("gbuffer.frag", ShaderStage::Fragment, defines)?,
+                ShaderStage::Fragment,
+            )
+        };
         use crate::gpu_types::GpuVertex as Vertex;
         let stride = std::mem::size_of::<Vertex>() as u32;
         let mut bindings = vec![vk::VertexInputBindingDescription {
@@ -214,21 +220,35 @@ impl GBufferPass {
         if variant.has_emissive_occlusion_target() {
             color_formats.push(emissive_format);
         }
-        let pipeline = Pipeline::graphics(
-            device,
-            &GraphicsPipelineDesc {
-                vertex: &vertex,
-                fragment: &fragment,
-                layout: &layout,
-                vertex_bindings: &bindings,
-                vertex_attributes: &attributes,
-                color_formats: &color_formats,
-                depth_format: Some(DEPTH_FORMAT),
-                alpha_blend: false,
-                cache: Some(cache),
-            },
-        )?;
-        Ok(Self { layout, pipeline })
+        let pipeline = |fragment: &ShaderModule| {
+            Pipeline::graphics(
+                device,
+                &GraphicsPipelineDesc {
+                    vertex: &vertex,
+                    fragment,
+                    layout: &layout,
+                    vertex_bindings: &bindings,
+                    vertex_attributes: &attributes,
+                    color_formats: &color_formats,
+                    depth_format: Some(DEPTH_FORMAT),
+                    alpha_blend: false,
+                    cache: Some(cache),
+                },
+            )
+        };
+        let opaque = pipeline(&fragment(&defines)?)?;
+        let masked = if variant.alpha_mask {
+            let mut defines = defines.clone();
+            defines.push(("ALPHA_MASK", None));
+            Some(pipeline(&fragment(&defines)?)?)
+        } else {
+            None
+        };
+        Ok(Self {
+            layout,
+            pipeline: opaque,
+            masked,
+        })
     }
 
     /// Records the pass. Targets must be in COLOR_ATTACHMENT / DEPTH_ATTACHMENT layouts.
@@ -278,40 +298,16 @@ impl GBufferPass {
                 &[],
             );
             // Stream 1 (coordinate set 1) is read only by the TEXTURE_TRANSFORMS
-            // pipelines.
-            let mut bound_material = None;
-            crate::mesh_draw::draw_objects(
-                raw,
-                cmd,
-                scene,
-                crate::mesh_draw::Faces::OfMaterial,
-                |object| {
-                    if bound_material != Some(object.material) {
-                        raw.cmd_bind_descriptor_sets(
-                            cmd,
-                            vk::PipelineBindPoint::GRAPHICS,
-                            self.layout.raw(),
-                            1,
-                            &[scene.gpu.textures.material_sets[object.material]],
-                            &[],
-                        );
-                        bound_material = Some(object.material);
-                    }
-                    let push = GBufferPush {
-                        view_projection: view_projection.to_cols_array(),
-                        object_index: object.object_index,
-                        _pad: [0; 3],
-                    };
-                    raw.cmd_push_constants(
-                        cmd,
-                        self.layout.raw(),
-                        vk::ShaderStageFlags::VERTEX,
-                        0,
-                        bytemuck::bytes_of(&push),
-                    );
-                    true
-                },
-            );
+            // pipelines. The cut-outs last, behind the opaque objects' depth.
+            crate::mesh_draw::TwoRounds {
+                layout: &self.layout,
+                cut_out_pipeline: self.masked.as_ref(),
+                view_projection,
+                textures_in_opaque_round: true,
+            }
+            .record(raw, cmd, scene, crate::mesh_draw::Faces::OfMaterial, |_| {
+                true
+            });
             raw.cmd_end_rendering(cmd);
         }
     }

@@ -9,7 +9,7 @@ use glam::Mat4;
 /// `MATERIAL_FLAG_*` in the shaders (generated `bindings/constants.glsl`).
 pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 
-/// `GpuMaterial` (std430, 384 bytes).
+/// `GpuMaterial` (std430, 400 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -39,8 +39,12 @@ pub struct GpuMaterial {
     /// `[2s + 1]` = (d, e, f, 0): the slot samples at (a u + b v + c, d u + e v + f) of
     /// texture-coordinate set `set` (KHR_texture_transform; identity on set 0 by default).
     pub uv_transforms: [[f32; 4]; 16],
+    /// The base colour factor's alpha (x) and the cut-out threshold (y: glTF
+    /// `alphaCutoff` of an [`combustion_scene::AlphaMode::Mask`] material, 0 otherwise),
+    /// read by the pipelines that test alpha (`ALPHA_MASK`); z, w unused.
+    pub alpha_cutoff: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 384);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 400);
 
 impl GpuMaterial {
     /// The table entry of `material`; `textures` are its texture-array indices per
@@ -95,6 +99,12 @@ impl GpuMaterial {
                 }
                 rows
             },
+            alpha_cutoff: [
+                material.alpha,
+                material.alpha_mode.cutoff().unwrap_or(0.0),
+                0.0,
+                0.0,
+            ],
         }
     }
 

@@ -5,8 +5,9 @@
 //! map) uses it too, with its own pipeline and per-object push constants.
 
 use combustion_vk::ash;
-use combustion_vk::vk;
+use combustion_vk::{vk, Pipeline, PipelineLayout};
 
+use crate::gpu_types::GBufferPush;
 use crate::scene_upload::GpuScene;
 
 /// Which faces of each object a pass rasterises.
@@ -26,13 +27,31 @@ pub(crate) struct ObjectDraw {
     pub object_index: u32,
     /// Its material's index (the scene's material table and texture sets).
     pub material: usize,
+    /// Its material is a cut-out (`AlphaMode::Mask`): drawn by a pass's alpha-testing
+    /// pipeline.
+    pub masked: bool,
+}
+
+impl ObjectDraw {
+    /// Whether a pass that draws its objects in two rounds, the opaque ones and then the
+    /// cut-outs through its alpha-testing pipeline (if it has one: `cut_out_pipeline`),
+    /// draws this object in the cut-out round (`cut_out_round`) or the first. Without the
+    /// pipeline, cut-outs are drawn opaque in the first round.
+    pub(crate) fn in_round(&self, cut_out_round: bool, cut_out_pipeline: bool) -> bool {
+        if cut_out_round {
+            self.masked
+        } else {
+            !self.masked || !cut_out_pipeline
+        }
+    }
 }
 
 /// Records one indexed draw per object of `scene` into `cmd` (recording, inside a
 /// rendering instance whose pipeline reads vertex stream 0 — and stream 1, the second
 /// coordinate set, if it declares one), culling the faces `faces` says. `per_object`
-/// runs before each draw, to bind what the pass binds per object and push its
-/// constants.
+/// runs first for each object, to bind what the pass binds per object and push its
+/// constants; where it returns false the object is not drawn (a pass that draws the
+/// opaque and the cut-out objects with different pipelines calls this once for each).
 pub(crate) fn draw_objects(
     raw: &ash::Device,
     cmd: vk::CommandBuffer,
@@ -41,13 +60,21 @@ pub(crate) fn draw_objects(
     mut per_object: impl FnMut(ObjectDraw) -> bool,
 ) {
     let mut bound_mesh = None;
-    for (object_index, ((&mesh, &double_sided), &material)) in scene
+    for (object_index, (((&mesh, &double_sided), &material), &masked)) in scene
         .draw_meshes
         .iter()
         .zip(&scene.double_sided)
         .zip(&scene.draw_materials)
+        .zip(&scene.masked)
         .enumerate()
     {
+        if !per_object(ObjectDraw {
+            object_index: object_index as u32,
+            material,
+            masked,
+        }) {
+            continue;
+        }
         let buffers = &scene.gpu.meshes[mesh];
         // SAFETY: recording state (the caller's); the buffers live as long as the scene,
         // which outlives the frame (a dropped scene is retired, not freed).
@@ -70,14 +97,83 @@ pub(crate) fn draw_objects(
                     vk::CullModeFlags::BACK
                 },
             );
+            raw.cmd_draw_indexed(cmd, buffers.index_count, 1, 0, 0, 0);
         }
-        if !per_object(ObjectDraw {
-            object_index: object_index as u32,
-            material,
-        }) {
-            continue;
+    }
+}
+
+/// How a pass that rasterises the scene draws it in two rounds: the opaque objects with
+/// the pipeline bound when it is called, then the cut-outs (`AlphaMode::Mask`) with
+/// `cut_out_pipeline` (without one, as opaque in the first round). Both pipelines share
+/// `layout`: set 1 is each object's material's texture set (bound in the cut-out round,
+/// and in the first where `textures_in_opaque_round`), and the vertex push constants are
+/// a [`GBufferPush`] of `view_projection` and the object's index.
+pub(crate) struct TwoRounds<'a> {
+    pub layout: &'a PipelineLayout,
+    pub cut_out_pipeline: Option<&'a Pipeline>,
+    pub view_projection: glam::Mat4,
+    pub textures_in_opaque_round: bool,
+}
+
+impl TwoRounds<'_> {
+    /// Records the two rounds of `scene`'s objects that `keep` keeps, culling the faces
+    /// `faces` says (recording state, inside the pass's rendering instance, its set 0
+    /// bound).
+    pub(crate) fn record(
+        &self,
+        raw: &ash::Device,
+        cmd: vk::CommandBuffer,
+        scene: &GpuScene,
+        faces: Faces,
+        mut keep: impl FnMut(ObjectDraw) -> bool,
+    ) {
+        let mut bound_material = None;
+        for cut_out_round in [false, true] {
+            if cut_out_round {
+                let Some(pipeline) = self.cut_out_pipeline else {
+                    break;
+                };
+                // SAFETY: recording state (the caller's).
+                unsafe {
+                    raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw())
+                };
+            }
+            draw_objects(raw, cmd, scene, faces, |object| {
+                if !object.in_round(cut_out_round, self.cut_out_pipeline.is_some()) || !keep(object)
+                {
+                    return false;
+                }
+                let push = GBufferPush {
+                    view_projection: self.view_projection.to_cols_array(),
+                    object_index: object.object_index,
+                    _pad: [0; 3],
+                };
+                // SAFETY: recording state (the caller's); the material sets live as long
+                // as the scene, which outlives the frame.
+                unsafe {
+                    if (cut_out_round || self.textures_in_opaque_round)
+                        && bound_material != Some(object.material)
+                    {
+                        raw.cmd_bind_descriptor_sets(
+                            cmd,
+                            vk::PipelineBindPoint::GRAPHICS,
+                            self.layout.raw(),
+                            1,
+                            &[scene.gpu.textures.material_sets[object.material]],
+                            &[],
+                        );
+                        bound_material = Some(object.material);
+                    }
+                    raw.cmd_push_constants(
+                        cmd,
+                        self.layout.raw(),
+                        vk::ShaderStageFlags::VERTEX,
+                        0,
+                        bytemuck::bytes_of(&push),
+                    );
+                }
+                true
+            });
         }
-        // SAFETY: as above.
-        unsafe { raw.cmd_draw_indexed(cmd, buffers.index_count, 1, 0, 0, 0) };
     }
 }

@@ -68,8 +68,19 @@ impl Renderer {
                 &self.device,
                 &self.compiler,
                 &self.pipeline_cache,
-                self.layouts.of(&bindings::SHADOW_CASTERS),
+                [
+                    self.layouts.of(&bindings::SHADOW_CASTERS),
+                    self.layouts.of(&bindings::MATERIAL_TEXTURES),
+                ],
             )?);
+            self.stats.pipelines_built += 1;
+        }
+        if let Some(casters) = self
+            .shadow_casters
+            .as_mut()
+            .filter(|c| variant.shadows.is_some() && variant.alpha_mask && !c.has_masked())
+        {
+            casters.add_masked(&self.device, &self.compiler, &self.pipeline_cache)?;
             self.stats.pipelines_built += 1;
         }
         let gbuffer_key = variant.gbuffer_part();

@@ -29,6 +29,9 @@ pub struct GpuScene {
     pub(crate) draw_meshes: Vec<usize>,
     /// Per draw: render back faces too (double-sided material).
     pub(crate) double_sided: Vec<bool>,
+    /// Per draw: a cut-out material (`AlphaMode::Mask`), drawn by the passes' alpha-testing
+    /// pipelines after the opaque draws.
+    pub(crate) masked: Vec<bool>,
     /// Per draw: the object casts shadows (drawn into shadow maps).
     pub(crate) casts_shadows: Vec<bool>,
     /// Per draw: the material (index into `textures.material_sets`).
@@ -150,6 +153,7 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
             .materials
             .iter()
             .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
+        alpha_mask: scene.materials.iter().any(|m| m.is_masked()),
         texture_transforms: scene.materials.iter().any(|m| {
             m.texture_slots()
                 .iter()
@@ -270,6 +274,7 @@ struct Tables {
     conductor_table: Buffer,
     draw_meshes: Vec<usize>,
     double_sided: Vec<bool>,
+    masked: Vec<bool>,
     draw_materials: Vec<usize>,
     variant: crate::variant::ShaderVariant,
     lit_variant: crate::variant::ShaderVariant,
@@ -320,6 +325,11 @@ impl Tables {
                 .iter()
                 .map(|o| scene.materials[o.material].double_sided)
                 .collect(),
+            masked: scene
+                .objects
+                .iter()
+                .map(|o| scene.materials[o.material].is_masked())
+                .collect(),
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),
             variant: scene_variant(scene),
             lit_variant: lit_scene_variant(scene),
@@ -360,6 +370,7 @@ impl GpuScene {
             }),
             draw_meshes: tables.draw_meshes,
             double_sided: tables.double_sided,
+            masked: tables.masked,
             casts_shadows: tables.casts_shadows,
             draw_materials: tables.draw_materials,
             variant: tables.variant,
@@ -448,6 +459,7 @@ impl GpuScene {
         }
         self.draw_meshes = tables.draw_meshes;
         self.double_sided = tables.double_sided;
+        self.masked = tables.masked;
         self.casts_shadows = tables.casts_shadows;
         self.draw_materials = tables.draw_materials;
         self.variant = tables.variant;

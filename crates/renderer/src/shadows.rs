@@ -683,57 +683,119 @@ pub(crate) fn shadow_sampler(device: &Arc<Device>) -> Result<Sampler, RenderErro
     )?)
 }
 
-/// The depth-only pipeline that renders the scene's objects into a shadow map
+/// The depth-only pipelines that render the scene's objects into a shadow map
 /// (shadow.vert, and shadow.frag, which writes nothing): positions only, both faces
 /// (a caster blocks light with either face, as the f64 visibility oracle counts it).
+/// Cut-out casters (`AlphaMode::Mask`) are drawn by a second pipeline, built with
+/// `ALPHA_MASK` once a scene has them, that reads their base colour's alpha and
+/// discards where the surface is absent.
 pub(crate) struct ShadowCasterPass {
     layout: PipelineLayout,
     pipeline: Pipeline,
+    masked: Option<Pipeline>,
 }
 
 impl ShadowCasterPass {
-    /// Builds the pipeline: set 0 of `set_layout` (the object table), the map's
-    /// view-projection and the object index as vertex push constants.
+    /// Builds the opaque casters' pipeline: set 0 of `set_layout` (the object and
+    /// material tables), set 1 of `material_set_layout` (read by the cut-out pipeline
+    /// only), the map's view-projection and the object index as vertex push constants.
     pub(crate) fn new(
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
         cache: &PipelineCache,
-        set_layout: &DescriptorSetLayout,
+        [set_layout, material_set_layout]: [&DescriptorSetLayout; 2],
     ) -> Result<Self, RenderError> {
         let push = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::VERTEX,
             offset: 0,
             size: std::mem::size_of::<GBufferPush>() as u32,
         }];
-        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
+        let layout = PipelineLayout::new(device, &[set_layout, material_set_layout], &push)?;
+        let pipeline = Self::pipeline(device, compiler, cache, &layout, false)?;
+        Ok(Self {
+            layout,
+            pipeline,
+            masked: None,
+        })
+    }
+
+    /// Whether the cut-out casters' pipeline is built.
+    pub(crate) fn has_masked(&self) -> bool {
+        self.masked.is_some()
+    }
+
+    /// Builds the cut-out casters' pipeline (once; nothing replaces a pipeline a frame
+    /// in flight may use).
+    pub(crate) fn add_masked(
+        &mut self,
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+    ) -> Result<(), RenderError> {
+        if self.masked.is_none() {
+            self.masked = Some(Self::pipeline(device, compiler, cache, &self.layout, true)?);
+        }
+        Ok(())
+    }
+
+    fn pipeline(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        layout: &PipelineLayout,
+        masked: bool,
+    ) -> Result<Pipeline, RenderError> {
+        let defines: &[(&str, Option<&str>)] = if masked { &[("ALPHA_MASK", None)] } else { &[] };
         let vertex = ShaderModule::new(
             device,
-            &compiler.compile("shadow.vert", ShaderStage::Vertex, &[])?,
+            &compiler.compile("shadow.vert", ShaderStage::Vertex, defines)?,
             ShaderStage::Vertex,
         )?;
         let fragment = ShaderModule::new(
             device,
-            &compiler.compile("shadow.frag", ShaderStage::Fragment, &[])?,
+            &compiler.compile("shadow.frag", ShaderStage::Fragment, defines)?,
             ShaderStage::Fragment,
         )?;
         use crate::gpu_types::GpuVertex as Vertex;
-        let bindings = [vk::VertexInputBindingDescription {
+        let mut bindings = vec![vk::VertexInputBindingDescription {
             binding: 0,
             stride: std::mem::size_of::<Vertex>() as u32,
             input_rate: vk::VertexInputRate::VERTEX,
         }];
-        let attributes = [vk::VertexInputAttributeDescription {
+        let mut attributes = vec![vk::VertexInputAttributeDescription {
             location: 0,
             binding: 0,
             format: vk::Format::R32G32B32_SFLOAT,
             offset: std::mem::offset_of!(Vertex, position) as u32,
         }];
-        let pipeline = Pipeline::graphics(
+        if masked {
+            // Both coordinate sets: the base colour slot may sample either.
+            bindings.push(vk::VertexInputBindingDescription {
+                binding: 1,
+                stride: std::mem::size_of::<[f32; 2]>() as u32,
+                input_rate: vk::VertexInputRate::VERTEX,
+            });
+            attributes.extend([
+                vk::VertexInputAttributeDescription {
+                    location: 1,
+                    binding: 0,
+                    format: vk::Format::R32G32_SFLOAT,
+                    offset: std::mem::offset_of!(Vertex, uv) as u32,
+                },
+                vk::VertexInputAttributeDescription {
+                    location: 2,
+                    binding: 1,
+                    format: vk::Format::R32G32_SFLOAT,
+                    offset: 0,
+                },
+            ]);
+        }
+        Ok(Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
                 vertex: &vertex,
                 fragment: &fragment,
-                layout: &layout,
+                layout,
                 vertex_bindings: &bindings,
                 vertex_attributes: &attributes,
                 color_formats: &[],
@@ -741,8 +803,7 @@ impl ShadowCasterPass {
                 alpha_blend: false,
                 cache: Some(cache),
             },
-        )?;
-        Ok(Self { layout, pipeline })
+        )?)
     }
 
     /// Records `cascades` (one per layer view of `maps`, in order): each layer cleared
@@ -780,42 +841,25 @@ impl ShadowCasterPass {
                 vk::ShaderStageFlags::VERTEX,
                 &[],
             );
-            crate::mesh_draw::draw_objects(
-                raw,
-                cmd,
-                scene,
-                crate::mesh_draw::Faces::Both,
-                |object| {
-                    let index = object.object_index as usize;
-                    if !scene.casts_shadows.get(index).copied().unwrap_or(true) {
-                        return false;
-                    }
-                    // Objects wholly beside the map cast nothing into it (along the
-                    // light, the map spans the whole scene).
-                    let bounds = scene.object_bounds.get(index);
-                    if let Some(Some((lo, hi))) = bounds {
-                        if beside_map(world_to_clip, *lo, *hi) {
-                            return false;
-                        }
-                    }
-                    let push = GBufferPush {
-                        view_projection: world_to_clip.to_cols_array(),
-                        object_index: object.object_index,
-                        _pad: [0; 3],
-                    };
-                    // SAFETY: as above.
-                    unsafe {
-                        raw.cmd_push_constants(
-                            cmd,
-                            self.layout.raw(),
-                            vk::ShaderStageFlags::VERTEX,
-                            0,
-                            bytemuck::bytes_of(&push),
-                        )
-                    };
-                    true
-                },
-            );
+            // The opaque casters, then the cut-out ones with their own pipeline.
+            crate::mesh_draw::TwoRounds {
+                layout: &self.layout,
+                cut_out_pipeline: self.masked.as_ref(),
+                view_projection: *world_to_clip,
+                textures_in_opaque_round: false,
+            }
+            .record(raw, cmd, scene, crate::mesh_draw::Faces::Both, |object| {
+                let index = object.object_index as usize;
+                if !scene.casts_shadows.get(index).copied().unwrap_or(true) {
+                    return false;
+                }
+                // Objects wholly beside the map cast nothing into it (along the
+                // light, the map spans the whole scene).
+                !matches!(
+                    scene.object_bounds.get(index),
+                    Some(Some((lo, hi))) if beside_map(world_to_clip, *lo, *hi)
+                )
+            });
             // SAFETY: as above.
             unsafe { raw.cmd_end_rendering(cmd) };
         }

@@ -112,6 +112,11 @@ pub struct ShaderVariant {
     /// KHR_texture_transform: the G-buffer shader reads `Vertex::uv1` and maps each
     /// slot's coordinates (else it samples every slot at `Vertex::uv` as it is).
     pub texture_transforms: bool,
+    /// Some material is a cut-out (`AlphaMode::Mask`): the G-buffer pass (and the shadow
+    /// casters') gets a second pipeline, built with `ALPHA_MASK`, that tests alpha and
+    /// discards, for those materials' objects only; the other objects keep the pipeline
+    /// without a discard (early depth testing intact).
+    pub alpha_mask: bool,
     /// The Fresnel term ([`FresnelModel`]; a shading option, not a scene feature).
     pub fresnel: FresnelModel,
     /// The lighting pass can show a G-buffer channel or a BRDF term instead of radiance
@@ -204,13 +209,15 @@ impl ShaderVariant {
 }
 
 impl ShaderVariant {
-    /// The part of the variant the G-buffer shader reads (the emissive target and the
-    /// geometry floor); every other feature is the lighting pass's.
+    /// The part of the variant the G-buffer shaders read (the emissive target, texture
+    /// transforms, cut-outs and the geometry floor); every other feature is the lighting
+    /// pass's.
     pub(crate) fn gbuffer_part(self) -> ShaderVariant {
         ShaderVariant {
             emissive: self.emissive,
             occlusion: self.occlusion,
             texture_transforms: self.texture_transforms,
+            alpha_mask: self.alpha_mask,
             floor: self.floor.filter(|f| *f == MeasurementFloor::Geometry),
             ..ShaderVariant::default()
         }

@@ -40,8 +40,8 @@ pub use error::{CameraProblem, LightProblem, SceneError};
 /// regular file within a size limit, both checked before it is read.
 pub use gltf::read_regular_file;
 pub use material::{
-    conductor_from_reflectivity, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Material,
-    Sampler, Texture, TextureRef, TextureSlot, UvTransform, WrapMode,
+    conductor_from_reflectivity, AlphaMode, ColorSpace, ComplexIor, DiffuseModel, Filter, Image,
+    Material, Sampler, Texture, TextureRef, TextureSlot, UvTransform, WrapMode,
 };
 pub use mesh::{Mesh, Vertex};
 
@@ -457,6 +457,8 @@ pub struct SceneFeatures {
     pub specular: usize,
     /// Materials rendered double-sided.
     pub double_sided: usize,
+    /// Cut-out materials ([`AlphaMode::Mask`]).
+    pub masked: usize,
     /// [`Light::Point`]s among the scene's lights.
     pub point_lights: usize,
     /// [`Light::Spot`]s among the scene's lights.
@@ -531,6 +533,7 @@ impl std::fmt::Display for SceneFeatures {
         writeln!(f, "emissive materials: {}", self.emissive)?;
         writeln!(f, "KHR_materials_specular materials: {}", self.specular)?;
         writeln!(f, "double-sided materials: {}", self.double_sided)?;
+        writeln!(f, "cut-out (alpha mask) materials: {}", self.masked)?;
         write!(
             f,
             "lights: {} point, {} spot, {} directional",
@@ -582,6 +585,9 @@ impl Scene {
             }
             if m.double_sided {
                 features.double_sided += 1;
+            }
+            if m.is_masked() {
+                features.masked += 1;
             }
         }
         features.diffuse_models.sort_by_key(|&m| m as u32);

@@ -33,6 +33,34 @@ impl DiffuseModel {
     ];
 }
 
+/// How a material's alpha (the base colour factor's alpha × the base colour texture's
+/// alpha) is used (glTF `alphaMode`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored: the surface is opaque everywhere.
+    #[default]
+    Opaque,
+    /// Cut-out: the surface exists where alpha ≥ `cutoff` and is absent (not drawn, casts
+    /// no shadow) elsewhere (glTF `alphaCutoff`, 0.5 by default; finite and ≥ 0).
+    Mask {
+        /// The alpha below which the surface is absent.
+        cutoff: f32,
+    },
+    /// Blended over what is behind ("over", straight alpha). Not rendered yet: such
+    /// materials are drawn opaque (the importer warns).
+    Blend,
+}
+
+impl AlphaMode {
+    /// The cut-out threshold of a [`AlphaMode::Mask`] material.
+    pub fn cutoff(self) -> Option<f32> {
+        match self {
+            AlphaMode::Mask { cutoff } => Some(cutoff),
+            _ => None,
+        }
+    }
+}
+
 /// A complex index of refraction η + ik per RGB channel: the material's own constants
 /// (as tabulated, against vacuum); the surrounding medium's IOR
 /// ([`crate::Scene::outside_ior`], [`Material::outside_ior`]) is given separately.
@@ -56,6 +84,11 @@ pub struct Material {
     pub name: String,
     /// Linear RGB albedo of the dielectric part.
     pub base_color: [f32; 3],
+    /// The base colour factor's alpha ∈ [0, 1], multiplied by the base colour texture's
+    /// alpha; read only under [`AlphaMode::Mask`] (and `Blend`).
+    pub alpha: f32,
+    /// How alpha is used (glTF `alphaMode`).
+    pub alpha_mode: AlphaMode,
     /// 0 = dielectric, 1 = conductor; in between blends the two linearly.
     pub metalness: f32,
     /// Perceptual roughness r ∈ [0, 1] (α = r²).
@@ -119,6 +152,8 @@ impl Default for Material {
         Self {
             name: "default".into(),
             base_color: [0.8, 0.8, 0.8],
+            alpha: 1.0,
+            alpha_mode: AlphaMode::Opaque,
             metalness: 0.0,
             roughness: 0.5,
             anisotropy_strength: 0.0,
@@ -153,7 +188,7 @@ impl Default for Material {
 }
 
 impl Material {
-    /// Checks every factor's range as its field states (base colour, metalness,
+    /// Checks every factor's range as its field states (base colour, alpha, metalness,
     /// roughness, anisotropy strength, polarisation weight, occlusion strength and
     /// specular factor in [0, 1]; IORs finite and positive; k, the emissive factor and
     /// strength and the specular colour finite and ≥ 0; the anisotropy rotation and
@@ -166,6 +201,14 @@ impl Material {
         let positive = |x: f32| x.is_finite() && x > 0.0;
         let problem = if !self.base_color.iter().all(|&c| unit(c)) {
             Some("base colour must lie in [0, 1]")
+        } else if !unit(self.alpha) {
+            Some("alpha must lie in [0, 1]")
+        } else if !self
+            .alpha_mode
+            .cutoff()
+            .is_none_or(|c| c.is_finite() && c >= 0.0)
+        {
+            Some("alpha cutoff must be finite and non-negative")
         } else if !unit(self.metalness) {
             Some("metalness must lie in [0, 1]")
         } else if !unit(self.roughness) {
@@ -245,6 +288,12 @@ impl Material {
                 self.specular_color_texture.as_ref(),
             ),
         ]
+    }
+
+    /// Whether the material is a cut-out ([`AlphaMode::Mask`]): drawn by the pipelines
+    /// that test alpha.
+    pub fn is_masked(&self) -> bool {
+        matches!(self.alpha_mode, AlphaMode::Mask { .. })
     }
 
     /// Whether the material needs a tangent frame that follows the texture coordinates

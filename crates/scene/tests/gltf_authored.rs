@@ -8,9 +8,9 @@ use std::sync::Arc;
 
 use combustion_scene::gltf::{import, save_gltf, CameraSource, ImportOptions};
 use combustion_scene::{
-    builtin_scene, Camera, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Light, Material,
-    Mesh, Object, Sampler, Scene, Texture, TextureRef, TextureSlot, UvTransform, WrapMode,
-    BUILTIN_SCENES,
+    builtin_scene, AlphaMode, Camera, ColorSpace, ComplexIor, DiffuseModel, Filter, Image, Light,
+    Material, Mesh, Object, Sampler, Scene, Texture, TextureRef, TextureSlot, UvTransform,
+    WrapMode, BUILTIN_SCENES,
 };
 use glam::{Mat4, Quat, Vec3};
 
@@ -257,6 +257,113 @@ fn textured_scene() -> Scene {
     }
 }
 
+/// Cut-outs (alphaMode MASK): a double-sided lattice panel (a 16×16 alpha texture of
+/// 2×2-texel holes, linear filtering) and a gradient panel whose alpha rises across u,
+/// scaled by a base colour alpha of 0.8, cut at 0.3 (present from u ≈ 0.38 on); a
+/// panel whose factor alone (0.4) is below its cutoff (0.5), so it is nowhere; a
+/// blended material would be drawn opaque, so none is here. A sun from behind the
+/// panels and a point light in front that both cast the holes' shadows onto the floor.
+fn cutout_scene() -> Scene {
+    let lattice = image("lattice", ColorSpace::Srgb, |x, y| {
+        let hole = x % 4 >= 2 && y % 4 >= 2;
+        [70, 150, 60, if hole { 0 } else { 255 }]
+    });
+    let gradient = image("gradient", ColorSpace::Srgb, |x, _| {
+        [230, 120, 40, (x * 17) as u8]
+    });
+    let floor = Material {
+        name: "floor".into(),
+        base_color: [0.7, 0.7, 0.68],
+        roughness: 0.8,
+        ..Material::default()
+    };
+    let lattice = Material {
+        name: "lattice".into(),
+        base_color: [1.0, 1.0, 1.0],
+        roughness: 0.6,
+        base_color_texture: texture(&lattice, Sampler::default()),
+        alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+        double_sided: true,
+        ..Material::default()
+    };
+    let gradient = Material {
+        name: "gradient".into(),
+        base_color: [1.0, 1.0, 1.0],
+        alpha: 0.8,
+        roughness: 0.4,
+        // Clamped: a repeating bilinear filter would blend the last column's alpha into
+        // the first at u = 0.
+        base_color_texture: texture(
+            &gradient,
+            Sampler {
+                wrap_u: WrapMode::ClampToEdge,
+                wrap_v: WrapMode::ClampToEdge,
+                ..Sampler::default()
+            },
+        ),
+        alpha_mode: AlphaMode::Mask { cutoff: 0.3 },
+        double_sided: true,
+        ..Material::default()
+    };
+    let absent = Material {
+        name: "below its cutoff".into(),
+        base_color: [0.9, 0.1, 0.1],
+        alpha: 0.4,
+        alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+        ..Material::default()
+    };
+    // Mesh::plane faces +y; turned a quarter about x it faces +z (the camera), v down.
+    let upright = |size: f32, turn: f32, at: Vec3| {
+        Mat4::from_scale_rotation_translation(
+            Vec3::splat(size),
+            Quat::from_rotation_y(turn) * Quat::from_rotation_x(std::f32::consts::FRAC_PI_2),
+            at,
+        )
+    };
+    let object = |mesh, material, transform| Object {
+        mesh,
+        material,
+        transform,
+        casts_shadows: true,
+    };
+    Scene {
+        name: "cutout".into(),
+        meshes: vec![Mesh::plane("floor", 6.0), Mesh::plane("panel", 1.0)],
+        materials: vec![floor, lattice, gradient, absent],
+        objects: vec![
+            object(0, 0, Mat4::IDENTITY),
+            object(1, 1, upright(1.6, 0.0, Vec3::new(-0.6, 0.9, 0.0))),
+            object(1, 2, upright(1.0, -0.35, Vec3::new(0.9, 0.6, -0.3))),
+            object(1, 3, upright(0.8, 0.0, Vec3::new(0.2, 0.5, 0.6))),
+        ],
+        lights: vec![
+            Light::Directional {
+                direction: Vec3::new(0.35, -0.75, 0.55),
+                irradiance: [2.5, 2.4, 2.2],
+                casts_shadows: true,
+                angular_diameter: 0.0,
+            },
+            Light::Point {
+                position: Vec3::new(1.8, 2.2, 2.0),
+                intensity: [6.0, 6.0, 7.0],
+                range: None,
+                casts_shadows: true,
+                radius: 0.0,
+            },
+        ],
+        camera: Camera {
+            position: Vec3::new(0.0, 2.2, 3.6),
+            target: Vec3::new(0.0, 0.4, -0.5),
+            up: Vec3::Y,
+            vertical_fov: 45f32.to_radians(),
+            near: 0.1,
+            far: 50.0,
+        },
+        outside_ior: 1.0,
+        environment: None,
+    }
+}
+
 /// What glTF cannot say, through `COMBUSTION_materials_optics`: spheres under water
 /// (scene outside IOR 1.33), a named metal, a spectral table, explicit η + ik, a
 /// base-colour conductor, an air bubble (material outside IOR), all three diffuse
@@ -429,7 +536,9 @@ fn optics_postprocess(gltf: &Path) {
 fn write_authored(dir: &Path) {
     std::fs::create_dir_all(dir.join("textured")).unwrap();
     std::fs::create_dir_all(dir.join("optics")).unwrap();
+    std::fs::create_dir_all(dir.join("cutout")).unwrap();
     save_gltf(&textured_scene(), &dir.join("textured/textured.gltf")).unwrap();
+    save_gltf(&cutout_scene(), &dir.join("cutout/cutout.gltf")).unwrap();
     let optics = dir.join("optics/optics.gltf");
     save_gltf(&optics_scene(), &optics).unwrap();
     optics_postprocess(&optics);
@@ -469,6 +578,19 @@ fn authored_scenes_are_current() {
         ),
         (1, 1, 1)
     );
+}
+
+#[test]
+fn the_cutout_scene_is_current() {
+    bless();
+    let (scene, report) = import(
+        &assets().join("cutout/cutout.gltf"),
+        &ImportOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e} (regenerate with COMBUSTION_BLESS=1)"));
+    assert_same_scene(&cutout_scene(), &scene);
+    assert!(report.warnings.is_empty(), "{report}");
+    assert_eq!(scene.features().masked, 3);
 }
 
 #[test]

@@ -185,7 +185,13 @@ impl Requirements {
     /// Device extensions, as names: none (Vulkan 1.3 core covers what Combustion uses).
     pub const DEVICE_EXTENSIONS: &'static [&'static CStr] = &[];
     /// Vulkan 1.3 features, by name.
-    pub const FEATURES_13: &'static [&'static str] = &["dynamicRendering", "synchronization2"];
+    /// shaderDemoteToHelperInvocation (mandatory in Vulkan 1.3) is what a `discard` compiles
+    /// to for SPIR-V 1.6: the cut-out pipelines' alpha test.
+    pub const FEATURES_13: &'static [&'static str] = &[
+        "dynamicRendering",
+        "synchronization2",
+        "shaderDemoteToHelperInvocation",
+    ];
     /// What the queue family Combustion submits to must support: graphics (the G-buffer,
     /// lighting and output passes) and compute (light culling), on the same queue.
     pub const QUEUE_FLAGS: vk::QueueFlags = vk::QueueFlags::from_raw(
@@ -197,6 +203,7 @@ impl Requirements {
         vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true)
+            .shader_demote_to_helper_invocation(true)
     }
 }
 
@@ -210,6 +217,7 @@ pub struct EnabledFeatures {
     api_version: u32,
     dynamic_rendering: bool,
     synchronization2: bool,
+    shader_demote_to_helper_invocation: bool,
     /// Device extensions the host enabled.
     device_extensions: Vec<String>,
 }
@@ -252,6 +260,17 @@ impl EnabledFeatures {
                     let f = unsafe { &*(next as *const vk::PhysicalDeviceVulkan13Features<'_>) };
                     enabled.dynamic_rendering |= f.dynamic_rendering == vk::TRUE;
                     enabled.synchronization2 |= f.synchronization2 == vk::TRUE;
+                    enabled.shader_demote_to_helper_invocation |=
+                        f.shader_demote_to_helper_invocation == vk::TRUE;
+                }
+                vk::StructureType::PHYSICAL_DEVICE_SHADER_DEMOTE_TO_HELPER_INVOCATION_FEATURES => {
+                    let f = unsafe {
+                        &*(next as *const vk::PhysicalDeviceShaderDemoteToHelperInvocationFeatures<
+                            '_,
+                        >)
+                    };
+                    enabled.shader_demote_to_helper_invocation |=
+                        f.shader_demote_to_helper_invocation == vk::TRUE;
                 }
                 vk::StructureType::PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES => {
                     let f = unsafe {
@@ -285,6 +304,11 @@ impl EnabledFeatures {
     /// Whether the device was created with synchronization2.
     pub fn synchronization2(&self) -> bool {
         self.synchronization2
+    }
+
+    /// Whether the device was created with shaderDemoteToHelperInvocation.
+    pub fn shader_demote_to_helper_invocation(&self) -> bool {
+        self.shader_demote_to_helper_invocation
     }
 
     /// The device extensions the device was created with.
@@ -463,6 +487,9 @@ fn describe_devices(
         }
         if f13.synchronization2 == vk::FALSE {
             missing.push("synchronization2");
+        }
+        if f13.shader_demote_to_helper_invocation == vk::FALSE {
+            missing.push("shaderDemoteToHelperInvocation");
         }
         if queue_family.is_none() {
             missing.push("a queue family with graphics and compute");
@@ -703,6 +730,11 @@ impl Device {
                 "synchronization2",
                 f13.synchronization2,
                 host.enabled.synchronization2,
+            ),
+            (
+                "shaderDemoteToHelperInvocation",
+                f13.shader_demote_to_helper_invocation,
+                host.enabled.shader_demote_to_helper_invocation,
             ),
         ] {
             if supported == vk::FALSE {

@@ -19,7 +19,7 @@ pub enum VkError {
     NoDevice,
     /// Devices exist but none meets [`crate::Requirements`]; the text lists each
     /// device and what it lacks.
-    #[error("no Vulkan device offers what Combustion needs (Vulkan 1.3 with dynamicRendering and synchronization2, and a queue family with graphics and compute): {0}")]
+    #[error("no Vulkan device offers what Combustion needs (Vulkan 1.3 with dynamicRendering, synchronization2 and shaderDemoteToHelperInvocation, and a queue family with graphics and compute): {0}")]
     NoSuitableDevice(String),
     /// A [`crate::DeviceSelector`] (index or name) matched no device.
     #[error("no Vulkan device matches `{selector}`; devices: {available}")]

@@ -1,5 +1,6 @@
 //! The shadow-map pass: every object of the scene rendered, depth only, into one
-//! shadow-map layer per cascade of each shadowed light (shadow.vert; crate::shadows).
+//! shadow-map layer per cascade of each shadowed light (shadow.vert; crate::shadows);
+//! cut-out casters through their alpha test.
 //! Runs in frames whose variant has shadows and that have a directional light.
 
 use combustion_vk::vk;
@@ -37,6 +38,11 @@ impl FramePass for ShadowMaps {
                 "objects",
                 &frame.scene.gpu.objects,
                 BufferUse::VertexStorageRead,
+            )
+            .buffer(
+                "materials",
+                &frame.scene.gpu.materials,
+                BufferUse::FragmentStorageRead,
             );
         // Only the arrays rendered this frame: the other keeps its maps.
         for (maps, layers) in [

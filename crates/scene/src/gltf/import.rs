@@ -51,7 +51,7 @@ pub(crate) struct Importer<'a> {
     /// Bytes of meshes built so far (vertices and indices), against
     /// [`Importer::charge_mesh_bytes`]'s budget.
     pub mesh_bytes: u64,
-    /// Materials that ask for transparency (reported once).
+    /// Materials that ask for blending (alphaMode BLEND; reported once).
     pub transparency: Vec<usize>,
 }
 
@@ -517,7 +517,7 @@ impl Importer<'_> {
         if !self.transparency.is_empty() {
             let list: Vec<String> = self.transparency.iter().map(|i| i.to_string()).collect();
             self.warn(format!(
-                "material(s) {} ask for transparency (alphaMode or alpha < 1); rendered opaque",
+                "material(s) {} ask for blending (alphaMode BLEND); rendered opaque",
                 list.join(", ")
             ));
         }

@@ -12,8 +12,8 @@ use super::optics_ext::{self, parse_texture_transform, ConductorSpec, TextureInf
 use super::source::{read_resolved, resolve_uri};
 use super::{ImportProblem, OPTICS_EXTENSION};
 use crate::{
-    conductor_from_reflectivity, ColorSpace, Filter, Image, Material, Sampler, Texture, TextureRef,
-    TextureSlot, UvTransform, WrapMode,
+    conductor_from_reflectivity, AlphaMode, ColorSpace, Filter, Image, Material, Sampler, Texture,
+    TextureRef, TextureSlot, UvTransform, WrapMode,
 };
 
 /// glTF's default material (base colour 1, metallic 1, roughness 1), used by primitives
@@ -106,13 +106,35 @@ impl Importer<'_> {
             self.unit_factor(index, "base colour factor", b)?,
         ];
         let alpha = self.unit_factor(index, "base colour alpha", a)?;
-        let opaque = matches!(
-            m.alpha_mode,
-            Checked::Valid(json::material::AlphaMode::Opaque)
-        );
-        if !opaque || alpha < 1.0 {
-            self.transparency.push(index);
-        }
+        // glTF: alphaCutoff applies in MASK mode only (0.5 when absent), with a minimum of
+        // 0; in OPAQUE mode alpha is ignored.
+        let alpha_mode = match m.alpha_mode {
+            Checked::Valid(json::material::AlphaMode::Mask) => {
+                let cutoff = m.alpha_cutoff.map_or(0.5, |c| c.0);
+                if !(cutoff.is_finite() && cutoff >= 0.0) {
+                    return Err(self.material_error(
+                        index,
+                        format!(
+                            "alphaCutoff {} is not a finite number ≥ 0",
+                            crate::error::readable(cutoff)
+                        ),
+                    ));
+                }
+                if cutoff > 1.0 {
+                    self.warn(format!(
+                        "material {index}: alphaCutoff {} is above 1: no alpha reaches it, \
+                         so the material is invisible",
+                        crate::error::readable(cutoff)
+                    ));
+                }
+                AlphaMode::Mask { cutoff }
+            }
+            Checked::Valid(json::material::AlphaMode::Blend) => {
+                self.transparency.push(index);
+                AlphaMode::Blend
+            }
+            _ => AlphaMode::Opaque,
+        };
         let metalness = self.unit_factor(index, "metallic factor", pbr.metallic_factor.0)?;
         let roughness = self.unit_factor(index, "roughness factor", pbr.roughness_factor.0)?;
         let mut material = Material {
@@ -121,6 +143,8 @@ impl Importer<'_> {
                 .clone()
                 .unwrap_or_else(|| format!("material {index}")),
             base_color,
+            alpha,
+            alpha_mode,
             metalness,
             roughness,
             double_sided: m.double_sided,

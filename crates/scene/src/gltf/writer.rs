@@ -11,7 +11,9 @@ use super::error::{SaveError, SaveProblem};
 use super::image::encode_png;
 use super::optics_ext::diffuse_model_name;
 use super::{OPTICS_EXTENSION, SHADOW_EXTENSION};
-use crate::{Filter, Light, Material, Sampler, Scene, TextureRef, TextureSlot, WrapMode};
+use crate::{
+    AlphaMode, Filter, Light, Material, Sampler, Scene, TextureRef, TextureSlot, WrapMode,
+};
 
 fn num(x: f32) -> Value {
     // The exact binary value as f64: reads back as the same f32 through any parser.
@@ -170,7 +172,7 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
         |slot: TextureSlot| slots.iter().find(|(s, _)| *s == slot).and_then(|(_, t)| *t);
     let info = |slot| texture_of(slot).map(|index| texture_info_json(index, reference(slot)));
     let mut pbr = json!({
-        "baseColorFactor": nums(&[m.base_color[0], m.base_color[1], m.base_color[2], 1.0]),
+        "baseColorFactor": nums(&[m.base_color[0], m.base_color[1], m.base_color[2], m.alpha]),
         "metallicFactor": num(m.metalness),
         "roughnessFactor": num(m.roughness),
     });
@@ -186,6 +188,14 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
         "emissiveFactor": nums(&m.emissive_factor),
         "doubleSided": m.double_sided,
     });
+    match m.alpha_mode {
+        AlphaMode::Opaque => {}
+        AlphaMode::Mask { cutoff } => {
+            out["alphaMode"] = json!("MASK");
+            out["alphaCutoff"] = num(cutoff);
+        }
+        AlphaMode::Blend => out["alphaMode"] = json!("BLEND"),
+    }
     if let Some(mut t) = info(TextureSlot::Normal) {
         t["scale"] = num(m.normal_scale);
         out["normalTexture"] = t;
