@@ -114,6 +114,21 @@ pub(crate) fn describe_material(m: &Material, outside_ior: f32) -> String {
     if !textures.is_empty() {
         parts.push(format!("textures: {}", textures.join(", ")));
     }
+    match m.alpha_mode {
+        combustion::scene::AlphaMode::Opaque => {}
+        combustion::scene::AlphaMode::Mask { cutoff } => parts.push(format!(
+            "cut out where alpha (factor {}{}) < {cutoff}",
+            m.alpha,
+            if m.base_color_texture.is_some() {
+                " × texture"
+            } else {
+                ""
+            }
+        )),
+        combustion::scene::AlphaMode::Blend => {
+            parts.push(format!("blended at alpha {} (drawn opaque)", m.alpha))
+        }
+    }
     parts.join(", ")
 }
 

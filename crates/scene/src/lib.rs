@@ -756,6 +756,33 @@ mod bounds_tests {
 mod tests {
     use super::*;
 
+    /// A host's material with an alpha outside [0, 1] or a cutoff that is negative or
+    /// not finite is refused, naming the material and the rule.
+    #[test]
+    fn alpha_and_cutoff_are_checked() {
+        let mut scene = builtin_scene("spheres").unwrap();
+        scene.materials[0].alpha_mode = AlphaMode::Mask { cutoff: 0.0 };
+        assert!(scene.validate().is_ok());
+        for (alpha, cutoff, rule) in [
+            (1.5, 0.5, "alpha must lie in [0, 1]"),
+            (f32::NAN, 0.5, "alpha must lie in [0, 1]"),
+            (0.5, -0.1, "alpha cutoff must be finite and non-negative"),
+            (
+                0.5,
+                f32::INFINITY,
+                "alpha cutoff must be finite and non-negative",
+            ),
+        ] {
+            scene.materials[0].alpha = alpha;
+            scene.materials[0].alpha_mode = AlphaMode::Mask { cutoff };
+            let error = scene.validate().unwrap_err().to_string();
+            assert!(
+                error.contains(rule) && error.contains(&scene.materials[0].name),
+                "{error}"
+            );
+        }
+    }
+
     /// Issue 28, defect 3: a light's power above [`MAX_RADIANCE`] (3e38 W/sr, finite in
     /// f32, made pixels infinite) is refused with the bound named; the bound itself is
     /// taken.

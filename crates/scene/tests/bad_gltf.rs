@@ -321,3 +321,62 @@ fn unknown_optional_extension_is_reported() {
         .iter()
         .any(|w| w.contains("KHR_draco_mesh_compression")));
 }
+
+/// alphaMode and alphaCutoff (glTF: a cutoff of at least 0, read in MASK mode only):
+/// MASK keeps its cutoff (0.5 when absent); a negative or non-finite cutoff is a one-line
+/// error naming the material; a cutoff above 1 (a material no alpha reaches) and BLEND
+/// (drawn opaque) are warnings; OPAQUE ignores alpha, with no warning.
+#[test]
+fn alpha_modes_are_read_and_bad_cutoffs_refused() {
+    use combustion_scene::AlphaMode;
+    let with_material = |material: serde_json::Value| {
+        let mut root = one_triangle_file(&[0, 1, 2]);
+        root["materials"] = serde_json::json!([material]);
+        root["meshes"][0]["primitives"][0]["material"] = serde_json::json!(0);
+        import_slice(root.to_string().as_bytes(), &ImportOptions::default())
+    };
+    let read = |material: serde_json::Value| {
+        let (scene, report) = with_material(material).unwrap();
+        (
+            scene.materials[0].alpha_mode,
+            scene.materials[0].alpha,
+            report.warnings,
+        )
+    };
+    let factor = |a: f32| serde_json::json!({ "baseColorFactor": [1.0, 1.0, 1.0, a] });
+    let (mode, alpha, warnings) = read(serde_json::json!({
+        "alphaMode": "MASK", "pbrMetallicRoughness": factor(0.25)
+    }));
+    assert_eq!((mode, alpha), (AlphaMode::Mask { cutoff: 0.5 }, 0.25));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let (mode, _, _) = read(serde_json::json!({ "alphaMode": "MASK", "alphaCutoff": 0.0 }));
+    assert_eq!(mode, AlphaMode::Mask { cutoff: 0.0 });
+    let (mode, _, warnings) = read(serde_json::json!({ "alphaMode": "MASK", "alphaCutoff": 1.5 }));
+    assert_eq!(mode, AlphaMode::Mask { cutoff: 1.5 });
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("alphaCutoff 1.5 is above 1")),
+        "{warnings:?}"
+    );
+    let (mode, alpha, warnings) = read(serde_json::json!({
+        "alphaMode": "OPAQUE", "alphaCutoff": 0.7, "pbrMetallicRoughness": factor(0.1)
+    }));
+    assert_eq!((mode, alpha), (AlphaMode::Opaque, 0.1));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let (mode, _, warnings) = read(serde_json::json!({ "alphaMode": "BLEND" }));
+    assert_eq!(mode, AlphaMode::Blend);
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("alphaMode BLEND") && w.contains("opaque")),
+        "{warnings:?}"
+    );
+    let error = with_material(serde_json::json!({ "alphaMode": "MASK", "alphaCutoff": -0.5 }))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("material 0") && error.contains("alphaCutoff") && !error.contains('\n'),
+        "{error}"
+    );
+}
