@@ -6,7 +6,7 @@
 // MATERIAL_FLAG_* and LIGHT_KIND_*: generated from gpu_types.rs's constants.
 #include "bindings/constants.glsl"
 
-// One entry of the material table (std430, 400 bytes).
+// One entry of the material table (std430, 464 bytes).
 struct GpuMaterial {
     vec4 base_color_metalness;      // rgb: linear base colour, a: metalness
     vec4 roughness_anisotropy_ior;  // x: perceptual roughness, y: anisotropy strength,
@@ -23,7 +23,10 @@ struct GpuMaterial {
     // (KHR_texture_transform). Read only by the TEXTURE_TRANSFORMS G-buffer variant.
     vec4 uv_transforms[16];
     vec4 alpha_cutoff;              // x: base colour factor's alpha, y: alphaCutoff of a cut-out
-                                    // (MASK) material; read by the ALPHA_MASK pipelines
+                                    // (MASK) material, z: 1 where the base colour sampler picks
+                                    // the nearest mip level; read by the ALPHA_MASK pipelines
+    vec4 alpha_mip_scales[4];       // per base colour mip level ([level / 4][level % 4]): the
+                                    // alpha scale that keeps the cut-out's coverage
 };
 
 // One placed mesh (std430, 144 bytes).

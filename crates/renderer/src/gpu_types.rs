@@ -3,13 +3,13 @@
 //! side only; the field order is the GLSL one.
 
 use bytemuck::{Pod, Zeroable};
-use combustion_scene::{Light, Material, Object, Scene};
+use combustion_scene::{Filter, Light, Material, Object, Scene};
 use glam::Mat4;
 
 /// `MATERIAL_FLAG_*` in the shaders (generated `bindings/constants.glsl`).
 pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 
-/// `GpuMaterial` (std430, 400 bytes).
+/// `GpuMaterial` (std430, 464 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -39,12 +39,17 @@ pub struct GpuMaterial {
     /// `[2s + 1]` = (d, e, f, 0): the slot samples at (a u + b v + c, d u + e v + f) of
     /// texture-coordinate set `set` (KHR_texture_transform; identity on set 0 by default).
     pub uv_transforms: [[f32; 4]; 16],
-    /// The base colour factor's alpha (x) and the cut-out threshold (y: glTF
-    /// `alphaCutoff` of an [`combustion_scene::AlphaMode::Mask`] material, 0 otherwise),
-    /// read by the pipelines that test alpha (`ALPHA_MASK`); z, w unused.
+    /// The base colour factor's alpha (x), the cut-out threshold (y: glTF `alphaCutoff`
+    /// of an [`combustion_scene::AlphaMode::Mask`] material, 0 otherwise), 1 in z where
+    /// the base colour sampler picks the nearest mip level (0: blends two), w unused;
+    /// read by the pipelines that test alpha (`ALPHA_MASK`).
     pub alpha_cutoff: [f32; 4],
+    /// Per mip level of the base colour texture (`[level / 4][level % 4]`), the scale
+    /// of its alpha that keeps a cut-out's coverage ([`combustion_scene::alpha_mip_scales`]);
+    /// 1 for materials that are not cut-outs or whose sampler has no mipmap filter.
+    pub alpha_mip_scales: [[f32; 4]; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 400);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 464);
 
 impl GpuMaterial {
     /// The table entry of `material`; `textures` are its texture-array indices per
@@ -102,9 +107,13 @@ impl GpuMaterial {
             alpha_cutoff: [
                 material.alpha,
                 material.alpha_mode.cutoff().unwrap_or(0.0),
-                0.0,
+                match &material.base_color_texture {
+                    Some(t) if t.texture.sampler.mipmap_filter == Some(Filter::Nearest) => 1.0,
+                    _ => 0.0,
+                },
                 0.0,
             ],
+            alpha_mip_scales: alpha_mip_scales_of(material),
         }
     }
 
@@ -113,6 +122,25 @@ impl GpuMaterial {
     pub fn conductor_from_base_color(&self) -> bool {
         self.diffuse_model_flags[1] & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR != 0
     }
+}
+
+/// [`GpuMaterial::alpha_mip_scales`] of `material`.
+fn alpha_mip_scales_of(material: &Material) -> [[f32; 4]; 4] {
+    let mut rows = [[1.0; 4]; 4];
+    let (Some(cutoff), Some(texture)) = (
+        material.alpha_mode.cutoff(),
+        material.base_color_texture.as_ref(),
+    ) else {
+        return rows;
+    };
+    if texture.texture.sampler.mipmap_filter.is_none() {
+        return rows;
+    }
+    let scales = combustion_scene::alpha_mip_scales(&texture.texture.image, material.alpha, cutoff);
+    for (level, scale) in scales.into_iter().enumerate().take(16) {
+        rows[level / 4][level % 4] = scale;
+    }
+    rows
 }
 
 /// A vertex in the G-buffer pass's first vertex stream (48 bytes): `Vertex` without its

@@ -20,6 +20,7 @@
 
 #![warn(missing_docs)]
 
+mod alpha_coverage;
 mod builtin;
 mod camera;
 mod environment;
@@ -28,6 +29,7 @@ pub mod gltf;
 mod material;
 mod mesh;
 
+pub use alpha_coverage::{alpha_mip_scales, ALPHA_MIP_LEVELS};
 pub use builtin::{builtin_scene, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
 pub use camera::Camera;
 pub use environment::{
