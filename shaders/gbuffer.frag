@@ -13,6 +13,9 @@ layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec4 in_tangent;
 layout(location = 3) flat in uint in_material;
+#ifdef VERTEX_COLORS
+layout(location = 8) in vec4 in_color;  // glTF COLOR_0, multiplied into base colour and alpha
+#endif
 #ifndef TEXTURE_TRANSFORMS
 layout(location = 4) in vec2 in_uv;
 #else
@@ -80,7 +83,12 @@ void main() {
 #ifdef ALPHA_MASK
     // Cut-out materials (their own pipeline): the test is made here, the discard at the
     // end, so every implicit derivative below is taken with the whole quad alive.
-    bool cut_away = alpha_cut_away(material, base_color_texture, UV_BASE_COLOR);
+#ifdef VERTEX_COLORS
+    float vertex_alpha = in_color.a;
+#else
+    float vertex_alpha = 1.0;
+#endif
+    bool cut_away = alpha_cut_away(material, base_color_texture, UV_BASE_COLOR, vertex_alpha);
 #endif
 
     // Geometric frame: interpolated normal (facet normal if it is degenerate) and the
@@ -118,6 +126,9 @@ void main() {
     if (tex0.x >= 0) {
         base.rgb *= texture(base_color_texture, UV_BASE_COLOR).rgb;
     }
+#ifdef VERTEX_COLORS
+    base.rgb *= in_color.rgb;
+#endif
     vec4 metal_rough = tex0.y >= 0
         ? texture(metallic_roughness_texture, UV_METALLIC_ROUGHNESS)
         : vec4(1.0);

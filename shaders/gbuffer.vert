@@ -10,6 +10,9 @@ layout(location = 3) in vec2 in_uv;
 #ifdef TEXTURE_TRANSFORMS
 layout(location = 4) in vec2 in_uv1;
 #endif
+#ifdef VERTEX_COLORS
+layout(location = 5) in vec4 in_color;  // stream 2; read where the object's flag says
+#endif
 
 #include "bindings/gbuffer.glsl"  // set 0: see combustion_renderer::bindings::GBUFFER
 
@@ -22,6 +25,9 @@ layout(location = 0) out vec3 out_world_position;
 layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec4 out_tangent;
 layout(location = 3) flat out uint out_material;
+#ifdef VERTEX_COLORS
+layout(location = 8) out vec4 out_color;  // glTF COLOR_0, linear RGBA (white without one)
+#endif
 #ifndef TEXTURE_TRANSFORMS
 layout(location = 4) out vec2 out_uv;
 #else
@@ -40,6 +46,9 @@ void main() {
     out_normal = mat3(object.normal_matrix) * in_normal;
     out_tangent = vec4(mat3(object.model) * in_tangent.xyz, in_tangent.w);
     out_material = object.material_index.x;
+#ifdef VERTEX_COLORS
+    out_color = object.material_index.y != 0u ? in_color : vec4(1.0);
+#endif
 #ifndef TEXTURE_TRANSFORMS
     out_uv = in_uv;
 #else

@@ -11,11 +11,13 @@
 
 layout(location = 0) in vec2 in_base_color_uv;
 layout(location = 1) flat in uint in_material;
+layout(location = 2) in float in_vertex_alpha;
 #endif
 
 void main() {
 #ifdef ALPHA_MASK
-    if (alpha_cut_away(materials[in_material], base_color_texture, in_base_color_uv)) {
+    if (alpha_cut_away(materials[in_material], base_color_texture, in_base_color_uv,
+                       in_vertex_alpha)) {
         discard;
     }
 #endif

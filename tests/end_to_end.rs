@@ -770,7 +770,8 @@ fn lit_for_comparison(mut scene: Scene) -> Scene {
 }
 
 /// Khronos sample models (../shared/data/gltf) with textures, normal maps, anisotropy
-/// textures, double-sided planes and a lamp of point lights: compared as above. Without
+/// textures, double-sided planes, a lamp of point lights and vertex colours (COLOR_0:
+/// float RGBA, and normalised shorts on VertexColorTest's marks): compared as above. Without
 /// ../shared the test says so and passes, unless `COMBUSTION_REQUIRE_SHARED` is set.
 #[test]
 fn the_sample_models_are_what_they_show() {
@@ -784,8 +785,15 @@ fn the_sample_models_are_what_they_show() {
         "MetalRoughSpheresNoTextures",
         "LightsPunctualLamp",
         "SpecularTest",
+        "BoxVertexColors",
+        "VertexColorTest",
     ] {
-        let path = root.join(model).join(format!("glTF/{model}.gltf"));
+        let gltf = root.join(model).join(format!("glTF/{model}.gltf"));
+        let path = if gltf.exists() {
+            gltf
+        } else {
+            root.join(model).join(format!("glTF-Binary/{model}.glb"))
+        };
         let scene = combustion::SceneSource::File(path).load().unwrap();
         let scene = lit_for_comparison(scene);
         let comparison = compare_with_scene(&scene, &scene.lights, W, H);

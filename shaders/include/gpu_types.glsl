@@ -33,7 +33,8 @@ struct GpuMaterial {
 struct GpuObject {
     mat4 model;
     mat4 normal_matrix;             // inverse transpose of model (upper 3x3 used)
-    uvec4 material_index;           // x: index into the material table
+    uvec4 material_index;           // x: index into the material table, y: 1 if the mesh has
+                                    // vertex colours (stream 2)
 };
 
 // One light (std430, 64 bytes).

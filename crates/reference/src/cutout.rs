@@ -1,7 +1,7 @@
 //! Cut-out materials (glTF `alphaMode` MASK) for the ray casts: a triangle of an object
 //! whose material is a cut-out is hit only where the material's alpha — the base colour
-//! factor's alpha × the base colour texture's alpha — reaches its cutoff, so primary rays
-//! see through the holes and shadow rays pass them.
+//! factor's alpha × the base colour texture's alpha × the vertex colour's alpha — reaches
+//! its cutoff, so primary rays see through the holes and shadow rays pass them.
 //!
 //! The alpha is the texture's own at the hit point: level 0 filtered by the sampler's
 //! magnification filter (a point of the surface, not a pixel's footprint). The renderer
@@ -27,6 +27,8 @@ pub(crate) struct Cutouts {
 struct ObjectCutout {
     alpha: f64,
     cutoff: f64,
+    /// The mesh's vertex alphas (COLOR_0's) and indices, where some is below 1.
+    vertex_alpha: Option<Arc<(Vec<f64>, Vec<u32>)>>,
     /// The base colour texture's level 0, its sampler and its slot (coordinate set and
     /// transform), with the mesh's coordinates of that set and its indices.
     texture: Option<(Arc<MipChain>, Sampler, TextureRef, Arc<MeshCoordinates>)>,
@@ -84,11 +86,21 @@ impl Cutouts {
                     .clone();
                 (chain, slot.texture.sampler, slot.clone(), uv)
             });
+            let vertex_alpha = mesh.vertices.iter().any(|v| v.color[3] != 1.0).then(|| {
+                Arc::new((
+                    mesh.vertices
+                        .iter()
+                        .map(|v| f64::from(v.color[3]))
+                        .collect(),
+                    mesh.indices.clone(),
+                ))
+            });
             by_object.insert(
                 index,
                 ObjectCutout {
                     alpha: f64::from(material.alpha),
                     cutoff: f64::from(cutoff),
+                    vertex_alpha,
                     texture,
                 },
             );
@@ -108,8 +120,24 @@ impl Cutouts {
 
 impl ObjectCutout {
     fn alpha_at(&self, triangle: usize, [b1, b2]: [f64; 2]) -> f64 {
+        let weights = [1.0 - b1 - b2, b1, b2];
+        let vertex_alpha = self.vertex_alpha.as_ref().map_or(1.0, |mesh| {
+            let (alphas, indices) = &**mesh;
+            (0..3)
+                .map(|k| {
+                    indices
+                        .get(3 * triangle + k)
+                        .and_then(|&i| alphas.get(i as usize))
+                        .map_or(1.0, |a| a * weights[k])
+                })
+                .sum()
+        });
+        self.alpha * vertex_alpha * self.texture_alpha(triangle, weights)
+    }
+
+    fn texture_alpha(&self, triangle: usize, [b0, b1, b2]: [f64; 3]) -> f64 {
         let Some((chain, sampler, slot, mesh)) = &self.texture else {
-            return self.alpha;
+            return 1.0;
         };
         let corner = |k: usize| {
             mesh.indices
@@ -118,10 +146,9 @@ impl ObjectCutout {
                 .copied()
         };
         let (Some(p0), Some(p1), Some(p2)) = (corner(0), corner(1), corner(2)) else {
-            return self.alpha;
+            return 1.0;
         };
-        let b0 = 1.0 - b1 - b2;
         let uv = [0, 1].map(|c| b0 * p0[c] + b1 * p1[c] + b2 * p2[c]);
-        self.alpha * chain.sample(sampler, transformed_uv(slot, uv), 0.0)[3]
+        chain.sample(sampler, transformed_uv(slot, uv), 0.0)[3]
     }
 }

@@ -456,8 +456,15 @@ impl<'a> SceneShading<'a> {
         }
 
         let base_texture = lookup.sample_or(material.base_color_texture.as_ref(), [1.0; 4]);
-        let base_color: [f64; 3] =
-            std::array::from_fn(|c| f64::from(material.base_color[c]) * base_texture[c]);
+        // The vertex colour (glTF COLOR_0), interpolated in f64.
+        let vertex_color = |c: usize| -> f64 {
+            (0..3)
+                .map(|k| f64::from(vertices[k].color[c]) * weights[k])
+                .sum()
+        };
+        let base_color: [f64; 3] = std::array::from_fn(|c| {
+            f64::from(material.base_color[c]) * base_texture[c] * vertex_color(c)
+        });
         let metal_rough = lookup.sample_or(material.metallic_roughness_texture.as_ref(), [1.0; 4]);
         let metalness = f64::from(material.metalness) * metal_rough[2];
         let roughness = f64::from(material.roughness) * metal_rough[1];

@@ -212,6 +212,20 @@ impl GBufferPass {
                 offset: 0,
             });
         }
+        // The colours, a stream of their own, only where the shader reads them.
+        if variant.vertex_colors {
+            bindings.push(vk::VertexInputBindingDescription {
+                binding: 2,
+                stride: std::mem::size_of::<[f32; 4]>() as u32,
+                input_rate: vk::VertexInputRate::VERTEX,
+            });
+            attributes.push(vk::VertexInputAttributeDescription {
+                location: 5,
+                binding: 2,
+                format: vk::Format::R32G32B32A32_SFLOAT,
+                offset: 0,
+            });
+        }
         let mut color_formats = vec![
             storage.base_color.vk(),
             storage.surface.vk(),

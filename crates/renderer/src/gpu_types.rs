@@ -183,18 +183,20 @@ pub struct GpuObject {
     /// largest axis length (column-major): it maps normals to world directions (normalised
     /// in the shader).
     pub normal_matrix: [f32; 16],
-    /// x: the index of the object's material in the material table; yzw: 0.
+    /// x: the index of the object's material in the material table; y: 1 if its mesh
+    /// has vertex colours (stream 2), else 0; zw: 0.
     pub material_index: [u32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuObject>() == 144);
 
 impl GpuObject {
-    /// The table entry of `object`: its transform, its normal matrix and its material index.
-    pub fn new(object: &Object) -> Self {
+    /// The table entry of `object`: its transform, its normal matrix, its material index
+    /// and whether its mesh has vertex colours (`has_colors`: `Mesh::has_colors`).
+    pub fn new(object: &Object, has_colors: bool) -> Self {
         Self {
             model: object.transform.to_cols_array(),
             normal_matrix: normal_matrix(&object.transform).to_cols_array(),
-            material_index: [object.material as u32, 0, 0, 0],
+            material_index: [object.material as u32, u32::from(has_colors), 0, 0],
         }
     }
 }

@@ -48,7 +48,7 @@ impl ObjectDraw {
 
 /// Records one indexed draw per object of `scene` into `cmd` (recording, inside a
 /// rendering instance whose pipeline reads vertex stream 0 — and stream 1, the second
-/// coordinate set, if it declares one), culling the faces `faces` says. `per_object`
+/// coordinate set, and stream 2, the colours, if it declares them), culling the faces `faces` says. `per_object`
 /// runs first for each object, to bind what the pass binds per object and push its
 /// constants; where it returns false the object is not drawn (a pass that draws the
 /// opaque and the cut-out objects with different pipelines calls this once for each).
@@ -80,11 +80,15 @@ pub(crate) fn draw_objects(
         // which outlives the frame (a dropped scene is retired, not freed).
         unsafe {
             if bound_mesh != Some(mesh) {
+                // Stream 2, the colours: a mesh without them binds its first stream
+                // there (in range: 48 bytes per vertex against the 16 read), which the
+                // vertex stage does not use (the object's has-colours flag is 0).
+                let colors = buffers.colors.as_ref().unwrap_or(&buffers.vertices);
                 raw.cmd_bind_vertex_buffers(
                     cmd,
                     0,
-                    &[buffers.vertices.raw(), buffers.uv1.raw()],
-                    &[0, 0],
+                    &[buffers.vertices.raw(), buffers.uv1.raw(), colors.raw()],
+                    &[0, 0, 0],
                 );
                 raw.cmd_bind_index_buffer(cmd, buffers.indices.raw(), 0, vk::IndexType::UINT32);
                 bound_mesh = Some(mesh);

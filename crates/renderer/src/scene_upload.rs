@@ -154,6 +154,10 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
             .iter()
             .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
         alpha_mask: scene.materials.iter().any(|m| m.is_masked()),
+        vertex_colors: scene
+            .objects
+            .iter()
+            .any(|o| scene.meshes.get(o.mesh).is_some_and(Mesh::has_colors)),
         texture_transforms: scene.materials.iter().any(|m| {
             m.texture_slots()
                 .iter()
@@ -199,6 +203,9 @@ pub(crate) struct MeshBuffers {
     pub(crate) vertices: Buffer,
     /// Every vertex's second coordinate set (the TEXTURE_TRANSFORMS variant's stream).
     pub(crate) uv1: Buffer,
+    /// Every vertex's colour (RGBA32F; the VERTEX_COLORS variant's stream), for a mesh
+    /// with colours other than white ([`Mesh::has_colors`]) only.
+    pub(crate) colors: Option<Buffer>,
     pub(crate) indices: Buffer,
     pub(crate) index_count: u32,
 }
@@ -226,6 +233,17 @@ impl MeshBuffers {
                 bytemuck::cast_slice(&uv1),
                 vk::BufferUsageFlags::VERTEX_BUFFER,
             )?,
+            colors: if mesh.has_colors() {
+                let colors: Vec<[f32; 4]> = mesh.vertices.iter().map(|v| v.color).collect();
+                Some(Buffer::with_data(
+                    device,
+                    "vertex colours",
+                    bytemuck::cast_slice(&colors),
+                    vk::BufferUsageFlags::VERTEX_BUFFER,
+                )?)
+            } else {
+                None
+            },
             indices: Buffer::with_data(
                 device,
                 "indices",
@@ -290,7 +308,11 @@ impl Tables {
         scene: &Scene,
         textures: &SceneTextures,
     ) -> Result<Self, RenderError> {
-        let objects: Vec<GpuObject> = scene.objects.iter().map(GpuObject::new).collect();
+        let objects: Vec<GpuObject> = scene
+            .objects
+            .iter()
+            .map(|o| GpuObject::new(o, scene.meshes.get(o.mesh).is_some_and(Mesh::has_colors)))
+            .collect();
         let object_bounds = scene.object_bounds();
         let materials = material_table(scene, &textures.material_indices);
         let needs_table = scene.materials.iter().any(|m| m.conductor_from_base_color);

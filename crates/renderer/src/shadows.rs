@@ -769,10 +769,16 @@ impl ShadowCasterPass {
             offset: std::mem::offset_of!(Vertex, position) as u32,
         }];
         if masked {
-            // Both coordinate sets: the base colour slot may sample either.
+            // Both coordinate sets (the base colour slot may sample either) and the
+            // colours (their alpha; objects without them read white).
             bindings.push(vk::VertexInputBindingDescription {
                 binding: 1,
                 stride: std::mem::size_of::<[f32; 2]>() as u32,
+                input_rate: vk::VertexInputRate::VERTEX,
+            });
+            bindings.push(vk::VertexInputBindingDescription {
+                binding: 2,
+                stride: std::mem::size_of::<[f32; 4]>() as u32,
                 input_rate: vk::VertexInputRate::VERTEX,
             });
             attributes.extend([
@@ -786,6 +792,12 @@ impl ShadowCasterPass {
                     location: 2,
                     binding: 1,
                     format: vk::Format::R32G32_SFLOAT,
+                    offset: 0,
+                },
+                vk::VertexInputAttributeDescription {
+                    location: 3,
+                    binding: 2,
+                    format: vk::Format::R32G32B32A32_SFLOAT,
                     offset: 0,
                 },
             ]);

@@ -117,6 +117,10 @@ pub struct ShaderVariant {
     /// discards, for those materials' objects only; the other objects keep the pipeline
     /// without a discard (early depth testing intact).
     pub alpha_mask: bool,
+    /// Some drawn mesh has vertex colours (glTF COLOR_0): the G-buffer pipelines read the
+    /// colour stream and multiply it into the base colour and alpha (objects whose mesh
+    /// has none use white).
+    pub vertex_colors: bool,
     /// The Fresnel term ([`FresnelModel`]; a shading option, not a scene feature).
     pub fresnel: FresnelModel,
     /// The lighting pass can show a G-buffer channel or a BRDF term instead of radiance
@@ -175,6 +179,9 @@ impl ShaderVariant {
         if self.texture_transforms {
             defines.push(("TEXTURE_TRANSFORMS", None));
         }
+        if self.vertex_colors {
+            defines.push(("VERTEX_COLORS", None));
+        }
         match self.fresnel {
             FresnelModel::Full => {}
             FresnelModel::Schlick => defines.push(("FRESNEL_SCHLICK", None)),
@@ -210,14 +217,15 @@ impl ShaderVariant {
 
 impl ShaderVariant {
     /// The part of the variant the G-buffer shaders read (the emissive target, texture
-    /// transforms, cut-outs and the geometry floor); every other feature is the lighting
-    /// pass's.
+    /// transforms, cut-outs, vertex colours and the geometry floor); every other feature
+    /// is the lighting pass's.
     pub(crate) fn gbuffer_part(self) -> ShaderVariant {
         ShaderVariant {
             emissive: self.emissive,
             occlusion: self.occlusion,
             texture_transforms: self.texture_transforms,
             alpha_mask: self.alpha_mask,
+            vertex_colors: self.vertex_colors,
             floor: self.floor.filter(|f| *f == MeasurementFloor::Geometry),
             ..ShaderVariant::default()
         }

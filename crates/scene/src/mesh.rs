@@ -1,10 +1,11 @@
 use std::f32::consts::PI;
 
-/// A vertex as the G-buffer pass consumes it: `#[repr(C)]`, 56 bytes, plain old data
-/// (`bytemuck::Pod`), uploaded as is. Every component must be finite
-/// ([`Mesh::validate`]).
+/// A vertex as the G-buffer pass consumes it: `#[repr(C)]`, 72 bytes, plain old data
+/// (`bytemuck::Pod`). Every component must be finite, the colour's in [0, 1]
+/// ([`Mesh::validate`]). `Default` is the origin with no normal or tangent, coordinates
+/// (0, 0) and a white colour.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Vertex {
     /// Position in the mesh's own (object) space, metres; an [`crate::Object`]'s
     /// transform places it in the world.
@@ -21,6 +22,23 @@ pub struct Vertex {
     /// The second texture-coordinate set (glTF TEXCOORD_1; a copy of `uv` where the
     /// mesh has none), for texture slots that ask for set 1.
     pub uv1: [f32; 2],
+    /// Linear RGBA colour (glTF COLOR_0; white where the mesh has none), multiplied into
+    /// the material's base colour and alpha. Uploaded as a stream of its own, and only
+    /// for meshes that have a colour other than white ([`Mesh::has_colors`]).
+    pub color: [f32; 4],
+}
+
+impl Default for Vertex {
+    fn default() -> Self {
+        Self {
+            position: [0.0; 3],
+            normal: [0.0; 3],
+            tangent: [0.0; 4],
+            uv: [0.0; 2],
+            uv1: [0.0; 2],
+            color: [1.0; 4],
+        }
+    }
 }
 
 /// An indexed triangle mesh in its own (object) space.
@@ -61,6 +79,7 @@ impl Mesh {
                     tangent: [tangent[0], tangent[1], tangent[2], 1.0],
                     uv: [seg as f32 / segments as f32, ring as f32 / rings as f32],
                     uv1: [seg as f32 / segments as f32, ring as f32 / rings as f32],
+                    color: [1.0; 4],
                 });
             }
         }
@@ -95,6 +114,7 @@ impl Mesh {
             tangent: [1.0, 0.0, 0.0, 1.0],
             uv: [x / size + 0.5, z / size + 0.5],
             uv1: [x / size + 0.5, z / size + 0.5],
+            color: [1.0; 4],
         };
         Mesh {
             name: name.to_owned(),
@@ -103,9 +123,15 @@ impl Mesh {
         }
     }
 
+    /// Whether some vertex has a colour other than white (the renderer then uploads
+    /// and reads the colour stream).
+    pub fn has_colors(&self) -> bool {
+        self.vertices.iter().any(|v| v.color != [1.0; 4])
+    }
+
     /// Checks indices and attribute values: a whole number of triangles, every index
-    /// below the vertex count, and every component of every vertex attribute (`position`,
-    /// `normal`, `tangent`, `uv`, `uv1`) finite. The error message names the first
+    /// below the vertex count, every component of every vertex attribute (`position`,
+    /// `normal`, `tangent`, `uv`, `uv1`, `color`) finite and the colour's in [0, 1]. The error message names the first
     /// problem (the vertex and attribute, or the index).
     pub fn validate(&self) -> Result<(), String> {
         if self.indices.len() % 3 != 0 {
@@ -126,16 +152,23 @@ impl Mesh {
         }
         let finite = |v: &[f32]| v.iter().all(|x| x.is_finite());
         for (i, v) in self.vertices.iter().enumerate() {
-            let attributes: [(&str, &[f32]); 5] = [
+            let attributes: [(&str, &[f32]); 6] = [
                 ("position", &v.position),
                 ("normal", &v.normal),
                 ("tangent", &v.tangent),
                 ("uv", &v.uv),
                 ("uv1", &v.uv1),
+                ("color", &v.color),
             ];
             if let Some((name, values)) = attributes.iter().find(|(_, values)| !finite(values)) {
                 return Err(format!(
                     "vertex {i} has a NaN or infinite {name} {values:?}"
+                ));
+            }
+            if !v.color.iter().all(|c| (0.0..=1.0).contains(c)) {
+                return Err(format!(
+                    "vertex {i} has a colour {:?} outside [0, 1]",
+                    v.color
                 ));
             }
         }

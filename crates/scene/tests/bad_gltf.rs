@@ -380,3 +380,103 @@ fn alpha_modes_are_read_and_bad_cutoffs_refused() {
         "{error}"
     );
 }
+
+/// COLOR_0 (glTF: VEC3 or VEC4 of floats, normalised unsigned bytes or normalised
+/// unsigned shorts): each form is read into `Vertex::color` (VEC3 with alpha 1); a
+/// colour of integers that are not normalised, or of two components, is a one-line
+/// error naming COLOR_0; float components above 1 are clamped with a warning.
+#[test]
+fn vertex_colours_are_read_in_every_allowed_form() {
+    let with_colors =
+        |component: u32, normalized: bool, ty: &str, stride: usize, bytes: Vec<u8>| {
+            let mut root = one_triangle_file(&[0, 1, 2]);
+            let uri = format!("data:application/octet-stream;base64,{}", base64(&bytes));
+            root["buffers"]
+                .as_array_mut()
+                .unwrap()
+                .push(serde_json::json!({ "byteLength": bytes.len(), "uri": uri }));
+            let view = root["bufferViews"].as_array().unwrap().len();
+            root["bufferViews"]
+                .as_array_mut()
+                .unwrap()
+                .push(serde_json::json!({
+                    "buffer": 1, "byteLength": bytes.len(), "byteStride": stride, "target": 34962
+                }));
+            let accessor = root["accessors"].as_array().unwrap().len();
+            root["accessors"]
+                .as_array_mut()
+                .unwrap()
+                .push(serde_json::json!({
+                    "bufferView": view, "componentType": component, "normalized": normalized,
+                    "count": 3, "type": ty
+                }));
+            root["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] =
+                serde_json::json!(accessor);
+            import_slice(root.to_string().as_bytes(), &ImportOptions::default())
+        };
+    let colors_of = |scene: &combustion_scene::Scene| -> Vec<[f32; 4]> {
+        let mesh = &scene.meshes[0];
+        mesh.indices
+            .iter()
+            .map(|&i| mesh.vertices[i as usize].color)
+            .collect()
+    };
+    let floats = |values: &[f32]| {
+        values
+            .iter()
+            .flat_map(|x| x.to_le_bytes())
+            .collect::<Vec<u8>>()
+    };
+    // VEC4 floats.
+    let rgba = [
+        [1.0, 0.0, 0.0, 1.0],
+        [0.0, 1.0, 0.0, 0.5],
+        [0.0, 0.0, 1.0, 0.25],
+    ];
+    let (scene, report) =
+        with_colors(5126, false, "VEC4", 16, floats(rgba.as_flattened())).unwrap();
+    assert_eq!(colors_of(&scene), rgba.to_vec());
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    // VEC3 normalised bytes (each element padded to 4 bytes): alpha 1.
+    let bytes = vec![255, 0, 0, 0, 0, 255, 0, 0, 0, 0, 51, 0];
+    let (scene, _) = with_colors(5121, true, "VEC3", 4, bytes).unwrap();
+    assert_eq!(
+        colors_of(&scene),
+        vec![
+            [1.0, 0.0, 0.0, 1.0],
+            [0.0, 1.0, 0.0, 1.0],
+            [0.0, 0.0, 0.2, 1.0]
+        ]
+    );
+    // VEC4 normalised shorts.
+    let shorts: Vec<u8> = [65535u16, 0, 0, 65535, 0, 65535, 0, 32768, 0, 0, 65535, 0]
+        .iter()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    let (scene, _) = with_colors(5123, true, "VEC4", 8, shorts).unwrap();
+    assert_eq!(colors_of(&scene)[1], [0.0, 1.0, 0.0, 32768.0 / 65535.0]);
+    // Not allowed: bytes that are not normalised, two components.
+    for (component, normalized, ty, stride, bytes, words) in [
+        (5121, false, "VEC4", 4, vec![255u8; 12], "normalised"),
+        (5126, false, "VEC2", 8, floats(&[0.5; 6]), "VEC2"),
+    ] {
+        let error = with_colors(component, normalized, ty, stride, bytes)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("COLOR_0") && error.contains(words) && !error.contains('\n'),
+            "{error}"
+        );
+    }
+    // Floats above 1: clamped, with a warning.
+    let (scene, report) = with_colors(5126, false, "VEC4", 16, floats(&[1.5; 12])).unwrap();
+    assert_eq!(colors_of(&scene), vec![[1.0; 4]; 3]);
+    assert!(
+        report
+            .warnings
+            .iter()
+            .any(|w| w.contains("COLOR_0") && w.contains("clamped")),
+        "{:?}",
+        report.warnings
+    );
+}

@@ -261,8 +261,10 @@ fn textured_scene() -> Scene {
 /// 2×2-texel holes, linear filtering) and a gradient panel whose alpha rises across u,
 /// scaled by a base colour alpha of 0.8, cut at 0.3 (present from u ≈ 0.38 on); a
 /// panel whose factor alone (0.4) is below its cutoff (0.5), so it is nowhere; a
-/// blended material would be drawn opaque, so none is here. A sun from behind the
-/// panels and a point light in front that both cast the holes' shadows onto the floor.
+/// blended material would be drawn opaque, so none is here; a vertex-coloured panel
+/// (COLOR_0 RGBA: its colours multiply the base colour, its alpha is cut at 0.5). A sun
+/// from behind the panels and a point light in front that both cast the holes' shadows
+/// onto the floor.
 fn cutout_scene() -> Scene {
     let lattice = image("lattice", ColorSpace::Srgb, |x, y| {
         let hole = x % 4 >= 2 && y % 4 >= 2;
@@ -326,15 +328,39 @@ fn cutout_scene() -> Scene {
         transform,
         casts_shadows: true,
     };
+    // Vertex colours (COLOR_0): red, green, blue and white corners, the two far ones
+    // with an alpha of 0.2, cut at 0.5: the panel is cut along the alpha's ramp.
+    let mut coloured = Mesh::plane("coloured panel", 1.0);
+    for (v, color) in coloured.vertices.iter_mut().zip([
+        [1.0, 0.2, 0.2, 1.0],
+        [0.2, 1.0, 0.2, 1.0],
+        [0.2, 0.2, 1.0, 0.2],
+        [1.0, 1.0, 1.0, 0.2],
+    ]) {
+        v.color = color;
+    }
+    let vertex_coloured = Material {
+        name: "vertex coloured".into(),
+        base_color: [0.9, 0.9, 0.9],
+        roughness: 0.5,
+        alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+        double_sided: true,
+        ..Material::default()
+    };
     Scene {
         name: "cutout".into(),
-        meshes: vec![Mesh::plane("floor", 6.0), Mesh::plane("panel", 1.0)],
-        materials: vec![floor, lattice, gradient, absent],
+        meshes: vec![
+            Mesh::plane("floor", 6.0),
+            Mesh::plane("panel", 1.0),
+            coloured,
+        ],
+        materials: vec![floor, lattice, gradient, absent, vertex_coloured],
         objects: vec![
             object(0, 0, Mat4::IDENTITY),
             object(1, 1, upright(1.6, 0.0, Vec3::new(-0.6, 0.9, 0.0))),
             object(1, 2, upright(1.0, -0.35, Vec3::new(0.9, 0.6, -0.3))),
             object(1, 3, upright(0.8, 0.0, Vec3::new(0.2, 0.5, 0.6))),
+            object(2, 4, upright(0.8, 0.7, Vec3::new(0.8, 0.41, 1.4))),
         ],
         lights: vec![
             Light::Directional {
@@ -590,7 +616,8 @@ fn the_cutout_scene_is_current() {
     .unwrap_or_else(|e| panic!("{e} (regenerate with COMBUSTION_BLESS=1)"));
     assert_same_scene(&cutout_scene(), &scene);
     assert!(report.warnings.is_empty(), "{report}");
-    assert_eq!(scene.features().masked, 3);
+    assert_eq!(scene.features().masked, 4);
+    assert!(scene.meshes[2].has_colors());
 }
 
 #[test]

@@ -137,6 +137,45 @@ fn checked_accessor(
     Ok((accessor, component.0, ty))
 }
 
+/// Reads accessor `index` as vertex colours (glTF COLOR_0): VEC3 (alpha 1) or VEC4, of
+/// floats or normalised unsigned bytes or shorts, as the specification allows; anything
+/// else is an error naming what the accessor is.
+pub(crate) fn read_colors(
+    root: &json::Root,
+    buffers: &mut Buffers,
+    index: usize,
+) -> Result<Vec<[f32; 4]>, String> {
+    use json::accessor::ComponentType as C;
+    let (accessor, component, ty) = checked_accessor(root, index)?;
+    let allowed = match component {
+        C::F32 => true,
+        C::U8 | C::U16 => accessor.normalized,
+        _ => false,
+    };
+    if !allowed {
+        return Err(format!(
+            "accessor {index} is {}{:?}; colours are floats or normalised unsigned bytes or shorts",
+            if accessor.normalized {
+                "normalised "
+            } else {
+                ""
+            },
+            component
+        ));
+    }
+    match dimensions(*ty) {
+        4 => read_floats::<4>(root, buffers, index),
+        3 => Ok(read_floats::<3>(root, buffers, index)?
+            .into_iter()
+            .map(|[r, g, b]| [r, g, b, 1.0])
+            .collect()),
+        _ => Err(format!(
+            "accessor {index} is {}, expected VEC3 or VEC4",
+            type_name(*ty)
+        )),
+    }
+}
+
 /// Reads accessor `index` as `N` floats per element (integer components converted, and
 /// normalised when the accessor says so).
 pub(crate) fn read_floats<const N: usize>(

@@ -16,6 +16,8 @@ pub(crate) struct PrimitiveData {
     pub uvs: Option<Vec<[f32; 2]>>,
     /// TEXCOORD_1.
     pub uvs1: Option<Vec<[f32; 2]>>,
+    /// COLOR_0 as RGBA (alpha 1 for a VEC3 accessor), in [0, 1].
+    pub colors: Option<Vec<[f32; 4]>>,
     /// A triangle list.
     pub indices: Vec<u32>,
 }
@@ -107,6 +109,10 @@ pub(crate) fn build_mesh(
             finite_check(name, uvs)?;
         }
     }
+    if let Some(colors) = &data.colors {
+        check_len("COLOR_0", colors.len())?;
+        finite_check("COLOR_0", colors)?;
+    }
     if let Some(&bad) = data.indices.iter().find(|&&i| i as usize >= count) {
         return Err(format!("index {bad} is out of range ({count} vertices)"));
     }
@@ -136,6 +142,7 @@ pub(crate) fn build_mesh(
     let uv_of = |i: u32| data.uvs.as_ref().map_or([0.0; 2], |uv| uv[i as usize]);
     // Set 1 falls back to set 0 where the primitive has none.
     let uv1_of = |i: u32| data.uvs1.as_ref().map_or(uv_of(i), |uv| uv[i as usize]);
+    let color_of = |i: u32| data.colors.as_ref().map_or([1.0; 4], |c| c[i as usize]);
     let (mut vertices, mut indices, tangents_missing) = match &data.normals {
         None => {
             // glTF: flat normals, and given tangents are ignored.
@@ -150,6 +157,7 @@ pub(crate) fn build_mesh(
                         tangent: [0.0; 4],
                         uv: uv_of(i),
                         uv1: uv1_of(i),
+                        color: color_of(i),
                     });
                 }
             }
@@ -164,6 +172,7 @@ pub(crate) fn build_mesh(
                     tangent: data.tangents.as_ref().map_or([0.0; 4], |t| t[i]),
                     uv: uv_of(i as u32),
                     uv1: uv1_of(i as u32),
+                    color: color_of(i as u32),
                 })
                 .collect();
             // Normals must be unit: normalise those that are not; replace zero ones by
@@ -434,6 +443,7 @@ mod tests {
             tangents: None,
             uvs: uvs.then(|| vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
             uvs1: None,
+            colors: None,
             indices: vec![0, 1, 2, 0, 2, 3],
         }
     }

@@ -11,7 +11,7 @@ use glam::{Mat4, Quat, Vec3};
 use gltf::json;
 use gltf::json::validation::{Checked, Validate};
 
-use super::accessor::{read_floats, read_indices};
+use super::accessor::{read_colors, read_floats, read_indices};
 use super::geometry::{build_mesh, PrimitiveData};
 use super::image::Decoded;
 use super::material::default_material;
@@ -93,7 +93,7 @@ const MAX_OBJECTS: usize = 1 << 21;
 /// The meshes a file builds may take, together, this many bytes (vertices and indices)
 /// whatever the file holds, and [`MESH_BYTES_PER_BYTE_READ`] more per byte of the file
 /// and the buffers it read. Meshes legitimately grow past their data (a 2-byte index
-/// becomes a 56-byte vertex for a mesh without normals; strips triple their indices;
+/// becomes a 72-byte vertex for a mesh without normals; strips triple their indices;
 /// primitives sharing one vertex buffer each get all of it), but not without end: a few
 /// kilobytes of JSON naming one buffer from a thousand primitives are refused.
 const MESH_BYTES_FLOOR: u64 = 256 << 20;
@@ -101,7 +101,14 @@ const MESH_BYTES_FLOOR: u64 = 256 << 20;
 const MESH_BYTES_PER_BYTE_READ: u64 = 256;
 
 /// The vertex attributes a [`crate::Mesh`] is built from.
-const MESH_ATTRIBUTES: [&str; 5] = ["POSITION", "NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1"];
+const MESH_ATTRIBUTES: [&str; 6] = [
+    "POSITION",
+    "NORMAL",
+    "TANGENT",
+    "TEXCOORD_0",
+    "TEXCOORD_1",
+    "COLOR_0",
+];
 
 /// A primitive's vertex attributes (name, accessor), shared by every placement of it (a
 /// file may place one primitive two million times).
@@ -676,6 +683,27 @@ impl Importer<'_> {
             .map(|a| read_floats::<2>(root, &mut self.buffers, a))
             .transpose()
             .map_err(|e| err(format!("TEXCOORD_1: {e}")))?;
+        let mut colors = attribute("COLOR_0")
+            .map(|a| read_colors(root, &mut self.buffers, a))
+            .transpose()
+            .map_err(|e| err(format!("COLOR_0: {e}")))?;
+        // Float colours outside [0, 1] (the range glTF gives them) are clamped, with a
+        // warning; NaN is left for the mesh's finiteness check to refuse.
+        if let Some(colors) = &mut colors {
+            let outside = colors
+                .iter()
+                .flatten()
+                .filter(|c| !(0.0..=1.0).contains(*c) && c.is_finite())
+                .count();
+            if outside > 0 {
+                for c in colors.iter_mut().flatten().filter(|c| c.is_finite()) {
+                    *c = c.clamp(0.0, 1.0);
+                }
+                self.warn(format!(
+                    "mesh {mesh_index} primitive {primitive}: {outside} COLOR_0 component(s) outside [0, 1]; clamped"
+                ));
+            }
+        }
         let raw: Vec<u32> = match key.indices {
             Some(a) => read_indices(root, &mut self.buffers, a)
                 .map_err(|e| err(format!("indices: {e}")))?,
@@ -742,6 +770,7 @@ impl Importer<'_> {
                 tangents,
                 uvs,
                 uvs1,
+                colors,
                 indices,
             },
             key.uv_tangents,

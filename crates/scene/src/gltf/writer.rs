@@ -332,6 +332,11 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
             let uvs1: Vec<[f32; 2]> = mesh.vertices.iter().map(|v| v.uv1).collect();
             attributes["TEXCOORD_1"] = json!(bin.floats(&uvs1, false));
         }
+        // Colours only where some vertex is not white (the importer's default).
+        if mesh.has_colors() {
+            let colors: Vec<[f32; 4]> = mesh.vertices.iter().map(|v| v.color).collect();
+            attributes["COLOR_0"] = json!(bin.floats(&colors, false));
+        }
         let indices = bin.indices(&mesh.indices);
         mesh_attributes[i] = Some((attributes, indices));
     }
