@@ -198,33 +198,14 @@ impl GBufferPass {
                 offset: std::mem::offset_of!(Vertex, uv) as u32,
             },
         ];
-        // The second coordinate set, a stream of its own, only where the shader reads it.
+        // The second coordinate set and the colours, streams of their own, only where the
+        // shader reads them.
+        use crate::mesh_draw::ExtraStream;
         if variant.texture_transforms {
-            bindings.push(vk::VertexInputBindingDescription {
-                binding: 1,
-                stride: std::mem::size_of::<[f32; 2]>() as u32,
-                input_rate: vk::VertexInputRate::VERTEX,
-            });
-            attributes.push(vk::VertexInputAttributeDescription {
-                location: 4,
-                binding: 1,
-                format: vk::Format::R32G32_SFLOAT,
-                offset: 0,
-            });
+            ExtraStream::SecondCoordinates.declare(4, &mut bindings, &mut attributes);
         }
-        // The colours, a stream of their own, only where the shader reads them.
         if variant.vertex_colors {
-            bindings.push(vk::VertexInputBindingDescription {
-                binding: 2,
-                stride: std::mem::size_of::<[f32; 4]>() as u32,
-                input_rate: vk::VertexInputRate::VERTEX,
-            });
-            attributes.push(vk::VertexInputAttributeDescription {
-                location: 5,
-                binding: 2,
-                format: vk::Format::R32G32B32A32_SFLOAT,
-                offset: 0,
-            });
+            ExtraStream::Colors.declare(5, &mut bindings, &mut attributes);
         }
         let mut color_formats = vec![
             storage.base_color.vk(),

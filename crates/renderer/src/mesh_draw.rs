@@ -20,6 +20,44 @@ pub(crate) enum Faces {
     Both,
 }
 
+/// The vertex streams besides the first (`GpuVertex`) that [`draw_objects`] binds for
+/// every mesh: the second coordinate set and the colours.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ExtraStream {
+    /// Stream 1: `Vertex::uv1`, two f32 per vertex.
+    SecondCoordinates,
+    /// Stream 2: `Vertex::color`, four f32 per vertex (a mesh without colours binds
+    /// another buffer there, see [`draw_objects`]).
+    Colors,
+}
+
+impl ExtraStream {
+    /// The binding and the attribute a pipeline declares to read this stream at shader
+    /// input `location`.
+    pub(crate) fn declare(
+        self,
+        location: u32,
+        bindings: &mut Vec<vk::VertexInputBindingDescription>,
+        attributes: &mut Vec<vk::VertexInputAttributeDescription>,
+    ) {
+        let (binding, format, stride) = match self {
+            Self::SecondCoordinates => (1, vk::Format::R32G32_SFLOAT, 8),
+            Self::Colors => (2, vk::Format::R32G32B32A32_SFLOAT, 16),
+        };
+        bindings.push(vk::VertexInputBindingDescription {
+            binding,
+            stride,
+            input_rate: vk::VertexInputRate::VERTEX,
+        });
+        attributes.push(vk::VertexInputAttributeDescription {
+            location,
+            binding,
+            format,
+            offset: 0,
+        });
+    }
+}
+
 /// What a pass learns of each object before it is drawn.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ObjectDraw {

@@ -771,36 +771,15 @@ impl ShadowCasterPass {
         if masked {
             // Both coordinate sets (the base colour slot may sample either) and the
             // colours (their alpha; objects without them read white).
-            bindings.push(vk::VertexInputBindingDescription {
-                binding: 1,
-                stride: std::mem::size_of::<[f32; 2]>() as u32,
-                input_rate: vk::VertexInputRate::VERTEX,
+            attributes.push(vk::VertexInputAttributeDescription {
+                location: 1,
+                binding: 0,
+                format: vk::Format::R32G32_SFLOAT,
+                offset: std::mem::offset_of!(Vertex, uv) as u32,
             });
-            bindings.push(vk::VertexInputBindingDescription {
-                binding: 2,
-                stride: std::mem::size_of::<[f32; 4]>() as u32,
-                input_rate: vk::VertexInputRate::VERTEX,
-            });
-            attributes.extend([
-                vk::VertexInputAttributeDescription {
-                    location: 1,
-                    binding: 0,
-                    format: vk::Format::R32G32_SFLOAT,
-                    offset: std::mem::offset_of!(Vertex, uv) as u32,
-                },
-                vk::VertexInputAttributeDescription {
-                    location: 2,
-                    binding: 1,
-                    format: vk::Format::R32G32_SFLOAT,
-                    offset: 0,
-                },
-                vk::VertexInputAttributeDescription {
-                    location: 3,
-                    binding: 2,
-                    format: vk::Format::R32G32B32A32_SFLOAT,
-                    offset: 0,
-                },
-            ]);
+            use crate::mesh_draw::ExtraStream;
+            ExtraStream::SecondCoordinates.declare(2, &mut bindings, &mut attributes);
+            ExtraStream::Colors.declare(3, &mut bindings, &mut attributes);
         }
         Ok(Pipeline::graphics(
             device,
