@@ -931,6 +931,7 @@ impl<'c> Engine<'c> {
                 lights: &lights,
                 overlay: &[],
                 environment: None,
+                background: combustion::renderer::Background::None,
             };
             if let Err(e) = renderer.record(cmd, slot, scene, &inputs, &target) {
                 // SAFETY: end the (empty) recording so the buffer can be reset later.

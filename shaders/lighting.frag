@@ -21,6 +21,7 @@ layout(push_constant) uniform LightingPush {
     vec4 camera_position;
     uvec4 counts;  // x: light count; y: debug view (DEBUG_VIEWS variant; 0: none);
                    // z: tiles across (0: no culling, every light); w: tile list stride
+    vec4 background;  // where no surface is: rgb radiance, or w = 1: the environment's
 } push;
 
 #ifdef DEBUG_VIEWS
@@ -155,7 +156,18 @@ void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     float depth = texelFetch(gbuffer_depth, pixel, 0).r;
     if (depth >= 1.0) {
-        out_radiance = vec4(0.0);  // background: nothing was drawn here
+        // Background: nothing was drawn here (alpha 0 marks it).
+        out_radiance = vec4(push.background.rgb, 0.0);
+#ifdef ENVIRONMENT
+        if (push.background.w != 0.0) {
+            // The environment along the pixel's ray: through a point of the view volume
+            // at depth 0.5 (finite with an infinite far plane too).
+            vec2 ndc = gl_FragCoord.xy / vec2(textureSize(gbuffer_depth, 0)) * 2.0 - 1.0;
+            vec4 along = push.inverse_view_projection * vec4(ndc, 0.5, 1.0);
+            vec3 direction = normalize(along.xyz / along.w - push.camera_position.xyz);
+            out_radiance = vec4(textureLod(environment_specular, direction, 0.0).rgb, 0.0);
+        }
+#endif
         return;
     }
     vec4 base_metal = texelFetch(gbuffer_base_color_metalness, pixel, 0);

@@ -1570,3 +1570,52 @@ fn validate_fails_the_run_on_any_validation_message() {
     assert!(png.exists());
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `--background`: `R,G,B` puts that radiance where no surface is (in the EXR, exactly);
+/// a scene lit by an environment shows it by default, `none` leaves it black; a value
+/// that is not a radiance is a usage error naming the option.
+#[test]
+fn the_background_is_what_the_option_says() {
+    let dir = scratch("background");
+    let (width, height) = (64u32, 48u32);
+    let render = |scene: &str, background: Option<&str>, name: &str| {
+        let exr = dir.join(format!("{name}.exr"));
+        let mut args = vec![
+            "render".to_owned(),
+            scene.to_owned(),
+            "--width".into(),
+            width.to_string(),
+            "--height".into(),
+            height.to_string(),
+            "--hdr".into(),
+            exr.to_str().unwrap().to_owned(),
+            "--validate".into(),
+        ];
+        if let Some(b) = background {
+            args.extend(["--background".to_owned(), b.to_owned()]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (code, stdout, stderr) = combustion(&args);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        read_exr(&exr).2
+    };
+    // The corner pixel of builtin:spheres and spheres-studio shows no surface.
+    let corner = 0;
+    let coloured = render("builtin:spheres", Some("0.5,0.25,2"), "coloured");
+    assert_eq!(coloured[corner], [0.5, 0.25, 2.0]);
+    let black = render("builtin:spheres", None, "plain");
+    assert_eq!(black[corner], [0.0; 3]);
+    let studio = render("builtin:spheres-studio", None, "studio");
+    assert!(
+        studio[corner].iter().all(|&c| c > 0.01),
+        "{:?}",
+        studio[corner]
+    );
+    let studio_none = render("builtin:spheres-studio", Some("none"), "studio-none");
+    assert_eq!(studio_none[corner], [0.0; 3]);
+    for bad in ["1,2", "red", "1,2,nan", "0,0,3e38", "-1,0,0"] {
+        let (code, _, stderr) = combustion(&["render", "--background", bad]);
+        assert_eq!(code, 2, "{bad}: {stderr}");
+        assert!(stderr.contains("--background"), "{bad}: {stderr}");
+    }
+}

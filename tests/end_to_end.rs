@@ -228,6 +228,11 @@ fn tie_margins(precision: &GBufferPrecision) -> TieMargins {
 /// polynomial measured at ≈ 0.4 %: docs/gbuffer.md, "sRGB by hand").
 const SRGB_TEXTURE_DECODE: f64 = 4e-3;
 
+/// The device's sub-pixel precision (`VkPhysicalDeviceLimits::subPixelPrecisionBits`;
+/// lavapipe reports 8): vertex positions are snapped to 2^−bits of a pixel before
+/// rasterisation.
+const SUB_PIXEL_BITS: i32 = 8;
+
 /// The device's sub-texel precision (`VkPhysicalDeviceLimits::subTexelPrecisionBits`;
 /// lavapipe reports 8): a filter's sample position is rounded to 2^−bits of a texel.
 const SUB_TEXEL_BITS: i32 = 8;
@@ -268,7 +273,8 @@ fn turned_normal_change(shading: &SceneShading, surface: &SurfacePoint, angle: f
 /// - the normal turned by [`NORMAL_ANGLE`], or by what a normal map's texture error
 ///   allows (2·codes/255 in x and y, times its scale);
 /// - the point moved by `common::position_bound` along each axis;
-/// - a conversion rounding the other way near a tie ([`TIE_MARGIN`]);
+/// - a conversion rounding the other way near a tie ([`TIE_MARGIN`], or wider where
+///   vertex colours vary: [`SUB_PIXEL_BITS`]);
 /// - textures sampled half a level finer or coarser (`lod_neighbours`: the Vulkan scale
 ///   factor's latitude), and every textured input off by [`texture_codes`] 8-bit codes.
 fn allowance(
@@ -317,8 +323,25 @@ fn allowance(
     );
 
     // The values and the normal near their ties, each on its own (either may go the
-    // other way alone).
-    let margins = tie_margins(precision);
+    // other way alone). Vertex colours widen the values' margin: the rasteriser
+    // interpolates them from vertices snapped to 2^−SUB_PIXEL_BITS of a pixel, which
+    // moves the colour at a pixel's centre by up to the gradient × 2^−SUB_PIXEL_BITS
+    // (half a step on each axis), i.e. by that many 8-bit codes of the sRGB form the
+    // conductor tables are indexed by.
+    let mut margins = tie_margins(precision);
+    if exact.vertex_color_gradient > 0.0 {
+        let moved = exact.vertex_color_gradient * 2f64.powi(-SUB_PIXEL_BITS);
+        let codes = exact
+            .brdf
+            .base_color
+            .iter()
+            .flat_map(|&c| {
+                [c - moved, c + moved]
+                    .map(|m| (srgb_encode(m.clamp(0.0, 1.0)) - srgb_encode(c)).abs() * 255.0)
+            })
+            .fold(0.0, f64::max);
+        margins.values = margins.values.max(codes);
+    }
     for margins in [
         TieMargins {
             normal: 0.0,

@@ -492,6 +492,7 @@ impl ExactEdges {
             lights: &scene.lights,
             overlay: &[],
             environment: None,
+            background: combustion::renderer::Background::None,
         };
         let light = scene.lights[0].clone();
         let cascades = match light {

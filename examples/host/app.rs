@@ -465,6 +465,7 @@ impl Host {
             lights: &lights,
             overlay: &[],
             environment: self.frame_environments.get(scene).and_then(Option::as_ref),
+            background: combustion::renderer::Background::None,
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {

@@ -8,9 +8,9 @@ use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, Ty
 use clap::{ArgAction, ArgGroup, Args, Parser, Subcommand};
 
 use combustion::renderer::{
-    BaseColorStorage, Distribution, FresnelModel, GBufferStorage, HdrFormat, LightCulling,
-    RendererSettings, ShadingOptions, ShadowFilter, ShadowSettings, SurfaceStorage, MAX_CASCADES,
-    MAX_FRAMES_IN_FLIGHT,
+    Background, BaseColorStorage, Distribution, FresnelModel, GBufferStorage, HdrFormat,
+    LightCulling, RendererSettings, ShadingOptions, ShadowFilter, ShadowSettings, SurfaceStorage,
+    MAX_CASCADES, MAX_FRAMES_IN_FLIGHT,
 };
 use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
 use combustion::spectra::BuiltinMetal;
@@ -180,6 +180,56 @@ pub(crate) struct FrameArgs {
     pub(crate) gbuffer_surface: SurfaceStorage,
 }
 
+/// What a shown frame has behind the scene (`render`, `view`).
+#[derive(Args)]
+pub(crate) struct BackgroundArg {
+    /// What shows where no surface is: `environment` (the environment lighting the
+    /// scene), `none` (black) or `R,G,B` (a radiance, W/sr/m² per channel); by default
+    /// the environment where one lights the scene, else none
+    #[arg(long, value_name = "BACKGROUND", allow_hyphen_values = true, value_parser = parse_background)]
+    pub(crate) background: Option<Background>,
+}
+
+impl BackgroundArg {
+    /// The background asked for, else the environment where `scene` has one, else none.
+    pub(crate) fn for_scene(&self, scene: &Scene) -> Background {
+        Background::asked_or_default(self.background, scene)
+    }
+}
+
+/// `--background`: `environment`, `none` or `R,G,B` (each a radiance between 0 and the
+/// scene's bound).
+fn parse_background(text: &str) -> Result<Background, String> {
+    match text {
+        "environment" => return Ok(Background::Environment),
+        "none" => return Ok(Background::None),
+        _ => {}
+    }
+    let parts: Vec<&str> = text.split(',').collect();
+    let [r, g, b] = parts[..] else {
+        return Err("is not environment, none or R,G,B".to_owned());
+    };
+    Ok(Background::Color([
+        radiance_channel(r)?,
+        radiance_channel(g)?,
+        radiance_channel(b)?,
+    ]))
+}
+
+/// One channel of a radiance given on the command line: between 0 and the scene's
+/// bound (an f32 the shading's products keep finite).
+fn radiance_channel(part: &str) -> Result<f32, String> {
+    match part.trim().parse::<f32>() {
+        Ok(x) if (0.0..=combustion::scene::MAX_RADIANCE).contains(&x) => Ok(x),
+        Ok(_) => Err(format!(
+            "`{}` must be between 0 and {:e} (a radiance, W·sr⁻¹·m⁻²)",
+            shortened(part),
+            combustion::scene::MAX_RADIANCE
+        )),
+        Err(_) => Err(format!("`{}` is not a number", shortened(part))),
+    }
+}
+
 pub(crate) const HDR_FORMATS: [(&str, HdrFormat); 2] = [
     ("f16", HdrFormat::Rgba16Float),
     ("f32", HdrFormat::Rgba32Float),
@@ -279,6 +329,8 @@ pub(crate) struct RenderArgs {
     #[command(flatten)]
     pub(crate) frame: FrameArgs,
     #[command(flatten)]
+    pub(crate) background: BackgroundArg,
+    #[command(flatten)]
     pub(crate) shading: ShadingArgs,
     #[command(flatten)]
     pub(crate) device: DeviceArgs,
@@ -353,6 +405,8 @@ pub(crate) struct ViewArgs {
     pub(crate) error_view: bool,
     #[command(flatten)]
     pub(crate) frame: FrameArgs,
+    #[command(flatten)]
+    pub(crate) background: BackgroundArg,
     #[command(flatten)]
     pub(crate) device: DeviceArgs,
 }
@@ -717,19 +771,7 @@ impl EnvironmentChoice {
             };
         };
         if let Some(rgb) = text.strip_prefix("uniform:") {
-            // A radiance: between 0 and the scene's bound (an f32 the shading's products
-            // keep finite).
-            let channel = |part: &str| -> Result<f32, String> {
-                match part.trim().parse::<f32>() {
-                    Ok(x) if (0.0..=combustion::scene::MAX_RADIANCE).contains(&x) => Ok(x),
-                    Ok(_) => Err(format!(
-                        "`{}` must be between 0 and {:e} (a radiance, W·sr⁻¹·m⁻²)",
-                        shortened(part),
-                        combustion::scene::MAX_RADIANCE
-                    )),
-                    Err(_) => Err(format!("`{}` is not a number", shortened(part))),
-                }
-            };
+            let channel = radiance_channel;
             let parts: Vec<&str> = rgb.split(',').collect();
             return match parts[..] {
                 [r, g, b] => Ok(Self::Uniform([channel(r)?, channel(g)?, channel(b)?])),

@@ -64,7 +64,24 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     settings.shading.energy_compensation = o.shading.energy_compensation;
     settings.shading.shadows = o.shading.shadows();
     let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
-    let frame = headless.render(&scene, o.frame.width, o.frame.height)?;
+    let frame = {
+        let renderer = headless.renderer();
+        let gpu_scene = renderer.upload(&scene)?;
+        let inputs = combustion::renderer::FrameInputs {
+            background: o.background.for_scene(&scene),
+            ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings.exposure)
+        };
+        renderer.render_with(
+            &gpu_scene,
+            &inputs,
+            o.frame.width,
+            o.frame.height,
+            combustion::renderer::Readback {
+                images: true,
+                gbuffer: false,
+            },
+        )?
+    };
     let validation = headless.validation_log();
     drop(headless);
     check_validation(&validation)?;

@@ -27,7 +27,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use combustion_renderer::{
-    ColorTarget, Corner, DebugView, FrameInputs, FrameTarget, OverlayPanel, Renderer,
+    Background, ColorTarget, Corner, DebugView, FrameInputs, FrameTarget, OverlayPanel, Renderer,
     RendererSettings, ShadingOptions,
 };
 use combustion_vk::{
@@ -72,6 +72,9 @@ pub struct ViewerDesc {
     pub overlay: bool,
     /// Start in the error view (X toggles it while running).
     pub error_view: bool,
+    /// What shows where no surface is; `None`: the environment where one lights the
+    /// scene, else nothing.
+    pub background: Option<Background>,
 }
 
 /// The clock of scripted runs: frame n of a camera path is at time n / 30 s.
@@ -384,6 +387,8 @@ struct State {
     original: combustion_scene::Scene,
     overrides: controls::Overrides,
     exposure: f32,
+    /// The background asked for (`None`: the environment where one lights the scene).
+    background: Option<Background>,
     /// The scene file's modification time when loaded, and when it was last checked.
     modified: Option<std::time::SystemTime>,
     last_poll: Instant,
@@ -495,6 +500,7 @@ impl State {
             original: scene.clone(),
             overrides: controls::Overrides::default(),
             exposure: desc.settings.exposure,
+            background: desc.background,
             last_poll: Instant::now(),
             stale: true,
             cameras,
@@ -677,6 +683,7 @@ impl State {
             lights: &self.gpu_scene.scene().lights,
             overlay: &panels,
             environment: None,
+            background: self.background(),
         };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
@@ -826,6 +833,7 @@ impl State {
             lights: &self.gpu_scene.scene().lights,
             overlay: &[],
             environment: None,
+            background: self.background(),
         };
         let error = inspect::measure_error(
             &mut self.renderer,
@@ -891,6 +899,15 @@ impl State {
     }
 
     /// The window's title: the scene, the toggles, the error view, the GPU time.
+    /// The background of the frames shown: the one asked for, else the environment
+    /// where one lights the scene (none in debug views, whose values are not radiance).
+    fn background(&self) -> Background {
+        if self.renderer.shading().debug_view != DebugView::None {
+            return Background::None;
+        }
+        Background::asked_or_default(self.background, self.gpu_scene.scene())
+    }
+
     fn title(&self, gpu_ms: Option<f64>) -> String {
         let fresnel = self.renderer.shading().fresnel.description();
         let gpu = gpu_ms.map_or(String::new(), |ms| format!(" — {ms:.1} ms GPU"));

@@ -102,6 +102,7 @@ pub fn frame_inputs<'a>(
         lights,
         overlay: &[],
         environment: None,
+        background: combustion::renderer::Background::None,
     }
 }
 

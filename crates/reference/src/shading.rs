@@ -86,6 +86,11 @@ pub struct SurfacePoint {
     pub texture_contrast: f64,
     /// The anisotropy strength s (factor × texture).
     pub anisotropy_strength: f64,
+    /// How fast the vertex colour (glTF COLOR_0) changes across the image here: the
+    /// largest change of a channel from this pixel's centre to a neighbour's (central
+    /// differences along x and y, the rays met on the hit triangle's plane); 0 for a
+    /// mesh of one colour.
+    pub vertex_color_gradient: f64,
 }
 
 /// The scene shaded per pixel in f64 for a `width` × `height` frame of its own camera.
@@ -393,7 +398,29 @@ impl<'a> SceneShading<'a> {
                 barycentrics_along(cx, cy + 1.0),
             ),
         };
-        Some(self.shade_inputs(hit, material, &vertices, weights, &lookup))
+        let color_along = |w: Option<[f64; 3]>| -> Option<[f64; 4]> {
+            let w = w?;
+            Some(std::array::from_fn(|c| {
+                (0..3).map(|k| f64::from(vertices[k].color[c]) * w[k]).sum()
+            }))
+        };
+        let vertex_color_gradient = [
+            (
+                barycentrics_along(cx - 1.0, cy),
+                barycentrics_along(cx + 1.0, cy),
+            ),
+            (
+                barycentrics_along(cx, cy - 1.0),
+                barycentrics_along(cx, cy + 1.0),
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(a, b)| Some((color_along(a)?, color_along(b)?)))
+        .flat_map(|(a, b)| (0..4).map(move |c| 0.5 * (b[c] - a[c]).abs()))
+        .fold(0.0, f64::max);
+        let mut surface = self.shade_inputs(hit, material, &vertices, weights, &lookup);
+        surface.vertex_color_gradient = vertex_color_gradient;
+        Some(surface)
     }
 
     fn shade_inputs(
@@ -526,6 +553,7 @@ impl<'a> SceneShading<'a> {
             uv: lookup.uv.map(|uv| uv.to_array()),
             texture_lod: lookup.largest_lod.get(),
             texture_contrast: lookup.contrast.get(),
+            vertex_color_gradient: 0.0,
             anisotropy_strength: strength,
         }
     }
@@ -897,6 +925,7 @@ mod tests {
             uv: [[0.0; 2]; 2],
             texture_lod: None,
             texture_contrast: 0.0,
+            vertex_color_gradient: 0.0,
             anisotropy_strength: 0.0,
         };
         let stored = GBufferPrecision::SRGB8.store(&surface, false);

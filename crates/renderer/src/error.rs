@@ -36,6 +36,10 @@ pub enum RenderError {
     /// An exposure (in the settings or a frame's inputs) that is not finite and positive.
     #[error("exposure {0} must be a positive finite number")]
     InvalidExposure(f32),
+    /// A background colour whose radiance is not finite, negative or above
+    /// [`combustion_scene::MAX_RADIANCE`].
+    #[error("background colour {0:?} must be finite radiances between 0 and 1e30")]
+    InvalidBackground([f32; 3]),
     /// Something of the scene exceeds a device or format limit (an image larger than the
     /// device's maximum 2D image size, a mesh of 2³² indices or more); the message names
     /// it.

@@ -188,8 +188,8 @@ impl Renderer {
     /// - [`RenderError::InvalidFrameSlot`]: `frame_slot` out of range;
     ///   [`RenderError::FrameSlotInFlight`]: its last frame has visibly not completed.
     /// - [`RenderError::InvalidSize`]: a target side of 0 or beyond the device's limit.
-    /// - [`RenderError::InvalidExposure`], [`RenderError::Scene`]: the inputs' exposure,
-    ///   camera or lights.
+    /// - [`RenderError::InvalidExposure`], [`RenderError::InvalidBackground`],
+    ///   [`RenderError::Scene`]: the inputs' exposure, background, camera or lights.
     /// - [`RenderError::UnsupportedOutputFormat`], [`RenderError::OutputNotPrepared`]: the
     ///   target's format.
     /// - [`RenderError::SceneOfAnotherRenderer`], [`RenderError::EnvironmentOfAnotherScene`],
@@ -261,6 +261,7 @@ impl Renderer {
         if !(inputs.exposure.is_finite() && inputs.exposure > 0.0) {
             return Err(RenderError::InvalidExposure(inputs.exposure));
         }
+        inputs.background.validate()?;
         inputs.camera.validate()?;
         combustion_scene::validate_lights(inputs.lights)?;
         if !self.outputs.contains_key(&target.color.format) {
@@ -599,7 +600,8 @@ impl Renderer {
             inputs.camera.position,
             inputs.lights.len() as u32,
             self.settings.shading.debug_view as u32,
-        );
+        )
+        .with_background(inputs.background);
         let cull_push = s.culling.map(|(tiles_x, stride)| {
             lighting_push = lighting_push.with_tile_lists(tiles_x, stride);
             CullPush {

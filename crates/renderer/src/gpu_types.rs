@@ -405,8 +405,11 @@ pub struct LightingPush {
     /// x: the frame's lights; y: the debug view (`DebugView as u32`); z: tiles across and
     /// w: the tile lists' stride in words (0 when the frame does not cull its lights).
     pub counts: [u32; 4],
+    /// The background where no surface is: rgb a radiance, or w = 1: the environment's
+    /// (frames with one).
+    pub background: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<LightingPush>() == 96);
+const _: () = assert!(std::mem::size_of::<LightingPush>() == 112);
 
 impl LightingPush {
     /// `debug_view`: `DebugView as u32` (0: radiance).
@@ -420,6 +423,19 @@ impl LightingPush {
             inverse_view_projection: view_projection.inverse().to_cols_array(),
             camera_position: camera_position.extend(1.0).to_array(),
             counts: [light_count, debug_view, 0, 0],
+            background: [0.0; 4],
+        }
+    }
+
+    /// The frame shows `background` where no surface is.
+    pub fn with_background(self, background: crate::Background) -> Self {
+        Self {
+            background: match background {
+                crate::Background::None => [0.0; 4],
+                crate::Background::Color([r, g, b]) => [r, g, b, 0.0],
+                crate::Background::Environment => [0.0, 0.0, 0.0, 1.0],
+            },
+            ..self
         }
     }
 

@@ -218,6 +218,9 @@ pub struct FrameTarget {
 /// the exposure, the lights, and the text drawn over the frame.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameInputs<'a> {
+    /// What the frame shows where no surface is (the tone curve and exposure apply to it
+    /// as to any radiance).
+    pub background: Background,
     /// The camera the frame is seen from (validated by [`crate::Renderer::record`]).
     pub camera: Camera,
     /// Multiplies radiance before the tone curve (and in linear outputs).
@@ -241,6 +244,48 @@ impl<'a> FrameInputs<'a> {
             lights: &scene.scene().lights,
             overlay: &[],
             environment: None,
+            background: Background::None,
         }
+    }
+}
+
+/// What a frame shows behind the scene, where no surface is.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Background {
+    /// Nothing: zero radiance (black).
+    #[default]
+    None,
+    /// A uniform radiance, W·sr⁻¹·m⁻² per linear RGB channel (finite, 0 to
+    /// [`combustion_scene::MAX_RADIANCE`]).
+    Color([f32; 3]),
+    /// The environment that lights the frame (its own or the scene's), as the camera
+    /// would see it: its radiance cube's finest level (128² per face) along each pixel's
+    /// ray. Black in a frame without an environment.
+    Environment,
+}
+
+impl Background {
+    /// `asked`, else the environment where `scene` has one, else none: what a viewer
+    /// shows by default (the command line's `render` and `view`).
+    pub fn asked_or_default(asked: Option<Background>, scene: &combustion_scene::Scene) -> Self {
+        asked.unwrap_or(if scene.environment.is_some() {
+            Background::Environment
+        } else {
+            Background::None
+        })
+    }
+
+    /// Checks a colour's radiance: finite, at least 0 and at most
+    /// [`combustion_scene::MAX_RADIANCE`].
+    pub fn validate(&self) -> Result<(), RenderError> {
+        if let Background::Color(rgb) = self {
+            if !rgb
+                .iter()
+                .all(|c| c.is_finite() && (0.0..=combustion_scene::MAX_RADIANCE).contains(c))
+            {
+                return Err(RenderError::InvalidBackground(*rgb));
+            }
+        }
+        Ok(())
     }
 }

@@ -72,7 +72,7 @@ pub use environment::FrameEnvironment;
 pub use error::{RenderError, TargetImageProblem};
 use gbuffer::GBufferPass;
 pub use host::{
-    ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, DISPLAY_FORMAT,
+    Background, ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, DISPLAY_FORMAT,
 };
 pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{

@@ -1265,10 +1265,16 @@ fn placed_bounds(local: Option<(Vec3, Vec3)>, transform: &Mat4) -> Option<(Vec3,
         .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
 }
 
-/// A camera on the +Z side of the bounding box looking at its centre (glTF's forward
-/// view), far enough for the box's bounding sphere to fill the 45° field of view. A
-/// model flat along Y (a floor, a terrain grid: under 1 % of its largest extent high),
-/// which the forward view would see edge-on, is seen from 45° above instead.
+/// The framing camera's elevation above the horizon: 15°, model-viewer's default orbit
+/// (a polar angle of 75°), so that the top of a model shows and a model lying flat is
+/// seen.
+pub(crate) const FRAMING_ELEVATION: f32 = 15.0 * std::f32::consts::PI / 180.0;
+
+/// A camera on the +Z side of the bounding box (glTF's forward view), raised
+/// [`FRAMING_ELEVATION`] above the horizon, looking at its centre, far enough for the
+/// box's bounding sphere to fill the 45° field of view. A model flat along Y (a floor, a
+/// terrain grid: under 1 % of its largest extent high), which a low view would see
+/// almost edge-on, is seen from 45° above instead.
 pub(crate) fn framing_camera(bounds: Option<(Vec3, Vec3)>) -> Camera {
     let (lo, hi) = bounds.unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
     let centre = (lo + hi) / 2.0;
@@ -1279,11 +1285,12 @@ pub(crate) fn framing_camera(bounds: Option<(Vec3, Vec3)>) -> Camera {
     let distance = radius / (fov / 2.0).sin() * 1.05;
     let size = hi - lo;
     let flat_along_y = size.y < 0.01 * size.max_element();
-    let direction = if flat_along_y {
-        Vec3::new(0.0, 1.0, 1.0).normalize()
+    let elevation = if flat_along_y {
+        std::f32::consts::FRAC_PI_4
     } else {
-        Vec3::Z
+        FRAMING_ELEVATION
     };
+    let direction = Vec3::new(0.0, elevation.sin(), elevation.cos());
     Camera {
         position: centre + direction * distance,
         target: centre,
