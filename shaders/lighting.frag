@@ -6,7 +6,7 @@
 // combustion_renderer::reference (the parity tests and the viewer's error view).
 // Specialised per scene (combustion_renderer::LightingFeatures): NO_ANISOTROPY,
 // NO_CONDUCTORS, NO_CONDUCTOR_TABLE, NO_DIELECTRICS, OUTSIDE_ETA_ONE, NO_LAMBERT,
-// NO_OREN_NAYAR_QUALITATIVE, NO_OREN_NAYAR_FULL remove what the scene cannot use;
+// NO_OREN_NAYAR_QUALITATIVE, NO_OREN_NAYAR_FULL, NO_UNLIT remove what the scene cannot use;
 // SHADOWS (a shading option) multiplies each shadowed light by its shadow maps' verdict.
 #include "gpu_types.glsl"
 #include "gbuffer_encoding.glsl"
@@ -313,6 +313,14 @@ void main() {
         }
 #endif
         out_radiance = vec4(debug_view_radiance(push.counts.y, surface, m, view, l0, push.counts.x > 0u), 1.0);
+        return;
+    }
+#endif
+#ifndef NO_UNLIT
+    // KHR_materials_unlit: the base colour (factor × texture × vertex colour, as the
+    // G-buffer holds it) is the pixel's radiance; nothing lights it.
+    if ((material.diffuse_model_flags.y & MATERIAL_FLAG_UNLIT) != 0u) {
+        out_radiance = vec4(m.base_color, 1.0);
         return;
     }
 #endif

@@ -793,8 +793,10 @@ fn lit_for_comparison(mut scene: Scene) -> Scene {
 }
 
 /// Khronos sample models (../shared/data/gltf) with textures, normal maps, anisotropy
-/// textures, double-sided planes, a lamp of point lights and vertex colours (COLOR_0:
-/// float RGBA, and normalised shorts on VertexColorTest's marks): compared as above. Without
+/// textures, double-sided planes, a lamp of point lights, vertex colours (COLOR_0:
+/// float RGBA, and normalised shorts on VertexColorTest's marks) and unlit materials
+/// (KHR_materials_unlit, lit by the comparison's sun, which they ignore): compared as
+/// above. Without
 /// ../shared the test says so and passes, unless `COMBUSTION_REQUIRE_SHARED` is set.
 #[test]
 fn the_sample_models_are_what_they_show() {
@@ -810,6 +812,7 @@ fn the_sample_models_are_what_they_show() {
         "SpecularTest",
         "BoxVertexColors",
         "VertexColorTest",
+        "UnlitTest",
     ] {
         let gltf = root.join(model).join(format!("glTF/{model}.gltf"));
         let path = if gltf.exists() {

@@ -493,3 +493,55 @@ fn edits_of_a_textured_sample_model_upload_no_image_they_do_not_add() {
     drop(gpu);
     common::finish(headless);
 }
+
+/// KHR_materials_unlit (the Khronos UnlitTest): every pixel of the unlit boxes is its
+/// base colour, as the renderer's own f64 mirror of the lighting pass says from the
+/// G-buffer (`ReferenceShading::shade`), whatever lights the frame.
+#[test]
+fn unlit_materials_show_their_base_colour() {
+    use combustion::renderer::reference::{error_map, ReferenceShading};
+    use combustion::renderer::FrameInputs;
+    let Some(files) = sample_models() else { return };
+    let path = files
+        .iter()
+        .find(|p| p.to_string_lossy().ends_with("UnlitTest.glb"))
+        .expect("UnlitTest.glb");
+    let mut scene = SceneSource::File(path.clone()).load().unwrap();
+    assert_eq!(scene.features().unlit, 2, "{}", scene.features());
+    // A light that would change every lit pixel.
+    scene.environment = None;
+    scene.lights.push(combustion::scene::Light::Directional {
+        direction: Vec3::new(0.3, -1.0, -0.4).normalize(),
+        irradiance: [5.0; 3],
+        casts_shadows: false,
+        angular_diameter: 0.0,
+    });
+    let (w, h) = (128, 96);
+    let frame = common::render(
+        &scene,
+        w,
+        h,
+        common::exact_f32(),
+        Readback {
+            images: true,
+            gbuffer: true,
+        },
+    );
+    let inputs = FrameInputs {
+        camera: scene.camera,
+        exposure: 1.0,
+        lights: &scene.lights,
+        overlay: &[],
+        environment: None,
+        background: combustion::renderer::Background::None,
+    };
+    let reference = ReferenceShading::new(&scene, &inputs, w, h);
+    let map = error_map(&frame, &reference, 2);
+    eprintln!(
+        "UnlitTest: {} pixels, error mean {:.2e}, max {:.2e}",
+        map.lit_pixels, map.mean_relative, map.max_relative
+    );
+    assert!(map.lit_pixels > 2000, "{}", map.lit_pixels);
+    // The parity tests' f32 shading bound (the radiance is the stored base colour).
+    assert!(map.max_relative < 1e-3, "max {:e}", map.max_relative);
+}

@@ -114,6 +114,9 @@ pub(crate) fn describe_material(m: &Material, outside_ior: f32) -> String {
     if !textures.is_empty() {
         parts.push(format!("textures: {}", textures.join(", ")));
     }
+    if m.unlit {
+        parts.push("unlit (shows its base colour as radiance)".to_owned());
+    }
     match m.alpha_mode {
         combustion::scene::AlphaMode::Opaque => {}
         combustion::scene::AlphaMode::Mask { cutoff } => parts.push(format!(

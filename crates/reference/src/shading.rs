@@ -574,8 +574,20 @@ impl<'a> SceneShading<'a> {
     /// The radiance `surface` sends to the eye: its emission plus each light's
     /// f(v, l) E (n·l), times the light's exact visibility with
     /// [`SceneShading::with_visibility`], plus the environment's integral with
-    /// [`SceneShading::with_environment`].
+    /// [`SceneShading::with_environment`]; for an unlit material (KHR_materials_unlit),
+    /// its base colour.
     pub fn radiance(&self, surface: &SurfacePoint) -> [f64; 3] {
+        // KHR_materials_unlit: the base colour (factor × texture × vertex colour) is the
+        // radiance; nothing lights it.
+        if self
+            .scene
+            .objects
+            .get(surface.hit.object)
+            .and_then(|o| self.scene.materials.get(o.material))
+            .is_some_and(|m| m.unlit)
+        {
+            return surface.brdf.base_color;
+        }
         let position = DVec3::from(surface.hit.position);
         let mut radiance = surface.emitted;
         for light in self.lights {

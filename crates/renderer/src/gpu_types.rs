@@ -8,6 +8,9 @@ use glam::Mat4;
 
 /// `MATERIAL_FLAG_*` in the shaders (generated `bindings/constants.glsl`).
 pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
+/// The material is unlit (KHR_materials_unlit): its pixels show their base colour as
+/// radiance.
+pub const MATERIAL_FLAG_UNLIT: u32 = 2;
 
 /// `GpuMaterial` (std430, 464 bytes).
 #[repr(C)]
@@ -74,6 +77,10 @@ impl GpuMaterial {
                     MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR
                 } else {
                     0
+                } | if material.unlit {
+                    MATERIAL_FLAG_UNLIT
+                } else {
+                    0
                 },
                 material.occlusion_strength.to_bits(),
                 0,
@@ -121,6 +128,11 @@ impl GpuMaterial {
     /// ([`MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR`]).
     pub fn conductor_from_base_color(&self) -> bool {
         self.diffuse_model_flags[1] & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR != 0
+    }
+
+    /// Whether the material is unlit ([`MATERIAL_FLAG_UNLIT`]).
+    pub fn unlit(&self) -> bool {
+        self.diffuse_model_flags[1] & MATERIAL_FLAG_UNLIT != 0
     }
 }
 

@@ -242,7 +242,16 @@ impl ReferenceShading {
     /// The f64 radiance of pixel (`x`, `y`) from its G-buffer texel (`None`: background)
     /// under the frame's lights (not the environment: see [`Self::shade_environment`]).
     pub fn shade(&self, texel: &GBufferTexel, x: u32, y: u32) -> Option<[f64; 3]> {
-        let mut radiance = self.shade_lights(&self.pixel(texel, x, y)?);
+        let pixel = self.pixel(texel, x, y)?;
+        // KHR_materials_unlit: the base colour as the G-buffer stores it, unlit.
+        if self
+            .materials
+            .get(usize::from(texel.material_direction[0]))
+            .is_some_and(GpuMaterial::unlit)
+        {
+            return Some(pixel.brdf.base_color);
+        }
+        let mut radiance = self.shade_lights(&pixel);
         if let Some((environment, sampling)) = &self.environment {
             let from_environment = self
                 .shade_environment(texel, x, y, environment, sampling.iterations)

@@ -7,7 +7,7 @@ use combustion_vk::ShaderSources;
 use crate::environment::{CODES, CODE_TABLE_SIZE, ENERGY_TABLE_SIZE, TABLE_SIZE};
 use crate::gpu_types::{
     LIGHT_KIND_DIRECTIONAL, LIGHT_KIND_POINT, LIGHT_KIND_SPOT,
-    MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR,
+    MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR, MATERIAL_FLAG_UNLIT,
 };
 use crate::light_cull::TILE_SIZE;
 use crate::options::DebugView;
@@ -86,6 +86,11 @@ fn shared_constants() -> Vec<SharedConstant> {
             "MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR",
             GlslValue::Uint(MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR),
             "gpu_types::MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR",
+        ),
+        constant(
+            "MATERIAL_FLAG_UNLIT",
+            GlslValue::Uint(MATERIAL_FLAG_UNLIT),
+            "gpu_types::MATERIAL_FLAG_UNLIT",
         ),
         constant(
             "LIGHT_KIND_DIRECTIONAL",
@@ -198,6 +203,7 @@ mod tests {
             format!("ENVIRONMENT_CODE_TABLE_SIZE {CODE_TABLE_SIZE}u"),
             format!("ENVIRONMENT_CODES {CODES}u"),
             format!("MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR {MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR}u"),
+            format!("MATERIAL_FLAG_UNLIT {MATERIAL_FLAG_UNLIT}u"),
             format!("LIGHT_KIND_DIRECTIONAL {LIGHT_KIND_DIRECTIONAL:.1}"),
             format!("LIGHT_KIND_POINT {LIGHT_KIND_POINT:.1}"),
             format!("LIGHT_KIND_SPOT {LIGHT_KIND_SPOT:.1}"),

@@ -11,8 +11,8 @@ use crate::options::{
 };
 use crate::Renderer;
 
-/// The parts of the material model a lighting pipeline contains. A scene's pipeline
-/// holds only what its materials use ([`LightingFeatures::of`]): each part left out is
+/// The parts of the material model a lighting pipeline contains (unlit materials
+/// included). A scene's pipeline holds only what its materials use ([`LightingFeatures::of`]): each part left out is
 /// a `NO_*` (or `OUTSIDE_ETA_ONE`) `#define` that removes its code from the shader, so
 /// no pixel pays for a branch the scene cannot take. [`LightingFeatures::ALL`] is the
 /// general pipeline (debug views, and the comparison
@@ -36,6 +36,8 @@ pub struct LightingFeatures {
     pub oren_nayar_qualitative: bool,
     /// The full Oren–Nayar diffuse model ([`DiffuseModel::OrenNayarFull`]).
     pub oren_nayar_full: bool,
+    /// Unlit materials (KHR_materials_unlit): their pixels show their base colour.
+    pub unlit: bool,
 }
 
 impl LightingFeatures {
@@ -49,6 +51,7 @@ impl LightingFeatures {
         lambert: true,
         oren_nayar_qualitative: true,
         oren_nayar_full: true,
+        unlit: true,
     };
 
     /// What `scene`'s materials can use (every material counts, drawn or not).
@@ -74,6 +77,7 @@ impl LightingFeatures {
             oren_nayar_full: f
                 .diffuse_models
                 .contains(&combustion_scene::DiffuseModel::OrenNayarFull),
+            unlit: f.unlit > 0,
         }
     }
 
@@ -87,6 +91,7 @@ impl LightingFeatures {
             (self.lambert, "NO_LAMBERT"),
             (self.oren_nayar_qualitative, "NO_OREN_NAYAR_QUALITATIVE"),
             (self.oren_nayar_full, "NO_OREN_NAYAR_FULL"),
+            (self.unlit, "NO_UNLIT"),
         ] {
             if !present {
                 defines.push((define, None));

@@ -461,6 +461,8 @@ pub struct SceneFeatures {
     pub double_sided: usize,
     /// Cut-out materials ([`AlphaMode::Mask`]).
     pub masked: usize,
+    /// Unlit materials (KHR_materials_unlit).
+    pub unlit: usize,
     /// [`Light::Point`]s among the scene's lights.
     pub point_lights: usize,
     /// [`Light::Spot`]s among the scene's lights.
@@ -536,6 +538,7 @@ impl std::fmt::Display for SceneFeatures {
         writeln!(f, "KHR_materials_specular materials: {}", self.specular)?;
         writeln!(f, "double-sided materials: {}", self.double_sided)?;
         writeln!(f, "cut-out (alpha mask) materials: {}", self.masked)?;
+        writeln!(f, "unlit materials: {}", self.unlit)?;
         write!(
             f,
             "lights: {} point, {} spot, {} directional",
@@ -590,6 +593,9 @@ impl Scene {
             }
             if m.is_masked() {
                 features.masked += 1;
+            }
+            if m.unlit {
+                features.unlit += 1;
             }
         }
         features.diffuse_models.sort_by_key(|&m| m as u32);

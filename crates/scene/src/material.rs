@@ -89,6 +89,10 @@ pub struct Material {
     pub alpha: f32,
     /// How alpha is used (glTF `alphaMode`).
     pub alpha_mode: AlphaMode,
+    /// KHR_materials_unlit: the surface is not lit; it shows its base colour (factor ×
+    /// texture × vertex colour) as emitted radiance, W·sr⁻¹·m⁻² per linear channel, and
+    /// every other property but alpha is ignored.
+    pub unlit: bool,
     /// 0 = dielectric, 1 = conductor; in between blends the two linearly.
     pub metalness: f32,
     /// Perceptual roughness r ∈ [0, 1] (α = r²).
@@ -154,6 +158,7 @@ impl Default for Material {
             base_color: [0.8, 0.8, 0.8],
             alpha: 1.0,
             alpha_mode: AlphaMode::Opaque,
+            unlit: false,
             metalness: 0.0,
             roughness: 0.5,
             anisotropy_strength: 0.0,

@@ -480,3 +480,42 @@ fn vertex_colours_are_read_in_every_allowed_form() {
         report.warnings
     );
 }
+
+/// KHR_materials_unlit: an (empty) object marks the material unlit, also when the file
+/// requires the extension; anything else in its place is a one-line error naming it;
+/// `save_gltf` writes it back.
+#[test]
+fn unlit_materials_are_read_and_written() {
+    let with_unlit = |unlit: serde_json::Value, required: bool| {
+        let mut root = one_triangle_file(&[0, 1, 2]);
+        root["materials"] = serde_json::json!([{ "extensions": { "KHR_materials_unlit": unlit } }]);
+        root["meshes"][0]["primitives"][0]["material"] = serde_json::json!(0);
+        root["extensionsUsed"] = serde_json::json!(["KHR_materials_unlit"]);
+        if required {
+            root["extensionsRequired"] = serde_json::json!(["KHR_materials_unlit"]);
+        }
+        import_slice(root.to_string().as_bytes(), &ImportOptions::default())
+    };
+    for required in [false, true] {
+        let (scene, report) = with_unlit(serde_json::json!({}), required).unwrap();
+        assert!(scene.materials[0].unlit);
+        assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+        assert_eq!(scene.features().unlit, 1);
+    }
+    let error = with_unlit(serde_json::json!(true), false)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("KHR_materials_unlit") && !error.contains('\n'),
+        "{error}"
+    );
+    // Written back.
+    let (scene, _) = with_unlit(serde_json::json!({}), false).unwrap();
+    let dir = std::env::temp_dir().join(format!("combustion-unlit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("unlit.gltf");
+    combustion_scene::gltf::save_gltf(&scene, &path).unwrap();
+    let (again, _) = combustion_scene::gltf::import(&path, &ImportOptions::default()).unwrap();
+    assert!(again.materials[0].unlit);
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -259,6 +259,15 @@ impl Importer<'_> {
                     specular.specular_color_texture.as_ref().map(info_of),
                 )?;
             }
+            if let Some(value) = ext.others.get("KHR_materials_unlit") {
+                if !value.is_object() {
+                    return Err(self.material_error(
+                        index,
+                        "KHR_materials_unlit must be an object".to_owned(),
+                    ));
+                }
+                material.unlit = true;
+            }
             if let Some(value) = ext.others.get("KHR_materials_anisotropy") {
                 let anisotropy = optics_ext::parse_anisotropy(value).map_err(|e| {
                     self.material_error(index, format!("KHR_materials_anisotropy: {e}"))

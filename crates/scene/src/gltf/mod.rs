@@ -48,6 +48,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_emissive_strength",
     "KHR_materials_anisotropy",
+    "KHR_materials_unlit",
     "KHR_texture_transform",
     OPTICS_EXTENSION,
 ];

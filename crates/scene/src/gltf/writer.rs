@@ -251,6 +251,9 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
         }
         extensions.insert("KHR_materials_anisotropy".into(), anisotropy);
     }
+    if m.unlit {
+        extensions.insert("KHR_materials_unlit".into(), json!({}));
+    }
     let mut conductor = json!({
         "eta": nums(&m.conductor.eta),
         "k": nums(&m.conductor.k),
