@@ -40,7 +40,9 @@ layout(location = 5) out vec4 out_slot_uv[3];
 #endif
 
 void main() {
-    GpuObject object = objects[push.object_index];
+    // Instanced draws (combustion_renderer::mesh_draw): instance i is the object after
+    // the pushed one by i.
+    GpuObject object = objects[push.object_index + uint(gl_InstanceIndex)];
     vec4 world = object.model * vec4(in_position, 1.0);
     out_world_position = world.xyz;
     out_normal = mat3(object.normal_matrix) * in_normal;

@@ -28,7 +28,9 @@ layout(location = 2) out float out_vertex_alpha;
 #endif
 
 void main() {
-    GpuObject object = objects[push.object_index];
+    // Instanced draws (combustion_renderer::mesh_draw): instance i is the object after
+    // the pushed one by i.
+    GpuObject object = objects[push.object_index + uint(gl_InstanceIndex)];
     gl_Position = push.world_to_clip * (object.model * vec4(in_position, 1.0));
 #ifdef ALPHA_MASK
     out_material = object.material_index.x;

@@ -795,8 +795,9 @@ fn lit_for_comparison(mut scene: Scene) -> Scene {
 /// Khronos sample models (../shared/data/gltf) with textures, normal maps, anisotropy
 /// textures, double-sided planes, a lamp of point lights, vertex colours (COLOR_0:
 /// float RGBA, and normalised shorts on VertexColorTest's marks) and unlit materials
-/// (KHR_materials_unlit, lit by the comparison's sun, which they ignore): compared as
-/// above. Without
+/// (KHR_materials_unlit, lit by the comparison's sun, which they ignore), and 125
+/// cubes of one node through EXT_mesh_gpu_instancing (drawn as one instanced draw):
+/// compared as above. Without
 /// ../shared the test says so and passes, unless `COMBUSTION_REQUIRE_SHARED` is set.
 #[test]
 fn the_sample_models_are_what_they_show() {
@@ -813,6 +814,7 @@ fn the_sample_models_are_what_they_show() {
         "BoxVertexColors",
         "VertexColorTest",
         "UnlitTest",
+        "SimpleInstancing",
     ] {
         let gltf = root.join(model).join(format!("glTF/{model}.gltf"));
         let path = if gltf.exists() {

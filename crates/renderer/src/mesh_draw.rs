@@ -1,8 +1,9 @@
 //! The scene's objects as draws, for every pass that rasterises the scene: the object
 //! iteration in the object table's order, each mesh's vertex streams and indices bound
 //! when they change, the cull mode of each object's material (double-sided or not), and
-//! one indexed draw per object. The G-buffer pass uses it; a depth-only pass (a shadow
-//! map) uses it too, with its own pipeline and per-object push constants.
+//! one instanced indexed draw per run of consecutive objects of one mesh and material.
+//! The G-buffer pass uses it; a depth-only pass (a shadow map) uses it too, with its own
+//! pipeline and per-draw push constants.
 
 use combustion_vk::ash;
 use combustion_vk::{vk, Pipeline, PipelineLayout};
@@ -84,36 +85,47 @@ impl ObjectDraw {
     }
 }
 
-/// Records one indexed draw per object of `scene` into `cmd` (recording, inside a
-/// rendering instance whose pipeline reads vertex stream 0 — and stream 1, the second
-/// coordinate set, and stream 2, the colours, if it declares them), culling the faces `faces` says. `per_object`
-/// runs first for each object, to bind what the pass binds per object and push its
-/// constants; where it returns false the object is not drawn (a pass that draws the
-/// opaque and the cut-out objects with different pipelines calls this once for each).
+/// Records `scene`'s objects into `cmd` (recording, inside a rendering instance whose
+/// pipeline reads vertex stream 0 — and stream 1, the second coordinate set, and stream
+/// 2, the colours, if it declares them), culling the faces `faces` says: the objects
+/// `keep` keeps, consecutive ones of one mesh and one material (an instanced glTF node's
+/// copies, a mesh placed many times) in one instanced draw whose instance i is object
+/// `first + i` (the vertex stages index the object table by the pushed object index plus
+/// `gl_InstanceIndex`). `before_draw` runs before each draw with its first object, to bind
+/// what the pass binds per material and push its constants. A pass that draws the opaque
+/// and the cut-out objects with different pipelines calls this once for each.
 pub(crate) fn draw_objects(
     raw: &ash::Device,
     cmd: vk::CommandBuffer,
     scene: &GpuScene,
     faces: Faces,
-    mut per_object: impl FnMut(ObjectDraw) -> bool,
+    mut keep: impl FnMut(ObjectDraw) -> bool,
+    mut before_draw: impl FnMut(ObjectDraw),
 ) {
+    let count = scene.draw_meshes.len();
+    let object = |i: usize| ObjectDraw {
+        object_index: i as u32,
+        material: scene.draw_materials[i],
+        masked: scene.masked[i],
+    };
+    let same_draw = |a: usize, b: usize| {
+        scene.draw_meshes[a] == scene.draw_meshes[b]
+            && scene.draw_materials[a] == scene.draw_materials[b]
+    };
     let mut bound_mesh = None;
-    for (object_index, (((&mesh, &double_sided), &material), &masked)) in scene
-        .draw_meshes
-        .iter()
-        .zip(&scene.double_sided)
-        .zip(&scene.draw_materials)
-        .zip(&scene.masked)
-        .enumerate()
-    {
-        if !per_object(ObjectDraw {
-            object_index: object_index as u32,
-            material,
-            masked,
-        }) {
+    let mut first = 0;
+    while first < count {
+        if !keep(object(first)) {
+            first += 1;
             continue;
         }
+        let mut end = first + 1;
+        while end < count && same_draw(first, end) && keep(object(end)) {
+            end += 1;
+        }
+        let mesh = scene.draw_meshes[first];
         let buffers = &scene.gpu.meshes[mesh];
+        before_draw(object(first));
         // SAFETY: recording state (the caller's); the buffers live as long as the scene,
         // which outlives the frame (a dropped scene is retired, not freed).
         unsafe {
@@ -133,14 +145,15 @@ pub(crate) fn draw_objects(
             }
             raw.cmd_set_cull_mode(
                 cmd,
-                if double_sided || faces == Faces::Both {
+                if scene.double_sided[first] || faces == Faces::Both {
                     vk::CullModeFlags::NONE
                 } else {
                     vk::CullModeFlags::BACK
                 },
             );
-            raw.cmd_draw_indexed(cmd, buffers.index_count, 1, 0, 0, 0);
+            raw.cmd_draw_indexed(cmd, buffers.index_count, (end - first) as u32, 0, 0, 0);
         }
+        first = end;
     }
 }
 
@@ -180,42 +193,46 @@ impl TwoRounds<'_> {
                     raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw())
                 };
             }
-            draw_objects(raw, cmd, scene, faces, |object| {
-                if !object.in_round(cut_out_round, self.cut_out_pipeline.is_some()) || !keep(object)
-                {
-                    return false;
-                }
-                let push = GBufferPush {
-                    view_projection: self.view_projection.to_cols_array(),
-                    object_index: object.object_index,
-                    _pad: [0; 3],
-                };
-                // SAFETY: recording state (the caller's); the material sets live as long
-                // as the scene, which outlives the frame.
-                unsafe {
-                    if (cut_out_round || self.textures_in_opaque_round)
-                        && bound_material != Some(object.material)
-                    {
-                        raw.cmd_bind_descriptor_sets(
+            draw_objects(
+                raw,
+                cmd,
+                scene,
+                faces,
+                |object| {
+                    object.in_round(cut_out_round, self.cut_out_pipeline.is_some()) && keep(object)
+                },
+                |object| {
+                    let push = GBufferPush {
+                        view_projection: self.view_projection.to_cols_array(),
+                        object_index: object.object_index,
+                        _pad: [0; 3],
+                    };
+                    // SAFETY: recording state (the caller's); the material sets live as
+                    // long as the scene, which outlives the frame.
+                    unsafe {
+                        if (cut_out_round || self.textures_in_opaque_round)
+                            && bound_material != Some(object.material)
+                        {
+                            raw.cmd_bind_descriptor_sets(
+                                cmd,
+                                vk::PipelineBindPoint::GRAPHICS,
+                                self.layout.raw(),
+                                1,
+                                &[scene.gpu.textures.material_sets[object.material]],
+                                &[],
+                            );
+                            bound_material = Some(object.material);
+                        }
+                        raw.cmd_push_constants(
                             cmd,
-                            vk::PipelineBindPoint::GRAPHICS,
                             self.layout.raw(),
-                            1,
-                            &[scene.gpu.textures.material_sets[object.material]],
-                            &[],
+                            vk::ShaderStageFlags::VERTEX,
+                            0,
+                            bytemuck::bytes_of(&push),
                         );
-                        bound_material = Some(object.material);
                     }
-                    raw.cmd_push_constants(
-                        cmd,
-                        self.layout.raw(),
-                        vk::ShaderStageFlags::VERTEX,
-                        0,
-                        bytemuck::bytes_of(&push),
-                    );
-                }
-                true
-            });
+                },
+            );
         }
     }
 }

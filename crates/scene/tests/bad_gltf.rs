@@ -519,3 +519,104 @@ fn unlit_materials_are_read_and_written() {
     assert!(again.materials[0].unlit);
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// EXT_mesh_gpu_instancing: the node's mesh is placed once per instance, at the node's
+/// transform × the instance's TRS (a missing attribute is the identity's), one object
+/// after another; attributes of different counts, a non-finite value, a zero rotation or
+/// no attribute at all are one-line errors naming the node and the extension.
+#[test]
+fn gpu_instances_are_placed_and_bad_ones_refused() {
+    let with_instances = |attributes: serde_json::Value, data: &[f32], extra: &[(&str, u32)]| {
+        let mut root = one_triangle_file(&[0, 1, 2]);
+        let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let uri = format!("data:application/octet-stream;base64,{}", base64(&bytes));
+        root["buffers"]
+            .as_array_mut()
+            .unwrap()
+            .push(serde_json::json!({ "byteLength": bytes.len(), "uri": uri }));
+        let view = root["bufferViews"].as_array().unwrap().len();
+        root["bufferViews"]
+            .as_array_mut()
+            .unwrap()
+            .push(serde_json::json!({ "buffer": 1, "byteLength": bytes.len() }));
+        let mut offset = 0u32;
+        for (ty, count) in extra {
+            let size = if *ty == "VEC4" { 16 } else { 12 };
+            root["accessors"]
+                .as_array_mut()
+                .unwrap()
+                .push(serde_json::json!({
+                    "bufferView": view, "byteOffset": offset, "componentType": 5126,
+                    "count": count, "type": ty
+                }));
+            offset += size * count;
+        }
+        root["nodes"][0]["extensions"] =
+            serde_json::json!({ "EXT_mesh_gpu_instancing": { "attributes": attributes } });
+        root["extensionsUsed"] = serde_json::json!(["EXT_mesh_gpu_instancing"]);
+        root["extensionsRequired"] = serde_json::json!(["EXT_mesh_gpu_instancing"]);
+        import_slice(root.to_string().as_bytes(), &ImportOptions::default())
+    };
+    // Two instances: translations (1,0,0) and (0,2,0); the second scaled by 3 and turned
+    // a quarter about z.
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let data = [
+        1.0, 0.0, 0.0, 0.0, 2.0, 0.0, // TRANSLATION (accessor 3)
+        0.0, 0.0, 0.0, 1.0, 0.0, 0.0, s, s, // ROTATION (accessor 4)
+        1.0, 1.0, 1.0, 3.0, 3.0, 3.0, // SCALE (accessor 5)
+    ];
+    let layout = [("VEC3", 2), ("VEC4", 2), ("VEC3", 2)];
+    let all = serde_json::json!({ "TRANSLATION": 3, "ROTATION": 4, "SCALE": 5 });
+    let (scene, report) = with_instances(all, &data, &layout).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    assert_eq!(scene.objects.len(), 2);
+    assert_eq!(scene.objects[0].mesh, scene.objects[1].mesh);
+    let p = |o: usize, v: glam::Vec3| scene.objects[o].transform.transform_point3(v);
+    assert!((p(0, glam::Vec3::X) - glam::Vec3::new(2.0, 0.0, 0.0)).length() < 1e-6);
+    assert!((p(1, glam::Vec3::X) - glam::Vec3::new(0.0, 5.0, 0.0)).length() < 1e-5);
+    // Translation alone.
+    let (scene, _) =
+        with_instances(serde_json::json!({ "TRANSLATION": 3 }), &data, &layout).unwrap();
+    assert_eq!(scene.objects.len(), 2);
+    // Refused.
+    let mut zero_rotation = data;
+    zero_rotation[6..10].copy_from_slice(&[0.0; 4]);
+    let mut infinite = data;
+    infinite[0] = f32::INFINITY;
+    for (attributes, data, layout, words) in [
+        (
+            serde_json::json!({ "TRANSLATION": 3, "ROTATION": 4 }),
+            data.to_vec(),
+            vec![("VEC3", 2), ("VEC4", 1), ("VEC3", 2)],
+            "different counts",
+        ),
+        (
+            serde_json::json!({ "TRANSLATION": 3, "ROTATION": 4 }),
+            zero_rotation.to_vec(),
+            layout.to_vec(),
+            "unit quaternion",
+        ),
+        (
+            serde_json::json!({ "TRANSLATION": 3 }),
+            infinite.to_vec(),
+            layout.to_vec(),
+            "not finite",
+        ),
+        (
+            serde_json::json!({}),
+            data.to_vec(),
+            layout.to_vec(),
+            "names none",
+        ),
+    ] {
+        let error = with_instances(attributes, &data, &layout)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("EXT_mesh_gpu_instancing")
+                && error.contains(words)
+                && !error.contains('\n'),
+            "{error}"
+        );
+    }
+}

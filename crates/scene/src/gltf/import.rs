@@ -350,6 +350,94 @@ impl Importer<'_> {
         ))
     }
 
+    /// The instances node `index` asks for through EXT_mesh_gpu_instancing, each as its
+    /// local TRS (`None`: the node has no such extension). The attributes present
+    /// (TRANSLATION, ROTATION, SCALE; at least one) must have the same count and finite
+    /// values; rotations are normalised (a zero one is an error).
+    fn gpu_instances(&mut self, index: usize) -> Result<Option<Vec<Mat4>>, ImportProblem> {
+        let root = self.root;
+        let Some(value) = root.nodes[index]
+            .extensions
+            .as_ref()
+            .and_then(|e| e.others.get("EXT_mesh_gpu_instancing"))
+        else {
+            return Ok(None);
+        };
+        let problem = |message: String| {
+            ImportProblem::Invalid(format!("node {index}: EXT_mesh_gpu_instancing: {message}"))
+        };
+        let attributes = value
+            .get("attributes")
+            .and_then(|a| a.as_object())
+            .ok_or_else(|| problem("has no `attributes` object".into()))?;
+        let accessor = |name: &str| -> Result<Option<usize>, ImportProblem> {
+            match attributes.get(name) {
+                None => Ok(None),
+                Some(v) => v
+                    .as_u64()
+                    .and_then(|a| usize::try_from(a).ok())
+                    .map(Some)
+                    .ok_or_else(|| problem(format!("{name} is not an accessor index"))),
+            }
+        };
+        let (t, r, s) = (
+            accessor("TRANSLATION")?,
+            accessor("ROTATION")?,
+            accessor("SCALE")?,
+        );
+        let read3 = |this: &mut Self, a: Option<usize>, name: &str| {
+            a.map(|a| read_floats::<3>(root, &mut this.buffers, a))
+                .transpose()
+                .map_err(|e| problem(format!("{name}: {e}")))
+        };
+        let translations = read3(self, t, "TRANSLATION")?;
+        let scales = read3(self, s, "SCALE")?;
+        let rotations = r
+            .map(|a| read_floats::<4>(root, &mut self.buffers, a))
+            .transpose()
+            .map_err(|e| problem(format!("ROTATION: {e}")))?;
+        let counts: Vec<usize> = [
+            translations.as_ref().map(Vec::len),
+            rotations.as_ref().map(Vec::len),
+            scales.as_ref().map(Vec::len),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        let Some(&count) = counts.first() else {
+            return Err(problem(
+                "names none of TRANSLATION, ROTATION and SCALE".into(),
+            ));
+        };
+        if counts.iter().any(|&c| c != count) {
+            return Err(problem(format!(
+                "its attributes have different counts ({counts:?})"
+            )));
+        }
+        let mut locals = Vec::with_capacity(count);
+        for i in 0..count {
+            let t = translations.as_ref().map_or([0.0; 3], |v| v[i]);
+            let s = scales.as_ref().map_or([1.0; 3], |v| v[i]);
+            let r = rotations.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |v| v[i]);
+            if !t.iter().chain(&s).chain(&r).all(|x| x.is_finite()) {
+                return Err(problem(format!("instance {i} is not finite")));
+            }
+            let q = Quat::from_array(r);
+            let length = q.length();
+            if length < 1e-6 {
+                return Err(problem(format!(
+                    "instance {i}'s rotation {r:?} is not a unit quaternion"
+                )));
+            }
+            locals.push(Mat4::from_scale_rotation_translation(
+                Vec3::from(s),
+                q / length,
+                Vec3::from(t),
+            ));
+        }
+        Ok(Some(locals))
+    }
+
     fn build(mut self, mut report: ImportReport) -> Result<(Scene, ImportReport), ImportProblem> {
         let root = self.root;
         // The scene to show: `scene`, else the first, else every root node.
@@ -412,6 +500,12 @@ impl Importer<'_> {
             if let Some(mesh_index) = node.mesh {
                 let mesh_index = mesh_index.value();
                 let mesh = &root.meshes[mesh_index];
+                // EXT_mesh_gpu_instancing: the node's mesh at each instance's TRS within
+                // the node (world × T R S), else once at the node.
+                let placements = match self.gpu_instances(index)? {
+                    Some(locals) => locals.into_iter().map(|l| world * l).collect(),
+                    None => vec![world],
+                };
                 if mesh.weights.is_some() || mesh.primitives.iter().any(|p| p.targets.is_some()) {
                     morphed += 1;
                 }
@@ -452,21 +546,28 @@ impl Importer<'_> {
                                 .collect()
                         })
                         .clone();
-                    instances.push((
-                        (mesh_index, p),
-                        Instance {
-                            key: MeshKey {
-                                attributes,
-                                indices: primitive.indices.map(|i| i.value()),
-                                mode: mode_number,
-                                flip: crate::normalised_axes_determinant(&world) < 0.0,
-                                uv_tangents: false, // set once materials are known
+                    // Each primitive's placements one after another: the renderer
+                    // draws consecutive objects of one mesh and material instanced.
+                    for &world in &placements {
+                        instances.push((
+                            (mesh_index, p),
+                            Instance {
+                                key: MeshKey {
+                                    attributes: attributes.clone(),
+                                    indices: primitive.indices.map(|i| i.value()),
+                                    mode: mode_number,
+                                    flip: crate::normalised_axes_determinant(&world) < 0.0,
+                                    uv_tangents: false, // set once materials are known
+                                },
+                                material,
+                                world,
+                                node: index,
                             },
-                            material,
-                            world,
-                            node: index,
-                        },
-                    ));
+                        ));
+                        if instances.len() > MAX_OBJECTS {
+                            break;
+                        }
+                    }
                 }
             }
             if instances.len() > MAX_OBJECTS {

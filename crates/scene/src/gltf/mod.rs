@@ -43,6 +43,7 @@ pub const SHADOW_EXTENSION: &str = "COMBUSTION_shadows";
 /// Extensions the importer understands; a file that *requires* any other is refused.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     SHADOW_EXTENSION,
+    "EXT_mesh_gpu_instancing",
     "KHR_lights_punctual",
     "KHR_materials_ior",
     "KHR_materials_specular",
