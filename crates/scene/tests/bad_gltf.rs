@@ -620,3 +620,78 @@ fn gpu_instances_are_placed_and_bad_ones_refused() {
         );
     }
 }
+
+/// KHR_mesh_quantization, required: positions as normalised shorts scaled back by the
+/// node (the extension's usual form), normals as normalised bytes and coordinates as
+/// normalised unsigned shorts are read as the numbers they stand for.
+#[test]
+fn quantized_attributes_are_read_as_their_values() {
+    let mut root = one_triangle_file(&[0, 1, 2]);
+    // Three vertices: positions (i16 normalised, each element padded to 8 bytes),
+    // normals (i8 normalised, padded to 4), coordinates (u16 normalised).
+    let positions: [[i16; 4]; 3] = [[0, 0, 0, 0], [32767, 0, 0, 0], [0, 32767, 0, 0]];
+    let normals: [[i8; 4]; 3] = [[0, 0, 127, 0]; 3];
+    let uvs: [[u16; 2]; 3] = [[0, 0], [65535, 0], [0, 32768]];
+    let mut bytes: Vec<u8> = positions
+        .iter()
+        .flatten()
+        .flat_map(|x| x.to_le_bytes())
+        .collect();
+    bytes.extend(normals.iter().flatten().map(|&x| x as u8));
+    bytes.extend(uvs.iter().flatten().flat_map(|x| x.to_le_bytes()));
+    let uri = format!("data:application/octet-stream;base64,{}", base64(&bytes));
+    root["buffers"]
+        .as_array_mut()
+        .unwrap()
+        .push(serde_json::json!({ "byteLength": bytes.len(), "uri": uri }));
+    let views = root["bufferViews"].as_array().unwrap().len();
+    for (offset, length, stride) in [(0, 24, 8), (24, 12, 4), (36, 12, 4)] {
+        root["bufferViews"]
+            .as_array_mut()
+            .unwrap()
+            .push(serde_json::json!({
+                "buffer": 1, "byteOffset": offset, "byteLength": length, "byteStride": stride,
+                "target": 34962
+            }));
+    }
+    let accessors = root["accessors"].as_array().unwrap().len();
+    for (k, (component, ty, min, max)) in [
+        (5122, "VEC3", [0.0, 0.0, 0.0], [1.0, 1.0, 0.0]),
+        (5120, "VEC3", [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]),
+        (5123, "VEC2", [0.0, 0.0, 0.0], [1.0, 1.0, 0.0]),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let mut accessor = serde_json::json!({
+            "bufferView": views + k, "componentType": component, "normalized": true,
+            "count": 3, "type": ty
+        });
+        if k == 0 {
+            accessor["min"] = serde_json::json!(min);
+            accessor["max"] = serde_json::json!(max);
+        }
+        root["accessors"].as_array_mut().unwrap().push(accessor);
+    }
+    let attributes = &mut root["meshes"][0]["primitives"][0]["attributes"];
+    attributes["POSITION"] = serde_json::json!(accessors);
+    attributes["NORMAL"] = serde_json::json!(accessors + 1);
+    attributes["TEXCOORD_0"] = serde_json::json!(accessors + 2);
+    root["nodes"][0]["scale"] = serde_json::json!([2.0, 2.0, 2.0]);
+    root["extensionsUsed"] = serde_json::json!(["KHR_mesh_quantization"]);
+    root["extensionsRequired"] = serde_json::json!(["KHR_mesh_quantization"]);
+    let (scene, report) = import_slice(root.to_string().as_bytes(), &ImportOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let mesh = &scene.meshes[scene.objects[0].mesh];
+    let vertex = |i: usize| mesh.vertices[mesh.indices[i] as usize];
+    assert_eq!(vertex(1).position, [1.0, 0.0, 0.0]);
+    assert_eq!(vertex(2).position, [0.0, 1.0, 0.0]);
+    assert_eq!(vertex(0).normal, [0.0, 0.0, 1.0]);
+    assert_eq!(vertex(1).uv, [1.0, 0.0]);
+    assert_eq!(vertex(2).uv, [0.0, 32768.0 / 65535.0]);
+    let placed = scene.objects[0]
+        .transform
+        .transform_point3(glam::Vec3::from(vertex(1).position));
+    assert_eq!(placed, glam::Vec3::new(2.0, 0.0, 0.0));
+}

@@ -50,6 +50,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_materials_anisotropy",
     "KHR_materials_unlit",
+    "KHR_mesh_quantization",
     "KHR_texture_transform",
     OPTICS_EXTENSION,
 ];
