@@ -932,6 +932,7 @@ impl<'c> Engine<'c> {
                 overlay: &[],
                 environment: None,
                 background: combustion::renderer::Background::None,
+                tone_mapping: combustion::renderer::ToneMapping::Exponential,
             };
             if let Err(e) = renderer.record(cmd, slot, scene, &inputs, &target) {
                 // SAFETY: end the (empty) recording so the buffer can be reset later.

@@ -3,7 +3,8 @@
 #extension GL_EXT_samplerless_texture_functions : require
 // Output pass: HDR radiance → the frame's target (the host's image, or the renderer's
 // own display image). One variant per kind of target format:
-// - default (UNORM targets, e.g. R8G8B8A8_UNORM, B8G8R8A8_UNORM): tone curve, then the
+// - default (UNORM targets, e.g. R8G8B8A8_UNORM, B8G8R8A8_UNORM): tone curve (the frame's:
+//   tonemap.glsl), then the
 //   exact sRGB encoding here rather than the driver's approximate conversion on write;
 // - OUTPUT_HARDWARE_SRGB (_SRGB targets): tone curve; the driver encodes on write;
 // - OUTPUT_LINEAR (float targets, e.g. R16G16B16A16_SFLOAT): radiance × exposure, no
@@ -15,6 +16,7 @@
 
 layout(push_constant) uniform TonemapPush {
     float exposure;
+    uint curve;  // combustion_renderer::ToneMapping as u32
 } push;
 
 layout(location = 0) out vec4 out_color;
@@ -24,8 +26,8 @@ void main() {
 #if defined(OUTPUT_LINEAR)
     out_color = vec4(radiance * push.exposure, 1.0);
 #elif defined(OUTPUT_HARDWARE_SRGB)
-    out_color = vec4(tonemap_exponential(radiance * push.exposure), 1.0);
+    out_color = vec4(tonemap(radiance * push.exposure, push.curve), 1.0);
 #else
-    out_color = vec4(srgb_encode(tonemap_exponential(radiance * push.exposure)), 1.0);
+    out_color = vec4(srgb_encode(tonemap(radiance * push.exposure, push.curve)), 1.0);
 #endif
 }

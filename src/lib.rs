@@ -212,16 +212,23 @@ impl SceneSource {
                     Some(i) => cameras.rotate_left(i),
                     None => cameras.insert(0, scene.camera),
                 }
+                // Lit by default (the command line says so, once, when it keeps it).
                 if scene.lights.is_empty() && scene.environment.is_none() {
-                    log::warn!(
-                        "{}: the scene has no lights; lighting it with the studio environment",
-                        path.display()
-                    );
                     scene.environment = Some(combustion_scene::Environment::Studio);
                 }
                 Ok((scene, cameras))
             }
         }
+    }
+}
+
+/// The tone curve a scene is shown with by default: Khronos PBR Neutral for glTF files
+/// (what glTF viewers show), Combustion's exponential curve for built-in scenes (their
+/// goldens and figures).
+pub fn default_tone_mapping(source: &SceneSource) -> combustion_renderer::ToneMapping {
+    match source {
+        SceneSource::File(_) => combustion_renderer::ToneMapping::PbrNeutral,
+        SceneSource::Builtin(_) => combustion_renderer::ToneMapping::Exponential,
     }
 }
 

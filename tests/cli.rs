@@ -1619,3 +1619,49 @@ fn the_background_is_what_the_option_says() {
         assert!(stderr.contains("--background"), "{bad}: {stderr}");
     }
 }
+
+/// A glTF file without lights is lit by the studio environment, and `render` says so
+/// once — not when `--environment` or `--light-rig` lights it otherwise, and once under
+/// `--max-error` (which loads the scene again to measure it). `bench` names the scene,
+/// the lighting pipeline's parts and the culling as the options spell them, with no
+/// Rust debug text.
+#[test]
+fn the_studio_default_is_announced_only_when_it_is_kept() {
+    let dir = scratch("lightless");
+    let mut scene = combustion::scene::builtin_scene("spheres").unwrap();
+    scene.lights.clear();
+    let file = dir.join("lightless.gltf");
+    combustion::scene::gltf::save_gltf(&scene, &file).unwrap();
+    let file = file.to_str().unwrap();
+    let out = dir.join("x.png");
+    let out = out.to_str().unwrap();
+    let notice = "lighting it with the studio environment";
+    for (extra, times) in [
+        (&[][..], 1),
+        (&["--environment", "none"][..], 0),
+        (&["--environment", "uniform:0.5"][..], 0),
+        (&["--light-rig"][..], 0),
+        (&["--max-error", "1"][..], 1),
+    ] {
+        let mut args = vec!["render", file, "--width", "32", "--height", "24", "-o", out];
+        args.extend_from_slice(extra);
+        let (code, stdout, stderr) = combustion(&args);
+        assert_eq!(code, 0, "{extra:?}: {stdout}{stderr}");
+        assert_eq!(stderr.matches(notice).count(), times, "{extra:?}: {stderr}");
+    }
+    let (code, stdout, stderr) =
+        combustion(&["bench", "--frames", "2", "--width", "32", "--height", "24"]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(
+        stdout.contains("scene builtin:spheres at 32x24"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("specialised to anisotropy, conductors, dielectrics, Lambert"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("light culling: auto"), "{stdout}");
+    for debug_text in ["Builtin(", "LightingFeatures {", "Auto ("] {
+        assert!(!stdout.contains(debug_text), "{debug_text} in {stdout}");
+    }
+}

@@ -70,6 +70,7 @@ fn compare_with_oracle(scene: &Scene, frame: &Frame, step: u32, iterations: u32)
         overlay: &[],
         environment: None,
         background: combustion::renderer::Background::None,
+        tone_mapping: combustion::renderer::ToneMapping::Exponential,
     };
     let reference = ReferenceShading::new(scene, &inputs, frame.width, frame.height);
     let environment = scene.environment.as_ref().expect("an environment");

@@ -534,6 +534,7 @@ fn unlit_materials_show_their_base_colour() {
         overlay: &[],
         environment: None,
         background: combustion::renderer::Background::None,
+        tone_mapping: combustion::renderer::ToneMapping::Exponential,
     };
     let reference = ReferenceShading::new(&scene, &inputs, w, h);
     let map = error_map(&frame, &reference, 2);

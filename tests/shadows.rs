@@ -493,6 +493,7 @@ impl ExactEdges {
             overlay: &[],
             environment: None,
             background: combustion::renderer::Background::None,
+            tone_mapping: combustion::renderer::ToneMapping::Exponential,
         };
         let light = scene.lights[0].clone();
         let cascades = match light {

@@ -466,6 +466,7 @@ impl Host {
             overlay: &[],
             environment: self.frame_environments.get(scene).and_then(Option::as_ref),
             background: combustion::renderer::Background::None,
+            tone_mapping: combustion::renderer::ToneMapping::Exponential,
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {

@@ -10,7 +10,7 @@ use clap::{ArgAction, ArgGroup, Args, Parser, Subcommand};
 use combustion::renderer::{
     Background, BaseColorStorage, Distribution, FresnelModel, GBufferStorage, HdrFormat,
     LightCulling, RendererSettings, ShadingOptions, ShadowFilter, ShadowSettings, SurfaceStorage,
-    MAX_CASCADES, MAX_FRAMES_IN_FLIGHT,
+    ToneMapping, MAX_CASCADES, MAX_FRAMES_IN_FLIGHT,
 };
 use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
 use combustion::spectra::BuiltinMetal;
@@ -180,20 +180,33 @@ pub(crate) struct FrameArgs {
     pub(crate) gbuffer_surface: SurfaceStorage,
 }
 
-/// What a shown frame has behind the scene (`render`, `view`).
+/// How a shown frame looks beyond its radiance (`render`, `view`): the background and the
+/// tone curve.
 #[derive(Args)]
-pub(crate) struct BackgroundArg {
+pub(crate) struct PictureArgs {
     /// What shows where no surface is: `environment` (the environment lighting the
     /// scene), `none` (black) or `R,G,B` (a radiance, W/sr/m² per channel); by default
     /// the environment where one lights the scene, else none
     #[arg(long, value_name = "BACKGROUND", allow_hyphen_values = true, value_parser = parse_background)]
     pub(crate) background: Option<Background>,
+    /// The tone curve of the PNG and the window: `exponential` (1 - e^-x), `pbr-neutral`
+    /// (Khronos PBR Neutral, as glTF viewers show) or `aces` (Narkowicz's ACES fit); by
+    /// default pbr-neutral for glTF files, exponential for built-in scenes (the EXR is
+    /// radiance either way)
+    #[arg(long, value_name = "CURVE", value_parser = named(ToneMapping::ALL.map(|t| (t.name(), t))))]
+    pub(crate) tone_mapping: Option<ToneMapping>,
 }
 
-impl BackgroundArg {
+impl PictureArgs {
     /// The background asked for, else the environment where `scene` has one, else none.
-    pub(crate) fn for_scene(&self, scene: &Scene) -> Background {
+    pub(crate) fn background_for(&self, scene: &Scene) -> Background {
         Background::asked_or_default(self.background, scene)
+    }
+
+    /// The tone curve asked for, else [`default_tone_mapping`] of `source`.
+    pub(crate) fn tone_mapping_for(&self, source: &SceneSource) -> ToneMapping {
+        self.tone_mapping
+            .unwrap_or_else(|| combustion::default_tone_mapping(source))
     }
 }
 
@@ -329,7 +342,7 @@ pub(crate) struct RenderArgs {
     #[command(flatten)]
     pub(crate) frame: FrameArgs,
     #[command(flatten)]
-    pub(crate) background: BackgroundArg,
+    pub(crate) picture: PictureArgs,
     #[command(flatten)]
     pub(crate) shading: ShadingArgs,
     #[command(flatten)]
@@ -406,7 +419,7 @@ pub(crate) struct ViewArgs {
     #[command(flatten)]
     pub(crate) frame: FrameArgs,
     #[command(flatten)]
-    pub(crate) background: BackgroundArg,
+    pub(crate) picture: PictureArgs,
     #[command(flatten)]
     pub(crate) device: DeviceArgs,
 }
@@ -801,15 +814,27 @@ impl EnvironmentChoice {
     }
 }
 
-/// The scene with `--environment` and `--light-rig` applied.
-pub(crate) fn lit_as_asked(mut scene: Scene, shading: &ShadingArgs) -> Result<Scene, Error> {
+/// The scene of `source` with `--environment` and `--light-rig` applied. A file without
+/// lights is lit by the studio environment unless `--environment` says otherwise or
+/// `--light-rig` lights it instead, and only then is that said (once, as a warning).
+pub(crate) fn lit_as_asked(source: &SceneSource, shading: &ShadingArgs) -> Result<Scene, Error> {
+    let mut scene = source.load()?;
+    let lit_by_default = matches!(source, SceneSource::File(_)) && scene.lights.is_empty();
     if let Some(environment) = &shading.environment {
         scene.environment = environment.load()?;
+    } else if lit_by_default && shading.light_rig {
+        scene.environment = None;
     }
     if shading.light_rig {
         scene
             .lights
             .extend(combustion::default_light_rig(&scene.camera));
+    }
+    if lit_by_default && shading.environment.is_none() && !shading.light_rig {
+        log::warn!(
+            "{}: the scene has no lights; lighting it with the studio environment (--environment or --light-rig light it otherwise)",
+            source.label()
+        );
     }
     Ok(scene)
 }

@@ -103,7 +103,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
         return bench_report(o, dir);
     }
     let scene = combustion::with_localised_lights(
-        &lit_as_asked(o.scene.source().load()?, &o.shading)?,
+        &lit_as_asked(&o.scene.source(), &o.shading)?,
         o.extra_lights,
     );
     let (device, mut settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
@@ -152,8 +152,8 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     let passes = combustion::report::PassSpreads::of(&timings);
     let total = combustion::report::Spread::of(timings.iter().map(|t| t.total_ms).collect());
     outln!(
-        "scene {:?} at {}x{} on {device_name}, n={} frames ({} timed), {frames_in_flight} in flight (GPU timestamps, ms):",
-        o.scene.source(),
+        "scene {} at {}x{} on {device_name}, n={} frames ({} timed), {frames_in_flight} in flight (GPU timestamps, ms):",
+        o.scene.source().label(),
         o.frame.width,
         o.frame.height,
         o.frames,
@@ -164,14 +164,17 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
         if features == combustion::renderer::LightingFeatures::ALL {
             "general (every feature)".to_owned()
         } else {
-            format!("specialised to {features:?}")
+            format!("specialised to {}", features.names())
         }
     );
     let ranged = scene.lights.iter().filter(|l| l.range().is_some()).count();
     outln!(
-        "lights: {} ({ranged} with a range); light culling: {:?} ({})",
+        "lights: {} ({ranged} with a range); light culling: {} ({})",
         scene.lights.len(),
-        o.culling,
+        CULLING
+            .iter()
+            .find(|(_, culling)| *culling == o.culling)
+            .map_or("?", |(name, _)| name),
         if o.culling.culls(&scene.lights) {
             "culled into tile lists"
         } else {

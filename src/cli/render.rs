@@ -26,7 +26,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         }
     }
     let source = o.scene.source();
-    let scene = lit_as_asked(source.load()?, &o.shading)?;
+    let scene = lit_as_asked(&source, &o.shading)?;
     let (device, mut settings) = device_and_settings(
         &o.device,
         &o.frame,
@@ -68,7 +68,8 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         let renderer = headless.renderer();
         let gpu_scene = renderer.upload(&scene)?;
         let inputs = combustion::renderer::FrameInputs {
-            background: o.background.for_scene(&scene),
+            background: o.picture.background_for(&scene),
+            tone_mapping: o.picture.tone_mapping_for(&source),
             ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings.exposure)
         };
         renderer.render_with(

@@ -19,7 +19,8 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
         camera_path: o.camera_path.clone(),
         overlay: o.overlay,
         error_view: o.error_view,
-        background: o.background.background,
+        background: o.picture.background,
+        tone_mapping: o.picture.tone_mapping,
     })?;
     let median = |list: &[f64]| combustion::report::Spread::of(list.to_vec()).median;
     outln!(

@@ -28,7 +28,7 @@ use std::time::Instant;
 
 use combustion_renderer::{
     Background, ColorTarget, Corner, DebugView, FrameInputs, FrameTarget, OverlayPanel, Renderer,
-    RendererSettings, ShadingOptions,
+    RendererSettings, ShadingOptions, ToneMapping,
 };
 use combustion_vk::{
     vk, Device, DeviceDesc, FrameRing, ImageState, PresentOutcome, Surface, Swapchain,
@@ -75,6 +75,9 @@ pub struct ViewerDesc {
     /// What shows where no surface is; `None`: the environment where one lights the
     /// scene, else nothing.
     pub background: Option<Background>,
+    /// The window's tone curve; `None`: [`crate::default_tone_mapping`] of the scene's
+    /// source.
+    pub tone_mapping: Option<ToneMapping>,
 }
 
 /// The clock of scripted runs: frame n of a camera path is at time n / 30 s.
@@ -389,6 +392,8 @@ struct State {
     exposure: f32,
     /// The background asked for (`None`: the environment where one lights the scene).
     background: Option<Background>,
+    /// The tone curve asked for (`None`: the default of the scene's source).
+    tone_mapping: Option<ToneMapping>,
     /// The scene file's modification time when loaded, and when it was last checked.
     modified: Option<std::time::SystemTime>,
     last_poll: Instant,
@@ -501,6 +506,7 @@ impl State {
             overrides: controls::Overrides::default(),
             exposure: desc.settings.exposure,
             background: desc.background,
+            tone_mapping: desc.tone_mapping,
             last_poll: Instant::now(),
             stale: true,
             cameras,
@@ -684,6 +690,7 @@ impl State {
             overlay: &panels,
             environment: None,
             background: self.background(),
+            tone_mapping: self.tone_mapping(),
         };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
@@ -836,6 +843,7 @@ impl State {
             // The error is measured on surfaces; the background stays black (the map
             // counts a lit background as a fault).
             background: Background::None,
+            tone_mapping: ToneMapping::Exponential,
         };
         let error = inspect::measure_error(
             &mut self.renderer,
@@ -908,6 +916,17 @@ impl State {
             return Background::None;
         }
         Background::asked_or_default(self.background, self.gpu_scene.scene())
+    }
+
+    /// The tone curve of the frames shown: the one asked for, else the scene source's
+    /// default; debug views always use the exponential curve, which their values are
+    /// written through (inverted) to come back as written.
+    fn tone_mapping(&self) -> ToneMapping {
+        if self.renderer.shading().debug_view != DebugView::None {
+            return ToneMapping::Exponential;
+        }
+        self.tone_mapping
+            .unwrap_or_else(|| crate::default_tone_mapping(&self.source))
     }
 
     fn title(&self, gpu_ms: Option<f64>) -> String {

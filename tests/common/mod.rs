@@ -103,6 +103,7 @@ pub fn frame_inputs<'a>(
         overlay: &[],
         environment: None,
         background: combustion::renderer::Background::None,
+        tone_mapping: combustion::renderer::ToneMapping::Exponential,
     }
 }
 

@@ -7,6 +7,36 @@ pub fn tonemap_exponential(x: f64) -> f64 {
     1.0 - (-x.max(0.0)).exp()
 }
 
+/// CPU mirror of `tonemap_pbr_neutral` (tonemap.glsl): Khronos PBR Neutral (the Khronos
+/// 3D Commerce group's tone mapper, 2024), per pixel: colours below 0.76 pass unchanged
+/// but for a small offset near black; brighter ones are compressed towards 1 and
+/// desaturated.
+pub fn tonemap_pbr_neutral(rgb: [f64; 3]) -> [f64; 3] {
+    const START_COMPRESSION: f64 = 0.8 - 0.04;
+    const DESATURATION: f64 = 0.15;
+    let rgb = rgb.map(|c| c.max(0.0));
+    let x = rgb[0].min(rgb[1]).min(rgb[2]);
+    let offset = if x < 0.08 { x - 6.25 * x * x } else { 0.04 };
+    let color = rgb.map(|c| c - offset);
+    let peak = color[0].max(color[1]).max(color[2]);
+    if peak < START_COMPRESSION {
+        return color;
+    }
+    let d = 1.0 - START_COMPRESSION;
+    let new_peak = 1.0 - d * d / (peak + d - START_COMPRESSION);
+    let color = color.map(|c| c * new_peak / peak);
+    let g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
+    color.map(|c| c + (new_peak - c) * g)
+}
+
+/// CPU mirror of `tonemap_aces` (tonemap.glsl): K. Narkowicz's fit of the ACES filmic
+/// curve ("ACES Filmic Tone Mapping Curve", 2016), x(2.51x + 0.03) / (x(2.43x + 0.59) +
+/// 0.14) of 0.6 x, clamped to [0, 1], per channel.
+pub fn tonemap_aces(x: f64) -> f64 {
+    let x = 0.6 * x.max(0.0);
+    (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+}
+
 /// The sRGB encoding (IEC 61966-2-1) the tonemap pass applies (`srgb_encode`).
 pub fn linear_to_srgb(linear: f64) -> f64 {
     if linear <= 0.0031308 {

@@ -891,12 +891,18 @@ mod tests {
             layout,
             crate::spirv::PushLayout {
                 size: std::mem::size_of::<crate::gpu_types::TonemapPush>() as u32,
-                offsets: vec![0],
+                offsets: vec![
+                    std::mem::offset_of!(crate::gpu_types::TonemapPush, exposure) as u32,
+                    std::mem::offset_of!(crate::gpu_types::TonemapPush, curve) as u32,
+                ],
             }
         );
         assert_eq!(
             crate::spirv::glsl_push_members(sources.get("tonemap.frag").unwrap()),
-            Some(("TonemapPush".to_owned(), vec!["exposure".to_owned()]))
+            Some((
+                "TonemapPush".to_owned(),
+                vec!["exposure".to_owned(), "curve".to_owned()]
+            ))
         );
         let no_push = compiler
             .compile("fullscreen.vert", ShaderStage::Vertex, &[])

@@ -477,6 +477,8 @@ pub struct CullPush {
 pub struct TonemapPush {
     /// Multiplies radiance before the tone curve (and in linear outputs).
     pub exposure: f32,
+    /// The tone curve (`ToneMapping as u32`).
+    pub curve: u32,
 }
 
 /// An environment's source radiance as the bake shaders evaluate it (`EnvironmentSource`

@@ -218,6 +218,9 @@ pub struct FrameTarget {
 /// the exposure, the lights, and the text drawn over the frame.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameInputs<'a> {
+    /// The tone curve of display outputs (UNORM and _SRGB targets; linear targets get
+    /// radiance × exposure).
+    pub tone_mapping: ToneMapping,
     /// What the frame shows where no surface is (the tone curve and exposure apply to it
     /// as to any radiance).
     pub background: Background,
@@ -245,6 +248,49 @@ impl<'a> FrameInputs<'a> {
             overlay: &[],
             environment: None,
             background: Background::None,
+            tone_mapping: ToneMapping::Exponential,
+        }
+    }
+}
+
+/// The tone curve that maps exposed radiance to display values (per frame,
+/// [`FrameInputs::tone_mapping`]), each mirrored on the CPU for the tests.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum ToneMapping {
+    /// 1 − e^(−x) per channel ([`crate::tonemap_exponential`]): linear near black,
+    /// never clips, invertible (x = −ln(1 − y)); Combustion's own.
+    #[default]
+    Exponential = 0,
+    /// Khronos PBR Neutral ([`crate::tonemap_pbr_neutral`]): base colours under light of
+    /// 1 show as themselves (up to 0.76), brighter ones compressed and desaturated; what
+    /// glTF viewers (glTF-Sample-Viewer, model-viewer) show by default.
+    PbrNeutral = 1,
+    /// K. Narkowicz's ACES filmic fit ([`crate::tonemap_aces`]): contrast and a toe,
+    /// clips at high radiance.
+    Aces = 2,
+}
+
+impl ToneMapping {
+    /// Every curve, in discriminant order.
+    pub const ALL: [ToneMapping; 3] = [Self::Exponential, Self::PbrNeutral, Self::Aces];
+
+    /// The command line's name: `exponential`, `pbr-neutral`, `aces`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Exponential => "exponential",
+            Self::PbrNeutral => "pbr-neutral",
+            Self::Aces => "aces",
+        }
+    }
+
+    /// The display value (before sRGB encoding) of exposed radiance `rgb`, in f64: the
+    /// CPU mirror of the output pass.
+    pub fn display(self, rgb: [f64; 3]) -> [f64; 3] {
+        match self {
+            Self::Exponential => rgb.map(crate::tonemap_exponential),
+            Self::PbrNeutral => crate::tonemap_pbr_neutral(rgb),
+            Self::Aces => rgb.map(crate::tonemap_aces),
         }
     }
 }

@@ -67,12 +67,15 @@ use std::sync::Arc;
 use combustion_scene::Scene;
 use combustion_vk::{vk, Device, PipelineCache, ShaderCompiler};
 
-pub use color::{f16_to_f32, linear_to_srgb, tonemap_exponential};
+pub use color::{
+    f16_to_f32, linear_to_srgb, tonemap_aces, tonemap_exponential, tonemap_pbr_neutral,
+};
 pub use environment::FrameEnvironment;
 pub use error::{RenderError, TargetImageProblem};
 use gbuffer::GBufferPass;
 pub use host::{
-    Background, ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, DISPLAY_FORMAT,
+    Background, ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, ToneMapping,
+    DISPLAY_FORMAT,
 };
 pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{

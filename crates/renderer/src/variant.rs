@@ -81,6 +81,31 @@ impl LightingFeatures {
         }
     }
 
+    /// The parts present, by name (`anisotropy, conductors, …`; `none` without any), for
+    /// messages and reports.
+    pub fn names(&self) -> String {
+        let parts: Vec<&str> = [
+            (self.anisotropy, "anisotropy"),
+            (self.conductors, "conductors"),
+            (self.conductor_table, "conductor table"),
+            (self.dielectrics, "dielectrics"),
+            (self.outside_medium, "outside medium"),
+            (self.lambert, "Lambert"),
+            (self.oren_nayar_qualitative, "Oren-Nayar qualitative"),
+            (self.oren_nayar_full, "Oren-Nayar full"),
+            (self.unlit, "unlit"),
+        ]
+        .into_iter()
+        .filter(|(present, _)| *present)
+        .map(|(_, name)| name)
+        .collect();
+        if parts.is_empty() {
+            "none".to_owned()
+        } else {
+            parts.join(", ")
+        }
+    }
+
     fn defines(&self, defines: &mut Vec<(&'static str, Option<&'static str>)>) {
         for (present, define) in [
             (self.anisotropy, "NO_ANISOTROPY"),

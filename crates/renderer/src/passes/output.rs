@@ -42,6 +42,7 @@ impl FramePass for Output {
         let extent = frame.extent();
         let push = TonemapPush {
             exposure: frame.inputs.exposure,
+            curve: frame.inputs.tone_mapping as u32,
         };
         let passes = frame.output_pipelines();
         let image_width = r.overlay_image.1.map_or(1, |[w, _]| w);
