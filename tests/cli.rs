@@ -1665,3 +1665,36 @@ fn the_studio_default_is_announced_only_when_it_is_kept() {
         assert!(!stdout.contains(debug_text), "{debug_text} in {stdout}");
     }
 }
+
+/// A scene with nothing to draw renders its background with a warning saying so, and an
+/// accuracy budget on it says that no pixel was compared and keeps the default variant
+/// set (before, an empty scene met any budget and picked the fastest set).
+#[test]
+fn an_empty_scene_says_so_and_meets_no_budget() {
+    let dir = scratch("empty");
+    let mut scene = combustion::scene::builtin_scene("spheres").unwrap();
+    scene.objects.clear();
+    let file = dir.join("empty.gltf");
+    combustion::scene::gltf::save_gltf(&scene, &file).unwrap();
+    let out = dir.join("x.png");
+    let (code, stdout, stderr) = combustion(&[
+        "render",
+        file.to_str().unwrap(),
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--max-error",
+        "0.5",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(stderr.contains("nothing to draw"), "{stderr}");
+    assert!(
+        stderr.contains("no pixel of this scene was compared"),
+        "{stderr}"
+    );
+    assert!(!stdout.contains("variant set"), "{stdout}");
+    assert!(out.exists());
+}

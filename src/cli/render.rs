@@ -27,6 +27,12 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     }
     let source = o.scene.source();
     let scene = lit_as_asked(&source, &o.shading)?;
+    if scene.objects.is_empty() {
+        log::warn!(
+            "{}: the scene has nothing to draw (no objects); the image shows the background alone",
+            source.label()
+        );
+    }
     let (device, mut settings) = device_and_settings(
         &o.device,
         &o.frame,
@@ -43,20 +49,29 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             5,
             device.clone(),
         )?;
-        let Some(set) = choice.chosen else {
-            let best = choice
-                .candidates
-                .iter()
-                .min_by(|a, b| a.mean_relative.total_cmp(&b.mean_relative));
-            return Err(Error::Usage(format!(
-                "--max-error {budget:e}: no variant set is within it on this scene (the most accurate, {}, has mean relative error {:.2e})",
-                best.map_or("none".into(), |r| r.set.name()),
-                best.map_or(f64::NAN, |r| r.mean_relative)
-            )));
-        };
-        settings.shading = set.shading;
-        settings.hdr_format = set.hdr;
-        outln!("variant set {} (--max-error {budget:e}; `combustion info SCENE --max-error {budget:e}` says why)", set.name());
+        if choice.nothing_compared() {
+            // Nothing lit in view: the budget cannot choose; the options as given stand.
+            log::warn!(
+                "--max-error {budget:e}: no pixel of this scene was compared with the reference (nothing lit in view); rendering with the default variant set"
+            );
+            settings.shading.distribution = o.shading.distribution;
+            settings.shading.diffuse_override = o.shading.diffuse;
+        } else {
+            let Some(set) = choice.chosen else {
+                let best = choice
+                    .candidates
+                    .iter()
+                    .min_by(|a, b| a.mean_relative.total_cmp(&b.mean_relative));
+                return Err(Error::Usage(format!(
+                    "--max-error {budget:e}: no variant set is within it on this scene (the most accurate, {}, has mean relative error {:.2e})",
+                    best.map_or("none".into(), |r| r.set.name()),
+                    best.map_or(f64::NAN, |r| r.mean_relative)
+                )));
+            };
+            settings.shading = set.shading;
+            settings.hdr_format = set.hdr;
+            outln!("variant set {} (--max-error {budget:e}; `combustion info SCENE --max-error {budget:e}` says why)", set.name());
+        }
     } else {
         settings.shading.distribution = o.shading.distribution;
         settings.shading.diffuse_override = o.shading.diffuse;

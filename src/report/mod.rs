@@ -777,11 +777,21 @@ pub fn choose(
     };
     let mut candidates = measure(&desc, |_, _, _| {})?.rows;
     candidates.sort_by(|a, b| a.total.median.total_cmp(&b.total.median));
+    // A budget is met only where something was compared: a scene with no lit pixel (no
+    // object in view, or emission alone) says nothing about any set's error.
     let chosen = candidates
         .iter()
-        .find(|r| r.mean_relative <= max_error)
+        .find(|r| r.compared > 0 && r.mean_relative <= max_error)
         .map(|r| r.set);
     Ok(Choice { chosen, candidates })
+}
+
+impl Choice {
+    /// Whether no set compared a single pixel with the reference (the budget then
+    /// chooses nothing).
+    pub fn nothing_compared(&self) -> bool {
+        self.candidates.iter().all(|r| r.compared == 0)
+    }
 }
 
 impl Choice {
@@ -807,7 +817,9 @@ impl Choice {
                 r.max_relative
             );
         }
-        if self.chosen.is_none() {
+        if self.nothing_compared() {
+            out += "  no pixel was compared with the reference (nothing lit in view): the budget says nothing about this scene\n";
+        } else if self.chosen.is_none() {
             out += "  no variant set is within the budget\n";
         }
         out
