@@ -55,10 +55,21 @@ impl log::Log for StderrLogger {
 }
 
 fn init_logging() {
-    let level = std::env::var("COMBUSTION_LOG")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(log::LevelFilter::Warn);
+    // A level that is not one says so (once, before anything is logged) rather than
+    // being ignored.
+    let level = match std::env::var_os("COMBUSTION_LOG") {
+        None => log::LevelFilter::Warn,
+        Some(value) => match value.to_str().and_then(|s| s.parse().ok()) {
+            Some(level) => level,
+            None => {
+                eprintln!(
+                    "warning: COMBUSTION_LOG=`{}` is not off, error, warn, info, debug or trace; logging warnings",
+                    combustion::shortened(&value.to_string_lossy())
+                );
+                log::LevelFilter::Warn
+            }
+        },
+    };
     static LOGGER: StderrLogger = StderrLogger;
     let _ = log::set_logger(&LOGGER);
     log::set_max_level(level);

@@ -120,6 +120,34 @@ fn folder_of(path: &Path) -> PathBuf {
     }
 }
 
+/// Extensions of image formats the command line may be given by mistake.
+const IMAGE_EXTENSIONS: [&str; 12] = [
+    "png", "exr", "jpg", "jpeg", "hdr", "bmp", "tga", "tif", "tiff", "webp", "gif", "ppm",
+];
+
+/// Refuses `path` (given to `option`, which writes `format`) when its extension names
+/// another image format than `expected` (compared without case): `-o a.jpg` would get
+/// PNG bytes under a JPEG name. No extension, or one of no image format, is left alone.
+pub fn check_extension(
+    path: &Path,
+    option: &str,
+    format: &str,
+    expected: &[&str],
+) -> Result<(), crate::Error> {
+    let Some(extension) = path.extension().and_then(|e| e.to_str()) else {
+        return Ok(());
+    };
+    let extension = extension.to_ascii_lowercase();
+    if IMAGE_EXTENSIONS.contains(&extension.as_str()) && !expected.contains(&extension.as_str()) {
+        return Err(crate::Error::Usage(format!(
+            "{option} {}: {option} writes {format}, but `.{extension}` names another format; name the file .{}",
+            crate::shortened(&path.display().to_string()),
+            expected[0]
+        )));
+    }
+    Ok(())
+}
+
 /// Checks, before any work is done, that `path` can be written by the rule of this
 /// module, and returns the file that will be written: `path` itself, or the end of
 /// the symlink chain it starts.

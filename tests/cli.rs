@@ -1072,13 +1072,23 @@ fn output_paths_are_regular_files_and_every_write_error_is_reported() {
     assert_eq!(std::fs::read(&locked).unwrap(), b"keep");
 
     // Two outputs naming one file, directly or through the link.
-    let same = at("same.png");
+    let same = at("same"); // no extension: either option takes it
     assert_clear_error(
         &["render", "builtin:spheres", "-o", &same, "--hdr", &same],
         "name the same file",
     );
+    // (A link without an extension: `--hdr` refuses a name that says PNG.)
+    let bare_link = at("link-to-real");
+    std::os::unix::fs::symlink(&target, &bare_link).unwrap();
     assert_clear_error(
-        &["render", "builtin:spheres", "-o", &link, "--hdr", &target],
+        &[
+            "render",
+            "builtin:spheres",
+            "-o",
+            &target,
+            "--hdr",
+            &bare_link,
+        ],
         "name the same file",
     );
     assert!(!std::path::Path::new(&same).exists());
@@ -1697,4 +1707,53 @@ fn an_empty_scene_says_so_and_meets_no_budget() {
     );
     assert!(!stdout.contains("variant set"), "{stdout}");
     assert!(out.exists());
+}
+
+/// An output name whose extension names another image format is refused before any
+/// work (exit 2, the option and the format named): `-o a.jpg` used to get PNG bytes and
+/// `--hdr h.png` OpenEXR ones without a word. Case does not matter, and no extension is
+/// fine. An unknown COMBUSTION_LOG level is said to be one, once, instead of ignored.
+#[test]
+fn output_names_say_the_format_they_get() {
+    let dir = scratch("extensions");
+    for (option, name, format) in [
+        ("-o", "a.jpg", "PNG"),
+        ("-o", "a.EXR", "PNG"),
+        ("--hdr", "h.png", "OpenEXR"),
+        ("--hdr", "h.hdr", "OpenEXR"),
+    ] {
+        let path = dir.join(name);
+        let (code, _, stderr) = combustion(&["render", option, path.to_str().unwrap()]);
+        assert_eq!(code, 2, "{option} {name}: {stderr}");
+        assert!(
+            stderr.contains(option) && stderr.contains(format) && stderr.lines().count() == 1,
+            "{option} {name}: {stderr}"
+        );
+        assert!(!path.exists(), "{name} written");
+    }
+    for name in ["upper.PNG", "bare"] {
+        let path = dir.join(name);
+        let (code, stdout, stderr) = combustion(&[
+            "render",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "-o",
+            path.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{name}: {stdout}{stderr}");
+        assert!(path.exists(), "{name}");
+    }
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_combustion"))
+        .args(["devices"])
+        .env("COMBUSTION_LOG", "garbage")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(
+        stderr.matches("COMBUSTION_LOG=`garbage`").count(),
+        1,
+        "{stderr}"
+    );
 }

@@ -10,6 +10,13 @@ use crate::write_stdout;
 
 pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     // Fail on an unwritable destination before spending time on the render.
+    // A name whose extension says another format would get bytes it does not say.
+    if let Some(png) = &o.output {
+        output::check_extension(png, "-o", "PNG", &["png"])?;
+    }
+    if let Some(exr) = &o.hdr {
+        output::check_extension(exr, "--hdr", "OpenEXR", &["exr"])?;
+    }
     let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
     let png_path = o.output.clone().or(default_output);
     let targets = png_path

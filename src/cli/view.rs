@@ -6,6 +6,9 @@ use super::*;
 use crate::write_stdout;
 
 pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
+    if let Some(shot) = &o.screenshot {
+        combustion::output::check_extension(shot, "--screenshot", "PNG", &["png"])?;
+    }
     let (device, settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
     let summary = combustion::viewer::run(&combustion::viewer::ViewerDesc {
         scene: o.scene.source(),
