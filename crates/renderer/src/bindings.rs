@@ -353,30 +353,34 @@ const MATERIALS: Binding = Binding::new(
     FRAGMENT,
 );
 
+/// The object table, read by the vertex stage of the passes that rasterise the scene.
+const OBJECTS: Binding = Binding::new(
+    "objects",
+    BindingKind::StorageBuffer {
+        block: "Objects",
+        element: "GpuObject",
+    },
+    VERTEX,
+);
+
+/// The material table as the rasterising passes read it: the vertex stage (texture
+/// transforms) and the fragment stage.
+const MATERIALS_BOTH_STAGES: Binding = Binding::new(
+    "materials",
+    BindingKind::StorageBuffer {
+        block: "Materials",
+        element: "GpuMaterial",
+    },
+    vk::ShaderStageFlags::from_raw(FRAGMENT.as_raw() | VERTEX.as_raw()),
+);
+
 /// Set 0 of the G-buffer pass: the object table (vertex stage) and the material table
 /// (both stages).
 pub static GBUFFER: SetDecl = SetDecl {
     name: "gbuffer",
     set: 0,
-    bindings: &[
-        Binding::new(
-            "objects",
-            BindingKind::StorageBuffer {
-                block: "Objects",
-                element: "GpuObject",
-            },
-            VERTEX,
-        ),
-        // The vertex stage reads the texture transforms (TEXTURE_TRANSFORMS variant).
-        Binding::new(
-            "materials",
-            BindingKind::StorageBuffer {
-                block: "Materials",
-                element: "GpuMaterial",
-            },
-            vk::ShaderStageFlags::from_raw(FRAGMENT.as_raw() | VERTEX.as_raw()),
-        ),
-    ],
+    // The vertex stage reads the texture transforms (TEXTURE_TRANSFORMS variant).
+    bindings: &[OBJECTS, MATERIALS_BOTH_STAGES],
     includes: &["gpu_types.glsl"],
 };
 
@@ -528,30 +532,13 @@ pub static LIGHTING: SetDecl = SetDecl {
     includes: &["gpu_types.glsl"],
 };
 
-/// The shadow-caster pass (shadow.vert): the object table.
+/// The shadow-caster pass (shadow.vert, shadow.frag): the object and material tables.
 pub static SHADOW_CASTERS: SetDecl = SetDecl {
     name: "shadow_casters",
     set: 0,
-    bindings: &[
-        Binding::new(
-            "objects",
-            BindingKind::StorageBuffer {
-                block: "Objects",
-                element: "GpuObject",
-            },
-            VERTEX,
-        ),
-        // Read by the cut-out casters' pipeline (ALPHA_MASK): the base colour slot's
-        // transform (vertex) and the alpha factor, cutoff and texture (fragment).
-        Binding::new(
-            "materials",
-            BindingKind::StorageBuffer {
-                block: "Materials",
-                element: "GpuMaterial",
-            },
-            vk::ShaderStageFlags::from_raw(FRAGMENT.as_raw() | VERTEX.as_raw()),
-        ),
-    ],
+    // The cut-out casters' pipeline (ALPHA_MASK) reads the materials: the base colour
+    // slot's transform (vertex) and the alpha factor, cutoff and texture (fragment).
+    bindings: &[OBJECTS, MATERIALS_BOTH_STAGES],
     includes: &["gpu_types.glsl"],
 };
 

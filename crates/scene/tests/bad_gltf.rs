@@ -305,6 +305,23 @@ fn base64(bytes: &[u8]) -> String {
     out
 }
 
+/// Appends `bytes` to `root` as a buffer of its own (a data URI) with one buffer view
+/// over all of it, `byteStride` `stride` if given; returns the view's index.
+fn add_buffer_view(root: &mut serde_json::Value, bytes: &[u8], stride: Option<usize>) -> usize {
+    let uri = format!("data:application/octet-stream;base64,{}", base64(bytes));
+    let buffers = root["buffers"].as_array_mut().unwrap();
+    buffers.push(serde_json::json!({ "byteLength": bytes.len(), "uri": uri }));
+    let buffer = buffers.len() - 1;
+    let mut view = serde_json::json!({ "buffer": buffer, "byteLength": bytes.len() });
+    if let Some(stride) = stride {
+        view["byteStride"] = serde_json::json!(stride);
+        view["target"] = serde_json::json!(34962);
+    }
+    let views = root["bufferViews"].as_array_mut().unwrap();
+    views.push(view);
+    views.len() - 1
+}
+
 /// Unknown optional extensions are a warning and listed in the report.
 #[test]
 fn unknown_optional_extension_is_reported() {
@@ -390,18 +407,7 @@ fn vertex_colours_are_read_in_every_allowed_form() {
     let with_colors =
         |component: u32, normalized: bool, ty: &str, stride: usize, bytes: Vec<u8>| {
             let mut root = one_triangle_file(&[0, 1, 2]);
-            let uri = format!("data:application/octet-stream;base64,{}", base64(&bytes));
-            root["buffers"]
-                .as_array_mut()
-                .unwrap()
-                .push(serde_json::json!({ "byteLength": bytes.len(), "uri": uri }));
-            let view = root["bufferViews"].as_array().unwrap().len();
-            root["bufferViews"]
-                .as_array_mut()
-                .unwrap()
-                .push(serde_json::json!({
-                    "buffer": 1, "byteLength": bytes.len(), "byteStride": stride, "target": 34962
-                }));
+            let view = add_buffer_view(&mut root, &bytes, Some(stride));
             let accessor = root["accessors"].as_array().unwrap().len();
             root["accessors"]
                 .as_array_mut()
@@ -529,16 +535,7 @@ fn gpu_instances_are_placed_and_bad_ones_refused() {
     let with_instances = |attributes: serde_json::Value, data: &[f32], extra: &[(&str, u32)]| {
         let mut root = one_triangle_file(&[0, 1, 2]);
         let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
-        let uri = format!("data:application/octet-stream;base64,{}", base64(&bytes));
-        root["buffers"]
-            .as_array_mut()
-            .unwrap()
-            .push(serde_json::json!({ "byteLength": bytes.len(), "uri": uri }));
-        let view = root["bufferViews"].as_array().unwrap().len();
-        root["bufferViews"]
-            .as_array_mut()
-            .unwrap()
-            .push(serde_json::json!({ "buffer": 1, "byteLength": bytes.len() }));
+        let view = add_buffer_view(&mut root, &bytes, None);
         let mut offset = 0u32;
         for (ty, count) in extra {
             let size = if *ty == "VEC4" { 16 } else { 12 };
