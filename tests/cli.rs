@@ -1757,3 +1757,40 @@ fn output_names_say_the_format_they_get() {
         "{stderr}"
     );
 }
+
+/// `--ev N` is `--exposure 2^N`: the same PNG, byte for byte, as `--exposure 4` for
+/// `--ev 2` (2² is exact in f32); the two together, or stops beyond ±64, are usage errors.
+#[test]
+fn exposure_in_stops_is_the_factor_two_to_the_stops() {
+    let dir = scratch("ev");
+    let render = |flag: &str, value: &str, name: &str| {
+        let png = dir.join(name);
+        let (code, stdout, stderr) = combustion(&[
+            "render",
+            "builtin:spot-box",
+            "--width",
+            "48",
+            "--height",
+            "32",
+            flag,
+            value,
+            "-o",
+            png.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        std::fs::read(png).unwrap()
+    };
+    assert_eq!(
+        render("--ev", "2", "ev.png"),
+        render("--exposure", "4", "x.png")
+    );
+    for args in [
+        &["render", "--ev", "1", "--exposure", "2"][..],
+        &["render", "--ev", "65"][..],
+        &["render", "--ev", "nan"][..],
+    ] {
+        let (code, _, stderr) = combustion(args);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains("--ev"), "{args:?}: {stderr}");
+    }
+}

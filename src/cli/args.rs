@@ -165,6 +165,9 @@ pub(crate) struct FrameArgs {
     /// Exposure: the factor applied to radiance before tone mapping
     #[arg(long, value_name = "X", default_value = "1", value_parser = positive_finite::<f32>)]
     pub(crate) exposure: f32,
+    /// Exposure in stops instead: the factor 2^EV (-64 to 64)
+    #[arg(long, value_name = "EV", allow_hyphen_values = true, conflicts_with = "exposure", value_parser = exposure_value)]
+    pub(crate) ev: Option<f32>,
     /// The Fresnel term: the full equations, or a comparison variant
     #[arg(long, value_name = "MODEL", default_value = FresnelModel::default().name(), value_parser = named([FresnelModel::Full, FresnelModel::Schlick, FresnelModel::F82].map(|m| (m.name(), m))))]
     pub(crate) fresnel: FresnelModel,
@@ -207,6 +210,18 @@ impl PictureArgs {
     pub(crate) fn tone_mapping_for(&self, source: &SceneSource) -> ToneMapping {
         self.tone_mapping
             .unwrap_or_else(|| combustion::default_tone_mapping(source))
+    }
+}
+
+/// `--ev`: a finite number of stops within ±64 (2^±64 stays a normal f32 factor).
+fn exposure_value(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(ev) if (-64.0..=64.0).contains(&ev) => Ok(ev),
+        Ok(_) => Err(format!(
+            "`{}` is not between -64 and 64 stops",
+            shortened(text)
+        )),
+        Err(_) => Err(format!("`{}` is not a number", shortened(text))),
     }
 }
 
@@ -370,7 +385,7 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_name = "WHEN", default_value = "auto", value_parser = named(CULLING))]
     pub(crate) culling: LightCulling,
     /// Measure the variant sets and write the speed-against-error report to DIR
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "gbuffer_base_color", "gbuffer_surface", "exposure", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
     pub(crate) report: Option<PathBuf>,
     /// With --report: add how this run reproduces an earlier report (rows with identical
     /// error columns, the spread of the frame-time ratios)
@@ -857,7 +872,7 @@ pub(crate) fn device_and_settings(
         ..DeviceDesc::default()
     };
     let settings = RendererSettings {
-        exposure: frame.exposure,
+        exposure: frame.ev.map_or(frame.exposure, f32::exp2),
         hdr_format: frame.hdr_format,
         gbuffer: GBufferStorage {
             base_color: frame.gbuffer_base_color,
