@@ -54,7 +54,7 @@ fn every_tone_curve_is_its_mirror() {
 /// The curves' defining properties, in f64: the exponential curve is inverted by
 /// −ln(1 − y); PBR Neutral passes a colour below its compression start through
 /// unchanged but for the offset near black (0.04 above x = 0.08) and maps any radiance
-/// into [0, 1]; the ACES fit clips at 1.
+/// into [0, 1]; the ACES fit clips at 1; AgX keeps greys in order within [0, 1].
 #[test]
 fn the_curves_keep_their_definitions() {
     use combustion::renderer::{tonemap_aces, tonemap_exponential, tonemap_pbr_neutral};
@@ -75,4 +75,10 @@ fn the_curves_keep_their_definitions() {
     }
     assert_eq!(tonemap_aces(1e3), 1.0);
     assert!(tonemap_aces(0.1) < tonemap_aces(0.2));
+    // AgX: greys rise monotonically from black towards white and stay in [0, 1].
+    let greys: Vec<f64> = [1e-4, 1e-2, 0.18, 1.0, 10.0, 1e3]
+        .map(|g| combustion::renderer::tonemap_agx([g; 3])[1])
+        .to_vec();
+    assert!(greys.windows(2).all(|w| w[0] < w[1]), "{greys:?}");
+    assert!(greys.iter().all(|g| (0.0..=1.0).contains(g)), "{greys:?}");
 }

@@ -193,7 +193,8 @@ pub(crate) struct PictureArgs {
     #[arg(long, value_name = "BACKGROUND", allow_hyphen_values = true, value_parser = parse_background)]
     pub(crate) background: Option<Background>,
     /// The tone curve of the PNG and the window: `exponential` (1 - e^-x), `pbr-neutral`
-    /// (Khronos PBR Neutral, as glTF viewers show) or `aces` (Narkowicz's ACES fit); by
+    /// (Khronos PBR Neutral, as glTF viewers show), `aces` (Narkowicz's ACES fit) or
+    /// `agx` (AgX, Wrensch's minimal form); by
     /// default pbr-neutral for glTF files, exponential for built-in scenes (the EXR is
     /// radiance either way)
     #[arg(long, value_name = "CURVE", value_parser = named(ToneMapping::ALL.map(|t| (t.name(), t))))]

@@ -37,6 +37,43 @@ pub fn tonemap_aces(x: f64) -> f64 {
     (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
 }
 
+/// The inset matrix of AgX (rows: output channels), from B. Wrensch's minimal AgX
+/// (2024; the transform of T. Sobotka's AgX).
+const AGX_INSET: [[f64; 3]; 3] = [
+    [0.842479062253094, 0.0784335999999992, 0.0792237451477643],
+    [0.0423282422610123, 0.878468636469772, 0.0791661274605434],
+    [0.0423756549057051, 0.0784336, 0.879142973793104],
+];
+/// Its outset matrix (rows: output channels).
+const AGX_OUTSET: [[f64; 3]; 3] = [
+    [1.19687900512017, -0.0980208811401368, -0.0990297440797205],
+    [-0.0528968517574562, 1.15190312990417, -0.0989611768448433],
+    [-0.0529716355144438, -0.0980434501171241, 1.15107367264116],
+];
+/// The log2 range AgX maps to [0, 1] before its contrast curve.
+const AGX_MIN_EV: f64 = -12.47393;
+const AGX_MAX_EV: f64 = 4.026069;
+
+/// CPU mirror of `tonemap_agx` (tonemap.glsl): AgX (T. Sobotka), as B. Wrensch's minimal
+/// form computes it — the inset matrix, log2 encoding over [−12.47, 4.03] stops, the
+/// 6th-order fit of AgX's default contrast curve, the outset matrix — and then decoded
+/// from its 2.2-power display encoding to the linear display value the output pass
+/// encodes to sRGB.
+pub fn tonemap_agx(rgb: [f64; 3]) -> [f64; 3] {
+    let times = |m: &[[f64; 3]; 3], v: [f64; 3]| -> [f64; 3] {
+        std::array::from_fn(|r| m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2])
+    };
+    let inset = times(&AGX_INSET, rgb.map(|c| c.max(1e-10)));
+    let curved = inset.map(|c| {
+        let x = (c.max(1e-10).log2().clamp(AGX_MIN_EV, AGX_MAX_EV) - AGX_MIN_EV)
+            / (AGX_MAX_EV - AGX_MIN_EV);
+        let (x2, x4) = (x * x, x * x * x * x);
+        15.5 * x4 * x2 - 40.14 * x4 * x + 31.96 * x4 - 6.868 * x2 * x + 0.4298 * x2 + 0.1191 * x
+            - 0.00232
+    });
+    times(&AGX_OUTSET, curved).map(|c| c.max(0.0).powf(2.2).min(1.0))
+}
+
 /// The sRGB encoding (IEC 61966-2-1) the tonemap pass applies (`srgb_encode`).
 pub fn linear_to_srgb(linear: f64) -> f64 {
     if linear <= 0.0031308 {

@@ -269,18 +269,22 @@ pub enum ToneMapping {
     /// K. Narkowicz's ACES filmic fit ([`crate::tonemap_aces`]): contrast and a toe,
     /// clips at high radiance.
     Aces = 2,
+    /// AgX ([`crate::tonemap_agx`]): 16.5 stops of range, bright colours desaturated
+    /// towards white.
+    Agx = 3,
 }
 
 impl ToneMapping {
     /// Every curve, in discriminant order.
-    pub const ALL: [ToneMapping; 3] = [Self::Exponential, Self::PbrNeutral, Self::Aces];
+    pub const ALL: [ToneMapping; 4] = [Self::Exponential, Self::PbrNeutral, Self::Aces, Self::Agx];
 
-    /// The command line's name: `exponential`, `pbr-neutral`, `aces`.
+    /// The command line's name: `exponential`, `pbr-neutral`, `aces`, `agx`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Exponential => "exponential",
             Self::PbrNeutral => "pbr-neutral",
             Self::Aces => "aces",
+            Self::Agx => "agx",
         }
     }
 
@@ -291,6 +295,7 @@ impl ToneMapping {
             Self::Exponential => rgb.map(crate::tonemap_exponential),
             Self::PbrNeutral => crate::tonemap_pbr_neutral(rgb),
             Self::Aces => rgb.map(crate::tonemap_aces),
+            Self::Agx => crate::tonemap_agx(rgb),
         }
     }
 }

@@ -68,7 +68,7 @@ use combustion_scene::Scene;
 use combustion_vk::{vk, Device, PipelineCache, ShaderCompiler};
 
 pub use color::{
-    f16_to_f32, linear_to_srgb, tonemap_aces, tonemap_exponential, tonemap_pbr_neutral,
+    f16_to_f32, linear_to_srgb, tonemap_aces, tonemap_agx, tonemap_exponential, tonemap_pbr_neutral,
 };
 pub use environment::FrameEnvironment;
 pub use error::{RenderError, TargetImageProblem};
