@@ -500,7 +500,6 @@ fn edits_of_a_textured_sample_model_upload_no_image_they_do_not_add() {
 #[test]
 fn unlit_materials_show_their_base_colour() {
     use combustion::renderer::reference::{error_map, ReferenceShading};
-    use combustion::renderer::FrameInputs;
     let Some(files) = sample_models() else { return };
     let path = files
         .iter()
@@ -527,15 +526,7 @@ fn unlit_materials_show_their_base_colour() {
             gbuffer: true,
         },
     );
-    let inputs = FrameInputs {
-        camera: scene.camera,
-        exposure: 1.0,
-        lights: &scene.lights,
-        overlay: &[],
-        environment: None,
-        background: combustion::renderer::Background::None,
-        tone_mapping: combustion::renderer::ToneMapping::Exponential,
-    };
+    let inputs = common::frame_inputs(&scene, &scene.lights);
     let reference = ReferenceShading::new(&scene, &inputs, w, h);
     let map = error_map(&frame, &reference, 2);
     eprintln!(

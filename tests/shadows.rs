@@ -942,8 +942,9 @@ fn radiance_interval(code: u8, half_width: f64) -> (f64, f64) {
 /// The optional shadow resources alternated for longer than the retire delay, under
 /// validation with synchronisation checks: one renderer with 3 frames in flight records
 /// 60 frames cycling through a scene without lights (no shadow pass, placeholder
-/// bindings), grid-sun (cascades), point-among (a cube of local maps) and spot-box (one
-/// local map), while shadows are switched on, off, on with other map sizes, off and on
+/// bindings), grid-sun (cascades), the cut-out scene (cut-out casters through their
+/// alpha-testing pipeline, a sun's cascades and a point light's cube), point-among (a
+/// cube of local maps) and spot-box (one local map), while shadows are switched on, off, on with other map sizes, off and on
 /// again every 12 frames (the map arrays replaced, and the old ones retired, while frames that read
 /// them are still in flight). Every frame writes every binding of its sets (checked by
 /// `SetWriter::apply`). Afterwards each scene's frame equals a fresh renderer's, bit for
@@ -951,7 +952,12 @@ fn radiance_interval(code: u8, half_width: f64) -> (f64, f64) {
 #[test]
 fn shadow_resources_alternate_across_frames_in_flight() {
     let names = ["spheres-studio", "grid-sun", "point-among", "spot-box"];
-    let scenes: Vec<Scene> = names.iter().map(|n| builtin_scene(n).unwrap()).collect();
+    let mut scenes: Vec<Scene> = names.iter().map(|n| builtin_scene(n).unwrap()).collect();
+    // Cut-out casters (their own pipeline, material table and texture sets bound in the
+    // caster pass) and vertex colours, between scenes without them.
+    let cutout =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/cutout/cutout.gltf");
+    scenes.insert(2, combustion::SceneSource::File(cutout).load().unwrap());
     let small = ShadowSettings {
         cascades: 2,
         map_size: 512,

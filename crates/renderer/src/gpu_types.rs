@@ -130,6 +130,16 @@ impl GpuMaterial {
         self.diffuse_model_flags[1] & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR != 0
     }
 
+    /// The same entry with every texture slot empty (-1): what the environment bake
+    /// reads of a material, whatever its textures' places in the texture array.
+    pub fn without_textures(&self) -> Self {
+        Self {
+            textures_base_mr_normal_occlusion: [-1; 4],
+            textures_emissive_anisotropy_specular: [-1; 4],
+            ..*self
+        }
+    }
+
     /// Whether the material is unlit ([`MATERIAL_FLAG_UNLIT`]).
     pub fn unlit(&self) -> bool {
         self.diffuse_model_flags[1] & MATERIAL_FLAG_UNLIT != 0

@@ -10,7 +10,9 @@ use combustion_scene::{Mesh, Scene};
 use combustion_vk::{vk, Buffer, DescriptorSetLayout, Device};
 
 use crate::error::RenderError;
-use crate::gpu_types::{conductor_from_base_color_table, material_table, GpuObject, GpuVertex};
+use crate::gpu_types::{
+    conductor_from_base_color_table, material_table, GpuMaterial, GpuObject, GpuVertex,
+};
 use crate::retire::{RetireQueue, Retired};
 use crate::scene_edit::{MaterialId, MeshId, ObjectId, SceneIds};
 use crate::textures::SceneTextures;
@@ -355,7 +357,15 @@ impl Tables {
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),
             variant: scene_variant(scene),
             lit_variant: lit_scene_variant(scene),
-            bake_materials: bytemuck::cast_slice(&material_table(scene, &[])).to_vec(),
+            // The table without texture indices, from the entries just made (not made
+            // again: a cut-out's alpha scales walk its texture's mip levels).
+            bake_materials: bytemuck::cast_slice(
+                &materials
+                    .iter()
+                    .map(GpuMaterial::without_textures)
+                    .collect::<Vec<_>>(),
+            )
+            .to_vec(),
             // The world box is the objects' boxes together (one walk over the vertices).
             world_bounds: object_bounds
                 .iter()
