@@ -1,0 +1,204 @@
+// What lights a surface, shared by the passes that shade (the lighting pass from the
+// G-buffer, the forward pass from the blended objects' own fragments): the BRDF's inputs
+// from a material and a surface's values, one light's reflected radiance (times its
+// shadow maps' verdict in the SHADOWS variant), and the environment's split sum
+// (ENVIRONMENT variant). Needs gpu_types.glsl, brdf.glsl, the generated constants, and a
+// set declaring `materials`, `lights`, `conductor_from_code`, `energy_white_albedo` and
+// the environment's and shadows' bindings as bindings::LIGHTING does (shadows.glsl
+// included first in the SHADOWS variant).
+#ifndef COMBUSTION_LIGHTING_TERMS_GLSL
+#define COMBUSTION_LIGHTING_TERMS_GLSL
+
+// The four cells (row-major indices into a size × size table: (x0,y0), (x1,y0), (x0,y1),
+// (x1,y1)) and weights of a bilinear lookup at coord in [0, 1]², cell-centred and
+// clamped at the edges, as every albedo table here is read.
+uvec4 bilinear_cells(vec2 coord, uint size, out vec2 f) {
+    vec2 x = clamp(coord * float(size) - 0.5, vec2(0.0), vec2(float(size - 1u)));
+    uvec2 i0 = uvec2(x);
+    uvec2 i1 = min(i0 + 1u, uvec2(size - 1u));
+    f = x - vec2(i0);
+    return uvec4(i0.y * size + i0.x, i0.y * size + i1.x, i1.y * size + i0.x, i1.y * size + i1.x);
+}
+
+#ifdef ENERGY_COMPENSATION
+// E(μ, α) bilinear in the white specular albedo table over (μ, r = √α)
+// (combustion_renderer::environment::white_specular_albedo_table), ENERGY_TABLE_SIZE²
+// entries (bindings/constants.glsl).
+float energy_white_albedo_lookup(float cos_v, float alpha) {
+    vec2 f;
+    uvec4 c = bilinear_cells(vec2(cos_v, sqrt(max(alpha, 0.0))), ENERGY_TABLE_SIZE, f);
+    return mix(mix(energy_white_albedo[c.x], energy_white_albedo[c.y], f.x),
+               mix(energy_white_albedo[c.z], energy_white_albedo[c.w], f.x), f.y);
+}
+#endif
+
+#ifdef ENVIRONMENT
+#include "environment.glsl"
+
+// Bilinear lookup in material `material`'s albedo table (environment_albedo.comp), part
+// `part` (0: specular, 1: diffuse), at (n·v, r); cell-centred, clamped at the edges.
+vec4 environment_table(uint material, uint part, vec2 coord) {
+    vec2 f;
+    uvec4 c = bilinear_cells(coord, ENVIRONMENT_TABLE_SIZE, f)
+            + material * ENVIRONMENT_TABLE_SIZE * ENVIRONMENT_TABLE_SIZE;
+    c = c * 2u + part;
+    return mix(mix(environment_albedo[c.x], environment_albedo[c.y], f.x),
+               mix(environment_albedo[c.z], environment_albedo[c.w], f.x), f.y);
+}
+
+// The same in per-code table `table` (environment_code_albedo.comp), code `code`.
+float environment_code_table(uint table, uint code, vec2 coord) {
+    vec2 f;
+    uvec4 c = bilinear_cells(coord, ENVIRONMENT_CODE_TABLE_SIZE, f)
+            + (table * 256u + code) * ENVIRONMENT_CODE_TABLE_SIZE * ENVIRONMENT_CODE_TABLE_SIZE;
+    return mix(mix(environment_code_albedo[c.x], environment_code_albedo[c.y], f.x),
+               mix(environment_code_albedo[c.z], environment_code_albedo[c.w], f.x), f.y);
+}
+
+// The split-sum environment term (combustion_renderer::environment): the prefiltered
+// radiance along the mirror direction times the material's specular directional albedo
+// (full Fresnel), plus the cosine-weighted mean radiance about n times its diffuse
+// albedo ρ D1 + ρ² D2. Anisotropic pixels use the roughness of their mean α.
+vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs m, BrdfView view,
+                          vec3 n, vec3 v, float roughness, vec3 base_color_code,
+                          float occlusion) {
+    float nv = view.v.z;
+    if (!(nv > 0.0)) {
+        return vec3(0.0);
+    }
+#ifndef NO_ANISOTROPY
+    bool anisotropic = view.ax != view.ay;
+    // An anisotropic lobe is looked up (tables and cube) at the roughness of its mean α
+    // (an isotropic one at its own r, as the specialised pipeline without anisotropy).
+    if (anisotropic) {
+        roughness = sqrt(0.5 * (view.ax + view.ay));
+    }
+#endif
+    float alpha = roughness * roughness;
+    vec2 coord = vec2(nv, roughness);
+    vec4 specular = environment_table(material_index, 0u, coord);
+    vec4 diffuse = environment_table(material_index, 1u, coord);
+    vec3 conductor = specular.rgb;
+    if ((material.diffuse_model_flags.y & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR) != 0u) {
+        uint table = environment_code_table_of_material[material_index];
+        uvec3 code = uvec3(base_color_code);
+        conductor = vec3(environment_code_table(table, code.r, coord),
+                         environment_code_table(table, code.g, coord),
+                         environment_code_table(table, code.b, coord));
+    }
+    float metal = view.metal;
+    vec3 rho = clamp(m.base_color, vec3(0.0), vec3(1.0));
+    // Occlusion (glTF occlusion textures, OCCLUSION variant; 1 otherwise) darkens the
+    // diffuse term as it is, and the specular term by Lagarde & de Rousiers' (2014,
+    // eq. 58) specular occlusion, weaker than the diffuse occlusion at normal incidence
+    // and on smooth surfaces; direct lights are never occluded.
+    #ifdef OCCLUSION
+    float specular_occlusion = clamp(
+        pow(nv + occlusion, exp2(-16.0 * alpha - 1.0)) - 1.0 + occlusion, 0.0, 1.0);
+#else
+    const float specular_occlusion = 1.0;
+#endif
+#ifdef ENERGY_COMPENSATION
+    vec3 specular_albedo = ((1.0 - metal) * specular.a * view.compensation_dielectric
+                            + metal * conductor * view.compensation_conductor) * specular_occlusion;
+#else
+    vec3 specular_albedo = ((1.0 - metal) * specular.a + metal * conductor) * specular_occlusion;
+#endif
+    vec3 diffuse_albedo = (1.0 - metal) * (rho * diffuse.x + rho * rho * diffuse.y) * occlusion;
+    // The lookup direction: for anisotropic pixels the reflection about a normal bent
+    // towards the one the stretched lobe favours (McAuley 2015, as Filament does); then
+    // the lobe's dominant direction, pulled from the mirror direction towards the normal
+    // as roughness grows (Lagarde & de Rousiers 2014, eq. 55).
+    vec3 lookup_normal = n;
+#ifndef NO_ANISOTROPY
+    float strength = anisotropic ? abs(view.ax - view.ay) / max(view.ax, view.ay) : 0.0;
+    if (strength > 0.0) {
+        vec3 direction = view.ax > view.ay ? view.frame[1] : view.frame[0];
+        vec3 anisotropic_normal = cross(cross(direction, v), direction);
+        float bend = strength * clamp(5.0 * roughness, 0.0, 1.0);
+        lookup_normal = normalize(mix(n, anisotropic_normal, bend));
+    }
+#endif
+    float smoothness = 1.0 - alpha;
+    vec3 r = normalize(mix(n, reflect(-v, lookup_normal), smoothness * (sqrt(smoothness) + alpha)));
+    float lod = clamp(roughness, 0.0, 1.0) * float(textureQueryLevels(environment_specular) - 1);
+    return textureLod(environment_specular, r, lod).rgb * specular_albedo
+         + textureLod(environment_irradiance, n, 0.0).rgb * diffuse_albedo;
+}
+#endif
+
+// The BRDF's inputs at a surface of `material` whose linear base colour, metalness,
+// perceptual roughness and anisotropy strength are these; `base_color_code` is the base
+// colour's 8-bit sRGB codes (round(255 · sRGB)), which index the conductor table of a
+// conductor derived from its base colour.
+BrdfInputs brdf_inputs(GpuMaterial material, vec3 base_color, float metalness, float roughness,
+                       float anisotropy, vec3 base_color_code) {
+    float alpha = alpha_from_perceptual_roughness(roughness);
+    vec2 alphas = anisotropic_alphas(alpha, anisotropy);
+    BrdfInputs m;
+    m.base_color = base_color;
+    m.metalness = metalness;
+    m.alpha_x = alphas.x;
+    m.alpha_y = alphas.y;
+    m.conductor_eta = material.conductor_eta_outside_ior.rgb;
+    m.conductor_k = material.conductor_k_polarisation.rgb;
+#ifndef NO_CONDUCTOR_TABLE
+    if ((material.diffuse_model_flags.y & MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR) != 0u) {
+        ivec3 code = ivec3(base_color_code);
+        vec2 red = conductor_from_code[code.r];
+        vec2 green = conductor_from_code[code.g];
+        vec2 blue = conductor_from_code[code.b];
+        m.conductor_eta = vec3(red.x, green.x, blue.x);
+        m.conductor_k = vec3(red.y, green.y, blue.y);
+    }
+#endif
+    m.dielectric_eta = material.roughness_anisotropy_ior.w;
+#ifdef OUTSIDE_ETA_ONE
+    m.outside_eta = 1.0;  // every material's, as the table holds it
+#else
+    m.outside_eta = material.conductor_eta_outside_ior.a;
+#endif
+    m.polarisation_weight = material.conductor_k_polarisation.a;
+    m.diffuse_model = material.diffuse_model_flags.x;
+    m.oren_nayar_sigma = oren_nayar_sigma_from_roughness(roughness);
+    return m;
+}
+
+// The radiance `light` reflects towards the eye from a surface at `position` with shading
+// normal `n` (the BRDF's inputs `m` and view half `view`): f(v, l) E (n·l), times the
+// light's shadow maps' verdict in the SHADOWS variant (`eye`: the camera's position,
+// `pixel`: the fragment's window coordinates, for the cascade choice and the filter's
+// noise).
+vec3 light_radiance(BrdfInputs m, BrdfView view, GpuLight light, vec3 position, vec3 n, vec3 eye,
+                    vec2 pixel) {
+    vec3 l;
+    vec3 irradiance;
+    if (light.power_kind.a != LIGHT_KIND_DIRECTIONAL) {
+        vec3 to_light = light.position_or_direction.xyz - position;
+        float distance_squared = max(dot(to_light, to_light), 1e-12);
+        l = to_light * inversesqrt(distance_squared);
+        irradiance = light.power_kind.rgb / distance_squared;
+        if (light.spot_cone.z != 0.0) {  // a range: the window (none: exact 1/d²)
+            irradiance *= range_attenuation(light, distance_squared);
+        }
+        if (light.power_kind.a == LIGHT_KIND_SPOT) {
+            irradiance *= spot_attenuation(light, l);
+        }
+    } else {
+        l = -light.position_or_direction.xyz;
+        irradiance = light.power_kind.rgb;
+    }
+    float n_dot_l = dot(n, l);
+    if (n_dot_l <= 0.0) {
+        return vec3(0.0);
+    }
+#ifdef SHADOWS
+    if (light.spot_cone.w != 0.0) {
+        irradiance *= shadow_visibility_of(light, uint(light.spot_cone.w) - 1u, position, eye, n, l,
+                                           pixel);
+    }
+#endif
+    return brdf_evaluate_view(m, view, l) * irradiance * n_dot_l;
+}
+
+#endif

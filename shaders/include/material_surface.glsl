@@ -1,0 +1,162 @@
+// The surface a rasterised fragment shows, from its material, its textures and the
+// interpolated vertex attributes: shared by the passes that shade the scene's objects
+// themselves, the G-buffer pass (which stores it) and the forward pass (which lights it
+// at once: blended materials). Declares the fragment inputs gbuffer.vert writes and set 1,
+// the material's textures; needs gpu_types.glsl.
+#ifndef COMBUSTION_MATERIAL_SURFACE_GLSL
+#define COMBUSTION_MATERIAL_SURFACE_GLSL
+
+#include "gbuffer_encoding.glsl"
+
+layout(location = 0) in vec3 in_world_position;
+layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec4 in_tangent;
+layout(location = 3) flat in uint in_material;
+#ifdef VERTEX_COLORS
+layout(location = 8) in vec4 in_color;  // glTF COLOR_0, multiplied into base colour and alpha
+#endif
+#ifndef TEXTURE_TRANSFORMS
+layout(location = 4) in vec2 in_uv;
+#else
+layout(location = 5) in vec4 in_slot_uv[3];  // gbuffer.vert: each slot's mapped coordinates
+#endif
+
+// Set 1: the material's textures, bound per material; empty slots hold a 1×1 white
+// texture and are not sampled: the material table's index is -1 for them. The occlusion
+// slot is sampled in the OCCLUSION variant (environment lighting); the specular slots are
+// bound but not sampled (specular is not shaded). See
+// combustion_renderer::bindings::MATERIAL_TEXTURES.
+#include "bindings/material_textures.glsl"
+
+// Where each sampled slot samples: its coordinate set through its KHR_texture_transform
+// (mapped per vertex in the TEXTURE_TRANSFORMS variant), else the mesh's first set.
+#ifdef TEXTURE_TRANSFORMS
+#define UV_BASE_COLOR in_slot_uv[0].xy
+#define UV_METALLIC_ROUGHNESS in_slot_uv[0].zw
+#define UV_NORMAL in_slot_uv[1].xy
+#define UV_EMISSIVE in_slot_uv[1].zw
+#define UV_ANISOTROPY in_slot_uv[2].xy
+#define UV_OCCLUSION in_slot_uv[2].zw
+#else
+#define UV_BASE_COLOR in_uv
+#define UV_METALLIC_ROUGHNESS in_uv
+#define UV_NORMAL in_uv
+#define UV_EMISSIVE in_uv
+#define UV_ANISOTROPY in_uv
+#define UV_OCCLUSION in_uv
+#endif
+
+// The vertex colour's alpha (1 without vertex colours).
+float vertex_alpha() {
+#ifdef VERTEX_COLORS
+    return in_color.a;
+#else
+    return 1.0;
+#endif
+}
+
+// What the fragment's material says of its surface, factors times textures times the
+// vertex colour.
+struct MaterialSurface {
+    vec3 base_color;  // linear
+    float alpha;      // the base colour factor's, texture's and vertex colour's alpha
+    float metalness;
+    float roughness;  // perceptual
+    float anisotropy; // strength
+    vec3 normal;      // unit shading normal (normal map applied; reversed on back faces)
+    vec3 direction;   // unit anisotropy direction, in the plane of `normal`
+    vec3 emissive;    // emitted radiance (EMISSIVE variant; 0 otherwise)
+    float occlusion;  // glTF occlusion (OCCLUSION variant; 1 otherwise)
+};
+
+MaterialSurface material_surface(GpuMaterial material) {
+    ivec4 tex0 = material.textures_base_mr_normal_occlusion;
+    ivec4 tex1 = material.textures_emissive_anisotropy_specular;
+    MaterialSurface s;
+
+    // Geometric frame: interpolated normal (facet normal if it is degenerate) and the
+    // mesh tangent made orthogonal to it.
+    vec3 geometric = cross(dFdx(in_world_position), dFdy(in_world_position));
+    vec3 n = in_normal;
+    if (!(dot(n, n) > 1e-20) || any(isnan(n)) || any(isinf(n))) {
+        n = geometric;
+    }
+    n = normalize(n);
+    if (!gl_FrontFacing) {
+        n = -n;
+    }
+    vec3 t = in_tangent.xyz - n * dot(n, in_tangent.xyz);
+    if (!(dot(t, t) > 1e-20) || any(isnan(t))) {
+        vec3 unused;
+        orthonormal_basis(n, t, unused);
+    }
+    t = normalize(t);
+    vec3 b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
+
+    // Normal map (tangent space, glTF convention), scaled in x and y.
+    if (tex0.z >= 0) {
+        vec3 m = texture(normal_texture, UV_NORMAL).xyz * 2.0 - 1.0;
+        m.xy *= material.emissive_normal_scale.a;
+        vec3 mapped = mat3(t, b, n) * m;
+        if (dot(mapped, mapped) > 1e-20) {
+            n = normalize(mapped);
+            t = normalize(t - n * dot(n, t));
+            b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
+        }
+    }
+
+    vec4 base = vec4(material.base_color_metalness.rgb, material.alpha_cutoff.x);
+    if (tex0.x >= 0) {
+        base *= texture(base_color_texture, UV_BASE_COLOR);
+    }
+#ifdef VERTEX_COLORS
+    base *= in_color;
+#endif
+    vec4 metal_rough = tex0.y >= 0
+        ? texture(metallic_roughness_texture, UV_METALLIC_ROUGHNESS)
+        : vec4(1.0);
+    // glTF: G = roughness, B = metalness
+    s.base_color = base.rgb;
+    s.alpha = base.a;
+    s.metalness = material.base_color_metalness.a * metal_rough.b;
+    s.roughness = material.roughness_anisotropy_ior.x * metal_rough.g;
+
+    // Anisotropy (KHR_materials_anisotropy): direction in tangent space from the texture's
+    // RG (or +x), rotated by the material's rotation; strength × the texture's B.
+    float strength = material.roughness_anisotropy_ior.y;
+    vec2 along = vec2(1.0, 0.0);
+    if (tex1.y >= 0) {
+        vec3 a = texture(anisotropy_texture, UV_ANISOTROPY).rgb;
+        along = a.rg * 2.0 - 1.0;
+        strength *= a.b;
+    }
+    float rotation = material.roughness_anisotropy_ior.z;
+    float c = cos(rotation), sn = sin(rotation);
+    along = vec2(c * along.x - sn * along.y, sn * along.x + c * along.y);
+    vec3 direction = along.x * t + along.y * b;
+    if (!(dot(direction, direction) > 1e-20)) {
+        direction = t;
+    }
+    s.anisotropy = strength;
+    s.normal = n;
+    s.direction = normalize(direction);
+
+    s.emissive = vec3(0.0);
+#ifdef EMISSIVE
+    s.emissive = material.emissive_normal_scale.rgb;
+    if (tex1.x >= 0) {
+        s.emissive *= texture(emissive_texture, UV_EMISSIVE).rgb;
+    }
+#endif
+    // glTF occlusion: 1 + strength · (R − 1), from the texture's red channel.
+    s.occlusion = 1.0;
+#ifdef OCCLUSION
+    if (tex0.w >= 0) {
+        float occlusion_strength = uintBitsToFloat(material.diffuse_model_flags.z);
+        s.occlusion = 1.0 + occlusion_strength * (texture(occlusion_texture, UV_OCCLUSION).r - 1.0);
+    }
+#endif
+    return s;
+}
+
+#endif
