@@ -12,7 +12,7 @@
 //! away: a crease; which side of an edge a pixel whose centre lies within rounding of
 //! it shows is the rasteriser's call) are counted, not compared.
 
-use combustion_reference::primary::camera_ray;
+use combustion_reference::primary::{camera_ray, per_pixel};
 use combustion_reference::shading::{GBufferPrecision, SceneShading, StoredValue, SurfacePoint};
 use combustion_reference::SceneBvh;
 use combustion_renderer::reference::RADIANCE_FLOOR;
@@ -94,6 +94,10 @@ pub struct SceneReference<'a> {
     pub pixels: Vec<Option<ReferencePixel>>,
     /// The material each pixel's ray sees (`None`: nothing).
     seen: Vec<Option<usize>>,
+    /// Per pixel: the blended surfaces (alphaMode BLEND) its ray passes through before
+    /// its opaque surface, nearest first, each with its radiance (NaN where the pixel
+    /// is not shaded); empty in a scene without blended materials.
+    blended: Vec<Vec<(SurfacePoint, [f64; 3])>>,
 }
 
 /// One pixel of a frame compared with the reference.
@@ -267,6 +271,26 @@ impl<'a> SceneReference<'a> {
             })
         };
         let seen = pixels.iter().map(|p| p.map(|p| p.material)).collect();
+        let blended = if scene.materials.iter().any(|m| m.is_blended()) {
+            let shading = &shading;
+            per_pixel(width, height, threads, |x, y| {
+                let i = (y * width + x) as usize;
+                shading
+                    .blended_surfaces(x, y)
+                    .into_iter()
+                    .map(|s| {
+                        let radiance = if shaded(i) {
+                            shading.radiance(&s)
+                        } else {
+                            [f64::NAN; 3]
+                        };
+                        (s, radiance)
+                    })
+                    .collect()
+            })
+        } else {
+            vec![Vec::new(); (width * height) as usize]
+        };
         SceneReference {
             scene,
             bvh,
@@ -275,6 +299,7 @@ impl<'a> SceneReference<'a> {
             height,
             pixels,
             seen,
+            blended,
         }
     }
 
@@ -304,6 +329,10 @@ impl<'a> SceneReference<'a> {
         (y.saturating_sub(1)..(y + 2).min(h)).any(|yy| {
             (x.saturating_sub(1)..(x + 2).min(w)).any(|xx| {
                 let other = &self.pixels[(yy * w + xx) as usize];
+                let objects = |i: usize| self.blended[i].iter().map(|(s, _)| s.hit.object);
+                if !objects((y * w + x) as usize).eq(objects((yy * w + xx) as usize)) {
+                    return true; // another blended surface in front
+                }
                 match (own, other) {
                     (None, None) => false,
                     (Some(a), Some(b)) => {
@@ -383,13 +412,17 @@ impl<'a> SceneReference<'a> {
                     out.non_finite += 1;
                     continue;
                 }
+                // Blended surfaces in front: the forward pass shades them from their
+                // own inputs (nothing stored), over the opaque surface's radiance.
+                let exact = SceneShading::blended_over(&self.blended[i], p.exact);
+                let as_stored = SceneShading::blended_over(&self.blended[i], p.as_stored);
                 out.pixels.push(ComparedPixel {
                     x,
                     y,
                     gpu,
-                    total: relative(gpu, p.exact),
-                    storage: relative(p.as_stored, p.exact),
-                    rest: relative(gpu, p.as_stored),
+                    total: relative(gpu, exact),
+                    storage: relative(as_stored, exact),
+                    rest: relative(gpu, as_stored),
                 });
             }
         }
@@ -419,9 +452,17 @@ impl<'a> SceneReference<'a> {
         });
     }
 
-    /// The reference pixel at (`x`, `y`).
+    /// The reference pixel at (`x`, `y`): its opaque surface.
     pub fn pixel(&self, x: u32, y: u32) -> Option<&ReferencePixel> {
         self.pixels.get((y * self.width + x) as usize)?.as_ref()
+    }
+
+    /// The blended surfaces in front of pixel (`x`, `y`)'s opaque surface, nearest
+    /// first, each with its radiance (see [`SceneShading::blended_over`]).
+    pub fn blended(&self, x: u32, y: u32) -> &[(SurfacePoint, [f64; 3])] {
+        self.blended
+            .get((y * self.width + x) as usize)
+            .map_or(&[], Vec::as_slice)
     }
 }
 

@@ -436,6 +436,54 @@ fn allowance(
     total
 }
 
+/// The bound of a pixel whose blended surfaces (`blended`, nearest first, with their
+/// radiance) lie over its opaque surface (its radiance as stored and its bound), from
+/// the triangle inequality channel by channel: the forward pass shades each blended
+/// surface from its own inputs (nothing stored: its bound is [`SHADING_F32`] plus its
+/// [`allowance`] with the surface as its own stored form), and each surface's error
+/// reaches the pixel weighted as it is composited (α and the transmittance of what is in
+/// front). A vertex-coloured alpha may move by its gradient × 2^−[`SUB_PIXEL_BITS`] (the
+/// rasteriser's snapped vertices), plus 1e-6 for its f32 product and the blend's own
+/// rounding, which moves the pixel by that times the difference between the surface
+/// and what is behind it.
+fn blended_bound(
+    scene: &Scene,
+    reference: &SceneReference,
+    precision: &GBufferPrecision,
+    (opaque, opaque_bound): ([f64; 3], f64),
+    blended: &[(SurfacePoint, [f64; 3])],
+) -> f64 {
+    let floor = |v: f64| v.abs().max(RADIANCE_FLOOR);
+    let mut absolute = [0.0f64; 3];
+    let mut transmittance = 1.0;
+    for (k, (surface, radiance)) in blended.iter().enumerate() {
+        let material = &scene.materials[scene.objects[surface.hit.object].material];
+        let bound = SHADING_F32
+            + allowance(
+                precision,
+                &scene.camera,
+                &reference.shading,
+                material,
+                surface,
+                surface,
+                &[],
+            );
+        let alpha = surface.alpha.clamp(0.0, 1.0);
+        let alpha_moved = surface.vertex_color_gradient * 2f64.powi(-SUB_PIXEL_BITS) + 1e-6;
+        let behind = SceneShading::blended_over(&blended[k + 1..], opaque);
+        for c in 0..3 {
+            absolute[c] += transmittance
+                * (alpha * bound * floor(radiance[c])
+                    + alpha_moved * (radiance[c] - behind[c]).abs());
+        }
+        transmittance *= 1.0 - alpha;
+    }
+    let shown = SceneShading::blended_over(blended, opaque);
+    (0..3)
+        .map(|c| (absolute[c] + transmittance * opaque_bound * floor(opaque[c])) / floor(shown[c]))
+        .fold(0.0, f64::max)
+}
+
 /// `surface` with roughness `roughness` and anisotropy strength `strength` (each
 /// clamped to [0, 1]): its α and Oren–Nayar σ follow.
 fn with_roughness(surface: &SurfacePoint, roughness: f64, strength: f64) -> SurfacePoint {
@@ -590,7 +638,7 @@ fn compare_stored_with_scene(
             .filter_map(|extreme| extreme[i].as_ref())
             .map(|s| precision.store(s, material.conductor_from_base_color))
             .collect();
-        let bound = SHADING_F32
+        let mut bound = SHADING_F32
             + allowance(
                 &precision,
                 &scene.camera,
@@ -600,6 +648,10 @@ fn compare_stored_with_scene(
                 &r.stored,
                 &lod_neighbours,
             );
+        let blended = reference.blended(p.x, p.y);
+        if !blended.is_empty() {
+            bound = blended_bound(scene, &reference, &precision, (r.as_stored, bound), blended);
+        }
         out.lit += usize::from(r.exact.iter().any(|&c| c > RADIANCE_FLOOR));
         out.total.push(p.total);
         out.storage.push(p.storage);
@@ -761,11 +813,13 @@ fn workspace() -> std::path::PathBuf {
 /// clamped, mirrored and trilinear samplers, a normal map and an anisotropy texture, a
 /// base-colour metal, point, spot and directional lights; the optics extension's
 /// conductors, outside media and diffuse models, a MikkTSpace-tangent sphere; cut-outs
-/// (alphaMode MASK: a texture's alpha, a factor × texture, a factor alone). Each is
+/// (alphaMode MASK: a texture's alpha, a factor × texture, a factor alone); blended
+/// panels (alphaMode BLEND: factors and a vertex colour's alpha, over each other and
+/// over opaque surfaces, drawn by the forward pass). Each is
 /// read by the importer and then compared with the f64 reference of the scene it gave.
 #[test]
 fn the_authored_gltf_scenes_are_what_they_show() {
-    for name in ["textured", "optics", "cutout"] {
+    for name in ["textured", "optics", "cutout", "blend"] {
         let path = workspace().join(format!("assets/scenes/{name}/{name}.gltf"));
         let scene = combustion::SceneSource::File(path).load().unwrap();
         let comparison = compare_with_scene(&scene, &scene.lights, W, H);

@@ -169,10 +169,17 @@ impl SceneBvh {
     }
 
     /// As [`SceneBvh::new`], of the objects that cast shadows
-    /// ([`combustion_scene::Object::casts_shadows`]): what blocks light, for
+    /// ([`combustion_scene::Object::casts_shadows`]) and are not blended (alphaMode
+    /// BLEND: the renderer's blended objects cast no shadow): what blocks light, for
     /// [`SceneBvh::light_visibility`] and its kin.
     pub fn shadow_casters(scene: &Scene) -> SceneBvh {
-        Self::of_objects(scene, |object| object.casts_shadows)
+        Self::of_objects(scene, |object| {
+            object.casts_shadows
+                && !scene
+                    .materials
+                    .get(object.material)
+                    .is_some_and(|m| m.is_blended())
+        })
     }
 
     fn of_objects(scene: &Scene, keep: impl Fn(&combustion_scene::Object) -> bool) -> SceneBvh {

@@ -58,7 +58,9 @@ pub fn camera_ray(camera: &Camera, width: u32, height: u32, x: f64, y: f64) -> R
 /// triangles `bvh` holds: [`SceneBvh::new`]), between the camera's near and far planes;
 /// `None` where it hits nothing there. The back face of a triangle whose material is
 /// not double-sided is not seen (the ray goes on past it), as glTF allows a renderer
-/// to cull it and Combustion's rasteriser does.
+/// to cull it and Combustion's rasteriser does. Blended surfaces (alphaMode BLEND) are
+/// passed through: this is the opaque surface behind them ([`primary_layers`] gives
+/// them too).
 pub fn primary_hit(
     scene: &Scene,
     bvh: &SceneBvh,
@@ -67,6 +69,30 @@ pub fn primary_hit(
     x: u32,
     y: u32,
 ) -> Option<PrimaryHit> {
+    primary_layers(scene, bvh, width, height, x, y).opaque
+}
+
+/// Everything the primary ray through a pixel's centre meets: the blended surfaces
+/// (alphaMode BLEND) in front of the first opaque one, nearest first, and that one.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PrimaryLayers {
+    /// The blended surfaces the ray passes through before `opaque` (or before the far
+    /// plane), nearest first; each front face, or either face of a double-sided
+    /// material.
+    pub blended: Vec<PrimaryHit>,
+    /// The first opaque surface ([`primary_hit`]'s answer), `None` if there is none.
+    pub opaque: Option<PrimaryHit>,
+}
+
+/// [`primary_hit`], with the blended surfaces in front of it.
+pub fn primary_layers(
+    scene: &Scene,
+    bvh: &SceneBvh,
+    width: u32,
+    height: u32,
+    x: u32,
+    y: u32,
+) -> PrimaryLayers {
     let camera = &scene.camera;
     let ray = camera_ray(
         camera,
@@ -76,20 +102,33 @@ pub fn primary_hit(
         f64::from(y) + 0.5,
     );
     let (mut t_min, far) = (f64::from(camera.near), f64::from(camera.far));
-    let (hit, object) = loop {
-        let hit = bvh.closest_hit(&ray, t_min, far)?;
-        let object = scene.objects.get(hit.object)?;
-        let back = DVec3::from(hit.normal).dot(DVec3::from(ray.direction)) > 0.0;
-        let double_sided = scene
-            .materials
-            .get(object.material)
-            .is_some_and(|m| m.double_sided);
-        if !back || double_sided {
-            break (hit, object);
-        }
-        // The hit interval is open: the next cast starts just past this triangle.
+    let mut layers = PrimaryLayers::default();
+    while let Some(hit) = bvh.closest_hit(&ray, t_min, far) {
+        let Some(object) = scene.objects.get(hit.object) else {
+            break;
+        };
+        // The hit interval is open: a further cast starts just past this triangle.
         t_min = hit.t;
-    };
+        let material = scene.materials.get(object.material);
+        let back = DVec3::from(hit.normal).dot(DVec3::from(ray.direction)) > 0.0;
+        if back && !material.is_some_and(|m| m.double_sided) {
+            continue;
+        }
+        let seen = seen_surface(scene, &ray, &hit);
+        if material.is_some_and(|m| m.is_blended()) {
+            layers.blended.extend(seen);
+            continue;
+        }
+        layers.opaque = seen;
+        break;
+    }
+    layers
+}
+
+/// The surface `hit` (on `ray`, a camera ray of unit length along the view direction)
+/// shows: its interpolated shading normal and position.
+fn seen_surface(scene: &Scene, ray: &Ray, hit: &crate::Hit) -> Option<PrimaryHit> {
+    let object = scene.objects.get(hit.object)?;
     let mesh = scene.meshes.get(object.mesh)?;
     let corner = |k: usize| -> Option<DVec3> {
         let index = *mesh.indices.get(3 * hit.triangle + k)? as usize;
@@ -128,7 +167,7 @@ pub fn primary_hits(
 
 /// `f(x, y)` for every pixel of a `width` × `height` image, row-major from the
 /// top-left, rows split between up to `threads` threads.
-pub(crate) fn per_pixel<T: Send>(
+pub fn per_pixel<T: Send>(
     width: u32,
     height: u32,
     threads: usize,

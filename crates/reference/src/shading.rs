@@ -32,7 +32,7 @@ use glam::{DMat3, DVec2, DVec3};
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use crate::primary::{camera_ray, per_pixel, primary_hit, PrimaryHit};
+use crate::primary::{camera_ray, per_pixel, primary_hit, primary_layers, PrimaryHit};
 use crate::texture::{
     level_of_detail, srgb_decode, srgb_encode, transformed_derivative, transformed_uv, MipChain,
 };
@@ -86,6 +86,9 @@ pub struct SurfacePoint {
     pub texture_contrast: f64,
     /// The anisotropy strength s (factor × texture).
     pub anisotropy_strength: f64,
+    /// Alpha: the base colour factor's × its texture's × the vertex colour's (what a
+    /// blended material covers what is behind it by; 1 where nothing lowers it).
+    pub alpha: f64,
     /// How fast the vertex colour (glTF COLOR_0) changes across the image here: the
     /// largest change of a channel from this pixel's centre to a neighbour's (central
     /// differences along x and y, the rays met on the hit triangle's plane); 0 for a
@@ -339,10 +342,43 @@ impl<'a> SceneShading<'a> {
         Some((world, vertices))
     }
 
-    /// The surface pixel (`x`, `y`) shows, `None` where its ray hits nothing.
+    /// The opaque surface pixel (`x`, `y`) shows, `None` where its ray hits nothing
+    /// opaque (blended surfaces in front of it: [`SceneShading::blended_surfaces`]).
     pub fn surface(&self, x: u32, y: u32) -> Option<SurfacePoint> {
+        let hit = primary_hit(self.scene, self.bvh, self.width, self.height, x, y)?;
+        self.surface_at(hit, x, y)
+    }
+
+    /// The blended surfaces (alphaMode BLEND) pixel (`x`, `y`)'s ray passes through
+    /// before its opaque surface, nearest first (empty in a scene without any).
+    pub fn blended_surfaces(&self, x: u32, y: u32) -> Vec<SurfacePoint> {
+        if !self.scene.materials.iter().any(|m| m.is_blended()) {
+            return Vec::new();
+        }
+        primary_layers(self.scene, self.bvh, self.width, self.height, x, y)
+            .blended
+            .into_iter()
+            .filter_map(|hit| self.surface_at(hit, x, y))
+            .collect()
+    }
+
+    /// The radiance a pixel shows where `blended` (nearest first, with their radiance)
+    /// lie in front of a surface of radiance `behind`: each blended over what is behind
+    /// it, farthest first, as glTF's straight alpha defines it (L α + behind (1 − α),
+    /// α = [`SurfacePoint::alpha`] clamped to [0, 1]).
+    pub fn blended_over(blended: &[(SurfacePoint, [f64; 3])], behind: [f64; 3]) -> [f64; 3] {
+        blended
+            .iter()
+            .rev()
+            .fold(behind, |behind, (surface, radiance)| {
+                let alpha = surface.alpha.clamp(0.0, 1.0);
+                std::array::from_fn(|c| radiance[c] * alpha + behind[c] * (1.0 - alpha))
+            })
+    }
+
+    /// The surface `hit` shows at pixel (`x`, `y`).
+    fn surface_at(&self, hit: PrimaryHit, x: u32, y: u32) -> Option<SurfacePoint> {
         let scene = self.scene;
-        let hit = primary_hit(scene, self.bvh, self.width, self.height, x, y)?;
         let object = &scene.objects[hit.object];
         let material = scene.materials.get(object.material)?;
         let (world, vertices) = self.triangle(&hit)?;
@@ -492,6 +528,7 @@ impl<'a> SceneShading<'a> {
         let base_color: [f64; 3] = std::array::from_fn(|c| {
             f64::from(material.base_color[c]) * base_texture[c] * vertex_color(c)
         });
+        let coverage = f64::from(material.alpha) * base_texture[3] * vertex_color(3);
         let metal_rough = lookup.sample_or(material.metallic_roughness_texture.as_ref(), [1.0; 4]);
         let metalness = f64::from(material.metalness) * metal_rough[2];
         let roughness = f64::from(material.roughness) * metal_rough[1];
@@ -555,6 +592,7 @@ impl<'a> SceneShading<'a> {
             texture_contrast: lookup.contrast.get(),
             vertex_color_gradient: 0.0,
             anisotropy_strength: strength,
+            alpha: coverage,
         }
     }
 
@@ -939,6 +977,7 @@ mod tests {
             texture_contrast: 0.0,
             vertex_color_gradient: 0.0,
             anisotropy_strength: 0.0,
+            alpha: 1.0,
         };
         let stored = GBufferPrecision::SRGB8.store(&surface, false);
         let expected = srgb_decode(231.0 / 255.0);

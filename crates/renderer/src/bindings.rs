@@ -405,12 +405,118 @@ pub static MATERIAL_TEXTURES: SetDecl = SetDecl {
     includes: &[],
 };
 
-/// The lighting pass: the G-buffer and depth, the material table, the frame's lights,
-/// the conductor-from-base-colour table, and the emissive target (EMISSIVE variant).
-pub static LIGHTING: SetDecl = SetDecl {
-    name: "lighting",
-    set: 0,
-    bindings: &[
+/// The bindings of what lights a surface, shared by the passes that shade
+/// (lighting_terms.glsl): the frame's lights, the conductor-from-base-colour table, the
+/// energy table, the environment's cubes and tables, the shadow maps.
+const LIT_BY: [Binding; 13] = [
+    Binding::new(
+        "lights",
+        BindingKind::StorageBuffer {
+            block: "Lights",
+            element: "GpuLight",
+        },
+        FRAGMENT,
+    ),
+    // η, k of a conductor derived from its base colour, per stored 8-bit code
+    // (gpu_types::conductor_from_base_color_table).
+    Binding::new(
+        "conductor_from_code",
+        BindingKind::StorageBuffer {
+            block: "ConductorTable",
+            element: "vec2",
+        },
+        FRAGMENT,
+    ),
+    // The white specular lobe's directional albedo over (n·v, r) (read in the
+    // ENERGY_COMPENSATION variant; environment::white_specular_albedo_table).
+    Binding::new(
+        "energy_white_albedo",
+        BindingKind::StorageBuffer {
+            block: "EnergyWhiteAlbedo",
+            element: "float",
+        },
+        FRAGMENT,
+    )
+    .only_with("ENERGY_COMPENSATION"),
+    // Environment lighting (ENVIRONMENT variant; see crate::environment): the
+    // prefiltered specular cube, the irradiance cube, the directional-albedo tables
+    // per material, the per-code tables of conductors derived from the base colour
+    // and which of those each material reads.
+    Binding::new("environment_specular", BindingKind::SamplerCube, FRAGMENT)
+        .only_with("ENVIRONMENT"),
+    Binding::new("environment_irradiance", BindingKind::SamplerCube, FRAGMENT)
+        .only_with("ENVIRONMENT"),
+    Binding::new(
+        "environment_albedo",
+        BindingKind::StorageBuffer {
+            block: "EnvironmentAlbedo",
+            element: "vec4",
+        },
+        FRAGMENT,
+    )
+    .only_with("ENVIRONMENT"),
+    Binding::new(
+        "environment_code_albedo",
+        BindingKind::StorageBuffer {
+            block: "EnvironmentCodeAlbedo",
+            element: "float",
+        },
+        FRAGMENT,
+    )
+    .only_with("ENVIRONMENT"),
+    Binding::new(
+        "environment_code_table_of_material",
+        BindingKind::StorageBuffer {
+            block: "EnvironmentCodeTableOfMaterial",
+            element: "uint",
+        },
+        FRAGMENT,
+    )
+    .only_with("ENVIRONMENT"),
+    // Shadows (SHADOWS variant; see crate::shadows): the cascades' maps, the spot and
+    // point lights' maps, and each layer's placement.
+    Binding::new("shadow_maps", BindingKind::Sampler2DArrayShadow, FRAGMENT).only_with("SHADOWS"),
+    Binding::new(
+        "local_shadow_maps",
+        BindingKind::Sampler2DArrayShadow,
+        FRAGMENT,
+    )
+    .only_with("SHADOWS"),
+    // The same maps read as depths, for the blocker search of lights with a size.
+    Binding::new("shadow_depths", BindingKind::Texture2DArray, FRAGMENT).only_with("SHADOWS"),
+    Binding::new("local_shadow_depths", BindingKind::Texture2DArray, FRAGMENT).only_with("SHADOWS"),
+    Binding::new(
+        "shadow_cascades",
+        BindingKind::StorageBuffer {
+            block: "ShadowCascades",
+            element: "GpuShadowCascade",
+        },
+        FRAGMENT,
+    )
+    .only_with("SHADOWS"),
+];
+
+/// `first` then `then`, as one array of `N` bindings (a set's list from shared parts).
+const fn joined<const N: usize>(first: &[Binding], then: &[Binding]) -> [Binding; N] {
+    assert!(
+        first.len() + then.len() == N,
+        "N must be the two lists' total"
+    );
+    let mut out = [then[0]; N];
+    let mut i = 0;
+    while i < first.len() {
+        out[i] = first[i];
+        i += 1;
+    }
+    while i < N {
+        out[i] = then[i - first.len()];
+        i += 1;
+    }
+    out
+}
+
+const LIGHTING_BINDINGS: [Binding; 7 + LIT_BY.len()] = joined(
+    &[
         Binding::new(
             "gbuffer_base_color_metalness",
             BindingKind::Texture2D,
@@ -428,24 +534,6 @@ pub static LIGHTING: SetDecl = SetDecl {
         ),
         Binding::new("gbuffer_depth", BindingKind::Texture2D, FRAGMENT),
         MATERIALS,
-        Binding::new(
-            "lights",
-            BindingKind::StorageBuffer {
-                block: "Lights",
-                element: "GpuLight",
-            },
-            FRAGMENT,
-        ),
-        // η, k of a conductor derived from its base colour, per stored 8-bit code
-        // (gpu_types::conductor_from_base_color_table).
-        Binding::new(
-            "conductor_from_code",
-            BindingKind::StorageBuffer {
-                block: "ConductorTable",
-                element: "vec2",
-            },
-            FRAGMENT,
-        ),
         // Per 16×16 tile: the number of lights that can reach it, then their indices
         // (written by the light-culling pass; read only in frames that cull).
         Binding::new(
@@ -459,76 +547,29 @@ pub static LIGHTING: SetDecl = SetDecl {
         // Emitted radiance (rgb) and occlusion (a) (EMISSIVE, OCCLUSION variants).
         Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT)
             .only_with("EMISSIVE_OCCLUSION_TARGET"),
-        // The white specular lobe's directional albedo over (n·v, r) (read in the
-        // ENERGY_COMPENSATION variant; environment::white_specular_albedo_table).
-        Binding::new(
-            "energy_white_albedo",
-            BindingKind::StorageBuffer {
-                block: "EnergyWhiteAlbedo",
-                element: "float",
-            },
-            FRAGMENT,
-        )
-        .only_with("ENERGY_COMPENSATION"),
-        // Environment lighting (ENVIRONMENT variant; see crate::environment): the
-        // prefiltered specular cube, the irradiance cube, the directional-albedo tables
-        // per material, the per-code tables of conductors derived from the base colour
-        // and which of those each material reads.
-        Binding::new("environment_specular", BindingKind::SamplerCube, FRAGMENT)
-            .only_with("ENVIRONMENT"),
-        Binding::new("environment_irradiance", BindingKind::SamplerCube, FRAGMENT)
-            .only_with("ENVIRONMENT"),
-        Binding::new(
-            "environment_albedo",
-            BindingKind::StorageBuffer {
-                block: "EnvironmentAlbedo",
-                element: "vec4",
-            },
-            FRAGMENT,
-        )
-        .only_with("ENVIRONMENT"),
-        Binding::new(
-            "environment_code_albedo",
-            BindingKind::StorageBuffer {
-                block: "EnvironmentCodeAlbedo",
-                element: "float",
-            },
-            FRAGMENT,
-        )
-        .only_with("ENVIRONMENT"),
-        Binding::new(
-            "environment_code_table_of_material",
-            BindingKind::StorageBuffer {
-                block: "EnvironmentCodeTableOfMaterial",
-                element: "uint",
-            },
-            FRAGMENT,
-        )
-        .only_with("ENVIRONMENT"),
-        // Shadows (SHADOWS variant; see crate::shadows): the cascades' maps, the spot and
-        // point lights' maps, and each layer's placement.
-        Binding::new("shadow_maps", BindingKind::Sampler2DArrayShadow, FRAGMENT)
-            .only_with("SHADOWS"),
-        Binding::new(
-            "local_shadow_maps",
-            BindingKind::Sampler2DArrayShadow,
-            FRAGMENT,
-        )
-        .only_with("SHADOWS"),
-        // The same maps read as depths, for the blocker search of lights with a size.
-        Binding::new("shadow_depths", BindingKind::Texture2DArray, FRAGMENT).only_with("SHADOWS"),
-        Binding::new("local_shadow_depths", BindingKind::Texture2DArray, FRAGMENT)
-            .only_with("SHADOWS"),
-        Binding::new(
-            "shadow_cascades",
-            BindingKind::StorageBuffer {
-                block: "ShadowCascades",
-                element: "GpuShadowCascade",
-            },
-            FRAGMENT,
-        )
-        .only_with("SHADOWS"),
     ],
+    &LIT_BY,
+);
+
+/// The lighting pass: the G-buffer and depth, the material table, the tile light lists,
+/// the emissive target (EMISSIVE variant), and what lights a surface ([`LIT_BY`]).
+pub static LIGHTING: SetDecl = SetDecl {
+    name: "lighting",
+    set: 0,
+    bindings: &LIGHTING_BINDINGS,
+    includes: &["gpu_types.glsl"],
+};
+
+const FORWARD_BINDINGS: [Binding; 2 + LIT_BY.len()] =
+    joined(&[OBJECTS, MATERIALS_BOTH_STAGES], &LIT_BY);
+
+/// The forward pass (gbuffer.vert, forward.frag): the object and material tables as the
+/// G-buffer pass's set declares them (bindings 0 and 1, what gbuffer.vert reads), and
+/// what lights a surface ([`LIT_BY`]).
+pub static FORWARD: SetDecl = SetDecl {
+    name: "forward",
+    set: 0,
+    bindings: &FORWARD_BINDINGS,
     includes: &["gpu_types.glsl"],
 };
 
@@ -667,6 +708,7 @@ pub static ALL: &[&SetDecl] = &[
     &GBUFFER,
     &MATERIAL_TEXTURES,
     &LIGHTING,
+    &FORWARD,
     &SHADOW_CASTERS,
     &OUTPUT,
     &OVERLAY,
@@ -685,16 +727,30 @@ mod tests {
             "layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;"
         ));
         assert!(glsl.contains(
-            "layout(std430, set = 0, binding = 5) readonly buffer Lights { GpuLight lights[]; };"
+            "layout(std430, set = 0, binding = 7) readonly buffer Lights { GpuLight lights[]; };"
         ));
         assert!(glsl.contains(
-            "#ifdef EMISSIVE_OCCLUSION_TARGET\nlayout(set = 0, binding = 8) uniform texture2D gbuffer_emissive;\n#endif"
+            "#ifdef EMISSIVE_OCCLUSION_TARGET\nlayout(set = 0, binding = 6) uniform texture2D gbuffer_emissive;\n#endif"
         ));
-        assert_eq!(LIGHTING.index("gbuffer_emissive"), 8);
+        assert_eq!(LIGHTING.index("gbuffer_emissive"), 6);
         assert_eq!(
             MATERIAL_TEXTURES.bindings.len(),
             combustion_scene::TextureSlot::ALL.len()
         );
+    }
+
+    /// The forward pass runs gbuffer.vert, which declares the G-buffer pass's set: the
+    /// forward set begins with the same bindings, and both sets end with what lights a
+    /// surface.
+    #[test]
+    fn the_forward_set_serves_gbuffer_vert_and_the_lighting_terms() {
+        let names = |bindings: &[Binding]| bindings.iter().map(|b| b.name).collect::<Vec<_>>();
+        let stages = |bindings: &[Binding]| bindings.iter().map(|b| b.stages).collect::<Vec<_>>();
+        assert_eq!(names(&FORWARD.bindings[..2]), names(GBUFFER.bindings));
+        assert_eq!(stages(&FORWARD.bindings[..2]), stages(GBUFFER.bindings));
+        let tail = |decl: &SetDecl| names(&decl.bindings[decl.bindings.len() - LIT_BY.len()..]);
+        assert_eq!(tail(&FORWARD), names(&LIT_BY));
+        assert_eq!(tail(&LIGHTING), names(&LIT_BY));
     }
 
     #[test]

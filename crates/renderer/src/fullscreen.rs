@@ -20,7 +20,7 @@ pub(crate) struct ScreenPipelineDesc<'a> {
     pub push_stages: vk::ShaderStageFlags,
     pub push_size: u32,
     pub format: vk::Format,
-    pub alpha_blend: bool,
+    pub blend: combustion_vk::ColorBlend,
 }
 
 /// A pipeline drawing into one colour target without vertex buffers (the full-screen
@@ -57,7 +57,8 @@ pub(crate) fn screen_pipeline(
             vertex_attributes: &[],
             color_formats: &[desc.format],
             depth_format: None,
-            alpha_blend: desc.alpha_blend,
+            depth_write: false,
+            blend: desc.blend,
             cache: Some(cache),
         },
     )?;
@@ -95,7 +96,7 @@ impl FullscreenPass {
                 push_stages: vk::ShaderStageFlags::FRAGMENT,
                 push_size,
                 format: output_format,
-                alpha_blend: false,
+                blend: combustion_vk::ColorBlend::Replace,
             },
         )?;
         Ok(Self {

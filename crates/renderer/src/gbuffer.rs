@@ -165,48 +165,7 @@ impl GBufferPass {
                 ShaderStage::Fragment,
             )
         };
-        use crate::gpu_types::GpuVertex as Vertex;
-        let stride = std::mem::size_of::<Vertex>() as u32;
-        let mut bindings = vec![vk::VertexInputBindingDescription {
-            binding: 0,
-            stride,
-            input_rate: vk::VertexInputRate::VERTEX,
-        }];
-        let mut attributes = vec![
-            vk::VertexInputAttributeDescription {
-                location: 0,
-                binding: 0,
-                format: vk::Format::R32G32B32_SFLOAT,
-                offset: std::mem::offset_of!(Vertex, position) as u32,
-            },
-            vk::VertexInputAttributeDescription {
-                location: 1,
-                binding: 0,
-                format: vk::Format::R32G32B32_SFLOAT,
-                offset: std::mem::offset_of!(Vertex, normal) as u32,
-            },
-            vk::VertexInputAttributeDescription {
-                location: 2,
-                binding: 0,
-                format: vk::Format::R32G32B32A32_SFLOAT,
-                offset: std::mem::offset_of!(Vertex, tangent) as u32,
-            },
-            vk::VertexInputAttributeDescription {
-                location: 3,
-                binding: 0,
-                format: vk::Format::R32G32_SFLOAT,
-                offset: std::mem::offset_of!(Vertex, uv) as u32,
-            },
-        ];
-        // The second coordinate set and the colours, streams of their own, only where the
-        // shader reads them.
-        use crate::mesh_draw::ExtraStream;
-        if variant.texture_transforms {
-            ExtraStream::SecondCoordinates.declare(4, &mut bindings, &mut attributes);
-        }
-        if variant.vertex_colors {
-            ExtraStream::Colors.declare(5, &mut bindings, &mut attributes);
-        }
+        let (bindings, attributes) = scene_vertex_input(variant);
         let mut color_formats = vec![
             storage.base_color.vk(),
             storage.surface.vk(),
@@ -226,7 +185,8 @@ impl GBufferPass {
                     vertex_attributes: &attributes,
                     color_formats: &color_formats,
                     depth_format: Some(DEPTH_FORMAT),
-                    alpha_blend: false,
+                    depth_write: true,
+                    blend: combustion_vk::ColorBlend::Replace,
                     cache: Some(cache),
                 },
             )
@@ -306,6 +266,62 @@ impl GBufferPass {
             raw.cmd_end_rendering(cmd);
         }
     }
+}
+
+/// The vertex streams and attributes gbuffer.vert reads in `variant`: stream 0
+/// (`GpuVertex`: position, normal, tangent, first coordinate set) at locations 0–3, the
+/// second coordinate set at 4 (TEXTURE_TRANSFORMS) and the colours at 5 (VERTEX_COLORS),
+/// each a stream of its own read only where the shader reads it. Every pass that runs
+/// gbuffer.vert declares these.
+pub(crate) fn scene_vertex_input(
+    variant: ShaderVariant,
+) -> (
+    Vec<vk::VertexInputBindingDescription>,
+    Vec<vk::VertexInputAttributeDescription>,
+) {
+    use crate::gpu_types::GpuVertex as Vertex;
+    let stride = std::mem::size_of::<Vertex>() as u32;
+    let mut bindings = vec![vk::VertexInputBindingDescription {
+        binding: 0,
+        stride,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+    let mut attributes = vec![
+        vk::VertexInputAttributeDescription {
+            location: 0,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: std::mem::offset_of!(Vertex, position) as u32,
+        },
+        vk::VertexInputAttributeDescription {
+            location: 1,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: std::mem::offset_of!(Vertex, normal) as u32,
+        },
+        vk::VertexInputAttributeDescription {
+            location: 2,
+            binding: 0,
+            format: vk::Format::R32G32B32A32_SFLOAT,
+            offset: std::mem::offset_of!(Vertex, tangent) as u32,
+        },
+        vk::VertexInputAttributeDescription {
+            location: 3,
+            binding: 0,
+            format: vk::Format::R32G32_SFLOAT,
+            offset: std::mem::offset_of!(Vertex, uv) as u32,
+        },
+    ];
+    // The second coordinate set and the colours, streams of their own, only where the
+    // shader reads them.
+    use crate::mesh_draw::ExtraStream;
+    if variant.texture_transforms {
+        ExtraStream::SecondCoordinates.declare(4, &mut bindings, &mut attributes);
+    }
+    if variant.vertex_colors {
+        ExtraStream::Colors.declare(5, &mut bindings, &mut attributes);
+    }
+    (bindings, attributes)
 }
 
 /// One G-buffer texel as stored: what the lighting pass's `texelFetch` reads, before

@@ -415,6 +415,29 @@ pub struct GBufferPush {
 }
 const _: () = assert!(std::mem::size_of::<GBufferPush>() == 80);
 
+/// Push constants of the forward pass (`ForwardPush` in forward.frag; its vertex stage,
+/// gbuffer.vert, reads the first two members as its `GBufferPush`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ForwardPush {
+    /// The camera's view-projection matrix, column-major.
+    pub view_projection: [f32; 16],
+    /// The index of the drawn object in the object table.
+    pub object_index: u32,
+    /// The frame's lights (every one is evaluated: the tile lists are culled against the
+    /// opaque depth, which a blended surface in front of it is not within).
+    pub light_count: u32,
+    /// Padding to the next vec4.
+    pub _pad: [u32; 2],
+    /// The eye's world position (w = 1).
+    pub camera_position: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<ForwardPush>() == 96);
+const _: () = assert!(
+    std::mem::offset_of!(ForwardPush, object_index)
+        == std::mem::offset_of!(GBufferPush, object_index)
+);
+
 /// Push constants of the lighting pass (`LightingPush` in lighting.frag).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]

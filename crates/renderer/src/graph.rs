@@ -20,6 +20,12 @@ pub enum ImageUse {
     ColorAttachmentWrite,
     /// Written (and depth-tested) as the depth attachment; cleared first.
     DepthAttachmentWrite,
+    /// Read and written as a colour attachment, its contents kept: fragments blended
+    /// over what an earlier pass wrote.
+    ColorAttachmentBlend,
+    /// Depth-tested against, read-only (no depth written), in the layout fragment shaders
+    /// read depth in: a later pass's fragments hidden by what an earlier pass drew.
+    DepthAttachmentTest,
     /// Read by fragment shaders (texelFetch).
     FragmentSampled,
     /// A depth image read by fragment shaders.
@@ -52,6 +58,12 @@ impl ImageUse {
         match self {
             Self::ColorAttachmentWrite => ImageState::COLOR_ATTACHMENT_WRITE,
             Self::DepthAttachmentWrite => ImageState::DEPTH_ATTACHMENT_READ_WRITE,
+            Self::ColorAttachmentBlend => ImageState::COLOR_ATTACHMENT_READ_WRITE,
+            Self::DepthAttachmentTest => ImageState::new(
+                S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
+                A::DEPTH_STENCIL_ATTACHMENT_READ,
+                L::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+            ),
             Self::FragmentSampled => ImageState::FRAGMENT_SAMPLED,
             Self::DepthFragmentSampled => ImageState::new(
                 S::FRAGMENT_SHADER,
@@ -317,6 +329,8 @@ mod tests {
         assert!(!read.writes());
         assert!(ImageUse::ColorAttachmentWrite.state().writes());
         assert!(ImageUse::DepthAttachmentWrite.state().writes());
+        assert!(ImageUse::ColorAttachmentBlend.state().writes());
+        assert!(!ImageUse::DepthAttachmentTest.state().writes());
         assert!(ImageUse::TransferDestination.state().writes());
         assert!(!ImageUse::TransferSource.state().writes());
         assert!(ImageUse::ComputeSampledStorageWrite.state().writes());
@@ -338,6 +352,8 @@ mod tests {
         let uses = [
             ImageUse::ColorAttachmentWrite,
             ImageUse::DepthAttachmentWrite,
+            ImageUse::ColorAttachmentBlend,
+            ImageUse::DepthAttachmentTest,
             ImageUse::FragmentSampled,
             ImageUse::DepthFragmentSampled,
             ImageUse::TransferSource,

@@ -37,6 +37,7 @@ mod buffers;
 mod color;
 mod commands;
 mod error;
+mod forward;
 mod frame;
 mod fullscreen;
 mod host;

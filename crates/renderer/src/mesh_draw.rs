@@ -69,15 +69,20 @@ pub(crate) struct ObjectDraw {
     /// Its material is a cut-out (`AlphaMode::Mask`): drawn by a pass's alpha-testing
     /// pipeline.
     pub masked: bool,
+    /// Its material is blended (`AlphaMode::Blend`): drawn by the forward pass only.
+    pub blended: bool,
 }
 
 impl ObjectDraw {
     /// Whether a pass that draws its objects in two rounds, the opaque ones and then the
     /// cut-outs through its alpha-testing pipeline (if it has one: `cut_out_pipeline`),
     /// draws this object in the cut-out round (`cut_out_round`) or the first. Without the
-    /// pipeline, cut-outs are drawn opaque in the first round.
+    /// pipeline, cut-outs are drawn opaque in the first round. Blended objects are in
+    /// neither (the forward pass draws them).
     pub(crate) fn in_round(&self, cut_out_round: bool, cut_out_pipeline: bool) -> bool {
-        if cut_out_round {
+        if self.blended {
+            false
+        } else if cut_out_round {
             self.masked
         } else {
             !self.masked || !cut_out_pipeline
@@ -107,6 +112,7 @@ pub(crate) fn draw_objects(
         object_index: i as u32,
         material: scene.draw_materials[i],
         masked: scene.masked[i],
+        blended: scene.blended[i],
     };
     let same_draw = |a: usize, b: usize| {
         scene.draw_meshes[a] == scene.draw_meshes[b]
@@ -123,37 +129,87 @@ pub(crate) fn draw_objects(
         while end < count && same_draw(first, end) && keep(object(end)) {
             end += 1;
         }
-        let mesh = scene.draw_meshes[first];
-        let buffers = &scene.gpu.meshes[mesh];
         before_draw(object(first));
-        // SAFETY: recording state (the caller's); the buffers live as long as the scene,
-        // which outlives the frame (a dropped scene is retired, not freed).
-        unsafe {
-            if bound_mesh != Some(mesh) {
-                // Stream 2, the colours: a mesh without them binds its first stream
-                // there (in range: 48 bytes per vertex against the 16 read), which the
-                // vertex stage does not use (the object's has-colours flag is 0).
-                let colors = buffers.colors.as_ref().unwrap_or(&buffers.vertices);
-                raw.cmd_bind_vertex_buffers(
-                    cmd,
-                    0,
-                    &[buffers.vertices.raw(), buffers.uv1.raw(), colors.raw()],
-                    &[0, 0, 0],
-                );
-                raw.cmd_bind_index_buffer(cmd, buffers.indices.raw(), 0, vk::IndexType::UINT32);
-                bound_mesh = Some(mesh);
-            }
-            raw.cmd_set_cull_mode(
-                cmd,
-                if scene.double_sided[first] || faces == Faces::Both {
-                    vk::CullModeFlags::NONE
-                } else {
-                    vk::CullModeFlags::BACK
-                },
-            );
-            raw.cmd_draw_indexed(cmd, buffers.index_count, (end - first) as u32, 0, 0, 0);
-        }
+        draw_run(raw, cmd, scene, faces, first..end, &mut bound_mesh);
         first = end;
+    }
+}
+
+/// Records one draw of the objects `run` (consecutive, of one mesh and one material):
+/// binds their mesh's streams and indices unless `bound_mesh` says they are bound, sets
+/// the cull mode `faces` and their material say, and draws the mesh `run.len()` times
+/// (instance i is object `run.start + i`).
+fn draw_run(
+    raw: &ash::Device,
+    cmd: vk::CommandBuffer,
+    scene: &GpuScene,
+    faces: Faces,
+    run: std::ops::Range<usize>,
+    bound_mesh: &mut Option<usize>,
+) {
+    let mesh = scene.draw_meshes[run.start];
+    let buffers = &scene.gpu.meshes[mesh];
+    // SAFETY: recording state (the caller's); the buffers live as long as the scene,
+    // which outlives the frame (a dropped scene is retired, not freed).
+    unsafe {
+        if *bound_mesh != Some(mesh) {
+            // Stream 2, the colours: a mesh without them binds its first stream there (in
+            // range: 48 bytes per vertex against the 16 read), which the vertex stage does
+            // not use (the object's has-colours flag is 0).
+            let colors = buffers.colors.as_ref().unwrap_or(&buffers.vertices);
+            raw.cmd_bind_vertex_buffers(
+                cmd,
+                0,
+                &[buffers.vertices.raw(), buffers.uv1.raw(), colors.raw()],
+                &[0, 0, 0],
+            );
+            raw.cmd_bind_index_buffer(cmd, buffers.indices.raw(), 0, vk::IndexType::UINT32);
+            *bound_mesh = Some(mesh);
+        }
+        raw.cmd_set_cull_mode(
+            cmd,
+            if scene.double_sided[run.start] || faces == Faces::Both {
+                vk::CullModeFlags::NONE
+            } else {
+                vk::CullModeFlags::BACK
+            },
+        );
+        raw.cmd_draw_indexed(cmd, buffers.index_count, run.len() as u32, 0, 0, 0);
+    }
+}
+
+/// The blended objects of `scene` (`AlphaMode::Blend`) in the order the forward pass
+/// draws them, back to front: by the distance from `eye` to the centre of each object's
+/// world-space box, farthest first (ties: the object table's order). Per object, not per
+/// triangle: objects that interpenetrate, a large object around a smaller one, and the
+/// faces of one mesh that overlap on screen (a double-sided or concave blended mesh) are
+/// not sorted against each other.
+pub(crate) fn back_to_front(scene: &GpuScene, eye: glam::Vec3) -> Vec<usize> {
+    let distance =
+        |i: usize| scene.object_bounds[i].map_or(0.0, |(min, max)| eye.distance((min + max) * 0.5));
+    let mut order: Vec<(f32, usize)> = (0..scene.blended.len())
+        .filter(|&i| scene.blended[i])
+        .map(|i| (distance(i), i))
+        .collect();
+    order.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    order.into_iter().map(|(_, i)| i).collect()
+}
+
+/// Records `objects` (object-table indices) one draw each, in that order, with the faces
+/// `faces` says; `before_draw` runs before each (recording state, inside a rendering
+/// instance whose pipeline reads the streams [`draw_objects`] binds).
+pub(crate) fn draw_in_order(
+    raw: &ash::Device,
+    cmd: vk::CommandBuffer,
+    scene: &GpuScene,
+    faces: Faces,
+    objects: &[usize],
+    mut before_draw: impl FnMut(usize),
+) {
+    let mut bound_mesh = None;
+    for &i in objects {
+        before_draw(i);
+        draw_run(raw, cmd, scene, faces, i..i + 1, &mut bound_mesh);
     }
 }
 

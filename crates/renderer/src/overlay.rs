@@ -350,7 +350,7 @@ impl OverlayPass {
                 push_stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
                 push_size: std::mem::size_of::<OverlayPush>() as u32,
                 format,
-                alpha_blend: true,
+                blend: combustion_vk::ColorBlend::OverKeepingAlpha,
             },
         )?;
         Ok(Self { layout, pipeline })

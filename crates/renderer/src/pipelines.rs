@@ -23,6 +23,9 @@ use crate::{FrameEnvironment, DISPLAY_FORMAT};
 pub(crate) struct VariantPasses {
     pub(crate) gbuffer: Arc<GBufferPass>,
     pub(crate) lighting: FullscreenPass,
+    /// The blended objects' forward pass, in variants of scenes that have one (and that
+    /// show radiance: not debug views or measurement floors).
+    pub(crate) forward: Option<crate::forward::ForwardPass>,
 }
 
 /// The descriptor-set layout of every declared set ([`bindings::ALL`]), shared by every
@@ -116,9 +119,31 @@ impl Renderer {
             std::mem::size_of::<LightingPush>() as u32,
             self.settings.hdr_format.vk(),
         )?;
-        self.variants
-            .insert(variant, VariantPasses { gbuffer, lighting });
         self.stats.pipelines_built += 1;
+        let forward = if variant.blend && !variant.debug_views && variant.floor.is_none() {
+            self.stats.pipelines_built += 1;
+            Some(crate::forward::ForwardPass::new(
+                &self.device,
+                &self.compiler,
+                &self.pipeline_cache,
+                [
+                    self.layouts.of(&bindings::FORWARD),
+                    self.layouts.of(&bindings::MATERIAL_TEXTURES),
+                ],
+                variant,
+                self.settings.hdr_format.vk(),
+            )?)
+        } else {
+            None
+        };
+        self.variants.insert(
+            variant,
+            VariantPasses {
+                gbuffer,
+                lighting,
+                forward,
+            },
+        );
         Ok(())
     }
 

@@ -61,6 +61,8 @@ impl PassTimings {
     pub const SHADOW_MAPS: &'static str = "shadow maps";
     /// The lighting pass, with the light culling that precedes it.
     pub const LIGHTING: &'static str = "lighting";
+    /// The forward pass: the blended objects over the lit image (scenes with them).
+    pub const FORWARD: &'static str = "forward";
     /// The output pass (tone curve, encoding) and its overlay.
     pub const OUTPUT: &'static str = "output";
     /// The copy of the scene's depth into a host's depth image (frames given one).

@@ -34,6 +34,9 @@ pub struct GpuScene {
     /// Per draw: a cut-out material (`AlphaMode::Mask`), drawn by the passes' alpha-testing
     /// pipelines after the opaque draws.
     pub(crate) masked: Vec<bool>,
+    /// Per draw: a blended material (`AlphaMode::Blend`), drawn by the forward pass only
+    /// (not into the G-buffer, casting no shadow).
+    pub(crate) blended: Vec<bool>,
     /// Per draw: the object casts shadows (drawn into shadow maps).
     pub(crate) casts_shadows: Vec<bool>,
     /// Per draw: the material (index into `textures.material_sets`).
@@ -156,6 +159,12 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
             .iter()
             .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
         alpha_mask: scene.materials.iter().any(|m| m.is_masked()),
+        blend: scene.objects.iter().any(|o| {
+            scene
+                .materials
+                .get(o.material)
+                .is_some_and(|m| m.is_blended())
+        }),
         vertex_colors: scene
             .objects
             .iter()
@@ -295,6 +304,7 @@ struct Tables {
     draw_meshes: Vec<usize>,
     double_sided: Vec<bool>,
     masked: Vec<bool>,
+    blended: Vec<bool>,
     draw_materials: Vec<usize>,
     variant: crate::variant::ShaderVariant,
     lit_variant: crate::variant::ShaderVariant,
@@ -354,6 +364,11 @@ impl Tables {
                 .iter()
                 .map(|o| scene.materials[o.material].is_masked())
                 .collect(),
+            blended: scene
+                .objects
+                .iter()
+                .map(|o| scene.materials[o.material].is_blended())
+                .collect(),
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),
             variant: scene_variant(scene),
             lit_variant: lit_scene_variant(scene),
@@ -403,6 +418,7 @@ impl GpuScene {
             draw_meshes: tables.draw_meshes,
             double_sided: tables.double_sided,
             masked: tables.masked,
+            blended: tables.blended,
             casts_shadows: tables.casts_shadows,
             draw_materials: tables.draw_materials,
             variant: tables.variant,
@@ -492,6 +508,7 @@ impl GpuScene {
         self.draw_meshes = tables.draw_meshes;
         self.double_sided = tables.double_sided;
         self.masked = tables.masked;
+        self.blended = tables.blended;
         self.casts_shadows = tables.casts_shadows;
         self.draw_materials = tables.draw_materials;
         self.variant = tables.variant;

@@ -791,7 +791,8 @@ impl ShadowCasterPass {
                 vertex_attributes: &attributes,
                 color_formats: &[],
                 depth_format: Some(SHADOW_MAP_FORMAT),
-                alpha_blend: false,
+                depth_write: true,
+                blend: combustion_vk::ColorBlend::Replace,
                 cache: Some(cache),
             },
         )?)

@@ -147,6 +147,10 @@ pub struct ShaderVariant {
     /// discards, for those materials' objects only; the other objects keep the pipeline
     /// without a discard (early depth testing intact).
     pub alpha_mask: bool,
+    /// Some drawn object's material is blended (`AlphaMode::Blend`): the frame gets the
+    /// forward pass (forward.frag) for those objects, after the deferred lighting; a
+    /// scene without one has no forward pipeline and the pass does not run.
+    pub blend: bool,
     /// Some drawn mesh has vertex colours (glTF COLOR_0): the G-buffer pipelines read the
     /// colour stream and multiply it into the base colour and alpha (objects whose mesh
     /// has none use white).

@@ -461,6 +461,8 @@ pub struct SceneFeatures {
     pub double_sided: usize,
     /// Cut-out materials ([`AlphaMode::Mask`]).
     pub masked: usize,
+    /// Blended materials ([`AlphaMode::Blend`]).
+    pub blended: usize,
     /// Unlit materials (KHR_materials_unlit).
     pub unlit: usize,
     /// [`Light::Point`]s among the scene's lights.
@@ -538,6 +540,7 @@ impl std::fmt::Display for SceneFeatures {
         writeln!(f, "KHR_materials_specular materials: {}", self.specular)?;
         writeln!(f, "double-sided materials: {}", self.double_sided)?;
         writeln!(f, "cut-out (alpha mask) materials: {}", self.masked)?;
+        writeln!(f, "blended (alpha blend) materials: {}", self.blended)?;
         writeln!(f, "unlit materials: {}", self.unlit)?;
         write!(
             f,
@@ -593,6 +596,9 @@ impl Scene {
             }
             if m.is_masked() {
                 features.masked += 1;
+            }
+            if m.is_blended() {
+                features.blended += 1;
             }
             if m.unlit {
                 features.unlit += 1;

@@ -301,6 +301,12 @@ impl Material {
         matches!(self.alpha_mode, AlphaMode::Mask { .. })
     }
 
+    /// Whether the material is blended ([`AlphaMode::Blend`]): its objects are drawn by
+    /// the forward pass over what is behind them, not into the G-buffer.
+    pub fn is_blended(&self) -> bool {
+        matches!(self.alpha_mode, AlphaMode::Blend)
+    }
+
     /// Whether the material needs a tangent frame that follows the texture coordinates
     /// (a normal map or anisotropy).
     pub fn needs_uv_tangents(&self) -> bool {

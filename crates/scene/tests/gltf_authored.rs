@@ -390,6 +390,130 @@ fn cutout_scene() -> Scene {
     }
 }
 
+/// Blending (alphaMode BLEND): a row of panels of alpha 0.25 (a red Lambert
+/// dielectric), 0.5 (a smooth green one), 0.75 (a rough blue conductor) and a
+/// vertex-coloured one whose alpha falls from 1 to 0.2 across it, in front of an opaque
+/// sphere, a back wall and a checkered floor; above them two panels that overlap on
+/// screen (a yellow one in front of a double-sided cyan one), blended in their depth
+/// order. A sun and a point light, both casting shadows (the sphere's; blended surfaces
+/// cast none).
+fn blend_scene() -> Scene {
+    let checker = image("checker", ColorSpace::Srgb, |x, y| {
+        if (x / 4 + y / 4) % 2 == 0 {
+            [200, 200, 190, 255]
+        } else {
+            [60, 60, 70, 255]
+        }
+    });
+    let opaque = |name: &str, base_color: [f32; 3], roughness: f32| Material {
+        name: name.into(),
+        base_color,
+        roughness,
+        ..Material::default()
+    };
+    let blended = |name: &str, base_color: [f32; 3], alpha: f32, roughness: f32| Material {
+        name: name.into(),
+        base_color,
+        alpha,
+        roughness,
+        alpha_mode: AlphaMode::Blend,
+        ..Material::default()
+    };
+    let floor = Material {
+        base_color_texture: texture(&checker, Sampler::default()),
+        ..opaque("checkered floor", [1.0; 3], 0.8)
+    };
+    let conductor = Material {
+        metalness: 1.0,
+        conductor: ComplexIor {
+            eta: [1.2, 1.0, 0.6],
+            k: [2.5, 2.7, 3.2],
+        },
+        ..blended("blue conductor, alpha 0.75", [0.3, 0.4, 0.9], 0.75, 0.6)
+    };
+    let cyan = Material {
+        double_sided: true,
+        ..blended("cyan, alpha 0.6", [0.1, 0.8, 0.8], 0.6, 0.5)
+    };
+    // Mesh::plane faces +y; turned a quarter about x it faces +z (the camera), v down.
+    let upright = |size: f32, at: Vec3| {
+        Mat4::from_scale_rotation_translation(
+            Vec3::splat(size),
+            Quat::from_rotation_x(std::f32::consts::FRAC_PI_2),
+            at,
+        )
+    };
+    let object = |mesh, material, transform| Object {
+        mesh,
+        material,
+        transform,
+        casts_shadows: true,
+    };
+    // Vertex colours (COLOR_0): warm corners, alpha 1 on the left edge and 0.2 on the
+    // right.
+    let mut ramp = Mesh::plane("alpha ramp panel", 1.0);
+    for v in &mut ramp.vertices {
+        let alpha = if v.position[0] < 0.0 { 1.0 } else { 0.2 };
+        v.color = [1.0, 0.6 + 0.4 * v.position[2].abs(), 0.3, alpha];
+    }
+    Scene {
+        name: "blend".into(),
+        meshes: vec![
+            Mesh::plane("floor", 6.0),
+            Mesh::plane("panel", 1.0),
+            ramp,
+            Mesh::uv_sphere("sphere", 0.45, 32, 16),
+        ],
+        materials: vec![
+            floor,
+            opaque("back wall", [0.55, 0.55, 0.6], 0.7),
+            opaque("sphere", [0.8, 0.35, 0.1], 0.35),
+            blended("red Lambert, alpha 0.25", [0.9, 0.1, 0.1], 0.25, 1.0),
+            blended("smooth green, alpha 0.5", [0.1, 0.8, 0.2], 0.5, 0.15),
+            conductor,
+            blended("vertex-coloured ramp", [1.0; 3], 1.0, 0.5),
+            blended("yellow, alpha 0.5", [0.9, 0.8, 0.1], 0.5, 0.4),
+            cyan,
+        ],
+        objects: vec![
+            object(0, 0, Mat4::IDENTITY),
+            object(1, 1, upright(6.0, Vec3::new(0.0, 3.0, -1.8))),
+            object(3, 2, Mat4::from_translation(Vec3::new(0.2, 0.45, -0.9))),
+            object(1, 3, upright(0.9, Vec3::new(-1.65, 0.6, 0.3))),
+            object(1, 4, upright(0.9, Vec3::new(-0.55, 0.6, 0.3))),
+            object(1, 5, upright(0.9, Vec3::new(0.55, 0.6, 0.3))),
+            object(2, 6, upright(0.9, Vec3::new(1.65, 0.6, 0.3))),
+            object(1, 7, upright(0.8, Vec3::new(-0.3, 1.65, 0.9))),
+            object(1, 8, upright(0.8, Vec3::new(0.25, 1.85, -0.2))),
+        ],
+        lights: vec![
+            Light::Directional {
+                direction: Vec3::new(-0.3, -0.8, -0.5),
+                irradiance: [2.5, 2.4, 2.2],
+                casts_shadows: true,
+                angular_diameter: 0.0,
+            },
+            Light::Point {
+                position: Vec3::new(1.6, 2.4, 2.2),
+                intensity: [5.0, 5.0, 6.0],
+                range: None,
+                casts_shadows: true,
+                radius: 0.0,
+            },
+        ],
+        camera: Camera {
+            position: Vec3::new(0.0, 1.5, 4.4),
+            target: Vec3::new(0.0, 0.9, 0.0),
+            up: Vec3::Y,
+            vertical_fov: 45f32.to_radians(),
+            near: 0.1,
+            far: 50.0,
+        },
+        outside_ior: 1.0,
+        environment: None,
+    }
+}
+
 /// What glTF cannot say, through `COMBUSTION_materials_optics`: spheres under water
 /// (scene outside IOR 1.33), a named metal, a spectral table, explicit η + ik, a
 /// base-colour conductor, an air bubble (material outside IOR), all three diffuse
@@ -563,6 +687,8 @@ fn write_authored(dir: &Path) {
     std::fs::create_dir_all(dir.join("textured")).unwrap();
     std::fs::create_dir_all(dir.join("optics")).unwrap();
     std::fs::create_dir_all(dir.join("cutout")).unwrap();
+    std::fs::create_dir_all(dir.join("blend")).unwrap();
+    save_gltf(&blend_scene(), &dir.join("blend/blend.gltf")).unwrap();
     save_gltf(&textured_scene(), &dir.join("textured/textured.gltf")).unwrap();
     save_gltf(&cutout_scene(), &dir.join("cutout/cutout.gltf")).unwrap();
     let optics = dir.join("optics/optics.gltf");
@@ -617,6 +743,20 @@ fn the_cutout_scene_is_current() {
     assert_same_scene(&cutout_scene(), &scene);
     assert!(report.warnings.is_empty(), "{report}");
     assert_eq!(scene.features().masked, 4);
+    assert!(scene.meshes[2].has_colors());
+}
+
+#[test]
+fn the_blend_scene_is_current() {
+    bless();
+    let (scene, report) = import(
+        &assets().join("blend/blend.gltf"),
+        &ImportOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e} (regenerate with COMBUSTION_BLESS=1)"));
+    assert_same_scene(&blend_scene(), &scene);
+    assert!(report.warnings.is_empty(), "{report}");
+    assert_eq!(scene.features().blended, 6);
     assert!(scene.meshes[2].has_colors());
 }
 

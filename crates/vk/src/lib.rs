@@ -43,7 +43,7 @@ pub use device::{
 };
 pub use error::{VkError, VkResultExt};
 pub use pipeline::{
-    DescriptorPool, DescriptorSetLayout, GraphicsPipelineDesc, Pipeline, PipelineCache,
+    ColorBlend, DescriptorPool, DescriptorSetLayout, GraphicsPipelineDesc, Pipeline, PipelineCache,
     PipelineLayout, Sampler,
 };
 pub use probe::{DeviceCounters, InjectedFault};

@@ -147,13 +147,28 @@ pub struct GraphicsPipelineDesc<'a> {
     pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
     /// The formats of the colour attachments rendered to, in attachment order.
     pub color_formats: &'a [vk::Format],
-    /// Depth attachment format; depth test (LESS) and write are on when set.
+    /// Depth attachment format; the depth test (LESS) is on when set.
     pub depth_format: Option<vk::Format>,
-    /// Blends the output over the attachment's contents with the fragment's alpha
-    /// (`src·α + dst·(1 − α)` for colour; alpha kept), for overlays.
-    pub alpha_blend: bool,
+    /// Whether fragments that pass the depth test write their depth (with a depth
+    /// attachment; `false` tests against a depth image read-only).
+    pub depth_write: bool,
+    /// How the fragment's colour meets the attachment's contents.
+    pub blend: ColorBlend,
     /// Where compiled pipelines are cached (saved and loaded by the host).
     pub cache: Option<&'a PipelineCache>,
+}
+
+/// How a graphics pipeline's fragment colour meets its attachment's contents (α: the
+/// fragment's alpha).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColorBlend {
+    /// The fragment replaces what was there.
+    Replace,
+    /// `src·α + dst·(1 − α)` for colour; the attachment's alpha kept (overlays).
+    OverKeepingAlpha,
+    /// Straight-alpha "over": `src·α + dst·(1 − α)` for colour and `α + dst_α·(1 − α)`
+    /// for alpha (a surface of coverage α in front of what was there).
+    Over,
 }
 
 /// A graphics or compute pipeline, destroyed when dropped (once no pending submission
@@ -199,7 +214,7 @@ impl Pipeline {
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(desc.depth_format.is_some())
-            .depth_write_enable(desc.depth_format.is_some())
+            .depth_write_enable(desc.depth_format.is_some() && desc.depth_write)
             .depth_compare_op(vk::CompareOp::LESS);
         let blend_attachments: Vec<_> = desc
             .color_formats
@@ -207,17 +222,24 @@ impl Pipeline {
             .map(|_| {
                 let state = vk::PipelineColorBlendAttachmentState::default()
                     .color_write_mask(vk::ColorComponentFlags::RGBA);
-                if desc.alpha_blend {
+                let over = |alpha_source, alpha_destination| {
                     state
                         .blend_enable(true)
                         .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
                         .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
                         .color_blend_op(vk::BlendOp::ADD)
-                        .src_alpha_blend_factor(vk::BlendFactor::ZERO)
-                        .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+                        .src_alpha_blend_factor(alpha_source)
+                        .dst_alpha_blend_factor(alpha_destination)
                         .alpha_blend_op(vk::BlendOp::ADD)
-                } else {
-                    state
+                };
+                match desc.blend {
+                    ColorBlend::Replace => state,
+                    ColorBlend::OverKeepingAlpha => {
+                        over(vk::BlendFactor::ZERO, vk::BlendFactor::ONE)
+                    }
+                    ColorBlend::Over => {
+                        over(vk::BlendFactor::ONE, vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+                    }
                 }
             })
             .collect();

@@ -12,6 +12,94 @@ use crate::results::PassTimings;
 
 pub(crate) struct Lighting;
 
+/// Declares what lights a surface (`bindings::LIT_BY`, lighting_terms.glsl) in `io`: the
+/// frame's lights, the conductor table, the energy table, the environment (or its
+/// placeholders) and the shadow maps (or placeholders), every binding written.
+pub(super) fn lit_by(mut io: PassIo, frame: &FrameContext<'_>) -> PassIo {
+    let (s, r) = (frame.slot, frame.renderer);
+    let read = BufferUse::FragmentStorageRead;
+    let texel = ImageUse::FragmentSampled;
+    io = io
+        .buffer("lights", &s.lights, read)
+        .buffer(
+            "conductor_from_code",
+            &frame.scene.gpu.conductor_table,
+            read,
+        )
+        .bind_buffer("energy_white_albedo", &r.energy_table);
+    let environment = frame.environment.unwrap_or(&r.no_environment);
+    let sampler = environment.sampler.raw();
+    // The cubes were made ready for fragment reads by their bake.
+    let cube_layout = texel.state().layout;
+    io = io
+        .bind_image(
+            "environment_specular",
+            environment.specular.view(),
+            cube_layout,
+            sampler,
+        )
+        .bind_image(
+            "environment_irradiance",
+            environment.irradiance.view(),
+            cube_layout,
+            sampler,
+        );
+    let tables = [
+        ("environment_albedo", &environment.albedo),
+        ("environment_code_albedo", &environment.code_albedo),
+        (
+            "environment_code_table_of_material",
+            &environment.code_table_of_material,
+        ),
+    ];
+    for (binding, table) in tables {
+        io = io.buffer_if(frame.environment.is_some(), binding, table, read);
+    }
+    match frame.shadow_maps {
+        Some((cascades, local)) => {
+            for (binding, depths, maps) in [
+                ("shadow_maps", "shadow_depths", cascades),
+                ("local_shadow_maps", "local_shadow_depths", local),
+            ] {
+                io = io
+                    .sampled_view(
+                        binding,
+                        &maps.image,
+                        maps.array_view.raw(),
+                        r.shadow_sampler.raw(),
+                        ImageUse::DepthFragmentSampled,
+                    )
+                    .image_view(
+                        depths,
+                        &maps.image,
+                        maps.array_view.raw(),
+                        ImageUse::DepthFragmentSampled,
+                    );
+            }
+        }
+        // Not declared by pipelines without shadows: any image will do.
+        None => {
+            for binding in ["shadow_maps", "local_shadow_maps"] {
+                io = io.bind_image(
+                    binding,
+                    r.absent_target.view(),
+                    texel.state().layout,
+                    r.shadow_sampler.raw(),
+                );
+            }
+            for binding in ["shadow_depths", "local_shadow_depths"] {
+                io = io.bind_image(
+                    binding,
+                    r.absent_target.view(),
+                    texel.state().layout,
+                    vk::Sampler::null(),
+                );
+            }
+        }
+    }
+    io.bind_buffer("shadow_cascades", &s.shadow_cascades)
+}
+
 impl FramePass for Lighting {
     fn name(&self) -> &'static str {
         PassTimings::LIGHTING
@@ -41,13 +129,6 @@ impl FramePass for Lighting {
             .image("gbuffer_material_direction", &g.material_direction, texel)
             .image("gbuffer_depth", &g.depth, ImageUse::DepthFragmentSampled)
             .buffer("materials", &frame.scene.gpu.materials, read)
-            .buffer("lights", &s.lights, read)
-            .buffer(
-                "conductor_from_code",
-                &frame.scene.gpu.conductor_table,
-                read,
-            )
-            .bind_buffer("energy_white_albedo", &r.energy_table)
             .touches((&frame.targets.hdr).into(), ImageUse::ColorAttachmentWrite);
         // Every binding is written, every frame: a driver may read a bound set's
         // descriptors, used or not, and a binding left as an earlier frame wrote it
@@ -68,77 +149,7 @@ impl FramePass for Lighting {
             &s.tile_lights,
             read,
         );
-        let environment = frame.environment.unwrap_or(&r.no_environment);
-        let sampler = environment.sampler.raw();
-        // The cubes were made ready for fragment reads by their bake.
-        let cube_layout = texel.state().layout;
-        io = io
-            .bind_image(
-                "environment_specular",
-                environment.specular.view(),
-                cube_layout,
-                sampler,
-            )
-            .bind_image(
-                "environment_irradiance",
-                environment.irradiance.view(),
-                cube_layout,
-                sampler,
-            );
-        let tables = [
-            ("environment_albedo", &environment.albedo),
-            ("environment_code_albedo", &environment.code_albedo),
-            (
-                "environment_code_table_of_material",
-                &environment.code_table_of_material,
-            ),
-        ];
-        for (binding, table) in tables {
-            io = io.buffer_if(frame.environment.is_some(), binding, table, read);
-        }
-        match frame.shadow_maps {
-            Some((cascades, local)) => {
-                for (binding, depths, maps) in [
-                    ("shadow_maps", "shadow_depths", cascades),
-                    ("local_shadow_maps", "local_shadow_depths", local),
-                ] {
-                    io = io
-                        .sampled_view(
-                            binding,
-                            &maps.image,
-                            maps.array_view.raw(),
-                            r.shadow_sampler.raw(),
-                            ImageUse::DepthFragmentSampled,
-                        )
-                        .image_view(
-                            depths,
-                            &maps.image,
-                            maps.array_view.raw(),
-                            ImageUse::DepthFragmentSampled,
-                        );
-                }
-            }
-            // Not declared by pipelines without shadows: any image will do.
-            None => {
-                for binding in ["shadow_maps", "local_shadow_maps"] {
-                    io = io.bind_image(
-                        binding,
-                        r.absent_target.view(),
-                        texel.state().layout,
-                        r.shadow_sampler.raw(),
-                    );
-                }
-                for binding in ["shadow_depths", "local_shadow_depths"] {
-                    io = io.bind_image(
-                        binding,
-                        r.absent_target.view(),
-                        texel.state().layout,
-                        vk::Sampler::null(),
-                    );
-                }
-            }
-        }
-        io.bind_buffer("shadow_cascades", &s.shadow_cascades)
+        lit_by(io, frame)
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {

@@ -12,6 +12,7 @@
 //! frame slot's set), and one line in [`FRAME`] (docs/architecture.md walks through one).
 
 mod depth_copy;
+mod forward;
 mod gbuffer;
 mod light_cull;
 mod lighting;
@@ -120,6 +121,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &gbuffer::GBuffer,
     &light_cull::LightCull,
     &lighting::Lighting,
+    &forward::Forward,
     &output::Output,
     &depth_copy::DepthCopy,
 ];

@@ -51,8 +51,6 @@ pub(crate) struct Importer<'a> {
     /// Bytes of meshes built so far (vertices and indices), against
     /// [`Importer::charge_mesh_bytes`]'s budget.
     pub mesh_bytes: u64,
-    /// Materials that ask for blending (alphaMode BLEND; reported once).
-    pub transparency: Vec<usize>,
 }
 
 impl Importer<'_> {
@@ -288,7 +286,6 @@ fn import_inner(
         decoded_pixels: 0,
         file_bytes: bytes.len() as u64,
         mesh_bytes: 0,
-        transparency: Vec::new(),
     };
     for w in early_warnings {
         importer.warn(w);
@@ -621,13 +618,6 @@ impl Importer<'_> {
         if instances.iter().any(|(_, i)| i.material.is_none()) {
             material_index.insert(None, materials.len());
             materials.push(default_material());
-        }
-        if !self.transparency.is_empty() {
-            let list: Vec<String> = self.transparency.iter().map(|i| i.to_string()).collect();
-            self.warn(format!(
-                "material(s) {} ask for blending (alphaMode BLEND); rendered opaque",
-                list.join(", ")
-            ));
         }
         for (_, instance) in &mut instances {
             let m = &materials[material_index[&instance.material]];

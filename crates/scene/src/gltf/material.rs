@@ -129,10 +129,7 @@ impl Importer<'_> {
                 }
                 AlphaMode::Mask { cutoff }
             }
-            Checked::Valid(json::material::AlphaMode::Blend) => {
-                self.transparency.push(index);
-                AlphaMode::Blend
-            }
+            Checked::Valid(json::material::AlphaMode::Blend) => AlphaMode::Blend,
             _ => AlphaMode::Opaque,
         };
         let metalness = self.unit_factor(index, "metallic factor", pbr.metallic_factor.0)?;

@@ -1,0 +1,72 @@
+//! The forward pass (gbuffer.vert + forward.frag; `crate::forward`): the blended
+//! objects over the lit HDR image, back to front, behind the G-buffer's depth. Runs only
+//! in frames of a scene with a blended object whose variant built its pipeline (not in
+//! debug views or measurement floors, which show the G-buffer's own surfaces).
+
+use combustion_vk::vk;
+
+use super::{FrameContext, FramePass};
+use crate::bindings::{self, SetDecl};
+use crate::forward::ForwardTargets;
+use crate::graph::{BufferUse, ImageUse};
+use crate::pass_io::PassIo;
+use crate::results::PassTimings;
+
+pub(crate) struct Forward;
+
+impl FramePass for Forward {
+    fn name(&self) -> &'static str {
+        PassTimings::FORWARD
+    }
+
+    fn sets(&self) -> &'static [&'static SetDecl] {
+        static SETS: [&SetDecl; 1] = [&bindings::FORWARD];
+        &SETS
+    }
+
+    fn runs(&self, frame: &FrameContext<'_>) -> bool {
+        frame.pipelines().forward.is_some() && frame.scene.blended.contains(&true)
+    }
+
+    fn io(&self, frame: &FrameContext<'_>) -> PassIo {
+        let io = PassIo::new(self.name())
+            .slot_set(frame.slot, &bindings::FORWARD)
+            .buffer(
+                "objects",
+                &frame.scene.gpu.objects,
+                BufferUse::VertexStorageRead,
+            )
+            .buffer(
+                "materials",
+                &frame.scene.gpu.materials,
+                BufferUse::FragmentStorageRead,
+            )
+            .touches((&frame.targets.hdr).into(), ImageUse::ColorAttachmentBlend)
+            .touches(
+                (&frame.targets.gbuffer.depth).into(),
+                ImageUse::DepthAttachmentTest,
+            );
+        super::lighting::lit_by(io, frame)
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let Some(forward) = frame.pipelines().forward.as_ref() else {
+            return;
+        };
+        let push = &frame.lighting_push;
+        let [x, y, z, _] = push.camera_position;
+        forward.record(
+            &frame.renderer.device,
+            cmd,
+            ForwardTargets {
+                hdr: &frame.targets.hdr,
+                depth: &frame.targets.gbuffer.depth,
+            },
+            frame.scene,
+            frame.slot.set(&bindings::FORWARD),
+            frame.view_projection,
+            glam::Vec3::new(x, y, z),
+            push.counts[0],
+        );
+    }
+}
