@@ -943,7 +943,8 @@ fn radiance_interval(code: u8, half_width: f64) -> (f64, f64) {
 /// validation with synchronisation checks: one renderer with 3 frames in flight records
 /// 60 frames cycling through a scene without lights (no shadow pass, placeholder
 /// bindings), grid-sun (cascades), the cut-out scene (cut-out casters through their
-/// alpha-testing pipeline, a sun's cascades and a point light's cube), point-among (a
+/// alpha-testing pipeline, a sun's cascades and a point light's cube), the blend scene
+/// (blended objects in the forward pass, which reads the maps too), point-among (a
 /// cube of local maps) and spot-box (one local map), while shadows are switched on, off, on with other map sizes, off and on
 /// again every 12 frames (the map arrays replaced, and the old ones retired, while frames that read
 /// them are still in flight). Every frame writes every binding of its sets (checked by
@@ -958,6 +959,10 @@ fn shadow_resources_alternate_across_frames_in_flight() {
     let cutout =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/cutout/cutout.gltf");
     scenes.insert(2, combustion::SceneSource::File(cutout).load().unwrap());
+    // Blended objects (the forward pass, reading the shadow maps through its own set).
+    let blend =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/blend/blend.gltf");
+    scenes.insert(4, combustion::SceneSource::File(blend).load().unwrap());
     let small = ShadowSettings {
         cascades: 2,
         map_size: 512,

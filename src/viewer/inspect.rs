@@ -36,6 +36,9 @@ pub struct ErrorSummary {
     pub compared: usize,
     /// Pixels of emissive materials, not compared.
     pub emissive: usize,
+    /// Pixels a blended object may cover, not compared (the reference shades the
+    /// G-buffer; the forward pass's surfaces are not in it).
+    pub blended: usize,
     /// CPU time of the f64 re-shading, ms.
     pub reshade_ms: f64,
 }
@@ -99,12 +102,13 @@ pub fn measure_error(
     };
     renderer.set_overlay_image(Some(&image))?;
     log::info!(
-        "error view: max relative error {:.3e} at {:?}, mean {:.3e}, {} pixels compared ({} emissive skipped), re-shaded in {reshade_ms:.0} ms",
+        "error view: max relative error {:.3e} at {:?}, mean {:.3e}, {} pixels compared ({} emissive and {} under blended objects skipped), re-shaded in {reshade_ms:.0} ms",
         map.max_relative,
         map.worst_pixel,
         map.mean_relative,
         map.lit_pixels,
-        map.emissive_pixels
+        map.emissive_pixels,
+        map.blended_pixels
     );
     Ok(ErrorSummary {
         max_relative: map.max_relative,
@@ -112,8 +116,26 @@ pub fn measure_error(
         worst_pixel: map.worst_pixel,
         compared: map.lit_pixels,
         emissive: map.emissive_pixels,
+        blended: map.blended_pixels,
         reshade_ms,
     })
+}
+
+/// What the error view left out, for its panel line (empty when nothing was).
+fn not_compared(e: &ErrorSummary) -> String {
+    let parts: Vec<String> = [
+        (e.emissive, "emissive"),
+        (e.blended, "under blended objects"),
+    ]
+    .into_iter()
+    .filter(|(count, _)| *count > 0)
+    .map(|(count, what)| format!("{} {what}", thousands(count)))
+    .collect();
+    if parts.is_empty() {
+        String::new()
+    } else {
+        format!(" ({} not compared)", parts.join(", "))
+    }
 }
 
 /// The statistics panel's facts.
@@ -210,11 +232,7 @@ impl Stats<'_> {
                         e.worst_pixel.1,
                         e.mean_relative,
                         thousands(e.compared),
-                        if e.emissive > 0 {
-                            format!(" ({} emissive not compared)", thousands(e.emissive))
-                        } else {
-                            String::new()
-                        },
+                        not_compared(&e),
                         e.reshade_ms
                     ));
                     lines.push(format!(

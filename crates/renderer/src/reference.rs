@@ -77,6 +77,10 @@ pub struct ReferenceShading {
     lights: Vec<GpuLight>,
     /// Per material: it emits (the GPU adds emission the reference does not model).
     emits: Vec<bool>,
+    /// The screen rectangles (x0, y0, x1, y1, inclusive) that hold every blended object
+    /// (alphaMode BLEND: the forward pass draws them over the G-buffer's surfaces, which
+    /// is all this reference sees), their world boxes projected.
+    blended: Vec<[u32; 4]>,
     /// Exact visibility: the scene's triangles and the frame's lights as given.
     visibility: Option<(std::sync::Arc<SceneBvh>, Vec<Light>)>,
     /// The BRDF's terms ([`BrdfVariant::EXACT`] unless [`ReferenceShading::with_variant`]).
@@ -128,6 +132,7 @@ impl ReferenceShading {
                             .any(|&e| e * m.emissive_strength != 0.0)
                 })
                 .collect(),
+            blended: blended_rectangles(scene, inputs, width, height),
             width,
             height,
             environment: None,
@@ -228,6 +233,16 @@ impl ReferenceShading {
             )),
             ..self
         }
+    }
+
+    /// Whether a blended object (alphaMode BLEND) may cover pixel (`x`, `y`): the
+    /// forward pass's surfaces are not in the G-buffer this reference shades from, so
+    /// such pixels are not compared (the f64 scene reference, `combustion::end_to_end`,
+    /// composites them).
+    pub fn under_blended(&self, x: u32, y: u32) -> bool {
+        self.blended
+            .iter()
+            .any(|r| (r[0]..=r[2]).contains(&x) && (r[1]..=r[3]).contains(&y))
     }
 
     /// Whether pixel (`x`, `y`) is compared: every pixel, or with an environment one
@@ -452,6 +467,73 @@ pub fn brdf_variant(options: &ShadingOptions) -> BrdfVariant {
     }
 }
 
+/// The screen rectangles holding `scene`'s blended objects seen by `inputs`' camera at
+/// `width` × `height` (each object's world box, its eight corners projected; the whole
+/// frame for a box reaching behind the eye's near plane).
+fn blended_rectangles(
+    scene: &Scene,
+    inputs: &FrameInputs<'_>,
+    width: u32,
+    height: u32,
+) -> Vec<[u32; 4]> {
+    let blended = |o: &combustion_scene::Object| {
+        scene
+            .materials
+            .get(o.material)
+            .is_some_and(|m| m.is_blended())
+    };
+    if !scene.objects.iter().any(blended) {
+        return Vec::new();
+    }
+    let clip = inputs
+        .camera
+        .view_projection(width as f32 / height as f32)
+        .as_dmat4();
+    let whole = [0, 0, width.saturating_sub(1), height.saturating_sub(1)];
+    scene
+        .objects
+        .iter()
+        .zip(scene.object_bounds())
+        .filter(|(o, _)| blended(o))
+        .map(|(_, bounds)| {
+            let Some((min, max)) = bounds else {
+                return whole;
+            };
+            let (min, max) = (min.as_dvec3(), max.as_dvec3());
+            let mut lo = glam::DVec2::INFINITY;
+            let mut hi = glam::DVec2::NEG_INFINITY;
+            for corner in 0..8 {
+                let pick = |bit: usize, a: f64, b: f64| if corner & bit == 0 { a } else { b };
+                let p = glam::DVec3::new(
+                    pick(1, min.x, max.x),
+                    pick(2, min.y, max.y),
+                    pick(4, min.z, max.z),
+                );
+                let c = clip * p.extend(1.0);
+                // Behind the eye's plane, or not a number: the box may be anywhere.
+                if c.w.is_nan() || c.w <= 1e-9 {
+                    return whole;
+                }
+                // NDC to pixels (Vulkan's NDC has y down, as pixel rows), one pixel of
+                // margin for the rasteriser's edges.
+                let s = glam::DVec2::new(
+                    (c.x / c.w * 0.5 + 0.5) * f64::from(width),
+                    (c.y / c.w * 0.5 + 0.5) * f64::from(height),
+                );
+                lo = lo.min(s);
+                hi = hi.max(s);
+            }
+            let pixel = |v: f64, size: u32| v.clamp(0.0, f64::from(size.saturating_sub(1))) as u32;
+            [
+                pixel(lo.x.floor() - 1.0, width),
+                pixel(lo.y.floor() - 1.0, height),
+                pixel(hi.x.ceil() + 1.0, width),
+                pixel(hi.y.ceil() + 1.0, height),
+            ]
+        })
+        .collect()
+}
+
 /// A frame's error against the reference, per pixel and in summary.
 #[derive(Clone, Debug, Default)]
 pub struct ErrorMap {
@@ -461,7 +543,8 @@ pub struct ErrorMap {
     pub height: u32,
     /// Per pixel (row-major from the top-left): the largest relative error of its three
     /// channels, `|gpu − f64| / max(|f64|, RADIANCE_FLOOR)`; NaN where nothing was
-    /// compared (background, emissive materials, non-finite GPU values).
+    /// compared (background, emissive materials, blended objects, non-finite GPU
+    /// values).
     pub relative: Vec<f32>,
     /// The largest per-pixel relative error (at [`ErrorMap::worst_pixel`]).
     pub max_relative: f64,
@@ -479,6 +562,9 @@ pub struct ErrorMap {
     pub background_not_black: usize,
     /// Pixels of emissive materials (emission is added by the GPU, not modelled here).
     pub emissive_pixels: usize,
+    /// Pixels a blended object may cover ([`ReferenceShading::under_blended`]), not
+    /// compared.
+    pub blended_pixels: usize,
     /// Pixels whose GPU or reference radiance is not finite.
     pub non_finite: usize,
     /// The reference's radiance per pixel, rounded to f32 (row-major, as `relative`):
@@ -531,6 +617,10 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
                         if gpu.iter().any(|c| !c.is_finite()) {
                             part.non_finite += 1;
                             *radiance = [0.0; 3];
+                            continue;
+                        }
+                        if reference.under_blended(x, y) {
+                            part.blended_pixels += 1;
                             continue;
                         }
                         // Every pixel, compared or not (an environment's grid), is checked
@@ -591,6 +681,7 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
         map.lit_pixels += part.lit_pixels;
         map.background_not_black += part.background_not_black;
         map.emissive_pixels += part.emissive_pixels;
+        map.blended_pixels += part.blended_pixels;
         map.non_finite += part.non_finite;
         // The first chunk in row order wins a tie, as the first pixel does within a
         // chunk, so the worst pixel does not depend on the number of threads.

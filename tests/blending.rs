@@ -1,0 +1,88 @@
+//! Blended objects (glTF alphaMode BLEND) and the forward pass that draws them, on
+//! lavapipe with validation: the pass runs only for scenes that have them; they cast
+//! no shadow; the G-buffer reference (the viewer's error view) leaves out what they
+//! cover and agrees everywhere else. Their shading and compositing are checked against
+//! the f64 scene reference in tests/end_to_end.rs (assets/scenes/blend).
+
+mod common;
+
+use combustion::renderer::{PassTimings, RendererSettings, ShadingOptions, ShadowSettings};
+use combustion::scene::Scene;
+
+const W: u32 = 160;
+const H: u32 = 120;
+
+fn authored(name: &str) -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("assets/scenes/{name}/{name}.gltf"));
+    combustion::SceneSource::File(path).load().unwrap()
+}
+
+/// A scene without a blended object has no forward pipeline and its frames run no
+/// forward pass (what it costs them: nothing); the blend scene's frames run it between
+/// the lighting and the output.
+#[test]
+fn only_scenes_with_blended_objects_run_the_forward_pass() {
+    for (name, blended) in [("cutout", false), ("blend", true)] {
+        let frame = common::render_images(&authored(name), W, H, common::exact_f32());
+        let mut expected = vec![PassTimings::GBUFFER, PassTimings::LIGHTING];
+        if blended {
+            expected.push(PassTimings::FORWARD);
+        }
+        expected.push(PassTimings::OUTPUT);
+        assert_eq!(frame.timings.names(), expected, "{name}");
+    }
+}
+
+/// Blended objects cast no shadow (the shadow maps hold depth, not coverage; the f64
+/// reference's shadow rays pass them too): with shadows on, the blend scene renders bit
+/// for bit the same whether its blended objects are marked as casting shadows or not.
+/// Its frames read the shadow maps in the forward pass too (the SHADOWS variant of
+/// forward.frag, under validation).
+#[test]
+fn blended_objects_cast_no_shadow() {
+    let settings = RendererSettings {
+        shading: ShadingOptions {
+            shadows: Some(ShadowSettings::DEFAULT),
+            ..ShadingOptions::DEFAULT
+        },
+        ..common::exact_f32()
+    };
+    let scene = authored("blend");
+    let mut not_casting = scene.clone();
+    for object in &mut not_casting.objects {
+        if scene.materials[object.material].is_blended() {
+            object.casts_shadows = false;
+        }
+    }
+    assert_ne!(scene.objects, not_casting.objects);
+    let casting = common::render_images(&scene, W, H, settings);
+    let plain = common::render_images(&not_casting, W, H, settings);
+    assert!(casting.timings.ms(PassTimings::SHADOW_MAPS).is_some());
+    let differ = casting
+        .hdr
+        .iter()
+        .zip(&plain.hdr)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differ, 0, "{differ} pixels differ");
+}
+
+/// The G-buffer reference (`combustion_renderer::reference`, the viewer's error view)
+/// sees the opaque surfaces only: pixels a blended object may cover (its box projected)
+/// are counted and left out, background ones included, and every other pixel agrees
+/// with it as the parity tests' scenes do (their bound: 1e-3 relative, tests/parity.rs).
+#[test]
+fn the_error_view_leaves_out_what_blended_objects_cover() {
+    let scene = authored("blend");
+    let (_, map) = common::render_with_error_map(&scene, W, H, common::exact_f32(), 2);
+    eprintln!(
+        "blend {W}x{H}: {} compared, {} under blended objects, max {:.3e} at {:?}, mean {:.3e}",
+        map.lit_pixels, map.blended_pixels, map.max_relative, map.worst_pixel, map.mean_relative
+    );
+    assert!(map.blended_pixels > 2000, "{}", map.blended_pixels);
+    assert!(map.lit_pixels > 5000, "{}", map.lit_pixels);
+    assert_eq!(map.background_not_black, 0);
+    assert_eq!(map.non_finite, 0);
+    assert!(map.max_relative < 1e-3, "max {:.3e}", map.max_relative);
+}
