@@ -43,7 +43,7 @@ pub use error::{CameraProblem, LightProblem, SceneError};
 pub use gltf::read_regular_file;
 pub use material::{
     conductor_from_reflectivity, AlphaMode, ColorSpace, ComplexIor, DiffuseModel, Filter, Image,
-    Material, Sampler, Texture, TextureRef, TextureSlot, UvTransform, WrapMode,
+    Material, Sampler, Texture, TextureRef, TextureSlot, UvTransform, Volume, WrapMode,
 };
 pub use mesh::{Mesh, Vertex};
 
@@ -463,6 +463,11 @@ pub struct SceneFeatures {
     pub masked: usize,
     /// Blended materials ([`AlphaMode::Blend`]).
     pub blended: usize,
+    /// Transmissive materials (KHR_materials_transmission), and of those, the ones with
+    /// a volume (KHR_materials_volume).
+    pub transmissive: usize,
+    /// Transmissive materials with a volume.
+    pub volumes: usize,
     /// Unlit materials (KHR_materials_unlit).
     pub unlit: usize,
     /// [`Light::Point`]s among the scene's lights.
@@ -541,6 +546,11 @@ impl std::fmt::Display for SceneFeatures {
         writeln!(f, "double-sided materials: {}", self.double_sided)?;
         writeln!(f, "cut-out (alpha mask) materials: {}", self.masked)?;
         writeln!(f, "blended (alpha blend) materials: {}", self.blended)?;
+        writeln!(
+            f,
+            "transmissive materials: {} ({} with a volume)",
+            self.transmissive, self.volumes
+        )?;
         writeln!(f, "unlit materials: {}", self.unlit)?;
         write!(
             f,
@@ -599,6 +609,10 @@ impl Scene {
             }
             if m.is_blended() {
                 features.blended += 1;
+            }
+            if m.is_transmissive() {
+                features.transmissive += 1;
+                features.volumes += usize::from(m.volume.is_some());
             }
             if m.unlit {
                 features.unlit += 1;

@@ -149,6 +149,46 @@ pub struct Material {
     pub specular_texture: Option<TextureRef>,
     /// KHR_materials_specular colour texture (RGB, sRGB-encoded).
     pub specular_color_texture: Option<TextureRef>,
+    /// KHR_materials_transmission `transmissionFactor` ∈ [0, 1]: the share of the light
+    /// the dielectric part lets through its surface (what the Fresnel equations
+    /// transmit) that passes on through the object, refracted and tinted by the base
+    /// colour, instead of scattering diffusely. 0: opaque.
+    pub transmission: f32,
+    /// KHR_materials_volume: the medium a transmissive surface encloses; `None`:
+    /// thin-walled (a shell with no thickness: no refraction offset).
+    pub volume: Option<Volume>,
+}
+
+/// KHR_materials_volume: the homogeneous medium inside a transmissive object, whose
+/// index is the material's `dielectric_ior`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Volume {
+    /// The medium's thickness under the surface (glTF `thicknessFactor`, > 0), in the
+    /// mesh's own units: scaled by the object's transform, it is the path a refracted
+    /// ray is taken to travel inside when only the surface is known.
+    pub thickness: f32,
+    /// The distance (world units, metres) light travels in the medium before white
+    /// light has become `attenuation_color` (Beer–Lambert); infinite: no absorption.
+    pub attenuation_distance: f32,
+    /// The colour white light has after `attenuation_distance`, linear RGB in [0, 1].
+    pub attenuation_color: [f32; 3],
+}
+
+impl Volume {
+    /// The absorption coefficient σ = −ln(attenuation colour) / attenuation distance per
+    /// channel (1/m): the transmittance over a path of length d is e^(−σ d). Infinite for
+    /// a channel of colour 0, 0 without absorption.
+    pub fn absorption(&self) -> [f64; 3] {
+        let distance = f64::from(self.attenuation_distance);
+        self.attenuation_color.map(|c| {
+            let c = f64::from(c);
+            if c >= 1.0 || distance.is_infinite() {
+                0.0
+            } else {
+                -c.ln() / distance
+            }
+        })
+    }
 }
 
 impl Default for Material {
@@ -188,6 +228,8 @@ impl Default for Material {
             specular_color_factor: [1.0; 3],
             specular_texture: None,
             specular_color_texture: None,
+            transmission: 0.0,
+            volume: None,
         }
     }
 }
@@ -195,7 +237,9 @@ impl Default for Material {
 impl Material {
     /// Checks every factor's range as its field states (base colour, alpha, metalness,
     /// roughness, anisotropy strength, polarisation weight, occlusion strength and
-    /// specular factor in [0, 1]; IORs finite and positive; k, the emissive factor and
+    /// specular factor and transmission in [0, 1]; a volume's thickness finite and
+    /// positive, its attenuation distance positive or infinite and its attenuation
+    /// colour in [0, 1]; IORs finite and positive; k, the emissive factor and
     /// strength and the specular colour finite and ≥ 0; the anisotropy rotation and
     /// normal scale finite) and every texture: an image whose size matches its pixels, in the colour
     /// space the slot needs ([`TextureSlot::color_space`]), coordinate set 0 or 1, and
@@ -252,6 +296,20 @@ impl Material {
             .all(|&x| x.is_finite() && x >= 0.0)
         {
             Some("specular colour factor must be finite and non-negative")
+        } else if !unit(self.transmission) {
+            Some("transmission must lie in [0, 1]")
+        } else if !self.volume.is_none_or(|v| positive(v.thickness)) {
+            Some("volume thickness must be finite and positive")
+        } else if !self
+            .volume
+            .is_none_or(|v| v.attenuation_distance > 0.0 && !v.attenuation_distance.is_nan())
+        {
+            Some("volume attenuation distance must be positive (or infinite)")
+        } else if !self
+            .volume
+            .is_none_or(|v| v.attenuation_color.iter().all(|&c| unit(c)))
+        {
+            Some("volume attenuation colour must lie in [0, 1]")
         } else {
             None
         };
@@ -305,6 +363,12 @@ impl Material {
     /// the forward pass over what is behind them, not into the G-buffer.
     pub fn is_blended(&self) -> bool {
         matches!(self.alpha_mode, AlphaMode::Blend)
+    }
+
+    /// Whether light passes through the material (KHR_materials_transmission with a
+    /// factor above 0).
+    pub fn is_transmissive(&self) -> bool {
+        self.transmission > 0.0
     }
 
     /// Whether the material needs a tangent frame that follows the texture coordinates

@@ -396,6 +396,97 @@ fn alpha_modes_are_read_and_bad_cutoffs_refused() {
     );
 }
 
+/// KHR_materials_transmission and KHR_materials_volume: the factors within glTF's
+/// ranges are read (a volume of thickness 0 is thin-walled: none; no attenuation
+/// distance is infinite); a transmission factor outside [0, 1], a negative thickness, an
+/// attenuation distance of 0 or below and an attenuation colour outside [0, 1] are
+/// one-line errors naming the extension and the material; a texture, not read yet, is a
+/// warning.
+#[test]
+fn transmission_and_volume_are_read_and_out_of_range_values_refused() {
+    let with_extensions = |extensions: serde_json::Value| {
+        let mut root = one_triangle_file(&[0, 1, 2]);
+        root["materials"] = serde_json::json!([{ "extensions": extensions }]);
+        root["meshes"][0]["primitives"][0]["material"] = serde_json::json!(0);
+        import_slice(root.to_string().as_bytes(), &ImportOptions::default())
+    };
+    let (scene, report) = with_extensions(serde_json::json!({
+        "KHR_materials_transmission": { "transmissionFactor": 0.8 },
+        "KHR_materials_volume": {
+            "thicknessFactor": 0.25, "attenuationDistance": 2.0,
+            "attenuationColor": [0.9, 0.5, 0.1]
+        }
+    }))
+    .unwrap();
+    let material = &scene.materials[0];
+    assert_eq!(material.transmission, 0.8);
+    assert_eq!(
+        material.volume,
+        Some(combustion_scene::Volume {
+            thickness: 0.25,
+            attenuation_distance: 2.0,
+            attenuation_color: [0.9, 0.5, 0.1],
+        })
+    );
+    assert!(report.warnings.is_empty(), "{report}");
+    assert_eq!(scene.features().transmissive, 1);
+    let (scene, _) = with_extensions(serde_json::json!({
+        "KHR_materials_transmission": { "transmissionFactor": 1.0 },
+        "KHR_materials_volume": { "thicknessFactor": 0.0 }
+    }))
+    .unwrap();
+    assert_eq!(scene.materials[0].volume, None, "thickness 0: thin-walled");
+    let (scene, _) = with_extensions(serde_json::json!({
+        "KHR_materials_volume": { "thicknessFactor": 1.0 }
+    }))
+    .unwrap();
+    let volume = scene.materials[0].volume.unwrap();
+    assert_eq!(volume.attenuation_distance, f32::INFINITY);
+    assert_eq!(volume.absorption(), [0.0; 3]);
+    let (_, report) = with_extensions(serde_json::json!({
+        "KHR_materials_transmission": {
+            "transmissionFactor": 1.0, "transmissionTexture": { "index": 0 }
+        }
+    }))
+    .unwrap();
+    assert!(
+        report
+            .warnings
+            .iter()
+            .any(|w| w.contains("transmissionTexture is not read yet")),
+        "{report}"
+    );
+    for (extensions, expected) in [
+        (
+            serde_json::json!({ "KHR_materials_transmission": { "transmissionFactor": 1.5 } }),
+            "KHR_materials_transmission: transmissionFactor must lie in [0, 1], found 1.5",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_transmission": { "transmissionFactor": "all" } }),
+            "transmissionFactor must be a number",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_volume": { "thicknessFactor": -1.0 } }),
+            "KHR_materials_volume: thicknessFactor must be at least 0, found -1",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_volume": { "attenuationDistance": 0.0 } }),
+            "attenuationDistance must be above 0, found 0",
+        ),
+        (
+            serde_json::json!({
+                "KHR_materials_volume": { "attenuationColor": [1.0, 2.0, 0.5] }
+            }),
+            "attenuationColor must lie in [0, 1], found [1.0, 2.0, 0.5]",
+        ),
+    ] {
+        let error = with_extensions(extensions).unwrap_err().to_string();
+        assert!(error.contains(expected), "{error}");
+        assert!(error.contains("material 0"), "{error}");
+        assert!(!error.contains('\n'), "one line: {error}");
+    }
+}
+
 /// COLOR_0 (glTF: VEC3 or VEC4 of floats, normalised unsigned bytes or normalised
 /// unsigned shorts): each form is read into `Vertex::color` (VEC3 with alpha 1); a
 /// colour of integers that are not normalised, or of two components, is a one-line

@@ -922,6 +922,34 @@ fn textured_scene_round_trips_through_a_temporary_folder() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// KHR_materials_transmission and KHR_materials_volume survive a save and an import:
+/// a thin-walled transmissive material, one with a volume that absorbs, and one whose
+/// volume absorbs nothing (no attenuation distance: infinite, which JSON cannot write).
+#[test]
+fn transmission_and_volumes_round_trip() {
+    let mut scene = builtin_scene("spheres").unwrap();
+    scene.materials[0].transmission = 1.0;
+    scene.materials[1].transmission = 0.75;
+    scene.materials[1].volume = Some(combustion_scene::Volume {
+        thickness: 0.4,
+        attenuation_distance: 0.5,
+        attenuation_color: [0.8, 0.6, 0.2],
+    });
+    scene.materials[2].transmission = 0.5;
+    scene.materials[2].volume = Some(combustion_scene::Volume {
+        thickness: 2.0,
+        attenuation_distance: f32::INFINITY,
+        attenuation_color: [1.0; 3],
+    });
+    let dir = temp_dir("transmission");
+    let path = dir.join("t.gltf");
+    save_gltf(&scene, &path).unwrap();
+    let (loaded, report) = import(&path, &ImportOptions::default()).unwrap();
+    assert_same_scene(&scene, &loaded);
+    assert!(report.warnings.is_empty(), "{report}");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// KHR_texture_transform and TEXCOORD_1 survive a save and an import: a slot on set 1
 /// with an offset, rotation and scale, a mesh whose second set differs from its first.
 #[test]

@@ -265,6 +265,28 @@ impl Importer<'_> {
                 }
                 material.unlit = true;
             }
+            if let Some(value) = ext.others.get("KHR_materials_transmission") {
+                let transmission = optics_ext::parse_transmission(value).map_err(|e| {
+                    self.material_error(index, format!("KHR_materials_transmission: {e}"))
+                })?;
+                material.transmission = transmission.factor;
+                if transmission.textured {
+                    self.warn(format!(
+                        "material {index}: KHR_materials_transmission's transmissionTexture is not read yet; its factor applies everywhere"
+                    ));
+                }
+            }
+            if let Some(value) = ext.others.get("KHR_materials_volume") {
+                let (volume, textured) = optics_ext::parse_volume(value).map_err(|e| {
+                    self.material_error(index, format!("KHR_materials_volume: {e}"))
+                })?;
+                material.volume = volume;
+                if textured {
+                    self.warn(format!(
+                        "material {index}: KHR_materials_volume's thicknessTexture is not read yet; its factor applies everywhere"
+                    ));
+                }
+            }
             if let Some(value) = ext.others.get("KHR_materials_anisotropy") {
                 let anisotropy = optics_ext::parse_anisotropy(value).map_err(|e| {
                     self.material_error(index, format!("KHR_materials_anisotropy: {e}"))

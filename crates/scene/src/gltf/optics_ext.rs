@@ -317,6 +317,71 @@ pub(crate) fn parse_texture_transform(
 }
 
 /// KHR_materials_anisotropy.
+/// KHR_materials_transmission as read: the factor (in [0, 1]; 0 when absent) and
+/// whether a texture was given (not read yet: the importer warns).
+#[derive(Debug, Default)]
+pub(crate) struct Transmission {
+    pub factor: f32,
+    pub textured: bool,
+}
+
+pub(crate) fn parse_transmission(value: &Value) -> Result<Transmission, String> {
+    let map = object(value, "KHR_materials_transmission")?;
+    let mut out = Transmission::default();
+    if let Some(v) = map.get("transmissionFactor") {
+        out.factor = number(v, "transmissionFactor")?;
+        if !(0.0..=1.0).contains(&out.factor) {
+            return Err(format!(
+                "transmissionFactor must lie in [0, 1], found {}",
+                out.factor
+            ));
+        }
+    }
+    out.textured = map.contains_key("transmissionTexture");
+    Ok(out)
+}
+
+/// KHR_materials_volume as read: `None` for a thickness of 0 (glTF: thin-walled), and
+/// whether a thickness texture was given (not read yet: the importer warns).
+pub(crate) fn parse_volume(value: &Value) -> Result<(Option<crate::Volume>, bool), String> {
+    let map = object(value, "KHR_materials_volume")?;
+    let thickness = match map.get("thicknessFactor") {
+        None => 0.0,
+        Some(v) => number(v, "thicknessFactor")?,
+    };
+    if thickness < 0.0 {
+        return Err(format!(
+            "thicknessFactor must be at least 0, found {thickness}"
+        ));
+    }
+    let attenuation_distance = match map.get("attenuationDistance") {
+        None => f32::INFINITY,
+        Some(v) => {
+            let d = number(v, "attenuationDistance")?;
+            if d <= 0.0 {
+                return Err(format!("attenuationDistance must be above 0, found {d}"));
+            }
+            d
+        }
+    };
+    let attenuation_color = match map.get("attenuationColor") {
+        None => [1.0; 3],
+        Some(v) => {
+            let c = triple(v, "attenuationColor")?;
+            if !c.iter().all(|x| (0.0..=1.0).contains(x)) {
+                return Err(format!("attenuationColor must lie in [0, 1], found {c:?}"));
+            }
+            c
+        }
+    };
+    let volume = (thickness > 0.0).then_some(crate::Volume {
+        thickness,
+        attenuation_distance,
+        attenuation_color,
+    });
+    Ok((volume, map.contains_key("thicknessTexture")))
+}
+
 #[derive(Debug, Default, PartialEq)]
 pub(crate) struct Anisotropy {
     pub strength: f32,

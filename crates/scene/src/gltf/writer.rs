@@ -254,6 +254,23 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
     if m.unlit {
         extensions.insert("KHR_materials_unlit".into(), json!({}));
     }
+    if m.transmission != defaults.transmission {
+        extensions.insert(
+            "KHR_materials_transmission".into(),
+            json!({ "transmissionFactor": num(m.transmission) }),
+        );
+    }
+    if let Some(volume) = &m.volume {
+        let mut v = json!({
+            "thicknessFactor": num(volume.thickness),
+            "attenuationColor": nums(&volume.attenuation_color),
+        });
+        // JSON has no infinity: glTF's default (absent) stands for it.
+        if volume.attenuation_distance.is_finite() {
+            v["attenuationDistance"] = num(volume.attenuation_distance);
+        }
+        extensions.insert("KHR_materials_volume".into(), v);
+    }
     let mut conductor = json!({
         "eta": nums(&m.conductor.eta),
         "k": nums(&m.conductor.k),
