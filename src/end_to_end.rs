@@ -130,6 +130,10 @@ pub struct FrameComparison {
     pub away: Vec<(u32, u32)>,
     /// Compared pixels whose GPU radiance is not finite.
     pub non_finite: usize,
+    /// Pixels seen through a transmissive surface (glass), compared apart: the
+    /// renderer's transmission is a screen-space estimate whose error is measured here,
+    /// not bounded (docs/gltf.md, "Transmission").
+    pub transmissive: Vec<ComparedPixel>,
 }
 
 /// Mean and maximum of some per-pixel errors.
@@ -271,7 +275,11 @@ impl<'a> SceneReference<'a> {
             })
         };
         let seen = pixels.iter().map(|p| p.map(|p| p.material)).collect();
-        let blended = if scene.materials.iter().any(|m| m.is_blended()) {
+        let blended = if scene
+            .materials
+            .iter()
+            .any(|m| m.is_blended() || m.is_transmissive())
+        {
             let shading = &shading;
             per_pixel(width, height, threads, |x, y| {
                 let i = (y * width + x) as usize;
@@ -416,14 +424,26 @@ impl<'a> SceneReference<'a> {
                 // own inputs (nothing stored), over the opaque surface's radiance.
                 let exact = SceneShading::blended_over(&self.blended[i], p.exact);
                 let as_stored = SceneShading::blended_over(&self.blended[i], p.as_stored);
-                out.pixels.push(ComparedPixel {
+                let compared = ComparedPixel {
                     x,
                     y,
                     gpu,
                     total: relative(gpu, exact),
                     storage: relative(as_stored, exact),
                     rest: relative(gpu, as_stored),
+                };
+                let through_glass = self.blended[i].iter().any(|(s, _)| {
+                    self.scene
+                        .objects
+                        .get(s.hit.object)
+                        .and_then(|o| self.scene.materials.get(o.material))
+                        .is_some_and(|m| m.is_transmissive())
                 });
+                if through_glass {
+                    out.transmissive.push(compared);
+                } else {
+                    out.pixels.push(compared);
+                }
             }
         }
         out

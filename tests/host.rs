@@ -890,7 +890,8 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// target, with and without an environment (the scene's own, or a frame environment
 /// baked for it, dropped while its frames are in flight), with and without culled
 /// (ranged) lights, with and without cut-outs and vertex colours, and with and without
-/// blended objects (the forward pass, its set and pipeline), rendered in
+/// blended and transmissive objects (the forward pass, its set and pipeline; the image
+/// behind transmissive objects, a target of its own), rendered in
 /// alternation, each run of
 /// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
 /// flight. The targets of the scene not shown are retired and destroyed while the
@@ -922,6 +923,11 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
     )
     .load()
     .unwrap();
+    let glass = combustion::SceneSource::File(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/glass/glass.gltf"),
+    )
+    .load()
+    .unwrap();
     let scenes = [
         emissive,
         builtin_scene("spheres").unwrap(),
@@ -929,6 +935,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         ranged,
         cutout,
         blend,
+        glass,
     ];
     let (mut host, log, mut output) = host_with_output(&scenes, 3, 48, 40);
     // Each scene for 24 frames (past the 16-frame retire delay), twice round; the
@@ -943,7 +950,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
                 .unwrap();
             host.frame_environments = vec![None, Some(studio)];
         }
-        for scene in [0, 1, 0, 2, 3, 0, 4, 5, 1] {
+        for scene in [0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 1] {
             for _ in 0..24 {
                 headless::frame(&mut host, &mut output, scene).unwrap();
             }

@@ -6,7 +6,7 @@
 // MATERIAL_FLAG_* and LIGHT_KIND_*: generated from gpu_types.rs's constants.
 #include "bindings/constants.glsl"
 
-// One entry of the material table (std430, 464 bytes).
+// One entry of the material table (std430, 496 bytes).
 struct GpuMaterial {
     vec4 base_color_metalness;      // rgb: linear base colour, a: metalness
     vec4 roughness_anisotropy_ior;  // x: perceptual roughness, y: anisotropy strength,
@@ -27,6 +27,9 @@ struct GpuMaterial {
                                     // the nearest mip level; read by the ALPHA_MASK pipelines
     vec4 alpha_mip_scales[4];       // per base colour mip level ([level / 4][level % 4]): the
                                     // alpha scale that keeps the cut-out's coverage
+    vec4 transmission_thickness;    // x: transmission factor (0: opaque), y: volume thickness in
+                                    // the mesh's units (0: thin-walled); read by TRANSMISSION
+    vec4 absorption;                // rgb: the volume's absorption coefficient σ (1/m)
 };
 
 // One placed mesh (std430, 144 bytes).

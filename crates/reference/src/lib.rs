@@ -47,6 +47,7 @@ mod cutout;
 pub mod primary;
 pub mod shading;
 pub mod texture;
+pub mod transmission;
 mod triangle;
 pub mod visibility;
 
@@ -169,8 +170,9 @@ impl SceneBvh {
     }
 
     /// As [`SceneBvh::new`], of the objects that cast shadows
-    /// ([`combustion_scene::Object::casts_shadows`]) and are not blended (alphaMode
-    /// BLEND: the renderer's blended objects cast no shadow): what blocks light, for
+    /// ([`combustion_scene::Object::casts_shadows`]) and are neither blended (alphaMode
+    /// BLEND) nor transmissive (the renderer's forward-pass objects cast no shadow):
+    /// what blocks light, for
     /// [`SceneBvh::light_visibility`] and its kin.
     pub fn shadow_casters(scene: &Scene) -> SceneBvh {
         Self::of_objects(scene, |object| {
@@ -178,7 +180,7 @@ impl SceneBvh {
                 && !scene
                     .materials
                     .get(object.material)
-                    .is_some_and(|m| m.is_blended())
+                    .is_some_and(|m| m.is_blended() || m.is_transmissive())
         })
     }
 

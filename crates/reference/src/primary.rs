@@ -73,7 +73,8 @@ pub fn primary_hit(
 }
 
 /// Everything the primary ray through a pixel's centre meets: the blended surfaces
-/// (alphaMode BLEND) in front of the first opaque one, nearest first, and that one.
+/// (alphaMode BLEND) and transmissive ones (KHR_materials_transmission) in front of the
+/// first opaque one, nearest first, and that one.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PrimaryLayers {
     /// The blended surfaces the ray passes through before `opaque` (or before the far
@@ -115,7 +116,9 @@ pub fn primary_layers(
             continue;
         }
         let seen = seen_surface(scene, &ray, &hit);
-        if material.is_some_and(|m| m.is_blended()) {
+        // Blended and transmissive surfaces: the renderer draws them over the opaque
+        // one (its forward pass), which is what its G-buffer holds.
+        if material.is_some_and(|m| m.is_blended() || m.is_transmissive()) {
             layers.blended.extend(seen);
             continue;
         }
@@ -125,9 +128,9 @@ pub fn primary_layers(
     layers
 }
 
-/// The surface `hit` (on `ray`, a camera ray of unit length along the view direction)
-/// shows: its interpolated shading normal and position.
-fn seen_surface(scene: &Scene, ray: &Ray, hit: &crate::Hit) -> Option<PrimaryHit> {
+/// The surface `hit` (on `ray`) shows: its interpolated shading normal and position
+/// (`view_depth`: the hit's t, a distance for a camera ray or any unit direction).
+pub(crate) fn seen_surface(scene: &Scene, ray: &Ray, hit: &crate::Hit) -> Option<PrimaryHit> {
     let object = scene.objects.get(hit.object)?;
     let mesh = scene.meshes.get(object.mesh)?;
     let corner = |k: usize| -> Option<DVec3> {

@@ -98,8 +98,8 @@ pub struct SurfacePoint {
 
 /// The scene shaded per pixel in f64 for a `width` × `height` frame of its own camera.
 pub struct SceneShading<'a> {
-    scene: &'a Scene,
-    bvh: &'a SceneBvh,
+    pub(crate) scene: &'a Scene,
+    pub(crate) bvh: &'a SceneBvh,
     lights: &'a [Light],
     width: u32,
     height: u32,
@@ -349,10 +349,17 @@ impl<'a> SceneShading<'a> {
         self.surface_at(hit, x, y)
     }
 
-    /// The blended surfaces (alphaMode BLEND) pixel (`x`, `y`)'s ray passes through
-    /// before its opaque surface, nearest first (empty in a scene without any).
+    /// The blended (alphaMode BLEND) and transmissive surfaces pixel (`x`, `y`)'s ray
+    /// passes through before its opaque surface, nearest first (empty in a scene without
+    /// any). A transmissive surface that is not blended covers what is behind it wholly
+    /// (`alpha` 1): its radiance holds what it lets through.
     pub fn blended_surfaces(&self, x: u32, y: u32) -> Vec<SurfacePoint> {
-        if !self.scene.materials.iter().any(|m| m.is_blended()) {
+        if !self
+            .scene
+            .materials
+            .iter()
+            .any(|m| m.is_blended() || m.is_transmissive())
+        {
             return Vec::new();
         }
         primary_layers(self.scene, self.bvh, self.width, self.height, x, y)
@@ -374,6 +381,33 @@ impl<'a> SceneShading<'a> {
                 let alpha = surface.alpha.clamp(0.0, 1.0);
                 std::array::from_fn(|c| radiance[c] * alpha + behind[c] * (1.0 - alpha))
             })
+    }
+
+    /// The surface `hit` shows to a ray from `from` (a secondary ray: through glass, say),
+    /// its textures read at their finest level (such a ray has no pixel footprint).
+    pub(crate) fn surface_seen_from(&self, hit: PrimaryHit, from: DVec3) -> Option<SurfacePoint> {
+        let material = self
+            .scene
+            .materials
+            .get(self.scene.objects.get(hit.object)?.material)?;
+        let (_, vertices) = self.triangle(&hit)?;
+        let [b1, b2] = hit.barycentrics;
+        let weights = [1.0 - b1 - b2, b1, b2];
+        let mix2 = |f: fn(&Vertex) -> [f32; 2]| -> DVec2 {
+            (0..3)
+                .map(|k| DVec2::from(f(&vertices[k]).map(f64::from)) * weights[k])
+                .sum()
+        };
+        let lookup = TextureLookup {
+            mips: &self.mips,
+            lod_bias: self.lod_bias,
+            largest_lod: std::cell::Cell::new(None),
+            contrast: std::cell::Cell::new(0.0),
+            uv: [mix2(|v| v.uv), mix2(|v| v.uv1)],
+            duv_dx: [DVec2::ZERO; 2],
+            duv_dy: [DVec2::ZERO; 2],
+        };
+        Some(self.shade_inputs(hit, material, &vertices, weights, &lookup, from))
     }
 
     /// The surface `hit` shows at pixel (`x`, `y`).
@@ -454,7 +488,8 @@ impl<'a> SceneShading<'a> {
         .filter_map(|(a, b)| Some((color_along(a)?, color_along(b)?)))
         .flat_map(|(a, b)| (0..4).map(move |c| 0.5 * (b[c] - a[c]).abs()))
         .fold(0.0, f64::max);
-        let mut surface = self.shade_inputs(hit, material, &vertices, weights, &lookup);
+        let eye = scene.camera.position.as_dvec3();
+        let mut surface = self.shade_inputs(hit, material, &vertices, weights, &lookup, eye);
         surface.vertex_color_gradient = vertex_color_gradient;
         Some(surface)
     }
@@ -466,10 +501,10 @@ impl<'a> SceneShading<'a> {
         vertices: &[Vertex; 3],
         weights: [f64; 3],
         lookup: &TextureLookup<'_>,
+        eye: DVec3,
     ) -> SurfacePoint {
         let object = &self.scene.objects[hit.object];
         let linear = DMat3::from_mat4(object.transform.as_dmat4());
-        let eye = self.scene.camera.position.as_dvec3();
         let position = DVec3::from(hit.position);
         let v = (eye - position).normalize();
 
@@ -528,7 +563,13 @@ impl<'a> SceneShading<'a> {
         let base_color: [f64; 3] = std::array::from_fn(|c| {
             f64::from(material.base_color[c]) * base_texture[c] * vertex_color(c)
         });
-        let coverage = f64::from(material.alpha) * base_texture[3] * vertex_color(3);
+        // Only a blended material covers by its alpha (a cut-out's is the hierarchy's,
+        // an opaque one's is ignored).
+        let coverage = if material.is_blended() {
+            f64::from(material.alpha) * base_texture[3] * vertex_color(3)
+        } else {
+            1.0
+        };
         let metal_rough = lookup.sample_or(material.metallic_roughness_texture.as_ref(), [1.0; 4]);
         let metalness = f64::from(material.metalness) * metal_rough[2];
         let roughness = f64::from(material.roughness) * metal_rough[1];
@@ -615,17 +656,44 @@ impl<'a> SceneShading<'a> {
     /// [`SceneShading::with_environment`]; for an unlit material (KHR_materials_unlit),
     /// its base colour.
     pub fn radiance(&self, surface: &SurfacePoint) -> [f64; 3] {
-        // KHR_materials_unlit: the base colour (factor × texture × vertex colour) is the
-        // radiance; nothing lights it.
-        if self
+        self.radiance_followed(surface, crate::transmission::TRANSMISSION_DEPTH)
+    }
+
+    /// [`SceneShading::radiance`], following light through transmissive surfaces for
+    /// `depth` more interfaces (crate::transmission).
+    pub(crate) fn radiance_followed(&self, surface: &SurfacePoint, depth: u32) -> [f64; 3] {
+        let material = self
             .scene
             .objects
             .get(surface.hit.object)
-            .and_then(|o| self.scene.materials.get(o.material))
-            .is_some_and(|m| m.unlit)
-        {
+            .and_then(|o| self.scene.materials.get(o.material));
+        // KHR_materials_unlit: the base colour (factor × texture × vertex colour) is the
+        // radiance; nothing lights it.
+        if material.is_some_and(|m| m.unlit) {
             return surface.brdf.base_color;
         }
+        // KHR_materials_transmission: the diffuse lobe keeps 1 − transmission of the
+        // light through the surface; the rest passes on through the object.
+        if let Some(m) = material.filter(|m| m.is_transmissive()) {
+            let transmission = f64::from(m.transmission);
+            let mut reflecting = *surface;
+            reflecting.brdf.base_color = surface.brdf.base_color.map(|c| c * (1.0 - transmission));
+            let mut radiance = self.reflected(&reflecting);
+            if depth > 0 {
+                let through = self.transmitted(surface, m, depth - 1);
+                let weight = (1.0 - surface.brdf.metalness) * transmission;
+                for c in 0..3 {
+                    radiance[c] += weight * surface.brdf.base_color[c] * through[c];
+                }
+            }
+            return radiance;
+        }
+        self.reflected(surface)
+    }
+
+    /// What `surface` reflects and emits: its emission, each light's f(v, l) E (n·l)
+    /// (times visibility) and the environment's integral.
+    fn reflected(&self, surface: &SurfacePoint) -> [f64; 3] {
         let position = DVec3::from(surface.hit.position);
         let mut radiance = surface.emitted;
         for light in self.lights {

@@ -552,7 +552,7 @@ const LIGHTING_BINDINGS: [Binding; 7 + LIT_BY.len()] = joined(
 );
 
 /// The lighting pass: the G-buffer and depth, the material table, the tile light lists,
-/// the emissive target (EMISSIVE variant), and what lights a surface ([`LIT_BY`]).
+/// the emissive target (EMISSIVE variant), and what lights a surface (`LIT_BY`: lighting_terms.glsl).
 pub static LIGHTING: SetDecl = SetDecl {
     name: "lighting",
     set: 0,
@@ -560,12 +560,20 @@ pub static LIGHTING: SetDecl = SetDecl {
     includes: &["gpu_types.glsl"],
 };
 
-const FORWARD_BINDINGS: [Binding; 2 + LIT_BY.len()] =
-    joined(&[OBJECTS, MATERIALS_BOTH_STAGES], &LIT_BY);
+const FORWARD_BINDINGS: [Binding; 3 + LIT_BY.len()] = joined(
+    &[
+        OBJECTS,
+        MATERIALS_BOTH_STAGES,
+        // The lit image behind the transmissive objects, every mip level (TRANSMISSION
+        // variant; the behind pass makes it).
+        Binding::new("behind", BindingKind::Sampler2D, FRAGMENT).only_with("TRANSMISSION"),
+    ],
+    &LIT_BY,
+);
 
 /// The forward pass (gbuffer.vert, forward.frag): the object and material tables as the
-/// G-buffer pass's set declares them (bindings 0 and 1, what gbuffer.vert reads), and
-/// what lights a surface ([`LIT_BY`]).
+/// G-buffer pass's set declares them (bindings 0 and 1, what gbuffer.vert reads), the
+/// image behind transmissive objects, and what lights a surface (`LIT_BY`: lighting_terms.glsl).
 pub static FORWARD: SetDecl = SetDecl {
     name: "forward",
     set: 0,

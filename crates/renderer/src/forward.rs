@@ -19,6 +19,23 @@ use crate::mesh_draw::{back_to_front, draw_in_order, Faces};
 use crate::scene_upload::GpuScene;
 use crate::variant::ShaderVariant;
 
+/// The sampler the forward pass reads the image behind transmissive objects with:
+/// trilinear (a rough surface's lookup reads a coarser level), clamped at the edges.
+pub(crate) fn behind_sampler(device: &Arc<Device>) -> Result<combustion_vk::Sampler, RenderError> {
+    Ok(combustion_vk::Sampler::new(
+        device,
+        &vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .min_lod(0.0)
+            .max_lod(vk::LOD_CLAMP_NONE),
+    )?)
+}
+
 /// The forward pass's pipeline and its layout: set 0 `bindings::FORWARD`, set 1 one
 /// material's textures, a [`ForwardPush`] to both stages.
 pub struct ForwardPass {
@@ -119,7 +136,8 @@ impl ForwardPass {
             view_projection: view_projection.to_cols_array(),
             object_index: 0,
             light_count,
-            _pad: [0; 2],
+            object_scale: 1.0,
+            _pad: 0,
             camera_position: eye.extend(1.0).to_array(),
         };
         let mut bound_material = None;
@@ -152,6 +170,11 @@ impl ForwardPass {
                     bound_material = Some(material);
                 }
                 push.object_index = object as u32;
+                push.object_scale = scene
+                    .scene()
+                    .objects
+                    .get(object)
+                    .map_or(1.0, |o| o.transform.determinant().abs().cbrt());
                 raw.cmd_push_constants(
                     cmd,
                     self.layout.raw(),

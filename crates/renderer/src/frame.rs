@@ -224,11 +224,7 @@ impl Renderer {
         // The slot's previous frame has completed: read its timings, free what it
         // retired, and reuse its resources.
         self.begin_slot(frame_slot)?;
-        let key = TargetKey {
-            width: extent.width,
-            height: extent.height,
-            emissive_occlusion: variant.has_emissive_occlusion_target(),
-        };
+        let key = TargetKey::of(extent, variant);
         self.ensure_targets(key)?;
         let shadowed = self.prepare_shadows(frame_slot, scene, inputs, extent, variant)?;
         self.write_frame_lights(frame_slot, inputs, &shadowed)?;

@@ -12,7 +12,7 @@ pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 /// radiance.
 pub const MATERIAL_FLAG_UNLIT: u32 = 2;
 
-/// `GpuMaterial` (std430, 464 bytes).
+/// `GpuMaterial` (std430, 496 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -51,8 +51,15 @@ pub struct GpuMaterial {
     /// of its alpha that keeps a cut-out's coverage ([`combustion_scene::alpha_mip_scales`]);
     /// 1 for materials that are not cut-outs or whose sampler has no mipmap filter.
     pub alpha_mip_scales: [[f32; 4]; 4],
+    /// x: KHR_materials_transmission's factor (0: opaque); y: KHR_materials_volume's
+    /// thickness in the mesh's units (0: thin-walled); z, w: 0. Read by the forward
+    /// pass's TRANSMISSION variant.
+    pub transmission_thickness: [f32; 4],
+    /// rgb: the volume's absorption coefficient σ (1/m, `Volume::absorption`; 0 without
+    /// a volume or absorption); w: 0.
+    pub absorption: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 464);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 496);
 
 impl GpuMaterial {
     /// The table entry of `material`; `textures` are its texture-array indices per
@@ -121,6 +128,21 @@ impl GpuMaterial {
                 0.0,
             ],
             alpha_mip_scales: alpha_mip_scales_of(material),
+            transmission_thickness: [
+                material.transmission,
+                material.volume.map_or(0.0, |v| v.thickness),
+                0.0,
+                0.0,
+            ],
+            absorption: {
+                // An absorption too large for f32 (a colour of 0) stays finite: e^(−σ d)
+                // is 0 at any thickness the shader sees either way.
+                let [r, g, b] = material
+                    .volume
+                    .map_or([0.0; 3], |v| v.absorption())
+                    .map(|s| s.min(f64::from(f32::MAX)) as f32);
+                [r, g, b, 0.0]
+            },
         }
     }
 
@@ -427,8 +449,11 @@ pub struct ForwardPush {
     /// The frame's lights (every one is evaluated: the tile lists are culled against the
     /// opaque depth, which a blended surface in front of it is not within).
     pub light_count: u32,
+    /// The drawn object's scale (the cube root of its transform's |determinant|): a
+    /// volume's thickness, in the mesh's units, times this is its thickness in metres.
+    pub object_scale: f32,
     /// Padding to the next vec4.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
     /// The eye's world position (w = 1).
     pub camera_position: [f32; 4],
 }

@@ -34,6 +34,10 @@ pub enum ImageUse {
     TransferSource,
     /// Copied to; earlier contents are discarded.
     TransferDestination,
+    /// Level 0 copied to and every other level blitted from the one before
+    /// (`Image::record_mip_chain`, whose own barriers leave every level in
+    /// TRANSFER_DST_OPTIMAL); earlier contents are discarded.
+    MipChainWrite,
     /// Read by compute shaders through a sampler or texelFetch.
     ComputeSampled,
     /// A depth image read by compute shaders (texelFetch), in the layout fragment
@@ -74,6 +78,11 @@ impl ImageUse {
             Self::TransferDestination => {
                 ImageState::new(S::COPY, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL)
             }
+            Self::MipChainWrite => ImageState::new(
+                S::ALL_TRANSFER,
+                A::from_raw(A::TRANSFER_READ.as_raw() | A::TRANSFER_WRITE.as_raw()),
+                L::TRANSFER_DST_OPTIMAL,
+            ),
             Self::ComputeSampled => ImageState::COMPUTE_SAMPLED,
             Self::DepthComputeSampled => ImageState::new(
                 S::COMPUTE_SHADER,
@@ -95,7 +104,10 @@ impl ImageUse {
     fn discards_contents(self) -> bool {
         matches!(
             self,
-            Self::ColorAttachmentWrite | Self::DepthAttachmentWrite | Self::TransferDestination
+            Self::ColorAttachmentWrite
+                | Self::DepthAttachmentWrite
+                | Self::TransferDestination
+                | Self::MipChainWrite
         )
     }
 }
@@ -332,6 +344,7 @@ mod tests {
         assert!(ImageUse::ColorAttachmentBlend.state().writes());
         assert!(!ImageUse::DepthAttachmentTest.state().writes());
         assert!(ImageUse::TransferDestination.state().writes());
+        assert!(ImageUse::MipChainWrite.state().writes());
         assert!(!ImageUse::TransferSource.state().writes());
         assert!(ImageUse::ComputeSampledStorageWrite.state().writes());
     }
@@ -358,6 +371,7 @@ mod tests {
             ImageUse::DepthFragmentSampled,
             ImageUse::TransferSource,
             ImageUse::TransferDestination,
+            ImageUse::MipChainWrite,
             ImageUse::ComputeSampled,
             ImageUse::DepthComputeSampled,
             ImageUse::ComputeStorageWrite,

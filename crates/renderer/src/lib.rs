@@ -160,6 +160,8 @@ pub struct Renderer {
     shadow_casters: Option<shadows::ShadowCasterPass>,
     /// The shadow maps' comparison sampler.
     shadow_sampler: combustion_vk::Sampler,
+    /// The sampler of the image behind transmissive objects (trilinear, clamped).
+    behind_sampler: combustion_vk::Sampler,
     /// Frames recorded so far.
     frame_number: u64,
     /// The slot of the frame recorded last: what is replaced now is retired to it, and
@@ -237,6 +239,7 @@ impl Renderer {
             local_shadow_maps: None,
             shadow_casters: None,
             shadow_sampler: shadows::shadow_sampler(&device)?,
+            behind_sampler: forward::behind_sampler(&device)?,
             frame_number: 0,
             last_slot: None,
             last_timings: None,

@@ -69,18 +69,19 @@ pub(crate) struct ObjectDraw {
     /// Its material is a cut-out (`AlphaMode::Mask`): drawn by a pass's alpha-testing
     /// pipeline.
     pub masked: bool,
-    /// Its material is blended (`AlphaMode::Blend`): drawn by the forward pass only.
-    pub blended: bool,
+    /// Its material is blended (`AlphaMode::Blend`) or transmissive: drawn by the
+    /// forward pass only.
+    pub forward: bool,
 }
 
 impl ObjectDraw {
     /// Whether a pass that draws its objects in two rounds, the opaque ones and then the
     /// cut-outs through its alpha-testing pipeline (if it has one: `cut_out_pipeline`),
     /// draws this object in the cut-out round (`cut_out_round`) or the first. Without the
-    /// pipeline, cut-outs are drawn opaque in the first round. Blended objects are in
-    /// neither (the forward pass draws them).
+    /// pipeline, cut-outs are drawn opaque in the first round. Blended and transmissive
+    /// objects are in neither (the forward pass draws them).
     pub(crate) fn in_round(&self, cut_out_round: bool, cut_out_pipeline: bool) -> bool {
-        if self.blended {
+        if self.forward {
             false
         } else if cut_out_round {
             self.masked
@@ -112,7 +113,7 @@ pub(crate) fn draw_objects(
         object_index: i as u32,
         material: scene.draw_materials[i],
         masked: scene.masked[i],
-        blended: scene.blended[i],
+        forward: scene.forward[i],
     };
     let same_draw = |a: usize, b: usize| {
         scene.draw_meshes[a] == scene.draw_meshes[b]
@@ -178,8 +179,8 @@ fn draw_run(
     }
 }
 
-/// The blended objects of `scene` (`AlphaMode::Blend`) in the order the forward pass
-/// draws them, back to front: by the distance from `eye` to the centre of each object's
+/// The objects the forward pass draws (blended, `AlphaMode::Blend`, and transmissive
+/// ones) in the order it draws them, back to front: by the distance from `eye` to the centre of each object's
 /// world-space box, farthest first (ties: the object table's order). Per object, not per
 /// triangle: objects that interpenetrate, a large object around a smaller one, and the
 /// faces of one mesh that overlap on screen (a double-sided or concave blended mesh) are
@@ -187,8 +188,8 @@ fn draw_run(
 pub(crate) fn back_to_front(scene: &GpuScene, eye: glam::Vec3) -> Vec<usize> {
     let distance =
         |i: usize| scene.object_bounds[i].map_or(0.0, |(min, max)| eye.distance((min + max) * 0.5));
-    let mut order: Vec<(f32, usize)> = (0..scene.blended.len())
-        .filter(|&i| scene.blended[i])
+    let mut order: Vec<(f32, usize)> = (0..scene.forward.len())
+        .filter(|&i| scene.forward[i])
         .map(|i| (distance(i), i))
         .collect();
     order.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));

@@ -289,13 +289,7 @@ impl Renderer {
         readback: Readback,
         scene: &GpuScene,
     ) {
-        let key = TargetKey {
-            width: extent.width,
-            height: extent.height,
-            emissive_occlusion: self
-                .variant_of(scene.variant)
-                .has_emissive_occlusion_target(),
-        };
+        let key = TargetKey::of(extent, self.variant_of(scene.variant));
         let targets = &self.targets.get(&key).expect("recorded this frame").0;
         let mut copies: Vec<(&Image, &Buffer)> = Vec::new();
         if readback.images {

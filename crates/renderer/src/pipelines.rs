@@ -120,7 +120,10 @@ impl Renderer {
             self.settings.hdr_format.vk(),
         )?;
         self.stats.pipelines_built += 1;
-        let forward = if variant.blend && !variant.debug_views && variant.floor.is_none() {
+        let forward = if (variant.blend || variant.transmission)
+            && !variant.debug_views
+            && variant.floor.is_none()
+        {
             self.stats.pipelines_built += 1;
             Some(crate::forward::ForwardPass::new(
                 &self.device,

@@ -77,9 +77,9 @@ pub struct ReferenceShading {
     lights: Vec<GpuLight>,
     /// Per material: it emits (the GPU adds emission the reference does not model).
     emits: Vec<bool>,
-    /// The screen rectangles (x0, y0, x1, y1, inclusive) that hold every blended object
-    /// (alphaMode BLEND: the forward pass draws them over the G-buffer's surfaces, which
-    /// is all this reference sees), their world boxes projected.
+    /// The screen rectangles (x0, y0, x1, y1, inclusive) that hold every blended or
+    /// transmissive object (the forward pass draws them over the G-buffer's surfaces,
+    /// which is all this reference sees), their world boxes projected.
     blended: Vec<[u32; 4]>,
     /// Exact visibility: the scene's triangles and the frame's lights as given.
     visibility: Option<(std::sync::Arc<SceneBvh>, Vec<Light>)>,
@@ -476,11 +476,12 @@ fn blended_rectangles(
     width: u32,
     height: u32,
 ) -> Vec<[u32; 4]> {
+    // Blended and transmissive objects: the forward pass draws both.
     let blended = |o: &combustion_scene::Object| {
         scene
             .materials
             .get(o.material)
-            .is_some_and(|m| m.is_blended())
+            .is_some_and(|m| m.is_blended() || m.is_transmissive())
     };
     if !scene.objects.iter().any(blended) {
         return Vec::new();

@@ -61,7 +61,11 @@ impl PassTimings {
     pub const SHADOW_MAPS: &'static str = "shadow maps";
     /// The lighting pass, with the light culling that precedes it.
     pub const LIGHTING: &'static str = "lighting";
-    /// The forward pass: the blended objects over the lit image (scenes with them).
+    /// The copy of the lit image (with its mip chain) behind transmissive objects
+    /// (scenes with them).
+    pub const BEHIND: &'static str = "behind";
+    /// The forward pass: the blended and transmissive objects over the lit image
+    /// (scenes with them).
     pub const FORWARD: &'static str = "forward";
     /// The output pass (tone curve, encoding) and its overlay.
     pub const OUTPUT: &'static str = "output";

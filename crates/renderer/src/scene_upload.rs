@@ -34,9 +34,9 @@ pub struct GpuScene {
     /// Per draw: a cut-out material (`AlphaMode::Mask`), drawn by the passes' alpha-testing
     /// pipelines after the opaque draws.
     pub(crate) masked: Vec<bool>,
-    /// Per draw: a blended material (`AlphaMode::Blend`), drawn by the forward pass only
-    /// (not into the G-buffer, casting no shadow).
-    pub(crate) blended: Vec<bool>,
+    /// Per draw: drawn by the forward pass only (not into the G-buffer, casting no
+    /// shadow): a blended (`AlphaMode::Blend`) or transmissive material.
+    pub(crate) forward: Vec<bool>,
     /// Per draw: the object casts shadows (drawn into shadow maps).
     pub(crate) casts_shadows: Vec<bool>,
     /// Per draw: the material (index into `textures.material_sets`).
@@ -164,6 +164,12 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
                 .materials
                 .get(o.material)
                 .is_some_and(|m| m.is_blended())
+        }),
+        transmission: scene.objects.iter().any(|o| {
+            scene
+                .materials
+                .get(o.material)
+                .is_some_and(|m| m.is_transmissive())
         }),
         vertex_colors: scene
             .objects
@@ -304,7 +310,7 @@ struct Tables {
     draw_meshes: Vec<usize>,
     double_sided: Vec<bool>,
     masked: Vec<bool>,
-    blended: Vec<bool>,
+    forward: Vec<bool>,
     draw_materials: Vec<usize>,
     variant: crate::variant::ShaderVariant,
     lit_variant: crate::variant::ShaderVariant,
@@ -364,10 +370,13 @@ impl Tables {
                 .iter()
                 .map(|o| scene.materials[o.material].is_masked())
                 .collect(),
-            blended: scene
+            forward: scene
                 .objects
                 .iter()
-                .map(|o| scene.materials[o.material].is_blended())
+                .map(|o| {
+                    let m = &scene.materials[o.material];
+                    m.is_blended() || m.is_transmissive()
+                })
                 .collect(),
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),
             variant: scene_variant(scene),
@@ -418,7 +427,7 @@ impl GpuScene {
             draw_meshes: tables.draw_meshes,
             double_sided: tables.double_sided,
             masked: tables.masked,
-            blended: tables.blended,
+            forward: tables.forward,
             casts_shadows: tables.casts_shadows,
             draw_materials: tables.draw_materials,
             variant: tables.variant,
@@ -508,7 +517,7 @@ impl GpuScene {
         self.draw_meshes = tables.draw_meshes;
         self.double_sided = tables.double_sided;
         self.masked = tables.masked;
-        self.blended = tables.blended;
+        self.forward = tables.forward;
         self.casts_shadows = tables.casts_shadows;
         self.draw_materials = tables.draw_materials;
         self.variant = tables.variant;

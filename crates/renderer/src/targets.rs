@@ -18,12 +18,30 @@ pub(crate) struct TargetKey {
     pub height: u32,
     /// Whether the G-buffer has the emissive + occlusion target.
     pub emissive_occlusion: bool,
+    /// Whether there is the image of what lies behind transmissive objects.
+    pub behind: bool,
+}
+
+impl TargetKey {
+    /// The targets a frame of `extent` in `variant` draws into.
+    pub fn of(extent: vk::Extent2D, variant: crate::variant::ShaderVariant) -> Self {
+        Self {
+            width: extent.width,
+            height: extent.height,
+            emissive_occlusion: variant.has_emissive_occlusion_target(),
+            behind: variant.transmission,
+        }
+    }
 }
 
 /// The images of one frame size.
 pub(crate) struct FrameTargets {
     pub gbuffer: GBufferTargets,
     pub hdr: Image,
+    /// What lies behind the transmissive objects: the lit HDR image before the forward
+    /// pass, with every mip level (rough transmission reads coarser levels), in variants
+    /// with transmission (the behind pass makes it).
+    pub behind: Option<Image>,
 }
 
 impl FrameTargets {
@@ -54,6 +72,23 @@ impl FrameTargets {
                         | vk::ImageUsageFlags::TRANSFER_SRC,
                 ),
             )?,
+            behind: if key.behind {
+                Some(Image::new(
+                    device,
+                    &ImageDesc::new(
+                        "hdr radiance behind transmissive objects",
+                        hdr_format.vk(),
+                        key.width,
+                        key.height,
+                        vk::ImageUsageFlags::SAMPLED
+                            | vk::ImageUsageFlags::TRANSFER_SRC
+                            | vk::ImageUsageFlags::TRANSFER_DST,
+                    )
+                    .full_mips(),
+                )?)
+            } else {
+                None
+            },
         })
     }
 
@@ -67,6 +102,7 @@ impl FrameTargets {
             .collect();
         all.push((&self.gbuffer.depth).into());
         all.push((&self.hdr).into());
+        all.extend(self.behind.as_ref().map(TrackedImage::from));
         all
     }
 }

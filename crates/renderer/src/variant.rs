@@ -151,6 +151,10 @@ pub struct ShaderVariant {
     /// forward pass (forward.frag) for those objects, after the deferred lighting; a
     /// scene without one has no forward pipeline and the pass does not run.
     pub blend: bool,
+    /// Some drawn object's material is transmissive (KHR_materials_transmission): those
+    /// objects are drawn by the forward pass (TRANSMISSION variant), which reads a copy
+    /// of the lit image behind them, made by the behind pass with its mip chain.
+    pub transmission: bool,
     /// Some drawn mesh has vertex colours (glTF COLOR_0): the G-buffer pipelines read the
     /// colour stream and multiply it into the base colour and alpha (objects whose mesh
     /// has none use white).
@@ -215,6 +219,9 @@ impl ShaderVariant {
         }
         if self.vertex_colors {
             defines.push(("VERTEX_COLORS", None));
+        }
+        if self.transmission {
+            defines.push(("TRANSMISSION", None));
         }
         match self.fresnel {
             FresnelModel::Full => {}

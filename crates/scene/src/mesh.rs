@@ -123,6 +123,53 @@ impl Mesh {
         }
     }
 
+    /// A box of sides `size` (x, y, z) centred at the origin: six flat faces, each its
+    /// own four vertices (normals along the axes, outward; counter-clockwise seen from
+    /// outside), uv spanning each face.
+    pub fn cuboid(name: &str, size: [f32; 3]) -> Mesh {
+        let half = size.map(|s| s / 2.0);
+        let axis = |i: usize, s: f32| {
+            let mut a = [0.0f32; 3];
+            a[i] = s;
+            a
+        };
+        // (normal axis, sign, u axis, v axis) with u × v = the outward normal.
+        let faces = [
+            (0, 1.0, 1, 2),
+            (0, -1.0, 2, 1),
+            (1, 1.0, 2, 0),
+            (1, -1.0, 0, 2),
+            (2, 1.0, 0, 1),
+            (2, -1.0, 1, 0),
+        ];
+        let mut vertices = Vec::with_capacity(24);
+        let mut indices = Vec::with_capacity(36);
+        for (n, sign, u, v) in faces {
+            let first = vertices.len() as u32;
+            for (du, dv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let mut position = [0.0f32; 3];
+                position[n] = sign * half[n];
+                position[u] = du * half[u];
+                position[v] = dv * half[v];
+                let tangent = axis(u, 1.0);
+                vertices.push(Vertex {
+                    position,
+                    normal: axis(n, sign),
+                    tangent: [tangent[0], tangent[1], tangent[2], 1.0],
+                    uv: [(du + 1.0) / 2.0, (1.0 - dv) / 2.0],
+                    uv1: [(du + 1.0) / 2.0, (1.0 - dv) / 2.0],
+                    color: [1.0; 4],
+                });
+            }
+            indices.extend([first, first + 1, first + 2, first, first + 2, first + 3]);
+        }
+        Mesh {
+            name: name.to_owned(),
+            vertices,
+            indices,
+        }
+    }
+
     /// Whether some vertex has a colour other than white (the renderer then uploads
     /// and reads the colour stream).
     pub fn has_colors(&self) -> bool {
@@ -199,6 +246,35 @@ mod tests {
             let t = glam::Vec3::from_slice(&v.tangent[..3]);
             assert!((t.length() - 1.0).abs() < 1e-5);
             assert!(n.dot(t).abs() < 1e-5);
+        }
+    }
+
+    /// The box is closed and faces outwards: every triangle's geometric normal is its
+    /// vertices' normal (so flat shading agrees with the winding), pointing away from
+    /// the centre, and its faces enclose the stated volume (divergence theorem).
+    #[test]
+    fn cuboid_is_closed_and_outward_facing() {
+        let mesh = Mesh::cuboid("b", [2.0, 0.5, 1.0]);
+        mesh.validate().unwrap();
+        let mut volume = 0.0f64;
+        for tri in mesh.indices.chunks(3) {
+            let p: [glam::DVec3; 3] = std::array::from_fn(|k| {
+                glam::Vec3::from(mesh.vertices[tri[k] as usize].position).as_dvec3()
+            });
+            let n = (p[1] - p[0]).cross(p[2] - p[0]);
+            let shading = glam::Vec3::from(mesh.vertices[tri[0] as usize].normal).as_dvec3();
+            assert!(n.normalize().abs_diff_eq(shading, 1e-12), "{tri:?}");
+            assert!(
+                n.dot(p[0] + p[1] + p[2]) > 0.0,
+                "triangle {tri:?} faces inwards"
+            );
+            volume += p[0].dot(p[1].cross(p[2])) / 6.0;
+        }
+        assert!((volume - 1.0).abs() < 1e-12, "volume {volume}");
+        for v in &mesh.vertices {
+            let n = glam::Vec3::from(v.normal);
+            let t = glam::Vec3::from_slice(&v.tangent[..3]);
+            assert_eq!(n.dot(t), 0.0);
         }
     }
 

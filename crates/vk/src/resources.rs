@@ -731,9 +731,6 @@ impl Image {
     pub fn record_upload_with_mips(&self, cmd: vk::CommandBuffer, staging: &Buffer) {
         use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
         let raw = self.device.raw();
-        let level_barrier = |level: u32, src: (S, A, L), dst: (S, A, L)| {
-            self.barrier_range(self.mip_range(level), src, dst)
-        };
         let barrier = |barriers: &[vk::ImageMemoryBarrier2<'_>]| {
             let info = vk::DependencyInfo::default().image_memory_barriers(barriers);
             // SAFETY: recording state is the caller's responsibility.
@@ -744,7 +741,6 @@ impl Image {
             A::TRANSFER_WRITE,
             L::TRANSFER_DST_OPTIMAL,
         );
-        let src = (S::BLIT, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL);
         let read = (
             S::FRAGMENT_SHADER,
             A::SHADER_SAMPLED_READ,
@@ -765,6 +761,36 @@ impl Image {
                 &[region],
             )
         };
+        self.record_mip_chain(cmd, read);
+    }
+
+    /// Records the generation of every level but the first, of every layer, by linear
+    /// blits, each level from the one before, and leaves every level in `after` (stages,
+    /// accesses, layout of its next use). Level 0 must have been written and every level
+    /// be in TRANSFER_DST_OPTIMAL, the writes by copies or blits. The image needs
+    /// `TRANSFER_SRC` and `TRANSFER_DST` usage and a format that supports blits with
+    /// linear filtering; `cmd` is in the recording state.
+    pub fn record_mip_chain(
+        &self,
+        cmd: vk::CommandBuffer,
+        after: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout),
+    ) {
+        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
+        let raw = self.device.raw();
+        let level_barrier = |level: u32, src: (S, A, L), dst: (S, A, L)| {
+            self.barrier_range(self.mip_range(level), src, dst)
+        };
+        let barrier = |barriers: &[vk::ImageMemoryBarrier2<'_>]| {
+            let info = vk::DependencyInfo::default().image_memory_barriers(barriers);
+            // SAFETY: recording state is the caller's responsibility.
+            unsafe { raw.cmd_pipeline_barrier2(cmd, &info) };
+        };
+        let dst = (
+            S::COPY | S::BLIT,
+            A::TRANSFER_WRITE,
+            L::TRANSFER_DST_OPTIMAL,
+        );
+        let src = (S::BLIT, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL);
         let size = |level: u32| {
             (
                 (self.extent.width >> level).max(1) as i32,
@@ -791,9 +817,9 @@ impl Image {
                     vk::Filter::LINEAR,
                 )
             };
-            barrier(&[level_barrier(level - 1, src, read)]);
+            barrier(&[level_barrier(level - 1, src, after)]);
         }
-        barrier(&[level_barrier(self.mip_levels - 1, dst, read)]);
+        barrier(&[level_barrier(self.mip_levels - 1, dst, after)]);
     }
 
     /// Records a copy of mip level 0 of layer 0 (in TRANSFER_SRC_OPTIMAL) into `buffer`,

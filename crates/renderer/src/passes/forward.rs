@@ -25,7 +25,7 @@ impl FramePass for Forward {
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        frame.pipelines().forward.is_some() && frame.scene.blended.contains(&true)
+        frame.pipelines().forward.is_some() && frame.scene.forward.contains(&true)
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
@@ -46,6 +46,21 @@ impl FramePass for Forward {
                 (&frame.targets.gbuffer.depth).into(),
                 ImageUse::DepthAttachmentTest,
             );
+        let io = match &frame.targets.behind {
+            Some(behind) if frame.variant.transmission => io.sampled(
+                "behind",
+                behind,
+                frame.renderer.behind_sampler.raw(),
+                ImageUse::FragmentSampled,
+            ),
+            // Not declared by pipelines without transmission: any image will do.
+            _ => io.bind_image(
+                "behind",
+                frame.renderer.absent_target.view(),
+                ImageUse::FragmentSampled.state().layout,
+                frame.renderer.behind_sampler.raw(),
+            ),
+        };
         super::lighting::lit_by(io, frame)
     }
 

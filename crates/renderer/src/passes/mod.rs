@@ -11,6 +11,7 @@
 //! [`SetDecl`] listed in `bindings::ALL`, which makes its GLSL header, layout and each
 //! frame slot's set), and one line in [`FRAME`] (docs/architecture.md walks through one).
 
+mod behind;
 mod depth_copy;
 mod forward;
 mod gbuffer;
@@ -121,6 +122,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &gbuffer::GBuffer,
     &light_cull::LightCull,
     &lighting::Lighting,
+    &behind::Behind,
     &forward::Forward,
     &output::Output,
     &depth_copy::DepthCopy,
