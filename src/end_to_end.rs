@@ -176,6 +176,10 @@ pub struct EndToEndErrors {
     pub storage: MeanMax,
     /// The GPU against the stored reference.
     pub rest: MeanMax,
+    /// Pixels seen through glass (transmissive surfaces), compared apart.
+    pub through_glass: usize,
+    /// Their error against the exact reference: the screen-space transmission's.
+    pub glass: MeanMax,
 }
 
 impl FrameComparison {
@@ -188,6 +192,8 @@ impl FrameComparison {
             total: MeanMax::of(self.pixels.iter().map(|p| p.total)),
             storage: MeanMax::of(self.pixels.iter().map(|p| p.storage)),
             rest: MeanMax::of(self.pixels.iter().map(|p| p.rest)),
+            through_glass: self.transmissive.len(),
+            glass: MeanMax::of(self.transmissive.iter().map(|p| p.total)),
         }
     }
 }

@@ -180,7 +180,7 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
     assert_eq!(floors.lines().count(), 3, "{floors}");
     let csv = std::fs::read_to_string(dir.join("report.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + rows.len());
-    assert!(csv.lines().all(|l| l.split(',').count() == 29), "{csv}");
+    assert!(csv.lines().all(|l| l.split(',').count() == 32), "{csv}");
     let scaling_csv = std::fs::read_to_string(dir.join("scaling.csv")).unwrap();
     assert_eq!(scaling_csv.lines().count(), 14, "{scaling_csv}");
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();

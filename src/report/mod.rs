@@ -894,7 +894,7 @@ fn points(rows: &[ReportRow]) -> Vec<SpeedErrorPoint> {
 pub fn csv(rows: &[ReportRow]) -> String {
     let names = PassSpreads::names(rows.iter().map(|r| &r.passes));
     let mut out = format!(
-        "scene,fresnel,hdr,pipeline,masking,distribution,diffuse,frames{}{},max_relative_error,mean_relative_error,rms_relative_error,pixels_compared,flip_mean,end_to_end_max_relative_error,end_to_end_mean_relative_error,end_to_end_storage_mean,end_to_end_pixels_compared\n",
+        "scene,fresnel,hdr,pipeline,masking,distribution,diffuse,frames{}{},max_relative_error,mean_relative_error,rms_relative_error,pixels_compared,flip_mean,end_to_end_max_relative_error,end_to_end_mean_relative_error,end_to_end_storage_mean,end_to_end_pixels_compared,through_glass_pixels,through_glass_mean_relative_error,through_glass_max_relative_error\n",
         spread_columns(&names),
         spread_columns(&["total"]),
     );
@@ -916,11 +916,17 @@ pub fn csv(rows: &[ReportRow]) -> String {
             Some(e) => {
                 let _ = writeln!(
                     out,
-                    ",{:.3e},{:.3e},{:.3e},{}",
-                    e.total.max, e.total.mean, e.storage.mean, e.compared
+                    ",{:.3e},{:.3e},{:.3e},{},{},{:.3e},{:.3e}",
+                    e.total.max,
+                    e.total.mean,
+                    e.storage.mean,
+                    e.compared,
+                    e.through_glass,
+                    e.glass.mean,
+                    e.glass.max
                 );
             }
-            None => out += ",,,,\n",
+            None => out += ",,,,,,,\n",
         }
     }
     out
@@ -938,12 +944,12 @@ pub fn end_to_end_markdown(rows: &[ReportRow]) -> String {
         return String::new();
     }
     let mut out = String::from(
-        "## End to end: the frame against the scene\n\nDefault variant set. Each pixel's primary ray cast in f64 against the scene's triangles through the camera's own description, the hit shaded from the scene's own materials, textures and lights with the optics crate (`combustion::end_to_end`, `combustion_reference::shading`): it shares no code with the GPU path, so the error is every error the renderer makes, G-buffer storage included. The reference also shades each surface as the G-buffer stores it (the default storage: 16-bit sRGB base colour and metalness, 16-bit roughness and octahedral normal), splitting the error into the storage's share and the rest (rasterisation, interpolation, texture sampling, f32 shading). Pixels at edges (silhouettes, where objects or materials meet, creases) are counted, not compared; \"wrong\" counts pixels showing another material away from any edge. tests/end_to_end.rs holds every pixel's rest to a bound derived from the formats and the Vulkan specification (README, \"What is proven\"). Relative error per pixel as above. Scenes lit by an environment are compared at one pixel in 16×16 (the reference integrates the environment with 2 000 samples of each strategy; edges and wrong pixels are counted over the whole frame): their error is mostly the split sum's approximation, which no bound holds per pixel.\n\n| scene | pixels | at edges | wrong | error mean | max | storage's share: mean | max | the rest: mean | max |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "## End to end: the frame against the scene\n\nDefault variant set. Each pixel's primary ray cast in f64 against the scene's triangles through the camera's own description, the hit shaded from the scene's own materials, textures and lights with the optics crate (`combustion::end_to_end`, `combustion_reference::shading`): it shares no code with the GPU path, so the error is every error the renderer makes, G-buffer storage included. The reference also shades each surface as the G-buffer stores it (the default storage: 16-bit sRGB base colour and metalness, 16-bit roughness and octahedral normal), splitting the error into the storage's share and the rest (rasterisation, interpolation, texture sampling, f32 shading). Pixels at edges (silhouettes, where objects or materials meet, creases) are counted, not compared; \"wrong\" counts pixels showing another material away from any edge. tests/end_to_end.rs holds every pixel's rest to a bound derived from the formats and the Vulkan specification (README, \"What is proven\"). Relative error per pixel as above. Scenes lit by an environment are compared at one pixel in 16×16 (the reference integrates the environment with 2 000 samples of each strategy; edges and wrong pixels are counted over the whole frame): their error is mostly the split sum's approximation, which no bound holds per pixel. Pixels seen through glass (transmissive surfaces) are compared apart, against the reference's light followed through the glass (`combustion_reference::transmission`): their error is the screen-space transmission's (docs/gltf.md, \"Transmission\"), measured, not bounded.\n\n| scene | pixels | at edges | wrong | error mean | max | storage's share: mean | max | the rest: mean | max | through glass: pixels | mean | max |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for (r, e) in compared {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} |",
+            "| {} | {} | {} | {} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {:.2e} | {} | {} |",
             md_cell(&r.scene),
             e.compared,
             e.silhouette,
@@ -953,7 +959,13 @@ pub fn end_to_end_markdown(rows: &[ReportRow]) -> String {
             e.storage.mean,
             e.storage.max,
             e.rest.mean,
-            e.rest.max
+            e.rest.max,
+            e.through_glass,
+            if e.through_glass > 0 {
+                format!("{:.2e} | {:.2e}", e.glass.mean, e.glass.max)
+            } else {
+                "— | —".to_owned()
+            }
         );
     }
     out + "\n"
