@@ -7,16 +7,9 @@
 mod common;
 
 use combustion::renderer::{PassTimings, RendererSettings, ShadingOptions, ShadowSettings};
-use combustion::scene::Scene;
 
 const W: u32 = 160;
 const H: u32 = 120;
-
-fn authored(name: &str) -> Scene {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join(format!("assets/scenes/{name}/{name}.gltf"));
-    combustion::SceneSource::File(path).load().unwrap()
-}
 
 /// A scene without a blended object has no forward pipeline and its frames run no
 /// forward pass (what it costs them: nothing); the blend scene's frames run it between
@@ -24,7 +17,7 @@ fn authored(name: &str) -> Scene {
 #[test]
 fn only_scenes_with_blended_objects_run_the_forward_pass() {
     for (name, blended) in [("cutout", false), ("blend", true)] {
-        let frame = common::render_images(&authored(name), W, H, common::exact_f32());
+        let frame = common::render_images(&common::authored_scene(name), W, H, common::exact_f32());
         let mut expected = vec![PassTimings::GBUFFER, PassTimings::LIGHTING];
         if blended {
             expected.push(PassTimings::FORWARD);
@@ -48,7 +41,7 @@ fn blended_objects_cast_no_shadow() {
         },
         ..common::exact_f32()
     };
-    let scene = authored("blend");
+    let scene = common::authored_scene("blend");
     let mut not_casting = scene.clone();
     for object in &mut not_casting.objects {
         if scene.materials[object.material].is_blended() {
@@ -74,7 +67,7 @@ fn blended_objects_cast_no_shadow() {
 /// with it as the parity tests' scenes do (their bound: 1e-3 relative, tests/parity.rs).
 #[test]
 fn the_error_view_leaves_out_what_blended_objects_cover() {
-    let scene = authored("blend");
+    let scene = common::authored_scene("blend");
     let (_, map) = common::render_with_error_map(&scene, W, H, common::exact_f32(), 2);
     eprintln!(
         "blend {W}x{H}: {} compared, {} under blended objects, max {:.3e} at {:?}, mean {:.3e}",

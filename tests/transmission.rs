@@ -12,19 +12,13 @@ use combustion::scene::Scene;
 const W: u32 = 160;
 const H: u32 = 120;
 
-fn authored(name: &str) -> Scene {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join(format!("assets/scenes/{name}/{name}.gltf"));
-    combustion::SceneSource::File(path).load().unwrap()
-}
-
 /// The glass scene's frames copy the lit image behind the transmissive objects (with
 /// its mip chain) and then draw them; the G-buffer reference (the viewer's error view)
 /// leaves out the pixels they may cover and agrees elsewhere as in the parity tests
 /// (1e-3 relative, tests/parity.rs).
 #[test]
 fn transmissive_objects_take_the_behind_and_forward_passes() {
-    let scene = authored("glass");
+    let scene = common::authored_scene("glass");
     let (frame, map) = common::render_with_error_map(&scene, W, H, common::exact_f32(), 2);
     assert_eq!(
         frame.timings.names(),
@@ -46,19 +40,10 @@ fn transmissive_objects_take_the_behind_and_forward_passes() {
     assert!(map.max_relative < 1e-3, "max {:.3e}", map.max_relative);
 }
 
-/// A clear surface (white, transmission 1) whose index equals the outside medium's
-/// reflects nothing (the Fresnel equations give R = 0 exactly), lets everything through
-/// (T = 1, the slab's sum 1) and bends nothing (Snell with η_i/η_t = 1: a volume's exit
-/// point lies on the view ray): the glass scene with its glass made so (thin-walled and
-/// with volumes, smooth and rough: at η_t/η_i = 1 no level but the first is read)
-/// renders as the scene without it. What remains is where the lookup lands: the
-/// rasteriser interpolates the surface's position from vertices snapped to 2⁻⁸ of a
-/// pixel, so the lookup may sit that far from the pixel's centre, and bilinear filtering
-/// then moves it by that fraction of the difference to a neighbour; 1e-4 of a pixel more
-/// for f32 projection.
-#[test]
-fn an_index_matched_clear_surface_is_invisible() {
-    let mut matched = authored("glass");
+/// The glass scene with its glass made clear (white, not absorbing) and of the outside
+/// medium's index, and the same scene without its glass.
+fn index_matched_glass() -> (Scene, Scene) {
+    let mut matched = common::authored_scene("glass");
     for material in matched
         .materials
         .iter_mut()
@@ -74,6 +59,22 @@ fn an_index_matched_clear_surface_is_invisible() {
     without
         .objects
         .retain(|o| matched.materials[o.material].transmission == 0.0);
+    (matched, without)
+}
+
+/// A clear surface (white, transmission 1) whose index equals the outside medium's
+/// reflects nothing (the Fresnel equations give R = 0 exactly), lets everything through
+/// (T = 1, the slab's sum 1) and bends nothing (Snell with η_i/η_t = 1: a volume's exit
+/// point lies on the view ray): the glass scene with its glass made so (thin-walled and
+/// with volumes, smooth and rough: at η_t/η_i = 1 no level but the first is read)
+/// renders as the scene without it. What remains is where the lookup lands: the
+/// rasteriser interpolates the surface's position from vertices snapped to 2⁻⁸ of a
+/// pixel, so the lookup may sit that far from the pixel's centre, and bilinear filtering
+/// then moves it by that fraction of the difference to a neighbour; 1e-4 of a pixel more
+/// for f32 projection.
+#[test]
+fn an_index_matched_clear_surface_is_invisible() {
+    let (matched, without) = index_matched_glass();
     let images = Readback {
         images: true,
         gbuffer: false,
@@ -130,22 +131,7 @@ fn an_index_matched_clear_surface_is_invisible() {
 fn the_oracles_index_matched_glass_is_invisible() {
     use combustion::reference::shading::SceneShading;
     use combustion::reference::SceneBvh;
-    let mut matched = authored("glass");
-    for material in matched
-        .materials
-        .iter_mut()
-        .filter(|m| m.transmission > 0.0)
-    {
-        material.dielectric_ior = matched.outside_ior;
-        material.base_color = [1.0; 3];
-        if let Some(volume) = &mut material.volume {
-            volume.attenuation_color = [1.0; 3];
-        }
-    }
-    let mut without = matched.clone();
-    without
-        .objects
-        .retain(|o| matched.materials[o.material].transmission == 0.0);
+    let (matched, without) = index_matched_glass();
     let (bvh, bvh_without) = (SceneBvh::new(&matched), SceneBvh::new(&without));
     let glass = SceneShading::new(&matched, &bvh, &matched.lights, W, H);
     let plain = SceneShading::new(&without, &bvh_without, &without.lights, W, H);
@@ -213,7 +199,7 @@ fn the_glass_scene_against_its_oracle() {
     use combustion::reference::SceneBvh;
     use combustion::renderer::GBufferStorage;
     for outside_ior in [1.0, 1.33] {
-        let mut scene = authored("glass");
+        let mut scene = common::authored_scene("glass");
         scene.outside_ior = outside_ior;
         let frame = common::render(
             &scene,

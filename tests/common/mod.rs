@@ -766,3 +766,10 @@ pub fn shared_gltf_samples() -> Option<PathBuf> {
     eprintln!("skipped: {} is not present", root.display());
     None
 }
+
+/// The project's authored scene `assets/scenes/NAME/NAME.gltf`, imported.
+pub fn authored_scene(name: &str) -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("assets/scenes/{name}/{name}.gltf"));
+    combustion::SceneSource::File(path).load().unwrap()
+}

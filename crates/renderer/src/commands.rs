@@ -82,3 +82,22 @@ pub(crate) fn set_viewport_and_scissor(
         );
     }
 }
+
+/// The copy of mip level 0, layer 0 of `aspect` over `extent` from one image to another
+/// of the same size.
+pub(crate) fn level_zero_copy(aspect: vk::ImageAspectFlags, extent: vk::Extent2D) -> vk::ImageCopy {
+    let layers = vk::ImageSubresourceLayers {
+        aspect_mask: aspect,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    vk::ImageCopy::default()
+        .src_subresource(layers)
+        .dst_subresource(layers)
+        .extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        })
+}

@@ -257,6 +257,26 @@ fn textured_scene() -> Scene {
     }
 }
 
+/// `mesh` with `material` placed by `transform`, casting shadows.
+fn placed(mesh: usize, material: usize, transform: Mat4) -> Object {
+    Object {
+        mesh,
+        material,
+        transform,
+        casts_shadows: true,
+    }
+}
+
+/// Where a panel (`Mesh::plane`, facing +y) of side `size` stands upright facing +z (the
+/// camera; v down), turned by `turn` about y, centred at `at`.
+fn upright(size: f32, turn: f32, at: Vec3) -> Mat4 {
+    Mat4::from_scale_rotation_translation(
+        Vec3::splat(size),
+        Quat::from_rotation_y(turn) * Quat::from_rotation_x(std::f32::consts::FRAC_PI_2),
+        at,
+    )
+}
+
 /// Cut-outs (alphaMode MASK): a double-sided lattice panel (a 16×16 alpha texture of
 /// 2×2-texel holes, linear filtering) and a gradient panel whose alpha rises across u,
 /// scaled by a base colour alpha of 0.8, cut at 0.3 (present from u ≈ 0.38 on); a
@@ -314,20 +334,7 @@ fn cutout_scene() -> Scene {
         alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
         ..Material::default()
     };
-    // Mesh::plane faces +y; turned a quarter about x it faces +z (the camera), v down.
-    let upright = |size: f32, turn: f32, at: Vec3| {
-        Mat4::from_scale_rotation_translation(
-            Vec3::splat(size),
-            Quat::from_rotation_y(turn) * Quat::from_rotation_x(std::f32::consts::FRAC_PI_2),
-            at,
-        )
-    };
-    let object = |mesh, material, transform| Object {
-        mesh,
-        material,
-        transform,
-        casts_shadows: true,
-    };
+    let object = placed;
     // Vertex colours (COLOR_0): red, green, blue and white corners, the two far ones
     // with an alpha of 0.2, cut at 0.5: the panel is cut along the alpha's ramp.
     let mut coloured = Mesh::plane("coloured panel", 1.0);
@@ -435,20 +442,8 @@ fn blend_scene() -> Scene {
         double_sided: true,
         ..blended("cyan, alpha 0.6", [0.1, 0.8, 0.8], 0.6, 0.5)
     };
-    // Mesh::plane faces +y; turned a quarter about x it faces +z (the camera), v down.
-    let upright = |size: f32, at: Vec3| {
-        Mat4::from_scale_rotation_translation(
-            Vec3::splat(size),
-            Quat::from_rotation_x(std::f32::consts::FRAC_PI_2),
-            at,
-        )
-    };
-    let object = |mesh, material, transform| Object {
-        mesh,
-        material,
-        transform,
-        casts_shadows: true,
-    };
+    let object = placed;
+    let upright = |size: f32, at: Vec3| upright(size, 0.0, at);
     // Vertex colours (COLOR_0): warm corners, alpha 1 on the left edge and 0.2 on the
     // right.
     let mut ramp = Mesh::plane("alpha ramp panel", 1.0);
@@ -546,12 +541,7 @@ fn glass_scene() -> Scene {
         attenuation_distance: f32::INFINITY,
         attenuation_color: [1.0; 3],
     };
-    let object = |mesh, material, transform| Object {
-        mesh,
-        material,
-        transform,
-        casts_shadows: true,
-    };
+    let object = placed;
     let mut objects = Vec::new();
     // The floor: 8 × 8 tiles of 0.5 m; the wall: 8 × 4, upright at z = −1.5.
     for i in 0..8 {
@@ -855,44 +845,37 @@ fn authored_scenes_are_current() {
     );
 }
 
-#[test]
-fn the_cutout_scene_is_current() {
+/// Imports `assets/scenes/NAME/NAME.gltf` and checks that it is `expected`, read without
+/// a warning; the scene read.
+fn assert_authored_is_current(name: &str, expected: &Scene) -> Scene {
     bless();
     let (scene, report) = import(
-        &assets().join("cutout/cutout.gltf"),
+        &assets().join(format!("{name}/{name}.gltf")),
         &ImportOptions::default(),
     )
     .unwrap_or_else(|e| panic!("{e} (regenerate with COMBUSTION_BLESS=1)"));
-    assert_same_scene(&cutout_scene(), &scene);
+    assert_same_scene(expected, &scene);
     assert!(report.warnings.is_empty(), "{report}");
+    scene
+}
+
+#[test]
+fn the_cutout_scene_is_current() {
+    let scene = assert_authored_is_current("cutout", &cutout_scene());
     assert_eq!(scene.features().masked, 4);
     assert!(scene.meshes[2].has_colors());
 }
 
 #[test]
 fn the_blend_scene_is_current() {
-    bless();
-    let (scene, report) = import(
-        &assets().join("blend/blend.gltf"),
-        &ImportOptions::default(),
-    )
-    .unwrap_or_else(|e| panic!("{e} (regenerate with COMBUSTION_BLESS=1)"));
-    assert_same_scene(&blend_scene(), &scene);
-    assert!(report.warnings.is_empty(), "{report}");
+    let scene = assert_authored_is_current("blend", &blend_scene());
     assert_eq!(scene.features().blended, 6);
     assert!(scene.meshes[2].has_colors());
 }
 
 #[test]
 fn the_glass_scene_is_current() {
-    bless();
-    let (scene, report) = import(
-        &assets().join("glass/glass.gltf"),
-        &ImportOptions::default(),
-    )
-    .unwrap_or_else(|e| panic!("{e} (regenerate with COMBUSTION_BLESS=1)"));
-    assert_same_scene(&glass_scene(), &scene);
-    assert!(report.warnings.is_empty(), "{report}");
+    let scene = assert_authored_is_current("glass", &glass_scene());
     let features = scene.features();
     assert_eq!((features.transmissive, features.volumes), (6, 2));
 }

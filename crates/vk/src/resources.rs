@@ -731,16 +731,9 @@ impl Image {
     pub fn record_upload_with_mips(&self, cmd: vk::CommandBuffer, staging: &Buffer) {
         use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
         let raw = self.device.raw();
-        let barrier = |barriers: &[vk::ImageMemoryBarrier2<'_>]| {
-            let info = vk::DependencyInfo::default().image_memory_barriers(barriers);
-            // SAFETY: recording state is the caller's responsibility.
-            unsafe { raw.cmd_pipeline_barrier2(cmd, &info) };
-        };
-        let dst = (
-            S::COPY | S::BLIT,
-            A::TRANSFER_WRITE,
-            L::TRANSFER_DST_OPTIMAL,
-        );
+        let barrier =
+            |barriers: &[vk::ImageMemoryBarrier2<'_>]| record_image_barriers(raw, cmd, barriers);
+        let dst = MIP_CHAIN_DESTINATION;
         let read = (
             S::FRAGMENT_SHADER,
             A::SHADER_SAMPLED_READ,
@@ -780,16 +773,9 @@ impl Image {
         let level_barrier = |level: u32, src: (S, A, L), dst: (S, A, L)| {
             self.barrier_range(self.mip_range(level), src, dst)
         };
-        let barrier = |barriers: &[vk::ImageMemoryBarrier2<'_>]| {
-            let info = vk::DependencyInfo::default().image_memory_barriers(barriers);
-            // SAFETY: recording state is the caller's responsibility.
-            unsafe { raw.cmd_pipeline_barrier2(cmd, &info) };
-        };
-        let dst = (
-            S::COPY | S::BLIT,
-            A::TRANSFER_WRITE,
-            L::TRANSFER_DST_OPTIMAL,
-        );
+        let barrier =
+            |barriers: &[vk::ImageMemoryBarrier2<'_>]| record_image_barriers(raw, cmd, barriers);
+        let dst = MIP_CHAIN_DESTINATION;
         let src = (S::BLIT, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL);
         let size = |level: u32| {
             (
@@ -851,6 +837,27 @@ impl Image {
             )
         };
     }
+}
+
+/// Where every level of an image stands while a mip chain is written into it: copied or
+/// blitted to.
+const MIP_CHAIN_DESTINATION: (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout) = (
+    vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::COPY.as_raw() | vk::PipelineStageFlags2::BLIT.as_raw(),
+    ),
+    vk::AccessFlags2::TRANSFER_WRITE,
+    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+);
+
+/// Records `barriers` into `cmd` (in the recording state: the caller's responsibility).
+fn record_image_barriers(
+    raw: &ash::Device,
+    cmd: vk::CommandBuffer,
+    barriers: &[vk::ImageMemoryBarrier2<'_>],
+) {
+    let info = vk::DependencyInfo::default().image_memory_barriers(barriers);
+    // SAFETY: recording state is the caller's responsibility.
+    unsafe { raw.cmd_pipeline_barrier2(cmd, &info) };
 }
 
 /// A view of part of an [`Image`] ([`Image::view_of`]), destroyed when dropped (before

@@ -33,21 +33,10 @@ impl FramePass for Behind {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let behind = frame.targets.behind.as_ref().expect("runs only with it");
-        let extent = frame.targets.hdr.extent();
-        let level_zero = vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        let region = vk::ImageCopy::default()
-            .src_subresource(level_zero)
-            .dst_subresource(level_zero)
-            .extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            });
+        let region = crate::commands::level_zero_copy(
+            vk::ImageAspectFlags::COLOR,
+            frame.targets.hdr.extent(),
+        );
         // SAFETY: recording state; both images are in the layouts `io` declared.
         unsafe {
             frame.renderer.device.raw().cmd_copy_image(

@@ -31,21 +31,7 @@ impl FramePass for DepthCopy {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let host_depth = frame.host_depth.expect("runs only with a depth image");
-        let extent = frame.extent();
-        let layers = vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::DEPTH,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        let region = vk::ImageCopy::default()
-            .src_subresource(layers)
-            .dst_subresource(layers)
-            .extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            });
+        let region = crate::commands::level_zero_copy(vk::ImageAspectFlags::DEPTH, frame.extent());
         // SAFETY: recording state; both images are in the layouts `io` declared.
         unsafe {
             frame.renderer.device.raw().cmd_copy_image(
