@@ -52,7 +52,7 @@ const float TRANSMISSION_MIN_COS = 1e-4;
 // - Rough surfaces read a coarser level of `behind`: log2(size) · r · clamp(2η_t/η_i − 2,
 //   0, 1) (the glTF sample viewer's rule), not the rough interfaces' true spread.
 vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, vec3 position,
-                          float roughness) {
+                          float roughness, float thickness) {
     float eta_i = m.outside_eta;
     float eta_t = m.dielectric_eta;
     // An interpolated normal may face away from the eye near a silhouette (the face
@@ -65,7 +65,6 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
     }
     vec2 t = fresnel_dielectric_transmittance(cos_v, eta_i, eta_t);
     vec2 r = vec2(1.0) - t;
-    float thickness = material.transmission_thickness.y * push.object_scale;
     vec3 exit_point = position;
     vec3 absorbed = vec3(1.0);
     if (thickness > 0.0) {
@@ -122,7 +121,16 @@ void main() {
     // KHR_materials_transmission: of what the dielectric part lets through its surface,
     // the share `transmission` passes on through the object instead of scattering
     // diffusely: the diffuse lobe (and its environment term) keeps 1 − transmission.
+    // The transmission factor × its texture's R; the thickness factor × its texture's G,
+    // in metres through the object's scale.
     float transmission = material.transmission_thickness.x;
+    if (material.textures_transmission_thickness.x >= 0) {
+        transmission *= texture(transmission_texture, UV_TRANSMISSION).r;
+    }
+    float thickness = material.transmission_thickness.y * push.object_scale;
+    if (material.textures_transmission_thickness.y >= 0) {
+        thickness *= texture(thickness_texture, UV_THICKNESS).g;
+    }
     BrdfInputs m = brdf_inputs(material, base_color * (1.0 - transmission), s.metalness,
                                s.roughness, s.anisotropy, base_color_code);
 #else
@@ -144,7 +152,7 @@ void main() {
 #ifdef TRANSMISSION
     if (transmission > 0.0) {
         radiance += (1.0 - s.metalness) * transmission * base_color
-                  * transmitted_radiance(material, m, n, v, position, s.roughness);
+                  * transmitted_radiance(material, m, n, v, position, s.roughness, thickness);
     }
 #endif
     out_radiance = vec4(radiance, alpha);

@@ -36,6 +36,9 @@ layout(location = 4) out vec2 out_uv;
 // mapped coordinates: (base colour, metallic-roughness), (normal, emissive), (anisotropy,
 // occlusion).
 layout(location = 5) out vec4 out_slot_uv[3];
+#ifdef TRANSMISSION
+layout(location = 9) out vec4 out_slot_uv_transmission;  // transmission, thickness (forward pass)
+#endif
 #include "texture_slots.glsl"
 #endif
 
@@ -59,6 +62,9 @@ void main() {
     out_slot_uv[0] = vec4(slot_uv(m, 0u, in_uv, in_uv1), slot_uv(m, 1u, in_uv, in_uv1));
     out_slot_uv[1] = vec4(slot_uv(m, 2u, in_uv, in_uv1), slot_uv(m, 4u, in_uv, in_uv1));
     out_slot_uv[2] = vec4(slot_uv(m, 5u, in_uv, in_uv1), slot_uv(m, 3u, in_uv, in_uv1));
+#ifdef TRANSMISSION
+    out_slot_uv_transmission = vec4(slot_uv(m, 8u, in_uv, in_uv1), slot_uv(m, 9u, in_uv, in_uv1));
+#endif
 #endif
     gl_Position = push.view_projection * world;
 }

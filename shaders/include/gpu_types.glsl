@@ -6,7 +6,7 @@
 // MATERIAL_FLAG_* and LIGHT_KIND_*: generated from gpu_types.rs's constants.
 #include "bindings/constants.glsl"
 
-// One entry of the material table (std430, 496 bytes).
+// One entry of the material table (std430, 576 bytes).
 struct GpuMaterial {
     vec4 base_color_metalness;      // rgb: linear base colour, a: metalness
     vec4 roughness_anisotropy_ior;  // x: perceptual roughness, y: anisotropy strength,
@@ -17,11 +17,12 @@ struct GpuMaterial {
                                     // z: occlusion strength (f32 bits), w: unused
     ivec4 textures_base_mr_normal_occlusion;     // texture-array indices, -1: none
     ivec4 textures_emissive_anisotropy_specular; // (specular: not rendered yet)
+    ivec4 textures_transmission_thickness;       // transmission, thickness, -1, -1
     vec4 emissive_normal_scale;     // rgb: emitted radiance factor × strength, a: normal scale
-    // Per texture slot s (TextureSlot::ALL order): [2s] = (a, b, c, set), [2s + 1] =
+    // Per texture slot s (TextureSlot::ALL order, 10 slots): [2s] = (a, b, c, set), [2s + 1] =
     // (d, e, f, 0): samples at (a u + b v + c, d u + e v + f) of set 0 or 1
     // (KHR_texture_transform). Read only by the TEXTURE_TRANSFORMS G-buffer variant.
-    vec4 uv_transforms[16];
+    vec4 uv_transforms[20];
     vec4 alpha_cutoff;              // x: base colour factor's alpha, y: alphaCutoff of a cut-out
                                     // (MASK) material, z: 1 where the base colour sampler picks
                                     // the nearest mip level; read by the ALPHA_MASK pipelines

@@ -19,6 +19,9 @@ layout(location = 8) in vec4 in_color;  // glTF COLOR_0, multiplied into base co
 layout(location = 4) in vec2 in_uv;
 #else
 layout(location = 5) in vec4 in_slot_uv[3];  // gbuffer.vert: each slot's mapped coordinates
+#ifdef TRANSMISSION
+layout(location = 9) in vec4 in_slot_uv_transmission;  // the transmission and thickness slots'
+#endif
 #endif
 
 // Set 1: the material's textures, bound per material; empty slots hold a 1×1 white
@@ -37,6 +40,8 @@ layout(location = 5) in vec4 in_slot_uv[3];  // gbuffer.vert: each slot's mapped
 #define UV_EMISSIVE in_slot_uv[1].zw
 #define UV_ANISOTROPY in_slot_uv[2].xy
 #define UV_OCCLUSION in_slot_uv[2].zw
+#define UV_TRANSMISSION in_slot_uv_transmission.xy
+#define UV_THICKNESS in_slot_uv_transmission.zw
 #else
 #define UV_BASE_COLOR in_uv
 #define UV_METALLIC_ROUGHNESS in_uv
@@ -44,6 +49,8 @@ layout(location = 5) in vec4 in_slot_uv[3];  // gbuffer.vert: each slot's mapped
 #define UV_EMISSIVE in_uv
 #define UV_ANISOTROPY in_uv
 #define UV_OCCLUSION in_uv
+#define UV_TRANSMISSION in_uv
+#define UV_THICKNESS in_uv
 #endif
 
 // The vertex colour's alpha (1 without vertex colours).

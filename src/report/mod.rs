@@ -1519,7 +1519,7 @@ mod tests {
         let header = csv(&[]);
         for total in ["NaN", "inf", "-inf", "0", "-3.5", "1e400", "twelve"] {
             let row = format!(
-                "builtin:spheres,full,f32,specialised,correlated,ggx,material,30,{total},1,2,1e-3,1e-4,2e-4,100,0.01,5e-2,5e-3,4e-3,90\n"
+                "builtin:spheres,full,f32,specialised,correlated,ggx,material,30,{total},1,2,1e-3,1e-4,2e-4,100,0.01,5e-2,5e-3,4e-3,90,0,0,0\n"
             );
             std::fs::write(dir.join("report.csv"), format!("{header}{row}")).unwrap();
             let error = PreviousRun::read(&dir).unwrap_err().to_string();
@@ -1528,7 +1528,7 @@ mod tests {
                 "{total}: {error}"
             );
         }
-        let row = "builtin:spheres,full,f32,specialised,correlated,ggx,material,30,12.5,1,2,1e-3,1e-4,2e-4,100,0.01,5e-2,5e-3,4e-3,90\n";
+        let row = "builtin:spheres,full,f32,specialised,correlated,ggx,material,30,12.5,1,2,1e-3,1e-4,2e-4,100,0.01,5e-2,5e-3,4e-3,90,0,0,0\n";
         std::fs::write(dir.join("report.csv"), format!("{header}{row}")).unwrap();
         let previous = PreviousRun::read(&dir).unwrap();
         assert_eq!(previous.rows.len(), 1);

@@ -89,6 +89,8 @@ pub struct SurfacePoint {
     /// Alpha: the base colour factor's × its texture's × the vertex colour's (what a
     /// blended material covers what is behind it by; 1 where nothing lowers it).
     pub alpha: f64,
+    /// KHR_materials_transmission: the factor × its texture's R (0: opaque).
+    pub transmission: f64,
     /// How fast the vertex colour (glTF COLOR_0) changes across the image here: the
     /// largest change of a channel from this pixel's centre to a neighbour's (central
     /// differences along x and y, the rays met on the hit triangle's plane); 0 for a
@@ -634,6 +636,8 @@ impl<'a> SceneShading<'a> {
             vertex_color_gradient: 0.0,
             anisotropy_strength: strength,
             alpha: coverage,
+            transmission: f64::from(material.transmission)
+                * lookup.sample_or(material.transmission_texture.as_ref(), [1.0; 4])[0],
         }
     }
 
@@ -675,7 +679,7 @@ impl<'a> SceneShading<'a> {
         // KHR_materials_transmission: the diffuse lobe keeps 1 − transmission of the
         // light through the surface; the rest passes on through the object.
         if let Some(m) = material.filter(|m| m.is_transmissive()) {
-            let transmission = f64::from(m.transmission);
+            let transmission = surface.transmission;
             let mut reflecting = *surface;
             reflecting.brdf.base_color = surface.brdf.base_color.map(|c| c * (1.0 - transmission));
             let mut radiance = self.reflected(&reflecting);
@@ -1046,6 +1050,7 @@ mod tests {
             vertex_color_gradient: 0.0,
             anisotropy_strength: 0.0,
             alpha: 1.0,
+            transmission: 0.0,
         };
         let stored = GBufferPrecision::SRGB8.store(&surface, false);
         let expected = srgb_decode(231.0 / 255.0);

@@ -401,6 +401,8 @@ pub static MATERIAL_TEXTURES: SetDecl = SetDecl {
         Binding::new("anisotropy_texture", BindingKind::Sampler2D, FRAGMENT),
         Binding::new("specular_texture", BindingKind::Sampler2D, FRAGMENT),
         Binding::new("specular_color_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("transmission_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("thickness_texture", BindingKind::Sampler2D, FRAGMENT),
     ],
     includes: &[],
 };

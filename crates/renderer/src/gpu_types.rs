@@ -3,7 +3,7 @@
 //! side only; the field order is the GLSL one.
 
 use bytemuck::{Pod, Zeroable};
-use combustion_scene::{Filter, Light, Material, Object, Scene};
+use combustion_scene::{Filter, Light, Material, Object, Scene, TEXTURE_SLOTS};
 use glam::Mat4;
 
 /// `MATERIAL_FLAG_*` in the shaders (generated `bindings/constants.glsl`).
@@ -12,7 +12,7 @@ pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 /// radiance.
 pub const MATERIAL_FLAG_UNLIT: u32 = 2;
 
-/// `GpuMaterial` (std430, 496 bytes).
+/// `GpuMaterial` (std430, 576 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -35,13 +35,16 @@ pub struct GpuMaterial {
     /// Texture-array indices (-1: none) of the emissive, anisotropy, specular and
     /// specular colour slots (`TextureSlot::ALL` order).
     pub textures_emissive_anisotropy_specular: [i32; 4],
+    /// Texture-array indices (-1: none) of the transmission and thickness slots, then -1,
+    /// -1.
+    pub textures_transmission_thickness: [i32; 4],
     /// Emitted radiance (rgb: the emissive factor × emissive strength, W·sr⁻¹·m⁻²) and the
     /// normal-map scale (a).
     pub emissive_normal_scale: [f32; 4],
     /// Per texture slot s (`TextureSlot::ALL` order): `[2s]` = (a, b, c, set),
     /// `[2s + 1]` = (d, e, f, 0): the slot samples at (a u + b v + c, d u + e v + f) of
     /// texture-coordinate set `set` (KHR_texture_transform; identity on set 0 by default).
-    pub uv_transforms: [[f32; 4]; 16],
+    pub uv_transforms: [[f32; 4]; 2 * TEXTURE_SLOTS],
     /// The base colour factor's alpha (x), the cut-out threshold (y: glTF `alphaCutoff`
     /// of an [`combustion_scene::AlphaMode::Mask`] material, 0 otherwise), 1 in z where
     /// the base colour sampler picks the nearest mip level (0: blends two), w unused;
@@ -59,12 +62,12 @@ pub struct GpuMaterial {
     /// a volume or absorption); w: 0.
     pub absorption: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 496);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 576);
 
 impl GpuMaterial {
     /// The table entry of `material`; `textures` are its texture-array indices per
     /// `TextureSlot::ALL` slot (-1: none).
-    pub fn new(material: &Material, outside_ior: f32, textures: [i32; 8]) -> Self {
+    pub fn new(material: &Material, outside_ior: f32, textures: [i32; TEXTURE_SLOTS]) -> Self {
         let [r, g, b] = material.base_color;
         let [eta_r, eta_g, eta_b] = material.conductor.eta;
         let [k_r, k_g, k_b] = material.conductor.k;
@@ -99,6 +102,7 @@ impl GpuMaterial {
                 textures[6],
                 textures[7],
             ],
+            textures_transmission_thickness: [textures[8], textures[9], -1, -1],
             emissive_normal_scale: {
                 let e = material
                     .emissive_factor
@@ -106,7 +110,7 @@ impl GpuMaterial {
                 [e[0], e[1], e[2], material.normal_scale]
             },
             uv_transforms: {
-                let mut rows = [[0.0; 4]; 16];
+                let mut rows = [[0.0; 4]; 2 * TEXTURE_SLOTS];
                 for (s, (_, texture)) in material.texture_slots().iter().enumerate() {
                     let (transform, set) = texture
                         .map_or((combustion_scene::UvTransform::IDENTITY, 0), |t| {
@@ -377,13 +381,16 @@ fn inverse_range_squared(range: Option<f32>) -> f32 {
 
 /// The material table of a scene, outside IORs resolved, texture slots from
 /// `texture_indices` (per material; missing entries mean no textures).
-pub fn material_table(scene: &Scene, texture_indices: &[[i32; 8]]) -> Vec<GpuMaterial> {
+pub fn material_table(scene: &Scene, texture_indices: &[[i32; TEXTURE_SLOTS]]) -> Vec<GpuMaterial> {
     scene
         .materials
         .iter()
         .enumerate()
         .map(|(i, m)| {
-            let textures = texture_indices.get(i).copied().unwrap_or([-1; 8]);
+            let textures = texture_indices
+                .get(i)
+                .copied()
+                .unwrap_or([-1; TEXTURE_SLOTS]);
             GpuMaterial::new(m, scene.outside_ior_of(m), textures)
         })
         .collect()

@@ -24,7 +24,7 @@ pub struct SceneTextures {
     pub(crate) material_sets: Vec<vk::DescriptorSet>,
     /// Per material, per `TextureSlot::ALL` slot: the texture's index or -1 (the shader
     /// samples a slot only when its index is ≥ 0).
-    pub(crate) material_indices: Vec<[i32; 8]>,
+    pub(crate) material_indices: Vec<[i32; combustion_scene::TEXTURE_SLOTS]>,
     /// Owns the sets.
     _pool: DescriptorPool,
     _samplers: Vec<Sampler>,

@@ -44,6 +44,7 @@ pub use gltf::read_regular_file;
 pub use material::{
     conductor_from_reflectivity, AlphaMode, ColorSpace, ComplexIor, DiffuseModel, Filter, Image,
     Material, Sampler, Texture, TextureRef, TextureSlot, UvTransform, Volume, WrapMode,
+    TEXTURE_SLOTS,
 };
 pub use mesh::{Mesh, Vertex};
 
@@ -422,7 +423,7 @@ pub struct TextureTable {
     pub textures: Vec<TextureTableEntry>,
     /// Per material (scene order), per slot in [`TextureSlot::ALL`] order: the index into
     /// `textures`, if the material uses that slot.
-    pub material_textures: Vec<[Option<usize>; 8]>,
+    pub material_textures: Vec<[Option<usize>; TEXTURE_SLOTS]>,
 }
 
 /// One texture of a [`TextureTable`].
@@ -450,7 +451,7 @@ pub struct SceneFeatures {
     /// Distinct diffuse models, in [`DiffuseModel`] order.
     pub diffuse_models: Vec<DiffuseModel>,
     /// Per texture slot (in [`TextureSlot::ALL`] order): how many materials use it.
-    pub textures: [usize; 8],
+    pub textures: [usize; TEXTURE_SLOTS],
     /// Distinct images.
     pub images: usize,
     /// Materials that emit light (emissive factor · strength > 0).
@@ -633,7 +634,7 @@ impl Scene {
     pub fn texture_table(&self) -> TextureTable {
         let mut table = TextureTable::default();
         for m in &self.materials {
-            let mut slots = [None; 8];
+            let mut slots = [None; TEXTURE_SLOTS];
             for (i, (_, texture)) in m.texture_slots().iter().enumerate() {
                 let Some(texture) = texture else { continue };
                 let image = &texture.texture.image;

@@ -157,6 +157,12 @@ pub struct Material {
     /// KHR_materials_volume: the medium a transmissive surface encloses; `None`:
     /// thin-walled (a shell with no thickness: no refraction offset).
     pub volume: Option<Volume>,
+    /// KHR_materials_transmission `transmissionTexture` (linear, R), multiplied into
+    /// `transmission`.
+    pub transmission_texture: Option<TextureRef>,
+    /// KHR_materials_volume `thicknessTexture` (linear, G), multiplied into the volume's
+    /// thickness.
+    pub thickness_texture: Option<TextureRef>,
 }
 
 /// KHR_materials_volume: the homogeneous medium inside a transmissive object, whose
@@ -230,6 +236,8 @@ impl Default for Material {
             specular_color_texture: None,
             transmission: 0.0,
             volume: None,
+            transmission_texture: None,
+            thickness_texture: None,
         }
     }
 }
@@ -334,7 +342,7 @@ impl Material {
     }
 
     /// Every texture slot with its texture, in a fixed order.
-    pub fn texture_slots(&self) -> [(TextureSlot, Option<&TextureRef>); 8] {
+    pub fn texture_slots(&self) -> [(TextureSlot, Option<&TextureRef>); TEXTURE_SLOTS] {
         [
             (TextureSlot::BaseColor, self.base_color_texture.as_ref()),
             (
@@ -350,6 +358,11 @@ impl Material {
                 TextureSlot::SpecularColor,
                 self.specular_color_texture.as_ref(),
             ),
+            (
+                TextureSlot::Transmission,
+                self.transmission_texture.as_ref(),
+            ),
+            (TextureSlot::Thickness, self.thickness_texture.as_ref()),
         ]
     }
 
@@ -613,12 +626,19 @@ pub enum TextureSlot {
     Specular,
     /// [`Material::specular_color_texture`] (sRGB).
     SpecularColor,
+    /// [`Material::transmission_texture`] (linear, R).
+    Transmission,
+    /// [`Material::thickness_texture`] (linear, G).
+    Thickness,
 }
+
+/// How many texture slots a material has ([`TextureSlot::ALL`]).
+pub const TEXTURE_SLOTS: usize = 10;
 
 impl TextureSlot {
     /// Every slot, in the order [`Material::texture_slots`] gives them (the order of the
     /// per-slot arrays of [`crate::TextureTable`] and [`crate::SceneFeatures`]).
-    pub const ALL: [TextureSlot; 8] = [
+    pub const ALL: [TextureSlot; TEXTURE_SLOTS] = [
         TextureSlot::BaseColor,
         TextureSlot::MetallicRoughness,
         TextureSlot::Normal,
@@ -627,6 +647,8 @@ impl TextureSlot {
         TextureSlot::Anisotropy,
         TextureSlot::Specular,
         TextureSlot::SpecularColor,
+        TextureSlot::Transmission,
+        TextureSlot::Thickness,
     ];
 
     /// A short lower-case name for messages: `base colour`, `metallic-roughness`, ...
@@ -640,6 +662,8 @@ impl TextureSlot {
             TextureSlot::Anisotropy => "anisotropy",
             TextureSlot::Specular => "specular",
             TextureSlot::SpecularColor => "specular colour",
+            TextureSlot::Transmission => "transmission",
+            TextureSlot::Thickness => "thickness",
         }
     }
 

@@ -400,8 +400,8 @@ fn alpha_modes_are_read_and_bad_cutoffs_refused() {
 /// ranges are read (a volume of thickness 0 is thin-walled: none; no attenuation
 /// distance is infinite); a transmission factor outside [0, 1], a negative thickness, an
 /// attenuation distance of 0 or below and an attenuation colour outside [0, 1] are
-/// one-line errors naming the extension and the material; a texture, not read yet, is a
-/// warning.
+/// one-line errors naming the extension and the material, as are a texture that does
+/// not exist and a textureInfo that is not an object.
 #[test]
 fn transmission_and_volume_are_read_and_out_of_range_values_refused() {
     let with_extensions = |extensions: serde_json::Value| {
@@ -443,20 +443,19 @@ fn transmission_and_volume_are_read_and_out_of_range_values_refused() {
     let volume = scene.materials[0].volume.unwrap();
     assert_eq!(volume.attenuation_distance, f32::INFINITY);
     assert_eq!(volume.absorption(), [0.0; 3]);
-    let (_, report) = with_extensions(serde_json::json!({
-        "KHR_materials_transmission": {
-            "transmissionFactor": 1.0, "transmissionTexture": { "index": 0 }
-        }
-    }))
-    .unwrap();
-    assert!(
-        report
-            .warnings
-            .iter()
-            .any(|w| w.contains("transmissionTexture is not read yet")),
-        "{report}"
-    );
     for (extensions, expected) in [
+        (
+            serde_json::json!({
+                "KHR_materials_transmission": { "transmissionTexture": { "index": 7 } }
+            }),
+            "transmission texture 7 does not exist (0 textures)",
+        ),
+        (
+            serde_json::json!({
+                "KHR_materials_volume": { "thicknessFactor": 1.0, "thicknessTexture": 3 }
+            }),
+            "thicknessTexture must be a JSON object",
+        ),
         (
             serde_json::json!({ "KHR_materials_transmission": { "transmissionFactor": 1.5 } }),
             "KHR_materials_transmission: transmissionFactor must lie in [0, 1], found 1.5",

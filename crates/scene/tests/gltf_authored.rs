@@ -821,7 +821,12 @@ fn authored_scenes_are_current() {
     assert!(report.warnings.is_empty(), "{report}");
     assert_eq!(report.camera, CameraSource::Gltf { index: 0, node: 6 });
     let features = scene.features();
-    for slot in TextureSlot::ALL {
+    // Every slot of an opaque material (transmission's two:
+    // `transmission_and_volumes_round_trip`).
+    let opaque_slots = TextureSlot::ALL
+        .into_iter()
+        .filter(|s| !matches!(s, TextureSlot::Transmission | TextureSlot::Thickness));
+    for slot in opaque_slots {
         assert!(
             features.texture_count(slot) > 0,
             "{slot:?} unused: {features}"
@@ -1061,12 +1066,22 @@ fn transmission_and_volumes_round_trip() {
         attenuation_distance: f32::INFINITY,
         attenuation_color: [1.0; 3],
     });
+    // Their textures: one linear image in both slots (R: transmission, G: thickness).
+    let shades = image("transmission and thickness", ColorSpace::Linear, |x, y| {
+        [(x * 16) as u8, (y * 16) as u8, 0, 255]
+    });
+    scene.materials[2].transmission_texture = texture(&shades, Sampler::default());
+    scene.materials[2].thickness_texture = texture(&shades, Sampler::default());
     let dir = temp_dir("transmission");
     let path = dir.join("t.gltf");
     save_gltf(&scene, &path).unwrap();
     let (loaded, report) = import(&path, &ImportOptions::default()).unwrap();
     assert_same_scene(&scene, &loaded);
     assert!(report.warnings.is_empty(), "{report}");
+    let features = loaded.features();
+    for slot in [TextureSlot::Transmission, TextureSlot::Thickness] {
+        assert_eq!(features.texture_count(slot), 1, "{slot:?}");
+    }
     let _ = std::fs::remove_dir_all(dir);
 }
 

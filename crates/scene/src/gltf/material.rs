@@ -270,22 +270,18 @@ impl Importer<'_> {
                     self.material_error(index, format!("KHR_materials_transmission: {e}"))
                 })?;
                 material.transmission = transmission.factor;
-                if transmission.textured {
-                    self.warn(format!(
-                        "material {index}: KHR_materials_transmission's transmissionTexture is not read yet; its factor applies everywhere"
-                    ));
-                }
+                material.transmission_texture =
+                    self.texture_info(index, TextureSlot::Transmission, transmission.texture)?;
             }
             if let Some(value) = ext.others.get("KHR_materials_volume") {
-                let (volume, textured) = optics_ext::parse_volume(value).map_err(|e| {
+                let (volume, texture) = optics_ext::parse_volume(value).map_err(|e| {
                     self.material_error(index, format!("KHR_materials_volume: {e}"))
                 })?;
                 material.volume = volume;
-                if textured {
-                    self.warn(format!(
-                        "material {index}: KHR_materials_volume's thicknessTexture is not read yet; its factor applies everywhere"
-                    ));
-                }
+                // A thin-walled material has no thickness to scale.
+                let texture = texture.filter(|_| volume.is_some());
+                material.thickness_texture =
+                    self.texture_info(index, TextureSlot::Thickness, texture)?;
             }
             if let Some(value) = ext.others.get("KHR_materials_anisotropy") {
                 let anisotropy = optics_ext::parse_anisotropy(value).map_err(|e| {

@@ -317,12 +317,12 @@ pub(crate) fn parse_texture_transform(
 }
 
 /// KHR_materials_anisotropy.
-/// KHR_materials_transmission as read: the factor (in [0, 1]; 0 when absent) and
-/// whether a texture was given (not read yet: the importer warns).
+/// KHR_materials_transmission as read: the factor (in [0, 1]; 0 when absent) and its
+/// texture.
 #[derive(Debug, Default)]
 pub(crate) struct Transmission {
     pub factor: f32,
-    pub textured: bool,
+    pub texture: Option<TextureInfo>,
 }
 
 pub(crate) fn parse_transmission(value: &Value) -> Result<Transmission, String> {
@@ -337,13 +337,15 @@ pub(crate) fn parse_transmission(value: &Value) -> Result<Transmission, String> 
             ));
         }
     }
-    out.textured = map.contains_key("transmissionTexture");
+    out.texture = texture_info(map, "transmissionTexture")?;
     Ok(out)
 }
 
 /// KHR_materials_volume as read: `None` for a thickness of 0 (glTF: thin-walled), and
-/// whether a thickness texture was given (not read yet: the importer warns).
-pub(crate) fn parse_volume(value: &Value) -> Result<(Option<crate::Volume>, bool), String> {
+/// the thickness texture.
+pub(crate) fn parse_volume(
+    value: &Value,
+) -> Result<(Option<crate::Volume>, Option<TextureInfo>), String> {
     let map = object(value, "KHR_materials_volume")?;
     let thickness = match map.get("thicknessFactor") {
         None => 0.0,
@@ -379,7 +381,7 @@ pub(crate) fn parse_volume(value: &Value) -> Result<(Option<crate::Volume>, bool
         attenuation_distance,
         attenuation_color,
     });
-    Ok((volume, map.contains_key("thicknessTexture")))
+    Ok((volume, texture_info(map, "thicknessTexture")?))
 }
 
 #[derive(Debug, Default, PartialEq)]
@@ -404,29 +406,35 @@ pub(crate) fn parse_anisotropy(value: &Value) -> Result<Anisotropy, String> {
     if let Some(v) = map.get("anisotropyRotation") {
         out.rotation = number(v, "anisotropyRotation")?;
     }
-    if let Some(v) = map.get("anisotropyTexture") {
-        let info = object(v, "anisotropyTexture")?;
-        let index = info
-            .get("index")
-            .and_then(Value::as_u64)
-            .ok_or("anisotropyTexture needs a non-negative integer `index`")?;
-        let tex_coord = match info.get("texCoord") {
-            None => 0,
-            Some(v) => v
-                .as_u64()
-                .and_then(|t| u32::try_from(t).ok())
-                .ok_or("anisotropyTexture.texCoord must be a non-negative integer")?,
-        };
-        out.texture = Some(TextureInfo {
-            index: usize::try_from(index).unwrap_or(usize::MAX),
-            tex_coord,
-            transform: info
-                .get("extensions")
-                .and_then(|e| e.get("KHR_texture_transform"))
-                .cloned(),
-        });
-    }
+    out.texture = texture_info(map, "anisotropyTexture")?;
     Ok(out)
+}
+
+/// The textureInfo `map[what]` of an extension read from JSON (`None` when absent).
+fn texture_info(map: &Map<String, Value>, what: &str) -> Result<Option<TextureInfo>, String> {
+    let Some(v) = map.get(what) else {
+        return Ok(None);
+    };
+    let info = object(v, what)?;
+    let index = info
+        .get("index")
+        .and_then(Value::as_u64)
+        .ok_or_else(|| format!("{what} needs a non-negative integer `index`"))?;
+    let tex_coord = match info.get("texCoord") {
+        None => 0,
+        Some(v) => v
+            .as_u64()
+            .and_then(|t| u32::try_from(t).ok())
+            .ok_or_else(|| format!("{what}.texCoord must be a non-negative integer"))?,
+    };
+    Ok(Some(TextureInfo {
+        index: usize::try_from(index).unwrap_or(usize::MAX),
+        tex_coord,
+        transform: info
+            .get("extensions")
+            .and_then(|e| e.get("KHR_texture_transform"))
+            .cloned(),
+    }))
 }
 
 #[cfg(test)]

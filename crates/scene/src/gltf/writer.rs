@@ -254,17 +254,22 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
     if m.unlit {
         extensions.insert("KHR_materials_unlit".into(), json!({}));
     }
-    if m.transmission != defaults.transmission {
-        extensions.insert(
-            "KHR_materials_transmission".into(),
-            json!({ "transmissionFactor": num(m.transmission) }),
-        );
+    let transmission_texture = info(TextureSlot::Transmission);
+    if m.transmission != defaults.transmission || transmission_texture.is_some() {
+        let mut t = json!({ "transmissionFactor": num(m.transmission) });
+        if let Some(texture) = transmission_texture {
+            t["transmissionTexture"] = texture;
+        }
+        extensions.insert("KHR_materials_transmission".into(), t);
     }
     if let Some(volume) = &m.volume {
         let mut v = json!({
             "thicknessFactor": num(volume.thickness),
             "attenuationColor": nums(&volume.attenuation_color),
         });
+        if let Some(texture) = info(TextureSlot::Thickness) {
+            v["thicknessTexture"] = texture;
+        }
         // JSON has no infinity: glTF's default (absent) stands for it.
         if volume.attenuation_distance.is_finite() {
             v["attenuationDistance"] = num(volume.attenuation_distance);
