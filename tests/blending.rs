@@ -79,3 +79,49 @@ fn the_error_view_leaves_out_what_blended_objects_cover() {
     assert_eq!(map.non_finite, 0);
     assert!(map.max_relative < 1e-3, "max {:.3e}", map.max_relative);
 }
+
+/// The viewer's error view compares the pixels of blended and glass surfaces, which
+/// the G-buffer reference leaves out, with the scene reference instead (rays cast
+/// through the scene in f64, blended surfaces composited): on the blend scene it
+/// reports as many of them, with the same errors, as `combustion::end_to_end` finds
+/// for the same frame.
+#[test]
+fn the_viewer_error_view_compares_blended_pixels_with_the_scene_reference() {
+    use combustion::end_to_end::{precision_of, SceneReference};
+    let scene = common::authored_scene("blend");
+    let mut headless = common::lavapipe(common::exact_f32());
+    let renderer = headless.renderer();
+    let gpu = renderer.upload(&scene).unwrap();
+    let inputs = common::frame_inputs(&scene, &scene.lights);
+    let summary =
+        combustion::viewer::inspect::measure_error(renderer, &gpu, &inputs, (W, H)).unwrap();
+    let (pixels, mean, max) = summary.forward.expect("blended pixels compared");
+    eprintln!("{pixels} blended pixels: mean {mean:.2e}, max {max:.2e}");
+    assert!(pixels > 2000, "{pixels}");
+    let frame = common::render(
+        &scene,
+        W,
+        H,
+        common::exact_f32(),
+        combustion::renderer::Readback {
+            images: true,
+            gbuffer: true,
+        },
+    );
+    let bvh = combustion::reference::SceneBvh::new(&scene);
+    let precision = precision_of(combustion::renderer::GBufferStorage::DEFAULT);
+    let reference = SceneReference::new(&scene, &bvh, &scene.lights, (W, H), precision, 2);
+    let compared = reference.compare(&frame);
+    let under_blended: Vec<f64> = compared
+        .pixels
+        .iter()
+        .filter(|p| !reference.blended(p.x, p.y).is_empty())
+        .map(|p| p.total)
+        .collect();
+    assert_eq!(pixels, under_blended.len());
+    let expected_max = under_blended.iter().copied().fold(0.0, f64::max);
+    assert!(
+        (max - expected_max).abs() <= 1e-12 * expected_max,
+        "{max:e} against {expected_max:e}"
+    );
+}

@@ -36,9 +36,12 @@ pub struct ErrorSummary {
     pub compared: usize,
     /// Pixels of emissive materials, not compared.
     pub emissive: usize,
-    /// Pixels a blended object may cover, not compared (the reference shades the
-    /// G-buffer; the forward pass's surfaces are not in it).
+    /// Pixels a blended or transmissive object may cover, which the G-buffer reference
+    /// leaves out (the forward pass's surfaces are not in the G-buffer).
     pub blended: usize,
+    /// Of those, the ones compared with the scene reference instead
+    /// ([`forward_pixel_errors`]), and their mean and largest relative error.
+    pub forward: Option<(usize, f64, f64)>,
     /// CPU time of the f64 re-shading, ms.
     pub reshade_ms: f64,
 }
@@ -93,7 +96,19 @@ pub fn measure_error(
         );
     }
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let map = error_map(&frame, &reference, threads);
+    let mut map = error_map(&frame, &reference, threads);
+    let mut forward = None;
+    if let Some(errors) = forward_pixel_errors(renderer, scene, inputs, &frame, threads) {
+        let mut kept = Vec::new();
+        for (x, y, e) in errors {
+            if reference.under_blended(x, y) {
+                map.relative[(y * width + x) as usize] = e as f32;
+                kept.push(e);
+            }
+        }
+        let mean = kept.iter().sum::<f64>() / kept.len().max(1) as f64;
+        forward = Some((kept.len(), mean, kept.iter().copied().fold(0.0, f64::max)));
+    }
     let reshade_ms = started.elapsed().as_secs_f64() * 1e3;
     let image = OverlayImage {
         width,
@@ -117,15 +132,63 @@ pub fn measure_error(
         compared: map.lit_pixels,
         emissive: map.emissive_pixels,
         blended: map.blended_pixels,
+        forward,
         reshade_ms,
     })
 }
 
+/// The relative errors, (x, y, error), of the pixels the frame shows a blended or
+/// transmissive surface at, against the scene reference (`crate::end_to_end`: each
+/// pixel's ray cast through the scene in f64, blended surfaces composited over what is
+/// behind them, light followed through glass) with the frame's camera and lights;
+/// `None` for a scene without such objects, or one whose frames that reference does not
+/// model (lit by an environment, or with shadows).
+pub fn forward_pixel_errors(
+    renderer: &Renderer,
+    scene: &GpuScene,
+    inputs: &FrameInputs<'_>,
+    frame: &combustion_renderer::Frame,
+    threads: usize,
+) -> Option<Vec<(u32, u32, f64)>> {
+    let source = scene.scene();
+    let forward_drawn = source
+        .materials
+        .iter()
+        .any(|m| m.is_blended() || m.is_transmissive());
+    let environment_lit = source.environment.is_some() || inputs.environment.is_some();
+    if !forward_drawn || environment_lit || renderer.shading().shadows.is_some() {
+        return None;
+    }
+    let mut seen = source.clone();
+    seen.camera = inputs.camera;
+    let bvh = combustion_reference::SceneBvh::new(&seen);
+    let precision = crate::end_to_end::precision_of(renderer.settings().gbuffer);
+    let reference = crate::end_to_end::SceneReference::new(
+        &seen,
+        &bvh,
+        inputs.lights,
+        (frame.width, frame.height),
+        precision,
+        threads,
+    );
+    let compared = reference.compare(frame);
+    Some(
+        compared
+            .pixels
+            .iter()
+            .chain(&compared.transmissive)
+            .filter(|p| !reference.blended(p.x, p.y).is_empty())
+            .map(|p| (p.x, p.y, p.total))
+            .collect(),
+    )
+}
+
 /// What the error view left out, for its panel line (empty when nothing was).
 fn not_compared(e: &ErrorSummary) -> String {
+    let under_forward = e.blended - e.forward.map_or(0, |(n, ..)| n);
     let parts: Vec<String> = [
         (e.emissive, "emissive"),
-        (e.blended, "under blended objects"),
+        (under_forward, "in the boxes of blended or glass objects"),
     ]
     .into_iter()
     .filter(|(count, _)| *count > 0)
@@ -235,6 +298,12 @@ impl Stats<'_> {
                         not_compared(&e),
                         e.reshade_ms
                     ));
+                    if let Some((pixels, mean, max)) = e.forward {
+                        lines.push(format!(
+                            "blended and glass surfaces, against rays cast through the scene: {} pixels · mean {mean:.2e} · max {max:.2e}",
+                            thousands(pixels)
+                        ));
+                    }
                     lines.push(format!(
                         "heat map, log scale: blue {lo:.0e} · cyan · green · yellow · red ≥ {hi:.0e}; grey: not compared"
                     ));
