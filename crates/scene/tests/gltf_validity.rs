@@ -85,10 +85,9 @@ fn khr_materials_ior_takes_one_and_above_or_zero() {
     }
 }
 
-#[test]
-fn an_accessor_without_a_buffer_view_is_zeros_plus_its_sparse_values() {
-    // Positions: no buffer view (zeros) with two sparse values making a triangle.
-    let indices: Vec<u8> = le_bytes(&[1u16, 2], u16::to_le_bytes);
+/// The triangle file whose positions are zeros plus two sparse values at `indices`.
+fn sparse_positions(indices: [u16; 2]) -> serde_json::Value {
+    let indices: Vec<u8> = le_bytes(&indices, u16::to_le_bytes);
     let values: Vec<u8> = le_bytes(
         &[[1.0f32, 0.0, 0.0], [0.0, 1.0, 0.0]].concat(),
         f32::to_le_bytes,
@@ -109,6 +108,58 @@ fn an_accessor_without_a_buffer_view_is_zeros_plus_its_sparse_values() {
         { "buffer": 0, "byteOffset": indices.len(), "byteLength": values.len() },
     ]);
     g["buffers"] = json!([{ "byteLength": data.len(), "uri": data_uri(&data) }]);
+    g
+}
+
+/// Issue 28, defect 10: glTF's sparse indices strictly increase; duplicate or unsorted
+/// ones are a one-line error naming the accessor (the order would decide which value
+/// wins).
+#[test]
+fn sparse_indices_that_do_not_strictly_increase_are_refused() {
+    import(&sparse_positions([1, 2])).unwrap_or_else(|e| panic!("{e}"));
+    for (indices, expected) in [
+        ([2, 1], "index 1 is 1 after 2"),
+        ([2, 2], "index 1 is 2 after 2"),
+    ] {
+        let error = import(&sparse_positions(indices)).unwrap_err();
+        assert!(
+            error.contains("accessor 0: sparse indices must strictly increase")
+                && error.contains(expected)
+                && !error.contains('\n'),
+            "{error}"
+        );
+    }
+}
+
+/// Issue 28, defect 10: `asset.minVersion` above 2.0 (the version read) or above the
+/// file's own version, or not MAJOR.MINOR, is refused with one line; 2.0 is read.
+#[test]
+fn a_min_version_above_what_is_read_is_refused() {
+    let with = |min_version: &str, version: &str| {
+        let mut g = triangle(json!({}));
+        g["asset"] = json!({ "version": version, "minVersion": min_version });
+        import(&g)
+    };
+    with("2.0", "2.0").unwrap_or_else(|e| panic!("{e}"));
+    for (min_version, version, expected) in [
+        (
+            "2.1",
+            "2.1",
+            "asset.minVersion is 2.1: the file needs glTF 2.1 or later, and this importer reads glTF 2.0",
+        ),
+        ("2.1", "2.0", "asset.minVersion 2.1 is above the file's own version 2.0"),
+        ("two", "2.0", "asset.minVersion `two` is not a version of the form MAJOR.MINOR"),
+        ("2.", "2.0", "is not a version of the form MAJOR.MINOR"),
+    ] {
+        let error = with(min_version, version).unwrap_err();
+        assert!(error.contains(expected), "{error}");
+    }
+}
+
+#[test]
+fn an_accessor_without_a_buffer_view_is_zeros_plus_its_sparse_values() {
+    // Positions: no buffer view (zeros) with two sparse values making a triangle.
+    let g = sparse_positions([1, 2]);
     let scene = import(&g).unwrap_or_else(|e| panic!("{e}"));
     let positions: Vec<[f32; 3]> = scene.meshes[0]
         .vertices

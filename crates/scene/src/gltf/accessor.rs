@@ -273,9 +273,17 @@ pub(crate) fn read_floats<const N: usize>(
             vview.len(),
         )
         .map_err(|e| format!("accessor {index} sparse values: {e}"))?;
+        let mut previous: Option<usize> = None;
         for k in 0..sparse_count as usize {
             let at = ioffset as usize + k * isize;
             let target = read_index(&iview[at..at + isize], index_type) as usize;
+            // glTF: sparse indices strictly increase (sorted, each element once).
+            if let Some(previous) = previous.filter(|&p| target <= p) {
+                return Err(format!(
+                    "accessor {index}: sparse indices must strictly increase, but index {k} is {target} after {previous}"
+                ));
+            }
+            previous = Some(target);
             let slot = out.get_mut(target).ok_or_else(|| {
                 format!(
                     "accessor {index}: sparse index {target} is out of range ({count} elements)"

@@ -133,6 +133,38 @@ struct MeshKey {
     uv_tangents: bool,
 }
 
+/// glTF's `asset.minVersion`: `MAJOR.MINOR`, at most the asset's own version, and at
+/// most 2.0, the version this importer reads (a file that needs a later one is refused).
+fn check_min_version(min_version: &str, version: &str) -> Result<(), String> {
+    let parse = |text: &str| -> Option<(u64, u64)> {
+        let (major, minor) = text.split_once('.')?;
+        let number = |part: &str| {
+            (!part.is_empty() && part.bytes().all(|b| b.is_ascii_digit()))
+                .then(|| part.parse::<u64>().ok())
+                .flatten()
+        };
+        Some((number(major)?, number(minor)?))
+    };
+    let shown = super::source::truncate(min_version);
+    let Some(minimum) = parse(min_version) else {
+        return Err(format!(
+            "asset.minVersion `{shown}` is not a version of the form MAJOR.MINOR"
+        ));
+    };
+    if parse(version).is_some_and(|v| minimum > v) {
+        return Err(format!(
+            "asset.minVersion {shown} is above the file's own version {}",
+            super::source::truncate(version)
+        ));
+    }
+    if minimum > (2, 0) {
+        return Err(format!(
+            "asset.minVersion is {shown}: the file needs glTF {shown} or later, and this importer reads glTF 2.0"
+        ));
+    }
+    Ok(())
+}
+
 fn semantic_name(s: &json::mesh::Semantic) -> String {
     use json::mesh::Semantic;
     match s {
@@ -212,6 +244,9 @@ fn import_inner(
             "asset.version is `{}`; only glTF 2.x is supported",
             root.asset.version
         )));
+    }
+    if let Some(min_version) = &root.asset.min_version {
+        check_min_version(min_version, &root.asset.version).map_err(ImportProblem::Invalid)?;
     }
     for name in &root.extensions_required {
         if !SUPPORTED_EXTENSIONS.contains(&name.as_str()) {

@@ -239,7 +239,7 @@ pub(crate) fn resolve_uri(
     Ok(Resolved::File(path))
 }
 
-fn truncate(uri: &str) -> String {
+pub(crate) fn truncate(uri: &str) -> String {
     const MAX: usize = 80;
     if uri.len() <= MAX {
         uri.to_owned()
