@@ -83,6 +83,24 @@ fn khr_materials_ior_takes_one_and_above_or_zero() {
         let error = import(&with_ior(bad)).unwrap_err();
         assert!(error.contains("at least 1, or exactly 0"), "{bad}: {error}");
     }
+    // Issue 28, defect 9: judged as written, not after rounding to f32: 1e-46 and 1e-300
+    // are not the specification's 0 (they round to it), and 1e300 is not "inf".
+    for (bad, expected) in [
+        (1e-46, "found 1e-46"),
+        (1e-300, "found 1e-300"),
+        (
+            1e300,
+            "ior 1e300 is larger than a 32-bit float holds (at most 3.4e38)",
+        ),
+    ] {
+        let error = import(&with_ior(bad)).unwrap_err();
+        assert!(
+            error.contains("KHR_materials_ior") && error.contains(expected),
+            "{bad}: {error}"
+        );
+    }
+    let absent = triangle(json!({ "extensions": { "KHR_materials_ior": {} } }));
+    assert_eq!(import(&absent).unwrap().materials[0].dielectric_ior, 1.5);
 }
 
 /// The triangle file whose positions are zeros plus two sparse values at `indices`.

@@ -207,22 +207,11 @@ impl Importer<'_> {
 
         let mut optics = optics_ext::MaterialOptics::default();
         if let Some(ext) = &m.extensions {
-            if let Some(ior) = &ext.ior {
-                let ior = ior.ior.0;
-                // The ratified extension: ior ≥ 1, or exactly 0, the specular-glossiness
-                // compatibility mode whose Fresnel term is 1 everywhere: an infinite IOR,
-                // here the largest the optics clamp to (ETA_MAX = 1e4: R ≥ 0.9996 but
-                // within 0.01° of grazing).
-                if ior == 0.0 {
-                    material.dielectric_ior = KHR_IOR_ZERO_MEANS;
-                } else if ior.is_finite() && ior >= 1.0 {
-                    material.dielectric_ior = ior;
-                } else {
-                    return Err(self.material_error(
-                        index,
-                        format!("KHR_materials_ior: ior must be at least 1, or exactly 0 (the specular-glossiness mode), found {ior}"),
-                    ));
-                }
+            if let Some(value) = ext.others.get("KHR_materials_ior") {
+                // Read from the JSON number itself (f64), not after rounding to f32: 1e-46
+                // is not the specification's 0, and 1e300 is not "inf".
+                material.dielectric_ior = optics_ext::parse_ior(value)
+                    .map_err(|e| self.material_error(index, format!("KHR_materials_ior: {e}")))?;
             }
             if let Some(strength) = &ext.emissive_strength {
                 let s = strength.emissive_strength.0;

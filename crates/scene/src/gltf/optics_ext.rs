@@ -317,6 +317,36 @@ pub(crate) fn parse_texture_transform(
 }
 
 /// KHR_materials_anisotropy.
+/// KHR_materials_ior's `ior` (1.5 when absent): at least 1, or exactly 0, the
+/// specular-glossiness compatibility mode whose Fresnel term is 1 everywhere: an
+/// infinite IOR, here the largest the optics clamp to (`KHR_IOR_ZERO_MEANS`, ETA_MAX =
+/// 1e4: R ≥ 0.9996 but within 0.01° of grazing). Judged on the JSON number as written
+/// (f64), then held to what f32 stores.
+pub(crate) fn parse_ior(value: &Value) -> Result<f32, String> {
+    let map = object(value, "KHR_materials_ior")?;
+    let Some(v) = map.get("ior") else {
+        return Ok(1.5);
+    };
+    let ior = v
+        .as_f64()
+        .ok_or_else(|| format!("ior must be a number, found {}", short(v)))?;
+    if ior == 0.0 {
+        Ok(super::material::KHR_IOR_ZERO_MEANS)
+    } else if ior >= 1.0 && ior <= f64::from(f32::MAX) {
+        Ok(ior as f32)
+    } else if ior >= 1.0 {
+        Err(format!(
+            "ior {} is larger than a 32-bit float holds (at most 3.4e38)",
+            crate::error::readable(ior)
+        ))
+    } else {
+        Err(format!(
+            "ior must be at least 1, or exactly 0 (the specular-glossiness mode), found {}",
+            crate::error::readable(ior)
+        ))
+    }
+}
+
 /// KHR_materials_transmission as read: the factor (in [0, 1]; 0 when absent) and its
 /// texture.
 #[derive(Debug, Default)]
