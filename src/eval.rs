@@ -199,14 +199,14 @@ pub const FLAGS: &[EvalFlag] = &[
         &[3],
         f64::MIN,
         f64::MAX,
-        "view direction x,y,z (normalised here)",
+        "view direction x,y,z (normalised here; not with --theta-v/--phi-v)",
     ),
     flag(
         "--l",
         &[3],
         f64::MIN,
         f64::MAX,
-        "light direction x,y,z (normalised here)",
+        "light direction x,y,z (normalised here; not with --theta-l/--phi-l)",
     ),
     flag(
         "--m",
@@ -227,7 +227,7 @@ pub const FLAGS: &[EvalFlag] = &[
         &[1],
         0.0,
         1.0,
-        "perceptual roughness r (α = r²)",
+        "perceptual roughness r (α = r²; not with --alpha)",
     ),
     flag(
         "--alpha-x",
@@ -332,10 +332,20 @@ fn direction(
     phi: &str,
 ) -> Result<Option<Vec3<f64>>, Error> {
     if let Some(v) = inputs.get(vector) {
-        let v = Vec3::new(v[0], v[1], v[2]);
-        if v.length_squared() == 0.0 {
+        for angle in [theta, phi].into_iter().filter(|a| !a.is_empty()) {
+            if inputs.get(angle).is_some() {
+                return Err(usage(format!(
+                    "give {vector} or {angle}, not both (they say the same direction)"
+                )));
+            }
+        }
+        // Scaled by its largest component first, so that neither 1e200 (whose square
+        // overflows) nor 1e-200 (whose square underflows) is lost.
+        let largest = v.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        if largest == 0.0 {
             return Err(usage(format!("{vector} must not be the zero vector")));
         }
+        let v = Vec3::new(v[0] / largest, v[1] / largest, v[2] / largest);
         return Ok(Some(v.normalize()));
     }
     match inputs.get(theta) {
@@ -397,6 +407,12 @@ pub fn evaluate(term: &str, inputs: &Inputs) -> Result<String, Error> {
         },
     };
     let alpha = match (inputs.get("--alpha"), inputs.get("--roughness")) {
+        (Some(_), Some(_)) => {
+            return Err(usage(
+                "give --alpha or --roughness, not both (α = r²; --sigma sets Oren–Nayar's σ)"
+                    .into(),
+            ))
+        }
         (Some(a), _) => Some(a[0]),
         (None, Some(r)) => Some(alpha_from_perceptual_roughness(r[0])),
         (None, None) => None,

@@ -430,6 +430,67 @@ fn eval_bad_input() {
     );
     assert_clear_error(&["eval", "lambert", "--rho", "NaN"], "not finite");
     assert_clear_error(&["eval", "d-ggx", "--theta-v", "10"], "needs m");
+    // Issue 28, defect 9: two ways of saying one thing are refused, not resolved silently.
+    assert_clear_error(
+        &[
+            "eval",
+            "lambda-ggx",
+            "--v",
+            "0,0,1",
+            "--theta-v",
+            "10",
+            "--alpha",
+            "0.5",
+        ],
+        "give --v or --theta-v, not both",
+    );
+    assert_clear_error(
+        &[
+            "eval",
+            "d-ggx",
+            "--m",
+            "0,0,1",
+            "--alpha",
+            "0.2",
+            "--roughness",
+            "0.3",
+        ],
+        "give --alpha or --roughness, not both",
+    );
+}
+
+/// Issue 28, defect 9: a direction is normalised by its largest component first, so a
+/// huge one is not lost to overflow (1e200: its square is infinite) nor a tiny one to
+/// underflow (1e-200): both are the direction they point in.
+#[test]
+fn eval_directions_of_any_magnitude_are_normalised() {
+    for v in ["1e200,0,0", "1e-200,0,1e-200"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_combustion"))
+            .args(["eval", "lambda-ggx", "--v", v, "--alpha", "0.5"])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{v}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let used = &json["used"]["v"];
+        let expected: [f64; 3] = if v.starts_with("1e200") {
+            [1.0, 0.0, 0.0]
+        } else {
+            [
+                std::f64::consts::FRAC_1_SQRT_2,
+                0.0,
+                std::f64::consts::FRAC_1_SQRT_2,
+            ]
+        };
+        for (c, e) in expected.iter().enumerate() {
+            let got = used[c].as_f64().unwrap_or(f64::NAN);
+            assert!((got - e).abs() < 1e-15, "{v}: {json}");
+        }
+        assert!(json["result"]["value"].as_f64().is_some(), "{v}: {json}");
+    }
 }
 
 /// Width and height from a PNG's IHDR chunk, after checking the signature.
