@@ -904,6 +904,26 @@ fn device_chosen_by_index_name_or_environment() {
         assert!(out.exists());
         std::fs::remove_file(&out).unwrap();
     }
+    // Issue 28, defect 9: a COMBUSTION_DEVICE that is not UTF-8 is refused in one line
+    // (exit 1), not ignored for the automatic choice.
+    use std::os::unix::ffi::OsStrExt;
+    let out = dir.join("d.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_combustion"))
+        .args(["render", "--width", "16", "--height", "16", "-o"])
+        .arg(&out)
+        .env(
+            "COMBUSTION_DEVICE",
+            std::ffi::OsStr::from_bytes(b"llvm\xffpipe"),
+        )
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("COMBUSTION_DEVICE is not valid UTF-8 text") && stderr.lines().count() == 1,
+        "{stderr}"
+    );
+    assert!(!out.exists());
     std::fs::remove_dir_all(dir).unwrap();
 }
 

@@ -32,11 +32,14 @@ impl DeviceSelector {
     /// The selector named by `COMBUSTION_DEVICE`, or `Auto` when it is unset.
     ///
     /// # Errors
-    /// [`VkError::BadDeviceSelector`] when the variable is set but empty.
+    /// [`VkError::BadDeviceSelector`] when the variable is set but empty;
+    /// [`VkError::DeviceSelectorNotText`] when it is not UTF-8 (not ignored: the device
+    /// asked for would silently not be the one used).
     pub fn from_env() -> Result<Self, VkError> {
         match std::env::var(Self::ENV_VAR) {
             Ok(text) => text.parse(),
-            Err(_) => Ok(Self::Auto),
+            Err(std::env::VarError::NotPresent) => Ok(Self::Auto),
+            Err(std::env::VarError::NotUnicode(_)) => Err(VkError::DeviceSelectorNotText),
         }
     }
 }

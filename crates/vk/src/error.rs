@@ -32,6 +32,9 @@ pub enum VkError {
     /// A device selector given as text (e.g. `COMBUSTION_DEVICE`) was empty.
     #[error("device selector `{0}` is empty; give a device index or part of its name")]
     BadDeviceSelector(String),
+    /// `COMBUSTION_DEVICE` is set to bytes that are not UTF-8 (no device name is).
+    #[error("COMBUSTION_DEVICE is not valid UTF-8 text; give a device index or part of its name")]
+    DeviceSelectorNotText,
     /// [`crate::DeviceDesc::validation`] was set but `VK_LAYER_KHRONOS_validation` is
     /// not installed.
     #[error("validation was requested but VK_LAYER_KHRONOS_validation is not installed; install it, e.g. `apt-get install vulkan-validationlayers`")]
