@@ -281,11 +281,7 @@ impl<'a> SceneReference<'a> {
             })
         };
         let seen = pixels.iter().map(|p| p.map(|p| p.material)).collect();
-        let blended = if scene
-            .materials
-            .iter()
-            .any(|m| m.is_blended() || m.is_transmissive())
-        {
+        let blended = if scene.materials.iter().any(|m| m.is_see_through()) {
             let shading = &shading;
             per_pixel(width, height, threads, |x, y| {
                 let i = (y * width + x) as usize;

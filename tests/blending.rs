@@ -103,10 +103,7 @@ fn the_viewer_error_view_compares_blended_pixels_with_the_scene_reference() {
         W,
         H,
         common::exact_f32(),
-        combustion::renderer::Readback {
-            images: true,
-            gbuffer: true,
-        },
+        combustion::renderer::Readback::ALL,
     );
     let bvh = combustion::reference::SceneBvh::new(&scene);
     let precision = precision_of(combustion::renderer::GBufferStorage::DEFAULT);

@@ -30,17 +30,7 @@ fn render_views(scene_name: &str) -> Vec<(DebugView, Frame)> {
                 &[&gpu],
             )
             .unwrap();
-        let frame = renderer
-            .render(
-                &gpu,
-                W,
-                H,
-                Readback {
-                    images: true,
-                    gbuffer: true,
-                },
-            )
-            .unwrap();
+        let frame = renderer.render(&gpu, W, H, Readback::ALL).unwrap();
         frames.push((view, frame));
     }
     drop(gpu);

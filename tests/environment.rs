@@ -42,16 +42,7 @@ fn sphere(material: Material, outside_ior: f32, environment: Environment) -> Sce
 }
 
 fn render(scene: &Scene, width: u32, height: u32) -> Frame {
-    common::render(
-        scene,
-        width,
-        height,
-        common::exact_f32(),
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
-    )
+    common::render(scene, width, height, common::exact_f32(), Readback::ALL)
 }
 
 /// One pixel against the oracle: the GPU's relative error and the oracle's standard
@@ -557,15 +548,7 @@ fn energy_compensation_keeps_a_white_furnace_white() {
                     .expect("table");
                 let gpu = renderer.upload(&scene).expect("upload");
                 renderer
-                    .render(
-                        &gpu,
-                        64,
-                        64,
-                        Readback {
-                            images: true,
-                            gbuffer: true,
-                        },
-                    )
+                    .render(&gpu, 64, 64, Readback::ALL)
                     .expect("render")
             };
             common::finish(headless);
@@ -810,10 +793,7 @@ fn render_with_background(
             background,
             ..FrameInputs::of_scene(&gpu, 1.0)
         };
-        let readback = Readback {
-            images: true,
-            gbuffer: true,
-        };
+        let readback = Readback::ALL;
         renderer
             .render_with(&gpu, &inputs, width, height, readback)
             .unwrap()

@@ -237,16 +237,7 @@ const EXACT: RendererSettings = RendererSettings {
 
 /// Renders `figure` with the G-buffer read back.
 fn render_exact(scene: &Scene, figure: &Figure) -> Frame {
-    common::render(
-        scene,
-        figure.width,
-        figure.height,
-        EXACT,
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
-    )
+    common::render(scene, figure.width, figure.height, EXACT, Readback::ALL)
 }
 
 /// Figures 10 and 11: at normal incidence gold and copper show the Fresnel reflectance of

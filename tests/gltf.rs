@@ -205,15 +205,7 @@ fn anisotropy_rotation_model_is_horizontal_everywhere() {
         .iter()
         .find(|p| p.to_string_lossy().ends_with("AnisotropyRotationTest.glb"))
         .expect("AnisotropyRotationTest.glb");
-    let frame = render_file(
-        path,
-        320,
-        240,
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
-    );
+    let frame = render_file(path, 320, 240, Readback::ALL);
     let (mut anisotropic, mut horizontal) = (0usize, 0usize);
     for texel in &frame.gbuffer.unwrap().texels {
         let [nx, ny, _, strength] = texel.normal_roughness_anisotropy;
@@ -516,16 +508,7 @@ fn unlit_materials_show_their_base_colour() {
         angular_diameter: 0.0,
     });
     let (w, h) = (128, 96);
-    let frame = common::render(
-        &scene,
-        w,
-        h,
-        common::exact_f32(),
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
-    );
+    let frame = common::render(&scene, w, h, common::exact_f32(), Readback::ALL);
     let inputs = common::frame_inputs(&scene, &scene.lights);
     let reference = ReferenceShading::new(&scene, &inputs, w, h);
     let map = error_map(&frame, &reference, 2);

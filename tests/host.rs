@@ -133,10 +133,7 @@ fn host_frames_compose_combustions_output_on_the_device() {
             shading: ShadingOptions::DEFAULT,
             frames_in_flight: 2,
         },
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
+        Readback::ALL,
     );
     let texel = |x: u32, y: u32| {
         let i = ((y * extent.width + x) * 4) as usize;

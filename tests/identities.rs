@@ -139,16 +139,7 @@ fn outside_medium_changes_dielectric_reflection() {
 #[test]
 fn highlights_tighten_as_roughness_falls() {
     let scene = builtin_scene("spheres").unwrap();
-    let frame = common::render(
-        &scene,
-        384,
-        256,
-        EXACT,
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
-    );
+    let frame = common::render(&scene, 384, 256, EXACT, Readback::ALL);
     let gbuffer = frame.gbuffer.as_ref().unwrap();
     let columns = SPHERE_GRID_ROUGHNESS.len();
     let gold_row = 1;

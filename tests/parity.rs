@@ -515,16 +515,7 @@ fn every_comparison_variant_is_its_own_formula() {
                 shading: *shading,
                 ..common::exact_f32()
             };
-            let frame = common::render(
-                &scene,
-                width,
-                height,
-                settings,
-                Readback {
-                    images: true,
-                    gbuffer: true,
-                },
-            );
+            let frame = common::render(&scene, width, height, settings, Readback::ALL);
             let own = error_map(
                 &frame,
                 &ReferenceShading::new(&scene, &inputs, width, height).with_variant(shading),

@@ -625,10 +625,7 @@ fn cut_out_shadows_against_exact_visibility() {
 /// its first light the one compared).
 fn against_exact_visibility(name: &str, scene: &Scene, radius: f64) {
     use combustion::renderer::reference::{error_map, shadow_mismatch};
-    let both = Readback {
-        images: true,
-        gbuffer: true,
-    };
+    let both = Readback::ALL;
     for filter in [ShadowFilter::Hard, ShadowFilter::Pcf16] {
         let settings = ShadowSettings {
             filter,
@@ -822,10 +819,7 @@ fn render_with_default_shadows(scene: &Scene, exposure: f32) -> Frame {
             exposure,
             ..with_shadows(ShadowSettings::DEFAULT, DebugView::None)
         },
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
+        Readback::ALL,
     )
 }
 
@@ -943,8 +937,9 @@ fn radiance_interval(code: u8, half_width: f64) -> (f64, f64) {
 /// validation with synchronisation checks: one renderer with 3 frames in flight records
 /// 60 frames cycling through a scene without lights (no shadow pass, placeholder
 /// bindings), grid-sun (cascades), the cut-out scene (cut-out casters through their
-/// alpha-testing pipeline, a sun's cascades and a point light's cube), the blend scene
-/// (blended objects in the forward pass, which reads the maps too), point-among (a
+/// alpha-testing pipeline, a sun's cascades and a point light's cube), the blend and
+/// glass scenes (blended and transmissive objects in the forward pass, which reads the
+/// maps too; the image behind the glass), point-among (a
 /// cube of local maps) and spot-box (one local map), while shadows are switched on, off, on with other map sizes, off and on
 /// again every 12 frames (the map arrays replaced, and the old ones retired, while frames that read
 /// them are still in flight). Every frame writes every binding of its sets (checked by
@@ -963,6 +958,9 @@ fn shadow_resources_alternate_across_frames_in_flight() {
     let blend =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/blend/blend.gltf");
     scenes.insert(4, combustion::SceneSource::File(blend).load().unwrap());
+    // Glass: the TRANSMISSION variant (the behind image, a target of its own) with and
+    // without shadows.
+    scenes.insert(5, common::authored_scene("glass"));
     let small = ShadowSettings {
         cascades: 2,
         map_size: 512,

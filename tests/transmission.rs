@@ -201,16 +201,7 @@ fn the_glass_scene_against_its_oracle() {
     for outside_ior in [1.0, 1.33] {
         let mut scene = common::authored_scene("glass");
         scene.outside_ior = outside_ior;
-        let frame = common::render(
-            &scene,
-            W,
-            H,
-            common::exact_f32(),
-            Readback {
-                images: true,
-                gbuffer: true,
-            },
-        );
+        let frame = common::render(&scene, W, H, common::exact_f32(), Readback::ALL);
         let bvh = SceneBvh::new(&scene);
         let precision = precision_of(GBufferStorage::DEFAULT);
         let reference = SceneReference::new(&scene, &bvh, &scene.lights, (W, H), precision, 2);

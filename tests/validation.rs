@@ -62,10 +62,7 @@ fn a_full_frame_with_readback_is_clean() {
         64,
         48,
         Default::default(),
-        combustion::renderer::Readback {
-            images: true,
-            gbuffer: true,
-        },
+        combustion::renderer::Readback::ALL,
     );
     assert_eq!(frame.ldr.len(), 64 * 48);
     assert_eq!(frame.hdr.len(), 64 * 48);

@@ -293,16 +293,7 @@ fn assert_error_view_is_the_reference_map(scene_name: &str) {
         &["--overlay", "off", "--error-view"],
     );
     drop(xvfb);
-    let frame = common::render(
-        &scene,
-        192,
-        128,
-        RendererSettings::default(),
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
-    );
+    let frame = common::render(&scene, 192, 128, RendererSettings::default(), Readback::ALL);
     let inputs = common::frame_inputs(&scene, &scene.lights);
     let mut reference = ReferenceShading::new(&scene, &inputs, 192, 128);
     if let Some(environment) = &scene.environment {

@@ -631,16 +631,8 @@ pub fn measure(
                 );
                 renderer.set_shading(set.shading, &[&gpu])?;
                 // The error of one frame (read back), which is also the warm-up.
-                let frame = renderer.render_with(
-                    &gpu,
-                    &inputs,
-                    desc.width,
-                    desc.height,
-                    Readback {
-                        images: true,
-                        gbuffer: true,
-                    },
-                )?;
+                let frame =
+                    renderer.render_with(&gpu, &inputs, desc.width, desc.height, Readback::ALL)?;
                 let map = error_map(&frame, &reference, threads);
                 let end_to_end = Some(scene_reference.compare(&frame).summary());
                 let flip_mean = flip_against_reference(&frame, &map, inputs.exposure);

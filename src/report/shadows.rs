@@ -114,10 +114,7 @@ pub(super) fn measure_scene(
     if let Some(environment) = &gpu.scene().environment {
         reference = reference.with_environment(environment.clone(), ENVIRONMENT_SAMPLING);
     }
-    let both = Readback {
-        images: true,
-        gbuffer: true,
-    };
+    let both = Readback::ALL;
     // The moving camera: the scene's own and one moved a tenth of its distance to the
     // target sideways, alternately (every frame places new cascades).
     let mut moved = inputs.camera;

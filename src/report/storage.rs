@@ -90,15 +90,7 @@ pub(super) fn measure(
             })?;
             let renderer = headless.renderer();
             let gpu = renderer.upload(scene)?;
-            let frame = renderer.render(
-                &gpu,
-                desc.width,
-                desc.height,
-                Readback {
-                    images: true,
-                    gbuffer: true,
-                },
-            )?;
+            let frame = renderer.render(&gpu, desc.width, desc.height, Readback::ALL)?;
             let errors = reference.compare(&frame).summary();
             let timings = time_frames(renderer, &gpu, desc.width, desc.height, desc.frames)?;
             let passes = PassSpreads::of(&timings);

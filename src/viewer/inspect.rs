@@ -67,10 +67,7 @@ pub fn measure_error(
     extent: (u32, u32),
 ) -> Result<ErrorSummary, Error> {
     let (width, height) = extent;
-    let readback = Readback {
-        images: true,
-        gbuffer: true,
-    };
+    let readback = Readback::ALL;
     let frame = renderer.render_with(scene, inputs, width, height, readback)?;
     let started = std::time::Instant::now();
     let mut reference = ReferenceShading::new(scene.scene(), inputs, width, height);
@@ -151,10 +148,7 @@ pub fn forward_pixel_errors(
     threads: usize,
 ) -> Option<Vec<(u32, u32, f64)>> {
     let source = scene.scene();
-    let forward_drawn = source
-        .materials
-        .iter()
-        .any(|m| m.is_blended() || m.is_transmissive());
+    let forward_drawn = source.materials.iter().any(|m| m.is_see_through());
     let environment_lit = source.environment.is_some() || inputs.environment.is_some();
     if !forward_drawn || environment_lit || renderer.shading().shadows.is_some() {
         return None;

@@ -61,16 +61,7 @@ pub fn render_with_error_map(
     threads: usize,
 ) -> (Frame, combustion::renderer::reference::ErrorMap) {
     use combustion::renderer::reference::{error_map, ReferenceShading};
-    let frame = render(
-        scene,
-        width,
-        height,
-        settings,
-        Readback {
-            images: true,
-            gbuffer: true,
-        },
-    );
+    let frame = render(scene, width, height, settings, Readback::ALL);
     let inputs = frame_inputs(scene, &scene.lights);
     let map = error_map(
         &frame,
@@ -146,10 +137,7 @@ pub fn render_with_lights_in(
         let renderer = headless.renderer();
         let gpu_scene = renderer.upload(scene).expect("upload");
         let inputs = frame_inputs(scene, lights);
-        let readback = Readback {
-            images: true,
-            gbuffer: true,
-        };
+        let readback = Readback::ALL;
         renderer
             .render_with(&gpu_scene, &inputs, width, height, readback)
             .expect("render")

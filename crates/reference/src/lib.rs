@@ -180,7 +180,7 @@ impl SceneBvh {
                 && !scene
                     .materials
                     .get(object.material)
-                    .is_some_and(|m| m.is_blended() || m.is_transmissive())
+                    .is_some_and(|m| m.is_see_through())
         })
     }
 

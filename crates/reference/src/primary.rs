@@ -104,21 +104,11 @@ pub fn primary_layers(
     );
     let (mut t_min, far) = (f64::from(camera.near), f64::from(camera.far));
     let mut layers = PrimaryLayers::default();
-    while let Some(hit) = bvh.closest_hit(&ray, t_min, far) {
-        let Some(object) = scene.objects.get(hit.object) else {
-            break;
-        };
-        // The hit interval is open: a further cast starts just past this triangle.
-        t_min = hit.t;
-        let material = scene.materials.get(object.material);
-        let back = DVec3::from(hit.normal).dot(DVec3::from(ray.direction)) > 0.0;
-        if back && !material.is_some_and(|m| m.double_sided) {
-            continue;
-        }
+    while let Some((hit, material)) = next_seen(scene, bvh, &ray, &mut t_min, far) {
         let seen = seen_surface(scene, &ray, &hit);
         // Blended and transmissive surfaces: the renderer draws them over the opaque
         // one (its forward pass), which is what its G-buffer holds.
-        if material.is_some_and(|m| m.is_blended() || m.is_transmissive()) {
+        if material.is_see_through() {
             layers.blended.extend(seen);
             continue;
         }
@@ -126,6 +116,31 @@ pub fn primary_layers(
         break;
     }
     layers
+}
+
+/// The next surface `ray` meets with `*t_min < t < far`, and its material: back faces
+/// of single-sided materials are passed (glTF lets a renderer cull them, and the
+/// rasteriser does). `*t_min` moves past the hit, so a further call finds the one
+/// after; `None` when there is none (or an object or material that does not exist).
+pub(crate) fn next_seen<'s>(
+    scene: &'s Scene,
+    bvh: &SceneBvh,
+    ray: &Ray,
+    t_min: &mut f64,
+    far: f64,
+) -> Option<(crate::Hit, &'s combustion_scene::Material)> {
+    loop {
+        let hit = bvh.closest_hit(ray, *t_min, far)?;
+        // The hit interval is open: a further cast starts just past this triangle.
+        *t_min = hit.t;
+        let material = scene
+            .materials
+            .get(scene.objects.get(hit.object)?.material)?;
+        let back = DVec3::from(hit.normal).dot(DVec3::from(ray.direction)) > 0.0;
+        if !back || material.double_sided {
+            return Some((hit, material));
+        }
+    }
 }
 
 /// The surface `hit` (on `ray`) shows: its interpolated shading normal and position

@@ -112,6 +112,8 @@ pub struct SceneShading<'a> {
     /// Samples of each strategy of the environment's integral (`None`: the environment,
     /// if the scene has one, is left out).
     environment_samples: Option<u32>,
+    /// Some material is blended or transmissive (else no ray looks past a first hit).
+    see_through: bool,
 }
 
 fn optics_vec(v: DVec3) -> OpticsVec3<f64> {
@@ -253,6 +255,7 @@ impl<'a> SceneShading<'a> {
             visibility: None,
             lod_bias: 0.0,
             environment_samples: None,
+            see_through: scene.materials.iter().any(|m| m.is_see_through()),
         }
     }
 
@@ -356,12 +359,7 @@ impl<'a> SceneShading<'a> {
     /// any). A transmissive surface that is not blended covers what is behind it wholly
     /// (`alpha` 1): its radiance holds what it lets through.
     pub fn blended_surfaces(&self, x: u32, y: u32) -> Vec<SurfacePoint> {
-        if !self
-            .scene
-            .materials
-            .iter()
-            .any(|m| m.is_blended() || m.is_transmissive())
-        {
+        if !self.see_through {
             return Vec::new();
         }
         primary_layers(self.scene, self.bvh, self.width, self.height, x, y)

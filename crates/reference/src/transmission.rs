@@ -28,7 +28,7 @@ use combustion_optics::fresnel::{fresnel_dielectric, fresnel_dielectric_transmit
 use combustion_scene::Material;
 use glam::DVec3;
 
-use crate::primary::seen_surface;
+use crate::primary::{next_seen, seen_surface};
 use crate::shading::{SceneShading, SurfacePoint};
 use crate::visibility::surface_offset;
 use crate::Ray;
@@ -163,37 +163,24 @@ impl SceneShading<'_> {
     pub(crate) fn radiance_along(&self, origin: DVec3, direction: DVec3, depth: u32) -> [f64; 3] {
         let ray = Ray::new(origin.to_array(), direction.to_array());
         let mut t_min = surface_offset(origin.to_array());
-        loop {
-            let Some(hit) = self.bvh.closest_hit(&ray, t_min, f64::INFINITY) else {
-                return [0.0; 3];
-            };
-            t_min = hit.t;
-            let Some(material) = self
-                .scene
-                .objects
-                .get(hit.object)
-                .and_then(|o| self.scene.materials.get(o.material))
-            else {
-                return [0.0; 3];
-            };
-            let back = DVec3::from(hit.normal).dot(direction) > 0.0;
-            if back && !material.double_sided {
-                continue;
-            }
-            let Some(surface) = seen_surface(self.scene, &ray, &hit)
-                .and_then(|seen| self.surface_seen_from(seen, origin))
-            else {
-                return [0.0; 3];
-            };
-            let radiance = self.radiance_followed(&surface, depth);
-            if !material.is_blended() {
-                return radiance;
-            }
-            // A blended surface: over what the ray meets beyond it.
-            let alpha = surface.alpha.clamp(0.0, 1.0);
-            let point = DVec3::from(surface.hit.position);
-            let beyond = self.radiance_along(point, direction, depth);
-            return std::array::from_fn(|c| alpha * radiance[c] + (1.0 - alpha) * beyond[c]);
+        let Some((hit, material)) =
+            next_seen(self.scene, self.bvh, &ray, &mut t_min, f64::INFINITY)
+        else {
+            return [0.0; 3];
+        };
+        let Some(surface) = seen_surface(self.scene, &ray, &hit)
+            .and_then(|seen| self.surface_seen_from(seen, origin))
+        else {
+            return [0.0; 3];
+        };
+        let radiance = self.radiance_followed(&surface, depth);
+        if !material.is_blended() {
+            return radiance;
         }
+        // A blended surface: over what the ray meets beyond it.
+        let alpha = surface.alpha.clamp(0.0, 1.0);
+        let point = DVec3::from(surface.hit.position);
+        let beyond = self.radiance_along(point, direction, depth);
+        std::array::from_fn(|c| alpha * radiance[c] + (1.0 - alpha) * beyond[c])
     }
 }

@@ -467,6 +467,14 @@ pub struct Readback {
     pub gbuffer: bool,
 }
 
+impl Readback {
+    /// The images and the G-buffer: what a comparison with a reference reads.
+    pub const ALL: Readback = Readback {
+        images: true,
+        gbuffer: true,
+    };
+}
+
 /// The most frames in flight a renderer keeps.
 pub const MAX_FRAMES_IN_FLIGHT: usize = 3;
 

@@ -481,7 +481,7 @@ fn blended_rectangles(
         scene
             .materials
             .get(o.material)
-            .is_some_and(|m| m.is_blended() || m.is_transmissive())
+            .is_some_and(|m| m.is_see_through())
     };
     if !scene.objects.iter().any(blended) {
         return Vec::new();

@@ -373,10 +373,7 @@ impl Tables {
             forward: scene
                 .objects
                 .iter()
-                .map(|o| {
-                    let m = &scene.materials[o.material];
-                    m.is_blended() || m.is_transmissive()
-                })
+                .map(|o| scene.materials[o.material].is_see_through())
                 .collect(),
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),
             variant: scene_variant(scene),

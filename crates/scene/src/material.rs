@@ -384,6 +384,13 @@ impl Material {
         self.transmission > 0.0
     }
 
+    /// Whether what is behind the material shows through it: blended or transmissive.
+    /// The renderer draws such surfaces over the opaque scene (its forward pass), not
+    /// into the G-buffer, and they cast no shadow.
+    pub fn is_see_through(&self) -> bool {
+        self.is_blended() || self.is_transmissive()
+    }
+
     /// Whether the material needs a tangent frame that follows the texture coordinates
     /// (a normal map or anisotropy).
     pub fn needs_uv_tangents(&self) -> bool {

@@ -19,9 +19,8 @@ impl FramePass for Behind {
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        frame.variant.transmission
-            && frame.targets.behind.is_some()
-            && frame.pipelines().forward.is_some()
+        // The targets of a TRANSMISSION variant have the behind image (TargetKey::of).
+        frame.variant.transmission && frame.pipelines().forward.is_some()
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {

@@ -25,7 +25,8 @@ impl FramePass for Forward {
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        frame.pipelines().forward.is_some() && frame.scene.forward.contains(&true)
+        // Built only for variants of scenes that draw a blended or transmissive object.
+        frame.pipelines().forward.is_some()
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
