@@ -22,6 +22,7 @@ layout(push_constant) uniform ForwardPush {
     uint object_index;     // read by gbuffer.vert
     uint light_count;
     float object_scale;    // the object's scale: a volume's thickness in metres per mesh unit
+    float object_extent;   // the diagonal of the object's world box (VOLUME: the longest path)
     vec4 camera_position;
 } push;
 
@@ -33,8 +34,153 @@ layout(push_constant) uniform ForwardPush {
 layout(location = 0) out vec4 out_radiance;
 
 #ifdef TRANSMISSION
-// The smallest cosine between the view and the normal the light enters by.
+// The smallest cosine between a ray and the normal it crosses.
 const float TRANSMISSION_MIN_COS = 1e-4;
+
+// `n` bent towards `towards` until their cosine is at least TRANSMISSION_MIN_COS: an
+// interpolated normal may face away from the ray near a silhouette (the face itself
+// faces it), and Snell's law assumes it does not.
+vec3 facing(vec3 n, vec3 towards) {
+    float c = dot(n, towards);
+    return c > TRANSMISSION_MIN_COS ? n : normalize(n + (TRANSMISSION_MIN_COS - c) * towards);
+}
+
+// Where world point `p` lands: (uv in [0, 1]², normalised depth, clip w).
+vec4 screen_point(vec3 p) {
+    vec4 clip = push.view_projection * vec4(p, 1.0);
+    return vec4(clip.xy / clip.w * 0.5 + 0.5, clip.z / clip.w, clip.w);
+}
+
+bool on_screen(vec2 uv) {
+    return all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)));
+}
+
+// What the eye sees through a transmissive surface along `direction` from `origin`
+// when the screen-space lookup is the pixel `uv` (`found`: the ray's own surface was
+// found there): the lit image behind at that pixel (a coarser level `lod` for rough
+// surfaces), or the environment along the ray where the lookup leaves the screen or
+// reaches the sky.
+vec3 seen_behind(vec2 uv, bool found, bool sky, vec3 direction, float lod, float roughness) {
+#ifdef ENVIRONMENT
+    if (!found || sky) {
+        float levels = float(textureQueryLevels(environment_specular) - 1);
+        return textureLod(environment_specular, direction, clamp(roughness, 0.0, 1.0) * levels).rgb;
+    }
+#endif
+    return textureLod(behind, clamp(uv, vec2(0.0), vec2(1.0)), lod).rgb;
+}
+
+#ifdef VOLUME
+// The linear search along a ray (steps), then its refinement (halvings).
+const int MARCH_STEPS = 48;
+const int REFINE_STEPS = 10;
+
+ivec2 texel_of(vec2 uv) {
+    ivec2 size = textureSize(back_face_depth, 0);
+    return clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
+}
+
+// Whether the point `q` (screen_point) lies past the nearest back face of the volumes
+// drawn at its pixel, or where there is none (the ray has left the volume's outline).
+bool past_back_face(vec4 q) {
+    float back = texelFetch(back_face_depth, texel_of(q.xy), 0).r;
+    return back >= 1.0 || q.z >= back;
+}
+
+// Where the ray p + s·d, refracted into a volume at p, leaves it: s at the far side the
+// back faces pass drew, searched for within `reach` (the object's longest path); -1 if
+// the ray leaves the screen first.
+float volume_exit(vec3 p, vec3 d, float reach) {
+    float inside = 0.0;
+    for (int i = 1; i <= MARCH_STEPS; ++i) {
+        float s = reach * float(i) / float(MARCH_STEPS);
+        vec4 q = screen_point(p + s * d);
+        if (!(q.w > 0.0) || !on_screen(q.xy)) {
+            return -1.0;
+        }
+        if (past_back_face(q)) {
+            float outside = s;
+            for (int k = 0; k < REFINE_STEPS; ++k) {
+                float mid = 0.5 * (inside + outside);
+                if (past_back_face(screen_point(p + mid * d))) {
+                    outside = mid;
+                } else {
+                    inside = mid;
+                }
+            }
+            return outside;
+        }
+        inside = s;
+    }
+    return -1.0;
+}
+
+// The outward normal of the far side where the ray p + s·d leaves: the normals drawn
+// there, interpolated between texels (those with none, outside the outline, weigh
+// nothing once normalised).
+vec3 exit_normal(vec3 p, vec3 d, float s) {
+    vec3 n = textureLod(back_face_normal, screen_point(p + s * d).xy, 0.0).xyz;
+    return dot(n, n) > 0.0 ? normalize(n) : d;
+}
+
+// What the ray p + u·d, leaving a volume at p, meets first on screen: marched in
+// screen space (where the normalised depth along a projected line is linear) against
+// the opaque surfaces' depth, up to the near plane and the screen's edge. `uv` is where
+// it meets a surface (`sky`: the background, depth 1) and the function returns true;
+// false if it leaves the screen first (`uv`: where it did).
+bool opaque_hit(vec3 p, vec3 d, out vec2 uv, out bool sky) {
+    vec4 c0 = push.view_projection * vec4(p, 1.0);
+    vec4 cd = push.view_projection * vec4(d, 0.0);
+    float reach = 1e4 * max(distance(p, push.camera_position.xyz), 1.0);
+    // Stop short of the near plane (clip z = 0) and of the eye's plane (w = 0).
+    if (cd.z < 0.0) {
+        reach = min(reach, 0.999 * c0.z / -cd.z);
+    }
+    if (cd.w < 0.0) {
+        reach = min(reach, 0.999 * c0.w / -cd.w);
+    }
+    vec4 c1 = c0 + reach * cd;
+    vec3 a = c0.xyz / c0.w;
+    vec3 b = c1.xyz / c1.w;
+    // The part of the line on screen: t in [0, t_end].
+    float t_end = 1.0;
+    for (int axis = 0; axis < 2; ++axis) {
+        float delta = b[axis] - a[axis];
+        if (delta > 0.0) {
+            t_end = min(t_end, (1.0 - a[axis]) / delta);
+        } else if (delta < 0.0) {
+            t_end = min(t_end, (-1.0 - a[axis]) / delta);
+        }
+    }
+    t_end = max(t_end, 0.0);
+    sky = false;
+    float before = 0.0;
+    for (int i = 0; i <= MARCH_STEPS; ++i) {
+        float t = t_end * float(i) / float(MARCH_STEPS);
+        vec3 q = mix(a, b, t);
+        uv = q.xy * 0.5 + 0.5;
+        float depth = texelFetch(scene_depth, texel_of(uv), 0).r;
+        if (q.z >= depth) {
+            float after = t;
+            for (int k = 0; k < REFINE_STEPS && i > 0; ++k) {
+                float mid = 0.5 * (before + after);
+                vec3 m = mix(a, b, mid);
+                if (m.z >= texelFetch(scene_depth, texel_of(m.xy * 0.5 + 0.5), 0).r) {
+                    after = mid;
+                } else {
+                    before = mid;
+                }
+            }
+            q = mix(a, b, after);
+            uv = q.xy * 0.5 + 0.5;
+            sky = texelFetch(scene_depth, texel_of(uv), 0).r >= 1.0;
+            return true;
+        }
+        before = t;
+    }
+    return false;
+}
+#endif
 
 // The radiance that passes through a transmissive surface towards the eye: what lies
 // behind it (the lit image before this pass, `behind`, or the environment where the
@@ -42,12 +188,19 @@ const float TRANSMISSION_MIN_COS = 1e-4;
 // - Entry: the exact dielectric transmittance T = 1 − R per polarisation at the view
 //   angle, from the outside medium η_i into the material's η_t (0 past the critical
 //   angle when η_i > η_t); refraction by Snell's law, η_i/η_t.
-// - With a volume: the path runs `thickness` (× the object's scale) along the refracted
-//   ray; the exit face is taken parallel to the entry face (a slab), so the light leaves
-//   at the angle it entered, through the same transmittance (reciprocity), along the
-//   view ray, and the lookup is the exit point's pixel. Beer–Lambert absorption e^(−σd)
-//   on the way, and the slab's internal reflections summed: T² a / (1 − R² a²) per
-//   polarisation and channel.
+// - With a volume, in the VOLUME variant: the refracted ray is followed to where it
+//   leaves the object, the nearest far side the back faces pass drew (marched against
+//   its depth), refracted out there through the normal drawn there (η_t/η_i, its own
+//   transmittance; nothing past the critical angle: the light reflected inside is not
+//   followed), and on to the opaque surface it meets (marched against the scene's
+//   depth), whose pixel of the lit image is what it sees. Beer–Lambert absorption
+//   e^(−σs) over the path s inside; the internal reflections between the two interfaces
+//   summed as a slab's: T₁T₂a / (1 − R₁R₂a²) per polarisation and channel.
+// - Otherwise (a volume whose exit leaves the screen, or outside the VOLUME variant):
+//   the exit face is taken parallel to the entry face (a slab `thickness` thick, × the
+//   object's scale), so the light leaves at the angle it entered, through the same
+//   transmittance, along the view ray, and the lookup is the exit point's pixel:
+//   T² a / (1 − R² a²).
 // - Thin-walled (no volume): the same slab with no thickness, a = 1: (1 − R)/(1 + R).
 // - Rough surfaces read a coarser level of `behind`: log2(size) · r · clamp(2η_t/η_i − 2,
 //   0, 1) (the glTF sample viewer's rule), not the rough interfaces' true spread.
@@ -55,50 +208,83 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
                           float roughness, float thickness) {
     float eta_i = m.outside_eta;
     float eta_t = m.dielectric_eta;
-    // An interpolated normal may face away from the eye near a silhouette (the face
-    // itself faces it): bent towards the eye until it faces it, so that the light still
-    // enters (and Snell's law, which assumes so, holds).
-    float cos_v = dot(n, v);
-    if (!(cos_v > TRANSMISSION_MIN_COS)) {
-        n = normalize(n + (TRANSMISSION_MIN_COS - cos_v) * v);
-        cos_v = clamp(dot(n, v), 0.0, 1.0);
-    }
-    vec2 t = fresnel_dielectric_transmittance(cos_v, eta_i, eta_t);
-    vec2 r = vec2(1.0) - t;
+    n = facing(n, v);
+    float cos_v = clamp(dot(n, v), 0.0, 1.0);
+    vec2 t_entry = fresnel_dielectric_transmittance(cos_v, eta_i, eta_t);
+    vec2 r_entry = vec2(1.0) - t_entry;
+    float size = float(max(textureSize(behind, 0).x, textureSize(behind, 0).y));
+    float lod = log2(size) * roughness * clamp(2.0 * eta_t / eta_i - 2.0, 0.0, 1.0);
     vec3 exit_point = position;
     vec3 absorbed = vec3(1.0);
+    vec2 t_exit = t_entry;
+    vec2 r_exit = r_entry;
+    vec2 t_return = t_entry;
+    vec3 seen = vec3(0.0);
+    vec3 seen_returned = vec3(0.0);
+    bool traced = false;
     if (thickness > 0.0) {
         vec3 refracted = refract(-v, n, eta_i / eta_t);
         if (dot(refracted, refracted) == 0.0) {
             return vec3(0.0);  // totally reflected at the entry (η_i > η_t)
         }
-        exit_point = position + refracted * thickness;
-        absorbed = exp(-material.absorption.rgb * thickness);
+#ifdef VOLUME
+        float s = volume_exit(position, refracted, push.object_extent);
+        if (s > 0.0) {
+            exit_point = position + s * refracted;
+            vec3 n_exit = facing(exit_normal(position, refracted, s), refracted);
+            vec3 leaving = refract(refracted, -n_exit, eta_t / eta_i);
+            float cos_exit = dot(refracted, n_exit);
+            t_exit = fresnel_dielectric_transmittance(cos_exit, eta_t, eta_i);
+            r_exit = vec2(1.0) - t_exit;
+            absorbed = exp(-material.absorption.rgb * s);
+            vec2 uv;
+            bool sky;
+            if (dot(leaving, leaving) > 0.0) {
+                bool found = opaque_hit(exit_point, leaving, uv, sky);
+                seen = seen_behind(uv, found, sky, leaving, lod, roughness);
+            }
+            // The part the exit reflects back inside, to where it leaves on the side it
+            // entered by: a chord as long again, meeting the entry normal mirrored about
+            // the exit's (exact for a sphere and a slab) at the exit's angle.
+            vec3 returning = reflect(refracted, n_exit);
+            vec3 n_return = facing(2.0 * dot(n, n_exit) * n_exit - n, returning);
+            vec3 returned = refract(returning, -n_return, eta_t / eta_i);
+            t_return = fresnel_dielectric_transmittance(dot(returning, n_return), eta_t, eta_i);
+            if (dot(returned, returned) > 0.0) {
+                bool found = opaque_hit(exit_point + s * returning, returned, uv, sky);
+#ifndef ENVIRONMENT
+                // Off the screen without an environment: nothing known is seen there.
+                if (found)
+#endif
+                seen_returned = seen_behind(uv, found, sky, returned, lod, roughness);
+            }
+            traced = true;
+        }
+#endif
+        if (!traced) {
+            exit_point = position + refracted * thickness;
+            absorbed = exp(-material.absorption.rgb * thickness);
+        }
     }
+    if (!traced) {
+        vec4 q = screen_point(exit_point);
+        seen = seen_behind(q.xy, q.w > 0.0 && on_screen(q.xy), false, -v, lod, roughness);
+    }
+    // Per polarisation and channel, the light that leaves by the far side (through both
+    // interfaces, after any number of round trips inside) and the light that leaves by
+    // the near side after one reflection at the far side (and any round trips more).
+    vec2 r_return = vec2(1.0) - t_return;
     float w = m.polarisation_weight;
-    vec3 slab = vec3(0.0);
+    vec3 radiance = vec3(0.0);
     for (int c = 0; c < 3; ++c) {
         float a = absorbed[c];
-        vec2 through = t * t * a / max(vec2(1.0) - r * r * a * a, vec2(1e-30));
-        slab[c] = (1.0 - w) * through.x + w * through.y;
+        vec2 round_trips = vec2(1.0) / max(vec2(1.0) - r_return * r_exit * a * a, vec2(1e-30));
+        vec2 through = t_entry * t_exit * a * round_trips;
+        vec2 back = t_entry * r_exit * t_return * a * a * round_trips;
+        radiance[c] = ((1.0 - w) * through.x + w * through.y) * seen[c]
+                    + ((1.0 - w) * back.x + w * back.y) * seen_returned[c];
     }
-    vec4 clip = push.view_projection * vec4(exit_point, 1.0);
-    vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-    float size = float(max(textureSize(behind, 0).x, textureSize(behind, 0).y));
-    float lod = log2(size) * roughness * clamp(2.0 * eta_t / eta_i - 2.0, 0.0, 1.0);
-    vec3 seen;
-    bool on_screen = clip.w > 0.0 && all(greaterThanEqual(uv, vec2(0.0)))
-                  && all(lessThanEqual(uv, vec2(1.0)));
-#ifdef ENVIRONMENT
-    if (!on_screen) {
-        float levels = float(textureQueryLevels(environment_specular) - 1);
-        seen = textureLod(environment_specular, -v, clamp(roughness, 0.0, 1.0) * levels).rgb;
-    } else
-#endif
-    {
-        seen = textureLod(behind, clamp(uv, vec2(0.0), vec2(1.0)), lod).rgb;
-    }
-    return slab * seen;
+    return radiance;
 }
 #endif
 

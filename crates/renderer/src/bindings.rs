@@ -562,13 +562,20 @@ pub static LIGHTING: SetDecl = SetDecl {
     includes: &["gpu_types.glsl"],
 };
 
-const FORWARD_BINDINGS: [Binding; 3 + LIT_BY.len()] = joined(
+const FORWARD_BINDINGS: [Binding; 6 + LIT_BY.len()] = joined(
     &[
         OBJECTS,
         MATERIALS_BOTH_STAGES,
         // The lit image behind the transmissive objects, every mip level (TRANSMISSION
         // variant; the behind pass makes it).
         Binding::new("behind", BindingKind::Sampler2D, FRAGMENT).only_with("TRANSMISSION"),
+        // The opaque surfaces' depth (the pass's own depth attachment, read-only), which
+        // rays leaving a transmissive volume march against (VOLUME variant).
+        Binding::new("scene_depth", BindingKind::Texture2D, FRAGMENT).only_with("VOLUME"),
+        // The transmissive volumes' nearest back faces, depth and normal, where the rays
+        // refracted into them leave (VOLUME variant; the back faces pass draws them).
+        Binding::new("back_face_depth", BindingKind::Texture2D, FRAGMENT).only_with("VOLUME"),
+        Binding::new("back_face_normal", BindingKind::Sampler2D, FRAGMENT).only_with("VOLUME"),
     ],
     &LIT_BY,
 );
@@ -580,6 +587,14 @@ pub static FORWARD: SetDecl = SetDecl {
     name: "forward",
     set: 0,
     bindings: &FORWARD_BINDINGS,
+    includes: &["gpu_types.glsl"],
+};
+
+/// The back faces pass (back_faces.vert, back_faces.frag): the object table.
+pub static BACK_FACES: SetDecl = SetDecl {
+    name: "back_faces",
+    set: 0,
+    bindings: &[OBJECTS],
     includes: &["gpu_types.glsl"],
 };
 
@@ -719,6 +734,7 @@ pub static ALL: &[&SetDecl] = &[
     &MATERIAL_TEXTURES,
     &LIGHTING,
     &FORWARD,
+    &BACK_FACES,
     &SHADOW_CASTERS,
     &OUTPUT,
     &OVERLAY,

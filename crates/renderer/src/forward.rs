@@ -137,7 +137,7 @@ impl ForwardPass {
             object_index: 0,
             light_count,
             object_scale: 1.0,
-            _pad: 0,
+            object_extent: 0.0,
             camera_position: eye.extend(1.0).to_array(),
         };
         let mut bound_material = None;
@@ -175,6 +175,8 @@ impl ForwardPass {
                     .objects
                     .get(object)
                     .map_or(1.0, |o| o.transform.determinant().abs().cbrt());
+                push.object_extent =
+                    scene.object_bounds[object].map_or(0.0, |(min, max)| min.distance(max));
                 raw.cmd_push_constants(
                     cmd,
                     self.layout.raw(),

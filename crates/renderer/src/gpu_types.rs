@@ -459,8 +459,9 @@ pub struct ForwardPush {
     /// The drawn object's scale (the cube root of its transform's |determinant|): a
     /// volume's thickness, in the mesh's units, times this is its thickness in metres.
     pub object_scale: f32,
-    /// Padding to the next vec4.
-    pub _pad: u32,
+    /// The length of the diagonal of the drawn object's world-space box: the longest
+    /// path through it (the VOLUME variant's rays look that far for where they leave).
+    pub object_extent: f32,
     /// The eye's world position (w = 1).
     pub camera_position: [f32; 4],
 }

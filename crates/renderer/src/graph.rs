@@ -26,6 +26,10 @@ pub enum ImageUse {
     /// Depth-tested against, read-only (no depth written), in the layout fragment shaders
     /// read depth in: a later pass's fragments hidden by what an earlier pass drew.
     DepthAttachmentTest,
+    /// Depth-tested against, read-only, and read by the same pass's fragment shaders
+    /// (texelFetch), both in the read-only depth layout: the forward pass hidden by the
+    /// opaque depth while its refracted rays march against it.
+    DepthAttachmentTestAndSampled,
     /// Read by fragment shaders (texelFetch).
     FragmentSampled,
     /// A depth image read by fragment shaders.
@@ -66,6 +70,11 @@ impl ImageUse {
             Self::DepthAttachmentTest => ImageState::new(
                 S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
                 A::DEPTH_STENCIL_ATTACHMENT_READ,
+                L::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+            ),
+            Self::DepthAttachmentTestAndSampled => ImageState::new(
+                S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS | S::FRAGMENT_SHADER,
+                A::DEPTH_STENCIL_ATTACHMENT_READ | A::SHADER_SAMPLED_READ,
                 L::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
             ),
             Self::FragmentSampled => ImageState::FRAGMENT_SAMPLED,
@@ -367,6 +376,7 @@ mod tests {
             ImageUse::DepthAttachmentWrite,
             ImageUse::ColorAttachmentBlend,
             ImageUse::DepthAttachmentTest,
+            ImageUse::DepthAttachmentTestAndSampled,
             ImageUse::FragmentSampled,
             ImageUse::DepthFragmentSampled,
             ImageUse::TransferSource,

@@ -33,6 +33,7 @@ pub mod light_cull;
 pub mod overlay;
 pub mod reference;
 
+mod back_faces;
 mod buffers;
 mod color;
 mod commands;

@@ -19,6 +19,8 @@ pub(crate) enum Faces {
     OfMaterial,
     /// Both faces of every object (shadow casters: a face blocks light either way).
     Both,
+    /// Back faces only, double-sided or not (the far sides of transmissive volumes).
+    Back,
 }
 
 /// The vertex streams besides the first (`GpuVertex`) that [`draw_objects`] binds for
@@ -169,10 +171,11 @@ fn draw_run(
         }
         raw.cmd_set_cull_mode(
             cmd,
-            if scene.double_sided[run.start] || faces == Faces::Both {
-                vk::CullModeFlags::NONE
-            } else {
-                vk::CullModeFlags::BACK
+            match faces {
+                Faces::Back => vk::CullModeFlags::FRONT,
+                Faces::Both => vk::CullModeFlags::NONE,
+                Faces::OfMaterial if scene.double_sided[run.start] => vk::CullModeFlags::NONE,
+                Faces::OfMaterial => vk::CullModeFlags::BACK,
             },
         );
         raw.cmd_draw_indexed(cmd, buffers.index_count, run.len() as u32, 0, 0, 0);

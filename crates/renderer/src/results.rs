@@ -61,6 +61,9 @@ impl PassTimings {
     pub const SHADOW_MAPS: &'static str = "shadow maps";
     /// The lighting pass, with the light culling that precedes it.
     pub const LIGHTING: &'static str = "lighting";
+    /// The far sides (depth, normals) of transmissive objects with a volume (scenes
+    /// with them).
+    pub const BACK_FACES: &'static str = "back faces";
     /// The copy of the lit image (with its mip chain) behind transmissive objects
     /// (scenes with them).
     pub const BEHIND: &'static str = "behind";

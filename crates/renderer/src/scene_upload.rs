@@ -171,6 +171,12 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
                 .get(o.material)
                 .is_some_and(|m| m.is_transmissive())
         }),
+        volume: scene.objects.iter().any(|o| {
+            scene
+                .materials
+                .get(o.material)
+                .is_some_and(|m| m.is_transmissive() && m.volume.is_some())
+        }),
         vertex_colors: scene
             .objects
             .iter()

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use combustion_vk::{vk, Device, Image, ImageDesc};
 
 use crate::error::RenderError;
-use crate::gbuffer::GBufferTargets;
+use crate::gbuffer::{GBufferTargets, DEPTH_FORMAT};
 use crate::graph::TrackedImage;
 use crate::options::{GBufferStorage, HdrFormat};
 
@@ -20,6 +20,8 @@ pub(crate) struct TargetKey {
     pub emissive_occlusion: bool,
     /// Whether there is the image of what lies behind transmissive objects.
     pub behind: bool,
+    /// Whether there are the far sides of transmissive volumes (depth and normals).
+    pub back_faces: bool,
 }
 
 impl TargetKey {
@@ -30,6 +32,7 @@ impl TargetKey {
             height: extent.height,
             emissive_occlusion: variant.has_emissive_occlusion_target(),
             behind: variant.transmission,
+            back_faces: variant.volume,
         }
     }
 }
@@ -42,6 +45,50 @@ pub(crate) struct FrameTargets {
     /// pass, with every mip level (rough transmission reads coarser levels), in variants
     /// with transmission (the behind pass makes it).
     pub behind: Option<Image>,
+    /// The far sides of the transmissive objects with a volume, in variants with one
+    /// (the back faces pass draws them; forward.frag's refracted rays leave there).
+    pub back_faces: Option<BackFaceTargets>,
+}
+
+/// The nearest back face of the transmissive volumes at each pixel: where a ray
+/// refracted into such an object leaves it.
+pub(crate) struct BackFaceTargets {
+    /// Its depth ([`DEPTH_FORMAT`], 1 where there is none).
+    pub depth: Image,
+    /// Its world-space normal, as the mesh gives it (facing out of the object), in rgb.
+    pub normal: Image,
+}
+
+/// The format of [`BackFaceTargets::normal`].
+pub(crate) const BACK_FACE_NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+
+impl BackFaceTargets {
+    fn new(device: &Arc<Device>, width: u32, height: u32) -> Result<Self, RenderError> {
+        let image = |name, format, usage: vk::ImageUsageFlags| {
+            Image::new(
+                device,
+                &ImageDesc::new(
+                    name,
+                    format,
+                    width,
+                    height,
+                    usage | vk::ImageUsageFlags::SAMPLED,
+                ),
+            )
+        };
+        Ok(Self {
+            depth: image(
+                "transmissive volumes' back face depth",
+                DEPTH_FORMAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            )?,
+            normal: image(
+                "transmissive volumes' back face normal",
+                BACK_FACE_NORMAL_FORMAT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT,
+            )?,
+        })
+    }
 }
 
 impl FrameTargets {
@@ -89,6 +136,11 @@ impl FrameTargets {
             } else {
                 None
             },
+            back_faces: if key.back_faces {
+                Some(BackFaceTargets::new(device, key.width, key.height)?)
+            } else {
+                None
+            },
         })
     }
 
@@ -103,6 +155,10 @@ impl FrameTargets {
         all.push((&self.gbuffer.depth).into());
         all.push((&self.hdr).into());
         all.extend(self.behind.as_ref().map(TrackedImage::from));
+        if let Some(back_faces) = &self.back_faces {
+            all.push((&back_faces.depth).into());
+            all.push((&back_faces.normal).into());
+        }
         all
     }
 }

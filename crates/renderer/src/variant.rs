@@ -155,6 +155,12 @@ pub struct ShaderVariant {
     /// objects are drawn by the forward pass (TRANSMISSION variant), which reads a copy
     /// of the lit image behind them, made by the behind pass with its mip chain.
     pub transmission: bool,
+    /// Some drawn transmissive object has a volume (KHR_materials_volume): the back
+    /// faces pass draws those objects' far sides (depth and normals), and forward.frag's
+    /// VOLUME variant follows each refracted ray through the object to where it leaves
+    /// and on to the opaque surface it meets (marching the depths); thin-walled glass
+    /// needs neither.
+    pub volume: bool,
     /// Some drawn mesh has vertex colours (glTF COLOR_0): the G-buffer pipelines read the
     /// colour stream and multiply it into the base colour and alpha (objects whose mesh
     /// has none use white).
@@ -222,6 +228,9 @@ impl ShaderVariant {
         }
         if self.transmission {
             defines.push(("TRANSMISSION", None));
+        }
+        if self.volume {
+            defines.push(("VOLUME", None));
         }
         match self.fresnel {
             FresnelModel::Full => {}

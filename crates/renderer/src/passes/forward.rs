@@ -42,11 +42,51 @@ impl FramePass for Forward {
                 &frame.scene.gpu.materials,
                 BufferUse::FragmentStorageRead,
             )
-            .touches((&frame.targets.hdr).into(), ImageUse::ColorAttachmentBlend)
-            .touches(
-                (&frame.targets.gbuffer.depth).into(),
-                ImageUse::DepthAttachmentTest,
-            );
+            .touches((&frame.targets.hdr).into(), ImageUse::ColorAttachmentBlend);
+        let absent = |io: PassIo, binding: &str| {
+            // Not declared by pipelines without the feature: any image will do.
+            io.bind_image(
+                binding,
+                frame.renderer.absent_target.view(),
+                ImageUse::FragmentSampled.state().layout,
+                vk::Sampler::null(),
+            )
+        };
+        let depth = &frame.targets.gbuffer.depth;
+        let io = match &frame.targets.back_faces {
+            // The VOLUME variant marches the rays leaving a volume against the depth it
+            // is tested against.
+            Some(back_faces) if frame.variant.volume => io
+                .image(
+                    "scene_depth",
+                    depth,
+                    ImageUse::DepthAttachmentTestAndSampled,
+                )
+                .image(
+                    "back_face_depth",
+                    &back_faces.depth,
+                    ImageUse::DepthFragmentSampled,
+                )
+                .sampled(
+                    "back_face_normal",
+                    &back_faces.normal,
+                    frame.renderer.behind_sampler.raw(),
+                    ImageUse::FragmentSampled,
+                ),
+            _ => absent(
+                absent(
+                    io.touches(depth.into(), ImageUse::DepthAttachmentTest),
+                    "scene_depth",
+                ),
+                "back_face_depth",
+            )
+            .bind_image(
+                "back_face_normal",
+                frame.renderer.absent_target.view(),
+                ImageUse::FragmentSampled.state().layout,
+                frame.renderer.behind_sampler.raw(),
+            ),
+        };
         let io = match &frame.targets.behind {
             Some(behind) if frame.variant.transmission => io.sampled(
                 "behind",

@@ -11,6 +11,7 @@
 //! [`SetDecl`] listed in `bindings::ALL`, which makes its GLSL header, layout and each
 //! frame slot's set), and one line in [`FRAME`] (docs/architecture.md walks through one).
 
+mod back_faces;
 mod behind;
 mod depth_copy;
 mod forward;
@@ -122,6 +123,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &gbuffer::GBuffer,
     &light_cull::LightCull,
     &lighting::Lighting,
+    &back_faces::BackFaces,
     &behind::Behind,
     &forward::Forward,
     &output::Output,
