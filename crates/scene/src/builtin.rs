@@ -1,6 +1,6 @@
 //! Built-in procedural scenes, so rendering needs no downloaded assets.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Quat, Vec3};
 
 use crate::{Camera, ComplexIor, DiffuseModel, Light, Material, Mesh, Object, Scene, SceneError};
 
@@ -19,6 +19,8 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "grid-sun",
     "spot-box",
     "point-among",
+    "glass",
+    "glass-underwater",
 ];
 
 /// Builds the built-in scene `name` (one of [`BUILTIN_SCENES`]), procedurally, needing no
@@ -40,7 +42,10 @@ pub const BUILTIN_SCENES: &[&str] = &[
 ///   (20° above the horizon), for shadows;
 /// - `spot-box`: a closed room lit by one spot light from the ceiling, three spheres on
 ///   its floor; `point-among`: a point light among a ring of spheres on a floor (shadows
-///   of local lights).
+///   of local lights);
+/// - `glass` and `glass-underwater`: a solid glass ball and a glass slab over tiles, and
+///   thin-walled glass spheres from smooth to rough (KHR_materials_transmission, volume),
+///   in air and under water.
 ///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
@@ -56,6 +61,8 @@ pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
         "grid-sun" => Ok(grid_sun()),
         "spot-box" => Ok(spot_box()),
         "point-among" => Ok(point_among()),
+        "glass" => Ok(glass(1.0, "glass")),
+        "glass-underwater" => Ok(glass(WATER_IOR, "glass-underwater")),
         "spheres-studio" => Ok(under_studio(spheres(), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
             Scene {
@@ -686,6 +693,132 @@ fn hard_cases() -> Scene {
 }
 
 /// Index of refraction of water (visible light, 20 °C), the outside medium of `underwater`.
+/// Glass (KHR_materials_transmission, KHR_materials_volume, KHR_materials_ior): a solid
+/// glass sphere (IOR 1.5, slightly green, absorbing) and an upright glass slab 4 cm thick
+/// over a floor of tiles in two colours, before a wall of tiles; a row of small
+/// thin-walled spheres from smooth to rough in front. Tiles are quads of two materials
+/// rather than a texture, so that every ray, refracted or not, sees a pattern the f64
+/// reference shades exactly. A sun and a point light. In the medium of index
+/// `outside_ior` (air, water).
+fn glass(outside_ior: f32, name: &str) -> Scene {
+    let tile = |name: &str, base_color: [f32; 3]| Material {
+        name: name.into(),
+        base_color,
+        roughness: 0.7,
+        ..Material::default()
+    };
+    let glass = |name: &str, roughness: f32, volume: Option<crate::Volume>| Material {
+        name: name.into(),
+        base_color: [1.0; 3],
+        roughness,
+        dielectric_ior: 1.5,
+        transmission: 1.0,
+        volume,
+        ..Material::default()
+    };
+    let absorbing = crate::Volume {
+        thickness: 1.0,
+        attenuation_distance: 1.5,
+        attenuation_color: [0.8, 0.95, 0.85],
+    };
+    let clear_slab = crate::Volume {
+        thickness: 0.04,
+        attenuation_distance: f32::INFINITY,
+        attenuation_color: [1.0; 3],
+    };
+    let mut objects = Vec::new();
+    // The floor: 8 × 8 tiles of 0.5 m; the wall: 8 × 4, upright at z = −1.5.
+    for i in 0..8 {
+        for j in 0..8 {
+            let at = Vec3::new(-1.75 + 0.5 * i as f32, 0.0, -1.5 + 0.5 * j as f32 + 0.25);
+            objects.push(placed(0, (i + j) % 2, Mat4::from_translation(at)));
+        }
+    }
+    for i in 0..8 {
+        for j in 0..4 {
+            let at = Vec3::new(-1.75 + 0.5 * i as f32, 0.25 + 0.5 * j as f32, -1.5);
+            let upright = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
+            objects.push(placed(
+                0,
+                (i + j + 1) % 2,
+                Mat4::from_rotation_translation(upright, at),
+            ));
+        }
+    }
+    objects.push(placed(
+        1,
+        2,
+        Mat4::from_translation(Vec3::new(-0.6, 0.5, -0.5)),
+    ));
+    objects.push(placed(
+        2,
+        3,
+        Mat4::from_translation(Vec3::new(0.75, 0.4, -0.4)),
+    ));
+    for (k, x) in [-0.9f32, -0.3, 0.3, 0.9].into_iter().enumerate() {
+        objects.push(placed(
+            3,
+            4 + k,
+            Mat4::from_translation(Vec3::new(x, 0.2, 0.7)),
+        ));
+    }
+    Scene {
+        name: name.into(),
+        meshes: vec![
+            Mesh::plane("tile", 0.5),
+            Mesh::uv_sphere("glass sphere", 0.5, 48, 24),
+            Mesh::cuboid("glass slab", [0.8, 0.8, 0.04]),
+            Mesh::uv_sphere("small sphere", 0.18, 32, 16),
+        ],
+        materials: vec![
+            tile("light tile", [0.8, 0.78, 0.7]),
+            tile("dark tile", [0.1, 0.12, 0.2]),
+            glass("green glass", 0.02, Some(absorbing)),
+            glass("clear glass slab", 0.02, Some(clear_slab)),
+            glass("thin, roughness 0", 0.0, None),
+            glass("thin, roughness 0.15", 0.15, None),
+            glass("thin, roughness 0.3", 0.3, None),
+            glass("thin, roughness 0.5", 0.5, None),
+        ],
+        objects,
+        lights: vec![
+            Light::Directional {
+                direction: Vec3::new(-0.4, -0.8, -0.45),
+                irradiance: [2.5, 2.4, 2.2],
+                casts_shadows: true,
+                angular_diameter: 0.0,
+            },
+            Light::Point {
+                position: Vec3::new(1.5, 2.0, 1.8),
+                intensity: [4.0, 4.0, 4.5],
+                range: None,
+                casts_shadows: true,
+                radius: 0.0,
+            },
+        ],
+        camera: Camera {
+            position: Vec3::new(0.0, 1.3, 3.2),
+            target: Vec3::new(0.0, 0.45, -0.4),
+            up: Vec3::Y,
+            vertical_fov: 45f32.to_radians(),
+            near: 0.1,
+            far: 50.0,
+        },
+        outside_ior,
+        environment: None,
+    }
+}
+
+/// `mesh` with `material` placed by `transform`, casting shadows.
+fn placed(mesh: usize, material: usize, transform: Mat4) -> Object {
+    Object {
+        mesh,
+        material,
+        transform,
+        casts_shadows: true,
+    }
+}
+
 const WATER_IOR: f32 = 1.33;
 
 /// Centre spacing and radius of the spheres of the figure scenes below.

@@ -509,122 +509,6 @@ fn blend_scene() -> Scene {
     }
 }
 
-/// Glass (KHR_materials_transmission, KHR_materials_volume, KHR_materials_ior): a solid
-/// glass sphere (IOR 1.5, slightly green, absorbing) and an upright glass slab 4 cm thick
-/// over a floor of tiles in two colours, before a wall of tiles; a row of small
-/// thin-walled spheres from smooth to rough in front. Tiles are quads of two materials
-/// rather than a texture, so that every ray, refracted or not, sees a pattern the f64
-/// reference shades exactly. A sun and a point light.
-fn glass_scene() -> Scene {
-    let tile = |name: &str, base_color: [f32; 3]| Material {
-        name: name.into(),
-        base_color,
-        roughness: 0.7,
-        ..Material::default()
-    };
-    let glass = |name: &str, roughness: f32, volume: Option<combustion_scene::Volume>| Material {
-        name: name.into(),
-        base_color: [1.0; 3],
-        roughness,
-        dielectric_ior: 1.5,
-        transmission: 1.0,
-        volume,
-        ..Material::default()
-    };
-    let absorbing = combustion_scene::Volume {
-        thickness: 1.0,
-        attenuation_distance: 1.5,
-        attenuation_color: [0.8, 0.95, 0.85],
-    };
-    let clear_slab = combustion_scene::Volume {
-        thickness: 0.04,
-        attenuation_distance: f32::INFINITY,
-        attenuation_color: [1.0; 3],
-    };
-    let object = placed;
-    let mut objects = Vec::new();
-    // The floor: 8 × 8 tiles of 0.5 m; the wall: 8 × 4, upright at z = −1.5.
-    for i in 0..8 {
-        for j in 0..8 {
-            let at = Vec3::new(-1.75 + 0.5 * i as f32, 0.0, -1.5 + 0.5 * j as f32 + 0.25);
-            objects.push(object(0, (i + j) % 2, Mat4::from_translation(at)));
-        }
-    }
-    for i in 0..8 {
-        for j in 0..4 {
-            let at = Vec3::new(-1.75 + 0.5 * i as f32, 0.25 + 0.5 * j as f32, -1.5);
-            let upright = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
-            objects.push(object(
-                0,
-                (i + j + 1) % 2,
-                Mat4::from_rotation_translation(upright, at),
-            ));
-        }
-    }
-    objects.push(object(
-        1,
-        2,
-        Mat4::from_translation(Vec3::new(-0.6, 0.5, -0.5)),
-    ));
-    objects.push(object(
-        2,
-        3,
-        Mat4::from_translation(Vec3::new(0.75, 0.4, -0.4)),
-    ));
-    for (k, x) in [-0.9f32, -0.3, 0.3, 0.9].into_iter().enumerate() {
-        objects.push(object(
-            3,
-            4 + k,
-            Mat4::from_translation(Vec3::new(x, 0.2, 0.7)),
-        ));
-    }
-    Scene {
-        name: "glass".into(),
-        meshes: vec![
-            Mesh::plane("tile", 0.5),
-            Mesh::uv_sphere("glass sphere", 0.5, 48, 24),
-            Mesh::cuboid("glass slab", [0.8, 0.8, 0.04]),
-            Mesh::uv_sphere("small sphere", 0.18, 32, 16),
-        ],
-        materials: vec![
-            tile("light tile", [0.8, 0.78, 0.7]),
-            tile("dark tile", [0.1, 0.12, 0.2]),
-            glass("green glass", 0.02, Some(absorbing)),
-            glass("clear glass slab", 0.02, Some(clear_slab)),
-            glass("thin, roughness 0", 0.0, None),
-            glass("thin, roughness 0.15", 0.15, None),
-            glass("thin, roughness 0.3", 0.3, None),
-            glass("thin, roughness 0.5", 0.5, None),
-        ],
-        objects,
-        lights: vec![
-            Light::Directional {
-                direction: Vec3::new(-0.4, -0.8, -0.45),
-                irradiance: [2.5, 2.4, 2.2],
-                casts_shadows: true,
-                angular_diameter: 0.0,
-            },
-            Light::Point {
-                position: Vec3::new(1.5, 2.0, 1.8),
-                intensity: [4.0, 4.0, 4.5],
-                range: None,
-                casts_shadows: true,
-                radius: 0.0,
-            },
-        ],
-        camera: Camera {
-            position: Vec3::new(0.0, 1.3, 3.2),
-            target: Vec3::new(0.0, 0.45, -0.4),
-            up: Vec3::Y,
-            vertical_fov: 45f32.to_radians(),
-            near: 0.1,
-            far: 50.0,
-        },
-        outside_ior: 1.0,
-        environment: None,
-    }
-}
-
 /// What glTF cannot say, through `COMBUSTION_materials_optics`: spheres under water
 /// (scene outside IOR 1.33), a named metal, a spectral table, explicit η + ik, a
 /// base-colour conductor, an air bubble (material outside IOR), all three diffuse
@@ -800,7 +684,13 @@ fn write_authored(dir: &Path) {
     std::fs::create_dir_all(dir.join("cutout")).unwrap();
     std::fs::create_dir_all(dir.join("blend")).unwrap();
     std::fs::create_dir_all(dir.join("glass")).unwrap();
-    save_gltf(&glass_scene(), &dir.join("glass/glass.gltf")).unwrap();
+    // The built-in glass scene, kept as a file too: the transmission and volume
+    // extensions' reader and writer, and the scene the tests of glass load.
+    save_gltf(
+        &builtin_scene("glass").unwrap(),
+        &dir.join("glass/glass.gltf"),
+    )
+    .unwrap();
     save_gltf(&blend_scene(), &dir.join("blend/blend.gltf")).unwrap();
     save_gltf(&textured_scene(), &dir.join("textured/textured.gltf")).unwrap();
     save_gltf(&cutout_scene(), &dir.join("cutout/cutout.gltf")).unwrap();
@@ -880,7 +770,7 @@ fn the_blend_scene_is_current() {
 
 #[test]
 fn the_glass_scene_is_current() {
-    let scene = assert_authored_is_current("glass", &glass_scene());
+    let scene = assert_authored_is_current("glass", &builtin_scene("glass").unwrap());
     let features = scene.features();
     assert_eq!((features.transmissive, features.volumes), (6, 2));
 }
