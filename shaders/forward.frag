@@ -71,9 +71,23 @@ vec3 seen_behind(vec2 uv, bool found, bool sky, vec3 direction, float lod, float
 }
 
 #ifdef VOLUME
-// The linear search along a ray (steps), then its refinement (halvings).
-const int MARCH_STEPS = 48;
-const int REFINE_STEPS = 10;
+// The linear search through a volume, whose far side the ray crosses once (steps), then
+// its refinement (halvings).
+const int EXIT_STEPS = 8;
+const int REFINE_STEPS = 7;
+
+// How a ray is marched on screen: a step every `pixels` pixels, at most `steps` steps,
+// then `halvings` halvings of the step that crossed a surface.
+struct ScreenMarch {
+    float pixels;
+    int steps;
+    int halvings;
+};
+// The ray through the volume: to the lookup's precision (a fraction of a pixel).
+const ScreenMarch THROUGH = ScreenMarch(8.0, 32, 8);
+// The ray the far side reflects back out, weighted by its reflectance (R ≈ 0.04 in air):
+// coarser.
+const ScreenMarch RETURNED = ScreenMarch(12.0, 16, 5);
 
 ivec2 texel_of(vec2 uv) {
     ivec2 size = textureSize(back_face_depth, 0);
@@ -92,8 +106,8 @@ bool past_back_face(vec4 q) {
 // the ray leaves the screen first.
 float volume_exit(vec3 p, vec3 d, float reach) {
     float inside = 0.0;
-    for (int i = 1; i <= MARCH_STEPS; ++i) {
-        float s = reach * float(i) / float(MARCH_STEPS);
+    for (int i = 1; i <= EXIT_STEPS; ++i) {
+        float s = reach * float(i) / float(EXIT_STEPS);
         vec4 q = screen_point(p + s * d);
         if (!(q.w > 0.0) || !on_screen(q.xy)) {
             return -1.0;
@@ -128,7 +142,7 @@ vec3 exit_normal(vec3 p, vec3 d, float s) {
 // the opaque surfaces' depth, up to the near plane and the screen's edge. `uv` is where
 // it meets a surface (`sky`: the background, depth 1) and the function returns true;
 // false if it leaves the screen first (`uv`: where it did).
-bool opaque_hit(vec3 p, vec3 d, out vec2 uv, out bool sky) {
+bool opaque_hit(vec3 p, vec3 d, ScreenMarch march, out vec2 uv, out bool sky) {
     vec4 c0 = push.view_projection * vec4(p, 1.0);
     vec4 cd = push.view_projection * vec4(d, 0.0);
     float reach = 1e4 * max(distance(p, push.camera_position.xyz), 1.0);
@@ -155,14 +169,17 @@ bool opaque_hit(vec3 p, vec3 d, out vec2 uv, out bool sky) {
     t_end = max(t_end, 0.0);
     sky = false;
     float before = 0.0;
-    for (int i = 0; i <= MARCH_STEPS; ++i) {
-        float t = t_end * float(i) / float(MARCH_STEPS);
+    vec2 size = vec2(textureSize(scene_depth, 0));
+    float pixels = length((b.xy - a.xy) * 0.5 * size) * t_end;
+    int steps = clamp(int(ceil(pixels / march.pixels)), 1, march.steps);
+    for (int i = 0; i <= steps; ++i) {
+        float t = t_end * float(i) / float(steps);
         vec3 q = mix(a, b, t);
         uv = q.xy * 0.5 + 0.5;
         float depth = texelFetch(scene_depth, texel_of(uv), 0).r;
         if (q.z >= depth) {
             float after = t;
-            for (int k = 0; k < REFINE_STEPS && i > 0; ++k) {
+            for (int k = 0; k < march.halvings && i > 0; ++k) {
                 float mid = 0.5 * (before + after);
                 vec3 m = mix(a, b, mid);
                 if (m.z >= texelFetch(scene_depth, texel_of(m.xy * 0.5 + 0.5), 0).r) {
@@ -240,7 +257,7 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
             vec2 uv;
             bool sky;
             if (dot(leaving, leaving) > 0.0) {
-                bool found = opaque_hit(exit_point, leaving, uv, sky);
+                bool found = opaque_hit(exit_point, leaving, THROUGH, uv, sky);
                 seen = seen_behind(uv, found, sky, leaving, lod, roughness);
             }
             // The part the exit reflects back inside, to where it leaves on the side it
@@ -251,7 +268,7 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
             vec3 returned = refract(returning, -n_return, eta_t / eta_i);
             t_return = fresnel_dielectric_transmittance(dot(returning, n_return), eta_t, eta_i);
             if (dot(returned, returned) > 0.0) {
-                bool found = opaque_hit(exit_point + s * returning, returned, uv, sky);
+                bool found = opaque_hit(exit_point + s * returning, returned, RETURNED, uv, sky);
 #ifndef ENVIRONMENT
                 // Off the screen without an environment: nothing known is seen there.
                 if (found)
