@@ -55,19 +55,65 @@ bool on_screen(vec2 uv) {
     return all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)));
 }
 
+// The texel of the frame's images (the opaque depth's, the back faces') at `uv`.
+ivec2 texel_of(vec2 uv) {
+    ivec2 size = textureSize(scene_depth, 0);
+    return clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
+}
+
+// The two levels of `behind` whose blurs, averaged, spread it as a rough transmissive
+// surface spreads the light it lets through, seen `beyond` metres past the surface at
+// clip depth `w_beyond`. Through a microfacet tilted by θ (small angles) light bends by
+// about (η − 1)θ, η = η_t/η_i, entering and leaving alike, and the tilts of the two
+// interfaces (thin wall or volume) add as a difference: the light's deviation is
+// distributed as GGX's slopes (tilt tan θ within s for a share s²/(α² + s²), α = r²)
+// scaled by (η − 1)√2. That lobe is a sharp core in wide tails, which no single blur
+// is: each half of its light gets its own, the inner half a blur of the inner half's
+// median radius (share 1/4: s = α/√3), the outer half of the outer's (share 3/4:
+// s = α√3), in pixels across `beyond`. A bilinear lookup at level L of a chain of 2×
+// box reductions weighs level 0 by a box 2^L wide (variance 4^L/12 per axis) under a
+// tent 2^(L+1) wide (4^L/6): variance 4^L/4, half its weight within 1.18σ = 0.59·2^L
+// of its centre (as a Gaussian's): level = log2(radius / 0.59).
+vec2 rough_lods(float roughness, float eta, float beyond, float w_beyond) {
+    float slope = abs(eta - 1.0) * sqrt(2.0) * roughness * roughness;
+    // 1/tan(fov/2): the projection's y scale, the length of the view-projection's second
+    // row (the view's rows are orthonormal).
+    float focal = length(vec3(push.view_projection[0][1], push.view_projection[1][1],
+                              push.view_projection[2][1]));
+    float pixel = 2.0 * w_beyond / (focal * float(textureSize(behind, 0).y));
+    float radius = beyond * slope / max(pixel, 1e-30);
+    vec2 radii = radius * vec2(1.0 / sqrt(3.0), sqrt(3.0));
+    return log2(max(radii / 0.59, vec2(1.0)));
+}
+
+// How far past `p` (on a transmissive surface) the opaque surface the eye sees through
+// it lies, along the eye's ray (0 in front of it), and that surface's clip depth w.
+float behind_distance(vec3 p, out float w_beyond) {
+    vec3 eye = push.camera_position.xyz;
+    vec3 dir = normalize(p - eye);
+    vec4 c0 = push.view_projection * vec4(eye, 1.0);
+    vec4 cd = push.view_projection * vec4(dir, 0.0);
+    vec4 q = screen_point(p);
+    float z = texelFetch(scene_depth, texel_of(q.xy), 0).r;
+    float t = (z * c0.w - c0.z) / (cd.z - z * cd.w);
+    w_beyond = c0.w + t * cd.w;
+    return max(t - distance(p, eye), 0.0);
+}
+
 // What the eye sees through a transmissive surface along `direction` from `origin`
 // when the screen-space lookup is the pixel `uv` (`found`: the ray's own surface was
-// found there): the lit image behind at that pixel (a coarser level `lod` for rough
+// found there): the lit image behind at that pixel (coarser levels `lods`, averaged, for rough
 // surfaces), or the environment along the ray where the lookup leaves the screen or
 // reaches the sky.
-vec3 seen_behind(vec2 uv, bool found, bool sky, vec3 direction, float lod, float roughness) {
+vec3 seen_behind(vec2 uv, bool found, bool sky, vec3 direction, vec2 lods, float roughness) {
 #ifdef ENVIRONMENT
     if (!found || sky) {
         float levels = float(textureQueryLevels(environment_specular) - 1);
         return textureLod(environment_specular, direction, clamp(roughness, 0.0, 1.0) * levels).rgb;
     }
 #endif
-    return textureLod(behind, clamp(uv, vec2(0.0), vec2(1.0)), lod).rgb;
+    uv = clamp(uv, vec2(0.0), vec2(1.0));
+    return 0.5 * (textureLod(behind, uv, lods.x).rgb + textureLod(behind, uv, lods.y).rgb);
 }
 
 #ifdef VOLUME
@@ -88,11 +134,6 @@ const ScreenMarch THROUGH = ScreenMarch(8.0, 32, 8);
 // The ray the far side reflects back out, weighted by its reflectance (R ≈ 0.04 in air):
 // coarser.
 const ScreenMarch RETURNED = ScreenMarch(12.0, 16, 5);
-
-ivec2 texel_of(vec2 uv) {
-    ivec2 size = textureSize(back_face_depth, 0);
-    return clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1);
-}
 
 // Whether the point `q` (screen_point) lies past the nearest back face of the volumes
 // drawn at its pixel, or where there is none (the ray has left the volume's outline).
@@ -141,8 +182,10 @@ vec3 exit_normal(vec3 p, vec3 d, float s) {
 // screen space (where the normalised depth along a projected line is linear) against
 // the opaque surfaces' depth, up to the near plane and the screen's edge. `uv` is where
 // it meets a surface (`sky`: the background, depth 1) and the function returns true;
-// false if it leaves the screen first (`uv`: where it did).
-bool opaque_hit(vec3 p, vec3 d, ScreenMarch march, out vec2 uv, out bool sky) {
+// false if it leaves the screen first (`uv`: where it did). `travelled`: how far from p
+// along d that is; `w_hit`: its clip depth.
+bool opaque_hit(vec3 p, vec3 d, ScreenMarch march, out vec2 uv, out bool sky,
+                out float travelled, out float w_hit) {
     vec4 c0 = push.view_projection * vec4(p, 1.0);
     vec4 cd = push.view_projection * vec4(d, 0.0);
     float reach = 1e4 * max(distance(p, push.camera_position.xyz), 1.0);
@@ -168,6 +211,12 @@ bool opaque_hit(vec3 p, vec3 d, ScreenMarch march, out vec2 uv, out bool sky) {
     }
     t_end = max(t_end, 0.0);
     sky = false;
+    // The world distance along d of the point a screen-space fraction t along: clip
+    // coordinates interpolate linearly in the world, their divisions by w on screen.
+    float w0 = c0.w;
+    float w1 = c1.w;
+    travelled = reach * t_end * w0 / ((1.0 - t_end) * w1 + t_end * w0);
+    w_hit = w0 + travelled * cd.w;
     float before = 0.0;
     vec2 size = vec2(textureSize(scene_depth, 0));
     float pixels = length((b.xy - a.xy) * 0.5 * size) * t_end;
@@ -191,6 +240,8 @@ bool opaque_hit(vec3 p, vec3 d, ScreenMarch march, out vec2 uv, out bool sky) {
             q = mix(a, b, after);
             uv = q.xy * 0.5 + 0.5;
             sky = texelFetch(scene_depth, texel_of(uv), 0).r >= 1.0;
+            travelled = reach * after * w0 / ((1.0 - after) * w1 + after * w0);
+            w_hit = w0 + travelled * cd.w;
             return true;
         }
         before = t;
@@ -219,8 +270,8 @@ bool opaque_hit(vec3 p, vec3 d, ScreenMarch march, out vec2 uv, out bool sky) {
 //   transmittance, along the view ray, and the lookup is the exit point's pixel:
 //   T² a / (1 − R² a²).
 // - Thin-walled (no volume): the same slab with no thickness, a = 1: (1 − R)/(1 + R).
-// - Rough surfaces read a coarser level of `behind`: log2(size) · r · clamp(2η_t/η_i − 2,
-//   0, 1) (the glTF sample viewer's rule), not the rough interfaces' true spread.
+// - Rough surfaces read a coarser level of `behind`, as wide as their two interfaces
+//   spread the light over the distance to what it meets (rough_lods).
 vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, vec3 position,
                           float roughness, float thickness) {
     float eta_i = m.outside_eta;
@@ -229,8 +280,7 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
     float cos_v = clamp(dot(n, v), 0.0, 1.0);
     vec2 t_entry = fresnel_dielectric_transmittance(cos_v, eta_i, eta_t);
     vec2 r_entry = vec2(1.0) - t_entry;
-    float size = float(max(textureSize(behind, 0).x, textureSize(behind, 0).y));
-    float lod = log2(size) * roughness * clamp(2.0 * eta_t / eta_i - 2.0, 0.0, 1.0);
+    float eta = eta_t / eta_i;
     vec3 exit_point = position;
     vec3 absorbed = vec3(1.0);
     vec2 t_exit = t_entry;
@@ -256,9 +306,12 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
             absorbed = exp(-material.absorption.rgb * s);
             vec2 uv;
             bool sky;
+            float beyond;
+            float w_beyond;
             if (dot(leaving, leaving) > 0.0) {
-                bool found = opaque_hit(exit_point, leaving, THROUGH, uv, sky);
-                seen = seen_behind(uv, found, sky, leaving, lod, roughness);
+                bool found = opaque_hit(exit_point, leaving, THROUGH, uv, sky, beyond, w_beyond);
+                vec2 lods = rough_lods(roughness, eta, beyond, w_beyond);
+                seen = seen_behind(uv, found, sky, leaving, lods, roughness);
             }
             // The part the exit reflects back inside, to where it leaves on the side it
             // entered by: a chord as long again, meeting the entry normal mirrored about
@@ -268,12 +321,14 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
             vec3 returned = refract(returning, -n_return, eta_t / eta_i);
             t_return = fresnel_dielectric_transmittance(dot(returning, n_return), eta_t, eta_i);
             if (dot(returned, returned) > 0.0) {
-                bool found = opaque_hit(exit_point + s * returning, returned, RETURNED, uv, sky);
+                bool found = opaque_hit(exit_point + s * returning, returned, RETURNED, uv, sky,
+                                        beyond, w_beyond);
+                vec2 lods = rough_lods(roughness, eta, beyond, w_beyond);
 #ifndef ENVIRONMENT
                 // Off the screen without an environment: nothing known is seen there.
                 if (found)
 #endif
-                seen_returned = seen_behind(uv, found, sky, returned, lod, roughness);
+                seen_returned = seen_behind(uv, found, sky, returned, lods, roughness);
             }
             traced = true;
         }
@@ -285,7 +340,10 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
     }
     if (!traced) {
         vec4 q = screen_point(exit_point);
-        seen = seen_behind(q.xy, q.w > 0.0 && on_screen(q.xy), false, -v, lod, roughness);
+        float w_beyond;
+        float beyond = behind_distance(exit_point, w_beyond);
+        vec2 lods = rough_lods(roughness, eta, beyond, w_beyond);
+        seen = seen_behind(q.xy, q.w > 0.0 && on_screen(q.xy), false, -v, lods, roughness);
     }
     // Per polarisation and channel, the light that leaves by the far side (through both
     // interfaces, after any number of round trips inside) and the light that leaves by

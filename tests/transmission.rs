@@ -262,8 +262,9 @@ fn glass_against_the_oracle(scene: &Scene, label: &str) -> Vec<MaterialErrors> {
 /// the screen-space estimate leaves out (docs/gltf.md, "Transmission"): the tiles'
 /// edges, which a lookup between two pixels of the image behind blends where the oracle
 /// sees one tile or the other (a ball magnifies them); the far side's reflection of
-/// what is off the screen; the rough spheres' blur, which is the mip heuristic's, not a
-/// rough interface's. `volumes_before_an_even_background` takes the edges away.
+/// what is off the screen; what two blurred lookups of the image behind cannot show of
+/// a rough wall's lobe, which the oracle integrates. `volumes_before_an_even_background`
+/// takes the edges away.
 #[test]
 fn the_glass_scene_against_its_oracle() {
     for outside_ior in [1.0, 1.33] {

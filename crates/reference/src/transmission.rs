@@ -5,7 +5,16 @@
 //! - **Thin-walled** (no volume): the surface is a shell of no thickness; light goes
 //!   straight through both of its interfaces, with the incoherent sum of the internal
 //!   reflections between them: (1 − R)/(1 + R) per polarisation, R the dielectric
-//!   reflectance at the view angle from the outside medium into the material.
+//!   reflectance at the view angle from the outside medium into the material. A rough
+//!   one spreads what it lets through as its two interfaces, both of its roughness,
+//!   refract it: in through a microfacet normal the view sees (GGX visible normals, the
+//!   surface's α), η_i/η_t, and out through one the far wall (parallel, no thickness
+//!   away) shows the light inside, η_t/η_i, each direction weighted by the masking of
+//!   the refracted ray (separable Smith G₁ per interface). The spread is normalised (it
+//!   loses no light: the smooth wall's transmittance is kept) and integrated with
+//!   [`ROUGH_SAMPLES`] Hammersley–Halton points (shifted per point) at the first surface a pixel's light passes
+//!   through (a rough thin wall behind it is followed straight through). Where the
+//!   indices match, nothing bends, rough or not.
 //! - **Volume**: the view ray is refracted into the object (Snell, η_i/η_t; none past the
 //!   critical angle), followed through the scene's triangles to where it leaves (the
 //!   first surface it meets inside, whichever object's), absorbed on the way
@@ -16,15 +25,18 @@
 //!   interface, for up to [`TRANSMISSION_DEPTH`] interfaces in all (what remains beyond
 //!   them is dropped). Each polarisation is carried separately and weighted at the end
 //!   (the planes of incidence of successive interfaces are taken to coincide).
-//! - Interfaces are smooth: a rough surface's transmission is followed along its shading
-//!   normal, as a smooth one's (its reflection keeps its roughness).
+//! - A volume's interfaces are smooth: a rough one's transmission is followed along its
+//!   shading normal, as a smooth one's (its reflection keeps its roughness).
 //! - Shading normals: where an interpolated normal faces away from the ray that meets it
 //!   (near a silhouette), it is bent towards the ray until their cosine is 10⁻⁴, as the
 //!   renderer does.
 //! - Secondary rays read textures at their finest level; what they miss is black (no
 //!   environment behind).
 
+use combustion_optics::environment::sample_ggx_vndf;
 use combustion_optics::fresnel::{fresnel_dielectric, fresnel_dielectric_transmittance};
+use combustion_optics::microfacet::lambda_ggx_anisotropic;
+use combustion_optics::vec3::Vec3 as OpticsVec3;
 use combustion_scene::Material;
 use glam::DVec3;
 
@@ -37,11 +49,35 @@ use crate::Ray;
 /// beyond the first surface a pixel shows.
 pub const TRANSMISSION_DEPTH: u32 = 8;
 
+/// The directions a rough thin-walled surface's transmission is integrated over, per
+/// point (see the module docs).
+pub const ROUGH_SAMPLES: u32 = 1024;
+
 /// The smallest cosine between a ray and the normal it crosses (see the module docs).
 const MIN_COS: f64 = 1e-4;
 
 /// A radiance per polarisation (s, p), RGB each.
 type Polarised3 = ([f64; 3], [f64; 3]);
+
+/// The radical inverse of `i` in `base`: the Halton sequence's coordinate, in [0, 1).
+fn radical_inverse(base: u32, mut i: u32) -> f64 {
+    let (mut inverse, mut scale) = (0.0, 1.0 / f64::from(base));
+    while i > 0 {
+        inverse += f64::from(i % base) * scale;
+        i /= base;
+        scale /= f64::from(base);
+    }
+    inverse
+}
+
+/// [`refract`] in the optics crate's vectors: `d` (unit) through a microfacet of unit
+/// normal `m` on the side `d` comes from, relative index `eta`; `None` past the
+/// critical angle.
+fn refract_local(d: OpticsVec3<f64>, m: OpticsVec3<f64>, eta: f64) -> Option<OpticsVec3<f64>> {
+    let m = if m.dot(d) > 0.0 { m * -1.0 } else { m };
+    let to = |w: OpticsVec3<f64>| DVec3::new(w.x, w.y, w.z);
+    refract(to(d), to(m), eta).map(|r| OpticsVec3::new(r.x, r.y, r.z))
+}
 
 /// `n` bent towards `towards` (unit) until their cosine is at least [`MIN_COS`].
 fn facing(n: DVec3, towards: DVec3) -> DVec3 {
@@ -85,7 +121,7 @@ impl SceneShading<'_> {
         let (s, p) = match material.volume {
             None => {
                 let r = fresnel_dielectric(cos_v, eta_i, eta_t);
-                let behind = self.radiance_along(position, -v, depth);
+                let behind = self.through_thin_wall(surface, n, position, depth);
                 (
                     behind.map(|l| l * (1.0 - r.s) / (1.0 + r.s)),
                     behind.map(|l| l * (1.0 - r.p) / (1.0 + r.p)),
@@ -102,6 +138,79 @@ impl SceneShading<'_> {
             }
         };
         std::array::from_fn(|c| (1.0 - w) * s[c] + w * p[c])
+    }
+
+    /// What a thin-walled `surface` (shading normal `n`, facing its viewer) lets through
+    /// towards its viewer before its transmittance: straight through where it is smooth,
+    /// else the mean over the directions its two rough interfaces refract the light
+    /// into (see the module docs).
+    fn through_thin_wall(
+        &self,
+        surface: &SurfacePoint,
+        n: DVec3,
+        position: DVec3,
+        depth: u32,
+    ) -> [f64; 3] {
+        let v = surface.v;
+        // Only the first surface a pixel's light passes through is integrated over; a
+        // rough thin wall further along is followed straight through (as the renderer's
+        // screen-space lookup sees the opaque scene only).
+        let first = depth + 1 == TRANSMISSION_DEPTH;
+        if surface.roughness.is_nan() || surface.roughness <= 0.0 || !first {
+            return self.radiance_along(position, -v, depth);
+        }
+        let (ax, ay) = (surface.brdf.alpha_x, surface.brdf.alpha_y);
+        let (eta_i, eta_t) = (surface.brdf.outside_eta, surface.brdf.dielectric_eta);
+        // The shading frame about the (possibly bent) normal: z towards the viewer.
+        let t = (surface.t - n * n.dot(surface.t)).normalize_or(n.any_orthonormal_vector());
+        let b = n.cross(t);
+        let v_local = OpticsVec3::new(v.dot(t), v.dot(b), v.dot(n));
+        // G₁ of a direction below the surface, as seen from below.
+        let g1_below = |d: OpticsVec3<f64>| {
+            1.0 / (1.0 + lambda_ggx_anisotropic(OpticsVec3::new(d.x, d.y, -d.z), ax, ay))
+        };
+        // The point set shifted per point (Cranley–Patterson), so that neighbouring
+        // pixels' integration errors do not line up into streaks.
+        let mut random = combustion_optics::environment::SplitMix64::new(
+            position
+                .to_array()
+                .iter()
+                .fold(0x5EED, |h, c| h ^ c.to_bits().rotate_left(17)),
+        );
+        let shift: [f64; 4] = std::array::from_fn(|_| random.next_f64());
+        let (mut sum, mut weights) = ([0.0; 3], 0.0);
+        for i in 0..ROUGH_SAMPLES {
+            let u1 = ((f64::from(i) + 0.5) / f64::from(ROUGH_SAMPLES) + shift[0]).fract();
+            let u2 = (f64::from(i.reverse_bits()) * (1.0 / 4_294_967_296.0) + shift[1]).fract();
+            // In through a microfacet the view sees...
+            let m_in = sample_ggx_vndf(v_local, ax, ay, u1, u2);
+            let Some(inside) = refract_local(-v_local, m_in, eta_i / eta_t) else {
+                continue;
+            };
+            // ...and out through one of the far wall's (parallel, as rough) that the
+            // light inside meets (seen from inside, the glass's side is above it too).
+            let u3 = (radical_inverse(3, i) + shift[2]).fract();
+            let u4 = (radical_inverse(5, i) + shift[3]).fract();
+            let m_out = sample_ggx_vndf(-inside, ax, ay, u3, u4);
+            let Some(out) = refract_local(inside, m_out, eta_t / eta_i) else {
+                continue;
+            };
+            if !(inside.z < 0.0 && out.z < 0.0) {
+                continue;
+            }
+            let weight = g1_below(inside) * g1_below(out);
+            let through = (t * out.x + b * out.y + n * out.z).normalize();
+            let radiance = self.radiance_along(position, through, depth);
+            for c in 0..3 {
+                sum[c] += weight * radiance[c];
+            }
+            weights += weight;
+        }
+        if weights > 0.0 {
+            sum.map(|s| s / weights)
+        } else {
+            self.radiance_along(position, -v, depth)
+        }
     }
 
     /// The radiance per polarisation carried back to `origin` by light travelling inside

@@ -569,9 +569,10 @@ const FORWARD_BINDINGS: [Binding; 6 + LIT_BY.len()] = joined(
         // The lit image behind the transmissive objects, every mip level (TRANSMISSION
         // variant; the behind pass makes it).
         Binding::new("behind", BindingKind::Sampler2D, FRAGMENT).only_with("TRANSMISSION"),
-        // The opaque surfaces' depth (the pass's own depth attachment, read-only), which
-        // rays leaving a transmissive volume march against (VOLUME variant).
-        Binding::new("scene_depth", BindingKind::Texture2D, FRAGMENT).only_with("VOLUME"),
+        // The opaque surfaces' depth (the pass's own depth attachment, read-only): how
+        // far behind glass they are (a rough surface's blur), and what rays leaving a
+        // transmissive volume march against (TRANSMISSION variant).
+        Binding::new("scene_depth", BindingKind::Texture2D, FRAGMENT).only_with("TRANSMISSION"),
         // The transmissive volumes' nearest back faces, depth and normal, where the rays
         // refracted into them leave (VOLUME variant; the back faces pass draws them).
         Binding::new("back_face_depth", BindingKind::Texture2D, FRAGMENT).only_with("VOLUME"),

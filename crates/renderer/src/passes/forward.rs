@@ -53,15 +53,22 @@ impl FramePass for Forward {
             )
         };
         let depth = &frame.targets.gbuffer.depth;
+        // The TRANSMISSION variant reads the depth it is tested against: how far behind
+        // glass the opaque surfaces are, and what rays leaving a volume march against.
+        let io = if frame.variant.transmission {
+            io.image(
+                "scene_depth",
+                depth,
+                ImageUse::DepthAttachmentTestAndSampled,
+            )
+        } else {
+            absent(
+                io.touches(depth.into(), ImageUse::DepthAttachmentTest),
+                "scene_depth",
+            )
+        };
         let io = match &frame.targets.back_faces {
-            // The VOLUME variant marches the rays leaving a volume against the depth it
-            // is tested against.
             Some(back_faces) if frame.variant.volume => io
-                .image(
-                    "scene_depth",
-                    depth,
-                    ImageUse::DepthAttachmentTestAndSampled,
-                )
                 .image(
                     "back_face_depth",
                     &back_faces.depth,
@@ -73,14 +80,7 @@ impl FramePass for Forward {
                     frame.renderer.behind_sampler.raw(),
                     ImageUse::FragmentSampled,
                 ),
-            _ => absent(
-                absent(
-                    io.touches(depth.into(), ImageUse::DepthAttachmentTest),
-                    "scene_depth",
-                ),
-                "back_face_depth",
-            )
-            .bind_image(
+            _ => absent(io, "back_face_depth").bind_image(
                 "back_face_normal",
                 frame.renderer.absent_target.view(),
                 ImageUse::FragmentSampled.state().layout,
