@@ -731,32 +731,36 @@ fn glass(outside_ior: f32, name: &str) -> Scene {
     for i in 0..8 {
         for j in 0..8 {
             let at = Vec3::new(-1.75 + 0.5 * i as f32, 0.0, -1.5 + 0.5 * j as f32 + 0.25);
-            objects.push(placed(0, (i + j) % 2, Mat4::from_translation(at)));
+            objects.push(Object::casting_shadows(
+                0,
+                (i + j) % 2,
+                Mat4::from_translation(at),
+            ));
         }
     }
     for i in 0..8 {
         for j in 0..4 {
             let at = Vec3::new(-1.75 + 0.5 * i as f32, 0.25 + 0.5 * j as f32, -1.5);
             let upright = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
-            objects.push(placed(
+            objects.push(Object::casting_shadows(
                 0,
                 (i + j + 1) % 2,
                 Mat4::from_rotation_translation(upright, at),
             ));
         }
     }
-    objects.push(placed(
+    objects.push(Object::casting_shadows(
         1,
         2,
         Mat4::from_translation(Vec3::new(-0.6, 0.5, -0.5)),
     ));
-    objects.push(placed(
+    objects.push(Object::casting_shadows(
         2,
         3,
         Mat4::from_translation(Vec3::new(0.75, 0.4, -0.4)),
     ));
     for (k, x) in [-0.9f32, -0.3, 0.3, 0.9].into_iter().enumerate() {
-        objects.push(placed(
+        objects.push(Object::casting_shadows(
             3,
             4 + k,
             Mat4::from_translation(Vec3::new(x, 0.2, 0.7)),
@@ -806,16 +810,6 @@ fn glass(outside_ior: f32, name: &str) -> Scene {
         },
         outside_ior,
         environment: None,
-    }
-}
-
-/// `mesh` with `material` placed by `transform`, casting shadows.
-fn placed(mesh: usize, material: usize, transform: Mat4) -> Object {
-    Object {
-        mesh,
-        material,
-        transform,
-        casts_shadows: true,
     }
 }
 

@@ -184,6 +184,18 @@ pub struct Object {
     pub casts_shadows: bool,
 }
 
+impl Object {
+    /// Mesh `mesh` drawn with material `material`, placed by `transform`, casting shadows.
+    pub fn casting_shadows(mesh: usize, material: usize, transform: Mat4) -> Self {
+        Self {
+            mesh,
+            material,
+            transform,
+            casts_shadows: true,
+        }
+    }
+}
+
 /// Everything one frame shows: meshes and materials, objects placing them, lights, a
 /// camera, the surrounding medium and an optional environment.
 ///

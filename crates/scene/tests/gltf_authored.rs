@@ -257,16 +257,6 @@ fn textured_scene() -> Scene {
     }
 }
 
-/// `mesh` with `material` placed by `transform`, casting shadows.
-fn placed(mesh: usize, material: usize, transform: Mat4) -> Object {
-    Object {
-        mesh,
-        material,
-        transform,
-        casts_shadows: true,
-    }
-}
-
 /// Where a panel (`Mesh::plane`, facing +y) of side `size` stands upright facing +z (the
 /// camera; v down), turned by `turn` about y, centred at `at`.
 fn upright(size: f32, turn: f32, at: Vec3) -> Mat4 {
@@ -334,7 +324,7 @@ fn cutout_scene() -> Scene {
         alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
         ..Material::default()
     };
-    let object = placed;
+    let object = Object::casting_shadows;
     // Vertex colours (COLOR_0): red, green, blue and white corners, the two far ones
     // with an alpha of 0.2, cut at 0.5: the panel is cut along the alpha's ramp.
     let mut coloured = Mesh::plane("coloured panel", 1.0);
@@ -442,7 +432,7 @@ fn blend_scene() -> Scene {
         double_sided: true,
         ..blended("cyan, alpha 0.6", [0.1, 0.8, 0.8], 0.6, 0.5)
     };
-    let object = placed;
+    let object = Object::casting_shadows;
     let upright = |size: f32, at: Vec3| upright(size, 0.0, at);
     // Vertex colours (COLOR_0): warm corners, alpha 1 on the left edge and 0.2 on the
     // right.
