@@ -129,6 +129,8 @@ fn zero_size() {
     );
 }
 
+/// A side the command line takes (at most 65536) but no device does (they take at most
+/// 32768): the device's limit, named, and nothing written.
 #[test]
 fn absurd_size() {
     let dir = scratch("absurd");
@@ -137,7 +139,7 @@ fn absurd_size() {
         &[
             "render",
             "--width",
-            "1000000",
+            "65536",
             "--height",
             "8",
             "-o",
@@ -1491,9 +1493,28 @@ fn a_window_side_beyond_the_window_system_is_refused_before_any_window() {
         &["at most 65535 pixels per side"],
     );
     assert_refused(
-        &["view", "builtin:spheres", "--height", "70000"],
+        &["view", "builtin:spheres", "--height", "65536"],
         &["at most 65535 pixels per side"],
     );
+}
+
+/// Issue 28, defect 9: `--width 100000` was an error of the device (exit 1, "must be
+/// between 1 and 16384 on this device") where `--width 0` was bad usage (exit 2). A side
+/// beyond what any Vulkan device takes is bad usage for every command, whatever the
+/// device; within it, the device's own limit stays a runtime error.
+#[test]
+fn an_image_side_beyond_any_device_is_bad_usage() {
+    for args in [
+        ["render", "builtin:spheres", "--width", "100000"],
+        ["bench", "builtin:spheres", "--height", "70000"],
+        ["view", "builtin:spheres", "--height", "70000"],
+        ["render", "builtin:spheres", "--shadow-map-size", "65537"],
+    ] {
+        assert_refused(
+            &args,
+            &["more pixels per side than any Vulkan device takes"],
+        );
+    }
 }
 
 /// Reads an OpenEXR file's RGB channels (row-major from the top-left).

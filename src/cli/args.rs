@@ -156,11 +156,11 @@ impl SceneArg {
 /// What every frame is rendered with: size, exposure, Fresnel term, HDR target format.
 #[derive(Args)]
 pub(crate) struct FrameArgs {
-    /// Image width in pixels
-    #[arg(long, value_name = "N", default_value = "1280", value_parser = at_least_one)]
+    /// Image width in pixels (1 to 65536; the device's own limit applies too)
+    #[arg(long, value_name = "N", default_value = "1280", value_parser = image_side)]
     pub(crate) width: u32,
-    /// Image height in pixels
-    #[arg(long, value_name = "N", default_value = "720", value_parser = at_least_one)]
+    /// Image height in pixels (1 to 65536; the device's own limit applies too)
+    #[arg(long, value_name = "N", default_value = "720", value_parser = image_side)]
     pub(crate) height: u32,
     /// Exposure: the factor applied to radiance before tone mapping
     #[arg(long, value_name = "X", default_value = "1", value_parser = positive_finite::<f32>)]
@@ -298,11 +298,11 @@ pub(crate) struct ShadingArgs {
     #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.cascades, value_parser = cascades)]
     pub(crate) shadow_cascades: u32,
     /// With --shadows on: each cascade's map side in texels (64 to the device's limit)
-    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.map_size, value_parser = at_least_one)]
+    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.map_size, value_parser = image_side)]
     pub(crate) shadow_map_size: u32,
     /// With --shadows on: each spot light's map side, and each of a point light's six
     /// (64 to the device's limit)
-    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.local_map_size, value_parser = at_least_one)]
+    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.local_map_size, value_parser = image_side)]
     pub(crate) shadow_local_map_size: u32,
     /// With --shadows on: how shadow lookups are filtered
     #[arg(long, value_name = "FILTER", default_value = ShadowSettings::DEFAULT.filter.name(), value_parser = named(ShadowFilter::ALL.map(|f| (f.name(), f))))]
@@ -683,6 +683,24 @@ where
     let value = whole_number::<T>(text)?;
     if value < low || value > high {
         return Err(format!("is not between {low} and {high}"));
+    }
+    Ok(value)
+}
+
+/// The largest image side the command line takes (frame width and height, shadow map
+/// sizes): beyond what any Vulkan implementation takes (the specification requires
+/// 4096 per side of a 2D image; devices report up to 32768). Within it, the device's
+/// own limit is checked once the device is known (a runtime error, exit 1); beyond it,
+/// the value is bad usage (exit 2), whatever the device.
+pub(crate) const MAX_IMAGE_SIDE: u32 = 65536;
+
+/// An image side in pixels: 1 to [`MAX_IMAGE_SIDE`].
+pub(crate) fn image_side(text: &str) -> Result<u32, String> {
+    let value = at_least_one(text)?;
+    if value > MAX_IMAGE_SIDE {
+        return Err(format!(
+            "is above {MAX_IMAGE_SIDE}, more pixels per side than any Vulkan device takes"
+        ));
     }
     Ok(value)
 }
