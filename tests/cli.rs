@@ -610,6 +610,36 @@ fn assert_usage_error(args: &[&str], expected: &str) {
     assert_refused(args, &[expected]);
 }
 
+/// Issue 28, defect 9: a spectral table `render` refuses (n = 1e300: its RGB constants
+/// overflow) was drawn by `plot`; both read it through one rule and refuse it.
+#[test]
+fn plot_refuses_a_table_render_refuses() {
+    let dir = scratch("plot-huge-n");
+    let csv = dir.join("huge.csv");
+    let mut table = String::from("wavelength_nm,n,k\n");
+    for nm in (400..=760).step_by(10) {
+        let n = if nm == 550 { "1e300" } else { "1.5" };
+        table.push_str(&format!("{nm},{n},1\n"));
+    }
+    std::fs::write(&csv, table).unwrap();
+    let out = dir.join("never.png");
+    for kind in ["spectrum", "reflectance"] {
+        assert_clear_error(
+            &[
+                "plot",
+                kind,
+                "--csv",
+                csv.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            "line 17: n 1e300 is above 1e6, beyond any material's optical constants",
+        );
+        assert!(!out.exists());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn plot_bad_input() {
     let dir = scratch("plot-bad");

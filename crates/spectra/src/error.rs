@@ -55,6 +55,20 @@ pub enum SpectrumError {
         /// The value read.
         value: f64,
     },
+    /// n or k is above [`crate::MAX_OPTICAL_CONSTANT`].
+    #[error(
+        "line {line}: {column} {value:e} is above {max:e}, beyond any material's optical constants"
+    )]
+    ConstantTooLarge {
+        /// 1-based line number.
+        line: usize,
+        /// `"n"` or `"k"`.
+        column: &'static str,
+        /// The value read.
+        value: f64,
+        /// The bound, [`crate::MAX_OPTICAL_CONSTANT`].
+        max: f64,
+    },
     /// A wavelength equals the one on the previous data row.
     #[error(
         "line {line}: duplicate wavelength {wavelength_nm} nm (already on line {previous_line})"

@@ -36,3 +36,10 @@ pub use rgb::{
     COMPARISON_OUTSIDE_ETAS,
 };
 pub use spectrum::{Spectrum, CSV_HEADER};
+
+/// The largest n or k a spectral table may give. No material comes near it (metals' k
+/// stays below 100 across 450–740 nm), and the renderer's f32 Fresnel evaluation, which
+/// squares the constants twice, stays finite with room to spare; above it a table is
+/// refused wherever it is read (`render`'s glTF extension and `plot` alike), rather than
+/// drawn by one and turned infinite by the other.
+pub const MAX_OPTICAL_CONSTANT: f64 = 1e6;

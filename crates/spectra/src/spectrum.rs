@@ -64,7 +64,8 @@ impl Spectrum {
     ///   then n and k. Numbers use Rust's `f64` syntax (`1.5`, `3.1474E-01`, ...).
     ///
     /// Errors name the 1-based line and the problem: wrong field count, unparsable or
-    /// non-finite number, wavelength ≤ 0, negative n or k, duplicate or decreasing
+    /// non-finite number, wavelength ≤ 0, negative n or k, n or k above
+    /// [`crate::MAX_OPTICAL_CONSTANT`], duplicate or decreasing
     /// wavelength, no data, a band not covered (the table must span 450–740 nm), or a band
     /// too sparsely sampled (see [`Spectrum`]). The first problem in line order is
     /// reported; table-level checks (coverage, then sparsity, Blue → Red) come last.
@@ -110,6 +111,14 @@ impl Spectrum {
                         line,
                         column,
                         value,
+                    });
+                }
+                if value > crate::MAX_OPTICAL_CONSTANT {
+                    return Err(SpectrumError::ConstantTooLarge {
+                        line,
+                        column,
+                        value,
+                        max: crate::MAX_OPTICAL_CONSTANT,
                     });
                 }
             }

@@ -156,6 +156,36 @@ fn negative_n_or_k() {
     );
 }
 
+/// Issue 28, defect 9: a table with n = 1e300 was drawn by `plot` while `render` refused
+/// it (its RGB constants overflow f32, then "conductor η must be positive"). The table
+/// itself is refused, wherever it is read, with the bound named and the value short.
+#[test]
+fn n_or_k_beyond_any_material() {
+    let e = err("400,1,1\n450,1e300,1\n");
+    assert_eq!(
+        e,
+        SpectrumError::ConstantTooLarge {
+            line: 2,
+            column: "n",
+            value: 1e300,
+            max: combustion_spectra::MAX_OPTICAL_CONSTANT
+        }
+    );
+    assert_eq!(
+        e.to_string(),
+        "line 2: n 1e300 is above 1e6, beyond any material's optical constants"
+    );
+    assert!(matches!(
+        err("400,1,2e6\n"),
+        SpectrumError::ConstantTooLarge { column: "k", .. }
+    ));
+    // The bound itself is taken.
+    assert!(!matches!(
+        err("400,1,1e6\n"),
+        SpectrumError::ConstantTooLarge { .. }
+    ));
+}
+
 #[test]
 fn duplicate_wavelength() {
     let e = err("wavelength_nm,n,k\n400,1,1\n450,1,1\n450,1,1\n");
