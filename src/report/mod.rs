@@ -963,9 +963,12 @@ pub fn end_to_end_markdown(rows: &[ReportRow]) -> String {
     out + "\n"
 }
 
-/// `text` for a Markdown table cell.
+/// `text` for a Markdown table cell (a line break, which would end the row, shown as
+/// `\\n`).
 fn md_cell(text: &str) -> String {
     text.replace('|', "\\|")
+        .replace('\r', "\\r")
+        .replace('\n', "\\n")
 }
 
 fn csv_field(text: &str) -> String {
@@ -1268,11 +1271,22 @@ pub struct PreviousRun {
     rows: Vec<(String, f64, [String; 4])>,
 }
 
-/// Splits one CSV line ([`csv_field`]'s quoting: a field in double quotes, `""` inside).
-fn csv_split(line: &str) -> Vec<String> {
+/// Splits CSV text into records of fields, as [`csv_field`] quotes them (a field in
+/// double quotes, `""` inside, line breaks inside kept): each record with the 1-based
+/// line it starts on. A line break outside quotes ends a record (a `\r` before it is
+/// dropped); a last record without one counts; empty records are skipped.
+fn csv_records(text: &str) -> Vec<(usize, Vec<String>)> {
+    let mut records = Vec::new();
     let mut fields = vec![String::new()];
+    let (mut line, mut start) = (1, 1);
     let mut quoted = false;
-    let mut chars = line.chars().peekable();
+    let mut chars = text.chars().peekable();
+    let mut finish = |fields: &mut Vec<String>, start: usize| {
+        let record = std::mem::replace(fields, vec![String::new()]);
+        if record.len() > 1 || !record[0].is_empty() {
+            records.push((start, record));
+        }
+    };
     while let Some(c) = chars.next() {
         match (c, quoted) {
             ('"', true) if chars.peek() == Some(&'"') => {
@@ -1281,10 +1295,22 @@ fn csv_split(line: &str) -> Vec<String> {
             }
             ('"', _) => quoted = !quoted,
             (',', false) => fields.push(String::new()),
-            (c, _) => fields.last_mut().unwrap().push(c),
+            ('\r', false) if chars.peek() == Some(&'\n') => {}
+            ('\n', false) => {
+                finish(&mut fields, start);
+                line += 1;
+                start = line;
+            }
+            (c, _) => {
+                if c == '\n' {
+                    line += 1;
+                }
+                fields.last_mut().unwrap().push(c);
+            }
         }
     }
-    fields
+    finish(&mut fields, start);
+    records
 }
 
 /// The key and error columns of a row as [`csv`] writes them.
@@ -1313,8 +1339,8 @@ impl PreviousRun {
             "combustion::input::MAX_REPORT_BYTES",
         )
         .map_err(problem)?;
-        let mut lines = text.lines();
-        let header = csv_split(lines.next().ok_or_else(|| problem("empty".into()))?);
+        let mut records = csv_records(&text).into_iter();
+        let (_, header) = records.next().ok_or_else(|| problem("empty".into()))?;
         let column = |name: &str| {
             header.iter().position(|h| h == name).ok_or_else(|| {
                 problem(format!(
@@ -1336,12 +1362,10 @@ impl PreviousRun {
             column("flip_mean")?,
         ];
         let mut rows = Vec::new();
-        for (i, line) in lines.enumerate() {
-            let fields = csv_split(line);
+        for (line, fields) in records {
             if fields.len() != header.len() {
                 return Err(problem(format!(
-                    "line {} has {} fields, the header {}",
-                    i + 2,
+                    "line {line} has {} fields, the header {}",
                     fields.len(),
                     header.len()
                 )));
@@ -1353,8 +1377,7 @@ impl PreviousRun {
                 .filter(|ms| ms.is_finite() && *ms > 0.0)
                 .ok_or_else(|| {
                     problem(format!(
-                        "line {}: total_ms `{}` is not a frame time (a finite number of ms above 0)",
-                        i + 2,
+                        "line {line}: total_ms `{}` is not a frame time (a finite number of ms above 0)",
                         crate::shortened(&fields[total])
                     ))
                 })?;
@@ -1524,6 +1547,37 @@ mod tests {
         std::fs::write(dir.join("report.csv"), format!("{header}{row}")).unwrap();
         let previous = PreviousRun::read(&dir).unwrap();
         assert_eq!(previous.rows.len(), 1);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Issue 28, defect 7: a report written for a scene whose path holds a line break,
+    /// a comma and a quote (which the writer quotes) reads back as written: it used to
+    /// be read line by line ("line 2 has 1 fields").
+    #[test]
+    fn a_report_for_a_scene_with_a_line_break_in_its_path_reads_back() {
+        let dir = std::env::temp_dir().join(format!("combustion-newline-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let header = csv(&[]);
+        let scene = "my\r\nscenes,\"new\"\n/a.gltf";
+        let row = format!(
+            "{},full,f32,specialised,correlated,ggx,material,30,12.5,1,2,1e-3,1e-4,2e-4,100,0.01,5e-2,5e-3,4e-3,90,0,0,0\r\n",
+            csv_field(scene)
+        );
+        let second = "builtin:spheres,full,f32,specialised,correlated,ggx,material,30,20,1,2,1e-3,1e-4,2e-4,100,0.01,5e-2,5e-3,4e-3,90,0,0,0";
+        std::fs::write(dir.join("report.csv"), format!("{header}{row}{second}")).unwrap();
+        let previous = PreviousRun::read(&dir).unwrap();
+        assert_eq!(previous.rows.len(), 2);
+        assert!(
+            previous.rows[0].0.starts_with(&format!("{scene},full,")),
+            "{:?}",
+            previous.rows[0].0
+        );
+        assert_eq!((previous.rows[0].1, previous.rows[1].1), (12.5, 20.0));
+        // A record broken off mid-way is named by the line it starts on.
+        std::fs::write(dir.join("report.csv"), format!("{header}{row}\"x\ny\",1\n")).unwrap();
+        let error = PreviousRun::read(&dir).unwrap_err().to_string();
+        assert!(error.contains("line 5 has 2 fields"), "{error}");
+        assert_eq!(md_cell("a|b\nc"), "a\\|b\\nc");
         let _ = std::fs::remove_dir_all(&dir);
     }
 
