@@ -89,8 +89,26 @@ pub enum OutputError {
     },
 }
 
-/// A new file beside `path`, `.NAME.KIND-PID-N`, made with `create_new` (never following a
-/// planted link or truncating a file already there: a name in use is skipped).
+/// The longest file name, in bytes, the file systems the tool writes to take (Linux's
+/// NAME_MAX).
+const MAX_NAME_BYTES: usize = 255;
+
+/// The name of the temporary file `.NAME.KIND-PID-N` beside a file named `name`, NAME cut
+/// short (at a character) where the whole would pass [`MAX_NAME_BYTES`]: an output whose
+/// own name fits must not be refused because its temporary name does not.
+fn temporary_name(name: &str, kind: &str, n: u32) -> String {
+    let suffix = format!(".{kind}-{}-{n}", std::process::id());
+    let budget = MAX_NAME_BYTES.saturating_sub(1 + suffix.len());
+    let mut end = name.len().min(budget);
+    while !name.is_char_boundary(end) {
+        end -= 1;
+    }
+    format!(".{}{suffix}", &name[..end])
+}
+
+/// A new file beside `path`, `.NAME.KIND-PID-N` ([`temporary_name`]), made with
+/// `create_new` (never following a planted link or truncating a file already there: a
+/// name in use is skipped).
 fn create_new_beside(path: &Path, kind: &str) -> std::io::Result<(PathBuf, File)> {
     let name = path
         .file_name()
@@ -98,7 +116,7 @@ fn create_new_beside(path: &Path, kind: &str) -> std::io::Result<(PathBuf, File)
         .unwrap_or_default();
     let mut last = None;
     for n in 0..100 {
-        let candidate = path.with_file_name(format!(".{name}.{kind}-{}-{n}", std::process::id()));
+        let candidate = path.with_file_name(temporary_name(&name, kind, n));
         match std::fs::OpenOptions::new()
             .write(true)
             .create_new(true)
@@ -214,35 +232,101 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
         && canonical_folder(a) == canonical_folder(b)
 }
 
+/// A file written in full beside the one it will replace, not yet renamed into place.
+struct Staged {
+    temporary: PathBuf,
+    target: PathBuf,
+}
+
+impl Staged {
+    /// Writes what `write` writes to a temporary file beside the file `path` names (by
+    /// [`check_writable`]'s rule), on disk before it returns; removed again on failure.
+    fn new(
+        path: &Path,
+        write: impl FnOnce(&mut BufWriter<File>) -> Result<(), OutputError>,
+    ) -> Result<Staged, OutputError> {
+        let target = check_writable(path)?;
+        let io = |source| OutputError::Io {
+            path: target.clone(),
+            source,
+        };
+        let (temporary, file) = create_new_beside(&target, "partial").map_err(io)?;
+        let result = (|| {
+            // The replaced file's permissions carry over (a new file gets the umask's).
+            if let Ok(meta) = std::fs::metadata(&target) {
+                file.set_permissions(meta.permissions()).map_err(io)?;
+            }
+            let mut writer = BufWriter::new(file);
+            write(&mut writer)?;
+            writer.flush().map_err(io)?;
+            let file = writer.into_inner().map_err(|e| io(e.into_error()))?;
+            // On disk before it takes the name, so a crash leaves the old file or the new.
+            file.sync_all().map_err(io)
+        })();
+        match result {
+            Ok(()) => Ok(Staged { temporary, target }),
+            Err(e) => {
+                let _ = std::fs::remove_file(&temporary);
+                Err(e)
+            }
+        }
+    }
+
+    /// Renames the file into place.
+    fn commit(self) -> Result<(), OutputError> {
+        let result =
+            std::fs::rename(&self.temporary, &self.target).map_err(|source| OutputError::Io {
+                path: self.target.clone(),
+                source,
+            });
+        if result.is_err() {
+            let _ = std::fs::remove_file(&self.temporary);
+        }
+        result
+    }
+
+    /// Removes the staged file, leaving the target as it was.
+    fn discard(self) {
+        let _ = std::fs::remove_file(&self.temporary);
+    }
+}
+
 fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> Result<(), OutputError>,
 ) -> Result<(), OutputError> {
-    let target = check_writable(path)?;
-    let path = target.as_path();
-    let io = |source| OutputError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let (temporary, file) = create_new_beside(path, "partial").map_err(io)?;
-    let result = (|| {
-        // The replaced file's permissions carry over (a new file gets the umask's).
-        if let Ok(meta) = std::fs::metadata(path) {
-            file.set_permissions(meta.permissions()).map_err(io)?;
+    Staged::new(path, write)?.commit()
+}
+
+/// Writes every `(path, bytes)` as one set: each checked and written in full beside its
+/// target first; only when all are on disk is each renamed into place. A file that
+/// cannot be written leaves every target as it was (the renames that follow are the
+/// only steps left to fail, each of one name in a folder already written to).
+pub fn write_files_atomically(files: &[(PathBuf, Vec<u8>)]) -> Result<(), OutputError> {
+    let mut staged = Vec::with_capacity(files.len());
+    for (path, bytes) in files {
+        let written = Staged::new(path, |writer| {
+            writer.write_all(bytes).map_err(|source| OutputError::Io {
+                path: path.clone(),
+                source,
+            })
+        });
+        match written {
+            Ok(file) => staged.push(file),
+            Err(e) => {
+                staged.into_iter().for_each(Staged::discard);
+                return Err(e);
+            }
         }
-        let mut writer = BufWriter::new(file);
-        write(&mut writer)?;
-        writer.flush().map_err(io)?;
-        let file = writer.into_inner().map_err(|e| io(e.into_error()))?;
-        // On disk before it takes the name, so a crash leaves the old file or the new.
-        file.sync_all().map_err(io)?;
-        drop(file);
-        std::fs::rename(&temporary, path).map_err(io)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temporary);
     }
-    result
+    let mut staged = staged.into_iter();
+    for file in staged.by_ref() {
+        if let Err(e) = file.commit() {
+            staged.for_each(Staged::discard);
+            return Err(e);
+        }
+    }
+    Ok(())
 }
 
 /// Writes `bytes` to `path` atomically: to a temporary file in the same folder, renamed into
@@ -335,6 +419,61 @@ pub fn write_exr(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 28, defect 6: an output name of 241–255 bytes was refused ("File name too
+    /// long") because the temporary name beside it is longer; it now cuts the name short
+    /// and the output is written, with nothing left beside it.
+    #[test]
+    fn an_output_name_near_the_limit_is_written() {
+        let dir = std::env::temp_dir().join(format!("combustion-long-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let names = [
+            format!("{}.png", "a".repeat(MAX_NAME_BYTES - 4)),
+            format!("{}.png", "a".repeat(240)),
+            format!("{}.png", "é".repeat((MAX_NAME_BYTES - 4) / 2)),
+        ];
+        for name in &names {
+            assert!(name.len() <= MAX_NAME_BYTES);
+            let temporary = temporary_name(name, "partial", 99);
+            assert!(temporary.len() <= MAX_NAME_BYTES, "{}", temporary.len());
+            let path = dir.join(name);
+            write_png(&path, 1, 1, &[[0; 4]]).unwrap();
+            assert!(path.is_file());
+            std::fs::remove_file(&path).unwrap();
+        }
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert!(left.is_empty(), "{left:?}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Issue 28, defect 6: files written as a set — when one cannot be written (here a
+    /// folder stands where it would go), none is replaced and nothing is left beside
+    /// them.
+    #[test]
+    fn a_set_of_files_is_written_whole_or_not_at_all() {
+        let dir = std::env::temp_dir().join(format!("combustion-set-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("b.csv")).unwrap();
+        std::fs::write(dir.join("a.csv"), "old").unwrap();
+        let files = [
+            (dir.join("a.csv"), b"new".to_vec()),
+            (dir.join("b.csv"), b"new".to_vec()),
+        ];
+        let error = write_files_atomically(&files).unwrap_err().to_string();
+        assert!(error.contains("b.csv"), "{error}");
+        assert_eq!(std::fs::read_to_string(dir.join("a.csv")).unwrap(), "old");
+        let mut names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        names.sort();
+        assert_eq!(names, ["a.csv", "b.csv"]);
+        std::fs::remove_dir(dir.join("b.csv")).unwrap();
+        write_files_atomically(&files).unwrap();
+        for name in ["a.csv", "b.csv"] {
+            assert_eq!(std::fs::read_to_string(dir.join(name)).unwrap(), "new");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn missing_folder_is_a_clear_error_and_leaves_nothing() {

@@ -1513,6 +1513,61 @@ fn every_reader_refuses_fifos_and_devices_before_reading() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Issue 28, defect 6: `bench --report` checked only report.md before measuring, so a
+/// folder named floors.csv, a read-only scaling.csv or a FIFO report.csv failed after
+/// the whole measurement, leaving new files beside old ones. Every file the report may
+/// write is checked first: each case fails at once (well inside the 20 s the test
+/// allows; the measurement takes minutes), names the file, and writes nothing.
+#[test]
+fn a_report_folder_that_cannot_take_every_file_is_refused_before_measuring() {
+    let dir = scratch("report-outputs");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
+    let folder = dir.join("folder");
+    std::fs::create_dir_all(folder.join("floors.csv")).unwrap();
+    let read_only = dir.join("read-only");
+    std::fs::create_dir_all(&read_only).unwrap();
+    std::fs::write(read_only.join("scaling.csv"), "old").unwrap();
+    let mut permissions = std::fs::metadata(read_only.join("scaling.csv"))
+        .unwrap()
+        .permissions();
+    permissions.set_readonly(true);
+    std::fs::set_permissions(read_only.join("scaling.csv"), permissions).unwrap();
+    let fifo = dir.join("fifo");
+    std::fs::create_dir_all(&fifo).unwrap();
+    assert!(Command::new("mkfifo")
+        .arg(fifo.join("report.csv"))
+        .status()
+        .unwrap()
+        .success());
+    for (report, file) in [
+        (&folder, "floors.csv"),
+        (&read_only, "scaling.csv"),
+        (&fifo, "report.csv"),
+    ] {
+        let output = Command::new("timeout")
+            .arg("20")
+            .arg(env!("CARGO_BIN_EXE_combustion"))
+            .args(["bench", "--report", &s(report), "--frames", "1"])
+            .env("COMBUSTION_DEVICE", "llvmpipe")
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{file}: {stderr}");
+        let errors: Vec<_> = stderr
+            .lines()
+            .filter(|l| l.starts_with("error: "))
+            .collect();
+        assert_eq!(errors.len(), 1, "{file}: {stderr}");
+        assert!(errors[0].contains(file), "{file}: {stderr}");
+        assert!(!report.join("report.md").exists(), "{file}");
+    }
+    assert_eq!(
+        std::fs::read_to_string(read_only.join("scaling.csv")).unwrap(),
+        "old"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Issue 28, defect 2: `view --width 65536` (or a height above 65535) panicked inside
 /// winit under X11 (its sizes are 16-bit); it is refused as bad usage before anything is
 /// loaded or any display is asked for.

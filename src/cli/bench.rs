@@ -26,7 +26,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
             source: e,
         })
     })?;
-    output::check_writable(&dir.join("report.md"))?;
+    combustion::report::check_report_folder(dir)?;
     let (device, _) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
     let scenes = if let Some(scene) = o.scene.given() {
         vec![scene.clone()]

@@ -13,7 +13,7 @@ pub mod shadows;
 pub mod storage;
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use combustion_plots::{
     pareto_front, plot_scaling, plot_speed_vs_error, Png, Series, SpeedErrorPoint, XAxis,
@@ -1486,37 +1486,64 @@ pub fn write(
         1000,
         620,
     )?;
-    output::write_file_atomically(&dir.join("speed-vs-error.png"), &png.bytes)?;
-    output::write_file_atomically(&dir.join("report.csv"), csv(rows).as_bytes())?;
-    output::write_file_atomically(&dir.join("floors.csv"), floors_csv(&m.floors).as_bytes())?;
+    // Every file made before any is written, then written as one set.
+    let mut files: Vec<(&str, Vec<u8>)> = vec![
+        ("speed-vs-error.png", png.bytes),
+        ("report.csv", csv(rows).into_bytes()),
+        ("floors.csv", floors_csv(&m.floors).into_bytes()),
+    ];
     if !m.shadows.is_empty() {
-        output::write_file_atomically(
-            &dir.join("shadows.csv"),
-            shadows::csv(&m.shadows).as_bytes(),
-        )?;
+        files.push(("shadows.csv", shadows::csv(&m.shadows).into_bytes()));
         let png = shadows::plot(&m.shadows, device, desc)?;
-        output::write_file_atomically(&dir.join("shadows-speed-vs-error.png"), &png.bytes)?;
+        files.push(("shadows-speed-vs-error.png", png.bytes));
     }
     if !m.storages.is_empty() {
-        output::write_file_atomically(
-            &dir.join("gbuffer-storage.csv"),
-            storage::csv(&m.storages).as_bytes(),
-        )?;
+        files.push((
+            "gbuffer-storage.csv",
+            storage::csv(&m.storages).into_bytes(),
+        ));
     }
     if !m.scaling.is_empty() {
         let (size, lights) = scaling_plots(m, device)?;
-        output::write_file_atomically(&dir.join("scaling-resolution.png"), &size.bytes)?;
-        output::write_file_atomically(&dir.join("scaling-lights.png"), &lights.bytes)?;
-        output::write_file_atomically(
-            &dir.join("scaling.csv"),
-            scaling_csv(&m.scaling).as_bytes(),
-        )?;
+        files.push(("scaling-resolution.png", size.bytes));
+        files.push(("scaling-lights.png", lights.bytes));
+        files.push(("scaling.csv", scaling_csv(&m.scaling).into_bytes()));
     }
     let mut md = markdown(m, desc);
     if let Some(r) = reproduction {
         md += &r.markdown();
     }
-    output::write_file_atomically(&dir.join("report.md"), md.as_bytes())?;
+    files.push(("report.md", md.into_bytes()));
+    debug_assert!(files.iter().all(|(name, _)| REPORT_FILES.contains(name)));
+    let files: Vec<(PathBuf, Vec<u8>)> = files
+        .into_iter()
+        .map(|(name, bytes)| (dir.join(name), bytes))
+        .collect();
+    output::write_files_atomically(&files)?;
+    Ok(())
+}
+
+/// Every file a report may write into its folder.
+pub const REPORT_FILES: [&str; 10] = [
+    "report.md",
+    "speed-vs-error.png",
+    "report.csv",
+    "floors.csv",
+    "shadows.csv",
+    "shadows-speed-vs-error.png",
+    "gbuffer-storage.csv",
+    "scaling-resolution.png",
+    "scaling-lights.png",
+    "scaling.csv",
+];
+
+/// Checks, before anything is measured, that the report can be written into `dir`:
+/// every file it may write there ([`REPORT_FILES`]) by the output rule
+/// (`output::check_writable`). The folder must exist (made by the caller).
+pub fn check_report_folder(dir: &Path) -> Result<(), Error> {
+    for name in REPORT_FILES {
+        output::check_writable(&dir.join(name))?;
+    }
     Ok(())
 }
 
