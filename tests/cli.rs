@@ -1568,6 +1568,48 @@ fn a_report_folder_that_cannot_take_every_file_is_refused_before_measuring() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Issue 28, defect 6: a bad `--device`, or a side beyond the device's limit, was
+/// reported only after the scene and its environment were loaded (an environment image
+/// can take gigabytes to decode). They are checked first: with an environment file that
+/// cannot be read at all, the device's error is the one reported.
+#[test]
+fn the_device_and_the_size_are_checked_before_anything_is_loaded() {
+    let dir = scratch("preflight");
+    let garbage = dir.join("sky.hdr");
+    std::fs::write(&garbage, b"not a radiance file").unwrap();
+    let sky = garbage.to_str().unwrap();
+    for command in ["render", "bench"] {
+        assert_clear_error(
+            &[
+                command,
+                "builtin:spheres",
+                "--environment",
+                sky,
+                "--device",
+                "9",
+            ],
+            "no Vulkan device matches",
+        );
+        assert_clear_error(
+            &[
+                command,
+                "builtin:spheres",
+                "--environment",
+                sky,
+                "--width",
+                "65536",
+            ],
+            "each side must be between 1 and",
+        );
+    }
+    // The environment's own error, once the device and size are fine.
+    assert_clear_error(
+        &["render", "builtin:spheres", "--environment", sky],
+        "sky.hdr",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Issue 28, defect 2: `view --width 65536` (or a height above 65535) panicked inside
 /// winit under X11 (its sizes are 16-bit); it is refused as bad usage before anything is
 /// loaded or any display is asked for.

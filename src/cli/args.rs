@@ -875,6 +875,24 @@ pub(crate) fn lit_as_asked(source: &SceneSource, shading: &ShadingArgs) -> Resul
 
 /// The device (`--device`, else `COMBUSTION_DEVICE`, else automatic) and renderer
 /// settings the options ask for.
+/// Checks, before any scene or image is loaded, that the device `device` selects exists
+/// and takes frames of `frame`'s size: a bad `--device` or a side beyond the device's
+/// `maxImageDimension2D` is reported at once, not after the loading (an environment
+/// image can take seconds and gigabytes to decode).
+pub(crate) fn preflight(device: &DeviceDesc, frame: &FrameArgs) -> Result<(), Error> {
+    let info = combustion::vk::Device::preflight(&device.selector)?;
+    let max = info.max_image_dimension_2d;
+    if frame.width > max || frame.height > max {
+        return Err(combustion::renderer::RenderError::InvalidSize {
+            width: frame.width,
+            height: frame.height,
+            max,
+        }
+        .into());
+    }
+    Ok(())
+}
+
 pub(crate) fn device_and_settings(
     device: &DeviceArgs,
     frame: &FrameArgs,

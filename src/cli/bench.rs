@@ -28,6 +28,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
     })?;
     combustion::report::check_report_folder(dir)?;
     let (device, _) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    preflight(&device, &o.frame)?;
     let scenes = if let Some(scene) = o.scene.given() {
         vec![scene.clone()]
     } else {
@@ -102,11 +103,12 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     if let Some(dir) = &o.report {
         return bench_report(o, dir);
     }
+    let (device, mut settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    preflight(&device, &o.frame)?;
     let scene = combustion::with_localised_lights(
         &lit_as_asked(&o.scene.source(), &o.shading)?,
         o.extra_lights,
     );
-    let (device, mut settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
     settings.shading.specialised = o.specialised;
     settings.shading.distribution = o.shading.distribution;
     settings.shading.diffuse_override = o.shading.diffuse;

@@ -32,6 +32,12 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             )));
         }
     }
+    let (device, mut settings) = device_and_settings(
+        &o.device,
+        &o.frame,
+        RendererSettings::default().frames_in_flight,
+    )?;
+    preflight(&device, &o.frame)?;
     let source = o.scene.source();
     let scene = lit_as_asked(&source, &o.shading)?;
     if scene.objects.is_empty() {
@@ -40,11 +46,6 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             source.label()
         );
     }
-    let (device, mut settings) = device_and_settings(
-        &o.device,
-        &o.frame,
-        RendererSettings::default().frames_in_flight,
-    )?;
     // An accuracy budget: the fastest variant set within it, measured on this scene at
     // this size (5 frames each).
     if let Some(budget) = o.max_error {

@@ -9,7 +9,9 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
     if let Some(shot) = &o.screenshot {
         combustion::output::check_extension(shot, "--screenshot", "PNG", &["png"])?;
     }
+    combustion::viewer::check_window_size(o.frame.width, o.frame.height)?;
     let (device, settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    preflight(&device, &o.frame)?;
     let summary = combustion::viewer::run(&combustion::viewer::ViewerDesc {
         scene: o.scene.source(),
         width: o.frame.width,

@@ -260,26 +260,33 @@ fn window_error(error: impl std::fmt::Display) -> String {
 /// one panics inside winit rather than failing).
 pub const MAX_WINDOW_SIDE: u32 = u16::MAX as u32;
 
+/// Refuses a window side above [`MAX_WINDOW_SIDE`] as bad usage ([`Error::Usage`]):
+/// what the window system cannot take, whatever the device.
+pub fn check_window_size(width: u32, height: u32) -> Result<(), Error> {
+    if width > MAX_WINDOW_SIDE || height > MAX_WINDOW_SIDE {
+        return Err(Error::Usage(format!(
+            "a window of {width}x{height}: the window system takes at most {MAX_WINDOW_SIDE} pixels per side"
+        )));
+    }
+    Ok(())
+}
+
 /// Opens a window on `desc.scene` and renders until it is closed (or `desc.frames` are
 /// shown). Fails with [`Error::Usage`] for a window side above [`MAX_WINDOW_SIDE`]
 /// (checked before anything is loaded), with [`Error::NoWindow`] when no window can be
 /// opened, and with [`Error::Validation`] if validation is on and the layer reported
 /// anything.
 pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
-    if desc.width > MAX_WINDOW_SIDE || desc.height > MAX_WINDOW_SIDE {
-        return Err(Error::Usage(format!(
-            "a window of {}x{}: the window system takes at most {MAX_WINDOW_SIDE} pixels per side",
-            desc.width, desc.height
-        )));
-    }
-    let (scene, cameras) = desc.scene.load_with_cameras(&Default::default())?;
+    check_window_size(desc.width, desc.height)?;
     let path = desc
         .camera_path
         .as_deref()
         .map(camera::CameraPath::read)
         .transpose()
         .map_err(Error::CameraPath)?;
+    // The display before the scene: without one, nothing is loaded.
     let event_loop = EventLoop::new().map_err(|e| Error::NoWindow(window_error(e)))?;
+    let (scene, cameras) = desc.scene.load_with_cameras(&Default::default())?;
     let mut app = App {
         desc,
         scene: Some((scene, cameras)),

@@ -109,6 +109,8 @@ pub struct DeviceInfo {
     pub driver: String,
     /// Why the device can't be used by Combustion, or `None` when it can.
     pub unsuitable_because: Option<String>,
+    /// The largest side of a 2D image the device makes (`maxImageDimension2D`).
+    pub max_image_dimension_2d: u32,
 }
 
 /// Validation-layer warnings and errors seen by a device's messenger. Clone it before the
@@ -539,6 +541,7 @@ fn device_info(index: usize, props: &vk::PhysicalDeviceProperties, driver: Strin
         ),
         driver,
         unsuitable_because: None,
+        max_image_dimension_2d: props.limits.max_image_dimension2_d,
     }
 }
 
@@ -567,6 +570,24 @@ impl Device {
         // SAFETY: no object was created from this instance.
         unsafe { instance.destroy_instance(None) };
         Ok(result?.into_iter().map(|(_, info, _)| info).collect())
+    }
+
+    /// The physical device `selector` picks, as [`Device::new`] would pick it, without
+    /// creating a logical device (an instance is made and destroyed): to check a
+    /// selector and the device's limits before any long work.
+    ///
+    /// # Errors
+    /// As [`Device::new`]'s selection: [`VkError::LoaderMissing`], [`VkError::NoDevice`],
+    /// [`VkError::DeviceNotFound`], [`VkError::NoSuitableDevice`], or a failed Vulkan
+    /// call.
+    pub fn preflight(selector: &DeviceSelector) -> Result<DeviceInfo, VkError> {
+        let entry = load_entry()?;
+        let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default();
+        let instance = create_instance(&entry, false, false, &[], &mut messenger_info)?;
+        let result = select_device(&instance, selector);
+        // SAFETY: no object was created from this instance.
+        unsafe { instance.destroy_instance(None) };
+        result.map(|(_, info, _)| info)
     }
 
     /// Creates the instance (with validation if asked), selects a physical device and
