@@ -123,16 +123,13 @@ impl BackFacesPass {
         // SAFETY: recording into a command buffer in the recording state, with resources
         // that outlive the submission (a dropped scene is retired, not freed).
         unsafe {
-            raw.cmd_begin_rendering(cmd, &rendering);
-            crate::commands::set_viewport_and_scissor(raw, cmd, extent);
-            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
-            raw.cmd_bind_descriptor_sets(
+            crate::commands::begin_scene_drawing(
+                raw,
                 cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw(),
-                0,
-                &[set],
-                &[],
+                &rendering,
+                extent,
+                (&self.pipeline, &self.layout),
+                set,
             );
             draw_in_order(raw, cmd, scene, Faces::Back, &volumes, |object| {
                 push.object_index = object as u32;

@@ -26,6 +26,32 @@ pub(crate) fn bind_pass(
     }
 }
 
+/// Begins `rendering` over the whole of `extent` (viewport and scissor set to it) and
+/// binds the graphics `pipeline` with its set 0: how every pass that rasterises the
+/// scene starts.
+pub(crate) fn begin_scene_drawing(
+    raw: &combustion_vk::ash::Device,
+    cmd: vk::CommandBuffer,
+    rendering: &vk::RenderingInfo<'_>,
+    extent: vk::Extent2D,
+    (pipeline, layout): (&combustion_vk::Pipeline, &combustion_vk::PipelineLayout),
+    set: vk::DescriptorSet,
+) {
+    // SAFETY: recording state is the caller's responsibility; the set matches the layout.
+    unsafe { raw.cmd_begin_rendering(cmd, rendering) };
+    set_viewport_and_scissor(raw, cmd, extent);
+    bind_pass(
+        raw,
+        cmd,
+        vk::PipelineBindPoint::GRAPHICS,
+        pipeline,
+        layout,
+        set,
+        vk::ShaderStageFlags::empty(),
+        &[],
+    );
+}
+
 /// A depth attachment of `view`, in the depth-attachment layout, cleared to the far
 /// plane (1) and stored: what a pass that rasterises the scene with depth renders into.
 pub(crate) fn cleared_depth_attachment(

@@ -144,16 +144,13 @@ impl ForwardPass {
         // SAFETY: recording into a command buffer in the recording state, with resources
         // that outlive the submission (a dropped scene is retired, not freed).
         unsafe {
-            raw.cmd_begin_rendering(cmd, &rendering);
-            crate::commands::set_viewport_and_scissor(raw, cmd, extent);
-            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
-            raw.cmd_bind_descriptor_sets(
+            crate::commands::begin_scene_drawing(
+                raw,
                 cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw(),
-                0,
-                &[set],
-                &[],
+                &rendering,
+                extent,
+                (&self.pipeline, &self.layout),
+                set,
             );
             let order = back_to_front(scene, eye);
             draw_in_order(raw, cmd, scene, Faces::OfMaterial, &order, |object| {

@@ -241,16 +241,13 @@ impl GBufferPass {
         // SAFETY: recording into a command buffer in the recording state, with resources
         // that outlive the submission.
         unsafe {
-            raw.cmd_begin_rendering(cmd, &rendering);
-            crate::commands::set_viewport_and_scissor(raw, cmd, extent);
-            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
-            raw.cmd_bind_descriptor_sets(
+            crate::commands::begin_scene_drawing(
+                raw,
                 cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw(),
-                0,
-                &[set],
-                &[],
+                &rendering,
+                extent,
+                (&self.pipeline, &self.layout),
+                set,
             );
             // Stream 1 (coordinate set 1) is read only by the TEXTURE_TRANSFORMS
             // pipelines. The cut-outs last, behind the opaque objects' depth.
