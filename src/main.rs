@@ -38,7 +38,7 @@ macro_rules! outln {
 
 mod cli;
 
-use cli::{bench, devices, eval, info, plot, render, view, Cli, Command};
+use cli::{bench, devices, diff, eval, info, plot, render, view, Cli, Command};
 
 struct StderrLogger;
 
@@ -126,6 +126,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
         Command::Eval(o) => Ok(eval(&o)?),
         Command::Plot(kind) => plot(&kind),
         Command::Info(o) => info(&o),
+        Command::Diff(o) => diff(&o),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "combustion", &mut script);

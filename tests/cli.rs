@@ -2023,3 +2023,132 @@ fn exposure_in_stops_is_the_factor_two_to_the_stops() {
         assert!(stderr.contains("--ev"), "{args:?}: {stderr}");
     }
 }
+
+/// Issue 25, item 1 (and item 3 for one driver): `diff` compares a render with another.
+/// The same job run twice writes byte-equal PNG and EXR files, which `diff` finds equal
+/// under the strictest criterion (exit 0); a render 10 % brighter differs by up to 6
+/// steps, which `max-channel-diff 5/255 on at most 0.1% of pixels` refuses (exit 1, one
+/// line naming the criterion and the share measured) and a looser criterion, or an `or`
+/// with one, accepts; the JSON says the same; the heat map has the images' size.
+#[test]
+fn diff_compares_renders_by_stated_criteria() {
+    let dir = scratch("diff");
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    for (name, exposure) in [("a", "1"), ("b", "1"), ("c", "1.1")] {
+        let (code, _, stderr) = combustion(&[
+            "render",
+            "builtin:spheres",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--exposure",
+            exposure,
+            "-o",
+            &path(&format!("{name}.png")),
+            "--hdr",
+            &path(&format!("{name}.exr")),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+    }
+    for ext in ["png", "exr"] {
+        assert_eq!(
+            std::fs::read(path(&format!("a.{ext}"))).unwrap(),
+            std::fs::read(path(&format!("b.{ext}"))).unwrap(),
+            "the same job gives the same {ext} bytes"
+        );
+    }
+    let strict = "max-channel-diff 0/255 on at most 0% of pixels and max-flip <= 0";
+    let (code, stdout, stderr) =
+        combustion(&["diff", &path("a.png"), &path("b.png"), "--criteria", strict]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("largest channel difference 0/255"),
+        "{stdout}"
+    );
+    let (code, _, stderr) = combustion(&[
+        "diff",
+        &path("a.exr"),
+        &path("b.exr"),
+        "--criteria",
+        "max-relative-diff 0 on at most 0% of pixels",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let tight = "max-channel-diff 5/255 on at most 0.1% of pixels";
+    assert_clear_error(
+        &["diff", &path("a.png"), &path("c.png"), "--criteria", tight],
+        "the images differ beyond the criteria: max-channel-diff 5/255 on at most 0.1% of pixels: ",
+    );
+    let (code, stdout, _) = combustion(&[
+        "diff",
+        &path("a.png"),
+        &path("c.png"),
+        "--criteria",
+        tight,
+        "--json",
+    ]);
+    assert_eq!(code, 1);
+    let json: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    assert_eq!(json["pass"], false);
+    assert_eq!(json["max_channel_diff"], 6.0);
+    let loose = format!("{tight} or max-channel-diff 6/255 on at most 0% of pixels");
+    let (code, _, stderr) = combustion(&[
+        "diff",
+        &path("a.png"),
+        &path("c.png"),
+        "--criteria",
+        &loose,
+        "--heatmap",
+        &path("heat.png"),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let decoder = png::Decoder::new(std::fs::File::open(path("heat.png")).unwrap());
+    let info = decoder.read_info().unwrap();
+    assert_eq!((info.info().width, info.info().height), (96, 64));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 25, item 1: `diff`'s bad input — criteria it cannot read are bad usage (exit
+/// 2, the term named); images of different sizes or kinds, or a file that is no image,
+/// are one-line errors (exit 1).
+#[test]
+fn diff_refuses_what_it_cannot_compare() {
+    let dir = scratch("diff-bad");
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    for (name, width) in [("a", "16"), ("b", "17")] {
+        let (code, _, stderr) = combustion(&[
+            "render",
+            "builtin:spheres",
+            "--width",
+            width,
+            "--height",
+            "8",
+            "-o",
+            &path(&format!("{name}.png")),
+            "--hdr",
+            &path(&format!("{name}.exr")),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+    }
+    assert_refused(
+        &[
+            "diff",
+            &path("a.png"),
+            &path("a.png"),
+            "--criteria",
+            "psnr >= 30",
+        ],
+        &["criterion `psnr >= 30`: not one of"],
+    );
+    assert_clear_error(
+        &["diff", &path("a.png"), &path("b.png")],
+        "the images differ in size: 16x8 and 17x8",
+    );
+    assert_clear_error(
+        &["diff", &path("a.png"), &path("a.exr")],
+        "compare like with like",
+    );
+    std::fs::write(dir.join("x.png"), b"not a png").unwrap();
+    assert_clear_error(&["diff", &path("x.png"), &path("a.png")], "x.png: PNG:");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -111,6 +111,10 @@ pub(crate) enum Command {
     /// Draw reflectance and spectrum charts as PNG files
     #[command(long_about = PLOT_ABOUT, subcommand)]
     Plot(PlotCommand),
+    /// Compare two images (PNG with PNG, OpenEXR with OpenEXR): channel differences,
+    /// FLIP, and pass/fail criteria (exit 1 when they fail)
+    #[command(long_about = DIFF_ABOUT)]
+    Diff(DiffArgs),
     /// Describe what a scene holds and which renderer features it needs
     #[command(long_about = INFO_ABOUT, allow_negative_numbers = true, args_override_self = true, after_help = builtin_scenes_note())]
     Info(InfoArgs),
@@ -123,6 +127,34 @@ pub(crate) enum Command {
         #[arg(value_parser = clap::value_parser!(clap_complete::Shell))]
         shell: clap_complete::Shell,
     },
+}
+
+const DIFF_ABOUT: &str = "Compare two images as a CI compares a render with its golden: PNG with PNG (8-bit display values: each pixel's largest channel difference in 8-bit steps) or OpenEXR with OpenEXR (linear radiance: the largest channel difference relative to the larger value, at least 1e-4), and FLIP (Andersson et al. 2020, 67 pixels per degree; of the display images the render writes, for OpenEXR). With --criteria, exits 1 with one line naming the criterion that fails and by how much; 0 when they hold. Criteria are terms joined by `and` and `or` (`and` binds tighter): `max-channel-diff N/255 on at most P% of pixels` (PNG), `max-relative-diff X on at most P% of pixels` (OpenEXR), `mean-flip <= X`, `max-flip <= X`.";
+
+/// What `diff` compares and how.
+#[derive(Args)]
+pub(crate) struct DiffArgs {
+    /// The first image (a render, say): .png or .exr
+    #[arg(value_name = "A")]
+    pub(crate) a: PathBuf,
+    /// The second image (its golden, say), of the same kind and size
+    #[arg(value_name = "B")]
+    pub(crate) b: PathBuf,
+    /// Pass/fail criteria, e.g. "max-channel-diff 5/255 on at most 0.1% of pixels and
+    /// mean-flip <= 0.01"
+    #[arg(long, value_name = "CRITERIA", value_parser = criteria)]
+    pub(crate) criteria: Option<combustion::diff::Criteria>,
+    /// Write the per-pixel FLIP as a heat map (magma: black 0 to light yellow 1) to
+    /// this PNG
+    #[arg(long, value_name = "OUT.png")]
+    pub(crate) heatmap: Option<PathBuf>,
+    /// Print the figures (and the verdict) as JSON
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+fn criteria(text: &str) -> Result<combustion::diff::Criteria, String> {
+    combustion::diff::Criteria::parse(text)
 }
 
 /// The scene: positional, or as `--scene`.
@@ -1007,6 +1039,8 @@ mod tests {
             "plot dielectrics --etas 1.1,2 --outside-ior 1.33".to_owned(),
             "info builtin:spheres --max-error 1e-3".to_owned(),
             "devices".to_owned(),
+            "diff a.png b.png --heatmap h.png --json".to_owned(),
+            "diff a.exr b.exr --criteria max-flip<=1".to_owned(),
             "completions zsh".to_owned(),
         ];
         for line in lines {

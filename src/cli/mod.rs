@@ -3,6 +3,7 @@
 
 pub(crate) mod args;
 mod bench;
+mod diff;
 mod info;
 mod plot;
 mod render;
@@ -10,6 +11,7 @@ mod view;
 
 pub(crate) use args::*;
 pub(crate) use bench::bench;
+pub(crate) use diff::diff;
 pub(crate) use info::info;
 pub(crate) use plot::{eval, plot};
 pub(crate) use render::render;

@@ -1,0 +1,96 @@
+//! `combustion diff A B`: two images compared (`combustion::diff`), with criteria.
+
+use std::path::Path;
+
+use combustion::diff::{compare, heat_map, read_image, Comparison};
+use combustion::output;
+
+use super::*;
+use crate::{write_stdout, CliError};
+
+pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
+    // The heat map's destination is checked before any image is read.
+    if let Some(heatmap) = &o.heatmap {
+        output::check_extension(heatmap, "--heatmap", "PNG", &["png"])?;
+        output::check_writable(heatmap)?;
+    }
+    let read = |path: &Path| {
+        read_image(path).map_err(|e| {
+            CliError::Failed(format!(
+                "{}: {e}",
+                combustion::shortened(&path.display().to_string())
+            ))
+        })
+    };
+    let (a, b) = (read(&o.a)?, read(&o.b)?);
+    let comparison = compare(&a, &b).map_err(CliError::Failed)?;
+    if let Some(heatmap) = &o.heatmap {
+        output::write_png(
+            heatmap,
+            comparison.width,
+            comparison.height,
+            &heat_map(&comparison),
+        )?;
+    }
+    let verdict = o.criteria.as_ref().map(|c| c.check(&comparison));
+    if o.json {
+        write_stdout(format_args!("{}\n", json(&comparison, verdict.as_ref())));
+    } else {
+        write_stdout(format_args!("{}\n", summary(&comparison)));
+    }
+    match verdict {
+        Some(Err(why)) => Err(CliError::Failed(format!(
+            "the images differ beyond the criteria: {why}"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+fn summary(c: &Comparison) -> String {
+    let largest = if c.radiance {
+        format!(
+            "largest relative channel difference {:.3e}",
+            c.max_channel_diff()
+        )
+    } else {
+        format!("largest channel difference {}/255", c.max_channel_diff())
+    };
+    format!(
+        "{}x{} {}: {largest} ({:.4}% of pixels differ); FLIP mean {:.4e}, median {:.4e}, p99 {:.4e}, max {:.4e}",
+        c.width,
+        c.height,
+        if c.radiance { "radiance (OpenEXR)" } else { "display (PNG)" },
+        c.share_above(0.0) * 100.0,
+        c.mean_flip(),
+        c.flip_quantile(0.5),
+        c.flip_quantile(0.99),
+        c.flip_quantile(1.0),
+    )
+}
+
+fn json(c: &Comparison, verdict: Option<&Result<(), String>>) -> String {
+    let number =
+        |x: f64| serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, Into::into);
+    let mut value = serde_json::json!({
+        "width": c.width,
+        "height": c.height,
+        "kind": if c.radiance { "radiance" } else { "display" },
+        "max_channel_diff": number(c.max_channel_diff()),
+        "channel_diff_unit": if c.radiance { "relative" } else { "8-bit steps" },
+        "share_of_pixels_differing": number(c.share_above(0.0)),
+        "flip": {
+            "mean": number(c.mean_flip()),
+            "median": number(c.flip_quantile(0.5)),
+            "p95": number(c.flip_quantile(0.95)),
+            "p99": number(c.flip_quantile(0.99)),
+            "max": number(c.flip_quantile(1.0)),
+        },
+    });
+    if let Some(verdict) = verdict {
+        value["pass"] = verdict.is_ok().into();
+        if let Err(why) = verdict {
+            value["failed"] = why.clone().into();
+        }
+    }
+    value.to_string()
+}

@@ -1,0 +1,560 @@
+//! `combustion diff A B`: two images compared as a user's CI compares a render with its
+//! golden — per-pixel channel differences, FLIP, and criteria with stated tolerances.
+//!
+//! - **PNG** (8-bit display images, sRGB as written): each pixel's largest channel
+//!   difference in 8-bit steps (out of 255), and FLIP (Andersson et al. 2020, `nv-flip`,
+//!   67 pixels per degree: the implementation the speed-against-error report uses).
+//! - **OpenEXR** (linear radiance): each pixel's largest channel difference relative to
+//!   the larger of the two values (at least 1e-4, the report's floor), and FLIP of the
+//!   two display images the render would write from them (exposure 1, 1 − e^−x, exact
+//!   sRGB, 8 bits).
+//! - **Criteria** ([`Criteria::parse`]): terms joined by `and` and `or` (`and` binds
+//!   tighter): `max-channel-diff N/255 on at most P% of pixels` (PNG),
+//!   `max-relative-diff X on at most P% of pixels` (EXR), `mean-flip <= X`,
+//!   `max-flip <= X`. A term that fails says by how much.
+//!
+//! Inputs are read by the rule of every input file (a regular file within a size limit,
+//! checked before a byte is read).
+
+use std::path::Path;
+
+/// The largest image file read: 1 GiB.
+pub const MAX_IMAGE_BYTES: u64 = 1 << 30;
+
+/// The largest side of an image compared (the renderer's largest).
+pub const MAX_SIDE: u32 = 65536;
+
+/// An image's pixels, as its format stores them.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Pixels {
+    /// 8-bit sRGB display values (PNG), alpha dropped.
+    Display(Vec<[u8; 3]>),
+    /// Linear radiance (OpenEXR), alpha dropped.
+    Radiance(Vec<[f32; 3]>),
+}
+
+/// One image to compare.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DiffImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Row-major from the top-left.
+    pub pixels: Pixels,
+}
+
+/// Reads a PNG (8-bit or 16-bit, grey or RGB, with or without alpha; 16-bit is rounded
+/// to 8) or an OpenEXR file's first RGB(A) layer, by its extension.
+pub fn read_image(path: &Path) -> Result<DiffImage, String> {
+    let bytes = combustion_scene::read_regular_file(
+        path,
+        MAX_IMAGE_BYTES,
+        "combustion::diff::MAX_IMAGE_BYTES",
+    )
+    .map_err(|e| e.to_string())?;
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("png") => read_png(&bytes),
+        Some("exr") => read_exr(&bytes),
+        _ => Err("not a .png or .exr file".into()),
+    }
+}
+
+fn checked_size(width: usize, height: usize) -> Result<(u32, u32), String> {
+    let side = |s: usize| {
+        u32::try_from(s)
+            .ok()
+            .filter(|&s| (1..=MAX_SIDE).contains(&s))
+    };
+    match (side(width), side(height)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!(
+            "{width}x{height}: each side must be between 1 and {MAX_SIDE}"
+        )),
+    }
+}
+
+fn read_png(bytes: &[u8]) -> Result<DiffImage, String> {
+    let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = decoder.read_info().map_err(|e| format!("PNG: {e}"))?;
+    let (width, height) = {
+        let info = reader.info();
+        checked_size(info.width as usize, info.height as usize)?
+    };
+    let mut buffer = vec![0; reader.output_buffer_size()];
+    let frame = reader
+        .next_frame(&mut buffer)
+        .map_err(|e| format!("PNG: {e}"))?;
+    let channels = frame.color_type.samples();
+    let data = &buffer[..frame.buffer_size()];
+    let pixels = data
+        .chunks_exact(channels)
+        .map(|p| match channels {
+            1 | 2 => [p[0]; 3],
+            _ => [p[0], p[1], p[2]],
+        })
+        .collect::<Vec<_>>();
+    if pixels.len() != (width * height) as usize {
+        return Err("PNG: its pixel data does not match its size".into());
+    }
+    Ok(DiffImage {
+        width,
+        height,
+        pixels: Pixels::Display(pixels),
+    })
+}
+
+fn read_exr(bytes: &[u8]) -> Result<DiffImage, String> {
+    use exr::prelude::*;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |resolution, _| {
+                let (w, h) = (resolution.width(), resolution.height());
+                let ok = checked_size(w, h).is_ok();
+                (vec![[0.0f32; 3]; if ok { w * h } else { 0 }], w, ok)
+            },
+            |(pixels, width, ok), at, (r, g, b, _a): (f32, f32, f32, f32)| {
+                if *ok {
+                    pixels[at.y() * *width + at.x()] = [r, g, b];
+                }
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| format!("OpenEXR: {e}"))?;
+    let size = image.layer_data.size;
+    let (width, height) = checked_size(size.width(), size.height())?;
+    let (pixels, _, _) = image.layer_data.channel_data.pixels;
+    Ok(DiffImage {
+        width,
+        height,
+        pixels: Pixels::Radiance(pixels),
+    })
+}
+
+/// Two images compared.
+#[derive(Clone, Debug)]
+pub struct Comparison {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Whether the images are radiance (OpenEXR) rather than display values (PNG).
+    pub radiance: bool,
+    /// Per pixel, the largest channel difference: in 8-bit steps (display), or relative
+    /// to the larger value, at least 1e-4 (radiance).
+    pub channel_diff: Vec<f64>,
+    /// Per pixel FLIP, in [0, 1].
+    pub flip: Vec<f32>,
+}
+
+impl Comparison {
+    /// The largest per-pixel channel difference.
+    pub fn max_channel_diff(&self) -> f64 {
+        self.channel_diff.iter().copied().fold(0.0, f64::max)
+    }
+
+    /// The share of pixels (0 to 1) whose channel difference is above `tolerance`.
+    pub fn share_above(&self, tolerance: f64) -> f64 {
+        let over = self.channel_diff.iter().filter(|&&d| d > tolerance).count();
+        over as f64 / self.channel_diff.len().max(1) as f64
+    }
+
+    /// Mean FLIP.
+    pub fn mean_flip(&self) -> f64 {
+        self.flip.iter().map(|&f| f64::from(f)).sum::<f64>() / self.flip.len().max(1) as f64
+    }
+
+    /// The FLIP value the share `q` of the pixels does not exceed.
+    pub fn flip_quantile(&self, q: f64) -> f64 {
+        let mut sorted = self.flip.clone();
+        sorted.sort_by(f32::total_cmp);
+        let i = ((sorted.len().max(1) - 1) as f64 * q.clamp(0.0, 1.0)).round() as usize;
+        sorted.get(i).map_or(0.0, |&f| f64::from(f))
+    }
+}
+
+/// The display image the render writes from radiance: exposure 1, 1 − e^−x, exact sRGB,
+/// rounded to 8 bits.
+fn displayed(radiance: &[[f32; 3]]) -> Vec<[u8; 3]> {
+    radiance
+        .iter()
+        .map(|p| {
+            p.map(|c| {
+                let display = crate::renderer::tonemap_exponential(f64::from(c));
+                (crate::renderer::linear_to_srgb(display).clamp(0.0, 1.0) * 255.0).round() as u8
+            })
+        })
+        .collect()
+}
+
+/// Compares `a` with `b` (same size and kind, else the error says what differs).
+pub fn compare(a: &DiffImage, b: &DiffImage) -> Result<Comparison, String> {
+    if (a.width, a.height) != (b.width, b.height) {
+        return Err(format!(
+            "the images differ in size: {}x{} and {}x{}",
+            a.width, a.height, b.width, b.height
+        ));
+    }
+    let (channel_diff, display_a, display_b, radiance) = match (&a.pixels, &b.pixels) {
+        (Pixels::Display(pa), Pixels::Display(pb)) => {
+            let diff = pa
+                .iter()
+                .zip(pb)
+                .map(|(p, q)| {
+                    (0..3)
+                        .map(|c| f64::from(p[c].abs_diff(q[c])))
+                        .fold(0.0, f64::max)
+                })
+                .collect();
+            (diff, pa.clone(), pb.clone(), false)
+        }
+        (Pixels::Radiance(pa), Pixels::Radiance(pb)) => {
+            let diff = pa
+                .iter()
+                .zip(pb)
+                .map(|(p, q)| {
+                    (0..3)
+                        .map(|c| {
+                            let (x, y) = (f64::from(p[c]), f64::from(q[c]));
+                            let d = (x - y).abs() / x.abs().max(y.abs()).max(1e-4);
+                            if d.is_nan() {
+                                f64::INFINITY
+                            } else {
+                                d
+                            }
+                        })
+                        .fold(0.0, f64::max)
+                })
+                .collect();
+            (diff, displayed(pa), displayed(pb), true)
+        }
+        _ => {
+            return Err(
+                "one image is a PNG (display values) and the other an OpenEXR (radiance): compare like with like"
+                    .into(),
+            )
+        }
+    };
+    let flat = |p: &[[u8; 3]]| p.iter().flatten().copied().collect::<Vec<u8>>();
+    let (fa, fb) = (flat(&display_a), flat(&display_b));
+    let flip = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(a.width, a.height, &fa),
+        nv_flip::FlipImageRgb8::with_data(a.width, a.height, &fb),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    // Row-major from the top-left, as the inputs.
+    let flip_values = flip.to_vec();
+    Ok(Comparison {
+        width: a.width,
+        height: a.height,
+        radiance,
+        channel_diff,
+        flip: flip_values,
+    })
+}
+
+/// The FLIP heat map of `comparison` (the magma colour map from 0, black, to 1, light
+/// yellow, as FLIP's own tool draws it), as RGBA for a PNG.
+pub fn heat_map(comparison: &Comparison) -> Vec<[u8; 4]> {
+    let flip =
+        nv_flip::FlipImageFloat::with_data(comparison.width, comparison.height, &comparison.flip);
+    flip.apply_color_lut(&nv_flip::magma_lut())
+        .to_vec()
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2], 255])
+        .collect()
+}
+
+/// One criterion.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Criterion {
+    /// No pixel's largest channel difference above `tolerance` (8-bit steps, or relative
+    /// for radiance) on more than `share` (0 to 1) of the pixels.
+    ChannelDiff {
+        /// Whether the tolerance is relative (radiance) rather than in 8-bit steps.
+        relative: bool,
+        /// The tolerance.
+        tolerance: f64,
+        /// The share of pixels allowed above it.
+        share: f64,
+    },
+    /// Mean FLIP at most this.
+    MeanFlip(f64),
+    /// Largest per-pixel FLIP at most this.
+    MaxFlip(f64),
+}
+
+impl std::fmt::Display for Criterion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Criterion::ChannelDiff {
+                relative: false,
+                tolerance,
+                share,
+            } => write!(
+                f,
+                "max-channel-diff {tolerance}/255 on at most {}% of pixels",
+                share * 100.0
+            ),
+            Criterion::ChannelDiff {
+                relative: true,
+                tolerance,
+                share,
+            } => write!(
+                f,
+                "max-relative-diff {tolerance:e} on at most {}% of pixels",
+                share * 100.0
+            ),
+            Criterion::MeanFlip(x) => write!(f, "mean-flip <= {x}"),
+            Criterion::MaxFlip(x) => write!(f, "max-flip <= {x}"),
+        }
+    }
+}
+
+impl Criterion {
+    /// `None` when `comparison` meets it, else what was measured against what is allowed.
+    pub fn failure(&self, comparison: &Comparison) -> Result<(), String> {
+        match *self {
+            Criterion::ChannelDiff {
+                relative,
+                tolerance,
+                share,
+            } => {
+                if relative != comparison.radiance {
+                    return Err(format!(
+                        "{self}: applies to {} images, these are {}",
+                        if relative { "OpenEXR" } else { "PNG" },
+                        if comparison.radiance {
+                            "OpenEXR"
+                        } else {
+                            "PNG"
+                        }
+                    ));
+                }
+                let above = comparison.share_above(tolerance);
+                if above > share {
+                    return Err(format!(
+                        "{self}: {:.4}% of pixels are above it (largest difference {})",
+                        above * 100.0,
+                        if relative {
+                            format!("{:.3e}", comparison.max_channel_diff())
+                        } else {
+                            format!("{}/255", comparison.max_channel_diff())
+                        }
+                    ));
+                }
+                Ok(())
+            }
+            Criterion::MeanFlip(limit) => {
+                let mean = comparison.mean_flip();
+                (mean <= limit)
+                    .then_some(())
+                    .ok_or_else(|| format!("{self}: mean FLIP is {mean:.4e}"))
+            }
+            Criterion::MaxFlip(limit) => {
+                let max = comparison.flip_quantile(1.0);
+                (max <= limit)
+                    .then_some(())
+                    .ok_or_else(|| format!("{self}: largest FLIP is {max:.4e}"))
+            }
+        }
+    }
+}
+
+/// Criteria: alternatives (`or`) of conjunctions (`and`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Criteria(pub Vec<Vec<Criterion>>);
+
+impl Criteria {
+    /// Parses `text`: terms joined by `and` / `or` (`and` binds tighter), each one of
+    /// `max-channel-diff N/255 on at most P% of pixels`, `max-relative-diff X on at most
+    /// P% of pixels`, `mean-flip <= X`, `max-flip <= X` (`≤` too). The error names the
+    /// term that cannot be read.
+    pub fn parse(text: &str) -> Result<Criteria, String> {
+        // `mean-flip<=0.01` reads as `mean-flip <= 0.01`.
+        let text = text.replace("<=", " <= ").replace('≤', " ≤ ");
+        let alternatives = split_words(&text, "or")
+            .into_iter()
+            .map(|alternative| {
+                split_words(&alternative, "and")
+                    .into_iter()
+                    .map(|term| parse_term(&term))
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Criteria(alternatives))
+    }
+
+    /// `Ok` when some alternative's every term holds; else, for the closest alternative
+    /// (the first), the first term that fails and by how much.
+    pub fn check(&self, comparison: &Comparison) -> Result<(), String> {
+        let mut first_failure = None;
+        for alternative in &self.0 {
+            match alternative.iter().try_for_each(|c| c.failure(comparison)) {
+                Ok(()) => return Ok(()),
+                Err(why) => {
+                    first_failure.get_or_insert(why);
+                }
+            }
+        }
+        Err(first_failure.unwrap_or_else(|| "no criterion given".into()))
+    }
+}
+
+/// `text` split at the whole word `word` (surrounded by white space), trimmed.
+fn split_words(text: &str, word: &str) -> Vec<String> {
+    let mut parts = vec![Vec::new()];
+    for token in text.split_whitespace() {
+        if token == word {
+            parts.push(Vec::new());
+        } else {
+            parts.last_mut().expect("one part at least").push(token);
+        }
+    }
+    parts.into_iter().map(|p| p.join(" ")).collect()
+}
+
+fn parse_term(term: &str) -> Result<Criterion, String> {
+    let bad = |why: &str| format!("criterion `{}`: {why}", crate::shortened(term));
+    let number = |text: &str| -> Result<f64, String> {
+        crate::finite_number(text)
+            .ok()
+            .filter(|x| *x >= 0.0)
+            .ok_or_else(|| {
+                bad(&format!(
+                    "`{}` is not a number of at least 0",
+                    crate::shortened(text)
+                ))
+            })
+    };
+    let words: Vec<&str> = term.split_whitespace().collect();
+    match words.as_slice() {
+        [kind @ ("max-channel-diff" | "max-relative-diff"), tolerance, "on", "at", "most", share, "of", "pixels"] =>
+        {
+            let relative = *kind == "max-relative-diff";
+            let tolerance = if relative {
+                number(tolerance)?
+            } else {
+                let steps = tolerance.strip_suffix("/255").ok_or_else(|| {
+                    bad("a channel difference is given in 8-bit steps, as N/255")
+                })?;
+                number(steps)?
+            };
+            let share = share
+                .strip_suffix('%')
+                .ok_or_else(|| bad("the share of pixels is given in percent, as P%"))?;
+            let share = number(share)?;
+            if share > 100.0 {
+                return Err(bad("a share of pixels is at most 100%"));
+            }
+            Ok(Criterion::ChannelDiff {
+                relative,
+                tolerance,
+                share: share / 100.0,
+            })
+        }
+        [kind @ ("mean-flip" | "max-flip"), "<=" | "≤", value] => {
+            let value = number(value)?;
+            Ok(if *kind == "mean-flip" {
+                Criterion::MeanFlip(value)
+            } else {
+                Criterion::MaxFlip(value)
+            })
+        }
+        _ => Err(bad(
+            "not one of `max-channel-diff N/255 on at most P% of pixels`, `max-relative-diff X on at most P% of pixels`, `mean-flip <= X`, `max-flip <= X`",
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn display(width: u32, height: u32, f: impl Fn(u32, u32) -> [u8; 3]) -> DiffImage {
+        DiffImage {
+            width,
+            height,
+            pixels: Pixels::Display(
+                (0..height)
+                    .flat_map(|y| (0..width).map(move |x| (x, y)))
+                    .map(|(x, y)| f(x, y))
+                    .collect(),
+            ),
+        }
+    }
+
+    /// An image against itself: no difference, FLIP 0, every criterion met; one pixel
+    /// changed by 6 steps: the share and the largest difference are exact, the criteria
+    /// that allow it pass and the others say by how much they fail.
+    #[test]
+    fn differences_and_criteria_are_exact() {
+        let a = display(20, 10, |x, y| [(x * 10) as u8, (y * 20) as u8, 128]);
+        let same = compare(&a, &a).unwrap();
+        assert_eq!((same.max_channel_diff(), same.mean_flip()), (0.0, 0.0));
+        let mut b = a.clone();
+        if let Pixels::Display(p) = &mut b.pixels {
+            p[7][1] += 6;
+        }
+        let c = compare(&a, &b).unwrap();
+        assert_eq!(c.max_channel_diff(), 6.0);
+        assert_eq!(c.share_above(5.0), 1.0 / 200.0);
+        assert!(c.mean_flip() > 0.0);
+        let pass = Criteria::parse("max-channel-diff 5/255 on at most 0.5% of pixels").unwrap();
+        assert_eq!(pass.check(&c), Ok(()));
+        let fail = Criteria::parse("max-channel-diff 5/255 on at most 0.1% of pixels").unwrap();
+        let why = fail.check(&c).unwrap_err();
+        assert!(
+            why.contains("0.5000% of pixels are above it (largest difference 6/255)"),
+            "{why}"
+        );
+        let either = Criteria::parse(
+            "max-channel-diff 5/255 on at most 0.1% of pixels or max-channel-diff 6/255 on at most 0% of pixels and mean-flip <= 1",
+        )
+        .unwrap();
+        assert_eq!(either.0.len(), 2);
+        assert_eq!(
+            Criteria::parse("mean-flip<=0.5").unwrap(),
+            Criteria(vec![vec![Criterion::MeanFlip(0.5)]])
+        );
+        assert_eq!(either.check(&c), Ok(()));
+    }
+
+    #[test]
+    fn bad_criteria_and_mismatched_images_are_named() {
+        for (text, expected) in [
+            ("max-channel-diff 5 on at most 1% of pixels", "as N/255"),
+            (
+                "max-channel-diff 5/255 on at most 1 of pixels",
+                "in percent",
+            ),
+            ("mean-flip <= -1", "at least 0"),
+            (
+                "max-channel-diff 5/255 on at most 101% of pixels",
+                "at most 100%",
+            ),
+            ("psnr >= 30", "not one of"),
+        ] {
+            let error = Criteria::parse(text).unwrap_err();
+            assert!(error.contains(expected), "{text}: {error}");
+        }
+        let a = display(4, 4, |_, _| [0; 3]);
+        let b = display(4, 5, |_, _| [0; 3]);
+        assert!(compare(&a, &b).unwrap_err().contains("4x4 and 4x5"));
+        let r = DiffImage {
+            width: 4,
+            height: 4,
+            pixels: Pixels::Radiance(vec![[0.0; 3]; 16]),
+        };
+        assert!(compare(&a, &r).unwrap_err().contains("like with like"));
+    }
+}
