@@ -110,29 +110,8 @@ fn read_png(bytes: &[u8]) -> Result<DiffImage, String> {
 }
 
 fn read_exr(bytes: &[u8]) -> Result<DiffImage, String> {
-    use exr::prelude::*;
-    let image = read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .rgba_channels(
-            |resolution, _| {
-                let (w, h) = (resolution.width(), resolution.height());
-                let ok = checked_size(w, h).is_ok();
-                (vec![[0.0f32; 3]; if ok { w * h } else { 0 }], w, ok)
-            },
-            |(pixels, width, ok), at, (r, g, b, _a): (f32, f32, f32, f32)| {
-                if *ok {
-                    pixels[at.y() * *width + at.x()] = [r, g, b];
-                }
-            },
-        )
-        .first_valid_layer()
-        .all_attributes()
-        .from_buffered(std::io::Cursor::new(bytes))
+    let (width, height, pixels) = combustion_scene::decode_exr_rgb(bytes, checked_size)
         .map_err(|e| format!("OpenEXR: {e}"))?;
-    let size = image.layer_data.size;
-    let (width, height) = checked_size(size.width(), size.height())?;
-    let (pixels, _, _) = image.layer_data.channel_data.pixels;
     Ok(DiffImage {
         width,
         height,

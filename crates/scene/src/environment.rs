@@ -167,6 +167,22 @@ fn decode_radiance_hdr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
 }
 
 fn decode_exr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
+    let (width, height, texels) = decode_exr_rgb(bytes, check_size)?;
+    Ok(EnvironmentImage {
+        name: String::new(),
+        width,
+        height,
+        texels,
+    })
+}
+
+/// An OpenEXR file's first valid layer (its largest resolution level) as row-major RGB
+/// from the top-left, alpha dropped, when `size_ok` takes its width and height (checked
+/// before the texels are allocated: a refused size allocates nothing).
+pub fn decode_exr_rgb(
+    bytes: &[u8],
+    size_ok: impl Fn(usize, usize) -> Result<(u32, u32), String>,
+) -> Result<(u32, u32, Vec<[f32; 3]>), String> {
     use exr::prelude::*;
     let image = read()
         .no_deep_data()
@@ -174,7 +190,7 @@ fn decode_exr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
         .rgba_channels(
             |resolution, _| {
                 let (w, h) = (resolution.width(), resolution.height());
-                let ok = check_size(w, h).is_ok();
+                let ok = size_ok(w, h).is_ok();
                 // Refused sizes allocate nothing; the size is checked again below.
                 (vec![[0.0f32; 3]; if ok { w * h } else { 0 }], w, ok)
             },
@@ -189,14 +205,9 @@ fn decode_exr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
         .from_buffered(std::io::Cursor::new(bytes))
         .map_err(|e| e.to_string())?;
     let size = image.layer_data.size;
-    let (width, height) = check_size(size.width(), size.height())?;
+    let (width, height) = size_ok(size.width(), size.height())?;
     let (texels, _, _) = image.layer_data.channel_data.pixels;
-    Ok(EnvironmentImage {
-        name: String::new(),
-        width,
-        height,
-        texels,
-    })
+    Ok((width, height, texels))
 }
 
 /// The studio environment's sky colour at the zenith (W·sr⁻¹·m⁻²).

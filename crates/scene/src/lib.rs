@@ -33,7 +33,7 @@ pub use alpha_coverage::{alpha_mip_scales, ALPHA_MIP_LEVELS};
 pub use builtin::{builtin_scene, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
 pub use camera::Camera;
 pub use environment::{
-    equirect_coordinates, studio_radiance, Environment, EnvironmentImage,
+    decode_exr_rgb, equirect_coordinates, studio_radiance, Environment, EnvironmentImage,
     MAX_ENVIRONMENT_FILE_BYTES, MAX_ENVIRONMENT_TEXELS, STUDIO_BOXES, STUDIO_GROUND, STUDIO_SKY,
 };
 pub use error::{CameraProblem, LightProblem, SceneError};
