@@ -373,6 +373,20 @@ impl Criteria {
         Ok(Criteria(alternatives))
     }
 
+    /// Parses a criteria file: [`Criteria::parse`] of its lines joined by spaces, each
+    /// line's text from a `#` on left out.
+    pub fn parse_file_text(text: &str) -> Result<Criteria, String> {
+        let joined = text
+            .lines()
+            .map(|line| line.split('#').next().unwrap_or(""))
+            .collect::<Vec<_>>()
+            .join(" ");
+        if joined.trim().is_empty() {
+            return Err("no criterion in it".into());
+        }
+        Criteria::parse(&joined)
+    }
+
     /// `Ok` when some alternative's every term holds; else, for the closest alternative
     /// (the first), the first term that fails and by how much.
     pub fn check(&self, comparison: &Comparison) -> Result<(), String> {

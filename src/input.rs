@@ -13,6 +13,8 @@ pub const MAX_TABLE_BYTES: u64 = 16 << 20;
 pub const MAX_REPORT_BYTES: u64 = 64 << 20;
 /// The largest camera path read (`view --camera-path`): 16 MiB.
 pub const MAX_CAMERA_PATH_BYTES: u64 = 16 << 20;
+/// The largest criteria file read (`diff --criteria-file`): 1 MiB.
+pub const MAX_CRITERIA_BYTES: u64 = 1 << 20;
 
 /// Reads `path` as UTF-8 text under the rule above; `limit_name` names the constant that
 /// sets `limit`, for the message. The error is the message alone (the caller names the

@@ -2148,6 +2148,43 @@ fn diff_refuses_what_it_cannot_compare() {
         &["diff", &path("a.png"), &path("a.exr")],
         "compare like with like",
     );
+    // Criteria from a file: comments and line breaks; a term it cannot read is bad
+    // usage naming the file; a file that holds none too.
+    std::fs::write(
+        dir.join("criteria.txt"),
+        "# goldens of this project\nmax-channel-diff 0/255 on at most 0% of pixels # exact\nand mean-flip <= 0\n",
+    )
+    .unwrap();
+    let (code, _, stderr) = combustion(&[
+        "diff",
+        &path("a.png"),
+        &path("a.png"),
+        "--criteria-file",
+        &path("criteria.txt"),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    std::fs::write(dir.join("bad.txt"), "mean-flip <= 0\nor psnr >= 30\n").unwrap();
+    assert_refused(
+        &[
+            "diff",
+            &path("a.png"),
+            &path("a.png"),
+            "--criteria-file",
+            &path("bad.txt"),
+        ],
+        &["--criteria-file", "criterion `psnr >= 30`: not one of"],
+    );
+    std::fs::write(dir.join("empty.txt"), "# nothing\n").unwrap();
+    assert_refused(
+        &[
+            "diff",
+            &path("a.png"),
+            &path("a.png"),
+            "--criteria-file",
+            &path("empty.txt"),
+        ],
+        &["no criterion in it"],
+    );
     std::fs::write(dir.join("x.png"), b"not a png").unwrap();
     assert_clear_error(&["diff", &path("x.png"), &path("a.png")], "x.png: PNG:");
     let _ = std::fs::remove_dir_all(&dir);

@@ -144,6 +144,10 @@ pub(crate) struct DiffArgs {
     /// mean-flip <= 0.01"
     #[arg(long, value_name = "CRITERIA", value_parser = criteria)]
     pub(crate) criteria: Option<combustion::diff::Criteria>,
+    /// The criteria read from a file: the same expression, over as many lines as it
+    /// takes (line breaks read as spaces; `#` starts a comment to the line's end)
+    #[arg(long, value_name = "FILE", conflicts_with = "criteria")]
+    pub(crate) criteria_file: Option<PathBuf>,
     /// Write the per-pixel FLIP as a heat map (magma: black 0 to light yellow 1) to
     /// this PNG
     #[arg(long, value_name = "OUT.png")]
@@ -1039,7 +1043,7 @@ mod tests {
             "plot dielectrics --etas 1.1,2 --outside-ior 1.33".to_owned(),
             "info builtin:spheres --max-error 1e-3".to_owned(),
             "devices".to_owned(),
-            "diff a.png b.png --heatmap h.png --json".to_owned(),
+            "diff a.png b.png --heatmap h.png --json --criteria-file c.txt".to_owned(),
             "diff a.exr b.exr --criteria max-flip<=1".to_owned(),
             "completions zsh".to_owned(),
         ];

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use combustion::diff::{compare, heat_map, read_image, Comparison};
-use combustion::output;
+use combustion::{output, Error};
 
 use super::*;
 use crate::{write_stdout, CliError};
@@ -22,6 +22,21 @@ pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
             ))
         })
     };
+    let from_file = match &o.criteria_file {
+        Some(path) => {
+            let name = combustion::shortened(&path.display().to_string());
+            let text = combustion::input::read_text(
+                path,
+                combustion::input::MAX_CRITERIA_BYTES,
+                "combustion::input::MAX_CRITERIA_BYTES",
+            )
+            .map_err(|e| CliError::Failed(format!("--criteria-file {name}: {e}")))?;
+            let criteria = combustion::diff::Criteria::parse_file_text(&text)
+                .map_err(|e| Error::Usage(format!("--criteria-file {name}: {e}")))?;
+            Some(criteria)
+        }
+        None => None,
+    };
     let (a, b) = (read(&o.a)?, read(&o.b)?);
     let comparison = compare(&a, &b).map_err(CliError::Failed)?;
     if let Some(heatmap) = &o.heatmap {
@@ -32,7 +47,11 @@ pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
             &heat_map(&comparison),
         )?;
     }
-    let verdict = o.criteria.as_ref().map(|c| c.check(&comparison));
+    let verdict = o
+        .criteria
+        .as_ref()
+        .or(from_file.as_ref())
+        .map(|c| c.check(&comparison));
     if o.json {
         write_stdout(format_args!("{}\n", json(&comparison, verdict.as_ref())));
     } else {
