@@ -888,7 +888,8 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// baked for it, dropped while its frames are in flight), with and without culled
 /// (ranged) lights, with and without cut-outs and vertex colours, and with and without
 /// blended and transmissive objects (the forward pass, its set and pipeline; the image
-/// behind transmissive objects, a target of its own), rendered in
+/// behind transmissive objects, a target of its own; the back faces of glass volumes,
+/// targets and a pass of their own, with and without them), rendered in
 /// alternation, each run of
 /// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
 /// flight. The targets of the scene not shown are retired and destroyed while the
@@ -925,6 +926,12 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
     )
     .load()
     .unwrap();
+    // The same glass, thin-walled: the TRANSMISSION variant without VOLUME (the opaque
+    // depth bound to the forward set, no back faces target or pass).
+    let mut thin_glass = glass.clone();
+    for material in &mut thin_glass.materials {
+        material.volume = None;
+    }
     let scenes = [
         emissive,
         builtin_scene("spheres").unwrap(),
@@ -933,6 +940,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         cutout,
         blend,
         glass,
+        thin_glass,
     ];
     let (mut host, log, mut output) = host_with_output(&scenes, 3, 48, 40);
     // Each scene for 24 frames (past the 16-frame retire delay), twice round; the
@@ -947,7 +955,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
                 .unwrap();
             host.frame_environments = vec![None, Some(studio)];
         }
-        for scene in [0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 1] {
+        for scene in [0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1] {
             for _ in 0..24 {
                 headless::frame(&mut host, &mut output, scene).unwrap();
             }

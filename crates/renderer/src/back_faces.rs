@@ -113,7 +113,6 @@ impl BackFacesPass {
             .layer_count(1)
             .color_attachments(&color)
             .depth_attachment(&depth);
-        let volumes = volume_objects(scene);
         let raw = device.raw();
         let mut push = GBufferPush {
             view_projection: view_projection.to_cols_array(),
@@ -131,7 +130,7 @@ impl BackFacesPass {
                 (&self.pipeline, &self.layout),
                 set,
             );
-            draw_in_order(raw, cmd, scene, Faces::Back, &volumes, |object| {
+            draw_in_order(raw, cmd, scene, Faces::Back, &scene.volumes, |object| {
                 push.object_index = object as u32;
                 raw.cmd_push_constants(
                     cmd,
@@ -144,17 +143,4 @@ impl BackFacesPass {
             raw.cmd_end_rendering(cmd);
         }
     }
-}
-
-/// The objects the forward pass draws whose material is transmissive with a volume.
-fn volume_objects(scene: &GpuScene) -> Vec<usize> {
-    let materials = &scene.scene().materials;
-    (0..scene.forward.len())
-        .filter(|&i| scene.forward[i])
-        .filter(|&i| {
-            materials
-                .get(scene.draw_materials[i])
-                .is_some_and(|m| m.is_transmissive() && m.volume.is_some())
-        })
-        .collect()
 }

@@ -122,6 +122,9 @@ pub struct Renderer {
     variants: HashMap<ShaderVariant, VariantPasses>,
     /// G-buffer pipelines by [`ShaderVariant::gbuffer_part`].
     gbuffer_passes: HashMap<ShaderVariant, Arc<GBufferPass>>,
+    /// The back faces pass (variant-independent: built once, for the first variant with
+    /// a glass volume, and shared by every such variant).
+    back_faces_pass: Option<Arc<back_faces::BackFacesPass>>,
     /// Output passes (and overlays) by target format.
     outputs: HashMap<vk::Format, OutputPasses>,
     overlay_font: overlay::OverlayFont,
@@ -220,6 +223,7 @@ impl Renderer {
             targets: HashMap::new(),
             variants: HashMap::new(),
             gbuffer_passes: HashMap::new(),
+            back_faces_pass: None,
             outputs: HashMap::new(),
             overlay_font,
             overlay_atlas,

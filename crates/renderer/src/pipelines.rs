@@ -26,9 +26,9 @@ pub(crate) struct VariantPasses {
     /// The blended objects' forward pass, in variants of scenes that have one (and that
     /// show radiance: not debug views or measurement floors).
     pub(crate) forward: Option<crate::forward::ForwardPass>,
-    /// The transmissive volumes' back faces pass, in variants with a forward pass and a
-    /// transmissive object with a volume.
-    pub(crate) back_faces: Option<crate::back_faces::BackFacesPass>,
+    /// The transmissive volumes' back faces pass (the renderer's one), in variants with a
+    /// forward pass and a transmissive object with a volume.
+    pub(crate) back_faces: Option<Arc<crate::back_faces::BackFacesPass>>,
 }
 
 /// The descriptor-set layout of every declared set ([`bindings::ALL`]), shared by every
@@ -143,13 +143,20 @@ impl Renderer {
             None
         };
         let back_faces = if variant.volume && forward.is_some() {
-            self.stats.pipelines_built += 1;
-            Some(crate::back_faces::BackFacesPass::new(
-                &self.device,
-                &self.compiler,
-                &self.pipeline_cache,
-                self.layouts.of(&bindings::BACK_FACES),
-            )?)
+            Some(match &self.back_faces_pass {
+                Some(pass) => pass.clone(),
+                None => {
+                    let pass = Arc::new(crate::back_faces::BackFacesPass::new(
+                        &self.device,
+                        &self.compiler,
+                        &self.pipeline_cache,
+                        self.layouts.of(&bindings::BACK_FACES),
+                    )?);
+                    self.stats.pipelines_built += 1;
+                    self.back_faces_pass = Some(pass.clone());
+                    pass
+                }
+            })
         } else {
             None
         };

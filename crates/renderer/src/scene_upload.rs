@@ -37,6 +37,9 @@ pub struct GpuScene {
     /// Per draw: drawn by the forward pass only (not into the G-buffer, casting no
     /// shadow): a blended (`AlphaMode::Blend`) or transmissive material.
     pub(crate) forward: Vec<bool>,
+    /// The draws whose material is transmissive with a volume (KHR_materials_volume),
+    /// in object-table order: what the back faces pass draws.
+    pub(crate) volumes: Vec<usize>,
     /// Per draw: the object casts shadows (drawn into shadow maps).
     pub(crate) casts_shadows: Vec<bool>,
     /// Per draw: the material (index into `textures.material_sets`).
@@ -317,6 +320,7 @@ struct Tables {
     double_sided: Vec<bool>,
     masked: Vec<bool>,
     forward: Vec<bool>,
+    volumes: Vec<usize>,
     draw_materials: Vec<usize>,
     variant: crate::variant::ShaderVariant,
     lit_variant: crate::variant::ShaderVariant,
@@ -381,6 +385,12 @@ impl Tables {
                 .iter()
                 .map(|o| scene.materials[o.material].is_see_through())
                 .collect(),
+            volumes: (0..scene.objects.len())
+                .filter(|&i| {
+                    let m = &scene.materials[scene.objects[i].material];
+                    m.is_transmissive() && m.volume.is_some()
+                })
+                .collect(),
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),
             variant: scene_variant(scene),
             lit_variant: lit_scene_variant(scene),
@@ -431,6 +441,7 @@ impl GpuScene {
             double_sided: tables.double_sided,
             masked: tables.masked,
             forward: tables.forward,
+            volumes: tables.volumes,
             casts_shadows: tables.casts_shadows,
             draw_materials: tables.draw_materials,
             variant: tables.variant,
@@ -521,6 +532,7 @@ impl GpuScene {
         self.double_sided = tables.double_sided;
         self.masked = tables.masked;
         self.forward = tables.forward;
+        self.volumes = tables.volumes;
         self.casts_shadows = tables.casts_shadows;
         self.draw_materials = tables.draw_materials;
         self.variant = tables.variant;
