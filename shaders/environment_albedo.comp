@@ -8,6 +8,8 @@
 //   [0].a    ∫ f_dielectric,specular cos
 //   [1].x    D1, [1].y D2: ∫ T T f_diffuse(ρ) cos = ρ D1 + ρ² D2 (D2 ≠ 0 only for the
 //            full Oren–Nayar model's interreflection term)
+//   [1].z    ∫ f_coat cos: a clear coat's own reflection (brdf.glsl's coat, weight 1, the
+//            material's coat IOR, r the coat's roughness; 0 for materials without a coat)
 // Specular parts by sampling GGX's visible normals, diffuse by cosine-weighted
 // directions, Hammersley points.
 #include "environment_bake.glsl"
@@ -55,6 +57,14 @@ void main() {
 
     vec3 conductor_sum = vec3(0.0);
     float specular_sum = 0.0;
+    float coat_sum = 0.0;
+    CoatInputs coat;
+    coat.factor = material.clearcoat.x > 0.0 ? 1.0 : 0.0;
+    coat.alpha = a;
+    coat.eta = material.clearcoat.z;
+    coat.outside_eta = m.outside_eta;
+    coat.polarisation_weight = m.polarisation_weight;
+    CoatView coat_seen = coat_view(coat, n, v);
     for (uint i = 0u; i < samples; ++i) {
         vec3 h = sample_ggx_vndf(v, a, a, hammersley(i, samples));
         vec3 l = 2.0 * dot(v, h) * h - v;
@@ -65,6 +75,7 @@ void main() {
         float w = l.z / pdf;
         conductor_sum += brdf_evaluate_view(m, conductor, l) * w;
         specular_sum += brdf_evaluate_view(md, dielectric, l).x * w;
+        coat_sum += coat_evaluate_view(coat, coat_seen, l).x * w;
     }
     // Compensated (Kahan) sums, so a constant integrand (Lambert behind no interface:
     // f·π = ρ for every direction) comes out within an ulp or two.
@@ -97,5 +108,5 @@ void main() {
     float d1 = one - d2;
     uint entry = ((id.z * size + id.y) * size + id.x) * 2u;
     environment_albedo[entry] = vec4(conductor_sum, specular_sum) / float(samples);
-    environment_albedo[entry + 1u] = vec4(d1, d2, 0.0, 0.0);
+    environment_albedo[entry + 1u] = vec4(d1, d2, coat_sum / float(samples), 0.0);
 }

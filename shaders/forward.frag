@@ -401,18 +401,25 @@ void main() {
     vec3 n = s.normal;
     vec3 t = s.direction;
     BrdfView view = brdf_view(m, n, t, cross(n, t), v);
+#ifdef CLEARCOAT
+    SurfaceCoat coat = surface_coat(material, m, s.clearcoat, s.clearcoat_roughness,
+                                    s.clearcoat_normal, v);
+#else
+    SurfaceCoat coat = no_surface_coat();
+#endif
     vec3 radiance = s.emissive;
     for (uint i = 0u; i < push.light_count; ++i) {
-        radiance += light_radiance(m, view, lights[i], position, n, push.camera_position.xyz,
+        radiance += light_radiance(m, view, coat, lights[i], position, n, push.camera_position.xyz,
                                    gl_FragCoord.xy);
     }
 #ifdef ENVIRONMENT
-    radiance += environment_radiance(material, in_material, m, view, view.frame[2], v, s.roughness,
-                                     base_color_code, s.occlusion);
+    radiance += environment_radiance(material, in_material, m, view, coat, view.frame[2], v,
+                                     s.roughness, base_color_code, s.occlusion);
 #endif
 #ifdef TRANSMISSION
     if (transmission > 0.0) {
-        radiance += (1.0 - s.metalness) * transmission * base_color
+        // What passes through leaves through the coat towards the eye: A(v).
+        radiance += (1.0 - s.metalness) * transmission * base_color * coat.view.attenuation_v
                   * transmitted_radiance(material, m, n, v, position, s.roughness, thickness);
     }
 #endif

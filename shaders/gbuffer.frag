@@ -20,6 +20,15 @@ layout(location = 2) out uvec2 out_material_direction;         // RG16_UINT
 #ifdef EMISSIVE_OCCLUSION_TARGET
 layout(location = 3) out vec4 out_emissive;  // the HDR image's format (f16/f32): rgb emitted radiance, a occlusion
 #endif
+#ifdef CLEARCOAT
+// RGBA16_UNORM: the coat's octahedral normal (rg), perceptual roughness (b), weight (a);
+// the attachment after the emissive target, or in its place.
+#ifdef EMISSIVE_OCCLUSION_TARGET
+layout(location = 4) out vec4 out_clearcoat;
+#else
+layout(location = 3) out vec4 out_clearcoat;
+#endif
+#endif
 
 void main() {
 #ifdef FLOOR_GEOMETRY
@@ -40,6 +49,9 @@ void main() {
 #ifdef EMISSIVE_OCCLUSION_TARGET
     out_emissive = vec4(0.0);
 #endif
+#ifdef CLEARCOAT
+    out_clearcoat = vec4(0.0);
+#endif
     return;
 #endif
     GpuMaterial material = materials[in_material];
@@ -58,6 +70,9 @@ void main() {
     out_material_direction = uvec2(in_material, anisotropy_direction_encode(stored_normal(s.normal), s.direction));
 #ifdef EMISSIVE_OCCLUSION_TARGET
     out_emissive = vec4(s.emissive, s.occlusion);
+#endif
+#ifdef CLEARCOAT
+    out_clearcoat = vec4(octahedral_encode(s.clearcoat_normal), s.clearcoat_roughness, s.clearcoat);
 #endif
 #ifdef ALPHA_MASK
     if (cut_away) {

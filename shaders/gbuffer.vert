@@ -39,6 +39,10 @@ layout(location = 5) out vec4 out_slot_uv[3];
 #ifdef TRANSMISSION
 layout(location = 9) out vec4 out_slot_uv_transmission;  // transmission, thickness (forward pass)
 #endif
+#ifdef CLEARCOAT
+layout(location = 10) out vec4 out_slot_uv_clearcoat;  // clearcoat, clearcoat roughness
+layout(location = 11) out vec2 out_slot_uv_clearcoat_normal;
+#endif
 #include "texture_slots.glsl"
 #endif
 
@@ -64,6 +68,10 @@ void main() {
     out_slot_uv[2] = vec4(slot_uv(m, 5u, in_uv, in_uv1), slot_uv(m, 3u, in_uv, in_uv1));
 #ifdef TRANSMISSION
     out_slot_uv_transmission = vec4(slot_uv(m, 8u, in_uv, in_uv1), slot_uv(m, 9u, in_uv, in_uv1));
+#endif
+#ifdef CLEARCOAT
+    out_slot_uv_clearcoat = vec4(slot_uv(m, 10u, in_uv, in_uv1), slot_uv(m, 11u, in_uv, in_uv1));
+    out_slot_uv_clearcoat_normal = slot_uv(m, 12u, in_uv, in_uv1);
 #endif
 #endif
     gl_Position = push.view_projection * world;

@@ -7,6 +7,7 @@
 // Specialised per scene (combustion_renderer::LightingFeatures): NO_ANISOTROPY,
 // NO_CONDUCTORS, NO_CONDUCTOR_TABLE, NO_DIELECTRICS, OUTSIDE_ETA_ONE, NO_LAMBERT,
 // NO_OREN_NAYAR_QUALITATIVE, NO_OREN_NAYAR_FULL, NO_UNLIT remove what the scene cannot use;
+// CLEARCOAT (scenes with a clear coat) adds the coat's lobe over the base;
 // SHADOWS (a shading option) multiplies each shadowed light by its shadow maps' verdict.
 #include "gpu_types.glsl"
 #include "gbuffer_encoding.glsl"
@@ -126,6 +127,14 @@ void main() {
 
     // The view-dependent half of the BRDF once per pixel; per light only the rest.
     BrdfView view = brdf_view(m, n, t, b, v);
+#ifdef CLEARCOAT
+    // The clear coat: weight (a), perceptual roughness (b), octahedral normal (rg).
+    vec4 coat_texel = texelFetch(gbuffer_clearcoat, pixel, 0);
+    SurfaceCoat coat = surface_coat(material, m, coat_texel.a, coat_texel.b,
+                                    octahedral_decode(coat_texel.rg), v);
+#else
+    SurfaceCoat coat = no_surface_coat();
+#endif
 
     // Culled frames: only the lights the tile's list names, in index order (the same
     // sum as over every light, less terms that are exactly 0 here).
@@ -186,7 +195,7 @@ void main() {
     vec3 radiance = vec3(0.0);
     for (uint j = 0u; j < light_count; ++j) {
         uint i = culled ? tile_lights[list + 1u + j] : j;
-        radiance += light_radiance(m, view, lights[i], position, n, push.camera_position.xyz,
+        radiance += light_radiance(m, view, coat, lights[i], position, n, push.camera_position.xyz,
                                    gl_FragCoord.xy);
     }
 #ifdef EMISSIVE_OCCLUSION_TARGET
@@ -198,8 +207,8 @@ void main() {
 #else
     float occlusion = 1.0;
 #endif
-    radiance += environment_radiance(material, md.x, m, view, view.frame[2], normalize(v), nra.z,
-                                     base_color_srgb8_code(base_metal.rgb), occlusion);
+    radiance += environment_radiance(material, md.x, m, view, coat, view.frame[2], normalize(v),
+                                     nra.z, base_color_srgb8_code(base_metal.rgb), occlusion);
 #endif
 #ifdef EMISSIVE
     radiance += emissive_occlusion.rgb;

@@ -249,7 +249,8 @@ fn texture_codes(lod: f64, contrast: f64) -> f64 {
 }
 
 /// The radiance of `surface` with its normal turned by `angle` in eight directions of
-/// its tangent plane (along ±t, ±b and the diagonals): the largest relative change.
+/// its tangent plane (along ±t, ±b and the diagonals), a clear coat's normal (which
+/// comes from the same interpolated normal) with it: the largest relative change.
 fn turned_normal_change(shading: &SceneShading, surface: &SurfacePoint, angle: f64) -> f64 {
     let reference = shading.radiance(surface);
     (0..8)
@@ -260,6 +261,12 @@ fn turned_normal_change(shading: &SceneShading, surface: &SurfacePoint, angle: f
             turned.n = (surface.n + axis * angle.tan()).normalize();
             turned.t = surface.t.reject_from_normalized(turned.n).normalize();
             turned.b = turned.n.cross(turned.t);
+            if let Some(coat) = &mut turned.coat {
+                let c = coat.normal;
+                let c = DVec3::new(c.x, c.y, c.z) + axis * angle.tan();
+                let c = c.normalize();
+                coat.normal = combustion::optics::Vec3::new(c.x, c.y, c.z);
+            }
             relative(shading.radiance(&turned), reference)
         })
         .fold(0.0, f64::max)

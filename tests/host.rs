@@ -889,7 +889,8 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// (ranged) lights, with and without cut-outs and vertex colours, and with and without
 /// blended and transmissive objects (the forward pass, its set and pipeline; the image
 /// behind transmissive objects, a target of its own; the back faces of glass volumes,
-/// targets and a pass of their own, with and without them), rendered in
+/// targets and a pass of their own, with and without them), with and without a clear
+/// coat (a G-buffer target of its own), rendered in
 /// alternation, each run of
 /// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
 /// flight. The targets of the scene not shown are retired and destroyed while the
@@ -941,6 +942,8 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         blend,
         glass,
         thin_glass,
+        // A clear coat: the G-buffer's coat target and the lighting set's binding of it.
+        builtin_scene("clearcoat").unwrap(),
     ];
     let (mut host, log, mut output) = host_with_output(&scenes, 3, 48, 40);
     // Each scene for 24 frames (past the 16-frame retire delay), twice round; the
@@ -955,7 +958,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
                 .unwrap();
             host.frame_environments = vec![None, Some(studio)];
         }
-        for scene in [0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1] {
+        for scene in [0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8] {
             for _ in 0..24 {
                 headless::frame(&mut host, &mut output, scene).unwrap();
             }

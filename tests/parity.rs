@@ -194,6 +194,15 @@ fn underwater_in_air_parity() {
     assert_parity("underwater-in-air", 192, 128, 5000);
 }
 
+/// Clear coats (KHR_materials_clearcoat, the CLEARCOAT variant: the coat's G-buffer
+/// target and its lobe over the base) against the f64 coat of the optics crate, in air
+/// and under water, with the same bounds.
+#[test]
+fn clearcoat_parity() {
+    assert_parity("clearcoat", 256, 128, 5000);
+    assert_parity("clearcoat-underwater", 256, 128, 5000);
+}
+
 /// The error of the cheaper Schlick variant against the full Fresnel equations (f64
 /// reference), per scene, for the README's speed-against-error table. A measurement, not
 /// a test: run with `cargo test --test parity -- --ignored --nocapture`.

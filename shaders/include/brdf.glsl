@@ -327,4 +327,77 @@ vec3 brdf_evaluate(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v, vec3 l) {
     return brdf_evaluate_view(m, brdf_view(m, n, t, b, v), l);
 }
 
+// The clear coat over the BRDF (KHR_materials_clearcoat). GLSL mirror of
+// crates/optics/src/coat.rs: f = c S_c(v, l) R_w(v·h; ηi, ηc) + A(v) A(l) f_base(v, l),
+// A(ω) = 1 − c R_w(n_c·ω; ηi, ηc), S_c the isotropic GGX lobe about the coat's normal.
+struct CoatInputs {
+    float factor;             // c ∈ [0, 1]; 0: no coat
+    float alpha;              // GGX α of the coat (isotropic)
+    float eta;                // real IOR of the coat (glTF: 1.5)
+    float outside_eta;        // η_i of the medium above it
+    float polarisation_weight;  // 0 = s, 1 = p, 0.5 unpolarised
+};
+
+struct CoatView {
+    mat3 frame;
+    vec3 v;
+    float alpha;
+    float factor;
+    float w;
+    vec2 visibility_half;
+    float attenuation_v;      // A(v)
+};
+
+// A(ω) = 1 − c R_w(cos; ηi, ηc) (1 − c below the horizon).
+float coat_attenuation(CoatInputs c, float cos_theta) {
+    float factor = min(max(c.factor, 0.0), 1.0);
+    return 1.0 - factor * polarised_weighted(fresnel_dielectric(cos_theta, c.outside_eta, c.eta),
+                                             c.polarisation_weight);
+}
+
+CoatView coat_view(CoatInputs c, vec3 n, vec3 v) {
+    CoatView view;
+    view.frame = shading_frame(n, vec3(0.0), vec3(0.0));
+    view.v = shading_frame_to_local(view.frame, safe_normalize(v));
+    view.alpha = clamp_alpha(c.alpha);
+    view.factor = min(max(c.factor, 0.0), 1.0);
+    view.w = min(max(c.polarisation_weight, 0.0), 1.0);
+    view.visibility_half = smith_ggx_visibility_half(view.v, view.alpha, view.alpha);
+    view.attenuation_v = coat_attenuation(c, view.v.z);
+    return view;
+}
+
+// The coat's terms for light from l (world space; Rust: CoatTerms): x the coat's own
+// reflection c S_c R_w(v·h), y A(l), z n_c·l.
+vec3 coat_evaluate_view(CoatInputs c, CoatView view, vec3 l) {
+    vec3 ll = shading_frame_to_local(view.frame, safe_normalize(l));
+    float attenuation_l = coat_attenuation(c, ll.z);
+    vec3 vl = view.v;
+    if (!(vl.z > 0.0 && ll.z > 0.0) || view.factor == 0.0) {
+        return vec3(0.0, attenuation_l, ll.z);
+    }
+    vec3 sum = vl + ll;
+    float len = sqrt(dot(sum, sum));
+    vec3 h = sum * (1.0 / len);
+    float cos_h = min(0.5 * len, 1.0);
+    vec2 light_half = smith_ggx_visibility_half(ll, view.alpha, view.alpha);
+    float visibility = 0.5 / (light_half.x * view.visibility_half.y + view.visibility_half.x * light_half.y);
+    float reflectance = polarised_weighted(fresnel_dielectric(cos_h, c.outside_eta, c.eta), view.w);
+    return vec3(view.factor * d_ggx(h, view.alpha) * visibility * reflectance, attenuation_l, ll.z);
+}
+
+// The coated BRDF where coat and base share their normal, from the base's f(v, l) and
+// the coat's terms for the same v and l: c S_c R_w + A(v) A(l) f_base.
+vec3 coated(vec3 base, CoatView view, vec3 terms) {
+    return vec3(terms.x) + (view.attenuation_v * terms.y) * base;
+}
+
+// The reflected radiance per unit irradiance, each layer lit with the cosine to its own
+// normal: c S_c R_w (n_c·l)⁺ + A(v) A(l) f_base (n·l)⁺ (cos_base = n·l).
+vec3 coated_radiance(vec3 base, float cos_base, CoatView view, vec3 terms) {
+    float coat = terms.x * max(terms.z, 0.0);
+    float attenuation = view.attenuation_v * terms.y * max(cos_base, 0.0);
+    return vec3(coat) + attenuation * base;
+}
+
 #endif // COMBUSTION_BRDF_GLSL

@@ -32,6 +32,45 @@ float energy_white_albedo_lookup(float cos_v, float alpha) {
 }
 #endif
 
+// The clear coat of the surface being shaded (KHR_materials_clearcoat; read only in
+// CLEARCOAT variants): its inputs, its view half and its perceptual roughness.
+struct SurfaceCoat {
+    CoatInputs inputs;
+    CoatView view;
+    float roughness;
+};
+
+// The coat of weight `weight`, perceptual roughness `roughness` and unit normal `normal`
+// over a surface of `material` (its coat IOR) whose BRDF inputs are `m` (its outside
+// medium and polarisation weight), seen from `v`.
+SurfaceCoat surface_coat(GpuMaterial material, BrdfInputs m, float weight, float roughness,
+                         vec3 normal, vec3 v) {
+    SurfaceCoat coat;
+    coat.inputs.factor = weight;
+    coat.inputs.alpha = alpha_from_perceptual_roughness(roughness);
+    coat.inputs.eta = material.clearcoat.z;
+    coat.inputs.outside_eta = m.outside_eta;
+    coat.inputs.polarisation_weight = m.polarisation_weight;
+    coat.view = coat_view(coat.inputs, normal, v);
+    coat.roughness = roughness;
+    return coat;
+}
+
+// No coat: what variants without CLEARCOAT pass (and never read).
+SurfaceCoat no_surface_coat() {
+    SurfaceCoat coat;
+    coat.inputs = CoatInputs(0.0, 1.0, 1.0, 1.0, 0.5);
+    coat.view.frame = mat3(1.0);
+    coat.view.v = vec3(0.0, 0.0, 1.0);
+    coat.view.alpha = 1.0;
+    coat.view.factor = 0.0;
+    coat.view.w = 0.5;
+    coat.view.visibility_half = vec2(1.0);
+    coat.view.attenuation_v = 1.0;
+    coat.roughness = 1.0;
+    return coat;
+}
+
 #ifdef ENVIRONMENT
 #include "environment.glsl"
 
@@ -59,9 +98,13 @@ float environment_code_table(uint table, uint code, vec2 coord) {
 // radiance along the mirror direction times the material's specular directional albedo
 // (full Fresnel), plus the cosine-weighted mean radiance about n times its diffuse
 // albedo ρ D1 + ρ² D2. Anisotropic pixels use the roughness of their mean α.
+// A clear coat (CLEARCOAT variants) adds its own lobe the same way, from its albedo in
+// the table ([1].z at (n_c·v, its roughness)) times its weight, along its own mirror
+// direction, and attenuates the rest by A(v)², the light arriving about the mirror
+// direction crossing the coat at the angle the view leaves it.
 vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs m, BrdfView view,
-                          vec3 n, vec3 v, float roughness, vec3 base_color_code,
-                          float occlusion) {
+                          SurfaceCoat coat, vec3 n, vec3 v, float roughness,
+                          vec3 base_color_code, float occlusion) {
     float nv = view.v.z;
     if (!(nv > 0.0)) {
         return vec3(0.0);
@@ -121,9 +164,29 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
 #endif
     float smoothness = 1.0 - alpha;
     vec3 r = normalize(mix(n, reflect(-v, lookup_normal), smoothness * (sqrt(smoothness) + alpha)));
-    float lod = clamp(roughness, 0.0, 1.0) * float(textureQueryLevels(environment_specular) - 1);
-    return textureLod(environment_specular, r, lod).rgb * specular_albedo
-         + textureLod(environment_irradiance, n, 0.0).rgb * diffuse_albedo;
+    float levels = float(textureQueryLevels(environment_specular) - 1);
+    float lod = clamp(roughness, 0.0, 1.0) * levels;
+    vec3 radiance = textureLod(environment_specular, r, lod).rgb * specular_albedo
+                  + textureLod(environment_irradiance, n, 0.0).rgb * diffuse_albedo;
+#ifdef CLEARCOAT
+    if (coat.view.factor > 0.0) {
+        float nv_coat = coat.view.v.z;
+        vec3 n_coat = coat.view.frame[2];
+        float r_coat = clamp(coat.roughness, 0.0, 1.0);
+        float a_coat = r_coat * r_coat;
+        float albedo = nv_coat > 0.0
+            ? environment_table(material_index, 1u, vec2(nv_coat, r_coat)).z : 0.0;
+#ifdef OCCLUSION
+        albedo *= clamp(pow(max(nv_coat, 0.0) + occlusion, exp2(-16.0 * a_coat - 1.0)) - 1.0 + occlusion,
+                        0.0, 1.0);
+#endif
+        float smooth_coat = 1.0 - a_coat;
+        vec3 r_c = normalize(mix(n_coat, reflect(-v, n_coat), smooth_coat * (sqrt(smooth_coat) + a_coat)));
+        radiance = radiance * (coat.view.attenuation_v * coat.view.attenuation_v)
+                 + textureLod(environment_specular, r_c, r_coat * levels).rgb * (coat.view.factor * albedo);
+    }
+#endif
+    return radiance;
 }
 #endif
 
@@ -165,12 +228,14 @@ BrdfInputs brdf_inputs(GpuMaterial material, vec3 base_color, float metalness, f
 }
 
 // The radiance `light` reflects towards the eye from a surface at `position` with shading
-// normal `n` (the BRDF's inputs `m` and view half `view`): f(v, l) E (n·l), times the
+// normal `n` (the BRDF's inputs `m` and view half `view`; in CLEARCOAT variants under
+// `coat`, each layer lit with the cosine to its own normal, brdf.glsl's
+// coated_radiance): f(v, l) E (n·l), times the
 // light's shadow maps' verdict in the SHADOWS variant (`eye`: the camera's position,
 // `pixel`: the fragment's window coordinates, for the cascade choice and the filter's
 // noise).
-vec3 light_radiance(BrdfInputs m, BrdfView view, GpuLight light, vec3 position, vec3 n, vec3 eye,
-                    vec2 pixel) {
+vec3 light_radiance(BrdfInputs m, BrdfView view, SurfaceCoat coat, GpuLight light, vec3 position,
+                    vec3 n, vec3 eye, vec2 pixel) {
     vec3 l;
     vec3 irradiance;
     if (light.power_kind.a != LIGHT_KIND_DIRECTIONAL) {
@@ -189,13 +254,26 @@ vec3 light_radiance(BrdfInputs m, BrdfView view, GpuLight light, vec3 position, 
         irradiance = light.power_kind.rgb;
     }
     float n_dot_l = dot(n, l);
+#ifdef CLEARCOAT
+    // A coat with its own normal may face a light the base does not.
+    if (n_dot_l <= 0.0 && !(coat.view.factor > 0.0 && dot(coat.view.frame[2], l) > 0.0)) {
+        return vec3(0.0);
+    }
+#else
     if (n_dot_l <= 0.0) {
         return vec3(0.0);
     }
+#endif
 #ifdef SHADOWS
     if (light.spot_cone.w != 0.0) {
         irradiance *= shadow_visibility_of(light, uint(light.spot_cone.w) - 1u, position, eye, n, l,
                                            pixel);
+    }
+#endif
+#ifdef CLEARCOAT
+    if (coat.view.factor > 0.0) {
+        return coated_radiance(brdf_evaluate_view(m, view, l), n_dot_l, coat.view,
+                               coat_evaluate_view(coat.inputs, coat.view, l)) * irradiance;
     }
 #endif
     return brdf_evaluate_view(m, view, l) * irradiance * n_dot_l;

@@ -22,6 +22,10 @@ layout(location = 5) in vec4 in_slot_uv[3];  // gbuffer.vert: each slot's mapped
 #ifdef TRANSMISSION
 layout(location = 9) in vec4 in_slot_uv_transmission;  // the transmission and thickness slots'
 #endif
+#ifdef CLEARCOAT
+layout(location = 10) in vec4 in_slot_uv_clearcoat;  // the clearcoat and its roughness slots'
+layout(location = 11) in vec2 in_slot_uv_clearcoat_normal;
+#endif
 #endif
 
 // Set 1: the material's textures, bound per material; empty slots hold a 1×1 white
@@ -42,6 +46,9 @@ layout(location = 9) in vec4 in_slot_uv_transmission;  // the transmission and t
 #define UV_OCCLUSION in_slot_uv[2].zw
 #define UV_TRANSMISSION in_slot_uv_transmission.xy
 #define UV_THICKNESS in_slot_uv_transmission.zw
+#define UV_CLEARCOAT in_slot_uv_clearcoat.xy
+#define UV_CLEARCOAT_ROUGHNESS in_slot_uv_clearcoat.zw
+#define UV_CLEARCOAT_NORMAL in_slot_uv_clearcoat_normal
 #else
 #define UV_BASE_COLOR in_uv
 #define UV_METALLIC_ROUGHNESS in_uv
@@ -51,6 +58,9 @@ layout(location = 9) in vec4 in_slot_uv_transmission;  // the transmission and t
 #define UV_OCCLUSION in_uv
 #define UV_TRANSMISSION in_uv
 #define UV_THICKNESS in_uv
+#define UV_CLEARCOAT in_uv
+#define UV_CLEARCOAT_ROUGHNESS in_uv
+#define UV_CLEARCOAT_NORMAL in_uv
 #endif
 
 // The vertex colour's alpha (1 without vertex colours).
@@ -74,6 +84,12 @@ struct MaterialSurface {
     vec3 direction;   // unit anisotropy direction, in the plane of `normal`
     vec3 emissive;    // emitted radiance (EMISSIVE variant; 0 otherwise)
     float occlusion;  // glTF occlusion (OCCLUSION variant; 1 otherwise)
+    // KHR_materials_clearcoat (CLEARCOAT variant; weight 0 otherwise): the coat's weight,
+    // perceptual roughness and unit normal (its own normal map applied to the geometry's
+    // normal, not the base's normal map; reversed on back faces).
+    float clearcoat;
+    float clearcoat_roughness;
+    vec3 clearcoat_normal;
 };
 
 MaterialSurface material_surface(GpuMaterial material) {
@@ -99,6 +115,8 @@ MaterialSurface material_surface(GpuMaterial material) {
     }
     t = normalize(t);
     vec3 b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
+    // The geometry's frame, before the base's normal map: the coat's.
+    mat3 geometry_frame = mat3(t, b, n);
 
     // Normal map (tangent space, glTF convention), scaled in x and y.
     if (tex0.z >= 0) {
@@ -161,6 +179,30 @@ MaterialSurface material_surface(GpuMaterial material) {
     if (tex0.w >= 0) {
         float occlusion_strength = uintBitsToFloat(material.diffuse_model_flags.z);
         s.occlusion = 1.0 + occlusion_strength * (texture(occlusion_texture, UV_OCCLUSION).r - 1.0);
+    }
+#endif
+    s.clearcoat = 0.0;
+    s.clearcoat_roughness = 0.0;
+    s.clearcoat_normal = geometry_frame[2];
+#ifdef CLEARCOAT
+    // KHR_materials_clearcoat: weight × R of its texture, roughness × G of its own, the
+    // coat's normal map in the geometry's tangent frame, scaled in x and y.
+    ivec4 tex2 = material.textures_clearcoat;
+    s.clearcoat = material.clearcoat.x;
+    if (tex2.x >= 0) {
+        s.clearcoat *= texture(clearcoat_texture, UV_CLEARCOAT).r;
+    }
+    s.clearcoat_roughness = material.clearcoat.y;
+    if (tex2.y >= 0) {
+        s.clearcoat_roughness *= texture(clearcoat_roughness_texture, UV_CLEARCOAT_ROUGHNESS).g;
+    }
+    if (tex2.z >= 0) {
+        vec3 m = texture(clearcoat_normal_texture, UV_CLEARCOAT_NORMAL).xyz * 2.0 - 1.0;
+        m.xy *= material.clearcoat.w;
+        vec3 mapped = geometry_frame * m;
+        if (dot(mapped, mapped) > 1e-20) {
+            s.clearcoat_normal = normalize(mapped);
+        }
     }
 #endif
     return s;

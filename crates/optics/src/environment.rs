@@ -9,6 +9,7 @@
 //! the estimate comes with its standard error σ/√N from the samples' own variance.
 
 use crate::brdf::{brdf_evaluate_view, brdf_view, BrdfInputs};
+use crate::coat::{coat_evaluate_view, coat_view, coated_radiance, CoatLayer};
 use crate::microfacet::{clamp_alpha, d_ggx_anisotropic, lambda_ggx_anisotropic};
 use crate::vec3::{ShadingFrame, Vec3};
 
@@ -111,6 +112,24 @@ pub fn integrate_environment(
     radiance: impl Fn([f64; 3]) -> [f64; 3],
     sampling: Sampling,
 ) -> Estimate {
+    integrate_environment_coated(m, None, n, t, b, v, radiance, sampling)
+}
+
+/// As [`integrate_environment`], under a clear coat when `coat` is given: the coated
+/// surface's reflected radiance, each layer lit with the cosine to its own normal
+/// ([`coated_radiance`]), with a third strategy, GGX's visible normals of the coat about
+/// its own normal, in the balance heuristic.
+#[allow(clippy::too_many_arguments)] // the surface's frame, as integrate_environment's
+pub fn integrate_environment_coated(
+    m: &BrdfInputs<f64>,
+    coat: Option<&CoatLayer<f64>>,
+    n: Vec3<f64>,
+    t: Vec3<f64>,
+    b: Vec3<f64>,
+    v: Vec3<f64>,
+    radiance: impl Fn([f64; 3]) -> [f64; 3],
+    sampling: Sampling,
+) -> Estimate {
     let Sampling { iterations, seed } = sampling;
     let view = brdf_view(m, n, t, b, v);
     let frame = ShadingFrame::new(n, t, b);
@@ -123,36 +142,66 @@ pub fn integrate_environment(
         return zero;
     }
     let (ax, ay) = (clamp_alpha(m.alpha_x), clamp_alpha(m.alpha_y));
+    // The coat: its view half, its frame and v in it, its α.
+    let coat = coat.filter(|c| c.inputs.factor > 0.0).map(|c| {
+        let coat_frame = ShadingFrame::from_normal(c.normal);
+        (
+            c.inputs,
+            coat_view(&c.inputs, c.normal, v),
+            coat_frame,
+            coat_frame.to_local(v.normalize()),
+            clamp_alpha(c.inputs.alpha),
+        )
+    });
+    let strategies = if coat.is_some() { 3 } else { 2 };
     let mut rng = SplitMix64::new(seed);
     let mut sum = [0.0; 3];
     let mut sum_squares = [0.0; 3];
     for _ in 0..iterations {
-        // One sample of each strategy; their balance-heuristic weights make the pair's
+        // One sample of each strategy; their balance-heuristic weights make the set's
         // sum one unbiased sample of the integral.
         let mut pair = [0.0; 3];
-        for strategy in 0..2 {
+        for strategy in 0..strategies {
             let (u1, u2) = (rng.next_f64(), rng.next_f64());
-            let l = if strategy == 0 {
-                let h = sample_ggx_vndf(v_local, ax, ay, u1, u2);
-                h * (2.0 * v_local.dot(h)) - v_local
-            } else {
-                sample_cosine(u1, u2)
+            let world = match (strategy, &coat) {
+                (0, _) => {
+                    let h = sample_ggx_vndf(v_local, ax, ay, u1, u2);
+                    frame.to_world(h * (2.0 * v_local.dot(h)) - v_local)
+                }
+                (1, _) => frame.to_world(sample_cosine(u1, u2)),
+                (_, Some((_, _, coat_frame, coat_v, coat_alpha))) => {
+                    if coat_v.z.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                        continue;
+                    }
+                    let h = sample_ggx_vndf(*coat_v, *coat_alpha, *coat_alpha, u1, u2);
+                    coat_frame.to_world(h * (2.0 * coat_v.dot(h)) - *coat_v)
+                }
+                _ => unreachable!("two strategies without a coat"),
             };
-            if l.z.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                continue;
-            }
-            let pdf_vndf = pdf_ggx_vndf_reflection(v_local, l, ax, ay);
-            let pdf_cosine = l.z * std::f64::consts::FRAC_1_PI;
-            let pdf_sum = pdf_vndf + pdf_cosine;
+            let l = frame.to_local(world);
+            let mut pdf_sum = pdf_ggx_vndf_reflection(v_local, l, ax, ay)
+                + l.z.max(0.0) * std::f64::consts::FRAC_1_PI;
+            let f = brdf_evaluate_view(m, &view, world);
+            let reflected = match &coat {
+                None => {
+                    if l.z.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                        continue;
+                    }
+                    f.map(|f| f * l.z)
+                }
+                Some((inputs, seen, coat_frame, coat_v, coat_alpha)) => {
+                    let coat_l = coat_frame.to_local(world);
+                    pdf_sum += pdf_ggx_vndf_reflection(*coat_v, coat_l, *coat_alpha, *coat_alpha);
+                    coated_radiance(f, l.z, seen, &coat_evaluate_view(inputs, seen, world))
+                }
+            };
             if !(pdf_sum > 0.0 && pdf_sum.is_finite()) {
                 continue;
             }
-            let world = frame.to_world(l);
-            let f = brdf_evaluate_view(m, &view, world);
             let light = radiance([world.x, world.y, world.z]);
             // Balance heuristic: weight pdf_s / Σ pdf, over pdf_s: 1 / Σ pdf.
             for c in 0..3 {
-                pair[c] += f[c] * light[c] * l.z / pdf_sum;
+                pair[c] += reflected[c] * light[c] / pdf_sum;
             }
         }
         for c in 0..3 {

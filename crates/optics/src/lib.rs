@@ -15,6 +15,9 @@
 //!   Cook–Torrance (g, c) form, Schlick, F0 ↔ η.
 //! * [`diffuse`]: Lambert, Oren–Nayar qualitative and full, the σ mapping.
 //! * [`brdf`]: [`brdf_evaluate`], the assembled BRDF the lighting pass evaluates.
+//! * [`coat`]: a clear dielectric coat over it (KHR_materials_clearcoat): its own GGX
+//!   lobe with the exact Fresnel reflectance from the outside medium, and the base
+//!   attenuated by the coat's transmittance both ways.
 //! * [`real`], [`vec3`]: the scalar trait, a 3-vector, the [`ShadingFrame`].
 //!
 //! # Conventions
@@ -154,6 +157,7 @@
 #![warn(missing_docs)]
 
 pub mod brdf;
+pub mod coat;
 pub mod diffuse;
 pub mod environment;
 pub mod fresnel;

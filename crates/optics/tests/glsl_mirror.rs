@@ -97,13 +97,13 @@ fn diffuse_model_defines_match_the_enum() {
     }
 }
 
-#[test]
-fn brdf_inputs_fields_match_the_struct() {
-    let src = include("brdf.glsl");
-    let start = src.find("struct BrdfInputs {").expect("struct BrdfInputs");
+/// The (type, name) fields of GLSL `struct NAME { ... };` in `src`, in order.
+fn glsl_struct_fields(src: &str, name: &str) -> Vec<(String, String)> {
+    let start = src
+        .find(&format!("struct {name} {{"))
+        .unwrap_or_else(|| panic!("no struct {name}"));
     let body = &src[start..start + src[start..].find("};").unwrap()];
-    let fields: Vec<(String, String)> = body
-        .lines()
+    body.lines()
         .skip(1)
         .filter_map(|line| {
             let code = line.split("//").next().unwrap().trim();
@@ -111,7 +111,39 @@ fn brdf_inputs_fields_match_the_struct() {
             let mut parts = code.split_whitespace();
             Some((parts.next()?.to_string(), parts.next()?.to_string()))
         })
+        .collect()
+}
+
+#[test]
+fn coat_inputs_fields_match_the_struct() {
+    let fields = glsl_struct_fields(&include("brdf.glsl"), "CoatInputs");
+    let got: Vec<(&str, &str)> = fields
+        .iter()
+        .map(|(t, n)| (t.as_str(), n.as_str()))
         .collect();
+    assert_eq!(
+        got,
+        [
+            ("float", "factor"),
+            ("float", "alpha"),
+            ("float", "eta"),
+            ("float", "outside_eta"),
+            ("float", "polarisation_weight"),
+        ]
+    );
+    // the Rust struct has exactly these fields (a compile-time check by construction)
+    let _ = combustion_optics::coat::CoatInputs::<f32> {
+        factor: 0.0,
+        alpha: 0.0,
+        eta: 0.0,
+        outside_eta: 0.0,
+        polarisation_weight: 0.0,
+    };
+}
+
+#[test]
+fn brdf_inputs_fields_match_the_struct() {
+    let fields = glsl_struct_fields(&include("brdf.glsl"), "BrdfInputs");
     // the Rust struct, in declaration order, with the GLSL type each field maps to
     let expected = [
         ("vec3", "base_color"),
@@ -204,6 +236,11 @@ fn every_term_has_a_glsl_mirror() {
                 "vec3 safe_normalize(vec3 v)",
                 "mat3 shading_frame(vec3 n_in, vec3 t_in, vec3 b_in)",
                 "vec3 brdf_evaluate(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v, vec3 l)",
+                "float coat_attenuation(CoatInputs c, float cos_theta)",
+                "CoatView coat_view(CoatInputs c, vec3 n, vec3 v)",
+                "vec3 coat_evaluate_view(CoatInputs c, CoatView view, vec3 l)",
+                "vec3 coated(vec3 base, CoatView view, vec3 terms)",
+                "vec3 coated_radiance(vec3 base, float cos_base, CoatView view, vec3 terms)",
             ],
         ),
     ];

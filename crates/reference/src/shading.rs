@@ -7,7 +7,9 @@
 //! derived from the textured base colour where the material says so — and lit by the
 //! scene's lights as their types define them (inverse-square law, KHR_lights_punctual's
 //! spot cone and the range window), shaded with the optics crate's f64 BRDF, plus the
-//! material's emission.
+//! material's emission. A clear coat (KHR_materials_clearcoat: weight × its texture's R,
+//! roughness × its texture's G, its own normal map on the geometry's normal, index 1.5)
+//! is layered over the BRDF by the optics crate's coat.
 //!
 //! It reads nothing the renderer computes: not its material table, light buffer,
 //! matrices, G-buffer or encodings. So the difference between a rendered frame and this
@@ -20,13 +22,16 @@
 //! and shadows unless [`SceneShading::with_visibility`] adds exact visibility.
 
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel as OpticsDiffuse};
+use combustion_optics::coat::{
+    coat_evaluate_view, coat_view, coated_radiance, CoatInputs, CoatLayer,
+};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
-use combustion_optics::environment::{integrate_environment, Estimate, Sampling};
+use combustion_optics::environment::{integrate_environment_coated, Estimate, Sampling};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::vec3::Vec3 as OpticsVec3;
 use combustion_scene::{
     conductor_from_reflectivity, range_window, DiffuseModel, Light, Material, Scene, TextureRef,
-    Vertex,
+    Vertex, CLEARCOAT_IOR,
 };
 use glam::{DMat3, DVec2, DVec3};
 use std::collections::HashMap;
@@ -96,6 +101,8 @@ pub struct SurfacePoint {
     /// differences along x and y, the rays met on the hit triangle's plane); 0 for a
     /// mesh of one colour.
     pub vertex_color_gradient: f64,
+    /// The clear coat over the BRDF (`None`: none, or a weight of 0 here).
+    pub coat: Option<CoatLayer<f64>>,
 }
 
 /// The scene shaded per pixel in f64 for a `width` × `height` frame of its own camera.
@@ -271,7 +278,7 @@ impl<'a> SceneShading<'a> {
 
     /// The same, with the scene's environment (if it has one) lighting every point:
     /// L = ∫ f(v, l) L_env(l) (n·l) dl over the hemisphere, estimated by
-    /// [`integrate_environment`] with `samples` samples of each strategy (BRDF and
+    /// [`integrate_environment_coated`] with `samples` samples of each strategy (BRDF and
     /// cosine sampling, combined by multiple importance), the sequence seeded by the
     /// point's position (so one point always gets one estimate). Unoccluded: the
     /// environment reaches every point from every direction above it (the renderer's
@@ -295,8 +302,9 @@ impl<'a> SceneShading<'a> {
             .fold(0x9e37_79b9_7f4a_7c15u64, |h, c| {
                 (h ^ c.to_bits()).wrapping_mul(0x1000_0000_01b3)
             });
-        Some(integrate_environment(
+        Some(integrate_environment_coated(
             &surface.brdf,
+            surface.coat.as_ref(),
             optics_vec(surface.n),
             optics_vec(surface.t),
             optics_vec(surface.b),
@@ -532,6 +540,23 @@ impl<'a> SceneShading<'a> {
             n.any_orthonormal_vector()
         };
         let mut b = n.cross(t) * sign;
+        // The clear coat's normal: its own normal map in the geometry's frame (not the
+        // base's normal map), else the geometry's normal.
+        let mut coat_normal = n;
+        if let Some(normal_map) = material
+            .clearcoat_normal_texture
+            .as_ref()
+            .filter(|_| material.is_coated())
+        {
+            let m = lookup.sample(normal_map);
+            let scale = f64::from(material.clearcoat_normal_scale);
+            let mapped = t * ((m[0] * 2.0 - 1.0) * scale)
+                + b * ((m[1] * 2.0 - 1.0) * scale)
+                + n * (m[2] * 2.0 - 1.0);
+            if mapped.length_squared() > 1e-30 {
+                coat_normal = mapped.normalize();
+            }
+        }
 
         // Normal map: n' = TBN · ((m · 2 − 1) ⊙ (scale, scale, 1)), normalised.
         if let Some(normal_map) = &material.normal_texture {
@@ -551,6 +576,7 @@ impl<'a> SceneShading<'a> {
         if DVec3::from(hit.geometric_normal).dot(position - eye) > 0.0 {
             n = -n;
             b = -b;
+            coat_normal = -coat_normal;
         }
 
         let base_texture = lookup.sample_or(material.base_color_texture.as_ref(), [1.0; 4]);
@@ -613,6 +639,23 @@ impl<'a> SceneShading<'a> {
             oren_nayar_sigma: oren_nayar_sigma_from_roughness(roughness),
         };
 
+        let coat = material.is_coated().then(|| {
+            let weight = f64::from(material.clearcoat)
+                * lookup.sample_or(material.clearcoat_texture.as_ref(), [1.0; 4])[0];
+            let roughness = f64::from(material.clearcoat_roughness)
+                * lookup.sample_or(material.clearcoat_roughness_texture.as_ref(), [1.0; 4])[1];
+            CoatLayer {
+                inputs: CoatInputs {
+                    factor: weight,
+                    alpha: alpha_from_perceptual_roughness(roughness),
+                    eta: f64::from(CLEARCOAT_IOR),
+                    outside_eta: brdf.outside_eta,
+                    polarisation_weight: brdf.polarisation_weight,
+                },
+                normal: optics_vec(coat_normal),
+            }
+        });
+        let coat = coat.filter(|c| c.inputs.factor > 0.0);
         let emissive_texture = lookup.sample_or(material.emissive_texture.as_ref(), [1.0; 4]);
         let emitted = std::array::from_fn(|c| {
             f64::from(material.emissive_factor[c])
@@ -636,6 +679,7 @@ impl<'a> SceneShading<'a> {
             alpha: coverage,
             transmission: f64::from(material.transmission)
                 * lookup.sample_or(material.transmission_texture.as_ref(), [1.0; 4])[0],
+            coat,
         }
     }
 
@@ -683,7 +727,11 @@ impl<'a> SceneShading<'a> {
             let mut radiance = self.reflected(&reflecting);
             if depth > 0 {
                 let through = self.transmitted(surface, m, depth - 1);
-                let weight = (1.0 - surface.brdf.metalness) * transmission;
+                // What passes through leaves through the coat towards the eye: A(v).
+                let coat_out = surface.coat.map_or(1.0, |c| {
+                    coat_view(&c.inputs, c.normal, optics_vec(surface.v)).attenuation_v()
+                });
+                let weight = (1.0 - surface.brdf.metalness) * transmission * coat_out;
                 for c in 0..3 {
                     radiance[c] += weight * surface.brdf.base_color[c] * through[c];
                 }
@@ -698,11 +746,16 @@ impl<'a> SceneShading<'a> {
     fn reflected(&self, surface: &SurfacePoint) -> [f64; 3] {
         let position = DVec3::from(surface.hit.position);
         let mut radiance = surface.emitted;
+        let coat = surface
+            .coat
+            .map(|c| (c, coat_view(&c.inputs, c.normal, optics_vec(surface.v))));
         for light in self.lights {
             let (l, irradiance) = light_at(light, position);
             let cos = surface.n.dot(l);
-            // NaN compares false: a light that cannot be evaluated adds nothing.
-            let faces_light = cos > 0.0;
+            // NaN compares false: a light that cannot be evaluated adds nothing. A coat
+            // with its own normal may face a light the base does not.
+            let faces_light =
+                cos > 0.0 || coat.is_some_and(|(c, _)| c.normal.dot(optics_vec(l)) > 0.0);
             if !faces_light || irradiance.iter().all(|&e| e <= 0.0) {
                 continue;
             }
@@ -726,8 +779,17 @@ impl<'a> SceneShading<'a> {
                 optics_vec(surface.v),
                 optics_vec(l),
             );
+            let reflected = match &coat {
+                Some((c, seen)) => coated_radiance(
+                    f,
+                    cos,
+                    seen,
+                    &coat_evaluate_view(&c.inputs, seen, optics_vec(l)),
+                ),
+                None => f.map(|f| f * cos),
+            };
             for c in 0..3 {
-                radiance[c] += f[c] * irradiance[c] * cos * visible;
+                radiance[c] += reflected[c] * irradiance[c] * visible;
             }
         }
         if let Some(estimate) = self.environment_estimate(surface) {
@@ -911,6 +973,16 @@ impl GBufferPrecision {
         stored.t = surface.t.reject_from_normalized(n).normalize_or(surface.t);
         stored.b = n.cross(stored.t);
         stored.n = n;
+        // The clear coat's target: 16-bit unorm octahedral normal, roughness and weight.
+        stored.coat = surface.coat.map(|mut c| {
+            let normal = DVec3::new(c.normal.x, c.normal.y, c.normal.z).normalize();
+            let stored_normal = octahedral_decode(octahedral_encode(normal).map(|x| unorm(x, 16)));
+            c.normal = optics_vec(stored_normal);
+            let roughness = unorm(c.inputs.alpha.sqrt(), 16);
+            c.inputs.alpha = alpha_from_perceptual_roughness(roughness);
+            c.inputs.factor = unorm(c.inputs.factor, 16);
+            c
+        });
         stored
     }
 }
@@ -1049,6 +1121,7 @@ mod tests {
             anisotropy_strength: 0.0,
             alpha: 1.0,
             transmission: 0.0,
+            coat: None,
         };
         let stored = GBufferPrecision::SRGB8.store(&surface, false);
         let expected = srgb_decode(231.0 / 255.0);

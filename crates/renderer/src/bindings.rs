@@ -403,6 +403,13 @@ pub static MATERIAL_TEXTURES: SetDecl = SetDecl {
         Binding::new("specular_color_texture", BindingKind::Sampler2D, FRAGMENT),
         Binding::new("transmission_texture", BindingKind::Sampler2D, FRAGMENT),
         Binding::new("thickness_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("clearcoat_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new(
+            "clearcoat_roughness_texture",
+            BindingKind::Sampler2D,
+            FRAGMENT,
+        ),
+        Binding::new("clearcoat_normal_texture", BindingKind::Sampler2D, FRAGMENT),
     ],
     includes: &[],
 };
@@ -517,7 +524,7 @@ const fn joined<const N: usize>(first: &[Binding], then: &[Binding]) -> [Binding
     out
 }
 
-const LIGHTING_BINDINGS: [Binding; 7 + LIT_BY.len()] = joined(
+const LIGHTING_BINDINGS: [Binding; 8 + LIT_BY.len()] = joined(
     &[
         Binding::new(
             "gbuffer_base_color_metalness",
@@ -549,6 +556,9 @@ const LIGHTING_BINDINGS: [Binding; 7 + LIT_BY.len()] = joined(
         // Emitted radiance (rgb) and occlusion (a) (EMISSIVE, OCCLUSION variants).
         Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT)
             .only_with("EMISSIVE_OCCLUSION_TARGET"),
+        // The clear coat: its normal (octahedral, xy), roughness (z) and weight (w)
+        // (CLEARCOAT variant).
+        Binding::new("gbuffer_clearcoat", BindingKind::Texture2D, FRAGMENT).only_with("CLEARCOAT"),
     ],
     &LIT_BY,
 );
@@ -754,12 +764,15 @@ mod tests {
             "layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;"
         ));
         assert!(glsl.contains(
-            "layout(std430, set = 0, binding = 7) readonly buffer Lights { GpuLight lights[]; };"
+            "layout(std430, set = 0, binding = 8) readonly buffer Lights { GpuLight lights[]; };"
         ));
         assert!(glsl.contains(
             "#ifdef EMISSIVE_OCCLUSION_TARGET\nlayout(set = 0, binding = 6) uniform texture2D gbuffer_emissive;\n#endif"
         ));
         assert_eq!(LIGHTING.index("gbuffer_emissive"), 6);
+        assert!(glsl.contains(
+            "#ifdef CLEARCOAT\nlayout(set = 0, binding = 7) uniform texture2D gbuffer_clearcoat;\n#endif"
+        ));
         assert_eq!(
             MATERIAL_TEXTURES.bindings.len(),
             combustion_scene::TextureSlot::ALL.len()
@@ -789,8 +802,9 @@ mod tests {
                 .find(|s| s.ty == ty)
                 .map_or(0, |s| s.descriptor_count)
         };
-        // The G-buffer's five and the two arrays of shadow maps as depths, twice.
-        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 14);
+        // The G-buffer's six (the clear coat's included) and the two arrays of shadow
+        // maps as depths, twice.
+        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 16);
         // The two environment cubes and the two arrays of shadow maps, twice.
         assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 8);
         // Materials, lights, the conductor table, the tile light lists, the energy

@@ -22,6 +22,9 @@ pub use crate::color::srgb_to_linear;
 pub const MATERIAL_DIRECTION_FORMAT: vk::Format = vk::Format::R16G16_UINT;
 /// Depth (32-bit float, 1 = far/background).
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// The clear coat's octahedral normal (rg), perceptual roughness (b) and weight (a),
+/// 16-bit unorm each, as the default surface storage keeps the base's.
+pub const CLEARCOAT_FORMAT: vk::Format = vk::Format::R16G16B16A16_UNORM;
 
 /// The G-buffer's images at one size.
 pub struct GBufferTargets {
@@ -40,13 +43,17 @@ pub struct GBufferTargets {
     /// stored at the precision of the frame it is added to, so an f32 frame neither
     /// rounds it to 11 bits nor saturates it at 65504.
     pub emissive: Option<Image>,
+    /// The clear coat ([`CLEARCOAT_FORMAT`]), present in the `CLEARCOAT` variant only:
+    /// the colour attachment after the emissive target's (or in its place).
+    pub clearcoat: Option<Image>,
 }
 
 impl GBufferTargets {
     /// Allocates the targets at `width` × `height` pixels in `storage`'s formats (colour targets with colour
     /// attachment, sampled and transfer-source usage; depth with depth attachment, sampled
     /// and transfer-source usage). With `emissive_occlusion`, also the emissive + occlusion
-    /// target, of `emissive_format` (the HDR image's format).
+    /// target, of `emissive_format` (the HDR image's format); with `clearcoat`, the clear
+    /// coat's target.
     ///
     /// # Errors
     /// [`RenderError::Vulkan`] if an image cannot be created or allocated.
@@ -56,6 +63,7 @@ impl GBufferTargets {
         height: u32,
         storage: GBufferStorage,
         emissive_occlusion: bool,
+        clearcoat: bool,
         emissive_format: vk::Format,
     ) -> Result<Self, RenderError> {
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
@@ -96,6 +104,11 @@ impl GBufferTargets {
             } else {
                 None
             },
+            clearcoat: if clearcoat {
+                Some(image("gbuffer clear coat", CLEARCOAT_FORMAT, color_usage)?)
+            } else {
+                None
+            },
         })
     }
 
@@ -112,6 +125,7 @@ impl GBufferTargets {
     pub fn attachments(&self) -> Vec<&Image> {
         let mut all = self.colors().to_vec();
         all.extend(self.emissive.as_ref());
+        all.extend(self.clearcoat.as_ref());
         all
     }
 }
@@ -131,8 +145,9 @@ impl GBufferPass {
     /// Compiles `gbuffer.vert` and `gbuffer.frag` with `variant`'s and `storage`'s `#define`s and builds the
     /// pass's graphics pipeline (through `cache`): set 0 of `set_layout` (object and material
     /// tables), set 1 of `material_set_layout` (one material's textures), the view-projection
-    /// and object index as vertex push constants, and a fourth colour attachment of
-    /// `emissive_format` in variants with the emissive + occlusion target.
+    /// and object index as vertex push constants, a fourth colour attachment of
+    /// `emissive_format` in variants with the emissive + occlusion target, and then the
+    /// clear coat's ([`CLEARCOAT_FORMAT`]) in variants with one.
     ///
     /// # Errors
     /// [`RenderError::Vulkan`] if a shader does not compile or the pipeline cannot be built.
@@ -173,6 +188,9 @@ impl GBufferPass {
         ];
         if variant.has_emissive_occlusion_target() {
             color_formats.push(emissive_format);
+        }
+        if variant.clearcoat {
+            color_formats.push(CLEARCOAT_FORMAT);
         }
         let pipeline = |fragment: &ShaderModule| {
             Pipeline::graphics(
@@ -337,6 +355,9 @@ pub struct GBufferTexel {
     pub material_direction: [u16; 2],
     /// D32_SFLOAT depth.
     pub depth: f32,
+    /// The clear coat's target: octahedral normal xy, perceptual roughness, weight (all
+    /// 0 in frames without the coat's target: no coat).
+    pub clearcoat: [f64; 4],
 }
 
 /// A G-buffer read back to the CPU.

@@ -12,7 +12,7 @@ pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 /// radiance.
 pub const MATERIAL_FLAG_UNLIT: u32 = 2;
 
-/// `GpuMaterial` (std430, 576 bytes).
+/// `GpuMaterial` (std430, 704 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -61,8 +61,15 @@ pub struct GpuMaterial {
     /// rgb: the volume's absorption coefficient σ (1/m, `Volume::absorption`; 0 without
     /// a volume or absorption); w: 0.
     pub absorption: [f32; 4],
+    /// KHR_materials_clearcoat: the coat's weight (x, 0: no coat), perceptual roughness
+    /// (y), IOR (z: [`combustion_scene::CLEARCOAT_IOR`]) and its normal map's scale (w).
+    /// Read by the CLEARCOAT variants.
+    pub clearcoat: [f32; 4],
+    /// Texture-array indices (-1: none) of the clearcoat, clearcoat roughness and
+    /// clearcoat normal slots, then -1.
+    pub textures_clearcoat: [i32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 576);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 704);
 
 impl GpuMaterial {
     /// The table entry of `material`; `textures` are its texture-array indices per
@@ -147,6 +154,13 @@ impl GpuMaterial {
                     .map(|s| s.min(f64::from(f32::MAX)) as f32);
                 [r, g, b, 0.0]
             },
+            clearcoat: [
+                material.clearcoat,
+                material.clearcoat_roughness,
+                combustion_scene::CLEARCOAT_IOR,
+                material.clearcoat_normal_scale,
+            ],
+            textures_clearcoat: [textures[10], textures[11], textures[12], -1],
         }
     }
 
@@ -162,6 +176,8 @@ impl GpuMaterial {
         Self {
             textures_base_mr_normal_occlusion: [-1; 4],
             textures_emissive_anisotropy_specular: [-1; 4],
+            textures_transmission_thickness: [-1; 4],
+            textures_clearcoat: [-1; 4],
             ..*self
         }
     }

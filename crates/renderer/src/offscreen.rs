@@ -42,6 +42,9 @@ struct ReadbackBuffers {
     ldr: Buffer,
     /// The three colour targets every variant has, and depth.
     gbuffer: [Buffer; 4],
+    /// The clear coat's target (in frames whose variant has it), made with the first
+    /// G-buffer readback asked for: frames read back only as images do not carry it.
+    clearcoat: Option<Buffer>,
 }
 
 impl ReadbackBuffers {
@@ -50,6 +53,7 @@ impl ReadbackBuffers {
         extent: vk::Extent2D,
         hdr_format: HdrFormat,
         storage: GBufferStorage,
+        with_clearcoat: bool,
     ) -> Result<Self, VkError> {
         let pixels = u64::from(extent.width) * u64::from(extent.height);
         let buffer = |name: &str, bytes_per_pixel: u64| {
@@ -77,13 +81,21 @@ impl ReadbackBuffers {
                 buffer("gbuffer readback 2", 4)?,
                 buffer("depth readback", 4)?,
             ],
+            clearcoat: if with_clearcoat {
+                Some(buffer("clear coat readback", 8)?)
+            } else {
+                None
+            },
         })
     }
 }
 
 impl ReadbackBuffers {
     fn all(&self) -> impl Iterator<Item = &Buffer> {
-        [&self.hdr, &self.ldr].into_iter().chain(&self.gbuffer)
+        [&self.hdr, &self.ldr]
+            .into_iter()
+            .chain(&self.gbuffer)
+            .chain(&self.clearcoat)
     }
 }
 
@@ -130,7 +142,8 @@ impl Renderer {
         offscreen.ring.wait(frame.slot)?;
         self.collect_timings(frame.slot)?;
         self.stats.readbacks += 1;
-        self.read_back(width, height, readback)
+        let clearcoat = self.variant_of(scene.variant).clearcoat;
+        self.read_back(width, height, readback, clearcoat)
     }
 
     /// Records and submits a frame of `scene` into the renderer's display image without
@@ -230,17 +243,19 @@ impl Renderer {
             }
         }
         let wants_copies = readback.is_some_and(|r| r.images || r.gbuffer);
+        let wants_gbuffer = readback.is_some_and(|r| r.gbuffer);
         if wants_copies
             && offscreen
                 .readback
                 .as_ref()
-                .is_none_or(|r| r.extent != extent)
+                .is_none_or(|r| r.extent != extent || (wants_gbuffer && r.clearcoat.is_none()))
         {
             let buffers = ReadbackBuffers::new(
                 &self.device,
                 extent,
                 self.settings.hdr_format,
                 self.settings.gbuffer,
+                wants_gbuffer,
             )?;
             if let Some(old) = offscreen.readback.replace(buffers) {
                 for buffer in old.all() {
@@ -302,6 +317,9 @@ impl Renderer {
                 copies.push((image, buffer));
             }
             copies.push((&g.depth, &buffers.gbuffer[3]));
+            if let (Some(image), Some(buffer)) = (&g.clearcoat, &buffers.clearcoat) {
+                copies.push((image, buffer));
+            }
         }
         if copies.is_empty() {
             return;
@@ -337,8 +355,15 @@ impl Renderer {
         states.transition(raw, cmd, &host_read);
     }
 
-    /// The frame just completed, from the readback buffers.
-    fn read_back(&self, width: u32, height: u32, readback: Readback) -> Result<Frame, RenderError> {
+    /// The frame just completed, from the readback buffers (`clearcoat`: its variant has
+    /// the coat's target).
+    fn read_back(
+        &self,
+        width: u32,
+        height: u32,
+        readback: Readback,
+        clearcoat: bool,
+    ) -> Result<Frame, RenderError> {
         let mut frame = Frame {
             width,
             height,
@@ -378,6 +403,11 @@ impl Renderer {
             };
             let md: Vec<[u16; 2]> = bytemuck::pod_collect_to_vec(b2.mapped()?);
             let depth: Vec<f32> = bytemuck::pod_collect_to_vec(b3.mapped()?);
+            // Only frames whose variant has the coat's target wrote it.
+            let clearcoat = match &buffers.clearcoat {
+                Some(buffer) if clearcoat => Some(unorm_texels::<u16>(buffer.mapped()?)),
+                _ => None,
+            };
             let texels = (0..base.len())
                 .map(|i| GBufferTexel {
                     base_color_metalness: base[i],
@@ -385,6 +415,7 @@ impl Renderer {
                     normal_roughness_anisotropy: nra[i],
                     material_direction: md[i],
                     depth: depth[i],
+                    clearcoat: clearcoat.as_ref().map_or([0.0; 4], |c| c[i]),
                 })
                 .collect();
             frame.gbuffer = Some(GBufferReadback {

@@ -10,8 +10,11 @@
 //! whose shadow-map verdict differs from it.
 
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
+use combustion_optics::coat::{
+    coat_evaluate_view, coat_view, coated_radiance, CoatInputs, CoatLayer,
+};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
-use combustion_optics::environment::{integrate_environment, Estimate, Sampling};
+use combustion_optics::environment::{integrate_environment_coated, Estimate, Sampling};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::variants::{
     brdf_evaluate_variant, BrdfVariant, DistributionForm, FresnelForm, MaskingForm,
@@ -55,6 +58,8 @@ pub struct PixelInputs {
     pub v: [f64; 3],
     /// The surface point's world position, reconstructed from depth.
     pub position: [f64; 3],
+    /// The clear coat over the BRDF, decoded from the coat's target (`None`: no coat).
+    pub coat: Option<CoatLayer<f64>>,
 }
 
 /// How the reference integrates an environment in [`error_map`]: Monte Carlo with
@@ -290,12 +295,16 @@ impl ReferenceShading {
             b,
             v,
             position,
+            coat,
         } = *p;
+        let coat = coat.map(|c| (c, coat_view(&c.inputs, c.normal, v3(v))));
         let mut radiance = [0.0; 3];
         for (index, light) in self.lights.iter().enumerate() {
             let (l, e) = self.light_direction(light, position);
             let cos = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
-            if cos <= 0.0 {
+            // A coat with its own normal may face a light the base does not.
+            let coat_faces = coat.is_some_and(|(c, _)| c.normal.dot(v3(l)) > 0.0);
+            if cos <= 0.0 && !coat_faces {
                 continue;
             }
             let mut visible = 1.0;
@@ -315,8 +324,14 @@ impl ReferenceShading {
             } else {
                 brdf_evaluate_variant(&m, &self.variant, v3(n), v3(t), v3(b), v3(v), v3(l))
             };
+            let reflected = match &coat {
+                Some((c, seen)) => {
+                    coated_radiance(brdf, cos, seen, &coat_evaluate_view(&c.inputs, seen, v3(l)))
+                }
+                None => brdf.map(|f| f * cos),
+            };
             for c in 0..3 {
-                radiance[c] += brdf[c] * e[c] * cos * visible;
+                radiance[c] += reflected[c] * e[c] * visible;
             }
         }
         radiance
@@ -330,8 +345,9 @@ impl ReferenceShading {
 
     /// The f64 environment oracle at pixel (`x`, `y`): the rendering equation
     /// ∫ f(v, l) L(l) (n·l) dl against `environment` for the pixel's G-buffer texel,
-    /// integrated by Monte Carlo ([`integrate_environment`], `iterations` samples of
-    /// each strategy, with its standard error). `None` on the background.
+    /// integrated by Monte Carlo ([`integrate_environment_coated`], under the pixel's
+    /// clear coat if it has one; `iterations` samples of each strategy, with its
+    /// standard error). `None` on the background.
     pub fn shade_environment(
         &self,
         texel: &GBufferTexel,
@@ -342,8 +358,9 @@ impl ReferenceShading {
     ) -> Option<Estimate> {
         let p = self.pixel(texel, x, y)?;
         let seed = u64::from(y) << 32 | u64::from(x);
-        Some(integrate_environment(
+        Some(integrate_environment_coated(
             &p.brdf,
+            p.coat.as_ref(),
             v3(p.n),
             v3(p.t),
             v3(p.b),
@@ -428,6 +445,18 @@ impl ReferenceShading {
             ),
             oren_nayar_sigma: oren_nayar_sigma_from_roughness(roughness),
         };
+        // The coat's target: octahedral normal, perceptual roughness, weight.
+        let [cx, cy, coat_roughness, coat_weight] = texel.clearcoat;
+        let coat = (coat_weight > 0.0).then(|| CoatLayer {
+            inputs: CoatInputs {
+                factor: coat_weight,
+                alpha: alpha_from_perceptual_roughness(coat_roughness),
+                eta: f64::from(material.clearcoat[2]),
+                outside_eta: m.outside_eta,
+                polarisation_weight: m.polarisation_weight,
+            },
+            normal: v3(octahedral_decode([cx, cy])),
+        });
         Some(PixelInputs {
             brdf: m,
             n,
@@ -435,6 +464,7 @@ impl ReferenceShading {
             b,
             v,
             position,
+            coat,
         })
     }
 

@@ -6,7 +6,7 @@
 use std::mem::ManuallyDrop;
 use std::sync::Arc;
 
-use combustion_scene::{Mesh, Scene};
+use combustion_scene::{Material, Mesh, Scene};
 use combustion_vk::{vk, Buffer, DescriptorSetLayout, Device};
 
 use crate::error::RenderError;
@@ -179,6 +179,12 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
                 .materials
                 .get(o.material)
                 .is_some_and(|m| m.is_transmissive() && m.volume.is_some())
+        }),
+        clearcoat: scene.objects.iter().any(|o| {
+            scene
+                .materials
+                .get(o.material)
+                .is_some_and(Material::is_coated)
         }),
         vertex_colors: scene
             .objects

@@ -22,6 +22,8 @@ pub(crate) struct TargetKey {
     pub behind: bool,
     /// Whether there are the far sides of transmissive volumes (depth and normals).
     pub back_faces: bool,
+    /// Whether the G-buffer has the clear coat's target.
+    pub clearcoat: bool,
 }
 
 impl TargetKey {
@@ -33,6 +35,7 @@ impl TargetKey {
             emissive_occlusion: variant.has_emissive_occlusion_target(),
             behind: variant.transmission,
             back_faces: variant.volume,
+            clearcoat: variant.clearcoat,
         }
     }
 }
@@ -105,6 +108,7 @@ impl FrameTargets {
                 key.height,
                 storage,
                 key.emissive_occlusion,
+                key.clearcoat,
                 hdr_format.vk(),
             )?,
             hdr: Image::new(

@@ -161,6 +161,11 @@ pub struct ShaderVariant {
     /// and on to the opaque surface it meets (marching the depths); thin-walled glass
     /// needs neither.
     pub volume: bool,
+    /// Some drawn object's material has a clear coat (KHR_materials_clearcoat): the
+    /// G-buffer gets the coat's target (its normal, roughness and weight) and the passes
+    /// that shade add the coat's lobe and its attenuation of the base
+    /// (`combustion_optics::coat`); scenes without a coat carry neither.
+    pub clearcoat: bool,
     /// Some drawn mesh has vertex colours (glTF COLOR_0): the G-buffer pipelines read the
     /// colour stream and multiply it into the base colour and alpha (objects whose mesh
     /// has none use white).
@@ -232,6 +237,9 @@ impl ShaderVariant {
         if self.volume {
             defines.push(("VOLUME", None));
         }
+        if self.clearcoat {
+            defines.push(("CLEARCOAT", None));
+        }
         match self.fresnel {
             FresnelModel::Full => {}
             FresnelModel::Schlick => defines.push(("FRESNEL_SCHLICK", None)),
@@ -267,8 +275,8 @@ impl ShaderVariant {
 
 impl ShaderVariant {
     /// The part of the variant the G-buffer shaders read (the emissive target, texture
-    /// transforms, cut-outs, vertex colours and the geometry floor); every other feature
-    /// is the lighting pass's.
+    /// transforms, cut-outs, vertex colours, the clear coat's target and the geometry
+    /// floor); every other feature is the lighting pass's.
     pub(crate) fn gbuffer_part(self) -> ShaderVariant {
         ShaderVariant {
             emissive: self.emissive,
@@ -276,6 +284,7 @@ impl ShaderVariant {
             texture_transforms: self.texture_transforms,
             alpha_mask: self.alpha_mask,
             vertex_colors: self.vertex_colors,
+            clearcoat: self.clearcoat,
             floor: self.floor.filter(|f| *f == MeasurementFloor::Geometry),
             ..ShaderVariant::default()
         }

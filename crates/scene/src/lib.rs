@@ -44,7 +44,7 @@ pub use gltf::read_regular_file;
 pub use material::{
     conductor_from_reflectivity, AlphaMode, ColorSpace, ComplexIor, DiffuseModel, Filter, Image,
     Material, Sampler, Texture, TextureRef, TextureSlot, UvTransform, Volume, WrapMode,
-    TEXTURE_SLOTS,
+    CLEARCOAT_IOR, TEXTURE_SLOTS,
 };
 pub use mesh::{Mesh, Vertex};
 
@@ -481,6 +481,8 @@ pub struct SceneFeatures {
     pub transmissive: usize,
     /// Transmissive materials with a volume.
     pub volumes: usize,
+    /// Materials with a clear coat (KHR_materials_clearcoat).
+    pub coated: usize,
     /// Unlit materials (KHR_materials_unlit).
     pub unlit: usize,
     /// [`Light::Point`]s among the scene's lights.
@@ -564,6 +566,7 @@ impl std::fmt::Display for SceneFeatures {
             "transmissive materials: {} ({} with a volume)",
             self.transmissive, self.volumes
         )?;
+        writeln!(f, "clear-coated materials: {}", self.coated)?;
         writeln!(f, "unlit materials: {}", self.unlit)?;
         write!(
             f,
@@ -627,6 +630,7 @@ impl Scene {
                 features.transmissive += 1;
                 features.volumes += usize::from(m.volume.is_some());
             }
+            features.coated += usize::from(m.is_coated());
             if m.unlit {
                 features.unlit += 1;
             }

@@ -163,7 +163,29 @@ pub struct Material {
     /// KHR_materials_volume `thicknessTexture` (linear, G), multiplied into the volume's
     /// thickness.
     pub thickness_texture: Option<TextureRef>,
+    /// KHR_materials_clearcoat `clearcoatFactor` ∈ [0, 1]: the weight of a clear
+    /// dielectric coat over the material, of index [`CLEARCOAT_IOR`] with its own
+    /// roughness and normal (`combustion_optics::coat`); 0: no coat.
+    pub clearcoat: f32,
+    /// KHR_materials_clearcoat `clearcoatRoughnessFactor` ∈ [0, 1]: the coat's perceptual
+    /// roughness (α = r²).
+    pub clearcoat_roughness: f32,
+    /// KHR_materials_clearcoat `clearcoatTexture` (linear, R), multiplied into
+    /// `clearcoat`.
+    pub clearcoat_texture: Option<TextureRef>,
+    /// KHR_materials_clearcoat `clearcoatRoughnessTexture` (linear, G), multiplied into
+    /// `clearcoat_roughness`.
+    pub clearcoat_roughness_texture: Option<TextureRef>,
+    /// KHR_materials_clearcoat `clearcoatNormalTexture`: the coat's own tangent-space
+    /// normal map (linear, glTF convention); without it the coat follows the geometry's
+    /// normal (not the base's normal map).
+    pub clearcoat_normal_texture: Option<TextureRef>,
+    /// Scale of the coat's normal map's X and Y (`clearcoatNormalTexture.scale`).
+    pub clearcoat_normal_scale: f32,
 }
+
+/// The index of refraction of a clear coat (KHR_materials_clearcoat fixes it at 1.5).
+pub const CLEARCOAT_IOR: f32 = 1.5;
 
 /// KHR_materials_volume: the homogeneous medium inside a transmissive object, whose
 /// index is the material's `dielectric_ior`.
@@ -238,18 +260,24 @@ impl Default for Material {
             volume: None,
             transmission_texture: None,
             thickness_texture: None,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
+            clearcoat_texture: None,
+            clearcoat_roughness_texture: None,
+            clearcoat_normal_texture: None,
+            clearcoat_normal_scale: 1.0,
         }
     }
 }
 
 impl Material {
     /// Checks every factor's range as its field states (base colour, alpha, metalness,
-    /// roughness, anisotropy strength, polarisation weight, occlusion strength and
-    /// specular factor and transmission in [0, 1]; a volume's thickness finite and
+    /// roughness, anisotropy strength, polarisation weight, occlusion strength,
+    /// specular factor, transmission, clearcoat and its roughness in [0, 1]; a volume's thickness finite and
     /// positive, its attenuation distance positive or infinite and its attenuation
     /// colour in [0, 1]; IORs finite and positive; k, the emissive factor and
     /// strength and the specular colour finite and ≥ 0; the anisotropy rotation and
-    /// normal scale finite) and every texture: an image whose size matches its pixels, in the colour
+    /// normal scales finite) and every texture: an image whose size matches its pixels, in the colour
     /// space the slot needs ([`TextureSlot::color_space`]), coordinate set 0 or 1, and
     /// a finite [`UvTransform`]. The first problem is a [`SceneError::Invalid`] naming
     /// the material.
@@ -304,6 +332,12 @@ impl Material {
             .all(|&x| x.is_finite() && x >= 0.0)
         {
             Some("specular colour factor must be finite and non-negative")
+        } else if !unit(self.clearcoat) {
+            Some("clearcoat must lie in [0, 1]")
+        } else if !unit(self.clearcoat_roughness) {
+            Some("clearcoat roughness must lie in [0, 1]")
+        } else if !self.clearcoat_normal_scale.is_finite() {
+            Some("clearcoat normal scale must be finite")
         } else if !unit(self.transmission) {
             Some("transmission must lie in [0, 1]")
         } else if !self.volume.is_none_or(|v| positive(v.thickness)) {
@@ -363,7 +397,22 @@ impl Material {
                 self.transmission_texture.as_ref(),
             ),
             (TextureSlot::Thickness, self.thickness_texture.as_ref()),
+            (TextureSlot::Clearcoat, self.clearcoat_texture.as_ref()),
+            (
+                TextureSlot::ClearcoatRoughness,
+                self.clearcoat_roughness_texture.as_ref(),
+            ),
+            (
+                TextureSlot::ClearcoatNormal,
+                self.clearcoat_normal_texture.as_ref(),
+            ),
         ]
+    }
+
+    /// Whether the material has a clear coat (KHR_materials_clearcoat with a factor
+    /// above 0).
+    pub fn is_coated(&self) -> bool {
+        self.clearcoat > 0.0
     }
 
     /// Whether the material is a cut-out ([`AlphaMode::Mask`]): drawn by the pipelines
@@ -392,9 +441,10 @@ impl Material {
     }
 
     /// Whether the material needs a tangent frame that follows the texture coordinates
-    /// (a normal map or anisotropy).
+    /// (a normal map, the coat's normal map or anisotropy).
     pub fn needs_uv_tangents(&self) -> bool {
         self.normal_texture.is_some()
+            || self.clearcoat_normal_texture.is_some()
             || self.anisotropy_strength > 0.0
             || self.anisotropy_texture.is_some()
     }
@@ -637,10 +687,16 @@ pub enum TextureSlot {
     Transmission,
     /// [`Material::thickness_texture`] (linear, G).
     Thickness,
+    /// [`Material::clearcoat_texture`] (linear, R).
+    Clearcoat,
+    /// [`Material::clearcoat_roughness_texture`] (linear, G).
+    ClearcoatRoughness,
+    /// [`Material::clearcoat_normal_texture`] (linear).
+    ClearcoatNormal,
 }
 
 /// How many texture slots a material has ([`TextureSlot::ALL`]).
-pub const TEXTURE_SLOTS: usize = 10;
+pub const TEXTURE_SLOTS: usize = 13;
 
 impl TextureSlot {
     /// Every slot, in the order [`Material::texture_slots`] gives them (the order of the
@@ -656,6 +712,9 @@ impl TextureSlot {
         TextureSlot::SpecularColor,
         TextureSlot::Transmission,
         TextureSlot::Thickness,
+        TextureSlot::Clearcoat,
+        TextureSlot::ClearcoatRoughness,
+        TextureSlot::ClearcoatNormal,
     ];
 
     /// A short lower-case name for messages: `base colour`, `metallic-roughness`, ...
@@ -671,6 +730,9 @@ impl TextureSlot {
             TextureSlot::SpecularColor => "specular colour",
             TextureSlot::Transmission => "transmission",
             TextureSlot::Thickness => "thickness",
+            TextureSlot::Clearcoat => "clearcoat",
+            TextureSlot::ClearcoatRoughness => "clearcoat roughness",
+            TextureSlot::ClearcoatNormal => "clearcoat normal",
         }
     }
 

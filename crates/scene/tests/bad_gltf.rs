@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use combustion_scene::gltf::{import, import_slice, ImportOptions};
+use combustion_scene::gltf::{import, import_slice, ImportError, ImportOptions, ImportReport};
 
 fn corpus() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/bad-gltf")
@@ -396,6 +396,16 @@ fn alpha_modes_are_read_and_bad_cutoffs_refused() {
     );
 }
 
+/// The one-triangle file whose one material has these `extensions`, imported.
+fn with_extensions(
+    extensions: serde_json::Value,
+) -> Result<(combustion_scene::Scene, ImportReport), ImportError> {
+    let mut root = one_triangle_file(&[0, 1, 2]);
+    root["materials"] = serde_json::json!([{ "extensions": extensions }]);
+    root["meshes"][0]["primitives"][0]["material"] = serde_json::json!(0);
+    import_slice(root.to_string().as_bytes(), &ImportOptions::default())
+}
+
 /// KHR_materials_transmission and KHR_materials_volume: the factors within glTF's
 /// ranges are read (a volume of thickness 0 is thin-walled: none; no attenuation
 /// distance is infinite); a transmission factor outside [0, 1], a negative thickness, an
@@ -404,12 +414,6 @@ fn alpha_modes_are_read_and_bad_cutoffs_refused() {
 /// not exist and a textureInfo that is not an object.
 #[test]
 fn transmission_and_volume_are_read_and_out_of_range_values_refused() {
-    let with_extensions = |extensions: serde_json::Value| {
-        let mut root = one_triangle_file(&[0, 1, 2]);
-        root["materials"] = serde_json::json!([{ "extensions": extensions }]);
-        root["meshes"][0]["primitives"][0]["material"] = serde_json::json!(0);
-        import_slice(root.to_string().as_bytes(), &ImportOptions::default())
-    };
     let (scene, report) = with_extensions(serde_json::json!({
         "KHR_materials_transmission": { "transmissionFactor": 0.8 },
         "KHR_materials_volume": {
@@ -477,6 +481,72 @@ fn transmission_and_volume_are_read_and_out_of_range_values_refused() {
                 "KHR_materials_volume": { "attenuationColor": [1.0, 2.0, 0.5] }
             }),
             "attenuationColor must lie in [0, 1], found [1.0, 2.0, 0.5]",
+        ),
+    ] {
+        let error = with_extensions(extensions).unwrap_err().to_string();
+        assert!(error.contains(expected), "{error}");
+        assert!(error.contains("material 0"), "{error}");
+        assert!(!error.contains('\n'), "one line: {error}");
+    }
+}
+
+/// KHR_materials_clearcoat: the factors are read (absent: 0, so a coat of no weight is
+/// none; the normal texture's scale 1), and a factor outside [0, 1], a texture that does
+/// not exist or a scale that is not a number are one-line errors naming the extension
+/// and the material; the textures of a coat of weight 0 are not read.
+#[test]
+fn clearcoat_is_read_and_out_of_range_values_refused() {
+    let (scene, report) = with_extensions(serde_json::json!({
+        "KHR_materials_clearcoat": { "clearcoatFactor": 0.75, "clearcoatRoughnessFactor": 0.2 }
+    }))
+    .unwrap();
+    let material = &scene.materials[0];
+    assert_eq!(
+        (material.clearcoat, material.clearcoat_roughness),
+        (0.75, 0.2)
+    );
+    assert_eq!(material.clearcoat_normal_scale, 1.0);
+    assert!(material.is_coated());
+    assert!(report.warnings.is_empty(), "{report}");
+    assert_eq!(scene.features().coated, 1);
+    let (scene, _) = with_extensions(serde_json::json!({
+        "KHR_materials_clearcoat": { "clearcoatRoughnessFactor": 0.5,
+                                     "clearcoatTexture": { "index": 9 } }
+    }))
+    .unwrap();
+    assert!(
+        !scene.materials[0].is_coated(),
+        "no factor: weight 0, no coat"
+    );
+    assert!(scene.materials[0].clearcoat_texture.is_none());
+    for (extensions, expected) in [
+        (
+            serde_json::json!({ "KHR_materials_clearcoat": { "clearcoatFactor": 1.5 } }),
+            "KHR_materials_clearcoat: clearcoatFactor must lie in [0, 1], found 1.5",
+        ),
+        (
+            serde_json::json!({
+                "KHR_materials_clearcoat": { "clearcoatFactor": 1.0, "clearcoatRoughnessFactor": -0.1 }
+            }),
+            "clearcoatRoughnessFactor must lie in [0, 1], found -0.1",
+        ),
+        (
+            serde_json::json!({
+                "KHR_materials_clearcoat": { "clearcoatFactor": 1.0,
+                                             "clearcoatNormalTexture": { "index": 4 } }
+            }),
+            "clearcoat normal texture 4 does not exist (0 textures)",
+        ),
+        (
+            serde_json::json!({
+                "KHR_materials_clearcoat": { "clearcoatFactor": 1.0,
+                    "clearcoatNormalTexture": { "index": 0, "scale": "big" } }
+            }),
+            "clearcoatNormalTexture.scale must be a number",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_clearcoat": [1] }),
+            "KHR_materials_clearcoat",
         ),
     ] {
         let error = with_extensions(extensions).unwrap_err().to_string();

@@ -702,10 +702,18 @@ fn authored_scenes_are_current() {
     assert_eq!(report.camera, CameraSource::Gltf { index: 0, node: 6 });
     let features = scene.features();
     // Every slot of an opaque material (transmission's two:
-    // `transmission_and_volumes_round_trip`).
-    let opaque_slots = TextureSlot::ALL
-        .into_iter()
-        .filter(|s| !matches!(s, TextureSlot::Transmission | TextureSlot::Thickness));
+    // `transmission_and_volumes_round_trip`; the clear coat's three:
+    // `clearcoats_round_trip`).
+    let opaque_slots = TextureSlot::ALL.into_iter().filter(|s| {
+        !matches!(
+            s,
+            TextureSlot::Transmission
+                | TextureSlot::Thickness
+                | TextureSlot::Clearcoat
+                | TextureSlot::ClearcoatRoughness
+                | TextureSlot::ClearcoatNormal
+        )
+    });
     for slot in opaque_slots {
         assert!(
             features.texture_count(slot) > 0,
@@ -962,6 +970,52 @@ fn transmission_and_volumes_round_trip() {
     for slot in [TextureSlot::Transmission, TextureSlot::Thickness] {
         assert_eq!(features.texture_count(slot), 1, "{slot:?}");
     }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// KHR_materials_clearcoat survives a save and an import: factors, the three textures
+/// (one linear image in the weight and roughness slots, a normal map) and the normal
+/// map's scale; a material without a coat is written without the extension.
+#[test]
+fn clearcoats_round_trip() {
+    let mut scene = builtin_scene("clearcoat").unwrap();
+    let shades = image("coat weight and roughness", ColorSpace::Linear, |x, y| {
+        [(x * 16) as u8, (y * 16) as u8, 0, 255]
+    });
+    let bumps = image("coat normals", ColorSpace::Linear, |x, y| {
+        [128 + (x * 4) as u8, 128 - (y * 4) as u8, 250, 255]
+    });
+    let coated = scene.materials.iter().position(|m| m.is_coated()).unwrap();
+    let material = &mut scene.materials[coated];
+    material.clearcoat_texture = texture(&shades, Sampler::default());
+    material.clearcoat_roughness_texture = texture(&shades, Sampler::default());
+    material.clearcoat_normal_texture = texture(&bumps, Sampler::default());
+    material.clearcoat_normal_scale = 0.5;
+    let dir = temp_dir("clearcoat");
+    let path = dir.join("c.gltf");
+    save_gltf(&scene, &path).unwrap();
+    let (loaded, report) = import(&path, &ImportOptions::default()).unwrap();
+    assert_same_scene(&scene, &loaded);
+    assert!(report.warnings.is_empty(), "{report}");
+    let features = loaded.features();
+    assert_eq!(features.coated, scene.features().coated);
+    assert!(features.coated > 0 && features.coated < loaded.materials.len());
+    for slot in [
+        TextureSlot::Clearcoat,
+        TextureSlot::ClearcoatRoughness,
+        TextureSlot::ClearcoatNormal,
+    ] {
+        assert_eq!(features.texture_count(slot), 1, "{slot:?}");
+    }
+    let text = std::fs::read_to_string(&path).unwrap();
+    let root: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let written = root["materials"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m["extensions"].get("KHR_materials_clearcoat").is_some())
+        .count();
+    assert_eq!(written, features.coated);
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -134,15 +134,20 @@ impl FramePass for Lighting {
         // descriptors, used or not, and a binding left as an earlier frame wrote it
         // would name an image retired since. Absent targets and environments get
         // placeholders, which no barrier concerns (never written, never read).
-        io = match &g.emissive {
-            Some(emissive) => io.image("gbuffer_emissive", emissive, texel),
-            None => io.bind_image(
-                "gbuffer_emissive",
-                r.absent_target.view(),
-                texel.state().layout,
-                vk::Sampler::null(),
-            ),
-        };
+        for (name, target) in [
+            ("gbuffer_emissive", &g.emissive),
+            ("gbuffer_clearcoat", &g.clearcoat),
+        ] {
+            io = match target {
+                Some(image) => io.image(name, image, texel),
+                None => io.bind_image(
+                    name,
+                    r.absent_target.view(),
+                    texel.state().layout,
+                    vk::Sampler::null(),
+                ),
+            };
+        }
         io = io.buffer_if(
             frame.cull_push.is_some(),
             "tile_lights",

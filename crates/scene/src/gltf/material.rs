@@ -272,6 +272,29 @@ impl Importer<'_> {
                 material.thickness_texture =
                     self.texture_info(index, TextureSlot::Thickness, texture)?;
             }
+            if let Some(value) = ext.others.get("KHR_materials_clearcoat") {
+                let coat = optics_ext::parse_clearcoat(value).map_err(|e| {
+                    self.material_error(index, format!("KHR_materials_clearcoat: {e}"))
+                })?;
+                material.clearcoat = coat.factor;
+                material.clearcoat_roughness = coat.roughness;
+                material.clearcoat_normal_scale = coat.normal_scale;
+                // Without a coat its textures are not read.
+                if coat.factor > 0.0 {
+                    material.clearcoat_texture =
+                        self.texture_info(index, TextureSlot::Clearcoat, coat.texture)?;
+                    material.clearcoat_roughness_texture = self.texture_info(
+                        index,
+                        TextureSlot::ClearcoatRoughness,
+                        coat.roughness_texture,
+                    )?;
+                    material.clearcoat_normal_texture = self.texture_info(
+                        index,
+                        TextureSlot::ClearcoatNormal,
+                        coat.normal_texture,
+                    )?;
+                }
+            }
             if let Some(value) = ext.others.get("KHR_materials_anisotropy") {
                 let anisotropy = optics_ext::parse_anisotropy(value).map_err(|e| {
                     self.material_error(index, format!("KHR_materials_anisotropy: {e}"))
@@ -364,8 +387,10 @@ impl Importer<'_> {
         // The tangent frame follows TEXCOORD_0 as it is: a tangent-space texture read on
         // another set, rotated or mirrored is sampled right but turned wrong.
         let turns = transform.rotation != 0.0 || transform.scale.iter().any(|&s| s < 0.0);
-        if matches!(slot, TextureSlot::Normal | TextureSlot::Anisotropy)
-            && (tex_coord != 0 || turns)
+        if matches!(
+            slot,
+            TextureSlot::Normal | TextureSlot::ClearcoatNormal | TextureSlot::Anisotropy
+        ) && (tex_coord != 0 || turns)
         {
             self.warn(format!(
                 "material {material}: the {} texture is read on set {tex_coord} with rotation {} and scale {:?}; its tangent frame follows TEXCOORD_0 untransformed, so its directions are turned",

@@ -49,6 +49,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_emissive_strength",
     "KHR_materials_anisotropy",
+    "KHR_materials_clearcoat",
     "KHR_materials_unlit",
     "KHR_materials_transmission",
     "KHR_materials_volume",

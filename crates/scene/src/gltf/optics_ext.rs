@@ -316,7 +316,6 @@ pub(crate) fn parse_texture_transform(
     Ok((transform, tex_coord))
 }
 
-/// KHR_materials_anisotropy.
 /// KHR_materials_ior's `ior` (1.5 when absent): at least 1, or exactly 0, the
 /// specular-glossiness compatibility mode whose Fresnel term is 1 everywhere: an
 /// infinite IOR, here the largest the optics clamp to (`KHR_IOR_ZERO_MEANS`, ETA_MAX =
@@ -412,6 +411,49 @@ pub(crate) fn parse_volume(
         attenuation_color,
     });
     Ok((volume, texture_info(map, "thicknessTexture")?))
+}
+
+/// KHR_materials_clearcoat as read: the factors (in [0, 1]; 0 when absent), the
+/// textures and the normal texture's scale (1 when absent).
+#[derive(Debug)]
+pub(crate) struct Clearcoat {
+    pub factor: f32,
+    pub roughness: f32,
+    pub texture: Option<TextureInfo>,
+    pub roughness_texture: Option<TextureInfo>,
+    pub normal_texture: Option<TextureInfo>,
+    pub normal_scale: f32,
+}
+
+pub(crate) fn parse_clearcoat(value: &Value) -> Result<Clearcoat, String> {
+    let map = object(value, "KHR_materials_clearcoat")?;
+    let unit = |key: &str| -> Result<f32, String> {
+        let Some(v) = map.get(key) else {
+            return Ok(0.0);
+        };
+        let x = number(v, key)?;
+        if (0.0..=1.0).contains(&x) {
+            Ok(x)
+        } else {
+            Err(format!("{key} must lie in [0, 1], found {x}"))
+        }
+    };
+    let normal_texture = texture_info(map, "clearcoatNormalTexture")?;
+    let normal_scale = match map
+        .get("clearcoatNormalTexture")
+        .and_then(|t| t.get("scale"))
+    {
+        None => 1.0,
+        Some(v) => number(v, "clearcoatNormalTexture.scale")?,
+    };
+    Ok(Clearcoat {
+        factor: unit("clearcoatFactor")?,
+        roughness: unit("clearcoatRoughnessFactor")?,
+        texture: texture_info(map, "clearcoatTexture")?,
+        roughness_texture: texture_info(map, "clearcoatRoughnessTexture")?,
+        normal_texture,
+        normal_scale,
+    })
 }
 
 #[derive(Debug, Default, PartialEq)]

@@ -276,6 +276,23 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
         }
         extensions.insert("KHR_materials_volume".into(), v);
     }
+    if m.is_coated() {
+        let mut coat = json!({
+            "clearcoatFactor": num(m.clearcoat),
+            "clearcoatRoughnessFactor": num(m.clearcoat_roughness),
+        });
+        if let Some(t) = info(TextureSlot::Clearcoat) {
+            coat["clearcoatTexture"] = t;
+        }
+        if let Some(t) = info(TextureSlot::ClearcoatRoughness) {
+            coat["clearcoatRoughnessTexture"] = t;
+        }
+        if let Some(mut t) = info(TextureSlot::ClearcoatNormal) {
+            t["scale"] = num(m.clearcoat_normal_scale);
+            coat["clearcoatNormalTexture"] = t;
+        }
+        extensions.insert("KHR_materials_clearcoat".into(), coat);
+    }
     let mut conductor = json!({
         "eta": nums(&m.conductor.eta),
         "k": nums(&m.conductor.k),
