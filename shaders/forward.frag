@@ -407,13 +407,20 @@ void main() {
 #else
     SurfaceCoat coat = no_surface_coat();
 #endif
+    SurfaceLayers layers;
+    layers.coat = coat;
+#ifdef SHEEN
+    layers.sheen = surface_sheen(s.sheen_color, s.sheen_roughness, view);
+#else
+    layers.sheen = no_surface_sheen();
+#endif
     vec3 radiance = s.emissive;
     for (uint i = 0u; i < push.light_count; ++i) {
-        radiance += light_radiance(m, view, coat, lights[i], position, n, push.camera_position.xyz,
-                                   gl_FragCoord.xy);
+        radiance += light_radiance(m, view, layers, lights[i], position, n,
+                                   push.camera_position.xyz, gl_FragCoord.xy);
     }
 #ifdef ENVIRONMENT
-    radiance += environment_radiance(material, in_material, m, view, coat, view.frame[2], v,
+    radiance += environment_radiance(material, in_material, m, view, layers, view.frame[2], v,
                                      s.roughness, base_color_code, s.occlusion);
 #endif
 #ifdef TRANSMISSION

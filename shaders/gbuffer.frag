@@ -29,6 +29,17 @@ layout(location = 4) out vec4 out_clearcoat;
 layout(location = 3) out vec4 out_clearcoat;
 #endif
 #endif
+#ifdef SHEEN
+// RGBA16_UNORM: the sheen's linear colour (rgb) and perceptual roughness (a); the
+// attachment after the emissive and clear coat targets that the variant has.
+#if defined(EMISSIVE_OCCLUSION_TARGET) && defined(CLEARCOAT)
+layout(location = 5) out vec4 out_sheen;
+#elif defined(EMISSIVE_OCCLUSION_TARGET) || defined(CLEARCOAT)
+layout(location = 4) out vec4 out_sheen;
+#else
+layout(location = 3) out vec4 out_sheen;
+#endif
+#endif
 
 void main() {
 #ifdef FLOOR_GEOMETRY
@@ -52,6 +63,9 @@ void main() {
 #ifdef CLEARCOAT
     out_clearcoat = vec4(0.0);
 #endif
+#ifdef SHEEN
+    out_sheen = vec4(0.0);
+#endif
     return;
 #endif
     GpuMaterial material = materials[in_material];
@@ -73,6 +87,9 @@ void main() {
 #endif
 #ifdef CLEARCOAT
     out_clearcoat = vec4(octahedral_encode(s.clearcoat_normal), s.clearcoat_roughness, s.clearcoat);
+#endif
+#ifdef SHEEN
+    out_sheen = vec4(clamp(s.sheen_color, 0.0, 1.0), s.sheen_roughness);
 #endif
 #ifdef ALPHA_MASK
     if (cut_away) {

@@ -43,6 +43,9 @@ layout(location = 9) out vec4 out_slot_uv_transmission;  // transmission, thickn
 layout(location = 10) out vec4 out_slot_uv_clearcoat;  // clearcoat, clearcoat roughness
 layout(location = 11) out vec2 out_slot_uv_clearcoat_normal;
 #endif
+#ifdef SHEEN
+layout(location = 12) out vec4 out_slot_uv_sheen;  // sheen colour, sheen roughness
+#endif
 #include "texture_slots.glsl"
 #endif
 
@@ -72,6 +75,9 @@ void main() {
 #ifdef CLEARCOAT
     out_slot_uv_clearcoat = vec4(slot_uv(m, 10u, in_uv, in_uv1), slot_uv(m, 11u, in_uv, in_uv1));
     out_slot_uv_clearcoat_normal = slot_uv(m, 12u, in_uv, in_uv1);
+#endif
+#ifdef SHEEN
+    out_slot_uv_sheen = vec4(slot_uv(m, 13u, in_uv, in_uv1), slot_uv(m, 14u, in_uv, in_uv1));
 #endif
 #endif
     gl_Position = push.view_projection * world;

@@ -7,7 +7,8 @@
 // Specialised per scene (combustion_renderer::LightingFeatures): NO_ANISOTROPY,
 // NO_CONDUCTORS, NO_CONDUCTOR_TABLE, NO_DIELECTRICS, OUTSIDE_ETA_ONE, NO_LAMBERT,
 // NO_OREN_NAYAR_QUALITATIVE, NO_OREN_NAYAR_FULL, NO_UNLIT remove what the scene cannot use;
-// CLEARCOAT (scenes with a clear coat) adds the coat's lobe over the base;
+// CLEARCOAT (scenes with a clear coat) adds the coat's lobe over the base, SHEEN (scenes
+// with sheen) the sheen's lobe and its albedo scaling of the base;
 // SHADOWS (a shading option) multiplies each shadowed light by its shadow maps' verdict.
 #include "gpu_types.glsl"
 #include "gbuffer_encoding.glsl"
@@ -135,6 +136,15 @@ void main() {
 #else
     SurfaceCoat coat = no_surface_coat();
 #endif
+    SurfaceLayers layers;
+    layers.coat = coat;
+#ifdef SHEEN
+    // The sheen: linear colour (rgb), perceptual roughness (a).
+    vec4 sheen_texel = texelFetch(gbuffer_sheen, pixel, 0);
+    layers.sheen = surface_sheen(sheen_texel.rgb, sheen_texel.a, view);
+#else
+    layers.sheen = no_surface_sheen();
+#endif
 
     // Culled frames: only the lights the tile's list names, in index order (the same
     // sum as over every light, less terms that are exactly 0 here).
@@ -195,8 +205,8 @@ void main() {
     vec3 radiance = vec3(0.0);
     for (uint j = 0u; j < light_count; ++j) {
         uint i = culled ? tile_lights[list + 1u + j] : j;
-        radiance += light_radiance(m, view, coat, lights[i], position, n, push.camera_position.xyz,
-                                   gl_FragCoord.xy);
+        radiance += light_radiance(m, view, layers, lights[i], position, n,
+                                   push.camera_position.xyz, gl_FragCoord.xy);
     }
 #ifdef EMISSIVE_OCCLUSION_TARGET
     vec4 emissive_occlusion = texelFetch(gbuffer_emissive, pixel, 0);
@@ -207,7 +217,7 @@ void main() {
 #else
     float occlusion = 1.0;
 #endif
-    radiance += environment_radiance(material, md.x, m, view, coat, view.frame[2], normalize(v),
+    radiance += environment_radiance(material, md.x, m, view, layers, view.frame[2], normalize(v),
                                      nra.z, base_color_srgb8_code(base_metal.rgb), occlusion);
 #endif
 #ifdef EMISSIVE

@@ -261,7 +261,7 @@ fn turned_normal_change(shading: &SceneShading, surface: &SurfacePoint, angle: f
             turned.n = (surface.n + axis * angle.tan()).normalize();
             turned.t = surface.t.reject_from_normalized(turned.n).normalize();
             turned.b = turned.n.cross(turned.t);
-            if let Some(coat) = &mut turned.coat {
+            if let Some(coat) = &mut turned.layers.coat {
                 let c = coat.normal;
                 let c = DVec3::new(c.x, c.y, c.z) + axis * angle.tan();
                 let c = c.normalize();

@@ -244,24 +244,47 @@ fn studio_split_sum_error_against_the_oracle() {
     }
 }
 
-/// The clear coats (`builtin:clearcoat`, in air and under water) under the studio
-/// environment alone: the coat's split-sum term (its albedo from the material's table,
-/// the prefiltered radiance along its own mirror direction) and the base's environment
-/// term attenuated by A(v)², against the f64 rendering equation of the coated BRDF
-/// (`integrate_environment_coated`, with a third strategy sampling the coat's lobe).
-/// Where the base is red, the green and blue channels are mostly the coat's reflection:
-/// a frame that left the coat out would be far from this oracle.
+/// The clear coats (`builtin:clearcoat`, in air and under water) and the sheens
+/// (`builtin:sheen`) under the studio environment alone: the coat's split-sum term (its
+/// albedo from the material's table, the prefiltered radiance along its own mirror
+/// direction) and the base's environment term attenuated by A(v)²; the sheen's c E(n·v)
+/// times the prefiltered radiance and the base scaled by 1 − max(c) E(n·v); against the
+/// f64 rendering equation of the layered BRDF (`integrate_environment_layered`, with a
+/// third strategy sampling the coat's lobe). Where the base is red, the green and blue
+/// channels are mostly the coat's or the white sheen's reflection: a frame that left
+/// either out would be far from this oracle.
+///
+/// Measured, mean / median: clearcoat 6.5 % / 5.7 %, under water 5.0 % / 4.1 %, held to
+/// the sphere grid's bounds; sheen 14.2 % / 11.4 %, held to 20 % / 15 %: its lobe's
+/// environment light is taken as the cosine-weighted mean about n (the Charlie lobe is
+/// broad and gathers at grazing, where no one direction stands for it), a coarser
+/// stand-in than the mirror direction is for GGX. Leaving the sheen's term out measured
+/// 43 % / 45 %, leaving the coat's out 23 % / 22 %: both far outside.
 #[test]
-fn clearcoat_split_sum_error_against_the_oracle() {
-    for name in ["clearcoat", "clearcoat-underwater"] {
+fn layers_split_sum_error_against_the_oracle() {
+    for (name, bounds) in [
+        ("clearcoat", SPLIT_SUM_BOUNDS),
+        ("clearcoat-underwater", SPLIT_SUM_BOUNDS),
+        ("sheen", (0.20, 0.15)),
+    ] {
         let mut scene = builtin_scene(name).expect("built in");
         scene.lights.clear();
         scene.environment = Some(Environment::Studio);
-        split_sum_against_the_oracle(&scene);
+        split_sum_against_the_oracle_within(&scene, bounds);
     }
 }
 
+/// The split sum is an approximation (mirror-direction lookup, lobe shape fixed at n =
+/// v, isotropic tables for anisotropic lobes): it must stay an approximation of this
+/// radiance and not a different image. Measured on the sphere grid: mean 8.5 %, median
+/// 4.0 %, max 55 % (the anisotropic row at grazing angles). Bounds on (mean, median).
+const SPLIT_SUM_BOUNDS: (f64, f64) = (0.15, 0.08);
+
 fn split_sum_against_the_oracle(scene: &Scene) {
+    split_sum_against_the_oracle_within(scene, SPLIT_SUM_BOUNDS);
+}
+
+fn split_sum_against_the_oracle_within(scene: &Scene, (mean_bound, median_bound): (f64, f64)) {
     let frame = render(scene, 160, 96);
     let compared = compare_with_oracle(scene, &frame, 4, 4_000);
     let (max, mean, median, noise) = summary(&compared);
@@ -281,12 +304,8 @@ fn split_sum_against_the_oracle(scene: &Scene) {
         noise < 0.5 * mean,
         "oracle σ {noise:e} against mean error {mean:e}"
     );
-    // The split sum is an approximation (mirror-direction lookup, lobe shape fixed at
-    // n = v, isotropic tables for anisotropic lobes): it must stay an approximation of
-    // this radiance and not a different image. Measured: mean 8.5 %, median 4.0 %,
-    // max 55 % (the anisotropic row at grazing angles).
     assert!(
-        mean < 0.15 && median < 0.08,
+        mean < mean_bound && median < median_bound,
         "mean {mean:e}, median {median:e}"
     );
 }

@@ -203,6 +203,14 @@ fn clearcoat_parity() {
     assert_parity("clearcoat-underwater", 256, 128, 5000);
 }
 
+/// Sheen (KHR_materials_sheen, the SHEEN variant: the sheen's G-buffer target, its lobe
+/// and the albedo scaling of the base from the table), one sphere under a clear coat as
+/// well, against the f64 layers of the optics crate, with the same bounds.
+#[test]
+fn sheen_parity() {
+    assert_parity("sheen", 256, 128, 5000);
+}
+
 /// The error of the cheaper Schlick variant against the full Fresnel equations (f64
 /// reference), per scene, for the README's speed-against-error table. A measurement, not
 /// a test: run with `cargo test --test parity -- --ignored --nocapture`.

@@ -400,4 +400,67 @@ vec3 coated_radiance(vec3 base, float cos_base, CoatView view, vec3 terms) {
     return vec3(coat) + attenuation * base;
 }
 
+// Sheen (KHR_materials_sheen). GLSL mirror of crates/optics/src/sheen.rs: the Charlie
+// distribution and Estevez & Kulla's (2017) fitted visibility; the base under it scaled
+// by min(1 − max(c) E(n·v), 1 − max(c) E(n·l)).
+#define SHEEN_ALPHA_MIN 1e-3
+
+// (2 + 1/α) sin^(1/α)θ / (2π) for a unit local microfacet normal; 0 below the horizon.
+float d_charlie(vec3 m, float alpha) {
+    if (!(m.z > 0.0)) {
+        return 0.0;
+    }
+    alpha = clamp(alpha, SHEEN_ALPHA_MIN, 1.0);
+    float inv = 1.0 / alpha;
+    float sin2 = min(m.x * m.x + m.y * m.y, 1.0);
+    if (!(sin2 > 0.0)) {
+        return 0.0;
+    }
+    return (2.0 + inv) * pow(sin2, 0.5 * inv) / (2.0 * PI);
+}
+
+// Estevez & Kulla's L(x), coefficients blended between their α = 0 and 1 fits by (1 − α)².
+float lambda_sheen_fit(float x, float alpha) {
+    float t = (1.0 - alpha) * (1.0 - alpha);
+    float a = mix(21.5473, 25.3245, t);
+    float b = mix(3.82987, 3.32435, t);
+    float c = mix(0.19823, 0.16801, t);
+    float d = mix(-1.97760, -1.27393, t);
+    float e = mix(-4.32054, -4.85967, t);
+    float power = x > 0.0 ? pow(x, c) : 0.0;
+    return a / (1.0 + b * power) + d * x + e;
+}
+
+// The sheen's Λ at cos θ.
+float lambda_sheen(float cos_theta, float alpha) {
+    alpha = clamp(alpha, SHEEN_ALPHA_MIN, 1.0);
+    float c = min(abs(cos_theta), 1.0);
+    return c < 0.5 ? exp(lambda_sheen_fit(c, alpha))
+                   : exp(2.0 * lambda_sheen_fit(0.5, alpha) - lambda_sheen_fit(1.0 - c, alpha));
+}
+
+// 1/((1 + Λ(v) + Λ(l)) 4 n·v n·l) for local directions; 0 unless both are above.
+float visibility_sheen(vec3 v, vec3 l, float alpha) {
+    if (!(v.z > 0.0 && l.z > 0.0)) {
+        return 0.0;
+    }
+    float cv = max(v.z, COS_MIN);
+    float cl = max(l.z, COS_MIN);
+    return 1.0 / ((1.0 + lambda_sheen(cv, alpha) + lambda_sheen(cl, alpha)) * 4.0 * cv * cl);
+}
+
+// The white sheen lobe D V for local v and l.
+float sheen_lobe(vec3 v, vec3 l, float alpha) {
+    if (!(v.z > 0.0 && l.z > 0.0)) {
+        return 0.0;
+    }
+    return d_charlie(safe_normalize(v + l), alpha) * visibility_sheen(v, l, alpha);
+}
+
+// min(1 − max(c) E(n·v), 1 − max(c) E(n·l)).
+float sheen_albedo_scaling(vec3 color, float albedo_v, float albedo_l) {
+    float c = clamp(max(color.r, max(color.g, color.b)), 0.0, 1.0);
+    return min(1.0 - c * albedo_v, 1.0 - c * albedo_l);
+}
+
 #endif // COMBUSTION_BRDF_GLSL

@@ -56,6 +56,59 @@ SurfaceCoat surface_coat(GpuMaterial material, BrdfInputs m, float weight, float
     return coat;
 }
 
+// The sheen of the surface being shaded (KHR_materials_sheen; read only in SHEEN
+// variants), on the base's shading normal (the BRDF view's frame): its colour, α, its
+// perceptual roughness and E(n·v).
+struct SurfaceSheen {
+    vec3 color;
+    float alpha;
+    float roughness;
+    float albedo_v;
+};
+
+// What lies over the BRDF: the coat on top, the sheen under it (crates/optics/src/
+// layers.rs).
+struct SurfaceLayers {
+    SurfaceCoat coat;
+    SurfaceSheen sheen;
+};
+
+#ifdef SHEEN
+// Bilinear in table `table` of the sheen's buffer (0: E(μ, r) of the white sheen lobe,
+// combustion_optics::sheen::sheen_albedo_lookup; 1: M(μ, r), sheen_scaling_table).
+float sheen_table_lookup(uint table, float mu, float r) {
+    vec2 f;
+    uvec4 c = bilinear_cells(vec2(mu, r), SHEEN_TABLE_SIZE, f)
+            + table * SHEEN_TABLE_SIZE * SHEEN_TABLE_SIZE;
+    return mix(mix(sheen_albedo[c.x], sheen_albedo[c.y], f.x),
+               mix(sheen_albedo[c.z], sheen_albedo[c.w], f.x), f.y);
+}
+
+float sheen_albedo_lookup(float mu, float r) {
+    return sheen_table_lookup(0u, mu, r);
+}
+
+// The sheen of colour `color` and perceptual roughness `roughness` seen as `view` sees.
+SurfaceSheen surface_sheen(vec3 color, float roughness, BrdfView view) {
+    SurfaceSheen sheen;
+    sheen.color = clamp(color, 0.0, 1.0);
+    sheen.roughness = clamp(roughness, 0.0, 1.0);
+    sheen.alpha = sheen.roughness * sheen.roughness;
+    sheen.albedo_v = sheen_albedo_lookup(view.v.z, sheen.roughness);
+    return sheen;
+}
+#endif
+
+// No sheen: what variants without SHEEN pass (and never read).
+SurfaceSheen no_surface_sheen() {
+    SurfaceSheen sheen;
+    sheen.color = vec3(0.0);
+    sheen.alpha = 1.0;
+    sheen.roughness = 1.0;
+    sheen.albedo_v = 0.0;
+    return sheen;
+}
+
 // No coat: what variants without CLEARCOAT pass (and never read).
 SurfaceCoat no_surface_coat() {
     SurfaceCoat coat;
@@ -102,9 +155,13 @@ float environment_code_table(uint table, uint code, vec2 coord) {
 // the table ([1].z at (n_c·v, its roughness)) times its weight, along its own mirror
 // direction, and attenuates the rest by A(v)², the light arriving about the mirror
 // direction crossing the coat at the angle the view leaves it.
+// A sheen (SHEEN variants) adds c E(n·v) times the cosine-weighted mean radiance about n
+// (its lobe is broad and grazing: no one mirror direction), and scales the base's term
+// by 1 − max(c) M(n·v), the extension's scaling averaged over cosine-weighted light.
 vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs m, BrdfView view,
-                          SurfaceCoat coat, vec3 n, vec3 v, float roughness,
+                          SurfaceLayers layers, vec3 n, vec3 v, float roughness,
                           vec3 base_color_code, float occlusion) {
+    SurfaceCoat coat = layers.coat;
     float nv = view.v.z;
     if (!(nv > 0.0)) {
         return vec3(0.0);
@@ -168,6 +225,16 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     float lod = clamp(roughness, 0.0, 1.0) * levels;
     vec3 radiance = textureLod(environment_specular, r, lod).rgb * specular_albedo
                   + textureLod(environment_irradiance, n, 0.0).rgb * diffuse_albedo;
+#ifdef SHEEN
+    SurfaceSheen sheen = layers.sheen;
+    float sheen_max = max(sheen.color.r, max(sheen.color.g, sheen.color.b));
+    if (sheen_max > 0.0) {
+        float scaling = 1.0 - min(sheen_max, 1.0) * sheen_table_lookup(1u, view.v.z, sheen.roughness);
+        radiance = radiance * scaling
+                 + textureLod(environment_irradiance, n, 0.0).rgb
+                   * sheen.color * sheen.albedo_v * occlusion;
+    }
+#endif
 #ifdef CLEARCOAT
     if (coat.view.factor > 0.0) {
         float nv_coat = coat.view.v.z;
@@ -234,8 +301,9 @@ BrdfInputs brdf_inputs(GpuMaterial material, vec3 base_color, float metalness, f
 // light's shadow maps' verdict in the SHADOWS variant (`eye`: the camera's position,
 // `pixel`: the fragment's window coordinates, for the cascade choice and the filter's
 // noise).
-vec3 light_radiance(BrdfInputs m, BrdfView view, SurfaceCoat coat, GpuLight light, vec3 position,
-                    vec3 n, vec3 eye, vec2 pixel) {
+vec3 light_radiance(BrdfInputs m, BrdfView view, SurfaceLayers layers, GpuLight light,
+                    vec3 position, vec3 n, vec3 eye, vec2 pixel) {
+    SurfaceCoat coat = layers.coat;
     vec3 l;
     vec3 irradiance;
     if (light.power_kind.a != LIGHT_KIND_DIRECTIONAL) {
@@ -270,13 +338,24 @@ vec3 light_radiance(BrdfInputs m, BrdfView view, SurfaceCoat coat, GpuLight ligh
                                            pixel);
     }
 #endif
+    vec3 f = brdf_evaluate_view(m, view, l);
+#ifdef SHEEN
+    // The sheen over the base (crates/optics/src/layers.rs): c D V + s f_base.
+    SurfaceSheen sheen = layers.sheen;
+    if (max(sheen.color.r, max(sheen.color.g, sheen.color.b)) > 0.0) {
+        vec3 ll = shading_frame_to_local(view.frame, safe_normalize(l));
+        float scaling = sheen_albedo_scaling(sheen.color, sheen.albedo_v,
+                                             sheen_albedo_lookup(ll.z, sheen.roughness));
+        f = sheen.color * sheen_lobe(view.v, ll, sheen.alpha) + scaling * f;
+    }
+#endif
 #ifdef CLEARCOAT
     if (coat.view.factor > 0.0) {
-        return coated_radiance(brdf_evaluate_view(m, view, l), n_dot_l, coat.view,
+        return coated_radiance(f, n_dot_l, coat.view,
                                coat_evaluate_view(coat.inputs, coat.view, l)) * irradiance;
     }
 #endif
-    return brdf_evaluate_view(m, view, l) * irradiance * n_dot_l;
+    return f * irradiance * n_dot_l;
 }
 
 #endif

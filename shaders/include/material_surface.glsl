@@ -26,6 +26,9 @@ layout(location = 9) in vec4 in_slot_uv_transmission;  // the transmission and t
 layout(location = 10) in vec4 in_slot_uv_clearcoat;  // the clearcoat and its roughness slots'
 layout(location = 11) in vec2 in_slot_uv_clearcoat_normal;
 #endif
+#ifdef SHEEN
+layout(location = 12) in vec4 in_slot_uv_sheen;  // the sheen colour and roughness slots'
+#endif
 #endif
 
 // Set 1: the material's textures, bound per material; empty slots hold a 1×1 white
@@ -49,6 +52,8 @@ layout(location = 11) in vec2 in_slot_uv_clearcoat_normal;
 #define UV_CLEARCOAT in_slot_uv_clearcoat.xy
 #define UV_CLEARCOAT_ROUGHNESS in_slot_uv_clearcoat.zw
 #define UV_CLEARCOAT_NORMAL in_slot_uv_clearcoat_normal
+#define UV_SHEEN_COLOR in_slot_uv_sheen.xy
+#define UV_SHEEN_ROUGHNESS in_slot_uv_sheen.zw
 #else
 #define UV_BASE_COLOR in_uv
 #define UV_METALLIC_ROUGHNESS in_uv
@@ -61,6 +66,8 @@ layout(location = 11) in vec2 in_slot_uv_clearcoat_normal;
 #define UV_CLEARCOAT in_uv
 #define UV_CLEARCOAT_ROUGHNESS in_uv
 #define UV_CLEARCOAT_NORMAL in_uv
+#define UV_SHEEN_COLOR in_uv
+#define UV_SHEEN_ROUGHNESS in_uv
 #endif
 
 // The vertex colour's alpha (1 without vertex colours).
@@ -90,6 +97,10 @@ struct MaterialSurface {
     float clearcoat;
     float clearcoat_roughness;
     vec3 clearcoat_normal;
+    // KHR_materials_sheen (SHEEN variant; black otherwise): its linear colour and
+    // perceptual roughness.
+    vec3 sheen_color;
+    float sheen_roughness;
 };
 
 MaterialSurface material_surface(GpuMaterial material) {
@@ -203,6 +214,21 @@ MaterialSurface material_surface(GpuMaterial material) {
         if (dot(mapped, mapped) > 1e-20) {
             s.clearcoat_normal = normalize(mapped);
         }
+    }
+#endif
+    s.sheen_color = vec3(0.0);
+    s.sheen_roughness = 0.0;
+#ifdef SHEEN
+    // KHR_materials_sheen: colour × its texture's RGB (sRGB, decoded by the sampler's
+    // format), roughness × its texture's A.
+    ivec4 tex3 = material.textures_sheen;
+    s.sheen_color = material.sheen.rgb;
+    if (tex3.x >= 0) {
+        s.sheen_color *= texture(sheen_color_texture, UV_SHEEN_COLOR).rgb;
+    }
+    s.sheen_roughness = material.sheen.a;
+    if (tex3.y >= 0) {
+        s.sheen_roughness *= texture(sheen_roughness_texture, UV_SHEEN_ROUGHNESS).a;
     }
 #endif
     return s;

@@ -98,6 +98,11 @@ impl<T: Real> CoatView<T> {
     pub fn attenuation_v(&self) -> T {
         self.attenuation_v
     }
+
+    /// The coat's unit normal (world space; zero for a zero normal).
+    pub fn normal(&self) -> Vec3<T> {
+        self.frame.to_world(Vec3::new(T::ZERO, T::ZERO, T::ONE))
+    }
 }
 
 /// A(ω) = 1 − c R_w(cos; η_i, η_c) for ω at `cos` to the coat's normal (clamped to

@@ -9,8 +9,9 @@
 //! the estimate comes with its standard error σ/√N from the samples' own variance.
 
 use crate::brdf::{brdf_evaluate_view, brdf_view, BrdfInputs};
-use crate::coat::{coat_evaluate_view, coat_view, coated_radiance, CoatLayer};
+use crate::layers::{layered_radiance, layers_view, Layers};
 use crate::microfacet::{clamp_alpha, d_ggx_anisotropic, lambda_ggx_anisotropic};
+use crate::sheen::sheen_albedo_table;
 use crate::vec3::{ShadingFrame, Vec3};
 
 /// A Monte Carlo estimate per RGB channel with its standard error.
@@ -112,17 +113,17 @@ pub fn integrate_environment(
     radiance: impl Fn([f64; 3]) -> [f64; 3],
     sampling: Sampling,
 ) -> Estimate {
-    integrate_environment_coated(m, None, n, t, b, v, radiance, sampling)
+    integrate_environment_layered(m, &Layers::default(), n, t, b, v, radiance, sampling)
 }
 
-/// As [`integrate_environment`], under a clear coat when `coat` is given: the coated
-/// surface's reflected radiance, each layer lit with the cosine to its own normal
-/// ([`coated_radiance`]), with a third strategy, GGX's visible normals of the coat about
-/// its own normal, in the balance heuristic.
+/// As [`integrate_environment`], under `layers` ([`crate::layers`]: a clear coat, each
+/// layer lit with the cosine to its own normal, and a sheen): with a third strategy
+/// where there is a coat, GGX's visible normals of the coat about its own normal, in the
+/// balance heuristic (the sheen's broad lobe is covered by the cosine-weighted one).
 #[allow(clippy::too_many_arguments)] // the surface's frame, as integrate_environment's
-pub fn integrate_environment_coated(
+pub fn integrate_environment_layered(
     m: &BrdfInputs<f64>,
-    coat: Option<&CoatLayer<f64>>,
+    layers: &Layers,
     n: Vec3<f64>,
     t: Vec3<f64>,
     b: Vec3<f64>,
@@ -142,12 +143,21 @@ pub fn integrate_environment_coated(
         return zero;
     }
     let (ax, ay) = (clamp_alpha(m.alpha_x), clamp_alpha(m.alpha_y));
-    // The coat: its view half, its frame and v in it, its α.
-    let coat = coat.filter(|c| c.inputs.factor > 0.0).map(|c| {
+    let sheen_table = if layers.sheen.is_some() {
+        sheen_albedo_table()
+    } else {
+        &[]
+    };
+    let layered = layers_view(
+        layers,
+        frame.to_world(Vec3::new(0.0, 0.0, 1.0)),
+        v,
+        sheen_table,
+    );
+    // The coat's frame, v in it and its α: the third strategy samples its lobe.
+    let coat = layers.coat.filter(|c| c.inputs.factor > 0.0).map(|c| {
         let coat_frame = ShadingFrame::from_normal(c.normal);
         (
-            c.inputs,
-            coat_view(&c.inputs, c.normal, v),
             coat_frame,
             coat_frame.to_local(v.normalize()),
             clamp_alpha(c.inputs.alpha),
@@ -169,7 +179,7 @@ pub fn integrate_environment_coated(
                     frame.to_world(h * (2.0 * v_local.dot(h)) - v_local)
                 }
                 (1, _) => frame.to_world(sample_cosine(u1, u2)),
-                (_, Some((_, _, coat_frame, coat_v, coat_alpha))) => {
+                (_, Some((coat_frame, coat_v, coat_alpha))) => {
                     if coat_v.z.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                         continue;
                     }
@@ -182,19 +192,18 @@ pub fn integrate_environment_coated(
             let mut pdf_sum = pdf_ggx_vndf_reflection(v_local, l, ax, ay)
                 + l.z.max(0.0) * std::f64::consts::FRAC_1_PI;
             let f = brdf_evaluate_view(m, &view, world);
-            let reflected = match &coat {
+            match &coat {
                 None => {
                     if l.z.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                         continue;
                     }
-                    f.map(|f| f * l.z)
                 }
-                Some((inputs, seen, coat_frame, coat_v, coat_alpha)) => {
+                Some((coat_frame, coat_v, coat_alpha)) => {
                     let coat_l = coat_frame.to_local(world);
                     pdf_sum += pdf_ggx_vndf_reflection(*coat_v, coat_l, *coat_alpha, *coat_alpha);
-                    coated_radiance(f, l.z, seen, &coat_evaluate_view(inputs, seen, world))
                 }
-            };
+            }
+            let reflected = layered_radiance(&layered, f, l.z, world, sheen_table);
             if !(pdf_sum > 0.0 && pdf_sum.is_finite()) {
                 continue;
             }

@@ -18,6 +18,8 @@
 //! * [`coat`]: a clear dielectric coat over it (KHR_materials_clearcoat): its own GGX
 //!   lobe with the exact Fresnel reflectance from the outside medium, and the base
 //!   attenuated by the coat's transmittance both ways.
+//! * [`sheen`]: the sheen of fibres (KHR_materials_sheen): the Charlie lobe with Estevez
+//!   & Kulla's visibility, the base scaled by the sheen's directional albedo.
 //! * [`real`], [`vec3`]: the scalar trait, a 3-vector, the [`ShadingFrame`].
 //!
 //! # Conventions
@@ -161,8 +163,10 @@ pub mod coat;
 pub mod diffuse;
 pub mod environment;
 pub mod fresnel;
+pub mod layers;
 pub mod microfacet;
 pub mod real;
+pub mod sheen;
 pub mod variants;
 pub mod vec3;
 

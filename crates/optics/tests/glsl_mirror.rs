@@ -241,6 +241,11 @@ fn every_term_has_a_glsl_mirror() {
                 "vec3 coat_evaluate_view(CoatInputs c, CoatView view, vec3 l)",
                 "vec3 coated(vec3 base, CoatView view, vec3 terms)",
                 "vec3 coated_radiance(vec3 base, float cos_base, CoatView view, vec3 terms)",
+                "float d_charlie(vec3 m, float alpha)",
+                "float lambda_sheen(float cos_theta, float alpha)",
+                "float visibility_sheen(vec3 v, vec3 l, float alpha)",
+                "float sheen_lobe(vec3 v, vec3 l, float alpha)",
+                "float sheen_albedo_scaling(vec3 color, float albedo_v, float albedo_l)",
             ],
         ),
     ];

@@ -22,12 +22,12 @@
 //! and shadows unless [`SceneShading::with_visibility`] adds exact visibility.
 
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel as OpticsDiffuse};
-use combustion_optics::coat::{
-    coat_evaluate_view, coat_view, coated_radiance, CoatInputs, CoatLayer,
-};
+use combustion_optics::coat::{CoatInputs, CoatLayer};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
-use combustion_optics::environment::{integrate_environment_coated, Estimate, Sampling};
+use combustion_optics::environment::{integrate_environment_layered, Estimate, Sampling};
+use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Layers};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
+use combustion_optics::sheen::{sheen_albedo_table, SheenInputs};
 use combustion_optics::vec3::Vec3 as OpticsVec3;
 use combustion_scene::{
     conductor_from_reflectivity, range_window, DiffuseModel, Light, Material, Scene, TextureRef,
@@ -101,8 +101,9 @@ pub struct SurfacePoint {
     /// differences along x and y, the rays met on the hit triangle's plane); 0 for a
     /// mesh of one colour.
     pub vertex_color_gradient: f64,
-    /// The clear coat over the BRDF (`None`: none, or a weight of 0 here).
-    pub coat: Option<CoatLayer<f64>>,
+    /// The clear coat and the sheen over the BRDF (each `None` where there is none, or
+    /// a weight or colour of 0 here).
+    pub layers: Layers,
 }
 
 /// The scene shaded per pixel in f64 for a `width` × `height` frame of its own camera.
@@ -278,7 +279,7 @@ impl<'a> SceneShading<'a> {
 
     /// The same, with the scene's environment (if it has one) lighting every point:
     /// L = ∫ f(v, l) L_env(l) (n·l) dl over the hemisphere, estimated by
-    /// [`integrate_environment_coated`] with `samples` samples of each strategy (BRDF and
+    /// [`integrate_environment_layered`] with `samples` samples of each strategy (BRDF and
     /// cosine sampling, combined by multiple importance), the sequence seeded by the
     /// point's position (so one point always gets one estimate). Unoccluded: the
     /// environment reaches every point from every direction above it (the renderer's
@@ -302,9 +303,9 @@ impl<'a> SceneShading<'a> {
             .fold(0x9e37_79b9_7f4a_7c15u64, |h, c| {
                 (h ^ c.to_bits()).wrapping_mul(0x1000_0000_01b3)
             });
-        Some(integrate_environment_coated(
+        Some(integrate_environment_layered(
             &surface.brdf,
-            surface.coat.as_ref(),
+            &surface.layers,
             optics_vec(surface.n),
             optics_vec(surface.t),
             optics_vec(surface.b),
@@ -656,6 +657,17 @@ impl<'a> SceneShading<'a> {
             }
         });
         let coat = coat.filter(|c| c.inputs.factor > 0.0);
+        // KHR_materials_sheen: colour × its texture's RGB (sRGB), roughness × its A.
+        let sheen = material.has_sheen().then(|| {
+            let texture = lookup.sample_or(material.sheen_color_texture.as_ref(), [1.0; 4]);
+            let roughness = f64::from(material.sheen_roughness)
+                * lookup.sample_or(material.sheen_roughness_texture.as_ref(), [1.0; 4])[3];
+            SheenInputs {
+                color: std::array::from_fn(|c| f64::from(material.sheen_color[c]) * texture[c]),
+                alpha: roughness * roughness,
+            }
+        });
+        let sheen = sheen.filter(|s| s.color.iter().any(|&c| c > 0.0));
         let emissive_texture = lookup.sample_or(material.emissive_texture.as_ref(), [1.0; 4]);
         let emitted = std::array::from_fn(|c| {
             f64::from(material.emissive_factor[c])
@@ -679,7 +691,7 @@ impl<'a> SceneShading<'a> {
             alpha: coverage,
             transmission: f64::from(material.transmission)
                 * lookup.sample_or(material.transmission_texture.as_ref(), [1.0; 4])[0],
-            coat,
+            layers: Layers { coat, sheen },
         }
     }
 
@@ -728,9 +740,13 @@ impl<'a> SceneShading<'a> {
             if depth > 0 {
                 let through = self.transmitted(surface, m, depth - 1);
                 // What passes through leaves through the coat towards the eye: A(v).
-                let coat_out = surface.coat.map_or(1.0, |c| {
-                    coat_view(&c.inputs, c.normal, optics_vec(surface.v)).attenuation_v()
-                });
+                let coat_out = layers_view(
+                    &surface.layers,
+                    optics_vec(surface.n),
+                    optics_vec(surface.v),
+                    &[],
+                )
+                .coat_attenuation_v();
                 let weight = (1.0 - surface.brdf.metalness) * transmission * coat_out;
                 for c in 0..3 {
                     radiance[c] += weight * surface.brdf.base_color[c] * through[c];
@@ -746,16 +762,23 @@ impl<'a> SceneShading<'a> {
     fn reflected(&self, surface: &SurfacePoint) -> [f64; 3] {
         let position = DVec3::from(surface.hit.position);
         let mut radiance = surface.emitted;
-        let coat = surface
-            .coat
-            .map(|c| (c, coat_view(&c.inputs, c.normal, optics_vec(surface.v))));
+        let table = if surface.layers.sheen.is_some() {
+            sheen_albedo_table()
+        } else {
+            &[]
+        };
+        let layered = layers_view(
+            &surface.layers,
+            optics_vec(surface.n),
+            optics_vec(surface.v),
+            table,
+        );
         for light in self.lights {
             let (l, irradiance) = light_at(light, position);
             let cos = surface.n.dot(l);
             // NaN compares false: a light that cannot be evaluated adds nothing. A coat
             // with its own normal may face a light the base does not.
-            let faces_light =
-                cos > 0.0 || coat.is_some_and(|(c, _)| c.normal.dot(optics_vec(l)) > 0.0);
+            let faces_light = layers_face(&layered, cos, optics_vec(l));
             if !faces_light || irradiance.iter().all(|&e| e <= 0.0) {
                 continue;
             }
@@ -779,15 +802,7 @@ impl<'a> SceneShading<'a> {
                 optics_vec(surface.v),
                 optics_vec(l),
             );
-            let reflected = match &coat {
-                Some((c, seen)) => coated_radiance(
-                    f,
-                    cos,
-                    seen,
-                    &coat_evaluate_view(&c.inputs, seen, optics_vec(l)),
-                ),
-                None => f.map(|f| f * cos),
-            };
+            let reflected = layered_radiance(&layered, f, cos, optics_vec(l), table);
             for c in 0..3 {
                 radiance[c] += reflected[c] * irradiance[c] * visible;
             }
@@ -974,7 +989,7 @@ impl GBufferPrecision {
         stored.b = n.cross(stored.t);
         stored.n = n;
         // The clear coat's target: 16-bit unorm octahedral normal, roughness and weight.
-        stored.coat = surface.coat.map(|mut c| {
+        stored.layers.coat = surface.layers.coat.map(|mut c| {
             let normal = DVec3::new(c.normal.x, c.normal.y, c.normal.z).normalize();
             let stored_normal = octahedral_decode(octahedral_encode(normal).map(|x| unorm(x, 16)));
             c.normal = optics_vec(stored_normal);
@@ -982,6 +997,13 @@ impl GBufferPrecision {
             c.inputs.alpha = alpha_from_perceptual_roughness(roughness);
             c.inputs.factor = unorm(c.inputs.factor, 16);
             c
+        });
+        // The sheen's target: 16-bit unorm linear colour and perceptual roughness.
+        stored.layers.sheen = surface.layers.sheen.map(|mut s| {
+            s.color = s.color.map(|c| unorm(c, 16));
+            let roughness = unorm(s.alpha.max(0.0).sqrt(), 16);
+            s.alpha = roughness * roughness;
+            s
         });
         stored
     }
@@ -1121,7 +1143,7 @@ mod tests {
             anisotropy_strength: 0.0,
             alpha: 1.0,
             transmission: 0.0,
-            coat: None,
+            layers: Layers::default(),
         };
         let stored = GBufferPrecision::SRGB8.store(&surface, false);
         let expected = srgb_decode(231.0 / 255.0);

@@ -10,25 +10,7 @@
 
 use combustion_scene::{ColorSpace, Filter, Image, Sampler, TextureRef, WrapMode};
 
-/// The exact sRGB decoding of an encoded value in [0, 1] (IEC 61966-2-1).
-pub fn srgb_decode(encoded: f64) -> f64 {
-    if encoded <= 0.04045 {
-        encoded / 12.92
-    } else {
-        ((encoded + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-/// The exact sRGB encoding of a linear value in [0, 1] (IEC 61966-2-1), the inverse of
-/// [`srgb_decode`].
-pub fn srgb_encode(linear: f64) -> f64 {
-    let c = linear.clamp(0.0, 1.0);
-    if c <= 0.0031308 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    }
-}
+pub use combustion_scene::{srgb_decode, srgb_encode};
 
 /// One level of a [`MipChain`]: RGBA values, row-major from the top-left.
 #[derive(Clone, Debug)]

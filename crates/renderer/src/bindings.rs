@@ -410,14 +410,17 @@ pub static MATERIAL_TEXTURES: SetDecl = SetDecl {
             FRAGMENT,
         ),
         Binding::new("clearcoat_normal_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("sheen_color_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("sheen_roughness_texture", BindingKind::Sampler2D, FRAGMENT),
     ],
     includes: &[],
 };
 
 /// The bindings of what lights a surface, shared by the passes that shade
 /// (lighting_terms.glsl): the frame's lights, the conductor-from-base-colour table, the
-/// energy table, the environment's cubes and tables, the shadow maps.
-const LIT_BY: [Binding; 13] = [
+/// energy table, the sheen's albedo table, the environment's cubes and tables, the
+/// shadow maps.
+const LIT_BY: [Binding; 14] = [
     Binding::new(
         "lights",
         BindingKind::StorageBuffer {
@@ -447,6 +450,17 @@ const LIT_BY: [Binding; 13] = [
         FRAGMENT,
     )
     .only_with("ENERGY_COMPENSATION"),
+    // The white sheen lobe's directional albedo over (n·v, r) (read in the SHEEN
+    // variant; combustion_optics::sheen::sheen_albedo_table).
+    Binding::new(
+        "sheen_albedo",
+        BindingKind::StorageBuffer {
+            block: "SheenAlbedo",
+            element: "float",
+        },
+        FRAGMENT,
+    )
+    .only_with("SHEEN"),
     // Environment lighting (ENVIRONMENT variant; see crate::environment): the
     // prefiltered specular cube, the irradiance cube, the directional-albedo tables
     // per material, the per-code tables of conductors derived from the base colour
@@ -524,7 +538,7 @@ const fn joined<const N: usize>(first: &[Binding], then: &[Binding]) -> [Binding
     out
 }
 
-const LIGHTING_BINDINGS: [Binding; 8 + LIT_BY.len()] = joined(
+const LIGHTING_BINDINGS: [Binding; 9 + LIT_BY.len()] = joined(
     &[
         Binding::new(
             "gbuffer_base_color_metalness",
@@ -559,6 +573,8 @@ const LIGHTING_BINDINGS: [Binding; 8 + LIT_BY.len()] = joined(
         // The clear coat: its normal (octahedral, xy), roughness (z) and weight (w)
         // (CLEARCOAT variant).
         Binding::new("gbuffer_clearcoat", BindingKind::Texture2D, FRAGMENT).only_with("CLEARCOAT"),
+        // The sheen: its linear colour (rgb) and perceptual roughness (a) (SHEEN variant).
+        Binding::new("gbuffer_sheen", BindingKind::Texture2D, FRAGMENT).only_with("SHEEN"),
     ],
     &LIT_BY,
 );
@@ -764,7 +780,7 @@ mod tests {
             "layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;"
         ));
         assert!(glsl.contains(
-            "layout(std430, set = 0, binding = 8) readonly buffer Lights { GpuLight lights[]; };"
+            "layout(std430, set = 0, binding = 9) readonly buffer Lights { GpuLight lights[]; };"
         ));
         assert!(glsl.contains(
             "#ifdef EMISSIVE_OCCLUSION_TARGET\nlayout(set = 0, binding = 6) uniform texture2D gbuffer_emissive;\n#endif"
@@ -802,13 +818,14 @@ mod tests {
                 .find(|s| s.ty == ty)
                 .map_or(0, |s| s.descriptor_count)
         };
-        // The G-buffer's six (the clear coat's included) and the two arrays of shadow
-        // maps as depths, twice.
-        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 16);
+        // The G-buffer's seven (the clear coat's and the sheen's included) and the two
+        // arrays of shadow maps as depths, twice.
+        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 18);
         // The two environment cubes and the two arrays of shadow maps, twice.
         assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 8);
         // Materials, lights, the conductor table, the tile light lists, the energy
-        // table, the three environment tables and the shadow cascades, twice.
-        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 18);
+        // table, the sheen table, the three environment tables and the shadow
+        // cascades, twice.
+        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 20);
     }
 }

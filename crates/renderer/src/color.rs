@@ -85,11 +85,7 @@ pub fn linear_to_srgb(linear: f64) -> f64 {
 
 /// The sRGB decoding (IEC 61966-2-1), as the lighting pass's table applies it.
 pub fn srgb_to_linear(encoded: f64) -> f64 {
-    if encoded <= 0.04045 {
-        encoded / 12.92
-    } else {
-        ((encoded + 0.055) / 1.055).powf(2.4)
-    }
+    combustion_scene::srgb_decode(encoded)
 }
 
 /// IEEE 754 binary16 → binary32 (exact).

@@ -25,6 +25,8 @@ pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 /// The clear coat's octahedral normal (rg), perceptual roughness (b) and weight (a),
 /// 16-bit unorm each, as the default surface storage keeps the base's.
 pub const CLEARCOAT_FORMAT: vk::Format = vk::Format::R16G16B16A16_UNORM;
+/// The sheen's linear colour (rgb) and perceptual roughness (a), 16-bit unorm each.
+pub const SHEEN_FORMAT: vk::Format = vk::Format::R16G16B16A16_UNORM;
 
 /// The G-buffer's images at one size.
 pub struct GBufferTargets {
@@ -46,6 +48,9 @@ pub struct GBufferTargets {
     /// The clear coat ([`CLEARCOAT_FORMAT`]), present in the `CLEARCOAT` variant only:
     /// the colour attachment after the emissive target's (or in its place).
     pub clearcoat: Option<Image>,
+    /// The sheen ([`SHEEN_FORMAT`]), present in the `SHEEN` variant only: the colour
+    /// attachment after the clear coat's (or in its place).
+    pub sheen: Option<Image>,
 }
 
 impl GBufferTargets {
@@ -53,7 +58,7 @@ impl GBufferTargets {
     /// attachment, sampled and transfer-source usage; depth with depth attachment, sampled
     /// and transfer-source usage). With `emissive_occlusion`, also the emissive + occlusion
     /// target, of `emissive_format` (the HDR image's format); with `clearcoat`, the clear
-    /// coat's target.
+    /// coat's target; with `sheen`, the sheen's.
     ///
     /// # Errors
     /// [`RenderError::Vulkan`] if an image cannot be created or allocated.
@@ -63,7 +68,7 @@ impl GBufferTargets {
         height: u32,
         storage: GBufferStorage,
         emissive_occlusion: bool,
-        clearcoat: bool,
+        [clearcoat, sheen]: [bool; 2],
         emissive_format: vk::Format,
     ) -> Result<Self, RenderError> {
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
@@ -109,6 +114,11 @@ impl GBufferTargets {
             } else {
                 None
             },
+            sheen: if sheen {
+                Some(image("gbuffer sheen", SHEEN_FORMAT, color_usage)?)
+            } else {
+                None
+            },
         })
     }
 
@@ -126,6 +136,7 @@ impl GBufferTargets {
         let mut all = self.colors().to_vec();
         all.extend(self.emissive.as_ref());
         all.extend(self.clearcoat.as_ref());
+        all.extend(self.sheen.as_ref());
         all
     }
 }
@@ -147,7 +158,8 @@ impl GBufferPass {
     /// tables), set 1 of `material_set_layout` (one material's textures), the view-projection
     /// and object index as vertex push constants, a fourth colour attachment of
     /// `emissive_format` in variants with the emissive + occlusion target, and then the
-    /// clear coat's ([`CLEARCOAT_FORMAT`]) in variants with one.
+    /// clear coat's ([`CLEARCOAT_FORMAT`]) and the sheen's ([`SHEEN_FORMAT`]) in variants
+    /// with them.
     ///
     /// # Errors
     /// [`RenderError::Vulkan`] if a shader does not compile or the pipeline cannot be built.
@@ -191,6 +203,9 @@ impl GBufferPass {
         }
         if variant.clearcoat {
             color_formats.push(CLEARCOAT_FORMAT);
+        }
+        if variant.sheen {
+            color_formats.push(SHEEN_FORMAT);
         }
         let pipeline = |fragment: &ShaderModule| {
             Pipeline::graphics(
@@ -358,6 +373,9 @@ pub struct GBufferTexel {
     /// The clear coat's target: octahedral normal xy, perceptual roughness, weight (all
     /// 0 in frames without the coat's target: no coat).
     pub clearcoat: [f64; 4],
+    /// The sheen's target: linear colour, perceptual roughness (all 0 in frames without
+    /// it: no sheen).
+    pub sheen: [f64; 4],
 }
 
 /// A G-buffer read back to the CPU.

@@ -12,7 +12,7 @@ pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 /// radiance.
 pub const MATERIAL_FLAG_UNLIT: u32 = 2;
 
-/// `GpuMaterial` (std430, 704 bytes).
+/// `GpuMaterial` (std430, 800 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -68,8 +68,14 @@ pub struct GpuMaterial {
     /// Texture-array indices (-1: none) of the clearcoat, clearcoat roughness and
     /// clearcoat normal slots, then -1.
     pub textures_clearcoat: [i32; 4],
+    /// KHR_materials_sheen: the sheen's linear colour (rgb, black: no sheen) and
+    /// perceptual roughness (a). Read by the SHEEN variants.
+    pub sheen: [f32; 4],
+    /// Texture-array indices (-1: none) of the sheen colour and sheen roughness slots,
+    /// then -1, -1.
+    pub textures_sheen: [i32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 704);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 800);
 
 impl GpuMaterial {
     /// The table entry of `material`; `textures` are its texture-array indices per
@@ -161,6 +167,11 @@ impl GpuMaterial {
                 material.clearcoat_normal_scale,
             ],
             textures_clearcoat: [textures[10], textures[11], textures[12], -1],
+            sheen: {
+                let [r, g, b] = material.sheen_color;
+                [r, g, b, material.sheen_roughness]
+            },
+            textures_sheen: [textures[13], textures[14], -1, -1],
         }
     }
 
@@ -178,6 +189,7 @@ impl GpuMaterial {
             textures_emissive_anisotropy_specular: [-1; 4],
             textures_transmission_thickness: [-1; 4],
             textures_clearcoat: [-1; 4],
+            textures_sheen: [-1; 4],
             ..*self
         }
     }

@@ -152,6 +152,10 @@ pub struct Renderer {
     /// [`environment::white_specular_albedo_table`] once compensation was asked for (a
     /// 16-byte placeholder before: the binding exists in every lighting layout).
     energy_table: combustion_vk::Buffer,
+    /// [`combustion_optics::sheen::sheen_albedo_table`] once a variant with sheen was
+    /// prepared (a 16-byte placeholder before: the binding exists in every lighting
+    /// layout).
+    sheen_table: combustion_vk::Buffer,
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     light_culling: LightCulling,
     light_cull: light_cull::LightCullPass,
@@ -207,6 +211,7 @@ impl Renderer {
         let absent_target =
             placeholders::absent_target_placeholder(&device, settings.hdr_format.vk())?;
         let energy_table = settings::energy_table(&device, settings.shading.energy_compensation)?;
+        let sheen_table = settings::sheen_table(&device, false)?;
         let pipeline_cache = PipelineCache::new(&device, cache_data)?;
         let light_cull = light_cull::LightCullPass::new(
             &device,
@@ -238,6 +243,7 @@ impl Renderer {
             settings,
             environment_baker: None,
             energy_table,
+            sheen_table,
             light_culling: LightCulling::Auto,
             light_cull,
             shadow_maps: None,

@@ -43,8 +43,11 @@ struct ReadbackBuffers {
     /// The three colour targets every variant has, and depth.
     gbuffer: [Buffer; 4],
     /// The clear coat's target (in frames whose variant has it), made with the first
-    /// G-buffer readback asked for: frames read back only as images do not carry it.
+    /// G-buffer readback asked for (`with_gbuffer_layers`): frames read back only as
+    /// images do not carry it.
     clearcoat: Option<Buffer>,
+    /// The sheen's target, likewise.
+    sheen: Option<Buffer>,
 }
 
 impl ReadbackBuffers {
@@ -53,7 +56,7 @@ impl ReadbackBuffers {
         extent: vk::Extent2D,
         hdr_format: HdrFormat,
         storage: GBufferStorage,
-        with_clearcoat: bool,
+        with_gbuffer_layers: bool,
     ) -> Result<Self, VkError> {
         let pixels = u64::from(extent.width) * u64::from(extent.height);
         let buffer = |name: &str, bytes_per_pixel: u64| {
@@ -81,8 +84,13 @@ impl ReadbackBuffers {
                 buffer("gbuffer readback 2", 4)?,
                 buffer("depth readback", 4)?,
             ],
-            clearcoat: if with_clearcoat {
+            clearcoat: if with_gbuffer_layers {
                 Some(buffer("clear coat readback", 8)?)
+            } else {
+                None
+            },
+            sheen: if with_gbuffer_layers {
+                Some(buffer("sheen readback", 8)?)
             } else {
                 None
             },
@@ -96,6 +104,7 @@ impl ReadbackBuffers {
             .into_iter()
             .chain(&self.gbuffer)
             .chain(&self.clearcoat)
+            .chain(&self.sheen)
     }
 }
 
@@ -142,8 +151,8 @@ impl Renderer {
         offscreen.ring.wait(frame.slot)?;
         self.collect_timings(frame.slot)?;
         self.stats.readbacks += 1;
-        let clearcoat = self.variant_of(scene.variant).clearcoat;
-        self.read_back(width, height, readback, clearcoat)
+        let variant = self.variant_of(scene.variant);
+        self.read_back(width, height, readback, [variant.clearcoat, variant.sheen])
     }
 
     /// Records and submits a frame of `scene` into the renderer's display image without
@@ -320,6 +329,9 @@ impl Renderer {
             if let (Some(image), Some(buffer)) = (&g.clearcoat, &buffers.clearcoat) {
                 copies.push((image, buffer));
             }
+            if let (Some(image), Some(buffer)) = (&g.sheen, &buffers.sheen) {
+                copies.push((image, buffer));
+            }
         }
         if copies.is_empty() {
             return;
@@ -355,14 +367,14 @@ impl Renderer {
         states.transition(raw, cmd, &host_read);
     }
 
-    /// The frame just completed, from the readback buffers (`clearcoat`: its variant has
-    /// the coat's target).
+    /// The frame just completed, from the readback buffers (`clearcoat`, `sheen`: its
+    /// variant has the coat's, the sheen's target).
     fn read_back(
         &self,
         width: u32,
         height: u32,
         readback: Readback,
-        clearcoat: bool,
+        [clearcoat, sheen]: [bool; 2],
     ) -> Result<Frame, RenderError> {
         let mut frame = Frame {
             width,
@@ -408,6 +420,10 @@ impl Renderer {
                 Some(buffer) if clearcoat => Some(unorm_texels::<u16>(buffer.mapped()?)),
                 _ => None,
             };
+            let sheen = match &buffers.sheen {
+                Some(buffer) if sheen => Some(unorm_texels::<u16>(buffer.mapped()?)),
+                _ => None,
+            };
             let texels = (0..base.len())
                 .map(|i| GBufferTexel {
                     base_color_metalness: base[i],
@@ -416,6 +432,7 @@ impl Renderer {
                     material_direction: md[i],
                     depth: depth[i],
                     clearcoat: clearcoat.as_ref().map_or([0.0; 4], |c| c[i]),
+                    sheen: sheen.as_ref().map_or([0.0; 4], |s| s[i]),
                 })
                 .collect();
             frame.gbuffer = Some(GBufferReadback {

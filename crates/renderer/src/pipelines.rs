@@ -69,6 +69,13 @@ impl Renderer {
         if self.variants.contains_key(&variant) {
             return Ok(());
         }
+        if variant.sheen && self.sheen_table.size() <= 16 {
+            // The sheen's albedo table, integrated in f64 once per process (≈ 0.5 s),
+            // for the first variant with sheen.
+            let table = crate::settings::sheen_table(&self.device, true)?;
+            let placeholder = std::mem::replace(&mut self.sheen_table, table);
+            self.retire(placeholder);
+        }
         if variant.shadows.is_some() && self.shadow_casters.is_none() {
             self.shadow_casters = Some(crate::shadows::ShadowCasterPass::new(
                 &self.device,

@@ -10,12 +10,12 @@
 //! whose shadow-map verdict differs from it.
 
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
-use combustion_optics::coat::{
-    coat_evaluate_view, coat_view, coated_radiance, CoatInputs, CoatLayer,
-};
+use combustion_optics::coat::{CoatInputs, CoatLayer};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
-use combustion_optics::environment::{integrate_environment_coated, Estimate, Sampling};
+use combustion_optics::environment::{integrate_environment_layered, Estimate, Sampling};
+use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Layers};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
+use combustion_optics::sheen::{sheen_albedo_table, SheenInputs};
 use combustion_optics::variants::{
     brdf_evaluate_variant, BrdfVariant, DistributionForm, FresnelForm, MaskingForm,
 };
@@ -58,8 +58,8 @@ pub struct PixelInputs {
     pub v: [f64; 3],
     /// The surface point's world position, reconstructed from depth.
     pub position: [f64; 3],
-    /// The clear coat over the BRDF, decoded from the coat's target (`None`: no coat).
-    pub coat: Option<CoatLayer<f64>>,
+    /// The clear coat and the sheen over the BRDF, decoded from their targets.
+    pub layers: Layers,
 }
 
 /// How the reference integrates an environment in [`error_map`]: Monte Carlo with
@@ -295,16 +295,20 @@ impl ReferenceShading {
             b,
             v,
             position,
-            coat,
+            layers,
         } = *p;
-        let coat = coat.map(|c| (c, coat_view(&c.inputs, c.normal, v3(v))));
+        let table = if layers.sheen.is_some() {
+            sheen_albedo_table()
+        } else {
+            &[]
+        };
+        let layered = layers_view(&layers, v3(n), v3(v), table);
         let mut radiance = [0.0; 3];
         for (index, light) in self.lights.iter().enumerate() {
             let (l, e) = self.light_direction(light, position);
             let cos = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
             // A coat with its own normal may face a light the base does not.
-            let coat_faces = coat.is_some_and(|(c, _)| c.normal.dot(v3(l)) > 0.0);
-            if cos <= 0.0 && !coat_faces {
+            if !layers_face(&layered, cos, v3(l)) {
                 continue;
             }
             let mut visible = 1.0;
@@ -324,12 +328,7 @@ impl ReferenceShading {
             } else {
                 brdf_evaluate_variant(&m, &self.variant, v3(n), v3(t), v3(b), v3(v), v3(l))
             };
-            let reflected = match &coat {
-                Some((c, seen)) => {
-                    coated_radiance(brdf, cos, seen, &coat_evaluate_view(&c.inputs, seen, v3(l)))
-                }
-                None => brdf.map(|f| f * cos),
-            };
+            let reflected = layered_radiance(&layered, brdf, cos, v3(l), table);
             for c in 0..3 {
                 radiance[c] += reflected[c] * e[c] * visible;
             }
@@ -345,8 +344,8 @@ impl ReferenceShading {
 
     /// The f64 environment oracle at pixel (`x`, `y`): the rendering equation
     /// ∫ f(v, l) L(l) (n·l) dl against `environment` for the pixel's G-buffer texel,
-    /// integrated by Monte Carlo ([`integrate_environment_coated`], under the pixel's
-    /// clear coat if it has one; `iterations` samples of each strategy, with its
+    /// integrated by Monte Carlo ([`integrate_environment_layered`], under the pixel's
+    /// clear coat and sheen if it has them; `iterations` samples of each strategy, with its
     /// standard error). `None` on the background.
     pub fn shade_environment(
         &self,
@@ -358,9 +357,9 @@ impl ReferenceShading {
     ) -> Option<Estimate> {
         let p = self.pixel(texel, x, y)?;
         let seed = u64::from(y) << 32 | u64::from(x);
-        Some(integrate_environment_coated(
+        Some(integrate_environment_layered(
             &p.brdf,
-            p.coat.as_ref(),
+            &p.layers,
             v3(p.n),
             v3(p.t),
             v3(p.b),
@@ -457,6 +456,12 @@ impl ReferenceShading {
             },
             normal: v3(octahedral_decode([cx, cy])),
         });
+        // The sheen's target: linear colour, perceptual roughness.
+        let [sr, sg, sb, sheen_roughness] = texel.sheen;
+        let sheen = (sr.max(sg).max(sb) > 0.0).then_some(SheenInputs {
+            color: [sr, sg, sb],
+            alpha: sheen_roughness * sheen_roughness,
+        });
         Some(PixelInputs {
             brdf: m,
             n,
@@ -464,7 +469,7 @@ impl ReferenceShading {
             b,
             v,
             position,
-            coat,
+            layers: Layers { coat, sheen },
         })
     }
 

@@ -156,6 +156,25 @@ pub(crate) fn energy_table(
     })
 }
 
+/// The sheen's albedo table (`combustion_optics::sheen::sheen_albedo_table`, then
+/// `sheen_scaling_table`, as f32) when `on`, else a 16-byte placeholder (the binding exists in every lighting layout).
+pub(crate) fn sheen_table(
+    device: &Arc<Device>,
+    on: bool,
+) -> Result<combustion_vk::Buffer, RenderError> {
+    Ok(if on {
+        // E, then M (combustion_optics::sheen::sheen_scaling_table), each SHEEN_TABLE_SIZE².
+        let table: Vec<f32> = combustion_optics::sheen::sheen_albedo_table()
+            .iter()
+            .chain(combustion_optics::sheen::sheen_scaling_table())
+            .map(|&e| e as f32)
+            .collect();
+        buffers::filled_storage_buffer(device, "sheen albedo table", bytemuck::cast_slice(&table))?
+    } else {
+        buffers::filled_storage_buffer(device, "sheen table placeholder", &[0; 16])?
+    })
+}
+
 /// A host-visible buffer holding RGBA8 texels, as the overlay reads them.
 pub(crate) fn overlay_image_buffer(
     device: &Arc<Device>,

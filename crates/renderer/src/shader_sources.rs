@@ -68,6 +68,11 @@ fn shared_constants() -> Vec<SharedConstant> {
             "environment::ENERGY_TABLE_SIZE",
         ),
         constant(
+            "SHEEN_TABLE_SIZE",
+            GlslValue::Uint(combustion_optics::sheen::SHEEN_TABLE_SIZE as u32),
+            "combustion_optics::sheen::SHEEN_TABLE_SIZE",
+        ),
+        constant(
             "ENVIRONMENT_TABLE_SIZE",
             GlslValue::Uint(TABLE_SIZE),
             "environment::TABLE_SIZE",
@@ -199,6 +204,10 @@ mod tests {
         let mut expected = vec![
             format!("TILE_SIZE {TILE_SIZE}"),
             format!("ENERGY_TABLE_SIZE {ENERGY_TABLE_SIZE}u"),
+            format!(
+                "SHEEN_TABLE_SIZE {}u",
+                combustion_optics::sheen::SHEEN_TABLE_SIZE
+            ),
             format!("ENVIRONMENT_TABLE_SIZE {TABLE_SIZE}u"),
             format!("ENVIRONMENT_CODE_TABLE_SIZE {CODE_TABLE_SIZE}u"),
             format!("ENVIRONMENT_CODES {CODES}u"),

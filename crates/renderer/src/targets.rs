@@ -24,6 +24,8 @@ pub(crate) struct TargetKey {
     pub back_faces: bool,
     /// Whether the G-buffer has the clear coat's target.
     pub clearcoat: bool,
+    /// Whether the G-buffer has the sheen's target.
+    pub sheen: bool,
 }
 
 impl TargetKey {
@@ -36,6 +38,7 @@ impl TargetKey {
             behind: variant.transmission,
             back_faces: variant.volume,
             clearcoat: variant.clearcoat,
+            sheen: variant.sheen,
         }
     }
 }
@@ -108,7 +111,7 @@ impl FrameTargets {
                 key.height,
                 storage,
                 key.emissive_occlusion,
-                key.clearcoat,
+                [key.clearcoat, key.sheen],
                 hdr_format.vk(),
             )?,
             hdr: Image::new(

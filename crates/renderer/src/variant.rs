@@ -166,6 +166,11 @@ pub struct ShaderVariant {
     /// that shade add the coat's lobe and its attenuation of the base
     /// (`combustion_optics::coat`); scenes without a coat carry neither.
     pub clearcoat: bool,
+    /// Some drawn object's material has a sheen (KHR_materials_sheen): the G-buffer gets
+    /// the sheen's target (its colour and roughness) and the passes that shade add the
+    /// sheen's lobe and its albedo scaling of the base (`combustion_optics::sheen`, the
+    /// albedo table bound); scenes without one carry neither.
+    pub sheen: bool,
     /// Some drawn mesh has vertex colours (glTF COLOR_0): the G-buffer pipelines read the
     /// colour stream and multiply it into the base colour and alpha (objects whose mesh
     /// has none use white).
@@ -240,6 +245,9 @@ impl ShaderVariant {
         if self.clearcoat {
             defines.push(("CLEARCOAT", None));
         }
+        if self.sheen {
+            defines.push(("SHEEN", None));
+        }
         match self.fresnel {
             FresnelModel::Full => {}
             FresnelModel::Schlick => defines.push(("FRESNEL_SCHLICK", None)),
@@ -275,8 +283,8 @@ impl ShaderVariant {
 
 impl ShaderVariant {
     /// The part of the variant the G-buffer shaders read (the emissive target, texture
-    /// transforms, cut-outs, vertex colours, the clear coat's target and the geometry
-    /// floor); every other feature is the lighting pass's.
+    /// transforms, cut-outs, vertex colours, the clear coat's and the sheen's targets and
+    /// the geometry floor); every other feature is the lighting pass's.
     pub(crate) fn gbuffer_part(self) -> ShaderVariant {
         ShaderVariant {
             emissive: self.emissive,
@@ -285,6 +293,7 @@ impl ShaderVariant {
             alpha_mask: self.alpha_mask,
             vertex_colors: self.vertex_colors,
             clearcoat: self.clearcoat,
+            sheen: self.sheen,
             floor: self.floor.filter(|f| *f == MeasurementFloor::Geometry),
             ..ShaderVariant::default()
         }

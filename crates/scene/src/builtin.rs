@@ -23,6 +23,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "glass-underwater",
     "clearcoat",
     "clearcoat-underwater",
+    "sheen",
 ];
 
 /// Builds the built-in scene `name` (one of [`BUILTIN_SCENES`]), procedurally, needing no
@@ -51,7 +52,10 @@ pub const BUILTIN_SCENES: &[&str] = &[
 /// - `clearcoat` and `clearcoat-underwater`: clear coats (KHR_materials_clearcoat) from
 ///   smooth to rough over a red plastic, and over gold, a half-weight coat, and the red
 ///   plastic uncoated beside them, in air and under water (where a 1.5 coat reflects a
-///   tenth of what it does in air).
+///   tenth of what it does in air);
+/// - `sheen`: the sheen of fibres (KHR_materials_sheen) from smooth to rough over a dark
+///   red cloth, a coloured sheen over blue, sheen over gold, the cloth without sheen,
+///   and a sheen under a clear coat.
 ///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
@@ -71,6 +75,7 @@ pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
         "glass-underwater" => Ok(glass(WATER_IOR, "glass-underwater")),
         "clearcoat" => Ok(clearcoat(1.0, "clearcoat")),
         "clearcoat-underwater" => Ok(clearcoat(WATER_IOR, "clearcoat-underwater")),
+        "sheen" => Ok(sheen()),
         "spheres-studio" => Ok(under_studio(spheres(), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
             Scene {
@@ -1160,6 +1165,65 @@ fn clearcoat(outside_ior: f32, name: &str) -> Scene {
         ],
         grid_camera(4, 2, 1.5),
         outside_ior,
+    )
+}
+
+/// Sheen (white, roughness 0.2, 0.4, 0.7, 1.0) over a dark red cloth; a cyan sheen over
+/// blue, a sheen over gold, the cloth without sheen, and a sheen under a clear coat.
+fn sheen() -> Scene {
+    use combustion_spectra::BuiltinMetal;
+    let cloth = Material {
+        name: "dark red cloth".into(),
+        base_color: [0.25, 0.02, 0.03],
+        roughness: 0.8,
+        diffuse_model: DiffuseModel::OrenNayarFull,
+        ..Material::default()
+    };
+    let with_sheen = |name: &str, base: &Material, color: [f32; 3], roughness: f32| Material {
+        name: name.into(),
+        sheen_color: color,
+        sheen_roughness: roughness,
+        ..base.clone()
+    };
+    let blue = Material {
+        name: "blue cloth".into(),
+        base_color: [0.02, 0.04, 0.3],
+        roughness: 0.7,
+        ..Material::default()
+    };
+    let gold = Material {
+        name: "gold".into(),
+        metalness: 1.0,
+        roughness: 0.4,
+        conductor: metal(BuiltinMetal::Gold),
+        ..Material::default()
+    };
+    let rows = vec![
+        [0.2, 0.4, 0.7, 1.0]
+            .iter()
+            .map(|&r| with_sheen(&format!("cloth, sheen roughness {r}"), &cloth, [1.0; 3], r))
+            .collect(),
+        vec![
+            with_sheen("blue, cyan sheen", &blue, [0.2, 0.8, 0.9], 0.5),
+            with_sheen("gold, sheen", &gold, [0.6; 3], 0.3),
+            cloth.clone(),
+            Material {
+                clearcoat: 1.0,
+                clearcoat_roughness: 0.1,
+                ..with_sheen("cloth, sheen, clear coat", &cloth, [0.8; 3], 0.5)
+            },
+        ],
+    ];
+    sphere_grid(
+        "sheen",
+        rows,
+        vec![
+            light_from(Vec3::new(-0.8, 0.45, 0.45), [3.0; 3]),
+            // grazing from behind: where sheen shows
+            light_from(Vec3::new(0.3, 0.5, -0.9), [4.0; 3]),
+        ],
+        grid_camera(4, 2, 1.5),
+        1.0,
     )
 }
 

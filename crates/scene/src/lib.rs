@@ -42,9 +42,9 @@ pub use error::{CameraProblem, LightProblem, SceneError};
 /// regular file within a size limit, both checked before it is read.
 pub use gltf::read_regular_file;
 pub use material::{
-    conductor_from_reflectivity, AlphaMode, ColorSpace, ComplexIor, DiffuseModel, Filter, Image,
-    Material, Sampler, Texture, TextureRef, TextureSlot, UvTransform, Volume, WrapMode,
-    CLEARCOAT_IOR, TEXTURE_SLOTS,
+    conductor_from_reflectivity, srgb_decode, srgb_encode, AlphaMode, ColorSpace, ComplexIor,
+    DiffuseModel, Filter, Image, Material, Sampler, Texture, TextureRef, TextureSlot, UvTransform,
+    Volume, WrapMode, CLEARCOAT_IOR, TEXTURE_SLOTS,
 };
 pub use mesh::{Mesh, Vertex};
 
@@ -483,6 +483,8 @@ pub struct SceneFeatures {
     pub volumes: usize,
     /// Materials with a clear coat (KHR_materials_clearcoat).
     pub coated: usize,
+    /// Materials with a sheen (KHR_materials_sheen).
+    pub sheen: usize,
     /// Unlit materials (KHR_materials_unlit).
     pub unlit: usize,
     /// [`Light::Point`]s among the scene's lights.
@@ -567,6 +569,7 @@ impl std::fmt::Display for SceneFeatures {
             self.transmissive, self.volumes
         )?;
         writeln!(f, "clear-coated materials: {}", self.coated)?;
+        writeln!(f, "materials with sheen: {}", self.sheen)?;
         writeln!(f, "unlit materials: {}", self.unlit)?;
         write!(
             f,
@@ -631,6 +634,7 @@ impl Scene {
                 features.volumes += usize::from(m.volume.is_some());
             }
             features.coated += usize::from(m.is_coated());
+            features.sheen += usize::from(m.has_sheen());
             if m.unlit {
                 features.unlit += 1;
             }

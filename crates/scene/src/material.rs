@@ -182,6 +182,18 @@ pub struct Material {
     pub clearcoat_normal_texture: Option<TextureRef>,
     /// Scale of the coat's normal map's X and Y (`clearcoatNormalTexture.scale`).
     pub clearcoat_normal_scale: f32,
+    /// KHR_materials_sheen `sheenColorFactor` (linear RGB in [0, 1]): the colour of the
+    /// sheen of fibres over the material (`combustion_optics::sheen`); black: no sheen.
+    pub sheen_color: [f32; 3],
+    /// KHR_materials_sheen `sheenRoughnessFactor` ∈ [0, 1]: the sheen's perceptual
+    /// roughness (α = r²).
+    pub sheen_roughness: f32,
+    /// KHR_materials_sheen `sheenColorTexture` (RGB, sRGB-encoded), multiplied into
+    /// `sheen_color`.
+    pub sheen_color_texture: Option<TextureRef>,
+    /// KHR_materials_sheen `sheenRoughnessTexture` (linear, A), multiplied into
+    /// `sheen_roughness`.
+    pub sheen_roughness_texture: Option<TextureRef>,
 }
 
 /// The index of refraction of a clear coat (KHR_materials_clearcoat fixes it at 1.5).
@@ -266,6 +278,10 @@ impl Default for Material {
             clearcoat_roughness_texture: None,
             clearcoat_normal_texture: None,
             clearcoat_normal_scale: 1.0,
+            sheen_color: [0.0; 3],
+            sheen_roughness: 0.0,
+            sheen_color_texture: None,
+            sheen_roughness_texture: None,
         }
     }
 }
@@ -273,7 +289,8 @@ impl Default for Material {
 impl Material {
     /// Checks every factor's range as its field states (base colour, alpha, metalness,
     /// roughness, anisotropy strength, polarisation weight, occlusion strength,
-    /// specular factor, transmission, clearcoat and its roughness in [0, 1]; a volume's thickness finite and
+    /// specular factor, transmission, clearcoat and its roughness, the sheen's colour and
+    /// roughness in [0, 1]; a volume's thickness finite and
     /// positive, its attenuation distance positive or infinite and its attenuation
     /// colour in [0, 1]; IORs finite and positive; k, the emissive factor and
     /// strength and the specular colour finite and ≥ 0; the anisotropy rotation and
@@ -336,6 +353,10 @@ impl Material {
             Some("clearcoat must lie in [0, 1]")
         } else if !unit(self.clearcoat_roughness) {
             Some("clearcoat roughness must lie in [0, 1]")
+        } else if !self.sheen_color.iter().all(|&c| unit(c)) {
+            Some("sheen colour must lie in [0, 1]")
+        } else if !unit(self.sheen_roughness) {
+            Some("sheen roughness must lie in [0, 1]")
         } else if !self.clearcoat_normal_scale.is_finite() {
             Some("clearcoat normal scale must be finite")
         } else if !unit(self.transmission) {
@@ -406,7 +427,18 @@ impl Material {
                 TextureSlot::ClearcoatNormal,
                 self.clearcoat_normal_texture.as_ref(),
             ),
+            (TextureSlot::SheenColor, self.sheen_color_texture.as_ref()),
+            (
+                TextureSlot::SheenRoughness,
+                self.sheen_roughness_texture.as_ref(),
+            ),
         ]
+    }
+
+    /// Whether the material has a sheen (KHR_materials_sheen with a colour other than
+    /// black).
+    pub fn has_sheen(&self) -> bool {
+        self.sheen_color.iter().any(|&c| c > 0.0)
     }
 
     /// Whether the material has a clear coat (KHR_materials_clearcoat with a factor
@@ -693,10 +725,14 @@ pub enum TextureSlot {
     ClearcoatRoughness,
     /// [`Material::clearcoat_normal_texture`] (linear).
     ClearcoatNormal,
+    /// [`Material::sheen_color_texture`] (sRGB).
+    SheenColor,
+    /// [`Material::sheen_roughness_texture`] (linear, A).
+    SheenRoughness,
 }
 
 /// How many texture slots a material has ([`TextureSlot::ALL`]).
-pub const TEXTURE_SLOTS: usize = 13;
+pub const TEXTURE_SLOTS: usize = 15;
 
 impl TextureSlot {
     /// Every slot, in the order [`Material::texture_slots`] gives them (the order of the
@@ -715,6 +751,8 @@ impl TextureSlot {
         TextureSlot::Clearcoat,
         TextureSlot::ClearcoatRoughness,
         TextureSlot::ClearcoatNormal,
+        TextureSlot::SheenColor,
+        TextureSlot::SheenRoughness,
     ];
 
     /// A short lower-case name for messages: `base colour`, `metallic-roughness`, ...
@@ -733,17 +771,40 @@ impl TextureSlot {
             TextureSlot::Clearcoat => "clearcoat",
             TextureSlot::ClearcoatRoughness => "clearcoat roughness",
             TextureSlot::ClearcoatNormal => "clearcoat normal",
+            TextureSlot::SheenColor => "sheen colour",
+            TextureSlot::SheenRoughness => "sheen roughness",
         }
     }
 
     /// The colour space glTF prescribes for the slot.
     pub const fn color_space(self) -> ColorSpace {
         match self {
-            TextureSlot::BaseColor | TextureSlot::Emissive | TextureSlot::SpecularColor => {
-                ColorSpace::Srgb
-            }
+            TextureSlot::BaseColor
+            | TextureSlot::Emissive
+            | TextureSlot::SpecularColor
+            | TextureSlot::SheenColor => ColorSpace::Srgb,
             _ => ColorSpace::Linear,
         }
+    }
+}
+
+/// The exact sRGB decoding of an encoded value in [0, 1] (IEC 61966-2-1).
+pub fn srgb_decode(encoded: f64) -> f64 {
+    if encoded <= 0.04045 {
+        encoded / 12.92
+    } else {
+        ((encoded + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// The exact sRGB encoding of a linear value (clamped to [0, 1]; IEC 61966-2-1), the
+/// inverse of [`srgb_decode`].
+pub fn srgb_encode(linear: f64) -> f64 {
+    let c = linear.clamp(0.0, 1.0);
+    if c <= 0.0031308 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
     }
 }
 

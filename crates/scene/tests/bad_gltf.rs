@@ -556,6 +556,194 @@ fn clearcoat_is_read_and_out_of_range_values_refused() {
     }
 }
 
+/// KHR_materials_sheen: colour and roughness read (absent: black, no sheen, and 0);
+/// out-of-range values and a texture that does not exist are one-line errors naming
+/// the extension and the material.
+#[test]
+fn sheen_is_read_and_out_of_range_values_refused() {
+    let (scene, report) = with_extensions(serde_json::json!({
+        "KHR_materials_sheen": { "sheenColorFactor": [0.5, 0.25, 1.0], "sheenRoughnessFactor": 0.3 }
+    }))
+    .unwrap();
+    let material = &scene.materials[0];
+    assert_eq!(material.sheen_color, [0.5, 0.25, 1.0]);
+    assert_eq!(material.sheen_roughness, 0.3);
+    assert!(
+        material.has_sheen() && report.warnings.is_empty(),
+        "{report}"
+    );
+    assert_eq!(scene.features().sheen, 1);
+    let (scene, _) = with_extensions(
+        serde_json::json!({ "KHR_materials_sheen": { "sheenRoughnessFactor": 1.0 } }),
+    )
+    .unwrap();
+    assert!(!scene.materials[0].has_sheen(), "black: no sheen");
+    for (extensions, expected) in [
+        (
+            serde_json::json!({ "KHR_materials_sheen": { "sheenColorFactor": [2.0, 0.0, 0.0] } }),
+            "KHR_materials_sheen: sheenColorFactor must lie in [0, 1]",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_sheen": { "sheenRoughnessFactor": -1.0 } }),
+            "sheenRoughnessFactor must lie in [0, 1], found -1",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_sheen": { "sheenColorFactor": [1.0, 1.0, 1.0],
+                                                         "sheenColorTexture": { "index": 3 } } }),
+            "sheen colour texture 3 does not exist (0 textures)",
+        ),
+    ] {
+        let error = with_extensions(extensions).unwrap_err().to_string();
+        assert!(
+            error.contains(expected) && error.contains("material 0"),
+            "{error}"
+        );
+        assert!(!error.contains('\n'), "one line: {error}");
+    }
+}
+
+/// A data URI of an RGBA8 PNG.
+fn png_uri(width: u32, height: u32, rgba: &[u8]) -> String {
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, width, height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder
+            .write_header()
+            .unwrap()
+            .write_image_data(rgba)
+            .unwrap();
+    }
+    format!("data:image/png;base64,{}", base64(&bytes))
+}
+
+/// KHR_materials_pbrSpecularGlossiness is converted to metallic-roughness at import: a
+/// dielectric (specular 0.04) keeps its diffuse colour as base colour with metalness 0,
+/// a metal (diffuse black) gets its specular colour with metalness 1 and a conductor
+/// from it, roughness is 1 − glossiness; with textures, texel by texel into a base
+/// colour image (the diffuse's alpha) and a metallic-roughness image, factors folded
+/// in. Factors outside [0, 1] and textures read at different coordinates are one-line
+/// errors.
+#[test]
+fn specular_glossiness_is_converted_to_metallic_roughness() {
+    let ext =
+        |sg: serde_json::Value| serde_json::json!({ "KHR_materials_pbrSpecularGlossiness": sg });
+    let (scene, report) = with_extensions(ext(serde_json::json!({
+        "diffuseFactor": [0.5, 0.25, 0.1, 0.8], "specularFactor": [0.04, 0.04, 0.04],
+        "glossinessFactor": 0.6
+    })))
+    .unwrap();
+    assert!(report.warnings.is_empty(), "{report}");
+    let m = &scene.materials[0];
+    for (got, want) in m.base_color.iter().zip([0.5, 0.25, 0.1]) {
+        assert!((got - want).abs() < 1e-6, "{:?}", m.base_color);
+    }
+    assert_eq!((m.metalness, m.alpha), (0.0, 0.8));
+    assert!((m.roughness - 0.4).abs() < 1e-6);
+    let (scene, _) = with_extensions(ext(serde_json::json!({
+        "diffuseFactor": [0.0, 0.0, 0.0, 1.0], "specularFactor": [0.9, 0.6, 0.5]
+    })))
+    .unwrap();
+    let m = &scene.materials[0];
+    assert!((m.metalness - 1.0).abs() < 1e-6, "{}", m.metalness);
+    for (got, want) in m.base_color.iter().zip([0.9, 0.6, 0.5]) {
+        assert!((got - want).abs() < 1e-5, "{:?}", m.base_color);
+    }
+    assert!(m.conductor_from_base_color && m.roughness == 0.0);
+
+    // Textures: a dielectric texel (specular code 56, 0.0395 linear; glossiness 0.6)
+    // and a metal one (diffuse black, half alpha; a copper-like specular).
+    let diffuse = png_uri(2, 1, &[200, 100, 50, 255, 0, 0, 0, 128]);
+    let specular = png_uri(2, 1, &[56, 56, 56, 153, 242, 209, 197, 255]);
+    let textured = |specular_info: serde_json::Value| {
+        let mut root = one_triangle_file(&[0, 1, 2]);
+        root["images"] = serde_json::json!([{ "uri": diffuse }, { "uri": specular }]);
+        root["textures"] = serde_json::json!([{ "source": 0 }, { "source": 1 }]);
+        root["materials"] = serde_json::json!([{ "extensions": ext(serde_json::json!({
+            "diffuseTexture": { "index": 0 }, "specularGlossinessTexture": specular_info
+        })) }]);
+        root["meshes"][0]["primitives"][0]["material"] = serde_json::json!(0);
+        import_slice(root.to_string().as_bytes(), &ImportOptions::default())
+    };
+    let (scene, _) = textured(serde_json::json!({ "index": 1 })).unwrap();
+    let m = &scene.materials[0];
+    let base = m.base_color_texture.as_ref().unwrap().texture.image.clone();
+    let metal_rough = m
+        .metallic_roughness_texture
+        .as_ref()
+        .unwrap()
+        .texture
+        .image
+        .clone();
+    assert_eq!((base.width, base.height), (2, 1));
+    assert_eq!(base.color_space, combustion_scene::ColorSpace::Srgb);
+    assert_eq!(
+        metal_rough.color_space,
+        combustion_scene::ColorSpace::Linear
+    );
+    let near = |got: &[u8], want: &[u8]| {
+        got.iter()
+            .zip(want)
+            .all(|(g, w)| (i32::from(*g) - i32::from(*w)).abs() <= 1)
+    };
+    // texel 0: the diffuse colour (× (1 − 0.0395)/0.96, within a code), metal 0, rough 0.4
+    assert!(
+        near(&base.pixels[..4], &[200, 100, 50, 255]),
+        "{:?}",
+        base.pixels
+    );
+    assert!(
+        near(&metal_rough.pixels[..4], &[0, 102, 0, 255]),
+        "{:?}",
+        metal_rough.pixels
+    );
+    // texel 1: the specular colour, metal 1, rough 0, the diffuse's alpha
+    assert!(
+        near(&base.pixels[4..], &[242, 209, 197, 128]),
+        "{:?}",
+        base.pixels
+    );
+    assert!(
+        near(&metal_rough.pixels[4..], &[0, 0, 255, 255]),
+        "{:?}",
+        metal_rough.pixels
+    );
+    assert_eq!(
+        (m.base_color, m.metalness, m.roughness, m.alpha),
+        ([1.0; 3], 1.0, 1.0, 1.0)
+    );
+
+    let error = textured(serde_json::json!({ "index": 1, "texCoord": 1 }))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("different texture coordinates") && !error.contains('\n'),
+        "{error}"
+    );
+    for (sg, expected) in [
+        (
+            serde_json::json!({ "diffuseFactor": [2.0, 0.5, 0.5, 1.0] }),
+            "diffuseFactor must lie in [0, 1]",
+        ),
+        (
+            serde_json::json!({ "glossinessFactor": "shiny" }),
+            "glossinessFactor must be a number",
+        ),
+        (
+            serde_json::json!({ "specularFactor": [0.5, 0.5] }),
+            "specularFactor must be an array of 3 numbers",
+        ),
+    ] {
+        let error = with_extensions(ext(sg)).unwrap_err().to_string();
+        assert!(
+            error.contains(expected) && error.contains("material 0"),
+            "{error}"
+        );
+        assert!(!error.contains('\n'), "one line: {error}");
+    }
+}
+
 /// COLOR_0 (glTF: VEC3 or VEC4 of floats, normalised unsigned bytes or normalised
 /// unsigned shorts): each form is read into `Vertex::color` (VEC3 with alpha 1); a
 /// colour of integers that are not normalised, or of two components, is a one-line

@@ -703,7 +703,7 @@ fn authored_scenes_are_current() {
     let features = scene.features();
     // Every slot of an opaque material (transmission's two:
     // `transmission_and_volumes_round_trip`; the clear coat's three:
-    // `clearcoats_round_trip`).
+    // `clearcoats_round_trip`; the sheen's two: `sheen_round_trips`).
     let opaque_slots = TextureSlot::ALL.into_iter().filter(|s| {
         !matches!(
             s,
@@ -712,6 +712,8 @@ fn authored_scenes_are_current() {
                 | TextureSlot::Clearcoat
                 | TextureSlot::ClearcoatRoughness
                 | TextureSlot::ClearcoatNormal
+                | TextureSlot::SheenColor
+                | TextureSlot::SheenRoughness
         )
     });
     for slot in opaque_slots {
@@ -1016,6 +1018,34 @@ fn clearcoats_round_trip() {
         .filter(|m| m["extensions"].get("KHR_materials_clearcoat").is_some())
         .count();
     assert_eq!(written, features.coated);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// KHR_materials_sheen survives a save and an import: colour, roughness and both
+/// textures; a material without sheen is written without the extension.
+#[test]
+fn sheen_round_trips() {
+    let mut scene = builtin_scene("sheen").unwrap();
+    let colours = image("sheen colour", ColorSpace::Srgb, |x, y| {
+        [(x * 16) as u8, (y * 16) as u8, 200, 255]
+    });
+    let roughness = image("sheen roughness", ColorSpace::Linear, |x, _| {
+        [0, 0, 0, (x * 16) as u8]
+    });
+    let with = scene.materials.iter().position(|m| m.has_sheen()).unwrap();
+    scene.materials[with].sheen_color_texture = texture(&colours, Sampler::default());
+    scene.materials[with].sheen_roughness_texture = texture(&roughness, Sampler::default());
+    let dir = temp_dir("sheen");
+    let path = dir.join("s.gltf");
+    save_gltf(&scene, &path).unwrap();
+    let (loaded, report) = import(&path, &ImportOptions::default()).unwrap();
+    assert_same_scene(&scene, &loaded);
+    assert!(report.warnings.is_empty(), "{report}");
+    let features = loaded.features();
+    assert!(features.sheen > 0 && features.sheen < loaded.materials.len());
+    for slot in [TextureSlot::SheenColor, TextureSlot::SheenRoughness] {
+        assert_eq!(features.texture_count(slot), 1, "{slot:?}");
+    }
     let _ = std::fs::remove_dir_all(dir);
 }
 

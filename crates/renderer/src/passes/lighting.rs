@@ -26,7 +26,8 @@ pub(super) fn lit_by(mut io: PassIo, frame: &FrameContext<'_>) -> PassIo {
             &frame.scene.gpu.conductor_table,
             read,
         )
-        .bind_buffer("energy_white_albedo", &r.energy_table);
+        .bind_buffer("energy_white_albedo", &r.energy_table)
+        .bind_buffer("sheen_albedo", &r.sheen_table);
     let environment = frame.environment.unwrap_or(&r.no_environment);
     let sampler = environment.sampler.raw();
     // The cubes were made ready for fragment reads by their bake.
@@ -137,6 +138,7 @@ impl FramePass for Lighting {
         for (name, target) in [
             ("gbuffer_emissive", &g.emissive),
             ("gbuffer_clearcoat", &g.clearcoat),
+            ("gbuffer_sheen", &g.sheen),
         ] {
             io = match target {
                 Some(image) => io.image(name, image, texel),

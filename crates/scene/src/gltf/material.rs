@@ -10,10 +10,11 @@ use super::image::{decode, DecodeError, Decoded};
 use super::import::{ImageSource, Importer};
 use super::optics_ext::{self, parse_texture_transform, ConductorSpec, TextureInfo};
 use super::source::{read_resolved, resolve_uri};
+use super::spec_gloss::{metal_rough_from_spec_gloss, parse_spec_gloss, SpecGloss};
 use super::{ImportProblem, OPTICS_EXTENSION};
 use crate::{
-    conductor_from_reflectivity, AlphaMode, ColorSpace, Filter, Image, Material, Sampler, Texture,
-    TextureRef, TextureSlot, UvTransform, WrapMode,
+    conductor_from_reflectivity, srgb_decode, srgb_encode, AlphaMode, ColorSpace, Filter, Image,
+    Material, Sampler, Texture, TextureRef, TextureSlot, UvTransform, WrapMode,
 };
 
 /// glTF's default material (base colour 1, metallic 1, roughness 1), used by primitives
@@ -207,6 +208,16 @@ impl Importer<'_> {
 
         let mut optics = optics_ext::MaterialOptics::default();
         if let Some(ext) = &m.extensions {
+            if let Some(value) = ext.others.get("KHR_materials_pbrSpecularGlossiness") {
+                let spec_gloss =
+                    parse_spec_gloss(value, optics_ext::texture_info).map_err(|e| {
+                        self.material_error(
+                            index,
+                            format!("KHR_materials_pbrSpecularGlossiness: {e}"),
+                        )
+                    })?;
+                self.convert_spec_gloss(index, &mut material, spec_gloss)?;
+            }
             if let Some(value) = ext.others.get("KHR_materials_ior") {
                 // Read from the JSON number itself (f64), not after rounding to f32: 1e-46
                 // is not the specification's 0, and 1e300 is not "inf".
@@ -292,6 +303,22 @@ impl Importer<'_> {
                         index,
                         TextureSlot::ClearcoatNormal,
                         coat.normal_texture,
+                    )?;
+                }
+            }
+            if let Some(value) = ext.others.get("KHR_materials_sheen") {
+                let sheen = optics_ext::parse_sheen(value)
+                    .map_err(|e| self.material_error(index, format!("KHR_materials_sheen: {e}")))?;
+                material.sheen_color = sheen.color;
+                material.sheen_roughness = sheen.roughness;
+                // A black sheen is none (the colour texture multiplies the factor).
+                if material.has_sheen() {
+                    material.sheen_color_texture =
+                        self.texture_info(index, TextureSlot::SheenColor, sheen.color_texture)?;
+                    material.sheen_roughness_texture = self.texture_info(
+                        index,
+                        TextureSlot::SheenRoughness,
+                        sheen.roughness_texture,
                     )?;
                 }
             }
@@ -510,6 +537,134 @@ impl Importer<'_> {
     }
 }
 
+impl Importer<'_> {
+    /// A KHR_materials_pbrSpecularGlossiness material's base colour, alpha, metalness and
+    /// roughness (`spec_gloss`'s conversion) in place of its metallic-roughness ones: from
+    /// the factors alone, or texel by texel into a base colour image (sRGB, the diffuse's
+    /// alpha) and a metallic-roughness image (G roughness, B metalness) at the larger of
+    /// the two textures' sizes (each sampled at the nearest texel), the factors folded
+    /// in. Both textures must be read at the same coordinates (set and transform).
+    fn convert_spec_gloss(
+        &mut self,
+        index: usize,
+        material: &mut Material,
+        spec_gloss: SpecGloss,
+    ) -> Result<(), ImportProblem> {
+        let SpecGloss {
+            diffuse_factor,
+            diffuse_texture,
+            specular_factor,
+            glossiness_factor,
+            specular_glossiness_texture,
+        } = spec_gloss;
+        let diffuse = self.texture_info(index, TextureSlot::BaseColor, diffuse_texture)?;
+        // sRGB specular colour, linear glossiness in alpha: a colour image's encoding.
+        let specular = self.texture_info(
+            index,
+            TextureSlot::SpecularColor,
+            specular_glossiness_texture,
+        )?;
+        let f = |x: f32| f64::from(x);
+        let convert = |d: [f64; 4], s: [f64; 4]| {
+            metal_rough_from_spec_gloss(
+                [0, 1, 2].map(|c| f(diffuse_factor[c]) * d[c]),
+                [0, 1, 2].map(|c| f(specular_factor[c]) * s[c]),
+                f(glossiness_factor) * s[3],
+            )
+        };
+        let (Some(reference), other) = (match (&diffuse, &specular) {
+            (Some(d), s) => (Some(d), s.as_ref()),
+            (None, s) => (s.as_ref(), None),
+        }) else {
+            let (base, metalness, roughness) = convert([1.0; 4], [1.0; 4]);
+            material.base_color = base.map(|c| c as f32);
+            material.alpha = diffuse_factor[3];
+            material.metalness = metalness as f32;
+            material.roughness = roughness as f32;
+            material.base_color_texture = None;
+            material.metallic_roughness_texture = None;
+            return Ok(());
+        };
+        if other.is_some_and(|o| {
+            o.tex_coord != reference.tex_coord || o.transform != reference.transform
+        }) {
+            return Err(self.material_error(
+                index,
+                "KHR_materials_pbrSpecularGlossiness: its diffuseTexture and specularGlossinessTexture are read at different texture coordinates, so they cannot be converted to metallic-roughness texel by texel".into(),
+            ));
+        }
+        let images = [&diffuse, &specular].map(|t| t.as_ref().map(|t| t.texture.image.clone()));
+        let width = images.iter().flatten().map(|i| i.width).max().unwrap_or(1);
+        let height = images.iter().flatten().map(|i| i.height).max().unwrap_or(1);
+        self.charge_pixel_count(2 * u64::from(width) * u64::from(height))
+            .map_err(|e| self.material_error(index, e))?;
+        // The texel of `image` nearest texel (x, y) of the output's grid, as values: RGB
+        // decoded from sRGB, alpha linear; white where there is no image.
+        let texel = |image: &Option<Arc<Image>>, x: u32, y: u32| -> [f64; 4] {
+            let Some(image) = image else {
+                return [1.0; 4];
+            };
+            let ix = ((u64::from(x) * u64::from(image.width)) / u64::from(width)) as usize;
+            let iy = ((u64::from(y) * u64::from(image.height)) / u64::from(height)) as usize;
+            let at = (iy * image.width as usize + ix) * 4;
+            let p = &image.pixels[at..at + 4];
+            let code = |c: u8| f64::from(c) / 255.0;
+            [
+                srgb_decode(code(p[0])),
+                srgb_decode(code(p[1])),
+                srgb_decode(code(p[2])),
+                code(p[3]),
+            ]
+        };
+        let texels = (width as usize) * (height as usize);
+        let mut base_pixels = Vec::with_capacity(texels * 4);
+        let mut metal_rough_pixels = Vec::with_capacity(texels * 4);
+        let byte = |x: f64| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+        for y in 0..height {
+            for x in 0..width {
+                let (d, s) = (texel(&images[0], x, y), texel(&images[1], x, y));
+                let (base, metalness, roughness) = convert(d, s);
+                base_pixels.extend(base.map(|c| byte(srgb_encode(c))));
+                base_pixels.push(byte(f(diffuse_factor[3]) * d[3]));
+                metal_rough_pixels.extend([0, byte(roughness), byte(metalness), 255]);
+            }
+        }
+        let name = |what: &str| {
+            format!(
+                "{} ({what} converted from specular-glossiness)",
+                reference.texture.image.name
+            )
+        };
+        let texture = |image: Image| TextureRef {
+            texture: Texture {
+                image: Arc::new(image),
+                sampler: reference.texture.sampler,
+            },
+            tex_coord: reference.tex_coord,
+            transform: reference.transform,
+        };
+        material.base_color_texture = Some(texture(Image {
+            name: name("base colour"),
+            width,
+            height,
+            color_space: ColorSpace::Srgb,
+            pixels: base_pixels,
+        }));
+        material.metallic_roughness_texture = Some(texture(Image {
+            name: name("metallic-roughness"),
+            width,
+            height,
+            color_space: ColorSpace::Linear,
+            pixels: metal_rough_pixels,
+        }));
+        material.base_color = [1.0; 3];
+        material.alpha = 1.0;
+        material.metalness = 1.0;
+        material.roughness = 1.0;
+        Ok(())
+    }
+}
+
 /// The dielectric IOR KHR_materials_ior's `ior: 0` stands for (its Fresnel term is 1 at
 /// every angle: an infinite IOR; this is the optics crate's `ETA_MAX`).
 pub const KHR_IOR_ZERO_MEANS: f32 = 1.0e4;
@@ -517,7 +672,12 @@ pub const KHR_IOR_ZERO_MEANS: f32 = 1.0e4;
 impl Importer<'_> {
     /// Counts `decoded`'s pixels against `ImportOptions::max_decoded_pixels`.
     fn charge_pixels(&mut self, decoded: &Decoded) -> Result<(), String> {
-        self.decoded_pixels += u64::from(decoded.width) * u64::from(decoded.height);
+        self.charge_pixel_count(u64::from(decoded.width) * u64::from(decoded.height))
+    }
+
+    /// Counts `pixels` more decoded pixels against `ImportOptions::max_decoded_pixels`.
+    fn charge_pixel_count(&mut self, pixels: u64) -> Result<(), String> {
+        self.decoded_pixels += pixels;
         if self.decoded_pixels > self.options.max_decoded_pixels {
             return Err(format!(
                 "it brings the scene's decoded image pixels (decodes and their copies) to {}, over the budget of {} (ImportOptions::max_decoded_pixels)",

@@ -19,6 +19,7 @@ pub(crate) mod import;
 mod material;
 mod optics_ext;
 mod source;
+mod spec_gloss;
 mod writer;
 
 pub use source::read_regular_file;
@@ -50,6 +51,8 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_materials_anisotropy",
     "KHR_materials_clearcoat",
+    "KHR_materials_pbrSpecularGlossiness",
+    "KHR_materials_sheen",
     "KHR_materials_unlit",
     "KHR_materials_transmission",
     "KHR_materials_volume",

@@ -456,6 +456,48 @@ pub(crate) fn parse_clearcoat(value: &Value) -> Result<Clearcoat, String> {
     })
 }
 
+/// KHR_materials_sheen as read: the colour (black when absent: no sheen), the roughness
+/// (0 when absent) and their textures.
+#[derive(Debug)]
+pub(crate) struct Sheen {
+    pub color: [f32; 3],
+    pub roughness: f32,
+    pub color_texture: Option<TextureInfo>,
+    pub roughness_texture: Option<TextureInfo>,
+}
+
+pub(crate) fn parse_sheen(value: &Value) -> Result<Sheen, String> {
+    let map = object(value, "KHR_materials_sheen")?;
+    let color = match map.get("sheenColorFactor") {
+        None => [0.0; 3],
+        Some(v) => {
+            let c = triple(v, "sheenColorFactor")?;
+            if !c.iter().all(|x| (0.0..=1.0).contains(x)) {
+                return Err(format!("sheenColorFactor must lie in [0, 1], found {c:?}"));
+            }
+            c
+        }
+    };
+    let roughness = match map.get("sheenRoughnessFactor") {
+        None => 0.0,
+        Some(v) => {
+            let r = number(v, "sheenRoughnessFactor")?;
+            if !(0.0..=1.0).contains(&r) {
+                return Err(format!(
+                    "sheenRoughnessFactor must lie in [0, 1], found {r}"
+                ));
+            }
+            r
+        }
+    };
+    Ok(Sheen {
+        color,
+        roughness,
+        color_texture: texture_info(map, "sheenColorTexture")?,
+        roughness_texture: texture_info(map, "sheenRoughnessTexture")?,
+    })
+}
+
 #[derive(Debug, Default, PartialEq)]
 pub(crate) struct Anisotropy {
     pub strength: f32,
@@ -483,7 +525,10 @@ pub(crate) fn parse_anisotropy(value: &Value) -> Result<Anisotropy, String> {
 }
 
 /// The textureInfo `map[what]` of an extension read from JSON (`None` when absent).
-fn texture_info(map: &Map<String, Value>, what: &str) -> Result<Option<TextureInfo>, String> {
+pub(crate) fn texture_info(
+    map: &Map<String, Value>,
+    what: &str,
+) -> Result<Option<TextureInfo>, String> {
     let Some(v) = map.get(what) else {
         return Ok(None);
     };

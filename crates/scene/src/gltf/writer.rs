@@ -293,6 +293,19 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
         }
         extensions.insert("KHR_materials_clearcoat".into(), coat);
     }
+    if m.has_sheen() {
+        let mut sheen = json!({
+            "sheenColorFactor": nums(&m.sheen_color),
+            "sheenRoughnessFactor": num(m.sheen_roughness),
+        });
+        if let Some(t) = info(TextureSlot::SheenColor) {
+            sheen["sheenColorTexture"] = t;
+        }
+        if let Some(t) = info(TextureSlot::SheenRoughness) {
+            sheen["sheenRoughnessTexture"] = t;
+        }
+        extensions.insert("KHR_materials_sheen".into(), sheen);
+    }
     let mut conductor = json!({
         "eta": nums(&m.conductor.eta),
         "k": nums(&m.conductor.k),

@@ -1,0 +1,105 @@
+//! The layers over a BRDF, in the order light meets them: a clear coat ([`crate::coat`])
+//! on top, a sheen ([`crate::sheen`]) under it on the base. One place says how they
+//! combine, for every f64 reference (the G-buffer parity's, the scene's, the
+//! environment's integral); GLSL: `light_radiance` in `shaders/include/lighting_terms.glsl`.
+//!
+//! Per unit irradiance from l: c_coat S_c R (n_c·l)⁺ + A(v) A(l) [f_sheen + s f_base] (n·l)⁺,
+//! s the sheen's albedo scaling, A the coat's attenuation.
+
+use crate::coat::{
+    coat_evaluate_view, coat_view, coated_radiance, CoatInputs, CoatLayer, CoatView,
+};
+use crate::sheen::{sheen_albedo_lookup, sheen_albedo_scaling, sheen_lobe, SheenInputs};
+use crate::vec3::{ShadingFrame, Vec3};
+
+/// What lies over a surface's BRDF (each `None` where there is none).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Layers {
+    /// A clear coat, with its own normal.
+    pub coat: Option<CoatLayer<f64>>,
+    /// A sheen, on the base's shading normal.
+    pub sheen: Option<SheenInputs<f64>>,
+}
+
+/// The layers prepared for one view ([`layers_view`]).
+#[derive(Debug, Clone, Copy)]
+pub struct LayersView {
+    coat: Option<(CoatInputs<f64>, CoatView<f64>)>,
+    sheen: Option<SheenView>,
+}
+
+/// The sheen, its frame about the base's normal, v in it, its perceptual roughness and
+/// E(n·v).
+#[derive(Debug, Clone, Copy)]
+struct SheenView {
+    inputs: SheenInputs<f64>,
+    frame: ShadingFrame<f64>,
+    v: Vec3<f64>,
+    roughness: f64,
+    albedo_v: f64,
+}
+
+impl LayersView {
+    /// A(v), what a coat lets out towards the viewer (1 without one).
+    pub fn coat_attenuation_v(&self) -> f64 {
+        self.coat.map_or(1.0, |(_, view)| view.attenuation_v())
+    }
+}
+
+/// The layers' view-dependent half for a surface of shading normal `n` seen from `v`
+/// (world space); `sheen_table` is [`crate::sheen::sheen_albedo_table`] (or its f32
+/// copy, widened).
+pub fn layers_view(layers: &Layers, n: Vec3<f64>, v: Vec3<f64>, sheen_table: &[f64]) -> LayersView {
+    LayersView {
+        coat: layers
+            .coat
+            .map(|c| (c.inputs, coat_view(&c.inputs, c.normal, v))),
+        sheen: layers.sheen.map(|inputs| {
+            let frame = ShadingFrame::from_normal(n);
+            let v = frame.to_local(v.normalize());
+            let roughness = inputs.alpha.max(0.0).sqrt();
+            SheenView {
+                inputs,
+                frame,
+                v,
+                roughness,
+                albedo_v: sheen_albedo_lookup(sheen_table, v.z, roughness),
+            }
+        }),
+    }
+}
+
+/// Whether light from `l` (world space) may reach any layer: the base's cosine `cos_base`
+/// is positive, or a coat's normal faces it.
+pub fn layers_face(view: &LayersView, cos_base: f64, l: Vec3<f64>) -> bool {
+    cos_base > 0.0
+        || view
+            .coat
+            .is_some_and(|(_, coat)| coat.normal().dot(l.normalize()) > 0.0)
+}
+
+/// The radiance reflected per unit irradiance from `l` (world space): the base's f(v, l)
+/// `base` and its n·l `cos_base`, under the layers (module documentation).
+pub fn layered_radiance(
+    view: &LayersView,
+    base: [f64; 3],
+    cos_base: f64,
+    l: Vec3<f64>,
+    sheen_table: &[f64],
+) -> [f64; 3] {
+    let mut f = base;
+    if let Some(sheen) = &view.sheen {
+        let l_local = sheen.frame.to_local(l.normalize());
+        let albedo_l = sheen_albedo_lookup(sheen_table, l_local.z, sheen.roughness);
+        let color = sheen.inputs.color;
+        let scaling = sheen_albedo_scaling(color, sheen.albedo_v, albedo_l);
+        let lobe = sheen_lobe(sheen.v, l_local, sheen.inputs.alpha);
+        f = std::array::from_fn(|c| color[c].clamp(0.0, 1.0) * lobe + scaling * base[c]);
+    }
+    match &view.coat {
+        Some((inputs, coat)) => {
+            coated_radiance(f, cos_base, coat, &coat_evaluate_view(inputs, coat, l))
+        }
+        None => f.map(|f| f * cos_base.max(0.0)),
+    }
+}
