@@ -73,7 +73,7 @@ const EXPECTED: &[(&str, &[&str])] = &[
     ),
     (
         "unsupported-image-format.gltf",
-        &["image 0", "not a PNG or JPEG", "image/gif"],
+        &["image 0", "not a PNG, JPEG or WebP", "image/gif"],
     ),
     (
         "huge-image.gltf",
@@ -600,6 +600,110 @@ fn sheen_is_read_and_out_of_range_values_refused() {
         );
         assert!(!error.contains('\n'), "one line: {error}");
     }
+}
+
+/// A data URI of an RGBA8 WebP (lossless).
+fn webp_uri(width: u32, height: u32, rgba: &[u8]) -> String {
+    let mut bytes = Vec::new();
+    image_webp::WebPEncoder::new(&mut bytes)
+        .encode(rgba, width, height, image_webp::ColorType::Rgba8)
+        .unwrap();
+    format!("data:image/webp;base64,{}", base64(&bytes))
+}
+
+/// EXT_texture_webp: a texture's WebP image is read in place of its fallback `source`,
+/// or alone where the file requires the extension and gives none; an optional
+/// KHR_texture_basisu leaves the fallback; a texture with no image it can read is a
+/// one-line error; a WebP larger than the importer's limit is refused before its
+/// pixels are decoded.
+#[test]
+fn webp_textures_are_read() {
+    let pixels = [
+        200u8, 100, 50, 255, 0, 0, 0, 128, 10, 20, 30, 40, 255, 255, 255, 255,
+    ];
+    let with = |images: serde_json::Value, texture: serde_json::Value, options: &ImportOptions| {
+        let mut root = one_triangle_file(&[0, 1, 2]);
+        root["extensionsUsed"] = serde_json::json!(["EXT_texture_webp"]);
+        root["images"] = images;
+        root["textures"] = serde_json::json!([texture]);
+        root["materials"] =
+            serde_json::json!([{ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } } }]);
+        root["meshes"][0]["primitives"][0]["material"] = serde_json::json!(0);
+        import_slice(root.to_string().as_bytes(), options)
+    };
+    let webp = serde_json::json!({ "uri": webp_uri(2, 2, &pixels) });
+    let png = serde_json::json!({ "uri": png_uri(1, 1, &[9, 9, 9, 255]) });
+    // Required: no fallback.
+    let (scene, report) = with(
+        serde_json::json!([webp]),
+        serde_json::json!({ "extensions": { "EXT_texture_webp": { "source": 0 } } }),
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    assert!(report.warnings.is_empty(), "{report}");
+    let image = &scene.materials[0]
+        .base_color_texture
+        .as_ref()
+        .unwrap()
+        .texture
+        .image;
+    assert_eq!((image.width, image.height), (2, 2));
+    assert_eq!(image.pixels, pixels, "lossless: the pixels as encoded");
+    // Optional, beside a PNG fallback: the WebP is read.
+    let (scene, _) = with(
+        serde_json::json!([png, webp]),
+        serde_json::json!({ "source": 0, "extensions": { "EXT_texture_webp": { "source": 1 } } }),
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    let image = &scene.materials[0]
+        .base_color_texture
+        .as_ref()
+        .unwrap()
+        .texture
+        .image;
+    assert_eq!(image.pixels, pixels);
+    // KHR_texture_basisu (KTX2) is not read: an optional one leaves its texture the
+    // fallback image, as the specification allows (a file requiring it is refused, as
+    // any unsupported required extension).
+    let (scene, _) = with(
+        serde_json::json!([png, webp]),
+        serde_json::json!({ "source": 0, "extensions": { "KHR_texture_basisu": { "source": 1 } } }),
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    let image = &scene.materials[0]
+        .base_color_texture
+        .as_ref()
+        .unwrap()
+        .texture
+        .image;
+    assert_eq!(image.pixels, [9, 9, 9, 255]);
+    // No image at all.
+    let error = with(
+        serde_json::json!([webp]),
+        serde_json::json!({}),
+        &ImportOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        error.contains("texture 0 has no image") && !error.contains('\n'),
+        "{error}"
+    );
+    // Too large for the limit: refused by its header.
+    let small = ImportOptions {
+        max_image_dimension: 1,
+        ..ImportOptions::default()
+    };
+    let error = with(
+        serde_json::json!([webp]),
+        serde_json::json!({ "extensions": { "EXT_texture_webp": { "source": 0 } } }),
+        &small,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("2×2") || error.contains("2x2"), "{error}");
 }
 
 /// A data URI of an RGBA8 PNG.

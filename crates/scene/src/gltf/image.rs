@@ -1,5 +1,5 @@
-//! PNG and JPEG decoding to RGBA8, with the size limit checked before any pixel buffer
-//! is allocated.
+//! PNG, JPEG and WebP decoding to RGBA8, with the size limit checked before any pixel
+//! buffer is allocated.
 
 pub(crate) enum DecodeError {
     TooLarge { width: u32, height: u32 },
@@ -14,7 +14,12 @@ pub(crate) struct Decoded {
 
 const PNG_MAGIC: &[u8] = b"\x89PNG\r\n\x1a\n";
 
-/// Decodes PNG or JPEG (told by the content; `mime` only improves the message for
+/// Whether `bytes` begin as a WebP file does (a RIFF container of form `WEBP`).
+fn is_webp(bytes: &[u8]) -> bool {
+    bytes.len() >= 12 && &bytes[..4] == b"RIFF" && &bytes[8..12] == b"WEBP"
+}
+
+/// Decodes PNG, JPEG or WebP (told by the content; `mime` only improves the message for
 /// other formats).
 pub(crate) fn decode(
     bytes: &[u8],
@@ -25,10 +30,12 @@ pub(crate) fn decode(
         decode_png(bytes, max_dimension)
     } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
         decode_jpeg(bytes, max_dimension)
+    } else if is_webp(bytes) {
+        decode_webp(bytes, max_dimension)
     } else {
         let head: Vec<String> = bytes.iter().take(8).map(|b| format!("{b:02X}")).collect();
         Err(DecodeError::Other(format!(
-            "not a PNG or JPEG image{} (first bytes: {}); only PNG and JPEG are supported",
+            "not a PNG, JPEG or WebP image{} (first bytes: {}); only PNG, JPEG and WebP are supported",
             mime.map(|m| format!(" (declared `{m}`)"))
                 .unwrap_or_default(),
             if head.is_empty() {
@@ -131,6 +138,41 @@ fn decode_jpeg(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
         return Err(DecodeError::Other(format!(
             "undecodable JPEG: {} bytes of pixels for {width}×{height}",
             data.len()
+        )));
+    }
+    Ok(Decoded {
+        width,
+        height,
+        rgba,
+    })
+}
+
+/// WebP (EXT_texture_webp), lossy or lossless, with or without alpha; an animation's
+/// first frame.
+fn decode_webp(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
+    let bad = |e: image_webp::DecodingError| DecodeError::Other(format!("undecodable WebP: {e}"));
+    let mut decoder = image_webp::WebPDecoder::new(std::io::Cursor::new(bytes)).map_err(bad)?;
+    let (width, height) = decoder.dimensions();
+    check_size(width, height, max)?;
+    // The largest image allowed, as RGBA, plus bookkeeping.
+    decoder.set_memory_limit(
+        (u64::from(max) * u64::from(max) * 4 + (1 << 20)).min(usize::MAX as u64) as usize,
+    );
+    let size = decoder
+        .output_buffer_size()
+        .ok_or_else(|| DecodeError::Other("undecodable WebP: its size overflows".into()))?;
+    let mut data = vec![0; size];
+    decoder.read_image(&mut data).map_err(bad)?;
+    let pixels = width as usize * height as usize;
+    let rgba = if decoder.has_alpha() {
+        data
+    } else {
+        expand(&data, 3, pixels, |p| [p[0], p[1], p[2], 255])
+    };
+    if rgba.len() != pixels * 4 {
+        return Err(DecodeError::Other(format!(
+            "undecodable WebP: {} bytes of pixels for {width}×{height}",
+            rgba.len()
         )));
     }
     Ok(Decoded {

@@ -449,7 +449,34 @@ impl Importer<'_> {
                 )
             })?),
         };
-        let image = self.image(texture.source.value(), slot.color_space())?;
+        // EXT_texture_webp: its image in place of the fallback `source` (which a file
+        // requiring the extension may leave out).
+        let webp = texture
+            .extensions
+            .as_ref()
+            .and_then(|e| e.others.get("EXT_texture_webp"));
+        let source = match webp {
+            Some(ext) => ext
+                .get("source")
+                .and_then(serde_json::Value::as_u64)
+                .and_then(|i| usize::try_from(i).ok())
+                .ok_or_else(|| {
+                    self.material_error(
+                        material,
+                        format!(
+                            "texture {texture_index}: EXT_texture_webp needs a non-negative integer `source`"
+                        ),
+                    )
+                })?,
+            None if texture.source.value() == u32::MAX as usize => {
+                return Err(self.material_error(
+                    material,
+                    format!("texture {texture_index} has no image (`source`)"),
+                ))
+            }
+            None => texture.source.value(),
+        };
+        let image = self.image(source, slot.color_space())?;
         Ok(Some(TextureRef {
             texture: Texture {
                 image,

@@ -45,6 +45,7 @@ pub const SHADOW_EXTENSION: &str = "COMBUSTION_shadows";
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     SHADOW_EXTENSION,
     "EXT_mesh_gpu_instancing",
+    "EXT_texture_webp",
     "KHR_lights_punctual",
     "KHR_materials_ior",
     "KHR_materials_specular",
