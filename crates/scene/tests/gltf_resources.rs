@@ -91,13 +91,26 @@ fn one_image_source_is_decoded_once_and_the_budget_holds() {
     }
     assert_eq!(scene.texture_table().images.len(), 1);
 
-    // 16 pixels decoded and 16 in the scene's copy: 32 fit, 31 and 15 do not.
-    for (budget, fits) in [(15, false), (31, false), (32, true)] {
+    // 16 pixels, decoded once and held once (the scene's image is the decode itself):
+    // 16 fit, 15 do not. Used in a linear slot as well (metallic-roughness), the image
+    // is held a second time, in the other colour space: 32 fit, 31 do not.
+    let two_spaces = dir.join("two-spaces.gltf");
+    let mut root: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    root["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] =
+        json!({ "index": 0 });
+    std::fs::write(&two_spaces, root.to_string()).unwrap();
+    for (file, budget, fits) in [
+        (&path, 15, false),
+        (&path, 16, true),
+        (&two_spaces, 31, false),
+        (&two_spaces, 32, true),
+    ] {
         let options = ImportOptions {
             max_decoded_pixels: budget,
             ..ImportOptions::default()
         };
-        match import(&path, &options) {
+        match import(file, &options) {
             Ok(_) => assert!(fits, "{budget}"),
             Err(e) => {
                 assert!(!fits, "{budget}: {e}");

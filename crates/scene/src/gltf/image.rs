@@ -77,10 +77,12 @@ fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
             frame.bit_depth
         )));
     }
-    let data = &buffer[..frame.buffer_size()];
+    buffer.truncate(frame.buffer_size());
+    let data = &buffer;
     let pixels = width as usize * height as usize;
     let rgba = match frame.color_type {
-        png::ColorType::Rgba => data.to_vec(),
+        // The decoder's own buffer, not a copy of it: an RGBA image is held once.
+        png::ColorType::Rgba => buffer,
         png::ColorType::Rgb => expand(data, 3, pixels, |p| [p[0], p[1], p[2], 255]),
         png::ColorType::GrayscaleAlpha => expand(data, 2, pixels, |p| [p[0], p[0], p[0], p[1]]),
         png::ColorType::Grayscale => expand(data, 1, pixels, |p| [p[0], p[0], p[0], 255]),

@@ -13,7 +13,6 @@ use gltf::json::validation::{Checked, Validate};
 
 use super::accessor::{read_colors, read_floats, read_indices};
 use super::geometry::{build_mesh, PrimitiveData};
-use super::image::Decoded;
 use super::material::default_material;
 use super::optics_ext;
 use super::source::{split_container, Buffers, Container};
@@ -38,11 +37,9 @@ pub(crate) struct Importer<'a> {
     pub base: Option<&'a Path>,
     pub options: &'a ImportOptions,
     pub warnings: Vec<String>,
-    /// Per image source (a URI or a buffer view), its decoded pixels: each source is
-    /// decoded once, however many `images` entries name it.
-    pub decoded: HashMap<ImageSource, Rc<Decoded>>,
-    /// Per image source and colour space, the scene's image (pixels shared, not copied
-    /// per `images` entry).
+    /// Per image source (a URI or a buffer view) and colour space, the scene's image:
+    /// each source is decoded once, however many `images` entries name it, and held once
+    /// per colour space it is used in.
     pub images: HashMap<(ImageSource, ColorSpace), Arc<Image>>,
     /// Pixels decoded so far (against `ImportOptions::max_decoded_pixels`).
     pub decoded_pixels: u64,
@@ -316,7 +313,6 @@ fn import_inner(
         base,
         options,
         warnings: Vec::new(),
-        decoded: HashMap::new(),
         images: HashMap::new(),
         decoded_pixels: 0,
         file_bytes: bytes.len() as u64,

@@ -1,6 +1,5 @@
 //! glTF materials, textures, samplers and images → [`Material`], [`TextureRef`].
 
-use std::rc::Rc;
 use std::sync::Arc;
 
 use gltf::json;
@@ -512,8 +511,20 @@ impl Importer<'_> {
         if let Some(image) = self.images.get(&(source.clone(), color_space)) {
             return Ok(image.clone());
         }
-        let decoded: Rc<Decoded> = match self.decoded.get(&source) {
-            Some(d) => d.clone(),
+        // Each image is held once per colour space it is used in: the first use takes the
+        // decoded pixels themselves, another colour space a copy of them; each counts
+        // against the budget, and nothing else is kept (no decode cache beside them).
+        let used_before = self
+            .images
+            .iter()
+            .find(|((s, _), _)| *s == source)
+            .map(|(_, image)| image.clone());
+        let decoded = match used_before {
+            Some(image) => Decoded {
+                width: image.width,
+                height: image.height,
+                rgba: image.pixels.clone(),
+            },
             None => {
                 let declared = json_image.mime_type.as_ref().map(|m| m.0.clone());
                 let (mime, bytes): (Option<String>, Vec<u8>) = match &source {
@@ -528,8 +539,8 @@ impl Importer<'_> {
                     }
                 };
                 let mime = declared.or(mime);
-                let decoded = decode(&bytes, mime.as_deref(), self.options.max_image_dimension)
-                    .map_err(|e| match e {
+                decode(&bytes, mime.as_deref(), self.options.max_image_dimension).map_err(|e| {
+                    match e {
                         DecodeError::TooLarge { width, height } => ImportProblem::ImageTooLarge {
                             index,
                             name: name.clone(),
@@ -538,15 +549,10 @@ impl Importer<'_> {
                             limit: self.options.max_image_dimension,
                         },
                         DecodeError::Other(message) => err(message),
-                    })?;
-                self.charge_pixels(&decoded).map_err(err)?;
-                let decoded = Rc::new(decoded);
-                self.decoded.insert(source.clone(), decoded.clone());
-                decoded
+                    }
+                })?
             }
         };
-        // The scene's image is a copy of the decoded pixels (one per colour space it is
-        // used in), held beside the decode cache: it counts against the budget too.
         self.charge_pixels(&decoded).map_err(err)?;
         let display_name = name.clone().unwrap_or_else(|| match &json_image.uri {
             Some(uri) if !uri.starts_with("data:") => uri.clone(),
@@ -557,7 +563,7 @@ impl Importer<'_> {
             width: decoded.width,
             height: decoded.height,
             color_space,
-            pixels: decoded.rgba.clone(),
+            pixels: decoded.rgba,
         });
         self.images.insert((source, color_space), image.clone());
         Ok(image)
@@ -707,7 +713,7 @@ impl Importer<'_> {
         self.decoded_pixels += pixels;
         if self.decoded_pixels > self.options.max_decoded_pixels {
             return Err(format!(
-                "it brings the scene's decoded image pixels (decodes and their copies) to {}, over the budget of {} (ImportOptions::max_decoded_pixels)",
+                "it brings the scene's image pixels (each image once per colour space it is used in) to {}, over the budget of {} (ImportOptions::max_decoded_pixels)",
                 self.decoded_pixels, self.options.max_decoded_pixels
             ));
         }

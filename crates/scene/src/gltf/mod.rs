@@ -80,8 +80,10 @@ pub struct ImportOptions {
     /// bytes, checked before reading. Only regular files are read: a device, FIFO or
     /// socket is refused without being opened.
     pub max_file_bytes: u64,
-    /// Largest total of decoded image pixels (width × height summed over the distinct
-    /// image sources; each source is decoded once, however many images name it).
+    /// Largest total of image pixels held (width × height summed over the scene's
+    /// images: each distinct image source once per colour space it is used in; it is
+    /// decoded once, however many images name it, and its first use keeps the decoded
+    /// pixels themselves).
     pub max_decoded_pixels: u64,
 }
 
