@@ -425,8 +425,11 @@ void main() {
 #endif
 #ifdef TRANSMISSION
     if (transmission > 0.0) {
-        // What passes through leaves through the coat towards the eye: A(v).
-        radiance += (1.0 - s.metalness) * transmission * base_color * coat.view.attenuation_v
+        // What passes through leaves through the layers towards the eye: a coat's A(v), a
+        // sheen's 1 − max(c) E(n·v) (crates/optics/src/layers.rs, through_layers_v).
+        float sheen_max = max(layers.sheen.color.r, max(layers.sheen.color.g, layers.sheen.color.b));
+        float through_layers = coat.view.attenuation_v * (1.0 - sheen_max * layers.sheen.albedo_v);
+        radiance += (1.0 - s.metalness) * transmission * base_color * through_layers
                   * transmitted_radiance(material, m, n, v, position, s.roughness, thickness);
     }
 #endif

@@ -40,9 +40,18 @@ struct SheenView {
 }
 
 impl LayersView {
-    /// A(v), what a coat lets out towards the viewer (1 without one).
-    pub fn coat_attenuation_v(&self) -> f64 {
-        self.coat.map_or(1.0, |(_, view)| view.attenuation_v())
+    /// What of the light passing through the surface towards the viewer (glass's) the
+    /// layers let out: a coat's A(v) times a sheen's 1 − max(c) E(n·v) (1 without
+    /// either).
+    pub fn through_layers_v(&self) -> f64 {
+        let coat = self.coat.map_or(1.0, |(_, view)| view.attenuation_v());
+        let sheen = self.sheen.map_or(1.0, |s| {
+            let c = s.inputs.color[0]
+                .max(s.inputs.color[1])
+                .max(s.inputs.color[2]);
+            1.0 - c.clamp(0.0, 1.0) * s.albedo_v
+        });
+        coat * sheen
     }
 }
 

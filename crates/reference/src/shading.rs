@@ -739,15 +739,21 @@ impl<'a> SceneShading<'a> {
             let mut radiance = self.reflected(&reflecting);
             if depth > 0 {
                 let through = self.transmitted(surface, m, depth - 1);
-                // What passes through leaves through the coat towards the eye: A(v).
-                let coat_out = layers_view(
+                // What passes through leaves through the layers towards the eye: a coat's
+                // A(v), a sheen's 1 − max(c) E(n·v).
+                let table = if surface.layers.sheen.is_some() {
+                    sheen_albedo_table()
+                } else {
+                    &[]
+                };
+                let out = layers_view(
                     &surface.layers,
                     optics_vec(surface.n),
                     optics_vec(surface.v),
-                    &[],
+                    table,
                 )
-                .coat_attenuation_v();
-                let weight = (1.0 - surface.brdf.metalness) * transmission * coat_out;
+                .through_layers_v();
+                let weight = (1.0 - surface.brdf.metalness) * transmission * out;
                 for c in 0..3 {
                     radiance[c] += weight * surface.brdf.base_color[c] * through[c];
                 }
