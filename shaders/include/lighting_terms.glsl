@@ -155,9 +155,10 @@ float environment_code_table(uint table, uint code, vec2 coord) {
 // the table ([1].z at (n_c·v, its roughness)) times its weight, along its own mirror
 // direction, and attenuates the rest by A(v)², the light arriving about the mirror
 // direction crossing the coat at the angle the view leaves it.
-// A sheen (SHEEN variants) adds c E(n·v) times the cosine-weighted mean radiance about n
-// (its lobe is broad and grazing: no one mirror direction), and scales the base's term
-// by 1 − max(c) M(n·v), the extension's scaling averaged over cosine-weighted light.
+// A sheen (SHEEN variants) adds c E(n·v) times the most blurred radiance on a ring about
+// n at the lobe's mean cosine (its lobe is broad and gathers towards the horizon: no one
+// mirror direction stands for it), and scales the base's term by 1 − max(c) M(n·v), the
+// extension's scaling averaged over cosine-weighted light.
 vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs m, BrdfView view,
                           SurfaceLayers layers, vec3 n, vec3 v, float roughness,
                           vec3 base_color_code, float occlusion) {
@@ -230,9 +231,20 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     float sheen_max = max(sheen.color.r, max(sheen.color.g, sheen.color.b));
     if (sheen_max > 0.0) {
         float scaling = 1.0 - min(sheen_max, 1.0) * sheen_table_lookup(1u, view.v.z, sheen.roughness);
-        radiance = radiance * scaling
-                 + textureLod(environment_irradiance, n, 0.0).rgb
-                   * sheen.color * sheen.albedo_v * occlusion;
+        // The lobe gathers towards the horizon: the most blurred radiance on a ring about n
+        // at the lobe's mean cosine (cos-weighted, from the f64 lobe: 0.23–0.37 at r = 0.3,
+        // 0.40–0.49 at 0.5, 0.55–0.58 at 1 over n·v from 1 to 0.4; ≈ 0.6 √r), four taps.
+        vec3 t1 = normalize(abs(n.z) < 0.9 ? cross(n, vec3(0.0, 0.0, 1.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
+        vec3 t2 = cross(n, t1);
+        float ring_cos = max(0.6 * sqrt(sheen.roughness), 0.1);
+        float ring_sin = sqrt(1.0 - ring_cos * ring_cos);
+        vec3 ring = vec3(0.0);
+        for (int k = 0; k < 4; ++k) {
+            float phi = float(k) * 1.5707963;
+            vec3 d = n * ring_cos + (t1 * cos(phi) + t2 * sin(phi)) * ring_sin;
+            ring += textureLod(environment_specular, d, levels).rgb;
+        }
+        radiance = radiance * scaling + 0.25 * ring * sheen.color * sheen.albedo_v * occlusion;
     }
 #endif
 #ifdef CLEARCOAT
