@@ -2102,9 +2102,42 @@ fn diff_compares_renders_by_stated_criteria() {
         &path("heat.png"),
     ]);
     assert_eq!(code, 0, "{stderr}");
+    // The heat map, then its legend: the colour bar from FLIP 0 (magma's black) to 1
+    // (its light yellow), and the ends' labels, white on black.
     let decoder = png::Decoder::new(std::fs::File::open(path("heat.png")).unwrap());
-    let info = decoder.read_info().unwrap();
-    assert_eq!((info.info().width, info.info().height), (96, 64));
+    let mut reader = decoder.read_info().unwrap();
+    let (width, height) = (reader.info().width, reader.info().height);
+    use combustion::diff::{LEGEND_BAR_ROWS, LEGEND_LABEL_ROWS};
+    assert_eq!(
+        (width, height),
+        (96, 64 + LEGEND_BAR_ROWS + LEGEND_LABEL_ROWS)
+    );
+    let mut buffer = vec![0; reader.output_buffer_size()];
+    let frame = reader.next_frame(&mut buffer).unwrap();
+    let channels = frame.color_type.samples();
+    let at = |x: u32, y: u32| {
+        let i = (y * width + x) as usize * channels;
+        [buffer[i], buffer[i + 1], buffer[i + 2]]
+    };
+    let bar = 64 + LEGEND_BAR_ROWS / 2;
+    let (left, right) = (at(0, bar), at(width - 1, bar));
+    assert!(left.iter().all(|&c| c < 16), "FLIP 0 is dark: {left:?}");
+    assert!(
+        right[0] > 240 && right[1] > 240 && right[2] > 150,
+        "FLIP 1 is light: {right:?}"
+    );
+    // Text at both ends (`FLIP 0` at the left, `1` at the right at this width).
+    let white = |xs: std::ops::Range<u32>| {
+        (64 + LEGEND_BAR_ROWS..height)
+            .flat_map(|y| xs.clone().map(move |x| (x, y)))
+            .filter(|&(x, y)| at(x, y).iter().all(|&c| c > 200))
+            .count()
+    };
+    let (left, right) = (white(0..width / 2), white(width / 2..width));
+    assert!(
+        left > 10 && right > 3,
+        "the labels' text: {left}, {right} white pixels"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

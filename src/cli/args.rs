@@ -149,7 +149,8 @@ pub(crate) struct DiffArgs {
     #[arg(long, value_name = "FILE", conflicts_with = "criteria")]
     pub(crate) criteria_file: Option<PathBuf>,
     /// Write the per-pixel FLIP as a heat map (magma: black 0 to light yellow 1) to
-    /// this PNG
+    /// this PNG, with a legend below it (the colour bar and its ends' labels; the PNG
+    /// is 62 rows taller than the images)
     #[arg(long, value_name = "OUT.png")]
     pub(crate) heatmap: Option<PathBuf>,
     /// Print the figures (and the verdict) as JSON

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use combustion::diff::{compare, heat_map, read_image, Comparison};
+use combustion::diff::{compare, heat_map_with_legend, read_image, Comparison};
 use combustion::{output, Error};
 
 use super::*;
@@ -40,12 +40,8 @@ pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
     let (a, b) = (read(&o.a)?, read(&o.b)?);
     let comparison = compare(&a, &b).map_err(CliError::Failed)?;
     if let Some(heatmap) = &o.heatmap {
-        output::write_png(
-            heatmap,
-            comparison.width,
-            comparison.height,
-            &heat_map(&comparison),
-        )?;
+        let (height, pixels) = heat_map_with_legend(&comparison).map_err(CliError::Failed)?;
+        output::write_png(heatmap, comparison.width, height, &pixels)?;
     }
     let verdict = o
         .criteria
