@@ -406,6 +406,15 @@ fn with_extensions(
     import_slice(root.to_string().as_bytes(), &ImportOptions::default())
 }
 
+/// The one-triangle file whose material has `extensions` is refused with a one-line
+/// error naming material 0 and holding `expected`.
+fn refused_in_one_line(extensions: serde_json::Value, expected: &str) {
+    let error = with_extensions(extensions).unwrap_err().to_string();
+    assert!(error.contains(expected), "{error}");
+    assert!(error.contains("material 0"), "{error}");
+    assert!(!error.contains('\n'), "one line: {error}");
+}
+
 /// KHR_materials_transmission and KHR_materials_volume: the factors within glTF's
 /// ranges are read (a volume of thickness 0 is thin-walled: none; no attenuation
 /// distance is infinite); a transmission factor outside [0, 1], a negative thickness, an
@@ -483,10 +492,7 @@ fn transmission_and_volume_are_read_and_out_of_range_values_refused() {
             "attenuationColor must lie in [0, 1], found [1.0, 2.0, 0.5]",
         ),
     ] {
-        let error = with_extensions(extensions).unwrap_err().to_string();
-        assert!(error.contains(expected), "{error}");
-        assert!(error.contains("material 0"), "{error}");
-        assert!(!error.contains('\n'), "one line: {error}");
+        refused_in_one_line(extensions, expected);
     }
 }
 
@@ -549,10 +555,7 @@ fn clearcoat_is_read_and_out_of_range_values_refused() {
             "KHR_materials_clearcoat",
         ),
     ] {
-        let error = with_extensions(extensions).unwrap_err().to_string();
-        assert!(error.contains(expected), "{error}");
-        assert!(error.contains("material 0"), "{error}");
-        assert!(!error.contains('\n'), "one line: {error}");
+        refused_in_one_line(extensions, expected);
     }
 }
 
@@ -593,12 +596,7 @@ fn sheen_is_read_and_out_of_range_values_refused() {
             "sheen colour texture 3 does not exist (0 textures)",
         ),
     ] {
-        let error = with_extensions(extensions).unwrap_err().to_string();
-        assert!(
-            error.contains(expected) && error.contains("material 0"),
-            "{error}"
-        );
-        assert!(!error.contains('\n'), "one line: {error}");
+        refused_in_one_line(extensions, expected);
     }
 }
 
@@ -839,12 +837,7 @@ fn specular_glossiness_is_converted_to_metallic_roughness() {
             "specularFactor must be an array of 3 numbers",
         ),
     ] {
-        let error = with_extensions(ext(sg)).unwrap_err().to_string();
-        assert!(
-            error.contains(expected) && error.contains("material 0"),
-            "{error}"
-        );
-        assert!(!error.contains('\n'), "one line: {error}");
+        refused_in_one_line(ext(sg), expected);
     }
 }
 
