@@ -647,35 +647,28 @@ fn webp_textures_are_read() {
         .image;
     assert_eq!((image.width, image.height), (2, 2));
     assert_eq!(image.pixels, pixels, "lossless: the pixels as encoded");
+    // The base colour image a texture of the PNG (0) and the WebP (1) gives.
+    let base_colour_of = |texture: serde_json::Value| {
+        let (scene, _) = with(
+            serde_json::json!([png, webp]),
+            texture,
+            &ImportOptions::default(),
+        )
+        .unwrap();
+        let texture = scene.materials[0].base_color_texture.clone().unwrap();
+        texture.texture.image
+    };
     // Optional, beside a PNG fallback: the WebP is read.
-    let (scene, _) = with(
-        serde_json::json!([png, webp]),
+    let image = base_colour_of(
         serde_json::json!({ "source": 0, "extensions": { "EXT_texture_webp": { "source": 1 } } }),
-        &ImportOptions::default(),
-    )
-    .unwrap();
-    let image = &scene.materials[0]
-        .base_color_texture
-        .as_ref()
-        .unwrap()
-        .texture
-        .image;
+    );
     assert_eq!(image.pixels, pixels);
     // KHR_texture_basisu (KTX2) is not read: an optional one leaves its texture the
     // fallback image, as the specification allows (a file requiring it is refused, as
     // any unsupported required extension).
-    let (scene, _) = with(
-        serde_json::json!([png, webp]),
+    let image = base_colour_of(
         serde_json::json!({ "source": 0, "extensions": { "KHR_texture_basisu": { "source": 1 } } }),
-        &ImportOptions::default(),
-    )
-    .unwrap();
-    let image = &scene.materials[0]
-        .base_color_texture
-        .as_ref()
-        .unwrap()
-        .texture
-        .image;
+    );
     assert_eq!(image.pixels, [9, 9, 9, 255]);
     // No image at all.
     let error = with(
