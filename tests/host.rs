@@ -890,7 +890,8 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// blended and transmissive objects (the forward pass, its set and pipeline; the image
 /// behind transmissive objects, a target of its own; the back faces of glass volumes,
 /// targets and a pass of their own, with and without them), with and without a clear
-/// coat (a G-buffer target of its own), rendered in
+/// coat and a sheen (G-buffer targets of their own; the sheen's table, made on first
+/// need in place of a placeholder), rendered in
 /// alternation, each run of
 /// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
 /// flight. The targets of the scene not shown are retired and destroyed while the
@@ -944,6 +945,10 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         thin_glass,
         // A clear coat: the G-buffer's coat target and the lighting set's binding of it.
         builtin_scene("clearcoat").unwrap(),
+        // Sheen: its G-buffer target, and the sheen table in place of its placeholder
+        // (made for the first variant with sheen, the placeholder retired while frames
+        // in flight bound it), with a coat beside it.
+        builtin_scene("sheen").unwrap(),
     ];
     let (mut host, log, mut output) = host_with_output(&scenes, 3, 48, 40);
     // Each scene for 24 frames (past the 16-frame retire delay), twice round; the
@@ -958,7 +963,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
                 .unwrap();
             host.frame_environments = vec![None, Some(studio)];
         }
-        for scene in [0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8] {
+        for scene in [0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8, 9, 1, 9, 8] {
             for _ in 0..24 {
                 headless::frame(&mut host, &mut output, scene).unwrap();
             }

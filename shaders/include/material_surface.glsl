@@ -103,6 +103,16 @@ struct MaterialSurface {
     float sheen_roughness;
 };
 
+// A tangent-space normal map's texel (glTF convention: RGB mapped to [−1, 1]), its x
+// and y scaled by `scale`, in `frame` (tangent, bitangent, normal); `fallback` where the
+// result is degenerate.
+vec3 normal_mapped(vec4 texel, float scale, mat3 frame, vec3 fallback) {
+    vec3 m = texel.xyz * 2.0 - 1.0;
+    m.xy *= scale;
+    vec3 mapped = frame * m;
+    return dot(mapped, mapped) > 1e-20 ? normalize(mapped) : fallback;
+}
+
 MaterialSurface material_surface(GpuMaterial material) {
     ivec4 tex0 = material.textures_base_mr_normal_occlusion;
     ivec4 tex1 = material.textures_emissive_anisotropy_specular;
@@ -131,14 +141,10 @@ MaterialSurface material_surface(GpuMaterial material) {
 
     // Normal map (tangent space, glTF convention), scaled in x and y.
     if (tex0.z >= 0) {
-        vec3 m = texture(normal_texture, UV_NORMAL).xyz * 2.0 - 1.0;
-        m.xy *= material.emissive_normal_scale.a;
-        vec3 mapped = mat3(t, b, n) * m;
-        if (dot(mapped, mapped) > 1e-20) {
-            n = normalize(mapped);
-            t = normalize(t - n * dot(n, t));
-            b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
-        }
+        n = normal_mapped(texture(normal_texture, UV_NORMAL), material.emissive_normal_scale.a,
+                          geometry_frame, n);
+        t = normalize(t - n * dot(n, t));
+        b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
     }
 
     vec4 base = vec4(material.base_color_metalness.rgb, material.alpha_cutoff.x);
@@ -208,12 +214,9 @@ MaterialSurface material_surface(GpuMaterial material) {
         s.clearcoat_roughness *= texture(clearcoat_roughness_texture, UV_CLEARCOAT_ROUGHNESS).g;
     }
     if (tex2.z >= 0) {
-        vec3 m = texture(clearcoat_normal_texture, UV_CLEARCOAT_NORMAL).xyz * 2.0 - 1.0;
-        m.xy *= material.clearcoat.w;
-        vec3 mapped = geometry_frame * m;
-        if (dot(mapped, mapped) > 1e-20) {
-            s.clearcoat_normal = normalize(mapped);
-        }
+        s.clearcoat_normal = normal_mapped(texture(clearcoat_normal_texture, UV_CLEARCOAT_NORMAL),
+                                           material.clearcoat.w, geometry_frame,
+                                           s.clearcoat_normal);
     }
 #endif
     s.sheen_color = vec3(0.0);

@@ -11,7 +11,6 @@
 use crate::brdf::{brdf_evaluate_view, brdf_view, BrdfInputs};
 use crate::layers::{layered_radiance, layers_view, Layers};
 use crate::microfacet::{clamp_alpha, d_ggx_anisotropic, lambda_ggx_anisotropic};
-use crate::sheen::sheen_albedo_table;
 use crate::vec3::{ShadingFrame, Vec3};
 
 /// A Monte Carlo estimate per RGB channel with its standard error.
@@ -143,17 +142,7 @@ pub fn integrate_environment_layered(
         return zero;
     }
     let (ax, ay) = (clamp_alpha(m.alpha_x), clamp_alpha(m.alpha_y));
-    let sheen_table = if layers.sheen.is_some() {
-        sheen_albedo_table()
-    } else {
-        &[]
-    };
-    let layered = layers_view(
-        layers,
-        frame.to_world(Vec3::new(0.0, 0.0, 1.0)),
-        v,
-        sheen_table,
-    );
+    let layered = layers_view(layers, frame.to_world(Vec3::new(0.0, 0.0, 1.0)), v);
     // The coat's frame, v in it and its α: the third strategy samples its lobe.
     let coat = layers.coat.filter(|c| c.inputs.factor > 0.0).map(|c| {
         let coat_frame = ShadingFrame::from_normal(c.normal);
@@ -203,7 +192,7 @@ pub fn integrate_environment_layered(
                     pdf_sum += pdf_ggx_vndf_reflection(*coat_v, coat_l, *coat_alpha, *coat_alpha);
                 }
             }
-            let reflected = layered_radiance(&layered, f, l.z, world, sheen_table);
+            let reflected = layered_radiance(&layered, f, l.z, world);
             if !(pdf_sum > 0.0 && pdf_sum.is_finite()) {
                 continue;
             }

@@ -9,7 +9,9 @@
 use crate::coat::{
     coat_evaluate_view, coat_view, coated_radiance, CoatInputs, CoatLayer, CoatView,
 };
-use crate::sheen::{sheen_albedo_lookup, sheen_albedo_scaling, sheen_lobe, SheenInputs};
+use crate::sheen::{
+    sheen_albedo_lookup, sheen_albedo_scaling, sheen_albedo_table, sheen_lobe, SheenInputs,
+};
 use crate::vec3::{ShadingFrame, Vec3};
 
 /// What lies over a surface's BRDF (each `None` where there is none).
@@ -56,9 +58,8 @@ impl LayersView {
 }
 
 /// The layers' view-dependent half for a surface of shading normal `n` seen from `v`
-/// (world space); `sheen_table` is [`crate::sheen::sheen_albedo_table`] (or its f32
-/// copy, widened).
-pub fn layers_view(layers: &Layers, n: Vec3<f64>, v: Vec3<f64>, sheen_table: &[f64]) -> LayersView {
+/// (world space). A sheen's E is read from [`sheen_albedo_table`] (made on first use).
+pub fn layers_view(layers: &Layers, n: Vec3<f64>, v: Vec3<f64>) -> LayersView {
     LayersView {
         coat: layers
             .coat
@@ -72,7 +73,7 @@ pub fn layers_view(layers: &Layers, n: Vec3<f64>, v: Vec3<f64>, sheen_table: &[f
                 frame,
                 v,
                 roughness,
-                albedo_v: sheen_albedo_lookup(sheen_table, v.z, roughness),
+                albedo_v: sheen_albedo_lookup(sheen_albedo_table(), v.z, roughness),
             }
         }),
     }
@@ -94,12 +95,11 @@ pub fn layered_radiance(
     base: [f64; 3],
     cos_base: f64,
     l: Vec3<f64>,
-    sheen_table: &[f64],
 ) -> [f64; 3] {
     let mut f = base;
     if let Some(sheen) = &view.sheen {
         let l_local = sheen.frame.to_local(l.normalize());
-        let albedo_l = sheen_albedo_lookup(sheen_table, l_local.z, sheen.roughness);
+        let albedo_l = sheen_albedo_lookup(sheen_albedo_table(), l_local.z, sheen.roughness);
         let color = sheen.inputs.color;
         let scaling = sheen_albedo_scaling(color, sheen.albedo_v, albedo_l);
         let lobe = sheen_lobe(sheen.v, l_local, sheen.inputs.alpha);

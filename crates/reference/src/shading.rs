@@ -27,7 +27,7 @@ use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion_optics::environment::{integrate_environment_layered, Estimate, Sampling};
 use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Layers};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
-use combustion_optics::sheen::{sheen_albedo_table, SheenInputs};
+use combustion_optics::sheen::SheenInputs;
 use combustion_optics::vec3::Vec3 as OpticsVec3;
 use combustion_scene::{
     conductor_from_reflectivity, range_window, DiffuseModel, Light, Material, Scene, TextureRef,
@@ -741,16 +741,10 @@ impl<'a> SceneShading<'a> {
                 let through = self.transmitted(surface, m, depth - 1);
                 // What passes through leaves through the layers towards the eye: a coat's
                 // A(v), a sheen's 1 − max(c) E(n·v).
-                let table = if surface.layers.sheen.is_some() {
-                    sheen_albedo_table()
-                } else {
-                    &[]
-                };
                 let out = layers_view(
                     &surface.layers,
                     optics_vec(surface.n),
                     optics_vec(surface.v),
-                    table,
                 )
                 .through_layers_v();
                 let weight = (1.0 - surface.brdf.metalness) * transmission * out;
@@ -768,16 +762,10 @@ impl<'a> SceneShading<'a> {
     fn reflected(&self, surface: &SurfacePoint) -> [f64; 3] {
         let position = DVec3::from(surface.hit.position);
         let mut radiance = surface.emitted;
-        let table = if surface.layers.sheen.is_some() {
-            sheen_albedo_table()
-        } else {
-            &[]
-        };
         let layered = layers_view(
             &surface.layers,
             optics_vec(surface.n),
             optics_vec(surface.v),
-            table,
         );
         for light in self.lights {
             let (l, irradiance) = light_at(light, position);
@@ -808,7 +796,7 @@ impl<'a> SceneShading<'a> {
                 optics_vec(surface.v),
                 optics_vec(l),
             );
-            let reflected = layered_radiance(&layered, f, cos, optics_vec(l), table);
+            let reflected = layered_radiance(&layered, f, cos, optics_vec(l));
             for c in 0..3 {
                 radiance[c] += reflected[c] * irradiance[c] * visible;
             }

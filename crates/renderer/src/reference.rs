@@ -15,7 +15,7 @@ use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion_optics::environment::{integrate_environment_layered, Estimate, Sampling};
 use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Layers};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
-use combustion_optics::sheen::{sheen_albedo_table, SheenInputs};
+use combustion_optics::sheen::SheenInputs;
 use combustion_optics::variants::{
     brdf_evaluate_variant, BrdfVariant, DistributionForm, FresnelForm, MaskingForm,
 };
@@ -297,12 +297,7 @@ impl ReferenceShading {
             position,
             layers,
         } = *p;
-        let table = if layers.sheen.is_some() {
-            sheen_albedo_table()
-        } else {
-            &[]
-        };
-        let layered = layers_view(&layers, v3(n), v3(v), table);
+        let layered = layers_view(&layers, v3(n), v3(v));
         let mut radiance = [0.0; 3];
         for (index, light) in self.lights.iter().enumerate() {
             let (l, e) = self.light_direction(light, position);
@@ -328,7 +323,7 @@ impl ReferenceShading {
             } else {
                 brdf_evaluate_variant(&m, &self.variant, v3(n), v3(t), v3(b), v3(v), v3(l))
             };
-            let reflected = layered_radiance(&layered, brdf, cos, v3(l), table);
+            let reflected = layered_radiance(&layered, brdf, cos, v3(l));
             for c in 0..3 {
                 radiance[c] += reflected[c] * e[c] * visible;
             }

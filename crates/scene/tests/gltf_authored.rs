@@ -937,6 +937,20 @@ fn textured_scene_round_trips_through_a_temporary_folder() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// `scene` saved as glTF in a temporary folder and imported again: the same scene, no
+/// warning. Returns what was imported and the glTF JSON written.
+fn round_trip(scene: &Scene, name: &str) -> (Scene, serde_json::Value) {
+    let dir = temp_dir(name);
+    let path = dir.join(format!("{name}.gltf"));
+    save_gltf(scene, &path).unwrap();
+    let (loaded, report) = import(&path, &ImportOptions::default()).unwrap();
+    assert_same_scene(scene, &loaded);
+    assert!(report.warnings.is_empty(), "{report}");
+    let json = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let _ = std::fs::remove_dir_all(dir);
+    (loaded, json)
+}
+
 /// KHR_materials_transmission and KHR_materials_volume survive a save and an import:
 /// a thin-walled transmissive material, one with a volume that absorbs, and one whose
 /// volume absorbs nothing (no attenuation distance: infinite, which JSON cannot write).
@@ -962,17 +976,11 @@ fn transmission_and_volumes_round_trip() {
     });
     scene.materials[2].transmission_texture = texture(&shades, Sampler::default());
     scene.materials[2].thickness_texture = texture(&shades, Sampler::default());
-    let dir = temp_dir("transmission");
-    let path = dir.join("t.gltf");
-    save_gltf(&scene, &path).unwrap();
-    let (loaded, report) = import(&path, &ImportOptions::default()).unwrap();
-    assert_same_scene(&scene, &loaded);
-    assert!(report.warnings.is_empty(), "{report}");
+    let (loaded, _) = round_trip(&scene, "transmission");
     let features = loaded.features();
     for slot in [TextureSlot::Transmission, TextureSlot::Thickness] {
         assert_eq!(features.texture_count(slot), 1, "{slot:?}");
     }
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// KHR_materials_clearcoat survives a save and an import: factors, the three textures
@@ -993,12 +1001,7 @@ fn clearcoats_round_trip() {
     material.clearcoat_roughness_texture = texture(&shades, Sampler::default());
     material.clearcoat_normal_texture = texture(&bumps, Sampler::default());
     material.clearcoat_normal_scale = 0.5;
-    let dir = temp_dir("clearcoat");
-    let path = dir.join("c.gltf");
-    save_gltf(&scene, &path).unwrap();
-    let (loaded, report) = import(&path, &ImportOptions::default()).unwrap();
-    assert_same_scene(&scene, &loaded);
-    assert!(report.warnings.is_empty(), "{report}");
+    let (loaded, root) = round_trip(&scene, "clearcoat");
     let features = loaded.features();
     assert_eq!(features.coated, scene.features().coated);
     assert!(features.coated > 0 && features.coated < loaded.materials.len());
@@ -1009,8 +1012,6 @@ fn clearcoats_round_trip() {
     ] {
         assert_eq!(features.texture_count(slot), 1, "{slot:?}");
     }
-    let text = std::fs::read_to_string(&path).unwrap();
-    let root: serde_json::Value = serde_json::from_str(&text).unwrap();
     let written = root["materials"]
         .as_array()
         .unwrap()
@@ -1018,7 +1019,6 @@ fn clearcoats_round_trip() {
         .filter(|m| m["extensions"].get("KHR_materials_clearcoat").is_some())
         .count();
     assert_eq!(written, features.coated);
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// KHR_materials_sheen survives a save and an import: colour, roughness and both
@@ -1035,18 +1035,12 @@ fn sheen_round_trips() {
     let with = scene.materials.iter().position(|m| m.has_sheen()).unwrap();
     scene.materials[with].sheen_color_texture = texture(&colours, Sampler::default());
     scene.materials[with].sheen_roughness_texture = texture(&roughness, Sampler::default());
-    let dir = temp_dir("sheen");
-    let path = dir.join("s.gltf");
-    save_gltf(&scene, &path).unwrap();
-    let (loaded, report) = import(&path, &ImportOptions::default()).unwrap();
-    assert_same_scene(&scene, &loaded);
-    assert!(report.warnings.is_empty(), "{report}");
+    let (loaded, _) = round_trip(&scene, "sheen");
     let features = loaded.features();
     assert!(features.sheen > 0 && features.sheen < loaded.materials.len());
     for slot in [TextureSlot::SheenColor, TextureSlot::SheenRoughness] {
         assert_eq!(features.texture_count(slot), 1, "{slot:?}");
     }
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// KHR_texture_transform and TEXCOORD_1 survive a save and an import: a slot on set 1
