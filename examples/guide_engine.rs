@@ -933,6 +933,7 @@ impl<'c> Engine<'c> {
                 environment: None,
                 background: combustion::renderer::Background::None,
                 tone_mapping: combustion::renderer::ToneMapping::Exponential,
+                pose: None,
             };
             if let Err(e) = renderer.record(cmd, slot, scene, &inputs, &target) {
                 // SAFETY: end the (empty) recording so the buffer can be reset later.

@@ -16,6 +16,7 @@
 
 #![warn(missing_docs)]
 
+pub mod animation;
 pub mod diff;
 pub mod end_to_end;
 pub mod eval;

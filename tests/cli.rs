@@ -2222,3 +2222,75 @@ fn diff_refuses_what_it_cannot_compare() {
     assert_clear_error(&["diff", &path("x.png"), &path("a.png")], "x.png: PNG:");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `render --time T [--animation NAME|INDEX]` shows the scene at that time of its
+/// animation: BoxAnimated (a sample model) at 0 s and at 1.8 s gives two different
+/// images; an animation the scene lacks, a scene without animations and a time that is
+/// not a finite number are one-line errors.
+#[test]
+fn render_shows_the_scene_at_a_time_of_its_animation() {
+    assert_refused(
+        &[
+            "render",
+            "builtin:spheres",
+            "--time",
+            "nan",
+            "-o",
+            "/tmp/x.png",
+        ],
+        &["is not a finite number"],
+    );
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:spheres",
+            "--time",
+            "1",
+            "-o",
+            "/tmp/x.png",
+        ],
+        "the scene has no animations",
+    );
+    let Some(samples) = common::shared_gltf_samples() else {
+        return;
+    };
+    let model = samples.join("BoxAnimated/glTF-Binary/BoxAnimated.glb");
+    let model = model.to_str().unwrap();
+    assert_clear_error(
+        &["render", model, "--animation", "walk", "-o", "/tmp/x.png"],
+        "--animation walk: the scene has no such animation (it has 0)",
+    );
+    let dir = scratch("time");
+    let images: Vec<Vec<[u8; 4]>> = ["0", "1.8"]
+        .iter()
+        .map(|time| {
+            let out = dir.join(format!("box-{time}.png"));
+            let (code, stdout, stderr) = combustion(&[
+                "render",
+                model,
+                "--time",
+                time,
+                "--animation",
+                "0",
+                "--width",
+                "64",
+                "--height",
+                "48",
+                "-o",
+                out.to_str().unwrap(),
+            ]);
+            assert_eq!(code, 0, "{stdout}{stderr}");
+            common::read_png(&out).2
+        })
+        .collect();
+    let differing = images[0]
+        .iter()
+        .zip(&images[1])
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        differing > 50,
+        "the box at 1.8 s differs from 0 s in {differing} pixels"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -82,6 +82,7 @@ fn panels_scene_of(panels: &[(&Arc<Image>, f32)], distance: f32) -> Scene {
                     Vec3::new(1.25 * (i as f32 - spread / 2.0), 0.0, 0.0),
                 ),
                 casts_shadows: true,
+                node: None,
             })
             .collect(),
         materials,
@@ -101,6 +102,7 @@ fn panels_scene_of(panels: &[(&Arc<Image>, f32)], distance: f32) -> Scene {
         },
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 

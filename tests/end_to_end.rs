@@ -601,10 +601,21 @@ fn compare_stored_with_scene(
         ..common::exact_f32()
     };
     let frame = common::render_with_lights_in(scene, frame_lights, width, height, settings);
+    compare_frame_with_scene(&frame, scene, (width, height), storage)
+}
+
+/// `frame` (rendered with `storage`) compared per pixel with the f64 reference of
+/// `scene`, as [`compare_with_scene`] does.
+fn compare_frame_with_scene(
+    frame: &combustion::renderer::Frame,
+    scene: &Scene,
+    (width, height): (u32, u32),
+    storage: GBufferStorage,
+) -> SceneComparison {
     let bvh = SceneBvh::new(scene);
     let precision = precision_of(storage);
     let reference = SceneReference::new(scene, &bvh, &scene.lights, (width, height), precision, 2);
-    let compared = reference.compare(&frame);
+    let compared = reference.compare(frame);
     assert_eq!(compared.non_finite, 0, "non-finite GPU radiance");
     // Textures sampled half a level finer and coarser (the Vulkan scale factor's
     // latitude), where the scene has any.
@@ -942,4 +953,33 @@ fn the_full_size_frame_is_what_the_scene_shows() {
     let comparison = compare_with_scene(&scene, &scene.lights, 1280, 720);
     eprintln!("{}", comparison.describe("spot-box", 1280, 720));
     comparison.assert_within_bounds("spot-box");
+}
+
+/// A frame in a pose is proven from the scene too: the animated grid and the deformed
+/// spheres (tests/common) at 1.3 s of their animations, rendered with the pose (objects
+/// moved; meshes morphed and skinned on the GPU), against the f64 reference shaded from
+/// the still scene in that pose (`Scene::posed`: its meshes deformed on the CPU).
+#[test]
+fn a_posed_frame_is_what_the_posed_scene_shows() {
+    for scene in [common::animated_grid(), common::deformed_spheres()] {
+        let pose = scene.pose_objects(&scene.motion.sample(0, 1.3).unwrap());
+        let mut headless = common::lavapipe(common::exact_f32());
+        let frame = {
+            let renderer = headless.renderer();
+            let gpu = renderer.upload(&scene).unwrap();
+            let inputs = combustion::renderer::FrameInputs {
+                pose: Some(&pose),
+                ..combustion::renderer::FrameInputs::of_scene(&gpu, 1.0)
+            };
+            renderer
+                .render_with(&gpu, &inputs, W, H, Readback::ALL)
+                .unwrap()
+        };
+        common::finish(headless);
+        let label = format!("{} at 1.3 s", scene.name);
+        let comparison =
+            compare_frame_with_scene(&frame, &scene.posed(&pose), (W, H), GBufferStorage::DEFAULT);
+        eprintln!("{}", comparison.describe(&label, W, H));
+        comparison.assert_within_bounds(&label);
+    }
 }

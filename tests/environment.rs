@@ -26,6 +26,7 @@ fn sphere(material: Material, outside_ior: f32, environment: Environment) -> Sce
             material: 0,
             transform: Mat4::IDENTITY,
             casts_shadows: true,
+            node: None,
         }],
         lights: Vec::new(),
         camera: Camera {
@@ -38,6 +39,7 @@ fn sphere(material: Material, outside_ior: f32, environment: Environment) -> Sce
         },
         outside_ior,
         environment: Some(environment),
+        motion: Default::default(),
     }
 }
 
@@ -62,6 +64,7 @@ fn compare_with_oracle(scene: &Scene, frame: &Frame, step: u32, iterations: u32)
         environment: None,
         background: combustion::renderer::Background::None,
         tone_mapping: combustion::renderer::ToneMapping::Exponential,
+        pose: None,
     };
     let reference = ReferenceShading::new(scene, &inputs, frame.width, frame.height);
     let environment = scene.environment.as_ref().expect("an environment");

@@ -259,6 +259,7 @@ fn render_emissive_plane(emitted: [f32; 3], hdr: HdrFormat) -> combustion::rende
             material: 0,
             transform: Mat4::IDENTITY,
             casts_shadows: true,
+            node: None,
         }],
         lights: vec![],
         camera: Camera {
@@ -271,6 +272,7 @@ fn render_emissive_plane(emitted: [f32; 3], hdr: HdrFormat) -> combustion::rende
         },
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     };
     let settings = RendererSettings {
         hdr_format: hdr,

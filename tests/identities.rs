@@ -28,6 +28,7 @@ fn lit_plane(material: Material, outside_ior: f32, irradiance: [f32; 3]) -> Scen
             material: 0,
             transform: Mat4::IDENTITY,
             casts_shadows: true,
+            node: None,
         }],
         lights: vec![Light::Directional {
             direction: Vec3::NEG_Y,
@@ -45,6 +46,7 @@ fn lit_plane(material: Material, outside_ior: f32, irradiance: [f32; 3]) -> Scen
         },
         outside_ior,
         environment: None,
+        motion: Default::default(),
     }
 }
 

@@ -53,6 +53,7 @@ fn floor_scene(sphere: Option<(DVec3, f64)>, direction: Vec3, camera: Camera) ->
         material: 0,
         transform: Mat4::IDENTITY,
         casts_shadows: true,
+        node: None,
     }];
     if let Some((centre, radius)) = sphere {
         meshes.push(Mesh::uv_sphere("sphere", radius as f32, SEGMENTS, RINGS));
@@ -61,6 +62,7 @@ fn floor_scene(sphere: Option<(DVec3, f64)>, direction: Vec3, camera: Camera) ->
             material: 1,
             transform: Mat4::from_translation(centre.as_vec3()),
             casts_shadows: true,
+            node: None,
         });
     }
     let grey = Material {
@@ -83,6 +85,7 @@ fn floor_scene(sphere: Option<(DVec3, f64)>, direction: Vec3, camera: Camera) ->
         camera,
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -494,6 +497,7 @@ impl ExactEdges {
             environment: None,
             background: combustion::renderer::Background::None,
             tone_mapping: combustion::renderer::ToneMapping::Exponential,
+            pose: None,
         };
         let light = scene.lights[0].clone();
         let cascades = match light {

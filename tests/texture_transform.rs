@@ -68,6 +68,7 @@ fn scene(
             material: 0,
             transform: Mat4::IDENTITY,
             casts_shadows: true,
+            node: None,
         }],
         lights: vec![Light::Directional {
             direction: Vec3::new(0.2, -1.0, 0.1).normalize(),
@@ -85,6 +86,7 @@ fn scene(
         },
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 

@@ -228,6 +228,27 @@ pub fn camera_at(base: &Camera, n: u64) -> Camera {
     }
 }
 
+/// The pose of frame `n`, the host's own animation: every joint of every skin swaying
+/// about its own z axis, out of phase along the skin (placed through the scene's
+/// hierarchy by `Scene::pose_objects`, which gives the joint matrices); `None` for a
+/// scene without skins (it is drawn at rest).
+pub fn pose_at(scene: &combustion::scene::Scene, n: u64) -> Option<combustion::scene::ObjectPoses> {
+    use combustion::scene::motion::LocalTransform;
+    if scene.motion.skins.is_empty() {
+        return None;
+    }
+    let mut pose = scene.motion.rest_pose();
+    for skin in &scene.motion.skins {
+        for (j, &node) in skin.joints.iter().enumerate() {
+            if let LocalTransform::Trs { rotation, .. } = &mut pose.locals[node] {
+                let sway = 0.15 * (n as f32 * 0.1 + j as f32 * 0.5).sin();
+                *rotation *= glam::Quat::from_rotation_z(sway);
+            }
+        }
+    }
+    Some(scene.pose_objects(&pose))
+}
+
 /// Every this many frames, [`lights_at`] adds a light.
 pub const EXTRA_LIGHT_EVERY: u64 = 4;
 
@@ -459,6 +480,7 @@ impl Host {
         let gpu_scene = &self.scenes[scene];
         let camera = camera_at(&gpu_scene.scene().camera, n);
         let lights = lights_at(&gpu_scene.scene().lights, n);
+        let pose = pose_at(gpu_scene.scene(), n);
         let inputs = FrameInputs {
             camera,
             exposure: 1.0,
@@ -467,6 +489,7 @@ impl Host {
             environment: self.frame_environments.get(scene).and_then(Option::as_ref),
             background: combustion::renderer::Background::None,
             tone_mapping: combustion::renderer::ToneMapping::Exponential,
+            pose: pose.as_ref(),
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {

@@ -397,9 +397,33 @@ pub(crate) struct RenderArgs {
     #[command(flatten)]
     pub(crate) picture: PictureArgs,
     #[command(flatten)]
+    pub(crate) animation: AnimationArgs,
+    #[command(flatten)]
     pub(crate) shading: ShadingArgs,
     #[command(flatten)]
     pub(crate) device: DeviceArgs,
+}
+
+/// Which of the scene's animations a frame shows, and when.
+#[derive(Args)]
+pub(crate) struct AnimationArgs {
+    /// Show the scene at this time, seconds into its animation (--animation; the first
+    /// by default); without it or --animation, the scene at rest
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true, value_parser = finite::<f32>)]
+    pub(crate) time: Option<f32>,
+    /// The animation to show: its name, or its index from 0 (at --time, else at 0 s)
+    #[arg(long, value_name = "NAME|INDEX")]
+    pub(crate) animation: Option<String>,
+}
+
+impl AnimationArgs {
+    /// The pose asked for in `scene`, or `None` for the scene at rest.
+    pub(crate) fn pose(
+        &self,
+        scene: &combustion::scene::Scene,
+    ) -> Result<Option<combustion::scene::ObjectPoses>, combustion::Error> {
+        combustion::animation::pose_at(scene, self.animation.as_deref(), self.time)
+    }
 }
 
 #[derive(Args)]
@@ -431,6 +455,10 @@ pub(crate) struct BenchArgs {
     pub(crate) against: Option<PathBuf>,
     #[command(flatten)]
     pub(crate) frame: FrameArgs,
+    /// With --time or --animation: the animation plays through the measured frames,
+    /// 1/30 s of its time per frame from --time (0 by default), looping
+    #[command(flatten)]
+    pub(crate) animation: AnimationArgs,
     #[command(flatten)]
     pub(crate) shading: ShadingArgs,
     #[command(flatten)]
@@ -760,6 +788,15 @@ pub(crate) fn extra_lights(text: &str) -> Result<usize, String> {
 }
 
 /// A finite number above 0.
+/// A finite number (any sign).
+pub(crate) fn finite<T: std::str::FromStr + Into<f64> + Copy>(text: &str) -> Result<T, String> {
+    match text.parse::<T>() {
+        Ok(value) if value.into().is_finite() => Ok(value),
+        Ok(_) => Err("is not a finite number".to_owned()),
+        Err(_) => Err("is not a number".to_owned()),
+    }
+}
+
 pub(crate) fn positive_finite<T: std::str::FromStr + Into<f64> + Copy>(
     text: &str,
 ) -> Result<T, String> {

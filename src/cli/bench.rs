@@ -121,6 +121,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     };
     let renderer = headless.renderer();
     let frames_in_flight = renderer.settings().frames_in_flight;
+    let settings_exposure = renderer.settings().exposure;
     renderer.set_light_culling(o.culling);
     let gpu_scene = renderer.upload(&scene)?;
     let features = renderer.lighting_features(&gpu_scene);
@@ -135,10 +136,40 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     // Frames in flight: each submission waits only for the frame that used its slot,
     // so CPU recording overlaps GPU work; the wall clock is taken between submissions.
     let mut wall_ms = Vec::with_capacity(o.frames as usize);
+    // A playing animation: each frame's pose sampled and placed on the CPU (in the wall
+    // time), morphed and skinned on the GPU (the deform pass).
+    let playing = (o.animation.animation.is_some() || o.animation.time.is_some())
+        .then(|| combustion::animation::choose_animation(&scene, o.animation.animation.as_deref()))
+        .transpose()?;
     let start = Instant::now();
     let mut last = start;
-    for _ in 0..o.frames {
-        renderer.submit_offscreen(&gpu_scene, o.frame.width, o.frame.height)?;
+    for i in 0..o.frames {
+        match playing {
+            Some(animation) => {
+                let duration = scene.motion.animations[animation].duration();
+                let mut time = o.animation.time.unwrap_or(0.0) + i as f32 / 30.0;
+                if duration > 0.0 {
+                    time %= duration;
+                }
+                let pose = scene.pose_objects(
+                    &scene
+                        .motion
+                        .sample(animation, time)
+                        .expect("an animation the scene has"),
+                );
+                let inputs = combustion::renderer::FrameInputs {
+                    pose: Some(&pose),
+                    ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings_exposure)
+                };
+                renderer.submit_offscreen_with(
+                    &gpu_scene,
+                    &inputs,
+                    o.frame.width,
+                    o.frame.height,
+                )?;
+            }
+            None => renderer.submit_offscreen(&gpu_scene, o.frame.width, o.frame.height)?,
+        }
         let now = Instant::now();
         wall_ms.push((now - last).as_secs_f64() * 1e3);
         last = now;
@@ -183,6 +214,16 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
             "every pixel loops over every light"
         }
     );
+    if let Some(animation) = playing {
+        let a = &scene.motion.animations[animation];
+        outln!(
+            "animation {animation}{} playing ({:.2} s long, 1/30 s per frame)",
+            a.name
+                .as_deref()
+                .map_or(String::new(), |n| format!(" `{n}`")),
+            a.duration()
+        );
+    }
     outln!("{:<10} {:>9} {:>9} {:>9}", "pass", "median", "p10", "p90");
     let wall = combustion::report::Spread::of(wall_ms);
     let mut rows: Vec<(&str, combustion::report::Spread)> = Vec::new();

@@ -40,6 +40,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     preflight(&device, &o.frame)?;
     let source = o.scene.source();
     let scene = lit_as_asked(&source, &o.shading)?;
+    let pose = o.animation.pose(&scene)?;
     if scene.objects.is_empty() {
         log::warn!(
             "{}: the scene has nothing to draw (no objects); the image shows the background alone",
@@ -93,6 +94,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         let inputs = combustion::renderer::FrameInputs {
             background: o.picture.background_for(&scene),
             tone_mapping: o.picture.tone_mapping_for(&source),
+            pose: pose.as_ref(),
             ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings.exposure)
         };
         renderer.render_with(

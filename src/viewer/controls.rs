@@ -4,7 +4,7 @@
 //! scene edits between frames.
 
 use std::path::PathBuf;
-use std::time::SystemTime;
+use std::time::{Instant, SystemTime};
 
 use combustion_renderer::{FresnelModel, ShadowFilter, ShadowSettings};
 use combustion_scene::{DiffuseModel, Scene};
@@ -119,6 +119,101 @@ pub fn builtin_on_key(n: u32) -> Option<SceneSource> {
     names
         .get(index)
         .map(|name| SceneSource::Builtin((*name).to_owned()))
+}
+
+/// A scene's animation as the viewer plays it: which one, where in it, how fast, and
+/// whether it plays (Space), in the scene's own seconds; looping.
+#[derive(Clone, Copy, Debug)]
+pub struct Playback {
+    /// The animation (index into the scene's).
+    pub animation: usize,
+    /// Where in it, seconds.
+    pub time: f32,
+    /// Its seconds per wall-clock second.
+    pub speed: f32,
+    /// Whether it advances.
+    pub playing: bool,
+    last: Instant,
+}
+
+/// Playback speeds the [ and ] keys step between (halving, doubling).
+const SPEEDS: (f32, f32) = (1.0 / 16.0, 16.0);
+/// How far , and . move the animation, seconds of its time.
+pub const SCRUB_STEP: f32 = 0.1;
+
+impl Playback {
+    /// The first animation from its start, playing at its own speed.
+    pub fn new() -> Self {
+        Self {
+            animation: 0,
+            time: 0.0,
+            speed: 1.0,
+            playing: true,
+            last: Instant::now(),
+        }
+    }
+
+    /// Advances the clock to now (if playing) and returns the pose of `scene` there,
+    /// `None` for a scene without animations.
+    pub fn pose(&mut self, scene: &Scene) -> Option<combustion_scene::ObjectPoses> {
+        let now = Instant::now();
+        let elapsed = (now - self.last).as_secs_f32();
+        self.last = now;
+        let animation = scene.motion.animations.get(self.animation)?;
+        if self.playing {
+            self.time += elapsed * self.speed;
+        }
+        self.time = match animation.duration() {
+            d if d > 0.0 => self.time.rem_euclid(d),
+            _ => 0.0,
+        };
+        let pose = scene.motion.sample(self.animation, self.time)?;
+        Some(scene.pose_objects(&pose))
+    }
+
+    /// The pose of `scene` where the clock stands (not advancing it).
+    pub fn current_pose(&self, scene: &Scene) -> Option<combustion_scene::ObjectPoses> {
+        let pose = scene.motion.sample(self.animation, self.time)?;
+        Some(scene.pose_objects(&pose))
+    }
+
+    /// The next of `count` animations, from its start.
+    pub fn next_animation(&mut self, count: usize) {
+        if count > 0 {
+            self.animation = (self.animation + 1) % count;
+            self.time = 0.0;
+        }
+    }
+
+    /// Half or twice the speed (`faster`), within 1/16 and 16.
+    pub fn change_speed(&mut self, faster: bool) {
+        let factor = if faster { 2.0 } else { 0.5 };
+        self.speed = (self.speed * factor).clamp(SPEEDS.0, SPEEDS.1);
+    }
+
+    /// The animation described for the statistics panel (`None` without one).
+    pub fn describe(&self, scene: &Scene) -> Option<String> {
+        let animation = scene.motion.animations.get(self.animation)?;
+        Some(format!(
+            "animation {} of {}{} · {:.2} / {:.2} s · ×{} · {}",
+            self.animation + 1,
+            scene.motion.animations.len(),
+            animation
+                .name
+                .as_deref()
+                .map_or(String::new(), |n| format!(" `{n}`")),
+            self.time,
+            animation.duration(),
+            self.speed,
+            if self.playing { "playing" } else { "paused" }
+        ))
+    }
+}
+
+impl Default for Playback {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 /// When a scene file last changed (`None` for built-in scenes or unreadable files).

@@ -21,6 +21,9 @@ pub struct ViewKey {
     pub scene_generation: u64,
     /// The Fresnel term.
     pub fresnel: FresnelModel,
+    /// The animation shown and its time (a playing one keeps the map from settling:
+    /// pause it to measure).
+    pub animation: (usize, f32),
 }
 
 /// The summary of a measured error map, for the overlay.
@@ -70,14 +73,15 @@ pub fn measure_error(
     let readback = Readback::ALL;
     let frame = renderer.render_with(scene, inputs, width, height, readback)?;
     let started = std::time::Instant::now();
-    let mut reference = ReferenceShading::new(scene.scene(), inputs, width, height);
+    // The scene as the frame showed it: still, in the frame's pose.
+    let posed = inputs.pose.map(|pose| scene.scene().posed(pose));
+    let shown = posed.as_ref().unwrap_or(scene.scene());
+    let mut reference = ReferenceShading::new(shown, inputs, width, height);
     if renderer.shading().shadows.is_some() {
         // Frames with shadows are measured against exact visibility: each light's term
         // times its f64 ray-cast visibility (combustion_reference).
         reference = reference.with_exact_visibility(
-            std::sync::Arc::new(combustion_reference::SceneBvh::shadow_casters(
-                scene.scene(),
-            )),
+            std::sync::Arc::new(combustion_reference::SceneBvh::shadow_casters(shown)),
             inputs.lights,
         );
     }
@@ -225,6 +229,8 @@ pub struct Stats<'a> {
     pub error_view: Option<ErrorView>,
     /// The outside medium's index being typed, if any.
     pub typing: Option<&'a str>,
+    /// The animation playing, described (none for a still scene).
+    pub animation: Option<String>,
 }
 
 /// Groups of three digits: 194304 → "194,304".
@@ -270,6 +276,9 @@ impl Stats<'_> {
         ));
         if self.camera.1 > 1 {
             lines.push(format!("camera {} of {}", self.camera.0 + 1, self.camera.1));
+        }
+        if let Some(animation) = &self.animation {
+            lines.push(animation.clone());
         }
         if let Some(error_view) = self.error_view {
             let (lo, hi) = HEAT_MAP_RANGE;

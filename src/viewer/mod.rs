@@ -129,6 +129,10 @@ pub const KEYS: &[(&str, &str)] = &[
         "X",
         "error view: the frame re-shaded in f64, relative error as a heat map",
     ),
+    ("Space", "play / pause the scene's animation"),
+    ("N", "next animation of the scene"),
+    ("[ / ]", "animation speed half / twice"),
+    (", / .", "animation back / forward 0.1 s"),
     ("H", "help (this list)"),
     ("Tab", "statistics panel on / off"),
     ("Escape", "quit"),
@@ -423,6 +427,8 @@ struct State {
     view_changed: Instant,
     /// The outside medium's index being typed (I), if any.
     typing: Option<String>,
+    /// The scene's animation as it plays (Space, N, [ ], , .).
+    playback: controls::Playback,
     /// The window is occluded, or minimised (as the window system says): no frames
     /// until it is shown again.
     occluded: bool,
@@ -526,6 +532,7 @@ impl State {
             error_view: desc.error_view.then(inspect::ErrorView::default),
             view_changed: Instant::now(),
             typing: None,
+            playback: controls::Playback::new(),
             occluded: false,
             minimized: false,
             window,
@@ -685,6 +692,7 @@ impl State {
                 corner: Corner::TopLeft,
             });
         }
+        let pose = self.playback.pose(self.gpu_scene.scene());
         let inputs = FrameInputs {
             camera,
             // Debug views are written for exposure 1 (their values come back as written).
@@ -698,6 +706,7 @@ impl State {
             environment: None,
             background: self.background(),
             tone_mapping: self.tone_mapping(),
+            pose: pose.as_ref(),
         };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
@@ -755,6 +764,7 @@ impl State {
         self.scene_generation += 1;
         self.modified = controls::modified(&source);
         self.original = scene;
+        self.playback = controls::Playback::new();
         log::info!("{}: loaded", source.label());
         self.source = source;
         Ok(())
@@ -787,6 +797,7 @@ impl State {
             hdr_format: self.renderer.settings().hdr_format,
             error_view: self.error_view,
             typing: self.typing.as_deref(),
+            animation: self.playback.describe(self.gpu_scene.scene()),
         }
         .text()
     }
@@ -807,6 +818,7 @@ impl State {
             extent: (extent.width, extent.height),
             scene_generation: self.scene_generation,
             fresnel: self.renderer.shading().fresnel,
+            animation: (self.playback.animation, self.playback.time),
         };
         match view.measured {
             Some((measured, _)) if measured == key => return Ok(()),
@@ -841,6 +853,7 @@ impl State {
                 .iter()
                 .map(|t| t.total_ms),
         );
+        let pose = self.playback.current_pose(self.gpu_scene.scene());
         let inputs = FrameInputs {
             camera,
             exposure: self.exposure,
@@ -851,6 +864,7 @@ impl State {
             // counts a lit background as a fault).
             background: Background::None,
             tone_mapping: ToneMapping::Exponential,
+            pose: pose.as_ref(),
         };
         let error = inspect::measure_error(
             &mut self.renderer,
@@ -1221,6 +1235,18 @@ impl App<'_> {
                 let mut shading = state.renderer.shading();
                 shading.debug_view = shading.debug_view.next();
                 state.renderer.set_shading(shading, &[&state.gpu_scene])?;
+            }
+            " " => state.playback.playing = !state.playback.playing,
+            "n" | "N" => state
+                .playback
+                .next_animation(state.gpu_scene.scene().motion.animations.len()),
+            "[" | "]" => state.playback.change_speed(text == "]"),
+            "," | "." => {
+                state.playback.time += if text == "." {
+                    controls::SCRUB_STEP
+                } else {
+                    -controls::SCRUB_STEP
+                };
             }
             "+" | "=" => state.exposure *= controls::EXPOSURE_STEP,
             "-" | "_" => state.exposure /= controls::EXPOSURE_STEP,

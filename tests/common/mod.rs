@@ -95,6 +95,7 @@ pub fn frame_inputs<'a>(
         environment: None,
         background: combustion::renderer::Background::None,
         tone_mapping: combustion::renderer::ToneMapping::Exponential,
+        pose: None,
     }
 }
 
@@ -760,4 +761,226 @@ pub fn authored_scene(name: &str) -> Scene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join(format!("assets/scenes/{name}/{name}.gltf"));
     combustion::SceneSource::File(path).load().unwrap()
+}
+
+/// `grid-sun` (spheres on a floor under a shadow-casting sun) with every object hanging
+/// from a node under one turntable node, and one animation: the turntable turns 0.6 rad
+/// about y over 2 s (linear), sphere 0 jumps up 0.5 m for the second second (step), and
+/// sphere 1 grows to 1.6× (cubic spline, flat tangents).
+pub fn animated_grid() -> Scene {
+    use combustion::scene::motion::{
+        Animation, Channel, Interpolation, LocalTransform, Node, Property, Sampler,
+    };
+    use combustion::scene::NodeLink;
+    use glam::{Quat, Vec3};
+    let mut scene = combustion::scene::builtin_scene("grid-sun").unwrap();
+    let mut nodes = vec![Node {
+        name: Some("turntable".into()),
+        parent: None,
+        local: LocalTransform::IDENTITY,
+        skin: None,
+        weights: Vec::new(),
+    }];
+    for (i, object) in scene.objects.iter_mut().enumerate() {
+        let (scale, rotation, translation) = object.transform.to_scale_rotation_translation();
+        nodes.push(Node {
+            name: Some(format!("object {i}")),
+            parent: Some(0),
+            local: LocalTransform::Trs {
+                translation,
+                rotation,
+                scale,
+            },
+            skin: None,
+            weights: Vec::new(),
+        });
+        object.node = Some(NodeLink {
+            node: i + 1,
+            offset: glam::Mat4::IDENTITY,
+        });
+    }
+    let t0 = scene.objects[0].transform.w_axis.truncate();
+    let up = t0 + Vec3::new(0.0, 0.5, 0.0);
+    let samplers = vec![
+        Sampler {
+            interpolation: Interpolation::Linear,
+            times: vec![0.0, 2.0],
+            values: [Quat::IDENTITY, Quat::from_rotation_y(0.6)]
+                .iter()
+                .flat_map(|q| q.to_array())
+                .collect(),
+        },
+        Sampler {
+            interpolation: Interpolation::Step,
+            times: vec![0.0, 1.0, 2.0],
+            values: [t0, up, t0].iter().flat_map(|v| v.to_array()).collect(),
+        },
+        Sampler {
+            interpolation: Interpolation::CubicSpline,
+            times: vec![0.0, 2.0],
+            values: [
+                Vec3::ZERO,
+                Vec3::ONE,
+                Vec3::ZERO,
+                Vec3::ZERO,
+                Vec3::splat(1.6),
+                Vec3::ZERO,
+            ]
+            .iter()
+            .flat_map(|v| v.to_array())
+            .collect(),
+        },
+    ];
+    let channel = |node, property, sampler| Channel {
+        node,
+        property,
+        sampler,
+    };
+    scene.motion = combustion::scene::Motion {
+        nodes,
+        skins: Vec::new(),
+        animations: vec![Animation {
+            name: Some("swing".into()),
+            samplers,
+            channels: vec![
+                channel(0, Property::Rotation, 0),
+                channel(1, Property::Translation, 1),
+                channel(2, Property::Scale, 2),
+            ],
+        }],
+    };
+    scene.name = "animated grid".into();
+    scene.validate().unwrap();
+    scene
+}
+
+/// A skinned and a morphed sphere under a light, with one animation: the skinned sphere
+/// (radius 0.5, 48 × 24) bends at its middle: the lower half follows joint 0 (node 1, at
+/// rest), the upper half joint 1 (node 2, its child, 0.5 m up), blended over the middle
+/// third; joint 1 turns 0.8 rad about z over 2 s (linear). The morphed sphere beside it
+/// has one target pushing its upper half out by 0.2 m along the normal, its weight going
+/// from 0 to 1 over 2 s (linear). Node 0 carries the skinned mesh (its own transform is
+/// ignored: the joints place it), node 3 the morphed one.
+pub fn deformed_spheres() -> Scene {
+    use combustion::scene::motion::{
+        Animation, Channel, Interpolation, LocalTransform, MorphTarget, Node, Property, Sampler,
+        Skin, SkinWeights,
+    };
+    use combustion::scene::{Mesh, NodeLink, Object};
+    use glam::{Mat4, Quat, Vec3};
+    let mut scene = combustion::scene::builtin_scene("spheres").unwrap();
+    let sphere = Mesh::uv_sphere("bending sphere", 0.5, 48, 24);
+    let mut weights = SkinWeights {
+        offsets: vec![0],
+        ..SkinWeights::default()
+    };
+    for v in &sphere.vertices {
+        // Joint 1's share: 0 below y = −1/6, 1 above 1/6, linear between.
+        let upper = ((v.position[1] + 1.0 / 6.0) * 3.0).clamp(0.0, 1.0);
+        for (joint, w) in [(0, 1.0 - upper), (1, upper)] {
+            if w > 0.0 {
+                weights.joints.push(joint);
+                weights.weights.push(w);
+            }
+        }
+        weights.offsets.push(weights.joints.len() as u32);
+    }
+    let mut skinned = sphere.clone();
+    skinned.skin = Some(weights);
+    let mut morphed = sphere.clone();
+    morphed.name = "swelling sphere".into();
+    morphed.morph_targets = vec![MorphTarget {
+        positions: sphere
+            .vertices
+            .iter()
+            .map(|v| {
+                let out = if v.position[1] > 0.0 { 0.2 } else { 0.0 };
+                (Vec3::from(v.normal) * out).to_array()
+            })
+            .collect(),
+        normals: Vec::new(),
+        tangents: Vec::new(),
+    }];
+    let first = scene.meshes.len();
+    scene.meshes.push(skinned);
+    scene.meshes.push(morphed);
+    let material = 0;
+    let place = |x: f32| Mat4::from_translation(Vec3::new(x, 0.0, 1.2));
+    scene.objects.push(Object {
+        node: Some(NodeLink {
+            node: 0,
+            offset: Mat4::IDENTITY,
+        }),
+        ..Object::casting_shadows(first, material, place(-0.7))
+    });
+    scene.objects.push(Object {
+        node: Some(NodeLink {
+            node: 3,
+            offset: Mat4::IDENTITY,
+        }),
+        ..Object::casting_shadows(first + 1, material, place(0.7))
+    });
+    let trs = |t: Vec3| LocalTransform::Trs {
+        translation: t,
+        rotation: Quat::IDENTITY,
+        scale: Vec3::ONE,
+    };
+    let node = |parent, local, skin, weights: Vec<f32>| Node {
+        name: None,
+        parent,
+        local,
+        skin,
+        weights,
+    };
+    let joint_0 = Vec3::new(-0.7, 0.0, 1.2);
+    scene.motion = combustion::scene::Motion {
+        nodes: vec![
+            node(None, trs(Vec3::new(5.0, 5.0, 5.0)), Some(0), Vec::new()),
+            node(None, trs(joint_0), None, Vec::new()),
+            node(Some(1), trs(Vec3::new(0.0, 0.5, 0.0)), None, Vec::new()),
+            node(None, trs(Vec3::new(0.7, 0.0, 1.2)), None, vec![0.0]),
+        ],
+        skins: vec![Skin {
+            name: None,
+            joints: vec![1, 2],
+            // Bind space: the mesh's own, the joints at (0, 0, 0) and (0, 0.5, 0).
+            inverse_bind: vec![
+                Mat4::IDENTITY,
+                Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0)),
+            ],
+        }],
+        animations: vec![Animation {
+            name: Some("bend and swell".into()),
+            samplers: vec![
+                Sampler {
+                    interpolation: Interpolation::Linear,
+                    times: vec![0.0, 2.0],
+                    values: [Quat::IDENTITY, Quat::from_rotation_z(0.8)]
+                        .iter()
+                        .flat_map(|q| q.to_array())
+                        .collect(),
+                },
+                Sampler {
+                    interpolation: Interpolation::Linear,
+                    times: vec![0.0, 2.0],
+                    values: vec![0.0, 1.0],
+                },
+            ],
+            channels: vec![
+                Channel {
+                    node: 2,
+                    property: Property::Rotation,
+                    sampler: 0,
+                },
+                Channel {
+                    node: 3,
+                    property: Property::Weights,
+                    sampler: 1,
+                },
+            ],
+        }],
+    };
+    scene.name = "deformed spheres".into();
+    scene.validate().unwrap();
+    scene
 }

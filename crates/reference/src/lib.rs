@@ -3,7 +3,8 @@
 //! hierarchy ([`SceneBvh`]), with closest-hit and any-hit ray casts and exact light
 //! visibility ([`visibility`]); what the camera's primary rays hit ([`primary`]); and the
 //! frame shaded from the scene's own materials, textures and lights with the optics
-//! crate's BRDF ([`shading`], with [`texture`]'s f64 filtering).
+//! crate's BRDF ([`shading`], with [`texture`]'s f64 filtering); the scene's pose
+//! (animations sampled, meshes morphed and skinned) in f64 ([`pose`]).
 //!
 //! It is the oracle that the renderer's approximations are measured against: shadow
 //! maps against exact point-to-light visibility, the rasterised G-buffer against what
@@ -44,6 +45,7 @@
 
 mod bvh;
 mod cutout;
+pub mod pose;
 pub mod primary;
 pub mod shading;
 pub mod texture;

@@ -643,6 +643,36 @@ pub static OUTPUT: SetDecl = SetDecl {
     includes: &[],
 };
 
+/// A read-only storage buffer of `element`s named `name` in block `block`, for compute.
+const fn compute_input(name: &'static str, block: &'static str, element: &'static str) -> Binding {
+    Binding::new(name, BindingKind::StorageBuffer { block, element }, COMPUTE)
+}
+
+/// Set 0 of the deform pass (deform.comp): the deformed objects' rest vertices, joint
+/// influences and morph displacements (the scene's), the frame's joint matrices and
+/// morph weights (the slot's), and the posed vertices it writes (the scene's).
+pub static DEFORM: SetDecl = SetDecl {
+    name: "deform",
+    set: 0,
+    bindings: &[
+        compute_input("rest_vertices", "RestVertices", "float"),
+        compute_input("influence_ranges", "InfluenceRanges", "uvec2"),
+        compute_input("influences", "Influences", "uvec2"),
+        compute_input("morph_displacements", "MorphDisplacements", "vec4"),
+        compute_input("morph_weights", "MorphWeights", "float"),
+        compute_input("joint_matrices", "JointMatrices", "mat4"),
+        Binding::new(
+            "posed_vertices",
+            BindingKind::RwStorageBuffer {
+                block: "PosedVertices",
+                element: "float",
+            },
+            COMPUTE,
+        ),
+    ],
+    includes: &[],
+};
+
 /// Tiled light culling (compute): the G-buffer depth and the frame's lights in, each
 /// tile's light list out.
 pub static LIGHT_CULL: SetDecl = SetDecl {
@@ -757,6 +787,7 @@ pub static ENVIRONMENT_BAKE: SetDecl = SetDecl {
 
 /// Every set, for generating the headers.
 pub static ALL: &[&SetDecl] = &[
+    &DEFORM,
     &GBUFFER,
     &MATERIAL_TEXTURES,
     &LIGHTING,

@@ -33,6 +33,10 @@ pub enum RenderError {
     /// [`crate::ShadowSettings`] outside their ranges (the message names the field).
     #[error("shadow settings refused: {0}")]
     InvalidShadowSettings(String),
+    /// A frame's pose does not fit its scene (counts, or values not finite); the
+    /// message names what.
+    #[error("invalid pose: {0}")]
+    InvalidPose(String),
     /// An exposure (in the settings or a frame's inputs) that is not finite and positive.
     #[error("exposure {0} must be a positive finite number")]
     InvalidExposure(f32),

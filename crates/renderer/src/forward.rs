@@ -110,6 +110,7 @@ impl ForwardPass {
         cmd: vk::CommandBuffer,
         targets: ForwardTargets<'_>,
         scene: &GpuScene,
+        placement: &crate::placement::Placement<'_>,
         set: vk::DescriptorSet,
         view_projection: glam::Mat4,
         eye: glam::Vec3,
@@ -152,7 +153,7 @@ impl ForwardPass {
                 (&self.pipeline, &self.layout),
                 set,
             );
-            let order = back_to_front(scene, eye);
+            let order = back_to_front(scene, placement.bounds, eye);
             draw_in_order(raw, cmd, scene, Faces::OfMaterial, &order, |object| {
                 let material = scene.draw_materials[object];
                 if bound_material != Some(material) {
@@ -167,13 +168,13 @@ impl ForwardPass {
                     bound_material = Some(material);
                 }
                 push.object_index = object as u32;
-                push.object_scale = scene
-                    .scene()
-                    .objects
-                    .get(object)
-                    .map_or(1.0, |o| o.transform.determinant().abs().cbrt());
+                push.object_scale = placement
+                    .transform(scene, object)
+                    .determinant()
+                    .abs()
+                    .cbrt();
                 push.object_extent =
-                    scene.object_bounds[object].map_or(0.0, |(min, max)| min.distance(max));
+                    placement.bounds[object].map_or(0.0, |(min, max)| min.distance(max));
                 raw.cmd_push_constants(
                     cmd,
                     self.layout.raw(),

@@ -56,6 +56,13 @@ pub(crate) struct FrameSlot {
     /// The passes whose end this slot's last frame stamped, in order (empty: no frame
     /// stamped since its timings were read, or no timestamps).
     pub(crate) stamped: Vec<&'static str>,
+    /// Where the slot's frame places the objects (its pose's object table and boxes).
+    pub(crate) placement: crate::placement::SlotPlacement,
+    /// The skins' joint matrices of the slot's frame (host-visible; grows), in frames of
+    /// scenes with deformed objects.
+    pub(crate) joint_matrices: Buffer,
+    /// The deformed objects' morph weights of the slot's frame (likewise).
+    pub(crate) morph_weights: Buffer,
     /// Objects replaced while this slot's frame was the latest recorded: dropped when
     /// the slot is reused, i.e. once that frame (and so every earlier one) completed.
     retired: Vec<crate::retire::Retired>,
@@ -107,6 +114,9 @@ impl FrameSlot {
             local_shadow_layers: Vec::new(),
             timestamps,
             stamped: Vec::new(),
+            placement: crate::placement::SlotPlacement::new(device)?,
+            joint_matrices: storage_buffer(device, JOINT_MATRICES, 64, CPU_TO_GPU)?,
+            morph_weights: storage_buffer(device, MORPH_WEIGHTS, 4, CPU_TO_GPU)?,
             retired: Vec::new(),
         })
     }
@@ -130,6 +140,8 @@ const LIGHTS: &str = "frame lights";
 const TILE_LISTS: &str = "tile light lists";
 const OVERLAY_QUADS: &str = "frame overlay quads";
 const SHADOW_CASCADES: &str = "frame shadow cascades";
+const JOINT_MATRICES: &str = "frame joint matrices";
+const MORPH_WEIGHTS: &str = "frame morph weights";
 
 /// The environment lighting a frame: the frame's own, else the scene's (if any).
 fn frame_environment<'a>(
@@ -226,6 +238,10 @@ impl Renderer {
         self.begin_slot(frame_slot)?;
         let key = TargetKey::of(extent, variant);
         self.ensure_targets(key)?;
+        self.slots[frame_slot]
+            .placement
+            .place(&self.device, scene, inputs.pose)?;
+        self.write_frame_deformation(frame_slot, scene, inputs)?;
         let shadowed = self.prepare_shadows(frame_slot, scene, inputs, extent, variant)?;
         self.write_frame_lights(frame_slot, inputs, &shadowed)?;
         self.prepare_culling(frame_slot, inputs, extent)?;
@@ -260,6 +276,9 @@ impl Renderer {
         inputs.background.validate()?;
         inputs.camera.validate()?;
         combustion_scene::validate_lights(inputs.lights)?;
+        if let Some(pose) = inputs.pose {
+            crate::placement::check_pose(scene.scene(), pose)?;
+        }
         if !self.outputs.contains_key(&target.color.format) {
             return Err(match crate::host::OutputEncoding::of(target.color.format) {
                 Some(_) => RenderError::OutputNotPrepared(target.color.format),
@@ -393,11 +412,13 @@ impl Renderer {
         else {
             return Ok(Vec::new());
         };
+        let placement = self.slots[slot].placement.of(scene);
+        let pose_key = placement.key;
         let lights = crate::shadows::frame_shadows(
             inputs.lights,
             &inputs.camera,
             extent.width as f32 / extent.height as f32,
-            scene.world_bounds,
+            placement.world_bounds,
             &settings,
             shader.kinds,
         );
@@ -439,6 +460,7 @@ impl Renderer {
             let count = (layers.len() as u32).max(1);
             let contents = (
                 scene.geometry_version,
+                pose_key,
                 layers.iter().map(|m| m.to_cols_array()).collect::<Vec<_>>(),
             );
             let maps = self.fitted_shadow_maps(local, size, count)?;
@@ -503,6 +525,35 @@ impl Renderer {
             &mut s.lights,
             LIGHTS,
             bytemuck::cast_slice(&lights),
+        )?;
+        Ok(())
+    }
+
+    /// Writes the joint matrices and morph weights of the frame's pose (else the scene's
+    /// rest) into the slot, for a scene with deformed objects.
+    fn write_frame_deformation(
+        &mut self,
+        slot: usize,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+    ) -> Result<(), RenderError> {
+        let Some(deform) = &scene.gpu.deform else {
+            return Ok(());
+        };
+        let poses = inputs.pose.unwrap_or(&deform.rest_poses);
+        let (joints, weights) = deform.frame_inputs(scene.scene(), poses);
+        let s = &mut self.slots[slot];
+        write_growing(
+            &self.device,
+            &mut s.joint_matrices,
+            JOINT_MATRICES,
+            bytemuck::cast_slice(&joints),
+        )?;
+        write_growing(
+            &self.device,
+            &mut s.morph_weights,
+            MORPH_WEIGHTS,
+            bytemuck::cast_slice(&weights),
         )?;
         Ok(())
     }
@@ -635,6 +686,7 @@ impl Renderer {
                 .as_ref()
                 .zip(self.local_shadow_maps.as_ref())
                 .filter(|_| variant.shadows.is_some()),
+            placement: s.placement.of(scene),
         };
         let device = &*self.device;
         let raw = device.raw();

@@ -275,6 +275,15 @@ impl GpuObject {
             material_index: [object.material as u32, u32::from(has_colors), 0, 0],
         }
     }
+
+    /// The same entry with the object placed by `transform` instead.
+    pub fn placed(&self, transform: &glam::Mat4) -> Self {
+        Self {
+            model: transform.to_cols_array(),
+            normal_matrix: normal_matrix(transform).to_cols_array(),
+            ..*self
+        }
+    }
 }
 
 /// The inverse transpose of `transform`'s linear part (normals, normalised in the

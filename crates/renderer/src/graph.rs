@@ -142,6 +142,8 @@ impl From<&Image> for TrackedImage {
 /// How a pass uses a buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BufferUse {
+    /// Read as a vertex stream by the vertex input stage.
+    VertexInput,
     /// Read as a storage buffer by vertex shaders.
     VertexStorageRead,
     /// Read as a storage buffer by fragment shaders.
@@ -161,6 +163,7 @@ impl BufferUse {
     pub fn state(self) -> (vk::PipelineStageFlags2, vk::AccessFlags2) {
         use vk::{AccessFlags2 as A, PipelineStageFlags2 as S};
         match self {
+            Self::VertexInput => (S::VERTEX_ATTRIBUTE_INPUT, A::VERTEX_ATTRIBUTE_READ),
             Self::VertexStorageRead => (S::VERTEX_SHADER, A::SHADER_STORAGE_READ),
             Self::FragmentStorageRead => (S::FRAGMENT_SHADER, A::SHADER_STORAGE_READ),
             Self::ComputeStorageRead => (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),

@@ -236,6 +236,11 @@ pub struct FrameInputs<'a> {
     /// scene's, if it has one), baked for the scene's materials by
     /// [`crate::Renderer::bake_environment`].
     pub environment: Option<&'a crate::environment::FrameEnvironment>,
+    /// Where the scene's objects are this frame (each object's transform and morph
+    /// weights, each skin's joint matrices: [`combustion_scene::Scene::pose_objects`]
+    /// makes them from an animation's pose), or `None` for the scene as uploaded.
+    /// Checked against the scene by [`crate::Renderer::record`].
+    pub pose: Option<&'a combustion_scene::ObjectPoses>,
 }
 
 impl<'a> FrameInputs<'a> {
@@ -249,6 +254,7 @@ impl<'a> FrameInputs<'a> {
             environment: None,
             background: Background::None,
             tone_mapping: ToneMapping::Exponential,
+            pose: None,
         }
     }
 }

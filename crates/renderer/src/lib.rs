@@ -37,6 +37,7 @@ mod back_faces;
 mod buffers;
 mod color;
 mod commands;
+mod deform;
 mod error;
 mod forward;
 mod frame;
@@ -49,6 +50,7 @@ mod pass_io;
 mod passes;
 mod pipelines;
 mod placeholders;
+mod placement;
 mod results;
 mod retire;
 mod scene_edit;
@@ -159,6 +161,9 @@ pub struct Renderer {
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     light_culling: LightCulling,
     light_cull: light_cull::LightCullPass,
+    /// The deform pass's pipeline, built when the first scene with deformed objects is
+    /// uploaded.
+    deform: Option<deform::DeformPipeline>,
     /// The cascades' shadow maps, made by the first frame with shadows and grown as
     /// frames need.
     shadow_maps: Option<shadows::ShadowMaps>,
@@ -246,6 +251,7 @@ impl Renderer {
             sheen_table,
             light_culling: LightCulling::Auto,
             light_cull,
+            deform: None,
             shadow_maps: None,
             local_shadow_maps: None,
             shadow_casters: None,
@@ -292,6 +298,7 @@ impl Renderer {
     pub fn upload(&mut self, scene: &Scene) -> Result<GpuScene, RenderError> {
         scene.validate()?;
         self.prepare_variant(self.variant_of(scene_upload::scene_variant(scene)))?;
+        self.prepare_deform(scene)?;
         let environment = self.bake_scene_environment(scene)?;
         GpuScene::new(
             &self.device,
@@ -300,6 +307,106 @@ impl Renderer {
             environment,
             self.retire_queue.clone(),
         )
+    }
+
+    /// The posed vertices of `scene`'s deformed objects (morphed, skinned) as the last
+    /// frame of it left them: per deformed object, its index and its vertices as the
+    /// passes that draw it read them (position, normal, tangent and sign, uv; a skinned
+    /// object's in world space, a morphed one's in its own). Waits until the device is
+    /// idle: for tests and tools (it is how the GPU's posing is checked against the f64
+    /// pose), never in a frame. Empty for a scene without deformed objects.
+    ///
+    /// # Errors
+    /// [`RenderError::SceneOfAnotherRenderer`]; [`RenderError::Vulkan`] when the wait, the
+    /// copy or the readback buffer fails.
+    pub fn read_posed_vertices(
+        &mut self,
+        scene: &GpuScene,
+    ) -> Result<Vec<(usize, Vec<gpu_types::GpuVertex>)>, RenderError> {
+        if !scene.belongs_to(&self.retire_queue) {
+            return Err(RenderError::SceneOfAnotherRenderer);
+        }
+        let Some(deform) = &scene.gpu.deform else {
+            return Ok(Vec::new());
+        };
+        self.device.wait_idle()?;
+        let size = deform.posed.size();
+        let readback = combustion_vk::Buffer::new(
+            &self.device,
+            "posed vertices readback",
+            size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            combustion_vk::gpu_allocator::MemoryLocation::GpuToCpu,
+        )?;
+        let mut once = combustion_vk::OneShot::new(&self.device)?;
+        let cmd = once.begin()?;
+        let raw = self.device.raw();
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+            .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::COPY)
+            .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
+        let to_host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COPY)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        // SAFETY: recording state; the device is idle, both buffers live past the wait.
+        unsafe {
+            raw.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&barrier),
+            );
+            raw.cmd_copy_buffer(
+                cmd,
+                deform.posed.raw(),
+                readback.raw(),
+                &[vk::BufferCopy {
+                    src_offset: 0,
+                    dst_offset: 0,
+                    size,
+                }],
+            );
+            raw.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&to_host),
+            );
+        }
+        once.submit_and_wait()?;
+        let bytes = readback.mapped()?;
+        let vertex = std::mem::size_of::<gpu_types::GpuVertex>();
+        Ok(deform
+            .objects
+            .iter()
+            .map(|object| {
+                let start = deform.posed_offsets[object.object].unwrap_or(0) as usize;
+                let count = object.push.vertices[1] as usize;
+                let vertices = bytes[start..start + count * vertex]
+                    .chunks_exact(vertex)
+                    .map(bytemuck::pod_read_unaligned)
+                    .collect();
+                (object.object, vertices)
+            })
+            .collect())
+    }
+
+    /// Builds the deform pass's pipeline if `scene` has deformed objects and it is not
+    /// built yet (at upload and edits: never in a frame).
+    fn prepare_deform(&mut self, scene: &Scene) -> Result<(), RenderError> {
+        let deformed = (0..scene.objects.len()).any(|i| {
+            let (skinned, morphed) = deform::deformation(scene, i);
+            skinned || morphed
+        });
+        if deformed && self.deform.is_none() {
+            self.deform = Some(deform::DeformPipeline::new(
+                &self.device,
+                &self.compiler,
+                &self.pipeline_cache,
+                self.layouts.of(&bindings::DEFORM),
+            )?);
+            self.stats.pipelines_built += 1;
+        }
+        Ok(())
     }
 
     /// Bakes `environment` for `scene`'s materials, to light its frames in place of its
@@ -409,6 +516,7 @@ impl Renderer {
         if scene.frame_environments.load(Ordering::Relaxed) {
             self.prepare_variant(self.variant_of(scene_upload::lit_scene_variant(&next)))?;
         }
+        self.prepare_deform(&next)?;
         let pipelines_built = self.stats.pipelines_built - before;
         // The environment's tables follow the materials: bake again when the edit
         // changes what the bake reads — the environment or the material table (optics

@@ -117,9 +117,13 @@ pub(crate) fn draw_objects(
         masked: scene.masked[i],
         forward: scene.forward[i],
     };
+    // A deformed object draws its own posed vertices: alone.
+    let posed = |i: usize| scene.gpu.deform.as_ref().and_then(|d| d.posed_offsets[i]);
     let same_draw = |a: usize, b: usize| {
         scene.draw_meshes[a] == scene.draw_meshes[b]
             && scene.draw_materials[a] == scene.draw_materials[b]
+            && posed(a).is_none()
+            && posed(b).is_none()
     };
     let mut bound_mesh = None;
     let mut first = 0;
@@ -148,14 +152,21 @@ fn draw_run(
     scene: &GpuScene,
     faces: Faces,
     run: std::ops::Range<usize>,
-    bound_mesh: &mut Option<usize>,
+    bound_mesh: &mut Option<(usize, Option<u64>)>,
 ) {
     let mesh = scene.draw_meshes[run.start];
     let buffers = &scene.gpu.meshes[mesh];
+    // Stream 0: a deformed object's posed vertices, else its mesh's.
+    let deform = scene.gpu.deform.as_ref();
+    let posed = deform.and_then(|d| d.posed_offsets[run.start]);
+    let (stream0, offset0) = match (deform, posed) {
+        (Some(d), Some(offset)) => (&d.posed, offset),
+        _ => (&buffers.vertices, 0),
+    };
     // SAFETY: recording state (the caller's); the buffers live as long as the scene,
     // which outlives the frame (a dropped scene is retired, not freed).
     unsafe {
-        if *bound_mesh != Some(mesh) {
+        if *bound_mesh != Some((mesh, posed)) {
             // Stream 2, the colours: a mesh without them binds its first stream there (in
             // range: 48 bytes per vertex against the 16 read), which the vertex stage does
             // not use (the object's has-colours flag is 0).
@@ -163,11 +174,11 @@ fn draw_run(
             raw.cmd_bind_vertex_buffers(
                 cmd,
                 0,
-                &[buffers.vertices.raw(), buffers.uv1.raw(), colors.raw()],
-                &[0, 0, 0],
+                &[stream0.raw(), buffers.uv1.raw(), colors.raw()],
+                &[offset0, 0, 0],
             );
             raw.cmd_bind_index_buffer(cmd, buffers.indices.raw(), 0, vk::IndexType::UINT32);
-            *bound_mesh = Some(mesh);
+            *bound_mesh = Some((mesh, posed));
         }
         raw.cmd_set_cull_mode(
             cmd,
@@ -188,9 +199,12 @@ fn draw_run(
 /// triangle: objects that interpenetrate, a large object around a smaller one, and the
 /// faces of one mesh that overlap on screen (a double-sided or concave blended mesh) are
 /// not sorted against each other.
-pub(crate) fn back_to_front(scene: &GpuScene, eye: glam::Vec3) -> Vec<usize> {
-    let distance =
-        |i: usize| scene.object_bounds[i].map_or(0.0, |(min, max)| eye.distance((min + max) * 0.5));
+pub(crate) fn back_to_front(
+    scene: &GpuScene,
+    bounds: &[Option<(glam::Vec3, glam::Vec3)>],
+    eye: glam::Vec3,
+) -> Vec<usize> {
+    let distance = |i: usize| bounds[i].map_or(0.0, |(min, max)| eye.distance((min + max) * 0.5));
     let mut order: Vec<(f32, usize)> = (0..scene.forward.len())
         .filter(|&i| scene.forward[i])
         .map(|i| (distance(i), i))

@@ -110,6 +110,21 @@ impl PassIo {
         self
     }
 
+    /// A buffer the pass uses as `use_` without a descriptor (a vertex stream).
+    pub fn uses_buffer(mut self, buffer: &Buffer, use_: BufferUse) -> Self {
+        self.uses.buffers.push((buffer.raw(), use_));
+        self
+    }
+
+    /// The posed vertices of `scene`'s deformed objects, read as vertex streams by a
+    /// pass that draws the scene (nothing for a scene without them).
+    pub fn posed_vertices(self, scene: &crate::scene_upload::GpuScene) -> Self {
+        match &scene.gpu.deform {
+            Some(deform) => self.uses_buffer(&deform.posed, BufferUse::VertexInput),
+            None => self,
+        }
+    }
+
     /// An image bound to `binding` that no barrier of the frame concerns: made ready
     /// once, at upload (an environment's cubes, a placeholder), and only ever read; or
     /// one the pass's shaders never reach (bound because every binding of a set is

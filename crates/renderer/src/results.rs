@@ -55,6 +55,8 @@ pub struct PassTime {
 }
 
 impl PassTimings {
+    /// The deformed objects' morphing and skinning (scenes with them).
+    pub const DEFORM: &'static str = "deform";
     /// The G-buffer pass.
     pub const GBUFFER: &'static str = "gbuffer";
     /// The shadow maps of the frame's shadowed lights (frames with shadows).

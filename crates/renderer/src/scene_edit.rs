@@ -163,6 +163,7 @@ impl SceneEditor {
             material: self.material_index(material)?,
             transform,
             casts_shadows: true,
+            node: None,
         };
         self.scene.objects.push(object);
         let id = ObjectId(self.ids.fresh());

@@ -59,6 +59,11 @@ pub struct GpuScene {
     pub(crate) world_bounds: Option<(glam::Vec3, glam::Vec3)>,
     /// Each object's world-space box (shadow casters are culled by them).
     pub(crate) object_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
+    /// Each mesh's box in its own space (a posed frame places them).
+    pub(crate) mesh_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
+    /// The object table as uploaded (a posed frame writes it again with its
+    /// transforms).
+    pub(crate) object_table: Vec<GpuObject>,
     /// Unique to this scene's geometry as uploaded or last edited (no two scenes, and no
     /// two states of one, share one): shadow maps rendered from it are kept while it
     /// and their placement stay the same.
@@ -82,6 +87,8 @@ pub(crate) struct SceneResources {
     pub(crate) textures: SceneTextures,
     /// Its environment, baked ([`crate::Renderer::upload`]; None without one).
     pub(crate) environment: Option<crate::environment::GpuEnvironment>,
+    /// Its deformed objects' buffers (None without morphed or skinned objects).
+    pub(crate) deform: Option<crate::deform::SceneDeform>,
 }
 
 impl Drop for GpuScene {
@@ -339,6 +346,8 @@ struct Tables {
     bake_materials: Vec<u8>,
     world_bounds: Option<(glam::Vec3, glam::Vec3)>,
     object_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
+    mesh_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
+    object_table: Vec<GpuObject>,
     casts_shadows: Vec<bool>,
 }
 
@@ -348,12 +357,60 @@ impl Tables {
         scene: &Scene,
         textures: &SceneTextures,
     ) -> Result<Self, RenderError> {
+        // Deformed objects at rest: a skinned one in world space (its transform the
+        // identity), its box around its vertices as posed.
+        let deformed: Vec<(bool, bool)> = (0..scene.objects.len())
+            .map(|i| crate::deform::deformation(scene, i))
+            .collect();
+        let rest = deformed
+            .iter()
+            .any(|&(s, m)| s || m)
+            .then(|| scene.pose_objects(&scene.motion.rest_pose()));
         let objects: Vec<GpuObject> = scene
             .objects
             .iter()
-            .map(|o| GpuObject::new(o, scene.meshes.get(o.mesh).is_some_and(Mesh::has_colors)))
+            .zip(&deformed)
+            .map(|(o, &(skinned, _))| {
+                let has_colors = scene.meshes.get(o.mesh).is_some_and(Mesh::has_colors);
+                let entry = GpuObject::new(o, has_colors);
+                if skinned {
+                    entry.placed(&glam::Mat4::IDENTITY)
+                } else {
+                    entry
+                }
+            })
             .collect();
-        let object_bounds = scene.object_bounds();
+        let mesh_bounds: Vec<_> = scene.meshes.iter().map(Mesh::bounds).collect();
+        let object_bounds: Vec<_> = scene
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| match (&rest, deformed[i]) {
+                (Some(rest), (true, _) | (_, true)) => {
+                    let mesh = &scene.meshes[o.mesh];
+                    let joints = scene.object_joints(i, rest);
+                    let transform = if joints.is_some() {
+                        glam::Mat4::IDENTITY
+                    } else {
+                        o.transform
+                    };
+                    (0..mesh.vertices.len())
+                        .map(|v| {
+                            let p = combustion_scene::motion::pose_vertex(
+                                mesh,
+                                v,
+                                &rest.weights[i],
+                                joints,
+                                &transform,
+                            )
+                            .position;
+                            (glam::Vec3::from(p), glam::Vec3::from(p))
+                        })
+                        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+                }
+                _ => combustion_scene::placed_bounds(mesh_bounds[o.mesh], &o.transform),
+            })
+            .collect();
         let materials = material_table(scene, &textures.material_indices);
         let needs_table = scene.materials.iter().any(|m| m.conductor_from_base_color);
         let conductor_table: &[[f32; 2]] = if needs_table {
@@ -422,6 +479,8 @@ impl Tables {
                 .copied()
                 .reduce(|(a, b), (c, d)| (a.min(c), b.max(d))),
             object_bounds,
+            mesh_bounds,
+            object_table: objects,
             casts_shadows: scene.objects.iter().map(|o| o.casts_shadows).collect(),
         })
     }
@@ -440,6 +499,7 @@ impl GpuScene {
         let (meshes, _) = mesh_buffers(device, &scene.meshes, None)?;
         let (textures, _) = SceneTextures::new(device, scene, material_set_layout, None)?;
         let tables = Tables::new(device, scene, &textures)?;
+        let deform = crate::deform::SceneDeform::new(device, scene)?;
         Ok(Self {
             gpu: ManuallyDrop::new(SceneResources {
                 meshes,
@@ -448,6 +508,7 @@ impl GpuScene {
                 conductor_table: tables.conductor_table,
                 textures,
                 environment,
+                deform,
             }),
             draw_meshes: tables.draw_meshes,
             double_sided: tables.double_sided,
@@ -462,6 +523,8 @@ impl GpuScene {
             bake_materials: tables.bake_materials,
             world_bounds: tables.world_bounds,
             object_bounds: tables.object_bounds,
+            mesh_bounds: tables.mesh_bounds,
+            object_table: tables.object_table,
             geometry_version: next_geometry_version(),
             scene: scene.clone(),
             ids: SceneIds::new(scene),
@@ -512,10 +575,14 @@ impl GpuScene {
             &next,
             textures.as_ref().unwrap_or(&self.gpu.textures),
         )?;
+        let deform = crate::deform::SceneDeform::new(device, &next)?;
         // Everything new is built: swap it in and hand back what it replaces (buffers
         // still shared with the new parts stay alive through them).
         let gpu = &mut *self.gpu;
         let mut retired: Vec<Retired> = Vec::new();
+        if let Some(old) = std::mem::replace(&mut gpu.deform, deform) {
+            retired.push(Box::new(old));
+        }
         if let Some(meshes) = meshes {
             retired.push(Box::new(std::mem::replace(&mut gpu.meshes, meshes)));
         }
@@ -552,6 +619,8 @@ impl GpuScene {
         self.bake_materials = tables.bake_materials;
         self.world_bounds = tables.world_bounds;
         self.object_bounds = tables.object_bounds;
+        self.mesh_bounds = tables.mesh_bounds;
+        self.object_table = tables.object_table;
         self.geometry_version = next_geometry_version();
         self.scene = next;
         self.ids = ids;

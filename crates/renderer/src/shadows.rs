@@ -611,10 +611,10 @@ fn cube_layers(position: Vec3, near: f32, far: f32, map_size: u32) -> Vec<Shadow
 /// queue, and the barriers order a frame's caster pass after the previous frame's reads.
 pub(crate) struct ShadowMaps {
     /// What the layers hold: the geometry version of the scene rendered into them
-    /// ([`GpuScene::geometry_version`]) and each layer's world-to-clip matrix; `None`
-    /// before the first render. A frame whose scene and cascades are the same renders
-    /// nothing and reads them as they are.
-    pub(crate) contents: Option<(u64, Vec<[f32; 16]>)>,
+    /// ([`GpuScene::geometry_version`]), its pose's digest (0 at rest) and each layer's
+    /// world-to-clip matrix; `None` before the first render. A frame whose scene, pose
+    /// and cascades are the same renders nothing and reads them as they are.
+    pub(crate) contents: Option<(u64, u64, Vec<[f32; 16]>)>,
     /// A 2D view of each layer, for rendering (dropped before the image).
     pub(crate) layer_views: Vec<ImageView>,
     /// A 2D-array view of every layer, for sampling (also when there is one layer).
@@ -801,12 +801,14 @@ impl ShadowCasterPass {
     /// Records `cascades` (one per layer view of `maps`, in order): each layer cleared
     /// to the far depth and every object of `scene` drawn into it. The maps must be in
     /// the depth-attachment layout.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn record(
         &self,
         device: &Device,
         cmd: vk::CommandBuffer,
         maps: &ShadowMaps,
         scene: &GpuScene,
+        placement: &crate::placement::Placement<'_>,
         set: vk::DescriptorSet,
         cascades: &[Mat4],
     ) {
@@ -848,7 +850,7 @@ impl ShadowCasterPass {
                 // Objects wholly beside the map cast nothing into it (along the
                 // light, the map spans the whole scene).
                 !matches!(
-                    scene.object_bounds.get(index),
+                    placement.bounds.get(index),
                     Some(Some((lo, hi))) if beside_map(world_to_clip, *lo, *hi)
                 )
             });

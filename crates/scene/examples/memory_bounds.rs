@@ -67,6 +67,7 @@ fn scene(meshes: Vec<Mesh>, material: Material) -> Scene {
                 material: 0,
                 transform: Mat4::IDENTITY,
                 casts_shadows: true,
+                node: None,
             })
             .collect(),
         meshes,
@@ -75,6 +76,7 @@ fn scene(meshes: Vec<Mesh>, material: Material) -> Scene {
         camera: camera(),
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -134,6 +136,7 @@ fn main() {
         name: "strip".into(),
         vertices,
         indices,
+        ..Default::default()
     };
     save_gltf(&scene(vec![mesh], Material::default()), &mesh_path).expect("save");
     let (result, rise) = peak_rise(|| import(&mesh_path, &options).map(|_| ()));

@@ -182,6 +182,7 @@ fn grid_7x7() -> Scene {
                     0.0,
                 )),
                 casts_shadows: true,
+                node: None,
             }
         })
         .collect();
@@ -213,6 +214,7 @@ fn grid_7x7() -> Scene {
         },
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -234,6 +236,7 @@ fn grid_sun() -> Scene {
                     row as f32 - 3.0,
                 )),
                 casts_shadows: true,
+                node: None,
             }
         })
         .collect();
@@ -248,6 +251,7 @@ fn grid_sun() -> Scene {
         material: spheres,
         transform: Mat4::IDENTITY,
         casts_shadows: true,
+        node: None,
     });
     let (elevation, azimuth) = (20f32.to_radians(), 35f32.to_radians());
     Scene {
@@ -279,6 +283,7 @@ fn grid_sun() -> Scene {
         },
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -337,6 +342,7 @@ fn local_light_scene(
         camera,
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -350,6 +356,7 @@ fn spot_box() -> Scene {
         material: 0,
         transform,
         casts_shadows: true,
+        node: None,
     };
     let mut objects = vec![
         wall(Mat4::IDENTITY),
@@ -377,6 +384,7 @@ fn spot_box() -> Scene {
             material: i + 1,
             transform: Mat4::from_translation(Vec3::new(x, 0.5, 0.3 * i as f32 - 0.4)),
             casts_shadows: true,
+            node: None,
         });
     }
     let light = Light::Spot {
@@ -408,6 +416,7 @@ fn point_among() -> Scene {
         material: 0,
         transform: Mat4::IDENTITY,
         casts_shadows: true,
+        node: None,
     }];
     for i in 0..6 {
         let angle = i as f32 * std::f32::consts::TAU / 6.0 + 0.3;
@@ -420,6 +429,7 @@ fn point_among() -> Scene {
                 1.6 * angle.sin(),
             )),
             casts_shadows: true,
+            node: None,
         });
     }
     let light = Light::Point {
@@ -489,6 +499,7 @@ fn spheres() -> Scene {
                 material: materials.len() - 1,
                 transform: Mat4::from_translation(Vec3::new(x, y, 0.0)),
                 casts_shadows: true,
+                node: None,
             });
         }
     }
@@ -529,6 +540,7 @@ fn spheres() -> Scene {
         },
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -636,6 +648,7 @@ fn hard_cases() -> Scene {
         material: 0,
         transform: Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0)),
         casts_shadows: true,
+        node: None,
     }];
     let count = spheres.len();
     let mut centres = Vec::new();
@@ -648,6 +661,7 @@ fn hard_cases() -> Scene {
             material: i + 1,
             transform: Mat4::from_translation(centre),
             casts_shadows: true,
+            node: None,
         });
     }
     // Exactly opposite the viewer, seen through the centre of the second sphere.
@@ -702,6 +716,7 @@ fn hard_cases() -> Scene {
         },
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -823,6 +838,7 @@ fn glass(outside_ior: f32, name: &str) -> Scene {
         },
         outside_ior,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -880,6 +896,7 @@ fn sphere_grid(
                 material: materials.len() - 1,
                 transform: Mat4::from_translation(Vec3::new(x, y, 0.0)),
                 casts_shadows: true,
+                node: None,
             });
         }
     }
@@ -897,6 +914,7 @@ fn sphere_grid(
         camera,
         outside_ior,
         environment: None,
+        motion: Default::default(),
     }
 }
 

@@ -28,6 +28,7 @@ mod error;
 pub mod gltf;
 mod material;
 mod mesh;
+pub mod motion;
 
 pub use alpha_coverage::{alpha_mip_scales, ALPHA_MIP_LEVELS};
 pub use builtin::{builtin_scene, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
@@ -47,6 +48,7 @@ pub use material::{
     Volume, WrapMode, CLEARCOAT_IOR, TEXTURE_SLOTS,
 };
 pub use mesh::{Mesh, Vertex};
+pub use motion::{Motion, ObjectPoses, Pose};
 
 use glam::{Mat4, Vec3};
 
@@ -182,6 +184,21 @@ pub struct Object {
     pub transform: Mat4,
     /// Whether the object casts shadows (it is lit, and receives them, either way).
     pub casts_shadows: bool,
+    /// The node of [`Scene::motion`] it hangs from, if any: a pose moves it
+    /// ([`Scene::pose_objects`]), and the node's skin and weights deform its mesh.
+    /// `transform` is its place at rest.
+    pub node: Option<NodeLink>,
+}
+
+/// How an object hangs from a node: its transform is the node's world transform times
+/// `offset` (an instance's place within the node, glTF's EXT_mesh_gpu_instancing;
+/// the identity otherwise). A skinned object's joints place it instead.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NodeLink {
+    /// Index into [`Motion::nodes`].
+    pub node: usize,
+    /// The object's transform relative to the node.
+    pub offset: Mat4,
 }
 
 impl Object {
@@ -192,6 +209,7 @@ impl Object {
             material,
             transform,
             casts_shadows: true,
+            node: None,
         }
     }
 }
@@ -221,6 +239,9 @@ pub struct Scene {
     pub outside_ior: f32,
     /// Light from every direction besides `lights` (image-based lighting), or none.
     pub environment: Option<Environment>,
+    /// The node hierarchy objects may hang from, skins and animations (empty for a
+    /// still scene).
+    pub motion: Motion,
 }
 
 /// Smallest |[`normalised_axes_determinant`]| of a transform that places a mesh: below it
@@ -258,6 +279,17 @@ pub fn box_corners(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
     })
 }
 
+/// The world-space box around a mesh whose own box is `local` ([`Mesh::bounds`]),
+/// placed by `transform`: its eight corners transformed (so a rotated box grows).
+pub fn placed_bounds(local: Option<(Vec3, Vec3)>, transform: &Mat4) -> Option<(Vec3, Vec3)> {
+    let (lo, hi) = local?;
+    box_corners(lo, hi)
+        .iter()
+        .map(|corner| transform.transform_point3(*corner))
+        .map(|p| (p, p))
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+}
+
 /// Whether `transform` cannot place a mesh: not finite, or its axes (scale-relative,
 /// [`normalised_axes_determinant`]) are within [`MIN_AXES_DETERMINANT`] of coplanar.
 pub fn transform_is_degenerate(transform: &glam::Mat4) -> bool {
@@ -282,6 +314,122 @@ impl Scene {
     /// objects' order; `None` for an object whose mesh is missing or empty).
     pub fn object_bounds(&self) -> Vec<Option<(glam::Vec3, glam::Vec3)>> {
         gltf::import::object_bounds(&self.meshes, &self.objects)
+    }
+
+    /// Object `i`'s link to a node: the node exists, its offset is finite, its skin's
+    /// joints cover the mesh's influences (a mesh with influences needs a skinned node),
+    /// and it has one weight per morph target of the mesh.
+    fn validate_link(&self, i: usize, link: &NodeLink) -> Result<(), SceneError> {
+        let invalid = |what: String| Err(SceneError::Invalid(format!("object {i}: {what}")));
+        let Some(node) = self.motion.nodes.get(link.node) else {
+            return invalid(format!("its node {} does not exist", link.node));
+        };
+        if transform_is_degenerate(&link.offset) {
+            return invalid("its offset from its node is not finite or singular".into());
+        }
+        let mesh = &self.meshes[self.objects[i].mesh];
+        let joints = node
+            .skin
+            .and_then(|s| self.motion.skins.get(s))
+            .map(|s| s.joints.len());
+        match (&mesh.skin, joints) {
+            (Some(weights), Some(joints)) => {
+                if let Some(j) = weights.joints.iter().find(|&&j| j as usize >= joints) {
+                    return invalid(format!(
+                        "its mesh names joint {j} but its node's skin has {joints}"
+                    ));
+                }
+            }
+            (Some(_), None) => {
+                return invalid("its mesh has joint influences but its node has no skin".into())
+            }
+            _ => {}
+        }
+        if !mesh.morph_targets.is_empty() && node.weights.len() != mesh.morph_targets.len() {
+            return invalid(format!(
+                "its mesh has {} morph targets but its node {} weights",
+                mesh.morph_targets.len(),
+                node.weights.len()
+            ));
+        }
+        Ok(())
+    }
+
+    /// Each object's transform and morph weights and each skin's joint matrices in
+    /// `pose` (of [`Scene::motion`]): an object hanging from a node is placed by the
+    /// node's world transform times its offset and takes the node's weights, a skinned
+    /// one by the identity (its joints place its vertices in world space); the others
+    /// keep their transform and have no weights.
+    pub fn pose_objects(&self, pose: &Pose) -> ObjectPoses {
+        let world = self.motion.world_transforms(pose);
+        let (transforms, weights) = self
+            .objects
+            .iter()
+            .map(|object| match object.node {
+                Some(link) => {
+                    let weights = if self.meshes[object.mesh].morph_targets.is_empty() {
+                        Vec::new()
+                    } else {
+                        pose.weights[link.node].clone()
+                    };
+                    let skinned = self.meshes[object.mesh].skin.is_some()
+                        && self.motion.nodes[link.node].skin.is_some();
+                    let transform = if skinned {
+                        Mat4::IDENTITY
+                    } else {
+                        world[link.node] * link.offset
+                    };
+                    (transform, weights)
+                }
+                None => (object.transform, Vec::new()),
+            })
+            .unzip();
+        ObjectPoses {
+            transforms,
+            weights,
+            joints: self.motion.joint_matrices(&world),
+        }
+    }
+
+    /// The scene as a still one in `poses`: every object where `poses` puts it, and each
+    /// object whose mesh it deforms (morph targets, a skin) given a mesh of its own,
+    /// its vertices morphed and skinned as [`motion::pose_vertex`] does (in world space
+    /// for a skinned one, whose transform becomes the identity). Objects no longer hang
+    /// from nodes; the hierarchy, skins and animations are kept.
+    pub fn posed(&self, poses: &ObjectPoses) -> Scene {
+        let mut posed = self.clone();
+        for (i, object) in posed.objects.iter_mut().enumerate() {
+            let mesh = &self.meshes[object.mesh];
+            let joints = self.object_joints(i, poses);
+            let weights = &poses.weights[i];
+            object.transform = poses.transforms[i];
+            object.node = None;
+            if joints.is_none() && (mesh.morph_targets.is_empty() || weights.is_empty()) {
+                continue;
+            }
+            // Morphed in its own space, which its transform places; skinned into world
+            // space (its transform in `poses` is the identity).
+            let vertices = (0..mesh.vertices.len())
+                .map(|v| motion::pose_vertex(mesh, v, weights, joints, &Mat4::IDENTITY))
+                .collect();
+            object.mesh = posed.meshes.len();
+            posed.meshes.push(Mesh {
+                name: format!("{} (posed)", mesh.name),
+                vertices,
+                indices: mesh.indices.clone(),
+                ..Mesh::default()
+            });
+        }
+        posed
+    }
+
+    /// The skin joint matrices placing object `object` in `poses`, if its node has a
+    /// skin and its mesh joint influences.
+    pub fn object_joints<'a>(&self, object: usize, poses: &'a ObjectPoses) -> Option<&'a [Mat4]> {
+        let object = &self.objects[object];
+        self.meshes[object.mesh].skin.as_ref()?;
+        let skin = self.motion.nodes[object.node?.node].skin?;
+        poses.joints.get(skin).map(Vec::as_slice)
     }
 
     /// The outside-medium IOR that applies to `material`.
@@ -339,7 +487,11 @@ impl Scene {
             if transform_is_degenerate(&object.transform) {
                 return invalid(format!("object {i} has a non-finite or singular transform"));
             }
+            if let Some(link) = &object.node {
+                self.validate_link(i, link)?;
+            }
         }
+        self.motion.validate().map_err(SceneError::Invalid)?;
         validate_lights(&self.lights)?;
         self.camera.validate()
     }
@@ -787,6 +939,7 @@ mod bounds_tests {
             material: 0,
             transform: Mat4::IDENTITY,
             casts_shadows: true,
+            node: None,
         });
         assert_eq!(scene.world_bounds(), before);
         scene.objects.truncate(0);
@@ -795,6 +948,7 @@ mod bounds_tests {
             material: 0,
             transform: Mat4::IDENTITY,
             casts_shadows: true,
+            node: None,
         });
         assert_eq!(scene.world_bounds(), None);
         assert!(scene.validate().is_err());

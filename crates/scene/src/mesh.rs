@@ -1,5 +1,7 @@
 use std::f32::consts::PI;
 
+use crate::motion::{MorphTarget, SkinWeights};
+
 /// A vertex as the G-buffer pass consumes it: `#[repr(C)]`, 72 bytes, plain old data
 /// (`bytemuck::Pod`). Every component must be finite, the colour's in [0, 1]
 /// ([`Mesh::validate`]). `Default` is the origin with no normal or tangent, coordinates
@@ -54,6 +56,12 @@ pub struct Mesh {
     pub vertices: Vec<Vertex>,
     /// Three indices into `vertices` per triangle, triangle list order.
     pub indices: Vec<u32>,
+    /// The joints influencing each vertex, for a mesh a skin places (objects attached to
+    /// a node with a [`crate::motion::Skin`]); `None` for a rigid mesh.
+    pub skin: Option<SkinWeights>,
+    /// Morph targets (glTF's), displacing the vertices by the weights of the node the
+    /// object hangs from; empty for a mesh of one shape.
+    pub morph_targets: Vec<MorphTarget>,
 }
 
 impl Mesh {
@@ -102,6 +110,7 @@ impl Mesh {
             name: name.to_owned(),
             vertices,
             indices,
+            ..Default::default()
         }
     }
 
@@ -120,6 +129,7 @@ impl Mesh {
             name: name.to_owned(),
             vertices: vec![v(-h, -h), v(-h, h), v(h, h), v(h, -h)],
             indices: vec![0, 1, 2, 0, 2, 3],
+            ..Default::default()
         }
     }
 
@@ -167,6 +177,7 @@ impl Mesh {
             name: name.to_owned(),
             vertices,
             indices,
+            ..Default::default()
         }
     }
 
@@ -174,6 +185,18 @@ impl Mesh {
     /// and reads the colour stream).
     pub fn has_colors(&self) -> bool {
         self.vertices.iter().any(|v| v.color != [1.0; 4])
+    }
+
+    /// The box (min, max corners) around its vertices, in its own space; `None` without
+    /// vertices.
+    pub fn bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
+        let mut lo = glam::Vec3::splat(f32::INFINITY);
+        let mut hi = glam::Vec3::splat(f32::NEG_INFINITY);
+        for v in &self.vertices {
+            lo = lo.min(glam::Vec3::from(v.position));
+            hi = hi.max(glam::Vec3::from(v.position));
+        }
+        (lo.x <= hi.x).then_some((lo, hi))
     }
 
     /// Checks indices and attribute values: a whole number of triangles, every index
@@ -217,6 +240,30 @@ impl Mesh {
                     "vertex {i} has a colour {:?} outside [0, 1]",
                     v.color
                 ));
+            }
+        }
+        if let Some(skin) = &self.skin {
+            skin.validate(self.vertices.len())?;
+        }
+        for (t, target) in self.morph_targets.iter().enumerate() {
+            let lists: [(&str, &[[f32; 3]]); 3] = [
+                ("position", &target.positions),
+                ("normal", &target.normals),
+                ("tangent", &target.tangents),
+            ];
+            for (name, list) in lists {
+                if !list.is_empty() && list.len() != self.vertices.len() {
+                    return Err(format!(
+                        "morph target {t} has {} {name} displacements for {} vertices",
+                        list.len(),
+                        self.vertices.len()
+                    ));
+                }
+                if let Some(v) = list.iter().position(|d| !d.iter().all(|x| x.is_finite())) {
+                    return Err(format!(
+                        "morph target {t}'s {name} displacement of vertex {v} is not finite"
+                    ));
+                }
             }
         }
         Ok(())

@@ -50,7 +50,26 @@ fn assert_same_scene(expected: &Scene, actual: &Scene) {
     for (a, b) in expected.materials.iter().zip(&actual.materials) {
         assert_eq!(a, b, "material `{}`", a.name);
     }
-    assert_eq!(expected.objects, actual.objects);
+    // The objects as placed; an imported one hangs from the node written for it, whose
+    // world transform at rest (times the object's offset) places it there.
+    let unlinked = |objects: &[combustion_scene::Object]| {
+        objects
+            .iter()
+            .map(|o| combustion_scene::Object {
+                node: None,
+                ..o.clone()
+            })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(unlinked(&expected.objects), unlinked(&actual.objects));
+    let rest = actual.pose_objects(&actual.motion.rest_pose());
+    for (object, transform) in actual.objects.iter().zip(&rest.transforms) {
+        assert!(
+            object.node.is_some(),
+            "an imported object hangs from no node"
+        );
+        assert_eq!(object.transform, *transform);
+    }
     assert_eq!(expected.lights, actual.lights);
     assert_eq!(expected.camera, actual.camera);
     assert_eq!(expected.outside_ior, actual.outside_ior);
@@ -201,12 +220,14 @@ fn textured_scene() -> Scene {
                 material: 0,
                 transform: Mat4::IDENTITY,
                 casts_shadows: true,
+                node: None,
             },
             Object {
                 mesh: 1,
                 material: 1,
                 transform: Mat4::from_translation(Vec3::new(-0.7, 0.5, 0.0)),
                 casts_shadows: true,
+                node: None,
             },
             Object {
                 mesh: 1,
@@ -217,6 +238,7 @@ fn textured_scene() -> Scene {
                     Vec3::new(0.7, 0.4, 0.2),
                 ),
                 casts_shadows: true,
+                node: None,
             },
         ],
         lights: vec![
@@ -254,6 +276,7 @@ fn textured_scene() -> Scene {
         },
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -384,6 +407,7 @@ fn cutout_scene() -> Scene {
         },
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -496,6 +520,7 @@ fn blend_scene() -> Scene {
         },
         outside_ior: 1.0,
         environment: None,
+        motion: Default::default(),
     }
 }
 
@@ -591,6 +616,7 @@ fn optics_scene() -> Scene {
             material: i,
             transform: Mat4::from_translation(Vec3::new(i as f32 * 1.1 - 2.75, 0.5, 0.0)),
             casts_shadows: true,
+            node: None,
         });
     }
     objects.push(Object {
@@ -598,6 +624,7 @@ fn optics_scene() -> Scene {
         material: 6,
         transform: Mat4::IDENTITY,
         casts_shadows: true,
+        node: None,
     });
     Scene {
         name: "optics".into(),
@@ -624,6 +651,7 @@ fn optics_scene() -> Scene {
         },
         outside_ior: 1.33,
         environment: None,
+        motion: Default::default(),
     }
 }
 

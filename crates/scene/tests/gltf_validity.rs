@@ -400,7 +400,7 @@ fn meshes_built_from_aliased_accessors_are_budgeted() {
         .collect::<Vec<_>>() }]);
     let error = import(&g).unwrap_err();
     assert!(
-        error.contains("the meshes built so far would take")
+        error.contains("the meshes, skins and animations built so far would take")
             && error.contains("more than this file may ask for"),
         "{error}"
     );
@@ -600,4 +600,272 @@ fn accessor_problems_name_the_primitive_that_reads_them() {
         other => panic!("not a primitive error: {other:?}"),
     }
     assert!(message.contains("mesh 0 primitive 0"), "{message}");
+}
+
+/// Arrays for one buffer: each pushed one gets a buffer view and an accessor.
+struct Arrays {
+    bytes: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Arrays {
+    /// Pushes `data` as an accessor of `count` elements of `type_` and `component`
+    /// (4-byte aligned); returns its index.
+    fn push(&mut self, data: &[u8], component: u32, count: usize, type_: &str) -> usize {
+        while self.bytes.len() % 4 != 0 {
+            self.bytes.push(0);
+        }
+        self.views
+            .push(json!({ "buffer": 0, "byteOffset": self.bytes.len(), "byteLength": data.len() }));
+        self.bytes.extend_from_slice(data);
+        self.accessors
+            .push(json!({ "bufferView": self.views.len() - 1,
+            "componentType": component, "count": count, "type": type_ }));
+        self.accessors.len() - 1
+    }
+
+    fn floats(&mut self, values: &[f32], count: usize, type_: &str) -> usize {
+        self.push(&le_bytes(values, f32::to_le_bytes), 5126, count, type_)
+    }
+
+    fn into_gltf(self, mut g: Value) -> Value {
+        g["accessors"] = json!(self.accessors);
+        g["bufferViews"] = json!(self.views);
+        g["buffers"] = json!([{ "byteLength": self.bytes.len(), "uri": data_uri(&self.bytes) }]);
+        g
+    }
+}
+
+/// A triangle skinned to two joints (node 1 and its child node 2), with one morph
+/// target, and an animation turning node 1 (linear) and setting the weight (step).
+/// Accessors: 0 positions, 1 joints, 2 weights (VEC4 × 3), 3 target positions, 4 inverse
+/// bind matrices, 5 key times, 6 rotations, 7 morph weights, 8 decreasing times, 9
+/// weights with a negative one.
+fn rigged_triangle() -> Value {
+    let mut a = Arrays {
+        bytes: Vec::new(),
+        views: Vec::new(),
+        accessors: Vec::new(),
+    };
+    let position = a.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], 3, "VEC3");
+    a.accessors[position]["min"] = json!([0, 0, 0]);
+    a.accessors[position]["max"] = json!([1, 1, 0]);
+    let joints = a.push(&[0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0], 5121, 3, "VEC4");
+    let weights = a.floats(
+        &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0],
+        3,
+        "VEC4",
+    );
+    let target = a.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], 3, "VEC3");
+    a.accessors[target]["min"] = json!([0, 0, 0]);
+    a.accessors[target]["max"] = json!([0, 0, 1]);
+    let identity = glam::Mat4::IDENTITY.to_cols_array();
+    let shifted = glam::Mat4::from_translation(glam::Vec3::new(-1.0, 0.0, 0.0)).to_cols_array();
+    let ibm = a.floats(&[identity, shifted].concat(), 2, "MAT4");
+    let times = a.floats(&[0.0, 1.0], 2, "SCALAR");
+    a.accessors[times]["min"] = json!([0.0]);
+    a.accessors[times]["max"] = json!([1.0]);
+    let turn = glam::Quat::from_rotation_z(1.0).to_array();
+    let rotations = a.floats(&[[0.0, 0.0, 0.0, 1.0], turn].concat(), 2, "VEC4");
+    let morph = a.floats(&[0.0, 1.0], 2, "SCALAR");
+    // Accessors 8 and 9, for the refusals: times that decrease, a negative weight.
+    a.floats(&[1.0, 0.5], 2, "SCALAR");
+    a.floats(
+        &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.5, -0.5, 0.0, 0.0],
+        3,
+        "VEC4",
+    );
+    a.into_gltf(json!({
+        "asset": { "version": "2.0" },
+        "scene": 0,
+        "scenes": [{ "nodes": [0, 1] }],
+        "nodes": [
+            { "mesh": 0, "skin": 0 },
+            { "children": [2] },
+            { "translation": [1, 0, 0] },
+        ],
+        "skins": [{ "joints": [1, 2], "inverseBindMatrices": ibm }],
+        "meshes": [{ "primitives": [{
+            "attributes": { "POSITION": position, "JOINTS_0": joints, "WEIGHTS_0": weights },
+            "targets": [{ "POSITION": target }],
+        }], "weights": [0.25] }],
+        "animations": [{
+            "channels": [
+                { "sampler": 0, "target": { "node": 1, "path": "rotation" } },
+                { "sampler": 1, "target": { "node": 0, "path": "weights" } },
+            ],
+            "samplers": [
+                { "input": times, "output": rotations },
+                { "input": times, "output": morph, "interpolation": "STEP" },
+            ],
+        }],
+    }))
+}
+
+/// Skins, morph targets and animations are read as the file gives them (joints and
+/// inverse bind matrices, each vertex's influences, target displacements, default
+/// weights, keys); each broken value is refused in one line naming it.
+#[test]
+fn skins_morph_targets_and_animations_are_read_and_bad_values_refused() {
+    use combustion_scene::motion::{Interpolation, Property};
+    let scene = import(&rigged_triangle()).unwrap_or_else(|e| panic!("{e}"));
+    let motion = &scene.motion;
+    assert_eq!(motion.skins[0].joints, [1, 2]);
+    assert_eq!(
+        motion.skins[0].inverse_bind[1],
+        glam::Mat4::from_translation(glam::Vec3::new(-1.0, 0.0, 0.0))
+    );
+    assert_eq!(motion.nodes[2].parent, Some(1));
+    assert_eq!(motion.nodes[0].weights, [0.25]);
+    let mesh = &scene.meshes[0];
+    let skin = mesh.skin.as_ref().expect("the mesh's influences");
+    // The zero weights are left out: vertex 2 has two influences, the others one.
+    let influences: Vec<Vec<(u32, f32)>> = (0..3).map(|v| skin.influences(v).collect()).collect();
+    assert_eq!(
+        influences,
+        [vec![(0, 1.0)], vec![(1, 1.0)], vec![(0, 0.5), (1, 0.5)]]
+    );
+    assert_eq!(mesh.morph_targets[0].positions[0], [0.0, 0.0, 1.0]);
+    let animation = &motion.animations[0];
+    assert_eq!(animation.duration(), 1.0);
+    assert_eq!(
+        (
+            animation.channels[1].property,
+            animation.samplers[1].interpolation
+        ),
+        (Property::Weights, Interpolation::Step)
+    );
+    assert_eq!(scene.objects[0].node.map(|l| l.node), Some(0));
+
+    let refused = |change: &dyn Fn(&mut Value), expected: &str| {
+        let mut g = rigged_triangle();
+        change(&mut g);
+        let error = import(&g).expect_err(expected);
+        assert!(
+            error.contains(expected) && !error.contains('\n'),
+            "expected `{expected}`: {error}"
+        );
+    };
+    refused(
+        &|g| g["skins"][0]["joints"] = json!([1]),
+        "names joint 1, but the skin has 1",
+    );
+    refused(
+        &|g| g["skins"][0]["joints"] = json!(vec![1; 70_000]),
+        "has 70000 joints (from 1 to 65536)",
+    );
+    refused(
+        &|g| g["skins"][0]["inverseBindMatrices"] = json!(2),
+        "inverseBindMatrices: accessor 2 is VEC4, expected 16 components",
+    );
+    refused(
+        &|g| g["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = json!(2),
+        "JOINTS_0: accessor 2 is F32; joints are unsigned bytes or shorts",
+    );
+    refused(
+        &|g| {
+            g["meshes"][0]["primitives"][0]["attributes"]
+                .as_object_mut()
+                .unwrap()
+                .remove("WEIGHTS_0");
+        },
+        "has JOINTS_0 but no WEIGHTS_0",
+    );
+    refused(
+        &|g| {
+            g["meshes"][0]["primitives"][0]["targets"] = json!(vec![json!({ "POSITION": 3 }); 1025])
+        },
+        "its mesh has 1025 morph targets, at most 1024",
+    );
+    refused(
+        &|g| g["meshes"][0]["weights"] = json!([0.5, 0.5]),
+        "has 2 morph weights for 1 morph targets",
+    );
+    refused(
+        &|g| g["animations"][0]["samplers"][0]["input"] = json!(8),
+        "key times must strictly increase, but key 1 is 0.5 after 1",
+    );
+    refused(
+        &|g| g["animations"][0]["samplers"][0]["output"] = json!(2),
+        "has 12 output values for 2 keys (8 expected: 1 × 4 per key)",
+    );
+    refused(
+        &|g| g["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"] = json!(9),
+        "WEIGHTS_0 of vertex 2 has weight -0.5, not finite and non-negative",
+    );
+    refused(
+        &|g| g["animations"][0]["channels"][1]["target"]["node"] = json!(1),
+        "animates the morph weights of node 1, whose mesh has no morph targets",
+    );
+    refused(
+        &|g| g["nodes"][1]["matrix"] = json!(glam::Mat4::IDENTITY.to_cols_array()),
+        "animates node 1, whose transform is a matrix",
+    );
+    refused(
+        &|g| {
+            g["animations"][0]["channels"][1] =
+                json!({ "sampler": 0, "target": { "node": 1, "path": "rotation" } })
+        },
+        "animates Rotation of node 1 a second time",
+    );
+    refused(
+        &|g| {
+            g["animations"][0]["channels"][1] =
+                json!({ "sampler": 0, "target": { "node": 2, "path": "translation" } })
+        },
+        "sampler 0 drives both Rotation and Translation",
+    );
+    refused(
+        &|g| g["animations"][0]["samplers"][1]["output"] = json!(3),
+        "output: accessor 3 is VEC3, expected 1 components",
+    );
+}
+
+/// Animations are budgeted with the meshes, at what their accessors declare before they
+/// are read: two thousand animations sharing one 320 KB pair of key arrays would hold
+/// 640 MB; the import stops at the budget with an error that says so.
+#[test]
+fn animations_built_from_aliased_accessors_are_budgeted() {
+    const KEYS: usize = 16_384;
+    let mut a = Arrays {
+        bytes: Vec::new(),
+        views: Vec::new(),
+        accessors: Vec::new(),
+    };
+    let position = a.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], 3, "VEC3");
+    a.accessors[position]["min"] = json!([0, 0, 0]);
+    a.accessors[position]["max"] = json!([1, 1, 0]);
+    let times: Vec<f32> = (0..KEYS).map(|k| k as f32).collect();
+    let times = a.floats(&times, KEYS, "SCALAR");
+    a.accessors[times]["min"] = json!([0.0]);
+    a.accessors[times]["max"] = json!([(KEYS - 1) as f32]);
+    let rotations = a.floats(&[0.0, 0.0, 0.0, 1.0].repeat(KEYS), KEYS, "VEC4");
+    let with_animations = |count: usize| {
+        let mut g = triangle(json!({}));
+        g["animations"] = json!((0..count)
+            .map(|_| json!({
+                "channels": [{ "sampler": 0, "target": { "node": 0, "path": "rotation" } }],
+                "samplers": [{ "input": times, "output": rotations }],
+            }))
+            .collect::<Vec<_>>());
+        g
+    };
+    let arrays = Arrays {
+        bytes: a.bytes,
+        views: a.views,
+        accessors: a.accessors,
+    };
+    let g = arrays.into_gltf(with_animations(2000));
+    let error = import(&g).unwrap_err();
+    assert!(
+        error.contains("the meshes, skins and animations built so far would take")
+            && error.contains("more than this file may ask for"),
+        "{error}"
+    );
+    // A hundred of them are within the budget.
+    let mut small = g.clone();
+    small["animations"].as_array_mut().unwrap().truncate(100);
+    let scene = import(&small).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.motion.animations.len(), 100);
 }

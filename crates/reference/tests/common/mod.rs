@@ -65,6 +65,7 @@ pub fn scene_of(meshes: Vec<Mesh>, objects: &[(usize, Mat4)]) -> Scene {
                 material: 0,
                 transform,
                 casts_shadows: true,
+                node: None,
             })
             .collect(),
         lights: Vec::new(),

@@ -39,9 +39,10 @@ impl FramePass for BackFaces {
             .slot_set(frame.slot, &bindings::BACK_FACES)
             .buffer(
                 "objects",
-                &frame.scene.gpu.objects,
+                frame.placement.table,
                 BufferUse::VertexStorageRead,
             )
+            .posed_vertices(frame.scene)
             .touches((&targets.normal).into(), ImageUse::ColorAttachmentWrite)
             .touches((&targets.depth).into(), ImageUse::DepthAttachmentWrite)
     }

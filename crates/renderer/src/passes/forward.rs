@@ -34,9 +34,10 @@ impl FramePass for Forward {
             .slot_set(frame.slot, &bindings::FORWARD)
             .buffer(
                 "objects",
-                &frame.scene.gpu.objects,
+                frame.placement.table,
                 BufferUse::VertexStorageRead,
             )
+            .posed_vertices(frame.scene)
             .buffer(
                 "materials",
                 &frame.scene.gpu.materials,
@@ -119,6 +120,7 @@ impl FramePass for Forward {
                 depth: &frame.targets.gbuffer.depth,
             },
             frame.scene,
+            &frame.placement,
             frame.slot.set(&bindings::FORWARD),
             frame.view_projection,
             glam::Vec3::new(x, y, z),

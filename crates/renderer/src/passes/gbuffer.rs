@@ -27,9 +27,10 @@ impl FramePass for GBuffer {
             .slot_set(frame.slot, &bindings::GBUFFER)
             .buffer(
                 "objects",
-                &frame.scene.gpu.objects,
+                frame.placement.table,
                 BufferUse::VertexStorageRead,
             )
+            .posed_vertices(frame.scene)
             .buffer(
                 "materials",
                 &frame.scene.gpu.materials,

@@ -13,6 +13,7 @@
 
 mod back_faces;
 mod behind;
+mod deform;
 mod depth_copy;
 mod forward;
 mod gbuffer;
@@ -62,6 +63,8 @@ pub(crate) struct FrameContext<'a> {
     pub color: TrackedImage,
     /// The host's depth image as the barriers track it, if the frame has one.
     pub host_depth: Option<TrackedImage>,
+    /// Where the frame's objects are (the scene's own placement, or the frame's pose).
+    pub placement: crate::placement::Placement<'a>,
     /// The cascades' and the local lights' shadow maps, in frames whose variant has
     /// shadows.
     pub shadow_maps: Option<(
@@ -119,6 +122,7 @@ pub(crate) trait FramePass: Sync {
 
 /// The frame, top to bottom.
 pub(crate) const FRAME: &[&dyn FramePass] = &[
+    &deform::Deform,
     &shadow_maps::ShadowMaps,
     &gbuffer::GBuffer,
     &light_cull::LightCull,

@@ -36,9 +36,10 @@ impl FramePass for ShadowMaps {
             .slot_set(frame.slot, &bindings::SHADOW_CASTERS)
             .buffer(
                 "objects",
-                &frame.scene.gpu.objects,
+                frame.placement.table,
                 BufferUse::VertexStorageRead,
             )
+            .posed_vertices(frame.scene)
             .buffer(
                 "materials",
                 &frame.scene.gpu.materials,
@@ -71,6 +72,7 @@ impl FramePass for ShadowMaps {
                 cmd,
                 maps,
                 frame.scene,
+                &frame.placement,
                 frame.slot.set(&bindings::SHADOW_CASTERS),
                 layers,
             );

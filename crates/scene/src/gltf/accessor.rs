@@ -347,3 +347,72 @@ pub(crate) fn read_indices(
         })
         .collect())
 }
+
+/// Reads a `JOINTS_n` accessor: VEC4 of unsigned bytes or shorts, not normalised.
+pub(crate) fn read_joints(
+    root: &json::Root,
+    buffers: &mut Buffers,
+    index: usize,
+) -> Result<Vec<[u32; 4]>, String> {
+    let (accessor, component, _) = checked_accessor(root, index)?;
+    if !matches!(component, ComponentType::U8 | ComponentType::U16) || accessor.normalized {
+        return Err(format!(
+            "accessor {index} is {}{component:?}; joints are unsigned bytes or shorts",
+            if accessor.normalized {
+                "normalised "
+            } else {
+                ""
+            },
+        ));
+    }
+    Ok(read_floats::<4>(root, buffers, index)?
+        .into_iter()
+        .map(|j| j.map(|x| x as u32))
+        .collect())
+}
+
+/// Reads a `WEIGHTS_n` accessor or an animation's output: floats, or normalised unsigned
+/// bytes or shorts (and, with `signed`, normalised signed ones, as rotations and morph
+/// weights may be), `N` per element.
+pub(crate) fn read_unit_floats<const N: usize>(
+    root: &json::Root,
+    buffers: &mut Buffers,
+    index: usize,
+    signed: bool,
+) -> Result<Vec<[f32; N]>, String> {
+    let (accessor, component, _) = checked_accessor(root, index)?;
+    let allowed = match component {
+        ComponentType::F32 => true,
+        ComponentType::U8 | ComponentType::U16 => accessor.normalized,
+        ComponentType::I8 | ComponentType::I16 => accessor.normalized && signed,
+        ComponentType::U32 => false,
+    };
+    if !allowed {
+        return Err(format!(
+            "accessor {index} is {}{component:?}; floats or normalised {}integers expected",
+            if accessor.normalized {
+                "normalised "
+            } else {
+                ""
+            },
+            if signed { "" } else { "unsigned " },
+        ));
+    }
+    read_floats::<N>(root, buffers, index)
+}
+
+/// Reads an accessor of floats only (animation key times, translations, scales, morph
+/// displacements, inverse bind matrices), `N` per element.
+pub(crate) fn read_f32<const N: usize>(
+    root: &json::Root,
+    buffers: &mut Buffers,
+    index: usize,
+) -> Result<Vec<[f32; N]>, String> {
+    let (_, component, _) = checked_accessor(root, index)?;
+    if component != ComponentType::F32 {
+        return Err(format!(
+            "accessor {index} is {component:?}; floats expected"
+        ));
+    }
+    read_floats::<N>(root, buffers, index)
+}

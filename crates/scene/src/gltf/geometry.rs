@@ -20,6 +20,10 @@ pub(crate) struct PrimitiveData {
     pub colors: Option<Vec<[f32; 4]>>,
     /// A triangle list.
     pub indices: Vec<u32>,
+    /// The vertices carry data the [`Vertex`] does not (joint influences, morph-target
+    /// displacements, looked up by [`BuildStats::sources`]): welding keeps vertices made
+    /// from different ones apart.
+    pub keep_sources_apart: bool,
 }
 
 /// What building the mesh did, for the report.
@@ -31,6 +35,8 @@ pub(crate) struct BuildStats {
     pub generated_tangents: bool,
     pub repaired_tangents: usize,
     pub warnings: Vec<String>,
+    /// Each built vertex's index among the primitive's vertices (what it was made from).
+    pub sources: Vec<u32>,
 }
 
 /// Tolerance on |v| − 1 under which a given normal or tangent is kept bit for bit.
@@ -161,6 +167,7 @@ pub(crate) fn build_mesh(
                     });
                 }
             }
+            stats.sources = triangles.clone();
             let indices = (0..vertices.len() as u32).collect();
             (vertices, indices, true)
         }
@@ -208,6 +215,7 @@ pub(crate) fn build_mesh(
                     zero.len()
                 ));
             }
+            stats.sources = (0..count as u32).collect();
             (vertices, triangles, data.tangents.is_none())
         }
     };
@@ -223,6 +231,7 @@ pub(crate) fn build_mesh(
     if tangents_missing {
         if from_uvs && crowded.is_none() {
             let (v, i) = mikktspace(&vertices, &indices);
+            stats.sources = indices.iter().map(|&i| stats.sources[i as usize]).collect();
             vertices = v;
             indices = i;
             stats.generated_tangents = true;
@@ -270,7 +279,10 @@ pub(crate) fn build_mesh(
     }
 
     if stats.generated_normals || stats.generated_tangents {
-        (vertices, indices) = weld(&vertices, &indices);
+        let sources = data.keep_sources_apart.then_some(stats.sources.as_slice());
+        let (welded, welded_indices, kept) = weld(&vertices, &indices, sources);
+        stats.sources = kept.iter().map(|&k| stats.sources[k as usize]).collect();
+        (vertices, indices) = (welded, welded_indices);
     }
     if flip {
         for t in indices.chunks_exact_mut(3) {
@@ -282,16 +294,25 @@ pub(crate) fn build_mesh(
             name,
             vertices,
             indices,
+            morph_targets: Vec::new(),
+            skin: None,
         },
         stats,
     ))
 }
 
-/// Merges bit-identical vertices, keeping first-use order.
-fn weld(vertices: &[Vertex], indices: &[u32]) -> (Vec<Vertex>, Vec<u32>) {
+/// Merges bit-identical vertices (made from the same source vertex, when `sources`
+/// are given), keeping first-use order. Also returns, per kept vertex, the index of the
+/// vertex it was first made from.
+fn weld(
+    vertices: &[Vertex],
+    indices: &[u32],
+    sources: Option<&[u32]>,
+) -> (Vec<Vertex>, Vec<u32>, Vec<u32>) {
     const WORDS: usize = std::mem::size_of::<Vertex>() / 4;
-    let mut map: HashMap<[u32; WORDS], u32> = HashMap::with_capacity(indices.len());
+    let mut map: HashMap<([u32; WORDS], u32), u32> = HashMap::with_capacity(indices.len());
     let mut out = Vec::new();
+    let mut kept = Vec::new();
     let new_indices = indices
         .iter()
         .map(|&i| {
@@ -299,13 +320,15 @@ fn weld(vertices: &[Vertex], indices: &[u32]) -> (Vec<Vertex>, Vec<u32>) {
             let words: &[u32] = bytemuck::cast_slice(std::slice::from_ref(&v));
             let mut key = [0u32; WORDS];
             key.copy_from_slice(words);
-            *map.entry(key).or_insert_with(|| {
+            let source = sources.map_or(0, |s| s[i as usize]);
+            *map.entry((key, source)).or_insert_with(|| {
                 out.push(v);
+                kept.push(i);
                 out.len() as u32 - 1
             })
         })
         .collect();
-    (out, new_indices)
+    (out, new_indices, kept)
 }
 
 struct MikkGeometry<'a> {
@@ -445,6 +468,7 @@ mod tests {
             uvs1: None,
             colors: None,
             indices: vec![0, 1, 2, 0, 2, 3],
+            keep_sources_apart: false,
         }
     }
 

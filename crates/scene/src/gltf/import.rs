@@ -45,7 +45,8 @@ pub(crate) struct Importer<'a> {
     pub decoded_pixels: u64,
     /// The bytes of the glTF or GLB file itself.
     pub file_bytes: u64,
-    /// Bytes of meshes built so far (vertices and indices), against
+    /// Bytes of meshes (vertices, indices, joint influences, morph targets), skins and
+    /// animations built so far, against
     /// [`Importer::charge_mesh_bytes`]'s budget.
     pub mesh_bytes: u64,
 }
@@ -117,6 +118,8 @@ struct Instance {
     world: Mat4,
     /// The node that places it.
     node: usize,
+    /// Its transform relative to the node (an EXT_mesh_gpu_instancing instance's).
+    offset: Mat4,
 }
 
 /// What makes two primitives the same [`crate::Mesh`]: the same accessors, topology and
@@ -128,6 +131,10 @@ struct MeshKey {
     mode: u32,
     flip: bool,
     uv_tangents: bool,
+    /// The skin placing it (its `JOINTS_n`/`WEIGHTS_n` are among `attributes`).
+    skin: Option<usize>,
+    /// The (mesh, primitive) whose morph targets it has.
+    targets: Option<(usize, usize)>,
 }
 
 /// glTF's `asset.minVersion`: `MAJOR.MINOR`, at most the asset's own version, and at
@@ -341,7 +348,7 @@ fn import_inner(
 }
 
 impl Importer<'_> {
-    fn node_error(&self, index: usize, message: String) -> ImportProblem {
+    pub(crate) fn node_error(&self, index: usize, message: String) -> ImportProblem {
         ImportProblem::Node {
             index,
             name: self.root.nodes.get(index).and_then(|n| n.name.clone()),
@@ -349,7 +356,7 @@ impl Importer<'_> {
         }
     }
 
-    fn local_transform(&self, index: usize) -> Result<Mat4, ImportProblem> {
+    pub(crate) fn local_transform(&self, index: usize) -> Result<Mat4, ImportProblem> {
         let node = &self.root.nodes[index];
         if let Some(m) = node.matrix {
             if !m.iter().all(|x| x.is_finite()) {
@@ -496,11 +503,10 @@ impl Importer<'_> {
         let mut stack: Vec<(usize, Option<Mat4>)> =
             roots.iter().rev().map(|&n| (n, None)).collect();
         let mut instances = Vec::new();
-        let mut primitive_attributes: HashMap<(usize, usize), MeshAttributes> = HashMap::new();
+        let mut primitive_attributes: HashMap<(usize, usize, bool), MeshAttributes> =
+            HashMap::new();
         let mut cameras: Vec<(usize, usize, Mat4)> = Vec::new();
         let mut lights: Vec<(usize, Mat4)> = Vec::new();
-        let mut skinned = 0;
-        let mut morphed = 0;
         let mut other_modes = 0;
         while let Some((index, parent)) = stack.pop() {
             let node = root
@@ -522,20 +528,20 @@ impl Importer<'_> {
             if !world.is_finite() {
                 return Err(self.node_error(index, "its world transform is not finite".into()));
             }
-            if node.skin.is_some() {
-                skinned += 1;
-            }
+            let skin = node.skin.map(|s| s.value());
             if let Some(mesh_index) = node.mesh {
                 let mesh_index = mesh_index.value();
                 let mesh = &root.meshes[mesh_index];
                 // EXT_mesh_gpu_instancing: the node's mesh at each instance's TRS within
-                // the node (world × T R S), else once at the node.
-                let placements = match self.gpu_instances(index)? {
-                    Some(locals) => locals.into_iter().map(|l| world * l).collect(),
-                    None => vec![world],
-                };
-                if mesh.weights.is_some() || mesh.primitives.iter().any(|p| p.targets.is_some()) {
-                    morphed += 1;
+                // the node (world × T R S), else once at the node. A skin places every
+                // instance alike: one is kept.
+                let mut offsets = self.gpu_instances(index)?.unwrap_or(vec![Mat4::IDENTITY]);
+                if skin.is_some() && offsets.len() > 1 {
+                    self.warn(format!(
+                        "node {index}: {} instances of a skinned mesh: a skin places them all alike, one is drawn",
+                        offsets.len()
+                    ));
+                    offsets = vec![Mat4::IDENTITY];
                 }
                 for (p, primitive) in mesh.primitives.iter().enumerate() {
                     use json::mesh::Mode;
@@ -560,8 +566,9 @@ impl Importer<'_> {
                     // Only the attributes a mesh is built from: others (colours, joints,
                     // application-specific ones) would make keys differ, and copies of one
                     // mesh, without changing it.
+                    // (A skinned primitive's joints and weights too.)
                     let attributes = primitive_attributes
-                        .entry((mesh_index, p))
+                        .entry((mesh_index, p, skin.is_some()))
                         .or_insert_with(|| {
                             primitive
                                 .attributes
@@ -570,13 +577,24 @@ impl Importer<'_> {
                                     Checked::Valid(s) => Some((semantic_name(s), accessor.value())),
                                     Checked::Invalid => None,
                                 })
-                                .filter(|(name, _)| MESH_ATTRIBUTES.contains(&name.as_str()))
+                                .filter(|(name, _)| {
+                                    MESH_ATTRIBUTES.contains(&name.as_str())
+                                        || (skin.is_some()
+                                            && (name.starts_with("JOINTS_")
+                                                || name.starts_with("WEIGHTS_")))
+                                })
                                 .collect()
                         })
                         .clone();
+                    let targets = primitive
+                        .targets
+                        .as_ref()
+                        .is_some_and(|t| !t.is_empty())
+                        .then_some((mesh_index, p));
                     // Each primitive's placements one after another: the renderer
                     // draws consecutive objects of one mesh and material instanced.
-                    for &world in &placements {
+                    for &offset in &offsets {
+                        let world = world * offset;
                         instances.push((
                             (mesh_index, p),
                             Instance {
@@ -586,10 +604,13 @@ impl Importer<'_> {
                                     mode: mode_number,
                                     flip: crate::normalised_axes_determinant(&world) < 0.0,
                                     uv_tangents: false, // set once materials are known
+                                    skin,
+                                    targets,
                                 },
                                 material,
                                 world,
                                 node: index,
+                                offset,
                             },
                         ));
                         if instances.len() > MAX_OBJECTS {
@@ -617,19 +638,22 @@ impl Importer<'_> {
                 stack.push((child.value(), Some(world)));
             }
         }
-        if skinned > 0 {
-            self.warn(format!("{skinned} skinned node(s): skins are not supported; meshes are shown in their bind pose"));
-        }
-        if morphed > 0 {
-            self.warn(format!("{morphed} node(s) with morph targets: morph targets are not supported; base shapes are shown"));
-        }
         if other_modes > 0 {
             self.warn(format!(
                 "{other_modes} point or line primitive(s) skipped: only triangles are rendered"
             ));
         }
-        if !root.animations.is_empty() {
-            self.warn(format!("{} animation(s) ignored", root.animations.len()));
+        let mut nodes = self.motion_nodes()?;
+        self.node_weights(&mut nodes)?;
+        let skins = self.skins()?;
+        let animations = self.animations(&nodes)?;
+        if !animations.is_empty() {
+            log::info!(
+                "{}: {} animation(s), {} skin(s)",
+                self.file.display(),
+                animations.len(),
+                skins.len()
+            );
         }
         // Every placed camera checked now, before any mesh is built, whether or not the
         // scene will use it.
@@ -677,7 +701,7 @@ impl Importer<'_> {
 
         // Each mesh's box once; the world box gathered from the objects as they are placed
         // (the cameras and their warnings use it).
-        let boxes: Vec<_> = meshes.iter().map(mesh_bounds).collect();
+        let boxes: Vec<_> = meshes.iter().map(crate::Mesh::bounds).collect();
         let mut bounds: Option<(Vec3, Vec3)> = None;
         let mut objects = Vec::with_capacity(instances.len());
         let mut singular = 0;
@@ -689,7 +713,7 @@ impl Importer<'_> {
                 continue;
             }
             let mesh = mesh_index[&instance.key];
-            let placed = placed_bounds(boxes[mesh], &instance.world);
+            let placed = crate::placed_bounds(boxes[mesh], &instance.world);
             if placed.is_some_and(|(lo, hi)| {
                 !(lo.is_finite() && hi.is_finite() && (hi - lo).is_finite())
             }) {
@@ -706,6 +730,10 @@ impl Importer<'_> {
                 material: material_index[&instance.material],
                 transform: instance.world,
                 casts_shadows: self.node_casts_shadows(instance.node)?,
+                node: Some(crate::NodeLink {
+                    node: instance.node,
+                    offset: instance.offset,
+                }),
             });
         }
         if singular > 0 {
@@ -718,6 +746,13 @@ impl Importer<'_> {
             .into_iter()
             .map(|(light, world)| self.light(light, world))
             .collect::<Result<Vec<Light>, _>>()?;
+
+        let motion = crate::Motion {
+            nodes,
+            skins,
+            animations,
+        };
+        bounds = animated_bounds(&motion, &meshes, &objects, bounds);
 
         let outside_ior = self.outside_ior(scene_index)?;
         let (camera, source) = self.camera(&cameras, &views, bounds)?;
@@ -743,6 +778,7 @@ impl Importer<'_> {
             camera,
             outside_ior,
             environment: None,
+            motion,
         };
         scene.validate().map_err(ImportProblem::Scene)?;
 
@@ -868,6 +904,7 @@ impl Importer<'_> {
         // What the mesh will take, against the file's budget for meshes, before it is
         // built: a vertex per corner at most when normals are generated flat or MikkTSpace
         // splits the vertices (welding merges some back), else the given vertices.
+        let vertex_count = positions.len();
         let per_corner = normals.is_none() || (key.uv_tangents && uvs.is_some());
         let vertices = if per_corner {
             positions.len().max(indices.len())
@@ -894,11 +931,25 @@ impl Importer<'_> {
                 uvs1,
                 colors,
                 indices,
+                keep_sources_apart: key.skin.is_some() || key.targets.is_some(),
             },
             key.uv_tangents,
             key.flip,
         )
         .map_err(err)?;
+        let mut mesh = mesh;
+        if let Some(skin) = key.skin {
+            let joints = root.skins.get(skin).map_or(0, |s| s.joints.len());
+            mesh.skin = Some(
+                self.skin_weights(&key.attributes, vertex_count, &stats.sources, joints)
+                    .map_err(err)?,
+            );
+        }
+        if key.targets.is_some() {
+            mesh.morph_targets = self
+                .morph_targets(mesh_index, primitive, vertex_count, &stats.sources)
+                .map_err(err)?;
+        }
         report.degenerate_triangles += stats.degenerate;
         if stats.generated_normals || stats.repaired_normals > 0 {
             report.generated_normals += 1;
@@ -914,13 +965,13 @@ impl Importer<'_> {
 
     /// Adds `bytes` of mesh to the file's total: an error past [`MESH_BYTES_FLOOR`] +
     /// [`MESH_BYTES_PER_BYTE_READ`] × the bytes of the file and the buffers it read.
-    fn charge_mesh_bytes(&mut self, bytes: u64) -> Result<(), String> {
+    pub(crate) fn charge_mesh_bytes(&mut self, bytes: u64) -> Result<(), String> {
         let read = self.file_bytes + self.buffers.bytes_read();
         let budget = MESH_BYTES_FLOOR + MESH_BYTES_PER_BYTE_READ * read;
         self.mesh_bytes = self.mesh_bytes.saturating_add(bytes);
         if self.mesh_bytes > budget {
             return Err(format!(
-                "the meshes built so far would take {} MiB, more than this file may ask for ({} MiB: {} MiB + {} × the {read} bytes of the file and its buffers)",
+                "the meshes, skins and animations built so far would take {} MiB, more than this file may ask for ({} MiB: {} MiB + {} × the {read} bytes of the file and its buffers)",
                 self.mesh_bytes >> 20,
                 budget >> 20,
                 MESH_BYTES_FLOOR >> 20,
@@ -1351,6 +1402,54 @@ pub(crate) fn world_bounds(meshes: &[crate::Mesh], objects: &[Object]) -> Option
         .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
 }
 
+/// `bounds` grown to hold every object hanging from a node wherever the first animation
+/// of `motion` takes it, at its key times (at most [`FRAMED_POSES`] of them, fewer for
+/// very many objects), so that a framing camera sees the scene move. Skinned objects
+/// keep their box at rest; a box that does not fit f32 is left out.
+fn animated_bounds(
+    motion: &crate::Motion,
+    meshes: &[crate::Mesh],
+    objects: &[Object],
+    mut bounds: Option<(Vec3, Vec3)>,
+) -> Option<(Vec3, Vec3)> {
+    let Some(animation) = motion.animations.first() else {
+        return bounds;
+    };
+    let mut times: Vec<f32> = animation
+        .samplers
+        .iter()
+        .flat_map(|s| s.times.iter().copied())
+        .collect();
+    times.sort_by(f32::total_cmp);
+    times.dedup();
+    let poses = (FRAMED_OBJECT_POSES / objects.len().max(1)).clamp(2, FRAMED_POSES);
+    let step = times.len().div_ceil(poses).max(1);
+    let boxes: Vec<_> = meshes.iter().map(crate::Mesh::bounds).collect();
+    for &time in times.iter().step_by(step).chain(times.last()) {
+        let Some(pose) = motion.sample(0, time) else {
+            break;
+        };
+        let world = motion.world_transforms(&pose);
+        for object in objects {
+            let Some(link) = object.node else { continue };
+            if meshes[object.mesh].skin.is_some() && motion.nodes[link.node].skin.is_some() {
+                continue;
+            }
+            let placed =
+                crate::placed_bounds(boxes[object.mesh], &(world[link.node] * link.offset));
+            if let Some((lo, hi)) = placed.filter(|(lo, hi)| (*hi - *lo).is_finite()) {
+                bounds = Some(bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+            }
+        }
+    }
+    bounds
+}
+
+/// At most this many poses of the first animation are framed ([`animated_bounds`]).
+const FRAMED_POSES: usize = 64;
+/// ... and at most about this many object placements in all.
+const FRAMED_OBJECT_POSES: usize = 1 << 22;
+
 /// Each object's world-space box (`None` for an object whose mesh is missing or has no
 /// vertices).
 pub(crate) fn object_bounds(
@@ -1358,33 +1457,11 @@ pub(crate) fn object_bounds(
     objects: &[Object],
 ) -> Vec<Option<(Vec3, Vec3)>> {
     // Each mesh's own box once, not once per object that places it.
-    let boxes: Vec<_> = meshes.iter().map(mesh_bounds).collect();
+    let boxes: Vec<_> = meshes.iter().map(crate::Mesh::bounds).collect();
     objects
         .iter()
-        .map(|object| placed_bounds(*boxes.get(object.mesh)?, &object.transform))
+        .map(|object| crate::placed_bounds(*boxes.get(object.mesh)?, &object.transform))
         .collect()
-}
-
-/// The box around `mesh`'s vertices; `None` for a mesh without vertices.
-fn mesh_bounds(mesh: &crate::Mesh) -> Option<(Vec3, Vec3)> {
-    let mut lo = Vec3::splat(f32::INFINITY);
-    let mut hi = Vec3::splat(f32::NEG_INFINITY);
-    for v in &mesh.vertices {
-        lo = lo.min(Vec3::from(v.position));
-        hi = hi.max(Vec3::from(v.position));
-    }
-    (lo.x <= hi.x).then_some((lo, hi))
-}
-
-/// The world-space box around a mesh whose own box is `local`, placed by `transform`
-/// (the local box's corners transformed).
-fn placed_bounds(local: Option<(Vec3, Vec3)>, transform: &Mat4) -> Option<(Vec3, Vec3)> {
-    let (lo, hi) = local?;
-    crate::box_corners(lo, hi)
-        .iter()
-        .map(|corner| transform.transform_point3(*corner))
-        .map(|p| (p, p))
-        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
 }
 
 /// The framing camera's elevation above the horizon: 15°, model-viewer's default orbit

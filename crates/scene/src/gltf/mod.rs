@@ -12,6 +12,7 @@
 //! in [`ImportReport::warnings`]. The scene returned has passed [`Scene::validate`].
 
 mod accessor;
+mod animation;
 mod error;
 mod geometry;
 mod image;

@@ -1,0 +1,373 @@
+//! Morph targets and skins on the GPU: a compute pass (deform.comp) at the top of the
+//! frame writes each deformed object's posed vertices, which every pass that draws the
+//! scene then reads as the object's first vertex stream (G-buffer, shadow maps, back
+//! faces, forward) — one posing per frame however many passes draw it.
+//!
+//! What the scene holds (made at upload, only for a scene with deformed objects: an
+//! object hanging from a node whose mesh has morph targets, or joint influences and a
+//! skinned node): each deformed mesh's rest vertices, influences and displacements once,
+//! and one posed stream per deformed object. What a frame brings (its pose, else the
+//! scene at rest): the skins' joint matrices and the objects' morph weights, written into
+//! the frame slot like its lights. A scene without deformed objects has none of it: no
+//! pass, no buffer, no pipeline.
+
+use std::sync::Arc;
+
+use combustion_scene::{ObjectPoses, Scene};
+use combustion_vk::{
+    vk, Buffer, DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout,
+    ShaderCompiler, ShaderModule, ShaderStage,
+};
+use glam::{Mat4, Vec3};
+
+use crate::error::RenderError;
+use crate::gpu_types::GpuVertex;
+use crate::placement::Bounds;
+
+/// The deform pass's push constants (`DeformPush` in deform.comp).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct DeformPush {
+    /// First rest vertex, vertex count, first posed vertex, first displacement (vec4s).
+    pub vertices: [u32; 4],
+    /// Target count, first weight, first joint matrix (`NOT_SKINNED`: none), unused.
+    pub deform: [u32; 4],
+}
+
+/// `DeformPush::deform[2]` of an object that is morphed only.
+const NOT_SKINNED: u32 = u32::MAX;
+
+/// Invocations per workgroup (`local_size_x` in deform.comp).
+const GROUP: u32 = 64;
+
+/// The deform pass's pipeline (made when the first scene with deformed objects is
+/// uploaded: shaders are compiled at upload, never in a frame).
+pub(crate) struct DeformPipeline {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
+impl DeformPipeline {
+    pub(crate) fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        set_layout: &DescriptorSetLayout,
+    ) -> Result<Self, RenderError> {
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::COMPUTE,
+            offset: 0,
+            size: std::mem::size_of::<DeformPush>() as u32,
+        }];
+        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
+        let module = ShaderModule::new(
+            device,
+            &compiler.compile("deform.comp", ShaderStage::Compute, &[])?,
+            ShaderStage::Compute,
+        )?;
+        let pipeline = Pipeline::compute(device, &module, &layout, Some(cache))?;
+        Ok(Self { layout, pipeline })
+    }
+
+    /// One dispatch per deformed object of `deform` (recording state; the set's
+    /// resources in the states the pass declared).
+    pub(crate) fn record(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        deform: &SceneDeform,
+    ) {
+        let raw = device.raw();
+        crate::commands::bind_pass(
+            raw,
+            cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            &self.pipeline,
+            &self.layout,
+            set,
+            vk::ShaderStageFlags::COMPUTE,
+            &[],
+        );
+        for object in &deform.objects {
+            // SAFETY: recording state; the layout has this push range.
+            unsafe {
+                raw.cmd_push_constants(
+                    cmd,
+                    self.layout.raw(),
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    bytemuck::bytes_of(&object.push),
+                );
+                raw.cmd_dispatch(cmd, object.push.vertices[1].div_ceil(GROUP), 1, 1);
+            }
+        }
+    }
+}
+
+/// One deformed object of the scene.
+pub(crate) struct DeformedObject {
+    /// Its index in the object table.
+    pub object: usize,
+    pub push: DeformPush,
+    /// Its skin (index into the scene's skins), if its joints place it.
+    skin: Option<usize>,
+    /// Per joint influencing its mesh: the joint, and the box (in the mesh's bind space)
+    /// of the rest vertices it influences.
+    joint_boxes: Vec<(u32, Bounds)>,
+    /// Its mesh's box at rest, in its own space.
+    mesh_box: Option<Bounds>,
+    /// Per morph target, the largest displacement of a position along each axis.
+    target_extents: Vec<Vec3>,
+}
+
+/// A scene's deformed objects on the GPU.
+pub(crate) struct SceneDeform {
+    /// Every deformed mesh's rest vertices (`GpuVertex`), each mesh once.
+    pub rest: Buffer,
+    /// Per rest vertex, its first influence and their count (`uvec2`).
+    pub ranges: Buffer,
+    /// Influences: the joint (within its skin) and the weight's bits (`uvec2`).
+    pub influences: Buffer,
+    /// Per target of each morphed mesh, per vertex: position, normal and tangent
+    /// displacements (`vec4` each).
+    pub displacements: Buffer,
+    /// Every deformed object's posed vertices (`GpuVertex`), written by the pass and
+    /// read as vertex stream 0.
+    pub posed: Buffer,
+    /// The objects, in object-table order.
+    pub objects: Vec<DeformedObject>,
+    /// Per object of the scene, the byte offset of its posed vertices in `posed` (`None`:
+    /// it is not deformed and draws its mesh's own).
+    pub posed_offsets: Vec<Option<u64>>,
+    /// Per skin, its first matrix among the frame's joint matrices.
+    skin_bases: Vec<usize>,
+    /// The frame's joint matrices and morph weights, counted.
+    joint_count: usize,
+    weight_count: usize,
+    /// The scene at rest (what a frame without a pose shows).
+    pub rest_poses: ObjectPoses,
+}
+
+/// Whether object `i` of `scene` is skinned (its node has a skin, its mesh influences)
+/// and whether it is morphed (its mesh has targets and it hangs from a node).
+pub(crate) fn deformation(scene: &Scene, i: usize) -> (bool, bool) {
+    let object = &scene.objects[i];
+    let mesh = &scene.meshes[object.mesh];
+    let Some(link) = object.node else {
+        return (false, false);
+    };
+    let skinned = mesh.skin.is_some() && scene.motion.nodes[link.node].skin.is_some();
+    (skinned, !mesh.morph_targets.is_empty())
+}
+
+fn bytes_of<T: bytemuck::Pod>(values: &[T]) -> &[u8] {
+    bytemuck::cast_slice(values)
+}
+
+impl SceneDeform {
+    /// The deformed objects of `scene` (validated) and their buffers; `None` when it has
+    /// none.
+    pub(crate) fn new(device: &Arc<Device>, scene: &Scene) -> Result<Option<Self>, RenderError> {
+        let deformed: Vec<(usize, bool, bool)> = (0..scene.objects.len())
+            .map(|i| {
+                let (skinned, morphed) = deformation(scene, i);
+                (i, skinned, morphed)
+            })
+            .filter(|&(_, skinned, morphed)| skinned || morphed)
+            .collect();
+        if deformed.is_empty() {
+            return Ok(None);
+        }
+        let mut skin_bases = Vec::with_capacity(scene.motion.skins.len());
+        let mut joint_count = 0;
+        for skin in &scene.motion.skins {
+            skin_bases.push(joint_count);
+            joint_count += skin.joints.len();
+        }
+        // Each deformed mesh's rest data once.
+        let mut rest: Vec<GpuVertex> = Vec::new();
+        let mut ranges: Vec<[u32; 2]> = Vec::new();
+        let mut influences: Vec<[u32; 2]> = Vec::new();
+        let mut displacements: Vec<[f32; 4]> = Vec::new();
+        // Per mesh: (first rest vertex, first displacement).
+        let mut mesh_bases: std::collections::HashMap<usize, (u32, u32)> = Default::default();
+        let too_large = |what: &str| {
+            RenderError::TooLarge(format!("the deformed meshes' {what} exceed 2³² entries"))
+        };
+        let mut objects = Vec::with_capacity(deformed.len());
+        let mut posed_offsets = vec![None; scene.objects.len()];
+        let (mut posed_vertices, mut weight_count) = (0u64, 0usize);
+        for &(i, skinned, _) in &deformed {
+            let object = &scene.objects[i];
+            let mesh = &scene.meshes[object.mesh];
+            let (rest_base, displacement_base) = match mesh_bases.get(&object.mesh) {
+                Some(&bases) => bases,
+                None => {
+                    let bases = (
+                        u32::try_from(rest.len()).map_err(|_| too_large("vertices"))?,
+                        u32::try_from(displacements.len())
+                            .map_err(|_| too_large("displacements"))?,
+                    );
+                    rest.extend(mesh.vertices.iter().map(GpuVertex::new));
+                    for v in 0..mesh.vertices.len() {
+                        let start =
+                            u32::try_from(influences.len()).map_err(|_| too_large("influences"))?;
+                        if let Some(skin) = &mesh.skin {
+                            influences.extend(skin.influences(v).map(|(j, w)| [j, w.to_bits()]));
+                        }
+                        ranges.push([start, influences.len() as u32 - start]);
+                    }
+                    for target in &mesh.morph_targets {
+                        let d = |list: &[[f32; 3]], v: usize| {
+                            list.get(v).map_or([0.0; 4], |d| [d[0], d[1], d[2], 0.0])
+                        };
+                        for v in 0..mesh.vertices.len() {
+                            displacements.push(d(&target.positions, v));
+                            displacements.push(d(&target.normals, v));
+                            displacements.push(d(&target.tangents, v));
+                        }
+                    }
+                    mesh_bases.insert(object.mesh, bases);
+                    bases
+                }
+            };
+            let link = object.node.expect("a deformed object hangs from a node");
+            let skin = if skinned {
+                scene.motion.nodes[link.node].skin
+            } else {
+                None
+            };
+            let vertex_count = mesh.vertices.len() as u32;
+            let push = DeformPush {
+                vertices: [
+                    rest_base,
+                    vertex_count,
+                    u32::try_from(posed_vertices).map_err(|_| too_large("posed vertices"))?,
+                    displacement_base,
+                ],
+                deform: [
+                    mesh.morph_targets.len() as u32,
+                    weight_count as u32,
+                    skin.map_or(NOT_SKINNED, |s| skin_bases[s] as u32),
+                    0,
+                ],
+            };
+            posed_offsets[i] = Some(posed_vertices * std::mem::size_of::<GpuVertex>() as u64);
+            posed_vertices += u64::from(vertex_count);
+            weight_count += mesh.morph_targets.len();
+            let mut joint_boxes: Vec<(u32, Bounds)> = Vec::new();
+            if let (Some(_), Some(weights)) = (skin, &mesh.skin) {
+                let mut boxes: std::collections::BTreeMap<u32, Bounds> = Default::default();
+                for (v, vertex) in mesh.vertices.iter().enumerate() {
+                    let p = Vec3::from(vertex.position);
+                    for (j, _) in weights.influences(v) {
+                        let b = boxes.entry(j).or_insert((p, p));
+                        *b = (b.0.min(p), b.1.max(p));
+                    }
+                }
+                joint_boxes = boxes.into_iter().collect();
+            }
+            let target_extents = mesh
+                .morph_targets
+                .iter()
+                .map(|t| {
+                    t.positions
+                        .iter()
+                        .fold(Vec3::ZERO, |m, d| m.max(Vec3::from(*d).abs()))
+                })
+                .collect();
+            objects.push(DeformedObject {
+                object: i,
+                push,
+                skin,
+                joint_boxes,
+                mesh_box: mesh.bounds(),
+                target_extents,
+            });
+        }
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let filled = |name: &str, bytes: &[u8]| -> Result<Buffer, RenderError> {
+            let bytes = if bytes.is_empty() {
+                &[0u8; 16][..]
+            } else {
+                bytes
+            };
+            Ok(Buffer::with_data(device, name, bytes, storage)?)
+        };
+        let posed_bytes = (posed_vertices * std::mem::size_of::<GpuVertex>() as u64).max(4);
+        Ok(Some(Self {
+            rest: filled("deform rest vertices", bytes_of(&rest))?,
+            ranges: filled("deform influence ranges", bytes_of(&ranges))?,
+            influences: filled("deform influences", bytes_of(&influences))?,
+            displacements: filled("deform displacements", bytes_of(&displacements))?,
+            posed: Buffer::new(
+                device,
+                "posed vertices",
+                posed_bytes,
+                storage | vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+                crate::buffers::GPU_ONLY,
+            )?,
+            objects,
+            posed_offsets,
+            skin_bases,
+            joint_count,
+            weight_count,
+            rest_poses: scene.pose_objects(&scene.motion.rest_pose()),
+        }))
+    }
+
+    /// The joint matrices (skin after skin) and morph weights (deformed object after
+    /// object) a frame in `poses` gives the pass, as it reads them.
+    pub(crate) fn frame_inputs(&self, scene: &Scene, poses: &ObjectPoses) -> (Vec<Mat4>, Vec<f32>) {
+        let mut joints = Vec::with_capacity(self.joint_count);
+        for matrices in &poses.joints {
+            joints.extend_from_slice(matrices);
+        }
+        debug_assert_eq!(joints.len(), self.joint_count);
+        debug_assert_eq!(self.skin_bases.len(), poses.joints.len());
+        let mut weights = Vec::with_capacity(self.weight_count);
+        for object in &self.objects {
+            let targets = scene.meshes[scene.objects[object.object].mesh]
+                .morph_targets
+                .len();
+            let given = &poses.weights[object.object];
+            weights.extend((0..targets).map(|t| given.get(t).copied().unwrap_or(0.0)));
+        }
+        (joints, weights)
+    }
+
+    /// Per deformed object, its world box in `poses` (it holds every posed vertex for
+    /// joint weights that sum to at most 1): a skinned object's is the union of its
+    /// joints' boxes placed by the joints' matrices, each grown by the weighted largest
+    /// morph displacements; a morphed one's, its mesh's box grown the same way, placed
+    /// by its transform.
+    pub(crate) fn bounds<'a>(
+        &'a self,
+        poses: &'a ObjectPoses,
+    ) -> impl Iterator<Item = (usize, Option<Bounds>)> + 'a {
+        self.objects.iter().map(move |d| {
+            let weights = &poses.weights[d.object];
+            let margin = d
+                .target_extents
+                .iter()
+                .zip(weights)
+                .fold(Vec3::ZERO, |m, (e, w)| m + *e * w.abs());
+            let grow = |(lo, hi): Bounds| Some((lo - margin, hi + margin));
+            let placed = match d.skin {
+                Some(skin) => d
+                    .joint_boxes
+                    .iter()
+                    .filter_map(|&(j, b)| {
+                        combustion_scene::placed_bounds(grow(b), &poses.joints[skin][j as usize])
+                    })
+                    .reduce(|(a, b), (c, e)| (a.min(c), b.max(e))),
+                None => combustion_scene::placed_bounds(
+                    d.mesh_box.and_then(grow),
+                    &poses.transforms[d.object],
+                ),
+            };
+            (d.object, placed)
+        })
+    }
+}
