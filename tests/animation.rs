@@ -63,22 +63,12 @@ fn a_posed_frame_is_the_still_scene_in_that_pose() {
         for ((time, pose), posed) in times.iter().zip(&poses).zip(&posed) {
             let still = renderer.upload(&scene.posed(pose)).unwrap();
             let expected = renderer.render(&still, W, H, Readback::ALL).unwrap();
-            let differing = posed
-                .hdr
-                .iter()
-                .zip(&expected.hdr)
-                .filter(|(a, b)| a != b)
-                .count();
+            let differing = common::hdr_pixels_differing(posed, &expected);
             assert_eq!(
                 differing, 0,
                 "t = {time}: {differing} pixels differ from the still scene's"
             );
-            let moved = posed
-                .hdr
-                .iter()
-                .zip(&rest.hdr)
-                .filter(|(a, b)| a != b)
-                .count();
+            let moved = common::hdr_pixels_differing(posed, &rest);
             eprintln!("t = {time}: {moved} pixels differ from the rest pose's");
             if *time > 0.0 {
                 assert!(
@@ -292,12 +282,7 @@ fn a_pose_that_changes_nothing_draws_the_rest_mesh_exactly() {
             .unwrap();
         let still = renderer.upload(&still).unwrap();
         let expected = renderer.render(&still, W, H, Readback::ALL).unwrap();
-        let differing = posed
-            .hdr
-            .iter()
-            .zip(&expected.hdr)
-            .filter(|(a, b)| a != b)
-            .count();
+        let differing = common::hdr_pixels_differing(&posed, &expected);
         assert_eq!(
             differing, 0,
             "{differing} pixels differ from the rest meshes'"

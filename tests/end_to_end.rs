@@ -605,13 +605,22 @@ fn compare_stored_with_scene(
 }
 
 /// `frame` (rendered with `storage`) compared per pixel with the f64 reference of
-/// `scene`, as [`compare_with_scene`] does.
+/// `scene`, as [`compare_with_scene`] does. A scene whose objects hang from nodes is
+/// compared as the still scene at rest (`Scene::posed`: its skinned and morphed meshes
+/// deformed, as a frame without a pose shows them).
 fn compare_frame_with_scene(
     frame: &combustion::renderer::Frame,
     scene: &Scene,
     (width, height): (u32, u32),
     storage: GBufferStorage,
 ) -> SceneComparison {
+    let at_rest;
+    let scene = if scene.objects.iter().any(|o| o.node.is_some()) {
+        at_rest = scene.posed(&scene.pose_objects(&scene.motion.rest_pose()));
+        &at_rest
+    } else {
+        scene
+    };
     let bvh = SceneBvh::new(scene);
     let precision = precision_of(storage);
     let reference = SceneReference::new(scene, &bvh, &scene.lights, (width, height), precision, 2);
@@ -887,6 +896,13 @@ fn the_sample_models_are_what_they_show() {
         "VertexColorTest",
         "UnlitTest",
         "SimpleInstancing",
+        // Skinned and morphed, at rest (the deform pass posing them by their rest
+        // joints and weights).
+        "CesiumMan",
+        "SimpleSkin",
+        "RiggedSimple",
+        "AnimatedMorphCube",
+        "MorphPrimitivesTest",
     ] {
         let gltf = root.join(model).join(format!("glTF/{model}.gltf"));
         let path = if gltf.exists() {

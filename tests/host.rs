@@ -891,7 +891,8 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// behind transmissive objects, a target of its own; the back faces of glass volumes,
 /// targets and a pass of their own, with and without them), with and without a clear
 /// coat and a sheen (G-buffer targets of their own; the sheen's table, made on first
-/// need in place of a placeholder), rendered in
+/// need in place of a placeholder), with and without a pose every frame (skinned and
+/// morphed objects posed by the deform pass; objects moved), rendered in
 /// alternation, each run of
 /// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
 /// flight. The targets of the scene not shown are retired and destroyed while the
@@ -949,6 +950,11 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         // (made for the first variant with sheen, the placeholder retired while frames
         // in flight bound it), with a coat beside it.
         builtin_scene("sheen").unwrap(),
+        // Things that move, a pose every frame (the host's own, examples/host/app.rs):
+        // skinned and morphed objects (the deform pass, the slot's joint matrices and
+        // weights), and objects moved by an animation (the slot's object table).
+        common::deformed_spheres(),
+        common::animated_grid(),
     ];
     let (mut host, log, mut output) = host_with_output(&scenes, 3, 48, 40);
     // Each scene for 24 frames (past the 16-frame retire delay), twice round; the
@@ -963,7 +969,9 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
                 .unwrap();
             host.frame_environments = vec![None, Some(studio)];
         }
-        for scene in [0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8, 9, 1, 9, 8] {
+        for scene in [
+            0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8, 9, 1, 9, 8, 10, 11, 0, 10,
+        ] {
             for _ in 0..24 {
                 headless::frame(&mut host, &mut output, scene).unwrap();
             }

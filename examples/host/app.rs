@@ -228,16 +228,20 @@ pub fn camera_at(base: &Camera, n: u64) -> Camera {
     }
 }
 
-/// The pose of frame `n`, the host's own animation: every joint of every skin swaying
-/// about its own z axis, out of phase along the skin (placed through the scene's
-/// hierarchy by `Scene::pose_objects`, which gives the joint matrices); `None` for a
-/// scene without skins (it is drawn at rest).
+/// The pose of frame `n`: the scene's first animation at n/30 s, and on top of it the
+/// host's own animation, every joint of every skin swaying about its own z axis, out
+/// of phase along the skin (placed through the scene's hierarchy by
+/// `Scene::pose_objects`, which gives the joint matrices); `None` for a scene with
+/// neither animations nor skins (it is drawn at rest).
 pub fn pose_at(scene: &combustion::scene::Scene, n: u64) -> Option<combustion::scene::ObjectPoses> {
     use combustion::scene::motion::LocalTransform;
-    if scene.motion.skins.is_empty() {
+    if scene.motion.skins.is_empty() && scene.motion.animations.is_empty() {
         return None;
     }
-    let mut pose = scene.motion.rest_pose();
+    let mut pose = scene
+        .motion
+        .sample(0, n as f32 / 30.0)
+        .unwrap_or_else(|| scene.motion.rest_pose());
     for skin in &scene.motion.skins {
         for (j, &node) in skin.joints.iter().enumerate() {
             if let LocalTransform::Trs { rotation, .. } = &mut pose.locals[node] {

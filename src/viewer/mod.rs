@@ -219,11 +219,7 @@ fn record_screenshot_copy(
     let region = combustion_vk::color_level0_copy_region(extent);
     let raw = device.raw();
     let to_present = [combustion_vk::image_barrier(image, range, from, to)];
-    let to_host = [vk::MemoryBarrier2::default()
-        .src_stage_mask(vk::PipelineStageFlags2::COPY)
-        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+    let to_host = [combustion_vk::copy_to_host_barrier()];
     // SAFETY: recording state; the image was left in `from` (TRANSFER_SRC_OPTIMAL).
     unsafe {
         raw.cmd_copy_image_to_buffer(

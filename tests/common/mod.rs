@@ -181,6 +181,11 @@ pub fn pixels_apart(a: &Frame, b: &Frame) -> usize {
         .count()
 }
 
+/// Pixels whose HDR radiance differs in any bit between two frames of one size.
+pub fn hdr_pixels_differing(a: &Frame, b: &Frame) -> usize {
+    a.hdr.iter().zip(&b.hdr).filter(|(p, q)| p != q).count()
+}
+
 pub fn goldens_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/goldens")
 }

@@ -16,7 +16,7 @@ use std::sync::Arc;
 use combustion_scene::{ObjectPoses, Scene};
 use combustion_vk::{
     vk, Buffer, DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout,
-    ShaderCompiler, ShaderModule, ShaderStage,
+    ShaderCompiler,
 };
 use glam::{Mat4, Vec3};
 
@@ -54,18 +54,14 @@ impl DeformPipeline {
         cache: &PipelineCache,
         set_layout: &DescriptorSetLayout,
     ) -> Result<Self, RenderError> {
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::COMPUTE,
-            offset: 0,
-            size: std::mem::size_of::<DeformPush>() as u32,
-        }];
-        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
-        let module = ShaderModule::new(
+        let (layout, pipeline) = crate::light_cull::compute_pipeline(
             device,
-            &compiler.compile("deform.comp", ShaderStage::Compute, &[])?,
-            ShaderStage::Compute,
+            compiler,
+            cache,
+            set_layout,
+            "deform.comp",
+            std::mem::size_of::<DeformPush>(),
         )?;
-        let pipeline = Pipeline::compute(device, &module, &layout, Some(cache))?;
         Ok(Self { layout, pipeline })
     }
 

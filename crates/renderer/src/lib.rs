@@ -346,11 +346,7 @@ impl Renderer {
             .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
             .dst_stage_mask(vk::PipelineStageFlags2::COPY)
             .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
-        let to_host = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COPY)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        let to_host = [combustion_vk::copy_to_host_barrier()];
         // SAFETY: recording state; the device is idle, both buffers live past the wait.
         unsafe {
             raw.cmd_pipeline_barrier2(

@@ -56,6 +56,31 @@ pub fn tiles(extent: vk::Extent2D) -> (u32, u32) {
     )
 }
 
+/// A compute pipeline of `shader` (set 0 of `set_layout`, `push_bytes` of push
+/// constants): its layout and the pipeline.
+pub(crate) fn compute_pipeline(
+    device: &Arc<Device>,
+    compiler: &ShaderCompiler,
+    cache: &PipelineCache,
+    set_layout: &DescriptorSetLayout,
+    shader: &str,
+    push_bytes: usize,
+) -> Result<(PipelineLayout, Pipeline), RenderError> {
+    let push = [vk::PushConstantRange {
+        stage_flags: vk::ShaderStageFlags::COMPUTE,
+        offset: 0,
+        size: push_bytes as u32,
+    }];
+    let layout = PipelineLayout::new(device, &[set_layout], &push)?;
+    let module = ShaderModule::new(
+        device,
+        &compiler.compile(shader, ShaderStage::Compute, &[])?,
+        ShaderStage::Compute,
+    )?;
+    let pipeline = Pipeline::compute(device, &module, &layout, Some(cache))?;
+    Ok((layout, pipeline))
+}
+
 /// The culling pass's pipeline.
 pub(crate) struct LightCullPass {
     layout: PipelineLayout,
@@ -69,18 +94,14 @@ impl LightCullPass {
         cache: &PipelineCache,
         set_layout: &DescriptorSetLayout,
     ) -> Result<Self, RenderError> {
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::COMPUTE,
-            offset: 0,
-            size: std::mem::size_of::<CullPush>() as u32,
-        }];
-        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
-        let module = ShaderModule::new(
+        let (layout, pipeline) = compute_pipeline(
             device,
-            &compiler.compile("light_cull.comp", ShaderStage::Compute, &[])?,
-            ShaderStage::Compute,
+            compiler,
+            cache,
+            set_layout,
+            "light_cull.comp",
+            std::mem::size_of::<CullPush>(),
         )?;
-        let pipeline = Pipeline::compute(device, &module, &layout, Some(cache))?;
         Ok(Self { layout, pipeline })
     }
 

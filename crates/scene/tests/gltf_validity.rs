@@ -610,6 +610,20 @@ struct Arrays {
 }
 
 impl Arrays {
+    /// Arrays holding the triangle's positions first (with their bounds); the
+    /// positions' accessor.
+    fn with_triangle() -> (Self, usize) {
+        let mut a = Arrays {
+            bytes: Vec::new(),
+            views: Vec::new(),
+            accessors: Vec::new(),
+        };
+        let position = a.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], 3, "VEC3");
+        a.accessors[position]["min"] = json!([0, 0, 0]);
+        a.accessors[position]["max"] = json!([1, 1, 0]);
+        (a, position)
+    }
+
     /// Pushes `data` as an accessor of `count` elements of `type_` and `component`
     /// (4-byte aligned); returns its index.
     fn push(&mut self, data: &[u8], component: u32, count: usize, type_: &str) -> usize {
@@ -643,14 +657,7 @@ impl Arrays {
 /// bind matrices, 5 key times, 6 rotations, 7 morph weights, 8 decreasing times, 9
 /// weights with a negative one.
 fn rigged_triangle() -> Value {
-    let mut a = Arrays {
-        bytes: Vec::new(),
-        views: Vec::new(),
-        accessors: Vec::new(),
-    };
-    let position = a.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], 3, "VEC3");
-    a.accessors[position]["min"] = json!([0, 0, 0]);
-    a.accessors[position]["max"] = json!([1, 1, 0]);
+    let (mut a, position) = Arrays::with_triangle();
     let joints = a.push(&[0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0], 5121, 3, "VEC4");
     let weights = a.floats(
         &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0],
@@ -828,14 +835,7 @@ fn skins_morph_targets_and_animations_are_read_and_bad_values_refused() {
 #[test]
 fn animations_built_from_aliased_accessors_are_budgeted() {
     const KEYS: usize = 16_384;
-    let mut a = Arrays {
-        bytes: Vec::new(),
-        views: Vec::new(),
-        accessors: Vec::new(),
-    };
-    let position = a.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0], 3, "VEC3");
-    a.accessors[position]["min"] = json!([0, 0, 0]);
-    a.accessors[position]["max"] = json!([1, 1, 0]);
+    let (mut a, _) = Arrays::with_triangle();
     let times: Vec<f32> = (0..KEYS).map(|k| k as f32).collect();
     let times = a.floats(&times, KEYS, "SCALAR");
     a.accessors[times]["min"] = json!([0.0]);

@@ -48,8 +48,8 @@ pub use pipeline::{
 };
 pub use probe::{DeviceCounters, InjectedFault};
 pub use resources::{
-    color_level0_copy_region, full_mip_chain, image_barrier, Buffer, Image, ImageDesc, ImageState,
-    ImageView,
+    color_level0_copy_region, copy_to_host_barrier, full_mip_chain, image_barrier, Buffer, Image,
+    ImageDesc, ImageState, ImageView,
 };
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources, ShaderStage};
 pub use swapchain::{AcquiredImage, PresentOutcome, Surface, Swapchain};

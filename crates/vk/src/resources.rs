@@ -276,6 +276,16 @@ impl ImageState {
     }
 }
 
+/// The barrier that makes a copy's writes visible to the host (a readback after the
+/// submission's wait).
+pub fn copy_to_host_barrier() -> vk::MemoryBarrier2<'static> {
+    vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::COPY)
+        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+        .dst_access_mask(vk::AccessFlags2::HOST_READ)
+}
+
 /// A barrier moving `range` of `image` from `from` to `to` (synchronization2).
 pub fn image_barrier(
     image: vk::Image,
