@@ -5,9 +5,7 @@
 // target's displacements times its weight), then, for a skinned object, placed by the
 // weighted sum of its joints' matrices (world · inverse bind): the position by the sum,
 // the normal by the inverse transpose of its linear part, the tangent by the linear
-// part (not normalised here: the vertex stages normalise both after their object's
-// normal matrix, as for a mesh that is not deformed, so a pose that changes nothing
-// draws exactly the rest mesh). A morphed object that is not skinned stays in its own space
+// part, both brought back to unit length (below). A morphed object that is not skinned stays in its own space
 // (its transform places it); a skinned one is written in world space (its transform is
 // the identity). The posed vertex is written where the passes that draw the object read
 // its first vertex stream. combustion_scene::motion::pose_vertex is the same on the CPU
@@ -57,9 +55,30 @@ void main() {
         if (range.y > 0u) {
             mat3 linear = mat3(sum);
             position = (sum * vec4(position, 1.0)).xyz;
-            normal = transpose(inverse(linear)) * normal;
+            // The inverse transpose up to a positive factor (normals are normalised
+            // later): the cofactor matrix, signed by the determinant. Unlike inverse(),
+            // it is finite for a singular sum (a joint scaled to 0 to hide a part).
+            mat3 cofactor = mat3(cross(linear[1], linear[2]), cross(linear[2], linear[0]),
+                                 cross(linear[0], linear[1]));
+            vec3 skinned = (determinant(linear) < 0.0 ? -1.0 : 1.0) * (cofactor * normal);
+            // A vertex collapsed to a point (every joint of it scaled to 0) keeps its
+            // normal: its triangles shrink away, but one that still has area needs a
+            // direction at each corner.
+            normal = dot(skinned, skinned) > 0.0 ? skinned : normal;
             tangent = linear * tangent;
         }
+    }
+    // Unit length, as the rest vertices are: the passes interpolate normals and tangents
+    // across a triangle before normalising, so their lengths must not vary (a blend of
+    // joints scales them). Vectors already unit to 1e-6 are kept bit for bit, so a pose
+    // that changes nothing draws the rest mesh exactly.
+    float n2 = dot(normal, normal);
+    if (n2 > 0.0 && abs(n2 - 1.0) > 2e-6) {
+        normal *= inversesqrt(n2);
+    }
+    float t2 = dot(tangent, tangent);
+    if (t2 > 0.0 && abs(t2 - 1.0) > 2e-6) {
+        tangent *= inversesqrt(t2);
     }
     uint posed = (push.vertices.z + v) * FLOATS_PER_VERTEX;
     posed_vertices[posed] = position.x;

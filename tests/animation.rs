@@ -82,8 +82,9 @@ fn a_posed_frame_is_the_still_scene_in_that_pose() {
 }
 
 /// A pose that does not fit the scene is refused with its reason, before anything is
-/// recorded: too few transforms, a singular or non-finite transform, weights for morph
-/// targets the mesh lacks are ignored but a skin count that differs is not.
+/// recorded: too few transforms, a non-finite transform, a skin count that differs. A
+/// singular transform (a node scaled to 0, as files hide objects) is accepted: the
+/// object is not drawn.
 #[test]
 fn a_pose_that_does_not_fit_the_scene_is_refused() {
     let scene = animated_grid();
@@ -96,12 +97,9 @@ fn a_pose_that_does_not_fit_the_scene_is_refused() {
         let mut short = good.clone();
         short.transforms.pop();
         cases.push((short, "transforms and"));
-        let mut singular = good.clone();
-        singular.transforms[3] = glam::Mat4::from_scale(glam::Vec3::new(1.0, 0.0, 1.0));
-        cases.push((singular, "object 3's transform is not finite or singular"));
         let mut nan = good.clone();
         nan.transforms[0].w_axis.x = f32::NAN;
-        cases.push((nan, "object 0's transform is not finite or singular"));
+        cases.push((nan, "object 0's transform is not finite"));
         let mut skins = good.clone();
         skins.joints.push(vec![glam::Mat4::IDENTITY]);
         cases.push((skins, "1 joint lists for 0 skins"));
@@ -118,14 +116,23 @@ fn a_pose_that_does_not_fit_the_scene_is_refused() {
                 "expected `{expected}`: {error}"
             );
         }
-        // The renderer goes on as before.
+        // The renderer goes on as before; a sphere scaled to 0 is not drawn: the frame is
+        // the one without it.
+        let mut hidden = good.clone();
+        hidden.transforms[3] = glam::Mat4::from_scale(glam::Vec3::ZERO);
         let inputs = FrameInputs {
-            pose: Some(&good),
+            pose: Some(&hidden),
             ..FrameInputs::of_scene(&gpu, 1.0)
         };
-        renderer
+        let frame = renderer
             .render_with(&gpu, &inputs, W, H, Readback::ALL)
             .unwrap();
+        assert_eq!(frame.non_finite_pixels(), 0);
+        let mut without = scene.clone();
+        without.objects.remove(3);
+        let without = renderer.upload(&without).unwrap();
+        let expected = renderer.render(&without, W, H, Readback::ALL).unwrap();
+        assert_eq!(common::hdr_pixels_differing(&frame, &expected), 0);
     }
     finish(headless);
 }
@@ -289,6 +296,71 @@ fn a_pose_that_changes_nothing_draws_the_rest_mesh_exactly() {
         );
         let lit = expected.hdr.iter().filter(|p| p[0] > 0.0).count();
         assert!(lit > 500, "only {lit} pixels lit");
+    }
+    finish(headless);
+}
+
+/// A joint scaled to 0 hides what it carries (as rigs hide parts), and one flattened
+/// flattens it, with no NaN anywhere: the normals of a singular joint sum come from its
+/// cofactors (finite where the inverse is not), and a vertex collapsed to a point keeps
+/// its own. The sphere's upper half rides joint 1: scaled to 0 it collapses into a point
+/// (the blended middle stretches to it); flattened along the joint's y it becomes a
+/// disc, whose normals point along y.
+#[test]
+fn a_joint_scaled_to_zero_or_flattened_poses_without_a_nan() {
+    let scene = common::deformed_spheres();
+    let skinned = scene.objects.len() - 2;
+    let rest_vertices = &scene.meshes[scene.objects[skinned].mesh].vertices;
+    let at_rest = scene.pose_objects(&scene.motion.rest_pose());
+    let joint = at_rest.joints[0][1];
+    let with_joint_scaled = |scale: glam::Vec3| {
+        let mut pose = at_rest.clone();
+        pose.joints[0][1] = joint * glam::Mat4::from_scale(scale);
+        pose
+    };
+    let mut headless = lavapipe(common::exact_f32());
+    {
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(&scene).unwrap();
+        let mut frames = Vec::new();
+        for (label, pose) in [
+            ("at rest", at_rest.clone()),
+            ("scaled to 0", with_joint_scaled(glam::Vec3::ZERO)),
+            (
+                "flattened",
+                with_joint_scaled(glam::Vec3::new(1.0, 0.0, 1.0)),
+            ),
+        ] {
+            let inputs = FrameInputs {
+                pose: Some(&pose),
+                ..FrameInputs::of_scene(&gpu, 1.0)
+            };
+            let frame = renderer
+                .render_with(&gpu, &inputs, W, H, Readback::ALL)
+                .unwrap();
+            assert_eq!(frame.non_finite_pixels(), 0, "{label}");
+            for (object, vertices) in renderer.read_posed_vertices(&gpu).unwrap() {
+                for (v, posed) in vertices.iter().enumerate() {
+                    let n = glam::Vec3::from(posed.normal);
+                    assert!(
+                        n.is_finite() && n != glam::Vec3::ZERO,
+                        "{label}: object {object} vertex {v}: normal {n}"
+                    );
+                    // The flattened disc (the vertices on joint 1 alone) faces along y.
+                    if label == "flattened"
+                        && object == skinned
+                        && rest_vertices[v].position[1] > 0.2
+                    {
+                        assert!(n.normalize().y.abs() > 0.9999, "vertex {v}: normal {n}");
+                    }
+                }
+            }
+            frames.push(frame);
+        }
+        for (i, label) in [(1, "scaled to 0"), (2, "flattened")] {
+            let changed = common::hdr_pixels_differing(&frames[0], &frames[i]);
+            assert!(changed > 50, "{label}: {changed} pixels changed");
+        }
     }
     finish(headless);
 }

@@ -2225,8 +2225,8 @@ fn diff_refuses_what_it_cannot_compare() {
 
 /// `render --time T [--animation NAME|INDEX]` shows the scene at that time of its
 /// animation: BoxAnimated (a sample model) at 0 s and at 1.8 s gives two different
-/// images; an animation the scene lacks, a scene without animations and a time that is
-/// not a finite number are one-line errors.
+/// images, and `bench --time` plays it while measuring; an animation the scene lacks, a
+/// scene without animations and a time that is not a finite number are one-line errors.
 #[test]
 fn render_shows_the_scene_at_a_time_of_its_animation() {
     assert_refused(
@@ -2283,6 +2283,25 @@ fn render_shows_the_scene_at_a_time_of_its_animation() {
             common::read_png(&out).2
         })
         .collect();
+    // bench plays the animation through its measured frames (validation on).
+    let (code, stdout, stderr) = combustion(&[
+        "bench",
+        model,
+        "--time",
+        "0.5",
+        "--frames",
+        "3",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--validate",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("animation 0 playing (3.71 s long, 1/30 s per frame)"),
+        "{stdout}"
+    );
     let differing = images[0]
         .iter()
         .zip(&images[1])

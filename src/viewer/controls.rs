@@ -298,3 +298,63 @@ mod tests {
         );
     }
 }
+
+#[cfg(test)]
+mod playback_tests {
+    use super::*;
+    use combustion_scene::motion::{
+        Animation, Channel, Interpolation, LocalTransform, Node, Property, Sampler,
+    };
+
+    /// The clock loops over the animation's 2 s (also when scrubbed back past 0), the
+    /// speed stays between 1/16 and 16, N cycles the animations.
+    #[test]
+    fn the_clock_loops_and_the_speed_is_bounded() {
+        let mut scene = combustion_scene::builtin_scene("spheres").unwrap();
+        scene.motion.nodes.push(Node {
+            name: None,
+            parent: None,
+            local: LocalTransform::IDENTITY,
+            skin: None,
+            weights: Vec::new(),
+        });
+        scene.motion.animations.push(Animation {
+            name: Some("two seconds".into()),
+            samplers: vec![Sampler {
+                interpolation: Interpolation::Linear,
+                times: vec![0.0, 2.0],
+                values: vec![0.0; 6],
+            }],
+            channels: vec![Channel {
+                node: 0,
+                property: Property::Translation,
+                sampler: 0,
+            }],
+        });
+        let mut playback = Playback::new();
+        playback.playing = false;
+        playback.time = 5.5;
+        assert!(playback.pose(&scene).is_some());
+        assert_eq!(playback.time, 1.5);
+        playback.time -= 1.75;
+        playback.pose(&scene);
+        assert_eq!(playback.time, 1.75);
+        for _ in 0..10 {
+            playback.change_speed(true);
+        }
+        assert_eq!(playback.speed, 16.0);
+        for _ in 0..20 {
+            playback.change_speed(false);
+        }
+        assert_eq!(playback.speed, 1.0 / 16.0);
+        for _ in 0..3 {
+            playback.next_animation(3);
+        }
+        assert_eq!((playback.animation, playback.time), (0, 0.0));
+        let described = playback.describe(&scene).unwrap();
+        assert!(
+            described.contains("`two seconds`") && described.contains("paused"),
+            "{described}"
+        );
+    }
+}

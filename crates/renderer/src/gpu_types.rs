@@ -276,11 +276,19 @@ impl GpuObject {
         }
     }
 
-    /// The same entry with the object placed by `transform` instead.
+    /// The same entry with the object placed by `transform` instead. A singular
+    /// transform (an animation scaling a node to 0 to hide it) flattens the object to no
+    /// area, so nothing of it is drawn: its normal matrix is left zero (not the inverse,
+    /// which does not exist).
     pub fn placed(&self, transform: &glam::Mat4) -> Self {
+        let normal = if combustion_scene::transform_is_degenerate(transform) {
+            glam::Mat4::ZERO
+        } else {
+            normal_matrix(transform)
+        };
         Self {
             model: transform.to_cols_array(),
-            normal_matrix: normal_matrix(transform).to_cols_array(),
+            normal_matrix: normal.to_cols_array(),
             ..*self
         }
     }

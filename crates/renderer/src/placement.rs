@@ -23,8 +23,8 @@ pub(crate) type Bounds = (Vec3, Vec3);
 
 const OBJECT_TABLE: &str = "frame object table";
 
-/// Checks a frame's pose against `scene`: one transform per object, each finite and not
-/// singular; one weight per morph target for each object whose mesh has targets, each
+/// Checks a frame's pose against `scene`: one transform per object, each finite (a
+/// singular one, a node scaled to 0, hides its object); one weight per morph target for each object whose mesh has targets, each
 /// finite; one matrix per joint for each skin, each finite.
 pub(crate) fn check_pose(scene: &Scene, pose: &ObjectPoses) -> Result<(), RenderError> {
     let invalid = |what: String| Err(RenderError::InvalidPose(what));
@@ -37,8 +37,8 @@ pub(crate) fn check_pose(scene: &Scene, pose: &ObjectPoses) -> Result<(), Render
         ));
     }
     for (i, (object, transform)) in scene.objects.iter().zip(&pose.transforms).enumerate() {
-        if combustion_scene::transform_is_degenerate(transform) {
-            return invalid(format!("object {i}'s transform is not finite or singular"));
+        if !transform.is_finite() {
+            return invalid(format!("object {i}'s transform is not finite"));
         }
         let targets = scene.meshes[object.mesh].morph_targets.len();
         let weights = &pose.weights[i];

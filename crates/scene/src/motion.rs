@@ -629,6 +629,20 @@ pub struct ObjectPoses {
     pub joints: Vec<Vec<Mat4>>,
 }
 
+/// The inverse transpose of `linear` up to a positive factor (what normals are
+/// transformed by before they are normalised): its cofactor matrix, signed by its
+/// determinant. Finite where the inverse is not (a joint scaled to 0 to hide a part);
+/// deform.comp computes the same.
+pub fn normal_transform(linear: &Mat3) -> Mat3 {
+    let (a, b, c) = (linear.x_axis, linear.y_axis, linear.z_axis);
+    let sign = if linear.determinant() < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    Mat3::from_cols(b.cross(c), c.cross(a), a.cross(b)) * sign
+}
+
 /// Vertex `v` of `mesh` morphed by `weights` and placed by `joints` (its skin's joint
 /// matrices) if it has influences, else by `transform`: position, normal (inverse
 /// transpose, normalised) and tangent (normalised, sign kept; a zero normal or tangent
@@ -671,7 +685,12 @@ pub fn pose_vertex(
     let m = skinned.unwrap_or(*transform);
     let linear = Mat3::from_mat4(m);
     position = m.transform_point3(position);
-    normal = (linear.inverse().transpose() * normal).normalize_or_zero();
+    // A vertex collapsed to a point keeps its normal (as deform.comp does).
+    let transformed = normal_transform(&linear) * normal;
+    if transformed != Vec3::ZERO {
+        normal = transformed;
+    }
+    normal = normal.normalize_or_zero();
     tangent = (linear * tangent).normalize_or_zero();
     vertex.position = position.to_array();
     vertex.normal = normal.to_array();
