@@ -364,3 +364,42 @@ fn a_joint_scaled_to_zero_or_flattened_poses_without_a_nan() {
     }
     finish(headless);
 }
+
+/// An object whose node is scaled to 0 at rest (it appears when its animation grows it)
+/// uploads, is not drawn at rest — the frame is the one without it, bit for bit, with no
+/// NaN — and is drawn once the animation has grown it.
+#[test]
+fn an_object_scaled_to_zero_at_rest_appears_when_its_animation_grows_it() {
+    use combustion::scene::motion::LocalTransform;
+    let mut scene = animated_grid();
+    // Sphere 1 (object 1, node 2): scaled to 0 at rest; its animation scales it 1 → 1.6.
+    if let LocalTransform::Trs { scale, .. } = &mut scene.motion.nodes[2].local {
+        *scale = glam::Vec3::ZERO;
+    }
+    let rest = scene.pose_objects(&scene.motion.rest_pose());
+    scene.objects[1].transform = rest.transforms[1];
+    scene.validate().unwrap();
+    let mut without = scene.clone();
+    without.objects.remove(1);
+    let mut headless = lavapipe(common::exact_f32());
+    {
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(&scene).unwrap();
+        let at_rest = renderer.render(&gpu, W, H, Readback::ALL).unwrap();
+        assert_eq!(at_rest.non_finite_pixels(), 0);
+        let without = renderer.upload(&without).unwrap();
+        let expected = renderer.render(&without, W, H, Readback::ALL).unwrap();
+        assert_eq!(common::hdr_pixels_differing(&at_rest, &expected), 0);
+        let pose = scene.pose_objects(&scene.motion.sample(0, 1.0).unwrap());
+        let inputs = FrameInputs {
+            pose: Some(&pose),
+            ..FrameInputs::of_scene(&gpu, 1.0)
+        };
+        let grown = renderer
+            .render_with(&gpu, &inputs, W, H, Readback::ALL)
+            .unwrap();
+        let appeared = common::hdr_pixels_differing(&grown, &at_rest);
+        assert!(appeared > 20, "the grown sphere changed {appeared} pixels");
+    }
+    finish(headless);
+}

@@ -270,10 +270,11 @@ impl GpuObject {
     /// and whether its mesh has vertex colours (`has_colors`: `Mesh::has_colors`).
     pub fn new(object: &Object, has_colors: bool) -> Self {
         Self {
-            model: object.transform.to_cols_array(),
-            normal_matrix: normal_matrix(&object.transform).to_cols_array(),
+            model: [0.0; 16],
+            normal_matrix: [0.0; 16],
             material_index: [object.material as u32, u32::from(has_colors), 0, 0],
         }
+        .placed(&object.transform)
     }
 
     /// The same entry with the object placed by `transform` instead. A singular

@@ -177,7 +177,9 @@ pub struct Object {
     /// Index into [`Scene::materials`].
     pub material: usize,
     /// Object space to world space (column-major, glam convention: a point p is placed
-    /// at `transform * p`). Finite and not singular ([`transform_is_degenerate`]). A
+    /// at `transform * p`). Finite, and not singular ([`transform_is_degenerate`]) unless
+    /// the object hangs from a node (an animation may grow a node scaled to 0 at rest;
+    /// the object is not drawn while its transform is singular). A
     /// mirroring transform (negative determinant) turns the mesh's triangles to face
     /// inwards, which back-face culling then removes: give such an object a
     /// winding-reversed mesh (as the glTF importer does) or a double-sided material.
@@ -484,7 +486,10 @@ impl Scene {
                     self.materials.len()
                 ));
             }
-            if transform_is_degenerate(&object.transform) {
+            // Singular only where a pose may make it regular.
+            if !object.transform.is_finite()
+                || (object.node.is_none() && transform_is_degenerate(&object.transform))
+            {
                 return invalid(format!("object {i} has a non-finite or singular transform"));
             }
             if let Some(link) = &object.node {

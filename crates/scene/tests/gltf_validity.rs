@@ -869,3 +869,36 @@ fn animations_built_from_aliased_accessors_are_budgeted() {
     let scene = import(&small).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.motion.animations.len(), 100);
 }
+
+/// An object scaled to 0 at rest is kept when an animation moves its node (it appears
+/// when the animation grows it), and left out, with a warning, when none does.
+#[test]
+fn an_object_scaled_to_zero_at_rest_is_kept_when_an_animation_grows_it() {
+    let (mut a, _) = Arrays::with_triangle();
+    let times = a.floats(&[0.0, 1.0], 2, "SCALAR");
+    a.accessors[times]["min"] = json!([0.0]);
+    a.accessors[times]["max"] = json!([1.0]);
+    let scales = a.floats(&[0.0, 0.0, 0.0, 1.0, 1.0, 1.0], 2, "VEC3");
+    let mut g = a.into_gltf(triangle(json!({})));
+    g["nodes"][0]["scale"] = json!([0.0, 0.0, 0.0]);
+    let still = import_slice(&serde_json::to_vec(&g).unwrap(), &ImportOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(still.0.objects.is_empty());
+    assert!(
+        still
+            .1
+            .warnings
+            .iter()
+            .any(|w| w.contains("singular transform")),
+        "{:?}",
+        still.1.warnings
+    );
+    g["animations"] = json!([{
+        "channels": [{ "sampler": 0, "target": { "node": 0, "path": "scale" } }],
+        "samplers": [{ "input": times, "output": scales }],
+    }]);
+    let scene = import(&g).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.objects.len(), 1);
+    let grown = scene.pose_objects(&scene.motion.sample(0, 1.0).unwrap());
+    assert_eq!(grown.transforms[0], glam::Mat4::IDENTITY);
+}

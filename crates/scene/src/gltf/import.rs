@@ -705,10 +705,29 @@ impl Importer<'_> {
         let mut bounds: Option<(Vec3, Vec3)> = None;
         let mut objects = Vec::with_capacity(instances.len());
         let mut singular = 0;
+        // Nodes an animation moves (or whose ancestor it moves): their objects may be
+        // singular at rest (scaled to 0 until they appear) and are kept.
+        let moved = {
+            let mut moved = vec![false; nodes.len()];
+            for channel in animations.iter().flat_map(|a| &a.channels) {
+                if channel.property != crate::motion::Property::Weights {
+                    moved[channel.node] = true;
+                }
+            }
+            let mut under_moved = moved.clone();
+            for (i, flag) in under_moved.iter_mut().enumerate() {
+                let mut node = nodes[i].parent;
+                while let (false, Some(p)) = (*flag, node) {
+                    *flag = moved[p];
+                    node = nodes[p].parent;
+                }
+            }
+            under_moved
+        };
         for (_, instance) in &instances {
             // Singular relative to the transform's own scale: a node scale of 1e-4 on a
             // mesh 1e4 across (a centimetre export) is a 1 m object, kept.
-            if crate::transform_is_degenerate(&instance.world) {
+            if crate::transform_is_degenerate(&instance.world) && !moved[instance.node] {
                 singular += 1;
                 continue;
             }
@@ -738,7 +757,7 @@ impl Importer<'_> {
         }
         if singular > 0 {
             self.warn(format!(
-                "{singular} object(s) with a singular transform (e.g. scale 0) left out"
+                "{singular} object(s) with a singular transform (e.g. scale 0) that no animation moves left out"
             ));
         }
 
