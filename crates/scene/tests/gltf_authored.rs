@@ -1116,6 +1116,51 @@ fn saving_an_invalid_scene_names_the_problem() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// A scene with morph targets is refused in one line (its targets, skins and animations
+/// cannot be written yet), nothing written; its still copy in a pose saves.
+#[test]
+fn saving_a_morphing_scene_is_refused_and_its_still_copy_saves() {
+    let mut scene = builtin_scene("spheres").unwrap();
+    let vertices = scene.meshes[0].vertices.len();
+    scene.meshes[0].morph_targets = vec![combustion_scene::motion::MorphTarget {
+        positions: vec![[0.0, 0.1, 0.0]; vertices],
+        ..Default::default()
+    }];
+    scene.motion.nodes.push(combustion_scene::motion::Node {
+        name: None,
+        parent: None,
+        local: combustion_scene::motion::LocalTransform::Matrix(scene.objects[0].transform),
+        skin: None,
+        weights: vec![1.0],
+    });
+    scene.objects[0].node = Some(combustion_scene::NodeLink {
+        node: 0,
+        offset: glam::Mat4::IDENTITY,
+    });
+    let users: Vec<usize> = (0..scene.objects.len())
+        .filter(|&i| scene.objects[i].mesh == 0)
+        .collect();
+    // Every object of the mesh hangs from the node (weights for its target).
+    for &i in &users[1..] {
+        scene.objects[i].node = scene.objects[0].node;
+        scene.objects[i].transform = scene.objects[0].transform;
+    }
+    scene.validate().unwrap();
+    let dir = temp_dir("morphing");
+    let error = save_gltf(&scene, &dir.join("m.gltf"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("skins, morph targets and animations cannot be written")
+            && !error.contains('\n'),
+        "{error}"
+    );
+    assert!(!dir.join("m.gltf").exists());
+    let still = scene.posed(&scene.pose_objects(&scene.motion.rest_pose()));
+    save_gltf(&still, &dir.join("still.gltf")).unwrap();
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// `COMBUSTION_shadows`: whether each light casts shadows and its size (a point or
 /// spot light's radius, a directional light's angular diameter) survive a save → import
 /// round trip, and so does an object's (a node's) flag; the extension is written only

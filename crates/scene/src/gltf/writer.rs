@@ -331,7 +331,10 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
 /// with its exact optical constants, so [`super::import`] gives back an identical scene
 /// (meshes and materials in scene order) as long as every mesh and material is used by
 /// an object and no object's transform mirrors (negative determinant; glTF flips the
-/// winding of those). Meshes no object uses are not written.
+/// winding of those). Meshes no object uses are not written. Objects are written where
+/// they are, without the nodes they hang from; skins, morph targets and animations are
+/// not written: a scene with any is refused (save [`Scene::posed`] of a pose for a
+/// still copy).
 pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
     let fail = |file: &Path, problem| SaveError {
         file: file.to_path_buf(),
@@ -340,6 +343,22 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
     scene
         .validate()
         .map_err(|e| fail(path, SaveProblem::Scene(e)))?;
+    // What would be lost: an object's skin or morph targets, or an animation of the
+    // nodes objects hang from.
+    let moving = scene.objects.iter().any(|o| {
+        let mesh = &scene.meshes[o.mesh];
+        mesh.skin.is_some()
+            || !mesh.morph_targets.is_empty()
+            || (o.node.is_some() && !scene.motion.animations.is_empty())
+    });
+    if moving {
+        return Err(fail(
+            path,
+            SaveProblem::Unsupported(
+                "the scene's skins, morph targets and animations cannot be written yet; save Scene::posed of a pose for a still copy".into(),
+            ),
+        ));
+    }
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
