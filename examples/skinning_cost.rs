@@ -31,10 +31,7 @@ fn main() {
 /// The tube along +y from the origin, skinned to the chain, and the scene around it.
 fn character() -> Scene {
     let mut vertices = Vec::with_capacity(RINGS * AROUND);
-    let mut weights = SkinWeights {
-        offsets: vec![0],
-        ..SkinWeights::default()
-    };
+    let mut influences = Vec::with_capacity(RINGS * AROUND);
     let spacing = LENGTH / JOINTS as f32;
     for ring in 0..RINGS {
         let y = LENGTH * ring as f32 / (RINGS - 1) as f32;
@@ -53,15 +50,10 @@ fn character() -> Scene {
             let at = (y / spacing).min(JOINTS as f32 - 1.0);
             let j = (at.floor() as usize).min(JOINTS - 2);
             let f = (at - j as f32).clamp(0.0, 1.0);
-            for (joint, w) in [(j, 1.0 - f), (j + 1, f)] {
-                if w > 0.0 {
-                    weights.joints.push(joint as u32);
-                    weights.weights.push(w);
-                }
-            }
-            weights.offsets.push(weights.joints.len() as u32);
+            influences.push([(j as u32, 1.0 - f), (j as u32 + 1, f)]);
         }
     }
+    let weights = SkinWeights::from_influences(influences);
     let mut indices = Vec::new();
     for ring in 0..RINGS - 1 {
         for k in 0..AROUND {

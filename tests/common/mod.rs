@@ -875,21 +875,11 @@ pub fn deformed_spheres() -> Scene {
     use glam::{Mat4, Quat, Vec3};
     let mut scene = combustion::scene::builtin_scene("spheres").unwrap();
     let sphere = Mesh::uv_sphere("bending sphere", 0.5, 48, 24);
-    let mut weights = SkinWeights {
-        offsets: vec![0],
-        ..SkinWeights::default()
-    };
-    for v in &sphere.vertices {
-        // Joint 1's share: 0 below y = −1/6, 1 above 1/6, linear between.
+    // Joint 1's share: 0 below y = −1/6, 1 above 1/6, linear between.
+    let weights = SkinWeights::from_influences(sphere.vertices.iter().map(|v| {
         let upper = ((v.position[1] + 1.0 / 6.0) * 3.0).clamp(0.0, 1.0);
-        for (joint, w) in [(0, 1.0 - upper), (1, upper)] {
-            if w > 0.0 {
-                weights.joints.push(joint);
-                weights.weights.push(w);
-            }
-        }
-        weights.offsets.push(weights.joints.len() as u32);
-    }
+        [(0, 1.0 - upper), (1, upper)]
+    }));
     let mut skinned = sphere.clone();
     skinned.skin = Some(weights);
     let mut morphed = sphere.clone();

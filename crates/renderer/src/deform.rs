@@ -106,6 +106,15 @@ pub(crate) struct DeformedObject {
     /// Its index in the object table.
     pub object: usize,
     pub push: DeformPush,
+    /// What its boxes in a pose are made from.
+    shape: DeformShape,
+}
+
+/// What bounds a deformed object in any pose: its skin, the rest box of what each of
+/// its joints moves, and how far its morph targets can move a vertex.
+pub(crate) struct DeformShape {
+    /// The object (index into the scene's objects).
+    object: usize,
     /// Its skin (index into the scene's skins), if its joints place it.
     skin: Option<usize>,
     /// Per joint influencing its mesh: the joint, and the box (in the mesh's bind space)
@@ -115,6 +124,68 @@ pub(crate) struct DeformedObject {
     mesh_box: Option<Bounds>,
     /// Per morph target, the largest displacement of a position along each axis.
     target_extents: Vec<Vec3>,
+}
+
+impl DeformShape {
+    /// Object `object` of `scene`, placed by `skin` if skinned.
+    pub(crate) fn of(scene: &Scene, object: usize, skin: Option<usize>) -> Self {
+        let mesh = &scene.meshes[scene.objects[object].mesh];
+        let mut joint_boxes: Vec<(u32, Bounds)> = Vec::new();
+        if let (Some(_), Some(weights)) = (skin, &mesh.skin) {
+            let mut boxes: std::collections::BTreeMap<u32, Bounds> = Default::default();
+            for (v, vertex) in mesh.vertices.iter().enumerate() {
+                let p = Vec3::from(vertex.position);
+                for (j, _) in weights.influences(v) {
+                    let b = boxes.entry(j).or_insert((p, p));
+                    *b = (b.0.min(p), b.1.max(p));
+                }
+            }
+            joint_boxes = boxes.into_iter().collect();
+        }
+        let target_extents = mesh
+            .morph_targets
+            .iter()
+            .map(|t| {
+                t.positions
+                    .iter()
+                    .fold(Vec3::ZERO, |m, d| m.max(Vec3::from(*d).abs()))
+            })
+            .collect();
+        Self {
+            object,
+            skin,
+            joint_boxes,
+            mesh_box: mesh.bounds(),
+            target_extents,
+        }
+    }
+
+    /// Its world box in `poses` (it holds every posed vertex for joint weights that sum
+    /// to at most 1): a skinned object's is the union of its joints' boxes placed by the
+    /// joints' matrices, each grown by the weighted largest morph displacements; a
+    /// morphed one's, its mesh's box grown the same way, placed by its transform.
+    pub(crate) fn bounds(&self, poses: &ObjectPoses) -> Option<Bounds> {
+        let weights = &poses.weights[self.object];
+        let margin = self
+            .target_extents
+            .iter()
+            .zip(weights)
+            .fold(Vec3::ZERO, |m, (e, w)| m + *e * w.abs());
+        let grow = |(lo, hi): Bounds| Some((lo - margin, hi + margin));
+        match self.skin {
+            Some(skin) => self
+                .joint_boxes
+                .iter()
+                .filter_map(|&(j, b)| {
+                    combustion_scene::placed_bounds(grow(b), &poses.joints[skin][j as usize])
+                })
+                .reduce(|(a, b), (c, e)| (a.min(c), b.max(e))),
+            None => combustion_scene::placed_bounds(
+                self.mesh_box.and_then(grow),
+                &poses.transforms[self.object],
+            ),
+        }
+    }
 }
 
 /// A scene's deformed objects on the GPU.
@@ -252,34 +323,10 @@ impl SceneDeform {
             posed_offsets[i] = Some(posed_vertices * std::mem::size_of::<GpuVertex>() as u64);
             posed_vertices += u64::from(vertex_count);
             weight_count += mesh.morph_targets.len();
-            let mut joint_boxes: Vec<(u32, Bounds)> = Vec::new();
-            if let (Some(_), Some(weights)) = (skin, &mesh.skin) {
-                let mut boxes: std::collections::BTreeMap<u32, Bounds> = Default::default();
-                for (v, vertex) in mesh.vertices.iter().enumerate() {
-                    let p = Vec3::from(vertex.position);
-                    for (j, _) in weights.influences(v) {
-                        let b = boxes.entry(j).or_insert((p, p));
-                        *b = (b.0.min(p), b.1.max(p));
-                    }
-                }
-                joint_boxes = boxes.into_iter().collect();
-            }
-            let target_extents = mesh
-                .morph_targets
-                .iter()
-                .map(|t| {
-                    t.positions
-                        .iter()
-                        .fold(Vec3::ZERO, |m, d| m.max(Vec3::from(*d).abs()))
-                })
-                .collect();
             objects.push(DeformedObject {
                 object: i,
                 push,
-                skin,
-                joint_boxes,
-                mesh_box: mesh.bounds(),
-                target_extents,
+                shape: DeformShape::of(scene, i, skin),
             });
         }
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
@@ -333,37 +380,127 @@ impl SceneDeform {
         (joints, weights)
     }
 
-    /// Per deformed object, its world box in `poses` (it holds every posed vertex for
-    /// joint weights that sum to at most 1): a skinned object's is the union of its
-    /// joints' boxes placed by the joints' matrices, each grown by the weighted largest
-    /// morph displacements; a morphed one's, its mesh's box grown the same way, placed
-    /// by its transform.
+    /// Per deformed object, its world box in `poses` ([`DeformShape::bounds`]).
     pub(crate) fn bounds<'a>(
         &'a self,
         poses: &'a ObjectPoses,
     ) -> impl Iterator<Item = (usize, Option<Bounds>)> + 'a {
-        self.objects.iter().map(move |d| {
-            let weights = &poses.weights[d.object];
-            let margin = d
-                .target_extents
+        self.objects
+            .iter()
+            .map(move |d| (d.object, d.shape.bounds(poses)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use combustion_scene::motion::{LocalTransform, MorphTarget, Node, Skin, SkinWeights};
+    use combustion_scene::{Mesh, NodeLink, Object};
+    use glam::{Mat4, Quat};
+
+    /// A sphere whose upper half rides joint 1 (a child of joint 0), blended over its
+    /// middle, with a target swelling its upper half; placed by node 0.
+    fn bending_sphere() -> Scene {
+        let mut scene = combustion_scene::builtin_scene("spheres").unwrap();
+        let mut mesh = Mesh::uv_sphere("bending", 0.5, 24, 12);
+        let weights = SkinWeights::from_influences(mesh.vertices.iter().map(|v| {
+            let upper = ((v.position[1] + 1.0 / 6.0) * 3.0).clamp(0.0, 1.0);
+            [(0, 1.0 - upper), (1, upper)]
+        }));
+        mesh.morph_targets = vec![MorphTarget {
+            positions: mesh
+                .vertices
                 .iter()
-                .zip(weights)
-                .fold(Vec3::ZERO, |m, (e, w)| m + *e * w.abs());
-            let grow = |(lo, hi): Bounds| Some((lo - margin, hi + margin));
-            let placed = match d.skin {
-                Some(skin) => d
-                    .joint_boxes
-                    .iter()
-                    .filter_map(|&(j, b)| {
-                        combustion_scene::placed_bounds(grow(b), &poses.joints[skin][j as usize])
-                    })
-                    .reduce(|(a, b), (c, e)| (a.min(c), b.max(e))),
-                None => combustion_scene::placed_bounds(
-                    d.mesh_box.and_then(grow),
-                    &poses.transforms[d.object],
-                ),
+                .map(|v| (Vec3::from(v.normal) * v.position[1].max(0.0)).to_array())
+                .collect(),
+            ..MorphTarget::default()
+        }];
+        mesh.skin = Some(weights);
+        scene.meshes.push(mesh);
+        let node = |parent, translation: Vec3, skin, weights: Vec<f32>| Node {
+            name: None,
+            parent,
+            local: LocalTransform::Trs {
+                translation,
+                rotation: Quat::IDENTITY,
+                scale: Vec3::ONE,
+            },
+            skin,
+            weights,
+        };
+        scene.motion.nodes = vec![
+            node(None, Vec3::ZERO, Some(0), vec![0.0]),
+            node(None, Vec3::new(0.3, 0.0, 0.0), None, Vec::new()),
+            node(Some(1), Vec3::new(0.0, 0.5, 0.0), None, Vec::new()),
+        ];
+        scene.motion.skins = vec![Skin {
+            name: None,
+            joints: vec![1, 2],
+            inverse_bind: vec![
+                Mat4::IDENTITY,
+                Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0)),
+            ],
+        }];
+        scene.objects.push(Object {
+            node: Some(NodeLink {
+                node: 0,
+                offset: Mat4::IDENTITY,
+            }),
+            ..Object::casting_shadows(scene.meshes.len() - 1, 0, Mat4::IDENTITY)
+        });
+        scene.validate().unwrap();
+        scene
+    }
+
+    /// The box of a skinned and morphed object holds every vertex posed
+    /// (`combustion_scene::motion::pose_vertex`) in poses that turn, move and scale its
+    /// joints and swell its target; and it follows the pose (it moves with the joints).
+    #[test]
+    fn the_box_of_a_deformed_object_holds_every_posed_vertex() {
+        let scene = bending_sphere();
+        let object = scene.objects.len() - 1;
+        let shape = DeformShape::of(&scene, object, Some(0));
+        let mesh = &scene.meshes[scene.objects[object].mesh];
+        let mut centres = Vec::new();
+        for k in 0..12 {
+            let a = k as f32 * 0.7;
+            let mut pose = scene.motion.rest_pose();
+            pose.locals[1] = LocalTransform::Trs {
+                translation: Vec3::new(0.3 + a.sin(), 0.2 * a, -a.cos()),
+                rotation: Quat::from_rotation_y(a),
+                scale: Vec3::splat(1.0 + 0.1 * k as f32),
             };
-            (d.object, placed)
-        })
+            pose.locals[2] = LocalTransform::Trs {
+                translation: Vec3::new(0.0, 0.5, 0.0),
+                rotation: Quat::from_rotation_z(0.4 * a) * Quat::from_rotation_x(0.3 * a),
+                scale: Vec3::new(1.0, 0.5 + 0.2 * k as f32, 1.0),
+            };
+            pose.weights[0] = vec![(k as f32 / 11.0) * 2.0 - 0.5];
+            let poses = scene.pose_objects(&pose);
+            let (lo, hi) = shape.bounds(&poses).expect("a box");
+            let joints = scene.object_joints(object, &poses);
+            let slack = 1e-5 * (hi - lo).max_element();
+            for v in 0..mesh.vertices.len() {
+                let p = Vec3::from(
+                    combustion_scene::motion::pose_vertex(
+                        mesh,
+                        v,
+                        &poses.weights[object],
+                        joints,
+                        &poses.transforms[object],
+                    )
+                    .position,
+                );
+                assert!(
+                    p.cmpge(lo - slack).all() && p.cmple(hi + slack).all(),
+                    "pose {k}: vertex {v} at {p} outside {lo} … {hi}"
+                );
+            }
+            centres.push((lo + hi) * 0.5);
+        }
+        assert!(
+            centres.windows(2).all(|w| w[0] != w[1]),
+            "the box does not move"
+        );
     }
 }

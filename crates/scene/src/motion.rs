@@ -101,6 +101,24 @@ pub struct SkinWeights {
 }
 
 impl SkinWeights {
+    /// The rows of each vertex's (joint, weight) pairs, in order, zero weights left out.
+    pub fn from_influences<R: IntoIterator<Item = (u32, f32)>>(
+        rows: impl IntoIterator<Item = R>,
+    ) -> Self {
+        let mut weights = SkinWeights {
+            offsets: vec![0],
+            ..SkinWeights::default()
+        };
+        for row in rows {
+            for (joint, weight) in row.into_iter().filter(|&(_, w)| w != 0.0) {
+                weights.joints.push(joint);
+                weights.weights.push(weight);
+            }
+            weights.offsets.push(weights.joints.len() as u32);
+        }
+        weights
+    }
+
     /// Checks the rows against `vertices`: `vertices + 1` offsets from 0, not
     /// decreasing, the last the length of `joints` and `weights`; weights positive and
     /// finite.
