@@ -177,8 +177,7 @@ fn run() -> Result<(), combustion::Error> {
         renderer.take_completed_timings();
         for i in 0..frames {
             let time = (i as f32 / 30.0) % 2.0;
-            let pose = (label != "still")
-                .then(|| scene.pose_objects(&scene.motion.sample(0, time).expect("the curl")));
+            let pose = (label != "still").then(|| scene.pose_at(0, time).expect("the curl"));
             let inputs = FrameInputs {
                 pose: pose.as_ref(),
                 ..FrameInputs::of_scene(&gpu, 1.0)

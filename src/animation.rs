@@ -55,9 +55,5 @@ pub fn pose_at(
         return Ok(None);
     }
     let index = choose_animation(scene, animation)?;
-    let pose = scene
-        .motion
-        .sample(index, time.unwrap_or(0.0))
-        .expect("the index was chosen among the scene's animations");
-    Ok(Some(scene.pose_objects(&pose)))
+    Ok(scene.pose_at(index, time.unwrap_or(0.0)))
 }

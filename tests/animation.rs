@@ -42,7 +42,7 @@ fn a_posed_frame_is_the_still_scene_in_that_pose() {
         let times = [0.0, 0.5, 1.3, 2.5, 2.5];
         let mut poses: Vec<ObjectPoses> = times
             .iter()
-            .map(|&t| scene.pose_objects(&scene.motion.sample(0, t).unwrap()))
+            .map(|&t| scene.pose_at(0, t).unwrap())
             .collect();
         // The last, a host's own: sphere 10 moved 0.3 m within the scene's box (the
         // cascades, fitted to the box, stay where they were: only the pose says the
@@ -50,15 +50,7 @@ fn a_posed_frame_is_the_still_scene_in_that_pose() {
         poses[4].transforms[10].w_axis.x += 0.3;
         let posed: Vec<_> = poses
             .iter()
-            .map(|pose| {
-                let inputs = FrameInputs {
-                    pose: Some(pose),
-                    ..FrameInputs::of_scene(&gpu, 1.0)
-                };
-                renderer
-                    .render_with(&gpu, &inputs, W, H, Readback::ALL)
-                    .unwrap()
-            })
+            .map(|pose| common::render_posed(renderer, &gpu, Some(pose), (W, H)))
             .collect();
         for ((time, pose), posed) in times.iter().zip(&poses).zip(&posed) {
             let still = renderer.upload(&scene.posed(pose)).unwrap();
@@ -120,13 +112,7 @@ fn a_pose_that_does_not_fit_the_scene_is_refused() {
         // the one without it.
         let mut hidden = good.clone();
         hidden.transforms[3] = glam::Mat4::from_scale(glam::Vec3::ZERO);
-        let inputs = FrameInputs {
-            pose: Some(&hidden),
-            ..FrameInputs::of_scene(&gpu, 1.0)
-        };
-        let frame = renderer
-            .render_with(&gpu, &inputs, W, H, Readback::ALL)
-            .unwrap();
+        let frame = common::render_posed(renderer, &gpu, Some(&hidden), (W, H));
         assert_eq!(frame.non_finite_pixels(), 0);
         let mut without = scene.clone();
         without.objects.remove(3);
@@ -183,14 +169,8 @@ fn the_gpus_posed_vertices_are_the_f64_pose() {
         }
         let (mut worst_position, mut worst_direction, mut vertices) = (0.0f64, 0.0f64, 0);
         for time in times {
-            let pose = time.map(|t| scene.pose_objects(&scene.motion.sample(0, t).unwrap()));
-            let inputs = FrameInputs {
-                pose: pose.as_ref(),
-                ..FrameInputs::of_scene(&gpu, 1.0)
-            };
-            renderer
-                .render_with(&gpu, &inputs, W, H, Readback::ALL)
-                .unwrap();
+            let pose = time.map(|t| scene.pose_at(0, t).unwrap());
+            common::render_posed(renderer, &gpu, pose.as_ref(), (W, H));
             let read = renderer.read_posed_vertices(&gpu).unwrap();
             assert!(!read.is_empty(), "{name}: no deformed object");
             let expected = posed_objects(&scene, time.map(|t| (0, f64::from(t))));
@@ -280,13 +260,7 @@ fn a_pose_that_changes_nothing_draws_the_rest_mesh_exactly() {
     {
         let renderer = headless.renderer();
         let gpu = renderer.upload(&scene).unwrap();
-        let inputs = FrameInputs {
-            pose: Some(&pose),
-            ..FrameInputs::of_scene(&gpu, 1.0)
-        };
-        let posed = renderer
-            .render_with(&gpu, &inputs, W, H, Readback::ALL)
-            .unwrap();
+        let posed = common::render_posed(renderer, &gpu, Some(&pose), (W, H));
         let still = renderer.upload(&still).unwrap();
         let expected = renderer.render(&still, W, H, Readback::ALL).unwrap();
         let differing = common::hdr_pixels_differing(&posed, &expected);
@@ -331,13 +305,7 @@ fn a_joint_scaled_to_zero_or_flattened_poses_without_a_nan() {
                 with_joint_scaled(glam::Vec3::new(1.0, 0.0, 1.0)),
             ),
         ] {
-            let inputs = FrameInputs {
-                pose: Some(&pose),
-                ..FrameInputs::of_scene(&gpu, 1.0)
-            };
-            let frame = renderer
-                .render_with(&gpu, &inputs, W, H, Readback::ALL)
-                .unwrap();
+            let frame = common::render_posed(renderer, &gpu, Some(&pose), (W, H));
             assert_eq!(frame.non_finite_pixels(), 0, "{label}");
             for (object, vertices) in renderer.read_posed_vertices(&gpu).unwrap() {
                 for (v, posed) in vertices.iter().enumerate() {
@@ -390,14 +358,8 @@ fn an_object_scaled_to_zero_at_rest_appears_when_its_animation_grows_it() {
         let without = renderer.upload(&without).unwrap();
         let expected = renderer.render(&without, W, H, Readback::ALL).unwrap();
         assert_eq!(common::hdr_pixels_differing(&at_rest, &expected), 0);
-        let pose = scene.pose_objects(&scene.motion.sample(0, 1.0).unwrap());
-        let inputs = FrameInputs {
-            pose: Some(&pose),
-            ..FrameInputs::of_scene(&gpu, 1.0)
-        };
-        let grown = renderer
-            .render_with(&gpu, &inputs, W, H, Readback::ALL)
-            .unwrap();
+        let pose = scene.pose_at(0, 1.0).unwrap();
+        let grown = common::render_posed(renderer, &gpu, Some(&pose), (W, H));
         let appeared = common::hdr_pixels_differing(&grown, &at_rest);
         assert!(appeared > 20, "the grown sphere changed {appeared} pixels");
     }

@@ -614,13 +614,8 @@ fn compare_frame_with_scene(
     (width, height): (u32, u32),
     storage: GBufferStorage,
 ) -> SceneComparison {
-    let at_rest;
-    let scene = if scene.objects.iter().any(|o| o.node.is_some()) {
-        at_rest = scene.posed(&scene.pose_objects(&scene.motion.rest_pose()));
-        &at_rest
-    } else {
-        scene
-    };
+    let drawn = scene.as_drawn(None);
+    let scene = drawn.as_ref();
     let bvh = SceneBvh::new(scene);
     let precision = precision_of(storage);
     let reference = SceneReference::new(scene, &bvh, &scene.lights, (width, height), precision, 2);
@@ -978,18 +973,12 @@ fn the_full_size_frame_is_what_the_scene_shows() {
 #[test]
 fn a_posed_frame_is_what_the_posed_scene_shows() {
     for scene in [common::animated_grid(), common::deformed_spheres()] {
-        let pose = scene.pose_objects(&scene.motion.sample(0, 1.3).unwrap());
+        let pose = scene.pose_at(0, 1.3).unwrap();
         let mut headless = common::lavapipe(common::exact_f32());
         let frame = {
             let renderer = headless.renderer();
             let gpu = renderer.upload(&scene).unwrap();
-            let inputs = combustion::renderer::FrameInputs {
-                pose: Some(&pose),
-                ..combustion::renderer::FrameInputs::of_scene(&gpu, 1.0)
-            };
-            renderer
-                .render_with(&gpu, &inputs, W, H, Readback::ALL)
-                .unwrap()
+            common::render_posed(renderer, &gpu, Some(&pose), (W, H))
         };
         common::finish(headless);
         let label = format!("{} at 1.3 s", scene.name);

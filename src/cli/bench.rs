@@ -151,12 +151,9 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
                 if duration > 0.0 {
                     time %= duration;
                 }
-                let pose = scene.pose_objects(
-                    &scene
-                        .motion
-                        .sample(animation, time)
-                        .expect("an animation the scene has"),
-                );
+                let pose = scene
+                    .pose_at(animation, time)
+                    .expect("an animation the scene has");
                 let inputs = combustion::renderer::FrameInputs {
                     pose: Some(&pose),
                     ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings_exposure)

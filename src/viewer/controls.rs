@@ -167,14 +167,12 @@ impl Playback {
             d if d > 0.0 => self.time.rem_euclid(d),
             _ => 0.0,
         };
-        let pose = scene.motion.sample(self.animation, self.time)?;
-        Some(scene.pose_objects(&pose))
+        self.current_pose(scene)
     }
 
     /// The pose of `scene` where the clock stands (not advancing it).
     pub fn current_pose(&self, scene: &Scene) -> Option<combustion_scene::ObjectPoses> {
-        let pose = scene.motion.sample(self.animation, self.time)?;
-        Some(scene.pose_objects(&pose))
+        scene.pose_at(self.animation, self.time)
     }
 
     /// The next of `count` animations, from its start.

@@ -75,18 +75,8 @@ pub fn measure_error(
     let started = std::time::Instant::now();
     // The scene as the frame showed it: still, in the frame's pose (at rest without
     // one: its skinned and morphed meshes deformed as the frame deformed them).
-    let shown_scene = scene.scene();
-    let rest;
-    let pose = match inputs.pose {
-        Some(pose) => Some(pose),
-        None if shown_scene.objects.iter().any(|o| o.node.is_some()) => {
-            rest = shown_scene.pose_objects(&shown_scene.motion.rest_pose());
-            Some(&rest)
-        }
-        None => None,
-    };
-    let posed = pose.map(|pose| shown_scene.posed(pose));
-    let shown = posed.as_ref().unwrap_or(shown_scene);
+    let drawn = scene.scene().as_drawn(inputs.pose);
+    let shown = drawn.as_ref();
     let mut reference = ReferenceShading::new(shown, inputs, width, height);
     if renderer.shading().shadows.is_some() {
         // Frames with shadows are measured against exact visibility: each light's term

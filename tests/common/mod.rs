@@ -979,3 +979,20 @@ pub fn deformed_spheres() -> Scene {
     scene.validate().unwrap();
     scene
 }
+
+/// A frame of `gpu` (its scene's camera and lights, exposure 1) in `pose` (`None`: at
+/// rest), `width`×`height`, its images and G-buffer read back.
+pub fn render_posed(
+    renderer: &mut combustion::renderer::Renderer,
+    gpu: &combustion::renderer::GpuScene,
+    pose: Option<&combustion::scene::ObjectPoses>,
+    (width, height): (u32, u32),
+) -> Frame {
+    let inputs = combustion::renderer::FrameInputs {
+        pose,
+        ..combustion::renderer::FrameInputs::of_scene(gpu, 1.0)
+    };
+    renderer
+        .render_with(gpu, &inputs, width, height, Readback::ALL)
+        .unwrap()
+}

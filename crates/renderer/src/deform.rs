@@ -103,11 +103,16 @@ impl DeformPipeline {
 
 /// One deformed object of the scene.
 pub(crate) struct DeformedObject {
-    /// Its index in the object table.
-    pub object: usize,
     pub push: DeformPush,
     /// What its boxes in a pose are made from.
     shape: DeformShape,
+}
+
+impl DeformedObject {
+    /// Its index in the object table.
+    pub(crate) fn object(&self) -> usize {
+        self.shape.object
+    }
 }
 
 /// What bounds a deformed object in any pose: its skin, the rest box of what each of
@@ -207,11 +212,6 @@ pub(crate) struct SceneDeform {
     /// Per object of the scene, the byte offset of its posed vertices in `posed` (`None`:
     /// it is not deformed and draws its mesh's own).
     pub posed_offsets: Vec<Option<u64>>,
-    /// Per skin, its first matrix among the frame's joint matrices.
-    skin_bases: Vec<usize>,
-    /// The frame's joint matrices and morph weights, counted.
-    joint_count: usize,
-    weight_count: usize,
     /// The scene at rest (what a frame without a pose shows).
     pub rest_poses: ObjectPoses,
 }
@@ -324,7 +324,6 @@ impl SceneDeform {
             posed_vertices += u64::from(vertex_count);
             weight_count += mesh.morph_targets.len();
             objects.push(DeformedObject {
-                object: i,
                 push,
                 shape: DeformShape::of(scene, i, skin),
             });
@@ -353,31 +352,23 @@ impl SceneDeform {
             )?,
             objects,
             posed_offsets,
-            skin_bases,
-            joint_count,
-            weight_count,
             rest_poses: scene.pose_objects(&scene.motion.rest_pose()),
         }))
     }
 
     /// The joint matrices (skin after skin) and morph weights (deformed object after
     /// object) a frame in `poses` gives the pass, as it reads them.
-    pub(crate) fn frame_inputs(&self, scene: &Scene, poses: &ObjectPoses) -> (Vec<Mat4>, Vec<f32>) {
-        let mut joints = Vec::with_capacity(self.joint_count);
-        for matrices in &poses.joints {
-            joints.extend_from_slice(matrices);
-        }
-        debug_assert_eq!(joints.len(), self.joint_count);
-        debug_assert_eq!(self.skin_bases.len(), poses.joints.len());
-        let mut weights = Vec::with_capacity(self.weight_count);
-        for object in &self.objects {
-            let targets = scene.meshes[scene.objects[object.object].mesh]
-                .morph_targets
-                .len();
-            let given = &poses.weights[object.object];
-            weights.extend((0..targets).map(|t| given.get(t).copied().unwrap_or(0.0)));
-        }
-        (joints, weights)
+    pub(crate) fn frame_inputs(&self, poses: &ObjectPoses) -> (Vec<Mat4>, Vec<f32>) {
+        let weights = self
+            .objects
+            .iter()
+            .flat_map(|object| {
+                let given = &poses.weights[object.object()];
+                let targets = object.push.deform[0] as usize;
+                (0..targets).map(move |t| given.get(t).copied().unwrap_or(0.0))
+            })
+            .collect();
+        (poses.joints.concat(), weights)
     }
 
     /// Per deformed object, its world box in `poses` ([`DeformShape::bounds`]).
@@ -387,7 +378,7 @@ impl SceneDeform {
     ) -> impl Iterator<Item = (usize, Option<Bounds>)> + 'a {
         self.objects
             .iter()
-            .map(move |d| (d.object, d.shape.bounds(poses)))
+            .map(move |d| (d.object(), d.shape.bounds(poses)))
     }
 }
 

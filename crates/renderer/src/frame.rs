@@ -541,7 +541,7 @@ impl Renderer {
             return Ok(());
         };
         let poses = inputs.pose.unwrap_or(&deform.rest_poses);
-        let (joints, weights) = deform.frame_inputs(scene.scene(), poses);
+        let (joints, weights) = deform.frame_inputs(poses);
         let s = &mut self.slots[slot];
         write_growing(
             &self.device,

@@ -375,13 +375,13 @@ impl Renderer {
             .objects
             .iter()
             .map(|object| {
-                let start = deform.posed_offsets[object.object].unwrap_or(0) as usize;
+                let start = deform.posed_offsets[object.object()].unwrap_or(0) as usize;
                 let count = object.push.vertices[1] as usize;
                 let vertices = bytes[start..start + count * vertex]
                     .chunks_exact(vertex)
                     .map(bytemuck::pod_read_unaligned)
                     .collect();
-                (object.object, vertices)
+                (object.object(), vertices)
             })
             .collect())
     }

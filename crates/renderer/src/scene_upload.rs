@@ -356,24 +356,20 @@ impl Tables {
         device: &Arc<Device>,
         scene: &Scene,
         textures: &SceneTextures,
+        deform: Option<&crate::deform::SceneDeform>,
     ) -> Result<Self, RenderError> {
         // Deformed objects at rest: a skinned one in world space (its transform the
         // identity), its box around its vertices as posed.
-        let deformed: Vec<(bool, bool)> = (0..scene.objects.len())
-            .map(|i| crate::deform::deformation(scene, i))
-            .collect();
-        let rest = deformed
-            .iter()
-            .any(|&(s, m)| s || m)
-            .then(|| scene.pose_objects(&scene.motion.rest_pose()));
+        // A skinned object is placed by its joints, in world space: its transform is
+        // the identity.
         let objects: Vec<GpuObject> = scene
             .objects
             .iter()
-            .zip(&deformed)
-            .map(|(o, &(skinned, _))| {
+            .enumerate()
+            .map(|(i, o)| {
                 let has_colors = scene.meshes.get(o.mesh).is_some_and(Mesh::has_colors);
                 let entry = GpuObject::new(o, has_colors);
-                if skinned {
+                if crate::deform::deformation(scene, i).0 {
                     entry.placed(&glam::Mat4::IDENTITY)
                 } else {
                     entry
@@ -381,36 +377,17 @@ impl Tables {
             })
             .collect();
         let mesh_bounds: Vec<_> = scene.meshes.iter().map(Mesh::bounds).collect();
-        let object_bounds: Vec<_> = scene
+        let mut object_bounds: Vec<_> = scene
             .objects
             .iter()
-            .enumerate()
-            .map(|(i, o)| match (&rest, deformed[i]) {
-                (Some(rest), (true, _) | (_, true)) => {
-                    let mesh = &scene.meshes[o.mesh];
-                    let joints = scene.object_joints(i, rest);
-                    let transform = if joints.is_some() {
-                        glam::Mat4::IDENTITY
-                    } else {
-                        o.transform
-                    };
-                    (0..mesh.vertices.len())
-                        .map(|v| {
-                            let p = combustion_scene::motion::pose_vertex(
-                                mesh,
-                                v,
-                                &rest.weights[i],
-                                joints,
-                                &transform,
-                            )
-                            .position;
-                            (glam::Vec3::from(p), glam::Vec3::from(p))
-                        })
-                        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
-                }
-                _ => combustion_scene::placed_bounds(mesh_bounds[o.mesh], &o.transform),
-            })
+            .map(|o| combustion_scene::placed_bounds(mesh_bounds[o.mesh], &o.transform))
             .collect();
+        // Deformed objects: their boxes at rest, as a frame without a pose draws them.
+        if let Some(deform) = deform {
+            for (object, bounds) in deform.bounds(&deform.rest_poses) {
+                object_bounds[object] = bounds;
+            }
+        }
         let materials = material_table(scene, &textures.material_indices);
         let needs_table = scene.materials.iter().any(|m| m.conductor_from_base_color);
         let conductor_table: &[[f32; 2]] = if needs_table {
@@ -498,8 +475,8 @@ impl GpuScene {
     ) -> Result<Self, RenderError> {
         let (meshes, _) = mesh_buffers(device, &scene.meshes, None)?;
         let (textures, _) = SceneTextures::new(device, scene, material_set_layout, None)?;
-        let tables = Tables::new(device, scene, &textures)?;
         let deform = crate::deform::SceneDeform::new(device, scene)?;
+        let tables = Tables::new(device, scene, &textures, deform.as_ref())?;
         Ok(Self {
             gpu: ManuallyDrop::new(SceneResources {
                 meshes,
@@ -570,12 +547,13 @@ impl GpuScene {
         } else {
             None
         };
+        let deform = crate::deform::SceneDeform::new(device, &next)?;
         let tables = Tables::new(
             device,
             &next,
             textures.as_ref().unwrap_or(&self.gpu.textures),
+            deform.as_ref(),
         )?;
-        let deform = crate::deform::SceneDeform::new(device, &next)?;
         // Everything new is built: swap it in and hand back what it replaces (buffers
         // still shared with the new parts stay alive through them).
         let gpu = &mut *self.gpu;

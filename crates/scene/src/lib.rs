@@ -393,6 +393,25 @@ impl Scene {
         }
     }
 
+    /// [`Scene::pose_objects`] of animation `animation` at `time` seconds
+    /// ([`Motion::sample`]); `None` if there is no such animation.
+    pub fn pose_at(&self, animation: usize, time: f32) -> Option<ObjectPoses> {
+        Some(self.pose_objects(&self.motion.sample(animation, time)?))
+    }
+
+    /// The scene as a frame draws it, still: in `poses` if given, else at rest when its
+    /// objects hang from nodes (rest joints and weights deform its meshes), else itself.
+    /// What an f64 reference shades to compare with the frame.
+    pub fn as_drawn(&self, poses: Option<&ObjectPoses>) -> std::borrow::Cow<'_, Scene> {
+        match poses {
+            Some(poses) => std::borrow::Cow::Owned(self.posed(poses)),
+            None if self.objects.iter().any(|o| o.node.is_some()) => {
+                std::borrow::Cow::Owned(self.posed(&self.pose_objects(&self.motion.rest_pose())))
+            }
+            None => std::borrow::Cow::Borrowed(self),
+        }
+    }
+
     /// The scene as a still one in `poses`: every object where `poses` puts it, and each
     /// object whose mesh it deforms (morph targets, a skin) given a mesh of its own,
     /// its vertices morphed and skinned as [`motion::pose_vertex`] does (in world space

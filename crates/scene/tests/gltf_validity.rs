@@ -899,6 +899,6 @@ fn an_object_scaled_to_zero_at_rest_is_kept_when_an_animation_grows_it() {
     }]);
     let scene = import(&g).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.objects.len(), 1);
-    let grown = scene.pose_objects(&scene.motion.sample(0, 1.0).unwrap());
+    let grown = scene.pose_at(0, 1.0).unwrap();
     assert_eq!(grown.transforms[0], glam::Mat4::IDENTITY);
 }
