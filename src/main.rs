@@ -38,7 +38,7 @@ macro_rules! outln {
 
 mod cli;
 
-use cli::{bench, devices, diff, eval, info, plot, render, view, Cli, Command};
+use cli::{batch, bench, devices, diff, eval, info, plot, render, view, Cli, Command};
 
 struct StderrLogger;
 
@@ -127,6 +127,7 @@ fn run(cli: Cli) -> Result<(), CliError> {
         Command::Plot(kind) => plot(&kind),
         Command::Info(o) => info(&o),
         Command::Diff(o) => diff(&o),
+        Command::Batch(o) => batch(&o),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "combustion", &mut script);

@@ -2313,3 +2313,57 @@ fn render_shows_the_scene_at_a_time_of_its_animation() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `--camera`: framing and orbits render from where they say (a different image from the
+/// scene's own camera; orbits at opposite azimuths of a symmetric view differ), and a
+/// camera that cannot be is refused in one line: an elevation beyond ±89°, a camera
+/// index on a built-in scene (which has one camera), text that is no view.
+#[test]
+fn render_takes_the_camera_asked_for() {
+    let dir = scratch("camera");
+    let png = |name: &str| dir.join(format!("{name}.png")).to_str().unwrap().to_owned();
+    for (name, camera) in [
+        ("own", "scene"),
+        ("framing", "framing"),
+        ("left", "orbit:-60,20"),
+        ("right", "orbit:60,20"),
+    ] {
+        let (code, _, stderr) = combustion(&[
+            "render",
+            "builtin:spheres",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--camera",
+            camera,
+            "-o",
+            &png(name),
+        ]);
+        assert_eq!(code, 0, "{camera}: {stderr}");
+    }
+    let bytes = |name: &str| std::fs::read(png(name)).unwrap();
+    assert_ne!(bytes("own"), bytes("framing"));
+    assert_ne!(bytes("left"), bytes("right"));
+    assert_refused(
+        &["render", "--camera", "orbit:0,95"],
+        &["elevation 95° is not within ±89°"],
+    );
+    assert_refused(
+        &["render", "--camera", "orbit:0"],
+        &["takes 2 or 3 value(s)"],
+    );
+    assert_refused(&["render", "--camera", "top"], &["is not scene, framing"]);
+    assert_refused(
+        &[
+            "render",
+            "builtin:spheres",
+            "--camera",
+            "1",
+            "-o",
+            &png("none"),
+        ],
+        &["--camera 1: builtin:spheres has one camera"],
+    );
+    assert!(!dir.join("none.png").exists());
+}

@@ -115,6 +115,10 @@ pub(crate) enum Command {
     /// FLIP, and pass/fail criteria (exit 1 when they fail)
     #[command(long_about = DIFF_ABOUT)]
     Diff(DiffArgs),
+    /// Render a manifest's jobs in one process, compare them with goldens, and write
+    /// results as JSON and JUnit XML (exit 1 unless every job passes)
+    #[command(long_about = BATCH_ABOUT)]
+    Batch(BatchArgs),
     /// Describe what a scene holds and which renderer features it needs
     #[command(long_about = INFO_ABOUT, allow_negative_numbers = true, args_override_self = true, after_help = builtin_scenes_note())]
     Info(InfoArgs),
@@ -130,6 +134,36 @@ pub(crate) enum Command {
 }
 
 const DIFF_ABOUT: &str = "Compare two images as a CI compares a render with its golden: PNG with PNG (8-bit display values: each pixel's largest channel difference in 8-bit steps) or OpenEXR with OpenEXR (linear radiance: the largest channel difference relative to the larger value, at least 1e-4), and FLIP (Andersson et al. 2020, 67 pixels per degree; of the display images the render writes, for OpenEXR). With --criteria, exits 1 with one line naming the criterion that fails and by how much; 0 when they hold. Criteria are terms joined by `and` and `or` (`and` binds tighter): `max-channel-diff N/255 on at most P% of pixels` (PNG), `max-relative-diff X on at most P% of pixels` (OpenEXR), `mean-flip <= X`, `max-flip <= X`.";
+
+const BATCH_ABOUT: &str = "Render every job of a manifest (JSON: docs/ci-rendering.md, schema docs/batch-manifest.schema.json) in one process on one device, each scene uploaded once for all its jobs. A job is a name, a scene, and any of `combustion render`'s options by their long names (\"width\": 320, \"camera\": \"orbit:30,20\", \"shadows\": true), with its outputs (png, exr), criteria against its golden (`diff`'s expressions; by default the same bytes) and optionally \"error\": true, its end-to-end error against the f64 reference. Writes DIR/NAME.png and DIR/NAME.exr, a FLIP heat map DIR/NAME.flip.png for a failed comparison, DIR/results.json and DIR/junit.xml, and nothing outside DIR (but the goldens, with --update-goldens). A failed job does not stop the others; the exit status is 1 unless all passed. --shard I/N renders the I-th of N shares (the jobs sorted by name, dealt in turn) for a CI matrix; --merge DIR... combines the shards' results.";
+
+/// What `batch` runs, or merges.
+#[derive(Args)]
+pub(crate) struct BatchArgs {
+    /// The manifest: a JSON file of jobs (paths in it are relative to its folder)
+    #[arg(value_name = "MANIFEST", required_unless_present = "merge")]
+    pub(crate) manifest: Option<PathBuf>,
+    /// The folder outputs, results.json and junit.xml are written to (made if missing)
+    #[arg(short = 'o', long = "output", value_name = "DIR")]
+    pub(crate) output: PathBuf,
+    /// Compare each output with DIR/NAME.png (or .exr) by the job's criteria
+    #[arg(long, value_name = "DIR")]
+    pub(crate) goldens: Option<PathBuf>,
+    /// Write each output as its golden in --goldens instead of comparing (the folder is
+    /// made if missing)
+    #[arg(long, requires = "goldens")]
+    pub(crate) update_goldens: bool,
+    /// Render only the I-th of N shares of the jobs (1 <= I <= N): the jobs sorted by
+    /// name, dealt out in turn
+    #[arg(long, value_name = "I/N", value_parser = super::manifest::Shard::parse)]
+    pub(crate) shard: Option<super::manifest::Shard>,
+    /// Combine the results of shards (their -o folders) into -o's results.json and
+    /// junit.xml instead of rendering; every shard of the split must be given
+    #[arg(long, value_name = "DIR", num_args = 1.., conflicts_with_all = ["manifest", "goldens", "update_goldens", "shard"])]
+    pub(crate) merge: Vec<PathBuf>,
+    #[command(flatten)]
+    pub(crate) device: DeviceArgs,
+}
 
 /// What `diff` compares and how.
 #[derive(Args)]
@@ -347,6 +381,30 @@ pub(crate) struct ShadingArgs {
 }
 
 impl ShadingArgs {
+    /// `base` with the distribution, diffuse model, energy compensation and shadows
+    /// asked for.
+    pub(crate) fn options(&self, base: ShadingOptions) -> ShadingOptions {
+        ShadingOptions {
+            distribution: self.distribution,
+            diffuse_override: self.diffuse,
+            energy_compensation: self.energy_compensation,
+            shadows: self.shadows(),
+            ..base
+        }
+    }
+
+    /// `--light-rig`'s lights for a frame seen from `camera` (none without it).
+    pub(crate) fn light_rig(
+        &self,
+        camera: &combustion::scene::Camera,
+    ) -> Vec<combustion::scene::Light> {
+        if self.light_rig {
+            combustion::default_light_rig(camera)
+        } else {
+            Vec::new()
+        }
+    }
+
     /// The shadow settings asked for (`None`: --shadows off).
     pub(crate) fn shadows(&self) -> Option<ShadowSettings> {
         self.shadows.then_some(ShadowSettings {
@@ -395,6 +453,8 @@ pub(crate) struct RenderArgs {
     #[command(flatten)]
     pub(crate) frame: FrameArgs,
     #[command(flatten)]
+    pub(crate) camera: CameraArgs,
+    #[command(flatten)]
     pub(crate) picture: PictureArgs,
     #[command(flatten)]
     pub(crate) animation: AnimationArgs,
@@ -402,6 +462,112 @@ pub(crate) struct RenderArgs {
     pub(crate) shading: ShadingArgs,
     #[command(flatten)]
     pub(crate) device: DeviceArgs,
+}
+
+/// Where the frame is seen from: `--camera`.
+#[derive(Args)]
+pub(crate) struct CameraArgs {
+    /// Where the frame is seen from: `scene` (the scene's own camera: a file's first
+    /// camera, else one framing it), N (the glTF file's camera N, from 0), `framing` (a
+    /// 45° view of the scene's bounding sphere from its +Z side, 15° above the horizon)
+    /// or `orbit:AZIMUTH,ELEVATION[,DISTANCE]` (degrees about +Y from the +Z side towards
+    /// +X, degrees above the horizon within ±89, and a multiple of the framing distance,
+    /// 1 by default)
+    #[arg(long, value_name = "VIEW", default_value = "scene", allow_hyphen_values = true, value_parser = CameraChoice::parse)]
+    pub(crate) camera: CameraChoice,
+}
+
+/// `--camera`, as given ([`CameraChoice::load`] places it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum CameraChoice {
+    /// The scene's own camera.
+    Scene,
+    /// The glTF file's camera of this index.
+    File(usize),
+    /// [`combustion::scene::Camera::framing`] of the scene's bounds.
+    Framing,
+    /// [`combustion::scene::Camera::orbiting`]: degrees, degrees, a factor.
+    Orbit {
+        azimuth: f32,
+        elevation: f32,
+        distance: f32,
+    },
+}
+
+impl CameraChoice {
+    pub(crate) fn parse(text: &str) -> Result<Self, String> {
+        match text {
+            "scene" => return Ok(Self::Scene),
+            "framing" => return Ok(Self::Framing),
+            _ => {}
+        }
+        if let Some(numbers) = text.strip_prefix("orbit:") {
+            let values = number_list(numbers, &[2, 3])?;
+            let (azimuth, elevation) = (values[0], values[1]);
+            let distance = values.get(2).copied().unwrap_or(1.0);
+            if !(-89.0..=89.0).contains(&elevation) {
+                return Err(format!("elevation {elevation}° is not within ±89°"));
+            }
+            if !(distance > 0.0 && distance <= 1e6) {
+                return Err(format!(
+                    "distance {distance} is not above 0 and at most 1e6 (a multiple of the framing distance)"
+                ));
+            }
+            return Ok(Self::Orbit {
+                azimuth: azimuth as f32,
+                elevation: elevation as f32,
+                distance: distance as f32,
+            });
+        }
+        match text.parse::<usize>() {
+            Ok(index) => Ok(Self::File(index)),
+            Err(_) => Err(format!(
+                "`{}` is not scene, framing, orbit:AZIMUTH,ELEVATION[,DISTANCE] or a camera's index",
+                shortened(text)
+            )),
+        }
+    }
+
+    /// The import options choosing the file's camera N (an index the file has not is
+    /// the importer's one-line error); a built-in scene has its own camera only.
+    pub(crate) fn import_options(
+        self,
+        source: &SceneSource,
+    ) -> Result<combustion::scene::gltf::ImportOptions, Error> {
+        let Self::File(index) = self else {
+            return Ok(Default::default());
+        };
+        if let SceneSource::Builtin(_) = source {
+            return Err(Error::Usage(format!(
+                "--camera {index}: {} has one camera (use scene, framing or orbit:…); camera indices name a glTF file's cameras",
+                source.label()
+            )));
+        }
+        Ok(combustion::scene::gltf::ImportOptions {
+            camera: Some(index),
+            ..Default::default()
+        })
+    }
+
+    /// The camera of a frame of `scene` (loaded with [`CameraChoice::import_options`]):
+    /// its own, or framing or orbiting its bounds at rest.
+    pub(crate) fn place(self, scene: &Scene) -> combustion::scene::Camera {
+        use combustion::scene::Camera;
+        match self {
+            Self::Scene | Self::File(_) => scene.camera,
+            Self::Framing => Camera::framing(scene.world_bounds()),
+            Self::Orbit {
+                azimuth,
+                elevation,
+                distance,
+            } => Camera::orbiting(
+                scene.world_bounds(),
+                azimuth.to_radians(),
+                elevation.to_radians(),
+                distance,
+            ),
+        }
+    }
 }
 
 /// Which of the scene's animations a frame shows, and when.
@@ -922,21 +1088,35 @@ impl EnvironmentChoice {
     }
 }
 
-/// The scene of `source` with `--environment` and `--light-rig` applied. A file without
-/// lights is lit by the studio environment unless `--environment` says otherwise or
-/// `--light-rig` lights it instead, and only then is that said (once, as a warning).
-pub(crate) fn lit_as_asked(source: &SceneSource, shading: &ShadingArgs) -> Result<Scene, Error> {
-    let mut scene = source.load()?;
+/// The scene of `source` seen from `camera`, with `--environment` and `--light-rig`
+/// applied (the rig follows the camera).
+pub(crate) fn lit_as_asked(
+    source: &SceneSource,
+    camera: CameraChoice,
+    shading: &ShadingArgs,
+) -> Result<Scene, Error> {
+    let mut scene = loaded_as_asked(source, camera, shading)?;
+    scene.camera = camera.place(&scene);
+    scene.lights.extend(shading.light_rig(&scene.camera));
+    Ok(scene)
+}
+
+/// The scene of `source` as [`lit_as_asked`] makes it before the camera is placed and
+/// the rig added: the file's camera `camera` chooses, `--environment` applied. A file
+/// without lights is lit by the studio environment unless `--environment` says
+/// otherwise or `--light-rig` lights it instead, and only then is that said (once, as a
+/// warning).
+pub(crate) fn loaded_as_asked(
+    source: &SceneSource,
+    camera: CameraChoice,
+    shading: &ShadingArgs,
+) -> Result<Scene, Error> {
+    let mut scene = source.load_with(&camera.import_options(source)?)?;
     let lit_by_default = matches!(source, SceneSource::File(_)) && scene.lights.is_empty();
     if let Some(environment) = &shading.environment {
         scene.environment = environment.load()?;
     } else if lit_by_default && shading.light_rig {
         scene.environment = None;
-    }
-    if shading.light_rig {
-        scene
-            .lights
-            .extend(combustion::default_light_rig(&scene.camera));
     }
     if lit_by_default && shading.environment.is_none() && !shading.light_rig {
         log::warn!(
@@ -982,7 +1162,12 @@ pub(crate) fn device_and_settings(
         synchronization_validation: device.validate,
         ..DeviceDesc::default()
     };
-    let settings = RendererSettings {
+    Ok((desc, renderer_settings(frame, frames_in_flight)))
+}
+
+/// The renderer settings `frame`'s options ask for.
+pub(crate) fn renderer_settings(frame: &FrameArgs, frames_in_flight: usize) -> RendererSettings {
+    RendererSettings {
         exposure: frame.ev.map_or(frame.exposure, f32::exp2),
         hdr_format: frame.hdr_format,
         gbuffer: GBufferStorage {
@@ -994,8 +1179,7 @@ pub(crate) fn device_and_settings(
             ..ShadingOptions::default()
         },
         frames_in_flight,
-    };
-    Ok((desc, settings))
+    }
 }
 
 #[cfg(test)]
@@ -1082,6 +1266,11 @@ mod tests {
             "info builtin:spheres --max-error 1e-3".to_owned(),
             "devices".to_owned(),
             "diff a.png b.png --heatmap h.png --json --criteria-file c.txt".to_owned(),
+            "render x.glb --camera 2".to_owned(),
+            "render --camera orbit:-30,-10,0.5".to_owned(),
+            "render --camera framing".to_owned(),
+            "batch m.json -o out --goldens g --update-goldens --shard 2/3 --device llvmpipe --validate".to_owned(),
+            "batch --merge a b c -o out".to_owned(),
             "diff a.exr b.exr --criteria max-flip<=1".to_owned(),
             "completions zsh".to_owned(),
         ];

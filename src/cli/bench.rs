@@ -106,7 +106,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     let (device, mut settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
     preflight(&device, &o.frame)?;
     let scene = combustion::with_localised_lights(
-        &lit_as_asked(&o.scene.source(), &o.shading)?,
+        &lit_as_asked(&o.scene.source(), CameraChoice::Scene, &o.shading)?,
         o.extra_lights,
     );
     settings.shading.specialised = o.specialised;

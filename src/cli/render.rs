@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use combustion::renderer::RendererSettings;
+use combustion::renderer::{RendererSettings, ShadingOptions};
 use combustion::{check_validation, output, Error, Headless, HeadlessDesc};
 
 use super::*;
@@ -39,7 +39,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     )?;
     preflight(&device, &o.frame)?;
     let source = o.scene.source();
-    let scene = lit_as_asked(&source, &o.shading)?;
+    let scene = lit_as_asked(&source, o.camera.camera, &o.shading)?;
     let pose = o.animation.pose(&scene)?;
     if scene.objects.is_empty() {
         log::warn!(
@@ -63,8 +63,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             log::warn!(
                 "--max-error {budget:e}: no pixel of this scene was compared with the reference (nothing lit in view); rendering with the default variant set"
             );
-            settings.shading.distribution = o.shading.distribution;
-            settings.shading.diffuse_override = o.shading.diffuse;
+            settings.shading = o.shading.options(settings.shading);
         } else {
             let Some(set) = choice.chosen else {
                 let best = choice
@@ -77,16 +76,17 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
                     best.map_or(f64::NAN, |r| r.mean_relative)
                 )));
             };
-            settings.shading = set.shading;
+            settings.shading = ShadingOptions {
+                energy_compensation: o.shading.energy_compensation,
+                shadows: o.shading.shadows(),
+                ..set.shading
+            };
             settings.hdr_format = set.hdr;
             outln!("variant set {} (--max-error {budget:e}; `combustion info SCENE --max-error {budget:e}` says why)", set.name());
         }
     } else {
-        settings.shading.distribution = o.shading.distribution;
-        settings.shading.diffuse_override = o.shading.diffuse;
+        settings.shading = o.shading.options(settings.shading);
     }
-    settings.shading.energy_compensation = o.shading.energy_compensation;
-    settings.shading.shadows = o.shading.shadows();
     let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
     let frame = {
         let renderer = headless.renderer();

@@ -31,9 +31,9 @@ pub const ENVIRONMENT_SAMPLING: EnvironmentSampling = EnvironmentSampling {
     stride: 16,
 };
 use combustion_renderer::{
-    linear_to_srgb, tonemap_exponential, Distribution, Frame, FrameInputs, FresnelModel,
-    GBufferStorage, GpuScene, HdrFormat, LightCulling, Masking, MeasurementFloor, PassTimings,
-    Readback, Renderer, RendererSettings, ShadingOptions,
+    linear_to_srgb, Distribution, Frame, FrameInputs, FresnelModel, GBufferStorage, GpuScene,
+    HdrFormat, LightCulling, Masking, MeasurementFloor, PassTimings, Readback, Renderer,
+    RendererSettings, ShadingOptions, ToneMapping,
 };
 use combustion_scene::DiffuseModel;
 use combustion_vk::DeviceDesc;
@@ -598,25 +598,8 @@ pub fn measure(
             let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
             let bvh = SceneBvh::new(gpu.scene());
             let size = (desc.width, desc.height);
-            let precision = precision_of(GBufferStorage::DEFAULT);
-            let lights = &gpu.scene().lights;
-            let scene_reference = if gpu.scene().environment.is_some() {
-                let sampling = EnvironmentReference {
-                    samples: ENVIRONMENT_SAMPLING.iterations,
-                    stride: ENVIRONMENT_SAMPLING.stride,
-                };
-                SceneReference::with_environment(
-                    gpu.scene(),
-                    &bvh,
-                    lights,
-                    size,
-                    precision,
-                    sampling,
-                    threads,
-                )
-            } else {
-                SceneReference::new(gpu.scene(), &bvh, lights, size, precision, threads)
-            };
+            let scene_reference =
+                scene_reference(gpu.scene(), &bvh, size, GBufferStorage::DEFAULT, threads);
             let inputs = FrameInputs::of_scene(&gpu, 1.0);
             let mut reference =
                 ReferenceShading::new(gpu.scene(), &inputs, desc.width, desc.height);
@@ -713,19 +696,34 @@ pub fn measure(
 /// not shade carry the GPU's own values (`ErrorMap::reference_radiance`), so this is
 /// the shading's (and the HDR storage's) error as a viewer would see it.
 pub fn flip_against_reference(frame: &Frame, map: &ErrorMap, exposure: f32) -> f64 {
+    flip_against_radiance(
+        frame,
+        &map.reference_radiance,
+        exposure,
+        ToneMapping::Exponential,
+    )
+}
+
+/// Mean FLIP between `frame`'s display image and `radiance` (one value a pixel, row-major)
+/// through the output transform the frame had: × `exposure`, `tone_mapping` (its f64
+/// mirror), the exact sRGB encoding, rounded to 8 bits; NaN if the sizes differ.
+pub fn flip_against_radiance(
+    frame: &Frame,
+    radiance: &[[f32; 3]],
+    exposure: f32,
+    tone_mapping: ToneMapping,
+) -> f64 {
     let n = (frame.width * frame.height) as usize;
-    if frame.ldr.len() != n || map.reference_radiance.len() != n {
+    if frame.ldr.len() != n || radiance.len() != n {
         return f64::NAN;
     }
-    let encode = |c: f32| {
-        let display = tonemap_exponential(f64::from(c) * f64::from(exposure));
-        (linear_to_srgb(display).clamp(0.0, 1.0) * 255.0).round() as u8
+    let encode = |p: &[f32; 3]| {
+        let exposed = p.map(|c| f64::from(c) * f64::from(exposure));
+        tone_mapping
+            .display(exposed)
+            .map(|d| (linear_to_srgb(d).clamp(0.0, 1.0) * 255.0).round() as u8)
     };
-    let reference: Vec<u8> = map
-        .reference_radiance
-        .iter()
-        .flat_map(|p| p.map(encode))
-        .collect();
+    let reference: Vec<u8> = radiance.iter().flat_map(encode).collect();
     let test: Vec<u8> = frame.ldr.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
     let flip = nv_flip::flip(
         nv_flip::FlipImageRgb8::with_data(frame.width, frame.height, &reference),
@@ -733,6 +731,90 @@ pub fn flip_against_reference(frame: &Frame, map: &ErrorMap, exposure: f32) -> f
         nv_flip::DEFAULT_PIXELS_PER_DEGREE,
     );
     f64::from(nv_flip::FlipPool::from_image(&flip).mean())
+}
+
+/// The f64 reference of frames of `scene` (its camera and lights) at `size`, drawn from
+/// the scene itself (each pixel's ray traced in `bvh`, [`SceneBvh::new`] of `scene`),
+/// stored as G-buffers of `storage` store it; a scene lit by an environment is shaded at
+/// one pixel in [`ENVIRONMENT_SAMPLING`]'s stride² with its samples.
+pub fn scene_reference<'a>(
+    scene: &'a combustion_scene::Scene,
+    bvh: &'a SceneBvh,
+    size: (u32, u32),
+    storage: GBufferStorage,
+    threads: usize,
+) -> SceneReference<'a> {
+    let precision = precision_of(storage);
+    if scene.environment.is_some() {
+        let sampling = EnvironmentReference {
+            samples: ENVIRONMENT_SAMPLING.iterations,
+            stride: ENVIRONMENT_SAMPLING.stride,
+        };
+        SceneReference::with_environment(
+            scene,
+            bvh,
+            &scene.lights,
+            size,
+            precision,
+            sampling,
+            threads,
+        )
+    } else {
+        SceneReference::new(scene, bvh, &scene.lights, size, precision, threads)
+    }
+}
+
+/// A frame's error against the f64 reference of the scene it shows, end to end
+/// ([`frame_physics_error`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhysicsError {
+    /// Pixels compared (both see the same material, away from silhouettes; for a scene
+    /// lit by an environment, the sampled pixels among them).
+    pub compared: usize,
+    /// Pixels whose material differs from the reference's away from any edge (the frame
+    /// shows something wrong there).
+    pub wrong_surface: usize,
+    /// The compared pixels' largest channel error relative to the reference radiance
+    /// (mean and max).
+    pub relative: crate::end_to_end::MeanMax,
+    /// Mean FLIP between the frame's display image and the reference radiance through
+    /// the same output transform (the frame's own values where nothing was compared);
+    /// `None` for a scene lit by an environment (a sampled reference, no whole image).
+    pub flip_mean: Option<f64>,
+}
+
+/// The error of `frame` (read back with its G-buffer: [`Readback::ALL`]) against the f64
+/// reference of `scene` as the frame showed it (its camera, lights and pose: a scene
+/// [`combustion_scene::Scene::as_drawn`] gives), drawn from the scene itself and stored
+/// as `storage` stores it; the frame's display image was made with `exposure` and
+/// `tone_mapping`.
+pub fn frame_physics_error(
+    scene: &combustion_scene::Scene,
+    frame: &Frame,
+    storage: GBufferStorage,
+    exposure: f32,
+    tone_mapping: ToneMapping,
+) -> PhysicsError {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let bvh = SceneBvh::new(scene);
+    let reference = scene_reference(scene, &bvh, (frame.width, frame.height), storage, threads);
+    let comparison = reference.compare(frame);
+    let summary = comparison.summary();
+    let flip_mean = scene.environment.is_none().then(|| {
+        let mut radiance: Vec<[f32; 3]> = frame.hdr.iter().map(|p| [p[0], p[1], p[2]]).collect();
+        for p in &comparison.pixels {
+            if let Some(pixel) = reference.pixel(p.x, p.y) {
+                radiance[(p.y * frame.width + p.x) as usize] = pixel.exact.map(|c| c as f32);
+            }
+        }
+        flip_against_radiance(frame, &radiance, exposure, tone_mapping)
+    });
+    PhysicsError {
+        compared: summary.compared,
+        wrong_surface: summary.away,
+        relative: summary.total,
+        flip_mean,
+    }
 }
 
 /// What an accuracy budget chose for a scene ([`choose`]).

@@ -1330,7 +1330,7 @@ impl Importer<'_> {
                     node: view.node,
                 },
             ),
-            None => (framing_camera(bounds), CameraSource::Framing),
+            None => (Camera::framing(bounds), CameraSource::Framing),
         })
     }
 
@@ -1481,42 +1481,6 @@ pub(crate) fn object_bounds(
         .iter()
         .map(|object| crate::placed_bounds(*boxes.get(object.mesh)?, &object.transform))
         .collect()
-}
-
-/// The framing camera's elevation above the horizon: 15°, model-viewer's default orbit
-/// (a polar angle of 75°), so that the top of a model shows and a model lying flat is
-/// seen.
-pub(crate) const FRAMING_ELEVATION: f32 = 15.0 * std::f32::consts::PI / 180.0;
-
-/// A camera on the +Z side of the bounding box (glTF's forward view), raised
-/// [`FRAMING_ELEVATION`] above the horizon, looking at its centre, far enough for the
-/// box's bounding sphere to fill the 45° field of view. A model flat along Y (a floor, a
-/// terrain grid: under 1 % of its largest extent high), which a low view would see
-/// almost edge-on, is seen from 45° above instead.
-pub(crate) fn framing_camera(bounds: Option<(Vec3, Vec3)>) -> Camera {
-    let (lo, hi) = bounds.unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
-    let centre = (lo + hi) / 2.0;
-    // Any size from a millimetre to beyond 10 km frames the same way (a floor only for a
-    // single point).
-    let radius = ((hi - lo).length() / 2.0).max(1e-6);
-    let fov = 45f32.to_radians();
-    let distance = radius / (fov / 2.0).sin() * 1.05;
-    let size = hi - lo;
-    let flat_along_y = size.y < 0.01 * size.max_element();
-    let elevation = if flat_along_y {
-        std::f32::consts::FRAC_PI_4
-    } else {
-        FRAMING_ELEVATION
-    };
-    let direction = Vec3::new(0.0, elevation.sin(), elevation.cos());
-    Camera {
-        position: centre + direction * distance,
-        target: centre,
-        up: Vec3::Y,
-        vertical_fov: fov,
-        near: (distance - radius).max(distance * 1e-3),
-        far: distance + radius * 2.0,
-    }
 }
 
 /// glTF's nodes form disjoint trees: no node is the child of two nodes, and following

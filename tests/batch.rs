@@ -1,0 +1,483 @@
+//! `combustion batch`: a manifest of jobs rendered in one process, compared with goldens
+//! by stated criteria, reported as JSON and JUnit XML; shards of a CI matrix merged back
+//! into the one run's result; bad manifests refused in one line naming the job.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+
+fn combustion(args: &[&str]) -> (i32, String, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_combustion"))
+        .args(args)
+        .env("COMBUSTION_DEVICE", "llvmpipe")
+        .output()
+        .expect("run combustion");
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    (
+        output.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        stderr,
+    )
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("combustion-batch-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+fn results(folder: &Path) -> Value {
+    serde_json::from_slice(&std::fs::read(folder.join("results.json")).unwrap()).unwrap()
+}
+
+/// Each job's name → its status, comparisons and physics error (no timings, no paths).
+fn outcomes(run: &Value) -> Vec<(String, String, Vec<Value>, Value)> {
+    run["jobs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| {
+            let comparisons = j["outputs"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|o| o["comparison"].clone())
+                .collect();
+            (
+                j["name"].as_str().unwrap().to_owned(),
+                j["status"].as_str().unwrap().to_owned(),
+                comparisons,
+                j["physics_error"].clone(),
+            )
+        })
+        .collect()
+}
+
+fn sorted_files(folder: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(folder)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// The manifest of the batch tests: built-in scenes seen from their own cameras, an
+/// orbit and a framing view, with shadows, another Fresnel term, both outputs, the
+/// physics error; and sample models from `../shared` when it is there (one animated).
+fn manifest(dir: &Path) -> String {
+    let mut jobs = vec![
+        r#"{"name": "spheres", "scene": "builtin:spheres", "outputs": ["png", "exr"], "error": true}"#.to_owned(),
+        r#"{"name": "spheres-schlick", "scene": "builtin:spheres", "fresnel": "schlick", "error": true}"#.to_owned(),
+        r#"{"name": "spheres-orbit", "scene": "builtin:spheres", "camera": "orbit:40,25", "shadows": true}"#.to_owned(),
+        r#"{"name": "grid-framing", "scene": "builtin:grid-7x7", "camera": "framing", "light-rig": true}"#.to_owned(),
+        r#"{"name": "grid", "scene": "builtin:grid-7x7", "ev": 0.5}"#.to_owned(),
+    ];
+    if let Some(samples) = common::shared_gltf_samples() {
+        let model = |name: &str| {
+            samples
+                .join(name)
+                .join("glTF-Binary")
+                .join(format!("{name}.glb"))
+                .to_str()
+                .unwrap()
+                .replace('\\', "/")
+        };
+        jobs.push(format!(
+            r#"{{"name": "metal-rough", "scene": "{}", "camera": "orbit:-30,10,1.2"}}"#,
+            model("MetalRoughSpheresNoTextures")
+        ));
+        jobs.push(format!(
+            r#"{{"name": "cesium-man", "scene": "{}", "time": 1.0}}"#,
+            model("CesiumMan")
+        ));
+    }
+    let text = format!(
+        r#"{{"criteria": "max-channel-diff 2/255 on at most 0.1% of pixels and mean-flip <= 0.005",
+            "defaults": {{"width": 96, "height": 64}},
+            "jobs": [{}]}}"#,
+        jobs.join(",\n")
+    );
+    let path = dir.join("manifest.json");
+    std::fs::write(&path, &text).unwrap();
+    path.to_str().unwrap().to_owned()
+}
+
+/// Goldens written once, then the same manifest passes against them, in one process:
+/// every job's outputs byte-equal to its goldens (the figures say 0 difference), the
+/// JUnit file counts the jobs with no failure, the table lists them all; nothing is
+/// written beside the manifest. A golden changed to a brighter render fails its job
+/// alone (exit 1, the criterion named, a FLIP heat map written) while the others pass.
+/// The physics error is the frame's against the f64 reference of the scene: small for
+/// the full Fresnel equations, larger with Schlick's approximation.
+#[test]
+fn a_manifest_renders_compares_with_goldens_and_reports_junit() {
+    let dir = scratch("goldens");
+    let manifest = manifest(&dir);
+    let (goldens, first, second) = (dir.join("goldens"), dir.join("first"), dir.join("second"));
+    let (code, stdout, stderr) = combustion(&[
+        "batch",
+        &manifest,
+        "-o",
+        text(&first),
+        "--goldens",
+        text(&goldens),
+        "--update-goldens",
+        "--validate",
+    ]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    let jobs = results(&first)["jobs"].as_array().unwrap().len();
+    assert!(jobs >= 5);
+    assert!(
+        stdout.contains(&format!("{jobs} goldens written")),
+        "{stdout}"
+    );
+    assert_eq!(sorted_files(&dir), ["first", "goldens", "manifest.json"]);
+
+    let (code, stdout, stderr) = combustion(&[
+        "batch",
+        &manifest,
+        "-o",
+        text(&second),
+        "--goldens",
+        text(&goldens),
+        "--validate",
+    ]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    let run = results(&second);
+    for (name, status, comparisons, _) in outcomes(&run) {
+        assert_eq!(status, "passed", "{name}");
+        for c in comparisons {
+            assert_eq!(c["max_channel_diff"], 0.0, "{name}: {c}");
+            assert_eq!(c["flip_mean"], 0.0, "{name}: {c}");
+        }
+        assert!(stdout.contains(&name), "{stdout}");
+    }
+    let junit = std::fs::read_to_string(second.join("junit.xml")).unwrap();
+    assert!(
+        junit.contains(&format!("tests=\"{jobs}\" failures=\"0\" errors=\"0\"")),
+        "{junit}"
+    );
+    assert_eq!(junit.matches("<testcase ").count(), jobs);
+    let mut expected = vec![
+        "junit.xml".to_owned(),
+        "results.json".to_owned(),
+        "spheres.exr".to_owned(),
+    ];
+    expected.extend(
+        run["jobs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|j| format!("{}.png", j["name"].as_str().unwrap())),
+    );
+    expected.sort();
+    assert_eq!(sorted_files(&second), expected);
+
+    // The physics error, end to end: the full equations within the renderer's bounds
+    // (tests/end_to_end.rs), Schlick's approximation well beyond them.
+    let physics = |name: &str| {
+        let job = run["jobs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|j| j["name"] == name)
+            .unwrap();
+        let p = &job["physics_error"];
+        assert_eq!(p["wrong_surface_pixels"], 0, "{name}: {p}");
+        assert!(p["compared_pixels"].as_u64().unwrap() > 300, "{name}: {p}");
+        (
+            p["mean_relative"].as_f64().unwrap(),
+            p["flip_mean"].as_f64().unwrap(),
+        )
+    };
+    let (full, full_flip) = physics("spheres");
+    let (schlick, schlick_flip) = physics("spheres-schlick");
+    assert!(full < 1e-3, "{full}");
+    assert!(
+        schlick > 10.0 * full,
+        "Schlick {schlick} against full {full}"
+    );
+    assert!(schlick_flip > full_flip, "{schlick_flip} {full_flip}");
+
+    // One golden brighter: that job fails by its criterion, the others pass.
+    let brighter = dir.join("brighter");
+    std::fs::create_dir_all(&brighter).unwrap();
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "builtin:grid-7x7",
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--ev",
+        "0.7",
+        "-o",
+        text(&brighter.join("grid.png")),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    std::fs::copy(brighter.join("grid.png"), goldens.join("grid.png")).unwrap();
+    let third = dir.join("third");
+    let (code, stdout, stderr) = combustion(&[
+        "batch",
+        &manifest,
+        "-o",
+        text(&third),
+        "--goldens",
+        text(&goldens),
+    ]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    let errors: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("error: "))
+        .collect();
+    assert_eq!(
+        errors,
+        ["error: 1 of 7 jobs did not pass: grid"].map(|e| e.replace('7', &jobs.to_string()))
+    );
+    let run = results(&third);
+    for (name, status, _, _) in outcomes(&run) {
+        assert_eq!(
+            status,
+            if name == "grid" { "failed" } else { "passed" },
+            "{name}"
+        );
+    }
+    let grid = &run["jobs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|j| j["name"] == "grid")
+        .unwrap();
+    let message = grid["message"].as_str().unwrap();
+    assert!(
+        message.starts_with("grid.png: max-channel-diff 2/255 on at most 0.1% of pixels:"),
+        "{message}"
+    );
+    assert_eq!(grid["outputs"][0]["heat_map"], "grid.flip.png");
+    assert!(third.join("grid.flip.png").is_file());
+    let junit = std::fs::read_to_string(third.join("junit.xml")).unwrap();
+    assert!(junit.contains("failures=\"1\" errors=\"0\""), "{junit}");
+    assert!(
+        junit.contains("<failure message=\"grid.png: max-channel-diff"),
+        "{junit}"
+    );
+}
+
+/// Three shards of the manifest, rendered apart as a CI matrix would, merge into the
+/// one run's result: the same jobs, statuses, comparisons and physics errors; each job
+/// rendered by one shard; a merge missing a shard, or given one twice, is refused.
+#[test]
+fn shards_merge_to_the_one_runs_result() {
+    let dir = scratch("shards");
+    let manifest = manifest(&dir);
+    let goldens = dir.join("goldens");
+    let (code, _, stderr) = combustion(&[
+        "batch",
+        &manifest,
+        "-o",
+        text(&dir.join("whole")),
+        "--goldens",
+        text(&goldens),
+        "--update-goldens",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let whole_dir = dir.join("again");
+    let (code, _, stderr) = combustion(&[
+        "batch",
+        &manifest,
+        "-o",
+        text(&whole_dir),
+        "--goldens",
+        text(&goldens),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let whole = outcomes(&results(&whole_dir));
+    let mut shards = Vec::new();
+    for i in 1..=3 {
+        let folder = dir.join(format!("shard-{i}"));
+        let (code, _, stderr) = combustion(&[
+            "batch",
+            &manifest,
+            "-o",
+            text(&folder),
+            "--goldens",
+            text(&goldens),
+            "--shard",
+            &format!("{i}/3"),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(!results(&folder)["jobs"].as_array().unwrap().is_empty());
+        shards.push(folder);
+    }
+    let merged = dir.join("merged");
+    let mut args = vec!["batch", "--merge"];
+    args.extend(shards.iter().map(|s| text(s)));
+    args.extend(["-o", text(&merged)]);
+    let (code, stdout, stderr) = combustion(&args);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert_eq!(outcomes(&results(&merged)), whole);
+    let junit = std::fs::read_to_string(merged.join("junit.xml")).unwrap();
+    assert_eq!(junit.matches("<testcase ").count(), whole.len());
+
+    let two = [text(&shards[0]), text(&shards[1])];
+    let (code, _, stderr) = combustion(&[
+        "batch",
+        "--merge",
+        two[0],
+        two[1],
+        "-o",
+        text(&dir.join("m2")),
+    ]);
+    assert_eq!(code, 1);
+    assert!(stderr.contains("shard 3/3 is missing"), "{stderr}");
+    let (code, _, stderr) = combustion(&[
+        "batch",
+        "--merge",
+        two[0],
+        two[0],
+        "-o",
+        text(&dir.join("m3")),
+    ]);
+    assert_eq!(code, 1);
+    assert!(stderr.contains("is given twice"), "{stderr}");
+}
+
+/// What a batch cannot do is said in one line before anything renders (a manifest's
+/// mistakes name the job; exit 2), or per job while the others go on: a scene that
+/// fails to load, a golden of another size.
+#[test]
+fn bad_batches_are_refused_in_one_line() {
+    let dir = scratch("bad");
+    let write = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_owned()
+    };
+    let out = dir.join("out");
+    let refused = |manifest: &str, extra: &[&str], expected: &str| {
+        let mut args = vec!["batch", manifest, "-o", text(&out)];
+        args.extend(extra);
+        let (code, _, stderr) = combustion(&args);
+        assert_eq!(code, 2, "{stderr}");
+        let errors: Vec<&str> = stderr
+            .lines()
+            .filter(|l| l.starts_with("error: "))
+            .collect();
+        assert_eq!(errors.len(), 1, "{stderr}");
+        assert!(errors[0].contains(expected), "{stderr}");
+    };
+    refused(
+        &write(
+            "dup.json",
+            r#"{"jobs": [{"name": "a", "scene": "builtin:spheres"}, {"name": "a", "scene": "builtin:spheres"}]}"#,
+        ),
+        &[],
+        "job `a`: an earlier job has this name",
+    );
+    refused(
+        &write(
+            "key.json",
+            r#"{"jobs": [{"name": "a", "scene": "builtin:spheres", "frames": 3}]}"#,
+        ),
+        &[],
+        "job `a`: unknown key `frames`",
+    );
+    refused(
+        &write(
+            "file.json",
+            r#"{"jobs": [{"name": "a", "scene": "nowhere.glb"}]}"#,
+        ),
+        &[],
+        "job `a`: scene file",
+    );
+    refused(&write("json.json", "{\"jobs\": ["), &[], "not valid JSON");
+    let good = write(
+        "good.json",
+        r#"{"defaults": {"width": 32, "height": 24}, "jobs": [
+        {"name": "a", "scene": "builtin:spheres"},
+        {"name": "b", "scene": "builtin:spheres", "width": 40, "camera": "0"},
+        {"name": "c", "scene": "builtin:grid-7x7", "width": 40}]}"#,
+    );
+    refused(
+        &good,
+        &["--goldens", text(&dir.join("none"))],
+        "no such folder",
+    );
+    // An output folder that is a file.
+    let file = write("a-file", "");
+    let (code, _, stderr) = combustion(&["batch", &good, "-o", &file]);
+    assert_ne!(code, 0);
+    assert_eq!(
+        stderr.lines().filter(|l| l.starts_with("error: ")).count(),
+        1,
+        "{stderr}"
+    );
+    assert!(!out.exists(), "nothing written by refused batches");
+
+    // Per job: b's camera index names no camera of a built-in scene; c's golden is of
+    // another size (a's, 32x24). a passes.
+    let goldens = dir.join("goldens");
+    let (code, _, stderr) = combustion(&[
+        "batch",
+        &good,
+        "-o",
+        text(&out),
+        "--goldens",
+        text(&goldens),
+        "--update-goldens",
+    ]);
+    assert_eq!(code, 1, "{stderr}");
+    std::fs::copy(goldens.join("a.png"), goldens.join("c.png")).unwrap();
+    let (code, stdout, stderr) = combustion(&[
+        "batch",
+        &good,
+        "-o",
+        text(&out),
+        "--goldens",
+        text(&goldens),
+    ]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    let run = results(&out);
+    let job = |name: &str| {
+        run["jobs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|j| j["name"] == name)
+            .unwrap()
+            .clone()
+    };
+    assert_eq!(job("a")["status"], "passed");
+    assert_eq!(job("b")["status"], "error");
+    assert!(
+        job("b")["message"]
+            .as_str()
+            .unwrap()
+            .contains("--camera 0: builtin:spheres has one camera"),
+        "{}",
+        job("b")
+    );
+    assert_eq!(job("c")["status"], "failed");
+    assert!(
+        job("c")["message"]
+            .as_str()
+            .unwrap()
+            .contains("c.png against its golden"),
+        "{}",
+        job("c")
+    );
+    assert!(
+        stderr.contains("2 of 3 jobs did not pass: b, c"),
+        "{stderr}"
+    );
+}
