@@ -157,6 +157,8 @@ fn refused(mut error: clap::Error) -> ExitCode {
 }
 
 fn main() -> ExitCode {
+    // First, before any thread starts: an interrupted write leaves no partial file.
+    output::remove_partial_files_on_termination();
     init_logging();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,

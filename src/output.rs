@@ -106,9 +106,79 @@ fn temporary_name(name: &str, kind: &str, n: u32) -> String {
     format!(".{}{suffix}", &name[..end])
 }
 
+/// The temporary files this process has made and not yet renamed or removed: what a
+/// terminating signal removes ([`remove_partial_files_on_termination`]).
+static TEMPORARY_FILES: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+fn temporary_files() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    // A panic while the list was held leaves it as it was: still the right list.
+    TEMPORARY_FILES
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// `path`, a temporary file, is renamed into place or removed: no longer this process's
+/// to clean up.
+fn forget_temporary(path: &Path) {
+    temporary_files().retain(|p| p != path);
+}
+
+/// Removes `path`, a temporary file, and forgets it.
+fn remove_temporary(path: &Path) {
+    let _ = std::fs::remove_file(path);
+    forget_temporary(path);
+}
+
+/// From now on, SIGINT, SIGTERM and SIGHUP end the process only after removing the
+/// temporary files of writes in progress (`.NAME.partial-PID-N`, `.NAME.probe-PID-N`),
+/// so an interrupted command leaves every output as it was or complete, and nothing
+/// else. The signals are blocked in every thread and taken by one thread of their own
+/// (call this first in `main`, before other threads start: they inherit the mask); it
+/// ends the process by the same signal, so the exit status says which. SIGKILL cannot
+/// be caught: it leaves the temporary file of a write in progress behind.
+#[cfg(unix)]
+pub fn remove_partial_files_on_termination() {
+    const SIGNALS: [libc::c_int; 3] = [libc::SIGINT, libc::SIGTERM, libc::SIGHUP];
+    // SAFETY: the set is initialised by sigemptyset before use; pthread_sigmask and
+    // sigwait take pointers to it and to a local integer only.
+    unsafe {
+        let mut set: libc::sigset_t = std::mem::zeroed();
+        libc::sigemptyset(&mut set);
+        for signal in SIGNALS {
+            libc::sigaddset(&mut set, signal);
+        }
+        if libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut()) != 0 {
+            return;
+        }
+        let spawned = std::thread::Builder::new()
+            .name("termination".into())
+            .spawn(move || {
+                let mut signal: libc::c_int = 0;
+                while libc::sigwait(&set, &mut signal) != 0 {}
+                for path in temporary_files().drain(..) {
+                    let _ = std::fs::remove_file(path);
+                }
+                // End as the signal would have: its default action, delivered unblocked.
+                libc::signal(signal, libc::SIG_DFL);
+                libc::pthread_sigmask(libc::SIG_UNBLOCK, &set, std::ptr::null_mut());
+                libc::raise(signal);
+                libc::_exit(128 + signal);
+            });
+        if spawned.is_err() {
+            // No thread to take them: the signals keep their default action.
+            libc::pthread_sigmask(libc::SIG_UNBLOCK, &set, std::ptr::null_mut());
+        }
+    }
+}
+
+/// Elsewhere the signals keep their default action.
+#[cfg(not(unix))]
+pub fn remove_partial_files_on_termination() {}
+
 /// A new file beside `path`, `.NAME.KIND-PID-N` ([`temporary_name`]), made with
 /// `create_new` (never following a planted link or truncating a file already there: a
-/// name in use is skipped).
+/// name in use is skipped); listed for removal by a terminating signal until
+/// [`forget_temporary`].
 fn create_new_beside(path: &Path, kind: &str) -> std::io::Result<(PathBuf, File)> {
     let name = path
         .file_name()
@@ -117,12 +187,18 @@ fn create_new_beside(path: &Path, kind: &str) -> std::io::Result<(PathBuf, File)
     let mut last = None;
     for n in 0..100 {
         let candidate = path.with_file_name(temporary_name(&name, kind, n));
+        // Made and listed under the list's lock, so a signal never finds it made and
+        // not listed.
+        let mut listed = temporary_files();
         match std::fs::OpenOptions::new()
             .write(true)
             .create_new(true)
             .open(&candidate)
         {
-            Ok(file) => return Ok((candidate, file)),
+            Ok(file) => {
+                listed.push(candidate.clone());
+                return Ok((candidate, file));
+            }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
             Err(e) => return Err(e),
         }
@@ -215,7 +291,7 @@ pub fn check_writable(path: &Path) -> Result<PathBuf, OutputError> {
                         path: named.clone(),
                         source,
                     })?;
-                let _ = std::fs::remove_file(&probe);
+                remove_temporary(&probe);
                 return Ok(target);
             }
         }
@@ -231,6 +307,20 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
         && canonical_folder(a).is_some()
         && canonical_folder(a) == canonical_folder(b)
 }
+
+/// Gives `file` the owner and group of `replaced` when they differ from this process's
+/// and it may (as root); otherwise the file stays this process's, as any new file.
+#[cfg(unix)]
+fn keep_owner(file: &File, replaced: &std::fs::Metadata) {
+    use std::os::unix::fs::MetadataExt;
+    let Ok(own) = file.metadata() else { return };
+    if (own.uid(), own.gid()) != (replaced.uid(), replaced.gid()) {
+        let _ = std::os::unix::fs::fchown(file, Some(replaced.uid()), Some(replaced.gid()));
+    }
+}
+
+#[cfg(not(unix))]
+fn keep_owner(_file: &File, _replaced: &std::fs::Metadata) {}
 
 /// A file written in full beside the one it will replace, not yet renamed into place.
 struct Staged {
@@ -252,9 +342,12 @@ impl Staged {
         };
         let (temporary, file) = create_new_beside(&target, "partial").map_err(io)?;
         let result = (|| {
-            // The replaced file's permissions carry over (a new file gets the umask's).
+            // The replaced file's permissions carry over (a new file gets the umask's),
+            // and its owner where this process may give it (root replacing a user's
+            // 0600 file must not leave a file the user can no longer read).
             if let Ok(meta) = std::fs::metadata(&target) {
                 file.set_permissions(meta.permissions()).map_err(io)?;
+                keep_owner(&file, &meta);
             }
             let mut writer = BufWriter::new(file);
             write(&mut writer)?;
@@ -266,7 +359,7 @@ impl Staged {
         match result {
             Ok(()) => Ok(Staged { temporary, target }),
             Err(e) => {
-                let _ = std::fs::remove_file(&temporary);
+                remove_temporary(&temporary);
                 Err(e)
             }
         }
@@ -282,12 +375,13 @@ impl Staged {
         if result.is_err() {
             let _ = std::fs::remove_file(&self.temporary);
         }
+        forget_temporary(&self.temporary);
         result
     }
 
     /// Removes the staged file, leaving the target as it was.
     fn discard(self) {
-        let _ = std::fs::remove_file(&self.temporary);
+        remove_temporary(&self.temporary);
     }
 }
 

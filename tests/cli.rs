@@ -2367,3 +2367,103 @@ fn render_takes_the_camera_asked_for() {
     );
     assert!(!dir.join("none.png").exists());
 }
+
+/// SIGTERM while an output is being written (its temporary `.NAME.partial-PID-N` on
+/// disk) removes the temporary file and ends the process by that signal: nothing is left
+/// but what was there before (here, nothing). SIGINT the same.
+#[test]
+fn a_terminated_write_leaves_no_partial_file() {
+    use std::os::unix::process::ExitStatusExt;
+    for signal in ["TERM", "INT"] {
+        let dir = scratch(&format!("terminated-{signal}"));
+        let exr = dir.join("big.exr");
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_combustion"))
+            .args([
+                "render",
+                "builtin:spheres",
+                "--width",
+                "3072",
+                "--height",
+                "3072",
+                "--hdr",
+            ])
+            .arg(&exr)
+            .env("COMBUSTION_DEVICE", "llvmpipe")
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let partial = || {
+            std::fs::read_dir(&dir).unwrap().any(|e| {
+                e.unwrap()
+                    .file_name()
+                    .to_string_lossy()
+                    .starts_with(".big.exr.partial-")
+            })
+        };
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+        while !partial() {
+            assert!(
+                std::time::Instant::now() < deadline,
+                "no partial file appeared"
+            );
+            assert!(
+                matches!(child.try_wait(), Ok(None)),
+                "the render ended before writing"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        let pid = child.id().to_string();
+        assert!(Command::new("kill")
+            .args([&format!("-{signal}"), &pid])
+            .status()
+            .unwrap()
+            .success());
+        let status = child.wait().unwrap();
+        let number = if signal == "TERM" { 15 } else { 2 };
+        assert_eq!(status.signal(), Some(number), "{status:?}");
+        let left: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(left.is_empty(), "{signal}: left {left:?}");
+    }
+}
+
+/// A file replaced keeps its mode, and its owner where the process may give it: root
+/// rendering over a user's 0600 PNG leaves the user's 0600 PNG (not a root-owned file
+/// the user can no longer read). Not root: only the mode is checked.
+#[test]
+fn a_replaced_output_keeps_its_owner_and_mode() {
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    let dir = scratch("owner");
+    let png = dir.join("theirs.png");
+    std::fs::write(&png, b"old").unwrap();
+    std::fs::set_permissions(&png, std::fs::Permissions::from_mode(0o600)).unwrap();
+    let root = std::fs::metadata(&dir).unwrap().uid() == 0
+        && Command::new("id").arg("-u").output().unwrap().stdout == b"0\n";
+    // nobody:nogroup, as a user's file would be.
+    let owner = (65534, 65534);
+    if root {
+        std::os::unix::fs::chown(&png, Some(owner.0), Some(owner.1)).unwrap();
+    }
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "builtin:spheres",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let meta = std::fs::metadata(&png).unwrap();
+    assert_ne!(std::fs::read(&png).unwrap(), b"old");
+    assert_eq!(meta.permissions().mode() & 0o777, 0o600);
+    if root {
+        assert_eq!((meta.uid(), meta.gid()), owner);
+    } else {
+        eprintln!("not root: the owner is this user's; only the mode was checked");
+    }
+}
