@@ -201,7 +201,7 @@ impl SceneSource {
     ) -> Result<(Scene, Vec<combustion_scene::Camera>), Error> {
         match self {
             Self::Builtin(name) => {
-                let scene = combustion_scene::builtin_scene(name)?;
+                let scene = combustion_scene::builtin_scene_with(name, options.metal_colour)?;
                 let cameras = vec![scene.camera];
                 Ok((scene, cameras))
             }

@@ -2467,3 +2467,35 @@ fn a_replaced_output_keeps_its_owner_and_mode() {
         eprintln!("not root: the owner is this user's; only the mode was checked");
     }
 }
+
+/// `--metal-colour colorimetric` renders the built-in metals with constants fitted to
+/// their colorimetric colour (another image than the band method's); another value is
+/// bad usage.
+#[test]
+fn render_takes_the_metal_colour_asked_for() {
+    let dir = scratch("metal-colour");
+    let png = |name: &str| dir.join(format!("{name}.png")).to_str().unwrap().to_owned();
+    for colour in ["bands", "colorimetric"] {
+        let (code, _, stderr) = combustion(&[
+            "render",
+            "builtin:gold-copper",
+            "--width",
+            "64",
+            "--height",
+            "32",
+            "--metal-colour",
+            colour,
+            "-o",
+            &png(colour),
+        ]);
+        assert_eq!(code, 0, "{colour}: {stderr}");
+    }
+    assert_ne!(
+        std::fs::read(png("bands")).unwrap(),
+        std::fs::read(png("colorimetric")).unwrap()
+    );
+    assert_refused(
+        &["render", "--metal-colour", "spectral"],
+        &["possible values: bands, colorimetric"],
+    );
+}

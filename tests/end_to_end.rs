@@ -705,6 +705,48 @@ fn the_frame_is_what_the_scene_shows() {
     }
 }
 
+/// Metals whose RGB constants are fitted to their colorimetric colour (README "Metal
+/// colours": gold's red channel a near-mirror, η = 1e-3, k = 100) are shaded as the
+/// reference shades them, within the same bounds; and the frame shows the colour shift
+/// the colorimetry predicts: gold's compared pixels redder against blue than with the
+/// band constants (at normal incidence red ×1.08, blue ×0.87: a red-to-blue ratio
+/// ×1.24; over the spheres' angles, at least ×1.15).
+#[test]
+fn colorimetric_metals_are_what_the_scene_shows() {
+    use combustion::spectra::MetalColour;
+    let red_over_blue = |colour: MetalColour| {
+        let scene = combustion::scene::builtin_scene_with("gold-copper", colour).unwrap();
+        let comparison = compare_with_scene(&scene, &scene.lights, W, H);
+        eprintln!(
+            "{}",
+            comparison.describe(&format!("gold-copper, {}", colour.name()), W, H)
+        );
+        comparison.assert_within_bounds("gold-copper");
+        let frame = common::render_with_lights_in(&scene, &scene.lights, W, H, common::exact_f32());
+        let bvh = SceneBvh::new(&scene);
+        let reference = SceneReference::new(
+            &scene,
+            &bvh,
+            &scene.lights,
+            (W, H),
+            precision_of(GBufferStorage::DEFAULT),
+            2,
+        );
+        let (mut red, mut blue) = (0.0, 0.0);
+        for p in reference.compare(&frame).pixels {
+            let material = reference.pixel(p.x, p.y).unwrap().material;
+            if scene.materials[material].name.starts_with("gold") {
+                red += p.gpu[0];
+                blue += p.gpu[2];
+            }
+        }
+        assert!(blue > 0.0);
+        red / blue
+    };
+    let shift = red_over_blue(MetalColour::Colorimetric) / red_over_blue(MetalColour::Bands);
+    assert!(shift > 1.15, "gold's red/blue ratio changes by {shift}");
+}
+
 /// Every G-buffer storage the renderer offers (docs/gbuffer.md) is what the reference's
 /// model of it says: each scene rendered with each storage is compared per pixel with
 /// the scene's reference stored the same way, within the same bounds as the default

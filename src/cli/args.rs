@@ -13,7 +13,7 @@ use combustion::renderer::{
     ToneMapping, MAX_CASCADES, MAX_FRAMES_IN_FLIGHT,
 };
 use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
-use combustion::spectra::BuiltinMetal;
+use combustion::spectra::{BuiltinMetal, MetalColour};
 use combustion::vk::{DeviceDesc, DeviceSelector};
 use combustion::{finite_number, number_list, output, shortened, Error, SceneSource};
 
@@ -356,6 +356,12 @@ pub(crate) struct ShadingArgs {
     /// lights)
     #[arg(long)]
     pub(crate) light_rig: bool,
+    /// How metals given by a measured spectrum (built-in scenes' metals, and glTF
+    /// conductors naming a `metal` or `spectrum` without their own `colour`) get their
+    /// RGB η, k: `bands` (the rendering notes' band means) or `colorimetric` (fitted to
+    /// the colour the spectrum shows under D65, CIE 1931 observer: README "Metal colours")
+    #[arg(long, value_name = "METHOD", default_value = "bands", value_parser = named(MetalColour::ALL.map(|c| (c.name(), c))))]
+    pub(crate) metal_colour: MetalColour,
     /// Scale every specular lobe by 1 + F0 (1 - E)/E (Turquin 2019), putting back the
     /// energy single-scattering GGX loses on rough surfaces (off by default: the f64
     /// reference is single-scattering)
@@ -1111,7 +1117,11 @@ pub(crate) fn loaded_as_asked(
     camera: CameraChoice,
     shading: &ShadingArgs,
 ) -> Result<Scene, Error> {
-    let mut scene = source.load_with(&camera.import_options(source)?)?;
+    let options = combustion::scene::gltf::ImportOptions {
+        metal_colour: shading.metal_colour,
+        ..camera.import_options(source)?
+    };
+    let mut scene = source.load_with(&options)?;
     let lit_by_default = matches!(source, SceneSource::File(_)) && scene.lights.is_empty();
     if let Some(environment) = &shading.environment {
         scene.environment = environment.load()?;
@@ -1240,7 +1250,7 @@ mod tests {
         let frame = "--width 8 --height 9 --exposure 2 --fresnel f82 --hdr-format f16 \
                      --gbuffer-base-color srgb16 --gbuffer-surface unorm8";
         let shading = "--distribution beckmann --diffuse lambert --environment uniform:1,2,3 \
-                       --light-rig --energy-compensation on";
+                       --light-rig --energy-compensation on --metal-colour colorimetric";
         let device = "--device llvmpipe --validate";
         let lines = [
             format!("render builtin:spheres -o a.png --hdr a.exr --max-error 0.1 {frame} {shading} {device}"),

@@ -240,19 +240,20 @@ impl Renderers {
 }
 
 /// The jobs that share a scene upload: the same renderer, scene, file camera,
-/// environment and light rig.
+/// environment, light rig and metal colours.
 fn group_key(job: &Job, settings: &RendererSettings) -> String {
     let file_camera = match job.render.camera.camera {
         CameraChoice::File(index) => Some(index),
         _ => None,
     };
     format!(
-        "{:?} {:?} {:?} {file_camera:?} {:?} {}",
+        "{:?} {:?} {:?} {file_camera:?} {:?} {} {}",
         settings.hdr_format,
         settings.gbuffer,
         job.render.scene.source(),
         job.render.shading.environment,
-        job.render.shading.light_rig
+        job.render.shading.light_rig,
+        job.render.shading.metal_colour.name()
     )
 }
 

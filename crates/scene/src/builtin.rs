@@ -3,6 +3,7 @@
 use glam::{Mat4, Quat, Vec3};
 
 use crate::{Camera, ComplexIor, DiffuseModel, Light, Material, Mesh, Object, Scene, SceneError};
+use combustion_spectra::MetalColour;
 
 /// Names accepted by [`builtin_scene`] (also as `builtin:NAME` on the command line).
 pub const BUILTIN_SCENES: &[&str] = &[
@@ -59,28 +60,34 @@ pub const BUILTIN_SCENES: &[&str] = &[
 ///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
+    builtin_scene_with(name, MetalColour::Bands)
+}
+
+/// As [`builtin_scene`], its metals' RGB constants derived from their measured spectra by
+/// `colour` (the rendering notes' bands, or fitted to the colorimetric reflectance).
+pub fn builtin_scene_with(name: &str, colour: MetalColour) -> Result<Scene, SceneError> {
     match name {
-        "spheres" => Ok(spheres()),
-        "hard-cases" => Ok(hard_cases()),
-        "gold-copper" => Ok(gold_copper()),
+        "spheres" => Ok(spheres(colour)),
+        "hard-cases" => Ok(hard_cases(colour)),
+        "gold-copper" => Ok(gold_copper(colour)),
         "dielectrics" => Ok(dielectrics()),
         "diffuse-models" => Ok(diffuse_models()),
-        "underwater" => Ok(underwater(WATER_IOR, "underwater")),
-        "underwater-in-air" => Ok(underwater(1.0, "underwater-in-air")),
-        "grid-7x7" => Ok(grid_7x7()),
-        "grid-sun" => Ok(grid_sun()),
-        "spot-box" => Ok(spot_box()),
-        "point-among" => Ok(point_among()),
+        "underwater" => Ok(underwater(colour, WATER_IOR, "underwater")),
+        "underwater-in-air" => Ok(underwater(colour, 1.0, "underwater-in-air")),
+        "grid-7x7" => Ok(grid_7x7(colour)),
+        "grid-sun" => Ok(grid_sun(colour)),
+        "spot-box" => Ok(spot_box(colour)),
+        "point-among" => Ok(point_among(colour)),
         "glass" => Ok(glass(1.0, "glass")),
         "glass-underwater" => Ok(glass(WATER_IOR, "glass-underwater")),
-        "clearcoat" => Ok(clearcoat(1.0, "clearcoat")),
-        "clearcoat-underwater" => Ok(clearcoat(WATER_IOR, "clearcoat-underwater")),
-        "sheen" => Ok(sheen()),
-        "spheres-studio" => Ok(under_studio(spheres(), "spheres-studio")),
+        "clearcoat" => Ok(clearcoat(colour, 1.0, "clearcoat")),
+        "clearcoat-underwater" => Ok(clearcoat(colour, WATER_IOR, "clearcoat-underwater")),
+        "sheen" => Ok(sheen(colour)),
+        "spheres-studio" => Ok(under_studio(spheres(colour), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
             Scene {
                 outside_ior: WATER_IOR,
-                ..gold_copper()
+                ..gold_copper(colour)
             },
             "gold-copper-underwater",
         )),
@@ -106,8 +113,9 @@ fn under_studio(scene: Scene, name: &str) -> Scene {
 /// Perceptual roughness of each column of the sphere grid, left to right.
 pub const SPHERE_GRID_ROUGHNESS: [f32; 6] = [0.1, 0.25, 0.4, 0.55, 0.75, 1.0];
 
-fn metal(metal: combustion_spectra::BuiltinMetal) -> ComplexIor {
-    let constants = combustion_spectra::rgb_optical_constants(metal.spectrum())
+fn metal(metal: combustion_spectra::BuiltinMetal, colour: MetalColour) -> ComplexIor {
+    let constants = colour
+        .constants(metal.spectrum())
         .expect("built-in metal tables cover the RGB bands (checked by the spectra crate's tests)");
     ComplexIor {
         eta: constants.eta.map(|x| x as f32),
@@ -120,12 +128,12 @@ fn metal(metal: combustion_spectra::BuiltinMetal) -> ComplexIor {
 /// rough clay with Oren–Nayar), roughness 0.05–1 along the columns, four point lights.
 /// The performance grid's materials: a material per row (top to bottom), roughness
 /// rising along each row's 7 columns from 0.05 to 1.
-fn grid_materials() -> Vec<Material> {
+fn grid_materials(colour: MetalColour) -> Vec<Material> {
     use combustion_spectra::BuiltinMetal;
     let conductor = |name: &str, which: BuiltinMetal| Material {
         name: name.into(),
         metalness: 1.0,
-        conductor: metal(which),
+        conductor: metal(which, colour),
         ..Material::default()
     };
     let rows = [
@@ -168,8 +176,8 @@ fn grid_materials() -> Vec<Material> {
         .collect()
 }
 
-fn grid_7x7() -> Scene {
-    let materials = grid_materials();
+fn grid_7x7(colour: MetalColour) -> Scene {
+    let materials = grid_materials(colour);
     let objects = (0..materials.len())
         .map(|i| {
             let (row, column) = (i / 7, i % 7);
@@ -220,8 +228,8 @@ fn grid_7x7() -> Scene {
 
 /// The performance grid's spheres standing on a grey Lambertian floor in rows 1 m apart,
 /// under a sun 20° above the horizon giving 3 W/m², seen from above and in front.
-fn grid_sun() -> Scene {
-    let mut materials = grid_materials();
+fn grid_sun(colour: MetalColour) -> Scene {
+    let mut materials = grid_materials(colour);
     let spheres = materials.len();
     let radius = 0.42;
     let mut objects: Vec<Object> = (0..spheres)
@@ -289,7 +297,7 @@ fn grid_sun() -> Scene {
 
 /// Grey Lambertian walls (material 0) and three spheres (materials 1–3: plastic, gold,
 /// clay) for the local-light shadow scenes.
-fn shadow_scene_materials() -> Vec<Material> {
+fn shadow_scene_materials(colour: MetalColour) -> Vec<Material> {
     vec![
         Material {
             name: "wall".into(),
@@ -307,7 +315,7 @@ fn shadow_scene_materials() -> Vec<Material> {
             name: "gold".into(),
             metalness: 1.0,
             roughness: 0.3,
-            conductor: metal(combustion_spectra::BuiltinMetal::Gold),
+            conductor: metal(combustion_spectra::BuiltinMetal::Gold, colour),
             ..Material::default()
         },
         Material {
@@ -323,6 +331,7 @@ fn shadow_scene_materials() -> Vec<Material> {
 /// A scene of the local-light shadow scenes: mesh 0 a UV sphere of `sphere_radius`
 /// (64 × 32), mesh 1 a square of side `plane_side`, the shared materials, one light.
 fn local_light_scene(
+    colour: MetalColour,
     name: &str,
     sphere_radius: f32,
     plane_side: f32,
@@ -336,7 +345,7 @@ fn local_light_scene(
             Mesh::uv_sphere("sphere", sphere_radius, 64, 32),
             Mesh::plane("plane", plane_side),
         ],
-        materials: shadow_scene_materials(),
+        materials: shadow_scene_materials(colour),
         objects,
         lights: vec![light],
         camera,
@@ -349,7 +358,7 @@ fn local_light_scene(
 /// A room 6 m square and 3 m high (floor, ceiling and four walls facing inwards), a
 /// spot light under the ceiling's centre pointing down (cone 30°–45°, 60 W/sr), and
 /// three spheres of radius 0.5 on the floor, seen from a corner.
-fn spot_box() -> Scene {
+fn spot_box(colour: MetalColour) -> Scene {
     use std::f32::consts::FRAC_PI_2;
     let wall = |transform: Mat4| Object {
         mesh: 1,
@@ -405,12 +414,12 @@ fn spot_box() -> Scene {
         near: 0.05,
         far: 20.0,
     };
-    local_light_scene("spot-box", 0.5, 6.0, objects, light, camera)
+    local_light_scene(colour, "spot-box", 0.5, 6.0, objects, light, camera)
 }
 
 /// A point light 1.2 m above a floor, among six spheres of radius 0.4 in a ring of
 /// radius 1.6 around it, seen from above and to the side (its six cube faces all cast).
-fn point_among() -> Scene {
+fn point_among(colour: MetalColour) -> Scene {
     let mut objects = vec![Object {
         mesh: 1,
         material: 0,
@@ -447,12 +456,12 @@ fn point_among() -> Scene {
         near: 0.05,
         far: 40.0,
     };
-    local_light_scene("point-among", 0.4, 16.0, objects, light, camera)
+    local_light_scene(colour, "point-among", 0.4, 16.0, objects, light, camera)
 }
 
 /// The sphere grid: roughness varies along columns, material along rows (top to bottom:
 /// red plastic, gold, a half-metallic copper blend, anisotropic aluminium).
-fn spheres() -> Scene {
+fn spheres(colour: MetalColour) -> Scene {
     use combustion_spectra::BuiltinMetal;
     let rows = [
         Material {
@@ -463,21 +472,21 @@ fn spheres() -> Scene {
         Material {
             name: "gold".into(),
             metalness: 1.0,
-            conductor: metal(BuiltinMetal::Gold),
+            conductor: metal(BuiltinMetal::Gold, colour),
             ..Material::default()
         },
         Material {
             name: "half-metallic copper over white".into(),
             base_color: [0.8, 0.8, 0.8],
             metalness: 0.5,
-            conductor: metal(BuiltinMetal::Copper),
+            conductor: metal(BuiltinMetal::Copper, colour),
             ..Material::default()
         },
         Material {
             name: "anisotropic aluminium".into(),
             metalness: 1.0,
             anisotropy_strength: 0.8,
-            conductor: metal(BuiltinMetal::Aluminium),
+            conductor: metal(BuiltinMetal::Aluminium, colour),
             ..Material::default()
         },
     ];
@@ -549,7 +558,7 @@ fn spheres() -> Scene {
 /// η just above 1, η < 1 (silver), very large k, an air bubble under water (TIR), both
 /// Oren–Nayar models, a light at the camera, lights behind surfaces, and a light exactly
 /// opposite the viewer behind a sphere.
-fn hard_cases() -> Scene {
+fn hard_cases(colour: MetalColour) -> Scene {
     use combustion_spectra::BuiltinMetal;
     let sphere = |name: &str, material: Material| Material {
         name: name.into(),
@@ -583,7 +592,7 @@ fn hard_cases() -> Scene {
                 roughness: 1.0,
                 anisotropy_strength: 1.0,
                 anisotropy_rotation: 0.7,
-                conductor: metal(BuiltinMetal::Aluminium),
+                conductor: metal(BuiltinMetal::Aluminium, colour),
                 ..Material::default()
             },
         ),
@@ -593,7 +602,7 @@ fn hard_cases() -> Scene {
                 metalness: 1.0,
                 roughness: 0.05,
                 anisotropy_strength: 1.0,
-                conductor: metal(BuiltinMetal::Silver),
+                conductor: metal(BuiltinMetal::Silver, colour),
                 ..Material::default()
             },
         ),
@@ -629,7 +638,7 @@ fn hard_cases() -> Scene {
                 metalness: 1.0,
                 roughness: 0.3,
                 polarisation_weight: 0.0,
-                conductor: metal(BuiltinMetal::Silver),
+                conductor: metal(BuiltinMetal::Silver, colour),
                 ..Material::default()
             },
         ),
@@ -943,7 +952,7 @@ const GOLD_COPPER_ROUGHNESS: [f32; 4] = [0.15, 0.3, 0.5, 0.75];
 /// where the blue and green reflectance have risen toward the red (gold's blue/red
 /// 0.40 → 0.49): the rim highlights are whiter, the whitening toward grazing of Figures
 /// 10 and 11.
-fn gold_copper() -> Scene {
+fn gold_copper(colour: MetalColour) -> Scene {
     use combustion_spectra::BuiltinMetal;
     let row = |metal: BuiltinMetal| {
         GOLD_COPPER_ROUGHNESS
@@ -952,7 +961,7 @@ fn gold_copper() -> Scene {
                 name: format!("{} r={roughness}", metal.name()),
                 metalness: 1.0,
                 roughness,
-                conductor: self::metal(metal),
+                conductor: self::metal(metal, colour),
                 ..Material::default()
             })
             .collect::<Vec<_>>()
@@ -1082,7 +1091,7 @@ fn diffuse_models() -> Scene {
 /// from the view) lights every face at v·h ≈ 0.85; a light from behind on the right (134°
 /// from the view, v·h ≈ 0.39, i.e. 67° > 48.8°) puts a TIR highlight on the bubble's right
 /// rim, where the key light does not reach.
-fn underwater(outside_ior: f32, name: &str) -> Scene {
+fn underwater(colour: MetalColour, outside_ior: f32, name: &str) -> Scene {
     use combustion_spectra::BuiltinMetal;
     let roughness = 0.35;
     let dielectric = |eta: f32| Material {
@@ -1105,7 +1114,7 @@ fn underwater(outside_ior: f32, name: &str) -> Scene {
                 name: "silver".into(),
                 metalness: 1.0,
                 roughness,
-                conductor: metal(BuiltinMetal::Silver),
+                conductor: metal(BuiltinMetal::Silver, colour),
                 ..Material::default()
             },
         ],
@@ -1125,7 +1134,7 @@ fn underwater(outside_ior: f32, name: &str) -> Scene {
 /// Clear coats over a red plastic (coat roughness 0.03, 0.15, 0.35, 0.7), and a smooth
 /// coat over rough gold, a half-weight coat over blue plastic, the red plastic uncoated,
 /// a rough coat over rough copper; `outside_ior` is the medium's.
-fn clearcoat(outside_ior: f32, name: &str) -> Scene {
+fn clearcoat(colour: MetalColour, outside_ior: f32, name: &str) -> Scene {
     use combustion_spectra::BuiltinMetal;
     let red = Material {
         name: "red plastic".into(),
@@ -1143,7 +1152,7 @@ fn clearcoat(outside_ior: f32, name: &str) -> Scene {
         name: name.into(),
         metalness: 1.0,
         roughness: 0.45,
-        conductor: metal(which),
+        conductor: metal(which, colour),
         ..Material::default()
     };
     let blue = Material {
@@ -1188,7 +1197,7 @@ fn clearcoat(outside_ior: f32, name: &str) -> Scene {
 
 /// Sheen (white, roughness 0.2, 0.4, 0.7, 1.0) over a dark red cloth; a cyan sheen over
 /// blue, a sheen over gold, the cloth without sheen, and a sheen under a clear coat.
-fn sheen() -> Scene {
+fn sheen(colour: MetalColour) -> Scene {
     use combustion_spectra::BuiltinMetal;
     let cloth = Material {
         name: "dark red cloth".into(),
@@ -1213,7 +1222,7 @@ fn sheen() -> Scene {
         name: "gold".into(),
         metalness: 1.0,
         roughness: 0.4,
-        conductor: metal(BuiltinMetal::Gold),
+        conductor: metal(BuiltinMetal::Gold, colour),
         ..Material::default()
     };
     let rows = vec![

@@ -31,7 +31,7 @@ mod mesh;
 pub mod motion;
 
 pub use alpha_coverage::{alpha_mip_scales, ALPHA_MIP_LEVELS};
-pub use builtin::{builtin_scene, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
+pub use builtin::{builtin_scene, builtin_scene_with, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
 pub use camera::{Camera, FRAMING_ELEVATION, FRAMING_FOV};
 pub use environment::{
     decode_exr_rgb, equirect_coordinates, studio_radiance, Environment, EnvironmentImage,

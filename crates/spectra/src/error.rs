@@ -158,6 +158,18 @@ pub enum SpectrumError {
         /// The value returned.
         value: f64,
     },
+    /// A colorimetric reduction needs the table to span the colour-matching functions'
+    /// 380–780 nm.
+    #[error(
+        "the table spans {first_nm}–{last_nm} nm; its colour (CIE 1931 observer, D65) needs \
+         380–780 nm"
+    )]
+    VisibleNotCovered {
+        /// The table's first wavelength.
+        first_nm: f64,
+        /// The table's last wavelength.
+        last_nm: f64,
+    },
     /// An argument of a reflectance function is out of its domain.
     #[error("invalid argument: {name} = {value} ({expected})")]
     InvalidArgument {

@@ -15,6 +15,10 @@
 //!   reflectance.
 //! * [`compare_averaging_methods`] / [`compare_builtin_metals`]: (a) − (b) per channel,
 //!   angle and outside medium (seed-notes 7).
+//! * Colorimetry ([`reflectance_colour`], [`colorimetric_reflectance`]): the colour a
+//!   viewer sees (CIE 1931 2° observer, D65, linear sRGB), and RGB constants fitted to it
+//!   ([`colorimetric_optical_constants`]); [`MetalColour`] chooses between the band
+//!   method and these.
 //!
 //! The Fresnel equations are not implemented here: they come from `combustion-optics`.
 
@@ -22,6 +26,7 @@
 
 mod band;
 mod builtin;
+mod colour;
 mod error;
 mod fresnel;
 mod rgb;
@@ -29,6 +34,12 @@ mod spectrum;
 
 pub use band::{band_weight, band_weighted_mean, RgbBand};
 pub use builtin::{BuiltinDielectric, BuiltinMetal};
+pub use colour::{
+    cie_wavelength, colorimetric_optical_constants, colorimetric_reflectance, d65_white_xyz,
+    delta_e_76, fit_angles_deg, lab_of_linear_srgb, linear_srgb_of_xyz, metal_colour_table,
+    reflectance_colour, xyz_of, xyz_to_linear_srgb, ColorimetricFit, MetalColour, CIE_1931_2DEG,
+    CIE_FIRST_NM, CIE_LAST_NM, CIE_STEP_NM, D65, FIT_BOUNDS, FIT_OUTSIDE_ETAS, REC709_PRIMARIES,
+};
 pub use error::SpectrumError;
 pub use rgb::{
     compare_averaging_methods, compare_builtin_metals, rgb_band_averaged_reflectance,

@@ -57,7 +57,7 @@ pub fn rgb_optical_constants(spectrum: &Spectrum) -> Result<RgbOpticalConstants,
     Ok(constants)
 }
 
-fn check_reflectance_arguments(
+pub(crate) fn check_reflectance_arguments(
     cos_theta: f64,
     outside_eta: f64,
     polarisation_weight: f64,

@@ -342,8 +342,12 @@ impl Importer<'_> {
                         .map_err(|_| format!("spectral table `{path}` is not UTF-8 text"))
                 };
                 let mut warnings = Vec::new();
-                optics = optics_ext::parse_material(value, &mut read_spectrum, &mut warnings)
-                    .map_err(|e| self.material_error(index, format!("{OPTICS_EXTENSION}: {e}")))?;
+                let colour = self.options.metal_colour;
+                optics =
+                    optics_ext::parse_material(value, colour, &mut read_spectrum, &mut warnings)
+                        .map_err(|e| {
+                            self.material_error(index, format!("{OPTICS_EXTENSION}: {e}"))
+                        })?;
                 for w in warnings {
                     self.warn(format!("material {index}: {w}"));
                 }

@@ -77,6 +77,10 @@ pub struct ImportOptions {
     /// [`ImportProblem::Camera`]); `None`: the lowest-numbered perspective camera placed
     /// in the scene, else a camera framing the scene.
     pub camera: Option<usize>,
+    /// How the RGB η, k of a `COMBUSTION_materials_optics` conductor given by a
+    /// measured spectrum (`metal` or `spectrum`) are derived, where the material does not
+    /// say (`conductor.colour`): the rendering notes' bands by default.
+    pub metal_colour: combustion_spectra::MetalColour,
     /// Largest file read (the glTF itself, each buffer, image and spectral table), in
     /// bytes, checked before reading. Only regular files are read: a device, FIFO or
     /// socket is refused without being opened.
@@ -94,6 +98,7 @@ impl Default for ImportOptions {
             max_image_dimension: 8192,
             allow_external_uris: false,
             camera: None,
+            metal_colour: combustion_spectra::MetalColour::Bands,
             // 2 GiB: more than any glTF buffer or image a real scene ships.
             max_file_bytes: 1 << 31,
             // 2²⁸ pixels (1 GiB as RGBA8): sixteen 4096² images.

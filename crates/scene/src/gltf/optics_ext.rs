@@ -125,6 +125,7 @@ fn positive(value: &Value, what: &str) -> Result<f32, String> {
 /// A material's object. `read_spectrum` reads a CSV file named relative to the scene.
 pub(crate) fn parse_material(
     value: &Value,
+    metal_colour: combustion_spectra::MetalColour,
     read_spectrum: &mut dyn FnMut(&str) -> Result<String, String>,
     warnings: &mut Vec<String>,
 ) -> Result<MaterialOptics, String> {
@@ -168,20 +169,21 @@ pub(crate) fn parse_material(
         optics.diffuse_model = Some(model);
     }
     if let Some(v) = map.get("conductor") {
-        optics.conductor = Some(parse_conductor(v, read_spectrum, warnings)?);
+        optics.conductor = Some(parse_conductor(v, metal_colour, read_spectrum, warnings)?);
     }
     Ok(optics)
 }
 
 fn parse_conductor(
     value: &Value,
+    metal_colour: combustion_spectra::MetalColour,
     read_spectrum: &mut dyn FnMut(&str) -> Result<String, String>,
     warnings: &mut Vec<String>,
 ) -> Result<ConductorSpec, String> {
     let map = object(value, "conductor")?;
     unknown_keys(
         map,
-        &["metal", "eta", "k", "spectrum", "fromBaseColor"],
+        &["metal", "eta", "k", "spectrum", "colour", "fromBaseColor"],
         "COMBUSTION_materials_optics.conductor",
         warnings,
     );
@@ -203,8 +205,30 @@ fn parse_conductor(
     if forms > 1 {
         return Err("conductor must give exactly one of `metal`, `spectrum` or `eta` + `k`".into());
     }
+    // How a spectrum becomes RGB constants: the material's `colour`, else the import's.
+    let colour = match map.get("colour") {
+        None => metal_colour,
+        Some(v) => {
+            let name = v.as_str().unwrap_or_default();
+            combustion_spectra::MetalColour::ALL
+                .into_iter()
+                .find(|c| c.name() == name)
+                .ok_or_else(|| {
+                    format!(
+                        "conductor.colour must be \"bands\" or \"colorimetric\", found {}",
+                        short(v)
+                    )
+                })?
+        }
+    };
+    if map.contains_key("colour") && !(map.contains_key("metal") || map.contains_key("spectrum")) {
+        return Err(
+            "conductor.colour applies to a `metal` or a `spectrum`, not to given constants".into(),
+        );
+    }
     let reduce = |spectrum: &combustion_spectra::Spectrum, what: &str| {
-        combustion_spectra::rgb_optical_constants(spectrum)
+        colour
+            .constants(spectrum)
             .map(|c| ComplexIor {
                 eta: c.eta.map(|x| x as f32),
                 k: c.k.map(|x| x as f32),
@@ -562,9 +586,69 @@ mod tests {
     fn parse(value: Value) -> Result<MaterialOptics, String> {
         parse_material(
             &value,
+            combustion_spectra::MetalColour::Bands,
             &mut |_| Err("no files here".into()),
             &mut Vec::new(),
         )
+    }
+
+    /// `conductor.colour` chooses how a named metal or a spectrum becomes RGB constants
+    /// (the import's choice otherwise); it is refused with given constants or a value
+    /// that names no method.
+    #[test]
+    fn a_conductor_chooses_its_metal_colour() {
+        use combustion_spectra::{BuiltinMetal, MetalColour};
+        let ior_of = |value: Value, default: MetalColour| {
+            let optics = parse_material(
+                &value,
+                default,
+                &mut |_| Err("no files here".into()),
+                &mut Vec::new(),
+            )
+            .unwrap();
+            match optics.conductor {
+                Some(ConductorSpec::Given { ior, .. }) => ior,
+                _ => panic!("no constants"),
+            }
+        };
+        let expected = |colour: MetalColour| {
+            let c = colour.constants(BuiltinMetal::Gold.spectrum()).unwrap();
+            (c.eta.map(|x| x as f32), c.k.map(|x| x as f32))
+        };
+        let colorimetric = json!({"conductor": {"metal": "Au", "colour": "colorimetric"}});
+        let bands = json!({"conductor": {"metal": "Au", "colour": "bands"}});
+        let plain = json!({"conductor": {"metal": "Au"}});
+        for (value, default, colour) in [
+            (
+                colorimetric.clone(),
+                MetalColour::Bands,
+                MetalColour::Colorimetric,
+            ),
+            (bands, MetalColour::Colorimetric, MetalColour::Bands),
+            (
+                plain.clone(),
+                MetalColour::Colorimetric,
+                MetalColour::Colorimetric,
+            ),
+            (plain, MetalColour::Bands, MetalColour::Bands),
+        ] {
+            let ior = ior_of(value, default);
+            assert_eq!((ior.eta, ior.k), expected(colour));
+        }
+        let refused = [
+            (
+                json!({"conductor": {"eta": [1, 1, 1], "k": [2, 2, 2], "colour": "bands"}}),
+                "applies to a `metal` or a `spectrum`",
+            ),
+            (
+                json!({"conductor": {"metal": "Au", "colour": "spectral"}}),
+                "conductor.colour must be \"bands\" or \"colorimetric\"",
+            ),
+        ];
+        for (value, message) in refused {
+            let e = parse(value).unwrap_err();
+            assert!(e.contains(message), "{e}");
+        }
     }
 
     #[test]
