@@ -12,8 +12,8 @@ use std::sync::Arc;
 
 use combustion_scene::gltf::{import, save_gltf, ImportOptions};
 use combustion_scene::{
-    Camera, ColorSpace, Image, Material, Mesh, Object, Sampler, Scene, Texture, TextureRef,
-    UvTransform, Vertex,
+    Camera, ColorSpace, EnvironmentImage, Image, Material, Mesh, Object, Sampler, Scene, Texture,
+    TextureRef, UvTransform, Vertex,
 };
 use glam::{Mat4, Vec3};
 
@@ -353,6 +353,25 @@ fn main() {
         json.len() as u64,
         rise,
     );
+
+    // Environment images: an 8192 × 4096 .hdr of one colour (run-length encoded: a few
+    // MB) and the same as OpenEXR; the data present is the decoded texels (12 bytes each).
+    let (width, height) = (8192u32, 4096u32);
+    let hdr_path = dir.join("sky.hdr");
+    {
+        let texels = vec![image::Rgb([0.5f32, 0.75, 1.0]); (width * height) as usize];
+        let file = std::fs::File::create(&hdr_path).expect("create");
+        image::codecs::hdr::HdrEncoder::new(std::io::BufWriter::new(file))
+            .encode(&texels, width as usize, height as usize)
+            .expect("encode .hdr");
+    }
+    let decoded = u64::from(width * height) * 12;
+    let (result, rise) = peak_rise(|| EnvironmentImage::load(&hdr_path).map(|_| ()));
+    println!(
+        "environment .hdr ({} bytes): {result:?}",
+        file_size(&hdr_path)
+    );
+    report("env .hdr", "8192×4096 texels, RLE .hdr", decoded, rise);
 
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -152,12 +152,15 @@ fn decode_radiance_hdr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
         .map_err(|e| e.to_string())?;
     let (w, h) = decoder.dimensions();
     let (width, height) = check_size(w as usize, h as usize)?;
-    // Decoded into f32s (the codec's output) so the bytes are aligned for them.
-    let mut floats = vec![0f32; decoder.total_bytes() as usize / 4];
+    // Decoded straight into the texels (the codec writes RGB f32s, which is their
+    // layout): the decoded image is held once, not once as floats and again as texels.
+    let mut texels = vec![[0f32; 3]; width as usize * height as usize];
+    if std::mem::size_of_val(texels.as_slice()) as u64 != decoder.total_bytes() {
+        return Err("the decoder's output is not RGB f32".into());
+    }
     decoder
-        .read_image(bytemuck::cast_slice_mut(&mut floats))
+        .read_image(bytemuck::cast_slice_mut(&mut texels))
         .map_err(|e| e.to_string())?;
-    let texels = floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     Ok(EnvironmentImage {
         name: String::new(),
         width,
