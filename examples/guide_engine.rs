@@ -934,6 +934,7 @@ impl<'c> Engine<'c> {
                 background: combustion::renderer::Background::None,
                 tone_mapping: combustion::renderer::ToneMapping::Exponential,
                 pose: None,
+                environment_seed: 0,
             };
             if let Err(e) = renderer.record(cmd, slot, scene, &inputs, &target) {
                 // SAFETY: end the (empty) recording so the buffer can be reset later.

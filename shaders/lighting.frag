@@ -24,6 +24,7 @@ layout(push_constant) uniform LightingPush {
     uvec4 counts;  // x: light count; y: debug view (DEBUG_VIEWS variant; 0: none);
                    // z: tiles across (0: no culling, every light); w: tile list stride
     vec4 background;  // where no surface is: rgb radiance, or w = 1: the environment's
+    uvec4 sampling;   // x: the frame's environment sample seed
 } push;
 
 #ifdef DEBUG_VIEWS
@@ -217,8 +218,13 @@ void main() {
 #else
     float occlusion = 1.0;
 #endif
+#ifdef ENVIRONMENT_SAMPLES
+    radiance += environment_sampled(m, view, layers, view.frame[2], gl_FragCoord.xy, push.sampling.x,
+                                    occlusion);
+#else
     radiance += environment_radiance(material, md.x, m, view, layers, view.frame[2], normalize(v),
                                      nra.z, base_color_srgb8_code(base_metal.rgb), occlusion);
+#endif
 #endif
 #ifdef EMISSIVE
     radiance += emissive_occlusion.rgb;

@@ -2499,3 +2499,50 @@ fn render_takes_the_metal_colour_asked_for() {
         &["possible values: bands, colorimetric"],
     );
 }
+
+/// `--environment-samples N --accumulate-until E` renders frames of successive sample
+/// sets until their mean's relative standard error is at most E, says how many it took
+/// and what it reached, and writes the mean; without samples there is nothing to
+/// accumulate (bad usage), as with a sample count the renderer has no pipeline for.
+#[test]
+fn render_accumulates_sampled_environment_light_to_a_stated_error() {
+    let dir = scratch("accumulate");
+    let png = dir.join("mean.png");
+    let (code, stdout, stderr) = combustion(&[
+        "render",
+        "builtin:spheres-studio",
+        "--width",
+        "64",
+        "--height",
+        "40",
+        "--environment-samples",
+        "4",
+        "--accumulate-until",
+        "0.02",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("accumulated "))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    let frames: u32 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+    let reached: f64 = line
+        .split("relative standard error ")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((4..1024).contains(&frames) && reached <= 0.02, "{line}");
+    assert!(png.is_file());
+    assert_refused(
+        &["render", "--accumulate-until", "0.01"],
+        &["--accumulate-until needs --environment-samples N"],
+    );
+    assert_refused(
+        &["render", "--environment-samples", "3"],
+        &["power of two from 1 to 1024"],
+    );
+}

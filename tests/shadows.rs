@@ -498,6 +498,7 @@ impl ExactEdges {
             background: combustion::renderer::Background::None,
             tone_mapping: combustion::renderer::ToneMapping::Exponential,
             pose: None,
+            environment_seed: 0,
         };
         let light = scene.lights[0].clone();
         let cascades = match light {

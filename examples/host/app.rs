@@ -494,6 +494,9 @@ impl Host {
             background: combustion::renderer::Background::None,
             tone_mapping: combustion::renderer::ToneMapping::Exponential,
             pose: pose.as_ref(),
+            // Sampled environment light (ShadingOptions::environment_samples) would take
+            // another sample set each frame; the split sum ignores it.
+            environment_seed: (n % 1024) as u32,
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {

@@ -306,6 +306,104 @@ BrdfInputs brdf_inputs(GpuMaterial material, vec3 base_color, float metalness, f
     return m;
 }
 
+// Whether light from `l` reaches the surface: n·l > 0, or (CLEARCOAT) a coat with its own
+// normal faces it.
+bool faces_surface(SurfaceLayers layers, vec3 n, vec3 l) {
+#ifdef CLEARCOAT
+    SurfaceCoat coat = layers.coat;
+    return dot(n, l) > 0.0 || (coat.view.factor > 0.0 && dot(coat.view.frame[2], l) > 0.0);
+#else
+    return dot(n, l) > 0.0;
+#endif
+}
+
+// What a unit irradiance from `l` (normal to l) reflects towards the eye: f(v, l)(n·l),
+// the sheen over the base (SHEEN) and each layer lit with the cosine to its own normal
+// under a coat (CLEARCOAT, brdf.glsl's coated_radiance). Zero unless faces_surface.
+vec3 surface_response(BrdfInputs m, BrdfView view, SurfaceLayers layers, vec3 n, vec3 l) {
+    if (!faces_surface(layers, n, l)) {
+        return vec3(0.0);
+    }
+    float n_dot_l = dot(n, l);
+    vec3 f = brdf_evaluate_view(m, view, l);
+#ifdef SHEEN
+    // The sheen over the base (crates/optics/src/layers.rs): c D V + s f_base.
+    SurfaceSheen sheen = layers.sheen;
+    if (max(sheen.color.r, max(sheen.color.g, sheen.color.b)) > 0.0) {
+        vec3 ll = shading_frame_to_local(view.frame, safe_normalize(l));
+        float scaling = sheen_albedo_scaling(sheen.color, sheen.albedo_v,
+                                             sheen_albedo_lookup(ll.z, sheen.roughness));
+        f = sheen.color * sheen_lobe(view.v, ll, sheen.alpha) + scaling * f;
+    }
+#endif
+#ifdef CLEARCOAT
+    SurfaceCoat coat = layers.coat;
+    if (coat.view.factor > 0.0) {
+        return coated_radiance(f, n_dot_l, coat.view, coat_evaluate_view(coat.inputs, coat.view, l));
+    }
+#endif
+    return f * n_dot_l;
+}
+
+#if defined(ENVIRONMENT) && defined(ENVIRONMENT_SAMPLES)
+// Density of directions l (shading frame) that reflecting v about a normal drawn from
+// GGX's visible normals (sample_ggx_vndf) gives: D_v(h) / (4 v·h) = G1(v) D(h) / (4 n·v).
+float pdf_ggx_vndf_reflection(vec3 v, vec3 l, float ax, float ay) {
+    if (!(l.z > 0.0) || !(v.z > 0.0)) {
+        return 0.0;
+    }
+    vec3 h = normalize(v + l);
+    float g1 = 1.0 / (1.0 + lambda_ggx_anisotropic(v, ax, ay));
+    return g1 * d_ggx_anisotropic(h, ax, ay) / (4.0 * v.z);
+}
+
+// A hash of the pixel to [0, 1)² (PCG), which turns each pixel's sample set.
+vec2 pixel_rotation(vec2 pixel) {
+    uvec2 p = uvec2(pixel);
+    uint state = p.x * 747796405u + p.y * 2891336453u + 1u;
+    uint a = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    a = (a >> 22u) ^ a;
+    uint b = a * 747796405u + 2891336453u;
+    b = ((b >> ((b >> 28u) + 4u)) ^ b) * 277803737u;
+    b = (b >> 22u) ^ b;
+    return vec2(a, b) * 2.3283064365386963e-10;
+}
+
+// The environment's share of the radiance towards the eye, integrated by sampling
+// (ShadingOptions::environment_samples): ENVIRONMENT_SAMPLES points of the Hammersley set,
+// turned per pixel and per `seed` (FrameInputs::environment_seed), each giving one direction from GGX's visible normals and one from the
+// cosine, combined by the balance heuristic: Σ L(l) r(l) / (p_ggx(l) + p_cos(l)) / N,
+// r = surface_response and L the radiance cube's finest level (no occlusion by the
+// scene; glTF occlusion scales the whole term).
+vec3 environment_sampled(BrdfInputs m, BrdfView view, SurfaceLayers layers, vec3 n,
+                         vec2 pixel, uint seed, float occlusion) {
+    if (!(view.v.z > 0.0)) {
+        return vec3(0.0);
+    }
+    const uint count = uint(ENVIRONMENT_SAMPLES);
+    // Seed k turns every pixel's set further by the k-th point of the R2 sequence
+    // (Roberts 2018), so frames of successive seeds draw independent sets.
+    vec2 turn = fract(pixel_rotation(pixel) + float(seed) * vec2(0.7548776662, 0.5698402910));
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < count; ++i) {
+        vec2 u = fract(hammersley(i, count) + turn);
+        vec3 h = sample_ggx_vndf(view.v, view.ax, view.ay, u);
+        vec3 candidates[2] = vec3[2](reflect(-view.v, h), sample_cosine(u));
+        for (int k = 0; k < 2; ++k) {
+            vec3 l = candidates[k];
+            float pdf = pdf_ggx_vndf_reflection(view.v, l, view.ax, view.ay) + max(l.z, 0.0) * INV_PI;
+            if (!(pdf > 0.0)) {
+                continue;
+            }
+            vec3 world = normalize(view.frame * l);
+            vec3 response = surface_response(m, view, layers, n, world);
+            sum += response * textureLod(environment_specular, world, 0.0).rgb / pdf;
+        }
+    }
+    return sum * (occlusion / float(count));
+}
+#endif
+
 // The radiance `light` reflects towards the eye from a surface at `position` with shading
 // normal `n` (the BRDF's inputs `m` and view half `view`; in CLEARCOAT variants under
 // `coat`, each layer lit with the cosine to its own normal, brdf.glsl's
@@ -315,7 +413,6 @@ BrdfInputs brdf_inputs(GpuMaterial material, vec3 base_color, float metalness, f
 // noise).
 vec3 light_radiance(BrdfInputs m, BrdfView view, SurfaceLayers layers, GpuLight light,
                     vec3 position, vec3 n, vec3 eye, vec2 pixel) {
-    SurfaceCoat coat = layers.coat;
     vec3 l;
     vec3 irradiance;
     if (light.power_kind.a != LIGHT_KIND_DIRECTIONAL) {
@@ -333,41 +430,16 @@ vec3 light_radiance(BrdfInputs m, BrdfView view, SurfaceLayers layers, GpuLight 
         l = -light.position_or_direction.xyz;
         irradiance = light.power_kind.rgb;
     }
-    float n_dot_l = dot(n, l);
-#ifdef CLEARCOAT
-    // A coat with its own normal may face a light the base does not.
-    if (n_dot_l <= 0.0 && !(coat.view.factor > 0.0 && dot(coat.view.frame[2], l) > 0.0)) {
+    if (!faces_surface(layers, n, l)) {
         return vec3(0.0);
     }
-#else
-    if (n_dot_l <= 0.0) {
-        return vec3(0.0);
-    }
-#endif
 #ifdef SHADOWS
     if (light.spot_cone.w != 0.0) {
         irradiance *= shadow_visibility_of(light, uint(light.spot_cone.w) - 1u, position, eye, n, l,
                                            pixel);
     }
 #endif
-    vec3 f = brdf_evaluate_view(m, view, l);
-#ifdef SHEEN
-    // The sheen over the base (crates/optics/src/layers.rs): c D V + s f_base.
-    SurfaceSheen sheen = layers.sheen;
-    if (max(sheen.color.r, max(sheen.color.g, sheen.color.b)) > 0.0) {
-        vec3 ll = shading_frame_to_local(view.frame, safe_normalize(l));
-        float scaling = sheen_albedo_scaling(sheen.color, sheen.albedo_v,
-                                             sheen_albedo_lookup(ll.z, sheen.roughness));
-        f = sheen.color * sheen_lobe(view.v, ll, sheen.alpha) + scaling * f;
-    }
-#endif
-#ifdef CLEARCOAT
-    if (coat.view.factor > 0.0) {
-        return coated_radiance(f, n_dot_l, coat.view,
-                               coat_evaluate_view(coat.inputs, coat.view, l)) * irradiance;
-    }
-#endif
-    return f * irradiance * n_dot_l;
+    return surface_response(m, view, layers, n, l) * irradiance;
 }
 
 #endif

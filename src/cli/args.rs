@@ -362,6 +362,12 @@ pub(crate) struct ShadingArgs {
     /// the colour the spectrum shows under D65, CIE 1931 observer: README "Metal colours")
     #[arg(long, value_name = "METHOD", default_value = "bands", value_parser = named(MetalColour::ALL.map(|c| (c.name(), c))))]
     pub(crate) metal_colour: MetalColour,
+    /// Environment lighting integrated by sampling, N samples per pixel of each of two
+    /// strategies (GGX visible normals, cosine; balance heuristic): converges to the
+    /// rendering equation, noisy at small N (0: the split sum, noiseless and approximate;
+    /// N a power of two up to 1024)
+    #[arg(long, value_name = "N", default_value = "0", value_parser = environment_samples)]
+    pub(crate) environment_samples: u32,
     /// Scale every specular lobe by 1 + F0 (1 - E)/E (Turquin 2019), putting back the
     /// energy single-scattering GGX loses on rough surfaces (off by default: the f64
     /// reference is single-scattering)
@@ -395,6 +401,7 @@ impl ShadingArgs {
             diffuse_override: self.diffuse,
             energy_compensation: self.energy_compensation,
             shadows: self.shadows(),
+            environment_samples: self.environment_samples,
             ..base
         }
     }
@@ -420,6 +427,17 @@ impl ShadingArgs {
             filter: self.shadow_filter,
         })
     }
+}
+
+/// `--environment-samples`: one of the counts the renderer takes.
+fn environment_samples(text: &str) -> Result<u32, String> {
+    let value = whole_number::<u32>(text)?;
+    if !combustion::renderer::ENVIRONMENT_SAMPLE_COUNTS.contains(&value) {
+        return Err(format!(
+            "is {value}; use 0 (the split sum) or a power of two from 1 to 1024"
+        ));
+    }
+    Ok(value)
 }
 
 fn cascades(text: &str) -> Result<u32, String> {
@@ -452,6 +470,11 @@ pub(crate) struct RenderArgs {
     /// The linear radiance (OpenEXR, ZIP-compressed)
     #[arg(long, value_name = "OUT.exr")]
     pub(crate) hdr: Option<PathBuf>,
+    /// With --environment-samples N: render frames of successive sample sets and write
+    /// their mean, until its relative standard error (the frames' spread, averaged over
+    /// the lit pixels) is at most E (4 to 1024 frames)
+    #[arg(long, value_name = "E", value_parser = relative_error)]
+    pub(crate) accumulate_until: Option<f64>,
     /// An accuracy budget: render with the fastest variant set whose mean relative error
     /// against the f64 reference is within E, measured on this scene at this size
     #[arg(long, value_name = "E", value_parser = relative_error)]

@@ -109,11 +109,8 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
         &lit_as_asked(&o.scene.source(), CameraChoice::Scene, &o.shading)?,
         o.extra_lights,
     );
+    settings.shading = o.shading.options(settings.shading);
     settings.shading.specialised = o.specialised;
-    settings.shading.distribution = o.shading.distribution;
-    settings.shading.diffuse_override = o.shading.diffuse;
-    settings.shading.energy_compensation = o.shading.energy_compensation;
-    settings.shading.shadows = o.shading.shadows();
     let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
     let device_name = {
         let renderer = headless.renderer();

@@ -2,11 +2,88 @@
 
 use std::path::PathBuf;
 
-use combustion::renderer::{RendererSettings, ShadingOptions};
+use combustion::renderer::{
+    Frame, FrameInputs, Readback, Renderer, RendererSettings, ShadingOptions,
+};
 use combustion::{check_validation, output, Error, Headless, HeadlessDesc};
 
 use super::*;
 use crate::write_stdout;
+
+/// The images of a frame, read back (no G-buffer).
+const IMAGES: Readback = Readback {
+    images: true,
+    gbuffer: false,
+};
+
+/// Frames `--accumulate-until` averages at least (for a spread to measure) and at most.
+const ACCUMULATED_FRAMES: (u32, u32) = (4, 1024);
+
+/// Frames of `inputs` with environment seeds 0, 1, 2, … averaged until the mean's
+/// relative standard error — per pixel the largest channel's √(s²/k) over its mean (at
+/// least the reference's radiance floor), averaged over the pixels brighter than the
+/// floor — is at most `target` ([`ACCUMULATED_FRAMES`] bound the count). The mean
+/// frame (its display image made from the mean radiance as the output pass makes it),
+/// the frames taken and the error reached.
+fn accumulate(
+    renderer: &mut Renderer,
+    scene: &combustion::renderer::GpuScene,
+    inputs: &FrameInputs<'_>,
+    (width, height): (u32, u32),
+    target: f64,
+) -> Result<(Frame, u32, f64), Error> {
+    let floor = combustion::renderer::reference::RADIANCE_FLOOR;
+    let n = (width * height) as usize;
+    let (mut mean, mut m2) = (vec![[0.0f64; 3]; n], vec![[0.0f64; 3]; n]);
+    let mut last = None;
+    let mut achieved = f64::INFINITY;
+    let mut frames = 0;
+    while frames < ACCUMULATED_FRAMES.1 {
+        let seeded = FrameInputs {
+            environment_seed: frames,
+            ..*inputs
+        };
+        let frame = renderer.render_with(scene, &seeded, width, height, IMAGES)?;
+        frames += 1;
+        // Welford's running mean and sum of squared deviations, per pixel and channel.
+        let k = f64::from(frames);
+        for ((mean, m2), p) in mean.iter_mut().zip(&mut m2).zip(&frame.hdr) {
+            for c in 0..3 {
+                let x = f64::from(p[c]);
+                let delta = x - mean[c];
+                mean[c] += delta / k;
+                m2[c] += delta * (x - mean[c]);
+            }
+        }
+        last = Some(frame);
+        if frames >= ACCUMULATED_FRAMES.0 {
+            let (sum, lit) = mean
+                .iter()
+                .zip(&m2)
+                .fold((0.0, 0usize), |(sum, lit), (m, s)| {
+                    if m.iter().all(|&v| v <= floor) {
+                        return (sum, lit);
+                    }
+                    let error = (0..3)
+                        .map(|c| (s[c] / (k * (k - 1.0))).sqrt() / m[c].max(floor))
+                        .fold(0.0, f64::max);
+                    (sum + error, lit + 1)
+                });
+            achieved = if lit == 0 { 0.0 } else { sum / lit as f64 };
+            if achieved <= target {
+                break;
+            }
+        }
+    }
+    let mut frame = last.expect("at least one frame");
+    for ((out, display), m) in frame.hdr.iter_mut().zip(&mut frame.ldr).zip(&mean) {
+        *out = [m[0] as f32, m[1] as f32, m[2] as f32, out[3]];
+        let exposed = m.map(|v| v * f64::from(inputs.exposure));
+        let [r, g, b] = inputs.tone_mapping.display_codes(exposed);
+        *display = [r, g, b, display[3]];
+    }
+    Ok((frame, frames, achieved))
+}
 
 pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     // Fail on an unwritable destination before spending time on the render.
@@ -16,6 +93,11 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     }
     if let Some(exr) = &o.hdr {
         output::check_extension(exr, "--hdr", "OpenEXR", &["exr"])?;
+    }
+    if o.accumulate_until.is_some() && o.shading.environment_samples == 0 {
+        return Err(Error::Usage(
+            "--accumulate-until needs --environment-samples N (the split sum has no noise to average)".into(),
+        ));
     }
     let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
     let png_path = o.output.clone().or(default_output);
@@ -97,16 +179,19 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             pose: pose.as_ref(),
             ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings.exposure)
         };
-        renderer.render_with(
-            &gpu_scene,
-            &inputs,
-            o.frame.width,
-            o.frame.height,
-            combustion::renderer::Readback {
-                images: true,
-                gbuffer: false,
-            },
-        )?
+        let size = (o.frame.width, o.frame.height);
+        match o.accumulate_until {
+            None => renderer.render_with(&gpu_scene, &inputs, size.0, size.1, IMAGES)?,
+            Some(target) => {
+                let (frame, frames, achieved) =
+                    accumulate(renderer, &gpu_scene, &inputs, size, target)?;
+                outln!(
+                    "accumulated {frames} frames of {} environment samples per pixel: relative standard error {achieved:.2e} (asked {target:e})",
+                    o.shading.environment_samples
+                );
+                frame
+            }
+        }
     };
     let validation = headless.validation_log();
     drop(headless);

@@ -31,9 +31,9 @@ pub const ENVIRONMENT_SAMPLING: EnvironmentSampling = EnvironmentSampling {
     stride: 16,
 };
 use combustion_renderer::{
-    linear_to_srgb, Distribution, Frame, FrameInputs, FresnelModel, GBufferStorage, GpuScene,
-    HdrFormat, LightCulling, Masking, MeasurementFloor, PassTimings, Readback, Renderer,
-    RendererSettings, ShadingOptions, ToneMapping,
+    Distribution, Frame, FrameInputs, FresnelModel, GBufferStorage, GpuScene, HdrFormat,
+    LightCulling, Masking, MeasurementFloor, PassTimings, Readback, Renderer, RendererSettings,
+    ShadingOptions, ToneMapping,
 };
 use combustion_scene::DiffuseModel;
 use combustion_vk::DeviceDesc;
@@ -717,12 +717,8 @@ pub fn flip_against_radiance(
     if frame.ldr.len() != n || radiance.len() != n {
         return f64::NAN;
     }
-    let encode = |p: &[f32; 3]| {
-        let exposed = p.map(|c| f64::from(c) * f64::from(exposure));
-        tone_mapping
-            .display(exposed)
-            .map(|d| (linear_to_srgb(d).clamp(0.0, 1.0) * 255.0).round() as u8)
-    };
+    let encode =
+        |p: &[f32; 3]| tone_mapping.display_codes(p.map(|c| f64::from(c) * f64::from(exposure)));
     let reference: Vec<u8> = radiance.iter().flat_map(encode).collect();
     let test: Vec<u8> = frame.ldr.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
     let flip = nv_flip::flip(

@@ -703,6 +703,8 @@ impl State {
             background: self.background(),
             tone_mapping: self.tone_mapping(),
             pose: pose.as_ref(),
+            // The viewer shades environments by the split sum: no sample sets to vary.
+            environment_seed: 0,
         };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
@@ -861,6 +863,7 @@ impl State {
             background: Background::None,
             tone_mapping: ToneMapping::Exponential,
             pose: pose.as_ref(),
+            environment_seed: 0,
         };
         let error = inspect::measure_error(
             &mut self.renderer,

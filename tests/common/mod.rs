@@ -96,6 +96,7 @@ pub fn frame_inputs<'a>(
         background: combustion::renderer::Background::None,
         tone_mapping: combustion::renderer::ToneMapping::Exponential,
         pose: None,
+        environment_seed: 0,
     }
 }
 

@@ -49,6 +49,10 @@ pub enum RenderError {
     /// it.
     #[error("scene too large: {0}")]
     TooLarge(String),
+    /// [`crate::ShadingOptions::environment_samples`] is not one of
+    /// [`crate::ENVIRONMENT_SAMPLE_COUNTS`].
+    #[error("{0} environment samples per pixel are not supported; use 0 (the split sum) or a power of two from 1 to 1024")]
+    InvalidEnvironmentSamples(u32),
     /// [`RendererSettings::frames_in_flight`] is outside 1 to [`MAX_FRAMES_IN_FLIGHT`].
     #[error("{0} frames in flight are not supported; use 1 to {max}", max = MAX_FRAMES_IN_FLIGHT)]
     InvalidFramesInFlight(usize),

@@ -648,7 +648,8 @@ impl Renderer {
             inputs.lights.len() as u32,
             self.settings.shading.debug_view as u32,
         )
-        .with_background(inputs.background);
+        .with_background(inputs.background)
+        .with_environment_seed(inputs.environment_seed);
         let cull_push = s.culling.map(|(tiles_x, stride)| {
             lighting_push = lighting_push.with_tile_lists(tiles_x, stride);
             CullPush {

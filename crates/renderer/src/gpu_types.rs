@@ -532,8 +532,12 @@ pub struct LightingPush {
     /// The background where no surface is: rgb a radiance, or w = 1: the environment's
     /// (frames with one).
     pub background: [f32; 4],
+    /// x: the frame's environment sample seed (`FrameInputs::environment_seed`); y–w
+    /// unused.
+    pub sampling: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<LightingPush>() == 112);
+// 128 bytes: every Vulkan device takes that much (maxPushConstantsSize ≥ 128).
+const _: () = assert!(std::mem::size_of::<LightingPush>() == 128);
 
 impl LightingPush {
     /// `debug_view`: `DebugView as u32` (0: radiance).
@@ -548,6 +552,15 @@ impl LightingPush {
             camera_position: camera_position.extend(1.0).to_array(),
             counts: [light_count, debug_view, 0, 0],
             background: [0.0; 4],
+            sampling: [0; 4],
+        }
+    }
+
+    /// The frame's sampled environment takes the sample set of `seed`.
+    pub fn with_environment_seed(self, seed: u32) -> Self {
+        Self {
+            sampling: [seed, 0, 0, 0],
+            ..self
         }
     }
 

@@ -241,6 +241,12 @@ pub struct FrameInputs<'a> {
     /// makes them from an animation's pose), or `None` for the scene as uploaded.
     /// Checked against the scene by [`crate::Renderer::record`].
     pub pose: Option<&'a combustion_scene::ObjectPoses>,
+    /// Which sample set the sampled environment takes this frame
+    /// ([`crate::ShadingOptions::environment_samples`]; 0 the first, and the only one
+    /// a frame of the split sum reads nothing of): frames of different seeds are
+    /// independent estimates, whose mean is the integral with that many times the
+    /// samples (a still render accumulates them; a host may vary it per frame).
+    pub environment_seed: u32,
 }
 
 impl<'a> FrameInputs<'a> {
@@ -255,6 +261,7 @@ impl<'a> FrameInputs<'a> {
             background: Background::None,
             tone_mapping: ToneMapping::Exponential,
             pose: None,
+            environment_seed: 0,
         }
     }
 }
@@ -292,6 +299,13 @@ impl ToneMapping {
             Self::Aces => "aces",
             Self::Agx => "agx",
         }
+    }
+
+    /// The 8-bit sRGB codes the output pass writes for exposed radiance `rgb` (the CPU
+    /// mirror: [`ToneMapping::display`], the exact sRGB encoding, rounded).
+    pub fn display_codes(self, rgb: [f64; 3]) -> [u8; 3] {
+        self.display(rgb)
+            .map(|d| (crate::linear_to_srgb(d).clamp(0.0, 1.0) * 255.0).round() as u8)
     }
 
     /// The display value (before sRGB encoding) of exposed radiance `rgb`, in f64: the

@@ -85,7 +85,7 @@ pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{
     BaseColorStorage, DebugView, Distribution, FresnelModel, GBufferStorage, HdrFormat, Masking,
     MeasurementFloor, Readback, RendererSettings, ShadingOptions, SurfaceStorage,
-    MAX_FRAMES_IN_FLIGHT,
+    ENVIRONMENT_SAMPLE_COUNTS, MAX_FRAMES_IN_FLIGHT,
 };
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
 use pipelines::{OutputPasses, SetLayouts, VariantPasses};

@@ -60,9 +60,34 @@ pub struct ShadingOptions {
     /// sampled by the lighting pass; `None` (the default): no light is blocked, no shadow
     /// pass runs and the lighting pipeline has no shadow code.
     pub shadows: Option<ShadowSettings>,
+    /// How the lighting pass integrates environment lighting: `0` (the default), the
+    /// split sum (prefiltered cube × full-Fresnel albedo tables: no noise, an
+    /// approximation); otherwise that many samples per pixel of each of two strategies
+    /// (GGX visible normals and the cosine), combined by the balance heuristic, of the
+    /// radiance cube's finest level: an unbiased estimate of the rendering equation's
+    /// environment term (no occlusion by the scene, as the f64 reference), noisy at few
+    /// samples. One of [`ENVIRONMENT_SAMPLE_COUNTS`]. Blended and transmissive surfaces
+    /// (the forward pass) keep the split sum.
+    pub environment_samples: u32,
 }
 
+/// The sample counts [`ShadingOptions::environment_samples`] takes (each its own
+/// pipeline): 0 (the split sum) and powers of two to 1024.
+pub const ENVIRONMENT_SAMPLE_COUNTS: [u32; 12] = [0, 1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024];
+
 impl ShadingOptions {
+    /// Refuses an [`ShadingOptions::environment_samples`] outside
+    /// [`ENVIRONMENT_SAMPLE_COUNTS`].
+    pub(crate) fn validate_environment_samples(&self) -> Result<(), crate::RenderError> {
+        if ENVIRONMENT_SAMPLE_COUNTS.contains(&self.environment_samples) {
+            Ok(())
+        } else {
+            Err(crate::RenderError::InvalidEnvironmentSamples(
+                self.environment_samples,
+            ))
+        }
+    }
+
     /// The defaults: the exact model, each material's own diffuse model, specialised
     /// pipelines, radiance, no energy compensation, the real passes.
     pub const DEFAULT: ShadingOptions = ShadingOptions {
@@ -75,6 +100,7 @@ impl ShadingOptions {
         energy_compensation: false,
         measurement_floor: None,
         shadows: None,
+        environment_samples: 0,
     };
 }
 

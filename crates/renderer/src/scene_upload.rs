@@ -221,6 +221,7 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
         energy_compensation: false,
         shadows: None,
         shadow_kinds: crate::shadows::ShadowKinds::of(&scene.lights),
+        environment_samples: 0,
     }
 }
 

@@ -22,6 +22,7 @@ impl RendererSettings {
         if let Some(shadows) = &self.shading.shadows {
             shadows.validate(device.limits().max_image_dimension2_d)?;
         }
+        self.shading.validate_environment_samples()?;
         if !(self.exposure.is_finite() && self.exposure > 0.0) {
             return Err(RenderError::InvalidExposure(self.exposure));
         }
@@ -54,6 +55,7 @@ impl Renderer {
         if let Some(shadows) = &options.shadows {
             shadows.validate(self.device.limits().max_image_dimension2_d)?;
         }
+        options.validate_environment_samples()?;
         for scene in scenes {
             if !scene.belongs_to(&self.retire_queue) {
                 return Err(RenderError::SceneOfAnotherRenderer);

@@ -206,6 +206,10 @@ pub struct ShaderVariant {
     /// The kinds of shadow the scene's lights cast (a scene feature, read when shadows
     /// are on; cleared otherwise, so that it splits no pipeline).
     pub shadow_kinds: crate::shadows::ShadowKinds,
+    /// Samples per pixel of the environment's sampled integral
+    /// ([`ShadingOptions::environment_samples`]; 0: the split sum, and 0 in scenes
+    /// without an environment, so that it splits no pipeline).
+    pub environment_samples: u32,
 }
 
 impl ShaderVariant {
@@ -267,6 +271,9 @@ impl ShaderVariant {
         }
         if self.environment {
             defines.push(("ENVIRONMENT", None));
+            if let Some(count) = environment_samples_define(self.environment_samples) {
+                defines.push(("ENVIRONMENT_SAMPLES", Some(count)));
+            }
         }
         if let Some(shadows) = self.shadows {
             shadows.defines(&mut defines);
@@ -279,6 +286,20 @@ impl ShaderVariant {
         }
         defines
     }
+}
+
+/// The `ENVIRONMENT_SAMPLES` value of a sample count of [`ENVIRONMENT_SAMPLE_COUNTS`]
+/// (`None` for 0, the split sum).
+///
+/// [`ENVIRONMENT_SAMPLE_COUNTS`]: crate::ENVIRONMENT_SAMPLE_COUNTS
+fn environment_samples_define(count: u32) -> Option<&'static str> {
+    const NAMES: [&str; 12] = [
+        "0", "1", "2", "4", "8", "16", "32", "64", "128", "256", "512", "1024",
+    ];
+    let i = crate::ENVIRONMENT_SAMPLE_COUNTS
+        .iter()
+        .position(|&c| c == count)?;
+    (count > 0).then_some(NAMES[i])
 }
 
 impl ShaderVariant {
@@ -339,6 +360,11 @@ impl ShadingOptions {
                 .filter(|_| self.measurement_floor.is_none() || debug_views)
                 .map(|s| s.shader(scene_variant.shadow_kinds)),
             shadow_kinds: Default::default(),
+            environment_samples: if scene_variant.environment && !debug_views {
+                self.environment_samples
+            } else {
+                0
+            },
             ..scene_variant
         }
     }
