@@ -250,7 +250,11 @@ pub fn check_writable(path: &Path) -> Result<PathBuf, OutputError> {
     if path.as_os_str().is_empty() {
         return Err(OutputError::EmptyName);
     }
-    if path.as_os_str().as_encoded_bytes().ends_with(b"/") || path.file_name().is_none() {
+    // A name ending in `/`, `.` or `..` names a folder (Rust's `Path` reads `a/.` as `a`,
+    // which would pass the checks below for a file `a` and fail only at the write).
+    let bytes = path.as_os_str().as_encoded_bytes();
+    let last = bytes.rsplit(|&b| b == b'/').next().unwrap_or_default();
+    if bytes.ends_with(b"/") || last == b"." || last == b".." || path.file_name().is_none() {
         return Err(OutputError::FolderName { path: named });
     }
     // Follow symlinks to the file they name (up to 40 links, as the kernel does).

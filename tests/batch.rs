@@ -5,24 +5,10 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use serde_json::Value;
 
-fn combustion(args: &[&str]) -> (i32, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_combustion"))
-        .args(args)
-        .env("COMBUSTION_DEVICE", "llvmpipe")
-        .output()
-        .expect("run combustion");
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
-    (
-        output.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-        stderr,
-    )
-}
+use common::combustion;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("combustion-batch-{}-{name}", std::process::id()));
@@ -60,15 +46,6 @@ fn outcomes(run: &Value) -> Vec<(String, String, Vec<Value>, Value)> {
             )
         })
         .collect()
-}
-
-fn sorted_files(folder: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(folder)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 /// The manifest of the batch tests: built-in scenes seen from their own cameras, an
@@ -141,7 +118,7 @@ fn a_manifest_renders_compares_with_goldens_and_reports_junit() {
         stdout.contains(&format!("{jobs} goldens written")),
         "{stdout}"
     );
-    assert_eq!(sorted_files(&dir), ["first", "goldens", "manifest.json"]);
+    assert_eq!(common::listing(&dir), ["first", "goldens", "manifest.json"]);
 
     let (code, stdout, stderr) = combustion(&[
         "batch",
@@ -181,7 +158,7 @@ fn a_manifest_renders_compares_with_goldens_and_reports_junit() {
             .map(|j| format!("{}.png", j["name"].as_str().unwrap())),
     );
     expected.sort();
-    assert_eq!(sorted_files(&second), expected);
+    assert_eq!(common::listing(&second), expected);
 
     // The physics error, end to end: the full equations within the renderer's bounds
     // (tests/end_to_end.rs), Schlick's approximation well beyond them.
@@ -329,27 +306,17 @@ fn shards_merge_to_the_one_runs_result() {
     let junit = std::fs::read_to_string(merged.join("junit.xml")).unwrap();
     assert_eq!(junit.matches("<testcase ").count(), whole.len());
 
-    let two = [text(&shards[0]), text(&shards[1])];
-    let (code, _, stderr) = combustion(&[
-        "batch",
-        "--merge",
-        two[0],
-        two[1],
-        "-o",
-        text(&dir.join("m2")),
-    ]);
-    assert_eq!(code, 1);
-    assert!(stderr.contains("shard 3/3 is missing"), "{stderr}");
-    let (code, _, stderr) = combustion(&[
-        "batch",
-        "--merge",
-        two[0],
-        two[0],
-        "-o",
-        text(&dir.join("m3")),
-    ]);
-    assert_eq!(code, 1);
-    assert!(stderr.contains("is given twice"), "{stderr}");
+    let (first, second) = (text(&shards[0]), text(&shards[1]));
+    for (folders, expected) in [
+        ([first, second], "shard 3/3 is missing"),
+        ([first, first], "is given twice"),
+    ] {
+        let out = dir.join("refused");
+        let (code, _, stderr) =
+            combustion(&["batch", "--merge", folders[0], folders[1], "-o", text(&out)]);
+        assert_eq!(code, 1);
+        assert!(stderr.contains(expected), "{stderr}");
+    }
 }
 
 /// What a batch cannot do is said in one line before anything renders (a manifest's

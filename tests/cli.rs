@@ -5,18 +5,7 @@ mod common;
 
 use std::process::Command;
 
-fn combustion(args: &[&str]) -> (i32, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_combustion"))
-        .args(args)
-        .env("COMBUSTION_DEVICE", "llvmpipe")
-        .output()
-        .expect("run combustion");
-    (
-        output.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
-}
+use common::combustion;
 
 fn scratch(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("combustion-cli-{}-{name}", std::process::id()));
@@ -503,16 +492,6 @@ fn png_size(bytes: &[u8]) -> (u32, u32) {
     (be(16), be(20))
 }
 
-/// The names of the files in `dir`, sorted.
-fn listing(dir: &std::path::Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
 fn repo_file(path: &str) -> String {
     format!("{}/{path}", env!("CARGO_MANIFEST_DIR"))
 }
@@ -582,7 +561,7 @@ fn plot_writes_pngs_of_the_requested_size() {
     }
     // Nothing but the plots is left in the folder (no partial files).
     expected_files.sort();
-    assert_eq!(listing(&dir), expected_files);
+    assert_eq!(common::listing(&dir), expected_files);
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -783,7 +762,7 @@ fn plot_bad_input() {
         "/nonexistent-folder",
     );
     assert!(!out.exists());
-    assert_eq!(listing(&dir), ["my-metal.csv", "sparse.csv"]);
+    assert_eq!(common::listing(&dir), ["my-metal.csv", "sparse.csv"]);
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -1216,6 +1195,19 @@ fn output_paths_are_regular_files_and_every_write_error_is_reported() {
         &["render", "builtin:spheres", "-o", &folder_like],
         "names a folder",
     );
+    // A name ending in `.` or `..` names a folder too, whether it exists, is missing or
+    // is a file (the path reads as the name before it; this failed only at the write,
+    // after the render).
+    for folder_like in [
+        format!("{}/.", at("newdir")),
+        format!("{target}/."),
+        format!("{}/..", at("newdir")),
+    ] {
+        assert_clear_error(
+            &["render", "builtin:spheres", "-o", &folder_like],
+            "names a folder",
+        );
+    }
 
     // Standard output: a write error is an error; a closed pipe is a quiet end.
     let full = std::fs::OpenOptions::new()
@@ -2422,10 +2414,7 @@ fn a_terminated_write_leaves_no_partial_file() {
         let status = child.wait().unwrap();
         let number = if signal == "TERM" { 15 } else { 2 };
         assert_eq!(status.signal(), Some(number), "{status:?}");
-        let left: Vec<String> = std::fs::read_dir(&dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
+        let left = common::listing(&dir);
         assert!(left.is_empty(), "{signal}: left {left:?}");
     }
 }

@@ -107,6 +107,22 @@ fn summary(compared: &[Compared]) -> (f64, f64, f64, f64) {
     (max, mean, median, noise)
 }
 
+/// A white conductor (η = 1, k = 10⁴: a mirror's Fresnel reflectance at every angle) of
+/// `roughness` in a white furnace (uniform radiance 1): it shows its lobe's directional
+/// albedo.
+fn white_furnace_mirror(roughness: f32) -> Scene {
+    let material = Material {
+        metalness: 1.0,
+        roughness,
+        conductor: ComplexIor {
+            eta: [1.0; 3],
+            k: [1.0e4; 3],
+        },
+        ..Material::default()
+    };
+    sphere(material, 1.0, Environment::Uniform([1.0; 3]))
+}
+
 /// An equirectangular image sampled from `radiance` at its texel centres.
 fn equirect_of(width: u32, height: u32, radiance: impl Fn([f64; 3]) -> [f64; 3]) -> Environment {
     let mut texels = Vec::new();
@@ -712,16 +728,7 @@ fn occlusion_darkens_the_environment_and_never_a_light() {
 #[test]
 fn energy_compensation_keeps_a_white_furnace_white() {
     for roughness in [0.5f32, 1.0] {
-        let material = Material {
-            metalness: 1.0,
-            roughness,
-            conductor: ComplexIor {
-                eta: [1.0; 3],
-                k: [1.0e4; 3],
-            },
-            ..Material::default()
-        };
-        let scene = sphere(material, 1.0, Environment::Uniform([1.0; 3]));
+        let scene = white_furnace_mirror(roughness);
         let render_with = |compensation: bool| {
             let mut headless = common::lavapipe(common::exact_f32());
             let frame = {
@@ -847,16 +854,7 @@ fn sampled_environment_keeps_the_energy_identities() {
     assert!(compared.len() > 60 && mean < 1e-2);
     // Energy compensation, at r = 0.5 and 1.
     for (roughness, bound) in [(0.5f32, 1e-2), (1.0, 5e-2)] {
-        let white = Material {
-            metalness: 1.0,
-            roughness,
-            conductor: ComplexIor {
-                eta: [1.0; 3],
-                k: [1.0e4; 3],
-            },
-            ..Material::default()
-        };
-        let scene = sphere(white, 1.0, Environment::Uniform([1.0; 3]));
+        let scene = white_furnace_mirror(roughness);
         let mean_green = |compensation| {
             let frame = common::render(&scene, 64, 64, sampled(compensation), Readback::ALL);
             let pixels = lit_pixels(&frame);

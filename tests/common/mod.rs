@@ -20,6 +20,33 @@ use combustion::vk::{DeviceDesc, DeviceSelector, ValidationLog};
 use combustion::{Headless, HeadlessDesc};
 use glam::{DMat4, DVec3, DVec4, Vec4Swizzles};
 
+/// Runs the `combustion` command on lavapipe: its exit code (-1 for a signal), standard
+/// output and standard error; a panic is a failure of the test, whatever the command.
+pub fn combustion(args: &[&str]) -> (i32, String, String) {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_combustion"))
+        .args(args)
+        .env("COMBUSTION_DEVICE", "llvmpipe")
+        .output()
+        .expect("run combustion");
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    (
+        output.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        stderr,
+    )
+}
+
+/// The names of the files in `dir`, sorted.
+pub fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
 /// Tests always run on lavapipe (Mesa's CPU Vulkan driver), whatever else is installed,
 /// so results don't depend on the machine's GPU. Validation is always on, synchronization
 /// validation included.
