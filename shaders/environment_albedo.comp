@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Per material (invocation z) and table entry (n·v, r) (x, y; cell-centred): the
+// Per material (invocation z) and table entry (n·v, r) (x, y; vertex-centred): the
 // directional albedos the split sum multiplies the prefiltered radiance and the
 // irradiance by, with the material's own BRDF (brdf.glsl: full Fresnel with its η + ik
 // per channel, outside medium, polarisation weight, TIR; its diffuse model):
@@ -29,8 +29,9 @@ void main() {
         return;
     }
     GpuMaterial material = materials[id.z];
-    float nv = (float(id.x) + 0.5) / float(size);
-    float r = (float(id.y) + 0.5) / float(size);
+    // Vertex-centred entries (combustion_optics::environment::table_coordinate).
+    float nv = max(float(id.x) / float(size - 1u), TABLE_MU_MIN);
+    float r = float(id.y) / float(size - 1u);
     float a = clamp_alpha(alpha_from_perceptual_roughness(r));
     BrdfInputs m;
     m.base_color = vec3(0.0);

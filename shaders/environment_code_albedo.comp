@@ -24,8 +24,9 @@ void main() {
         return;
     }
     vec2 eta_k = conductor_from_code[id.z];
-    float nv = (float(id.x) + 0.5) / float(size);
-    float r = (float(id.y) + 0.5) / float(size);
+    // Vertex-centred entries (combustion_optics::environment::table_coordinate).
+    float nv = max(float(id.x) / float(size - 1u), TABLE_MU_MIN);
+    float r = float(id.y) / float(size - 1u);
     float a = clamp_alpha(alpha_from_perceptual_roughness(r));
     vec3 v = vec3(sqrt(max(1.0 - nv * nv, 0.0)), 0.0, nv);
     float lambda_v = lambda_ggx(v, a);

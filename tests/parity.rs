@@ -381,7 +381,7 @@ fn assert_within_parity_bounds_where_conditioned(
 }
 
 /// Energy compensation's latitude at a pixel: the GPU reads E(n·v, ᾱ) bilinearly from
-/// the renderer's 32² table of E at cell centres over (n·v, √α) (clamped at the edges;
+/// the renderer's 32² table of E at entries i/31 over (n·v, √α) (clamped at the edges;
 /// `white_specular_albedo_table`), the f64 formula evaluates E at the pixel itself; the
 /// factor 1 + F₀ (1 − E)/E ≥ 1 then moves by at most F₀ |Δ((1 − E)/E)| relative, with F₀
 /// the largest of the pixel's lobes' normal-incidence reflectances.
@@ -402,7 +402,7 @@ fn energy_table_allowance(p: &PixelInputs) -> f64 {
     let alpha = 0.5 * (clamp_alpha(m.alpha_x) + clamp_alpha(m.alpha_y));
     let size = ENERGY_TABLE_SIZE as usize;
     let cell = |coord: f64| {
-        let x = (coord * size as f64 - 0.5).clamp(0.0, (size - 1) as f64);
+        let x = (coord * (size - 1) as f64).clamp(0.0, (size - 1) as f64);
         let i0 = x.floor() as usize;
         (i0, (i0 + 1).min(size - 1), x - i0 as f64)
     };

@@ -9,7 +9,7 @@
 #include "microfacet.glsl"
 
 // Directional-albedo tables: ENVIRONMENT_TABLE_SIZE² entries over (n·v, perceptual
-// roughness r), cell-centred (entry i at (i + ½)/size), clamped at the edges; per
+// roughness r), vertex-centred (entry i at i/(size − 1), μ at least TABLE_MU_MIN), clamped at the edges; per
 // material 2 vec4 per entry. Conductors derived from the base colour: one scalar table
 // per stored 8-bit code, ENVIRONMENT_CODE_TABLE_SIZE² entries.
 // (combustion_renderer::environment::{TABLE_SIZE, CODE_TABLE_SIZE}, generated:)

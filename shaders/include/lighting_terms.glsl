@@ -9,15 +9,26 @@
 #ifndef COMBUSTION_LIGHTING_TERMS_GLSL
 #define COMBUSTION_LIGHTING_TERMS_GLSL
 
-// The four cells (row-major indices into a size × size table: (x0,y0), (x1,y0), (x0,y1),
-// (x1,y1)) and weights of a bilinear lookup at coord in [0, 1]², cell-centred and
-// clamped at the edges, as every albedo table here is read.
-uvec4 bilinear_cells(vec2 coord, uint size, out vec2 f) {
-    vec2 x = clamp(coord * float(size) - 0.5, vec2(0.0), vec2(float(size - 1u)));
+// The entries and weights about the table position x (in entries, within the table).
+uvec4 bilinear_at(vec2 x, uint size, out vec2 f) {
     uvec2 i0 = uvec2(x);
     uvec2 i1 = min(i0 + 1u, uvec2(size - 1u));
     f = x - vec2(i0);
     return uvec4(i0.y * size + i0.x, i0.y * size + i1.x, i1.y * size + i0.x, i1.y * size + i1.x);
+}
+
+// The four entries (row-major indices into a size × size table: (x0,y0), (x1,y0),
+// (x0,y1), (x1,y1)) and weights of a bilinear lookup at coord in [0, 1]², entry i at
+// i/(size − 1) (vertex-centred: combustion_optics::environment::table_coordinate) and
+// clamped at the edges, as the GGX albedo tables are read.
+uvec4 bilinear_entries(vec2 coord, uint size, out vec2 f) {
+    return bilinear_at(clamp(coord * float(size - 1u), vec2(0.0), vec2(float(size - 1u))), size, f);
+}
+
+// The same for a cell-centred table (entry i at (i + ½)/size), as the sheen's tables are
+// read (combustion_optics::sheen::sheen_albedo_lookup).
+uvec4 bilinear_cells(vec2 coord, uint size, out vec2 f) {
+    return bilinear_at(clamp(coord * float(size) - 0.5, vec2(0.0), vec2(float(size - 1u))), size, f);
 }
 
 #ifdef ENERGY_COMPENSATION
@@ -26,7 +37,7 @@ uvec4 bilinear_cells(vec2 coord, uint size, out vec2 f) {
 // entries (bindings/constants.glsl).
 float energy_white_albedo_lookup(float cos_v, float alpha) {
     vec2 f;
-    uvec4 c = bilinear_cells(vec2(cos_v, sqrt(max(alpha, 0.0))), ENERGY_TABLE_SIZE, f);
+    uvec4 c = bilinear_entries(vec2(cos_v, sqrt(max(alpha, 0.0))), ENERGY_TABLE_SIZE, f);
     return mix(mix(energy_white_albedo[c.x], energy_white_albedo[c.y], f.x),
                mix(energy_white_albedo[c.z], energy_white_albedo[c.w], f.x), f.y);
 }
@@ -128,10 +139,10 @@ SurfaceCoat no_surface_coat() {
 #include "environment.glsl"
 
 // Bilinear lookup in material `material`'s albedo table (environment_albedo.comp), part
-// `part` (0: specular, 1: diffuse), at (n·v, r); cell-centred, clamped at the edges.
+// `part` (0: specular, 1: diffuse), at (n·v, r); vertex-centred, clamped at the edges.
 vec4 environment_table(uint material, uint part, vec2 coord) {
     vec2 f;
-    uvec4 c = bilinear_cells(coord, ENVIRONMENT_TABLE_SIZE, f)
+    uvec4 c = bilinear_entries(coord, ENVIRONMENT_TABLE_SIZE, f)
             + material * ENVIRONMENT_TABLE_SIZE * ENVIRONMENT_TABLE_SIZE;
     c = c * 2u + part;
     return mix(mix(environment_albedo[c.x], environment_albedo[c.y], f.x),
@@ -141,7 +152,7 @@ vec4 environment_table(uint material, uint part, vec2 coord) {
 // The same in per-code table `table` (environment_code_albedo.comp), code `code`.
 float environment_code_table(uint table, uint code, vec2 coord) {
     vec2 f;
-    uvec4 c = bilinear_cells(coord, ENVIRONMENT_CODE_TABLE_SIZE, f)
+    uvec4 c = bilinear_entries(coord, ENVIRONMENT_CODE_TABLE_SIZE, f)
             + (table * 256u + code) * ENVIRONMENT_CODE_TABLE_SIZE * ENVIRONMENT_CODE_TABLE_SIZE;
     return mix(mix(environment_code_albedo[c.x], environment_code_albedo[c.y], f.x),
                mix(environment_code_albedo[c.z], environment_code_albedo[c.w], f.x), f.y);

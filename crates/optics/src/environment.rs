@@ -231,6 +231,27 @@ pub fn directional_albedo(
     integrate_environment(m, n, t, b, v, |_| [1.0; 3], sampling)
 }
 
+/// Where the GGX albedo tables over (μ = n·v, r) put their entries (the renderer's
+/// environment and energy-compensation tables; the sheen's stay cell-centred, whose
+/// steep rise at grazing wants an entry at μ = 1/64): vertex-centred, entry i
+/// of `size` at i/(size − 1), so that r = 1 and μ = 1 (normal incidence on the roughest
+/// surface) are entries, not clamped edges (cell-centred tables stopped at (size − ½)/size
+/// and overstated the albedo at r = 1 by up to 5 %). μ's first entry is evaluated at
+/// [`TABLE_MU_MIN`] (the integrals degenerate at μ = 0).
+pub fn table_coordinate(i: usize, size: usize) -> f64 {
+    i as f64 / (size - 1) as f64
+}
+
+/// The μ of a table's first entry (the view along the horizon, where the integrals
+/// degenerate): 1e-3.
+pub const TABLE_MU_MIN: f64 = 1e-3;
+
+/// The μ of entry `i` of a table of `size` ([`table_coordinate`], at least
+/// [`TABLE_MU_MIN`]).
+pub fn table_mu(i: usize, size: usize) -> f64 {
+    table_coordinate(i, size).max(TABLE_MU_MIN)
+}
+
 /// The directional albedo of the GGX specular lobe alone with a white Fresnel term (F =
 /// 1), E(μ, α) = ∫ D V (n·l) dl for a view at cos θ = `mu` (isotropic α, height-
 /// correlated Smith): the energy single scattering keeps, 1 − E what it loses. By

@@ -91,25 +91,26 @@ fn check_format(device: &Device) -> Result<(), RenderError> {
 }
 
 /// Entries per side of the white specular albedo table over (n·v, r)
-/// (`ENERGY_TABLE_SIZE` in lighting.frag, generated), cell-centred as the albedo tables.
+/// (`ENERGY_TABLE_SIZE` in lighting.frag, generated), its entries placed as the albedo
+/// tables' ([`combustion_optics::environment::table_coordinate`]).
 pub const ENERGY_TABLE_SIZE: u32 = 32;
 /// Hammersley samples per entry of that table.
 pub const ENERGY_TABLE_SAMPLES: u32 = 1024;
 
 /// E(μ, r), the GGX specular lobe's directional albedo with F = 1
 /// ([`combustion_optics::environment::specular_albedo_white`]) over `ENERGY_TABLE_SIZE`²
-/// cell-centred entries, μ along rows' entries, r = √α down the rows: the single
+/// entries (vertex-centred), μ along rows' entries, r = √α down the rows: the single
 /// scattering's share of energy, which multiple-scattering energy compensation
 /// ([`crate::ShadingOptions::energy_compensation`]) makes up for.
 pub fn white_specular_albedo_table() -> Vec<f32> {
-    let size = ENERGY_TABLE_SIZE;
-    let at = |i: u32| (f64::from(i) + 0.5) / f64::from(size);
+    use combustion_optics::environment::{table_coordinate, table_mu};
+    let size = ENERGY_TABLE_SIZE as usize;
     (0..size)
         .flat_map(|j| {
             (0..size).map(move |i| {
-                let r = at(j);
+                let r = table_coordinate(j, size);
                 combustion_optics::environment::specular_albedo_white(
-                    at(i),
+                    table_mu(i, size),
                     r * r,
                     ENERGY_TABLE_SAMPLES,
                 ) as f32

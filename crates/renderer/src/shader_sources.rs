@@ -73,6 +73,11 @@ fn shared_constants() -> Vec<SharedConstant> {
             "combustion_optics::sheen::SHEEN_TABLE_SIZE",
         ),
         constant(
+            "TABLE_MU_MIN",
+            GlslValue::Float(combustion_optics::environment::TABLE_MU_MIN as f32),
+            "combustion_optics::environment::TABLE_MU_MIN",
+        ),
+        constant(
             "ENVIRONMENT_TABLE_SIZE",
             GlslValue::Uint(TABLE_SIZE),
             "environment::TABLE_SIZE",
@@ -208,6 +213,7 @@ mod tests {
                 "SHEEN_TABLE_SIZE {}u",
                 combustion_optics::sheen::SHEEN_TABLE_SIZE
             ),
+            format!("TABLE_MU_MIN {:?}", combustion_optics::environment::TABLE_MU_MIN as f32),
             format!("ENVIRONMENT_TABLE_SIZE {TABLE_SIZE}u"),
             format!("ENVIRONMENT_CODE_TABLE_SIZE {CODE_TABLE_SIZE}u"),
             format!("ENVIRONMENT_CODES {CODES}u"),
