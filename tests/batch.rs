@@ -25,6 +25,20 @@ fn results(folder: &Path) -> Value {
     serde_json::from_slice(&std::fs::read(folder.join("results.json")).unwrap()).unwrap()
 }
 
+/// `combustion batch MANIFEST -o OUT --goldens GOLDENS EXTRA…`.
+fn batch(manifest: &str, out: &Path, goldens: &Path, extra: &[&str]) -> (i32, String, String) {
+    let mut args = vec![
+        "batch",
+        manifest,
+        "-o",
+        text(out),
+        "--goldens",
+        text(goldens),
+    ];
+    args.extend(extra);
+    combustion(&args)
+}
+
 /// Each job's name → its status, comparisons and physics error (no timings, no paths).
 fn outcomes(run: &Value) -> Vec<(String, String, Vec<Value>, Value)> {
     run["jobs"]
@@ -101,16 +115,12 @@ fn a_manifest_renders_compares_with_goldens_and_reports_junit() {
     let dir = scratch("goldens");
     let manifest = manifest(&dir);
     let (goldens, first, second) = (dir.join("goldens"), dir.join("first"), dir.join("second"));
-    let (code, stdout, stderr) = combustion(&[
-        "batch",
+    let (code, stdout, stderr) = batch(
         &manifest,
-        "-o",
-        text(&first),
-        "--goldens",
-        text(&goldens),
-        "--update-goldens",
-        "--validate",
-    ]);
+        &first,
+        &goldens,
+        &["--update-goldens", "--validate"],
+    );
     assert_eq!(code, 0, "{stdout}{stderr}");
     let jobs = results(&first)["jobs"].as_array().unwrap().len();
     assert!(jobs >= 5);
@@ -120,15 +130,7 @@ fn a_manifest_renders_compares_with_goldens_and_reports_junit() {
     );
     assert_eq!(common::listing(&dir), ["first", "goldens", "manifest.json"]);
 
-    let (code, stdout, stderr) = combustion(&[
-        "batch",
-        &manifest,
-        "-o",
-        text(&second),
-        "--goldens",
-        text(&goldens),
-        "--validate",
-    ]);
+    let (code, stdout, stderr) = batch(&manifest, &second, &goldens, &["--validate"]);
     assert_eq!(code, 0, "{stdout}{stderr}");
     let run = results(&second);
     for (name, status, comparisons, _) in outcomes(&run) {
@@ -204,14 +206,7 @@ fn a_manifest_renders_compares_with_goldens_and_reports_junit() {
     assert_eq!(code, 0, "{stderr}");
     std::fs::copy(brighter.join("grid.png"), goldens.join("grid.png")).unwrap();
     let third = dir.join("third");
-    let (code, stdout, stderr) = combustion(&[
-        "batch",
-        &manifest,
-        "-o",
-        text(&third),
-        "--goldens",
-        text(&goldens),
-    ]);
+    let (code, stdout, stderr) = batch(&manifest, &third, &goldens, &[]);
     assert_eq!(code, 1, "{stdout}{stderr}");
     let errors: Vec<&str> = stderr
         .lines()
@@ -258,40 +253,26 @@ fn shards_merge_to_the_one_runs_result() {
     let dir = scratch("shards");
     let manifest = manifest(&dir);
     let goldens = dir.join("goldens");
-    let (code, _, stderr) = combustion(&[
-        "batch",
+    let (code, _, stderr) = batch(
         &manifest,
-        "-o",
-        text(&dir.join("whole")),
-        "--goldens",
-        text(&goldens),
-        "--update-goldens",
-    ]);
+        &dir.join("whole"),
+        &goldens,
+        &["--update-goldens"],
+    );
     assert_eq!(code, 0, "{stderr}");
     let whole_dir = dir.join("again");
-    let (code, _, stderr) = combustion(&[
-        "batch",
-        &manifest,
-        "-o",
-        text(&whole_dir),
-        "--goldens",
-        text(&goldens),
-    ]);
+    let (code, _, stderr) = batch(&manifest, &whole_dir, &goldens, &[]);
     assert_eq!(code, 0, "{stderr}");
     let whole = outcomes(&results(&whole_dir));
     let mut shards = Vec::new();
     for i in 1..=3 {
         let folder = dir.join(format!("shard-{i}"));
-        let (code, _, stderr) = combustion(&[
-            "batch",
+        let (code, _, stderr) = batch(
             &manifest,
-            "-o",
-            text(&folder),
-            "--goldens",
-            text(&goldens),
-            "--shard",
-            &format!("{i}/3"),
-        ]);
+            &folder,
+            &goldens,
+            &["--shard", &format!("{i}/3")],
+        );
         assert_eq!(code, 0, "{stderr}");
         assert!(!results(&folder)["jobs"].as_array().unwrap().is_empty());
         shards.push(folder);
@@ -394,25 +375,10 @@ fn bad_batches_are_refused_in_one_line() {
     // Per job: b's camera index names no camera of a built-in scene; c's golden is of
     // another size (a's, 32x24). a passes.
     let goldens = dir.join("goldens");
-    let (code, _, stderr) = combustion(&[
-        "batch",
-        &good,
-        "-o",
-        text(&out),
-        "--goldens",
-        text(&goldens),
-        "--update-goldens",
-    ]);
+    let (code, _, stderr) = batch(&good, &out, &goldens, &["--update-goldens"]);
     assert_eq!(code, 1, "{stderr}");
     std::fs::copy(goldens.join("a.png"), goldens.join("c.png")).unwrap();
-    let (code, stdout, stderr) = combustion(&[
-        "batch",
-        &good,
-        "-o",
-        text(&out),
-        "--goldens",
-        text(&goldens),
-    ]);
+    let (code, stdout, stderr) = batch(&good, &out, &goldens, &[]);
     assert_eq!(code, 1, "{stdout}{stderr}");
     let run = results(&out);
     let job = |name: &str| {
