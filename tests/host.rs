@@ -977,6 +977,18 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
             }
         }
         host.frame_environments.clear();
+        if round == 0 {
+            // The second round integrates environment light by sampling (its own
+            // lighting pipelines; the host's frames take another sample set each,
+            // FrameInputs::environment_seed) in the studio scene, alternating with the rest.
+            let renderer = host.renderer.as_mut().unwrap();
+            let options = combustion::renderer::ShadingOptions {
+                environment_samples: 16,
+                ..renderer.shading()
+            };
+            let scenes: Vec<_> = host.scenes.iter().collect();
+            renderer.set_shading(options, &scenes).unwrap();
+        }
         let stats = host.renderer().stats();
         assert!(
             stats.targets_retired >= 2 * (round + 1),

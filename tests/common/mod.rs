@@ -3,8 +3,12 @@
 //! checks goldens of sphere scenes independently of the renderer.
 #![allow(dead_code)]
 
+pub mod shared_data;
 pub mod weston;
 pub mod xvfb;
+
+#[allow(unused_imports)]
+pub use shared_data::{shared_gltf_samples, REQUIRE_SHARED};
 
 use std::path::PathBuf;
 
@@ -766,27 +770,6 @@ pub fn measure_tessellation_normal_error(scene: &Scene, width: u32, height: u32)
 /// Luminance (Rec. 709) of linear RGB in f64.
 pub fn luminance3(rgb: [f64; 3]) -> f64 {
     0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
-}
-
-/// The environment variable that makes tests needing `../shared` (the Khronos sample
-/// models beside the workspace) fail instead of skipping when it is missing; CI sets it
-/// (`.ci/run`), since CI always has `../shared` beside its clone.
-pub const REQUIRE_SHARED: &str = "COMBUSTION_REQUIRE_SHARED";
-
-/// `../shared/data/gltf` beside the workspace, or `None` (with a note on stderr) when it
-/// is not there; panics instead when [`REQUIRE_SHARED`] is set.
-pub fn shared_gltf_samples() -> Option<PathBuf> {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/gltf");
-    if root.is_dir() {
-        return Some(root);
-    }
-    assert!(
-        std::env::var_os(REQUIRE_SHARED).is_none(),
-        "{} is missing and {REQUIRE_SHARED} is set",
-        root.display()
-    );
-    eprintln!("skipped: {} is not present", root.display());
-    None
 }
 
 /// The project's authored scene `assets/scenes/NAME/NAME.gltf`, imported.

@@ -8,22 +8,11 @@ use std::path::{Path, PathBuf};
 use combustion_scene::gltf::{import, CameraSource, ImportOptions};
 use combustion_scene::{Scene, TextureSlot};
 
+#[path = "../../../tests/common/shared_data.rs"]
+mod shared_data;
+
 fn samples() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/gltf");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        assert!(
-            std::env::var_os("COMBUSTION_REQUIRE_SHARED").is_none(),
-            "{} is missing and COMBUSTION_REQUIRE_SHARED is set",
-            dir.display()
-        );
-        eprintln!(
-            "skipped: the glTF sample models are not at {} (they live in the shared data folder, not in the repository)",
-            dir.display()
-        );
-        None
-    }
+    shared_data::shared_gltf_samples()
 }
 
 fn load(dir: &Path, relative: &str) -> Scene {
