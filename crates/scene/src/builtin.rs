@@ -114,9 +114,7 @@ fn under_studio(scene: Scene, name: &str) -> Scene {
 pub const SPHERE_GRID_ROUGHNESS: [f32; 6] = [0.1, 0.25, 0.4, 0.55, 0.75, 1.0];
 
 fn metal(metal: combustion_spectra::BuiltinMetal, colour: MetalColour) -> ComplexIor {
-    let constants = colour
-        .constants(metal.spectrum())
-        .expect("built-in metal tables cover the RGB bands (checked by the spectra crate's tests)");
+    let constants = metal.constants(colour);
     ComplexIor {
         eta: constants.eta.map(|x| x as f32),
         k: constants.k.map(|x| x as f32),

@@ -142,17 +142,26 @@ pub fn d65_white_xyz() -> [f64; 3] {
 /// own D65 ([`d65_white_xyz`], chromaticity (0.31272, 0.32903) against the sRGB
 /// standard's rounded (0.3127, 0.3290)), so a perfect reflector is (1, 1, 1) exactly.
 pub fn xyz_to_linear_srgb() -> [[f64; 3]; 3] {
-    // Columns: each primary's XYZ at Y = 1, scaled so that they sum to the white.
-    let primary = |[x, y]: [f64; 2]| [x / y, 1.0, (1.0 - x - y) / y];
-    let p = REC709_PRIMARIES.map(primary);
-    let columns = [
-        [p[0][0], p[1][0], p[2][0]],
-        [p[0][1], p[1][1], p[2][1]],
-        [p[0][2], p[1][2], p[2][2]],
-    ];
-    let scale = solve(columns, d65_white_xyz());
-    let rgb_to_xyz = columns.map(|row| [row[0] * scale[0], row[1] * scale[1], row[2] * scale[2]]);
-    inverse(rgb_to_xyz)
+    static MATRIX: std::sync::OnceLock<[[f64; 3]; 3]> = std::sync::OnceLock::new();
+    *MATRIX.get_or_init(|| inverse(linear_srgb_to_xyz()))
+}
+
+/// The inverse of [`xyz_to_linear_srgb`]: each primary's XYZ (columns) scaled so that
+/// they sum to the tables' white.
+fn linear_srgb_to_xyz() -> [[f64; 3]; 3] {
+    static MATRIX: std::sync::OnceLock<[[f64; 3]; 3]> = std::sync::OnceLock::new();
+    *MATRIX.get_or_init(|| {
+        // Columns: each primary's XYZ at Y = 1, scaled so that they sum to the white.
+        let primary = |[x, y]: [f64; 2]| [x / y, 1.0, (1.0 - x - y) / y];
+        let p = REC709_PRIMARIES.map(primary);
+        let columns = [
+            [p[0][0], p[1][0], p[2][0]],
+            [p[0][1], p[1][1], p[2][1]],
+            [p[0][2], p[1][2], p[2][2]],
+        ];
+        let scale = solve(columns, d65_white_xyz());
+        columns.map(|row| [row[0] * scale[0], row[1] * scale[1], row[2] * scale[2]])
+    })
 }
 
 /// CIE XYZ (Y = 1 for a perfect reflector) of the reflectance `reflectance(λ)` under D65.
@@ -183,8 +192,7 @@ pub fn reflectance_colour(reflectance: impl Fn(f64) -> f64) -> [f64; 3] {
 
 /// CIELAB (L*, a*, b*) of linear sRGB, white the tables' D65.
 pub fn lab_of_linear_srgb(rgb: [f64; 3]) -> [f64; 3] {
-    let to_xyz = inverse(xyz_to_linear_srgb());
-    let xyz = to_xyz.map(|row| row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2]);
+    let xyz = linear_srgb_to_xyz().map(|row| row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2]);
     let white = d65_white_xyz();
     let f = |t: f64| {
         const DELTA: f64 = 6.0 / 29.0;
@@ -401,6 +409,32 @@ impl MetalColour {
         match self {
             MetalColour::Bands => crate::rgb_optical_constants(spectrum),
             MetalColour::Colorimetric => Ok(colorimetric_optical_constants(spectrum)?.constants),
+        }
+    }
+}
+
+impl crate::BuiltinMetal {
+    /// This metal's RGB constants by `colour` ([`MetalColour::constants`] of its table),
+    /// each built-in metal's colorimetric fit made once per process (scenes name a metal
+    /// once per material: the gold-copper grid eight times).
+    pub fn constants(self, colour: MetalColour) -> RgbOpticalConstants {
+        static FITS: std::sync::OnceLock<Vec<RgbOpticalConstants>> = std::sync::OnceLock::new();
+        let fits = || {
+            crate::BuiltinMetal::ALL
+                .iter()
+                .map(|m| {
+                    let fit = MetalColour::Colorimetric.constants(m.spectrum());
+                    fit.expect("built-in tables span 380-780 nm (tested)")
+                })
+                .collect()
+        };
+        match colour {
+            MetalColour::Bands => crate::rgb_optical_constants(self.spectrum())
+                .expect("built-in tables cover the RGB bands (tested)"),
+            MetalColour::Colorimetric => {
+                let i = crate::BuiltinMetal::ALL.iter().position(|&m| m == self);
+                FITS.get_or_init(fits)[i.expect("every metal is in ALL")]
+            }
         }
     }
 }

@@ -247,7 +247,11 @@ fn parse_conductor(
                     .join(", ")
             )
         })?;
-        Some(reduce(metal.spectrum(), &format!("metal `{name}`"))?)
+        let c = metal.constants(colour);
+        Some(ComplexIor {
+            eta: c.eta.map(|x| x as f32),
+            k: c.k.map(|x| x as f32),
+        })
     } else if let Some(v) = map.get("spectrum") {
         let path = v.as_str().ok_or_else(|| {
             format!(
