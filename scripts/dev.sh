@@ -32,6 +32,13 @@ install_packages() {
     "${sudo[@]}" apt-get update -qq
     DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq "${missing[@]}"
   fi
+  # A cold build and the test binaries take about 15 GiB of target/ (README, "Build
+  # cost"); a full disk shows up as a compiler crash deep in the build, so say it first.
+  local free_kib
+  free_kib=$(df -Pk . | awk 'NR == 2 { print $4 }')
+  if [ -n "$free_kib" ] && [ "$free_kib" -lt $((16 * 1024 * 1024)) ]; then
+    echo "warning: $((free_kib / 1024 / 1024)) GiB free here; a cold build and the tests need about 16 GiB" >&2
+  fi
   if ! command -v cargo >/dev/null; then
     echo "error: cargo not found; install Rust (https://rustup.rs), then run this again" >&2
     exit 1
