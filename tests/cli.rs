@@ -2535,3 +2535,79 @@ fn render_accumulates_sampled_environment_light_to_a_stated_error() {
         &["power of two from 1 to 1024"],
     );
 }
+
+/// `render`'s start-up line: (shaders, of them from the SPIR-V cache).
+fn start_up_shaders(stdout: &str) -> (u32, u32) {
+    let start_up = stdout
+        .lines()
+        .find_map(|line| line.strip_prefix("start-up: "))
+        .unwrap_or_else(|| panic!("no start-up line: {stdout}"));
+    let words: Vec<&str> = start_up.split(' ').collect();
+    (
+        words[0].parse().unwrap(),
+        words[2].trim_start_matches('(').parse().unwrap(),
+    )
+}
+
+/// Issue 27, item 3: compiled SPIR-V is kept on disk. A first run into an empty cache
+/// compiles every shader with shaderc and stores it; a second process reads every one
+/// back and renders the same bytes; a damaged entry is compiled again, not used.
+#[test]
+fn a_second_process_reads_its_spirv_from_the_cache_and_renders_the_same_image() {
+    let dir = scratch("spirv-cache");
+    let cache = dir.join("spirv");
+    let run = |name: &str| {
+        let png = dir.join(name);
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_combustion"))
+            .args(["render", "--scene", "builtin:glass", "--width", "64"])
+            .args(["--height", "48", "--validate", "-o"])
+            .arg(&png)
+            .env("COMBUSTION_DEVICE", "llvmpipe")
+            .env("COMBUSTION_SPIRV_CACHE", &cache)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+        assert!(
+            output.status.success(),
+            "{stdout}{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        (start_up_shaders(&stdout), std::fs::read(png).unwrap())
+    };
+    let ((compiled, cached), first) = run("first.png");
+    // The cache was empty: only a shader asked for again in the same process (the
+    // full-screen vertex shader of several passes) is found.
+    assert!(compiled > 0 && cached < compiled, "{compiled} {cached}");
+    let entries = std::fs::read_dir(&cache).unwrap().count() as u32;
+    assert_eq!(
+        entries,
+        compiled - cached,
+        "one entry per compilation, no temporary left"
+    );
+    let ((again, cached), second) = run("second.png");
+    assert_eq!(
+        (again, cached),
+        (compiled, compiled),
+        "every shader from the cache"
+    );
+    assert!(first == second, "the cached SPIR-V renders the same bytes");
+    // One entry damaged (a word flipped): it is compiled again and rewritten.
+    let entry = std::fs::read_dir(&cache)
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
+    let mut bytes = std::fs::read(&entry).unwrap();
+    let last = bytes.len() - 1;
+    bytes[last] ^= 0x40;
+    std::fs::write(&entry, &bytes).unwrap();
+    let ((_, cached), third) = run("third.png");
+    assert_eq!(cached, compiled - 1, "the damaged entry was not used");
+    assert!(third == first);
+    assert_ne!(
+        std::fs::read(&entry).unwrap(),
+        bytes,
+        "the damaged entry was replaced"
+    );
+}

@@ -169,8 +169,9 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     } else {
         settings.shading = o.shading.options(settings.shading);
     }
+    let started = std::time::Instant::now();
     let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
-    let frame = {
+    let (frame, stats) = {
         let renderer = headless.renderer();
         let gpu_scene = renderer.upload(&scene)?;
         let inputs = combustion::renderer::FrameInputs {
@@ -180,7 +181,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings.exposure)
         };
         let size = (o.frame.width, o.frame.height);
-        match o.accumulate_until {
+        let frame = match o.accumulate_until {
             None => renderer.render_with(&gpu_scene, &inputs, size.0, size.1, IMAGES)?,
             Some(target) => {
                 let (frame, frames, achieved) =
@@ -191,8 +192,10 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
                 );
                 frame
             }
-        }
+        };
+        (frame, renderer.stats())
     };
+    let start_up = started.elapsed();
     let validation = headless.validation_log();
     drop(headless);
     check_validation(&validation)?;
@@ -233,6 +236,14 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         "GPU time: {}, total {:.2} ms (one frame; `combustion bench` for medians)",
         passes.join(", "),
         t.total_ms
+    );
+    outln!(
+        "start-up: {} shaders ({} from the SPIR-V cache) in {:.0} ms, {} graphics pipelines; device, pipelines, scene upload and frame {:.2} s in all",
+        stats.shaders_compiled,
+        stats.shaders_from_cache,
+        stats.shader_compile_micros as f64 / 1e3,
+        stats.pipelines_built,
+        start_up.as_secs_f64()
     );
     Ok(())
 }

@@ -203,7 +203,8 @@ impl Renderer {
         cache_data: &[u8],
     ) -> Result<Self, RenderError> {
         settings.validate(&device)?;
-        let compiler = ShaderCompiler::new(shader_sources::sources())?;
+        let compiler = ShaderCompiler::new(shader_sources::sources())?
+            .with_spirv_cache(combustion_vk::default_spirv_cache_dir());
         let layouts = SetLayouts::new(&device)?;
         let overlay_font = overlay::OverlayFont::new()?;
         let overlay_atlas = buffers::filled_storage_buffer(

@@ -110,6 +110,13 @@ pub struct RendererStats {
     /// Shaders compiled (GLSL to SPIR-V, at start-up and when a new pipeline variant is
     /// first needed; never while a frame records).
     pub shaders_compiled: u64,
+    /// How many of those were read from the SPIR-V cache on disk instead of compiled
+    /// (`combustion_vk::default_spirv_cache_dir`: `$COMBUSTION_SPIRV_CACHE`, `off` for
+    /// none, else the user's cache folder).
+    pub shaders_from_cache: u64,
+    /// Wall time those compilations and lookups took, in microseconds (pipeline
+    /// creation, the driver's own compilation, not included).
+    pub shader_compile_micros: u64,
     /// Frames read back to the CPU ([`Renderer::render`] and its kin; never in a
     /// frame a host records).
     pub readbacks: u64,
@@ -158,6 +165,9 @@ impl Renderer {
         RendererStats {
             frames: self.frame_number,
             shaders_compiled: self.compiler.compilations(),
+            shaders_from_cache: self.compiler.cache_hits(),
+            shader_compile_micros: u64::try_from(self.compiler.compile_time().as_micros())
+                .unwrap_or(u64::MAX),
             ..self.stats
         }
     }

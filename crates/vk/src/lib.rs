@@ -31,6 +31,7 @@ mod pipeline;
 mod probe;
 mod resources;
 mod shader;
+mod spirv_cache;
 mod swapchain;
 #[cfg(test)]
 mod test_support;
@@ -52,5 +53,6 @@ pub use resources::{
     ImageDesc, ImageState, ImageView,
 };
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources, ShaderStage};
+pub use spirv_cache::{default_spirv_cache_dir, COMPILER_IDENTITY};
 pub use swapchain::{AcquiredImage, PresentOutcome, Surface, Swapchain};
 pub use timestamps::TimestampQueries;
