@@ -282,6 +282,8 @@ fn devices_lists_lavapipe() {
     let (code, stdout, stderr) = combustion(&["devices"]);
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("llvmpipe"), "{stdout}");
+    // The device type in words, not Vulkan's enum.
+    assert!(stdout.contains("(CPU, Vulkan "), "{stdout}");
 }
 
 #[test]
@@ -938,6 +940,36 @@ fn device_chosen_by_index_name_or_environment() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// More lights than a frame can cull: `--culling always` (and auto) say that the frame is
+/// not culled, rather than silently looping every pixel over every light; within the
+/// limit nothing is said. (Before: no word, only the shading loop's line.)
+#[test]
+fn bench_says_when_a_frame_has_more_lights_than_culling_takes() {
+    let max = combustion::renderer::MAX_CULLED_LIGHTS;
+    for (extra, says) in [(max + 10, true), (max - 10, false)] {
+        let extra = extra.to_string();
+        let (code, stdout, stderr) = combustion(&[
+            "bench",
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--frames",
+            "1",
+            "--extra-lights",
+            &extra,
+            "--culling",
+            "always",
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        let warned =
+            stderr.contains("a frame can cull into tile lists, so --culling always does not cull");
+        assert_eq!(warned, says, "{extra} extra lights: {stderr}");
+        let looped = stdout.contains("every pixel loops over every light");
+        assert_eq!(looped, says, "{extra} extra lights: {stdout}");
+    }
+}
+
 #[test]
 fn bench_reports_gpu_and_wall_clock_time_with_frames_in_flight() {
     let (code, stdout, stderr) = combustion(&[
@@ -1408,6 +1440,41 @@ fn exr_output_reads_back_bit_for_bit() {
         );
     }
     std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `view --screenshot` follows `render -o`'s output rule, checked before a window opens
+/// or the scene loads: a missing folder, a folder and a FIFO are one-line errors with a
+/// failing exit status. (Before: the viewer ran, logged the failed write and exited 0.)
+/// No display is reached here, so an error from the window would fail the test too.
+#[test]
+fn view_checks_its_screenshot_before_opening_a_window() {
+    let dir = scratch("view-screenshot");
+    let fifo = dir.join("pipe.png");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    std::fs::create_dir_all(dir.join("folder.png")).unwrap();
+    let s = |p: std::path::PathBuf| p.to_str().unwrap().to_owned();
+    for (shot, expected) in [
+        (s(dir.join("missing/shot.png")), "does not exist"),
+        (s(dir.join("folder.png")), "it names a folder, not a file"),
+        (s(fifo), "it is not a regular file"),
+    ] {
+        let args = [
+            "view",
+            "--frames",
+            "1",
+            "--screenshot",
+            &shot,
+            "--scene",
+            "builtin:spheres",
+        ];
+        assert_clear_error(&args, expected);
+    }
+    assert_eq!(common::listing(&dir), ["folder.png", "pipe.png"]);
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Issue 28, defect 1: the command line's readers keep the importer's rule for input
@@ -1928,6 +1995,72 @@ fn an_empty_scene_says_so_and_meets_no_budget() {
     );
     assert!(!stdout.contains("variant set"), "{stdout}");
     assert!(out.exists());
+}
+
+/// A frame that would show nothing, or not what the scene holds, says why before it is
+/// rendered: a camera with a field of view of 1e-20 radians aimed beside the objects, and
+/// an object moved 1e8 m out (where 32-bit positions are 8 m apart) framed by the
+/// camera. (Before: both rendered the background alone with exit 0 and no word.)
+#[test]
+fn a_frame_that_cannot_show_the_scene_says_why() {
+    use combustion::scene::{builtin_scene, Camera};
+    let dir = scratch("view-warnings");
+    let spheres = builtin_scene("spheres").unwrap();
+    let (lo, hi) = spheres.world_bounds().unwrap();
+    let framed = Camera::framing(Some((lo, hi)));
+    let right = (framed.target - framed.position)
+        .cross(framed.up)
+        .normalize();
+    let mut pinhole = spheres.clone();
+    pinhole.camera = Camera {
+        target: framed.target + right * 1.5 * (hi - lo).length() / 2.0,
+        vertical_fov: 1e-20,
+        ..framed
+    };
+    let mut far = spheres.clone();
+    far.objects[0].transform =
+        glam::Mat4::from_translation(glam::Vec3::new(1e8, 0.0, 0.0)) * far.objects[0].transform;
+    far.camera = Camera::framing(far.world_bounds());
+    for (name, scene, expected) in [
+        ("pinhole", pinhole, "objects is in the camera's view"),
+        ("far", far, "where 32-bit positions are"),
+    ] {
+        let file = dir.join(format!("{name}.gltf"));
+        combustion::scene::gltf::save_gltf(&scene, &file).unwrap();
+        let out = dir.join(format!("{name}.png"));
+        let (code, stdout, stderr) = combustion(&[
+            "render",
+            file.to_str().unwrap(),
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{name}: {stdout}{stderr}");
+        assert!(stderr.contains(expected), "{name}: {stderr}");
+        assert!(out.exists(), "{name}");
+    }
+    // The scene as framed says nothing.
+    let file = dir.join("framed.gltf");
+    combustion::scene::gltf::save_gltf(&spheres, &file).unwrap();
+    let (code, _, stderr) = combustion(&[
+        "render",
+        file.to_str().unwrap(),
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "-o",
+        dir.join("framed.png").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        !stderr.contains("camera's view") && !stderr.contains("32-bit"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// An output name whose extension names another image format is refused before any

@@ -638,7 +638,8 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_name = "N", default_value = "0", value_parser = extra_lights)]
     pub(crate) extra_lights: usize,
     /// When frames cull their lights into 16×16-pixel tile lists (auto: when a light has
-    /// a range; the culling pass is timed with the lighting pass)
+    /// a range; the culling pass is timed with the lighting pass). A frame of more than
+    /// 1024 lights is not culled (a warning says so)
     #[arg(long, value_name = "WHEN", default_value = "auto", value_parser = named(CULLING))]
     pub(crate) culling: LightCulling,
     /// Measure the variant sets and write the speed-against-error report to DIR
@@ -1160,8 +1161,27 @@ pub(crate) fn loaded_as_asked(
     Ok(scene)
 }
 
-/// The device (`--device`, else `COMBUSTION_DEVICE`, else automatic) and renderer
-/// settings the options ask for.
+/// Warns, before rendering, of what would make a `width`×`height` frame of `scene` show
+/// nothing or not what it holds ([`combustion::scene::ViewWarning`]): no object in
+/// view, objects too far out for 32-bit positions (the first named, the rest counted).
+pub(crate) fn warn_about_view(scene: &Scene, label: &str, width: u32, height: u32) {
+    let warnings = scene.view_warnings(width as f32 / height as f32);
+    let far = |w: &&combustion::scene::ViewWarning| {
+        matches!(w, combustion::scene::ViewWarning::BeyondPrecision { .. })
+    };
+    let beyond_precision = warnings.iter().filter(far).count();
+    for warning in warnings.iter().filter(|w| !far(w)) {
+        log::warn!("{label}: {warning}");
+    }
+    if let Some(first) = warnings.iter().find(far) {
+        let more = match beyond_precision - 1 {
+            0 => String::new(),
+            n => format!(" ({n} more objects likewise)"),
+        };
+        log::warn!("{label}: {first}{more}");
+    }
+}
+
 /// Checks, before any scene or image is loaded, that the device `device` selects exists
 /// and takes frames of `frame`'s size: a bad `--device` or a side beyond the device's
 /// `maxImageDimension2D` is reported at once, not after the loading (an environment
@@ -1180,6 +1200,8 @@ pub(crate) fn preflight(device: &DeviceDesc, frame: &FrameArgs) -> Result<(), Er
     Ok(())
 }
 
+/// The device (`--device`, else `COMBUSTION_DEVICE`, else automatic) and renderer
+/// settings the options ask for.
 pub(crate) fn device_and_settings(
     device: &DeviceArgs,
     frame: &FrameArgs,

@@ -195,13 +195,20 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
         }
     );
     let ranged = scene.lights.iter().filter(|l| l.range().is_some()).count();
+    let culling = CULLING
+        .iter()
+        .find(|(_, culling)| *culling == o.culling)
+        .map_or("?", |(name, _)| name);
+    let max_culled = combustion::renderer::MAX_CULLED_LIGHTS;
+    if o.culling != combustion::renderer::LightCulling::Never && scene.lights.len() > max_culled {
+        log::warn!(
+            "{} lights: more than the {max_culled} a frame can cull into tile lists, so --culling {culling} does not cull; every pixel loops over every light",
+            scene.lights.len(),
+        );
+    }
     outln!(
-        "lights: {} ({ranged} with a range); light culling: {} ({})",
+        "lights: {} ({ranged} with a range); light culling: {culling} ({})",
         scene.lights.len(),
-        CULLING
-            .iter()
-            .find(|(_, culling)| *culling == o.culling)
-            .map_or("?", |(name, _)| name),
         if o.culling.culls(&scene.lights) {
             "culled into tile lists"
         } else {

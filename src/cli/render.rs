@@ -129,6 +129,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             source.label()
         );
     }
+    warn_about_view(&scene, &source.label(), o.frame.width, o.frame.height);
     // An accuracy budget: the fastest variant set within it, measured on this scene at
     // this size (5 frames each).
     if let Some(budget) = o.max_error {

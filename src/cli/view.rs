@@ -8,6 +8,8 @@ use crate::write_stdout;
 pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
     if let Some(shot) = &o.screenshot {
         combustion::output::check_extension(shot, "--screenshot", "PNG", &["png"])?;
+        // The output rule of `render -o`, before the window opens or the scene loads.
+        combustion::output::check_writable(shot)?;
     }
     combustion::viewer::check_window_size(o.frame.width, o.frame.height)?;
     let (device, settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
@@ -53,10 +55,10 @@ pub(crate) fn devices() -> Result<(), Error> {
     }
     for d in devices {
         outln!(
-            "{}: {} ({:?}, Vulkan {}.{}.{}, {}){}",
+            "{}: {} ({}, Vulkan {}.{}.{}, {}){}",
             d.index,
             d.name,
-            d.device_type,
+            d.kind(),
             d.api_version.0,
             d.api_version.1,
             d.api_version.2,

@@ -160,8 +160,9 @@ pub struct ViewSummary {
     pub screenshots: Vec<PathBuf>,
 }
 
-/// Writes the pending screenshot, whose frame has completed. A file that cannot be
-/// written is reported and the viewer goes on.
+/// Writes the pending screenshot, whose frame has completed. A `--screenshot` that
+/// cannot be written is the run's error; one taken by the key is reported and the viewer
+/// goes on.
 fn write_screenshot(
     shot: Option<PendingScreenshot>,
     summary: &mut ViewSummary,
@@ -187,6 +188,7 @@ fn write_screenshot(
             log::info!("screenshot written to {} ({w}x{h})", shot.path.display());
             summary.screenshots.push(shot.path)
         }
+        Err(e) if shot.requested => return Err(e.into()),
         Err(e) => log::error!("{e}"),
     }
     Ok(())
@@ -343,6 +345,9 @@ struct PendingScreenshot {
     slot: usize,
     buffer: combustion_vk::Buffer,
     path: PathBuf,
+    /// Asked for on the command line (`--screenshot`): a failed write is the run's error.
+    /// One taken by the key (P) is reported and the viewer goes on.
+    requested: bool,
     extent: vk::Extent2D,
     bgra: bool,
 }
@@ -384,8 +389,9 @@ struct State {
     last_step: Instant,
     orbit: camera::OrbitCamera,
     input: Input,
-    /// A screenshot to take of the next frame shown.
-    screenshot: Option<PathBuf>,
+    /// A screenshot to take of the next frame shown, and whether `--screenshot` asked
+    /// for it (rather than the P key).
+    screenshot: Option<(PathBuf, bool)>,
     /// Screenshots taken with the P key.
     screenshots_taken: u32,
     /// A screenshot copied by a frame that may still be in flight.
@@ -631,11 +637,16 @@ impl State {
         let camera = scripted.unwrap_or_else(|| self.orbit.camera());
         self.update_error_view(camera, extent, summary)?;
         let swapchain = self.swapchain.as_ref().expect("created above");
-        if self.screenshot.is_some() && !swapchain.copyable() {
-            self.screenshot = None;
-            log::error!(
-                "this window's swapchain images cannot be copied, so no screenshot can be taken"
+        if let (Some((path, requested)), false) = (&self.screenshot, swapchain.copyable()) {
+            let message = format!(
+                "{}: this window's swapchain images cannot be copied, so no screenshot can be taken",
+                path.display()
             );
+            if *requested {
+                return Err(Error::Window(message));
+            }
+            log::error!("{message}");
+            self.screenshot = None;
         }
         // The only wait of a frame: for the one that used this slot last.
         let frame = self.ring.begin()?;
@@ -708,7 +719,7 @@ impl State {
         };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
-        if let Some(path) = screenshot {
+        if let Some((path, requested)) = screenshot {
             let buffer = record_screenshot_copy(
                 &self.device,
                 frame.cmd,
@@ -723,6 +734,7 @@ impl State {
                 slot: frame.slot,
                 buffer,
                 path,
+                requested,
                 extent,
                 bgra: swapchain.format() == vk::Format::B8G8R8A8_UNORM,
             });
@@ -1017,7 +1029,7 @@ impl App<'_> {
         {
             // The last frame of the run: the one --screenshot asks for.
             if let Some(path) = &self.desc.screenshot {
-                state.screenshot = Some(path.clone());
+                state.screenshot = Some((path.clone(), true));
             }
         }
         match state.draw(self.desc.vsync, scripted, &mut self.summary) {
@@ -1345,7 +1357,7 @@ impl App<'_> {
                         break path;
                     }
                 };
-                state.screenshot = Some(path);
+                state.screenshot = Some((path, false));
             }
             _ => {}
         }

@@ -29,6 +29,7 @@ pub mod gltf;
 mod material;
 mod mesh;
 pub mod motion;
+mod view_check;
 
 pub use alpha_coverage::{alpha_mip_scales, ALPHA_MIP_LEVELS};
 pub use builtin::{builtin_scene, builtin_scene_with, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
@@ -49,6 +50,7 @@ pub use material::{
 };
 pub use mesh::{Mesh, Vertex};
 pub use motion::{Motion, ObjectPoses, Pose};
+pub use view_check::{ViewWarning, MIN_PRECISION_STEPS};
 
 use glam::{Mat4, Vec3};
 

@@ -113,6 +113,20 @@ pub struct DeviceInfo {
     pub max_image_dimension_2d: u32,
 }
 
+impl DeviceInfo {
+    /// The device type in words: `discrete GPU`, `integrated GPU`, `virtual GPU`, `CPU`
+    /// or `other device`.
+    pub fn kind(&self) -> &'static str {
+        match self.device_type {
+            vk::PhysicalDeviceType::DISCRETE_GPU => "discrete GPU",
+            vk::PhysicalDeviceType::INTEGRATED_GPU => "integrated GPU",
+            vk::PhysicalDeviceType::VIRTUAL_GPU => "virtual GPU",
+            vk::PhysicalDeviceType::CPU => "CPU",
+            _ => "other device",
+        }
+    }
+}
+
 /// Validation-layer warnings and errors seen by a device's messenger. Clone it before the
 /// device is dropped to read the leak report issued at device destruction.
 #[derive(Clone, Default)]
@@ -682,10 +696,10 @@ impl Device {
         };
         let (instance, messenger) = guard.disarm();
         log::info!(
-            "Vulkan device {}: {} ({:?}, Vulkan {}.{}.{}, {})",
+            "Vulkan device {}: {} ({}, Vulkan {}.{}.{}, {})",
             info.index,
             info.name,
-            info.device_type,
+            info.kind(),
             info.api_version.0,
             info.api_version.1,
             info.api_version.2,
