@@ -2021,12 +2021,10 @@ fn a_frame_that_cannot_show_the_scene_says_why() {
     far.objects[0].transform =
         glam::Mat4::from_translation(glam::Vec3::new(1e8, 0.0, 0.0)) * far.objects[0].transform;
     far.camera = Camera::framing(far.world_bounds());
-    for (name, scene, expected) in [
-        ("pinhole", pinhole, "objects is in the camera's view"),
-        ("far", far, "where 32-bit positions are"),
-    ] {
+    // Saves `scene` as NAME.gltf and renders it at 32×24 (it must succeed): its stderr.
+    let render = |name: &str, scene: &combustion::scene::Scene| {
         let file = dir.join(format!("{name}.gltf"));
-        combustion::scene::gltf::save_gltf(&scene, &file).unwrap();
+        combustion::scene::gltf::save_gltf(scene, &file).unwrap();
         let out = dir.join(format!("{name}.png"));
         let (code, stdout, stderr) = combustion(&[
             "render",
@@ -2039,23 +2037,18 @@ fn a_frame_that_cannot_show_the_scene_says_why() {
             out.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{name}: {stdout}{stderr}");
-        assert!(stderr.contains(expected), "{name}: {stderr}");
         assert!(out.exists(), "{name}");
+        stderr
+    };
+    for (name, scene, expected) in [
+        ("pinhole", pinhole, "objects is in the camera's view"),
+        ("far", far, "where 32-bit positions are"),
+    ] {
+        let stderr = render(name, &scene);
+        assert!(stderr.contains(expected), "{name}: {stderr}");
     }
     // The scene as framed says nothing.
-    let file = dir.join("framed.gltf");
-    combustion::scene::gltf::save_gltf(&spheres, &file).unwrap();
-    let (code, _, stderr) = combustion(&[
-        "render",
-        file.to_str().unwrap(),
-        "--width",
-        "32",
-        "--height",
-        "24",
-        "-o",
-        dir.join("framed.png").to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
+    let stderr = render("framed", &spheres);
     assert!(
         !stderr.contains("camera's view") && !stderr.contains("32-bit"),
         "{stderr}"

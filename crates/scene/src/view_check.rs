@@ -66,10 +66,11 @@ impl Scene {
     /// at rest; the test is conservative (a box partly in view counts as in view).
     pub fn view_warnings(&self, aspect: f32) -> Vec<ViewWarning> {
         let mut warnings = Vec::new();
-        let boxes: Vec<(Vec3, Vec3)> = self.object_bounds().into_iter().flatten().collect();
+        let bounds = self.object_bounds();
+        let boxes: Vec<&(Vec3, Vec3)> = bounds.iter().flatten().collect();
         // Clip space in f64: a field of view of 1e-20 scales by 2e20, a far box by more.
         let clip = self.camera.view_projection(aspect).as_dmat4();
-        let in_view = |(lo, hi): &(Vec3, Vec3)| {
+        let in_view = |(lo, hi): &&(Vec3, Vec3)| {
             let corners: Vec<DVec4> = box_corners(*lo, *hi)
                 .iter()
                 .map(|c| clip * c.as_dvec3().extend(1.0))
@@ -91,8 +92,8 @@ impl Scene {
             });
         }
         let camera_distance = self.camera.position.abs().max_element();
-        for (object, bounds) in self.object_bounds().into_iter().enumerate() {
-            let Some((lo, hi)) = bounds else { continue };
+        for (object, bounds) in bounds.iter().enumerate() {
+            let Some((lo, hi)) = *bounds else { continue };
             let size = (hi - lo).length();
             let distance = lo.abs().max(hi.abs()).max_element().max(camera_distance);
             let spacing = distance * f32::EPSILON;
