@@ -876,37 +876,163 @@ mod gulbrandsen {
             .sum()
     }
 
-    /// The edge tint minimising [`misfit`]: a coarse scan, then golden-section search.
+    /// The edge tint minimising [`misfit`]: a coarse scan brackets the minimum (the
+    /// misfit has one minimum over g ∈ [0, 1] for every r, checked on a dense grid by
+    /// the test below), then Brent's method (parabolic steps, golden-section where a
+    /// parabola is not trusted) narrows it to 1e-9 in g — about as far as the misfit's
+    /// values can tell neighbouring tints apart (it is flat to second order there).
+    /// About 20 evaluations of the misfit where a scan and a golden-section search took
+    /// 113: the f64 reference evaluates this per shading point of a textured metal.
     pub fn best_edge_tint(r: f64) -> f64 {
         if r <= 0.0 {
             return 1.0;
         }
-        let steps = 32;
-        let mut best = 0;
-        let mut best_value = f64::INFINITY;
-        for i in 0..=steps {
-            let value = misfit(r, i as f64 / steps as f64);
-            if value < best_value {
-                best_value = value;
-                best = i;
-            }
+        let steps = 8;
+        let (best, best_misfit) = (0..=steps)
+            .map(|i| (i, misfit(r, f64::from(i) / f64::from(steps))))
+            .fold((0, f64::INFINITY), |best, next| {
+                if next.1 < best.1 {
+                    next
+                } else {
+                    best
+                }
+            });
+        let step = 1.0 / f64::from(steps);
+        let lo = (f64::from(best) * step - step).max(0.0);
+        let hi = (f64::from(best) * step + step).min(1.0);
+        let g = brent_minimum(|g| misfit(r, g), lo, hi, 1e-9);
+        // A minimum at an end of [0, 1] is the scan's own point: Brent stops within its
+        // tolerance of it.
+        if misfit(r, g) < best_misfit {
+            g
+        } else {
+            f64::from(best) * step
         }
-        let step = 1.0 / steps as f64;
-        let (mut lo, mut hi) = (
-            (best as f64 * step - step).max(0.0),
-            (best as f64 * step + step).min(1.0),
-        );
-        let phi = (5f64.sqrt() - 1.0) / 2.0;
-        for _ in 0..40 {
-            let a = hi - phi * (hi - lo);
-            let b = lo + phi * (hi - lo);
-            if misfit(r, a) < misfit(r, b) {
-                hi = b;
+    }
+
+    /// The minimum of `f` on [lo, hi] (one minimum there) to within about `tolerance`,
+    /// by Brent's method (R. P. Brent, "Algorithms for Minimization without Derivatives",
+    /// 1973, ch. 5): a parabola through the three best points where it steps inside the
+    /// bracket and less than half the step before last, otherwise a golden-section step.
+    pub(super) fn brent_minimum(f: impl Fn(f64) -> f64, lo: f64, hi: f64, tolerance: f64) -> f64 {
+        // (3 − √5)/2: the golden section's smaller part.
+        const GOLDEN: f64 = 0.381_966_011_250_105_1;
+        let (mut lo, mut hi) = (lo, hi);
+        // x: the best point so far; w: the second best; v: the previous w.
+        let mut x = lo + GOLDEN * (hi - lo);
+        let (mut w, mut v) = (x, x);
+        let mut fx = f(x);
+        let (mut fw, mut fv) = (fx, fx);
+        // step: the last step; step_before: the one before it.
+        let (mut step, mut step_before) = (0.0f64, 0.0f64);
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            let tol1 = tolerance + 1e-12 * x.abs();
+            let tol2 = 2.0 * tol1;
+            if (x - mid).abs() <= tol2 - 0.5 * (hi - lo) {
+                break;
+            }
+            let mut parabolic = None;
+            if step_before.abs() > tol1 {
+                let r = (x - w) * (fx - fv);
+                let q = (x - v) * (fx - fw);
+                let mut p = (x - v) * q - (x - w) * r;
+                let mut q = 2.0 * (q - r);
+                if q > 0.0 {
+                    p = -p;
+                }
+                q = q.abs();
+                if p.abs() < (0.5 * q * step_before).abs() && p > q * (lo - x) && p < q * (hi - x) {
+                    parabolic = Some(p / q);
+                }
+            }
+            match parabolic {
+                Some(d) => {
+                    step_before = step;
+                    step = d;
+                    let u = x + step;
+                    if u - lo < tol2 || hi - u < tol2 {
+                        step = tol1.copysign(mid - x);
+                    }
+                }
+                None => {
+                    step_before = if x >= mid { lo - x } else { hi - x };
+                    step = GOLDEN * step_before;
+                }
+            }
+            let u = if step.abs() >= tol1 {
+                x + step
             } else {
-                lo = a;
+                x + tol1.copysign(step)
+            };
+            let fu = f(u);
+            if fu <= fx {
+                if u >= x {
+                    lo = x;
+                } else {
+                    hi = x;
+                }
+                (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
+            } else {
+                if u < x {
+                    lo = u;
+                } else {
+                    hi = u;
+                }
+                if fu <= fw || w == x {
+                    (v, fv, w, fw) = (w, fw, u, fu);
+                } else if fu <= fv || v == x || v == w {
+                    (v, fv) = (u, fu);
+                }
             }
         }
-        (lo + hi) / 2.0
+        x
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::{best_edge_tint, brent_minimum, misfit};
+
+        /// Over r ∈ (0, 0.999] the misfit has one minimum in g (what the coarse scan's
+        /// bracket relies on), and the tint found is that minimum: no tint on a 401-point
+        /// grid, nor 1e-6 either side of it, fits Schlick's curve better.
+        #[test]
+        fn the_edge_tint_is_the_misfits_one_minimum() {
+            for j in 1..=100 {
+                let r = 0.999 * f64::from(j) / 100.0;
+                let grid: Vec<f64> = (0..=400).map(|i| misfit(r, f64::from(i) / 400.0)).collect();
+                let interior = (1..400)
+                    .filter(|&i| grid[i] < grid[i - 1] && grid[i] <= grid[i + 1])
+                    .count();
+                let at_ends = usize::from(grid[0] < grid[1]) + usize::from(grid[400] < grid[399]);
+                assert_eq!(interior + at_ends, 1, "r {r}: more than one minimum");
+                let g = best_edge_tint(r);
+                let found = misfit(r, g);
+                let smallest = grid.iter().copied().fold(f64::INFINITY, f64::min);
+                assert!(
+                    found <= smallest,
+                    "r {r}: g {g} misfit {found} > grid {smallest}"
+                );
+                for nearby in [g - 1e-6, g + 1e-6] {
+                    if (0.0..=1.0).contains(&nearby) {
+                        assert!(found <= misfit(r, nearby), "r {r}: g {g} vs {nearby}");
+                    }
+                }
+            }
+        }
+
+        /// Brent's method on functions whose minimum is known: inside, and at either end.
+        #[test]
+        fn brent_finds_known_minima() {
+            let inside = brent_minimum(|x| (x - 0.3).powi(2) + 1.0, 0.0, 1.0, 1e-9);
+            assert!((inside - 0.3).abs() < 1e-6, "{inside}");
+            let at_hi = brent_minimum(|x| -x, 0.0, 1.0, 1e-9);
+            assert!(at_hi > 1.0 - 1e-8 && at_hi <= 1.0, "{at_hi}");
+            let at_lo = brent_minimum(|x| x.exp(), 0.25, 0.5, 1e-9);
+            assert!((0.25..0.25 + 1e-8).contains(&at_lo), "{at_lo}");
+            let quartic = brent_minimum(|x| (x - 0.7).powi(4), 0.0, 1.0, 1e-9);
+            assert!((quartic - 0.7).abs() < 1e-3, "{quartic}");
+        }
     }
 }
 
