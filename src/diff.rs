@@ -47,12 +47,8 @@ pub struct DiffImage {
 /// Reads a PNG (8-bit or 16-bit, grey or RGB, with or without alpha; 16-bit is rounded
 /// to 8) or an OpenEXR file's first RGB(A) layer, by its extension.
 pub fn read_image(path: &Path) -> Result<DiffImage, String> {
-    let bytes = combustion_scene::read_regular_file(
-        path,
-        MAX_IMAGE_BYTES,
-        "combustion::diff::MAX_IMAGE_BYTES",
-    )
-    .map_err(|e| e.to_string())?;
+    let bytes = combustion_scene::read_regular_file(path, MAX_IMAGE_BYTES, "an image to compare")
+        .map_err(|e| e.to_string())?;
     let extension = path
         .extension()
         .and_then(|e| e.to_str())

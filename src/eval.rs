@@ -25,6 +25,7 @@ use combustion_optics::microfacet::{
     g2_smith_ggx_height_correlated_anisotropic, g2_smith_ggx_separable, g_cook_torrance_1981,
     lambda_ggx, lambda_ggx_anisotropic,
 };
+use combustion_optics::readable;
 use combustion_optics::vec3::Vec3;
 
 use crate::Error;
@@ -320,7 +321,12 @@ pub const FLAGS: &[EvalFlag] = &[
 pub fn parse_value(flag: &EvalFlag, text: &str) -> Result<Vec<f64>, String> {
     let list = crate::number_list(text, flag.lengths)?;
     if let Some(bad) = list.iter().find(|&&x| x < flag.low || x > flag.high) {
-        return Err(format!("{bad} is outside [{}, {}]", flag.low, flag.high));
+        return Err(format!(
+            "{} is outside [{}, {}]",
+            readable(*bad),
+            readable(flag.low),
+            readable(flag.high)
+        ));
     }
     Ok(list)
 }

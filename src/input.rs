@@ -16,12 +16,12 @@ pub const MAX_CAMERA_PATH_BYTES: u64 = 16 << 20;
 /// The largest criteria file read (`diff --criteria-file`): 1 MiB.
 pub const MAX_CRITERIA_BYTES: u64 = 1 << 20;
 
-/// Reads `path` as UTF-8 text under the rule above; `limit_name` names the constant that
-/// sets `limit`, for the message. The error is the message alone (the caller names the
+/// Reads `path` as UTF-8 text under the rule above; `what` says what the file is
+/// (`"a camera path"`), for the message when it passes `limit`. The error is the message alone (the caller names the
 /// file and what it was for).
-pub fn read_text(path: &Path, limit: u64, limit_name: &str) -> Result<String, String> {
+pub fn read_text(path: &Path, limit: u64, what: &str) -> Result<String, String> {
     let bytes =
-        combustion_scene::read_regular_file(path, limit, limit_name).map_err(|e| e.to_string())?;
+        combustion_scene::read_regular_file(path, limit, what).map_err(|e| e.to_string())?;
     String::from_utf8(bytes).map_err(|e| {
         format!(
             "not UTF-8 text (invalid byte at offset {})",
@@ -65,13 +65,16 @@ mod tests {
         for (path, expected) in [
             (&fifo, "not a regular file"),
             (&zero, "not a regular file"),
-            (&big, "101 bytes is more than the limit of 100 (LIMIT)"),
+            (
+                &big,
+                "101 bytes is more than the 100 bytes a test file may have",
+            ),
             (&binary, "not UTF-8 text (invalid byte at offset 1)"),
         ] {
-            let error = read_text(path, 100, "LIMIT").unwrap_err();
+            let error = read_text(path, 100, "a test file").unwrap_err();
             assert!(error.contains(expected), "{}: {error}", path.display());
         }
-        assert_eq!(read_text(&good, 100, "LIMIT").unwrap(), "500,1,2\n");
+        assert_eq!(read_text(&good, 100, "a test file").unwrap(), "500,1,2\n");
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -40,14 +40,7 @@ use combustion_scene::gltf::{ImportError, ImportOptions};
 use combustion_scene::{Scene, SceneError};
 use combustion_vk::{Device, DeviceDesc, DeviceSelector, ValidationLog, VkError};
 
-/// `text` for an error message: at most 40 characters, the rest elided with the count
-/// (a hostile or careless value of thousands of characters is not echoed whole).
-pub fn shortened(text: &str) -> String {
-    match text.char_indices().nth(40) {
-        Some((cut, _)) => format!("{}… ({} characters)", &text[..cut], text.chars().count()),
-        None => text.to_owned(),
-    }
-}
+pub use combustion_optics::shortened;
 
 /// A finite number; the error says why not, without the value (clap's message shows it).
 pub fn finite_number(text: &str) -> Result<f64, String> {

@@ -31,6 +31,15 @@ pub enum OutputError {
         /// The missing folder.
         folder: PathBuf,
     },
+    /// A folder the output needs (its own folder, a report's folder, or one of their
+    /// parents) is an existing file.
+    #[error("cannot write {path}: {file} is a file, not a folder")]
+    NotAFolder {
+        /// The output path as given.
+        path: PathBuf,
+        /// The file in the way.
+        file: PathBuf,
+    },
     /// The output path is empty.
     #[error("cannot write to an empty file name")]
     EmptyName,
@@ -257,6 +266,13 @@ pub fn check_writable(path: &Path) -> Result<PathBuf, OutputError> {
     if bytes.ends_with(b"/") || last == b"." || last == b".." || path.file_name().is_none() {
         return Err(OutputError::FolderName { path: named });
     }
+    // What the whole chain names, as the kernel resolves it: a pipe or terminal behind
+    // `/dev/stdout` or `/proc/self/fd/N` ends in a name (`pipe:[N]`) that is no file.
+    if let Ok(meta) = std::fs::metadata(path) {
+        if !meta.is_file() && !meta.is_dir() {
+            return Err(OutputError::NotRegular { path: named });
+        }
+    }
     // Follow symlinks to the file they name (up to 40 links, as the kernel does).
     let mut target = path.to_path_buf();
     for _ in 0..40 {
@@ -284,9 +300,12 @@ pub fn check_writable(path: &Path) -> Result<PathBuf, OutputError> {
             _ => {
                 let folder = folder_of(&target);
                 if !folder.is_dir() {
-                    return Err(OutputError::NoFolder {
-                        path: named,
-                        folder,
+                    return Err(match file_in_the_way(&folder) {
+                        Some(file) => OutputError::NotAFolder { path: named, file },
+                        None => OutputError::NoFolder {
+                            path: named,
+                            folder,
+                        },
                     });
                 }
                 // The folder takes a new file (the temporary one is made there).
@@ -301,6 +320,30 @@ pub fn check_writable(path: &Path) -> Result<PathBuf, OutputError> {
         }
     }
     Err(OutputError::SymlinkLoop { path: named })
+}
+
+/// The first of `folder` and its parents that exists as something other than a folder.
+fn file_in_the_way(folder: &Path) -> Option<PathBuf> {
+    folder
+        .ancestors()
+        .find(|a| !a.as_os_str().is_empty() && a.exists())
+        .filter(|a| !a.is_dir())
+        .map(Path::to_path_buf)
+}
+
+/// Makes the output folder `dir` and its parents (a report's or a batch's). A file in
+/// the way is named as such (the system says only "File exists").
+pub fn make_folder(dir: &Path) -> Result<(), OutputError> {
+    if let Some(file) = file_in_the_way(dir) {
+        return Err(OutputError::NotAFolder {
+            path: dir.to_path_buf(),
+            file,
+        });
+    }
+    std::fs::create_dir_all(dir).map_err(|source| OutputError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })
 }
 
 /// Whether two checked outputs ([`check_writable`]'s results) are one file: the same

@@ -236,6 +236,50 @@ fn output_is_a_folder() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// A file where a folder is needed is named as such: as the folder of `-o` (it said the
+/// folder did not exist), as `--report`'s folder or a parent of it (it said "File exists
+/// (os error 17)"); and `-o /dev/stdout` into a pipe is refused as not a regular file (it
+/// said "No such file or directory": the link ends in `pipe:[N]`).
+#[test]
+fn a_file_where_a_folder_is_needed_is_named() {
+    let dir = scratch("file-in-the-way");
+    let file = dir.join("afile");
+    std::fs::write(&file, b"mine").unwrap();
+    let file = file.to_str().unwrap();
+    assert_clear_error(
+        &["render", "-o", &format!("{file}/x.png")],
+        &format!("{file} is a file, not a folder"),
+    );
+    for report in [file.to_owned(), format!("{file}/sub")] {
+        assert_clear_error(
+            &[
+                "bench",
+                "builtin:spheres",
+                "--frames",
+                "2",
+                "--report",
+                &report,
+            ],
+            &format!("cannot write {report}: {file} is a file, not a folder"),
+        );
+    }
+    assert_eq!(std::fs::read(file).unwrap(), b"mine");
+    // The test's own stdout is a pipe.
+    assert_clear_error(
+        &[
+            "render",
+            "-o",
+            "/dev/stdout",
+            "--width",
+            "8",
+            "--height",
+            "8",
+        ],
+        "cannot write /dev/stdout: it is not a regular file",
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 #[test]
 fn unknown_device() {
     assert_clear_error(
@@ -640,7 +684,7 @@ fn plot_bad_input() {
     );
     assert_usage_error(
         &["plot", "dielectrics", "--etas", "1.1,-1.5", "-o", o],
-        "etas[1] = -1.5",
+        "η number 2 -1.5",
     );
     assert_usage_error(
         &[
@@ -718,7 +762,7 @@ fn plot_bad_input() {
     // A negative value reaches the plot's own check (clap takes it for a value).
     assert_usage_error(
         &["plot", "reflectance", "--eta", "-1", "-o", o],
-        "eta[0] (Red) = -1: an index of refraction must be finite and > 0",
+        "η of the red band -1: an index of refraction must be finite and > 0",
     );
     assert_usage_error(
         &["plot", "histogram"],

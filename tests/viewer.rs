@@ -105,6 +105,27 @@ fn view_renders_frames_in_a_window_and_exits_cleanly() {
         assert!(stdout.contains("on-device presentation"), "{stdout}");
         assert_eq!(stdout.lines().count(), 1, "{stdout}");
     }
+    // One frame: too few to time the wall clock between frames, which the summary says
+    // (it printed "median NaN ms").
+    let (code, stdout, stderr) = view(
+        &format!(":{}", xvfb.display),
+        &[
+            "builtin:spheres",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--frames",
+            "1",
+        ],
+    );
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    assert!(
+        stdout.starts_with("viewed 1 frame at 64x48")
+            && stdout.contains("wall clock per frame median not measured")
+            && !stdout.contains("NaN"),
+        "{stdout}"
+    );
     drop(xvfb);
     let (code, _, stderr) = view(":0", &["--vsync", "sometimes"]);
     assert_eq!(code, Some(2), "{stderr}");

@@ -640,7 +640,7 @@ pub(crate) struct BenchArgs {
     /// When frames cull their lights into 16×16-pixel tile lists (auto: when a light has
     /// a range; the culling pass is timed with the lighting pass). A frame of more than
     /// 1024 lights is not culled (a warning says so)
-    #[arg(long, value_name = "WHEN", default_value = "auto", value_parser = named(CULLING))]
+    #[arg(long, value_name = "WHEN", default_value = "auto", value_parser = named(LightCulling::ALL.map(|c| (c.name(), c))))]
     pub(crate) culling: LightCulling,
     /// Measure the variant sets and write the speed-against-error report to DIR
     #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
@@ -660,12 +660,6 @@ pub(crate) struct BenchArgs {
     #[command(flatten)]
     pub(crate) device: DeviceArgs,
 }
-
-pub(crate) const CULLING: [(&str, LightCulling); 3] = [
-    ("auto", LightCulling::Auto),
-    ("always", LightCulling::Always),
-    ("never", LightCulling::Never),
-];
 
 #[derive(Args)]
 pub(crate) struct ViewArgs {

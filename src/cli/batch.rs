@@ -208,12 +208,8 @@ fn finish(run: &Value, results: &[JobResult], suite: &str, folder: &Path) -> Res
 
 /// Makes `folder` (and its parents) and checks that it takes new files.
 fn prepare_folder(folder: &Path, option: &str) -> Result<(), Error> {
-    std::fs::create_dir_all(folder).map_err(|e| {
-        Error::Usage(format!(
-            "{option} {}: cannot make the folder: {e}",
-            folder.display()
-        ))
-    })?;
+    output::make_folder(folder)
+        .map_err(|e| Error::Usage(format!("{option} {}: {e}", folder.display())))?;
     output::check_writable(&folder.join(RESULTS_FILE))?;
     Ok(())
 }
@@ -689,7 +685,7 @@ fn merge(shards: &[PathBuf], folder: &Path) -> Result<(), CliError> {
         let text = combustion::input::read_text(
             &file,
             super::manifest::MAX_MANIFEST_BYTES * 4,
-            "4 × manifest::MAX_MANIFEST_BYTES",
+            "a shard's results",
         )
         .map_err(|e| CliError::Failed(format!("--merge {label}: {e}")))?;
         let bad = |why: &str| CliError::Failed(format!("--merge {label}: {why}"));

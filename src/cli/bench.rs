@@ -20,12 +20,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
         .as_deref()
         .map(combustion::report::PreviousRun::read)
         .transpose()?;
-    std::fs::create_dir_all(dir).map_err(|e| {
-        Error::Output(output::OutputError::Io {
-            path: dir.to_path_buf(),
-            source: e,
-        })
-    })?;
+    output::make_folder(dir)?;
     combustion::report::check_report_folder(dir)?;
     let (device, _) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
     preflight(&device, &o.frame)?;
@@ -195,10 +190,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
         }
     );
     let ranged = scene.lights.iter().filter(|l| l.range().is_some()).count();
-    let culling = CULLING
-        .iter()
-        .find(|(_, culling)| *culling == o.culling)
-        .map_or("?", |(name, _)| name);
+    let culling = o.culling.name();
     let max_culled = combustion::renderer::MAX_CULLED_LIGHTS;
     if o.culling != combustion::renderer::LightCulling::Never && scene.lights.len() > max_culled {
         log::warn!(

@@ -28,7 +28,7 @@ pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
             let text = combustion::input::read_text(
                 path,
                 combustion::input::MAX_CRITERIA_BYTES,
-                "combustion::input::MAX_CRITERIA_BYTES",
+                "a criteria file",
             )
             .map_err(|e| CliError::Failed(format!("--criteria-file {name}: {e}")))?;
             let criteria = combustion::diff::Criteria::parse_file_text(&text)

@@ -112,9 +112,8 @@ impl Manifest {
     /// and, where one is at fault, the job.
     pub(crate) fn read(path: &Path) -> Result<Manifest, Error> {
         let label = shortened(&path.display().to_string());
-        let text =
-            combustion::input::read_text(path, MAX_MANIFEST_BYTES, "manifest::MAX_MANIFEST_BYTES")
-                .map_err(|e| Error::Usage(format!("{label}: {e}")))?;
+        let text = combustion::input::read_text(path, MAX_MANIFEST_BYTES, "a manifest")
+            .map_err(|e| Error::Usage(format!("{label}: {e}")))?;
         let folder = path.parent().unwrap_or(Path::new(""));
         let name = path
             .file_stem()

@@ -11,12 +11,9 @@ use crate::{write_stdout, CliError};
 
 /// Reads a `wavelength_nm,n,k` table; problems name the file and the line.
 pub(crate) fn read_spectrum(path: &Path) -> Result<Spectrum, CliError> {
-    let text = combustion::input::read_text(
-        path,
-        combustion::input::MAX_TABLE_BYTES,
-        "combustion::input::MAX_TABLE_BYTES",
-    )
-    .map_err(|e| CliError::Failed(format!("cannot read {}: {e}", path.display())))?;
+    let text =
+        combustion::input::read_text(path, combustion::input::MAX_TABLE_BYTES, "a spectral table")
+            .map_err(|e| CliError::Failed(format!("cannot read {}: {e}", path.display())))?;
     Spectrum::from_csv(&text).map_err(|e| CliError::Failed(format!("{}: {e}", path.display())))
 }
 

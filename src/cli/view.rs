@@ -29,10 +29,21 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
         background: o.picture.background,
         tone_mapping: o.picture.tone_mapping,
     })?;
-    let median = |list: &[f64]| combustion::report::Spread::of(list.to_vec()).median;
+    // A run too short to have read back a frame's timings (--frames 1) says so.
+    let median = |list: &[f64]| {
+        if list.is_empty() {
+            "not measured".to_owned()
+        } else {
+            format!(
+                "{:.2} ms",
+                combustion::report::Spread::of(list.to_vec()).median
+            )
+        }
+    };
     outln!(
-        "viewed {} frames at {}x{} on {}: GPU total median {:.2} ms, wall clock per frame median {:.2} ms ({} in flight, on-device presentation){}",
+        "viewed {} frame{} at {}x{} on {}: GPU total median {}, wall clock per frame median {} ({} in flight, on-device presentation){}",
         summary.presented,
+        if summary.presented == 1 { "" } else { "s" },
         summary.width,
         summary.height,
         summary.device_name,

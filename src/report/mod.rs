@@ -499,7 +499,7 @@ fn measure_scaling(
     for n in SCALING_LIGHT_COUNTS {
         let lit = crate::with_localised_lights(&unlit, n);
         for culling in [LightCulling::Auto, LightCulling::Never] {
-            step(&format!("scaling {n} lights, culling {culling:?}"));
+            step(&format!("scaling {n} lights, culling {}", culling.name()));
             rows.push(time_configuration(
                 renderer,
                 &lit,
@@ -1430,12 +1430,8 @@ impl PreviousRun {
             path: path.clone(),
             message,
         };
-        let text = crate::input::read_text(
-            &path,
-            crate::input::MAX_REPORT_BYTES,
-            "combustion::input::MAX_REPORT_BYTES",
-        )
-        .map_err(problem)?;
+        let text = crate::input::read_text(&path, crate::input::MAX_REPORT_BYTES, "a report's CSV")
+            .map_err(problem)?;
         let mut records = csv_records(&text).into_iter();
         let (_, header) = records.next().ok_or_else(|| problem("empty".into()))?;
         let column = |name: &str| {
@@ -1563,12 +1559,7 @@ pub fn write(
     reproduction: Option<&Reproduction>,
 ) -> Result<(), Error> {
     let (rows, device) = (&m.rows[..], &m.device);
-    std::fs::create_dir_all(dir).map_err(|e| {
-        Error::Output(output::OutputError::Io {
-            path: dir.to_path_buf(),
-            source: e,
-        })
-    })?;
+    output::make_folder(dir)?;
     let png = plot_speed_vs_error(
         "Speed against error",
         &format!(

@@ -163,12 +163,9 @@ impl CameraPath {
     /// target_y target_z`; `#` starts a comment; times strictly increasing. Errors name
     /// the file and line.
     pub fn read(path: &Path) -> Result<Self, String> {
-        let text = crate::input::read_text(
-            path,
-            crate::input::MAX_CAMERA_PATH_BYTES,
-            "combustion::input::MAX_CAMERA_PATH_BYTES",
-        )
-        .map_err(|e| format!("{}: cannot read the camera path: {e}", path.display()))?;
+        let text =
+            crate::input::read_text(path, crate::input::MAX_CAMERA_PATH_BYTES, "a camera path")
+                .map_err(|e| format!("{}: cannot read the camera path: {e}", path.display()))?;
         Self::parse(&text).map_err(|e| format!("{}:{e}", path.display()))
     }
 

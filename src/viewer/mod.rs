@@ -1205,9 +1205,7 @@ impl App<'_> {
                 state.renderer.set_shading(shading, &[&state.gpu_scene])?;
                 log::info!(
                     "shadows {}",
-                    shading
-                        .shadows
-                        .map_or("off".to_owned(), |s| format!("{:?}", s.filter))
+                    shading.shadows.map_or("off", |s| s.filter.name())
                 );
             }
             "m" | "M" | "o" | "O" => {

@@ -71,8 +71,9 @@ def textured(image_bytes, mime="image/png"):
     return g
 
 
-def glb(json_bytes, bin_bytes=None, version=2, length=None, first_chunk=b"JSON"):
-    json_bytes += b" " * ((4 - len(json_bytes) % 4) % 4)
+def glb(json_bytes, bin_bytes=None, version=2, length=None, first_chunk=b"JSON", pad=True):
+    if pad:
+        json_bytes += b" " * ((4 - len(json_bytes) % 4) % 4)
     body = struct.pack("<I", len(json_bytes)) + first_chunk + json_bytes
     if bin_bytes is not None:
         bin_bytes += b"\0" * ((4 - len(bin_bytes) % 4) % 4)
@@ -105,6 +106,8 @@ bad("glb-first-chunk-not-json.glb", glb(b'{"asset":{"version":"2.0"}}', first_ch
 g = triangle()
 g["buffers"][0] = {"byteLength": g["buffers"][0]["byteLength"]}
 bad("glb-missing-bin-chunk.glb", glb(json.dumps(g).encode()))
+# A JSON chunk of 29 bytes, unpadded, before the BIN chunk.
+bad("glb-unpadded-json-chunk.glb", glb(b'{"asset":{"version":"2.0"}}  ', b"\1\2\3\4", pad=False))
 
 g = triangle(); g["buffers"][0]["uri"] = "missing-buffer.bin"
 bad("missing-buffer-file.gltf", g)

@@ -165,6 +165,7 @@ pub mod environment;
 pub mod fresnel;
 pub mod layers;
 pub mod microfacet;
+pub mod readable;
 pub mod real;
 pub mod sheen;
 pub mod variants;
@@ -174,6 +175,7 @@ pub use brdf::{
     brdf_evaluate, brdf_evaluate_view, brdf_view, BrdfInputs, BrdfView, DiffuseModel,
     UnknownDiffuseModel,
 };
+pub use readable::{readable, shortened};
 pub use real::Real;
 pub use vec3::{ShadingFrame, Vec3};
 

@@ -20,9 +20,9 @@ pub enum PlotError {
         height: u32,
     },
     /// A numeric parameter is outside its domain (η, k, ηi, polarisation weight).
-    #[error("invalid {name} = {value}: {expected}")]
+    #[error("invalid {name} {}: {expected}", combustion_optics::readable(*.value))]
     InvalidParameter {
-        /// Which parameter, e.g. `"outside_eta"` or `"eta[1] (Green)"`.
+        /// Which parameter, in words, e.g. `"outside IOR"` or `"η of the green band"`.
         name: String,
         /// The value passed.
         value: f64,

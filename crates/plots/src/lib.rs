@@ -111,7 +111,7 @@ pub(crate) fn check_k(name: String, value: f64) -> Result<(), PlotError> {
 pub(crate) fn check_weight(value: f64) -> Result<(), PlotError> {
     if !(0.0..=1.0).contains(&value) {
         return Err(PlotError::InvalidParameter {
-            name: "polarisation_weight".to_owned(),
+            name: "polarisation weight".to_owned(),
             value,
             expected: "the polarisation weight must be in [0, 1] (0 = s, 1 = p, 0.5 = unpolarised)",
         });

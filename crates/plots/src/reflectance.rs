@@ -202,7 +202,7 @@ fn describe(
             )
         }
         PlotMaterial::Dielectric { eta } => {
-            check_eta("eta".to_owned(), *eta)?;
+            check_eta("η".to_owned(), *eta)?;
             (
                 format!(
                     "Fresnel reflectance of a dielectric, ηt = {}",
@@ -223,8 +223,14 @@ fn describe(
         PlotMaterial::Conductor { eta, k } => {
             for band in RgbBand::ALL {
                 let c = band.index();
-                check_eta(format!("eta[{c}] ({band})"), eta[c])?;
-                check_k(format!("k[{c}] ({band})"), k[c])?;
+                check_eta(
+                    format!("η of the {} band", band.to_string().to_lowercase()),
+                    eta[c],
+                )?;
+                check_k(
+                    format!("k of the {} band", band.to_string().to_lowercase()),
+                    k[c],
+                )?;
             }
             (
                 "Fresnel reflectance of a conductor η + ik".to_owned(),
@@ -398,7 +404,7 @@ fn tir_region_label(
 /// above 1e4 or not finite, ηi likewise, weight outside [0, 1].
 pub fn plot_reflectance(plot: &ReflectancePlot) -> Result<Png, PlotError> {
     check_size(plot.width, plot.height)?;
-    check_eta("outside_eta".to_owned(), plot.outside_eta)?;
+    check_eta("outside IOR".to_owned(), plot.outside_eta)?;
     check_weight(plot.polarisation_weight)?;
     let (title, subtitle, channels) = describe(&plot.material, plot.outside_eta)?;
     render(plot.width, plot.height, |root, s| {
@@ -562,7 +568,7 @@ pub(crate) fn render_dielectric_family(
     height: u32,
 ) -> Result<(Png, AngleCoords), PlotError> {
     check_size(width, height)?;
-    check_eta("outside_eta".to_owned(), outside_eta)?;
+    check_eta("outside IOR".to_owned(), outside_eta)?;
     if etas.is_empty() {
         return Err(PlotError::EmptyEtaList);
     }
@@ -573,7 +579,7 @@ pub(crate) fn render_dielectric_family(
         });
     }
     for (i, &eta) in etas.iter().enumerate() {
-        check_eta(format!("etas[{i}]"), eta)?;
+        check_eta(format!("η number {}", i + 1), eta)?;
     }
     render(width, height, |root, s| {
         draw_family(root, s, etas, outside_eta)

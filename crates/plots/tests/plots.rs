@@ -310,18 +310,18 @@ const BAD_ETAS: [f64; 7] = [
 fn bad_eta_k_outside_eta_and_weight_are_errors() {
     for bad in BAD_ETAS {
         let p = plot(PlotMaterial::Dielectric { eta: bad }, 1.0, 0.5, 800, 500);
-        assert_invalid_parameter(plot_reflectance(&p), "eta");
+        assert_invalid_parameter(plot_reflectance(&p), "η");
         let p = plot(PlotMaterial::Dielectric { eta: 1.5 }, bad, 0.5, 800, 500);
-        assert_invalid_parameter(plot_reflectance(&p), "outside_eta");
+        assert_invalid_parameter(plot_reflectance(&p), "outside IOR");
         let p = plot(PlotMaterial::Metal(BuiltinMetal::Gold), bad, 0.5, 800, 500);
-        assert_invalid_parameter(plot_reflectance(&p), "outside_eta");
+        assert_invalid_parameter(plot_reflectance(&p), "outside IOR");
         let conductor = PlotMaterial::Conductor {
             eta: [0.2, bad, 1.1],
             k: [3.9, 2.6, 2.5],
         };
         assert_invalid_parameter(
             plot_reflectance(&plot(conductor, 1.0, 0.5, 800, 500)),
-            "eta[1] (Green)",
+            "η of the green band",
         );
     }
     for bad in [f64::NAN, f64::INFINITY, -0.1, -1e-300, 1e5] {
@@ -331,12 +331,12 @@ fn bad_eta_k_outside_eta_and_weight_are_errors() {
         };
         assert_invalid_parameter(
             plot_reflectance(&plot(conductor, 1.0, 0.5, 800, 500)),
-            "k[2] (Blue)",
+            "k of the blue band",
         );
     }
     for bad in [f64::NAN, -0.01, 1.01, f64::INFINITY] {
         let p = plot(PlotMaterial::Metal(BuiltinMetal::Gold), 1.0, bad, 800, 500);
-        assert_invalid_parameter(plot_reflectance(&p), "polarisation_weight");
+        assert_invalid_parameter(plot_reflectance(&p), "polarisation weight");
     }
     // The edges of the ranges are accepted.
     for w in [0.0, 1.0] {
@@ -373,11 +373,11 @@ fn bad_dielectric_family_lists_are_errors() {
     for bad in BAD_ETAS {
         assert_invalid_parameter(
             plot_dielectric_family(&[1.33, bad], 1.0, 800, 500),
-            "etas[1]",
+            "η number 2",
         );
         assert_invalid_parameter(
             plot_dielectric_family(&[1.33], bad, 800, 500),
-            "outside_eta",
+            "outside IOR",
         );
     }
 }
@@ -387,7 +387,14 @@ fn error_messages_name_the_problem() {
     let e = plot_dielectric_family(&[1.5], -1.0, 800, 500).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "invalid outside_eta = -1: an index of refraction must be finite and > 0"
+        "invalid outside IOR -1: an index of refraction must be finite and > 0"
+    );
+    // A value far out of range is shown short, not as its 301 digits.
+    let e = plot_dielectric_family(&[1e300], 1.0, 800, 500).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "invalid η number 1 1e300: an index of refraction must lie in [1e-4, 1e4], the range \
+         the optics reference evaluates"
     );
     let e = plot_spectrum("gold", BuiltinMetal::Gold.spectrum(), 0, 10).unwrap_err();
     assert_eq!(

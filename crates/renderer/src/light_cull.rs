@@ -37,6 +37,18 @@ pub enum LightCulling {
 }
 
 impl LightCulling {
+    /// Every choice, in the order the command line lists them.
+    pub const ALL: [LightCulling; 3] = [Self::Auto, Self::Always, Self::Never];
+
+    /// The name the command line gives it (`auto`, `always`, `never`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Always => "always",
+            Self::Never => "never",
+        }
+    }
+
     /// Whether a frame with `lights` culls them.
     pub fn culls(self, lights: &[combustion_scene::Light]) -> bool {
         let fits = !lights.is_empty() && lights.len() <= MAX_CULLED_LIGHTS;

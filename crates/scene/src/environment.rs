@@ -51,7 +51,7 @@ impl EnvironmentImage {
         let bytes = crate::gltf::read_regular_file(
             path,
             MAX_ENVIRONMENT_FILE_BYTES,
-            "combustion_scene::MAX_ENVIRONMENT_FILE_BYTES",
+            "an environment image",
         )
         .map_err(|e| fail(e.to_string()))?;
         let image = match extension.as_deref() {
@@ -140,7 +140,7 @@ fn check_size(width: usize, height: usize) -> Result<(u32, u32), String> {
     let count = (width as u64).saturating_mul(height as u64);
     if width == 0 || height == 0 || count > MAX_ENVIRONMENT_TEXELS {
         return Err(format!(
-            "{width}×{height} is outside 1 … {MAX_ENVIRONMENT_TEXELS} texels (combustion_scene::MAX_ENVIRONMENT_TEXELS)"
+            "{width}×{height} is outside the 1 to {MAX_ENVIRONMENT_TEXELS} texels an environment image may have"
         ));
     }
     Ok((width as u32, height as u32))
@@ -148,8 +148,8 @@ fn check_size(width: usize, height: usize) -> Result<(u32, u32), String> {
 
 fn decode_radiance_hdr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
     use image::ImageDecoder as _;
-    let decoder = image::codecs::hdr::HdrDecoder::new(std::io::Cursor::new(bytes))
-        .map_err(|e| e.to_string())?;
+    let decoder =
+        image::codecs::hdr::HdrDecoder::new(std::io::Cursor::new(bytes)).map_err(hdr_error)?;
     let (w, h) = decoder.dimensions();
     let (width, height) = check_size(w as usize, h as usize)?;
     // Decoded straight into the texels (the codec writes RGB f32s, which is their
@@ -160,13 +160,51 @@ fn decode_radiance_hdr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
     }
     decoder
         .read_image(bytemuck::cast_slice_mut(&mut texels))
-        .map_err(|e| e.to_string())?;
+        .map_err(hdr_error)?;
     Ok(EnvironmentImage {
         name: String::new(),
         width,
         height,
         texels,
     })
+}
+
+/// What a file that ends before its texels do is told (the codecs say "failed to fill
+/// whole buffer" or "reference to missing bytes").
+const TRUNCATED: &str = "the file ends before its pixels do (truncated or damaged)";
+
+/// The Radiance decoder's error in words.
+fn hdr_error(e: image::ImageError) -> String {
+    match e {
+        image::ImageError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            TRUNCATED.to_owned()
+        }
+        e => format!(
+            "not a Radiance .hdr file this reader takes: {}",
+            crate::error::shortened(&e.to_string())
+        ),
+    }
+}
+
+/// The OpenEXR decoder's error in words.
+fn exr_error(e: exr::error::Error) -> String {
+    use exr::error::Error;
+    let shortened = |m: &str| crate::error::shortened(m);
+    match e {
+        Error::Invalid(m) if m.contains("missing bytes") => TRUNCATED.to_owned(),
+        Error::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => TRUNCATED.to_owned(),
+        Error::Invalid(m) if m.contains("no layer") => {
+            "no layer of the file has R, G and B channels (an RGB or RGBA image is needed)"
+                .to_owned()
+        }
+        Error::Invalid(m) => format!("not a valid OpenEXR file ({})", shortened(&m)),
+        Error::NotSupported(m) => format!(
+            "it uses an OpenEXR feature this reader does not support ({})",
+            shortened(&m)
+        ),
+        Error::Io(io) => format!("cannot read it: {io}"),
+        Error::Aborted => "reading it was cancelled".to_owned(),
+    }
 }
 
 fn decode_exr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
@@ -206,7 +244,7 @@ pub fn decode_exr_rgb(
         .first_valid_layer()
         .all_attributes()
         .from_buffered(std::io::Cursor::new(bytes))
-        .map_err(|e| e.to_string())?;
+        .map_err(exr_error)?;
     let size = image.layer_data.size;
     let (width, height) = size_ok(size.width(), size.height())?;
     let (texels, _, _) = image.layer_data.channel_data.pixels;
@@ -413,7 +451,29 @@ mod tests {
             (if (x, y) == (3, 2) { 3e38 } else { 1.0 }, 1.0, 1.0)
         })
         .unwrap();
+        // Files cut short: the decoders' own words ("failed to fill whole buffer",
+        // "reference to missing bytes") replaced by what happened.
+        let truncated_exr = temporary("truncated.exr");
+        exr::prelude::write_rgb_file(&truncated_exr, 8, 4, |x, y| {
+            let [r, g, b] = pattern(x, y);
+            (r, g, b)
+        })
+        .unwrap();
+        let whole = std::fs::read(&truncated_exr).unwrap();
+        std::fs::write(&truncated_exr, &whole[..whole.len() * 2 / 3]).unwrap();
+        let truncated_hdr = temporary("truncated.hdr");
+        let mut hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n".to_vec();
+        hdr.extend([128u8, 128, 128, 129].repeat(8 * 4 - 5));
+        std::fs::write(&truncated_hdr, hdr).unwrap();
         for (path, expected) in [
+            (
+                truncated_exr,
+                "the file ends before its pixels do (truncated or damaged)",
+            ),
+            (
+                truncated_hdr,
+                "the file ends before its pixels do (truncated or damaged)",
+            ),
             (text, "environment image"),
             (wrong, "not a .hdr or .exr file"),
             (negative, "radiance must be between 0 and 1e30"),
@@ -464,7 +524,7 @@ mod tests {
     }
 
     /// The file-size limit is the fixed [`MAX_ENVIRONMENT_FILE_BYTES`], and the message
-    /// says so (not a glTF import option, which does not apply to environments).
+    /// says so in words (not by a Rust name, nor as a glTF import's limit).
     #[test]
     fn an_oversized_environment_file_names_its_limit() {
         let path = temporary("huge.hdr");
@@ -476,7 +536,9 @@ mod tests {
         let message = EnvironmentImage::load(&path).unwrap_err().to_string();
         std::fs::remove_file(&path).unwrap();
         assert!(
-            message.contains("MAX_ENVIRONMENT_FILE_BYTES") && !message.contains("ImportOptions"),
+            message.contains(&format!(
+                "is more than the {MAX_ENVIRONMENT_FILE_BYTES} bytes an environment image may have"
+            )) && !message.contains("::"),
             "{message}"
         );
     }

@@ -95,17 +95,6 @@ pub enum LightProblem {
     },
 }
 
-/// `x` for a message: plain where that is short, in exponent form for very large or
-/// very small magnitudes (never 39 digits).
-/// An f32 keeps its own shortest form (0.1, not 0.10000000149011612).
-pub(crate) fn readable<T>(x: T) -> String
-where
-    T: Copy + Into<f64> + std::fmt::Display + std::fmt::LowerExp,
-{
-    let v: f64 = x.into();
-    if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
-}
+/// Numbers in messages: six significant digits at most, exponent form for very large or
+/// small magnitudes (never 39 digits), the same in every crate.
+pub(crate) use combustion_optics::{readable, shortened};

@@ -22,6 +22,13 @@ const EXPECTED: &[(&str, &[&str])] = &[
         &["malformed GLB", "first chunk is `XXXX`"],
     ),
     (
+        "glb-unpadded-json-chunk.glb",
+        &[
+            "malformed GLB",
+            "chunk 0 (`JSON`) is 29 bytes, not a multiple of 4",
+        ],
+    ),
+    (
         "glb-missing-bin-chunk.glb",
         &["buffer 0", "binary chunk", "has none"],
     ),

@@ -1,5 +1,7 @@
 //! The one error type of the crate.
 
+use combustion_optics::{readable, shortened};
+
 use crate::RgbBand;
 
 /// Everything that can go wrong when reading a spectral table or reducing it to RGB.
@@ -18,7 +20,7 @@ pub enum SpectrumError {
         found: usize,
     },
     /// A field is not a number.
-    #[error("line {line}: cannot parse the {column} field `{text}` as a number")]
+    #[error("line {line}: cannot parse the {column} field `{}` as a number", shortened(.text))]
     UnparsableNumber {
         /// 1-based line number.
         line: usize,
@@ -28,7 +30,7 @@ pub enum SpectrumError {
         text: String,
     },
     /// A field parses as a number but is infinite or NaN.
-    #[error("line {line}: the {column} field `{text}` is not a finite number")]
+    #[error("line {line}: the {column} field `{}` is not a finite number", shortened(.text))]
     NonFinite {
         /// 1-based line number.
         line: usize,
@@ -38,7 +40,7 @@ pub enum SpectrumError {
         text: String,
     },
     /// A wavelength is zero or negative.
-    #[error("line {line}: wavelength must be positive, found {wavelength_nm} nm")]
+    #[error("line {line}: wavelength must be positive, found {} nm", readable(*.wavelength_nm))]
     NonPositiveWavelength {
         /// 1-based line number.
         line: usize,
@@ -46,7 +48,7 @@ pub enum SpectrumError {
         wavelength_nm: f64,
     },
     /// n or k is negative.
-    #[error("line {line}: {column} must not be negative, found {value}")]
+    #[error("line {line}: {column} must not be negative, found {}", readable(*.value))]
     NegativeConstant {
         /// 1-based line number.
         line: usize,
@@ -57,7 +59,9 @@ pub enum SpectrumError {
     },
     /// n or k is above [`crate::MAX_OPTICAL_CONSTANT`].
     #[error(
-        "line {line}: {column} {value:e} is above {max:e}, beyond any material's optical constants"
+        "line {line}: {column} {} is above {}, beyond any material's optical constants",
+        readable(*.value),
+        readable(*.max)
     )]
     ConstantTooLarge {
         /// 1-based line number.
@@ -71,7 +75,8 @@ pub enum SpectrumError {
     },
     /// A wavelength equals the one on the previous data row.
     #[error(
-        "line {line}: duplicate wavelength {wavelength_nm} nm (already on line {previous_line})"
+        "line {line}: duplicate wavelength {} nm (already on line {previous_line})",
+        readable(*.wavelength_nm)
     )]
     DuplicateWavelength {
         /// 1-based line number.
@@ -83,8 +88,10 @@ pub enum SpectrumError {
     },
     /// A wavelength is smaller than the one on the previous data row.
     #[error(
-        "line {line}: wavelength {wavelength_nm} nm is below {previous_nm} nm on line \
-         {previous_line}; rows must be sorted by increasing wavelength"
+        "line {line}: wavelength {} nm is below {} nm on line {previous_line}; rows must be \
+         sorted by increasing wavelength",
+        readable(*.wavelength_nm),
+        readable(*.previous_nm)
     )]
     UnsortedWavelength {
         /// 1-based line number.
@@ -97,7 +104,7 @@ pub enum SpectrumError {
         previous_nm: f64,
     },
     /// The text has no data rows at all.
-    #[error("line {line}: end of input without any `wavelength_nm,n,k` data row")]
+    #[error("{}", no_data(*.line))]
     NoData {
         /// Number of lines read (the line at which the input ended).
         line: usize,
@@ -180,4 +187,12 @@ pub enum SpectrumError {
         /// What was expected.
         expected: &'static str,
     },
+}
+
+/// [`SpectrumError::NoData`]'s message: an empty file is called empty (not "line 0").
+fn no_data(lines: usize) -> String {
+    match lines {
+        0 => "the file is empty: no `wavelength_nm,n,k` data row".to_owned(),
+        n => format!("line {n}: end of input without any `wavelength_nm,n,k` data row"),
+    }
 }

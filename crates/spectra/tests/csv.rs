@@ -71,6 +71,13 @@ fn unparsable_number() {
     );
     assert!(e.to_string().starts_with("line 3:"), "{e}");
     assert!(e.to_string().contains("abc"), "{e}");
+    // A field of megabytes is named by its start and length, not echoed whole.
+    let e = err(&format!("450,{},1\n", "x".repeat(10_000_000))).to_string();
+    assert!(
+        e.len() < 200 && e.contains("… (10000000 characters)"),
+        "{}",
+        &e[..200.min(e.len())]
+    );
     // Empty field.
     assert!(matches!(
         err("450,1,\n"),
@@ -218,6 +225,10 @@ fn unsorted_wavelengths() {
 #[test]
 fn no_data() {
     assert_eq!(err(""), SpectrumError::NoData { line: 0 });
+    assert_eq!(
+        err("").to_string(),
+        "the file is empty: no `wavelength_nm,n,k` data row"
+    );
     let e = err("# only\nwavelength_nm,n,k\n\n");
     assert_eq!(e, SpectrumError::NoData { line: 3 });
     assert!(e.to_string().starts_with("line 3:"), "{e}");

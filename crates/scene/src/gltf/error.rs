@@ -119,7 +119,7 @@ pub enum ImportProblem {
     /// [`ImportOptions::max_image_dimension`](super::ImportOptions::max_image_dimension)
     /// (found from its header, before decoding).
     #[error(
-        "image {index}{} is {width}×{height} pixels, larger than the limit of {limit} per side (ImportOptions::max_image_dimension)",
+        "image {index}{} is {width}×{height} pixels, larger than the limit of {limit} per side",
         name_suffix(name)
     )]
     ImageTooLarge {

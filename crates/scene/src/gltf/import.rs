@@ -1055,7 +1055,10 @@ impl Importer<'_> {
         let range = light.range;
         if let Some(r) = range {
             if !(r.is_finite() && r > 0.0) {
-                return Err(err(format!("range {r} must be a finite number above 0")));
+                return Err(err(format!(
+                    "range {} must be a finite number above 0",
+                    crate::error::readable(r)
+                )));
             }
         }
         let position = world.w_axis.truncate();
@@ -1112,7 +1115,8 @@ impl Importer<'_> {
                 }
                 if outer > std::f32::consts::FRAC_PI_2 {
                     self.warn(format!(
-                        "light {index}: outer cone angle {outer} > π/2 clamped to π/2"
+                        "light {index}: outer cone angle {} > π/2 clamped to π/2",
+                        crate::error::readable(outer)
                     ));
                     outer = std::f32::consts::FRAC_PI_2;
                 }
@@ -1217,26 +1221,31 @@ impl Importer<'_> {
             ));
         };
         if !(p.yfov.is_finite() && p.yfov > 0.0 && p.yfov < std::f32::consts::PI) {
-            return Err(err(format!("yfov {} must lie in (0, π)", p.yfov)));
+            return Err(err(format!(
+                "yfov {} must lie in (0, π)",
+                crate::error::readable(p.yfov)
+            )));
         }
         if !(p.znear.is_finite() && p.znear > 0.0) {
             return Err(err(format!(
                 "znear {} must be a finite number above 0",
-                p.znear
+                crate::error::readable(p.znear)
             )));
         }
         if let Some(zfar) = p.zfar {
             if !(zfar.is_finite() && zfar > p.znear) {
                 return Err(err(format!(
-                    "zfar {zfar} must be finite and larger than znear {}",
-                    p.znear
+                    "zfar {} must be finite and larger than znear {}",
+                    crate::error::readable(zfar),
+                    crate::error::readable(p.znear)
                 )));
             }
         }
         if let Some(aspect) = p.aspect_ratio {
             if !(aspect.is_finite() && aspect > 0.0) {
                 return Err(err(format!(
-                    "aspectRatio {aspect} must be a finite number above 0"
+                    "aspectRatio {} must be a finite number above 0",
+                    crate::error::readable(aspect)
                 )));
             }
         }
@@ -1300,7 +1309,7 @@ impl Importer<'_> {
                 let err = |message: String| ImportProblem::Camera { index, message };
                 if index >= root.cameras.len() {
                     return Err(err(format!(
-                        "was asked for (ImportOptions::camera) but the file has {} camera(s)",
+                        "was asked for but the file has {} camera(s)",
                         root.cameras.len()
                     )));
                 }

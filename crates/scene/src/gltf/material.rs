@@ -85,7 +85,8 @@ impl Importer<'_> {
         if !(0.0..=1.0).contains(&x) {
             let clamped = x.clamp(0.0, 1.0);
             self.warn(format!(
-                "material {index}: {what} {x} is outside [0, 1]; clamped to {clamped}"
+                "material {index}: {what} {} is outside [0, 1]; clamped to {clamped}",
+                crate::error::readable(x)
             ));
             return Ok(clamped);
         }
@@ -717,7 +718,7 @@ impl Importer<'_> {
         self.decoded_pixels += pixels;
         if self.decoded_pixels > self.options.max_decoded_pixels {
             return Err(format!(
-                "it brings the scene's image pixels (each image once per colour space it is used in) to {}, over the budget of {} (ImportOptions::max_decoded_pixels)",
+                "it brings the scene's image pixels (each image once per colour space it is used in) to {}, over the budget of {} for one scene",
                 self.decoded_pixels, self.options.max_decoded_pixels
             ));
         }

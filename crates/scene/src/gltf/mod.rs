@@ -246,9 +246,8 @@ impl fmt::Display for ImportReport {
 /// Imports a `.gltf` (with its `.bin` and image files) or a `.glb` file. The format is
 /// told by the content (GLB magic), not by the extension.
 pub fn import(path: &Path, options: &ImportOptions) -> Result<(Scene, ImportReport), ImportError> {
-    let bytes =
-        source::read_regular_file(path, options.max_file_bytes, source::MAX_FILE_BYTES_OPTION)
-            .map_err(|e| ImportError::new(path, ImportProblem::Io(e)))?;
+    let bytes = source::read_regular_file(path, options.max_file_bytes, source::SCENE_FILE)
+        .map_err(|e| ImportError::new(path, ImportProblem::Io(e)))?;
     let base = path.parent().map(|p| {
         if p.as_os_str().is_empty() {
             PathBuf::from(".")

@@ -418,7 +418,10 @@ pub(crate) fn parse_volume(
         Some(v) => {
             let d = number(v, "attenuationDistance")?;
             if d <= 0.0 {
-                return Err(format!("attenuationDistance must be above 0, found {d}"));
+                return Err(format!(
+                    "attenuationDistance must be above 0, found {}",
+                    crate::error::readable(d)
+                ));
             }
             d
         }

@@ -107,7 +107,16 @@ pub(crate) fn split_container<'a>(
                 chunk_name(kind)
             )),
         }
-        // Chunks are padded to 4 bytes; tolerate a missing final padding.
+        // Chunks are padded to 4 bytes; tolerate a missing final padding. A chunk before
+        // another whose length is not padded leaves the next header at an unknown place
+        // (read at the rounded offset, it would be garbage: "truncated chunk").
+        if chunk_length % 4 != 0 && start + chunk_length < data.len() {
+            return Err(glb(format!(
+                "chunk {index} ({}) is {chunk_length} bytes, not a multiple of 4: the GLB \
+                 format pads every chunk to 4 bytes, so the chunk after it cannot be found",
+                chunk_name(kind)
+            )));
+        }
         offset = start + chunk_length;
         offset = (offset + 3) & !3;
         index += 1;
@@ -172,7 +181,7 @@ pub(crate) fn resolve_uri(
             // `C:/...`: a Windows absolute path.
             if !allow_external {
                 return Err(refuse(
-                    "absolute paths are refused (ImportOptions::allow_external_uris)".into(),
+                    "absolute paths are refused: a scene's files lie in its folder".into(),
                 ));
             }
             return Ok(Resolved::File(PathBuf::from(percent_decode(uri)?)));
@@ -180,7 +189,7 @@ pub(crate) fn resolve_uri(
         if scheme.eq_ignore_ascii_case("file") {
             if !allow_external {
                 return Err(refuse(
-                    "`file:` URIs are refused (ImportOptions::allow_external_uris)".into(),
+                    "`file:` URIs are refused: a scene's files lie in its folder".into(),
                 ));
             }
             let path = &uri[5..];
@@ -203,7 +212,7 @@ pub(crate) fn resolve_uri(
     if absolute {
         if !allow_external {
             return Err(refuse(
-                "absolute paths are refused (ImportOptions::allow_external_uris)".into(),
+                "absolute paths are refused: a scene's files lie in its folder".into(),
             ));
         }
         return Ok(Resolved::File(relative.to_path_buf()));
@@ -218,8 +227,7 @@ pub(crate) fn resolve_uri(
         }
         if depth < 0 && !allow_external {
             return Err(refuse(
-                "it leaves the scene's folder (`..`); refused (ImportOptions::allow_external_uris)"
-                    .into(),
+                "it leaves the scene's folder (`..`): a scene's files lie in its folder".into(),
             ));
         }
     }
@@ -373,9 +381,10 @@ pub(crate) fn encode_base64(bytes: &[u8]) -> String {
 /// Reads `path` if it is a regular file (after symlinks) of at most `limit` bytes, both
 /// checked before reading: a device, FIFO or socket is refused without being opened
 /// (so `/dev/zero` is not read without end and a FIFO does not block), and the read
-/// itself stops past `limit` in case the file grows meanwhile. `limit_name` is the
-/// option or constant that sets `limit`, for the message when the file exceeds it.
-pub fn read_regular_file(path: &Path, limit: u64, limit_name: &str) -> std::io::Result<Vec<u8>> {
+/// itself stops past `limit` in case the file grows meanwhile. `what` says in words what
+/// the file is (`"a scene file"`), for the message when it exceeds the limit (the limit's
+/// option or constant is named in the caller's documentation, not to the user).
+pub fn read_regular_file(path: &Path, limit: u64, what: &str) -> std::io::Result<Vec<u8>> {
     use std::io::Read as _;
     let meta = std::fs::metadata(path)?;
     if !meta.is_file() {
@@ -387,7 +396,7 @@ pub fn read_regular_file(path: &Path, limit: u64, limit_name: &str) -> std::io::
     let too_large = |size: u64| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidData,
-            format!("{size} bytes is more than the limit of {limit} ({limit_name})"),
+            format!("{size} bytes is more than the {limit} bytes {what} may have"),
         )
     };
     if meta.len() > limit {
@@ -403,8 +412,9 @@ pub fn read_regular_file(path: &Path, limit: u64, limit_name: &str) -> std::io::
     Ok(bytes)
 }
 
-/// The import option that limits every file an import reads.
-pub(crate) const MAX_FILE_BYTES_OPTION: &str = "ImportOptions::max_file_bytes";
+/// What every file an import reads is called when it passes
+/// [`ImportOptions::max_file_bytes`](super::ImportOptions::max_file_bytes).
+pub(crate) const SCENE_FILE: &str = "a scene's file";
 
 /// Reads a resolved URI's bytes (a file within `limit` bytes, as [`read_regular_file`];
 /// `limit` is [`ImportOptions::max_file_bytes`](super::ImportOptions::max_file_bytes)).
@@ -415,7 +425,7 @@ pub(crate) fn read_resolved(
 ) -> Result<(Option<String>, Vec<u8>), ImportProblem> {
     match resolved {
         Resolved::Data { mime, bytes } => Ok((mime, bytes)),
-        Resolved::File(path) => match read_regular_file(&path, limit, MAX_FILE_BYTES_OPTION) {
+        Resolved::File(path) => match read_regular_file(&path, limit, SCENE_FILE) {
             Ok(bytes) => Ok((None, bytes)),
             Err(source) => Err(ImportProblem::ExternalIo {
                 uri: truncate(uri),
