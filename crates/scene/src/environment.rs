@@ -35,6 +35,16 @@ pub struct EnvironmentImage {
     pub texels: Vec<[f32; 3]>,
 }
 
+/// The file formats of an environment image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EnvironmentFormat {
+    /// Radiance RGBE (`.hdr`), flat or run-length encoded.
+    RadianceHdr,
+    /// OpenEXR (`.exr`): its first layer with R, G and B channels, at its largest
+    /// resolution level.
+    OpenExr,
+}
+
 impl EnvironmentImage {
     /// Reads a Radiance `.hdr` (RGBE) or OpenEXR `.exr` file: a regular file of at most
     /// [`MAX_ENVIRONMENT_FILE_BYTES`], decoding to at most [`MAX_ENVIRONMENT_TEXELS`]
@@ -54,14 +64,33 @@ impl EnvironmentImage {
             "an environment image",
         )
         .map_err(|e| fail(e.to_string()))?;
-        let image = match extension.as_deref() {
-            Some("hdr") => decode_radiance_hdr(&bytes),
-            Some("exr") => decode_exr(&bytes),
-            _ => Err("not a .hdr or .exr file".into()),
+        let format = match extension.as_deref() {
+            Some("hdr") => EnvironmentFormat::RadianceHdr,
+            Some("exr") => EnvironmentFormat::OpenExr,
+            _ => return Err(fail("not a .hdr or .exr file".into())),
+        };
+        Self::from_bytes(&bytes, format, &path.display().to_string())
+    }
+
+    /// Decodes a Radiance `.hdr` or OpenEXR image from `bytes` (the file's contents) by
+    /// [`EnvironmentImage::load`]'s rules, after the file rule: at most
+    /// [`MAX_ENVIRONMENT_TEXELS`] texels, every value between 0 and
+    /// [`crate::MAX_RADIANCE`]. `name` names it in messages.
+    pub fn from_bytes(
+        bytes: &[u8],
+        format: EnvironmentFormat,
+        name: &str,
+    ) -> Result<Self, SceneError> {
+        let image = match format {
+            EnvironmentFormat::RadianceHdr => decode_radiance_hdr(bytes),
+            EnvironmentFormat::OpenExr => decode_exr(bytes),
         }
-        .map_err(fail)?;
+        .map_err(|reason| SceneError::EnvironmentImage {
+            path: name.to_owned(),
+            reason,
+        })?;
         let image = Self {
-            name: path.display().to_string(),
+            name: name.to_owned(),
             ..image
         };
         image.validate()?;
@@ -207,6 +236,52 @@ fn exr_error(e: exr::error::Error) -> String {
     }
 }
 
+/// The most bytes one layer (or tile) of an OpenEXR file may decode to, over all its
+/// channels: [`MAX_ENVIRONMENT_TEXELS`] × 16 (four 32-bit channels), 1 GiB.
+pub const MAX_EXR_LAYER_BYTES: u64 = MAX_ENVIRONMENT_TEXELS * 16;
+
+/// Refuses, from the headers alone and before any pixel is decompressed, a file whose
+/// layers or tiles would decode to more than [`MAX_EXR_LAYER_BYTES`], or a layer whose
+/// size `size_ok` refuses. The decoder sizes each block's output from the header
+/// (a 779-byte file asked for 53 GB, and its pixels were decompressed even when the
+/// size check below refused the layer: found by the `environment_image` fuzz target).
+fn check_exr_headers(
+    bytes: &[u8],
+    size_ok: &impl Fn(usize, usize) -> Result<(u32, u32), String>,
+) -> Result<(), String> {
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(exr_error)?;
+    for (index, header) in meta.headers.iter().enumerate() {
+        let bytes_per_texel: u64 = header
+            .channels
+            .list
+            .iter()
+            .map(|c| c.sample_type.bytes_per_sample() as u64)
+            .sum();
+        let (width, height) = (header.layer_size.width(), header.layer_size.height());
+        let mut areas = vec![(format!("layer {index}"), width as u64 * height as u64)];
+        if let exr::meta::BlockDescription::Tiles(tiles) = &header.blocks {
+            let tile = tiles.tile_size;
+            areas.push((
+                format!("a tile of layer {index}"),
+                tile.width() as u64 * tile.height() as u64,
+            ));
+        }
+        for (what, area) in areas {
+            let decoded = area.saturating_mul(bytes_per_texel);
+            if decoded > MAX_EXR_LAYER_BYTES {
+                return Err(format!(
+                    "{what} would decode to {decoded} bytes ({} channels), more than the \
+                     {MAX_EXR_LAYER_BYTES} an environment image may have",
+                    header.channels.list.len()
+                ));
+            }
+        }
+        size_ok(width, height)?;
+    }
+    Ok(())
+}
+
 fn decode_exr(bytes: &[u8]) -> Result<EnvironmentImage, String> {
     let (width, height, texels) = decode_exr_rgb(bytes, check_size)?;
     Ok(EnvironmentImage {
@@ -225,6 +300,7 @@ pub fn decode_exr_rgb(
     size_ok: impl Fn(usize, usize) -> Result<(u32, u32), String>,
 ) -> Result<(u32, u32, Vec<[f32; 3]>), String> {
     use exr::prelude::*;
+    check_exr_headers(bytes, &size_ok)?;
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
@@ -465,7 +541,16 @@ mod tests {
         let mut hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n".to_vec();
         hdr.extend([128u8, 128, 128, 129].repeat(8 * 4 - 5));
         std::fs::write(&truncated_hdr, hdr).unwrap();
+        // A 779-byte file whose header declares a layer of 53 GB of samples (found by the
+        // fuzzer: the decoder allocated it, and the process aborted).
+        let bomb = temporary("bomb.exr");
+        let seed = include_bytes!("../../../fuzz/seeds/environment_image/exr-decompression-bomb");
+        std::fs::write(&bomb, &seed[1..]).unwrap();
         for (path, expected) in [
+            (
+                bomb,
+                "layer 0 would decode to 53150221824 bytes (3 channels), more than the 1073741824",
+            ),
             (
                 truncated_exr,
                 "the file ends before its pixels do (truncated or damaged)",

@@ -35,8 +35,9 @@ pub use alpha_coverage::{alpha_mip_scales, ALPHA_MIP_LEVELS};
 pub use builtin::{builtin_scene, builtin_scene_with, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
 pub use camera::{Camera, FRAMING_ELEVATION, FRAMING_FOV};
 pub use environment::{
-    decode_exr_rgb, equirect_coordinates, studio_radiance, Environment, EnvironmentImage,
-    MAX_ENVIRONMENT_FILE_BYTES, MAX_ENVIRONMENT_TEXELS, STUDIO_BOXES, STUDIO_GROUND, STUDIO_SKY,
+    decode_exr_rgb, equirect_coordinates, studio_radiance, Environment, EnvironmentFormat,
+    EnvironmentImage, MAX_ENVIRONMENT_FILE_BYTES, MAX_ENVIRONMENT_TEXELS, STUDIO_BOXES,
+    STUDIO_GROUND, STUDIO_SKY,
 };
 pub use error::{CameraProblem, LightProblem, SceneError};
 /// The rule for every file Combustion reads (glTF files and their buffers and images,

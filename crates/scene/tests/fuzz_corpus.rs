@@ -5,6 +5,8 @@
 //! that breaks an input the fuzzer had reached fails here, in the ordinary test run, with
 //! the input's name.
 
+#[path = "../../../fuzz/common/environment.rs"]
+mod environment_target;
 #[path = "../../../fuzz/common/gltf.rs"]
 mod fuzz_target;
 #[path = "../../../fuzz/common/replay.rs"]
@@ -73,4 +75,21 @@ fn an_internal_error_of_the_importer_is_a_crash_to_the_replay() {
         file: "<memory>".into(),
         problem: ImportProblem::Internal("index out of bounds".into()),
     }));
+}
+
+/// The environment images' corpus (fuzz/seeds/environment_image/, as files: the first
+/// byte picks .hdr or .exr) through the readers, as the `environment_image` target runs
+/// them.
+#[test]
+fn the_environment_image_corpus_replays_without_a_panic() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/environment_image");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .collect();
+    files.sort();
+    let (inputs, panicked) = replay::replay(&files, environment_target::decode);
+    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    // Both formats, accepted and refused, are in it (not a stub).
+    assert!(inputs >= 6, "{inputs} inputs");
 }
