@@ -12,7 +12,7 @@ pub const MAX_TABLE_BYTES: u64 = 16 << 20;
 /// The largest earlier `report.csv` read (`bench --against`): 64 MiB.
 pub const MAX_REPORT_BYTES: u64 = 64 << 20;
 /// The largest camera path read (`view --camera-path`): 16 MiB.
-pub const MAX_CAMERA_PATH_BYTES: u64 = 16 << 20;
+pub use combustion_scene::MAX_CAMERA_PATH_BYTES;
 /// The largest criteria file read (`diff --criteria-file`): 1 MiB.
 pub const MAX_CRITERIA_BYTES: u64 = 1 << 20;
 

@@ -2,8 +2,6 @@
 //! and scripted camera paths. Pure geometry, no window: every motion takes the elapsed
 //! time or the mouse travel, so a run is the same at any frame rate.
 
-use std::path::Path;
-
 use combustion_scene::Camera;
 use glam::Vec3;
 
@@ -152,83 +150,8 @@ fn basis(up: Vec3) -> (Vec3, Vec3, Vec3) {
     (x, y, z)
 }
 
-/// A scripted camera: keyframes of (time, eye, target), linearly interpolated.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CameraPath {
-    keys: Vec<(f32, Vec3, Vec3)>,
-}
-
-impl CameraPath {
-    /// Reads a path file: one keyframe per line, `time_s eye_x eye_y eye_z target_x
-    /// target_y target_z`; `#` starts a comment; times strictly increasing. Errors name
-    /// the file and line.
-    pub fn read(path: &Path) -> Result<Self, String> {
-        let text =
-            crate::input::read_text(path, crate::input::MAX_CAMERA_PATH_BYTES, "a camera path")
-                .map_err(|e| format!("{}: cannot read the camera path: {e}", path.display()))?;
-        Self::parse(&text).map_err(|e| format!("{}:{e}", path.display()))
-    }
-
-    /// Parses a path's text; errors start with the line number.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let mut keys: Vec<(f32, Vec3, Vec3)> = Vec::new();
-        for (number, line) in text.lines().enumerate() {
-            let line = line.split('#').next().unwrap_or("").trim();
-            if line.is_empty() {
-                continue;
-            }
-            let values: Vec<f32> = line
-                .split_whitespace()
-                .map(|v| v.parse::<f32>().ok().filter(|x| x.is_finite()))
-                .collect::<Option<_>>()
-                .ok_or_else(|| format!("{}: not a list of finite numbers", number + 1))?;
-            let [t, ex, ey, ez, tx, ty, tz] = values[..] else {
-                return Err(format!(
-                    "{}: {} numbers; a keyframe is `time eye_x eye_y eye_z target_x target_y target_z`",
-                    number + 1,
-                    values.len()
-                ));
-            };
-            let (eye, target) = (Vec3::new(ex, ey, ez), Vec3::new(tx, ty, tz));
-            if eye == target {
-                return Err(format!("{}: the eye is at the target", number + 1));
-            }
-            if keys.last().is_some_and(|&(last, _, _)| t <= last) {
-                return Err(format!("{}: times must increase", number + 1));
-            }
-            keys.push((t, eye, target));
-        }
-        if keys.is_empty() {
-            return Err("1: no keyframes".into());
-        }
-        Ok(Self { keys })
-    }
-
-    /// The camera at `time` (held at the first and last keyframes outside them), with
-    /// `base`'s up, field of view and planes.
-    pub fn at(&self, time: f32, base: &Camera) -> Camera {
-        let i = self.keys.partition_point(|&(t, _, _)| t <= time);
-        let (eye, target) = match (i, self.keys.get(i)) {
-            (0, _) => (self.keys[0].1, self.keys[0].2),
-            (_, None) => {
-                let last = self.keys[self.keys.len() - 1];
-                (last.1, last.2)
-            }
-            (_, Some(&(t1, e1, g1))) => {
-                let (t0, e0, g0) = self.keys[i - 1];
-                let s = (time - t0) / (t1 - t0);
-                // a + (b − a)·s: exactly a where a key repeats (a camera that holds still
-                // is the same camera every frame).
-                (e0 + (e1 - e0) * s, g0 + (g1 - g0) * s)
-            }
-        };
-        Camera {
-            position: eye,
-            target,
-            ..*base
-        }
-    }
-}
+/// Scripted camera paths are the scene crate's ([`combustion_scene::CameraPath`]).
+pub use combustion_scene::CameraPath;
 
 #[cfg(test)]
 mod tests {
@@ -329,42 +252,5 @@ mod tests {
         let before = orbit.distance;
         orbit.zoom(2.0);
         assert!((orbit.distance - before * 0.81).abs() < 1e-4);
-    }
-
-    #[test]
-    fn camera_paths_interpolate_and_hold_their_ends() {
-        let path =
-            CameraPath::parse("# t eye target\n0 0 0 5 0 0 0\n2 4 0 5 4 0 0  # a keyframe\n\n")
-                .unwrap();
-        let base = start();
-        assert!(close(
-            path.at(-1.0, &base).position,
-            Vec3::new(0.0, 0.0, 5.0)
-        ));
-        assert!(close(
-            path.at(1.0, &base).position,
-            Vec3::new(2.0, 0.0, 5.0)
-        ));
-        assert!(close(path.at(1.0, &base).target, Vec3::new(2.0, 0.0, 0.0)));
-        assert!(close(
-            path.at(9.0, &base).position,
-            Vec3::new(4.0, 0.0, 5.0)
-        ));
-        assert_eq!(path.at(1.0, &base).vertical_fov, base.vertical_fov);
-    }
-
-    #[test]
-    fn bad_camera_paths_name_the_line() {
-        for (text, expected) in [
-            ("", "1: no keyframes"),
-            ("0 0 0 5 0 0 0\n0 1 0 5 0 0 0", "2: times must increase"),
-            ("0 0 0 5 0 0", "1: 6 numbers"),
-            ("0 0 0 x 0 0 0", "1: not a list of finite numbers"),
-            ("0 1 1 1 1 1 1", "1: the eye is at the target"),
-            ("0 0 0 inf 0 0 0", "1: not a list of finite numbers"),
-        ] {
-            let error = CameraPath::parse(text).unwrap_err();
-            assert!(error.starts_with(expected), "{text:?}: {error}");
-        }
     }
 }

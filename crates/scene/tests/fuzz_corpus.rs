@@ -5,6 +5,8 @@
 //! that breaks an input the fuzzer had reached fails here, in the ordinary test run, with
 //! the input's name.
 
+#[path = "../../../fuzz/common/camera_path.rs"]
+mod camera_path_target;
 #[path = "../../../fuzz/common/environment.rs"]
 mod environment_target;
 #[path = "../../../fuzz/common/gltf.rs"]
@@ -77,18 +79,38 @@ fn an_internal_error_of_the_importer_is_a_crash_to_the_replay() {
     }));
 }
 
-/// The environment images' corpus (fuzz/seeds/environment_image/, as files: the first
-/// byte picks .hdr or .exr) through the readers, as the `environment_image` target runs
-/// them.
-#[test]
-fn the_environment_image_corpus_replays_without_a_panic() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/environment_image");
+/// The files of a corpus committed as a folder, `fuzz/seeds/NAME/`, sorted.
+fn seed_files(name: &str) -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fuzz/seeds")
+        .join(name);
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|entry| entry.unwrap().path())
         .collect();
     files.sort();
-    let (inputs, panicked) = replay::replay(&files, environment_target::decode);
+    files
+}
+
+/// The camera paths' corpus (fuzz/seeds/camera_path/) through the parser and the
+/// cameras of every path it accepts, as the `camera_path` target runs them.
+#[test]
+fn the_camera_path_corpus_replays_without_a_panic() {
+    let (inputs, panicked) = replay::replay(
+        &seed_files("camera_path"),
+        camera_path_target::parse_and_follow,
+    );
+    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    assert!(inputs >= 5, "{inputs} inputs");
+}
+
+/// The environment images' corpus (fuzz/seeds/environment_image/, as files: the first
+/// byte picks .hdr or .exr) through the readers, as the `environment_image` target runs
+/// them.
+#[test]
+fn the_environment_image_corpus_replays_without_a_panic() {
+    let (inputs, panicked) =
+        replay::replay(&seed_files("environment_image"), environment_target::decode);
     assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
     // Both formats, accepted and refused, are in it (not a stub).
     assert!(inputs >= 6, "{inputs} inputs");
