@@ -7,11 +7,8 @@ use std::process::Command;
 
 use common::combustion;
 
-fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("combustion-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> common::Scratch {
+    common::Scratch::new("cli", name)
 }
 
 /// A failed run: non-zero exit, exactly one `error:` line naming `expected`, no panic.

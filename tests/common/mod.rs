@@ -24,6 +24,42 @@ use combustion::vk::{DeviceDesc, DeviceSelector, ValidationLog};
 use combustion::{Headless, HeadlessDesc};
 use glam::{DMat4, DVec3, DVec4, Vec4Swizzles};
 
+/// A fresh, empty folder of one test's files (`combustion-KIND-PID-NAME` in the
+/// temporary folder), removed when the test is done with it; kept when the test fails,
+/// to look at. The tests left some twenty such folders behind on every run.
+pub struct Scratch(PathBuf);
+
+impl Scratch {
+    pub fn new(kind: &str, name: &str) -> Self {
+        let dir =
+            std::env::temp_dir().join(format!("combustion-{kind}-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+}
+
+impl std::ops::Deref for Scratch {
+    type Target = std::path::Path;
+    fn deref(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl AsRef<std::path::Path> for Scratch {
+    fn as_ref(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
 /// Runs the `combustion` command on lavapipe: its exit code (-1 for a signal), standard
 /// output and standard error; a panic is a failure of the test, whatever the command.
 pub fn combustion(args: &[&str]) -> (i32, String, String) {

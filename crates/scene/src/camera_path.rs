@@ -120,19 +120,13 @@ impl CameraPath {
 mod tests {
     use super::*;
 
+    /// The camera a path takes its up, field of view and planes from.
     fn start() -> Camera {
-        Camera {
-            position: Vec3::new(0.0, 0.0, 5.0),
-            target: Vec3::ZERO,
-            up: Vec3::Y,
-            vertical_fov: 0.8,
-            near: 0.1,
-            far: 100.0,
-        }
+        Camera::framing(None)
     }
 
     fn close(a: Vec3, b: Vec3) -> bool {
-        (a - b).length() < 1e-4
+        a.abs_diff_eq(b, 1e-4)
     }
 
     #[test]
