@@ -61,9 +61,6 @@ pub struct GpuScene {
     pub(crate) object_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
     /// Each mesh's box in its own space (a posed frame places them).
     pub(crate) mesh_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
-    /// The object table as uploaded (a posed frame writes it again with its
-    /// transforms).
-    pub(crate) object_table: Vec<GpuObject>,
     /// Unique to this scene's geometry as uploaded or last edited (no two scenes, and no
     /// two states of one, share one): shadow maps rendered from it are kept while it
     /// and their placement stay the same.
@@ -348,7 +345,6 @@ struct Tables {
     world_bounds: Option<(glam::Vec3, glam::Vec3)>,
     object_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
     mesh_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
-    object_table: Vec<GpuObject>,
     casts_shadows: Vec<bool>,
 }
 
@@ -458,7 +454,6 @@ impl Tables {
                 .reduce(|(a, b), (c, d)| (a.min(c), b.max(d))),
             object_bounds,
             mesh_bounds,
-            object_table: objects,
             casts_shadows: scene.objects.iter().map(|o| o.casts_shadows).collect(),
         })
     }
@@ -502,7 +497,6 @@ impl GpuScene {
             world_bounds: tables.world_bounds,
             object_bounds: tables.object_bounds,
             mesh_bounds: tables.mesh_bounds,
-            object_table: tables.object_table,
             geometry_version: next_geometry_version(),
             scene: scene.clone(),
             ids: SceneIds::new(scene),
@@ -599,7 +593,6 @@ impl GpuScene {
         self.world_bounds = tables.world_bounds;
         self.object_bounds = tables.object_bounds;
         self.mesh_bounds = tables.mesh_bounds;
-        self.object_table = tables.object_table;
         self.geometry_version = next_geometry_version();
         self.scene = next;
         self.ids = ids;
