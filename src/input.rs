@@ -4,8 +4,6 @@
 //! size limit, both checked before any byte is read, so a FIFO never blocks and
 //! `/dev/zero` is never read without end; then UTF-8 text.
 
-use std::path::Path;
-
 /// The largest spectral table (`--csv`) read: 16 MiB (a table of every nanometre from
 /// 450 to 740 nm takes a few KB).
 pub const MAX_TABLE_BYTES: u64 = 16 << 20;
@@ -16,19 +14,9 @@ pub use combustion_scene::MAX_CAMERA_PATH_BYTES;
 /// The largest criteria file read (`diff --criteria-file`): 1 MiB.
 pub const MAX_CRITERIA_BYTES: u64 = 1 << 20;
 
-/// Reads `path` as UTF-8 text under the rule above; `what` says what the file is
-/// (`"a camera path"`), for the message when it passes `limit`. The error is the message alone (the caller names the
-/// file and what it was for).
-pub fn read_text(path: &Path, limit: u64, what: &str) -> Result<String, String> {
-    let bytes =
-        combustion_scene::read_regular_file(path, limit, what).map_err(|e| e.to_string())?;
-    String::from_utf8(bytes).map_err(|e| {
-        format!(
-            "not UTF-8 text (invalid byte at offset {})",
-            e.utf8_error().valid_up_to()
-        )
-    })
-}
+/// Reads `path` as UTF-8 text under the rule above (the scene crate's, beside
+/// [`combustion_scene::read_regular_file`]).
+pub use combustion_scene::read_text;
 
 #[cfg(test)]
 mod tests {

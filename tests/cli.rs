@@ -2005,6 +2005,32 @@ fn the_studio_default_is_announced_only_when_it_is_kept() {
     }
 }
 
+/// Saves `scene` as DIR/NAME.gltf and renders it at 32×24 into DIR/NAME.png with the
+/// `extra` options: the exit code, standard output and error, and the PNG's path.
+fn render_saved_scene(
+    dir: &std::path::Path,
+    name: &str,
+    scene: &combustion::scene::Scene,
+    extra: &[&str],
+) -> (i32, String, String, std::path::PathBuf) {
+    let file = dir.join(format!("{name}.gltf"));
+    combustion::scene::gltf::save_gltf(scene, &file).unwrap();
+    let out = dir.join(format!("{name}.png"));
+    let mut args = vec![
+        "render",
+        file.to_str().unwrap(),
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let (code, stdout, stderr) = combustion(&args);
+    (code, stdout, stderr, out)
+}
+
 /// A scene with nothing to draw renders its background with a warning saying so, and an
 /// accuracy budget on it says that no pixel was compared and keeps the default variant
 /// set (before, an empty scene met any budget and picked the fastest set).
@@ -2013,21 +2039,8 @@ fn an_empty_scene_says_so_and_meets_no_budget() {
     let dir = scratch("empty");
     let mut scene = combustion::scene::builtin_scene("spheres").unwrap();
     scene.objects.clear();
-    let file = dir.join("empty.gltf");
-    combustion::scene::gltf::save_gltf(&scene, &file).unwrap();
-    let out = dir.join("x.png");
-    let (code, stdout, stderr) = combustion(&[
-        "render",
-        file.to_str().unwrap(),
-        "--width",
-        "32",
-        "--height",
-        "24",
-        "--max-error",
-        "0.5",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let (code, stdout, stderr, out) =
+        render_saved_scene(&dir, "empty", &scene, &["--max-error", "0.5"]);
     assert_eq!(code, 0, "{stdout}{stderr}");
     assert!(stderr.contains("nothing to draw"), "{stderr}");
     assert!(
@@ -2062,21 +2075,9 @@ fn a_frame_that_cannot_show_the_scene_says_why() {
     far.objects[0].transform =
         glam::Mat4::from_translation(glam::Vec3::new(1e8, 0.0, 0.0)) * far.objects[0].transform;
     far.camera = Camera::framing(far.world_bounds());
-    // Saves `scene` as NAME.gltf and renders it at 32×24 (it must succeed): its stderr.
+    // Renders `scene` saved as a file (it must succeed): its stderr.
     let render = |name: &str, scene: &combustion::scene::Scene| {
-        let file = dir.join(format!("{name}.gltf"));
-        combustion::scene::gltf::save_gltf(scene, &file).unwrap();
-        let out = dir.join(format!("{name}.png"));
-        let (code, stdout, stderr) = combustion(&[
-            "render",
-            file.to_str().unwrap(),
-            "--width",
-            "32",
-            "--height",
-            "24",
-            "-o",
-            out.to_str().unwrap(),
-        ]);
+        let (code, stdout, stderr, out) = render_saved_scene(&dir, name, scene, &[]);
         assert_eq!(code, 0, "{name}: {stdout}{stderr}");
         assert!(out.exists(), "{name}");
         stderr

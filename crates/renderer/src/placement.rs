@@ -115,18 +115,15 @@ impl SlotPlacement {
             return Ok(());
         };
         // The table's entries made again from the scene (not kept as uploaded: 144 bytes
-        // an object, 144 MB for a million placements), placed by the pose.
-        let still = scene.scene();
-        let table: Vec<GpuObject> = still
+        // an object, 144 MB for a million placements), placed by the pose; whether a
+        // mesh has colours was found at upload.
+        let table: Vec<GpuObject> = scene
+            .scene()
             .objects
             .iter()
             .zip(&pose.transforms)
             .map(|(object, transform)| {
-                let has_colors = still
-                    .meshes
-                    .get(object.mesh)
-                    .is_some_and(combustion_scene::Mesh::has_colors);
-                GpuObject::new(object, has_colors).placed(transform)
+                GpuObject::new(object, scene.mesh_colors[object.mesh]).placed(transform)
             })
             .collect();
         write_growing(

@@ -61,6 +61,9 @@ pub struct GpuScene {
     pub(crate) object_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
     /// Each mesh's box in its own space (a posed frame places them).
     pub(crate) mesh_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
+    /// Whether each mesh has vertex colours ([`Mesh::has_colors`], a walk over its
+    /// vertices): found once here, read by every object table made from the scene.
+    pub(crate) mesh_colors: Vec<bool>,
     /// Unique to this scene's geometry as uploaded or last edited (no two scenes, and no
     /// two states of one, share one): shadow maps rendered from it are kept while it
     /// and their placement stay the same.
@@ -345,6 +348,7 @@ struct Tables {
     world_bounds: Option<(glam::Vec3, glam::Vec3)>,
     object_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
     mesh_bounds: Vec<Option<(glam::Vec3, glam::Vec3)>>,
+    mesh_colors: Vec<bool>,
     casts_shadows: Vec<bool>,
 }
 
@@ -359,13 +363,13 @@ impl Tables {
         // identity), its box around its vertices as posed.
         // A skinned object is placed by its joints, in world space: its transform is
         // the identity.
+        let mesh_colors: Vec<bool> = scene.meshes.iter().map(Mesh::has_colors).collect();
         let objects: Vec<GpuObject> = scene
             .objects
             .iter()
             .enumerate()
             .map(|(i, o)| {
-                let has_colors = scene.meshes.get(o.mesh).is_some_and(Mesh::has_colors);
-                let entry = GpuObject::new(o, has_colors);
+                let entry = GpuObject::new(o, mesh_colors[o.mesh]);
                 if crate::deform::deformation(scene, i).0 {
                     entry.placed(&glam::Mat4::IDENTITY)
                 } else {
@@ -454,6 +458,7 @@ impl Tables {
                 .reduce(|(a, b), (c, d)| (a.min(c), b.max(d))),
             object_bounds,
             mesh_bounds,
+            mesh_colors,
             casts_shadows: scene.objects.iter().map(|o| o.casts_shadows).collect(),
         })
     }
@@ -497,6 +502,7 @@ impl GpuScene {
             world_bounds: tables.world_bounds,
             object_bounds: tables.object_bounds,
             mesh_bounds: tables.mesh_bounds,
+            mesh_colors: tables.mesh_colors,
             geometry_version: next_geometry_version(),
             scene: scene.clone(),
             ids: SceneIds::new(scene),
@@ -593,6 +599,7 @@ impl GpuScene {
         self.world_bounds = tables.world_bounds;
         self.object_bounds = tables.object_bounds;
         self.mesh_bounds = tables.mesh_bounds;
+        self.mesh_colors = tables.mesh_colors;
         self.geometry_version = next_geometry_version();
         self.scene = next;
         self.ids = ids;

@@ -21,15 +21,8 @@ impl CameraPath {
     /// one keyframe per line, `time_s eye_x eye_y eye_z target_x target_y target_z`; `#`
     /// starts a comment; times strictly increasing. Errors name the file and line.
     pub fn read(path: &Path) -> Result<Self, String> {
-        let cannot = |e: String| format!("{}: cannot read the camera path: {e}", path.display());
-        let bytes = crate::read_regular_file(path, MAX_CAMERA_PATH_BYTES, "a camera path")
-            .map_err(|e| cannot(e.to_string()))?;
-        let text = String::from_utf8(bytes).map_err(|e| {
-            cannot(format!(
-                "not UTF-8 text (invalid byte at offset {})",
-                e.utf8_error().valid_up_to()
-            ))
-        })?;
+        let text = crate::read_text(path, MAX_CAMERA_PATH_BYTES, "a camera path")
+            .map_err(|e| format!("{}: cannot read the camera path: {e}", path.display()))?;
         Self::parse(&text).map_err(|e| format!("{}:{e}", path.display()))
     }
 

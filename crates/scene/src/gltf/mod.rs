@@ -23,7 +23,7 @@ mod source;
 mod spec_gloss;
 mod writer;
 
-pub use source::read_regular_file;
+pub use source::{read_regular_file, read_text};
 
 use std::fmt;
 use std::path::{Path, PathBuf};

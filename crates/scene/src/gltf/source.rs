@@ -412,6 +412,19 @@ pub fn read_regular_file(path: &Path, limit: u64, what: &str) -> std::io::Result
     Ok(bytes)
 }
 
+/// Reads `path` as UTF-8 text under [`read_regular_file`]'s rule; `what` says what the
+/// file is (`"a camera path"`), for the message when it passes `limit`. The error is the
+/// message alone (the caller names the file and what it was for).
+pub fn read_text(path: &Path, limit: u64, what: &str) -> Result<String, String> {
+    let bytes = read_regular_file(path, limit, what).map_err(|e| e.to_string())?;
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
 /// What every file an import reads is called when it passes
 /// [`ImportOptions::max_file_bytes`](super::ImportOptions::max_file_bytes).
 pub(crate) const SCENE_FILE: &str = "a scene's file";
