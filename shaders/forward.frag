@@ -400,7 +400,12 @@ void main() {
 #endif
     vec3 n = s.normal;
     vec3 t = s.direction;
+#ifdef IRIDESCENCE
+    BrdfView view = brdf_view_with_film(m, ThinFilm(s.film_weight, material.film.y, s.film_thickness_nm),
+                                        n, t, cross(n, t), v);
+#else
     BrdfView view = brdf_view(m, n, t, cross(n, t), v);
+#endif
 #ifdef CLEARCOAT
     SurfaceCoat coat = surface_coat(material, m, s.clearcoat, s.clearcoat_roughness,
                                     s.clearcoat_normal, v);

@@ -41,6 +41,27 @@ layout(location = 3) out vec4 out_sheen;
 #endif
 #endif
 
+#ifdef IRIDESCENCE
+// RG32F: the thin film's weight (r) and thickness in nm (g); the attachment after the
+// emissive, clear coat and sheen targets that the variant has.
+#ifdef EMISSIVE_OCCLUSION_TARGET
+#define FILM_AFTER_EMISSIVE 1
+#else
+#define FILM_AFTER_EMISSIVE 0
+#endif
+#ifdef CLEARCOAT
+#define FILM_AFTER_CLEARCOAT 1
+#else
+#define FILM_AFTER_CLEARCOAT 0
+#endif
+#ifdef SHEEN
+#define FILM_AFTER_SHEEN 1
+#else
+#define FILM_AFTER_SHEEN 0
+#endif
+layout(location = 3 + FILM_AFTER_EMISSIVE + FILM_AFTER_CLEARCOAT + FILM_AFTER_SHEEN) out vec2 out_film;
+#endif
+
 void main() {
 #ifdef FLOOR_GEOMETRY
     // Measurement floor (combustion_renderer::MeasurementFloor::Geometry): the same
@@ -66,6 +87,9 @@ void main() {
 #ifdef SHEEN
     out_sheen = vec4(0.0);
 #endif
+#ifdef IRIDESCENCE
+    out_film = vec2(0.0);
+#endif
     return;
 #endif
     GpuMaterial material = materials[in_material];
@@ -90,6 +114,9 @@ void main() {
 #endif
 #ifdef SHEEN
     out_sheen = vec4(clamp(s.sheen_color, 0.0, 1.0), s.sheen_roughness);
+#endif
+#ifdef IRIDESCENCE
+    out_film = vec2(s.film_weight, s.film_thickness_nm);
 #endif
 #ifdef ALPHA_MASK
     if (cut_away) {

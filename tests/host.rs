@@ -890,8 +890,8 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// blended and transmissive objects (the forward pass, its set and pipeline; the image
 /// behind transmissive objects, a target of its own; the back faces of glass volumes,
 /// targets and a pass of their own, with and without them), with and without a clear
-/// coat and a sheen (G-buffer targets of their own; the sheen's table, made on first
-/// need in place of a placeholder), with and without a pose every frame (skinned and
+/// coat, a sheen and a thin film (G-buffer targets of their own; the sheen's table, made
+/// on first need in place of a placeholder), with and without a pose every frame (skinned and
 /// morphed objects posed by the deform pass; objects moved), rendered in
 /// alternation, each run of
 /// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
@@ -955,6 +955,9 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         // weights), and objects moved by an animation (the slot's object table).
         common::deformed_spheres(),
         common::animated_grid(),
+        // A thin film: its G-buffer target (32-bit floats) and the lighting set's binding
+        // of it, alternating with the sheen's and with none.
+        builtin_scene("iridescence").unwrap(),
     ];
     let (mut host, log, mut output) = host_with_output(&scenes, 3, 48, 40);
     // Each scene for 24 frames (past the 16-frame retire delay), twice round; the
@@ -970,7 +973,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
             host.frame_environments = vec![None, Some(studio)];
         }
         for scene in [
-            0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8, 9, 1, 9, 8, 10, 11, 0, 10,
+            0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8, 9, 1, 9, 8, 10, 11, 0, 10, 12, 9, 12, 1,
         ] {
             for _ in 0..24 {
                 headless::frame(&mut host, &mut output, scene).unwrap();

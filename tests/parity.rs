@@ -211,6 +211,14 @@ fn sheen_parity() {
     assert_parity("sheen", 256, 128, 5000);
 }
 
+/// Thin films (KHR_materials_iridescence, the IRIDESCENCE variant: the film's G-buffer
+/// target, its Fresnel reflectance mixed into the dielectric's and the conductor's)
+/// against the f64 film of the optics crate, with the same bounds.
+#[test]
+fn iridescence_parity() {
+    assert_parity("iridescence", 256, 128, 5000);
+}
+
 /// The error of the cheaper Schlick variant against the full Fresnel equations (f64
 /// reference), per scene, for the README's speed-against-error table. A measurement, not
 /// a test: run with `cargo test --test parity -- --ignored --nocapture`.

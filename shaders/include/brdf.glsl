@@ -9,6 +9,9 @@
 #include "microfacet.glsl"
 #include "fresnel.glsl"
 #include "diffuse.glsl"
+#ifdef IRIDESCENCE
+#include "thin_film.glsl"
+#endif
 
 // The comparison variants that replace the Fresnel equations by a curve through exact
 // points (FRESNEL_SCHLICK: Schlick's, through F0; FRESNEL_F82: Hoffman's F82, through F0
@@ -118,6 +121,12 @@ struct BrdfView {
 #ifdef D_BECKMANN
     float lambda_v;        // Beckmann's Smith Λ(v) (comparison variant)
 #endif
+#ifdef IRIDESCENCE
+    // A thin film over the base (Rust: BrdfView::film; weight 0 where there is none) and
+    // the dielectric's transmittance at n·v with it mixed in, per channel.
+    ThinFilm film;
+    vec3 film_transmittance_v;
+#endif
 #ifdef ENERGY_COMPENSATION
     // Turquin 2019: each specular lobe × 1 + F₀ (1 − E)/E, F₀ the exact reflectance at
     // normal incidence (the outside medium's), E = E(n·v, α) of the white lobe.
@@ -184,8 +193,30 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
         view.compensation_dielectric = 1.0 + view.f0_dielectric * lost;
     }
 #endif
+#ifdef IRIDESCENCE
+    view.film = ThinFilm(0.0, 1.0, 0.0);
+    view.film_transmittance_v = vec3(view.transmittance_v);
+#endif
     return view;
 }
+
+#ifdef IRIDESCENCE
+// brdf_view for a surface under a thin film (Rust: brdf_view_with_film): every Fresnel
+// reflectance R becomes R + weight (R_film − R) per channel, the dielectric's
+// transmittances T + weight ((1 − R_film) − T). No film where the weight or the
+// thickness is 0.
+BrdfView brdf_view_with_film(BrdfInputs m, ThinFilm film, vec3 n, vec3 t, vec3 b, vec3 v) {
+    BrdfView view = brdf_view(m, n, t, b, v);
+    if (thin_film_is_present(film)) {
+        view.film = ThinFilm(min(film.weight, 1.0), film.eta, film.thickness_nm);
+        vec3 r = thin_film_reflectance_weighted(view.v.z, m.outside_eta, view.film,
+                                                vec3(m.dielectric_eta), vec3(0.0), view.w);
+        view.film_transmittance_v = view.transmittance_v
+            + view.film.weight * ((1.0 - r) - view.transmittance_v);
+    }
+    return view;
+}
+#endif
 
 // The material's diffuse lobe (Lambert or Oren–Nayar, by m.diffuse_model) for v and l
 // in the shading frame.
@@ -292,26 +323,45 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
 #ifndef NO_DIELECTRICS
     if (metal < 1.0) {
         float eta_d = m.dielectric_eta;
+#ifdef FRESNEL_CURVE
+        float transmittance_l = 1.0 - brdf_dielectric_curve(view, ll.z);
+#else
+        float transmittance_l = polarised_weighted(fresnel_dielectric_transmittance(ll.z, eta_i, eta_d), w);
+#endif
+#ifdef IRIDESCENCE
+        float fresnel_base = brdf_dielectric_fresnel(m, view, cos_h);
+        vec3 spec = lobe * vec3(fresnel_base);
+        vec3 diffuse_weight = vec3(transmittance_l * view.transmittance_v);
+        if (view.film.weight > 0.0) {
+            vec3 r_h = thin_film_reflectance_weighted(cos_h, eta_i, view.film, vec3(eta_d), vec3(0.0), w);
+            vec3 r_l = thin_film_reflectance_weighted(ll.z, eta_i, view.film, vec3(eta_d), vec3(0.0), w);
+            spec = lobe * (fresnel_base + view.film.weight * (r_h - fresnel_base));
+            diffuse_weight = (transmittance_l + view.film.weight * ((1.0 - r_l) - transmittance_l))
+                           * view.film_transmittance_v;
+        }
+#else
         float spec = lobe * brdf_dielectric_fresnel(m, view, cos_h);
+        float diffuse_weight = transmittance_l * view.transmittance_v;
+#endif
 #ifdef ENERGY_COMPENSATION
         spec *= view.compensation_dielectric;
-#endif
-#ifdef FRESNEL_CURVE
-        float diffuse_weight = (1.0 - brdf_dielectric_curve(view, ll.z)) * view.transmittance_v;
-#else
-        float diffuse_weight =
-            polarised_weighted(fresnel_dielectric_transmittance(ll.z, eta_i, eta_d), w)
-          * view.transmittance_v;
 #endif
         result = (1.0 - metal) * (vec3(spec) + diffuse_weight * brdf_diffuse_lobe(m, vl, ll));
     }
 #endif
 #ifndef NO_CONDUCTORS
     if (metal > 0.0) {
+        vec3 fresnel_conductor_h = brdf_conductor_fresnel(m, view, cos_h);
+#ifdef IRIDESCENCE
+        if (view.film.weight > 0.0) {
+            vec3 r_h = thin_film_reflectance_weighted(cos_h, eta_i, view.film, m.conductor_eta, m.conductor_k, w);
+            fresnel_conductor_h += view.film.weight * (r_h - fresnel_conductor_h);
+        }
+#endif
 #ifdef ENERGY_COMPENSATION
-        result += metal * lobe * brdf_conductor_fresnel(m, view, cos_h) * view.compensation_conductor;
+        result += metal * lobe * fresnel_conductor_h * view.compensation_conductor;
 #else
-        result += metal * lobe * brdf_conductor_fresnel(m, view, cos_h);
+        result += metal * lobe * fresnel_conductor_h;
 #endif
     }
 #endif

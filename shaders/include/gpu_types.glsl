@@ -6,7 +6,7 @@
 // MATERIAL_FLAG_* and LIGHT_KIND_*: generated from gpu_types.rs's constants.
 #include "bindings/constants.glsl"
 
-// One entry of the material table (std430, 800 bytes).
+// One entry of the material table (std430, 896 bytes).
 struct GpuMaterial {
     vec4 base_color_metalness;      // rgb: linear base colour, a: metalness
     vec4 roughness_anisotropy_ior;  // x: perceptual roughness, y: anisotropy strength,
@@ -19,10 +19,10 @@ struct GpuMaterial {
     ivec4 textures_emissive_anisotropy_specular; // (specular: not rendered yet)
     ivec4 textures_transmission_thickness;       // transmission, thickness, -1, -1
     vec4 emissive_normal_scale;     // rgb: emitted radiance factor × strength, a: normal scale
-    // Per texture slot s (TextureSlot::ALL order, 15 slots): [2s] = (a, b, c, set), [2s + 1] =
+    // Per texture slot s (TextureSlot::ALL order, 17 slots): [2s] = (a, b, c, set), [2s + 1] =
     // (d, e, f, 0): samples at (a u + b v + c, d u + e v + f) of set 0 or 1
     // (KHR_texture_transform). Read only by the TEXTURE_TRANSFORMS G-buffer variant.
-    vec4 uv_transforms[30];
+    vec4 uv_transforms[34];
     vec4 alpha_cutoff;              // x: base colour factor's alpha, y: alphaCutoff of a cut-out
                                     // (MASK) material, z: 1 where the base colour sampler picks
                                     // the nearest mip level; read by the ALPHA_MASK pipelines
@@ -37,6 +37,9 @@ struct GpuMaterial {
     vec4 sheen;                     // rgb: the sheen's linear colour (black: none), a: its
                                     // perceptual roughness; read by SHEEN
     ivec4 textures_sheen;           // sheen colour, sheen roughness, -1, -1
+    vec4 film;                      // x: the thin film's weight (0: none), y: its IOR, z, w: its
+                                    // thickness in nm at the thickness texture's 0 and 1 (IRIDESCENCE)
+    ivec4 textures_film;            // iridescence, iridescence thickness, -1, -1
 };
 
 // One placed mesh (std430, 144 bytes).

@@ -217,6 +217,41 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     vec3 specular_albedo = ((1.0 - metal) * specular.a + metal * conductor) * specular_occlusion;
 #endif
     vec3 diffuse_albedo = (1.0 - metal) * (rho * diffuse.x + rho * rho * diffuse.y) * occlusion;
+#ifdef IRIDESCENCE
+    // A thin film: each specular albedo × the film's mixed reflectance over the base's at
+    // n·v, the diffuse albedo × its transmittance over the base's at n·v (the tables
+    // integrate the base's Fresnel; the film's is taken as varying over the lobe as the
+    // base's does). Where the base reflects nothing at n·v the terms are left.
+    if (view.film.weight > 0.0) {
+        float w = view.w;
+        float f_dielectric = polarised_weighted(fresnel_dielectric(nv, m.outside_eta, m.dielectric_eta), w);
+        vec3 f_conductor = fresnel_conductor_rgb(nv, m.outside_eta, m.conductor_eta, m.conductor_k, w);
+        vec3 r_dielectric = thin_film_reflectance_weighted(nv, m.outside_eta, view.film,
+                                                           vec3(m.dielectric_eta), vec3(0.0), w);
+        vec3 r_conductor = thin_film_reflectance_weighted(nv, m.outside_eta, view.film,
+                                                          m.conductor_eta, m.conductor_k, w);
+        vec3 dielectric_scale = f_dielectric > 1e-4
+            ? (f_dielectric + view.film.weight * (r_dielectric - f_dielectric)) / f_dielectric : vec3(1.0);
+        vec3 conductor_scale = vec3(1.0);
+        for (int c = 0; c < 3; ++c) {
+            if (f_conductor[c] > 1e-4) {
+                conductor_scale[c] = (f_conductor[c] + view.film.weight * (r_conductor[c] - f_conductor[c]))
+                                   / f_conductor[c];
+            }
+        }
+        float dielectric_part = (1.0 - metal) * specular.a;
+        vec3 conductor_part = metal * conductor;
+#ifdef ENERGY_COMPENSATION
+        dielectric_part *= view.compensation_dielectric;
+        conductor_part *= view.compensation_conductor;
+#endif
+        specular_albedo = (dielectric_part * dielectric_scale + conductor_part * conductor_scale)
+                        * specular_occlusion;
+        if (view.transmittance_v > 1e-4) {
+            diffuse_albedo *= view.film_transmittance_v / view.transmittance_v;
+        }
+    }
+#endif
     // The lookup direction: for anisotropic pixels the reflection about a normal bent
     // towards the one the stretched lobe favours (McAuley 2015, as Filament does); then
     // the lobe's dominant direction, pulled from the mirror direction towards the normal

@@ -29,6 +29,9 @@ layout(location = 11) in vec2 in_slot_uv_clearcoat_normal;
 #ifdef SHEEN
 layout(location = 12) in vec4 in_slot_uv_sheen;  // the sheen colour and roughness slots'
 #endif
+#ifdef IRIDESCENCE
+layout(location = 13) in vec4 in_slot_uv_film;  // the iridescence and its thickness slots'
+#endif
 #endif
 
 // Set 1: the material's textures, bound per material; empty slots hold a 1×1 white
@@ -54,6 +57,8 @@ layout(location = 12) in vec4 in_slot_uv_sheen;  // the sheen colour and roughne
 #define UV_CLEARCOAT_NORMAL in_slot_uv_clearcoat_normal
 #define UV_SHEEN_COLOR in_slot_uv_sheen.xy
 #define UV_SHEEN_ROUGHNESS in_slot_uv_sheen.zw
+#define UV_IRIDESCENCE in_slot_uv_film.xy
+#define UV_IRIDESCENCE_THICKNESS in_slot_uv_film.zw
 #else
 #define UV_BASE_COLOR in_uv
 #define UV_METALLIC_ROUGHNESS in_uv
@@ -68,6 +73,8 @@ layout(location = 12) in vec4 in_slot_uv_sheen;  // the sheen colour and roughne
 #define UV_CLEARCOAT_NORMAL in_uv
 #define UV_SHEEN_COLOR in_uv
 #define UV_SHEEN_ROUGHNESS in_uv
+#define UV_IRIDESCENCE in_uv
+#define UV_IRIDESCENCE_THICKNESS in_uv
 #endif
 
 // The vertex colour's alpha (1 without vertex colours).
@@ -101,6 +108,10 @@ struct MaterialSurface {
     // perceptual roughness.
     vec3 sheen_color;
     float sheen_roughness;
+    // KHR_materials_iridescence (IRIDESCENCE variant; 0 otherwise): the thin film's
+    // weight and thickness in nm (0: no film).
+    float film_weight;
+    float film_thickness_nm;
 };
 
 // A tangent-space normal map's texel (glTF convention: RGB mapped to [−1, 1]), its x
@@ -232,6 +243,22 @@ MaterialSurface material_surface(GpuMaterial material) {
     s.sheen_roughness = material.sheen.a;
     if (tex3.y >= 0) {
         s.sheen_roughness *= texture(sheen_roughness_texture, UV_SHEEN_ROUGHNESS).a;
+    }
+#endif
+    s.film_weight = 0.0;
+    s.film_thickness_nm = 0.0;
+#ifdef IRIDESCENCE
+    // KHR_materials_iridescence: the factor × its texture's R; the thickness from the
+    // minimum (z) to the maximum (w) by its texture's G, the maximum without one.
+    ivec4 tex4 = material.textures_film;
+    s.film_weight = material.film.x;
+    if (tex4.x >= 0) {
+        s.film_weight *= texture(iridescence_texture, UV_IRIDESCENCE).r;
+    }
+    s.film_thickness_nm = material.film.w;
+    if (tex4.y >= 0) {
+        s.film_thickness_nm = mix(material.film.z, material.film.w,
+                                  texture(iridescence_thickness_texture, UV_IRIDESCENCE_THICKNESS).g);
     }
 #endif
     return s;

@@ -8,9 +8,12 @@ use crate::diffuse::{
     diffuse_lambert, diffuse_oren_nayar_full, diffuse_oren_nayar_qualitative,
     OREN_NAYAR_A_CONSTANT_BRDF,
 };
-use crate::fresnel::{fresnel_conductor, fresnel_dielectric, fresnel_dielectric_transmittance};
+use crate::fresnel::{
+    fresnel_conductor, fresnel_dielectric, fresnel_dielectric_transmittance, Polarised,
+};
 use crate::microfacet::{clamp_alpha, d_ggx_anisotropic, smith_ggx_visibility_half};
 use crate::real::Real;
+use crate::thin_film::{thin_film_reflectance, ThinFilm};
 use crate::vec3::{ShadingFrame, Vec3};
 use core::fmt;
 
@@ -152,6 +155,19 @@ pub fn brdf_evaluate<T: Real>(
     brdf_evaluate_view(m, &brdf_view(m, n, t, b, v), l)
 }
 
+/// [`brdf_evaluate`] under a thin film (`None`: none; see [`brdf_view_with_film`]).
+pub fn brdf_evaluate_with_film<T: Real>(
+    m: &BrdfInputs<T>,
+    film: Option<&ThinFilm<T>>,
+    n: Vec3<T>,
+    t: Vec3<T>,
+    b: Vec3<T>,
+    v: Vec3<T>,
+    l: Vec3<T>,
+) -> [T; 3] {
+    brdf_evaluate_view(m, &brdf_view_with_film(m, film, n, t, b, v), l)
+}
+
 /// Everything of f(v, l) that depends on the view alone: the shading frame, v in it,
 /// the clamped parameters, the view's half of the Smith visibility and the dielectric
 /// transmittance T_w(n·v). A renderer computes it once per pixel and evaluates every
@@ -168,8 +184,10 @@ pub struct BrdfView<T> {
     /// (c_v, S_v) of [`smith_ggx_visibility_half`].
     cv: T,
     sv: T,
-    /// T_w(n·v) of the dielectric part (1 when there is none).
-    transmittance_v: T,
+    /// T_w(n·v) of the dielectric part per channel (1 when there is none).
+    transmittance_v: [T; 3],
+    /// A thin film over the base, where one is present ([`ThinFilm::is_present`]).
+    film: Option<ThinFilm<T>>,
 }
 
 /// The per-view part of [`brdf_evaluate`] (see [`BrdfView`]).
@@ -180,6 +198,28 @@ pub fn brdf_view<T: Real>(
     b: Vec3<T>,
     v: Vec3<T>,
 ) -> BrdfView<T> {
+    brdf_view_with_film(m, None, n, t, b, v)
+}
+
+/// [`brdf_view`] for a surface under a thin film (KHR_materials_iridescence): every
+/// Fresnel reflectance R of the BRDF, the dielectric's and the conductor's, becomes
+/// mix(R, R_film, weight) per channel, R_film the film's over that base
+/// ([`thin_film_reflectance`], polarisation-weighted alike), and the dielectric's
+/// transmittances mix(T, 1 − R_film, weight): the film absorbs nothing, so what it does
+/// not reflect reaches the diffuse substrate. A film of zero weight or thickness is no
+/// film (the view is [`brdf_view`]'s).
+pub fn brdf_view_with_film<T: Real>(
+    m: &BrdfInputs<T>,
+    film: Option<&ThinFilm<T>>,
+    n: Vec3<T>,
+    t: Vec3<T>,
+    b: Vec3<T>,
+    v: Vec3<T>,
+) -> BrdfView<T> {
+    let film = film.filter(|f| f.is_present()).map(|f| ThinFilm {
+        weight: f.weight.saturate(),
+        ..*f
+    });
     let frame = ShadingFrame::new(n, t, b);
     let v = frame.to_local(v.normalize());
     let ax = clamp_alpha(m.alpha_x);
@@ -188,9 +228,9 @@ pub fn brdf_view<T: Real>(
     let w = m.polarisation_weight.saturate();
     let (cv, sv) = smith_ggx_visibility_half(v, ax, ay);
     let transmittance_v = if metal < T::ONE {
-        fresnel_dielectric_transmittance(v.z, m.outside_eta, m.dielectric_eta).weighted(w)
+        dielectric_transmittance(m, film.as_ref(), w, v.z)
     } else {
-        T::ONE
+        [T::ONE; 3]
     };
     BrdfView {
         frame,
@@ -202,7 +242,73 @@ pub fn brdf_view<T: Real>(
         cv,
         sv,
         transmittance_v,
+        film,
     }
+}
+
+/// R_w(c; η_i, η_d) of the dielectric part per channel, a film mixed in.
+fn dielectric_reflectance<T: Real>(
+    m: &BrdfInputs<T>,
+    film: Option<&ThinFilm<T>>,
+    w: T,
+    c: T,
+) -> [T; 3] {
+    let base = fresnel_dielectric(c, m.outside_eta, m.dielectric_eta).weighted(w);
+    match film {
+        None => [base; 3],
+        Some(f) => {
+            let r = thin_film_reflectance(c, m.outside_eta, f, [m.dielectric_eta; 3], [T::ZERO; 3]);
+            std::array::from_fn(|ch| base + f.weight * (weighted_channel(&r, ch, w) - base))
+        }
+    }
+}
+
+/// T_w(c; η_i, η_d) of the dielectric part per channel, a film mixed in (1 − its
+/// reflectance: it absorbs nothing).
+fn dielectric_transmittance<T: Real>(
+    m: &BrdfInputs<T>,
+    film: Option<&ThinFilm<T>>,
+    w: T,
+    c: T,
+) -> [T; 3] {
+    let base = fresnel_dielectric_transmittance(c, m.outside_eta, m.dielectric_eta).weighted(w);
+    match film {
+        None => [base; 3],
+        Some(f) => {
+            let r = thin_film_reflectance(c, m.outside_eta, f, [m.dielectric_eta; 3], [T::ZERO; 3]);
+            std::array::from_fn(|ch| {
+                base + f.weight * ((T::ONE - weighted_channel(&r, ch, w)) - base)
+            })
+        }
+    }
+}
+
+/// R_w(c; η_i, η_c + i k_c) of the conductor part per channel, a film mixed in.
+fn conductor_reflectance<T: Real>(
+    m: &BrdfInputs<T>,
+    film: Option<&ThinFilm<T>>,
+    w: T,
+    c: T,
+) -> [T; 3] {
+    let base: [T; 3] = std::array::from_fn(|ch| {
+        fresnel_conductor(c, m.outside_eta, m.conductor_eta[ch], m.conductor_k[ch]).weighted(w)
+    });
+    match film {
+        None => base,
+        Some(f) => {
+            let r = thin_film_reflectance(c, m.outside_eta, f, m.conductor_eta, m.conductor_k);
+            std::array::from_fn(|ch| base[ch] + f.weight * (weighted_channel(&r, ch, w) - base[ch]))
+        }
+    }
+}
+
+/// (1 − w) R_s + w R_p of one channel.
+fn weighted_channel<T: Real>(r: &Polarised<[T; 3]>, ch: usize, w: T) -> T {
+    Polarised {
+        s: r.s[ch],
+        p: r.p[ch],
+    }
+    .weighted(w)
 }
 
 /// f(v, l) per channel for a view prepared by [`brdf_view`] (see [`brdf_evaluate`]).
@@ -214,7 +320,6 @@ pub fn brdf_evaluate_view<T: Real>(m: &BrdfInputs<T>, view: &BrdfView<T>, l: Vec
         return zero;
     }
     let (ax, ay, metal, w) = (view.ax, view.ay, view.metal, view.w);
-    let eta_i = m.outside_eta;
 
     // Shared microfacet lobe. |v + l| > 0 here since v.z + l.z > 0.
     let sum = v + l;
@@ -225,14 +330,13 @@ pub fn brdf_evaluate_view<T: Real>(m: &BrdfInputs<T>, view: &BrdfView<T>, l: Vec
     let visibility = T::HALF / (cl * view.sv + view.cv * sl);
     let lobe = d_ggx_anisotropic(h, ax, ay) * visibility;
 
+    let film = view.film.as_ref();
     let mut out = zero;
     if metal < T::ONE {
-        let eta_d = m.dielectric_eta;
-        let spec = lobe * fresnel_dielectric(cos_h, eta_i, eta_d).weighted(w);
-        let diffuse_weight =
-            fresnel_dielectric_transmittance(l.z, eta_i, eta_d).weighted(w) * view.transmittance_v;
+        let spec = dielectric_reflectance(m, film, w, cos_h);
+        let transmittance_l = dielectric_transmittance(m, film, w, l.z);
         let sigma = m.oren_nayar_sigma;
-        for (o, &rho) in out.iter_mut().zip(&m.base_color) {
+        for (c, (o, &rho)) in out.iter_mut().zip(&m.base_color).enumerate() {
             let rho = rho.saturate();
             let diffuse = match m.diffuse_model {
                 DiffuseModel::Lambert => diffuse_lambert(rho),
@@ -245,13 +349,14 @@ pub fn brdf_evaluate_view<T: Real>(m: &BrdfInputs<T>, view: &BrdfView<T>, l: Vec
                 ),
                 DiffuseModel::OrenNayarFull => diffuse_oren_nayar_full(rho, sigma, v, l),
             };
-            *o = (T::ONE - metal) * (spec + diffuse_weight * diffuse);
+            let diffuse_weight = transmittance_l[c] * view.transmittance_v[c];
+            *o = (T::ONE - metal) * (lobe * spec[c] + diffuse_weight * diffuse);
         }
     }
     if metal > T::ZERO {
-        for (c, o) in out.iter_mut().enumerate() {
-            let r = fresnel_conductor(cos_h, eta_i, m.conductor_eta[c], m.conductor_k[c]);
-            *o += metal * lobe * r.weighted(w);
+        let r = conductor_reflectance(m, film, w, cos_h);
+        for (o, r) in out.iter_mut().zip(r) {
+            *o += metal * lobe * r;
         }
     }
     out

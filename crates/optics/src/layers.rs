@@ -12,6 +12,7 @@ use crate::coat::{
 use crate::sheen::{
     sheen_albedo_lookup, sheen_albedo_scaling, sheen_albedo_table, sheen_lobe, SheenInputs,
 };
+use crate::thin_film::ThinFilm;
 use crate::vec3::{ShadingFrame, Vec3};
 
 /// What lies over a surface's BRDF (each `None` where there is none).
@@ -21,6 +22,11 @@ pub struct Layers {
     pub coat: Option<CoatLayer<f64>>,
     /// A sheen, on the base's shading normal.
     pub sheen: Option<SheenInputs<f64>>,
+    /// A thin film on the base (KHR_materials_iridescence). Not a layer of its own: it
+    /// changes the base BRDF's Fresnel terms, so the references evaluate the base with
+    /// [`crate::brdf::brdf_evaluate_with_film`]; it travels here with what else lies on
+    /// the surface.
+    pub film: Option<ThinFilm<f64>>,
 }
 
 /// The layers prepared for one view ([`layers_view`]).

@@ -20,6 +20,9 @@
 //!   attenuated by the coat's transmittance both ways.
 //! * [`sheen`]: the sheen of fibres (KHR_materials_sheen): the Charlie lobe with Estevez
 //!   & Kulla's visibility, the base scaled by the sheen's directional albedo.
+//! * [`thin_film`]: a thin dielectric film over the base (KHR_materials_iridescence):
+//!   the Airy summation of Belcour & Barla with the base's exact complex Fresnel
+//!   amplitudes, mixed into the base's Fresnel by the film's weight ([`brdf_view_with_film`]).
 //! * [`real`], [`vec3`]: the scalar trait, a 3-vector, the [`ShadingFrame`].
 //!
 //! # Conventions
@@ -168,12 +171,13 @@ pub mod microfacet;
 pub mod readable;
 pub mod real;
 pub mod sheen;
+pub mod thin_film;
 pub mod variants;
 pub mod vec3;
 
 pub use brdf::{
-    brdf_evaluate, brdf_evaluate_view, brdf_view, BrdfInputs, BrdfView, DiffuseModel,
-    UnknownDiffuseModel,
+    brdf_evaluate, brdf_evaluate_view, brdf_evaluate_with_film, brdf_view, brdf_view_with_film,
+    BrdfInputs, BrdfView, DiffuseModel, UnknownDiffuseModel,
 };
 pub use readable::{readable, shortened};
 pub use real::Real;

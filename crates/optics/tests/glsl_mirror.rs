@@ -182,7 +182,7 @@ fn brdf_inputs_fields_match_the_struct() {
 
 #[test]
 fn every_term_has_a_glsl_mirror() {
-    let files: [(&str, &[&str]); 4] = [
+    let files: [(&str, &[&str]); 5] = [
         (
             "microfacet.glsl",
             &[
@@ -246,6 +246,15 @@ fn every_term_has_a_glsl_mirror() {
                 "float visibility_sheen(vec3 v, vec3 l, float alpha)",
                 "float sheen_lobe(vec3 v, vec3 l, float alpha)",
                 "float sheen_albedo_scaling(vec3 color, float albedo_v, float albedo_l)",
+                "BrdfView brdf_view_with_film(BrdfInputs m, ThinFilm film, vec3 n, vec3 t, vec3 b, vec3 v)",
+            ],
+        ),
+        (
+            "thin_film.glsl",
+            &[
+                "void thin_film_sensitivity(float opd_nm, out vec3 cos_part, out vec3 sin_part)",
+                "void thin_film_reflectance(float cos_theta, float outside_eta, ThinFilm film, vec3 base_eta,",
+                "vec3 thin_film_reflectance_weighted(float cos_theta, float outside_eta, ThinFilm film,",
             ],
         ),
     ];
@@ -265,6 +274,7 @@ fn include_guards() {
         ("fresnel.glsl", "COMBUSTION_FRESNEL_GLSL"),
         ("diffuse.glsl", "COMBUSTION_DIFFUSE_GLSL"),
         ("brdf.glsl", "COMBUSTION_BRDF_GLSL"),
+        ("thin_film.glsl", "COMBUSTION_THIN_FILM_GLSL"),
     ] {
         let src = include(file);
         assert!(
@@ -280,4 +290,47 @@ fn include_guards() {
             assert!(!src.contains("3.14"), "{file} spells out π");
         }
     }
+}
+
+/// The film's sensitivity constants in thin_film.glsl are the Rust derivation's
+/// (`sensitivity_weights`, from Belcour & Barla's Gaussians and the sRGB matrix), to the
+/// f32 they compile to (9 significant digits written), and the harmonics and thickness
+/// bound agree.
+#[test]
+fn thin_film_constants_match() {
+    use combustion_optics::thin_film::{
+        sensitivity_weights, FILM_HARMONICS, FILM_THICKNESS_MAX_NM,
+    };
+    let src = include("thin_film.glsl");
+    let vec4_of = |name: &str| -> [f64; 4] {
+        let key = format!("const vec4 {name} = vec4(");
+        let start = src.find(&key).unwrap_or_else(|| panic!("no {name}")) + key.len();
+        let end = start + src[start..].find(')').unwrap();
+        let values: Vec<f64> = src[start..end]
+            .split(',')
+            .map(|x| x.trim().parse().unwrap())
+            .collect();
+        values.try_into().unwrap()
+    };
+    let (w, k, a) = sensitivity_weights();
+    let close = |glsl: [f64; 4], rust: [f64; 4], what: &str| {
+        for (g, r) in glsl.iter().zip(rust) {
+            assert!(
+                (g - r).abs() <= 1e-8 * r.abs(),
+                "{what}: GLSL {g} vs Rust {r}"
+            );
+        }
+    };
+    for (c, channel) in ["R", "G", "B"].iter().enumerate() {
+        close(
+            vec4_of(&format!("FILM_SENSITIVITY_WEIGHTS_{channel}")),
+            w[c],
+            channel,
+        );
+    }
+    close(vec4_of("FILM_SENSITIVITY_FREQUENCIES"), k, "frequencies");
+    close(vec4_of("FILM_SENSITIVITY_DECAYS"), a, "decays");
+    assert!(src.contains(&format!("#define FILM_HARMONICS {FILM_HARMONICS}\n")));
+    let max = glsl_const(&src, "FILM_THICKNESS_MAX_NM");
+    assert_eq!(max.parse::<f64>().unwrap(), FILM_THICKNESS_MAX_NM);
 }

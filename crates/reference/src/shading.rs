@@ -21,13 +21,14 @@
 //! environment's light, KHR_materials_specular (the renderer does not shade it either),
 //! and shadows unless [`SceneShading::with_visibility`] adds exact visibility.
 
-use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel as OpticsDiffuse};
+use combustion_optics::brdf::{brdf_evaluate_with_film, BrdfInputs, DiffuseModel as OpticsDiffuse};
 use combustion_optics::coat::{CoatInputs, CoatLayer};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion_optics::environment::{integrate_environment_layered, Estimate, Sampling};
 use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Layers};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::sheen::SheenInputs;
+use combustion_optics::thin_film::ThinFilm;
 use combustion_optics::vec3::Vec3 as OpticsVec3;
 use combustion_scene::{
     conductor_from_reflectivity, range_window, DiffuseModel, Light, Material, Scene, TextureRef,
@@ -668,6 +669,26 @@ impl<'a> SceneShading<'a> {
             }
         });
         let sheen = sheen.filter(|s| s.color.iter().any(|&c| c > 0.0));
+        // KHR_materials_iridescence: the factor × its texture's R; the thickness from the
+        // minimum to the maximum by its thickness texture's G (the maximum without one).
+        let film = material
+            .iridescence
+            .filter(|_| material.is_iridescent())
+            .map(|f| {
+                let weight = f64::from(f.factor)
+                    * lookup.sample_or(material.iridescence_texture.as_ref(), [1.0; 4])[0];
+                let (min, max) = (f64::from(f.thickness_min_nm), f64::from(f.thickness_max_nm));
+                let thickness_nm = match material.iridescence_thickness_texture.as_ref() {
+                    Some(t) => min + (max - min) * lookup.sample(t)[1],
+                    None => max,
+                };
+                ThinFilm {
+                    weight,
+                    eta: f64::from(f.ior),
+                    thickness_nm,
+                }
+            })
+            .filter(ThinFilm::is_present);
         let emissive_texture = lookup.sample_or(material.emissive_texture.as_ref(), [1.0; 4]);
         let emitted = std::array::from_fn(|c| {
             f64::from(material.emissive_factor[c])
@@ -691,7 +712,7 @@ impl<'a> SceneShading<'a> {
             alpha: coverage,
             transmission: f64::from(material.transmission)
                 * lookup.sample_or(material.transmission_texture.as_ref(), [1.0; 4])[0],
-            layers: Layers { coat, sheen },
+            layers: Layers { coat, sheen, film },
         }
     }
 
@@ -788,8 +809,9 @@ impl<'a> SceneShading<'a> {
             if visible == 0.0 {
                 continue;
             }
-            let f = brdf_evaluate(
+            let f = brdf_evaluate_with_film(
                 &surface.brdf,
+                surface.layers.film.as_ref(),
                 optics_vec(surface.n),
                 optics_vec(surface.t),
                 optics_vec(surface.b),
@@ -991,6 +1013,12 @@ impl GBufferPrecision {
             c.inputs.alpha = alpha_from_perceptual_roughness(roughness);
             c.inputs.factor = unorm(c.inputs.factor, 16);
             c
+        });
+        // The thin film's target: f32 weight and thickness.
+        stored.layers.film = surface.layers.film.map(|f| ThinFilm {
+            weight: f64::from(f.weight as f32),
+            thickness_nm: f64::from(f.thickness_nm as f32),
+            ..f
         });
         // The sheen's target: 16-bit unorm linear colour and perceptual roughness.
         stored.layers.sheen = surface.layers.sheen.map(|mut s| {

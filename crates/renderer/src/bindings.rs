@@ -412,6 +412,12 @@ pub static MATERIAL_TEXTURES: SetDecl = SetDecl {
         Binding::new("clearcoat_normal_texture", BindingKind::Sampler2D, FRAGMENT),
         Binding::new("sheen_color_texture", BindingKind::Sampler2D, FRAGMENT),
         Binding::new("sheen_roughness_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new("iridescence_texture", BindingKind::Sampler2D, FRAGMENT),
+        Binding::new(
+            "iridescence_thickness_texture",
+            BindingKind::Sampler2D,
+            FRAGMENT,
+        ),
     ],
     includes: &[],
 };
@@ -538,7 +544,7 @@ const fn joined<const N: usize>(first: &[Binding], then: &[Binding]) -> [Binding
     out
 }
 
-const LIGHTING_BINDINGS: [Binding; 9 + LIT_BY.len()] = joined(
+const LIGHTING_BINDINGS: [Binding; 10 + LIT_BY.len()] = joined(
     &[
         Binding::new(
             "gbuffer_base_color_metalness",
@@ -575,6 +581,8 @@ const LIGHTING_BINDINGS: [Binding; 9 + LIT_BY.len()] = joined(
         Binding::new("gbuffer_clearcoat", BindingKind::Texture2D, FRAGMENT).only_with("CLEARCOAT"),
         // The sheen: its linear colour (rgb) and perceptual roughness (a) (SHEEN variant).
         Binding::new("gbuffer_sheen", BindingKind::Texture2D, FRAGMENT).only_with("SHEEN"),
+        // The thin film: its weight (r) and thickness in nm (g) (IRIDESCENCE variant).
+        Binding::new("gbuffer_film", BindingKind::Texture2D, FRAGMENT).only_with("IRIDESCENCE"),
     ],
     &LIT_BY,
 );
@@ -811,7 +819,7 @@ mod tests {
             "layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;"
         ));
         assert!(glsl.contains(
-            "layout(std430, set = 0, binding = 9) readonly buffer Lights { GpuLight lights[]; };"
+            "layout(std430, set = 0, binding = 10) readonly buffer Lights { GpuLight lights[]; };"
         ));
         assert!(glsl.contains(
             "#ifdef EMISSIVE_OCCLUSION_TARGET\nlayout(set = 0, binding = 6) uniform texture2D gbuffer_emissive;\n#endif"
@@ -819,6 +827,9 @@ mod tests {
         assert_eq!(LIGHTING.index("gbuffer_emissive"), 6);
         assert!(glsl.contains(
             "#ifdef CLEARCOAT\nlayout(set = 0, binding = 7) uniform texture2D gbuffer_clearcoat;\n#endif"
+        ));
+        assert!(glsl.contains(
+            "#ifdef IRIDESCENCE\nlayout(set = 0, binding = 9) uniform texture2D gbuffer_film;\n#endif"
         ));
         assert_eq!(
             MATERIAL_TEXTURES.bindings.len(),
@@ -849,9 +860,9 @@ mod tests {
                 .find(|s| s.ty == ty)
                 .map_or(0, |s| s.descriptor_count)
         };
-        // The G-buffer's seven (the clear coat's and the sheen's included) and the two
-        // arrays of shadow maps as depths, twice.
-        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 18);
+        // The G-buffer's eight (the clear coat's, the sheen's and the thin film's
+        // included) and the two arrays of shadow maps as depths, twice.
+        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 20);
         // The two environment cubes and the two arrays of shadow maps, twice.
         assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 8);
         // Materials, lights, the conductor table, the tile light lists, the energy

@@ -27,6 +27,10 @@ pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 pub const CLEARCOAT_FORMAT: vk::Format = vk::Format::R16G16B16A16_UNORM;
 /// The sheen's linear colour (rgb) and perceptual roughness (a), 16-bit unorm each.
 pub const SHEEN_FORMAT: vk::Format = vk::Format::R16G16B16A16_UNORM;
+/// The thin film's weight (r) and thickness in nanometres (g), 32-bit float each: the
+/// film's colours turn with its thickness (a 16-bit step would move them visibly), so the
+/// thickness is kept as the material and texture give it.
+pub const FILM_FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 
 /// The G-buffer's images at one size.
 pub struct GBufferTargets {
@@ -51,6 +55,9 @@ pub struct GBufferTargets {
     /// The sheen ([`SHEEN_FORMAT`]), present in the `SHEEN` variant only: the colour
     /// attachment after the clear coat's (or in its place).
     pub sheen: Option<Image>,
+    /// The thin film ([`FILM_FORMAT`]), present in the `IRIDESCENCE` variant only: the
+    /// colour attachment after the sheen's (or in its place).
+    pub film: Option<Image>,
 }
 
 impl GBufferTargets {
@@ -58,7 +65,7 @@ impl GBufferTargets {
     /// attachment, sampled and transfer-source usage; depth with depth attachment, sampled
     /// and transfer-source usage). With `emissive_occlusion`, also the emissive + occlusion
     /// target, of `emissive_format` (the HDR image's format); with `clearcoat`, the clear
-    /// coat's target; with `sheen`, the sheen's.
+    /// coat's target; with `sheen`, the sheen's; with `film`, the thin film's.
     ///
     /// # Errors
     /// [`RenderError::Vulkan`] if an image cannot be created or allocated.
@@ -68,7 +75,7 @@ impl GBufferTargets {
         height: u32,
         storage: GBufferStorage,
         emissive_occlusion: bool,
-        [clearcoat, sheen]: [bool; 2],
+        [clearcoat, sheen, film]: [bool; 3],
         emissive_format: vk::Format,
     ) -> Result<Self, RenderError> {
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
@@ -119,6 +126,11 @@ impl GBufferTargets {
             } else {
                 None
             },
+            film: if film {
+                Some(image("gbuffer thin film", FILM_FORMAT, color_usage)?)
+            } else {
+                None
+            },
         })
     }
 
@@ -137,6 +149,7 @@ impl GBufferTargets {
         all.extend(self.emissive.as_ref());
         all.extend(self.clearcoat.as_ref());
         all.extend(self.sheen.as_ref());
+        all.extend(self.film.as_ref());
         all
     }
 }
@@ -158,8 +171,8 @@ impl GBufferPass {
     /// tables), set 1 of `material_set_layout` (one material's textures), the view-projection
     /// and object index as vertex push constants, a fourth colour attachment of
     /// `emissive_format` in variants with the emissive + occlusion target, and then the
-    /// clear coat's ([`CLEARCOAT_FORMAT`]) and the sheen's ([`SHEEN_FORMAT`]) in variants
-    /// with them.
+    /// clear coat's ([`CLEARCOAT_FORMAT`]), the sheen's ([`SHEEN_FORMAT`]) and the thin
+    /// film's ([`FILM_FORMAT`]) in variants with them.
     ///
     /// # Errors
     /// [`RenderError::Vulkan`] if a shader does not compile or the pipeline cannot be built.
@@ -206,6 +219,9 @@ impl GBufferPass {
         }
         if variant.sheen {
             color_formats.push(SHEEN_FORMAT);
+        }
+        if variant.iridescence {
+            color_formats.push(FILM_FORMAT);
         }
         let pipeline = |fragment: &ShaderModule| {
             Pipeline::graphics(
@@ -376,6 +392,8 @@ pub struct GBufferTexel {
     /// The sheen's target: linear colour, perceptual roughness (all 0 in frames without
     /// it: no sheen).
     pub sheen: [f64; 4],
+    /// The thin film's target: weight, thickness in nm (0 in frames without it: no film).
+    pub film: [f64; 2],
 }
 
 /// A G-buffer read back to the CPU.

@@ -12,7 +12,7 @@ pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 /// radiance.
 pub const MATERIAL_FLAG_UNLIT: u32 = 2;
 
-/// `GpuMaterial` (std430, 800 bytes).
+/// `GpuMaterial` (std430, 896 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -74,8 +74,15 @@ pub struct GpuMaterial {
     /// Texture-array indices (-1: none) of the sheen colour and sheen roughness slots,
     /// then -1, -1.
     pub textures_sheen: [i32; 4],
+    /// KHR_materials_iridescence: the thin film's weight (x, 0: no film), IOR (y) and
+    /// thickness range in nm (z: at the thickness texture's 0, w: at its 1 and without
+    /// it). Read by the IRIDESCENCE variants.
+    pub film: [f32; 4],
+    /// Texture-array indices (-1: none) of the iridescence and iridescence thickness
+    /// slots, then -1, -1.
+    pub textures_film: [i32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 800);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 896);
 
 impl GpuMaterial {
     /// The table entry of `material`; `textures` are its texture-array indices per
@@ -172,6 +179,11 @@ impl GpuMaterial {
                 [r, g, b, material.sheen_roughness]
             },
             textures_sheen: [textures[13], textures[14], -1, -1],
+            film: match material.iridescence.filter(|_| material.is_iridescent()) {
+                Some(f) => [f.factor, f.ior, f.thickness_min_nm, f.thickness_max_nm],
+                None => [0.0, 1.0, 0.0, 0.0],
+            },
+            textures_film: [textures[15], textures[16], -1, -1],
         }
     }
 
@@ -190,6 +202,7 @@ impl GpuMaterial {
             textures_transmission_thickness: [-1; 4],
             textures_clearcoat: [-1; 4],
             textures_sheen: [-1; 4],
+            textures_film: [-1; 4],
             ..*self
         }
     }

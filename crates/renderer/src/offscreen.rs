@@ -48,6 +48,8 @@ struct ReadbackBuffers {
     clearcoat: Option<Buffer>,
     /// The sheen's target, likewise.
     sheen: Option<Buffer>,
+    /// The thin film's target, likewise.
+    film: Option<Buffer>,
 }
 
 impl ReadbackBuffers {
@@ -94,6 +96,11 @@ impl ReadbackBuffers {
             } else {
                 None
             },
+            film: if with_gbuffer_layers {
+                Some(buffer("thin film readback", 8)?)
+            } else {
+                None
+            },
         })
     }
 }
@@ -105,6 +112,7 @@ impl ReadbackBuffers {
             .chain(&self.gbuffer)
             .chain(&self.clearcoat)
             .chain(&self.sheen)
+            .chain(&self.film)
     }
 }
 
@@ -152,7 +160,12 @@ impl Renderer {
         self.collect_timings(frame.slot)?;
         self.stats.readbacks += 1;
         let variant = self.variant_of(scene.variant);
-        self.read_back(width, height, readback, [variant.clearcoat, variant.sheen])
+        self.read_back(
+            width,
+            height,
+            readback,
+            [variant.clearcoat, variant.sheen, variant.iridescence],
+        )
     }
 
     /// Records and submits a frame of `scene` into the renderer's display image without
@@ -332,6 +345,9 @@ impl Renderer {
             if let (Some(image), Some(buffer)) = (&g.sheen, &buffers.sheen) {
                 copies.push((image, buffer));
             }
+            if let (Some(image), Some(buffer)) = (&g.film, &buffers.film) {
+                copies.push((image, buffer));
+            }
         }
         if copies.is_empty() {
             return;
@@ -367,14 +383,14 @@ impl Renderer {
         states.transition(raw, cmd, &host_read);
     }
 
-    /// The frame just completed, from the readback buffers (`clearcoat`, `sheen`: its
-    /// variant has the coat's, the sheen's target).
+    /// The frame just completed, from the readback buffers (`clearcoat`, `sheen`, `film`:
+    /// its variant has the coat's, the sheen's, the thin film's target).
     fn read_back(
         &self,
         width: u32,
         height: u32,
         readback: Readback,
-        [clearcoat, sheen]: [bool; 2],
+        [clearcoat, sheen, film]: [bool; 3],
     ) -> Result<Frame, RenderError> {
         let mut frame = Frame {
             width,
@@ -424,6 +440,12 @@ impl Renderer {
                 Some(buffer) if sheen => Some(unorm_texels::<u16>(buffer.mapped()?)),
                 _ => None,
             };
+            let film = match &buffers.film {
+                Some(buffer) if film => Some(bytemuck::pod_collect_to_vec::<u8, [f32; 2]>(
+                    buffer.mapped()?,
+                )),
+                _ => None,
+            };
             let texels = (0..base.len())
                 .map(|i| GBufferTexel {
                     base_color_metalness: base[i],
@@ -433,6 +455,7 @@ impl Renderer {
                     depth: depth[i],
                     clearcoat: clearcoat.as_ref().map_or([0.0; 4], |c| c[i]),
                     sheen: sheen.as_ref().map_or([0.0; 4], |s| s[i]),
+                    film: film.as_ref().map_or([0.0; 2], |f| f[i].map(f64::from)),
                 })
                 .collect();
             frame.gbuffer = Some(GBufferReadback {

@@ -9,13 +9,14 @@
 //! the reference for frames with shadows, and [`shadow_mismatch`] counts the pixels
 //! whose shadow-map verdict differs from it.
 
-use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
+use combustion_optics::brdf::{brdf_evaluate_with_film, BrdfInputs, DiffuseModel};
 use combustion_optics::coat::{CoatInputs, CoatLayer};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion_optics::environment::{integrate_environment_layered, Estimate, Sampling};
 use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Layers};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::sheen::SheenInputs;
+use combustion_optics::thin_film::ThinFilm;
 use combustion_optics::variants::{
     brdf_evaluate_variant, BrdfVariant, DistributionForm, FresnelForm, MaskingForm,
 };
@@ -318,8 +319,10 @@ impl ReferenceShading {
                     continue;
                 }
             }
-            let brdf = if self.variant == BrdfVariant::EXACT {
-                brdf_evaluate(&m, v3(n), v3(t), v3(b), v3(v), v3(l))
+            // The comparison variants change the base's Fresnel only; a thin film is
+            // evaluated in the exact form.
+            let brdf = if self.variant == BrdfVariant::EXACT || layers.film.is_some() {
+                brdf_evaluate_with_film(&m, layers.film.as_ref(), v3(n), v3(t), v3(b), v3(v), v3(l))
             } else {
                 brdf_evaluate_variant(&m, &self.variant, v3(n), v3(t), v3(b), v3(v), v3(l))
             };
@@ -451,6 +454,13 @@ impl ReferenceShading {
             },
             normal: v3(octahedral_decode([cx, cy])),
         });
+        // The thin film's target: weight, thickness in nm; its IOR from the material.
+        let [film_weight, film_thickness_nm] = texel.film;
+        let film = (film_weight > 0.0 && film_thickness_nm > 0.0).then(|| ThinFilm {
+            weight: film_weight,
+            eta: f64::from(material.film[1]),
+            thickness_nm: film_thickness_nm,
+        });
         // The sheen's target: linear colour, perceptual roughness.
         let [sr, sg, sb, sheen_roughness] = texel.sheen;
         let sheen = (sr.max(sg).max(sb) > 0.0).then_some(SheenInputs {
@@ -464,7 +474,7 @@ impl ReferenceShading {
             b,
             v,
             position,
-            layers: Layers { coat, sheen },
+            layers: Layers { coat, sheen, film },
         })
     }
 

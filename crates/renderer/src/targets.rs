@@ -26,6 +26,8 @@ pub(crate) struct TargetKey {
     pub clearcoat: bool,
     /// Whether the G-buffer has the sheen's target.
     pub sheen: bool,
+    /// Whether the G-buffer has the thin film's target.
+    pub film: bool,
 }
 
 impl TargetKey {
@@ -39,6 +41,7 @@ impl TargetKey {
             back_faces: variant.volume,
             clearcoat: variant.clearcoat,
             sheen: variant.sheen,
+            film: variant.iridescence,
         }
     }
 }
@@ -111,7 +114,7 @@ impl FrameTargets {
                 key.height,
                 storage,
                 key.emissive_occlusion,
-                [key.clearcoat, key.sheen],
+                [key.clearcoat, key.sheen, key.film],
                 hdr_format.vk(),
             )?,
             hdr: Image::new(

@@ -171,6 +171,11 @@ pub struct ShaderVariant {
     /// sheen's lobe and its albedo scaling of the base (`combustion_optics::sheen`, the
     /// albedo table bound); scenes without one carry neither.
     pub sheen: bool,
+    /// Some drawn object's material has a thin film (KHR_materials_iridescence): the
+    /// G-buffer gets the film's target (its weight and thickness) and the passes that
+    /// shade mix the film's Fresnel reflectance into every lobe's
+    /// (`combustion_optics::thin_film`); scenes without one carry neither.
+    pub iridescence: bool,
     /// Some drawn mesh has vertex colours (glTF COLOR_0): the G-buffer pipelines read the
     /// colour stream and multiply it into the base colour and alpha (objects whose mesh
     /// has none use white).
@@ -252,6 +257,9 @@ impl ShaderVariant {
         if self.sheen {
             defines.push(("SHEEN", None));
         }
+        if self.iridescence {
+            defines.push(("IRIDESCENCE", None));
+        }
         match self.fresnel {
             FresnelModel::Full => {}
             FresnelModel::Schlick => defines.push(("FRESNEL_SCHLICK", None)),
@@ -304,8 +312,8 @@ fn environment_samples_define(count: u32) -> Option<&'static str> {
 
 impl ShaderVariant {
     /// The part of the variant the G-buffer shaders read (the emissive target, texture
-    /// transforms, cut-outs, vertex colours, the clear coat's and the sheen's targets and
-    /// the geometry floor); every other feature is the lighting pass's.
+    /// transforms, cut-outs, vertex colours, the clear coat's, the sheen's and the thin
+    /// film's targets and the geometry floor); every other feature is the lighting pass's.
     pub(crate) fn gbuffer_part(self) -> ShaderVariant {
         ShaderVariant {
             emissive: self.emissive,
@@ -315,6 +323,7 @@ impl ShaderVariant {
             vertex_colors: self.vertex_colors,
             clearcoat: self.clearcoat,
             sheen: self.sheen,
+            iridescence: self.iridescence,
             floor: self.floor.filter(|f| *f == MeasurementFloor::Geometry),
             ..ShaderVariant::default()
         }

@@ -25,6 +25,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "clearcoat",
     "clearcoat-underwater",
     "sheen",
+    "iridescence",
 ];
 
 /// Builds the built-in scene `name` (one of [`BUILTIN_SCENES`]), procedurally, needing no
@@ -57,6 +58,9 @@ pub const BUILTIN_SCENES: &[&str] = &[
 /// - `sheen`: the sheen of fibres (KHR_materials_sheen) from smooth to rough over a dark
 ///   red cloth, a coloured sheen over blue, sheen over gold, the cloth without sheen,
 ///   and a sheen under a clear coat.
+/// - `iridescence`: thin films (KHR_materials_iridescence) of index 2 over a black
+///   plastic, 200 to 800 nm thick; a titanium-oxide-like film over aluminium and a thin one over gold, a
+///   half-weight film over blue, and the black plastic without a film.
 ///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
@@ -83,6 +87,7 @@ pub fn builtin_scene_with(name: &str, colour: MetalColour) -> Result<Scene, Scen
         "clearcoat" => Ok(clearcoat(colour, 1.0, "clearcoat")),
         "clearcoat-underwater" => Ok(clearcoat(colour, WATER_IOR, "clearcoat-underwater")),
         "sheen" => Ok(sheen(colour)),
+        "iridescence" => Ok(iridescence(colour)),
         "spheres-studio" => Ok(under_studio(spheres(colour), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
             Scene {
@@ -1246,6 +1251,78 @@ fn sheen(colour: MetalColour) -> Scene {
             light_from(Vec3::new(-0.8, 0.45, 0.45), [3.0; 3]),
             // grazing from behind: where sheen shows
             light_from(Vec3::new(0.3, 0.5, -0.9), [4.0; 3]),
+        ],
+        grid_camera(4, 2, 1.5),
+        1.0,
+    )
+}
+
+/// Thin films of index 2 (a titanium-dioxide-like coating) over black plastic, 200, 350,
+/// 500 and 800 nm thick (the interference colours turn with the thickness and fade as
+/// the film thickens); a 2.2 film of 300 nm over aluminium (anodised titanium's
+/// colours), a 1.5 film of 150 nm over gold, a half-weight 2.0 film of 400 nm over blue
+/// plastic, and the black plastic bare.
+fn iridescence(colour: MetalColour) -> Scene {
+    use combustion_spectra::BuiltinMetal;
+    let black = Material {
+        name: "black plastic".into(),
+        base_color: [0.01, 0.01, 0.01],
+        roughness: 0.25,
+        ..Material::default()
+    };
+    let filmed = |name: &str, base: &Material, factor: f32, ior: f32, thickness_nm: f32| Material {
+        name: name.into(),
+        iridescence: Some(crate::Iridescence {
+            factor,
+            ior,
+            thickness_min_nm: 0.0,
+            thickness_max_nm: thickness_nm,
+        }),
+        ..base.clone()
+    };
+    let metal_base = |name: &str, which: BuiltinMetal| Material {
+        name: name.into(),
+        metalness: 1.0,
+        roughness: 0.3,
+        conductor: metal(which, colour),
+        ..Material::default()
+    };
+    let blue = Material {
+        name: "blue plastic".into(),
+        base_color: [0.03, 0.08, 0.5],
+        roughness: 0.3,
+        ..Material::default()
+    };
+    let rows = vec![
+        [200.0, 350.0, 500.0, 800.0]
+            .iter()
+            .map(|&d| filmed(&format!("black, film {d} nm"), &black, 1.0, 2.0, d))
+            .collect(),
+        vec![
+            filmed(
+                "aluminium, film 300 nm",
+                &metal_base("aluminium", BuiltinMetal::Aluminium),
+                1.0,
+                2.2,
+                300.0,
+            ),
+            filmed(
+                "gold, film 150 nm",
+                &metal_base("gold", BuiltinMetal::Gold),
+                1.0,
+                1.5,
+                150.0,
+            ),
+            filmed("blue, half film 400 nm", &blue, 0.5, 2.0, 400.0),
+            black.clone(),
+        ],
+    ];
+    sphere_grid(
+        "iridescence",
+        rows,
+        vec![
+            light_from(Vec3::new(-0.8, 0.45, 0.45), [3.0; 3]),
+            light_from(Vec3::new(0.6, 0.4, -0.7), [2.0; 3]),
         ],
         grid_camera(4, 2, 1.5),
         1.0,

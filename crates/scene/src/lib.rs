@@ -48,8 +48,8 @@ pub use error::{CameraProblem, LightProblem, SceneError};
 pub use gltf::{read_regular_file, read_text};
 pub use material::{
     conductor_from_reflectivity, srgb_decode, srgb_encode, AlphaMode, ColorSpace, ComplexIor,
-    DiffuseModel, Filter, Image, Material, Sampler, Texture, TextureRef, TextureSlot, UvTransform,
-    Volume, WrapMode, CLEARCOAT_IOR, TEXTURE_SLOTS,
+    DiffuseModel, Filter, Image, Iridescence, Material, Sampler, Texture, TextureRef, TextureSlot,
+    UvTransform, Volume, WrapMode, CLEARCOAT_IOR, IRIDESCENCE_THICKNESS_MAX_NM, TEXTURE_SLOTS,
 };
 pub use mesh::{Mesh, Vertex};
 pub use motion::{Motion, ObjectPoses, Pose};
@@ -666,6 +666,8 @@ pub struct SceneFeatures {
     pub coated: usize,
     /// Materials with a sheen (KHR_materials_sheen).
     pub sheen: usize,
+    /// Materials with a thin film (KHR_materials_iridescence).
+    pub iridescent: usize,
     /// Unlit materials (KHR_materials_unlit).
     pub unlit: usize,
     /// [`Light::Point`]s among the scene's lights.
@@ -751,6 +753,7 @@ impl std::fmt::Display for SceneFeatures {
         )?;
         writeln!(f, "clear-coated materials: {}", self.coated)?;
         writeln!(f, "materials with sheen: {}", self.sheen)?;
+        writeln!(f, "iridescent (thin-film) materials: {}", self.iridescent)?;
         writeln!(f, "unlit materials: {}", self.unlit)?;
         write!(
             f,
@@ -816,6 +819,7 @@ impl Scene {
             }
             features.coated += usize::from(m.is_coated());
             features.sheen += usize::from(m.has_sheen());
+            features.iridescent += usize::from(m.is_iridescent());
             if m.unlit {
                 features.unlit += 1;
             }

@@ -194,7 +194,47 @@ pub struct Material {
     /// KHR_materials_sheen `sheenRoughnessTexture` (linear, A), multiplied into
     /// `sheen_roughness`.
     pub sheen_roughness_texture: Option<TextureRef>,
+    /// KHR_materials_iridescence: a thin dielectric film over the material
+    /// ([`Iridescence`]); `None`: no film.
+    pub iridescence: Option<Iridescence>,
+    /// KHR_materials_iridescence `iridescenceTexture` (linear, R), multiplied into
+    /// [`Iridescence::factor`].
+    pub iridescence_texture: Option<TextureRef>,
+    /// KHR_materials_iridescence `iridescenceThicknessTexture` (linear, G): the film's
+    /// thickness from [`Iridescence::thickness_min_nm`] (0) to
+    /// [`Iridescence::thickness_max_nm`] (1); without it the thickness is the maximum.
+    pub iridescence_thickness_texture: Option<TextureRef>,
 }
+
+/// KHR_materials_iridescence: a thin dielectric film over a material's base, whose
+/// interference colours its Fresnel reflectance (`combustion_optics::thin_film`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Iridescence {
+    /// `iridescenceFactor` ∈ [0, 1]: how much of the Fresnel reflectance is the film's.
+    pub factor: f32,
+    /// `iridescenceIor`: the film's real IOR (finite, ≥ 1; 1.3 by default).
+    pub ior: f32,
+    /// `iridescenceThicknessMinimum`, nm (finite, ≥ 0; 100 by default).
+    pub thickness_min_nm: f32,
+    /// `iridescenceThicknessMaximum`, nm (finite, ≥ 0; 400 by default). It may be below
+    /// the minimum: the texture then maps the other way.
+    pub thickness_max_nm: f32,
+}
+
+impl Default for Iridescence {
+    fn default() -> Self {
+        Self {
+            factor: 0.0,
+            ior: 1.3,
+            thickness_min_nm: 100.0,
+            thickness_max_nm: 400.0,
+        }
+    }
+}
+
+/// The thickest film accepted, nm (a film thicker than a few µm shows no interference;
+/// `combustion_optics::thin_film::FILM_THICKNESS_MAX_NM` bounds what is evaluated).
+pub const IRIDESCENCE_THICKNESS_MAX_NM: f32 = 100_000.0;
 
 /// The index of refraction of a clear coat (KHR_materials_clearcoat fixes it at 1.5).
 pub const CLEARCOAT_IOR: f32 = 1.5;
@@ -282,6 +322,9 @@ impl Default for Material {
             sheen_roughness: 0.0,
             sheen_color_texture: None,
             sheen_roughness_texture: None,
+            iridescence: None,
+            iridescence_texture: None,
+            iridescence_thickness_texture: None,
         }
     }
 }
@@ -290,7 +333,8 @@ impl Material {
     /// Checks every factor's range as its field states (base colour, alpha, metalness,
     /// roughness, anisotropy strength, polarisation weight, occlusion strength,
     /// specular factor, transmission, clearcoat and its roughness, the sheen's colour and
-    /// roughness in [0, 1]; a volume's thickness finite and
+    /// roughness, the iridescence factor in [0, 1]; the iridescence IOR finite and ≥ 1, its
+    /// thicknesses in [0, [`IRIDESCENCE_THICKNESS_MAX_NM`]]; a volume's thickness finite and
     /// positive, its attenuation distance positive or infinite and its attenuation
     /// colour in [0, 1]; IORs finite and positive; k, the emissive factor and
     /// strength and the specular colour finite and ≥ 0; the anisotropy rotation and
@@ -357,6 +401,19 @@ impl Material {
             Some("sheen colour must lie in [0, 1]")
         } else if !unit(self.sheen_roughness) {
             Some("sheen roughness must lie in [0, 1]")
+        } else if !self.iridescence.is_none_or(|i| unit(i.factor)) {
+            Some("iridescence factor must lie in [0, 1]")
+        } else if !self
+            .iridescence
+            .is_none_or(|i| i.ior.is_finite() && i.ior >= 1.0)
+        {
+            Some("iridescence IOR must be finite and at least 1")
+        } else if !self.iridescence.is_none_or(|i| {
+            [i.thickness_min_nm, i.thickness_max_nm]
+                .iter()
+                .all(|&d| (0.0..=IRIDESCENCE_THICKNESS_MAX_NM).contains(&d))
+        }) {
+            Some("iridescence thicknesses must lie in [0, 100000] nm")
         } else if !self.clearcoat_normal_scale.is_finite() {
             Some("clearcoat normal scale must be finite")
         } else if !unit(self.transmission) {
@@ -432,7 +489,18 @@ impl Material {
                 TextureSlot::SheenRoughness,
                 self.sheen_roughness_texture.as_ref(),
             ),
+            (TextureSlot::Iridescence, self.iridescence_texture.as_ref()),
+            (
+                TextureSlot::IridescenceThickness,
+                self.iridescence_thickness_texture.as_ref(),
+            ),
         ]
+    }
+
+    /// Whether the material has a thin film (KHR_materials_iridescence with a factor
+    /// above 0).
+    pub fn is_iridescent(&self) -> bool {
+        self.iridescence.is_some_and(|i| i.factor > 0.0)
     }
 
     /// Whether the material has a sheen (KHR_materials_sheen with a colour other than
@@ -729,10 +797,14 @@ pub enum TextureSlot {
     SheenColor,
     /// [`Material::sheen_roughness_texture`] (linear, A).
     SheenRoughness,
+    /// [`Material::iridescence_texture`] (linear, R).
+    Iridescence,
+    /// [`Material::iridescence_thickness_texture`] (linear, G).
+    IridescenceThickness,
 }
 
 /// How many texture slots a material has ([`TextureSlot::ALL`]).
-pub const TEXTURE_SLOTS: usize = 15;
+pub const TEXTURE_SLOTS: usize = 17;
 
 impl TextureSlot {
     /// Every slot, in the order [`Material::texture_slots`] gives them (the order of the
@@ -753,6 +825,8 @@ impl TextureSlot {
         TextureSlot::ClearcoatNormal,
         TextureSlot::SheenColor,
         TextureSlot::SheenRoughness,
+        TextureSlot::Iridescence,
+        TextureSlot::IridescenceThickness,
     ];
 
     /// A short lower-case name for messages: `base colour`, `metallic-roughness`, ...
@@ -773,6 +847,8 @@ impl TextureSlot {
             TextureSlot::ClearcoatNormal => "clearcoat normal",
             TextureSlot::SheenColor => "sheen colour",
             TextureSlot::SheenRoughness => "sheen roughness",
+            TextureSlot::Iridescence => "iridescence",
+            TextureSlot::IridescenceThickness => "iridescence thickness",
         }
     }
 

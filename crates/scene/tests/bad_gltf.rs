@@ -607,6 +607,69 @@ fn sheen_is_read_and_out_of_range_values_refused() {
     }
 }
 
+/// KHR_materials_iridescence: the factor, the film's IOR and thickness range read (the
+/// extension's defaults where absent: IOR 1.3, 100 to 400 nm); a factor of 0 is no film;
+/// out-of-range values and a texture that does not exist are one-line errors naming the
+/// extension and the material.
+#[test]
+fn iridescence_is_read_and_out_of_range_values_refused() {
+    let (scene, report) = with_extensions(serde_json::json!({
+        "KHR_materials_iridescence": { "iridescenceFactor": 0.75, "iridescenceIor": 1.8,
+                                       "iridescenceThicknessMaximum": 550 }
+    }))
+    .unwrap();
+    let material = &scene.materials[0];
+    let film = material.iridescence.unwrap();
+    assert_eq!(
+        (
+            film.factor,
+            film.ior,
+            film.thickness_min_nm,
+            film.thickness_max_nm
+        ),
+        (0.75, 1.8, 100.0, 550.0)
+    );
+    assert!(
+        material.is_iridescent() && report.warnings.is_empty(),
+        "{report}"
+    );
+    assert_eq!(scene.features().iridescent, 1);
+    let (scene, _) =
+        with_extensions(serde_json::json!({ "KHR_materials_iridescence": {} })).unwrap();
+    assert!(!scene.materials[0].is_iridescent(), "factor 0: no film");
+    for (extensions, expected) in [
+        (
+            serde_json::json!({ "KHR_materials_iridescence": { "iridescenceFactor": 1.5 } }),
+            "KHR_materials_iridescence: iridescenceFactor must lie in [0, 1], found 1.5",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_iridescence": { "iridescenceFactor": 1, "iridescenceIor": 0.5 } }),
+            "iridescenceIor must be at least 1, found 0.5",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_iridescence": { "iridescenceFactor": 1,
+                                                               "iridescenceThicknessMinimum": -5 } }),
+            "iridescenceThicknessMinimum must lie in [0, 100000] nm, found -5",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_iridescence": { "iridescenceFactor": 1,
+                                                               "iridescenceThicknessMaximum": 1e9 } }),
+            "iridescenceThicknessMaximum must lie in [0, 100000] nm, found 1e9",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_iridescence": { "iridescenceFactor": 1,
+                                                               "iridescenceThicknessTexture": { "index": 2 } } }),
+            "iridescence thickness texture 2 does not exist (0 textures)",
+        ),
+        (
+            serde_json::json!({ "KHR_materials_iridescence": { "iridescenceFactor": "much" } }),
+            "iridescenceFactor must be a number",
+        ),
+    ] {
+        refused_in_one_line(extensions, expected);
+    }
+}
+
 /// A data URI of an RGBA8 WebP (lossless).
 fn webp_uri(width: u32, height: u32, rgba: &[u8]) -> String {
     let mut bytes = Vec::new();

@@ -731,7 +731,8 @@ fn authored_scenes_are_current() {
     let features = scene.features();
     // Every slot of an opaque material (transmission's two:
     // `transmission_and_volumes_round_trip`; the clear coat's three:
-    // `clearcoats_round_trip`; the sheen's two: `sheen_round_trips`).
+    // `clearcoats_round_trip`; the sheen's two: `sheen_round_trips`; the thin film's two:
+    // `iridescence_round_trips`).
     let opaque_slots = TextureSlot::ALL.into_iter().filter(|s| {
         !matches!(
             s,
@@ -742,6 +743,8 @@ fn authored_scenes_are_current() {
                 | TextureSlot::ClearcoatNormal
                 | TextureSlot::SheenColor
                 | TextureSlot::SheenRoughness
+                | TextureSlot::Iridescence
+                | TextureSlot::IridescenceThickness
         )
     });
     for slot in opaque_slots {
@@ -1069,6 +1072,35 @@ fn sheen_round_trips() {
     for slot in [TextureSlot::SheenColor, TextureSlot::SheenRoughness] {
         assert_eq!(features.texture_count(slot), 1, "{slot:?}");
     }
+}
+
+/// KHR_materials_iridescence survives a save and an import: factor, IOR, thickness
+/// range and both textures; a material without a film is written without the extension.
+#[test]
+fn iridescence_round_trips() {
+    let mut scene = builtin_scene("iridescence").unwrap();
+    let weights = image("iridescence", ColorSpace::Linear, |x, _| {
+        [(x * 16) as u8, 0, 0, 255]
+    });
+    let thickness = image("iridescence thickness", ColorSpace::Linear, |_, y| {
+        [0, (y * 16) as u8, 0, 255]
+    });
+    let with = scene
+        .materials
+        .iter()
+        .position(|m| m.is_iridescent())
+        .unwrap();
+    scene.materials[with].iridescence_texture = texture(&weights, Sampler::default());
+    scene.materials[with].iridescence_thickness_texture = texture(&thickness, Sampler::default());
+    let (loaded, _) = round_trip(&scene, "iridescence");
+    let features = loaded.features();
+    assert!(features.iridescent > 0 && features.iridescent < loaded.materials.len());
+    for slot in [TextureSlot::Iridescence, TextureSlot::IridescenceThickness] {
+        assert_eq!(features.texture_count(slot), 1, "{slot:?}");
+    }
+    let films: Vec<_> = loaded.materials.iter().map(|m| m.iridescence).collect();
+    let expected: Vec<_> = scene.materials.iter().map(|m| m.iridescence).collect();
+    assert_eq!(films, expected);
 }
 
 /// KHR_texture_transform and TEXCOORD_1 survive a save and an import: a slot on set 1

@@ -233,6 +233,35 @@ pub fn colorimetric_reflectance(
     }))
 }
 
+/// The linear sRGB colour of a thin film's exact reflectance: the Airy reflectance of
+/// the film per wavelength (`combustion_optics::thin_film::thin_film_reflectance_at`)
+/// over a base whose index is `base(λ)` = (n, k), polarisation-weighted
+/// (0 = s, 1 = p, ½ = unpolarised), seen as [`reflectance_colour`] says. The f64 oracle
+/// of the renderer's thin film (`combustion_optics::thin_film`), which takes the base's
+/// index per RGB channel and the colour matching functions as Gaussians.
+pub fn thin_film_colour(
+    cos_theta: f64,
+    outside_eta: f64,
+    film_eta: f64,
+    thickness_nm: f64,
+    base: impl Fn(f64) -> (f64, f64),
+    polarisation_weight: f64,
+) -> [f64; 3] {
+    reflectance_colour(|nm| {
+        let (n, k) = base(nm);
+        combustion_optics::thin_film::thin_film_reflectance_at(
+            cos_theta,
+            outside_eta,
+            film_eta,
+            thickness_nm,
+            n,
+            k,
+            nm,
+        )
+        .weighted(polarisation_weight)
+    })
+}
+
 /// Refuses a table that does not span the colorimetric tables' 380–780 nm.
 fn check_visible(spectrum: &Spectrum) -> Result<(), SpectrumError> {
     let (first, last) = spectrum.range_nm();

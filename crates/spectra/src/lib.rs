@@ -37,8 +37,9 @@ pub use builtin::{BuiltinDielectric, BuiltinMetal};
 pub use colour::{
     cie_wavelength, colorimetric_optical_constants, colorimetric_reflectance, d65_white_xyz,
     delta_e_76, fit_angles_deg, lab_of_linear_srgb, linear_srgb_of_xyz, metal_colour_table,
-    reflectance_colour, xyz_of, xyz_to_linear_srgb, ColorimetricFit, MetalColour, CIE_1931_2DEG,
-    CIE_FIRST_NM, CIE_LAST_NM, CIE_STEP_NM, D65, FIT_BOUNDS, FIT_OUTSIDE_ETAS, REC709_PRIMARIES,
+    reflectance_colour, thin_film_colour, xyz_of, xyz_to_linear_srgb, ColorimetricFit, MetalColour,
+    CIE_1931_2DEG, CIE_FIRST_NM, CIE_LAST_NM, CIE_STEP_NM, D65, FIT_BOUNDS, FIT_OUTSIDE_ETAS,
+    REC709_PRIMARIES,
 };
 pub use error::SpectrumError;
 pub use rgb::{

@@ -139,6 +139,7 @@ impl FramePass for Lighting {
             ("gbuffer_emissive", &g.emissive),
             ("gbuffer_clearcoat", &g.clearcoat),
             ("gbuffer_sheen", &g.sheen),
+            ("gbuffer_film", &g.film),
         ] {
             io = match target {
                 Some(image) => io.image(name, image, texel),

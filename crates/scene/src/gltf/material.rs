@@ -322,6 +322,22 @@ impl Importer<'_> {
                     )?;
                 }
             }
+            if let Some(value) = ext.others.get("KHR_materials_iridescence") {
+                let read = optics_ext::parse_iridescence(value).map_err(|e| {
+                    self.material_error(index, format!("KHR_materials_iridescence: {e}"))
+                })?;
+                // A factor of 0 is no film (the texture multiplies the factor).
+                if read.film.factor > 0.0 {
+                    material.iridescence = Some(read.film);
+                    material.iridescence_texture =
+                        self.texture_info(index, TextureSlot::Iridescence, read.texture)?;
+                    material.iridescence_thickness_texture = self.texture_info(
+                        index,
+                        TextureSlot::IridescenceThickness,
+                        read.thickness_texture,
+                    )?;
+                }
+            }
             if let Some(value) = ext.others.get("KHR_materials_anisotropy") {
                 let anisotropy = optics_ext::parse_anisotropy(value).map_err(|e| {
                     self.material_error(index, format!("KHR_materials_anisotropy: {e}"))

@@ -529,6 +529,66 @@ pub(crate) fn parse_sheen(value: &Value) -> Result<Sheen, String> {
     })
 }
 
+/// KHR_materials_iridescence as read: the film (its defaults where a value is absent)
+/// and its two textures.
+#[derive(Debug)]
+pub(crate) struct IridescenceRead {
+    pub film: crate::Iridescence,
+    pub texture: Option<TextureInfo>,
+    pub thickness_texture: Option<TextureInfo>,
+}
+
+pub(crate) fn parse_iridescence(value: &Value) -> Result<IridescenceRead, String> {
+    let map = object(value, "KHR_materials_iridescence")?;
+    let defaults = crate::Iridescence::default();
+    let read = |key: &str, default: f32, ok: &dyn Fn(f32) -> bool, rule: &str| {
+        let Some(v) = map.get(key) else {
+            return Ok(default);
+        };
+        let x = number(v, key)?;
+        if ok(x) {
+            Ok(x)
+        } else {
+            Err(format!(
+                "{key} must {rule}, found {}",
+                crate::error::readable(f64::from(x))
+            ))
+        }
+    };
+    let thickness = |x: f32| (0.0..=crate::IRIDESCENCE_THICKNESS_MAX_NM).contains(&x);
+    let thickness_rule = "lie in [0, 100000] nm";
+    Ok(IridescenceRead {
+        film: crate::Iridescence {
+            factor: read(
+                "iridescenceFactor",
+                defaults.factor,
+                &|x| (0.0..=1.0).contains(&x),
+                "lie in [0, 1]",
+            )?,
+            ior: read(
+                "iridescenceIor",
+                defaults.ior,
+                &|x| x >= 1.0,
+                "be at least 1",
+            )?,
+            thickness_min_nm: read(
+                "iridescenceThicknessMinimum",
+                defaults.thickness_min_nm,
+                &thickness,
+                thickness_rule,
+            )?,
+            thickness_max_nm: read(
+                "iridescenceThicknessMaximum",
+                defaults.thickness_max_nm,
+                &thickness,
+                thickness_rule,
+            )?,
+        },
+        texture: texture_info(map, "iridescenceTexture")?,
+        thickness_texture: texture_info(map, "iridescenceThicknessTexture")?,
+    })
+}
+
 #[derive(Debug, Default, PartialEq)]
 pub(crate) struct Anisotropy {
     pub strength: f32,

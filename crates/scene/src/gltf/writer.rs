@@ -306,6 +306,21 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
         }
         extensions.insert("KHR_materials_sheen".into(), sheen);
     }
+    if let Some(film) = m.iridescence.filter(|_| m.is_iridescent()) {
+        let mut iridescence = json!({
+            "iridescenceFactor": num(film.factor),
+            "iridescenceIor": num(film.ior),
+            "iridescenceThicknessMinimum": num(film.thickness_min_nm),
+            "iridescenceThicknessMaximum": num(film.thickness_max_nm),
+        });
+        if let Some(t) = info(TextureSlot::Iridescence) {
+            iridescence["iridescenceTexture"] = t;
+        }
+        if let Some(t) = info(TextureSlot::IridescenceThickness) {
+            iridescence["iridescenceThicknessTexture"] = t;
+        }
+        extensions.insert("KHR_materials_iridescence".into(), iridescence);
+    }
     let mut conductor = json!({
         "eta": nums(&m.conductor.eta),
         "k": nums(&m.conductor.k),
