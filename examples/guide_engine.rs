@@ -935,6 +935,7 @@ impl<'c> Engine<'c> {
                 tone_mapping: combustion::renderer::ToneMapping::Exponential,
                 pose: None,
                 environment_seed: 0,
+                anti_aliasing: combustion::renderer::AntiAliasing::None,
             };
             if let Err(e) = renderer.record(cmd, slot, scene, &inputs, &target) {
                 // SAFETY: end the (empty) recording so the buffer can be reset later.

@@ -9,6 +9,7 @@
 // - OUTPUT_HARDWARE_SRGB (_SRGB targets): tone curve; the driver encodes on write;
 // - OUTPUT_LINEAR (float targets, e.g. R16G16B16A16_SFLOAT): radiance × exposure, no
 //   tone curve, for a host's own post-processing.
+// FXAA (display formats; a pipeline of its own for frames that ask for it): fxaa.glsl.
 #include "tonemap.glsl"
 #include "srgb.glsl"
 
@@ -21,13 +22,29 @@ layout(push_constant) uniform TonemapPush {
 
 layout(location = 0) out vec4 out_color;
 
+// The display value (before sRGB encoding) of a radiance: exposure, then the frame's curve.
+vec3 display_of(vec3 radiance) {
+    return tonemap(radiance * push.exposure, push.curve);
+}
+
+#ifdef FXAA
+#include "fxaa.glsl"
+#endif
+
 void main() {
-    vec3 radiance = texelFetch(hdr_image, ivec2(gl_FragCoord.xy), 0).rgb;
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
 #if defined(OUTPUT_LINEAR)
-    out_color = vec4(radiance * push.exposure, 1.0);
-#elif defined(OUTPUT_HARDWARE_SRGB)
-    out_color = vec4(tonemap(radiance * push.exposure, push.curve), 1.0);
+    out_color = vec4(texelFetch(hdr_image, pixel, 0).rgb * push.exposure, 1.0);
 #else
-    out_color = vec4(srgb_encode(tonemap(radiance * push.exposure, push.curve)), 1.0);
+#ifdef FXAA
+    vec3 display = fxaa(pixel);  // AntiAliasing::Fxaa: its own pipeline
+#else
+    vec3 display = display_of(texelFetch(hdr_image, pixel, 0).rgb);
+#endif
+#if defined(OUTPUT_HARDWARE_SRGB)
+    out_color = vec4(display, 1.0);
+#else
+    out_color = vec4(srgb_encode(display), 1.0);
+#endif
 #endif
 }

@@ -2779,3 +2779,53 @@ fn a_second_process_reads_its_spirv_from_the_cache_and_renders_the_same_image() 
         "the damaged entry was replaced"
     );
 }
+
+/// `--supersample N` writes an image of the asked size (the frame rendered N times as
+/// large and resolved); 0 and 5 are refused, as is `--supersample` with
+/// `--anti-aliasing fxaa` or with `--accumulate-until`: each a usage error naming the
+/// option. `--anti-aliasing fxaa` renders.
+#[test]
+fn supersampling_and_anti_aliasing_on_the_command_line() {
+    let dir = scratch("supersample");
+    for (name, extra) in [
+        ("ss.png", &["--supersample", "3"][..]),
+        ("fxaa.png", &["--anti-aliasing", "fxaa"][..]),
+    ] {
+        let png = dir.join(name);
+        let mut args = vec![
+            "render",
+            "builtin:spheres",
+            "--width",
+            "40",
+            "--height",
+            "30",
+        ];
+        args.extend_from_slice(extra);
+        args.extend(["-o", png.to_str().unwrap()]);
+        let (code, stdout, stderr) = combustion(&args);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        let bytes = std::fs::read(&png).unwrap();
+        // PNG IHDR: width and height, big-endian, at bytes 16..24.
+        assert_eq!(&bytes[16..24], &[0, 0, 0, 40, 0, 0, 0, 30], "{name}");
+    }
+    for (args, named) in [
+        (&["render", "--supersample", "0"][..], "--supersample"),
+        (&["render", "--supersample", "5"][..], "--supersample"),
+        (
+            &["render", "--supersample", "2", "--anti-aliasing", "fxaa"][..],
+            "--supersample",
+        ),
+        (
+            &["render", "--supersample", "2", "--accumulate-until", "0.01"][..],
+            "--supersample",
+        ),
+        (
+            &["render", "--anti-aliasing", "msaa"][..],
+            "--anti-aliasing",
+        ),
+    ] {
+        let (code, _, stderr) = combustion(args);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains(named), "{args:?}: {stderr}");
+    }
+}

@@ -66,6 +66,7 @@ fn compare_with_oracle(scene: &Scene, frame: &Frame, step: u32, iterations: u32)
         tone_mapping: combustion::renderer::ToneMapping::Exponential,
         pose: None,
         environment_seed: 0,
+        anti_aliasing: combustion::renderer::AntiAliasing::None,
     };
     let reference = ReferenceShading::new(scene, &inputs, frame.width, frame.height);
     let environment = scene.environment.as_ref().expect("an environment");

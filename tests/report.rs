@@ -56,6 +56,7 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
         scaling: Some(SceneSource::Builtin("spheres".into())),
         shadows: Vec::new(),
         storages: Vec::new(),
+        anti_aliasing: true,
     };
     let mut steps = Vec::new();
     let measured =
@@ -64,9 +65,9 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
     assert!(device.contains("llvmpipe"), "{device}");
     assert_eq!(rows.len(), 6);
     // Per scene: its floors, then its sets; then the scaling measurement (3 sizes, 5
-    // light counts culled and not).
-    assert_eq!(steps.first(), Some(&(0, 21)));
-    assert_eq!(steps.last(), Some(&(21, 21)));
+    // light counts culled and not); then each scene's anti-aliasing.
+    assert_eq!(steps.first(), Some(&(0, 23)));
+    assert_eq!(steps.last(), Some(&(23, 23)));
     assert!(steps.windows(2).all(|w| w[1].0 == w[0].0 + 1), "{steps:?}");
     let scaling = &measured.scaling;
     assert_eq!(scaling.len(), 13);
@@ -183,7 +184,33 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
     assert!(csv.lines().all(|l| l.split(',').count() == 32), "{csv}");
     let scaling_csv = std::fs::read_to_string(dir.join("scaling.csv")).unwrap();
     assert_eq!(scaling_csv.lines().count(), 14, "{scaling_csv}");
+    // Anti-aliasing: each method on each scene against its 4×4-supersampled frame.
+    let aa = &measured.anti_aliasing;
+    assert_eq!(
+        aa.len(),
+        2 * combustion::report::anti_aliasing::Method::ALL.len()
+    );
+    for r in aa {
+        assert!(r.flip_mean.is_finite() && r.flip_mean >= 0.0, "{r:?}");
+        assert!(r.total.median > 0.0 && r.output.median > 0.0, "{r:?}");
+    }
+    for scene in ["builtin:spheres", "builtin:underwater"] {
+        let flip = |name: &str| {
+            aa.iter()
+                .find(|r| r.scene == scene && r.method.name() == name)
+                .unwrap()
+                .flip_mean
+        };
+        assert!(
+            flip("supersample 3x3") < flip("supersample 2x2")
+                && flip("supersample 2x2") < flip("none"),
+            "{aa:?}"
+        );
+    }
+    let aa_csv = std::fs::read_to_string(dir.join("anti-aliasing.csv")).unwrap();
+    assert_eq!(aa_csv.lines().count(), 1 + aa.len(), "{aa_csv}");
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("## Anti-aliasing"), "{md}");
     for set in &sets {
         assert!(md.contains(&format!("| {} |", set.name())), "{md}");
     }
@@ -257,6 +284,7 @@ fn comparison_variants_move_the_error_as_their_physics_says() {
         scaling: None,
         shadows: Vec::new(),
         storages: Vec::new(),
+        anti_aliasing: false,
     };
     let rows = combustion::report::measure(&desc, |_, _, _| {})
         .unwrap()
@@ -330,6 +358,7 @@ fn the_split_sum_error_is_in_the_report() {
         scaling: None,
         shadows: Vec::new(),
         storages: Vec::new(),
+        anti_aliasing: false,
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let md = combustion::report::markdown(&measured, &desc);
@@ -380,6 +409,7 @@ fn report_measures_shadows_against_exact_visibility() {
         scaling: None,
         shadows: SHADOW_SETTINGS[..2].to_vec(),
         storages: Vec::new(),
+        anti_aliasing: false,
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let rows = &measured.shadows;
@@ -446,6 +476,7 @@ fn report_measures_every_gbuffer_storage_end_to_end() {
         scaling: None,
         shadows: Vec::new(),
         storages: all_storages(),
+        anti_aliasing: false,
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let rows = &measured.storages;

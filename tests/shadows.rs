@@ -499,6 +499,7 @@ impl ExactEdges {
             tone_mapping: combustion::renderer::ToneMapping::Exponential,
             pose: None,
             environment_seed: 0,
+            anti_aliasing: combustion::renderer::AntiAliasing::None,
         };
         let light = scene.lights[0].clone();
         let cascades = match light {

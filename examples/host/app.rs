@@ -497,6 +497,7 @@ impl Host {
             // Sampled environment light (ShadingOptions::environment_samples) would take
             // another sample set each frame; the split sum ignores it.
             environment_seed: (n % 1024) as u32,
+            anti_aliasing: combustion::renderer::AntiAliasing::None,
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {

@@ -8,9 +8,9 @@ use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, Ty
 use clap::{ArgAction, ArgGroup, Args, Parser, Subcommand};
 
 use combustion::renderer::{
-    Background, BaseColorStorage, Distribution, FresnelModel, GBufferStorage, HdrFormat,
-    LightCulling, RendererSettings, ShadingOptions, ShadowFilter, ShadowSettings, SurfaceStorage,
-    ToneMapping, MAX_CASCADES, MAX_FRAMES_IN_FLIGHT,
+    AntiAliasing, Background, BaseColorStorage, Distribution, FresnelModel, GBufferStorage,
+    HdrFormat, LightCulling, RendererSettings, ShadingOptions, ShadowFilter, ShadowSettings,
+    SurfaceStorage, ToneMapping, MAX_CASCADES, MAX_FRAMES_IN_FLIGHT, MAX_SUPERSAMPLE,
 };
 use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, MetalColour};
@@ -48,9 +48,10 @@ the error of one frame against the f64 reference (relative errors and mean FLIP)
 scene the measurement floors (trivial G-buffer fragment stage; lighting that only
 fetches; plain GGX + Smith + conductor Fresnel), and frame time against size (0.5x, 1x,
 1.5x) and against 1-256 localised lights culled and not (on grid-7x7, or the scene
-named); written to DIR as report.md, report.csv, floors.csv, scaling.csv,
-speed-vs-error.png (with the Pareto front), scaling-resolution.png and
-scaling-lights.png.";
+named), and per scene each anti-aliasing method (none, FXAA, 2x2 and 3x3 supersampling)
+against the frame supersampled 4x4 (mean FLIP) at its cost; written to DIR as report.md,
+report.csv, floors.csv, scaling.csv, anti-aliasing.csv, speed-vs-error.png (with the
+Pareto front), scaling-resolution.png and scaling-lights.png.";
 
 pub(crate) const VIEW_ABOUT: &str = "\
 Opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under Xvfb)
@@ -270,6 +271,10 @@ pub(crate) struct PictureArgs {
     /// radiance either way)
     #[arg(long, value_name = "CURVE", value_parser = named(ToneMapping::ALL.map(|t| (t.name(), t))))]
     pub(crate) tone_mapping: Option<ToneMapping>,
+    /// Edge smoothing of the PNG and the window: `none` or `fxaa` (FXAA on the display
+    /// values, by the output pass); for still renders `render --supersample N` is exact
+    #[arg(long, value_name = "METHOD", default_value = "none", value_parser = named(AntiAliasing::ALL.map(|a| (a.name(), a))))]
+    pub(crate) anti_aliasing: AntiAliasing,
 }
 
 impl PictureArgs {
@@ -479,6 +484,11 @@ pub(crate) struct RenderArgs {
     /// against the f64 reference is within E, measured on this scene at this size
     #[arg(long, value_name = "E", value_parser = relative_error)]
     pub(crate) max_error: Option<f64>,
+    /// N×N samples a pixel, averaged as radiance (a box filter over the pixel: the frame
+    /// rendered N times as wide and high, then resolved), 1 to 4; the exact anti-aliasing
+    /// of a still image (replaces --anti-aliasing)
+    #[arg(long, value_name = "N", default_value = "1", value_parser = supersample_factor)]
+    pub(crate) supersample: u32,
     #[command(flatten)]
     pub(crate) frame: FrameArgs,
     #[command(flatten)]
@@ -642,8 +652,11 @@ pub(crate) struct BenchArgs {
     /// 1024 lights is not culled (a warning says so)
     #[arg(long, value_name = "WHEN", default_value = "auto", value_parser = named(LightCulling::ALL.map(|c| (c.name(), c))))]
     pub(crate) culling: LightCulling,
+    /// The output pass's anti-aliasing: `none` or `fxaa` (timed with the output pass)
+    #[arg(long, value_name = "METHOD", default_value = "none", value_parser = named(AntiAliasing::ALL.map(|a| (a.name(), a))))]
+    pub(crate) anti_aliasing: AntiAliasing,
     /// Measure the variant sets and write the speed-against-error report to DIR
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
     pub(crate) report: Option<PathBuf>,
     /// With --report: add how this run reproduces an earlier report (rows with identical
     /// error columns, the spread of the frame-time ratios)
@@ -967,6 +980,10 @@ pub(crate) fn at_least_one(text: &str) -> Result<u32, String> {
         return Err("is 0; it must be at least 1".to_owned());
     }
     Ok(value)
+}
+
+pub(crate) fn supersample_factor(text: &str) -> Result<u32, String> {
+    whole_in(text, 1, MAX_SUPERSAMPLE)
 }
 
 pub(crate) fn frames_in_flight(text: &str) -> Result<usize, String> {

@@ -385,6 +385,7 @@ fn render_job(
         lights: &lights,
         background: o.picture.background_for(scene),
         tone_mapping,
+        anti_aliasing: o.picture.anti_aliasing,
         pose: pose.as_ref(),
         ..FrameInputs::of_scene(gpu, settings.exposure)
     };
@@ -392,7 +393,23 @@ fn render_job(
         images: true,
         gbuffer: job.error,
     };
-    let frame = renderer.render_with(gpu, &inputs, o.frame.width, o.frame.height, readback)?;
+    let frame = if o.supersample > 1 {
+        if job.error || o.picture.anti_aliasing != combustion::renderer::AntiAliasing::None {
+            return Err(Error::Usage(format!(
+                "job `{}`: supersample {} cannot be combined with {}: give one",
+                job.name,
+                o.supersample,
+                if job.error {
+                    "\"error\": true (the error is measured per pixel of one sample)"
+                } else {
+                    "anti-aliasing"
+                }
+            )));
+        }
+        renderer.render_supersampled(gpu, &inputs, o.frame.width, o.frame.height, o.supersample)?
+    } else {
+        renderer.render_with(gpu, &inputs, o.frame.width, o.frame.height, readback)?
+    };
     let count = frame.non_finite_pixels();
     if count > 0 {
         return Err(Error::NonFiniteFrame {

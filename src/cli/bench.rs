@@ -42,6 +42,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
         floors: true,
         shadows: combustion::report::shadows::SHADOW_SETTINGS.to_vec(),
         storages: combustion::report::storage::all_storages(),
+        anti_aliasing: true,
         // Frame time against size and light count: on the scene named, else on the
         // performance scene.
         scaling: Some(if let Some(scene) = o.scene.given() {
@@ -117,9 +118,14 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     renderer.set_light_culling(o.culling);
     let gpu_scene = renderer.upload(&scene)?;
     let features = renderer.lighting_features(&gpu_scene);
+    let still = combustion::renderer::FrameInputs {
+        anti_aliasing: o.anti_aliasing,
+        ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings_exposure)
+    };
     // One warm-up frame (first-touch allocations, driver caches) is not counted.
-    renderer.render(
+    renderer.render_with(
         &gpu_scene,
+        &still,
         o.frame.width,
         o.frame.height,
         Readback::default(),
@@ -148,7 +154,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
                     .expect("an animation the scene has");
                 let inputs = combustion::renderer::FrameInputs {
                     pose: Some(&pose),
-                    ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings_exposure)
+                    ..still
                 };
                 renderer.submit_offscreen_with(
                     &gpu_scene,
@@ -157,7 +163,9 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
                     o.frame.height,
                 )?;
             }
-            None => renderer.submit_offscreen(&gpu_scene, o.frame.width, o.frame.height)?,
+            None => {
+                renderer.submit_offscreen_with(&gpu_scene, &still, o.frame.width, o.frame.height)?
+            }
         }
         let now = Instant::now();
         wall_ms.push((now - last).as_secs_f64() * 1e3);

@@ -94,6 +94,18 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     if let Some(exr) = &o.hdr {
         output::check_extension(exr, "--hdr", "OpenEXR", &["exr"])?;
     }
+    if o.accumulate_until.is_some() && o.supersample > 1 {
+        return Err(Error::Usage(
+            "--accumulate-until and --supersample cannot be combined yet: choose one".into(),
+        ));
+    }
+    if o.supersample > 1 && o.picture.anti_aliasing != combustion::renderer::AntiAliasing::None {
+        return Err(Error::Usage(format!(
+            "--supersample {n} and --anti-aliasing {}: supersampling is the exact anti-aliasing of a still image; give one",
+            o.picture.anti_aliasing.name(),
+            n = o.supersample
+        )));
+    }
     if o.accumulate_until.is_some() && o.shading.environment_samples == 0 {
         return Err(Error::Usage(
             "--accumulate-until needs --environment-samples N (the split sum has no noise to average)".into(),
@@ -178,11 +190,15 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         let inputs = combustion::renderer::FrameInputs {
             background: o.picture.background_for(&scene),
             tone_mapping: o.picture.tone_mapping_for(&source),
+            anti_aliasing: o.picture.anti_aliasing,
             pose: pose.as_ref(),
             ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings.exposure)
         };
         let size = (o.frame.width, o.frame.height);
         let frame = match o.accumulate_until {
+            None if o.supersample > 1 => {
+                renderer.render_supersampled(&gpu_scene, &inputs, size.0, size.1, o.supersample)?
+            }
             None => renderer.render_with(&gpu_scene, &inputs, size.0, size.1, IMAGES)?,
             Some(target) => {
                 let (frame, frames, achieved) =

@@ -9,6 +9,7 @@
 //! `report.csv`, `floors.csv` and `speed-vs-error.png` (one point per variant set — time
 //! and error averaged over the scenes — with the Pareto front).
 
+pub mod anti_aliasing;
 pub mod shadows;
 pub mod storage;
 
@@ -367,6 +368,9 @@ pub struct Measurements {
     /// Each G-buffer storage on each scene without an environment (empty unless
     /// [`ReportDesc::storages`] names some).
     pub storages: Vec<storage::StorageRow>,
+    /// Each anti-aliasing method on each scene (empty unless
+    /// [`ReportDesc::anti_aliasing`]).
+    pub anti_aliasing: Vec<anti_aliasing::AntiAliasingRow>,
 }
 
 /// GPU timings of `frames` frames of `scene` (after the frames already taken).
@@ -411,6 +415,9 @@ pub struct ReportDesc {
     /// The G-buffer storages measured on each scene without an environment
     /// ([`storage::all_storages`]; empty: none).
     pub storages: Vec<GBufferStorage>,
+    /// Measure each anti-aliasing method on each scene against its 4×4-supersampled
+    /// frame ([`anti_aliasing::Method::ALL`]).
+    pub anti_aliasing: bool,
 }
 
 impl ReportDesc {
@@ -533,7 +540,8 @@ pub fn measure(
     let total = scenes.len() * (desc.sets.len() + usize::from(desc.floors))
         + desc.scaling_steps()
         + desc.shadow_steps(&scenes)
-        + desc.storage_steps(&scenes);
+        + desc.storage_steps(&scenes)
+        + if desc.anti_aliasing { scenes.len() } else { 0 };
     let mut rows = Vec::with_capacity(total);
     let mut scaling = Vec::new();
     let mut shadow_rows = Vec::new();
@@ -677,9 +685,20 @@ pub fn measure(
         progress(done + i, total, what);
         i += 1;
     })?;
+    let anti_aliasing_rows = if desc.anti_aliasing {
+        let done = done + storage_rows.len();
+        let mut i = 0;
+        anti_aliasing::measure(&scenes, desc, |what| {
+            progress(done + i, total, what);
+            i += 1;
+        })?
+    } else {
+        Vec::new()
+    };
     progress(total, total, "done");
     Ok(Measurements {
         storages: storage_rows,
+        anti_aliasing: anti_aliasing_rows,
         rows,
         floors,
         scaling,
@@ -862,6 +881,7 @@ pub fn choose(
         scaling: None,
         shadows: Vec::new(),
         storages: Vec::new(),
+        anti_aliasing: false,
     };
     let mut candidates = measure(&desc, |_, _, _| {})?.rows;
     candidates.sort_by(|a, b| a.total.median.total_cmp(&b.total.median));
@@ -1289,6 +1309,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     out += &scaling_markdown(m);
     out += &shadows::markdown(&m.shadows);
     out += &storage::markdown(&m.storages);
+    out += &anti_aliasing::markdown(&m.anti_aliasing);
     out += &metal_colours_markdown();
     out += "## Per scene\n\nErrors of the lighting pass (from the frame's own G-buffer) and, where the scene has no environment, of the frame end to end (from the scene).\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP | end to end: mean | max |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
@@ -1591,6 +1612,12 @@ pub fn write(
             storage::csv(&m.storages).into_bytes(),
         ));
     }
+    if !m.anti_aliasing.is_empty() {
+        files.push((
+            "anti-aliasing.csv",
+            anti_aliasing::csv(&m.anti_aliasing).into_bytes(),
+        ));
+    }
     if !m.scaling.is_empty() {
         let (size, lights) = scaling_plots(m, device)?;
         files.push(("scaling-resolution.png", size.bytes));
@@ -1612,7 +1639,8 @@ pub fn write(
 }
 
 /// Every file a report may write into its folder.
-pub const REPORT_FILES: [&str; 10] = [
+pub const REPORT_FILES: [&str; 11] = [
+    "anti-aliasing.csv",
     "report.md",
     "speed-vs-error.png",
     "report.csv",

@@ -78,6 +78,8 @@ pub struct ViewerDesc {
     /// The window's tone curve; `None`: [`crate::default_tone_mapping`] of the scene's
     /// source.
     pub tone_mapping: Option<ToneMapping>,
+    /// The window's anti-aliasing.
+    pub anti_aliasing: combustion_renderer::AntiAliasing,
 }
 
 /// The clock of scripted runs: frame n of a camera path is at time n / 30 s.
@@ -407,6 +409,8 @@ struct State {
     background: Option<Background>,
     /// The tone curve asked for (`None`: the default of the scene's source).
     tone_mapping: Option<ToneMapping>,
+    /// The anti-aliasing asked for.
+    anti_aliasing: combustion_renderer::AntiAliasing,
     /// The scene file's modification time when loaded, and when it was last checked.
     modified: Option<std::time::SystemTime>,
     last_poll: Instant,
@@ -522,6 +526,7 @@ impl State {
             exposure: desc.settings.exposure,
             background: desc.background,
             tone_mapping: desc.tone_mapping,
+            anti_aliasing: desc.anti_aliasing,
             last_poll: Instant::now(),
             stale: true,
             cameras,
@@ -620,7 +625,8 @@ impl State {
                 vsync,
                 self.ring.frames_in_flight(),
             )?;
-            self.renderer.prepare_output(swapchain.format())?;
+            self.renderer
+                .prepare_anti_aliasing(swapchain.format(), self.anti_aliasing)?;
             self.swapchain = Some(swapchain);
             summary.swapchains += 1;
             self.stale = false;
@@ -716,6 +722,7 @@ impl State {
             pose: pose.as_ref(),
             // The viewer shades environments by the split sum: no sample sets to vary.
             environment_seed: 0,
+            anti_aliasing: self.anti_aliasing,
         };
         self.renderer
             .record(frame.cmd, frame.slot, &self.gpu_scene, &inputs, &target)?;
@@ -876,6 +883,7 @@ impl State {
             tone_mapping: ToneMapping::Exponential,
             pose: pose.as_ref(),
             environment_seed: 0,
+            anti_aliasing: combustion_renderer::AntiAliasing::None,
         };
         let error = inspect::measure_error(
             &mut self.renderer,

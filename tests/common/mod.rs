@@ -164,6 +164,7 @@ pub fn frame_inputs<'a>(
         tone_mapping: combustion::renderer::ToneMapping::Exponential,
         pose: None,
         environment_seed: 0,
+        anti_aliasing: combustion::renderer::AntiAliasing::None,
     }
 }
 

@@ -30,6 +30,9 @@ pub enum RenderError {
         /// The device's largest side (`maxImageDimension2D`).
         max: u32,
     },
+    /// A supersampling factor outside 1 to [`crate::MAX_SUPERSAMPLE`].
+    #[error("supersampling {0}x{0} is not supported; use 1 to {max} samples per side", max = crate::MAX_SUPERSAMPLE)]
+    InvalidSupersample(u32),
     /// [`crate::ShadowSettings`] outside their ranges (the message names the field).
     #[error("shadow settings refused: {0}")]
     InvalidShadowSettings(String),
@@ -81,6 +84,15 @@ pub enum RenderError {
     /// [`Renderer::prepare_output`] first.
     #[error("output format {0:?} was not prepared; call Renderer::prepare_output before recording frames into it")]
     OutputNotPrepared(vk::Format),
+    /// A frame asks for anti-aliasing whose output pipeline was not built for its
+    /// target's format.
+    #[error("{} anti-aliasing into {format:?} was not prepared; call Renderer::prepare_anti_aliasing before recording such frames", anti_aliasing.name())]
+    AntiAliasingNotPrepared {
+        /// The target's format.
+        format: vk::Format,
+        /// What the frame asked for.
+        anti_aliasing: crate::AntiAliasing,
+    },
     /// The pipelines the frame needs with the current shading options were not built:
     /// pass the scene to [`Renderer::set_shading`] when changing them, or call
     /// [`Renderer::prepare`] for it after.

@@ -203,7 +203,8 @@ impl Renderer {
     /// - [`RenderError::InvalidExposure`], [`RenderError::InvalidBackground`],
     ///   [`RenderError::Scene`]: the inputs' exposure, background, camera or lights.
     /// - [`RenderError::UnsupportedOutputFormat`], [`RenderError::OutputNotPrepared`]: the
-    ///   target's format.
+    ///   target's format; [`RenderError::AntiAliasingNotPrepared`]: the frame's
+    ///   anti-aliasing into it.
     /// - [`RenderError::SceneOfAnotherRenderer`], [`RenderError::EnvironmentOfAnotherScene`],
     ///   [`RenderError::VariantNotPrepared`]: the scene, the frame's environment, or
     ///   pipelines not built for the scene after a change of shading options.
@@ -283,6 +284,16 @@ impl Renderer {
             return Err(match crate::host::OutputEncoding::of(target.color.format) {
                 Some(_) => RenderError::OutputNotPrepared(target.color.format),
                 None => RenderError::UnsupportedOutputFormat(target.color.format),
+            });
+        }
+        if inputs.anti_aliasing == crate::AntiAliasing::Fxaa
+            && crate::host::OutputEncoding::of(target.color.format)
+                != Some(crate::host::OutputEncoding::Linear)
+            && self.outputs[&target.color.format].fxaa.is_none()
+        {
+            return Err(RenderError::AntiAliasingNotPrepared {
+                format: target.color.format,
+                anti_aliasing: inputs.anti_aliasing,
             });
         }
         if !scene.belongs_to(&self.retire_queue) {

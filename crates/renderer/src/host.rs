@@ -247,6 +247,10 @@ pub struct FrameInputs<'a> {
     /// independent estimates, whose mean is the integral with that many times the
     /// samples (a still render accumulates them; a host may vary it per frame).
     pub environment_seed: u32,
+    /// Anti-aliasing of display outputs by the output pass (linear targets get none:
+    /// a host's own post-processing takes their radiance). For still renders,
+    /// [`crate::Renderer::render_supersampled`] resolves N×N samples per pixel exactly.
+    pub anti_aliasing: AntiAliasing,
 }
 
 impl<'a> FrameInputs<'a> {
@@ -262,6 +266,36 @@ impl<'a> FrameInputs<'a> {
             tone_mapping: ToneMapping::Exponential,
             pose: None,
             environment_seed: 0,
+            anti_aliasing: AntiAliasing::None,
+        }
+    }
+}
+
+/// How the output pass smooths the edges of a frame (per frame,
+/// [`FrameInputs::anti_aliasing`]); its error against a 4×4-supersampled frame and its
+/// cost are in the speed-against-error report.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum AntiAliasing {
+    /// Each pixel shows its centre's radiance.
+    #[default]
+    None = 0,
+    /// FXAA (Lottes 2009, the structure of its 3.11 quality preset; `shaders/include/
+    /// fxaa.glsl`): where the display luma's local contrast is high, the pixel is
+    /// resampled across the edge found, by how far it lies from the edge's nearer end.
+    /// Interpolates radiance, then applies the tone curve.
+    Fxaa = 1,
+}
+
+impl AntiAliasing {
+    /// Every method, in discriminant order.
+    pub const ALL: [AntiAliasing; 2] = [Self::None, Self::Fxaa];
+
+    /// The command line's name: `none`, `fxaa`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::Fxaa => "fxaa",
         }
     }
 }

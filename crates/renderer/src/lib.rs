@@ -45,6 +45,7 @@ mod fullscreen;
 mod host;
 mod mesh_draw;
 mod offscreen;
+pub use offscreen::MAX_SUPERSAMPLE;
 mod options;
 mod pass_io;
 mod passes;
@@ -78,8 +79,8 @@ pub use environment::FrameEnvironment;
 pub use error::{RenderError, TargetImageProblem};
 use gbuffer::GBufferPass;
 pub use host::{
-    Background, ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding, ToneMapping,
-    DISPLAY_FORMAT,
+    AntiAliasing, Background, ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding,
+    ToneMapping, DISPLAY_FORMAT,
 };
 pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{

@@ -126,7 +126,80 @@ impl Offscreen {
     }
 }
 
+/// The largest factor of [`Renderer::render_supersampled`]: 4×4 samples a pixel.
+pub const MAX_SUPERSAMPLE: u32 = 4;
+
 impl Renderer {
+    /// A still frame of `scene` at `width`×`height` with `factor`×`factor` samples a
+    /// pixel (1 to [`MAX_SUPERSAMPLE`]): rendered at `factor` times the size (the same
+    /// camera, so the samples lie on a regular grid inside each pixel), its radiance
+    /// averaged per pixel in f64 (a box filter: the mean radiance over the pixel's area)
+    /// and then exposed and tone-mapped as the output pass does
+    /// ([`crate::ToneMapping::display_codes`]). The frame's own anti-aliasing is not
+    /// applied. Images only; the timings are the large frame's.
+    ///
+    /// # Errors
+    /// [`RenderError::InvalidSupersample`] for a factor outside its range;
+    /// [`RenderError::InvalidSize`] when the large frame exceeds the device's image
+    /// size; as [`Renderer::render_with`] otherwise.
+    pub fn render_supersampled(
+        &mut self,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        width: u32,
+        height: u32,
+        factor: u32,
+    ) -> Result<Frame, RenderError> {
+        if !(1..=MAX_SUPERSAMPLE).contains(&factor) {
+            return Err(RenderError::InvalidSupersample(factor));
+        }
+        let plain = FrameInputs {
+            anti_aliasing: crate::AntiAliasing::None,
+            ..*inputs
+        };
+        let large = self.render_with(
+            scene,
+            &plain,
+            width.saturating_mul(factor),
+            height.saturating_mul(factor),
+            Readback {
+                images: true,
+                gbuffer: false,
+            },
+        )?;
+        let (w, h, f) = (width as usize, height as usize, factor as usize);
+        let samples = (f * f) as f64;
+        let mut hdr = Vec::with_capacity(w * h);
+        let mut ldr = Vec::with_capacity(w * h);
+        for y in 0..h {
+            for x in 0..w {
+                let mut sum = [0.0f64; 4];
+                for sy in 0..f {
+                    let row = (y * f + sy) * w * f;
+                    for sx in 0..f {
+                        let p = large.hdr[row + x * f + sx];
+                        for c in 0..4 {
+                            sum[c] += f64::from(p[c]);
+                        }
+                    }
+                }
+                let mean = sum.map(|s| s / samples);
+                hdr.push(mean.map(|m| m as f32));
+                let exposed = [0, 1, 2].map(|c| mean[c] * f64::from(inputs.exposure));
+                let [r, g, b] = inputs.tone_mapping.display_codes(exposed);
+                ldr.push([r, g, b, 255]);
+            }
+        }
+        Ok(Frame {
+            width,
+            height,
+            hdr,
+            ldr,
+            gbuffer: None,
+            timings: large.timings,
+        })
+    }
+
     /// Renders `scene` (its own camera and lights, the settings' exposure) at
     /// `width`×`height`, submits, waits for the GPU and copies back what `readback`
     /// asks for. The convenience path of the command line and the tests; a host records
@@ -215,6 +288,9 @@ impl Renderer {
         readback: Option<Readback>,
     ) -> Result<RingFrame, RenderError> {
         self.check_size(width, height)?;
+        // The offscreen frames' display image: its anti-aliasing's pipeline is built
+        // here, before the frame is recorded (once; later frames find it built).
+        self.prepare_anti_aliasing(crate::DISPLAY_FORMAT, inputs.anti_aliasing)?;
         let mut offscreen = match self.offscreen.take() {
             Some(o) => o,
             None => Offscreen::new(&self.device, self.slots.len())?,

@@ -41,6 +41,9 @@ pub(crate) struct SetLayouts {
 /// drawn over it.
 pub(crate) struct OutputPasses {
     pub(crate) output: FullscreenPass,
+    /// The output pass with FXAA (`FXAA`), for display formats once a frame is to use
+    /// it ([`Renderer::prepare_anti_aliasing`]).
+    pub(crate) fxaa: Option<FullscreenPass>,
     pub(crate) overlay: overlay::OverlayPass,
 }
 
@@ -206,9 +209,57 @@ impl Renderer {
             &encoding.defines(),
             format,
         )?;
-        self.outputs
-            .insert(format, OutputPasses { output, overlay });
+        self.outputs.insert(
+            format,
+            OutputPasses {
+                output,
+                fxaa: None,
+                overlay,
+            },
+        );
         self.stats.pipelines_built += 2;
+        Ok(())
+    }
+
+    /// Prepares `format` ([`Renderer::prepare_output`]) and what frames of
+    /// `anti_aliasing` need there: for [`AntiAliasing::Fxaa`] into a display format, the
+    /// output pipeline with FXAA (linear formats get no anti-aliasing). Call it before
+    /// recording such frames (their recording never compiles a shader); the offscreen
+    /// paths ([`Renderer::render_with`], [`Renderer::submit_offscreen_with`]) call it.
+    ///
+    /// # Errors
+    /// As [`Renderer::prepare_output`]; [`RenderError::Vulkan`] if the shader does not
+    /// compile or the pipeline cannot be built.
+    ///
+    /// [`AntiAliasing::Fxaa`]: crate::AntiAliasing::Fxaa
+    pub fn prepare_anti_aliasing(
+        &mut self,
+        format: vk::Format,
+        anti_aliasing: crate::AntiAliasing,
+    ) -> Result<(), RenderError> {
+        self.prepare_output(format)?;
+        let encoding =
+            OutputEncoding::of(format).ok_or(RenderError::UnsupportedOutputFormat(format))?;
+        if anti_aliasing != crate::AntiAliasing::Fxaa
+            || encoding == OutputEncoding::Linear
+            || self.outputs[&format].fxaa.is_some()
+        {
+            return Ok(());
+        }
+        let mut defines = encoding.defines();
+        defines.push(("FXAA", None));
+        let fxaa = FullscreenPass::new(
+            &self.device,
+            &self.compiler,
+            &self.pipeline_cache,
+            "tonemap.frag",
+            &defines,
+            self.layouts.of(&bindings::OUTPUT),
+            std::mem::size_of::<TonemapPush>() as u32,
+            format,
+        )?;
+        self.outputs.get_mut(&format).expect("prepared above").fxaa = Some(fxaa);
+        self.stats.pipelines_built += 1;
         Ok(())
     }
 

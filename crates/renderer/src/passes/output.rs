@@ -46,7 +46,13 @@ impl FramePass for Output {
         };
         let passes = frame.output_pipelines();
         let image_width = r.overlay_image.1.map_or(1, |[w, _]| w);
-        passes.output.record(
+        // AntiAliasing::Fxaa: the output pipeline with FXAA (built for display formats by
+        // Renderer::prepare_anti_aliasing; linear formats have none and get the plain one).
+        let output = match (frame.inputs.anti_aliasing, &passes.fxaa) {
+            (crate::AntiAliasing::Fxaa, Some(fxaa)) => fxaa,
+            _ => &passes.output,
+        };
+        output.record(
             device,
             cmd,
             frame.target.color.view,
