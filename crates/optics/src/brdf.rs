@@ -246,6 +246,23 @@ pub fn brdf_view_with_film<T: Real>(
     }
 }
 
+/// The film's R_w(c) per channel over a base η + ik per channel.
+fn film_reflectance<T: Real>(
+    m: &BrdfInputs<T>,
+    f: &ThinFilm<T>,
+    w: T,
+    c: T,
+    (eta, k): ([T; 3], [T; 3]),
+) -> [T; 3] {
+    let r = thin_film_reflectance(c, m.outside_eta, f, eta, k);
+    std::array::from_fn(|ch| weighted_channel(&r, ch, w))
+}
+
+/// base + weight (film − base) per channel: the film's share of a Fresnel term.
+fn film_mixed<T: Real>(base: [T; 3], f: &ThinFilm<T>, film: [T; 3]) -> [T; 3] {
+    std::array::from_fn(|ch| base[ch] + f.weight * (film[ch] - base[ch]))
+}
+
 /// R_w(c; η_i, η_d) of the dielectric part per channel, a film mixed in.
 fn dielectric_reflectance<T: Real>(
     m: &BrdfInputs<T>,
@@ -253,14 +270,11 @@ fn dielectric_reflectance<T: Real>(
     w: T,
     c: T,
 ) -> [T; 3] {
-    let base = fresnel_dielectric(c, m.outside_eta, m.dielectric_eta).weighted(w);
-    match film {
-        None => [base; 3],
-        Some(f) => {
-            let r = thin_film_reflectance(c, m.outside_eta, f, [m.dielectric_eta; 3], [T::ZERO; 3]);
-            std::array::from_fn(|ch| base + f.weight * (weighted_channel(&r, ch, w) - base))
-        }
-    }
+    let base = [fresnel_dielectric(c, m.outside_eta, m.dielectric_eta).weighted(w); 3];
+    film.map_or(base, |f| {
+        let dielectric = ([m.dielectric_eta; 3], [T::ZERO; 3]);
+        film_mixed(base, f, film_reflectance(m, f, w, c, dielectric))
+    })
 }
 
 /// T_w(c; η_i, η_d) of the dielectric part per channel, a film mixed in (1 − its
@@ -271,16 +285,13 @@ fn dielectric_transmittance<T: Real>(
     w: T,
     c: T,
 ) -> [T; 3] {
-    let base = fresnel_dielectric_transmittance(c, m.outside_eta, m.dielectric_eta).weighted(w);
-    match film {
-        None => [base; 3],
-        Some(f) => {
-            let r = thin_film_reflectance(c, m.outside_eta, f, [m.dielectric_eta; 3], [T::ZERO; 3]);
-            std::array::from_fn(|ch| {
-                base + f.weight * ((T::ONE - weighted_channel(&r, ch, w)) - base)
-            })
-        }
-    }
+    let base =
+        [fresnel_dielectric_transmittance(c, m.outside_eta, m.dielectric_eta).weighted(w); 3];
+    film.map_or(base, |f| {
+        let dielectric = ([m.dielectric_eta; 3], [T::ZERO; 3]);
+        let r = film_reflectance(m, f, w, c, dielectric);
+        film_mixed(base, f, r.map(|r| T::ONE - r))
+    })
 }
 
 /// R_w(c; η_i, η_c + i k_c) of the conductor part per channel, a film mixed in.
@@ -293,13 +304,13 @@ fn conductor_reflectance<T: Real>(
     let base: [T; 3] = std::array::from_fn(|ch| {
         fresnel_conductor(c, m.outside_eta, m.conductor_eta[ch], m.conductor_k[ch]).weighted(w)
     });
-    match film {
-        None => base,
-        Some(f) => {
-            let r = thin_film_reflectance(c, m.outside_eta, f, m.conductor_eta, m.conductor_k);
-            std::array::from_fn(|ch| base[ch] + f.weight * (weighted_channel(&r, ch, w) - base[ch]))
-        }
-    }
+    film.map_or(base, |f| {
+        film_mixed(
+            base,
+            f,
+            film_reflectance(m, f, w, c, (m.conductor_eta, m.conductor_k)),
+        )
+    })
 }
 
 /// (1 − w) R_s + w R_p of one channel.

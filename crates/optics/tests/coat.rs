@@ -4,26 +4,14 @@
 
 mod common;
 
-use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
+use combustion_optics::brdf::{brdf_evaluate, BrdfInputs};
 use combustion_optics::coat::{coat_evaluate_view, coat_view, coated, coated_radiance, CoatInputs};
 use combustion_optics::fresnel::fresnel_dielectric;
 use combustion_optics::Vec3;
 use common::*;
 
 fn base(alpha: f64) -> BrdfInputs<f64> {
-    BrdfInputs {
-        base_color: [1.0, 1.0, 1.0],
-        metalness: 0.0,
-        alpha_x: alpha,
-        alpha_y: alpha,
-        conductor_eta: [0.18, 0.42, 1.37],
-        conductor_k: [3.42, 2.35, 1.77],
-        dielectric_eta: 1.5,
-        outside_eta: 1.0,
-        polarisation_weight: 0.5,
-        diffuse_model: DiffuseModel::Lambert,
-        oren_nayar_sigma: 0.0,
-    }
+    white_lambert(alpha)
 }
 
 fn coat(factor: f64, alpha: f64, outside_eta: f64) -> CoatInputs<f64> {
@@ -35,22 +23,6 @@ fn coat(factor: f64, alpha: f64, outside_eta: f64) -> CoatInputs<f64> {
         polarisation_weight: 0.5,
     }
 }
-
-const Z: Vec3<f64> = Vec3 {
-    x: 0.0,
-    y: 0.0,
-    z: 1.0,
-};
-const X: Vec3<f64> = Vec3 {
-    x: 1.0,
-    y: 0.0,
-    z: 0.0,
-};
-const Y: Vec3<f64> = Vec3 {
-    x: 0.0,
-    y: 1.0,
-    z: 0.0,
-};
 
 /// The coated BRDF, coat and base sharing the normal +z.
 fn coated_brdf(m: &BrdfInputs<f64>, c: &CoatInputs<f64>, v: Vec3<f64>, l: Vec3<f64>) -> [f64; 3] {

@@ -4,42 +4,16 @@
 
 mod common;
 
-use combustion_optics::brdf::{
-    brdf_evaluate_view, brdf_view, brdf_view_with_film, BrdfInputs, DiffuseModel,
-};
+use combustion_optics::brdf::{brdf_evaluate_view, brdf_view, brdf_view_with_film, BrdfInputs};
 use combustion_optics::thin_film::ThinFilm;
 use combustion_optics::Vec3;
 use common::*;
 
-const X: Vec3<f64> = Vec3 {
-    x: 1.0,
-    y: 0.0,
-    z: 0.0,
-};
-const Y: Vec3<f64> = Vec3 {
-    x: 0.0,
-    y: 1.0,
-    z: 0.0,
-};
-const Z: Vec3<f64> = Vec3 {
-    x: 0.0,
-    y: 0.0,
-    z: 1.0,
-};
-
 fn white(alpha: f64, metalness: f64, outside_eta: f64) -> BrdfInputs<f64> {
     BrdfInputs {
-        base_color: [1.0, 1.0, 1.0],
         metalness,
-        alpha_x: alpha,
-        alpha_y: alpha,
-        conductor_eta: [0.18, 0.42, 1.37],
-        conductor_k: [3.42, 2.35, 1.77],
-        dielectric_eta: 1.5,
         outside_eta,
-        polarisation_weight: 0.5,
-        diffuse_model: DiffuseModel::Lambert,
-        oren_nayar_sigma: 0.0,
+        ..white_lambert(alpha)
     }
 }
 

@@ -1151,19 +1151,8 @@ fn clearcoat(colour: MetalColour, outside_ior: f32, name: &str) -> Scene {
         clearcoat_roughness: roughness,
         ..base.clone()
     };
-    let metal_base = |name: &str, which: BuiltinMetal| Material {
-        name: name.into(),
-        metalness: 1.0,
-        roughness: 0.45,
-        conductor: metal(which, colour),
-        ..Material::default()
-    };
-    let blue = Material {
-        name: "blue plastic".into(),
-        base_color: [0.03, 0.08, 0.5],
-        roughness: 0.3,
-        ..Material::default()
-    };
+    let metal_base = |name: &str, which: BuiltinMetal| metal_material(name, which, colour);
+    let blue = blue_plastic();
     let rows = vec![
         [0.03, 0.15, 0.35, 0.7]
             .iter()
@@ -1257,6 +1246,31 @@ fn sheen(colour: MetalColour) -> Scene {
     )
 }
 
+/// A metal of roughness 0.45, its constants derived from its spectrum by `colour`.
+fn metal_material(
+    name: &str,
+    which: combustion_spectra::BuiltinMetal,
+    colour: MetalColour,
+) -> Material {
+    Material {
+        name: name.into(),
+        metalness: 1.0,
+        roughness: 0.45,
+        conductor: metal(which, colour),
+        ..Material::default()
+    }
+}
+
+/// Blue plastic of roughness 0.3.
+fn blue_plastic() -> Material {
+    Material {
+        name: "blue plastic".into(),
+        base_color: [0.03, 0.08, 0.5],
+        roughness: 0.3,
+        ..Material::default()
+    }
+}
+
 /// Thin films of index 2 (a titanium-dioxide-like coating) over black plastic, 200, 350,
 /// 500 and 800 nm thick (the interference colours turn with the thickness and fade as
 /// the film thickens); a 2.2 film of 300 nm over aluminium (anodised titanium's
@@ -1281,18 +1295,10 @@ fn iridescence(colour: MetalColour) -> Scene {
         ..base.clone()
     };
     let metal_base = |name: &str, which: BuiltinMetal| Material {
-        name: name.into(),
-        metalness: 1.0,
         roughness: 0.3,
-        conductor: metal(which, colour),
-        ..Material::default()
+        ..metal_material(name, which, colour)
     };
-    let blue = Material {
-        name: "blue plastic".into(),
-        base_color: [0.03, 0.08, 0.5],
-        roughness: 0.3,
-        ..Material::default()
-    };
+    let blue = blue_plastic();
     let rows = vec![
         [200.0, 350.0, 500.0, 800.0]
             .iter()

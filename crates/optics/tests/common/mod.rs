@@ -4,6 +4,43 @@
 use combustion_optics::{brdf_evaluate, BrdfInputs, ShadingFrame, Vec3, ALPHA_MIN};
 use std::f64::consts::PI;
 
+/// The shading frame's axes as world vectors: tangent, bitangent, normal.
+pub const X: Vec3<f64> = Vec3 {
+    x: 1.0,
+    y: 0.0,
+    z: 0.0,
+};
+/// See [`X`].
+pub const Y: Vec3<f64> = Vec3 {
+    x: 0.0,
+    y: 1.0,
+    z: 0.0,
+};
+/// See [`X`].
+pub const Z: Vec3<f64> = Vec3 {
+    x: 0.0,
+    y: 0.0,
+    z: 1.0,
+};
+
+/// A white Lambertian dielectric of index 1.5 in air, GGX of width `alpha`, unpolarised
+/// (gold-like conductor constants, unused while metalness is 0).
+pub fn white_lambert(alpha: f64) -> BrdfInputs<f64> {
+    BrdfInputs {
+        base_color: [1.0, 1.0, 1.0],
+        metalness: 0.0,
+        alpha_x: alpha,
+        alpha_y: alpha,
+        conductor_eta: [0.18, 0.42, 1.37],
+        conductor_k: [3.42, 2.35, 1.77],
+        dielectric_eta: 1.5,
+        outside_eta: 1.0,
+        polarisation_weight: 0.5,
+        diffuse_model: combustion_optics::DiffuseModel::Lambert,
+        oren_nayar_sigma: 0.0,
+    }
+}
+
 /// Gauss–Legendre nodes and weights on [a, b] (Newton on P_n, Golub–Welsch-free).
 pub fn gauss_legendre(n: usize, a: f64, b: f64) -> Vec<(f64, f64)> {
     let mut out = Vec::with_capacity(n);
