@@ -2,7 +2,7 @@
 //! objects through the per-frame path; checked against the still scene in that pose and
 //! refused when it does not fit the scene.
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{
     FrameInputs, Readback, RenderError, RendererSettings, ShadingOptions, ShadowSettings,

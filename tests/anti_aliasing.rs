@@ -2,7 +2,7 @@
 //! still frames, each measured against a 4×4-supersampled frame of the same scene (mean
 //! FLIP of the display images, as the speed-against-error report measures them).
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{AntiAliasing, FrameInputs, Readback, RenderError, ToneMapping};
 use combustion::report::flip_against_radiance;

@@ -2,7 +2,7 @@
 //! by stated criteria, reported as JSON and JUnit XML; shards of a CI matrix merged back
 //! into the one run's result; bad manifests refused in one line naming the job.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -4,7 +4,7 @@
 //! cover and agrees everywhere else. Their shading and compositing are checked against
 //! the f64 scene reference in tests/end_to_end.rs (assets/scenes/blend).
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{PassTimings, RendererSettings, ShadingOptions, ShadowSettings};
 

@@ -1,7 +1,7 @@
 //! The command-line tool: a render produces a PNG and an EXR; bad input gets a one-line
 //! error and a non-zero exit, never a panic, and leaves no file behind.
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 

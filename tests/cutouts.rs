@@ -5,7 +5,7 @@
 //! cut-outs' shapes up close, their shadows and their shading are checked against the
 //! f64 reference in tests/end_to_end.rs and tests/shadows.rs (assets/scenes/cutout).
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -4,7 +4,7 @@
 //! the same frame (within one 8-bit step: the view goes through the f32 tone curve and
 //! sRGB encoding and is rounded to 8 bits once more).
 
-mod common;
+use crate::common;
 
 use combustion::renderer::gbuffer::{anisotropy_direction_decode, octahedral_decode, GBufferTexel};
 use combustion::renderer::{DebugView, Frame, Readback, RendererSettings, ShadingOptions};

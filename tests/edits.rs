@@ -3,7 +3,7 @@
 //! recorded with, and the edited scene renders exactly as a fresh upload of the same
 //! scene does. Also: the pipeline cache survives a save and a load.
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{Frame, Readback, Renderer, RendererSettings};
 use combustion::scene::{builtin_scene, Light, Scene};

@@ -21,7 +21,7 @@
 //!   ill-conditioned: two rim pixels of hard-cases measured 1.22e-4 rad when this was
 //!   written (the only ones above 1e-4), and are not held to the bound.
 
-mod common;
+use crate::common;
 
 use combustion::end_to_end::{precision_of, relative, SceneReference};
 use combustion::optics::diffuse::oren_nayar_sigma_from_roughness;

@@ -2,7 +2,7 @@
 //! environment oracle (`ReferenceShading::shade_environment`: Monte Carlo of the
 //! rendering equation with its standard error).
 
-mod common;
+use crate::common;
 
 use combustion::renderer::gbuffer::srgb_to_linear;
 use combustion::renderer::reference::{ReferenceShading, RADIANCE_FLOOR};

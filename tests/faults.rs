@@ -11,7 +11,7 @@
 //!
 //! Each test runs under a watchdog: a hang is a failure, not a stuck CI job.
 
-mod common;
+use crate::common;
 
 use std::sync::mpsc;
 use std::time::Duration;

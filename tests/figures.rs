@@ -4,7 +4,7 @@
 //! golden (colours at normal incidence, whitening toward grazing, reflection under water,
 //! total internal reflection).
 
-mod common;
+use crate::common;
 
 use combustion::optics::fresnel::{fresnel_conductor, fresnel_dielectric};
 use combustion::optics::microfacet::{

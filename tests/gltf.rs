@@ -4,7 +4,7 @@
 //! directions come out as its README says; emissive and base-colour-derived conductors
 //! meet hand computations.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -3,10 +3,10 @@
 //! the two sample glTF files when the shared data is present, scene edits by handle, a
 //! resize, three frames in flight. No validation message and no error.
 
-mod common;
+use crate::common;
 #[allow(dead_code)]
 #[path = "../examples/guide_engine.rs"]
-mod guide_engine;
+mod engine;
 
 use std::path::PathBuf;
 
@@ -20,7 +20,7 @@ fn guide_engine_runs_40_frames_without_validation_messages() {
                 .collect()
         })
         .unwrap_or_default();
-    let options = guide_engine::Options {
+    let options = engine::Options {
         frames: 40,
         width: 96,
         height: 64,
@@ -30,7 +30,7 @@ fn guide_engine_runs_40_frames_without_validation_messages() {
         edit_every: 2,
         verbose: false,
     };
-    let report = guide_engine::run(&options);
+    let report = engine::run(&options);
     assert_eq!(report.error, None, "the engine failed");
     assert_eq!(report.frames, 40);
     assert_eq!(

@@ -4,15 +4,10 @@
 //! Combustion renders on its own for the same camera and lights, and the host's depth
 //! exactly the G-buffer's depth.
 
-#[path = "../examples/host/app.rs"]
-mod app;
-mod common;
-#[path = "../examples/host/headless.rs"]
-mod headless;
-#[path = "../examples/host/vulkan.rs"]
-mod vulkan;
-#[path = "../examples/host/window.rs"]
-mod window;
+use crate::common;
+// The example host's modules, declared at the test binary's root as the example has them
+// (tests/integration.rs): they name each other by `crate::`.
+use crate::{app, headless, vulkan, window};
 
 use combustion::renderer::{
     ColorTarget, DepthTarget, FrameInputs, FrameTarget, HdrFormat, PassTimings, Readback,
@@ -731,14 +726,15 @@ fn host_in_a_window_presents_frames_and_survives_a_resize() {
     const CHILD: &str = "COMBUSTION_WINDOW_TEST_CHILD";
     if std::env::var_os(CHILD).is_none() {
         let xvfb = common::xvfb::Xvfb::start();
+        // The test's name in the test binary: its module's path below the crate root.
+        let name = format!(
+            "{}::host_in_a_window_presents_frames_and_survives_a_resize",
+            module_path!()
+                .split_once("::")
+                .map_or("", |(_, module)| module)
+        );
         let output = std::process::Command::new(std::env::current_exe().unwrap())
-            .args([
-                "--exact",
-                "host_in_a_window_presents_frames_and_survives_a_resize",
-                "--nocapture",
-                "--test-threads",
-                "1",
-            ])
+            .args(["--exact", &name, "--nocapture", "--test-threads", "1"])
             .env(CHILD, "1")
             .env("DISPLAY", format!(":{}", xvfb.display))
             .env_remove("WAYLAND_DISPLAY")

@@ -1,6 +1,6 @@
 //! Whole-pipeline checks against hand computations and physical identities, on lavapipe.
 
-mod common;
+use crate::common;
 
 use combustion::renderer::gbuffer::srgb_to_linear;
 use combustion::renderer::{HdrFormat, Readback, RendererSettings, ShadingOptions};

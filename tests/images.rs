@@ -2,7 +2,7 @@
 //! and the goldens themselves checked against an independent f64 reference that ray-casts
 //! the analytic spheres and shades them with the optics crate.
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{Readback, RendererSettings};
 use combustion::scene::{builtin_scene, Scene};

@@ -5,7 +5,7 @@
 //! "lights per tile" debug view shows that the lists really are shorter, and never
 //! shorter than the lights without range.
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{
     DebugView, FrameInputs, HdrFormat, LightCulling, Readback, RendererSettings, ShadingOptions,

@@ -5,7 +5,7 @@
 //! result may differ by one 8-bit step (its blend is rounded once more to 8 bits).
 //! Pixels under no quad must be byte-identical.
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{
     Corner, Frame, FrameInputs, OverlayImage, OverlayPanel, Readback, Renderer, RendererSettings,

@@ -2,7 +2,7 @@
 //! shade every pixel again on the CPU in f64 from exactly the same G-buffer values (and
 //! the same f32 matrices, materials and lights the GPU got), and compare.
 
-mod common;
+use crate::common;
 
 use combustion::end_to_end::relative;
 use combustion::renderer::reference::{error_map, ErrorMap, PixelInputs, ReferenceShading};
@@ -221,7 +221,7 @@ fn iridescence_parity() {
 
 /// The error of the cheaper Schlick variant against the full Fresnel equations (f64
 /// reference), per scene, for the README's speed-against-error table. A measurement, not
-/// a test: run with `cargo test --test parity -- --ignored --nocapture`.
+/// a test: run with `cargo test --test integration parity:: -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn measure_schlick_error() {

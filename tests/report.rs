@@ -3,7 +3,7 @@
 //! columns equal to the parity test's error map of the same frame, and the three files
 //! written and readable.
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{
     Distribution, FresnelModel, HdrFormat, Masking, PassTimings, RendererSettings, ShadingOptions,

@@ -10,7 +10,7 @@
 //! (`RenderError::SceneOfAnotherRenderer`). It is listed after a scene of this renderer,
 //! so the new options' pipelines for that one are built before the build fails.
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{
     FrameInputs, FresnelModel, Readback, RenderError, Renderer, ShadingOptions,

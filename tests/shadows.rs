@@ -10,7 +10,7 @@
 //! - shadows on changes nothing in a frame whose lights are not directional, and runs no
 //!   shadow pass there.
 
-mod common;
+use crate::common;
 
 use combustion::reference::primary::camera_ray;
 use combustion::renderer::{

@@ -6,7 +6,7 @@
 //! a scene cannot reach and folds η_i = 1, so the results may differ by the rounding of
 //! a re-associated expression, not by a model difference).
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{
     HdrFormat, LightingFeatures, Readback, RendererSettings, ShadingOptions,

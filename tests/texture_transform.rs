@@ -5,7 +5,7 @@
 //! the same up to f32 rounding of the coordinates: at most a few pixels whose bilinear
 //! weights round across an 8-bit step.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -3,7 +3,7 @@
 //! mirror (`ToneMapping::display`) and the exact sRGB encoding, within half an 8-bit
 //! code (the conversion's rounding) and the f32 curve's last bits.
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{linear_to_srgb, FrameInputs, Readback, ToneMapping};
 use combustion::scene::builtin_scene;

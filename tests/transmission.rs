@@ -4,7 +4,7 @@
 //! identity: no reflection, everything through, nothing bent); the G-buffer reference
 //! leaves out what they cover. docs/gltf.md, "Transmission", describes the model.
 
-mod common;
+use crate::common;
 
 use combustion::renderer::{PassTimings, Readback};
 use combustion::scene::Scene;

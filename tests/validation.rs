@@ -1,7 +1,7 @@
 //! The validation layer is really on in tests, and it really catches what we claim it
 //! catches: a leaked object at device destruction is reported and would fail a test.
 
-mod common;
+use crate::common;
 
 use combustion::vk::{vk, Device, DeviceDesc, DeviceSelector};
 

@@ -2,7 +2,7 @@
 //! everything torn down with the validation layer silent; without a display the command
 //! fails with one line.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Output, Stdio};

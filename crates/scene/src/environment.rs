@@ -446,10 +446,27 @@ mod tests {
         }
     }
 
-    fn temporary(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("combustion-env-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir.join(name)
+    /// A test's own folder in the temporary folder, removed when the test is done with
+    /// it (tests of one process run side by side: each has its own).
+    struct Scratch(std::path::PathBuf);
+
+    impl Scratch {
+        fn new(test: &str) -> Self {
+            let dir =
+                std::env::temp_dir().join(format!("combustion-env-{}-{test}", std::process::id()));
+            std::fs::create_dir_all(&dir).unwrap();
+            Self(dir)
+        }
+
+        fn file(&self, name: &str) -> std::path::PathBuf {
+            self.0.join(name)
+        }
+    }
+
+    impl Drop for Scratch {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
     }
 
     /// A smooth test pattern with values from 0.01 to above f16's range.
@@ -463,7 +480,8 @@ mod tests {
 
     #[test]
     fn exr_images_read_back_exactly() {
-        let path = temporary("pattern.exr");
+        let scratch = Scratch::new("exr_images_read_back_exactly");
+        let path = scratch.file("pattern.exr");
         exr::prelude::write_rgb_file(&path, 8, 4, |x, y| {
             let [r, g, b] = pattern(x, y);
             (r, g, b)
@@ -480,8 +498,9 @@ mod tests {
 
     #[test]
     fn radiance_hdr_images_read_back_within_rgbe_precision() {
+        let scratch = Scratch::new("radiance_hdr_images_read_back_within_rgbe_precision");
         use image::ImageEncoder as _;
-        let path = temporary("pattern.hdr");
+        let path = scratch.file("pattern.hdr");
         let texels: Vec<[f32; 3]> = (0..4)
             .flat_map(|y| (0..8).map(move |x| pattern(x, y)))
             .collect();
@@ -510,26 +529,27 @@ mod tests {
 
     #[test]
     fn bad_environment_files_are_refused_with_the_reason() {
-        let text = temporary("not-an-image.hdr");
+        let scratch = Scratch::new("bad_environment_files_are_refused_with_the_reason");
+        let text = scratch.file("not-an-image.hdr");
         std::fs::write(&text, b"hello").unwrap();
-        let wrong = temporary("image.png");
+        let wrong = scratch.file("image.png");
         std::fs::write(&wrong, b"\x89PNG").unwrap();
-        let negative = temporary("negative.exr");
+        let negative = scratch.file("negative.exr");
         exr::prelude::write_rgb_file(&negative, 2, 2, |x, _| (x as f32 - 1.0, 0.0, 0.0)).unwrap();
         // A well-formed RGBE texel of the largest exponent: 255 · 2^(255 − 136) ≈ 1.7e38,
         // and an EXR texel of 3e38 (issue 28, defect 3: each made every lit pixel NaN).
-        let rgbe_max = temporary("largest.hdr");
+        let rgbe_max = scratch.file("largest.hdr");
         let mut bytes = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 1\n".to_vec();
         bytes.extend([255, 255, 255, 255]);
         std::fs::write(&rgbe_max, bytes).unwrap();
-        let huge = temporary("huge.exr");
+        let huge = scratch.file("huge.exr");
         exr::prelude::write_rgb_file(&huge, 8, 4, |x, y| {
             (if (x, y) == (3, 2) { 3e38 } else { 1.0 }, 1.0, 1.0)
         })
         .unwrap();
         // Files cut short: the decoders' own words ("failed to fill whole buffer",
         // "reference to missing bytes") replaced by what happened.
-        let truncated_exr = temporary("truncated.exr");
+        let truncated_exr = scratch.file("truncated.exr");
         exr::prelude::write_rgb_file(&truncated_exr, 8, 4, |x, y| {
             let [r, g, b] = pattern(x, y);
             (r, g, b)
@@ -537,13 +557,13 @@ mod tests {
         .unwrap();
         let whole = std::fs::read(&truncated_exr).unwrap();
         std::fs::write(&truncated_exr, &whole[..whole.len() * 2 / 3]).unwrap();
-        let truncated_hdr = temporary("truncated.hdr");
+        let truncated_hdr = scratch.file("truncated.hdr");
         let mut hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n".to_vec();
         hdr.extend([128u8, 128, 128, 129].repeat(8 * 4 - 5));
         std::fs::write(&truncated_hdr, hdr).unwrap();
         // A 779-byte file whose header declares a layer of 53 GB of samples (found by the
         // fuzzer: the decoder allocated it, and the process aborted).
-        let bomb = temporary("bomb.exr");
+        let bomb = scratch.file("bomb.exr");
         let seed = include_bytes!("../../../fuzz/seeds/environment_image/exr-decompression-bomb");
         std::fs::write(&bomb, &seed[1..]).unwrap();
         for (path, expected) in [
@@ -567,7 +587,7 @@ mod tests {
                 huge,
                 "texel (3, 2) is 3e38 1 1: radiance must be between 0 and 1e30",
             ),
-            (temporary("missing.exr"), "No such file"),
+            (scratch.file("missing.exr"), "No such file"),
             (std::env::temp_dir(), "not a regular file"),
         ] {
             let message = EnvironmentImage::load(&path).unwrap_err().to_string();
@@ -612,7 +632,8 @@ mod tests {
     /// says so in words (not by a Rust name, nor as a glTF import's limit).
     #[test]
     fn an_oversized_environment_file_names_its_limit() {
-        let path = temporary("huge.hdr");
+        let scratch = Scratch::new("an_oversized_environment_file_names_its_limit");
+        let path = scratch.file("huge.hdr");
         // Sparse: the size is checked from the metadata, before anything is read.
         std::fs::File::create(&path)
             .unwrap()

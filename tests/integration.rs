@@ -1,0 +1,47 @@
+//! The integration tests, one test binary: each file below is a module (one binary
+//! links the renderer once, where a binary per file linked it 29 times: README, "Build
+//! cost"). `cargo nextest run` still runs each test in its own process; a test's name is
+//! its file's, then its own: `cli::supersampling_and_anti_aliasing_on_the_command_line`.
+
+mod common;
+
+// The example host (examples/host), whose modules name each other from the crate root:
+// tests/host.rs drives it.
+#[path = "../examples/host/app.rs"]
+mod app;
+#[path = "../examples/host/headless.rs"]
+mod headless;
+#[path = "../examples/host/vulkan.rs"]
+mod vulkan;
+#[path = "../examples/host/window.rs"]
+mod window;
+
+mod animation;
+mod anti_aliasing;
+mod batch;
+mod blending;
+mod cli;
+mod cutouts;
+mod debug_views;
+mod edits;
+mod end_to_end;
+mod environment;
+mod faults;
+mod figures;
+mod gltf;
+mod guide_engine;
+mod host;
+mod identities;
+mod images;
+mod light_culling;
+mod overlay;
+mod parity;
+mod report;
+mod shading_options;
+mod shadows;
+mod specialisation;
+mod texture_transform;
+mod tone_mapping;
+mod transmission;
+mod validation;
+mod viewer;
