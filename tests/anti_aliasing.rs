@@ -101,3 +101,47 @@ fn anti_aliasing_against_the_supersampled_frame() {
     }
     common::finish(headless);
 }
+
+/// Frames with and without FXAA (its own output pipeline) and frames at a supersampled
+/// size (targets of another size, the others retired after the 16-frame delay), in runs
+/// of 24 frames, three frames in flight, under validation with synchronisation
+/// validation: no message, targets retired, and an FXAA frame at the end the same, bit
+/// for bit, as one at the start.
+#[test]
+fn frames_alternate_anti_aliasing_and_supersampled_sizes_past_the_retire_delay() {
+    let scene = builtin_scene("spheres").unwrap();
+    let settings = combustion::renderer::RendererSettings {
+        frames_in_flight: 3,
+        ..common::exact_f32()
+    };
+    let mut headless = common::lavapipe(settings);
+    {
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(&scene).unwrap();
+        let plain = FrameInputs::of_scene(&gpu, 1.0);
+        let fxaa = FrameInputs {
+            anti_aliasing: AntiAliasing::Fxaa,
+            ..plain
+        };
+        let (w, h) = (64, 48);
+        let first = renderer.render_with(&gpu, &fxaa, w, h, IMAGES).unwrap();
+        for round in 0..2 {
+            for (inputs, size) in [(&plain, (w, h)), (&fxaa, (w, h)), (&plain, (3 * w, 3 * h))] {
+                for _ in 0..24 {
+                    renderer
+                        .submit_offscreen_with(&gpu, inputs, size.0, size.1)
+                        .unwrap();
+                }
+            }
+            renderer.finish_offscreen().unwrap();
+            let stats = renderer.stats();
+            assert!(
+                stats.targets_retired > round,
+                "targets of the size not drawn were retired: {stats:?}"
+            );
+        }
+        let last = renderer.render_with(&gpu, &fxaa, w, h, IMAGES).unwrap();
+        assert_eq!(first.ldr, last.ldr);
+    }
+    common::finish(headless);
+}

@@ -125,6 +125,7 @@ struct BrdfView {
     // A thin film over the base (Rust: BrdfView::film; weight 0 where there is none) and
     // the dielectric's transmittance at n·v with it mixed in, per channel.
     ThinFilm film;
+    vec3 film_reflectance_v;    // the film's R_w(n·v) over the dielectric (environment's)
     vec3 film_transmittance_v;
 #endif
 #ifdef ENERGY_COMPENSATION
@@ -195,6 +196,7 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
 #endif
 #ifdef IRIDESCENCE
     view.film = ThinFilm(0.0, 1.0, 0.0);
+    view.film_reflectance_v = vec3(0.0);
     view.film_transmittance_v = vec3(view.transmittance_v);
 #endif
     return view;
@@ -209,10 +211,10 @@ BrdfView brdf_view_with_film(BrdfInputs m, ThinFilm film, vec3 n, vec3 t, vec3 b
     BrdfView view = brdf_view(m, n, t, b, v);
     if (thin_film_is_present(film)) {
         view.film = ThinFilm(min(film.weight, 1.0), film.eta, film.thickness_nm);
-        vec3 r = thin_film_reflectance_weighted(view.v.z, m.outside_eta, view.film,
-                                                vec3(m.dielectric_eta), vec3(0.0), view.w);
+        view.film_reflectance_v = thin_film_reflectance_weighted(
+            view.v.z, m.outside_eta, view.film, vec3(m.dielectric_eta), vec3(0.0), view.w);
         view.film_transmittance_v = view.transmittance_v
-            + view.film.weight * ((1.0 - r) - view.transmittance_v);
+            + view.film.weight * ((1.0 - view.film_reflectance_v) - view.transmittance_v);
     }
     return view;
 }

@@ -226,12 +226,11 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
         float w = view.w;
         float f_dielectric = polarised_weighted(fresnel_dielectric(nv, m.outside_eta, m.dielectric_eta), w);
         vec3 f_conductor = fresnel_conductor_rgb(nv, m.outside_eta, m.conductor_eta, m.conductor_k, w);
-        vec3 r_dielectric = thin_film_reflectance_weighted(nv, m.outside_eta, view.film,
-                                                           vec3(m.dielectric_eta), vec3(0.0), w);
         vec3 r_conductor = thin_film_reflectance_weighted(nv, m.outside_eta, view.film,
                                                           m.conductor_eta, m.conductor_k, w);
         vec3 dielectric_scale = f_dielectric > 1e-4
-            ? (f_dielectric + view.film.weight * (r_dielectric - f_dielectric)) / f_dielectric : vec3(1.0);
+            ? (f_dielectric + view.film.weight * (view.film_reflectance_v - f_dielectric)) / f_dielectric
+            : vec3(1.0);
         vec3 conductor_scale = vec3(1.0);
         for (int c = 0; c < 3; ++c) {
             if (f_conductor[c] > 1e-4) {

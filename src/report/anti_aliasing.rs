@@ -7,10 +7,10 @@
 use std::fmt::Write as _;
 
 use combustion_renderer::{
-    AntiAliasing, Frame, FrameInputs, GpuScene, PassTimings, Readback, Renderer, RendererSettings,
+    AntiAliasing, Frame, FrameInputs, PassTimings, Readback, RendererSettings,
 };
 
-use super::{flip_against_radiance, md_cell, PassSpreads, ReportDesc, Spread};
+use super::{flip_against_radiance, md_cell, time_frames_with, PassSpreads, ReportDesc, Spread};
 use crate::{check_validation, Error, Headless, HeadlessDesc};
 
 /// The reference's samples per side: 4×4 a pixel.
@@ -58,22 +58,6 @@ pub struct AntiAliasingRow {
     pub total: Spread,
 }
 
-/// GPU timings of `frames` frames of `inputs` at `width`×`height`.
-fn time_inputs(
-    renderer: &mut Renderer,
-    scene: &GpuScene,
-    inputs: &FrameInputs<'_>,
-    (width, height): (u32, u32),
-    frames: u32,
-) -> Result<Vec<PassTimings>, Error> {
-    renderer.take_completed_timings();
-    for _ in 0..frames {
-        renderer.submit_offscreen_with(scene, inputs, width, height)?;
-    }
-    renderer.finish_offscreen()?;
-    Ok(renderer.take_completed_timings())
-}
-
 /// Measures every [`Method`] on every scene of `scenes` at the report's size, default
 /// settings; `progress(what)` before each scene.
 pub(super) fn measure(
@@ -117,7 +101,7 @@ pub(super) fn measure(
                     )?;
                     (
                         frame,
-                        time_inputs(renderer, &gpu, &asked, size, desc.frames)?,
+                        time_frames_with(renderer, &gpu, &asked, size, desc.frames)?,
                     )
                 }
                 Method::Supersample(n) => {
@@ -125,7 +109,7 @@ pub(super) fn measure(
                     let large = (size.0 * n, size.1 * n);
                     (
                         frame,
-                        time_inputs(renderer, &gpu, &inputs, large, desc.frames)?,
+                        time_frames_with(renderer, &gpu, &inputs, large, desc.frames)?,
                     )
                 }
             };

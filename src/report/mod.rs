@@ -381,9 +381,21 @@ fn time_frames(
     height: u32,
     frames: u32,
 ) -> Result<Vec<PassTimings>, Error> {
+    let inputs = FrameInputs::of_scene(scene, renderer.settings().exposure);
+    time_frames_with(renderer, scene, &inputs, (width, height), frames)
+}
+
+/// GPU timings of `frames` frames of `scene` with `inputs` at `width`×`height`.
+fn time_frames_with(
+    renderer: &mut Renderer,
+    scene: &GpuScene,
+    inputs: &FrameInputs<'_>,
+    (width, height): (u32, u32),
+    frames: u32,
+) -> Result<Vec<PassTimings>, Error> {
     renderer.take_completed_timings();
     for _ in 0..frames {
-        renderer.submit_offscreen(scene, width, height)?;
+        renderer.submit_offscreen_with(scene, inputs, width, height)?;
     }
     renderer.finish_offscreen()?;
     Ok(renderer.take_completed_timings())

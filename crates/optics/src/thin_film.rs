@@ -55,16 +55,6 @@ pub struct ThinFilm<T> {
 }
 
 impl<T: Real> ThinFilm<T> {
-    /// The same film in another precision.
-    pub fn convert<U: Real>(&self) -> ThinFilm<U> {
-        let c = |x: T| U::from_f64(x.to_f64());
-        ThinFilm {
-            weight: c(self.weight),
-            eta: c(self.eta),
-            thickness_nm: c(self.thickness_nm),
-        }
-    }
-
     /// Whether the film changes anything: a positive weight and a positive thickness.
     pub fn is_present(&self) -> bool {
         self.weight.is_positive() && self.thickness_nm.is_positive()
@@ -253,6 +243,67 @@ fn airy_series<T: Real>(r12: T, r23: Complex<T>) -> AirySeries<T> {
     }
 }
 
+/// The film's top interface at the incidence cosine `cos_theta` from the outside medium
+/// (indices clamped): Snell into the film and the real amplitudes r₁₂.
+struct TopInterface<T> {
+    /// The film's index η₂.
+    eta2: T,
+    /// sin²θ₂ = (η₁/η₂)² sin²θ₁.
+    sin2_2: T,
+    /// cos θ₂.
+    c2: T,
+    /// r₁₂ for s and p.
+    r12: (T, T),
+}
+
+/// The top interface, or `None` past its critical angle (the film reflects everything).
+fn top_interface<T: Real>(cos_theta: T, outside_eta: T, film_eta: T) -> Option<TopInterface<T>> {
+    let (eta_min, eta_max) = (T::from_f64(ETA_MIN), T::from_f64(ETA_MAX));
+    let c1 = cos_theta.saturate();
+    let eta1 = outside_eta.clamp_to(eta_min, eta_max);
+    let eta2 = film_eta.clamp_to(eta_min, eta_max);
+    let ratio = eta1 / eta2;
+    let sin2_2 = ratio * ratio * ((T::ONE - c1) * (T::ONE + c1));
+    if sin2_2 >= T::ONE {
+        return None;
+    }
+    let c2 = ((T::ONE - sin2_2).max(T::ZERO)).sqrt();
+    Some(TopInterface {
+        eta2,
+        sin2_2,
+        c2,
+        r12: (
+            (eta1 * c1 - eta2 * c2) / (eta1 * c1 + eta2 * c2),
+            (eta2 * c1 - eta1 * c2) / (eta2 * c1 + eta1 * c2),
+        ),
+    })
+}
+
+/// The base's complex amplitudes r₂₃ (s, p) under the film, for a base η₃ + ik₃:
+/// N₃ cos θ₃ = √(N₃² − η₂² sin²θ₂), the root of the decaying wave.
+fn base_amplitudes<T: Real>(
+    top: &TopInterface<T>,
+    base_eta: T,
+    base_k: T,
+) -> (Complex<T>, Complex<T>) {
+    let eta_max = T::from_f64(ETA_MAX);
+    let n3 = base_eta.clamp_to(T::from_f64(ETA_MIN), eta_max);
+    let k3 = base_k.abs().clamp_to(T::ZERO, eta_max);
+    let n3_sq = Complex {
+        re: (n3 - k3) * (n3 + k3),
+        im: T::TWO * n3 * k3,
+    };
+    let w = n3_sq.add_real(-(top.eta2 * top.eta2 * top.sin2_2)).sqrt();
+    let film_side = Complex {
+        re: top.eta2 * top.c2,
+        im: T::ZERO,
+    };
+    (
+        Complex::ratio_of_difference(film_side, w),
+        Complex::ratio_of_difference(n3_sq.scale(top.c2), w.scale(top.eta2)),
+    )
+}
+
 /// The film's reflectance R_s, R_p per RGB channel at the cosine `cos_theta` of the
 /// incident direction to the (micro)surface normal in the outside medium of index
 /// `outside_eta`, over a base η₃ + ik₃ per channel (`base_eta`, `base_k`; k = 0 for a
@@ -269,49 +320,25 @@ pub fn thin_film_reflectance<T: Real>(
     base_eta: [T; 3],
     base_k: [T; 3],
 ) -> Polarised<[T; 3]> {
-    let eta_min = T::from_f64(ETA_MIN);
-    let eta_max = T::from_f64(ETA_MAX);
-    let c1 = cos_theta.saturate();
-    let eta1 = outside_eta.clamp_to(eta_min, eta_max);
-    let eta2 = film.eta.clamp_to(eta_min, eta_max);
-    let d = film
-        .thickness_nm
-        .clamp_to(T::ZERO, T::from_f64(FILM_THICKNESS_MAX_NM));
-    // Snell into the film: sin²θ₂ = (η₁/η₂)² sin²θ₁
-    let ratio = eta1 / eta2;
-    let sin2_2 = ratio * ratio * ((T::ONE - c1) * (T::ONE + c1));
-    if sin2_2 >= T::ONE {
+    let Some(top) = top_interface(cos_theta, outside_eta, film.eta) else {
         return Polarised {
             s: [T::ONE; 3],
             p: [T::ONE; 3],
         };
-    }
-    let c2 = ((T::ONE - sin2_2).max(T::ZERO)).sqrt();
-    let r12_s = (eta1 * c1 - eta2 * c2) / (eta1 * c1 + eta2 * c2);
-    let r12_p = (eta2 * c1 - eta1 * c2) / (eta2 * c1 + eta1 * c2);
-    let opd = T::TWO * eta2 * d * c2;
+    };
+    let d = film
+        .thickness_nm
+        .clamp_to(T::ZERO, T::from_f64(FILM_THICKNESS_MAX_NM));
+    let opd = T::TWO * top.eta2 * d * top.c2;
     let sensitivities: [Sensitivity<T>; FILM_HARMONICS] =
         std::array::from_fn(|m| sensitivity(T::from_f64((m + 1) as f64) * opd));
-    let eta2_c2 = eta2 * c2;
     let mut out = Polarised {
         s: [T::ZERO; 3],
         p: [T::ZERO; 3],
     };
     for c in 0..3 {
-        let n3 = base_eta[c].clamp_to(eta_min, eta_max);
-        let k3 = base_k[c].abs().clamp_to(T::ZERO, eta_max);
-        // N₃² and N₃ cos θ₃ = √(N₃² − η₂² sin²θ₂)
-        let n3_sq = Complex {
-            re: (n3 - k3) * (n3 + k3),
-            im: T::TWO * n3 * k3,
-        };
-        let w = n3_sq.add_real(-(eta2 * eta2 * sin2_2)).sqrt();
-        let film_side = Complex {
-            re: eta2_c2,
-            im: T::ZERO,
-        };
-        let r23_s = Complex::ratio_of_difference(film_side, w);
-        let r23_p = Complex::ratio_of_difference(n3_sq.scale(c2), w.scale(eta2));
+        let (r23_s, r23_p) = base_amplitudes(&top, base_eta[c], base_k[c]);
+        let (r12_s, r12_p) = top.r12;
         for (r12, r23, slot) in [(r12_s, r23_s, &mut out.s[c]), (r12_p, r23_p, &mut out.p[c])] {
             let series = airy_series(r12, r23);
             let mut value = series.c0;
@@ -340,30 +367,11 @@ pub fn thin_film_reflectance_at(
     base_k: f64,
     wavelength_nm: f64,
 ) -> Polarised<f64> {
-    let c1 = cos_theta.clamp(0.0, 1.0);
-    let eta1 = outside_eta.clamp(ETA_MIN, ETA_MAX);
-    let eta2 = film_eta.clamp(ETA_MIN, ETA_MAX);
-    let ratio = eta1 / eta2;
-    let sin2_2 = ratio * ratio * ((1.0 - c1) * (1.0 + c1));
-    if sin2_2 >= 1.0 {
+    let Some(top) = top_interface(cos_theta, outside_eta, film_eta) else {
         return Polarised { s: 1.0, p: 1.0 };
-    }
-    let c2 = (1.0 - sin2_2).sqrt();
-    let r12_s = (eta1 * c1 - eta2 * c2) / (eta1 * c1 + eta2 * c2);
-    let r12_p = (eta2 * c1 - eta1 * c2) / (eta2 * c1 + eta1 * c2);
-    let n3 = base_eta.clamp(ETA_MIN, ETA_MAX);
-    let k3 = base_k.abs().min(ETA_MAX);
-    let n3_sq = Complex {
-        re: n3 * n3 - k3 * k3,
-        im: 2.0 * n3 * k3,
     };
-    let w = n3_sq.add_real(-eta2 * eta2 * sin2_2).sqrt();
-    let film_side = Complex {
-        re: eta2 * c2,
-        im: 0.0,
-    };
-    let r23_s = Complex::ratio_of_difference(film_side, w);
-    let r23_p = Complex::ratio_of_difference(n3_sq.scale(c2), w.scale(eta2));
+    let (r23_s, r23_p) = base_amplitudes(&top, base_eta, base_k);
+    let ((r12_s, r12_p), eta2, c2) = (top.r12, top.eta2, top.c2);
     let d = if thickness_nm > 0.0 {
         thickness_nm.min(FILM_THICKNESS_MAX_NM)
     } else {

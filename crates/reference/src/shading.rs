@@ -672,8 +672,7 @@ impl<'a> SceneShading<'a> {
         // KHR_materials_iridescence: the factor × its texture's R; the thickness from the
         // minimum to the maximum by its thickness texture's G (the maximum without one).
         let film = material
-            .iridescence
-            .filter(|_| material.is_iridescent())
+            .film()
             .map(|f| {
                 let weight = f64::from(f.factor)
                     * lookup.sample_or(material.iridescence_texture.as_ref(), [1.0; 4])[0];

@@ -179,7 +179,7 @@ impl GpuMaterial {
                 [r, g, b, material.sheen_roughness]
             },
             textures_sheen: [textures[13], textures[14], -1, -1],
-            film: match material.iridescence.filter(|_| material.is_iridescent()) {
+            film: match material.film() {
                 Some(f) => [f.factor, f.ior, f.thickness_min_nm, f.thickness_max_nm],
                 None => [0.0, 1.0, 0.0, 0.0],
             },

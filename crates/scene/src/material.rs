@@ -232,9 +232,11 @@ impl Default for Iridescence {
     }
 }
 
-/// The thickest film accepted, nm (a film thicker than a few µm shows no interference;
-/// `combustion_optics::thin_film::FILM_THICKNESS_MAX_NM` bounds what is evaluated).
-pub const IRIDESCENCE_THICKNESS_MAX_NM: f32 = 100_000.0;
+/// The thickest film accepted, nm: the thickest the optics evaluate
+/// (`combustion_optics::thin_film::FILM_THICKNESS_MAX_NM`; a film thicker than a few µm
+/// shows no interference).
+pub const IRIDESCENCE_THICKNESS_MAX_NM: f32 =
+    combustion_optics::thin_film::FILM_THICKNESS_MAX_NM as f32;
 
 /// The index of refraction of a clear coat (KHR_materials_clearcoat fixes it at 1.5).
 pub const CLEARCOAT_IOR: f32 = 1.5;
@@ -500,7 +502,12 @@ impl Material {
     /// Whether the material has a thin film (KHR_materials_iridescence with a factor
     /// above 0).
     pub fn is_iridescent(&self) -> bool {
-        self.iridescence.is_some_and(|i| i.factor > 0.0)
+        self.film().is_some()
+    }
+
+    /// The thin film that is there: [`Material::iridescence`] with a factor above 0.
+    pub fn film(&self) -> Option<Iridescence> {
+        self.iridescence.filter(|i| i.factor > 0.0)
     }
 
     /// Whether the material has a sheen (KHR_materials_sheen with a colour other than

@@ -556,7 +556,7 @@ pub(crate) fn parse_iridescence(value: &Value) -> Result<IridescenceRead, String
         }
     };
     let thickness = |x: f32| (0.0..=crate::IRIDESCENCE_THICKNESS_MAX_NM).contains(&x);
-    let thickness_rule = "lie in [0, 100000] nm";
+    let thickness_rule = format!("lie in [0, {}] nm", crate::IRIDESCENCE_THICKNESS_MAX_NM);
     Ok(IridescenceRead {
         film: crate::Iridescence {
             factor: read(
@@ -575,13 +575,13 @@ pub(crate) fn parse_iridescence(value: &Value) -> Result<IridescenceRead, String
                 "iridescenceThicknessMinimum",
                 defaults.thickness_min_nm,
                 &thickness,
-                thickness_rule,
+                &thickness_rule,
             )?,
             thickness_max_nm: read(
                 "iridescenceThicknessMaximum",
                 defaults.thickness_max_nm,
                 &thickness,
-                thickness_rule,
+                &thickness_rule,
             )?,
         },
         texture: texture_info(map, "iridescenceTexture")?,

@@ -306,7 +306,7 @@ fn material_json(m: &Material, texture_of: &dyn Fn(TextureSlot) -> Option<usize>
         }
         extensions.insert("KHR_materials_sheen".into(), sheen);
     }
-    if let Some(film) = m.iridescence.filter(|_| m.is_iridescent()) {
+    if let Some(film) = m.film() {
         let mut iridescence = json!({
             "iridescenceFactor": num(film.factor),
             "iridescenceIor": num(film.ior),
