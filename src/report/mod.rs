@@ -21,6 +21,7 @@ use combustion_plots::{
 };
 use combustion_reference::SceneBvh;
 use combustion_renderer::reference::{error_map, EnvironmentSampling, ErrorMap, ReferenceShading};
+use combustion_report_csv::field as csv_field;
 
 use crate::end_to_end::{precision_of, EndToEndErrors, EnvironmentReference, SceneReference};
 
@@ -1099,14 +1100,6 @@ fn md_cell(text: &str) -> String {
         .replace('\n', "\\n")
 }
 
-fn csv_field(text: &str) -> String {
-    if text.contains([',', '"', '\n']) {
-        format!("\"{}\"", text.replace('"', "\"\""))
-    } else {
-        text.to_owned()
-    }
-}
-
 /// The floors' CSV: one row per scene.
 pub fn floors_csv(floors: &[FloorRow]) -> String {
     let mut out = String::from(
@@ -1398,49 +1391,7 @@ Scenes lit by an environment alone, default variant set: the GPU's split sum (pr
 pub struct PreviousRun {
     /// The CSV's path (for the report's text).
     pub path: std::path::PathBuf,
-    rows: Vec<(String, f64, [String; 4])>,
-}
-
-/// Splits CSV text into records of fields, as [`csv_field`] quotes them (a field in
-/// double quotes, `""` inside, line breaks inside kept): each record with the 1-based
-/// line it starts on. A line break outside quotes ends a record (a `\r` before it is
-/// dropped); a last record without one counts; empty records are skipped.
-fn csv_records(text: &str) -> Vec<(usize, Vec<String>)> {
-    let mut records = Vec::new();
-    let mut fields = vec![String::new()];
-    let (mut line, mut start) = (1, 1);
-    let mut quoted = false;
-    let mut chars = text.chars().peekable();
-    let mut finish = |fields: &mut Vec<String>, start: usize| {
-        let record = std::mem::replace(fields, vec![String::new()]);
-        if record.len() > 1 || !record[0].is_empty() {
-            records.push((start, record));
-        }
-    };
-    while let Some(c) = chars.next() {
-        match (c, quoted) {
-            ('"', true) if chars.peek() == Some(&'"') => {
-                chars.next();
-                fields.last_mut().unwrap().push('"');
-            }
-            ('"', _) => quoted = !quoted,
-            (',', false) => fields.push(String::new()),
-            ('\r', false) if chars.peek() == Some(&'\n') => {}
-            ('\n', false) => {
-                finish(&mut fields, start);
-                line += 1;
-                start = line;
-            }
-            (c, _) => {
-                if c == '\n' {
-                    line += 1;
-                }
-                fields.last_mut().unwrap().push(c);
-            }
-        }
-    }
-    finish(&mut fields, start);
-    records
+    rows: Vec<combustion_report_csv::PreviousRow>,
 }
 
 /// The key and error columns of a row as [`csv`] writes them.
@@ -1465,50 +1416,9 @@ impl PreviousRun {
         };
         let text = crate::input::read_text(&path, crate::input::MAX_REPORT_BYTES, "a report's CSV")
             .map_err(problem)?;
-        let mut records = csv_records(&text).into_iter();
-        let (_, header) = records.next().ok_or_else(|| problem("empty".into()))?;
-        let column = |name: &str| {
-            header.iter().position(|h| h == name).ok_or_else(|| {
-                problem(format!(
-                    "no `{name}` column (not a report.csv of this version)"
-                ))
-            })
-        };
-        if header.len() < 7 {
-            return Err(problem(format!(
-                "{} columns; a report.csv starts with 7 naming the scene and variant set",
-                header.len()
-            )));
-        }
-        let total = column("total_ms")?;
-        let errors = [
-            column("max_relative_error")?,
-            column("mean_relative_error")?,
-            column("rms_relative_error")?,
-            column("flip_mean")?,
-        ];
-        let mut rows = Vec::new();
-        for (line, fields) in records {
-            if fields.len() != header.len() {
-                return Err(problem(format!(
-                    "line {line} has {} fields, the header {}",
-                    fields.len(),
-                    header.len()
-                )));
-            }
-            // A frame time: finite and above 0 (a ratio against it must be a number).
-            let ms = fields[total]
-                .parse::<f64>()
-                .ok()
-                .filter(|ms| ms.is_finite() && *ms > 0.0)
-                .ok_or_else(|| {
-                    problem(format!(
-                        "line {line}: total_ms `{}` is not a frame time (a finite number of ms above 0)",
-                        crate::shortened(&fields[total])
-                    ))
-                })?;
-            rows.push((fields[..7].join(","), ms, errors.map(|c| fields[c].clone())));
-        }
+        let rows = combustion_report_csv::PreviousReport::parse(&text)
+            .map_err(|e| problem(e.to_string()))?
+            .rows;
         Ok(PreviousRun { path, rows })
     }
 
@@ -1520,9 +1430,9 @@ impl PreviousRun {
         let mut identical = 0;
         for r in rows {
             let (key, errors) = csv_key_and_errors(r);
-            if let Some((_, ms, previous)) = self.rows.iter().find(|(k, _, _)| *k == key) {
-                ratios.push(r.total.median / ms);
-                identical += usize::from(*previous == errors);
+            if let Some(previous) = self.rows.iter().find(|p| p.key == key) {
+                ratios.push(r.total.median / previous.total_ms);
+                identical += usize::from(previous.errors == errors);
             }
         }
         ratios.sort_by(f64::total_cmp);
@@ -1723,11 +1633,14 @@ mod tests {
         let previous = PreviousRun::read(&dir).unwrap();
         assert_eq!(previous.rows.len(), 2);
         assert!(
-            previous.rows[0].0.starts_with(&format!("{scene},full,")),
+            previous.rows[0].key.starts_with(&format!("{scene},full,")),
             "{:?}",
-            previous.rows[0].0
+            previous.rows[0].key
         );
-        assert_eq!((previous.rows[0].1, previous.rows[1].1), (12.5, 20.0));
+        assert_eq!(
+            (previous.rows[0].total_ms, previous.rows[1].total_ms),
+            (12.5, 20.0)
+        );
         // A record broken off mid-way is named by the line it starts on.
         std::fs::write(dir.join("report.csv"), format!("{header}{row}\"x\ny\",1\n")).unwrap();
         let error = PreviousRun::read(&dir).unwrap_err().to_string();

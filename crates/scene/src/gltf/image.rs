@@ -78,14 +78,13 @@ fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
         )));
     }
     buffer.truncate(frame.buffer_size());
-    let data = &buffer;
     let pixels = width as usize * height as usize;
     let rgba = match frame.color_type {
         // The decoder's own buffer, not a copy of it: an RGBA image is held once.
         png::ColorType::Rgba => buffer,
-        png::ColorType::Rgb => expand(data, 3, pixels, |p| [p[0], p[1], p[2], 255]),
-        png::ColorType::GrayscaleAlpha => expand(data, 2, pixels, |p| [p[0], p[0], p[0], p[1]]),
-        png::ColorType::Grayscale => expand(data, 1, pixels, |p| [p[0], p[0], p[0], 255]),
+        png::ColorType::Rgb => expand(buffer, 3, pixels, |p| [p[0], p[1], p[2], 255]),
+        png::ColorType::GrayscaleAlpha => expand(buffer, 2, pixels, |p| [p[0], p[0], p[0], p[1]]),
+        png::ColorType::Grayscale => expand(buffer, 1, pixels, |p| [p[0], p[0], p[0], 255]),
         png::ColorType::Indexed => {
             return Err(DecodeError::Other("indexed PNG was not expanded".into()))
         }
@@ -102,12 +101,29 @@ fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
     })
 }
 
-fn expand(data: &[u8], channels: usize, pixels: usize, f: impl Fn(&[u8]) -> [u8; 4]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(pixels * 4);
-    for p in data.chunks_exact(channels).take(pixels) {
-        out.extend_from_slice(&f(p));
+/// `data`'s first `pixels` pixels of `channels` bytes each (1 to 4) as RGBA8 by `f`, in
+/// the decoder's own buffer: it is lengthened (glibc moves a large block's pages rather
+/// than copying them) and filled from its last pixel back, so a pixel is written only
+/// after every source at or before it was read; the decode and an RGBA copy of it are
+/// never held at once. A buffer holding fewer than `pixels` pixels comes back short.
+fn expand(
+    mut data: Vec<u8>,
+    channels: usize,
+    pixels: usize,
+    f: impl Fn(&[u8]) -> [u8; 4],
+) -> Vec<u8> {
+    debug_assert!((1..=4).contains(&channels));
+    if data.len() < pixels * channels {
+        return data;
     }
-    out
+    data.truncate(pixels * channels);
+    data.resize(pixels * 4, 0);
+    for i in (0..pixels).rev() {
+        let mut source = [0; 4];
+        source[..channels].copy_from_slice(&data[i * channels..(i + 1) * channels]);
+        data[i * 4..i * 4 + 4].copy_from_slice(&f(&source[..channels]));
+    }
+    data
 }
 
 fn decode_jpeg(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
@@ -123,14 +139,15 @@ fn decode_jpeg(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
         (u64::from(max) * u64::from(max) * 4).min(usize::MAX as u64) as usize,
     );
     let data = decoder.decode().map_err(bad)?;
+    let decoded_bytes = data.len();
     let pixels = width as usize * height as usize;
     use jpeg_decoder::PixelFormat;
     let rgba = match info.pixel_format {
-        PixelFormat::L8 => expand(&data, 1, pixels, |p| [p[0], p[0], p[0], 255]),
+        PixelFormat::L8 => expand(data, 1, pixels, |p| [p[0], p[0], p[0], 255]),
         // Big-endian 16-bit: keep the high byte.
-        PixelFormat::L16 => expand(&data, 2, pixels, |p| [p[0], p[0], p[0], 255]),
-        PixelFormat::RGB24 => expand(&data, 3, pixels, |p| [p[0], p[1], p[2], 255]),
-        PixelFormat::CMYK32 => expand(&data, 4, pixels, |p| {
+        PixelFormat::L16 => expand(data, 2, pixels, |p| [p[0], p[0], p[0], 255]),
+        PixelFormat::RGB24 => expand(data, 3, pixels, |p| [p[0], p[1], p[2], 255]),
+        PixelFormat::CMYK32 => expand(data, 4, pixels, |p| {
             let k = u16::from(255 - p[3]);
             let c = |x: u8| ((u16::from(255 - x) * k + 127) / 255) as u8;
             [c(p[0]), c(p[1]), c(p[2]), 255]
@@ -138,8 +155,7 @@ fn decode_jpeg(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
     };
     if rgba.len() != pixels * 4 {
         return Err(DecodeError::Other(format!(
-            "undecodable JPEG: {} bytes of pixels for {width}×{height}",
-            data.len()
+            "undecodable JPEG: {decoded_bytes} bytes of pixels for {width}×{height}"
         )));
     }
     Ok(Decoded {
@@ -169,7 +185,7 @@ fn decode_webp(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
     let rgba = if decoder.has_alpha() {
         data
     } else {
-        expand(&data, 3, pixels, |p| [p[0], p[1], p[2], 255])
+        expand(data, 3, pixels, |p| [p[0], p[1], p[2], 255])
     };
     if rgba.len() != pixels * 4 {
         return Err(DecodeError::Other(format!(
@@ -196,4 +212,38 @@ pub(crate) fn encode_png(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>
         writer.finish().map_err(|e| e.to_string())?;
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::expand;
+
+    /// Expanding in the decoder's buffer gives what a copy into a new buffer gives, for
+    /// every channel count, and a short buffer comes back short (the callers refuse it).
+    #[test]
+    fn expanding_in_place_matches_a_copy() {
+        let pixels = 1000;
+        for channels in 1..=4 {
+            let data: Vec<u8> = (0..pixels * channels)
+                .map(|i| (i * 7 % 251) as u8)
+                .collect();
+            let f = |p: &[u8]| {
+                let mut out = [255; 4];
+                out[..p.len()].copy_from_slice(p);
+                out
+            };
+            let copied: Vec<u8> = data.chunks_exact(channels).flat_map(f).collect();
+            assert_eq!(
+                expand(data.clone(), channels, pixels, f),
+                copied,
+                "{channels}"
+            );
+            // Extra bytes past the pixels are dropped; too few leave the buffer short.
+            let mut longer = data.clone();
+            longer.extend([9; 5]);
+            assert_eq!(expand(longer, channels, pixels, f), copied, "{channels}");
+            let short = expand(data[..data.len() - 1].to_vec(), channels, pixels, f);
+            assert!(short.len() < pixels * 4, "{channels}");
+        }
+    }
 }

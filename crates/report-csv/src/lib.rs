@@ -1,0 +1,261 @@
+//! The speed-against-error report's CSV (`bench --report DIR` writes `report.csv` and
+//! its companions; `bench --against DIR` reads an earlier `report.csv` back).
+//!
+//! One quoting rule both ways: a field holding a comma, a double quote or a line break is
+//! written in double quotes with `""` for a quote ([`field`]), and [`records`] reads it
+//! back as written. [`PreviousReport::parse`] is the reader `--against` uses; it is a
+//! crate of its own, with no renderer behind it, so the fuzz target `report_csv`
+//! (fuzz/fuzz_targets/report_csv.rs) runs it from bytes.
+
+use combustion_optics::shortened;
+
+/// A CSV field as the report writes it: quoted when it holds `,`, `"` or a line break.
+pub fn field(text: &str) -> String {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_owned()
+    }
+}
+
+/// Splits CSV text into records of fields, as [`field`] quotes them (a field in double
+/// quotes, `""` inside, line breaks inside kept): each record with the 1-based line it
+/// starts on. A line break outside quotes ends a record (a `\r` before it is dropped); a
+/// last record without one counts; empty records are skipped.
+pub fn records(text: &str) -> Vec<(usize, Vec<String>)> {
+    let mut records = Vec::new();
+    let mut fields = vec![String::new()];
+    let (mut line, mut start) = (1, 1);
+    let mut quoted = false;
+    let mut chars = text.chars().peekable();
+    let mut finish = |fields: &mut Vec<String>, start: usize| {
+        let record = std::mem::replace(fields, vec![String::new()]);
+        if record.len() > 1 || !record[0].is_empty() {
+            records.push((start, record));
+        }
+    };
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                chars.next();
+                push(&mut fields, '"');
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => fields.push(String::new()),
+            ('\r', false) if chars.peek() == Some(&'\n') => {}
+            ('\n', false) => {
+                finish(&mut fields, start);
+                line += 1;
+                start = line;
+            }
+            (c, _) => {
+                if c == '\n' {
+                    line += 1;
+                }
+                push(&mut fields, c);
+            }
+        }
+    }
+    finish(&mut fields, start);
+    records
+}
+
+/// Appends to the record's last field (a record always has one).
+fn push(fields: &mut Vec<String>, c: char) {
+    match fields.last_mut() {
+        Some(last) => last.push(c),
+        None => fields.push(c.to_string()),
+    }
+}
+
+/// The columns that name a row of `report.csv`: the scene and the six of its variant set.
+pub const KEY_COLUMNS: usize = 7;
+
+/// The error columns `--against` compares as written, in this order.
+pub const ERROR_COLUMNS: [&str; 4] = [
+    "max_relative_error",
+    "mean_relative_error",
+    "rms_relative_error",
+    "flip_mean",
+];
+
+/// Why an earlier `report.csv` cannot be read back.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ReportCsvError {
+    /// No record at all.
+    #[error("empty")]
+    Empty,
+    /// The header lacks a column this reader needs.
+    #[error("no `{0}` column (not a report.csv of this version)")]
+    MissingColumn(&'static str),
+    /// The header is shorter than the key.
+    #[error("{0} columns; a report.csv starts with 7 naming the scene and variant set")]
+    TooFewColumns(usize),
+    /// A record whose field count differs from the header's.
+    #[error("line {line} has {fields} fields, the header {header}")]
+    FieldCount {
+        /// The line the record starts on.
+        line: usize,
+        /// Its fields.
+        fields: usize,
+        /// The header's.
+        header: usize,
+    },
+    /// A `total_ms` that is not a finite number above 0 (a ratio against it would not be
+    /// a number).
+    #[error("line {line}: total_ms `{value}` is not a frame time (a finite number of ms above 0)")]
+    NotAFrameTime {
+        /// The line the record starts on.
+        line: usize,
+        /// The field, shortened.
+        value: String,
+    },
+}
+
+/// One row of an earlier run: its key (the first seven columns joined by commas), its
+/// total frame time and its error columns as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PreviousRow {
+    /// Scene and variant set, `KEY_COLUMNS` fields joined by `,`.
+    pub key: String,
+    /// Median total frame time, ms: finite and above 0.
+    pub total_ms: f64,
+    /// [`ERROR_COLUMNS`] as written.
+    pub errors: [String; 4],
+}
+
+/// The rows of an earlier run's `report.csv`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PreviousReport {
+    /// In the file's order.
+    pub rows: Vec<PreviousRow>,
+}
+
+impl PreviousReport {
+    /// Reads `report.csv` text: a header naming at least the key, `total_ms` and the
+    /// error columns, then records of as many fields.
+    pub fn parse(text: &str) -> Result<PreviousReport, ReportCsvError> {
+        let mut records = records(text).into_iter();
+        let (_, header) = records.next().ok_or(ReportCsvError::Empty)?;
+        if header.len() < KEY_COLUMNS {
+            return Err(ReportCsvError::TooFewColumns(header.len()));
+        }
+        let column = |name: &'static str| {
+            header
+                .iter()
+                .position(|h| h == name)
+                .ok_or(ReportCsvError::MissingColumn(name))
+        };
+        let total = column("total_ms")?;
+        let errors = [
+            column(ERROR_COLUMNS[0])?,
+            column(ERROR_COLUMNS[1])?,
+            column(ERROR_COLUMNS[2])?,
+            column(ERROR_COLUMNS[3])?,
+        ];
+        let mut rows = Vec::new();
+        for (line, fields) in records {
+            if fields.len() != header.len() {
+                return Err(ReportCsvError::FieldCount {
+                    line,
+                    fields: fields.len(),
+                    header: header.len(),
+                });
+            }
+            let total_ms = fields[total]
+                .parse::<f64>()
+                .ok()
+                .filter(|ms| ms.is_finite() && *ms > 0.0)
+                .ok_or_else(|| ReportCsvError::NotAFrameTime {
+                    line,
+                    value: shortened(&fields[total]),
+                })?;
+            rows.push(PreviousRow {
+                key: fields[..KEY_COLUMNS].join(","),
+                total_ms,
+                errors: errors.map(|c| fields[c].clone()),
+            });
+        }
+        Ok(PreviousReport { rows })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str = "scene,fresnel,hdr,pipeline,masking,distribution,diffuse,total_ms,max_relative_error,mean_relative_error,rms_relative_error,flip_mean";
+
+    #[test]
+    fn fields_written_with_the_reports_quoting_read_back_as_written() {
+        let awkward = [
+            "plain",
+            "",
+            "a,b",
+            "say \"hi\"",
+            "line\nbreak",
+            "crlf\r\n",
+            "lone\r",
+            "\"",
+            ",",
+        ];
+        let line: Vec<String> = awkward.iter().map(|f| field(f)).collect();
+        let text = format!("{}\n{}", line.join(","), line.join(","));
+        let read = records(&text);
+        assert_eq!(read.len(), 2);
+        assert_eq!(read[0].1, awkward);
+        assert_eq!(read[1].1, awkward);
+        // The second record starts after the quoted line breaks of the first.
+        assert_eq!(read[1].0, 4);
+        assert_eq!(field("plain"), "plain");
+    }
+
+    #[test]
+    fn a_report_reads_back_its_key_frame_time_and_error_columns() {
+        let text = format!(
+            "{HEADER}\r\n\"a,\"\"b\"\"\",full,f32,specialised,correlated,ggx,material,12.5,1e-3,1e-4,2e-4,5e-3\r\n\n"
+        );
+        let report = PreviousReport::parse(&text).unwrap();
+        assert_eq!(
+            report.rows,
+            [PreviousRow {
+                key: "a,\"b\",full,f32,specialised,correlated,ggx,material".into(),
+                total_ms: 12.5,
+                errors: ["1e-3", "1e-4", "2e-4", "5e-3"].map(String::from),
+            }]
+        );
+    }
+
+    #[test]
+    fn a_report_that_is_not_one_is_refused_with_its_reason() {
+        use ReportCsvError::*;
+        assert_eq!(PreviousReport::parse(""), Err(Empty));
+        assert_eq!(PreviousReport::parse("\n\r\n"), Err(Empty));
+        assert_eq!(PreviousReport::parse("a,b,c\n"), Err(TooFewColumns(3)));
+        assert_eq!(
+            PreviousReport::parse("a,b,c,d,e,f,g,h\n"),
+            Err(MissingColumn("total_ms"))
+        );
+        let without_flip = HEADER.trim_end_matches(",flip_mean");
+        assert_eq!(
+            PreviousReport::parse(without_flip),
+            Err(MissingColumn("flip_mean"))
+        );
+        assert_eq!(
+            PreviousReport::parse(&format!("{HEADER}\n\"x\ny\",1\n")),
+            Err(FieldCount {
+                line: 2,
+                fields: 2,
+                header: 12
+            })
+        );
+        let long = "9".repeat(10_000);
+        let row = format!("s,full,f32,specialised,correlated,ggx,material,-{long},1,1,1,1");
+        let Err(NotAFrameTime { line, value }) = PreviousReport::parse(&format!("{HEADER}\n{row}"))
+        else {
+            panic!("a negative frame time was taken");
+        };
+        assert_eq!(line, 2);
+        assert!(value.len() < 100, "{value}");
+    }
+}
