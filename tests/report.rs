@@ -57,6 +57,7 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
         shadows: Vec::new(),
         storages: Vec::new(),
         anti_aliasing: true,
+        environment_sampling: false,
     };
     let mut steps = Vec::new();
     let measured =
@@ -285,6 +286,7 @@ fn comparison_variants_move_the_error_as_their_physics_says() {
         shadows: Vec::new(),
         storages: Vec::new(),
         anti_aliasing: false,
+        environment_sampling: false,
     };
     let rows = combustion::report::measure(&desc, |_, _, _| {})
         .unwrap()
@@ -359,6 +361,7 @@ fn the_split_sum_error_is_in_the_report() {
         shadows: Vec::new(),
         storages: Vec::new(),
         anti_aliasing: false,
+        environment_sampling: false,
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let md = combustion::report::markdown(&measured, &desc);
@@ -410,6 +413,7 @@ fn report_measures_shadows_against_exact_visibility() {
         shadows: SHADOW_SETTINGS[..2].to_vec(),
         storages: Vec::new(),
         anti_aliasing: false,
+        environment_sampling: false,
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let rows = &measured.shadows;
@@ -477,6 +481,7 @@ fn report_measures_every_gbuffer_storage_end_to_end() {
         shadows: Vec::new(),
         storages: all_storages(),
         anti_aliasing: false,
+        environment_sampling: false,
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let rows = &measured.storages;
@@ -516,4 +521,81 @@ fn report_measures_every_gbuffer_storage_end_to_end() {
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("## G-buffer storage"), "{md}");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The sampled-environment section: on a scene lit by an environment alone, the split
+/// sum, each sample count, and frames of successive seeds averaged, each against the
+/// finer oracle with its own noise beside; the sampled mode's error falls as its samples
+/// grow, past the split sum's (its convergence to under 1 % is tests/environment.rs's);
+/// a scene without an environment has no rows.
+#[test]
+fn report_measures_the_sampled_environment_against_the_split_sum() {
+    use combustion::report::environment_sampling::{self, Mode};
+    let desc = ReportDesc {
+        scenes: ["spheres-studio", "spheres"]
+            .map(|s| SceneSource::Builtin(s.into()))
+            .to_vec(),
+        sets: vec![VariantSet::DEFAULT],
+        width: 320,
+        height: 192,
+        frames: 2,
+        device: lavapipe_with_validation(),
+        floors: false,
+        scaling: None,
+        shadows: Vec::new(),
+        storages: Vec::new(),
+        anti_aliasing: false,
+        environment_sampling: true,
+    };
+    let mut steps = Vec::new();
+    let measured =
+        combustion::report::measure(&desc, |done, total, _| steps.push((done, total))).unwrap();
+    // Two scenes in one set, then one sampled-environment step for the lit scene.
+    assert_eq!(steps.last(), Some(&(3, 3)), "{steps:?}");
+    let rows = &measured.environment_sampling;
+    assert_eq!(rows.iter().map(|r| r.mode).collect::<Vec<_>>(), Mode::all());
+    for r in rows {
+        eprintln!(
+            "{} {} ({} samples): {} pixels, mean {:.3e}, median {:.3e}, max {:.3e}, oracle σ {:.1e}, lighting {:.2} ms",
+            r.scene,
+            r.mode.name(),
+            r.mode.samples(),
+            r.compared,
+            r.mean_relative,
+            r.median_relative,
+            r.max_relative,
+            r.oracle_sigma_mean,
+            r.lighting.median
+        );
+        assert_eq!(r.scene, "builtin:spheres-studio");
+        assert!(r.compared >= 15, "{r:?}");
+        assert!(r.median_relative <= r.max_relative && r.mean_relative <= r.max_relative);
+        assert!(
+            r.oracle_sigma_mean > 0.0 && r.oracle_sigma_mean < 0.01,
+            "{r:?}"
+        );
+        assert!(r.lighting.median > 0.0 && r.total.median >= r.lighting.median);
+    }
+    let mean = |mode: Mode| rows.iter().find(|r| r.mode == mode).unwrap().mean_relative;
+    let counts = environment_sampling::SAMPLE_COUNTS;
+    assert!(
+        counts
+            .windows(2)
+            .all(|w| mean(Mode::Sampled(w[1])) < mean(Mode::Sampled(w[0]))),
+        "{rows:?}"
+    );
+    assert!(mean(Mode::Sampled(256)) < mean(Mode::SplitSum), "{rows:?}");
+    let (frames, samples) = environment_sampling::ACCUMULATED;
+    assert!(
+        mean(Mode::Accumulated { frames, samples }) < mean(Mode::Sampled(samples)),
+        "{rows:?}"
+    );
+    let csv = environment_sampling::csv(rows);
+    assert_eq!(csv.lines().count(), 1 + rows.len(), "{csv}");
+    assert!(csv.lines().all(|l| l.split(',').count() == 11), "{csv}");
+    let md = environment_sampling::markdown(rows);
+    assert!(
+        md.contains("| builtin:spheres-studio | accumulated | 1024 |"),
+        "{md}"
+    );
 }

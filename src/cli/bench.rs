@@ -43,6 +43,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
         shadows: combustion::report::shadows::SHADOW_SETTINGS.to_vec(),
         storages: combustion::report::storage::all_storages(),
         anti_aliasing: true,
+        environment_sampling: true,
         // Frame time against size and light count: on the scene named, else on the
         // performance scene.
         scaling: Some(if let Some(scene) = o.scene.given() {

@@ -10,6 +10,7 @@
 //! and error averaged over the scenes — with the Pareto front).
 
 pub mod anti_aliasing;
+pub mod environment_sampling;
 pub mod shadows;
 pub mod storage;
 
@@ -372,6 +373,9 @@ pub struct Measurements {
     /// Each anti-aliasing method on each scene (empty unless
     /// [`ReportDesc::anti_aliasing`]).
     pub anti_aliasing: Vec<anti_aliasing::AntiAliasingRow>,
+    /// The split sum and the sampled environment at each count on each scene lit by an
+    /// environment (empty unless [`ReportDesc::environment_sampling`]).
+    pub environment_sampling: Vec<environment_sampling::EnvironmentSamplingRow>,
 }
 
 /// GPU timings of `frames` frames of `scene` (after the frames already taken).
@@ -431,6 +435,10 @@ pub struct ReportDesc {
     /// Measure each anti-aliasing method on each scene against its 4×4-supersampled
     /// frame ([`anti_aliasing::Method::ALL`]).
     pub anti_aliasing: bool,
+    /// Measure the split sum and the sampled environment at each count
+    /// ([`environment_sampling::Mode::all`]) on each scene lit by an environment, against
+    /// a finer oracle ([`environment_sampling::ORACLE`]).
+    pub environment_sampling: bool,
 }
 
 impl ReportDesc {
@@ -441,6 +449,18 @@ impl ReportDesc {
             .filter(|(_, scene)| !scene.lights.is_empty())
             .count();
         suns * self.shadows.len()
+    }
+
+    /// Steps of the sampled-environment measurement on `scenes`: one per scene lit by an
+    /// environment.
+    fn environment_sampling_steps(&self, scenes: &[(String, combustion_scene::Scene)]) -> usize {
+        if !self.environment_sampling {
+            return 0;
+        }
+        scenes
+            .iter()
+            .filter(|(_, scene)| scene.environment.is_some())
+            .count()
     }
 
     /// Steps of the storage measurement on `scenes`.
@@ -554,7 +574,8 @@ pub fn measure(
         + desc.scaling_steps()
         + desc.shadow_steps(&scenes)
         + desc.storage_steps(&scenes)
-        + if desc.anti_aliasing { scenes.len() } else { 0 };
+        + if desc.anti_aliasing { scenes.len() } else { 0 }
+        + desc.environment_sampling_steps(&scenes);
     let mut rows = Vec::with_capacity(total);
     let mut scaling = Vec::new();
     let mut shadow_rows = Vec::new();
@@ -708,8 +729,19 @@ pub fn measure(
     } else {
         Vec::new()
     };
+    let environment_sampling_rows = if desc.environment_sampling {
+        let done = done + storage_rows.len() + if desc.anti_aliasing { scenes.len() } else { 0 };
+        let mut i = 0;
+        environment_sampling::measure(&scenes, desc, threads, |what| {
+            progress(done + i, total, what);
+            i += 1;
+        })?
+    } else {
+        Vec::new()
+    };
     progress(total, total, "done");
     Ok(Measurements {
+        environment_sampling: environment_sampling_rows,
         storages: storage_rows,
         anti_aliasing: anti_aliasing_rows,
         rows,
@@ -895,6 +927,7 @@ pub fn choose(
         shadows: Vec::new(),
         storages: Vec::new(),
         anti_aliasing: false,
+        environment_sampling: false,
     };
     let mut candidates = measure(&desc, |_, _, _| {})?.rows;
     candidates.sort_by(|a, b| a.total.median.total_cmp(&b.total.median));
@@ -1315,6 +1348,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     out += &shadows::markdown(&m.shadows);
     out += &storage::markdown(&m.storages);
     out += &anti_aliasing::markdown(&m.anti_aliasing);
+    out += &environment_sampling::markdown(&m.environment_sampling);
     out += &metal_colours_markdown();
     out += "## Per scene\n\nErrors of the lighting pass (from the frame's own G-buffer) and, where the scene has no environment, of the frame end to end (from the scene).\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP | end to end: mean | max |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
@@ -1540,6 +1574,12 @@ pub fn write(
             anti_aliasing::csv(&m.anti_aliasing).into_bytes(),
         ));
     }
+    if !m.environment_sampling.is_empty() {
+        files.push((
+            "environment-sampling.csv",
+            environment_sampling::csv(&m.environment_sampling).into_bytes(),
+        ));
+    }
     if !m.scaling.is_empty() {
         let (size, lights) = scaling_plots(m, device)?;
         files.push(("scaling-resolution.png", size.bytes));
@@ -1561,8 +1601,9 @@ pub fn write(
 }
 
 /// Every file a report may write into its folder.
-pub const REPORT_FILES: [&str; 11] = [
+pub const REPORT_FILES: [&str; 12] = [
     "anti-aliasing.csv",
+    "environment-sampling.csv",
     "report.md",
     "speed-vs-error.png",
     "report.csv",
