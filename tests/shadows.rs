@@ -487,20 +487,8 @@ impl ExactEdges {
     fn new(scene: &Scene, settings: ShadowSettings, sphere_radius: f64) -> Self {
         use combustion::reference::SceneBvh;
         use combustion::renderer::reference::ReferenceShading;
-        use combustion::renderer::FrameInputs;
         let bvh = std::sync::Arc::new(SceneBvh::shadow_casters(scene));
-        let inputs = FrameInputs {
-            camera: scene.camera,
-            exposure: 1.0,
-            lights: &scene.lights,
-            overlay: &[],
-            environment: None,
-            background: combustion::renderer::Background::None,
-            tone_mapping: combustion::renderer::ToneMapping::Exponential,
-            pose: None,
-            environment_seed: 0,
-            anti_aliasing: combustion::renderer::AntiAliasing::None,
-        };
+        let inputs = common::frame_inputs(scene, &scene.lights);
         let light = scene.lights[0].clone();
         let cascades = match light {
             Light::Directional { direction, .. } => directional_cascades(

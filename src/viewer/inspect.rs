@@ -37,8 +37,6 @@ pub struct ErrorSummary {
     pub worst_pixel: (u32, u32),
     /// Pixels compared.
     pub compared: usize,
-    /// Pixels of emissive materials, not compared.
-    pub emissive: usize,
     /// Pixels a blended or transmissive object may cover, which the G-buffer reference
     /// leaves out (the forward pass's surfaces are not in the G-buffer).
     pub blended: usize,
@@ -119,7 +117,7 @@ pub fn measure_error(
     };
     renderer.set_overlay_image(Some(&image))?;
     log::info!(
-        "error view: max relative error {:.3e} at {:?}, mean {:.3e}, {} pixels compared ({} emissive and {} under blended objects skipped), re-shaded in {reshade_ms:.0} ms",
+        "error view: max relative error {:.3e} at {:?}, mean {:.3e}, {} pixels compared ({} of them emissive; {} under blended objects skipped), re-shaded in {reshade_ms:.0} ms",
         map.max_relative,
         map.worst_pixel,
         map.mean_relative,
@@ -132,7 +130,6 @@ pub fn measure_error(
         mean_relative: map.mean_relative,
         worst_pixel: map.worst_pixel,
         compared: map.lit_pixels,
-        emissive: map.emissive_pixels,
         blended: map.blended_pixels,
         forward,
         reshade_ms,
@@ -185,14 +182,11 @@ pub fn forward_pixel_errors(
 /// What the error view left out, for its panel line (empty when nothing was).
 fn not_compared(e: &ErrorSummary) -> String {
     let under_forward = e.blended - e.forward.map_or(0, |(n, ..)| n);
-    let parts: Vec<String> = [
-        (e.emissive, "emissive"),
-        (under_forward, "in the boxes of blended or glass objects"),
-    ]
-    .into_iter()
-    .filter(|(count, _)| *count > 0)
-    .map(|(count, what)| format!("{} {what}", thousands(count)))
-    .collect();
+    let parts: Vec<String> = [(under_forward, "in the boxes of blended or glass objects")]
+        .into_iter()
+        .filter(|(count, _)| *count > 0)
+        .map(|(count, what)| format!("{} {what}", thousands(count)))
+        .collect();
     if parts.is_empty() {
         String::new()
     } else {

@@ -394,6 +394,10 @@ pub struct GBufferTexel {
     pub sheen: [f64; 4],
     /// The thin film's target: weight, thickness in nm (0 in frames without it: no film).
     pub film: [f64; 2],
+    /// The emissive + occlusion target: the emitted radiance the lighting pass adds (rgb)
+    /// and the glTF occlusion (a), as stored (f16 or f32); [0, 0, 0, 1] in frames without
+    /// the target: no emission, no occlusion.
+    pub emissive_occlusion: [f64; 4],
 }
 
 /// A G-buffer read back to the CPU.

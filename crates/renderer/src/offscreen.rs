@@ -50,6 +50,8 @@ struct ReadbackBuffers {
     sheen: Option<Buffer>,
     /// The thin film's target, likewise.
     film: Option<Buffer>,
+    /// The emissive + occlusion target (in the HDR image's format), likewise.
+    emissive: Option<Buffer>,
 }
 
 impl ReadbackBuffers {
@@ -101,6 +103,14 @@ impl ReadbackBuffers {
             } else {
                 None
             },
+            emissive: if with_gbuffer_layers {
+                Some(buffer(
+                    "emissive + occlusion readback",
+                    hdr_format.bytes_per_pixel(),
+                )?)
+            } else {
+                None
+            },
         })
     }
 }
@@ -113,6 +123,7 @@ impl ReadbackBuffers {
             .chain(&self.clearcoat)
             .chain(&self.sheen)
             .chain(&self.film)
+            .chain(&self.emissive)
     }
 }
 
@@ -237,7 +248,12 @@ impl Renderer {
             width,
             height,
             readback,
-            [variant.clearcoat, variant.sheen, variant.iridescence],
+            [
+                variant.clearcoat,
+                variant.sheen,
+                variant.iridescence,
+                variant.has_emissive_occlusion_target(),
+            ],
         )
     }
 
@@ -424,6 +440,9 @@ impl Renderer {
             if let (Some(image), Some(buffer)) = (&g.film, &buffers.film) {
                 copies.push((image, buffer));
             }
+            if let (Some(image), Some(buffer)) = (&g.emissive, &buffers.emissive) {
+                copies.push((image, buffer));
+            }
         }
         if copies.is_empty() {
             return;
@@ -459,14 +478,15 @@ impl Renderer {
         states.transition(raw, cmd, &host_read);
     }
 
-    /// The frame just completed, from the readback buffers (`clearcoat`, `sheen`, `film`:
-    /// its variant has the coat's, the sheen's, the thin film's target).
+    /// The frame just completed, from the readback buffers (`clearcoat`, `sheen`, `film`,
+    /// `emissive`: its variant has the coat's, the sheen's, the thin film's, the emissive
+    /// + occlusion target).
     fn read_back(
         &self,
         width: u32,
         height: u32,
         readback: Readback,
-        [clearcoat, sheen, film]: [bool; 3],
+        [clearcoat, sheen, film, emissive]: [bool; 4],
     ) -> Result<Frame, RenderError> {
         let mut frame = Frame {
             width,
@@ -478,14 +498,7 @@ impl Renderer {
             return Ok(frame);
         };
         if readback.images {
-            let bytes = buffers.hdr.mapped()?;
-            frame.hdr = match self.settings.hdr_format {
-                HdrFormat::Rgba32Float => bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(bytes),
-                HdrFormat::Rgba16Float => bytemuck::pod_collect_to_vec::<u8, [u16; 4]>(bytes)
-                    .into_iter()
-                    .map(|p| p.map(f16_to_f32))
-                    .collect(),
-            };
+            frame.hdr = hdr_texels(self.settings.hdr_format, buffers.hdr.mapped()?);
             frame.ldr = bytemuck::pod_collect_to_vec(buffers.ldr.mapped()?);
         }
         if readback.gbuffer {
@@ -522,6 +535,12 @@ impl Renderer {
                 )),
                 _ => None,
             };
+            let emissive = match &buffers.emissive {
+                Some(buffer) if emissive => {
+                    Some(hdr_texels(self.settings.hdr_format, buffer.mapped()?))
+                }
+                _ => None,
+            };
             let texels = (0..base.len())
                 .map(|i| GBufferTexel {
                     base_color_metalness: base[i],
@@ -532,6 +551,9 @@ impl Renderer {
                     clearcoat: clearcoat.as_ref().map_or([0.0; 4], |c| c[i]),
                     sheen: sheen.as_ref().map_or([0.0; 4], |s| s[i]),
                     film: film.as_ref().map_or([0.0; 2], |f| f[i].map(f64::from)),
+                    emissive_occlusion: emissive
+                        .as_ref()
+                        .map_or([0.0, 0.0, 0.0, 1.0], |e| e[i].map(f64::from)),
                 })
                 .collect();
             frame.gbuffer = Some(GBufferReadback {
@@ -563,4 +585,15 @@ fn unorm_texels<T: UnormCode>(bytes: &[u8]) -> Vec<[f64; 4]> {
         .into_iter()
         .map(|p| p.map(|c| c.into() / T::MAX))
         .collect()
+}
+
+/// RGBA texels of an image in the HDR image's format (f32, or f16 widened), as read back.
+fn hdr_texels(format: HdrFormat, bytes: &[u8]) -> Vec<[f32; 4]> {
+    match format {
+        HdrFormat::Rgba32Float => bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(bytes),
+        HdrFormat::Rgba16Float => bytemuck::pod_collect_to_vec::<u8, [u16; 4]>(bytes)
+            .into_iter()
+            .map(|p| p.map(f16_to_f32))
+            .collect(),
+    }
 }

@@ -81,7 +81,8 @@ pub struct ReferenceShading {
     push: LightingPush,
     materials: Vec<GpuMaterial>,
     lights: Vec<GpuLight>,
-    /// Per material: it emits (the GPU adds emission the reference does not model).
+    /// Per material: it emits (the reference adds the emission the G-buffer stored, as
+    /// the lighting pass does; counted in [`ErrorMap::emissive_pixels`]).
     emits: Vec<bool>,
     /// The screen rectangles (x0, y0, x1, y1, inclusive) that hold every blended or
     /// transmissive object (the forward pass draws them over the G-buffer's surfaces,
@@ -272,7 +273,11 @@ impl ReferenceShading {
         {
             return Some(pixel.brdf.base_color);
         }
+        // The emission the lighting pass adds, as the G-buffer stored it.
         let mut radiance = self.shade_lights(&pixel);
+        for (r, e) in radiance.iter_mut().zip(&texel.emissive_occlusion) {
+            *r += e;
+        }
         if let Some((environment, sampling)) = &self.environment {
             let from_environment = self
                 .shade_environment(texel, x, y, environment, sampling.iterations)
@@ -355,16 +360,52 @@ impl ReferenceShading {
     ) -> Option<Estimate> {
         let p = self.pixel(texel, x, y)?;
         let seed = u64::from(y) << 32 | u64::from(x);
-        Some(integrate_environment_layered(
-            &p.brdf,
-            &p.layers,
-            v3(p.n),
-            v3(p.t),
-            v3(p.b),
-            v3(p.v),
-            |l| environment.radiance(l),
-            Sampling { iterations, seed },
-        ))
+        let integrate = |brdf: &BrdfInputs<f64>| {
+            integrate_environment_layered(
+                brdf,
+                &p.layers,
+                v3(p.n),
+                v3(p.t),
+                v3(p.b),
+                v3(p.v),
+                |l| environment.radiance(l),
+                Sampling { iterations, seed },
+            )
+        };
+        let whole = integrate(&p.brdf);
+        let occlusion = texel.emissive_occlusion[3];
+        if occlusion.is_nan() || occlusion >= 1.0 {
+            return Some(whole);
+        }
+        // glTF occlusion as the split sum applies it (docs/gbuffer.md): the diffuse
+        // term × occlusion, the rest × Lagarde & de Rousiers' specular occlusion at n·v
+        // and the lobe's α (an anisotropic lobe's mean α). The same sample directions
+        // with a black base colour give the rest (every strategy's directions and pdfs
+        // are independent of it), so the diffuse term is the difference, sample for
+        // sample. A coat's and a sheen's lobes count as the rest here (the split sum
+        // gives the coat its own specular occlusion and the sheen the diffuse one).
+        let specular = integrate(&BrdfInputs {
+            base_color: [0.0; 3],
+            ..p.brdf
+        });
+        let nv = (p.n[0] * p.v[0] + p.n[1] * p.v[1] + p.n[2] * p.v[2]).max(0.0);
+        let roughness = texel.normal_roughness_anisotropy[2];
+        let alpha = if p.brdf.alpha_x == p.brdf.alpha_y {
+            roughness * roughness
+        } else {
+            0.5 * (p.brdf.alpha_x + p.brdf.alpha_y)
+        };
+        let specular_occlusion =
+            ((nv + occlusion).powf((-16.0 * alpha - 1.0).exp2()) - 1.0 + occlusion).clamp(0.0, 1.0);
+        Some(Estimate {
+            mean: std::array::from_fn(|c| {
+                specular.mean[c] * specular_occlusion
+                    + (whole.mean[c] - specular.mean[c]) * occlusion
+            }),
+            // Both factors are at most 1: the whole term's error bounds the occluded one's
+            // up to the two parts' correlation.
+            standard_error: whole.standard_error,
+        })
     }
 
     /// What the lighting pass reconstructs at pixel (`x`, `y`) from its texel, in f64.
@@ -584,7 +625,7 @@ pub struct ErrorMap {
     pub height: u32,
     /// Per pixel (row-major from the top-left): the largest relative error of its three
     /// channels, `|gpu − f64| / max(|f64|, RADIANCE_FLOOR)`; NaN where nothing was
-    /// compared (background, emissive materials, blended objects, non-finite GPU
+    /// compared (background, blended objects, non-finite GPU
     /// values).
     pub relative: Vec<f32>,
     /// The largest per-pixel relative error (at [`ErrorMap::worst_pixel`]).
@@ -601,7 +642,9 @@ pub struct ErrorMap {
     pub lit_pixels: usize,
     /// Background pixels that were not black (the GPU wrote radiance where nothing is).
     pub background_not_black: usize,
-    /// Pixels of emissive materials (emission is added by the GPU, not modelled here).
+    /// Pixels of emissive materials, compared with the emission the G-buffer stored
+    /// added (as the lighting pass adds it: the error is the shading's, relative to the
+    /// whole).
     pub emissive_pixels: usize,
     /// Pixels a blended object may cover ([`ReferenceShading::under_blended`]), not
     /// compared.
@@ -609,8 +652,8 @@ pub struct ErrorMap {
     /// Pixels whose GPU or reference radiance is not finite.
     pub non_finite: usize,
     /// The reference's radiance per pixel, rounded to f32 (row-major, as `relative`):
-    /// where nothing was compared, the GPU's own value (0 on the background, the GPU's
-    /// emission on emissive pixels; 0 where either was not finite), so an image metric
+    /// where nothing was compared, the GPU's own value (0 on the background and where
+    /// either was not finite; the GPU's between an environment's grid points), so an image metric
     /// over the whole frame (the report's FLIP) sees the shading's error alone.
     /// Empty when the frame has no G-buffer or HDR image to compare.
     pub reference_radiance: Vec<[f32; 3]>,
@@ -686,7 +729,6 @@ pub fn error_map(frame: &Frame, reference: &ReferenceShading, threads: usize) ->
                         }
                         if reference.emits(texel) {
                             part.emissive_pixels += 1;
-                            continue;
                         }
                         part.lit_pixels += 1;
                         *radiance = cpu.map(|c| c as f32);
