@@ -228,7 +228,7 @@ void main() {
 #endif
 #ifdef ENVIRONMENT_SAMPLES
     radiance += environment_sampled(m, view, layers, view.frame[2], gl_FragCoord.xy, push.sampling.x,
-                                    occlusion);
+                                    occlusion, nra.z);
 #else
     radiance += environment_radiance(material, md.x, m, view, layers, view.frame[2], normalize(v),
                                      nra.z, base_color_srgb8_code(base_metal.rgb), occlusion);

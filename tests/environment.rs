@@ -1270,4 +1270,81 @@ fn a_textured_gltf_scene_lit_by_an_environment_is_compared_at_every_lit_pixel() 
         map.emissive_pixels
     );
     assert!(with_occlusion < without_occlusion);
+    // The sampled environment applies the occlusion the same way, and converges to the
+    // oracle on the occluded pixels as elsewhere.
+    let settings = RendererSettings {
+        shading: ShadingOptions {
+            environment_samples: 256,
+            ..common::exact_f32().shading
+        },
+        ..common::exact_f32()
+    };
+    let sampled = common::render(&scene, width, height, settings, Readback::ALL);
+    let sampled_map = error_map(&sampled, &reference, 2);
+    // Mean error over the compared pixels whose occlusion is below 0.9 (or not).
+    let mean_error = |map: &combustion::renderer::reference::ErrorMap, occluded: bool| {
+        let errors: Vec<f64> = gbuffer
+            .texels
+            .iter()
+            .zip(&map.relative)
+            .filter(|(t, e)| {
+                t.depth < 1.0 && (t.emissive_occlusion[3] < 0.9) == occluded && e.is_finite()
+            })
+            .map(|(_, e)| f64::from(*e))
+            .collect();
+        errors.iter().sum::<f64>() / errors.len() as f64
+    };
+    let [split_occluded, split_open, sampled_occluded, sampled_open] = [
+        mean_error(&map, true),
+        mean_error(&map, false),
+        mean_error(&sampled_map, true),
+        mean_error(&sampled_map, false),
+    ];
+    eprintln!(
+        "mean error, occluded / other pixels: split sum {split_occluded:.3e} / {split_open:.3e}, 256 samples {sampled_occluded:.3e} / {sampled_open:.3e}"
+    );
+    assert_eq!(sampled_map.lit_pixels, grid_lit);
+    // Below the split sum's, and as near the oracle (whose 4,000 samples are its floor
+    // here) as the pixels without occlusion.
+    assert!(sampled_occluded < split_occluded);
+    assert!(
+        sampled_occluded < 1.5 * sampled_open,
+        "{sampled_occluded} against {sampled_open}"
+    );
+}
+
+/// The sampled environment applies a glTF occlusion as the split sum does — the
+/// diffuse term × occlusion, the specular term × the specular occlusion — so both
+/// converge to the same oracle (`ReferenceShading::shade_environment`, which applies
+/// the two factors): on a smooth black dielectric (all specular) under a uniform
+/// environment with occlusion 0.5, the specular occlusion is about 0.7 at normal
+/// incidence, so scaling the whole term by 0.5 would be some 30 % off.
+#[test]
+fn sampled_environment_applies_occlusion_as_the_split_sum() {
+    let material = Material {
+        base_color: [0.0; 3],
+        roughness: 0.2,
+        occlusion_texture: Some(flat_occlusion(128)),
+        occlusion_strength: 1.0,
+        ..Material::default()
+    };
+    let scene = sphere(material, 1.0, Environment::Uniform([1.0; 3]));
+    for samples in [0, 64] {
+        let settings = RendererSettings {
+            shading: ShadingOptions {
+                environment_samples: samples,
+                ..common::exact_f32().shading
+            },
+            ..common::exact_f32()
+        };
+        let frame = common::render(&scene, 64, 64, settings, Readback::ALL);
+        let compared = compare_with_oracle(&scene, &frame, 5, 20_000);
+        let (max, mean, _, noise) = summary(&compared);
+        eprintln!(
+            "{samples} samples: {} pixels, mean {mean:.2e}, max {max:.2e} (oracle σ ≤ {noise:.1e})",
+            compared.len()
+        );
+        assert!(compared.len() > 60);
+        assert!(mean < 0.03, "{samples} samples: mean {mean:e}");
+    }
 }

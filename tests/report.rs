@@ -58,6 +58,7 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
         storages: Vec::new(),
         anti_aliasing: true,
         environment_sampling: false,
+        studio_scenes: Vec::new(),
     };
     let mut steps = Vec::new();
     let measured =
@@ -287,6 +288,7 @@ fn comparison_variants_move_the_error_as_their_physics_says() {
         storages: Vec::new(),
         anti_aliasing: false,
         environment_sampling: false,
+        studio_scenes: Vec::new(),
     };
     let rows = combustion::report::measure(&desc, |_, _, _| {})
         .unwrap()
@@ -362,6 +364,7 @@ fn the_split_sum_error_is_in_the_report() {
         storages: Vec::new(),
         anti_aliasing: false,
         environment_sampling: false,
+        studio_scenes: Vec::new(),
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let md = combustion::report::markdown(&measured, &desc);
@@ -414,6 +417,7 @@ fn report_measures_shadows_against_exact_visibility() {
         storages: Vec::new(),
         anti_aliasing: false,
         environment_sampling: false,
+        studio_scenes: Vec::new(),
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let rows = &measured.shadows;
@@ -482,6 +486,7 @@ fn report_measures_every_gbuffer_storage_end_to_end() {
         storages: all_storages(),
         anti_aliasing: false,
         environment_sampling: false,
+        studio_scenes: Vec::new(),
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let rows = &measured.storages;
@@ -546,13 +551,43 @@ fn report_measures_the_sampled_environment_against_the_split_sum() {
         storages: Vec::new(),
         anti_aliasing: false,
         environment_sampling: true,
+        studio_scenes: vec![SceneSource::File(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("assets/scenes/textured/textured.gltf"),
+        )],
     };
     let mut steps = Vec::new();
     let measured =
         combustion::report::measure(&desc, |done, total, _| steps.push((done, total))).unwrap();
-    // Two scenes in one set, then one sampled-environment step for the lit scene.
-    assert_eq!(steps.last(), Some(&(3, 3)), "{steps:?}");
-    let rows = &measured.environment_sampling;
+    // Three scenes in one set (the textured glTF scene last, lit by the studio
+    // environment), then a sampled-environment step for each lit scene.
+    assert_eq!(steps.last(), Some(&(5, 5)), "{steps:?}");
+    let textured = measured
+        .rows
+        .iter()
+        .find(|r| r.scene.ends_with("textured.gltf (studio)"))
+        .expect("the textured scene's row");
+    eprintln!(
+        "textured glTF under studio: {} pixels, mean {:.3e}",
+        textured.compared, textured.mean_relative
+    );
+    assert!(
+        textured.environment && textured.compared > 50,
+        "{textured:?}"
+    );
+    assert!(textured.mean_relative.is_finite(), "{textured:?}");
+    assert_eq!(
+        measured.environment_sampling.len(),
+        2 * Mode::all().len(),
+        "the textured scene is lit by an environment too"
+    );
+    let rows: Vec<_> = measured
+        .environment_sampling
+        .iter()
+        .filter(|r| r.scene == "builtin:spheres-studio")
+        .cloned()
+        .collect();
+    let rows = &rows;
     assert_eq!(rows.iter().map(|r| r.mode).collect::<Vec<_>>(), Mode::all());
     for r in rows {
         eprintln!(
@@ -567,7 +602,6 @@ fn report_measures_the_sampled_environment_against_the_split_sum() {
             r.oracle_sigma_mean,
             r.lighting.median
         );
-        assert_eq!(r.scene, "builtin:spheres-studio");
         assert!(r.compared >= 15, "{r:?}");
         assert!(r.median_relative <= r.max_relative && r.mean_relative <= r.max_relative);
         assert!(
@@ -590,8 +624,9 @@ fn report_measures_the_sampled_environment_against_the_split_sum() {
         mean(Mode::Accumulated { frames, samples }) < mean(Mode::Sampled(samples)),
         "{rows:?}"
     );
-    let csv = environment_sampling::csv(rows);
-    assert_eq!(csv.lines().count(), 1 + rows.len(), "{csv}");
+    let csv = environment_sampling::csv(&measured.environment_sampling);
+    let written = measured.environment_sampling.len();
+    assert_eq!(csv.lines().count(), 1 + written, "{csv}");
     assert!(csv.lines().all(|l| l.split(',').count() == 11), "{csv}");
     let md = environment_sampling::markdown(rows);
     assert!(

@@ -158,6 +158,15 @@ float environment_code_table(uint table, uint code, vec2 coord) {
                mix(environment_code_albedo[c.z], environment_code_albedo[c.w], f.x), f.y);
 }
 
+#ifdef OCCLUSION
+// Lagarde & de Rousiers' (2014, eq. 58) specular occlusion from the glTF occlusion, at n·v
+// and the lobe's α: weaker than the diffuse occlusion at normal incidence and on smooth
+// surfaces (the reference's twin: ReferenceShading::shade_environment).
+float specular_occlusion_of(float nv, float alpha, float occlusion) {
+    return clamp(pow(nv + occlusion, exp2(-16.0 * alpha - 1.0)) - 1.0 + occlusion, 0.0, 1.0);
+}
+#endif
+
 // The split-sum environment term (combustion_renderer::environment): the prefiltered
 // radiance along the mirror direction times the material's specular directional albedo
 // (full Fresnel), plus the cosine-weighted mean radiance about n times its diffuse
@@ -204,9 +213,8 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     // diffuse term as it is, and the specular term by Lagarde & de Rousiers' (2014,
     // eq. 58) specular occlusion, weaker than the diffuse occlusion at normal incidence
     // and on smooth surfaces; direct lights are never occluded.
-    #ifdef OCCLUSION
-    float specular_occlusion = clamp(
-        pow(nv + occlusion, exp2(-16.0 * alpha - 1.0)) - 1.0 + occlusion, 0.0, 1.0);
+#ifdef OCCLUSION
+    float specular_occlusion = specular_occlusion_of(nv, alpha, occlusion);
 #else
     const float specular_occlusion = 1.0;
 #endif
@@ -419,12 +427,21 @@ vec2 pixel_rotation(vec2 pixel) {
 // turned per pixel and per `seed` (FrameInputs::environment_seed), each giving one direction from GGX's visible normals and one from the
 // cosine, combined by the balance heuristic: Σ L(l) r(l) / (p_ggx(l) + p_cos(l)) / N,
 // r = surface_response and L the radiance cube's finest level (no occlusion by the
-// scene; glTF occlusion scales the whole term).
+// scene). glTF occlusion (OCCLUSION) as the split sum applies it: the diffuse term
+// × occlusion, the rest × the specular occlusion at the lobe's α (`roughness`: the
+// perceptual roughness, as environment_radiance takes it); the rest is the response over
+// a black base colour.
 vec3 environment_sampled(BrdfInputs m, BrdfView view, SurfaceLayers layers, vec3 n,
-                         vec2 pixel, uint seed, float occlusion) {
+                         vec2 pixel, uint seed, float occlusion, float roughness) {
     if (!(view.v.z > 0.0)) {
         return vec3(0.0);
     }
+#ifdef OCCLUSION
+    float alpha = view.ax != view.ay ? 0.5 * (view.ax + view.ay) : roughness * roughness;
+    float occlusion_specular = specular_occlusion_of(view.v.z, alpha, occlusion);
+    BrdfInputs black = m;
+    black.base_color = vec3(0.0);
+#endif
     const uint count = uint(ENVIRONMENT_SAMPLES);
     // Seed k turns every pixel's set further by the k-th point of the R2 sequence
     // (Roberts 2018), so frames of successive seeds draw independent sets.
@@ -442,10 +459,14 @@ vec3 environment_sampled(BrdfInputs m, BrdfView view, SurfaceLayers layers, vec3
             }
             vec3 world = normalize(view.frame * l);
             vec3 response = surface_response(m, view, layers, n, world);
+#ifdef OCCLUSION
+            vec3 rest = surface_response(black, view, layers, n, world);
+            response = rest * occlusion_specular + (response - rest) * occlusion;
+#endif
             sum += response * textureLod(environment_specular, world, 0.0).rgb / pdf;
         }
     }
-    return sum * (occlusion / float(count));
+    return sum / float(count);
 }
 #endif
 

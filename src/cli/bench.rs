@@ -32,8 +32,29 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
             .map(|name| SceneSource::Builtin((*name).to_owned()))
             .collect()
     };
+    // By default, the authored textured glTF scene too, lit by the studio environment
+    // (its textured metal, occlusion and emission against the environment oracle): from
+    // the working folder when it is the source tree, else from the tree this was built
+    // from; left out, with a warning, where neither is.
+    let studio_scenes = if o.scene.given().is_some() {
+        Vec::new()
+    } else {
+        let textured = std::path::Path::new("assets/scenes/textured/textured.gltf");
+        let built_from = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(textured);
+        if textured.is_file() {
+            vec![SceneSource::File(textured.to_owned())]
+        } else if built_from.is_file() {
+            vec![SceneSource::File(built_from)]
+        } else {
+            log::warn!(
+                "assets/scenes/textured/textured.gltf not found: the report has no textured glTF scene"
+            );
+            Vec::new()
+        }
+    };
     let desc = ReportDesc {
         scenes,
+        studio_scenes,
         sets: VariantSet::all(),
         width: o.frame.width,
         height: o.frame.height,

@@ -411,6 +411,10 @@ fn time_frames_with(
 pub struct ReportDesc {
     /// The scenes to measure.
     pub scenes: Vec<SceneSource>,
+    /// Scenes measured lit by the studio environment alone (their lights removed),
+    /// after [`ReportDesc::scenes`], labelled `FILE (studio)`: a textured glTF scene's
+    /// rows against the environment oracle.
+    pub studio_scenes: Vec<SceneSource>,
     /// The variant sets each scene is measured under.
     pub sets: Vec<VariantSet>,
     /// Width of the frames, pixels.
@@ -561,11 +565,17 @@ pub fn measure(
 ) -> Result<Measurements, Error> {
     let mut device_name = String::new();
     let mut floors = Vec::new();
-    let scenes = desc
+    let mut scenes = desc
         .scenes
         .iter()
         .map(|source| Ok((source.label(), source.load()?)))
         .collect::<Result<Vec<_>, Error>>()?;
+    for source in &desc.studio_scenes {
+        let mut scene = source.load()?;
+        scene.lights.clear();
+        scene.environment = Some(combustion_scene::Environment::Studio);
+        scenes.push((format!("{} (studio)", source.label()), scene));
+    }
     let scaling_scene = match &desc.scaling {
         Some(source) => Some((source.label(), source.load()?)),
         None => None,
@@ -928,6 +938,7 @@ pub fn choose(
         storages: Vec::new(),
         anti_aliasing: false,
         environment_sampling: false,
+        studio_scenes: Vec::new(),
     };
     let mut candidates = measure(&desc, |_, _, _| {})?.rows;
     candidates.sort_by(|a, b| a.total.median.total_cmp(&b.total.median));
