@@ -1,21 +1,60 @@
-//! The committed report-CSV fuzz corpus (fuzz/seeds/report_csv: the target's corpus after
-//! its run, minimised with libFuzzer's `-merge=1`) replayed through the code the fuzz
-//! target runs (fuzz/common/report_csv.rs): no input may panic `bench --against`'s reader
-//! or break the quoting's round trip.
+//! The committed report-CSV fuzz corpora replayed through the code the fuzz target runs
+//! (fuzz/common/report_csv.rs): no input may panic `bench --against`'s reader or break
+//! the quoting's round trip. `fuzz/seeds/report_csv/` holds inputs written by hand (the
+//! two stored reports among them); `fuzz/seeds/report_csv.tar.xz` the target's corpus
+//! after an hour's run, minimised with libFuzzer's `-merge=1`.
 
 #[path = "../../../fuzz/common/report_csv.rs"]
 mod fuzz_target;
 #[path = "../../../fuzz/common/replay.rs"]
 mod replay;
 
-#[test]
-fn the_report_csv_corpus_replays_without_a_panic() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/report_csv");
-    let files: Vec<_> = std::fs::read_dir(dir)
+use std::path::{Path, PathBuf};
+
+fn seeds() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds")
+}
+
+fn files_in(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .unwrap()
         .map(|entry| entry.unwrap().path())
         .collect();
-    let (inputs, panicked) = replay::replay(&files, fuzz_target::parse_and_round_trip);
-    assert!(panicked.is_empty(), "{panicked:?} panicked");
-    assert!(inputs >= 5, "{inputs} inputs");
+    files.sort();
+    files
+}
+
+fn assert_replays(name: &str, files: &[PathBuf], at_least: usize) {
+    let (inputs, panicked) = replay::replay(files, fuzz_target::parse_and_round_trip);
+    assert!(
+        panicked.is_empty(),
+        "{name}: {panicked:?} of {inputs} panicked"
+    );
+    assert!(inputs >= at_least, "{name}: {inputs} inputs");
+}
+
+#[test]
+fn the_report_csv_seeds_replay_without_a_panic() {
+    assert_replays("seeds", &files_in(&seeds().join("report_csv")), 7);
+}
+
+#[test]
+fn the_report_csv_corpus_replays_without_a_panic() {
+    let dir = std::env::temp_dir().join(format!(
+        "combustion-corpus-{}-report_csv",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let status = std::process::Command::new("tar")
+        .arg("-xJf")
+        .arg(seeds().join("report_csv.tar.xz"))
+        .arg("-C")
+        .arg(&dir)
+        .status()
+        .expect("tar (with xz) unpacks the corpus: scripts/dev.sh installs xz-utils");
+    assert!(status.success());
+    let files = files_in(&dir);
+    assert_replays("report_csv.tar.xz", &files, 300);
+    std::fs::remove_dir_all(&dir).unwrap();
 }
