@@ -158,7 +158,7 @@ pub(super) fn measure(
                 mode,
                 compared: errors.len(),
                 mean_relative: mean(errors.iter().map(|e| e.0)),
-                median_relative: median(errors.iter().map(|e| e.0).collect()),
+                median_relative: Spread::of(errors.iter().map(|e| e.0).collect()).median,
                 max_relative: errors.iter().map(|e| e.0).fold(0.0, f64::max),
                 oracle_sigma_mean: mean(errors.iter().map(|e| e.1)),
                 lighting: Spread::of(
@@ -220,7 +220,7 @@ fn frame_of(
 }
 
 /// The oracle at every compared pixel of `frame` (its G-buffer), on `threads` threads:
-/// pixel index and estimate.
+/// pixel index and estimate, the stored emission added as the lighting pass adds it.
 fn integrate(
     scene: &combustion_scene::Scene,
     inputs: &FrameInputs<'_>,
@@ -257,7 +257,13 @@ fn integrate(
                                     environment,
                                     ORACLE.iterations,
                                 )
-                                .map(|e| (i, e))
+                                .map(|mut e| {
+                                    // The emission the lighting pass adds, as stored.
+                                    for c in 0..3 {
+                                        e.mean[c] += gbuffer.texels[i].emissive_occlusion[c];
+                                    }
+                                    (i, e)
+                                })
                         })
                         .collect::<Vec<_>>()
                 })
@@ -295,11 +301,6 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
     } else {
         sum / n as f64
     }
-}
-
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values.get(values.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
 /// `environment-sampling.csv`: one line per scene and mode.
