@@ -43,22 +43,19 @@ fn report_measures_every_set_and_its_errors_match_the_parity_check() {
         },
     ];
     let desc = ReportDesc {
-        scenes: vec![
-            SceneSource::Builtin("spheres".into()),
-            SceneSource::Builtin("underwater".into()),
-        ],
-        sets: sets.clone(),
-        width: W,
-        height: H,
-        frames: 3,
-        device: lavapipe_with_validation(),
         floors: true,
         scaling: Some(SceneSource::Builtin("spheres".into())),
-        shadows: Vec::new(),
-        storages: Vec::new(),
         anti_aliasing: true,
-        environment_sampling: false,
-        studio_scenes: Vec::new(),
+        ..ReportDesc::rows_only(
+            vec![
+                SceneSource::Builtin("spheres".into()),
+                SceneSource::Builtin("underwater".into()),
+            ],
+            sets.clone(),
+            (W, H),
+            3,
+            lavapipe_with_validation(),
+        )
     };
     let mut steps = Vec::new();
     let measured =
@@ -273,23 +270,15 @@ fn comparison_variants_move_the_error_as_their_physics_says() {
     });
     let mut sets = vec![d, f82, schlick, beckmann];
     sets.extend(overrides);
-    let desc = ReportDesc {
-        scenes: ["gold-copper", "diffuse-models", "spheres"]
+    let desc = ReportDesc::rows_only(
+        ["gold-copper", "diffuse-models", "spheres"]
             .map(|s| SceneSource::Builtin(s.into()))
             .to_vec(),
         sets,
-        width: W,
-        height: H,
-        frames: 1,
-        device: lavapipe_with_validation(),
-        floors: false,
-        scaling: None,
-        shadows: Vec::new(),
-        storages: Vec::new(),
-        anti_aliasing: false,
-        environment_sampling: false,
-        studio_scenes: Vec::new(),
-    };
+        (W, H),
+        1,
+        lavapipe_with_validation(),
+    );
     let rows = combustion::report::measure(&desc, |_, _, _| {})
         .unwrap()
         .rows;
@@ -351,21 +340,13 @@ fn comparison_variants_move_the_error_as_their_physics_says() {
 /// report beside the other variants', and its mean-FLIP cell says why it is empty.
 #[test]
 fn the_split_sum_error_is_in_the_report() {
-    let desc = ReportDesc {
-        scenes: vec![SceneSource::Builtin("spheres-studio".into())],
-        sets: vec![VariantSet::DEFAULT],
-        width: 320,
-        height: 192,
-        frames: 1,
-        device: lavapipe_with_validation(),
-        floors: false,
-        scaling: None,
-        shadows: Vec::new(),
-        storages: Vec::new(),
-        anti_aliasing: false,
-        environment_sampling: false,
-        studio_scenes: Vec::new(),
-    };
+    let desc = ReportDesc::rows_only(
+        vec![SceneSource::Builtin("spheres-studio".into())],
+        vec![VariantSet::DEFAULT],
+        (320, 192),
+        1,
+        lavapipe_with_validation(),
+    );
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let md = combustion::report::markdown(&measured, &desc);
     let row = &measured.rows[0];
@@ -405,19 +386,14 @@ fn the_split_sum_error_is_in_the_report() {
 fn report_measures_shadows_against_exact_visibility() {
     use combustion::report::shadows::SHADOW_SETTINGS;
     let desc = ReportDesc {
-        scenes: vec![SceneSource::Builtin("grid-sun".into())],
-        sets: vec![VariantSet::DEFAULT],
-        width: 192,
-        height: 128,
-        frames: 2,
-        device: lavapipe_with_validation(),
-        floors: false,
-        scaling: None,
         shadows: SHADOW_SETTINGS[..2].to_vec(),
-        storages: Vec::new(),
-        anti_aliasing: false,
-        environment_sampling: false,
-        studio_scenes: Vec::new(),
+        ..ReportDesc::rows_only(
+            vec![SceneSource::Builtin("grid-sun".into())],
+            vec![VariantSet::DEFAULT],
+            (192, 128),
+            2,
+            lavapipe_with_validation(),
+        )
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let rows = &measured.shadows;
@@ -474,19 +450,14 @@ fn report_measures_every_gbuffer_storage_end_to_end() {
     use combustion::renderer::{BaseColorStorage, GBufferStorage, SurfaceStorage};
     use combustion::report::storage::all_storages;
     let desc = ReportDesc {
-        scenes: vec![SceneSource::Builtin("spot-box".into())],
-        sets: vec![VariantSet::DEFAULT],
-        width: 160,
-        height: 120,
-        frames: 2,
-        device: lavapipe_with_validation(),
-        floors: false,
-        scaling: None,
-        shadows: Vec::new(),
         storages: all_storages(),
-        anti_aliasing: false,
-        environment_sampling: false,
-        studio_scenes: Vec::new(),
+        ..ReportDesc::rows_only(
+            vec![SceneSource::Builtin("spot-box".into())],
+            vec![VariantSet::DEFAULT],
+            (160, 120),
+            2,
+            lavapipe_with_validation(),
+        )
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let rows = &measured.storages;
@@ -537,24 +508,20 @@ fn report_measures_every_gbuffer_storage_end_to_end() {
 fn report_measures_the_sampled_environment_against_the_split_sum() {
     use combustion::report::environment_sampling::{self, Mode};
     let desc = ReportDesc {
-        scenes: ["spheres-studio", "spheres"]
-            .map(|s| SceneSource::Builtin(s.into()))
-            .to_vec(),
-        sets: vec![VariantSet::DEFAULT],
-        width: 320,
-        height: 192,
-        frames: 2,
-        device: lavapipe_with_validation(),
-        floors: false,
-        scaling: None,
-        shadows: Vec::new(),
-        storages: Vec::new(),
-        anti_aliasing: false,
         environment_sampling: true,
         studio_scenes: vec![SceneSource::File(
             std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("assets/scenes/textured/textured.gltf"),
         )],
+        ..ReportDesc::rows_only(
+            ["spheres-studio", "spheres"]
+                .map(|s| SceneSource::Builtin(s.into()))
+                .to_vec(),
+            vec![VariantSet::DEFAULT],
+            (320, 192),
+            2,
+            lavapipe_with_validation(),
+        )
     };
     let mut steps = Vec::new();
     let measured =

@@ -446,6 +446,33 @@ pub struct ReportDesc {
 }
 
 impl ReportDesc {
+    /// The variant sets' rows alone, on `scenes` at `width` × `height` over `frames`
+    /// frames: no floors, scaling, shadows, storages, anti-aliasing, sampled environment
+    /// or studio-lit files (add them with struct update syntax).
+    pub fn rows_only(
+        scenes: Vec<SceneSource>,
+        sets: Vec<VariantSet>,
+        (width, height): (u32, u32),
+        frames: u32,
+        device: DeviceDesc,
+    ) -> ReportDesc {
+        ReportDesc {
+            scenes,
+            studio_scenes: Vec::new(),
+            sets,
+            width,
+            height,
+            frames,
+            device,
+            floors: false,
+            scaling: None,
+            shadows: Vec::new(),
+            storages: Vec::new(),
+            anti_aliasing: false,
+            environment_sampling: false,
+        }
+    }
+
     /// Steps of the shadow measurement on `scenes`.
     fn shadow_steps(&self, scenes: &[(String, combustion_scene::Scene)]) -> usize {
         let suns = scenes
@@ -925,21 +952,13 @@ pub fn choose(
     frames: u32,
     device: DeviceDesc,
 ) -> Result<Choice, Error> {
-    let desc = ReportDesc {
-        scenes: vec![scene.clone()],
-        sets: VariantSet::all(),
-        width,
-        height,
+    let desc = ReportDesc::rows_only(
+        vec![scene.clone()],
+        VariantSet::all(),
+        (width, height),
         frames,
         device,
-        floors: false,
-        scaling: None,
-        shadows: Vec::new(),
-        storages: Vec::new(),
-        anti_aliasing: false,
-        environment_sampling: false,
-        studio_scenes: Vec::new(),
-    };
+    );
     let mut candidates = measure(&desc, |_, _, _| {})?.rows;
     candidates.sort_by(|a, b| a.total.median.total_cmp(&b.total.median));
     // A budget is met only where something was compared: a scene with no lit pixel (no
