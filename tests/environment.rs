@@ -47,6 +47,18 @@ fn render(scene: &Scene, width: u32, height: u32) -> Frame {
     common::render(scene, width, height, common::exact_f32(), Readback::ALL)
 }
 
+/// Exact f32 settings (common::exact_f32) with the environment sampled at `samples`
+/// points a pixel (0: the split sum).
+fn sampled(samples: u32) -> RendererSettings {
+    RendererSettings {
+        shading: ShadingOptions {
+            environment_samples: samples,
+            ..common::exact_f32().shading
+        },
+        ..common::exact_f32()
+    }
+}
+
 /// One pixel against the oracle: the GPU's relative error and the oracle's standard
 /// error relative to its value (largest over the channels).
 struct Compared {
@@ -282,14 +294,7 @@ fn sampled_environment_converges_to_the_oracle() {
     scene.environment = Some(Environment::Studio);
     let (mut means, mut worst) = (Vec::new(), 0.0);
     for samples in [0, 4, 64, 256, 1024] {
-        let settings = combustion::renderer::RendererSettings {
-            shading: combustion::renderer::ShadingOptions {
-                environment_samples: samples,
-                ..common::exact_f32().shading
-            },
-            ..common::exact_f32()
-        };
-        let frame = common::render(&scene, 160, 96, settings, Readback::ALL);
+        let frame = common::render(&scene, 160, 96, sampled(samples), Readback::ALL);
         let compared = compare_with_oracle(&scene, &frame, 8, 40_000);
         let (max, mean, median, noise) = summary(&compared);
         eprintln!(
@@ -319,19 +324,11 @@ fn sampled_environment_converges_to_the_oracle() {
 /// where frames of separate seeds are merely independent.
 #[test]
 fn frames_of_successive_seeds_average_to_more_samples() {
-    use combustion::renderer::{FrameInputs, RendererSettings, ShadingOptions};
     let mut scene = builtin_scene("spheres").expect("built in");
     scene.lights.clear();
     scene.environment = Some(Environment::Studio);
-    let settings = |samples| RendererSettings {
-        shading: ShadingOptions {
-            environment_samples: samples,
-            ..common::exact_f32().shading
-        },
-        ..common::exact_f32()
-    };
     let (width, height) = (160, 96);
-    let mut headless = common::lavapipe(settings(16));
+    let mut headless = common::lavapipe(sampled(16));
     let renderer = headless.renderer();
     let gpu = renderer.upload(&scene).expect("upload");
     let frame_of = |renderer: &mut combustion::renderer::Renderer, seed: Option<u32>| {
@@ -367,7 +364,7 @@ fn frames_of_successive_seeds_average_to_more_samples() {
     let averaged = compare_with_oracle(&scene, &mean, 8, 40_000);
     renderer.retire(gpu);
     common::finish(headless);
-    let many = common::render(&scene, width, height, settings(256), Readback::ALL);
+    let many = common::render(&scene, width, height, sampled(256), Readback::ALL);
     let many = compare_with_oracle(&scene, &many, 8, 40_000);
     let [(_, single, ..), (_, averaged, ..), (_, many, ..)] =
         [single, averaged, many].map(|c| summary(&c));
@@ -1272,15 +1269,8 @@ fn a_textured_gltf_scene_lit_by_an_environment_is_compared_at_every_lit_pixel() 
     assert!(with_occlusion < without_occlusion);
     // The sampled environment applies the occlusion the same way, and converges to the
     // oracle on the occluded pixels as elsewhere.
-    let settings = RendererSettings {
-        shading: ShadingOptions {
-            environment_samples: 256,
-            ..common::exact_f32().shading
-        },
-        ..common::exact_f32()
-    };
-    let sampled = common::render(&scene, width, height, settings, Readback::ALL);
-    let sampled_map = error_map(&sampled, &reference, 2);
+    let sampled_frame = common::render(&scene, width, height, sampled(256), Readback::ALL);
+    let sampled_map = error_map(&sampled_frame, &reference, 2);
     // Mean error over the compared pixels whose occlusion is below 0.9 (or not).
     let mean_error = |map: &combustion::renderer::reference::ErrorMap, occluded: bool| {
         let errors: Vec<f64> = gbuffer
@@ -1330,14 +1320,7 @@ fn sampled_environment_applies_occlusion_as_the_split_sum() {
     };
     let scene = sphere(material, 1.0, Environment::Uniform([1.0; 3]));
     for samples in [0, 64] {
-        let settings = RendererSettings {
-            shading: ShadingOptions {
-                environment_samples: samples,
-                ..common::exact_f32().shading
-            },
-            ..common::exact_f32()
-        };
-        let frame = common::render(&scene, 64, 64, settings, Readback::ALL);
+        let frame = common::render(&scene, 64, 64, sampled(samples), Readback::ALL);
         let compared = compare_with_oracle(&scene, &frame, 5, 20_000);
         let (max, mean, _, noise) = summary(&compared);
         eprintln!(
