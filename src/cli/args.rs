@@ -39,7 +39,8 @@ wall-clock interval between submissions, and the throughput. The lighting pipeli
 specialised to what the scene's materials use; --specialised off measures the general
 pipeline instead.
 
---report DIR measures variant sets on every built-in scene (or the scene named): the
+--report DIR measures variant sets on every built-in scene and the authored textured
+glTF scene lit by the studio environment (or the scene named alone): the
 default (full Fresnel, f32 HDR, specialised pipeline, height-correlated masking, GGX, each
 material's diffuse model), each term changed alone (general pipeline; Schlick or F82;
 f16; separable or approximate masking; Beckmann; Lambert, qualitative or full Oren-Nayar
@@ -49,9 +50,12 @@ scene the measurement floors (trivial G-buffer fragment stage; lighting that onl
 fetches; plain GGX + Smith + conductor Fresnel), and frame time against size (0.5x, 1x,
 1.5x) and against 1-256 localised lights culled and not (on grid-7x7, or the scene
 named), and per scene each anti-aliasing method (none, FXAA, 2x2 and 3x3 supersampling)
-against the frame supersampled 4x4 (mean FLIP) at its cost; written to DIR as report.md,
-report.csv, floors.csv, scaling.csv, anti-aliasing.csv, speed-vs-error.png (with the
-Pareto front), scaling-resolution.png and scaling-lights.png.";
+against the frame supersampled 4x4 (mean FLIP) at its cost, and per scene lit by an
+environment the split sum and the sampled environment at 1-256 samples a pixel and 16
+frames of 64 averaged, against a finer f64 oracle, at their cost; written to DIR as
+report.md, report.csv, floors.csv, scaling.csv, anti-aliasing.csv,
+environment-sampling.csv, speed-vs-error.png (with the Pareto front),
+scaling-resolution.png and scaling-lights.png.";
 
 pub(crate) const VIEW_ABOUT: &str = "\
 Opens a window (Wayland with WAYLAND_DISPLAY, else X11 with DISPLAY, e.g. under Xvfb)
