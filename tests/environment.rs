@@ -1236,13 +1236,13 @@ fn a_textured_gltf_scene_lit_by_an_environment_is_compared_at_every_lit_pixel() 
                     let estimate = reference
                         .shade_environment(texel, x, y, &Environment::Studio, sampling.iterations)
                         .expect("lit");
-                    (0..3)
-                        .map(|c| {
-                            let expected = estimate.mean[c] + texel.emissive_occlusion[c];
-                            (f64::from(frame.hdr[i][c]) - expected).abs()
-                                / expected.max(RADIANCE_FLOOR)
-                        })
-                        .fold(0.0, f64::max)
+                    let expected: [f64; 3] =
+                        std::array::from_fn(|c| estimate.mean[c] + texel.emissive_occlusion[c]);
+                    let gpu = frame.hdr[i];
+                    combustion::end_to_end::relative(
+                        [gpu[0], gpu[1], gpu[2]].map(f64::from),
+                        expected,
+                    )
                 };
                 with_occlusion += error(texel);
                 let mut unoccluded = *texel;
@@ -1330,4 +1330,58 @@ fn sampled_environment_applies_occlusion_as_the_split_sum() {
         assert!(compared.len() > 60);
         assert!(mean < 0.03, "{samples} samples: mean {mean:e}");
     }
+}
+
+/// The emissive + occlusion readback (`GBufferTexel::emissive_occlusion`) alternates with
+/// frames whose variant has no such target: runs of 20 frames each (past the 16-frame
+/// retire delay) of the textured scene under the studio environment (the target, read
+/// back) and of the plain sphere grid (none), twice round, every frame read back with its
+/// G-buffer, under validation. A frame without the target reads [0, 0, 0, 1] (no
+/// emission, no occlusion) and never a stale value of the other scene's.
+#[test]
+fn the_emissive_occlusion_readback_alternates_with_frames_without_it() {
+    let mut textured = common::authored_scene("textured");
+    textured.lights.clear();
+    textured.environment = Some(Environment::Studio);
+    let plain = builtin_scene("spheres").expect("built in");
+    let mut headless = common::lavapipe(common::exact_f32());
+    let renderer = headless.renderer();
+    let scenes = [
+        renderer.upload(&textured).expect("upload"),
+        renderer.upload(&plain).expect("upload"),
+    ];
+    for _round in 0..2 {
+        for (index, gpu) in scenes.iter().enumerate() {
+            for _ in 0..20 {
+                let frame = renderer
+                    .render_with(gpu, &FrameInputs::of_scene(gpu, 1.0), 64, 48, Readback::ALL)
+                    .expect("frame");
+                let texels = &frame.gbuffer.as_ref().expect("G-buffer").texels;
+                let lit = texels.iter().filter(|t| t.depth < 1.0);
+                if index == 0 {
+                    assert!(
+                        lit.clone().any(|t| t.emissive_occlusion[3] < 1.0)
+                            && lit.clone().any(|t| t.emissive_occlusion[0] > 0.0),
+                        "the textured scene's occlusion and emission read back"
+                    );
+                } else {
+                    assert!(
+                        texels
+                            .iter()
+                            .all(|t| t.emissive_occlusion == [0.0, 0.0, 0.0, 1.0]),
+                        "a frame without the target reads no emission and no occlusion"
+                    );
+                }
+            }
+        }
+    }
+    for gpu in scenes {
+        renderer.retire(gpu);
+    }
+    assert!(
+        renderer.stats().targets_retired >= 2,
+        "{:?}",
+        renderer.stats()
+    );
+    common::finish(headless);
 }

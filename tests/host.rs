@@ -887,7 +887,8 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// behind transmissive objects, a target of its own; the back faces of glass volumes,
 /// targets and a pass of their own, with and without them), with and without a clear
 /// coat, a sheen and a thin film (G-buffer targets of their own; the sheen's table, made
-/// on first need in place of a placeholder), with and without a pose every frame (skinned and
+/// on first need in place of a placeholder), with and without glTF occlusion under an
+/// environment (split sum, then sampled), with and without a pose every frame (skinned and
 /// morphed objects posed by the deform pass; objects moved), rendered in
 /// alternation, each run of
 /// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
@@ -927,6 +928,14 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
     .unwrap();
     // The same glass, thin-walled: the TRANSMISSION variant without VOLUME (the opaque
     // depth bound to the forward set, no back faces target or pass).
+    let mut textured_studio = combustion::SceneSource::File(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("assets/scenes/textured/textured.gltf"),
+    )
+    .load()
+    .unwrap();
+    textured_studio.lights.clear();
+    textured_studio.environment = Some(combustion::scene::Environment::Studio);
     let mut thin_glass = glass.clone();
     for material in &mut thin_glass.materials {
         material.volume = None;
@@ -954,6 +963,10 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         // A thin film: its G-buffer target (32-bit floats) and the lighting set's binding
         // of it, alternating with the sheen's and with none.
         builtin_scene("iridescence").unwrap(),
+        // glTF occlusion under an environment (the OCCLUSION variant: the emissive +
+        // occlusion target read by the environment term, split sum in the first round,
+        // sampled with its occlusion split in the second), with emission and textures.
+        textured_studio,
     ];
     let (mut host, log, mut output) = host_with_output(&scenes, 3, 48, 40);
     // Each scene for 24 frames (past the 16-frame retire delay), twice round; the
@@ -969,7 +982,8 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
             host.frame_environments = vec![None, Some(studio)];
         }
         for scene in [
-            0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8, 9, 1, 9, 8, 10, 11, 0, 10, 12, 9, 12, 1,
+            0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8, 9, 1, 9, 8, 10, 11, 0, 10, 12, 9, 12,
+            1, 13, 2, 13, 1,
         ] {
             for _ in 0..24 {
                 headless::frame(&mut host, &mut output, scene).unwrap();

@@ -15,6 +15,7 @@ use combustion_renderer::{
 use combustion_scene::Environment;
 
 use super::{md_cell, time_frames_with, ReportDesc, Spread};
+use crate::end_to_end::relative;
 use crate::{check_validation, Error, Headless, HeadlessDesc};
 
 /// The sample counts measured, one frame each (0, the split sum, is measured apart).
@@ -133,14 +134,15 @@ pub(super) fn measure(
             .clone()
             .expect("lit by an environment");
         let mut oracle = None;
+        // GPU times per sample count: an accumulated row's frames are the sampled
+        // mode's at its count, timed once.
+        let mut timed: Vec<(u32, Vec<PassTimings>)> = Vec::new();
         for mode in Mode::all() {
+            // Samples a pixel in each frame (0: the split sum).
+            let samples = mode.samples() / mode.frames();
             renderer.set_shading(
                 ShadingOptions {
-                    environment_samples: match mode {
-                        Mode::SplitSum => 0,
-                        Mode::Sampled(n) => n,
-                        Mode::Accumulated { samples, .. } => samples,
-                    },
+                    environment_samples: samples,
                     ..ShadingOptions::DEFAULT
                 },
                 &[&gpu],
@@ -152,7 +154,14 @@ pub(super) fn measure(
                 None => oracle.insert(integrate(scene, &inputs, &frame, &environment, threads)),
             };
             let errors = compare(&frame, oracle);
-            let timings = time_frames_with(renderer, &gpu, &inputs, size, desc.frames)?;
+            let timings = match timed.iter().find(|(n, _)| *n == samples) {
+                Some((_, timings)) => timings.clone(),
+                None => {
+                    let timings = time_frames_with(renderer, &gpu, &inputs, size, desc.frames)?;
+                    timed.push((samples, timings.clone()));
+                    timings
+                }
+            };
             rows.push(EnvironmentSamplingRow {
                 scene: label.clone(),
                 mode,
@@ -283,12 +292,11 @@ fn compare(frame: &Frame, oracle: &[(usize, Estimate)]) -> Vec<(f64, f64)> {
     oracle
         .iter()
         .map(|(i, estimate)| {
-            let (mut error, mut sigma) = (0.0f64, 0.0f64);
-            for c in 0..3 {
-                let scale = estimate.mean[c].abs().max(RADIANCE_FLOOR);
-                error = error.max((f64::from(frame.hdr[*i][c]) - estimate.mean[c]).abs() / scale);
-                sigma = sigma.max(estimate.standard_error[c] / scale);
-            }
+            let gpu = frame.hdr[*i];
+            let error = relative([gpu[0], gpu[1], gpu[2]].map(f64::from), estimate.mean);
+            let sigma = (0..3)
+                .map(|c| estimate.standard_error[c] / estimate.mean[c].abs().max(RADIANCE_FLOOR))
+                .fold(0.0, f64::max);
             (error, sigma)
         })
         .collect()
