@@ -272,20 +272,42 @@ bool opaque_hit(vec3 p, vec3 d, ScreenMarch march, out vec2 uv, out bool sky,
 // - Thin-walled (no volume): the same slab with no thickness, a = 1: (1 − R)/(1 + R).
 // - Rough surfaces read a coarser level of `behind`, as wide as their two interfaces
 //   spread the light over the distance to what it meets (rough_lods).
+// One crossing of the surface: its transmittance per channel, s and p (the reflectance
+// is 1 − T), under the surface's thin film in IRIDESCENCE variants (Rust:
+// transmission.rs, crossing).
+struct Crossing {
+    vec3 s;
+    vec3 p;
+};
+
+// `film`: the film's weight, IOR and thickness in nm (weight 0: none).
+Crossing surface_crossing(float cos_theta, float eta_from, float eta_to, vec3 film) {
+    Crossing c;
+#ifdef IRIDESCENCE
+    film_crossing_transmittance(cos_theta, eta_from, eta_to, ThinFilm(film.x, film.y, film.z),
+                                c.s, c.p);
+#else
+    vec2 t = fresnel_dielectric_transmittance(cos_theta, eta_from, eta_to);
+    c.s = vec3(t.x);
+    c.p = vec3(t.y);
+#endif
+    return c;
+}
+
 vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, vec3 position,
-                          float roughness, float thickness) {
+                          float roughness, float thickness, vec3 film) {
     float eta_i = m.outside_eta;
     float eta_t = m.dielectric_eta;
     n = facing(n, v);
     float cos_v = clamp(dot(n, v), 0.0, 1.0);
-    vec2 t_entry = fresnel_dielectric_transmittance(cos_v, eta_i, eta_t);
-    vec2 r_entry = vec2(1.0) - t_entry;
+    // Every crossing of the surface under its film (a thin wall's far side and a
+    // volume's exits are the same surface, its film as here).
+    Crossing entry = surface_crossing(cos_v, eta_i, eta_t, film);
     float eta = eta_t / eta_i;
     vec3 exit_point = position;
     vec3 absorbed = vec3(1.0);
-    vec2 t_exit = t_entry;
-    vec2 r_exit = r_entry;
-    vec2 t_return = t_entry;
+    Crossing far_side = entry;
+    Crossing back_out = entry;
     vec3 seen = vec3(0.0);
     vec3 seen_returned = vec3(0.0);
     bool traced = false;
@@ -301,8 +323,7 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
             vec3 n_exit = facing(exit_normal(position, refracted, s), refracted);
             vec3 leaving = refract(refracted, -n_exit, eta_t / eta_i);
             float cos_exit = dot(refracted, n_exit);
-            t_exit = fresnel_dielectric_transmittance(cos_exit, eta_t, eta_i);
-            r_exit = vec2(1.0) - t_exit;
+            far_side = surface_crossing(cos_exit, eta_t, eta_i, film);
             absorbed = exp(-material.absorption.rgb * s);
             vec2 uv;
             bool sky;
@@ -319,7 +340,7 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
             vec3 returning = reflect(refracted, n_exit);
             vec3 n_return = facing(2.0 * dot(n, n_exit) * n_exit - n, returning);
             vec3 returned = refract(returning, -n_return, eta_t / eta_i);
-            t_return = fresnel_dielectric_transmittance(dot(returning, n_return), eta_t, eta_i);
+            back_out = surface_crossing(dot(returning, n_return), eta_t, eta_i, film);
             if (dot(returned, returned) > 0.0) {
                 bool found = opaque_hit(exit_point + s * returning, returned, RETURNED, uv, sky,
                                         beyond, w_beyond);
@@ -348,11 +369,15 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
     // Per polarisation and channel, the light that leaves by the far side (through both
     // interfaces, after any number of round trips inside) and the light that leaves by
     // the near side after one reflection at the far side (and any round trips more).
-    vec2 r_return = vec2(1.0) - t_return;
     float w = m.polarisation_weight;
     vec3 radiance = vec3(0.0);
     for (int c = 0; c < 3; ++c) {
         float a = absorbed[c];
+        vec2 t_entry = vec2(entry.s[c], entry.p[c]);
+        vec2 t_exit = vec2(far_side.s[c], far_side.p[c]);
+        vec2 r_exit = vec2(1.0) - t_exit;
+        vec2 t_return = vec2(back_out.s[c], back_out.p[c]);
+        vec2 r_return = vec2(1.0) - t_return;
         vec2 round_trips = vec2(1.0) / max(vec2(1.0) - r_return * r_exit * a * a, vec2(1e-30));
         vec2 through = t_entry * t_exit * a * round_trips;
         vec2 back = t_entry * r_exit * t_return * a * a * round_trips;
@@ -435,7 +460,13 @@ void main() {
         float sheen_max = max(layers.sheen.color.r, max(layers.sheen.color.g, layers.sheen.color.b));
         float through_layers = coat.view.attenuation_v * (1.0 - sheen_max * layers.sheen.albedo_v);
         radiance += (1.0 - s.metalness) * transmission * base_color * through_layers
-                  * transmitted_radiance(material, m, n, v, position, s.roughness, thickness);
+                  * transmitted_radiance(material, m, n, v, position, s.roughness, thickness,
+#ifdef IRIDESCENCE
+                                         vec3(s.film_weight, material.film.y, s.film_thickness_nm)
+#else
+                                         vec3(0.0)
+#endif
+                    );
     }
 #endif
     out_radiance = vec4(radiance, alpha);

@@ -6,6 +6,7 @@
 #define COMBUSTION_THIN_FILM_GLSL
 
 #include "constants.glsl"
+#include "fresnel.glsl"
 
 struct ThinFilm {
     float weight;        // share of the Fresnel that is the film's (0: none)
@@ -136,6 +137,25 @@ vec3 thin_film_reflectance_weighted(float cos_theta, float outside_eta, ThinFilm
     vec3 rp;
     thin_film_reflectance(cos_theta, outside_eta, film, base_eta, base_k, rs, rp);
     return (1.0 - w) * rs + w * rp;
+}
+
+// The transmittance per channel, s in ts and p in tp, of one crossing of a dielectric
+// interface from eta_from into eta_to at cos_theta (on the eta_from side) under `film`
+// (Rust: film_crossing_transmittance): T + w ((1 − R_film) − T), the film absorbing
+// nothing; without a film (no weight or thickness) the interface's own.
+void film_crossing_transmittance(float cos_theta, float eta_from, float eta_to, ThinFilm film,
+                                 out vec3 ts, out vec3 tp) {
+    vec2 t = fresnel_dielectric_transmittance(cos_theta, eta_from, eta_to);
+    ts = vec3(t.x);
+    tp = vec3(t.y);
+    if (thin_film_is_present(film)) {
+        vec3 rs;
+        vec3 rp;
+        thin_film_reflectance(cos_theta, eta_from, film, vec3(eta_to), vec3(0.0), rs, rp);
+        float w = min(film.weight, 1.0);
+        ts += w * ((1.0 - rs) - ts);
+        tp += w * ((1.0 - rp) - tp);
+    }
 }
 
 #endif // COMBUSTION_THIN_FILM_GLSL

@@ -355,6 +355,37 @@ pub fn thin_film_reflectance<T: Real>(
     out
 }
 
+/// The transmittance T_s, T_p per RGB channel of one crossing of a dielectric interface
+/// from index `eta_from` into `eta_to` at the cosine `cos_theta` (on the `eta_from`
+/// side), under `film` where it is present: the film absorbs nothing, so of the light it
+/// does not reflect all crosses, T + w ((1 − R_film) − T) with w the film's weight
+/// (clamped to [0, 1]) and R_film its reflectance over a base of index `eta_to` —
+/// the BRDF's mixing of the film's Fresnel, for light that passes through. Without a
+/// film (None, or no weight or thickness) it is the interface's own transmittance, the
+/// same in every channel. Light crossing from inside a filmed object out meets the film
+/// from its other side: `eta_from` the object's index, `eta_to` the outside medium's.
+pub fn film_crossing_transmittance<T: Real>(
+    cos_theta: T,
+    eta_from: T,
+    eta_to: T,
+    film: Option<&ThinFilm<T>>,
+) -> Polarised<[T; 3]> {
+    let t = crate::fresnel::fresnel_dielectric_transmittance(cos_theta, eta_from, eta_to);
+    let plain = Polarised {
+        s: [t.s; 3],
+        p: [t.p; 3],
+    };
+    let Some(film) = film.filter(|f| f.is_present()) else {
+        return plain;
+    };
+    let r = thin_film_reflectance(cos_theta, eta_from, film, [eta_to; 3], [T::ZERO; 3]);
+    let w = film.weight.min(T::ONE);
+    Polarised {
+        s: std::array::from_fn(|c| t.s + w * ((T::ONE - r.s[c]) - t.s)),
+        p: std::array::from_fn(|c| t.p + w * ((T::ONE - r.p[c]) - t.p)),
+    }
+}
+
 /// The exact Airy reflectance of the film at one wavelength (nm), per polarisation, over
 /// a base η₃ + ik₃ at that wavelength: the spectral truth the Fourier form integrates,
 /// for the f64 oracle (`combustion_spectra::thin_film_colour`) and tests.

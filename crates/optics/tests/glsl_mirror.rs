@@ -255,6 +255,7 @@ fn every_term_has_a_glsl_mirror() {
                 "void thin_film_sensitivity(float opd_nm, out vec3 cos_part, out vec3 sin_part)",
                 "void thin_film_reflectance(float cos_theta, float outside_eta, ThinFilm film, vec3 base_eta,",
                 "vec3 thin_film_reflectance_weighted(float cos_theta, float outside_eta, ThinFilm film,",
+                "void film_crossing_transmittance(float cos_theta, float eta_from, float eta_to, ThinFilm film,",
             ],
         ),
     ];

@@ -149,3 +149,70 @@ fn a_film_over_a_white_base_conserves_energy() {
         worst.0, worst.1
     );
 }
+
+/// Light through a filmed interface (`film_crossing_transmittance`): no film, a zero
+/// weight or a zero thickness is the interface's own transmittance bit for bit; a film
+/// index-matched to either side is the bare interface (1e-12); the film absorbs nothing,
+/// so what it does not transmit is what it reflects (T = 1 − R_film at weight 1); and a
+/// crossing is reciprocal — out of the object at the refracted angle transmits as much
+/// as in at the incident one (Stokes; the Airy sum is the same series from either side).
+#[test]
+fn light_through_a_film_crosses_as_the_film_reflects_and_reciprocally() {
+    use combustion_optics::fresnel::fresnel_dielectric_transmittance;
+    use combustion_optics::thin_film::{film_crossing_transmittance, thin_film_reflectance};
+    let film = |weight: f64, eta: f64, thickness_nm: f64| ThinFilm {
+        weight,
+        eta,
+        thickness_nm,
+    };
+    let mut worst_reciprocity: f64 = 0.0;
+    for (eta_i, eta_t) in [(1.0, 1.5), (1.333, 1.5), (1.0, 1.9)] {
+        for i in 0..=40 {
+            let c = f64::from(i) / 40.0;
+            let bare = fresnel_dielectric_transmittance(c, eta_i, eta_t);
+            let bare = ([bare.s; 3], [bare.p; 3]);
+            for none in [None, Some(film(0.0, 1.8, 300.0)), Some(film(1.0, 1.8, 0.0))] {
+                let t = film_crossing_transmittance(c, eta_i, eta_t, none.as_ref());
+                assert_eq!((t.s, t.p), bare, "{c}");
+            }
+            for matched in [eta_i, eta_t] {
+                let t =
+                    film_crossing_transmittance(c, eta_i, eta_t, Some(&film(1.0, matched, 300.0)));
+                for ch in 0..3 {
+                    assert!((t.s[ch] - bare.0[ch]).abs() < 1e-12, "{c} {matched}");
+                    assert!((t.p[ch] - bare.1[ch]).abs() < 1e-12, "{c} {matched}");
+                }
+            }
+            for f in [
+                film(1.0, 1.3, 250.0),
+                film(0.6, 2.0, 480.0),
+                film(1.0, 1.7, 90.0),
+            ] {
+                let t = film_crossing_transmittance(c, eta_i, eta_t, Some(&f));
+                if f.weight == 1.0 {
+                    let r = thin_film_reflectance(c, eta_i, &f, [eta_t; 3], [0.0; 3]);
+                    for ch in 0..3 {
+                        assert!((t.s[ch] + r.s[ch] - 1.0).abs() < 1e-15);
+                        assert!((t.p[ch] + r.p[ch] - 1.0).abs() < 1e-15);
+                    }
+                }
+                // The refracted cosine inside, and the crossing back out from there.
+                let sin2 = (eta_i / eta_t).powi(2) * (1.0 - c * c);
+                let c_inside = (1.0 - sin2).sqrt();
+                let back = film_crossing_transmittance(c_inside, eta_t, eta_i, Some(&f));
+                // (At grazing incidence the inside ray is at the critical angle, where T
+                // falls to 0 with infinite slope: the cosine's last bit moves it by 1e-7.)
+                if i == 0 {
+                    continue;
+                }
+                for ch in 0..3 {
+                    worst_reciprocity = worst_reciprocity
+                        .max((t.s[ch] - back.s[ch]).abs())
+                        .max((t.p[ch] - back.p[ch]).abs());
+                }
+            }
+        }
+    }
+    eprintln!("reciprocity: worst difference {worst_reciprocity:.2e}");
+    assert!(worst_reciprocity < 1e-12, "{worst_reciprocity}");
+}

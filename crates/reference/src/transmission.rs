@@ -25,6 +25,11 @@
 //!   interface, for up to [`TRANSMISSION_DEPTH`] interfaces in all (what remains beyond
 //!   them is dropped). Each polarisation is carried separately and weighted at the end
 //!   (the planes of incidence of successive interfaces are taken to coincide).
+//! - **A thin film** on the surface (KHR_materials_iridescence) filters every crossing
+//!   of it: each transmits T + w ((1 − R_film) − T) per polarisation and channel and
+//!   reflects the rest (`film_crossing_transmittance`; the film absorbs nothing): a thin
+//!   wall passes (1 − R)/(1 + R) with R the film's mixed reflectance, and a volume's
+//!   exits and internal reflections use the film as at the entry point.
 //! - A volume's interfaces are smooth: a rough one's transmission is followed along its
 //!   shading normal, as a smooth one's (its reflection keeps its roughness).
 //! - Shading normals: where an interpolated normal faces away from the ray that meets it
@@ -36,6 +41,7 @@
 use combustion_optics::environment::sample_ggx_vndf;
 use combustion_optics::fresnel::{fresnel_dielectric, fresnel_dielectric_transmittance};
 use combustion_optics::microfacet::lambda_ggx_anisotropic;
+use combustion_optics::thin_film::{film_crossing_transmittance, ThinFilm};
 use combustion_optics::vec3::Vec3 as OpticsVec3;
 use combustion_scene::Material;
 use glam::DVec3;
@@ -58,6 +64,30 @@ const MIN_COS: f64 = 1e-4;
 
 /// A radiance per polarisation (s, p), RGB each.
 type Polarised3 = ([f64; 3], [f64; 3]);
+
+/// One crossing of an interface from index `from` into `to` at the cosine `cos` (on the
+/// `from` side): the transmittance and the reflectance per polarisation and channel.
+/// Under a thin film (KHR_materials_iridescence) the film's mix
+/// (`film_crossing_transmittance`; the film absorbs nothing, R = 1 − T), else the bare
+/// interface's Fresnel equations.
+fn crossing(
+    cos: f64,
+    from: f64,
+    to: f64,
+    film: Option<&ThinFilm<f64>>,
+) -> (Polarised3, Polarised3) {
+    match film.filter(|f| f.is_present()) {
+        None => {
+            let t = fresnel_dielectric_transmittance(cos, from, to);
+            let r = fresnel_dielectric(cos, from, to);
+            (([t.s; 3], [t.p; 3]), ([r.s; 3], [r.p; 3]))
+        }
+        Some(film) => {
+            let t = film_crossing_transmittance(cos, from, to, Some(film));
+            ((t.s, t.p), (t.s.map(|x| 1.0 - x), t.p.map(|x| 1.0 - x)))
+        }
+    }
+}
 
 /// The radical inverse of `i` in `base`: the Halton sequence's coordinate, in [0, 1).
 fn radical_inverse(base: u32, mut i: u32) -> f64 {
@@ -118,23 +148,30 @@ impl SceneShading<'_> {
         let (eta_i, eta_t) = (surface.brdf.outside_eta, surface.brdf.dielectric_eta);
         let w = surface.brdf.polarisation_weight;
         let position = DVec3::from(surface.hit.position);
-        let (s, p) = match material.volume {
+        // A thin film on the surface filters every crossing of it (the film as at this
+        // point: an exit of the object's own surface sees the same film).
+        let film = surface.layers.film.as_ref();
+        let (t, r) = crossing(cos_v, eta_i, eta_t, film);
+        let (s, p): Polarised3 = match material.volume {
             None => {
-                let r = fresnel_dielectric(cos_v, eta_i, eta_t);
+                // Both sides of the shell, each crossed once (the film's crossing from
+                // inside transmits as much as from outside: reciprocity).
                 let behind = self.through_thin_wall(surface, n, position, depth);
                 (
-                    behind.map(|l| l * (1.0 - r.s) / (1.0 + r.s)),
-                    behind.map(|l| l * (1.0 - r.p) / (1.0 + r.p)),
+                    std::array::from_fn(|c| behind[c] * (1.0 - r.0[c]) / (1.0 + r.0[c])),
+                    std::array::from_fn(|c| behind[c] * (1.0 - r.1[c]) / (1.0 + r.1[c])),
                 )
             }
             Some(volume) => {
                 let Some(inside) = refract(-v, n, eta_i / eta_t) else {
                     return [0.0; 3];
                 };
-                let t = fresnel_dielectric_transmittance(cos_v, eta_i, eta_t);
                 let sigma = volume.absorption();
-                let (s, p) = self.inside(position, inside, (eta_t, eta_i), sigma, depth);
-                (s.map(|l| l * t.s), p.map(|l| l * t.p))
+                let (s, p) = self.inside(position, inside, (eta_t, eta_i), sigma, film, depth);
+                (
+                    std::array::from_fn(|c| s[c] * t.0[c]),
+                    std::array::from_fn(|c| p[c] * t.1[c]),
+                )
             }
         };
         std::array::from_fn(|c| (1.0 - w) * s[c] + w * p[c])
@@ -215,13 +252,15 @@ impl SceneShading<'_> {
 
     /// The radiance per polarisation carried back to `origin` by light travelling inside
     /// a medium of index `indices.0` (outside it: `indices.1`) along `direction`, of
-    /// absorption `sigma`, from the interface it meets next.
+    /// absorption `sigma`, from the interface it meets next (under `film`, the film of
+    /// the object it travels in).
     fn inside(
         &self,
         origin: DVec3,
         direction: DVec3,
         (eta_inside, eta_outside): (f64, f64),
         sigma: [f64; 3],
+        film: Option<&ThinFilm<f64>>,
         depth: u32,
     ) -> Polarised3 {
         if depth == 0 {
@@ -247,8 +286,7 @@ impl SceneShading<'_> {
         }
         let outward = facing(outward, direction);
         let cos_e = outward.dot(direction).clamp(0.0, 1.0);
-        let r = fresnel_dielectric(cos_e, eta_inside, eta_outside);
-        let t = fresnel_dielectric_transmittance(cos_e, eta_inside, eta_outside);
+        let (t, r) = crossing(cos_e, eta_inside, eta_outside, film);
         let out = refract(direction, -outward, eta_inside / eta_outside)
             .map_or([0.0; 3], |d| self.radiance_along(point, d, depth - 1));
         let reflected = direction - 2.0 * direction.dot(outward) * outward;
@@ -257,11 +295,12 @@ impl SceneShading<'_> {
             reflected.normalize(),
             (eta_inside, eta_outside),
             sigma,
+            film,
             depth - 1,
         );
         (
-            std::array::from_fn(|c| absorbed[c] * (t.s * out[c] + r.s * back_s[c])),
-            std::array::from_fn(|c| absorbed[c] * (t.p * out[c] + r.p * back_p[c])),
+            std::array::from_fn(|c| absorbed[c] * (t.0[c] * out[c] + r.0[c] * back_s[c])),
+            std::array::from_fn(|c| absorbed[c] * (t.1[c] * out[c] + r.1[c] * back_p[c])),
         )
     }
 
