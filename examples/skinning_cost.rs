@@ -68,7 +68,7 @@ fn character() -> Scene {
         vertices,
         indices,
         skin: Some(weights),
-        morph_targets: Vec::new(),
+        ..Mesh::default()
     };
     let mut scene = builtin_scene("spheres").expect("a built-in scene");
     scene.meshes = vec![mesh];

@@ -87,4 +87,8 @@ void main() {
 #endif
 #endif
     gl_Position = push.view_projection * world;
+#ifdef POINTS
+    // A point list's pipeline: each point one pixel (Vulkan reads the size only there).
+    gl_PointSize = 1.0;
+#endif
 }

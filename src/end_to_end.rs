@@ -130,6 +130,9 @@ pub struct FrameComparison {
     pub away: Vec<(u32, u32)>,
     /// Compared pixels whose GPU radiance is not finite.
     pub non_finite: usize,
+    /// Pixels showing points or lines (a material only they use): they have no surface
+    /// for a ray to hit, so they are counted, not compared.
+    pub strokes: usize,
     /// Pixels seen through a transmissive surface (glass), compared apart: the
     /// renderer's transmission is a screen-space estimate whose error is measured here,
     /// not bounded (docs/gltf.md, "Transmission").
@@ -161,6 +164,31 @@ impl MeanMax {
     }
 }
 
+/// Per material of `scene`: whether only points and lines use it (some object of
+/// theirs does, and no object of triangles).
+fn materials_of_strokes_only(scene: &Scene) -> Vec<bool> {
+    let mut strokes = vec![false; scene.materials.len()];
+    let mut surfaces = vec![false; scene.materials.len()];
+    for object in &scene.objects {
+        let Some(mesh) = scene.meshes.get(object.mesh) else {
+            continue;
+        };
+        let used = if mesh.topology == combustion_scene::Topology::Triangles {
+            &mut surfaces
+        } else {
+            &mut strokes
+        };
+        if let Some(flag) = used.get_mut(object.material) {
+            *flag = true;
+        }
+    }
+    strokes
+        .iter()
+        .zip(&surfaces)
+        .map(|(&l, &s)| l && !s)
+        .collect()
+}
+
 /// A frame's end-to-end errors in summary.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EndToEndErrors {
@@ -170,6 +198,8 @@ pub struct EndToEndErrors {
     pub silhouette: usize,
     /// Pixels showing the wrong material away from silhouettes.
     pub away: usize,
+    /// Pixels showing points or lines, not compared.
+    pub strokes: usize,
     /// The GPU against the exact reference.
     pub total: MeanMax,
     /// The G-buffer storage's share.
@@ -189,6 +219,7 @@ impl FrameComparison {
             compared: self.pixels.len(),
             silhouette: self.silhouette,
             away: self.away.len(),
+            strokes: self.strokes,
             total: MeanMax::of(self.pixels.iter().map(|p| p.total)),
             storage: MeanMax::of(self.pixels.iter().map(|p| p.storage)),
             rest: MeanMax::of(self.pixels.iter().map(|p| p.rest)),
@@ -386,6 +417,7 @@ impl<'a> SceneReference<'a> {
         let Some(g) = frame.gbuffer.as_ref() else {
             return out;
         };
+        let strokes_only = materials_of_strokes_only(self.scene);
         let n = (self.width * self.height) as usize;
         if (frame.width, frame.height) != (self.width, self.height)
             || g.texels.len() != n
@@ -399,6 +431,10 @@ impl<'a> SceneReference<'a> {
                 let texel = &g.texels[i];
                 let gpu_material =
                     (texel.depth < 1.0).then_some(usize::from(texel.material_direction[0]));
+                if gpu_material.is_some_and(|m| strokes_only.get(m) == Some(&true)) {
+                    out.strokes += 1;
+                    continue;
+                }
                 if gpu_material != self.seen[i] {
                     if self.at_silhouette(x, y) {
                         out.silhouette += 1;

@@ -14,7 +14,7 @@ use combustion::renderer::gbuffer::{
 };
 use combustion::renderer::gpu_types::conductor_from_base_color_table;
 use combustion::renderer::{HdrFormat, Readback, RendererSettings, ShadingOptions};
-use combustion::scene::{Camera, Material, Mesh, Object, Scene};
+use combustion::scene::{Material, Scene};
 use combustion::SceneSource;
 use glam::{Mat4, Vec3};
 
@@ -246,34 +246,15 @@ fn emissive_plane_shows_its_radiance() {
 /// A plane emitting `emitted` (W·sr⁻¹·m⁻², factor × strength 2), no lights, seen from
 /// above, rendered at 32×32 into `hdr`.
 fn render_emissive_plane(emitted: [f32; 3], hdr: HdrFormat) -> combustion::renderer::Frame {
-    let scene = Scene {
-        name: "emissive plane".into(),
-        meshes: vec![Mesh::plane("plane", 100.0)],
-        materials: vec![Material {
+    let scene = common::plane_from_above(
+        "emissive plane",
+        Material {
             emissive_factor: [emitted[0] / 2.0, emitted[1] / 2.0, emitted[2] / 2.0],
             emissive_strength: 2.0,
             ..Material::default()
-        }],
-        objects: vec![Object {
-            mesh: 0,
-            material: 0,
-            transform: Mat4::IDENTITY,
-            casts_shadows: true,
-            node: None,
-        }],
-        lights: vec![],
-        camera: Camera {
-            position: Vec3::new(0.0, 3.0, 0.0),
-            target: Vec3::ZERO,
-            up: Vec3::NEG_Z,
-            vertical_fov: 60f32.to_radians(),
-            near: 0.1,
-            far: 100.0,
         },
-        outside_ior: 1.0,
-        environment: None,
-        motion: Default::default(),
-    };
+        vec![],
+    );
     let settings = RendererSettings {
         hdr_format: hdr,
         ..common::exact_f32()

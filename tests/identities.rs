@@ -4,10 +4,8 @@ use crate::common;
 
 use combustion::renderer::gbuffer::srgb_to_linear;
 use combustion::renderer::{HdrFormat, Readback, RendererSettings, ShadingOptions};
-use combustion::scene::{
-    builtin_scene, Camera, Light, Material, Mesh, Object, Scene, SPHERE_GRID_ROUGHNESS,
-};
-use glam::{Mat4, Vec3};
+use combustion::scene::{builtin_scene, Light, Material, Scene, SPHERE_GRID_ROUGHNESS};
+use glam::Vec3;
 
 const EXACT: RendererSettings = RendererSettings {
     hdr_format: HdrFormat::Rgba32Float,
@@ -19,34 +17,15 @@ const EXACT: RendererSettings = RendererSettings {
 
 /// A large plane seen from above, lit straight down by a directional light.
 fn lit_plane(material: Material, outside_ior: f32, irradiance: [f32; 3]) -> Scene {
+    let light = Light::Directional {
+        direction: Vec3::NEG_Y,
+        irradiance,
+        casts_shadows: true,
+        angular_diameter: 0.0,
+    };
     Scene {
-        name: "lit plane".into(),
-        meshes: vec![Mesh::plane("plane", 100.0)],
-        materials: vec![material],
-        objects: vec![Object {
-            mesh: 0,
-            material: 0,
-            transform: Mat4::IDENTITY,
-            casts_shadows: true,
-            node: None,
-        }],
-        lights: vec![Light::Directional {
-            direction: Vec3::NEG_Y,
-            irradiance,
-            casts_shadows: true,
-            angular_diameter: 0.0,
-        }],
-        camera: Camera {
-            position: Vec3::new(0.0, 3.0, 0.0),
-            target: Vec3::ZERO,
-            up: Vec3::NEG_Z,
-            vertical_fov: 60f32.to_radians(),
-            near: 0.1,
-            far: 100.0,
-        },
         outside_ior,
-        environment: None,
-        motion: Default::default(),
+        ..common::plane_from_above("lit plane", material, vec![light])
     }
 }
 

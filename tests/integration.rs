@@ -36,6 +36,7 @@ mod images;
 mod light_culling;
 mod overlay;
 mod parity;
+mod points_and_lines;
 mod report;
 mod shading_options;
 mod shadows;

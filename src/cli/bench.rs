@@ -96,7 +96,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
     let reproduction = previous.map(|p| p.compare(&measured.rows));
     combustion::report::write(dir, &measured, &desc, reproduction.as_ref())?;
     outln!(
-        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png{}{}): {} scene(s) × {} variant sets, the floors, the scaling, {} shadow and {} G-buffer storage measurement(s) in {:.0} s",
+        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png{}{}{}{}): {} scene(s) × {} variant sets, the floors, the scaling, {} shadow, {} G-buffer storage, {} anti-aliasing and {} environment-sampling measurement(s) in {:.0} s",
         dir.display(),
         if measured.shadows.is_empty() {
             ""
@@ -108,10 +108,22 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
         } else {
             ", gbuffer-storage.csv"
         },
+        if measured.anti_aliasing.is_empty() {
+            ""
+        } else {
+            ", anti-aliasing.csv"
+        },
+        if measured.environment_sampling.is_empty() {
+            ""
+        } else {
+            ", environment-sampling.csv"
+        },
         desc.scenes.len(),
         desc.sets.len(),
         measured.shadows.len(),
         measured.storages.len(),
+        measured.anti_aliasing.len(),
+        measured.environment_sampling.len(),
         started.elapsed().as_secs_f64()
     );
     Ok(())

@@ -1,7 +1,7 @@
 //! `combustion info`: what a scene holds and which renderer features it needs.
 
 use combustion::scene::gltf::{self, ImportOptions};
-use combustion::scene::{DiffuseModel, Environment, Light, Material, Scene};
+use combustion::scene::{DiffuseModel, Environment, Light, Material, Mesh, Scene, Topology};
 use combustion::vk::{DeviceDesc, DeviceSelector};
 use combustion::{Error, SceneSource};
 
@@ -135,19 +135,38 @@ pub(crate) fn describe_material(m: &Material, outside_ior: f32) -> String {
     parts.join(", ")
 }
 
+/// `, N line segments, M points` for the scene's meshes of points and lines (empty
+/// without any).
+fn strokes_of(scene: &Scene) -> String {
+    let mut out = String::new();
+    for topology in [Topology::Lines, Topology::Points] {
+        let count: usize = scene
+            .meshes
+            .iter()
+            .filter(|m| m.topology == topology)
+            .map(Mesh::primitive_count)
+            .sum();
+        if count > 0 {
+            out.push_str(&format!(", {count} {}", topology.name()));
+        }
+    }
+    out
+}
+
 pub(crate) fn describe_scene(scene: &Scene) -> String {
     use std::fmt::Write;
     let mut out = String::new();
-    let triangles: usize = scene.meshes.iter().map(|m| m.indices.len() / 3).sum();
+    let triangles: usize = scene.meshes.iter().map(Mesh::triangle_count).sum();
     let drawn: usize = scene
         .objects
         .iter()
-        .map(|o| scene.meshes[o.mesh].indices.len() / 3)
+        .map(|o| scene.meshes[o.mesh].triangle_count())
         .sum();
     let _ = writeln!(
         out,
-        "meshes: {} ({triangles} triangles), objects: {} ({drawn} triangles drawn)",
+        "meshes: {} ({triangles} triangles{}), objects: {} ({drawn} triangles drawn)",
         scene.meshes.len(),
+        strokes_of(scene),
         scene.objects.len()
     );
     let _ = writeln!(out, "materials: {}", scene.materials.len());

@@ -447,7 +447,7 @@ fn triangles_drawn(scene: &combustion_scene::Scene) -> usize {
     scene
         .objects
         .iter()
-        .map(|o| scene.meshes[o.mesh].indices.len() / 3)
+        .map(|o| scene.meshes[o.mesh].triangle_count())
         .sum()
 }
 

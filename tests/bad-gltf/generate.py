@@ -129,6 +129,13 @@ bad("mismatched-attribute-counts.gltf", g)
 bad("nan-position.gltf", triangle(positions=[(0, 0, 0), (float("nan"), 0, 0), (0, 1, 0)]))
 bad("infinite-position.gltf", triangle(positions=[(0, 0, 0), (1, 0, 0), (0, float("inf"), 0)]))
 bad("all-degenerate-triangles.gltf", triangle(positions=[(0, 0, 0), (1, 1, 1), (2, 2, 2)]))
+# Points and lines (modes 0-3) are checked as triangles are.
+g = triangle(indices=(0, 1, 7)); g["meshes"][0]["primitives"][0]["mode"] = 2
+bad("line-loop-index-out-of-range.gltf", g)
+g = triangle(indices=(0,)); g["meshes"][0]["primitives"][0]["mode"] = 3
+bad("line-strip-of-one-index.gltf", g)
+g = triangle(positions=[(0, 0, 0), (float("nan"), 0, 0), (0, 1, 0)]); g["meshes"][0]["primitives"][0]["mode"] = 0
+bad("nan-point.gltf", g)
 
 bad("undecodable-png.gltf", textured(b"\x89PNG\r\n\x1a\n" + b"garbage" * 10))
 bad("unsupported-image-format.gltf", textured(b"GIF89a\x01\x00\x01\x00\x00\x00\x00;", "image/gif"))

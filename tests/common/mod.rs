@@ -19,7 +19,7 @@ use combustion::reference::shading::light_at;
 use combustion::renderer::{
     linear_to_srgb, tonemap_exponential, Frame, Readback, RendererSettings,
 };
-use combustion::scene::{Light, Material, Scene};
+use combustion::scene::{Camera, Light, Material, Mesh, Object, Scene};
 use combustion::vk::{DeviceDesc, DeviceSelector, ValidationLog};
 use combustion::{Headless, HeadlessDesc};
 use glam::{DMat4, DVec3, DVec4, Vec4Swizzles};
@@ -1043,4 +1043,34 @@ pub fn render_posed(
     renderer
         .render_with(gpu, &inputs, width, height, Readback::ALL)
         .unwrap()
+}
+
+/// A 100 m plane of `material` at the origin (facing +y), lit by `lights`, seen straight
+/// down from 3 m (image up is −z, 60° vertical field of view): the tests' plane seen from
+/// above.
+pub fn plane_from_above(name: &str, material: Material, lights: Vec<Light>) -> Scene {
+    Scene {
+        name: name.into(),
+        meshes: vec![Mesh::plane("plane", 100.0)],
+        materials: vec![material],
+        objects: vec![Object {
+            mesh: 0,
+            material: 0,
+            transform: glam::Mat4::IDENTITY,
+            casts_shadows: true,
+            node: None,
+        }],
+        lights,
+        camera: Camera {
+            position: glam::Vec3::new(0.0, 3.0, 0.0),
+            target: glam::Vec3::ZERO,
+            up: glam::Vec3::NEG_Z,
+            vertical_fov: 60f32.to_radians(),
+            near: 0.1,
+            far: 100.0,
+        },
+        outside_ior: 1.0,
+        environment: None,
+        motion: Default::default(),
+    }
 }

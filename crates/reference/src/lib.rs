@@ -193,7 +193,12 @@ impl SceneBvh {
             if !keep(object) {
                 continue;
             }
-            let Some(mesh) = scene.meshes.get(object.mesh) else {
+            // Points and lines have no surface: no ray hits them.
+            let Some(mesh) = scene
+                .meshes
+                .get(object.mesh)
+                .filter(|m| m.topology == combustion_scene::Topology::Triangles)
+            else {
                 continue;
             };
             let transform: DMat4 = object.transform.as_dmat4();

@@ -83,6 +83,7 @@ impl BackFacesPass {
                 depth_write: true,
                 blend: ColorBlend::Replace,
                 cache: Some(cache),
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             },
         )?;
         Ok(Self { layout, pipeline })

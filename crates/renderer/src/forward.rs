@@ -95,6 +95,7 @@ impl ForwardPass {
                 depth_write: false,
                 blend: ColorBlend::Over,
                 cache: Some(cache),
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             },
         )?;
         Ok(Self { layout, pipeline })

@@ -60,6 +60,7 @@ pub(crate) fn screen_pipeline(
             depth_write: false,
             blend: desc.blend,
             cache: Some(cache),
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
         },
     )?;
     Ok((layout, pipeline))

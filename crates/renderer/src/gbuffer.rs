@@ -8,6 +8,8 @@ use combustion_vk::{
     PipelineCache, PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
 };
 
+use combustion_scene::Topology;
+
 use crate::error::RenderError;
 use crate::gpu_types::GBufferPush;
 #[cfg(doc)]
@@ -155,7 +157,8 @@ impl GBufferTargets {
 }
 
 /// The G-buffer pass: rasterises every object, writing the G-buffer and depth; cut-out
-/// objects (`AlphaMode::Mask`) after the others, through an alpha-testing pipeline.
+/// objects (`AlphaMode::Mask`) after the others, through an alpha-testing pipeline, then
+/// points and lines through pipelines of their own.
 /// Reads: vertex/index buffers, the object table, the material table. Writes: [`GBufferTargets`].
 pub struct GBufferPass {
     pub(crate) layout: PipelineLayout,
@@ -163,6 +166,11 @@ pub struct GBufferPass {
     /// The cut-out objects' pipeline (`ALPHA_MASK`: alpha tested, discarded where the
     /// surface is absent), in variants with cut-out materials.
     masked: Option<Pipeline>,
+    /// The line lists' pipeline (the opaque one's shaders), in variants with lines.
+    lines: Option<Pipeline>,
+    /// The point lists' pipeline (gbuffer.vert built with `POINTS`), in variants with
+    /// points.
+    points: Option<Pipeline>,
 }
 
 impl GBufferPass {
@@ -193,11 +201,14 @@ impl GBufferPass {
             size: std::mem::size_of::<GBufferPush>() as u32,
         }];
         let layout = PipelineLayout::new(device, &[set_layout, material_set_layout], &push)?;
-        let vertex = ShaderModule::new(
-            device,
-            &compiler.compile("gbuffer.vert", ShaderStage::Vertex, &defines)?,
-            ShaderStage::Vertex,
-        )?;
+        let vertex_shader = |defines: &[(&str, Option<&str>)]| {
+            ShaderModule::new(
+                device,
+                &compiler.compile("gbuffer.vert", ShaderStage::Vertex, defines)?,
+                ShaderStage::Vertex,
+            )
+        };
+        let vertex = vertex_shader(&defines)?;
         let fragment = |defines: &[(&str, Option<&str>)]| {
             ShaderModule::new(
                 device,
@@ -223,11 +234,12 @@ impl GBufferPass {
         if variant.iridescence {
             color_formats.push(FILM_FORMAT);
         }
-        let pipeline = |fragment: &ShaderModule| {
+        let pipeline_of = |topology, vertex: &ShaderModule, fragment: &ShaderModule| {
             Pipeline::graphics(
                 device,
                 &GraphicsPipelineDesc {
-                    vertex: &vertex,
+                    topology,
+                    vertex,
                     fragment,
                     layout: &layout,
                     vertex_bindings: &bindings,
@@ -240,7 +252,11 @@ impl GBufferPass {
                 },
             )
         };
-        let opaque = pipeline(&fragment(&defines)?)?;
+        let pipeline = |fragment: &ShaderModule| {
+            pipeline_of(vk::PrimitiveTopology::TRIANGLE_LIST, &vertex, fragment)
+        };
+        let opaque_fragment = fragment(&defines)?;
+        let opaque = pipeline(&opaque_fragment)?;
         let masked = if variant.alpha_mask {
             let mut defines = defines.clone();
             defines.push(("ALPHA_MASK", None));
@@ -248,11 +264,34 @@ impl GBufferPass {
         } else {
             None
         };
+        let lines = variant
+            .lines
+            .then(|| pipeline_of(vk::PrimitiveTopology::LINE_LIST, &vertex, &opaque_fragment))
+            .transpose()?;
+        let points = if variant.points {
+            let mut defines = defines.clone();
+            defines.push(("POINTS", None));
+            let vertex = vertex_shader(&defines)?;
+            Some(pipeline_of(
+                vk::PrimitiveTopology::POINT_LIST,
+                &vertex,
+                &opaque_fragment,
+            )?)
+        } else {
+            None
+        };
         Ok(Self {
             layout,
             pipeline: opaque,
             masked,
+            lines,
+            points,
         })
+    }
+
+    /// How many pipelines it has for points and lines (0 to 2).
+    pub(crate) fn stroke_pipelines(&self) -> u64 {
+        u64::from(self.lines.is_some()) + u64::from(self.points.is_some())
     }
 
     /// Records the pass. Targets must be in COLOR_ATTACHMENT / DEPTH_ATTACHMENT layouts.
@@ -300,15 +339,25 @@ impl GBufferPass {
             );
             // Stream 1 (coordinate set 1) is read only by the TEXTURE_TRANSFORMS
             // pipelines. The cut-outs last, behind the opaque objects' depth.
-            crate::mesh_draw::TwoRounds {
+            let rounds = crate::mesh_draw::TwoRounds {
                 layout: &self.layout,
                 cut_out_pipeline: self.masked.as_ref(),
                 view_projection,
                 textures_in_opaque_round: true,
-            }
-            .record(raw, cmd, scene, crate::mesh_draw::Faces::OfMaterial, |_| {
+            };
+            rounds.record(raw, cmd, scene, crate::mesh_draw::Faces::OfMaterial, |_| {
                 true
             });
+            // Points and lines last (in variants with them).
+            rounds.record_strokes(
+                raw,
+                cmd,
+                scene,
+                [
+                    (Topology::Lines, self.lines.as_ref()),
+                    (Topology::Points, self.points.as_ref()),
+                ],
+            );
             raw.cmd_end_rendering(cmd);
         }
     }

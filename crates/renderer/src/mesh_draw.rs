@@ -8,6 +8,8 @@
 use combustion_vk::ash;
 use combustion_vk::{vk, Pipeline, PipelineLayout};
 
+use combustion_scene::Topology;
+
 use crate::gpu_types::GBufferPush;
 use crate::scene_upload::GpuScene;
 
@@ -74,6 +76,10 @@ pub(crate) struct ObjectDraw {
     /// Its material is blended (`AlphaMode::Blend`) or transmissive: drawn by the
     /// forward pass only.
     pub forward: bool,
+    /// What its mesh's indices make: points and lines are drawn by the G-buffer pass's
+    /// pipelines for them, in a round of their own ([`TwoRounds::record_strokes`]), and
+    /// by no other pass.
+    pub topology: Topology,
 }
 
 impl ObjectDraw {
@@ -81,9 +87,9 @@ impl ObjectDraw {
     /// cut-outs through its alpha-testing pipeline (if it has one: `cut_out_pipeline`),
     /// draws this object in the cut-out round (`cut_out_round`) or the first. Without the
     /// pipeline, cut-outs are drawn opaque in the first round. Blended and transmissive
-    /// objects are in neither (the forward pass draws them).
+    /// objects are in neither (the forward pass draws them), nor are points and lines.
     pub(crate) fn in_round(&self, cut_out_round: bool, cut_out_pipeline: bool) -> bool {
-        if self.forward {
+        if self.forward || self.topology != Topology::Triangles {
             false
         } else if cut_out_round {
             self.masked
@@ -116,6 +122,7 @@ pub(crate) fn draw_objects(
         material: scene.draw_materials[i],
         masked: scene.masked[i],
         forward: scene.forward[i],
+        topology: scene.gpu.meshes[scene.draw_meshes[i]].topology,
     };
     // A deformed object draws its own posed vertices: alone.
     let posed = |i: usize| scene.gpu.deform.as_ref().and_then(|d| d.posed_offsets[i]);
@@ -276,36 +283,86 @@ impl TwoRounds<'_> {
                     object.in_round(cut_out_round, self.cut_out_pipeline.is_some()) && keep(object)
                 },
                 |object| {
-                    let push = GBufferPush {
-                        view_projection: self.view_projection.to_cols_array(),
-                        object_index: object.object_index,
-                        _pad: [0; 3],
-                    };
-                    // SAFETY: recording state (the caller's); the material sets live as
-                    // long as the scene, which outlives the frame.
-                    unsafe {
-                        if (cut_out_round || self.textures_in_opaque_round)
-                            && bound_material != Some(object.material)
-                        {
-                            raw.cmd_bind_descriptor_sets(
-                                cmd,
-                                vk::PipelineBindPoint::GRAPHICS,
-                                self.layout.raw(),
-                                1,
-                                &[scene.gpu.textures.material_sets[object.material]],
-                                &[],
-                            );
-                            bound_material = Some(object.material);
-                        }
-                        raw.cmd_push_constants(
-                            cmd,
-                            self.layout.raw(),
-                            vk::ShaderStageFlags::VERTEX,
-                            0,
-                            bytemuck::bytes_of(&push),
-                        );
-                    }
+                    self.prepare_draw(
+                        raw,
+                        cmd,
+                        scene,
+                        object,
+                        cut_out_round || self.textures_in_opaque_round,
+                        &mut bound_material,
+                    )
                 },
+            );
+        }
+    }
+
+    /// Records `scene`'s points and lines (recording state, inside the G-buffer pass's
+    /// rendering instance, its set 0 bound), after the surfaces: the objects of each
+    /// topology of `pipelines` that has a pipeline, with it, opaque (a cut-out's alpha is
+    /// not tested; blended and transmissive materials are drawn opaque too), textures
+    /// bound. Leaves the last pipeline it used bound.
+    pub(crate) fn record_strokes(
+        &self,
+        raw: &ash::Device,
+        cmd: vk::CommandBuffer,
+        scene: &GpuScene,
+        pipelines: [(Topology, Option<&Pipeline>); 2],
+    ) {
+        let mut bound_material = None;
+        for (topology, pipeline) in pipelines {
+            let Some(pipeline) = pipeline else {
+                continue;
+            };
+            // SAFETY: recording state (the caller's).
+            unsafe { raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw()) };
+            draw_objects(
+                raw,
+                cmd,
+                scene,
+                Faces::Both,
+                |object| object.topology == topology,
+                |object| self.prepare_draw(raw, cmd, scene, object, true, &mut bound_material),
+            );
+        }
+    }
+
+    /// Before `object`'s draw: binds its material's texture set (set 1) when
+    /// `bind_textures` and `bound_material` is another, and pushes the view-projection
+    /// and its index.
+    fn prepare_draw(
+        &self,
+        raw: &ash::Device,
+        cmd: vk::CommandBuffer,
+        scene: &GpuScene,
+        object: ObjectDraw,
+        bind_textures: bool,
+        bound_material: &mut Option<usize>,
+    ) {
+        let push = GBufferPush {
+            view_projection: self.view_projection.to_cols_array(),
+            object_index: object.object_index,
+            _pad: [0; 3],
+        };
+        // SAFETY: recording state (the caller's); the material sets live as long as the
+        // scene, which outlives the frame.
+        unsafe {
+            if bind_textures && *bound_material != Some(object.material) {
+                raw.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.layout.raw(),
+                    1,
+                    &[scene.gpu.textures.material_sets[object.material]],
+                    &[],
+                );
+                *bound_material = Some(object.material);
+            }
+            raw.cmd_push_constants(
+                cmd,
+                self.layout.raw(),
+                vk::ShaderStageFlags::VERTEX,
+                0,
+                bytemuck::bytes_of(&push),
             );
         }
     }

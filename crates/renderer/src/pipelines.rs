@@ -115,7 +115,7 @@ impl Renderer {
                     self.settings.gbuffer,
                     self.settings.hdr_format.vk(),
                 )?);
-                self.stats.pipelines_built += 1;
+                self.stats.pipelines_built += 1 + pass.stroke_pipelines();
                 self.gbuffer_passes.insert(gbuffer_key, pass.clone());
                 pass
             }

@@ -6,7 +6,7 @@
 use std::mem::ManuallyDrop;
 use std::sync::Arc;
 
-use combustion_scene::{Material, Mesh, Scene};
+use combustion_scene::{Material, Mesh, Scene, Topology};
 use combustion_vk::{vk, Buffer, DescriptorSetLayout, Device};
 
 use crate::error::RenderError;
@@ -161,6 +161,24 @@ fn next_geometry_version() -> u64 {
     NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
+/// Whether `object` is drawn as a surface (its mesh is triangles), not points or lines.
+fn is_surface(scene: &Scene, object: &combustion_scene::Object) -> bool {
+    scene
+        .meshes
+        .get(object.mesh)
+        .is_some_and(|m| m.topology == Topology::Triangles)
+}
+
+/// Whether some object of `scene` whose mesh is `topology` is drawn.
+fn draws(scene: &Scene, topology: Topology) -> bool {
+    scene.objects.iter().any(|o| {
+        scene
+            .meshes
+            .get(o.mesh)
+            .is_some_and(|m| m.topology == topology)
+    })
+}
+
 /// The shader features `scene` needs.
 pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
     crate::variant::ShaderVariant {
@@ -169,23 +187,27 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
             .iter()
             .any(|m| m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&e| e > 0.0)),
         alpha_mask: scene.materials.iter().any(|m| m.is_masked()),
+        // Points and lines are drawn opaque into the G-buffer, whatever their material.
         blend: scene.objects.iter().any(|o| {
-            scene
-                .materials
-                .get(o.material)
-                .is_some_and(|m| m.is_blended())
+            is_surface(scene, o)
+                && scene
+                    .materials
+                    .get(o.material)
+                    .is_some_and(|m| m.is_blended())
         }),
         transmission: scene.objects.iter().any(|o| {
-            scene
-                .materials
-                .get(o.material)
-                .is_some_and(|m| m.is_transmissive())
+            is_surface(scene, o)
+                && scene
+                    .materials
+                    .get(o.material)
+                    .is_some_and(|m| m.is_transmissive())
         }),
         volume: scene.objects.iter().any(|o| {
-            scene
-                .materials
-                .get(o.material)
-                .is_some_and(|m| m.is_transmissive() && m.volume.is_some())
+            is_surface(scene, o)
+                && scene
+                    .materials
+                    .get(o.material)
+                    .is_some_and(|m| m.is_transmissive() && m.volume.is_some())
         }),
         clearcoat: scene.objects.iter().any(|o| {
             scene
@@ -209,6 +231,8 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
             .objects
             .iter()
             .any(|o| scene.meshes.get(o.mesh).is_some_and(Mesh::has_colors)),
+        lines: draws(scene, Topology::Lines),
+        points: draws(scene, Topology::Points),
         texture_transforms: scene.materials.iter().any(|m| {
             m.texture_slots()
                 .iter()
@@ -260,6 +284,8 @@ pub(crate) struct MeshBuffers {
     pub(crate) colors: Option<Buffer>,
     pub(crate) indices: Buffer,
     pub(crate) index_count: u32,
+    /// What the indices make (the G-buffer pass draws points and lines apart).
+    pub(crate) topology: combustion_scene::Topology,
 }
 
 impl MeshBuffers {
@@ -303,6 +329,7 @@ impl MeshBuffers {
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
             index_count,
+            topology: mesh.topology,
         })
     }
 }
@@ -436,12 +463,13 @@ impl Tables {
             forward: scene
                 .objects
                 .iter()
-                .map(|o| scene.materials[o.material].is_see_through())
+                .map(|o| is_surface(scene, o) && scene.materials[o.material].is_see_through())
                 .collect(),
             volumes: (0..scene.objects.len())
                 .filter(|&i| {
-                    let m = &scene.materials[scene.objects[i].material];
-                    m.is_transmissive() && m.volume.is_some()
+                    let o = &scene.objects[i];
+                    let m = &scene.materials[o.material];
+                    is_surface(scene, o) && m.is_transmissive() && m.volume.is_some()
                 })
                 .collect(),
             draw_materials: scene.objects.iter().map(|o| o.material).collect(),

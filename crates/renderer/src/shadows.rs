@@ -794,6 +794,7 @@ impl ShadowCasterPass {
                 depth_write: true,
                 blend: combustion_vk::ColorBlend::Replace,
                 cache: Some(cache),
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             },
         )?)
     }

@@ -180,6 +180,14 @@ pub struct ShaderVariant {
     /// colour stream and multiply it into the base colour and alpha (objects whose mesh
     /// has none use white).
     pub vertex_colors: bool,
+    /// Some drawn mesh is a line list ([`combustion_scene::Topology::Lines`]): the
+    /// G-buffer pass gets a pipeline that draws line lists (its surfaces' shaders), in a
+    /// round after the surfaces; no other pass draws them.
+    pub lines: bool,
+    /// Some drawn mesh is a point list ([`combustion_scene::Topology::Points`]): the
+    /// G-buffer pass gets a pipeline that draws point lists, its vertex shader built
+    /// with `POINTS` (a point size of 1 pixel).
+    pub points: bool,
     /// The Fresnel term ([`FresnelModel`]; a shading option, not a scene feature).
     pub fresnel: FresnelModel,
     /// The lighting pass can show a G-buffer channel or a BRDF term instead of radiance
@@ -312,8 +320,9 @@ fn environment_samples_define(count: u32) -> Option<&'static str> {
 
 impl ShaderVariant {
     /// The part of the variant the G-buffer shaders read (the emissive target, texture
-    /// transforms, cut-outs, vertex colours, the clear coat's, the sheen's and the thin
-    /// film's targets and the geometry floor); every other feature is the lighting pass's.
+    /// transforms, cut-outs, vertex colours, points and lines, the clear coat's, the
+    /// sheen's and the thin film's targets and the geometry floor); every other feature
+    /// is the lighting pass's.
     pub(crate) fn gbuffer_part(self) -> ShaderVariant {
         ShaderVariant {
             emissive: self.emissive,
@@ -321,6 +330,8 @@ impl ShaderVariant {
             texture_transforms: self.texture_transforms,
             alpha_mask: self.alpha_mask,
             vertex_colors: self.vertex_colors,
+            lines: self.lines,
+            points: self.points,
             clearcoat: self.clearcoat,
             sheen: self.sheen,
             iridescence: self.iridescence,

@@ -51,7 +51,7 @@ pub use material::{
     DiffuseModel, Filter, Image, Iridescence, Material, Sampler, Texture, TextureRef, TextureSlot,
     UvTransform, Volume, WrapMode, CLEARCOAT_IOR, IRIDESCENCE_THICKNESS_MAX_NM, TEXTURE_SLOTS,
 };
-pub use mesh::{Mesh, Vertex};
+pub use mesh::{Mesh, Topology, Vertex};
 pub use motion::{Motion, ObjectPoses, Pose};
 pub use view_check::{ViewWarning, MIN_PRECISION_STEPS};
 
@@ -443,6 +443,7 @@ impl Scene {
                 name: format!("{} (posed)", mesh.name),
                 vertices,
                 indices: mesh.indices.clone(),
+                topology: mesh.topology,
                 ..Mesh::default()
             });
         }

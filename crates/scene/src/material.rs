@@ -522,6 +522,21 @@ impl Material {
         self.clearcoat > 0.0
     }
 
+    /// This material as glTF's points and lines are drawn ([`crate::Topology`]): unlit,
+    /// since a point or a line has no surface to light, showing its base colour (factor
+    /// × texture × the vertex colour); opaque (alpha is not used) and nothing else of the
+    /// material kept. Named `NAME (points and lines)`.
+    pub fn for_points_and_lines(&self) -> Material {
+        Material {
+            name: format!("{} (points and lines)", self.name),
+            base_color: self.base_color,
+            base_color_texture: self.base_color_texture.clone(),
+            unlit: true,
+            double_sided: true,
+            ..Material::default()
+        }
+    }
+
     /// Whether the material is a cut-out ([`AlphaMode::Mask`]): drawn by the pipelines
     /// that test alpha.
     pub fn is_masked(&self) -> bool {

@@ -43,7 +43,46 @@ impl Default for Vertex {
     }
 }
 
-/// An indexed triangle mesh in its own (object) space.
+/// How a mesh's indices join its vertices into primitives.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Topology {
+    /// Three indices per triangle (a triangle list): a surface, lit, casting shadows,
+    /// seen by every reference.
+    #[default]
+    Triangles,
+    /// Two indices per segment (a line list), each segment rasterised one pixel wide
+    /// (Vulkan's line rasterisation, width 1) into the G-buffer. No surface: no shadow
+    /// is cast, no reference ray hits it, and glTF's points and lines are given an unlit
+    /// material (docs/gltf.md, "Points and lines").
+    Lines,
+    /// One index per point (a point list), each point one pixel (point size 1) in the
+    /// G-buffer; otherwise as [`Topology::Lines`].
+    Points,
+}
+
+impl Topology {
+    /// Indices per primitive: 3, 2 or 1.
+    pub fn indices_per_primitive(self) -> usize {
+        match self {
+            Self::Triangles => 3,
+            Self::Lines => 2,
+            Self::Points => 1,
+        }
+    }
+
+    /// The primitive's name, plural (`triangles`, `line segments`, `points`), for
+    /// messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Triangles => "triangles",
+            Self::Lines => "line segments",
+            Self::Points => "points",
+        }
+    }
+}
+
+/// An indexed mesh in its own (object) space: triangles, or points or lines
+/// ([`Topology`]).
 ///
 /// Triangles are counter-clockwise seen from their front (outside), the face back-face
 /// culling keeps. [`Mesh::validate`] checks the indices and that every attribute is
@@ -54,8 +93,11 @@ pub struct Mesh {
     pub name: String,
     /// The vertices the indices refer to.
     pub vertices: Vec<Vertex>,
-    /// Three indices into `vertices` per triangle, triangle list order.
+    /// Indices into `vertices`, [`Topology::indices_per_primitive`] per primitive: three
+    /// per triangle in triangle-list order (or two per segment, one per point).
     pub indices: Vec<u32>,
+    /// What the indices make: triangles, line segments or points.
+    pub topology: Topology,
     /// The joints influencing each vertex, for a mesh a skin places (objects attached to
     /// a node with a [`crate::motion::Skin`]); `None` for a rigid mesh.
     pub skin: Option<SkinWeights>,
@@ -199,15 +241,29 @@ impl Mesh {
         (lo.x <= hi.x).then_some((lo, hi))
     }
 
-    /// Checks indices and attribute values: a whole number of triangles, every index
+    /// The number of primitives (triangles, segments or points).
+    pub fn primitive_count(&self) -> usize {
+        self.indices.len() / self.topology.indices_per_primitive()
+    }
+
+    /// The number of triangles: 0 for points and lines.
+    pub fn triangle_count(&self) -> usize {
+        match self.topology {
+            Topology::Triangles => self.indices.len() / 3,
+            Topology::Lines | Topology::Points => 0,
+        }
+    }
+
+    /// Checks indices and attribute values: a whole number of primitives, every index
     /// below the vertex count, every component of every vertex attribute (`position`,
     /// `normal`, `tangent`, `uv`, `uv1`, `color`) finite and the colour's in [0, 1]. The error message names the first
     /// problem (the vertex and attribute, or the index).
     pub fn validate(&self) -> Result<(), String> {
-        if self.indices.len() % 3 != 0 {
+        if self.indices.len() % self.topology.indices_per_primitive() != 0 {
             return Err(format!(
-                "{} indices is not a whole number of triangles",
-                self.indices.len()
+                "{} indices is not a whole number of {}",
+                self.indices.len(),
+                self.topology.name()
             ));
         }
         if let Some(&bad) = self

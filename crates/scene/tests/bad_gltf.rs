@@ -75,6 +75,15 @@ const EXPECTED: &[(&str, &[&str])] = &[
         &["all 1 triangles are degenerate"],
     ),
     (
+        "line-loop-index-out-of-range.gltf",
+        &["mesh 0 primitive 0", "index 7 is out of range"],
+    ),
+    (
+        "line-strip-of-one-index.gltf",
+        &["mesh 0 primitive 0", "has no line segments"],
+    ),
+    ("nan-point.gltf", &["POSITION of vertex 1 is not finite"]),
+    (
         "undecodable-png.gltf",
         &["image 0 (`texture`)", "undecodable PNG"],
     ),

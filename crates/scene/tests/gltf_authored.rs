@@ -1386,3 +1386,67 @@ fn light_sizes_out_of_range_are_refused() {
         );
     }
 }
+
+/// Points and lines are written with their glTF mode (0 and 1) and read back with their
+/// topology, indices and vertices, their unlit material kept (the importer's copy of it
+/// for points and lines: unlit, the same base colour).
+#[test]
+fn points_and_lines_round_trip() {
+    use combustion_scene::{Mesh, Object, Topology, Vertex};
+    let mut scene = builtin_scene("spheres").unwrap();
+    let vertex = |x: f32, y: f32| Vertex {
+        position: [x, y, 0.5],
+        normal: [0.0, 0.0, 1.0],
+        tangent: [0.0, 1.0, 0.0, -1.0],
+        color: [0.5, 0.25, 1.0, 1.0],
+        ..Vertex::default()
+    };
+    let strokes = [
+        (Topology::Lines, vec![0, 1, 1, 2]),
+        (Topology::Points, vec![2, 0]),
+    ];
+    let material = scene.materials.len();
+    scene.materials.push(combustion_scene::Material {
+        base_color: [0.25, 0.5, 0.75],
+        ..combustion_scene::Material::default().for_points_and_lines()
+    });
+    for (topology, indices) in &strokes {
+        scene.objects.push(Object {
+            mesh: scene.meshes.len(),
+            material,
+            transform: glam::Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0)),
+            casts_shadows: true,
+            node: None,
+        });
+        scene.meshes.push(Mesh {
+            name: format!("{topology:?}"),
+            vertices: vec![vertex(0.0, 0.0), vertex(1.0, 0.0), vertex(1.0, 1.0)],
+            indices: indices.clone(),
+            topology: *topology,
+            ..Mesh::default()
+        });
+    }
+    scene.validate().unwrap();
+    let dir = temp_dir("strokes");
+    let path = dir.join("strokes.gltf");
+    save_gltf(&scene, &path).unwrap();
+    let (loaded, report) = import(&path, &ImportOptions::default()).unwrap();
+    assert!(report.warnings.is_empty(), "{report}");
+    for (topology, indices) in &strokes {
+        let object = loaded
+            .objects
+            .iter()
+            .find(|o| loaded.meshes[o.mesh].topology == *topology)
+            .unwrap_or_else(|| panic!("no {topology:?} read back"));
+        let mesh = &loaded.meshes[object.mesh];
+        assert_eq!(&mesh.indices, indices);
+        assert_eq!(
+            mesh.vertices,
+            [vertex(0.0, 0.0), vertex(1.0, 0.0), vertex(1.0, 1.0)]
+        );
+        assert_eq!(object.transform, scene.objects.last().unwrap().transform);
+        let m = &loaded.materials[object.material];
+        assert!(m.unlit && m.base_color == [0.25, 0.5, 0.75], "{m:?}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -250,3 +250,56 @@ fn metal_rough_spheres_are_base_colour_conductors() {
     }
     assert!(report.objects >= 98, "{report}");
 }
+
+/// MeshPrimitiveModes: one mesh per glTF mode, each on the same seven vertices (a hexagon
+/// and its centre). Points and lines are kept with their topology — a line loop closed,
+/// a strip joined — and drawn with an unlit copy of their material; the triangle modes
+/// become triangle lists.
+#[test]
+fn mesh_primitive_modes_keep_their_points_and_lines() {
+    use combustion_scene::Topology;
+    let Some(dir) = samples() else { return };
+    let (scene, report) = load_with_report(&dir, "MeshPrimitiveModes/glTF/MeshPrimitiveModes.gltf");
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let shapes: Vec<(Topology, usize)> = scene
+        .meshes
+        .iter()
+        .map(|m| (m.topology, m.primitive_count()))
+        .collect();
+    assert_eq!(
+        shapes,
+        [
+            (Topology::Points, 7),    // indices 0–6
+            (Topology::Lines, 6),     // 0-1, 0-2, …, 0-6
+            (Topology::Lines, 7),     // the loop 0-1, …, 5-6 and 6-0
+            (Topology::Lines, 6),     // the strip 0-1, …, 5-6
+            (Topology::Triangles, 6), // the hexagon as a list
+            (Topology::Triangles, 4), // a strip of 6 indices
+            (Topology::Triangles, 6), // a fan of 8 indices
+        ]
+    );
+    assert_eq!(scene.meshes[0].indices, [0, 1, 2, 3, 4, 5, 6]);
+    assert_eq!(
+        scene.meshes[2].indices,
+        [0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 0]
+    );
+    assert_eq!(
+        scene.meshes[3].indices,
+        [0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6]
+    );
+    // The strokes keep the file's seven vertices as they are.
+    for mesh in &scene.meshes[..4] {
+        assert_eq!(mesh.vertices.len(), 7, "{}", mesh.name);
+        assert_eq!(mesh.vertices, scene.meshes[0].vertices);
+    }
+    // No materials in the file: the triangles use glTF's default material, the points
+    // and lines its unlit copy (white).
+    assert_eq!(scene.materials.len(), 2);
+    for object in &scene.objects {
+        let strokes = scene.meshes[object.mesh].topology != Topology::Triangles;
+        let material = &scene.materials[object.material];
+        assert_eq!(material.unlit, strokes, "{}", material.name);
+        assert_eq!(material.base_color, [1.0; 3]);
+    }
+    assert_eq!(report.triangles, 16);
+}

@@ -132,8 +132,11 @@ impl Drop for PipelineLayout {
 /// What a graphics pipeline for dynamic rendering needs. Viewport, scissor and cull mode
 /// are dynamic state (cull mode is core in Vulkan 1.3), set when recording.
 ///
-/// Triangle lists, filled, counter-clockwise front faces, one sample per pixel.
+/// Filled, counter-clockwise front faces, lines 1 pixel wide, one sample per pixel.
 pub struct GraphicsPipelineDesc<'a> {
+    /// What the vertices make: `TRIANGLE_LIST` for surfaces, `LINE_LIST` or `POINT_LIST`
+    /// (whose vertex shader must write `gl_PointSize`).
+    pub topology: vk::PrimitiveTopology,
     /// The vertex shader (entry point `main`).
     pub vertex: &'a ShaderModule,
     /// The fragment shader (entry point `main`).
@@ -200,8 +203,8 @@ impl Pipeline {
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
             .vertex_binding_descriptions(desc.vertex_bindings)
             .vertex_attribute_descriptions(desc.vertex_attributes);
-        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let input_assembly =
+            vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
         let viewport = vk::PipelineViewportStateCreateInfo::default()
             .viewport_count(1)
             .scissor_count(1);

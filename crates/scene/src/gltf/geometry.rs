@@ -82,16 +82,9 @@ fn face_normal(p: &[[f32; 3]], t: &[u32]) -> Vec3 {
     n.normalize_or_zero().as_vec3()
 }
 
-/// Builds the mesh. `needs_uv_tangents`: the material has a normal map or anisotropy, so
-/// missing tangents are generated with MikkTSpace. `flip`: reverse the winding (the
-/// mesh is placed by a transform with negative determinant).
-pub(crate) fn build_mesh(
-    name: String,
-    data: PrimitiveData,
-    needs_uv_tangents: bool,
-    flip: bool,
-) -> Result<(Mesh, BuildStats), String> {
-    let mut stats = BuildStats::default();
+/// Checks that every attribute has one element per position, every component is
+/// finite, and every index is below the vertex count.
+fn check_attributes(data: &PrimitiveData) -> Result<(), String> {
     let count = data.positions.len();
     let check_len = |what: &str, n: usize| {
         if n == count {
@@ -122,6 +115,71 @@ pub(crate) fn build_mesh(
     if let Some(&bad) = data.indices.iter().find(|&&i| i as usize >= count) {
         return Err(format!("index {bad} is out of range ({count} vertices)"));
     }
+    Ok(())
+}
+
+/// Builds a mesh of points or lines (`topology`) from their data as given: no normals
+/// are generated, nothing is welded or dropped. A vertex keeps its normal where the
+/// primitive has unit ones, else +z (points and lines are drawn unlit: nothing shades
+/// with it), and its tangent where it has a unit one with a kept normal, else the
+/// normal's reference tangent.
+pub(crate) fn build_strokes(
+    name: String,
+    data: PrimitiveData,
+    topology: crate::Topology,
+) -> Result<Mesh, String> {
+    check_attributes(&data)?;
+    if data.indices.is_empty() {
+        return Err(format!("has no {}", topology.name()));
+    }
+    let vertices = (0..data.positions.len())
+        .map(|i| {
+            let given = data
+                .normals
+                .as_ref()
+                .map(|n| Vec3::from(n[i]))
+                .filter(|n| (n.length() - 1.0).abs() <= UNIT_TOLERANCE);
+            let normal = given.unwrap_or(Vec3::Z);
+            let tangent = data
+                .tangents
+                .as_ref()
+                .map(|t| t[i])
+                .filter(|t| {
+                    given.is_some() && (Vec3::from_slice(t).length() - 1.0).abs() <= UNIT_TOLERANCE
+                })
+                .unwrap_or_else(|| reference_tangent(normal).extend(1.0).to_array());
+            let uv = data.uvs.as_ref().map_or([0.0; 2], |uvs| uvs[i]);
+            Vertex {
+                position: data.positions[i],
+                normal: normal.to_array(),
+                tangent,
+                uv,
+                uv1: data.uvs1.as_ref().map_or(uv, |uvs| uvs[i]),
+                color: data.colors.as_ref().map_or([1.0; 4], |c| c[i]),
+            }
+        })
+        .collect();
+    Ok(Mesh {
+        name,
+        vertices,
+        indices: data.indices,
+        topology,
+        ..Mesh::default()
+    })
+}
+
+/// Builds the mesh. `needs_uv_tangents`: the material has a normal map or anisotropy, so
+/// missing tangents are generated with MikkTSpace. `flip`: reverse the winding (the
+/// mesh is placed by a transform with negative determinant).
+pub(crate) fn build_mesh(
+    name: String,
+    data: PrimitiveData,
+    needs_uv_tangents: bool,
+    flip: bool,
+) -> Result<(Mesh, BuildStats), String> {
+    let mut stats = BuildStats::default();
+    check_attributes(&data)?;
+    let count = data.positions.len();
     let total = data.indices.len() / 3;
     let mut triangles: Vec<u32> = Vec::with_capacity(total * 3);
     for t in data.indices.chunks_exact(3) {
@@ -294,8 +352,7 @@ pub(crate) fn build_mesh(
             name,
             vertices,
             indices,
-            morph_targets: Vec::new(),
-            skin: None,
+            ..Mesh::default()
         },
         stats,
     ))

@@ -2,6 +2,7 @@
 //! meshes, objects, lights, camera → a validated [`Scene`].
 
 use crate::gltf::PlacedCamera;
+use std::collections::btree_map::Entry;
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 use std::rc::Rc;
@@ -12,7 +13,7 @@ use gltf::json;
 use gltf::json::validation::{Checked, Validate};
 
 use super::accessor::{read_colors, read_floats, read_indices};
-use super::geometry::{build_mesh, PrimitiveData};
+use super::geometry::{build_mesh, build_strokes, PrimitiveData};
 use super::material::default_material;
 use super::optics_ext;
 use super::source::{split_container, Buffers, Container};
@@ -120,6 +121,13 @@ struct Instance {
     node: usize,
     /// Its transform relative to the node (an EXT_mesh_gpu_instancing instance's).
     offset: Mat4,
+}
+
+impl MeshKey {
+    /// Whether the primitive is points or lines (glTF modes 0–3).
+    fn is_strokes(&self) -> bool {
+        self.mode < 4
+    }
 }
 
 /// What makes two primitives the same [`crate::Mesh`]: the same accessors, topology and
@@ -507,7 +515,7 @@ impl Importer<'_> {
             HashMap::new();
         let mut cameras: Vec<(usize, usize, Mat4)> = Vec::new();
         let mut lights: Vec<(usize, Mat4)> = Vec::new();
-        let mut other_modes = 0;
+        let mut rigid_strokes = 0;
         while let Some((index, parent)) = stack.pop() {
             let node = root
                 .nodes
@@ -554,13 +562,25 @@ impl Importer<'_> {
                         }
                     };
                     let mode_number = match mode {
+                        Mode::Points => 0,
+                        Mode::Lines => 1,
+                        Mode::LineLoop => 2,
+                        Mode::LineStrip => 3,
                         Mode::Triangles => 4,
                         Mode::TriangleStrip => 5,
                         Mode::TriangleFan => 6,
-                        _ => {
-                            other_modes += 1;
-                            continue;
-                        }
+                    };
+                    // Points and lines are drawn where their node places them: a skin
+                    // or morph targets do not move them (glTF allows both; rare).
+                    let strokes = mode_number < 4;
+                    let skin = if strokes
+                        && (skin.is_some()
+                            || primitive.targets.as_ref().is_some_and(|t| !t.is_empty()))
+                    {
+                        rigid_strokes += 1;
+                        None
+                    } else {
+                        skin
                     };
                     let material = primitive.material.map(|m| m.value());
                     // Only the attributes a mesh is built from: others (colours, joints,
@@ -586,11 +606,9 @@ impl Importer<'_> {
                                 .collect()
                         })
                         .clone();
-                    let targets = primitive
-                        .targets
-                        .as_ref()
-                        .is_some_and(|t| !t.is_empty())
-                        .then_some((mesh_index, p));
+                    let targets = (!strokes
+                        && primitive.targets.as_ref().is_some_and(|t| !t.is_empty()))
+                    .then_some((mesh_index, p));
                     // Each primitive's placements one after another: the renderer
                     // draws consecutive objects of one mesh and material instanced.
                     for &offset in &offsets {
@@ -638,9 +656,9 @@ impl Importer<'_> {
                 stack.push((child.value(), Some(world)));
             }
         }
-        if other_modes > 0 {
+        if rigid_strokes > 0 {
             self.warn(format!(
-                "{other_modes} point or line primitive(s) skipped: only triangles are rendered"
+                "{rigid_strokes} point or line primitive(s) of a skinned or morphed mesh drawn at rest, where the node places them"
             ));
         }
         let mut nodes = self.motion_nodes()?;
@@ -659,24 +677,49 @@ impl Importer<'_> {
         // scene will use it.
         let views = self.check_cameras(&cameras)?;
 
-        // Materials: the used ones in document order, the default one last.
-        let mut used: Vec<usize> = instances.iter().filter_map(|(_, i)| i.material).collect();
-        used.sort_unstable();
-        used.dedup();
-        let mut materials: Vec<Material> = Vec::with_capacity(used.len() + 1);
-        let mut material_index: HashMap<Option<usize>, usize> = HashMap::new();
-        for &m in &used {
-            let material = self.material(m)?;
-            material_index.insert(Some(m), materials.len());
-            materials.push(material);
+        // Materials: those the triangles use in document order, the default one last;
+        // then an unlit copy of each one points and lines use, in the same order
+        // (docs/gltf.md, "Points and lines"). Each glTF material is read once.
+        let mut loaded: BTreeMap<Option<usize>, Material> = BTreeMap::new();
+        for (_, instance) in &instances {
+            if let Entry::Vacant(entry) = loaded.entry(instance.material) {
+                entry.insert(match instance.material {
+                    Some(m) => self.material(m)?,
+                    None => default_material(),
+                });
+            }
         }
-        if instances.iter().any(|(_, i)| i.material.is_none()) {
-            material_index.insert(None, materials.len());
-            materials.push(default_material());
+        let in_order = |strokes: bool| -> Vec<Option<usize>> {
+            let mut used: Vec<Option<usize>> = instances
+                .iter()
+                .filter(|(_, i)| i.key.is_strokes() == strokes)
+                .map(|(_, i)| i.material)
+                .collect();
+            used.sort_unstable_by_key(|m| (m.is_none(), *m));
+            used.dedup();
+            used
+        };
+        let (surface_materials, stroke_materials) = (in_order(false), in_order(true));
+        let mut materials: Vec<Material> =
+            Vec::with_capacity(surface_materials.len() + stroke_materials.len());
+        let mut material_index: HashMap<(Option<usize>, bool), usize> = HashMap::new();
+        for (strokes, used) in [(false, surface_materials), (true, stroke_materials)] {
+            for m in used {
+                material_index.insert((m, strokes), materials.len());
+                let material = &loaded[&m];
+                materials.push(if strokes {
+                    material.for_points_and_lines()
+                } else {
+                    material.clone()
+                });
+            }
         }
+        let material_of =
+            |instance: &Instance| material_index[&(instance.material, instance.key.is_strokes())];
         for (_, instance) in &mut instances {
-            let m = &materials[material_index[&instance.material]];
-            instance.key.uv_tangents = m.needs_uv_tangents()
+            let m = &materials[material_of(instance)];
+            instance.key.uv_tangents = !instance.key.is_strokes()
+                && m.needs_uv_tangents()
                 && !instance.key.attributes.iter().any(|(s, _)| s == "TANGENT");
         }
 
@@ -746,7 +789,7 @@ impl Importer<'_> {
             }
             objects.push(Object {
                 mesh,
-                material: material_index[&instance.material],
+                material: material_of(instance),
                 transform: instance.world,
                 casts_shadows: self.node_casts_shadows(instance.node)?,
                 node: Some(crate::NodeLink {
@@ -803,11 +846,11 @@ impl Importer<'_> {
 
         let table = scene.texture_table();
         report.meshes = scene.meshes.len();
-        report.triangles = scene.meshes.iter().map(|m| m.indices.len() / 3).sum();
+        report.triangles = scene.meshes.iter().map(crate::Mesh::triangle_count).sum();
         report.instanced_triangles = scene
             .objects
             .iter()
-            .map(|o| scene.meshes[o.mesh].indices.len() / 3)
+            .map(|o| scene.meshes[o.mesh].triangle_count())
             .sum();
         report.objects = scene.objects.len();
         report.materials = scene.materials.len();
@@ -890,7 +933,29 @@ impl Importer<'_> {
                 (0..n).collect()
             }
         };
+        let pairs = |count: usize, closed: bool| -> Vec<u32> {
+            let mut out = Vec::with_capacity(2 * count);
+            for i in 1..count {
+                out.extend_from_slice(&[raw[i - 1], raw[i]]);
+            }
+            if closed && count > 2 {
+                out.extend_from_slice(&[raw[count - 1], raw[0]]);
+            }
+            out
+        };
         let indices = match key.mode {
+            0 => raw.clone(),
+            1 => {
+                if raw.len() % 2 != 0 {
+                    self.warn(format!(
+                        "mesh {mesh_index} primitive {primitive}: {} line indices is not a multiple of 2; the last one ignored",
+                        raw.len()
+                    ));
+                }
+                raw[..raw.len() / 2 * 2].to_vec()
+            }
+            2 => pairs(raw.len(), true),
+            3 => pairs(raw.len(), false),
             4 => {
                 if raw.len() % 3 != 0 {
                     self.warn(format!(
@@ -924,7 +989,8 @@ impl Importer<'_> {
         // built: a vertex per corner at most when normals are generated flat or MikkTSpace
         // splits the vertices (welding merges some back), else the given vertices.
         let vertex_count = positions.len();
-        let per_corner = normals.is_none() || (key.uv_tangents && uvs.is_some());
+        let per_corner =
+            !key.is_strokes() && (normals.is_none() || (key.uv_tangents && uvs.is_some()));
         let vertices = if per_corner {
             positions.len().max(indices.len())
         } else {
@@ -940,22 +1006,25 @@ impl Importer<'_> {
             None if gltf_mesh.primitives.len() == 1 => format!("mesh {mesh_index}"),
             None => format!("mesh {mesh_index} primitive {primitive}"),
         };
-        let (mesh, stats) = build_mesh(
-            name,
-            PrimitiveData {
-                positions,
-                normals,
-                tangents,
-                uvs,
-                uvs1,
-                colors,
-                indices,
-                keep_sources_apart: key.skin.is_some() || key.targets.is_some(),
-            },
-            key.uv_tangents,
-            key.flip,
-        )
-        .map_err(err)?;
+        let data = PrimitiveData {
+            positions,
+            normals,
+            tangents,
+            uvs,
+            uvs1,
+            colors,
+            indices,
+            keep_sources_apart: key.skin.is_some() || key.targets.is_some(),
+        };
+        if key.is_strokes() {
+            let topology = if key.mode == 0 {
+                crate::Topology::Points
+            } else {
+                crate::Topology::Lines
+            };
+            return build_strokes(name, data, topology).map_err(err);
+        }
+        let (mesh, stats) = build_mesh(name, data, key.uv_tangents, key.flip).map_err(err)?;
         let mut mesh = mesh;
         if let Some(skin) = key.skin {
             let joints = root.skins.get(skin).map_or(0, |s| s.joints.len());

@@ -403,7 +403,11 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
         if mesh.indices.is_empty() || mesh.vertices.is_empty() {
             return Err(fail(
                 path,
-                SaveProblem::Unsupported(format!("mesh {i} (`{}`) has no triangles", mesh.name)),
+                SaveProblem::Unsupported(format!(
+                    "mesh {i} (`{}`) has no {}",
+                    mesh.name,
+                    mesh.topology.name()
+                )),
             ));
         }
         let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.position).collect();
@@ -484,7 +488,11 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
                     "attributes": attributes,
                     "indices": indices,
                     "material": material,
-                    "mode": 4,
+                    "mode": match scene.meshes[mesh].topology {
+                        crate::Topology::Points => 0,
+                        crate::Topology::Lines => 1,
+                        crate::Topology::Triangles => 4,
+                    },
                 }],
             })
         })
