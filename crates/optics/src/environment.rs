@@ -98,6 +98,42 @@ pub fn sample_cosine(u1: f64, u2: f64) -> Vec3<f64> {
     Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt())
 }
 
+/// Lagarde & de Rousiers' (2014, eq. 58) specular occlusion from a glTF occlusion value
+/// `occlusion` (in [0, 1]) at the cosine `nv` of the view to the normal and the lobe's α:
+/// weaker than the diffuse occlusion at normal incidence and on smooth surfaces. GLSL
+/// twin: lighting_terms.glsl's `specular_occlusion_of`.
+pub fn specular_occlusion(nv: f64, alpha: f64, occlusion: f64) -> f64 {
+    ((nv.max(0.0) + occlusion).powf((-16.0 * alpha - 1.0).exp2()) - 1.0 + occlusion).clamp(0.0, 1.0)
+}
+
+/// The environment's light at a surface under a glTF occlusion value `occlusion`, as the
+/// split sum applies it (docs/gbuffer.md): the diffuse term × `occlusion`, the rest ×
+/// [`specular_occlusion`] at `nv` and the lobe's `alpha`. `whole` is the unoccluded
+/// estimate and `without_diffuse` the same samples' estimate with a black base colour
+/// (every strategy's directions and pdfs are independent of it), so the diffuse term is
+/// their difference, sample for sample. A coat's and a sheen's lobes count as the rest.
+/// The standard error is `whole`'s (both factors are at most 1). An occlusion of 1 (or
+/// NaN: none) returns `whole`.
+pub fn occluded_environment(
+    whole: Estimate,
+    without_diffuse: &Estimate,
+    nv: f64,
+    alpha: f64,
+    occlusion: f64,
+) -> Estimate {
+    if occlusion.is_nan() || occlusion >= 1.0 {
+        return whole;
+    }
+    let specular = specular_occlusion(nv, alpha, occlusion);
+    Estimate {
+        mean: std::array::from_fn(|c| {
+            without_diffuse.mean[c] * specular
+                + (whole.mean[c] - without_diffuse.mean[c]) * occlusion
+        }),
+        standard_error: whole.standard_error,
+    }
+}
+
 /// L_o(v) = ∫ f(v, l) L(l) (n·l) dl for the BRDF `m` at a surface with normal, tangent
 /// and bitangent `n`, `t`, `b` (world space, as [`crate::brdf::brdf_evaluate`] takes
 /// them), viewed from `v`, under the environment `radiance` (world direction the light

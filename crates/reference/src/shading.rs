@@ -24,7 +24,9 @@
 use combustion_optics::brdf::{brdf_evaluate_with_film, BrdfInputs, DiffuseModel as OpticsDiffuse};
 use combustion_optics::coat::{CoatInputs, CoatLayer};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
-use combustion_optics::environment::{integrate_environment_layered, Estimate, Sampling};
+use combustion_optics::environment::{
+    integrate_environment_layered, occluded_environment, Estimate, Sampling,
+};
 use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Layers};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::sheen::SheenInputs;
@@ -105,6 +107,10 @@ pub struct SurfacePoint {
     /// The clear coat and the sheen over the BRDF (each `None` where there is none, or
     /// a weight or colour of 0 here).
     pub layers: Layers,
+    /// glTF occlusion, 1 + strength × (the occlusion texture's R − 1); 1 without an
+    /// occlusion texture. It darkens the environment's light only, as the split sum
+    /// applies it ([`occluded_environment`]).
+    pub occlusion: f64,
 }
 
 /// The scene shaded per pixel in f64 for a `width` × `height` frame of its own camera.
@@ -282,10 +288,11 @@ impl<'a> SceneShading<'a> {
     /// L = ∫ f(v, l) L_env(l) (n·l) dl over the hemisphere, estimated by
     /// [`integrate_environment_layered`] with `samples` samples of each strategy (BRDF and
     /// cosine sampling, combined by multiple importance), the sequence seeded by the
-    /// point's position (so one point always gets one estimate). Unoccluded: the
-    /// environment reaches every point from every direction above it (the renderer's
-    /// environment has no shadows either, and the built-in scenes no occlusion
-    /// textures). [`SceneShading::environment_estimate`] gives its standard error.
+    /// point's position (so one point always gets one estimate). The environment reaches
+    /// every point from every direction above it (the renderer's environment casts no
+    /// shadows either), darkened only by a glTF occlusion texture, as the split sum
+    /// applies it ([`occluded_environment`]). [`SceneShading::environment_estimate`]
+    /// gives its standard error.
     pub fn with_environment(self, samples: u32) -> Self {
         SceneShading {
             environment_samples: Some(samples),
@@ -304,18 +311,41 @@ impl<'a> SceneShading<'a> {
             .fold(0x9e37_79b9_7f4a_7c15u64, |h, c| {
                 (h ^ c.to_bits()).wrapping_mul(0x1000_0000_01b3)
             });
-        Some(integrate_environment_layered(
-            &surface.brdf,
-            &surface.layers,
-            optics_vec(surface.n),
-            optics_vec(surface.t),
-            optics_vec(surface.b),
-            optics_vec(surface.v),
-            |l| environment.radiance(l),
-            Sampling {
-                iterations: samples,
-                seed,
-            },
+        let integrate = |brdf: &BrdfInputs<f64>| {
+            integrate_environment_layered(
+                brdf,
+                &surface.layers,
+                optics_vec(surface.n),
+                optics_vec(surface.t),
+                optics_vec(surface.b),
+                optics_vec(surface.v),
+                |l| environment.radiance(l),
+                Sampling {
+                    iterations: samples,
+                    seed,
+                },
+            )
+        };
+        let whole = integrate(&surface.brdf);
+        if surface.occlusion.is_nan() || surface.occlusion >= 1.0 {
+            return Some(whole);
+        }
+        // The lobe's α as the split sum takes it: an anisotropic lobe's mean α.
+        let alpha = if surface.brdf.alpha_x == surface.brdf.alpha_y {
+            surface.roughness * surface.roughness
+        } else {
+            0.5 * (surface.brdf.alpha_x + surface.brdf.alpha_y)
+        };
+        let without_diffuse = integrate(&BrdfInputs {
+            base_color: [0.0; 3],
+            ..surface.brdf
+        });
+        Some(occluded_environment(
+            whole,
+            &without_diffuse,
+            surface.n.dot(surface.v),
+            alpha,
+            surface.occlusion,
         ))
     }
 
@@ -712,6 +742,9 @@ impl<'a> SceneShading<'a> {
             transmission: f64::from(material.transmission)
                 * lookup.sample_or(material.transmission_texture.as_ref(), [1.0; 4])[0],
             layers: Layers { coat, sheen, film },
+            occlusion: material.occlusion_texture.as_ref().map_or(1.0, |texture| {
+                1.0 + f64::from(material.occlusion_strength) * (lookup.sample(texture)[0] - 1.0)
+            }),
         }
     }
 
@@ -1165,6 +1198,7 @@ mod tests {
             alpha: 1.0,
             transmission: 0.0,
             layers: Layers::default(),
+            occlusion: 1.0,
         };
         let stored = GBufferPrecision::SRGB8.store(&surface, false);
         let expected = srgb_decode(231.0 / 255.0);

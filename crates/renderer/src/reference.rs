@@ -12,7 +12,9 @@
 use combustion_optics::brdf::{brdf_evaluate_with_film, BrdfInputs, DiffuseModel};
 use combustion_optics::coat::{CoatInputs, CoatLayer};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
-use combustion_optics::environment::{integrate_environment_layered, Estimate, Sampling};
+use combustion_optics::environment::{
+    integrate_environment_layered, occluded_environment, Estimate, Sampling,
+};
 use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Layers};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::sheen::SheenInputs;
@@ -377,35 +379,26 @@ impl ReferenceShading {
         if occlusion.is_nan() || occlusion >= 1.0 {
             return Some(whole);
         }
-        // glTF occlusion as the split sum applies it (docs/gbuffer.md): the diffuse
-        // term × occlusion, the rest × Lagarde & de Rousiers' specular occlusion at n·v
-        // and the lobe's α (an anisotropic lobe's mean α). The same sample directions
-        // with a black base colour give the rest (every strategy's directions and pdfs
-        // are independent of it), so the diffuse term is the difference, sample for
-        // sample. A coat's and a sheen's lobes count as the rest here (the split sum
-        // gives the coat its own specular occlusion and the sheen the diffuse one).
-        let specular = integrate(&BrdfInputs {
+        // glTF occlusion as the split sum applies it (`occluded_environment`), at the
+        // lobe's α (an anisotropic lobe's mean α).
+        let without_diffuse = integrate(&BrdfInputs {
             base_color: [0.0; 3],
             ..p.brdf
         });
-        let nv = (p.n[0] * p.v[0] + p.n[1] * p.v[1] + p.n[2] * p.v[2]).max(0.0);
+        let nv = p.n[0] * p.v[0] + p.n[1] * p.v[1] + p.n[2] * p.v[2];
         let roughness = texel.normal_roughness_anisotropy[2];
         let alpha = if p.brdf.alpha_x == p.brdf.alpha_y {
             roughness * roughness
         } else {
             0.5 * (p.brdf.alpha_x + p.brdf.alpha_y)
         };
-        let specular_occlusion =
-            ((nv + occlusion).powf((-16.0 * alpha - 1.0).exp2()) - 1.0 + occlusion).clamp(0.0, 1.0);
-        Some(Estimate {
-            mean: std::array::from_fn(|c| {
-                specular.mean[c] * specular_occlusion
-                    + (whole.mean[c] - specular.mean[c]) * occlusion
-            }),
-            // Both factors are at most 1: the whole term's error bounds the occluded one's
-            // up to the two parts' correlation.
-            standard_error: whole.standard_error,
-        })
+        Some(occluded_environment(
+            whole,
+            &without_diffuse,
+            nv,
+            alpha,
+            occlusion,
+        ))
     }
 
     /// What the lighting pass reconstructs at pixel (`x`, `y`) from its texel, in f64.
