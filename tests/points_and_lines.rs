@@ -315,3 +315,41 @@ fn the_end_to_end_comparison_counts_stroke_pixels_apart() {
         "{summary:?}"
     );
 }
+
+/// Frames alternate between a scene with points and lines (its own G-buffer variant and
+/// stroke pipelines) and one without, 20 frames each (past the 16-frame retire delay),
+/// twice round, under validation: the strokes are drawn in every frame of theirs and
+/// never in the other's.
+#[test]
+fn frames_with_and_without_points_and_lines_alternate() {
+    let (strokes, _, _) = with_strokes();
+    let bare = plane();
+    let mut headless = common::lavapipe(common::exact_f32());
+    {
+        let renderer = headless.renderer();
+        let scenes = [
+            renderer.upload(&strokes).expect("upload"),
+            renderer.upload(&bare).expect("upload"),
+        ];
+        for _round in 0..2 {
+            for (index, gpu) in scenes.iter().enumerate() {
+                for _ in 0..20 {
+                    let frame = renderer
+                        .render_with(
+                            gpu,
+                            &common::frame_inputs(gpu.scene(), &gpu.scene().lights),
+                            SIZE,
+                            SIZE,
+                            combustion::renderer::Readback::ALL,
+                        )
+                        .expect("frame");
+                    let stroke_pixels = (0..SIZE * SIZE)
+                        .filter(|i| material_at(&frame, i % SIZE, i / SIZE) == Some(1))
+                        .count();
+                    assert_eq!(stroke_pixels > 30, index == 0, "{stroke_pixels}");
+                }
+            }
+        }
+    }
+    common::finish(headless);
+}

@@ -95,29 +95,23 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
     })?;
     let reproduction = previous.map(|p| p.compare(&measured.rows));
     combustion::report::write(dir, &measured, &desc, reproduction.as_ref())?;
+    // The optional sections' files, where the run measured them.
+    let optional: String = [
+        (!measured.shadows.is_empty(), ", shadows.csv"),
+        (!measured.storages.is_empty(), ", gbuffer-storage.csv"),
+        (!measured.anti_aliasing.is_empty(), ", anti-aliasing.csv"),
+        (
+            !measured.environment_sampling.is_empty(),
+            ", environment-sampling.csv",
+        ),
+    ]
+    .iter()
+    .filter(|(written, _)| *written)
+    .map(|(_, name)| *name)
+    .collect();
     outln!(
-        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png{}{}{}{}): {} scene(s) × {} variant sets, the floors, the scaling, {} shadow, {} G-buffer storage, {} anti-aliasing and {} environment-sampling measurement(s) in {:.0} s",
+        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png{optional}): {} scene(s) × {} variant sets, the floors, the scaling, {} shadow, {} G-buffer storage, {} anti-aliasing and {} environment-sampling measurement(s) in {:.0} s",
         dir.display(),
-        if measured.shadows.is_empty() {
-            ""
-        } else {
-            ", shadows.csv"
-        },
-        if measured.storages.is_empty() {
-            ""
-        } else {
-            ", gbuffer-storage.csv"
-        },
-        if measured.anti_aliasing.is_empty() {
-            ""
-        } else {
-            ", anti-aliasing.csv"
-        },
-        if measured.environment_sampling.is_empty() {
-            ""
-        } else {
-            ", environment-sampling.csv"
-        },
         desc.scenes.len(),
         desc.sets.len(),
         measured.shadows.len(),
