@@ -62,6 +62,12 @@ case "${1:-}" in
     # The public API's documentation: every public item documented (missing_docs, denied
     # by clippy above) and every intra-doc link resolving.
     RUSTDOCFLAGS="-D warnings" cargo doc --locked --workspace --no-deps
+    # glibc gives a heap's free top back to the kernel once it passes 128 KiB (dynamically
+    # more); lavapipe's draws allocate and free such blocks every frame, so each frame
+    # faulted its pages in and zeroed them again: a third of the CPU time of a test that
+    # renders many small frames went to the kernel. Keeping freed memory in the test
+    # processes (no trim below 4 GiB) changes no result (README, "Build cost").
+    export GLIBC_TUNABLES="${GLIBC_TUNABLES:+$GLIBC_TUNABLES:}glibc.malloc.trim_threshold=4294967296"
     if cargo nextest --version >/dev/null 2>&1; then
       cargo nextest run --locked --workspace --no-fail-fast
     else
