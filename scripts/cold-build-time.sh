@@ -4,20 +4,46 @@
 # then the total and the ten longest units from cargo's timing report. Run it on an
 # otherwise idle machine (the figures in the README's "Build cost" came from it).
 #
-#   bash scripts/cold-build-time.sh            # the render build
-#   bash scripts/cold-build-time.sh --tests    # then the test build on top of it
+#   bash scripts/cold-build-time.sh             # the render build
+#   bash scripts/cold-build-time.sh --tests     # then the test build on top of it
+#   bash scripts/cold-build-time.sh --commands  # the README's two commands, as timed there
+#
+# --commands runs `bash scripts/dev.sh render`, then `bash scripts/dev.sh test`, in the
+# clean clone with an empty target folder and empty caches (the SPIR-V cache, Mesa's
+# shader cache: XDG_CACHE_HOME is a new folder), ../shared beside the clone when it is
+# beside this one, and prints each command's wall time; a failing command fails it.
 #
 # Needs the system packages of scripts/dev.sh (run `bash scripts/dev.sh render` once) and
-# about 4 GiB (the render build; 15 GiB more with --tests) in $TMPDIR.
+# about 4 GiB (the render build; 4 GiB more with --tests or --commands) in $TMPDIR.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-with_tests=0
-[ "${1:-}" = "--tests" ] && with_tests=1
+mode=${1:-}
+case "$mode" in
+  "" | --tests | --commands) ;;
+  *) echo "usage: bash scripts/cold-build-time.sh [--tests | --commands]" >&2; exit 2 ;;
+esac
 work=$(mktemp -d "${TMPDIR:-/tmp}/combustion-cold-build.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 git clone -q --no-hardlinks . "$work/clone"
+[ -d ../shared ] && ln -s "$(cd ../shared && pwd)" "$work/shared"
 cd "$work/clone"
 export CARGO_TARGET_DIR="$work/target"
+
+if [ "$mode" = --commands ]; then
+  mkdir "$work/cache"
+  export XDG_CACHE_HOME="$work/cache"
+  for command in render test; do
+    start=$(date +%s)
+    bash scripts/dev.sh "$command" >"$work/$command.log" 2>&1 || {
+      tail -40 "$work/$command.log" >&2
+      echo "bash scripts/dev.sh $command failed after $(( $(date +%s) - start )) s" >&2
+      exit 1
+    }
+    echo "bash scripts/dev.sh $command: $(( $(date +%s) - start )) s on $(nproc) cores, $(date -u +%F)"
+    grep -E "^ +Summary|Finished" "$work/$command.log" | sed 's/^ */  /'
+  done
+  exit 0
+fi
 
 report() { # $1: what was built; the newest timing report's units
   python3 - "$1" "$(ls -t "$CARGO_TARGET_DIR"/cargo-timings/cargo-timing-*.html | head -1)" <<'EOF'
@@ -39,7 +65,7 @@ start=$(date +%s)
 cargo build --locked --timings >/dev/null 2>"$work/build.log" || { cat "$work/build.log" >&2; exit 1; }
 echo "cargo build (the render command's build): $(( $(date +%s) - start )) s on $(nproc) cores, $(date -u +%F)"
 report "render build"
-if ((with_tests)); then
+if [ "$mode" = --tests ]; then
   start=$(date +%s)
   cargo test --locked --workspace --no-run --timings >/dev/null 2>"$work/build.log" || { cat "$work/build.log" >&2; exit 1; }
   echo "cargo test --no-run after it: $(( $(date +%s) - start )) s"

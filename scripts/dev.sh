@@ -66,8 +66,11 @@ case "${1:-}" in
     # more); lavapipe's draws allocate and free such blocks every frame, so each frame
     # faulted its pages in and zeroed them again: a third of the CPU time of a test that
     # renders many small frames went to the kernel. Keeping freed memory in the test
-    # processes (no trim below 4 GiB) changes no result (README, "Build cost").
-    export GLIBC_TUNABLES="${GLIBC_TUNABLES:+$GLIBC_TUNABLES:}glibc.malloc.trim_threshold=4294967296"
+    # processes (no trim below 4 GiB) changes no result (README, "Build cost"). Fixing the
+    # trim threshold also fixes the mmap threshold, which would otherwise grow with the
+    # blocks freed; it is set to its largest (32 MiB), so blocks below it come from the
+    # heap and are reused instead of mapped and unmapped each time.
+    export GLIBC_TUNABLES="${GLIBC_TUNABLES:+$GLIBC_TUNABLES:}glibc.malloc.trim_threshold=4294967296:glibc.malloc.mmap_threshold=33554432"
     if cargo nextest --version >/dev/null 2>&1; then
       cargo nextest run --locked --workspace --no-fail-fast
     else
