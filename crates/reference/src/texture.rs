@@ -17,12 +17,31 @@ pub use combustion_scene::{srgb_decode, srgb_encode};
 struct Level {
     width: usize,
     height: usize,
-    texels: Vec<[f64; 4]>,
+    texels: Texels,
+}
+
+/// A level's values: the reduced levels' in f64; level 0's as the image's 8-bit codes
+/// with each channel's value per code, so a 2048² image is 16 MiB here instead of the
+/// 128 MiB of its values (the same values, looked up when read).
+#[derive(Clone, Debug)]
+enum Texels {
+    Values(Vec<[f64; 4]>),
+    Codes {
+        rgba: Vec<u8>,
+        value_of_code: Box<[[f64; 256]; 4]>,
+    },
 }
 
 impl Level {
     fn texel(&self, x: usize, y: usize) -> [f64; 4] {
-        self.texels[y * self.width + x]
+        let i = y * self.width + x;
+        match &self.texels {
+            Texels::Values(values) => values[i],
+            Texels::Codes {
+                rgba,
+                value_of_code,
+            } => std::array::from_fn(|c| value_of_code[c][usize::from(rgba[4 * i + c])]),
+        }
     }
 
     /// The bilinear filter at (`u`, `v`) in texel units (texel centres at + 0.5),
@@ -145,7 +164,7 @@ impl MipChain {
             levels.push(Level {
                 width,
                 height,
-                texels,
+                texels: Texels::Values(texels),
             });
         }
         MipChain {
@@ -261,27 +280,27 @@ pub fn transformed_derivative(texture: &TextureRef, d: [f64; 2]) -> [f64; 2] {
 }
 
 /// `image`'s texels decoded: RGB through the exact sRGB curve when its colour space is
-/// sRGB, alpha and linear images as value/255. Each of the 256 codes is decoded once
-/// (the same f64 the curve gives, bit for bit): a sample model's 2048² textures are
-/// millions of texels, where the curve's `powf` per texel took seconds.
+/// sRGB, alpha and linear images as value/255. Each of the 256 codes is decoded once per
+/// channel (the same f64 the curve gives, bit for bit) and looked up when a texel is
+/// read: a sample model's 2048² textures are millions of texels, where the curve's
+/// `powf` per texel took seconds and their f64 values 128 MiB each.
 fn decoded(image: &Image) -> Level {
     let linear: [f64; 256] = std::array::from_fn(|byte| byte as f64 / 255.0);
     let srgb: [f64; 256] = linear.map(srgb_decode);
-    let decode = |byte: u8, channel: usize| {
+    let value_of_code = Box::new(std::array::from_fn(|channel| {
         if image.color_space == ColorSpace::Srgb && channel < 3 {
-            srgb[usize::from(byte)]
+            srgb
         } else {
-            linear[usize::from(byte)]
+            linear
         }
-    };
+    }));
     Level {
         width: image.width as usize,
         height: image.height as usize,
-        texels: image
-            .pixels
-            .chunks_exact(4)
-            .map(|p| std::array::from_fn(|c| decode(p[c], c)))
-            .collect(),
+        texels: Texels::Codes {
+            rgba: image.pixels.clone(),
+            value_of_code,
+        },
     }
 }
 
@@ -316,6 +335,33 @@ mod tests {
         assert!((srgb_decode(0.040451) - 0.04045 / 12.92).abs() < 1e-6);
         assert_eq!(srgb_decode(1.0), 1.0);
         assert!((srgb_decode(0.5) - 0.2140).abs() < 1e-4);
+    }
+
+    /// Level 0 keeps the image's codes and looks their values up: every code of every
+    /// channel reads back as the curve (or value/255) computed on the spot, bit for bit,
+    /// in an sRGB and in a linear image.
+    #[test]
+    fn level_zero_reads_each_code_as_the_curve_gives_it() {
+        let pixels: Vec<u8> = (0..=255u8).flat_map(|v| [v, 255 - v, v / 2, v]).collect();
+        for color_space in [ColorSpace::Srgb, ColorSpace::Linear] {
+            let chain = MipChain::level_zero(&image(16, 16, pixels.clone(), color_space));
+            for (i, texel) in pixels.chunks_exact(4).enumerate() {
+                let read = chain.levels[0].texel(i % 16, i / 16);
+                for c in 0..4 {
+                    let value = f64::from(texel[c]) / 255.0;
+                    let expected = if color_space == ColorSpace::Srgb && c < 3 {
+                        srgb_decode(value)
+                    } else {
+                        value
+                    };
+                    assert_eq!(
+                        read[c].to_bits(),
+                        expected.to_bits(),
+                        "{color_space:?} texel {i} channel {c}"
+                    );
+                }
+            }
+        }
     }
 
     /// A 2×2 checker: at texel centres the texel itself, between them the mean; the

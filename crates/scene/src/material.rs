@@ -914,7 +914,36 @@ pub fn srgb_encode(linear: f64) -> f64 {
 /// the least-squares fit (weighted by cos θ) to Schlick's curve r + (1−r)(1−cos θ)⁵, the
 /// Fresnel term glTF's metallic-roughness model uses. r is clamped to [0, 0.999].
 /// Normal-incidence reflectance of the result equals r by construction.
+///
+/// The fit is a minimisation per channel (about 20 evaluations of its misfit), and the f64
+/// reference calls this per shading point of every metal whose optical constants come
+/// from its base colour, mostly with the same few colours: each thread remembers the
+/// results for up to 16 384 inputs it was given (a pure
+/// function of the input's bits, so a remembered result is the one computed again).
 pub fn conductor_from_reflectivity(r: [f32; 3]) -> ComplexIor {
+    thread_local! {
+        static REMEMBERED: std::cell::RefCell<std::collections::HashMap<[u32; 3], ComplexIor>> =
+            std::cell::RefCell::default();
+    }
+    let key = r.map(f32::to_bits);
+    if let Some(known) = REMEMBERED.with_borrow(|known| known.get(&key).copied()) {
+        return known;
+    }
+    let ior = fit_conductor_to_reflectivity(r);
+    REMEMBERED.with_borrow_mut(|known| {
+        if known.len() >= REMEMBERED_REFLECTIVITIES {
+            known.clear();
+        }
+        known.insert(key, ior);
+    });
+    ior
+}
+
+/// How many inputs of [`conductor_from_reflectivity`] each thread remembers (then it
+/// forgets them all and starts again): 16 384 entries of 36 bytes.
+const REMEMBERED_REFLECTIVITIES: usize = 16_384;
+
+fn fit_conductor_to_reflectivity(r: [f32; 3]) -> ComplexIor {
     let mut eta = [1.0f32; 3];
     let mut k = [0.0f32; 3];
     for c in 0..3 {
@@ -1131,6 +1160,47 @@ mod gulbrandsen {
             let quartic = brent_minimum(|x| (x - 0.7).powi(4), 0.0, 1.0, 1e-9);
             assert!((quartic - 0.7).abs() < 1e-3, "{quartic}");
         }
+    }
+}
+
+#[cfg(test)]
+mod conductor_from_reflectivity_tests {
+    use super::{
+        conductor_from_reflectivity, fit_conductor_to_reflectivity, REMEMBERED_REFLECTIVITIES,
+    };
+
+    /// A remembered fit is the fit computed again, bit for bit: for inputs met once,
+    /// met again, and met again after more than the thread remembers came between.
+    #[test]
+    fn a_remembered_fit_is_the_fit() {
+        let input = |i: usize| {
+            let t = i as f32 / (REMEMBERED_REFLECTIVITIES + 100) as f32;
+            [t, 1.0 - t, 0.5 * t + 0.25]
+        };
+        let bits = |ior: super::ComplexIor| (ior.eta.map(f32::to_bits), ior.k.map(f32::to_bits));
+        for round in 0..2 {
+            for i in (0..REMEMBERED_REFLECTIVITIES + 100)
+                .step_by(97)
+                .chain([3, 3, 5])
+            {
+                let r = input(i);
+                assert_eq!(
+                    bits(conductor_from_reflectivity(r)),
+                    bits(fit_conductor_to_reflectivity(r)),
+                    "round {round}, input {r:?}"
+                );
+            }
+        }
+        // More distinct inputs than it remembers: it starts again, and still agrees.
+        for i in 0..REMEMBERED_REFLECTIVITIES + 10 {
+            let r = [i as f32 / 1e5, 0.5, 0.9];
+            let _ = conductor_from_reflectivity(r);
+        }
+        let r = [0.02, 0.5, 0.9];
+        assert_eq!(
+            bits(conductor_from_reflectivity(r)),
+            bits(fit_conductor_to_reflectivity(r))
+        );
     }
 }
 
