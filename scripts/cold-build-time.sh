@@ -11,7 +11,8 @@
 # --commands runs `bash scripts/dev.sh render`, then `bash scripts/dev.sh test`, in the
 # clean clone with an empty target folder and empty caches (the SPIR-V cache, Mesa's
 # shader cache: XDG_CACHE_HOME is a new folder), ../shared beside the clone when it is
-# beside this one, and prints each command's wall time; a failing command fails it.
+# beside this one, and prints each command's wall time; a failing command fails it. Each
+# command's output is kept in $TMPDIR/combustion-cold-render.log and -test.log.
 #
 # Needs the system packages of scripts/dev.sh (run `bash scripts/dev.sh render` once) and
 # about 4 GiB (the render build; 4 GiB more with --tests or --commands) in $TMPDIR.
@@ -34,13 +35,14 @@ if [ "$mode" = --commands ]; then
   export XDG_CACHE_HOME="$work/cache"
   for command in render test; do
     start=$(date +%s)
-    bash scripts/dev.sh "$command" >"$work/$command.log" 2>&1 || {
-      tail -40 "$work/$command.log" >&2
+    log="${TMPDIR:-/tmp}/combustion-cold-$command.log"
+    bash scripts/dev.sh "$command" >"$log" 2>&1 || {
+      tail -40 "$log" >&2
       echo "bash scripts/dev.sh $command failed after $(( $(date +%s) - start )) s" >&2
       exit 1
     }
     echo "bash scripts/dev.sh $command: $(( $(date +%s) - start )) s on $(nproc) cores, $(date -u +%F)"
-    grep -E "^ +Summary|Finished" "$work/$command.log" | sed 's/^ */  /'
+    grep -E "^ +Summary|Finished" "$log" | sed 's/^ */  /'
   done
   exit 0
 fi
