@@ -1350,31 +1350,30 @@ fn the_emissive_occlusion_readback_alternates_with_frames_without_it() {
         renderer.upload(&textured).expect("upload"),
         renderer.upload(&plain).expect("upload"),
     ];
-    for _round in 0..2 {
-        for (index, gpu) in scenes.iter().enumerate() {
-            for _ in 0..20 {
-                let frame = renderer
-                    .render_with(gpu, &FrameInputs::of_scene(gpu, 1.0), 64, 48, Readback::ALL)
-                    .expect("frame");
-                let texels = &frame.gbuffer.as_ref().expect("G-buffer").texels;
-                let lit = texels.iter().filter(|t| t.depth < 1.0);
-                if index == 0 {
-                    assert!(
-                        lit.clone().any(|t| t.emissive_occlusion[3] < 1.0)
-                            && lit.clone().any(|t| t.emissive_occlusion[0] > 0.0),
-                        "the textured scene's occlusion and emission read back"
-                    );
-                } else {
-                    assert!(
-                        texels
-                            .iter()
-                            .all(|t| t.emissive_occlusion == [0.0, 0.0, 0.0, 1.0]),
-                        "a frame without the target reads no emission and no occlusion"
-                    );
-                }
+    common::alternate_scenes_past_the_retire_delay(
+        renderer,
+        &scenes,
+        (64, 48),
+        |gpu| FrameInputs::of_scene(gpu, 1.0),
+        |index, frame| {
+            let texels = &frame.gbuffer.as_ref().expect("G-buffer").texels;
+            let lit = texels.iter().filter(|t| t.depth < 1.0);
+            if index == 0 {
+                assert!(
+                    lit.clone().any(|t| t.emissive_occlusion[3] < 1.0)
+                        && lit.clone().any(|t| t.emissive_occlusion[0] > 0.0),
+                    "the textured scene's occlusion and emission read back"
+                );
+            } else {
+                assert!(
+                    texels
+                        .iter()
+                        .all(|t| t.emissive_occlusion == [0.0, 0.0, 0.0, 1.0]),
+                    "a frame without the target reads no emission and no occlusion"
+                );
             }
-        }
-    }
+        },
+    );
     for gpu in scenes {
         renderer.retire(gpu);
     }

@@ -331,25 +331,18 @@ fn frames_with_and_without_points_and_lines_alternate() {
             renderer.upload(&strokes).expect("upload"),
             renderer.upload(&bare).expect("upload"),
         ];
-        for _round in 0..2 {
-            for (index, gpu) in scenes.iter().enumerate() {
-                for _ in 0..20 {
-                    let frame = renderer
-                        .render_with(
-                            gpu,
-                            &common::frame_inputs(gpu.scene(), &gpu.scene().lights),
-                            SIZE,
-                            SIZE,
-                            combustion::renderer::Readback::ALL,
-                        )
-                        .expect("frame");
-                    let stroke_pixels = (0..SIZE * SIZE)
-                        .filter(|i| material_at(&frame, i % SIZE, i / SIZE) == Some(1))
-                        .count();
-                    assert_eq!(stroke_pixels > 30, index == 0, "{stroke_pixels}");
-                }
-            }
-        }
+        common::alternate_scenes_past_the_retire_delay(
+            renderer,
+            &scenes,
+            (SIZE, SIZE),
+            |gpu| common::frame_inputs(gpu.scene(), &gpu.scene().lights),
+            |index, frame| {
+                let stroke_pixels = (0..SIZE * SIZE)
+                    .filter(|i| material_at(frame, i % SIZE, i / SIZE) == Some(1))
+                    .count();
+                assert_eq!(stroke_pixels > 30, index == 0, "{stroke_pixels}");
+            },
+        );
     }
     common::finish(headless);
 }

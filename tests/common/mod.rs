@@ -216,6 +216,32 @@ pub fn render_with_lights_in(
     frame
 }
 
+/// Frames in one run of a scene when scenes alternate: more than the renderer's 16-frame
+/// retire delay, so what the other scene's variant made is retired during the run.
+pub const FRAMES_PAST_THE_RETIRE_DELAY: usize = 20;
+
+/// Renders `gpus` in turn, [`FRAMES_PAST_THE_RETIRE_DELAY`] frames each, twice round,
+/// each frame with `inputs` of its scene at `width` × `height` and everything read back,
+/// and hands every frame to `check` with its scene's index.
+pub fn alternate_scenes_past_the_retire_delay(
+    renderer: &mut combustion::renderer::Renderer,
+    gpus: &[combustion::renderer::GpuScene],
+    (width, height): (u32, u32),
+    inputs: impl Fn(&combustion::renderer::GpuScene) -> combustion::renderer::FrameInputs<'_>,
+    mut check: impl FnMut(usize, &Frame),
+) {
+    for _round in 0..2 {
+        for (index, gpu) in gpus.iter().enumerate() {
+            for _ in 0..FRAMES_PAST_THE_RETIRE_DELAY {
+                let frame = renderer
+                    .render_with(gpu, &inputs(gpu), width, height, Readback::ALL)
+                    .expect("frame");
+                check(index, &frame);
+            }
+        }
+    }
+}
+
 /// The exact model, f32 HDR, exposure 1, 2 frames in flight: what most tests render with.
 pub fn exact_f32() -> RendererSettings {
     RendererSettings {
