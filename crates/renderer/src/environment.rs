@@ -353,6 +353,52 @@ impl Equirect {
     }
 }
 
+/// Bytes of one material's directional-albedo table (`TABLE_SIZE`² entries of 2 vec4).
+const ALBEDO_TABLE_BYTES: u64 = (TABLE_SIZE * TABLE_SIZE) as u64 * 2 * 16;
+
+/// What environment_albedo.comp reads of a material, bit for bit: the conductor's η, k,
+/// the outside medium's IOR and the polarisation weight, the dielectric IOR, the
+/// diffuse model, whether it has a clear coat, and the coat's IOR. Materials equal in
+/// these have the same table (the table spans roughness itself; base colour and
+/// metalness weight its parts in the lighting pass), so it is computed once for them.
+fn albedo_table_key(material: &GpuMaterial) -> [u32; 12] {
+    let [eta_r, eta_g, eta_b, outside_ior] = material.conductor_eta_outside_ior.map(f32::to_bits);
+    let [k_r, k_g, k_b, polarisation] = material.conductor_k_polarisation.map(f32::to_bits);
+    [
+        eta_r,
+        eta_g,
+        eta_b,
+        outside_ior,
+        k_r,
+        k_g,
+        k_b,
+        polarisation,
+        material.roughness_anisotropy_ior[3].to_bits(),
+        material.diffuse_model_flags[0],
+        u32::from(material.clearcoat[0] > 0.0),
+        material.clearcoat[2].to_bits(),
+    ]
+}
+
+/// The materials whose directional-albedo tables the bake computes (the first of each
+/// distinct [`albedo_table_key`]), and the index among them of each material's table.
+fn albedo_tables(materials: &[GpuMaterial]) -> (Vec<GpuMaterial>, Vec<u32>) {
+    let mut computed: Vec<GpuMaterial> = Vec::new();
+    let mut index_of_key = std::collections::HashMap::new();
+    let table_of_material = materials
+        .iter()
+        .map(|material| {
+            *index_of_key
+                .entry(albedo_table_key(material))
+                .or_insert_with(|| {
+                    computed.push(*material);
+                    computed.len() as u32 - 1
+                })
+        })
+        .collect();
+    (computed, table_of_material)
+}
+
 /// The distinct (η_i, w) of the materials whose conductor comes from the base colour,
 /// and each material's index among them (0 for the others).
 fn code_tables(materials: &[GpuMaterial]) -> (Vec<[f32; 2]>, Vec<u32>) {
@@ -458,23 +504,31 @@ impl EnvironmentBaker {
             &ImageDesc::cube("environment irradiance", FORMAT, IRRADIANCE_SIZE, usage),
         )?;
         let gpu_materials = material_table(scene, &[]);
+        // The albedo dispatch reads the materials whose tables it computes, one each.
+        let (computed_materials, table_of_material) = albedo_tables(&gpu_materials);
         let materials = filled_storage_buffer(
             device,
             "environment bake material table",
-            bytemuck::cast_slice(&gpu_materials),
+            bytemuck::cast_slice(&computed_materials),
         )?;
         let conductor_table = filled_storage_buffer(
             device,
             "environment bake conductor table",
             bytemuck::cast_slice(conductor_from_base_color_table()),
         )?;
-        let material_count = gpu_materials.len().max(1) as u64;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let computed_albedo = Buffer::new(
+            device,
+            "environment albedo tables computed",
+            computed_materials.len().max(1) as u64 * ALBEDO_TABLE_BYTES,
+            storage | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
         let albedo = Buffer::new(
             device,
             "environment albedo tables",
-            material_count * u64::from(TABLE_SIZE * TABLE_SIZE) * 2 * 16,
-            storage,
+            gpu_materials.len().max(1) as u64 * ALBEDO_TABLE_BYTES,
+            storage | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
         let (keys, of_material) = code_tables(&gpu_materials);
@@ -658,7 +712,7 @@ impl EnvironmentBaker {
                 );
             no_equirect(io)
         };
-        let count = gpu_materials.len() as u32;
+        let count = computed_materials.len() as u32;
         if count > 0 {
             let set = record.set()?;
             let io = tables_io("environment albedo", set)
@@ -666,7 +720,7 @@ impl EnvironmentBaker {
                 .bind_buffer("conductor_from_code", &conductor_table)
                 .buffer(
                     "environment_albedo",
-                    &albedo,
+                    &computed_albedo,
                     BufferUse::ComputeStorageWrite,
                 )
                 .bind_buffer("environment_code_albedo", &code_albedo);
@@ -674,6 +728,29 @@ impl EnvironmentBaker {
                 samples: ALBEDO_SAMPLES,
             };
             record.dispatch(&self.albedo, set, io, &push, groups(TABLE_SIZE, count));
+            // Each material's table, copied from the one computed for its key.
+            let copy =
+                PassUses::images("environment albedo copies", Vec::new()).with_buffers(vec![
+                    (computed_albedo.raw(), BufferUse::TransferSource),
+                    (albedo.raw(), BufferUse::TransferDestination),
+                ]);
+            record.states.transition(device.raw(), cmd, &copy);
+            let regions: Vec<_> = table_of_material
+                .iter()
+                .enumerate()
+                .map(|(material, &table)| vk::BufferCopy {
+                    src_offset: u64::from(table) * ALBEDO_TABLE_BYTES,
+                    dst_offset: material as u64 * ALBEDO_TABLE_BYTES,
+                    size: ALBEDO_TABLE_BYTES,
+                })
+                .collect();
+            // SAFETY: recording state; both buffers live until the bake's wait, and the
+            // barrier above made the dispatch's writes visible to the copy.
+            unsafe {
+                device
+                    .raw()
+                    .cmd_copy_buffer(cmd, computed_albedo.raw(), albedo.raw(), &regions);
+            }
         }
         for (table, &[outside_ior, polarisation_weight]) in keys.iter().enumerate() {
             let set = record.set()?;
@@ -719,6 +796,7 @@ impl EnvironmentBaker {
         drop(pool);
         drop(radiance);
         drop(equirect);
+        drop(computed_albedo);
         Ok(GpuEnvironment {
             specular,
             irradiance,
@@ -814,6 +892,22 @@ mod tests {
     /// Each bake shader's push-constant block, as its compiled SPIR-V lays it out, is
     /// the Rust struct the bake pushes: same name, same members by name at the same
     /// offsets, same size (and the pipeline's push range is that size).
+    #[test]
+    fn materials_alike_in_what_the_albedo_bake_reads_share_a_table() {
+        // The sphere grid: 4 rows (plastic, gold, copper blend, anisotropic aluminium),
+        // each at 6 roughnesses; the table spans roughness, so one table per row.
+        let scene = combustion_scene::builtin_scene("spheres").expect("built in");
+        let materials = material_table(&scene, &[]);
+        let (computed, table_of_material) = albedo_tables(&materials);
+        assert_eq!(computed.len(), 4);
+        let rows: Vec<u32> = (0..24).map(|m| m / 6).collect();
+        assert_eq!(table_of_material, rows);
+        for (material, &table) in materials.iter().zip(&table_of_material) {
+            let computed = &computed[table as usize];
+            assert_eq!(albedo_table_key(computed), albedo_table_key(material));
+        }
+    }
+
     #[test]
     fn each_bake_shader_declares_its_push_struct() {
         let compiler = ShaderCompiler::new(crate::shader_sources::sources()).expect("shaderc");

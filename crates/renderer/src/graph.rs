@@ -154,6 +154,8 @@ pub enum BufferUse {
     ComputeStorageWrite,
     /// Copied to.
     TransferDestination,
+    /// Copied from.
+    TransferSource,
     /// Read by the CPU once the frame has completed (readback).
     HostRead,
 }
@@ -169,6 +171,7 @@ impl BufferUse {
             Self::ComputeStorageRead => (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
             Self::ComputeStorageWrite => (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
             Self::TransferDestination => (S::COPY, A::TRANSFER_WRITE),
+            Self::TransferSource => (S::COPY, A::TRANSFER_READ),
             Self::HostRead => (S::HOST, A::HOST_READ),
         }
     }
