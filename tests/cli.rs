@@ -2780,6 +2780,87 @@ fn a_second_process_reads_its_spirv_from_the_cache_and_renders_the_same_image() 
     );
 }
 
+/// Issue 27: an environment bake keeps its cubes (the prefiltered specular cube and the
+/// irradiance cube, which depend on the environment alone) on disk. A first run into an
+/// empty cache computes them and stores one entry; a second process copies them from it
+/// and renders the same bytes (PNG and the EXR's radiance); a damaged entry is not used:
+/// the cubes are computed again, the same image comes out, and the entry is rewritten as
+/// it was; another environment is another entry. Under validation throughout.
+#[test]
+fn a_second_process_copies_its_environment_cubes_from_the_cache_and_renders_the_same_image() {
+    let dir = scratch("environment-cache");
+    let cache = dir.join("environment");
+    let run = |name: &str, environment: &str| {
+        let (png, exr) = (
+            dir.join(format!("{name}.png")),
+            dir.join(format!("{name}.exr")),
+        );
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_combustion"))
+            .args(["render", "--scene", "builtin:spheres", "--width", "64"])
+            .args(["--height", "48", "--validate", "--environment", environment])
+            .arg("-o")
+            .arg(&png)
+            .arg("--hdr")
+            .arg(&exr)
+            .env("COMBUSTION_DEVICE", "llvmpipe")
+            .env("COMBUSTION_ENVIRONMENT_CACHE", &cache)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+        assert!(
+            output.status.success(),
+            "{stdout}{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let from_cache =
+            if stdout.contains("1 environment bake (with its cubes from the bake cache)") {
+                true
+            } else {
+                assert!(
+                    stdout.contains("1 environment bake (without its cubes from the bake cache)"),
+                    "{stdout}"
+                );
+                false
+            };
+        let images = (std::fs::read(png).unwrap(), std::fs::read(exr).unwrap());
+        (from_cache, images)
+    };
+    let entries = || -> Vec<std::path::PathBuf> {
+        let mut entries: Vec<_> = std::fs::read_dir(&cache)
+            .unwrap()
+            .map(|entry| entry.unwrap().path())
+            .collect();
+        entries.sort();
+        entries
+    };
+    let (from_cache, first) = run("first", "studio");
+    assert!(!from_cache, "the cache was empty");
+    let stored = entries();
+    assert_eq!(stored.len(), 1, "one entry, no temporary left: {stored:?}");
+    let entry = std::fs::read(&stored[0]).unwrap();
+    let (from_cache, second) = run("second", "studio");
+    assert!(from_cache, "the second process found the first one's cubes");
+    assert!(
+        first == second,
+        "cubes from the cache render the same bytes"
+    );
+    // The entry damaged (a byte of the texels flipped): computed again and rewritten.
+    let mut damaged = entry.clone();
+    let middle = damaged.len() / 2;
+    damaged[middle] ^= 0x40;
+    std::fs::write(&stored[0], &damaged).unwrap();
+    let (from_cache, third) = run("third", "studio");
+    assert!(!from_cache, "the damaged entry was not used");
+    assert!(third == first);
+    assert!(
+        std::fs::read(&stored[0]).unwrap() == entry,
+        "the damaged entry was rewritten with the same cubes"
+    );
+    let (from_cache, _) = run("uniform", "uniform:0.5");
+    assert!(!from_cache, "another environment has cubes of its own");
+    assert_eq!(entries().len(), 2);
+}
+
 /// `--supersample N` writes an image of the asked size (the frame rendered N times as
 /// large and resolved); 0 and 5 are refused, as is `--supersample` with
 /// `--anti-aliasing fxaa` or with `--accumulate-until`: each a usage error naming the

@@ -254,8 +254,23 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         passes.join(", "),
         t.total_ms
     );
+    let bakes = match stats.environment_bakes {
+        0 => String::new(),
+        1 => format!(
+            ", 1 environment bake ({} its cubes from the bake cache)",
+            if stats.environment_cubes_from_cache == 1 {
+                "with"
+            } else {
+                "without"
+            }
+        ),
+        bakes => format!(
+            ", {bakes} environment bakes ({} with their cubes from the bake cache)",
+            stats.environment_cubes_from_cache
+        ),
+    };
     outln!(
-        "start-up: {} shaders ({} from the SPIR-V cache) in {:.0} ms, {} graphics pipelines; device, pipelines, scene upload and frame {:.2} s in all",
+        "start-up: {} shaders ({} from the SPIR-V cache) in {:.0} ms, {} graphics pipelines{bakes}; device, pipelines, scene upload and frame {:.2} s in all",
         stats.shaders_compiled,
         stats.shaders_from_cache,
         stats.shader_compile_micros as f64 / 1e3,

@@ -132,6 +132,9 @@ pub struct GpuEnvironment {
     pub(crate) sampler: Sampler,
     /// What was baked.
     pub environment: Environment,
+    /// Whether the cubes were copied from an earlier bake's cache entry instead of
+    /// computed.
+    pub cubes_from_cache: bool,
     /// Wall-clock time of the bake (recording, GPU work and the wait), ms.
     pub bake_ms: f64,
 }
@@ -157,6 +160,7 @@ impl GpuEnvironment {
             code_table_of_material: table("environment placeholder table")?,
             sampler: linear_sampler(device, 1)?,
             environment: Environment::Uniform([0.0; 3]),
+            cubes_from_cache: false,
             bake_ms: 0.0,
         })
     }
@@ -241,7 +245,8 @@ struct BakePipeline {
     pipeline: Pipeline,
 }
 
-/// The bake's compute pipelines, built on the first scene with an environment.
+/// The bake's compute pipelines, built on the first scene with an environment, and
+/// where its cubes are kept between bakes and runs.
 pub(crate) struct EnvironmentBaker {
     set_layout: DescriptorSetLayout,
     radiance: BakePipeline,
@@ -249,6 +254,103 @@ pub(crate) struct EnvironmentBaker {
     irradiance: BakePipeline,
     albedo: BakePipeline,
     code_albedo: BakePipeline,
+    cubes_cache: Option<CubesCache>,
+}
+
+/// The folder environment bakes keep their cubes in by default:
+/// `$COMBUSTION_ENVIRONMENT_CACHE` when set (`off` or empty: none), else
+/// `$XDG_CACHE_HOME/combustion/environment`, else `$HOME/.cache/combustion/environment`,
+/// else none.
+pub fn default_environment_cache_dir() -> Option<std::path::PathBuf> {
+    combustion_vk::default_cache_dir("COMBUSTION_ENVIRONMENT_CACHE", "environment")
+}
+
+/// The specular and irradiance cubes of earlier bakes, on disk
+/// ([`combustion_vk::DiskCache`]). They depend on the environment alone (not on the
+/// materials, whose tables are computed every bake), so an entry's key is the
+/// environment's content and the bake's identity: the device's driver (vendor, device,
+/// driver version, pipeline cache UUID), the SPIR-V of the shaders that make the cubes,
+/// and the bake's sizes, sample counts and format. An entry is both cubes' texels as
+/// the GPU wrote them, so a bake from the cache is bit for bit the bake it saved.
+struct CubesCache {
+    entries: combustion_vk::DiskCache,
+    identity: combustion_vk::Digest,
+}
+
+impl CubesCache {
+    /// The entry file's magic and format version.
+    const MAGIC: [u8; 8] = *b"CMBENV01";
+    /// The folder's size limit: 120 bakes' cubes (2.1 MB each, whatever the size of
+    /// the environment image), the least recently used removed past it.
+    const CAPACITY: u64 = 256 << 20;
+    /// How the bake's Rust side makes the cubes (its dispatches, their push values,
+    /// samplers and layouts), which the key does not otherwise see: change it when that
+    /// changes, and every entry is stale.
+    const RECIPE: &'static str = "radiance level 0 analytic or n×n equirect samples \
+        (n = width / 512 within 4..32), each next level the mean of the one before; \
+        specular level l at r = l / 5, GGX-filtered from the whole radiance cube; \
+        irradiance from radiance level 2";
+
+    fn key(&self, environment: &Environment) -> combustion_vk::Digest {
+        let source = EnvironmentSource::new(environment);
+        let key = self.identity.part(bytemuck::bytes_of(&source));
+        match environment {
+            Environment::Uniform(_) => key.part(b"uniform"),
+            Environment::Studio => key.part(b"studio"),
+            Environment::Image(image) => key
+                .part(b"image")
+                .part(&image.width.to_le_bytes())
+                .part(&image.height.to_le_bytes())
+                .part(bytemuck::cast_slice(&image.texels)),
+        }
+    }
+}
+
+/// Every level and face of the specular cube, then the irradiance cube's faces, tightly
+/// packed in one buffer: the copies between the cubes and a cache entry.
+struct CubeTexels {
+    specular: Vec<vk::BufferImageCopy>,
+    irradiance: Vec<vk::BufferImageCopy>,
+    bytes: u64,
+}
+
+impl CubeTexels {
+    fn new(specular: &Image, irradiance: &Image) -> Self {
+        let mut bytes = 0;
+        let mut regions = |image: &Image| -> Vec<vk::BufferImageCopy> {
+            (0..image.mip_levels())
+                .map(|level| {
+                    let extent = image.mip_extent(level);
+                    let region = vk::BufferImageCopy {
+                        buffer_offset: bytes,
+                        buffer_row_length: 0,
+                        buffer_image_height: 0,
+                        image_subresource: vk::ImageSubresourceLayers {
+                            aspect_mask: vk::ImageAspectFlags::COLOR,
+                            mip_level: level,
+                            base_array_layer: 0,
+                            layer_count: image.layers(),
+                        },
+                        image_offset: vk::Offset3D::default(),
+                        image_extent: vk::Extent3D {
+                            width: extent.width,
+                            height: extent.height,
+                            depth: 1,
+                        },
+                    };
+                    bytes += u64::from(extent.width * extent.height * image.layers()) * 16;
+                    region
+                })
+                .collect()
+        };
+        let specular = regions(specular);
+        let irradiance = regions(irradiance);
+        Self {
+            specular,
+            irradiance,
+            bytes,
+        }
+    }
 }
 
 fn linear_sampler(device: &Arc<Device>, levels: u32) -> Result<Sampler, RenderError> {
@@ -427,50 +529,90 @@ fn code_tables(materials: &[GpuMaterial]) -> (Vec<[f32; 2]>, Vec<u32>) {
 }
 
 impl EnvironmentBaker {
+    /// The bake's pipelines; its cubes kept in `cache_dir` (none: computed every bake).
     pub fn new(
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
         cache: &PipelineCache,
+        cache_dir: Option<std::path::PathBuf>,
     ) -> Result<Self, RenderError> {
         let set_layout = bindings::ENVIRONMENT_BAKE.layout(device)?;
-        let build = |file: &str, push_size: usize| -> Result<BakePipeline, RenderError> {
+        // What decides the cubes besides the environment (CubesCache).
+        // SAFETY: the physical device the device was made from.
+        let properties = unsafe {
+            device
+                .instance()
+                .get_physical_device_properties(device.physical_device())
+        };
+        let mut identity = combustion_vk::Digest::new()
+            .part(CubesCache::RECIPE.as_bytes())
+            .part(&properties.vendor_id.to_le_bytes())
+            .part(&properties.device_id.to_le_bytes())
+            .part(&properties.driver_version.to_le_bytes())
+            .part(&properties.pipeline_cache_uuid)
+            .part(&FORMAT.as_raw().to_le_bytes());
+        for constant in [
+            RADIANCE_SIZE,
+            SPECULAR_LEVELS,
+            IRRADIANCE_SIZE,
+            IRRADIANCE_SOURCE_LEVEL,
+            PREFILTER_SAMPLES,
+        ] {
+            identity = identity.part(&constant.to_le_bytes());
+        }
+        let mut build = |file: &str, push_size: usize, makes_cubes: bool| {
             let push = [vk::PushConstantRange {
                 stage_flags: vk::ShaderStageFlags::COMPUTE,
                 offset: 0,
                 size: push_size as u32,
             }];
             let layout = PipelineLayout::new(device, &[&set_layout], &push)?;
-            let module = ShaderModule::new(
-                device,
-                &compiler.compile(file, ShaderStage::Compute, &[])?,
-                ShaderStage::Compute,
-            )?;
+            let words = compiler.compile(file, ShaderStage::Compute, &[])?;
+            if makes_cubes {
+                identity = identity.part(bytemuck::cast_slice(&words));
+            }
+            let module = ShaderModule::new(device, &words, ShaderStage::Compute)?;
             let pipeline = Pipeline::compute(device, &module, &layout, Some(cache))?;
-            Ok(BakePipeline { layout, pipeline })
+            Ok::<_, RenderError>(BakePipeline { layout, pipeline })
         };
         use std::mem::size_of;
+        let radiance = build(
+            "environment_radiance.comp",
+            size_of::<EnvironmentRadiancePush>(),
+            true,
+        )?;
+        let prefilter = build(
+            "environment_prefilter.comp",
+            size_of::<EnvironmentPrefilterPush>(),
+            true,
+        )?;
+        let irradiance = build(
+            "environment_irradiance.comp",
+            size_of::<EnvironmentIrradiancePush>(),
+            true,
+        )?;
+        let albedo = build(
+            "environment_albedo.comp",
+            size_of::<EnvironmentAlbedoPush>(),
+            false,
+        )?;
+        let code_albedo = build(
+            "environment_code_albedo.comp",
+            size_of::<EnvironmentCodeAlbedoPush>(),
+            false,
+        )?;
         Ok(Self {
-            radiance: build(
-                "environment_radiance.comp",
-                size_of::<EnvironmentRadiancePush>(),
-            )?,
-            prefilter: build(
-                "environment_prefilter.comp",
-                size_of::<EnvironmentPrefilterPush>(),
-            )?,
-            irradiance: build(
-                "environment_irradiance.comp",
-                size_of::<EnvironmentIrradiancePush>(),
-            )?,
-            albedo: build(
-                "environment_albedo.comp",
-                size_of::<EnvironmentAlbedoPush>(),
-            )?,
-            code_albedo: build(
-                "environment_code_albedo.comp",
-                size_of::<EnvironmentCodeAlbedoPush>(),
-            )?,
+            radiance,
+            prefilter,
+            irradiance,
+            albedo,
+            code_albedo,
             set_layout,
+            cubes_cache: cache_dir.map(|dir| CubesCache {
+                entries: combustion_vk::DiskCache::new(dir, CubesCache::MAGIC, "cubes")
+                    .keeping_at_most(CubesCache::CAPACITY),
+                identity,
+            }),
         })
     }
 
@@ -478,9 +620,13 @@ impl EnvironmentBaker {
     /// material and conductor tables, so nothing of an uploaded scene is needed: an edit
     /// bakes before it replaces anything). Waits for the GPU: an upload step.
     ///
-    /// Each dispatch declares what it reads and writes ([`PassIo`], in a descriptor set
-    /// of its own), and the barriers between them are derived from those declarations
-    /// ([`ImageStates`]), as the frame's passes' are.
+    /// The cubes depend on the environment alone: with a cache folder they are copied
+    /// from an earlier bake's entry when there is one ([`CubesCache`]), else computed and
+    /// read back into a new entry. The materials' tables are computed every bake.
+    ///
+    /// Each dispatch and copy declares what it reads and writes ([`PassIo`], in a
+    /// descriptor set of its own), and the barriers between them are derived from those
+    /// declarations ([`ImageStates`]), as the frame's passes' are.
     pub fn bake(
         &self,
         device: &Arc<Device>,
@@ -490,19 +636,41 @@ impl EnvironmentBaker {
         let start = Instant::now();
         check_format(device)?;
         let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED;
+        let copied = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
         let radiance = Image::new(
             device,
             &ImageDesc::cube("environment radiance", FORMAT, RADIANCE_SIZE, usage).full_mips(),
         )?;
         let specular = Image::new(
             device,
-            &ImageDesc::cube("environment specular", FORMAT, RADIANCE_SIZE, usage)
-                .mips(SPECULAR_LEVELS),
+            &ImageDesc::cube(
+                "environment specular",
+                FORMAT,
+                RADIANCE_SIZE,
+                usage | copied,
+            )
+            .mips(SPECULAR_LEVELS),
         )?;
         let irradiance = Image::new(
             device,
-            &ImageDesc::cube("environment irradiance", FORMAT, IRRADIANCE_SIZE, usage),
+            &ImageDesc::cube(
+                "environment irradiance",
+                FORMAT,
+                IRRADIANCE_SIZE,
+                usage | copied,
+            ),
         )?;
+        let cube_texels = CubeTexels::new(&specular, &irradiance);
+        let cache_key = self
+            .cubes_cache
+            .as_ref()
+            .map(|cache| cache.key(environment));
+        let cached_cubes = self
+            .cubes_cache
+            .as_ref()
+            .zip(cache_key)
+            .and_then(|(cache, key)| cache.entries.load(key))
+            .filter(|texels| texels.len() as u64 == cube_texels.bytes);
         let gpu_materials = material_table(scene, &[]);
         // The albedo dispatch reads the materials whose tables it computes, one each.
         let (computed_materials, table_of_material) = albedo_tables(&gpu_materials);
@@ -544,6 +712,26 @@ impl EnvironmentBaker {
             "environment per-code table of each material",
             bytemuck::cast_slice(&of_material),
         )?;
+        // The cubes' texels: from the cache entry (uploaded), or read back into a new one.
+        let cubes_staging = match &cached_cubes {
+            Some(texels) => Some(Buffer::with_data(
+                device,
+                "environment cubes from the bake cache",
+                texels,
+                vk::BufferUsageFlags::TRANSFER_SRC,
+            )?),
+            None => None,
+        };
+        let cubes_readback = match (&cached_cubes, cache_key) {
+            (None, Some(_)) => Some(Buffer::new(
+                device,
+                "environment cubes for the bake cache",
+                cube_texels.bytes,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?),
+            _ => None,
+        };
         let sampler = linear_sampler(device, radiance.mip_levels())?;
         // Building level L reads level L − 1 alone: a nearest-mip sampler never touches
         // level L, which the same dispatch writes.
@@ -552,7 +740,11 @@ impl EnvironmentBaker {
             radiance.mip_levels(),
             vk::SamplerMipmapMode::NEAREST,
         )?;
-        let equirect = Equirect::new(device, environment)?;
+        // Cubes from the cache read no source: a 1×1 placeholder is bound in its place.
+        let equirect = match cached_cubes {
+            Some(_) => Equirect::new(device, &Environment::Uniform([0.0; 3]))?,
+            None => Equirect::new(device, environment)?,
+        };
         let level_view = |image: &Image, level: u32| -> Result<ImageView, RenderError> {
             Ok(image.view_of(level..level + 1, 0..6, vk::ImageViewType::TYPE_2D_ARRAY)?)
         };
@@ -560,6 +752,7 @@ impl EnvironmentBaker {
         let dispatches = radiance_levels + SPECULAR_LEVELS + 2 + keys.len() as u32;
         let decl = &bindings::ENVIRONMENT_BAKE;
         let pool = DescriptorPool::new(device, dispatches, &decl.pool_sizes(dispatches))?;
+        let irradiance_view = level_view(&irradiance, 0)?;
         let mut views = Vec::new();
 
         let mut commands = OneShot::new(device)?;
@@ -593,31 +786,18 @@ impl EnvironmentBaker {
         };
         let groups = |size: u32, z: u32| [size.div_ceil(8), size.div_ceil(8), z];
 
-        // The radiance cube: level 0 from the source, each next level the mean of the
-        // one before, which the same dispatch samples while it writes its own.
-        let source = EnvironmentSource::new(environment);
-        for level in 0..radiance_levels {
-            let view = level_view(&radiance, level)?;
-            let size = radiance.mip_extent(level).width;
-            let (mode, source_level, samples_across) = match (level, environment) {
-                // n × n samples a texel: at least the image's texels across one (its
-                // width spans the four side faces), 4 to 32.
-                (0, Environment::Image(image)) => {
-                    let across = image.width.div_ceil(4 * RADIANCE_SIZE);
-                    (RadianceMode::Equirect, 0, across.clamp(4, 32))
-                }
-                (0, _) => (RadianceMode::Analytic, 0, 0),
-                _ => (RadianceMode::Reduce, level - 1, 0),
-            };
-            let set = record.set()?;
-            let chain = ImageUse::ComputeSampledStorageWrite;
-            let io = PassIo::new("environment radiance")
+        // The tables first: these shaders read the material and conductor tables and
+        // write buffers only. Their sets bind the source images and a target view all
+        // the same, which are brought to the layouts bound here (nothing written in
+        // them yet: the cubes are made below).
+        let tables_io = |name, set| {
+            PassIo::new(name)
                 .set(decl, set)
                 .sampled(
                     "environment_source",
                     &radiance,
-                    one_level_sampler.raw(),
-                    chain,
+                    sampler.raw(),
+                    ImageUse::ComputeSampled,
                 )
                 .sampled(
                     "environment_equirect",
@@ -625,92 +805,12 @@ impl EnvironmentBaker {
                     equirect.sampler.raw(),
                     ImageUse::ComputeSampled,
                 )
-                .image_view("environment_target", &radiance, view.raw(), chain);
-            let push = EnvironmentRadiancePush {
-                source,
-                size,
-                mode: mode as u32,
-                source_level,
-                samples_across,
-            };
-            record.dispatch(&self.radiance, set, no_tables(io), &push, groups(size, 6));
-            views.push(view);
-        }
-
-        // The GGX-prefiltered specular cube, a level per roughness, from the whole
-        // radiance cube.
-        for level in 0..SPECULAR_LEVELS {
-            let view = level_view(&specular, level)?;
-            let size = specular.mip_extent(level).width;
-            let set = record.set()?;
-            let io = PassIo::new("environment prefilter")
-                .set(decl, set)
-                .sampled(
-                    "environment_source",
-                    &radiance,
-                    sampler.raw(),
-                    ImageUse::ComputeSampled,
-                )
                 .image_view(
                     "environment_target",
-                    &specular,
-                    view.raw(),
-                    ImageUse::ComputeStorageWrite,
-                );
-            let push = EnvironmentPrefilterPush {
-                size,
-                samples: PREFILTER_SAMPLES,
-                radiance_size: RADIANCE_SIZE,
-                roughness: level as f32 / (SPECULAR_LEVELS - 1) as f32,
-            };
-            let io = no_tables(no_equirect(io));
-            record.dispatch(&self.prefilter, set, io, &push, groups(size, 6));
-            views.push(view);
-        }
-
-        // The irradiance cube, from one level of the radiance cube.
-        let irradiance_view = level_view(&irradiance, 0)?;
-        let set = record.set()?;
-        let io = PassIo::new("environment irradiance")
-            .set(decl, set)
-            .sampled(
-                "environment_source",
-                &radiance,
-                sampler.raw(),
-                ImageUse::ComputeSampled,
-            )
-            .image_view(
-                "environment_target",
-                &irradiance,
-                irradiance_view.raw(),
-                ImageUse::ComputeStorageWrite,
-            );
-        let push = EnvironmentIrradiancePush {
-            size: IRRADIANCE_SIZE,
-            source_level: IRRADIANCE_SOURCE_LEVEL,
-            source_size: radiance.mip_extent(IRRADIANCE_SOURCE_LEVEL).width,
-        };
-        let io = no_tables(no_equirect(io));
-        record.dispatch(&self.irradiance, set, io, &push, groups(IRRADIANCE_SIZE, 6));
-
-        // The tables: these shaders read the material and conductor tables and write
-        // buffers only (any target view will do; the irradiance cube's is bound).
-        let tables_io = |name, set| {
-            let io = PassIo::new(name)
-                .set(decl, set)
-                .bind_image(
-                    "environment_source",
-                    radiance.view(),
-                    sampled_layout,
-                    sampler.raw(),
-                )
-                .bind_image(
-                    "environment_target",
+                    &irradiance,
                     irradiance_view.raw(),
-                    ImageUse::ComputeStorageWrite.state().layout,
-                    vk::Sampler::null(),
-                );
-            no_equirect(io)
+                    ImageUse::ComputeStorageWrite,
+                )
         };
         let count = computed_materials.len() as u32;
         if count > 0 {
@@ -776,22 +876,187 @@ impl EnvironmentBaker {
             let groups = groups(CODE_TABLE_SIZE, CODES);
             record.dispatch(&self.code_albedo, set, io, &push, groups);
         }
+
+        let cubes = |use_| vec![((&specular).into(), use_), ((&irradiance).into(), use_)];
+        if let Some(staging) = &cubes_staging {
+            // The cubes of an earlier bake of this environment, copied in.
+            let upload = PassUses::images(
+                "environment cubes upload",
+                cubes(ImageUse::TransferDestination),
+            );
+            record.states.transition(device.raw(), cmd, &upload);
+            let layout = ImageUse::TransferDestination.state().layout;
+            // SAFETY: recording state; the staging buffer and the cubes live until the
+            // bake's wait, the cubes in the layout the barrier above left them in.
+            unsafe {
+                let raw = device.raw();
+                raw.cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.raw(),
+                    specular.raw(),
+                    layout,
+                    &cube_texels.specular,
+                );
+                raw.cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.raw(),
+                    irradiance.raw(),
+                    layout,
+                    &cube_texels.irradiance,
+                );
+            }
+        } else {
+            // The radiance cube: level 0 from the source, each next level the mean of
+            // the one before, which the same dispatch samples while it writes its own.
+            let source = EnvironmentSource::new(environment);
+            for level in 0..radiance_levels {
+                let view = level_view(&radiance, level)?;
+                let size = radiance.mip_extent(level).width;
+                let (mode, source_level, samples_across) = match (level, environment) {
+                    // n × n samples a texel: at least the image's texels across one (its
+                    // width spans the four side faces), 4 to 32.
+                    (0, Environment::Image(image)) => {
+                        let across = image.width.div_ceil(4 * RADIANCE_SIZE);
+                        (RadianceMode::Equirect, 0, across.clamp(4, 32))
+                    }
+                    (0, _) => (RadianceMode::Analytic, 0, 0),
+                    _ => (RadianceMode::Reduce, level - 1, 0),
+                };
+                let set = record.set()?;
+                let chain = ImageUse::ComputeSampledStorageWrite;
+                let io = PassIo::new("environment radiance")
+                    .set(decl, set)
+                    .sampled(
+                        "environment_source",
+                        &radiance,
+                        one_level_sampler.raw(),
+                        chain,
+                    )
+                    .sampled(
+                        "environment_equirect",
+                        &equirect.image,
+                        equirect.sampler.raw(),
+                        ImageUse::ComputeSampled,
+                    )
+                    .image_view("environment_target", &radiance, view.raw(), chain);
+                let push = EnvironmentRadiancePush {
+                    source,
+                    size,
+                    mode: mode as u32,
+                    source_level,
+                    samples_across,
+                };
+                record.dispatch(&self.radiance, set, no_tables(io), &push, groups(size, 6));
+                views.push(view);
+            }
+
+            // The GGX-prefiltered specular cube, a level per roughness, from the whole
+            // radiance cube.
+            for level in 0..SPECULAR_LEVELS {
+                let view = level_view(&specular, level)?;
+                let size = specular.mip_extent(level).width;
+                let set = record.set()?;
+                let io = PassIo::new("environment prefilter")
+                    .set(decl, set)
+                    .sampled(
+                        "environment_source",
+                        &radiance,
+                        sampler.raw(),
+                        ImageUse::ComputeSampled,
+                    )
+                    .image_view(
+                        "environment_target",
+                        &specular,
+                        view.raw(),
+                        ImageUse::ComputeStorageWrite,
+                    );
+                let push = EnvironmentPrefilterPush {
+                    size,
+                    samples: PREFILTER_SAMPLES,
+                    radiance_size: RADIANCE_SIZE,
+                    roughness: level as f32 / (SPECULAR_LEVELS - 1) as f32,
+                };
+                let io = no_tables(no_equirect(io));
+                record.dispatch(&self.prefilter, set, io, &push, groups(size, 6));
+                views.push(view);
+            }
+
+            // The irradiance cube, from one level of the radiance cube.
+            let set = record.set()?;
+            let io = PassIo::new("environment irradiance")
+                .set(decl, set)
+                .sampled(
+                    "environment_source",
+                    &radiance,
+                    sampler.raw(),
+                    ImageUse::ComputeSampled,
+                )
+                .image_view(
+                    "environment_target",
+                    &irradiance,
+                    irradiance_view.raw(),
+                    ImageUse::ComputeStorageWrite,
+                );
+            let push = EnvironmentIrradiancePush {
+                size: IRRADIANCE_SIZE,
+                source_level: IRRADIANCE_SOURCE_LEVEL,
+                source_size: radiance.mip_extent(IRRADIANCE_SOURCE_LEVEL).width,
+            };
+            let io = no_tables(no_equirect(io));
+            record.dispatch(&self.irradiance, set, io, &push, groups(IRRADIANCE_SIZE, 6));
+
+            if let Some(readback) = &cubes_readback {
+                // The cubes as the GPU wrote them, for the cache entry.
+                let copy = PassUses::images(
+                    "environment cubes readback",
+                    cubes(ImageUse::TransferSource),
+                )
+                .with_buffers(vec![(readback.raw(), BufferUse::TransferDestination)]);
+                record.states.transition(device.raw(), cmd, &copy);
+                let layout = ImageUse::TransferSource.state().layout;
+                // SAFETY: recording state; the buffer and the cubes live until the
+                // bake's wait, the cubes in the layout the barrier above left them in.
+                unsafe {
+                    let raw = device.raw();
+                    raw.cmd_copy_image_to_buffer(
+                        cmd,
+                        specular.raw(),
+                        layout,
+                        readback.raw(),
+                        &cube_texels.specular,
+                    );
+                    raw.cmd_copy_image_to_buffer(
+                        cmd,
+                        irradiance.raw(),
+                        layout,
+                        readback.raw(),
+                        &cube_texels.irradiance,
+                    );
+                }
+            }
+        }
         views.push(irradiance_view);
 
-        // Hand the cubes and tables to the lighting pass's fragment shader.
-        let hand_off = PassUses::images(
-            "environment hand-off",
-            vec![
-                ((&specular).into(), ImageUse::FragmentSampled),
-                ((&irradiance).into(), ImageUse::FragmentSampled),
-            ],
-        )
-        .with_buffers(vec![
+        // Hand the cubes and tables to the lighting pass's fragment shader (and the
+        // cubes' texels, read back, to the host).
+        let mut buffers = vec![
             (albedo.raw(), BufferUse::FragmentStorageRead),
             (code_albedo.raw(), BufferUse::FragmentStorageRead),
-        ]);
+        ];
+        buffers.extend(
+            cubes_readback
+                .iter()
+                .map(|b| (b.raw(), BufferUse::HostRead)),
+        );
+        let hand_off = PassUses::images("environment hand-off", cubes(ImageUse::FragmentSampled))
+            .with_buffers(buffers);
         states.transition(device.raw(), cmd, &hand_off);
         commands.submit_and_wait()?;
+        if let (Some(cache), Some(key), Some(readback)) =
+            (&self.cubes_cache, cache_key, &cubes_readback)
+        {
+            cache.entries.store(key, readback.mapped()?);
+        }
         drop(views);
         drop(pool);
         drop(radiance);
@@ -805,6 +1070,7 @@ impl EnvironmentBaker {
             code_table_of_material,
             sampler: linear_sampler(device, SPECULAR_LEVELS)?,
             environment: environment.clone(),
+            cubes_from_cache: cubes_staging.is_some(),
             bake_ms: start.elapsed().as_secs_f64() * 1e3,
         })
     }

@@ -459,14 +459,22 @@ impl Renderer {
                 &self.device,
                 &self.compiler,
                 &self.pipeline_cache,
+                environment::default_environment_cache_dir(),
             )?);
         }
         let baker = self.environment_baker.as_ref().expect("built above");
         let baked = baker.bake(&self.device, source, scene)?;
+        self.stats.environment_bakes += 1;
+        self.stats.environment_cubes_from_cache += u64::from(baked.cubes_from_cache);
         log::info!(
-            "environment {} baked in {:.1} ms",
+            "environment {} baked in {:.1} ms{}",
             source.name(),
-            baked.bake_ms
+            baked.bake_ms,
+            if baked.cubes_from_cache {
+                " (its cubes from the bake cache)"
+            } else {
+                ""
+            }
         );
         Ok(baked)
     }

@@ -117,6 +117,13 @@ pub struct RendererStats {
     /// Wall time those compilations and lookups took, in microseconds (pipeline
     /// creation, the driver's own compilation, not included).
     pub shader_compile_micros: u64,
+    /// Environments baked (at upload, edit or [`Renderer::bake_environment`]).
+    pub environment_bakes: u64,
+    /// How many of those copied their cubes (specular and irradiance) from an earlier
+    /// bake of the same environment kept on disk instead of computing them
+    /// (`environment::default_environment_cache_dir`: `$COMBUSTION_ENVIRONMENT_CACHE`,
+    /// `off` for none, else the user's cache folder).
+    pub environment_cubes_from_cache: u64,
     /// Frames read back to the CPU ([`Renderer::render`] and its kin; never in a
     /// frame a host records).
     pub readbacks: u64,

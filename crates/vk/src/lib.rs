@@ -26,6 +26,7 @@ pub use gpu_allocator;
 
 mod commands;
 mod device;
+pub mod disk_cache;
 mod error;
 mod pipeline;
 mod probe;
@@ -42,6 +43,7 @@ pub use device::{
     Device, DeviceDesc, DeviceInfo, DeviceSelector, EnabledFeatures, HostDevice, QueueLock,
     Requirements, SharedAllocator, ValidationLog,
 };
+pub use disk_cache::{default_cache_dir, Digest, DiskCache};
 pub use error::{VkError, VkResultExt};
 pub use pipeline::{
     ColorBlend, DescriptorPool, DescriptorSetLayout, GraphicsPipelineDesc, Pipeline, PipelineCache,

@@ -5,8 +5,9 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::device::Device;
+use crate::disk_cache::Digest;
 use crate::error::{VkError, VkResultExt};
-use crate::spirv_cache::{Digest, SpirvCache, COMPILER_IDENTITY};
+use crate::spirv_cache::{SpirvCache, COMPILER_IDENTITY};
 
 /// GLSL sources by path relative to the shader root (e.g. `lighting.frag`,
 /// `include/brdf.glsl`). Renderers embed theirs at build time, so no file is read at

@@ -1,0 +1,283 @@
+//! Results kept on disk under a key of everything that decides them: the SPIR-V cache
+//! ([`crate::ShaderCompiler::with_spirv_cache`]) and the renderer's environment bakes
+//! use it.
+//!
+//! The key is a 128-bit [`Digest`] (two FNV-1a 64 hashes with different offsets) of
+//! what decides the result. An entry is the kind's magic, the key, a checksum of the
+//! body and the body; it is written to a temporary file and renamed into place, so
+//! processes sharing the folder never read half an entry. One that fails its checks
+//! (magic, key, checksum) is not used: the caller computes the result again and
+//! replaces it. The cache never makes anything fail: a folder that cannot be read or
+//! written only costs the work it would have saved.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// The folder a cache of one kind is given by default: `$variable` when set (`off` or
+/// empty: none), else `$XDG_CACHE_HOME/combustion/<folder>`, else
+/// `$HOME/.cache/combustion/<folder>`, else none.
+pub fn default_cache_dir(variable: &str, folder: &str) -> Option<PathBuf> {
+    if let Some(dir) = std::env::var_os(variable) {
+        return (!dir.is_empty() && dir != "off").then(|| PathBuf::from(dir));
+    }
+    let base = std::env::var_os("XDG_CACHE_HOME")
+        .filter(|dir| !dir.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| {
+            std::env::var_os("HOME")
+                .filter(|dir| !dir.is_empty())
+                .map(|home| PathBuf::from(home).join(".cache"))
+        })?;
+    Some(base.join("combustion").join(folder))
+}
+
+/// A 128-bit digest built up from parts (each part's length is hashed before it, so
+/// `("ab", "c")` and `("a", "bc")` differ).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Digest {
+    low: u64,
+    high: u64,
+}
+
+impl Default for Digest {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Digest {
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+
+    /// The digest of nothing.
+    pub fn new() -> Self {
+        Self {
+            low: 0xcbf2_9ce4_8422_2325,
+            high: 0x6c62_272e_07bb_0142,
+        }
+    }
+
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
+            self.low = (self.low ^ u64::from(byte)).wrapping_mul(Self::PRIME);
+            self.high = (self.high ^ u64::from(byte.rotate_left(3))).wrapping_mul(Self::PRIME);
+        }
+    }
+
+    /// The digest with `bytes` (and their length) added.
+    #[must_use]
+    pub fn part(mut self, bytes: &[u8]) -> Self {
+        self.bytes(&(bytes.len() as u64).to_le_bytes());
+        self.bytes(bytes);
+        self
+    }
+
+    /// Its 16 bytes.
+    pub fn to_bytes(self) -> [u8; 16] {
+        let mut out = [0; 16];
+        out[..8].copy_from_slice(&self.low.to_le_bytes());
+        out[8..].copy_from_slice(&self.high.to_le_bytes());
+        out
+    }
+
+    /// Its 16 bytes in hexadecimal.
+    pub fn hex(self) -> String {
+        self.to_bytes().iter().map(|b| format!("{b:02x}")).collect()
+    }
+
+    /// The checksum an entry keeps of its body.
+    fn checksum(body: &[u8]) -> u64 {
+        Self::new().part(body).low
+    }
+}
+
+/// A folder of entries of one kind (its magic and file extension), optionally kept
+/// within a size ([`DiskCache::keeping_at_most`]).
+#[derive(Clone, Debug)]
+pub struct DiskCache {
+    dir: PathBuf,
+    magic: [u8; 8],
+    extension: &'static str,
+    capacity: Option<u64>,
+}
+
+impl DiskCache {
+    /// Entries in `dir`, each starting with `magic` (the kind and its format's version:
+    /// change it when the body's layout changes), named `<key>.<extension>`.
+    pub fn new(dir: PathBuf, magic: [u8; 8], extension: &'static str) -> Self {
+        Self {
+            dir,
+            magic,
+            extension,
+            capacity: None,
+        }
+    }
+
+    /// The same cache, which after each store removes its least recently used entries
+    /// (by modification time: a store or a load sets it) until the rest take at most
+    /// `bytes`.
+    #[must_use]
+    pub fn keeping_at_most(self, bytes: u64) -> Self {
+        Self {
+            capacity: Some(bytes),
+            ..self
+        }
+    }
+
+    /// The folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The file of `key`'s entry.
+    pub fn entry(&self, key: Digest) -> PathBuf {
+        self.dir.join(format!("{}.{}", key.hex(), self.extension))
+    }
+
+    /// The body stored under `key`, if an intact entry is there.
+    pub fn load(&self, key: Digest) -> Option<Vec<u8>> {
+        let mut bytes = std::fs::read(self.entry(key)).ok()?;
+        let header = self.magic.len() + 16 + 8;
+        if bytes.len() < header || bytes[..8] != self.magic || bytes[8..24] != key.to_bytes() {
+            return None;
+        }
+        let checksum = u64::from_le_bytes(bytes[24..32].try_into().ok()?);
+        if Digest::checksum(&bytes[header..]) != checksum {
+            return None;
+        }
+        bytes.drain(..header);
+        if self.capacity.is_some() {
+            // Used now: the last entry a size limit removes.
+            let _ = std::fs::File::options()
+                .append(true)
+                .open(self.entry(key))
+                .and_then(|file| file.set_modified(std::time::SystemTime::now()));
+        }
+        Some(bytes)
+    }
+
+    /// Stores `body` under `key`; a failure only loses the entry.
+    pub fn store(&self, key: Digest, body: &[u8]) {
+        let mut bytes = Vec::with_capacity(32 + body.len());
+        bytes.extend_from_slice(&self.magic);
+        bytes.extend_from_slice(&key.to_bytes());
+        bytes.extend_from_slice(&Digest::checksum(body).to_le_bytes());
+        bytes.extend_from_slice(body);
+        if self.write_atomically(&self.entry(key), &bytes).is_ok() {
+            if let Some(capacity) = self.capacity {
+                self.shrink_to(capacity);
+            }
+        }
+    }
+
+    /// Removes the least recently used entries until the rest take at most `capacity`
+    /// bytes (files of other kinds and temporaries are left alone).
+    fn shrink_to(&self, capacity: u64) {
+        let Ok(folder) = std::fs::read_dir(&self.dir) else {
+            return;
+        };
+        let mut entries: Vec<(std::time::SystemTime, u64, PathBuf)> = folder
+            .filter_map(|entry| {
+                let path = entry.ok()?.path();
+                if path.extension()? != self.extension {
+                    return None;
+                }
+                let metadata = std::fs::metadata(&path).ok()?;
+                Some((metadata.modified().ok()?, metadata.len(), path))
+            })
+            .collect();
+        let mut total: u64 = entries.iter().map(|(_, len, _)| len).sum();
+        entries.sort();
+        for (_, len, path) in entries {
+            if total <= capacity {
+                break;
+            }
+            if std::fs::remove_file(&path).is_ok() {
+                total -= len;
+            }
+        }
+    }
+
+    fn write_atomically(&self, path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+        std::fs::create_dir_all(&self.dir)?;
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+        let temporary = path.with_extension(format!(
+            "{}-{}.tmp",
+            std::process::id(),
+            NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+        ));
+        let written = std::fs::File::create(&temporary)
+            .and_then(|mut file| file.write_all(bytes))
+            .and_then(|()| std::fs::rename(&temporary, path));
+        if written.is_err() {
+            let _ = std::fs::remove_file(&temporary);
+        }
+        written
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn folder(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!(
+            "combustion-disk-cache-{name}-{}",
+            std::process::id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        dir
+    }
+
+    #[test]
+    fn an_entry_reads_back_as_stored_and_a_damaged_one_not_at_all() {
+        let dir = folder("damage");
+        let cache = DiskCache::new(dir.clone(), *b"TESTCA01", "entry");
+        let key = Digest::new().part(b"key");
+        assert_eq!(cache.load(key), None);
+        cache.store(key, b"the body");
+        assert_eq!(cache.load(key).as_deref(), Some(&b"the body"[..]));
+        assert_eq!(cache.load(Digest::new().part(b"another key")), None);
+        let other_kind = DiskCache::new(dir.clone(), *b"TESTCA02", "entry");
+        assert_eq!(other_kind.load(key), None, "another magic");
+        let mut bytes = std::fs::read(cache.entry(key)).unwrap();
+        let last = bytes.len() - 1;
+        bytes[last] ^= 1;
+        std::fs::write(cache.entry(key), &bytes).unwrap();
+        assert_eq!(cache.load(key), None, "checksum");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn a_size_limit_removes_the_least_recently_used_entries() {
+        let dir = folder("limit");
+        // Three entries of 32 + 100 bytes fit in 400, a fourth does not.
+        let cache = DiskCache::new(dir.clone(), *b"TESTCA01", "entry").keeping_at_most(400);
+        let keys: Vec<Digest> = (0..4u8).map(|i| Digest::new().part(&[i])).collect();
+        let at = |seconds: u64| {
+            std::time::SystemTime::UNIX_EPOCH + std::time::Duration::from_secs(seconds)
+        };
+        let age = |key: Digest, seconds| {
+            std::fs::File::options()
+                .append(true)
+                .open(cache.entry(key))
+                .unwrap()
+                .set_modified(at(seconds))
+                .unwrap();
+        };
+        for (i, &key) in keys[..3].iter().enumerate() {
+            cache.store(key, &[0; 100]);
+            age(key, 1000 + i as u64);
+        }
+        // The oldest, used now, is kept over the second.
+        assert!(cache.load(keys[0]).is_some());
+        std::fs::write(dir.join("unrelated.txt"), [0; 1000]).unwrap();
+        cache.store(keys[3], &[0; 100]);
+        let present: Vec<bool> = keys.iter().map(|&k| cache.entry(k).exists()).collect();
+        assert_eq!(present, [true, false, true, true]);
+        assert!(
+            dir.join("unrelated.txt").exists(),
+            "other files are left alone"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}
