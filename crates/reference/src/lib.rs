@@ -56,7 +56,7 @@ pub mod visibility;
 use combustion_scene::Scene;
 use glam::{DMat4, DVec3};
 
-pub use triangle::intersect_triangle;
+pub use triangle::{intersect_triangle, TriangleTest};
 
 /// A ray: the points `origin + t · direction`, t ≥ 0, in world space (metres).
 ///

@@ -101,14 +101,38 @@ impl ShearedRay {
 
 /// The watertight, double-sided ray–triangle test on its own (what [`crate::SceneBvh`]
 /// uses for every triangle): the hit with `t_min < t < t_max` as (t, [b1, b2]) — the
-/// point is (1 − b1 − b2)·p0 + b1·p1 + b2·p2 — or `None`. For brute-force checks.
+/// point is (1 − b1 − b2)·p0 + b1·p1 + b2·p2 — or `None`. For brute-force checks; a
+/// loop over many triangles prepares the ray once ([`TriangleTest`]).
 pub fn intersect_triangle(
     ray: &Ray,
     vertices: &[[f64; 3]; 3],
     t_min: f64,
     t_max: f64,
 ) -> Option<(f64, [f64; 2])> {
-    ShearedRay::new(ray).intersect(vertices, t_min, t_max)
+    TriangleTest::new(ray).intersect(vertices, t_min, t_max)
+}
+
+/// [`intersect_triangle`] with the ray's own constants (its axis order and shear)
+/// computed once, for a test against many triangles: the same answer, bit for bit.
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleTest(ShearedRay);
+
+impl TriangleTest {
+    /// `ray` prepared for the test.
+    pub fn new(ray: &Ray) -> Self {
+        Self(ShearedRay::new(ray))
+    }
+
+    /// As [`intersect_triangle`] with this test's ray.
+    #[inline]
+    pub fn intersect(
+        &self,
+        vertices: &[[f64; 3]; 3],
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, [f64; 2])> {
+        self.0.intersect(vertices, t_min, t_max)
+    }
 }
 
 #[cfg(test)]

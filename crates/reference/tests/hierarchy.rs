@@ -3,7 +3,7 @@
 
 mod common;
 
-use combustion_reference::{intersect_triangle, Ray, SceneBvh, WorldTriangle};
+use combustion_reference::{Ray, SceneBvh, TriangleTest, WorldTriangle};
 use combustion_scene::{builtin_scene, Mesh, BUILTIN_SCENES};
 use common::{place, scene_of, welded_uv_sphere, Random};
 use glam::{DVec3, Mat4, Quat, Vec3};
@@ -17,10 +17,11 @@ fn brute_force_hits(
     ray: &Ray,
     t_min: f64,
 ) -> Vec<(f64, usize, usize, [f64; 2])> {
+    let test = TriangleTest::new(ray);
     let mut hits: Vec<_> = triangles
         .iter()
         .filter_map(|triangle| {
-            intersect_triangle(ray, &triangle.vertices, t_min, f64::INFINITY)
+            test.intersect(&triangle.vertices, t_min, f64::INFINITY)
                 .map(|(t, barycentrics)| (t, triangle.object, triangle.triangle, barycentrics))
         })
         .collect();
