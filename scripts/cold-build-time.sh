@@ -9,9 +9,10 @@
 #   bash scripts/cold-build-time.sh --commands  # the README's two commands, as timed there
 #
 # --commands runs `bash scripts/dev.sh render`, then `bash scripts/dev.sh test`, in the
-# clean clone with an empty target folder and empty caches (the SPIR-V cache, Mesa's
-# shader cache: XDG_CACHE_HOME is a new folder), ../shared beside the clone when it is
-# beside this one, and prints each command's wall time; a failing command fails it. Each
+# clean clone with an empty target folder and empty caches (the SPIR-V cache, the
+# environment bakes' cubes, Mesa's shader cache: XDG_CACHE_HOME is a new folder),
+# ../shared beside the clone when it is beside this one, and prints each command's wall
+# time; a failing command fails it. Each
 # command's output is kept in $TMPDIR/combustion-cold-render.log and -test.log.
 #
 # Needs the system packages of scripts/dev.sh (run `bash scripts/dev.sh render` once) and

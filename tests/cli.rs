@@ -2705,6 +2705,34 @@ fn render_accumulates_sampled_environment_light_to_a_stated_error() {
 }
 
 /// `render`'s start-up line: (shaders, of them from the SPIR-V cache).
+/// `combustion render ARGS` then each (option, file) of `files`, with
+/// COMBUSTION_DEVICE=llvmpipe and `variable` set to `cache`; it must succeed: its
+/// standard output.
+fn render_with_cache(
+    args: &[&str],
+    files: &[(&str, &std::path::Path)],
+    variable: &str,
+    cache: &std::path::Path,
+) -> String {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_combustion"));
+    command.arg("render").args(args);
+    for (option, file) in files {
+        command.arg(option).arg(file);
+    }
+    let output = command
+        .env("COMBUSTION_DEVICE", "llvmpipe")
+        .env(variable, cache)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    stdout
+}
+
 fn start_up_shaders(stdout: &str) -> (u32, u32) {
     let start_up = stdout
         .lines()
@@ -2726,20 +2754,16 @@ fn a_second_process_reads_its_spirv_from_the_cache_and_renders_the_same_image() 
     let cache = dir.join("spirv");
     let run = |name: &str| {
         let png = dir.join(name);
-        let output = std::process::Command::new(env!("CARGO_BIN_EXE_combustion"))
-            .args(["render", "--scene", "builtin:glass", "--width", "64"])
-            .args(["--height", "48", "--validate", "-o"])
-            .arg(&png)
-            .env("COMBUSTION_DEVICE", "llvmpipe")
-            .env("COMBUSTION_SPIRV_CACHE", &cache)
-            .output()
-            .unwrap();
-        let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-        assert!(
-            output.status.success(),
-            "{stdout}{}",
-            String::from_utf8_lossy(&output.stderr)
-        );
+        let args = [
+            "--scene",
+            "builtin:glass",
+            "--width",
+            "64",
+            "--height",
+            "48",
+        ];
+        let args = [&args[..], &["--validate"]].concat();
+        let stdout = render_with_cache(&args, &[("-o", &png)], "COMBUSTION_SPIRV_CACHE", &cache);
         (start_up_shaders(&stdout), std::fs::read(png).unwrap())
     };
     let ((compiled, cached), first) = run("first.png");
@@ -2795,23 +2819,17 @@ fn a_second_process_copies_its_environment_cubes_from_the_cache_and_renders_the_
             dir.join(format!("{name}.png")),
             dir.join(format!("{name}.exr")),
         );
-        let output = std::process::Command::new(env!("CARGO_BIN_EXE_combustion"))
-            .args(["render", "--scene", "builtin:spheres", "--width", "64"])
-            .args(["--height", "48", "--validate", "--environment", environment])
-            .arg("-o")
-            .arg(&png)
-            .arg("--hdr")
-            .arg(&exr)
-            .env("COMBUSTION_DEVICE", "llvmpipe")
-            .env("COMBUSTION_ENVIRONMENT_CACHE", &cache)
-            .output()
-            .unwrap();
-        let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-        assert!(
-            output.status.success(),
-            "{stdout}{}",
-            String::from_utf8_lossy(&output.stderr)
-        );
+        let args = [
+            "--scene",
+            "builtin:spheres",
+            "--width",
+            "64",
+            "--height",
+            "48",
+        ];
+        let args = [&args[..], &["--validate", "--environment", environment]].concat();
+        let files = [("-o", png.as_path()), ("--hdr", exr.as_path())];
+        let stdout = render_with_cache(&args, &files, "COMBUSTION_ENVIRONMENT_CACHE", &cache);
         let from_cache =
             if stdout.contains("1 environment bake (with its cubes from the bake cache)") {
                 true

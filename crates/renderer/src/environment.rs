@@ -576,31 +576,43 @@ impl EnvironmentBaker {
             Ok::<_, RenderError>(BakePipeline { layout, pipeline })
         };
         use std::mem::size_of;
-        let radiance = build(
-            "environment_radiance.comp",
-            size_of::<EnvironmentRadiancePush>(),
-            true,
-        )?;
-        let prefilter = build(
-            "environment_prefilter.comp",
-            size_of::<EnvironmentPrefilterPush>(),
-            true,
-        )?;
-        let irradiance = build(
-            "environment_irradiance.comp",
-            size_of::<EnvironmentIrradiancePush>(),
-            true,
-        )?;
-        let albedo = build(
-            "environment_albedo.comp",
-            size_of::<EnvironmentAlbedoPush>(),
-            false,
-        )?;
-        let code_albedo = build(
-            "environment_code_albedo.comp",
-            size_of::<EnvironmentCodeAlbedoPush>(),
-            false,
-        )?;
+        // (shader, its push struct's size, whether it makes the cubes), in field order.
+        let shaders = [
+            (
+                "environment_radiance.comp",
+                size_of::<EnvironmentRadiancePush>(),
+                true,
+            ),
+            (
+                "environment_prefilter.comp",
+                size_of::<EnvironmentPrefilterPush>(),
+                true,
+            ),
+            (
+                "environment_irradiance.comp",
+                size_of::<EnvironmentIrradiancePush>(),
+                true,
+            ),
+            (
+                "environment_albedo.comp",
+                size_of::<EnvironmentAlbedoPush>(),
+                false,
+            ),
+            (
+                "environment_code_albedo.comp",
+                size_of::<EnvironmentCodeAlbedoPush>(),
+                false,
+            ),
+        ];
+        let mut built = Vec::with_capacity(shaders.len());
+        for (file, push_size, makes_cubes) in shaders {
+            built.push(build(file, push_size, makes_cubes)?);
+        }
+        let Ok([radiance, prefilter, irradiance, albedo, code_albedo]) =
+            <[BakePipeline; 5]>::try_from(built)
+        else {
+            unreachable!("five shaders, five pipelines")
+        };
         Ok(Self {
             radiance,
             prefilter,
@@ -950,13 +962,10 @@ impl EnvironmentBaker {
                 views.push(view);
             }
 
-            // The GGX-prefiltered specular cube, a level per roughness, from the whole
-            // radiance cube.
-            for level in 0..SPECULAR_LEVELS {
-                let view = level_view(&specular, level)?;
-                let size = specular.mip_extent(level).width;
-                let set = record.set()?;
-                let io = PassIo::new("environment prefilter")
+            // A dispatch that samples the whole radiance cube and writes `view` of
+            // `target`.
+            let from_radiance = |name, set, target: &Image, view: vk::ImageView| {
+                PassIo::new(name)
                     .set(decl, set)
                     .sampled(
                         "environment_source",
@@ -966,10 +975,19 @@ impl EnvironmentBaker {
                     )
                     .image_view(
                         "environment_target",
-                        &specular,
-                        view.raw(),
+                        target,
+                        view,
                         ImageUse::ComputeStorageWrite,
-                    );
+                    )
+            };
+
+            // The GGX-prefiltered specular cube, a level per roughness, from the whole
+            // radiance cube.
+            for level in 0..SPECULAR_LEVELS {
+                let view = level_view(&specular, level)?;
+                let size = specular.mip_extent(level).width;
+                let set = record.set()?;
+                let io = from_radiance("environment prefilter", set, &specular, view.raw());
                 let push = EnvironmentPrefilterPush {
                     size,
                     samples: PREFILTER_SAMPLES,
@@ -983,20 +1001,12 @@ impl EnvironmentBaker {
 
             // The irradiance cube, from one level of the radiance cube.
             let set = record.set()?;
-            let io = PassIo::new("environment irradiance")
-                .set(decl, set)
-                .sampled(
-                    "environment_source",
-                    &radiance,
-                    sampler.raw(),
-                    ImageUse::ComputeSampled,
-                )
-                .image_view(
-                    "environment_target",
-                    &irradiance,
-                    irradiance_view.raw(),
-                    ImageUse::ComputeStorageWrite,
-                );
+            let io = from_radiance(
+                "environment irradiance",
+                set,
+                &irradiance,
+                irradiance_view.raw(),
+            );
             let push = EnvironmentIrradiancePush {
                 size: IRRADIANCE_SIZE,
                 source_level: IRRADIANCE_SOURCE_LEVEL,
