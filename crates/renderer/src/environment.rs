@@ -301,7 +301,7 @@ impl CubesCache {
                 .part(b"image")
                 .part(&image.width.to_le_bytes())
                 .part(&image.height.to_le_bytes())
-                .part(bytemuck::cast_slice(&image.texels)),
+                .part_in_words(bytemuck::cast_slice(&image.texels)),
         }
     }
 }

@@ -71,6 +71,24 @@ impl Digest {
         self
     }
 
+    /// The digest with `bytes` (and their length) added eight bytes at a step, several
+    /// times as fast as [`Digest::part`] for large inputs (an environment image's
+    /// texels, up to 768 MB); a different digest from `part` of the same bytes.
+    #[must_use]
+    pub fn part_in_words(mut self, bytes: &[u8]) -> Self {
+        self.bytes(&(bytes.len() as u64).to_le_bytes());
+        let mut words = bytes.chunks_exact(8);
+        for word in &mut words {
+            let word = u64::from_le_bytes(word.try_into().expect("8 bytes"));
+            self.low = (self.low ^ word).wrapping_mul(Self::PRIME).rotate_left(29);
+            self.high = (self.high ^ word.rotate_left(32))
+                .wrapping_mul(Self::PRIME)
+                .rotate_left(17);
+        }
+        self.bytes(words.remainder());
+        self
+    }
+
     /// Its 16 bytes.
     pub fn to_bytes(self) -> [u8; 16] {
         let mut out = [0; 16];
@@ -245,6 +263,34 @@ mod tests {
         std::fs::write(cache.entry(key), &bytes).unwrap();
         assert_eq!(cache.load(key), None, "checksum");
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn a_part_in_words_tells_every_single_bit_apart() {
+        // 1 000 bytes (125 words): flipping any one bit, or dropping the last byte,
+        // changes the digest; so does moving the same bytes between parts.
+        let bytes: Vec<u8> = (0..1000u32)
+            .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+            .collect();
+        let digest = Digest::new().part_in_words(&bytes);
+        let mut seen = std::collections::HashSet::new();
+        seen.insert(digest.to_bytes());
+        for bit in 0..bytes.len() * 8 {
+            let mut flipped = bytes.clone();
+            flipped[bit / 8] ^= 1 << (bit % 8);
+            assert!(
+                seen.insert(Digest::new().part_in_words(&flipped).to_bytes()),
+                "bit {bit}"
+            );
+        }
+        assert_ne!(Digest::new().part_in_words(&bytes[..999]), digest);
+        assert_ne!(
+            Digest::new()
+                .part_in_words(&bytes[..8])
+                .part_in_words(&bytes[8..]),
+            digest.part_in_words(&[])
+        );
+        assert_eq!(Digest::new().part_in_words(&bytes), digest, "deterministic");
     }
 
     #[test]
