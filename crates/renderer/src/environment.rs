@@ -268,8 +268,8 @@ pub fn default_environment_cache_dir() -> Option<std::path::PathBuf> {
 /// The specular and irradiance cubes of earlier bakes, on disk
 /// ([`combustion_vk::DiskCache`]). They depend on the environment alone (not on the
 /// materials, whose tables are computed every bake), so an entry's key is the
-/// environment's content and the bake's identity: the device's driver (vendor, device,
-/// driver version, pipeline cache UUID), the SPIR-V of the shaders that make the cubes,
+/// environment's content and the bake's identity: the device and its driver (vendor,
+/// device, name, driver version, pipeline cache UUID), the SPIR-V of the shaders that make the cubes,
 /// and the bake's sizes, sample counts and format. An entry is both cubes' texels as
 /// the GPU wrote them, so a bake from the cache is bit for bit the bake it saved.
 struct CubesCache {
@@ -544,8 +544,17 @@ impl EnvironmentBaker {
                 .instance()
                 .get_physical_device_properties(device.physical_device())
         };
+        // The device's name too: a CPU driver's version and cache UUID may not say
+        // which LLVM and vector width compiled the shaders, its name does (llvmpipe).
+        let device_name: Vec<u8> = properties
+            .device_name
+            .iter()
+            .take_while(|&&c| c != 0)
+            .map(|&c| c as u8)
+            .collect();
         let mut identity = combustion_vk::Digest::new()
             .part(CubesCache::RECIPE.as_bytes())
+            .part(&device_name)
             .part(&properties.vendor_id.to_le_bytes())
             .part(&properties.device_id.to_le_bytes())
             .part(&properties.driver_version.to_le_bytes())
@@ -1065,7 +1074,10 @@ impl EnvironmentBaker {
         if let (Some(cache), Some(key), Some(readback)) =
             (&self.cubes_cache, cache_key, &cubes_readback)
         {
-            cache.entries.store(key, readback.mapped()?);
+            // The cache never fails a bake: an unreadable buffer only loses the entry.
+            if let Ok(texels) = readback.mapped() {
+                cache.entries.store(key, texels);
+            }
         }
         drop(views);
         drop(pool);

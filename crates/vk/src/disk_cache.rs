@@ -180,30 +180,45 @@ impl DiskCache {
         bytes.extend_from_slice(&key.to_bytes());
         bytes.extend_from_slice(&Digest::checksum(body).to_le_bytes());
         bytes.extend_from_slice(body);
-        if self.write_atomically(&self.entry(key), &bytes).is_ok() {
+        let entry = self.entry(key);
+        if self.write_atomically(&entry, &bytes).is_ok() {
             if let Some(capacity) = self.capacity {
-                self.shrink_to(capacity);
+                self.shrink_to(capacity, &entry);
             }
         }
     }
 
-    /// Removes the least recently used entries until the rest take at most `capacity`
-    /// bytes (files of other kinds and temporaries are left alone).
-    fn shrink_to(&self, capacity: u64) {
+    /// Removes the least recently used entries but `keep` (the one just stored: on a
+    /// file system with coarse times its time may tie with older ones) until the rest
+    /// take at most `capacity` bytes, and temporaries over an hour old (left by a process
+    /// that died while writing). Files of other kinds are left alone.
+    fn shrink_to(&self, capacity: u64, keep: &Path) {
         let Ok(folder) = std::fs::read_dir(&self.dir) else {
             return;
         };
+        let an_hour_ago = std::time::SystemTime::now()
+            .checked_sub(std::time::Duration::from_secs(3600))
+            .unwrap_or(std::time::UNIX_EPOCH);
+        let mut total = 0;
         let mut entries: Vec<(std::time::SystemTime, u64, PathBuf)> = folder
             .filter_map(|entry| {
                 let path = entry.ok()?.path();
+                let metadata = std::fs::metadata(&path).ok()?;
+                let modified = metadata.modified().ok()?;
+                let name = path.file_name()?.to_str()?;
+                if name.ends_with(".tmp") && name.contains(&format!(".{}.", self.extension)) {
+                    if modified < an_hour_ago {
+                        let _ = std::fs::remove_file(&path);
+                    }
+                    return None;
+                }
                 if path.extension()? != self.extension {
                     return None;
                 }
-                let metadata = std::fs::metadata(&path).ok()?;
-                Some((metadata.modified().ok()?, metadata.len(), path))
+                total += metadata.len();
+                (path != keep).then_some((modified, metadata.len(), path))
             })
             .collect();
-        let mut total: u64 = entries.iter().map(|(_, len, _)| len).sum();
         entries.sort();
         for (_, len, path) in entries {
             if total <= capacity {
@@ -219,7 +234,8 @@ impl DiskCache {
         std::fs::create_dir_all(&self.dir)?;
         static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
         let temporary = path.with_extension(format!(
-            "{}-{}.tmp",
+            "{}.{}-{}.tmp",
+            self.extension,
             std::process::id(),
             NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
         ));
@@ -317,6 +333,16 @@ mod tests {
         // The oldest, used now, is kept over the second.
         assert!(cache.load(keys[0]).is_some());
         std::fs::write(dir.join("unrelated.txt"), [0; 1000]).unwrap();
+        // Temporaries of dead writers: removed once over an hour old.
+        let temporary = |name: &str| dir.join(format!("{}.entry.{name}.tmp", keys[0].hex()));
+        std::fs::write(temporary("1-0"), [0; 50]).unwrap();
+        std::fs::File::options()
+            .append(true)
+            .open(temporary("1-0"))
+            .unwrap()
+            .set_modified(at(1000))
+            .unwrap();
+        std::fs::write(temporary("2-0"), [0; 50]).unwrap();
         cache.store(keys[3], &[0; 100]);
         let present: Vec<bool> = keys.iter().map(|&k| cache.entry(k).exists()).collect();
         assert_eq!(present, [true, false, true, true]);
@@ -324,6 +350,31 @@ mod tests {
             dir.join("unrelated.txt").exists(),
             "other files are left alone"
         );
+        assert!(!temporary("1-0").exists(), "an old temporary is removed");
+        assert!(
+            temporary("2-0").exists(),
+            "a fresh one may be a writer's at work"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn the_entry_just_stored_is_kept_whatever_the_times_say() {
+        // Room for one entry; the one there seems newer than the one stored (a clock
+        // set back, or times too coarse to order them): the new one is kept.
+        let dir = folder("keep");
+        let cache = DiskCache::new(dir.clone(), *b"TESTCA01", "entry").keeping_at_most(200);
+        let (first, second) = (Digest::new().part(b"1"), Digest::new().part(b"2"));
+        cache.store(first, &[0; 100]);
+        let later = std::time::SystemTime::now() + std::time::Duration::from_secs(3600);
+        std::fs::File::options()
+            .append(true)
+            .open(cache.entry(first))
+            .unwrap()
+            .set_modified(later)
+            .unwrap();
+        cache.store(second, &[0; 100]);
+        assert!(cache.entry(second).exists() && !cache.entry(first).exists());
         std::fs::remove_dir_all(dir).unwrap();
     }
 }
