@@ -309,46 +309,42 @@ impl CubesCache {
 /// Every level and face of the specular cube, then the irradiance cube's faces, tightly
 /// packed in one buffer: the copies between the cubes and a cache entry.
 struct CubeTexels {
-    specular: Vec<vk::BufferImageCopy>,
-    irradiance: Vec<vk::BufferImageCopy>,
+    /// Each cube with its regions of the buffer.
+    copies: [(vk::Image, Vec<vk::BufferImageCopy>); 2],
     bytes: u64,
 }
 
 impl CubeTexels {
     fn new(specular: &Image, irradiance: &Image) -> Self {
-        let mut bytes = 0;
-        let mut regions = |image: &Image| -> Vec<vk::BufferImageCopy> {
-            (0..image.mip_levels())
-                .map(|level| {
-                    let extent = image.mip_extent(level);
-                    let region = vk::BufferImageCopy {
-                        buffer_offset: bytes,
-                        buffer_row_length: 0,
-                        buffer_image_height: 0,
-                        image_subresource: vk::ImageSubresourceLayers {
-                            aspect_mask: vk::ImageAspectFlags::COLOR,
-                            mip_level: level,
-                            base_array_layer: 0,
-                            layer_count: image.layers(),
-                        },
-                        image_offset: vk::Offset3D::default(),
-                        image_extent: vk::Extent3D {
-                            width: extent.width,
-                            height: extent.height,
-                            depth: 1,
-                        },
-                    };
-                    bytes += u64::from(extent.width * extent.height * image.layers()) * 16;
-                    region
-                })
-                .collect()
-        };
-        let specular = regions(specular);
-        let irradiance = regions(irradiance);
+        const TEXEL_BYTES: u64 = 16; // FORMAT, RGBA32F
+        let (specular_regions, end) = specular.every_level_copy_regions(0, TEXEL_BYTES);
+        let (irradiance_regions, bytes) = irradiance.every_level_copy_regions(end, TEXEL_BYTES);
         Self {
-            specular,
-            irradiance,
+            copies: [
+                (specular.raw(), specular_regions),
+                (irradiance.raw(), irradiance_regions),
+            ],
             bytes,
+        }
+    }
+
+    /// Records the copies from `buffer` into the cubes (in TRANSFER_DST_OPTIMAL), or
+    /// from the cubes (in TRANSFER_SRC_OPTIMAL) into `buffer`.
+    fn record(&self, device: &Device, cmd: vk::CommandBuffer, buffer: &Buffer, into_cubes: bool) {
+        let raw = device.raw();
+        for (image, regions) in &self.copies {
+            // SAFETY: recording state (the caller's); the buffer and the cubes live until
+            // the bake's wait, the cubes in the layout named, which the caller's barrier
+            // left them in.
+            unsafe {
+                if into_cubes {
+                    let layout = ImageUse::TransferDestination.state().layout;
+                    raw.cmd_copy_buffer_to_image(cmd, buffer.raw(), *image, layout, regions);
+                } else {
+                    let layout = ImageUse::TransferSource.state().layout;
+                    raw.cmd_copy_image_to_buffer(cmd, *image, layout, buffer.raw(), regions);
+                }
+            }
         }
     }
 }
@@ -906,26 +902,7 @@ impl EnvironmentBaker {
                 cubes(ImageUse::TransferDestination),
             );
             record.states.transition(device.raw(), cmd, &upload);
-            let layout = ImageUse::TransferDestination.state().layout;
-            // SAFETY: recording state; the staging buffer and the cubes live until the
-            // bake's wait, the cubes in the layout the barrier above left them in.
-            unsafe {
-                let raw = device.raw();
-                raw.cmd_copy_buffer_to_image(
-                    cmd,
-                    staging.raw(),
-                    specular.raw(),
-                    layout,
-                    &cube_texels.specular,
-                );
-                raw.cmd_copy_buffer_to_image(
-                    cmd,
-                    staging.raw(),
-                    irradiance.raw(),
-                    layout,
-                    &cube_texels.irradiance,
-                );
-            }
+            cube_texels.record(device, cmd, staging, true);
         } else {
             // The radiance cube: level 0 from the source, each next level the mean of
             // the one before, which the same dispatch samples while it writes its own.
@@ -1032,26 +1009,7 @@ impl EnvironmentBaker {
                 )
                 .with_buffers(vec![(readback.raw(), BufferUse::TransferDestination)]);
                 record.states.transition(device.raw(), cmd, &copy);
-                let layout = ImageUse::TransferSource.state().layout;
-                // SAFETY: recording state; the buffer and the cubes live until the
-                // bake's wait, the cubes in the layout the barrier above left them in.
-                unsafe {
-                    let raw = device.raw();
-                    raw.cmd_copy_image_to_buffer(
-                        cmd,
-                        specular.raw(),
-                        layout,
-                        readback.raw(),
-                        &cube_texels.specular,
-                    );
-                    raw.cmd_copy_image_to_buffer(
-                        cmd,
-                        irradiance.raw(),
-                        layout,
-                        readback.raw(),
-                        &cube_texels.irradiance,
-                    );
-                }
+                cube_texels.record(device, cmd, readback, false);
             }
         }
         views.push(irradiance_view);

@@ -721,6 +721,29 @@ impl Image {
         )
     }
 
+    /// Every mip level of every layer, tightly packed in a buffer from `offset` on (a
+    /// level's layers one after another, then the next level), for copies to or from it
+    /// of a colour image of `texel_bytes` per texel; and the offset after the last.
+    pub fn every_level_copy_regions(
+        &self,
+        offset: u64,
+        texel_bytes: u64,
+    ) -> (Vec<vk::BufferImageCopy>, u64) {
+        let mut end = offset;
+        let regions = (0..self.mip_levels)
+            .map(|level| {
+                let extent = self.mip_extent(level);
+                let region = packed_copy_region(self.all_layers(level), extent).buffer_offset(end);
+                end += u64::from(extent.width)
+                    * u64::from(extent.height)
+                    * u64::from(self.layers)
+                    * texel_bytes;
+                region
+            })
+            .collect();
+        (regions, end)
+    }
+
     /// All of mip level 0 of layer 0, tightly packed in a buffer, for a copy to or from
     /// it. With the image's aspect: for a combined depth-stencil image, set one aspect
     /// before using it (a buffer copy takes one).
