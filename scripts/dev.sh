@@ -71,6 +71,11 @@ case "${1:-}" in
     # blocks freed; it is set to its largest (32 MiB), so blocks below it come from the
     # heap and are reused instead of mapped and unmapped each time.
     export GLIBC_TUNABLES="${GLIBC_TUNABLES:+$GLIBC_TUNABLES:}glibc.malloc.trim_threshold=4294967296:glibc.malloc.mmap_threshold=33554432"
+    # nextest runs a test per core, so lavapipe's own rasteriser threads (one per core in
+    # each test process) add only hand-offs between threads: each process rasterises in
+    # its own thread instead (the same pixels; README, "Build cost"). A value already
+    # set is kept.
+    export LP_NUM_THREADS="${LP_NUM_THREADS:-0}"
     if cargo nextest --version >/dev/null 2>&1; then
       cargo nextest run --locked --workspace --no-fail-fast
     else

@@ -109,7 +109,7 @@ fn anti_aliasing_against_the_supersampled_frame() {
 /// for bit, as one at the start.
 #[test]
 fn frames_alternate_anti_aliasing_and_supersampled_sizes_past_the_retire_delay() {
-    let scene = builtin_scene("spheres").unwrap();
+    let scene = common::with_coarse_grid_spheres(builtin_scene("spheres").unwrap());
     let settings = combustion::renderer::RendererSettings {
         frames_in_flight: 3,
         ..common::exact_f32()

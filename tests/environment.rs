@@ -1417,7 +1417,7 @@ fn the_emissive_occlusion_readback_alternates_with_frames_without_it() {
     let mut textured = common::authored_scene("textured");
     textured.lights.clear();
     textured.environment = Some(Environment::Studio);
-    let plain = builtin_scene("spheres").expect("built in");
+    let plain = common::with_coarse_grid_spheres(builtin_scene("spheres").expect("built in"));
     let mut headless = common::lavapipe(common::exact_f32());
     let renderer = headless.renderer();
     let scenes = [

@@ -58,34 +58,32 @@ fn sample_models() -> Option<Vec<PathBuf>> {
     Some(files)
 }
 
-fn render_file(
-    path: &Path,
-    width: u32,
-    height: u32,
-    readback: Readback,
-) -> combustion::renderer::Frame {
+/// The scene in `path`, which must have lights or an environment (a file without lights
+/// is lit by the default environment, the studio).
+fn load_file(path: &Path) -> Scene {
     let scene = SceneSource::File(path.to_path_buf())
         .load()
         .unwrap_or_else(|e| panic!("{e}"));
-    // A file without lights is lit by the default environment (the studio).
     assert!(
         !scene.lights.is_empty() || scene.environment.is_some(),
         "{}: neither lights nor an environment",
         path.display()
     );
-    let frame = common::render(
-        &scene,
-        width,
-        height,
-        RendererSettings {
-            hdr_format: HdrFormat::Rgba32Float,
-            gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
-            exposure: 1.0,
-            shading: ShadingOptions::DEFAULT,
-            frames_in_flight: 2,
-        },
-        readback,
-    );
+    scene
+}
+
+/// The exact model in f32 HDR, exposure 1, 2 frames in flight.
+const SETTINGS: RendererSettings = RendererSettings {
+    hdr_format: HdrFormat::Rgba32Float,
+    gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
+    exposure: 1.0,
+    shading: ShadingOptions::DEFAULT,
+    frames_in_flight: 2,
+};
+
+/// Fails unless every pixel of `frame` (of the scene in `path`) is finite and more than
+/// 100 are lit.
+fn assert_clean(path: &Path, frame: &combustion::renderer::Frame) {
     let bad = frame
         .hdr
         .iter()
@@ -98,25 +96,54 @@ fn render_file(
         .filter(|p| p[0] + p[1] + p[2] > 0.0)
         .count();
     assert!(lit > 100, "{}: only {lit} lit pixels", path.display());
+}
+
+/// The scene in `path` rendered by a renderer of its own under validation ([`SETTINGS`]),
+/// checked by [`assert_clean`].
+fn render_file(
+    path: &Path,
+    width: u32,
+    height: u32,
+    readback: Readback,
+) -> combustion::renderer::Frame {
+    let frame = common::render(&load_file(path), width, height, SETTINGS, readback);
+    assert_clean(path, &frame);
     frame
 }
 
+/// Every sample model, one after another in one renderer (as a viewer opening file
+/// after file: each model's scene uploaded, rendered once and dropped before the next),
+/// under validation: the log is read after each model, so a message names the model
+/// that caused it; leaks are reported when the device is destroyed at the end.
 #[test]
 fn every_sample_model_renders_cleanly() {
     let Some(files) = sample_models() else { return };
     assert!(files.len() >= 5, "{files:?}");
+    let mut headless = common::lavapipe(SETTINGS);
+    let log = headless.validation_log();
     for path in files {
-        render_file(
-            &path,
-            96,
-            72,
-            Readback {
+        let scene = load_file(&path);
+        let frame = {
+            let renderer = headless.renderer();
+            let gpu = renderer.upload(&scene).expect("upload");
+            let readback = Readback {
                 images: true,
                 gbuffer: false,
-            },
+            };
+            renderer.render(&gpu, 96, 72, readback).expect("render")
+        };
+        let messages = log.messages();
+        assert!(
+            messages.is_empty(),
+            "{}: validation layer reported {} message(s):\n{}",
+            path.display(),
+            messages.len(),
+            messages.join("\n")
         );
+        assert_clean(&path, &frame);
         eprintln!("rendered {}", path.display());
     }
+    common::finish(headless);
 }
 
 /// The sample models that ship lights render with shadows on (every light casts them,

@@ -899,11 +899,14 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// then a crash.
 #[test]
 fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_target() {
-    let mut emissive = builtin_scene("spheres").unwrap();
+    // The sphere grid's scenes with coarse spheres: 1 536 frames of resources and
+    // targets, not of geometry.
+    let grid = |name| common::with_coarse_grid_spheres(builtin_scene(name).unwrap());
+    let mut emissive = grid("spheres");
     emissive.materials[0].emissive_factor = [1.0, 0.5, 0.25];
     emissive.materials[0].emissive_strength = 2.0;
     // Ranged lights: these frames cull, with the slot's tile lists bound and grown.
-    let mut ranged = builtin_scene("spheres").unwrap();
+    let mut ranged = grid("spheres");
     for light in &mut ranged.lights {
         if let combustion::scene::Light::Point { range, .. } = light {
             *range = Some(20.0);
@@ -942,8 +945,8 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
     }
     let scenes = [
         emissive,
-        builtin_scene("spheres").unwrap(),
-        builtin_scene("spheres-studio").unwrap(),
+        grid("spheres"),
+        grid("spheres-studio"),
         ranged,
         cutout,
         blend,
@@ -958,7 +961,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         // Things that move, a pose every frame (the host's own, examples/host/app.rs):
         // skinned and morphed objects (the deform pass, the slot's joint matrices and
         // weights), and objects moved by an animation (the slot's object table).
-        common::deformed_spheres(),
+        common::with_coarse_grid_spheres(common::deformed_spheres()),
         common::animated_grid(),
         // A thin film: its G-buffer target (32-bit floats) and the lighting set's binding
         // of it, alternating with the sheen's and with none.

@@ -943,6 +943,8 @@ fn radiance_interval(code: u8, half_width: f64) -> (f64, f64) {
 fn shadow_resources_alternate_across_frames_in_flight() {
     let names = ["spheres-studio", "grid-sun", "point-among", "spot-box"];
     let mut scenes: Vec<Scene> = names.iter().map(|n| builtin_scene(n).unwrap()).collect();
+    // The sphere grid with coarse spheres: the test is of shadow resources, not geometry.
+    scenes[0] = common::with_coarse_grid_spheres(scenes[0].clone());
     // Cut-out casters (their own pipeline, material table and texture sets bound in the
     // caster pass) and vertex colours, between scenes without them.
     let cutout =

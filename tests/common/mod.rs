@@ -220,6 +220,23 @@ pub fn render_with_lights_in(
 /// retire delay, so what the other scene's variant made is retired during the run.
 pub const FRAMES_PAST_THE_RETIRE_DELAY: usize = 20;
 
+/// `scene` (the sphere grid, `builtin:spheres`, or a scene made from it) with its
+/// spheres made of 24 × 12 quads (576 triangles) instead of 96 × 48 (9 216), for tests
+/// of frames, targets and resources rather than of what the spheres look like: lavapipe
+/// spends most of a small frame of the full grid (221 184 triangles) setting up triangles
+/// (README, "Build cost"). Panics if the scene's first mesh is not the grid's sphere.
+pub fn with_coarse_grid_spheres(mut scene: Scene) -> Scene {
+    let sphere = &scene.meshes[0];
+    assert!(
+        sphere.name == "sphere" && sphere.vertices.len() == 97 * 49,
+        "not the sphere grid's sphere: {} ({} vertices)",
+        sphere.name,
+        sphere.vertices.len()
+    );
+    scene.meshes[0] = Mesh::uv_sphere("sphere", 0.42, 24, 12);
+    scene
+}
+
 /// Renders `gpus` in turn, [`FRAMES_PAST_THE_RETIRE_DELAY`] frames each, twice round,
 /// each frame with `inputs` of its scene at `width` × `height` and everything read back,
 /// and hands every frame to `check` with its scene's index.
@@ -308,8 +325,8 @@ pub fn read_png(path: &std::path::Path) -> (u32, u32, Vec<[u8; 4]>) {
 /// writes `NAME-actual.png` and `NAME-difference.png` (gitignored) beside the golden and
 /// names them.
 ///
-/// To update goldens on purpose: `COMBUSTION_BLESS=1 cargo test --test images`, then check
-/// the new images independently (see tests/goldens/README.md) before committing.
+/// To update goldens on purpose: `COMBUSTION_BLESS=1 cargo test --test integration images::`,
+/// then check the new images independently (see tests/goldens/README.md) before committing.
 pub fn compare_with_golden(name: &str, frame: &Frame, max_mean_flip: f32) {
     let golden = goldens_dir().join(format!("{name}.png"));
     if std::env::var_os("COMBUSTION_BLESS").is_some() {

@@ -2,13 +2,11 @@
 //! by the quadratures of `common` (Gauss–Legendre in the lobes' slope space, cut at the
 //! horizon; the hemisphere in (θ, φ) for what is not a lobe).
 
-mod common;
-
+use crate::common::*;
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs};
 use combustion_optics::coat::{coat_evaluate_view, coat_view, coated, coated_radiance, CoatInputs};
 use combustion_optics::fresnel::fresnel_dielectric;
 use combustion_optics::Vec3;
-use common::*;
 
 fn base(alpha: f64) -> BrdfInputs<f64> {
     white_lambert(alpha)

@@ -10,8 +10,11 @@
 //! multiple of ε times the condition number, computed from the f64 geometry.
 //! ε below is f32::EPSILON = 1.19e-7.
 
-mod common;
+use crate::common;
 
+use crate::common::{
+    brdf_condition, brdf_err, f, fresnel_condition, local_bound, v32, v64, world_bound, Lcg, EPS,
+};
 use combustion_optics::brdf::{BrdfInputs, DiffuseModel};
 use combustion_optics::diffuse::{diffuse_oren_nayar_full, diffuse_oren_nayar_qualitative};
 use combustion_optics::fresnel::{
@@ -22,9 +25,6 @@ use combustion_optics::microfacet::{
     visibility_smith_ggx_height_correlated_anisotropic,
 };
 use combustion_optics::{Vec3, ALPHA_MIN};
-use common::{
-    brdf_condition, brdf_err, f, fresnel_condition, local_bound, v32, v64, world_bound, Lcg, EPS,
-};
 use proptest::prelude::*;
 
 /// The interfaces of the seed-notes hard-case list: (η_i, η_t, k).

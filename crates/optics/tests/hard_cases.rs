@@ -2,8 +2,9 @@
 //! table and as property tests: no NaN or Inf, results within physical bounds, the
 //! f32 path within the stated error model of `tests/f32_accuracy.rs`, and reciprocity.
 
-mod common;
+use crate::common;
 
+use crate::common::{brdf_condition, brdf_err, dir, v32, v64, world_bound};
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
 use combustion_optics::diffuse::{
     diffuse_lambert, diffuse_oren_nayar_full, diffuse_oren_nayar_qualitative,
@@ -19,7 +20,6 @@ use combustion_optics::microfacet::{
     visibility_smith_ggx_height_correlated_anisotropic,
 };
 use combustion_optics::{Vec3, ALPHA_MIN};
-use common::{brdf_condition, brdf_err, dir, v32, v64, world_bound};
 use proptest::prelude::*;
 
 fn base() -> BrdfInputs<f64> {

@@ -5,8 +5,7 @@
 //! kink, so the rules converge spectrally. Each tolerance below is a stated multiple of
 //! the quadrature error measured on an integrand with a known value.
 
-mod common;
-
+use crate::common::*;
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
 use combustion_optics::diffuse::{
     diffuse_lambert, diffuse_oren_nayar_full, diffuse_oren_nayar_qualitative,
@@ -20,7 +19,6 @@ use combustion_optics::microfacet::{
     d_beckmann, d_ggx, d_ggx_anisotropic, g1_smith_ggx_anisotropic, specular_microfacet,
 };
 use combustion_optics::Vec3;
-use common::*;
 use std::f64::consts::PI;
 
 const ALPHAS: [f64; 7] = [0.02, 0.05, 0.1, 0.2, 0.4, 0.7, 1.0];

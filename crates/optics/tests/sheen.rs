@@ -1,15 +1,13 @@
 //! Sheen (`combustion_optics::sheen`): identities it must satisfy and the accuracy of its
 //! albedo table, in f64.
 
-mod common;
-
+use crate::common::*;
 use combustion_optics::brdf::{brdf_evaluate, BrdfInputs, DiffuseModel};
 use combustion_optics::sheen::{
     d_charlie, sheen_albedo_lookup, sheen_albedo_scaling, sheen_albedo_table,
     sheen_directional_albedo, sheen_evaluate, sheen_lobe, SheenInputs, SHEEN_TABLE_SIZE,
 };
 use combustion_optics::Vec3;
-use common::*;
 use std::f64::consts::PI;
 
 /// ∫ D_Charlie(m) cos θ_m dω = 1: 2π ∫ D(θ) cos θ sin θ dθ by Gauss–Legendre in θ,

@@ -2,12 +2,10 @@
 //! `brdf_view_with_film`): identities it must satisfy, in f64. Its colours against the
 //! spectral oracle are `combustion_spectra`'s `tests/thin_film.rs`.
 
-mod common;
-
+use crate::common::*;
 use combustion_optics::brdf::{brdf_evaluate_view, brdf_view, brdf_view_with_film, BrdfInputs};
 use combustion_optics::thin_film::ThinFilm;
 use combustion_optics::Vec3;
-use common::*;
 
 fn white(alpha: f64, metalness: f64, outside_eta: f64) -> BrdfInputs<f64> {
     BrdfInputs {

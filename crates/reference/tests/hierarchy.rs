@@ -1,11 +1,9 @@
 //! The hierarchy answers exactly what a loop over every triangle answers, and a closed
 //! mesh lets no ray through.
 
-mod common;
-
+use crate::common::{place, scene_of, welded_uv_sphere, Random};
 use combustion_reference::{Ray, SceneBvh, TriangleTest, WorldTriangle};
 use combustion_scene::{builtin_scene, Mesh, BUILTIN_SCENES};
-use common::{place, scene_of, welded_uv_sphere, Random};
 use glam::{DVec3, Mat4, Quat, Vec3};
 
 /// Every hit of `ray` beyond `t_min` over every triangle, as (t, object, triangle,

@@ -1,11 +1,9 @@
 //! Light visibility against configurations whose answer is known exactly.
 
-mod common;
-
+use crate::common::{box_mesh, grid_mesh, place, quads_mesh, scene_of, Random};
 use combustion_reference::visibility::{shadow_ray_origin, surface_offset};
 use combustion_reference::SceneBvh;
 use combustion_scene::{Light, Mesh};
-use common::{box_mesh, grid_mesh, place, quads_mesh, scene_of, Random};
 use glam::{DVec3, Mat4, Quat, Vec3};
 
 fn directional(towards_light: DVec3) -> Light {

@@ -1,6 +1,6 @@
 //! The scenes in `assets/scenes/` are made here, from code, with the writer
-//! (`COMBUSTION_BLESS=1 cargo test -p combustion-scene --test gltf_authored` rewrites
-//! them); the tests check that the files on disk import to exactly these scenes, and
+//! (`COMBUSTION_BLESS=1 cargo test -p combustion-scene --test integration gltf_authored::`
+//! rewrites them); the tests check that the files on disk import to exactly these scenes, and
 //! that every built-in scene survives a save → import round trip unchanged.
 
 use std::path::{Path, PathBuf};
