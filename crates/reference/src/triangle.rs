@@ -63,19 +63,39 @@ impl ShearedRay {
         t_min: f64,
         t_max: f64,
     ) -> Option<(f64, [f64; 2])> {
+        // The axes as constants: each component a register, not an index into an array
+        // on the stack (the same operations on the same values, so the same answer).
+        match (self.kx, self.ky, self.kz) {
+            (1, 2, 0) => self.intersect_along::<1, 2, 0>(vertices, t_min, t_max),
+            (2, 1, 0) => self.intersect_along::<2, 1, 0>(vertices, t_min, t_max),
+            (2, 0, 1) => self.intersect_along::<2, 0, 1>(vertices, t_min, t_max),
+            (0, 2, 1) => self.intersect_along::<0, 2, 1>(vertices, t_min, t_max),
+            (0, 1, 2) => self.intersect_along::<0, 1, 2>(vertices, t_min, t_max),
+            // (1, 0, 2): the only order left ([`ShearedRay::new`] makes no other).
+            _ => self.intersect_along::<1, 0, 2>(vertices, t_min, t_max),
+        }
+    }
+
+    /// [`Self::intersect`] with the ray's axes `KX`, `KY`, `KZ` (`kx`, `ky`, `kz`).
+    #[inline(always)]
+    fn intersect_along<const KX: usize, const KY: usize, const KZ: usize>(
+        &self,
+        vertices: &[[f64; 3]; 3],
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, [f64; 2])> {
         let o = self.origin;
         let relative = |p: &[f64; 3]| [p[0] - o[0], p[1] - o[1], p[2] - o[2]];
         let a = relative(&vertices[0]);
         let b = relative(&vertices[1]);
         let c = relative(&vertices[2]);
-        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
         // Each vertex sheared on its own: the same values in every triangle sharing it.
-        let ax = a[kx] - self.shear_x * a[kz];
-        let ay = a[ky] - self.shear_y * a[kz];
-        let bx = b[kx] - self.shear_x * b[kz];
-        let by = b[ky] - self.shear_y * b[kz];
-        let cx = c[kx] - self.shear_x * c[kz];
-        let cy = c[ky] - self.shear_y * c[kz];
+        let ax = a[KX] - self.shear_x * a[KZ];
+        let ay = a[KY] - self.shear_y * a[KZ];
+        let bx = b[KX] - self.shear_x * b[KZ];
+        let by = b[KY] - self.shear_y * b[KZ];
+        let cx = c[KX] - self.shear_x * c[KZ];
+        let cy = c[KY] - self.shear_y * c[KZ];
         // Edge functions (u weighs vertex 0, v vertex 1, w vertex 2).
         let u = cx * by - cy * bx;
         let v = ax * cy - ay * cx;
@@ -87,9 +107,9 @@ impl ShearedRay {
         if determinant == 0.0 {
             return None;
         }
-        let az = self.shear_z * a[kz];
-        let bz = self.shear_z * b[kz];
-        let cz = self.shear_z * c[kz];
+        let az = self.shear_z * a[KZ];
+        let bz = self.shear_z * b[KZ];
+        let cz = self.shear_z * c[KZ];
         let t = (u * az + v * bz + w * cz) / determinant;
         // Written so that NaN (a degenerate ray) is a miss.
         if !(t > t_min && t < t_max) {

@@ -6,24 +6,34 @@ use combustion_reference::{Ray, SceneBvh, TriangleTest, WorldTriangle};
 use combustion_scene::{builtin_scene, Mesh, BUILTIN_SCENES};
 use glam::{DVec3, Mat4, Quat, Vec3};
 
-/// Every hit of `ray` beyond `t_min` over every triangle, as (t, object, triangle,
-/// barycentrics), sorted by t and then (object, triangle): the closest hit below any
-/// t_max is the first entry with t < t_max (the triangle test's interval check is
-/// `t_min < t < t_max` on the same computed t, so one pass serves every t_max).
-fn brute_force_hits(
-    triangles: &[WorldTriangle],
-    ray: &Ray,
-    t_min: f64,
-) -> Vec<(f64, usize, usize, [f64; 2])> {
-    let test = TriangleTest::new(ray);
-    let mut hits: Vec<_> = triangles
-        .iter()
-        .filter_map(|triangle| {
-            test.intersect(&triangle.vertices, t_min, f64::INFINITY)
-                .map(|(t, barycentrics)| (t, triangle.object, triangle.triangle, barycentrics))
-        })
-        .collect();
-    hits.sort_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
+/// A hit as the brute force lists it: (t, object, triangle, barycentrics).
+type BruteHit = (f64, usize, usize, [f64; 2]);
+
+/// Triangles per block of [`brute_force_hits`]: 2 048 of 88 bytes (180 KB) stay in a
+/// core's cache while every ray passes over them.
+const TRIANGLES_PER_BLOCK: usize = 2048;
+
+/// For each (ray, t_min) of `rays`, every hit beyond t_min over every triangle, sorted by
+/// t and then (object, triangle): the closest hit below any t_max is the first entry
+/// with t < t_max (the triangle test's interval check is `t_min < t < t_max` on the same
+/// computed t, so one pass serves every t_max). The loop runs block of triangles by
+/// block, every ray over each block: the same tests as ray by ray, without reading the
+/// whole scene from memory again for each ray (the sphere grids' 200 000 triangles are
+/// 18 MB).
+fn brute_force_hits(triangles: &[WorldTriangle], rays: &[(&Ray, f64)]) -> Vec<Vec<BruteHit>> {
+    let tests: Vec<TriangleTest> = rays.iter().map(|(ray, _)| TriangleTest::new(ray)).collect();
+    let mut hits: Vec<Vec<BruteHit>> = vec![Vec::new(); rays.len()];
+    for block in triangles.chunks(TRIANGLES_PER_BLOCK) {
+        for ((test, &(_, t_min)), hits) in tests.iter().zip(rays).zip(&mut hits) {
+            hits.extend(block.iter().filter_map(|triangle| {
+                test.intersect(&triangle.vertices, t_min, f64::INFINITY)
+                    .map(|(t, barycentrics)| (t, triangle.object, triangle.triangle, barycentrics))
+            }));
+        }
+    }
+    for hits in &mut hits {
+        hits.sort_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
+    }
     hits
 }
 
@@ -66,9 +76,8 @@ fn compare_with_brute_force(label: &str, bvh: &SceneBvh, rays: usize, seed: u64)
         let t_random = random.range(t_min, t_min + 3.0);
         cases.push((k, ray, t_min, t_random));
     }
-    let check = |(k, ray, t_min, t_random): &(usize, Ray, f64, f64)| -> bool {
+    let check = |(k, ray, t_min, t_random): &(usize, Ray, f64, f64), hits: &[BruteHit]| -> bool {
         let (k, t_min) = (*k, *t_min);
-        let hits = brute_force_hits(triangles, ray, t_min);
         let mut limits = vec![f64::INFINITY, *t_random];
         if let Some(&(t, ..)) = hits.first() {
             limits.push(t);
@@ -104,10 +113,22 @@ fn compare_with_brute_force(label: &str, bvh: &SceneBvh, rays: usize, seed: u64)
         }
         !hits.is_empty()
     };
+    let check_all = |cases: &[(usize, Ray, f64, f64)]| {
+        let rays: Vec<(&Ray, f64)> = cases
+            .iter()
+            .map(|(_, ray, t_min, _)| (ray, *t_min))
+            .collect();
+        let hits = brute_force_hits(triangles, &rays);
+        cases
+            .iter()
+            .zip(&hits)
+            .filter(|(case, hits)| check(case, hits))
+            .count()
+    };
     let (first, second) = cases.split_at(rays / 2);
     std::thread::scope(|scope| {
-        let other = scope.spawn(|| second.iter().filter(|case| check(case)).count());
-        let here = first.iter().filter(|case| check(case)).count();
+        let other = scope.spawn(|| check_all(second));
+        let here = check_all(first);
         here + other.join().expect("the other half of the rays")
     })
 }
