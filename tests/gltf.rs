@@ -114,7 +114,9 @@ fn render_file(
 /// Every sample model, one after another in one renderer (as a viewer opening file
 /// after file: each model's scene uploaded, rendered once and dropped before the next),
 /// under validation: the log is read after each model, so a message names the model
-/// that caused it; leaks are reported when the device is destroyed at the end.
+/// that caused it; leaks are reported when the device is destroyed at the end, without
+/// a model's name (the models go in the order the test prints them). A renderer of
+/// its own per model took 34 s with Mesa's cache empty against 27 s.
 #[test]
 fn every_sample_model_renders_cleanly() {
     let Some(files) = sample_models() else { return };

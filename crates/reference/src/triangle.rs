@@ -71,8 +71,8 @@ impl ShearedRay {
             (2, 0, 1) => self.intersect_along::<2, 0, 1>(vertices, t_min, t_max),
             (0, 2, 1) => self.intersect_along::<0, 2, 1>(vertices, t_min, t_max),
             (0, 1, 2) => self.intersect_along::<0, 1, 2>(vertices, t_min, t_max),
-            // (1, 0, 2): the only order left ([`ShearedRay::new`] makes no other).
-            _ => self.intersect_along::<1, 0, 2>(vertices, t_min, t_max),
+            (1, 0, 2) => self.intersect_along::<1, 0, 2>(vertices, t_min, t_max),
+            _ => unreachable!("ShearedRay::new makes only the six orders above"),
         }
     }
 
@@ -183,5 +183,45 @@ mod tests {
         assert!(intersect_triangle(&degenerate, &triangle, 0.0, f64::INFINITY).is_none());
         let nan = Ray::new([f64::NAN, 0.25, 1.0], [0.0, 0.0, -1.0]);
         assert!(intersect_triangle(&nan, &triangle, 0.0, f64::INFINITY).is_none());
+    }
+
+    /// Each of the six axis orders (the largest direction component along +x, −x, +y,
+    /// −y, +z, −z) finds the point, t and barycentrics of a triangle across that axis.
+    #[test]
+    fn every_axis_order_hits_the_point_it_aims_at() {
+        let mut orders = Vec::new();
+        for axis in 0..3 {
+            // A triangle in the plane across `axis` at 0: p0 at the origin, p1 two units
+            // along the next axis, p2 two along the one after.
+            let (next, after) = ((axis + 1) % 3, (axis + 2) % 3);
+            let mut triangle = [[0.0; 3]; 3];
+            triangle[1][next] = 2.0;
+            triangle[2][after] = 2.0;
+            for sign in [1.0, -1.0] {
+                // Aimed at b1 = 0.25, b2 = 0.125 from 3 units away, slightly oblique.
+                let mut target = [0.0; 3];
+                target[next] = 0.5;
+                target[after] = 0.25;
+                let mut direction = [0.0; 3];
+                direction[axis] = sign;
+                direction[next] = 0.1;
+                direction[after] = -0.2;
+                let origin: [f64; 3] = std::array::from_fn(|i| target[i] - 3.0 * direction[i]);
+                let ray = Ray::new(origin, direction);
+                let sheared = ShearedRay::new(&ray);
+                assert_eq!(sheared.kz, axis);
+                orders.push((sheared.kx, sheared.ky, sheared.kz));
+                let (t, [b1, b2]) =
+                    intersect_triangle(&ray, &triangle, 0.0, f64::INFINITY).unwrap();
+                assert!((t - 3.0).abs() < 1e-14, "axis {axis} sign {sign}: t {t}");
+                assert!(
+                    (b1 - 0.25).abs() < 1e-14 && (b2 - 0.125).abs() < 1e-14,
+                    "axis {axis} sign {sign}: {b1} {b2}"
+                );
+            }
+        }
+        orders.sort();
+        orders.dedup();
+        assert_eq!(orders.len(), 6, "{orders:?}");
     }
 }
