@@ -7,8 +7,11 @@
 #    (glslang's ParseHelper.cpp 10.0 s -> 5.4 s), and a built-in scene's shaders compile in
 #    about the same time (README, "Build cost");
 #  - none of shaderc's examples, which the crate does not link (its executable, glslc,
-#    stays: shaderc's install step names it even when asked to skip executables).
+#    stays: shaderc's install step names it even when asked to skip executables);
+#  - the libraries nothing links built empty (scripts/shaderc-unlinked-libraries.cmake).
 # Cache entries set here are taken before CMake's own defaults, which do not replace them.
 set(CMAKE_C_FLAGS_RELEASE "-O1 -DNDEBUG" CACHE STRING "C flags of shaderc's Release build")
 set(CMAKE_CXX_FLAGS_RELEASE "-O1 -DNDEBUG" CACHE STRING "C++ flags of shaderc's Release build")
 set(SHADERC_SKIP_EXAMPLES ON CACHE BOOL "the shaderc crate links the library only")
+set(CMAKE_PROJECT_native-shaderc_INCLUDE "${CMAKE_CURRENT_LIST_DIR}/shaderc-unlinked-libraries.cmake"
+  CACHE FILEPATH "empties the libraries of shaderc's build that the crate does not link")
