@@ -72,15 +72,6 @@ fn load_file(path: &Path) -> Scene {
     scene
 }
 
-/// The exact model in f32 HDR, exposure 1, 2 frames in flight.
-const SETTINGS: RendererSettings = RendererSettings {
-    hdr_format: HdrFormat::Rgba32Float,
-    gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
-    exposure: 1.0,
-    shading: ShadingOptions::DEFAULT,
-    frames_in_flight: 2,
-};
-
 /// Fails unless every pixel of `frame` (of the scene in `path`) is finite and more than
 /// 100 are lit.
 fn assert_clean(path: &Path, frame: &combustion::renderer::Frame) {
@@ -98,7 +89,7 @@ fn assert_clean(path: &Path, frame: &combustion::renderer::Frame) {
     assert!(lit > 100, "{}: only {lit} lit pixels", path.display());
 }
 
-/// The scene in `path` rendered by a renderer of its own under validation ([`SETTINGS`]),
+/// The scene in `path` rendered by a renderer of its own under validation (`common::exact_f32`),
 /// checked by [`assert_clean`].
 fn render_file(
     path: &Path,
@@ -106,7 +97,13 @@ fn render_file(
     height: u32,
     readback: Readback,
 ) -> combustion::renderer::Frame {
-    let frame = common::render(&load_file(path), width, height, SETTINGS, readback);
+    let frame = common::render(
+        &load_file(path),
+        width,
+        height,
+        common::exact_f32(),
+        readback,
+    );
     assert_clean(path, &frame);
     frame
 }
@@ -121,7 +118,7 @@ fn render_file(
 fn every_sample_model_renders_cleanly() {
     let Some(files) = sample_models() else { return };
     assert!(files.len() >= 5, "{files:?}");
-    let mut headless = common::lavapipe(SETTINGS);
+    let mut headless = common::lavapipe(common::exact_f32());
     let log = headless.validation_log();
     for path in files {
         let scene = load_file(&path);
