@@ -107,9 +107,11 @@ impl FullscreenPass {
         })
     }
 
-    /// Records the pass writing every pixel of `output` (a view in
+    /// Records the pass over every pixel of `output` (a view in
     /// COLOR_ATTACHMENT_OPTIMAL of `extent`), then `then` records more draws into the
-    /// same rendering (e.g. the overlay over the output pass).
+    /// same rendering (e.g. the overlay over the output pass). `clear`: the value the
+    /// rendering starts from, which the pixels the shader discards keep (`None`: the
+    /// shader writes every pixel, nothing is loaded).
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -119,14 +121,24 @@ impl FullscreenPass {
         extent: vk::Extent2D,
         set: vk::DescriptorSet,
         push: &[u8],
+        clear: Option<[f32; 4]>,
         then: impl FnOnce(vk::CommandBuffer),
     ) {
         debug_assert_eq!(push.len() as u32, self.push_size);
+        let load = match clear {
+            Some(_) => vk::AttachmentLoadOp::CLEAR,
+            None => vk::AttachmentLoadOp::DONT_CARE,
+        };
         let attachment = [vk::RenderingAttachmentInfo::default()
             .image_view(output)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::DONT_CARE)
-            .store_op(vk::AttachmentStoreOp::STORE)];
+            .load_op(load)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: clear.unwrap_or_default(),
+                },
+            })];
         let rendering = vk::RenderingInfo::default()
             .render_area(vk::Rect2D {
                 offset: vk::Offset2D::default(),

@@ -162,6 +162,10 @@ impl FramePass for Lighting {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let hdr = &frame.targets.hdr;
+        // The background (where no surface is) is the rendering's clear: its radiance,
+        // alpha 0 marking it. lighting.frag discards those pixels, except where the
+        // environment is the background, which it writes.
+        let [r, g, b, _] = frame.lighting_push.background;
         frame.pipelines().lighting.record(
             &frame.renderer.device,
             cmd,
@@ -169,6 +173,7 @@ impl FramePass for Lighting {
             hdr.extent(),
             frame.slot.set(&bindings::LIGHTING),
             bytemuck::bytes_of(&frame.lighting_push),
+            Some([r, g, b, 0.0]),
             |_| {},
         );
     }

@@ -59,6 +59,7 @@ impl FramePass for Output {
             extent,
             s.set(&bindings::OUTPUT),
             bytemuck::bytes_of(&push),
+            None,
             |cmd| {
                 if s.overlay_quad_count > 0 {
                     passes.overlay.record(
