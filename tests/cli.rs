@@ -1089,8 +1089,9 @@ fn bench_reports_gpu_and_wall_clock_time_with_frames_in_flight() {
 /// The accuracy budget: `render --max-error E` renders with the fastest variant set
 /// whose mean relative error against the f64 reference is within E (measured on the
 /// scene first); a budget no set meets, or a budget that is no number above 0, is a
-/// one-line error; `info --max-error` lists every set with its time and errors, and the
-/// one it marks chosen is the fastest of those within the budget.
+/// one-line error; `info --max-error` lists every set with its time and errors at the
+/// size asked (`--width`, `--height`, which need the budget), and the one it marks
+/// chosen is the fastest of those within the budget.
 #[test]
 fn an_accuracy_budget_picks_a_variant_set_or_says_why_not() {
     let dir = scratch("budget");
@@ -1138,9 +1139,25 @@ fn an_accuracy_budget_picks_a_variant_set_or_says_why_not() {
             )],
         );
     }
-    let (code, stdout, stderr) =
-        combustion(&["info", "builtin:dielectrics", "--max-error", "1e-2"]);
+    assert_refused(
+        &["info", "builtin:dielectrics", "--width", "160"],
+        &["--max-error"],
+    );
+    let (code, stdout, stderr) = combustion(&[
+        "info",
+        "builtin:dielectrics",
+        "--max-error",
+        "1e-2",
+        "--width",
+        "160",
+        "--height",
+        "90",
+    ]);
     assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("variant sets measured at 160x90 (10 frames each)"),
+        "{stdout}"
+    );
     let listed = stdout.lines().filter(|l| l.contains(" ms  mean ")).count();
     assert_eq!(
         listed,

@@ -74,9 +74,9 @@ several ηt (Fig. 12).";
 pub(crate) const INFO_ABOUT: &str = "\
 Prints what a scene holds (meshes, materials, lights, camera, outside medium) and which
 renderer features it needs; for a glTF file also what the importer found. With
---max-error E it measures the report's variant sets on the scene at 640x360 and says
-which is the fastest within E, as render --max-error E chooses (measured there at the
-render's size).";
+--max-error E it measures the report's variant sets on the scene at 640x360 (or
+--width x --height) and says which is the fastest within E, as render --max-error E
+chooses (measured there at the render's size).";
 
 /// `--help`'s closing lines: the built-in scenes, in the order the viewer's number keys
 /// follow.
@@ -718,9 +718,16 @@ pub(crate) struct InfoArgs {
     #[arg(value_name = "SCENE", value_parser = scene_source())]
     pub(crate) scene: SceneSource,
     /// An accuracy budget (the mean relative error against the f64 reference): measure
-    /// the variant sets at 640x360 and say which is the fastest within it
+    /// the variant sets at --width x --height and say which is the fastest within it
     #[arg(long, value_name = "E", value_parser = relative_error)]
     pub(crate) max_error: Option<f64>,
+    /// With --max-error: the width the variant sets are measured at (render --max-error
+    /// measures at its own size)
+    #[arg(long, value_name = "N", default_value = "640", value_parser = image_side, requires = "max_error")]
+    pub(crate) width: u32,
+    /// With --max-error: the height the variant sets are measured at
+    #[arg(long, value_name = "N", default_value = "360", value_parser = image_side, requires = "max_error")]
+    pub(crate) height: u32,
 }
 
 /// `eval`'s arguments: the term, and the numeric inputs of
@@ -1334,6 +1341,7 @@ mod tests {
             "plot spectrum --csv m.csv".to_owned(),
             "plot dielectrics --etas 1.1,2 --outside-ior 1.33".to_owned(),
             "info builtin:spheres --max-error 1e-3".to_owned(),
+            "info builtin:spheres --max-error 1e-3 --width 320 --height 180".to_owned(),
             "devices".to_owned(),
             "diff a.png b.png --heatmap h.png --json --criteria-file c.txt".to_owned(),
             "render x.glb --camera 2".to_owned(),

@@ -36,13 +36,15 @@ pub(crate) fn info(o: &InfoArgs) -> Result<(), CliError> {
     scene.validate().map_err(Error::from)?;
     write_stdout(format_args!("{}", describe_scene(&scene)));
     if let Some(budget) = o.max_error {
-        // What `render --max-error` would choose, measured here at 640×360.
+        // What `render --max-error` would choose at the size asked (640×360 unless
+        // told).
         let device = DeviceDesc {
             selector: DeviceSelector::from_env().map_err(Error::from)?,
             ..DeviceDesc::default()
         };
-        let choice = combustion::report::choose(&o.scene, budget, 640, 360, 10, device)?;
-        outln!("variant sets measured at 640x360 (10 frames each), fastest first:");
+        let (width, height) = (o.width, o.height);
+        let choice = combustion::report::choose(&o.scene, budget, width, height, 10, device)?;
+        outln!("variant sets measured at {width}x{height} (10 frames each), fastest first:");
         write_stdout(format_args!("{}", choice.explain(budget)));
     }
     Ok(())
