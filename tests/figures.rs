@@ -233,6 +233,7 @@ const EXACT: RendererSettings = RendererSettings {
     exposure: 1.0,
     shading: ShadingOptions::DEFAULT,
     frames_in_flight: 2,
+    targets_kept_for_frames: combustion::renderer::TARGETS_KEPT_FOR_FRAMES,
 };
 
 /// Renders `figure` with the G-buffer read back.

@@ -44,9 +44,23 @@ fn host_with_output(
     width: u32,
     height: u32,
 ) -> (Host, vulkan::Messages, FinalImage) {
+    let settings = RendererSettings {
+        frames_in_flight,
+        ..RendererSettings::default()
+    };
+    host_with_settings(scenes, settings, width, height)
+}
+
+/// As [`host_with_output`], with the renderer made with `settings`.
+fn host_with_settings(
+    scenes: &[combustion::scene::Scene],
+    settings: RendererSettings,
+    width: u32,
+    height: u32,
+) -> (Host, vulkan::Messages, FinalImage) {
     let vulkan = lavapipe_host();
     let log = vulkan.message_log();
-    let host = Host::new(vulkan, frames_in_flight, scenes).unwrap();
+    let host = Host::with_settings(vulkan, settings, scenes).unwrap();
     let extent = vk::Extent2D {
         width: width + 2 * BORDER,
         height: height + 2 * BORDER,
@@ -127,6 +141,7 @@ fn host_frames_compose_combustions_output_on_the_device() {
             exposure: 1.0,
             shading: ShadingOptions::DEFAULT,
             frames_in_flight: 2,
+            targets_kept_for_frames: combustion::renderer::TARGETS_KEPT_FOR_FRAMES,
         },
         Readback::ALL,
     );
@@ -891,7 +906,8 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// environment (split sum, then sampled), with and without a pose every frame (skinned and
 /// morphed objects posed by the deform pass; objects moved), rendered in
 /// alternation, each run of
-/// frames longer than the renderer keeps unused targets (16 frames), with 3 frames in
+/// frames longer than the renderer keeps unused targets (4 frames here:
+/// `RendererSettings::targets_kept_for_frames`, 16 by default), with 3 frames in
 /// flight. The targets of the scene not shown are retired and destroyed while the
 /// frame slots' lighting sets are reused: every binding must name an image of this
 /// frame (or a placeholder), never one of a retired frame's targets. Before the fix the
@@ -899,7 +915,7 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// then a crash.
 #[test]
 fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_target() {
-    // The sphere grid's scenes with coarse spheres: 1 536 frames of resources and
+    // The sphere grid's scenes with coarse spheres: 384 frames of resources and
     // targets, not of geometry.
     let grid = |name| common::with_coarse_grid_spheres(builtin_scene(name).unwrap());
     let mut emissive = grid("spheres");
@@ -971,8 +987,16 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         // sampled with its occlusion split in the second), with emission and textures.
         textured_studio,
     ];
-    let (mut host, log, mut output) = host_with_output(&scenes, 3, 48, 40);
-    // Each scene for 24 frames (past the 16-frame retire delay), twice round; the
+    // Targets kept 4 frames after their last use, not 16: runs of 6 frames retire
+    // what the scene before made, as runs of 24 do past the default (the same code,
+    // a quarter of the frames).
+    let settings = RendererSettings {
+        frames_in_flight: 3,
+        targets_kept_for_frames: 4,
+        ..RendererSettings::default()
+    };
+    let (mut host, log, mut output) = host_with_settings(&scenes, settings, 48, 40);
+    // Each scene for 6 frames (past the 4-frame retire delay), twice round; the
     // plain sphere grid (scene 1) is lit by a frame environment in the first round
     // (the ENVIRONMENT variant's pipelines and targets without the scene having one),
     // which is dropped at the end of that round while its last frames are in flight.
@@ -988,7 +1012,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
             0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8, 9, 1, 9, 8, 10, 11, 0, 10, 12, 9, 12,
             1, 13, 2, 13, 1,
         ] {
-            for _ in 0..24 {
+            for _ in 0..6 {
                 headless::frame(&mut host, &mut output, scene).unwrap();
             }
         }

@@ -42,6 +42,7 @@ fn parity_of(
             ..ShadingOptions::DEFAULT
         },
         frames_in_flight: 2,
+        targets_kept_for_frames: combustion::renderer::TARGETS_KEPT_FOR_FRAMES,
     };
     let (frame, report) = common::render_with_error_map(scene, width, height, settings, 2);
     let inputs = common::frame_inputs(scene, &scene.lights);

@@ -330,15 +330,23 @@ impl Host {
         frames_in_flight: usize,
         scenes: &[Scene],
     ) -> Result<Self, String> {
+        let settings = RendererSettings {
+            frames_in_flight,
+            ..RendererSettings::default()
+        };
+        Self::with_settings(vulkan, settings, scenes)
+    }
+
+    /// As [`Host::new`], with Combustion's renderer made with `settings` (its frames
+    /// in flight are the host's).
+    pub fn with_settings(
+        vulkan: HostVulkan,
+        settings: RendererSettings,
+        scenes: &[Scene],
+    ) -> Result<Self, String> {
+        let frames_in_flight = settings.frames_in_flight;
         let device = Device::from_host(vulkan.for_combustion()).map_err(|e| e.to_string())?;
-        let mut renderer = Renderer::new(
-            device.clone(),
-            RendererSettings {
-                frames_in_flight,
-                ..RendererSettings::default()
-            },
-        )
-        .map_err(|e| e.to_string())?;
+        let mut renderer = Renderer::new(device.clone(), settings).map_err(|e| e.to_string())?;
         let gpu_scenes = scenes
             .iter()
             .map(|s| renderer.upload(s))

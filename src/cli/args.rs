@@ -1256,6 +1256,7 @@ pub(crate) fn renderer_settings(frame: &FrameArgs, frames_in_flight: usize) -> R
             ..ShadingOptions::default()
         },
         frames_in_flight,
+        ..RendererSettings::default()
     }
 }
 

@@ -23,9 +23,6 @@ use crate::Renderer;
 /// last command (whose availability says the slot's frame has completed).
 const MAX_TIMESTAMPS: u32 = 16;
 
-/// Targets unused for this many frames are retired (a window resized, a viewport closed).
-const TARGETS_KEPT_FOR_FRAMES: u64 = 16;
-
 /// What one frame in flight owns. Reused only once the frame that used it last has
 /// completed (the host's promise when it records into the same slot again).
 pub(crate) struct FrameSlot {
@@ -385,13 +382,16 @@ impl Renderer {
         Ok(())
     }
 
-    /// Targets no frame used lately go to the retire list of the frame just recorded.
+    /// Targets no frame used for more than `settings.targets_kept_for_frames` frames (a
+    /// window resized, a viewport closed, a variant's own targets) go to the retire list
+    /// of the frame just recorded.
     fn retire_unused_targets(&mut self) {
         let frame = self.frame_number;
+        let kept = u64::from(self.settings.targets_kept_for_frames);
         let stale: Vec<TargetKey> = self
             .targets
             .iter()
-            .filter(|(_, (_, last_used))| last_used + TARGETS_KEPT_FOR_FRAMES < frame)
+            .filter(|(_, (_, last_used))| last_used + kept < frame)
             .map(|(key, _)| *key)
             .collect();
         for key in stale {

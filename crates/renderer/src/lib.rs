@@ -86,7 +86,7 @@ pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{
     BaseColorStorage, DebugView, Distribution, FresnelModel, GBufferStorage, HdrFormat, Masking,
     MeasurementFloor, Readback, RendererSettings, ShadingOptions, SurfaceStorage,
-    ENVIRONMENT_SAMPLE_COUNTS, MAX_FRAMES_IN_FLIGHT,
+    ENVIRONMENT_SAMPLE_COUNTS, MAX_FRAMES_IN_FLIGHT, TARGETS_KEPT_FOR_FRAMES,
 };
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
 use pipelines::{OutputPasses, SetLayouts, VariantPasses};

@@ -504,6 +504,10 @@ impl Readback {
 /// The most frames in flight a renderer keeps.
 pub const MAX_FRAMES_IN_FLIGHT: usize = 3;
 
+/// How many frames a renderer keeps targets no frame used by default
+/// ([`RendererSettings::targets_kept_for_frames`]).
+pub const TARGETS_KEPT_FOR_FRAMES: u32 = 16;
+
 /// Settings of the renderer. The HDR format, the G-buffer's storage and the frames in
 /// flight are fixed for the renderer's life (the G-buffer and lighting pipelines, the
 /// frame targets and their placeholders are made for the formats); the shading options
@@ -525,6 +529,12 @@ pub struct RendererSettings {
     /// Frames the CPU may record ahead of the GPU (1 to [`MAX_FRAMES_IN_FLIGHT`]):
     /// each has its own descriptor sets, light buffer and timestamp queries.
     pub frames_in_flight: usize,
+    /// Frames a set of frame targets (the G-buffer, HDR image and the rest, per size
+    /// and kind) is kept after the last frame that used it, then retired (freed once
+    /// the frames in flight that used it complete): a host alternating viewports or
+    /// variants keeps what it draws again; fewer frames free memory sooner. Default
+    /// [`TARGETS_KEPT_FOR_FRAMES`]; any count is safe, 0 included.
+    pub targets_kept_for_frames: u32,
 }
 
 impl Default for RendererSettings {
@@ -535,6 +545,7 @@ impl Default for RendererSettings {
             exposure: 1.0,
             shading: ShadingOptions::DEFAULT,
             frames_in_flight: 2,
+            targets_kept_for_frames: TARGETS_KEPT_FOR_FRAMES,
         }
     }
 }
