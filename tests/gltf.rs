@@ -153,6 +153,13 @@ fn sample_models_with_lights_render_their_shadows() {
     let Some(files) = sample_models() else { return };
     let mut with_lights = 0;
     for path in files {
+        // A glTF file's lights are KHR_lights_punctual's: a file that never names the
+        // extension has none and is not imported here (its images decoded for nothing).
+        let bytes = std::fs::read(&path).unwrap();
+        let extension = b"KHR_lights_punctual";
+        if !bytes.windows(extension.len()).any(|w| w == extension) {
+            continue;
+        }
         let scene = SceneSource::File(path.clone())
             .load()
             .unwrap_or_else(|e| panic!("{e}"));

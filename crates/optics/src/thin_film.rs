@@ -118,7 +118,10 @@ struct Sensitivity<T> {
 }
 
 fn sensitivity<T: Real>(opd_nm: T) -> Sensitivity<T> {
-    let (w, k, a) = sensitivity_weights();
+    // Derived once: the f64 reference evaluates this per harmonic of every film lookup.
+    type Weights = ([[f64; 4]; 3], [f64; 4], [f64; 4]);
+    static WEIGHTS: std::sync::OnceLock<Weights> = std::sync::OnceLock::new();
+    let (w, k, a) = *WEIGHTS.get_or_init(sensitivity_weights);
     let mut cos_part = [T::ZERO; 3];
     let mut sin_part = [T::ZERO; 3];
     for g in 0..4 {
