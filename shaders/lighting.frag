@@ -44,12 +44,16 @@ layout(location = 0) out vec4 out_radiance;
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     float depth = texelFetch(gbuffer_depth, pixel, 0).r;
+    if (isnan(depth)) {
+        // No draw writes a depth that is not a number; such a pixel keeps the pass's
+        // clear, the background (passes/lighting.rs), rather than shading NaN. A shader
+        // that may discard is also compiled once by lavapipe, not a second time for
+        // whole tiles (README, "Build cost").
+        discard;
+    }
     if (depth >= 1.0) {
-        // Background: nothing was drawn here. The pass clears the HDR image to the
-        // background's radiance with alpha 0 marking it (passes/lighting.rs), and the
-        // pixel keeps it; only the environment as background is written here. (The
-        // discard also has lavapipe compile this shader once, not a second time for
-        // whole tiles: README, "Build cost".)
+        // Background: nothing was drawn here (alpha 0 marks it).
+        out_radiance = vec4(push.background.rgb, 0.0);
 #ifdef ENVIRONMENT
         if (push.background.w != 0.0) {
             // The environment along the pixel's ray: through a point of the view volume
@@ -58,10 +62,9 @@ void main() {
             vec4 along = push.inverse_view_projection * vec4(ndc, 0.5, 1.0);
             vec3 direction = normalize(along.xyz / along.w - push.camera_position.xyz);
             out_radiance = vec4(textureLod(environment_specular, direction, 0.0).rgb, 0.0);
-            return;
         }
 #endif
-        discard;
+        return;
     }
     vec4 base_metal = texelFetch(gbuffer_base_color_metalness, pixel, 0);
     vec4 nra = texelFetch(gbuffer_normal_roughness_anisotropy, pixel, 0);
