@@ -46,9 +46,10 @@ void main() {
     float depth = texelFetch(gbuffer_depth, pixel, 0).r;
     if (isnan(depth)) {
         // No draw writes a depth that is not a number; such a pixel keeps the pass's
-        // clear, the background (passes/lighting.rs), rather than shading NaN. A shader
-        // that may discard is also compiled once by lavapipe, not a second time for
-        // whole tiles (README, "Build cost").
+        // clear (passes/lighting.rs: the background's radiance, or nothing where the
+        // environment is the background) rather than shading NaN. A shader that may
+        // discard is also compiled once by lavapipe, not a second time for whole tiles
+        // (README, "Build cost").
         discard;
     }
     if (depth >= 1.0) {

@@ -1143,6 +1143,18 @@ fn an_accuracy_budget_picks_a_variant_set_or_says_why_not() {
         &["info", "builtin:dielectrics", "--width", "160"],
         &["--max-error"],
     );
+    // A side beyond the device's limit, before anything is measured.
+    assert_clear_error(
+        &[
+            "info",
+            "builtin:dielectrics",
+            "--max-error",
+            "1e-2",
+            "--width",
+            "60000",
+        ],
+        "is not allowed",
+    );
     let (code, stdout, stderr) = combustion(&[
         "info",
         "builtin:dielectrics",

@@ -789,9 +789,10 @@ fn every_gbuffer_storage_is_what_the_scene_shows() {
 /// The G-buffer's storage with its optional targets alternated past the retire delay:
 /// for the storages whose two targets both differ from the default's (f16 + 8-bit
 /// normal) and the old default (8-bit sRGB), one renderer with 3 frames in flight,
-/// under validation with synchronisation checks, records 6 frames each (its retire
-/// delay 4: `RendererSettings::targets_kept_for_frames`, 16 by default) of an emissive
-/// scene (the emissive + occlusion target), a plain one and
+/// under validation with synchronisation checks, records 10 frames each (its retire
+/// delay 4: `RendererSettings::targets_kept_for_frames`, 16 by default; the targets
+/// retired in a run are destroyed within it) of an emissive scene (the emissive +
+/// occlusion target), a plain one and
 /// an environment-lit one, twice round, so each size's targets are retired and built
 /// again in that storage's formats while frames that read the old ones are in flight;
 /// every frame writes every binding of its sets (`SetWriter::apply`). Afterwards each
@@ -831,7 +832,7 @@ fn every_gbuffer_storage_survives_its_targets_retired_and_rebuilt() {
             let gpus: Vec<_> = scenes.iter().map(|s| renderer.upload(s).unwrap()).collect();
             for _round in 0..2 {
                 for gpu in &gpus {
-                    for _ in 0..6 {
+                    for _ in 0..10 {
                         renderer.submit_offscreen(gpu, width, height).unwrap();
                     }
                 }

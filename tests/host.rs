@@ -915,7 +915,7 @@ fn host_chosen_slots_retire_safely_and_same_state_releases_still_barrier() {
 /// then a crash.
 #[test]
 fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_target() {
-    // The sphere grid's scenes with coarse spheres: 384 frames of resources and
+    // The sphere grid's scenes with coarse spheres: 640 frames of resources and
     // targets, not of geometry.
     let grid = |name| common::with_coarse_grid_spheres(builtin_scene(name).unwrap());
     let mut emissive = grid("spheres");
@@ -987,16 +987,17 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         // sampled with its occlusion split in the second), with emission and textures.
         textured_studio,
     ];
-    // Targets kept 4 frames after their last use, not 16: runs of 6 frames retire
-    // what the scene before made, as runs of 24 do past the default (the same code,
-    // a quarter of the frames).
+    // Targets kept 4 frames after their last use, not 16: in runs of 10 frames what the
+    // scene before made is retired on the run's 5th frame and destroyed on its 8th, once
+    // the 3 frames in flight that used it are done, before the run ends, as in runs of
+    // 24 past the default (the same code and order, 40 % of the frames).
     let settings = RendererSettings {
         frames_in_flight: 3,
         targets_kept_for_frames: 4,
         ..RendererSettings::default()
     };
     let (mut host, log, mut output) = host_with_settings(&scenes, settings, 48, 40);
-    // Each scene for 6 frames (past the 4-frame retire delay), twice round; the
+    // Each scene for 10 frames (past the 4-frame retire delay), twice round; the
     // plain sphere grid (scene 1) is lit by a frame environment in the first round
     // (the ENVIRONMENT variant's pipelines and targets without the scene having one),
     // which is dropped at the end of that round while its last frames are in flight.
@@ -1012,7 +1013,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
             0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8, 9, 1, 9, 8, 10, 11, 0, 10, 12, 9, 12,
             1, 13, 2, 13, 1,
         ] {
-            for _ in 0..6 {
+            for _ in 0..10 {
                 headless::frame(&mut host, &mut output, scene).unwrap();
             }
         }

@@ -616,15 +616,6 @@ pub fn measure(
     let mut rows = Vec::with_capacity(total);
     let mut scaling = Vec::new();
     let mut shadow_rows = Vec::new();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    // Each scene's triangles in a hierarchy and its f64 reference drawn from the scene
-    // itself (what every set's frame is compared with end to end), made at the first
-    // use and kept for both HDR formats' renderers and the G-buffer storages.
-    let bvhs: Vec<std::cell::OnceCell<SceneBvh>> =
-        scenes.iter().map(|_| std::cell::OnceCell::new()).collect();
-    let bvh_of = |i: usize| bvhs[i].get_or_init(|| SceneBvh::new(&scenes[i].1));
-    let scene_references: Vec<std::cell::OnceCell<SceneReference<'_>>> =
-        scenes.iter().map(|_| std::cell::OnceCell::new()).collect();
     // One renderer per HDR format (a renderer's HDR storage is fixed at creation).
     for hdr in [HdrFormat::Rgba32Float, HdrFormat::Rgba16Float] {
         let sets: Vec<VariantSet> = desc.sets.iter().copied().filter(|s| s.hdr == hdr).collect();
@@ -640,7 +631,7 @@ pub fn measure(
         })?;
         let renderer = headless.renderer();
         device_name.clone_from(&renderer.device().info().name);
-        for (index, (label, scene)) in scenes.iter().enumerate() {
+        for (label, scene) in &scenes {
             let gpu = renderer.upload(scene)?;
             if desc.floors && hdr == HdrFormat::Rgba32Float {
                 progress(
@@ -683,10 +674,11 @@ pub fn measure(
             // from the G-buffer (the lighting pass's error) and from the scene itself
             // (the frame's, end to end; for environment lighting on the same sampled
             // pixels as the lighting pass's reference).
+            let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+            let bvh = SceneBvh::new(gpu.scene());
             let size = (desc.width, desc.height);
-            let scene_reference = scene_references[index].get_or_init(|| {
-                scene_reference(scene, bvh_of(index), size, GBufferStorage::DEFAULT, threads)
-            });
+            let scene_reference =
+                scene_reference(gpu.scene(), &bvh, size, GBufferStorage::DEFAULT, threads);
             let inputs = FrameInputs::of_scene(&gpu, 1.0);
             let mut reference =
                 ReferenceShading::new(gpu.scene(), &inputs, desc.width, desc.height);
@@ -757,9 +749,10 @@ pub fn measure(
         drop(headless);
         check_validation(&validation)?;
     }
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let done = rows.len() + floors.len() + scaling.len() + shadow_rows.len();
     let mut i = 0;
-    let storage_rows = storage::measure(&scenes, bvh_of, desc, threads, |what| {
+    let storage_rows = storage::measure(&scenes, desc, threads, |what| {
         progress(done + i, total, what);
         i += 1;
     })?;

@@ -50,20 +50,19 @@ pub struct StorageRow {
 
 /// Measures every storage of `desc.storages` on every scene of `scenes` without an
 /// environment (one renderer per scene and storage: a renderer's storage is fixed);
-/// `bvh_of(i)`: the hierarchy of `scenes[i]`; `progress(what)` before each.
-pub(super) fn measure<'a>(
-    scenes: &'a [(String, combustion_scene::Scene)],
-    bvh_of: impl Fn(usize) -> &'a SceneBvh,
+/// `progress(what)` before each.
+pub(super) fn measure(
+    scenes: &[(String, combustion_scene::Scene)],
     desc: &ReportDesc,
     threads: usize,
     mut progress: impl FnMut(&str),
 ) -> Result<Vec<StorageRow>, Error> {
     let mut rows = Vec::new();
-    for (index, (label, scene)) in scenes.iter().enumerate() {
+    for (label, scene) in scenes {
         if scene.environment.is_some() {
             continue;
         }
-        let bvh = bvh_of(index);
+        let bvh = SceneBvh::new(scene);
         let mut reference: Option<SceneReference> = None;
         for &storage in &desc.storages {
             progress(&format!("{label} G-buffer {}", storage.name()));
@@ -75,7 +74,7 @@ pub(super) fn measure<'a>(
                 }
                 None => reference.insert(SceneReference::new(
                     scene,
-                    bvh,
+                    &bvh,
                     &scene.lights,
                     (desc.width, desc.height),
                     precision,

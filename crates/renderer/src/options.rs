@@ -508,11 +508,10 @@ pub const MAX_FRAMES_IN_FLIGHT: usize = 3;
 /// ([`RendererSettings::targets_kept_for_frames`]).
 pub const TARGETS_KEPT_FOR_FRAMES: u32 = 16;
 
-/// Settings of the renderer. The HDR format, the G-buffer's storage and the frames in
-/// flight are fixed for the renderer's life (the G-buffer and lighting pipelines, the
-/// frame targets and their placeholders are made for the formats); the shading options
-/// change with
-/// [`Renderer::set_shading`].
+/// Settings of the renderer. The HDR format, the G-buffer's storage, the frames in
+/// flight and how long unused targets are kept are fixed for the renderer's life (the
+/// G-buffer and lighting pipelines, the frame targets and their placeholders are made
+/// for the formats); the shading options change with [`Renderer::set_shading`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RendererSettings {
     /// The HDR (lit) image's format.
@@ -533,7 +532,8 @@ pub struct RendererSettings {
     /// and kind) is kept after the last frame that used it, then retired (freed once
     /// the frames in flight that used it complete): a host alternating viewports or
     /// variants keeps what it draws again; fewer frames free memory sooner. Default
-    /// [`TARGETS_KEPT_FOR_FRAMES`]; any count is safe, 0 included.
+    /// [`TARGETS_KEPT_FOR_FRAMES`]. Any count is safe; 0 retires each frame's targets
+    /// after it, so every frame builds its own.
     pub targets_kept_for_frames: u32,
 }
 

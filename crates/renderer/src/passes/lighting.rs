@@ -162,9 +162,10 @@ impl FramePass for Lighting {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let hdr = &frame.targets.hdr;
-        // The rendering starts from the background (its radiance, alpha 0 marking it),
-        // which a pixel lighting.frag discards keeps: one whose depth is not a number.
-        // The shader writes the background where no surface is.
+        // The rendering starts from the background's radiance (nothing where the
+        // environment is the background), alpha 0 marking it: what a pixel lighting.frag
+        // discards keeps (one whose depth is not a number). The shader writes the
+        // background where no surface is.
         let [r, g, b, _] = frame.lighting_push.background;
         frame.pipelines().lighting.record(
             &frame.renderer.device,
