@@ -13,7 +13,7 @@ use combustion::optics::microfacet::{
 };
 use combustion::optics::vec3::{ShadingFrame, Vec3 as V};
 use combustion::renderer::gbuffer::octahedral_decode;
-use combustion::renderer::{Frame, HdrFormat, Readback, RendererSettings, ShadingOptions};
+use combustion::renderer::{Frame, Readback, RendererSettings};
 use combustion::scene::{builtin_scene, Light, Material, Scene};
 use glam::{DVec3, DVec4};
 
@@ -226,19 +226,15 @@ fn underwater_in_air_golden_matches_analytic_reference() {
 // Physics checks on the HDR image, no golden needed.
 // ---------------------------------------------------------------------------------------
 
-/// HDR in 32-bit float, so the checks see the shading and not the storage.
-const EXACT: RendererSettings = RendererSettings {
-    hdr_format: HdrFormat::Rgba32Float,
-    gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
-    exposure: 1.0,
-    shading: ShadingOptions::DEFAULT,
-    frames_in_flight: 2,
-    targets_kept_for_frames: combustion::renderer::TARGETS_KEPT_FOR_FRAMES,
-};
-
 /// Renders `figure` with the G-buffer read back.
 fn render_exact(scene: &Scene, figure: &Figure) -> Frame {
-    common::render(scene, figure.width, figure.height, EXACT, Readback::ALL)
+    common::render(
+        scene,
+        figure.width,
+        figure.height,
+        common::exact_f32(),
+        Readback::ALL,
+    )
 }
 
 /// Figures 10 and 11: at normal incidence gold and copper show the Fresnel reflectance of

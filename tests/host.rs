@@ -10,8 +10,7 @@ use crate::common;
 use crate::{app, headless, vulkan, window};
 
 use combustion::renderer::{
-    ColorTarget, DepthTarget, FrameInputs, FrameTarget, HdrFormat, PassTimings, Readback,
-    RendererSettings, ShadingOptions,
+    ColorTarget, DepthTarget, FrameInputs, FrameTarget, PassTimings, Readback, RendererSettings,
 };
 use combustion::scene::builtin_scene;
 use combustion::vk::ash::vk;
@@ -135,14 +134,7 @@ fn host_frames_compose_combustions_output_on_the_device() {
         &same,
         inner.width,
         inner.height,
-        RendererSettings {
-            hdr_format: HdrFormat::Rgba32Float,
-            gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
-            exposure: 1.0,
-            shading: ShadingOptions::DEFAULT,
-            frames_in_flight: 2,
-            targets_kept_for_frames: combustion::renderer::TARGETS_KEPT_FOR_FRAMES,
-        },
+        common::exact_f32(),
         Readback::ALL,
     );
     let texel = |x: u32, y: u32| {

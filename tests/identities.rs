@@ -3,18 +3,9 @@
 use crate::common;
 
 use combustion::renderer::gbuffer::srgb_to_linear;
-use combustion::renderer::{HdrFormat, Readback, RendererSettings, ShadingOptions};
+use combustion::renderer::Readback;
 use combustion::scene::{builtin_scene, Light, Material, Scene, SPHERE_GRID_ROUGHNESS};
 use glam::Vec3;
-
-const EXACT: RendererSettings = RendererSettings {
-    hdr_format: HdrFormat::Rgba32Float,
-    gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
-    exposure: 1.0,
-    shading: ShadingOptions::DEFAULT,
-    frames_in_flight: 2,
-    targets_kept_for_frames: combustion::renderer::TARGETS_KEPT_FOR_FRAMES,
-};
 
 /// A large plane seen from above, lit straight down by a directional light.
 fn lit_plane(material: Material, outside_ior: f32, irradiance: [f32; 3]) -> Scene {
@@ -55,7 +46,7 @@ fn matched_ior_plane_is_exactly_lambert() {
             &lit_plane(material, ior, irradiance),
             64,
             64,
-            EXACT,
+            common::exact_f32(),
             Readback {
                 images: true,
                 gbuffer: false,
@@ -91,7 +82,7 @@ fn outside_medium_changes_dielectric_reflection() {
             &lit_plane(material.clone(), outside, [1.0; 3]),
             32,
             32,
-            EXACT,
+            common::exact_f32(),
             Readback {
                 images: true,
                 gbuffer: false,
@@ -121,7 +112,7 @@ fn outside_medium_changes_dielectric_reflection() {
 #[test]
 fn highlights_tighten_as_roughness_falls() {
     let scene = builtin_scene("spheres").unwrap();
-    let frame = common::render(&scene, 384, 256, EXACT, Readback::ALL);
+    let frame = common::render(&scene, 384, 256, common::exact_f32(), Readback::ALL);
     let gbuffer = frame.gbuffer.as_ref().unwrap();
     let columns = SPHERE_GRID_ROUGHNESS.len();
     let gold_row = 1;

@@ -34,15 +34,11 @@ fn parity_of(
     fresnel: FresnelModel,
 ) -> ErrorMap {
     let settings = RendererSettings {
-        hdr_format: HdrFormat::Rgba32Float,
-        gbuffer: combustion::renderer::GBufferStorage::DEFAULT,
-        exposure: 1.0,
         shading: ShadingOptions {
             fresnel,
             ..ShadingOptions::DEFAULT
         },
-        frames_in_flight: 2,
-        targets_kept_for_frames: combustion::renderer::TARGETS_KEPT_FOR_FRAMES,
+        ..common::exact_f32()
     };
     let (frame, report) = common::render_with_error_map(scene, width, height, settings, 2);
     let inputs = common::frame_inputs(scene, &scene.lights);

@@ -1209,15 +1209,15 @@ pub(crate) fn warn_about_view(scene: &Scene, label: &str, width: u32, height: u3
 /// `maxImageDimension2D` is reported at once, not after the loading (an environment
 /// image can take seconds and gigabytes to decode).
 pub(crate) fn preflight(device: &DeviceDesc, frame: &FrameArgs) -> Result<(), Error> {
+    preflight_size(device, frame.width, frame.height)
+}
+
+/// [`preflight`] for a size given apart (`info --max-error`'s).
+pub(crate) fn preflight_size(device: &DeviceDesc, width: u32, height: u32) -> Result<(), Error> {
     let info = combustion::vk::Device::preflight(&device.selector)?;
     let max = info.max_image_dimension_2d;
-    if frame.width > max || frame.height > max {
-        return Err(combustion::renderer::RenderError::InvalidSize {
-            width: frame.width,
-            height: frame.height,
-            max,
-        }
-        .into());
+    if width > max || height > max {
+        return Err(combustion::renderer::RenderError::InvalidSize { width, height, max }.into());
     }
     Ok(())
 }

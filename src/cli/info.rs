@@ -44,13 +44,7 @@ pub(crate) fn info(o: &InfoArgs) -> Result<(), CliError> {
         };
         let (width, height) = (o.width, o.height);
         // A side beyond the device's limit is refused before anything is measured.
-        let max = combustion::vk::Device::preflight(&device.selector)
-            .map_err(Error::from)?
-            .max_image_dimension_2d;
-        if width > max || height > max {
-            let error = combustion::renderer::RenderError::InvalidSize { width, height, max };
-            return Err(Error::from(error).into());
-        }
+        super::args::preflight_size(&device, width, height)?;
         let choice = combustion::report::choose(&o.scene, budget, width, height, 10, device)?;
         outln!("variant sets measured at {width}x{height} (10 frames each), fastest first:");
         write_stdout(format_args!("{}", choice.explain(budget)));
