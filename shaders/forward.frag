@@ -423,7 +423,9 @@ void main() {
     BrdfInputs m = brdf_inputs(material, base_color, s.metalness, s.roughness, s.anisotropy,
                                base_color_code);
 #endif
-    vec3 n = s.normal;
+    // The shading normal made to face the eye (brdf.glsl, facing_view), as the lighting
+    // pass does; the BRDF's frame re-orthogonalises the direction against it.
+    vec3 n = facing_view(s.normal, v);
     vec3 t = s.direction;
 #ifdef IRIDESCENCE
     BrdfView view = brdf_view_with_film(m, ThinFilm(s.film_weight, material.film.y, s.film_thickness_nm),
@@ -433,7 +435,7 @@ void main() {
 #endif
 #ifdef CLEARCOAT
     SurfaceCoat coat = surface_coat(material, m, s.clearcoat, s.clearcoat_roughness,
-                                    s.clearcoat_normal, v);
+                                    facing_view(s.clearcoat_normal, v), v);
 #else
     SurfaceCoat coat = no_surface_coat();
 #endif

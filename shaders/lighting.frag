@@ -82,10 +82,14 @@ void main() {
     vec4 world = push.inverse_view_projection * vec4(uv * 2.0 - 1.0, depth, 1.0);
     vec3 position = world.xyz / world.w;
 
+    vec3 v = normalize(push.camera_position.xyz - position);
+    // The stored normal and the anisotropy direction in its plane; then the normal made
+    // to face the eye (brdf.glsl, facing_view: every term below shades with it, and the
+    // BRDF's frame re-orthogonalises the direction against it).
     vec3 n = octahedral_decode(nra.xy);
     vec3 t = anisotropy_direction_decode(n, md.y);
+    n = facing_view(n, v);
     vec3 b = cross(n, t);
-    vec3 v = normalize(push.camera_position.xyz - position);
 
 #ifdef FLOOR_PLAIN_GGX
     // Measurement floor (MeasurementFloor::LightingPlainGgx): a plain isotropic GGX D,
@@ -149,7 +153,7 @@ void main() {
     // The clear coat: weight (a), perceptual roughness (b), octahedral normal (rg).
     vec4 coat_texel = texelFetch(gbuffer_clearcoat, pixel, 0);
     SurfaceCoat coat = surface_coat(material, m, coat_texel.a, coat_texel.b,
-                                    octahedral_decode(coat_texel.rg), v);
+                                    facing_view(octahedral_decode(coat_texel.rg), v), v);
 #else
     SurfaceCoat coat = no_surface_coat();
 #endif

@@ -11,7 +11,7 @@ use combustion::optics::microfacet::{
     alpha_from_perceptual_roughness, d_ggx_anisotropic,
     visibility_smith_ggx_height_correlated_anisotropic,
 };
-use combustion::optics::vec3::{ShadingFrame, Vec3 as V};
+use combustion::optics::vec3::{facing_view, ShadingFrame, Vec3 as V};
 use combustion::renderer::gbuffer::octahedral_decode;
 use combustion::renderer::{Frame, Readback, RendererSettings};
 use combustion::scene::{builtin_scene, Light, Material, Scene};
@@ -564,6 +564,11 @@ fn bubble_under_water_shows_total_internal_reflection() {
             let world = inverse * ndc;
             let p = world.truncate() / world.w;
             let v = (camera - p).normalize();
+            // The normal facing the eye, as every pass shades it (`facing_view`).
+            let n = {
+                let f = facing_view(vec3(n), vec3(v));
+                DVec3::new(f.x, f.y, f.z)
+            };
             if n.dot(v) >= cos_critical - margin {
                 continue;
             }

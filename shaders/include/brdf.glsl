@@ -94,6 +94,30 @@ mat3 shading_frame(vec3 n_in, vec3 t_in, vec3 b_in) {
     return mat3(t, cross(n, t), n);
 }
 
+// The shading normal n made to face the unit direction to the eye v (Rust:
+// combustion_optics::vec3::facing_view): kept where n·v ≥ FACING_COS_MIN, else turned
+// towards v in the plane of n and v until n·v = FACING_COS_MIN (a normal exactly opposite
+// v turns towards an arbitrary direction across v). Every pass that shades applies it to
+// the base's and the coat's normals before building their frames; shading_frame then
+// re-orthogonalises the tangent.
+vec3 facing_view(vec3 n, vec3 v) {
+    float c = dot(n, v);
+    if (c >= FACING_COS_MIN) {
+        return n;
+    }
+    vec3 across = n - v * c;
+    across -= v * dot(v, across);  // twice (Gram–Schmidt): orthogonal to rounding
+    float across2 = dot(across, across);
+    if (across2 > 1e-20 && !isinf(across2)) {
+        across *= 1.0 / sqrt(across2);
+    } else {
+        float sgn = v.z >= 0.0 ? 1.0 : -1.0;
+        float a = -1.0 / (sgn + v.z);
+        across = vec3(1.0 + sgn * v.x * v.x * a, sgn * v.x * v.y * a, -sgn * v.x);
+    }
+    return v * FACING_COS_MIN + across * sqrt(1.0 - FACING_COS_MIN * FACING_COS_MIN);
+}
+
 // World → local: (t·v, b·v, n·v) (Rust: ShadingFrame::to_local).
 vec3 shading_frame_to_local(mat3 frame, vec3 v) {
     return vec3(dot(frame[0], v), dot(frame[1], v), dot(frame[2], v));

@@ -19,6 +19,9 @@ const float FLT_EPSILON = 1.1920928955078125e-7;
 const float ALPHA_MIN = 1.0e-3;
 // Cosines in (0, COS_MIN) are raised to COS_MIN before anything is divided by them.
 const float COS_MIN = 1.0e-6;
+// A shading normal facing the eye by a cosine below this is bent towards it until it
+// does (brdf.glsl: facing_view; Rust: combustion_optics::FACING_COS_MIN, 1/64).
+const float FACING_COS_MIN = 0.015625;
 // IORs are clamped to [ETA_MIN, ETA_MAX], extinction coefficients to [0, ETA_MAX].
 const float ETA_MIN = 1.0e-4;
 const float ETA_MAX = 1.0e4;

@@ -200,6 +200,19 @@ pub const ALPHA_MIN: f64 = 1.0e-3;
 /// good to ≈ 1e-7 absolute anyway.
 pub const COS_MIN: f64 = 1.0e-6;
 
+/// The least cosine between a shading normal and the direction to the eye: a normal
+/// that faces the eye less is bent towards it until it does ([`vec3::facing_view`]).
+///
+/// A shading normal is not the surface's normal: an interpolated vertex normal at a
+/// silhouette, or a normal map on a fold, can turn away from a viewer who sees the
+/// surface, and every term below the horizon is 0, so such pixels came out black. The
+/// renderer (GLSL `facing_view`, brdf.glsl) and the f64 reference apply this one rule to
+/// the base's and the coat's normals before anything is shaded. 1/64: the bent normal is
+/// 89.1° from the view, so the light it sees is the grazing light of the surface it
+/// bends, and f32 cosines (good to ≈ 1e-7) and the G-buffer's octahedral normal (≈ 1e-4
+/// rad at 16 bits) are far from flipping its side.
+pub const FACING_COS_MIN: f64 = 1.0 / 64.0;
+
 /// Smallest IOR accepted (η of silver in the visible is ≈ 0.05; 1e-4 leaves margin).
 pub const ETA_MIN: f64 = 1.0e-4;
 

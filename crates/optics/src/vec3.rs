@@ -116,6 +116,32 @@ impl<T: Real> Mul<T> for Vec3<T> {
     }
 }
 
+/// The shading normal `n` made to face the unit direction to the eye `v`: unchanged
+/// where n·v ≥ [`FACING_COS_MIN`](crate::FACING_COS_MIN), else turned towards `v` in the
+/// plane of `n` and `v` just until n·v = `FACING_COS_MIN` (continuous at the threshold,
+/// unit length). A normal exactly opposite `v` (no plane) turns towards an arbitrary
+/// direction across `v`. Apply it after a double-sided material's back faces are
+/// reversed, and build the tangent frame from the result ([`ShadingFrame::new`]
+/// re-orthogonalises the tangent). GLSL: `facing_view` in brdf.glsl.
+pub fn facing_view<T: Real>(n: Vec3<T>, v: Vec3<T>) -> Vec3<T> {
+    let c_min = T::from_f64(crate::FACING_COS_MIN);
+    let c = n.dot(v);
+    if c >= c_min {
+        return n;
+    }
+    // n's part across v, projected twice (Gram–Schmidt) so that it stays orthogonal to
+    // v to rounding when n is nearly opposite v.
+    let across = n - v * c;
+    let across = across - v * v.dot(across);
+    let across2 = across.length_squared();
+    let across = if across2 > T::from_f64(1e-20) && across2.is_finite() {
+        across * (T::ONE / across2.sqrt())
+    } else {
+        ShadingFrame::basis_from_normal(v)
+    };
+    v * c_min + across * (T::ONE - c_min * c_min).sqrt()
+}
+
 /// A tangent whose component orthogonal to the normal is shorter than this fraction of
 /// its length, squared (|t⊥|² ≤ 1e-6 |t|², i.e. t within 0.057° of ±n), carries no usable
 /// direction; [`ShadingFrame::new`] then falls back to the bitangent, then to a frame
@@ -213,7 +239,7 @@ impl<T: Real> ShadingFrame<T> {
     }
 
     /// A unit tangent orthogonal to unit `n` (Duff et al. 2017, branch-free up to the sign).
-    fn basis_from_normal(n: Vec3<T>) -> Vec3<T> {
+    pub(crate) fn basis_from_normal(n: Vec3<T>) -> Vec3<T> {
         let sign = if n.z >= T::ZERO { T::ONE } else { -T::ONE };
         let a = -T::ONE / (sign + n.z);
         let b = n.x * n.y * a;
@@ -280,6 +306,53 @@ mod tests {
     fn zero_normal_gives_zero_frame() {
         let f = ShadingFrame::new(Vec3::<f32>::zero(), Vec3::new(1.0, 0.0, 0.0), Vec3::zero());
         assert_eq!(f.to_local(Vec3::new(0.2, 0.3, 0.9)), Vec3::zero());
+    }
+
+    /// The facing rule: a normal that faces the eye by at least FACING_COS_MIN is kept
+    /// bit for bit; one that does not is unit, faces it by exactly FACING_COS_MIN, lies
+    /// in the plane of n and v on n's side of v, and the rule is continuous at the
+    /// threshold; n = −v still gives a unit normal facing v.
+    #[test]
+    fn facing_view_bends_just_enough() {
+        let c_min = crate::FACING_COS_MIN;
+        let v = Vec3::new(0.2_f64, -0.3, 0.9).normalize();
+        let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut kept, mut bent) = (0, 0);
+        for _ in 0..20_000 {
+            let n = Vec3::new(next(), next(), next()).normalize();
+            let f = facing_view(n, v);
+            if n.dot(v) >= c_min {
+                assert_eq!(f, n);
+                kept += 1;
+                continue;
+            }
+            bent += 1;
+            assert!((f.length() - 1.0).abs() < 1e-14, "{f:?}");
+            assert!((f.dot(v) - c_min).abs() < 1e-14, "{}", f.dot(v));
+            // In the plane of n and v, on n's side of v.
+            assert!(f.dot(n.cross(v)).abs() < 1e-14);
+            assert!(f.reject_from(v).dot(n.reject_from(v)) >= 0.0);
+        }
+        assert!(kept > 1000 && bent > 1000, "{kept} kept, {bent} bent");
+        // Continuous at the threshold: a normal just below it moves by about as much as
+        // its cosine is short.
+        let across = Vec3::new(1.0, 0.0, 0.0).reject_from(v).normalize();
+        let at = |c: f64| v * c + across * (1.0 - c * c).sqrt();
+        let below = at(c_min - 1e-9);
+        assert!((facing_view(below, v) - below).length() < 1e-8);
+        assert_eq!(facing_view(at(c_min + 1e-9), v), at(c_min + 1e-9));
+        // Exactly away: still unit and facing.
+        let f = facing_view(-v, v);
+        assert!((f.length() - 1.0).abs() < 1e-14 && (f.dot(v) - c_min).abs() < 1e-14);
+        // f32 as the GPU computes it: facing by FACING_COS_MIN to rounding.
+        let f32_bent = facing_view(Vec3::new(0.0_f32, 0.0, -1.0), Vec3::new(0.6, 0.0, 0.8));
+        assert!((f32_bent.dot(Vec3::new(0.6, 0.0, 0.8)) - c_min as f32).abs() < 1e-6);
     }
 
     #[test]

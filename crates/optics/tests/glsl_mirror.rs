@@ -8,7 +8,7 @@ use combustion_optics::diffuse::{
     OREN_NAYAR_A_CONSTANT_BRDF, OREN_NAYAR_A_CONSTANT_NOTES, OREN_NAYAR_A_CONSTANT_PAPER,
 };
 use combustion_optics::vec3::TANGENT_DEGENERATE_FRACTION_SQ;
-use combustion_optics::{ALPHA_MIN, COS_MIN, ETA_MAX, ETA_MIN};
+use combustion_optics::{ALPHA_MIN, COS_MIN, ETA_MAX, ETA_MIN, FACING_COS_MIN};
 use std::path::PathBuf;
 
 fn include(name: &str) -> String {
@@ -41,7 +41,7 @@ fn constants_match() {
     let src = include("constants.glsl");
     // A GLSL float literal compiles to the nearest f32 of its decimal value, which is what
     // the Rust f32 path's `T::from_f64` gives for the same constant.
-    let expect: [(&str, f64); 12] = [
+    let expect: [(&str, f64); 13] = [
         ("PI", std::f64::consts::PI),
         ("INV_PI", std::f64::consts::FRAC_1_PI),
         ("INV_SQRT_2", std::f64::consts::FRAC_1_SQRT_2),
@@ -49,6 +49,7 @@ fn constants_match() {
         ("FLT_EPSILON", f32::EPSILON as f64),
         ("ALPHA_MIN", ALPHA_MIN),
         ("COS_MIN", COS_MIN),
+        ("FACING_COS_MIN", FACING_COS_MIN),
         ("ETA_MIN", ETA_MIN),
         ("ETA_MAX", ETA_MAX),
         (
@@ -235,6 +236,7 @@ fn every_term_has_a_glsl_mirror() {
             &[
                 "vec3 safe_normalize(vec3 v)",
                 "mat3 shading_frame(vec3 n_in, vec3 t_in, vec3 b_in)",
+                "vec3 facing_view(vec3 n, vec3 v)",
                 "vec3 brdf_evaluate(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v, vec3 l)",
                 "float coat_attenuation(CoatInputs c, float cos_theta)",
                 "CoatView coat_view(CoatInputs c, vec3 n, vec3 v)",

@@ -17,6 +17,10 @@
 //! filtering, the G-buffer's storage precision, the conversion of lights and materials,
 //! and the lighting pass's f32 arithmetic.
 //!
+//! A shading normal that faces away from the eye is bent towards it by the optics
+//! crate's rule (`combustion_optics::vec3::facing_view`, the same rule the renderer
+//! applies in GLSL) before anything is shaded.
+//!
 //! Not modelled (a frame that uses them is compared only where they do not act): the
 //! environment's light, KHR_materials_specular (the renderer does not shade it either),
 //! and shadows unless [`SceneShading::with_visibility`] adds exact visibility.
@@ -31,7 +35,7 @@ use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Laye
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::sheen::SheenInputs;
 use combustion_optics::thin_film::ThinFilm;
-use combustion_optics::vec3::Vec3 as OpticsVec3;
+use combustion_optics::vec3::{facing_view, Vec3 as OpticsVec3};
 use combustion_scene::{
     conductor_from_reflectivity, range_window, DiffuseModel, Light, Material, Scene, TextureRef,
     Vertex, CLEARCOAT_IOR,
@@ -133,6 +137,12 @@ pub struct SceneShading<'a> {
 
 fn optics_vec(v: DVec3) -> OpticsVec3<f64> {
     OpticsVec3::new(v.x, v.y, v.z)
+}
+
+/// `n` made to face `v` by the optics crate's rule ([`facing_view`]).
+fn facing(n: DVec3, v: DVec3) -> DVec3 {
+    let f = facing_view(optics_vec(n), optics_vec(v));
+    DVec3::new(f.x, f.y, f.z)
 }
 
 fn optics_diffuse(model: DiffuseModel) -> OpticsDiffuse {
@@ -610,6 +620,14 @@ impl<'a> SceneShading<'a> {
             b = -b;
             coat_normal = -coat_normal;
         }
+        // A shading normal that faces away from the eye (an interpolated normal at a
+        // silhouette, a normal map on a fold) is bent towards it until their cosine is
+        // combustion_optics::FACING_COS_MIN (`facing_view`), the base's and the coat's
+        // alike, as the renderer's passes do before shading. The anisotropy direction
+        // below is made orthogonal to the bent normal; `t` and `b` stay the unbent
+        // frame the direction is given in (the G-buffer stores it in that plane).
+        n = facing(n, v);
+        coat_normal = facing(coat_normal, v);
 
         let base_texture = lookup.sample_or(material.base_color_texture.as_ref(), [1.0; 4]);
         // The vertex colour (glTF COLOR_0), interpolated in f64.

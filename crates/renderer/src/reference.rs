@@ -22,7 +22,7 @@ use combustion_optics::thin_film::ThinFilm;
 use combustion_optics::variants::{
     brdf_evaluate_variant, BrdfVariant, DistributionForm, FresnelForm, MaskingForm,
 };
-use combustion_optics::vec3::Vec3 as V;
+use combustion_optics::vec3::{facing_view, Vec3 as V};
 use combustion_reference::SceneBvh;
 use combustion_scene::{Environment, Light, Scene};
 
@@ -102,6 +102,12 @@ pub struct ReferenceShading {
 
 fn v3(a: [f64; 3]) -> V<f64> {
     V::new(a[0], a[1], a[2])
+}
+
+/// Unit normal `n` made to face the unit direction to the eye `v` ([`facing_view`]).
+fn facing(n: [f64; 3], v: [f64; 3]) -> [f64; 3] {
+    let f = facing_view(v3(n), v3(v));
+    [f.x, f.y, f.z]
 }
 
 fn normalize(a: [f64; 3]) -> [f64; 3] {
@@ -410,11 +416,10 @@ impl ReferenceShading {
         let base_color = texel.base_color();
         let metalness = texel.base_color_metalness[3];
         let [nx, ny, roughness, strength] = texel.normal_roughness_anisotropy;
-        let n = octahedral_decode([nx, ny]);
+        let stored_n = octahedral_decode([nx, ny]);
         let [material_index, direction] = texel.material_direction;
         let material = &materials[material_index as usize];
-        let t = anisotropy_direction_decode(n, direction);
-        let b = cross(n, t);
+        let t = anisotropy_direction_decode(stored_n, direction);
 
         let inv = push.inverse_view_projection.map(f64::from);
         let ndc = [
@@ -438,6 +443,11 @@ impl ReferenceShading {
             camera[1] - position[1],
             camera[2] - position[2],
         ]);
+
+        // The stored normal made to face the eye, as the lighting pass does (the optics
+        // crate's `facing_view`); the BRDF's frame re-orthogonalises `t` against it.
+        let n = facing(stored_n, v);
+        let b = cross(n, t);
 
         let alpha = alpha_from_perceptual_roughness(roughness);
         let (alpha_x, alpha_y) = anisotropic_alphas(alpha, strength);
@@ -486,7 +496,7 @@ impl ReferenceShading {
                 outside_eta: m.outside_eta,
                 polarisation_weight: m.polarisation_weight,
             },
-            normal: v3(octahedral_decode([cx, cy])),
+            normal: v3(facing(octahedral_decode([cx, cy]), v)),
         });
         // The thin film's target: weight, thickness in nm; its IOR from the material.
         let [film_weight, film_thickness_nm] = texel.film;
