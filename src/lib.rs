@@ -172,9 +172,12 @@ impl SceneSource {
 
     /// Builds or imports the scene. glTF files (.gltf, .glb) go through
     /// [`combustion_scene::gltf::import`] with default options (external URIs outside the
-    /// scene's folder refused); warnings go to the log. A file without lights is lit by
-    /// the built-in studio environment ([`combustion_scene::Environment::Studio`]; the
-    /// camera-relative [`default_light_rig`] is the command line's `--light-rig`).
+    /// scene's folder refused); warnings go to the log. A file is lit by its own lights
+    /// (KHR_lights_punctual), if it has any, and by the built-in studio environment
+    /// ([`combustion_scene::Environment::Studio`]): set [`Scene::environment`] to
+    /// `None` for its lights alone, or clear [`Scene::lights`] for the studio alone (the
+    /// command line: `--environment none`, `--scene-lights off`; the camera-relative
+    /// [`default_light_rig`] is its `--light-rig`).
     pub fn load(&self) -> Result<Scene, Error> {
         self.load_with(&ImportOptions::default())
     }
@@ -207,8 +210,10 @@ impl SceneSource {
                     Some(i) => cameras.rotate_left(i),
                     None => cameras.insert(0, scene.camera),
                 }
-                // Lit by default (the command line says so, once, when it keeps it).
-                if scene.lights.is_empty() && scene.environment.is_none() {
+                // Lit by default: by the file's own lights, if it has any, and by the
+                // studio environment, as glTF viewers light a file (the command line's
+                // --environment replaces it, `none` removes it).
+                if scene.environment.is_none() {
                     scene.environment = Some(combustion_scene::Environment::Studio);
                 }
                 Ok((scene, cameras))

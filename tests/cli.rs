@@ -877,6 +877,103 @@ fn info_describes_gltf_files() {
     );
 }
 
+/// `--shadows on` on a scene whose lights cast none (here: no lights, the studio alone)
+/// says that it does nothing, and renders.
+#[test]
+fn shadows_without_a_casting_light_are_said_to_do_nothing() {
+    let dir = scratch("shadows-nothing");
+    let png = dir.join("studio.png");
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "--scene",
+        "builtin:spheres-studio",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--shadows",
+        "on",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains("--shadows on does nothing here: it has no lights"),
+        "{stderr}"
+    );
+    assert!(png.exists());
+}
+
+/// A glTF file with lights is lit by its lights and the studio environment by default,
+/// and light adds up: on the textured scene (a point, a spot and a directional light,
+/// and an emissive material), each pixel of the default frame plus the frame with
+/// neither (`--scene-lights off --environment none`: the emission alone) equals the
+/// frame of the lights alone (`--environment none`) plus the frame of the studio alone
+/// (`--scene-lights off`), to f32 rounding; the studio adds light to the frame, and
+/// `info` states the rule.
+#[test]
+fn a_file_is_lit_by_its_lights_and_the_studio() {
+    let dir = scratch("scene-lights");
+    let textured = repo_file("assets/scenes/textured/textured.gltf");
+    let render = |name: &str, extra: &[&str]| {
+        let exr = dir.join(format!("{name}.exr"));
+        let png = dir.join(format!("{name}.png"));
+        let mut args = vec![
+            "render",
+            "--scene",
+            &textured,
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "-o",
+            png.to_str().unwrap(),
+            "--hdr",
+            exr.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = combustion(&args);
+        assert_eq!(code, 0, "{name}: {stderr}");
+        read_exr(&exr).2
+    };
+    let both = render("both", &[]);
+    let lights = render("lights", &["--environment", "none"]);
+    let studio = render("studio", &["--scene-lights", "off"]);
+    let neither = render(
+        "neither",
+        &["--scene-lights", "off", "--environment", "none"],
+    );
+    let mut worst = 0.0f64;
+    for i in 0..both.len() {
+        for c in 0..3 {
+            let left = f64::from(both[i][c]) + f64::from(neither[i][c]);
+            let right = f64::from(lights[i][c]) + f64::from(studio[i][c]);
+            worst = worst.max((left - right).abs() / right.abs().max(1e-4));
+        }
+    }
+    let sum = |frame: &[[f32; 3]]| {
+        frame
+            .iter()
+            .map(|p| f64::from(p[0] + p[1] + p[2]))
+            .sum::<f64>()
+    };
+    eprintln!(
+        "radiance summed: both {:.3}, lights {:.3}, studio {:.3}, neither {:.3}; superposition worst {worst:.2e}",
+        sum(&both),
+        sum(&lights),
+        sum(&studio),
+        sum(&neither)
+    );
+    assert!(worst < 1e-4, "superposition off by {worst:.2e}");
+    assert!(sum(&studio) > sum(&neither) && sum(&lights) > sum(&neither));
+    let (code, stdout, stderr) = combustion(&["info", &textured]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("render lights the file with its 3 lights and the studio environment"),
+        "{stdout}"
+    );
+}
+
 /// Every file of the bad-glTF corpus gives the importer's error on one line, naming the
 /// file, exit status 1. (`image-over-limit.gltf` is bad only under a lower image limit than
 /// the default, so it is skipped.)

@@ -918,19 +918,22 @@ fn workspace() -> std::path::PathBuf {
 fn the_authored_gltf_scenes_are_what_they_show() {
     for name in ["textured", "optics", "cutout", "blend"] {
         let path = workspace().join(format!("assets/scenes/{name}/{name}.gltf"));
-        let scene = combustion::SceneSource::File(path).load().unwrap();
+        let mut scene = combustion::SceneSource::File(path).load().unwrap();
+        // Its lights alone (a file is lit by the studio environment as well by default).
+        scene.environment = None;
         let comparison = compare_with_scene(&scene, &scene.lights, W, H);
         eprintln!("{}", comparison.describe(name, W, H));
         comparison.assert_within_bounds(name);
     }
 }
 
-/// `scene` lit by a directional light from above the camera's right shoulder instead of
-/// an environment, if it has no lights of its own (the reference does not integrate
-/// environments per pixel).
+/// `scene` without its environment, lit by its own lights or, if it has none, by a
+/// directional light from above the camera's right shoulder (this comparison's
+/// reference does not integrate environments per pixel).
 fn lit_for_comparison(mut scene: Scene) -> Scene {
+    // A file's default studio environment too (the lights alone are compared here).
+    scene.environment = None;
     if scene.lights.is_empty() {
-        scene.environment = None;
         let camera = scene.camera;
         let forward = (camera.target - camera.position).normalize();
         scene.lights.push(Light::Directional {

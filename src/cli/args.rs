@@ -27,7 +27,7 @@ and anisotropic), Oren-Nayar diffuse and the full Fresnel equations with complex
 the outside medium's index, checked against an f64 optics reference.
 
 SCENE is builtin:NAME (the list is below; default builtin:spheres) or a glTF file (.gltf
-or .glb; a file without lights is lit by the built-in studio environment).
+or .glb; a file is lit by its own lights and the built-in studio environment).
 
 `combustion COMMAND --help` explains each command's options.
 Logging: COMBUSTION_LOG=error|warn|info|debug|trace (default warn).";
@@ -365,6 +365,11 @@ pub(crate) struct ShadingArgs {
     /// lights)
     #[arg(long)]
     pub(crate) light_rig: bool,
+    /// A glTF file's own lights (KHR_lights_punctual), which light it with the studio
+    /// environment by default: `off` leaves them out (`--environment none` leaves the
+    /// environment out)
+    #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
+    pub(crate) scene_lights: bool,
     /// How metals given by a measured spectrum (built-in scenes' metals, and glTF
     /// conductors naming a `metal` or `spectrum` without their own `colour`) get their
     /// RGB η, k: `bands` (the rendering notes' band means) or `colorimetric` (fitted to
@@ -660,7 +665,7 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_name = "METHOD", default_value = "none", value_parser = named(AntiAliasing::ALL.map(|a| (a.name(), a))))]
     pub(crate) anti_aliasing: AntiAliasing,
     /// Measure the variant sets and write the speed-against-error report to DIR
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "scene_lights", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
     pub(crate) report: Option<PathBuf>,
     /// With --report: add how this run reproduces an earlier report (rows with identical
     /// error columns, the spread of the frame-time ratios)
@@ -1141,7 +1146,8 @@ impl EnvironmentChoice {
 }
 
 /// The scene of `source` seen from `camera`, with `--environment` and `--light-rig`
-/// applied (the rig follows the camera).
+/// applied (the rig follows the camera); `--shadows on` where no light casts shadows is
+/// said (once, as a warning).
 pub(crate) fn lit_as_asked(
     source: &SceneSource,
     camera: CameraChoice,
@@ -1150,14 +1156,26 @@ pub(crate) fn lit_as_asked(
     let mut scene = loaded_as_asked(source, camera, shading)?;
     scene.camera = camera.place(&scene);
     scene.lights.extend(shading.light_rig(&scene.camera));
+    if shading.shadows && !scene.lights.iter().any(|l| l.casts_shadows()) {
+        let lights = match scene.lights.len() {
+            0 => "it has no lights".to_owned(),
+            n => format!("none of its {n} lights casts shadows"),
+        };
+        log::warn!(
+            "{}: --shadows on does nothing here: {lights} (shadow maps darken lights, not the environment)",
+            source.label()
+        );
+    }
     Ok(scene)
 }
 
 /// The scene of `source` as [`lit_as_asked`] makes it before the camera is placed and
-/// the rig added: the file's camera `camera` chooses, `--environment` applied. A file
-/// without lights is lit by the studio environment unless `--environment` says
-/// otherwise or `--light-rig` lights it instead, and only then is that said (once, as a
-/// warning).
+/// the rig added: the file's camera `camera` chooses, `--environment` and
+/// `--scene-lights` applied. A file is lit by its own lights and the studio environment
+/// ([`SceneSource::load`]); `--environment` replaces the studio, `--scene-lights off`
+/// drops the file's lights. A file without lights (or with them dropped) is lit by the
+/// studio alone unless `--environment` says otherwise or `--light-rig` lights it
+/// instead, and only then is that said (once, as a warning).
 pub(crate) fn loaded_as_asked(
     source: &SceneSource,
     camera: CameraChoice,
@@ -1168,6 +1186,9 @@ pub(crate) fn loaded_as_asked(
         ..camera.import_options(source)?
     };
     let mut scene = source.load_with(&options)?;
+    if !shading.scene_lights {
+        scene.lights.clear();
+    }
     let lit_by_default = matches!(source, SceneSource::File(_)) && scene.lights.is_empty();
     if let Some(environment) = &shading.environment {
         scene.environment = environment.load()?;

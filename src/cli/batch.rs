@@ -243,12 +243,13 @@ fn group_key(job: &Job, settings: &RendererSettings) -> String {
         _ => None,
     };
     format!(
-        "{:?} {:?} {:?} {file_camera:?} {:?} {} {}",
+        "{:?} {:?} {:?} {file_camera:?} {:?} {} {} {}",
         settings.hdr_format,
         settings.gbuffer,
         job.render.scene.source(),
         job.render.shading.environment,
         job.render.shading.light_rig,
+        job.render.shading.scene_lights,
         job.render.shading.metal_colour.name()
     )
 }

@@ -23,12 +23,19 @@ pub(crate) fn info(o: &InfoArgs) -> Result<(), CliError> {
             if !scene.name.is_empty() {
                 outln!("scene: {}", scene.name);
             }
-            if scene.lights.is_empty() && scene.environment.is_none() {
-                // What `render` does with such a file (SceneSource::load).
+            if scene.environment.is_none() {
+                // What `render` does with the file (SceneSource::load).
                 scene.environment = Some(Environment::Studio);
-                outln!(
-                    "note: the file has no lights; render lights it with the studio environment (--light-rig adds the camera-relative key and fill lights)"
-                );
+                if scene.lights.is_empty() {
+                    outln!(
+                        "note: the file has no lights; render lights it with the studio environment (--light-rig adds the camera-relative key and fill lights)"
+                    );
+                } else {
+                    outln!(
+                        "note: render lights the file with its {} lights and the studio environment (--environment none: its lights alone; --scene-lights off: the studio alone)",
+                        scene.lights.len()
+                    );
+                }
             }
             scene
         }

@@ -854,11 +854,17 @@ pub fn luminance3(rgb: [f64; 3]) -> f64 {
     0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
 }
 
-/// The project's authored scene `assets/scenes/NAME/NAME.gltf`, imported.
+/// The project's authored scene `assets/scenes/NAME/NAME.gltf`, imported, lit by its own
+/// lights alone.
 pub fn authored_scene(name: &str) -> Scene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join(format!("assets/scenes/{name}/{name}.gltf"));
-    combustion::SceneSource::File(path).load().unwrap()
+    let mut scene = combustion::SceneSource::File(path).load().unwrap();
+    // Its own lights alone: every authored scene has lights, and the tests compare it
+    // with references of them (a file is lit by the studio environment as well by
+    // default).
+    scene.environment = None;
+    scene
 }
 
 /// `grid-sun` (spheres on a floor under a shadow-casting sun) with every object hanging
