@@ -25,7 +25,9 @@ if [ $# -gt 0 ] && [ "$1" != "--" ]; then
   binary=$1
   shift
 fi
-[ $# -gt 0 ] && [ "$1" = "--" ] && shift
+if [ $# -gt 0 ] && [ "$1" = "--" ]; then
+  shift
+fi
 extra=("$@")
 samples=../shared/data/gltf
 size=${CONTACT_SHEET_SIZE:-256}
@@ -47,7 +49,7 @@ tiles=()
 for dir in "$samples"/*/; do
   name=$(basename "$dir")
   [ "$name" = "_LICENSES" ] && continue
-  file=$(find "$dir/glTF" "$dir/glTF-Binary" -maxdepth 1 \( -name '*.gltf' -o -name '*.glb' \) 2>/dev/null | sort | head -n 1)
+  file=$( (find "$dir/glTF" "$dir/glTF-Binary" -maxdepth 1 \( -name '*.gltf' -o -name '*.glb' \) 2>/dev/null || true) | sort | head -n 1)
   [ -n "$file" ] || continue
   render="$out/$name.png"
   if ! "$binary" render --scene "$file" --width "$size" --height "$size" -o "$render" \
@@ -55,8 +57,12 @@ for dir in "$samples"/*/; do
     echo "$name: render failed (see $out/$name.log)" >&2
     convert -size "${size}x${size}" xc:grey50 "$render"
   fi
-  shot=$(find "$dir/screenshot" -maxdepth 1 \( -name 'screenshot.png' -o -name 'screenshot.jpg' \) 2>/dev/null | head -n 1)
-  if [ -z "$shot" ]; then
+  shot=$( (find "$dir/screenshot" -maxdepth 1 \( -name 'screenshot.png' -o -name 'screenshot.jpg' -o -name 'screenshot.gif' \) 2>/dev/null || true) | sort | head -n 1)
+  if [ "${shot##*.}" = gif ]; then
+    # An animation's first frame.
+    convert "$shot[0]" "$out/$name-screenshot.png"
+    shot="$out/$name-screenshot.png"
+  elif [ -z "$shot" ]; then
     shot="$out/$name-no-screenshot.png"
     convert -size "${size}x${size}" xc:grey20 "$shot"
   fi
@@ -70,8 +76,9 @@ for ((i = 0; i < ${#tiles[@]}; i += 24)); do
   args=()
   for tile in "${tiles[@]:i:24}"; do
     case "$tile" in
+      *-screenshot.png | *-no-screenshot.png) label="$(basename "$tile" .png)" ;;
       "$out"/*) label="$(basename "$tile" .png) (Combustion)" ;;
-      *) label="$(basename "$(dirname "$(dirname "$tile")")") (screenshot)" ;;
+      *) label="$(basename "$(dirname "$(dirname "$tile")")") screenshot" ;;
     esac
     args+=(-label "$label" "$tile")
   done

@@ -603,7 +603,7 @@ impl CameraChoice {
         use combustion::scene::Camera;
         match self {
             Self::Scene | Self::File(_) => scene.camera,
-            Self::Framing => Camera::framing(scene.world_bounds()),
+            Self::Framing => Camera::framing(scene.framing_bounds()),
             Self::Orbit {
                 azimuth,
                 elevation,

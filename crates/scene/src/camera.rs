@@ -27,30 +27,43 @@ pub struct Camera {
     pub far: f32,
 }
 
-/// The framing camera's elevation above the horizon: 15°, model-viewer's default orbit
-/// (a polar angle of 75°), so that the top of a model shows and a model lying flat is
-/// seen.
-pub const FRAMING_ELEVATION: f32 = 15.0 * std::f32::consts::PI / 180.0;
+/// The framing camera's elevation above the horizon: 20°, a raised view, so that the
+/// top of a model shows and a model lying flat is seen.
+pub const FRAMING_ELEVATION: f32 = 20.0 * std::f32::consts::PI / 180.0;
+
+/// The framing camera's azimuth: 30° about +Y from glTF's forward view (the +Z side)
+/// towards +X, a three-quarter view that shows a model's front and its right side, as
+/// the Khronos sample models' screenshots do.
+pub const FRAMING_AZIMUTH: f32 = 30.0 * std::f32::consts::PI / 180.0;
+
+/// A box thinner along Z than this fraction of its largest extent is a panel facing +Z
+/// (a test chart, a row of spheres before labels), which [`Camera::framing`] sees from
+/// the front rather than at [`FRAMING_AZIMUTH`].
+pub const PANEL_DEPTH_FRACTION: f32 = 0.25;
 
 /// The vertical field of view of [`Camera::framing`] and [`Camera::orbiting`]: 45°.
 pub const FRAMING_FOV: f32 = std::f32::consts::FRAC_PI_4;
 
 impl Camera {
-    /// A camera on the +Z side of `bounds` (a box in world space; a 2 m box around the
-    /// origin without one), glTF's forward view, raised [`FRAMING_ELEVATION`] above the
-    /// horizon, looking at its centre, far enough for the box's bounding sphere to fill
-    /// the 45° field of view. A box flat along Y (a floor, a terrain grid: under 1 % of
-    /// its largest extent high), which a low view would see almost edge-on, is seen from
-    /// 45° above instead. The importer's camera for files without one.
+    /// A three-quarter view of `bounds` (a box in world space; a 2 m box around the
+    /// origin without one): from the +Z side (glTF's forward view) turned
+    /// [`FRAMING_AZIMUTH`] towards +X and raised [`FRAMING_ELEVATION`] above the horizon,
+    /// looking at its centre, far enough for the box's bounding sphere to fill the 45°
+    /// field of view. A box flat along Y (a floor, a terrain grid: under 1 % of its
+    /// largest extent high), which a low view would see almost edge-on, is seen from 45°
+    /// above instead; a panel facing +Z (under [`PANEL_DEPTH_FRACTION`] of its largest
+    /// extent deep) from the front. The importer's camera for files without one.
     pub fn framing(bounds: Option<(Vec3, Vec3)>) -> Camera {
         let size = bounds.map_or(Vec3::ONE, |(lo, hi)| hi - lo);
         let flat_along_y = size.y < 0.01 * size.max_element();
+        let panel = size.z < PANEL_DEPTH_FRACTION * size.max_element();
         let elevation = if flat_along_y {
             std::f32::consts::FRAC_PI_4
         } else {
             FRAMING_ELEVATION
         };
-        Self::orbiting(bounds, 0.0, elevation, 1.0)
+        let azimuth = if panel { 0.0 } else { FRAMING_AZIMUTH };
+        Self::orbiting(bounds, azimuth, elevation, 1.0)
     }
 
     /// A camera orbiting the centre of `bounds` (as [`Camera::framing`]) and looking at
@@ -140,8 +153,8 @@ impl Camera {
 mod tests {
     use super::*;
 
-    /// Framing is the orbit at azimuth 0 and the framing elevation (45° above a flat
-    /// box); an orbit's eye is at the same distance from the centre whatever its
+    /// Framing is the orbit at the framing azimuth and elevation (the front of a panel,
+    /// 45° above a flat box); an orbit's eye is at the same distance from the centre whatever its
     /// angles, on the +X side at azimuth 90°, above at positive elevations; the box's
     /// bounding sphere lies between the near and far planes; each camera validates.
     #[test]
@@ -152,7 +165,13 @@ mod tests {
         let framing = Camera::framing(bounds);
         assert_eq!(
             framing,
-            Camera::orbiting(bounds, 0.0, FRAMING_ELEVATION, 1.0)
+            Camera::orbiting(bounds, FRAMING_AZIMUTH, FRAMING_ELEVATION, 1.0)
+        );
+        // A panel facing +Z is framed from the front.
+        let panel = Some((Vec3::new(-2.0, -1.0, -0.1), Vec3::new(2.0, 1.0, 0.1)));
+        assert_eq!(
+            Camera::framing(panel),
+            Camera::orbiting(panel, 0.0, FRAMING_ELEVATION, 1.0)
         );
         let distance = (framing.position - centre).length();
         assert!((distance - radius / (FRAMING_FOV / 2.0).sin() * 1.05).abs() < 1e-4);
@@ -174,7 +193,7 @@ mod tests {
         let flat = Some((Vec3::new(-5.0, 0.0, -5.0), Vec3::new(5.0, 0.01, 5.0)));
         assert_eq!(
             Camera::framing(flat),
-            Camera::orbiting(flat, 0.0, std::f32::consts::FRAC_PI_4, 1.0)
+            Camera::orbiting(flat, FRAMING_AZIMUTH, std::f32::consts::FRAC_PI_4, 1.0)
         );
     }
 }

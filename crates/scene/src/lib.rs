@@ -34,7 +34,7 @@ mod view_check;
 
 pub use alpha_coverage::{alpha_mip_scales, ALPHA_MIP_LEVELS};
 pub use builtin::{builtin_scene, builtin_scene_with, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
-pub use camera::{Camera, FRAMING_ELEVATION, FRAMING_FOV};
+pub use camera::{Camera, FRAMING_AZIMUTH, FRAMING_ELEVATION, FRAMING_FOV, PANEL_DEPTH_FRACTION};
 pub use camera_path::{CameraPath, MAX_CAMERA_PATH_BYTES};
 pub use environment::{
     decode_exr_rgb, equirect_coordinates, studio_radiance, Environment, EnvironmentFormat,
@@ -315,6 +315,14 @@ impl Scene {
     /// does not exist (which [`Scene::validate`] refuses) are left out, not a panic.
     pub fn world_bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
         gltf::import::world_bounds(&self.meshes, &self.objects)
+    }
+
+    /// The box [`Camera::framing`] frames the scene by: the scene as drawn at rest
+    /// where a mesh deforms (skins by their rest joints, morphs at their default
+    /// weights), grown by the first animation's motion of its rigid objects; else every
+    /// object's box so grown.
+    pub fn framing_bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
+        gltf::import::framing_bounds(self)
     }
 
     /// Each object's world-space box, as [`Scene::world_bounds`] makes them (in the

@@ -89,6 +89,54 @@ fn every_sample_model_imports_or_is_refused_as_listed() {
     assert!(count >= 10, "only {count} sample files found");
 }
 
+/// The framing camera of a file without one sees the whole scene as drawn at rest: every
+/// vertex of every deformed model's posed meshes (skins by their rest joints, morphs at
+/// their default weights) projects inside the image, for the deformed sample models that
+/// have no camera of their own. Framed by their undeformed vertices, SimpleMorph's
+/// morphed tip fell outside the image.
+#[test]
+fn framing_cameras_see_deformed_models_as_drawn() {
+    let Some(dir) = samples() else { return };
+    let mut checked = Vec::new();
+    for relative in [
+        "SimpleMorph/glTF/SimpleMorph.gltf",
+        "SimpleSkin/glTF/SimpleSkin.gltf",
+        "RiggedSimple/glTF-Binary/RiggedSimple.glb",
+        "RiggedFigure/glTF-Binary/RiggedFigure.glb",
+        "CesiumMan/glTF-Binary/CesiumMan.glb",
+        "AnimatedMorphCube/glTF-Binary/AnimatedMorphCube.glb",
+        "MorphPrimitivesTest/glTF-Binary/MorphPrimitivesTest.glb",
+    ] {
+        let (scene, report) = import(&dir.join(relative), &ImportOptions::default()).unwrap();
+        if report.camera != CameraSource::Framing {
+            continue;
+        }
+        let drawn = scene.as_drawn(None);
+        let view_projection = scene.camera.view_projection(1.0);
+        let mut outside = 0;
+        let mut total = 0;
+        for object in &drawn.objects {
+            for v in &drawn.meshes[object.mesh].vertices {
+                let world = object
+                    .transform
+                    .transform_point3(glam::Vec3::from(v.position));
+                let clip = view_projection * world.extend(1.0);
+                let ndc = clip.truncate() / clip.w;
+                total += 1;
+                if !(clip.w > 0.0 && ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0) {
+                    outside += 1;
+                }
+            }
+        }
+        assert_eq!(
+            outside, 0,
+            "{relative}: {outside} of {total} vertices outside the view"
+        );
+        checked.push(relative);
+    }
+    assert!(checked.len() >= 3, "{checked:?}");
+}
+
 /// The three forms of BoxTextured give the same scene (apart from the name).
 #[test]
 fn box_textured_forms_agree() {

@@ -831,7 +831,7 @@ impl Importer<'_> {
                     .map(|s| s.to_string_lossy().into_owned())
             })
             .unwrap_or_else(|| "glTF scene".into());
-        let scene = Scene {
+        let mut scene = Scene {
             name,
             meshes,
             materials,
@@ -843,6 +843,11 @@ impl Importer<'_> {
             motion,
         };
         scene.validate().map_err(ImportProblem::Scene)?;
+        if source == CameraSource::Framing {
+            if let Some(framed) = posed_bounds(&scene) {
+                scene.camera = Camera::framing(Some(framed));
+            }
+        }
         // KHR_materials_specular is read and kept in the scene, but no pass shades it
         // yet: say so once, naming the extension, where a material's specular differs
         // from the extension's identity (factor 1, colour 1, no textures).
@@ -1559,6 +1564,41 @@ fn animated_bounds(
         }
     }
     bounds
+}
+
+/// The box a framing camera frames when `scene` deforms a mesh (a skin, morph targets
+/// hanging from a node): the scene as drawn at rest (skins by their rest joints, morphs
+/// at their default weights: `Scene::as_drawn`), grown by the first animation's motion
+/// of its rigid objects ([`animated_bounds`]); `None` when nothing deforms or the posed
+/// box is not finite. The undeformed meshes' box can miss a morph's displacement, or
+/// lie far from a skin whose bind pose is not its rest pose.
+fn posed_bounds(scene: &Scene) -> Option<(Vec3, Vec3)> {
+    let deforms = scene.objects.iter().any(|o| {
+        let mesh = &scene.meshes[o.mesh];
+        o.node.is_some() && (mesh.skin.is_some() || !mesh.morph_targets.is_empty())
+    });
+    if !deforms {
+        return None;
+    }
+    let drawn = scene.as_drawn(None);
+    let rest = drawn
+        .world_bounds()
+        .filter(|(lo, hi)| (*hi - *lo).is_finite())?;
+    animated_bounds(&scene.motion, &scene.meshes, &scene.objects, Some(rest))
+}
+
+/// The box a framing camera frames for `scene`: [`posed_bounds`] where a mesh deforms,
+/// else every object's box grown by the first animation's motion (as the importer frames
+/// a file without a camera).
+pub(crate) fn framing_bounds(scene: &Scene) -> Option<(Vec3, Vec3)> {
+    posed_bounds(scene).or_else(|| {
+        animated_bounds(
+            &scene.motion,
+            &scene.meshes,
+            &scene.objects,
+            scene.world_bounds(),
+        )
+    })
 }
 
 /// At most this many poses of the first animation are framed ([`animated_bounds`]).
