@@ -877,6 +877,70 @@ fn info_describes_gltf_files() {
     );
 }
 
+/// `render` smooths edges with FXAA by default: its PNG is byte for byte the one
+/// `--anti-aliasing fxaa` writes and differs from `--anti-aliasing none`'s, while the EXR
+/// (radiance) is the same in all three; `--supersample 2` alone needs no
+/// `--anti-aliasing none` (supersampling replaces the default) and still refuses an
+/// explicit `fxaa`.
+#[test]
+fn render_smooths_edges_by_default() {
+    let dir = scratch("fxaa-default");
+    let render = |name: &str, extra: &[&str]| {
+        let png = dir.join(format!("{name}.png"));
+        let exr = dir.join(format!("{name}.exr"));
+        let mut args = vec![
+            "render",
+            "builtin:spheres",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "-o",
+            png.to_str().unwrap(),
+            "--hdr",
+            exr.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = combustion(&args);
+        assert_eq!(code, 0, "{name}: {stderr}");
+        (std::fs::read(png).unwrap(), std::fs::read(exr).unwrap())
+    };
+    let default = render("default", &[]);
+    let fxaa = render("fxaa", &["--anti-aliasing", "fxaa"]);
+    let none = render("none", &["--anti-aliasing", "none"]);
+    assert!(default.0 == fxaa.0, "the default PNG is not FXAA's");
+    assert!(default.0 != none.0, "FXAA changed nothing");
+    assert!(
+        default.1 == none.1 && fxaa.1 == none.1,
+        "the EXR was smoothed"
+    );
+    let png = dir.join("supersampled.png");
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "builtin:spheres",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--supersample",
+        "2",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:spheres",
+            "--supersample",
+            "2",
+            "--anti-aliasing",
+            "fxaa",
+        ],
+        "--supersample 2 and --anti-aliasing fxaa",
+    );
+}
+
 /// `--shadows on` on a scene whose lights cast none (here: no lights, the studio alone)
 /// says that it does nothing, and renders.
 #[test]
@@ -1919,6 +1983,9 @@ fn the_hdr_file_is_the_frames_radiance_and_exposure_changes_only_the_image() {
             &height.to_string(),
             "--exposure",
             exposure,
+            // The tone curve of each pixel's own radiance (no FXAA across edges).
+            "--anti-aliasing",
+            "none",
             "-o",
             png.to_str().unwrap(),
             "--hdr",
@@ -2333,6 +2400,9 @@ fn diff_compares_renders_by_stated_criteria() {
             "64",
             "--exposure",
             exposure,
+            // Each pixel's own radiance (no FXAA across edges): the steps stated above.
+            "--anti-aliasing",
+            "none",
             "-o",
             &path(&format!("{name}.png")),
             "--hdr",

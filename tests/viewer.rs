@@ -233,14 +233,41 @@ fn scripted_screenshot(
     (pixels, scene)
 }
 
+/// The headless render of `scene` at `width`×`height` as the viewer shows it by default:
+/// the default settings and FXAA (the viewer's default anti-aliasing).
+fn headless_as_viewed(
+    scene: &combustion::scene::Scene,
+    width: u32,
+    height: u32,
+) -> combustion::renderer::Frame {
+    use combustion::renderer::{AntiAliasing, FrameInputs, Readback, RendererSettings};
+    let settings = RendererSettings::default();
+    let mut headless = common::lavapipe(settings);
+    let frame = {
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(scene).expect("upload");
+        let inputs = FrameInputs {
+            anti_aliasing: AntiAliasing::Fxaa,
+            ..FrameInputs::of_scene(&gpu, settings.exposure)
+        };
+        let readback = Readback {
+            images: true,
+            gbuffer: false,
+        };
+        renderer
+            .render_with(&gpu, &inputs, width, height, readback)
+            .expect("render")
+    };
+    common::finish(headless);
+    frame
+}
+
 /// Runs a scripted view with `run` and compares its screenshot with the headless
-/// render of the same scene, camera and size.
+/// render of the same scene, camera and size (with FXAA, as the viewer by default).
 fn scripted_screenshot_equals_headless(
     name: &str,
     run: impl FnOnce(&[&str]) -> (Option<i32>, String, String),
 ) {
-    use combustion::renderer::{Readback, RendererSettings};
-
     let path_text = "# time eye target\n0  0 1 6  0 0 0\n1  3 1 5  0 0 0\n";
     let (pixels, scene) = scripted_screenshot(
         &format!("shot-{name}"),
@@ -251,16 +278,7 @@ fn scripted_screenshot_equals_headless(
         path_text,
         &["--overlay", "off"],
     );
-    let reference = common::render(
-        &scene,
-        160,
-        120,
-        RendererSettings::default(),
-        Readback {
-            images: true,
-            gbuffer: false,
-        },
-    );
+    let reference = headless_as_viewed(&scene, 160, 120);
     let lit = pixels.iter().filter(|p| p[..3] != [0, 0, 0]).count();
     assert!(
         lit > pixels.len() / 10,
@@ -345,8 +363,6 @@ fn assert_error_view_is_the_reference_map(scene_name: &str) {
 /// and changes nothing else: the screenshot equals the headless render below the panel.
 #[test]
 fn the_statistics_panel_covers_only_its_corner() {
-    use combustion::renderer::{Readback, RendererSettings};
-
     let (width, height) = (480, 270);
     let xvfb = Xvfb::start();
     let display = format!(":{}", xvfb.display);
@@ -361,16 +377,7 @@ fn the_statistics_panel_covers_only_its_corner() {
         &[],
     );
     drop(xvfb);
-    let reference = common::render(
-        &scene,
-        width,
-        height,
-        RendererSettings::default(),
-        Readback {
-            images: true,
-            gbuffer: false,
-        },
-    );
+    let reference = headless_as_viewed(&scene, width, height);
     let differing: Vec<(u32, u32)> = (0..width * height)
         .filter(|&i| pixels[i as usize] != reference.ldr[i as usize])
         .map(|i| (i % width, i / width))

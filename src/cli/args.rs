@@ -275,13 +275,30 @@ pub(crate) struct PictureArgs {
     /// radiance either way)
     #[arg(long, value_name = "CURVE", value_parser = named(ToneMapping::ALL.map(|t| (t.name(), t))))]
     pub(crate) tone_mapping: Option<ToneMapping>,
-    /// Edge smoothing of the PNG and the window: `none` or `fxaa` (FXAA on the display
-    /// values, by the output pass); for still renders `render --supersample N` is exact
-    #[arg(long, value_name = "METHOD", default_value = "none", value_parser = named(AntiAliasing::ALL.map(|a| (a.name(), a))))]
-    pub(crate) anti_aliasing: AntiAliasing,
+    /// Edge smoothing of the PNG and the window: `fxaa` (FXAA on the display values, by
+    /// the output pass; the default) or `none`; a still render with `--supersample N`
+    /// (exact) gets none. The EXR's radiance is never smoothed
+    #[arg(long, value_name = "METHOD", value_parser = named(AntiAliasing::ALL.map(|a| (a.name(), a))))]
+    pub(crate) anti_aliasing: Option<AntiAliasing>,
 }
 
 impl PictureArgs {
+    /// The anti-aliasing asked for, else FXAA, or none for a frame supersampled
+    /// `supersample` × `supersample` times (> 1).
+    pub(crate) fn anti_aliasing_for(&self, supersample: u32) -> AntiAliasing {
+        self.anti_aliasing.unwrap_or(if supersample > 1 {
+            AntiAliasing::None
+        } else {
+            AntiAliasing::Fxaa
+        })
+    }
+
+    /// The method given with `--anti-aliasing` that smooths (not `none`), if any: what
+    /// `--supersample` cannot be combined with.
+    pub(crate) fn smoothing_asked(&self) -> Option<AntiAliasing> {
+        self.anti_aliasing.filter(|a| *a != AntiAliasing::None)
+    }
+
     /// The background asked for, else the environment where `scene` has one, else none.
     pub(crate) fn background_for(&self, scene: &Scene) -> Background {
         Background::asked_or_default(self.background, scene)

@@ -386,7 +386,15 @@ fn render_job(
         lights: &lights,
         background: o.picture.background_for(scene),
         tone_mapping,
-        anti_aliasing: o.picture.anti_aliasing,
+        // A job whose physics error is measured compares its picture with the
+        // reference's pixel by pixel: unsmoothed unless it asks otherwise.
+        anti_aliasing: if job.error {
+            o.picture
+                .anti_aliasing
+                .unwrap_or(combustion::renderer::AntiAliasing::None)
+        } else {
+            o.picture.anti_aliasing_for(o.supersample)
+        },
         pose: pose.as_ref(),
         ..FrameInputs::of_scene(gpu, settings.exposure)
     };
@@ -395,7 +403,7 @@ fn render_job(
         gbuffer: job.error,
     };
     let frame = if o.supersample > 1 {
-        if job.error || o.picture.anti_aliasing != combustion::renderer::AntiAliasing::None {
+        if job.error || o.picture.smoothing_asked().is_some() {
             return Err(Error::Usage(format!(
                 "job `{}`: supersample {} cannot be combined with {}: give one",
                 job.name,

@@ -99,10 +99,10 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             "--accumulate-until and --supersample cannot be combined yet: choose one".into(),
         ));
     }
-    if o.supersample > 1 && o.picture.anti_aliasing != combustion::renderer::AntiAliasing::None {
+    if let Some(smoothing) = o.picture.smoothing_asked().filter(|_| o.supersample > 1) {
         return Err(Error::Usage(format!(
             "--supersample {n} and --anti-aliasing {}: supersampling is the exact anti-aliasing of a still image; give one",
-            o.picture.anti_aliasing.name(),
+            smoothing.name(),
             n = o.supersample
         )));
     }
@@ -190,7 +190,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         let inputs = combustion::renderer::FrameInputs {
             background: o.picture.background_for(&scene),
             tone_mapping: o.picture.tone_mapping_for(&source),
-            anti_aliasing: o.picture.anti_aliasing,
+            anti_aliasing: o.picture.anti_aliasing_for(o.supersample),
             pose: pose.as_ref(),
             ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings.exposure)
         };

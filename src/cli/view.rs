@@ -28,7 +28,7 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
         error_view: o.error_view,
         background: o.picture.background,
         tone_mapping: o.picture.tone_mapping,
-        anti_aliasing: o.picture.anti_aliasing,
+        anti_aliasing: o.picture.anti_aliasing_for(1),
     })?;
     // A run too short to have read back a frame's timings (--frames 1) says so.
     let median = |list: &[f64]| {
