@@ -9,13 +9,10 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use combustion::optics::fresnel::fresnel_conductor;
-use combustion::reference::shading::SceneShading;
-use combustion::reference::SceneBvh;
 use combustion::renderer::gbuffer::{
     anisotropy_direction_decode, octahedral_decode, srgb_to_linear,
 };
 use combustion::renderer::gpu_types::conductor_from_base_color_table;
-use combustion::renderer::reference::RADIANCE_FLOOR;
 use combustion::renderer::{HdrFormat, Readback, RendererSettings, ShadingOptions};
 use combustion::scene::{Material, Scene};
 use combustion::SceneSource;
@@ -155,7 +152,7 @@ fn every_sample_model_renders_cleanly() {
             messages.join("\n")
         );
         assert_clean(&path, &frame);
-        let lit_black = black_where_lit(&scene, &frame);
+        let lit_black = common::black_where_lit(&scene, &frame);
         eprintln!(
             "rendered {}: {} black pixels where the scene is lit",
             path.display(),
@@ -182,37 +179,6 @@ fn every_sample_model_renders_cleanly() {
             .collect::<Vec<_>>()
             .join("\n")
     );
-}
-
-/// The pixels of `frame` (of `scene`, read back with its G-buffer) that a surface covers
-/// and that are exactly black (every channel 0) where the f64 reference is not, with
-/// the reference's radiance: it finds a channel of at least `RADIANCE_FLOOR` there (a
-/// third of an 8-bit step at black: a pixel at a light's terminator may be black on the
-/// GPU and 1e-6 in f64, its normal's cosine to the light on either side of 0; 16 samples of each
-/// strategy of the environment's integral where the scene has an environment), or
-/// nothing to hit at the pixel's centre (`None`).
-fn black_where_lit(
-    scene: &Scene,
-    frame: &combustion::renderer::Frame,
-) -> Vec<(u32, u32, Option<[f64; 3]>)> {
-    let gbuffer = frame.gbuffer.as_ref().expect("the G-buffer is read back");
-    let drawn = scene.as_drawn(None);
-    let drawn = drawn.as_ref();
-    let bvh = SceneBvh::new(drawn);
-    let shading = SceneShading::new(drawn, &bvh, &drawn.lights, frame.width, frame.height)
-        .with_environment(16);
-    let mut out = Vec::new();
-    for (i, (hdr, texel)) in frame.hdr.iter().zip(&gbuffer.texels).enumerate() {
-        if texel.depth >= 1.0 || hdr[..3].iter().any(|&c| c != 0.0) {
-            continue;
-        }
-        let (x, y) = (i as u32 % frame.width, i as u32 / frame.width);
-        let reference = shading.pixel(x, y).map(|p| p.radiance);
-        if !reference.is_some_and(|r| r.iter().all(|&c| c < RADIANCE_FLOOR)) {
-            out.push((x, y, reference));
-        }
-    }
-    out
 }
 
 /// The sample models that ship lights render with shadows on (every light casts them,

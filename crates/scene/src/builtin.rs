@@ -26,6 +26,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "clearcoat-underwater",
     "sheen",
     "iridescence",
+    "normal-mapped",
 ];
 
 /// Builds the built-in scene `name` (one of [`BUILTIN_SCENES`]), procedurally, needing no
@@ -61,6 +62,11 @@ pub const BUILTIN_SCENES: &[&str] = &[
 /// - `iridescence`: thin films (KHR_materials_iridescence) of index 2 over a black
 ///   plastic, 200 to 800 nm thick; a titanium-oxide-like film over aluminium and a thin one over gold, a
 ///   half-weight film over blue, and the black plastic without a film.
+/// - `normal-mapped`: spheres under a steep, high-frequency normal map (a bump field of
+///   32 × 16 cells whose normals tilt up to 72°), so that shading normals face away from
+///   the eye over much of each sphere and all around its rim: plastic, gold, a clear coat
+///   whose own normal stays smooth, and an anisotropic metal, lit from the eye's side and
+///   grazing from behind.
 ///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
@@ -88,6 +94,7 @@ pub fn builtin_scene_with(name: &str, colour: MetalColour) -> Result<Scene, Scen
         "clearcoat-underwater" => Ok(clearcoat(colour, WATER_IOR, "clearcoat-underwater")),
         "sheen" => Ok(sheen(colour)),
         "iridescence" => Ok(iridescence(colour)),
+        "normal-mapped" => Ok(normal_mapped(colour)),
         "spheres-studio" => Ok(under_studio(spheres(colour), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
             Scene {
@@ -1242,6 +1249,98 @@ fn sheen(colour: MetalColour) -> Scene {
             light_from(Vec3::new(0.3, 0.5, -0.9), [4.0; 3]),
         ],
         grid_camera(4, 2, 1.5),
+        1.0,
+    )
+}
+
+/// The bump field of `normal-mapped`: a tangent-space normal map (glTF's convention, RGB
+/// = n/2 + ½, linear, 256 × 128 texels) of 32 × 16 cells, n ∝ (−3 cos(2π·32u)
+/// sin(2π·16v), −3 sin(2π·32u) cos(2π·16v), 1): slopes up to 3, normals up to 72° from
+/// the surface's.
+fn bump_normal_map() -> crate::TextureRef {
+    use std::f32::consts::TAU;
+    let (width, height) = (256u32, 128u32);
+    let mut pixels = Vec::with_capacity((width * height * 4) as usize);
+    for y in 0..height {
+        for x in 0..width {
+            let u = (x as f32 + 0.5) / width as f32;
+            let v = (y as f32 + 0.5) / height as f32;
+            let (a, b) = (TAU * 32.0 * u, TAU * 16.0 * v);
+            let slope = 3.0;
+            let n =
+                Vec3::new(-slope * a.cos() * b.sin(), -slope * a.sin() * b.cos(), 1.0).normalize();
+            for c in [n.x, n.y, n.z] {
+                pixels.push(((c * 0.5 + 0.5) * 255.0).round() as u8);
+            }
+            pixels.push(255);
+        }
+    }
+    crate::TextureRef {
+        texture: crate::Texture {
+            image: std::sync::Arc::new(crate::Image {
+                name: "bump field".into(),
+                width,
+                height,
+                color_space: crate::ColorSpace::Linear,
+                pixels,
+            }),
+            sampler: crate::Sampler::default(),
+        },
+        tex_coord: 0,
+        transform: crate::UvTransform::IDENTITY,
+    }
+}
+
+/// The `normal-mapped` scene (see [`builtin_scene`]).
+fn normal_mapped(colour: MetalColour) -> Scene {
+    use combustion_spectra::BuiltinMetal;
+    let bumps = bump_normal_map();
+    let bumped = |material: Material| Material {
+        normal_texture: Some(bumps.clone()),
+        normal_scale: 1.0,
+        ..material
+    };
+    let plastic = Material {
+        name: "bumped grey plastic".into(),
+        base_color: [0.5, 0.5, 0.5],
+        roughness: 0.35,
+        ..Material::default()
+    };
+    let gold = Material {
+        name: "bumped gold".into(),
+        metalness: 1.0,
+        roughness: 0.25,
+        conductor: metal(BuiltinMetal::Gold, colour),
+        ..Material::default()
+    };
+    let coated = Material {
+        name: "bumped red under a smooth clear coat".into(),
+        base_color: [0.6, 0.05, 0.04],
+        roughness: 0.5,
+        clearcoat: 1.0,
+        clearcoat_roughness: 0.05,
+        ..Material::default()
+    };
+    let brushed = Material {
+        name: "bumped anisotropic aluminium".into(),
+        metalness: 1.0,
+        roughness: 0.3,
+        anisotropy_strength: 0.7,
+        conductor: metal(BuiltinMetal::Aluminium, colour),
+        ..Material::default()
+    };
+    sphere_grid(
+        "normal-mapped",
+        vec![
+            vec![bumped(plastic), bumped(gold)],
+            vec![bumped(coated), bumped(brushed)],
+        ],
+        vec![
+            light_from(Vec3::new(-0.3, 0.4, 0.9), [3.0; 3]),
+            // grazing from behind: the rims' away-facing normals
+            light_from(Vec3::new(0.4, 0.3, -0.9), [4.0; 3]),
+        ],
+        grid_camera(2, 2, 1.5),
         1.0,
     )
 }
