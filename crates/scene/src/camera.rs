@@ -36,11 +36,6 @@ pub const FRAMING_ELEVATION: f32 = 20.0 * std::f32::consts::PI / 180.0;
 /// the Khronos sample models' screenshots do.
 pub const FRAMING_AZIMUTH: f32 = 30.0 * std::f32::consts::PI / 180.0;
 
-/// A box thinner along Z than this fraction of its largest extent is a panel facing +Z
-/// (a test chart, a row of spheres before labels), which [`Camera::framing`] sees from
-/// the front rather than at [`FRAMING_AZIMUTH`].
-pub const PANEL_DEPTH_FRACTION: f32 = 0.25;
-
 /// The vertical field of view of [`Camera::framing`] and [`Camera::orbiting`]: 45°.
 pub const FRAMING_FOV: f32 = std::f32::consts::FRAC_PI_4;
 
@@ -51,19 +46,16 @@ impl Camera {
     /// looking at its centre, far enough for the box's bounding sphere to fill the 45°
     /// field of view. A box flat along Y (a floor, a terrain grid: under 1 % of its
     /// largest extent high), which a low view would see almost edge-on, is seen from 45°
-    /// above instead; a panel facing +Z (under [`PANEL_DEPTH_FRACTION`] of its largest
-    /// extent deep) from the front. The importer's camera for files without one.
+    /// above instead (turned as well). The importer's camera for files without one.
     pub fn framing(bounds: Option<(Vec3, Vec3)>) -> Camera {
         let size = bounds.map_or(Vec3::ONE, |(lo, hi)| hi - lo);
         let flat_along_y = size.y < 0.01 * size.max_element();
-        let panel = size.z < PANEL_DEPTH_FRACTION * size.max_element();
         let elevation = if flat_along_y {
             std::f32::consts::FRAC_PI_4
         } else {
             FRAMING_ELEVATION
         };
-        let azimuth = if panel { 0.0 } else { FRAMING_AZIMUTH };
-        Self::orbiting(bounds, azimuth, elevation, 1.0)
+        Self::orbiting(bounds, FRAMING_AZIMUTH, elevation, 1.0)
     }
 
     /// A camera orbiting the centre of `bounds` (as [`Camera::framing`]) and looking at
@@ -153,8 +145,7 @@ impl Camera {
 mod tests {
     use super::*;
 
-    /// Framing is the orbit at the framing azimuth and elevation (the front of a panel,
-    /// 45° above a flat box); an orbit's eye is at the same distance from the centre whatever its
+    /// Framing is the orbit at the framing azimuth and elevation (45° above a flat box); an orbit's eye is at the same distance from the centre whatever its
     /// angles, on the +X side at azimuth 90°, above at positive elevations; the box's
     /// bounding sphere lies between the near and far planes; each camera validates.
     #[test]
@@ -166,12 +157,6 @@ mod tests {
         assert_eq!(
             framing,
             Camera::orbiting(bounds, FRAMING_AZIMUTH, FRAMING_ELEVATION, 1.0)
-        );
-        // A panel facing +Z is framed from the front.
-        let panel = Some((Vec3::new(-2.0, -1.0, -0.1), Vec3::new(2.0, 1.0, 0.1)));
-        assert_eq!(
-            Camera::framing(panel),
-            Camera::orbiting(panel, 0.0, FRAMING_ELEVATION, 1.0)
         );
         let distance = (framing.position - centre).length();
         assert!((distance - radius / (FRAMING_FOV / 2.0).sin() * 1.05).abs() < 1e-4);

@@ -34,7 +34,7 @@ mod view_check;
 
 pub use alpha_coverage::{alpha_mip_scales, ALPHA_MIP_LEVELS};
 pub use builtin::{builtin_scene, builtin_scene_with, BUILTIN_SCENES, SPHERE_GRID_ROUGHNESS};
-pub use camera::{Camera, FRAMING_AZIMUTH, FRAMING_ELEVATION, FRAMING_FOV, PANEL_DEPTH_FRACTION};
+pub use camera::{Camera, FRAMING_AZIMUTH, FRAMING_ELEVATION, FRAMING_FOV};
 pub use camera_path::{CameraPath, MAX_CAMERA_PATH_BYTES};
 pub use environment::{
     decode_exr_rgb, equirect_coordinates, studio_radiance, Environment, EnvironmentFormat,
