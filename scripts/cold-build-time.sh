@@ -2,7 +2,7 @@
 # The cold build's cost, as a new user pays it: a clean clone of HEAD built into an empty
 # target folder with `cargo build --timings` (what `bash scripts/dev.sh render` builds),
 # then the total and the ten longest units from cargo's timing report. Run it on an
-# otherwise idle machine (the figures in the README's "Build cost" came from it).
+# otherwise idle machine (the figures in the docs/build.md's "Build cost" came from it).
 #
 #   bash scripts/cold-build-time.sh             # the render build
 #   bash scripts/cold-build-time.sh --tests     # then the test build on top of it

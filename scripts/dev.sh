@@ -32,7 +32,7 @@ install_packages() {
     "${sudo[@]}" apt-get update -qq
     DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq "${missing[@]}"
   fi
-  # A cold build and the test binaries take about 15 GiB of target/ (README, "Build
+  # A cold build and the test binaries take about 15 GiB of target/ (docs/build.md, "Build
   # cost"); a full disk shows up as a compiler crash deep in the build, so say it first.
   local free_kib
   free_kib=$(df -Pk . | awk 'NR == 2 { print $4 }')
@@ -66,14 +66,14 @@ case "${1:-}" in
     # more); lavapipe's draws allocate and free such blocks every frame, so each frame
     # faulted its pages in and zeroed them again: a third of the CPU time of a test that
     # renders many small frames went to the kernel. Keeping freed memory in the test
-    # processes (no trim below 4 GiB) changes no result (README, "Build cost"). Fixing the
+    # processes (no trim below 4 GiB) changes no result (docs/build.md, "Build cost"). Fixing the
     # trim threshold also fixes the mmap threshold, which would otherwise grow with the
     # blocks freed; it is set to its largest (32 MiB), so blocks below it come from the
     # heap and are reused instead of mapped and unmapped each time.
     export GLIBC_TUNABLES="${GLIBC_TUNABLES:+$GLIBC_TUNABLES:}glibc.malloc.trim_threshold=4294967296:glibc.malloc.mmap_threshold=33554432"
     # nextest runs a test per core, so lavapipe's own rasteriser threads (one per core in
     # each test process) add only hand-offs between threads: each process rasterises in
-    # its own thread instead (the same pixels; README, "Build cost"). A value already
+    # its own thread instead (the same pixels; docs/build.md, "Build cost"). A value already
     # set is kept.
     export LP_NUM_THREADS="${LP_NUM_THREADS:-0}"
     if cargo nextest --version >/dev/null 2>&1; then

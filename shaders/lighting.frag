@@ -49,7 +49,7 @@ void main() {
         // clear (passes/lighting.rs: the background's radiance, or nothing where the
         // environment is the background) rather than shading NaN. A shader that may
         // discard is also compiled once by lavapipe, not a second time for whole tiles
-        // (README, "Build cost").
+        // (docs/build.md, "Build cost").
         discard;
     }
     if (depth >= 1.0) {

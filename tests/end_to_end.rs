@@ -778,8 +778,7 @@ fn a_steep_normal_map_is_what_the_scene_shows() {
     assert!(bent * 100 >= surfaces.len(), "{bent} of {}", surfaces.len());
 }
 
-/// Metals whose RGB constants are fitted to their colorimetric colour (README "Metal
-/// colours": gold's red channel a near-mirror, η = 1e-3, k = 100) are shaded as the
+/// Metals whose RGB constants are fitted to their colorimetric colour (docs/metal-colours.md: gold's red channel a near-mirror, η = 1e-3, k = 100) are shaded as the
 /// reference shades them, within the same bounds; and the frame shows the colour shift
 /// the colorimetry predicts: gold's compared pixels redder against blue than with the
 /// band constants (at normal incidence red ×1.08, blue ×0.87: a red-to-blue ratio

@@ -1,5 +1,5 @@
 //! The integration tests, one test binary: each file below is a module (one binary
-//! links the renderer once, where a binary per file linked it 29 times: README, "Build
+//! links the renderer once, where a binary per file linked it 29 times: docs/build.md, "Build
 //! cost"). `cargo nextest run` still runs each test in its own process; a test's name is
 //! its file's, then its own: `cli::supersampling_and_anti_aliasing_on_the_command_line`.
 

@@ -410,14 +410,14 @@ fn a_bad_camera_path_is_a_one_line_error_naming_file_and_line() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// The README's key table lists every key the viewer handles, with the same text.
+/// docs/usage.md's key table lists every key the viewer handles, with the same text.
 #[test]
-fn the_readme_lists_every_key() {
-    let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+fn the_usage_page_lists_every_key() {
+    let usage =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/usage.md")).unwrap();
     for (key, does) in combustion::viewer::KEYS {
         let row = format!("| {key} | {does} |");
-        assert!(readme.contains(&row), "README lacks `{row}`");
+        assert!(usage.contains(&row), "docs/usage.md lacks `{row}`");
     }
 }
 

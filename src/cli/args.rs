@@ -390,7 +390,7 @@ pub(crate) struct ShadingArgs {
     /// How metals given by a measured spectrum (built-in scenes' metals, and glTF
     /// conductors naming a `metal` or `spectrum` without their own `colour`) get their
     /// RGB η, k: `bands` (the rendering notes' band means) or `colorimetric` (fitted to
-    /// the colour the spectrum shows under D65, CIE 1931 observer: README "Metal colours")
+    /// the colour the spectrum shows under D65, CIE 1931 observer: docs/metal-colours.md)
     #[arg(long, value_name = "METHOD", default_value = "bands", value_parser = named(MetalColour::ALL.map(|c| (c.name(), c))))]
     pub(crate) metal_colour: MetalColour,
     /// Environment lighting integrated by sampling, N samples per pixel of each of two

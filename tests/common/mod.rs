@@ -224,7 +224,7 @@ pub const FRAMES_PAST_THE_RETIRE_DELAY: usize = 20;
 /// spheres made of 24 segments × 12 rings (528 triangles) instead of 96 × 48 (9 024),
 /// for tests of frames, targets and resources rather than of what the spheres look like:
 /// lavapipe spends most of a small frame of the full grid (216 576 triangles) setting up
-/// triangles (README, "Build cost"). Panics if the scene's first mesh is not the grid's
+/// triangles (docs/build.md, "Build cost"). Panics if the scene's first mesh is not the grid's
 /// sphere.
 pub fn with_coarse_grid_spheres(mut scene: Scene) -> Scene {
     let sphere = &scene.meshes[0];

@@ -1,26 +1,25 @@
 //! The deferred renderer of Combustion.
 //!
 //! A frame ([`Renderer::record`] into a host's command buffer and image, or
-//! [`Renderer::render`], which submits, waits and reads back):
-//! 1. **G-buffer pass** ([`gbuffer`]): rasterise every object into base colour +
-//!    metalness, normal + roughness + anisotropy, material index + anisotropy direction,
-//!    and depth.
-//! 2. **Lighting pass** (`lighting.frag`): full-screen; per pixel, decode the G-buffer,
-//!    reconstruct the position from depth, evaluate the BRDF (`brdf.glsl`) for every
-//!    light of the frame, write HDR radiance. The pipeline holds only the parts of the
-//!    material model the scene uses ([`LightingFeatures`]).
-//! 3. **Output pass** (`tonemap.frag`): into the frame's target, by its format: exposure
-//!    and `1 − e^(−x)` with the exact sRGB encoding (UNORM), the same with the driver's
-//!    encoding (_SRGB), or linear radiance × exposure (float formats); then the frame's
-//!    overlay ([`overlay`]: an image and text panels) in the same rendering.
-//! 4. Optional: the G-buffer depth copied into the host's depth image; readback of the
-//!    HDR and display images (and the G-buffer, for parity tests) in [`Renderer::render`].
+//! [`Renderer::render`], which submits, waits and reads back) runs the pass list,
+//! `passes::FRAME`, top to bottom; a pass the frame does not need does not run:
+//! deform (skinned and morphed vertices), shadow maps, the G-buffer ([`gbuffer`]: base
+//! colour, metalness, normal, roughness, anisotropy, material, depth; coat, sheen and
+//! film targets where the scene has them), light culling (tile lists of lights with a
+//! range), lighting (`lighting.frag`: every light and the environment's split sum per
+//! pixel, with the full Fresnel equations; the pipeline holds only the parts of the
+//! material model the scene uses, [`LightingFeatures`]), back faces and behind (what
+//! transmissive objects refract), forward (blended and transmissive objects), output
+//! (`tonemap.frag`: exposure, the tone curve, the sRGB encoding, FXAA and the overlay,
+//! into the frame's target by its format), and depth copy (into a host's depth image).
+//! README.md's "Frame flow" lists them a line each; docs/architecture.md says where each
+//! lives.
 //!
-//! Each pass declares the images it touches ([`graph`]); the barriers between passes
-//! and frames are derived from those declarations in one place. Frames in flight: each
-//! frame slot has its own descriptor sets, light buffer, timestamp queries and retire
-//! list. GPU timestamps bracket each pass ([`Frame::timings`],
-//! [`Renderer::last_completed_timings`]).
+//! Each pass declares what it reads and writes once ([`graph`]); the descriptor writes
+//! and the barriers between passes and frames derive from those declarations in one
+//! place. Frames in flight: each frame slot has its own descriptor sets, light buffer,
+//! timestamp queries and retire list. GPU timestamps bracket each pass
+//! ([`Frame::timings`], [`Renderer::last_completed_timings`]).
 
 #![warn(missing_docs)]
 

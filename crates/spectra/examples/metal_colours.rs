@@ -1,5 +1,4 @@
-//! The built-in metals' colours by the band method and colorimetrically (README "Metal
-//! colours"), and the time the colorimetric fit of all nine takes:
+//! The built-in metals' colours by the band method and colorimetrically (docs/metal-colours.md), and the time the colorimetric fit of all nine takes:
 //! `cargo run -p combustion-spectra --example metal_colours`.
 
 fn main() {

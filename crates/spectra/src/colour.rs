@@ -491,8 +491,7 @@ fn inverse(m: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
     out
 }
 
-/// The built-in metals' colours by both methods, as a Markdown table (README "Metal
-/// colours", the speed-against-error report): per metal at normal incidence in air, the
+/// The built-in metals' colours by both methods, as a Markdown table (docs/metal-colours.md, the speed-against-error report): per metal at normal incidence in air, the
 /// band method's RGB reflectance and the colorimetric colour, their difference per
 /// channel and as CIE ΔE*ab, the fitted constants, the colour they give, its ΔE to the
 /// colorimetric colour, and the fit's largest residual over angles in air and water.

@@ -326,14 +326,17 @@ fn a_table_short_of_the_visible_range_is_refused() {
     assert!(MetalColour::Bands.constants(&spectrum).is_ok());
 }
 
-/// The README's table of metal colours is the one this crate computes.
+/// docs/metal-colours.md's table of metal colours is the one this crate computes.
 #[test]
-fn the_readme_shows_the_metal_colour_table() {
-    let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md")).unwrap();
+fn the_metal_colours_page_shows_the_table() {
+    let page = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/metal-colours.md"
+    ))
+    .unwrap();
     let table = combustion_spectra::metal_colour_table().unwrap();
     assert!(
-        readme.contains(&table),
-        "README.md's \"Metal colours\" table differs from metal_colour_table():\n{table}"
+        page.contains(&table),
+        "docs/metal-colours.md's table differs from metal_colour_table():\n{table}"
     );
 }

@@ -165,4 +165,60 @@ mod tests {
             assert!(!names[..i].contains(name), "two passes named {name}");
         }
     }
+
+    /// A file of the workspace, by its path from the workspace's root.
+    fn workspace_file(path: &str) -> String {
+        let full = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../..")
+            .join(path);
+        std::fs::read_to_string(&full).unwrap_or_else(|e| panic!("{}: {e}", full.display()))
+    }
+
+    /// The entries (`&module::Pass`) of the first `FRAME` list in `text`.
+    fn frame_entries(text: &str) -> Vec<String> {
+        let start = text
+            .find("const FRAME: &[&dyn FramePass] = &[")
+            .expect("a FRAME list");
+        let list = &text[start..];
+        let end = list.find("];").expect("the list's end");
+        list[..end]
+            .lines()
+            .skip(1)
+            .filter_map(|line| {
+                let entry = line.trim().split("//").next()?.trim().trim_end_matches(',');
+                (!entry.is_empty()).then(|| entry.to_owned())
+            })
+            .collect()
+    }
+
+    /// The README's frame flow names the passes of `FRAME`, one line each, in its order
+    /// (each line: the pass's name, two spaces or more, what it does).
+    #[test]
+    fn the_readme_frame_flow_is_the_pass_list() {
+        let readme = workspace_file("README.md");
+        let section = &readme[readme.find("## Frame flow").expect("a Frame flow section")..];
+        let block = section.split("```").nth(1).expect("a block of passes");
+        let listed: Vec<&str> = block
+            .lines()
+            .filter(|line| !line.trim().is_empty())
+            .map(|line| line.split("  ").next().unwrap_or("").trim())
+            .collect();
+        let passes: Vec<&str> = FRAME.iter().map(|p| p.name()).collect();
+        assert_eq!(
+            listed, passes,
+            "README.md's frame flow against passes::FRAME"
+        );
+    }
+
+    /// docs/architecture.md shows `FRAME` as this file declares it, entry for entry.
+    #[test]
+    fn the_architecture_page_shows_the_pass_list() {
+        let shown = frame_entries(&workspace_file("docs/architecture.md"));
+        let declared = frame_entries(include_str!("mod.rs"));
+        assert_eq!(declared.len(), FRAME.len());
+        assert_eq!(
+            shown, declared,
+            "docs/architecture.md's FRAME against passes/mod.rs"
+        );
+    }
 }
