@@ -38,7 +38,7 @@ use crate::gpu_types::{
     EnvironmentCodeAlbedoPush, EnvironmentIrradiancePush, EnvironmentPrefilterPush,
     EnvironmentRadiancePush, EnvironmentSource, GpuMaterial, RadianceMode,
 };
-use crate::graph::{BufferUse, ImageStates, ImageUse, PassUses};
+use crate::graph::{BufferUse, ImageStates, ImageUse, PassUses, TrackedImage};
 use crate::pass_io::PassIo;
 
 /// Entries per side of a material's directional-albedo table over (n·v, r)
@@ -652,6 +652,375 @@ impl EnvironmentBaker {
     ) -> Result<GpuEnvironment, RenderError> {
         let start = Instant::now();
         check_format(device)?;
+        let bake = BakeResources::new(device, self.cubes_cache.as_ref(), environment, scene)?;
+        let dispatches =
+            bake.radiance.mip_levels() + SPECULAR_LEVELS + 2 + bake.code_keys.len() as u32;
+        let decl = &bindings::ENVIRONMENT_BAKE;
+        let pool = DescriptorPool::new(device, dispatches, &decl.pool_sizes(dispatches))?;
+        let mut views = Vec::new();
+
+        let mut commands = OneShot::new(device)?;
+        let cmd = commands.begin()?;
+        let mut states = ImageStates::default();
+        bake.equirect.record_upload(device, cmd, &mut states);
+        let mut record = Recorder {
+            device,
+            cmd,
+            pool: &pool,
+            set_layout: &self.set_layout,
+            states: &mut states,
+        };
+        // The tables first: these shaders read the material and conductor tables and
+        // write buffers only.
+        self.record_tables(&mut record, &bake)?;
+        if let Some(staging) = &bake.cubes_staging {
+            // The cubes of an earlier bake of this environment, copied in.
+            let upload = PassUses::images(
+                "environment cubes upload",
+                bake.cubes(ImageUse::TransferDestination),
+            );
+            record.states.transition(device.raw(), cmd, &upload);
+            bake.cube_texels.record(device, cmd, staging, true);
+        } else {
+            self.record_cubes(&mut record, &bake, environment, &mut views)?;
+        }
+
+        // Hand the cubes and tables to the lighting pass's fragment shader (and the
+        // cubes' texels, read back, to the host).
+        let mut buffers = vec![
+            (bake.albedo.raw(), BufferUse::FragmentStorageRead),
+            (bake.code_albedo.raw(), BufferUse::FragmentStorageRead),
+        ];
+        buffers.extend(
+            bake.cubes_readback
+                .iter()
+                .map(|b| (b.raw(), BufferUse::HostRead)),
+        );
+        let hand_off = PassUses::images(
+            "environment hand-off",
+            bake.cubes(ImageUse::FragmentSampled),
+        )
+        .with_buffers(buffers);
+        states.transition(device.raw(), cmd, &hand_off);
+        commands.submit_and_wait()?;
+        if let (Some(cache), Some(key), Some(readback)) =
+            (&self.cubes_cache, bake.cache_key, &bake.cubes_readback)
+        {
+            // The cache never fails a bake: an unreadable buffer only loses the entry.
+            if let Ok(texels) = readback.mapped() {
+                cache.entries.store(key, texels);
+            }
+        }
+        drop(views);
+        drop(pool);
+        let cubes_from_cache = bake.cubes_staging.is_some();
+        let BakeResources {
+            specular,
+            irradiance,
+            albedo,
+            code_albedo,
+            code_table_of_material,
+            ..
+        } = bake;
+        Ok(GpuEnvironment {
+            specular,
+            irradiance,
+            albedo,
+            code_albedo,
+            code_table_of_material,
+            sampler: linear_sampler(device, SPECULAR_LEVELS)?,
+            environment: environment.clone(),
+            cubes_from_cache,
+            bake_ms: start.elapsed().as_secs_f64() * 1e3,
+        })
+    }
+
+    /// Records the materials' tables: one directional-albedo table per distinct set of
+    /// what the albedo shader reads of a material, copied to each material with that
+    /// set, and the base-colour conductors' tables per code. Their sets bind the source
+    /// images and a target view all the same, which are brought to the layouts bound
+    /// here (nothing written in them yet: the cubes are made after).
+    fn record_tables(
+        &self,
+        record: &mut Recorder<'_>,
+        bake: &BakeResources,
+    ) -> Result<(), RenderError> {
+        let (device, cmd) = (record.device, record.cmd);
+        let decl = &bindings::ENVIRONMENT_BAKE;
+        let tables_io = |name, set| {
+            PassIo::new(name)
+                .set(decl, set)
+                .sampled(
+                    "environment_source",
+                    &bake.radiance,
+                    bake.sampler.raw(),
+                    ImageUse::ComputeSampled,
+                )
+                .sampled(
+                    "environment_equirect",
+                    &bake.equirect.image,
+                    bake.equirect.sampler.raw(),
+                    ImageUse::ComputeSampled,
+                )
+                .image_view(
+                    "environment_target",
+                    &bake.irradiance,
+                    bake.irradiance_view.raw(),
+                    ImageUse::ComputeStorageWrite,
+                )
+        };
+        if bake.computed_count > 0 {
+            let set = record.set()?;
+            let io = tables_io("environment albedo", set)
+                .buffer("materials", &bake.materials, BufferUse::ComputeStorageRead)
+                .bind_buffer("conductor_from_code", &bake.conductor_table)
+                .buffer(
+                    "environment_albedo",
+                    &bake.computed_albedo,
+                    BufferUse::ComputeStorageWrite,
+                )
+                .bind_buffer("environment_code_albedo", &bake.code_albedo);
+            let push = EnvironmentAlbedoPush {
+                samples: ALBEDO_SAMPLES,
+            };
+            let groups = workgroups(TABLE_SIZE, bake.computed_count);
+            record.dispatch(&self.albedo, set, io, &push, groups);
+            // Each material's table, copied from the one computed for its key.
+            let copy =
+                PassUses::images("environment albedo copies", Vec::new()).with_buffers(vec![
+                    (bake.computed_albedo.raw(), BufferUse::TransferSource),
+                    (bake.albedo.raw(), BufferUse::TransferDestination),
+                ]);
+            record.states.transition(device.raw(), cmd, &copy);
+            let regions: Vec<_> = bake
+                .table_of_material
+                .iter()
+                .enumerate()
+                .map(|(material, &table)| vk::BufferCopy {
+                    src_offset: u64::from(table) * ALBEDO_TABLE_BYTES,
+                    dst_offset: material as u64 * ALBEDO_TABLE_BYTES,
+                    size: ALBEDO_TABLE_BYTES,
+                })
+                .collect();
+            // SAFETY: recording state; both buffers live until the bake's wait, and the
+            // barrier above made the dispatch's writes visible to the copy.
+            unsafe {
+                device.raw().cmd_copy_buffer(
+                    cmd,
+                    bake.computed_albedo.raw(),
+                    bake.albedo.raw(),
+                    &regions,
+                );
+            }
+        }
+        for (table, &[outside_ior, polarisation_weight]) in bake.code_keys.iter().enumerate() {
+            let set = record.set()?;
+            let io = tables_io("environment code albedo", set)
+                .bind_buffer("materials", &bake.materials)
+                .buffer(
+                    "conductor_from_code",
+                    &bake.conductor_table,
+                    BufferUse::ComputeStorageRead,
+                )
+                .bind_buffer("environment_albedo", &bake.albedo)
+                .buffer(
+                    "environment_code_albedo",
+                    &bake.code_albedo,
+                    BufferUse::ComputeStorageWrite,
+                );
+            let push = EnvironmentCodeAlbedoPush {
+                samples: CODE_ALBEDO_SAMPLES,
+                table: table as u32,
+                outside_ior,
+                polarisation_weight,
+            };
+            let groups = workgroups(CODE_TABLE_SIZE, CODES);
+            record.dispatch(&self.code_albedo, set, io, &push, groups);
+        }
+        Ok(())
+    }
+
+    /// Records the cubes computed from `environment`: the radiance cube level by level,
+    /// the GGX-prefiltered specular cube and the irradiance cube from it, and, for the
+    /// cache, their texels read back. The views the dispatches write through go to
+    /// `views` (they must live until the bake's wait).
+    fn record_cubes(
+        &self,
+        record: &mut Recorder<'_>,
+        bake: &BakeResources,
+        environment: &Environment,
+        views: &mut Vec<ImageView>,
+    ) -> Result<(), RenderError> {
+        let (device, cmd) = (record.device, record.cmd);
+        let decl = &bindings::ENVIRONMENT_BAKE;
+        let radiance = &bake.radiance;
+        // The radiance cube: level 0 from the source, each next level the mean of the
+        // one before, which the same dispatch samples while it writes its own.
+        let source = EnvironmentSource::new(environment);
+        for level in 0..radiance.mip_levels() {
+            let view = level_view(radiance, level)?;
+            let size = radiance.mip_extent(level).width;
+            let (mode, source_level, samples_across) = match (level, environment) {
+                // n × n samples a texel: at least the image's texels across one (its
+                // width spans the four side faces), 4 to 32.
+                (0, Environment::Image(image)) => {
+                    let across = image.width.div_ceil(4 * RADIANCE_SIZE);
+                    (RadianceMode::Equirect, 0, across.clamp(4, 32))
+                }
+                (0, _) => (RadianceMode::Analytic, 0, 0),
+                _ => (RadianceMode::Reduce, level - 1, 0),
+            };
+            let set = record.set()?;
+            let chain = ImageUse::ComputeSampledStorageWrite;
+            let io = PassIo::new("environment radiance")
+                .set(decl, set)
+                .sampled(
+                    "environment_source",
+                    radiance,
+                    bake.one_level_sampler.raw(),
+                    chain,
+                )
+                .sampled(
+                    "environment_equirect",
+                    &bake.equirect.image,
+                    bake.equirect.sampler.raw(),
+                    ImageUse::ComputeSampled,
+                )
+                .image_view("environment_target", radiance, view.raw(), chain);
+            let push = EnvironmentRadiancePush {
+                source,
+                size,
+                mode: mode as u32,
+                source_level,
+                samples_across,
+            };
+            let io = bake.no_tables(io);
+            record.dispatch(&self.radiance, set, io, &push, workgroups(size, 6));
+            views.push(view);
+        }
+
+        // A dispatch that samples the whole radiance cube and writes `view` of `target`
+        // (binding no equirect image and no tables).
+        let from_radiance = |name, set, target: &Image, view: vk::ImageView| {
+            let io = PassIo::new(name)
+                .set(decl, set)
+                .sampled(
+                    "environment_source",
+                    radiance,
+                    bake.sampler.raw(),
+                    ImageUse::ComputeSampled,
+                )
+                .image_view(
+                    "environment_target",
+                    target,
+                    view,
+                    ImageUse::ComputeStorageWrite,
+                );
+            bake.no_tables(bake.no_equirect(io))
+        };
+
+        // The GGX-prefiltered specular cube, a level per roughness, from the whole
+        // radiance cube.
+        for level in 0..SPECULAR_LEVELS {
+            let view = level_view(&bake.specular, level)?;
+            let size = bake.specular.mip_extent(level).width;
+            let set = record.set()?;
+            let io = from_radiance("environment prefilter", set, &bake.specular, view.raw());
+            let push = EnvironmentPrefilterPush {
+                size,
+                samples: PREFILTER_SAMPLES,
+                radiance_size: RADIANCE_SIZE,
+                roughness: level as f32 / (SPECULAR_LEVELS - 1) as f32,
+            };
+            record.dispatch(&self.prefilter, set, io, &push, workgroups(size, 6));
+            views.push(view);
+        }
+
+        // The irradiance cube, from one level of the radiance cube.
+        let set = record.set()?;
+        let io = from_radiance(
+            "environment irradiance",
+            set,
+            &bake.irradiance,
+            bake.irradiance_view.raw(),
+        );
+        let push = EnvironmentIrradiancePush {
+            size: IRRADIANCE_SIZE,
+            source_level: IRRADIANCE_SOURCE_LEVEL,
+            source_size: radiance.mip_extent(IRRADIANCE_SOURCE_LEVEL).width,
+        };
+        let groups = workgroups(IRRADIANCE_SIZE, 6);
+        record.dispatch(&self.irradiance, set, io, &push, groups);
+
+        if let Some(readback) = &bake.cubes_readback {
+            // The cubes as the GPU wrote them, for the cache entry.
+            let copy = PassUses::images(
+                "environment cubes readback",
+                bake.cubes(ImageUse::TransferSource),
+            )
+            .with_buffers(vec![(readback.raw(), BufferUse::TransferDestination)]);
+            record.states.transition(device.raw(), cmd, &copy);
+            bake.cube_texels.record(device, cmd, readback, false);
+        }
+        Ok(())
+    }
+}
+
+/// Workgroups of 8 × 8 over a `size` × `size` image or table, `z` deep.
+fn workgroups(size: u32, z: u32) -> [u32; 3] {
+    [size.div_ceil(8), size.div_ceil(8), z]
+}
+
+/// A view of mip level `level` of cube `image`, its six faces as a 2D array (what a
+/// compute shader writes).
+fn level_view(image: &Image, level: u32) -> Result<ImageView, RenderError> {
+    Ok(image.view_of(level..level + 1, 0..6, vk::ImageViewType::TYPE_2D_ARRAY)?)
+}
+
+/// What one bake makes and reads: the three cubes, the materials' tables and the buffers
+/// they are computed from, the cache's entry (the texels copied in, or a buffer they are
+/// read back into), the samplers and the source image.
+struct BakeResources {
+    radiance: Image,
+    specular: Image,
+    irradiance: Image,
+    /// The irradiance cube's one level, as the dispatches write it.
+    irradiance_view: ImageView,
+    cube_texels: CubeTexels,
+    /// The cache entry's key (with a cache folder).
+    cache_key: Option<combustion_vk::Digest>,
+    /// The materials whose albedo tables are computed, one per distinct key.
+    materials: Buffer,
+    computed_count: u32,
+    /// Per material, the computed table it copies.
+    table_of_material: Vec<u32>,
+    conductor_table: Buffer,
+    computed_albedo: Buffer,
+    albedo: Buffer,
+    /// The base-colour conductors' tables: (outside IOR, polarisation weight) of each.
+    code_keys: Vec<[f32; 2]>,
+    code_albedo: Buffer,
+    code_table_of_material: Buffer,
+    /// The cubes' texels from the cache entry, uploaded.
+    cubes_staging: Option<Buffer>,
+    /// Where the computed cubes' texels are read back into, for a new entry.
+    cubes_readback: Option<Buffer>,
+    sampler: Sampler,
+    /// Building level L reads level L − 1 alone: a nearest-mip sampler never touches
+    /// level L, which the same dispatch writes.
+    one_level_sampler: Sampler,
+    equirect: Equirect,
+}
+
+impl BakeResources {
+    /// Creates what a bake of `environment` for `scene`'s materials needs, the cubes
+    /// taken from `cache` when it holds an intact entry for the environment.
+    fn new(
+        device: &Arc<Device>,
+        cache: Option<&CubesCache>,
+        environment: &Environment,
+        scene: &Scene,
+    ) -> Result<Self, RenderError> {
         let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED;
         let copied = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST;
         let radiance = Image::new(
@@ -678,13 +1047,8 @@ impl EnvironmentBaker {
             ),
         )?;
         let cube_texels = CubeTexels::new(&specular, &irradiance);
-        let cache_key = self
-            .cubes_cache
-            .as_ref()
-            .map(|cache| cache.key(environment));
-        let cached_cubes = self
-            .cubes_cache
-            .as_ref()
+        let cache_key = cache.map(|cache| cache.key(environment));
+        let cached_cubes = cache
             .zip(cache_key)
             .and_then(|(cache, key)| cache.entries.load(key))
             .filter(|texels| texels.len() as u64 == cube_texels.bytes);
@@ -716,11 +1080,13 @@ impl EnvironmentBaker {
             storage | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        let (keys, of_material) = code_tables(&gpu_materials);
+        let (code_keys, of_material) = code_tables(&gpu_materials);
         let code_albedo = Buffer::new(
             device,
             "environment per-code conductor tables",
-            keys.len().max(1) as u64 * u64::from(CODES * CODE_TABLE_SIZE * CODE_TABLE_SIZE) * 4,
+            code_keys.len().max(1) as u64
+                * u64::from(CODES * CODE_TABLE_SIZE * CODE_TABLE_SIZE)
+                * 4,
             storage,
             MemoryLocation::GpuOnly,
         )?;
@@ -750,8 +1116,6 @@ impl EnvironmentBaker {
             _ => None,
         };
         let sampler = linear_sampler(device, radiance.mip_levels())?;
-        // Building level L reads level L − 1 alone: a nearest-mip sampler never touches
-        // level L, which the same dispatch writes.
         let one_level_sampler = sampler_with_mips(
             device,
             radiance.mip_levels(),
@@ -762,297 +1126,57 @@ impl EnvironmentBaker {
             Some(_) => Equirect::new(device, &Environment::Uniform([0.0; 3]))?,
             None => Equirect::new(device, environment)?,
         };
-        let level_view = |image: &Image, level: u32| -> Result<ImageView, RenderError> {
-            Ok(image.view_of(level..level + 1, 0..6, vk::ImageViewType::TYPE_2D_ARRAY)?)
-        };
-        let radiance_levels = radiance.mip_levels();
-        let dispatches = radiance_levels + SPECULAR_LEVELS + 2 + keys.len() as u32;
-        let decl = &bindings::ENVIRONMENT_BAKE;
-        let pool = DescriptorPool::new(device, dispatches, &decl.pool_sizes(dispatches))?;
         let irradiance_view = level_view(&irradiance, 0)?;
-        let mut views = Vec::new();
-
-        let mut commands = OneShot::new(device)?;
-        let cmd = commands.begin()?;
-        let mut states = ImageStates::default();
-        equirect.record_upload(device, cmd, &mut states);
-        let mut record = Recorder {
-            device,
-            cmd,
-            pool: &pool,
-            set_layout: &self.set_layout,
-            states: &mut states,
-        };
-        // The bindings a dispatch's shader does not reach (every binding of the set is
-        // written all the same), in the layouts their images are in: no barrier
-        // concerns them.
-        let sampled_layout = ImageUse::ComputeSampled.state().layout;
-        let no_equirect = |io: PassIo| {
-            io.bind_image(
-                "environment_equirect",
-                equirect.image.view(),
-                sampled_layout,
-                equirect.sampler.raw(),
-            )
-        };
-        let no_tables = |io: PassIo| {
-            io.bind_buffer("materials", &materials)
-                .bind_buffer("conductor_from_code", &conductor_table)
-                .bind_buffer("environment_albedo", &albedo)
-                .bind_buffer("environment_code_albedo", &code_albedo)
-        };
-        let groups = |size: u32, z: u32| [size.div_ceil(8), size.div_ceil(8), z];
-
-        // The tables first: these shaders read the material and conductor tables and
-        // write buffers only. Their sets bind the source images and a target view all
-        // the same, which are brought to the layouts bound here (nothing written in
-        // them yet: the cubes are made below).
-        let tables_io = |name, set| {
-            PassIo::new(name)
-                .set(decl, set)
-                .sampled(
-                    "environment_source",
-                    &radiance,
-                    sampler.raw(),
-                    ImageUse::ComputeSampled,
-                )
-                .sampled(
-                    "environment_equirect",
-                    &equirect.image,
-                    equirect.sampler.raw(),
-                    ImageUse::ComputeSampled,
-                )
-                .image_view(
-                    "environment_target",
-                    &irradiance,
-                    irradiance_view.raw(),
-                    ImageUse::ComputeStorageWrite,
-                )
-        };
-        let count = computed_materials.len() as u32;
-        if count > 0 {
-            let set = record.set()?;
-            let io = tables_io("environment albedo", set)
-                .buffer("materials", &materials, BufferUse::ComputeStorageRead)
-                .bind_buffer("conductor_from_code", &conductor_table)
-                .buffer(
-                    "environment_albedo",
-                    &computed_albedo,
-                    BufferUse::ComputeStorageWrite,
-                )
-                .bind_buffer("environment_code_albedo", &code_albedo);
-            let push = EnvironmentAlbedoPush {
-                samples: ALBEDO_SAMPLES,
-            };
-            record.dispatch(&self.albedo, set, io, &push, groups(TABLE_SIZE, count));
-            // Each material's table, copied from the one computed for its key.
-            let copy =
-                PassUses::images("environment albedo copies", Vec::new()).with_buffers(vec![
-                    (computed_albedo.raw(), BufferUse::TransferSource),
-                    (albedo.raw(), BufferUse::TransferDestination),
-                ]);
-            record.states.transition(device.raw(), cmd, &copy);
-            let regions: Vec<_> = table_of_material
-                .iter()
-                .enumerate()
-                .map(|(material, &table)| vk::BufferCopy {
-                    src_offset: u64::from(table) * ALBEDO_TABLE_BYTES,
-                    dst_offset: material as u64 * ALBEDO_TABLE_BYTES,
-                    size: ALBEDO_TABLE_BYTES,
-                })
-                .collect();
-            // SAFETY: recording state; both buffers live until the bake's wait, and the
-            // barrier above made the dispatch's writes visible to the copy.
-            unsafe {
-                device
-                    .raw()
-                    .cmd_copy_buffer(cmd, computed_albedo.raw(), albedo.raw(), &regions);
-            }
-        }
-        for (table, &[outside_ior, polarisation_weight]) in keys.iter().enumerate() {
-            let set = record.set()?;
-            let io = tables_io("environment code albedo", set)
-                .bind_buffer("materials", &materials)
-                .buffer(
-                    "conductor_from_code",
-                    &conductor_table,
-                    BufferUse::ComputeStorageRead,
-                )
-                .bind_buffer("environment_albedo", &albedo)
-                .buffer(
-                    "environment_code_albedo",
-                    &code_albedo,
-                    BufferUse::ComputeStorageWrite,
-                );
-            let push = EnvironmentCodeAlbedoPush {
-                samples: CODE_ALBEDO_SAMPLES,
-                table: table as u32,
-                outside_ior,
-                polarisation_weight,
-            };
-            let groups = groups(CODE_TABLE_SIZE, CODES);
-            record.dispatch(&self.code_albedo, set, io, &push, groups);
-        }
-
-        let cubes = |use_| vec![((&specular).into(), use_), ((&irradiance).into(), use_)];
-        if let Some(staging) = &cubes_staging {
-            // The cubes of an earlier bake of this environment, copied in.
-            let upload = PassUses::images(
-                "environment cubes upload",
-                cubes(ImageUse::TransferDestination),
-            );
-            record.states.transition(device.raw(), cmd, &upload);
-            cube_texels.record(device, cmd, staging, true);
-        } else {
-            // The radiance cube: level 0 from the source, each next level the mean of
-            // the one before, which the same dispatch samples while it writes its own.
-            let source = EnvironmentSource::new(environment);
-            for level in 0..radiance_levels {
-                let view = level_view(&radiance, level)?;
-                let size = radiance.mip_extent(level).width;
-                let (mode, source_level, samples_across) = match (level, environment) {
-                    // n × n samples a texel: at least the image's texels across one (its
-                    // width spans the four side faces), 4 to 32.
-                    (0, Environment::Image(image)) => {
-                        let across = image.width.div_ceil(4 * RADIANCE_SIZE);
-                        (RadianceMode::Equirect, 0, across.clamp(4, 32))
-                    }
-                    (0, _) => (RadianceMode::Analytic, 0, 0),
-                    _ => (RadianceMode::Reduce, level - 1, 0),
-                };
-                let set = record.set()?;
-                let chain = ImageUse::ComputeSampledStorageWrite;
-                let io = PassIo::new("environment radiance")
-                    .set(decl, set)
-                    .sampled(
-                        "environment_source",
-                        &radiance,
-                        one_level_sampler.raw(),
-                        chain,
-                    )
-                    .sampled(
-                        "environment_equirect",
-                        &equirect.image,
-                        equirect.sampler.raw(),
-                        ImageUse::ComputeSampled,
-                    )
-                    .image_view("environment_target", &radiance, view.raw(), chain);
-                let push = EnvironmentRadiancePush {
-                    source,
-                    size,
-                    mode: mode as u32,
-                    source_level,
-                    samples_across,
-                };
-                record.dispatch(&self.radiance, set, no_tables(io), &push, groups(size, 6));
-                views.push(view);
-            }
-
-            // A dispatch that samples the whole radiance cube and writes `view` of
-            // `target`.
-            let from_radiance = |name, set, target: &Image, view: vk::ImageView| {
-                PassIo::new(name)
-                    .set(decl, set)
-                    .sampled(
-                        "environment_source",
-                        &radiance,
-                        sampler.raw(),
-                        ImageUse::ComputeSampled,
-                    )
-                    .image_view(
-                        "environment_target",
-                        target,
-                        view,
-                        ImageUse::ComputeStorageWrite,
-                    )
-            };
-
-            // The GGX-prefiltered specular cube, a level per roughness, from the whole
-            // radiance cube.
-            for level in 0..SPECULAR_LEVELS {
-                let view = level_view(&specular, level)?;
-                let size = specular.mip_extent(level).width;
-                let set = record.set()?;
-                let io = from_radiance("environment prefilter", set, &specular, view.raw());
-                let push = EnvironmentPrefilterPush {
-                    size,
-                    samples: PREFILTER_SAMPLES,
-                    radiance_size: RADIANCE_SIZE,
-                    roughness: level as f32 / (SPECULAR_LEVELS - 1) as f32,
-                };
-                let io = no_tables(no_equirect(io));
-                record.dispatch(&self.prefilter, set, io, &push, groups(size, 6));
-                views.push(view);
-            }
-
-            // The irradiance cube, from one level of the radiance cube.
-            let set = record.set()?;
-            let io = from_radiance(
-                "environment irradiance",
-                set,
-                &irradiance,
-                irradiance_view.raw(),
-            );
-            let push = EnvironmentIrradiancePush {
-                size: IRRADIANCE_SIZE,
-                source_level: IRRADIANCE_SOURCE_LEVEL,
-                source_size: radiance.mip_extent(IRRADIANCE_SOURCE_LEVEL).width,
-            };
-            let io = no_tables(no_equirect(io));
-            record.dispatch(&self.irradiance, set, io, &push, groups(IRRADIANCE_SIZE, 6));
-
-            if let Some(readback) = &cubes_readback {
-                // The cubes as the GPU wrote them, for the cache entry.
-                let copy = PassUses::images(
-                    "environment cubes readback",
-                    cubes(ImageUse::TransferSource),
-                )
-                .with_buffers(vec![(readback.raw(), BufferUse::TransferDestination)]);
-                record.states.transition(device.raw(), cmd, &copy);
-                cube_texels.record(device, cmd, readback, false);
-            }
-        }
-        views.push(irradiance_view);
-
-        // Hand the cubes and tables to the lighting pass's fragment shader (and the
-        // cubes' texels, read back, to the host).
-        let mut buffers = vec![
-            (albedo.raw(), BufferUse::FragmentStorageRead),
-            (code_albedo.raw(), BufferUse::FragmentStorageRead),
-        ];
-        buffers.extend(
-            cubes_readback
-                .iter()
-                .map(|b| (b.raw(), BufferUse::HostRead)),
-        );
-        let hand_off = PassUses::images("environment hand-off", cubes(ImageUse::FragmentSampled))
-            .with_buffers(buffers);
-        states.transition(device.raw(), cmd, &hand_off);
-        commands.submit_and_wait()?;
-        if let (Some(cache), Some(key), Some(readback)) =
-            (&self.cubes_cache, cache_key, &cubes_readback)
-        {
-            // The cache never fails a bake: an unreadable buffer only loses the entry.
-            if let Ok(texels) = readback.mapped() {
-                cache.entries.store(key, texels);
-            }
-        }
-        drop(views);
-        drop(pool);
-        drop(radiance);
-        drop(equirect);
-        drop(computed_albedo);
-        Ok(GpuEnvironment {
+        Ok(Self {
+            radiance,
             specular,
             irradiance,
+            irradiance_view,
+            cube_texels,
+            cache_key,
+            materials,
+            computed_count: computed_materials.len() as u32,
+            table_of_material,
+            conductor_table,
+            computed_albedo,
             albedo,
+            code_keys,
             code_albedo,
             code_table_of_material,
-            sampler: linear_sampler(device, SPECULAR_LEVELS)?,
-            environment: environment.clone(),
-            cubes_from_cache: cubes_staging.is_some(),
-            bake_ms: start.elapsed().as_secs_f64() * 1e3,
+            cubes_staging,
+            cubes_readback,
+            sampler,
+            one_level_sampler,
+            equirect,
         })
+    }
+
+    /// The specular and irradiance cubes, each in `use_`.
+    fn cubes(&self, use_: ImageUse) -> Vec<(TrackedImage, ImageUse)> {
+        vec![
+            ((&self.specular).into(), use_),
+            ((&self.irradiance).into(), use_),
+        ]
+    }
+
+    /// `io` with the equirect image bound in the layout it is in, for a dispatch whose
+    /// shader does not reach it (every binding of the set is written all the same): no
+    /// barrier concerns it.
+    fn no_equirect(&self, io: PassIo) -> PassIo {
+        io.bind_image(
+            "environment_equirect",
+            self.equirect.image.view(),
+            ImageUse::ComputeSampled.state().layout,
+            self.equirect.sampler.raw(),
+        )
+    }
+
+    /// `io` with the tables bound, for a dispatch whose shader does not reach them.
+    fn no_tables(&self, io: PassIo) -> PassIo {
+        io.bind_buffer("materials", &self.materials)
+            .bind_buffer("conductor_from_code", &self.conductor_table)
+            .bind_buffer("environment_albedo", &self.albedo)
+            .bind_buffer("environment_code_albedo", &self.code_albedo)
     }
 }
 
