@@ -297,22 +297,17 @@ vec3 brdf_conductor_fresnel(BrdfInputs m, BrdfView view, float cos_h) {
 #endif
 }
 
-vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
-    vec3 vl = view.v;
-    vec3 ll = shading_frame_to_local(view.frame, safe_normalize(l));
-    if (!(vl.z > 0.0 && ll.z > 0.0)) {
-        return vec3(0.0);
-    }
+// The dispatchers: each slot of the lobe (distribution × visibility, the dielectric's
+// Fresnel and transmittance, the conductor's Fresnel, the thin film, the energy
+// compensation) as the variant's defines choose it. The #ifs live here alone, so that
+// brdf_evaluate_view reads as the formula.
+
+// D(h) · V(v, l): GGX (isotropic where the scene has no anisotropy) with the
+// height-correlated Smith visibility by default; Beckmann's D with its own Λ, or the
+// separable or approximate visibility, in the comparison variants.
+float brdf_specular_lobe(BrdfView view, vec3 vl, vec3 ll, vec3 h) {
     float ax = view.ax;
     float ay = view.ay;
-    float metal = view.metal;
-    float w = view.w;
-    float eta_i = m.outside_eta;
-
-    vec3 sum = vl + ll;
-    float len = sqrt(dot(sum, sum));
-    vec3 h = sum * (1.0 / len);
-    float cos_h = min(0.5 * len, 1.0);
 #ifdef D_BECKMANN
     // Comparison variant (combustion_renderer::Distribution::Beckmann): Beckmann's D with
     // its own Smith Λ, height-correlated 1/(1 + Λ_v + Λ_l) or, with SMITH_SEPARABLE,
@@ -324,7 +319,7 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
 #else
     float g2 = 1.0 / (1.0 + view.lambda_v + lambda_l);
 #endif
-    float lobe = d_beckmann_anisotropic(h, ax, ay) * g2 / (4.0 * max(vl.z, COS_MIN) * max(ll.z, COS_MIN));
+    return d_beckmann_anisotropic(h, ax, ay) * g2 / (4.0 * max(vl.z, COS_MIN) * max(ll.z, COS_MIN));
 #else
     vec2 light_half = smith_ggx_visibility_half(ll, ax, ay);
 #if defined(SMITH_SEPARABLE)
@@ -339,58 +334,115 @@ vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
     float visibility = 0.5 / (light_half.x * view.visibility_half.y + view.visibility_half.x * light_half.y);
 #endif
 #ifdef NO_ANISOTROPY
-    float lobe = d_ggx(h, ax) * visibility;  // α_x = α_y: the isotropic form
+    return d_ggx(h, ax) * visibility;  // α_x = α_y: the isotropic form
 #else
-    float lobe = d_ggx_anisotropic(h, ax, ay) * visibility;
+    return d_ggx_anisotropic(h, ax, ay) * visibility;
 #endif
 #endif  // D_BECKMANN
+}
+
+// The dielectric part's Fresnel transmittance towards l, T_w(n·l) (1 − the curve in a
+// FRESNEL_CURVE variant).
+float brdf_dielectric_transmittance(BrdfInputs m, BrdfView view, float cos_l) {
+#ifdef FRESNEL_CURVE
+    return 1.0 - brdf_dielectric_curve(view, cos_l);
+#else
+    return polarised_weighted(fresnel_dielectric_transmittance(cos_l, m.outside_eta, m.dielectric_eta), view.w);
+#endif
+}
+
+// The dielectric part's weights at the half angle cos_h and towards l: `fresnel`, its
+// specular reflectance F(v·h), and `diffuse_weight`, T(n·l) T(n·v) on the diffuse lobe;
+// each mixed with the thin film's by its weight (IRIDESCENCE variants).
+void brdf_dielectric_weights(BrdfInputs m, BrdfView view, float cos_h, float cos_l,
+                             out vec3 fresnel, out vec3 diffuse_weight) {
+    float fresnel_base = brdf_dielectric_fresnel(m, view, cos_h);
+    float transmittance_l = brdf_dielectric_transmittance(m, view, cos_l);
+    fresnel = vec3(fresnel_base);
+    diffuse_weight = vec3(transmittance_l * view.transmittance_v);
+#ifdef IRIDESCENCE
+    if (view.film.weight > 0.0) {
+        float eta_i = m.outside_eta;
+        float eta_d = m.dielectric_eta;
+        vec3 r_h = thin_film_reflectance_weighted(cos_h, eta_i, view.film, vec3(eta_d), vec3(0.0), view.w);
+        vec3 r_l = thin_film_reflectance_weighted(cos_l, eta_i, view.film, vec3(eta_d), vec3(0.0), view.w);
+        fresnel = fresnel_base + view.film.weight * (r_h - fresnel_base);
+        diffuse_weight = (transmittance_l + view.film.weight * ((1.0 - r_l) - transmittance_l))
+                       * view.film_transmittance_v;
+    }
+#endif
+}
+
+// The conductor part's reflectance at cos_h per channel, mixed with the thin film's by
+// its weight (IRIDESCENCE variants).
+vec3 brdf_conductor_reflectance(BrdfInputs m, BrdfView view, float cos_h) {
+    vec3 fresnel = brdf_conductor_fresnel(m, view, cos_h);
+#ifdef IRIDESCENCE
+    if (view.film.weight > 0.0) {
+        vec3 r_h = thin_film_reflectance_weighted(cos_h, m.outside_eta, view.film, m.conductor_eta, m.conductor_k, view.w);
+        fresnel += view.film.weight * (r_h - fresnel);
+    }
+#endif
+    return fresnel;
+}
+
+// The energy compensation of the dielectric and the conductor lobes (Turquin 2019;
+// ENERGY_COMPENSATION variants), 1 otherwise.
+float brdf_dielectric_compensation(BrdfView view) {
+#ifdef ENERGY_COMPENSATION
+    return view.compensation_dielectric;
+#else
+    return 1.0;
+#endif
+}
+
+vec3 brdf_conductor_compensation(BrdfView view) {
+#ifdef ENERGY_COMPENSATION
+    return view.compensation_conductor;
+#else
+    return vec3(1.0);
+#endif
+}
+
+// Whether the scene's materials have a dielectric part, a conductor part (specialised
+// variants leave out what none has).
+#ifdef NO_DIELECTRICS
+const bool BRDF_DIELECTRICS = false;
+#else
+const bool BRDF_DIELECTRICS = true;
+#endif
+#ifdef NO_CONDUCTORS
+const bool BRDF_CONDUCTORS = false;
+#else
+const bool BRDF_CONDUCTORS = true;
+#endif
+
+// f(v, l) = (1 − metal) [D V F_d (v·h) + T_d(n·l) T_d(n·v) f_diffuse] + metal D V F_c(v·h),
+// each F and T with the film's mixed in, each lobe × its energy compensation.
+vec3 brdf_evaluate_view(BrdfInputs m, BrdfView view, vec3 l) {
+    vec3 vl = view.v;
+    vec3 ll = shading_frame_to_local(view.frame, safe_normalize(l));
+    if (!(vl.z > 0.0 && ll.z > 0.0)) {
+        return vec3(0.0);
+    }
+    float metal = view.metal;
+    vec3 sum = vl + ll;
+    float len = sqrt(dot(sum, sum));
+    vec3 h = sum * (1.0 / len);
+    float cos_h = min(0.5 * len, 1.0);
+    float lobe = brdf_specular_lobe(view, vl, ll, h);
 
     vec3 result = vec3(0.0);
-#ifndef NO_DIELECTRICS
-    if (metal < 1.0) {
-        float eta_d = m.dielectric_eta;
-#ifdef FRESNEL_CURVE
-        float transmittance_l = 1.0 - brdf_dielectric_curve(view, ll.z);
-#else
-        float transmittance_l = polarised_weighted(fresnel_dielectric_transmittance(ll.z, eta_i, eta_d), w);
-#endif
-#ifdef IRIDESCENCE
-        float fresnel_base = brdf_dielectric_fresnel(m, view, cos_h);
-        vec3 spec = lobe * vec3(fresnel_base);
-        vec3 diffuse_weight = vec3(transmittance_l * view.transmittance_v);
-        if (view.film.weight > 0.0) {
-            vec3 r_h = thin_film_reflectance_weighted(cos_h, eta_i, view.film, vec3(eta_d), vec3(0.0), w);
-            vec3 r_l = thin_film_reflectance_weighted(ll.z, eta_i, view.film, vec3(eta_d), vec3(0.0), w);
-            spec = lobe * (fresnel_base + view.film.weight * (r_h - fresnel_base));
-            diffuse_weight = (transmittance_l + view.film.weight * ((1.0 - r_l) - transmittance_l))
-                           * view.film_transmittance_v;
-        }
-#else
-        float spec = lobe * brdf_dielectric_fresnel(m, view, cos_h);
-        float diffuse_weight = transmittance_l * view.transmittance_v;
-#endif
-#ifdef ENERGY_COMPENSATION
-        spec *= view.compensation_dielectric;
-#endif
-        result = (1.0 - metal) * (vec3(spec) + diffuse_weight * brdf_diffuse_lobe(m, vl, ll));
+    if (BRDF_DIELECTRICS && metal < 1.0) {
+        vec3 fresnel;
+        vec3 diffuse_weight;
+        brdf_dielectric_weights(m, view, cos_h, ll.z, fresnel, diffuse_weight);
+        vec3 spec = lobe * fresnel * brdf_dielectric_compensation(view);
+        result = (1.0 - metal) * (spec + diffuse_weight * brdf_diffuse_lobe(m, vl, ll));
     }
-#endif
-#ifndef NO_CONDUCTORS
-    if (metal > 0.0) {
-        vec3 fresnel_conductor_h = brdf_conductor_fresnel(m, view, cos_h);
-#ifdef IRIDESCENCE
-        if (view.film.weight > 0.0) {
-            vec3 r_h = thin_film_reflectance_weighted(cos_h, eta_i, view.film, m.conductor_eta, m.conductor_k, w);
-            fresnel_conductor_h += view.film.weight * (r_h - fresnel_conductor_h);
-        }
-#endif
-#ifdef ENERGY_COMPENSATION
-        result += metal * lobe * fresnel_conductor_h * view.compensation_conductor;
-#else
-        result += metal * lobe * fresnel_conductor_h;
-#endif
+    if (BRDF_CONDUCTORS && metal > 0.0) {
+        result += metal * lobe * brdf_conductor_reflectance(m, view, cos_h) * brdf_conductor_compensation(view);
     }
-#endif
     return result;
 }
 
