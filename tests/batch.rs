@@ -297,6 +297,49 @@ fn shards_merge_to_the_one_runs_result() {
     }
 }
 
+/// More shards than jobs: a shard that holds no job renders nothing, says so, exits 0
+/// with results that list no job, and the shards still merge to every job (it panicked,
+/// index out of bounds, and left an empty folder that `--merge` refused).
+#[test]
+fn a_shard_without_jobs_has_empty_results_and_merges() {
+    let dir = scratch("empty-shard");
+    let manifest = dir.join("two.json");
+    std::fs::write(
+        &manifest,
+        r#"{"jobs": [{"name": "a", "scene": "builtin:spheres", "width": 32, "height": 24},
+                      {"name": "b", "scene": "builtin:spheres", "width": 32, "height": 24}]}"#,
+    )
+    .unwrap();
+    let mut shards = Vec::new();
+    for i in 1..=3 {
+        let folder = dir.join(format!("shard-{i}"));
+        let shard = format!("{i}/3");
+        let (code, stdout, stderr) = combustion(&[
+            "batch",
+            text(&manifest),
+            "-o",
+            text(&folder),
+            "--shard",
+            &shard,
+        ]);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        let jobs = results(&folder)["jobs"].as_array().unwrap().len();
+        assert_eq!(jobs, usize::from(i < 3), "shard {i}/3");
+        if i == 3 {
+            assert!(stderr.contains("--shard 3/3: no job of"), "{stderr}");
+            assert!(!stderr.contains("panicked"), "{stderr}");
+        }
+        shards.push(folder);
+    }
+    let merged = dir.join("merged");
+    let mut args = vec!["batch", "--merge"];
+    args.extend(shards.iter().map(|s| text(s)));
+    args.extend(["-o", text(&merged)]);
+    let (code, stdout, stderr) = combustion(&args);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert_eq!(results(&merged)["jobs"].as_array().unwrap().len(), 2);
+}
+
 /// What a batch cannot do is said in one line before anything renders (a manifest's
 /// mistakes name the job; exit 2), or per job while the others go on: a scene that
 /// fails to load, a golden of another size.

@@ -128,6 +128,14 @@ pub(crate) fn batch(o: &BatchArgs) -> Result<(), CliError> {
     let mut manifest = Manifest::read(manifest_path)?;
     if let Some(shard) = o.shard {
         manifest.keep_shard(shard);
+        if manifest.jobs.is_empty() {
+            log::warn!(
+                "--shard {}/{}: no job of {} falls to this shard (more shards than jobs); its results list none",
+                shard.index,
+                shard.count,
+                manifest_path.display()
+            );
+        }
     }
     if let Some(goldens) = &o.goldens {
         if !o.update_goldens && !goldens.is_dir() {
@@ -259,7 +267,11 @@ fn run_jobs(
     folders: &Folders<'_>,
     device: &DeviceArgs,
 ) -> Result<Vec<JobResult>, CliError> {
-    let first = &manifest.jobs[0].render;
+    // A shard of more shards than jobs may hold none: it renders nothing (no device is
+    // made) and its results say so, so the split still merges.
+    let Some(first) = manifest.jobs.first().map(|job| &job.render) else {
+        return Ok(Vec::new());
+    };
     let (desc, _) = device_and_settings(device, &first.frame, 1)?;
     let device = combustion::vk::Device::new(&desc).map_err(Error::from)?;
     let validation = device.validation_log();

@@ -181,6 +181,15 @@ g = triangle(positions=[(0.0, 0.0, 0.0), (1e10, 0.0, 0.0), (0.0, 1e10, 0.0)])
 g["nodes"] = [{"mesh": 0, "name": "huge", "scale": [1e30, 1e30, 1e30]}]
 bad("object-overflows-f32.gltf", g)
 
+# An animation whose accessors declare 2^62 keys: the import budget must refuse it, not
+# overflow multiplying the count.
+g = triangle()
+g["accessors"].append({"bufferView": 0, "componentType": 5126, "count": 2 ** 62, "type": "SCALAR"})
+g["accessors"].append({"bufferView": 0, "componentType": 5126, "count": 2 ** 62, "type": "VEC3"})
+g["animations"] = [{"channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}],
+                    "samplers": [{"input": 3, "output": 4}]}]
+bad("animation-key-count-overflows.gltf", g)
+
 for old in os.listdir(HERE):
     if old.endswith((".gltf", ".glb")):
         os.remove(os.path.join(HERE, old))

@@ -12,6 +12,10 @@ fn corpus() -> PathBuf {
 /// (file, words the error must contain).
 const EXPECTED: &[(&str, &[&str])] = &[
     ("empty-file.gltf", &["malformed JSON", "truncated"]),
+    (
+        "animation-key-count-overflows.gltf",
+        &["animation 0: sampler 0", "more than this file may ask for"],
+    ),
     ("truncated-json.gltf", &["malformed JSON", "truncated"]),
     ("garbled-json.gltf", &["malformed JSON", "line 1"]),
     ("not-gltf-2.gltf", &["asset.version is `1.0`"]),

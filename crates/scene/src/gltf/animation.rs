@@ -416,10 +416,12 @@ impl Importer<'_> {
                     Checked::Valid(json::accessor::Type::Vec4) => 4,
                     _ => 1,
                 };
-                a.count.0 * width
+                a.count.0.saturating_mul(width)
             })
         };
-        self.charge_mesh_bytes((declared(json.input.value()) + declared(json.output.value())) * 4)?;
+        // Saturating: a count near 2⁶⁴ is charged as more than any budget, not wrapped.
+        let floats = declared(json.input.value()).saturating_add(declared(json.output.value()));
+        self.charge_mesh_bytes(floats.saturating_mul(4))?;
         let times: Vec<f32> = read_f32::<1>(root, &mut self.buffers, json.input.value())
             .map_err(|e| format!("input: {e}"))?
             .into_iter()
