@@ -56,6 +56,17 @@ pub enum OutputError {
         /// The output path as given.
         path: PathBuf,
     },
+    /// The output is one of the run's input files (the same file by any name: a link, a
+    /// hard link), which writing would destroy.
+    #[error("cannot write {path}: it is the {what} this run reads ({input}); name another output")]
+    IsAnInput {
+        /// The output path as given.
+        path: PathBuf,
+        /// What the input is to the run ("scene file", "environment image", …).
+        what: &'static str,
+        /// The input's path as given.
+        input: PathBuf,
+    },
     /// The output path is an existing file this process may not write, left as it is.
     #[error("cannot write {path}: it is read-only; it is left as it is")]
     ReadOnly {
@@ -353,6 +364,46 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
     a.file_name() == b.file_name()
         && canonical_folder(a).is_some()
         && canonical_folder(a) == canonical_folder(b)
+}
+
+/// Refuses `output` (as given to its option) when it is one of the run's `inputs`
+/// (what each is to the run, and its path): the same file by whatever name, a symbolic
+/// or hard link included. An output that does not exist yet is no input.
+pub fn check_not_an_input(
+    output: &Path,
+    inputs: &[(&'static str, &Path)],
+) -> Result<(), OutputError> {
+    for &(what, input) in inputs {
+        if same_existing_file(output, input) {
+            return Err(OutputError::IsAnInput {
+                path: output.to_path_buf(),
+                what,
+                input: input.to_path_buf(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Whether `a` and `b` both exist and are one file (after links; the same device and
+/// inode on Unix, the same canonical path elsewhere).
+pub fn same_existing_file(a: &Path, b: &Path) -> bool {
+    let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        ma.dev() == mb.dev() && ma.ino() == mb.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (ma, mb);
+        matches!(
+            (std::fs::canonicalize(a), std::fs::canonicalize(b)),
+            (Ok(x), Ok(y)) if x == y
+        )
+    }
 }
 
 /// Gives `file` the owner and group of `replaced` when they differ from this process's

@@ -877,6 +877,100 @@ fn info_describes_gltf_files() {
     );
 }
 
+/// No output is written over what the run reads: `render S.gltf -o S.gltf` (and through a
+/// hard link), `render --environment E.exr --hdr E.exr`, `diff A B --heatmap B` are
+/// refused in one line naming the output and the input, before any work, and the input is
+/// left as it was (each wrote over it and exited 0); `batch -o D --goldens D` without
+/// `--update-goldens` is refused (it replaced every golden and passed it against itself).
+#[test]
+fn no_output_is_written_over_an_input() {
+    let text = |path: &std::path::Path| path.to_str().unwrap().to_owned();
+    let dir = scratch("over-inputs");
+    let scene = dir.join("scene.gltf");
+    let gltf = std::fs::read(repo_file("assets/scenes/optics/optics.gltf")).unwrap();
+    std::fs::write(&scene, &gltf).unwrap();
+    let linked = dir.join("linked.png");
+    std::fs::hard_link(&scene, &linked).unwrap();
+    for output in [&scene, &linked] {
+        assert_clear_error(
+            &["render", &text(&scene), "-o", &text(output)],
+            "it is the scene file this run reads",
+        );
+    }
+    assert_eq!(
+        std::fs::read(&scene).unwrap(),
+        gltf,
+        "the scene was written over"
+    );
+
+    let sky = dir.join("sky.exr");
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "builtin:spheres",
+        "--width",
+        "16",
+        "--height",
+        "8",
+        "--hdr",
+        &text(&sky),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let sky_bytes = std::fs::read(&sky).unwrap();
+    assert_clear_error(
+        &[
+            "render",
+            "builtin:spheres",
+            "--environment",
+            &text(&sky),
+            "--hdr",
+            &text(&sky),
+        ],
+        "it is the environment image this run reads",
+    );
+    assert_eq!(std::fs::read(&sky).unwrap(), sky_bytes);
+
+    let (a, b) = (dir.join("a.png"), dir.join("b.png"));
+    for path in [&a, &b] {
+        let (code, _, stderr) = combustion(&[
+            "render",
+            "builtin:spheres",
+            "--width",
+            "16",
+            "--height",
+            "8",
+            "-o",
+            &text(path),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+    }
+    let b_bytes = std::fs::read(&b).unwrap();
+    assert_clear_error(
+        &["diff", &text(&a), &text(&b), "--heatmap", &text(&b)],
+        "it is the second image this run reads",
+    );
+    assert_eq!(std::fs::read(&b).unwrap(), b_bytes);
+
+    let manifest = dir.join("one.json");
+    std::fs::write(
+        &manifest,
+        r#"{"jobs": [{"name": "a", "scene": "builtin:spheres", "width": 16, "height": 8}]}"#,
+    )
+    .unwrap();
+    let goldens = dir.join("goldens");
+    std::fs::create_dir(&goldens).unwrap();
+    assert_clear_error(
+        &[
+            "batch",
+            &text(&manifest),
+            "-o",
+            &text(&goldens),
+            "--goldens",
+            &text(&goldens),
+        ],
+        "are one folder: the renders would replace the goldens",
+    );
+}
+
 /// `render` smooths edges with FXAA by default: its PNG is byte for byte the one
 /// `--anti-aliasing fxaa` writes and differs from `--anti-aliasing none`'s, while the EXR
 /// (radiance) is the same in all three; `--supersample 2` alone needs no

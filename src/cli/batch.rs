@@ -146,6 +146,16 @@ pub(crate) fn batch(o: &BatchArgs) -> Result<(), CliError> {
             .into());
         }
     }
+    if let Some(goldens) = &o.goldens {
+        if !o.update_goldens && output::same_existing_file(&o.output, goldens) {
+            return Err(Error::Usage(format!(
+                "-o {} and --goldens {} are one folder: the renders would replace the goldens they are compared with; give -o a folder of its own",
+                o.output.display(),
+                goldens.display()
+            ))
+            .into());
+        }
+    }
     prepare_folder(&o.output, "-o")?;
     if let (Some(goldens), true) = (&o.goldens, o.update_goldens) {
         prepare_folder(goldens, "--goldens")?;

@@ -13,6 +13,14 @@ pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
     if let Some(heatmap) = &o.heatmap {
         output::check_extension(heatmap, "--heatmap", "PNG", &["png"])?;
         output::check_writable(heatmap)?;
+        let mut inputs = vec![
+            ("first image", o.a.as_path()),
+            ("second image", o.b.as_path()),
+        ];
+        if let Some(file) = &o.criteria_file {
+            inputs.push(("criteria file", file.as_path()));
+        }
+        output::check_not_an_input(heatmap, &inputs)?;
     }
     let read = |path: &Path| {
         read_image(path).map_err(|e| {

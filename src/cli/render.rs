@@ -118,6 +118,18 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         .chain(o.hdr.iter())
         .map(|path| output::check_writable(path))
         .collect::<Result<Vec<_>, _>>()?;
+    // No output may be written over what the run reads.
+    let scene_source = o.scene.source();
+    let mut inputs: Vec<(&'static str, &std::path::Path)> = Vec::new();
+    if let combustion::SceneSource::File(scene) = &scene_source {
+        inputs.push(("scene file", scene));
+    }
+    if let Some(EnvironmentChoice::File(image)) = &o.shading.environment {
+        inputs.push(("environment image", image));
+    }
+    for given in png_path.iter().chain(o.hdr.iter()) {
+        output::check_not_an_input(given, &inputs)?;
+    }
     if let [png, exr] = &targets[..] {
         if output::same_file(png, exr) {
             return Err(Error::Usage(format!(
