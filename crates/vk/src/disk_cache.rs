@@ -13,19 +13,35 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// The folder a cache of one kind is given by default: `$variable` when set (`off` or
-/// empty: none), else `$XDG_CACHE_HOME/combustion/<folder>`, else
+/// The folder a cache of one kind is given by default: `$variable` when set (`off`, in
+/// any case, or empty: none), else `$XDG_CACHE_HOME/combustion/<folder>` when that is an
+/// absolute path (the XDG rule: a relative one is ignored), else
 /// `$HOME/.cache/combustion/<folder>`, else none.
 pub fn default_cache_dir(variable: &str, folder: &str) -> Option<PathBuf> {
-    if let Some(dir) = std::env::var_os(variable) {
-        return (!dir.is_empty() && dir != "off").then(|| PathBuf::from(dir));
+    cache_dir_from(
+        std::env::var_os(variable),
+        std::env::var_os("XDG_CACHE_HOME"),
+        std::env::var_os("HOME"),
+        folder,
+    )
+}
+
+/// [`default_cache_dir`] from the variables' values.
+fn cache_dir_from(
+    chosen: Option<std::ffi::OsString>,
+    xdg_cache_home: Option<std::ffi::OsString>,
+    home: Option<std::ffi::OsString>,
+    folder: &str,
+) -> Option<PathBuf> {
+    if let Some(dir) = chosen {
+        let off = dir.is_empty() || dir.to_str().is_some_and(|d| d.eq_ignore_ascii_case("off"));
+        return (!off).then(|| PathBuf::from(dir));
     }
-    let base = std::env::var_os("XDG_CACHE_HOME")
-        .filter(|dir| !dir.is_empty())
+    let base = xdg_cache_home
         .map(PathBuf::from)
+        .filter(|dir| dir.is_absolute())
         .or_else(|| {
-            std::env::var_os("HOME")
-                .filter(|dir| !dir.is_empty())
+            home.filter(|dir| !dir.is_empty())
                 .map(|home| PathBuf::from(home).join(".cache"))
         })?;
     Some(base.join("combustion").join(folder))
@@ -251,6 +267,36 @@ impl DiskCache {
 
 #[cfg(test)]
 mod tests {
+    /// `off` in any case or an empty value turns a cache off; a relative
+    /// `XDG_CACHE_HOME` is ignored (the XDG rule), falling back to `$HOME/.cache`.
+    #[test]
+    fn the_default_folder_follows_the_variables() {
+        let os = |s: &str| Some(std::ffi::OsString::from(s));
+        for off in ["off", "OFF", "Off", ""] {
+            assert_eq!(
+                cache_dir_from(os(off), os("/x"), os("/h"), "k"),
+                None,
+                "{off:?}"
+            );
+        }
+        assert_eq!(
+            cache_dir_from(os("here"), None, None, "k"),
+            Some(PathBuf::from("here"))
+        );
+        assert_eq!(
+            cache_dir_from(None, os("/x"), os("/h"), "k"),
+            Some(PathBuf::from("/x/combustion/k"))
+        );
+        for relative in ["rel", "./rel", ""] {
+            assert_eq!(
+                cache_dir_from(None, os(relative), os("/h"), "k"),
+                Some(PathBuf::from("/h/.cache/combustion/k")),
+                "{relative:?}"
+            );
+        }
+        assert_eq!(cache_dir_from(None, os("rel"), None, "k"), None);
+    }
+
     use super::*;
 
     fn folder(name: &str) -> PathBuf {
