@@ -124,6 +124,26 @@ impl Digest {
     }
 }
 
+/// The largest entry a cache reads (and its size limit's ceiling): an entry's file
+/// larger than this, or larger than the cache's size limit, is a miss, never read.
+pub const MAX_ENTRY_BYTES: u64 = 256 << 20;
+
+/// The bytes of the entry file `path` if it is a regular file (after links) of at most
+/// `limit` bytes, read whole; else `None` (a miss) before a byte is read: a FIFO never
+/// blocks, `/dev/zero` or a sparse giant is never read.
+fn read_entry(path: &Path, limit: u64) -> Option<Vec<u8>> {
+    use std::io::Read;
+    let metadata = std::fs::metadata(path).ok()?;
+    if !metadata.is_file() || metadata.len() > limit {
+        return None;
+    }
+    let file = std::fs::File::open(path).ok()?;
+    // The file may have grown since: read no more than the limit allows.
+    let mut bytes = Vec::with_capacity(metadata.len() as usize);
+    file.take(limit + 1).read_to_end(&mut bytes).ok()?;
+    (bytes.len() as u64 <= limit).then_some(bytes)
+}
+
 /// A folder of entries of one kind (its magic and file extension), optionally kept
 /// within a size ([`DiskCache::keeping_at_most`]).
 #[derive(Clone, Debug)]
@@ -169,7 +189,11 @@ impl DiskCache {
 
     /// The body stored under `key`, if an intact entry is there.
     pub fn load(&self, key: Digest) -> Option<Vec<u8>> {
-        let mut bytes = std::fs::read(self.entry(key)).ok()?;
+        let limit = self
+            .capacity
+            .unwrap_or(MAX_ENTRY_BYTES)
+            .min(MAX_ENTRY_BYTES);
+        let mut bytes = read_entry(&self.entry(key), limit)?;
         let header = self.magic.len() + 16 + 8;
         if bytes.len() < header || bytes[..8] != self.magic || bytes[8..24] != key.to_bytes() {
             return None;
@@ -324,6 +348,34 @@ mod tests {
         bytes[last] ^= 1;
         std::fs::write(cache.entry(key), &bytes).unwrap();
         assert_eq!(cache.load(key), None, "checksum");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// An entry that is not a regular file, or larger than the cache may hold, is a
+    /// miss before a byte is read: a FIFO does not block, a link to /dev/zero is not
+    /// read without end, a sparse file beyond the limit is not read whole.
+    #[cfg(unix)]
+    #[test]
+    fn an_entry_that_is_no_regular_file_or_too_large_is_a_miss() {
+        let dir = folder("special");
+        let cache = DiskCache::new(dir.clone(), *b"TESTCA01", "entry").keeping_at_most(1 << 20);
+        let key = Digest::new().part(b"key");
+        cache.store(key, b"the body");
+        let entry = cache.entry(key);
+        std::fs::remove_file(&entry).unwrap();
+        let made = std::process::Command::new("mkfifo")
+            .arg(&entry)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        assert_eq!(cache.load(key), None, "FIFO");
+        std::fs::remove_file(&entry).unwrap();
+        std::os::unix::fs::symlink("/dev/zero", &entry).unwrap();
+        assert_eq!(cache.load(key), None, "/dev/zero");
+        std::fs::remove_file(&entry).unwrap();
+        let sparse = std::fs::File::create(&entry).unwrap();
+        sparse.set_len(3 << 30).unwrap();
+        assert_eq!(cache.load(key), None, "3 GiB sparse");
         std::fs::remove_dir_all(dir).unwrap();
     }
 
