@@ -115,10 +115,11 @@ pub enum Error {
     /// The window, its surface or its swapchain failed.
     #[error("{0}")]
     Window(String),
-    /// A rendered frame holds NaN or infinite radiance: the scene's radiances overflow
-    /// the frame's floats (32-bit shading; 65504 in a 16-bit HDR frame). Nothing is
-    /// written from such a frame.
-    #[error("{count} of {pixels} pixels of the frame are NaN or infinite: the scene's radiances are too large for the frame's floats (f32, or 65504 with --hdr-format f16); nothing written")]
+    /// A rendered frame holds NaN or infinite radiance, or in a 16-bit HDR frame
+    /// radiance at f16's largest value (65504, where a driver may clamp an overflow
+    /// rather than write infinity): the scene's radiances overflow the frame's floats.
+    /// Nothing is written from such a frame.
+    #[error("{count} of {pixels} pixels of the frame overflowed (NaN, infinite, or f16's largest, 65504, in a 16-bit frame): the scene's radiances are too large for the frame's floats (f32, or 65504 with --hdr-format f16); nothing written")]
     NonFiniteFrame {
         /// Pixels with a NaN or infinite channel.
         count: usize,

@@ -877,6 +877,44 @@ fn info_describes_gltf_files() {
     );
 }
 
+/// `--hdr-format f16` does not clamp radiance silently: a frame whose radiance passes
+/// f16's largest value (a uniform environment of 1e5) is refused and nothing written,
+/// whether the driver wrote infinity or clamped to 65504 (lavapipe clamps: it rendered
+/// and exited 0); the same frame in f32 renders.
+#[test]
+fn a_16_bit_frame_that_overflows_is_refused() {
+    let dir = scratch("f16-overflow");
+    let png = dir.join("f16.png");
+    let args = |format: &'static str, png: &std::path::Path| -> Vec<String> {
+        [
+            "render",
+            "builtin:spheres-studio",
+            "--environment",
+            "uniform:1e5",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--hdr-format",
+            format,
+            "-o",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .chain([png.to_str().unwrap().to_owned()])
+        .collect()
+    };
+    let f16 = args("f16", &png);
+    let f16: Vec<&str> = f16.iter().map(String::as_str).collect();
+    assert_clear_error(&f16, "overflowed (NaN, infinite, or f16's largest, 65504");
+    assert!(!png.exists(), "nothing is written");
+    let f32_png = dir.join("f32.png");
+    let f32 = args("f32", &f32_png);
+    let f32: Vec<&str> = f32.iter().map(String::as_str).collect();
+    let (code, _, stderr) = combustion(&f32);
+    assert_eq!(code, 0, "{stderr}");
+}
+
 /// No output is written over what the run reads: `render S.gltf -o S.gltf` (and through a
 /// hard link), `render --environment E.exr --hdr E.exr`, `diff A B --heatmap B` are
 /// refused in one line naming the output and the input, before any work, and the input is

@@ -441,7 +441,7 @@ fn render_job(
     } else {
         renderer.render_with(gpu, &inputs, o.frame.width, o.frame.height, readback)?
     };
-    let count = frame.non_finite_pixels();
+    let count = frame.overflowed_pixels(settings.hdr_format);
     if count > 0 {
         return Err(Error::NonFiniteFrame {
             count,

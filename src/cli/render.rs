@@ -230,7 +230,9 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     check_validation(&validation)?;
     // A frame that overflowed is refused, not written: its PNG would show the NaN
     // pixels black and its EXR carry them.
-    let count = frame.non_finite_pixels();
+    // (In a 16-bit frame, f16's largest value counts: lavapipe clamps an overflow there
+    // rather than writing infinity.)
+    let count = frame.overflowed_pixels(settings.hdr_format);
     if count > 0 {
         return Err(Error::NonFiniteFrame {
             count,

@@ -33,6 +33,21 @@ impl Frame {
             .filter(|p| !p[..3].iter().all(|c| c.is_finite()))
             .count()
     }
+
+    /// Pixels whose radiance overflowed a frame of `format`: [`Frame::non_finite_pixels`],
+    /// and in a 16-bit frame those at f16's largest value too (65504), where a driver
+    /// may clamp an overflow rather than write infinity (lavapipe does).
+    pub fn overflowed_pixels(&self, format: crate::HdrFormat) -> usize {
+        const F16_MAX: f32 = 65504.0;
+        match format {
+            crate::HdrFormat::Rgba32Float => self.non_finite_pixels(),
+            crate::HdrFormat::Rgba16Float => self
+                .hdr
+                .iter()
+                .filter(|p| p[..3].iter().any(|&c| !c.is_finite() || c >= F16_MAX))
+                .count(),
+        }
+    }
 }
 
 /// The GPU times of one frame's passes, by name, from timestamp queries, in
