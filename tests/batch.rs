@@ -22,6 +22,15 @@ fn results(folder: &Path) -> Value {
     serde_json::from_slice(&std::fs::read(folder.join("results.json")).unwrap()).unwrap()
 }
 
+/// `combustion batch --merge SHARDS… -o MERGED`, which must succeed.
+fn merge_shards(shards: &[std::path::PathBuf], merged: &Path) {
+    let mut args = vec!["batch", "--merge"];
+    args.extend(shards.iter().map(|s| text(s)));
+    args.extend(["-o", text(merged)]);
+    let (code, stdout, stderr) = combustion(&args);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+}
+
 /// `combustion batch MANIFEST -o OUT --goldens GOLDENS EXTRA…`.
 fn batch(manifest: &str, out: &Path, goldens: &Path, extra: &[&str]) -> (i32, String, String) {
     let mut args = vec![
@@ -275,11 +284,7 @@ fn shards_merge_to_the_one_runs_result() {
         shards.push(folder);
     }
     let merged = dir.join("merged");
-    let mut args = vec!["batch", "--merge"];
-    args.extend(shards.iter().map(|s| text(s)));
-    args.extend(["-o", text(&merged)]);
-    let (code, stdout, stderr) = combustion(&args);
-    assert_eq!(code, 0, "{stdout}{stderr}");
+    merge_shards(&shards, &merged);
     assert_eq!(outcomes(&results(&merged)), whole);
     let junit = std::fs::read_to_string(merged.join("junit.xml")).unwrap();
     assert_eq!(junit.matches("<testcase ").count(), whole.len());
@@ -332,11 +337,7 @@ fn a_shard_without_jobs_has_empty_results_and_merges() {
         shards.push(folder);
     }
     let merged = dir.join("merged");
-    let mut args = vec!["batch", "--merge"];
-    args.extend(shards.iter().map(|s| text(s)));
-    args.extend(["-o", text(&merged)]);
-    let (code, stdout, stderr) = combustion(&args);
-    assert_eq!(code, 0, "{stdout}{stderr}");
+    merge_shards(&shards, &merged);
     assert_eq!(results(&merged)["jobs"].as_array().unwrap().len(), 2);
 }
 
