@@ -1073,6 +1073,50 @@ fn render_smooths_edges_by_default() {
     );
 }
 
+/// A shadow map side below 64 is bad usage (exit 2, before the device starts; it was a
+/// device error after it, exit 1), and shadow options without `--shadows on` are said to
+/// do nothing, naming the ones given.
+#[test]
+fn shadow_options_are_checked_and_said_to_need_shadows() {
+    let dir = scratch("shadow-options");
+    let png = dir.join("s.png");
+    let png = png.to_str().unwrap();
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "builtin:grid-sun",
+        "--shadows",
+        "on",
+        "--shadow-map-size",
+        "63",
+        "-o",
+        png,
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("a shadow map's side is at least 64"),
+        "{stderr}"
+    );
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "builtin:grid-sun",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--shadow-filter",
+        "pcf16",
+        "--shadow-cascades",
+        "2",
+        "-o",
+        png,
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains("--shadow-cascades, --shadow-filter do nothing without --shadows on"),
+        "{stderr}"
+    );
+}
+
 /// `--shadows on` on a scene whose lights cast none (here: no lights, the studio alone)
 /// says that it does nothing, and renders.
 #[test]

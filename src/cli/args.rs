@@ -412,11 +412,11 @@ pub(crate) struct ShadingArgs {
     #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.cascades, value_parser = cascades)]
     pub(crate) shadow_cascades: u32,
     /// With --shadows on: each cascade's map side in texels (64 to the device's limit)
-    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.map_size, value_parser = image_side)]
+    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.map_size, value_parser = shadow_map_side)]
     pub(crate) shadow_map_size: u32,
     /// With --shadows on: each spot light's map side, and each of a point light's six
     /// (64 to the device's limit)
-    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.local_map_size, value_parser = image_side)]
+    #[arg(long, value_name = "N", default_value_t = ShadowSettings::DEFAULT.local_map_size, value_parser = shadow_map_side)]
     pub(crate) shadow_local_map_size: u32,
     /// With --shadows on: how shadow lookups are filtered
     #[arg(long, value_name = "FILTER", default_value = ShadowSettings::DEFAULT.filter.name(), value_parser = named(ShadowFilter::ALL.map(|f| (f.name(), f))))]
@@ -1006,6 +1006,19 @@ pub(crate) fn image_side(text: &str) -> Result<u32, String> {
     Ok(value)
 }
 
+/// A shadow map's side: at least `MIN_SHADOW_MAP_SIZE` (64), at most what an image side
+/// may be; the device's own limit is checked when it is known.
+pub(crate) fn shadow_map_side(text: &str) -> Result<u32, String> {
+    let value = image_side(text)?;
+    let least = combustion::renderer::MIN_SHADOW_MAP_SIZE;
+    if value < least {
+        return Err(format!(
+            "is {value}; a shadow map's side is at least {least}"
+        ));
+    }
+    Ok(value)
+}
+
 /// An image size or a frame count: at least 1.
 pub(crate) fn at_least_one(text: &str) -> Result<u32, String> {
     let value = whole_number::<u32>(text)?;
@@ -1173,6 +1186,31 @@ pub(crate) fn lit_as_asked(
     let mut scene = loaded_as_asked(source, camera, shading)?;
     scene.camera = camera.place(&scene);
     scene.lights.extend(shading.light_rig(&scene.camera));
+    let default = ShadowSettings::DEFAULT;
+    let shadow_options_given: Vec<&str> = [
+        (
+            shading.shadow_cascades != default.cascades,
+            "--shadow-cascades",
+        ),
+        (
+            shading.shadow_map_size != default.map_size,
+            "--shadow-map-size",
+        ),
+        (
+            shading.shadow_local_map_size != default.local_map_size,
+            "--shadow-local-map-size",
+        ),
+        (shading.shadow_filter != default.filter, "--shadow-filter"),
+    ]
+    .into_iter()
+    .filter_map(|(given, name)| given.then_some(name))
+    .collect();
+    if !shading.shadows && !shadow_options_given.is_empty() {
+        log::warn!(
+            "{} do nothing without --shadows on",
+            shadow_options_given.join(", ")
+        );
+    }
     if shading.shadows && !scene.lights.iter().any(|l| l.casts_shadows()) {
         let lights = match scene.lights.len() {
             0 => "it has no lights".to_owned(),
