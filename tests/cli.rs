@@ -1117,6 +1117,35 @@ fn shadow_options_are_checked_and_said_to_need_shadows() {
     );
 }
 
+/// An `--accumulate-until` that 1 024 frames cannot meet says so (it ran them and
+/// exited 0 without a word); the image, their mean, is still written.
+#[test]
+fn an_accumulation_target_not_reached_is_said() {
+    let dir = scratch("accumulate-unmet");
+    let png = dir.join("acc.png");
+    let scene = repo_file("assets/scenes/textured/textured.gltf");
+    let (code, _, stderr) = combustion(&[
+        "render",
+        &scene,
+        "--environment-samples",
+        "1",
+        "--accumulate-until",
+        "1e-9",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains("--accumulate-until 1e-9: not reached in 1024 frames"),
+        "{stderr}"
+    );
+    assert!(png.exists());
+}
+
 /// `--shadows on` on a scene whose lights cast none (here: no lights, the studio alone)
 /// says that it does nothing, and renders.
 #[test]

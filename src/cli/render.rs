@@ -219,6 +219,11 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
                     "accumulated {frames} frames of {} environment samples per pixel: relative standard error {achieved:.2e} (asked {target:e})",
                     o.shading.environment_samples
                 );
+                if achieved > target {
+                    log::warn!(
+                        "--accumulate-until {target:e}: not reached in {frames} frames, the most it averages (relative standard error {achieved:.2e}); the image is their mean (more --environment-samples reach a smaller error)"
+                    );
+                }
                 frame
             }
         };
