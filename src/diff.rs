@@ -76,7 +76,8 @@ fn checked_size(width: usize, height: usize) -> Result<(u32, u32), String> {
 
 fn read_png(bytes: &[u8]) -> Result<DiffImage, String> {
     let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
-    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    // 16-bit samples are kept and rounded to 8 bits below (STRIP_16 would truncate).
+    decoder.set_transformations(png::Transformations::EXPAND);
     let mut reader = decoder.read_info().map_err(|e| format!("PNG: {e}"))?;
     let (width, height) = {
         let info = reader.info();
@@ -88,6 +89,18 @@ fn read_png(bytes: &[u8]) -> Result<DiffImage, String> {
         .map_err(|e| format!("PNG: {e}"))?;
     let channels = frame.color_type.samples();
     let data = &buffer[..frame.buffer_size()];
+    let data: std::borrow::Cow<'_, [u8]> = match frame.bit_depth {
+        // Big-endian 16-bit samples, each rounded to the nearest 8-bit code.
+        png::BitDepth::Sixteen => data
+            .chunks_exact(2)
+            .map(|s| {
+                let v = u32::from(u16::from_be_bytes([s[0], s[1]]));
+                ((v * 255 + 32_767) / 65_535) as u8
+            })
+            .collect::<Vec<u8>>()
+            .into(),
+        _ => data.into(),
+    };
     let pixels = data
         .chunks_exact(channels)
         .map(|p| match channels {
@@ -200,6 +213,11 @@ pub fn compare(a: &DiffImage, b: &DiffImage) -> Result<Comparison, String> {
                     (0..3)
                         .map(|c| {
                             let (x, y) = (f64::from(p[c]), f64::from(q[c]));
+                            // Equal values (infinities included) and two NaNs do not
+                            // differ; a NaN or infinity against anything else does.
+                            if x == y || (x.is_nan() && y.is_nan()) {
+                                return 0.0;
+                            }
                             let d = (x - y).abs() / x.abs().max(y.abs()).max(1e-4);
                             if d.is_nan() {
                                 f64::INFINITY
@@ -523,6 +541,46 @@ fn parse_term(term: &str) -> Result<Criterion, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A 16-bit PNG's samples are rounded to 8 bits, as the documentation says: 0x00FF
+    /// (0.992 of an 8-bit step) is 1 and 0xFF00 (254.0) is 254, where STRIP_16 took the
+    /// high byte (0 and 255).
+    #[test]
+    fn sixteen_bit_pngs_are_rounded() {
+        let mut bytes = Vec::new();
+        {
+            let mut encoder = png::Encoder::new(&mut bytes, 2, 1);
+            encoder.set_color(png::ColorType::Grayscale);
+            encoder.set_depth(png::BitDepth::Sixteen);
+            let mut writer = encoder.write_header().unwrap();
+            writer.write_image_data(&[0x00, 0xFF, 0xFF, 0x00]).unwrap();
+        }
+        let image = read_png(&bytes).unwrap();
+        let Pixels::Display(pixels) = image.pixels else {
+            panic!("a PNG is display values")
+        };
+        assert_eq!(pixels, vec![[1; 3], [254; 3]]);
+    }
+
+    /// An EXR does not differ from itself where it holds NaN or infinity (a NaN pixel
+    /// made it "differ"); a NaN or infinity against a number still differs.
+    #[test]
+    fn non_finite_radiance_equals_itself() {
+        let image = |v: f32| DiffImage {
+            width: 2,
+            height: 1,
+            pixels: Pixels::Radiance(vec![[v, 1.0, 2.0], [0.5; 3]]),
+        };
+        for v in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 3.0] {
+            let same = compare(&image(v), &image(v)).unwrap();
+            assert_eq!(same.max_channel_diff(), 0.0, "{v}");
+            assert_eq!(same.mean_flip(), 0.0, "{v}");
+        }
+        for v in [f32::NAN, f32::INFINITY] {
+            let other = compare(&image(v), &image(3.0)).unwrap();
+            assert_eq!(other.max_channel_diff(), f64::INFINITY, "{v}");
+        }
+    }
 
     fn display(width: u32, height: u32, f: impl Fn(u32, u32) -> [u8; 3]) -> DiffImage {
         DiffImage {
