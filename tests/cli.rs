@@ -2787,6 +2787,39 @@ fn diff_refuses_what_it_cannot_compare() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A number too large for its option says so, not that it is not finite (`--time 1e308`
+/// was "not a finite number"), and an orbit too near to leave the target is refused with
+/// the option named (`orbit:0,0,1e-30` failed later: "its position and target
+/// coincide").
+#[test]
+fn numbers_out_of_an_options_range_are_named_as_such() {
+    assert_refused(
+        &[
+            "render",
+            "builtin:spheres",
+            "--time",
+            "1e308",
+            "-o",
+            "/tmp/x.png",
+        ],
+        &[
+            "--time",
+            "is beyond the largest value this option takes (3.40282e38)",
+        ],
+    );
+    assert_refused(
+        &[
+            "render",
+            "builtin:spheres",
+            "--camera",
+            "orbit:0,0,1e-30",
+            "-o",
+            "/tmp/x.png",
+        ],
+        &["--camera", "distance 1e-30 is not within 1e-3 and 1e6"],
+    );
+}
+
 /// `render --time T [--animation NAME|INDEX]` shows the scene at that time of its
 /// animation: BoxAnimated (a sample model) at 0 s and at 1.8 s gives two different
 /// images, and `bench --time` plays it while measuring; an animation the scene lacks, a

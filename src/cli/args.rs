@@ -573,9 +573,10 @@ impl CameraChoice {
             if !(-89.0..=89.0).contains(&elevation) {
                 return Err(format!("elevation {elevation}° is not within ±89°"));
             }
-            if !(distance > 0.0 && distance <= 1e6) {
+            if !(1e-3..=1e6).contains(&distance) {
                 return Err(format!(
-                    "distance {distance} is not above 0 and at most 1e6 (a multiple of the framing distance)"
+                    "distance {} is not within 1e-3 and 1e6 (a multiple of the framing distance; nearer, the eye meets the target)",
+                    combustion::optics::readable::readable(distance)
                 ));
             }
             return Ok(Self::Orbit {
@@ -1045,6 +1046,16 @@ pub(crate) fn extra_lights(text: &str) -> Result<usize, String> {
 pub(crate) fn finite<T: std::str::FromStr + Into<f64> + Copy>(text: &str) -> Result<T, String> {
     match text.parse::<T>() {
         Ok(value) if value.into().is_finite() => Ok(value),
+        // A finite number too large for the option's type (1e308 for a 32-bit float)
+        // parses to infinity: say so, not that it is not finite.
+        Ok(_) if text.parse::<f64>().is_ok_and(f64::is_finite) => Err(format!(
+            "is beyond the largest value this option takes ({})",
+            if std::mem::size_of::<T>() == 4 {
+                "3.40282e38"
+            } else {
+                "1.79769e308"
+            }
+        )),
         Ok(_) => Err("is not a finite number".to_owned()),
         Err(_) => Err("is not a number".to_owned()),
     }
