@@ -1078,42 +1078,31 @@ fn render_smooths_edges_by_default() {
 /// do nothing, naming the ones given.
 #[test]
 fn shadow_options_are_checked_and_said_to_need_shadows() {
-    let dir = scratch("shadow-options");
-    let png = dir.join("s.png");
-    let png = png.to_str().unwrap();
-    let (code, _, stderr) = combustion(&[
-        "render",
-        "builtin:grid-sun",
-        "--shadows",
-        "on",
-        "--shadow-map-size",
-        "63",
-        "-o",
-        png,
-    ]);
-    assert_eq!(code, 2, "{stderr}");
-    assert!(
-        stderr.contains("a shadow map's side is at least 64"),
-        "{stderr}"
+    assert_refused(
+        &[
+            "render",
+            "builtin:grid-sun",
+            "--shadows",
+            "on",
+            "--shadow-map-size",
+            "63",
+        ],
+        &["--shadow-map-size", "a shadow map's side is at least 64"],
     );
-    let (code, _, stderr) = combustion(&[
-        "render",
-        "builtin:grid-sun",
-        "--width",
-        "16",
-        "--height",
-        "16",
-        "--shadow-filter",
-        "pcf16",
-        "--shadow-cascades",
-        "2",
-        "-o",
-        png,
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    assert!(
-        stderr.contains("--shadow-cascades, --shadow-filter do nothing without --shadows on"),
-        "{stderr}"
+    render_warns(
+        "shadow-options-unused",
+        &[
+            "builtin:grid-sun",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--shadow-filter",
+            "pcf16",
+            "--shadow-cascades",
+            "2",
+        ],
+        "--shadow-cascades, --shadow-filter do nothing without --shadows on",
     );
 }
 
@@ -1121,56 +1110,55 @@ fn shadow_options_are_checked_and_said_to_need_shadows() {
 /// exited 0 without a word); the image, their mean, is still written.
 #[test]
 fn an_accumulation_target_not_reached_is_said() {
-    let dir = scratch("accumulate-unmet");
-    let png = dir.join("acc.png");
     let scene = repo_file("assets/scenes/textured/textured.gltf");
-    let (code, _, stderr) = combustion(&[
-        "render",
-        &scene,
-        "--environment-samples",
-        "1",
-        "--accumulate-until",
-        "1e-9",
-        "--width",
-        "8",
-        "--height",
-        "8",
-        "-o",
-        png.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    assert!(
-        stderr.contains("--accumulate-until 1e-9: not reached in 1024 frames"),
-        "{stderr}"
+    render_warns(
+        "accumulate-unmet",
+        &[
+            &scene,
+            "--environment-samples",
+            "1",
+            "--accumulate-until",
+            "1e-9",
+            "--width",
+            "8",
+            "--height",
+            "8",
+        ],
+        "--accumulate-until 1e-9: not reached in 1024 frames",
     );
-    assert!(png.exists());
+}
+
+/// `combustion render ARGS… -o SCRATCH/out.png`, which must render (exit 0, the PNG
+/// written) and warn with `expected` on stderr.
+fn render_warns(name: &str, args: &[&str], expected: &str) {
+    let dir = scratch(name);
+    let png = dir.join("out.png");
+    let mut all = vec!["render"];
+    all.extend_from_slice(args);
+    all.extend(["-o", png.to_str().unwrap()]);
+    let (code, _, stderr) = combustion(&all);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains(expected), "{stderr}");
+    assert!(png.exists(), "the image is written");
 }
 
 /// `--shadows on` on a scene whose lights cast none (here: no lights, the studio alone)
 /// says that it does nothing, and renders.
 #[test]
 fn shadows_without_a_casting_light_are_said_to_do_nothing() {
-    let dir = scratch("shadows-nothing");
-    let png = dir.join("studio.png");
-    let (code, _, stderr) = combustion(&[
-        "render",
-        "--scene",
-        "builtin:spheres-studio",
-        "--width",
-        "32",
-        "--height",
-        "24",
-        "--shadows",
-        "on",
-        "-o",
-        png.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    assert!(
-        stderr.contains("--shadows on does nothing here: it has no lights"),
-        "{stderr}"
+    render_warns(
+        "shadows-nothing",
+        &[
+            "builtin:spheres-studio",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--shadows",
+            "on",
+        ],
+        "--shadows on does nothing here: it has no lights",
     );
-    assert!(png.exists());
 }
 
 /// A glTF file with lights is lit by its lights and the studio environment by default,

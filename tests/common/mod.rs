@@ -1138,6 +1138,18 @@ pub fn black_where_lit(
     frame: &combustion::renderer::Frame,
 ) -> Vec<(u32, u32, Option<[f64; 3]>)> {
     let gbuffer = frame.gbuffer.as_ref().expect("the G-buffer is read back");
+    let black: Vec<(u32, u32)> = frame
+        .hdr
+        .iter()
+        .zip(&gbuffer.texels)
+        .enumerate()
+        .filter(|(_, (hdr, texel))| texel.depth < 1.0 && hdr[..3].iter().all(|&c| c == 0.0))
+        .map(|(i, _)| (i as u32 % frame.width, i as u32 / frame.width))
+        .collect();
+    if black.is_empty() {
+        // No candidate: the scene's hierarchy and reference are not built.
+        return Vec::new();
+    }
     let drawn = scene.as_drawn(None);
     let drawn = drawn.as_ref();
     let bvh = combustion::reference::SceneBvh::new(drawn);
@@ -1149,19 +1161,13 @@ pub fn black_where_lit(
         frame.height,
     )
     .with_environment(16);
-    let mut out = Vec::new();
-    for (i, (hdr, texel)) in frame.hdr.iter().zip(&gbuffer.texels).enumerate() {
-        if texel.depth >= 1.0 || hdr[..3].iter().any(|&c| c != 0.0) {
-            continue;
-        }
-        let (x, y) = (i as u32 % frame.width, i as u32 / frame.width);
-        let reference = shading.pixel(x, y).map(|p| p.radiance);
-        if !reference.is_some_and(|r| {
-            r.iter()
-                .all(|&c| c < combustion::renderer::reference::RADIANCE_FLOOR)
-        }) {
-            out.push((x, y, reference));
-        }
-    }
-    out
+    let floor = combustion::renderer::reference::RADIANCE_FLOOR;
+    black
+        .into_iter()
+        .filter_map(|(x, y)| {
+            let reference = shading.pixel(x, y).map(|p| p.radiance);
+            let lit = !reference.is_some_and(|r| r.iter().all(|&c| c < floor));
+            lit.then_some((x, y, reference))
+        })
+        .collect()
 }
