@@ -10,6 +10,8 @@
 //            full Oren–Nayar model's interreflection term)
 //   [1].z    ∫ f_coat cos: a clear coat's own reflection (brdf.glsl's coat, weight 1, the
 //            material's coat IOR, r the coat's roughness; 0 for materials without a coat)
+//   [1].w    ∫ D V cos: the white lobe (F = 1), what KHR_materials_specular's rescaled
+//            Fresnel needs beside [0].a (lighting_terms.glsl)
 // Specular parts by sampling GGX's visible normals, diffuse by cosine-weighted
 // directions, Hammersley points.
 #include "environment_bake.glsl"
@@ -59,6 +61,7 @@ void main() {
     vec3 conductor_sum = vec3(0.0);
     float specular_sum = 0.0;
     float coat_sum = 0.0;
+    float white_sum = 0.0;
     CoatInputs coat;
     coat.factor = material.clearcoat.x > 0.0 ? 1.0 : 0.0;
     coat.alpha = a;
@@ -77,6 +80,7 @@ void main() {
         conductor_sum += brdf_evaluate_view(m, conductor, l) * w;
         specular_sum += brdf_evaluate_view(md, dielectric, l).x * w;
         coat_sum += coat_evaluate_view(coat, coat_seen, l).x * w;
+        white_sum += brdf_specular_lobe(dielectric, v, l, h) * w;
     }
     // Compensated (Kahan) sums, so a constant integrand (Lambert behind no interface:
     // f·π = ρ for every direction) comes out within an ulp or two.
@@ -109,5 +113,5 @@ void main() {
     float d1 = one - d2;
     uint entry = ((id.z * size + id.y) * size + id.x) * 2u;
     environment_albedo[entry] = vec4(conductor_sum, specular_sum) / float(samples);
-    environment_albedo[entry + 1u] = vec4(d1, d2, coat_sum / float(samples), 0.0);
+    environment_albedo[entry + 1u] = vec4(d1, d2, coat_sum / float(samples), white_sum / float(samples));
 }

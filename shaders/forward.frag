@@ -427,11 +427,14 @@ void main() {
     // pass does; the BRDF's frame re-orthogonalises the direction against it.
     vec3 n = facing_view(s.normal, v);
     vec3 t = s.direction;
-#ifdef IRIDESCENCE
-    BrdfView view = brdf_view_with_film(m, ThinFilm(s.film_weight, material.film.y, s.film_thickness_nm),
-                                        n, t, cross(n, t), v);
-#else
     BrdfView view = brdf_view(m, n, t, cross(n, t), v);
+#ifdef SPECULAR
+    // The dielectric's specular strength and colour (its reflection; what glass
+    // transmits crosses the bare interface), before a film over them.
+    brdf_view_apply_specular(view, m, DielectricSpecular(s.specular_factor, s.specular_color));
+#endif
+#ifdef IRIDESCENCE
+    brdf_view_apply_film(view, m, ThinFilm(s.film_weight, material.film.y, s.film_thickness_nm));
 #endif
 #ifdef CLEARCOAT
     SurfaceCoat coat = surface_coat(material, m, s.clearcoat, s.clearcoat_roughness,

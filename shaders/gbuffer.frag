@@ -62,6 +62,32 @@ layout(location = 3) out vec4 out_sheen;
 layout(location = 3 + FILM_AFTER_EMISSIVE + FILM_AFTER_CLEARCOAT + FILM_AFTER_SHEEN) out vec2 out_film;
 #endif
 
+#ifdef SPECULAR
+// RGBA16F: the dielectric's specular colour (rgb) and factor (a); the last attachment.
+#ifdef EMISSIVE_OCCLUSION_TARGET
+#define SPECULAR_AFTER_EMISSIVE 1
+#else
+#define SPECULAR_AFTER_EMISSIVE 0
+#endif
+#ifdef CLEARCOAT
+#define SPECULAR_AFTER_CLEARCOAT 1
+#else
+#define SPECULAR_AFTER_CLEARCOAT 0
+#endif
+#ifdef SHEEN
+#define SPECULAR_AFTER_SHEEN 1
+#else
+#define SPECULAR_AFTER_SHEEN 0
+#endif
+#ifdef IRIDESCENCE
+#define SPECULAR_AFTER_FILM 1
+#else
+#define SPECULAR_AFTER_FILM 0
+#endif
+layout(location = 3 + SPECULAR_AFTER_EMISSIVE + SPECULAR_AFTER_CLEARCOAT + SPECULAR_AFTER_SHEEN
+                  + SPECULAR_AFTER_FILM) out vec4 out_specular;
+#endif
+
 void main() {
 #ifdef FLOOR_GEOMETRY
     // Measurement floor (combustion_renderer::MeasurementFloor::Geometry): the same
@@ -90,6 +116,9 @@ void main() {
 #ifdef IRIDESCENCE
     out_film = vec2(0.0);
 #endif
+#ifdef SPECULAR
+    out_specular = vec4(1.0);
+#endif
     return;
 #endif
     GpuMaterial material = materials[in_material];
@@ -117,6 +146,11 @@ void main() {
 #endif
 #ifdef IRIDESCENCE
     out_film = vec2(s.film_weight, s.film_thickness_nm);
+#endif
+#ifdef SPECULAR
+    // f16 holds 1 exactly (a pixel without the extension stays the plain dielectric) and
+    // colours up to 65504; a colour beyond 1/F₀ saturates F₀′ at 1 anyway.
+    out_specular = vec4(clamp(s.specular_color, 0.0, 65504.0), clamp(s.specular_factor, 0.0, 1.0));
 #endif
 #ifdef ALPHA_MASK
     if (cut_away) {

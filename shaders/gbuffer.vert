@@ -46,6 +46,9 @@ layout(location = 11) out vec2 out_slot_uv_clearcoat_normal;
 #ifdef SHEEN
 layout(location = 12) out vec4 out_slot_uv_sheen;  // sheen colour, sheen roughness
 #endif
+#ifdef SPECULAR
+layout(location = 14) out vec4 out_slot_uv_specular;  // specular, specular colour
+#endif
 #ifdef IRIDESCENCE
 layout(location = 13) out vec4 out_slot_uv_film;  // iridescence, iridescence thickness
 #endif
@@ -84,6 +87,9 @@ void main() {
 #endif
 #ifdef IRIDESCENCE
     out_slot_uv_film = vec4(slot_uv(m, 15u, in_uv, in_uv1), slot_uv(m, 16u, in_uv, in_uv1));
+#endif
+#ifdef SPECULAR
+    out_slot_uv_specular = vec4(slot_uv(m, 6u, in_uv, in_uv1), slot_uv(m, 7u, in_uv, in_uv1));
 #endif
 #endif
     gl_Position = push.view_projection * world;

@@ -9,7 +9,8 @@
 // NO_OREN_NAYAR_QUALITATIVE, NO_OREN_NAYAR_FULL, NO_UNLIT remove what the scene cannot use;
 // CLEARCOAT (scenes with a clear coat) adds the coat's lobe over the base, SHEEN (scenes
 // with sheen) the sheen's lobe and its albedo scaling of the base, IRIDESCENCE (scenes with
-// a thin film) the film's Fresnel reflectance mixed into the base's;
+// a thin film) the film's Fresnel reflectance mixed into the base's, SPECULAR (scenes with
+// KHR_materials_specular) the dielectric's Fresnel rescaled by its strength and colour;
 // SHADOWS (a shading option) multiplies each shadowed light by its shadow maps' verdict.
 #include "gpu_types.glsl"
 #include "gbuffer_encoding.glsl"
@@ -141,13 +142,16 @@ void main() {
                                nra.w, base_color_srgb8_code(base_metal.rgb));
 
     // The view-dependent half of the BRDF once per pixel; per light only the rest.
+    BrdfView view = brdf_view(m, n, t, b, v);
+#ifdef SPECULAR
+    // The dielectric's specular colour (rgb) and factor (a), before a film over them.
+    vec4 specular_texel = texelFetch(gbuffer_specular, pixel, 0);
+    brdf_view_apply_specular(view, m, DielectricSpecular(specular_texel.a, specular_texel.rgb));
+#endif
 #ifdef IRIDESCENCE
     // The thin film: weight (r), thickness in nm (g); its IOR from the material.
     vec2 film_texel = texelFetch(gbuffer_film, pixel, 0).rg;
-    BrdfView view = brdf_view_with_film(m, ThinFilm(film_texel.r, material.film.y, film_texel.g),
-                                        n, t, b, v);
-#else
-    BrdfView view = brdf_view(m, n, t, b, v);
+    brdf_view_apply_film(view, m, ThinFilm(film_texel.r, material.film.y, film_texel.g));
 #endif
 #ifdef CLEARCOAT
     // The clear coat: weight (a), perceptual roughness (b), octahedral normal (rg).

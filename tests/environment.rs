@@ -511,18 +511,24 @@ fn environment_samples_are_checked_and_cost_nothing_without_an_environment() {
 /// split sum alone) measured 39 % / 46 %.
 #[test]
 fn layers_split_sum_error_against_the_oracle() {
-    for (name, bounds) in [
-        ("clearcoat", SPLIT_SUM_BOUNDS),
-        ("clearcoat-underwater", SPLIT_SUM_BOUNDS),
-        ("sheen", (0.15, 0.11)),
-        ("iridescence", SPLIT_SUM_BOUNDS),
+    for (name, bounds, iterations) in [
+        ("clearcoat", SPLIT_SUM_BOUNDS, ORACLE_ITERATIONS),
+        ("clearcoat-underwater", SPLIT_SUM_BOUNDS, ORACLE_ITERATIONS),
+        ("sheen", (0.15, 0.11), ORACLE_ITERATIONS),
+        ("iridescence", SPLIT_SUM_BOUNDS, ORACLE_ITERATIONS),
+        // Its split sum is closer to the oracle than the others': the oracle's noise must
+        // be below half of that, so it takes 2.5 times the samples.
+        ("specular", SPLIT_SUM_BOUNDS, 10_000),
     ] {
         let mut scene = builtin_scene(name).expect("built in");
         scene.lights.clear();
         scene.environment = Some(Environment::Studio);
-        split_sum_against_the_oracle_within(&scene, bounds);
+        split_sum_against_the_oracle_within(&scene, bounds, iterations);
     }
 }
+
+/// Samples of each strategy per pixel of the environment oracle.
+const ORACLE_ITERATIONS: u32 = 4_000;
 
 /// The split sum is an approximation (mirror-direction lookup, lobe shape fixed at n =
 /// v, isotropic tables for anisotropic lobes): it must stay an approximation of this
@@ -531,12 +537,16 @@ fn layers_split_sum_error_against_the_oracle() {
 const SPLIT_SUM_BOUNDS: (f64, f64) = (0.15, 0.08);
 
 fn split_sum_against_the_oracle(scene: &Scene) {
-    split_sum_against_the_oracle_within(scene, SPLIT_SUM_BOUNDS);
+    split_sum_against_the_oracle_within(scene, SPLIT_SUM_BOUNDS, ORACLE_ITERATIONS);
 }
 
-fn split_sum_against_the_oracle_within(scene: &Scene, (mean_bound, median_bound): (f64, f64)) {
+fn split_sum_against_the_oracle_within(
+    scene: &Scene,
+    (mean_bound, median_bound): (f64, f64),
+    iterations: u32,
+) {
     let frame = render(scene, 160, 96);
-    let compared = compare_with_oracle(scene, &frame, 4, 4_000);
+    let compared = compare_with_oracle(scene, &frame, 4, iterations);
     let (max, mean, median, noise) = summary(&compared);
     let name = scene
         .environment

@@ -572,3 +572,97 @@ fn unlit_materials_show_their_base_colour() {
     // The parity tests' f32 shading bound (the radiance is the stored base colour).
     assert!(map.max_relative < 1e-3, "max {:e}", map.max_relative);
 }
+
+/// SpecularTest (KHR_materials_specular) renders as its screenshot shows: its spheres,
+/// black plastics of roughness 0 under the studio, differ by their specular factor and
+/// colour. Per sphere (its pixels found by material in the G-buffer), the mean
+/// radiance: factor 0 is exactly black (no specular lobe, a black diffuse); each row
+/// brightens with its factor or colour (a colour of 0 keeps the grazing reflection, the
+/// extension's f90 = factor); the yellow colours reflect more red and green than the
+/// colour 0, and blue only at grazing as it does; colours above 1 brighten beyond the
+/// plain plastic. Before the extension
+/// was shaded every sphere was the plain plastic (factor 1, colour 1).
+#[test]
+fn specular_test_spheres_differ_as_its_screenshot_shows() {
+    let Some(root) = common::shared_gltf_samples() else {
+        return;
+    };
+    let scene = load_file(&root.join("SpecularTest/glTF/SpecularTest.gltf"));
+    let mut headless = common::lavapipe(common::exact_f32());
+    let frame = {
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(&scene).expect("upload");
+        let readback = Readback {
+            images: true,
+            gbuffer: true,
+        };
+        renderer.render(&gpu, 384, 288, readback).expect("render")
+    };
+    common::finish(headless);
+    let gbuffer = frame.gbuffer.as_ref().expect("read back");
+    let mean = |name: &str| -> [f64; 3] {
+        let index = scene
+            .materials
+            .iter()
+            .position(|m| m.name == name)
+            .unwrap_or_else(|| panic!("SpecularTest has no {name}"));
+        let pixels: Vec<[f32; 4]> = frame
+            .hdr
+            .iter()
+            .zip(&gbuffer.texels)
+            .filter(|(_, t)| t.depth < 1.0 && usize::from(t.material_direction[0]) == index)
+            .map(|(hdr, _)| *hdr)
+            .collect();
+        assert!(pixels.len() > 50, "{name}: {} pixels", pixels.len());
+        std::array::from_fn(|c| {
+            pixels.iter().map(|p| f64::from(p[c])).sum::<f64>() / pixels.len() as f64
+        })
+    };
+    let luminance = |m: [f64; 3]| 0.2126 * m[0] + 0.7152 * m[1] + 0.0722 * m[2];
+    assert_eq!(mean("M1.1_specFac"), [0.0; 3], "factor 0 reflects nothing");
+    for row in [
+        [
+            "M1.1_specFac",
+            "M1.2_specFac",
+            "M1.3_specFac",
+            "M1.4_specFac",
+            "M1.5_specFac",
+        ],
+        [
+            "M3.1_whiteFac",
+            "M3.2_whiteFac",
+            "M3.3_whiteFac",
+            "M3.4_whiteFac",
+            "M3.5_whiteFac",
+        ],
+        [
+            "M5.1_yellowFac",
+            "M5.2_yellowFac",
+            "M5.3_yellowFac",
+            "M5.4_yellowFac",
+            "M5.5_yellowFac",
+        ],
+        ["M7.1_HDR", "M7.2_HDR", "M7.3_HDR", "M7.4_HDR", "M7.5_HDR"],
+    ] {
+        let means: Vec<f64> = row.iter().map(|name| luminance(mean(name))).collect();
+        eprintln!("{row:?}: mean luminance {means:?}");
+        assert!(
+            means.windows(2).all(|w| w[0] < w[1]),
+            "{row:?} does not brighten along the row: {means:?}"
+        );
+    }
+    assert!(luminance(mean("M3.1_whiteFac")) > 0.0, "colour 0 keeps f90");
+    let plain = luminance(mean("M3.5_whiteFac"));
+    assert!(
+        luminance(mean("M7.3_HDR")) > 2.0 * plain,
+        "colour 5.4 against 1"
+    );
+    // Yellow: red and green rise along the row from the colour-0 sphere, blue stays at
+    // its grazing reflection; white: blue rises as well.
+    let (yellow_0, yellow_1) = (mean("M5.1_yellowFac"), mean("M5.5_yellowFac"));
+    let (white_0, white_1) = (mean("M3.1_whiteFac"), mean("M3.5_whiteFac"));
+    eprintln!("yellow {yellow_0:?} to {yellow_1:?}, white {white_0:?} to {white_1:?}");
+    assert!(yellow_1[0] > 1.5 * yellow_0[0] && yellow_1[1] > 1.5 * yellow_0[1]);
+    assert!(yellow_1[2] < 1.2 * yellow_0[2], "yellow reflects blue");
+    assert!(white_1[2] > 1.5 * white_0[2], "white does not reflect blue");
+}

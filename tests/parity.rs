@@ -216,6 +216,14 @@ fn iridescence_parity() {
     assert_parity("iridescence", 256, 128, 5000);
 }
 
+/// The dielectric's specular strength and colour (KHR_materials_specular, the SPECULAR
+/// variant: its G-buffer target, the dielectric's Fresnel terms rescaled, under a film
+/// too) against the f64 mapping of the optics crate, with the same bounds.
+#[test]
+fn specular_parity() {
+    assert_parity("specular", 256, 128, 5000);
+}
+
 /// The error of the cheaper Schlick variant against the full Fresnel equations (f64
 /// reference), per scene, for the README's speed-against-error table. A measurement, not
 /// a test: run with `cargo test --test integration parity:: -- --ignored --nocapture`.

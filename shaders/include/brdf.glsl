@@ -33,6 +33,15 @@ float energy_white_albedo_lookup(float cos_v, float alpha);
 #define DIFFUSE_MODEL_OREN_NAYAR_QUALITATIVE 1u
 #define DIFFUSE_MODEL_OREN_NAYAR_FULL 2u
 
+#ifdef SPECULAR
+// KHR_materials_specular at a point (Rust: combustion_optics::specular::
+// DielectricSpecular): the factor × its texture's A, the linear colour × its texture's RGB.
+struct DielectricSpecular {
+    float factor;
+    vec3 color;
+};
+#endif
+
 struct BrdfInputs {
     vec3 base_color;          // linear RGB albedo of the dielectric part
     float metalness;          // 0 dielectric .. 1 conductor, linear blend of the lobes
@@ -158,6 +167,15 @@ struct BrdfView {
     vec3 compensation_conductor;
     float compensation_dielectric;
 #endif
+#ifdef SPECULAR
+    // The dielectric's specular strength and colour (Rust: BrdfView::specular), where
+    // they are not the neutral 1 and 1 (specular_present): the clamped factor, F₀′ =
+    // min(F₀ colour, 1) per channel and the bare dielectric's F₀.
+    bool specular_present;
+    float specular_factor;
+    vec3 specular_f0;
+    float bare_f0;
+#endif
 };
 
 // The dielectric part's reflectance on the variant's curve (FRESNEL_CURVE variants).
@@ -223,6 +241,12 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
     view.film_reflectance_v = vec3(0.0);
     view.film_transmittance_v = vec3(view.transmittance_v);
 #endif
+#ifdef SPECULAR
+    view.specular_present = false;
+    view.specular_factor = 1.0;
+    view.specular_f0 = vec3(0.0);
+    view.bare_f0 = 0.0;
+#endif
     return view;
 }
 
@@ -231,8 +255,9 @@ BrdfView brdf_view(BrdfInputs m, vec3 n, vec3 t, vec3 b, vec3 v) {
 // reflectance R becomes R + weight (R_film − R) per channel, the dielectric's
 // transmittances T + weight ((1 − R_film) − T). No film where the weight or the
 // thickness is 0.
-BrdfView brdf_view_with_film(BrdfInputs m, ThinFilm film, vec3 n, vec3 t, vec3 b, vec3 v) {
-    BrdfView view = brdf_view(m, n, t, b, v);
+// The film laid over a view (after its specular strength and colour, where the variant
+// has them: the film lies over that interface).
+void brdf_view_apply_film(inout BrdfView view, BrdfInputs m, ThinFilm film) {
     if (thin_film_is_present(film)) {
         view.film = ThinFilm(min(film.weight, 1.0), film.eta, film.thickness_nm);
         view.film_reflectance_v = thin_film_reflectance_weighted(
@@ -240,6 +265,11 @@ BrdfView brdf_view_with_film(BrdfInputs m, ThinFilm film, vec3 n, vec3 t, vec3 b
         view.film_transmittance_v = view.transmittance_v
             + view.film.weight * ((1.0 - view.film_reflectance_v) - view.transmittance_v);
     }
+}
+
+BrdfView brdf_view_with_film(BrdfInputs m, ThinFilm film, vec3 n, vec3 t, vec3 b, vec3 v) {
+    BrdfView view = brdf_view(m, n, t, b, v);
+    brdf_view_apply_film(view, m, film);
     return view;
 }
 #endif
@@ -296,6 +326,48 @@ vec3 brdf_conductor_fresnel(BrdfInputs m, BrdfView view, float cos_h) {
     return fresnel_conductor_rgb(cos_h, m.outside_eta, m.conductor_eta, m.conductor_k, view.w);
 #endif
 }
+
+#ifdef SPECULAR
+// KHR_materials_specular (Rust: DielectricSpecular::reflectance, ::transmittance): the
+// dielectric's reflectance f (its curve's, at some angle) rescaled from F₀′ to 1 and
+// weighted by the factor, F′ = factor (F₀′ + (1 − F₀′)(f − F₀)/(1 − F₀)) in [0, 1]; and
+// what reaches the diffuse substrate, 1 − max_c F′_c.
+vec3 specular_reflectance(BrdfView view, float f) {
+    float shape = view.bare_f0 < 1.0 ? (f - view.bare_f0) / (1.0 - view.bare_f0) : 1.0;
+    vec3 g = view.specular_f0;
+    return clamp(view.specular_factor * (g + (1.0 - g) * shape), 0.0, 1.0);
+}
+
+float specular_transmittance(BrdfView view, float f) {
+    vec3 r = specular_reflectance(view, f);
+    return 1.0 - max(r.x, max(r.y, r.z));
+}
+
+// The dielectric's specular strength and colour laid on a view (before a film): the
+// neutral 1 and 1 leave it as it is, bit for bit.
+void brdf_view_apply_specular(inout BrdfView view, BrdfInputs m, DielectricSpecular s) {
+    if (s.factor == 1.0 && all(equal(s.color, vec3(1.0)))) {
+        return;
+    }
+    view.specular_present = true;
+    view.specular_factor = clamp(s.factor, 0.0, 1.0);
+    view.bare_f0 = polarised_weighted(fresnel_dielectric(1.0, m.outside_eta, m.dielectric_eta), 0.5);
+    view.specular_f0 = min(view.bare_f0 * max(s.color, vec3(0.0)), vec3(1.0));
+    if (view.metal < 1.0) {
+        view.transmittance_v = specular_transmittance(view, brdf_dielectric_fresnel(m, view, view.v.z));
+    }
+#ifdef IRIDESCENCE
+    view.film_transmittance_v = vec3(view.transmittance_v);
+#endif
+#ifdef ENERGY_COMPENSATION
+    // Turquin's factor from the largest channel's F₀ = factor F₀′ (one factor for the
+    // lobe, as without the extension).
+    float e = max(energy_white_albedo_lookup(view.v.z, 0.5 * (view.ax + view.ay)), 1e-3);
+    vec3 f0 = view.specular_factor * view.specular_f0;
+    view.compensation_dielectric = 1.0 + max(f0.x, max(f0.y, f0.z)) * (1.0 - e) / e;
+#endif
+}
+#endif
 
 // The dispatchers: each slot of the lobe (distribution × visibility, the dielectric's
 // Fresnel and transmittance, the conductor's Fresnel, the thin film, the energy
@@ -356,9 +428,15 @@ float brdf_dielectric_transmittance(BrdfInputs m, BrdfView view, float cos_l) {
 // each mixed with the thin film's by its weight (IRIDESCENCE variants).
 void brdf_dielectric_weights(BrdfInputs m, BrdfView view, float cos_h, float cos_l,
                              out vec3 fresnel, out vec3 diffuse_weight) {
-    float fresnel_base = brdf_dielectric_fresnel(m, view, cos_h);
+    vec3 fresnel_base = vec3(brdf_dielectric_fresnel(m, view, cos_h));
     float transmittance_l = brdf_dielectric_transmittance(m, view, cos_l);
-    fresnel = vec3(fresnel_base);
+#ifdef SPECULAR
+    if (view.specular_present) {
+        fresnel_base = specular_reflectance(view, fresnel_base.x);
+        transmittance_l = specular_transmittance(view, brdf_dielectric_fresnel(m, view, cos_l));
+    }
+#endif
+    fresnel = fresnel_base;
     diffuse_weight = vec3(transmittance_l * view.transmittance_v);
 #ifdef IRIDESCENCE
     if (view.film.weight > 0.0) {

@@ -6,7 +6,7 @@
 // MATERIAL_FLAG_* and LIGHT_KIND_*: generated from gpu_types.rs's constants.
 #include "bindings/constants.glsl"
 
-// One entry of the material table (std430, 896 bytes).
+// One entry of the material table (std430, 912 bytes).
 struct GpuMaterial {
     vec4 base_color_metalness;      // rgb: linear base colour, a: metalness
     vec4 roughness_anisotropy_ior;  // x: perceptual roughness, y: anisotropy strength,
@@ -16,7 +16,7 @@ struct GpuMaterial {
     uvec4 diffuse_model_flags;      // x: diffuse model (DIFFUSE_MODEL_*), y: MATERIAL_FLAG_*,
                                     // z: occlusion strength (f32 bits), w: unused
     ivec4 textures_base_mr_normal_occlusion;     // texture-array indices, -1: none
-    ivec4 textures_emissive_anisotropy_specular; // (specular: not rendered yet)
+    ivec4 textures_emissive_anisotropy_specular; // specular: read by SPECULAR
     ivec4 textures_transmission_thickness;       // transmission, thickness, -1, -1
     vec4 emissive_normal_scale;     // rgb: emitted radiance factor × strength, a: normal scale
     // Per texture slot s (TextureSlot::ALL order, 17 slots): [2s] = (a, b, c, set), [2s + 1] =
@@ -40,6 +40,8 @@ struct GpuMaterial {
     vec4 film;                      // x: the thin film's weight (0: none), y: its IOR, z, w: its
                                     // thickness in nm at the thickness texture's 0 and 1 (IRIDESCENCE)
     ivec4 textures_film;            // iridescence, iridescence thickness, -1, -1
+    vec4 specular;                  // rgb: KHR_materials_specular's colour factor (linear, may
+                                    // exceed 1), a: its factor; (1, 1, 1, 1): none (SPECULAR)
 };
 
 // One placed mesh (std430, 144 bytes).

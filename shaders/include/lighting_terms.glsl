@@ -225,6 +225,34 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     vec3 specular_albedo = ((1.0 - metal) * specular.a + metal * conductor) * specular_occlusion;
 #endif
     vec3 diffuse_albedo = (1.0 - metal) * (rho * diffuse.x + rho * rho * diffuse.y) * occlusion;
+    // The dielectric's specular albedo per channel (the table's, or with a specular
+    // strength and colour, below).
+    vec3 dielectric_albedo = vec3(specular.a);
+#ifdef SPECULAR
+    // KHR_materials_specular: F′ is affine in the bare reflectance F per channel,
+    // F′ = factor ((F₀′ − F₀ k) + k F), k = (1 − F₀′)/(1 − F₀), so its albedo is
+    // factor ((F₀′ − F₀ k) E_white + k E_F) from the table's white lobe ([1].w) and its
+    // dielectric's ([0].a) (F′'s clamp to [0, 1] left out). The diffuse albedo × T′/T of
+    // both crossings: at n·v, and at n·l = ½ for the light's (where the bare T equals its
+    // cosine-weighted mean over the hemisphere for IORs about 1.5).
+    if (view.specular_present) {
+        float f0 = view.bare_f0;
+        vec3 k = f0 < 1.0 ? (1.0 - view.specular_f0) / (1.0 - f0) : vec3(0.0);
+        dielectric_albedo = view.specular_factor
+                          * ((view.specular_f0 - f0 * k) * diffuse.w + k * specular.a);
+#ifdef ENERGY_COMPENSATION
+        specular_albedo = ((1.0 - metal) * dielectric_albedo * view.compensation_dielectric
+                           + metal * conductor * view.compensation_conductor) * specular_occlusion;
+#else
+        specular_albedo = ((1.0 - metal) * dielectric_albedo + metal * conductor) * specular_occlusion;
+#endif
+        float bare_v = brdf_dielectric_transmittance(m, view, nv);
+        float bare_l = brdf_dielectric_transmittance(m, view, 0.5);
+        float specular_l = specular_transmittance(view, brdf_dielectric_fresnel(m, view, 0.5));
+        diffuse_albedo *= (bare_v > 1e-4 ? view.transmittance_v / bare_v : 1.0)
+                        * (bare_l > 1e-4 ? specular_l / bare_l : 1.0);
+    }
+#endif
 #ifdef IRIDESCENCE
     // A thin film: each specular albedo × the film's mixed reflectance over the base's at
     // n·v, the diffuse albedo × its transmittance over the base's at n·v (the tables
@@ -232,21 +260,28 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     // base's does). Where the base reflects nothing at n·v the terms are left.
     if (view.film.weight > 0.0) {
         float w = view.w;
-        float f_dielectric = polarised_weighted(fresnel_dielectric(nv, m.outside_eta, m.dielectric_eta), w);
+        vec3 f_dielectric = vec3(polarised_weighted(fresnel_dielectric(nv, m.outside_eta, m.dielectric_eta), w));
+#ifdef SPECULAR
+        if (view.specular_present) {
+            f_dielectric = specular_reflectance(view, f_dielectric.x);
+        }
+#endif
         vec3 f_conductor = fresnel_conductor_rgb(nv, m.outside_eta, m.conductor_eta, m.conductor_k, w);
         vec3 r_conductor = thin_film_reflectance_weighted(nv, m.outside_eta, view.film,
                                                           m.conductor_eta, m.conductor_k, w);
-        vec3 dielectric_scale = f_dielectric > 1e-4
-            ? (f_dielectric + view.film.weight * (view.film_reflectance_v - f_dielectric)) / f_dielectric
-            : vec3(1.0);
+        vec3 dielectric_scale = vec3(1.0);
         vec3 conductor_scale = vec3(1.0);
         for (int c = 0; c < 3; ++c) {
+            if (f_dielectric[c] > 1e-4) {
+                dielectric_scale[c] = (f_dielectric[c] + view.film.weight * (view.film_reflectance_v[c] - f_dielectric[c]))
+                                    / f_dielectric[c];
+            }
             if (f_conductor[c] > 1e-4) {
                 conductor_scale[c] = (f_conductor[c] + view.film.weight * (r_conductor[c] - f_conductor[c]))
                                    / f_conductor[c];
             }
         }
-        float dielectric_part = (1.0 - metal) * specular.a;
+        vec3 dielectric_part = (1.0 - metal) * dielectric_albedo;
         vec3 conductor_part = metal * conductor;
 #ifdef ENERGY_COMPENSATION
         dielectric_part *= view.compensation_dielectric;

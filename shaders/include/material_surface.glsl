@@ -32,13 +32,15 @@ layout(location = 12) in vec4 in_slot_uv_sheen;  // the sheen colour and roughne
 #ifdef IRIDESCENCE
 layout(location = 13) in vec4 in_slot_uv_film;  // the iridescence and its thickness slots'
 #endif
+#ifdef SPECULAR
+layout(location = 14) in vec4 in_slot_uv_specular;  // the specular and its colour slots'
+#endif
 #endif
 
 // Set 1: the material's textures, bound per material; empty slots hold a 1×1 white
 // texture and are not sampled: the material table's index is -1 for them. The occlusion
-// slot is sampled in the OCCLUSION variant (environment lighting); the specular slots are
-// bound but not sampled (specular is not shaded). See
-// combustion_renderer::bindings::MATERIAL_TEXTURES.
+// slot is sampled in the OCCLUSION variant (environment lighting), the specular slots in
+// the SPECULAR variant. See combustion_renderer::bindings::MATERIAL_TEXTURES.
 #include "bindings/material_textures.glsl"
 
 // Where each sampled slot samples: its coordinate set through its KHR_texture_transform
@@ -59,6 +61,8 @@ layout(location = 13) in vec4 in_slot_uv_film;  // the iridescence and its thick
 #define UV_SHEEN_ROUGHNESS in_slot_uv_sheen.zw
 #define UV_IRIDESCENCE in_slot_uv_film.xy
 #define UV_IRIDESCENCE_THICKNESS in_slot_uv_film.zw
+#define UV_SPECULAR in_slot_uv_specular.xy
+#define UV_SPECULAR_COLOR in_slot_uv_specular.zw
 #else
 #define UV_BASE_COLOR in_uv
 #define UV_METALLIC_ROUGHNESS in_uv
@@ -75,6 +79,8 @@ layout(location = 13) in vec4 in_slot_uv_film;  // the iridescence and its thick
 #define UV_SHEEN_ROUGHNESS in_uv
 #define UV_IRIDESCENCE in_uv
 #define UV_IRIDESCENCE_THICKNESS in_uv
+#define UV_SPECULAR in_uv
+#define UV_SPECULAR_COLOR in_uv
 #endif
 
 // The vertex colour's alpha (1 without vertex colours).
@@ -112,6 +118,10 @@ struct MaterialSurface {
     // weight and thickness in nm (0: no film).
     float film_weight;
     float film_thickness_nm;
+    // KHR_materials_specular (SPECULAR variant; 1 and 1 otherwise): the dielectric's
+    // specular factor and its linear colour.
+    float specular_factor;
+    vec3 specular_color;
 };
 
 // A tangent-space normal map's texel (glTF convention: RGB mapped to [−1, 1]), its x
@@ -259,6 +269,20 @@ MaterialSurface material_surface(GpuMaterial material) {
     if (tex4.y >= 0) {
         s.film_thickness_nm = mix(material.film.z, material.film.w,
                                   texture(iridescence_thickness_texture, UV_IRIDESCENCE_THICKNESS).g);
+    }
+#endif
+    s.specular_factor = 1.0;
+    s.specular_color = vec3(1.0);
+#ifdef SPECULAR
+    // KHR_materials_specular: the factor × its texture's A, the colour × its colour
+    // texture's RGB (sRGB, decoded by the sampler's format).
+    s.specular_factor = material.specular.a;
+    if (tex1.z >= 0) {
+        s.specular_factor *= texture(specular_texture, UV_SPECULAR).a;
+    }
+    s.specular_color = material.specular.rgb;
+    if (tex1.w >= 0) {
+        s.specular_color *= texture(specular_color_texture, UV_SPECULAR_COLOR).rgb;
     }
 #endif
     return s;

@@ -1132,7 +1132,8 @@ pub fn plane_from_above(name: &str, material: Material, lights: Vec<Light>) -> S
 /// third of an 8-bit step at black: a pixel at a light's terminator may be black on the
 /// GPU and 1e-6 in f64, its normal's cosine to the light on either side of 0; 16 samples of each
 /// strategy of the environment's integral where the scene has an environment), or
-/// nothing to hit at the pixel's centre (`None`).
+/// nothing to hit at the pixel's centre (`None`), with its textures sampled at its own
+/// level of detail and half a level finer and coarser alike.
 pub fn black_where_lit(
     scene: &Scene,
     frame: &combustion::renderer::Frame,
@@ -1153,20 +1154,30 @@ pub fn black_where_lit(
     let drawn = scene.as_drawn(None);
     let drawn = drawn.as_ref();
     let bvh = combustion::reference::SceneBvh::new(drawn);
-    let shading = combustion::reference::shading::SceneShading::new(
-        drawn,
-        &bvh,
-        &drawn.lights,
-        frame.width,
-        frame.height,
-    )
-    .with_environment(16);
+    let shading = |lod_bias: f64| {
+        combustion::reference::shading::SceneShading::new(
+            drawn,
+            &bvh,
+            &drawn.lights,
+            frame.width,
+            frame.height,
+        )
+        .with_environment(16)
+        .with_lod_bias(lod_bias)
+    };
+    // Textures at the level of detail the reference computes, and half a level finer and
+    // coarser (the latitude the Vulkan specification gives a driver's level of detail):
+    // a pixel is lit only where it is lit at all three.
+    let lods = [0.0, -0.5, 0.5].map(shading);
     let floor = combustion::renderer::reference::RADIANCE_FLOOR;
     black
         .into_iter()
         .filter_map(|(x, y)| {
-            let reference = shading.pixel(x, y).map(|p| p.radiance);
-            let lit = !reference.is_some_and(|r| r.iter().all(|&c| c < floor));
+            let reference = lods[0].pixel(x, y).map(|p| p.radiance);
+            let black_at = |r: Option<[f64; 3]>| r.is_some_and(|r| r.iter().all(|&c| c < floor));
+            let lit = !lods
+                .iter()
+                .any(|lod| black_at(lod.pixel(x, y).map(|p| p.radiance)));
             lit.then_some((x, y, reference))
         })
         .collect()

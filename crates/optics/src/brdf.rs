@@ -13,6 +13,7 @@ use crate::fresnel::{
 };
 use crate::microfacet::{clamp_alpha, d_ggx_anisotropic, smith_ggx_visibility_half};
 use crate::real::Real;
+use crate::specular::DielectricSpecular;
 use crate::thin_film::{thin_film_reflectance, ThinFilm};
 use crate::vec3::{ShadingFrame, Vec3};
 use core::fmt;
@@ -168,6 +169,23 @@ pub fn brdf_evaluate_with_film<T: Real>(
     brdf_evaluate_view(m, &brdf_view_with_film(m, film, n, t, b, v), l)
 }
 
+/// [`brdf_evaluate`] with the dielectric's specular strength and colour
+/// (KHR_materials_specular; `None` or [`DielectricSpecular::neutral`]: none) and a thin
+/// film over it (see [`brdf_view_layered`]).
+#[allow(clippy::too_many_arguments)]
+pub fn brdf_evaluate_layered<T: Real>(
+    m: &BrdfInputs<T>,
+    film: Option<&ThinFilm<T>>,
+    specular: Option<&DielectricSpecular<T>>,
+    n: Vec3<T>,
+    t: Vec3<T>,
+    b: Vec3<T>,
+    v: Vec3<T>,
+    l: Vec3<T>,
+) -> [T; 3] {
+    brdf_evaluate_view(m, &brdf_view_layered(m, film, specular, n, t, b, v), l)
+}
+
 /// Everything of f(v, l) that depends on the view alone: the shading frame, v in it,
 /// the clamped parameters, the view's half of the Smith visibility and the dielectric
 /// transmittance T_w(n·v). A renderer computes it once per pixel and evaluates every
@@ -188,6 +206,9 @@ pub struct BrdfView<T> {
     transmittance_v: [T; 3],
     /// A thin film over the base, where one is present ([`ThinFilm::is_present`]).
     film: Option<ThinFilm<T>>,
+    /// The dielectric's specular strength and colour, where present
+    /// ([`DielectricSpecular::is_present`]), with the bare dielectric's F₀.
+    specular: Option<(DielectricSpecular<T>, T)>,
 }
 
 /// The per-view part of [`brdf_evaluate`] (see [`BrdfView`]).
@@ -216,6 +237,29 @@ pub fn brdf_view_with_film<T: Real>(
     b: Vec3<T>,
     v: Vec3<T>,
 ) -> BrdfView<T> {
+    brdf_view_layered(m, film, None, n, t, b, v)
+}
+
+/// [`brdf_view_with_film`] with the dielectric's specular strength and colour
+/// (KHR_materials_specular, [`crate::specular`]): the dielectric's every reflectance R
+/// becomes F′ = factor (F₀′ + (1 − F₀′) (R − F₀)/(1 − F₀)) per channel and its
+/// transmittances 1 − max_c F′_c, before a film is mixed in (the film lies over the
+/// specular interface). Neutral or absent values leave the view as [`brdf_view_with_film`]'s.
+pub fn brdf_view_layered<T: Real>(
+    m: &BrdfInputs<T>,
+    film: Option<&ThinFilm<T>>,
+    specular: Option<&DielectricSpecular<T>>,
+    n: Vec3<T>,
+    t: Vec3<T>,
+    b: Vec3<T>,
+    v: Vec3<T>,
+) -> BrdfView<T> {
+    let specular = specular.filter(|s| s.is_present()).map(|s| {
+        (
+            *s,
+            fresnel_dielectric(T::ONE, m.outside_eta, m.dielectric_eta).weighted(T::HALF),
+        )
+    });
     let film = film.filter(|f| f.is_present()).map(|f| ThinFilm {
         weight: f.weight.saturate(),
         ..*f
@@ -228,7 +272,7 @@ pub fn brdf_view_with_film<T: Real>(
     let w = m.polarisation_weight.saturate();
     let (cv, sv) = smith_ggx_visibility_half(v, ax, ay);
     let transmittance_v = if metal < T::ONE {
-        dielectric_transmittance(m, film.as_ref(), w, v.z)
+        dielectric_transmittance(m, film.as_ref(), specular.as_ref(), w, v.z)
     } else {
         [T::ONE; 3]
     };
@@ -243,6 +287,7 @@ pub fn brdf_view_with_film<T: Real>(
         sv,
         transmittance_v,
         film,
+        specular,
     }
 }
 
@@ -263,30 +308,41 @@ fn film_mixed<T: Real>(base: [T; 3], f: &ThinFilm<T>, film: [T; 3]) -> [T; 3] {
     std::array::from_fn(|ch| base[ch] + f.weight * (film[ch] - base[ch]))
 }
 
-/// R_w(c; η_i, η_d) of the dielectric part per channel, a film mixed in.
+/// R_w(c; η_i, η_d) of the dielectric part per channel, its specular strength and colour
+/// applied, then a film mixed in.
 fn dielectric_reflectance<T: Real>(
     m: &BrdfInputs<T>,
     film: Option<&ThinFilm<T>>,
+    specular: Option<&(DielectricSpecular<T>, T)>,
     w: T,
     c: T,
 ) -> [T; 3] {
-    let base = [fresnel_dielectric(c, m.outside_eta, m.dielectric_eta).weighted(w); 3];
+    let bare = fresnel_dielectric(c, m.outside_eta, m.dielectric_eta).weighted(w);
+    let base = specular.map_or([bare; 3], |(s, f0)| s.reflectance(bare, *f0));
     film.map_or(base, |f| {
         let dielectric = ([m.dielectric_eta; 3], [T::ZERO; 3]);
         film_mixed(base, f, film_reflectance(m, f, w, c, dielectric))
     })
 }
 
-/// T_w(c; η_i, η_d) of the dielectric part per channel, a film mixed in (1 − its
-/// reflectance: it absorbs nothing).
+/// T_w(c; η_i, η_d) of the dielectric part per channel (1 − max_c F′_c with a specular
+/// strength or colour), a film mixed in (1 − its reflectance: it absorbs nothing).
 fn dielectric_transmittance<T: Real>(
     m: &BrdfInputs<T>,
     film: Option<&ThinFilm<T>>,
+    specular: Option<&(DielectricSpecular<T>, T)>,
     w: T,
     c: T,
 ) -> [T; 3] {
-    let base =
-        [fresnel_dielectric_transmittance(c, m.outside_eta, m.dielectric_eta).weighted(w); 3];
+    let base = [specular.map_or_else(
+        || fresnel_dielectric_transmittance(c, m.outside_eta, m.dielectric_eta).weighted(w),
+        |(s, f0)| {
+            s.transmittance(
+                fresnel_dielectric(c, m.outside_eta, m.dielectric_eta).weighted(w),
+                *f0,
+            )
+        },
+    ); 3];
     film.map_or(base, |f| {
         let dielectric = ([m.dielectric_eta; 3], [T::ZERO; 3]);
         let r = film_reflectance(m, f, w, c, dielectric);
@@ -342,10 +398,11 @@ pub fn brdf_evaluate_view<T: Real>(m: &BrdfInputs<T>, view: &BrdfView<T>, l: Vec
     let lobe = d_ggx_anisotropic(h, ax, ay) * visibility;
 
     let film = view.film.as_ref();
+    let specular = view.specular.as_ref();
     let mut out = zero;
     if metal < T::ONE {
-        let spec = dielectric_reflectance(m, film, w, cos_h);
-        let transmittance_l = dielectric_transmittance(m, film, w, l.z);
+        let spec = dielectric_reflectance(m, film, specular, w, cos_h);
+        let transmittance_l = dielectric_transmittance(m, film, specular, w, l.z);
         let sigma = m.oren_nayar_sigma;
         for (c, (o, &rho)) in out.iter_mut().zip(&m.base_color).enumerate() {
             let rho = rho.saturate();

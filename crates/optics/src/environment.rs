@@ -8,7 +8,7 @@
 //! diffuse lobe. The sequence is a fixed pseudo-random one (so results reproduce), and
 //! the estimate comes with its standard error σ/√N from the samples' own variance.
 
-use crate::brdf::{brdf_evaluate_view, brdf_view_with_film, BrdfInputs};
+use crate::brdf::{brdf_evaluate_view, brdf_view_layered, BrdfInputs};
 use crate::layers::{layered_radiance, layers_view, Layers};
 use crate::microfacet::{clamp_alpha, d_ggx_anisotropic, lambda_ggx_anisotropic};
 use crate::vec3::{ShadingFrame, Vec3};
@@ -167,7 +167,15 @@ pub fn integrate_environment_layered(
     sampling: Sampling,
 ) -> Estimate {
     let Sampling { iterations, seed } = sampling;
-    let view = brdf_view_with_film(m, layers.film.as_ref(), n, t, b, v);
+    let view = brdf_view_layered(
+        m,
+        layers.film.as_ref(),
+        layers.specular.as_ref(),
+        n,
+        t,
+        b,
+        v,
+    );
     let frame = ShadingFrame::new(n, t, b);
     let v_local = frame.to_local(v.normalize());
     let zero = Estimate {

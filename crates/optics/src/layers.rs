@@ -12,6 +12,7 @@ use crate::coat::{
 use crate::sheen::{
     sheen_albedo_lookup, sheen_albedo_scaling, sheen_albedo_table, sheen_lobe, SheenInputs,
 };
+use crate::specular::DielectricSpecular;
 use crate::thin_film::ThinFilm;
 use crate::vec3::{ShadingFrame, Vec3};
 
@@ -24,9 +25,13 @@ pub struct Layers {
     pub sheen: Option<SheenInputs<f64>>,
     /// A thin film on the base (KHR_materials_iridescence). Not a layer of its own: it
     /// changes the base BRDF's Fresnel terms, so the references evaluate the base with
-    /// [`crate::brdf::brdf_evaluate_with_film`]; it travels here with what else lies on
+    /// [`crate::brdf::brdf_evaluate_layered`]; it travels here with what else lies on
     /// the surface.
     pub film: Option<ThinFilm<f64>>,
+    /// The dielectric's specular strength and colour (KHR_materials_specular), where
+    /// they are not the neutral 1 and 1. Like the film, it changes the base's Fresnel
+    /// terms ([`crate::brdf::brdf_evaluate_layered`]).
+    pub specular: Option<DielectricSpecular<f64>>,
 }
 
 /// The layers prepared for one view ([`layers_view`]).

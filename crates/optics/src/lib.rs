@@ -23,6 +23,9 @@
 //! * [`thin_film`]: a thin dielectric film over the base (KHR_materials_iridescence):
 //!   the Airy summation of Belcour & Barla with the base's exact complex Fresnel
 //!   amplitudes, mixed into the base's Fresnel by the film's weight ([`brdf_view_with_film`]).
+//! * [`specular`]: the dielectric's specular strength and colour
+//!   (KHR_materials_specular): its Fresnel reflectance rescaled from F₀′ = min(F₀ colour, 1)
+//!   to 1 and weighted by the factor ([`brdf::brdf_view_layered`]).
 //! * [`real`], [`vec3`]: the scalar trait, a 3-vector, the [`ShadingFrame`].
 //!
 //! # Conventions
@@ -171,13 +174,15 @@ pub mod microfacet;
 pub mod readable;
 pub mod real;
 pub mod sheen;
+pub mod specular;
 pub mod thin_film;
 pub mod variants;
 pub mod vec3;
 
 pub use brdf::{
-    brdf_evaluate, brdf_evaluate_view, brdf_evaluate_with_film, brdf_view, brdf_view_with_film,
-    BrdfInputs, BrdfView, DiffuseModel, UnknownDiffuseModel,
+    brdf_evaluate, brdf_evaluate_layered, brdf_evaluate_view, brdf_evaluate_with_film, brdf_view,
+    brdf_view_layered, brdf_view_with_film, BrdfInputs, BrdfView, DiffuseModel,
+    UnknownDiffuseModel,
 };
 pub use readable::{readable, shortened};
 pub use real::Real;

@@ -11,4 +11,5 @@ mod glsl_mirror;
 mod hard_cases;
 mod identities;
 mod sheen;
+mod specular;
 mod thin_film;

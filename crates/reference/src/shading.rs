@@ -25,7 +25,7 @@
 //! environment's light, KHR_materials_specular (the renderer does not shade it either),
 //! and shadows unless [`SceneShading::with_visibility`] adds exact visibility.
 
-use combustion_optics::brdf::{brdf_evaluate_with_film, BrdfInputs, DiffuseModel as OpticsDiffuse};
+use combustion_optics::brdf::{brdf_evaluate_layered, BrdfInputs, DiffuseModel as OpticsDiffuse};
 use combustion_optics::coat::{CoatInputs, CoatLayer};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion_optics::environment::{
@@ -34,6 +34,7 @@ use combustion_optics::environment::{
 use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Layers};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::sheen::SheenInputs;
+use combustion_optics::specular::DielectricSpecular;
 use combustion_optics::thin_film::ThinFilm;
 use combustion_optics::vec3::{facing_view, Vec3 as OpticsVec3};
 use combustion_scene::{
@@ -736,6 +737,21 @@ impl<'a> SceneShading<'a> {
                 }
             })
             .filter(ThinFilm::is_present);
+        // KHR_materials_specular: the factor × its texture's A, the colour × its colour
+        // texture's RGB (sRGB); none where both are the neutral 1.
+        let specular = material
+            .has_specular()
+            .then(|| {
+                let strength = lookup.sample_or(material.specular_texture.as_ref(), [1.0; 4])[3];
+                let color = lookup.sample_or(material.specular_color_texture.as_ref(), [1.0; 4]);
+                DielectricSpecular {
+                    factor: f64::from(material.specular_factor) * strength,
+                    color: std::array::from_fn(|c| {
+                        f64::from(material.specular_color_factor[c]) * color[c]
+                    }),
+                }
+            })
+            .filter(DielectricSpecular::is_present);
         let emissive_texture = lookup.sample_or(material.emissive_texture.as_ref(), [1.0; 4]);
         let emitted = std::array::from_fn(|c| {
             f64::from(material.emissive_factor[c])
@@ -759,7 +775,12 @@ impl<'a> SceneShading<'a> {
             alpha: coverage,
             transmission: f64::from(material.transmission)
                 * lookup.sample_or(material.transmission_texture.as_ref(), [1.0; 4])[0],
-            layers: Layers { coat, sheen, film },
+            layers: Layers {
+                coat,
+                sheen,
+                film,
+                specular,
+            },
             occlusion: material.occlusion_texture.as_ref().map_or(1.0, |texture| {
                 1.0 + f64::from(material.occlusion_strength) * (lookup.sample(texture)[0] - 1.0)
             }),
@@ -859,9 +880,10 @@ impl<'a> SceneShading<'a> {
             if visible == 0.0 {
                 continue;
             }
-            let f = brdf_evaluate_with_film(
+            let f = brdf_evaluate_layered(
                 &surface.brdf,
                 surface.layers.film.as_ref(),
+                surface.layers.specular.as_ref(),
                 optics_vec(surface.n),
                 optics_vec(surface.t),
                 optics_vec(surface.b),

@@ -544,7 +544,7 @@ const fn joined<const N: usize>(first: &[Binding], then: &[Binding]) -> [Binding
     out
 }
 
-const LIGHTING_BINDINGS: [Binding; 10 + LIT_BY.len()] = joined(
+const LIGHTING_BINDINGS: [Binding; 11 + LIT_BY.len()] = joined(
     &[
         Binding::new(
             "gbuffer_base_color_metalness",
@@ -583,6 +583,8 @@ const LIGHTING_BINDINGS: [Binding; 10 + LIT_BY.len()] = joined(
         Binding::new("gbuffer_sheen", BindingKind::Texture2D, FRAGMENT).only_with("SHEEN"),
         // The thin film: its weight (r) and thickness in nm (g) (IRIDESCENCE variant).
         Binding::new("gbuffer_film", BindingKind::Texture2D, FRAGMENT).only_with("IRIDESCENCE"),
+        // The dielectric's specular colour (rgb) and factor (a) (SPECULAR variant).
+        Binding::new("gbuffer_specular", BindingKind::Texture2D, FRAGMENT).only_with("SPECULAR"),
     ],
     &LIT_BY,
 );
@@ -819,7 +821,7 @@ mod tests {
             "layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;"
         ));
         assert!(glsl.contains(
-            "layout(std430, set = 0, binding = 10) readonly buffer Lights { GpuLight lights[]; };"
+            "layout(std430, set = 0, binding = 11) readonly buffer Lights { GpuLight lights[]; };"
         ));
         assert!(glsl.contains(
             "#ifdef EMISSIVE_OCCLUSION_TARGET\nlayout(set = 0, binding = 6) uniform texture2D gbuffer_emissive;\n#endif"
@@ -860,9 +862,9 @@ mod tests {
                 .find(|s| s.ty == ty)
                 .map_or(0, |s| s.descriptor_count)
         };
-        // The G-buffer's eight (the clear coat's, the sheen's and the thin film's
-        // included) and the two arrays of shadow maps as depths, twice.
-        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 20);
+        // The G-buffer's nine (the clear coat's, the sheen's, the thin film's and the
+        // specular included) and the two arrays of shadow maps as depths, twice.
+        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 22);
         // The two environment cubes and the two arrays of shadow maps, twice.
         assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 8);
         // Materials, lights, the conductor table, the tile light lists, the energy

@@ -33,6 +33,10 @@ pub const SHEEN_FORMAT: vk::Format = vk::Format::R16G16B16A16_UNORM;
 /// film's colours turn with its thickness (a 16-bit step would move them visibly), so the
 /// thickness is kept as the material and texture give it.
 pub const FILM_FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
+/// KHR_materials_specular's colour (rgb, linear, may exceed 1) and factor (a), the
+/// material's factors times its textures, 16-bit float each (1 is exact: a pixel of a
+/// material without the extension is the plain dielectric bit for bit).
+pub const SPECULAR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 
 /// The G-buffer's images at one size.
 pub struct GBufferTargets {
@@ -60,6 +64,9 @@ pub struct GBufferTargets {
     /// The thin film ([`FILM_FORMAT`]), present in the `IRIDESCENCE` variant only: the
     /// colour attachment after the sheen's (or in its place).
     pub film: Option<Image>,
+    /// The dielectric's specular colour and factor ([`SPECULAR_FORMAT`]), present in the
+    /// `SPECULAR` variant only: the last colour attachment.
+    pub specular: Option<Image>,
 }
 
 impl GBufferTargets {
@@ -67,7 +74,8 @@ impl GBufferTargets {
     /// attachment, sampled and transfer-source usage; depth with depth attachment, sampled
     /// and transfer-source usage). With `emissive_occlusion`, also the emissive + occlusion
     /// target, of `emissive_format` (the HDR image's format); with `clearcoat`, the clear
-    /// coat's target; with `sheen`, the sheen's; with `film`, the thin film's.
+    /// coat's target; with `sheen`, the sheen's; with `film`, the thin film's; with
+    /// `specular`, the specular target.
     ///
     /// # Errors
     /// [`RenderError::Vulkan`] if an image cannot be created or allocated.
@@ -77,7 +85,7 @@ impl GBufferTargets {
         height: u32,
         storage: GBufferStorage,
         emissive_occlusion: bool,
-        [clearcoat, sheen, film]: [bool; 3],
+        [clearcoat, sheen, film, specular]: [bool; 4],
         emissive_format: vk::Format,
     ) -> Result<Self, RenderError> {
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
@@ -133,6 +141,11 @@ impl GBufferTargets {
             } else {
                 None
             },
+            specular: if specular {
+                Some(image("gbuffer specular", SPECULAR_FORMAT, color_usage)?)
+            } else {
+                None
+            },
         })
     }
 
@@ -152,6 +165,7 @@ impl GBufferTargets {
         all.extend(self.clearcoat.as_ref());
         all.extend(self.sheen.as_ref());
         all.extend(self.film.as_ref());
+        all.extend(self.specular.as_ref());
         all
     }
 }
@@ -180,7 +194,8 @@ impl GBufferPass {
     /// and object index as vertex push constants, a fourth colour attachment of
     /// `emissive_format` in variants with the emissive + occlusion target, and then the
     /// clear coat's ([`CLEARCOAT_FORMAT`]), the sheen's ([`SHEEN_FORMAT`]) and the thin
-    /// film's ([`FILM_FORMAT`]) in variants with them.
+    /// film's ([`FILM_FORMAT`]) and the specular one ([`SPECULAR_FORMAT`]) in variants
+    /// with them.
     ///
     /// # Errors
     /// [`RenderError::Vulkan`] if a shader does not compile or the pipeline cannot be built.
@@ -233,6 +248,9 @@ impl GBufferPass {
         }
         if variant.iridescence {
             color_formats.push(FILM_FORMAT);
+        }
+        if variant.specular {
+            color_formats.push(SPECULAR_FORMAT);
         }
         let pipeline_of = |topology, vertex: &ShaderModule, fragment: &ShaderModule| {
             Pipeline::graphics(
@@ -443,6 +461,9 @@ pub struct GBufferTexel {
     pub sheen: [f64; 4],
     /// The thin film's target: weight, thickness in nm (0 in frames without it: no film).
     pub film: [f64; 2],
+    /// The specular target: colour (rgb), factor (a) as stored (f16); [1, 1, 1, 1] in
+    /// frames without it: the plain dielectric.
+    pub specular: [f64; 4],
     /// The emissive + occlusion target: the emitted radiance the lighting pass adds (rgb)
     /// and the glTF occlusion (a), as stored (f16 or f32); [0, 0, 0, 1] in frames without
     /// the target: no emission, no occlusion.

@@ -12,7 +12,7 @@ pub const MATERIAL_FLAG_CONDUCTOR_FROM_BASE_COLOR: u32 = 1;
 /// radiance.
 pub const MATERIAL_FLAG_UNLIT: u32 = 2;
 
-/// `GpuMaterial` (std430, 896 bytes).
+/// `GpuMaterial` (std430, 912 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -81,8 +81,13 @@ pub struct GpuMaterial {
     /// Texture-array indices (-1: none) of the iridescence and iridescence thickness
     /// slots, then -1, -1.
     pub textures_film: [i32; 4],
+    /// KHR_materials_specular: the specular colour factor (rgb, linear, may exceed 1) and
+    /// the specular factor (a); (1, 1, 1, 1) is the plain dielectric. Its textures are the
+    /// specular slots of `textures_emissive_anisotropy_specular`. Read by the SPECULAR
+    /// variants.
+    pub specular: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 896);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 912);
 
 impl GpuMaterial {
     /// The table entry of `material`; `textures` are its texture-array indices per
@@ -184,6 +189,10 @@ impl GpuMaterial {
                 None => [0.0, 1.0, 0.0, 0.0],
             },
             textures_film: [textures[15], textures[16], -1, -1],
+            specular: {
+                let [r, g, b] = material.specular_color_factor;
+                [r, g, b, material.specular_factor]
+            },
         }
     }
 

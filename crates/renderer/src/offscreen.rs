@@ -50,6 +50,8 @@ struct ReadbackBuffers {
     sheen: Option<Buffer>,
     /// The thin film's target, likewise.
     film: Option<Buffer>,
+    /// The specular target, likewise.
+    specular: Option<Buffer>,
     /// The emissive + occlusion target (in the HDR image's format), likewise.
     emissive: Option<Buffer>,
 }
@@ -103,6 +105,11 @@ impl ReadbackBuffers {
             } else {
                 None
             },
+            specular: if with_gbuffer_layers {
+                Some(buffer("specular readback", 8)?)
+            } else {
+                None
+            },
             emissive: if with_gbuffer_layers {
                 Some(buffer(
                     "emissive + occlusion readback",
@@ -123,6 +130,7 @@ impl ReadbackBuffers {
             .chain(&self.clearcoat)
             .chain(&self.sheen)
             .chain(&self.film)
+            .chain(&self.specular)
             .chain(&self.emissive)
     }
 }
@@ -252,6 +260,7 @@ impl Renderer {
                 variant.clearcoat,
                 variant.sheen,
                 variant.iridescence,
+                variant.specular,
                 variant.has_emissive_occlusion_target(),
             ],
         )
@@ -440,6 +449,9 @@ impl Renderer {
             if let (Some(image), Some(buffer)) = (&g.film, &buffers.film) {
                 copies.push((image, buffer));
             }
+            if let (Some(image), Some(buffer)) = (&g.specular, &buffers.specular) {
+                copies.push((image, buffer));
+            }
             if let (Some(image), Some(buffer)) = (&g.emissive, &buffers.emissive) {
                 copies.push((image, buffer));
             }
@@ -479,14 +491,14 @@ impl Renderer {
     }
 
     /// The frame just completed, from the readback buffers (`clearcoat`, `sheen`, `film`,
-    /// `emissive`: its variant has the coat's, the sheen's, the thin film's, the emissive
-    /// + occlusion target).
+    /// `specular`, `emissive`: its variant has the coat's, the sheen's, the thin film's,
+    /// the specular, the emissive + occlusion target).
     fn read_back(
         &self,
         width: u32,
         height: u32,
         readback: Readback,
-        [clearcoat, sheen, film, emissive]: [bool; 4],
+        [clearcoat, sheen, film, specular, emissive]: [bool; 5],
     ) -> Result<Frame, RenderError> {
         let mut frame = Frame {
             width,
@@ -535,6 +547,15 @@ impl Renderer {
                 )),
                 _ => None,
             };
+            let specular = match &buffers.specular {
+                Some(buffer) if specular => Some(
+                    bytemuck::pod_collect_to_vec::<u8, [u16; 4]>(buffer.mapped()?)
+                        .into_iter()
+                        .map(|p| p.map(|h| f64::from(f16_to_f32(h))))
+                        .collect::<Vec<_>>(),
+                ),
+                _ => None,
+            };
             let emissive = match &buffers.emissive {
                 Some(buffer) if emissive => {
                     Some(hdr_texels(self.settings.hdr_format, buffer.mapped()?))
@@ -551,6 +572,7 @@ impl Renderer {
                     clearcoat: clearcoat.as_ref().map_or([0.0; 4], |c| c[i]),
                     sheen: sheen.as_ref().map_or([0.0; 4], |s| s[i]),
                     film: film.as_ref().map_or([0.0; 2], |f| f[i].map(f64::from)),
+                    specular: specular.as_ref().map_or([1.0; 4], |s| s[i]),
                     emissive_occlusion: emissive
                         .as_ref()
                         .map_or([0.0, 0.0, 0.0, 1.0], |e| e[i].map(f64::from)),

@@ -9,7 +9,7 @@
 //! the reference for frames with shadows, and [`shadow_mismatch`] counts the pixels
 //! whose shadow-map verdict differs from it.
 
-use combustion_optics::brdf::{brdf_evaluate_with_film, BrdfInputs, DiffuseModel};
+use combustion_optics::brdf::{brdf_evaluate_layered, BrdfInputs, DiffuseModel};
 use combustion_optics::coat::{CoatInputs, CoatLayer};
 use combustion_optics::diffuse::oren_nayar_sigma_from_roughness;
 use combustion_optics::environment::{
@@ -18,6 +18,7 @@ use combustion_optics::environment::{
 use combustion_optics::layers::{layered_radiance, layers_face, layers_view, Layers};
 use combustion_optics::microfacet::{alpha_from_perceptual_roughness, anisotropic_alphas};
 use combustion_optics::sheen::SheenInputs;
+use combustion_optics::specular::DielectricSpecular;
 use combustion_optics::thin_film::ThinFilm;
 use combustion_optics::variants::{
     brdf_evaluate_variant, BrdfVariant, DistributionForm, FresnelForm, MaskingForm,
@@ -332,10 +333,22 @@ impl ReferenceShading {
                     continue;
                 }
             }
-            // The comparison variants change the base's Fresnel only; a thin film is
-            // evaluated in the exact form.
-            let brdf = if self.variant == BrdfVariant::EXACT || layers.film.is_some() {
-                brdf_evaluate_with_film(&m, layers.film.as_ref(), v3(n), v3(t), v3(b), v3(v), v3(l))
+            // The comparison variants change the base's Fresnel only; a thin film and a
+            // specular strength or colour are evaluated in the exact form.
+            let brdf = if self.variant == BrdfVariant::EXACT
+                || layers.film.is_some()
+                || layers.specular.is_some()
+            {
+                brdf_evaluate_layered(
+                    &m,
+                    layers.film.as_ref(),
+                    layers.specular.as_ref(),
+                    v3(n),
+                    v3(t),
+                    v3(b),
+                    v3(v),
+                    v3(l),
+                )
             } else {
                 brdf_evaluate_variant(&m, &self.variant, v3(n), v3(t), v3(b), v3(v), v3(l))
             };
@@ -505,6 +518,13 @@ impl ReferenceShading {
             eta: f64::from(material.film[1]),
             thickness_nm: film_thickness_nm,
         });
+        // The specular target: colour (rgb), factor (a); none where it is the neutral 1.
+        let [specular_r, specular_g, specular_b, specular_factor] = texel.specular;
+        let specular = Some(DielectricSpecular {
+            factor: specular_factor,
+            color: [specular_r, specular_g, specular_b],
+        })
+        .filter(DielectricSpecular::is_present);
         // The sheen's target: linear colour, perceptual roughness.
         let [sr, sg, sb, sheen_roughness] = texel.sheen;
         let sheen = (sr.max(sg).max(sb) > 0.0).then_some(SheenInputs {
@@ -518,7 +538,12 @@ impl ReferenceShading {
             b,
             v,
             position,
-            layers: Layers { coat, sheen, film },
+            layers: Layers {
+                coat,
+                sheen,
+                film,
+                specular,
+            },
         })
     }
 

@@ -227,6 +227,12 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
                 .get(o.material)
                 .is_some_and(Material::is_iridescent)
         }),
+        specular: scene.objects.iter().any(|o| {
+            scene
+                .materials
+                .get(o.material)
+                .is_some_and(Material::has_specular)
+        }),
         vertex_colors: scene
             .objects
             .iter()

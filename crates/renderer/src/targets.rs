@@ -28,6 +28,8 @@ pub(crate) struct TargetKey {
     pub sheen: bool,
     /// Whether the G-buffer has the thin film's target.
     pub film: bool,
+    /// Whether the G-buffer has the specular target.
+    pub specular: bool,
 }
 
 impl TargetKey {
@@ -42,6 +44,7 @@ impl TargetKey {
             clearcoat: variant.clearcoat,
             sheen: variant.sheen,
             film: variant.iridescence,
+            specular: variant.specular,
         }
     }
 }
@@ -114,7 +117,7 @@ impl FrameTargets {
                 key.height,
                 storage,
                 key.emissive_occlusion,
-                [key.clearcoat, key.sheen, key.film],
+                [key.clearcoat, key.sheen, key.film, key.specular],
                 hdr_format.vk(),
             )?,
             hdr: Image::new(

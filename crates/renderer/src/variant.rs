@@ -176,6 +176,11 @@ pub struct ShaderVariant {
     /// shade mix the film's Fresnel reflectance into every lobe's
     /// (`combustion_optics::thin_film`); scenes without one carry neither.
     pub iridescence: bool,
+    /// Some drawn object's material sets the dielectric's specular strength or colour
+    /// (KHR_materials_specular): the G-buffer gets the specular target (its colour and
+    /// factor) and the passes that shade rescale the dielectric's Fresnel terms
+    /// (`combustion_optics::specular`); scenes without one carry neither.
+    pub specular: bool,
     /// Some drawn mesh has vertex colours (glTF COLOR_0): the G-buffer pipelines read the
     /// colour stream and multiply it into the base colour and alpha (objects whose mesh
     /// has none use white).
@@ -268,6 +273,9 @@ impl ShaderVariant {
         if self.iridescence {
             defines.push(("IRIDESCENCE", None));
         }
+        if self.specular {
+            defines.push(("SPECULAR", None));
+        }
         match self.fresnel {
             FresnelModel::Full => {}
             FresnelModel::Schlick => defines.push(("FRESNEL_SCHLICK", None)),
@@ -321,7 +329,7 @@ fn environment_samples_define(count: u32) -> Option<&'static str> {
 impl ShaderVariant {
     /// The part of the variant the G-buffer shaders read (the emissive target, texture
     /// transforms, cut-outs, vertex colours, points and lines, the clear coat's, the
-    /// sheen's and the thin film's targets and the geometry floor); every other feature
+    /// sheen's, the thin film's and the specular targets and the geometry floor); every other feature
     /// is the lighting pass's.
     pub(crate) fn gbuffer_part(self) -> ShaderVariant {
         ShaderVariant {
@@ -335,6 +343,7 @@ impl ShaderVariant {
             clearcoat: self.clearcoat,
             sheen: self.sheen,
             iridescence: self.iridescence,
+            specular: self.specular,
             floor: self.floor.filter(|f| *f == MeasurementFloor::Geometry),
             ..ShaderVariant::default()
         }

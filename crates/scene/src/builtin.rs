@@ -26,6 +26,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "clearcoat-underwater",
     "sheen",
     "iridescence",
+    "specular",
     "normal-mapped",
 ];
 
@@ -62,6 +63,10 @@ pub const BUILTIN_SCENES: &[&str] = &[
 /// - `iridescence`: thin films (KHR_materials_iridescence) of index 2 over a black
 ///   plastic, 200 to 800 nm thick; a titanium-oxide-like film over aluminium and a thin one over gold, a
 ///   half-weight film over blue, and the black plastic without a film.
+/// - `specular`: the dielectric's specular strength and colour (KHR_materials_specular)
+///   over a dark blue plastic: factor 0, ½ and 1 (the plain plastic), a yellow colour, a
+///   colour of 3; a colour of 40 (F₀′ saturated at 1) on a rough plastic, factor ½ under a
+///   thin film, factor 0 on a half-metal, and a yellow colour on glossy red.
 /// - `normal-mapped`: spheres under a steep, high-frequency normal map (a bump field of
 ///   32 × 16 cells whose normals tilt up to 72°), so that shading normals face away from
 ///   the eye over much of each sphere and all around its rim: plastic, gold, a clear coat
@@ -94,6 +99,7 @@ pub fn builtin_scene_with(name: &str, colour: MetalColour) -> Result<Scene, Scen
         "clearcoat-underwater" => Ok(clearcoat(colour, WATER_IOR, "clearcoat-underwater")),
         "sheen" => Ok(sheen(colour)),
         "iridescence" => Ok(iridescence(colour)),
+        "specular" => Ok(specular(colour)),
         "normal-mapped" => Ok(normal_mapped(colour)),
         "spheres-studio" => Ok(under_studio(spheres(colour), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
@@ -1430,6 +1436,75 @@ fn iridescence(colour: MetalColour) -> Scene {
             light_from(Vec3::new(0.6, 0.4, -0.7), [2.0; 3]),
         ],
         grid_camera(4, 2, 1.5),
+        1.0,
+    )
+}
+
+/// KHR_materials_specular's strength and colour over a dark blue plastic (roughness
+/// 0.3): factor 0 (no specular lobe: the diffuse alone, all light reaching it), ½ and 1
+/// (the plain plastic), a yellow colour and a colour of 3 at factor 1; then a colour of
+/// 40 on a rough plastic (F₀′ = min(0.04 × 40, 1) = 1: a white mirror-like lobe at every
+/// angle), factor ½ under a 400 nm film of index 2, factor 0 on a half-metal (its
+/// conductor half untouched), and a yellow colour on a glossy red.
+fn specular(colour: MetalColour) -> Scene {
+    use combustion_spectra::BuiltinMetal;
+    let base = Material {
+        base_color: [0.02, 0.05, 0.3],
+        ..blue_plastic()
+    };
+    let with = |name: &str, base: &Material, factor: f32, color: [f32; 3]| Material {
+        name: name.into(),
+        specular_factor: factor,
+        specular_color_factor: color,
+        ..base.clone()
+    };
+    let rough = Material {
+        roughness: 0.6,
+        ..base.clone()
+    };
+    let filmed = Material {
+        iridescence: Some(crate::Iridescence {
+            factor: 1.0,
+            ior: 2.0,
+            thickness_min_nm: 0.0,
+            thickness_max_nm: 400.0,
+        }),
+        ..base.clone()
+    };
+    let half_metal = Material {
+        metalness: 0.5,
+        roughness: 0.3,
+        ..metal_material("gold", BuiltinMetal::Gold, colour)
+    };
+    let red = Material {
+        base_color: [0.5, 0.03, 0.02],
+        roughness: 0.15,
+        ..base.clone()
+    };
+    let rows = vec![
+        vec![
+            with("specular 0", &base, 0.0, [1.0; 3]),
+            with("specular 0.5", &base, 0.5, [1.0; 3]),
+            with("specular 1", &base, 1.0, [1.0; 3]),
+            with("specular yellow", &base, 1.0, [1.0, 1.0, 0.0]),
+            with("specular colour 3", &base, 1.0, [3.0; 3]),
+        ],
+        vec![
+            with("rough, specular colour 40", &rough, 1.0, [40.0; 3]),
+            with("filmed, specular 0.5", &filmed, 0.5, [1.0; 3]),
+            with("half gold, specular 0", &half_metal, 0.0, [1.0; 3]),
+            with("red, specular yellow", &red, 1.0, [1.0, 1.0, 0.0]),
+            with("red", &red, 1.0, [1.0; 3]),
+        ],
+    ];
+    sphere_grid(
+        "specular",
+        rows,
+        vec![
+            light_from(Vec3::new(-0.8, 0.45, 0.45), [3.0; 3]),
+            light_from(Vec3::new(0.6, 0.4, -0.7), [2.0; 3]),
+        ],
+        grid_camera(5, 2, 1.5),
         1.0,
     )
 }

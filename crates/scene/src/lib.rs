@@ -780,7 +780,6 @@ impl Scene {
             images: self.texture_table().images.len(),
             ..SceneFeatures::default()
         };
-        let defaults = Material::default();
         for m in &self.materials {
             if m.metalness > 0.0 || m.metallic_roughness_texture.is_some() {
                 if m.conductor_from_base_color {
@@ -806,11 +805,7 @@ impl Scene {
             if m.emissive_strength > 0.0 && m.emissive_factor.iter().any(|&x| x > 0.0) {
                 features.emissive += 1;
             }
-            if m.specular_factor != defaults.specular_factor
-                || m.specular_color_factor != defaults.specular_color_factor
-                || m.specular_texture.is_some()
-                || m.specular_color_texture.is_some()
-            {
+            if m.has_specular() {
                 features.specular += 1;
             }
             if m.double_sided {

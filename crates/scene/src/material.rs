@@ -510,6 +510,16 @@ impl Material {
         self.iridescence.filter(|i| i.factor > 0.0)
     }
 
+    /// Whether the material changes its dielectric's specular reflection
+    /// (KHR_materials_specular): a factor or colour other than 1, or a texture for
+    /// either.
+    pub fn has_specular(&self) -> bool {
+        self.specular_factor != 1.0
+            || self.specular_color_factor != [1.0; 3]
+            || self.specular_texture.is_some()
+            || self.specular_color_texture.is_some()
+    }
+
     /// Whether the material has a sheen (KHR_materials_sheen with a colour other than
     /// black).
     pub fn has_sheen(&self) -> bool {

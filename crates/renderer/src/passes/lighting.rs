@@ -140,6 +140,7 @@ impl FramePass for Lighting {
             ("gbuffer_clearcoat", &g.clearcoat),
             ("gbuffer_sheen", &g.sheen),
             ("gbuffer_film", &g.film),
+            ("gbuffer_specular", &g.specular),
         ] {
             io = match target {
                 Some(image) => io.image(name, image, texel),

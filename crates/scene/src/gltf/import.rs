@@ -848,26 +848,6 @@ impl Importer<'_> {
                 scene.camera = Camera::framing(Some(framed));
             }
         }
-        // KHR_materials_specular is read and kept in the scene, but no pass shades it
-        // yet: say so once, naming the extension, where a material's specular differs
-        // from the extension's identity (factor 1, colour 1, no textures).
-        let unshaded_specular = scene
-            .materials
-            .iter()
-            .filter(|m| {
-                m.specular_factor != 1.0
-                    || m.specular_color_factor != [1.0; 3]
-                    || m.specular_texture.is_some()
-                    || m.specular_color_texture.is_some()
-            })
-            .count();
-        if unshaded_specular > 0 {
-            self.warn(format!(
-                "KHR_materials_specular is not shaded yet: {unshaded_specular} of {} materials render as if their specular factor and colour were 1",
-                scene.materials.len()
-            ));
-        }
-
         let table = scene.texture_table();
         report.meshes = scene.meshes.len();
         report.triangles = scene.meshes.iter().map(crate::Mesh::triangle_count).sum();
