@@ -534,8 +534,8 @@ pub(crate) struct RenderArgs {
 pub(crate) struct CameraArgs {
     /// Where the frame is seen from: `scene` (the scene's own camera: a file's first
     /// camera, else one framing it), N (the glTF file's camera N, from 0), `framing` (a
-    /// 45° view of the scene's bounding sphere from its +Z side, 15° above the horizon)
-    /// or `orbit:AZIMUTH,ELEVATION[,DISTANCE]` (degrees about +Y from the +Z side towards
+    /// three-quarter view of the scene's bounding sphere in a 45° field of view: 30° from
+    /// its +Z side towards +X, 20° above the horizon) or `orbit:AZIMUTH,ELEVATION[,DISTANCE]` (degrees about +Y from the +Z side towards
     /// +X, degrees above the horizon within ±89, and a multiple of the framing distance,
     /// 1 by default)
     #[arg(long, value_name = "VIEW", default_value = "scene", allow_hyphen_values = true, value_parser = CameraChoice::parse)]

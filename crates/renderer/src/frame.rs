@@ -1,144 +1,28 @@
-//! Recording one frame into a command buffer: per-frame-slot resources, the passes in
-//! order with the barriers their declarations imply, and the retire list.
+//! The renderer's frames: recording one into a command buffer (the checks of `record`,
+//! the frame slot's resources written, the passes in order with the barriers their
+//! declarations imply, the retire list), and the renderer's own frames submitted into
+//! its display image and read back (`render`, `submit_offscreen`; the ring and the
+//! readback buffers are `offscreen.rs`'s).
 
-use std::sync::Arc;
+use combustion_vk::{vk, ImageState};
 
-use combustion_vk::{vk, Buffer, DescriptorPool, Device, ImageState, TimestampQueries, VkError};
-
-use crate::bindings;
-use crate::buffers::{storage_buffer, write_growing, CPU_TO_GPU, GPU_ONLY};
+use crate::buffers::{storage_buffer, write_growing, GPU_ONLY};
 use crate::environment::GpuEnvironment;
 use crate::error::RenderError;
 use crate::gpu_types::{CullPush, GpuLight, LightingPush};
 use crate::graph::{ImageUse, TrackedImage};
-use crate::host::{FrameInputs, FrameTarget};
-use crate::overlay::OverlayQuad;
+use crate::host::{ColorTarget, FrameInputs, FrameTarget, DISPLAY_FORMAT};
+use crate::offscreen::{Offscreen, ReadbackBuffers, DISPLAY_SIZES_KEPT, MAX_SUPERSAMPLE};
+use crate::options::Readback;
 use crate::passes::FrameContext;
-use crate::pipelines::SetLayouts;
+use crate::results::Frame;
 use crate::scene_upload::GpuScene;
+use crate::slot::{
+    JOINT_MATRICES, LIGHTS, MORPH_WEIGHTS, OVERLAY_QUADS, SHADOW_CASCADES, TILE_LISTS,
+};
 use crate::targets::{FrameTargets, TargetKey};
 use crate::Renderer;
-
-/// Timestamps a frame may write: its start, the end of each pass, and the end of its
-/// last command (whose availability says the slot's frame has completed).
-const MAX_TIMESTAMPS: u32 = 16;
-
-/// What one frame in flight owns. Reused only once the frame that used it last has
-/// completed (the host's promise when it records into the same slot again).
-pub(crate) struct FrameSlot {
-    /// One descriptor set of each declaration the frame's passes bind
-    /// ([`crate::passes::FramePass::sets`]), by the declaration's name.
-    sets: Vec<(&'static str, vk::DescriptorSet)>,
-    /// Owns the sets.
-    _pool: DescriptorPool,
-    /// The tile light lists of the slot's frame (device memory, written by the culling
-    /// pass; grows with the tile count × lights).
-    pub(crate) tile_lights: Buffer,
-    /// Whether the slot's frame culls its lights, and its tile grid and list stride.
-    pub(crate) culling: Option<(u32, u32)>,
-    /// The frame's lights (host-visible; grows when a frame brings more lights).
-    pub(crate) lights: Buffer,
-    /// The frame's overlay quads (host-visible; grows as lights do).
-    pub(crate) overlay_quads: Buffer,
-    /// How many quads this slot's frame draws.
-    pub(crate) overlay_quad_count: u32,
-    /// The placement of each shadow-map layer of the slot's frame (host-visible; grows).
-    pub(crate) shadow_cascades: Buffer,
-    /// The world-to-map matrix of each cascade layer the slot's frame renders (empty:
-    /// none rendered this frame, the maps kept or no shadows).
-    pub(crate) shadow_layers: Vec<glam::Mat4>,
-    /// The same for the local lights' maps.
-    pub(crate) local_shadow_layers: Vec<glam::Mat4>,
-    pub(crate) timestamps: Option<TimestampQueries>,
-    /// The passes whose end this slot's last frame stamped, in order (empty: no frame
-    /// stamped since its timings were read, or no timestamps).
-    pub(crate) stamped: Vec<&'static str>,
-    /// Where the slot's frame places the objects (its pose's object table and boxes).
-    pub(crate) placement: crate::placement::SlotPlacement,
-    /// The skins' joint matrices of the slot's frame (host-visible; grows), in frames of
-    /// scenes with deformed objects.
-    pub(crate) joint_matrices: Buffer,
-    /// The deformed objects' morph weights of the slot's frame (likewise).
-    pub(crate) morph_weights: Buffer,
-    /// Objects replaced while this slot's frame was the latest recorded: dropped when
-    /// the slot is reused, i.e. once that frame (and so every earlier one) completed.
-    retired: Vec<crate::retire::Retired>,
-}
-
-impl FrameSlot {
-    pub fn new(device: &Arc<Device>, layouts: &SetLayouts) -> Result<Self, RenderError> {
-        // One set of each declaration the frame's passes bind, the pool sized by them.
-        let decls = crate::passes::frame_sets();
-        let sizes: Vec<_> = decls.iter().flat_map(|decl| decl.pool_sizes(1)).collect();
-        let pool = DescriptorPool::new(device, decls.len() as u32, &sizes)?;
-        let sets = decls
-            .iter()
-            .map(|decl| Ok((decl.name, pool.allocate(layouts.of(decl))?)))
-            .collect::<Result<_, RenderError>>()?;
-        let timestamps = match TimestampQueries::new(device, MAX_TIMESTAMPS) {
-            Ok(t) => Some(t),
-            Err(VkError::Unsupported(why)) => {
-                log::warn!("pass timings unavailable: {why}");
-                None
-            }
-            Err(e) => return Err(e.into()),
-        };
-        Ok(Self {
-            sets,
-            _pool: pool,
-            tile_lights: storage_buffer(device, TILE_LISTS, 4, GPU_ONLY)?,
-            culling: None,
-            lights: storage_buffer(
-                device,
-                LIGHTS,
-                4 * std::mem::size_of::<GpuLight>() as u64,
-                CPU_TO_GPU,
-            )?,
-            overlay_quads: storage_buffer(
-                device,
-                OVERLAY_QUADS,
-                64 * std::mem::size_of::<OverlayQuad>() as u64,
-                CPU_TO_GPU,
-            )?,
-            overlay_quad_count: 0,
-            shadow_cascades: storage_buffer(
-                device,
-                SHADOW_CASCADES,
-                std::mem::size_of::<crate::gpu_types::GpuShadowCascade>() as u64,
-                CPU_TO_GPU,
-            )?,
-            shadow_layers: Vec::new(),
-            local_shadow_layers: Vec::new(),
-            timestamps,
-            stamped: Vec::new(),
-            placement: crate::placement::SlotPlacement::new(device)?,
-            joint_matrices: storage_buffer(device, JOINT_MATRICES, 64, CPU_TO_GPU)?,
-            morph_weights: storage_buffer(device, MORPH_WEIGHTS, 4, CPU_TO_GPU)?,
-            retired: Vec::new(),
-        })
-    }
-
-    /// The slot's set of `decl` (a set some pass of the frame declares).
-    pub fn set(&self, decl: &bindings::SetDecl) -> vk::DescriptorSet {
-        self.sets
-            .iter()
-            .find(|(name, _)| *name == decl.name)
-            .map(|(_, set)| *set)
-            .unwrap_or_else(|| panic!("no pass of the frame declares set {}", decl.name))
-    }
-
-    pub fn retire(&mut self, resource: crate::retire::Retired) {
-        self.retired.push(resource);
-    }
-}
-
-/// Names of the per-slot buffers (for the allocator's reports).
-const LIGHTS: &str = "frame lights";
-const TILE_LISTS: &str = "tile light lists";
-const OVERLAY_QUADS: &str = "frame overlay quads";
-const SHADOW_CASCADES: &str = "frame shadow cascades";
-const JOINT_MATRICES: &str = "frame joint matrices";
-const MORPH_WEIGHTS: &str = "frame morph weights";
+use combustion_vk::{Image, ImageDesc, RingFrame};
 
 /// The environment lighting a frame: the frame's own, else the scene's (if any).
 fn frame_environment<'a>(
@@ -186,7 +70,7 @@ impl Renderer {
     /// from a pool of the device's queue family (graphics and compute), and is submitted
     /// on the device's queue; the target's images and views stay alive until the frame
     /// has completed, and their `format`, `extent` and `usage` are theirs as created
-    /// ([`ColorTarget`](crate::ColorTarget)). The images' synchronisation follows
+    /// ([`ColorTarget`]). The images' synchronisation follows
     /// [`ColorTarget::before`](crate::ColorTarget::before) and
     /// [`ColorTarget::after`](crate::ColorTarget::after) (and those of
     /// [`DepthTarget`](crate::DepthTarget)). `record` leaves its own
@@ -277,7 +161,7 @@ impl Renderer {
         if let Some(pose) = inputs.pose {
             crate::placement::check_pose(scene.scene(), pose)?;
         }
-        if !self.outputs.contains_key(&target.color.format) {
+        if self.pipelines.output(target.color.format).is_none() {
             return Err(match crate::host::OutputEncoding::of(target.color.format) {
                 Some(_) => RenderError::OutputNotPrepared(target.color.format),
                 None => RenderError::UnsupportedOutputFormat(target.color.format),
@@ -286,7 +170,10 @@ impl Renderer {
         if inputs.anti_aliasing == crate::AntiAliasing::Fxaa
             && crate::host::OutputEncoding::of(target.color.format)
                 != Some(crate::host::OutputEncoding::Linear)
-            && self.outputs[&target.color.format].fxaa.is_none()
+            && self
+                .pipelines
+                .output(target.color.format)
+                .is_some_and(|o| o.fxaa.is_none())
         {
             return Err(RenderError::AntiAliasingNotPrepared {
                 format: target.color.format,
@@ -303,7 +190,7 @@ impl Renderer {
             }
             Some(_) => return Err(RenderError::EnvironmentOfAnotherScene),
         };
-        if !self.variants.contains_key(&variant) {
+        if self.pipelines.variant(&variant).is_none() {
             return Err(RenderError::VariantNotPrepared);
         }
         for (what, layout) in [
@@ -611,10 +498,10 @@ impl Renderer {
         inputs: &FrameInputs<'_>,
         extent: vk::Extent2D,
     ) -> Result<(), RenderError> {
-        let quads = self.overlay_font.layout(
+        let quads = self.shared.overlay_font.layout(
             inputs.overlay,
             [extent.width, extent.height],
-            self.overlay_image.1,
+            self.shared.overlay_image.1,
         );
         let s = &mut self.slots[slot];
         s.overlay_quad_count = quads.len() as u32;
@@ -674,7 +561,9 @@ impl Renderer {
             }
         });
         let frame = FrameContext {
-            renderer: self,
+            device: &self.device,
+            registry: &self.pipelines,
+            shared: &self.shared,
             slot: s,
             targets: &self.targets[&key].0,
             scene,
@@ -754,5 +643,288 @@ pub(crate) fn display_after(readback: bool) -> ImageState {
         ImageUse::TransferSource.state()
     } else {
         ImageUse::FragmentSampled.state()
+    }
+}
+
+impl Renderer {
+    /// A still frame of `scene` at `width`×`height` with `factor`×`factor` samples a
+    /// pixel (1 to [`MAX_SUPERSAMPLE`]): rendered at `factor` times the size (the same
+    /// camera, so the samples lie on a regular grid inside each pixel), its radiance
+    /// averaged per pixel in f64 (a box filter: the mean radiance over the pixel's area)
+    /// and then exposed and tone-mapped as the output pass does
+    /// ([`crate::ToneMapping::display_codes`]). The frame's own anti-aliasing is not
+    /// applied. Images only; the timings are the large frame's.
+    ///
+    /// # Errors
+    /// [`RenderError::InvalidSupersample`] for a factor outside its range;
+    /// [`RenderError::InvalidSize`] when the large frame exceeds the device's image
+    /// size; as [`Renderer::render_with`] otherwise.
+    pub fn render_supersampled(
+        &mut self,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        width: u32,
+        height: u32,
+        factor: u32,
+    ) -> Result<Frame, RenderError> {
+        if !(1..=MAX_SUPERSAMPLE).contains(&factor) {
+            return Err(RenderError::InvalidSupersample(factor));
+        }
+        let plain = FrameInputs {
+            anti_aliasing: crate::AntiAliasing::None,
+            ..*inputs
+        };
+        let large = self.render_with(
+            scene,
+            &plain,
+            width.saturating_mul(factor),
+            height.saturating_mul(factor),
+            Readback {
+                images: true,
+                gbuffer: false,
+            },
+        )?;
+        let (w, h, f) = (width as usize, height as usize, factor as usize);
+        let samples = (f * f) as f64;
+        let mut hdr = Vec::with_capacity(w * h);
+        let mut ldr = Vec::with_capacity(w * h);
+        for y in 0..h {
+            for x in 0..w {
+                let mut sum = [0.0f64; 4];
+                for sy in 0..f {
+                    let row = (y * f + sy) * w * f;
+                    for sx in 0..f {
+                        let p = large.hdr[row + x * f + sx];
+                        for c in 0..4 {
+                            sum[c] += f64::from(p[c]);
+                        }
+                    }
+                }
+                let mean = sum.map(|s| s / samples);
+                hdr.push(mean.map(|m| m as f32));
+                let exposed = [0, 1, 2].map(|c| mean[c] * f64::from(inputs.exposure));
+                let [r, g, b] = inputs.tone_mapping.display_codes(exposed);
+                ldr.push([r, g, b, 255]);
+            }
+        }
+        Ok(Frame {
+            width,
+            height,
+            hdr,
+            ldr,
+            gbuffer: None,
+            timings: large.timings,
+        })
+    }
+
+    /// Renders `scene` (its own camera and lights, the settings' exposure) at
+    /// `width`×`height`, submits, waits for the GPU and copies back what `readback`
+    /// asks for. The convenience path of the command line and the tests; a host records
+    /// its frames with [`Renderer::record`] instead.
+    pub fn render(
+        &mut self,
+        scene: &GpuScene,
+        width: u32,
+        height: u32,
+        readback: Readback,
+    ) -> Result<Frame, RenderError> {
+        let inputs = FrameInputs::of_scene(scene, self.settings.exposure);
+        self.render_with(scene, &inputs, width, height, readback)
+    }
+
+    /// As [`Renderer::render`], with the frame's camera, exposure, lights and overlay
+    /// given (e.g. a viewer's current frame, rendered again to be read back). A host
+    /// that records its own frames ([`Renderer::record`]) calls it only once all of
+    /// them have completed: both use the renderer's frame slots (docs/integration.md).
+    pub fn render_with(
+        &mut self,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        width: u32,
+        height: u32,
+        readback: Readback,
+    ) -> Result<Frame, RenderError> {
+        let frame = self.submit_with_offscreen(scene, inputs, width, height, Some(readback))?;
+        let offscreen = self.offscreen.as_ref().expect("created by the submission");
+        offscreen.ring.wait(frame.slot)?;
+        self.collect_timings(frame.slot)?;
+        self.stats.readbacks += 1;
+        let variant = self.variant_of(scene.variant);
+        let timings = self.last_timings.clone().unwrap_or_default();
+        let offscreen = self.offscreen.as_ref().expect("created by the submission");
+        offscreen.read_back(
+            &self.settings,
+            timings,
+            (width, height),
+            readback,
+            [
+                variant.clearcoat,
+                variant.sheen,
+                variant.iridescence,
+                variant.specular,
+                variant.has_emissive_occlusion_target(),
+            ],
+        )
+    }
+
+    /// Records and submits a frame of `scene` into the renderer's display image without
+    /// waiting for it: the frame ring waits only for the frame that used the same slot
+    /// (frames in flight). [`Renderer::last_completed_timings`] then gives the GPU times
+    /// of the latest completed frame; [`Renderer::finish_offscreen`] waits for all.
+    pub fn submit_offscreen(
+        &mut self,
+        scene: &GpuScene,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        let inputs = FrameInputs::of_scene(scene, self.settings.exposure);
+        self.submit_with_offscreen(scene, &inputs, width, height, None)
+            .map(|_| ())
+    }
+
+    /// As [`Renderer::submit_offscreen`], with the frame's camera, exposure, lights and
+    /// overlay given (a camera moving from frame to frame, say).
+    pub fn submit_offscreen_with(
+        &mut self,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        self.submit_with_offscreen(scene, inputs, width, height, None)
+            .map(|_| ())
+    }
+
+    /// Waits for every frame submitted by [`Renderer::submit_offscreen`] and collects
+    /// the timings of those not collected yet, oldest first.
+    pub fn finish_offscreen(&mut self) -> Result<(), RenderError> {
+        let Some(offscreen) = &self.offscreen else {
+            return Ok(());
+        };
+        offscreen.ring.wait_all()?;
+        self.frames_completed()
+    }
+
+    fn submit_with_offscreen(
+        &mut self,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        width: u32,
+        height: u32,
+        readback: Option<Readback>,
+    ) -> Result<RingFrame, RenderError> {
+        self.check_size(width, height)?;
+        // The offscreen frames' display image: its anti-aliasing's pipeline is built
+        // here, before the frame is recorded (once; later frames find it built).
+        self.prepare_anti_aliasing(crate::DISPLAY_FORMAT, inputs.anti_aliasing)?;
+        let mut offscreen = match self.offscreen.take() {
+            Some(o) => o,
+            None => Offscreen::new(&self.device, self.slots.len())?,
+        };
+        let result = self.submit_frame(&mut offscreen, scene, inputs, width, height, readback);
+        self.offscreen = Some(offscreen);
+        result
+    }
+
+    fn submit_frame(
+        &mut self,
+        offscreen: &mut Offscreen,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        width: u32,
+        height: u32,
+        readback: Option<Readback>,
+    ) -> Result<RingFrame, RenderError> {
+        let extent = vk::Extent2D { width, height };
+        match offscreen
+            .displays
+            .iter()
+            .position(|(image, _)| image.extent() == extent)
+        {
+            Some(i) => {
+                let found = offscreen.displays.remove(i);
+                offscreen.displays.push(found);
+            }
+            None => {
+                let display = Image::new(
+                    &self.device,
+                    &ImageDesc::new(
+                        "display (sRGB-encoded)",
+                        DISPLAY_FORMAT,
+                        width,
+                        height,
+                        vk::ImageUsageFlags::COLOR_ATTACHMENT
+                            | vk::ImageUsageFlags::SAMPLED
+                            | vk::ImageUsageFlags::TRANSFER_SRC,
+                    ),
+                )?;
+                self.stats.display_images_built += 1;
+                offscreen.displays.push((display, ImageState::UNDEFINED));
+                if offscreen.displays.len() > DISPLAY_SIZES_KEPT {
+                    let (old, _) = offscreen.displays.remove(0);
+                    self.retire(old);
+                }
+            }
+        }
+        let wants_copies = readback.is_some_and(|r| r.images || r.gbuffer);
+        let wants_gbuffer = readback.is_some_and(|r| r.gbuffer);
+        if wants_copies
+            && offscreen
+                .readback
+                .as_ref()
+                .is_none_or(|r| r.extent != extent || (wants_gbuffer && r.clearcoat.is_none()))
+        {
+            let buffers = ReadbackBuffers::new(
+                &self.device,
+                extent,
+                self.settings.hdr_format,
+                self.settings.gbuffer,
+                wants_gbuffer,
+            )?;
+            if let Some(old) = offscreen.readback.replace(buffers) {
+                for buffer in old.all() {
+                    self.states.forget_buffer(buffer.raw());
+                }
+                self.retire(old);
+            }
+        }
+        let (display, display_state) = offscreen.displays.last_mut().expect("made above");
+        let after = display_after(readback.is_some_and(|r| r.images));
+        let target = FrameTarget {
+            color: ColorTarget {
+                image: display.raw(),
+                view: display.view(),
+                format: DISPLAY_FORMAT,
+                extent,
+                usage: display.usage(),
+                before: *display_state,
+                after,
+            },
+            depth: None,
+        };
+        // Checked before the ring advances: a refused frame takes no slot.
+        let variant = self.check_frame(offscreen.ring.next_slot(), scene, inputs, &target)?;
+        let frame = offscreen.ring.begin()?;
+        self.record_checked(frame.cmd, frame.slot, scene, inputs, &target, variant)?;
+        *display_state = after;
+        if let (Some(readback), Some(buffers)) = (readback, &offscreen.readback) {
+            let key = TargetKey::of(extent, self.variant_of(scene.variant));
+            let targets = &self.targets.get(&key).expect("recorded this frame").0;
+            Offscreen::record_copies(
+                &self.device,
+                &mut self.states,
+                frame.cmd,
+                display,
+                buffers,
+                targets,
+                readback,
+            );
+        }
+        if let Err(e) = offscreen.ring.submit(frame) {
+            // The frame will never run: its slot is not waiting for it.
+            self.slots[frame.slot].stamped.clear();
+            return Err(e.into());
+        }
+        Ok(frame)
     }
 }

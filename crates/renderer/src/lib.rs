@@ -42,6 +42,8 @@ mod forward;
 mod frame;
 mod fullscreen;
 mod host;
+#[cfg(test)]
+mod layers;
 mod mesh_draw;
 mod offscreen;
 pub use offscreen::MAX_SUPERSAMPLE;
@@ -55,9 +57,10 @@ mod results;
 mod retire;
 mod scene_edit;
 mod scene_upload;
-mod settings;
 mod shader_sources;
 mod shadows;
+mod shared;
+mod slot;
 #[cfg(test)]
 mod spirv;
 mod targets;
@@ -69,14 +72,13 @@ use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 use combustion_scene::Scene;
-use combustion_vk::{vk, Device, PipelineCache, ShaderCompiler};
+use combustion_vk::{vk, Device};
 
 pub use color::{
     f16_to_f32, linear_to_srgb, tonemap_aces, tonemap_agx, tonemap_exponential, tonemap_pbr_neutral,
 };
 pub use environment::FrameEnvironment;
 pub use error::{RenderError, TargetImageProblem};
-use gbuffer::GBufferPass;
 pub use host::{
     AntiAliasing, Background, ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding,
     ToneMapping, DISPLAY_FORMAT,
@@ -88,7 +90,6 @@ pub use options::{
     ENVIRONMENT_SAMPLE_COUNTS, MAX_FRAMES_IN_FLIGHT, TARGETS_KEPT_FOR_FRAMES,
 };
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
-use pipelines::{OutputPasses, SetLayouts, VariantPasses};
 pub use results::{Frame, PassTime, PassTimings, RendererStats};
 pub use scene_edit::{EditError, MaterialId, MeshId, ObjectId, SceneEditor};
 pub use scene_upload::{GpuScene, SceneEditReport};
@@ -119,62 +120,26 @@ pub struct Renderer {
     // Field order is drop order: everything below holds the device alive.
     /// Combustion's own submissions (render, bench), created on first use.
     offscreen: Option<offscreen::Offscreen>,
-    slots: Vec<frame::FrameSlot>,
+    slots: Vec<slot::FrameSlot>,
     targets: HashMap<targets::TargetKey, (targets::FrameTargets, u64)>,
-    variants: HashMap<ShaderVariant, VariantPasses>,
-    /// G-buffer pipelines by [`ShaderVariant::gbuffer_part`].
-    gbuffer_passes: HashMap<ShaderVariant, Arc<GBufferPass>>,
-    /// The back faces pass (variant-independent: built once, for the first variant with
-    /// a glass volume, and shared by every such variant).
-    back_faces_pass: Option<Arc<back_faces::BackFacesPass>>,
-    /// Output passes (and overlays) by target format.
-    outputs: HashMap<vk::Format, OutputPasses>,
-    overlay_font: overlay::OverlayFont,
-    /// The font's atlas, read by the overlay's fragment shader.
-    overlay_atlas: combustion_vk::Buffer,
-    /// The overlay image ([`Renderer::set_overlay_image`]) and its size; or a one-texel
-    /// placeholder, bound when no image is shown.
-    overlay_image: (combustion_vk::Buffer, Option<[u32; 2]>),
-    /// Bound in the lighting set for scenes without an environment.
-    no_environment: environment::GpuEnvironment,
+    /// Every pipeline built, and what builds them.
+    pipelines: pipelines::PipelineRegistry,
+    /// Placeholders, samplers, tables and the overlay's font and image, which the
+    /// frame's passes read.
+    shared: shared::SharedResources,
     /// What this renderer's [`GpuScene`]s hand over when dropped, moved to the retire
     /// list of the frame recorded last when the next frame begins.
     retire_queue: Arc<retire::RetireQueue>,
-    /// Bound in the lighting set where the frame's G-buffer has no emissive + occlusion
-    /// target.
-    absent_target: combustion_vk::Image,
-    layouts: SetLayouts,
-    pipeline_cache: PipelineCache,
-    compiler: ShaderCompiler,
     states: graph::ImageStates,
     /// The settings, their shading options the current ones ([`Renderer::set_shading`]).
     settings: RendererSettings,
-    /// The environment bake's pipelines, built for the first scene with an environment.
-    environment_baker: Option<environment::EnvironmentBaker>,
-    /// [`environment::white_specular_albedo_table`] once compensation was asked for (a
-    /// 16-byte placeholder before: the binding exists in every lighting layout).
-    energy_table: combustion_vk::Buffer,
-    /// [`combustion_optics::sheen::sheen_albedo_table`] once a variant with sheen was
-    /// prepared (a 16-byte placeholder before: the binding exists in every lighting
-    /// layout).
-    sheen_table: combustion_vk::Buffer,
     /// When frames cull their lights ([`Renderer::set_light_culling`]).
     light_culling: LightCulling,
-    light_cull: light_cull::LightCullPass,
-    /// The deform pass's pipeline, built when the first scene with deformed objects is
-    /// uploaded.
-    deform: Option<deform::DeformPipeline>,
     /// The cascades' shadow maps, made by the first frame with shadows and grown as
     /// frames need.
     shadow_maps: Option<shadows::ShadowMaps>,
     /// The spot and point lights' shadow maps, likewise.
     local_shadow_maps: Option<shadows::ShadowMaps>,
-    /// The shadow maps' pipeline, built with the first variant that has shadows.
-    shadow_casters: Option<shadows::ShadowCasterPass>,
-    /// The shadow maps' comparison sampler.
-    shadow_sampler: combustion_vk::Sampler,
-    /// The sampler of the image behind transmissive objects (trilinear, clamped).
-    behind_sampler: combustion_vk::Sampler,
     /// Frames recorded so far.
     frame_number: u64,
     /// The slot of the frame recorded last: what is replaced now is retired to it, and
@@ -203,61 +168,23 @@ impl Renderer {
         cache_data: &[u8],
     ) -> Result<Self, RenderError> {
         settings.validate(&device)?;
-        let compiler = ShaderCompiler::new(shader_sources::sources())?
-            .with_spirv_cache(combustion_vk::default_spirv_cache_dir());
-        let layouts = SetLayouts::new(&device)?;
-        let overlay_font = overlay::OverlayFont::new()?;
-        let overlay_atlas = buffers::filled_storage_buffer(
-            &device,
-            "overlay font atlas",
-            bytemuck::cast_slice(&overlay::atlas_words(&overlay_font)),
-        )?;
-        let overlay_image = (settings::overlay_image_buffer(&device, &[[0; 4]])?, None);
-        let no_environment = environment::GpuEnvironment::placeholder(&device)?;
-        let absent_target =
-            placeholders::absent_target_placeholder(&device, settings.hdr_format.vk())?;
-        let energy_table = settings::energy_table(&device, settings.shading.energy_compensation)?;
-        let sheen_table = settings::sheen_table(&device, false)?;
-        let pipeline_cache = PipelineCache::new(&device, cache_data)?;
-        let light_cull = light_cull::LightCullPass::new(
-            &device,
-            &compiler,
-            &pipeline_cache,
-            layouts.of(&bindings::LIGHT_CULL),
-        )?;
+        let pipelines = pipelines::PipelineRegistry::new(&device, cache_data)?;
+        let shared = shared::SharedResources::new(&device, &settings)?;
         let slots = (0..settings.frames_in_flight)
-            .map(|_| frame::FrameSlot::new(&device, &layouts))
+            .map(|_| slot::FrameSlot::new(&device, &pipelines.layouts, &passes::frame_sets()))
             .collect::<Result<Vec<_>, _>>()?;
         let mut renderer = Self {
             offscreen: None,
             slots,
             targets: HashMap::new(),
-            variants: HashMap::new(),
-            gbuffer_passes: HashMap::new(),
-            back_faces_pass: None,
-            outputs: HashMap::new(),
-            overlay_font,
-            overlay_atlas,
-            overlay_image,
-            no_environment,
-            absent_target,
+            pipelines,
+            shared,
             retire_queue: retire::RetireQueue::new(),
-            pipeline_cache,
-            layouts,
-            compiler,
             states: graph::ImageStates::default(),
             settings,
-            environment_baker: None,
-            energy_table,
-            sheen_table,
             light_culling: LightCulling::Auto,
-            light_cull,
-            deform: None,
             shadow_maps: None,
             local_shadow_maps: None,
-            shadow_casters: None,
-            shadow_sampler: shadows::shadow_sampler(&device)?,
-            behind_sampler: forward::behind_sampler(&device)?,
             frame_number: 0,
             last_slot: None,
             last_timings: None,
@@ -284,7 +211,7 @@ impl Renderer {
     /// The pipeline cache's contents, to save and pass to
     /// [`Renderer::with_pipeline_cache`] on the next run.
     pub fn pipeline_cache_data(&self) -> Result<Vec<u8>, RenderError> {
-        Ok(self.pipeline_cache.data()?)
+        Ok(self.pipelines.cache.data()?)
     }
 
     /// Validates and uploads a scene, and builds the pipelines it needs (never inside a
@@ -304,7 +231,7 @@ impl Renderer {
         GpuScene::new(
             &self.device,
             scene,
-            self.layouts.of(&bindings::MATERIAL_TEXTURES),
+            self.pipelines.layouts.of(&bindings::MATERIAL_TEXTURES),
             environment,
             self.retire_queue.clone(),
         )
@@ -394,14 +321,8 @@ impl Renderer {
             let (skinned, morphed) = deform::deformation(scene, i);
             skinned || morphed
         });
-        if deformed && self.deform.is_none() {
-            self.deform = Some(deform::DeformPipeline::new(
-                &self.device,
-                &self.compiler,
-                &self.pipeline_cache,
-                self.layouts.of(&bindings::DEFORM),
-            )?);
-            self.stats.pipelines_built += 1;
+        if deformed {
+            self.pipelines.prepare_deform()?;
         }
         Ok(())
     }
@@ -453,15 +374,7 @@ impl Renderer {
         source: &combustion_scene::Environment,
         scene: &Scene,
     ) -> Result<environment::GpuEnvironment, RenderError> {
-        if self.environment_baker.is_none() {
-            self.environment_baker = Some(environment::EnvironmentBaker::new(
-                &self.device,
-                &self.compiler,
-                &self.pipeline_cache,
-                environment::default_environment_cache_dir(),
-            )?);
-        }
-        let baker = self.environment_baker.as_ref().expect("built above");
+        let baker = self.pipelines.environment_baker()?;
         let baked = baker.bake(&self.device, source, scene)?;
         self.stats.environment_bakes += 1;
         self.stats.environment_cubes_from_cache += u64::from(baked.cubes_from_cache);
@@ -516,13 +429,13 @@ impl Renderer {
         let (next, ids) = editor.finish();
         next.validate()?;
         // The pipelines first: if they cannot be built, the scene stays as it was.
-        let before = self.stats.pipelines_built;
+        let before = self.pipelines.built;
         self.prepare_variant(self.variant_of(scene_upload::scene_variant(&next)))?;
         if scene.frame_environments.load(Ordering::Relaxed) {
             self.prepare_variant(self.variant_of(scene_upload::lit_scene_variant(&next)))?;
         }
         self.prepare_deform(&next)?;
-        let pipelines_built = self.stats.pipelines_built - before;
+        let pipelines_built = self.pipelines.built - before;
         // The environment's tables follow the materials: bake again when the edit
         // changes what the bake reads — the environment or the material table (optics
         // and the outside medium, not names, textures, lights, objects or the camera) —
@@ -540,7 +453,7 @@ impl Renderer {
             &self.device,
             next,
             ids,
-            self.layouts.of(&bindings::MATERIAL_TEXTURES),
+            self.pipelines.layouts.of(&bindings::MATERIAL_TEXTURES),
             environment,
         )?;
         for part in retired {
@@ -568,6 +481,227 @@ impl Renderer {
             // No frame was ever recorded: nothing can be using it.
             None => drop(resource),
         }
+    }
+
+    /// The scene's variant with the renderer's shading options applied.
+    pub(crate) fn variant_of(&self, scene_variant: ShaderVariant) -> ShaderVariant {
+        self.settings.shading.variant(scene_variant)
+    }
+
+    /// Builds the pipelines of `variant` if they are not built yet, and the sheen's
+    /// albedo table for the first variant with sheen.
+    pub(crate) fn prepare_variant(&mut self, variant: ShaderVariant) -> Result<(), RenderError> {
+        if variant.sheen {
+            if let Some(placeholder) = self.shared.make_sheen_table(&self.device)? {
+                self.retire(placeholder);
+            }
+        }
+        self.pipelines.prepare_variant(variant, &self.settings)
+    }
+
+    /// Builds the output pass (and the overlay over it) for targets of `format`, so that
+    /// [`Renderer::record`] can render into them. [`DISPLAY_FORMAT`] is prepared by
+    /// [`Renderer::new`]. Formats: see [`OutputEncoding::of`].
+    pub fn prepare_output(&mut self, format: vk::Format) -> Result<(), RenderError> {
+        self.pipelines.prepare_output(format)
+    }
+
+    /// Prepares `format` ([`Renderer::prepare_output`]) and what frames of
+    /// `anti_aliasing` need there: for [`AntiAliasing::Fxaa`] into a display format, the
+    /// output pipeline with FXAA (linear formats get no anti-aliasing). Call it before
+    /// recording such frames (their recording never compiles a shader); the offscreen
+    /// paths ([`Renderer::render_with`], [`Renderer::submit_offscreen_with`]) call it.
+    ///
+    /// # Errors
+    /// As [`Renderer::prepare_output`]; [`RenderError::Vulkan`] if the shader does not
+    /// compile or the pipeline cannot be built.
+    pub fn prepare_anti_aliasing(
+        &mut self,
+        format: vk::Format,
+        anti_aliasing: AntiAliasing,
+    ) -> Result<(), RenderError> {
+        self.pipelines.prepare_anti_aliasing(format, anti_aliasing)
+    }
+
+    /// Builds the pipelines `scene` needs with the current shading options, if they are
+    /// not built yet: for a scene left out of [`Renderer::set_shading`]'s list (uploads
+    /// and edits build their own). Frames lit by a [`FrameEnvironment`] baked for the
+    /// scene get theirs too.
+    pub fn prepare(&mut self, scene: &GpuScene) -> Result<(), RenderError> {
+        self.prepare_variant(self.variant_of(scene.variant))?;
+        if scene.frame_environments.load(Ordering::Relaxed) {
+            self.prepare_variant(self.variant_of(scene.lit_variant))?;
+        }
+        Ok(())
+    }
+
+    /// Switches to `options` from the next frame on, all at once: first builds every
+    /// pipeline the new options need for `scenes` (each scene's own, and those of frames
+    /// lit by a [`crate::FrameEnvironment`] baked for it) and, when energy compensation
+    /// is turned on for the first time, its table; then switches. The scenes listed need
+    /// no [`Renderer::prepare`] before their next frame; a scene left out needs one (its
+    /// frames fail with [`RenderError::VariantNotPrepared`] until then), and scenes
+    /// uploaded or edited later get theirs then.
+    ///
+    /// # Errors
+    /// [`RenderError::SceneOfAnotherRenderer`] for a scene another renderer uploaded;
+    /// [`RenderError::Vulkan`] if a pipeline or the table cannot be built. On error the
+    /// options stay as they were, and so do the frames rendered with them (pipelines
+    /// already built for the new options are kept, unused until asked for).
+    pub fn set_shading(
+        &mut self,
+        options: ShadingOptions,
+        scenes: &[&GpuScene],
+    ) -> Result<(), RenderError> {
+        if let Some(shadows) = &options.shadows {
+            shadows.validate(self.device.limits().max_image_dimension2_d)?;
+        }
+        options.validate_environment_samples()?;
+        for scene in scenes {
+            if !scene.belongs_to(&self.retire_queue) {
+                return Err(RenderError::SceneOfAnotherRenderer);
+            }
+            self.prepare_variant(options.variant(scene.variant))?;
+            if scene.frame_environments.load(Ordering::Relaxed) {
+                self.prepare_variant(options.variant(scene.lit_variant))?;
+            }
+        }
+        if options.energy_compensation {
+            if let Some(placeholder) = self.shared.make_energy_table(&self.device)? {
+                self.retire(placeholder);
+            }
+        }
+        self.settings.shading = options;
+        Ok(())
+    }
+
+    /// The shading options frames are rendered with ([`Renderer::set_shading`]).
+    pub fn shading(&self) -> ShadingOptions {
+        self.settings.shading
+    }
+
+    /// When frames cull their lights (tiled light lists, [`LightCulling`]); from the next
+    /// frame on. Culling never changes a pixel: it leaves out only lights whose range
+    /// window is exactly 0 over a whole tile.
+    pub fn set_light_culling(&mut self, culling: LightCulling) {
+        self.light_culling = culling;
+    }
+
+    /// When frames cull their lights ([`Renderer::set_light_culling`]).
+    pub fn light_culling(&self) -> LightCulling {
+        self.light_culling
+    }
+
+    /// The lighting features of the pipeline `scene`'s frames use now.
+    pub fn lighting_features(&self, scene: &GpuScene) -> LightingFeatures {
+        self.variant_of(scene.variant).features
+    }
+    /// Shows `image` over the frames recorded from now on (under their text panels, at
+    /// the top-left, one texel a pixel), or no image. The previous image is kept until
+    /// the frames in flight that show it have completed.
+    pub fn set_overlay_image(&mut self, image: Option<&OverlayImage>) -> Result<(), RenderError> {
+        let next = match image {
+            Some(i) => {
+                self.check_size(i.width, i.height)?;
+                let texels = u64::from(i.width) * u64::from(i.height);
+                if i.rgba.len() as u64 != texels {
+                    return Err(RenderError::Overlay(format!(
+                        "an overlay image of {}x{} needs {texels} texels, not {}",
+                        i.width,
+                        i.height,
+                        i.rgba.len()
+                    )));
+                }
+                let range = u64::from(self.device.limits().max_storage_buffer_range);
+                if texels * 4 > range {
+                    return Err(RenderError::Overlay(format!(
+                        "an overlay image of {}x{} takes {} bytes; this device reads at most {range} from one buffer",
+                        i.width,
+                        i.height,
+                        texels * 4
+                    )));
+                }
+                Some((i.rgba.as_slice(), [i.width, i.height]))
+            }
+            None => None,
+        };
+        let old = self.shared.replace_overlay_image(&self.device, next)?;
+        self.retire(old);
+        Ok(())
+    }
+
+    /// The overlay's font (its atlas and text layout), e.g. to check a frame's overlay.
+    pub fn overlay_font(&self) -> &overlay::OverlayFont {
+        &self.shared.overlay_font
+    }
+
+    /// The GPU times of the most recent frame known to have completed (read when its
+    /// frame slot is reused; at once for [`Renderer::render`]).
+    pub fn last_completed_timings(&self) -> Option<PassTimings> {
+        self.last_timings.clone()
+    }
+
+    /// What this renderer has built so far.
+    pub fn stats(&self) -> RendererStats {
+        RendererStats {
+            frames: self.frame_number,
+            shaders_compiled: self.pipelines.compiler.compilations(),
+            pipelines_built: self.pipelines.built,
+            shaders_from_cache: self.pipelines.compiler.cache_hits(),
+            shader_compile_micros: u64::try_from(
+                self.pipelines.compiler.compile_time().as_micros(),
+            )
+            .unwrap_or(u64::MAX),
+            ..self.stats
+        }
+    }
+
+    /// The GPU times of every completed frame since the last call (oldest first; at
+    /// most the last 1024 are kept).
+    pub fn take_completed_timings(&mut self) -> Vec<PassTimings> {
+        self.completed_timings.drain(..).collect()
+    }
+
+    /// The host has waited for every frame it recorded (e.g. at exit or before a pause):
+    /// collects the timings of every slot's last frame, so that
+    /// [`Renderer::take_completed_timings`] has them all.
+    /// Every slot is free afterwards, even one whose last frame's timestamps are still
+    /// unwritten (the host's word: its timings are then lost).
+    pub fn frames_completed(&mut self) -> Result<(), RenderError> {
+        let count = self.slots.len();
+        let first = self.last_slot.map_or(0, |last| (last + 1) % count);
+        for i in 0..count {
+            let slot = (first + i) % count;
+            if self.collect_timings(slot)? == results::SlotFrame::Pending {
+                // The host's word: it completed (or never ran). Its timings are lost.
+                self.slots[slot].stamped.clear();
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads the timestamps of `slot`'s last frame if the GPU has written them all
+    /// (never waits); [`results::SlotFrame::Pending`] while any is not.
+    pub(crate) fn collect_timings(
+        &mut self,
+        slot: usize,
+    ) -> Result<results::SlotFrame, RenderError> {
+        let s = &mut self.slots[slot];
+        let Some(t) = s.timestamps.as_ref().filter(|_| !s.stamped.is_empty()) else {
+            return Ok(results::SlotFrame::Completed);
+        };
+        // The start, each pass's end, and the frame's end.
+        let written = s.stamped.len() as u32 + 2;
+        let Some(ms) = t.read_first_ms_if_available(written)? else {
+            return Ok(results::SlotFrame::Pending);
+        };
+        let timings = PassTimings::from_stamps(&std::mem::take(&mut s.stamped), &ms);
+        self.last_timings = Some(timings.clone());
+        if self.completed_timings.len() == results::COMPLETED_TIMINGS_KEPT {
+            self.completed_timings.pop_front();
+        }
+        self.completed_timings.push_back(timings);
+        Ok(results::SlotFrame::Completed)
     }
 
     fn check_size(&self, width: u32, height: u32) -> Result<(), RenderError> {

@@ -2,10 +2,11 @@
 //! ([`RendererSettings`]), how the lighting pass shades ([`ShadingOptions`]: the
 //! comparison variants [`FresnelModel`], [`Masking`], [`Distribution`],
 //! [`MeasurementFloor`], its debug views, …) and what a frame reads back. Plain values:
-//! the renderer switches options with [`Renderer::set_shading`] (`settings.rs`).
+//! the renderer switches options with [`Renderer::set_shading`].
 
 use combustion_scene::DiffuseModel;
 
+use crate::error::RenderError;
 use crate::shadows::ShadowSettings;
 use combustion_vk::vk;
 
@@ -547,5 +548,22 @@ impl Default for RendererSettings {
             frames_in_flight: 2,
             targets_kept_for_frames: TARGETS_KEPT_FOR_FRAMES,
         }
+    }
+}
+
+impl RendererSettings {
+    /// Checks every field; the shadow maps' size against `device`'s limit.
+    pub(crate) fn validate(&self, device: &combustion_vk::Device) -> Result<(), RenderError> {
+        if let Some(shadows) = &self.shading.shadows {
+            shadows.validate(device.limits().max_image_dimension2_d)?;
+        }
+        self.shading.validate_environment_samples()?;
+        if !(self.exposure.is_finite() && self.exposure > 0.0) {
+            return Err(RenderError::InvalidExposure(self.exposure));
+        }
+        if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&self.frames_in_flight) {
+            return Err(RenderError::InvalidFramesInFlight(self.frames_in_flight));
+        }
+        Ok(())
     }
 }

@@ -9,8 +9,8 @@
 use combustion_vk::{vk, Buffer, Device, Image};
 
 use crate::bindings::{SetDecl, SetWriter};
-use crate::frame::FrameSlot;
 use crate::graph::{BufferUse, ImageUse, PassUses, TrackedImage};
+use crate::slot::FrameSlot;
 
 /// One pass's declaration of its inputs and outputs, built per frame.
 pub(crate) struct PassIo {

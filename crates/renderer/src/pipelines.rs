@@ -1,22 +1,22 @@
-//! The pipelines a renderer builds, never while a frame is recorded: per shader variant
-//! (G-buffer and lighting), per target format (output pass and overlay), and the
-//! descriptor-set layouts they share.
+//! The pipelines a renderer builds, never while a frame is recorded, and the registry
+//! that keeps them: per shader variant (G-buffer and lighting, forward and back faces),
+//! per target format (output pass and overlay), the shadow casters', the deform and
+//! light-culling passes' and the environment bake's; the descriptor-set layouts they
+//! share, the shader compiler and the pipeline cache.
 
-use std::sync::atomic::Ordering;
+use std::collections::HashMap;
 use std::sync::Arc;
 
-use combustion_vk::{vk, DescriptorSetLayout, Device};
+use combustion_vk::{vk, DescriptorSetLayout, Device, PipelineCache, ShaderCompiler};
 
 use crate::error::RenderError;
 use crate::fullscreen::FullscreenPass;
 use crate::gbuffer::GBufferPass;
 use crate::gpu_types::{LightingPush, TonemapPush};
-use crate::host::OutputEncoding;
-use crate::scene_upload::GpuScene;
+use crate::host::{AntiAliasing, OutputEncoding};
+use crate::options::RendererSettings;
 use crate::variant::ShaderVariant;
-use crate::{bindings, overlay, Renderer};
-#[cfg(doc)]
-use crate::{FrameEnvironment, DISPLAY_FORMAT};
+use crate::{bindings, overlay, shader_sources};
 
 /// The G-buffer and lighting pipelines of one [`ShaderVariant`]. Variants that differ
 /// only in what the lighting pass reads share one G-buffer pipeline.
@@ -42,7 +42,7 @@ pub(crate) struct SetLayouts {
 pub(crate) struct OutputPasses {
     pub(crate) output: FullscreenPass,
     /// The output pass with FXAA (`FXAA`), for display formats once a frame is to use
-    /// it ([`Renderer::prepare_anti_aliasing`]).
+    /// it (`Renderer::prepare_anti_aliasing`).
     pub(crate) fxaa: Option<FullscreenPass>,
     pub(crate) overlay: overlay::OverlayPass,
 }
@@ -66,38 +66,106 @@ impl SetLayouts {
     }
 }
 
-impl Renderer {
-    /// Builds the pipelines of `variant` if they are not built yet.
-    pub(crate) fn prepare_variant(&mut self, variant: ShaderVariant) -> Result<(), RenderError> {
+/// Every pipeline the renderer has built, and what builds them: the frame's passes read
+/// theirs here (`passes::FrameContext::pipelines`), the renderer asks for them to be
+/// built before a frame needs them.
+pub(crate) struct PipelineRegistry {
+    device: Arc<Device>,
+    pub(crate) compiler: ShaderCompiler,
+    pub(crate) cache: PipelineCache,
+    pub(crate) layouts: SetLayouts,
+    variants: HashMap<ShaderVariant, VariantPasses>,
+    /// G-buffer pipelines by [`ShaderVariant::gbuffer_part`].
+    gbuffer_passes: HashMap<ShaderVariant, Arc<GBufferPass>>,
+    /// The back faces pass (variant-independent: built once, for the first variant with
+    /// a glass volume, and shared by every such variant).
+    back_faces_pass: Option<Arc<crate::back_faces::BackFacesPass>>,
+    /// Output passes (and overlays) by target format.
+    outputs: HashMap<vk::Format, OutputPasses>,
+    /// The light-culling pass (built with the registry).
+    pub(crate) light_cull: crate::light_cull::LightCullPass,
+    /// The deform pass's pipeline, built when the first scene with deformed objects is
+    /// uploaded.
+    pub(crate) deform: Option<crate::deform::DeformPipeline>,
+    /// The shadow maps' pipeline, built with the first variant that has shadows.
+    pub(crate) shadow_casters: Option<crate::shadows::ShadowCasterPass>,
+    /// The environment bake's pipelines, built for the first scene with an environment.
+    environment_baker: Option<crate::environment::EnvironmentBaker>,
+    /// Pipelines built so far ([`crate::RendererStats::pipelines_built`]).
+    pub(crate) built: u64,
+}
+
+impl PipelineRegistry {
+    /// The compiler (with the shader sources and the SPIR-V cache), the set layouts, a
+    /// pipeline cache primed from `cache_data` and the light-culling pass; nothing else
+    /// is built yet.
+    pub(crate) fn new(device: &Arc<Device>, cache_data: &[u8]) -> Result<Self, RenderError> {
+        let compiler = ShaderCompiler::new(shader_sources::sources())?
+            .with_spirv_cache(combustion_vk::default_spirv_cache_dir());
+        let layouts = SetLayouts::new(device)?;
+        let cache = PipelineCache::new(device, cache_data)?;
+        let light_cull = crate::light_cull::LightCullPass::new(
+            device,
+            &compiler,
+            &cache,
+            layouts.of(&bindings::LIGHT_CULL),
+        )?;
+        Ok(Self {
+            device: device.clone(),
+            compiler,
+            cache,
+            layouts,
+            variants: HashMap::new(),
+            gbuffer_passes: HashMap::new(),
+            back_faces_pass: None,
+            outputs: HashMap::new(),
+            light_cull,
+            deform: None,
+            shadow_casters: None,
+            environment_baker: None,
+            built: 0,
+        })
+    }
+
+    /// The pipelines of `variant`, if they are built.
+    pub(crate) fn variant(&self, variant: &ShaderVariant) -> Option<&VariantPasses> {
+        self.variants.get(variant)
+    }
+
+    /// The output passes of targets of `format`, if they are built.
+    pub(crate) fn output(&self, format: vk::Format) -> Option<&OutputPasses> {
+        self.outputs.get(&format)
+    }
+
+    /// Builds the pipelines of `variant` (in `settings`' G-buffer storage and HDR
+    /// format) if they are not built yet.
+    pub(crate) fn prepare_variant(
+        &mut self,
+        variant: ShaderVariant,
+        settings: &RendererSettings,
+    ) -> Result<(), RenderError> {
         if self.variants.contains_key(&variant) {
             return Ok(());
-        }
-        if variant.sheen && self.sheen_table.size() <= 16 {
-            // The sheen's albedo table, integrated in f64 once per process (≈ 0.5 s),
-            // for the first variant with sheen.
-            let table = crate::settings::sheen_table(&self.device, true)?;
-            let placeholder = std::mem::replace(&mut self.sheen_table, table);
-            self.retire(placeholder);
         }
         if variant.shadows.is_some() && self.shadow_casters.is_none() {
             self.shadow_casters = Some(crate::shadows::ShadowCasterPass::new(
                 &self.device,
                 &self.compiler,
-                &self.pipeline_cache,
+                &self.cache,
                 [
                     self.layouts.of(&bindings::SHADOW_CASTERS),
                     self.layouts.of(&bindings::MATERIAL_TEXTURES),
                 ],
             )?);
-            self.stats.pipelines_built += 1;
+            self.built += 1;
         }
         if let Some(casters) = self
             .shadow_casters
             .as_mut()
             .filter(|c| variant.shadows.is_some() && variant.alpha_mask && !c.has_masked())
         {
-            casters.add_masked(&self.device, &self.compiler, &self.pipeline_cache)?;
-            self.stats.pipelines_built += 1;
+            casters.add_masked(&self.device, &self.compiler, &self.cache)?;
+            self.built += 1;
         }
         let gbuffer_key = variant.gbuffer_part();
         let gbuffer = match self.gbuffer_passes.get(&gbuffer_key) {
@@ -106,48 +174,48 @@ impl Renderer {
                 let pass = Arc::new(GBufferPass::new(
                     &self.device,
                     &self.compiler,
-                    &self.pipeline_cache,
+                    &self.cache,
                     [
                         self.layouts.of(&bindings::GBUFFER),
                         self.layouts.of(&bindings::MATERIAL_TEXTURES),
                     ],
                     gbuffer_key,
-                    self.settings.gbuffer,
-                    self.settings.hdr_format.vk(),
+                    settings.gbuffer,
+                    settings.hdr_format.vk(),
                 )?);
-                self.stats.pipelines_built += 1 + pass.stroke_pipelines();
+                self.built += 1 + pass.stroke_pipelines();
                 self.gbuffer_passes.insert(gbuffer_key, pass.clone());
                 pass
             }
         };
         let mut defines = variant.defines();
-        defines.extend(self.settings.gbuffer.defines());
+        defines.extend(settings.gbuffer.defines());
         let lighting = FullscreenPass::new(
             &self.device,
             &self.compiler,
-            &self.pipeline_cache,
+            &self.cache,
             "lighting.frag",
             &defines,
             self.layouts.of(&bindings::LIGHTING),
             std::mem::size_of::<LightingPush>() as u32,
-            self.settings.hdr_format.vk(),
+            settings.hdr_format.vk(),
         )?;
-        self.stats.pipelines_built += 1;
+        self.built += 1;
         let forward = if (variant.blend || variant.transmission)
             && !variant.debug_views
             && variant.floor.is_none()
         {
-            self.stats.pipelines_built += 1;
+            self.built += 1;
             Some(crate::forward::ForwardPass::new(
                 &self.device,
                 &self.compiler,
-                &self.pipeline_cache,
+                &self.cache,
                 [
                     self.layouts.of(&bindings::FORWARD),
                     self.layouts.of(&bindings::MATERIAL_TEXTURES),
                 ],
                 variant,
-                self.settings.hdr_format.vk(),
+                settings.hdr_format.vk(),
             )?)
         } else {
             None
@@ -159,10 +227,10 @@ impl Renderer {
                     let pass = Arc::new(crate::back_faces::BackFacesPass::new(
                         &self.device,
                         &self.compiler,
-                        &self.pipeline_cache,
+                        &self.cache,
                         self.layouts.of(&bindings::BACK_FACES),
                     )?);
-                    self.stats.pipelines_built += 1;
+                    self.built += 1;
                     self.back_faces_pass = Some(pass.clone());
                     pass
                 }
@@ -182,10 +250,8 @@ impl Renderer {
         Ok(())
     }
 
-    /// Builds the output pass (and the overlay over it) for targets of `format`, so that [`Renderer::record`] can
-    /// render into them. [`DISPLAY_FORMAT`] is prepared by [`Renderer::new`]. Formats:
-    /// see [`OutputEncoding::of`].
-    pub fn prepare_output(&mut self, format: vk::Format) -> Result<(), RenderError> {
+    /// Builds the output pass (and the overlay over it) for targets of `format`.
+    pub(crate) fn prepare_output(&mut self, format: vk::Format) -> Result<(), RenderError> {
         if self.outputs.contains_key(&format) {
             return Ok(());
         }
@@ -194,7 +260,7 @@ impl Renderer {
         let output = FullscreenPass::new(
             &self.device,
             &self.compiler,
-            &self.pipeline_cache,
+            &self.cache,
             "tonemap.frag",
             &encoding.defines(),
             self.layouts.of(&bindings::OUTPUT),
@@ -204,7 +270,7 @@ impl Renderer {
         let overlay = overlay::OverlayPass::new(
             &self.device,
             &self.compiler,
-            &self.pipeline_cache,
+            &self.cache,
             self.layouts.of(&bindings::OVERLAY),
             &encoding.defines(),
             format,
@@ -217,30 +283,21 @@ impl Renderer {
                 overlay,
             },
         );
-        self.stats.pipelines_built += 2;
+        self.built += 2;
         Ok(())
     }
 
-    /// Prepares `format` ([`Renderer::prepare_output`]) and what frames of
-    /// `anti_aliasing` need there: for [`AntiAliasing::Fxaa`] into a display format, the
-    /// output pipeline with FXAA (linear formats get no anti-aliasing). Call it before
-    /// recording such frames (their recording never compiles a shader); the offscreen
-    /// paths ([`Renderer::render_with`], [`Renderer::submit_offscreen_with`]) call it.
-    ///
-    /// # Errors
-    /// As [`Renderer::prepare_output`]; [`RenderError::Vulkan`] if the shader does not
-    /// compile or the pipeline cannot be built.
-    ///
-    /// [`AntiAliasing::Fxaa`]: crate::AntiAliasing::Fxaa
-    pub fn prepare_anti_aliasing(
+    /// Prepares `format` and, for [`AntiAliasing::Fxaa`] into a display format, the
+    /// output pipeline with FXAA (linear formats get no anti-aliasing).
+    pub(crate) fn prepare_anti_aliasing(
         &mut self,
         format: vk::Format,
-        anti_aliasing: crate::AntiAliasing,
+        anti_aliasing: AntiAliasing,
     ) -> Result<(), RenderError> {
         self.prepare_output(format)?;
         let encoding =
             OutputEncoding::of(format).ok_or(RenderError::UnsupportedOutputFormat(format))?;
-        if anti_aliasing != crate::AntiAliasing::Fxaa
+        if anti_aliasing != AntiAliasing::Fxaa
             || encoding == OutputEncoding::Linear
             || self.outputs[&format].fxaa.is_some()
         {
@@ -251,7 +308,7 @@ impl Renderer {
         let fxaa = FullscreenPass::new(
             &self.device,
             &self.compiler,
-            &self.pipeline_cache,
+            &self.cache,
             "tonemap.frag",
             &defines,
             self.layouts.of(&bindings::OUTPUT),
@@ -259,19 +316,36 @@ impl Renderer {
             format,
         )?;
         self.outputs.get_mut(&format).expect("prepared above").fxaa = Some(fxaa);
-        self.stats.pipelines_built += 1;
+        self.built += 1;
         Ok(())
     }
 
-    /// Builds the pipelines `scene` needs with the current shading options, if they are
-    /// not built yet: for a scene left out of [`Renderer::set_shading`]'s list (uploads
-    /// and edits build their own). Frames lit by a [`FrameEnvironment`] baked for the
-    /// scene get theirs too.
-    pub fn prepare(&mut self, scene: &GpuScene) -> Result<(), RenderError> {
-        self.prepare_variant(self.variant_of(scene.variant))?;
-        if scene.frame_environments.load(Ordering::Relaxed) {
-            self.prepare_variant(self.variant_of(scene.lit_variant))?;
+    /// Builds the deform pass's pipeline if it is not built yet.
+    pub(crate) fn prepare_deform(&mut self) -> Result<(), RenderError> {
+        if self.deform.is_none() {
+            self.deform = Some(crate::deform::DeformPipeline::new(
+                &self.device,
+                &self.compiler,
+                &self.cache,
+                self.layouts.of(&bindings::DEFORM),
+            )?);
+            self.built += 1;
         }
         Ok(())
+    }
+
+    /// The environment bake's pipelines, built on first use.
+    pub(crate) fn environment_baker(
+        &mut self,
+    ) -> Result<&crate::environment::EnvironmentBaker, RenderError> {
+        if self.environment_baker.is_none() {
+            self.environment_baker = Some(crate::environment::EnvironmentBaker::new(
+                &self.device,
+                &self.compiler,
+                &self.cache,
+                crate::environment::default_environment_cache_dir(),
+            )?);
+        }
+        Ok(self.environment_baker.as_ref().expect("built above"))
     }
 }

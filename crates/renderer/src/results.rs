@@ -1,10 +1,10 @@
 //! What the renderer gives back: a rendered [`Frame`], the GPU times of its passes
 //! ([`PassTimings`]), and counts of what it built ([`RendererStats`]).
 
-use crate::error::RenderError;
 use crate::gbuffer::GBufferReadback;
 #[cfg(doc)]
 use crate::Readback;
+#[cfg(doc)]
 use crate::Renderer;
 
 /// A rendered frame.
@@ -145,7 +145,7 @@ pub struct RendererStats {
 }
 
 /// How many completed frames' timings are kept until taken.
-const COMPLETED_TIMINGS_KEPT: usize = 1024;
+pub(crate) const COMPLETED_TIMINGS_KEPT: usize = 1024;
 
 /// Whether a slot's last frame has completed, as its timestamps tell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -172,71 +172,6 @@ impl PassTimings {
                 .collect(),
             total_ms: ms.get(passes.len()).map_or(0.0, |end| end - ms[0]),
         }
-    }
-}
-
-impl Renderer {
-    /// The GPU times of the most recent frame known to have completed (read when its
-    /// frame slot is reused; at once for [`Renderer::render`]).
-    pub fn last_completed_timings(&self) -> Option<PassTimings> {
-        self.last_timings.clone()
-    }
-
-    /// What this renderer has built so far.
-    pub fn stats(&self) -> RendererStats {
-        RendererStats {
-            frames: self.frame_number,
-            shaders_compiled: self.compiler.compilations(),
-            shaders_from_cache: self.compiler.cache_hits(),
-            shader_compile_micros: u64::try_from(self.compiler.compile_time().as_micros())
-                .unwrap_or(u64::MAX),
-            ..self.stats
-        }
-    }
-
-    /// The GPU times of every completed frame since the last call (oldest first; at
-    /// most the last 1024 are kept).
-    pub fn take_completed_timings(&mut self) -> Vec<PassTimings> {
-        self.completed_timings.drain(..).collect()
-    }
-
-    /// The host has waited for every frame it recorded (e.g. at exit or before a pause):
-    /// collects the timings of every slot's last frame, so that
-    /// [`Renderer::take_completed_timings`] has them all.
-    /// Every slot is free afterwards, even one whose last frame's timestamps are still
-    /// unwritten (the host's word: its timings are then lost).
-    pub fn frames_completed(&mut self) -> Result<(), RenderError> {
-        let count = self.slots.len();
-        let first = self.last_slot.map_or(0, |last| (last + 1) % count);
-        for i in 0..count {
-            let slot = (first + i) % count;
-            if self.collect_timings(slot)? == SlotFrame::Pending {
-                // The host's word: it completed (or never ran). Its timings are lost.
-                self.slots[slot].stamped.clear();
-            }
-        }
-        Ok(())
-    }
-
-    /// Reads the timestamps of `slot`'s last frame if the GPU has written them all
-    /// (never waits); [`SlotFrame::Pending`] while any is not.
-    pub(crate) fn collect_timings(&mut self, slot: usize) -> Result<SlotFrame, RenderError> {
-        let s = &mut self.slots[slot];
-        let Some(t) = s.timestamps.as_ref().filter(|_| !s.stamped.is_empty()) else {
-            return Ok(SlotFrame::Completed);
-        };
-        // The start, each pass's end, and the frame's end.
-        let written = s.stamped.len() as u32 + 2;
-        let Some(ms) = t.read_first_ms_if_available(written)? else {
-            return Ok(SlotFrame::Pending);
-        };
-        let timings = PassTimings::from_stamps(&std::mem::take(&mut s.stamped), &ms);
-        self.last_timings = Some(timings.clone());
-        if self.completed_timings.len() == COMPLETED_TIMINGS_KEPT {
-            self.completed_timings.pop_front();
-        }
-        self.completed_timings.push_back(timings);
-        Ok(SlotFrame::Completed)
     }
 }
 

@@ -9,7 +9,6 @@ use crate::environment;
 use crate::options::{
     DebugView, Distribution, FresnelModel, Masking, MeasurementFloor, ShadingOptions,
 };
-use crate::Renderer;
 
 /// The parts of the material model a lighting pipeline contains (unlit materials
 /// included). A scene's pipeline holds only what its materials use ([`LightingFeatures::of`]): each part left out is
@@ -396,12 +395,5 @@ impl ShadingOptions {
             },
             ..scene_variant
         }
-    }
-}
-
-impl Renderer {
-    /// The scene's variant with the renderer's shading options applied.
-    pub(crate) fn variant_of(&self, scene_variant: ShaderVariant) -> ShaderVariant {
-        self.settings.shading.variant(scene_variant)
     }
 }

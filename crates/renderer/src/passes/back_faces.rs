@@ -55,7 +55,7 @@ impl FramePass for BackFaces {
             return;
         };
         pass.record(
-            &frame.renderer.device,
+            frame.device,
             cmd,
             targets,
             frame.scene,

@@ -38,7 +38,7 @@ impl FramePass for Behind {
         );
         // SAFETY: recording state; both images are in the layouts `io` declared.
         unsafe {
-            frame.renderer.device.raw().cmd_copy_image(
+            frame.device.raw().cmd_copy_image(
                 cmd,
                 frame.targets.hdr.raw(),
                 ImageUse::TransferSource.state().layout,

@@ -58,15 +58,10 @@ impl FramePass for Deform {
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let (Some(deform), Some(pipeline)) = (&frame.scene.gpu.deform, &frame.renderer.deform)
+        let (Some(deform), Some(pipeline)) = (&frame.scene.gpu.deform, &frame.registry.deform)
         else {
             return;
         };
-        pipeline.record(
-            &frame.renderer.device,
-            cmd,
-            frame.slot.set(&bindings::DEFORM),
-            deform,
-        );
+        pipeline.record(frame.device, cmd, frame.slot.set(&bindings::DEFORM), deform);
     }
 }

@@ -34,7 +34,7 @@ impl FramePass for DepthCopy {
         let region = crate::commands::level_zero_copy(vk::ImageAspectFlags::DEPTH, frame.extent());
         // SAFETY: recording state; both images are in the layouts `io` declared.
         unsafe {
-            frame.renderer.device.raw().cmd_copy_image(
+            frame.device.raw().cmd_copy_image(
                 cmd,
                 frame.targets.gbuffer.depth.raw(),
                 ImageUse::TransferSource.state().layout,

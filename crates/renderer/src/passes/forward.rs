@@ -48,7 +48,7 @@ impl FramePass for Forward {
             // Not declared by pipelines without the feature: any image will do.
             io.bind_image(
                 binding,
-                frame.renderer.absent_target.view(),
+                frame.shared.absent_target.view(),
                 ImageUse::FragmentSampled.state().layout,
                 vk::Sampler::null(),
             )
@@ -78,29 +78,29 @@ impl FramePass for Forward {
                 .sampled(
                     "back_face_normal",
                     &back_faces.normal,
-                    frame.renderer.behind_sampler.raw(),
+                    frame.shared.behind_sampler.raw(),
                     ImageUse::FragmentSampled,
                 ),
             _ => absent(io, "back_face_depth").bind_image(
                 "back_face_normal",
-                frame.renderer.absent_target.view(),
+                frame.shared.absent_target.view(),
                 ImageUse::FragmentSampled.state().layout,
-                frame.renderer.behind_sampler.raw(),
+                frame.shared.behind_sampler.raw(),
             ),
         };
         let io = match &frame.targets.behind {
             Some(behind) if frame.variant.transmission => io.sampled(
                 "behind",
                 behind,
-                frame.renderer.behind_sampler.raw(),
+                frame.shared.behind_sampler.raw(),
                 ImageUse::FragmentSampled,
             ),
             // Not declared by pipelines without transmission: any image will do.
             _ => io.bind_image(
                 "behind",
-                frame.renderer.absent_target.view(),
+                frame.shared.absent_target.view(),
                 ImageUse::FragmentSampled.state().layout,
-                frame.renderer.behind_sampler.raw(),
+                frame.shared.behind_sampler.raw(),
             ),
         };
         super::lighting::lit_by(io, frame)
@@ -113,7 +113,7 @@ impl FramePass for Forward {
         let push = &frame.lighting_push;
         let [x, y, z, _] = push.camera_position;
         forward.record(
-            &frame.renderer.device,
+            frame.device,
             cmd,
             ForwardTargets {
                 hdr: &frame.targets.hdr,

@@ -44,7 +44,7 @@ impl FramePass for GBuffer {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         frame.pipelines().gbuffer.record(
-            &frame.renderer.device,
+            frame.device,
             cmd,
             &frame.targets.gbuffer,
             frame.scene,

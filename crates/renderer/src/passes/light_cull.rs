@@ -48,8 +48,8 @@ impl FramePass for LightCull {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let push = frame.cull_push.as_ref().expect("runs only with its push");
-        frame.renderer.light_cull.record(
-            &frame.renderer.device,
+        frame.registry.light_cull.record(
+            frame.device,
             cmd,
             frame.slot.set(&bindings::LIGHT_CULL),
             push,

@@ -16,7 +16,7 @@ pub(crate) struct Lighting;
 /// frame's lights, the conductor table, the energy table, the environment (or its
 /// placeholders) and the shadow maps (or placeholders), every binding written.
 pub(super) fn lit_by(mut io: PassIo, frame: &FrameContext<'_>) -> PassIo {
-    let (s, r) = (frame.slot, frame.renderer);
+    let (s, r) = (frame.slot, frame.shared);
     let read = BufferUse::FragmentStorageRead;
     let texel = ImageUse::FragmentSampled;
     io = io
@@ -112,7 +112,7 @@ impl FramePass for Lighting {
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let (s, g, r) = (frame.slot, &frame.targets.gbuffer, frame.renderer);
+        let (s, g, r) = (frame.slot, &frame.targets.gbuffer, frame.shared);
         let read = BufferUse::FragmentStorageRead;
         let texel = ImageUse::FragmentSampled;
         let mut io = PassIo::new(self.name())
@@ -169,7 +169,7 @@ impl FramePass for Lighting {
         // background where no surface is.
         let [r, g, b, _] = frame.lighting_push.background;
         frame.pipelines().lighting.record(
-            &frame.renderer.device,
+            frame.device,
             cmd,
             hdr.view(),
             hdr.extent(),

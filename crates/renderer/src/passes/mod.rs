@@ -26,19 +26,24 @@ use combustion_vk::vk;
 
 use crate::bindings::SetDecl;
 use crate::environment::GpuEnvironment;
-use crate::frame::FrameSlot;
 use crate::gpu_types::{CullPush, LightingPush};
 use crate::graph::TrackedImage;
 use crate::host::{FrameInputs, FrameTarget};
 use crate::pass_io::PassIo;
+use crate::pipelines::PipelineRegistry;
 use crate::scene_upload::GpuScene;
+use crate::shared::SharedResources;
+use crate::slot::FrameSlot;
 use crate::targets::FrameTargets;
-use crate::Renderer;
 
 /// Everything a frame's passes read, gathered once per frame.
 pub(crate) struct FrameContext<'a> {
-    /// The renderer: its pipelines, placeholders and shared tables.
-    pub renderer: &'a Renderer,
+    /// The device the frame is recorded for.
+    pub device: &'a std::sync::Arc<combustion_vk::Device>,
+    /// Every pipeline built (the frame's were built before it: checked).
+    pub registry: &'a PipelineRegistry,
+    /// The placeholders, samplers, tables and overlay resources the passes bind.
+    pub shared: &'a SharedResources,
     /// The frame slot's sets and buffers (its previous frame has completed).
     pub slot: &'a FrameSlot,
     /// The G-buffer and HDR targets of the frame's size and variant.
@@ -80,14 +85,18 @@ impl FrameContext<'_> {
     }
 
     /// The G-buffer and lighting pipelines of the frame's variant (built before the
-    /// frame: [`Renderer::record`] checks).
+    /// frame: `Renderer::record` checks).
     pub fn pipelines(&self) -> &crate::pipelines::VariantPasses {
-        &self.renderer.variants[&self.variant]
+        self.registry
+            .variant(&self.variant)
+            .expect("the frame's variant is prepared (checked before recording)")
     }
 
     /// The output and overlay pipelines of the target's format (prepared: checked).
     pub fn output_pipelines(&self) -> &crate::pipelines::OutputPasses {
-        &self.renderer.outputs[&self.target.color.format]
+        self.registry
+            .output(self.target.color.format)
+            .expect("the target's format is prepared (checked before recording)")
     }
 }
 

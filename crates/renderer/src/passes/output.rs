@@ -24,7 +24,7 @@ impl FramePass for Output {
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let (s, r) = (frame.slot, frame.renderer);
+        let (s, r) = (frame.slot, frame.shared);
         PassIo::new(self.name())
             .slot_set(frame.slot, &bindings::OUTPUT)
             .image("hdr_image", &frame.targets.hdr, ImageUse::FragmentSampled)
@@ -37,8 +37,8 @@ impl FramePass for Output {
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let (s, r) = (frame.slot, frame.renderer);
-        let device = &r.device;
+        let (s, r) = (frame.slot, frame.shared);
+        let device = frame.device;
         let extent = frame.extent();
         let push = TonemapPush {
             exposure: frame.inputs.exposure,

@@ -59,7 +59,7 @@ impl FramePass for ShadowMaps {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let (Some((cascades, local)), Some(casters)) =
-            (frame.shadow_maps, &frame.renderer.shadow_casters)
+            (frame.shadow_maps, &frame.registry.shadow_casters)
         else {
             return;
         };
@@ -68,7 +68,7 @@ impl FramePass for ShadowMaps {
             (local, &frame.slot.local_shadow_layers),
         ] {
             casters.record(
-                &frame.renderer.device,
+                frame.device,
                 cmd,
                 maps,
                 frame.scene,

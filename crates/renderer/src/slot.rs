@@ -1,0 +1,139 @@
+//! What one frame in flight owns: its descriptor sets (one of each declaration the
+//! frame's passes bind), its lights, tile lists, overlay quads, shadow-layer table,
+//! joint matrices and morph weights, its timestamps, its placement and its retire list.
+
+use std::sync::Arc;
+
+use combustion_vk::{vk, Buffer, DescriptorPool, Device, TimestampQueries, VkError};
+
+use crate::bindings;
+use crate::buffers::{storage_buffer, CPU_TO_GPU, GPU_ONLY};
+use crate::error::RenderError;
+use crate::gpu_types::GpuLight;
+use crate::overlay::OverlayQuad;
+use crate::pipelines::SetLayouts;
+
+/// Timestamps a frame may write: its start, the end of each pass, and the end of its
+/// last command (whose availability says the slot's frame has completed).
+const MAX_TIMESTAMPS: u32 = 16;
+
+/// What one frame in flight owns. Reused only once the frame that used it last has
+/// completed (the host's promise when it records into the same slot again).
+pub(crate) struct FrameSlot {
+    /// One descriptor set of each declaration the frame's passes bind
+    /// (`passes::FramePass::sets`), by the declaration's name.
+    sets: Vec<(&'static str, vk::DescriptorSet)>,
+    /// Owns the sets.
+    _pool: DescriptorPool,
+    /// The tile light lists of the slot's frame (device memory, written by the culling
+    /// pass; grows with the tile count × lights).
+    pub(crate) tile_lights: Buffer,
+    /// Whether the slot's frame culls its lights, and its tile grid and list stride.
+    pub(crate) culling: Option<(u32, u32)>,
+    /// The frame's lights (host-visible; grows when a frame brings more lights).
+    pub(crate) lights: Buffer,
+    /// The frame's overlay quads (host-visible; grows as lights do).
+    pub(crate) overlay_quads: Buffer,
+    /// How many quads this slot's frame draws.
+    pub(crate) overlay_quad_count: u32,
+    /// The placement of each shadow-map layer of the slot's frame (host-visible; grows).
+    pub(crate) shadow_cascades: Buffer,
+    /// The world-to-map matrix of each cascade layer the slot's frame renders (empty:
+    /// none rendered this frame, the maps kept or no shadows).
+    pub(crate) shadow_layers: Vec<glam::Mat4>,
+    /// The same for the local lights' maps.
+    pub(crate) local_shadow_layers: Vec<glam::Mat4>,
+    pub(crate) timestamps: Option<TimestampQueries>,
+    /// The passes whose end this slot's last frame stamped, in order (empty: no frame
+    /// stamped since its timings were read, or no timestamps).
+    pub(crate) stamped: Vec<&'static str>,
+    /// Where the slot's frame places the objects (its pose's object table and boxes).
+    pub(crate) placement: crate::placement::SlotPlacement,
+    /// The skins' joint matrices of the slot's frame (host-visible; grows), in frames of
+    /// scenes with deformed objects.
+    pub(crate) joint_matrices: Buffer,
+    /// The deformed objects' morph weights of the slot's frame (likewise).
+    pub(crate) morph_weights: Buffer,
+    /// Objects replaced while this slot's frame was the latest recorded: dropped when
+    /// the slot is reused, i.e. once that frame (and so every earlier one) completed.
+    pub(crate) retired: Vec<crate::retire::Retired>,
+}
+
+impl FrameSlot {
+    /// A slot with one set of each of `decls` (the declarations the frame's passes
+    /// bind: `passes::frame_sets`), the pool sized by them, and small buffers that grow.
+    pub fn new(
+        device: &Arc<Device>,
+        layouts: &SetLayouts,
+        decls: &[&'static bindings::SetDecl],
+    ) -> Result<Self, RenderError> {
+        let sizes: Vec<_> = decls.iter().flat_map(|decl| decl.pool_sizes(1)).collect();
+        let pool = DescriptorPool::new(device, decls.len() as u32, &sizes)?;
+        let sets = decls
+            .iter()
+            .map(|decl| Ok((decl.name, pool.allocate(layouts.of(decl))?)))
+            .collect::<Result<_, RenderError>>()?;
+        let timestamps = match TimestampQueries::new(device, MAX_TIMESTAMPS) {
+            Ok(t) => Some(t),
+            Err(VkError::Unsupported(why)) => {
+                log::warn!("pass timings unavailable: {why}");
+                None
+            }
+            Err(e) => return Err(e.into()),
+        };
+        Ok(Self {
+            sets,
+            _pool: pool,
+            tile_lights: storage_buffer(device, TILE_LISTS, 4, GPU_ONLY)?,
+            culling: None,
+            lights: storage_buffer(
+                device,
+                LIGHTS,
+                4 * std::mem::size_of::<GpuLight>() as u64,
+                CPU_TO_GPU,
+            )?,
+            overlay_quads: storage_buffer(
+                device,
+                OVERLAY_QUADS,
+                64 * std::mem::size_of::<OverlayQuad>() as u64,
+                CPU_TO_GPU,
+            )?,
+            overlay_quad_count: 0,
+            shadow_cascades: storage_buffer(
+                device,
+                SHADOW_CASCADES,
+                std::mem::size_of::<crate::gpu_types::GpuShadowCascade>() as u64,
+                CPU_TO_GPU,
+            )?,
+            shadow_layers: Vec::new(),
+            local_shadow_layers: Vec::new(),
+            timestamps,
+            stamped: Vec::new(),
+            placement: crate::placement::SlotPlacement::new(device)?,
+            joint_matrices: storage_buffer(device, JOINT_MATRICES, 64, CPU_TO_GPU)?,
+            morph_weights: storage_buffer(device, MORPH_WEIGHTS, 4, CPU_TO_GPU)?,
+            retired: Vec::new(),
+        })
+    }
+
+    /// The slot's set of `decl` (a set some pass of the frame declares).
+    pub fn set(&self, decl: &bindings::SetDecl) -> vk::DescriptorSet {
+        self.sets
+            .iter()
+            .find(|(name, _)| *name == decl.name)
+            .map(|(_, set)| *set)
+            .unwrap_or_else(|| panic!("no pass of the frame declares set {}", decl.name))
+    }
+
+    pub fn retire(&mut self, resource: crate::retire::Retired) {
+        self.retired.push(resource);
+    }
+}
+
+/// Names of the per-slot buffers (for the allocator's reports).
+pub(crate) const LIGHTS: &str = "frame lights";
+pub(crate) const TILE_LISTS: &str = "tile light lists";
+pub(crate) const OVERLAY_QUADS: &str = "frame overlay quads";
+pub(crate) const SHADOW_CASCADES: &str = "frame shadow cascades";
+pub(crate) const JOINT_MATRICES: &str = "frame joint matrices";
+pub(crate) const MORPH_WEIGHTS: &str = "frame morph weights";
