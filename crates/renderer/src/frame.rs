@@ -161,7 +161,8 @@ impl Renderer {
         if let Some(pose) = inputs.pose {
             crate::placement::check_pose(scene.scene(), pose)?;
         }
-        if self.pipelines.output(target.color.format).is_none() {
+        let output = crate::passes::output::prepared(&self.pipelines, target.color.format);
+        if output.is_none() {
             return Err(match crate::host::OutputEncoding::of(target.color.format) {
                 Some(_) => RenderError::OutputNotPrepared(target.color.format),
                 None => RenderError::UnsupportedOutputFormat(target.color.format),
@@ -170,10 +171,7 @@ impl Renderer {
         if inputs.anti_aliasing == crate::AntiAliasing::Fxaa
             && crate::host::OutputEncoding::of(target.color.format)
                 != Some(crate::host::OutputEncoding::Linear)
-            && self
-                .pipelines
-                .output(target.color.format)
-                .is_some_and(|o| o.fxaa.is_none())
+            && output == Some(false)
         {
             return Err(RenderError::AntiAliasingNotPrepared {
                 format: target.color.format,
@@ -190,7 +188,7 @@ impl Renderer {
             }
             Some(_) => return Err(RenderError::EnvironmentOfAnotherScene),
         };
-        if self.pipelines.variant(&variant).is_none() {
+        if !self.pipelines.is_prepared(&variant) {
             return Err(RenderError::VariantNotPrepared);
         }
         for (what, layout) in [
@@ -564,6 +562,7 @@ impl Renderer {
             device: &self.device,
             registry: &self.pipelines,
             shared: &self.shared,
+            settings: &self.settings,
             slot: s,
             targets: &self.targets[&key].0,
             scene,

@@ -322,7 +322,7 @@ impl Renderer {
             skinned || morphed
         });
         if deformed {
-            self.pipelines.prepare_deform()?;
+            passes::deform::prepare(&mut self.pipelines)?;
         }
         Ok(())
     }
@@ -496,14 +496,14 @@ impl Renderer {
                 self.retire(placeholder);
             }
         }
-        self.pipelines.prepare_variant(variant, &self.settings)
+        passes::prepare_variant(&mut self.pipelines, variant, &self.settings)
     }
 
     /// Builds the output pass (and the overlay over it) for targets of `format`, so that
     /// [`Renderer::record`] can render into them. [`DISPLAY_FORMAT`] is prepared by
     /// [`Renderer::new`]. Formats: see [`OutputEncoding::of`].
     pub fn prepare_output(&mut self, format: vk::Format) -> Result<(), RenderError> {
-        self.pipelines.prepare_output(format)
+        passes::output::prepare_output(&mut self.pipelines, format)
     }
 
     /// Prepares `format` ([`Renderer::prepare_output`]) and what frames of
@@ -520,7 +520,7 @@ impl Renderer {
         format: vk::Format,
         anti_aliasing: AntiAliasing,
     ) -> Result<(), RenderError> {
-        self.pipelines.prepare_anti_aliasing(format, anti_aliasing)
+        passes::output::prepare_anti_aliasing(&mut self.pipelines, format, anti_aliasing)
     }
 
     /// Builds the pipelines `scene` needs with the current shading options, if they are

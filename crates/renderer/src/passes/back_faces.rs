@@ -6,12 +6,28 @@
 use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
+use crate::back_faces::BackFacesPass;
 use crate::bindings::{self, SetDecl};
+use crate::error::RenderError;
 use crate::graph::{BufferUse, ImageUse};
+use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
+use crate::variant::ShaderVariant;
 
 pub(crate) struct BackFaces;
+
+/// Whether frames of `variant` draw the far sides: VOLUME variants with a forward pass
+/// (their targets have the back faces: `TargetKey::of`).
+fn draws(variant: ShaderVariant) -> bool {
+    variant.volume && super::forward::draws(variant)
+}
+
+/// Its one pipeline (variant-independent: every such variant shares it).
+fn key() -> PipelineKey {
+    PipelineKey::named(PassTimings::BACK_FACES)
+}
 
 impl FramePass for BackFaces {
     fn name(&self) -> &'static str {
@@ -23,10 +39,28 @@ impl FramePass for BackFaces {
         &SETS
     }
 
+    fn prepare(
+        &self,
+        variant: ShaderVariant,
+        _settings: &RendererSettings,
+        registry: &mut PipelineRegistry,
+    ) -> Result<(), RenderError> {
+        if draws(variant) {
+            registry.build(key(), |t| {
+                let pass = BackFacesPass::new(
+                    t.device,
+                    t.compiler,
+                    t.cache,
+                    t.layouts.of(&bindings::BACK_FACES),
+                )?;
+                Ok((pass, 1))
+            })?;
+        }
+        Ok(())
+    }
+
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        // Built for VOLUME variants with a forward pass, whose targets have the back
-        // faces (TargetKey::of).
-        frame.pipelines().back_faces.is_some()
+        draws(frame.variant)
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
@@ -49,7 +83,7 @@ impl FramePass for BackFaces {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let (Some(pass), Some(targets)) = (
-            frame.pipelines().back_faces.as_ref(),
+            frame.registry.get::<BackFacesPass>(&key()),
             frame.targets.back_faces.as_ref(),
         ) else {
             return;

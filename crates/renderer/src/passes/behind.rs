@@ -20,7 +20,7 @@ impl FramePass for Behind {
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
         // The targets of a TRANSMISSION variant have the behind image (TargetKey::of).
-        frame.variant.transmission && frame.pipelines().forward.is_some()
+        frame.variant.transmission && super::forward::draws(frame.variant)
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {

@@ -6,11 +6,34 @@ use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
 use crate::bindings::{self, SetDecl};
+use crate::deform::DeformPipeline;
+use crate::error::RenderError;
 use crate::graph::BufferUse;
 use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
 
 pub(crate) struct Deform;
+
+/// Its one pipeline.
+fn key() -> PipelineKey {
+    PipelineKey::named(PassTimings::DEFORM)
+}
+
+/// Builds the deform pipeline unless it is built: for scenes with deformed objects, at
+/// their upload or edit (the scene, not the variant, says whether frames deform).
+pub(crate) fn prepare(registry: &mut PipelineRegistry) -> Result<(), RenderError> {
+    registry.build(key(), |t| {
+        let pipeline = DeformPipeline::new(
+            t.device,
+            t.compiler,
+            t.cache,
+            t.layouts.of(&bindings::DEFORM),
+        )?;
+        Ok((pipeline, 1))
+    })?;
+    Ok(())
+}
 
 impl FramePass for Deform {
     fn name(&self) -> &'static str {
@@ -58,8 +81,10 @@ impl FramePass for Deform {
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let (Some(deform), Some(pipeline)) = (&frame.scene.gpu.deform, &frame.registry.deform)
-        else {
+        let (Some(deform), Some(pipeline)) = (
+            &frame.scene.gpu.deform,
+            frame.registry.get::<DeformPipeline>(&key()),
+        ) else {
             return;
         };
         pipeline.record(frame.device, cmd, frame.slot.set(&bindings::DEFORM), deform);

@@ -7,12 +7,33 @@ use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
 use crate::bindings::{self, SetDecl};
-use crate::forward::ForwardTargets;
+use crate::error::RenderError;
+use crate::forward::{ForwardPass, ForwardTargets};
 use crate::graph::{BufferUse, ImageUse};
+use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
+use crate::variant::ShaderVariant;
 
 pub(crate) struct Forward;
+
+/// Whether frames of `variant` draw the forward pass: scenes with a blended or
+/// transmissive object, not in debug views or measurement floors (which show the
+/// G-buffer's own surfaces).
+pub(super) fn draws(variant: ShaderVariant) -> bool {
+    (variant.blend || variant.transmission) && !variant.debug_views && variant.floor.is_none()
+}
+
+/// The forward pipelines of `variant`, into `settings`' HDR format.
+fn key(variant: ShaderVariant, settings: &RendererSettings) -> PipelineKey {
+    PipelineKey {
+        pass: PassTimings::FORWARD,
+        variant: Some(variant),
+        defines: Vec::new(),
+        formats: vec![settings.hdr_format.vk()],
+    }
+}
 
 impl FramePass for Forward {
     fn name(&self) -> &'static str {
@@ -24,9 +45,34 @@ impl FramePass for Forward {
         &SETS
     }
 
+    fn prepare(
+        &self,
+        variant: ShaderVariant,
+        settings: &RendererSettings,
+        registry: &mut PipelineRegistry,
+    ) -> Result<(), RenderError> {
+        if !draws(variant) {
+            return Ok(());
+        }
+        registry.build(key(variant, settings), |t| {
+            let pass = ForwardPass::new(
+                t.device,
+                t.compiler,
+                t.cache,
+                [
+                    t.layouts.of(&bindings::FORWARD),
+                    t.layouts.of(&bindings::MATERIAL_TEXTURES),
+                ],
+                variant,
+                settings.hdr_format.vk(),
+            )?;
+            Ok((pass, 1))
+        })?;
+        Ok(())
+    }
+
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        // Built only for variants of scenes that draw a blended or transmissive object.
-        frame.pipelines().forward.is_some()
+        draws(frame.variant)
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
@@ -107,9 +153,10 @@ impl FramePass for Forward {
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let Some(forward) = frame.pipelines().forward.as_ref() else {
-            return;
-        };
+        let forward: &ForwardPass = frame
+            .registry
+            .get(&key(frame.variant, frame.settings))
+            .expect("prepared for the frame's variant");
         let push = &frame.lighting_push;
         let [x, y, z, _] = push.camera_position;
         forward.record(

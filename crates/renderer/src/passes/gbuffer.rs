@@ -5,11 +5,27 @@ use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
 use crate::bindings::{self, SetDecl};
+use crate::error::RenderError;
+use crate::gbuffer::GBufferPass;
 use crate::graph::{BufferUse, ImageUse};
+use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
+use crate::variant::ShaderVariant;
 
 pub(crate) struct GBuffer;
+
+/// The G-buffer pipelines of `variant`: kept by the part of it the G-buffer shaders read
+/// (variants that differ only in their lighting share them), in `settings`' storage.
+fn key(variant: ShaderVariant, settings: &RendererSettings) -> PipelineKey {
+    PipelineKey {
+        pass: PassTimings::GBUFFER,
+        variant: Some(variant.gbuffer_part()),
+        defines: settings.gbuffer.defines(),
+        formats: vec![settings.hdr_format.vk()],
+    }
+}
 
 impl FramePass for GBuffer {
     fn name(&self) -> &'static str {
@@ -19,6 +35,31 @@ impl FramePass for GBuffer {
     fn sets(&self) -> &'static [&'static SetDecl] {
         static SETS: [&SetDecl; 1] = [&bindings::GBUFFER];
         &SETS
+    }
+
+    fn prepare(
+        &self,
+        variant: ShaderVariant,
+        settings: &RendererSettings,
+        registry: &mut PipelineRegistry,
+    ) -> Result<(), RenderError> {
+        registry.build(key(variant, settings), |t| {
+            let pass = GBufferPass::new(
+                t.device,
+                t.compiler,
+                t.cache,
+                [
+                    t.layouts.of(&bindings::GBUFFER),
+                    t.layouts.of(&bindings::MATERIAL_TEXTURES),
+                ],
+                variant.gbuffer_part(),
+                settings.gbuffer,
+                settings.hdr_format.vk(),
+            )?;
+            let count = 1 + pass.stroke_pipelines();
+            Ok((pass, count))
+        })?;
+        Ok(())
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
@@ -43,7 +84,11 @@ impl FramePass for GBuffer {
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        frame.pipelines().gbuffer.record(
+        let pass: &GBufferPass = frame
+            .registry
+            .get(&key(frame.variant, frame.settings))
+            .expect("prepared for the frame's variant");
+        pass.record(
             frame.device,
             cmd,
             &frame.targets.gbuffer,

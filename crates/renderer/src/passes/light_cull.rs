@@ -6,10 +6,20 @@ use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
 use crate::bindings::{self, SetDecl};
+use crate::error::RenderError;
 use crate::graph::{BufferUse, ImageUse};
+use crate::light_cull::LightCullPass;
+use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
+use crate::variant::ShaderVariant;
 
 pub(crate) struct LightCull;
+
+/// Its one pipeline (every variant's frames may cull).
+fn key() -> PipelineKey {
+    PipelineKey::named("light culling")
+}
 
 impl FramePass for LightCull {
     fn name(&self) -> &'static str {
@@ -19,6 +29,24 @@ impl FramePass for LightCull {
     fn sets(&self) -> &'static [&'static SetDecl] {
         static SETS: [&SetDecl; 1] = [&bindings::LIGHT_CULL];
         &SETS
+    }
+
+    fn prepare(
+        &self,
+        _variant: ShaderVariant,
+        _settings: &RendererSettings,
+        registry: &mut PipelineRegistry,
+    ) -> Result<(), RenderError> {
+        registry.build(key(), |t| {
+            let pass = LightCullPass::new(
+                t.device,
+                t.compiler,
+                t.cache,
+                t.layouts.of(&bindings::LIGHT_CULL),
+            )?;
+            Ok((pass, 1))
+        })?;
+        Ok(())
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
@@ -48,7 +76,11 @@ impl FramePass for LightCull {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let push = frame.cull_push.as_ref().expect("runs only with its push");
-        frame.registry.light_cull.record(
+        let pass: &LightCullPass = frame
+            .registry
+            .get(&key())
+            .expect("prepared with every variant");
+        pass.record(
             frame.device,
             cmd,
             frame.slot.set(&bindings::LIGHT_CULL),

@@ -6,11 +6,28 @@ use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
 use crate::bindings::{self, SetDecl};
+use crate::error::RenderError;
+use crate::fullscreen::FullscreenPass;
+use crate::gpu_types::LightingPush;
 use crate::graph::{BufferUse, ImageUse};
+use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
+use crate::variant::ShaderVariant;
 
 pub(crate) struct Lighting;
+
+/// The lighting pipeline of `variant` (its every feature a define), reading
+/// `settings`' G-buffer storage into their HDR format.
+fn key(variant: ShaderVariant, settings: &RendererSettings) -> PipelineKey {
+    PipelineKey {
+        pass: PassTimings::LIGHTING,
+        variant: Some(variant),
+        defines: settings.gbuffer.defines(),
+        formats: vec![settings.hdr_format.vk()],
+    }
+}
 
 /// Declares what lights a surface (`bindings::LIT_BY`, lighting_terms.glsl) in `io`: the
 /// frame's lights, the conductor table, the energy table, the environment (or its
@@ -111,6 +128,30 @@ impl FramePass for Lighting {
         &SETS
     }
 
+    fn prepare(
+        &self,
+        variant: ShaderVariant,
+        settings: &RendererSettings,
+        registry: &mut PipelineRegistry,
+    ) -> Result<(), RenderError> {
+        registry.build(key(variant, settings), |t| {
+            let mut defines = variant.defines();
+            defines.extend(settings.gbuffer.defines());
+            let pass = FullscreenPass::new(
+                t.device,
+                t.compiler,
+                t.cache,
+                "lighting.frag",
+                &defines,
+                t.layouts.of(&bindings::LIGHTING),
+                std::mem::size_of::<LightingPush>() as u32,
+                settings.hdr_format.vk(),
+            )?;
+            Ok((pass, 1))
+        })?;
+        Ok(())
+    }
+
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
         let (s, g, r) = (frame.slot, &frame.targets.gbuffer, frame.shared);
         let read = BufferUse::FragmentStorageRead;
@@ -168,7 +209,11 @@ impl FramePass for Lighting {
         // discards keeps (one whose depth is not a number). The shader writes the
         // background where no surface is.
         let [r, g, b, _] = frame.lighting_push.background;
-        frame.pipelines().lighting.record(
+        let lighting: &FullscreenPass = frame
+            .registry
+            .get(&key(frame.variant, frame.settings))
+            .expect("prepared for the frame's variant");
+        lighting.record(
             frame.device,
             cmd,
             hdr.view(),

@@ -13,28 +13,31 @@
 
 mod back_faces;
 mod behind;
-mod deform;
+pub(crate) mod deform;
 mod depth_copy;
 mod forward;
 mod gbuffer;
 mod light_cull;
 mod lighting;
-mod output;
+pub(crate) mod output;
 mod shadow_maps;
 
 use combustion_vk::vk;
 
 use crate::bindings::SetDecl;
 use crate::environment::GpuEnvironment;
+use crate::error::RenderError;
 use crate::gpu_types::{CullPush, LightingPush};
 use crate::graph::TrackedImage;
 use crate::host::{FrameInputs, FrameTarget};
+use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
 use crate::pipelines::PipelineRegistry;
 use crate::scene_upload::GpuScene;
 use crate::shared::SharedResources;
 use crate::slot::FrameSlot;
 use crate::targets::FrameTargets;
+use crate::variant::ShaderVariant;
 
 /// Everything a frame's passes read, gathered once per frame.
 pub(crate) struct FrameContext<'a> {
@@ -44,6 +47,9 @@ pub(crate) struct FrameContext<'a> {
     pub registry: &'a PipelineRegistry,
     /// The placeholders, samplers, tables and overlay resources the passes bind.
     pub shared: &'a SharedResources,
+    /// The renderer's settings (its G-buffer storage and HDR format, which its passes'
+    /// pipelines are built for).
+    pub settings: &'a RendererSettings,
     /// The frame slot's sets and buffers (its previous frame has completed).
     pub slot: &'a FrameSlot,
     /// The G-buffer and HDR targets of the frame's size and variant.
@@ -56,7 +62,7 @@ pub(crate) struct FrameContext<'a> {
     pub inputs: &'a FrameInputs<'a>,
     /// The host's (or the renderer's own) colour target and optional depth image.
     pub target: &'a FrameTarget,
-    /// The G-buffer and lighting pipelines of the frame's shader variant.
+    /// The frame's shader variant (its passes' pipelines are built for it).
     pub variant: crate::ShaderVariant,
     /// The camera's view-projection at the target's aspect ratio.
     pub view_projection: glam::Mat4,
@@ -83,21 +89,6 @@ impl FrameContext<'_> {
     pub fn extent(&self) -> vk::Extent2D {
         self.target.color.extent
     }
-
-    /// The G-buffer and lighting pipelines of the frame's variant (built before the
-    /// frame: `Renderer::record` checks).
-    pub fn pipelines(&self) -> &crate::pipelines::VariantPasses {
-        self.registry
-            .variant(&self.variant)
-            .expect("the frame's variant is prepared (checked before recording)")
-    }
-
-    /// The output and overlay pipelines of the target's format (prepared: checked).
-    pub fn output_pipelines(&self) -> &crate::pipelines::OutputPasses {
-        self.registry
-            .output(self.target.color.format)
-            .expect("the target's format is prepared (checked before recording)")
-    }
 }
 
 /// One pass of the frame.
@@ -109,6 +100,18 @@ pub(crate) trait FramePass: Sync {
     /// [`FrameSlot::set`]).
     fn sets(&self) -> &'static [&'static SetDecl] {
         &[]
+    }
+
+    /// Builds, in `registry` under keys of its own, the pipelines it records frames of
+    /// `variant` with (before any such frame; never while one is recorded). Default:
+    /// none.
+    fn prepare(
+        &self,
+        _variant: ShaderVariant,
+        _settings: &RendererSettings,
+        _registry: &mut PipelineRegistry,
+    ) -> Result<(), RenderError> {
+        Ok(())
     }
 
     /// Whether the pass runs this frame (default: always).
@@ -142,6 +145,23 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &output::Output,
     &depth_copy::DepthCopy,
 ];
+
+/// Has every pass of the frame build its pipelines for `variant` (once: the registry
+/// knows the variants prepared).
+pub(crate) fn prepare_variant(
+    registry: &mut PipelineRegistry,
+    variant: ShaderVariant,
+    settings: &RendererSettings,
+) -> Result<(), RenderError> {
+    if registry.is_prepared(&variant) {
+        return Ok(());
+    }
+    for pass in FRAME {
+        pass.prepare(variant, settings, registry)?;
+    }
+    registry.mark_prepared(variant);
+    Ok(())
+}
 
 /// The descriptor sets the frame's passes bind, each once, in the frame's order.
 pub(crate) fn frame_sets() -> Vec<&'static SetDecl> {

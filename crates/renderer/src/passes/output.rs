@@ -6,12 +6,110 @@ use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
 use crate::bindings::{self, SetDecl};
+use crate::error::RenderError;
+use crate::fullscreen::FullscreenPass;
 use crate::gpu_types::TonemapPush;
 use crate::graph::ImageUse;
+use crate::host::{AntiAliasing, OutputEncoding};
+use crate::overlay::OverlayPass;
 use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
 
 pub(crate) struct Output;
+
+/// The passes that write a target of one format: the output pass and the overlay drawn
+/// over it.
+pub(crate) struct OutputPasses {
+    output: FullscreenPass,
+    /// The output pass with FXAA (`FXAA`), for display formats once a frame is to use
+    /// it ([`prepare_anti_aliasing`]).
+    fxaa: Option<FullscreenPass>,
+    overlay: OverlayPass,
+}
+
+/// The output passes into targets of `format`.
+fn key(format: vk::Format) -> PipelineKey {
+    PipelineKey {
+        formats: vec![format],
+        ..PipelineKey::named(PassTimings::OUTPUT)
+    }
+}
+
+/// Whether the output passes into targets of `format` are built, and with FXAA.
+pub(crate) fn prepared(registry: &PipelineRegistry, format: vk::Format) -> Option<bool> {
+    registry
+        .get::<OutputPasses>(&key(format))
+        .map(|p| p.fxaa.is_some())
+}
+
+/// The output pass with `defines` into `format`.
+fn output_pipeline(
+    t: &crate::pipelines::PipelineTools<'_>,
+    defines: &[(&'static str, Option<&'static str>)],
+    format: vk::Format,
+) -> Result<FullscreenPass, RenderError> {
+    FullscreenPass::new(
+        t.device,
+        t.compiler,
+        t.cache,
+        "tonemap.frag",
+        defines,
+        t.layouts.of(&bindings::OUTPUT),
+        std::mem::size_of::<TonemapPush>() as u32,
+        format,
+    )
+}
+
+/// Builds the output pass (and the overlay over it) for targets of `format` unless they
+/// are built.
+pub(crate) fn prepare_output(
+    registry: &mut PipelineRegistry,
+    format: vk::Format,
+) -> Result<(), RenderError> {
+    let encoding =
+        OutputEncoding::of(format).ok_or(RenderError::UnsupportedOutputFormat(format))?;
+    registry.build(key(format), |t| {
+        let passes = OutputPasses {
+            output: output_pipeline(t, &encoding.defines(), format)?,
+            fxaa: None,
+            overlay: OverlayPass::new(
+                t.device,
+                t.compiler,
+                t.cache,
+                t.layouts.of(&bindings::OVERLAY),
+                &encoding.defines(),
+                format,
+            )?,
+        };
+        Ok((passes, 2))
+    })?;
+    Ok(())
+}
+
+/// Prepares `format` and, for [`AntiAliasing::Fxaa`] into a display format, the output
+/// pipeline with FXAA (linear formats get no anti-aliasing).
+pub(crate) fn prepare_anti_aliasing(
+    registry: &mut PipelineRegistry,
+    format: vk::Format,
+    anti_aliasing: AntiAliasing,
+) -> Result<(), RenderError> {
+    prepare_output(registry, format)?;
+    let encoding =
+        OutputEncoding::of(format).ok_or(RenderError::UnsupportedOutputFormat(format))?;
+    if anti_aliasing != AntiAliasing::Fxaa || encoding == OutputEncoding::Linear {
+        return Ok(());
+    }
+    registry.update(&key(format), |passes: &mut OutputPasses, t| {
+        if passes.fxaa.is_some() {
+            return Ok(0);
+        }
+        let mut defines = encoding.defines();
+        defines.push(("FXAA", None));
+        passes.fxaa = Some(output_pipeline(t, &defines, format)?);
+        Ok(1)
+    })
+}
 
 impl FramePass for Output {
     fn name(&self) -> &'static str {
@@ -44,7 +142,10 @@ impl FramePass for Output {
             exposure: frame.inputs.exposure,
             curve: frame.inputs.tone_mapping as u32,
         };
-        let passes = frame.output_pipelines();
+        let passes: &OutputPasses = frame
+            .registry
+            .get(&key(frame.target.color.format))
+            .expect("the target's format is prepared (checked before recording)");
         let image_width = r.overlay_image.1.map_or(1, |[w, _]| w);
         // AntiAliasing::Fxaa: the output pipeline with FXAA (built for display formats by
         // Renderer::prepare_anti_aliasing; linear formats have none and get the plain one).

@@ -7,11 +7,22 @@ use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
 use crate::bindings::{self, SetDecl};
+use crate::error::RenderError;
 use crate::graph::{BufferUse, ImageUse};
+use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
+use crate::shadows::ShadowCasterPass;
+use crate::variant::ShaderVariant;
 
 pub(crate) struct ShadowMaps;
+
+/// The casters' pipelines (variant-independent: the cut-out casters' is added for the
+/// first variant with cut-outs).
+fn key() -> PipelineKey {
+    PipelineKey::named(PassTimings::SHADOW_MAPS)
+}
 
 impl FramePass for ShadowMaps {
     fn name(&self) -> &'static str {
@@ -21,6 +32,39 @@ impl FramePass for ShadowMaps {
     fn sets(&self) -> &'static [&'static SetDecl] {
         static SETS: [&SetDecl; 1] = [&bindings::SHADOW_CASTERS];
         &SETS
+    }
+
+    fn prepare(
+        &self,
+        variant: ShaderVariant,
+        _settings: &RendererSettings,
+        registry: &mut PipelineRegistry,
+    ) -> Result<(), RenderError> {
+        if variant.shadows.is_none() {
+            return Ok(());
+        }
+        registry.build(key(), |t| {
+            let pass = ShadowCasterPass::new(
+                t.device,
+                t.compiler,
+                t.cache,
+                [
+                    t.layouts.of(&bindings::SHADOW_CASTERS),
+                    t.layouts.of(&bindings::MATERIAL_TEXTURES),
+                ],
+            )?;
+            Ok((pass, 1))
+        })?;
+        if variant.alpha_mask {
+            registry.update(&key(), |casters: &mut ShadowCasterPass, t| {
+                if casters.has_masked() {
+                    return Ok(0);
+                }
+                casters.add_masked(t.device, t.compiler, t.cache)?;
+                Ok(1)
+            })?;
+        }
+        Ok(())
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
@@ -58,9 +102,10 @@ impl FramePass for ShadowMaps {
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let (Some((cascades, local)), Some(casters)) =
-            (frame.shadow_maps, &frame.registry.shadow_casters)
-        else {
+        let (Some((cascades, local)), Some(casters)) = (
+            frame.shadow_maps,
+            frame.registry.get::<ShadowCasterPass>(&key()),
+        ) else {
             return;
         };
         for (maps, layers) in [
