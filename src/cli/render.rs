@@ -289,7 +289,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         ),
     };
     outln!(
-        "start-up: {} shaders ({} from the SPIR-V cache) in {:.0} ms, {} graphics pipelines{bakes}; device, pipelines, scene upload and frame {:.2} s in all",
+        "start-up: {} shaders ({} from the SPIR-V cache) in {:.0} ms, {} pipelines{bakes}; device, pipelines, scene upload and frame {:.2} s in all",
         stats.shaders_compiled,
         stats.shaders_from_cache,
         stats.shader_compile_micros as f64 / 1e3,

@@ -160,4 +160,13 @@ pub enum TargetImageProblem {
     /// Created with no mip level or no array layer.
     #[error("has no mip level or no array layer")]
     Empty,
+    /// The `after` state's layout needs a usage the image was not created with (e.g.
+    /// `SHADER_READ_ONLY_OPTIMAL` needs `SAMPLED` or `INPUT_ATTACHMENT`).
+    #[error("cannot be left in {layout:?}: that layout needs {needs:?} usage (one of them), which it was not created with")]
+    AfterLayoutNeedsUsage {
+        /// The `after` layout asked for.
+        layout: vk::ImageLayout,
+        /// The usages one of which that layout needs.
+        needs: vk::ImageUsageFlags,
+    },
 }

@@ -229,6 +229,19 @@ impl Renderer {
                 });
             }
         }
+        // The state each image is left in must be one its usage allows (a layout
+        // transition into it is recorded).
+        let after_usage = |target, layout, usage: vk::ImageUsageFlags| match layout_usage(layout) {
+            Some(needs) if !usage.intersects(needs) => Err(RenderError::InvalidTargetImage {
+                target,
+                problem: crate::error::TargetImageProblem::AfterLayoutNeedsUsage { layout, needs },
+            }),
+            _ => Ok(()),
+        };
+        after_usage("colour", target.color.after.layout, target.color.usage)?;
+        if let Some(depth) = &target.depth {
+            after_usage("depth", depth.after.layout, depth.usage)?;
+        }
 
         Ok(variant)
     }
@@ -634,6 +647,33 @@ impl Renderer {
         self.states = states;
         self.slots[slot].stamped = stamped;
     }
+}
+
+/// The usages one of which an image must have to be put in `layout` (Vulkan's valid
+/// usage of a layout transition); `None` for layouts any image may take (`GENERAL`,
+/// `PRESENT_SRC_KHR`, …).
+fn layout_usage(layout: vk::ImageLayout) -> Option<vk::ImageUsageFlags> {
+    use vk::ImageLayout as L;
+    use vk::ImageUsageFlags as U;
+    Some(match layout {
+        L::COLOR_ATTACHMENT_OPTIMAL => U::COLOR_ATTACHMENT,
+        L::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+        | L::DEPTH_ATTACHMENT_OPTIMAL
+        | L::STENCIL_ATTACHMENT_OPTIMAL
+        | L::DEPTH_ATTACHMENT_STENCIL_READ_ONLY_OPTIMAL
+        | L::DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL => U::DEPTH_STENCIL_ATTACHMENT,
+        L::DEPTH_STENCIL_READ_ONLY_OPTIMAL
+        | L::DEPTH_READ_ONLY_OPTIMAL
+        | L::STENCIL_READ_ONLY_OPTIMAL => {
+            U::DEPTH_STENCIL_ATTACHMENT | U::SAMPLED | U::INPUT_ATTACHMENT
+        }
+        L::SHADER_READ_ONLY_OPTIMAL => U::SAMPLED | U::INPUT_ATTACHMENT,
+        L::TRANSFER_SRC_OPTIMAL => U::TRANSFER_SRC,
+        L::TRANSFER_DST_OPTIMAL => U::TRANSFER_DST,
+        L::ATTACHMENT_OPTIMAL => U::COLOR_ATTACHMENT | U::DEPTH_STENCIL_ATTACHMENT,
+        L::READ_ONLY_OPTIMAL => U::SAMPLED | U::INPUT_ATTACHMENT | U::DEPTH_STENCIL_ATTACHMENT,
+        _ => return None,
+    })
 }
 
 /// A host-provided image's state, for the renderer's own display image.

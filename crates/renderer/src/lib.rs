@@ -114,8 +114,9 @@ pub use variant::{LightingFeatures, ShaderVariant};
 ///
 /// Teardown: dropping it waits for its own submissions ([`Renderer::render`],
 /// [`Renderer::submit_offscreen`]) and, on a device it created, for the device to be
-/// idle; frames a host recorded into its own command buffers are the host's to wait
-/// for before the drop (docs/integration.md, "Teardown and errors").
+/// idle; on a host's device that it recorded frames for, for the host's queue to drain
+/// (frames still in flight complete before anything they read is freed;
+/// docs/integration.md, "Teardown and errors").
 pub struct Renderer {
     // Field order is drop order: everything below holds the device alive.
     /// Combustion's own submissions (render, bench), created on first use.
@@ -715,13 +716,19 @@ impl Renderer {
 
 impl Drop for Renderer {
     fn drop(&mut self) {
-        // Combustion's own submissions are waited for (bounded) by the frame ring's Drop;
-        // frames recorded into a host's command buffers are the host's to wait for
-        // (docs/integration.md). Only an owned device is waited idle as well.
+        // Combustion's own submissions are waited for (bounded) by the frame ring's Drop.
+        // Frames recorded into a host's command buffers may still be in flight (a host
+        // returning an error with `?` drops the renderer at once): the queue they were
+        // submitted on is drained before anything they read is freed. An owned device
+        // is waited idle as well.
         drop(self.offscreen.take());
         if self.device.is_owned() {
             if let Err(e) = self.device.wait_idle() {
                 log::error!("waiting for the device before teardown: {e}");
+            }
+        } else if self.frame_number > 0 {
+            if let Err(e) = self.device.wait_queue_idle() {
+                log::error!("waiting for the host's queue before teardown: {e}");
             }
         }
         // Every frame is complete now: what scenes dropped is freed, and scenes dropped

@@ -118,7 +118,8 @@ pub struct RendererStats {
     pub targets_built: u64,
     /// Sets of targets retired after going unused.
     pub targets_retired: u64,
-    /// Graphics pipelines built.
+    /// Pipelines built (graphics and compute; the environment bake's are counted as
+    /// bakes).
     pub pipelines_built: u64,
     /// Display images of [`Renderer::render`] and [`Renderer::submit_offscreen`] made.
     pub display_images_built: u64,

@@ -952,6 +952,21 @@ impl Device {
         unsafe { self.device.device_wait_idle() }.what("vkDeviceWaitIdle")
     }
 
+    /// Waits until the queue Combustion submits to is idle (`vkQueueWaitIdle`, under the
+    /// queue's lock — the host's, on a host's device): every submission on it so far has
+    /// completed, the host's own included. Used at teardown, so that nothing a submitted
+    /// frame reads is freed under it; on a host's device it waits for that one queue,
+    /// never the whole device.
+    ///
+    /// # Errors
+    /// [`VkError`] when the wait fails (a lost device).
+    pub fn wait_queue_idle(&self) -> Result<(), VkError> {
+        let queue = self.queue.lock().unwrap_or_else(|p| p.into_inner());
+        self.probe.queue_wait();
+        // SAFETY: the queue is externally synchronised by its lock.
+        unsafe { self.device.queue_wait_idle(*queue) }.what("vkQueueWaitIdle")
+    }
+
     /// Allocates memory from the device's allocator (every allocation Combustion makes
     /// goes through here, counted in [`Device::counters`]).
     ///

@@ -16,6 +16,9 @@ pub struct DeviceCounters {
     pub fence_waits: u64,
     /// `vkDeviceWaitIdle` calls.
     pub idle_waits: u64,
+    /// `vkQueueWaitIdle` calls (a renderer dropped after recording a host's frames
+    /// drains the host's queue).
+    pub queue_waits: u64,
     /// Memory allocations requested from the device's allocator, failed ones included.
     pub allocations: u64,
 }
@@ -27,6 +30,7 @@ impl DeviceCounters {
             submissions: self.submissions - earlier.submissions,
             fence_waits: self.fence_waits - earlier.fence_waits,
             idle_waits: self.idle_waits - earlier.idle_waits,
+            queue_waits: self.queue_waits - earlier.queue_waits,
             allocations: self.allocations - earlier.allocations,
         }
     }
@@ -64,6 +68,7 @@ pub(crate) struct DeviceProbe {
     submissions: AtomicU64,
     fence_waits: AtomicU64,
     idle_waits: AtomicU64,
+    queue_waits: AtomicU64,
     allocations: AtomicU64,
     /// The submission (its ordinal in `submissions`, 1-based) that fails; 0: none.
     failing_submission: AtomicU64,
@@ -78,6 +83,7 @@ impl DeviceProbe {
             submissions: self.submissions.load(Ordering::Relaxed),
             fence_waits: self.fence_waits.load(Ordering::Relaxed),
             idle_waits: self.idle_waits.load(Ordering::Relaxed),
+            queue_waits: self.queue_waits.load(Ordering::Relaxed),
             allocations: self.allocations.load(Ordering::Relaxed),
         }
     }
@@ -117,6 +123,10 @@ impl DeviceProbe {
 
     pub(crate) fn idle_wait(&self) {
         self.idle_waits.fetch_add(1, Ordering::Relaxed);
+    }
+
+    pub(crate) fn queue_wait(&self) {
+        self.queue_waits.fetch_add(1, Ordering::Relaxed);
     }
 
     pub(crate) fn fail_submission(&self, after: u64, fault: InjectedFault) {
