@@ -1279,3 +1279,76 @@ fn a_renderer_dropped_with_host_frames_in_flight_waits_for_them() {
     assert_no_messages(&log);
     finish_host(host, output, &log);
 }
+
+/// Frames recorded but never submitted (issue 56, items 2 and 3). The slot of such a
+/// frame is refused until the host says nothing runs (`frames_completed`, the guide's
+/// recovery): the slot check reads the frame's own end-of-frame marker, which it never
+/// wrote. Its work is then forgotten: the very first frame's (its image layouts: 195 ×
+/// InvalidImageLayout before) and a steady-state frame's (the shadow maps it would have
+/// rendered for another scene: the next frames of that scene skipped the shadow pass
+/// and sampled the previous scene's maps, silently). 0 validation messages.
+#[test]
+fn a_frame_recorded_but_never_submitted_is_forgotten() {
+    use combustion::renderer::{ShadingOptions, ShadowSettings};
+    // Local lights' maps: the host's camera turns from frame to frame, which moves a
+    // sun's cascades (and renders them again) but not a spot or point light's maps.
+    let scenes = [
+        builtin_scene("spot-box").unwrap(),
+        builtin_scene("point-among").unwrap(),
+    ];
+    let settings = RendererSettings {
+        frames_in_flight: 2,
+        shading: ShadingOptions {
+            shadows: Some(ShadowSettings {
+                map_size: 256,
+                local_map_size: 128,
+                ..ShadowSettings::default()
+            }),
+            ..ShadingOptions::default()
+        },
+        ..RendererSettings::default()
+    };
+    let (mut host, log, mut output) = host_with_settings(&scenes, settings, 48, 32);
+    let record_unsubmitted = |host: &mut Host, output: &FinalImage, scene: usize| {
+        let (slot, cmd) = host.begin_frame().unwrap();
+        host.record_frame(
+            slot,
+            cmd,
+            scene,
+            (&output.image).into(),
+            output.state,
+            ImageState::COPY_SOURCE,
+        )
+    };
+    // The shadow pass ran in the frame after the abandoned one.
+    let last_ran_shadow_maps = |host: &mut Host| {
+        host.wait_frames().unwrap();
+        let renderer = host.renderer.as_mut().unwrap();
+        renderer.frames_completed().unwrap();
+        let timings = renderer.take_completed_timings();
+        let last = timings.last().expect("a completed frame");
+        last.names().contains(&PassTimings::SHADOW_MAPS)
+    };
+
+    // The first frame, never submitted: its slot is refused until the host says so.
+    record_unsubmitted(&mut host, &output, 0).unwrap();
+    let refused = record_unsubmitted(&mut host, &output, 0).unwrap_err();
+    assert!(refused.contains("in flight"), "{refused}");
+    host.renderer.as_mut().unwrap().frames_completed().unwrap();
+    headless::frame(&mut host, &mut output, 0).unwrap();
+    assert!(last_ran_shadow_maps(&mut host));
+
+    // Steady state: scene 0's maps kept, then scene 1's frame never submitted.
+    for _ in 0..3 {
+        headless::frame(&mut host, &mut output, 0).unwrap();
+    }
+    assert!(!last_ran_shadow_maps(&mut host), "the maps were kept");
+    record_unsubmitted(&mut host, &output, 1).unwrap();
+    host.renderer.as_mut().unwrap().frames_completed().unwrap();
+    headless::frame(&mut host, &mut output, 1).unwrap();
+    assert!(
+        last_ran_shadow_maps(&mut host),
+        "scene 1's maps are rendered by a frame that runs"
+    );
+    finish_host(host, output, &log);
+}

@@ -321,6 +321,8 @@ pub struct Host {
     slots: Vec<HostSlot>,
     pub viewport: Option<Viewport>,
     pub frame: u64,
+    /// How long each `Renderer::record` call took on the CPU, ms (the last 4,096).
+    pub record_ms: std::collections::VecDeque<f64>,
     pub vulkan: HostVulkan,
 }
 
@@ -370,6 +372,7 @@ impl Host {
             slots,
             viewport: None,
             frame: 0,
+            record_ms: std::collections::VecDeque::new(),
             vulkan,
         })
     }
@@ -518,9 +521,15 @@ impl Host {
             )?),
         };
         let renderer = self.renderer.as_mut().expect("alive until drop");
+        let started = std::time::Instant::now();
         renderer
             .record(cmd, slot, &self.scenes[scene], &inputs, &target)
             .map_err(|e| e.to_string())?;
+        if self.record_ms.len() == 4096 {
+            self.record_ms.pop_front();
+        }
+        self.record_ms
+            .push_back(started.elapsed().as_secs_f64() * 1e3);
         viewport.color_state = ImageState::BLIT_SOURCE;
         viewport.depth_state = ImageState::DEPTH_ATTACHMENT_READ_WRITE;
 

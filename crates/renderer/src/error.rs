@@ -69,8 +69,8 @@ pub enum RenderError {
         /// The renderer's frames in flight.
         frames_in_flight: usize,
     },
-    /// The frame last recorded in the slot has not completed on the GPU (checked where
-    /// the device has timestamp queries): the host must wait for that frame's fence, or
+    /// The frame last recorded in the slot has not completed on the GPU (its
+    /// end-of-frame marker is unwritten): the host must wait for that frame's fence, or
     /// call [`Renderer::frames_completed`] if it was never submitted.
     #[error("frame slot {slot} is still in flight: the GPU has not completed the frame last recorded with it; wait for that frame's fence before recording the slot again (or call Renderer::frames_completed if it was never submitted)")]
     FrameSlotInFlight {

@@ -638,15 +638,65 @@ impl Renderer {
         }
         states.release(raw, cmd, frame.color, target.color.after);
         states.forget(frame.color.raw);
-        // The end of the frame's last command: the slot's frame has completed when it is
-        // available.
+        // The end of the frame's last command.
         if let Some(t) = timestamps {
             let end = stamped.len() as u32 + 1;
             t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, end);
         }
+        // After every command: the frame's timestamps copied and its marker written into
+        // the slot's host-visible frame-end record, the GPU's word that it completed.
+        let marker = self.frame_number + 1;
+        record_frame_end(device, cmd, s, stamped.len() as u32 + 2, marker);
         self.states = states;
         self.slots[slot].stamped = stamped;
+        self.slots[slot].recorded = marker;
     }
+}
+
+/// Records the end of `slot`'s frame into `cmd`, after every command before it: its
+/// first `stamps` timestamps copied into the slot's frame-end record, then `marker`
+/// written at its start, made visible to the host.
+fn record_frame_end(
+    device: &combustion_vk::Device,
+    cmd: vk::CommandBuffer,
+    slot: &crate::slot::FrameSlot,
+    stamps: u32,
+    marker: u64,
+) {
+    let raw = device.raw();
+    let barrier = |src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+                   dst: (vk::PipelineStageFlags2, vk::AccessFlags2)| {
+        let memory = [vk::MemoryBarrier2::default()
+            .src_stage_mask(src.0)
+            .src_access_mask(src.1)
+            .dst_stage_mask(dst.0)
+            .dst_access_mask(dst.1)];
+        // SAFETY: a plain memory barrier outside any rendering, `cmd` recording.
+        unsafe {
+            raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&memory))
+        };
+    };
+    let transfer = (
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    barrier(
+        (
+            vk::PipelineStageFlags2::ALL_COMMANDS,
+            vk::AccessFlags2::MEMORY_WRITE,
+        ),
+        transfer,
+    );
+    if let Some(t) = &slot.timestamps {
+        t.record_copy(cmd, slot.frame_end.raw(), 8, stamps);
+        barrier(transfer, transfer);
+    }
+    // SAFETY: 8 bytes at offset 0 of a TRANSFER_DST buffer, outside any rendering.
+    unsafe { raw.cmd_update_buffer(cmd, slot.frame_end.raw(), 0, &marker.to_le_bytes()) };
+    barrier(
+        transfer,
+        (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+    );
 }
 
 /// The usages one of which an image must have to be put in `layout` (Vulkan's valid
@@ -960,8 +1010,12 @@ impl Renderer {
             );
         }
         if let Err(e) = offscreen.ring.submit(frame) {
-            // The frame will never run: its slot is not waiting for it.
+            // The frame will never run: its slot is not waiting for it, and what its
+            // recording committed (image states, shadow maps) is forgotten.
             self.slots[frame.slot].stamped.clear();
+            self.slots[frame.slot].recorded = 0;
+            self.forget_abandoned_frames();
+            offscreen.forget_display_states();
             return Err(e.into());
         }
         Ok(frame)

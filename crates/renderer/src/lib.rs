@@ -663,39 +663,66 @@ impl Renderer {
         self.completed_timings.drain(..).collect()
     }
 
-    /// The host has waited for every frame it recorded (e.g. at exit or before a pause):
-    /// collects the timings of every slot's last frame, so that
-    /// [`Renderer::take_completed_timings`] has them all.
-    /// Every slot is free afterwards, even one whose last frame's timestamps are still
-    /// unwritten (the host's word: its timings are then lost).
+    /// The host has waited for every frame it submitted (e.g. at exit, before a pause, or
+    /// after an error between `record` and its submission): collects the timings of
+    /// every slot's last frame, so that [`Renderer::take_completed_timings`] has them
+    /// all. Every slot is free afterwards. A frame recorded but never submitted (its
+    /// end-of-frame marker unwritten) is forgotten with its work: its timings, the
+    /// layouts it would have left images in and the shadow maps it would have rendered
+    /// (the next frames render them again).
     pub fn frames_completed(&mut self) -> Result<(), RenderError> {
         let count = self.slots.len();
         let first = self.last_slot.map_or(0, |last| (last + 1) % count);
+        let mut abandoned = false;
         for i in 0..count {
             let slot = (first + i) % count;
             if self.collect_timings(slot)? == results::SlotFrame::Pending {
-                // The host's word: it completed (or never ran). Its timings are lost.
+                // The host's word: nothing is running, so this frame never ran.
                 self.slots[slot].stamped.clear();
+                self.slots[slot].recorded = 0;
+                abandoned = true;
             }
+        }
+        if abandoned {
+            self.forget_abandoned_frames();
         }
         Ok(())
     }
 
-    /// Reads the timestamps of `slot`'s last frame if the GPU has written them all
-    /// (never waits); [`results::SlotFrame::Pending`] while any is not.
+    /// Forgets what frames recorded but never run would have done on the GPU: the
+    /// states the barriers believe images are in (every image starts again from
+    /// `UNDEFINED`: each is written before it is read in a frame, the shadow maps once
+    /// rendered again) and the shadow maps' contents.
+    pub(crate) fn forget_abandoned_frames(&mut self) {
+        self.states = graph::ImageStates::default();
+        for maps in [&mut self.shadow_maps, &mut self.local_shadow_maps]
+            .into_iter()
+            .flatten()
+        {
+            maps.contents = None;
+        }
+        if let Some(offscreen) = &mut self.offscreen {
+            offscreen.forget_display_states();
+        }
+    }
+
+    /// Reads the timings of `slot`'s last frame once its end-of-frame marker says it
+    /// has completed (never waits, never asks the driver: the frame copied them beside
+    /// its marker); [`results::SlotFrame::Pending`] while it has not.
     pub(crate) fn collect_timings(
         &mut self,
         slot: usize,
     ) -> Result<results::SlotFrame, RenderError> {
         let s = &mut self.slots[slot];
+        if !s.is_free() {
+            return Ok(results::SlotFrame::Pending);
+        }
         let Some(t) = s.timestamps.as_ref().filter(|_| !s.stamped.is_empty()) else {
             return Ok(results::SlotFrame::Completed);
         };
         // The start, each pass's end, and the frame's end.
-        let written = s.stamped.len() as u32 + 2;
-        let Some(ms) = t.read_first_ms_if_available(written)? else {
-            return Ok(results::SlotFrame::Pending);
-        };
+        let written = s.stamped.len() + 2;
+        let ms = t.ms_since_first(&s.completed_ticks(written));
         let timings = PassTimings::from_stamps(&std::mem::take(&mut s.stamped), &ms);
         self.last_timings = Some(timings.clone());
         if self.completed_timings.len() == results::COMPLETED_TIMINGS_KEPT {

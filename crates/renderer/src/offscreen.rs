@@ -135,6 +135,14 @@ impl ReadbackBuffers {
 }
 
 impl Offscreen {
+    /// Forgets the states the display images were left in by frames that never ran:
+    /// each is overwritten whole by its next frame, from `UNDEFINED`.
+    pub(crate) fn forget_display_states(&mut self) {
+        for (_, state) in &mut self.displays {
+            *state = ImageState::UNDEFINED;
+        }
+    }
+
     pub(crate) fn new(device: &Arc<Device>, frames_in_flight: usize) -> Result<Self, VkError> {
         Ok(Self {
             ring: FrameRing::new(device, frames_in_flight)?,

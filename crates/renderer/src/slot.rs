@@ -14,8 +14,11 @@ use crate::overlay::OverlayQuad;
 use crate::pipelines::SetLayouts;
 
 /// Timestamps a frame may write: its start, the end of each pass, and the end of its
-/// last command (whose availability says the slot's frame has completed).
-const MAX_TIMESTAMPS: u32 = 16;
+/// last command.
+pub(crate) const MAX_TIMESTAMPS: u32 = 16;
+
+/// The slot's frame-end record: the frame's marker (8 bytes), then its timestamps.
+const FRAME_END_BYTES: u64 = 8 * (1 + MAX_TIMESTAMPS as u64);
 
 /// What one frame in flight owns. Reused only once the frame that used it last has
 /// completed (the host's promise when it records into the same slot again).
@@ -44,6 +47,14 @@ pub(crate) struct FrameSlot {
     /// The same for the local lights' maps.
     pub(crate) local_shadow_layers: Vec<glam::Mat4>,
     pub(crate) timestamps: Option<TimestampQueries>,
+    /// What the slot's frame writes after its last command (host-visible): its marker,
+    /// the frame's number + 1 (u64), then a copy of its timestamps. The GPU's own word
+    /// that the frame completed: the slot check, the timings and every cache committed
+    /// at record time read it, never a query.
+    pub(crate) frame_end: Buffer,
+    /// The marker the slot's last recorded frame writes when it completes (0: no frame
+    /// recorded since the slot was last known free).
+    pub(crate) recorded: u64,
     /// The passes whose end this slot's last frame stamped, in order (empty: no frame
     /// stamped since its timings were read, or no timestamps).
     pub(crate) stamped: Vec<&'static str>,
@@ -108,6 +119,14 @@ impl FrameSlot {
             shadow_layers: Vec::new(),
             local_shadow_layers: Vec::new(),
             timestamps,
+            frame_end: Buffer::new(
+                device,
+                "frame end marker and timings",
+                FRAME_END_BYTES,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                combustion_vk::gpu_allocator::MemoryLocation::GpuToCpu,
+            )?,
+            recorded: 0,
             stamped: Vec::new(),
             placement: crate::placement::SlotPlacement::new(device)?,
             joint_matrices: storage_buffer(device, JOINT_MATRICES, 64, CPU_TO_GPU)?,
@@ -123,6 +142,35 @@ impl FrameSlot {
             .find(|(name, _)| *name == decl.name)
             .map(|(_, set)| *set)
             .unwrap_or_else(|| panic!("no pass of the frame declares set {}", decl.name))
+    }
+
+    /// The marker of the last frame of this slot that has completed (0: none yet).
+    pub fn completed_marker(&self) -> u64 {
+        self.frame_end
+            .mapped()
+            .ok()
+            .and_then(|bytes| bytes.get(..8))
+            .map_or(0, |b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
+    }
+
+    /// Whether the slot's last recorded frame has completed (the GPU wrote its marker),
+    /// or no frame was recorded into it since it was last known free.
+    pub fn is_free(&self) -> bool {
+        self.recorded == 0 || self.completed_marker() >= self.recorded
+    }
+
+    /// The timestamps (ticks) the slot's completed frame copied, the first `count`.
+    pub fn completed_ticks(&self, count: usize) -> Vec<u64> {
+        self.frame_end.mapped().map_or_else(
+            |_| Vec::new(),
+            |bytes| {
+                bytes[8..]
+                    .chunks_exact(8)
+                    .take(count)
+                    .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
+                    .collect()
+            },
+        )
     }
 
     pub fn retire(&mut self, resource: crate::retire::Retired) {

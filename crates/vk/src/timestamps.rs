@@ -80,6 +80,37 @@ impl TimestampQueries {
         };
     }
 
+    /// Records a copy of the first `count` timestamps (64-bit ticks, clamped to the
+    /// pool's count) into `buffer` at `offset`, each 8 bytes after the last, waiting on the
+    /// GPU for each to be written (`WAIT`): a frame's own copy of its timings, which the
+    /// CPU reads from host-visible memory once the frame has completed without asking the
+    /// driver (on some a query read waits for the device). `buffer` needs
+    /// `TRANSFER_DST` usage, and `offset` a multiple of 8.
+    pub fn record_copy(&self, cmd: vk::CommandBuffer, buffer: vk::Buffer, offset: u64, count: u32) {
+        unsafe {
+            self.device.raw().cmd_copy_query_pool_results(
+                cmd,
+                self.pool,
+                0,
+                count.min(self.count),
+                buffer,
+                offset,
+                8,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        };
+    }
+
+    /// Milliseconds since the first of `ticks` (timestamps as [`Self::record_copy`]
+    /// wrote them), one per tick.
+    pub fn ms_since_first(&self, ticks: &[u64]) -> Vec<f64> {
+        let first = ticks.first().copied().unwrap_or(0);
+        ticks
+            .iter()
+            .map(|&t| t.wrapping_sub(first) as f64 * self.period_ns * 1e-6)
+            .collect()
+    }
+
     /// Reads all timestamps if the GPU has written them (never waits): `None` while any
     /// is pending. Milliseconds since the first timestamp (index 0), one per index; the
     /// duration of a pass is the difference of its end and start.
