@@ -1352,3 +1352,76 @@ fn a_frame_recorded_but_never_submitted_is_forgotten() {
     );
     finish_host(host, output, &log);
 }
+
+/// A slot recorded again while its frame is still executing, in steady state (issue 56,
+/// item 3): the frame was submitted behind an event the host has not set (its command
+/// buffer waits for it before Combustion's commands), so it cannot have run. The slot
+/// check reads the frame's own end-of-frame marker and refuses the slot; before, it read
+/// the timestamps of the slot's previous, completed frame (the reset of this frame's
+/// queries had not run) and accepted it.
+#[test]
+fn a_slot_recorded_again_while_its_frame_executes_is_refused() {
+    use combustion::renderer::RenderError;
+    let scenes = [builtin_scene("spheres").unwrap()];
+    let (mut host, log, mut output) = host_with_output(&scenes, 1, 32, 24);
+    // Two frames that complete: the slot's timestamps were written once.
+    for _ in 0..2 {
+        headless::frame(&mut host, &mut output, 0).unwrap();
+        host.wait_frames().unwrap();
+    }
+    let d = host.vulkan.device.clone();
+    let gate = unsafe { d.create_event(&vk::EventCreateInfo::default(), None) }.unwrap();
+    let (slot, cmd) = host.begin_frame().unwrap();
+    let host_to_all = [vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::HOST)
+        .src_access_mask(vk::AccessFlags2::HOST_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+        .dst_access_mask(vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE)];
+    let dependency = [vk::DependencyInfo::default().memory_barriers(&host_to_all)];
+    unsafe { d.cmd_wait_events2(cmd, &[gate], &dependency) };
+    host.record_frame(
+        slot,
+        cmd,
+        0,
+        (&output.image).into(),
+        output.state,
+        ImageState::COPY_SOURCE,
+    )
+    .unwrap();
+    output.state = ImageState::COPY_SOURCE;
+    host.submit_frame(slot).unwrap();
+    // The frame waits at the gate: its slot is in flight.
+    let (pool, other_cmd, fence) = host.vulkan.command_buffer(false).unwrap();
+    unsafe {
+        d.begin_command_buffer(other_cmd, &vk::CommandBufferBeginInfo::default())
+            .unwrap()
+    };
+    let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
+    let target = FrameTarget {
+        color: output
+            .image
+            .color_target(ImageState::COPY_SOURCE, ImageState::COPY_SOURCE)
+            .unwrap(),
+        depth: None,
+    };
+    let error = host
+        .renderer
+        .as_mut()
+        .unwrap()
+        .record(other_cmd, slot, &host.scenes[0], &inputs, &target)
+        .unwrap_err();
+    // Open the gate before anything can fail, so the frame completes.
+    unsafe { d.set_event(gate) }.unwrap();
+    assert!(
+        matches!(error, RenderError::FrameSlotInFlight { .. }),
+        "{error}"
+    );
+    unsafe { d.end_command_buffer(other_cmd).unwrap() };
+    host.wait_frames().unwrap();
+    unsafe {
+        d.destroy_event(gate, None);
+        d.destroy_fence(fence, None);
+        d.destroy_command_pool(pool, None);
+    }
+    finish_host(host, output, &log);
+}
