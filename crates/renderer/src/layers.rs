@@ -14,7 +14,6 @@ const LAYERS: &[(&str, &[&str])] = &[
     (
         "resources",
         &[
-            "back_faces",
             "bindings",
             "buffers",
             "color",
@@ -22,7 +21,6 @@ const LAYERS: &[(&str, &[&str])] = &[
             "deform",
             "environment",
             "error",
-            "forward",
             "fullscreen",
             "gbuffer",
             "gpu_types",

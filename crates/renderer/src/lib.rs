@@ -32,13 +32,11 @@ pub mod light_cull;
 pub mod overlay;
 pub mod reference;
 
-mod back_faces;
 mod buffers;
 mod color;
 mod commands;
 mod deform;
 mod error;
-mod forward;
 mod frame;
 mod fullscreen;
 mod host;

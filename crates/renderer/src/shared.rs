@@ -5,13 +5,13 @@
 
 use std::sync::Arc;
 
-use combustion_vk::{Buffer, Device, Image, Sampler};
+use combustion_vk::{vk, Buffer, Device, Image, Sampler};
 
 use crate::environment::{self, GpuEnvironment};
 use crate::error::RenderError;
 use crate::options::RendererSettings;
 use crate::overlay::{self, OverlayFont};
-use crate::{buffers, forward, placeholders, shadows};
+use crate::{buffers, placeholders, shadows};
 
 /// The renderer's shared resources (module documentation).
 pub(crate) struct SharedResources {
@@ -61,7 +61,7 @@ impl SharedResources {
             energy_table: energy_table(device, settings.shading.energy_compensation)?,
             sheen_table: sheen_table(device, false)?,
             shadow_sampler: shadows::shadow_sampler(device)?,
-            behind_sampler: forward::behind_sampler(device)?,
+            behind_sampler: behind_sampler(device)?,
             overlay_font,
             overlay_atlas,
             overlay_image: (overlay_image_buffer(device, &[[0; 4]])?, None),
@@ -146,5 +146,22 @@ fn overlay_image_buffer(device: &Arc<Device>, rgba: &[[u8; 4]]) -> Result<Buffer
         device,
         "overlay image",
         bytemuck::cast_slice(rgba),
+    )?)
+}
+
+/// The sampler the forward pass reads the image behind transmissive objects with:
+/// trilinear (a rough surface's lookup reads a coarser level), clamped at the edges.
+fn behind_sampler(device: &Arc<Device>) -> Result<Sampler, RenderError> {
+    Ok(Sampler::new(
+        device,
+        &vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .min_lod(0.0)
+            .max_lod(vk::LOD_CLAMP_NONE),
     )?)
 }

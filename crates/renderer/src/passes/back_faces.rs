@@ -1,20 +1,35 @@
-//! The far sides of the transmissive objects with a volume (`crate::back_faces`): their
+//! The far sides of the transmissive objects with a volume: their
 //! nearest back face's depth and normal at each pixel, where the forward pass's
 //! refracted rays leave those objects. Runs in frames whose forward pass draws such an
 //! object (the VOLUME variant).
-
-use combustion_vk::vk;
+//!
+//! Its pipeline (back_faces.vert + back_faces.frag): the far sides of the
+//! transmissive objects that have a volume (KHR_materials_volume), front faces culled,
+//! the nearest at each pixel: its depth and its world-space normal
+//! ([`crate::targets::BackFaceTargets`]). forward.frag's VOLUME variant follows each ray
+//! refracted into such an object to where its depth says the ray leaves, and refracts it
+//! out through the normal there. Built only for scenes with such an object
+//! (`ShaderVariant::volume`).
 
 use super::{FrameContext, FramePass};
-use crate::back_faces::BackFacesPass;
 use crate::bindings::{self, SetDecl};
 use crate::error::RenderError;
+use crate::gbuffer::DEPTH_FORMAT;
+use crate::gpu_types::GBufferPush;
 use crate::graph::{BufferUse, ImageUse};
+use crate::mesh_draw::{draw_in_order, Faces};
 use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
 use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
+use crate::scene_upload::GpuScene;
+use crate::targets::{BackFaceTargets, BACK_FACE_NORMAL_FORMAT};
 use crate::variant::ShaderVariant;
+use combustion_vk::{
+    vk, ColorBlend, DescriptorSetLayout, Device, GraphicsPipelineDesc, Pipeline, PipelineCache,
+    PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
+};
+use std::sync::Arc;
 
 pub(crate) struct BackFaces;
 
@@ -96,5 +111,131 @@ impl FramePass for BackFaces {
             frame.slot.set(&bindings::BACK_FACES),
             frame.view_projection,
         );
+    }
+}
+
+/// The back faces pass's pipeline and its layout: set 0 `bindings::BACK_FACES`, a
+/// [`GBufferPush`] to the vertex stage.
+pub struct BackFacesPass {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
+impl BackFacesPass {
+    /// Compiles back_faces.vert and back_faces.frag and builds the pipeline through
+    /// `cache`: positions and normals of the scene's first vertex stream.
+    ///
+    /// # Errors
+    /// [`RenderError::Vulkan`] if a shader does not compile or the pipeline cannot be built.
+    pub fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        set_layout: &DescriptorSetLayout,
+    ) -> Result<Self, RenderError> {
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::VERTEX,
+            offset: 0,
+            size: std::mem::size_of::<GBufferPush>() as u32,
+        }];
+        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
+        let module = |file: &str, stage| -> Result<ShaderModule, RenderError> {
+            Ok(ShaderModule::new(
+                device,
+                &compiler.compile(file, stage, &[])?,
+                stage,
+            )?)
+        };
+        let vertex = module("back_faces.vert", ShaderStage::Vertex)?;
+        let fragment = module("back_faces.frag", ShaderStage::Fragment)?;
+        use crate::gpu_types::GpuVertex as Vertex;
+        let bindings = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: std::mem::size_of::<Vertex>() as u32,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let attribute = |location, offset| vk::VertexInputAttributeDescription {
+            location,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: offset as u32,
+        };
+        let attributes = [
+            attribute(0, std::mem::offset_of!(Vertex, position)),
+            attribute(1, std::mem::offset_of!(Vertex, normal)),
+        ];
+        let pipeline = Pipeline::graphics(
+            device,
+            &GraphicsPipelineDesc {
+                vertex: &vertex,
+                fragment: &fragment,
+                layout: &layout,
+                vertex_bindings: &bindings,
+                vertex_attributes: &attributes,
+                color_formats: &[BACK_FACE_NORMAL_FORMAT],
+                depth_format: Some(DEPTH_FORMAT),
+                depth_write: true,
+                blend: ColorBlend::Replace,
+                cache: Some(cache),
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+            },
+        )?;
+        Ok(Self { layout, pipeline })
+    }
+
+    /// Records the pass: the back faces of `scene`'s transmissive objects with a volume,
+    /// into `targets` (normal in COLOR_ATTACHMENT_OPTIMAL, depth in the depth-attachment
+    /// layout; both cleared: normal 0, depth 1).
+    pub(crate) fn record(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        targets: &BackFaceTargets,
+        scene: &GpuScene,
+        set: vk::DescriptorSet,
+        view_projection: glam::Mat4,
+    ) {
+        let extent = targets.depth.extent();
+        let color = [vk::RenderingAttachmentInfo::default()
+            .image_view(targets.normal.view())
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue::default())];
+        let depth = crate::commands::cleared_depth_attachment(targets.depth.view());
+        let rendering = vk::RenderingInfo::default()
+            .render_area(crate::commands::whole(extent))
+            .layer_count(1)
+            .color_attachments(&color)
+            .depth_attachment(&depth);
+        let raw = device.raw();
+        let mut push = GBufferPush {
+            view_projection: view_projection.to_cols_array(),
+            object_index: 0,
+            _pad: [0; 3],
+        };
+        // SAFETY: recording into a command buffer in the recording state, with resources
+        // that outlive the submission (a dropped scene is retired, not freed).
+        unsafe {
+            crate::commands::begin_scene_drawing(
+                raw,
+                cmd,
+                &rendering,
+                extent,
+                (&self.pipeline, &self.layout),
+                set,
+            );
+            draw_in_order(raw, cmd, scene, Faces::Back, &scene.volumes, |object| {
+                push.object_index = object as u32;
+                raw.cmd_push_constants(
+                    cmd,
+                    self.layout.raw(),
+                    vk::ShaderStageFlags::VERTEX,
+                    0,
+                    bytemuck::bytes_of(&push),
+                );
+            });
+            raw.cmd_end_rendering(cmd);
+        }
     }
 }
