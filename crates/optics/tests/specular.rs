@@ -195,25 +195,12 @@ fn a_specular_dielectric_over_white_conserves_energy() {
                     };
                     let mut spec_only = m;
                     spec_only.base_color = [0.0; 3];
-                    let spec = integrate_slope_space_n(
+                    let (spec, diffuse) = albedo_parts(
                         alpha,
-                        alpha,
-                        96,
-                        32,
-                        &kappa_zeros_clustered(v, alpha, alpha),
-                        u_max_reflection(v, alpha, alpha),
-                        |h| {
-                            let l = reflect(v, h);
-                            if l.z <= 0.0 {
-                                return [0.0; 3];
-                            }
-                            f(&spec_only, &s, v, l).map(|x| x * l.z * 4.0 * v.dot(h))
-                        },
+                        v,
+                        |v, l| f(&spec_only, &s, v, l),
+                        |v, l| f(&m, &s, v, l),
                     );
-                    let diffuse: [f64; 3] = integrate_hemisphere_n(48, 24, &[], &[], |l| {
-                        let (all, spec) = (f(&m, &s, v, l), f(&spec_only, &s, v, l));
-                        std::array::from_fn(|c| (all[c] - spec[c]) * l.z)
-                    });
                     for c in 0..3 {
                         let total = spec[c] + diffuse[c];
                         let case =

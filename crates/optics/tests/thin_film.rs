@@ -99,25 +99,12 @@ fn a_film_over_a_white_base_conserves_energy() {
                     };
                     let mut spec_only = m;
                     spec_only.base_color = [0.0; 3];
-                    let spec = integrate_slope_space_n(
+                    let (spec, diffuse) = albedo_parts(
                         alpha,
-                        alpha,
-                        96,
-                        32,
-                        &kappa_zeros_clustered(v, alpha, alpha),
-                        u_max_reflection(v, alpha, alpha),
-                        |h| {
-                            let l = reflect(v, h);
-                            if l.z <= 0.0 {
-                                return [0.0; 3];
-                            }
-                            f(&spec_only, &film, v, l).map(|x| x * l.z * 4.0 * v.dot(h))
-                        },
+                        v,
+                        |v, l| f(&spec_only, &film, v, l),
+                        |v, l| f(&m, &film, v, l),
                     );
-                    let diffuse: [f64; 3] = integrate_hemisphere_n(48, 24, &[], &[], |l| {
-                        let (all, spec) = (f(&m, &film, v, l), f(&spec_only, &film, v, l));
-                        std::array::from_fn(|c| (all[c] - spec[c]) * l.z)
-                    });
                     for c in 0..3 {
                         let (spec, diffuse) = (spec[c], diffuse[c]);
                         let total = spec + diffuse;

@@ -516,3 +516,35 @@ pub fn brdf_err(
     }
     worst
 }
+
+/// The directional albedo ∫ f cos dl of a BRDF seen from `v`, per channel, split into its
+/// specular part — `specular(v, l)`, the BRDF with a black base, integrated over the GGX
+/// lobe of roughness `alpha` in slope space — and its diffuse part — `all(v, l)` less
+/// the specular, over the hemisphere. (specular, diffuse).
+pub fn albedo_parts(
+    alpha: f64,
+    v: Vec3<f64>,
+    specular: impl Fn(Vec3<f64>, Vec3<f64>) -> [f64; 3],
+    all: impl Fn(Vec3<f64>, Vec3<f64>) -> [f64; 3],
+) -> ([f64; 3], [f64; 3]) {
+    let spec = integrate_slope_space_n(
+        alpha,
+        alpha,
+        96,
+        32,
+        &kappa_zeros_clustered(v, alpha, alpha),
+        u_max_reflection(v, alpha, alpha),
+        |h| {
+            let l = reflect(v, h);
+            if l.z <= 0.0 {
+                return [0.0; 3];
+            }
+            specular(v, l).map(|x| x * l.z * 4.0 * v.dot(h))
+        },
+    );
+    let diffuse: [f64; 3] = integrate_hemisphere_n(48, 24, &[], &[], |l| {
+        let (whole, spec) = (all(v, l), specular(v, l));
+        std::array::from_fn(|c| (whole[c] - spec[c]) * l.z)
+    });
+    (spec, diffuse)
+}
