@@ -917,11 +917,12 @@ fn every_gbuffer_storage_survives_its_targets_retired_and_rebuilt() {
             (after, renderer.stats().targets_retired)
         };
         common::finish(headless);
-        // The emissive scene's targets after each run of the other two (2), the plain
-        // ones (which the environment-lit scene shares) during the second emissive run.
+        // The emissive scene's own target (the emissive + occlusion image) after each
+        // run of the other two: retired twice and made again. The other images are the
+        // same requests in every variant here (one pool), so no frame leaves them unused.
         assert!(
-            retired >= 3,
-            "{}: {retired} target sets retired",
+            retired >= 2,
+            "{}: images retired {retired} times",
             storage.name()
         );
         for (scene, frame) in scenes.iter().zip(&after) {

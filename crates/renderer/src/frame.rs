@@ -20,7 +20,6 @@ use crate::scene_upload::GpuScene;
 use crate::slot::{
     JOINT_MATRICES, LIGHTS, MORPH_WEIGHTS, OVERLAY_QUADS, SHADOW_CASCADES, TILE_LISTS,
 };
-use crate::targets::{FrameTargets, TargetKey};
 use crate::Renderer;
 use combustion_vk::{Image, ImageDesc, RingFrame};
 
@@ -118,8 +117,8 @@ impl Renderer {
         // The slot's previous frame has completed: read its timings, free what it
         // retired, and reuse its resources.
         self.begin_slot(frame_slot)?;
-        let key = TargetKey::of(extent, variant);
-        self.ensure_targets(key)?;
+        let requests = crate::passes::frame_images(variant, &self.settings);
+        self.ensure_images(&requests, extent)?;
         self.slots[frame_slot]
             .placement
             .place(&self.device, scene, inputs.pose)?;
@@ -128,10 +127,10 @@ impl Renderer {
         self.write_frame_lights(frame_slot, inputs, &shadowed)?;
         self.prepare_culling(frame_slot, inputs, extent)?;
         self.write_frame_overlay(frame_slot, inputs, extent)?;
-        self.record_passes(cmd, frame_slot, key, scene, variant, inputs, target);
+        self.record_passes(cmd, frame_slot, &requests, scene, variant, inputs, target);
         self.frame_number += 1;
         self.last_slot = Some(frame_slot);
-        self.retire_unused_targets();
+        self.retire_unused_images();
         Ok(())
     }
 
@@ -262,45 +261,36 @@ impl Renderer {
         Ok(())
     }
 
-    /// Makes sure targets of `key` exist and marks them used by this frame.
-    fn ensure_targets(&mut self, key: TargetKey) -> Result<(), RenderError> {
-        let frame = self.frame_number;
-        if let Some((_, last_used)) = self.targets.get_mut(&key) {
-            *last_used = frame;
-            return Ok(());
+    /// Makes sure the frame's images (`requests`, at `extent`) exist and marks them used
+    /// by this frame.
+    fn ensure_images(
+        &mut self,
+        requests: &[crate::targets::ImageRequest],
+        extent: vk::Extent2D,
+    ) -> Result<(), RenderError> {
+        if self
+            .images
+            .ensure(&self.device, requests, extent, self.frame_number)?
+        {
+            self.stats.targets_built += 1;
         }
-        let targets = FrameTargets::new(
-            &self.device,
-            key,
-            self.settings.hdr_format,
-            self.settings.gbuffer,
-        )?;
-        self.targets.insert(key, (targets, frame));
-        self.stats.targets_built += 1;
         Ok(())
     }
 
-    /// Targets no frame used for more than `settings.targets_kept_for_frames` frames (a
+    /// Images no frame used for more than `settings.targets_kept_for_frames` frames (a
     /// window resized, a viewport closed, a variant's own targets) go to the retire list
     /// of the frame just recorded.
-    fn retire_unused_targets(&mut self) {
-        let frame = self.frame_number;
+    fn retire_unused_images(&mut self) {
         let kept = u64::from(self.settings.targets_kept_for_frames);
-        let stale: Vec<TargetKey> = self
-            .targets
-            .iter()
-            .filter(|(_, (_, last_used))| last_used + kept < frame)
-            .map(|(key, _)| *key)
-            .collect();
-        for key in stale {
-            if let Some((targets, _)) = self.targets.remove(&key) {
-                for image in targets.images() {
-                    self.states.forget(image.raw);
-                }
-                self.retire(targets);
-                self.stats.targets_retired += 1;
-            }
+        let stale = self.images.take_unused(self.frame_number, kept);
+        if stale.is_empty() {
+            return;
         }
+        for image in &stale {
+            self.states.forget(image.raw());
+        }
+        self.retire(stale);
+        self.stats.targets_retired += 1;
     }
 
     /// Places the shadow cascades of the frame's shadowed lights (frames whose variant
@@ -537,7 +527,7 @@ impl Renderer {
         &mut self,
         cmd: vk::CommandBuffer,
         slot: usize,
-        key: TargetKey,
+        requests: &[crate::targets::ImageRequest],
         scene: &GpuScene,
         variant: crate::variant::ShaderVariant,
         inputs: &FrameInputs<'_>,
@@ -571,13 +561,16 @@ impl Renderer {
                 ],
             }
         });
+        let images = self.images.frame_images(requests, extent);
         let frame = FrameContext {
             device: &self.device,
             registry: &self.pipelines,
             shared: &self.shared,
             settings: &self.settings,
             slot: s,
-            targets: &self.targets[&key].0,
+            gbuffer: crate::gbuffer::GBufferTargets::of(&images),
+            hdr: images.get(crate::passes::lighting::HDR),
+            images,
             scene,
             environment: frame_environment(scene, inputs),
             inputs,
@@ -997,15 +990,16 @@ impl Renderer {
         self.record_checked(frame.cmd, frame.slot, scene, inputs, &target, variant)?;
         *display_state = after;
         if let (Some(readback), Some(buffers)) = (readback, &offscreen.readback) {
-            let key = TargetKey::of(extent, self.variant_of(scene.variant));
-            let targets = &self.targets.get(&key).expect("recorded this frame").0;
+            let requests = crate::passes::frame_images(variant, &self.settings);
+            let images = self.images.frame_images(&requests, extent);
+            let gbuffer = crate::gbuffer::GBufferTargets::of(&images);
             Offscreen::record_copies(
                 &self.device,
                 &mut self.states,
                 frame.cmd,
                 display,
                 buffers,
-                targets,
+                (images.get(crate::passes::lighting::HDR), &gbuffer),
                 readback,
             );
         }

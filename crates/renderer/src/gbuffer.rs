@@ -4,8 +4,8 @@
 use std::sync::Arc;
 
 use combustion_vk::{
-    vk, DescriptorSetLayout, Device, GraphicsPipelineDesc, Image, ImageDesc, Pipeline,
-    PipelineCache, PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
+    vk, DescriptorSetLayout, Device, GraphicsPipelineDesc, Image, Pipeline, PipelineCache,
+    PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
 };
 
 use combustion_scene::Topology;
@@ -38,134 +38,132 @@ pub const FILM_FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 /// material without the extension is the plain dielectric bit for bit).
 pub const SPECULAR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 
-/// The G-buffer's images at one size.
-pub struct GBufferTargets {
+/// The names the G-buffer's targets are asked for with (`targets::ImageRequest`), each
+/// also its debug name.
+pub const BASE_COLOR_METALNESS: &str = "gbuffer base colour + metalness";
+/// The octahedral normal, roughness and anisotropy target's name.
+pub const NORMAL_ROUGHNESS_ANISOTROPY: &str = "gbuffer normal + roughness + anisotropy";
+/// The material index and anisotropy direction target's name.
+pub const MATERIAL_DIRECTION: &str = "gbuffer material + anisotropy direction";
+/// The depth target's name.
+pub const DEPTH: &str = "gbuffer depth";
+/// The emissive + occlusion target's name.
+pub const EMISSIVE: &str = "gbuffer emissive + occlusion";
+/// The clear coat's target's name.
+pub const CLEARCOAT: &str = "gbuffer clear coat";
+/// The sheen's target's name.
+pub const SHEEN: &str = "gbuffer sheen";
+/// The thin film's target's name.
+pub const FILM: &str = "gbuffer thin film";
+/// The specular target's name.
+pub const SPECULAR: &str = "gbuffer specular";
+
+/// The G-buffer's targets a frame of `variant` draws into, in `storage`'s formats (the
+/// emissive target in `emissive_format`, the HDR image's): colour targets with colour
+/// attachment, sampled and transfer-source usage; depth with depth attachment, sampled
+/// and transfer-source usage. The three colour targets and depth always; the emissive +
+/// occlusion target, the clear coat's, the sheen's, the thin film's and the specular
+/// one in variants with them.
+pub(crate) fn requests(
+    variant: ShaderVariant,
+    storage: GBufferStorage,
+    emissive_format: vk::Format,
+) -> Vec<crate::targets::ImageRequest> {
+    use crate::targets::ImageRequest;
+    let color = vk::ImageUsageFlags::COLOR_ATTACHMENT
+        | vk::ImageUsageFlags::SAMPLED
+        | vk::ImageUsageFlags::TRANSFER_SRC;
+    let depth = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+        | vk::ImageUsageFlags::SAMPLED
+        | vk::ImageUsageFlags::TRANSFER_SRC;
+    let mut requests = vec![
+        ImageRequest::new(BASE_COLOR_METALNESS, storage.base_color.vk(), color),
+        ImageRequest::new(NORMAL_ROUGHNESS_ANISOTROPY, storage.surface.vk(), color),
+        ImageRequest::new(MATERIAL_DIRECTION, MATERIAL_DIRECTION_FORMAT, color),
+        ImageRequest::new(DEPTH, DEPTH_FORMAT, depth),
+    ];
+    for (wanted, name, format) in [
+        (
+            variant.has_emissive_occlusion_target(),
+            EMISSIVE,
+            emissive_format,
+        ),
+        (variant.clearcoat, CLEARCOAT, CLEARCOAT_FORMAT),
+        (variant.sheen, SHEEN, SHEEN_FORMAT),
+        (variant.iridescence, FILM, FILM_FORMAT),
+        (variant.specular, SPECULAR, SPECULAR_FORMAT),
+    ] {
+        if wanted {
+            requests.push(ImageRequest::new(name, format, color));
+        }
+    }
+    requests
+}
+
+/// The G-buffer's images of one frame (from the frame's images, by name).
+pub struct GBufferTargets<'a> {
     /// Base colour and metalness ([`BaseColorStorage::vk`]), colour attachment 0.
-    pub base_color_metalness: Image,
+    pub base_color_metalness: &'a Image,
     /// Octahedral normal, perceptual roughness and anisotropy strength
     /// ([`SurfaceStorage::vk`]), colour attachment 1.
-    pub normal_roughness_anisotropy: Image,
+    pub normal_roughness_anisotropy: &'a Image,
     /// Material index and anisotropy direction ([`MATERIAL_DIRECTION_FORMAT`]), colour
     /// attachment 2.
-    pub material_direction: Image,
+    pub material_direction: &'a Image,
     /// Depth ([`DEPTH_FORMAT`], 1 = far plane), the depth attachment.
-    pub depth: Image,
+    pub depth: &'a Image,
     /// Emitted radiance (rgb) and occlusion (a), present in the `EMISSIVE` and
     /// `OCCLUSION` variants only, in the HDR image's format (f16 or f32): emission is
     /// stored at the precision of the frame it is added to, so an f32 frame neither
     /// rounds it to 11 bits nor saturates it at 65504.
-    pub emissive: Option<Image>,
+    pub emissive: Option<&'a Image>,
     /// The clear coat ([`CLEARCOAT_FORMAT`]), present in the `CLEARCOAT` variant only:
     /// the colour attachment after the emissive target's (or in its place).
-    pub clearcoat: Option<Image>,
+    pub clearcoat: Option<&'a Image>,
     /// The sheen ([`SHEEN_FORMAT`]), present in the `SHEEN` variant only: the colour
     /// attachment after the clear coat's (or in its place).
-    pub sheen: Option<Image>,
+    pub sheen: Option<&'a Image>,
     /// The thin film ([`FILM_FORMAT`]), present in the `IRIDESCENCE` variant only: the
     /// colour attachment after the sheen's (or in its place).
-    pub film: Option<Image>,
+    pub film: Option<&'a Image>,
     /// The dielectric's specular colour and factor ([`SPECULAR_FORMAT`]), present in the
     /// `SPECULAR` variant only: the last colour attachment.
-    pub specular: Option<Image>,
+    pub specular: Option<&'a Image>,
 }
 
-impl GBufferTargets {
-    /// Allocates the targets at `width` × `height` pixels in `storage`'s formats (colour targets with colour
-    /// attachment, sampled and transfer-source usage; depth with depth attachment, sampled
-    /// and transfer-source usage). With `emissive_occlusion`, also the emissive + occlusion
-    /// target, of `emissive_format` (the HDR image's format); with `clearcoat`, the clear
-    /// coat's target; with `sheen`, the sheen's; with `film`, the thin film's; with
-    /// `specular`, the specular target.
-    ///
-    /// # Errors
-    /// [`RenderError::Vulkan`] if an image cannot be created or allocated.
-    pub fn new(
-        device: &Arc<Device>,
-        width: u32,
-        height: u32,
-        storage: GBufferStorage,
-        emissive_occlusion: bool,
-        [clearcoat, sheen, film, specular]: [bool; 4],
-        emissive_format: vk::Format,
-    ) -> Result<Self, RenderError> {
-        let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
-            | vk::ImageUsageFlags::SAMPLED
-            | vk::ImageUsageFlags::TRANSFER_SRC;
-        let image = |name, format, usage| {
-            Image::new(device, &ImageDesc::new(name, format, width, height, usage))
-        };
-        Ok(Self {
-            base_color_metalness: image(
-                "gbuffer base colour + metalness",
-                storage.base_color.vk(),
-                color_usage,
-            )?,
-            normal_roughness_anisotropy: image(
-                "gbuffer normal + roughness + anisotropy",
-                storage.surface.vk(),
-                color_usage,
-            )?,
-            material_direction: image(
-                "gbuffer material + anisotropy direction",
-                MATERIAL_DIRECTION_FORMAT,
-                color_usage,
-            )?,
-            depth: image(
-                "gbuffer depth",
-                DEPTH_FORMAT,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                    | vk::ImageUsageFlags::SAMPLED
-                    | vk::ImageUsageFlags::TRANSFER_SRC,
-            )?,
-            emissive: if emissive_occlusion {
-                Some(image(
-                    "gbuffer emissive + occlusion",
-                    emissive_format,
-                    color_usage,
-                )?)
-            } else {
-                None
-            },
-            clearcoat: if clearcoat {
-                Some(image("gbuffer clear coat", CLEARCOAT_FORMAT, color_usage)?)
-            } else {
-                None
-            },
-            sheen: if sheen {
-                Some(image("gbuffer sheen", SHEEN_FORMAT, color_usage)?)
-            } else {
-                None
-            },
-            film: if film {
-                Some(image("gbuffer thin film", FILM_FORMAT, color_usage)?)
-            } else {
-                None
-            },
-            specular: if specular {
-                Some(image("gbuffer specular", SPECULAR_FORMAT, color_usage)?)
-            } else {
-                None
-            },
-        })
+impl<'a> GBufferTargets<'a> {
+    /// The G-buffer among `images` (a frame's, which [`requests`] asked for).
+    pub(crate) fn of(images: &crate::targets::FrameImages<'a>) -> Self {
+        Self {
+            base_color_metalness: images.get(BASE_COLOR_METALNESS),
+            normal_roughness_anisotropy: images.get(NORMAL_ROUGHNESS_ANISOTROPY),
+            material_direction: images.get(MATERIAL_DIRECTION),
+            depth: images.get(DEPTH),
+            emissive: images.find(EMISSIVE),
+            clearcoat: images.find(CLEARCOAT),
+            sheen: images.find(SHEEN),
+            film: images.find(FILM),
+            specular: images.find(SPECULAR),
+        }
     }
 
     /// The three targets every variant has (what parity tests read back).
-    pub fn colors(&self) -> [&Image; 3] {
+    pub fn colors(&self) -> [&'a Image; 3] {
         [
-            &self.base_color_metalness,
-            &self.normal_roughness_anisotropy,
-            &self.material_direction,
+            self.base_color_metalness,
+            self.normal_roughness_anisotropy,
+            self.material_direction,
         ]
     }
 
     /// Every colour attachment of the G-buffer pass, in attachment order.
-    pub fn attachments(&self) -> Vec<&Image> {
+    pub fn attachments(&self) -> Vec<&'a Image> {
         let mut all = self.colors().to_vec();
-        all.extend(self.emissive.as_ref());
-        all.extend(self.clearcoat.as_ref());
-        all.extend(self.sheen.as_ref());
-        all.extend(self.film.as_ref());
-        all.extend(self.specular.as_ref());
+        all.extend(self.emissive);
+        all.extend(self.clearcoat);
+        all.extend(self.sheen);
+        all.extend(self.film);
+        all.extend(self.specular);
         all
     }
 }
@@ -317,7 +315,7 @@ impl GBufferPass {
         &self,
         device: &Device,
         cmd: vk::CommandBuffer,
-        targets: &GBufferTargets,
+        targets: &GBufferTargets<'_>,
         scene: &GpuScene,
         set: vk::DescriptorSet,
         view_projection: glam::Mat4,

@@ -65,7 +65,6 @@ mod targets;
 mod textures;
 mod variant;
 
-use std::collections::HashMap;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
@@ -120,7 +119,8 @@ pub struct Renderer {
     /// Combustion's own submissions (render, bench), created on first use.
     offscreen: Option<offscreen::Offscreen>,
     slots: Vec<slot::FrameSlot>,
-    targets: HashMap<targets::TargetKey, (targets::FrameTargets, u64)>,
+    /// The frames' images (G-buffer, HDR, …), each kept while frames of its size use it.
+    images: targets::ImagePool,
     /// Every pipeline built, and what builds them.
     pipelines: pipelines::PipelineRegistry,
     /// Placeholders, samplers, tables and the overlay's font and image, which the
@@ -175,7 +175,7 @@ impl Renderer {
         let mut renderer = Self {
             offscreen: None,
             slots,
-            targets: HashMap::new(),
+            images: targets::ImagePool::default(),
             pipelines,
             shared,
             retire_queue: retire::RetireQueue::new(),

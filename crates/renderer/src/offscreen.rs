@@ -12,13 +12,12 @@ use combustion_vk::{
 
 use crate::color::f16_to_f32;
 use crate::error::RenderError;
-use crate::gbuffer::{GBufferReadback, GBufferTexel};
+use crate::gbuffer::{GBufferReadback, GBufferTargets, GBufferTexel};
 use crate::graph::{BufferUse, ImageStates, ImageUse, PassUses, TrackedImage};
 use crate::options::{
     BaseColorStorage, GBufferStorage, HdrFormat, Readback, RendererSettings, SurfaceStorage,
 };
 use crate::results::{Frame, PassTimings};
-use crate::targets::FrameTargets;
 #[cfg(doc)]
 use crate::Renderer;
 
@@ -163,33 +162,32 @@ impl Offscreen {
         cmd: vk::CommandBuffer,
         display: &Image,
         buffers: &ReadbackBuffers,
-        targets: &FrameTargets,
+        (hdr, g): (&Image, &GBufferTargets<'_>),
         readback: Readback,
     ) {
         let mut copies: Vec<(&Image, &Buffer)> = Vec::new();
         if readback.images {
-            copies.push((&targets.hdr, &buffers.hdr));
+            copies.push((hdr, &buffers.hdr));
             copies.push((display, &buffers.ldr));
         }
         if readback.gbuffer {
-            let g = &targets.gbuffer;
             for (image, buffer) in g.colors().into_iter().zip(&buffers.gbuffer) {
                 copies.push((image, buffer));
             }
-            copies.push((&g.depth, &buffers.gbuffer[3]));
-            if let (Some(image), Some(buffer)) = (&g.clearcoat, &buffers.clearcoat) {
+            copies.push((g.depth, &buffers.gbuffer[3]));
+            if let (Some(image), Some(buffer)) = (g.clearcoat, &buffers.clearcoat) {
                 copies.push((image, buffer));
             }
-            if let (Some(image), Some(buffer)) = (&g.sheen, &buffers.sheen) {
+            if let (Some(image), Some(buffer)) = (g.sheen, &buffers.sheen) {
                 copies.push((image, buffer));
             }
-            if let (Some(image), Some(buffer)) = (&g.film, &buffers.film) {
+            if let (Some(image), Some(buffer)) = (g.film, &buffers.film) {
                 copies.push((image, buffer));
             }
-            if let (Some(image), Some(buffer)) = (&g.specular, &buffers.specular) {
+            if let (Some(image), Some(buffer)) = (g.specular, &buffers.specular) {
                 copies.push((image, buffer));
             }
-            if let (Some(image), Some(buffer)) = (&g.emissive, &buffers.emissive) {
+            if let (Some(image), Some(buffer)) = (g.emissive, &buffers.emissive) {
                 copies.push((image, buffer));
             }
         }

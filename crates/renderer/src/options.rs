@@ -529,8 +529,8 @@ pub struct RendererSettings {
     /// Frames the CPU may record ahead of the GPU (1 to [`MAX_FRAMES_IN_FLIGHT`]):
     /// each has its own descriptor sets, light buffer and timestamp queries.
     pub frames_in_flight: usize,
-    /// Frames a set of frame targets (the G-buffer, HDR image and the rest, per size
-    /// and kind) is kept after the last frame that used it, then retired (freed once
+    /// Frames an image of the frames (a G-buffer target, the HDR image and the rest, per
+    /// size and kind) is kept after the last frame that used it, then retired (freed once
     /// the frames in flight that used it complete): a host alternating viewports or
     /// variants keeps what it draws again; fewer frames free memory sooner. Default
     /// [`TARGETS_KEPT_FOR_FRAMES`]. Any count is safe; 0 retires each frame's targets

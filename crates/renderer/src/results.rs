@@ -114,9 +114,11 @@ impl PassTimings {
 pub struct RendererStats {
     /// Frames recorded.
     pub frames: u64,
-    /// Sets of targets (G-buffer + HDR image) allocated.
+    /// Frames that made images of their own (G-buffer targets, the HDR image, …): a new
+    /// size, or a feature's target a frame needed first.
     pub targets_built: u64,
-    /// Sets of targets retired after going unused.
+    /// Times images were retired after going unused (those of one size and kind that
+    /// went unused together retire together).
     pub targets_retired: u64,
     /// Pipelines built (graphics and compute; the environment bake's are counted as
     /// bakes).

@@ -1,177 +1,151 @@
-//! The renderer's own images at one size: the G-buffer and the HDR (lit) image. Kept
-//! per (size, variant) so that viewports of different sizes rendered in alternation do
-//! not rebuild anything per frame; a size unused for a while is retired.
+//! The frame's images, from one pool: each pass asks for the images it creates by name
+//! and description (`passes::FramePass::images`: the G-buffer's targets, the HDR image,
+//! what lies behind glass, the far sides of glass volumes), the pool makes each at the
+//! frame's size the first time a frame needs it and keeps it while frames of that size
+//! use it (viewports of different sizes rendered in alternation rebuild nothing), and
+//! gives up an image no frame has used for a while, for the renderer to retire. A frame
+//! sees its images by name ([`FrameImages`]).
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use combustion_vk::{vk, Device, Image, ImageDesc};
 
 use crate::error::RenderError;
-use crate::gbuffer::{GBufferTargets, DEPTH_FORMAT};
-use crate::graph::TrackedImage;
-use crate::options::{GBufferStorage, HdrFormat};
 
-/// Identifies one set of targets.
+/// An image a pass creates for the frame: its name (how passes find it, and its debug
+/// name), format, usage, and whether it has a full mip chain; its size is the frame's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub(crate) struct TargetKey {
-    pub width: u32,
-    pub height: u32,
-    /// Whether the G-buffer has the emissive + occlusion target.
-    pub emissive_occlusion: bool,
-    /// Whether there is the image of what lies behind transmissive objects.
-    pub behind: bool,
-    /// Whether there are the far sides of transmissive volumes (depth and normals).
-    pub back_faces: bool,
-    /// Whether the G-buffer has the clear coat's target.
-    pub clearcoat: bool,
-    /// Whether the G-buffer has the sheen's target.
-    pub sheen: bool,
-    /// Whether the G-buffer has the thin film's target.
-    pub film: bool,
-    /// Whether the G-buffer has the specular target.
-    pub specular: bool,
+pub(crate) struct ImageRequest {
+    pub name: &'static str,
+    pub format: vk::Format,
+    pub usage: vk::ImageUsageFlags,
+    pub full_mips: bool,
 }
 
-impl TargetKey {
-    /// The targets a frame of `extent` in `variant` draws into.
-    pub fn of(extent: vk::Extent2D, variant: crate::variant::ShaderVariant) -> Self {
+impl ImageRequest {
+    /// `name`, one mip level.
+    pub const fn new(name: &'static str, format: vk::Format, usage: vk::ImageUsageFlags) -> Self {
         Self {
-            width: extent.width,
-            height: extent.height,
-            emissive_occlusion: variant.has_emissive_occlusion_target(),
-            behind: variant.transmission,
-            back_faces: variant.volume,
-            clearcoat: variant.clearcoat,
-            sheen: variant.sheen,
-            film: variant.iridescence,
-            specular: variant.specular,
+            name,
+            format,
+            usage,
+            full_mips: false,
+        }
+    }
+
+    /// The same with every mip level down to 1×1.
+    pub const fn with_full_mips(self) -> Self {
+        Self {
+            full_mips: true,
+            ..self
         }
     }
 }
 
-/// The images of one frame size.
-pub(crate) struct FrameTargets {
-    pub gbuffer: GBufferTargets,
-    pub hdr: Image,
-    /// What lies behind the transmissive objects: the lit HDR image before the forward
-    /// pass, with every mip level (rough transmission reads coarser levels), in variants
-    /// with transmission (the behind pass makes it).
-    pub behind: Option<Image>,
-    /// The far sides of the transmissive objects with a volume, in variants with one
-    /// (the back faces pass draws them; forward.frag's refracted rays leave there).
-    pub back_faces: Option<BackFaceTargets>,
+/// An image of the pool: what was asked for, at which size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct PoolKey {
+    request: ImageRequest,
+    width: u32,
+    height: u32,
 }
 
-/// The nearest back face of the transmissive volumes at each pixel: where a ray
-/// refracted into such an object leaves it.
-pub(crate) struct BackFaceTargets {
-    /// Its depth ([`DEPTH_FORMAT`], 1 where there is none).
-    pub depth: Image,
-    /// Its world-space normal, as the mesh gives it (facing out of the object), in rgb.
-    pub normal: Image,
+/// Every image the frames have asked for, with the number of the frame that used it
+/// last.
+#[derive(Default)]
+pub(crate) struct ImagePool {
+    images: HashMap<PoolKey, (Image, u64)>,
 }
 
-/// The format of [`BackFaceTargets::normal`].
-pub(crate) const BACK_FACE_NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-
-impl BackFaceTargets {
-    fn new(device: &Arc<Device>, width: u32, height: u32) -> Result<Self, RenderError> {
-        let image = |name, format, usage: vk::ImageUsageFlags| {
-            Image::new(
-                device,
-                &ImageDesc::new(
-                    name,
-                    format,
-                    width,
-                    height,
-                    usage | vk::ImageUsageFlags::SAMPLED,
-                ),
-            )
-        };
-        Ok(Self {
-            depth: image(
-                "transmissive volumes' back face depth",
-                DEPTH_FORMAT,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-            )?,
-            normal: image(
-                "transmissive volumes' back face normal",
-                BACK_FACE_NORMAL_FORMAT,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT,
-            )?,
-        })
-    }
-}
-
-impl FrameTargets {
-    pub fn new(
+impl ImagePool {
+    /// Makes sure each of `requests` exists at `extent` and marks it used by `frame`;
+    /// whether any had to be made.
+    pub fn ensure(
+        &mut self,
         device: &Arc<Device>,
-        key: TargetKey,
-        hdr_format: HdrFormat,
-        storage: GBufferStorage,
-    ) -> Result<Self, RenderError> {
-        Ok(Self {
-            gbuffer: GBufferTargets::new(
-                device,
-                key.width,
-                key.height,
-                storage,
-                key.emissive_occlusion,
-                [key.clearcoat, key.sheen, key.film, key.specular],
-                hdr_format.vk(),
-            )?,
-            hdr: Image::new(
-                device,
-                &ImageDesc::new(
-                    "hdr radiance",
-                    hdr_format.vk(),
-                    key.width,
-                    key.height,
-                    vk::ImageUsageFlags::COLOR_ATTACHMENT
-                        | vk::ImageUsageFlags::SAMPLED
-                        | vk::ImageUsageFlags::TRANSFER_SRC,
-                ),
-            )?,
-            behind: if key.behind {
-                Some(Image::new(
-                    device,
-                    &ImageDesc::new(
-                        "hdr radiance behind transmissive objects",
-                        hdr_format.vk(),
-                        key.width,
-                        key.height,
-                        vk::ImageUsageFlags::SAMPLED
-                            | vk::ImageUsageFlags::TRANSFER_SRC
-                            | vk::ImageUsageFlags::TRANSFER_DST,
-                    )
-                    .full_mips(),
-                )?)
-            } else {
-                None
-            },
-            back_faces: if key.back_faces {
-                Some(BackFaceTargets::new(device, key.width, key.height)?)
-            } else {
-                None
-            },
-        })
+        requests: &[ImageRequest],
+        extent: vk::Extent2D,
+        frame: u64,
+    ) -> Result<bool, RenderError> {
+        let mut made = false;
+        for &request in requests {
+            let key = PoolKey {
+                request,
+                width: extent.width,
+                height: extent.height,
+            };
+            if let Some((_, last_used)) = self.images.get_mut(&key) {
+                *last_used = frame;
+                continue;
+            }
+            let mut desc = ImageDesc::new(
+                request.name,
+                request.format,
+                extent.width,
+                extent.height,
+                request.usage,
+            );
+            if request.full_mips {
+                desc = desc.full_mips();
+            }
+            self.images.insert(key, (Image::new(device, &desc)?, frame));
+            made = true;
+        }
+        Ok(made)
     }
 
-    /// Every image, for forgetting their tracked states when the targets are retired.
-    pub fn images(&self) -> Vec<TrackedImage> {
-        let mut all: Vec<TrackedImage> = self
-            .gbuffer
-            .attachments()
-            .into_iter()
-            .map(TrackedImage::from)
-            .collect();
-        all.push((&self.gbuffer.depth).into());
-        all.push((&self.hdr).into());
-        all.extend(self.behind.as_ref().map(TrackedImage::from));
-        if let Some(back_faces) = &self.back_faces {
-            all.push((&back_faces.depth).into());
-            all.push((&back_faces.normal).into());
+    /// The images of `requests` at `extent` (made by [`ImagePool::ensure`]), by name.
+    pub fn frame_images(&self, requests: &[ImageRequest], extent: vk::Extent2D) -> FrameImages<'_> {
+        FrameImages {
+            images: requests
+                .iter()
+                .map(|&request| {
+                    let key = PoolKey {
+                        request,
+                        width: extent.width,
+                        height: extent.height,
+                    };
+                    let (image, _) = self.images.get(&key).expect("made for the frame");
+                    (request.name, image)
+                })
+                .collect(),
         }
-        all
+    }
+
+    /// The images no frame has used since frame `frame − kept`, taken out of the pool
+    /// for the caller to retire.
+    pub fn take_unused(&mut self, frame: u64, kept: u64) -> Vec<Image> {
+        let stale: Vec<PoolKey> = self
+            .images
+            .iter()
+            .filter(|(_, (_, last_used))| last_used + kept < frame)
+            .map(|(key, _)| *key)
+            .collect();
+        stale
+            .into_iter()
+            .filter_map(|key| self.images.remove(&key).map(|(image, _)| image))
+            .collect()
+    }
+}
+
+/// The images of one frame, by the names their passes asked for them with.
+pub(crate) struct FrameImages<'a> {
+    images: Vec<(&'static str, &'a Image)>,
+}
+
+impl<'a> FrameImages<'a> {
+    /// The image named `name`, which a pass of the frame asked for (checked).
+    pub fn get(&self, name: &str) -> &'a Image {
+        self.find(name)
+            .unwrap_or_else(|| panic!("no pass of the frame asked for the image {name}"))
+    }
+
+    /// The image named `name`, if a pass of the frame asked for it.
+    pub fn find(&self, name: &str) -> Option<&'a Image> {
+        self.images
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, image)| *image)
     }
 }

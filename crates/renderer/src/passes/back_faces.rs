@@ -6,7 +6,7 @@
 //! Its pipeline (back_faces.vert + back_faces.frag): the far sides of the
 //! transmissive objects that have a volume (KHR_materials_volume), front faces culled,
 //! the nearest at each pixel: its depth and its world-space normal
-//! ([`crate::targets::BackFaceTargets`]). forward.frag's VOLUME variant follows each ray
+//! ([`BackFaceTargets`]). forward.frag's VOLUME variant follows each ray
 //! refracted into such an object to where its depth says the ray leaves, and refracts it
 //! out through the normal there. Built only for scenes with such an object
 //! (`ShaderVariant::volume`).
@@ -23,8 +23,9 @@ use crate::pass_io::PassIo;
 use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
 use crate::scene_upload::GpuScene;
-use crate::targets::{BackFaceTargets, BACK_FACE_NORMAL_FORMAT};
+use crate::targets::{FrameImages, ImageRequest};
 use crate::variant::ShaderVariant;
+use combustion_vk::Image;
 use combustion_vk::{
     vk, ColorBlend, DescriptorSetLayout, Device, GraphicsPipelineDesc, Pipeline, PipelineCache,
     PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
@@ -33,8 +34,34 @@ use std::sync::Arc;
 
 pub(crate) struct BackFaces;
 
+/// The names of the far sides' depth and normal images.
+const BACK_FACE_DEPTH: &str = "transmissive volumes' back face depth";
+const BACK_FACE_NORMAL: &str = "transmissive volumes' back face normal";
+
+/// The format of [`BackFaceTargets::normal`].
+const BACK_FACE_NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+
+/// The nearest back face of the transmissive volumes at each pixel: where a ray
+/// refracted into such an object leaves it.
+pub(crate) struct BackFaceTargets<'a> {
+    /// Its depth (`DEPTH_FORMAT`, 1 where there is none).
+    pub depth: &'a Image,
+    /// Its world-space normal, as the mesh gives it (facing out of the object), in rgb.
+    pub normal: &'a Image,
+}
+
+impl<'a> BackFaceTargets<'a> {
+    /// The far sides among a frame's `images`, in frames of VOLUME variants.
+    pub(crate) fn of(images: &FrameImages<'a>) -> Option<Self> {
+        Some(Self {
+            depth: images.find(BACK_FACE_DEPTH)?,
+            normal: images.find(BACK_FACE_NORMAL)?,
+        })
+    }
+}
+
 /// Whether frames of `variant` draw the far sides: VOLUME variants with a forward pass
-/// (their targets have the back faces: `TargetKey::of`).
+/// (their frames have the back faces' images: `images`).
 fn draws(variant: ShaderVariant) -> bool {
     variant.volume && super::forward::draws(variant)
 }
@@ -74,16 +101,30 @@ impl FramePass for BackFaces {
         Ok(())
     }
 
+    fn images(&self, variant: ShaderVariant, _settings: &RendererSettings) -> Vec<ImageRequest> {
+        if !variant.volume {
+            return Vec::new();
+        }
+        vec![
+            ImageRequest::new(
+                BACK_FACE_DEPTH,
+                DEPTH_FORMAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            ),
+            ImageRequest::new(
+                BACK_FACE_NORMAL,
+                BACK_FACE_NORMAL_FORMAT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            ),
+        ]
+    }
+
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
         draws(frame.variant)
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let targets = frame
-            .targets
-            .back_faces
-            .as_ref()
-            .expect("runs only with them");
+        let targets = BackFaceTargets::of(&frame.images).expect("runs only with them");
         PassIo::new(self.name())
             .slot_set(frame.slot, &bindings::BACK_FACES)
             .buffer(
@@ -92,21 +133,21 @@ impl FramePass for BackFaces {
                 BufferUse::VertexStorageRead,
             )
             .posed_vertices(frame.scene)
-            .touches((&targets.normal).into(), ImageUse::ColorAttachmentWrite)
-            .touches((&targets.depth).into(), ImageUse::DepthAttachmentWrite)
+            .touches(targets.normal.into(), ImageUse::ColorAttachmentWrite)
+            .touches(targets.depth.into(), ImageUse::DepthAttachmentWrite)
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let (Some(pass), Some(targets)) = (
             frame.registry.get::<BackFacesPass>(&key()),
-            frame.targets.back_faces.as_ref(),
+            BackFaceTargets::of(&frame.images),
         ) else {
             return;
         };
         pass.record(
             frame.device,
             cmd,
-            targets,
+            &targets,
             frame.scene,
             frame.slot.set(&bindings::BACK_FACES),
             frame.view_projection,
@@ -190,7 +231,7 @@ impl BackFacesPass {
         &self,
         device: &Device,
         cmd: vk::CommandBuffer,
-        targets: &BackFaceTargets,
+        targets: &BackFaceTargets<'_>,
         scene: &GpuScene,
         set: vk::DescriptorSet,
         view_projection: glam::Mat4,

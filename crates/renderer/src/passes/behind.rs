@@ -8,39 +8,59 @@ use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
 use crate::graph::ImageUse;
+use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
 use crate::results::PassTimings;
+use crate::targets::ImageRequest;
+use crate::variant::ShaderVariant;
 
 pub(crate) struct Behind;
+
+/// The name of the image of what lies behind the transmissive objects: the lit HDR
+/// image before the forward pass, with every mip level (rough transmission reads coarser
+/// levels).
+pub(crate) const BEHIND: &str = "hdr radiance behind transmissive objects";
 
 impl FramePass for Behind {
     fn name(&self) -> &'static str {
         PassTimings::BEHIND
     }
 
+    fn images(&self, variant: ShaderVariant, settings: &RendererSettings) -> Vec<ImageRequest> {
+        if !variant.transmission {
+            return Vec::new();
+        }
+        vec![ImageRequest::new(
+            BEHIND,
+            settings.hdr_format.vk(),
+            vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST,
+        )
+        .with_full_mips()]
+    }
+
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        // The targets of a TRANSMISSION variant have the behind image (TargetKey::of).
+        // A TRANSMISSION variant's frames have the behind image (`images`).
         frame.variant.transmission && super::forward::draws(frame.variant)
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let behind = frame.targets.behind.as_ref().expect("runs only with it");
+        let behind = frame.images.get(BEHIND);
         PassIo::new(self.name())
-            .touches((&frame.targets.hdr).into(), ImageUse::TransferSource)
+            .touches(frame.hdr.into(), ImageUse::TransferSource)
             .touches(behind.into(), ImageUse::MipChainWrite)
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let behind = frame.targets.behind.as_ref().expect("runs only with it");
-        let region = crate::commands::level_zero_copy(
-            vk::ImageAspectFlags::COLOR,
-            frame.targets.hdr.extent(),
-        );
+        let behind = frame.images.get(BEHIND);
+        let region =
+            crate::commands::level_zero_copy(vk::ImageAspectFlags::COLOR, frame.hdr.extent());
         // SAFETY: recording state; both images are in the layouts `io` declared.
         unsafe {
             frame.device.raw().cmd_copy_image(
                 cmd,
-                frame.targets.hdr.raw(),
+                frame.hdr.raw(),
                 ImageUse::TransferSource.state().layout,
                 behind.raw(),
                 ImageUse::MipChainWrite.state().layout,

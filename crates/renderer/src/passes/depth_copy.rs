@@ -22,10 +22,7 @@ impl FramePass for DepthCopy {
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
         let host_depth = frame.host_depth.expect("runs only with a depth image");
         PassIo::new(self.name())
-            .touches(
-                (&frame.targets.gbuffer.depth).into(),
-                ImageUse::TransferSource,
-            )
+            .touches((frame.gbuffer.depth).into(), ImageUse::TransferSource)
             .touches(host_depth, ImageUse::TransferDestination)
     }
 
@@ -36,7 +33,7 @@ impl FramePass for DepthCopy {
         unsafe {
             frame.device.raw().cmd_copy_image(
                 cmd,
-                frame.targets.gbuffer.depth.raw(),
+                frame.gbuffer.depth.raw(),
                 ImageUse::TransferSource.state().layout,
                 host_depth.raw,
                 ImageUse::TransferDestination.state().layout,

@@ -102,7 +102,7 @@ impl FramePass for Forward {
                 &frame.scene.gpu.materials,
                 BufferUse::FragmentStorageRead,
             )
-            .touches((&frame.targets.hdr).into(), ImageUse::ColorAttachmentBlend);
+            .touches(frame.hdr.into(), ImageUse::ColorAttachmentBlend);
         let absent = |io: PassIo, binding: &str| {
             // Not declared by pipelines without the feature: any image will do.
             io.bind_image(
@@ -112,7 +112,7 @@ impl FramePass for Forward {
                 vk::Sampler::null(),
             )
         };
-        let depth = &frame.targets.gbuffer.depth;
+        let depth = frame.gbuffer.depth;
         // The TRANSMISSION variant reads the depth it is tested against: how far behind
         // glass the opaque surfaces are, and what rays leaving a volume march against.
         let io = if frame.variant.transmission {
@@ -127,16 +127,16 @@ impl FramePass for Forward {
                 "scene_depth",
             )
         };
-        let io = match &frame.targets.back_faces {
+        let io = match super::back_faces::BackFaceTargets::of(&frame.images) {
             Some(back_faces) if frame.variant.volume => io
                 .image(
                     "back_face_depth",
-                    &back_faces.depth,
+                    back_faces.depth,
                     ImageUse::DepthFragmentSampled,
                 )
                 .sampled(
                     "back_face_normal",
-                    &back_faces.normal,
+                    back_faces.normal,
                     frame.shared.behind_sampler.raw(),
                     ImageUse::FragmentSampled,
                 ),
@@ -147,7 +147,7 @@ impl FramePass for Forward {
                 frame.shared.behind_sampler.raw(),
             ),
         };
-        let io = match &frame.targets.behind {
+        let io = match frame.images.find(super::behind::BEHIND) {
             Some(behind) if frame.variant.transmission => io.sampled(
                 "behind",
                 behind,
@@ -176,8 +176,8 @@ impl FramePass for Forward {
             frame.device,
             cmd,
             ForwardTargets {
-                hdr: &frame.targets.hdr,
-                depth: &frame.targets.gbuffer.depth,
+                hdr: frame.hdr,
+                depth: frame.gbuffer.depth,
             },
             frame.scene,
             &frame.placement,

@@ -12,6 +12,7 @@ use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
 use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
+use crate::targets::ImageRequest;
 use crate::variant::ShaderVariant;
 
 pub(crate) struct GBuffer;
@@ -62,8 +63,12 @@ impl FramePass for GBuffer {
         Ok(())
     }
 
+    fn images(&self, variant: ShaderVariant, settings: &RendererSettings) -> Vec<ImageRequest> {
+        crate::gbuffer::requests(variant, settings.gbuffer, settings.hdr_format.vk())
+    }
+
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let g = &frame.targets.gbuffer;
+        let g = &frame.gbuffer;
         let mut io = PassIo::new(self.name())
             .slot_set(frame.slot, &bindings::GBUFFER)
             .buffer(
@@ -80,7 +85,7 @@ impl FramePass for GBuffer {
         for image in g.attachments() {
             io = io.touches(image.into(), ImageUse::ColorAttachmentWrite);
         }
-        io.touches((&g.depth).into(), ImageUse::DepthAttachmentWrite)
+        io.touches(g.depth.into(), ImageUse::DepthAttachmentWrite)
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
@@ -91,7 +96,7 @@ impl FramePass for GBuffer {
         pass.record(
             frame.device,
             cmd,
-            &frame.targets.gbuffer,
+            &frame.gbuffer,
             frame.scene,
             frame.slot.set(&bindings::GBUFFER),
             frame.view_projection,

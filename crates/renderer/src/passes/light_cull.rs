@@ -63,7 +63,7 @@ impl FramePass for LightCull {
             .slot_set(frame.slot, &bindings::LIGHT_CULL)
             .image(
                 "gbuffer_depth",
-                &frame.targets.gbuffer.depth,
+                frame.gbuffer.depth,
                 ImageUse::DepthComputeSampled,
             )
             .buffer("lights", &s.lights, BufferUse::ComputeStorageRead)

@@ -14,9 +14,14 @@ use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
 use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
+use crate::targets::ImageRequest;
 use crate::variant::ShaderVariant;
 
 pub(crate) struct Lighting;
+
+/// The name of the HDR image the lighting pass writes (what every later pass adds to,
+/// and the output pass reads).
+pub(crate) const HDR: &str = "hdr radiance";
 
 /// The lighting pipeline of `variant` (its every feature a define), reading
 /// `settings`' G-buffer storage into their HDR format.
@@ -152,36 +157,46 @@ impl FramePass for Lighting {
         Ok(())
     }
 
+    fn images(&self, _variant: ShaderVariant, settings: &RendererSettings) -> Vec<ImageRequest> {
+        vec![ImageRequest::new(
+            HDR,
+            settings.hdr_format.vk(),
+            vk::ImageUsageFlags::COLOR_ATTACHMENT
+                | vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_SRC,
+        )]
+    }
+
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let (s, g, r) = (frame.slot, &frame.targets.gbuffer, frame.shared);
+        let (s, g, r) = (frame.slot, &frame.gbuffer, frame.shared);
         let read = BufferUse::FragmentStorageRead;
         let texel = ImageUse::FragmentSampled;
         let mut io = PassIo::new(self.name())
             .slot_set(frame.slot, &bindings::LIGHTING)
             .image(
                 "gbuffer_base_color_metalness",
-                &g.base_color_metalness,
+                g.base_color_metalness,
                 texel,
             )
             .image(
                 "gbuffer_normal_roughness_anisotropy",
-                &g.normal_roughness_anisotropy,
+                g.normal_roughness_anisotropy,
                 texel,
             )
-            .image("gbuffer_material_direction", &g.material_direction, texel)
-            .image("gbuffer_depth", &g.depth, ImageUse::DepthFragmentSampled)
+            .image("gbuffer_material_direction", g.material_direction, texel)
+            .image("gbuffer_depth", g.depth, ImageUse::DepthFragmentSampled)
             .buffer("materials", &frame.scene.gpu.materials, read)
-            .touches((&frame.targets.hdr).into(), ImageUse::ColorAttachmentWrite);
+            .touches(frame.hdr.into(), ImageUse::ColorAttachmentWrite);
         // Every binding is written, every frame: a driver may read a bound set's
         // descriptors, used or not, and a binding left as an earlier frame wrote it
         // would name an image retired since. Absent targets and environments get
         // placeholders, which no barrier concerns (never written, never read).
         for (name, target) in [
-            ("gbuffer_emissive", &g.emissive),
-            ("gbuffer_clearcoat", &g.clearcoat),
-            ("gbuffer_sheen", &g.sheen),
-            ("gbuffer_film", &g.film),
-            ("gbuffer_specular", &g.specular),
+            ("gbuffer_emissive", g.emissive),
+            ("gbuffer_clearcoat", g.clearcoat),
+            ("gbuffer_sheen", g.sheen),
+            ("gbuffer_film", g.film),
+            ("gbuffer_specular", g.specular),
         ] {
             io = match target {
                 Some(image) => io.image(name, image, texel),
@@ -203,7 +218,7 @@ impl FramePass for Lighting {
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let hdr = &frame.targets.hdr;
+        let hdr = frame.hdr;
         // The rendering starts from the background's radiance (nothing where the
         // environment is the background), alpha 0 marking it: what a pixel lighting.frag
         // discards keeps (one whose depth is not a number). The shader writes the

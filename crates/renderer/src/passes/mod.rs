@@ -18,7 +18,7 @@ mod depth_copy;
 mod forward;
 mod gbuffer;
 mod light_cull;
-mod lighting;
+pub(crate) mod lighting;
 pub(crate) mod output;
 mod shadow_maps;
 
@@ -27,6 +27,7 @@ use combustion_vk::vk;
 use crate::bindings::SetDecl;
 use crate::environment::GpuEnvironment;
 use crate::error::RenderError;
+use crate::gbuffer::GBufferTargets;
 use crate::gpu_types::{CullPush, LightingPush};
 use crate::graph::TrackedImage;
 use crate::host::{FrameInputs, FrameTarget};
@@ -36,7 +37,7 @@ use crate::pipelines::PipelineRegistry;
 use crate::scene_upload::GpuScene;
 use crate::shared::SharedResources;
 use crate::slot::FrameSlot;
-use crate::targets::FrameTargets;
+use crate::targets::{FrameImages, ImageRequest};
 use crate::variant::ShaderVariant;
 
 /// Everything a frame's passes read, gathered once per frame.
@@ -52,8 +53,12 @@ pub(crate) struct FrameContext<'a> {
     pub settings: &'a RendererSettings,
     /// The frame slot's sets and buffers (its previous frame has completed).
     pub slot: &'a FrameSlot,
-    /// The G-buffer and HDR targets of the frame's size and variant.
-    pub targets: &'a FrameTargets,
+    /// The images the frame's passes asked for (`FramePass::images`), by name.
+    pub images: FrameImages<'a>,
+    /// The G-buffer among them.
+    pub gbuffer: GBufferTargets<'a>,
+    /// The HDR image among them (the lighting pass's).
+    pub hdr: &'a combustion_vk::Image,
     /// The scene drawn.
     pub scene: &'a GpuScene,
     /// The environment lighting the frame (the frame's own, else the scene's).
@@ -114,6 +119,13 @@ pub(crate) trait FramePass: Sync {
         Ok(())
     }
 
+    /// The images it creates for frames of `variant` (each made by the pool at the
+    /// frame's size the first time a frame asks for it; other passes find them by name in
+    /// `FrameContext::images`). Default: none.
+    fn images(&self, _variant: ShaderVariant, _settings: &RendererSettings) -> Vec<ImageRequest> {
+        Vec::new()
+    }
+
     /// Whether the pass runs this frame (default: always).
     fn runs(&self, _frame: &FrameContext<'_>) -> bool {
         true
@@ -161,6 +173,17 @@ pub(crate) fn prepare_variant(
     }
     registry.mark_prepared(variant);
     Ok(())
+}
+
+/// The images every pass of the frame asks for in frames of `variant`.
+pub(crate) fn frame_images(
+    variant: ShaderVariant,
+    settings: &RendererSettings,
+) -> Vec<ImageRequest> {
+    FRAME
+        .iter()
+        .flat_map(|pass| pass.images(variant, settings))
+        .collect()
 }
 
 /// The descriptor sets the frame's passes bind, each once, in the frame's order.

@@ -125,7 +125,7 @@ impl FramePass for Output {
         let (s, r) = (frame.slot, frame.shared);
         PassIo::new(self.name())
             .slot_set(frame.slot, &bindings::OUTPUT)
-            .image("hdr_image", &frame.targets.hdr, ImageUse::FragmentSampled)
+            .image("hdr_image", frame.hdr, ImageUse::FragmentSampled)
             .touches(frame.color, ImageUse::ColorAttachmentWrite)
             // The overlay's quads are the CPU's, its atlas and image made at start.
             .slot_set(frame.slot, &bindings::OVERLAY)
