@@ -1485,6 +1485,19 @@ fn an_accuracy_budget_picks_a_variant_set_or_says_why_not() {
         ],
         "no variant set is within it",
     );
+    // The options a variant set chooses are not taken beside a budget (they were
+    // dropped without a word).
+    for (flag, value) in [
+        ("--diffuse", "lambert"),
+        ("--distribution", "beckmann"),
+        ("--fresnel", "schlick"),
+        ("--hdr-format", "f16"),
+    ] {
+        assert_refused(
+            &["render", "--max-error", "1e-3", flag, value],
+            &["cannot be used with", flag],
+        );
+    }
     for bad in ["0", "-1", "x", "inf"] {
         assert_refused(
             &["render", "--max-error", bad],

@@ -507,8 +507,10 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "E", value_parser = relative_error)]
     pub(crate) accumulate_until: Option<f64>,
     /// An accuracy budget: render with the fastest variant set whose mean relative error
-    /// against the f64 reference is within E, measured on this scene at this size
-    #[arg(long, value_name = "E", value_parser = relative_error)]
+    /// against the f64 reference is within E, measured on this scene at this size (the
+    /// set chooses the Fresnel term, distribution, diffuse model and HDR format: those
+    /// options are not taken beside it)
+    #[arg(long, value_name = "E", value_parser = relative_error, conflicts_with_all = ["fresnel", "distribution", "diffuse", "hdr_format"])]
     pub(crate) max_error: Option<f64>,
     /// N×N samples a pixel, averaged as radiance (a box filter over the pixel: the frame
     /// rendered N times as wide and high, then resolved), 1 to 4; the exact anti-aliasing
@@ -1408,7 +1410,8 @@ mod tests {
                        --light-rig --energy-compensation on --metal-colour colorimetric";
         let device = "--device llvmpipe --validate";
         let lines = [
-            format!("render builtin:spheres -o a.png --hdr a.exr --max-error 0.1 {frame} {shading} {device}"),
+            format!("render builtin:spheres -o a.png --hdr a.exr {frame} {shading} {device}"),
+            format!("render builtin:spheres -o a.png --max-error 0.1 --width 8 --environment-samples 4 --energy-compensation on {device}"),
             format!("render --scene x.gltf --environment sky.EXR {frame}"),
             format!("bench builtin:grid-7x7 --frames 3 --frames-in-flight 3 --specialised off \
                      --extra-lights 4 --culling always {frame} {shading} {device}"),

@@ -183,9 +183,11 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
                     best.map_or(f64::NAN, |r| r.mean_relative)
                 )));
             };
+            // The set's choices, and every shading option the sets do not vary as asked.
             settings.shading = ShadingOptions {
                 energy_compensation: o.shading.energy_compensation,
                 shadows: o.shading.shadows(),
+                environment_samples: o.shading.environment_samples,
                 ..set.shading
             };
             settings.hdr_format = set.hdr;

@@ -7,6 +7,8 @@ use std::sync::Arc;
 
 use combustion_vk::{vk, Buffer, DescriptorSetLayout, Device, VkError};
 
+use crate::variant;
+
 /// What a binding holds, and how GLSL declares it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BindingKind {
@@ -455,7 +457,7 @@ const LIT_BY: [Binding; 14] = [
         },
         FRAGMENT,
     )
-    .only_with("ENERGY_COMPENSATION"),
+    .only_with(variant::ENERGY_COMPENSATION.define),
     // The white sheen lobe's directional albedo over (n·v, r) (read in the SHEEN
     // variant; combustion_optics::sheen::sheen_albedo_table).
     Binding::new(
@@ -466,15 +468,15 @@ const LIT_BY: [Binding; 14] = [
         },
         FRAGMENT,
     )
-    .only_with("SHEEN"),
+    .only_with(variant::SHEEN.define),
     // Environment lighting (ENVIRONMENT variant; see crate::environment): the
     // prefiltered specular cube, the irradiance cube, the directional-albedo tables
     // per material, the per-code tables of conductors derived from the base colour
     // and which of those each material reads.
     Binding::new("environment_specular", BindingKind::SamplerCube, FRAGMENT)
-        .only_with("ENVIRONMENT"),
+        .only_with(variant::ENVIRONMENT.define),
     Binding::new("environment_irradiance", BindingKind::SamplerCube, FRAGMENT)
-        .only_with("ENVIRONMENT"),
+        .only_with(variant::ENVIRONMENT.define),
     Binding::new(
         "environment_albedo",
         BindingKind::StorageBuffer {
@@ -483,7 +485,7 @@ const LIT_BY: [Binding; 14] = [
         },
         FRAGMENT,
     )
-    .only_with("ENVIRONMENT"),
+    .only_with(variant::ENVIRONMENT.define),
     Binding::new(
         "environment_code_albedo",
         BindingKind::StorageBuffer {
@@ -492,7 +494,7 @@ const LIT_BY: [Binding; 14] = [
         },
         FRAGMENT,
     )
-    .only_with("ENVIRONMENT"),
+    .only_with(variant::ENVIRONMENT.define),
     Binding::new(
         "environment_code_table_of_material",
         BindingKind::StorageBuffer {
@@ -501,19 +503,22 @@ const LIT_BY: [Binding; 14] = [
         },
         FRAGMENT,
     )
-    .only_with("ENVIRONMENT"),
+    .only_with(variant::ENVIRONMENT.define),
     // Shadows (SHADOWS variant; see crate::shadows): the cascades' maps, the spot and
     // point lights' maps, and each layer's placement.
-    Binding::new("shadow_maps", BindingKind::Sampler2DArrayShadow, FRAGMENT).only_with("SHADOWS"),
+    Binding::new("shadow_maps", BindingKind::Sampler2DArrayShadow, FRAGMENT)
+        .only_with(variant::SHADOWS.define),
     Binding::new(
         "local_shadow_maps",
         BindingKind::Sampler2DArrayShadow,
         FRAGMENT,
     )
-    .only_with("SHADOWS"),
+    .only_with(variant::SHADOWS.define),
     // The same maps read as depths, for the blocker search of lights with a size.
-    Binding::new("shadow_depths", BindingKind::Texture2DArray, FRAGMENT).only_with("SHADOWS"),
-    Binding::new("local_shadow_depths", BindingKind::Texture2DArray, FRAGMENT).only_with("SHADOWS"),
+    Binding::new("shadow_depths", BindingKind::Texture2DArray, FRAGMENT)
+        .only_with(variant::SHADOWS.define),
+    Binding::new("local_shadow_depths", BindingKind::Texture2DArray, FRAGMENT)
+        .only_with(variant::SHADOWS.define),
     Binding::new(
         "shadow_cascades",
         BindingKind::StorageBuffer {
@@ -522,7 +527,7 @@ const LIT_BY: [Binding; 14] = [
         },
         FRAGMENT,
     )
-    .only_with("SHADOWS"),
+    .only_with(variant::SHADOWS.define),
 ];
 
 /// `first` then `then`, as one array of `N` bindings (a set's list from shared parts).
@@ -575,16 +580,20 @@ const LIGHTING_BINDINGS: [Binding; 11 + LIT_BY.len()] = joined(
         ),
         // Emitted radiance (rgb) and occlusion (a) (EMISSIVE, OCCLUSION variants).
         Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT)
-            .only_with("EMISSIVE_OCCLUSION_TARGET"),
+            .only_with(variant::EMISSIVE_OCCLUSION_TARGET.define),
         // The clear coat: its normal (octahedral, xy), roughness (z) and weight (w)
         // (CLEARCOAT variant).
-        Binding::new("gbuffer_clearcoat", BindingKind::Texture2D, FRAGMENT).only_with("CLEARCOAT"),
+        Binding::new("gbuffer_clearcoat", BindingKind::Texture2D, FRAGMENT)
+            .only_with(variant::CLEARCOAT.define),
         // The sheen: its linear colour (rgb) and perceptual roughness (a) (SHEEN variant).
-        Binding::new("gbuffer_sheen", BindingKind::Texture2D, FRAGMENT).only_with("SHEEN"),
+        Binding::new("gbuffer_sheen", BindingKind::Texture2D, FRAGMENT)
+            .only_with(variant::SHEEN.define),
         // The thin film: its weight (r) and thickness in nm (g) (IRIDESCENCE variant).
-        Binding::new("gbuffer_film", BindingKind::Texture2D, FRAGMENT).only_with("IRIDESCENCE"),
+        Binding::new("gbuffer_film", BindingKind::Texture2D, FRAGMENT)
+            .only_with(variant::IRIDESCENCE.define),
         // The dielectric's specular colour (rgb) and factor (a) (SPECULAR variant).
-        Binding::new("gbuffer_specular", BindingKind::Texture2D, FRAGMENT).only_with("SPECULAR"),
+        Binding::new("gbuffer_specular", BindingKind::Texture2D, FRAGMENT)
+            .only_with(variant::SPECULAR.define),
     ],
     &LIT_BY,
 );
@@ -604,15 +613,19 @@ const FORWARD_BINDINGS: [Binding; 6 + LIT_BY.len()] = joined(
         MATERIALS_BOTH_STAGES,
         // The lit image behind the transmissive objects, every mip level (TRANSMISSION
         // variant; the behind pass makes it).
-        Binding::new("behind", BindingKind::Sampler2D, FRAGMENT).only_with("TRANSMISSION"),
+        Binding::new("behind", BindingKind::Sampler2D, FRAGMENT)
+            .only_with(variant::TRANSMISSION.define),
         // The opaque surfaces' depth (the pass's own depth attachment, read-only): how
         // far behind glass they are (a rough surface's blur), and what rays leaving a
         // transmissive volume march against (TRANSMISSION variant).
-        Binding::new("scene_depth", BindingKind::Texture2D, FRAGMENT).only_with("TRANSMISSION"),
+        Binding::new("scene_depth", BindingKind::Texture2D, FRAGMENT)
+            .only_with(variant::TRANSMISSION.define),
         // The transmissive volumes' nearest back faces, depth and normal, where the rays
         // refracted into them leave (VOLUME variant; the back faces pass draws them).
-        Binding::new("back_face_depth", BindingKind::Texture2D, FRAGMENT).only_with("VOLUME"),
-        Binding::new("back_face_normal", BindingKind::Sampler2D, FRAGMENT).only_with("VOLUME"),
+        Binding::new("back_face_depth", BindingKind::Texture2D, FRAGMENT)
+            .only_with(variant::VOLUME.define),
+        Binding::new("back_face_normal", BindingKind::Sampler2D, FRAGMENT)
+            .only_with(variant::VOLUME.define),
     ],
     &LIT_BY,
 );
@@ -851,6 +864,36 @@ mod tests {
         let tail = |decl: &SetDecl| names(&decl.bindings[decl.bindings.len() - LIT_BY.len()..]);
         assert_eq!(tail(&FORWARD), names(&LIT_BY));
         assert_eq!(tail(&LIGHTING), names(&LIT_BY));
+    }
+
+    /// Every binding a feature switches on names a feature of the variant's table
+    /// (`variant::FEATURES`, the environment, shadows) — through its constant, never a
+    /// string of its own (a misspelt define would leave the binding out of every
+    /// shader that needs it).
+    #[test]
+    fn every_binding_is_switched_by_a_declared_feature() {
+        let declared: Vec<&str> = variant::FEATURES
+            .iter()
+            .map(|f| f.define)
+            .chain([variant::ENVIRONMENT.define, variant::SHADOWS.define])
+            .collect();
+        for decl in ALL {
+            for binding in decl.bindings {
+                if let Some(define) = binding.only_with {
+                    assert!(
+                        declared.contains(&define),
+                        "{}: {} is only with {define}, which no feature declares",
+                        decl.name,
+                        binding.name
+                    );
+                }
+            }
+        }
+        let raw = concat!("only_with", "(\"");
+        assert!(
+            !include_str!("bindings.rs").contains(raw),
+            "a binding names its feature by a string of its own"
+        );
     }
 
     #[test]

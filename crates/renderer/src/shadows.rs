@@ -242,7 +242,7 @@ impl ShadowShader {
     /// `SHADOW_CASCADED`, `SHADOW_LOCAL`, `SHADOW_SOFT` by its kinds.
     pub(crate) fn defines(&self, defines: &mut Vec<(&'static str, Option<&'static str>)>) {
         const COUNTS: [&str; MAX_CASCADES as usize] = ["1", "2", "3", "4"];
-        defines.push(("SHADOWS", None));
+        defines.push((crate::variant::SHADOWS.define, None));
         for (present, define) in [
             (self.kinds.cascaded, "SHADOW_CASCADED"),
             (self.kinds.local, "SHADOW_LOCAL"),

@@ -229,6 +229,105 @@ pub struct ShaderVariant {
     pub environment_samples: u32,
 }
 
+/// A shader feature a variant switches on: its `#define`, declared once, and whether a
+/// variant has it. The variant's define list (`ShaderVariant::defines`) and the
+/// descriptor bindings a feature enables (`bindings.rs`: `.only_with(FEATURE.define)`)
+/// both name it through these constants, so a feature's define cannot be misspelt in
+/// one place and right in the other (`bindings::tests` checks every `only_with`).
+pub(crate) struct Feature {
+    /// The `#define` the shaders test.
+    pub(crate) define: &'static str,
+    /// Whether `variant` has the feature.
+    pub(crate) of: fn(&ShaderVariant) -> bool,
+}
+
+/// Emitted radiance (the emissive target's rgb).
+pub(crate) const EMISSIVE: Feature = Feature {
+    define: "EMISSIVE",
+    of: |v| v.emissive,
+};
+/// GlTF occlusion textures (the emissive target's a).
+pub(crate) const OCCLUSION: Feature = Feature {
+    define: "OCCLUSION",
+    of: |v| v.occlusion,
+};
+/// The G-buffer's emissive + occlusion target.
+pub(crate) const EMISSIVE_OCCLUSION_TARGET: Feature = Feature {
+    define: "EMISSIVE_OCCLUSION_TARGET",
+    of: |v| v.has_emissive_occlusion_target(),
+};
+/// Multiple-scattering energy compensation (its table bound).
+pub(crate) const ENERGY_COMPENSATION: Feature = Feature {
+    define: "ENERGY_COMPENSATION",
+    of: |v| v.energy_compensation,
+};
+/// KHR_texture_transform (per-slot coordinates mapped per vertex).
+pub(crate) const TEXTURE_TRANSFORMS: Feature = Feature {
+    define: "TEXTURE_TRANSFORMS",
+    of: |v| v.texture_transforms,
+};
+/// GlTF COLOR_0 multiplied into base colour and alpha.
+pub(crate) const VERTEX_COLORS: Feature = Feature {
+    define: "VERTEX_COLORS",
+    of: |v| v.vertex_colors,
+};
+/// KHR_materials_transmission (the forward pass reads what lies behind).
+pub(crate) const TRANSMISSION: Feature = Feature {
+    define: "TRANSMISSION",
+    of: |v| v.transmission,
+};
+/// KHR_materials_volume (the far sides of glass volumes).
+pub(crate) const VOLUME: Feature = Feature {
+    define: "VOLUME",
+    of: |v| v.volume,
+};
+/// KHR_materials_clearcoat (its G-buffer target and lobe).
+pub(crate) const CLEARCOAT: Feature = Feature {
+    define: "CLEARCOAT",
+    of: |v| v.clearcoat,
+};
+/// KHR_materials_sheen (its G-buffer target, lobe and tables).
+pub(crate) const SHEEN: Feature = Feature {
+    define: "SHEEN",
+    of: |v| v.sheen,
+};
+/// KHR_materials_iridescence (its G-buffer target, the film's Fresnel).
+pub(crate) const IRIDESCENCE: Feature = Feature {
+    define: "IRIDESCENCE",
+    of: |v| v.iridescence,
+};
+/// KHR_materials_specular (its G-buffer target, the rescaled Fresnel).
+pub(crate) const SPECULAR: Feature = Feature {
+    define: "SPECULAR",
+    of: |v| v.specular,
+};
+/// The environment's split sum or sampled light (its cubes and tables bound).
+pub(crate) const ENVIRONMENT: Feature = Feature {
+    define: "ENVIRONMENT",
+    of: |v| v.environment,
+};
+/// Shadow maps (their arrays, sampler and cascade table bound).
+pub(crate) const SHADOWS: Feature = Feature {
+    define: "SHADOWS",
+    of: |v| v.shadows.is_some(),
+};
+
+/// The boolean features, in the order their defines are listed.
+pub(crate) const FEATURES: [&Feature; 12] = [
+    &EMISSIVE,
+    &OCCLUSION,
+    &EMISSIVE_OCCLUSION_TARGET,
+    &ENERGY_COMPENSATION,
+    &TEXTURE_TRANSFORMS,
+    &VERTEX_COLORS,
+    &TRANSMISSION,
+    &VOLUME,
+    &CLEARCOAT,
+    &SHEEN,
+    &IRIDESCENCE,
+    &SPECULAR,
+];
+
 impl ShaderVariant {
     /// Whether the G-buffer has its fourth target: emitted radiance (rgb, EMISSIVE) and
     /// occlusion (a, OCCLUSION).
@@ -238,43 +337,11 @@ impl ShaderVariant {
 
     /// The `#define`s of this variant.
     pub(crate) fn defines(&self) -> Vec<(&'static str, Option<&'static str>)> {
-        let mut defines = Vec::new();
-        if self.emissive {
-            defines.push(("EMISSIVE", None));
-        }
-        if self.occlusion {
-            defines.push(("OCCLUSION", None));
-        }
-        if self.has_emissive_occlusion_target() {
-            defines.push(("EMISSIVE_OCCLUSION_TARGET", None));
-        }
-        if self.energy_compensation {
-            defines.push(("ENERGY_COMPENSATION", None));
-        }
-        if self.texture_transforms {
-            defines.push(("TEXTURE_TRANSFORMS", None));
-        }
-        if self.vertex_colors {
-            defines.push(("VERTEX_COLORS", None));
-        }
-        if self.transmission {
-            defines.push(("TRANSMISSION", None));
-        }
-        if self.volume {
-            defines.push(("VOLUME", None));
-        }
-        if self.clearcoat {
-            defines.push(("CLEARCOAT", None));
-        }
-        if self.sheen {
-            defines.push(("SHEEN", None));
-        }
-        if self.iridescence {
-            defines.push(("IRIDESCENCE", None));
-        }
-        if self.specular {
-            defines.push(("SPECULAR", None));
-        }
+        let mut defines: Vec<(&'static str, Option<&'static str>)> = FEATURES
+            .iter()
+            .filter(|f| (f.of)(self))
+            .map(|f| (f.define, None))
+            .collect();
         match self.fresnel {
             FresnelModel::Full => {}
             FresnelModel::Schlick => defines.push(("FRESNEL_SCHLICK", None)),
@@ -292,8 +359,8 @@ impl ShaderVariant {
         if self.distribution == Distribution::Beckmann {
             defines.push(("D_BECKMANN", None));
         }
-        if self.environment {
-            defines.push(("ENVIRONMENT", None));
+        if (ENVIRONMENT.of)(self) {
+            defines.push((ENVIRONMENT.define, None));
             if let Some(count) = environment_samples_define(self.environment_samples) {
                 defines.push(("ENVIRONMENT_SAMPLES", Some(count)));
             }
