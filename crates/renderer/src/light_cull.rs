@@ -3,6 +3,8 @@
 //! instead of every light. Only lights with a range (KHR_lights_punctual) can be left
 //! out; the lists keep index order, so a culled frame is the same sum as an unculled
 //! one, less terms that are exactly zero (tests/light_culling.rs checks bit equality).
+//! Here: when frames cull, the tile grid, and the compute pipeline builder it shares
+//! with the deform pass; the pass itself is `passes/light_cull.rs`.
 
 use std::sync::Arc;
 
@@ -12,7 +14,6 @@ use combustion_vk::{
 };
 
 use crate::error::RenderError;
-use crate::gpu_types::CullPush;
 
 /// Tile edge in pixels (`TILE_SIZE` in light_cull.comp and lighting.frag, from the
 /// generated `bindings/constants.glsl`).
@@ -91,55 +92,4 @@ pub(crate) fn compute_pipeline(
     )?;
     let pipeline = Pipeline::compute(device, &module, &layout, Some(cache))?;
     Ok((layout, pipeline))
-}
-
-/// The culling pass's pipeline.
-pub(crate) struct LightCullPass {
-    layout: PipelineLayout,
-    pipeline: Pipeline,
-}
-
-impl LightCullPass {
-    pub fn new(
-        device: &Arc<Device>,
-        compiler: &ShaderCompiler,
-        cache: &PipelineCache,
-        set_layout: &DescriptorSetLayout,
-    ) -> Result<Self, RenderError> {
-        let (layout, pipeline) = compute_pipeline(
-            device,
-            compiler,
-            cache,
-            set_layout,
-            "light_cull.comp",
-            std::mem::size_of::<CullPush>(),
-        )?;
-        Ok(Self { layout, pipeline })
-    }
-
-    /// Dispatches one invocation per tile of `extent` (64 to a workgroup).
-    pub fn record(
-        &self,
-        device: &Device,
-        cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        push: &CullPush,
-        extent: vk::Extent2D,
-    ) {
-        let (x, y) = tiles(extent);
-        let raw = device.raw();
-        let groups = (x * y).div_ceil(64);
-        crate::commands::bind_pass(
-            raw,
-            cmd,
-            vk::PipelineBindPoint::COMPUTE,
-            &self.pipeline,
-            &self.layout,
-            set,
-            vk::ShaderStageFlags::COMPUTE,
-            bytemuck::bytes_of(push),
-        );
-        // SAFETY: recording state; the set's resources are in the states declared.
-        unsafe { raw.cmd_dispatch(cmd, groups, 1, 1) };
-    }
 }

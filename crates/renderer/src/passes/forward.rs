@@ -234,7 +234,7 @@ impl ForwardPass {
         };
         let vertex = module("gbuffer.vert", ShaderStage::Vertex)?;
         let fragment = module("forward.frag", ShaderStage::Fragment)?;
-        let (bindings, attributes) = crate::gbuffer::scene_vertex_input(variant);
+        let (bindings, attributes) = super::gbuffer::scene_vertex_input(variant);
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {

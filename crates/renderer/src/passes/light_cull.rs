@@ -8,7 +8,14 @@ use super::{FrameContext, FramePass};
 use crate::bindings::{self, SetDecl};
 use crate::error::RenderError;
 use crate::graph::{BufferUse, ImageUse};
-use crate::light_cull::LightCullPass;
+use std::sync::Arc;
+
+use combustion_vk::{
+    DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
+};
+
+use crate::gpu_types::CullPush;
+use crate::light_cull::{compute_pipeline, tiles};
 use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
 use crate::pipelines::{PipelineKey, PipelineRegistry};
@@ -87,5 +94,56 @@ impl FramePass for LightCull {
             push,
             frame.extent(),
         );
+    }
+}
+
+/// The culling pass's pipeline.
+pub(crate) struct LightCullPass {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
+impl LightCullPass {
+    pub fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        set_layout: &DescriptorSetLayout,
+    ) -> Result<Self, RenderError> {
+        let (layout, pipeline) = compute_pipeline(
+            device,
+            compiler,
+            cache,
+            set_layout,
+            "light_cull.comp",
+            std::mem::size_of::<CullPush>(),
+        )?;
+        Ok(Self { layout, pipeline })
+    }
+
+    /// Dispatches one invocation per tile of `extent` (64 to a workgroup).
+    pub fn record(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        push: &CullPush,
+        extent: vk::Extent2D,
+    ) {
+        let (x, y) = tiles(extent);
+        let raw = device.raw();
+        let groups = (x * y).div_ceil(64);
+        crate::commands::bind_pass(
+            raw,
+            cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            &self.pipeline,
+            &self.layout,
+            set,
+            vk::ShaderStageFlags::COMPUTE,
+            bytemuck::bytes_of(push),
+        );
+        // SAFETY: recording state; the set's resources are in the states declared.
+        unsafe { raw.cmd_dispatch(cmd, groups, 1, 1) };
     }
 }
