@@ -9,15 +9,12 @@
 //! and one posed stream per deformed object. What a frame brings (its pose, else the
 //! scene at rest): the skins' joint matrices and the objects' morph weights, written into
 //! the frame slot like its lights. A scene without deformed objects has none of it: no
-//! pass, no buffer, no pipeline.
+//! pass, no buffer, no pipeline. The pass and its pipeline are `passes/deform.rs`.
 
 use std::sync::Arc;
 
 use combustion_scene::{ObjectPoses, Scene};
-use combustion_vk::{
-    vk, Buffer, DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout,
-    ShaderCompiler,
-};
+use combustion_vk::{vk, Buffer, Device};
 use glam::{Mat4, Vec3};
 
 use crate::error::RenderError;
@@ -38,68 +35,7 @@ pub(crate) struct DeformPush {
 const NOT_SKINNED: u32 = u32::MAX;
 
 /// Invocations per workgroup (`local_size_x` in deform.comp).
-const GROUP: u32 = 64;
-
-/// The deform pass's pipeline (made when the first scene with deformed objects is
-/// uploaded: shaders are compiled at upload, never in a frame).
-pub(crate) struct DeformPipeline {
-    layout: PipelineLayout,
-    pipeline: Pipeline,
-}
-
-impl DeformPipeline {
-    pub(crate) fn new(
-        device: &Arc<Device>,
-        compiler: &ShaderCompiler,
-        cache: &PipelineCache,
-        set_layout: &DescriptorSetLayout,
-    ) -> Result<Self, RenderError> {
-        let (layout, pipeline) = crate::light_cull::compute_pipeline(
-            device,
-            compiler,
-            cache,
-            set_layout,
-            "deform.comp",
-            std::mem::size_of::<DeformPush>(),
-        )?;
-        Ok(Self { layout, pipeline })
-    }
-
-    /// One dispatch per deformed object of `deform` (recording state; the set's
-    /// resources in the states the pass declared).
-    pub(crate) fn record(
-        &self,
-        device: &Device,
-        cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
-        deform: &SceneDeform,
-    ) {
-        let raw = device.raw();
-        crate::commands::bind_pass(
-            raw,
-            cmd,
-            vk::PipelineBindPoint::COMPUTE,
-            &self.pipeline,
-            &self.layout,
-            set,
-            vk::ShaderStageFlags::COMPUTE,
-            &[],
-        );
-        for object in &deform.objects {
-            // SAFETY: recording state; the layout has this push range.
-            unsafe {
-                raw.cmd_push_constants(
-                    cmd,
-                    self.layout.raw(),
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    bytemuck::bytes_of(&object.push),
-                );
-                raw.cmd_dispatch(cmd, object.push.vertices[1].div_ceil(GROUP), 1, 1);
-            }
-        }
-    }
-}
+pub(crate) const GROUP: u32 = 64;
 
 /// One deformed object of the scene.
 pub(crate) struct DeformedObject {

@@ -6,7 +6,13 @@ use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
 use crate::bindings::{self, SetDecl};
-use crate::deform::DeformPipeline;
+use std::sync::Arc;
+
+use combustion_vk::{
+    DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
+};
+
+use crate::deform::{DeformPush, SceneDeform, GROUP};
 use crate::error::RenderError;
 use crate::graph::BufferUse;
 use crate::pass_io::PassIo;
@@ -88,5 +94,66 @@ impl FramePass for Deform {
             return;
         };
         pipeline.record(frame.device, cmd, frame.slot.set(&bindings::DEFORM), deform);
+    }
+}
+
+/// The deform pass's pipeline (made when the first scene with deformed objects is
+/// uploaded: shaders are compiled at upload, never in a frame).
+pub(crate) struct DeformPipeline {
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
+impl DeformPipeline {
+    pub(crate) fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        set_layout: &DescriptorSetLayout,
+    ) -> Result<Self, RenderError> {
+        let (layout, pipeline) = crate::light_cull::compute_pipeline(
+            device,
+            compiler,
+            cache,
+            set_layout,
+            "deform.comp",
+            std::mem::size_of::<DeformPush>(),
+        )?;
+        Ok(Self { layout, pipeline })
+    }
+
+    /// One dispatch per deformed object of `deform` (recording state; the set's
+    /// resources in the states the pass declared).
+    pub(crate) fn record(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        deform: &SceneDeform,
+    ) {
+        let raw = device.raw();
+        crate::commands::bind_pass(
+            raw,
+            cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            &self.pipeline,
+            &self.layout,
+            set,
+            vk::ShaderStageFlags::COMPUTE,
+            &[],
+        );
+        for object in &deform.objects {
+            // SAFETY: recording state; the layout has this push range.
+            unsafe {
+                raw.cmd_push_constants(
+                    cmd,
+                    self.layout.raw(),
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    bytemuck::bytes_of(&object.push),
+                );
+                raw.cmd_dispatch(cmd, object.push.vertices[1].div_ceil(GROUP), 1, 1);
+            }
+        }
     }
 }
