@@ -660,61 +660,89 @@ fn described(r: &JobResult) -> String {
     lines.join("\n")
 }
 
-/// `text` safe inside XML attributes and text.
-fn xml_escaped(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            // XML 1.0 has no other control characters.
-            c if c < ' ' && !matches!(c, '\t' | '\n' | '\r') => out.push(' '),
-            c => out.push(c),
-        }
-    }
-    out
+/// `text` with every character XML 1.0 cannot hold replaced: control characters other
+/// than tab, newline and carriage return by a space, the non-characters U+FFFE and
+/// U+FFFF by U+FFFD (the escaping of `&`, `<`, `>` and quotes is quick-xml's).
+fn xml_text(text: &str) -> String {
+    text.chars()
+        .map(|c| match c {
+            '\t' | '\n' | '\r' => c,
+            c if c < ' ' => ' ',
+            '\u{FFFE}' | '\u{FFFF}' => '\u{FFFD}',
+            c => c,
+        })
+        .collect()
 }
 
 /// JUnit XML (the schema CI systems read: Jenkins, GitLab, GitHub reporters): one
 /// test case a job; `failure` for a job beyond its criteria, `error` for one that did
-/// not render; the figures as the case's standard output.
+/// not render; the figures as the case's standard output. Written by quick-xml.
 fn junit(suite: &str, results: &[JobResult], seconds: f64) -> String {
+    use quick_xml::events::{BytesDecl, BytesEnd, BytesStart, BytesText, Event};
     let failures = results
         .iter()
         .filter(|r| r.status == Status::Failed)
-        .count();
-    let errors = results.iter().filter(|r| r.status == Status::Error).count();
-    let suite = xml_escaped(suite);
-    let mut xml = format!(
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"combustion batch\" tests=\"{}\" failures=\"{failures}\" errors=\"{errors}\" time=\"{seconds:.3}\">\n  <testsuite name=\"{suite}\" tests=\"{}\" failures=\"{failures}\" errors=\"{errors}\" skipped=\"0\" time=\"{seconds:.3}\">\n",
-        results.len(),
-        results.len()
-    );
+        .count()
+        .to_string();
+    let errors = results
+        .iter()
+        .filter(|r| r.status == Status::Error)
+        .count()
+        .to_string();
+    let (tests, time) = (results.len().to_string(), format!("{seconds:.3}"));
+    let suite = xml_text(suite);
+    let class = format!("combustion.batch.{suite}");
+    let mut writer = quick_xml::Writer::new_with_indent(Vec::new(), b' ', 2);
+    // Writing into memory cannot fail.
+    let mut write = |event: Event<'_>| writer.write_event(event).expect("writing into memory");
+    write(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None)));
+    write(Event::Start(BytesStart::new("testsuites").with_attributes(
+        [
+            ("name", "combustion batch"),
+            ("tests", tests.as_str()),
+            ("failures", failures.as_str()),
+            ("errors", errors.as_str()),
+            ("time", time.as_str()),
+        ],
+    )));
+    write(Event::Start(BytesStart::new("testsuite").with_attributes(
+        [
+            ("name", suite.as_str()),
+            ("tests", tests.as_str()),
+            ("failures", failures.as_str()),
+            ("errors", errors.as_str()),
+            ("skipped", "0"),
+            ("time", time.as_str()),
+        ],
+    )));
     for r in results {
-        xml += &format!(
-            "    <testcase name=\"{}\" classname=\"combustion.batch.{suite}\" time=\"{:.3}\">\n",
-            xml_escaped(&r.name),
-            r.seconds
-        );
-        let message = xml_escaped(r.message.as_deref().unwrap_or_default());
-        match r.status {
-            Status::Failed => {
-                xml += &format!("      <failure message=\"{message}\" type=\"criteria\"/>\n")
-            }
-            Status::Error => {
-                xml += &format!("      <error message=\"{message}\" type=\"render\"/>\n")
-            }
-            _ => {}
+        let (name, seconds) = (xml_text(&r.name), format!("{:.3}", r.seconds));
+        write(Event::Start(BytesStart::new("testcase").with_attributes([
+            ("name", name.as_str()),
+            ("classname", class.as_str()),
+            ("time", seconds.as_str()),
+        ])));
+        let message = xml_text(r.message.as_deref().unwrap_or_default());
+        let problem = match r.status {
+            Status::Failed => Some(("failure", "criteria")),
+            Status::Error => Some(("error", "render")),
+            _ => None,
+        };
+        if let Some((element, kind)) = problem {
+            write(Event::Empty(BytesStart::new(element).with_attributes([
+                ("message", message.as_str()),
+                ("type", kind),
+            ])));
         }
-        xml += &format!(
-            "      <system-out>{}</system-out>\n    </testcase>\n",
-            xml_escaped(&described(r))
-        );
+        write(Event::Start(BytesStart::new("system-out")));
+        write(Event::Text(BytesText::new(&xml_text(&described(r)))));
+        write(Event::End(BytesEnd::new("system-out")));
+        write(Event::End(BytesEnd::new("testcase")));
     }
-    xml += "  </testsuite>\n</testsuites>\n";
+    write(Event::End(BytesEnd::new("testsuite")));
+    write(Event::End(BytesEnd::new("testsuites")));
+    let mut xml = String::from_utf8(writer.into_inner()).expect("UTF-8 in, UTF-8 out");
+    xml.push('\n');
     xml
 }
 
@@ -845,6 +873,37 @@ mod tests {
         );
         assert!(xml.contains("<error message=\"no such file \""), "{xml}");
         assert_eq!(xml.matches("<testcase ").count(), 3);
+        // Characters XML 1.0 cannot hold (a job named from a file name, a message
+        // quoting one): the non-characters U+FFFE and U+FFFF become U+FFFD, and the
+        // document reads back whole.
+        let odd = junit(
+            "s\u{FFFF}",
+            &[result(
+                "x\u{FFFE}y",
+                Status::Error,
+                Some("bad \u{FFFF}\u{1b} byte"),
+            )],
+            0.1,
+        );
+        assert!(
+            !odd.contains('\u{FFFE}') && !odd.contains('\u{FFFF}'),
+            "{odd}"
+        );
+        assert!(odd.contains("name=\"x\u{FFFD}y\""), "{odd}");
+        assert!(odd.contains("message=\"bad \u{FFFD}  byte\""), "{odd}");
+        let mut reader = quick_xml::Reader::from_str(&odd);
+        let mut elements = 0;
+        loop {
+            match reader.read_event() {
+                Ok(quick_xml::events::Event::Eof) => break,
+                Ok(quick_xml::events::Event::Start(_) | quick_xml::events::Event::Empty(_)) => {
+                    elements += 1
+                }
+                Ok(_) => {}
+                Err(e) => panic!("{e}: {odd}"),
+            }
+        }
+        assert_eq!(elements, 5, "{odd}");
     }
 
     #[test]
