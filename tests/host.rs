@@ -1008,6 +1008,10 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         // occlusion target read by the environment term, split sum in the first round,
         // sampled with its occlusion split in the second), with emission and textures.
         textured_studio,
+        // KHR_materials_specular: its G-buffer target (16-bit floats, the last
+        // attachment) and the lighting set's binding of it, alternating with the thin
+        // film's and with neither.
+        builtin_scene("specular").unwrap(),
     ];
     // Targets kept 4 frames after their last use, not 16: in runs of 10 frames what the
     // scene before made is retired on the run's 5th frame and destroyed on its 8th, once
@@ -1033,7 +1037,7 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
         }
         for scene in [
             0, 1, 0, 2, 3, 0, 4, 5, 6, 5, 7, 6, 1, 8, 0, 8, 9, 1, 9, 8, 10, 11, 0, 10, 12, 9, 12,
-            1, 13, 2, 13, 1,
+            1, 13, 2, 13, 1, 14, 12, 14, 1, 14,
         ] {
             for _ in 0..10 {
                 headless::frame(&mut host, &mut output, scene).unwrap();

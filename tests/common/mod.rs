@@ -1173,11 +1173,12 @@ pub fn black_where_lit(
     black
         .into_iter()
         .filter_map(|(x, y)| {
-            let reference = lods[0].pixel(x, y).map(|p| p.radiance);
             let black_at = |r: Option<[f64; 3]>| r.is_some_and(|r| r.iter().all(|&c| c < floor));
-            let lit = !lods
-                .iter()
-                .any(|lod| black_at(lod.pixel(x, y).map(|p| p.radiance)));
+            let reference = lods[0].pixel(x, y).map(|p| p.radiance);
+            let lit = !black_at(reference)
+                && !lods[1..]
+                    .iter()
+                    .any(|lod| black_at(lod.pixel(x, y).map(|p| p.radiance)));
             lit.then_some((x, y, reference))
         })
         .collect()

@@ -166,7 +166,7 @@ pub fn brdf_evaluate_with_film<T: Real>(
     v: Vec3<T>,
     l: Vec3<T>,
 ) -> [T; 3] {
-    brdf_evaluate_view(m, &brdf_view_with_film(m, film, n, t, b, v), l)
+    brdf_evaluate_layered(m, film, None, n, t, b, v, l)
 }
 
 /// [`brdf_evaluate`] with the dielectric's specular strength and colour
