@@ -16,10 +16,9 @@
 
 layout(local_size_x = 64) in;
 
-layout(push_constant) uniform CullPush {
-    mat4 inverse_view_projection;
-    uvec4 counts;  // x: lights; y: tiles across; z: list stride (1 + lights); w: tiles
-} push;
+// push.inverse_view_projection; push.counts: x lights, y tiles across, z list stride
+// (1 + lights), w tiles (combustion_renderer's CullPush, passes/light_cull.rs).
+#include "push/light_cull.glsl"
 
 void main() {
     uint tile = gl_GlobalInvocationID.x;

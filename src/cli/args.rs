@@ -9,8 +9,9 @@ use clap::{ArgAction, ArgGroup, Args, Parser, Subcommand};
 
 use combustion::renderer::{
     AntiAliasing, Background, BaseColorStorage, Distribution, FresnelModel, GBufferStorage,
-    HdrFormat, LightCulling, RendererSettings, ShadingOptions, ShadowFilter, ShadowSettings,
-    SurfaceStorage, ToneMapping, MAX_CASCADES, MAX_FRAMES_IN_FLIGHT, MAX_SUPERSAMPLE,
+    HdrFormat, LightCulling, OptionalPasses, RendererSettings, ShadingOptions, ShadowFilter,
+    ShadowSettings, SurfaceStorage, ToneMapping, MAX_CASCADES, MAX_FRAMES_IN_FLIGHT,
+    MAX_SUPERSAMPLE,
 };
 use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, MetalColour};
@@ -421,6 +422,62 @@ pub(crate) struct ShadingArgs {
     /// With --shadows on: how shadow lookups are filtered
     #[arg(long, value_name = "FILTER", default_value = ShadowSettings::DEFAULT.filter.name(), value_parser = named(ShadowFilter::ALL.map(|f| (f.name(), f))))]
     pub(crate) shadow_filter: ShadowFilter,
+    #[command(flatten)]
+    pub(crate) optional: OptionalPassArgs,
+}
+
+/// `--NAME on|off` for each optional pass the renderer declares
+/// ([`combustion::renderer::optional_passes`]: its name is the flag, its help the help),
+/// all off by default; the flags form the group `optional_passes`.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct OptionalPassArgs {
+    /// The passes switched on.
+    pub(crate) passes: OptionalPasses,
+}
+
+impl OptionalPassArgs {
+    /// The group of every optional pass's flag (what `bench --report` conflicts with).
+    pub(crate) const GROUP: &'static str = "optional_passes";
+}
+
+impl clap::FromArgMatches for OptionalPassArgs {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut args = Self::default();
+        args.update_from_arg_matches(matches)?;
+        Ok(args)
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
+        for pass in combustion::renderer::optional_passes() {
+            if let Some(&on) = matches.get_one::<bool>(pass.name) {
+                self.passes = self.passes.with(pass, on);
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Args for OptionalPassArgs {
+    fn augment_args(mut command: clap::Command) -> clap::Command {
+        let mut names = Vec::new();
+        for pass in combustion::renderer::optional_passes() {
+            command = command.arg(
+                clap::Arg::new(pass.name)
+                    .long(pass.name)
+                    .value_name("on|off")
+                    .default_value("off")
+                    .action(ArgAction::Set)
+                    .value_parser(on_off())
+                    .help(pass.help),
+            );
+            names.push(pass.name);
+        }
+        command.group(ArgGroup::new(Self::GROUP).multiple(true).args(names))
+    }
+
+    fn augment_args_for_update(command: clap::Command) -> clap::Command {
+        Self::augment_args(command)
+    }
 }
 
 impl ShadingArgs {
@@ -433,6 +490,7 @@ impl ShadingArgs {
             energy_compensation: self.energy_compensation,
             shadows: self.shadows(),
             environment_samples: self.environment_samples,
+            optional_passes: self.optional.passes,
             ..base
         }
     }
@@ -685,7 +743,7 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_name = "METHOD", default_value = "none", value_parser = named(AntiAliasing::ALL.map(|a| (a.name(), a))))]
     pub(crate) anti_aliasing: AntiAliasing,
     /// Measure the variant sets and write the speed-against-error report to DIR
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "scene_lights", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "scene_lights", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter", OptionalPassArgs::GROUP])]
     pub(crate) report: Option<PathBuf>,
     /// With --report: add how this run reproduces an earlier report (rows with identical
     /// error columns, the spread of the frame-time ratios)

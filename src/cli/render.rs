@@ -188,6 +188,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
                 energy_compensation: o.shading.energy_compensation,
                 shadows: o.shading.shadows(),
                 environment_samples: o.shading.environment_samples,
+                optional_passes: o.shading.optional.passes,
                 ..set.shading
             };
             settings.hdr_format = set.hdr;

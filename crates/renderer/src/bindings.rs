@@ -340,13 +340,13 @@ impl SetWriter {
     }
 }
 
-const FRAGMENT: vk::ShaderStageFlags = vk::ShaderStageFlags::FRAGMENT;
+pub(crate) const FRAGMENT: vk::ShaderStageFlags = vk::ShaderStageFlags::FRAGMENT;
 const VERTEX: vk::ShaderStageFlags = vk::ShaderStageFlags::VERTEX;
-const COMPUTE: vk::ShaderStageFlags = vk::ShaderStageFlags::COMPUTE;
+pub(crate) const COMPUTE: vk::ShaderStageFlags = vk::ShaderStageFlags::COMPUTE;
 
 /// The material table as the lighting pass reads it (the G-buffer pass declares its own,
 /// also visible to its vertex stage).
-const MATERIALS: Binding = Binding::new(
+pub(crate) const MATERIALS: Binding = Binding::new(
     "materials",
     BindingKind::StorageBuffer {
         block: "Materials",
@@ -428,7 +428,7 @@ pub static MATERIAL_TEXTURES: SetDecl = SetDecl {
 /// (lighting_terms.glsl): the frame's lights, the conductor-from-base-colour table, the
 /// energy table, the sheen's albedo table, the environment's cubes and tables, the
 /// shadow maps.
-const LIT_BY: [Binding; 14] = [
+pub(crate) const LIT_BY: [Binding; 14] = [
     Binding::new(
         "lights",
         BindingKind::StorageBuffer {
@@ -531,7 +531,7 @@ const LIT_BY: [Binding; 14] = [
 ];
 
 /// `first` then `then`, as one array of `N` bindings (a set's list from shared parts).
-const fn joined<const N: usize>(first: &[Binding], then: &[Binding]) -> [Binding; N] {
+pub(crate) const fn joined<const N: usize>(first: &[Binding], then: &[Binding]) -> [Binding; N] {
     assert!(
         first.len() + then.len() == N,
         "N must be the two lists' total"
@@ -548,64 +548,6 @@ const fn joined<const N: usize>(first: &[Binding], then: &[Binding]) -> [Binding
     }
     out
 }
-
-const LIGHTING_BINDINGS: [Binding; 11 + LIT_BY.len()] = joined(
-    &[
-        Binding::new(
-            "gbuffer_base_color_metalness",
-            BindingKind::Texture2D,
-            FRAGMENT,
-        ),
-        Binding::new(
-            "gbuffer_normal_roughness_anisotropy",
-            BindingKind::Texture2D,
-            FRAGMENT,
-        ),
-        Binding::new(
-            "gbuffer_material_direction",
-            BindingKind::UTexture2D,
-            FRAGMENT,
-        ),
-        Binding::new("gbuffer_depth", BindingKind::Texture2D, FRAGMENT),
-        MATERIALS,
-        // Per 16×16 tile: the number of lights that can reach it, then their indices
-        // (written by the light-culling pass; read only in frames that cull).
-        Binding::new(
-            "tile_lights",
-            BindingKind::StorageBuffer {
-                block: "TileLights",
-                element: "uint",
-            },
-            FRAGMENT,
-        ),
-        // Emitted radiance (rgb) and occlusion (a) (EMISSIVE, OCCLUSION variants).
-        Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT)
-            .only_with(variant::EMISSIVE_OCCLUSION_TARGET.define),
-        // The clear coat: its normal (octahedral, xy), roughness (z) and weight (w)
-        // (CLEARCOAT variant).
-        Binding::new("gbuffer_clearcoat", BindingKind::Texture2D, FRAGMENT)
-            .only_with(variant::CLEARCOAT.define),
-        // The sheen: its linear colour (rgb) and perceptual roughness (a) (SHEEN variant).
-        Binding::new("gbuffer_sheen", BindingKind::Texture2D, FRAGMENT)
-            .only_with(variant::SHEEN.define),
-        // The thin film: its weight (r) and thickness in nm (g) (IRIDESCENCE variant).
-        Binding::new("gbuffer_film", BindingKind::Texture2D, FRAGMENT)
-            .only_with(variant::IRIDESCENCE.define),
-        // The dielectric's specular colour (rgb) and factor (a) (SPECULAR variant).
-        Binding::new("gbuffer_specular", BindingKind::Texture2D, FRAGMENT)
-            .only_with(variant::SPECULAR.define),
-    ],
-    &LIT_BY,
-);
-
-/// The lighting pass: the G-buffer and depth, the material table, the tile light lists,
-/// the emissive target (EMISSIVE variant), and what lights a surface (`LIT_BY`: lighting_terms.glsl).
-pub static LIGHTING: SetDecl = SetDecl {
-    name: "lighting",
-    set: 0,
-    bindings: &LIGHTING_BINDINGS,
-    includes: &["gpu_types.glsl"],
-};
 
 const FORWARD_BINDINGS: [Binding; 6 + LIT_BY.len()] = joined(
     &[
@@ -808,12 +750,12 @@ pub static ENVIRONMENT_BAKE: SetDecl = SetDecl {
     includes: &["gpu_types.glsl"],
 };
 
-/// Every set, for generating the headers.
+/// The sets declared here (the passes declare theirs in their own files:
+/// `passes::declared_sets` lists both).
 pub static ALL: &[&SetDecl] = &[
     &DEFORM,
     &GBUFFER,
     &MATERIAL_TEXTURES,
-    &LIGHTING,
     &FORWARD,
     &BACK_FACES,
     &SHADOW_CASTERS,
@@ -829,7 +771,8 @@ mod tests {
 
     #[test]
     fn headers_number_bindings_in_declaration_order() {
-        let glsl = LIGHTING.glsl();
+        let lighting = &crate::passes::lighting::SET;
+        let glsl = lighting.glsl();
         assert!(glsl.contains(
             "layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;"
         ));
@@ -839,7 +782,7 @@ mod tests {
         assert!(glsl.contains(
             "#ifdef EMISSIVE_OCCLUSION_TARGET\nlayout(set = 0, binding = 6) uniform texture2D gbuffer_emissive;\n#endif"
         ));
-        assert_eq!(LIGHTING.index("gbuffer_emissive"), 6);
+        assert_eq!(lighting.index("gbuffer_emissive"), 6);
         assert!(glsl.contains(
             "#ifdef CLEARCOAT\nlayout(set = 0, binding = 7) uniform texture2D gbuffer_clearcoat;\n#endif"
         ));
@@ -863,7 +806,7 @@ mod tests {
         assert_eq!(stages(&FORWARD.bindings[..2]), stages(GBUFFER.bindings));
         let tail = |decl: &SetDecl| names(&decl.bindings[decl.bindings.len() - LIT_BY.len()..]);
         assert_eq!(tail(&FORWARD), names(&LIT_BY));
-        assert_eq!(tail(&LIGHTING), names(&LIT_BY));
+        assert_eq!(tail(&crate::passes::lighting::SET), names(&LIT_BY));
     }
 
     /// Every binding a feature switches on names a feature of the variant's table
@@ -876,8 +819,9 @@ mod tests {
             .iter()
             .map(|f| f.define)
             .chain([variant::ENVIRONMENT.define, variant::SHADOWS.define])
+            .chain(crate::passes::optional_passes().map(|p| p.define))
             .collect();
-        for decl in ALL {
+        for decl in crate::passes::declared_sets() {
             for binding in decl.bindings {
                 if let Some(define) = binding.only_with {
                     assert!(
@@ -898,7 +842,7 @@ mod tests {
 
     #[test]
     fn pool_sizes_count_each_descriptor_type() {
-        let sizes = LIGHTING.pool_sizes(2);
+        let sizes = crate::passes::lighting::SET.pool_sizes(2);
         let count = |ty| {
             sizes
                 .iter()

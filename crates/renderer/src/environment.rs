@@ -1280,7 +1280,10 @@ mod tests {
 
     #[test]
     fn each_bake_shader_declares_its_push_struct() {
-        let compiler = ShaderCompiler::new(crate::shader_sources::sources()).expect("shaderc");
+        let compiler = ShaderCompiler::new(crate::shader_sources::sources(
+            crate::passes::generated_headers(),
+        ))
+        .expect("shaderc");
         let shaders = [
             (
                 "environment_radiance.comp",
@@ -1323,7 +1326,7 @@ mod tests {
                 }),
             ),
         ];
-        let sources = crate::shader_sources::sources();
+        let sources = crate::shader_sources::sources(crate::passes::generated_headers());
         for (file, (name, size, members)) in shaders {
             let spirv = compiler
                 .compile(file, ShaderStage::Compute, &[])
@@ -1346,7 +1349,7 @@ mod tests {
     /// the radiance push's source.)
     #[test]
     fn push_blocks_are_read_from_spirv_and_glsl() {
-        let sources = crate::shader_sources::sources();
+        let sources = crate::shader_sources::sources(crate::passes::generated_headers());
         let compiler = ShaderCompiler::new(sources.clone()).expect("shaderc");
         let spirv = compiler
             .compile("tonemap.frag", ShaderStage::Fragment, &[])

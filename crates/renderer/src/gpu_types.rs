@@ -1,5 +1,5 @@
-//! CPU mirrors of the structures in `shaders/include/gpu_types.glsl` and of each pass's
-//! push constants. The size assertions below fail the build if a field is added on one
+//! CPU mirrors of the structures in `shaders/include/gpu_types.glsl` and of the push
+//! constants of the passes that do not generate theirs (`push_block!`). The size assertions below fail the build if a field is added on one
 //! side only; the field order is the GLSL one.
 
 use bytemuck::{Pod, Zeroable};
@@ -606,16 +606,6 @@ impl LightingPush {
             ..self
         }
     }
-}
-
-/// Push constants of the light-culling pass (`CullPush` in light_cull.comp).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct CullPush {
-    /// The inverse of the camera's view-projection matrix, column-major.
-    pub inverse_view_projection: [f32; 16],
-    /// x: lights; y: tiles across; z: list stride (1 + lights); w: tiles.
-    pub counts: [u32; 4],
 }
 
 /// Push constants of the tonemap pass (`TonemapPush` in tonemap.frag).

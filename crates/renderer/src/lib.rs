@@ -35,6 +35,7 @@ pub mod reference;
 mod buffers;
 mod color;
 mod commands;
+mod compute;
 mod deform;
 mod error;
 mod frame;
@@ -51,6 +52,7 @@ mod passes;
 mod pipelines;
 mod placeholders;
 mod placement;
+mod push;
 mod results;
 mod retire;
 mod scene_edit;
@@ -83,8 +85,8 @@ pub use host::{
 pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{
     BaseColorStorage, DebugView, Distribution, FresnelModel, GBufferStorage, HdrFormat, Masking,
-    MeasurementFloor, Readback, RendererSettings, ShadingOptions, SurfaceStorage,
-    ENVIRONMENT_SAMPLE_COUNTS, MAX_FRAMES_IN_FLIGHT, TARGETS_KEPT_FOR_FRAMES,
+    MeasurementFloor, OptionalPass, OptionalPasses, Readback, RendererSettings, ShadingOptions,
+    SurfaceStorage, ENVIRONMENT_SAMPLE_COUNTS, MAX_FRAMES_IN_FLIGHT, TARGETS_KEPT_FOR_FRAMES,
 };
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
 pub use results::{Frame, PassTime, PassTimings, RendererStats};
@@ -98,6 +100,17 @@ pub use shadows::{
     SPLIT_LOGARITHMIC_WEIGHT,
 };
 pub use variant::{LightingFeatures, ShaderVariant};
+
+/// The passes a frame runs only when asked ([`ShadingOptions::optional_passes`]), in the
+/// frame's order.
+pub fn optional_passes() -> impl Iterator<Item = &'static OptionalPass> {
+    passes::optional_passes()
+}
+
+/// The optional pass named `name` (`ambient-occlusion`), if there is one.
+pub fn optional_pass(name: &str) -> Option<&'static OptionalPass> {
+    passes::optional_passes().find(|pass| pass.name == name)
+}
 
 /// The deferred renderer. One per device; renders [`GpuScene`]s at any size, into its
 /// own images ([`Renderer::render`]) or into a host's command buffer and image
@@ -167,7 +180,12 @@ impl Renderer {
         cache_data: &[u8],
     ) -> Result<Self, RenderError> {
         settings.validate(&device)?;
-        let pipelines = pipelines::PipelineRegistry::new(&device, cache_data)?;
+        let pipelines = pipelines::PipelineRegistry::new(
+            &device,
+            cache_data,
+            &passes::declared_sets(),
+            passes::generated_headers(),
+        )?;
         let shared = shared::SharedResources::new(&device, &settings)?;
         let slots = (0..settings.frames_in_flight)
             .map(|_| slot::FrameSlot::new(&device, &pipelines.layouts, &passes::frame_sets()))

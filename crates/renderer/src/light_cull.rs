@@ -3,17 +3,9 @@
 //! instead of every light. Only lights with a range (KHR_lights_punctual) can be left
 //! out; the lists keep index order, so a culled frame is the same sum as an unculled
 //! one, less terms that are exactly zero (tests/light_culling.rs checks bit equality).
-//! Here: when frames cull, the tile grid, and the compute pipeline builder it shares
-//! with the deform pass; the pass itself is `passes/light_cull.rs`.
+//! Here: when frames cull and the tile grid; the pass itself is `passes/light_cull.rs`.
 
-use std::sync::Arc;
-
-use combustion_vk::{
-    vk, DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
-    ShaderModule, ShaderStage,
-};
-
-use crate::error::RenderError;
+use combustion_vk::vk;
 
 /// Tile edge in pixels (`TILE_SIZE` in light_cull.comp and lighting.frag, from the
 /// generated `bindings/constants.glsl`).
@@ -67,29 +59,4 @@ pub fn tiles(extent: vk::Extent2D) -> (u32, u32) {
         extent.width.div_ceil(TILE_SIZE),
         extent.height.div_ceil(TILE_SIZE),
     )
-}
-
-/// A compute pipeline of `shader` (set 0 of `set_layout`, `push_bytes` of push
-/// constants): its layout and the pipeline.
-pub(crate) fn compute_pipeline(
-    device: &Arc<Device>,
-    compiler: &ShaderCompiler,
-    cache: &PipelineCache,
-    set_layout: &DescriptorSetLayout,
-    shader: &str,
-    push_bytes: usize,
-) -> Result<(PipelineLayout, Pipeline), RenderError> {
-    let push = [vk::PushConstantRange {
-        stage_flags: vk::ShaderStageFlags::COMPUTE,
-        offset: 0,
-        size: push_bytes as u32,
-    }];
-    let layout = PipelineLayout::new(device, &[set_layout], &push)?;
-    let module = ShaderModule::new(
-        device,
-        &compiler.compile(shader, ShaderStage::Compute, &[])?,
-        ShaderStage::Compute,
-    )?;
-    let pipeline = Pipeline::compute(device, &module, &layout, Some(cache))?;
-    Ok((layout, pipeline))
 }

@@ -70,6 +70,65 @@ pub struct ShadingOptions {
     /// samples. One of [`ENVIRONMENT_SAMPLE_COUNTS`]. Blended and transmissive surfaces
     /// (the forward pass) keep the split sum.
     pub environment_samples: u32,
+    /// The optional passes frames run (none by default; [`crate::optional_passes`] lists
+    /// them): each adds its pass and what the passes that read its output do with it.
+    pub optional_passes: OptionalPasses,
+}
+
+/// A pass the frame runs only when asked: declared once, in its pass's file, with its
+/// name (the command line's `--NAME on|off`, and how [`crate::optional_pass`] finds it),
+/// its `#define` (set in every pipeline of frames that run it, so that the passes reading
+/// its output read it) and a line of help. [`crate::optional_passes`] lists them.
+#[derive(Debug, PartialEq, Eq, Hash)]
+pub struct OptionalPass {
+    /// Its name: lower case words joined by `-` (`ambient-occlusion`).
+    pub name: &'static str,
+    /// The `#define` of the pipelines of frames that run it.
+    pub define: &'static str,
+    /// What it does, in a line (the command line's help).
+    pub help: &'static str,
+}
+
+/// The optional passes a frame runs: a set of [`OptionalPass`]es (empty by default).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct OptionalPasses {
+    /// The passes, by name, then empty entries (so that equal sets are equal values).
+    on: [Option<&'static OptionalPass>; OptionalPasses::CAPACITY],
+}
+
+impl OptionalPasses {
+    /// How many a set holds: every optional pass the renderer declares (a test checks).
+    pub const CAPACITY: usize = 4;
+
+    /// No optional pass.
+    pub const NONE: OptionalPasses = OptionalPasses {
+        on: [None; Self::CAPACITY],
+    };
+
+    /// This set with `pass` in it (or out of it, with `on` false).
+    pub fn with(mut self, pass: &'static OptionalPass, on: bool) -> Self {
+        let mut passes: Vec<&'static OptionalPass> =
+            self.iter().filter(|p| p.name != pass.name).collect();
+        if on {
+            passes.push(pass);
+        }
+        passes.sort_by_key(|p| p.name);
+        self.on = [None; Self::CAPACITY];
+        for (slot, pass) in self.on.iter_mut().zip(passes) {
+            *slot = Some(pass);
+        }
+        self
+    }
+
+    /// Whether `pass` is in the set.
+    pub fn contains(&self, pass: &OptionalPass) -> bool {
+        self.iter().any(|p| p.name == pass.name)
+    }
+
+    /// The passes in the set, by name.
+    pub fn iter(&self) -> impl Iterator<Item = &'static OptionalPass> + '_ {
+        self.on.iter().flatten().copied()
+    }
 }
 
 /// The sample counts [`ShadingOptions::environment_samples`] takes (each its own
@@ -102,6 +161,7 @@ impl ShadingOptions {
         measurement_floor: None,
         shadows: None,
         environment_samples: 0,
+        optional_passes: OptionalPasses::NONE,
     };
 }
 

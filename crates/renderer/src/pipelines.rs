@@ -47,28 +47,31 @@ pub(crate) struct PipelineTools<'a> {
     pub(crate) layouts: &'a SetLayouts,
 }
 
-/// The descriptor-set layout of every declared set ([`bindings::ALL`]), shared by every
+/// The descriptor-set layout of every declared set, shared by every
 /// variant's pipelines and every frame slot.
 pub(crate) struct SetLayouts {
     by_name: Vec<(&'static str, DescriptorSetLayout)>,
 }
 
 impl SetLayouts {
-    pub(crate) fn new(device: &Arc<Device>) -> Result<Self, RenderError> {
-        let by_name = bindings::ALL
+    pub(crate) fn new(
+        device: &Arc<Device>,
+        sets: &[&'static bindings::SetDecl],
+    ) -> Result<Self, RenderError> {
+        let by_name = sets
             .iter()
             .map(|decl| Ok((decl.name, decl.layout(device)?)))
             .collect::<Result<_, RenderError>>()?;
         Ok(Self { by_name })
     }
 
-    /// The layout of `decl` (one of [`bindings::ALL`]).
+    /// The layout of `decl` (one of the sets it was made with).
     pub(crate) fn of(&self, decl: &bindings::SetDecl) -> &DescriptorSetLayout {
         self.by_name
             .iter()
             .find(|(name, _)| *name == decl.name)
             .map(|(_, layout)| layout)
-            .unwrap_or_else(|| panic!("set {} is not in bindings::ALL", decl.name))
+            .unwrap_or_else(|| panic!("set {} is not declared", decl.name))
     }
 }
 
@@ -87,16 +90,22 @@ pub(crate) struct PipelineRegistry {
 }
 
 impl PipelineRegistry {
-    /// The compiler (with the shader sources and the SPIR-V cache), the set layouts and a
-    /// pipeline cache primed from `cache_data`; no pipeline yet.
-    pub(crate) fn new(device: &Arc<Device>, cache_data: &[u8]) -> Result<Self, RenderError> {
-        let compiler = ShaderCompiler::new(shader_sources::sources())?
+    /// The compiler (with the shader sources, `headers` generated for them, and the
+    /// SPIR-V cache), the layouts of `sets` and a pipeline cache primed from
+    /// `cache_data`; no pipeline yet.
+    pub(crate) fn new(
+        device: &Arc<Device>,
+        cache_data: &[u8],
+        sets: &[&'static bindings::SetDecl],
+        headers: Vec<(String, String)>,
+    ) -> Result<Self, RenderError> {
+        let compiler = ShaderCompiler::new(shader_sources::sources(headers))?
             .with_spirv_cache(combustion_vk::default_spirv_cache_dir());
         Ok(Self {
             device: device.clone(),
             compiler,
             cache: PipelineCache::new(device, cache_data)?,
-            layouts: SetLayouts::new(device)?,
+            layouts: SetLayouts::new(device, sets)?,
             entries: HashMap::new(),
             prepared: HashSet::new(),
             built: 0,

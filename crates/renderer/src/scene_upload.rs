@@ -258,6 +258,7 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
         shadows: None,
         shadow_kinds: crate::shadows::ShadowKinds::of(&scene.lights),
         environment_samples: 0,
+        optional_passes: Default::default(),
     }
 }
 

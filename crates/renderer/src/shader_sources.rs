@@ -182,14 +182,15 @@ pub(crate) fn constants_glsl() -> String {
     out
 }
 
-/// The embedded sources, the binding headers generated from [`crate::bindings`] and the
-/// constants header.
-pub(crate) fn sources() -> ShaderSources {
-    crate::bindings::ALL
-        .iter()
+/// The embedded sources, `headers` generated for them (each declared set's bindings, each
+/// pass's push block: `passes::generated_headers`, by path and text) and the constants
+/// header.
+pub(crate) fn sources(headers: Vec<(String, String)>) -> ShaderSources {
+    headers
+        .into_iter()
         .fold(
             ShaderSources::new(SHADER_FILES.iter().copied()),
-            |sources, set| sources.with_generated(set.header_path(), set.glsl()),
+            |sources, (path, text)| sources.with_generated(path, text),
         )
         .with_generated(CONSTANTS_HEADER, constants_glsl())
 }
@@ -259,7 +260,7 @@ mod tests {
 
     #[test]
     fn shaders_include_the_constants_header_and_copy_none_of_them() {
-        let sources = sources();
+        let sources = sources(crate::passes::generated_headers());
         assert_eq!(
             sources.get(CONSTANTS_HEADER),
             Some(constants_glsl().as_str())

@@ -7,7 +7,8 @@ use combustion_scene::{DiffuseModel, Scene};
 #[cfg(doc)]
 use crate::environment;
 use crate::options::{
-    DebugView, Distribution, FresnelModel, Masking, MeasurementFloor, ShadingOptions,
+    DebugView, Distribution, FresnelModel, Masking, MeasurementFloor, OptionalPasses,
+    ShadingOptions,
 };
 
 /// The parts of the material model a lighting pipeline contains (unlit materials
@@ -227,6 +228,9 @@ pub struct ShaderVariant {
     /// ([`ShadingOptions::environment_samples`]; 0: the split sum, and 0 in scenes
     /// without an environment, so that it splits no pipeline).
     pub environment_samples: u32,
+    /// The optional passes the frames run ([`ShadingOptions::optional_passes`]; each
+    /// pass's define in every pipeline of the variant).
+    pub optional_passes: OptionalPasses,
 }
 
 /// A shader feature a variant switches on: its `#define`, declared once, and whether a
@@ -368,6 +372,7 @@ impl ShaderVariant {
         if let Some(shadows) = self.shadows {
             shadows.defines(&mut defines);
         }
+        defines.extend(self.optional_passes.iter().map(|p| (p.define, None)));
         match self.floor {
             None => {}
             Some(MeasurementFloor::Geometry) => defines.push(("FLOOR_GEOMETRY", None)),
@@ -460,6 +465,7 @@ impl ShadingOptions {
             } else {
                 0
             },
+            optional_passes: self.optional_passes,
             ..scene_variant
         }
     }

@@ -8,10 +8,9 @@ use super::{FrameContext, FramePass};
 use crate::bindings::{self, SetDecl};
 use std::sync::Arc;
 
-use combustion_vk::{
-    DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
-};
+use combustion_vk::{DescriptorSetLayout, Device, PipelineCache, ShaderCompiler};
 
+use crate::compute::ComputePass;
 use crate::deform::{DeformPush, SceneDeform, GROUP};
 use crate::error::RenderError;
 use crate::graph::BufferUse;
@@ -100,8 +99,7 @@ impl FramePass for Deform {
 /// The deform pass's pipeline (made when the first scene with deformed objects is
 /// uploaded: shaders are compiled at upload, never in a frame).
 pub(crate) struct DeformPipeline {
-    layout: PipelineLayout,
-    pipeline: Pipeline,
+    pass: ComputePass,
 }
 
 impl DeformPipeline {
@@ -111,15 +109,16 @@ impl DeformPipeline {
         cache: &PipelineCache,
         set_layout: &DescriptorSetLayout,
     ) -> Result<Self, RenderError> {
-        let (layout, pipeline) = crate::light_cull::compute_pipeline(
+        let pass = ComputePass::new(
             device,
             compiler,
             cache,
             set_layout,
             "deform.comp",
+            &[],
             std::mem::size_of::<DeformPush>(),
         )?;
-        Ok(Self { layout, pipeline })
+        Ok(Self { pass })
     }
 
     /// One dispatch per deformed object of `deform` (recording state; the set's
@@ -131,29 +130,16 @@ impl DeformPipeline {
         set: vk::DescriptorSet,
         deform: &SceneDeform,
     ) {
-        let raw = device.raw();
-        crate::commands::bind_pass(
-            raw,
-            cmd,
-            vk::PipelineBindPoint::COMPUTE,
-            &self.pipeline,
-            &self.layout,
-            set,
-            vk::ShaderStageFlags::COMPUTE,
-            &[],
-        );
+        self.pass.bind(device, cmd, set, &[]);
         for object in &deform.objects {
-            // SAFETY: recording state; the layout has this push range.
+            self.pass
+                .push(device, cmd, bytemuck::bytes_of(&object.push));
+            // SAFETY: recording state; the pipeline and its set are bound.
             unsafe {
-                raw.cmd_push_constants(
-                    cmd,
-                    self.layout.raw(),
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    bytemuck::bytes_of(&object.push),
-                );
-                raw.cmd_dispatch(cmd, object.push.vertices[1].div_ceil(GROUP), 1, 1);
-            }
+                device
+                    .raw()
+                    .cmd_dispatch(cmd, object.push.vertices[1].div_ceil(GROUP), 1, 1)
+            };
         }
     }
 }

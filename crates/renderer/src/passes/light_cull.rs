@@ -10,18 +10,27 @@ use crate::error::RenderError;
 use crate::graph::{BufferUse, ImageUse};
 use std::sync::Arc;
 
-use combustion_vk::{
-    DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
-};
+use combustion_vk::{DescriptorSetLayout, Device, PipelineCache, ShaderCompiler};
 
-use crate::gpu_types::CullPush;
-use crate::light_cull::{compute_pipeline, tiles};
+use crate::compute::ComputePass;
+use crate::light_cull::tiles;
 use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
 use crate::pipelines::{PipelineKey, PipelineRegistry};
+use crate::push::{push_block, PushBlock};
 use crate::variant::ShaderVariant;
 
 pub(crate) struct LightCull;
+
+push_block! {
+    /// The culling pass's push constants (`push/light_cull.glsl`).
+    pub(crate) struct CullPush in "light_cull" {
+        /// The inverse of the camera's view-projection matrix, column-major.
+        inverse_view_projection: [f32; 16],
+        /// x: lights; y: tiles across; z: list stride (1 + lights); w: tiles.
+        counts: [u32; 4],
+    }
+}
 
 /// Its one pipeline (every variant's frames may cull).
 fn key() -> PipelineKey {
@@ -36,6 +45,10 @@ impl FramePass for LightCull {
     fn sets(&self) -> &'static [&'static SetDecl] {
         static SETS: [&SetDecl; 1] = [&bindings::LIGHT_CULL];
         &SETS
+    }
+
+    fn headers(&self) -> Vec<(String, String)> {
+        vec![CullPush::header()]
     }
 
     fn prepare(
@@ -99,8 +112,7 @@ impl FramePass for LightCull {
 
 /// The culling pass's pipeline.
 pub(crate) struct LightCullPass {
-    layout: PipelineLayout,
-    pipeline: Pipeline,
+    pass: ComputePass,
 }
 
 impl LightCullPass {
@@ -110,15 +122,16 @@ impl LightCullPass {
         cache: &PipelineCache,
         set_layout: &DescriptorSetLayout,
     ) -> Result<Self, RenderError> {
-        let (layout, pipeline) = compute_pipeline(
+        let pass = ComputePass::new(
             device,
             compiler,
             cache,
             set_layout,
             "light_cull.comp",
+            &[],
             std::mem::size_of::<CullPush>(),
         )?;
-        Ok(Self { layout, pipeline })
+        Ok(Self { pass })
     }
 
     /// Dispatches one invocation per tile of `extent` (64 to a workgroup).
@@ -131,19 +144,8 @@ impl LightCullPass {
         extent: vk::Extent2D,
     ) {
         let (x, y) = tiles(extent);
-        let raw = device.raw();
         let groups = (x * y).div_ceil(64);
-        crate::commands::bind_pass(
-            raw,
-            cmd,
-            vk::PipelineBindPoint::COMPUTE,
-            &self.pipeline,
-            &self.layout,
-            set,
-            vk::ShaderStageFlags::COMPUTE,
-            bytemuck::bytes_of(push),
-        );
-        // SAFETY: recording state; the set's resources are in the states declared.
-        unsafe { raw.cmd_dispatch(cmd, groups, 1, 1) };
+        self.pass
+            .dispatch(device, cmd, set, bytemuck::bytes_of(push), [groups, 1, 1]);
     }
 }

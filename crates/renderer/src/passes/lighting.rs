@@ -5,7 +5,7 @@
 use combustion_vk::vk;
 
 use super::{FrameContext, FramePass};
-use crate::bindings::{self, SetDecl};
+use crate::bindings::{joined, Binding, BindingKind, SetDecl, FRAGMENT, LIT_BY, MATERIALS};
 use crate::error::RenderError;
 use crate::fullscreen::FullscreenPass;
 use crate::gpu_types::LightingPush;
@@ -15,9 +15,68 @@ use crate::pass_io::PassIo;
 use crate::pipelines::{PipelineKey, PipelineRegistry};
 use crate::results::PassTimings;
 use crate::targets::ImageRequest;
+use crate::variant;
 use crate::variant::ShaderVariant;
 
 pub(crate) struct Lighting;
+
+/// The lighting pass's own bindings (then `LIT_BY`'s).
+const OWN_BINDINGS: &[Binding] = &[
+    Binding::new(
+        "gbuffer_base_color_metalness",
+        BindingKind::Texture2D,
+        FRAGMENT,
+    ),
+    Binding::new(
+        "gbuffer_normal_roughness_anisotropy",
+        BindingKind::Texture2D,
+        FRAGMENT,
+    ),
+    Binding::new(
+        "gbuffer_material_direction",
+        BindingKind::UTexture2D,
+        FRAGMENT,
+    ),
+    Binding::new("gbuffer_depth", BindingKind::Texture2D, FRAGMENT),
+    MATERIALS,
+    // Per 16×16 tile: the number of lights that can reach it, then their indices
+    // (written by the light-culling pass; read only in frames that cull).
+    Binding::new(
+        "tile_lights",
+        BindingKind::StorageBuffer {
+            block: "TileLights",
+            element: "uint",
+        },
+        FRAGMENT,
+    ),
+    // Emitted radiance (rgb) and occlusion (a) (EMISSIVE, OCCLUSION variants).
+    Binding::new("gbuffer_emissive", BindingKind::Texture2D, FRAGMENT)
+        .only_with(variant::EMISSIVE_OCCLUSION_TARGET.define),
+    // The clear coat: its normal (octahedral, xy), roughness (z) and weight (w)
+    // (CLEARCOAT variant).
+    Binding::new("gbuffer_clearcoat", BindingKind::Texture2D, FRAGMENT)
+        .only_with(variant::CLEARCOAT.define),
+    // The sheen: its linear colour (rgb) and perceptual roughness (a) (SHEEN variant).
+    Binding::new("gbuffer_sheen", BindingKind::Texture2D, FRAGMENT)
+        .only_with(variant::SHEEN.define),
+    // The thin film: its weight (r) and thickness in nm (g) (IRIDESCENCE variant).
+    Binding::new("gbuffer_film", BindingKind::Texture2D, FRAGMENT)
+        .only_with(variant::IRIDESCENCE.define),
+    // The dielectric's specular colour (rgb) and factor (a) (SPECULAR variant).
+    Binding::new("gbuffer_specular", BindingKind::Texture2D, FRAGMENT)
+        .only_with(variant::SPECULAR.define),
+];
+
+const BINDINGS: [Binding; OWN_BINDINGS.len() + LIT_BY.len()] = joined(OWN_BINDINGS, &LIT_BY);
+
+/// The lighting pass's set: the G-buffer and depth, the material table, the tile light lists,
+/// the emissive target (EMISSIVE variant), and what lights a surface (`LIT_BY`: lighting_terms.glsl).
+pub(crate) static SET: SetDecl = SetDecl {
+    name: "lighting",
+    set: 0,
+    bindings: &BINDINGS,
+    includes: &["gpu_types.glsl"],
+};
 
 /// The name of the HDR image the lighting pass writes (what every later pass adds to,
 /// and the output pass reads).
@@ -129,7 +188,7 @@ impl FramePass for Lighting {
     }
 
     fn sets(&self) -> &'static [&'static SetDecl] {
-        static SETS: [&SetDecl; 1] = [&bindings::LIGHTING];
+        static SETS: [&SetDecl; 1] = [&SET];
         &SETS
     }
 
@@ -148,7 +207,7 @@ impl FramePass for Lighting {
                 t.cache,
                 "lighting.frag",
                 &defines,
-                t.layouts.of(&bindings::LIGHTING),
+                t.layouts.of(&SET),
                 std::mem::size_of::<LightingPush>() as u32,
                 settings.hdr_format.vk(),
             )?;
@@ -172,7 +231,7 @@ impl FramePass for Lighting {
         let read = BufferUse::FragmentStorageRead;
         let texel = ImageUse::FragmentSampled;
         let mut io = PassIo::new(self.name())
-            .slot_set(frame.slot, &bindings::LIGHTING)
+            .slot_set(frame.slot, &SET)
             .image(
                 "gbuffer_base_color_metalness",
                 g.base_color_metalness,
@@ -233,7 +292,7 @@ impl FramePass for Lighting {
             cmd,
             hdr.view(),
             hdr.extent(),
-            frame.slot.set(&bindings::LIGHTING),
+            frame.slot.set(&SET),
             bytemuck::bytes_of(&frame.lighting_push),
             Some([r, g, b, 0.0]),
             |_| {},

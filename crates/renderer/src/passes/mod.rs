@@ -6,10 +6,13 @@
 //! ([`crate::graph::ImageStates::transition`]), its commands recorded, and its end
 //! stamped under its name ([`crate::PassTimings`]).
 //!
-//! Adding a pass: a file here with a unit struct implementing [`FramePass`], its
-//! descriptor set declared in `bindings.rs` (if its shaders bind resources: a
-//! [`SetDecl`] listed in `bindings::ALL`, which makes its GLSL header, layout and each
-//! frame slot's set), and one line in [`FRAME`] (docs/architecture.md walks through one).
+//! Adding a pass: a file here with a unit struct implementing [`FramePass`] — its
+//! descriptor set ([`SetDecl`], which makes its GLSL header, layout and each frame slot's
+//! set), its push constants (`push_block!`, which makes its GLSL block), its pipelines
+//! (`prepare`), its images (`images`) and, for a pass that runs only when asked, its
+//! option ([`FramePass::option`]: the command line's flag and the define of the passes
+//! that read its output) all in that file — and one line in [`FRAME`]
+//! (docs/architecture.md walks through one).
 
 mod back_faces;
 mod behind;
@@ -28,10 +31,10 @@ use crate::bindings::SetDecl;
 use crate::environment::GpuEnvironment;
 use crate::error::RenderError;
 use crate::gbuffer::GBufferTargets;
-use crate::gpu_types::{CullPush, LightingPush};
+use crate::gpu_types::LightingPush;
 use crate::graph::TrackedImage;
 use crate::host::{FrameInputs, FrameTarget};
-use crate::options::RendererSettings;
+use crate::options::{OptionalPass, RendererSettings};
 use crate::pass_io::PassIo;
 use crate::pipelines::PipelineRegistry;
 use crate::scene_upload::GpuScene;
@@ -39,6 +42,7 @@ use crate::shared::SharedResources;
 use crate::slot::FrameSlot;
 use crate::targets::{FrameImages, ImageRequest};
 use crate::variant::ShaderVariant;
+pub(crate) use light_cull::CullPush;
 
 /// Everything a frame's passes read, gathered once per frame.
 pub(crate) struct FrameContext<'a> {
@@ -105,6 +109,19 @@ pub(crate) trait FramePass: Sync {
     /// [`FrameSlot::set`]).
     fn sets(&self) -> &'static [&'static SetDecl] {
         &[]
+    }
+
+    /// The option that switches it on, for a pass that runs only when asked (declared
+    /// in its file; [`crate::optional_passes`] lists them). Default: none, the pass is
+    /// not optional.
+    fn option(&self) -> Option<&'static OptionalPass> {
+        None
+    }
+
+    /// The headers it generates for its shaders (its push block's,
+    /// [`crate::push::PushBlock::header`]), by path and text. Default: none.
+    fn headers(&self) -> Vec<(String, String)> {
+        Vec::new()
     }
 
     /// Builds, in `registry` under keys of its own, the pipelines it records frames of
@@ -186,6 +203,33 @@ pub(crate) fn frame_images(
         .collect()
 }
 
+/// The optional passes of the frame ([`FramePass::option`]), in the frame's order.
+pub(crate) fn optional_passes() -> impl Iterator<Item = &'static OptionalPass> {
+    FRAME.iter().filter_map(|pass| pass.option())
+}
+
+/// Every descriptor set declared: those of `bindings::ALL` and those the frame's passes
+/// declare in their own files, each once.
+pub(crate) fn declared_sets() -> Vec<&'static SetDecl> {
+    let mut sets: Vec<&'static SetDecl> = crate::bindings::ALL.to_vec();
+    for decl in frame_sets() {
+        if !sets.iter().any(|d| std::ptr::eq(*d, decl)) {
+            sets.push(decl);
+        }
+    }
+    sets
+}
+
+/// The headers generated for the shaders: each declared set's bindings and each pass's
+/// own ([`FramePass::headers`]).
+pub(crate) fn generated_headers() -> Vec<(String, String)> {
+    declared_sets()
+        .iter()
+        .map(|decl| (decl.header_path(), decl.glsl()))
+        .chain(FRAME.iter().flat_map(|pass| pass.headers()))
+        .collect()
+}
+
 /// The descriptor sets the frame's passes bind, each once, in the frame's order.
 pub(crate) fn frame_sets() -> Vec<&'static SetDecl> {
     let mut sets: Vec<&'static SetDecl> = Vec::new();
@@ -201,20 +245,60 @@ pub(crate) fn frame_sets() -> Vec<&'static SetDecl> {
 mod tests {
     use super::*;
 
-    /// Every set a pass binds has its layout made at start (it is in
-    /// `bindings::ALL`), and pass names are unique (timings are looked up by name).
+    /// Sets (whose headers and layouts are found by name), generated headers, passes
+    /// (whose timings are) and optional passes (whose flags are) are named once each,
+    /// and every optional pass fits in a set of them.
     #[test]
-    fn the_frames_sets_are_declared_and_its_passes_named_once() {
-        for decl in frame_sets() {
-            assert!(
-                crate::bindings::ALL.iter().any(|d| d.name == decl.name),
-                "set {} is not in bindings::ALL",
-                decl.name
-            );
+    fn sets_headers_passes_and_options_are_named_once() {
+        fn once(what: &str, names: &[String]) {
+            for (i, name) in names.iter().enumerate() {
+                assert!(!names[..i].contains(name), "two {what} named {name}");
+            }
         }
-        let names: Vec<&str> = FRAME.iter().map(|p| p.name()).collect();
-        for (i, name) in names.iter().enumerate() {
-            assert!(!names[..i].contains(name), "two passes named {name}");
+        once(
+            "sets",
+            &declared_sets()
+                .iter()
+                .map(|d| d.name.to_owned())
+                .collect::<Vec<_>>(),
+        );
+        once(
+            "headers",
+            &generated_headers()
+                .into_iter()
+                .map(|(path, _)| path)
+                .collect::<Vec<_>>(),
+        );
+        once(
+            "passes",
+            &FRAME
+                .iter()
+                .map(|p| p.name().to_owned())
+                .collect::<Vec<_>>(),
+        );
+        let options: Vec<&OptionalPass> = optional_passes().collect();
+        once(
+            "optional passes",
+            &options
+                .iter()
+                .map(|p| p.name.to_owned())
+                .collect::<Vec<_>>(),
+        );
+        assert!(options.len() <= crate::options::OptionalPasses::CAPACITY);
+        for option in options {
+            assert!(
+                option
+                    .name
+                    .split('-')
+                    .all(|w| !w.is_empty() && w.bytes().all(|b| b.is_ascii_lowercase())),
+                "{}: lower-case words joined by -",
+                option.name
+            );
+            assert_eq!(
+                option.define,
+                option.name.to_uppercase().replace('-', "_"),
+                "an optional pass's define is its name's"
+            );
         }
     }
 
