@@ -769,26 +769,48 @@ pub static ALL: &[&SetDecl] = &[
 mod tests {
     use super::*;
 
+    /// A set of the kinds the tests below look at, one binding only with a define.
+    static EXAMPLE: SetDecl = SetDecl {
+        name: "example",
+        set: 0,
+        bindings: &[
+            Binding::new("depth", BindingKind::Texture2D, FRAGMENT),
+            Binding::new("coat", BindingKind::Texture2D, FRAGMENT)
+                .only_with(variant::CLEARCOAT.define),
+            Binding::new(
+                "lights",
+                BindingKind::StorageBuffer {
+                    block: "Lights",
+                    element: "GpuLight",
+                },
+                FRAGMENT,
+            ),
+            Binding::new("cube", BindingKind::SamplerCube, FRAGMENT),
+            Binding::new(
+                "table",
+                BindingKind::StorageBuffer {
+                    block: "Table",
+                    element: "float",
+                },
+                FRAGMENT,
+            ),
+        ],
+        includes: &["gpu_types.glsl"],
+    };
+
     #[test]
     fn headers_number_bindings_in_declaration_order() {
-        let lighting = &crate::passes::lighting::SET;
-        let glsl = lighting.glsl();
+        let glsl = EXAMPLE.glsl();
+        assert!(glsl.contains("#include \"gpu_types.glsl\"\n"));
+        assert!(glsl.contains("layout(set = 0, binding = 0) uniform texture2D depth;"));
         assert!(glsl.contains(
-            "layout(set = 0, binding = 0) uniform texture2D gbuffer_base_color_metalness;"
+            "#ifdef CLEARCOAT\nlayout(set = 0, binding = 1) uniform texture2D coat;\n#endif"
         ));
         assert!(glsl.contains(
-            "layout(std430, set = 0, binding = 11) readonly buffer Lights { GpuLight lights[]; };"
+            "layout(std430, set = 0, binding = 2) readonly buffer Lights { GpuLight lights[]; };"
         ));
-        assert!(glsl.contains(
-            "#ifdef EMISSIVE_OCCLUSION_TARGET\nlayout(set = 0, binding = 6) uniform texture2D gbuffer_emissive;\n#endif"
-        ));
-        assert_eq!(lighting.index("gbuffer_emissive"), 6);
-        assert!(glsl.contains(
-            "#ifdef CLEARCOAT\nlayout(set = 0, binding = 7) uniform texture2D gbuffer_clearcoat;\n#endif"
-        ));
-        assert!(glsl.contains(
-            "#ifdef IRIDESCENCE\nlayout(set = 0, binding = 9) uniform texture2D gbuffer_film;\n#endif"
-        ));
+        assert_eq!(EXAMPLE.index("lights"), 2);
+        assert_eq!(EXAMPLE.index("table"), 4);
         assert_eq!(
             MATERIAL_TEXTURES.bindings.len(),
             combustion_scene::TextureSlot::ALL.len()
@@ -842,21 +864,16 @@ mod tests {
 
     #[test]
     fn pool_sizes_count_each_descriptor_type() {
-        let sizes = crate::passes::lighting::SET.pool_sizes(2);
+        let sizes = EXAMPLE.pool_sizes(2);
         let count = |ty| {
             sizes
                 .iter()
                 .find(|s| s.ty == ty)
                 .map_or(0, |s| s.descriptor_count)
         };
-        // The G-buffer's nine (the clear coat's, the sheen's, the thin film's and the
-        // specular included) and the two arrays of shadow maps as depths, twice.
-        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 22);
-        // The two environment cubes and the two arrays of shadow maps, twice.
-        assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 8);
-        // Materials, lights, the conductor table, the tile light lists, the energy
-        // table, the sheen table, the three environment tables and the shadow
-        // cascades, twice.
-        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 20);
+        assert_eq!(count(vk::DescriptorType::SAMPLED_IMAGE), 4);
+        assert_eq!(count(vk::DescriptorType::COMBINED_IMAGE_SAMPLER), 2);
+        assert_eq!(count(vk::DescriptorType::STORAGE_BUFFER), 4);
+        assert_eq!(count(vk::DescriptorType::STORAGE_IMAGE), 0);
     }
 }
