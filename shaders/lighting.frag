@@ -242,6 +242,11 @@ void main() {
 #else
     float occlusion = 1.0;
 #endif
+#ifdef AMBIENT_OCCLUSION
+    // The ambient-occlusion pass's visibility: with the texture's, their minimum (both
+    // see the same contacts; a product would count them twice).
+    occlusion = min(occlusion, texelFetch(ambient_occlusion, pixel, 0).r);
+#endif
 #ifdef ENVIRONMENT_SAMPLES
     radiance += environment_sampled(m, view, layers, view.frame[2], gl_FragCoord.xy, push.sampling.x,
                                     occlusion, nra.z);

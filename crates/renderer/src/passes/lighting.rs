@@ -65,6 +65,9 @@ const OWN_BINDINGS: &[Binding] = &[
     // The dielectric's specular colour (rgb) and factor (a) (SPECULAR variant).
     Binding::new("gbuffer_specular", BindingKind::Texture2D, FRAGMENT)
         .only_with(variant::SPECULAR.define),
+    // The environment's visibility (the ambient-occlusion pass's image).
+    Binding::new("ambient_occlusion", BindingKind::Texture2D, FRAGMENT)
+        .only_with(super::ambient_occlusion::OPTION.define),
 ];
 
 const BINDINGS: [Binding; OWN_BINDINGS.len() + LIT_BY.len()] = joined(OWN_BINDINGS, &LIT_BY);
@@ -256,6 +259,10 @@ impl FramePass for Lighting {
             ("gbuffer_sheen", g.sheen),
             ("gbuffer_film", g.film),
             ("gbuffer_specular", g.specular),
+            (
+                "ambient_occlusion",
+                frame.images.find(super::ambient_occlusion::IMAGE),
+            ),
         ] {
             io = match target {
                 Some(image) => io.image(name, image, texel),

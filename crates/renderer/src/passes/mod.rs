@@ -14,6 +14,7 @@
 //! that read its output) all in that file — and one line in [`FRAME`]
 //! (docs/architecture.md walks through one).
 
+mod ambient_occlusion;
 mod back_faces;
 mod behind;
 pub(crate) mod deform;
@@ -167,6 +168,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &shadow_maps::ShadowMaps,
     &gbuffer::GBuffer,
     &light_cull::LightCull,
+    &ambient_occlusion::AmbientOcclusion,
     &lighting::Lighting,
     &back_faces::BackFaces,
     &behind::Behind,

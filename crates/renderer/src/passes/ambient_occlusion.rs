@@ -1,0 +1,203 @@
+//! Ambient occlusion (ambient_occlusion.comp), an optional pass (`--ambient-occlusion
+//! on`, off by default): per pixel, the cosine-weighted visibility of the hemisphere
+//! above the surface, from the depth buffer, by ground-truth ambient occlusion (Jimenez
+//! et al. 2016), into an image the lighting pass darkens the environment's light by (with
+//! glTF occlusion textures: their minimum, so that occlusion both see counts once).
+
+use combustion_vk::vk;
+
+use super::{FrameContext, FramePass};
+use crate::bindings::{Binding, BindingKind, SetDecl, COMPUTE};
+use crate::compute::ComputePass;
+use crate::error::RenderError;
+use crate::graph::ImageUse;
+use crate::options::{OptionalPass, RendererSettings};
+use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
+use crate::push::{push_block, PushBlock};
+use crate::targets::ImageRequest;
+use crate::variant::ShaderVariant;
+
+pub(crate) struct AmbientOcclusion;
+
+/// Its option.
+pub(crate) static OPTION: OptionalPass = OptionalPass {
+    name: "ambient-occlusion",
+    define: "AMBIENT_OCCLUSION",
+    help: "Occlude the environment's light by the scene, from the depth buffer (ground-truth ambient occlusion; with glTF occlusion textures, their minimum)",
+};
+
+/// The image it writes: each pixel's visibility (1: nothing in the way).
+pub(crate) const IMAGE: &str = "ambient occlusion";
+
+/// Planes through the view direction per pixel, and depth samples on each side of one.
+const SLICES: u32 = 8;
+const STEPS: u32 = 8;
+
+/// The search radius, as a fraction of the diagonal of the scene's bounds.
+const RADIUS_OF_SCENE: f32 = 0.25;
+
+/// Its set: the depth and normals it reads, the visibility it writes.
+pub(crate) static SET: SetDecl = SetDecl {
+    name: "ambient_occlusion",
+    set: 0,
+    bindings: &[
+        Binding::new("gbuffer_depth", BindingKind::Texture2D, COMPUTE),
+        Binding::new(
+            "gbuffer_normal_roughness_anisotropy",
+            BindingKind::Texture2D,
+            COMPUTE,
+        ),
+        Binding::new(
+            "visibility",
+            BindingKind::StorageImage2D { format: "r32f" },
+            COMPUTE,
+        ),
+    ],
+    includes: &[],
+};
+
+push_block! {
+    /// Its push constants (`push/ambient_occlusion.glsl`).
+    pub(crate) struct AmbientOcclusionPush in "ambient_occlusion" {
+        /// Depth to world position (the inverse view-projection, column-major).
+        inverse_view_projection: [f32; 16],
+        /// The eye (w: 1).
+        camera_position: [f32; 4],
+        /// The unit view direction (xyz) and the pixels a unit length across it spans at
+        /// unit distance along it (w).
+        camera_forward: [f32; 4],
+        /// The world radius searched for occluders.
+        radius: f32,
+        /// The largest screen radius searched, in pixels.
+        max_radius_pixels: f32,
+        /// Planes through the view direction per pixel.
+        slices: u32,
+        /// Depth samples on each side of a plane.
+        steps: u32,
+        /// The height above a pixel's tangent plane below which a sample does not occlude
+        /// it, per square metre of the pixel's distance from the eye: 16 steps of the
+        /// 32-bit depth there (16 · 2⁻²⁴ / near), so that a plane does not occlude itself.
+        flat_tolerance: f32,
+    }
+}
+
+/// Whether frames of `variant` run it: asked for, in a scene with an environment (the
+/// light it occludes).
+fn wanted(variant: ShaderVariant) -> bool {
+    variant.optional_passes.contains(&OPTION) && variant.environment
+}
+
+/// Its pipeline, reading `settings`' G-buffer storage.
+fn key(settings: &RendererSettings) -> PipelineKey {
+    PipelineKey {
+        defines: settings.gbuffer.defines(),
+        ..PipelineKey::named("ambient occlusion")
+    }
+}
+
+impl FramePass for AmbientOcclusion {
+    fn name(&self) -> &'static str {
+        "ambient occlusion"
+    }
+
+    fn option(&self) -> Option<&'static OptionalPass> {
+        Some(&OPTION)
+    }
+
+    fn headers(&self) -> Vec<(String, String)> {
+        vec![AmbientOcclusionPush::header()]
+    }
+
+    fn sets(&self) -> &'static [&'static SetDecl] {
+        static SETS: [&SetDecl; 1] = [&SET];
+        &SETS
+    }
+
+    fn prepare(
+        &self,
+        variant: ShaderVariant,
+        settings: &RendererSettings,
+        registry: &mut PipelineRegistry,
+    ) -> Result<(), RenderError> {
+        if wanted(variant) {
+            registry.build(key(settings), |t| {
+                let pass = ComputePass::new(
+                    t.device,
+                    t.compiler,
+                    t.cache,
+                    t.layouts.of(&SET),
+                    "ambient_occlusion.comp",
+                    &settings.gbuffer.defines(),
+                    std::mem::size_of::<AmbientOcclusionPush>(),
+                )?;
+                Ok((pass, 1))
+            })?;
+        }
+        Ok(())
+    }
+
+    fn images(&self, variant: ShaderVariant, _settings: &RendererSettings) -> Vec<ImageRequest> {
+        if !wanted(variant) {
+            return Vec::new();
+        }
+        vec![ImageRequest::new(
+            IMAGE,
+            vk::Format::R32_SFLOAT,
+            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED,
+        )]
+    }
+
+    fn runs(&self, frame: &FrameContext<'_>) -> bool {
+        wanted(frame.variant)
+    }
+
+    fn io(&self, frame: &FrameContext<'_>) -> PassIo {
+        let g = &frame.gbuffer;
+        PassIo::new(self.name())
+            .slot_set(frame.slot, &SET)
+            .image("gbuffer_depth", g.depth, ImageUse::DepthComputeSampled)
+            .image(
+                "gbuffer_normal_roughness_anisotropy",
+                g.normal_roughness_anisotropy,
+                ImageUse::ComputeSampled,
+            )
+            .image(
+                "visibility",
+                frame.images.get(IMAGE),
+                ImageUse::ComputeStorageWrite,
+            )
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let camera = &frame.inputs.camera;
+        let extent = frame.extent();
+        let forward = (camera.target - camera.position).normalize();
+        let pixels_per_unit = extent.height as f32 / (2.0 * (0.5 * camera.vertical_fov).tan());
+        let radius = frame
+            .scene
+            .world_bounds
+            .map_or(0.0, |(lo, hi)| RADIUS_OF_SCENE * (hi - lo).length());
+        let push = AmbientOcclusionPush {
+            inverse_view_projection: frame.lighting_push.inverse_view_projection,
+            camera_position: camera.position.extend(1.0).to_array(),
+            camera_forward: forward.extend(pixels_per_unit).to_array(),
+            radius,
+            max_radius_pixels: 0.5 * extent.height as f32,
+            slices: SLICES,
+            steps: STEPS,
+            flat_tolerance: 16.0 * (-24f32).exp2() / camera.near,
+        };
+        let pass: &ComputePass = frame
+            .registry
+            .get(&key(frame.settings))
+            .expect("prepared for the frame's variant");
+        pass.dispatch(
+            frame.device,
+            cmd,
+            frame.slot.set(&SET),
+            bytemuck::bytes_of(&push),
+            [extent.width.div_ceil(8), extent.height.div_ceil(8), 1],
+        );
+    }
+}
