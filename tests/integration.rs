@@ -16,6 +16,7 @@ mod vulkan;
 #[path = "../examples/host/window.rs"]
 mod window;
 
+mod ambient_occlusion;
 mod animation;
 mod anti_aliasing;
 mod batch;
