@@ -20,6 +20,34 @@ PACKAGES=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake make pyth
   xvfb xauth xdotool x11-utils procps libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0
   weston libwayland-client0 libxkbcommon0 tar xz-utils)
 
+# Lavapipe has ray queries (VK_KHR_ray_query, acceleration structures) from Mesa 24.1: the
+# exact-visibility paths are tested on it. Debian 12 ships Mesa 22.3; its own
+# bookworm-backports suite has 25.0 (with the libdrm it needs). Elsewhere: a Mesa of 24.1 or
+# later from the distribution (Debian 13, Ubuntu 24.10 and later; Fedora 40 and later).
+mesa_with_ray_queries() {
+  local sudo=()
+  [ "$(id -u)" -eq 0 ] || sudo=(sudo)
+  local codename version
+  codename=$(. /etc/os-release 2>/dev/null && echo "${VERSION_CODENAME:-}")
+  version=$(dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true)
+  if [ -n "$version" ] && dpkg --compare-versions "$version" ge 24.1; then
+    return
+  fi
+  if [ "$codename" = bookworm ]; then
+    echo "installing mesa-vulkan-drivers from bookworm-backports (lavapipe with ray queries)"
+    local list=/etc/apt/sources.list.d/bookworm-backports.sources
+    if ! grep -rqs "bookworm-backports" /etc/apt/sources.list /etc/apt/sources.list.d/; then
+      printf 'Types: deb\nURIs: http://deb.debian.org/debian\nSuites: bookworm-backports\nComponents: main\nSigned-By: /usr/share/keyrings/debian-archive-keyring.gpg\n' |
+        "${sudo[@]}" tee "$list" >/dev/null
+    fi
+    "${sudo[@]}" apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq -t bookworm-backports \
+      mesa-vulkan-drivers libdrm2 libdrm-amdgpu1
+  else
+    echo "warning: mesa-vulkan-drivers ${version:-(none)} is older than 24.1: lavapipe has no ray queries, and the tests of the exact-visibility paths fail (install Mesa 24.1 or later)" >&2
+  fi
+}
+
 install_packages() {
   local missing=()
   for p in "${PACKAGES[@]}"; do
@@ -32,6 +60,7 @@ install_packages() {
     "${sudo[@]}" apt-get update -qq
     DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq "${missing[@]}"
   fi
+  mesa_with_ray_queries
   # A cold build and the test binaries take about 15 GiB of target/ (docs/build.md, "Build
   # cost"); a full disk shows up as a compiler crash deep in the build, so say it first.
   local free_kib
