@@ -91,6 +91,60 @@ pub struct DeviceDesc {
     /// Enable `VK_KHR_swapchain` on the device (to present to a window); off for
     /// headless rendering. An error if the chosen device lacks it.
     pub swapchain: bool,
+    /// Whether to enable ray queries where the device has them
+    /// ([`RayQueries::WhenAvailable`], the default) or not ([`RayQueries::Off`]: the
+    /// raster paths only, as on a device without them).
+    pub ray_queries: RayQueries,
+}
+
+/// Whether a device is created with ray queries ([`DeviceDesc::ray_queries`]): the
+/// extensions VK_KHR_acceleration_structure, VK_KHR_ray_query and
+/// VK_KHR_deferred_host_operations and the features accelerationStructure, rayQuery and
+/// bufferDeviceAddress ([`Device::ray_queries`] says whether it was).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RayQueries {
+    /// Enabled when the device has every extension and feature they need.
+    #[default]
+    WhenAvailable,
+    /// Never enabled.
+    Off,
+}
+
+/// The device extensions ray queries need.
+const RAY_QUERY_EXTENSIONS: [&CStr; 3] = [
+    ash::khr::acceleration_structure::NAME,
+    ash::khr::ray_query::NAME,
+    ash::khr::deferred_host_operations::NAME,
+];
+
+/// Whether `physical_device` has every extension and feature ray queries need.
+fn has_ray_queries(instance: &ash::Instance, physical_device: vk::PhysicalDevice) -> bool {
+    // SAFETY: valid physical device.
+    let Ok(available) =
+        (unsafe { instance.enumerate_device_extension_properties(physical_device) })
+    else {
+        return false;
+    };
+    let extensions = RAY_QUERY_EXTENSIONS.iter().all(|name| {
+        available
+            .iter()
+            .any(|e| e.extension_name_as_c_str() == Ok(*name))
+    });
+    if !extensions {
+        return false;
+    }
+    let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut acceleration = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default();
+    let mut ray_query = vk::PhysicalDeviceRayQueryFeaturesKHR::default();
+    let mut features2 = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut f12)
+        .push_next(&mut acceleration)
+        .push_next(&mut ray_query);
+    // SAFETY: valid physical device; the chain's structures outlive the call.
+    unsafe { instance.get_physical_device_features2(physical_device, &mut features2) };
+    f12.buffer_device_address == vk::TRUE
+        && acceleration.acceleration_structure == vk::TRUE
+        && ray_query.ray_query == vk::TRUE
 }
 
 /// What the loader reports of one physical device.
@@ -385,6 +439,8 @@ pub struct Device {
     owned: bool,
     /// Counts of submissions, waits and allocations, and the faults armed for them.
     probe: DeviceProbe,
+    /// VK_KHR_acceleration_structure's functions, on a device created with ray queries.
+    acceleration_structure: Option<ash::khr::acceleration_structure::Device>,
 }
 
 fn c_chars_to_string(chars: &[std::ffi::c_char]) -> String {
@@ -523,18 +579,20 @@ fn describe_devices(
     Ok(out)
 }
 
-/// gpu-allocator's allocator on `device`, with default settings.
+/// gpu-allocator's allocator on `device`, with default settings (and memory that buffers
+/// with device addresses can use, on devices with ray queries).
 fn create_allocator(
     instance: &ash::Instance,
     device: &ash::Device,
     physical_device: vk::PhysicalDevice,
+    buffer_device_address: bool,
 ) -> Result<Allocator, VkError> {
     Allocator::new(&AllocatorCreateDesc {
         instance: instance.clone(),
         device: device.clone(),
         physical_device,
         debug_settings: Default::default(),
-        buffer_device_address: false,
+        buffer_device_address,
         allocation_sizes: Default::default(),
     })
     .map_err(|source| VkError::allocation("the allocator", source))
@@ -663,10 +721,23 @@ impl Device {
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
         let mut features13 = Requirements::features_13();
-        let device_extensions = [ash::khr::swapchain::NAME.as_ptr()];
+        let mut device_extensions: Vec<*const std::ffi::c_char> = Vec::new();
         let mut create_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .push_next(&mut features13);
+        let ray_queries = desc.ray_queries == RayQueries::WhenAvailable
+            && has_ray_queries(instance, physical_device);
+        let mut f12 = vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
+        let mut acceleration = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
+            .acceleration_structure(true);
+        let mut ray_query = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
+        if ray_queries {
+            device_extensions.extend(RAY_QUERY_EXTENSIONS.iter().map(|e| e.as_ptr()));
+            create_info = create_info
+                .push_next(&mut f12)
+                .push_next(&mut acceleration)
+                .push_next(&mut ray_query);
+        }
         if desc.swapchain {
             // SAFETY: valid physical device.
             let available =
@@ -681,13 +752,17 @@ impl Device {
                     info.name
                 )));
             }
+            device_extensions.push(ash::khr::swapchain::NAME.as_ptr());
+        }
+        if !device_extensions.is_empty() {
             create_info = create_info.enabled_extension_names(&device_extensions);
         }
-        // SAFETY: create_info outlives the call; features were checked in select_device.
+        // SAFETY: create_info outlives the call; features were checked in select_device
+        // (and ray queries' by has_ray_queries).
         let device = unsafe { instance.create_device(physical_device, &create_info, None) }
             .what("vkCreateDevice")?;
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let allocator = match create_allocator(instance, &device, physical_device) {
+        let allocator = match create_allocator(instance, &device, physical_device, ray_queries) {
             Ok(a) => a,
             Err(error) => {
                 unsafe { device.destroy_device(None) };
@@ -695,15 +770,18 @@ impl Device {
             }
         };
         let (instance, messenger) = guard.disarm();
+        let acceleration_structure =
+            ray_queries.then(|| ash::khr::acceleration_structure::Device::new(&instance, &device));
         log::info!(
-            "Vulkan device {}: {} ({}, Vulkan {}.{}.{}, {})",
+            "Vulkan device {}: {} ({}, Vulkan {}.{}.{}, {}{})",
             info.index,
             info.name,
             info.kind(),
             info.api_version.0,
             info.api_version.1,
             info.api_version.2,
-            info.driver
+            info.driver,
+            if ray_queries { ", ray queries" } else { "" }
         );
         Ok(Arc::new(Device {
             entry,
@@ -719,6 +797,7 @@ impl Device {
             allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
             owned: true,
             probe: DeviceProbe::default(),
+            acceleration_structure,
         }))
     }
 
@@ -831,6 +910,7 @@ impl Device {
                 &host.instance,
                 &host.device,
                 pd,
+                false,
             )?)),
         };
         let info = device_info(0, &props, String::new());
@@ -849,6 +929,9 @@ impl Device {
             allocator: ManuallyDrop::new(allocator),
             owned: false,
             probe: DeviceProbe::default(),
+            // A host's device gets the raster paths: whether it enabled ray queries is
+            // not read from its create info yet.
+            acceleration_structure: None,
         }))
     }
 
@@ -873,6 +956,24 @@ impl Device {
     /// The physical device the logical device runs on.
     pub fn physical_device(&self) -> vk::PhysicalDevice {
         self.physical_device
+    }
+    /// Whether the device was created with ray queries ([`RayQueries`]): acceleration
+    /// structures, ray queries in shaders, buffer device addresses.
+    pub fn ray_queries(&self) -> bool {
+        self.acceleration_structure.is_some()
+    }
+    /// VK_KHR_acceleration_structure's functions, on a device with ray queries.
+    pub fn acceleration_structure(&self) -> Option<&ash::khr::acceleration_structure::Device> {
+        self.acceleration_structure.as_ref()
+    }
+    /// The device address of `buffer` (created with SHADER_DEVICE_ADDRESS usage, on a
+    /// device with ray queries).
+    pub fn buffer_address(&self, buffer: vk::Buffer) -> vk::DeviceAddress {
+        // SAFETY: valid buffer with the device-address usage (the caller's).
+        unsafe {
+            self.device
+                .get_buffer_device_address(&vk::BufferDeviceAddressInfo::default().buffer(buffer))
+        }
     }
     /// What the loader reports of the physical device.
     pub fn info(&self) -> &DeviceInfo {

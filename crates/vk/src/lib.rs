@@ -41,7 +41,7 @@ mod timestamps;
 pub use commands::{FrameRing, OneShot, RingFrame};
 pub use device::{
     Device, DeviceDesc, DeviceInfo, DeviceSelector, EnabledFeatures, HostDevice, QueueLock,
-    Requirements, SharedAllocator, ValidationLog,
+    RayQueries, Requirements, SharedAllocator, ValidationLog,
 };
 pub use disk_cache::{default_cache_dir, Digest, DiskCache};
 pub use error::{VkError, VkResultExt};
