@@ -247,6 +247,10 @@ void main() {
     // see the same contacts; a product would count them twice).
     occlusion = min(occlusion, texelFetch(ambient_occlusion, pixel, 0).r);
 #endif
+#ifdef RAY_TRACED_OCCLUSION
+    // The ray-traced occlusion pass's visibility, by the same rule.
+    occlusion = min(occlusion, texelFetch(ray_traced_occlusion, pixel, 0).r);
+#endif
 #ifdef ENVIRONMENT_SAMPLES
     radiance += environment_sampled(m, view, layers, view.frame[2], gl_FragCoord.xy, push.sampling.x,
                                     occlusion, nra.z);

@@ -70,9 +70,14 @@ fn resting_sphere(sphere: bool) -> Scene {
 
 /// `exact_f32` settings with the ambient-occlusion pass on or off.
 fn settings(occlusion: bool) -> RendererSettings {
+    with_pass("ambient-occlusion", occlusion)
+}
+
+/// `exact_f32` settings with the optional pass `name` on or off.
+fn with_pass(name: &str, on: bool) -> RendererSettings {
     let mut settings = exact_f32();
-    let pass = optional_pass("ambient-occlusion").expect("the renderer declares it");
-    settings.shading.optional_passes = OptionalPasses::NONE.with(pass, occlusion);
+    let pass = optional_pass(name).expect("the renderer declares it");
+    settings.shading.optional_passes = OptionalPasses::NONE.with(pass, on);
     settings
 }
 
@@ -261,4 +266,71 @@ fn only_frames_that_ask_with_an_environment_run_it() {
         "{:?}",
         dark.timings.names()
     );
+}
+
+/// Ray-traced occlusion: the floor beside the resting sphere within 1 % of ρL(1 − F) in
+/// the mean over each range (64 cosine-distributed rays a pixel, traced against the
+/// scene's acceleration structures on lavapipe's ray queries; the per-pixel noise
+/// averages out over the thousands of pixels of a range).
+#[test]
+fn ray_traced_occlusion_gives_the_floor_its_form_factor() {
+    let scene = resting_sphere(true);
+    let pixels = floor_pixels(&scene);
+    let traced = render(
+        &scene,
+        WIDTH,
+        HEIGHT,
+        with_pass("ray-traced-occlusion", true),
+        IMAGES,
+    );
+    assert!(
+        traced.timings.names().contains(&"ray-traced occlusion"),
+        "lavapipe has no ray queries here (Mesa 24.1 or later has them; bash scripts/dev.sh test installs it): {:?}",
+        traced.timings.names()
+    );
+    for range in [0.25..0.5, 0.25..1.5, 0.0..3.0, 3.0..6.0] {
+        let (mean, abs, n) = floor_error(&traced.hdr, &pixels, range.clone());
+        println!(
+            "ray-traced: {n} floor pixels {range:?} radii from the contact: mean relative error {mean:+.4}, mean |relative error| {abs:.4}"
+        );
+        assert!(
+            mean.abs() < 0.01,
+            "{range:?}: mean relative error {mean:+.4}"
+        );
+    }
+}
+
+/// A device created without ray queries (as on one that has none) renders frames that
+/// ask for ray-traced occlusion with the raster paths: no error, no pass, the image of
+/// a frame without it, nothing from the validation layer.
+#[test]
+fn without_ray_queries_the_traced_pass_is_left_out() {
+    use combustion::vk::{DeviceDesc, DeviceSelector, RayQueries};
+    use combustion::{Headless, HeadlessDesc};
+    let scene = resting_sphere(true);
+    let mut headless = Headless::new(&HeadlessDesc {
+        device: DeviceDesc {
+            selector: DeviceSelector::NameContains("llvmpipe".into()),
+            validation: true,
+            synchronization_validation: true,
+            ray_queries: RayQueries::Off,
+            ..DeviceDesc::default()
+        },
+        settings: with_pass("ray-traced-occlusion", true),
+    })
+    .expect("lavapipe with validation");
+    let frame = {
+        let renderer = headless.renderer();
+        assert!(!renderer.device().ray_queries());
+        let gpu_scene = renderer.upload(&scene).expect("upload");
+        renderer.render(&gpu_scene, 64, 36, IMAGES).expect("render")
+    };
+    crate::common::finish(headless);
+    assert!(
+        !frame.timings.names().contains(&"ray-traced occlusion"),
+        "{:?}",
+        frame.timings.names()
+    );
+    let plain = render(&scene, 64, 36, settings(false), IMAGES);
+    assert_eq!(frame.hdr, plain.hdr);
 }

@@ -43,6 +43,9 @@ pub enum BindingKind {
         /// The array's element type (a GLSL type or a struct of `gpu_types.glsl`).
         element: &'static str,
     },
+    /// `accelerationStructureEXT` (the shader enables GL_EXT_ray_query first): a top-level
+    /// structure traced by ray queries.
+    AccelerationStructure,
     /// `buffer BLOCK { ELEMENT NAME[]; }` (std430), written by shaders.
     RwStorageBuffer {
         /// The block's name.
@@ -69,6 +72,7 @@ impl BindingKind {
             Self::StorageBuffer { .. } | Self::RwStorageBuffer { .. } => {
                 vk::DescriptorType::STORAGE_BUFFER
             }
+            Self::AccelerationStructure => vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
         }
     }
 }
@@ -124,6 +128,14 @@ pub struct SetDecl {
 }
 
 impl SetDecl {
+    /// Whether a binding holds an acceleration structure (a layout only devices with ray
+    /// queries can make).
+    pub fn needs_ray_queries(&self) -> bool {
+        self.bindings
+            .iter()
+            .any(|b| b.kind == BindingKind::AccelerationStructure)
+    }
+
     /// The path shaders include: `bindings/NAME.glsl`.
     pub fn header_path(&self) -> String {
         format!("bindings/{}.glsl", self.name)
@@ -172,6 +184,12 @@ impl SetDecl {
                     "layout(std430, {layout}) readonly buffer {block} {{ {element} {}[]; }};",
                     b.name
                 ),
+                BindingKind::AccelerationStructure => {
+                    format!(
+                        "layout({layout}) uniform accelerationStructureEXT {};",
+                        b.name
+                    )
+                }
                 BindingKind::RwStorageBuffer { block, element } => format!(
                     "layout(std430, {layout}) buffer {block} {{ {element} {}[]; }};",
                     b.name
@@ -233,6 +251,7 @@ impl SetDecl {
             set,
             images: Vec::new(),
             buffers: Vec::new(),
+            structures: Vec::new(),
         }
     }
 }
@@ -243,6 +262,7 @@ pub struct SetWriter {
     set: vk::DescriptorSet,
     images: Vec<(u32, [vk::DescriptorImageInfo; 1])>,
     buffers: Vec<(u32, [vk::DescriptorBufferInfo; 1])>,
+    structures: Vec<(u32, [vk::AccelerationStructureKHR; 1])>,
 }
 
 impl SetWriter {
@@ -283,6 +303,16 @@ impl SetWriter {
         ));
     }
 
+    /// An acceleration structure, in place.
+    pub fn add_acceleration_structure(
+        &mut self,
+        name: &str,
+        structure: vk::AccelerationStructureKHR,
+    ) {
+        let index = self.decl.index(name);
+        self.structures.push((index, [structure]));
+    }
+
     /// As [`SetWriter::buffer`], in place.
     pub fn add_buffer(&mut self, name: &str, buffer: &Buffer) {
         let index = self.decl.index(name);
@@ -307,6 +337,7 @@ impl SetWriter {
                 .iter()
                 .map(|(index, _)| index)
                 .chain(self.buffers.iter().map(|(index, _)| index))
+                .chain(self.structures.iter().map(|(index, _)| index))
                 .any(|&index| index as usize == i)),
             "set {}: every binding must be written ({:?} declared)",
             self.decl.name,
@@ -335,6 +366,24 @@ impl SetWriter {
                 .descriptor_type(ty(*index))
                 .buffer_info(info)
         }));
+        let mut structure_writes: Vec<vk::WriteDescriptorSetAccelerationStructureKHR<'_>> = self
+            .structures
+            .iter()
+            .map(|(_, structure)| {
+                vk::WriteDescriptorSetAccelerationStructureKHR::default()
+                    .acceleration_structures(structure)
+            })
+            .collect();
+        for ((index, _), write) in self.structures.iter().zip(structure_writes.iter_mut()) {
+            let mut descriptor = vk::WriteDescriptorSet::default()
+                .dst_set(self.set)
+                .dst_binding(*index)
+                .descriptor_type(ty(*index))
+                .push_next(write);
+            // The count comes from the chained structure's, which push_next does not set.
+            descriptor.descriptor_count = 1;
+            writes.push(descriptor);
+        }
         // SAFETY: the caller guarantees the set is not in use by a pending frame.
         unsafe { device.raw().update_descriptor_sets(&writes, &[]) };
     }

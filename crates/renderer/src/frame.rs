@@ -188,7 +188,7 @@ impl Renderer {
             }
             Some(_) => return Err(RenderError::EnvironmentOfAnotherScene),
         };
-        if !self.pipelines.is_prepared(&variant) {
+        if !self.pipelines.is_prepared(&variant) || !self.structures_ready(scene, variant) {
             return Err(RenderError::VariantNotPrepared);
         }
         for (what, layout) in [

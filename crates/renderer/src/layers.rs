@@ -14,6 +14,7 @@ const LAYERS: &[(&str, &[&str])] = &[
     (
         "resources",
         &[
+            "accel",
             "bindings",
             "buffers",
             "color",

@@ -32,6 +32,7 @@ pub mod light_cull;
 pub mod overlay;
 pub mod reference;
 
+mod accel;
 mod buffers;
 mod color;
 mod commands;
@@ -112,6 +113,29 @@ pub fn optional_pass(name: &str) -> Option<&'static OptionalPass> {
     passes::optional_passes().find(|pass| pass.name == name)
 }
 
+/// `options` without the optional passes `device` cannot run (those that trace rays, on
+/// a device without ray queries: the raster paths, never an error), each said once as a
+/// warning.
+fn usable_options(device: &Device, options: ShadingOptions) -> ShadingOptions {
+    if device.ray_queries() {
+        return options;
+    }
+    for pass in options
+        .optional_passes
+        .iter()
+        .filter(|p| p.needs_ray_queries)
+    {
+        log::warn!(
+            "{}: the device has no ray queries; frames are rendered without it",
+            pass.name
+        );
+    }
+    ShadingOptions {
+        optional_passes: options.optional_passes.without_ray_queries(),
+        ..options
+    }
+}
+
 /// The deferred renderer. One per device; renders [`GpuScene`]s at any size, into its
 /// own images ([`Renderer::render`]) or into a host's command buffer and image
 /// ([`Renderer::record`]), with frames in flight.
@@ -180,15 +204,27 @@ impl Renderer {
         cache_data: &[u8],
     ) -> Result<Self, RenderError> {
         settings.validate(&device)?;
+        let settings = RendererSettings {
+            shading: usable_options(&device, settings.shading),
+            ..settings
+        };
         let pipelines = pipelines::PipelineRegistry::new(
             &device,
             cache_data,
-            &passes::declared_sets(),
+            &passes::usable(passes::declared_sets(), &device),
             passes::generated_headers(),
         )?;
         let shared = shared::SharedResources::new(&device, &settings)?;
         let slots = (0..settings.frames_in_flight)
-            .map(|_| slot::FrameSlot::new(&device, &pipelines.layouts, &passes::frame_sets()))
+            .enumerate()
+            .map(|(index, _)| {
+                slot::FrameSlot::new(
+                    &device,
+                    &pipelines.layouts,
+                    &passes::usable(passes::frame_sets(), &device),
+                    index,
+                )
+            })
             .collect::<Result<Vec<_>, _>>()?;
         let mut renderer = Self {
             offscreen: None,
@@ -245,13 +281,15 @@ impl Renderer {
         self.prepare_variant(self.variant_of(scene_upload::scene_variant(scene)))?;
         self.prepare_deform(scene)?;
         let environment = self.bake_scene_environment(scene)?;
-        GpuScene::new(
+        let gpu_scene = GpuScene::new(
             &self.device,
             scene,
             self.pipelines.layouts.of(&bindings::MATERIAL_TEXTURES),
             environment,
             self.retire_queue.clone(),
-        )
+        )?;
+        self.prepare_structures(&gpu_scene, self.variant_of(gpu_scene.variant))?;
+        Ok(gpu_scene)
     }
 
     /// The posed vertices of `scene`'s deformed objects (morphed, skinned) as the last
@@ -505,6 +543,33 @@ impl Renderer {
         self.settings.shading.variant(scene_variant)
     }
 
+    /// Whether a frame of `scene` with `variant` has the acceleration structures its
+    /// passes trace (or traces nothing).
+    pub(crate) fn structures_ready(&self, scene: &GpuScene, variant: ShaderVariant) -> bool {
+        !(self.device.ray_queries() && passes::FRAME.iter().any(|p| p.traces(variant)))
+            || scene.gpu.structures.get().is_some()
+    }
+
+    /// Builds `scene`'s acceleration structures if frames of `variant` trace rays (on a
+    /// device with ray queries) and they are not built yet (waits for the build: never
+    /// in a frame).
+    pub(crate) fn prepare_structures(
+        &self,
+        scene: &GpuScene,
+        variant: ShaderVariant,
+    ) -> Result<(), RenderError> {
+        if !self.structures_ready(scene, variant) {
+            let structures = accel::SceneStructure::new(
+                &self.device,
+                scene.scene(),
+                self.settings.frames_in_flight,
+            )?;
+            // Set once: the check above found it unset, and only `&mut self` sets it.
+            let _ = scene.gpu.structures.set(structures);
+        }
+        Ok(())
+    }
+
     /// Builds the pipelines of `variant` if they are not built yet, and the sheen's
     /// albedo table for the first variant with sheen.
     pub(crate) fn prepare_variant(&mut self, variant: ShaderVariant) -> Result<(), RenderError> {
@@ -546,6 +611,7 @@ impl Renderer {
     /// scene get theirs too.
     pub fn prepare(&mut self, scene: &GpuScene) -> Result<(), RenderError> {
         self.prepare_variant(self.variant_of(scene.variant))?;
+        self.prepare_structures(scene, self.variant_of(scene.variant))?;
         if scene.frame_environments.load(Ordering::Relaxed) {
             self.prepare_variant(self.variant_of(scene.lit_variant))?;
         }
@@ -574,11 +640,13 @@ impl Renderer {
             shadows.validate(self.device.limits().max_image_dimension2_d)?;
         }
         options.validate_environment_samples()?;
+        let options = usable_options(&self.device, options);
         for scene in scenes {
             if !scene.belongs_to(&self.retire_queue) {
                 return Err(RenderError::SceneOfAnotherRenderer);
             }
             self.prepare_variant(options.variant(scene.variant))?;
+            self.prepare_structures(scene, options.variant(scene.variant))?;
             if scene.frame_environments.load(Ordering::Relaxed) {
                 self.prepare_variant(options.variant(scene.lit_variant))?;
             }

@@ -87,6 +87,9 @@ pub struct OptionalPass {
     pub define: &'static str,
     /// What it does, in a line (the command line's help).
     pub help: &'static str,
+    /// It traces rays (acceleration structures, ray queries): on a device without ray
+    /// queries the renderer leaves it out of the options it is given, with a warning.
+    pub needs_ray_queries: bool,
 }
 
 /// The optional passes a frame runs: a set of [`OptionalPass`]es (empty by default).
@@ -118,6 +121,13 @@ impl OptionalPasses {
             *slot = Some(pass);
         }
         self
+    }
+
+    /// This set without the passes that need ray queries.
+    pub fn without_ray_queries(self) -> Self {
+        self.iter()
+            .filter(|p| p.needs_ray_queries)
+            .fold(self, |set, pass| set.with(pass, false))
     }
 
     /// Whether `pass` is in the set.

@@ -46,6 +46,17 @@ impl PassIo {
             .expect("PassIo::set names the descriptor set before its bindings")
     }
 
+    /// An acceleration structure the pass's shaders trace through `binding` (built by the
+    /// pass itself, which records the barrier after its build).
+    pub fn acceleration_structure(
+        mut self,
+        binding: &str,
+        structure: vk::AccelerationStructureKHR,
+    ) -> Self {
+        self.writer().add_acceleration_structure(binding, structure);
+        self
+    }
+
     /// An image the pass's shaders read through `binding` (no sampler: texelFetch),
     /// in the layout of `use_`, which the barriers bring it into.
     pub fn image(mut self, binding: &str, image: &Image, use_: ImageUse) -> Self {

@@ -89,6 +89,10 @@ pub(crate) struct SceneResources {
     pub(crate) environment: Option<crate::environment::GpuEnvironment>,
     /// Its deformed objects' buffers (None without morphed or skinned objects).
     pub(crate) deform: Option<crate::deform::SceneDeform>,
+    /// Its acceleration structures, for frames with a pass that traces rays (built by
+    /// `Renderer::upload`, `prepare` or `set_shading` when such a pass is asked for, on a
+    /// device with ray queries; unset otherwise).
+    pub(crate) structures: std::sync::OnceLock<crate::accel::SceneStructure>,
 }
 
 impl Drop for GpuScene {
@@ -528,6 +532,7 @@ impl GpuScene {
                 textures,
                 environment,
                 deform,
+                structures: std::sync::OnceLock::new(),
             }),
             draw_meshes: tables.draw_meshes,
             double_sided: tables.double_sided,
@@ -596,10 +601,26 @@ impl GpuScene {
             textures.as_ref().unwrap_or(&self.gpu.textures),
             deform.as_ref(),
         )?;
+        let structures = self
+            .gpu
+            .structures
+            .get()
+            .map(|old| crate::accel::SceneStructure::new(device, &next, old.slots()))
+            .transpose()?;
         // Everything new is built: swap it in and hand back what it replaces (buffers
         // still shared with the new parts stay alive through them).
         let gpu = &mut *self.gpu;
         let mut retired: Vec<Retired> = Vec::new();
+        if let Some(old) = std::mem::replace(
+            &mut gpu.structures,
+            structures
+                .map(std::sync::OnceLock::from)
+                .unwrap_or_default(),
+        )
+        .into_inner()
+        {
+            retired.push(Box::new(old));
+        }
         if let Some(old) = std::mem::replace(&mut gpu.deform, deform) {
             retired.push(Box::new(old));
         }

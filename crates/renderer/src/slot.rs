@@ -23,6 +23,8 @@ const FRAME_END_BYTES: u64 = 8 * (1 + MAX_TIMESTAMPS as u64);
 /// What one frame in flight owns. Reused only once the frame that used it last has
 /// completed (the host's promise when it records into the same slot again).
 pub(crate) struct FrameSlot {
+    /// Its place among the renderer's slots (0 to frames in flight − 1).
+    pub(crate) index: usize,
     /// One descriptor set of each declaration the frame's passes bind
     /// (`passes::FramePass::sets`), by the declaration's name.
     sets: Vec<(&'static str, vk::DescriptorSet)>,
@@ -77,6 +79,7 @@ impl FrameSlot {
         device: &Arc<Device>,
         layouts: &SetLayouts,
         decls: &[&'static bindings::SetDecl],
+        index: usize,
     ) -> Result<Self, RenderError> {
         let sizes: Vec<_> = decls.iter().flat_map(|decl| decl.pool_sizes(1)).collect();
         let pool = DescriptorPool::new(device, decls.len() as u32, &sizes)?;
@@ -93,6 +96,7 @@ impl FrameSlot {
             Err(e) => return Err(e.into()),
         };
         Ok(Self {
+            index,
             sets,
             _pool: pool,
             tile_lights: storage_buffer(device, TILE_LISTS, 4, GPU_ONLY)?,

@@ -25,6 +25,7 @@ pub(crate) static OPTION: OptionalPass = OptionalPass {
     name: "ambient-occlusion",
     define: "AMBIENT_OCCLUSION",
     help: "Occlude the environment's light by the scene, from the depth buffer (ground-truth ambient occlusion; with glTF occlusion textures, their minimum)",
+    needs_ray_queries: false,
 };
 
 /// The image it writes: each pixel's visibility (1: nothing in the way).

@@ -68,6 +68,9 @@ const OWN_BINDINGS: &[Binding] = &[
     // The environment's visibility (the ambient-occlusion pass's image).
     Binding::new("ambient_occlusion", BindingKind::Texture2D, FRAGMENT)
         .only_with(super::ambient_occlusion::OPTION.define),
+    // The environment's visibility (the ray-traced occlusion pass's image).
+    Binding::new("ray_traced_occlusion", BindingKind::Texture2D, FRAGMENT)
+        .only_with(super::ray_traced_occlusion::OPTION.define),
 ];
 
 const BINDINGS: [Binding; OWN_BINDINGS.len() + LIT_BY.len()] = joined(OWN_BINDINGS, &LIT_BY);
@@ -262,6 +265,10 @@ impl FramePass for Lighting {
             (
                 "ambient_occlusion",
                 frame.images.find(super::ambient_occlusion::IMAGE),
+            ),
+            (
+                "ray_traced_occlusion",
+                frame.images.find(super::ray_traced_occlusion::IMAGE),
             ),
         ] {
             io = match target {

@@ -24,6 +24,7 @@ mod gbuffer;
 mod light_cull;
 pub(crate) mod lighting;
 pub(crate) mod output;
+mod ray_traced_occlusion;
 mod shadow_maps;
 
 use combustion_vk::vk;
@@ -119,6 +120,13 @@ pub(crate) trait FramePass: Sync {
         None
     }
 
+    /// Whether frames of `variant` have it trace rays against the scene's acceleration
+    /// structures (built at upload, on devices with ray queries, for scenes whose frames
+    /// have such a pass). Default: no.
+    fn traces(&self, _variant: ShaderVariant) -> bool {
+        false
+    }
+
     /// The headers it generates for its shaders (its push block's,
     /// [`crate::push::PushBlock::header`]), by path and text. Default: none.
     fn headers(&self) -> Vec<(String, String)> {
@@ -169,6 +177,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &gbuffer::GBuffer,
     &light_cull::LightCull,
     &ambient_occlusion::AmbientOcclusion,
+    &ray_traced_occlusion::RayTracedOcclusion,
     &lighting::Lighting,
     &back_faces::BackFaces,
     &behind::Behind,
@@ -220,6 +229,17 @@ pub(crate) fn declared_sets() -> Vec<&'static SetDecl> {
         }
     }
     sets
+}
+
+/// Those of `sets` that `device` can make: every one, but those with an acceleration
+/// structure on a device without ray queries (their passes do not run there).
+pub(crate) fn usable(
+    sets: Vec<&'static SetDecl>,
+    device: &combustion_vk::Device,
+) -> Vec<&'static SetDecl> {
+    sets.into_iter()
+        .filter(|decl| device.ray_queries() || !decl.needs_ray_queries())
+        .collect()
 }
 
 /// The headers generated for the shaders: each declared set's bindings and each pass's

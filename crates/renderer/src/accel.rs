@@ -1,0 +1,459 @@
+//! Acceleration structures for ray queries, on devices that have them
+//! ([`Device::ray_queries`]): a bottom-level structure per triangle mesh
+//! ([`MeshStructures`]), built when a scene is uploaded for frames with a pass that traces
+//! (`FramePass::traces`), and a top-level structure per frame slot ([`SceneStructure`]),
+//! rebuilt by that pass in each of its frames from where the frame places its objects.
+//!
+//! What is in them: every object whose mesh is a triangle list, that casts shadows
+//! (`Object::casts_shadows`: an object that casts none occludes nothing), and that is not
+//! deformed (skinned and morphed objects are not in them yet: their rest shape is not
+//! the shape drawn). Every triangle is opaque (cut-outs block light through their
+//! holes: not tested against their texture yet). Points and lines are never in them.
+
+use std::sync::{Arc, Mutex};
+
+use combustion_scene::{Scene, Topology};
+use combustion_vk::gpu_allocator::MemoryLocation;
+use combustion_vk::{vk, Buffer, Device, OneShot, VkError, VkResultExt};
+
+use crate::error::RenderError;
+
+/// The functions of VK_KHR_acceleration_structure (a device without ray queries has
+/// none: callers check [`Device::ray_queries`] first).
+fn functions(
+    device: &Device,
+) -> Result<&combustion_vk::ash::khr::acceleration_structure::Device, RenderError> {
+    device.acceleration_structure().ok_or_else(|| {
+        RenderError::Vulkan(VkError::Unsupported(
+            "acceleration structures on a device without ray queries".into(),
+        ))
+    })
+}
+
+/// The alignment of a build's scratch memory on `device`.
+fn scratch_alignment(device: &Device) -> u64 {
+    let mut properties = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
+    let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut properties);
+    // SAFETY: valid physical device; the chain outlives the call.
+    unsafe {
+        device
+            .instance()
+            .get_physical_device_properties2(device.physical_device(), &mut properties2)
+    };
+    u64::from(properties.min_acceleration_structure_scratch_offset_alignment).max(1)
+}
+
+/// Device-address usages of the buffers a build reads.
+const BUILD_INPUT: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
+    vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR.as_raw()
+        | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS.as_raw(),
+);
+
+/// An acceleration structure and the buffer that holds it.
+pub(crate) struct AccelerationStructure {
+    device: Arc<Device>,
+    _buffer: Buffer,
+    handle: vk::AccelerationStructureKHR,
+    address: vk::DeviceAddress,
+}
+
+impl AccelerationStructure {
+    fn new(
+        device: &Arc<Device>,
+        ty: vk::AccelerationStructureTypeKHR,
+        size: u64,
+        name: &str,
+    ) -> Result<Self, RenderError> {
+        let functions = functions(device)?;
+        let buffer = Buffer::new(
+            device,
+            name,
+            size,
+            vk::BufferUsageFlags::ACCELERATION_STRUCTURE_STORAGE_KHR
+                | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS,
+            MemoryLocation::GpuOnly,
+        )?;
+        let info = vk::AccelerationStructureCreateInfoKHR::default()
+            .buffer(buffer.raw())
+            .size(size)
+            .ty(ty);
+        // SAFETY: valid create info; the structure is destroyed in Drop, before its buffer.
+        let handle = unsafe { functions.create_acceleration_structure(&info, None) }
+            .what("vkCreateAccelerationStructureKHR")?;
+        // SAFETY: the structure was just created.
+        let address = unsafe {
+            functions.get_acceleration_structure_device_address(
+                &vk::AccelerationStructureDeviceAddressInfoKHR::default()
+                    .acceleration_structure(handle),
+            )
+        };
+        Ok(Self {
+            device: device.clone(),
+            _buffer: buffer,
+            handle,
+            address,
+        })
+    }
+
+    /// The structure, for descriptor writes.
+    pub(crate) fn handle(&self) -> vk::AccelerationStructureKHR {
+        self.handle
+    }
+}
+
+impl Drop for AccelerationStructure {
+    fn drop(&mut self) {
+        if let Some(functions) = self.device.acceleration_structure() {
+            // SAFETY: created on this device; no pending work uses it (the owner's
+            // retirement waits for the frames that did).
+            unsafe { functions.destroy_acceleration_structure(self.handle, None) };
+        }
+    }
+}
+
+/// Scratch memory for a build of `size` bytes, and its aligned address.
+fn scratch(device: &Arc<Device>, size: u64, name: &str) -> Result<(Buffer, u64), RenderError> {
+    let alignment = scratch_alignment(device);
+    let buffer = Buffer::new(
+        device,
+        name,
+        size + alignment,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS,
+        MemoryLocation::GpuOnly,
+    )?;
+    let address = device
+        .buffer_address(buffer.raw())
+        .next_multiple_of(alignment);
+    Ok((buffer, address))
+}
+
+/// The bottom-level structure of each mesh that has one (triangle lists with triangles).
+pub(crate) struct MeshStructures {
+    per_mesh: Vec<Option<AccelerationStructure>>,
+}
+
+impl MeshStructures {
+    /// Builds the structure of every triangle mesh of `scene` (one submission, waited
+    /// for: at upload, never in a frame).
+    pub(crate) fn build(device: &Arc<Device>, scene: &Scene) -> Result<Self, RenderError> {
+        let functions = functions(device)?;
+        let mut per_mesh = Vec::with_capacity(scene.meshes.len());
+        // Inputs and scratch live until the submission has completed.
+        let mut kept: Vec<Buffer> = Vec::new();
+        let mut builds: Vec<(usize, u64, u64, u32, u32, u64)> = Vec::new();
+        for (index, mesh) in scene.meshes.iter().enumerate() {
+            let triangles = (mesh.indices.len() / 3) as u32;
+            if mesh.topology != Topology::Triangles || triangles == 0 || mesh.vertices.is_empty() {
+                per_mesh.push(None);
+                continue;
+            }
+            let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.position).collect();
+            let position_buffer = Buffer::with_data(
+                device,
+                "acceleration structure positions",
+                bytemuck::cast_slice(&positions),
+                BUILD_INPUT,
+            )?;
+            let index_buffer = Buffer::with_data(
+                device,
+                "acceleration structure indices",
+                bytemuck::cast_slice(&mesh.indices[..triangles as usize * 3]),
+                BUILD_INPUT,
+            )?;
+            let (positions_at, indices_at) = (
+                device.buffer_address(position_buffer.raw()),
+                device.buffer_address(index_buffer.raw()),
+            );
+            kept.push(position_buffer);
+            kept.push(index_buffer);
+            let geometry =
+                triangle_geometry(positions_at, indices_at, mesh.vertices.len() as u32 - 1);
+            let geometries = [geometry];
+            let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+                .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
+                .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
+                .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+                .geometries(&geometries);
+            let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
+            // SAFETY: valid build info.
+            unsafe {
+                functions.get_acceleration_structure_build_sizes(
+                    vk::AccelerationStructureBuildTypeKHR::DEVICE,
+                    &info,
+                    &[triangles],
+                    &mut sizes,
+                )
+            };
+            let structure = AccelerationStructure::new(
+                device,
+                vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
+                sizes.acceleration_structure_size,
+                "mesh acceleration structure",
+            )?;
+            let (scratch_buffer, scratch_at) = scratch(
+                device,
+                sizes.build_scratch_size,
+                "acceleration structure scratch",
+            )?;
+            kept.push(scratch_buffer);
+            builds.push((
+                index,
+                positions_at,
+                indices_at,
+                mesh.vertices.len() as u32 - 1,
+                triangles,
+                scratch_at,
+            ));
+            per_mesh.push(Some(structure));
+        }
+        if !builds.is_empty() {
+            let mut commands = OneShot::new(device)?;
+            let cmd = commands.begin()?;
+            for &(index, positions_at, indices_at, max_vertex, triangles, scratch_at) in &builds {
+                let structure = per_mesh[index].as_ref().expect("built above");
+                let geometries = [triangle_geometry(positions_at, indices_at, max_vertex)];
+                let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+                    .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
+                    .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
+                    .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+                    .geometries(&geometries)
+                    .dst_acceleration_structure(structure.handle)
+                    .scratch_data(vk::DeviceOrHostAddressKHR {
+                        device_address: scratch_at,
+                    });
+                let range = [vk::AccelerationStructureBuildRangeInfoKHR::default()
+                    .primitive_count(triangles)];
+                // SAFETY: recording; the inputs, scratch and destination live until the
+                // submission completes (waited for below).
+                unsafe { functions.cmd_build_acceleration_structures(cmd, &[info], &[&range]) };
+            }
+            commands.submit_and_wait()?;
+        }
+        drop(kept);
+        Ok(Self { per_mesh })
+    }
+
+    /// The structure of mesh `index`, if it has one.
+    fn of(&self, index: usize) -> Option<&AccelerationStructure> {
+        self.per_mesh.get(index).and_then(Option::as_ref)
+    }
+}
+
+/// One triangle geometry of a bottom-level build: f32 positions, u32 indices, opaque.
+fn triangle_geometry(
+    positions_at: u64,
+    indices_at: u64,
+    max_vertex: u32,
+) -> vk::AccelerationStructureGeometryKHR<'static> {
+    let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
+        .vertex_format(vk::Format::R32G32B32_SFLOAT)
+        .vertex_data(vk::DeviceOrHostAddressConstKHR {
+            device_address: positions_at,
+        })
+        .vertex_stride(12)
+        .max_vertex(max_vertex)
+        .index_type(vk::IndexType::UINT32)
+        .index_data(vk::DeviceOrHostAddressConstKHR {
+            device_address: indices_at,
+        });
+    vk::AccelerationStructureGeometryKHR::default()
+        .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
+        .geometry(vk::AccelerationStructureGeometryDataKHR { triangles })
+        .flags(vk::GeometryFlagsKHR::OPAQUE)
+}
+
+/// The top-level structure of one frame slot for one scene: its instances (host-visible,
+/// written by the frame that builds it), the structure and its scratch, for up to
+/// `capacity` objects.
+struct TopLevel {
+    instances: Buffer,
+    instances_at: u64,
+    structure: AccelerationStructure,
+    _scratch: Buffer,
+    scratch_at: u64,
+    capacity: u32,
+}
+
+/// A scene's acceleration structures: its meshes', and a top-level structure per frame
+/// slot (each rebuilt only by frames of its slot, whose previous frame has completed).
+pub(crate) struct SceneStructure {
+    meshes: MeshStructures,
+    per_slot: Vec<Mutex<TopLevel>>,
+}
+
+/// The geometry of a top-level build over the instances at `instances_at`.
+fn instance_geometry(instances_at: u64) -> vk::AccelerationStructureGeometryKHR<'static> {
+    vk::AccelerationStructureGeometryKHR::default()
+        .geometry_type(vk::GeometryTypeKHR::INSTANCES)
+        .geometry(vk::AccelerationStructureGeometryDataKHR {
+            instances: vk::AccelerationStructureGeometryInstancesDataKHR::default()
+                .array_of_pointers(false)
+                .data(vk::DeviceOrHostAddressConstKHR {
+                    device_address: instances_at,
+                }),
+        })
+        .flags(vk::GeometryFlagsKHR::OPAQUE)
+}
+
+/// What the top-level build of up to `capacity` instances is (the instances' address
+/// set; no destination yet).
+fn top_level_info<'a>(
+    geometries: &'a [vk::AccelerationStructureGeometryKHR<'a>],
+) -> vk::AccelerationStructureBuildGeometryInfoKHR<'a> {
+    vk::AccelerationStructureBuildGeometryInfoKHR::default()
+        .ty(vk::AccelerationStructureTypeKHR::TOP_LEVEL)
+        .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
+        .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+        .geometries(geometries)
+}
+
+impl SceneStructure {
+    /// `scene`'s mesh structures (built now) and `slots` top-level structures for all of
+    /// its objects.
+    pub(crate) fn new(
+        device: &Arc<Device>,
+        scene: &Scene,
+        slots: usize,
+    ) -> Result<Self, RenderError> {
+        let meshes = MeshStructures::build(device, scene)?;
+        let functions = functions(device)?;
+        let capacity = scene.objects.len().max(1) as u32;
+        let mut per_slot = Vec::with_capacity(slots);
+        for _ in 0..slots {
+            let instances = Buffer::new(
+                device,
+                "acceleration structure instances",
+                (capacity as usize * std::mem::size_of::<vk::AccelerationStructureInstanceKHR>())
+                    as u64,
+                BUILD_INPUT,
+                MemoryLocation::CpuToGpu,
+            )?;
+            let instances_at = device.buffer_address(instances.raw());
+            let geometries = [instance_geometry(instances_at)];
+            let info = top_level_info(&geometries);
+            let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
+            // SAFETY: valid build info.
+            unsafe {
+                functions.get_acceleration_structure_build_sizes(
+                    vk::AccelerationStructureBuildTypeKHR::DEVICE,
+                    &info,
+                    &[capacity],
+                    &mut sizes,
+                )
+            };
+            let structure = AccelerationStructure::new(
+                device,
+                vk::AccelerationStructureTypeKHR::TOP_LEVEL,
+                sizes.acceleration_structure_size,
+                "scene acceleration structure",
+            )?;
+            let (scratch_buffer, scratch_at) = scratch(
+                device,
+                sizes.build_scratch_size,
+                "scene acceleration structure scratch",
+            )?;
+            per_slot.push(Mutex::new(TopLevel {
+                instances,
+                instances_at,
+                structure,
+                _scratch: scratch_buffer,
+                scratch_at,
+                capacity,
+            }));
+        }
+        Ok(Self { meshes, per_slot })
+    }
+
+    /// Slot `slot`'s top-level structure (what its frames' ray queries trace, once built
+    /// by [`SceneStructure::record_build`]).
+    pub(crate) fn top_level(&self, slot: usize) -> vk::AccelerationStructureKHR {
+        self.per_slot[slot]
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .structure
+            .handle()
+    }
+
+    /// How many frame slots it has a top-level structure for.
+    pub(crate) fn slots(&self) -> usize {
+        self.per_slot.len()
+    }
+
+    /// Records the build of slot `slot`'s top-level structure over `objects` (each an
+    /// object's mesh and its world transform; those without a mesh structure left out),
+    /// then a barrier that makes it visible to compute shaders' ray queries; returns the
+    /// structure. The slot's previous frame must have completed (its instances are
+    /// rewritten now).
+    pub(crate) fn record_build(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        objects: impl Iterator<Item = (usize, glam::Mat4)>,
+    ) -> vk::AccelerationStructureKHR {
+        let functions = device
+            .acceleration_structure()
+            .expect("a scene structure exists only on a device with ray queries");
+        let mut top = self.per_slot[slot]
+            .lock()
+            .unwrap_or_else(|p| p.into_inner());
+        let instances: Vec<vk::AccelerationStructureInstanceKHR> = objects
+            .filter_map(|(mesh, transform)| {
+                let structure = self.meshes.of(mesh)?;
+                let rows = transform.transpose().to_cols_array();
+                Some(vk::AccelerationStructureInstanceKHR {
+                    transform: vk::TransformMatrixKHR {
+                        matrix: [
+                            rows[0], rows[1], rows[2], rows[3], rows[4], rows[5], rows[6], rows[7],
+                            rows[8], rows[9], rows[10], rows[11],
+                        ],
+                    },
+                    instance_custom_index_and_mask: vk::Packed24_8::new(0, 0xff),
+                    instance_shader_binding_table_record_offset_and_flags: vk::Packed24_8::new(
+                        0,
+                        vk::GeometryInstanceFlagsKHR::FORCE_OPAQUE.as_raw() as u8,
+                    ),
+                    acceleration_structure_reference: vk::AccelerationStructureReferenceKHR {
+                        device_handle: structure.address,
+                    },
+                })
+            })
+            .take(top.capacity as usize)
+            .collect();
+        // SAFETY: AccelerationStructureInstanceKHR is plain data laid out as Vulkan reads
+        // it (64 bytes, no padding).
+        let bytes = unsafe {
+            std::slice::from_raw_parts(
+                instances.as_ptr().cast::<u8>(),
+                std::mem::size_of_val(instances.as_slice()),
+            )
+        };
+        top.instances
+            .write(0, bytes)
+            .expect("the instance buffer is host-visible and holds every object");
+        let geometries = [instance_geometry(top.instances_at)];
+        let info = top_level_info(&geometries)
+            .dst_acceleration_structure(top.structure.handle)
+            .scratch_data(vk::DeviceOrHostAddressKHR {
+                device_address: top.scratch_at,
+            });
+        let range = [vk::AccelerationStructureBuildRangeInfoKHR::default()
+            .primitive_count(instances.len() as u32)];
+        let built = vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
+            .src_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR)
+            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .dst_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR);
+        let barriers = [built];
+        // SAFETY: recording; the instances, scratch and structure are the slot's, whose
+        // previous frame has completed.
+        unsafe {
+            functions.cmd_build_acceleration_structures(cmd, &[info], &[&range]);
+            device.raw().cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&barriers),
+            );
+        }
+        top.structure.handle()
+    }
+}

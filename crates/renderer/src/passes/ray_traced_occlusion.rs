@@ -1,0 +1,221 @@
+//! Ray-traced occlusion (ray_traced_occlusion.comp), an optional pass
+//! (`--ray-traced-occlusion on`, off by default; devices with ray queries): per pixel, the
+//! share of `RAYS` cosine-distributed rays from the surface that leave the scene — the
+//! visibility of the environment's diffuse light, traced against the scene's
+//! acceleration structures (`crate::accel`: what they hold and leave out). The lighting
+//! pass darkens the environment's light by it as by the screen-space pass's (with glTF
+//! occlusion textures: their minimum). Each pixel draws its own rays, the same in every
+//! frame: no noise from frame to frame, a fixed pattern within one.
+
+use combustion_vk::vk;
+
+use super::{FrameContext, FramePass};
+use crate::bindings::{Binding, BindingKind, SetDecl, COMPUTE};
+use crate::compute::ComputePass;
+use crate::error::RenderError;
+use crate::graph::ImageUse;
+use crate::options::{OptionalPass, RendererSettings};
+use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
+use crate::push::{push_block, PushBlock};
+use crate::targets::ImageRequest;
+use crate::variant::ShaderVariant;
+
+pub(crate) struct RayTracedOcclusion;
+
+/// Its option.
+pub(crate) static OPTION: OptionalPass = OptionalPass {
+    name: "ray-traced-occlusion",
+    define: "RAY_TRACED_OCCLUSION",
+    help: "Occlude the environment's light by the scene, by ray queries against its acceleration structures (64 rays a pixel; devices with ray queries, else left out with a warning)",
+    needs_ray_queries: true,
+};
+
+/// The image it writes: each pixel's visibility (1: nothing in the way).
+pub(crate) const IMAGE: &str = "ray-traced occlusion";
+
+/// Rays per pixel.
+const RAYS: u32 = 64;
+
+/// Its set: the depth and normals it reads, the scene it traces, the visibility it
+/// writes.
+pub(crate) static SET: SetDecl = SetDecl {
+    name: "ray_traced_occlusion",
+    set: 0,
+    bindings: &[
+        Binding::new("gbuffer_depth", BindingKind::Texture2D, COMPUTE),
+        Binding::new(
+            "gbuffer_normal_roughness_anisotropy",
+            BindingKind::Texture2D,
+            COMPUTE,
+        ),
+        Binding::new("scene", BindingKind::AccelerationStructure, COMPUTE),
+        Binding::new(
+            "visibility",
+            BindingKind::StorageImage2D { format: "r32f" },
+            COMPUTE,
+        ),
+    ],
+    includes: &[],
+};
+
+push_block! {
+    /// Its push constants (`push/ray_traced_occlusion.glsl`).
+    pub(crate) struct RayTracedOcclusionPush in "ray_traced_occlusion" {
+        /// Depth to world position (the inverse view-projection, column-major).
+        inverse_view_projection: [f32; 16],
+        /// The eye (w: 1).
+        camera_position: [f32; 4],
+        /// Rays per pixel.
+        rays: u32,
+        /// How far along its normal a ray starts, per metre of the point's distance from
+        /// the eye (past the depth's rounding and the tessellation's flat facets).
+        offset_per_distance: f32,
+        /// How far a ray looks (past every object of the scene).
+        reach: f32,
+        /// Unused (the block's size, a multiple of 16).
+        unused: u32,
+    }
+}
+
+/// Whether frames of `variant` run it: asked for, in a scene with an environment. (The
+/// renderer leaves the option out on a device without ray queries.)
+fn wanted(variant: ShaderVariant) -> bool {
+    variant.optional_passes.contains(&OPTION) && variant.environment
+}
+
+/// Its pipeline, reading `settings`' G-buffer storage.
+fn key(settings: &RendererSettings) -> PipelineKey {
+    PipelineKey {
+        defines: settings.gbuffer.defines(),
+        ..PipelineKey::named("ray-traced occlusion")
+    }
+}
+
+impl FramePass for RayTracedOcclusion {
+    fn name(&self) -> &'static str {
+        "ray-traced occlusion"
+    }
+
+    fn option(&self) -> Option<&'static OptionalPass> {
+        Some(&OPTION)
+    }
+
+    fn traces(&self, variant: ShaderVariant) -> bool {
+        wanted(variant)
+    }
+
+    fn headers(&self) -> Vec<(String, String)> {
+        vec![RayTracedOcclusionPush::header()]
+    }
+
+    fn sets(&self) -> &'static [&'static SetDecl] {
+        static SETS: [&SetDecl; 1] = [&SET];
+        &SETS
+    }
+
+    fn prepare(
+        &self,
+        variant: ShaderVariant,
+        settings: &RendererSettings,
+        registry: &mut PipelineRegistry,
+    ) -> Result<(), RenderError> {
+        if wanted(variant) {
+            registry.build(key(settings), |t| {
+                let pass = ComputePass::new(
+                    t.device,
+                    t.compiler,
+                    t.cache,
+                    t.layouts.of(&SET),
+                    "ray_traced_occlusion.comp",
+                    &settings.gbuffer.defines(),
+                    std::mem::size_of::<RayTracedOcclusionPush>(),
+                )?;
+                Ok((pass, 1))
+            })?;
+        }
+        Ok(())
+    }
+
+    fn images(&self, variant: ShaderVariant, _settings: &RendererSettings) -> Vec<ImageRequest> {
+        if !wanted(variant) {
+            return Vec::new();
+        }
+        vec![ImageRequest::new(
+            IMAGE,
+            vk::Format::R32_SFLOAT,
+            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED,
+        )]
+    }
+
+    fn runs(&self, frame: &FrameContext<'_>) -> bool {
+        wanted(frame.variant)
+    }
+
+    fn io(&self, frame: &FrameContext<'_>) -> PassIo {
+        let g = &frame.gbuffer;
+        let structures = frame
+            .scene
+            .gpu
+            .structures
+            .get()
+            .expect("frames that trace have their scene's structures (checked at record)");
+        PassIo::new(self.name())
+            .slot_set(frame.slot, &SET)
+            .image("gbuffer_depth", g.depth, ImageUse::DepthComputeSampled)
+            .image(
+                "gbuffer_normal_roughness_anisotropy",
+                g.normal_roughness_anisotropy,
+                ImageUse::ComputeSampled,
+            )
+            .acceleration_structure("scene", structures.top_level(frame.slot.index))
+            .image(
+                "visibility",
+                frame.images.get(IMAGE),
+                ImageUse::ComputeStorageWrite,
+            )
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let scene = frame.scene;
+        let structures = scene
+            .gpu
+            .structures
+            .get()
+            .expect("frames that trace have their scene's structures");
+        let objects = scene
+            .scene()
+            .objects
+            .iter()
+            .enumerate()
+            .filter_map(|(i, o)| {
+                let deformed = crate::deform::deformation(scene.scene(), i).0;
+                (o.casts_shadows && !deformed)
+                    .then(|| (o.mesh, frame.placement.transform(scene, i)))
+            });
+        structures.record_build(frame.device, cmd, frame.slot.index, objects);
+        let reach = scene
+            .world_bounds
+            .map_or(1.0, |(lo, hi)| 2.0 * (hi - lo).length().max(1e-3));
+        let push = RayTracedOcclusionPush {
+            inverse_view_projection: frame.lighting_push.inverse_view_projection,
+            camera_position: frame.inputs.camera.position.extend(1.0).to_array(),
+            rays: RAYS,
+            offset_per_distance: 2e-4,
+            reach,
+            unused: 0,
+        };
+        let pass: &ComputePass = frame
+            .registry
+            .get(&key(frame.settings))
+            .expect("prepared for the frame's variant");
+        let extent = frame.extent();
+        pass.dispatch(
+            frame.device,
+            cmd,
+            frame.slot.set(&SET),
+            bytemuck::bytes_of(&push),
+            [extent.width.div_ceil(8), extent.height.div_ceil(8), 1],
+        );
+    }
+}
