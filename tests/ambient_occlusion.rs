@@ -334,3 +334,68 @@ fn without_ray_queries_the_traced_pass_is_left_out() {
     let plain = render(&scene, 64, 36, settings(false), IMAGES);
     assert_eq!(frame.hdr, plain.hdr);
 }
+
+/// What the traced rays let through: a sphere that casts no shadows, and a glass sphere
+/// (transmission 1), occlude nothing — every floor pixel keeps the radiance of the frame
+/// without occlusion, bit for bit (its visibility is exactly 1).
+#[test]
+fn objects_that_cast_nothing_and_glass_occlude_nothing_traced() {
+    let base = resting_sphere(true);
+    let pixels = floor_pixels(&base);
+    let mut no_shadow = base.clone();
+    no_shadow.objects[1].casts_shadows = false;
+    let mut glass = base.clone();
+    glass.materials.push(Material {
+        name: "glass".into(),
+        transmission: 1.0,
+        dielectric_ior: 1.5,
+        roughness: 0.0,
+        ..Material::default()
+    });
+    glass.objects[1].material = 1;
+    for (what, scene) in [("casts no shadows", no_shadow), ("glass", glass)] {
+        let plain = render(&scene, WIDTH, HEIGHT, settings(false), IMAGES);
+        let traced = render(
+            &scene,
+            WIDTH,
+            HEIGHT,
+            with_pass("ray-traced-occlusion", true),
+            IMAGES,
+        );
+        assert!(traced.timings.names().contains(&"ray-traced occlusion"));
+        let differing = pixels
+            .iter()
+            .filter(|&&(i, _)| traced.hdr[i] != plain.hdr[i])
+            .count();
+        assert_eq!(differing, 0, "{what}: floor pixels occluded");
+    }
+}
+
+/// Inside a closed sphere (double-sided, seen from its centre) the environment reaches
+/// nothing: with ray-traced occlusion every pixel is black.
+#[test]
+fn inside_a_closed_sphere_is_black_traced() {
+    let mut scene = resting_sphere(true);
+    scene.objects.remove(0);
+    scene.materials[0].double_sided = true;
+    scene.camera.position = Vec3::new(0.0, RADIUS as f32, 0.0);
+    scene.camera.target = Vec3::new(0.0, RADIUS as f32, -1.0);
+    scene.camera.near = 0.01;
+    let traced = render(
+        &scene,
+        64,
+        36,
+        with_pass("ray-traced-occlusion", true),
+        IMAGES,
+    );
+    let plain = render(&scene, 64, 36, settings(false), IMAGES);
+    let largest =
+        |f: &combustion::renderer::Frame| f.hdr.iter().map(|p| p[1]).fold(0.0f32, f32::max);
+    println!(
+        "inside: largest radiance {} traced, {} without",
+        largest(&traced),
+        largest(&plain)
+    );
+    assert!(largest(&plain) > 0.5, "without occlusion the inside is lit");
+    assert_eq!(largest(&traced), 0.0, "with it, black");
+}

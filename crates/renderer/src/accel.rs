@@ -4,10 +4,11 @@
 //! (`FramePass::traces`), and a top-level structure per frame slot ([`SceneStructure`]),
 //! rebuilt by that pass in each of its frames from where the frame places its objects.
 //!
-//! What is in them: every object whose mesh is a triangle list, that casts shadows
-//! (`Object::casts_shadows`: an object that casts none occludes nothing), and that is not
-//! deformed (skinned and morphed objects are not in them yet: their rest shape is not
-//! the shape drawn). Every triangle is opaque (cut-outs block light through their
+//! What is in them (the tracing pass chooses): every object whose mesh is a triangle
+//! list, that casts shadows (`Object::casts_shadows`: an object that casts none occludes
+//! nothing), that is neither blended nor transmissive (glass lets light through), and
+//! that is not deformed (skinned and morphed objects are not in them yet: their rest
+//! shape is not the shape drawn). Every triangle is opaque (cut-outs block light through their
 //! holes: not tested against their texture yet). Points and lines are never in them.
 
 use std::sync::{Arc, Mutex};

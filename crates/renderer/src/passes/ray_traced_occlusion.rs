@@ -189,8 +189,10 @@ impl FramePass for RayTracedOcclusion {
             .iter()
             .enumerate()
             .filter_map(|(i, o)| {
+                // Blended and transmissive objects (the forward pass's) let light through
+                // (nor are they in the depth the screen-space pass reads).
                 let deformed = crate::deform::deformation(scene.scene(), i).0;
-                (o.casts_shadows && !deformed)
+                (o.casts_shadows && !deformed && !scene.forward[i])
                     .then(|| (o.mesh, frame.placement.transform(scene, i)))
             });
         structures.record_build(frame.device, cmd, frame.slot.index, objects);
