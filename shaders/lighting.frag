@@ -201,6 +201,9 @@ void main() {
         surface.distance = length(push.camera_position.xyz - position);
         surface.tile_light_fraction = float(light_count) / float(max(push.counts.x, 1u));
         surface.shadow = 1.0;
+#ifdef RAY_TRACED_SHADOWS
+        surface.shadow = float(texelFetch(ray_traced_shadows, pixel, 0).r & 1u);
+#endif
         surface.cascade = -1;
 #ifdef SHADOWS
         if (push.counts.x > 0u && lights[0].spot_cone.w != 0.0) {
@@ -228,8 +231,17 @@ void main() {
     }
 #endif
     vec3 radiance = vec3(0.0);
+#ifdef RAY_TRACED_SHADOWS
+    // Bit i: light i reaches the pixel (the ray-traced shadows pass; the first 32 lights).
+    uint reaching = texelFetch(ray_traced_shadows, pixel, 0).r;
+#endif
     for (uint j = 0u; j < light_count; ++j) {
         uint i = culled ? tile_lights[list + 1u + j] : j;
+#ifdef RAY_TRACED_SHADOWS
+        if (i < 32u && (reaching & (1u << i)) == 0u) {
+            continue;
+        }
+#endif
         radiance += light_radiance(m, view, layers, lights[i], position, n,
                                    push.camera_position.xyz, gl_FragCoord.xy);
     }

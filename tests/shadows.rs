@@ -564,6 +564,34 @@ impl ExactEdges {
         let sin_theta = (1.0 - n.dot(l).powi(2)).max(0.0).sqrt();
         let band = w * (reach + 1.0 + (f64::from(PCF_RADIUS_TEXELS) + 1.5) * sin_theta)
             + self.tessellation;
+        self.other_verdict_within(p, n, band)
+    }
+
+    /// Whether a point within `band` (metres) of `p` on its tangent plane (normal `n`)
+    /// has the other exact verdict: probes that stay on the surface, so that a flat
+    /// surface never counts as an edge of its own.
+    fn other_verdict_on_surface(&self, p: DVec3, n: DVec3, band: f64) -> bool {
+        let t = n.any_orthonormal_vector();
+        let b = n.cross(t);
+        let visible = |q: DVec3| {
+            self.bvh
+                .light_visibility(q.to_array(), n.to_array(), &self.light)
+                > 0.5
+        };
+        let own = visible(p);
+        (1..=4).any(|ring| {
+            (0..16).any(|k| {
+                let angle = std::f64::consts::TAU * f64::from(k) / 16.0;
+                let offset = (t * angle.cos() + b * angle.sin()) * (band * f64::from(ring) / 4.0);
+                visible(p + offset) != own
+            })
+        })
+    }
+
+    /// Whether a point within `band` (metres) of `p`, across the light's direction, has
+    /// the other exact verdict (offset along `n`).
+    fn other_verdict_within(&self, p: DVec3, n: DVec3, band: f64) -> bool {
+        let l = self.towards_light(p);
         let across = l.any_orthonormal_vector();
         let across2 = l.cross(across);
         let visible = |q: DVec3| {
@@ -1021,6 +1049,70 @@ fn shadow_resources_alternate_across_frames_in_flight() {
             frame.hdr == fresh.hdr,
             "{}: the alternated frame differs",
             scene.name
+        );
+    }
+}
+
+/// Ray-traced hard shadows (`--ray-traced-shadows on`, ray queries) against exact
+/// visibility on the three shadow scenes: the shadow-factor view's verdict on the first
+/// light equals the f64 reference's (the same offset rule, the same triangles) at every
+/// compared pixel — no band, the spheres' terminators (where tessellated facets shadow
+/// themselves) left out as for the maps.
+#[test]
+fn ray_traced_shadows_are_exact_visibility() {
+    use combustion::renderer::reference::shadow_mismatch;
+    let pass = combustion::renderer::optional_pass("ray-traced-shadows").expect("declared");
+    for (name, radius) in [("grid-sun", 0.42), ("spot-box", 0.5), ("point-among", 0.4)] {
+        let scene = builtin_scene(name).unwrap();
+        let exact = ExactEdges::new(&scene, ShadowSettings::DEFAULT, radius);
+        let mut settings = common::exact_f32();
+        settings.shading.debug_view = DebugView::ShadowFactor;
+        settings.shading.optional_passes =
+            combustion::renderer::OptionalPasses::NONE.with(pass, true);
+        let view = common::render(&scene, W, H, settings, Readback::ALL);
+        assert!(
+            view.timings.names().contains(&"ray-traced shadows"),
+            "lavapipe has no ray queries here (Mesa 24.1 or later has them): {:?}",
+            view.timings.names()
+        );
+        let (counts, wrong) = shadow_mismatch(
+            &view,
+            |i| view.ldr[i][0] >= 128,
+            &exact.reference,
+            exact.terminator,
+        );
+        // Within the spheres' tessellation (the facets' sagitta) of an exact edge, f32
+        // and f64 ray casts may disagree on rays that graze a facet.
+        let g = view.gbuffer.as_ref().unwrap();
+        let at: Vec<(u32, u32)> = (0..(W * H) as usize)
+            .filter(|&i| {
+                wrong[i] && {
+                    let (x, y) = ((i as u32) % W, (i as u32) / W);
+                    exact
+                        .reference
+                        .pixel(&g.texels[i], x, y)
+                        .is_none_or(|pixel| {
+                            !exact.other_verdict_on_surface(
+                                DVec3::from(pixel.position),
+                                DVec3::from(pixel.n),
+                                exact.tessellation,
+                            )
+                        })
+                }
+            })
+            .map(|i| ((i as u32) % W, (i as u32) / W))
+            .collect();
+        eprintln!(
+            "{name} {W}x{H}, ray-traced: {counts:?} ({:.3} % misclassified, {} beyond the tessellation's band)",
+            100.0 * counts.fraction(),
+            at.len()
+        );
+        assert!(counts.compared > (W * H / 4) as usize, "{name}: {counts:?}");
+        assert!(
+            at.is_empty(),
+            "{name}: {} pixels misclassified beyond the tessellation's band, e.g. {:?}",
+            at.len(),
+            &at[..at.len().min(8)]
         );
     }
 }

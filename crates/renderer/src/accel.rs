@@ -273,6 +273,8 @@ struct TopLevel {
     _scratch: Buffer,
     scratch_at: u64,
     capacity: u32,
+    /// The number of the frame that last built it (0: none).
+    built_for: u64,
 }
 
 /// A scene's acceleration structures: its meshes', and a top-level structure per frame
@@ -360,6 +362,7 @@ impl SceneStructure {
                 _scratch: scratch_buffer,
                 scratch_at,
                 capacity,
+                built_for: 0,
             }));
         }
         Ok(Self { meshes, per_slot })
@@ -382,14 +385,16 @@ impl SceneStructure {
 
     /// Records the build of slot `slot`'s top-level structure over `objects` (each an
     /// object's mesh and its world transform; those without a mesh structure left out),
-    /// then a barrier that makes it visible to compute shaders' ray queries; returns the
-    /// structure. The slot's previous frame must have completed (its instances are
-    /// rewritten now).
+    /// then a barrier that makes it visible to compute shaders' ray queries — once per
+    /// frame (`frame`: the frame's number; a second pass of the same frame finds it
+    /// built); returns the structure. The slot's previous frame must have completed (its
+    /// instances are rewritten now).
     pub(crate) fn record_build(
         &self,
         device: &Device,
         cmd: vk::CommandBuffer,
         slot: usize,
+        frame: u64,
         objects: impl Iterator<Item = (usize, glam::Mat4)>,
     ) -> vk::AccelerationStructureKHR {
         let functions = device
@@ -398,6 +403,10 @@ impl SceneStructure {
         let mut top = self.per_slot[slot]
             .lock()
             .unwrap_or_else(|p| p.into_inner());
+        if top.built_for == frame {
+            return top.structure.handle();
+        }
+        top.built_for = frame;
         let instances: Vec<vk::AccelerationStructureInstanceKHR> = objects
             .filter_map(|(mesh, transform)| {
                 let structure = self.meshes.of(mesh)?;

@@ -30,6 +30,11 @@ pub enum BindingKind {
         /// The GLSL format qualifier.
         format: &'static str,
     },
+    /// `uimage2D` with the given format qualifier (e.g. `r32ui`), written by compute.
+    UStorageImage2D {
+        /// The GLSL format qualifier.
+        format: &'static str,
+    },
     /// `image2DArray` (e.g. one mip level of a cube map, a layer per face), written by
     /// compute.
     StorageImage2DArray {
@@ -66,9 +71,9 @@ impl BindingKind {
             Self::Sampler2D | Self::SamplerCube | Self::Sampler2DArrayShadow => {
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER
             }
-            Self::StorageImage2D { .. } | Self::StorageImage2DArray { .. } => {
-                vk::DescriptorType::STORAGE_IMAGE
-            }
+            Self::StorageImage2D { .. }
+            | Self::UStorageImage2D { .. }
+            | Self::StorageImage2DArray { .. } => vk::DescriptorType::STORAGE_IMAGE,
             Self::StorageBuffer { .. } | Self::RwStorageBuffer { .. } => {
                 vk::DescriptorType::STORAGE_BUFFER
             }
@@ -171,6 +176,12 @@ impl SetDecl {
                 BindingKind::StorageImage2D { format } => {
                     format!(
                         "layout({layout}, {format}) uniform writeonly image2D {};",
+                        b.name
+                    )
+                }
+                BindingKind::UStorageImage2D { format } => {
+                    format!(
+                        "layout({layout}, {format}) uniform writeonly uimage2D {};",
                         b.name
                     )
                 }

@@ -564,6 +564,7 @@ impl Renderer {
         });
         let images = self.images.frame_images(requests, extent);
         let frame = FrameContext {
+            number: self.frame_number + 1,
             device: &self.device,
             registry: &self.pipelines,
             shared: &self.shared,

@@ -71,6 +71,9 @@ const OWN_BINDINGS: &[Binding] = &[
     // The environment's visibility (the ray-traced occlusion pass's image).
     Binding::new("ray_traced_occlusion", BindingKind::Texture2D, FRAGMENT)
         .only_with(super::ray_traced_occlusion::OPTION.define),
+    // Which lights reach each pixel (the ray-traced shadows pass's image).
+    Binding::new("ray_traced_shadows", BindingKind::UTexture2D, FRAGMENT)
+        .only_with(super::ray_traced_shadows::OPTION.define),
 ];
 
 const BINDINGS: [Binding; OWN_BINDINGS.len() + LIT_BY.len()] = joined(OWN_BINDINGS, &LIT_BY);
@@ -269,6 +272,10 @@ impl FramePass for Lighting {
             (
                 "ray_traced_occlusion",
                 frame.images.find(super::ray_traced_occlusion::IMAGE),
+            ),
+            (
+                "ray_traced_shadows",
+                frame.images.find(super::ray_traced_shadows::IMAGE),
             ),
         ] {
             io = match target {

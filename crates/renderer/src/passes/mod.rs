@@ -25,6 +25,7 @@ mod light_cull;
 pub(crate) mod lighting;
 pub(crate) mod output;
 mod ray_traced_occlusion;
+mod ray_traced_shadows;
 mod shadow_maps;
 
 use combustion_vk::vk;
@@ -48,6 +49,8 @@ pub(crate) use light_cull::CullPush;
 
 /// Everything a frame's passes read, gathered once per frame.
 pub(crate) struct FrameContext<'a> {
+    /// The frame's number, from 1 (unique among the renderer's frames: its marker).
+    pub number: u64,
     /// The device the frame is recorded for.
     pub device: &'a std::sync::Arc<combustion_vk::Device>,
     /// Every pipeline built (the frame's were built before it: checked).
@@ -178,6 +181,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &light_cull::LightCull,
     &ambient_occlusion::AmbientOcclusion,
     &ray_traced_occlusion::RayTracedOcclusion,
+    &ray_traced_shadows::RayTracedShadows,
     &lighting::Lighting,
     &back_faces::BackFaces,
     &behind::Behind,

@@ -78,6 +78,26 @@ push_block! {
     }
 }
 
+/// What the traced passes' rays can hit this frame: each object's mesh and its transform,
+/// for the objects that cast shadows, are drawn into the G-buffer (blended and
+/// transmissive objects let light through, nor are they in the depth the screen-space
+/// pass reads) and are not deformed.
+pub(super) fn occluders<'a>(
+    frame: &'a FrameContext<'_>,
+) -> impl Iterator<Item = (usize, glam::Mat4)> + 'a {
+    let scene = frame.scene;
+    scene
+        .scene()
+        .objects
+        .iter()
+        .enumerate()
+        .filter_map(move |(i, o)| {
+            let deformed = crate::deform::deformation(scene.scene(), i).0;
+            (o.casts_shadows && !deformed && !scene.forward[i])
+                .then(|| (o.mesh, frame.placement.transform(scene, i)))
+        })
+}
+
 /// Whether frames of `variant` run it: asked for, in a scene with an environment. (The
 /// renderer leaves the option out on a device without ray queries.)
 fn wanted(variant: ShaderVariant) -> bool {
@@ -183,19 +203,13 @@ impl FramePass for RayTracedOcclusion {
             .structures
             .get()
             .expect("frames that trace have their scene's structures");
-        let objects = scene
-            .scene()
-            .objects
-            .iter()
-            .enumerate()
-            .filter_map(|(i, o)| {
-                // Blended and transmissive objects (the forward pass's) let light through
-                // (nor are they in the depth the screen-space pass reads).
-                let deformed = crate::deform::deformation(scene.scene(), i).0;
-                (o.casts_shadows && !deformed && !scene.forward[i])
-                    .then(|| (o.mesh, frame.placement.transform(scene, i)))
-            });
-        structures.record_build(frame.device, cmd, frame.slot.index, objects);
+        structures.record_build(
+            frame.device,
+            cmd,
+            frame.slot.index,
+            frame.number,
+            occluders(frame),
+        );
         let reach = scene
             .world_bounds
             .map_or(1.0, |(lo, hi)| 2.0 * (hi - lo).length().max(1e-3));

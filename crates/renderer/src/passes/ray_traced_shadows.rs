@@ -1,0 +1,227 @@
+//! Ray-traced shadows (ray_traced_shadows.comp), an optional pass
+//! (`--ray-traced-shadows on`, off by default; devices with ray queries): per pixel, for
+//! each of the frame's first 32 lights that casts shadows, one ray from the surface to the
+//! light against the scene's acceleration structures (`crate::accel`: what they hold and
+//! leave out) — hard shadows by exact visibility, with the f64 reference's offset rule
+//! (`combustion_reference::shadow_ray_origin`: 10⁻⁴ · max(1, ‖p‖∞) along the normal the
+//! lighting pass shades with; a segment to a point or spot light ends as far short of
+//! it). Bit i of the pixel's word is set where light i reaches it (or casts no shadow);
+//! the lighting pass leaves out the lights whose bit is clear. Lights past the 32nd are
+//! not shadowed by it; light sizes are not sampled (hard shadows).
+
+use combustion_vk::vk;
+
+use super::{FrameContext, FramePass};
+use crate::bindings::{Binding, BindingKind, SetDecl, COMPUTE};
+use crate::compute::ComputePass;
+use crate::error::RenderError;
+use crate::graph::{BufferUse, ImageUse};
+use crate::options::{OptionalPass, RendererSettings};
+use crate::pass_io::PassIo;
+use crate::pipelines::{PipelineKey, PipelineRegistry};
+use crate::push::{push_block, PushBlock};
+use crate::targets::ImageRequest;
+use crate::variant::ShaderVariant;
+
+pub(crate) struct RayTracedShadows;
+
+/// Its option.
+pub(crate) static OPTION: OptionalPass = OptionalPass {
+    name: "ray-traced-shadows",
+    define: "RAY_TRACED_SHADOWS",
+    help: "Hard shadows of the first 32 lights that cast them, by ray queries against the scene's acceleration structures: exact visibility (devices with ray queries, else left out with a warning)",
+    needs_ray_queries: true,
+};
+
+/// The image it writes: per pixel, bit i set where light i reaches it.
+pub(crate) const IMAGE: &str = "ray-traced shadows";
+
+/// The lights it shadows: the frame's first 32 (a bit each).
+const MAX_LIGHTS: usize = 32;
+
+/// Its set: the depth and normals it reads, the frame's lights, the scene it traces,
+/// the light bits it writes.
+pub(crate) static SET: SetDecl = SetDecl {
+    name: "ray_traced_shadows",
+    set: 0,
+    bindings: &[
+        Binding::new("gbuffer_depth", BindingKind::Texture2D, COMPUTE),
+        Binding::new(
+            "gbuffer_normal_roughness_anisotropy",
+            BindingKind::Texture2D,
+            COMPUTE,
+        ),
+        Binding::new(
+            "lights",
+            BindingKind::StorageBuffer {
+                block: "Lights",
+                element: "GpuLight",
+            },
+            COMPUTE,
+        ),
+        Binding::new("scene", BindingKind::AccelerationStructure, COMPUTE),
+        Binding::new(
+            "light_bits",
+            BindingKind::UStorageImage2D { format: "r32ui" },
+            COMPUTE,
+        ),
+    ],
+    includes: &["gpu_types.glsl"],
+};
+
+push_block! {
+    /// Its push constants (`push/ray_traced_shadows.glsl`).
+    pub(crate) struct RayTracedShadowsPush in "ray_traced_shadows" {
+        /// Depth to world position (the inverse view-projection, column-major).
+        inverse_view_projection: [f32; 16],
+        /// The eye (w: 1).
+        camera_position: [f32; 4],
+        /// The lights it traces: the frame's, at most 32.
+        lights: u32,
+        /// Bit i: light i casts shadows.
+        casting: u32,
+        /// Unused (the block's size, a multiple of 16).
+        unused: [u32; 2],
+    }
+}
+
+/// Whether frames of `variant` run it. (The renderer leaves the option out on a device
+/// without ray queries.)
+fn wanted(variant: ShaderVariant) -> bool {
+    variant.optional_passes.contains(&OPTION)
+}
+
+/// Its pipeline, reading `settings`' G-buffer storage.
+fn key(settings: &RendererSettings) -> PipelineKey {
+    PipelineKey {
+        defines: settings.gbuffer.defines(),
+        ..PipelineKey::named("ray-traced shadows")
+    }
+}
+
+impl FramePass for RayTracedShadows {
+    fn name(&self) -> &'static str {
+        "ray-traced shadows"
+    }
+
+    fn option(&self) -> Option<&'static OptionalPass> {
+        Some(&OPTION)
+    }
+
+    fn traces(&self, variant: ShaderVariant) -> bool {
+        wanted(variant)
+    }
+
+    fn headers(&self) -> Vec<(String, String)> {
+        vec![RayTracedShadowsPush::header()]
+    }
+
+    fn sets(&self) -> &'static [&'static SetDecl] {
+        static SETS: [&SetDecl; 1] = [&SET];
+        &SETS
+    }
+
+    fn prepare(
+        &self,
+        variant: ShaderVariant,
+        settings: &RendererSettings,
+        registry: &mut PipelineRegistry,
+    ) -> Result<(), RenderError> {
+        if wanted(variant) {
+            registry.build(key(settings), |t| {
+                let pass = ComputePass::new(
+                    t.device,
+                    t.compiler,
+                    t.cache,
+                    t.layouts.of(&SET),
+                    "ray_traced_shadows.comp",
+                    &settings.gbuffer.defines(),
+                    std::mem::size_of::<RayTracedShadowsPush>(),
+                )?;
+                Ok((pass, 1))
+            })?;
+        }
+        Ok(())
+    }
+
+    fn images(&self, variant: ShaderVariant, _settings: &RendererSettings) -> Vec<ImageRequest> {
+        if !wanted(variant) {
+            return Vec::new();
+        }
+        vec![ImageRequest::new(
+            IMAGE,
+            vk::Format::R32_UINT,
+            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED,
+        )]
+    }
+
+    fn runs(&self, frame: &FrameContext<'_>) -> bool {
+        wanted(frame.variant)
+    }
+
+    fn io(&self, frame: &FrameContext<'_>) -> PassIo {
+        let g = &frame.gbuffer;
+        let structures = frame
+            .scene
+            .gpu
+            .structures
+            .get()
+            .expect("frames that trace have their scene's structures (checked at record)");
+        PassIo::new(self.name())
+            .slot_set(frame.slot, &SET)
+            .image("gbuffer_depth", g.depth, ImageUse::DepthComputeSampled)
+            .image(
+                "gbuffer_normal_roughness_anisotropy",
+                g.normal_roughness_anisotropy,
+                ImageUse::ComputeSampled,
+            )
+            .buffer("lights", &frame.slot.lights, BufferUse::ComputeStorageRead)
+            .acceleration_structure("scene", structures.top_level(frame.slot.index))
+            .image(
+                "light_bits",
+                frame.images.get(IMAGE),
+                ImageUse::ComputeStorageWrite,
+            )
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let scene = frame.scene;
+        let structures = scene
+            .gpu
+            .structures
+            .get()
+            .expect("frames that trace have their scene's structures");
+        structures.record_build(
+            frame.device,
+            cmd,
+            frame.slot.index,
+            frame.number,
+            super::ray_traced_occlusion::occluders(frame),
+        );
+        let lights = frame.inputs.lights.len().min(MAX_LIGHTS);
+        let casting = frame.inputs.lights[..lights]
+            .iter()
+            .enumerate()
+            .filter(|(_, light)| light.casts_shadows())
+            .fold(0u32, |bits, (i, _)| bits | (1 << i));
+        let push = RayTracedShadowsPush {
+            inverse_view_projection: frame.lighting_push.inverse_view_projection,
+            camera_position: frame.inputs.camera.position.extend(1.0).to_array(),
+            lights: lights as u32,
+            casting,
+            unused: [0; 2],
+        };
+        let pass: &ComputePass = frame
+            .registry
+            .get(&key(frame.settings))
+            .expect("prepared for the frame's variant");
+        let extent = frame.extent();
+        pass.dispatch(
+            frame.device,
+            cmd,
+            frame.slot.set(&SET),
+            bytemuck::bytes_of(&push),
+            [extent.width.div_ceil(8), extent.height.div_ceil(8), 1],
+        );
+    }
+}
