@@ -7,7 +7,8 @@
 // distribution about the normal (the one the lighting pass shades with), each tested
 // against the scene's acceleration structure for any hit; the share that leave the scene
 // is the visibility of the environment's diffuse light (1: nothing in the way). Each
-// pixel turns a stratified set of directions by its own hash: the same rays every frame.
+// pixel turns a stratified set of directions by its own hash and the frame's seed: the
+// same rays in every frame of one seed.
 #include "gbuffer_encoding.glsl"
 #include "brdf.glsl"
 #include "bindings/ray_traced_occlusion.glsl"
@@ -52,7 +53,7 @@ void main() {
     orthonormal_basis(n, t, b);
     vec3 origin = p + n * (push.offset_per_distance * eye_distance);
     // The pixel's turn of the pattern: a hash of its coordinates, in [0, 1)².
-    uint h = hash(uint(pixel.x) * 7919u + hash(uint(pixel.y)));
+    uint h = hash(uint(pixel.x) * 7919u + hash(uint(pixel.y) + hash(push.seed)));
     vec2 turn = vec2(float(h & 0xffffu), float(h >> 16)) / 65536.0;
     uint across = uint(round(sqrt(float(push.rays))));
     uint rays = across * across;

@@ -3134,7 +3134,7 @@ fn render_accumulates_sampled_environment_light_to_a_stated_error() {
     assert!(png.is_file());
     assert_refused(
         &["render", "--accumulate-until", "0.01"],
-        &["--accumulate-until needs --environment-samples N"],
+        &["--accumulate-until needs --environment-samples N or --ray-traced-occlusion on"],
     );
     assert_refused(
         &["render", "--environment-samples", "3"],

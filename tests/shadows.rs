@@ -571,8 +571,20 @@ impl ExactEdges {
     /// has the other exact verdict: probes that stay on the surface, so that a flat
     /// surface never counts as an edge of its own.
     fn other_verdict_on_surface(&self, p: DVec3, n: DVec3, band: f64) -> bool {
-        let t = n.any_orthonormal_vector();
-        let b = n.cross(t);
+        self.other_verdict_in_plane(p, n, n, band)
+    }
+
+    /// Whether a point within `band` (metres) of `p`, across the light's direction, has
+    /// the other exact verdict (offset along `n`).
+    fn other_verdict_within(&self, p: DVec3, n: DVec3, band: f64) -> bool {
+        self.other_verdict_in_plane(p, n, self.towards_light(p), band)
+    }
+
+    /// Whether a point on rings up to `band` (metres) around `p` in the plane across
+    /// `axis` has the other exact verdict (the shadow ray offset along `n`).
+    fn other_verdict_in_plane(&self, p: DVec3, n: DVec3, axis: DVec3, band: f64) -> bool {
+        let t = axis.any_orthonormal_vector();
+        let b = axis.cross(t);
         let visible = |q: DVec3| {
             self.bvh
                 .light_visibility(q.to_array(), n.to_array(), &self.light)
@@ -583,28 +595,6 @@ impl ExactEdges {
             (0..16).any(|k| {
                 let angle = std::f64::consts::TAU * f64::from(k) / 16.0;
                 let offset = (t * angle.cos() + b * angle.sin()) * (band * f64::from(ring) / 4.0);
-                visible(p + offset) != own
-            })
-        })
-    }
-
-    /// Whether a point within `band` (metres) of `p`, across the light's direction, has
-    /// the other exact verdict (offset along `n`).
-    fn other_verdict_within(&self, p: DVec3, n: DVec3, band: f64) -> bool {
-        let l = self.towards_light(p);
-        let across = l.any_orthonormal_vector();
-        let across2 = l.cross(across);
-        let visible = |q: DVec3| {
-            self.bvh
-                .light_visibility(q.to_array(), n.to_array(), &self.light)
-                > 0.5
-        };
-        let own = visible(p);
-        (1..=4).any(|ring| {
-            (0..16).any(|k| {
-                let angle = std::f64::consts::TAU * f64::from(k) / 16.0;
-                let offset =
-                    (across * angle.cos() + across2 * angle.sin()) * (band * f64::from(ring) / 4.0);
                 visible(p + offset) != own
             })
         })

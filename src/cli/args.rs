@@ -559,9 +559,9 @@ pub(crate) struct RenderArgs {
     /// The linear radiance (OpenEXR, ZIP-compressed)
     #[arg(long, value_name = "OUT.exr")]
     pub(crate) hdr: Option<PathBuf>,
-    /// With --environment-samples N: render frames of successive sample sets and write
-    /// their mean, until its relative standard error (the frames' spread, averaged over
-    /// the lit pixels) is at most E (4 to 1024 frames)
+    /// With --environment-samples N or --ray-traced-occlusion on: render frames of
+    /// successive sample sets and write their mean, until its relative standard error
+    /// (the frames' spread, averaged over the lit pixels) is at most E (4 to 1024 frames)
     #[arg(long, value_name = "E", value_parser = relative_error)]
     pub(crate) accumulate_until: Option<f64>,
     /// An accuracy budget: render with the fastest variant set whose mean relative error

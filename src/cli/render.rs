@@ -106,9 +106,11 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             n = o.supersample
         )));
     }
-    if o.accumulate_until.is_some() && o.shading.environment_samples == 0 {
+    let traced = combustion::renderer::optional_pass("ray-traced-occlusion")
+        .is_some_and(|pass| o.shading.optional.passes.contains(pass));
+    if o.accumulate_until.is_some() && o.shading.environment_samples == 0 && !traced {
         return Err(Error::Usage(
-            "--accumulate-until needs --environment-samples N (the split sum has no noise to average)".into(),
+            "--accumulate-until needs --environment-samples N or --ray-traced-occlusion on (the split sum has no noise to average)".into(),
         ));
     }
     let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
@@ -218,9 +220,15 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             Some(target) => {
                 let (frame, frames, achieved) =
                     accumulate(renderer, &gpu_scene, &inputs, size, target)?;
+                let per_frame = match (o.shading.environment_samples, traced) {
+                    (0, _) => "ray-traced occlusion".to_owned(),
+                    (n, false) => format!("{n} environment samples per pixel"),
+                    (n, true) => {
+                        format!("{n} environment samples per pixel and ray-traced occlusion")
+                    }
+                };
                 outln!(
-                    "accumulated {frames} frames of {} environment samples per pixel: relative standard error {achieved:.2e} (asked {target:e})",
-                    o.shading.environment_samples
+                    "accumulated {frames} frames of {per_frame}: relative standard error {achieved:.2e} (asked {target:e})"
                 );
                 if achieved > target {
                     log::warn!(

@@ -6,14 +6,14 @@
 
 use combustion_vk::vk;
 
+use super::per_pixel::PerPixel;
 use super::{FrameContext, FramePass};
 use crate::bindings::{Binding, BindingKind, SetDecl, COMPUTE};
-use crate::compute::ComputePass;
 use crate::error::RenderError;
 use crate::graph::ImageUse;
 use crate::options::{OptionalPass, RendererSettings};
 use crate::pass_io::PassIo;
-use crate::pipelines::{PipelineKey, PipelineRegistry};
+use crate::pipelines::PipelineRegistry;
 use crate::push::{push_block, PushBlock};
 use crate::targets::ImageRequest;
 use crate::variant::ShaderVariant;
@@ -83,18 +83,19 @@ push_block! {
     }
 }
 
+/// Its shader over the frame's pixels, its set and its image.
+const PER_PIXEL: PerPixel = PerPixel {
+    name: "ambient occlusion",
+    shader: "ambient_occlusion.comp",
+    set: &SET,
+    push_size: std::mem::size_of::<AmbientOcclusionPush>(),
+    image: (IMAGE, vk::Format::R32_SFLOAT),
+};
+
 /// Whether frames of `variant` run it: asked for, in a scene with an environment (the
 /// light it occludes).
 fn wanted(variant: ShaderVariant) -> bool {
     variant.optional_passes.contains(&OPTION) && variant.environment
-}
-
-/// Its pipeline, reading `settings`' G-buffer storage.
-fn key(settings: &RendererSettings) -> PipelineKey {
-    PipelineKey {
-        defines: settings.gbuffer.defines(),
-        ..PipelineKey::named("ambient occlusion")
-    }
 }
 
 impl FramePass for AmbientOcclusion {
@@ -121,32 +122,11 @@ impl FramePass for AmbientOcclusion {
         settings: &RendererSettings,
         registry: &mut PipelineRegistry,
     ) -> Result<(), RenderError> {
-        if wanted(variant) {
-            registry.build(key(settings), |t| {
-                let pass = ComputePass::new(
-                    t.device,
-                    t.compiler,
-                    t.cache,
-                    t.layouts.of(&SET),
-                    "ambient_occlusion.comp",
-                    &settings.gbuffer.defines(),
-                    std::mem::size_of::<AmbientOcclusionPush>(),
-                )?;
-                Ok((pass, 1))
-            })?;
-        }
-        Ok(())
+        PER_PIXEL.prepare(wanted(variant), settings, registry)
     }
 
     fn images(&self, variant: ShaderVariant, _settings: &RendererSettings) -> Vec<ImageRequest> {
-        if !wanted(variant) {
-            return Vec::new();
-        }
-        vec![ImageRequest::new(
-            IMAGE,
-            vk::Format::R32_SFLOAT,
-            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED,
-        )]
+        PER_PIXEL.images(wanted(variant))
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
@@ -154,20 +134,11 @@ impl FramePass for AmbientOcclusion {
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let g = &frame.gbuffer;
-        PassIo::new(self.name())
-            .slot_set(frame.slot, &SET)
-            .image("gbuffer_depth", g.depth, ImageUse::DepthComputeSampled)
-            .image(
-                "gbuffer_normal_roughness_anisotropy",
-                g.normal_roughness_anisotropy,
-                ImageUse::ComputeSampled,
-            )
-            .image(
-                "visibility",
-                frame.images.get(IMAGE),
-                ImageUse::ComputeStorageWrite,
-            )
+        PER_PIXEL.io(frame).image(
+            "visibility",
+            PER_PIXEL.output(frame),
+            ImageUse::ComputeStorageWrite,
+        )
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
@@ -189,16 +160,6 @@ impl FramePass for AmbientOcclusion {
             steps: STEPS,
             flat_tolerance: 16.0 * (-24f32).exp2() / camera.near,
         };
-        let pass: &ComputePass = frame
-            .registry
-            .get(&key(frame.settings))
-            .expect("prepared for the frame's variant");
-        pass.dispatch(
-            frame.device,
-            cmd,
-            frame.slot.set(&SET),
-            bytemuck::bytes_of(&push),
-            [extent.width.div_ceil(8), extent.height.div_ceil(8), 1],
-        );
+        PER_PIXEL.dispatch(frame, cmd, bytemuck::bytes_of(&push));
     }
 }

@@ -24,6 +24,7 @@ mod gbuffer;
 mod light_cull;
 pub(crate) mod lighting;
 pub(crate) mod output;
+mod per_pixel;
 mod ray_traced_occlusion;
 mod ray_traced_shadows;
 mod shadow_maps;

@@ -5,18 +5,20 @@
 //! acceleration structures (`crate::accel`: what they hold and leave out). The lighting
 //! pass darkens the environment's light by it as by the screen-space pass's (with glTF
 //! occlusion textures: their minimum). Each pixel draws its own rays, the same in every
-//! frame: no noise from frame to frame, a fixed pattern within one.
+//! frame of the same sample seed (`FrameInputs::environment_seed`): no noise from frame
+//! to frame; frames of other seeds draw others, and their mean converges
+//! (`combustion render --accumulate-until`).
 
 use combustion_vk::vk;
 
+use super::per_pixel::PerPixel;
 use super::{FrameContext, FramePass};
 use crate::bindings::{Binding, BindingKind, SetDecl, COMPUTE};
-use crate::compute::ComputePass;
 use crate::error::RenderError;
 use crate::graph::ImageUse;
 use crate::options::{OptionalPass, RendererSettings};
 use crate::pass_io::PassIo;
-use crate::pipelines::{PipelineKey, PipelineRegistry};
+use crate::pipelines::PipelineRegistry;
 use crate::push::{push_block, PushBlock};
 use crate::targets::ImageRequest;
 use crate::variant::ShaderVariant;
@@ -73,8 +75,9 @@ push_block! {
         offset_per_distance: f32,
         /// How far a ray looks (past every object of the scene).
         reach: f32,
-        /// Unused (the block's size, a multiple of 16).
-        unused: u32,
+        /// The frame's sample seed (`FrameInputs::environment_seed`): each seed turns
+        /// every pixel's rays anew, so that frames averaged converge.
+        seed: u32,
     }
 }
 
@@ -98,18 +101,19 @@ pub(super) fn occluders<'a>(
         })
 }
 
+/// Its shader over the frame's pixels, its set and its image.
+const PER_PIXEL: PerPixel = PerPixel {
+    name: "ray-traced occlusion",
+    shader: "ray_traced_occlusion.comp",
+    set: &SET,
+    push_size: std::mem::size_of::<RayTracedOcclusionPush>(),
+    image: (IMAGE, vk::Format::R32_SFLOAT),
+};
+
 /// Whether frames of `variant` run it: asked for, in a scene with an environment. (The
 /// renderer leaves the option out on a device without ray queries.)
 fn wanted(variant: ShaderVariant) -> bool {
     variant.optional_passes.contains(&OPTION) && variant.environment
-}
-
-/// Its pipeline, reading `settings`' G-buffer storage.
-fn key(settings: &RendererSettings) -> PipelineKey {
-    PipelineKey {
-        defines: settings.gbuffer.defines(),
-        ..PipelineKey::named("ray-traced occlusion")
-    }
 }
 
 impl FramePass for RayTracedOcclusion {
@@ -140,32 +144,11 @@ impl FramePass for RayTracedOcclusion {
         settings: &RendererSettings,
         registry: &mut PipelineRegistry,
     ) -> Result<(), RenderError> {
-        if wanted(variant) {
-            registry.build(key(settings), |t| {
-                let pass = ComputePass::new(
-                    t.device,
-                    t.compiler,
-                    t.cache,
-                    t.layouts.of(&SET),
-                    "ray_traced_occlusion.comp",
-                    &settings.gbuffer.defines(),
-                    std::mem::size_of::<RayTracedOcclusionPush>(),
-                )?;
-                Ok((pass, 1))
-            })?;
-        }
-        Ok(())
+        PER_PIXEL.prepare(wanted(variant), settings, registry)
     }
 
     fn images(&self, variant: ShaderVariant, _settings: &RendererSettings) -> Vec<ImageRequest> {
-        if !wanted(variant) {
-            return Vec::new();
-        }
-        vec![ImageRequest::new(
-            IMAGE,
-            vk::Format::R32_SFLOAT,
-            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED,
-        )]
+        PER_PIXEL.images(wanted(variant))
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
@@ -173,25 +156,18 @@ impl FramePass for RayTracedOcclusion {
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let g = &frame.gbuffer;
         let structures = frame
             .scene
             .gpu
             .structures
             .get()
             .expect("frames that trace have their scene's structures (checked at record)");
-        PassIo::new(self.name())
-            .slot_set(frame.slot, &SET)
-            .image("gbuffer_depth", g.depth, ImageUse::DepthComputeSampled)
-            .image(
-                "gbuffer_normal_roughness_anisotropy",
-                g.normal_roughness_anisotropy,
-                ImageUse::ComputeSampled,
-            )
+        PER_PIXEL
+            .io(frame)
             .acceleration_structure("scene", structures.top_level(frame.slot.index))
             .image(
                 "visibility",
-                frame.images.get(IMAGE),
+                PER_PIXEL.output(frame),
                 ImageUse::ComputeStorageWrite,
             )
     }
@@ -219,19 +195,8 @@ impl FramePass for RayTracedOcclusion {
             rays: RAYS,
             offset_per_distance: 2e-4,
             reach,
-            unused: 0,
+            seed: frame.inputs.environment_seed,
         };
-        let pass: &ComputePass = frame
-            .registry
-            .get(&key(frame.settings))
-            .expect("prepared for the frame's variant");
-        let extent = frame.extent();
-        pass.dispatch(
-            frame.device,
-            cmd,
-            frame.slot.set(&SET),
-            bytemuck::bytes_of(&push),
-            [extent.width.div_ceil(8), extent.height.div_ceil(8), 1],
-        );
+        PER_PIXEL.dispatch(frame, cmd, bytemuck::bytes_of(&push));
     }
 }

@@ -11,14 +11,14 @@
 
 use combustion_vk::vk;
 
+use super::per_pixel::PerPixel;
 use super::{FrameContext, FramePass};
 use crate::bindings::{Binding, BindingKind, SetDecl, COMPUTE};
-use crate::compute::ComputePass;
 use crate::error::RenderError;
 use crate::graph::{BufferUse, ImageUse};
 use crate::options::{OptionalPass, RendererSettings};
 use crate::pass_io::PassIo;
-use crate::pipelines::{PipelineKey, PipelineRegistry};
+use crate::pipelines::PipelineRegistry;
 use crate::push::{push_block, PushBlock};
 use crate::targets::ImageRequest;
 use crate::variant::ShaderVariant;
@@ -85,18 +85,19 @@ push_block! {
     }
 }
 
+/// Its shader over the frame's pixels, its set and its image.
+const PER_PIXEL: PerPixel = PerPixel {
+    name: "ray-traced shadows",
+    shader: "ray_traced_shadows.comp",
+    set: &SET,
+    push_size: std::mem::size_of::<RayTracedShadowsPush>(),
+    image: (IMAGE, vk::Format::R32_UINT),
+};
+
 /// Whether frames of `variant` run it. (The renderer leaves the option out on a device
 /// without ray queries.)
 fn wanted(variant: ShaderVariant) -> bool {
     variant.optional_passes.contains(&OPTION)
-}
-
-/// Its pipeline, reading `settings`' G-buffer storage.
-fn key(settings: &RendererSettings) -> PipelineKey {
-    PipelineKey {
-        defines: settings.gbuffer.defines(),
-        ..PipelineKey::named("ray-traced shadows")
-    }
 }
 
 impl FramePass for RayTracedShadows {
@@ -127,32 +128,11 @@ impl FramePass for RayTracedShadows {
         settings: &RendererSettings,
         registry: &mut PipelineRegistry,
     ) -> Result<(), RenderError> {
-        if wanted(variant) {
-            registry.build(key(settings), |t| {
-                let pass = ComputePass::new(
-                    t.device,
-                    t.compiler,
-                    t.cache,
-                    t.layouts.of(&SET),
-                    "ray_traced_shadows.comp",
-                    &settings.gbuffer.defines(),
-                    std::mem::size_of::<RayTracedShadowsPush>(),
-                )?;
-                Ok((pass, 1))
-            })?;
-        }
-        Ok(())
+        PER_PIXEL.prepare(wanted(variant), settings, registry)
     }
 
     fn images(&self, variant: ShaderVariant, _settings: &RendererSettings) -> Vec<ImageRequest> {
-        if !wanted(variant) {
-            return Vec::new();
-        }
-        vec![ImageRequest::new(
-            IMAGE,
-            vk::Format::R32_UINT,
-            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED,
-        )]
+        PER_PIXEL.images(wanted(variant))
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
@@ -160,26 +140,19 @@ impl FramePass for RayTracedShadows {
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let g = &frame.gbuffer;
         let structures = frame
             .scene
             .gpu
             .structures
             .get()
             .expect("frames that trace have their scene's structures (checked at record)");
-        PassIo::new(self.name())
-            .slot_set(frame.slot, &SET)
-            .image("gbuffer_depth", g.depth, ImageUse::DepthComputeSampled)
-            .image(
-                "gbuffer_normal_roughness_anisotropy",
-                g.normal_roughness_anisotropy,
-                ImageUse::ComputeSampled,
-            )
+        PER_PIXEL
+            .io(frame)
             .buffer("lights", &frame.slot.lights, BufferUse::ComputeStorageRead)
             .acceleration_structure("scene", structures.top_level(frame.slot.index))
             .image(
                 "light_bits",
-                frame.images.get(IMAGE),
+                PER_PIXEL.output(frame),
                 ImageUse::ComputeStorageWrite,
             )
     }
@@ -211,17 +184,6 @@ impl FramePass for RayTracedShadows {
             casting,
             unused: [0; 2],
         };
-        let pass: &ComputePass = frame
-            .registry
-            .get(&key(frame.settings))
-            .expect("prepared for the frame's variant");
-        let extent = frame.extent();
-        pass.dispatch(
-            frame.device,
-            cmd,
-            frame.slot.set(&SET),
-            bytemuck::bytes_of(&push),
-            [extent.width.div_ceil(8), extent.height.div_ceil(8), 1],
-        );
+        PER_PIXEL.dispatch(frame, cmd, bytemuck::bytes_of(&push));
     }
 }
