@@ -454,6 +454,11 @@ fn traced_frames_of_other_seeds_average_towards_the_form_factor() {
         let unseeded = renderer
             .render(&gpu_scene, WIDTH, HEIGHT, IMAGES)
             .expect("render");
+        // The structures' memory is counted: the sphere's and the floor's, and a top
+        // level per frame slot.
+        let bytes = renderer.stats().acceleration_structure_bytes;
+        println!("acceleration structures: {bytes} bytes");
+        assert!(bytes > 0);
         let mean: Vec<[f32; 4]> = (0..frames[0].hdr.len())
             .map(|i| {
                 let sum = frames.iter().map(|f| f.hdr[i][1]).sum::<f32>();

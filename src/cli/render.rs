@@ -299,8 +299,15 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             stats.environment_cubes_from_cache
         ),
     };
+    let structures = match stats.acceleration_structure_bytes {
+        0 => String::new(),
+        bytes => format!(
+            ", acceleration structures of {:.1} MiB",
+            bytes as f64 / (1024.0 * 1024.0)
+        ),
+    };
     outln!(
-        "start-up: {} shaders ({} from the SPIR-V cache) in {:.0} ms, {} pipelines{bakes}; device, pipelines, scene upload and frame {:.2} s in all",
+        "start-up: {} shaders ({} from the SPIR-V cache) in {:.0} ms, {} pipelines{bakes}{structures}; device, pipelines, scene upload and frame {:.2} s in all",
         stats.shaders_compiled,
         stats.shaders_from_cache,
         stats.shader_compile_micros as f64 / 1e3,

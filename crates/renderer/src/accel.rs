@@ -53,7 +53,7 @@ const BUILD_INPUT: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
 /// An acceleration structure and the buffer that holds it.
 pub(crate) struct AccelerationStructure {
     device: Arc<Device>,
-    _buffer: Buffer,
+    buffer: Buffer,
     handle: vk::AccelerationStructureKHR,
     address: vk::DeviceAddress,
 }
@@ -90,10 +90,15 @@ impl AccelerationStructure {
         };
         Ok(Self {
             device: device.clone(),
-            _buffer: buffer,
+            buffer,
             handle,
             address,
         })
+    }
+
+    /// The bytes its buffer holds.
+    fn bytes(&self) -> u64 {
+        self.buffer.size()
     }
 
     /// The structure, for descriptor writes.
@@ -234,6 +239,15 @@ impl MeshStructures {
         Ok(Self { per_mesh })
     }
 
+    /// The bytes the structures hold.
+    fn bytes(&self) -> u64 {
+        self.per_mesh
+            .iter()
+            .flatten()
+            .map(AccelerationStructure::bytes)
+            .sum()
+    }
+
     /// The structure of mesh `index`, if it has one.
     fn of(&self, index: usize) -> Option<&AccelerationStructure> {
         self.per_mesh.get(index).and_then(Option::as_ref)
@@ -270,7 +284,7 @@ struct TopLevel {
     instances: Buffer,
     instances_at: u64,
     structure: AccelerationStructure,
-    _scratch: Buffer,
+    scratch: Buffer,
     scratch_at: u64,
     capacity: u32,
     /// The number of the frame that last built it (0: none).
@@ -359,7 +373,7 @@ impl SceneStructure {
                 instances,
                 instances_at,
                 structure,
-                _scratch: scratch_buffer,
+                scratch: scratch_buffer,
                 scratch_at,
                 capacity,
                 built_for: 0,
@@ -376,6 +390,20 @@ impl SceneStructure {
             .unwrap_or_else(|p| p.into_inner())
             .structure
             .handle()
+    }
+
+    /// The bytes it holds: the meshes' structures, and each slot's top-level structure
+    /// with its instances and scratch.
+    pub(crate) fn bytes(&self) -> u64 {
+        self.meshes.bytes()
+            + self
+                .per_slot
+                .iter()
+                .map(|top| {
+                    let top = top.lock().unwrap_or_else(|p| p.into_inner());
+                    top.structure.bytes() + top.instances.size() + top.scratch.size()
+                })
+                .sum::<u64>()
     }
 
     /// How many frame slots it has a top-level structure for.

@@ -554,7 +554,7 @@ impl Renderer {
     /// device with ray queries) and they are not built yet (waits for the build: never
     /// in a frame).
     pub(crate) fn prepare_structures(
-        &self,
+        &mut self,
         scene: &GpuScene,
         variant: ShaderVariant,
     ) -> Result<(), RenderError> {
@@ -564,6 +564,7 @@ impl Renderer {
                 scene.scene(),
                 self.settings.frames_in_flight,
             )?;
+            self.stats.acceleration_structure_bytes += structures.bytes();
             // Set once: the check above found it unset, and only `&mut self` sets it.
             let _ = scene.gpu.structures.set(structures);
         }

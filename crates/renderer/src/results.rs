@@ -145,6 +145,10 @@ pub struct RendererStats {
     /// Frames read back to the CPU ([`Renderer::render`] and its kin; never in a
     /// frame a host records).
     pub readbacks: u64,
+    /// Bytes of acceleration structures built so far (ray queries: each scene's meshes'
+    /// and its top-level structures, with their instance and scratch buffers), counted
+    /// when they are built.
+    pub acceleration_structure_bytes: u64,
 }
 
 /// How many completed frames' timings are kept until taken.
