@@ -28,6 +28,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "iridescence",
     "specular",
     "normal-mapped",
+    "resting",
 ];
 
 /// Builds the built-in scene `name` (one of [`BUILTIN_SCENES`]), procedurally, needing no
@@ -73,6 +74,11 @@ pub const BUILTIN_SCENES: &[&str] = &[
 ///   whose own normal stays smooth, and an anisotropic metal, lit from the eye's side and
 ///   grazing from behind.
 ///
+/// - `resting`: a sphere and a box resting on a floor, lit by the studio environment
+///   alone: the contacts, the crevice between the box and the floor and the ground
+///   beside them are where the scene blocks the environment (`--ambient-occlusion on`,
+///   `--ray-traced-occlusion on`; docs/occlusion.md).
+///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
     builtin_scene_with(name, MetalColour::Bands)
@@ -101,6 +107,7 @@ pub fn builtin_scene_with(name: &str, colour: MetalColour) -> Result<Scene, Scen
         "iridescence" => Ok(iridescence(colour)),
         "specular" => Ok(specular(colour)),
         "normal-mapped" => Ok(normal_mapped(colour)),
+        "resting" => Ok(resting()),
         "spheres-studio" => Ok(under_studio(spheres(colour), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
             Scene {
@@ -1367,6 +1374,67 @@ fn metal_material(
 }
 
 /// Blue plastic of roughness 0.3.
+/// A red plastic sphere (radius 0.5) and a blue plastic box (0.8 m a side, turned 25°
+/// about the vertical) resting on a light grey Lambertian floor (12 m square), under the
+/// studio environment, seen from a raised three-quarter view.
+fn resting() -> Scene {
+    let radius = 0.5;
+    let side = 0.8;
+    let placed = |mesh, material, transform| Object {
+        mesh,
+        material,
+        transform,
+        casts_shadows: true,
+        node: None,
+    };
+    Scene {
+        name: "resting".into(),
+        meshes: vec![
+            Mesh::plane("floor", 12.0),
+            Mesh::uv_sphere("sphere", radius, 64, 32),
+            Mesh::cuboid("box", [side; 3]),
+        ],
+        materials: vec![
+            Material {
+                name: "floor".into(),
+                base_color: [0.6, 0.6, 0.6],
+                roughness: 1.0,
+                dielectric_ior: 1.0,
+                ..Material::default()
+            },
+            Material {
+                name: "red plastic".into(),
+                base_color: [0.6, 0.05, 0.04],
+                roughness: 0.35,
+                ..Material::default()
+            },
+            blue_plastic(),
+        ],
+        objects: vec![
+            placed(0, 0, Mat4::IDENTITY),
+            placed(1, 1, Mat4::from_translation(Vec3::new(-0.7, radius, 0.1))),
+            placed(
+                2,
+                2,
+                Mat4::from_translation(Vec3::new(0.65, side / 2.0, -0.25))
+                    * Mat4::from_rotation_y(25f32.to_radians()),
+            ),
+        ],
+        lights: Vec::new(),
+        camera: Camera {
+            position: Vec3::new(0.9, 1.7, 3.4),
+            target: Vec3::new(0.0, 0.35, 0.0),
+            up: Vec3::Y,
+            vertical_fov: 40f32.to_radians(),
+            near: 0.05,
+            far: 50.0,
+        },
+        outside_ior: 1.0,
+        environment: Some(crate::Environment::Studio),
+        motion: Default::default(),
+    }
+}
+
 fn blue_plastic() -> Material {
     Material {
         name: "blue plastic".into(),
