@@ -158,7 +158,14 @@ float environment_code_table(uint table, uint code, vec2 coord) {
                mix(environment_code_albedo[c.z], environment_code_albedo[c.w], f.x), f.y);
 }
 
-#ifdef OCCLUSION
+// The environment's occlusion: glTF occlusion textures (OCCLUSION) or an occlusion pass
+// (AMBIENT_OCCLUSION, RAY_TRACED_OCCLUSION), applied one way (the pass's visibility and the
+// texture's combined by their minimum in lighting.frag).
+#if defined(OCCLUSION) || defined(AMBIENT_OCCLUSION) || defined(RAY_TRACED_OCCLUSION)
+#define ENVIRONMENT_OCCLUSION
+#endif
+
+#ifdef ENVIRONMENT_OCCLUSION
 // Lagarde & de Rousiers' (2014, eq. 58) specular occlusion from the glTF occlusion, at n·v
 // and the lobe's α: weaker than the diffuse occlusion at normal incidence and on smooth
 // surfaces (the reference's twin: ReferenceShading::shade_environment).
@@ -209,11 +216,12 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     }
     float metal = view.metal;
     vec3 rho = clamp(m.base_color, vec3(0.0), vec3(1.0));
-    // Occlusion (glTF occlusion textures, OCCLUSION variant; 1 otherwise) darkens the
+    // Occlusion (glTF occlusion textures or an occlusion pass: ENVIRONMENT_OCCLUSION; 1
+    // otherwise) darkens the
     // diffuse term as it is, and the specular term by Lagarde & de Rousiers' (2014,
     // eq. 58) specular occlusion, weaker than the diffuse occlusion at normal incidence
     // and on smooth surfaces; direct lights are never occluded.
-#ifdef OCCLUSION
+#ifdef ENVIRONMENT_OCCLUSION
     float specular_occlusion = specular_occlusion_of(nv, alpha, occlusion);
 #else
     const float specular_occlusion = 1.0;
@@ -343,7 +351,7 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
         float a_coat = r_coat * r_coat;
         float albedo = nv_coat > 0.0
             ? environment_table(material_index, 1u, vec2(nv_coat, r_coat)).z : 0.0;
-#ifdef OCCLUSION
+#ifdef ENVIRONMENT_OCCLUSION
         albedo *= clamp(pow(max(nv_coat, 0.0) + occlusion, exp2(-16.0 * a_coat - 1.0)) - 1.0 + occlusion,
                         0.0, 1.0);
 #endif
@@ -471,7 +479,7 @@ vec3 environment_sampled(BrdfInputs m, BrdfView view, SurfaceLayers layers, vec3
     if (!(view.v.z > 0.0)) {
         return vec3(0.0);
     }
-#ifdef OCCLUSION
+#ifdef ENVIRONMENT_OCCLUSION
     float alpha = view.ax != view.ay ? 0.5 * (view.ax + view.ay) : roughness * roughness;
     float occlusion_specular = specular_occlusion_of(view.v.z, alpha, occlusion);
     BrdfInputs black = m;
@@ -494,7 +502,7 @@ vec3 environment_sampled(BrdfInputs m, BrdfView view, SurfaceLayers layers, vec3
             }
             vec3 world = normalize(view.frame * l);
             vec3 response = surface_response(m, view, layers, n, world);
-#ifdef OCCLUSION
+#ifdef ENVIRONMENT_OCCLUSION
             vec3 rest = surface_response(black, view, layers, n, world);
             response = rest * occlusion_specular + (response - rest) * occlusion;
 #endif

@@ -98,6 +98,31 @@ pub fn toggle_shadows(shadows: Option<ShadowSettings>) -> Option<ShadowSettings>
     }
 }
 
+/// The environment's occlusion, the `B` key: none → the screen-space pass
+/// (`ambient-occlusion`) → the ray-traced pass (`ray-traced-occlusion`, on a device with
+/// ray queries) → none; the other optional passes kept.
+pub fn cycle_occlusion(
+    passes: combustion_renderer::OptionalPasses,
+    ray_queries: bool,
+) -> combustion_renderer::OptionalPasses {
+    let (Some(screen), Some(traced)) = (
+        combustion_renderer::optional_pass("ambient-occlusion"),
+        combustion_renderer::optional_pass("ray-traced-occlusion"),
+    ) else {
+        return passes;
+    };
+    let next = if passes.contains(traced) {
+        None
+    } else if passes.contains(screen) {
+        ray_queries.then_some(traced)
+    } else {
+        Some(screen)
+    };
+    [screen, traced].into_iter().fold(passes, |set, pass| {
+        set.with(pass, next.is_some_and(|n| n.name == pass.name))
+    })
+}
+
 /// The next shadow filter ([`ShadowFilter::ALL`] in order), the `L` key; shadows on if
 /// they were off.
 pub fn cycle_shadow_filter(shadows: Option<ShadowSettings>) -> Option<ShadowSettings> {
@@ -230,6 +255,23 @@ pub fn dropped(path: PathBuf) -> SceneSource {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_occlusion_key_cycles_none_screen_space_and_ray_traced() {
+        let none = combustion_renderer::OptionalPasses::NONE;
+        let names =
+            |p: combustion_renderer::OptionalPasses| p.iter().map(|p| p.name).collect::<Vec<_>>();
+        let screen = cycle_occlusion(none, true);
+        assert_eq!(names(screen), ["ambient-occlusion"]);
+        let traced = cycle_occlusion(screen, true);
+        assert_eq!(names(traced), ["ray-traced-occlusion"]);
+        assert_eq!(cycle_occlusion(traced, true), none);
+        assert_eq!(
+            cycle_occlusion(screen, false),
+            none,
+            "no ray queries: back to none"
+        );
+    }
 
     #[test]
     fn shadow_keys_toggle_and_cycle_every_filter() {

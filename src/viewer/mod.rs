@@ -114,6 +114,10 @@ pub const KEYS: &[(&str, &str)] = &[
     ("K", "shadows on / off (every light casts them)"),
     ("L", "shadow filter: hard, PCF 8, 16, 32 taps"),
     (
+        "B",
+        "environment occlusion: none, screen-space (GTAO), ray-traced (with ray queries)",
+    ),
+    (
         "M",
         "diffuse model of every material: as loaded, Lambert, Oren–Nayar qualitative, full",
     ),
@@ -1214,6 +1218,23 @@ impl App<'_> {
                 log::info!(
                     "shadows {}",
                     shading.shadows.map_or("off", |s| s.filter.name())
+                );
+            }
+            "b" | "B" => {
+                let mut shading = state.renderer.shading();
+                shading.optional_passes = controls::cycle_occlusion(
+                    shading.optional_passes,
+                    state.renderer.device().ray_queries(),
+                );
+                state.renderer.set_shading(shading, &[&state.gpu_scene])?;
+                let names: Vec<&str> = shading.optional_passes.iter().map(|p| p.name).collect();
+                log::info!(
+                    "environment occlusion: {}",
+                    if names.is_empty() {
+                        "none".to_owned()
+                    } else {
+                        names.join(", ")
+                    }
                 );
             }
             "m" | "M" | "o" | "O" => {

@@ -93,6 +93,10 @@ pub struct ReferenceShading {
     blended: Vec<[u32; 4]>,
     /// Exact visibility: the scene's triangles and the frame's lights as given.
     visibility: Option<(std::sync::Arc<SceneBvh>, Vec<Light>)>,
+    /// The environment's visibility: the scene's triangles and the rays per axis of
+    /// each pixel's stratified cosine-distributed set
+    /// ([`Self::with_environment_visibility`]).
+    environment_visibility: Option<(std::sync::Arc<SceneBvh>, u32)>,
     /// The BRDF's terms ([`BrdfVariant::EXACT`] unless [`ReferenceShading::with_variant`]).
     variant: BrdfVariant,
     /// One diffuse model for every material, as [`ShadingOptions::diffuse_override`].
@@ -100,6 +104,11 @@ pub struct ReferenceShading {
     width: u32,
     height: u32,
 }
+
+/// How far along the normal the environment's visibility rays start, per metre of the
+/// point's distance from the eye: the ray-traced occlusion pass's rule (past the 32-bit
+/// depth's rounding, which can put a reconstructed point below its surface).
+pub const ENVIRONMENT_RAY_OFFSET: f64 = 2e-4;
 
 fn v3(a: [f64; 3]) -> V<f64> {
     V::new(a[0], a[1], a[2])
@@ -153,6 +162,7 @@ impl ReferenceShading {
             height,
             environment: None,
             visibility: None,
+            environment_visibility: None,
             variant: BrdfVariant::EXACT,
             diffuse_override: None,
         }
@@ -188,6 +198,57 @@ impl ReferenceShading {
             visibility: Some((bvh, lights.to_vec())),
             ..self
         }
+    }
+
+    /// The same, with the environment blocked by the scene as the occlusion passes block
+    /// it (`ambient-occlusion`, `ray-traced-occlusion`: one definition): the
+    /// environment's light at each pixel as [`Self::shade_environment`] integrates it,
+    /// with glTF occlusion and the cosine-weighted visibility V of the hemisphere
+    /// combined by their minimum and applied as the split sum applies occlusion. V is
+    /// the share of `rays_per_axis`² stratified cosine-distributed rays that hit none of
+    /// `bvh`'s triangles, starting [`ENVIRONMENT_RAY_OFFSET`] × the distance from the eye
+    /// along the normal, as the pass's do (its standard
+    /// error at most 1/(2·rays_per_axis) for stratified rays; not in the estimate's).
+    pub fn with_environment_visibility(
+        self,
+        bvh: std::sync::Arc<SceneBvh>,
+        rays_per_axis: u32,
+    ) -> Self {
+        Self {
+            environment_visibility: Some((bvh, rays_per_axis.max(1))),
+            ..self
+        }
+    }
+
+    /// The cosine-weighted visibility of the hemisphere above `p` (normal `n`) against
+    /// `bvh`: the share of `per_axis`² stratified cosine-distributed rays that leave.
+    fn environment_visible(
+        bvh: &SceneBvh,
+        p: [f64; 3],
+        n: [f64; 3],
+        eye: [f64; 3],
+        per_axis: u32,
+    ) -> f64 {
+        // The ray-traced occlusion pass's offset: 2·10⁻⁴ of the distance from the eye
+        // along the normal (past the depth's rounding at that distance).
+        let n = glam::DVec3::from(n);
+        let p = glam::DVec3::from(p);
+        let origin =
+            (p + n * (ENVIRONMENT_RAY_OFFSET * p.distance(glam::DVec3::from(eye)))).to_array();
+        let t = n.any_orthonormal_vector();
+        let b = n.cross(t);
+        let mut open = 0u32;
+        for i in 0..per_axis * per_axis {
+            let u = (f64::from(i % per_axis) + 0.5) / f64::from(per_axis);
+            let w = (f64::from(i / per_axis) + 0.5) / f64::from(per_axis);
+            let (r, phi) = (u.sqrt(), std::f64::consts::TAU * w);
+            let direction =
+                t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u).max(0.0).sqrt();
+            if bvh.direction_visible(origin, direction.to_array()) {
+                open += 1;
+            }
+        }
+        f64::from(open) / f64::from(per_axis * per_axis)
     }
 
     /// The exact visibility (1 or 0; a fraction for a light with a size) of the frame's
@@ -394,8 +455,20 @@ impl ReferenceShading {
             )
         };
         let whole = integrate(&p.brdf);
-        let occlusion = texel.emissive_occlusion[3];
-        if occlusion.is_nan() || occlusion >= 1.0 {
+        let mut occlusion = texel.emissive_occlusion[3];
+        if occlusion.is_nan() {
+            occlusion = 1.0;
+        }
+        if let Some((bvh, per_axis)) = &self.environment_visibility {
+            occlusion = occlusion.min(Self::environment_visible(
+                bvh,
+                p.position,
+                p.n,
+                self.camera_position(),
+                *per_axis,
+            ));
+        }
+        if occlusion >= 1.0 {
             return Some(whole);
         }
         // glTF occlusion as the split sum applies it (`occluded_environment`), at the
