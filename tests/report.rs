@@ -381,7 +381,8 @@ fn the_split_sum_error_is_in_the_report() {
 /// The report's shadow section on grid-sun: each setting is measured (frame times with a
 /// static and a moving camera, the shadow-map pass timed only where shadows are on), and
 /// against exact visibility shadows are less wrong than none: fewer misclassified pixels
-/// and a lower mean error. Written as shadows.csv and a section of report.md.
+/// and a lower mean error; the ray-traced shadows' row (ray queries) fewer than the maps'.
+/// Written as shadows.csv and a section of report.md.
 #[test]
 fn report_measures_shadows_against_exact_visibility() {
     use combustion::report::shadows::SHADOW_SETTINGS;
@@ -397,8 +398,18 @@ fn report_measures_shadows_against_exact_visibility() {
     };
     let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
     let rows = &measured.shadows;
-    assert_eq!(rows.len(), 2);
-    let (off, on) = (&rows[0], &rows[1]);
+    // The maps' two settings, then the ray-traced shadows (lavapipe has ray queries).
+    assert_eq!(rows.len(), 3);
+    let (off, on, traced) = (&rows[0], &rows[1], &rows[2]);
+    assert!(traced.traced && traced.settings.is_none());
+    assert_eq!(traced.compared, on.compared);
+    assert!(
+        traced.misclassified() < on.misclassified(),
+        "ray-traced {} misclassified, maps {}",
+        traced.misclassified(),
+        on.misclassified()
+    );
+    assert!(traced.maps.median > 0.0, "the rays' pass is timed");
     assert!(off.settings.is_none() && on.settings.is_some());
     assert!(off.compared > 0 && off.compared == on.compared);
     // Without shadows every exactly shadowed pixel is lit: a large share of the floor.
@@ -417,9 +428,13 @@ fn report_measures_shadows_against_exact_visibility() {
     let dir = std::env::temp_dir().join(format!("combustion-shadow-report-{}", std::process::id()));
     combustion::report::write(&dir, &measured, &desc, None).unwrap();
     let csv = std::fs::read_to_string(dir.join("shadows.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 3, "{csv}");
+    assert_eq!(csv.lines().count(), 4, "{csv}");
     assert!(
         csv.lines().nth(2).unwrap().contains(",hard-4x2048-1024,"),
+        "{csv}"
+    );
+    assert!(
+        csv.lines().nth(3).unwrap().contains(",ray-traced,"),
         "{csv}"
     );
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
@@ -436,6 +451,7 @@ fn report_measures_shadows_against_exact_visibility() {
     };
     assert!(row("hard-4x2048-1024").ends_with("| yes |"), "{md}");
     row("off");
+    row("ray-traced");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

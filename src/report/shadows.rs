@@ -38,6 +38,10 @@ pub const SHADOW_SETTINGS: [Option<ShadowSettings>; 4] = [
     }),
 ];
 
+/// The name of the ray-traced shadows' row (after the maps' settings, on devices with
+/// ray queries).
+pub const RAY_TRACED: &str = "ray-traced";
+
 /// n·l below which the shadow verdict is not compared: the terminator band of the
 /// built-in scenes' UV spheres, sin of their facet angle (2π/64 ≈ 0.098; see
 /// [`shadow_mismatch`]).
@@ -48,13 +52,17 @@ pub const TERMINATOR_COS: f64 = 0.1;
 pub struct ShadowRow {
     /// The scene's label.
     pub scene: String,
-    /// The setting (`None`: no shadows).
+    /// The setting (`None`: no shadow maps).
     pub settings: Option<ShadowSettings>,
+    /// Ray-traced shadows (`ray-traced-shadows`, on devices with ray queries) instead of
+    /// maps (`settings` is then `None`).
+    pub traced: bool,
     /// Whole frame's GPU time, static camera (the maps rendered once, then kept).
     pub static_total: Spread,
     /// Whole frame's GPU time, the camera moving every frame (the maps rendered again).
     pub moving_total: Spread,
-    /// The shadow-map pass, camera moving ([`Spread::NONE`] without shadows).
+    /// The shadow pass, camera moving: the maps', or the traced shadows' rays
+    /// ([`Spread::NONE`] without shadows).
     pub maps: Spread,
     /// Pixels the maps leave lit though exactly shadowed from the scene's first light (a
     /// frame without shadows lights every pixel).
@@ -76,7 +84,11 @@ impl ShadowRow {
     /// The setting's name: `off`, or filter, cascades, map size and the local lights'
     /// map size (`hard-4x2048-1024`).
     pub fn setting_name(&self) -> String {
-        setting_name(self.settings)
+        if self.traced {
+            RAY_TRACED.into()
+        } else {
+            setting_name(self.settings)
+        }
     }
 }
 
@@ -123,16 +135,28 @@ pub(super) fn measure_scene(
     moved.position += sideways;
     moved.target += sideways;
     let mut rows = Vec::new();
-    for &settings in &desc.shadows {
-        progress(&format!("{label} shadows {}", setting_name(settings)));
+    // The maps' settings, then the ray-traced shadows where the device has ray queries.
+    let traced = combustion_renderer::optional_pass("ray-traced-shadows")
+        .filter(|_| renderer.device().ray_queries() && !desc.shadows.is_empty());
+    let measured = desc
+        .shadows
+        .iter()
+        .map(|&settings| (settings, None))
+        .chain(traced.map(|pass| (None, Some(pass))));
+    for (settings, traced) in measured {
+        let name = traced.map_or_else(|| setting_name(settings), |_| RAY_TRACED.into());
+        progress(&format!("{label} shadows {name}"));
         let shading = ShadingOptions {
             shadows: settings,
+            optional_passes: traced.map_or(combustion_renderer::OptionalPasses::NONE, |pass| {
+                combustion_renderer::OptionalPasses::NONE.with(pass, true)
+            }),
             ..ShadingOptions::DEFAULT
         };
         renderer.set_shading(shading, &[gpu])?;
         let frame = renderer.render_with(gpu, &inputs, width, height, both)?;
         let errors = error_map(&frame, &reference, threads);
-        let (counts, wrong) = if settings.is_some() {
+        let (counts, wrong) = if settings.is_some() || traced.is_some() {
             renderer.set_shading(
                 ShadingOptions {
                     debug_view: DebugView::ShadowFactor,
@@ -162,7 +186,12 @@ pub(super) fn measure_scene(
             settings,
             static_total: Spread::of(still.iter().map(|t| t.total_ms).collect()),
             moving_total: Spread::of(moving.iter().map(|t| t.total_ms).collect()),
-            maps: PassSpreads::of(&moving).get(PassTimings::SHADOW_MAPS),
+            maps: PassSpreads::of(&moving).get(if traced.is_some() {
+                "ray-traced shadows"
+            } else {
+                PassTimings::SHADOW_MAPS
+            }),
+            traced: traced.is_some(),
             lit_should_be_shadowed: counts.lit_should_be_shadowed,
             shadowed_should_be_lit: counts.shadowed_should_be_lit,
             edge_error: edge_error(&frame, &errors, &wrong),
@@ -210,25 +239,25 @@ impl ShadowRow {
 /// One point per shadow setting, over the scenes measured: its mean static frame time
 /// and its mean share of misclassified pixels (the error shadows add or remove).
 pub fn points(rows: &[ShadowRow]) -> Vec<SpeedErrorPoint> {
-    let mut settings: Vec<Option<ShadowSettings>> = Vec::new();
+    let mut names: Vec<String> = Vec::new();
     for row in rows {
-        if !settings.contains(&row.settings) {
-            settings.push(row.settings);
+        if !names.contains(&row.setting_name()) {
+            names.push(row.setting_name());
         }
     }
-    settings
+    names
         .into_iter()
-        .map(|setting| {
-            let of: Vec<&ShadowRow> = rows.iter().filter(|r| r.settings == setting).collect();
+        .map(|name| {
+            let of: Vec<&ShadowRow> = rows.iter().filter(|r| r.setting_name() == name).collect();
             let n = of.len() as f64;
             SpeedErrorPoint {
-                label: setting_name(setting),
                 ms: of.iter().map(|r| r.static_total.median).sum::<f64>() / n,
                 error: of
                     .iter()
                     .map(|r| r.misclassified() as f64 / r.compared.max(1) as f64)
                     .sum::<f64>()
                     / n,
+                label: name,
             }
         })
         .collect()
@@ -264,7 +293,7 @@ pub fn csv(rows: &[ShadowRow]) -> String {
             r.setting_name(),
             r.static_total.median,
             r.moving_total.median,
-            // Empty where no shadow pass ran.
+            // Empty where no shadow pass ran (the ray-traced row: its rays' pass).
             if r.maps.median.is_finite() {
                 format!("{:.3}", r.maps.median)
             } else {
@@ -289,7 +318,7 @@ pub fn markdown(rows: &[ShadowRow]) -> String {
         return String::new();
     }
     let mut out = String::from(
-        "## Shadows (scenes with lights)\n\nEach shadow setting (filter-cascades×map size-local lights' map size) against exact visibility: the f64 reference with every light's term multiplied by its visibility, ray cast against the scene's triangles (`combustion_reference`). *Misclassified*: pixels whose verdict on the scene's first light (the shadow-factor view below ½, or lit everywhere without shadows) differs from exact visibility, where the light reaches and n·l > 0.1 (the spheres' terminator band left out). Lit/shadowed: pixels left lit that are exactly shadowed, and shadowed that are exactly lit. Edge error: the absolute radiance error (W/sr/m², green) at those pixels, mean and max. Frame times: static camera (the maps are kept) and a camera moving every frame (the cascades rendered again each frame; spot and point lights' maps do not depend on the camera and stay kept, so their scenes show no map pass there); medians.\n\n| scene | shadows | frame ms, static | frame ms, moving | shadow maps ms | misclassified | lit / shadowed | edge error mean / max | mean rel. error (exact visibility) |\n|---|---|---|---|---|---|---|---|---|\n",
+        "## Shadows (scenes with lights)\n\nEach shadow setting (filter-cascades×map size-local lights' map size) against exact visibility: the f64 reference with every light's term multiplied by its visibility, ray cast against the scene's triangles (`combustion_reference`). *Misclassified*: pixels whose verdict on the scene's first light (the shadow-factor view below ½, or lit everywhere without shadows) differs from exact visibility, where the light reaches and n·l > 0.1 (the spheres' terminator band left out). Lit/shadowed: pixels left lit that are exactly shadowed, and shadowed that are exactly lit. Edge error: the absolute radiance error (W/sr/m², green) at those pixels, mean and max. Frame times: static camera (the maps are kept) and a camera moving every frame (the cascades rendered again each frame; spot and point lights' maps do not depend on the camera and stay kept, so their scenes show no map pass there); medians. *ray-traced*: hard shadows by ray queries (`--ray-traced-shadows on`, devices with ray queries), its pass in the maps' column.\n\n| scene | shadows | frame ms, static | frame ms, moving | shadow maps ms | misclassified | lit / shadowed | edge error mean / max | mean rel. error (exact visibility) |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let _ = writeln!(
