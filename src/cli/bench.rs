@@ -65,6 +65,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
         storages: combustion::report::storage::all_storages(),
         anti_aliasing: true,
         environment_sampling: true,
+        occlusion: true,
         // Frame time against size and light count: on the scene named, else on the
         // performance scene.
         scaling: Some(if let Some(scene) = o.scene.given() {
@@ -104,6 +105,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
             !measured.environment_sampling.is_empty(),
             ", environment-sampling.csv",
         ),
+        (!measured.occlusion.is_empty(), ", occlusion.csv"),
     ]
     .iter()
     .filter(|(written, _)| *written)

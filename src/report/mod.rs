@@ -11,6 +11,7 @@
 
 pub mod anti_aliasing;
 pub mod environment_sampling;
+pub mod occlusion;
 pub mod shadows;
 pub mod storage;
 
@@ -376,6 +377,9 @@ pub struct Measurements {
     /// The split sum and the sampled environment at each count on each scene lit by an
     /// environment (empty unless [`ReportDesc::environment_sampling`]).
     pub environment_sampling: Vec<environment_sampling::EnvironmentSamplingRow>,
+    /// Each occlusion method on each scene lit by an environment, against the reference
+    /// with the environment's visibility (empty unless [`ReportDesc::occlusion`]).
+    pub occlusion: Vec<occlusion::OcclusionRow>,
 }
 
 /// GPU timings of `frames` frames of `scene` (after the frames already taken).
@@ -443,6 +447,10 @@ pub struct ReportDesc {
     /// ([`environment_sampling::Mode::all`]) on each scene lit by an environment, against
     /// a finer oracle ([`environment_sampling::ORACLE`]).
     pub environment_sampling: bool,
+    /// Measure the environment's occlusion (none, the screen-space pass, the traced pass
+    /// on devices with ray queries) on each scene lit by an environment
+    /// ([`occlusion`]).
+    pub occlusion: bool,
 }
 
 impl ReportDesc {
@@ -470,6 +478,7 @@ impl ReportDesc {
             storages: Vec::new(),
             anti_aliasing: false,
             environment_sampling: false,
+            occlusion: false,
         }
     }
 
@@ -489,6 +498,18 @@ impl ReportDesc {
             return 0;
         }
         scenes
+            .iter()
+            .filter(|(_, scene)| scene.environment.is_some())
+            .count()
+    }
+
+    /// Steps of the occlusion measurement on `scenes`: one per method on each scene lit
+    /// by an environment (the traced one counted, on any device).
+    fn occlusion_steps(&self, scenes: &[(String, combustion_scene::Scene)]) -> usize {
+        if !self.occlusion {
+            return 0;
+        }
+        3 * scenes
             .iter()
             .filter(|(_, scene)| scene.environment.is_some())
             .count()
@@ -612,7 +633,8 @@ pub fn measure(
         + desc.shadow_steps(&scenes)
         + desc.storage_steps(&scenes)
         + if desc.anti_aliasing { scenes.len() } else { 0 }
-        + desc.environment_sampling_steps(&scenes);
+        + desc.environment_sampling_steps(&scenes)
+        + desc.occlusion_steps(&scenes);
     let mut rows = Vec::with_capacity(total);
     let mut scaling = Vec::new();
     let mut shadow_rows = Vec::new();
@@ -776,9 +798,20 @@ pub fn measure(
     } else {
         Vec::new()
     };
+    let occlusion_rows = if desc.occlusion {
+        let done = total - desc.occlusion_steps(&scenes);
+        let mut i = 0;
+        occlusion::measure(&scenes, desc, |what| {
+            progress(done + i, total, what);
+            i += 1;
+        })?
+    } else {
+        Vec::new()
+    };
     progress(total, total, "done");
     Ok(Measurements {
         environment_sampling: environment_sampling_rows,
+        occlusion: occlusion_rows,
         storages: storage_rows,
         anti_aliasing: anti_aliasing_rows,
         rows,
@@ -1379,6 +1412,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     out += &storage::markdown(&m.storages);
     out += &anti_aliasing::markdown(&m.anti_aliasing);
     out += &environment_sampling::markdown(&m.environment_sampling);
+    out += &occlusion::markdown(&m.occlusion);
     out += &metal_colours_markdown();
     out += "## Per scene\n\nErrors of the lighting pass (from the frame's own G-buffer) and, where the scene has no environment, of the frame end to end (from the scene).\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP | end to end: mean | max |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
@@ -1610,6 +1644,9 @@ pub fn write(
             environment_sampling::csv(&m.environment_sampling).into_bytes(),
         ));
     }
+    if !m.occlusion.is_empty() {
+        files.push(("occlusion.csv", occlusion::csv(&m.occlusion).into_bytes()));
+    }
     if !m.scaling.is_empty() {
         let (size, lights) = scaling_plots(m, device)?;
         files.push(("scaling-resolution.png", size.bytes));
@@ -1631,9 +1668,10 @@ pub fn write(
 }
 
 /// Every file a report may write into its folder.
-pub const REPORT_FILES: [&str; 12] = [
+pub const REPORT_FILES: [&str; 13] = [
     "anti-aliasing.csv",
     "environment-sampling.csv",
+    "occlusion.csv",
     "report.md",
     "speed-vs-error.png",
     "report.csv",
