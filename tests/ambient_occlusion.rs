@@ -588,3 +588,45 @@ fn resting_against_reference(lambert: bool) -> ((f64, f64), (f64, f64), (f64, f6
     );
     (none, screen, traced)
 }
+
+/// A scene edited between traced frames is traced in its new shape: the sphere lifted a
+/// radius off the floor leaves the floor beside where it rested brighter (beneath it, the
+/// form factor falls from 1 to a quarter), frames before and after the edit with
+/// validation silent.
+#[test]
+fn an_edited_scene_is_traced_in_its_new_shape() {
+    let scene = resting_sphere(true);
+    let pixels = floor_pixels(&scene);
+    let ring = |hdr: &[[f32; 4]]| {
+        let values: Vec<f64> = pixels
+            .iter()
+            .filter(|(_, d)| (0.25..1.0).contains(d))
+            .map(|&(i, _)| f64::from(hdr[i][1]))
+            .collect();
+        values.iter().sum::<f64>() / values.len() as f64
+    };
+    let mut headless = crate::common::lavapipe(with_pass("ray-traced-occlusion", true));
+    let (resting, lifted) = {
+        let renderer = headless.renderer();
+        let mut gpu = renderer.upload(&scene).expect("upload");
+        let resting = renderer
+            .render(&gpu, WIDTH, HEIGHT, IMAGES)
+            .expect("render");
+        renderer
+            .edit_scene(&mut gpu, |scene| {
+                scene.objects[1].transform =
+                    Mat4::from_translation(Vec3::new(0.0, 2.0 * RADIUS as f32, 0.0));
+            })
+            .expect("edit");
+        let lifted = renderer
+            .render(&gpu, WIDTH, HEIGHT, IMAGES)
+            .expect("render");
+        (ring(&resting.hdr), ring(&lifted.hdr))
+    };
+    crate::common::finish(headless);
+    println!("ring 0.25–1 radii: resting {resting:.4}, lifted {lifted:.4}");
+    assert!(
+        lifted > resting * 1.2,
+        "resting {resting:.4}, lifted {lifted:.4}"
+    );
+}
