@@ -630,3 +630,87 @@ fn an_edited_scene_is_traced_in_its_new_shape() {
         "resting {resting:.4}, lifted {lifted:.4}"
     );
 }
+
+/// The optional passes' images (screen-space and traced occlusion, traced shadows' light
+/// bits), their lighting bindings and the scenes' acceleration structures, alternated
+/// with frames that have none of them, each for longer than the retire delay, two
+/// rounds, validation on: scenes lit by an environment and not (the occlusion passes run
+/// only with one), the passes on and off. Every binding is written every frame (the
+/// placeholders where a pass did not run: `SetWriter::apply` checks it in debug builds),
+/// and each configuration renders the same bytes in its second round as in its first,
+/// after its images were retired and made again.
+#[test]
+fn optional_passes_alternate_past_the_retire_delay() {
+    use crate::common::FRAMES_PAST_THE_RETIRE_DELAY;
+    let all = [
+        "ambient-occlusion",
+        "ray-traced-occlusion",
+        "ray-traced-shadows",
+    ]
+    .into_iter()
+    .map(|name| optional_pass(name).expect("declared"))
+    .fold(OptionalPasses::NONE, |set, pass| set.with(pass, true));
+    let resting = combustion::scene::builtin_scene("resting").unwrap();
+    let spot_box = combustion::scene::builtin_scene("spot-box").unwrap();
+    let mut settings = exact_f32();
+    settings.shading.optional_passes = all;
+    let mut headless = crate::common::lavapipe(settings);
+    let (w, h) = (96, 64);
+    {
+        let renderer = headless.renderer();
+        let gpus = [
+            renderer.upload(&resting).expect("upload"),
+            renderer.upload(&spot_box).expect("upload"),
+        ];
+        let mut first: Vec<Option<Vec<[f32; 4]>>> = vec![None; 4];
+        let mut ran: Vec<Vec<&'static str>> = vec![Vec::new(); 4];
+        for round in 0..2 {
+            for (config, (scene, passes)) in [
+                (0, all),
+                (1, all),
+                (0, OptionalPasses::NONE),
+                (1, OptionalPasses::NONE),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let shading = combustion::renderer::ShadingOptions {
+                    optional_passes: passes,
+                    ..renderer.shading()
+                };
+                renderer
+                    .set_shading(shading, &[&gpus[0], &gpus[1]])
+                    .expect("set shading");
+                for _ in 0..FRAMES_PAST_THE_RETIRE_DELAY {
+                    let frame = renderer.render(&gpus[scene], w, h, IMAGES).expect("frame");
+                    assert_eq!(frame.non_finite_pixels(), 0);
+                    if round == 0 {
+                        ran[config] = frame.timings.names();
+                    }
+                    match &first[config] {
+                        None => first[config] = Some(frame.hdr),
+                        Some(hdr) => {
+                            assert!(*hdr == frame.hdr, "configuration {config}, round {round}")
+                        }
+                    }
+                }
+            }
+        }
+        let has = |config: usize, pass: &str| ran[config].contains(&pass);
+        // resting (an environment, no lights) with the passes: both occlusion passes and
+        // the traced shadows; spot-box (lights, no environment): the traced shadows only.
+        assert!(has(0, "ambient occlusion") && has(0, "ray-traced occlusion"));
+        assert!(has(0, "ray-traced shadows") && has(1, "ray-traced shadows"));
+        assert!(!has(1, "ambient occlusion") && !has(1, "ray-traced occlusion"));
+        for config in [2, 3] {
+            assert!(
+                !ran[config]
+                    .iter()
+                    .any(|p| p.contains("occlusion") || p.contains("ray-traced")),
+                "{:?}",
+                ran[config]
+            );
+        }
+    }
+    crate::common::finish(headless);
+}
