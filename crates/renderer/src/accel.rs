@@ -4,7 +4,7 @@
 //! (`FramePass::traces`), and a top-level structure per frame slot ([`SceneStructure`]),
 //! rebuilt by that pass in each of its frames from where the frame places its objects.
 //!
-//! What is in them (the tracing pass chooses): every object whose mesh is a triangle
+//! What is in them (chosen once per scene): every object whose mesh is a triangle
 //! list, that casts shadows (`Object::casts_shadows`: an object that casts none occludes
 //! nothing), that is neither blended nor transmissive (glass lets light through), and
 //! that is not deformed (skinned and morphed objects are not in them yet: their rest
@@ -295,6 +295,10 @@ struct TopLevel {
 /// slot (each rebuilt only by frames of its slot, whose previous frame has completed).
 pub(crate) struct SceneStructure {
     meshes: MeshStructures,
+    /// What the rays can hit, chosen once per scene: (object, mesh) of each object that
+    /// casts shadows, is neither blended nor transmissive and is not deformed, whose mesh
+    /// has a structure.
+    occluders: Vec<(usize, usize)>,
     per_slot: Vec<Mutex<TopLevel>>,
 }
 
@@ -379,7 +383,25 @@ impl SceneStructure {
                 built_for: 0,
             }));
         }
-        Ok(Self { meshes, per_slot })
+        let occluders = scene
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|&(i, o)| {
+                let see_through = scene
+                    .materials
+                    .get(o.material)
+                    .is_some_and(combustion_scene::Material::is_see_through);
+                o.casts_shadows && !see_through && !crate::deform::deformation(scene, i).0
+            })
+            .filter(|(_, o)| meshes.of(o.mesh).is_some())
+            .map(|(i, o)| (i, o.mesh))
+            .collect();
+        Ok(Self {
+            meshes,
+            occluders,
+            per_slot,
+        })
     }
 
     /// Slot `slot`'s top-level structure (what its frames' ray queries trace, once built
@@ -411,9 +433,9 @@ impl SceneStructure {
         self.per_slot.len()
     }
 
-    /// Records the build of slot `slot`'s top-level structure over `objects` (each an
-    /// object's mesh and its world transform; those without a mesh structure left out),
-    /// then a barrier that makes it visible to compute shaders' ray queries — once per
+    /// Records the build of slot `slot`'s top-level structure over the scene's occluders,
+    /// each placed by `transform` (an object's world transform this frame), then a
+    /// barrier that makes it visible to compute shaders' ray queries — once per
     /// frame (`frame`: the frame's number; a second pass of the same frame finds it
     /// built); returns the structure. The slot's previous frame must have completed (its
     /// instances are rewritten now).
@@ -423,7 +445,7 @@ impl SceneStructure {
         cmd: vk::CommandBuffer,
         slot: usize,
         frame: u64,
-        objects: impl Iterator<Item = (usize, glam::Mat4)>,
+        transform: impl Fn(usize) -> glam::Mat4,
     ) -> vk::AccelerationStructureKHR {
         let functions = device
             .acceleration_structure()
@@ -435,10 +457,12 @@ impl SceneStructure {
             return top.structure.handle();
         }
         top.built_for = frame;
-        let instances: Vec<vk::AccelerationStructureInstanceKHR> = objects
-            .filter_map(|(mesh, transform)| {
+        let instances: Vec<vk::AccelerationStructureInstanceKHR> = self
+            .occluders
+            .iter()
+            .filter_map(|&(object, mesh)| {
                 let structure = self.meshes.of(mesh)?;
-                let rows = transform.transpose().to_cols_array();
+                let rows = transform(object).transpose().to_cols_array();
                 Some(vk::AccelerationStructureInstanceKHR {
                     transform: vk::TransformMatrixKHR {
                         matrix: [

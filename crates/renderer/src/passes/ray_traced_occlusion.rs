@@ -81,24 +81,9 @@ push_block! {
     }
 }
 
-/// What the traced passes' rays can hit this frame: each object's mesh and its transform,
-/// for the objects that cast shadows, are drawn into the G-buffer (blended and
-/// transmissive objects let light through, nor are they in the depth the screen-space
-/// pass reads) and are not deformed.
-pub(super) fn occluders<'a>(
-    frame: &'a FrameContext<'_>,
-) -> impl Iterator<Item = (usize, glam::Mat4)> + 'a {
-    let scene = frame.scene;
-    scene
-        .scene()
-        .objects
-        .iter()
-        .enumerate()
-        .filter_map(move |(i, o)| {
-            let deformed = crate::deform::deformation(scene.scene(), i).0;
-            (o.casts_shadows && !deformed && !scene.forward[i])
-                .then(|| (o.mesh, frame.placement.transform(scene, i)))
-        })
+/// Where each object is this frame (the traced passes' instances).
+pub(super) fn placed<'a>(frame: &'a FrameContext<'_>) -> impl Fn(usize) -> glam::Mat4 + 'a {
+    move |object| frame.placement.transform(frame.scene, object)
 }
 
 /// Its shader over the frame's pixels, its set and its image.
@@ -184,7 +169,7 @@ impl FramePass for RayTracedOcclusion {
             cmd,
             frame.slot.index,
             frame.number,
-            occluders(frame),
+            placed(frame),
         );
         let reach = scene
             .world_bounds

@@ -169,7 +169,7 @@ impl FramePass for RayTracedShadows {
             cmd,
             frame.slot.index,
             frame.number,
-            super::ray_traced_occlusion::occluders(frame),
+            super::ray_traced_occlusion::placed(frame),
         );
         let lights = frame.inputs.lights.len().min(MAX_LIGHTS);
         let casting = frame.inputs.lights[..lights]
