@@ -439,19 +439,20 @@ fn report_measures_shadows_against_exact_visibility() {
     );
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("## Shadows"), "{md}");
-    // The settings' own speed-against-error plot and front: shadows are less wrong than
-    // none, so the least wrong setting is on the front whatever the timings (whether
-    // "off" is too depends on it being faster, which a tiny frame on a shared machine
-    // does not promise).
+    // The settings' own speed-against-error plot and front: the least wrong setting is on
+    // the front whatever the timings — the ray-traced shadows, fewer misclassified than
+    // the maps (asserted above); whether the maps or "off" are too depends on their being
+    // faster, which a tiny frame on a shared machine does not promise (at 192×128 the
+    // traced frame can be the faster).
     assert!(dir.join("shadows-speed-vs-error.png").is_file());
     let row = |name: &str| {
         md.lines()
             .find(|l| l.starts_with(&format!("| {name} |")))
             .unwrap_or_else(|| panic!("no {name} row in {md}"))
     };
-    assert!(row("hard-4x2048-1024").ends_with("| yes |"), "{md}");
+    assert!(row("ray-traced").ends_with("| yes |"), "{md}");
     row("off");
-    row("ray-traced");
+    row("hard-4x2048-1024");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -193,11 +193,23 @@ fn frame_of(
     renderer: &mut Renderer,
     gpu: &combustion_renderer::GpuScene,
     inputs: &FrameInputs<'_>,
-    (width, height): (u32, u32),
+    size: (u32, u32),
     mode: Mode,
 ) -> Result<Frame, Error> {
+    mean_of_seeds(renderer, gpu, inputs, size, mode.frames())
+}
+
+/// The frame of seed 0 (its G-buffer read back) with its radiance replaced by the mean of
+/// `frames` frames of successive seeds from 0 (one frame: itself).
+pub(super) fn mean_of_seeds(
+    renderer: &mut Renderer,
+    gpu: &combustion_renderer::GpuScene,
+    inputs: &FrameInputs<'_>,
+    (width, height): (u32, u32),
+    frames: u32,
+) -> Result<Frame, Error> {
     let mut frame = renderer.render_with(gpu, inputs, width, height, Readback::ALL)?;
-    if let Mode::Accumulated { frames, .. } = mode {
+    if frames > 1 {
         let mut sum: Vec<[f64; 3]> = frame
             .hdr
             .iter()
@@ -238,8 +250,20 @@ fn integrate(
     threads: usize,
 ) -> Vec<(usize, Estimate)> {
     let reference = ReferenceShading::new(scene, inputs, frame.width, frame.height);
+    integrate_with(&reference, frame, environment, ORACLE, threads)
+}
+
+/// [`integrate`] with `reference` (its environment's visibility, say) and `sampling`'s
+/// stride and samples.
+pub(super) fn integrate_with(
+    reference: &ReferenceShading,
+    frame: &Frame,
+    environment: &Environment,
+    sampling: EnvironmentSampling,
+    threads: usize,
+) -> Vec<(usize, Estimate)> {
     let gbuffer = frame.gbuffer.as_ref().expect("the G-buffer was read back");
-    let step = ORACLE.stride as usize;
+    let step = sampling.stride as usize;
     let pixels: Vec<(u32, u32)> = (step / 2..frame.height as usize)
         .step_by(step)
         .flat_map(|y| {
@@ -253,7 +277,6 @@ fn integrate(
         let handles: Vec<_> = pixels
             .chunks(chunk)
             .map(|part| {
-                let reference = &reference;
                 s.spawn(move || {
                     part.iter()
                         .filter_map(|&(x, y)| {
@@ -264,7 +287,7 @@ fn integrate(
                                     x,
                                     y,
                                     environment,
-                                    ORACLE.iterations,
+                                    sampling.iterations,
                                 )
                                 .map(|mut e| {
                                     // The emission the lighting pass adds, as stored.
@@ -288,7 +311,7 @@ fn integrate(
 /// Per compared pixel: the relative error of `frame` against the oracle and the
 /// oracle's relative standard error (the largest channel's of each; relative to the
 /// value, or absolutely below the radiance floor).
-fn compare(frame: &Frame, oracle: &[(usize, Estimate)]) -> Vec<(f64, f64)> {
+pub(super) fn compare(frame: &Frame, oracle: &[(usize, Estimate)]) -> Vec<(f64, f64)> {
     oracle
         .iter()
         .map(|(i, estimate)| {

@@ -801,7 +801,7 @@ pub fn measure(
     let occlusion_rows = if desc.occlusion {
         let done = total - desc.occlusion_steps(&scenes);
         let mut i = 0;
-        occlusion::measure(&scenes, desc, |what| {
+        occlusion::measure(&scenes, desc, threads, |what| {
             progress(done + i, total, what);
             i += 1;
         })?

@@ -13,12 +13,11 @@ use std::sync::Arc;
 use combustion_reference::SceneBvh;
 use combustion_renderer::reference::ReferenceShading;
 use combustion_renderer::{
-    optional_pass, FrameInputs, OptionalPasses, Readback, Renderer, RendererSettings,
-    ShadingOptions,
+    optional_pass, FrameInputs, OptionalPasses, Renderer, RendererSettings, ShadingOptions,
 };
 
+use super::environment_sampling::{compare, integrate_with, mean_of_seeds};
 use super::{md_cell, time_frames_with, ReportDesc, Spread, ENVIRONMENT_SAMPLING};
-use crate::end_to_end::relative;
 use crate::{check_validation, Error, Headless, HeadlessDesc};
 
 /// Rays per axis of the reference's visibility at each compared pixel.
@@ -83,6 +82,7 @@ fn methods(renderer: &Renderer) -> Vec<Method> {
 pub(super) fn measure(
     scenes: &[(String, combustion_scene::Scene)],
     desc: &ReportDesc,
+    threads: usize,
     mut progress: impl FnMut(&str),
 ) -> Result<Vec<OcclusionRow>, Error> {
     let mut rows = Vec::new();
@@ -101,6 +101,7 @@ pub(super) fn measure(
                 Arc::new(SceneBvh::shadow_casters(scene)),
                 VISIBILITY_RAYS,
             );
+        let mut oracle = None;
         for Method { name, pass, seeds } in methods(renderer) {
             progress(&format!("{label} occlusion {name}"));
             let passes = pass
@@ -113,54 +114,19 @@ pub(super) fn measure(
                 },
                 &[&gpu],
             )?;
-            let mut sum: Vec<[f64; 3]> = Vec::new();
-            let mut gbuffer = None;
-            for seed in 0..seeds {
-                let seeded = FrameInputs {
-                    environment_seed: seed,
-                    ..inputs
-                };
-                let readback = if seed == 0 {
-                    Readback::ALL
-                } else {
-                    Readback {
-                        images: true,
-                        gbuffer: false,
-                    }
-                };
-                let frame = renderer.render_with(&gpu, &seeded, width, height, readback)?;
-                sum.resize(frame.hdr.len(), [0.0; 3]);
-                for (s, p) in sum.iter_mut().zip(&frame.hdr) {
-                    for c in 0..3 {
-                        s[c] += f64::from(p[c]) / f64::from(seeds);
-                    }
-                }
-                if seed == 0 {
-                    gbuffer = frame.gbuffer;
-                }
-            }
-            let gbuffer = gbuffer.expect("the first frame read its G-buffer back");
-            let step = ENVIRONMENT_SAMPLING.stride as usize;
-            let mut errors: Vec<f64> = Vec::new();
-            for y in (step / 2..height as usize).step_by(step) {
-                for x in (step / 2..width as usize).step_by(step) {
-                    let i = y * width as usize + x;
-                    let Some(mut estimate) = reference.shade_environment(
-                        &gbuffer.texels[i],
-                        x as u32,
-                        y as u32,
-                        &environment,
-                        ENVIRONMENT_SAMPLING.iterations,
-                    ) else {
-                        continue;
-                    };
-                    // The emission the lighting pass adds, as stored.
-                    for c in 0..3 {
-                        estimate.mean[c] += gbuffer.texels[i].emissive_occlusion[c];
-                    }
-                    errors.push(relative(sum[i], estimate.mean));
-                }
-            }
+            let frame = mean_of_seeds(renderer, &gpu, &inputs, (width, height), seeds)?;
+            // The G-buffer is the same with every method: one oracle per scene.
+            let oracle = match &oracle {
+                Some(o) => o,
+                None => oracle.insert(integrate_with(
+                    &reference,
+                    &frame,
+                    &environment,
+                    ENVIRONMENT_SAMPLING,
+                    threads,
+                )),
+            };
+            let mut errors: Vec<f64> = compare(&frame, oracle).into_iter().map(|e| e.0).collect();
             let frames = if seeds > 1 {
                 desc.frames.min(5)
             } else {
