@@ -1,6 +1,13 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
+#ifdef RAY_TRACED_OCCLUSION
+#extension GL_EXT_ray_query : require
+#ifdef ENVIRONMENT_SAMPLES
+// The sampled environment traces each of its directions against the scene.
+#define ENVIRONMENT_SAMPLE_VISIBILITY
+#endif
+#endif
 // Lighting pass: reads the G-buffer and depth, the material table and the lights, and
 // writes HDR radiance (W·sr⁻¹·m⁻² per RGB channel). Mirrored on the CPU by
 // combustion_renderer::reference (the parity tests and the viewer's error view).
@@ -259,13 +266,16 @@ void main() {
     // see the same contacts; a product would count them twice).
     occlusion = min(occlusion, texelFetch(ambient_occlusion, pixel, 0).r);
 #endif
-#ifdef RAY_TRACED_OCCLUSION
-    // The ray-traced occlusion pass's visibility, by the same rule.
+#if defined(RAY_TRACED_OCCLUSION) && !defined(ENVIRONMENT_SAMPLE_VISIBILITY)
+    // The ray-traced occlusion pass's visibility, by the same rule (the sampled
+    // environment traces its own directions instead).
     occlusion = min(occlusion, texelFetch(ray_traced_occlusion, pixel, 0).r);
 #endif
 #ifdef ENVIRONMENT_SAMPLES
+    // Visibility rays start off the surface as the ray-traced occlusion pass's do.
+    vec3 ray_origin = position + n * (ENVIRONMENT_RAY_OFFSET * length(push.camera_position.xyz - position));
     radiance += environment_sampled(m, view, layers, view.frame[2], gl_FragCoord.xy, push.sampling.x,
-                                    occlusion, nra.z);
+                                    occlusion, nra.z, ray_origin);
 #else
     radiance += environment_radiance(material, md.x, m, view, layers, view.frame[2], normalize(v),
                                      nra.z, base_color_srgb8_code(base_metal.rgb), occlusion);

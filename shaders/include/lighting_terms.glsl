@@ -465,25 +465,47 @@ vec2 pixel_rotation(vec2 pixel) {
     return vec2(a, b) * 2.3283064365386963e-10;
 }
 
+#ifdef ENVIRONMENT_SAMPLE_VISIBILITY
+// Whether the environment is seen from `origin` along `direction`: nothing of the scene's
+// acceleration structure (`scene`, built by the ray-traced occlusion pass) in the way.
+bool environment_open(vec3 origin, vec3 direction) {
+    rayQueryEXT query;
+    rayQueryInitializeEXT(query, scene, gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT,
+                          0xffu, origin, 0.0, direction, 1e30);
+    while (rayQueryProceedEXT(query)) {
+    }
+    return rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT;
+}
+#endif
+
 // The environment's share of the radiance towards the eye, integrated by sampling
 // (ShadingOptions::environment_samples): ENVIRONMENT_SAMPLES points of the Hammersley set,
-// turned per pixel and per `seed` (FrameInputs::environment_seed), each giving one direction from GGX's visible normals and one from the
-// cosine, combined by the balance heuristic: Σ L(l) r(l) / (p_ggx(l) + p_cos(l)) / N,
-// r = surface_response and L the radiance cube's finest level (no occlusion by the
-// scene). glTF occlusion (OCCLUSION) as the split sum applies it: the diffuse term
-// × occlusion, the rest × the specular occlusion at the lobe's α (`roughness`: the
-// perceptual roughness, as environment_radiance takes it); the rest is the response over
-// a black base colour.
+// turned per pixel and per `seed` (FrameInputs::environment_seed), each giving one
+// direction from GGX's visible normals and one from the cosine, combined by the balance
+// heuristic: Σ V(l) L(l) r(l) / (p_ggx(l) + p_cos(l)) / N, r = surface_response and L the
+// radiance cube's finest level. V is 1 unless ENVIRONMENT_SAMPLE_VISIBILITY: then each
+// direction is traced from `origin` against the scene (0 where something is in the
+// way) — the rendering equation's direct environment light with the scene's geometry.
+// Occlusion (`occlusion`: glTF textures and the screen-space pass) as the split sum
+// applies it: the diffuse term × occlusion, the rest × the specular occlusion at the
+// lobe's α (`roughness`: the perceptual roughness, as environment_radiance takes it); the
+// rest is the response over a black base colour. With traced visibility, the occlusion
+// applied is what the traced directions have not already counted: min(1, occlusion /
+// V̂), V̂ the share of the cosine directions that were open — the diffuse visibility is
+// then min(occlusion, V̂), the rule the split sum's passes follow.
 vec3 environment_sampled(BrdfInputs m, BrdfView view, SurfaceLayers layers, vec3 n,
-                         vec2 pixel, uint seed, float occlusion, float roughness) {
+                         vec2 pixel, uint seed, float occlusion, float roughness, vec3 origin) {
     if (!(view.v.z > 0.0)) {
         return vec3(0.0);
     }
 #ifdef ENVIRONMENT_OCCLUSION
-    float alpha = view.ax != view.ay ? 0.5 * (view.ax + view.ay) : roughness * roughness;
-    float occlusion_specular = specular_occlusion_of(view.v.z, alpha, occlusion);
     BrdfInputs black = m;
     black.base_color = vec3(0.0);
+    vec3 sum_rest = vec3(0.0);
+#endif
+#ifdef ENVIRONMENT_SAMPLE_VISIBILITY
+    uint cosine_open = 0u;
+    uint cosine_drawn = 0u;
 #endif
     const uint count = uint(ENVIRONMENT_SAMPLES);
     // Seed k turns every pixel's set further by the k-th point of the R2 sequence
@@ -502,13 +524,37 @@ vec3 environment_sampled(BrdfInputs m, BrdfView view, SurfaceLayers layers, vec3
             }
             vec3 world = normalize(view.frame * l);
             vec3 response = surface_response(m, view, layers, n, world);
-#ifdef ENVIRONMENT_OCCLUSION
-            vec3 rest = surface_response(black, view, layers, n, world);
-            response = rest * occlusion_specular + (response - rest) * occlusion;
+#ifdef ENVIRONMENT_SAMPLE_VISIBILITY
+            // Cosine directions are always traced (their open share is V̂); others only
+            // where they would add light.
+            if (k == 1 || any(greaterThan(response, vec3(0.0)))) {
+                bool open = environment_open(origin, world);
+                if (k == 1) {
+                    ++cosine_drawn;
+                    cosine_open += open ? 1u : 0u;
+                }
+                if (!open) {
+                    continue;
+                }
+            }
 #endif
-            sum += response * textureLod(environment_specular, world, 0.0).rgb / pdf;
+            vec3 radiance = textureLod(environment_specular, world, 0.0).rgb / pdf;
+#ifdef ENVIRONMENT_OCCLUSION
+            sum_rest += surface_response(black, view, layers, n, world) * radiance;
+#endif
+            sum += response * radiance;
         }
     }
+#ifdef ENVIRONMENT_OCCLUSION
+    float applied = occlusion;
+#ifdef ENVIRONMENT_SAMPLE_VISIBILITY
+    float traced = float(cosine_open) / float(max(cosine_drawn, 1u));
+    applied = traced > 0.0 ? min(1.0, occlusion / traced) : 1.0;
+#endif
+    float alpha = view.ax != view.ay ? 0.5 * (view.ax + view.ay) : roughness * roughness;
+    float occlusion_specular = specular_occlusion_of(view.v.z, alpha, applied);
+    sum = sum_rest * occlusion_specular + (sum - sum_rest) * applied;
+#endif
     return sum / float(count);
 }
 #endif

@@ -6,10 +6,15 @@
 //!
 //! What is in them (chosen once per scene): every object whose mesh is a triangle
 //! list, that casts shadows (`Object::casts_shadows`: an object that casts none occludes
-//! nothing), that is neither blended nor transmissive (glass lets light through), and
-//! that is not deformed (skinned and morphed objects are not in them yet: their rest
-//! shape is not the shape drawn). Every triangle is opaque (cut-outs block light through their
-//! holes: not tested against their texture yet). Points and lines are never in them.
+//! nothing) and that is neither blended nor transmissive (glass lets light through).
+//! Every triangle is opaque (cut-outs block light through their holes: not tested
+//! against their texture yet). Points and lines are never in them.
+//!
+//! Skinned and morphed objects ([`DeformedStructure`]) are traced in the shape the frame
+//! draws: each has a bottom-level structure of its own over the deform pass's posed
+//! vertices, rebuilt (a full build, preferring a fast build to a fast trace) in every
+//! traced frame before the top-level one — a frame's deform pass poses them anew, so
+//! every traced frame of a scene with deformed occluders pays for their builds.
 
 use std::sync::{Arc, Mutex};
 
@@ -18,6 +23,12 @@ use combustion_vk::gpu_allocator::MemoryLocation;
 use combustion_vk::{vk, Buffer, Device, OneShot, VkError, VkResultExt};
 
 use crate::error::RenderError;
+
+/// How far along the normal the environment's visibility rays start, per metre of the
+/// point's distance from the eye: the ray-traced occlusion pass's rule and the sampled
+/// environment's (past the 32-bit depth's rounding, which can put a reconstructed point
+/// below its surface); the f64 reference's too.
+pub const ENVIRONMENT_RAY_OFFSET: f64 = 2e-4;
 
 /// The functions of VK_KHR_acceleration_structure (a device without ray queries has
 /// none: callers check [`Device::ray_queries`] first).
@@ -277,10 +288,190 @@ fn triangle_geometry(
         .flags(vk::GeometryFlagsKHR::OPAQUE)
 }
 
+/// A skinned or morphed occluder's bottom-level structure, over its posed vertices in
+/// the deform pass's output (`SceneDeform::posed`, read in place) and its mesh's indices.
+struct DeformedStructure {
+    structure: AccelerationStructure,
+    /// The mesh's indices, as the build reads them.
+    _indices: Buffer,
+    indices_at: u64,
+    /// The address of its first posed vertex (`GpuVertex`, position first).
+    vertices_at: u64,
+    max_vertex: u32,
+    triangles: u32,
+    _scratch: Buffer,
+    scratch_at: u64,
+}
+
+/// Flags of the deformed objects' builds: rebuilt every traced frame.
+const DEFORMED_BUILD: vk::BuildAccelerationStructureFlagsKHR =
+    vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_BUILD;
+
+impl DeformedStructure {
+    /// The structure of deformed object `object` of `scene`, whose posed vertices are at
+    /// `offset` bytes in `deform.posed` (not built: each traced frame builds it).
+    fn new(
+        device: &Arc<Device>,
+        scene: &Scene,
+        object: usize,
+        deform: &crate::deform::SceneDeform,
+        offset: u64,
+    ) -> Result<Option<Self>, RenderError> {
+        let functions = functions(device)?;
+        let mesh = &scene.meshes[scene.objects[object].mesh];
+        let triangles = (mesh.indices.len() / 3) as u32;
+        if mesh.topology != Topology::Triangles || triangles == 0 || mesh.vertices.is_empty() {
+            return Ok(None);
+        }
+        let indices = Buffer::with_data(
+            device,
+            "deformed acceleration structure indices",
+            bytemuck::cast_slice(&mesh.indices[..triangles as usize * 3]),
+            BUILD_INPUT,
+        )?;
+        let indices_at = device.buffer_address(indices.raw());
+        let vertices_at = device.buffer_address(deform.posed.raw()) + offset;
+        let max_vertex = mesh.vertices.len() as u32 - 1;
+        let geometries = [posed_geometry(vertices_at, indices_at, max_vertex)];
+        let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+            .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
+            .flags(DEFORMED_BUILD)
+            .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+            .geometries(&geometries);
+        let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
+        // SAFETY: valid build info.
+        unsafe {
+            functions.get_acceleration_structure_build_sizes(
+                vk::AccelerationStructureBuildTypeKHR::DEVICE,
+                &info,
+                &[triangles],
+                &mut sizes,
+            )
+        };
+        let structure = AccelerationStructure::new(
+            device,
+            vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
+            sizes.acceleration_structure_size,
+            "deformed acceleration structure",
+        )?;
+        let (scratch_buffer, scratch_at) = scratch(
+            device,
+            sizes.build_scratch_size,
+            "deformed acceleration structure scratch",
+        )?;
+        Ok(Some(Self {
+            structure,
+            _indices: indices,
+            indices_at,
+            vertices_at,
+            max_vertex,
+            triangles,
+            _scratch: scratch_buffer,
+            scratch_at,
+        }))
+    }
+
+    /// The bytes it holds: the structure, its indices and its scratch.
+    fn bytes(&self) -> u64 {
+        self.structure.bytes() + self._indices.size() + self._scratch.size()
+    }
+}
+
+/// One triangle geometry over posed vertices (`GpuVertex`: f32 positions first, 48 bytes
+/// apart), u32 indices, opaque.
+fn posed_geometry(
+    vertices_at: u64,
+    indices_at: u64,
+    max_vertex: u32,
+) -> vk::AccelerationStructureGeometryKHR<'static> {
+    let mut geometry = triangle_geometry(vertices_at, indices_at, max_vertex);
+    // The union holds triangles (triangle_geometry); writing a field of it is safe.
+    geometry.geometry.triangles.vertex_stride =
+        std::mem::size_of::<crate::gpu_types::GpuVertex>() as u64;
+    geometry
+}
+
+/// Records the builds of `deformed` from the posed vertices the frame's deform pass
+/// wrote, between the barriers that order them after that pass (and after the ray
+/// queries of earlier frames that traced them) and before the top-level build.
+fn record_deformed_builds(
+    device: &Device,
+    functions: &combustion_vk::ash::khr::acceleration_structure::Device,
+    cmd: vk::CommandBuffer,
+    deformed: &[DeformedStructure],
+) {
+    if deformed.is_empty() {
+        return;
+    }
+    let geometries: Vec<[vk::AccelerationStructureGeometryKHR<'static>; 1]> = deformed
+        .iter()
+        .map(|d| [posed_geometry(d.vertices_at, d.indices_at, d.max_vertex)])
+        .collect();
+    let infos: Vec<vk::AccelerationStructureBuildGeometryInfoKHR<'_>> = deformed
+        .iter()
+        .zip(&geometries)
+        .map(|(d, geometry)| {
+            vk::AccelerationStructureBuildGeometryInfoKHR::default()
+                .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
+                .flags(DEFORMED_BUILD)
+                .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+                .geometries(geometry)
+                .dst_acceleration_structure(d.structure.handle)
+                .scratch_data(vk::DeviceOrHostAddressKHR {
+                    device_address: d.scratch_at,
+                })
+        })
+        .collect();
+    let ranges: Vec<[vk::AccelerationStructureBuildRangeInfoKHR; 1]> = deformed
+        .iter()
+        .map(|d| {
+            [vk::AccelerationStructureBuildRangeInfoKHR::default().primitive_count(d.triangles)]
+        })
+        .collect();
+    let range_refs: Vec<&[vk::AccelerationStructureBuildRangeInfoKHR]> =
+        ranges.iter().map(|r| &r[..]).collect();
+    let before = vk::MemoryBarrier2::default()
+        .src_stage_mask(
+            vk::PipelineStageFlags2::COMPUTE_SHADER
+                | vk::PipelineStageFlags2::FRAGMENT_SHADER
+                | vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR,
+        )
+        .src_access_mask(
+            vk::AccessFlags2::SHADER_STORAGE_WRITE
+                | vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR
+                | vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR,
+        )
+        .dst_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
+        .dst_access_mask(
+            vk::AccessFlags2::SHADER_READ
+                | vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR
+                | vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR,
+        );
+    let after = vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
+        .src_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR)
+        .dst_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
+        .dst_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR);
+    // SAFETY: recording; the inputs (the posed vertices, written by this frame's deform
+    // pass before this point), scratch and destinations belong to the scene, and the
+    // barriers order the builds after their writers and earlier frames' readers.
+    unsafe {
+        device.raw().cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&[before]),
+        );
+        functions.cmd_build_acceleration_structures(cmd, &infos, &range_refs);
+        device.raw().cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&[after]),
+        );
+    }
+}
+
 /// The top-level structure of one frame slot for one scene: its instances (host-visible,
 /// written by the frame that builds it), the structure and its scratch, for up to
 /// `capacity` objects.
-struct TopLevel {
+pub(crate) struct TopLevel {
     instances: Buffer,
     instances_at: u64,
     structure: AccelerationStructure,
@@ -289,17 +480,6 @@ struct TopLevel {
     capacity: u32,
     /// The number of the frame that last built it (0: none).
     built_for: u64,
-}
-
-/// A scene's acceleration structures: its meshes', and a top-level structure per frame
-/// slot (each rebuilt only by frames of its slot, whose previous frame has completed).
-pub(crate) struct SceneStructure {
-    meshes: MeshStructures,
-    /// What the rays can hit, chosen once per scene: (object, mesh) of each object that
-    /// casts shadows, is neither blended nor transmissive and is not deformed, whose mesh
-    /// has a structure.
-    occluders: Vec<(usize, usize)>,
-    per_slot: Vec<Mutex<TopLevel>>,
 }
 
 /// The geometry of a top-level build over the instances at `instances_at`.
@@ -328,77 +508,185 @@ fn top_level_info<'a>(
         .geometries(geometries)
 }
 
+impl TopLevel {
+    /// A top-level structure for up to `capacity` instances (not built).
+    fn new(device: &Arc<Device>, capacity: u32) -> Result<Self, RenderError> {
+        let functions = functions(device)?;
+        let capacity = capacity.max(1);
+        let instances = Buffer::new(
+            device,
+            "acceleration structure instances",
+            (capacity as usize * std::mem::size_of::<vk::AccelerationStructureInstanceKHR>())
+                as u64,
+            BUILD_INPUT,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let instances_at = device.buffer_address(instances.raw());
+        let geometries = [instance_geometry(instances_at)];
+        let info = top_level_info(&geometries);
+        let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
+        // SAFETY: valid build info.
+        unsafe {
+            functions.get_acceleration_structure_build_sizes(
+                vk::AccelerationStructureBuildTypeKHR::DEVICE,
+                &info,
+                &[capacity],
+                &mut sizes,
+            )
+        };
+        let structure = AccelerationStructure::new(
+            device,
+            vk::AccelerationStructureTypeKHR::TOP_LEVEL,
+            sizes.acceleration_structure_size,
+            "scene acceleration structure",
+        )?;
+        let (scratch_buffer, scratch_at) = scratch(
+            device,
+            sizes.build_scratch_size,
+            "scene acceleration structure scratch",
+        )?;
+        Ok(Self {
+            instances,
+            instances_at,
+            structure,
+            scratch: scratch_buffer,
+            scratch_at,
+            capacity,
+            built_for: 0,
+        })
+    }
+
+    /// An empty top-level structure, built now (one submission, waited for): what a
+    /// set that traces nothing this frame binds.
+    pub(crate) fn empty(device: &Arc<Device>) -> Result<Self, RenderError> {
+        let functions = functions(device)?;
+        let mut top = Self::new(device, 1)?;
+        let mut commands = OneShot::new(device)?;
+        let cmd = commands.begin()?;
+        top.record(device, functions, cmd, &[]);
+        commands.submit_and_wait()?;
+        Ok(top)
+    }
+
+    /// The structure, for descriptor writes.
+    pub(crate) fn handle(&self) -> vk::AccelerationStructureKHR {
+        self.structure.handle()
+    }
+
+    /// The bytes it holds, with its instances and scratch.
+    fn bytes(&self) -> u64 {
+        self.structure.bytes() + self.instances.size() + self.scratch.size()
+    }
+
+    /// Records its build over `instances` (at most its capacity: the caller's), then a
+    /// barrier that makes it visible to ray queries in compute and fragment shaders. No
+    /// pending frame may use its instances (they are rewritten now).
+    fn record(
+        &mut self,
+        device: &Device,
+        functions: &combustion_vk::ash::khr::acceleration_structure::Device,
+        cmd: vk::CommandBuffer,
+        instances: &[vk::AccelerationStructureInstanceKHR],
+    ) {
+        // SAFETY: AccelerationStructureInstanceKHR is plain data laid out as Vulkan reads
+        // it (64 bytes, no padding).
+        let bytes = unsafe {
+            std::slice::from_raw_parts(
+                instances.as_ptr().cast::<u8>(),
+                std::mem::size_of_val(instances),
+            )
+        };
+        self.instances
+            .write(0, bytes)
+            .expect("the instance buffer is host-visible and holds every object");
+        let geometries = [instance_geometry(self.instances_at)];
+        let info = top_level_info(&geometries)
+            .dst_acceleration_structure(self.structure.handle)
+            .scratch_data(vk::DeviceOrHostAddressKHR {
+                device_address: self.scratch_at,
+            });
+        let range = [vk::AccelerationStructureBuildRangeInfoKHR::default()
+            .primitive_count(instances.len() as u32)];
+        let built = vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
+            .src_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR)
+            .dst_stage_mask(
+                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            )
+            .dst_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR);
+        let barriers = [built];
+        // SAFETY: recording; the instances, scratch and structure are this one's, which
+        // no pending frame uses.
+        unsafe {
+            functions.cmd_build_acceleration_structures(cmd, &[info], &[&range]);
+            device.raw().cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&barriers),
+            );
+        }
+    }
+}
+
+/// A scene's acceleration structures: its meshes', its deformed objects', and a
+/// top-level structure per frame slot (each rebuilt only by frames of its slot, whose
+/// previous frame has completed).
+pub(crate) struct SceneStructure {
+    meshes: MeshStructures,
+    /// Its skinned and morphed occluders' structures, rebuilt in every traced frame.
+    deformed: Vec<DeformedStructure>,
+    /// What the rays can hit, chosen once per scene: each object that casts shadows and
+    /// is neither blended nor transmissive, with the address of its bottom-level
+    /// structure (its mesh's, or its own when it is deformed).
+    occluders: Vec<(usize, u64)>,
+    per_slot: Vec<Mutex<TopLevel>>,
+}
+
 impl SceneStructure {
-    /// `scene`'s mesh structures (built now) and `slots` top-level structures for all of
-    /// its objects.
+    /// `scene`'s mesh structures (built now), its deformed objects' (`deform`: the
+    /// scene's deform buffers, if it has deformed objects; built by each traced frame)
+    /// and `slots` top-level structures for all of its objects.
     pub(crate) fn new(
         device: &Arc<Device>,
         scene: &Scene,
+        deform: Option<&crate::deform::SceneDeform>,
         slots: usize,
     ) -> Result<Self, RenderError> {
         let meshes = MeshStructures::build(device, scene)?;
-        let functions = functions(device)?;
-        let capacity = scene.objects.len().max(1) as u32;
-        let mut per_slot = Vec::with_capacity(slots);
-        for _ in 0..slots {
-            let instances = Buffer::new(
-                device,
-                "acceleration structure instances",
-                (capacity as usize * std::mem::size_of::<vk::AccelerationStructureInstanceKHR>())
-                    as u64,
-                BUILD_INPUT,
-                MemoryLocation::CpuToGpu,
-            )?;
-            let instances_at = device.buffer_address(instances.raw());
-            let geometries = [instance_geometry(instances_at)];
-            let info = top_level_info(&geometries);
-            let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
-            // SAFETY: valid build info.
-            unsafe {
-                functions.get_acceleration_structure_build_sizes(
-                    vk::AccelerationStructureBuildTypeKHR::DEVICE,
-                    &info,
-                    &[capacity],
-                    &mut sizes,
-                )
-            };
-            let structure = AccelerationStructure::new(
-                device,
-                vk::AccelerationStructureTypeKHR::TOP_LEVEL,
-                sizes.acceleration_structure_size,
-                "scene acceleration structure",
-            )?;
-            let (scratch_buffer, scratch_at) = scratch(
-                device,
-                sizes.build_scratch_size,
-                "scene acceleration structure scratch",
-            )?;
-            per_slot.push(Mutex::new(TopLevel {
-                instances,
-                instances_at,
-                structure,
-                scratch: scratch_buffer,
-                scratch_at,
-                capacity,
-                built_for: 0,
-            }));
+        let capacity = scene.objects.len() as u32;
+        let per_slot = (0..slots)
+            .map(|_| TopLevel::new(device, capacity).map(Mutex::new))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut deformed = Vec::new();
+        let mut occluders = Vec::new();
+        for (i, o) in scene.objects.iter().enumerate() {
+            let see_through = scene
+                .materials
+                .get(o.material)
+                .is_some_and(combustion_scene::Material::is_see_through);
+            if !o.casts_shadows || see_through {
+                continue;
+            }
+            let posed_at =
+                deform.and_then(|d| d.posed_offsets.get(i).copied().flatten().map(|at| (d, at)));
+            match posed_at {
+                Some((deform, offset)) => {
+                    if let Some(structure) =
+                        DeformedStructure::new(device, scene, i, deform, offset)?
+                    {
+                        occluders.push((i, structure.structure.address));
+                        deformed.push(structure);
+                    }
+                }
+                None => {
+                    if let Some(structure) = meshes.of(o.mesh) {
+                        occluders.push((i, structure.address));
+                    }
+                }
+            }
         }
-        let occluders = scene
-            .objects
-            .iter()
-            .enumerate()
-            .filter(|&(i, o)| {
-                let see_through = scene
-                    .materials
-                    .get(o.material)
-                    .is_some_and(combustion_scene::Material::is_see_through);
-                o.casts_shadows && !see_through && !crate::deform::deformation(scene, i).0
-            })
-            .filter(|(_, o)| meshes.of(o.mesh).is_some())
-            .map(|(i, o)| (i, o.mesh))
-            .collect();
         Ok(Self {
             meshes,
+            deformed,
             occluders,
             per_slot,
         })
@@ -410,21 +698,22 @@ impl SceneStructure {
         self.per_slot[slot]
             .lock()
             .unwrap_or_else(|p| p.into_inner())
-            .structure
             .handle()
     }
 
-    /// The bytes it holds: the meshes' structures, and each slot's top-level structure
-    /// with its instances and scratch.
+    /// The bytes it holds: the meshes' and deformed objects' structures, and each slot's
+    /// top-level structure with its instances and scratch.
     pub(crate) fn bytes(&self) -> u64 {
         self.meshes.bytes()
             + self
+                .deformed
+                .iter()
+                .map(DeformedStructure::bytes)
+                .sum::<u64>()
+            + self
                 .per_slot
                 .iter()
-                .map(|top| {
-                    let top = top.lock().unwrap_or_else(|p| p.into_inner());
-                    top.structure.bytes() + top.instances.size() + top.scratch.size()
-                })
+                .map(|top| top.lock().unwrap_or_else(|p| p.into_inner()).bytes())
                 .sum::<u64>()
     }
 
@@ -433,11 +722,12 @@ impl SceneStructure {
         self.per_slot.len()
     }
 
-    /// Records the build of slot `slot`'s top-level structure over the scene's occluders,
-    /// each placed by `transform` (an object's world transform this frame), then a
-    /// barrier that makes it visible to compute shaders' ray queries — once per
-    /// frame (`frame`: the frame's number; a second pass of the same frame finds it
-    /// built); returns the structure. The slot's previous frame must have completed (its
+    /// Records the builds of the deformed objects' structures (from the posed vertices
+    /// the frame's deform pass wrote) and of slot `slot`'s top-level structure over the
+    /// scene's occluders, each placed by `transform` (an object's world transform this
+    /// frame), then a barrier that makes it visible to ray queries — once per frame
+    /// (`frame`: the frame's number; a second pass of the same frame finds it built);
+    /// returns the structure. The slot's previous frame must have completed (its
     /// instances are rewritten now).
     pub(crate) fn record_build(
         &self,
@@ -454,16 +744,16 @@ impl SceneStructure {
             .lock()
             .unwrap_or_else(|p| p.into_inner());
         if top.built_for == frame {
-            return top.structure.handle();
+            return top.handle();
         }
         top.built_for = frame;
+        record_deformed_builds(device, functions, cmd, &self.deformed);
         let instances: Vec<vk::AccelerationStructureInstanceKHR> = self
             .occluders
             .iter()
-            .filter_map(|&(object, mesh)| {
-                let structure = self.meshes.of(mesh)?;
+            .map(|&(object, address)| {
                 let rows = transform(object).transpose().to_cols_array();
-                Some(vk::AccelerationStructureInstanceKHR {
+                vk::AccelerationStructureInstanceKHR {
                     transform: vk::TransformMatrixKHR {
                         matrix: [
                             rows[0], rows[1], rows[2], rows[3], rows[4], rows[5], rows[6], rows[7],
@@ -476,46 +766,13 @@ impl SceneStructure {
                         vk::GeometryInstanceFlagsKHR::FORCE_OPAQUE.as_raw() as u8,
                     ),
                     acceleration_structure_reference: vk::AccelerationStructureReferenceKHR {
-                        device_handle: structure.address,
+                        device_handle: address,
                     },
-                })
+                }
             })
             .take(top.capacity as usize)
             .collect();
-        // SAFETY: AccelerationStructureInstanceKHR is plain data laid out as Vulkan reads
-        // it (64 bytes, no padding).
-        let bytes = unsafe {
-            std::slice::from_raw_parts(
-                instances.as_ptr().cast::<u8>(),
-                std::mem::size_of_val(instances.as_slice()),
-            )
-        };
-        top.instances
-            .write(0, bytes)
-            .expect("the instance buffer is host-visible and holds every object");
-        let geometries = [instance_geometry(top.instances_at)];
-        let info = top_level_info(&geometries)
-            .dst_acceleration_structure(top.structure.handle)
-            .scratch_data(vk::DeviceOrHostAddressKHR {
-                device_address: top.scratch_at,
-            });
-        let range = [vk::AccelerationStructureBuildRangeInfoKHR::default()
-            .primitive_count(instances.len() as u32)];
-        let built = vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::ACCELERATION_STRUCTURE_BUILD_KHR)
-            .src_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_WRITE_KHR)
-            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .dst_access_mask(vk::AccessFlags2::ACCELERATION_STRUCTURE_READ_KHR);
-        let barriers = [built];
-        // SAFETY: recording; the instances, scratch and structure are the slot's, whose
-        // previous frame has completed.
-        unsafe {
-            functions.cmd_build_acceleration_structures(cmd, &[info], &[&range]);
-            device.raw().cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().memory_barriers(&barriers),
-            );
-        }
-        top.structure.handle()
+        top.record(device, functions, cmd, &instances);
+        top.handle()
     }
 }

@@ -115,6 +115,18 @@ impl Binding {
             ..self
         }
     }
+
+    /// Whether it holds an acceleration structure: a descriptor only devices with ray
+    /// queries have. Elsewhere the set's layout leaves its number out (the shaders that
+    /// declare it, behind a define of a pass that needs ray queries, never run there).
+    pub fn needs_ray_queries(&self) -> bool {
+        self.kind == BindingKind::AccelerationStructure
+    }
+
+    /// Whether the layouts of a device with (`ray_queries`) or without ray queries have it.
+    fn on(&self, ray_queries: bool) -> bool {
+        ray_queries || !self.needs_ray_queries()
+    }
 }
 
 /// A descriptor set: its header's name, its set number, and its bindings (binding i is
@@ -133,14 +145,6 @@ pub struct SetDecl {
 }
 
 impl SetDecl {
-    /// Whether a binding holds an acceleration structure (a layout only devices with ray
-    /// queries can make).
-    pub fn needs_ray_queries(&self) -> bool {
-        self.bindings
-            .iter()
-            .any(|b| b.kind == BindingKind::AccelerationStructure)
-    }
-
     /// The path shaders include: `bindings/NAME.glsl`.
     pub fn header_path(&self) -> String {
         format!("bindings/{}.glsl", self.name)
@@ -225,7 +229,8 @@ impl SetDecl {
     }
 
     /// Creates the Vulkan descriptor-set layout: one descriptor per binding, numbered by its
-    /// position, with its kind's descriptor type and its stages.
+    /// position, with its kind's descriptor type and its stages (on a device without ray
+    /// queries, acceleration structures' numbers left out: [`Binding::needs_ray_queries`]).
     ///
     /// # Errors
     /// The device's error if the layout cannot be created.
@@ -234,15 +239,17 @@ impl SetDecl {
             .bindings
             .iter()
             .enumerate()
+            .filter(|(_, b)| b.on(device.ray_queries()))
             .map(|(i, b)| (i as u32, b.kind.descriptor_type(), 1, b.stages))
             .collect();
         DescriptorSetLayout::new(device, &bindings)
     }
 
-    /// The descriptors `sets` sets of this layout take from a pool.
-    pub fn pool_sizes(&self, sets: u32) -> Vec<vk::DescriptorPoolSize> {
+    /// The descriptors `sets` sets of this layout take from a pool, on a device with
+    /// (`ray_queries`) or without ray queries.
+    pub fn pool_sizes(&self, sets: u32, ray_queries: bool) -> Vec<vk::DescriptorPoolSize> {
         let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
-        for b in self.bindings {
+        for b in self.bindings.iter().filter(|b| b.on(ray_queries)) {
             let ty = b.kind.descriptor_type();
             match sizes.iter_mut().find(|s| s.ty == ty) {
                 Some(s) => s.descriptor_count += sets,
@@ -338,18 +345,23 @@ impl SetWriter {
     }
 
     /// Applies the writes. The set must not be in use by a pending frame. Every binding
-    /// of the declaration must have been given (a placeholder where a resource is
+    /// the device's layout has must have been given (a placeholder where a resource is
     /// absent): a binding left as an earlier write set it may name a resource freed
     /// since, and a driver may read every descriptor of a bound set.
     pub fn apply(self, device: &Device) {
         debug_assert!(
-            self.decl.bindings.iter().enumerate().all(|(i, _)| self
-                .images
+            self.decl
+                .bindings
                 .iter()
-                .map(|(index, _)| index)
-                .chain(self.buffers.iter().map(|(index, _)| index))
-                .chain(self.structures.iter().map(|(index, _)| index))
-                .any(|&index| index as usize == i)),
+                .enumerate()
+                .all(|(i, b)| !b.on(device.ray_queries())
+                    || self
+                        .images
+                        .iter()
+                        .map(|(index, _)| index)
+                        .chain(self.buffers.iter().map(|(index, _)| index))
+                        .chain(self.structures.iter().map(|(index, _)| index))
+                        .any(|&index| index as usize == i)),
             "set {}: every binding must be written ({:?} declared)",
             self.decl.name,
             self.decl
@@ -924,7 +936,7 @@ mod tests {
 
     #[test]
     fn pool_sizes_count_each_descriptor_type() {
-        let sizes = EXAMPLE.pool_sizes(2);
+        let sizes = EXAMPLE.pool_sizes(2, true);
         let count = |ty| {
             sizes
                 .iter()

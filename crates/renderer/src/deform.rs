@@ -274,6 +274,14 @@ impl SceneDeform {
             Ok(Buffer::with_data(device, name, bytes, storage)?)
         };
         let posed_bytes = (posed_vertices * std::mem::size_of::<GpuVertex>() as u64).max(4);
+        // On a device with ray queries the posed vertices are also what the deformed
+        // objects' acceleration structures are built from (crate::accel).
+        let traceable = if device.ray_queries() {
+            vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR
+                | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS
+        } else {
+            vk::BufferUsageFlags::empty()
+        };
         Ok(Some(Self {
             rest: filled("deform rest vertices", bytes_of(&rest))?,
             ranges: filled("deform influence ranges", bytes_of(&ranges))?,
@@ -283,7 +291,10 @@ impl SceneDeform {
                 device,
                 "posed vertices",
                 posed_bytes,
-                storage | vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+                storage
+                    | vk::BufferUsageFlags::VERTEX_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
+                    | traceable,
                 crate::buffers::GPU_ONLY,
             )?,
             objects,

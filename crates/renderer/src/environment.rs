@@ -656,7 +656,11 @@ impl EnvironmentBaker {
         let dispatches =
             bake.radiance.mip_levels() + SPECULAR_LEVELS + 2 + bake.code_keys.len() as u32;
         let decl = &bindings::ENVIRONMENT_BAKE;
-        let pool = DescriptorPool::new(device, dispatches, &decl.pool_sizes(dispatches))?;
+        let pool = DescriptorPool::new(
+            device,
+            dispatches,
+            &decl.pool_sizes(dispatches, device.ray_queries()),
+        )?;
         let mut views = Vec::new();
 
         let mut commands = OneShot::new(device)?;

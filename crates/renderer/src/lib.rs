@@ -211,19 +211,14 @@ impl Renderer {
         let pipelines = pipelines::PipelineRegistry::new(
             &device,
             cache_data,
-            &passes::usable(passes::declared_sets(), &device),
+            &passes::declared_sets(),
             passes::generated_headers(),
         )?;
         let shared = shared::SharedResources::new(&device, &settings)?;
         let slots = (0..settings.frames_in_flight)
             .enumerate()
             .map(|(index, _)| {
-                slot::FrameSlot::new(
-                    &device,
-                    &pipelines.layouts,
-                    &passes::usable(passes::frame_sets(), &device),
-                    index,
-                )
+                slot::FrameSlot::new(&device, &pipelines.layouts, &passes::frame_sets(), index)
             })
             .collect::<Result<Vec<_>, _>>()?;
         let mut renderer = Self {
@@ -562,6 +557,7 @@ impl Renderer {
             let structures = accel::SceneStructure::new(
                 &self.device,
                 scene.scene(),
+                scene.gpu.deform.as_ref(),
                 self.settings.frames_in_flight,
             )?;
             self.stats.acceleration_structure_bytes += structures.bytes();

@@ -203,10 +203,12 @@ pub(crate) struct Placement<'a> {
 }
 
 impl Placement<'_> {
-    /// Object `index`'s transform this frame.
+    /// Object `index`'s transform this frame (a skinned object's is the identity: its
+    /// joints place its posed vertices in world space, as the object table says).
     pub(crate) fn transform(&self, scene: &GpuScene, index: usize) -> Mat4 {
         match self.transforms {
             Some(transforms) => transforms[index],
+            None if crate::deform::deformation(scene.scene(), index).0 => Mat4::IDENTITY,
             None => scene.scene().objects[index].transform,
         }
     }

@@ -97,6 +97,9 @@ pub struct ReferenceShading {
     /// each pixel's stratified cosine-distributed set
     /// ([`Self::with_environment_visibility`]).
     environment_visibility: Option<(std::sync::Arc<SceneBvh>, u32)>,
+    /// Whether each direction the environment's integral samples is traced
+    /// ([`Self::with_traced_environment`]) rather than the occlusion passes' V applied.
+    environment_traced: bool,
     /// The BRDF's terms ([`BrdfVariant::EXACT`] unless [`ReferenceShading::with_variant`]).
     variant: BrdfVariant,
     /// One diffuse model for every material, as [`ShadingOptions::diffuse_override`].
@@ -105,10 +108,7 @@ pub struct ReferenceShading {
     height: u32,
 }
 
-/// How far along the normal the environment's visibility rays start, per metre of the
-/// point's distance from the eye: the ray-traced occlusion pass's rule (past the 32-bit
-/// depth's rounding, which can put a reconstructed point below its surface).
-pub const ENVIRONMENT_RAY_OFFSET: f64 = 2e-4;
+pub use crate::accel::ENVIRONMENT_RAY_OFFSET;
 
 fn v3(a: [f64; 3]) -> V<f64> {
     V::new(a[0], a[1], a[2])
@@ -163,6 +163,7 @@ impl ReferenceShading {
             environment: None,
             visibility: None,
             environment_visibility: None,
+            environment_traced: false,
             variant: BrdfVariant::EXACT,
             diffuse_override: None,
         }
@@ -216,25 +217,45 @@ impl ReferenceShading {
     ) -> Self {
         Self {
             environment_visibility: Some((bvh, rays_per_axis.max(1))),
+            environment_traced: false,
             ..self
         }
     }
 
+    /// The same, with the environment blocked as the sampled environment with
+    /// ray-traced occlusion blocks it: every direction the integral samples traced
+    /// against `bvh`'s triangles from the pixel's point (offset as
+    /// [`Self::with_environment_visibility`]'s rays), the environment's radiance 0 where
+    /// a triangle is in the way — the rendering equation's direct environment light
+    /// with the scene's geometry. glTF occlusion then applies what the traced directions
+    /// have not already counted, as the split sum applies occlusion: min(1, occlusion /
+    /// V), V the cosine-weighted visibility from `rays_per_axis`² stratified rays (so
+    /// that the diffuse visibility is min(occlusion, V), the passes' rule).
+    pub fn with_traced_environment(
+        self,
+        bvh: std::sync::Arc<SceneBvh>,
+        rays_per_axis: u32,
+    ) -> Self {
+        Self {
+            environment_visibility: Some((bvh, rays_per_axis.max(1))),
+            environment_traced: true,
+            ..self
+        }
+    }
+
+    /// Where the pixel at `p` (normal `n`) starts its environment visibility rays.
+    fn environment_ray_origin(&self, p: [f64; 3], n: [f64; 3]) -> glam::DVec3 {
+        let (n, p) = (glam::DVec3::from(n), glam::DVec3::from(p));
+        p + n * (ENVIRONMENT_RAY_OFFSET * p.distance(glam::DVec3::from(self.camera_position())))
+    }
+
     /// The cosine-weighted visibility of the hemisphere above `p` (normal `n`) against
     /// `bvh`: the share of `per_axis`² stratified cosine-distributed rays that leave.
-    fn environment_visible(
-        bvh: &SceneBvh,
-        p: [f64; 3],
-        n: [f64; 3],
-        eye: [f64; 3],
-        per_axis: u32,
-    ) -> f64 {
+    fn environment_visible(&self, bvh: &SceneBvh, p: [f64; 3], n: [f64; 3], per_axis: u32) -> f64 {
         // The ray-traced occlusion pass's offset: 2·10⁻⁴ of the distance from the eye
         // along the normal (past the depth's rounding at that distance).
+        let origin = self.environment_ray_origin(p, n).to_array();
         let n = glam::DVec3::from(n);
-        let p = glam::DVec3::from(p);
-        let origin =
-            (p + n * (ENVIRONMENT_RAY_OFFSET * p.distance(glam::DVec3::from(eye)))).to_array();
         let t = n.any_orthonormal_vector();
         let b = n.cross(t);
         let mut open = 0u32;
@@ -442,6 +463,13 @@ impl ReferenceShading {
     ) -> Option<Estimate> {
         let p = self.pixel(texel, x, y)?;
         let seed = u64::from(y) << 32 | u64::from(x);
+        // With traced directions, the environment is dark along those that meet the scene.
+        let traced = match &self.environment_visibility {
+            Some((bvh, _)) if self.environment_traced => {
+                Some((bvh, self.environment_ray_origin(p.position, p.n).to_array()))
+            }
+            _ => None,
+        };
         let integrate = |brdf: &BrdfInputs<f64>| {
             integrate_environment_layered(
                 brdf,
@@ -450,7 +478,10 @@ impl ReferenceShading {
                 v3(p.t),
                 v3(p.b),
                 v3(p.v),
-                |l| environment.radiance(l),
+                |l| match traced {
+                    Some((bvh, origin)) if !bvh.direction_visible(origin, l) => [0.0; 3],
+                    _ => environment.radiance(l),
+                },
                 Sampling { iterations, seed },
             )
         };
@@ -460,13 +491,17 @@ impl ReferenceShading {
             occlusion = 1.0;
         }
         if let Some((bvh, per_axis)) = &self.environment_visibility {
-            occlusion = occlusion.min(Self::environment_visible(
-                bvh,
-                p.position,
-                p.n,
-                self.camera_position(),
-                *per_axis,
-            ));
+            let visible = || self.environment_visible(bvh, p.position, p.n, *per_axis);
+            if !self.environment_traced {
+                occlusion = occlusion.min(visible());
+            } else if occlusion < 1.0 {
+                let visible = visible();
+                occlusion = if visible > 0.0 {
+                    (occlusion / visible).min(1.0)
+                } else {
+                    1.0
+                };
+            }
         }
         if occlusion >= 1.0 {
             return Some(whole);

@@ -605,7 +605,9 @@ impl GpuScene {
             .gpu
             .structures
             .get()
-            .map(|old| crate::accel::SceneStructure::new(device, &next, old.slots()))
+            .map(|old| {
+                crate::accel::SceneStructure::new(device, &next, deform.as_ref(), old.slots())
+            })
             .transpose()?;
         // Everything new is built: swap it in and hand back what it replaces (buffers
         // still shared with the new parts stay alive through them).

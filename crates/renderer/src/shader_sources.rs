@@ -142,6 +142,11 @@ fn shared_constants() -> Vec<SharedConstant> {
             GlslValue::Float(LAYER_CUBE_FACE),
             "shadows::LAYER_CUBE_FACE",
         ),
+        constant(
+            "ENVIRONMENT_RAY_OFFSET",
+            GlslValue::Float(crate::accel::ENVIRONMENT_RAY_OFFSET as f32),
+            "accel::ENVIRONMENT_RAY_OFFSET",
+        ),
     ];
     for view in DebugView::ALL {
         if view != DebugView::None {
@@ -228,6 +233,10 @@ mod tests {
             format!("SHADOW_SOFT_TAPS {SOFT_TAPS}"),
             format!("SHADOW_SOFT_MAX_RADIUS_TEXELS {SOFT_MAX_RADIUS_TEXELS:?}"),
             format!("SHADOW_LAYER_CUBE_FACE {LAYER_CUBE_FACE:?}"),
+            format!(
+                "ENVIRONMENT_RAY_OFFSET {:?}",
+                crate::accel::ENVIRONMENT_RAY_OFFSET as f32
+            ),
         ];
         for (name, view) in [
             ("BASE_COLOR", DebugView::BaseColor),

@@ -81,7 +81,10 @@ impl FrameSlot {
         decls: &[&'static bindings::SetDecl],
         index: usize,
     ) -> Result<Self, RenderError> {
-        let sizes: Vec<_> = decls.iter().flat_map(|decl| decl.pool_sizes(1)).collect();
+        let sizes: Vec<_> = decls
+            .iter()
+            .flat_map(|decl| decl.pool_sizes(1, device.ray_queries()))
+            .collect();
         let pool = DescriptorPool::new(device, decls.len() as u32, &sizes)?;
         let sets = decls
             .iter()

@@ -186,7 +186,11 @@ impl SceneTextures {
             .collect::<Result<Vec<_>, _>>()?;
         let material_count = scene.materials.len().max(1) as u32;
         let decl = &bindings::MATERIAL_TEXTURES;
-        let pool = DescriptorPool::new(device, material_count, &decl.pool_sizes(material_count))?;
+        let pool = DescriptorPool::new(
+            device,
+            material_count,
+            &decl.pool_sizes(material_count, device.ray_queries()),
+        )?;
         let mut material_sets = Vec::with_capacity(scene.materials.len());
         for slots in &table.material_textures {
             let set = pool.allocate(set_layout)?;

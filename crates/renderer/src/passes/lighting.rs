@@ -74,6 +74,10 @@ const OWN_BINDINGS: &[Binding] = &[
     // Which lights reach each pixel (the ray-traced shadows pass's image).
     Binding::new("ray_traced_shadows", BindingKind::UTexture2D, FRAGMENT)
         .only_with(super::ray_traced_shadows::OPTION.define),
+    // The scene's acceleration structure (built by the ray-traced occlusion pass), which
+    // the sampled environment traces each of its directions against.
+    Binding::new("scene", BindingKind::AccelerationStructure, FRAGMENT)
+        .only_with(super::ray_traced_occlusion::OPTION.define),
 ];
 
 const BINDINGS: [Binding; OWN_BINDINGS.len() + LIT_BY.len()] = joined(OWN_BINDINGS, &LIT_BY);
@@ -294,6 +298,10 @@ impl FramePass for Lighting {
             &s.tile_lights,
             read,
         );
+        if let Some(empty) = &r.no_scene {
+            let traced = super::ray_traced_occlusion::traced_scene(frame);
+            io = io.acceleration_structure("scene", traced.unwrap_or_else(|| empty.handle()));
+        }
         lit_by(io, frame)
     }
 

@@ -236,17 +236,6 @@ pub(crate) fn declared_sets() -> Vec<&'static SetDecl> {
     sets
 }
 
-/// Those of `sets` that `device` can make: every one, but those with an acceleration
-/// structure on a device without ray queries (their passes do not run there).
-pub(crate) fn usable(
-    sets: Vec<&'static SetDecl>,
-    device: &combustion_vk::Device,
-) -> Vec<&'static SetDecl> {
-    sets.into_iter()
-        .filter(|decl| device.ray_queries() || !decl.needs_ray_queries())
-        .collect()
-}
-
 /// The headers generated for the shaders: each declared set's bindings and each pass's
 /// own ([`FramePass::headers`]).
 pub(crate) fn generated_headers() -> Vec<(String, String)> {

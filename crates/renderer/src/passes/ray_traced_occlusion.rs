@@ -8,6 +8,11 @@
 //! frame of the same sample seed (`FrameInputs::environment_seed`): no noise from frame
 //! to frame; frames of other seeds draw others, and their mean converges
 //! (`combustion render --accumulate-until`).
+//!
+//! With the sampled environment (`ShadingOptions::environment_samples`) the lighting
+//! pass traces each of its directions against the structure this pass builds, and this
+//! pass draws no rays of its own: that mode then converges to the direct environment
+//! light of the rendering equation with the scene's geometry in the way.
 
 use combustion_vk::vk;
 
@@ -101,6 +106,16 @@ fn wanted(variant: ShaderVariant) -> bool {
     variant.optional_passes.contains(&OPTION) && variant.environment
 }
 
+/// The structure the frame's ray-traced occlusion traces (built by this pass before the
+/// lighting pass reads it), if the frame runs the pass.
+pub(super) fn traced_scene(frame: &FrameContext<'_>) -> Option<vk::AccelerationStructureKHR> {
+    if !wanted(frame.variant) {
+        return None;
+    }
+    let structures = frame.scene.gpu.structures.get()?;
+    Some(structures.top_level(frame.slot.index))
+}
+
 impl FramePass for RayTracedOcclusion {
     fn name(&self) -> &'static str {
         "ray-traced occlusion"
@@ -171,6 +186,11 @@ impl FramePass for RayTracedOcclusion {
             frame.number,
             placed(frame),
         );
+        if frame.variant.environment_samples > 0 {
+            // The sampled environment traces its own directions in the lighting pass:
+            // the structure is all it needs of this pass.
+            return;
+        }
         let reach = scene
             .world_bounds
             .map_or(1.0, |(lo, hi)| 2.0 * (hi - lo).length().max(1e-3));
@@ -178,7 +198,7 @@ impl FramePass for RayTracedOcclusion {
             inverse_view_projection: frame.lighting_push.inverse_view_projection,
             camera_position: frame.inputs.camera.position.extend(1.0).to_array(),
             rays: RAYS,
-            offset_per_distance: 2e-4,
+            offset_per_distance: crate::accel::ENVIRONMENT_RAY_OFFSET as f32,
             reach,
             seed: frame.inputs.environment_seed,
         };
