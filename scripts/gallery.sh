@@ -29,7 +29,7 @@ run render builtin:spheres "${size[@]}" -o "$out/spheres.png"
 run render builtin:glass-underwater "${size[@]}" -o "$out/glass-underwater.png"
 run render builtin:grid-sun --shadows on "${size[@]}" -o "$out/grid-sun-shadows.png"
 run render builtin:normal-mapped "${size[@]}" -o "$out/normal-mapped.png"
-run render builtin:resting --ray-traced-occlusion on --accumulate-until 0.002 "${size[@]}" -o "$out/resting-ray-traced.png"
+run render builtin:resting --environment-occlusion ray-traced --accumulate-until 0.002 "${size[@]}" -o "$out/resting-ray-traced.png"
 avocado=../shared/data/gltf/Avocado/glTF/Avocado.gltf
 if [ -f "$avocado" ]; then
   run render "$avocado" "${size[@]}" -o "$out/avocado-studio.png"

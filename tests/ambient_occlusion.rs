@@ -1,4 +1,4 @@
-//! The ambient-occlusion pass (`--ambient-occlusion on`) against exact visibility: the
+//! The ambient-occlusion pass (`--environment-occlusion gtao`) against exact visibility: the
 //! floor beside a sphere resting on it, lit by a uniform environment, has the radiance
 //! ρL(1 − F), F the form factor from the floor point to the sphere (1 at the contact) —
 //! without occlusion the floor is ρL everywhere. A floor alone occludes nothing; frames

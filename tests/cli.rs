@@ -154,6 +154,56 @@ fn unknown_fresnel_model_or_hdr_format() {
     );
 }
 
+/// One option chooses how the scene blocks the environment: a way it does not have is a
+/// one-line error listing those it has; each way it has runs its pass (its timing printed)
+/// and none runs neither.
+#[test]
+fn environment_occlusion_is_one_option_of_named_ways() {
+    assert_refused(
+        &["render", "--environment-occlusion", "ssao"],
+        &[
+            "invalid value 'ssao' for '--environment-occlusion <WAY>'",
+            "[possible values: none, gtao, ray-traced]",
+        ],
+    );
+    assert_refused(
+        &["render", "--ambient-occlusion", "on"],
+        &["unexpected argument '--ambient-occlusion'"],
+    );
+    let dir = scratch("environment-occlusion");
+    for (way, pass) in [
+        ("none", None),
+        ("gtao", Some("ambient occlusion")),
+        ("ray-traced", Some("ray-traced occlusion")),
+    ] {
+        let out = dir.join(format!("{way}.png"));
+        let (code, stdout, stderr) = combustion(&[
+            "render",
+            "builtin:resting",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--environment-occlusion",
+            way,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{way}: {stderr}");
+        let timings = stdout
+            .lines()
+            .find(|l| l.starts_with("GPU time:"))
+            .unwrap_or_default();
+        for name in ["ambient occlusion", "ray-traced occlusion"] {
+            assert_eq!(
+                timings.contains(&format!("{name} ")),
+                pass == Some(name),
+                "{way}: {timings}"
+            );
+        }
+    }
+}
+
 #[test]
 fn bad_environments_are_one_line_errors() {
     assert_refused(
@@ -3134,7 +3184,7 @@ fn render_accumulates_sampled_environment_light_to_a_stated_error() {
     assert!(png.is_file());
     assert_refused(
         &["render", "--accumulate-until", "0.01"],
-        &["--accumulate-until needs --environment-samples N or --ray-traced-occlusion on"],
+        &["--accumulate-until needs --environment-samples N or --environment-occlusion ray-traced"],
     );
     assert_refused(
         &["render", "--environment-samples", "3"],

@@ -428,7 +428,9 @@ pub(crate) struct ShadingArgs {
 
 /// `--NAME on|off` for each optional pass the renderer declares
 /// ([`combustion::renderer::optional_passes`]: its name is the flag, its help the help),
-/// all off by default; the flags form the group `optional_passes`.
+/// and `--CHOICE none|VALUE…` for each choice among passes (a pass with a
+/// [`combustion::renderer::PassChoice`] is its value there), all off by default; the
+/// flags form the group `optional_passes`.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct OptionalPassArgs {
     /// The passes switched on.
@@ -449,7 +451,13 @@ impl clap::FromArgMatches for OptionalPassArgs {
 
     fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
         for pass in combustion::renderer::optional_passes() {
-            if let Some(&on) = matches.get_one::<bool>(pass.name) {
+            let on = match pass.choice {
+                None => matches.get_one::<bool>(pass.name).copied(),
+                Some((choice, value)) => matches
+                    .get_one::<String>(choice.name)
+                    .map(|chosen| chosen == value),
+            };
+            if let Some(on) = on {
                 self.passes = self.passes.with(pass, on);
             }
         }
@@ -457,10 +465,54 @@ impl clap::FromArgMatches for OptionalPassArgs {
     }
 }
 
+/// The value of a [`combustion::renderer::PassChoice`] that runs none of its passes.
+pub(crate) const CHOICE_NONE: &str = "none";
+
+/// The choices among optional passes, each once, in the passes' order, with its ways
+/// (value, help).
+fn pass_choices() -> Vec<(
+    &'static combustion::renderer::PassChoice,
+    Vec<(&'static str, &'static str)>,
+)> {
+    let mut choices: Vec<(&combustion::renderer::PassChoice, Vec<_>)> = Vec::new();
+    for pass in combustion::renderer::optional_passes() {
+        if let Some((choice, value)) = pass.choice {
+            match choices.iter_mut().find(|(c, _)| std::ptr::eq(*c, choice)) {
+                Some((_, ways)) => ways.push((value, pass.help)),
+                None => choices.push((choice, vec![(value, pass.help)])),
+            }
+        }
+    }
+    choices
+}
+
 impl Args for OptionalPassArgs {
     fn augment_args(mut command: clap::Command) -> clap::Command {
         let mut names = Vec::new();
-        for pass in combustion::renderer::optional_passes() {
+        for (choice, ways) in pass_choices() {
+            let values: Vec<&'static str> = std::iter::once(CHOICE_NONE)
+                .chain(ways.iter().map(|(value, _)| *value))
+                .collect();
+            let described: Vec<String> = ways
+                .iter()
+                .map(|(value, help)| format!("{value} ({help})"))
+                .collect();
+            command = command.arg(
+                clap::Arg::new(choice.name)
+                    .long(choice.name)
+                    .value_name("WAY")
+                    .default_value(CHOICE_NONE)
+                    .action(ArgAction::Set)
+                    .value_parser(clap::builder::PossibleValuesParser::new(values))
+                    .help(format!(
+                        "{}: {CHOICE_NONE} (the default), {}",
+                        choice.help,
+                        described.join(", ")
+                    )),
+            );
+            names.push(choice.name);
+        }
+        for pass in combustion::renderer::optional_passes().filter(|p| p.choice.is_none()) {
             command = command.arg(
                 clap::Arg::new(pass.name)
                     .long(pass.name)
@@ -559,7 +611,7 @@ pub(crate) struct RenderArgs {
     /// The linear radiance (OpenEXR, ZIP-compressed)
     #[arg(long, value_name = "OUT.exr")]
     pub(crate) hdr: Option<PathBuf>,
-    /// With --environment-samples N or --ray-traced-occlusion on: render frames of
+    /// With --environment-samples N or --environment-occlusion ray-traced: render frames of
     /// successive sample sets and write their mean, until its relative standard error
     /// (the frames' spread, averaged over the lit pixels) is at most E (4 to 1024 frames)
     #[arg(long, value_name = "E", value_parser = relative_error)]

@@ -110,7 +110,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         .is_some_and(|pass| o.shading.optional.passes.contains(pass));
     if o.accumulate_until.is_some() && o.shading.environment_samples == 0 && !traced {
         return Err(Error::Usage(
-            "--accumulate-until needs --environment-samples N or --ray-traced-occlusion on (the split sum has no noise to average)".into(),
+            "--accumulate-until needs --environment-samples N or --environment-occlusion ray-traced (the split sum has no noise to average)".into(),
         ));
     }
     let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));

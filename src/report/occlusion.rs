@@ -190,7 +190,7 @@ pub fn markdown(rows: &[OcclusionRow]) -> String {
         return String::new();
     }
     let mut out = String::from(
-        "## Environment occlusion (scenes lit by an environment)\n\nThe environment blocked by the scene: no occlusion, the screen-space pass (`--ambient-occlusion on`) and the traced pass (`--ray-traced-occlusion on`, devices with ray queries; 8 seeds averaged, its frame time over at most 5 frames), against the f64 reference that blocks it by the same definition (24² cosine rays a pixel against the scene's triangles, applied as the split sum applies occlusion; docs/occlusion.md). The split sum's own error against the rendering equation is in every row. Frame and pass: GPU medians; the cost as a ratio to the frame without occlusion.\n\n| scene | occlusion | frame ms | × none | pass ms | mean rel. error | p95 |\n|---|---|---|---|---|---|---|\n",
+        "## Environment occlusion (scenes lit by an environment)\n\nThe environment blocked by the scene: no occlusion, the screen-space pass (`--environment-occlusion gtao`) and the traced pass (`--environment-occlusion ray-traced`, devices with ray queries; 8 seeds averaged, its frame time over at most 5 frames), against the f64 reference that blocks it by the same definition (24² cosine rays a pixel against the scene's triangles, applied as the split sum applies occlusion; docs/occlusion.md). The split sum's own error against the rendering equation is in every row. Frame and pass: GPU medians; the cost as a ratio to the frame without occlusion.\n\n| scene | occlusion | frame ms | × none | pass ms | mean rel. error | p95 |\n|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let none = rows

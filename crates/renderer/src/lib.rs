@@ -86,8 +86,9 @@ pub use host::{
 pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{
     BaseColorStorage, DebugView, Distribution, FresnelModel, GBufferStorage, HdrFormat, Masking,
-    MeasurementFloor, OptionalPass, OptionalPasses, Readback, RendererSettings, ShadingOptions,
-    SurfaceStorage, ENVIRONMENT_SAMPLE_COUNTS, MAX_FRAMES_IN_FLIGHT, TARGETS_KEPT_FOR_FRAMES,
+    MeasurementFloor, OptionalPass, OptionalPasses, PassChoice, Readback, RendererSettings,
+    ShadingOptions, SurfaceStorage, ENVIRONMENT_SAMPLE_COUNTS, MAX_FRAMES_IN_FLIGHT,
+    TARGETS_KEPT_FOR_FRAMES,
 };
 pub use overlay::{Corner, OverlayImage, OverlayPanel};
 pub use results::{Frame, PassTime, PassTimings, RendererStats};
@@ -125,8 +126,12 @@ fn usable_options(device: &Device, options: ShadingOptions) -> ShadingOptions {
         .iter()
         .filter(|p| p.needs_ray_queries)
     {
+        let option = match pass.choice {
+            Some((choice, value)) => format!("--{} {value}", choice.name),
+            None => format!("--{} on", pass.name),
+        };
         log::warn!(
-            "{}: the device has no ray queries; frames are rendered without it",
+            "{} ({option}): the device has no ray queries; frames are rendered without it",
             pass.name
         );
     }

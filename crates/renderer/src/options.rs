@@ -76,9 +76,10 @@ pub struct ShadingOptions {
 }
 
 /// A pass the frame runs only when asked: declared once, in its pass's file, with its
-/// name (the command line's `--NAME on|off`, and how [`crate::optional_pass`] finds it),
-/// its `#define` (set in every pipeline of frames that run it, so that the passes reading
-/// its output read it) and a line of help. [`crate::optional_passes`] lists them.
+/// name (how [`crate::optional_pass`] finds it, and the command line's `--NAME on|off`
+/// unless it is one way of a [`PassChoice`]), its `#define` (set in every pipeline of
+/// frames that run it, so that the passes reading its output read it) and a line of
+/// help. [`crate::optional_passes`] lists them.
 #[derive(Debug, PartialEq, Eq, Hash)]
 pub struct OptionalPass {
     /// Its name: lower case words joined by `-` (`ambient-occlusion`).
@@ -90,7 +91,27 @@ pub struct OptionalPass {
     /// It traces rays (acceleration structures, ray queries): on a device without ray
     /// queries the renderer leaves it out of the options it is given, with a warning.
     pub needs_ray_queries: bool,
+    /// The choice it is one way of, and its value there (`None`: a switch of its own).
+    pub choice: Option<(&'static PassChoice, &'static str)>,
 }
+
+/// One job that several optional passes do different ways, chosen by one option
+/// (`--NAME none|VALUE…` on the command line: none, or one pass's value).
+#[derive(Debug, PartialEq, Eq, Hash)]
+pub struct PassChoice {
+    /// Its name: lower case words joined by `-` (`environment-occlusion`).
+    pub name: &'static str,
+    /// What it chooses, in a line (the command line's help, before each way's).
+    pub help: &'static str,
+}
+
+/// How the scene blocks the environment's light: the screen-space pass (`gtao`) or the
+/// traced one (`ray-traced`); docs/occlusion.md.
+pub static ENVIRONMENT_OCCLUSION: PassChoice = PassChoice {
+    name: "environment-occlusion",
+    help:
+        "How the scene blocks the environment's light (with glTF occlusion textures: their minimum)",
+};
 
 /// The optional passes a frame runs: a set of [`OptionalPass`]es (empty by default).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

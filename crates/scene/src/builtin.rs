@@ -76,8 +76,8 @@ pub const BUILTIN_SCENES: &[&str] = &[
 ///
 /// - `resting`: a sphere and a box resting on a floor, lit by the studio environment
 ///   alone: the contacts, the crevice between the box and the floor and the ground
-///   beside them are where the scene blocks the environment (`--ambient-occlusion on`,
-///   `--ray-traced-occlusion on`; docs/occlusion.md).
+///   beside them are where the scene blocks the environment (`--environment-occlusion gtao`,
+///   `--environment-occlusion ray-traced`; docs/occlusion.md).
 ///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {

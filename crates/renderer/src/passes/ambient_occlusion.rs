@@ -1,5 +1,5 @@
-//! Ambient occlusion (ambient_occlusion.comp), an optional pass (`--ambient-occlusion
-//! on`, off by default): per pixel, the cosine-weighted visibility of the hemisphere
+//! Ambient occlusion (ambient_occlusion.comp), an optional pass (`--environment-occlusion
+//! gtao`, off by default): per pixel, the cosine-weighted visibility of the hemisphere
 //! above the surface, from the depth buffer, by ground-truth ambient occlusion (Jimenez
 //! et al. 2016), into an image the lighting pass darkens the environment's light by (with
 //! glTF occlusion textures: their minimum, so that occlusion both see counts once).
@@ -24,8 +24,9 @@ pub(crate) struct AmbientOcclusion;
 pub(crate) static OPTION: OptionalPass = OptionalPass {
     name: "ambient-occlusion",
     define: "AMBIENT_OCCLUSION",
-    help: "Occlude the environment's light by the scene, from the depth buffer (ground-truth ambient occlusion; with glTF occlusion textures, their minimum)",
+    help: "ground-truth ambient occlusion from the depth buffer, every device",
     needs_ray_queries: false,
+    choice: Some((&crate::options::ENVIRONMENT_OCCLUSION, "gtao")),
 };
 
 /// The image it writes: each pixel's visibility (1: nothing in the way).

@@ -1,5 +1,5 @@
 //! Ray-traced occlusion (ray_traced_occlusion.comp), an optional pass
-//! (`--ray-traced-occlusion on`, off by default; devices with ray queries): per pixel, the
+//! (`--environment-occlusion ray-traced`, off by default; devices with ray queries): per pixel, the
 //! share of `RAYS` cosine-distributed rays from the surface that leave the scene — the
 //! visibility of the environment's diffuse light, traced against the scene's
 //! acceleration structures (`crate::accel`: what they hold and leave out). The lighting
@@ -34,8 +34,9 @@ pub(crate) struct RayTracedOcclusion;
 pub(crate) static OPTION: OptionalPass = OptionalPass {
     name: "ray-traced-occlusion",
     define: "RAY_TRACED_OCCLUSION",
-    help: "Occlude the environment's light by the scene, by ray queries against its acceleration structures (64 rays a pixel; devices with ray queries, else left out with a warning)",
+    help: "64 rays a pixel by ray queries against the scene (with --environment-samples N, each sampled direction traced instead); devices with ray queries, else left out with a warning",
     needs_ray_queries: true,
+    choice: Some((&crate::options::ENVIRONMENT_OCCLUSION, "ray-traced")),
 };
 
 /// The image it writes: each pixel's visibility (1: nothing in the way).

@@ -31,6 +31,7 @@ pub(crate) static OPTION: OptionalPass = OptionalPass {
     define: "RAY_TRACED_SHADOWS",
     help: "Hard shadows of the first 32 lights that cast them, by ray queries against the scene's acceleration structures: exact visibility (devices with ray queries, else left out with a warning)",
     needs_ray_queries: true,
+    choice: None,
 };
 
 /// The image it writes: per pixel, bit i set where light i reaches it.
