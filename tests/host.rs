@@ -387,6 +387,43 @@ fn enabled_features_are_read_from_anywhere_in_the_create_info_chain() {
     let enabled = unsafe { EnabledFeatures::from_create_info(vk::API_VERSION_1_3, &info) };
     assert!(enabled.dynamic_rendering() && !enabled.synchronization2());
     assert!(!enabled.shader_demote_to_helper_invocation());
+    assert!(!enabled.ray_queries());
+    // Ray queries: the three extensions and the three features, the address feature in
+    // its own structure or in VkPhysicalDeviceVulkan12Features; any one missing, none.
+    let ray_extensions = [
+        c"VK_KHR_acceleration_structure".as_ptr(),
+        c"VK_KHR_ray_query".as_ptr(),
+        c"VK_KHR_deferred_host_operations".as_ptr(),
+    ];
+    for missing in 0..5 {
+        let mut address = vk::PhysicalDeviceBufferDeviceAddressFeatures::default()
+            .buffer_device_address(missing != 0);
+        let mut vulkan12 = vk::PhysicalDeviceVulkan12Features::default();
+        let mut acceleration = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
+            .acceleration_structure(missing != 1);
+        let mut ray_query =
+            vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(missing != 2);
+        let extensions = &ray_extensions[..if missing == 3 { 2 } else { 3 }];
+        let info = vk::DeviceCreateInfo::default()
+            .enabled_extension_names(extensions)
+            .push_next(&mut vulkan12)
+            .push_next(&mut acceleration)
+            .push_next(&mut address)
+            .push_next(&mut ray_query);
+        let enabled = unsafe { EnabledFeatures::from_create_info(vk::API_VERSION_1_3, &info) };
+        assert_eq!(enabled.ray_queries(), missing == 4, "missing {missing}");
+    }
+    let mut vulkan12 = vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
+    let mut acceleration =
+        vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default().acceleration_structure(true);
+    let mut ray_query = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
+    let info = vk::DeviceCreateInfo::default()
+        .enabled_extension_names(&ray_extensions)
+        .push_next(&mut ray_query)
+        .push_next(&mut vulkan12)
+        .push_next(&mut acceleration);
+    let enabled = unsafe { EnabledFeatures::from_create_info(vk::API_VERSION_1_3, &info) };
+    assert!(enabled.ray_queries());
 }
 
 #[test]
@@ -1428,4 +1465,59 @@ fn a_slot_recorded_again_while_its_frame_executes_is_refused() {
         d.destroy_command_pool(pool, None);
     }
     finish_host(host, output, &log);
+}
+
+/// A host that enables what ray queries need (extensions, accelerationStructure, rayQuery,
+/// bufferDeviceAddress; its shared allocator made for device addresses) gets the passes
+/// that trace rays on its own device: `EnabledFeatures` reads them from its create info,
+/// and frames asking for ray-traced occlusion and shadows run both passes, validation
+/// silent. A host that did not enable them gets the raster paths for the same settings,
+/// never an error.
+#[test]
+fn a_host_device_with_ray_queries_runs_the_traced_passes() {
+    use combustion::renderer::{optional_pass, OptionalPasses, ShadingOptions};
+    let passes = OptionalPasses::NONE
+        .with(optional_pass("ray-traced-occlusion").unwrap(), true)
+        .with(optional_pass("ray-traced-shadows").unwrap(), true);
+    let settings = RendererSettings {
+        shading: ShadingOptions {
+            optional_passes: passes,
+            ..ShadingOptions::DEFAULT
+        },
+        ..RendererSettings::default()
+    };
+    let mut scene = builtin_scene("resting").unwrap();
+    scene.lights = builtin_scene("grid-sun").unwrap().lights;
+    for (vulkan, traced) in [
+        (
+            vulkan::HostVulkan::with_ray_queries("llvmpipe", true)
+                .expect("lavapipe with ray queries (Mesa 24.1 or later)"),
+            true,
+        ),
+        (lavapipe_host(), false),
+    ] {
+        assert_eq!(vulkan.for_combustion().enabled.ray_queries(), traced);
+        let log = vulkan.message_log();
+        let mut host = Host::with_settings(vulkan, settings, std::slice::from_ref(&scene)).unwrap();
+        assert_eq!(host.renderer().device().ray_queries(), traced);
+        let extent = vk::Extent2D {
+            width: 32 + 2 * BORDER,
+            height: 24 + 2 * BORDER,
+        };
+        let mut output = FinalImage::new(&host, extent).unwrap();
+        for _ in 0..3 {
+            headless::frame(&mut host, &mut output, 0).unwrap();
+        }
+        host.wait_frames().unwrap();
+        let renderer = host.renderer();
+        renderer.frames_completed().unwrap();
+        let timings = renderer.take_completed_timings();
+        assert_eq!(timings.len(), 3);
+        for t in &timings {
+            for pass in ["ray-traced occlusion", "ray-traced shadows"] {
+                assert_eq!(t.names().contains(&pass), traced, "{pass}: {:?}", t.names());
+            }
+        }
+        finish_host(host, output, &log);
+    }
 }

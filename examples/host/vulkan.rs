@@ -67,6 +67,31 @@ impl HostVulkan {
         instance_extensions: &[&'static CStr],
         device_extensions: &[&'static CStr],
     ) -> Result<Self, String> {
+        Self::create(
+            device_name,
+            validation,
+            instance_extensions,
+            device_extensions,
+            false,
+        )
+    }
+
+    /// As [`HostVulkan::new`] with no extensions of the host's own, and ray queries
+    /// enabled too (VK_KHR_acceleration_structure, VK_KHR_ray_query,
+    /// VK_KHR_deferred_host_operations; accelerationStructure, rayQuery,
+    /// bufferDeviceAddress, and the allocator made for device addresses): Combustion then
+    /// runs its passes that trace rays on the host's device.
+    pub fn with_ray_queries(device_name: &str, validation: bool) -> Result<Self, String> {
+        Self::create(device_name, validation, &[], &[], true)
+    }
+
+    fn create(
+        device_name: &str,
+        validation: bool,
+        instance_extensions: &[&'static CStr],
+        device_extensions: &[&'static CStr],
+        ray_queries: bool,
+    ) -> Result<Self, String> {
         // SAFETY: loading the system Vulkan loader.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| format!("no Vulkan loader: {e}"))?;
         let app = vk::ApplicationInfo::default()
@@ -144,10 +169,28 @@ impl HostVulkan {
             .map(|e| e.as_ptr())
             .collect();
         device_extension_names.extend(device_extensions.iter().map(|e| e.as_ptr()));
-        let device_info = vk::DeviceCreateInfo::default()
+        let mut features12 =
+            vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
+        let mut acceleration = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
+            .acceleration_structure(true);
+        let mut ray_query = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
+        if ray_queries {
+            device_extension_names.extend([
+                ash::khr::acceleration_structure::NAME.as_ptr(),
+                ash::khr::ray_query::NAME.as_ptr(),
+                ash::khr::deferred_host_operations::NAME.as_ptr(),
+            ]);
+        }
+        let mut device_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_extension_names(&device_extension_names)
             .push_next(&mut features13);
+        if ray_queries {
+            device_info = device_info
+                .push_next(&mut features12)
+                .push_next(&mut acceleration)
+                .push_next(&mut ray_query);
+        }
         let device = unsafe { instance.create_device(physical_device, &device_info, None) }
             .map_err(|e| format!("vkCreateDevice: {e}"))?;
         // SAFETY: the create info the device was just created with, still alive.
@@ -159,7 +202,7 @@ impl HostVulkan {
             device: device.clone(),
             physical_device,
             debug_settings: Default::default(),
-            buffer_device_address: false,
+            buffer_device_address: ray_queries,
             allocation_sizes: Default::default(),
         })
         .map_err(|e| format!("allocator: {e}"))?;

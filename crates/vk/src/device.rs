@@ -291,6 +291,11 @@ pub struct EnabledFeatures {
     dynamic_rendering: bool,
     synchronization2: bool,
     shader_demote_to_helper_invocation: bool,
+    /// bufferDeviceAddress, accelerationStructure and rayQuery (what ray queries need
+    /// besides their extensions).
+    buffer_device_address: bool,
+    acceleration_structure: bool,
+    ray_query: bool,
     /// Device extensions the host enabled.
     device_extensions: Vec<String>,
 }
@@ -357,6 +362,26 @@ impl EnabledFeatures {
                     };
                     enabled.synchronization2 |= f.synchronization2 == vk::TRUE;
                 }
+                vk::StructureType::PHYSICAL_DEVICE_VULKAN_1_2_FEATURES => {
+                    let f = unsafe { &*(next as *const vk::PhysicalDeviceVulkan12Features<'_>) };
+                    enabled.buffer_device_address |= f.buffer_device_address == vk::TRUE;
+                }
+                vk::StructureType::PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES => {
+                    let f = unsafe {
+                        &*(next as *const vk::PhysicalDeviceBufferDeviceAddressFeatures<'_>)
+                    };
+                    enabled.buffer_device_address |= f.buffer_device_address == vk::TRUE;
+                }
+                vk::StructureType::PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR => {
+                    let f = unsafe {
+                        &*(next as *const vk::PhysicalDeviceAccelerationStructureFeaturesKHR<'_>)
+                    };
+                    enabled.acceleration_structure |= f.acceleration_structure == vk::TRUE;
+                }
+                vk::StructureType::PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR => {
+                    let f = unsafe { &*(next as *const vk::PhysicalDeviceRayQueryFeaturesKHR<'_>) };
+                    enabled.ray_query |= f.ray_query == vk::TRUE;
+                }
                 _ => {}
             }
             next = base.p_next;
@@ -367,6 +392,19 @@ impl EnabledFeatures {
     /// The instance's `apiVersion` (encoded as by `vk::make_api_version`).
     pub fn api_version(&self) -> u32 {
         self.api_version
+    }
+
+    /// Whether the device was created with everything ray queries need: the extensions
+    /// VK_KHR_acceleration_structure, VK_KHR_ray_query and VK_KHR_deferred_host_operations
+    /// and the features accelerationStructure, rayQuery and bufferDeviceAddress.
+    pub fn ray_queries(&self) -> bool {
+        self.buffer_device_address
+            && self.acceleration_structure
+            && self.ray_query
+            && RAY_QUERY_EXTENSIONS.iter().all(|name| {
+                let name = name.to_string_lossy();
+                self.device_extensions.iter().any(|e| *e == name)
+            })
     }
 
     /// Whether the device was created with dynamicRendering.
@@ -904,17 +942,27 @@ impl Device {
         if !missing.is_empty() {
             return Err(VkError::HostDeviceUnsuitable(missing.join("; ")));
         }
+        // Ray queries where the host enabled all they need (the raster paths otherwise);
+        // their buffers take device addresses, so a shared allocator must allocate them
+        // (created with buffer_device_address, as for any device with the feature).
+        let ray_queries = host.enabled.ray_queries();
         let allocator = match host.allocator {
             Some(shared) => shared,
             None => Arc::new(Mutex::new(create_allocator(
                 &host.instance,
                 &host.device,
                 pd,
-                false,
+                ray_queries,
             )?)),
         };
+        let acceleration_structure = ray_queries
+            .then(|| ash::khr::acceleration_structure::Device::new(&host.instance, &host.device));
         let info = device_info(0, &props, String::new());
-        log::info!("Combustion on the host's Vulkan device {}", info.name);
+        log::info!(
+            "Combustion on the host's Vulkan device {}{}",
+            info.name,
+            if ray_queries { ", ray queries" } else { "" }
+        );
         Ok(Arc::new(Device {
             entry: host.entry,
             instance: host.instance,
@@ -929,9 +977,7 @@ impl Device {
             allocator: ManuallyDrop::new(allocator),
             owned: false,
             probe: DeviceProbe::default(),
-            // A host's device gets the raster paths: whether it enabled ray queries is
-            // not read from its create info yet.
-            acceleration_structure: None,
+            acceleration_structure,
         }))
     }
 
