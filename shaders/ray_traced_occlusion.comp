@@ -13,6 +13,7 @@
 #include "brdf.glsl"
 #include "bindings/ray_traced_occlusion.glsl"
 #include "push/ray_traced_occlusion.glsl"
+#include "traced_scene.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -66,12 +67,7 @@ void main() {
         float phi = 2.0 * PI * u.y;
         vec3 direction = normalize(t * (r * cos(phi)) + b * (r * sin(phi))
                                    + n * sqrt(max(1.0 - u.x, 0.0)));
-        rayQueryEXT query;
-        rayQueryInitializeEXT(query, scene, gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT,
-                              0xffu, origin, 0.0, direction, push.reach);
-        while (rayQueryProceedEXT(query)) {
-        }
-        if (rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT) {
+        if (!scene_blocks(origin, direction, push.reach)) {
             ++open;
         }
     }

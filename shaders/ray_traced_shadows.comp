@@ -16,6 +16,7 @@
 #include "bindings/ray_traced_shadows.glsl"
 #include "bindings/constants.glsl"
 #include "push/ray_traced_shadows.glsl"
+#include "traced_scene.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -71,12 +72,7 @@ void main() {
             bits |= 1u << i;
             continue;
         }
-        rayQueryEXT query;
-        rayQueryInitializeEXT(query, scene, gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT,
-                              0xffu, origin, 0.0, direction, reach);
-        while (rayQueryProceedEXT(query)) {
-        }
-        if (rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT) {
+        if (!scene_blocks(origin, direction, reach)) {
             bits |= 1u << i;
         }
     }

@@ -1044,16 +1044,27 @@ fn shadow_resources_alternate_across_frames_in_flight() {
 }
 
 /// Ray-traced hard shadows (`--ray-traced-shadows on`, ray queries) against exact
-/// visibility on the three shadow scenes: the shadow-factor view's verdict on the first
-/// light equals the f64 reference's (the same offset rule, the same triangles) at every
-/// compared pixel — no band, the spheres' terminators (where tessellated facets shadow
-/// themselves) left out as for the maps.
+/// visibility on the three shadow scenes and the cut-outs (assets/scenes/cutout: the
+/// light passes through the holes where the material's alpha is below its cutoff): the
+/// shadow-factor view's verdict on the first light equals the f64 reference's (the same
+/// offset rule, the same triangles, the same alpha test) at every compared pixel — no
+/// band, the spheres' terminators (where tessellated facets shadow themselves) left out
+/// as for the maps.
 #[test]
 fn ray_traced_shadows_are_exact_visibility() {
     use combustion::renderer::reference::shadow_mismatch;
     let pass = combustion::renderer::optional_pass("ray-traced-shadows").expect("declared");
-    for (name, radius) in [("grid-sun", 0.42), ("spot-box", 0.5), ("point-among", 0.4)] {
-        let scene = builtin_scene(name).unwrap();
+    let cutouts =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/cutout/cutout.gltf");
+    let scenes = [("grid-sun", 0.42), ("spot-box", 0.5), ("point-among", 0.4)]
+        .map(|(name, radius)| (name, builtin_scene(name).unwrap(), radius))
+        .into_iter()
+        .chain([(
+            "cutout",
+            combustion::SceneSource::File(cutouts).load().unwrap(),
+            0.0,
+        )]);
+    for (name, scene, radius) in scenes {
         let exact = ExactEdges::new(&scene, ShadowSettings::DEFAULT, radius);
         let mut settings = common::exact_f32();
         settings.shading.debug_view = DebugView::ShadowFactor;

@@ -466,15 +466,12 @@ vec2 pixel_rotation(vec2 pixel) {
 }
 
 #ifdef ENVIRONMENT_SAMPLE_VISIBILITY
-// Whether the environment is seen from `origin` along `direction`: nothing of the scene's
-// acceleration structure (`scene`, built by the ray-traced occlusion pass) in the way.
+#include "traced_scene.glsl"
+
+// Whether the environment is seen from `origin` along `direction`: nothing of the scene
+// (its acceleration structure as the ray-traced occlusion pass built it) in the way.
 bool environment_open(vec3 origin, vec3 direction) {
-    rayQueryEXT query;
-    rayQueryInitializeEXT(query, scene, gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT,
-                          0xffu, origin, 0.0, direction, 1e30);
-    while (rayQueryProceedEXT(query)) {
-    }
-    return rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT;
+    return !scene_blocks(origin, direction, 1e30);
 }
 #endif
 

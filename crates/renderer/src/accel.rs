@@ -7,8 +7,12 @@
 //! What is in them (chosen once per scene): every object whose mesh is a triangle
 //! list, that casts shadows (`Object::casts_shadows`: an object that casts none occludes
 //! nothing) and that is neither blended nor transmissive (glass lets light through).
-//! Every triangle is opaque (cut-outs block light through their holes: not tested
-//! against their texture yet). Points and lines are never in them.
+//! Points and lines are never in them. Cut-outs (alphaMode MASK) are tested where a ray
+//! meets them ([`TracedCutouts`]): their instances are not opaque, and the shaders'
+//! `scene_blocks` (traced_scene.glsl) confirms a hit only where the material's alpha —
+//! its factor × the base colour texture's alpha at level 0, filtered by the sampler's
+//! magnification filter × the vertex colour's alpha — reaches the cutoff, as the f64
+//! reference's ray casts do. Every other instance is opaque: its hits cost no test.
 //!
 //! Skinned and morphed objects ([`DeformedStructure`]) are traced in the shape the frame
 //! draws: each has a bottom-level structure of its own over the deform pass's posed
@@ -286,6 +290,135 @@ fn triangle_geometry(
         .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
         .geometry(vk::AccelerationStructureGeometryDataKHR { triangles })
         .flags(vk::GeometryFlagsKHR::OPAQUE)
+}
+
+/// What the traced shaders read to test cut-outs (traced_scene.glsl): per cut-out
+/// instance (its custom index) two `uvec4`s — its first corner and first alpha texel,
+/// its texture's width and height; then its wrap modes and filter (bits 0–1 and 2–3: 0
+/// repeat, 1 mirrored repeat, 2 clamp to edge; bit 4 linear magnification; bit 5
+/// textured), its alpha factor and its cutoff (as f32 bits) — each of its mesh's
+/// triangle corners (the base colour texture's coordinates, transformed, and the vertex
+/// colour's alpha), and the alpha bytes of its textures' level 0, four to a word.
+pub(crate) struct TracedCutouts {
+    pub(crate) entries: Buffer,
+    pub(crate) corners: Buffer,
+    pub(crate) alphas: Buffer,
+}
+
+/// Bits of a cut-out's flags (traced_scene.glsl).
+const CUTOUT_LINEAR: u32 = 1 << 4;
+const CUTOUT_TEXTURED: u32 = 1 << 5;
+
+fn wrap_bits(mode: combustion_scene::WrapMode) -> u32 {
+    match mode {
+        combustion_scene::WrapMode::Repeat => 0,
+        combustion_scene::WrapMode::MirroredRepeat => 1,
+        combustion_scene::WrapMode::ClampToEdge => 2,
+    }
+}
+
+impl TracedCutouts {
+    /// Buffers of `entries`, `corners` and `alphas` (a placeholder word where one is
+    /// empty: a binding needs a buffer).
+    fn upload(
+        device: &Arc<Device>,
+        entries: &[[u32; 4]],
+        corners: &[[f32; 4]],
+        alphas: &[u8],
+    ) -> Result<Self, RenderError> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let filled = |name: &str, bytes: &[u8]| -> Result<Buffer, RenderError> {
+            let mut padded = bytes.to_vec();
+            padded.resize(bytes.len().next_multiple_of(16).max(16), 0);
+            Ok(Buffer::with_data(device, name, &padded, storage)?)
+        };
+        Ok(Self {
+            entries: filled("traced cut-outs", bytemuck::cast_slice(entries))?,
+            corners: filled("traced cut-out corners", bytemuck::cast_slice(corners))?,
+            alphas: filled("traced cut-out alphas", alphas)?,
+        })
+    }
+
+    /// None to test: what a set binds where it traces nothing, or a scene without
+    /// cut-outs.
+    pub(crate) fn none(device: &Arc<Device>) -> Result<Self, RenderError> {
+        Self::upload(device, &[], &[], &[])
+    }
+
+    /// The cut-outs among `objects` of `scene` (object indices): the custom index of
+    /// each one's instance (None for the others), and the buffers.
+    fn of(
+        device: &Arc<Device>,
+        scene: &Scene,
+        objects: &[usize],
+    ) -> Result<(Vec<Option<u32>>, Self), RenderError> {
+        let mut entries: Vec<[u32; 4]> = Vec::new();
+        let mut corners: Vec<[f32; 4]> = Vec::new();
+        let mut alphas: Vec<u8> = Vec::new();
+        let mut images: Vec<(*const combustion_scene::Image, u32)> = Vec::new();
+        let mut indices = Vec::with_capacity(objects.len());
+        let too_large =
+            || RenderError::TooLarge("the cut-outs' texels and corners exceed 2³² entries".into());
+        for &object in objects {
+            let o = &scene.objects[object];
+            let material = &scene.materials[o.material];
+            let Some(cutoff) = material.alpha_mode.cutoff() else {
+                indices.push(None);
+                continue;
+            };
+            let mesh = &scene.meshes[o.mesh];
+            let texture = material.base_color_texture.as_ref();
+            let first_corner = u32::try_from(corners.len()).map_err(|_| too_large())?;
+            let triangles = mesh.indices.len() / 3;
+            for &i in &mesh.indices[..triangles * 3] {
+                let vertex = &mesh.vertices[i as usize];
+                let [u, v] = texture.map_or([0.0; 2], |slot| {
+                    slot.transform.apply(if slot.tex_coord == 1 {
+                        vertex.uv1
+                    } else {
+                        vertex.uv
+                    })
+                });
+                corners.push([u, v, vertex.color[3], 0.0]);
+            }
+            let (first_texel, width, height, flags) = match texture {
+                None => (0, 0, 0, 0),
+                Some(slot) => {
+                    let image = &slot.texture.image;
+                    let key = std::sync::Arc::as_ptr(image);
+                    let first = match images.iter().find(|(k, _)| *k == key) {
+                        Some(&(_, first)) => first,
+                        None => {
+                            let first = u32::try_from(alphas.len()).map_err(|_| too_large())?;
+                            alphas.extend(image.pixels.chunks_exact(4).map(|p| p[3]));
+                            images.push((key, first));
+                            first
+                        }
+                    };
+                    let sampler = &slot.texture.sampler;
+                    let linear = sampler.mag_filter == combustion_scene::Filter::Linear;
+                    (
+                        first,
+                        image.width,
+                        image.height,
+                        wrap_bits(sampler.wrap_u)
+                            | wrap_bits(sampler.wrap_v) << 2
+                            | if linear { CUTOUT_LINEAR } else { 0 }
+                            | CUTOUT_TEXTURED,
+                    )
+                }
+            };
+            indices.push(Some(entries.len() as u32 / 2));
+            entries.push([first_corner, first_texel, width, height]);
+            entries.push([flags, material.alpha.to_bits(), cutoff.to_bits(), 0]);
+        }
+        Ok((indices, Self::upload(device, &entries, &corners, &alphas)?))
+    }
+
+    /// The bytes its buffers hold.
+    fn bytes(&self) -> u64 {
+        self.entries.size() + self.corners.size() + self.alphas.size()
+    }
 }
 
 /// A skinned or morphed occluder's bottom-level structure, over its posed vertices in
@@ -636,8 +769,11 @@ pub(crate) struct SceneStructure {
     deformed: Vec<DeformedStructure>,
     /// What the rays can hit, chosen once per scene: each object that casts shadows and
     /// is neither blended nor transmissive, with the address of its bottom-level
-    /// structure (its mesh's, or its own when it is deformed).
-    occluders: Vec<(usize, u64)>,
+    /// structure (its mesh's, or its own when it is deformed) and, for a cut-out, its
+    /// entry in `cutouts` (its instance's custom index; the others are opaque).
+    occluders: Vec<(usize, u64, Option<u32>)>,
+    /// What the shaders test the cut-outs' hits against.
+    pub(crate) cutouts: TracedCutouts,
     per_slot: Vec<Mutex<TopLevel>>,
 }
 
@@ -684,10 +820,18 @@ impl SceneStructure {
                 }
             }
         }
+        let objects: Vec<usize> = occluders.iter().map(|&(object, _)| object).collect();
+        let (entries, cutouts) = TracedCutouts::of(device, scene, &objects)?;
+        let occluders = occluders
+            .into_iter()
+            .zip(entries)
+            .map(|((object, address), entry)| (object, address, entry))
+            .collect();
         Ok(Self {
             meshes,
             deformed,
             occluders,
+            cutouts,
             per_slot,
         })
     }
@@ -705,6 +849,7 @@ impl SceneStructure {
     /// top-level structure with its instances and scratch.
     pub(crate) fn bytes(&self) -> u64 {
         self.meshes.bytes()
+            + self.cutouts.bytes()
             + self
                 .deformed
                 .iter()
@@ -751,8 +896,13 @@ impl SceneStructure {
         let instances: Vec<vk::AccelerationStructureInstanceKHR> = self
             .occluders
             .iter()
-            .map(|&(object, address)| {
+            .map(|&(object, address, cutout)| {
                 let rows = transform(object).transpose().to_cols_array();
+                // A cut-out's hits are tested (custom index: its entry); the rest opaque.
+                let (custom_index, flags) = match cutout {
+                    Some(entry) => (entry, vk::GeometryInstanceFlagsKHR::FORCE_NO_OPAQUE),
+                    None => (0, vk::GeometryInstanceFlagsKHR::FORCE_OPAQUE),
+                };
                 vk::AccelerationStructureInstanceKHR {
                     transform: vk::TransformMatrixKHR {
                         matrix: [
@@ -760,10 +910,10 @@ impl SceneStructure {
                             rows[8], rows[9], rows[10], rows[11],
                         ],
                     },
-                    instance_custom_index_and_mask: vk::Packed24_8::new(0, 0xff),
+                    instance_custom_index_and_mask: vk::Packed24_8::new(custom_index, 0xff),
                     instance_shader_binding_table_record_offset_and_flags: vk::Packed24_8::new(
                         0,
-                        vk::GeometryInstanceFlagsKHR::FORCE_OPAQUE.as_raw() as u8,
+                        flags.as_raw() as u8,
                     ),
                     acceleration_structure_reference: vk::AccelerationStructureReferenceKHR {
                         device_handle: address,

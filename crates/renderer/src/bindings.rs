@@ -95,6 +95,9 @@ pub struct Binding {
     /// The `#define` without which the generated GLSL leaves the declaration out (`None`:
     /// always declared). The layout has the binding either way.
     pub only_with: Option<&'static str>,
+    /// Read only by ray queries' shaders ([`Binding::for_ray_queries`]): left out of the
+    /// layouts of devices without them, as an acceleration structure is.
+    pub for_ray_queries: bool,
 }
 
 impl Binding {
@@ -105,6 +108,16 @@ impl Binding {
             kind,
             stages,
             only_with: None,
+            for_ray_queries: false,
+        }
+    }
+
+    /// The same binding, read only by shaders that trace rays: devices without ray
+    /// queries have no such shader, and their layouts leave it out.
+    pub const fn for_ray_queries(self) -> Self {
+        Self {
+            for_ray_queries: true,
+            ..self
         }
     }
 
@@ -120,7 +133,7 @@ impl Binding {
     /// queries have. Elsewhere the set's layout leaves its number out (the shaders that
     /// declare it, behind a define of a pass that needs ray queries, never run there).
     pub fn needs_ray_queries(&self) -> bool {
-        self.kind == BindingKind::AccelerationStructure
+        self.for_ray_queries || self.kind == BindingKind::AccelerationStructure
     }
 
     /// Whether the layouts of a device with (`ray_queries`) or without ray queries have it.

@@ -37,9 +37,9 @@ pub(crate) struct SharedResources {
     /// The overlay image and its size; or a one-texel placeholder, bound when no image is
     /// shown.
     pub(crate) overlay_image: (Buffer, Option<[u32; 2]>),
-    /// An empty top-level acceleration structure, bound where a set's ray queries trace
-    /// nothing this frame (devices with ray queries only).
-    pub(crate) no_scene: Option<crate::accel::TopLevel>,
+    /// An empty top-level acceleration structure and cut-out tables, bound where a set's
+    /// ray queries trace nothing this frame (devices with ray queries only).
+    pub(crate) no_scene: Option<(crate::accel::TopLevel, crate::accel::TracedCutouts)>,
 }
 
 impl SharedResources {
@@ -69,7 +69,10 @@ impl SharedResources {
             overlay_atlas,
             overlay_image: (overlay_image_buffer(device, &[[0; 4]])?, None),
             no_scene: if device.ray_queries() {
-                Some(crate::accel::TopLevel::empty(device)?)
+                Some((
+                    crate::accel::TopLevel::empty(device)?,
+                    crate::accel::TracedCutouts::none(device)?,
+                ))
             } else {
                 None
             },

@@ -74,13 +74,16 @@ const OWN_BINDINGS: &[Binding] = &[
     // Which lights reach each pixel (the ray-traced shadows pass's image).
     Binding::new("ray_traced_shadows", BindingKind::UTexture2D, FRAGMENT)
         .only_with(super::ray_traced_shadows::OPTION.define),
-    // The scene's acceleration structure (built by the ray-traced occlusion pass), which
-    // the sampled environment traces each of its directions against.
-    Binding::new("scene", BindingKind::AccelerationStructure, FRAGMENT)
-        .only_with(super::ray_traced_occlusion::OPTION.define),
 ];
 
-const BINDINGS: [Binding; OWN_BINDINGS.len() + LIT_BY.len()] = joined(OWN_BINDINGS, &LIT_BY);
+/// The scene as the ray-traced occlusion pass built it, which the sampled environment
+/// traces each of its directions against.
+const TRACED: [Binding; 4] =
+    super::traced::bindings(FRAGMENT, Some(super::ray_traced_occlusion::OPTION.define));
+
+const OWN_AND_TRACED: [Binding; OWN_BINDINGS.len() + TRACED.len()] = joined(OWN_BINDINGS, &TRACED);
+
+const BINDINGS: [Binding; OWN_AND_TRACED.len() + LIT_BY.len()] = joined(&OWN_AND_TRACED, &LIT_BY);
 
 /// The lighting pass's set: the G-buffer and depth, the material table, the tile light lists,
 /// the emissive target (EMISSIVE variant), and what lights a surface (`LIT_BY`: lighting_terms.glsl).
@@ -298,9 +301,12 @@ impl FramePass for Lighting {
             &s.tile_lights,
             read,
         );
-        if let Some(empty) = &r.no_scene {
-            let traced = super::ray_traced_occlusion::traced_scene(frame);
-            io = io.acceleration_structure("scene", traced.unwrap_or_else(|| empty.handle()));
+        if r.no_scene.is_some() {
+            io = if super::ray_traced_occlusion::traces(frame) {
+                super::traced::scene(io, frame)
+            } else {
+                super::traced::nothing(io, frame)
+            };
         }
         lit_by(io, frame)
     }

@@ -28,6 +28,7 @@ mod per_pixel;
 mod ray_traced_occlusion;
 mod ray_traced_shadows;
 mod shadow_maps;
+mod traced;
 
 use combustion_vk::vk;
 

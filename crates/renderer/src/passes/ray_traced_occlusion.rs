@@ -57,12 +57,15 @@ pub(crate) static SET: SetDecl = SetDecl {
             BindingKind::Texture2D,
             COMPUTE,
         ),
-        Binding::new("scene", BindingKind::AccelerationStructure, COMPUTE),
         Binding::new(
             "visibility",
             BindingKind::StorageImage2D { format: "r32f" },
             COMPUTE,
         ),
+        super::traced::bindings(COMPUTE, None)[0],
+        super::traced::bindings(COMPUTE, None)[1],
+        super::traced::bindings(COMPUTE, None)[2],
+        super::traced::bindings(COMPUTE, None)[3],
     ],
     includes: &[],
 };
@@ -107,14 +110,10 @@ fn wanted(variant: ShaderVariant) -> bool {
     variant.optional_passes.contains(&OPTION) && variant.environment
 }
 
-/// The structure the frame's ray-traced occlusion traces (built by this pass before the
-/// lighting pass reads it), if the frame runs the pass.
-pub(super) fn traced_scene(frame: &FrameContext<'_>) -> Option<vk::AccelerationStructureKHR> {
-    if !wanted(frame.variant) {
-        return None;
-    }
-    let structures = frame.scene.gpu.structures.get()?;
-    Some(structures.top_level(frame.slot.index))
+/// Whether the frame runs the pass (which builds the structure the lighting pass's
+/// sampled environment traces, before it).
+pub(super) fn traces(frame: &FrameContext<'_>) -> bool {
+    wanted(frame.variant) && frame.scene.gpu.structures.get().is_some()
 }
 
 impl FramePass for RayTracedOcclusion {
@@ -157,20 +156,12 @@ impl FramePass for RayTracedOcclusion {
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let structures = frame
-            .scene
-            .gpu
-            .structures
-            .get()
-            .expect("frames that trace have their scene's structures (checked at record)");
-        PER_PIXEL
-            .io(frame)
-            .acceleration_structure("scene", structures.top_level(frame.slot.index))
-            .image(
-                "visibility",
-                PER_PIXEL.output(frame),
-                ImageUse::ComputeStorageWrite,
-            )
+        let io = PER_PIXEL.io(frame).image(
+            "visibility",
+            PER_PIXEL.output(frame),
+            ImageUse::ComputeStorageWrite,
+        );
+        super::traced::scene(io, frame)
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {

@@ -60,12 +60,15 @@ pub(crate) static SET: SetDecl = SetDecl {
             },
             COMPUTE,
         ),
-        Binding::new("scene", BindingKind::AccelerationStructure, COMPUTE),
         Binding::new(
             "light_bits",
             BindingKind::UStorageImage2D { format: "r32ui" },
             COMPUTE,
         ),
+        super::traced::bindings(COMPUTE, None)[0],
+        super::traced::bindings(COMPUTE, None)[1],
+        super::traced::bindings(COMPUTE, None)[2],
+        super::traced::bindings(COMPUTE, None)[3],
     ],
     includes: &["gpu_types.glsl"],
 };
@@ -141,21 +144,15 @@ impl FramePass for RayTracedShadows {
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let structures = frame
-            .scene
-            .gpu
-            .structures
-            .get()
-            .expect("frames that trace have their scene's structures (checked at record)");
-        PER_PIXEL
+        let io = PER_PIXEL
             .io(frame)
             .buffer("lights", &frame.slot.lights, BufferUse::ComputeStorageRead)
-            .acceleration_structure("scene", structures.top_level(frame.slot.index))
             .image(
                 "light_bits",
                 PER_PIXEL.output(frame),
                 ImageUse::ComputeStorageWrite,
-            )
+            );
+        super::traced::scene(io, frame)
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
