@@ -148,6 +148,94 @@ fn scratch(device: &Arc<Device>, size: u64, name: &str) -> Result<(Buffer, u64),
     Ok((buffer, address))
 }
 
+/// Flags of the meshes' builds: built once, traced every frame, compacted after.
+const MESH_BUILD: vk::BuildAccelerationStructureFlagsKHR =
+    vk::BuildAccelerationStructureFlagsKHR::from_raw(
+        vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE.as_raw()
+            | vk::BuildAccelerationStructureFlagsKHR::ALLOW_COMPACTION.as_raw(),
+    );
+
+/// Replaces each built structure of `structures` by its compacted copy: their compacted
+/// sizes queried after the builds (one submission, waited for), then each copied into a
+/// structure of that size (a second); the originals dropped once the copies completed.
+fn compact(
+    device: &Arc<Device>,
+    structures: &mut [Option<AccelerationStructure>],
+) -> Result<(), RenderError> {
+    let functions = functions(device)?;
+    let built: Vec<usize> = (0..structures.len())
+        .filter(|&i| structures[i].is_some())
+        .collect();
+    if built.is_empty() {
+        return Ok(());
+    }
+    let handles: Vec<vk::AccelerationStructureKHR> = built
+        .iter()
+        .map(|&i| structures[i].as_ref().expect("built").handle)
+        .collect();
+    let raw = device.raw();
+    let pool_info = vk::QueryPoolCreateInfo::default()
+        .query_type(vk::QueryType::ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR)
+        .query_count(handles.len() as u32);
+    // SAFETY: valid create info; destroyed below on every path.
+    let pool = unsafe { raw.create_query_pool(&pool_info, None) }.what("vkCreateQueryPool")?;
+    let sizes = (|| -> Result<Vec<u64>, RenderError> {
+        let mut commands = OneShot::new(device)?;
+        let cmd = commands.begin()?;
+        // SAFETY: recording; the structures were built by a submission that completed.
+        unsafe {
+            raw.cmd_reset_query_pool(cmd, pool, 0, handles.len() as u32);
+            functions.cmd_write_acceleration_structures_properties(
+                cmd,
+                &handles,
+                vk::QueryType::ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR,
+                pool,
+                0,
+            );
+        }
+        commands.submit_and_wait()?;
+        let mut sizes = vec![0u64; handles.len()];
+        // SAFETY: every query was written by the completed submission.
+        unsafe {
+            raw.get_query_pool_results(
+                pool,
+                0,
+                &mut sizes,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .what("vkGetQueryPoolResults")?;
+        Ok(sizes)
+    })();
+    // SAFETY: the submission that used the pool has completed (or none was made).
+    unsafe { raw.destroy_query_pool(pool, None) };
+    let sizes = sizes?;
+    let mut compacted = Vec::with_capacity(built.len());
+    for &size in &sizes {
+        compacted.push(AccelerationStructure::new(
+            device,
+            vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
+            size,
+            "mesh acceleration structure",
+        )?);
+    }
+    let mut commands = OneShot::new(device)?;
+    let cmd = commands.begin()?;
+    for (source, destination) in handles.iter().zip(&compacted) {
+        let copy = vk::CopyAccelerationStructureInfoKHR::default()
+            .src(*source)
+            .dst(destination.handle)
+            .mode(vk::CopyAccelerationStructureModeKHR::COMPACT);
+        // SAFETY: recording; both structures live until the submission completes.
+        unsafe { functions.cmd_copy_acceleration_structure(cmd, &copy) };
+    }
+    commands.submit_and_wait()?;
+    for (&i, structure) in built.iter().zip(compacted) {
+        structures[i] = Some(structure);
+    }
+    Ok(())
+}
+
 /// The bottom-level structure of each mesh that has one (triangle lists with triangles).
 pub(crate) struct MeshStructures {
     per_mesh: Vec<Option<AccelerationStructure>>,
@@ -192,7 +280,7 @@ impl MeshStructures {
             let geometries = [geometry];
             let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
                 .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
-                .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
+                .flags(MESH_BUILD)
                 .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
                 .geometries(&geometries);
             let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
@@ -235,7 +323,7 @@ impl MeshStructures {
                 let geometries = [triangle_geometry(positions_at, indices_at, max_vertex)];
                 let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
                     .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
-                    .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
+                    .flags(MESH_BUILD)
                     .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
                     .geometries(&geometries)
                     .dst_acceleration_structure(structure.handle)
@@ -249,8 +337,9 @@ impl MeshStructures {
                 unsafe { functions.cmd_build_acceleration_structures(cmd, &[info], &[&range]) };
             }
             commands.submit_and_wait()?;
+            drop(kept);
+            compact(device, &mut per_mesh)?;
         }
-        drop(kept);
         Ok(Self { per_mesh })
     }
 

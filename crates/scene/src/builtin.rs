@@ -29,6 +29,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "specular",
     "normal-mapped",
     "resting",
+    "room",
 ];
 
 /// Builds the built-in scene `name` (one of [`BUILTIN_SCENES`]), procedurally, needing no
@@ -78,6 +79,10 @@ pub const BUILTIN_SCENES: &[&str] = &[
 ///   alone: the contacts, the crevice between the box and the floor and the ground
 ///   beside them are where the scene blocks the environment (`--environment-occlusion gtao`,
 ///   `--environment-occlusion ray-traced`; docs/occlusion.md).
+/// - `room`: a closed room (4 × 2.6 × 4 m, light grey Lambertian walls, floor and ceiling)
+///   with a window of 1.4 × 1.1 m in one wall and a red sphere on its floor, seen from
+///   inside: lit by the studio environment alone, which only the window lets in — without
+///   occlusion the walls glow as if there were none (docs/occlusion.md).
 ///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
@@ -108,6 +113,7 @@ pub fn builtin_scene_with(name: &str, colour: MetalColour) -> Result<Scene, Scen
         "specular" => Ok(specular(colour)),
         "normal-mapped" => Ok(normal_mapped(colour)),
         "resting" => Ok(resting()),
+        "room" => Ok(room()),
         "spheres-studio" => Ok(under_studio(spheres(colour), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
             Scene {
@@ -1426,6 +1432,119 @@ fn resting() -> Scene {
             target: Vec3::new(0.0, 0.35, 0.0),
             up: Vec3::Y,
             vertical_fov: 40f32.to_radians(),
+            near: 0.05,
+            far: 50.0,
+        },
+        outside_ior: 1.0,
+        environment: Some(crate::Environment::Studio),
+        motion: Default::default(),
+    }
+}
+
+/// The room of [`builtin_scene`]'s `room`: walls, floor and ceiling as 0.1 m slabs
+/// around a 4 × 2.6 × 4 m interior (its floor at y = 0, centred on the y axis), the wall
+/// at z = −2 with a window of 1.4 × 1.1 m whose sill is 0.9 m up, a sphere of radius 0.4
+/// on the floor; the camera inside, near the opposite wall, looking at the window.
+fn room() -> Scene {
+    let (width, height, depth, t) = (4.0f32, 2.6f32, 4.0f32, 0.1f32);
+    let (window_width, window_height, sill) = (1.4f32, 1.1f32, 0.9f32);
+    let mut meshes = Vec::new();
+    let mut objects = Vec::new();
+    // A slab of `size` centred at `centre`, of material 0 (the walls).
+    let mut slab = |name: &str, size: [f32; 3], centre: Vec3| {
+        meshes.push(Mesh::cuboid(name, size));
+        objects.push(Object {
+            mesh: meshes.len() - 1,
+            material: 0,
+            transform: Mat4::from_translation(centre),
+            casts_shadows: true,
+            node: None,
+        });
+    };
+    let (outer_w, outer_d) = (width + 2.0 * t, depth + 2.0 * t);
+    slab(
+        "floor",
+        [outer_w, t, outer_d],
+        Vec3::new(0.0, -t / 2.0, 0.0),
+    );
+    slab(
+        "ceiling",
+        [outer_w, t, outer_d],
+        Vec3::new(0.0, height + t / 2.0, 0.0),
+    );
+    slab(
+        "back wall",
+        [outer_w, height, t],
+        Vec3::new(0.0, height / 2.0, depth / 2.0 + t / 2.0),
+    );
+    slab(
+        "left wall",
+        [t, height, depth],
+        Vec3::new(-width / 2.0 - t / 2.0, height / 2.0, 0.0),
+    );
+    slab(
+        "right wall",
+        [t, height, depth],
+        Vec3::new(width / 2.0 + t / 2.0, height / 2.0, 0.0),
+    );
+    // The window wall in four slabs around the opening.
+    let z = -depth / 2.0 - t / 2.0;
+    let side = (outer_w - window_width) / 2.0;
+    let top = height - sill - window_height;
+    slab(
+        "window wall, left",
+        [side, height, t],
+        Vec3::new(-(window_width + side) / 2.0, height / 2.0, z),
+    );
+    slab(
+        "window wall, right",
+        [side, height, t],
+        Vec3::new((window_width + side) / 2.0, height / 2.0, z),
+    );
+    slab(
+        "below the window",
+        [window_width, sill, t],
+        Vec3::new(0.0, sill / 2.0, z),
+    );
+    slab(
+        "above the window",
+        [window_width, top, t],
+        Vec3::new(0.0, height - top / 2.0, z),
+    );
+    let radius = 0.4;
+    meshes.push(Mesh::uv_sphere("sphere", radius, 64, 32));
+    objects.push(Object {
+        mesh: meshes.len() - 1,
+        material: 1,
+        transform: Mat4::from_translation(Vec3::new(0.5, radius, -0.6)),
+        casts_shadows: true,
+        node: None,
+    });
+    Scene {
+        name: "room".into(),
+        meshes,
+        materials: vec![
+            Material {
+                name: "plaster".into(),
+                base_color: [0.7, 0.7, 0.7],
+                roughness: 1.0,
+                dielectric_ior: 1.0,
+                ..Material::default()
+            },
+            Material {
+                name: "red plastic".into(),
+                base_color: [0.6, 0.05, 0.04],
+                roughness: 0.35,
+                ..Material::default()
+            },
+        ],
+        objects,
+        lights: Vec::new(),
+        camera: Camera {
+            position: Vec3::new(-0.9, 1.5, 1.7),
+            target: Vec3::new(0.2, 0.9, -2.0),
+            up: Vec3::Y,
+            vertical_fov: 70f32.to_radians(),
             near: 0.05,
             far: 50.0,
         },
