@@ -882,3 +882,37 @@ fn optional_passes_alternate_past_the_retire_delay() {
     }
     crate::common::finish(headless);
 }
+
+/// The viewer's error view (X) measures a frame whose environment the scene blocks
+/// against the reference with the environment's visibility (the occlusion passes'
+/// definition): builtin:resting with ray-traced occlusion is about as close to it as the
+/// frame without occlusion is to the reference without — where, measured against the
+/// unblocked environment, it would be several times further off.
+#[test]
+fn the_error_view_measures_occlusion_against_visibility() {
+    let scene = combustion::scene::builtin_scene("resting").unwrap();
+    let inputs = crate::common::frame_inputs(&scene, &[]);
+    let mean_error = |settings: RendererSettings| {
+        let mut headless = crate::common::lavapipe(settings);
+        let summary = {
+            let renderer = headless.renderer();
+            let gpu = renderer.upload(&scene).unwrap();
+            combustion::viewer::inspect::measure_error(
+                renderer,
+                &gpu,
+                &inputs,
+                (WIDTH / 4, HEIGHT / 4),
+            )
+            .unwrap()
+        };
+        crate::common::finish(headless);
+        summary.mean_relative
+    };
+    let none = mean_error(settings(false));
+    let traced = mean_error(with_pass("ray-traced-occlusion", true));
+    println!("error view, mean relative error: no occlusion {none:.4}, ray-traced {traced:.4}");
+    assert!(
+        traced < 2.0 * none,
+        "ray-traced {traced:.4}, none {none:.4}"
+    );
+}

@@ -57,9 +57,16 @@ pub struct ErrorView {
     pub pending: Option<ViewKey>,
 }
 
+/// Rays per axis of the reference's environment visibility in the error view (16²
+/// stratified cosine rays at each compared pixel).
+const ERROR_VIEW_RAYS_PER_AXIS: u32 = 16;
+
 /// Renders the frame of `inputs` at `extent` again with its HDR image and G-buffer read
 /// back, re-shades every pixel in f64, and shows the relative error as the renderer's
-/// overlay image. The caller has waited for its frames in flight (this frame uses the
+/// overlay image. The reference blocks what the renderer's options block: each light by
+/// its exact visibility with shadows (maps or ray-traced), the environment by the
+/// occlusion passes' visibility with one of them on (every sampled direction traced
+/// with the sampled environment and ray-traced occlusion). The caller has waited for its frames in flight (this frame uses the
 /// renderer's frame slots too). A diagnostic: it waits for the GPU and reads back.
 pub fn measure_error(
     renderer: &mut Renderer,
@@ -76,13 +83,29 @@ pub fn measure_error(
     let drawn = scene.scene().as_drawn(inputs.pose);
     let shown = drawn.as_ref();
     let mut reference = ReferenceShading::new(shown, inputs, width, height);
-    if renderer.shading().shadows.is_some() {
-        // Frames with shadows are measured against exact visibility: each light's term
-        // times its f64 ray-cast visibility (combustion_reference).
-        reference = reference.with_exact_visibility(
-            std::sync::Arc::new(combustion_reference::SceneBvh::shadow_casters(shown)),
-            inputs.lights,
-        );
+    let options = renderer.shading();
+    let on = |name| {
+        combustion_renderer::optional_pass(name)
+            .is_some_and(|p| options.optional_passes.contains(p))
+    };
+    let occluded = on("ambient-occlusion") || on("ray-traced-occlusion");
+    let casters = (options.shadows.is_some() || on("ray-traced-shadows") || occluded)
+        .then(|| std::sync::Arc::new(combustion_reference::SceneBvh::shadow_casters(shown)));
+    if let Some(bvh) = &casters {
+        if options.shadows.is_some() || on("ray-traced-shadows") {
+            // Frames with shadows are measured against exact visibility: each light's
+            // term times its f64 ray-cast visibility (combustion_reference).
+            reference = reference.with_exact_visibility(bvh.clone(), inputs.lights);
+        }
+        if occluded && options.environment_samples > 0 && on("ray-traced-occlusion") {
+            // The sampled environment traces each direction: so does its reference.
+            reference = reference.with_traced_environment(bvh.clone(), ERROR_VIEW_RAYS_PER_AXIS);
+        } else if occluded {
+            // Frames whose environment the scene blocks are measured against the
+            // occlusion passes' definition of its visibility.
+            reference =
+                reference.with_environment_visibility(bvh.clone(), ERROR_VIEW_RAYS_PER_AXIS);
+        }
     }
     if let Some(environment) = &scene.scene().environment {
         // The environment's integral costs thousands of BRDF evaluations a pixel: one
