@@ -209,7 +209,7 @@ void main() {
         surface.tile_light_fraction = float(light_count) / float(max(push.counts.x, 1u));
         surface.shadow = 1.0;
 #ifdef RAY_TRACED_SHADOWS
-        surface.shadow = float(texelFetch(ray_traced_shadows, pixel, 0).r & 1u);
+        surface.shadow = float(texelFetch(ray_traced_shadows, pixel, 0).r & 15u) / 15.0;
 #endif
         surface.cascade = -1;
 #ifdef SHADOWS
@@ -239,18 +239,24 @@ void main() {
 #endif
     vec3 radiance = vec3(0.0);
 #ifdef RAY_TRACED_SHADOWS
-    // Bit i: light i reaches the pixel (the ray-traced shadows pass; the first 32 lights).
-    uint reaching = texelFetch(ray_traced_shadows, pixel, 0).r;
+    // Nibble i: how many of light i's rays reach the pixel, of 15 (the ray-traced shadows
+    // pass; the first 32 lights).
+    uvec4 reaching = texelFetch(ray_traced_shadows, pixel, 0);
 #endif
     for (uint j = 0u; j < light_count; ++j) {
         uint i = culled ? tile_lights[list + 1u + j] : j;
+        float lit = 1.0;
 #ifdef RAY_TRACED_SHADOWS
-        if (i < 32u && (reaching & (1u << i)) == 0u) {
-            continue;
+        if (i < 32u) {
+            uint rays = (reaching[i >> 3] >> ((i & 7u) * 4u)) & 15u;
+            if (rays == 0u) {
+                continue;
+            }
+            lit = float(rays) / 15.0;
         }
 #endif
-        radiance += light_radiance(m, view, layers, lights[i], position, n,
-                                   push.camera_position.xyz, gl_FragCoord.xy);
+        radiance += lit * light_radiance(m, view, layers, lights[i], position, n,
+                                         push.camera_position.xyz, gl_FragCoord.xy);
     }
 #ifdef EMISSIVE_OCCLUSION_TARGET
     vec4 emissive_occlusion = texelFetch(gbuffer_emissive, pixel, 0);

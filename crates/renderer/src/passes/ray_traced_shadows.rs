@@ -5,9 +5,15 @@
 //! leave out) — hard shadows by exact visibility, with the f64 reference's offset rule
 //! (`combustion_reference::shadow_ray_origin`: 10⁻⁴ · max(1, ‖p‖∞) along the normal the
 //! lighting pass shades with; a segment to a point or spot light ends as far short of
-//! it). Bit i of the pixel's word is set where light i reaches it (or casts no shadow);
-//! the lighting pass leaves out the lights whose bit is clear. Lights past the 32nd are
-//! not shadowed by it; light sizes are not sampled (hard shadows).
+//! it). A light with a size (a point or spot light's radius, a directional light's
+//! angular diameter) gets 15 rays instead (5 × 3 stratified points: the count that reach
+//! fits a nibble, so the share stored is the share traced), towards stratified points of the
+//! disc it is seen as (the f64 reference's `disc_visibility` and `sun_visibility`: the
+//! disc of its radius facing the point; the cone of its angular diameter), turned per
+//! pixel: soft shadows. Nibble i of the pixel's 128 bits holds how many of light i's rays
+//! reach it, of 15 (15 for a light that casts no shadow); the lighting pass scales each
+//! light by that share, leaving out those none reach. Lights past the 32nd are not
+//! shadowed by it.
 
 use combustion_vk::vk;
 
@@ -29,7 +35,7 @@ pub(crate) struct RayTracedShadows;
 pub(crate) static OPTION: OptionalPass = OptionalPass {
     name: "ray-traced-shadows",
     define: "RAY_TRACED_SHADOWS",
-    help: "Hard shadows of the first 32 lights that cast them, by ray queries against the scene's acceleration structures: exact visibility (devices with ray queries, else left out with a warning)",
+    help: "Shadows of the first 32 lights that cast them, by ray queries against the scene's acceleration structures: exact visibility, soft for lights with a size (15 rays over their disc or cone); devices with ray queries, else left out with a warning",
     needs_ray_queries: true,
     choice: None,
 };
@@ -37,7 +43,7 @@ pub(crate) static OPTION: OptionalPass = OptionalPass {
 /// The image it writes: per pixel, bit i set where light i reaches it.
 pub(crate) const IMAGE: &str = "ray-traced shadows";
 
-/// The lights it shadows: the frame's first 32 (a bit each).
+/// The lights it shadows: the frame's first 32 (four bits each).
 const MAX_LIGHTS: usize = 32;
 
 /// Its set: the depth and normals it reads, the frame's lights, the scene it traces,
@@ -62,7 +68,7 @@ pub(crate) static SET: SetDecl = SetDecl {
         ),
         Binding::new(
             "light_bits",
-            BindingKind::UStorageImage2D { format: "r32ui" },
+            BindingKind::UStorageImage2D { format: "rgba32ui" },
             COMPUTE,
         ),
         super::traced::bindings(COMPUTE, None)[0],
@@ -95,7 +101,7 @@ const PER_PIXEL: PerPixel = PerPixel {
     shader: "ray_traced_shadows.comp",
     set: &SET,
     push_size: std::mem::size_of::<RayTracedShadowsPush>(),
-    image: (IMAGE, vk::Format::R32_UINT),
+    image: (IMAGE, vk::Format::R32G32B32A32_UINT),
 };
 
 /// Whether frames of `variant` run it. (The renderer leaves the option out on a device
