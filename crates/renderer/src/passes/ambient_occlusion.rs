@@ -33,7 +33,12 @@ pub(crate) static OPTION: OptionalPass = OptionalPass {
 pub(crate) const IMAGE: &str = "ambient occlusion";
 
 /// Planes through the view direction per pixel, and depth samples on each side of one.
-const SLICES: u32 = 8;
+/// Two planes a pixel, turned over the 4×4 block whose pixels on one surface are
+/// averaged (32 directions a block), measure as close to the form factor as eight did
+/// (the resting sphere's ring −6.70 % against −6.66 %, mean |error| 7.81 % against
+/// 7.79 %) at a third of the cost (builtin:resting at 1280×720: the pass 112 ms against
+/// 345 ms, GPU medians of 10 frames).
+const SLICES: u32 = 2;
 const STEPS: u32 = 8;
 
 /// The search radius, as a fraction of the diagonal of the scene's bounds.
