@@ -7,7 +7,8 @@
 //! What is in them (chosen once per scene): every object whose mesh is a triangle
 //! list, that casts shadows (`Object::casts_shadows`: an object that casts none occludes
 //! nothing) and that is neither blended nor transmissive (glass lets light through).
-//! Points and lines are never in them. Cut-outs (alphaMode MASK) are tested where a ray
+//! Points and lines are never in them, nor what exceeds the device's limits ([`Limits`]:
+//! left out with a warning). Cut-outs (alphaMode MASK) are tested where a ray
 //! meets them ([`TracedCutouts`]): their instances are not opaque, and the shaders'
 //! `scene_blocks` (traced_scene.glsl) confirms a hit only where the material's alpha —
 //! its factor × the base colour texture's alpha at level 0, filtered by the sampler's
@@ -46,8 +47,8 @@ fn functions(
     })
 }
 
-/// The alignment of a build's scratch memory on `device`.
-fn scratch_alignment(device: &Device) -> u64 {
+/// The device's acceleration-structure properties.
+fn properties(device: &Device) -> vk::PhysicalDeviceAccelerationStructurePropertiesKHR<'static> {
     let mut properties = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
     let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut properties);
     // SAFETY: valid physical device; the chain outlives the call.
@@ -56,7 +57,69 @@ fn scratch_alignment(device: &Device) -> u64 {
             .instance()
             .get_physical_device_properties2(device.physical_device(), &mut properties2)
     };
-    u64::from(properties.min_acceleration_structure_scratch_offset_alignment).max(1)
+    properties.p_next = std::ptr::null_mut();
+    properties
+}
+
+/// The alignment of a build's scratch memory on `device`.
+fn scratch_alignment(device: &Device) -> u64 {
+    u64::from(properties(device).min_acceleration_structure_scratch_offset_alignment).max(1)
+}
+
+/// How much one scene's structures may hold on a device: triangles in one bottom-level
+/// structure, instances in the top level (both at most 2²⁴ − 1, the instance's custom
+/// index, which names a cut-out's entry, has 24 bits).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Limits {
+    pub triangles: u64,
+    pub instances: u64,
+}
+
+impl Limits {
+    /// `device`'s limits.
+    fn of(device: &Device) -> Self {
+        let p = properties(device);
+        let custom_index = (1 << 24) - 1;
+        Self {
+            triangles: p.max_primitive_count.min(custom_index),
+            instances: p.max_instance_count.min(custom_index),
+        }
+    }
+
+    /// Which of the meshes of `triangles` (a count each) a structure can hold, and how
+    /// many of `occluders` instances the top level keeps; a warning line for each mesh
+    /// left out and for the instances left out, naming the limit: what they hold is
+    /// then missing from the traced passes (they occlude nothing), never an error.
+    pub(crate) fn fit(
+        &self,
+        meshes: &[(&str, u64)],
+        occluders: usize,
+    ) -> (Vec<bool>, usize, Vec<String>) {
+        let mut warnings = Vec::new();
+        let fits: Vec<bool> = meshes
+            .iter()
+            .map(|&(name, triangles)| {
+                let fits = triangles <= self.triangles;
+                if !fits {
+                    warnings.push(format!(
+                        "mesh `{}`: {triangles} triangles, more than the device's acceleration structures hold ({}); the traced passes leave it out (it occludes nothing there)",
+                        combustion_optics::shortened(name),
+                        self.triangles
+                    ));
+                }
+                fits
+            })
+            .collect();
+        let kept = (occluders as u64).min(self.instances) as usize;
+        if kept < occluders {
+            warnings.push(format!(
+                "{occluders} objects occlude, more than the device's acceleration structures place ({}); the traced passes leave out the last {}",
+                self.instances,
+                occluders - kept
+            ));
+        }
+        (fits, kept, warnings)
+    }
 }
 
 /// Device-address usages of the buffers a build reads.
@@ -242,9 +305,13 @@ pub(crate) struct MeshStructures {
 }
 
 impl MeshStructures {
-    /// Builds the structure of every triangle mesh of `scene` (one submission, waited
-    /// for: at upload, never in a frame).
-    pub(crate) fn build(device: &Arc<Device>, scene: &Scene) -> Result<Self, RenderError> {
+    /// Builds the structure of every triangle mesh of `scene` that `fits` (one
+    /// submission, waited for: at upload, never in a frame).
+    pub(crate) fn build(
+        device: &Arc<Device>,
+        scene: &Scene,
+        fits: &[bool],
+    ) -> Result<Self, RenderError> {
         let functions = functions(device)?;
         let mut per_mesh = Vec::with_capacity(scene.meshes.len());
         // Inputs and scratch live until the submission has completed.
@@ -252,7 +319,11 @@ impl MeshStructures {
         let mut builds: Vec<(usize, u64, u64, u32, u32, u64)> = Vec::new();
         for (index, mesh) in scene.meshes.iter().enumerate() {
             let triangles = (mesh.indices.len() / 3) as u32;
-            if mesh.topology != Topology::Triangles || triangles == 0 || mesh.vertices.is_empty() {
+            if mesh.topology != Topology::Triangles
+                || triangles == 0
+                || mesh.vertices.is_empty()
+                || !fits[index]
+            {
                 per_mesh.push(None);
                 continue;
             }
@@ -876,8 +947,18 @@ impl SceneStructure {
         deform: Option<&crate::deform::SceneDeform>,
         slots: usize,
     ) -> Result<Self, RenderError> {
-        let meshes = MeshStructures::build(device, scene)?;
-        let capacity = scene.objects.len() as u32;
+        let limits = Limits::of(device);
+        let sizes: Vec<(&str, u64)> = scene
+            .meshes
+            .iter()
+            .map(|m| (m.name.as_str(), (m.indices.len() / 3) as u64))
+            .collect();
+        let (fits, _, warnings) = limits.fit(&sizes, 0);
+        for warning in &warnings {
+            log::warn!("{warning}");
+        }
+        let meshes = MeshStructures::build(device, scene, &fits)?;
+        let capacity = (scene.objects.len() as u64).min(limits.instances) as u32;
         let per_slot = (0..slots)
             .map(|_| TopLevel::new(device, capacity).map(Mutex::new))
             .collect::<Result<Vec<_>, _>>()?;
@@ -893,6 +974,9 @@ impl SceneStructure {
             }
             let posed_at =
                 deform.and_then(|d| d.posed_offsets.get(i).copied().flatten().map(|at| (d, at)));
+            if !fits[o.mesh] {
+                continue;
+            }
             match posed_at {
                 Some((deform, offset)) => {
                     if let Some(structure) =
@@ -909,6 +993,11 @@ impl SceneStructure {
                 }
             }
         }
+        let (_, kept, warnings) = limits.fit(&[], occluders.len());
+        for warning in &warnings {
+            log::warn!("{warning}");
+        }
+        occluders.truncate(kept);
         let objects: Vec<usize> = occluders.iter().map(|&(object, _)| object).collect();
         let (entries, cutouts) = TracedCutouts::of(device, scene, &objects)?;
         let occluders = occluders
@@ -1013,5 +1102,39 @@ impl SceneStructure {
             .collect();
         top.record(device, functions, cmd, &instances);
         top.handle()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Limits;
+
+    /// A mesh with more triangles than a structure holds is left out, and instances past
+    /// the top level's count are dropped, each said in one line naming the limit; what
+    /// fits is kept.
+    #[test]
+    fn what_exceeds_the_devices_limits_is_left_out_and_said() {
+        let limits = Limits {
+            triangles: 100,
+            instances: 3,
+        };
+        let (fits, kept, warnings) = limits.fit(&[("small", 100), ("large", 101)], 5);
+        assert_eq!(fits, [true, false]);
+        assert_eq!(kept, 3);
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(
+            warnings[0].starts_with("mesh `large`: 101 triangles") && warnings[0].contains("(100)"),
+            "{}",
+            warnings[0]
+        );
+        assert!(
+            warnings[1].starts_with("5 objects occlude") && warnings[1].contains("last 2"),
+            "{}",
+            warnings[1]
+        );
+        assert!(warnings.iter().all(|w| !w.contains('\n')));
+        let (fits, kept, warnings) = limits.fit(&[("small", 3)], 3);
+        assert_eq!((fits, kept), (vec![true], 3));
+        assert!(warnings.is_empty());
     }
 }
