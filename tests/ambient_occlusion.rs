@@ -533,7 +533,8 @@ fn resting_against_reference(lambert: bool) -> ((f64, f64), (f64, f64), (f64, f6
     let reference =
         ReferenceShading::new(&scene, &inputs, w, h).with_environment_visibility(bvh, 24);
     let measure = |name: &str, settings: RendererSettings, seeds: u32| {
-        against_reference(&scene, &reference, (w, h), name, settings, seeds)
+        let against = against_reference(&scene, &reference, (w, h), name, settings, seeds);
+        (against.mean, against.magnitude)
     };
     let label = if lambert { "Lambertian" } else { "as built" };
     let none = measure(&format!("{label}, no occlusion"), settings(false), 1);
@@ -546,10 +547,21 @@ fn resting_against_reference(lambert: bool) -> ((f64, f64), (f64, f64), (f64, f6
     (none, screen, traced)
 }
 
+/// How far a frame is from its reference ([`against_reference`]).
+struct Against {
+    /// The signed mean of the per-pixel relative errors.
+    mean: f64,
+    /// The mean of their magnitudes.
+    magnitude: f64,
+    /// The relative error of the mean radiance (what scenes with black pixels, where a
+    /// relative error has no meaning, are measured by).
+    of_mean: f64,
+}
+
 /// `scene` (lit by its environment alone) rendered at `size` with `settings`, the mean
 /// of the frames of `seeds` sample seeds, against `reference` (made for that frame) at
-/// every 4th pixel, the channels summed (a blue plastic's green alone is near black):
-/// (signed mean, mean magnitude) of the relative error, printed under `name`.
+/// every 4th pixel, the channels summed (a blue plastic's green alone is near black),
+/// printed under `name`.
 fn against_reference(
     scene: &Scene,
     reference: &combustion::renderer::reference::ReferenceShading,
@@ -557,41 +569,29 @@ fn against_reference(
     name: &str,
     settings: RendererSettings,
     seeds: u32,
-) -> (f64, f64) {
+) -> Against {
     let pairs = radiance_pairs(scene, reference, size, settings, seeds);
+    let n = pairs.len() as f64;
     let errors: Vec<f64> = pairs
         .iter()
         .map(|(gpu, exact)| (gpu - exact) / exact)
         .collect();
-    let n = errors.len() as f64;
     let mean = errors.iter().sum::<f64>() / n;
-    let abs = errors.iter().map(|e| e.abs()).sum::<f64>() / n;
-    println!("{name}: {n} pixels, mean relative error {mean:+.4}, mean |relative error| {abs:.4}");
-    (mean, abs)
-}
-
-/// As [`against_reference`], for scenes with black pixels (where a relative error has
-/// no meaning): the relative error of the mean radiance over the compared pixels.
-fn mean_against_reference(
-    scene: &Scene,
-    reference: &combustion::renderer::reference::ReferenceShading,
-    size: (u32, u32),
-    name: &str,
-    settings: RendererSettings,
-    seeds: u32,
-) -> f64 {
-    let pairs = radiance_pairs(scene, reference, size, settings, seeds);
+    let magnitude = errors.iter().map(|e| e.abs()).sum::<f64>() / n;
     let (gpu, exact) = pairs
         .iter()
         .fold((0.0, 0.0), |(g, e), (gpu, exact)| (g + gpu, e + exact));
-    let error = (gpu - exact) / exact;
+    let of_mean = (gpu - exact) / exact;
     println!(
-        "{name}: {} pixels, mean radiance {:.4} against {:.4}: relative error {error:+.4}",
-        pairs.len(),
-        gpu / pairs.len() as f64,
-        exact / pairs.len() as f64
+        "{name}: {n} pixels, mean relative error {mean:+.4}, mean |relative error| {magnitude:.4}; mean radiance {:.4} against {:.4}: {of_mean:+.4}",
+        gpu / n,
+        exact / n
     );
-    error
+    Against {
+        mean,
+        magnitude,
+        of_mean,
+    }
 }
 
 /// The (frame, reference) radiance pairs of [`against_reference`], the channels summed.
@@ -660,7 +660,7 @@ fn a_room_is_lit_through_its_window_alone() {
     let reference =
         ReferenceShading::new(&scene, &inputs, w, h).with_environment_visibility(bvh, 24);
     let measure = |name: &str, settings: RendererSettings, seeds: u32| {
-        mean_against_reference(&scene, &reference, (w, h), name, settings, seeds)
+        against_reference(&scene, &reference, (w, h), name, settings, seeds).of_mean
     };
     let none = measure("room, no occlusion", settings(false), 1);
     let screen = measure("room, screen-space", settings(true), 1);
@@ -699,14 +699,15 @@ fn cut_outs_let_the_environment_through_their_holes() {
     let inputs = crate::common::frame_inputs(&scene, &[]);
     let reference =
         ReferenceShading::new(&scene, &inputs, w, h).with_environment_visibility(bvh, 24);
-    let (traced, _) = against_reference(
+    let traced = against_reference(
         &scene,
         &reference,
         (w, h),
         "cut-outs, ray-traced, 8 seeds",
         with_pass("ray-traced-occlusion", true),
         8,
-    );
+    )
+    .mean;
     assert!(traced.abs() < 0.01, "mean relative error {traced:+.4}");
 }
 
@@ -732,22 +733,24 @@ fn the_sampled_environment_converges_with_the_scene_in_the_way() {
         settings.shading.environment_samples = 64;
         settings
     };
-    let (traced, _) = against_reference(
+    let traced = against_reference(
         &scene,
         &reference,
         (w, h),
         "sampled, traced directions, 8 seeds",
         sampled(true),
         8,
-    );
-    let (untraced, _) = against_reference(
+    )
+    .mean;
+    let untraced = against_reference(
         &scene,
         &reference,
         (w, h),
         "sampled, no visibility, 8 seeds",
         sampled(false),
         8,
-    );
+    )
+    .mean;
     assert!(
         traced.abs() < 0.01,
         "traced: mean relative error {traced:+.4}"
@@ -934,7 +937,9 @@ fn traced_occlusion_against_the_rendering_equation() {
     let bvh = std::sync::Arc::new(combustion::reference::SceneBvh::shadow_casters(&scene));
     let inputs = crate::common::frame_inputs(&scene, &[]);
     let reference = ReferenceShading::new(&scene, &inputs, w, h).with_traced_environment(bvh, 24);
-    let (mean, magnitude) = against_reference(
+    let Against {
+        mean, magnitude, ..
+    } = against_reference(
         &scene,
         &reference,
         (w, h),

@@ -767,24 +767,10 @@ fn a_sun_with_a_size_casts_soft_shadows_closer_to_the_exact_ones() {
     let soft_view = shadow_factors(&soft, settings);
     let hard_view = shadow_factors(&hard, settings);
     let (mut soft_error, mut hard_error, mut penumbra) = (0.0, 0.0, 0);
-    for y in 0..H {
-        for x in 0..W {
-            let Some(p) = floor_point(&camera, x, y) else {
-                continue;
-            };
-            if sphere_covers_pixel(&camera, x, y, centre, 0.52) {
-                continue;
-            }
-            let exact =
-                bvh.light_visible_fraction(p.to_array(), [0.0, 1.0, 0.0], &soft.lights[0], 16);
-            if exact <= 0.0 || exact >= 1.0 {
-                continue;
-            }
-            penumbra += 1;
-            let i = (y * W + x) as usize;
-            soft_error += (f64::from(soft_view.ldr[i][0]) / 255.0 - exact).abs();
-            hard_error += (f64::from(hard_view.ldr[i][0]) / 255.0 - exact).abs();
-        }
+    for (i, exact) in penumbra_pixels(&camera, centre, &bvh, &soft.lights[0]) {
+        penumbra += 1;
+        soft_error += (f64::from(soft_view.ldr[i][0]) / 255.0 - exact).abs();
+        hard_error += (f64::from(hard_view.ldr[i][0]) / 255.0 - exact).abs();
     }
     let (soft_error, hard_error) = (soft_error / penumbra as f64, hard_error / penumbra as f64);
     eprintln!(
@@ -1213,6 +1199,33 @@ fn deformed_casters_are_traced_in_their_posed_shape() {
     }
 }
 
+/// The floor pixels (index, exact visible fraction of `light`, 16² rays) in the penumbra
+/// of the sphere at `centre` (radius 0.5) seen by `camera`: where the fraction lies
+/// strictly between 0 and 1, the sphere itself not covering the pixel.
+fn penumbra_pixels(
+    camera: &Camera,
+    centre: DVec3,
+    bvh: &combustion::reference::SceneBvh,
+    light: &Light,
+) -> Vec<(usize, f64)> {
+    let mut pixels = Vec::new();
+    for y in 0..H {
+        for x in 0..W {
+            let Some(p) = floor_point(camera, x, y) else {
+                continue;
+            };
+            if sphere_covers_pixel(camera, x, y, centre, 0.52) {
+                continue;
+            }
+            let exact = bvh.light_visible_fraction(p.to_array(), [0.0, 1.0, 0.0], light, 16);
+            if exact > 0.0 && exact < 1.0 {
+                pixels.push(((y * W + x) as usize, exact));
+            }
+        }
+    }
+    pixels
+}
+
 /// Ray-traced shadows of lights with a size are soft, and match the f64 reference's
 /// visible fraction of the light (16² stratified rays over the same disc) within the
 /// noise of their 15 rays a pixel: a sphere over a floor in a sun of 3° and under a
@@ -1262,27 +1275,13 @@ fn ray_traced_shadows_of_lights_with_a_size_are_their_visible_fraction() {
         let (soft_view, hard_view) = (traced(&soft), traced(&sized(false, point)));
         let (mut soft_error, mut hard_error, mut penumbra) = (0.0, 0.0, 0);
         let (mut bias, mut noise) = (0.0, 0.0);
-        for y in 0..H {
-            for x in 0..W {
-                let Some(p) = floor_point(&camera, x, y) else {
-                    continue;
-                };
-                if sphere_covers_pixel(&camera, x, y, centre, 0.52) {
-                    continue;
-                }
-                let exact =
-                    bvh.light_visible_fraction(p.to_array(), [0.0, 1.0, 0.0], &soft.lights[0], 16);
-                if exact <= 0.0 || exact >= 1.0 {
-                    continue;
-                }
-                penumbra += 1;
-                let i = (y * W + x) as usize;
-                let factor = |view: &Frame| f64::from(view.ldr[i][0]) / 255.0;
-                soft_error += (factor(&soft_view) - exact).abs();
-                hard_error += (factor(&hard_view) - exact).abs();
-                bias += factor(&soft_view) - exact;
-                noise += (exact * (1.0 - exact) / 15.0).sqrt();
-            }
+        for (i, exact) in penumbra_pixels(&camera, centre, &bvh, &soft.lights[0]) {
+            penumbra += 1;
+            let factor = |view: &Frame| f64::from(view.ldr[i][0]) / 255.0;
+            soft_error += (factor(&soft_view) - exact).abs();
+            hard_error += (factor(&hard_view) - exact).abs();
+            bias += factor(&soft_view) - exact;
+            noise += (exact * (1.0 - exact) / 15.0).sqrt();
         }
         let n = penumbra as f64;
         let (soft_error, hard_error, bias, noise) =

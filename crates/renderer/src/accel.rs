@@ -348,33 +348,8 @@ impl MeshStructures {
             kept.push(index_buffer);
             let geometry =
                 triangle_geometry(positions_at, indices_at, mesh.vertices.len() as u32 - 1);
-            let geometries = [geometry];
-            let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
-                .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
-                .flags(MESH_BUILD)
-                .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
-                .geometries(&geometries);
-            let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
-            // SAFETY: valid build info.
-            unsafe {
-                functions.get_acceleration_structure_build_sizes(
-                    vk::AccelerationStructureBuildTypeKHR::DEVICE,
-                    &info,
-                    &[triangles],
-                    &mut sizes,
-                )
-            };
-            let structure = AccelerationStructure::new(
-                device,
-                vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
-                sizes.acceleration_structure_size,
-                "mesh acceleration structure",
-            )?;
-            let (scratch_buffer, scratch_at) = scratch(
-                device,
-                sizes.build_scratch_size,
-                "acceleration structure scratch",
-            )?;
+            let (structure, scratch_buffer, scratch_at) =
+                sized_bottom_level(device, geometry, MESH_BUILD, triangles, "mesh")?;
             kept.push(scratch_buffer);
             builds.push((
                 index,
@@ -392,11 +367,7 @@ impl MeshStructures {
             for &(index, positions_at, indices_at, max_vertex, triangles, scratch_at) in &builds {
                 let structure = per_mesh[index].as_ref().expect("built above");
                 let geometries = [triangle_geometry(positions_at, indices_at, max_vertex)];
-                let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
-                    .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
-                    .flags(MESH_BUILD)
-                    .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
-                    .geometries(&geometries)
+                let info = bottom_level_info(&geometries, MESH_BUILD)
                     .dst_acceleration_structure(structure.handle)
                     .scratch_data(vk::DeviceOrHostAddressKHR {
                         device_address: scratch_at,
@@ -427,6 +398,54 @@ impl MeshStructures {
     fn of(&self, index: usize) -> Option<&AccelerationStructure> {
         self.per_mesh.get(index).and_then(Option::as_ref)
     }
+}
+
+/// A bottom-level build of `geometries` with `flags` (no destination or scratch yet).
+fn bottom_level_info<'a>(
+    geometries: &'a [vk::AccelerationStructureGeometryKHR<'a>],
+    flags: vk::BuildAccelerationStructureFlagsKHR,
+) -> vk::AccelerationStructureBuildGeometryInfoKHR<'a> {
+    vk::AccelerationStructureBuildGeometryInfoKHR::default()
+        .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
+        .flags(flags)
+        .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+        .geometries(geometries)
+}
+
+/// A bottom-level structure sized for `triangles` of `geometry` built with `flags`, and
+/// scratch for that build (its buffer and aligned address); `what` names them.
+fn sized_bottom_level(
+    device: &Arc<Device>,
+    geometry: vk::AccelerationStructureGeometryKHR<'static>,
+    flags: vk::BuildAccelerationStructureFlagsKHR,
+    triangles: u32,
+    what: &str,
+) -> Result<(AccelerationStructure, Buffer, u64), RenderError> {
+    let functions = functions(device)?;
+    let geometries = [geometry];
+    let info = bottom_level_info(&geometries, flags);
+    let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
+    // SAFETY: valid build info.
+    unsafe {
+        functions.get_acceleration_structure_build_sizes(
+            vk::AccelerationStructureBuildTypeKHR::DEVICE,
+            &info,
+            &[triangles],
+            &mut sizes,
+        )
+    };
+    let structure = AccelerationStructure::new(
+        device,
+        vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
+        sizes.acceleration_structure_size,
+        &format!("{what} acceleration structure"),
+    )?;
+    let (buffer, at) = scratch(
+        device,
+        sizes.build_scratch_size,
+        &format!("{what} acceleration structure scratch"),
+    )?;
+    Ok((structure, buffer, at))
 }
 
 /// One triangle geometry of a bottom-level build: f32 positions, u32 indices, opaque.
@@ -610,7 +629,6 @@ impl DeformedStructure {
         deform: &crate::deform::SceneDeform,
         offset: u64,
     ) -> Result<Option<Self>, RenderError> {
-        let functions = functions(device)?;
         let mesh = &scene.meshes[scene.objects[object].mesh];
         let triangles = (mesh.indices.len() / 3) as u32;
         if mesh.topology != Topology::Triangles || triangles == 0 || mesh.vertices.is_empty() {
@@ -625,32 +643,13 @@ impl DeformedStructure {
         let indices_at = device.buffer_address(indices.raw());
         let vertices_at = device.buffer_address(deform.posed.raw()) + offset;
         let max_vertex = mesh.vertices.len() as u32 - 1;
-        let geometries = [posed_geometry(vertices_at, indices_at, max_vertex)];
-        let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
-            .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
-            .flags(DEFORMED_BUILD)
-            .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
-            .geometries(&geometries);
-        let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
-        // SAFETY: valid build info.
-        unsafe {
-            functions.get_acceleration_structure_build_sizes(
-                vk::AccelerationStructureBuildTypeKHR::DEVICE,
-                &info,
-                &[triangles],
-                &mut sizes,
-            )
-        };
-        let structure = AccelerationStructure::new(
+        let geometry = posed_geometry(vertices_at, indices_at, max_vertex);
+        let (structure, scratch_buffer, scratch_at) = sized_bottom_level(
             device,
-            vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
-            sizes.acceleration_structure_size,
-            "deformed acceleration structure",
-        )?;
-        let (scratch_buffer, scratch_at) = scratch(
-            device,
-            sizes.build_scratch_size,
-            "deformed acceleration structure scratch",
+            geometry,
+            DEFORMED_BUILD,
+            triangles,
+            "deformed object",
         )?;
         Ok(Some(Self {
             structure,
@@ -704,11 +703,7 @@ fn record_deformed_builds(
         .iter()
         .zip(&geometries)
         .map(|(d, geometry)| {
-            vk::AccelerationStructureBuildGeometryInfoKHR::default()
-                .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
-                .flags(DEFORMED_BUILD)
-                .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
-                .geometries(geometry)
+            bottom_level_info(geometry, DEFORMED_BUILD)
                 .dst_acceleration_structure(d.structure.handle)
                 .scratch_data(vk::DeviceOrHostAddressKHR {
                     device_address: d.scratch_at,

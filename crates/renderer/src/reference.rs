@@ -215,9 +215,20 @@ impl ReferenceShading {
         bvh: std::sync::Arc<SceneBvh>,
         rays_per_axis: u32,
     ) -> Self {
+        self.with_environment_blocked(bvh, rays_per_axis, false)
+    }
+
+    /// The environment blocked by `bvh`'s triangles, each sampled direction traced or
+    /// (`traced` false) the visibility applied as the split sum applies occlusion.
+    fn with_environment_blocked(
+        self,
+        bvh: std::sync::Arc<SceneBvh>,
+        rays_per_axis: u32,
+        traced: bool,
+    ) -> Self {
         Self {
             environment_visibility: Some((bvh, rays_per_axis.max(1))),
-            environment_traced: false,
+            environment_traced: traced,
             ..self
         }
     }
@@ -236,11 +247,7 @@ impl ReferenceShading {
         bvh: std::sync::Arc<SceneBvh>,
         rays_per_axis: u32,
     ) -> Self {
-        Self {
-            environment_visibility: Some((bvh, rays_per_axis.max(1))),
-            environment_traced: true,
-            ..self
-        }
+        self.with_environment_blocked(bvh, rays_per_axis, true)
     }
 
     /// Where the pixel at `p` (normal `n`) starts its environment visibility rays.

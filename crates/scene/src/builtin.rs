@@ -1400,22 +1400,7 @@ fn resting() -> Scene {
             Mesh::uv_sphere("sphere", radius, 64, 32),
             Mesh::cuboid("box", [side; 3]),
         ],
-        materials: vec![
-            Material {
-                name: "floor".into(),
-                base_color: [0.6, 0.6, 0.6],
-                roughness: 1.0,
-                dielectric_ior: 1.0,
-                ..Material::default()
-            },
-            Material {
-                name: "red plastic".into(),
-                base_color: [0.6, 0.05, 0.04],
-                roughness: 0.35,
-                ..Material::default()
-            },
-            blue_plastic(),
-        ],
+        materials: vec![lambertian_grey("floor", 0.6), red_plastic(), blue_plastic()],
         objects: vec![
             placed(0, 0, Mat4::IDENTITY),
             placed(1, 1, Mat4::from_translation(Vec3::new(-0.7, radius, 0.1))),
@@ -1523,21 +1508,7 @@ fn room() -> Scene {
     Scene {
         name: "room".into(),
         meshes,
-        materials: vec![
-            Material {
-                name: "plaster".into(),
-                base_color: [0.7, 0.7, 0.7],
-                roughness: 1.0,
-                dielectric_ior: 1.0,
-                ..Material::default()
-            },
-            Material {
-                name: "red plastic".into(),
-                base_color: [0.6, 0.05, 0.04],
-                roughness: 0.35,
-                ..Material::default()
-            },
-        ],
+        materials: vec![lambertian_grey("plaster", 0.7), red_plastic()],
         objects,
         lights: Vec::new(),
         camera: Camera {
@@ -1551,6 +1522,26 @@ fn room() -> Scene {
         outside_ior: 1.0,
         environment: Some(crate::Environment::Studio),
         motion: Default::default(),
+    }
+}
+
+/// A grey of albedo `albedo`, Lambertian alone (roughness 1, IOR 1: no specular lobe).
+fn lambertian_grey(name: &str, albedo: f32) -> Material {
+    Material {
+        name: name.into(),
+        base_color: [albedo; 3],
+        roughness: 1.0,
+        dielectric_ior: 1.0,
+        ..Material::default()
+    }
+}
+
+fn red_plastic() -> Material {
+    Material {
+        name: "red plastic".into(),
+        base_color: [0.6, 0.05, 0.04],
+        roughness: 0.35,
+        ..Material::default()
     }
 }
 
