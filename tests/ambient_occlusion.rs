@@ -572,18 +572,21 @@ fn against_reference(
 ) -> Against {
     let pairs = radiance_pairs(scene, reference, size, settings, seeds);
     let n = pairs.len() as f64;
+    // Per pixel where the reference is not black (a relative error has no meaning there).
     let errors: Vec<f64> = pairs
         .iter()
+        .filter(|(_, exact)| *exact > 0.0)
         .map(|(gpu, exact)| (gpu - exact) / exact)
         .collect();
-    let mean = errors.iter().sum::<f64>() / n;
-    let magnitude = errors.iter().map(|e| e.abs()).sum::<f64>() / n;
+    let lit = errors.len() as f64;
+    let mean = errors.iter().sum::<f64>() / lit;
+    let magnitude = errors.iter().map(|e| e.abs()).sum::<f64>() / lit;
     let (gpu, exact) = pairs
         .iter()
         .fold((0.0, 0.0), |(g, e), (gpu, exact)| (g + gpu, e + exact));
     let of_mean = (gpu - exact) / exact;
     println!(
-        "{name}: {n} pixels, mean relative error {mean:+.4}, mean |relative error| {magnitude:.4}; mean radiance {:.4} against {:.4}: {of_mean:+.4}",
+        "{name}: {n} pixels ({lit} not black in the reference), mean relative error {mean:+.4}, mean |relative error| {magnitude:.4}; mean radiance {:.4} against {:.4}: {of_mean:+.4}",
         gpu / n,
         exact / n
     );
