@@ -156,7 +156,8 @@ fn unknown_fresnel_model_or_hdr_format() {
 
 /// One option chooses how the scene blocks the environment: a way it does not have is a
 /// one-line error listing those it has; each way it has runs its pass (its timing printed)
-/// and none runs neither.
+/// and none runs neither; asked of a scene lit by no environment, it says there is
+/// nothing to block, in one warning line, and runs nothing.
 #[test]
 fn environment_occlusion_is_one_option_of_named_ways() {
     assert_refused(
@@ -201,7 +202,35 @@ fn environment_occlusion_is_one_option_of_named_ways() {
                 "{way}: {timings}"
             );
         }
+        assert!(!stderr.contains("nothing to block"), "{way}: {stderr}");
     }
+    let out = dir.join("unlit.png");
+    let (code, stdout, stderr) = combustion(&[
+        "render",
+        "builtin:spheres",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--environment-occlusion",
+        "gtao",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.contains("nothing to block"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{stderr}");
+    assert!(
+        warnings[0].contains(
+            "builtin:spheres: --environment-occlusion gtao: the scene is lit by no environment"
+        ),
+        "{}",
+        warnings[0]
+    );
+    assert!(!stdout.contains("ambient occlusion "), "{stdout}");
 }
 
 #[test]

@@ -1379,6 +1379,20 @@ pub(crate) fn loaded_as_asked(
             source.label()
         );
     }
+    if scene.environment.is_none() {
+        for pass in shading
+            .optional
+            .passes
+            .iter()
+            .filter(|p| p.needs_environment)
+        {
+            log::warn!(
+                "{}: {}: the scene is lit by no environment, so there is nothing to block (--environment studio lights it by one); frames are rendered without it",
+                source.label(),
+                pass.asked_as()
+            );
+        }
+    }
     Ok(scene)
 }
 

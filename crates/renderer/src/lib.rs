@@ -126,10 +126,7 @@ fn usable_options(device: &Device, options: ShadingOptions) -> ShadingOptions {
         .iter()
         .filter(|p| p.needs_ray_queries)
     {
-        let option = match pass.choice {
-            Some((choice, value)) => format!("--{} {value}", choice.name),
-            None => format!("--{} on", pass.name),
-        };
+        let option = pass.asked_as();
         log::warn!(
             "{} ({option}): the device has no ray queries; frames are rendered without it",
             pass.name

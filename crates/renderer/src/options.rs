@@ -93,6 +93,19 @@ pub struct OptionalPass {
     pub needs_ray_queries: bool,
     /// The choice it is one way of, and its value there (`None`: a switch of its own).
     pub choice: Option<(&'static PassChoice, &'static str)>,
+    /// It works on the environment's light: frames of a scene without an environment do
+    /// not run it (nothing to do), which the command line says.
+    pub needs_environment: bool,
+}
+
+impl OptionalPass {
+    /// How the command line asks for it: `--CHOICE VALUE`, or `--NAME on`.
+    pub fn asked_as(&self) -> String {
+        match self.choice {
+            Some((choice, value)) => format!("--{} {value}", choice.name),
+            None => format!("--{} on", self.name),
+        }
+    }
 }
 
 /// One job that several optional passes do different ways, chosen by one option
