@@ -807,13 +807,16 @@ fn an_edited_scene_is_traced_in_its_new_shape() {
 }
 
 /// The optional passes' images (screen-space and traced occlusion, traced shadows' light
-/// bits), their lighting bindings and the scenes' acceleration structures, alternated
-/// with frames that have none of them, each for longer than the retire delay, two
-/// rounds, validation on: scenes lit by an environment and not (the occlusion passes run
-/// only with one), the passes on and off. Every binding is written every frame (the
-/// placeholders where a pass did not run: `SetWriter::apply` checks it in debug builds),
-/// and each configuration renders the same bytes in its second round as in its first,
-/// after its images were retired and made again.
+/// bits), their lighting bindings (the traced scene and its cut-out tables, bound by the
+/// lighting pass for the sampled environment) and the scenes' acceleration structures
+/// (deformed objects' rebuilt each traced frame), alternated with frames that have none
+/// of them, each for longer than the retire delay, two rounds, validation on: scenes lit
+/// by an environment and not (the occlusion passes run only with one), the cut-out
+/// panels under the studio with the sampled environment traced, common's deformed
+/// spheres under the studio, the passes on and off. Every binding is written every frame
+/// (the placeholders where a pass did not run: `SetWriter::apply` checks it in debug
+/// builds), and each configuration renders the same bytes in its second round as in its
+/// first, after its images were retired and made again.
 #[test]
 fn optional_passes_alternate_past_the_retire_delay() {
     use crate::common::FRAMES_PAST_THE_RETIRE_DELAY;
@@ -827,34 +830,41 @@ fn optional_passes_alternate_past_the_retire_delay() {
     .fold(OptionalPasses::NONE, |set, pass| set.with(pass, true));
     let resting = combustion::scene::builtin_scene("resting").unwrap();
     let spot_box = combustion::scene::builtin_scene("spot-box").unwrap();
+    let cutouts_path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/cutout/cutout.gltf");
+    let mut cutouts = combustion::SceneSource::File(cutouts_path).load().unwrap();
+    cutouts.environment = Some(Environment::Studio);
+    let mut deformed = crate::common::deformed_spheres();
+    deformed.environment = Some(Environment::Studio);
     let mut settings = exact_f32();
     settings.shading.optional_passes = all;
     let mut headless = crate::common::lavapipe(settings);
     let (w, h) = (96, 64);
     {
         let renderer = headless.renderer();
-        let gpus = [
-            renderer.upload(&resting).expect("upload"),
-            renderer.upload(&spot_box).expect("upload"),
+        let gpus = [&resting, &spot_box, &cutouts, &deformed]
+            .map(|scene| renderer.upload(scene).expect("upload"));
+        // (scene, passes, environment samples)
+        let configurations = [
+            (0, all, 0),
+            (1, all, 0),
+            (0, OptionalPasses::NONE, 0),
+            (1, OptionalPasses::NONE, 0),
+            (2, all, 16),
+            (3, all, 0),
+            (2, OptionalPasses::NONE, 16),
         ];
-        let mut first: Vec<Option<Vec<[f32; 4]>>> = vec![None; 4];
-        let mut ran: Vec<Vec<&'static str>> = vec![Vec::new(); 4];
+        let mut first: Vec<Option<Vec<[f32; 4]>>> = vec![None; configurations.len()];
+        let mut ran: Vec<Vec<&'static str>> = vec![Vec::new(); configurations.len()];
         for round in 0..2 {
-            for (config, (scene, passes)) in [
-                (0, all),
-                (1, all),
-                (0, OptionalPasses::NONE),
-                (1, OptionalPasses::NONE),
-            ]
-            .into_iter()
-            .enumerate()
-            {
+            for (config, &(scene, passes, samples)) in configurations.iter().enumerate() {
                 let shading = combustion::renderer::ShadingOptions {
                     optional_passes: passes,
+                    environment_samples: samples,
                     ..renderer.shading()
                 };
                 renderer
-                    .set_shading(shading, &[&gpus[0], &gpus[1]])
+                    .set_shading(shading, &[&gpus[0], &gpus[1], &gpus[2], &gpus[3]])
                     .expect("set shading");
                 for _ in 0..FRAMES_PAST_THE_RETIRE_DELAY {
                     let frame = renderer.render(&gpus[scene], w, h, IMAGES).expect("frame");
@@ -877,7 +887,10 @@ fn optional_passes_alternate_past_the_retire_delay() {
         assert!(has(0, "ambient occlusion") && has(0, "ray-traced occlusion"));
         assert!(has(0, "ray-traced shadows") && has(1, "ray-traced shadows"));
         assert!(!has(1, "ambient occlusion") && !has(1, "ray-traced occlusion"));
-        for config in [2, 3] {
+        // The cut-outs' sampled environment and the deformed spheres trace too.
+        assert!(has(4, "ray-traced occlusion") && has(5, "ray-traced occlusion"));
+        assert!(has(5, "deform"), "{:?}", ran[5]);
+        for config in [2, 3, 6] {
             assert!(
                 !ran[config]
                     .iter()
