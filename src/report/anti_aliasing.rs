@@ -11,7 +11,7 @@ use combustion_renderer::{
 };
 
 use super::{flip_against_radiance, md_cell, time_frames_with, PassSpreads, ReportDesc, Spread};
-use crate::{check_validation, Error, Headless, HeadlessDesc};
+use crate::{check_validation, Error};
 
 /// The reference's samples per side: 4×4 a pixel.
 pub const REFERENCE_SUPERSAMPLE: u32 = 4;
@@ -66,10 +66,7 @@ pub(super) fn measure(
     mut progress: impl FnMut(&str),
 ) -> Result<Vec<AntiAliasingRow>, Error> {
     let mut rows = Vec::new();
-    let mut headless = Headless::new(&HeadlessDesc {
-        device: desc.device.clone(),
-        settings: RendererSettings::default(),
-    })?;
+    let mut headless = desc.headless(RendererSettings::default())?;
     let renderer = headless.renderer();
     let exposure = renderer.settings().exposure;
     let size = (desc.width, desc.height);

@@ -16,7 +16,7 @@ use combustion_scene::Environment;
 
 use super::{md_cell, time_frames_with, ReportDesc, Spread};
 use crate::end_to_end::relative;
-use crate::{check_validation, Error, Headless, HeadlessDesc};
+use crate::{check_validation, Error};
 
 /// The sample counts measured, one frame each (0, the split sum, is measured apart).
 pub const SAMPLE_COUNTS: [u32; 5] = [1, 4, 16, 64, 256];
@@ -118,10 +118,7 @@ pub(super) fn measure(
     mut progress: impl FnMut(&str),
 ) -> Result<Vec<EnvironmentSamplingRow>, Error> {
     let mut rows = Vec::new();
-    let mut headless = Headless::new(&HeadlessDesc {
-        device: desc.device.clone(),
-        settings: RendererSettings::default(),
-    })?;
+    let mut headless = desc.headless(RendererSettings::default())?;
     let renderer = headless.renderer();
     let size = (desc.width, desc.height);
     for (label, scene) in scenes.iter().filter(|(_, s)| s.environment.is_some()) {

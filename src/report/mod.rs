@@ -454,6 +454,14 @@ pub struct ReportDesc {
 }
 
 impl ReportDesc {
+    /// A headless renderer on the report's device with `settings`.
+    pub(crate) fn headless(&self, settings: RendererSettings) -> Result<Headless, Error> {
+        Headless::new(&HeadlessDesc {
+            device: self.device.clone(),
+            settings,
+        })
+    }
+
     /// The variant sets' rows alone, on `scenes` at `width` × `height` over `frames`
     /// frames: no floors, scaling, shadows, storages, anti-aliasing, sampled environment
     /// or studio-lit files (add them with struct update syntax).
@@ -644,12 +652,9 @@ pub fn measure(
         if sets.is_empty() {
             continue;
         }
-        let mut headless = Headless::new(&HeadlessDesc {
-            device: desc.device.clone(),
-            settings: RendererSettings {
-                hdr_format: hdr,
-                ..RendererSettings::default()
-            },
+        let mut headless = desc.headless(RendererSettings {
+            hdr_format: hdr,
+            ..RendererSettings::default()
         })?;
         let renderer = headless.renderer();
         device_name.clone_from(&renderer.device().info().name);

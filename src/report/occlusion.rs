@@ -18,7 +18,7 @@ use combustion_renderer::{
 
 use super::environment_sampling::{compare, integrate_with, mean_of_seeds};
 use super::{md_cell, time_frames_with, ReportDesc, Spread, ENVIRONMENT_SAMPLING};
-use crate::{check_validation, Error, Headless, HeadlessDesc};
+use crate::{check_validation, Error};
 
 /// Rays per axis of the reference's visibility at each compared pixel.
 pub const VISIBILITY_RAYS: u32 = 24;
@@ -86,10 +86,7 @@ pub(super) fn measure(
     mut progress: impl FnMut(&str),
 ) -> Result<Vec<OcclusionRow>, Error> {
     let mut rows = Vec::new();
-    let mut headless = Headless::new(&HeadlessDesc {
-        device: desc.device.clone(),
-        settings: RendererSettings::default(),
-    })?;
+    let mut headless = desc.headless(RendererSettings::default())?;
     let renderer = headless.renderer();
     let (width, height) = (desc.width, desc.height);
     for (label, scene) in scenes.iter().filter(|(_, s)| s.environment.is_some()) {

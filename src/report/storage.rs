@@ -15,7 +15,7 @@ use combustion_renderer::{
 
 use super::{md_cell, time_frames, PassSpreads, ReportDesc, Spread};
 use crate::end_to_end::{precision_of, EndToEndErrors, SceneReference};
-use crate::{check_validation, Error, Headless, HeadlessDesc};
+use crate::{check_validation, Error};
 
 /// Every storage, the default first.
 pub fn all_storages() -> Vec<GBufferStorage> {
@@ -81,12 +81,9 @@ pub(super) fn measure(
                     threads,
                 )),
             };
-            let mut headless = Headless::new(&HeadlessDesc {
-                device: desc.device.clone(),
-                settings: RendererSettings {
-                    gbuffer: storage,
-                    ..RendererSettings::default()
-                },
+            let mut headless = desc.headless(RendererSettings {
+                gbuffer: storage,
+                ..RendererSettings::default()
             })?;
             let renderer = headless.renderer();
             let gpu = renderer.upload(scene)?;

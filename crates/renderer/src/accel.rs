@@ -17,9 +17,10 @@
 //!
 //! Skinned and morphed objects ([`DeformedStructure`]) are traced in the shape the frame
 //! draws: each has a bottom-level structure of its own over the deform pass's posed
-//! vertices, rebuilt (a full build, preferring a fast build to a fast trace) in every
-//! traced frame before the top-level one — a frame's deform pass poses them anew, so
-//! every traced frame of a scene with deformed occluders pays for their builds.
+//! vertices, rebuilt (a full build, preferring a fast build to a fast trace) before the
+//! top-level one in each traced frame whose pose differs from the one they were last
+//! built in — frames in the same pose (a still scene at rest, a paused animation) do
+//! not pay for them.
 
 use std::sync::{Arc, Mutex};
 
@@ -615,7 +616,7 @@ struct DeformedStructure {
     scratch_at: u64,
 }
 
-/// Flags of the deformed objects' builds: rebuilt every traced frame.
+/// Flags of the deformed objects' builds: rebuilt whenever the pose changes.
 const DEFORMED_BUILD: vk::BuildAccelerationStructureFlagsKHR =
     vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_BUILD;
 
@@ -920,8 +921,11 @@ impl TopLevel {
 /// previous frame has completed).
 pub(crate) struct SceneStructure {
     meshes: MeshStructures,
-    /// Its skinned and morphed occluders' structures, rebuilt in every traced frame.
+    /// Its skinned and morphed occluders' structures, rebuilt when the pose changes.
     deformed: Vec<DeformedStructure>,
+    /// The pose (a frame's `Placement::key`) the deformed objects' structures were last
+    /// built in: frames in the same pose find them built.
+    deformed_pose: Mutex<Option<u64>>,
     /// What the rays can hit, chosen once per scene: each object that casts shadows and
     /// is neither blended nor transmissive, with the address of its bottom-level
     /// structure (its mesh's, or its own when it is deformed) and, for a cut-out, its
@@ -1003,6 +1007,7 @@ impl SceneStructure {
         Ok(Self {
             meshes,
             deformed,
+            deformed_pose: Mutex::new(None),
             occluders,
             cutouts,
             per_slot,
@@ -1041,8 +1046,9 @@ impl SceneStructure {
     }
 
     /// Records the builds of the deformed objects' structures (from the posed vertices
-    /// the frame's deform pass wrote) and of slot `slot`'s top-level structure over the
-    /// scene's occluders, each placed by `transform` (an object's world transform this
+    /// the frame's deform pass wrote; only when `pose`, the frame's pose digest, differs
+    /// from the one they were last built in) and of slot `slot`'s top-level structure over
+    /// the scene's occluders, each placed by `transform` (an object's world transform this
     /// frame), then a barrier that makes it visible to ray queries — once per frame
     /// (`frame`: the frame's number; a second pass of the same frame finds it built);
     /// returns the structure. The slot's previous frame must have completed (its
@@ -1051,8 +1057,7 @@ impl SceneStructure {
         &self,
         device: &Device,
         cmd: vk::CommandBuffer,
-        slot: usize,
-        frame: u64,
+        (slot, frame, pose): (usize, u64, u64),
         transform: impl Fn(usize) -> glam::Mat4,
     ) -> vk::AccelerationStructureKHR {
         let functions = device
@@ -1065,7 +1070,11 @@ impl SceneStructure {
             return top.handle();
         }
         top.built_for = frame;
-        record_deformed_builds(device, functions, cmd, &self.deformed);
+        let mut deformed_pose = self.deformed_pose.lock().unwrap_or_else(|p| p.into_inner());
+        if *deformed_pose != Some(pose) {
+            record_deformed_builds(device, functions, cmd, &self.deformed);
+            *deformed_pose = Some(pose);
+        }
         let instances: Vec<vk::AccelerationStructureInstanceKHR> = self
             .occluders
             .iter()

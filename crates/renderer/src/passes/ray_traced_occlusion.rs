@@ -91,11 +91,6 @@ push_block! {
     }
 }
 
-/// Where each object is this frame (the traced passes' instances).
-pub(super) fn placed<'a>(frame: &'a FrameContext<'_>) -> impl Fn(usize) -> glam::Mat4 + 'a {
-    move |object| frame.placement.transform(frame.scene, object)
-}
-
 /// Its shader over the frame's pixels, its set and its image.
 const PER_PIXEL: PerPixel = PerPixel {
     name: "ray-traced occlusion",
@@ -166,19 +161,8 @@ impl FramePass for RayTracedOcclusion {
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        super::traced::record_build(frame, cmd);
         let scene = frame.scene;
-        let structures = scene
-            .gpu
-            .structures
-            .get()
-            .expect("frames that trace have their scene's structures");
-        structures.record_build(
-            frame.device,
-            cmd,
-            frame.slot.index,
-            frame.number,
-            placed(frame),
-        );
         if frame.variant.environment_samples > 0 {
             // The sampled environment traces its own directions in the lighting pass:
             // the structure is all it needs of this pass.

@@ -163,19 +163,7 @@ impl FramePass for RayTracedShadows {
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let scene = frame.scene;
-        let structures = scene
-            .gpu
-            .structures
-            .get()
-            .expect("frames that trace have their scene's structures");
-        structures.record_build(
-            frame.device,
-            cmd,
-            frame.slot.index,
-            frame.number,
-            super::ray_traced_occlusion::placed(frame),
-        );
+        super::traced::record_build(frame, cmd);
         let lights = frame.inputs.lights.len().min(MAX_LIGHTS);
         let casting = frame.inputs.lights[..lights]
             .iter()

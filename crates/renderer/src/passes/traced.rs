@@ -60,6 +60,22 @@ pub(super) const fn bindings(
     }
 }
 
+/// Records the build of the frame's traced scene (its deformed objects' structures and
+/// its slot's top level, each object where the frame places it), once per frame: the
+/// first traced pass of a frame builds it, the others find it built.
+pub(super) fn record_build(frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+    let structures = frame
+        .scene
+        .gpu
+        .structures
+        .get()
+        .expect("frames that trace have their scene's structures");
+    let when = (frame.slot.index, frame.number, frame.placement.key);
+    structures.record_build(frame.device, cmd, when, |object| {
+        frame.placement.transform(frame.scene, object)
+    });
+}
+
 /// `io` with the frame's traced scene bound: its slot's top-level structure (built by
 /// the frame's first traced pass) and its cut-outs' tables.
 pub(super) fn scene(io: PassIo, frame: &FrameContext<'_>) -> PassIo {
