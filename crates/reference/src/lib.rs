@@ -45,6 +45,7 @@
 
 mod bvh;
 mod cutout;
+pub mod path;
 pub mod pose;
 pub mod primary;
 pub mod shading;

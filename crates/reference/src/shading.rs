@@ -852,8 +852,29 @@ impl<'a> SceneShading<'a> {
     /// What `surface` reflects and emits: its emission, each light's f(v, l) E (n·l)
     /// (times visibility) and the environment's integral.
     fn reflected(&self, surface: &SurfacePoint) -> [f64; 3] {
-        let position = DVec3::from(surface.hit.position);
         let mut radiance = surface.emitted;
+        let direct = self.direct_light(surface, self.visibility);
+        for (r, d) in radiance.iter_mut().zip(direct) {
+            *r += d;
+        }
+        if let Some(estimate) = self.environment_estimate(surface) {
+            for (r, e) in radiance.iter_mut().zip(estimate.mean) {
+                *r += e;
+            }
+        }
+        radiance
+    }
+
+    /// What `surface` reflects of the scene's lights: each light's f(v, l) E (n·l), times
+    /// its exact visibility through `casters` ([`SceneBvh::light_visible_fraction`] with
+    /// [`SIZED_LIGHT_SAMPLES`]² rays for a light with a size) where they are given.
+    pub(crate) fn direct_light(
+        &self,
+        surface: &SurfacePoint,
+        casters: Option<&SceneBvh>,
+    ) -> [f64; 3] {
+        let position = DVec3::from(surface.hit.position);
+        let mut radiance = [0.0; 3];
         let layered = layers_view(
             &surface.layers,
             optics_vec(surface.n),
@@ -868,7 +889,7 @@ impl<'a> SceneShading<'a> {
             if !faces_light || irradiance.iter().all(|&e| e <= 0.0) {
                 continue;
             }
-            let visible = match self.visibility {
+            let visible = match casters {
                 Some(casters) => casters.light_visible_fraction(
                     surface.hit.position,
                     surface.n.to_array(),
@@ -893,11 +914,6 @@ impl<'a> SceneShading<'a> {
             let reflected = layered_radiance(&layered, f, cos, optics_vec(l));
             for c in 0..3 {
                 radiance[c] += reflected[c] * irradiance[c] * visible;
-            }
-        }
-        if let Some(estimate) = self.environment_estimate(surface) {
-            for (r, e) in radiance.iter_mut().zip(estimate.mean) {
-                *r += e;
             }
         }
         radiance

@@ -6,5 +6,6 @@
 mod common;
 
 mod hierarchy;
+mod path;
 mod pose;
 mod visibility;

@@ -30,6 +30,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "normal-mapped",
     "resting",
     "room",
+    "cornell-box",
 ];
 
 /// Builds the built-in scene `name` (one of [`BUILTIN_SCENES`]), procedurally, needing no
@@ -84,6 +85,14 @@ pub const BUILTIN_SCENES: &[&str] = &[
 ///   inside: lit by the studio environment alone, which only the window lets in — without
 ///   occlusion the walls glow as if there were none (docs/occlusion.md).
 ///
+/// - `cornell-box`: a closed box (2 m a side inside) with a red wall on the left, a green
+///   one on the right and the rest white Lambertian, a white block and a gold sphere on
+///   its floor, lit by a small emissive square under the ceiling and a point light
+///   below it; the camera inside, by the front wall. Light that bounces: the walls tint
+///   the floor and the block, the gold sphere reflects them, and the emissive square
+///   lights the box only by what a path tracer finds (the real-time frame sees only
+///   its glow).
+///
 /// An unknown name is [`SceneError::UnknownBuiltin`], which lists the known ones.
 pub fn builtin_scene(name: &str) -> Result<Scene, SceneError> {
     builtin_scene_with(name, MetalColour::Bands)
@@ -114,6 +123,7 @@ pub fn builtin_scene_with(name: &str, colour: MetalColour) -> Result<Scene, Scen
         "normal-mapped" => Ok(normal_mapped(colour)),
         "resting" => Ok(resting()),
         "room" => Ok(room()),
+        "cornell-box" => Ok(cornell_box(colour)),
         "spheres-studio" => Ok(under_studio(spheres(colour), "spheres-studio")),
         "gold-copper-underwater" => Ok(under_studio(
             Scene {
@@ -1521,6 +1531,112 @@ fn room() -> Scene {
         },
         outside_ior: 1.0,
         environment: Some(crate::Environment::Studio),
+        motion: Default::default(),
+    }
+}
+
+/// The box of [`builtin_scene`]'s `cornell-box`: six 0.1 m slabs around a 2 m cube of
+/// air (its floor at y = 0, centred on the y axis), an emissive square of 0.5 m just
+/// under the ceiling's centre, a point light 0.3 m below it, a white block (0.5 × 0.9 ×
+/// 0.5 m, turned 20°) at the back left and a gold sphere (radius 0.3 m) at the right; the camera at the front wall, looking at the back one.
+fn cornell_box(colour: MetalColour) -> Scene {
+    let (size, t) = (2.0f32, 0.1f32);
+    let white = lambertian_grey("white", 0.75);
+    let red = Material {
+        name: "red".into(),
+        base_color: [0.63, 0.065, 0.05],
+        ..lambertian_grey("red", 0.0)
+    };
+    let green = Material {
+        name: "green".into(),
+        base_color: [0.14, 0.45, 0.091],
+        ..lambertian_grey("green", 0.0)
+    };
+    let lamp = Material {
+        name: "lamp".into(),
+        emissive_factor: [1.0; 3],
+        emissive_strength: 12.0,
+        ..lambertian_grey("lamp", 0.75)
+    };
+    let gold = Material {
+        roughness: 0.2,
+        ..metal_material("gold", combustion_spectra::BuiltinMetal::Gold, colour)
+    };
+    let mut meshes = Vec::new();
+    let mut objects = Vec::new();
+    let mut place = |mesh: Mesh, material: usize, transform: Mat4| {
+        meshes.push(mesh);
+        objects.push(Object {
+            mesh: meshes.len() - 1,
+            material,
+            transform,
+            casts_shadows: true,
+            node: None,
+        });
+    };
+    let outer = size + 2.0 * t;
+    let half = size / 2.0;
+    let slab = |name: &str, extent: [f32; 3]| Mesh::cuboid(name, extent);
+    let at = |x: f32, y: f32, z: f32| Mat4::from_translation(Vec3::new(x, y, z));
+    place(slab("floor", [outer, t, outer]), 0, at(0.0, -t / 2.0, 0.0));
+    place(
+        slab("ceiling", [outer, t, outer]),
+        0,
+        at(0.0, size + t / 2.0, 0.0),
+    );
+    place(
+        slab("back wall", [size, size, t]),
+        0,
+        at(0.0, half, -half - t / 2.0),
+    );
+    place(
+        slab("front wall", [size, size, t]),
+        0,
+        at(0.0, half, half + t / 2.0),
+    );
+    place(
+        slab("left wall", [t, size, outer]),
+        1,
+        at(-half - t / 2.0, half, 0.0),
+    );
+    place(
+        slab("right wall", [t, size, outer]),
+        2,
+        at(half + t / 2.0, half, 0.0),
+    );
+    place(slab("lamp", [0.5, 0.02, 0.5]), 3, at(0.0, size - 0.01, 0.0));
+    place(
+        slab("block", [0.5, 0.9, 0.5]),
+        0,
+        at(-0.45, 0.45, -0.55) * Mat4::from_rotation_y(20f32.to_radians()),
+    );
+    place(
+        Mesh::uv_sphere("sphere", 0.3, 64, 32),
+        4,
+        at(0.45, 0.3, -0.35),
+    );
+    Scene {
+        name: "cornell-box".into(),
+        meshes,
+        materials: vec![white, red, green, lamp, gold],
+        objects,
+        lights: vec![Light::Point {
+            position: Vec3::new(0.0, size - 0.3, 0.0),
+            intensity: [1.5; 3],
+            range: None,
+            casts_shadows: true,
+            radius: 0.0,
+        }],
+        camera: Camera {
+            position: Vec3::new(0.0, 1.0, half - 0.05),
+            target: Vec3::new(0.0, 0.85, -half),
+            up: Vec3::Y,
+            vertical_fov: 75f32.to_radians(),
+            near: 0.02,
+            far: 20.0,
+        },
+        outside_ior: 1.0,
+        environment: None,
         motion: Default::default(),
     }
 }
