@@ -32,29 +32,48 @@
 //!   probability α, else passed), or escapes to the environment, whose radiance it then
 //!   adds (the environment is found by the bounces' own sampling, like emitters).
 //! - **Ends** after [`PathTracing::max_depth`] surfaces have been lit (1: direct light
-//!   alone, the one-bounce reference with the environment traced), or earlier by Russian
+//!   alone — the lights, and the emitters and environment the last surface's sampled
+//!   direction finds: the one-bounce reference with the environment traced), or earlier by Russian
 //!   roulette from the [`ROULETTE_START`]th surface on: the path goes on with
 //!   probability q = min(0.95, max channel of its throughput) and its throughput is
 //!   divided by q, which keeps the estimate unbiased.
 //!
+//! - **Passes through** a transmissive surface (KHR_materials_transmission) with
+//!   probability ½ (else it samples the reflection, whose diffuse share is then
+//!   1 − transmission), weighted by (1 − metalness) · transmission · base colour and what
+//!   a coat or sheen lets out, by the rules of the one-bounce reference's transmission
+//!   (crate::transmission), each polarisation's Fresnel term mixed by the material's
+//!   polarisation weight at every interface:
+//!   - a thin wall (no volume) passes (1 − R)/(1 + R) of the light, straight through
+//!     where it is smooth; a rough one's direction is drawn from the spread of its two
+//!     rough interfaces by rejection (the one-bounce reference integrates the same
+//!     spread);
+//!   - a volume (KHR_materials_volume) takes the entry's transmittance, refracts into
+//!     the medium (η_outside/η_material), is absorbed on its way (Beer–Lambert), and at
+//!     every interface it meets inside (whichever object's) leaves or is reflected back
+//!     with the Fresnel equations' probabilities (always reflected past the critical
+//!     angle), for up to [`VOLUME_INTERFACES`]; where it leaves, the path goes on. A
+//!     rough volume's interfaces refract about the shading normal, as the one-bounce
+//!     reference's do.
+//!
 //! glTF occlusion textures are not applied: the path meets the geometry they stand for.
-//! Light through transmissive surfaces (KHR_materials_transmission, volume) is followed
-//! as the one-bounce reference follows it (`crate::transmission`: refracted exactly,
-//! what lies beyond shaded by its direct light and environment); only their reflection
-//! bounces. Deterministic: the same settings give the same estimates.
+//! Shadow rays pass blended and transmissive objects, as the renderer's shadows do (they
+//! cast none); paths that reach a light through glass do so by their bounces only
+//! where the light is found by sampling (emitters, the environment). Deterministic: the
+//! same settings give the same estimates.
 
 use combustion_optics::brdf::{brdf_evaluate_view, brdf_view_layered, BrdfView};
 use combustion_optics::environment::{
     pdf_ggx_vndf_reflection, sample_cosine, sample_ggx_vndf, Estimate, SplitMix64,
 };
 use combustion_optics::layers::{layered_radiance, layers_view, LayersView};
-use combustion_optics::microfacet::clamp_alpha;
+use combustion_optics::microfacet::{clamp_alpha, lambda_ggx_anisotropic};
 use combustion_optics::vec3::{ShadingFrame, Vec3 as OpticsVec3};
 use glam::DVec3;
 
 use crate::primary::{next_seen, per_pixel, seen_surface};
 use crate::shading::{SceneShading, SurfacePoint};
-use crate::transmission::TRANSMISSION_DEPTH;
+use crate::transmission::{crossing, facing, refract, refract_local};
 use crate::visibility::surface_offset;
 use crate::{Ray, SceneBvh};
 
@@ -64,6 +83,18 @@ pub const ROULETTE_START: u32 = 3;
 
 /// The largest survival probability Russian roulette gives a path.
 const ROULETTE_MAX: f64 = 0.95;
+
+/// The probability with which a path at a transmissive surface passes through it rather
+/// than sampling its reflection.
+const TRANSMISSION_CHOICE: f64 = 0.5;
+
+/// The most interfaces a path crosses or is reflected at inside one volume before it is
+/// dropped (its light lost).
+pub const VOLUME_INTERFACES: u32 = 64;
+
+/// The most directions drawn for a rough thin wall's spread before the path is sent
+/// straight through (see [`PathTracer`]'s module docs).
+const THIN_WALL_DRAWS: u32 = 64;
 
 /// How a path-traced frame is sampled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -318,43 +349,57 @@ impl<'s, 'a> PathTracer<'s, 'a> {
                 break;
             }
             add(&mut radiance, &throughput, surface.emitted);
-            // A transmissive surface reflects with the diffuse share 1 − transmission;
-            // what passes through it is followed as the one-bounce reference does.
+            // A transmissive surface reflects with the diffuse share 1 − transmission; the
+            // rest of what is not reflected passes through it (sampled with probability
+            // ½ against the reflection).
             let mut reflecting = surface;
+            let mut transmits = 0.0;
             if material.is_transmissive() {
                 reflecting.brdf.base_color = surface
                     .brdf
                     .base_color
                     .map(|c| c * (1.0 - surface.transmission));
-                let through = self
-                    .shading
-                    .transmitted(&surface, material, TRANSMISSION_DEPTH - 1);
-                let out = layers_view(&surface.layers, optics(surface.n), optics(surface.v))
-                    .through_layers_v();
-                let weight = (1.0 - surface.brdf.metalness) * surface.transmission * out;
-                let passed =
-                    std::array::from_fn(|c| weight * surface.brdf.base_color[c] * through[c]);
-                add(&mut radiance, &throughput, passed);
+                transmits = (1.0 - surface.brdf.metalness) * surface.transmission;
             }
             add(
                 &mut radiance,
                 &throughput,
                 self.shading.direct_light(&reflecting, Some(self.casters)),
             );
-            if depth == self.tracing.max_depth {
-                break;
-            }
-            // Bounce.
-            let Some(reflection) = Reflection::of(&reflecting) else {
-                break;
+            // The last surface still samples a direction: what that finds (an emitter,
+            // the environment) is its direct light; only what would be lit beyond is not.
+            let last = depth == self.tracing.max_depth;
+            let through = transmits > 0.0 && random.next_f64() < TRANSMISSION_CHOICE;
+            let (origin, direction) = if through {
+                let Some((origin, direction, weight)) = self.transmit(&surface, material, random)
+                else {
+                    break;
+                };
+                let out = layers_view(&surface.layers, optics(surface.n), optics(surface.v))
+                    .through_layers_v();
+                for c in 0..3 {
+                    throughput[c] *= weight[c] * transmits * out * surface.brdf.base_color[c]
+                        / TRANSMISSION_CHOICE;
+                }
+                (origin, direction)
+            } else {
+                let Some(reflection) = Reflection::of(&reflecting) else {
+                    break;
+                };
+                let Some((direction, weight)) = reflection.sample(&reflecting.brdf, random) else {
+                    break;
+                };
+                let chosen = if transmits > 0.0 {
+                    1.0 - TRANSMISSION_CHOICE
+                } else {
+                    1.0
+                };
+                for c in 0..3 {
+                    throughput[c] *= weight[c] / chosen;
+                }
+                (DVec3::from(surface.hit.position), direction)
             };
-            let Some((direction, weight)) = reflection.sample(&reflecting.brdf, random) else {
-                break;
-            };
-            for c in 0..3 {
-                throughput[c] *= weight[c];
-            }
-            if depth >= ROULETTE_START {
+            if depth >= ROULETTE_START && !last {
                 let q = throughput
                     .iter()
                     .fold(0.0f64, |m, &t| m.max(t))
@@ -364,8 +409,15 @@ impl<'s, 'a> PathTracer<'s, 'a> {
                 }
                 throughput = throughput.map(|t| t / q);
             }
-            let origin = DVec3::from(surface.hit.position);
             match self.next_surface(origin, direction, random) {
+                Some(next) if last => {
+                    let shown = match self.material(&next) {
+                        Some(m) if m.unlit => next.brdf.base_color,
+                        _ => next.emitted,
+                    };
+                    add(&mut radiance, &throughput, shown);
+                    break;
+                }
                 Some(next) => surface = next,
                 None => {
                     if let Some(environment) = &self.shading.scene.environment {
@@ -380,6 +432,165 @@ impl<'s, 'a> PathTracer<'s, 'a> {
             }
         }
         radiance
+    }
+
+    /// A path through transmissive `surface` (of `material`) from its viewer: where it
+    /// goes on from (the surface, or where it leaves the object's volume), its direction,
+    /// and the share of light it carries through the interfaces (before the weight
+    /// (1 − metalness) · transmission · base colour). `None` where it is lost.
+    fn transmit(
+        &self,
+        surface: &SurfacePoint,
+        material: &combustion_scene::Material,
+        random: &mut SplitMix64,
+    ) -> Option<(DVec3, DVec3, [f64; 3])> {
+        let v = surface.v;
+        let n = facing(surface.n, v);
+        let position = DVec3::from(surface.hit.position);
+        let (eta_i, eta_t) = (surface.brdf.outside_eta, surface.brdf.dielectric_eta);
+        let w = surface.brdf.polarisation_weight;
+        let film = surface.layers.film.as_ref();
+        let (t, r) = crossing(n.dot(v).clamp(0.0, 1.0), eta_i, eta_t, film);
+        match material.volume {
+            None => {
+                // A thin wall: both interfaces and the light between them, (1 − R)/(1 + R)
+                // per polarisation.
+                let through: [f64; 3] = std::array::from_fn(|c| {
+                    (1.0 - w) * (1.0 - r.0[c]) / (1.0 + r.0[c])
+                        + w * (1.0 - r.1[c]) / (1.0 + r.1[c])
+                });
+                let direction = self.thin_wall_direction(surface, n, random);
+                Some((position, direction, through))
+            }
+            Some(volume) => {
+                let inside = refract(-v, n, eta_i / eta_t)?;
+                let entered: [f64; 3] = std::array::from_fn(|c| (1.0 - w) * t.0[c] + w * t.1[c]);
+                let (exit, out, carried) = self.through_volume(
+                    position,
+                    inside,
+                    (eta_t, eta_i),
+                    volume.absorption(),
+                    surface,
+                    random,
+                )?;
+                Some((exit, out, std::array::from_fn(|c| entered[c] * carried[c])))
+            }
+        }
+    }
+
+    /// The direction light leaves a thin wall in towards its viewer's opposite side:
+    /// straight on where it is smooth; a rough one's two interfaces (each of its α)
+    /// refract it, in through a microfacet the view sees and out through one of the far
+    /// wall's, the pair kept with probability of both refracted rays' masking (separable
+    /// Smith G₁): the spread the one-bounce reference integrates (crate::transmission),
+    /// drawn from exactly by rejection.
+    fn thin_wall_direction(
+        &self,
+        surface: &SurfacePoint,
+        n: DVec3,
+        random: &mut SplitMix64,
+    ) -> DVec3 {
+        let v = surface.v;
+        let (eta_i, eta_t) = (surface.brdf.outside_eta, surface.brdf.dielectric_eta);
+        if surface.roughness.is_nan() || surface.roughness <= 0.0 || eta_i == eta_t {
+            return -v;
+        }
+        let (ax, ay) = (surface.brdf.alpha_x, surface.brdf.alpha_y);
+        let t = (surface.t - n * n.dot(surface.t)).normalize_or(n.any_orthonormal_vector());
+        let b = n.cross(t);
+        let v_local = OpticsVec3::new(v.dot(t), v.dot(b), v.dot(n));
+        let g1_below = |d: OpticsVec3<f64>| {
+            1.0 / (1.0 + lambda_ggx_anisotropic(OpticsVec3::new(d.x, d.y, -d.z), ax, ay))
+        };
+        for _ in 0..THIN_WALL_DRAWS {
+            let m_in = sample_ggx_vndf(v_local, ax, ay, random.next_f64(), random.next_f64());
+            let m_out_u = (random.next_f64(), random.next_f64());
+            let accept = random.next_f64();
+            let Some(inside) = refract_local(v_local * -1.0, m_in, eta_i / eta_t) else {
+                continue;
+            };
+            let m_out = sample_ggx_vndf(inside * -1.0, ax, ay, m_out_u.0, m_out_u.1);
+            let Some(out) = refract_local(inside, m_out, eta_t / eta_i) else {
+                continue;
+            };
+            if inside.z < 0.0 && out.z < 0.0 && accept < g1_below(inside) * g1_below(out) {
+                return (t * out.x + b * out.y + n * out.z).normalize();
+            }
+        }
+        -v
+    }
+
+    /// Light inside a volume from `origin` along unit `direction`, the medium of index
+    /// `indices.0` inside and `indices.1` outside, of absorption `sigma`: followed to the
+    /// interface it meets next (whichever object's), absorbed on the way (Beer–Lambert),
+    /// and there refracted out or reflected back in with the probabilities of the Fresnel
+    /// equations (under `entered`'s thin film, as at the entry), until it leaves. Where it
+    /// leaves, the direction it leaves in, and the share it carries (absorption, and the
+    /// interfaces' transmittance where a film makes it differ from the probability). `None`
+    /// where it escapes the scene without leaving a surface or is reflected inside more
+    /// than [`VOLUME_INTERFACES`] times.
+    fn through_volume(
+        &self,
+        mut origin: DVec3,
+        mut direction: DVec3,
+        (eta_inside, eta_outside): (f64, f64),
+        sigma: [f64; 3],
+        entered: &SurfacePoint,
+        random: &mut SplitMix64,
+    ) -> Option<(DVec3, DVec3, [f64; 3])> {
+        let scene = self.shading.scene;
+        let w = entered.brdf.polarisation_weight;
+        let film = entered.layers.film.as_ref();
+        let mut carried = [1.0; 3];
+        for _ in 0..VOLUME_INTERFACES {
+            let ray = Ray::new(origin.to_array(), direction.to_array());
+            let hit = self.shading.bvh.closest_hit(
+                &ray,
+                surface_offset(origin.to_array()),
+                f64::INFINITY,
+            )?;
+            let exit = seen_surface(scene, &ray, &hit)?;
+            for (c, s) in sigma.iter().enumerate() {
+                carried[c] *= (-s * hit.t).exp();
+            }
+            let point = DVec3::from(exit.position);
+            // The exit's normal facing the way the light goes on (as the one-bounce
+            // reference orients it).
+            let mut outward = DVec3::from(exit.normal);
+            if outward.dot(DVec3::from(exit.geometric_normal)) < 0.0 {
+                outward = -outward;
+            }
+            if DVec3::from(exit.geometric_normal).dot(direction) < 0.0 {
+                outward = -outward;
+            }
+            let outward = facing(outward, direction);
+            let (t, r) = crossing(
+                outward.dot(direction).clamp(0.0, 1.0),
+                eta_inside,
+                eta_outside,
+                film,
+            );
+            let out = refract(direction, -outward, eta_inside / eta_outside);
+            let transmittance: [f64; 3] = std::array::from_fn(|c| (1.0 - w) * t.0[c] + w * t.1[c]);
+            let reflectance: [f64; 3] = std::array::from_fn(|c| (1.0 - w) * r.0[c] + w * r.1[c]);
+            let mean = |x: [f64; 3]| (x[0] + x[1] + x[2]) / 3.0;
+            let leave = match out {
+                Some(_) => mean(transmittance) / (mean(transmittance) + mean(reflectance)),
+                None => 0.0,
+            };
+            if random.next_f64() < leave {
+                for c in 0..3 {
+                    carried[c] *= transmittance[c] / leave;
+                }
+                return Some((point, out?, carried));
+            }
+            for c in 0..3 {
+                carried[c] *= reflectance[c] / (1.0 - leave);
+            }
+            direction = (direction - 2.0 * direction.dot(outward) * outward).normalize();
+            origin = point;
+        }
+        None
     }
 
     /// The material of `surface`'s object.

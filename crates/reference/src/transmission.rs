@@ -63,14 +63,14 @@ pub const ROUGH_SAMPLES: u32 = 1024;
 const MIN_COS: f64 = 1e-4;
 
 /// A radiance per polarisation (s, p), RGB each.
-type Polarised3 = ([f64; 3], [f64; 3]);
+pub(crate) type Polarised3 = ([f64; 3], [f64; 3]);
 
 /// One crossing of an interface from index `from` into `to` at the cosine `cos` (on the
 /// `from` side): the transmittance and the reflectance per polarisation and channel.
 /// Under a thin film (KHR_materials_iridescence) the film's mix
 /// (`film_crossing_transmittance`; the film absorbs nothing, R = 1 − T), else the bare
 /// interface's Fresnel equations.
-fn crossing(
+pub(crate) fn crossing(
     cos: f64,
     from: f64,
     to: f64,
@@ -103,14 +103,18 @@ fn radical_inverse(base: u32, mut i: u32) -> f64 {
 /// [`refract`] in the optics crate's vectors: `d` (unit) through a microfacet of unit
 /// normal `m` on the side `d` comes from, relative index `eta`; `None` past the
 /// critical angle.
-fn refract_local(d: OpticsVec3<f64>, m: OpticsVec3<f64>, eta: f64) -> Option<OpticsVec3<f64>> {
+pub(crate) fn refract_local(
+    d: OpticsVec3<f64>,
+    m: OpticsVec3<f64>,
+    eta: f64,
+) -> Option<OpticsVec3<f64>> {
     let m = if m.dot(d) > 0.0 { m * -1.0 } else { m };
     let to = |w: OpticsVec3<f64>| DVec3::new(w.x, w.y, w.z);
     refract(to(d), to(m), eta).map(|r| OpticsVec3::new(r.x, r.y, r.z))
 }
 
 /// `n` bent towards `towards` (unit) until their cosine is at least [`MIN_COS`].
-fn facing(n: DVec3, towards: DVec3) -> DVec3 {
+pub(crate) fn facing(n: DVec3, towards: DVec3) -> DVec3 {
     let c = n.dot(towards);
     if c > MIN_COS {
         n
@@ -122,7 +126,7 @@ fn facing(n: DVec3, towards: DVec3) -> DVec3 {
 /// The direction a ray along `d` (unit) takes through an interface of unit normal `n`
 /// (facing against `d`) with relative index `eta` = η_from/η_to; `None` past the critical
 /// angle.
-fn refract(d: DVec3, n: DVec3, eta: f64) -> Option<DVec3> {
+pub(crate) fn refract(d: DVec3, n: DVec3, eta: f64) -> Option<DVec3> {
     let cos_i = -n.dot(d);
     let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
     if sin2_t >= 1.0 {
