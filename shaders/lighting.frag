@@ -1,8 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
-#ifdef RAY_TRACED_OCCLUSION
+#if defined(RAY_TRACED_OCCLUSION) || defined(PATH_TRACE)
 #extension GL_EXT_ray_query : require
+#endif
+#ifdef RAY_TRACED_OCCLUSION
 #ifdef ENVIRONMENT_SAMPLES
 // The sampled environment traces each of its directions against the scene.
 #define ENVIRONMENT_SAMPLE_VISIBILITY
@@ -46,10 +48,19 @@ layout(push_constant) uniform LightingPush {
 
 // The light, environment and BRDF-input terms shared with the forward pass.
 #include "lighting_terms.glsl"
+#ifdef PATH_TRACE
+#include "path_trace.glsl"
+#endif
 
 layout(location = 0) out vec4 out_radiance;
 
 void main() {
+#ifdef PATH_TRACE
+    // The frame path traced (path_trace.glsl), not the G-buffer shaded.
+    out_radiance = vec4(path_traced_pixel(gl_FragCoord.xy, vec2(textureSize(gbuffer_depth, 0)),
+                                          push.camera_position.xyz, push.sampling.x), 1.0);
+    return;
+#endif
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     float depth = texelFetch(gbuffer_depth, pixel, 0).r;
     if (isnan(depth)) {

@@ -34,12 +34,6 @@ vec3 world_at(vec2 coordinate, float depth, vec2 size) {
     return world.xyz / world.w;
 }
 
-// The reference's step off a surface at `p`: 1e-4 · max(1, |p|∞).
-float surface_offset(vec3 p) {
-    vec3 a = abs(p);
-    return 1e-4 * max(1.0, max(a.x, max(a.y, a.z)));
-}
-
 // A 32-bit integer hash (Wang's, as the occlusion pass's).
 uint hash(uint x) {
     x = (x ^ 61u) ^ (x >> 16);

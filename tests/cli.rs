@@ -3205,7 +3205,7 @@ fn render_accumulates_sampled_environment_light_to_a_stated_error() {
     assert!(png.is_file());
     assert_refused(
         &["render", "--accumulate-until", "0.01"],
-        &["--accumulate-until needs --environment-samples N or --environment-occlusion ray-traced"],
+        &["--accumulate-until needs --environment-samples N, --environment-occlusion ray-traced or --path-trace on"],
     );
     assert_refused(
         &["render", "--environment-samples", "3"],

@@ -37,6 +37,7 @@ mod images;
 mod light_culling;
 mod overlay;
 mod parity;
+mod path_trace;
 mod points_and_lines;
 mod report;
 mod shading_options;

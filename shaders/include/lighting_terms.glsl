@@ -441,7 +441,7 @@ vec3 surface_response(BrdfInputs m, BrdfView view, SurfaceLayers layers, vec3 n,
     return f * n_dot_l;
 }
 
-#if defined(ENVIRONMENT) && defined(ENVIRONMENT_SAMPLES)
+#if (defined(ENVIRONMENT) && defined(ENVIRONMENT_SAMPLES)) || defined(PATH_TRACE)
 // Density of directions l (shading frame) that reflecting v about a normal drawn from
 // GGX's visible normals (sample_ggx_vndf) gives: D_v(h) / (4 v·h) = G1(v) D(h) / (4 n·v).
 float pdf_ggx_vndf_reflection(vec3 v, vec3 l, float ax, float ay) {
@@ -452,6 +452,9 @@ float pdf_ggx_vndf_reflection(vec3 v, vec3 l, float ax, float ay) {
     float g1 = 1.0 / (1.0 + lambda_ggx_anisotropic(v, ax, ay));
     return g1 * d_ggx_anisotropic(h, ax, ay) / (4.0 * v.z);
 }
+#endif
+
+#if defined(ENVIRONMENT) && defined(ENVIRONMENT_SAMPLES)
 
 // A hash of the pixel to [0, 1)² (PCG), which turns each pixel's sample set.
 vec2 pixel_rotation(vec2 pixel) {
@@ -563,10 +566,10 @@ vec3 environment_sampled(BrdfInputs m, BrdfView view, SurfaceLayers layers, vec3
 // light's shadow maps' verdict in the SHADOWS variant (`eye`: the camera's position,
 // `pixel`: the fragment's window coordinates, for the cascade choice and the filter's
 // noise).
-vec3 light_radiance(BrdfInputs m, BrdfView view, SurfaceLayers layers, GpuLight light,
-                    vec3 position, vec3 n, vec3 eye, vec2 pixel) {
-    vec3 l;
-    vec3 irradiance;
+// The direction `l` from `position` to `light` (unit) and the irradiance it gives there
+// on a surface facing it (inverse-square law, range window, spot cone); returns the
+// distance to the light (infinite for a directional light).
+float light_incidence(GpuLight light, vec3 position, out vec3 l, out vec3 irradiance) {
     if (light.power_kind.a != LIGHT_KIND_DIRECTIONAL) {
         vec3 to_light = light.position_or_direction.xyz - position;
         float distance_squared = max(dot(to_light, to_light), 1e-12);
@@ -578,10 +581,18 @@ vec3 light_radiance(BrdfInputs m, BrdfView view, SurfaceLayers layers, GpuLight 
         if (light.power_kind.a == LIGHT_KIND_SPOT) {
             irradiance *= spot_attenuation(light, l);
         }
-    } else {
-        l = -light.position_or_direction.xyz;
-        irradiance = light.power_kind.rgb;
+        return sqrt(distance_squared);
     }
+    l = -light.position_or_direction.xyz;
+    irradiance = light.power_kind.rgb;
+    return 3.0e38;
+}
+
+vec3 light_radiance(BrdfInputs m, BrdfView view, SurfaceLayers layers, GpuLight light,
+                    vec3 position, vec3 n, vec3 eye, vec2 pixel) {
+    vec3 l;
+    vec3 irradiance;
+    light_incidence(light, position, l, irradiance);
     if (!faces_surface(layers, n, l)) {
         return vec3(0.0);
     }

@@ -11,6 +11,13 @@
 #ifndef COMBUSTION_TRACED_SCENE_GLSL
 #define COMBUSTION_TRACED_SCENE_GLSL
 
+// The f64 reference's step off a surface at `p` (combustion_reference::visibility::
+// surface_offset): 1e-4 · max(1, |p|∞).
+float surface_offset(vec3 p) {
+    vec3 a = abs(p);
+    return 1e-4 * max(1.0, max(a.x, max(a.y, a.z)));
+}
+
 // Alpha byte `i` of the cut-outs' textures, in [0, 1].
 float cutout_alpha_byte(uint i) {
     return float((cutout_alphas[i >> 2] >> ((i & 3u) * 8u)) & 0xffu) / 255.0;

@@ -611,7 +611,7 @@ pub(crate) struct RenderArgs {
     /// The linear radiance (OpenEXR, ZIP-compressed)
     #[arg(long, value_name = "OUT.exr")]
     pub(crate) hdr: Option<PathBuf>,
-    /// With --environment-samples N or --environment-occlusion ray-traced: render frames of
+    /// With --environment-samples N, --environment-occlusion ray-traced or --path-trace on: render frames of
     /// successive sample sets and write their mean, until its relative standard error
     /// (the frames' spread, averaged over the lit pixels) is at most E (4 to 1024 frames)
     #[arg(long, value_name = "E", value_parser = relative_error)]

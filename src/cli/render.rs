@@ -106,11 +106,15 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             n = o.supersample
         )));
     }
-    let traced = combustion::renderer::optional_pass("ray-traced-occlusion")
-        .is_some_and(|pass| o.shading.optional.passes.contains(pass));
-    if o.accumulate_until.is_some() && o.shading.environment_samples == 0 && !traced {
+    let asked = |name: &str| {
+        combustion::renderer::optional_pass(name)
+            .is_some_and(|pass| o.shading.optional.passes.contains(pass))
+    };
+    let (traced, path_traced) = (asked("ray-traced-occlusion"), asked("path-trace"));
+    if o.accumulate_until.is_some() && o.shading.environment_samples == 0 && !traced && !path_traced
+    {
         return Err(Error::Usage(
-            "--accumulate-until needs --environment-samples N or --environment-occlusion ray-traced (the split sum has no noise to average)".into(),
+            "--accumulate-until needs --environment-samples N, --environment-occlusion ray-traced or --path-trace on (the split sum has no noise to average)".into(),
         ));
     }
     let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
@@ -221,6 +225,9 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
                 let (frame, frames, achieved) =
                     accumulate(renderer, &gpu_scene, &inputs, size, target)?;
                 let per_frame = match (o.shading.environment_samples, traced) {
+                    _ if path_traced => {
+                        format!("{} paths per pixel", combustion::renderer::PATHS_PER_FRAME)
+                    }
                     (0, _) => "ray-traced occlusion".to_owned(),
                     (n, false) => format!("{n} environment samples per pixel"),
                     (n, true) => {

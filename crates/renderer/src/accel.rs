@@ -300,6 +300,111 @@ fn compact(
     Ok(())
 }
 
+/// What a path tracer meets where its ray hits an instance of the top level: per
+/// instance (in the top level's order: `rayQueryGetIntersectionInstanceIdEXT`), two
+/// `uvec4` — the device addresses of its mesh's vertices (`GpuVertex`, object space) and
+/// indices (u32), low word first; then its material, its object, its flags
+/// ([`SURFACE_DOUBLE_SIDED`]) and its triangle count — and the vertex and index buffers of each mesh an
+/// instance names. Skinned and morphed objects are read in their rest shape.
+pub(crate) struct TracedSurfaces {
+    pub(crate) table: Buffer,
+    meshes: Vec<Buffer>,
+}
+
+/// A traced surface's flag: its material is double-sided (both faces are seen).
+const SURFACE_DOUBLE_SIDED: u32 = 1;
+
+impl TracedSurfaces {
+    fn new(device: &Arc<Device>, scene: &Scene, objects: &[usize]) -> Result<Self, RenderError> {
+        let usage =
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
+        let mut meshes = Vec::new();
+        let mut addresses: Vec<Option<(u64, u64)>> = vec![None; scene.meshes.len()];
+        let mut table: Vec<[u32; 4]> = Vec::with_capacity(2 * objects.len());
+        for &object in objects {
+            let o = &scene.objects[object];
+            let mesh_index = o.mesh;
+            if addresses[mesh_index].is_none() {
+                let mesh = &scene.meshes[mesh_index];
+                let vertices: Vec<crate::gpu_types::GpuVertex> = mesh
+                    .vertices
+                    .iter()
+                    .map(crate::gpu_types::GpuVertex::new)
+                    .collect();
+                let vertex_buffer = Buffer::with_data(
+                    device,
+                    "traced vertices",
+                    bytemuck::cast_slice(&vertices),
+                    usage,
+                )?;
+                let index_buffer = Buffer::with_data(
+                    device,
+                    "traced indices",
+                    bytemuck::cast_slice(&mesh.indices),
+                    usage,
+                )?;
+                addresses[mesh_index] = Some((
+                    device.buffer_address(vertex_buffer.raw()),
+                    device.buffer_address(index_buffer.raw()),
+                ));
+                meshes.push(vertex_buffer);
+                meshes.push(index_buffer);
+            }
+            let (vertices_at, indices_at) = addresses[mesh_index].expect("set above");
+            let double_sided = scene
+                .materials
+                .get(o.material)
+                .is_some_and(|m| m.double_sided);
+            table.push([
+                vertices_at as u32,
+                (vertices_at >> 32) as u32,
+                indices_at as u32,
+                (indices_at >> 32) as u32,
+            ]);
+            table.push([
+                o.material as u32,
+                object as u32,
+                if double_sided {
+                    SURFACE_DOUBLE_SIDED
+                } else {
+                    0
+                },
+                (scene.meshes[mesh_index].indices.len() / 3) as u32,
+            ]);
+        }
+        if table.is_empty() {
+            table.push([0; 4]);
+        }
+        Ok(Self {
+            table: Buffer::with_data(
+                device,
+                "traced surfaces",
+                bytemuck::cast_slice(&table),
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+            )?,
+            meshes,
+        })
+    }
+
+    /// A table of one empty entry: what a set binds where a frame path-traces nothing.
+    pub(crate) fn none(device: &Arc<Device>) -> Result<Self, RenderError> {
+        Ok(Self {
+            table: Buffer::with_data(
+                device,
+                "traced surfaces",
+                &[0; 32],
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+            )?,
+            meshes: Vec::new(),
+        })
+    }
+
+    /// The bytes its buffers hold.
+    fn bytes(&self) -> u64 {
+        self.table.size() + self.meshes.iter().map(Buffer::size).sum::<u64>()
+    }
+}
+
 /// The bottom-level structure of each mesh that has one (triangle lists with triangles).
 pub(crate) struct MeshStructures {
     per_mesh: Vec<Option<AccelerationStructure>>,
@@ -933,6 +1038,9 @@ pub(crate) struct SceneStructure {
     occluders: Vec<(usize, u64, Option<u32>)>,
     /// What the shaders test the cut-outs' hits against.
     pub(crate) cutouts: TracedCutouts,
+    /// What a path meets where it hits an instance (built for frames that path-trace:
+    /// [`SceneStructure::prepare_surfaces`]).
+    pub(crate) surfaces: std::sync::OnceLock<TracedSurfaces>,
     per_slot: Vec<Mutex<TopLevel>>,
 }
 
@@ -1010,8 +1118,28 @@ impl SceneStructure {
             deformed_pose: Mutex::new(None),
             occluders,
             cutouts,
+            surfaces: std::sync::OnceLock::new(),
             per_slot,
         })
+    }
+
+    /// Builds the table of what each instance's hits meet ([`TracedSurfaces`]) if it is
+    /// not built yet (at upload or when the shading changes: never in a frame); the
+    /// bytes it added.
+    pub(crate) fn prepare_surfaces(
+        &self,
+        device: &Arc<Device>,
+        scene: &Scene,
+    ) -> Result<u64, RenderError> {
+        if self.surfaces.get().is_some() {
+            return Ok(0);
+        }
+        let objects: Vec<usize> = self.occluders.iter().map(|&(o, _, _)| o).collect();
+        let surfaces = TracedSurfaces::new(device, scene, &objects)?;
+        let bytes = surfaces.bytes();
+        // Set once: checked unset above, and only the renderer's `&mut self` paths call.
+        let _ = self.surfaces.set(surfaces);
+        Ok(bytes)
     }
 
     /// Slot `slot`'s top-level structure (what its frames' ray queries trace, once built
@@ -1038,6 +1166,7 @@ impl SceneStructure {
                 .iter()
                 .map(|top| top.lock().unwrap_or_else(|p| p.into_inner()).bytes())
                 .sum::<u64>()
+            + self.surfaces.get().map_or(0, TracedSurfaces::bytes)
     }
 
     /// How many frame slots it has a top-level structure for.

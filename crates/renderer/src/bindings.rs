@@ -95,6 +95,8 @@ pub struct Binding {
     /// The `#define` without which the generated GLSL leaves the declaration out (`None`:
     /// always declared). The layout has the binding either way.
     pub only_with: Option<&'static str>,
+    /// A second `#define` that also declares it (with `only_with`: either does).
+    pub or_with: Option<&'static str>,
     /// Read only by ray queries' shaders ([`Binding::for_ray_queries`]): left out of the
     /// layouts of devices without them, as an acceleration structure is.
     pub for_ray_queries: bool,
@@ -108,6 +110,7 @@ impl Binding {
             kind,
             stages,
             only_with: None,
+            or_with: None,
             for_ray_queries: false,
         }
     }
@@ -125,6 +128,15 @@ impl Binding {
     pub const fn only_with(self, define: &'static str) -> Self {
         Self {
             only_with: Some(define),
+            ..self
+        }
+    }
+
+    /// The same binding, declared in GLSL also where `define` is defined (beside its
+    /// `only_with`).
+    pub const fn or_with(self, define: &'static str) -> Self {
+        Self {
+            or_with: Some(define),
             ..self
         }
     }
@@ -223,9 +235,14 @@ impl SetDecl {
                     b.name
                 ),
             };
-            match b.only_with {
-                Some(define) => out += &format!("#ifdef {define}\n{declaration}\n#endif\n"),
-                None => out += &format!("{declaration}\n"),
+            match (b.only_with, b.or_with) {
+                (Some(define), Some(other)) => {
+                    out += &format!(
+                        "#if defined({define}) || defined({other})\n{declaration}\n#endif\n"
+                    )
+                }
+                (Some(define), None) => out += &format!("#ifdef {define}\n{declaration}\n#endif\n"),
+                _ => out += &format!("{declaration}\n"),
             }
         }
         out + "#endif\n"
@@ -930,9 +947,9 @@ mod tests {
             .collect();
         for decl in crate::passes::declared_sets() {
             for binding in decl.bindings {
-                if let Some(define) = binding.only_with {
+                for define in binding.only_with.iter().chain(binding.or_with.iter()) {
                     assert!(
-                        declared.contains(&define),
+                        declared.contains(define),
                         "{}: {} is only with {define}, which no feature declares",
                         decl.name,
                         binding.name

@@ -47,6 +47,8 @@ mod layers;
 mod mesh_draw;
 mod offscreen;
 pub use offscreen::MAX_SUPERSAMPLE;
+/// Paths per pixel in a path-traced frame (`--path-trace on`).
+pub use passes::PATHS_PER_FRAME;
 mod options;
 mod pass_io;
 mod passes;
@@ -543,8 +545,12 @@ impl Renderer {
     /// Whether a frame of `scene` with `variant` has the acceleration structures its
     /// passes trace (or traces nothing).
     pub(crate) fn structures_ready(&self, scene: &GpuScene, variant: ShaderVariant) -> bool {
-        !(self.device.ray_queries() && passes::FRAME.iter().any(|p| p.traces(variant)))
-            || scene.gpu.structures.get().is_some()
+        if !(self.device.ray_queries() && passes::FRAME.iter().any(|p| p.traces(variant))) {
+            return true;
+        }
+        scene.gpu.structures.get().is_some_and(|structures| {
+            !passes::path_traces(variant) || structures.surfaces.get().is_some()
+        })
     }
 
     /// Builds `scene`'s acceleration structures if frames of `variant` trace rays (on a
@@ -556,15 +562,23 @@ impl Renderer {
         variant: ShaderVariant,
     ) -> Result<(), RenderError> {
         if !self.structures_ready(scene, variant) {
-            let structures = accel::SceneStructure::new(
-                &self.device,
-                scene.scene(),
-                scene.gpu.deform.as_ref(),
-                self.settings.frames_in_flight,
-            )?;
-            self.stats.acceleration_structure_bytes += structures.bytes();
-            // Set once: the check above found it unset, and only `&mut self` sets it.
-            let _ = scene.gpu.structures.set(structures);
+            if scene.gpu.structures.get().is_none() {
+                let structures = accel::SceneStructure::new(
+                    &self.device,
+                    scene.scene(),
+                    scene.gpu.deform.as_ref(),
+                    self.settings.frames_in_flight,
+                )?;
+                self.stats.acceleration_structure_bytes += structures.bytes();
+                // Set once: found unset, and only `&mut self` sets it.
+                let _ = scene.gpu.structures.set(structures);
+            }
+            if passes::path_traces(variant) {
+                if let Some(structures) = scene.gpu.structures.get() {
+                    self.stats.acceleration_structure_bytes +=
+                        structures.prepare_surfaces(&self.device, scene.scene())?;
+                }
+            }
         }
         Ok(())
     }

@@ -606,7 +606,13 @@ impl GpuScene {
             .structures
             .get()
             .map(|old| {
-                crate::accel::SceneStructure::new(device, &next, deform.as_ref(), old.slots())
+                let structures =
+                    crate::accel::SceneStructure::new(device, &next, deform.as_ref(), old.slots())?;
+                // The edited scene is path-traced as the one it replaces was.
+                if old.surfaces.get().is_some() {
+                    structures.prepare_surfaces(device, &next)?;
+                }
+                Ok::<_, RenderError>(structures)
             })
             .transpose()?;
         // Everything new is built: swap it in and hand back what it replaces (buffers

@@ -40,6 +40,9 @@ pub(crate) struct SharedResources {
     /// An empty top-level acceleration structure and cut-out tables, bound where a set's
     /// ray queries trace nothing this frame (devices with ray queries only).
     pub(crate) no_scene: Option<(crate::accel::TopLevel, crate::accel::TracedCutouts)>,
+    /// A surface table of one empty entry, bound where a set could path-trace but its
+    /// frame does not (devices with ray queries only).
+    pub(crate) no_surfaces: Option<crate::accel::TracedSurfaces>,
 }
 
 impl SharedResources {
@@ -73,6 +76,11 @@ impl SharedResources {
                     crate::accel::TopLevel::empty(device)?,
                     crate::accel::TracedCutouts::none(device)?,
                 ))
+            } else {
+                None
+            },
+            no_surfaces: if device.ray_queries() {
+                Some(crate::accel::TracedSurfaces::none(device)?)
             } else {
                 None
             },

@@ -33,9 +33,12 @@ pub(crate) struct Forward;
 
 /// Whether frames of `variant` draw the forward pass: scenes with a blended or
 /// transmissive object, not in debug views or measurement floors (which show the
-/// G-buffer's own surfaces).
+/// G-buffer's own surfaces), nor in path-traced frames (the paths are the frame).
 pub(super) fn draws(variant: ShaderVariant) -> bool {
-    (variant.blend || variant.transmission) && !variant.debug_views && variant.floor.is_none()
+    (variant.blend || variant.transmission)
+        && !variant.debug_views
+        && variant.floor.is_none()
+        && !super::path_trace::wanted(variant)
 }
 
 /// The forward pipelines of `variant`, into `settings`' HDR format.

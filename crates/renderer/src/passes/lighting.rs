@@ -78,8 +78,21 @@ const OWN_BINDINGS: &[Binding] = &[
 
 /// The scene as the ray-traced occlusion pass built it, which the sampled environment
 /// traces each of its directions against.
-const TRACED: [Binding; 4] =
-    super::traced::bindings(FRAGMENT, Some(super::ray_traced_occlusion::OPTION.define));
+/// Declared where lighting.frag traces the scene: for the sampled environment's
+/// directions (RAY_TRACED_OCCLUSION) or its paths (PATH_TRACE); then the path tracer's
+/// surface table.
+const TRACED: [Binding; 5] = {
+    let [scene, cutouts, corners, alphas] =
+        super::traced::bindings(FRAGMENT, Some(super::ray_traced_occlusion::OPTION.define));
+    let path_trace = super::path_trace::OPTION.define;
+    [
+        scene.or_with(path_trace),
+        cutouts.or_with(path_trace),
+        corners.or_with(path_trace),
+        alphas.or_with(path_trace),
+        super::path_trace::SURFACES,
+    ]
+};
 
 const OWN_AND_TRACED: [Binding; OWN_BINDINGS.len() + TRACED.len()] = joined(OWN_BINDINGS, &TRACED);
 
@@ -302,11 +315,12 @@ impl FramePass for Lighting {
             read,
         );
         if r.no_scene.is_some() {
-            io = if super::ray_traced_occlusion::traces(frame) {
+            io = if super::ray_traced_occlusion::traces(frame) || super::path_trace::traces(frame) {
                 super::traced::scene(io, frame)
             } else {
                 super::traced::nothing(io, frame)
             };
+            io = super::path_trace::bind_surfaces(io, frame);
         }
         lit_by(io, frame)
     }

@@ -24,6 +24,7 @@ mod gbuffer;
 mod light_cull;
 pub(crate) mod lighting;
 pub(crate) mod output;
+pub(crate) mod path_trace;
 mod per_pixel;
 mod ray_traced_occlusion;
 mod ray_traced_shadows;
@@ -48,6 +49,7 @@ use crate::slot::FrameSlot;
 use crate::targets::{FrameImages, ImageRequest};
 use crate::variant::ShaderVariant;
 pub(crate) use light_cull::CullPush;
+pub use path_trace::PATHS_PER_FRAME;
 
 /// Everything a frame's passes read, gathered once per frame.
 pub(crate) struct FrameContext<'a> {
@@ -184,6 +186,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &ambient_occlusion::AmbientOcclusion,
     &ray_traced_occlusion::RayTracedOcclusion,
     &ray_traced_shadows::RayTracedShadows,
+    &path_trace::PathTrace, // likewise (--path-trace on): the lighting pass then traces paths
     &lighting::Lighting,
     &back_faces::BackFaces,
     &behind::Behind,
@@ -218,6 +221,11 @@ pub(crate) fn frame_images(
         .iter()
         .flat_map(|pass| pass.images(variant, settings))
         .collect()
+}
+
+/// Whether frames of `variant` are path traced (`--path-trace on`).
+pub(crate) fn path_traces(variant: ShaderVariant) -> bool {
+    path_trace::wanted(variant)
 }
 
 /// The optional passes of the frame ([`FramePass::option`]), in the frame's order.

@@ -1,0 +1,136 @@
+//! Path tracing (`--path-trace on`, off by default; devices with ray queries): the frame
+//! as light that bounces. This pass builds the scene's acceleration structure for the
+//! frame (`crate::accel`) and the table of what each instance's hits meet
+//! (`accel::TracedSurfaces`: its mesh's vertices and indices, its material); the lighting
+//! pass (lighting.frag, path_trace.glsl) then traces each pixel's paths instead of
+//! shading the G-buffer, with the same GLSL material terms it shades the G-buffer with:
+//! from the eye through the pixel's centre, next-event estimation to every light with a
+//! shadow ray, the reflection sampled by GGX's visible normals, the cosine and a coat's
+//! visible normals in one-sample balance, emitters and the environment found by the
+//! bounces, Russian roulette — the rules of the f64 path tracer
+//! (`combustion_reference::path`) it is measured against.
+//!
+//! Each frame is the mean of [`PATHS_PER_FRAME`] paths a pixel drawn from its own seed
+//! (`FrameInputs::environment_seed`); frames of successive seeds are independent, so
+//! their mean converges with a standard error from their spread (`combustion render
+//! --path-trace on --accumulate-until E`).
+//!
+//! Not yet traced (each said in docs/path-tracing.md): textures (a hit reads its
+//! material's factors), blended and transmissive objects and objects that cast no shadow
+//! (they are not in the structure; the forward pass does not draw them over the traced
+//! frame either), skinned and morphed objects' poses (read at rest), lights' sizes
+//! (traced as points).
+
+use combustion_vk::vk;
+
+use super::{FrameContext, FramePass};
+use crate::bindings::{Binding, BindingKind};
+use crate::options::OptionalPass;
+use crate::pass_io::PassIo;
+use crate::variant::ShaderVariant;
+
+pub(crate) struct PathTrace;
+
+/// Its option.
+pub(crate) static OPTION: OptionalPass = OptionalPass {
+    name: "path-trace",
+    define: "PATH_TRACE",
+    help: "the frame path traced by ray queries (light that bounces), averaged over frames by --accumulate-until; devices with ray queries, else left out with a warning",
+    needs_ray_queries: true,
+    choice: None,
+    needs_environment: false,
+};
+
+/// Paths per pixel in one frame.
+pub const PATHS_PER_FRAME: u32 = 4;
+
+/// The most surfaces a path lights (the f64 path tracer's `PathTracing::max_depth`).
+pub const MAX_DEPTH: u32 = 16;
+
+/// The surface (from 1) from which Russian roulette may end a path, and the largest
+/// probability it lets a path go on with (the f64 path tracer's rule).
+pub const ROULETTE: (u32, f32) = (3, 0.95);
+
+/// path_trace.glsl's constants, from this file's.
+fn constants_header() -> String {
+    format!(
+        "// Generated from crates/renderer/src/passes/path_trace.rs: do not edit.\n\
+         #ifndef COMBUSTION_PATH_TRACE_CONSTANTS_GLSL\n\
+         #define COMBUSTION_PATH_TRACE_CONSTANTS_GLSL\n\
+         #define PATHS_PER_FRAME {PATHS_PER_FRAME}u\n\
+         #define PATH_MAX_DEPTH {MAX_DEPTH}u\n\
+         #define PATH_ROULETTE_START {}u\n\
+         #define PATH_ROULETTE_MAX {:?}\n\
+         #endif\n",
+        ROULETTE.0, ROULETTE.1
+    )
+}
+
+/// The lighting set's binding of the surface table (`accel::TracedSurfaces`).
+pub(super) const SURFACES: Binding = Binding::new(
+    "traced_surfaces",
+    BindingKind::StorageBuffer {
+        block: "TracedSurfaces",
+        element: "uvec4",
+    },
+    crate::bindings::FRAGMENT,
+)
+.for_ray_queries()
+.only_with(OPTION.define);
+
+/// Whether frames of `variant` are path traced.
+pub(crate) fn wanted(variant: ShaderVariant) -> bool {
+    variant.optional_passes.contains(&OPTION)
+}
+
+/// Whether the frame is path traced (its scene's structures built: on a device with ray
+/// queries).
+pub(super) fn traces(frame: &FrameContext<'_>) -> bool {
+    wanted(frame.variant) && frame.scene.gpu.structures.get().is_some()
+}
+
+/// `io` with the surface table bound: the scene's where the frame is path traced, else
+/// the renderer's empty one (devices with ray queries only).
+pub(super) fn bind_surfaces(io: PassIo, frame: &FrameContext<'_>) -> PassIo {
+    let own = frame
+        .scene
+        .gpu
+        .structures
+        .get()
+        .filter(|_| traces(frame))
+        .and_then(|s| s.surfaces.get());
+    match own.or(frame.shared.no_surfaces.as_ref()) {
+        Some(surfaces) => io.bind_buffer("traced_surfaces", &surfaces.table),
+        None => io,
+    }
+}
+
+impl FramePass for PathTrace {
+    fn name(&self) -> &'static str {
+        "path trace"
+    }
+
+    fn option(&self) -> Option<&'static OptionalPass> {
+        Some(&OPTION)
+    }
+
+    fn traces(&self, variant: ShaderVariant) -> bool {
+        wanted(variant)
+    }
+
+    fn headers(&self) -> Vec<(String, String)> {
+        vec![("path_trace/constants.glsl".into(), constants_header())]
+    }
+
+    fn runs(&self, frame: &FrameContext<'_>) -> bool {
+        traces(frame)
+    }
+
+    fn io(&self, _frame: &FrameContext<'_>) -> PassIo {
+        PassIo::new(self.name())
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        super::traced::record_build(frame, cmd);
+    }
+}

@@ -1,0 +1,315 @@
+// Path tracing in the lighting pass (PATH_TRACE; crates/renderer/src/passes/path_trace.rs
+// says what is traced and what not yet): each pixel's PATHS_PER_FRAME paths from the eye
+// through its centre, by ray queries against the scene's acceleration structure, each
+// surface lit by next-event estimation to every light and its reflection sampled, with
+// the lighting pass's own material terms (lighting_terms.glsl's brdf_inputs, brdf_view,
+// surface_response, light_incidence) — the rules of the f64 path tracer
+// (crates/reference/src/path.rs) that this is measured against. Needs lighting.frag's
+// set (materials, lights, the traced scene and `traced_surfaces`) and push constants.
+#ifndef COMBUSTION_PATH_TRACE_GLSL
+#define COMBUSTION_PATH_TRACE_GLSL
+
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+
+#include "environment.glsl"
+#include "traced_scene.glsl"
+#include "path_trace/constants.glsl"
+
+// A mesh's vertices (GpuVertex: position, normal, tangent, uv; 12 floats) and indices.
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer TracedVertices {
+    float values[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer TracedIndices {
+    uint values[];
+};
+
+// A PCG step and a uniform float in [0, 1) from it.
+float path_random(inout uint state) {
+    state = state * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    word = (word >> 22u) ^ word;
+    return float(word >> 8) * (1.0 / 16777216.0);
+}
+
+// A hash of three words: a path's first state.
+uint path_seed(uint a, uint b, uint c) {
+    uint h = a * 0x9E3779B9u ^ (b + 0x7F4A7C15u) * 0x85EBCA6Bu ^ (c + 0x165667B1u) * 0xC2B2AE35u;
+    h ^= h >> 16;
+    h *= 0x7FEB352Du;
+    h ^= h >> 15;
+    h *= 0x846CA68Bu;
+    return h ^ (h >> 16);
+}
+
+// What a ray meets: the surface's point, its interpolated normal (world space, towards
+// the mesh's front), tangent and bitangent sign, its geometric normal (the winding's
+// front) and its material; `front`: the ray meets the winding's front.
+struct PathSurface {
+    vec3 position;
+    vec3 normal;
+    vec4 tangent;
+    vec3 geometric;
+    uint material;
+    bool front;
+};
+
+vec3 traced_vertex3(TracedVertices vertices, uint index, uint offset) {
+    uint at = 12u * index + offset;
+    return vec3(vertices.values[at], vertices.values[at + 1u], vertices.values[at + 2u]);
+}
+
+// The nearest surface along the ray from `origin` along unit `direction` beyond
+// `t_min`, that the ray sees: cut-outs tested where it meets them, back faces of
+// single-sided materials passed (the rasteriser culls them; the f64 path tracer passes
+// them too). False where nothing.
+bool path_next_surface(vec3 origin, vec3 direction, float t_min, out PathSurface surface) {
+    for (int passed = 0; passed < 8; ++passed) {
+        rayQueryEXT query;
+        rayQueryInitializeEXT(query, scene, gl_RayFlagsNoneEXT, 0xffu, origin, t_min, direction, 1e30);
+        while (rayQueryProceedEXT(query)) {
+            if (rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionTriangleEXT
+                && cutout_present(uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, false)),
+                                  uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, false)),
+                                  rayQueryGetIntersectionBarycentricsEXT(query, false))) {
+                rayQueryConfirmIntersectionEXT(query);
+            }
+        }
+        if (rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT) {
+            return false;
+        }
+        uint instance = uint(rayQueryGetIntersectionInstanceIdEXT(query, true));
+        uint primitive = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, true));
+        vec2 b = rayQueryGetIntersectionBarycentricsEXT(query, true);
+        float t = rayQueryGetIntersectionTEXT(query, true);
+        mat4x3 to_world = rayQueryGetIntersectionObjectToWorldEXT(query, true);
+        uvec4 where = traced_surfaces[2u * instance];
+        uvec4 what = traced_surfaces[2u * instance + 1u];
+        if (primitive >= what.w) {
+            return false;  // not the instance's triangle: never read past its mesh
+        }
+        TracedVertices vertices = TracedVertices(where.xy);
+        TracedIndices indices = TracedIndices(where.zw);
+        uvec3 corner = uvec3(indices.values[3u * primitive], indices.values[3u * primitive + 1u],
+                             indices.values[3u * primitive + 2u]);
+        vec3 w = vec3(1.0 - b.x - b.y, b.x, b.y);
+        vec3 p0 = to_world * vec4(traced_vertex3(vertices, corner.x, 0u), 1.0);
+        vec3 p1 = to_world * vec4(traced_vertex3(vertices, corner.y, 0u), 1.0);
+        vec3 p2 = to_world * vec4(traced_vertex3(vertices, corner.z, 0u), 1.0);
+        vec3 geometric = normalize(cross(p1 - p0, p2 - p0));
+        bool front = dot(geometric, direction) < 0.0;
+        bool double_sided = (what.z & 1u) != 0u;
+        if (!front && !double_sided) {
+            // On past it: the next cast starts just beyond this face.
+            t_min = t + 1e-5 * max(1.0, t);
+            continue;
+        }
+        mat3 linear = mat3(to_world);
+        mat3 normal_matrix = transpose(inverse(linear));
+        vec3 n = traced_vertex3(vertices, corner.x, 3u) * w.x + traced_vertex3(vertices, corner.y, 3u) * w.y
+                 + traced_vertex3(vertices, corner.z, 3u) * w.z;
+        n = normal_matrix * n;
+        uint at0 = 12u * corner.x + 6u;
+        uint at1 = 12u * corner.y + 6u;
+        uint at2 = 12u * corner.z + 6u;
+        vec4 tangent = vec4(vertices.values[at0], vertices.values[at0 + 1u], vertices.values[at0 + 2u],
+                            vertices.values[at0 + 3u]) * w.x
+                       + vec4(vertices.values[at1], vertices.values[at1 + 1u], vertices.values[at1 + 2u],
+                              vertices.values[at1 + 3u]) * w.y
+                       + vec4(vertices.values[at2], vertices.values[at2 + 1u], vertices.values[at2 + 2u],
+                              vertices.values[at2 + 3u]) * w.z;
+        surface.position = origin + direction * t;
+        surface.normal = dot(n, n) > 1e-20 ? normalize(n) : geometric;
+        surface.tangent = vec4(linear * tangent.xyz, tangent.w);
+        surface.geometric = geometric;
+        surface.material = what.x;
+        surface.front = front;
+        return true;
+    }
+    return false;
+}
+
+// The radiance a path from the eye along `direction` carries back (PATH_MAX_DEPTH
+// surfaces at most; `state`: its random numbers). `surface` is what the eye's ray met.
+vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
+    vec3 radiance = vec3(0.0);
+    vec3 throughput = vec3(1.0);
+    for (uint depth = 1u; depth <= uint(PATH_MAX_DEPTH); ++depth) {
+        GpuMaterial material = materials[surface.material];
+        vec3 v = -direction;
+        vec3 base = material.base_color_metalness.rgb;
+#ifndef NO_UNLIT
+        if ((material.diffuse_model_flags.y & MATERIAL_FLAG_UNLIT) != 0u) {
+            radiance += throughput * base;
+            break;
+        }
+#endif
+        radiance += throughput * material.emissive_normal_scale.rgb;
+        // The surface's frame as the G-buffer pass makes it: the interpolated normal
+        // (reversed on a double-sided material's back), the tangent made orthogonal to
+        // it, the anisotropy direction turned by the material's rotation.
+        vec3 n = surface.front ? surface.normal : -surface.normal;
+        vec3 t = surface.tangent.xyz - n * dot(n, surface.tangent.xyz);
+        if (!(dot(t, t) > 1e-20)) {
+            vec3 unused;
+            orthonormal_basis(n, t, unused);
+        }
+        t = normalize(t);
+        vec3 b = cross(n, t) * (surface.tangent.w < 0.0 ? -1.0 : 1.0);
+        float rotation = material.roughness_anisotropy_ior.z;
+        vec3 along = cos(rotation) * t + sin(rotation) * b;
+        n = facing_view(n, v);
+        along = normalize(along - n * dot(n, along));
+        vec3 across = cross(n, along);
+        BrdfInputs m = brdf_inputs(material, base, material.base_color_metalness.a,
+                                   material.roughness_anisotropy_ior.x,
+                                   material.roughness_anisotropy_ior.y,
+                                   round(srgb_encode(clamp(base, 0.0, 1.0)) * 255.0));
+        BrdfView view = brdf_view(m, n, along, across, v);
+#ifdef SPECULAR
+        brdf_view_apply_specular(view, m, DielectricSpecular(material.specular.a, material.specular.rgb));
+#endif
+#ifdef IRIDESCENCE
+        brdf_view_apply_film(view, m, ThinFilm(material.film.x, material.film.y, material.film.w));
+#endif
+        SurfaceLayers layers;
+#ifdef CLEARCOAT
+        vec3 geometry_normal = facing_view(surface.front ? surface.normal : -surface.normal, v);
+        layers.coat = surface_coat(material, m, material.clearcoat.x, material.clearcoat.y,
+                                   geometry_normal, v);
+#else
+        layers.coat = no_surface_coat();
+#endif
+#ifdef SHEEN
+        layers.sheen = surface_sheen(material.sheen.rgb, material.sheen.a, view);
+#else
+        layers.sheen = no_surface_sheen();
+#endif
+        // Next-event estimation: every light, with a shadow ray from off the surface
+        // along its shading normal, ending short of a point light (the f64 reference's
+        // offset rule, combustion_reference::visibility).
+        float offset = surface_offset(surface.position);
+        vec3 from = surface.position + n * offset;
+        for (uint i = 0u; i < push.counts.x; ++i) {
+            vec3 l;
+            vec3 irradiance;
+            float reach = light_incidence(lights[i], surface.position, l, irradiance);
+            if (!faces_surface(layers, n, l) || all(lessThanEqual(irradiance, vec3(0.0)))) {
+                continue;
+            }
+            vec3 response = surface_response(m, view, layers, n, l) * irradiance;
+            if (all(lessThanEqual(response, vec3(0.0)))) {
+                continue;
+            }
+            float clear = 1e30;
+            if (reach < 1e30) {
+                vec3 target = lights[i].position_or_direction.xyz;
+                clear = distance(from, target) - surface_offset(target);
+                l = normalize(target - from);
+            }
+            if (clear > 0.0 && !scene_blocks(from, l, clear)) {
+                radiance += throughput * response;
+            }
+        }
+        bool last = depth == uint(PATH_MAX_DEPTH);
+        // The reflection sampled: GGX's visible normals, the cosine, a coat's visible
+        // normals, one chosen uniformly; weighted by f (n·l) over their mean density.
+        if (!(view.v.z > 0.0)) {
+            break;
+        }
+        bool coated = false;
+        vec3 coat_v = vec3(0.0, 0.0, 1.0);
+        float coat_alpha = 1.0;
+#ifdef CLEARCOAT
+        coated = layers.coat.view.factor > 0.0;
+        coat_v = layers.coat.view.v;
+        coat_alpha = layers.coat.view.alpha;
+        coated = coated && coat_v.z > 0.0;
+#endif
+        float strategies = coated ? 3.0 : 2.0;
+        float pick = path_random(state) * strategies;
+        vec2 u = vec2(path_random(state), path_random(state));
+        vec3 l = view.frame[2];
+        if (pick < 1.0) {
+            l = view.frame * reflect(-view.v, sample_ggx_vndf(view.v, view.ax, view.ay, u));
+        } else if (pick < 2.0 || !coated) {
+            l = view.frame * sample_cosine(u);
+        } else {
+#ifdef CLEARCOAT
+            l = layers.coat.view.frame * reflect(-coat_v, sample_ggx_vndf(coat_v, coat_alpha, coat_alpha, u));
+#endif
+        }
+        l = normalize(l);
+        vec3 local = shading_frame_to_local(view.frame, l);
+        float density = pdf_ggx_vndf_reflection(view.v, local, view.ax, view.ay) + max(local.z, 0.0) * INV_PI;
+#ifdef CLEARCOAT
+        if (coated) {
+            density += pdf_ggx_vndf_reflection(coat_v, shading_frame_to_local(layers.coat.view.frame, l),
+                                               coat_alpha, coat_alpha);
+        }
+#endif
+        density /= strategies;
+        if (!(density > 0.0) || !faces_surface(layers, n, l)) {
+            break;
+        }
+        vec3 weight = surface_response(m, view, layers, n, l) / density;
+        if (any(isnan(weight)) || any(isinf(weight))) {
+            break;
+        }
+        throughput *= weight;
+        if (depth >= uint(PATH_ROULETTE_START) && !last) {
+            float q = min(max(throughput.r, max(throughput.g, throughput.b)), PATH_ROULETTE_MAX);
+            if (path_random(state) >= q) {
+                break;
+            }
+            throughput /= q;
+        }
+        PathSurface next;
+        if (!path_next_surface(surface.position, l, offset, next)) {
+#ifdef ENVIRONMENT
+            radiance += throughput * textureLod(environment_specular, l, 0.0).rgb;
+#endif
+            break;
+        }
+        if (last) {
+            GpuMaterial met = materials[next.material];
+#ifndef NO_UNLIT
+            if ((met.diffuse_model_flags.y & MATERIAL_FLAG_UNLIT) != 0u) {
+                radiance += throughput * met.base_color_metalness.rgb;
+                break;
+            }
+#endif
+            radiance += throughput * met.emissive_normal_scale.rgb;
+            break;
+        }
+        direction = l;
+        surface = next;
+    }
+    return radiance;
+}
+
+// The pixel's radiance: the mean of its PATHS_PER_FRAME paths this frame (seed
+// `seed`); the background (the environment, or its colour) where the eye's ray meets
+// nothing.
+vec3 path_traced_pixel(vec2 pixel, vec2 size, vec3 eye, uint seed) {
+    vec2 ndc = pixel / size * 2.0 - 1.0;
+    vec4 along = push.inverse_view_projection * vec4(ndc, 0.5, 1.0);
+    vec3 direction = normalize(along.xyz / along.w - eye);
+    PathSurface first;
+    if (!path_next_surface(eye, direction, 0.0, first)) {
+#ifdef ENVIRONMENT
+        if (push.background.w != 0.0) {
+            return textureLod(environment_specular, direction, 0.0).rgb;
+        }
+#endif
+        return push.background.rgb;
+    }
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < uint(PATHS_PER_FRAME); ++i) {
+        uint state = path_seed(uint(pixel.x) + 65536u * uint(pixel.y), seed, i);
+        sum += path_radiance(first, direction, state);
+    }
+    return sum / float(PATHS_PER_FRAME);
+}
+
+#endif

@@ -1,0 +1,222 @@
+//! The GPU path tracer (`--path-trace on`: the lighting pass tracing paths by ray
+//! queries, passes/path_trace.rs) against the f64 path tracer
+//! (`combustion_reference::path`, which shares nothing with it but the scene): per pixel,
+//! the difference of their means over its combined standard error. The ray-query tests
+//! fail, not skip, on a lavapipe without ray queries (Mesa < 24.1).
+
+use combustion::renderer::{optional_pass, OptionalPasses, Readback, RendererSettings};
+use combustion::scene::{builtin_scene, Scene};
+use combustion_optics::environment::Estimate;
+use combustion_reference::path::{PathTracer, PathTracing};
+use combustion_reference::shading::SceneShading;
+use combustion_reference::SceneBvh;
+
+use crate::common::exact_f32;
+
+/// The spread f32 arithmetic adds to an estimate, relative to it and at least (W·sr⁻¹·m⁻²)
+/// (the lighting pass's f32 terms against f64: a direct light's term alone has no
+/// sampling noise to hide it).
+const FLOAT_SPREAD: (f64, f64) = (2e-3, 1e-5);
+
+const IMAGES: Readback = Readback {
+    images: true,
+    gbuffer: false,
+};
+
+/// `exact_f32` settings with the frame path traced.
+fn path_traced_settings() -> RendererSettings {
+    let mut settings = exact_f32();
+    let pass = optional_pass("path-trace").expect("the renderer declares it");
+    settings.shading.optional_passes = OptionalPasses::NONE.with(pass, true);
+    settings
+}
+
+/// Each pixel's mean over `frames` path-traced frames of successive seeds (each the mean
+/// of `PATHS_PER_FRAME` paths), with its standard error from their spread.
+fn gpu_frames(scene: &Scene, width: u32, height: u32, frames: u32) -> Vec<Estimate> {
+    let mut headless = crate::common::lavapipe(path_traced_settings());
+    let (mut mean, mut m2) = (
+        vec![[0.0f64; 3]; (width * height) as usize],
+        vec![[0.0f64; 3]; (width * height) as usize],
+    );
+    {
+        let renderer = headless.renderer();
+        let gpu_scene = renderer.upload(scene).expect("upload");
+        let inputs = crate::common::frame_inputs(scene, &scene.lights);
+        for seed in 0..frames {
+            let seeded = combustion::renderer::FrameInputs {
+                environment_seed: seed,
+                ..inputs
+            };
+            let frame = renderer
+                .render_with(&gpu_scene, &seeded, width, height, IMAGES)
+                .expect("render");
+            let k = f64::from(seed + 1);
+            for ((mean, m2), p) in mean.iter_mut().zip(&mut m2).zip(&frame.hdr) {
+                for c in 0..3 {
+                    let x = f64::from(p[c]);
+                    let delta = x - mean[c];
+                    mean[c] += delta / k;
+                    m2[c] += delta * (x - mean[c]);
+                }
+            }
+        }
+    }
+    crate::common::finish(headless);
+    let k = f64::from(frames);
+    mean.iter()
+        .zip(&m2)
+        .map(|(mean, m2)| Estimate {
+            mean: *mean,
+            standard_error: m2.map(|s| (s / (k * (k - 1.0))).sqrt()),
+        })
+        .collect()
+}
+
+/// The f64 path tracer's frame with `samples` paths a pixel, `None` where the pixel is
+/// not compared: where its ray meets nothing, and at silhouettes — pixels whose four
+/// neighbours' rays do not all meet the same object, or whose surface is seen within 84°
+/// of grazing (n·v < 0.1): there f32 and f64 rays may meet different facets, or one a
+/// surface the other misses.
+fn f64_frame(scene: &Scene, width: u32, height: u32, samples: u32) -> Vec<Option<Estimate>> {
+    let bvh = SceneBvh::new(scene);
+    let casters = SceneBvh::shadow_casters(scene);
+    let shading = SceneShading::new(scene, &bvh, &scene.lights, width, height);
+    let tracing = PathTracing {
+        samples,
+        ..PathTracing::default()
+    };
+    let frame = PathTracer::new(&shading, &casters, tracing).render(2);
+    let object = |x: i64, y: i64| {
+        (x >= 0 && y >= 0 && x < i64::from(width) && y < i64::from(height))
+            .then(|| shading.surface(x as u32, y as u32))
+            .flatten()
+            .map(|s| s.hit.object)
+    };
+    frame
+        .into_iter()
+        .enumerate()
+        .map(|(i, estimate)| {
+            let (x, y) = ((i as u32 % width) as i64, (i as u32 / width) as i64);
+            let surface = shading.surface(x as u32, y as u32)?;
+            let interior = [(1, 0), (-1, 0), (0, 1), (0, -1)]
+                .iter()
+                .all(|(dx, dy)| object(x + dx, y + dy) == Some(surface.hit.object))
+                && surface.n.dot(surface.v) >= 0.1;
+            estimate.filter(|_| interior)
+        })
+        .collect()
+}
+
+/// The agreement of two frames: per pixel and channel z = (a − b)/√(σa² + σb² + f²) over
+/// the pixels both show (f: [`FLOAT_SPREAD`]); the mean z², how many beyond |z| = 6, and
+/// each frame's sum with the combined standard error of their difference.
+struct Agreement {
+    compared: usize,
+    mean_square: f64,
+    beyond_six: usize,
+    means: (f64, f64),
+    mean_error: f64,
+}
+
+fn agreement(gpu: &[Estimate], reference: &[Option<Estimate>]) -> Agreement {
+    let (mut z_squares, mut beyond, mut sums, mut variance) = (0.0, 0usize, (0.0, 0.0), 0.0);
+    let mut compared = 0usize;
+    for (g, r) in gpu.iter().zip(reference) {
+        let Some(r) = r else {
+            continue;
+        };
+        for c in 0..3 {
+            let floor = (FLOAT_SPREAD.0 * g.mean[c].abs().max(r.mean[c].abs())).max(FLOAT_SPREAD.1);
+            let spread =
+                (g.standard_error[c].powi(2) + r.standard_error[c].powi(2) + floor * floor).sqrt();
+            sums.0 += g.mean[c];
+            sums.1 += r.mean[c];
+            variance += g.standard_error[c].powi(2) + r.standard_error[c].powi(2);
+            if spread > 0.0 {
+                let z = (g.mean[c] - r.mean[c]) / spread;
+                z_squares += z * z;
+                beyond += usize::from(z.abs() > 6.0);
+                compared += 1;
+            }
+        }
+    }
+    Agreement {
+        compared,
+        mean_square: z_squares / compared as f64,
+        beyond_six: beyond,
+        means: (sums.0, sums.1),
+        mean_error: variance.sqrt(),
+    }
+}
+
+/// The GPU path tracer agrees with the f64 one on `scenes` at 40×30: 64 frames of
+/// `PATHS_PER_FRAME` paths against 256 paths of the f64 tracer, per pixel. Their means
+/// differ by their combined standard errors — mean z² at most 1.6 (1 where the sampling
+/// noise dominates; less where the f32 spread of deterministic direct light does), no
+/// channel beyond |z| = 6 (for normal errors about one false failure in 500 million
+/// channels; these tests compare 33,000) — and the frames' sums within four combined
+/// standard errors of each other.
+fn agrees_on(scenes: &[&str]) {
+    let (width, height) = (40, 30);
+    for &name in scenes {
+        let scene = builtin_scene(name).unwrap();
+        let gpu = gpu_frames(&scene, width, height, 64);
+        let reference = f64_frame(&scene, width, height, 256);
+        let a = agreement(&gpu, &reference);
+        println!(
+            "{name}: {} channels, mean z² {:.3}, beyond |z| = 6: {}, sums {:.4} (GPU) against {:.4} (f64) ± {:.4}",
+            a.compared, a.mean_square, a.beyond_six, a.means.0, a.means.1, a.mean_error
+        );
+        assert!(a.compared > 90, "{name}: {} channels compared", a.compared);
+        assert!(a.mean_square < 1.6, "{name}: mean z² {:.3}", a.mean_square);
+        assert_eq!(a.beyond_six, 0, "{name}: channels beyond |z| = 6");
+        assert!(
+            (a.means.0 - a.means.1).abs() < 4.0 * a.mean_error,
+            "{name}: sums {} against {} ± {}",
+            a.means.0,
+            a.means.1,
+            a.mean_error
+        );
+    }
+}
+
+/// Light that bounces: the closed box with its coloured walls, gold sphere and emitter
+/// found only by paths; the resting sphere and box under the studio; the room lit
+/// through its window; a spot light in a closed room; a point light among spheres on a
+/// floor; the performance grid on its floor under a low sun.
+#[test]
+fn the_gpu_path_tracer_agrees_with_the_f64_one_where_light_bounces() {
+    agrees_on(&[
+        "cornell-box",
+        "resting",
+        "room",
+        "spot-box",
+        "point-among",
+        "grid-sun",
+    ]);
+}
+
+/// The material terms: plastics, measured metals and anisotropic aluminium, clear coats,
+/// sheens, thin films, specular strength and colour, the diffuse models, the hard cases,
+/// each in air and (where the scene exists) under water, lit by lights or the studio.
+#[test]
+fn the_gpu_path_tracer_agrees_with_the_f64_one_on_every_lobe() {
+    agrees_on(&[
+        "spheres",
+        "spheres-studio",
+        "gold-copper",
+        "gold-copper-underwater",
+        "clearcoat",
+        "clearcoat-underwater",
+        "sheen",
+        "iridescence",
+        "specular",
+        "dielectrics",
+        "diffuse-models",
+        "hard-cases",
+        "underwater",
+        "underwater-in-air",
+        "grid-7x7",
+    ]);
+}
