@@ -272,27 +272,7 @@ bool opaque_hit(vec3 p, vec3 d, ScreenMarch march, out vec2 uv, out bool sky,
 // - Thin-walled (no volume): the same slab with no thickness, a = 1: (1 − R)/(1 + R).
 // - Rough surfaces read a coarser level of `behind`, as wide as their two interfaces
 //   spread the light over the distance to what it meets (rough_lods).
-// One crossing of the surface: its transmittance per channel, s and p (the reflectance
-// is 1 − T), under the surface's thin film in IRIDESCENCE variants (Rust:
-// transmission.rs, crossing).
-struct Crossing {
-    vec3 s;
-    vec3 p;
-};
-
-// `film`: the film's weight, IOR and thickness in nm (weight 0: none).
-Crossing surface_crossing(float cos_theta, float eta_from, float eta_to, vec3 film) {
-    Crossing c;
-#ifdef IRIDESCENCE
-    film_crossing_transmittance(cos_theta, eta_from, eta_to, ThinFilm(film.x, film.y, film.z),
-                                c.s, c.p);
-#else
-    vec2 t = fresnel_dielectric_transmittance(cos_theta, eta_from, eta_to);
-    c.s = vec3(t.x);
-    c.p = vec3(t.y);
-#endif
-    return c;
-}
+#include "crossing.glsl"
 
 vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, vec3 position,
                           float roughness, float thickness, vec3 film) {

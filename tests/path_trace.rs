@@ -155,7 +155,7 @@ fn agreement(gpu: &[Estimate], reference: &[Option<Estimate>]) -> Agreement {
 /// differ by their combined standard errors — mean z² at most 1.6 (1 where the sampling
 /// noise dominates; less where the f32 spread of deterministic direct light does), no
 /// channel beyond |z| = 6 (for normal errors about one false failure in 500 million
-/// channels; these tests compare 33,000) — and the frames' sums within four combined
+/// channels; these tests compare 28,071) — and the frames' sums within four combined
 /// standard errors of each other.
 fn agrees_on(scenes: &[&str]) {
     let (width, height) = (40, 30);
@@ -195,6 +195,14 @@ fn the_gpu_path_tracer_agrees_with_the_f64_one_where_light_bounces() {
         "point-among",
         "grid-sun",
     ]);
+}
+
+/// Light through glass: a solid glass ball and slab (volumes: refracted in, reflected
+/// inside, let out by the Fresnel equations) and thin-walled spheres from smooth to rough,
+/// in air and under water.
+#[test]
+fn the_gpu_path_tracer_agrees_with_the_f64_one_through_glass() {
+    agrees_on(&["glass", "glass-underwater"]);
 }
 
 /// The material terms: plastics, measured metals and anisotropic aluminium, clear coats,

@@ -15,6 +15,7 @@
 #include "environment.glsl"
 #include "traced_scene.glsl"
 #include "path_trace/constants.glsl"
+#include "crossing.glsl"
 
 // A mesh's vertices (GpuVertex: position, normal, tangent, uv; 12 floats) and indices.
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer TracedVertices {
@@ -60,11 +61,14 @@ vec3 traced_vertex3(TracedVertices vertices, uint index, uint offset) {
 }
 
 // The nearest surface along the ray from `origin` along unit `direction` beyond
-// `t_min`, that the ray sees: cut-outs tested where it meets them, back faces of
-// single-sided materials passed (the rasteriser culls them; the f64 path tracer passes
-// them too). False where nothing.
-bool path_next_surface(vec3 origin, vec3 direction, float t_min, out PathSurface surface) {
-    for (int passed = 0; passed < 8; ++passed) {
+// `t_min`: cut-outs tested where it meets them; where `seen`, as a path sees it — back
+// faces of single-sided materials passed (the rasteriser culls them; the f64 path tracer
+// passes them too), a blended surface met with probability α (`state`: the path's
+// random numbers) — else any triangle (light inside a volume meets whatever it meets).
+// False where nothing.
+bool path_next_surface(vec3 origin, vec3 direction, float t_min, bool seen, inout uint state,
+                       out PathSurface surface) {
+    for (int passed = 0; passed < 16; ++passed) {
         rayQueryEXT query;
         rayQueryInitializeEXT(query, scene, gl_RayFlagsNoneEXT, 0xffu, origin, t_min, direction, 1e30);
         while (rayQueryProceedEXT(query)) {
@@ -99,7 +103,11 @@ bool path_next_surface(vec3 origin, vec3 direction, float t_min, out PathSurface
         vec3 geometric = normalize(cross(p1 - p0, p2 - p0));
         bool front = dot(geometric, direction) < 0.0;
         bool double_sided = (what.z & 1u) != 0u;
-        if (!front && !double_sided) {
+        bool passes = seen && !front && !double_sided;
+        if (seen && (what.z & 2u) != 0u) {
+            passes = passes || path_random(state) >= materials[what.x].alpha_cutoff.x;
+        }
+        if (passes) {
             // On past it: the next cast starts just beyond this face.
             t_min = t + 1e-5 * max(1.0, t);
             continue;
@@ -129,6 +137,97 @@ bool path_next_surface(vec3 origin, vec3 direction, float t_min, out PathSurface
     return false;
 }
 
+// `n` bent towards `towards` (unit) until their cosine is at least 1e-4 (the f64
+// transmission's rule).
+vec3 path_facing(vec3 n, vec3 towards) {
+    float c = dot(n, towards);
+    return c > 1e-4 ? n : normalize(n + (1e-4 - c) * towards);
+}
+
+// G₁ of a direction below the surface (shading frame), as seen from below.
+float path_g1_below(vec3 d, float ax, float ay) {
+    return 1.0 / (1.0 + lambda_ggx_anisotropic(vec3(d.xy, -d.z), ax, ay));
+}
+
+// The direction light leaves a thin wall in towards the side opposite its viewer `v`:
+// straight on where it is smooth; a rough one's two interfaces (each of α `ax`, `ay`)
+// refract it — in through a microfacet the view sees, out through one of the far
+// wall's — the pair kept with probability of both refracted rays' masking: drawn from
+// by rejection, as the f64 path tracer draws it.
+vec3 path_thin_wall_direction(vec3 n, vec3 along, vec3 v, float ax, float ay, float eta_i,
+                              float eta_t, float roughness, inout uint state) {
+    if (!(roughness > 0.0) || eta_i == eta_t) {
+        return -v;
+    }
+    vec3 t = along - n * dot(n, along);
+    vec3 b;
+    if (!(dot(t, t) > 1e-20)) {
+        orthonormal_basis(n, t, b);
+    }
+    t = normalize(t);
+    b = cross(n, t);
+    vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, n));
+    for (int draw = 0; draw < 64; ++draw) {
+        vec3 m_in = sample_ggx_vndf(v_local, ax, ay, vec2(path_random(state), path_random(state)));
+        vec2 u_out = vec2(path_random(state), path_random(state));
+        float accept = path_random(state);
+        vec3 inside = refract(-v_local, m_in, eta_i / eta_t);
+        if (dot(inside, inside) == 0.0) {
+            continue;
+        }
+        vec3 m_out = sample_ggx_vndf(-inside, ax, ay, u_out);
+        vec3 leaving = refract(inside, dot(m_out, inside) > 0.0 ? -m_out : m_out, eta_t / eta_i);
+        if (dot(leaving, leaving) == 0.0 || !(inside.z < 0.0 && leaving.z < 0.0)) {
+            continue;
+        }
+        if (accept < path_g1_below(inside, ax, ay) * path_g1_below(leaving, ax, ay)) {
+            return normalize(t * leaving.x + b * leaving.y + n * leaving.z);
+        }
+    }
+    return -v;
+}
+
+// Light inside a volume from `origin` along unit `direction` (the medium `eta_inside`
+// inside, `eta_outside` out, absorption `sigma`, under the entry's thin film `film`,
+// polarisation weight `w`): followed to the interface it meets next (whichever
+// object's), absorbed on the way (Beer–Lambert), and there refracted out or reflected
+// back in with the Fresnel equations' probabilities, until it leaves — `origin` and
+// `direction` then where and how it leaves, `carried` times what it carries. False where
+// it is lost (it meets nothing, or is reflected inside 64 times).
+bool path_through_volume(inout vec3 origin, inout vec3 direction, float eta_inside,
+                         float eta_outside, vec3 sigma, vec3 film, float w, inout uint state,
+                         inout vec3 carried) {
+    for (int crossed = 0; crossed < 64; ++crossed) {
+        PathSurface exit;
+        if (!path_next_surface(origin, direction, surface_offset(origin), false, state, exit)) {
+            return false;
+        }
+        carried *= exp(-sigma * distance(origin, exit.position));
+        vec3 outward = dot(exit.normal, exit.geometric) < 0.0 ? -exit.normal : exit.normal;
+        if (dot(exit.geometric, direction) < 0.0) {
+            outward = -outward;
+        }
+        outward = path_facing(outward, direction);
+        Crossing crossing = surface_crossing(clamp(dot(outward, direction), 0.0, 1.0), eta_inside,
+                                             eta_outside, film);
+        vec3 transmittance = mix(crossing.s, crossing.p, w);
+        vec3 reflectance = 1.0 - transmittance;
+        vec3 leaving = refract(direction, -outward, eta_inside / eta_outside);
+        float mean_t = dot(transmittance, vec3(1.0 / 3.0));
+        float mean_r = dot(reflectance, vec3(1.0 / 3.0));
+        float leave = dot(leaving, leaving) > 0.0 ? mean_t / (mean_t + mean_r) : 0.0;
+        origin = exit.position;
+        if (path_random(state) < leave) {
+            carried *= transmittance / leave;
+            direction = normalize(leaving);
+            return true;
+        }
+        carried *= reflectance / (1.0 - leave);
+        direction = normalize(reflect(direction, outward));
+    }
+    return false;
+}
+
 // The radiance a path from the eye along `direction` carries back (PATH_MAX_DEPTH
 // surfaces at most; `state`: its random numbers). `surface` is what the eye's ray met.
 vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
@@ -138,6 +237,7 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
         GpuMaterial material = materials[surface.material];
         vec3 v = -direction;
         vec3 base = material.base_color_metalness.rgb;
+        float metalness = material.base_color_metalness.a;
 #ifndef NO_UNLIT
         if ((material.diffuse_model_flags.y & MATERIAL_FLAG_UNLIT) != 0u) {
             radiance += throughput * base;
@@ -161,7 +261,12 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
         n = facing_view(n, v);
         along = normalize(along - n * dot(n, along));
         vec3 across = cross(n, along);
-        BrdfInputs m = brdf_inputs(material, base, material.base_color_metalness.a,
+        // KHR_materials_transmission: the diffuse lobe keeps 1 − transmission; the rest of
+        // what the surface does not reflect passes through it.
+        float transmission = material.transmission_thickness.x;
+        float transmits = (1.0 - metalness) * transmission;
+        vec3 reflecting = transmits > 0.0 ? base * (1.0 - transmission) : base;
+        BrdfInputs m = brdf_inputs(material, reflecting, metalness,
                                    material.roughness_anisotropy_ior.x,
                                    material.roughness_anisotropy_ior.y,
                                    round(srgb_encode(clamp(base, 0.0, 1.0)) * 255.0));
@@ -169,8 +274,10 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
 #ifdef SPECULAR
         brdf_view_apply_specular(view, m, DielectricSpecular(material.specular.a, material.specular.rgb));
 #endif
+        vec3 film = vec3(0.0);
 #ifdef IRIDESCENCE
-        brdf_view_apply_film(view, m, ThinFilm(material.film.x, material.film.y, material.film.w));
+        film = vec3(material.film.x, material.film.y, material.film.w);
+        brdf_view_apply_film(view, m, ThinFilm(film.x, film.y, film.z));
 #endif
         SurfaceLayers layers;
 #ifdef CLEARCOAT
@@ -212,51 +319,86 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
             }
         }
         bool last = depth == uint(PATH_MAX_DEPTH);
-        // The reflection sampled: GGX's visible normals, the cosine, a coat's visible
-        // normals, one chosen uniformly; weighted by f (n·l) over their mean density.
-        if (!(view.v.z > 0.0)) {
-            break;
-        }
-        bool coated = false;
-        vec3 coat_v = vec3(0.0, 0.0, 1.0);
-        float coat_alpha = 1.0;
-#ifdef CLEARCOAT
-        coated = layers.coat.view.factor > 0.0;
-        coat_v = layers.coat.view.v;
-        coat_alpha = layers.coat.view.alpha;
-        coated = coated && coat_v.z > 0.0;
-#endif
-        float strategies = coated ? 3.0 : 2.0;
-        float pick = path_random(state) * strategies;
-        vec2 u = vec2(path_random(state), path_random(state));
-        vec3 l = view.frame[2];
-        if (pick < 1.0) {
-            l = view.frame * reflect(-view.v, sample_ggx_vndf(view.v, view.ax, view.ay, u));
-        } else if (pick < 2.0 || !coated) {
-            l = view.frame * sample_cosine(u);
+        vec3 origin = surface.position;
+        vec3 l;
+        if (transmits > 0.0 && path_random(state) < 0.5) {
+            // Through the surface, with probability ½ (the f64 tracer's rule), weighted
+            // by what the coat and sheen let out.
+            float eta_i = m.outside_eta;
+            float eta_t = m.dielectric_eta;
+            float w = m.polarisation_weight;
+            Crossing entry = surface_crossing(clamp(dot(n, v), 0.0, 1.0), eta_i, eta_t, film);
+            vec3 carried;
+            if (material.transmission_thickness.y > 0.0) {
+                // A volume: refracted in, followed to where it leaves.
+                l = refract(-v, n, eta_i / eta_t);
+                if (dot(l, l) == 0.0) {
+                    break;
+                }
+                carried = mix(entry.s, entry.p, w);
+                if (!path_through_volume(origin, l, eta_t, eta_i, material.absorption.rgb, film, w,
+                                         state, carried)) {
+                    break;
+                }
+            } else {
+                // A thin wall: both interfaces and the light between them.
+                vec3 rs = 1.0 - entry.s;
+                vec3 rp = 1.0 - entry.p;
+                carried = mix((1.0 - rs) / (1.0 + rs), (1.0 - rp) / (1.0 + rp), w);
+                l = path_thin_wall_direction(n, along, v, m.alpha_x, m.alpha_y, eta_i, eta_t,
+                                             material.roughness_anisotropy_ior.x, state);
+            }
+            float out_layers = layers.coat.view.attenuation_v
+                * (1.0 - clamp(max(layers.sheen.color.r, max(layers.sheen.color.g, layers.sheen.color.b)), 0.0, 1.0)
+                   * layers.sheen.albedo_v);
+            throughput *= carried * (transmits * out_layers / 0.5) * base;
         } else {
+            // The reflection sampled: GGX's visible normals, the cosine, a coat's visible
+            // normals, one chosen uniformly; weighted by f (n·l) over their mean density.
+            if (!(view.v.z > 0.0)) {
+                break;
+            }
+            bool coated = false;
+            vec3 coat_v = vec3(0.0, 0.0, 1.0);
+            float coat_alpha = 1.0;
 #ifdef CLEARCOAT
-            l = layers.coat.view.frame * reflect(-coat_v, sample_ggx_vndf(coat_v, coat_alpha, coat_alpha, u));
+            coated = layers.coat.view.factor > 0.0 && layers.coat.view.v.z > 0.0;
+            coat_v = layers.coat.view.v;
+            coat_alpha = layers.coat.view.alpha;
 #endif
-        }
-        l = normalize(l);
-        vec3 local = shading_frame_to_local(view.frame, l);
-        float density = pdf_ggx_vndf_reflection(view.v, local, view.ax, view.ay) + max(local.z, 0.0) * INV_PI;
+            float strategies = coated ? 3.0 : 2.0;
+            float pick = path_random(state) * strategies;
+            vec2 u = vec2(path_random(state), path_random(state));
+            l = view.frame[2];
+            if (pick < 1.0) {
+                l = view.frame * reflect(-view.v, sample_ggx_vndf(view.v, view.ax, view.ay, u));
+            } else if (pick < 2.0 || !coated) {
+                l = view.frame * sample_cosine(u);
+            } else {
 #ifdef CLEARCOAT
-        if (coated) {
-            density += pdf_ggx_vndf_reflection(coat_v, shading_frame_to_local(layers.coat.view.frame, l),
-                                               coat_alpha, coat_alpha);
-        }
+                l = layers.coat.view.frame * reflect(-coat_v, sample_ggx_vndf(coat_v, coat_alpha, coat_alpha, u));
 #endif
-        density /= strategies;
-        if (!(density > 0.0) || !faces_surface(layers, n, l)) {
-            break;
+            }
+            l = normalize(l);
+            vec3 local = shading_frame_to_local(view.frame, l);
+            float density = pdf_ggx_vndf_reflection(view.v, local, view.ax, view.ay)
+                            + max(local.z, 0.0) * INV_PI;
+#ifdef CLEARCOAT
+            if (coated) {
+                density += pdf_ggx_vndf_reflection(coat_v, shading_frame_to_local(layers.coat.view.frame, l),
+                                                   coat_alpha, coat_alpha);
+            }
+#endif
+            density /= strategies;
+            if (!(density > 0.0) || !faces_surface(layers, n, l)) {
+                break;
+            }
+            vec3 weight = surface_response(m, view, layers, n, l) / density;
+            if (any(isnan(weight)) || any(isinf(weight))) {
+                break;
+            }
+            throughput *= weight / (transmits > 0.0 ? 0.5 : 1.0);
         }
-        vec3 weight = surface_response(m, view, layers, n, l) / density;
-        if (any(isnan(weight)) || any(isinf(weight))) {
-            break;
-        }
-        throughput *= weight;
         if (depth >= uint(PATH_ROULETTE_START) && !last) {
             float q = min(max(throughput.r, max(throughput.g, throughput.b)), PATH_ROULETTE_MAX);
             if (path_random(state) >= q) {
@@ -265,7 +407,7 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
             throughput /= q;
         }
         PathSurface next;
-        if (!path_next_surface(surface.position, l, offset, next)) {
+        if (!path_next_surface(origin, l, surface_offset(origin), true, state, next)) {
 #ifdef ENVIRONMENT
             radiance += throughput * textureLod(environment_specular, l, 0.0).rgb;
 #endif
@@ -288,25 +430,28 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
     return radiance;
 }
 
-// The pixel's radiance: the mean of its PATHS_PER_FRAME paths this frame (seed
-// `seed`); the background (the environment, or its colour) where the eye's ray meets
+// The pixel's radiance: the mean of its PATHS_PER_FRAME paths this frame (seed `seed`),
+// each from what the eye's ray through the pixel's centre meets (blended surfaces met
+// with probability α); the background (the environment, or its colour) where it meets
 // nothing.
 vec3 path_traced_pixel(vec2 pixel, vec2 size, vec3 eye, uint seed) {
     vec2 ndc = pixel / size * 2.0 - 1.0;
     vec4 along = push.inverse_view_projection * vec4(ndc, 0.5, 1.0);
     vec3 direction = normalize(along.xyz / along.w - eye);
-    PathSurface first;
-    if (!path_next_surface(eye, direction, 0.0, first)) {
-#ifdef ENVIRONMENT
-        if (push.background.w != 0.0) {
-            return textureLod(environment_specular, direction, 0.0).rgb;
-        }
-#endif
-        return push.background.rgb;
-    }
     vec3 sum = vec3(0.0);
     for (uint i = 0u; i < uint(PATHS_PER_FRAME); ++i) {
         uint state = path_seed(uint(pixel.x) + 65536u * uint(pixel.y), seed, i);
+        PathSurface first;
+        if (!path_next_surface(eye, direction, 0.0, true, state, first)) {
+#ifdef ENVIRONMENT
+            if (push.background.w != 0.0) {
+                sum += textureLod(environment_specular, direction, 0.0).rgb;
+                continue;
+            }
+#endif
+            sum += push.background.rgb;
+            continue;
+        }
         sum += path_radiance(first, direction, state);
     }
     return sum / float(PATHS_PER_FRAME);

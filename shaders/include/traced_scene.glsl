@@ -11,6 +11,9 @@
 #ifndef COMBUSTION_TRACED_SCENE_GLSL
 #define COMBUSTION_TRACED_SCENE_GLSL
 
+// TRACE_MASK_OCCLUDES: generated from crate::accel's instance masks.
+#include "bindings/constants.glsl"
+
 // The f64 reference's step off a surface at `p` (combustion_reference::visibility::
 // surface_offset): 1e-4 · max(1, |p|∞).
 float surface_offset(vec3 p) {
@@ -76,12 +79,13 @@ bool cutout_present(uint entry, uint primitive, vec2 b) {
     return alpha >= uintBitsToFloat(rule.z);
 }
 
-// Whether anything of the scene lies on the segment from `origin` along the unit
-// `direction` up to `reach`.
+// Whether anything of the scene that blocks light (instance mask TRACE_MASK_OCCLUDES:
+// not what only paths see) lies on the segment from `origin` along the unit `direction`
+// up to `reach`.
 bool scene_blocks(vec3 origin, vec3 direction, float reach) {
     rayQueryEXT query;
-    rayQueryInitializeEXT(query, scene, gl_RayFlagsTerminateOnFirstHitEXT, 0xffu, origin, 0.0,
-                          direction, reach);
+    rayQueryInitializeEXT(query, scene, gl_RayFlagsTerminateOnFirstHitEXT, TRACE_MASK_OCCLUDES,
+                          origin, 0.0, direction, reach);
     while (rayQueryProceedEXT(query)) {
         if (rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionTriangleEXT
             && cutout_present(uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, false)),

@@ -304,7 +304,7 @@ fn compact(
 /// instance (in the top level's order: `rayQueryGetIntersectionInstanceIdEXT`), two
 /// `uvec4` — the device addresses of its mesh's vertices (`GpuVertex`, object space) and
 /// indices (u32), low word first; then its material, its object, its flags
-/// ([`SURFACE_DOUBLE_SIDED`]) and its triangle count — and the vertex and index buffers of each mesh an
+/// ([`SURFACE_DOUBLE_SIDED`], [`SURFACE_BLENDED`]) and its triangle count — and the vertex and index buffers of each mesh an
 /// instance names. Skinned and morphed objects are read in their rest shape.
 pub(crate) struct TracedSurfaces {
     pub(crate) table: Buffer,
@@ -313,6 +313,16 @@ pub(crate) struct TracedSurfaces {
 
 /// A traced surface's flag: its material is double-sided (both faces are seen).
 const SURFACE_DOUBLE_SIDED: u32 = 1;
+
+/// A traced surface's flag: its material is blended (alphaMode BLEND: a path meets it
+/// with probability α).
+const SURFACE_BLENDED: u32 = 2;
+
+/// The instance mask of what blocks light (every ray query's: traced_scene.glsl).
+pub(crate) const OCCLUDES: u8 = 1;
+
+/// The instance mask of what only paths see (path_trace.glsl).
+pub(crate) const SEEN_ONLY: u8 = 2;
 
 impl TracedSurfaces {
     fn new(device: &Arc<Device>, scene: &Scene, objects: &[usize]) -> Result<Self, RenderError> {
@@ -351,10 +361,16 @@ impl TracedSurfaces {
                 meshes.push(index_buffer);
             }
             let (vertices_at, indices_at) = addresses[mesh_index].expect("set above");
-            let double_sided = scene
-                .materials
-                .get(o.material)
-                .is_some_and(|m| m.double_sided);
+            let material = scene.materials.get(o.material);
+            let flags = if material.is_some_and(|m| m.double_sided) {
+                SURFACE_DOUBLE_SIDED
+            } else {
+                0
+            } | if material.is_some_and(combustion_scene::Material::is_blended) {
+                SURFACE_BLENDED
+            } else {
+                0
+            };
             table.push([
                 vertices_at as u32,
                 (vertices_at >> 32) as u32,
@@ -364,11 +380,7 @@ impl TracedSurfaces {
             table.push([
                 o.material as u32,
                 object as u32,
-                if double_sided {
-                    SURFACE_DOUBLE_SIDED
-                } else {
-                    0
-                },
+                flags,
                 (scene.meshes[mesh_index].indices.len() / 3) as u32,
             ]);
         }
@@ -402,6 +414,33 @@ impl TracedSurfaces {
     /// The bytes its buffers hold.
     fn bytes(&self) -> u64 {
         self.table.size() + self.meshes.iter().map(Buffer::size).sum::<u64>()
+    }
+}
+
+/// An instance of the bottom-level structure at `address` placed by `transform`, with
+/// its custom index and mask, and `flags`.
+fn placed_instance(
+    transform: glam::Mat4,
+    (custom_index, mask): (u32, u8),
+    flags: vk::GeometryInstanceFlagsKHR,
+    address: u64,
+) -> vk::AccelerationStructureInstanceKHR {
+    let rows = transform.transpose().to_cols_array();
+    vk::AccelerationStructureInstanceKHR {
+        transform: vk::TransformMatrixKHR {
+            matrix: [
+                rows[0], rows[1], rows[2], rows[3], rows[4], rows[5], rows[6], rows[7], rows[8],
+                rows[9], rows[10], rows[11],
+            ],
+        },
+        instance_custom_index_and_mask: vk::Packed24_8::new(custom_index, mask),
+        instance_shader_binding_table_record_offset_and_flags: vk::Packed24_8::new(
+            0,
+            flags.as_raw() as u8,
+        ),
+        acceleration_structure_reference: vk::AccelerationStructureReferenceKHR {
+            device_handle: address,
+        },
     }
 }
 
@@ -1036,6 +1075,10 @@ pub(crate) struct SceneStructure {
     /// structure (its mesh's, or its own when it is deformed) and, for a cut-out, its
     /// entry in `cutouts` (its instance's custom index; the others are opaque).
     occluders: Vec<(usize, u64, Option<u32>)>,
+    /// The objects paths see that block no light (blended, transmissive, or casting no
+    /// shadow; at rest), with their meshes' structures' addresses: placed in the top level
+    /// (instance mask [`SEEN_ONLY`]) after the occluders, in frames that path-trace only.
+    seen_only: Vec<(usize, u64)>,
     /// What the shaders test the cut-outs' hits against.
     pub(crate) cutouts: TracedCutouts,
     /// What a path meets where it hits an instance (built for frames that path-trace:
@@ -1071,17 +1114,22 @@ impl SceneStructure {
             .collect::<Result<Vec<_>, _>>()?;
         let mut deformed = Vec::new();
         let mut occluders = Vec::new();
+        let mut seen_only = Vec::new();
         for (i, o) in scene.objects.iter().enumerate() {
             let see_through = scene
                 .materials
                 .get(o.material)
                 .is_some_and(combustion_scene::Material::is_see_through);
-            if !o.casts_shadows || see_through {
-                continue;
-            }
             let posed_at =
                 deform.and_then(|d| d.posed_offsets.get(i).copied().flatten().map(|at| (d, at)));
             if !fits[o.mesh] {
+                continue;
+            }
+            if !o.casts_shadows || see_through {
+                // Seen by paths, blocking no light: at rest (a deformed one is left out).
+                if let (None, Some(structure)) = (posed_at, meshes.of(o.mesh)) {
+                    seen_only.push((i, structure.address));
+                }
                 continue;
             }
             match posed_at {
@@ -1105,6 +1153,7 @@ impl SceneStructure {
             log::warn!("{warning}");
         }
         occluders.truncate(kept);
+        seen_only.truncate(capacity as usize - occluders.len().min(capacity as usize));
         let objects: Vec<usize> = occluders.iter().map(|&(object, _)| object).collect();
         let (entries, cutouts) = TracedCutouts::of(device, scene, &objects)?;
         let occluders = occluders
@@ -1117,6 +1166,7 @@ impl SceneStructure {
             deformed,
             deformed_pose: Mutex::new(None),
             occluders,
+            seen_only,
             cutouts,
             surfaces: std::sync::OnceLock::new(),
             per_slot,
@@ -1134,7 +1184,12 @@ impl SceneStructure {
         if self.surfaces.get().is_some() {
             return Ok(0);
         }
-        let objects: Vec<usize> = self.occluders.iter().map(|&(o, _, _)| o).collect();
+        let objects: Vec<usize> = self
+            .occluders
+            .iter()
+            .map(|&(o, _, _)| o)
+            .chain(self.seen_only.iter().map(|&(o, _)| o))
+            .collect();
         let surfaces = TracedSurfaces::new(device, scene, &objects)?;
         let bytes = surfaces.bytes();
         // Set once: checked unset above, and only the renderer's `&mut self` paths call.
@@ -1208,29 +1263,22 @@ impl SceneStructure {
             .occluders
             .iter()
             .map(|&(object, address, cutout)| {
-                let rows = transform(object).transpose().to_cols_array();
                 // A cut-out's hits are tested (custom index: its entry); the rest opaque.
                 let (custom_index, flags) = match cutout {
                     Some(entry) => (entry, vk::GeometryInstanceFlagsKHR::FORCE_NO_OPAQUE),
                     None => (0, vk::GeometryInstanceFlagsKHR::FORCE_OPAQUE),
                 };
-                vk::AccelerationStructureInstanceKHR {
-                    transform: vk::TransformMatrixKHR {
-                        matrix: [
-                            rows[0], rows[1], rows[2], rows[3], rows[4], rows[5], rows[6], rows[7],
-                            rows[8], rows[9], rows[10], rows[11],
-                        ],
-                    },
-                    instance_custom_index_and_mask: vk::Packed24_8::new(custom_index, 0xff),
-                    instance_shader_binding_table_record_offset_and_flags: vk::Packed24_8::new(
-                        0,
-                        flags.as_raw() as u8,
-                    ),
-                    acceleration_structure_reference: vk::AccelerationStructureReferenceKHR {
-                        device_handle: address,
-                    },
-                }
+                placed_instance(transform(object), (custom_index, OCCLUDES), flags, address)
             })
+            .chain(
+                self.seen_only
+                    .iter()
+                    .filter(|_| self.surfaces.get().is_some())
+                    .map(|&(object, address)| {
+                        let flags = vk::GeometryInstanceFlagsKHR::FORCE_OPAQUE;
+                        placed_instance(transform(object), (0, SEEN_ONLY), flags, address)
+                    }),
+            )
             .take(top.capacity as usize)
             .collect();
         top.record(device, functions, cmd, &instances);

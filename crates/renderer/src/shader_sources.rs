@@ -147,6 +147,16 @@ fn shared_constants() -> Vec<SharedConstant> {
             GlslValue::Float(crate::accel::ENVIRONMENT_RAY_OFFSET as f32),
             "accel::ENVIRONMENT_RAY_OFFSET",
         ),
+        constant(
+            "TRACE_MASK_OCCLUDES",
+            GlslValue::Uint(u32::from(crate::accel::OCCLUDES)),
+            "accel::OCCLUDES",
+        ),
+        constant(
+            "TRACE_MASK_SEEN_ONLY",
+            GlslValue::Uint(u32::from(crate::accel::SEEN_ONLY)),
+            "accel::SEEN_ONLY",
+        ),
     ];
     for view in DebugView::ALL {
         if view != DebugView::None {
@@ -237,6 +247,8 @@ mod tests {
                 "ENVIRONMENT_RAY_OFFSET {:?}",
                 crate::accel::ENVIRONMENT_RAY_OFFSET as f32
             ),
+            format!("TRACE_MASK_OCCLUDES {}u", crate::accel::OCCLUDES),
+            format!("TRACE_MASK_SEEN_ONLY {}u", crate::accel::SEEN_ONLY),
         ];
         for (name, view) in [
             ("BASE_COLOR", DebugView::BaseColor),

@@ -15,11 +15,13 @@
 //! their mean converges with a standard error from their spread (`combustion render
 //! --path-trace on --accumulate-until E`).
 //!
-//! Not yet traced (each said in docs/path-tracing.md): textures (a hit reads its
-//! material's factors), blended and transmissive objects and objects that cast no shadow
-//! (they are not in the structure; the forward pass does not draw them over the traced
-//! frame either), skinned and morphed objects' poses (read at rest), lights' sizes
-//! (traced as points).
+//! Glass is traced as the f64 tracer traces it (thin walls, and volumes with absorption
+//! and total internal reflection); blended surfaces are met with probability α; objects
+//! that block no light (glass, blended, casting no shadow) are in the structure for paths
+//! alone (instance mask `accel::SEEN_ONLY`), in frames that path-trace only. Not yet
+//! traced (each said in docs/path-tracing.md): textures (a hit reads its material's
+//! factors), skinned and morphed objects' poses (read at rest; blended or transmissive
+//! ones left out), lights' sizes (traced as points).
 
 use combustion_vk::vk;
 
