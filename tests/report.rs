@@ -666,3 +666,65 @@ fn report_measures_environment_occlusion_against_the_reference() {
     assert!(md.contains("## Environment occlusion"), "{md}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The light-transport section: each real-time setting against the path-traced frame.
+/// Under the studio, builtin:resting's frame with ray-traced occlusion is nearer light
+/// that bounces than the frame without (RMS error with the reference's noise removed at
+/// most half: the environment blocked as the paths find it blocked); the closed box's
+/// real-time frame misses the lamp's light and every bounce: more than half darker.
+#[test]
+fn report_measures_the_real_time_frame_against_light_that_bounces() {
+    let desc = ReportDesc {
+        path_traced_frames: 16,
+        ..ReportDesc::rows_only(
+            vec![
+                SceneSource::Builtin("resting".into()),
+                SceneSource::Builtin("cornell-box".into()),
+            ],
+            vec![VariantSet::DEFAULT],
+            (96, 54),
+            2,
+            lavapipe_with_validation(),
+        )
+    };
+    let measured = combustion::report::measure(&desc, |_, _, _| {}).unwrap();
+    let rows = &measured.light_transport;
+    for r in rows {
+        eprintln!(
+            "{} {}: mean relative error {:.3e}, p95 {:.3e}, RMS noise removed {:.3e}, mean radiance {:+.4}, reference noise {:.3e}, frame {:.2} ms, {} pixels",
+            r.scene, r.setting, r.mean_relative, r.p95_relative, r.rms_relative, r.mean_radiance, r.reference_noise, r.total.median, r.compared
+        );
+        assert!(r.compared > 1000, "{r:?}");
+        assert!(r.mean_relative.is_finite() && r.total.median > 0.0, "{r:?}");
+    }
+    let settings: Vec<(&str, &str)> = rows.iter().map(|r| (r.scene.as_str(), r.setting)).collect();
+    assert_eq!(
+        settings,
+        [
+            ("builtin:resting", "default"),
+            ("builtin:resting", "ray-traced occlusion"),
+            ("builtin:resting", "path traced (1 frame)"),
+            ("builtin:cornell-box", "default"),
+            ("builtin:cornell-box", "ray-traced shadows"),
+            ("builtin:cornell-box", "path traced (1 frame)"),
+        ]
+    );
+    assert!(
+        rows[1].rms_relative < 0.5 * rows[0].rms_relative,
+        "occluded {:.3e} against {:.3e}",
+        rows[1].rms_relative,
+        rows[0].rms_relative
+    );
+    // The real-time box misses the lamp's light and every bounce: far darker.
+    assert!(rows[3].mean_radiance < -0.5, "{:?}", rows[3]);
+    let dir = std::env::temp_dir().join(format!(
+        "combustion-light-transport-report-{}",
+        std::process::id()
+    ));
+    combustion::report::write(&dir, &measured, &desc, None).unwrap();
+    let csv = std::fs::read_to_string(dir.join("light-transport.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 7, "{csv}");
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("## Against light that bounces"), "{md}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

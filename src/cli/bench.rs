@@ -66,6 +66,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
         anti_aliasing: true,
         environment_sampling: true,
         occlusion: true,
+        path_traced_frames: combustion::report::light_transport::PATH_TRACED_FRAMES,
         // Frame time against size and light count: on the scene named, else on the
         // performance scene.
         scaling: Some(if let Some(scene) = o.scene.given() {
@@ -106,6 +107,10 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
             ", environment-sampling.csv",
         ),
         (!measured.occlusion.is_empty(), ", occlusion.csv"),
+        (
+            !measured.light_transport.is_empty(),
+            ", light-transport.csv",
+        ),
     ]
     .iter()
     .filter(|(written, _)| *written)

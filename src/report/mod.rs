@@ -11,6 +11,7 @@
 
 pub mod anti_aliasing;
 pub mod environment_sampling;
+pub mod light_transport;
 pub mod occlusion;
 pub mod shadows;
 pub mod storage;
@@ -380,6 +381,9 @@ pub struct Measurements {
     /// Each occlusion method on each scene lit by an environment, against the reference
     /// with the environment's visibility (empty unless [`ReportDesc::occlusion`]).
     pub occlusion: Vec<occlusion::OcclusionRow>,
+    /// Each real-time setting on each scene against the path-traced frame (empty unless
+    /// [`ReportDesc::path_traced_frames`] and the device has ray queries).
+    pub light_transport: Vec<light_transport::LightTransportRow>,
 }
 
 /// GPU timings of `frames` frames of `scene` (after the frames already taken).
@@ -451,6 +455,9 @@ pub struct ReportDesc {
     /// on devices with ray queries) on each scene lit by an environment
     /// ([`occlusion`]).
     pub occlusion: bool,
+    /// Measure each scene's real-time frame against its path-traced frame, this many
+    /// path-traced frames averaged ([`light_transport`]; 0: not measured).
+    pub path_traced_frames: u32,
 }
 
 impl ReportDesc {
@@ -487,7 +494,16 @@ impl ReportDesc {
             anti_aliasing: false,
             environment_sampling: false,
             occlusion: false,
+            path_traced_frames: 0,
         }
+    }
+
+    /// Steps of the light-transport measurement on `scenes`.
+    fn light_transport_steps(&self, scenes: &[(String, combustion_scene::Scene)]) -> usize {
+        if self.path_traced_frames == 0 {
+            return 0;
+        }
+        light_transport::steps(scenes)
     }
 
     /// Steps of the shadow measurement on `scenes`.
@@ -642,7 +658,8 @@ pub fn measure(
         + desc.storage_steps(&scenes)
         + if desc.anti_aliasing { scenes.len() } else { 0 }
         + desc.environment_sampling_steps(&scenes)
-        + desc.occlusion_steps(&scenes);
+        + desc.occlusion_steps(&scenes)
+        + desc.light_transport_steps(&scenes);
     let mut rows = Vec::with_capacity(total);
     let mut scaling = Vec::new();
     let mut shadow_rows = Vec::new();
@@ -804,9 +821,19 @@ pub fn measure(
         Vec::new()
     };
     let occlusion_rows = if desc.occlusion {
-        let done = total - desc.occlusion_steps(&scenes);
+        let done = total - desc.occlusion_steps(&scenes) - desc.light_transport_steps(&scenes);
         let mut i = 0;
         occlusion::measure(&scenes, desc, threads, |what| {
+            progress(done + i, total, what);
+            i += 1;
+        })?
+    } else {
+        Vec::new()
+    };
+    let light_transport_rows = if desc.path_traced_frames > 0 {
+        let done = total - desc.light_transport_steps(&scenes);
+        let mut i = 0;
+        light_transport::measure(&scenes, desc, |what| {
             progress(done + i, total, what);
             i += 1;
         })?
@@ -817,6 +844,7 @@ pub fn measure(
     Ok(Measurements {
         environment_sampling: environment_sampling_rows,
         occlusion: occlusion_rows,
+        light_transport: light_transport_rows,
         storages: storage_rows,
         anti_aliasing: anti_aliasing_rows,
         rows,
@@ -1418,6 +1446,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     out += &anti_aliasing::markdown(&m.anti_aliasing);
     out += &environment_sampling::markdown(&m.environment_sampling);
     out += &occlusion::markdown(&m.occlusion);
+    out += &light_transport::markdown(&m.light_transport, desc.path_traced_frames);
     out += &metal_colours_markdown();
     out += "## Per scene\n\nErrors of the lighting pass (from the frame's own G-buffer) and, where the scene has no environment, of the frame end to end (from the scene).\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP | end to end: mean | max |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
@@ -1652,6 +1681,12 @@ pub fn write(
     if !m.occlusion.is_empty() {
         files.push(("occlusion.csv", occlusion::csv(&m.occlusion).into_bytes()));
     }
+    if !m.light_transport.is_empty() {
+        files.push((
+            "light-transport.csv",
+            light_transport::csv(&m.light_transport).into_bytes(),
+        ));
+    }
     if !m.scaling.is_empty() {
         let (size, lights) = scaling_plots(m, device)?;
         files.push(("scaling-resolution.png", size.bytes));
@@ -1673,8 +1708,9 @@ pub fn write(
 }
 
 /// Every file a report may write into its folder.
-pub const REPORT_FILES: [&str; 13] = [
+pub const REPORT_FILES: [&str; 14] = [
     "anti-aliasing.csv",
+    "light-transport.csv",
     "environment-sampling.csv",
     "occlusion.csv",
     "report.md",
