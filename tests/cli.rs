@@ -3211,6 +3211,9 @@ fn render_accumulates_sampled_environment_light_to_a_stated_error() {
         &["render", "--environment-samples", "3"],
         &["power of two from 1 to 1024"],
     );
+    for depth in ["0", "65", "-1", "x"] {
+        assert_refused(&["render", "--path-depth", depth], &["--path-depth"]);
+    }
 }
 
 /// `render`'s start-up line: (shaders, of them from the SPIR-V cache).

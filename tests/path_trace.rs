@@ -23,18 +23,24 @@ const IMAGES: Readback = Readback {
     gbuffer: false,
 };
 
-/// `exact_f32` settings with the frame path traced.
-fn path_traced_settings() -> RendererSettings {
+/// `exact_f32` settings with the frame path traced, paths of at most `depth` surfaces.
+fn path_traced_settings(depth: u32) -> RendererSettings {
     let mut settings = exact_f32();
     let pass = optional_pass("path-trace").expect("the renderer declares it");
     settings.shading.optional_passes = OptionalPasses::NONE.with(pass, true);
+    settings.shading.path_depth = depth;
     settings
 }
 
 /// Each pixel's mean over `frames` path-traced frames of successive seeds (each the mean
 /// of `PATHS_PER_FRAME` paths), with its standard error from their spread.
-fn gpu_frames(scene: &Scene, width: u32, height: u32, frames: u32) -> Vec<Estimate> {
-    let mut headless = crate::common::lavapipe(path_traced_settings());
+fn gpu_frames(
+    scene: &Scene,
+    (width, height): (u32, u32),
+    frames: u32,
+    depth: u32,
+) -> Vec<Estimate> {
+    let mut headless = crate::common::lavapipe(path_traced_settings(depth));
     let (mut mean, mut m2) = (
         vec![[0.0f64; 3]; (width * height) as usize],
         vec![[0.0f64; 3]; (width * height) as usize],
@@ -73,17 +79,24 @@ fn gpu_frames(scene: &Scene, width: u32, height: u32, frames: u32) -> Vec<Estima
         .collect()
 }
 
-/// The f64 path tracer's frame with `samples` paths a pixel, `None` where the pixel is
+/// The f64 path tracer's frame with `samples` paths a pixel of at most `depth` surfaces,
+/// `None` where the pixel is
 /// not compared: where its ray meets nothing, and at silhouettes — pixels whose four
 /// neighbours' rays do not all meet the same object, or whose surface is seen within 84°
 /// of grazing (n·v < 0.1): there f32 and f64 rays may meet different facets, or one a
 /// surface the other misses.
-fn f64_frame(scene: &Scene, width: u32, height: u32, samples: u32) -> Vec<Option<Estimate>> {
+fn f64_frame(
+    scene: &Scene,
+    (width, height): (u32, u32),
+    samples: u32,
+    depth: u32,
+) -> Vec<Option<Estimate>> {
     let bvh = SceneBvh::new(scene);
     let casters = SceneBvh::shadow_casters(scene);
     let shading = SceneShading::new(scene, &bvh, &scene.lights, width, height);
     let tracing = PathTracing {
         samples,
+        max_depth: depth,
         ..PathTracing::default()
     };
     let frame = PathTracer::new(&shading, &casters, tracing).render(2);
@@ -158,14 +171,22 @@ fn agreement(gpu: &[Estimate], reference: &[Option<Estimate>]) -> Agreement {
 /// channels; these tests compare 28,071) — and the frames' sums within four combined
 /// standard errors of each other.
 fn agrees_on(scenes: &[&str]) {
-    let (width, height) = (40, 30);
+    agrees_at_depth(
+        scenes,
+        combustion::renderer::ShadingOptions::DEFAULT.path_depth,
+    );
+}
+
+/// [`agrees_on`] with paths of at most `depth` surfaces on both sides.
+fn agrees_at_depth(scenes: &[&str], depth: u32) {
+    let size = (40, 30);
     for &name in scenes {
         let scene = builtin_scene(name).unwrap();
-        let gpu = gpu_frames(&scene, width, height, 64);
-        let reference = f64_frame(&scene, width, height, 256);
+        let gpu = gpu_frames(&scene, size, 64, depth);
+        let reference = f64_frame(&scene, size, 256, depth);
         let a = agreement(&gpu, &reference);
         println!(
-            "{name}: {} channels, mean z² {:.3}, beyond |z| = 6: {}, sums {:.4} (GPU) against {:.4} (f64) ± {:.4}",
+            "{name}, depth {depth}: {} channels, mean z² {:.3}, beyond |z| = 6: {}, sums {:.4} (GPU) against {:.4} (f64) ± {:.4}",
             a.compared, a.mean_square, a.beyond_six, a.means.0, a.means.1, a.mean_error
         );
         assert!(a.compared > 90, "{name}: {} channels compared", a.compared);
@@ -195,6 +216,15 @@ fn the_gpu_path_tracer_agrees_with_the_f64_one_where_light_bounces() {
         "point-among",
         "grid-sun",
     ]);
+}
+
+/// `--path-depth`: paths of one surface (direct light alone: the emitter and the
+/// environment found by the last surface's sampled direction) and of two, on both sides.
+#[test]
+fn the_gpu_path_tracer_agrees_with_the_f64_one_at_each_depth() {
+    for depth in [1, 2] {
+        agrees_at_depth(&["cornell-box", "resting"], depth);
+    }
 }
 
 /// Light through glass: a solid glass ball and slab (volumes: refracted in, reflected

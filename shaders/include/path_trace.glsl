@@ -228,12 +228,14 @@ bool path_through_volume(inout vec3 origin, inout vec3 direction, float eta_insi
     return false;
 }
 
-// The radiance a path from the eye along `direction` carries back (PATH_MAX_DEPTH
-// surfaces at most; `state`: its random numbers). `surface` is what the eye's ray met.
+// The radiance a path from the eye along `direction` carries back (push.sampling.y
+// surfaces at most: ShadingOptions::path_depth; `state`: its random numbers). `surface`
+// is what the eye's ray met.
 vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
     vec3 radiance = vec3(0.0);
     vec3 throughput = vec3(1.0);
-    for (uint depth = 1u; depth <= uint(PATH_MAX_DEPTH); ++depth) {
+    uint max_depth = push.sampling.y;
+    for (uint depth = 1u; depth <= max_depth; ++depth) {
         GpuMaterial material = materials[surface.material];
         vec3 v = -direction;
         vec3 base = material.base_color_metalness.rgb;
@@ -318,7 +320,7 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
                 radiance += throughput * response;
             }
         }
-        bool last = depth == uint(PATH_MAX_DEPTH);
+        bool last = depth == max_depth;
         vec3 origin = surface.position;
         vec3 l;
         if (transmits > 0.0 && path_random(state) < 0.5) {

@@ -400,6 +400,10 @@ pub(crate) struct ShadingArgs {
     /// N a power of two up to 1024)
     #[arg(long, value_name = "N", default_value = "0", value_parser = environment_samples)]
     pub(crate) environment_samples: u32,
+    /// With --path-trace on: the most surfaces a path lights (1: direct light alone;
+    /// Russian roulette ends most paths sooner), 1 to 64
+    #[arg(long, value_name = "N", default_value = "16", value_parser = path_depth)]
+    pub(crate) path_depth: u32,
     /// Scale every specular lobe by 1 + F0 (1 - E)/E (Turquin 2019), putting back the
     /// energy single-scattering GGX loses on rough surfaces (off by default: the f64
     /// reference is single-scattering)
@@ -543,6 +547,7 @@ impl ShadingArgs {
             shadows: self.shadows(),
             environment_samples: self.environment_samples,
             optional_passes: self.optional.passes,
+            path_depth: self.path_depth,
             ..base
         }
     }
@@ -576,6 +581,20 @@ fn environment_samples(text: &str) -> Result<u32, String> {
     if !combustion::renderer::ENVIRONMENT_SAMPLE_COUNTS.contains(&value) {
         return Err(format!(
             "is {value}; use 0 (the split sum) or a power of two from 1 to 1024"
+        ));
+    }
+    Ok(value)
+}
+
+/// `--path-depth`: a depth the renderer takes.
+fn path_depth(text: &str) -> Result<u32, String> {
+    let value = whole_number::<u32>(text)?;
+    let depths = combustion::renderer::PATH_DEPTHS;
+    if !depths.contains(&value) {
+        return Err(format!(
+            "is {value}; use {} to {}",
+            depths.start(),
+            depths.end()
         ));
     }
     Ok(value)

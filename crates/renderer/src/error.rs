@@ -56,6 +56,9 @@ pub enum RenderError {
     /// [`crate::ENVIRONMENT_SAMPLE_COUNTS`].
     #[error("{0} environment samples per pixel are not supported; use 0 (the split sum) or a power of two from 1 to 1024")]
     InvalidEnvironmentSamples(u32),
+    /// [`crate::ShadingOptions::path_depth`] is outside [`crate::PATH_DEPTHS`].
+    #[error("a path depth of {0} is not supported; use 1 to 64")]
+    InvalidPathDepth(u32),
     /// [`RendererSettings::frames_in_flight`] is outside 1 to [`MAX_FRAMES_IN_FLIGHT`].
     #[error("{0} frames in flight are not supported; use 1 to {max}", max = MAX_FRAMES_IN_FLIGHT)]
     InvalidFramesInFlight(usize),

@@ -549,7 +549,7 @@ impl Renderer {
             self.settings.shading.debug_view as u32,
         )
         .with_background(inputs.background)
-        .with_environment_seed(inputs.environment_seed);
+        .with_sampling(inputs.environment_seed, self.settings.shading.path_depth);
         let cull_push = s.culling.map(|(tiles_x, stride)| {
             lighting_push = lighting_push.with_tile_lists(tiles_x, stride);
             CullPush {

@@ -554,8 +554,8 @@ pub struct LightingPush {
     /// The background where no surface is: rgb a radiance, or w = 1: the environment's
     /// (frames with one).
     pub background: [f32; 4],
-    /// x: the frame's environment sample seed (`FrameInputs::environment_seed`); y–w
-    /// unused.
+    /// x: the frame's environment sample seed (`FrameInputs::environment_seed`); y: the
+    /// most surfaces a traced path lights (`ShadingOptions::path_depth`); z, w unused.
     pub sampling: [u32; 4],
 }
 // 128 bytes: every Vulkan device takes that much (maxPushConstantsSize ≥ 128).
@@ -578,10 +578,11 @@ impl LightingPush {
         }
     }
 
-    /// The frame's sampled environment takes the sample set of `seed`.
-    pub fn with_environment_seed(self, seed: u32) -> Self {
+    /// The frame's sampled environment (and its paths) take the sample set of `seed`;
+    /// its paths light at most `path_depth` surfaces.
+    pub fn with_sampling(self, seed: u32, path_depth: u32) -> Self {
         Self {
-            sampling: [seed, 0, 0, 0],
+            sampling: [seed, path_depth, 0, 0],
             ..self
         }
     }

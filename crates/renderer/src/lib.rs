@@ -89,7 +89,7 @@ pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{
     BaseColorStorage, DebugView, Distribution, FresnelModel, GBufferStorage, HdrFormat, Masking,
     MeasurementFloor, OptionalPass, OptionalPasses, PassChoice, Readback, RendererSettings,
-    ShadingOptions, SurfaceStorage, ENVIRONMENT_SAMPLE_COUNTS, MAX_FRAMES_IN_FLIGHT,
+    ShadingOptions, SurfaceStorage, ENVIRONMENT_SAMPLE_COUNTS, MAX_FRAMES_IN_FLIGHT, PATH_DEPTHS,
     TARGETS_KEPT_FOR_FRAMES,
 };
 pub use overlay::{Corner, OverlayImage, OverlayPanel};

@@ -73,7 +73,14 @@ pub struct ShadingOptions {
     /// The optional passes frames run (none by default; [`crate::optional_passes`] lists
     /// them): each adds its pass and what the passes that read its output do with it.
     pub optional_passes: OptionalPasses,
+    /// The most surfaces a path lights in path-traced frames (`--path-trace on`): 1 is
+    /// direct light alone; [`PATH_DEPTHS`] (16 by default; Russian roulette ends most
+    /// paths sooner).
+    pub path_depth: u32,
 }
+
+/// The depths [`ShadingOptions::path_depth`] takes.
+pub const PATH_DEPTHS: std::ops::RangeInclusive<u32> = 1..=64;
 
 /// A pass the frame runs only when asked: declared once, in its pass's file, with its
 /// name (how [`crate::optional_pass`] finds it, and the command line's `--NAME on|off`
@@ -192,6 +199,15 @@ impl ShadingOptions {
         }
     }
 
+    /// Refuses a [`ShadingOptions::path_depth`] outside [`PATH_DEPTHS`].
+    pub(crate) fn validate_path_depth(&self) -> Result<(), crate::RenderError> {
+        if PATH_DEPTHS.contains(&self.path_depth) {
+            Ok(())
+        } else {
+            Err(crate::RenderError::InvalidPathDepth(self.path_depth))
+        }
+    }
+
     /// The defaults: the exact model, each material's own diffuse model, specialised
     /// pipelines, radiance, no energy compensation, the real passes.
     pub const DEFAULT: ShadingOptions = ShadingOptions {
@@ -206,6 +222,7 @@ impl ShadingOptions {
         shadows: None,
         environment_samples: 0,
         optional_passes: OptionalPasses::NONE,
+        path_depth: 16,
     };
 }
 
@@ -662,6 +679,7 @@ impl RendererSettings {
             shadows.validate(device.limits().max_image_dimension2_d)?;
         }
         self.shading.validate_environment_samples()?;
+        self.shading.validate_path_depth()?;
         if !(self.exposure.is_finite() && self.exposure > 0.0) {
             return Err(RenderError::InvalidExposure(self.exposure));
         }

@@ -46,9 +46,6 @@ pub(crate) static OPTION: OptionalPass = OptionalPass {
 /// Paths per pixel in one frame.
 pub const PATHS_PER_FRAME: u32 = 4;
 
-/// The most surfaces a path lights (the f64 path tracer's `PathTracing::max_depth`).
-pub const MAX_DEPTH: u32 = 16;
-
 /// The surface (from 1) from which Russian roulette may end a path, and the largest
 /// probability it lets a path go on with (the f64 path tracer's rule).
 pub const ROULETTE: (u32, f32) = (3, 0.95);
@@ -60,7 +57,6 @@ fn constants_header() -> String {
          #ifndef COMBUSTION_PATH_TRACE_CONSTANTS_GLSL\n\
          #define COMBUSTION_PATH_TRACE_CONSTANTS_GLSL\n\
          #define PATHS_PER_FRAME {PATHS_PER_FRAME}u\n\
-         #define PATH_MAX_DEPTH {MAX_DEPTH}u\n\
          #define PATH_ROULETTE_START {}u\n\
          #define PATH_ROULETTE_MAX {:?}\n\
          #endif\n",
