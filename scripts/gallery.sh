@@ -31,7 +31,7 @@ run render builtin:grid-sun --shadows on "${size[@]}" -o "$out/grid-sun-shadows.
 run render builtin:normal-mapped "${size[@]}" -o "$out/normal-mapped.png"
 run render builtin:resting --environment-occlusion ray-traced --accumulate-until 0.002 "${size[@]}" -o "$out/resting-ray-traced.png"
 run render builtin:cornell-box "${size[@]}" -o "$out/cornell-box.png"
-run render builtin:cornell-box --path-trace on --accumulate-until 0.02 "${size[@]}" -o "$out/cornell-box-path-traced.png"
+run render builtin:cornell-box --path-trace on --accumulate-until 0.03 "${size[@]}" -o "$out/cornell-box-path-traced.png"
 avocado=../shared/data/gltf/Avocado/glTF/Avocado.gltf
 if [ -f "$avocado" ]; then
   run render "$avocado" "${size[@]}" -o "$out/avocado-studio.png"

@@ -239,7 +239,12 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
                 );
                 if achieved > target {
                     log::warn!(
-                        "--accumulate-until {target:e}: not reached in {frames} frames, the most it averages (relative standard error {achieved:.2e}); the image is their mean (more --environment-samples reach a smaller error)"
+                        "--accumulate-until {target:e}: not reached in {frames} frames, the most it averages (relative standard error {achieved:.2e}); the image is their mean{}",
+                        if path_traced {
+                            ""
+                        } else {
+                            " (more --environment-samples reach a smaller error)"
+                        }
                     );
                 }
                 frame
