@@ -207,6 +207,13 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
     let (frame, stats) = {
         let renderer = headless.renderer();
+        if path_traced && !renderer.device().ray_queries() {
+            // A raster frame is not what was asked for: say so rather than write one.
+            return Err(Error::Usage(format!(
+                "--path-trace on needs a device with ray queries (VK_KHR_ray_query; lavapipe from Mesa 24.1): {} has none",
+                renderer.device().info().name
+            )));
+        }
         let gpu_scene = renderer.upload(&scene)?;
         let inputs = combustion::renderer::FrameInputs {
             background: o.picture.background_for(&scene),
