@@ -20,6 +20,7 @@ pub mod animation;
 pub mod diff;
 pub mod end_to_end;
 pub mod eval;
+pub mod frame_mean;
 pub mod input;
 pub mod output;
 pub mod report;

@@ -41,10 +41,7 @@ fn gpu_frames(
     depth: u32,
 ) -> Vec<Estimate> {
     let mut headless = crate::common::lavapipe(path_traced_settings(depth));
-    let (mut mean, mut m2) = (
-        vec![[0.0f64; 3]; (width * height) as usize],
-        vec![[0.0f64; 3]; (width * height) as usize],
-    );
+    let mut averaged = combustion::frame_mean::FrameMean::new((width * height) as usize);
     {
         let renderer = headless.renderer();
         let gpu_scene = renderer.upload(scene).expect("upload");
@@ -57,24 +54,17 @@ fn gpu_frames(
             let frame = renderer
                 .render_with(&gpu_scene, &seeded, width, height, IMAGES)
                 .expect("render");
-            let k = f64::from(seed + 1);
-            for ((mean, m2), p) in mean.iter_mut().zip(&mut m2).zip(&frame.hdr) {
-                for c in 0..3 {
-                    let x = f64::from(p[c]);
-                    let delta = x - mean[c];
-                    mean[c] += delta / k;
-                    m2[c] += delta * (x - mean[c]);
-                }
-            }
+            averaged.add(&frame.hdr);
         }
     }
     crate::common::finish(headless);
-    let k = f64::from(frames);
-    mean.iter()
-        .zip(&m2)
-        .map(|(mean, m2)| Estimate {
+    averaged
+        .mean()
+        .iter()
+        .zip(averaged.standard_errors())
+        .map(|(mean, standard_error)| Estimate {
             mean: *mean,
-            standard_error: m2.map(|s| (s / (k * (k - 1.0))).sqrt()),
+            standard_error,
         })
         .collect()
 }

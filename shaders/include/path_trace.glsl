@@ -71,14 +71,7 @@ bool path_next_surface(vec3 origin, vec3 direction, float t_min, bool seen, inou
     for (int passed = 0; passed < 16; ++passed) {
         rayQueryEXT query;
         rayQueryInitializeEXT(query, scene, gl_RayFlagsNoneEXT, 0xffu, origin, t_min, direction, 1e30);
-        while (rayQueryProceedEXT(query)) {
-            if (rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionTriangleEXT
-                && cutout_present(uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, false)),
-                                  uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, false)),
-                                  rayQueryGetIntersectionBarycentricsEXT(query, false))) {
-                rayQueryConfirmIntersectionEXT(query);
-            }
-        }
+        proceed_past_cutout_holes(query);
         if (rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT) {
             return false;
         }

@@ -79,13 +79,9 @@ bool cutout_present(uint entry, uint primitive, vec2 b) {
     return alpha >= uintBitsToFloat(rule.z);
 }
 
-// Whether anything of the scene that blocks light (instance mask TRACE_MASK_OCCLUDES:
-// not what only paths see) lies on the segment from `origin` along the unit `direction`
-// up to `reach`.
-bool scene_blocks(vec3 origin, vec3 direction, float reach) {
-    rayQueryEXT query;
-    rayQueryInitializeEXT(query, scene, gl_RayFlagsTerminateOnFirstHitEXT, TRACE_MASK_OCCLUDES,
-                          origin, 0.0, direction, reach);
+// Runs `query` to its end, a candidate hit on a cut-out confirmed only where its alpha
+// reaches the cutoff (the other instances are opaque: their hits need no test).
+void proceed_past_cutout_holes(rayQueryEXT query) {
     while (rayQueryProceedEXT(query)) {
         if (rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionTriangleEXT
             && cutout_present(uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, false)),
@@ -94,6 +90,16 @@ bool scene_blocks(vec3 origin, vec3 direction, float reach) {
             rayQueryConfirmIntersectionEXT(query);
         }
     }
+}
+
+// Whether anything of the scene that blocks light (instance mask TRACE_MASK_OCCLUDES:
+// not what only paths see) lies on the segment from `origin` along the unit `direction`
+// up to `reach`.
+bool scene_blocks(vec3 origin, vec3 direction, float reach) {
+    rayQueryEXT query;
+    rayQueryInitializeEXT(query, scene, gl_RayFlagsTerminateOnFirstHitEXT, TRACE_MASK_OCCLUDES,
+                          origin, 0.0, direction, reach);
+    proceed_past_cutout_holes(query);
     return rayQueryGetIntersectionTypeEXT(query, true) != gl_RayQueryCommittedIntersectionNoneEXT;
 }
 

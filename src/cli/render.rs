@@ -33,40 +33,27 @@ fn accumulate(
     target: f64,
 ) -> Result<(Frame, u32, f64), Error> {
     let floor = combustion::renderer::reference::RADIANCE_FLOOR;
-    let n = (width * height) as usize;
-    let (mut mean, mut m2) = (vec![[0.0f64; 3]; n], vec![[0.0f64; 3]; n]);
+    let mut averaged = combustion::frame_mean::FrameMean::new((width * height) as usize);
     let mut last = None;
     let mut achieved = f64::INFINITY;
-    let mut frames = 0;
-    while frames < ACCUMULATED_FRAMES.1 {
+    while averaged.frames() < ACCUMULATED_FRAMES.1 {
         let seeded = FrameInputs {
-            environment_seed: frames,
+            environment_seed: averaged.frames(),
             ..*inputs
         };
         let frame = renderer.render_with(scene, &seeded, width, height, IMAGES)?;
-        frames += 1;
-        // Welford's running mean and sum of squared deviations, per pixel and channel.
-        let k = f64::from(frames);
-        for ((mean, m2), p) in mean.iter_mut().zip(&mut m2).zip(&frame.hdr) {
-            for c in 0..3 {
-                let x = f64::from(p[c]);
-                let delta = x - mean[c];
-                mean[c] += delta / k;
-                m2[c] += delta * (x - mean[c]);
-            }
-        }
+        averaged.add(&frame.hdr);
         last = Some(frame);
-        if frames >= ACCUMULATED_FRAMES.0 {
-            let (sum, lit) = mean
+        if averaged.frames() >= ACCUMULATED_FRAMES.0 {
+            let (sum, lit) = averaged
+                .mean()
                 .iter()
-                .zip(&m2)
+                .zip(&averaged.standard_errors())
                 .fold((0.0, 0usize), |(sum, lit), (m, s)| {
                     if m.iter().all(|&v| v <= floor) {
                         return (sum, lit);
                     }
-                    let error = (0..3)
-                        .map(|c| (s[c] / (k * (k - 1.0))).sqrt() / m[c].max(floor))
-                        .fold(0.0, f64::max);
+                    let error = (0..3).map(|c| s[c] / m[c].max(floor)).fold(0.0, f64::max);
                     (sum + error, lit + 1)
                 });
             achieved = if lit == 0 { 0.0 } else { sum / lit as f64 };
@@ -76,13 +63,18 @@ fn accumulate(
         }
     }
     let mut frame = last.expect("at least one frame");
-    for ((out, display), m) in frame.hdr.iter_mut().zip(&mut frame.ldr).zip(&mean) {
+    for ((out, display), m) in frame
+        .hdr
+        .iter_mut()
+        .zip(&mut frame.ldr)
+        .zip(averaged.mean())
+    {
         *out = [m[0] as f32, m[1] as f32, m[2] as f32, out[3]];
         let exposed = m.map(|v| v * f64::from(inputs.exposure));
         let [r, g, b] = inputs.tone_mapping.display_codes(exposed);
         *display = [r, g, b, display[3]];
     }
-    Ok((frame, frames, achieved))
+    Ok((frame, averaged.frames(), achieved))
 }
 
 pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {

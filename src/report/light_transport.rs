@@ -120,8 +120,7 @@ fn path_traced(
     (width, height): (u32, u32),
     frames: u32,
 ) -> Result<PathTraced, Error> {
-    let n = (width * height) as usize;
-    let (mut mean, mut m2) = (vec![[0.0f64; 3]; n], vec![[0.0f64; 3]; n]);
+    let mut averaged = crate::frame_mean::FrameMean::new((width * height) as usize);
     let images = Readback {
         images: true,
         gbuffer: false,
@@ -131,22 +130,13 @@ fn path_traced(
             environment_seed: seed,
             ..*inputs
         };
-        let frame = renderer.render_with(gpu, &seeded, width, height, images)?;
-        let k = f64::from(seed + 1);
-        for ((mean, m2), p) in mean.iter_mut().zip(&mut m2).zip(&frame.hdr) {
-            for c in 0..3 {
-                let x = f64::from(p[c]);
-                let delta = x - mean[c];
-                mean[c] += delta / k;
-                m2[c] += delta * (x - mean[c]);
-            }
-        }
+        averaged.add(
+            &renderer
+                .render_with(gpu, &seeded, width, height, images)?
+                .hdr,
+        );
     }
-    let k = f64::from(frames.max(2));
-    let error = m2
-        .iter()
-        .map(|s| s.map(|s| (s / (k * (k - 1.0))).sqrt()))
-        .collect();
+    let (mean, error) = (averaged.mean().to_vec(), averaged.standard_errors());
     Ok(PathTraced { mean, error })
 }
 
