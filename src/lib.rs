@@ -116,6 +116,9 @@ pub enum Error {
     /// The window, its surface or its swapchain failed.
     #[error("{0}")]
     Window(String),
+    /// The device cannot do what was asked (the message says what, naming the device).
+    #[error("{0}")]
+    Unsupported(String),
     /// A rendered frame holds NaN or infinite radiance, or in a 16-bit HDR frame
     /// radiance at f16's largest value (65504, where a driver may clamp an overflow
     /// rather than write infinity): the scene's radiances overflow the frame's floats.

@@ -3214,6 +3214,19 @@ fn render_accumulates_sampled_environment_light_to_a_stated_error() {
     for depth in ["0", "65", "-1", "x"] {
         assert_refused(&["render", "--path-depth", depth], &["--path-depth"]);
     }
+    for frames in ["0", "1", "1025"] {
+        assert_refused(
+            &[
+                "bench",
+                "--report",
+                "unused-dir",
+                "--path-traced-frames",
+                frames,
+            ],
+            &["--path-traced-frames"],
+        );
+    }
+    assert_refused(&["bench", "--path-traced-frames", "8"], &["--report"]);
 }
 
 /// `render`'s start-up line: (shaders, of them from the SPIR-V cache).

@@ -820,6 +820,11 @@ pub(crate) struct BenchArgs {
     /// error columns, the spread of the frame-time ratios)
     #[arg(long, value_name = "PREVIOUS_DIR", requires = "report")]
     pub(crate) against: Option<PathBuf>,
+    /// With --report: measure each scene's real-time frame against light that bounces,
+    /// its frame path traced and N frames averaged (devices with ray queries; a traced
+    /// frame costs a hundred real-time ones: off unless asked)
+    #[arg(long, value_name = "N", requires = "report", value_parser = path_traced_frames)]
+    pub(crate) path_traced_frames: Option<u32>,
     #[command(flatten)]
     pub(crate) frame: FrameArgs,
     /// With --time or --animation: the animation plays through the measured frames,
@@ -1152,6 +1157,15 @@ pub(crate) fn shadow_map_side(text: &str) -> Result<u32, String> {
 }
 
 /// An image size or a frame count: at least 1.
+/// `--path-traced-frames`: 2 (for a spread) to 1024.
+fn path_traced_frames(text: &str) -> Result<u32, String> {
+    let value = whole_number::<u32>(text)?;
+    if !(2..=1024).contains(&value) {
+        return Err(format!("is {value}; use 2 to 1024"));
+    }
+    Ok(value)
+}
+
 pub(crate) fn at_least_one(text: &str) -> Result<u32, String> {
     let value = whole_number::<u32>(text)?;
     if value == 0 {

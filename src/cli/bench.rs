@@ -66,7 +66,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
         anti_aliasing: true,
         environment_sampling: true,
         occlusion: true,
-        path_traced_frames: combustion::report::light_transport::PATH_TRACED_FRAMES,
+        path_traced_frames: o.path_traced_frames.unwrap_or(0),
         // Frame time against size and light count: on the scene named, else on the
         // performance scene.
         scaling: Some(if let Some(scene) = o.scene.given() {

@@ -201,7 +201,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         let renderer = headless.renderer();
         if path_traced && !renderer.device().ray_queries() {
             // A raster frame is not what was asked for: say so rather than write one.
-            return Err(Error::Usage(format!(
+            return Err(Error::Unsupported(format!(
                 "--path-trace on needs a device with ray queries (VK_KHR_ray_query; lavapipe from Mesa 24.1): {} has none",
                 renderer.device().info().name
             )));

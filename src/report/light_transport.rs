@@ -24,9 +24,6 @@ use super::environment_sampling::mean_of_seeds;
 use super::{md_cell, time_frames_with, ReportDesc, Spread};
 use crate::{check_validation, Error};
 
-/// Path-traced frames `bench --report` averages into each scene's converged image.
-pub const PATH_TRACED_FRAMES: u32 = 32;
-
 /// One scene and real-time setting against the path-traced frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightTransportRow {
