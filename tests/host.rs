@@ -1475,10 +1475,28 @@ fn a_slot_recorded_again_while_its_frame_executes_is_refused() {
 /// never an error.
 #[test]
 fn a_host_device_with_ray_queries_runs_the_traced_passes() {
+    host_runs_passes_that_trace(
+        &["ray-traced-occlusion", "ray-traced-shadows"],
+        &["ray-traced occlusion", "ray-traced shadows"],
+    );
+}
+
+/// The same for path tracing (`--path-trace on`): its pass builds the structure and the
+/// surface table from the host's own device, the lighting pass reads the meshes through
+/// their buffer device addresses, validation silent; without ray queries, the raster frame.
+#[test]
+fn a_host_device_with_ray_queries_path_traces() {
+    host_runs_passes_that_trace(&["path-trace"], &["path trace"]);
+}
+
+/// Three frames of builtin:resting lit by grid-sun's sun with the optional passes
+/// `options` on, on a host device with ray queries (each pass of `timed` runs) and one
+/// without (none runs), validation silent on both.
+fn host_runs_passes_that_trace(options: &[&str], timed: &[&str]) {
     use combustion::renderer::{optional_pass, OptionalPasses, ShadingOptions};
-    let passes = OptionalPasses::NONE
-        .with(optional_pass("ray-traced-occlusion").unwrap(), true)
-        .with(optional_pass("ray-traced-shadows").unwrap(), true);
+    let passes = options.iter().fold(OptionalPasses::NONE, |passes, name| {
+        passes.with(optional_pass(name).unwrap(), true)
+    });
     let settings = RendererSettings {
         shading: ShadingOptions {
             optional_passes: passes,
@@ -1514,8 +1532,8 @@ fn a_host_device_with_ray_queries_runs_the_traced_passes() {
         let timings = renderer.take_completed_timings();
         assert_eq!(timings.len(), 3);
         for t in &timings {
-            for pass in ["ray-traced occlusion", "ray-traced shadows"] {
-                assert_eq!(t.names().contains(&pass), traced, "{pass}: {:?}", t.names());
+            for pass in timed {
+                assert_eq!(t.names().contains(pass), traced, "{pass}: {:?}", t.names());
             }
         }
         finish_host(host, output, &log);
