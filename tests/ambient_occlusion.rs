@@ -813,7 +813,9 @@ fn an_edited_scene_is_traced_in_its_new_shape() {
 /// of them, each for longer than the retire delay, two rounds, validation on: scenes lit
 /// by an environment and not (the occlusion passes run only with one), the cut-out
 /// panels under the studio with the sampled environment traced, common's deformed
-/// spheres under the studio, the passes on and off. Every binding is written every frame
+/// spheres under the studio, the passes on and off; and path-traced frames (the surface
+/// table bound in the lighting set, glass placed for paths alone) of the glass scene,
+/// resting and the cut-outs between them. Every binding is written every frame
 /// (the placeholders where a pass did not run: `SetWriter::apply` checks it in debug
 /// builds), and each configuration renders the same bytes in its second round as in its
 /// first, after its images were retired and made again.
@@ -836,13 +838,16 @@ fn optional_passes_alternate_past_the_retire_delay() {
     cutouts.environment = Some(Environment::Studio);
     let mut deformed = crate::common::deformed_spheres();
     deformed.environment = Some(Environment::Studio);
+    let glass = combustion::scene::builtin_scene("glass").unwrap();
+    // Path tracing: the surface table and, with glass, the instances paths alone see.
+    let traced = OptionalPasses::NONE.with(optional_pass("path-trace").expect("declared"), true);
     let mut settings = exact_f32();
     settings.shading.optional_passes = all;
     let mut headless = crate::common::lavapipe(settings);
     let (w, h) = (96, 64);
     {
         let renderer = headless.renderer();
-        let gpus = [&resting, &spot_box, &cutouts, &deformed]
+        let gpus = [&resting, &spot_box, &cutouts, &deformed, &glass]
             .map(|scene| renderer.upload(scene).expect("upload"));
         // (scene, passes, environment samples)
         let configurations = [
@@ -853,6 +858,11 @@ fn optional_passes_alternate_past_the_retire_delay() {
             (2, all, 16),
             (3, all, 0),
             (2, OptionalPasses::NONE, 16),
+            (4, traced, 0),
+            (0, traced, 0),
+            (4, all, 0),
+            (2, traced, 0),
+            (4, OptionalPasses::NONE, 0),
         ];
         let mut first: Vec<Option<Vec<[f32; 4]>>> = vec![None; configurations.len()];
         let mut ran: Vec<Vec<&'static str>> = vec![Vec::new(); configurations.len()];
@@ -864,7 +874,7 @@ fn optional_passes_alternate_past_the_retire_delay() {
                     ..renderer.shading()
                 };
                 renderer
-                    .set_shading(shading, &[&gpus[0], &gpus[1], &gpus[2], &gpus[3]])
+                    .set_shading(shading, &[&gpus[0], &gpus[1], &gpus[2], &gpus[3], &gpus[4]])
                     .expect("set shading");
                 for _ in 0..FRAMES_PAST_THE_RETIRE_DELAY {
                     let frame = renderer.render(&gpus[scene], w, h, IMAGES).expect("frame");
@@ -890,7 +900,13 @@ fn optional_passes_alternate_past_the_retire_delay() {
         // The cut-outs' sampled environment and the deformed spheres trace too.
         assert!(has(4, "ray-traced occlusion") && has(5, "ray-traced occlusion"));
         assert!(has(5, "deform"), "{:?}", ran[5]);
-        for config in [2, 3, 6] {
+        // Path-traced frames run the path trace pass (and no other that traces).
+        for config in [7, 8, 10] {
+            assert!(has(config, "path trace"), "{:?}", ran[config]);
+            assert!(!has(config, "ray-traced occlusion"), "{:?}", ran[config]);
+        }
+        assert!(!has(9, "path trace") && !has(11, "path trace"));
+        for config in [2, 3, 6, 11] {
             assert!(
                 !ran[config]
                     .iter()
