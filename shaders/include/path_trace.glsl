@@ -228,7 +228,9 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
     vec3 radiance = vec3(0.0);
     vec3 throughput = vec3(1.0);
     uint max_depth = push.sampling.y;
-    for (uint depth = 1u; depth <= max_depth; ++depth) {
+    // One step past the deepest surface lit: what the last one's sampled direction meets
+    // adds its emission (its direct light), nothing more.
+    for (uint depth = 1u; depth <= max_depth + 1u; ++depth) {
         GpuMaterial material = materials[surface.material];
         vec3 v = -direction;
         vec3 base = material.base_color_metalness.rgb;
@@ -240,6 +242,9 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
         }
 #endif
         radiance += throughput * material.emissive_normal_scale.rgb;
+        if (depth > max_depth) {
+            break;
+        }
         // The surface's frame as the G-buffer pass makes it: the interpolated normal
         // (reversed on a double-sided material's back), the tangent made orthogonal to
         // it, the anisotropy direction turned by the material's rotation.
@@ -406,17 +411,6 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
 #ifdef ENVIRONMENT
             radiance += throughput * textureLod(environment_specular, l, 0.0).rgb;
 #endif
-            break;
-        }
-        if (last) {
-            GpuMaterial met = materials[next.material];
-#ifndef NO_UNLIT
-            if ((met.diffuse_model_flags.y & MATERIAL_FLAG_UNLIT) != 0u) {
-                radiance += throughput * met.base_color_metalness.rgb;
-                break;
-            }
-#endif
-            radiance += throughput * met.emissive_normal_scale.rgb;
             break;
         }
         direction = l;

@@ -22,6 +22,7 @@ use combustion_renderer::{
 
 use super::environment_sampling::mean_of_seeds;
 use super::{md_cell, time_frames_with, ReportDesc, Spread};
+use crate::frame_mean::FrameMean;
 use crate::{check_validation, Error};
 
 /// One scene and real-time setting against the path-traced frame.
@@ -102,22 +103,15 @@ fn shading_with(pass: Option<&str>) -> ShadingOptions {
     }
 }
 
-/// The converged image: per pixel the mean of the path-traced frames and its standard
-/// error.
-struct PathTraced {
-    mean: Vec<[f64; 3]>,
-    error: Vec<[f64; 3]>,
-}
-
-/// `frames` path-traced frames (seeds 0 to `frames` − 1) averaged.
+/// The converged image: `frames` path-traced frames (seeds 0 to `frames` − 1) averaged.
 fn path_traced(
     renderer: &mut Renderer,
     gpu: &combustion_renderer::GpuScene,
     inputs: &FrameInputs<'_>,
     (width, height): (u32, u32),
     frames: u32,
-) -> Result<PathTraced, Error> {
-    let mut averaged = crate::frame_mean::FrameMean::new((width * height) as usize);
+) -> Result<FrameMean, Error> {
+    let mut averaged = FrameMean::new((width * height) as usize);
     let images = Readback {
         images: true,
         gbuffer: false,
@@ -133,8 +127,7 @@ fn path_traced(
                 .hdr,
         );
     }
-    let (mean, error) = (averaged.mean().to_vec(), averaged.standard_errors());
-    Ok(PathTraced { mean, error })
+    Ok(averaged)
 }
 
 /// A row's error figures (its [`LightTransportRow`] fields).
@@ -149,14 +142,14 @@ struct Errors {
 
 /// The error figures of `frame` (RGBA per pixel) against `reference` over the pixels
 /// `lit`.
-fn errors(frame: &[[f32; 4]], reference: &PathTraced, lit: &[bool]) -> Errors {
+fn errors(frame: &[[f32; 4]], reference: &FrameMean, lit: &[bool]) -> Errors {
     let mut relative = Vec::new();
     let (mut squares, mut noise_squares, mut noise) = (0.0, 0.0, 0.0);
     let (mut sum, mut reference_sum) = (0.0, 0.0);
     for (((p, r), s), _) in frame
         .iter()
-        .zip(&reference.mean)
-        .zip(&reference.error)
+        .zip(reference.mean())
+        .zip(&reference.standard_errors())
         .zip(lit)
         .filter(|(_, &lit)| lit)
     {

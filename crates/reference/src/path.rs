@@ -340,7 +340,9 @@ impl<'s, 'a> PathTracer<'s, 'a> {
                 radiance[c] += throughput[c] * light[c];
             }
         };
-        for depth in 1..=self.tracing.max_depth {
+        // One step past the deepest surface lit: what the last one's sampled direction
+        // meets adds its emission (its direct light), nothing more.
+        for depth in 1..=self.tracing.max_depth.saturating_add(1) {
             let Some(material) = self.material(&surface) else {
                 break;
             };
@@ -349,6 +351,9 @@ impl<'s, 'a> PathTracer<'s, 'a> {
                 break;
             }
             add(&mut radiance, &throughput, surface.emitted);
+            if depth > self.tracing.max_depth {
+                break;
+            }
             // A transmissive surface reflects with the diffuse share 1 − transmission; the
             // rest of what is not reflected passes through it (sampled with probability
             // ½ against the reflection).
@@ -410,14 +415,6 @@ impl<'s, 'a> PathTracer<'s, 'a> {
                 throughput = throughput.map(|t| t / q);
             }
             match self.next_surface(origin, direction, random) {
-                Some(next) if last => {
-                    let shown = match self.material(&next) {
-                        Some(m) if m.unlit => next.brdf.base_color,
-                        _ => next.emitted,
-                    };
-                    add(&mut radiance, &throughput, shown);
-                    break;
-                }
                 Some(next) => surface = next,
                 None => {
                     if let Some(environment) = &self.shading.scene.environment {

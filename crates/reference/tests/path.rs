@@ -11,23 +11,18 @@ use glam::{Mat4, Vec3};
 
 const THREADS: usize = 2;
 
-/// A camera at the centre of a closed sphere (radius 1) of one Lambertian material of
-/// albedo `albedo` that emits radiance 1, double-sided so its inside is its front.
-fn furnace(albedo: f32) -> Scene {
-    let base = builtin_scene("spheres").expect("built-in scene");
+/// `base` (its medium and motion) holding one sphere of `radius` at the origin, of
+/// `material`, seen by `camera`, lit by `environment` alone.
+fn lone_sphere(
+    base: Scene,
+    radius: f32,
+    material: Material,
+    camera: Camera,
+    environment: Option<combustion_scene::Environment>,
+) -> Scene {
     Scene {
-        name: "furnace".into(),
-        meshes: vec![Mesh::uv_sphere("sphere", 1.0, 48, 24)],
-        materials: vec![Material {
-            name: "glowing white".into(),
-            base_color: [albedo; 3],
-            roughness: 1.0,
-            dielectric_ior: 1.0,
-            emissive_factor: [1.0; 3],
-            emissive_strength: 1.0,
-            double_sided: true,
-            ..Material::default()
-        }],
+        meshes: vec![Mesh::uv_sphere("sphere", radius, 48, 24)],
+        materials: vec![material],
         objects: vec![Object {
             mesh: 0,
             material: 0,
@@ -36,17 +31,35 @@ fn furnace(albedo: f32) -> Scene {
             node: None,
         }],
         lights: Vec::new(),
-        camera: Camera {
-            position: Vec3::ZERO,
-            target: Vec3::new(0.3, 0.2, -1.0),
-            up: Vec3::Y,
-            vertical_fov: 90f32.to_radians(),
-            near: 0.01,
-            far: 10.0,
-        },
-        environment: None,
+        camera,
+        environment,
         ..base
     }
+}
+
+/// A camera at the centre of a closed sphere (radius 1) of one Lambertian material of
+/// albedo `albedo` that emits radiance 1, double-sided so its inside is its front.
+fn furnace(albedo: f32) -> Scene {
+    let glowing = Material {
+        name: "glowing white".into(),
+        base_color: [albedo; 3],
+        roughness: 1.0,
+        dielectric_ior: 1.0,
+        emissive_factor: [1.0; 3],
+        emissive_strength: 1.0,
+        double_sided: true,
+        ..Material::default()
+    };
+    let camera = Camera {
+        position: Vec3::ZERO,
+        target: Vec3::new(0.3, 0.2, -1.0),
+        up: Vec3::Y,
+        vertical_fov: 90f32.to_radians(),
+        near: 0.01,
+        far: 10.0,
+    };
+    let base = builtin_scene("spheres").expect("built-in scene");
+    lone_sphere(base, 1.0, glowing, camera, None)
 }
 
 /// The path-traced frame of `scene` at `width` × `height`.
@@ -339,28 +352,22 @@ fn direct_environment_light_matches_the_environment_integral() {
         ("iridescence", 2),
     ] {
         let from = builtin_scene(source).unwrap();
-        let scene = Scene {
-            meshes: vec![Mesh::uv_sphere("sphere", 0.5, 48, 24)],
-            materials: vec![from.materials[material].clone()],
-            objects: vec![Object {
-                mesh: 0,
-                material: 0,
-                transform: Mat4::IDENTITY,
-                casts_shadows: true,
-                node: None,
-            }],
-            lights: Vec::new(),
-            camera: Camera {
-                position: Vec3::new(0.4, 0.6, 2.5),
-                target: Vec3::ZERO,
-                up: Vec3::Y,
-                vertical_fov: 25f32.to_radians(),
-                near: 0.1,
-                far: 10.0,
-            },
-            environment: Some(combustion_scene::Environment::Studio),
-            ..from
+        let camera = Camera {
+            position: Vec3::new(0.4, 0.6, 2.5),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            vertical_fov: 25f32.to_radians(),
+            near: 0.1,
+            far: 10.0,
         };
+        let studio = Some(combustion_scene::Environment::Studio);
+        let scene = lone_sphere(
+            from.clone(),
+            0.5,
+            from.materials[material].clone(),
+            camera,
+            studio,
+        );
         let bvh = SceneBvh::new(&scene);
         let casters = SceneBvh::shadow_casters(&scene);
         let shading = SceneShading::new(&scene, &bvh, &scene.lights, size, size);

@@ -58,7 +58,7 @@ fn constants_header() -> String {
          #define COMBUSTION_PATH_TRACE_CONSTANTS_GLSL\n\
          #define PATHS_PER_FRAME {PATHS_PER_FRAME}u\n\
          #define PATH_ROULETTE_START {}u\n\
-         #define PATH_ROULETTE_MAX {:?}\n\
+         #define PATH_ROULETTE_MAX {:.6}\n\
          #endif\n",
         ROULETTE.0, ROULETTE.1
     )
