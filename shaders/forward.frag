@@ -387,16 +387,10 @@ void main() {
     // KHR_materials_transmission: of what the dielectric part lets through its surface,
     // the share `transmission` passes on through the object instead of scattering
     // diffusely: the diffuse lobe (and its environment term) keeps 1 − transmission.
-    // The transmission factor × its texture's R; the thickness factor × its texture's G,
-    // in metres through the object's scale.
-    float transmission = material.transmission_thickness.x;
-    if (material.textures_transmission_thickness.x >= 0) {
-        transmission *= texture(transmission_texture, UV_TRANSMISSION).r;
-    }
-    float thickness = material.transmission_thickness.y * push.object_scale;
-    if (material.textures_transmission_thickness.y >= 0) {
-        thickness *= texture(thickness_texture, UV_THICKNESS).g;
-    }
+    // The transmission and the thickness (material_surface_at.glsl), the thickness in
+    // metres through the object's scale.
+    float transmission = s.transmission;
+    float thickness = s.thickness * push.object_scale;
     BrdfInputs m = brdf_inputs(material, base_color * (1.0 - transmission), s.metalness,
                                s.roughness, s.anisotropy, base_color_code);
 #else

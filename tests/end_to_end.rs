@@ -971,7 +971,7 @@ fn the_authored_gltf_scenes_are_what_they_show() {
 /// `scene` without its environment, lit by its own lights or, if it has none, by a
 /// directional light from above the camera's right shoulder (this comparison's
 /// reference does not integrate environments per pixel).
-fn lit_for_comparison(mut scene: Scene) -> Scene {
+pub(crate) fn lit_for_comparison(mut scene: Scene) -> Scene {
     // A file's default studio environment too (the lights alone are compared here).
     scene.environment = None;
     if scene.lights.is_empty() {

@@ -92,55 +92,15 @@ float vertex_alpha() {
 #endif
 }
 
-// What the fragment's material says of its surface, factors times textures times the
-// vertex colour.
-struct MaterialSurface {
-    vec3 base_color;  // linear
-    float alpha;      // the base colour factor's, texture's and vertex colour's alpha
-    float metalness;
-    float roughness;  // perceptual
-    float anisotropy; // strength
-    vec3 normal;      // unit shading normal (normal map applied; reversed on back faces)
-    vec3 direction;   // unit anisotropy direction, in the plane of `normal`
-    vec3 emissive;    // emitted radiance (EMISSIVE variant; 0 otherwise)
-    float occlusion;  // glTF occlusion (OCCLUSION variant; 1 otherwise)
-    // KHR_materials_clearcoat (CLEARCOAT variant; weight 0 otherwise): the coat's weight,
-    // perceptual roughness and unit normal (its own normal map applied to the geometry's
-    // normal, not the base's normal map; reversed on back faces).
-    float clearcoat;
-    float clearcoat_roughness;
-    vec3 clearcoat_normal;
-    // KHR_materials_sheen (SHEEN variant; black otherwise): its linear colour and
-    // perceptual roughness.
-    vec3 sheen_color;
-    float sheen_roughness;
-    // KHR_materials_iridescence (IRIDESCENCE variant; 0 otherwise): the thin film's
-    // weight and thickness in nm (0: no film).
-    float film_weight;
-    float film_thickness_nm;
-    // KHR_materials_specular (SPECULAR variant; 1 and 1 otherwise): the dielectric's
-    // specular factor and its linear colour.
-    float specular_factor;
-    vec3 specular_color;
-};
+// A slot's texture as the rasteriser samples it: its set 1 binding at the fragment's
+// mapped coordinates, with the derivatives' mip level.
+#define MATERIAL_TEXTURE(sampler, uv, index, slot) texture(sampler, uv)
+#include "material_surface_at.glsl"
 
-// A tangent-space normal map's texel (glTF convention: RGB mapped to [−1, 1]), its x
-// and y scaled by `scale`, in `frame` (tangent, bitangent, normal); `fallback` where the
-// result is degenerate.
-vec3 normal_mapped(vec4 texel, float scale, mat3 frame, vec3 fallback) {
-    vec3 m = texel.xyz * 2.0 - 1.0;
-    m.xy *= scale;
-    vec3 mapped = frame * m;
-    return dot(mapped, mapped) > 1e-20 ? normalize(mapped) : fallback;
-}
-
+// The surface the fragment shows: its interpolated normal (the facet's where that is
+// degenerate; reversed on a back face), tangent, vertex colour and coordinates.
 MaterialSurface material_surface(GpuMaterial material) {
-    ivec4 tex0 = material.textures_base_mr_normal_occlusion;
-    ivec4 tex1 = material.textures_emissive_anisotropy_specular;
-    MaterialSurface s;
-
-    // Geometric frame: interpolated normal (facet normal if it is degenerate) and the
-    // mesh tangent made orthogonal to it.
+    // The facet's normal from derivatives taken in uniform control flow.
     vec3 geometric = cross(dFdx(in_world_position), dFdy(in_world_position));
     vec3 n = in_normal;
     if (!(dot(n, n) > 1e-20) || any(isnan(n)) || any(isinf(n))) {
@@ -150,142 +110,12 @@ MaterialSurface material_surface(GpuMaterial material) {
     if (!gl_FrontFacing) {
         n = -n;
     }
-    vec3 t = in_tangent.xyz - n * dot(n, in_tangent.xyz);
-    if (!(dot(t, t) > 1e-20) || any(isnan(t))) {
-        vec3 unused;
-        orthonormal_basis(n, t, unused);
-    }
-    t = normalize(t);
-    vec3 b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
-    // The geometry's frame, before the base's normal map: the coat's.
-    mat3 geometry_frame = mat3(t, b, n);
-
-    // Normal map (tangent space, glTF convention), scaled in x and y.
-    if (tex0.z >= 0) {
-        n = normal_mapped(texture(normal_texture, UV_NORMAL), material.emissive_normal_scale.a,
-                          geometry_frame, n);
-        t = normalize(t - n * dot(n, t));
-        b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
-    }
-
-    vec4 base = vec4(material.base_color_metalness.rgb, material.alpha_cutoff.x);
-    if (tex0.x >= 0) {
-        base *= texture(base_color_texture, UV_BASE_COLOR);
-    }
 #ifdef VERTEX_COLORS
-    base *= in_color;
+    vec4 color = in_color;
+#else
+    vec4 color = vec4(1.0);
 #endif
-    vec4 metal_rough = tex0.y >= 0
-        ? texture(metallic_roughness_texture, UV_METALLIC_ROUGHNESS)
-        : vec4(1.0);
-    // glTF: G = roughness, B = metalness
-    s.base_color = base.rgb;
-    s.alpha = base.a;
-    s.metalness = material.base_color_metalness.a * metal_rough.b;
-    s.roughness = material.roughness_anisotropy_ior.x * metal_rough.g;
-
-    // Anisotropy (KHR_materials_anisotropy): direction in tangent space from the texture's
-    // RG (or +x), rotated by the material's rotation; strength × the texture's B.
-    float strength = material.roughness_anisotropy_ior.y;
-    vec2 along = vec2(1.0, 0.0);
-    if (tex1.y >= 0) {
-        vec3 a = texture(anisotropy_texture, UV_ANISOTROPY).rgb;
-        along = a.rg * 2.0 - 1.0;
-        strength *= a.b;
-    }
-    float rotation = material.roughness_anisotropy_ior.z;
-    float c = cos(rotation), sn = sin(rotation);
-    along = vec2(c * along.x - sn * along.y, sn * along.x + c * along.y);
-    vec3 direction = along.x * t + along.y * b;
-    if (!(dot(direction, direction) > 1e-20)) {
-        direction = t;
-    }
-    s.anisotropy = strength;
-    s.normal = n;
-    s.direction = normalize(direction);
-
-    s.emissive = vec3(0.0);
-#ifdef EMISSIVE
-    s.emissive = material.emissive_normal_scale.rgb;
-    if (tex1.x >= 0) {
-        s.emissive *= texture(emissive_texture, UV_EMISSIVE).rgb;
-    }
-#endif
-    // glTF occlusion: 1 + strength · (R − 1), from the texture's red channel.
-    s.occlusion = 1.0;
-#ifdef OCCLUSION
-    if (tex0.w >= 0) {
-        float occlusion_strength = uintBitsToFloat(material.diffuse_model_flags.z);
-        s.occlusion = 1.0 + occlusion_strength * (texture(occlusion_texture, UV_OCCLUSION).r - 1.0);
-    }
-#endif
-    s.clearcoat = 0.0;
-    s.clearcoat_roughness = 0.0;
-    s.clearcoat_normal = geometry_frame[2];
-#ifdef CLEARCOAT
-    // KHR_materials_clearcoat: weight × R of its texture, roughness × G of its own, the
-    // coat's normal map in the geometry's tangent frame, scaled in x and y.
-    ivec4 tex2 = material.textures_clearcoat;
-    s.clearcoat = material.clearcoat.x;
-    if (tex2.x >= 0) {
-        s.clearcoat *= texture(clearcoat_texture, UV_CLEARCOAT).r;
-    }
-    s.clearcoat_roughness = material.clearcoat.y;
-    if (tex2.y >= 0) {
-        s.clearcoat_roughness *= texture(clearcoat_roughness_texture, UV_CLEARCOAT_ROUGHNESS).g;
-    }
-    if (tex2.z >= 0) {
-        s.clearcoat_normal = normal_mapped(texture(clearcoat_normal_texture, UV_CLEARCOAT_NORMAL),
-                                           material.clearcoat.w, geometry_frame,
-                                           s.clearcoat_normal);
-    }
-#endif
-    s.sheen_color = vec3(0.0);
-    s.sheen_roughness = 0.0;
-#ifdef SHEEN
-    // KHR_materials_sheen: colour × its texture's RGB (sRGB, decoded by the sampler's
-    // format), roughness × its texture's A.
-    ivec4 tex3 = material.textures_sheen;
-    s.sheen_color = material.sheen.rgb;
-    if (tex3.x >= 0) {
-        s.sheen_color *= texture(sheen_color_texture, UV_SHEEN_COLOR).rgb;
-    }
-    s.sheen_roughness = material.sheen.a;
-    if (tex3.y >= 0) {
-        s.sheen_roughness *= texture(sheen_roughness_texture, UV_SHEEN_ROUGHNESS).a;
-    }
-#endif
-    s.film_weight = 0.0;
-    s.film_thickness_nm = 0.0;
-#ifdef IRIDESCENCE
-    // KHR_materials_iridescence: the factor × its texture's R; the thickness from the
-    // minimum (z) to the maximum (w) by its texture's G, the maximum without one.
-    ivec4 tex4 = material.textures_film;
-    s.film_weight = material.film.x;
-    if (tex4.x >= 0) {
-        s.film_weight *= texture(iridescence_texture, UV_IRIDESCENCE).r;
-    }
-    s.film_thickness_nm = material.film.w;
-    if (tex4.y >= 0) {
-        s.film_thickness_nm = mix(material.film.z, material.film.w,
-                                  texture(iridescence_thickness_texture, UV_IRIDESCENCE_THICKNESS).g);
-    }
-#endif
-    s.specular_factor = 1.0;
-    s.specular_color = vec3(1.0);
-#ifdef SPECULAR
-    // KHR_materials_specular: the factor × its texture's A, the colour × its colour
-    // texture's RGB (sRGB, decoded by the sampler's format).
-    s.specular_factor = material.specular.a;
-    if (tex1.z >= 0) {
-        s.specular_factor *= texture(specular_texture, UV_SPECULAR).a;
-    }
-    s.specular_color = material.specular.rgb;
-    if (tex1.w >= 0) {
-        s.specular_color *= texture(specular_color_texture, UV_SPECULAR_COLOR).rgb;
-    }
-#endif
-    return s;
+    return material_surface_at(material, n, in_tangent, color, vec4(0.0));
 }
 
 #endif

@@ -14,6 +14,7 @@
 
 #include "environment.glsl"
 #include "traced_scene.glsl"
+#include "traced_textures.glsl"
 #include "path_trace/constants.glsl"
 #include "crossing.glsl"
 
@@ -23,6 +24,11 @@ layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Tra
 };
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer TracedIndices {
     uint values[];
+};
+// A mesh's second texture-coordinate set and vertex colour (6 floats a vertex), where it
+// has either.
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer TracedExtras {
+    float values[];
 };
 
 // A PCG step and a uniform float in [0, 1) from it.
@@ -45,15 +51,21 @@ uint path_seed(uint a, uint b, uint c) {
 
 // What a ray meets: the surface's point, its interpolated normal (world space, towards
 // the mesh's front), tangent and bitangent sign, its geometric normal (the winding's
-// front) and its material; `front`: the ray meets the winding's front.
+// front), its texture coordinates (sets 0 and 1), vertex colour and material; `front`:
+// the ray meets the winding's front.
 struct PathSurface {
     vec3 position;
     vec3 normal;
     vec4 tangent;
     vec3 geometric;
+    vec4 uvs;
+    vec4 color;
     uint material;
     bool front;
 };
+
+// The surface table's rows per instance (accel.rs, TracedSurfaces).
+#define SURFACE_ROWS 3u
 
 vec3 traced_vertex3(TracedVertices vertices, uint index, uint offset) {
     uint at = 12u * index + offset;
@@ -80,8 +92,9 @@ bool path_next_surface(vec3 origin, vec3 direction, float t_min, bool seen, inou
         vec2 b = rayQueryGetIntersectionBarycentricsEXT(query, true);
         float t = rayQueryGetIntersectionTEXT(query, true);
         mat4x3 to_world = rayQueryGetIntersectionObjectToWorldEXT(query, true);
-        uvec4 where = traced_surfaces[2u * instance];
-        uvec4 what = traced_surfaces[2u * instance + 1u];
+        uvec4 where = traced_surfaces[SURFACE_ROWS * instance];
+        uvec4 what = traced_surfaces[SURFACE_ROWS * instance + 1u];
+        uvec4 extras_at = traced_surfaces[SURFACE_ROWS * instance + 2u];
         if (primitive >= what.w) {
             return false;  // not the instance's triangle: never read past its mesh
         }
@@ -97,8 +110,32 @@ bool path_next_surface(vec3 origin, vec3 direction, float t_min, bool seen, inou
         bool front = dot(geometric, direction) < 0.0;
         bool double_sided = (what.z & 1u) != 0u;
         bool passes = seen && !front && !double_sided;
+        vec4 uvs = vec4(0.0);
+        vec4 color = vec4(1.0);
+        for (uint k = 0u; k < 3u; ++k) {
+            uint at = 12u * corner[k] + 10u;
+            uvs.xy += vec2(vertices.values[at], vertices.values[at + 1u]) * w[k];
+        }
+        if (extras_at.x != 0u || extras_at.y != 0u) {
+            TracedExtras extras = TracedExtras(extras_at.xy);
+            color = vec4(0.0);
+            for (uint k = 0u; k < 3u; ++k) {
+                uint at = 6u * corner[k];
+                uvs.zw += vec2(extras.values[at], extras.values[at + 1u]) * w[k];
+                color += vec4(extras.values[at + 2u], extras.values[at + 3u], extras.values[at + 4u],
+                              extras.values[at + 5u]) * w[k];
+            }
+        }
         if (seen && (what.z & 2u) != 0u) {
-            passes = passes || path_random(state) >= materials[what.x].alpha_cutoff.x;
+            // A blended surface's alpha: its factor × the base colour texture's × the
+            // vertex colour's.
+            GpuMaterial blended = materials[what.x];
+            float alpha = blended.alpha_cutoff.x * color.a;
+            int base_texture = blended.textures_base_mr_normal_occlusion.x;
+            if (base_texture >= 0) {
+                alpha *= traced_texture(base_texture, traced_slot_uv(blended, 0u, uvs)).a;
+            }
+            passes = passes || path_random(state) >= alpha;
         }
         if (passes) {
             // On past it: the next cast starts just beyond this face.
@@ -123,6 +160,8 @@ bool path_next_surface(vec3 origin, vec3 direction, float t_min, bool seen, inou
         surface.normal = dot(n, n) > 1e-20 ? normalize(n) : geometric;
         surface.tangent = vec4(linear * tangent.xyz, tangent.w);
         surface.geometric = geometric;
+        surface.uvs = uvs;
+        surface.color = color;
         surface.material = what.x;
         surface.front = front;
         return true;
@@ -233,62 +272,51 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
     for (uint depth = 1u; depth <= max_depth + 1u; ++depth) {
         GpuMaterial material = materials[surface.material];
         vec3 v = -direction;
-        vec3 base = material.base_color_metalness.rgb;
-        float metalness = material.base_color_metalness.a;
+        // The surface as the G-buffer pass makes it (material_surface_at.glsl: the
+        // normal reversed on a double-sided material's back, textures read at level 0),
+        // then lit as the forward pass lights it.
+        MaterialSurface s = material_surface_at(material, surface.front ? surface.normal : -surface.normal,
+                                                surface.tangent, surface.color, surface.uvs);
+        vec3 base = clamp(s.base_color, 0.0, 1.0);
 #ifndef NO_UNLIT
         if ((material.diffuse_model_flags.y & MATERIAL_FLAG_UNLIT) != 0u) {
-            radiance += throughput * base;
+            radiance += throughput * s.base_color;
             break;
         }
 #endif
-        radiance += throughput * material.emissive_normal_scale.rgb;
+        radiance += throughput * s.emissive;
         if (depth > max_depth) {
             break;
         }
-        // The surface's frame as the G-buffer pass makes it: the interpolated normal
-        // (reversed on a double-sided material's back), the tangent made orthogonal to
-        // it, the anisotropy direction turned by the material's rotation.
-        vec3 n = surface.front ? surface.normal : -surface.normal;
-        vec3 t = surface.tangent.xyz - n * dot(n, surface.tangent.xyz);
-        if (!(dot(t, t) > 1e-20)) {
-            vec3 unused;
-            orthonormal_basis(n, t, unused);
-        }
-        t = normalize(t);
-        vec3 b = cross(n, t) * (surface.tangent.w < 0.0 ? -1.0 : 1.0);
-        float rotation = material.roughness_anisotropy_ior.z;
-        vec3 along = cos(rotation) * t + sin(rotation) * b;
-        n = facing_view(n, v);
-        along = normalize(along - n * dot(n, along));
+        vec3 n = facing_view(s.normal, v);
+        vec3 along = normalize(s.direction - n * dot(n, s.direction));
         vec3 across = cross(n, along);
         // KHR_materials_transmission: the diffuse lobe keeps 1 − transmission; the rest of
         // what the surface does not reflect passes through it.
-        float transmission = material.transmission_thickness.x;
+        float metalness = s.metalness;
+        float transmission = s.transmission;
         float transmits = (1.0 - metalness) * transmission;
         vec3 reflecting = transmits > 0.0 ? base * (1.0 - transmission) : base;
-        BrdfInputs m = brdf_inputs(material, reflecting, metalness,
-                                   material.roughness_anisotropy_ior.x,
-                                   material.roughness_anisotropy_ior.y,
-                                   round(srgb_encode(clamp(base, 0.0, 1.0)) * 255.0));
+        BrdfInputs m = brdf_inputs(material, reflecting, metalness, s.roughness, s.anisotropy,
+                                   round(srgb_encode(base) * 255.0));
         BrdfView view = brdf_view(m, n, along, across, v);
 #ifdef SPECULAR
-        brdf_view_apply_specular(view, m, DielectricSpecular(material.specular.a, material.specular.rgb));
+        brdf_view_apply_specular(view, m, DielectricSpecular(s.specular_factor, s.specular_color));
 #endif
         vec3 film = vec3(0.0);
 #ifdef IRIDESCENCE
-        film = vec3(material.film.x, material.film.y, material.film.w);
+        film = vec3(s.film_weight, material.film.y, s.film_thickness_nm);
         brdf_view_apply_film(view, m, ThinFilm(film.x, film.y, film.z));
 #endif
         SurfaceLayers layers;
 #ifdef CLEARCOAT
-        vec3 geometry_normal = facing_view(surface.front ? surface.normal : -surface.normal, v);
-        layers.coat = surface_coat(material, m, material.clearcoat.x, material.clearcoat.y,
-                                   geometry_normal, v);
+        layers.coat = surface_coat(material, m, s.clearcoat, s.clearcoat_roughness,
+                                   facing_view(s.clearcoat_normal, v), v);
 #else
         layers.coat = no_surface_coat();
 #endif
 #ifdef SHEEN
-        layers.sheen = surface_sheen(material.sheen.rgb, material.sheen.a, view);
+        layers.sheen = surface_sheen(s.sheen_color, s.sheen_roughness, view);
 #else
         layers.sheen = no_surface_sheen();
 #endif
@@ -346,7 +374,7 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
                 vec3 rp = 1.0 - entry.p;
                 carried = mix((1.0 - rs) / (1.0 + rs), (1.0 - rp) / (1.0 + rp), w);
                 l = path_thin_wall_direction(n, along, v, m.alpha_x, m.alpha_y, eta_i, eta_t,
-                                             material.roughness_anisotropy_ior.x, state);
+                                             s.roughness, state);
             }
             float out_layers = layers.coat.view.attenuation_v
                 * (1.0 - clamp(max(layers.sheen.color.r, max(layers.sheen.color.g, layers.sheen.color.b)), 0.0, 1.0)

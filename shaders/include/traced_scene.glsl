@@ -27,7 +27,7 @@ float cutout_alpha_byte(uint i) {
 }
 
 // Texel index `i` wrapped into [0, n) by `mode` (0 repeat, 1 mirrored repeat, 2 clamp).
-int cutout_wrap(int i, int n, uint mode) {
+int texel_wrap(int i, int n, uint mode) {
     if (mode == 2u) {
         return clamp(i, 0, n - 1);
     }
@@ -46,17 +46,17 @@ float cutout_texture_alpha(uvec4 size, uint flags, vec2 uv) {
     uint wrap_v = (flags >> 2) & 3u;
     vec2 texel = uv * vec2(w, h);
     if ((flags & 16u) == 0u) {
-        int x = cutout_wrap(int(floor(texel.x)), w, wrap_u);
-        int y = cutout_wrap(int(floor(texel.y)), h, wrap_v);
+        int x = texel_wrap(int(floor(texel.x)), w, wrap_u);
+        int y = texel_wrap(int(floor(texel.y)), h, wrap_v);
         return cutout_alpha_byte(size.y + uint(y * w + x));
     }
     vec2 p = texel - 0.5;
     vec2 p0 = floor(p);
     vec2 f = p - p0;
-    int x0 = cutout_wrap(int(p0.x), w, wrap_u);
-    int x1 = cutout_wrap(int(p0.x) + 1, w, wrap_u);
-    int y0 = cutout_wrap(int(p0.y), h, wrap_v);
-    int y1 = cutout_wrap(int(p0.y) + 1, h, wrap_v);
+    int x0 = texel_wrap(int(p0.x), w, wrap_u);
+    int x1 = texel_wrap(int(p0.x) + 1, w, wrap_u);
+    int y0 = texel_wrap(int(p0.y), h, wrap_v);
+    int y1 = texel_wrap(int(p0.y) + 1, h, wrap_v);
     float a00 = cutout_alpha_byte(size.y + uint(y0 * w + x0));
     float a10 = cutout_alpha_byte(size.y + uint(y0 * w + x1));
     float a01 = cutout_alpha_byte(size.y + uint(y1 * w + x0));

@@ -9,8 +9,9 @@
 //! its standard error from their spread ([`Estimate`]). A path:
 //!
 //! - **Starts** where the pixel's primary ray meets the scene, through the pixel's centre,
-//!   its textures filtered at the pixel's footprint: the one-bounce reference's surface
-//!   ([`SceneShading::surface`]). Blended surfaces in front of it (alphaMode BLEND) are
+//!   its textures read at their finest level, as at every other surface a path meets
+//!   (a ray through the pixel's centre has no footprint; the one-bounce reference
+//!   filters its primary surfaces over the pixel's footprint). Blended surfaces in front of it (alphaMode BLEND) are
 //!   each the start of a path of their own and composited over it as the one-bounce
 //!   reference composites them.
 //! - **At every surface it meets** adds the surface's emission (every emissive surface is
@@ -281,8 +282,8 @@ impl<'s, 'a> PathTracer<'s, 'a> {
     /// The radiance pixel (`x`, `y`) shows, with its standard error; `None` where its
     /// ray meets no opaque surface.
     pub fn pixel(&self, x: u32, y: u32) -> Option<Estimate> {
-        let opaque = self.shading.surface(x, y)?;
-        let blended = self.shading.blended_surfaces(x, y);
+        let (blended, opaque) = self.shading.layers_at_finest_level(x, y);
+        let opaque = opaque?;
         let width = u64::from(self.shading.width());
         let pixel = u64::from(y) * width + u64::from(x);
         let samples = self.tracing.samples.max(1);

@@ -420,6 +420,32 @@ impl<'a> SceneShading<'a> {
             .collect()
     }
 
+    /// What pixel (`x`, `y`)'s ray meets — the blended surfaces in front, nearest first
+    /// ([`SceneShading::blended_surfaces`]), and the opaque one — with their textures
+    /// read at their finest level, as a path from the eye through the pixel's centre
+    /// reads them (such a path has no footprint).
+    pub(crate) fn layers_at_finest_level(
+        &self,
+        x: u32,
+        y: u32,
+    ) -> (Vec<SurfacePoint>, Option<SurfacePoint>) {
+        let layers = primary_layers(self.scene, self.bvh, self.width, self.height, x, y);
+        let eye = self.scene.camera.position.as_dvec3();
+        let blended = if self.see_through {
+            layers
+                .blended
+                .into_iter()
+                .filter_map(|hit| self.surface_seen_from(hit, eye))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let opaque = layers
+            .opaque
+            .and_then(|hit| self.surface_seen_from(hit, eye));
+        (blended, opaque)
+    }
+
     /// The radiance a pixel shows where `blended` (nearest first, with their radiance)
     /// lie in front of a surface of radiance `behind`: each blended over what is behind
     /// it, farthest first, as glTF's straight alpha defines it (L α + behind (1 − α),

@@ -301,15 +301,26 @@ fn compact(
 }
 
 /// What a path tracer meets where its ray hits an instance of the top level: per
-/// instance (in the top level's order: `rayQueryGetIntersectionInstanceIdEXT`), two
-/// `uvec4` — the device addresses of its mesh's vertices (`GpuVertex`, object space) and
-/// indices (u32), low word first; then its material, its object, its flags
-/// ([`SURFACE_DOUBLE_SIDED`], [`SURFACE_BLENDED`]) and its triangle count — and the vertex and index buffers of each mesh an
-/// instance names. Skinned and morphed objects are read in their rest shape.
+/// instance (in the top level's order: `rayQueryGetIntersectionInstanceIdEXT`),
+/// [`SURFACE_ROWS`] `uvec4` — the device addresses of its mesh's vertices (`GpuVertex`,
+/// object space) and indices (u32), low word first; then its material, its object, its
+/// flags ([`SURFACE_DOUBLE_SIDED`], [`SURFACE_BLENDED`]) and its triangle count; then the
+/// device address of its mesh's second texture-coordinate set and vertex colours (six
+/// floats a vertex; 0 where the mesh has neither) — and the buffers each names. Then the
+/// scene's textures as hits read them (traced_textures.glsl): per texture of the
+/// material table's texture array one `uvec4` — the device address of its image's level
+/// 0 (RGBA8), its width and height (16 bits each) and its flags — and each image's texels.
+/// Skinned and morphed occluders are read in their pose, in the deform pass's output
+/// (the vertices their own structures are built over).
 pub(crate) struct TracedSurfaces {
     pub(crate) table: Buffer,
+    pub(crate) textures: Buffer,
     meshes: Vec<Buffer>,
+    texels: Vec<Buffer>,
 }
+
+/// The surface table's `uvec4` rows per instance (path_trace.glsl's SURFACE_ROWS).
+const SURFACE_ROWS: usize = 3;
 
 /// A traced surface's flag: its material is double-sided (both faces are seen).
 const SURFACE_DOUBLE_SIDED: u32 = 1;
@@ -324,13 +335,25 @@ pub(crate) const OCCLUDES: u8 = 1;
 /// The instance mask of what only paths see (path_trace.glsl).
 pub(crate) const SEEN_ONLY: u8 = 2;
 
+/// A traced texture's flag: the image is sRGB-encoded (decoded per texel, before
+/// filtering).
+const TEXTURE_SRGB: u32 = 1 << 5;
+
 impl TracedSurfaces {
-    fn new(device: &Arc<Device>, scene: &Scene, objects: &[usize]) -> Result<Self, RenderError> {
+    /// The table of `objects` of `scene` (object indices, in the top level's order);
+    /// `posed`: the device address of each deformed object's posed vertices.
+    fn new(
+        device: &Arc<Device>,
+        scene: &Scene,
+        objects: &[usize],
+        posed: &[(usize, u64)],
+    ) -> Result<Self, RenderError> {
         let usage =
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
         let mut meshes = Vec::new();
-        let mut addresses: Vec<Option<(u64, u64)>> = vec![None; scene.meshes.len()];
-        let mut table: Vec<[u32; 4]> = Vec::with_capacity(2 * objects.len());
+        let mut addresses: Vec<Option<[u64; 3]>> = vec![None; scene.meshes.len()];
+        let mut table: Vec<[u32; 4]> = Vec::with_capacity(SURFACE_ROWS * objects.len());
+        let split = |address: u64| [address as u32, (address >> 32) as u32];
         for &object in objects {
             let o = &scene.objects[object];
             let mesh_index = o.mesh;
@@ -341,26 +364,36 @@ impl TracedSurfaces {
                     .iter()
                     .map(crate::gpu_types::GpuVertex::new)
                     .collect();
-                let vertex_buffer = Buffer::with_data(
-                    device,
-                    "traced vertices",
-                    bytemuck::cast_slice(&vertices),
-                    usage,
-                )?;
-                let index_buffer = Buffer::with_data(
-                    device,
-                    "traced indices",
-                    bytemuck::cast_slice(&mesh.indices),
-                    usage,
-                )?;
-                addresses[mesh_index] = Some((
-                    device.buffer_address(vertex_buffer.raw()),
-                    device.buffer_address(index_buffer.raw()),
-                ));
-                meshes.push(vertex_buffer);
-                meshes.push(index_buffer);
+                let mut buffer = |name: &str, bytes: &[u8]| -> Result<u64, RenderError> {
+                    let buffer = Buffer::with_data(device, name, bytes, usage)?;
+                    let address = device.buffer_address(buffer.raw());
+                    meshes.push(buffer);
+                    Ok(address)
+                };
+                let vertices_at = buffer("traced vertices", bytemuck::cast_slice(&vertices))?;
+                let indices_at = buffer("traced indices", bytemuck::cast_slice(&mesh.indices))?;
+                let second_set = mesh.vertices.iter().any(|v| v.uv1 != [0.0; 2]);
+                let extras_at = if second_set || mesh.has_colors() {
+                    let extras: Vec<[f32; 6]> = mesh
+                        .vertices
+                        .iter()
+                        .map(|v| {
+                            let [u, w] = v.uv1;
+                            let [r, g, b, a] = v.color;
+                            [u, w, r, g, b, a]
+                        })
+                        .collect();
+                    buffer("traced vertex extras", bytemuck::cast_slice(&extras))?
+                } else {
+                    0
+                };
+                addresses[mesh_index] = Some([vertices_at, indices_at, extras_at]);
             }
-            let (vertices_at, indices_at) = addresses[mesh_index].expect("set above");
+            let [rest_at, indices_at, extras_at] = addresses[mesh_index].expect("set above");
+            let vertices_at = posed
+                .iter()
+                .find(|&&(posed_object, _)| posed_object == object)
+                .map_or(rest_at, |&(_, at)| at);
             let material = scene.materials.get(o.material);
             let flags = if material.is_some_and(|m| m.double_sided) {
                 SURFACE_DOUBLE_SIDED
@@ -371,22 +404,22 @@ impl TracedSurfaces {
             } else {
                 0
             };
-            table.push([
-                vertices_at as u32,
-                (vertices_at >> 32) as u32,
-                indices_at as u32,
-                (indices_at >> 32) as u32,
-            ]);
+            let [v0, v1] = split(vertices_at);
+            let [i0, i1] = split(indices_at);
+            let [e0, e1] = split(extras_at);
+            table.push([v0, v1, i0, i1]);
             table.push([
                 o.material as u32,
                 object as u32,
                 flags,
                 (scene.meshes[mesh_index].indices.len() / 3) as u32,
             ]);
+            table.push([e0, e1, 0, 0]);
         }
         if table.is_empty() {
-            table.push([0; 4]);
+            table.resize(SURFACE_ROWS, [0; 4]);
         }
+        let (textures, texels) = Self::textures(device, scene)?;
         Ok(Self {
             table: Buffer::with_data(
                 device,
@@ -394,26 +427,91 @@ impl TracedSurfaces {
                 bytemuck::cast_slice(&table),
                 vk::BufferUsageFlags::STORAGE_BUFFER,
             )?,
+            textures,
             meshes,
+            texels,
         })
+    }
+
+    /// The texture table of `scene`'s texture array (`Scene::texture_table`, the indices
+    /// its materials' rows hold) and the texels of each image it names (level 0, RGBA8).
+    fn textures(device: &Arc<Device>, scene: &Scene) -> Result<(Buffer, Vec<Buffer>), RenderError> {
+        let usage =
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
+        let table = scene.texture_table();
+        let mut texels = Vec::with_capacity(table.images.len());
+        let mut image_addresses = Vec::with_capacity(table.images.len());
+        for image in &table.images {
+            if image.width > u32::from(u16::MAX) || image.height > u32::from(u16::MAX) {
+                return Err(RenderError::TooLarge(format!(
+                    "image `{}` is {}×{}: a path's hits read images of at most 65,535 texels a side",
+                    image.name, image.width, image.height
+                )));
+            }
+            let buffer = Buffer::with_data(device, "traced texels", &image.pixels, usage)?;
+            image_addresses.push(device.buffer_address(buffer.raw()));
+            texels.push(buffer);
+        }
+        let mut entries: Vec<[u32; 4]> = table
+            .textures
+            .iter()
+            .map(|texture| {
+                let image = &table.images[texture.image];
+                let address = image_addresses[texture.image];
+                let sampler = &texture.sampler;
+                let linear = sampler.mag_filter == combustion_scene::Filter::Linear;
+                let srgb = image.color_space == combustion_scene::ColorSpace::Srgb;
+                [
+                    address as u32,
+                    (address >> 32) as u32,
+                    image.width | image.height << 16,
+                    wrap_bits(sampler.wrap_u)
+                        | wrap_bits(sampler.wrap_v) << 2
+                        | if linear { CUTOUT_LINEAR } else { 0 }
+                        | if srgb { TEXTURE_SRGB } else { 0 },
+                ]
+            })
+            .collect();
+        if entries.is_empty() {
+            entries.push([0; 4]);
+        }
+        let textures = Buffer::with_data(
+            device,
+            "traced textures",
+            bytemuck::cast_slice(&entries),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        Ok((textures, texels))
     }
 
     /// A table of one empty entry: what a set binds where a frame path-traces nothing.
     pub(crate) fn none(device: &Arc<Device>) -> Result<Self, RenderError> {
-        Ok(Self {
-            table: Buffer::with_data(
+        let empty = |name: &str, bytes: usize| {
+            Buffer::with_data(
                 device,
-                "traced surfaces",
-                &[0; 32],
+                name,
+                &vec![0; bytes],
                 vk::BufferUsageFlags::STORAGE_BUFFER,
-            )?,
+            )
+        };
+        Ok(Self {
+            table: empty("traced surfaces", 16 * SURFACE_ROWS)?,
+            textures: empty("traced textures", 16)?,
             meshes: Vec::new(),
+            texels: Vec::new(),
         })
     }
 
     /// The bytes its buffers hold.
     fn bytes(&self) -> u64 {
-        self.table.size() + self.meshes.iter().map(Buffer::size).sum::<u64>()
+        self.table.size()
+            + self.textures.size()
+            + self
+                .meshes
+                .iter()
+                .chain(&self.texels)
+                .map(Buffer::size)
+                .sum::<u64>()
     }
 }
 
@@ -748,6 +846,8 @@ impl TracedCutouts {
 /// A skinned or morphed occluder's bottom-level structure, over its posed vertices in
 /// the deform pass's output (`SceneDeform::posed`, read in place) and its mesh's indices.
 struct DeformedStructure {
+    /// The object it is the shape of.
+    object: usize,
     structure: AccelerationStructure,
     /// The mesh's indices, as the build reads them.
     _indices: Buffer,
@@ -797,6 +897,7 @@ impl DeformedStructure {
             "deformed object",
         )?;
         Ok(Some(Self {
+            object,
             structure,
             _indices: indices,
             indices_at,
@@ -1190,7 +1291,12 @@ impl SceneStructure {
             .map(|&(o, _, _)| o)
             .chain(self.seen_only.iter().map(|&(o, _)| o))
             .collect();
-        let surfaces = TracedSurfaces::new(device, scene, &objects)?;
+        let posed: Vec<(usize, u64)> = self
+            .deformed
+            .iter()
+            .map(|d| (d.object, d.vertices_at))
+            .collect();
+        let surfaces = TracedSurfaces::new(device, scene, &objects, &posed)?;
         let bytes = surfaces.bytes();
         // Set once: checked unset above, and only the renderer's `&mut self` paths call.
         let _ = self.surfaces.set(surfaces);

@@ -80,8 +80,8 @@ const OWN_BINDINGS: &[Binding] = &[
 /// traces each of its directions against.
 /// Declared where lighting.frag traces the scene: for the sampled environment's
 /// directions (RAY_TRACED_OCCLUSION) or its paths (PATH_TRACE); then the path tracer's
-/// surface table.
-const TRACED: [Binding; 5] = {
+/// surface and texture tables.
+const TRACED: [Binding; 6] = {
     let [scene, cutouts, corners, alphas] =
         super::traced::bindings(FRAGMENT, Some(super::ray_traced_occlusion::OPTION.define));
     let path_trace = super::path_trace::OPTION.define;
@@ -91,6 +91,7 @@ const TRACED: [Binding; 5] = {
         corners.or_with(path_trace),
         alphas.or_with(path_trace),
         super::path_trace::SURFACES,
+        super::path_trace::TEXTURES,
     ]
 };
 
@@ -321,6 +322,16 @@ impl FramePass for Lighting {
                 super::traced::nothing(io, frame)
             };
             io = super::path_trace::bind_surfaces(io, frame);
+            if let Some(deform) = frame
+                .scene
+                .gpu
+                .deform
+                .as_ref()
+                .filter(|_| super::path_trace::traces(frame))
+            {
+                // Paths read the deformed occluders' posed vertices where they hit them.
+                io = io.uses_buffer(&deform.posed, BufferUse::FragmentStorageRead);
+            }
         }
         lit_by(io, frame)
     }

@@ -18,10 +18,11 @@
 //! Glass is traced as the f64 tracer traces it (thin walls, and volumes with absorption
 //! and total internal reflection); blended surfaces are met with probability α; objects
 //! that block no light (glass, blended, casting no shadow) are in the structure for paths
-//! alone (instance mask `accel::SEEN_ONLY`), in frames that path-trace only. Not yet
-//! traced (each said in docs/path-tracing.md): textures (a hit reads its material's
-//! factors), skinned and morphed objects' poses (read at rest; blended or transmissive
-//! ones left out), lights' sizes (traced as points).
+//! alone (instance mask `accel::SEEN_ONLY`), in frames that path-trace only. A hit reads
+//! its material's textures at level 0 (the surface table holds the scene's texels) and a
+//! skinned or morphed occluder's posed vertices. Not yet traced (each said in
+//! docs/path-tracing.md): deformed blended or transmissive objects (left out), lights'
+//! sizes (traced as points).
 
 use combustion_vk::vk;
 
@@ -76,6 +77,19 @@ pub(super) const SURFACES: Binding = Binding::new(
 .for_ray_queries()
 .only_with(OPTION.define);
 
+/// The lighting set's binding of the texture table (`accel::TracedSurfaces`,
+/// traced_textures.glsl).
+pub(super) const TEXTURES: Binding = Binding::new(
+    "traced_textures",
+    BindingKind::StorageBuffer {
+        block: "TracedTextures",
+        element: "uvec4",
+    },
+    crate::bindings::FRAGMENT,
+)
+.for_ray_queries()
+.only_with(OPTION.define);
+
 /// Whether frames of `variant` are path traced.
 pub(crate) fn wanted(variant: ShaderVariant) -> bool {
     variant.optional_passes.contains(&OPTION)
@@ -87,8 +101,8 @@ pub(super) fn traces(frame: &FrameContext<'_>) -> bool {
     wanted(frame.variant) && frame.scene.gpu.structures.get().is_some()
 }
 
-/// `io` with the surface table bound: the scene's where the frame is path traced, else
-/// the renderer's empty one (devices with ray queries only).
+/// `io` with the surface and texture tables bound: the scene's where the frame is path
+/// traced, else the renderer's empty ones (devices with ray queries only).
 pub(super) fn bind_surfaces(io: PassIo, frame: &FrameContext<'_>) -> PassIo {
     let own = frame
         .scene
@@ -98,7 +112,9 @@ pub(super) fn bind_surfaces(io: PassIo, frame: &FrameContext<'_>) -> PassIo {
         .filter(|_| traces(frame))
         .and_then(|s| s.surfaces.get());
     match own.or(frame.shared.no_surfaces.as_ref()) {
-        Some(surfaces) => io.bind_buffer("traced_surfaces", &surfaces.table),
+        Some(surfaces) => io
+            .bind_buffer("traced_surfaces", &surfaces.table)
+            .bind_buffer("traced_textures", &surfaces.textures),
         None => io,
     }
 }
