@@ -336,11 +336,34 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
             if (all(lessThanEqual(response, vec3(0.0)))) {
                 continue;
             }
+            // The shadow ray towards one point of a light with a size, drawn uniformly
+            // from the disc the f64 reference samples (a point or spot light's of its
+            // radius facing the surface point; a sun's directions axis + tan(θ/2)·d): its
+            // visible fraction in expectation.
+            float size = lights[i].spot_axis.w;
+            vec2 d = vec2(0.0);
+            if (size > 0.0) {
+                vec2 u = vec2(path_random(state), path_random(state));
+                d = sqrt(u.x) * vec2(cos(2.0 * PI * u.y), sin(2.0 * PI * u.y)) * size;
+            }
             float clear = 1e30;
             if (reach < 1e30) {
                 vec3 target = lights[i].position_or_direction.xyz;
+                if (size > 0.0) {
+                    vec3 facing = surface.position - target;
+                    vec3 axis = dot(facing, facing) > 0.0 ? normalize(facing) : vec3(0.0, 0.0, 1.0);
+                    vec3 t;
+                    vec3 b;
+                    orthonormal_basis(axis, t, b);
+                    target += t * d.x + b * d.y;
+                }
                 clear = distance(from, target) - surface_offset(target);
                 l = normalize(target - from);
+            } else if (size > 0.0) {
+                vec3 t;
+                vec3 b;
+                orthonormal_basis(l, t, b);
+                l = normalize(l + t * d.x + b * d.y);
             }
             if (clear > 0.0 && !scene_blocks(from, l, clear)) {
                 radiance += throughput * response;

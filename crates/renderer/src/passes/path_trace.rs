@@ -21,8 +21,7 @@
 //! alone (instance mask `accel::SEEN_ONLY`), in frames that path-trace only. A hit reads
 //! its material's textures at level 0 (the surface table holds the scene's texels) and a
 //! skinned or morphed occluder's posed vertices. Not yet traced (each said in
-//! docs/path-tracing.md): deformed blended or transmissive objects (left out), lights'
-//! sizes (traced as points).
+//! docs/path-tracing.md): deformed blended or transmissive objects (left out).
 
 use combustion_vk::vk;
 
