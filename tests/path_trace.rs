@@ -126,11 +126,14 @@ struct Agreement {
     /// The f32 spread's bound on the sums' difference: the pixels' (every one of the same
     /// sign at worst).
     float_spread: f64,
+    /// The GPU frame's mean standard error per compared channel (its noise).
+    gpu_error: f64,
 }
 
 fn agreement(gpu: &[Estimate], reference: &[Option<Estimate>]) -> Agreement {
     let (mut z_squares, mut beyond, mut sums, mut variance) = (0.0, 0usize, (0.0, 0.0), 0.0);
     let mut float_spread = 0.0;
+    let mut gpu_errors = 0.0;
     let mut compared = 0usize;
     for (g, r) in gpu.iter().zip(reference) {
         let Some(r) = r else {
@@ -144,6 +147,7 @@ fn agreement(gpu: &[Estimate], reference: &[Option<Estimate>]) -> Agreement {
             sums.1 += r.mean[c];
             variance += g.standard_error[c].powi(2) + r.standard_error[c].powi(2);
             float_spread += floor;
+            gpu_errors += g.standard_error[c];
             if spread > 0.0 {
                 let z = (g.mean[c] - r.mean[c]) / spread;
                 z_squares += z * z;
@@ -159,6 +163,7 @@ fn agreement(gpu: &[Estimate], reference: &[Option<Estimate>]) -> Agreement {
         means: (sums.0, sums.1),
         mean_error: variance.sqrt(),
         float_spread,
+        gpu_error: gpu_errors / compared.max(1) as f64,
     }
 }
 
@@ -198,16 +203,28 @@ fn agrees_posed(
     size: (u32, u32),
     depth: u32,
 ) {
+    agrees_with_budget(name, reference, posed, size, depth, (64, 256));
+}
+
+/// [`agrees_posed`] with `budget`: the GPU's frames and the f64 tracer's paths a pixel.
+fn agrees_with_budget(
+    name: &str,
+    reference: &Scene,
+    posed: Option<(&Scene, &combustion::scene::ObjectPoses)>,
+    size: (u32, u32),
+    depth: u32,
+    (frames, samples): (u32, u32),
+) {
     {
         let gpu = match posed {
-            Some((scene, pose)) => gpu_frames(scene, size, 64, depth, Some(pose)),
-            None => gpu_frames(reference, size, 64, depth, None),
+            Some((scene, pose)) => gpu_frames(scene, size, frames, depth, Some(pose)),
+            None => gpu_frames(reference, size, frames, depth, None),
         };
-        let reference = f64_frame(reference, size, 256, depth);
+        let reference = f64_frame(reference, size, samples, depth);
         let a = agreement(&gpu, &reference);
         println!(
-            "{name}, depth {depth}: {} channels, mean z² {:.3}, beyond |z| = 6: {}, sums {:.4} (GPU) against {:.4} (f64) ± {:.4}",
-            a.compared, a.mean_square, a.beyond_six, a.means.0, a.means.1, a.mean_error
+            "{name}, depth {depth}: {} channels, mean z² {:.3}, beyond |z| = 6: {}, sums {:.4} (GPU) against {:.4} (f64) ± {:.4}; the GPU's mean standard error {:.3e}",
+            a.compared, a.mean_square, a.beyond_six, a.means.0, a.means.1, a.mean_error, a.gpu_error
         );
         assert!(a.compared > 90, "{name}: {} channels compared", a.compared);
         assert!(a.mean_square < 1.6, "{name}: mean z² {:.3}", a.mean_square);
@@ -261,9 +278,22 @@ fn the_gpu_path_tracer_agrees_with_the_f64_one_through_glass() {
 /// each in air and (where the scene exists) under water, lit by lights or the studio.
 #[test]
 fn the_gpu_path_tracer_agrees_with_the_f64_one_on_every_lobe() {
+    // Smooth metals and plastics under the studio's soft boxes: the light a diffuse
+    // surface gets by way of a mirror-like sphere (a caustic, which neither tracer
+    // samples directly) comes in rare bright paths, and 64 frames against 256 paths
+    // understate both estimates' errors (GPU 85.96, f64 83.87 ± 0.61; with 512 frames
+    // against 4,096 paths, 84.76 against 84.69 ± 0.18): this scene takes four times the
+    // budget on each side.
+    agrees_with_budget(
+        "spheres-studio",
+        &builtin_scene("spheres-studio").unwrap(),
+        None,
+        (40, 30),
+        combustion::renderer::ShadingOptions::DEFAULT.path_depth,
+        (256, 1024),
+    );
     agrees_on(&[
         "spheres",
-        "spheres-studio",
         "gold-copper",
         "gold-copper-underwater",
         "clearcoat",

@@ -260,6 +260,99 @@ bool path_through_volume(inout vec3 origin, inout vec3 direction, float eta_insi
     return false;
 }
 
+// Whether the reflection of a surface seen as `view` under `layers` is sampled with a
+// coat's visible normals too (a third strategy).
+bool path_coat_sampled(SurfaceLayers layers) {
+#ifdef CLEARCOAT
+    return layers.coat.view.factor > 0.0 && layers.coat.view.v.z > 0.0;
+#else
+    return false;
+#endif
+}
+
+// The density (per steradian) with which the reflection's sampling draws unit `l`: the
+// mean of its strategies' (GGX's visible normals, the cosine, a coat's visible normals);
+// 0 where the view is below the surface (nothing is sampled there).
+float path_reflection_density(BrdfView view, SurfaceLayers layers, vec3 l) {
+    if (!(view.v.z > 0.0)) {
+        return 0.0;
+    }
+    vec3 local = shading_frame_to_local(view.frame, l);
+    float density = pdf_ggx_vndf_reflection(view.v, local, view.ax, view.ay) + max(local.z, 0.0) * INV_PI;
+    float strategies = 2.0;
+#ifdef CLEARCOAT
+    if (path_coat_sampled(layers)) {
+        density += pdf_ggx_vndf_reflection(layers.coat.view.v, shading_frame_to_local(layers.coat.view.frame, l),
+                                           layers.coat.view.alpha, layers.coat.view.alpha);
+        strategies = 3.0;
+    }
+#endif
+    return density / strategies;
+}
+
+#ifdef ENVIRONMENT
+// The environment's distribution of directions (crates/renderer/src/
+// environment_importance.rs): `environment_importance[0]` its total weight (0: nothing
+// to sample), then the rows' cumulative distribution, then each row's over its columns.
+#define ENVIRONMENT_MARGINAL 1u
+#define ENVIRONMENT_CONDITIONAL (ENVIRONMENT_MARGINAL + ENVIRONMENT_ROWS + 1u)
+
+// The last k in [0, n) with cdf[first + k] ≤ u (cdf non-decreasing from 0 to 1): a
+// cell of positive probability for u in [0, 1).
+uint path_environment_search(uint first, uint n, float u) {
+    uint low = 0u;
+    uint high = n;
+    while (high - low > 1u) {
+        uint middle = (low + high) / 2u;
+        if (environment_importance[first + middle] <= u) {
+            low = middle;
+        } else {
+            high = middle;
+        }
+    }
+    return low;
+}
+
+// The density per steradian of cell (`column`, `row`): its probability over its solid
+// angle, 4π / (columns · rows).
+float path_environment_cell_density(uint column, uint row) {
+    float p_row = environment_importance[ENVIRONMENT_MARGINAL + row + 1u]
+                  - environment_importance[ENVIRONMENT_MARGINAL + row];
+    uint first = ENVIRONMENT_CONDITIONAL + row * (ENVIRONMENT_COLUMNS + 1u);
+    float p_column = environment_importance[first + column + 1u] - environment_importance[first + column];
+    return p_row * p_column * float(ENVIRONMENT_COLUMNS * ENVIRONMENT_ROWS) / (4.0 * PI);
+}
+
+// The density per steradian with which path_environment_sample draws unit `l`.
+float path_environment_density(vec3 l) {
+    if (!(environment_importance[0] > 0.0)) {
+        return 0.0;
+    }
+    float phi = atan(l.z, l.x);
+    phi = phi < 0.0 ? phi + 2.0 * PI : phi;
+    uint column = min(uint(phi / (2.0 * PI) * float(ENVIRONMENT_COLUMNS)), ENVIRONMENT_COLUMNS - 1u);
+    uint row = min(uint(clamp((l.y + 1.0) * 0.5, 0.0, 1.0) * float(ENVIRONMENT_ROWS)), ENVIRONMENT_ROWS - 1u);
+    return path_environment_cell_density(column, row);
+}
+
+// A direction drawn from the environment's distribution (`density`: per steradian; 0:
+// nothing drawn).
+vec3 path_environment_sample(inout uint state, out float density) {
+    density = 0.0;
+    if (!(environment_importance[0] > 0.0)) {
+        return vec3(0.0, 1.0, 0.0);
+    }
+    uint row = path_environment_search(ENVIRONMENT_MARGINAL, ENVIRONMENT_ROWS, path_random(state));
+    uint column = path_environment_search(ENVIRONMENT_CONDITIONAL + row * (ENVIRONMENT_COLUMNS + 1u),
+                                          ENVIRONMENT_COLUMNS, path_random(state));
+    float y = clamp(-1.0 + 2.0 * (float(row) + path_random(state)) / float(ENVIRONMENT_ROWS), -1.0, 1.0);
+    float phi = 2.0 * PI * (float(column) + path_random(state)) / float(ENVIRONMENT_COLUMNS);
+    float r = sqrt(max(1.0 - y * y, 0.0));
+    density = path_environment_cell_density(column, row);
+    return vec3(r * cos(phi), y, r * sin(phi));
+}
+#endif
+
 // The radiance a path from the eye along `direction` carries back (push.sampling.y
 // surfaces at most: ShadingOptions::path_depth; `state`: its random numbers). `surface`
 // is what the eye's ray met.
@@ -267,6 +360,10 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
     vec3 radiance = vec3(0.0);
     vec3 throughput = vec3(1.0);
     uint max_depth = push.sampling.y;
+    // The density with which the last surface's reflection sampling drew the direction
+    // the path goes on along, where that surface also estimated the environment's light
+    // by sampling it (0: a pass through glass, whose escape is not weighted).
+    float reflection_density = 0.0;
     // One step past the deepest surface lit: what the last one's sampled direction meets
     // adds its emission (its direct light), nothing more.
     for (uint depth = 1u; depth <= max_depth + 1u; ++depth) {
@@ -369,7 +466,37 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
                 radiance += throughput * response;
             }
         }
+#ifdef ENVIRONMENT
+        // Next-event estimation to the environment: a direction drawn from its
+        // distribution, kept where nothing a path would meet lies along it (the same test
+        // as the path's own next surface: glass, blended surfaces met with probability α
+        // and cut-out holes as a path meets them), weighted against the reflection's
+        // sampling by the power heuristic (Veach 1997; the path's own escape takes the
+        // other weight).
+        {
+            float environment_density;
+            vec3 towards = path_environment_sample(state, environment_density);
+            if (environment_density > 0.0 && faces_surface(layers, n, towards)) {
+                vec3 response = surface_response(m, view, layers, n, towards);
+                if (any(greaterThan(response, vec3(0.0)))) {
+                    PathSurface blocking;
+                    if (!path_next_surface(surface.position, towards, surface_offset(surface.position), true,
+                                           state, blocking)) {
+                        float bsdf = path_reflection_density(view, layers, towards)
+                                     * (transmits > 0.0 ? 0.5 : 1.0);
+                        float e2 = environment_density * environment_density;
+                        vec3 contribution = response * textureLod(environment_specular, towards, 0.0).rgb
+                                            * (environment_density / (e2 + bsdf * bsdf));
+                        if (!any(isnan(contribution)) && !any(isinf(contribution))) {
+                            radiance += throughput * contribution;
+                        }
+                    }
+                }
+            }
+        }
+#endif
         bool last = depth == max_depth;
+        reflection_density = 0.0;
         vec3 origin = surface.position;
         vec3 l;
         if (transmits > 0.0 && path_random(state) < 0.5) {
@@ -409,14 +536,7 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
             if (!(view.v.z > 0.0)) {
                 break;
             }
-            bool coated = false;
-            vec3 coat_v = vec3(0.0, 0.0, 1.0);
-            float coat_alpha = 1.0;
-#ifdef CLEARCOAT
-            coated = layers.coat.view.factor > 0.0 && layers.coat.view.v.z > 0.0;
-            coat_v = layers.coat.view.v;
-            coat_alpha = layers.coat.view.alpha;
-#endif
+            bool coated = path_coat_sampled(layers);
             float strategies = coated ? 3.0 : 2.0;
             float pick = path_random(state) * strategies;
             vec2 u = vec2(path_random(state), path_random(state));
@@ -427,20 +547,13 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
                 l = view.frame * sample_cosine(u);
             } else {
 #ifdef CLEARCOAT
+                vec3 coat_v = layers.coat.view.v;
+                float coat_alpha = layers.coat.view.alpha;
                 l = layers.coat.view.frame * reflect(-coat_v, sample_ggx_vndf(coat_v, coat_alpha, coat_alpha, u));
 #endif
             }
             l = normalize(l);
-            vec3 local = shading_frame_to_local(view.frame, l);
-            float density = pdf_ggx_vndf_reflection(view.v, local, view.ax, view.ay)
-                            + max(local.z, 0.0) * INV_PI;
-#ifdef CLEARCOAT
-            if (coated) {
-                density += pdf_ggx_vndf_reflection(coat_v, shading_frame_to_local(layers.coat.view.frame, l),
-                                                   coat_alpha, coat_alpha);
-            }
-#endif
-            density /= strategies;
+            float density = path_reflection_density(view, layers, l);
             if (!(density > 0.0) || !faces_surface(layers, n, l)) {
                 break;
             }
@@ -448,6 +561,7 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
             if (any(isnan(weight)) || any(isinf(weight))) {
                 break;
             }
+            reflection_density = density * (transmits > 0.0 ? 0.5 : 1.0);
             throughput *= weight / (transmits > 0.0 ? 0.5 : 1.0);
         }
         if (depth >= uint(PATH_ROULETTE_START) && !last) {
@@ -460,7 +574,15 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
         PathSurface next;
         if (!path_next_surface(origin, l, surface_offset(origin), true, state, next)) {
 #ifdef ENVIRONMENT
-            radiance += throughput * textureLod(environment_specular, l, 0.0).rgb;
+            // The escape's weight against the environment's sampling at the surface it
+            // left (power heuristic; 1 after a pass through glass).
+            float weight = 1.0;
+            if (reflection_density > 0.0) {
+                float e = path_environment_density(l);
+                float b2 = reflection_density * reflection_density;
+                weight = b2 / (b2 + e * e);
+            }
+            radiance += throughput * textureLod(environment_specular, l, 0.0).rgb * weight;
 #endif
             break;
         }

@@ -129,6 +129,9 @@ pub struct GpuEnvironment {
     pub(crate) code_albedo: Buffer,
     /// Per material: its per-code table (0 when it has none).
     pub(crate) code_table_of_material: Buffer,
+    /// Its directions' distribution for the path tracer's next-event estimation
+    /// (`crate::environment_importance`).
+    pub(crate) importance: Buffer,
     pub(crate) sampler: Sampler,
     /// What was baked.
     pub environment: Environment,
@@ -158,6 +161,8 @@ impl GpuEnvironment {
             albedo: table("environment placeholder table")?,
             code_albedo: table("environment placeholder table")?,
             code_table_of_material: table("environment placeholder table")?,
+            // Total weight 0: nothing to sample.
+            importance: table("environment placeholder table")?,
             sampler: linear_sampler(device, 1)?,
             environment: Environment::Uniform([0.0; 3]),
             cubes_from_cache: false,
@@ -726,12 +731,20 @@ impl EnvironmentBaker {
             code_table_of_material,
             ..
         } = bake;
+        let importance = filled_storage_buffer(
+            device,
+            "environment importance",
+            bytemuck::cast_slice(&crate::environment_importance::importance_table(
+                environment,
+            )),
+        )?;
         Ok(GpuEnvironment {
             specular,
             irradiance,
             albedo,
             code_albedo,
             code_table_of_material,
+            importance,
             sampler: linear_sampler(device, SPECULAR_LEVELS)?,
             environment: environment.clone(),
             cubes_from_cache,

@@ -38,6 +38,7 @@ mod color;
 mod commands;
 mod compute;
 mod deform;
+mod environment_importance;
 mod error;
 mod frame;
 mod fullscreen;

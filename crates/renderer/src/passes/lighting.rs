@@ -81,7 +81,7 @@ const OWN_BINDINGS: &[Binding] = &[
 /// Declared where lighting.frag traces the scene: for the sampled environment's
 /// directions (RAY_TRACED_OCCLUSION) or its paths (PATH_TRACE); then the path tracer's
 /// surface and texture tables.
-const TRACED: [Binding; 6] = {
+const TRACED: [Binding; 7] = {
     let [scene, cutouts, corners, alphas] =
         super::traced::bindings(FRAGMENT, Some(super::ray_traced_occlusion::OPTION.define));
     let path_trace = super::path_trace::OPTION.define;
@@ -92,6 +92,7 @@ const TRACED: [Binding; 6] = {
         alphas.or_with(path_trace),
         super::path_trace::SURFACES,
         super::path_trace::TEXTURES,
+        super::path_trace::ENVIRONMENT_IMPORTANCE,
     ]
 };
 
@@ -321,7 +322,13 @@ impl FramePass for Lighting {
             } else {
                 super::traced::nothing(io, frame)
             };
-            io = super::path_trace::bind_surfaces(io, frame);
+            io = super::path_trace::bind_surfaces(io, frame).bind_buffer(
+                "environment_importance",
+                &frame
+                    .environment
+                    .unwrap_or(&frame.shared.no_environment)
+                    .importance,
+            );
             if let Some(deform) = frame
                 .scene
                 .gpu

@@ -59,8 +59,11 @@ fn constants_header() -> String {
          #define PATHS_PER_FRAME {PATHS_PER_FRAME}u\n\
          #define PATH_ROULETTE_START {}u\n\
          #define PATH_ROULETTE_MAX {:.6}\n\
+         {}\
          #endif\n",
-        ROULETTE.0, ROULETTE.1
+        ROULETTE.0,
+        ROULETTE.1,
+        crate::environment_importance::constants_glsl()
     )
 }
 
@@ -83,6 +86,19 @@ pub(super) const TEXTURES: Binding = Binding::new(
     BindingKind::StorageBuffer {
         block: "TracedTextures",
         element: "uvec4",
+    },
+    crate::bindings::FRAGMENT,
+)
+.for_ray_queries()
+.only_with(OPTION.define);
+
+/// The lighting set's binding of the environment's distribution of directions
+/// (`crate::environment_importance`; the frame's environment's, or a placeholder's).
+pub(super) const ENVIRONMENT_IMPORTANCE: Binding = Binding::new(
+    "environment_importance",
+    BindingKind::StorageBuffer {
+        block: "EnvironmentImportance",
+        element: "float",
     },
     crate::bindings::FRAGMENT,
 )
