@@ -31,6 +31,7 @@ mod faults;
 mod figures;
 mod gltf;
 mod guide_engine;
+mod guide_snippets;
 mod host;
 mod identities;
 mod images;

@@ -22,6 +22,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "compute",
             "deform",
             "environment",
+            "environment_importance",
             "error",
             "fullscreen",
             "gbuffer",
