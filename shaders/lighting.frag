@@ -1,7 +1,16 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
-#if defined(RAY_TRACED_OCCLUSION) || defined(PATH_TRACE)
+#if defined(RAY_TRACED_REFLECTIONS) && !defined(ENVIRONMENT)
+// Reflections are traced in place of the environment's specular lookup: without an
+// environment there is none (the pass does not run).
+#undef RAY_TRACED_REFLECTIONS
+#endif
+#if defined(PATH_TRACE) || defined(RAY_TRACED_REFLECTIONS)
+// Rays that meet the scene's surfaces and read them (traced_surfaces.glsl).
+#define TRACED_SURFACES
+#endif
+#if defined(RAY_TRACED_OCCLUSION) || defined(TRACED_SURFACES)
 #extension GL_EXT_ray_query : require
 #endif
 #ifdef RAY_TRACED_OCCLUSION
@@ -50,6 +59,9 @@ layout(push_constant) uniform LightingPush {
 #include "lighting_terms.glsl"
 #ifdef PATH_TRACE
 #include "path_trace.glsl"
+#endif
+#ifdef RAY_TRACED_REFLECTIONS
+#include "traced_reflections.glsl"
 #endif
 
 layout(location = 0) out vec4 out_radiance;
@@ -293,6 +305,21 @@ void main() {
     vec3 ray_origin = position + n * (ENVIRONMENT_RAY_OFFSET * length(push.camera_position.xyz - position));
     radiance += environment_sampled(m, view, layers, view.frame[2], gl_FragCoord.xy, push.sampling.x,
                                     occlusion, nra.z, ray_origin);
+#elif defined(RAY_TRACED_REFLECTIONS)
+    // A smooth surface reflects what its ray meets instead of the environment's
+    // prefiltered radiance (traced_reflections.glsl), blended out with roughness.
+    SpecularLookup lookup;
+    radiance += environment_radiance_looked_up(material, md.x, m, view, layers, view.frame[2], normalize(v),
+                                               nra.z, base_color_srgb8_code(base_metal.rgb), occlusion,
+                                               lookup);
+    float share = traced_reflection_share(nra.z);
+    if (share > 0.0 && any(greaterThan(lookup.weight, vec3(0.0)))) {
+        uint state = path_seed(uint(pixel.x) + 65536u * uint(pixel.y), push.sampling.x, REFLECTIONS_STREAM);
+        vec3 traced = traced_reflection(position, view.frame[2], push.camera_position.xyz, lookup.direction,
+                                        lookup.lod, state);
+        radiance += lookup.weight * share
+                  * (traced - textureLod(environment_specular, lookup.direction, lookup.lod).rgb);
+    }
 #else
     radiance += environment_radiance(material, md.x, m, view, layers, view.frame[2], normalize(v),
                                      nra.z, base_color_srgb8_code(base_metal.rgb), occlusion);

@@ -40,6 +40,7 @@ mod overlay;
 mod parity;
 mod path_trace;
 mod points_and_lines;
+mod reflections;
 mod report;
 mod shading_options;
 mod shadows;

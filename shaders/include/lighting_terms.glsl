@@ -186,11 +186,25 @@ float specular_occlusion_of(float nv, float alpha, float occlusion) {
 // n at the lobe's mean cosine (its lobe is broad and gathers towards the horizon: no one
 // mirror direction stands for it), and scales the base's term by 1 − max(c) M(n·v), the
 // extension's scaling averaged over cosine-weighted light.
-vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs m, BrdfView view,
-                          SurfaceLayers layers, vec3 n, vec3 v, float roughness,
-                          vec3 base_color_code, float occlusion) {
+// The base's specular lookup of the split-sum term: its direction and level, and the
+// weight its prefiltered radiance was added with (the specular albedo, times what a sheen
+// or coat over it scales it by): what ray-traced reflections replace.
+struct SpecularLookup {
+    vec3 direction;
+    float lod;
+    vec3 weight;
+};
+
+// environment_radiance, with its base's specular lookup (`lookup.weight` 0 where none).
+vec3 environment_radiance_looked_up(GpuMaterial material, uint material_index, BrdfInputs m,
+                                    BrdfView view, SurfaceLayers layers, vec3 n, vec3 v,
+                                    float roughness, vec3 base_color_code, float occlusion,
+                                    out SpecularLookup lookup) {
     SurfaceCoat coat = layers.coat;
     float nv = view.v.z;
+    lookup.direction = n;
+    lookup.lod = 0.0;
+    lookup.weight = vec3(0.0);
     if (!(nv > 0.0)) {
         return vec3(0.0);
     }
@@ -322,6 +336,9 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
     float lod = clamp(roughness, 0.0, 1.0) * levels;
     vec3 radiance = textureLod(environment_specular, r, lod).rgb * specular_albedo
                   + textureLod(environment_irradiance, n, 0.0).rgb * diffuse_albedo;
+    lookup.direction = r;
+    lookup.lod = lod;
+    lookup.weight = specular_albedo;
 #ifdef SHEEN
     SurfaceSheen sheen = layers.sheen;
     float sheen_max = max(sheen.color.r, max(sheen.color.g, sheen.color.b));
@@ -341,6 +358,7 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
             ring += textureLod(environment_specular, d, levels).rgb;
         }
         radiance = radiance * scaling + 0.25 * ring * sheen.color * sheen.albedo_v * occlusion;
+        lookup.weight *= scaling;
     }
 #endif
 #ifdef CLEARCOAT
@@ -359,9 +377,18 @@ vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs 
         vec3 r_c = normalize(mix(n_coat, reflect(-v, n_coat), smooth_coat * (sqrt(smooth_coat) + a_coat)));
         radiance = radiance * (coat.view.attenuation_v * coat.view.attenuation_v)
                  + textureLod(environment_specular, r_c, r_coat * levels).rgb * (coat.view.factor * albedo);
+        lookup.weight *= coat.view.attenuation_v * coat.view.attenuation_v;
     }
 #endif
     return radiance;
+}
+
+vec3 environment_radiance(GpuMaterial material, uint material_index, BrdfInputs m, BrdfView view,
+                          SurfaceLayers layers, vec3 n, vec3 v, float roughness,
+                          vec3 base_color_code, float occlusion) {
+    SpecularLookup unused;
+    return environment_radiance_looked_up(material, material_index, m, view, layers, n, v, roughness,
+                                          base_color_code, occlusion, unused);
 }
 #endif
 

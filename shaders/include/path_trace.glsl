@@ -1,173 +1,19 @@
 // Path tracing in the lighting pass (PATH_TRACE; crates/renderer/src/passes/path_trace.rs
 // says what is traced and what not yet): each pixel's PATHS_PER_FRAME paths from the eye
 // through its centre, by ray queries against the scene's acceleration structure, each
-// surface lit by next-event estimation to every light and its reflection sampled, with
-// the lighting pass's own material terms (lighting_terms.glsl's brdf_inputs, brdf_view,
-// surface_response, light_incidence) — the rules of the f64 path tracer
-// (crates/reference/src/path.rs) that this is measured against. Needs lighting.frag's
-// set (materials, lights, the traced scene and `traced_surfaces`) and push constants.
+// surface lit by next-event estimation to every light and to the environment, and its
+// reflection or transmission sampled, with the lighting pass's own material terms
+// (traced_surfaces.glsl: the surfaces a ray meets, set up as the forward pass sets up a
+// fragment) — the rules of the f64 path tracer (crates/reference/src/path.rs) that this is
+// measured against. Needs lighting.frag's set (materials, lights, the traced scene, the
+// surface and texture tables, the environment's distribution) and push constants.
 #ifndef COMBUSTION_PATH_TRACE_GLSL
 #define COMBUSTION_PATH_TRACE_GLSL
 
-#extension GL_EXT_buffer_reference : require
-#extension GL_EXT_buffer_reference_uvec2 : require
-
 #include "environment.glsl"
-#include "traced_scene.glsl"
-#include "traced_textures.glsl"
+#include "traced_surfaces.glsl"
 #include "path_trace/constants.glsl"
 #include "crossing.glsl"
-
-// A mesh's vertices (GpuVertex: position, normal, tangent, uv; 12 floats) and indices.
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer TracedVertices {
-    float values[];
-};
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer TracedIndices {
-    uint values[];
-};
-// A mesh's second texture-coordinate set and vertex colour (6 floats a vertex), where it
-// has either.
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer TracedExtras {
-    float values[];
-};
-
-// A PCG step and a uniform float in [0, 1) from it.
-float path_random(inout uint state) {
-    state = state * 747796405u + 2891336453u;
-    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    word = (word >> 22u) ^ word;
-    return float(word >> 8) * (1.0 / 16777216.0);
-}
-
-// A hash of three words: a path's first state.
-uint path_seed(uint a, uint b, uint c) {
-    uint h = a * 0x9E3779B9u ^ (b + 0x7F4A7C15u) * 0x85EBCA6Bu ^ (c + 0x165667B1u) * 0xC2B2AE35u;
-    h ^= h >> 16;
-    h *= 0x7FEB352Du;
-    h ^= h >> 15;
-    h *= 0x846CA68Bu;
-    return h ^ (h >> 16);
-}
-
-// What a ray meets: the surface's point, its interpolated normal (world space, towards
-// the mesh's front), tangent and bitangent sign, its geometric normal (the winding's
-// front), its texture coordinates (sets 0 and 1), vertex colour and material; `front`:
-// the ray meets the winding's front.
-struct PathSurface {
-    vec3 position;
-    vec3 normal;
-    vec4 tangent;
-    vec3 geometric;
-    vec4 uvs;
-    vec4 color;
-    uint material;
-    bool front;
-};
-
-// The surface table's rows per instance (accel.rs, TracedSurfaces).
-#define SURFACE_ROWS 3u
-
-vec3 traced_vertex3(TracedVertices vertices, uint index, uint offset) {
-    uint at = 12u * index + offset;
-    return vec3(vertices.values[at], vertices.values[at + 1u], vertices.values[at + 2u]);
-}
-
-// The nearest surface along the ray from `origin` along unit `direction` beyond
-// `t_min`: cut-outs tested where it meets them; where `seen`, as a path sees it — back
-// faces of single-sided materials passed (the rasteriser culls them; the f64 path tracer
-// passes them too), a blended surface met with probability α (`state`: the path's
-// random numbers) — else any triangle (light inside a volume meets whatever it meets).
-// False where nothing.
-bool path_next_surface(vec3 origin, vec3 direction, float t_min, bool seen, inout uint state,
-                       out PathSurface surface) {
-    for (int passed = 0; passed < 16; ++passed) {
-        rayQueryEXT query;
-        rayQueryInitializeEXT(query, scene, gl_RayFlagsNoneEXT, 0xffu, origin, t_min, direction, 1e30);
-        proceed_past_cutout_holes(query);
-        if (rayQueryGetIntersectionTypeEXT(query, true) == gl_RayQueryCommittedIntersectionNoneEXT) {
-            return false;
-        }
-        uint instance = uint(rayQueryGetIntersectionInstanceIdEXT(query, true));
-        uint primitive = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, true));
-        vec2 b = rayQueryGetIntersectionBarycentricsEXT(query, true);
-        float t = rayQueryGetIntersectionTEXT(query, true);
-        mat4x3 to_world = rayQueryGetIntersectionObjectToWorldEXT(query, true);
-        uvec4 where = traced_surfaces[SURFACE_ROWS * instance];
-        uvec4 what = traced_surfaces[SURFACE_ROWS * instance + 1u];
-        uvec4 extras_at = traced_surfaces[SURFACE_ROWS * instance + 2u];
-        if (primitive >= what.w) {
-            return false;  // not the instance's triangle: never read past its mesh
-        }
-        TracedVertices vertices = TracedVertices(where.xy);
-        TracedIndices indices = TracedIndices(where.zw);
-        uvec3 corner = uvec3(indices.values[3u * primitive], indices.values[3u * primitive + 1u],
-                             indices.values[3u * primitive + 2u]);
-        vec3 w = vec3(1.0 - b.x - b.y, b.x, b.y);
-        vec3 p0 = to_world * vec4(traced_vertex3(vertices, corner.x, 0u), 1.0);
-        vec3 p1 = to_world * vec4(traced_vertex3(vertices, corner.y, 0u), 1.0);
-        vec3 p2 = to_world * vec4(traced_vertex3(vertices, corner.z, 0u), 1.0);
-        vec3 geometric = normalize(cross(p1 - p0, p2 - p0));
-        bool front = dot(geometric, direction) < 0.0;
-        bool double_sided = (what.z & 1u) != 0u;
-        bool passes = seen && !front && !double_sided;
-        vec4 uvs = vec4(0.0);
-        vec4 color = vec4(1.0);
-        for (uint k = 0u; k < 3u; ++k) {
-            uint at = 12u * corner[k] + 10u;
-            uvs.xy += vec2(vertices.values[at], vertices.values[at + 1u]) * w[k];
-        }
-        if (extras_at.x != 0u || extras_at.y != 0u) {
-            TracedExtras extras = TracedExtras(extras_at.xy);
-            color = vec4(0.0);
-            for (uint k = 0u; k < 3u; ++k) {
-                uint at = 6u * corner[k];
-                uvs.zw += vec2(extras.values[at], extras.values[at + 1u]) * w[k];
-                color += vec4(extras.values[at + 2u], extras.values[at + 3u], extras.values[at + 4u],
-                              extras.values[at + 5u]) * w[k];
-            }
-        }
-        if (seen && (what.z & 2u) != 0u) {
-            // A blended surface's alpha: its factor × the base colour texture's × the
-            // vertex colour's.
-            GpuMaterial blended = materials[what.x];
-            float alpha = blended.alpha_cutoff.x * color.a;
-            int base_texture = blended.textures_base_mr_normal_occlusion.x;
-            if (base_texture >= 0) {
-                alpha *= traced_texture(base_texture, traced_slot_uv(blended, 0u, uvs)).a;
-            }
-            passes = passes || path_random(state) >= alpha;
-        }
-        if (passes) {
-            // On past it: the next cast starts just beyond this face.
-            t_min = t + 1e-5 * max(1.0, t);
-            continue;
-        }
-        mat3 linear = mat3(to_world);
-        mat3 normal_matrix = transpose(inverse(linear));
-        vec3 n = traced_vertex3(vertices, corner.x, 3u) * w.x + traced_vertex3(vertices, corner.y, 3u) * w.y
-                 + traced_vertex3(vertices, corner.z, 3u) * w.z;
-        n = normal_matrix * n;
-        uint at0 = 12u * corner.x + 6u;
-        uint at1 = 12u * corner.y + 6u;
-        uint at2 = 12u * corner.z + 6u;
-        vec4 tangent = vec4(vertices.values[at0], vertices.values[at0 + 1u], vertices.values[at0 + 2u],
-                            vertices.values[at0 + 3u]) * w.x
-                       + vec4(vertices.values[at1], vertices.values[at1 + 1u], vertices.values[at1 + 2u],
-                              vertices.values[at1 + 3u]) * w.y
-                       + vec4(vertices.values[at2], vertices.values[at2 + 1u], vertices.values[at2 + 2u],
-                              vertices.values[at2 + 3u]) * w.z;
-        surface.position = origin + direction * t;
-        surface.normal = dot(n, n) > 1e-20 ? normalize(n) : geometric;
-        surface.tangent = vec4(linear * tangent.xyz, tangent.w);
-        surface.geometric = geometric;
-        surface.uvs = uvs;
-        surface.color = color;
-        surface.material = what.x;
-        surface.front = front;
-        return true;
-    }
-    return false;
-}
 
 // `n` bent towards `towards` (unit) until their cosine is at least 1e-4 (the f64
 // transmission's rule).
@@ -368,104 +214,21 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
     // adds its emission (its direct light), nothing more.
     for (uint depth = 1u; depth <= max_depth + 1u; ++depth) {
         GpuMaterial material = materials[surface.material];
-        vec3 v = -direction;
+        if (traced_unlit(material) || depth > max_depth) {
+            // An unlit surface's radiance is its base colour, nothing lights it; past the
+            // deepest surface lit, what the last one's direction meets adds its emission.
+            MaterialSurface s = material_surface_at(material, surface.front ? surface.normal : -surface.normal,
+                                                    surface.tangent, surface.color, surface.uvs);
+            radiance += throughput * (traced_unlit(material) ? s.base_color : s.emissive);
+            break;
+        }
         // The surface as the G-buffer pass makes it (material_surface_at.glsl: the
         // normal reversed on a double-sided material's back, textures read at level 0),
-        // then lit as the forward pass lights it.
-        MaterialSurface s = material_surface_at(material, surface.front ? surface.normal : -surface.normal,
-                                                surface.tangent, surface.color, surface.uvs);
-        vec3 base = clamp(s.base_color, 0.0, 1.0);
-#ifndef NO_UNLIT
-        if ((material.diffuse_model_flags.y & MATERIAL_FLAG_UNLIT) != 0u) {
-            radiance += throughput * s.base_color;
-            break;
-        }
-#endif
-        radiance += throughput * s.emissive;
-        if (depth > max_depth) {
-            break;
-        }
-        vec3 n = facing_view(s.normal, v);
-        vec3 along = normalize(s.direction - n * dot(n, s.direction));
-        vec3 across = cross(n, along);
-        // KHR_materials_transmission: the diffuse lobe keeps 1 − transmission; the rest of
-        // what the surface does not reflect passes through it.
-        float metalness = s.metalness;
-        float transmission = s.transmission;
-        float transmits = (1.0 - metalness) * transmission;
-        vec3 reflecting = transmits > 0.0 ? base * (1.0 - transmission) : base;
-        BrdfInputs m = brdf_inputs(material, reflecting, metalness, s.roughness, s.anisotropy,
-                                   round(srgb_encode(base) * 255.0));
-        BrdfView view = brdf_view(m, n, along, across, v);
-#ifdef SPECULAR
-        brdf_view_apply_specular(view, m, DielectricSpecular(s.specular_factor, s.specular_color));
-#endif
-        vec3 film = vec3(0.0);
-#ifdef IRIDESCENCE
-        film = vec3(s.film_weight, material.film.y, s.film_thickness_nm);
-        brdf_view_apply_film(view, m, ThinFilm(film.x, film.y, film.z));
-#endif
-        SurfaceLayers layers;
-#ifdef CLEARCOAT
-        layers.coat = surface_coat(material, m, s.clearcoat, s.clearcoat_roughness,
-                                   facing_view(s.clearcoat_normal, v), v);
-#else
-        layers.coat = no_surface_coat();
-#endif
-#ifdef SHEEN
-        layers.sheen = surface_sheen(s.sheen_color, s.sheen_roughness, view);
-#else
-        layers.sheen = no_surface_sheen();
-#endif
-        // Next-event estimation: every light, with a shadow ray from off the surface
-        // along its shading normal, ending short of a point light (the f64 reference's
-        // offset rule, combustion_reference::visibility).
-        float offset = surface_offset(surface.position);
-        vec3 from = surface.position + n * offset;
-        for (uint i = 0u; i < push.counts.x; ++i) {
-            vec3 l;
-            vec3 irradiance;
-            float reach = light_incidence(lights[i], surface.position, l, irradiance);
-            if (!faces_surface(layers, n, l) || all(lessThanEqual(irradiance, vec3(0.0)))) {
-                continue;
-            }
-            vec3 response = surface_response(m, view, layers, n, l) * irradiance;
-            if (all(lessThanEqual(response, vec3(0.0)))) {
-                continue;
-            }
-            // The shadow ray towards one point of a light with a size, drawn uniformly
-            // from the disc the f64 reference samples (a point or spot light's of its
-            // radius facing the surface point; a sun's directions axis + tan(θ/2)·d): its
-            // visible fraction in expectation.
-            float size = lights[i].spot_axis.w;
-            vec2 d = vec2(0.0);
-            if (size > 0.0) {
-                vec2 u = vec2(path_random(state), path_random(state));
-                d = sqrt(u.x) * vec2(cos(2.0 * PI * u.y), sin(2.0 * PI * u.y)) * size;
-            }
-            float clear = 1e30;
-            if (reach < 1e30) {
-                vec3 target = lights[i].position_or_direction.xyz;
-                if (size > 0.0) {
-                    vec3 facing = surface.position - target;
-                    vec3 axis = dot(facing, facing) > 0.0 ? normalize(facing) : vec3(0.0, 0.0, 1.0);
-                    vec3 t;
-                    vec3 b;
-                    orthonormal_basis(axis, t, b);
-                    target += t * d.x + b * d.y;
-                }
-                clear = distance(from, target) - surface_offset(target);
-                l = normalize(target - from);
-            } else if (size > 0.0) {
-                vec3 t;
-                vec3 b;
-                orthonormal_basis(l, t, b);
-                l = normalize(l + t * d.x + b * d.y);
-            }
-            if (clear > 0.0 && !scene_blocks(from, l, clear)) {
-                radiance += throughput * response;
-            }
-        }
+        // lit as the forward pass lights it; then next-event estimation to every light.
+        vec3 v = -direction;
+        TracedShading h = traced_shading(surface, direction);
+        radiance += throughput * h.s.emissive;
+        radiance += throughput * traced_direct_light(surface, h, state);
 #ifdef ENVIRONMENT
         // Next-event estimation to the environment: a direction drawn from its
         // distribution, kept where nothing a path would meet lies along it (the same test
@@ -476,14 +239,14 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
         {
             float environment_density;
             vec3 towards = path_environment_sample(state, environment_density);
-            if (environment_density > 0.0 && faces_surface(layers, n, towards)) {
-                vec3 response = surface_response(m, view, layers, n, towards);
+            if (environment_density > 0.0 && faces_surface(h.layers, h.n, towards)) {
+                vec3 response = surface_response(h.m, h.view, h.layers, h.n, towards);
                 if (any(greaterThan(response, vec3(0.0)))) {
                     PathSurface blocking;
                     if (!path_next_surface(surface.position, towards, surface_offset(surface.position), true,
                                            state, blocking)) {
-                        float bsdf = path_reflection_density(view, layers, towards)
-                                     * (transmits > 0.0 ? 0.5 : 1.0);
+                        float bsdf = path_reflection_density(h.view, h.layers, towards)
+                                     * (h.transmits > 0.0 ? 0.5 : 1.0);
                         float e2 = environment_density * environment_density;
                         vec3 contribution = response * textureLod(environment_specular, towards, 0.0).rgb
                                             * (environment_density / (e2 + bsdf * bsdf));
@@ -499,22 +262,22 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
         reflection_density = 0.0;
         vec3 origin = surface.position;
         vec3 l;
-        if (transmits > 0.0 && path_random(state) < 0.5) {
+        if (h.transmits > 0.0 && path_random(state) < 0.5) {
             // Through the surface, with probability ½ (the f64 tracer's rule), weighted
             // by what the coat and sheen let out.
-            float eta_i = m.outside_eta;
-            float eta_t = m.dielectric_eta;
-            float w = m.polarisation_weight;
-            Crossing entry = surface_crossing(clamp(dot(n, v), 0.0, 1.0), eta_i, eta_t, film);
+            float eta_i = h.m.outside_eta;
+            float eta_t = h.m.dielectric_eta;
+            float w = h.m.polarisation_weight;
+            Crossing entry = surface_crossing(clamp(dot(h.n, v), 0.0, 1.0), eta_i, eta_t, h.film);
             vec3 carried;
             if (material.transmission_thickness.y > 0.0) {
                 // A volume: refracted in, followed to where it leaves.
-                l = refract(-v, n, eta_i / eta_t);
+                l = refract(-v, h.n, eta_i / eta_t);
                 if (dot(l, l) == 0.0) {
                     break;
                 }
                 carried = mix(entry.s, entry.p, w);
-                if (!path_through_volume(origin, l, eta_t, eta_i, material.absorption.rgb, film, w,
+                if (!path_through_volume(origin, l, eta_t, eta_i, material.absorption.rgb, h.film, w,
                                          state, carried)) {
                     break;
                 }
@@ -523,46 +286,46 @@ vec3 path_radiance(PathSurface surface, vec3 direction, inout uint state) {
                 vec3 rs = 1.0 - entry.s;
                 vec3 rp = 1.0 - entry.p;
                 carried = mix((1.0 - rs) / (1.0 + rs), (1.0 - rp) / (1.0 + rp), w);
-                l = path_thin_wall_direction(n, along, v, m.alpha_x, m.alpha_y, eta_i, eta_t,
-                                             s.roughness, state);
+                l = path_thin_wall_direction(h.n, h.along, v, h.m.alpha_x, h.m.alpha_y, eta_i, eta_t,
+                                             h.s.roughness, state);
             }
-            float out_layers = layers.coat.view.attenuation_v
-                * (1.0 - clamp(max(layers.sheen.color.r, max(layers.sheen.color.g, layers.sheen.color.b)), 0.0, 1.0)
-                   * layers.sheen.albedo_v);
-            throughput *= carried * (transmits * out_layers / 0.5) * base;
+            float out_layers = h.layers.coat.view.attenuation_v
+                * (1.0 - clamp(max(h.layers.sheen.color.r, max(h.layers.sheen.color.g, h.layers.sheen.color.b)), 0.0, 1.0)
+                   * h.layers.sheen.albedo_v);
+            throughput *= carried * (h.transmits * out_layers / 0.5) * h.base;
         } else {
             // The reflection sampled: GGX's visible normals, the cosine, a coat's visible
             // normals, one chosen uniformly; weighted by f (n·l) over their mean density.
-            if (!(view.v.z > 0.0)) {
+            if (!(h.view.v.z > 0.0)) {
                 break;
             }
-            bool coated = path_coat_sampled(layers);
+            bool coated = path_coat_sampled(h.layers);
             float strategies = coated ? 3.0 : 2.0;
             float pick = path_random(state) * strategies;
             vec2 u = vec2(path_random(state), path_random(state));
-            l = view.frame[2];
+            l = h.view.frame[2];
             if (pick < 1.0) {
-                l = view.frame * reflect(-view.v, sample_ggx_vndf(view.v, view.ax, view.ay, u));
+                l = h.view.frame * reflect(-h.view.v, sample_ggx_vndf(h.view.v, h.view.ax, h.view.ay, u));
             } else if (pick < 2.0 || !coated) {
-                l = view.frame * sample_cosine(u);
+                l = h.view.frame * sample_cosine(u);
             } else {
 #ifdef CLEARCOAT
-                vec3 coat_v = layers.coat.view.v;
-                float coat_alpha = layers.coat.view.alpha;
-                l = layers.coat.view.frame * reflect(-coat_v, sample_ggx_vndf(coat_v, coat_alpha, coat_alpha, u));
+                vec3 coat_v = h.layers.coat.view.v;
+                float coat_alpha = h.layers.coat.view.alpha;
+                l = h.layers.coat.view.frame * reflect(-coat_v, sample_ggx_vndf(coat_v, coat_alpha, coat_alpha, u));
 #endif
             }
             l = normalize(l);
-            float density = path_reflection_density(view, layers, l);
-            if (!(density > 0.0) || !faces_surface(layers, n, l)) {
+            float density = path_reflection_density(h.view, h.layers, l);
+            if (!(density > 0.0) || !faces_surface(h.layers, h.n, l)) {
                 break;
             }
-            vec3 weight = surface_response(m, view, layers, n, l) / density;
+            vec3 weight = surface_response(h.m, h.view, h.layers, h.n, l) / density;
             if (any(isnan(weight)) || any(isinf(weight))) {
                 break;
             }
-            reflection_density = density * (transmits > 0.0 ? 0.5 : 1.0);
-            throughput *= weight / (transmits > 0.0 ? 0.5 : 1.0);
+            reflection_density = density * (h.transmits > 0.0 ? 0.5 : 1.0);
+            throughput *= weight / (h.transmits > 0.0 ? 0.5 : 1.0);
         }
         if (depth >= uint(PATH_ROULETTE_START) && !last) {
             float q = min(max(throughput.r, max(throughput.g, throughput.b)), PATH_ROULETTE_MAX);

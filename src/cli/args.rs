@@ -1413,14 +1413,14 @@ pub(crate) fn loaded_as_asked(
         );
     }
     if scene.environment.is_none() {
-        for pass in shading
+        for (pass, nothing) in shading
             .optional
             .passes
             .iter()
-            .filter(|p| p.needs_environment)
+            .filter_map(|p| Some((p, p.needs_environment?)))
         {
             log::warn!(
-                "{}: {}: the scene is lit by no environment, so there is nothing to block (--environment studio lights it by one); frames are rendered without it",
+                "{}: {}: the scene is lit by no environment, so there is {nothing} (--environment studio lights it by one); frames are rendered without it",
                 source.label(),
                 pass.asked_as()
             );

@@ -2,8 +2,8 @@
 //! real-time frame against light that bounces — the frame path traced (`--path-trace on`,
 //! [`ReportDesc::path_traced_frames`] frames of successive seeds averaged: the converged
 //! image, its own noise stated) — for the default shading and each traced setting the
-//! scene can use (ray-traced shadows where it has lights, ray-traced occlusion where an
-//! environment lights it): over the pixels the default frame shows a surface at, the
+//! scene can use (ray-traced shadows where it has lights, ray-traced occlusion and
+//! reflections where an environment lights it): over the pixels the default frame shows a surface at, the
 //! mean and 95th percentile of each pixel's relative error, the RMS relative error with
 //! the reference's own noise removed in quadrature (E[(a − r̂)²] = (a − r)² + σ²: an
 //! unbiased estimate of the squared error against the converged image), and the frame's
@@ -30,7 +30,8 @@ use crate::{check_validation, Error};
 pub struct LightTransportRow {
     /// The scene's label.
     pub scene: String,
-    /// `default`, `ray-traced shadows`, `ray-traced occlusion`, or `path traced (1 frame)`.
+    /// `default`, `ray-traced shadows`, `ray-traced occlusion`, `ray-traced reflections`,
+    /// or `path traced (1 frame)`.
     pub setting: &'static str,
     /// Whole frame's GPU time.
     pub total: Spread,
@@ -58,7 +59,7 @@ struct Setting {
     seeds: u32,
 }
 
-const SETTINGS: [Setting; 4] = [
+const SETTINGS: [Setting; 5] = [
     Setting {
         name: "default",
         pass: None,
@@ -76,6 +77,12 @@ const SETTINGS: [Setting; 4] = [
         pass: Some("ray-traced-occlusion"),
         applies: |scene| scene.environment.is_some(),
         seeds: super::occlusion::TRACED_SEEDS,
+    },
+    Setting {
+        name: "ray-traced reflections",
+        pass: Some("ray-traced-reflections"),
+        applies: |scene| scene.environment.is_some(),
+        seeds: 1,
     },
     Setting {
         name: "path traced (1 frame)",

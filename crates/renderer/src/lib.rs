@@ -550,7 +550,7 @@ impl Renderer {
             return true;
         }
         scene.gpu.structures.get().is_some_and(|structures| {
-            !passes::path_traces(variant) || structures.surfaces.get().is_some()
+            !passes::reads_surfaces(variant) || structures.surfaces.get().is_some()
         })
     }
 
@@ -574,7 +574,7 @@ impl Renderer {
                 // Set once: found unset, and only `&mut self` sets it.
                 let _ = scene.gpu.structures.set(structures);
             }
-            if passes::path_traces(variant) {
+            if passes::reads_surfaces(variant) {
                 if let Some(structures) = scene.gpu.structures.get() {
                     self.stats.acceleration_structure_bytes +=
                         structures.prepare_surfaces(&self.device, scene.scene())?;

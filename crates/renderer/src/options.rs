@@ -100,9 +100,10 @@ pub struct OptionalPass {
     pub needs_ray_queries: bool,
     /// The choice it is one way of, and its value there (`None`: a switch of its own).
     pub choice: Option<(&'static PassChoice, &'static str)>,
-    /// It works on the environment's light: frames of a scene without an environment do
-    /// not run it (nothing to do), which the command line says.
-    pub needs_environment: bool,
+    /// It works on the environment's light, and what it finds without one (`nothing to
+    /// block`): frames of a scene without an environment do not run it, which the
+    /// command line says (`None`: it works without one).
+    pub needs_environment: Option<&'static str>,
 }
 
 impl OptionalPass {

@@ -27,7 +27,7 @@ pub(crate) static OPTION: OptionalPass = OptionalPass {
     help: "ground-truth ambient occlusion from the depth buffer, every device",
     needs_ray_queries: false,
     choice: Some((&crate::options::ENVIRONMENT_OCCLUSION, "gtao")),
-    needs_environment: true,
+    needs_environment: Some("nothing to block"),
 };
 
 /// The image it writes: each pixel's visibility (1: nothing in the way).

@@ -84,12 +84,13 @@ const OWN_BINDINGS: &[Binding] = &[
 const TRACED: [Binding; 7] = {
     let [scene, cutouts, corners, alphas] =
         super::traced::bindings(FRAGMENT, Some(super::ray_traced_occlusion::OPTION.define));
-    let path_trace = super::path_trace::OPTION.define;
+    // lighting.frag defines it for PATH_TRACE and RAY_TRACED_REFLECTIONS.
+    let surfaces = "TRACED_SURFACES";
     [
-        scene.or_with(path_trace),
-        cutouts.or_with(path_trace),
-        corners.or_with(path_trace),
-        alphas.or_with(path_trace),
+        scene.or_with(surfaces),
+        cutouts.or_with(surfaces),
+        corners.or_with(surfaces),
+        alphas.or_with(surfaces),
         super::path_trace::SURFACES,
         super::path_trace::TEXTURES,
         super::path_trace::ENVIRONMENT_IMPORTANCE,
@@ -317,7 +318,8 @@ impl FramePass for Lighting {
             read,
         );
         if r.no_scene.is_some() {
-            io = if super::ray_traced_occlusion::traces(frame) || super::path_trace::traces(frame) {
+            io = if super::ray_traced_occlusion::traces(frame) || super::frame_reads_surfaces(frame)
+            {
                 super::traced::scene(io, frame)
             } else {
                 super::traced::nothing(io, frame)
@@ -334,9 +336,9 @@ impl FramePass for Lighting {
                 .gpu
                 .deform
                 .as_ref()
-                .filter(|_| super::path_trace::traces(frame))
+                .filter(|_| super::frame_reads_surfaces(frame))
             {
-                // Paths read the deformed occluders' posed vertices where they hit them.
+                // Rays read the deformed occluders' posed vertices where they hit them.
                 io = io.uses_buffer(&deform.posed, BufferUse::FragmentStorageRead);
             }
         }

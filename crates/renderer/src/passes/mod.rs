@@ -27,6 +27,7 @@ pub(crate) mod output;
 pub(crate) mod path_trace;
 mod per_pixel;
 mod ray_traced_occlusion;
+pub(crate) mod ray_traced_reflections;
 mod ray_traced_shadows;
 mod shadow_maps;
 mod traced;
@@ -187,6 +188,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &ray_traced_occlusion::RayTracedOcclusion,
     &ray_traced_shadows::RayTracedShadows,
     &path_trace::PathTrace, // likewise (--path-trace on): the lighting pass then traces paths
+    &ray_traced_reflections::RayTracedReflections, // likewise: the lighting pass traces reflections
     &lighting::Lighting,
     &back_faces::BackFaces,
     &behind::Behind,
@@ -223,9 +225,16 @@ pub(crate) fn frame_images(
         .collect()
 }
 
-/// Whether frames of `variant` are path traced (`--path-trace on`).
-pub(crate) fn path_traces(variant: ShaderVariant) -> bool {
-    path_trace::wanted(variant)
+/// Whether frames of `variant` read what their rays meet (the surface table,
+/// `accel::TracedSurfaces`): path tracing and ray-traced reflections.
+pub(crate) fn reads_surfaces(variant: ShaderVariant) -> bool {
+    path_trace::wanted(variant) || ray_traced_reflections::wanted(variant)
+}
+
+/// Whether the frame reads what its rays meet ([`reads_surfaces`], its scene's
+/// structures built).
+pub(super) fn frame_reads_surfaces(frame: &FrameContext<'_>) -> bool {
+    path_trace::traces(frame) || ray_traced_reflections::traces(frame)
 }
 
 /// The optional passes of the frame ([`FramePass::option`]), in the frame's order.

@@ -40,7 +40,7 @@ pub(crate) static OPTION: OptionalPass = OptionalPass {
     help: "the frame path traced by ray queries (light that bounces), averaged over frames by --accumulate-until; devices with ray queries, else left out with a warning",
     needs_ray_queries: true,
     choice: None,
-    needs_environment: false,
+    needs_environment: None,
 };
 
 /// Paths per pixel in one frame.
@@ -77,7 +77,7 @@ pub(super) const SURFACES: Binding = Binding::new(
     crate::bindings::FRAGMENT,
 )
 .for_ray_queries()
-.only_with(OPTION.define);
+.only_with("TRACED_SURFACES");
 
 /// The lighting set's binding of the texture table (`accel::TracedSurfaces`,
 /// traced_textures.glsl).
@@ -90,7 +90,7 @@ pub(super) const TEXTURES: Binding = Binding::new(
     crate::bindings::FRAGMENT,
 )
 .for_ray_queries()
-.only_with(OPTION.define);
+.only_with("TRACED_SURFACES");
 
 /// The lighting set's binding of the environment's distribution of directions
 /// (`crate::environment_importance`; the frame's environment's, or a placeholder's).
@@ -124,7 +124,7 @@ pub(super) fn bind_surfaces(io: PassIo, frame: &FrameContext<'_>) -> PassIo {
         .gpu
         .structures
         .get()
-        .filter(|_| traces(frame))
+        .filter(|_| super::frame_reads_surfaces(frame))
         .and_then(|s| s.surfaces.get());
     match own.or(frame.shared.no_surfaces.as_ref()) {
         Some(surfaces) => io

@@ -37,7 +37,7 @@ pub(crate) static OPTION: OptionalPass = OptionalPass {
     help: "64 rays a pixel by ray queries against the scene (with --environment-samples N, each sampled direction traced instead); devices with ray queries, else left out with a warning",
     needs_ray_queries: true,
     choice: Some((&crate::options::ENVIRONMENT_OCCLUSION, "ray-traced")),
-    needs_environment: true,
+    needs_environment: Some("nothing to block"),
 };
 
 /// The image it writes: each pixel's visibility (1: nothing in the way).

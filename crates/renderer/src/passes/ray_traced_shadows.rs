@@ -38,7 +38,7 @@ pub(crate) static OPTION: OptionalPass = OptionalPass {
     help: "Shadows of the first 32 lights that cast them, by ray queries against the scene's acceleration structures: exact visibility, soft for lights with a size (15 rays over their disc or cone); devices with ray queries, else left out with a warning",
     needs_ray_queries: true,
     choice: None,
-    needs_environment: false,
+    needs_environment: None,
 };
 
 /// The image it writes: per pixel, bit i set where light i reaches it.
