@@ -1,6 +1,16 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
+#if defined(RAY_TRACED_REFRACTION) && !defined(TRANSMISSION)
+// Refraction is traced in place of the screen-space transmission: without transmissive
+// objects there is none (the pass does not run).
+#undef RAY_TRACED_REFRACTION
+#endif
+#ifdef RAY_TRACED_REFRACTION
+// Rays that meet the scene's surfaces and read them (traced_surfaces.glsl).
+#define TRACED_SURFACES
+#extension GL_EXT_ray_query : require
+#endif
 // Forward pass, fragment stage (vertex stage: gbuffer.vert): the blended objects
 // (glTF alphaMode BLEND) and the transmissive ones (KHR_materials_transmission, in the
 // TRANSMISSION variant), drawn after the deferred lighting, back to front, each
@@ -30,6 +40,11 @@ layout(push_constant) uniform ForwardPush {
 #include "shadows.glsl"
 #endif
 #include "lighting_terms.glsl"
+#ifdef RAY_TRACED_REFRACTION
+#define TRACED_LIGHT_COUNT push.light_count
+#include "traced_surfaces.glsl"
+#include "ray_traced_refraction/constants.glsl"
+#endif
 
 layout(location = 0) out vec4 out_radiance;
 
@@ -274,6 +289,110 @@ bool opaque_hit(vec3 p, vec3 d, ScreenMarch march, out vec2 uv, out bool sky,
 //   spread the light over the distance to what it meets (rough_lods).
 #include "crossing.glsl"
 
+// Per polarisation and channel, the light that leaves by the far side (through both
+// interfaces, after any number of round trips inside: `seen` is what it shows) and the
+// light that leaves by the near side after one reflection at the far side (and any round
+// trips more: `seen_returned`), `absorbed` the volume's transmission along one chord.
+vec3 through_interfaces(BrdfInputs m, Crossing entry, Crossing far_side, Crossing back_out, vec3 absorbed,
+                        vec3 seen, vec3 seen_returned) {
+    float w = m.polarisation_weight;
+    vec3 radiance = vec3(0.0);
+    for (int c = 0; c < 3; ++c) {
+        float a = absorbed[c];
+        vec2 t_entry = vec2(entry.s[c], entry.p[c]);
+        vec2 t_exit = vec2(far_side.s[c], far_side.p[c]);
+        vec2 r_exit = vec2(1.0) - t_exit;
+        vec2 t_return = vec2(back_out.s[c], back_out.p[c]);
+        vec2 r_return = vec2(1.0) - t_return;
+        vec2 round_trips = vec2(1.0) / max(vec2(1.0) - r_return * r_exit * a * a, vec2(1e-30));
+        vec2 through = t_entry * t_exit * a * round_trips;
+        vec2 back = t_entry * r_exit * t_return * a * a * round_trips;
+        radiance[c] = ((1.0 - w) * through.x + w * through.y) * seen[c]
+                    + ((1.0 - w) * back.x + w * back.y) * seen_returned[c];
+    }
+    return radiance;
+}
+
+#ifdef RAY_TRACED_REFRACTION
+// The outward normal (unit) of the interface a ray along `direction` meets at `hit`,
+// turned to face the ray's way out (path_trace.glsl's rule for a volume's exits).
+vec3 traced_outward(PathSurface hit, vec3 direction) {
+    vec3 outward = dot(hit.normal, hit.geometric) < 0.0 ? -hit.normal : hit.normal;
+    if (dot(hit.geometric, direction) < 0.0) {
+        outward = -outward;
+    }
+    return facing(outward, direction);
+}
+
+// transmitted_radiance with rays traced through the scene (RAY_TRACED_REFRACTION;
+// passes/ray_traced_refraction.rs): the same interfaces and sums, what lies behind found
+// by ray queries — a volume's exit at the interface its refracted ray meets inside
+// (whichever object's), the part reflected there followed to the interface it meets
+// next, what leaves shaded where it lands (traced_radiance_along, through thin walls) —
+// never a screen lookup.
+vec3 traced_transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 along, vec3 v,
+                                 vec3 position, float roughness, float thickness, vec3 film) {
+    float eta_i = m.outside_eta;
+    float eta_t = m.dielectric_eta;
+    n = facing(n, v);
+    Crossing entry = surface_crossing(clamp(dot(n, v), 0.0, 1.0), eta_i, eta_t, film);
+    uint state = path_seed(uint(gl_FragCoord.x) + 65536u * uint(gl_FragCoord.y), push.object_index,
+                           REFRACTION_STREAM);
+#ifdef ENVIRONMENT
+    float lod = clamp(roughness, 0.0, 1.0) * float(textureQueryLevels(environment_specular) - 1);
+#else
+    float lod = 0.0;
+#endif
+    vec3 absorbed = vec3(1.0);
+    Crossing far_side = entry;
+    Crossing back_out = entry;
+    vec3 seen = vec3(0.0);
+    vec3 seen_returned = vec3(0.0);
+    if (thickness > 0.0) {
+        vec3 refracted = refract(-v, n, eta_i / eta_t);
+        if (dot(refracted, refracted) == 0.0) {
+            return vec3(0.0);  // totally reflected at the entry (η_i > η_t)
+        }
+        refracted = normalize(refracted);
+        PathSurface exit;
+        if (!path_next_surface(position, refracted, surface_offset(position), false, state, exit)) {
+            return vec3(0.0);  // an open mesh: the light is lost inside
+        }
+        vec3 n_exit = traced_outward(exit, refracted);
+        far_side = surface_crossing(dot(refracted, n_exit), eta_t, eta_i, film);
+        absorbed = exp(-material.absorption.rgb * distance(position, exit.position));
+        vec3 leaving = refract(refracted, -n_exit, eta_t / eta_i);
+        if (dot(leaving, leaving) > 0.0) {
+            seen = traced_radiance_along(exit.position, normalize(leaving), lod, REFRACTION_THIN_WALLS, state);
+        }
+        // The part the exit reflects back inside, to the interface it meets next.
+        vec3 returning = reflect(refracted, n_exit);
+        PathSurface back;
+        if (path_next_surface(exit.position, returning, surface_offset(exit.position), false, state, back)) {
+            vec3 n_return = traced_outward(back, returning);
+            back_out = surface_crossing(dot(returning, n_return), eta_t, eta_i, film);
+            vec3 returned = refract(returning, -n_return, eta_t / eta_i);
+            if (dot(returned, returned) > 0.0) {
+                seen_returned = traced_radiance_along(back.position, normalize(returned), lod,
+                                                      REFRACTION_THIN_WALLS, state);
+            }
+        }
+    } else if (!(roughness > 0.0)) {
+        // A smooth thin wall: straight on, through the walls beyond it.
+        seen = traced_radiance_along(position, -v, lod, REFRACTION_THIN_WALLS, state);
+    } else {
+        // A rough one: the mean of REFRACTION_ROUGH_RAYS directions drawn from the spread
+        // of its two rough interfaces (the path tracer's rule).
+        for (uint k = 0u; k < REFRACTION_ROUGH_RAYS; ++k) {
+            vec3 d = path_thin_wall_direction(n, along, v, m.alpha_x, m.alpha_y, eta_i, eta_t, roughness, state);
+            seen += traced_radiance_along(position, d, lod, REFRACTION_THIN_WALLS, state);
+        }
+        seen /= float(REFRACTION_ROUGH_RAYS);
+    }
+    return through_interfaces(m, entry, far_side, back_out, absorbed, seen, seen_returned);
+}
+#endif
+
 vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, vec3 position,
                           float roughness, float thickness, vec3 film) {
     float eta_i = m.outside_eta;
@@ -346,25 +465,7 @@ vec3 transmitted_radiance(GpuMaterial material, BrdfInputs m, vec3 n, vec3 v, ve
         vec2 lods = rough_lods(roughness, eta, beyond, w_beyond);
         seen = seen_behind(q.xy, q.w > 0.0 && on_screen(q.xy), false, -v, lods, roughness);
     }
-    // Per polarisation and channel, the light that leaves by the far side (through both
-    // interfaces, after any number of round trips inside) and the light that leaves by
-    // the near side after one reflection at the far side (and any round trips more).
-    float w = m.polarisation_weight;
-    vec3 radiance = vec3(0.0);
-    for (int c = 0; c < 3; ++c) {
-        float a = absorbed[c];
-        vec2 t_entry = vec2(entry.s[c], entry.p[c]);
-        vec2 t_exit = vec2(far_side.s[c], far_side.p[c]);
-        vec2 r_exit = vec2(1.0) - t_exit;
-        vec2 t_return = vec2(back_out.s[c], back_out.p[c]);
-        vec2 r_return = vec2(1.0) - t_return;
-        vec2 round_trips = vec2(1.0) / max(vec2(1.0) - r_return * r_exit * a * a, vec2(1e-30));
-        vec2 through = t_entry * t_exit * a * round_trips;
-        vec2 back = t_entry * r_exit * t_return * a * a * round_trips;
-        radiance[c] = ((1.0 - w) * through.x + w * through.y) * seen[c]
-                    + ((1.0 - w) * back.x + w * back.y) * seen_returned[c];
-    }
-    return radiance;
+    return through_interfaces(m, entry, far_side, back_out, absorbed, seen, seen_returned);
 }
 #endif
 
@@ -439,7 +540,11 @@ void main() {
         float sheen_max = max(layers.sheen.color.r, max(layers.sheen.color.g, layers.sheen.color.b));
         float through_layers = coat.view.attenuation_v * (1.0 - sheen_max * layers.sheen.albedo_v);
         radiance += (1.0 - s.metalness) * transmission * base_color * through_layers
+#ifdef RAY_TRACED_REFRACTION
+                  * traced_transmitted_radiance(material, m, n, t, v, position, s.roughness, thickness,
+#else
                   * transmitted_radiance(material, m, n, v, position, s.roughness, thickness,
+#endif
 #ifdef IRIDESCENCE
                                          vec3(s.film_weight, material.film.y, s.film_thickness_nm)
 #else

@@ -455,3 +455,80 @@ fn bad_batches_are_refused_in_one_line() {
         "{stderr}"
     );
 }
+
+/// A job path traces with a sample count (`"samples"`), the image `render --samples`
+/// makes of the same scene, byte for byte; `"accumulate-until"` renders too; and
+/// `"error": true` beside either is refused for that job in one line, the others going on.
+#[test]
+fn a_job_path_traces_with_a_sample_count() {
+    let dir = scratch("samples");
+    let manifest = dir.join("traced.json");
+    std::fs::write(
+        &manifest,
+        r#"{"jobs": [
+            {"name": "box", "scene": "builtin:cornell-box", "width": 16, "height": 12,
+             "path-trace": "on", "samples": 8, "outputs": ["exr"]},
+            {"name": "box-until", "scene": "builtin:cornell-box", "width": 16, "height": 12,
+             "path-trace": "on", "accumulate-until": 0.5},
+            {"name": "box-error", "scene": "builtin:cornell-box", "width": 16, "height": 12,
+             "path-trace": "on", "samples": 8, "error": true}]}"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (code, stdout, stderr) = combustion(&["batch", text(&manifest), "-o", text(&out)]);
+    assert_eq!(code, 1, "one job fails: {stdout}{stderr}");
+    let run = results(&out);
+    let jobs = run["jobs"].as_array().unwrap();
+    let status = |name: &str| {
+        jobs.iter()
+            .find(|j| j["name"] == name)
+            .map(|j| {
+                (
+                    j["status"].as_str().unwrap().to_owned(),
+                    j["message"].clone(),
+                )
+            })
+            .unwrap()
+    };
+    assert_eq!(status("box").0, "rendered");
+    assert_eq!(status("box-until").0, "rendered");
+    let (failed, message) = status("box-error");
+    assert_eq!(failed, "error");
+    assert!(
+        message
+            .as_str()
+            .unwrap()
+            .contains("cannot be combined with samples or accumulate-until"),
+        "{message}"
+    );
+    let alone = dir.join("alone.exr");
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "builtin:cornell-box",
+        "--path-trace",
+        "on",
+        "--samples",
+        "8",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--hdr",
+        text(&alone),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let written = std::fs::read_dir(&out)
+        .unwrap()
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .find(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("box."))
+                && p.extension().is_some_and(|e| e == "exr")
+        })
+        .expect("the job's EXR");
+    assert_eq!(
+        std::fs::read(written).unwrap(),
+        std::fs::read(&alone).unwrap()
+    );
+}

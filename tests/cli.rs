@@ -3453,3 +3453,71 @@ fn supersampling_and_anti_aliasing_on_the_command_line() {
         assert!(stderr.contains(named), "{args:?}: {stderr}");
     }
 }
+
+/// `--samples N` with `--path-trace on`: N paths a pixel, the mean of N/4 frames of
+/// successive seeds — four is the one frame `--path-trace on` renders alone (the same
+/// radiance, bit for bit), eight the same image on every run; a count that is not whole
+/// frames, one without path tracing, and one beside `--accumulate-until` are refused in
+/// one line naming the option.
+#[test]
+fn samples_set_the_paths_a_pixel_averages() {
+    assert_refused(
+        &["render", "--path-trace", "on", "--samples", "6"],
+        &["invalid value '6' for '--samples <N>'", "a multiple of 4"],
+    );
+    assert_refused(
+        &["render", "--path-trace", "on", "--samples", "131072"],
+        &["invalid value '131072' for '--samples <N>'", "65,536"],
+    );
+    assert_refused(
+        &["render", "builtin:spheres", "--samples", "8"],
+        &["--samples needs --path-trace on"],
+    );
+    assert_refused(
+        &[
+            "render",
+            "--path-trace",
+            "on",
+            "--samples",
+            "8",
+            "--accumulate-until",
+            "0.1",
+        ],
+        &["'--samples <N>' cannot be used with '--accumulate-until <E>'"],
+    );
+    let dir = scratch("samples");
+    let render = |name: &str, extra: &[&str]| {
+        let exr = dir.join(format!("{name}.exr"));
+        let mut args = vec![
+            "render",
+            "builtin:cornell-box",
+            "--path-trace",
+            "on",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--hdr",
+            exr.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let (code, stdout, stderr) = combustion(&args);
+        assert_eq!(code, 0, "{stderr}");
+        (std::fs::read(&exr).unwrap(), stdout)
+    };
+    let (alone, _) = render("alone", &[]);
+    let (four, stdout) = render("four", &["--samples", "4"]);
+    assert!(
+        stdout.contains("path traced 4 paths per pixel (1 frame of 4): relative standard error not measured (one frame)"),
+        "{stdout}"
+    );
+    assert_eq!(alone, four, "four paths are the one frame");
+    let (eight, stdout) = render("eight", &["--samples", "8"]);
+    assert!(
+        stdout.contains("path traced 8 paths per pixel (2 frames of 4): relative standard error"),
+        "{stdout}"
+    );
+    let (again, _) = render("again", &["--samples", "8"]);
+    assert_eq!(eight, again, "the same image for the same count");
+    assert_ne!(eight, four);
+}

@@ -41,6 +41,7 @@ mod parity;
 mod path_trace;
 mod points_and_lines;
 mod reflections;
+mod refraction;
 mod report;
 mod shading_options;
 mod shadows;

@@ -503,7 +503,7 @@ fn report_measures_every_gbuffer_storage_end_to_end() {
         std::env::temp_dir().join(format!("combustion-storage-report-{}", std::process::id()));
     combustion::report::write(&dir, &measured, &desc, None).unwrap();
     let csv = std::fs::read_to_string(dir.join("gbuffer-storage.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 8, "{csv}");
+    assert_eq!(csv.lines().count(), 7, "{csv}");
     assert!(
         csv.lines()
             .nth(1)

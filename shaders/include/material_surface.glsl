@@ -95,6 +95,7 @@ float vertex_alpha() {
 // A slot's texture as the rasteriser samples it: its set 1 binding at the fragment's
 // mapped coordinates, with the derivatives' mip level.
 #define MATERIAL_TEXTURE(sampler, uv, index, slot) texture(sampler, uv)
+#define MATERIAL_SURFACE_FUNCTION material_surface_of_fragment
 #include "material_surface_at.glsl"
 
 // The surface the fragment shows: its interpolated normal (the facet's where that is
@@ -115,7 +116,7 @@ MaterialSurface material_surface(GpuMaterial material) {
 #else
     vec4 color = vec4(1.0);
 #endif
-    return material_surface_at(material, n, in_tangent, color, vec4(0.0));
+    return material_surface_of_fragment(material, n, in_tangent, color, vec4(0.0));
 }
 
 #endif

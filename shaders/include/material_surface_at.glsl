@@ -5,13 +5,19 @@
 // is read: MATERIAL_TEXTURE(sampler, uv, index, slot) — `sampler` and `uv` the raster's
 // (its set 1 binding and interpolated coordinates), `index` the texture-array index
 // (≥ 0 where the slot is used) and `slot` the slot's number in
-// combustion_scene::TextureSlot::ALL order (for a lookup of its own). Needs gpu_types.glsl.
-#ifndef COMBUSTION_MATERIAL_SURFACE_AT_GLSL
-#define COMBUSTION_MATERIAL_SURFACE_AT_GLSL
-
+// combustion_scene::TextureSlot::ALL order (for a lookup of its own) — and the name of
+// the function it gets, MATERIAL_SURFACE_FUNCTION; then undefines both. A shader may
+// include it once per way of reading textures (the forward pass: its fragments', and its
+// rays' hits). Needs gpu_types.glsl.
 #ifndef MATERIAL_TEXTURE
 #error "MATERIAL_TEXTURE(sampler, uv, index, slot) must be defined before material_surface_at.glsl"
 #endif
+#ifndef MATERIAL_SURFACE_FUNCTION
+#error "MATERIAL_SURFACE_FUNCTION must be defined before material_surface_at.glsl"
+#endif
+
+#ifndef COMBUSTION_MATERIAL_SURFACE_AT_GLSL
+#define COMBUSTION_MATERIAL_SURFACE_AT_GLSL
 
 // What a material says of a surface point, factors times textures times the vertex
 // colour.
@@ -60,11 +66,13 @@ vec3 normal_mapped(vec4 texel, float scale, mat3 frame, vec3 fallback) {
     return dot(mapped, mapped) > 1e-20 ? normalize(mapped) : fallback;
 }
 
+#endif
+
 // The surface `material` makes at a point of interpolated unit normal `n` (towards the
 // side seen: reversed on a back face), tangent `tangent` (xyz; w the bitangent's sign),
 // vertex colour `color` (white without one) and texture coordinates `uvs` (sets 0 and 1,
 // for a MATERIAL_TEXTURE that maps them itself).
-MaterialSurface material_surface_at(GpuMaterial material, vec3 n, vec4 tangent, vec4 color, vec4 uvs) {
+MaterialSurface MATERIAL_SURFACE_FUNCTION(GpuMaterial material, vec3 n, vec4 tangent, vec4 color, vec4 uvs) {
     ivec4 tex0 = material.textures_base_mr_normal_occlusion;
     ivec4 tex1 = material.textures_emissive_anisotropy_specular;
     MaterialSurface s;
@@ -217,4 +225,5 @@ MaterialSurface material_surface_at(GpuMaterial material, vec3 n, vec4 tangent, 
     return s;
 }
 
-#endif
+#undef MATERIAL_TEXTURE
+#undef MATERIAL_SURFACE_FUNCTION

@@ -22,49 +22,6 @@ vec3 path_facing(vec3 n, vec3 towards) {
     return c > 1e-4 ? n : normalize(n + (1e-4 - c) * towards);
 }
 
-// G₁ of a direction below the surface (shading frame), as seen from below.
-float path_g1_below(vec3 d, float ax, float ay) {
-    return 1.0 / (1.0 + lambda_ggx_anisotropic(vec3(d.xy, -d.z), ax, ay));
-}
-
-// The direction light leaves a thin wall in towards the side opposite its viewer `v`:
-// straight on where it is smooth; a rough one's two interfaces (each of α `ax`, `ay`)
-// refract it — in through a microfacet the view sees, out through one of the far
-// wall's — the pair kept with probability of both refracted rays' masking: drawn from
-// by rejection, as the f64 path tracer draws it.
-vec3 path_thin_wall_direction(vec3 n, vec3 along, vec3 v, float ax, float ay, float eta_i,
-                              float eta_t, float roughness, inout uint state) {
-    if (!(roughness > 0.0) || eta_i == eta_t) {
-        return -v;
-    }
-    vec3 t = along - n * dot(n, along);
-    vec3 b;
-    if (!(dot(t, t) > 1e-20)) {
-        orthonormal_basis(n, t, b);
-    }
-    t = normalize(t);
-    b = cross(n, t);
-    vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, n));
-    for (int draw = 0; draw < 64; ++draw) {
-        vec3 m_in = sample_ggx_vndf(v_local, ax, ay, vec2(path_random(state), path_random(state)));
-        vec2 u_out = vec2(path_random(state), path_random(state));
-        float accept = path_random(state);
-        vec3 inside = refract(-v_local, m_in, eta_i / eta_t);
-        if (dot(inside, inside) == 0.0) {
-            continue;
-        }
-        vec3 m_out = sample_ggx_vndf(-inside, ax, ay, u_out);
-        vec3 leaving = refract(inside, dot(m_out, inside) > 0.0 ? -m_out : m_out, eta_t / eta_i);
-        if (dot(leaving, leaving) == 0.0 || !(inside.z < 0.0 && leaving.z < 0.0)) {
-            continue;
-        }
-        if (accept < path_g1_below(inside, ax, ay) * path_g1_below(leaving, ax, ay)) {
-            return normalize(t * leaving.x + b * leaving.y + n * leaving.z);
-        }
-    }
-    return -v;
-}
-
 // Light inside a volume from `origin` along unit `direction` (the medium `eta_inside`
 // inside, `eta_outside` out, absorption `sigma`, under the entry's thin film `film`,
 // polarisation weight `w`): followed to the interface it meets next (whichever

@@ -19,19 +19,7 @@ vec3 traced_reflection(vec3 position, vec3 n, vec3 eye, vec3 direction, float lo
     // Off the surface along its normal, past the depth's rounding (the occlusion rays'
     // rule, ENVIRONMENT_RAY_OFFSET per metre from the eye).
     vec3 origin = position + n * (ENVIRONMENT_RAY_OFFSET * distance(eye, position));
-    PathSurface hit;
-    if (!path_next_surface(origin, direction, surface_offset(origin), true, state, hit)) {
-        return textureLod(environment_specular, direction, lod).rgb;
-    }
-    GpuMaterial material = materials[hit.material];
-    if (traced_unlit(material)) {
-        return material_surface_at(material, hit.front ? hit.normal : -hit.normal, hit.tangent, hit.color,
-                                   hit.uvs).base_color;
-    }
-    TracedShading h = traced_shading(hit, direction);
-    return h.s.emissive + traced_direct_light(hit, h, state)
-         + environment_radiance(material, hit.material, h.m, h.view, h.layers, h.n, -direction,
-                                h.s.roughness, round(srgb_encode(h.base) * 255.0), 1.0);
+    return traced_radiance_along(origin, direction, lod, 0u, state);
 }
 
 // The share of the specular lookup a surface of perceptual roughness `roughness` takes

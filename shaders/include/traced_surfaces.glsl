@@ -3,16 +3,24 @@
 // and the scene's textures (crates/renderer/src/accel.rs, TracedSurfaces), the nearest
 // surface along a ray as a path sees it, the surface a hit shows (the G-buffer pass's
 // own code, material_surface_at.glsl) set up for the lighting pass's material terms, and
-// its direct light with shadow rays. Needs lighting.frag's set (materials, lights, the
-// traced scene, `traced_surfaces`, `traced_textures`) and push constants.
+// its direct light with shadow rays. Needs the set of lighting.frag or forward.frag
+// (materials, lights, the traced scene, `traced_surfaces`, `traced_textures`) and the
+// frame's light count (TRACED_LIGHT_COUNT: lighting.frag's push.counts.x by default).
 #ifndef COMBUSTION_TRACED_SURFACES_GLSL
 #define COMBUSTION_TRACED_SURFACES_GLSL
 
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_buffer_reference_uvec2 : require
 
+#include "environment.glsl"  // sample_ggx_vndf
 #include "traced_scene.glsl"
 #include "traced_textures.glsl"
+#include "crossing.glsl"
+
+// How many of `lights` the frame has (the includer's push constants say).
+#ifndef TRACED_LIGHT_COUNT
+#define TRACED_LIGHT_COUNT push.counts.x
+#endif
 
 // A mesh's vertices (GpuVertex: position, normal, tangent, uv; 12 floats) and indices.
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer TracedVertices {
@@ -241,7 +249,7 @@ vec3 traced_direct_light(PathSurface surface, TracedShading h, inout uint state)
     vec3 radiance = vec3(0.0);
     float offset = surface_offset(surface.position);
     vec3 from = surface.position + h.n * offset;
-    for (uint i = 0u; i < push.counts.x; ++i) {
+    for (uint i = 0u; i < TRACED_LIGHT_COUNT; ++i) {
         vec3 l;
         vec3 irradiance;
         float reach = light_incidence(lights[i], surface.position, l, irradiance);
@@ -280,6 +288,98 @@ vec3 traced_direct_light(PathSurface surface, TracedShading h, inout uint state)
         if (clear > 0.0 && !scene_blocks(from, l, clear)) {
             radiance += response;
         }
+    }
+    return radiance;
+}
+
+// G₁ of a direction below the surface (shading frame), as seen from below.
+float path_g1_below(vec3 d, float ax, float ay) {
+    return 1.0 / (1.0 + lambda_ggx_anisotropic(vec3(d.xy, -d.z), ax, ay));
+}
+
+// The direction light leaves a thin wall in towards the side opposite its viewer `v`:
+// straight on where it is smooth; a rough one's two interfaces (each of α `ax`, `ay`)
+// refract it — in through a microfacet the view sees, out through one of the far
+// wall's — the pair kept with probability of both refracted rays' masking: drawn from
+// by rejection, as the f64 path tracer draws it.
+vec3 path_thin_wall_direction(vec3 n, vec3 along, vec3 v, float ax, float ay, float eta_i,
+                              float eta_t, float roughness, inout uint state) {
+    if (!(roughness > 0.0) || eta_i == eta_t) {
+        return -v;
+    }
+    vec3 t = along - n * dot(n, along);
+    vec3 b;
+    if (!(dot(t, t) > 1e-20)) {
+        orthonormal_basis(n, t, b);
+    }
+    t = normalize(t);
+    b = cross(n, t);
+    vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, n));
+    for (int draw = 0; draw < 64; ++draw) {
+        vec3 m_in = sample_ggx_vndf(v_local, ax, ay, vec2(path_random(state), path_random(state)));
+        vec2 u_out = vec2(path_random(state), path_random(state));
+        float accept = path_random(state);
+        vec3 inside = refract(-v_local, m_in, eta_i / eta_t);
+        if (dot(inside, inside) == 0.0) {
+            continue;
+        }
+        vec3 m_out = sample_ggx_vndf(-inside, ax, ay, u_out);
+        vec3 leaving = refract(inside, dot(m_out, inside) > 0.0 ? -m_out : m_out, eta_t / eta_i);
+        if (dot(leaving, leaving) == 0.0 || !(inside.z < 0.0 && leaving.z < 0.0)) {
+            continue;
+        }
+        if (accept < path_g1_below(inside, ax, ay) * path_g1_below(leaving, ax, ay)) {
+            return normalize(t * leaving.x + b * leaving.y + n * leaving.z);
+        }
+    }
+    return -v;
+}
+
+// The radiance arriving at `origin` along unit `direction` from what the ray meets there:
+// the surface's emission, every light's light with shadow rays and (ENVIRONMENT) the
+// environment's split sum at its own material; the ray goes on through up to
+// `thin_walls` thin-walled transmissive surfaces (each adding what it reflects and
+// passing (1 − R)/(1 + R) per polarisation of the rest, tinted by its base colour, as the
+// path tracer's thin walls do, straight on). Where it meets nothing, the environment's
+// prefiltered radiance at level `lod` (nothing without an environment).
+vec3 traced_radiance_along(vec3 origin, vec3 direction, float lod, uint thin_walls, inout uint state) {
+    vec3 radiance = vec3(0.0);
+    vec3 carried = vec3(1.0);
+    for (uint walls = 0u; walls <= thin_walls; ++walls) {
+        PathSurface hit;
+        if (!path_next_surface(origin, direction, surface_offset(origin), true, state, hit)) {
+#ifdef ENVIRONMENT
+            radiance += carried * textureLod(environment_specular, direction, lod).rgb;
+#endif
+            break;
+        }
+        GpuMaterial material = materials[hit.material];
+        if (traced_unlit(material)) {
+            radiance += carried * material_surface_at(material, hit.front ? hit.normal : -hit.normal,
+                                                      hit.tangent, hit.color, hit.uvs).base_color;
+            break;
+        }
+        TracedShading h = traced_shading(hit, direction);
+        vec3 reflected = h.s.emissive + traced_direct_light(hit, h, state);
+#ifdef ENVIRONMENT
+        reflected += environment_radiance(material, hit.material, h.m, h.view, h.layers, h.n, -direction,
+                                          h.s.roughness, round(srgb_encode(h.base) * 255.0), 1.0);
+#endif
+        radiance += carried * reflected;
+        if (!(h.transmits > 0.0) || material.transmission_thickness.y > 0.0 || walls == thin_walls) {
+            break;
+        }
+        // Through a thin wall, straight on.
+        Crossing entry = surface_crossing(clamp(dot(h.n, -direction), 0.0, 1.0), h.m.outside_eta,
+                                          h.m.dielectric_eta, h.film);
+        vec3 rs = 1.0 - entry.s;
+        vec3 rp = 1.0 - entry.p;
+        float out_layers = h.layers.coat.view.attenuation_v
+            * (1.0 - clamp(max(h.layers.sheen.color.r, max(h.layers.sheen.color.g, h.layers.sheen.color.b)), 0.0, 1.0)
+               * h.layers.sheen.albedo_v);
+        carried *= mix((1.0 - rs) / (1.0 + rs), (1.0 - rp) / (1.0 + rp), h.m.polarisation_weight)
+                 * h.transmits * out_layers * h.base;
+        origin = hit.position;
     }
     return radiance;
 }

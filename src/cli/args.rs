@@ -600,6 +600,21 @@ fn path_depth(text: &str) -> Result<u32, String> {
     Ok(value)
 }
 
+/// The most paths a pixel `--samples` averages (its message says 65,536).
+pub(crate) const MAX_PATH_SAMPLES: u32 = 65_536;
+
+/// `--samples`: a whole number of frames' paths a pixel.
+fn path_samples(text: &str) -> Result<u32, String> {
+    let value = whole_number::<u32>(text)?;
+    let per_frame = combustion::renderer::PATHS_PER_FRAME;
+    if !(per_frame..=MAX_PATH_SAMPLES).contains(&value) || value % per_frame != 0 {
+        return Err(format!(
+            "is {value}; use a multiple of {per_frame} (the paths of one frame) from {per_frame} to 65,536"
+        ));
+    }
+    Ok(value)
+}
+
 fn cascades(text: &str) -> Result<u32, String> {
     let value = whole_number::<u32>(text)?;
     if !(1..=MAX_CASCADES).contains(&value) {
@@ -635,6 +650,10 @@ pub(crate) struct RenderArgs {
     /// (the frames' spread, averaged over the lit pixels) is at most E (4 to 1024 frames)
     #[arg(long, value_name = "E", value_parser = relative_error)]
     pub(crate) accumulate_until: Option<f64>,
+    /// With --path-trace on: N paths a pixel, the mean of N/4 frames of successive seeds
+    /// (a multiple of 4, 4 to 65,536); the same image for the same N
+    #[arg(long, value_name = "N", value_parser = path_samples, conflicts_with_all = ["accumulate_until", "supersample"])]
+    pub(crate) samples: Option<u32>,
     /// An accuracy budget: render with the fastest variant set whose mean relative error
     /// against the f64 reference is within E, measured on this scene at this size (the
     /// set chooses the Fresnel term, distribution, diffuse model and HDR format: those

@@ -424,7 +424,17 @@ fn render_job(
         images: true,
         gbuffer: job.error,
     };
-    let frame = if o.supersample > 1 {
+    let until = super::render::frames_averaged(o)?;
+    let frame = if let Some(until) = until {
+        if job.error {
+            return Err(Error::Usage(format!(
+                "job `{}`: \"error\": true cannot be combined with samples or accumulate-until (the error is measured against one frame's surfaces): give one",
+                job.name
+            )));
+        }
+        let size = (o.frame.width, o.frame.height);
+        super::render::accumulate(renderer, gpu, &inputs, size, until)?.0
+    } else if o.supersample > 1 {
         if job.error || o.picture.smoothing_asked().is_some() {
             return Err(Error::Usage(format!(
                 "job `{}`: supersample {} cannot be combined with {}: give one",

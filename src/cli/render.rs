@@ -19,24 +19,38 @@ const IMAGES: Readback = Readback {
 /// Frames `--accumulate-until` averages at least (for a spread to measure) and at most.
 const ACCUMULATED_FRAMES: (u32, u32) = (4, 1024);
 
-/// Frames of `inputs` with environment seeds 0, 1, 2, … averaged until the mean's
-/// relative standard error — per pixel the largest channel's √(s²/k) over its mean (at
-/// least the reference's radiance floor), averaged over the pixels brighter than the
-/// floor — is at most `target` ([`ACCUMULATED_FRAMES`] bound the count). The mean
-/// frame (its display image made from the mean radiance as the output pass makes it),
-/// the frames taken and the error reached.
-fn accumulate(
+/// When [`accumulate`] stops.
+#[derive(Clone, Copy)]
+pub(crate) enum Until {
+    /// When the mean's relative standard error is at most this ([`ACCUMULATED_FRAMES`]
+    /// bound the count).
+    Error(f64),
+    /// After this many frames (`--samples`).
+    Frames(u32),
+}
+
+/// Frames of `inputs` with environment seeds 0, 1, 2, … averaged until `until`: for
+/// [`Until::Error`], until the mean's relative standard error — per pixel the largest
+/// channel's √(s²/k) over its mean (at least the reference's radiance floor), averaged
+/// over the pixels brighter than the floor — is at most the target. The mean frame (its
+/// display image made from the mean radiance as the output pass makes it), the frames
+/// taken and the error reached.
+pub(crate) fn accumulate(
     renderer: &mut Renderer,
     scene: &combustion::renderer::GpuScene,
     inputs: &FrameInputs<'_>,
     (width, height): (u32, u32),
-    target: f64,
+    until: Until,
 ) -> Result<(Frame, u32, f64), Error> {
     let floor = combustion::renderer::reference::RADIANCE_FLOOR;
     let mut averaged = combustion::frame_mean::FrameMean::new((width * height) as usize);
     let mut last = None;
     let mut achieved = f64::INFINITY;
-    while averaged.frames() < ACCUMULATED_FRAMES.1 {
+    let (most, target) = match until {
+        Until::Error(target) => (ACCUMULATED_FRAMES.1, target),
+        Until::Frames(frames) => (frames, 0.0),
+    };
+    while averaged.frames() < most {
         let seeded = FrameInputs {
             environment_seed: averaged.frames(),
             ..*inputs
@@ -44,7 +58,8 @@ fn accumulate(
         let frame = renderer.render_with(scene, &seeded, width, height, IMAGES)?;
         averaged.add(&frame.hdr);
         last = Some(frame);
-        if averaged.frames() >= ACCUMULATED_FRAMES.0 {
+        let measured = averaged.frames() >= ACCUMULATED_FRAMES.0 || averaged.frames() == most;
+        if measured && averaged.frames() > 1 {
             let (sum, lit) = averaged
                 .mean()
                 .iter()
@@ -57,7 +72,7 @@ fn accumulate(
                     (sum + error, lit + 1)
                 });
             achieved = if lit == 0 { 0.0 } else { sum / lit as f64 };
-            if achieved <= target {
+            if matches!(until, Until::Error(_)) && achieved <= target {
                 break;
             }
         }
@@ -75,6 +90,34 @@ fn accumulate(
         *display = [r, g, b, display[3]];
     }
     Ok((frame, averaged.frames(), achieved))
+}
+
+/// What `o` averages over frames (`--samples`, `--accumulate-until`), refused where
+/// nothing it renders has noise to average.
+pub(crate) fn frames_averaged(o: &RenderArgs) -> Result<Option<Until>, Error> {
+    let asked = |name: &str| {
+        combustion::renderer::optional_pass(name)
+            .is_some_and(|pass| o.shading.optional.passes.contains(pass))
+    };
+    let (traced, path_traced) = (asked("ray-traced-occlusion"), asked("path-trace"));
+    if o.samples.is_some() && !path_traced {
+        return Err(Error::Usage(
+            "--samples needs --path-trace on (the paths a pixel averages; --environment-samples N sets the environment's)".into(),
+        ));
+    }
+    if o.accumulate_until.is_some() && o.shading.environment_samples == 0 && !traced && !path_traced
+    {
+        return Err(Error::Usage(
+            "--accumulate-until needs --environment-samples N, --environment-occlusion ray-traced or --path-trace on (the split sum has no noise to average)".into(),
+        ));
+    }
+    Ok(match (o.accumulate_until, o.samples) {
+        (Some(target), _) => Some(Until::Error(target)),
+        (None, Some(samples)) => Some(Until::Frames(
+            samples / combustion::renderer::PATHS_PER_FRAME,
+        )),
+        (None, None) => None,
+    })
 }
 
 pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
@@ -98,17 +141,12 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             n = o.supersample
         )));
     }
+    let until = frames_averaged(o)?;
     let asked = |name: &str| {
         combustion::renderer::optional_pass(name)
             .is_some_and(|pass| o.shading.optional.passes.contains(pass))
     };
     let (traced, path_traced) = (asked("ray-traced-occlusion"), asked("path-trace"));
-    if o.accumulate_until.is_some() && o.shading.environment_samples == 0 && !traced && !path_traced
-    {
-        return Err(Error::Usage(
-            "--accumulate-until needs --environment-samples N, --environment-occlusion ray-traced or --path-trace on (the split sum has no noise to average)".into(),
-        ));
-    }
     let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
     let png_path = o.output.clone().or(default_output);
     let targets = png_path
@@ -215,14 +253,30 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings.exposure)
         };
         let size = (o.frame.width, o.frame.height);
-        let frame = match o.accumulate_until {
+        let frame = match until {
             None if o.supersample > 1 => {
                 renderer.render_supersampled(&gpu_scene, &inputs, size.0, size.1, o.supersample)?
             }
             None => renderer.render_with(&gpu_scene, &inputs, size.0, size.1, IMAGES)?,
-            Some(target) => {
+            Some(Until::Frames(frames)) => {
                 let (frame, frames, achieved) =
-                    accumulate(renderer, &gpu_scene, &inputs, size, target)?;
+                    accumulate(renderer, &gpu_scene, &inputs, size, Until::Frames(frames))?;
+                outln!(
+                    "path traced {} paths per pixel ({frames} {} of {}): relative standard error {}",
+                    frames * combustion::renderer::PATHS_PER_FRAME,
+                    if frames == 1 { "frame" } else { "frames" },
+                    combustion::renderer::PATHS_PER_FRAME,
+                    if frames > 1 {
+                        format!("{achieved:.2e}")
+                    } else {
+                        "not measured (one frame)".to_owned()
+                    }
+                );
+                frame
+            }
+            Some(Until::Error(target)) => {
+                let (frame, frames, achieved) =
+                    accumulate(renderer, &gpu_scene, &inputs, size, Until::Error(target))?;
                 let per_frame = match (o.shading.environment_samples, traced) {
                     _ if path_traced => {
                         format!("{} paths per pixel", combustion::renderer::PATHS_PER_FRAME)

@@ -3,7 +3,8 @@
 //! [`ReportDesc::path_traced_frames`] frames of successive seeds averaged: the converged
 //! image, its own noise stated) — for the default shading and each traced setting the
 //! scene can use (ray-traced shadows where it has lights, ray-traced occlusion and
-//! reflections where an environment lights it): over the pixels the default frame shows a surface at, the
+//! reflections where an environment lights it, ray-traced refraction where it has
+//! glass): over the pixels the default frame shows a surface at, the
 //! mean and 95th percentile of each pixel's relative error, the RMS relative error with
 //! the reference's own noise removed in quadrature (E[(a − r̂)²] = (a − r)² + σ²: an
 //! unbiased estimate of the squared error against the converged image), and the frame's
@@ -31,7 +32,7 @@ pub struct LightTransportRow {
     /// The scene's label.
     pub scene: String,
     /// `default`, `ray-traced shadows`, `ray-traced occlusion`, `ray-traced reflections`,
-    /// or `path traced (1 frame)`.
+    /// `ray-traced refraction`, or `path traced (1 frame)`.
     pub setting: &'static str,
     /// Whole frame's GPU time.
     pub total: Spread,
@@ -59,7 +60,7 @@ struct Setting {
     seeds: u32,
 }
 
-const SETTINGS: [Setting; 5] = [
+const SETTINGS: [Setting; 6] = [
     Setting {
         name: "default",
         pass: None,
@@ -82,6 +83,12 @@ const SETTINGS: [Setting; 5] = [
         name: "ray-traced reflections",
         pass: Some("ray-traced-reflections"),
         applies: |scene| scene.environment.is_some(),
+        seeds: 1,
+    },
+    Setting {
+        name: "ray-traced refraction",
+        pass: Some("ray-traced-refraction"),
+        applies: |scene| scene.materials.iter().any(|m| m.transmission > 0.0),
         seeds: 1,
     },
     Setting {

@@ -651,7 +651,95 @@ pub(crate) const fn joined<const N: usize>(first: &[Binding], then: &[Binding]) 
     out
 }
 
-const FORWARD_BINDINGS: [Binding; 6 + LIT_BY.len()] = joined(
+/// The traced scene's four bindings (traced_scene.glsl: the top-level structure and the
+/// cut-outs' tables), read by `stages`, declared in GLSL only with `only_with` if given.
+pub(crate) const fn traced_scene(
+    stages: vk::ShaderStageFlags,
+    only_with: Option<&'static str>,
+) -> [Binding; 4] {
+    let all = [
+        Binding::new("scene", BindingKind::AccelerationStructure, stages),
+        Binding::new(
+            "cutouts",
+            BindingKind::StorageBuffer {
+                block: "TracedCutouts",
+                element: "uvec4",
+            },
+            stages,
+        ),
+        Binding::new(
+            "cutout_corners",
+            BindingKind::StorageBuffer {
+                block: "TracedCutoutCorners",
+                element: "vec4",
+            },
+            stages,
+        ),
+        Binding::new(
+            "cutout_alphas",
+            BindingKind::StorageBuffer {
+                block: "TracedCutoutAlphas",
+                element: "uint",
+            },
+            stages,
+        ),
+    ];
+    let all = [
+        all[0].for_ray_queries(),
+        all[1].for_ray_queries(),
+        all[2].for_ray_queries(),
+        all[3].for_ray_queries(),
+    ];
+    match only_with {
+        Some(define) => [
+            all[0].only_with(define),
+            all[1].only_with(define),
+            all[2].only_with(define),
+            all[3].only_with(define),
+        ],
+        None => all,
+    }
+}
+
+/// The `#define` of the shaders that read what their rays meet, derived in the shaders
+/// from the passes' (lighting.frag: PATH_TRACE or RAY_TRACED_REFLECTIONS; forward.frag:
+/// RAY_TRACED_REFRACTION): their surface and texture tables are declared with it.
+pub(crate) const TRACED_SURFACES: &str = "TRACED_SURFACES";
+
+/// What a ray that meets the scene's surfaces reads there (traced_surfaces.glsl): the
+/// surface table and the scene's textures (`accel::TracedSurfaces`), read by fragments.
+pub(crate) const TRACED_SURFACE_TABLES: [Binding; 2] = [
+    Binding::new(
+        "traced_surfaces",
+        BindingKind::StorageBuffer {
+            block: "TracedSurfaces",
+            element: "uvec4",
+        },
+        FRAGMENT,
+    )
+    .for_ray_queries()
+    .only_with(TRACED_SURFACES),
+    Binding::new(
+        "traced_textures",
+        BindingKind::StorageBuffer {
+            block: "TracedTextures",
+            element: "uvec4",
+        },
+        FRAGMENT,
+    )
+    .for_ray_queries()
+    .only_with(TRACED_SURFACES),
+];
+
+/// The forward set's traced bindings: the scene and what its rays meet, for ray-traced
+/// refraction (declared where forward.frag defines TRACED_SURFACES).
+const FORWARD_TRACED: [Binding; 6] = {
+    let [scene, cutouts, corners, alphas] = traced_scene(FRAGMENT, Some(TRACED_SURFACES));
+    let [surfaces, textures] = TRACED_SURFACE_TABLES;
+    [scene, cutouts, corners, alphas, surfaces, textures]
+};
+
+const FORWARD_OWN: [Binding; 6 + FORWARD_TRACED.len()] = joined(
     &[
         OBJECTS,
         MATERIALS_BOTH_STAGES,
@@ -671,12 +759,15 @@ const FORWARD_BINDINGS: [Binding; 6 + LIT_BY.len()] = joined(
         Binding::new("back_face_normal", BindingKind::Sampler2D, FRAGMENT)
             .only_with(variant::VOLUME.define),
     ],
-    &LIT_BY,
+    &FORWARD_TRACED,
 );
+
+const FORWARD_BINDINGS: [Binding; FORWARD_OWN.len() + LIT_BY.len()] = joined(&FORWARD_OWN, &LIT_BY);
 
 /// The forward pass (gbuffer.vert, forward.frag): the object and material tables as the
 /// G-buffer pass's set declares them (bindings 0 and 1, what gbuffer.vert reads), the
-/// image behind transmissive objects, and what lights a surface (`LIT_BY`: lighting_terms.glsl).
+/// image behind transmissive objects, the traced scene (ray-traced refraction), and what
+/// lights a surface (`LIT_BY`: lighting_terms.glsl).
 pub static FORWARD: SetDecl = SetDecl {
     name: "forward",
     set: 0,
@@ -944,6 +1035,7 @@ mod tests {
             .map(|f| f.define)
             .chain([variant::ENVIRONMENT.define, variant::SHADOWS.define])
             .chain(crate::passes::optional_passes().map(|p| p.define))
+            .chain([TRACED_SURFACES])
             .collect();
         for decl in crate::passes::declared_sets() {
             for binding in decl.bindings {

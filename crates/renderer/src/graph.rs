@@ -216,6 +216,10 @@ impl PassUses {
 pub struct ImageStates {
     states: HashMap<vk::Image, ImageState>,
     buffers: HashMap<vk::Buffer, BufferUse>,
+    /// Each buffer's last GPU write and the reads it has been made visible to since: a
+    /// read of another kind (a vertex stream, then a fragment shader's storage read)
+    /// needs its own barrier from that write.
+    written: HashMap<vk::Buffer, (BufferUse, Vec<BufferUse>)>,
 }
 
 impl ImageStates {
@@ -240,6 +244,7 @@ impl ImageStates {
     /// Forgets a buffer that is being destroyed.
     pub fn forget_buffer(&mut self, buffer: vk::Buffer) {
         self.buffers.remove(&buffer);
+        self.written.remove(&buffer);
     }
 
     /// Records the barriers that bring every image `pass` declares into the state of its
@@ -283,14 +288,34 @@ impl ImageStates {
                 let Some(&before) = self.buffers.get(&buffer) else {
                     if use_.writes() {
                         self.buffers.insert(buffer, use_);
+                        self.written.insert(buffer, (use_, Vec::new()));
                     }
                     return None;
                 };
                 self.buffers.insert(buffer, use_);
-                if before == BufferUse::HostRead || !(before.writes() || use_.writes()) {
+                if use_.writes() {
+                    self.written.insert(buffer, (use_, Vec::new()));
+                }
+                let mut source = before;
+                if before == BufferUse::HostRead {
                     return None;
                 }
-                let (src_stage, src_access) = before.state();
+                if !(before.writes() || use_.writes()) {
+                    // A read after reads: a barrier from the last write only if it was
+                    // not yet made visible to this kind of read.
+                    match self.written.get_mut(&buffer) {
+                        Some((write, seen)) if !seen.contains(&use_) => {
+                            seen.push(use_);
+                            source = *write;
+                        }
+                        _ => return None,
+                    }
+                } else if before.writes() && !use_.writes() {
+                    if let Some((_, seen)) = self.written.get_mut(&buffer) {
+                        seen.push(use_);
+                    }
+                }
+                let (src_stage, src_access) = source.state();
                 let (dst_stage, dst_access) = use_.state();
                 Some(
                     vk::BufferMemoryBarrier2::default()

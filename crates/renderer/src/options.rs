@@ -143,7 +143,7 @@ pub struct OptionalPasses {
 
 impl OptionalPasses {
     /// How many a set holds: every optional pass the renderer declares (a test checks).
-    pub const CAPACITY: usize = 4;
+    pub const CAPACITY: usize = 8;
 
     /// No optional pass.
     pub const NONE: OptionalPasses = OptionalPasses {

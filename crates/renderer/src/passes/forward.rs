@@ -41,6 +41,31 @@ pub(super) fn draws(variant: ShaderVariant) -> bool {
         && !super::path_trace::wanted(variant)
 }
 
+/// `io` with the traced scene and what its rays meet bound (ray-traced refraction; the
+/// renderer's empty ones where the frame traces none, on devices with ray queries).
+fn traced(io: PassIo, frame: &FrameContext<'_>) -> PassIo {
+    if frame.shared.no_scene.is_none() {
+        return io;
+    }
+    let io = if super::ray_traced_refraction::traces(frame) {
+        super::traced::scene(io, frame)
+    } else {
+        super::traced::nothing(io, frame)
+    };
+    let io = super::path_trace::bind_surfaces(io, frame);
+    match frame
+        .scene
+        .gpu
+        .deform
+        .as_ref()
+        .filter(|_| super::ray_traced_refraction::traces(frame))
+    {
+        // Refracted rays read the deformed occluders' posed vertices where they hit them.
+        Some(deform) => io.uses_buffer(&deform.posed, BufferUse::FragmentStorageRead),
+        None => io,
+    }
+}
+
 /// The forward pipelines of `variant`, into `settings`' HDR format.
 fn key(variant: ShaderVariant, settings: &RendererSettings) -> PipelineKey {
     PipelineKey {
@@ -165,7 +190,7 @@ impl FramePass for Forward {
                 frame.shared.behind_sampler.raw(),
             ),
         };
-        super::lighting::lit_by(io, frame)
+        super::lighting::lit_by(traced(io, frame), frame)
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {

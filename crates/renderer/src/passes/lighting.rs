@@ -85,14 +85,15 @@ const TRACED: [Binding; 7] = {
     let [scene, cutouts, corners, alphas] =
         super::traced::bindings(FRAGMENT, Some(super::ray_traced_occlusion::OPTION.define));
     // lighting.frag defines it for PATH_TRACE and RAY_TRACED_REFLECTIONS.
-    let surfaces = "TRACED_SURFACES";
+    let surfaces = crate::bindings::TRACED_SURFACES;
+    let [surface_table, texture_table] = crate::bindings::TRACED_SURFACE_TABLES;
     [
         scene.or_with(surfaces),
         cutouts.or_with(surfaces),
         corners.or_with(surfaces),
         alphas.or_with(surfaces),
-        super::path_trace::SURFACES,
-        super::path_trace::TEXTURES,
+        surface_table,
+        texture_table,
         super::path_trace::ENVIRONMENT_IMPORTANCE,
     ]
 };

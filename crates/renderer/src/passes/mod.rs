@@ -28,6 +28,7 @@ pub(crate) mod path_trace;
 mod per_pixel;
 mod ray_traced_occlusion;
 pub(crate) mod ray_traced_reflections;
+pub(crate) mod ray_traced_refraction;
 mod ray_traced_shadows;
 mod shadow_maps;
 mod traced;
@@ -189,6 +190,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &ray_traced_shadows::RayTracedShadows,
     &path_trace::PathTrace, // likewise (--path-trace on): the lighting pass then traces paths
     &ray_traced_reflections::RayTracedReflections, // likewise: the lighting pass traces reflections
+    &ray_traced_refraction::RayTracedRefraction, // likewise: the forward pass traces refraction
     &lighting::Lighting,
     &back_faces::BackFaces,
     &behind::Behind,
@@ -226,15 +228,19 @@ pub(crate) fn frame_images(
 }
 
 /// Whether frames of `variant` read what their rays meet (the surface table,
-/// `accel::TracedSurfaces`): path tracing and ray-traced reflections.
+/// `accel::TracedSurfaces`): path tracing, ray-traced reflections and refraction.
 pub(crate) fn reads_surfaces(variant: ShaderVariant) -> bool {
-    path_trace::wanted(variant) || ray_traced_reflections::wanted(variant)
+    path_trace::wanted(variant)
+        || ray_traced_reflections::wanted(variant)
+        || ray_traced_refraction::wanted(variant)
 }
 
 /// Whether the frame reads what its rays meet ([`reads_surfaces`], its scene's
 /// structures built).
 pub(super) fn frame_reads_surfaces(frame: &FrameContext<'_>) -> bool {
-    path_trace::traces(frame) || ray_traced_reflections::traces(frame)
+    path_trace::traces(frame)
+        || ray_traced_reflections::traces(frame)
+        || ray_traced_refraction::traces(frame)
 }
 
 /// The optional passes of the frame ([`FramePass::option`]), in the frame's order.

@@ -67,31 +67,6 @@ fn constants_header() -> String {
     )
 }
 
-/// The lighting set's binding of the surface table (`accel::TracedSurfaces`).
-pub(super) const SURFACES: Binding = Binding::new(
-    "traced_surfaces",
-    BindingKind::StorageBuffer {
-        block: "TracedSurfaces",
-        element: "uvec4",
-    },
-    crate::bindings::FRAGMENT,
-)
-.for_ray_queries()
-.only_with("TRACED_SURFACES");
-
-/// The lighting set's binding of the texture table (`accel::TracedSurfaces`,
-/// traced_textures.glsl).
-pub(super) const TEXTURES: Binding = Binding::new(
-    "traced_textures",
-    BindingKind::StorageBuffer {
-        block: "TracedTextures",
-        element: "uvec4",
-    },
-    crate::bindings::FRAGMENT,
-)
-.for_ray_queries()
-.only_with("TRACED_SURFACES");
-
 /// The lighting set's binding of the environment's distribution of directions
 /// (`crate::environment_importance`; the frame's environment's, or a placeholder's).
 pub(super) const ENVIRONMENT_IMPORTANCE: Binding = Binding::new(

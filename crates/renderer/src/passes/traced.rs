@@ -8,56 +8,16 @@ use combustion_vk::vk;
 
 use super::FrameContext;
 use crate::accel::TracedCutouts;
-use crate::bindings::{Binding, BindingKind};
+use crate::bindings::Binding;
 use crate::pass_io::PassIo;
 
-/// The four bindings, read by `stages`, declared in GLSL only with `only_with` if given.
+/// The four bindings, read by `stages`, declared in GLSL only with `only_with` if given
+/// (`crate::bindings::traced_scene`).
 pub(super) const fn bindings(
     stages: vk::ShaderStageFlags,
     only_with: Option<&'static str>,
 ) -> [Binding; 4] {
-    let all = [
-        Binding::new("scene", BindingKind::AccelerationStructure, stages),
-        Binding::new(
-            "cutouts",
-            BindingKind::StorageBuffer {
-                block: "TracedCutouts",
-                element: "uvec4",
-            },
-            stages,
-        ),
-        Binding::new(
-            "cutout_corners",
-            BindingKind::StorageBuffer {
-                block: "TracedCutoutCorners",
-                element: "vec4",
-            },
-            stages,
-        ),
-        Binding::new(
-            "cutout_alphas",
-            BindingKind::StorageBuffer {
-                block: "TracedCutoutAlphas",
-                element: "uint",
-            },
-            stages,
-        ),
-    ];
-    let all = [
-        all[0].for_ray_queries(),
-        all[1].for_ray_queries(),
-        all[2].for_ray_queries(),
-        all[3].for_ray_queries(),
-    ];
-    match only_with {
-        Some(define) => [
-            all[0].only_with(define),
-            all[1].only_with(define),
-            all[2].only_with(define),
-            all[3].only_with(define),
-        ],
-        None => all,
-    }
+    crate::bindings::traced_scene(stages, only_with)
 }
 
 /// Records the build of the frame's traced scene (its deformed objects' structures and
