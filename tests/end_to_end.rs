@@ -1026,12 +1026,7 @@ fn the_sample_models_are_what_they_show() {
         "NormalTangentTest",
         "NormalTangentMirrorTest",
     ] {
-        let gltf = root.join(model).join(format!("glTF/{model}.gltf"));
-        let path = if gltf.exists() {
-            gltf
-        } else {
-            root.join(model).join(format!("glTF-Binary/{model}.glb"))
-        };
+        let path = common::sample_model_path(&root, model);
         let scene = combustion::SceneSource::File(path).load().unwrap();
         let scene = lit_for_comparison(scene);
         let comparison = compare_with_scene(&scene, &scene.lights, W, H);

@@ -331,12 +331,7 @@ fn the_gpu_path_tracer_agrees_with_the_f64_one_on_textures() {
         "VertexColorTest",
         "AlphaBlendModeTest",
     ] {
-        let gltf = root.join(model).join(format!("glTF/{model}.gltf"));
-        let path = if gltf.exists() {
-            gltf
-        } else {
-            root.join(model).join(format!("glTF-Binary/{model}.glb"))
-        };
+        let path = crate::common::sample_model_path(&root, model);
         let scene = combustion::SceneSource::File(path).load().unwrap();
         let scene = crate::end_to_end::lit_for_comparison(scene);
         agrees_on_scene(model, &scene, (80, 60), depth);
@@ -348,28 +343,7 @@ fn the_gpu_path_tracer_agrees_with_the_f64_one_on_textures() {
 /// on the scene baked in that pose (their shapes, shadows and what bounces off them).
 #[test]
 fn the_gpu_path_tracer_meets_deformed_objects_in_their_pose() {
-    use combustion::scene::{Camera, Light, Mesh, Object};
-    use glam::{Mat4, Vec3};
-    let mut scene = crate::common::deformed_spheres();
-    let deformed = scene.objects.len() - 2;
-    scene.objects.drain(..deformed);
-    scene.meshes.push(Mesh::plane("floor", 20.0));
-    scene.objects.push(Object::casting_shadows(
-        scene.meshes.len() - 1,
-        0,
-        Mat4::from_translation(Vec3::new(0.0, -0.55, 1.2)),
-    ));
-    scene.lights = vec![Light::Directional {
-        direction: Vec3::new(0.3, -1.0, -0.4).normalize(),
-        irradiance: [3.0; 3],
-        casts_shadows: true,
-        angular_diameter: 0.0,
-    }];
-    scene.camera = Camera {
-        position: Vec3::new(0.0, 2.0, 4.5),
-        target: Vec3::new(0.0, -0.2, 1.2),
-        ..scene.camera
-    };
+    let scene = crate::common::deformed_spheres_on_a_floor();
     scene.validate().unwrap();
     let pose = scene.pose_at(0, 1.3).unwrap();
     let still = scene.posed(&pose);

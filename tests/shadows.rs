@@ -1118,27 +1118,8 @@ fn ray_traced_shadows_are_exact_visibility() {
 fn deformed_casters_are_traced_in_their_posed_shape() {
     use combustion::renderer::OptionalPasses;
     use combustion::scene::Environment;
-    let mut scene = common::deformed_spheres();
-    let deformed = scene.objects.len() - 2;
-    scene.objects.drain(..deformed);
-    scene.meshes.push(Mesh::plane("floor", 20.0));
-    scene.objects.push(Object::casting_shadows(
-        scene.meshes.len() - 1,
-        0,
-        Mat4::from_translation(Vec3::new(0.0, -0.55, 1.2)),
-    ));
-    scene.lights = vec![Light::Directional {
-        direction: Vec3::new(0.3, -1.0, -0.4).normalize(),
-        irradiance: [3.0; 3],
-        casts_shadows: true,
-        angular_diameter: 0.0,
-    }];
+    let mut scene = common::deformed_spheres_on_a_floor();
     scene.environment = Some(Environment::Studio);
-    scene.camera = Camera {
-        position: Vec3::new(0.0, 2.0, 4.5),
-        target: Vec3::new(0.0, -0.2, 1.2),
-        ..scene.camera
-    };
     scene.validate().unwrap();
     let pose = scene.pose_at(0, 1.3).unwrap();
     let still = scene.posed(&pose);

@@ -958,6 +958,43 @@ pub fn animated_grid() -> Scene {
     scene
 }
 
+/// [`deformed_spheres`]' two deformed spheres alone on a floor under a sun that casts
+/// shadows, seen from above and in front (no environment).
+pub fn deformed_spheres_on_a_floor() -> Scene {
+    let mut scene = deformed_spheres();
+    let deformed = scene.objects.len() - 2;
+    scene.objects.drain(..deformed);
+    scene.meshes.push(Mesh::plane("floor", 20.0));
+    scene.objects.push(Object::casting_shadows(
+        scene.meshes.len() - 1,
+        0,
+        glam::Mat4::from_translation(glam::Vec3::new(0.0, -0.55, 1.2)),
+    ));
+    scene.lights = vec![Light::Directional {
+        direction: glam::Vec3::new(0.3, -1.0, -0.4).normalize(),
+        irradiance: [3.0; 3],
+        casts_shadows: true,
+        angular_diameter: 0.0,
+    }];
+    scene.camera = Camera {
+        position: glam::Vec3::new(0.0, 2.0, 4.5),
+        target: glam::Vec3::new(0.0, -0.2, 1.2),
+        ..scene.camera
+    };
+    scene
+}
+
+/// The glTF file of Khronos sample model `model` under the shared samples' `root`: its
+/// `glTF/` form where there is one, else its `glTF-Binary/` one.
+pub fn sample_model_path(root: &std::path::Path, model: &str) -> PathBuf {
+    let gltf = root.join(model).join(format!("glTF/{model}.gltf"));
+    if gltf.exists() {
+        gltf
+    } else {
+        root.join(model).join(format!("glTF-Binary/{model}.glb"))
+    }
+}
+
 /// A skinned and a morphed sphere under a light, with one animation: the skinned sphere
 /// (radius 0.5, 48 × 24) bends at its middle: the lower half follows joint 0 (node 1, at
 /// rest), the upper half joint 1 (node 2, its child, 0.5 m up), blended over the middle

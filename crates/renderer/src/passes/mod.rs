@@ -188,9 +188,9 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &ambient_occlusion::AmbientOcclusion,
     &ray_traced_occlusion::RayTracedOcclusion,
     &ray_traced_shadows::RayTracedShadows,
-    &path_trace::PathTrace, // likewise (--path-trace on): the lighting pass then traces paths
-    &ray_traced_reflections::RayTracedReflections, // likewise: the lighting pass traces reflections
-    &ray_traced_refraction::RayTracedRefraction, // likewise: the forward pass traces refraction
+    &path_trace::PASS, // likewise (--path-trace on): the lighting pass then traces paths
+    &ray_traced_reflections::PASS, // likewise: the lighting pass traces reflections
+    &ray_traced_refraction::PASS, // likewise: the forward pass traces refraction
     &lighting::Lighting,
     &back_faces::BackFaces,
     &behind::Behind,

@@ -23,15 +23,19 @@
 //! skinned or morphed occluder's posed vertices. Not yet traced (each said in
 //! docs/path-tracing.md): deformed blended or transmissive objects (left out).
 
-use combustion_vk::vk;
-
-use super::{FrameContext, FramePass};
+use super::FrameContext;
 use crate::bindings::{Binding, BindingKind};
 use crate::options::OptionalPass;
 use crate::pass_io::PassIo;
 use crate::variant::ShaderVariant;
 
-pub(crate) struct PathTrace;
+/// The pass (it builds the traced scene; the rays are another pass's).
+pub(super) static PASS: super::traced::SceneForRays = super::traced::SceneForRays {
+    name: "path trace",
+    option: &OPTION,
+    header: ("path_trace/constants.glsl", constants_header),
+    wanted,
+};
 
 /// Its option.
 pub(crate) static OPTION: OptionalPass = OptionalPass {
@@ -88,7 +92,7 @@ pub(crate) fn wanted(variant: ShaderVariant) -> bool {
 /// Whether the frame is path traced (its scene's structures built: on a device with ray
 /// queries).
 pub(super) fn traces(frame: &FrameContext<'_>) -> bool {
-    wanted(frame.variant) && frame.scene.gpu.structures.get().is_some()
+    PASS.traces(frame)
 }
 
 /// `io` with the surface and texture tables bound: the scene's where the frame is path
@@ -106,35 +110,5 @@ pub(super) fn bind_surfaces(io: PassIo, frame: &FrameContext<'_>) -> PassIo {
             .bind_buffer("traced_surfaces", &surfaces.table)
             .bind_buffer("traced_textures", &surfaces.textures),
         None => io,
-    }
-}
-
-impl FramePass for PathTrace {
-    fn name(&self) -> &'static str {
-        "path trace"
-    }
-
-    fn option(&self) -> Option<&'static OptionalPass> {
-        Some(&OPTION)
-    }
-
-    fn traces(&self, variant: ShaderVariant) -> bool {
-        wanted(variant)
-    }
-
-    fn headers(&self) -> Vec<(String, String)> {
-        vec![("path_trace/constants.glsl".into(), constants_header())]
-    }
-
-    fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        traces(frame)
-    }
-
-    fn io(&self, _frame: &FrameContext<'_>) -> PassIo {
-        PassIo::new(self.name())
-    }
-
-    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        super::traced::record_build(frame, cmd);
     }
 }

@@ -18,14 +18,17 @@
 //! and lights with a size are met by chance (each pixel's own random numbers, turned by
 //! the frame's sample seed).
 
-use combustion_vk::vk;
-
-use super::{FrameContext, FramePass};
+use super::FrameContext;
 use crate::options::OptionalPass;
-use crate::pass_io::PassIo;
 use crate::variant::ShaderVariant;
 
-pub(crate) struct RayTracedReflections;
+/// The pass (it builds the traced scene; the rays are another pass's).
+pub(super) static PASS: super::traced::SceneForRays = super::traced::SceneForRays {
+    name: "ray-traced reflections",
+    option: &OPTION,
+    header: ("ray_traced_reflections/constants.glsl", constants_header),
+    wanted,
+};
 
 /// Its option.
 pub(crate) static OPTION: OptionalPass = OptionalPass {
@@ -66,38 +69,5 @@ pub(crate) fn wanted(variant: ShaderVariant) -> bool {
 
 /// Whether the frame traces reflections (its scene's structures built).
 pub(super) fn traces(frame: &FrameContext<'_>) -> bool {
-    wanted(frame.variant) && frame.scene.gpu.structures.get().is_some()
-}
-
-impl FramePass for RayTracedReflections {
-    fn name(&self) -> &'static str {
-        "ray-traced reflections"
-    }
-
-    fn option(&self) -> Option<&'static OptionalPass> {
-        Some(&OPTION)
-    }
-
-    fn traces(&self, variant: ShaderVariant) -> bool {
-        wanted(variant)
-    }
-
-    fn headers(&self) -> Vec<(String, String)> {
-        vec![(
-            "ray_traced_reflections/constants.glsl".into(),
-            constants_header(),
-        )]
-    }
-
-    fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        traces(frame)
-    }
-
-    fn io(&self, _frame: &FrameContext<'_>) -> PassIo {
-        PassIo::new(self.name())
-    }
-
-    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        super::traced::record_build(frame, cmd);
-    }
+    PASS.traces(frame)
 }

@@ -20,14 +20,17 @@
 //! behind it; only the environment is blurred).
 //! The behind and back-faces passes still run (their images are not read): a cost.
 
-use combustion_vk::vk;
-
-use super::{FrameContext, FramePass};
+use super::FrameContext;
 use crate::options::OptionalPass;
-use crate::pass_io::PassIo;
 use crate::variant::ShaderVariant;
 
-pub(crate) struct RayTracedRefraction;
+/// The pass (it builds the traced scene; the rays are another pass's).
+pub(super) static PASS: super::traced::SceneForRays = super::traced::SceneForRays {
+    name: "ray-traced refraction",
+    option: &OPTION,
+    header: ("ray_traced_refraction/constants.glsl", constants_header),
+    wanted,
+};
 
 /// Its option.
 pub(crate) static OPTION: OptionalPass = OptionalPass {
@@ -73,38 +76,5 @@ pub(crate) fn wanted(variant: ShaderVariant) -> bool {
 
 /// Whether the frame traces refraction (its scene's structures built).
 pub(super) fn traces(frame: &FrameContext<'_>) -> bool {
-    wanted(frame.variant) && frame.scene.gpu.structures.get().is_some()
-}
-
-impl FramePass for RayTracedRefraction {
-    fn name(&self) -> &'static str {
-        "ray-traced refraction"
-    }
-
-    fn option(&self) -> Option<&'static OptionalPass> {
-        Some(&OPTION)
-    }
-
-    fn traces(&self, variant: ShaderVariant) -> bool {
-        wanted(variant)
-    }
-
-    fn headers(&self) -> Vec<(String, String)> {
-        vec![(
-            "ray_traced_refraction/constants.glsl".into(),
-            constants_header(),
-        )]
-    }
-
-    fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        traces(frame)
-    }
-
-    fn io(&self, _frame: &FrameContext<'_>) -> PassIo {
-        PassIo::new(self.name())
-    }
-
-    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        super::traced::record_build(frame, cmd);
-    }
+    PASS.traces(frame)
 }

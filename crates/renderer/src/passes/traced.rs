@@ -6,10 +6,12 @@
 
 use combustion_vk::vk;
 
-use super::FrameContext;
+use super::{FrameContext, FramePass};
 use crate::accel::TracedCutouts;
 use crate::bindings::Binding;
+use crate::options::OptionalPass;
 use crate::pass_io::PassIo;
+use crate::variant::ShaderVariant;
 
 /// The four bindings, read by `stages`, declared in GLSL only with `only_with` if given
 /// (`crate::bindings::traced_scene`).
@@ -68,4 +70,54 @@ fn bound(io: PassIo, top_level: vk::AccelerationStructureKHR, cutouts: &TracedCu
         .bind_buffer("cutouts", &cutouts.entries)
         .bind_buffer("cutout_corners", &cutouts.corners)
         .bind_buffer("cutout_alphas", &cutouts.alphas)
+}
+
+/// A pass that builds the frame's traced scene for another pass's rays, and does nothing
+/// else: path tracing, ray-traced reflections and refraction (the lighting or forward
+/// pass traces the rays). Each is one of these, declared in its own file: its name, its
+/// option, the header of its shaders' constants and which frames want it.
+pub(super) struct SceneForRays {
+    pub(super) name: &'static str,
+    pub(super) option: &'static OptionalPass,
+    /// The generated header its shaders include: its path and text.
+    pub(super) header: (&'static str, fn() -> String),
+    /// Whether frames of a variant want its rays (asked for, and what they need there).
+    pub(super) wanted: fn(ShaderVariant) -> bool,
+}
+
+impl SceneForRays {
+    /// Whether the frame traces its rays (wanted, its scene's structures built).
+    pub(super) fn traces(&self, frame: &FrameContext<'_>) -> bool {
+        (self.wanted)(frame.variant) && frame.scene.gpu.structures.get().is_some()
+    }
+}
+
+impl FramePass for SceneForRays {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+
+    fn option(&self) -> Option<&'static OptionalPass> {
+        Some(self.option)
+    }
+
+    fn traces(&self, variant: ShaderVariant) -> bool {
+        (self.wanted)(variant)
+    }
+
+    fn headers(&self) -> Vec<(String, String)> {
+        vec![(self.header.0.into(), (self.header.1)())]
+    }
+
+    fn runs(&self, frame: &FrameContext<'_>) -> bool {
+        SceneForRays::traces(self, frame)
+    }
+
+    fn io(&self, _frame: &FrameContext<'_>) -> PassIo {
+        PassIo::new(self.name)
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        record_build(frame, cmd);
+    }
 }
