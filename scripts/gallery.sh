@@ -32,6 +32,11 @@ run render builtin:normal-mapped "${size[@]}" -o "$out/normal-mapped.png"
 run render builtin:resting --environment-occlusion ray-traced --accumulate-until 0.002 "${size[@]}" -o "$out/resting-ray-traced.png"
 run render builtin:cornell-box "${size[@]}" -o "$out/cornell-box.png"
 run render builtin:cornell-box --path-trace on --accumulate-until 0.03 "${size[@]}" -o "$out/cornell-box-path-traced.png"
+run render builtin:room "${size[@]}" -o "$out/room.png"
+run render builtin:room --path-trace on --samples 1024 "${size[@]}" -o "$out/room-path-traced.png"
+run render builtin:glass "${size[@]}" -o "$out/glass.png"
+run render builtin:glass --ray-traced-refraction on "${size[@]}" -o "$out/glass-traced-refraction.png"
+run render builtin:glass --path-trace on --samples 1024 "${size[@]}" -o "$out/glass-path-traced.png"
 avocado=../shared/data/gltf/Avocado/glTF/Avocado.gltf
 if [ -f "$avocado" ]; then
   run render "$avocado" "${size[@]}" -o "$out/avocado-studio.png"

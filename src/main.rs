@@ -46,9 +46,16 @@ impl log::Log for StderrLogger {
     fn enabled(&self, metadata: &log::Metadata<'_>) -> bool {
         metadata.level() <= log::max_level()
     }
+    /// Warnings and errors as a user reads them (`warning: …`, `error: …`, as the
+    /// command line's own errors; no module path); the levels below for developers,
+    /// with the module that logged them (`[INFO combustion_renderer::…] …`).
     fn log(&self, record: &log::Record<'_>) {
         if self.enabled(record.metadata()) {
-            eprintln!("[{} {}] {}", record.level(), record.target(), record.args());
+            match record.level() {
+                log::Level::Error => eprintln!("error: {}", record.args()),
+                log::Level::Warn => eprintln!("warning: {}", record.args()),
+                level => eprintln!("[{level} {}] {}", record.target(), record.args()),
+            }
         }
     }
     fn flush(&self) {}

@@ -3521,3 +3521,39 @@ fn samples_set_the_paths_a_pixel_averages() {
     assert_eq!(eight, again, "the same image for the same count");
     assert_ne!(eight, four);
 }
+
+/// Warnings read as the command line's own messages: `warning: …`, one line, no Rust
+/// module path (they printed `[WARN combustion::cli::args] …`); the verb agrees with the
+/// options it names.
+#[test]
+fn warnings_name_no_rust_module() {
+    let dir = scratch("warnings");
+    let png = dir.join("out.png");
+    for (args, expected) in [
+        (
+            vec!["builtin:spheres", "--shadow-map-size", "1024"],
+            "warning: --shadow-map-size does nothing without --shadows on",
+        ),
+        (
+            vec!["builtin:spheres", "--shadow-map-size", "1024", "--shadow-filter", "pcf8"],
+            "warning: --shadow-map-size, --shadow-filter do nothing without --shadows on",
+        ),
+        (
+            vec!["builtin:spheres", "--ray-traced-reflections", "on"],
+            "warning: builtin:spheres: --ray-traced-reflections on: the scene is lit by no environment",
+        ),
+    ] {
+        let mut all = vec!["render"];
+        all.extend(args.iter().copied());
+        all.extend(["--width", "8", "--height", "8", "-o", png.to_str().unwrap()]);
+        let (code, _, stderr) = combustion(&all);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(stderr.lines().any(|l| l.starts_with(expected)), "{stderr}");
+        for line in stderr.lines() {
+            assert!(
+                !line.contains("[WARN") && !line.contains("combustion::") && !line.contains("combustion_"),
+                "a Rust path in `{line}`"
+            );
+        }
+    }
+}

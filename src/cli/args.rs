@@ -1382,8 +1382,13 @@ pub(crate) fn lit_as_asked(
     .collect();
     if !shading.shadows && !shadow_options_given.is_empty() {
         log::warn!(
-            "{} do nothing without --shadows on",
-            shadow_options_given.join(", ")
+            "{} {} nothing without --shadows on",
+            shadow_options_given.join(", "),
+            if shadow_options_given.len() == 1 {
+                "does"
+            } else {
+                "do"
+            }
         );
     }
     if shading.shadows && !scene.lights.iter().any(|l| l.casts_shadows()) {
