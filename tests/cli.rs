@@ -3557,3 +3557,30 @@ fn warnings_name_no_rust_module() {
         }
     }
 }
+
+/// A supersampled frame past the device's size is said in the options given (it named
+/// a size the user never gave: "image size 16388x2880 is not allowed").
+#[test]
+fn a_supersampled_frame_too_large_names_the_options() {
+    let dir = scratch("supersample-size");
+    let png = dir.join("out.png");
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "builtin:spheres",
+        "--supersample",
+        "4",
+        "--width",
+        "4097",
+        "--height",
+        "720",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("--supersample 4 with --width 4097 --height 720: the frame is rendered 4 times as wide and high, 16388×2880 pixels"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(!png.exists(), "nothing written");
+}

@@ -447,7 +447,15 @@ fn render_job(
                 }
             )));
         }
-        renderer.render_supersampled(gpu, &inputs, o.frame.width, o.frame.height, o.supersample)?
+        renderer
+            .render_supersampled(gpu, &inputs, o.frame.width, o.frame.height, o.supersample)
+            .map_err(|e| {
+                super::render::supersampled_size_error(
+                    e,
+                    o.supersample,
+                    (o.frame.width, o.frame.height),
+                )
+            })?
     } else {
         renderer.render_with(gpu, &inputs, o.frame.width, o.frame.height, readback)?
     };

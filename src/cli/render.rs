@@ -92,6 +92,23 @@ pub(crate) fn accumulate(
     Ok((frame, averaged.frames(), achieved))
 }
 
+/// `e`, said in the options the user gave where it is the supersampled frame's size (a
+/// size they never asked for: `--supersample N` renders N times as wide and high).
+pub(crate) fn supersampled_size_error(
+    e: combustion::renderer::RenderError,
+    factor: u32,
+    (width, height): (u32, u32),
+) -> Error {
+    match e {
+        combustion::renderer::RenderError::InvalidSize { max, .. } => Error::Usage(format!(
+            "--supersample {factor} with --width {width} --height {height}: the frame is rendered {factor} times as wide and high, {}×{} pixels, past this device's {max} per side; give a smaller size or factor",
+            u64::from(width) * u64::from(factor),
+            u64::from(height) * u64::from(factor),
+        )),
+        other => other.into(),
+    }
+}
+
 /// What `o` averages over frames (`--samples`, `--accumulate-until`), refused where
 /// nothing it renders has noise to average.
 pub(crate) fn frames_averaged(o: &RenderArgs) -> Result<Option<Until>, Error> {
@@ -254,9 +271,9 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         };
         let size = (o.frame.width, o.frame.height);
         let frame = match until {
-            None if o.supersample > 1 => {
-                renderer.render_supersampled(&gpu_scene, &inputs, size.0, size.1, o.supersample)?
-            }
+            None if o.supersample > 1 => renderer
+                .render_supersampled(&gpu_scene, &inputs, size.0, size.1, o.supersample)
+                .map_err(|e| supersampled_size_error(e, o.supersample, size))?,
             None => renderer.render_with(&gpu_scene, &inputs, size.0, size.1, IMAGES)?,
             Some(Until::Frames(frames)) => {
                 let (frame, frames, achieved) =
