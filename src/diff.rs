@@ -456,6 +456,16 @@ impl Criteria {
         Criteria::parse(&joined)
     }
 
+    /// The first term that does not apply to images of this kind (`radiance`: OpenEXR),
+    /// in any alternative: a channel difference in 8-bit steps for OpenEXR, or a
+    /// relative one for PNG.
+    pub fn wrong_kind(&self, radiance: bool) -> Option<&Criterion> {
+        self.0
+            .iter()
+            .flatten()
+            .find(|c| matches!(c, Criterion::ChannelDiff { relative, .. } if *relative != radiance))
+    }
+
     /// `Ok` when some alternative's every term holds; else, for the closest alternative
     /// (the first), the first term that fails and by how much.
     pub fn check(&self, comparison: &Comparison) -> Result<(), String> {

@@ -2813,9 +2813,31 @@ fn diff_refuses_what_it_cannot_compare() {
         &["diff", &path("a.png"), &path("b.png")],
         "the images differ in size: 16x8 and 17x8",
     );
-    assert_clear_error(
+    // A PNG against an OpenEXR, and a criterion of the other kind (alone or after `or`):
+    // bad usage, said before any image is compared (they failed as image differences,
+    // exit 1, or the second was dropped without a word).
+    assert_refused(
         &["diff", &path("a.png"), &path("a.exr")],
-        "compare like with like",
+        &["is a PNG and", "is an OpenEXR: compare a PNG with a PNG"],
+    );
+    for criteria in [
+        "max-relative-diff 0.1 on at most 1% of pixels",
+        "mean-flip <= 0.5 or max-relative-diff 0.1 on at most 1% of pixels",
+    ] {
+        assert_refused(
+            &["diff", &path("a.png"), &path("a.png"), "--criteria", criteria],
+            &["criterion `max-relative-diff 1e-1 on at most 1% of pixels` does not apply to PNG images"],
+        );
+    }
+    assert_refused(
+        &[
+            "diff",
+            &path("a.exr"),
+            &path("a.exr"),
+            "--criteria",
+            "max-channel-diff 2/255 on at most 1% of pixels",
+        ],
+        &["does not apply to OpenEXR images (radiance): use max-relative-diff"],
     );
     // Criteria from a file: comments and line breaks; a term it cannot read is bad
     // usage naming the file; a file that holds none too.

@@ -22,6 +22,26 @@ pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
         }
         output::check_not_an_input(heatmap, &inputs)?;
     }
+    // Like is compared with like, by the extensions the reader goes by: said before a
+    // byte is read, as a usage error.
+    let kind = |path: &Path| {
+        path.extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .filter(|e| e == "png" || e == "exr")
+    };
+    if let (Some(ka), Some(kb)) = (kind(&o.a), kind(&o.b)) {
+        if ka != kb {
+            return Err(Error::Usage(format!(
+                "{} is {} and {} is {}: compare a PNG with a PNG (display values) or an OpenEXR with an OpenEXR (radiance)",
+                combustion::shortened(&o.a.display().to_string()),
+                if ka == "png" { "a PNG" } else { "an OpenEXR" },
+                combustion::shortened(&o.b.display().to_string()),
+                if kb == "png" { "a PNG" } else { "an OpenEXR" },
+            ))
+            .into());
+        }
+    }
     let read = |path: &Path| {
         read_image(path).map_err(|e| {
             CliError::Failed(format!(
@@ -45,6 +65,27 @@ pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
         }
         None => None,
     };
+    if let (Some(criteria), Some(extension)) =
+        (o.criteria.as_ref().or(from_file.as_ref()), kind(&o.a))
+    {
+        let radiance = extension == "exr";
+        if let Some(term) = criteria.wrong_kind(radiance) {
+            return Err(Error::Usage(format!(
+                "criterion `{term}` does not apply to {}: use {}",
+                if radiance {
+                    "OpenEXR images (radiance)"
+                } else {
+                    "PNG images (display values)"
+                },
+                if radiance {
+                    "max-relative-diff X on at most P% of pixels"
+                } else {
+                    "max-channel-diff N/255 on at most P% of pixels"
+                }
+            ))
+            .into());
+        }
+    }
     let (a, b) = (read(&o.a)?, read(&o.b)?);
     let comparison = compare(&a, &b).map_err(CliError::Failed)?;
     if let Some(heatmap) = &o.heatmap {
