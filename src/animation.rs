@@ -28,15 +28,22 @@ pub fn choose_animation(scene: &Scene, asked: Option<&str>) -> Result<usize, Err
         )));
     }
     let Some(asked) = asked else { return Ok(0) };
-    if let Some(i) = animations
+    let named = animations
         .iter()
-        .position(|a| a.name.as_deref() == Some(asked))
-    {
-        return Ok(i);
-    }
-    match asked.parse::<usize>() {
-        Ok(i) if i < animations.len() => Ok(i),
-        _ => Err(Error::Usage(format!(
+        .position(|a| a.name.as_deref() == Some(asked));
+    let indexed = asked
+        .parse::<usize>()
+        .ok()
+        .filter(|&i| i < animations.len());
+    match (named, indexed) {
+        // A number that is both an index and another animation's name: said, not
+        // chosen (an index 0 quietly lost to an animation named "0").
+        (Some(n), Some(i)) if n != i => Err(Error::Usage(format!(
+            "--animation {asked}: both animation {i} and animation {n}, named `{asked}`; the scene's animations are {}: give another name or the index of the other",
+            names()
+        ))),
+        (Some(i), _) | (None, Some(i)) => Ok(i),
+        (None, None) => Err(Error::Usage(format!(
             "--animation {asked}: the scene has no such animation (it has {})",
             names()
         ))),
@@ -56,4 +63,40 @@ pub fn pose_at(
     }
     let index = choose_animation(scene, animation)?;
     Ok(scene.pose_at(index, time.unwrap_or(0.0)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn with_animations(names: &[Option<&str>]) -> Scene {
+        let mut scene = combustion_scene::builtin_scene("spheres").unwrap();
+        scene.motion.animations = names
+            .iter()
+            .map(|name| combustion_scene::motion::Animation {
+                name: name.map(str::to_owned),
+                samplers: Vec::new(),
+                channels: Vec::new(),
+            })
+            .collect();
+        scene
+    }
+
+    /// A name or an index chooses an animation; a number that is both an index and
+    /// another animation's name is refused naming both (an index 0 quietly lost to an
+    /// animation named "0").
+    #[test]
+    fn a_number_that_is_an_index_and_another_name_is_refused() {
+        let scene = with_animations(&[Some("walk"), Some("0")]);
+        assert_eq!(choose_animation(&scene, Some("walk")).unwrap(), 0);
+        assert_eq!(choose_animation(&scene, Some("1")).unwrap(), 1);
+        let message = choose_animation(&scene, Some("0")).unwrap_err().to_string();
+        assert!(
+            message.contains("--animation 0: both animation 0 and animation 1, named `0`"),
+            "{message}"
+        );
+        let same = with_animations(&[Some("0"), None]);
+        assert_eq!(choose_animation(&same, Some("0")).unwrap(), 0);
+        assert!(choose_animation(&same, Some("2")).is_err());
+    }
 }
