@@ -66,3 +66,99 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// JSON `text` parsed into a value, refusing an object that holds a key twice (serde_json
+/// keeps the last one without a word: a manifest with two `"jobs"` rendered the second).
+/// Every JSON the command line reads (batch manifests, shards' results) goes through it.
+pub fn parse_json(text: &str) -> Result<serde_json::Value, String> {
+    use serde::de::{Deserialize, Deserializer, Error as _, MapAccess, SeqAccess, Visitor};
+    use serde_json::{Map, Value};
+
+    struct Strict(Value);
+    struct StrictVisitor;
+
+    impl<'de> Deserialize<'de> for Strict {
+        fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+            deserializer.deserialize_any(StrictVisitor).map(Strict)
+        }
+    }
+
+    impl<'de> Visitor<'de> for StrictVisitor {
+        type Value = Value;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("a JSON value")
+        }
+        fn visit_bool<E>(self, v: bool) -> Result<Value, E> {
+            Ok(Value::Bool(v))
+        }
+        fn visit_i64<E>(self, v: i64) -> Result<Value, E> {
+            Ok(Value::from(v))
+        }
+        fn visit_u64<E>(self, v: u64) -> Result<Value, E> {
+            Ok(Value::from(v))
+        }
+        fn visit_f64<E>(self, v: f64) -> Result<Value, E> {
+            Ok(Value::from(v))
+        }
+        fn visit_str<E>(self, v: &str) -> Result<Value, E> {
+            Ok(Value::String(v.to_owned()))
+        }
+        fn visit_string<E>(self, v: String) -> Result<Value, E> {
+            Ok(Value::String(v))
+        }
+        fn visit_unit<E>(self) -> Result<Value, E> {
+            Ok(Value::Null)
+        }
+        fn visit_none<E>(self) -> Result<Value, E> {
+            Ok(Value::Null)
+        }
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+            let mut values = Vec::new();
+            while let Some(Strict(value)) = seq.next_element()? {
+                values.push(value);
+            }
+            Ok(Value::Array(values))
+        }
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+            let mut object = Map::new();
+            while let Some(key) = map.next_key::<String>()? {
+                if object.contains_key(&key) {
+                    return Err(A::Error::custom(format!(
+                        "the key `{}` appears twice in one object",
+                        crate::shortened(&key)
+                    )));
+                }
+                let Strict(value) = map.next_value()?;
+                object.insert(key, value);
+            }
+            Ok(Value::Object(object))
+        }
+    }
+
+    serde_json::from_str::<Strict>(text)
+        .map(|Strict(value)| value)
+        .map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod json_tests {
+    use super::parse_json;
+
+    #[test]
+    fn a_key_twice_in_one_object_is_refused() {
+        let refused = parse_json(r#"{"jobs": [1], "jobs": [2]}"#).unwrap_err();
+        assert!(
+            refused.contains("the key `jobs` appears twice in one object"),
+            "{refused}"
+        );
+        let nested = parse_json(r#"{"jobs": [{"name": "a", "name": "b"}]}"#).unwrap_err();
+        assert!(nested.contains("the key `name` appears twice"), "{nested}");
+        // The same key in two objects is no duplicate; values come back as serde_json reads them.
+        let text = r#"{"a": {"k": 1.5}, "b": {"k": [true, null, "x", -3, 18446744073709551615]}}"#;
+        assert_eq!(
+            parse_json(text).unwrap(),
+            serde_json::from_str::<serde_json::Value>(text).unwrap()
+        );
+    }
+}

@@ -783,7 +783,8 @@ fn merge(shards: &[PathBuf], folder: &Path) -> Result<(), CliError> {
         )
         .map_err(|e| CliError::Failed(format!("--merge {label}: {e}")))?;
         let bad = |why: &str| CliError::Failed(format!("--merge {label}: {why}"));
-        let run: Value = serde_json::from_str(&text).map_err(|e| bad(&format!("not JSON: {e}")))?;
+        let run: Value =
+            combustion::input::parse_json(&text).map_err(|e| bad(&format!("not JSON: {e}")))?;
         let name = run["manifest"]
             .as_str()
             .ok_or_else(|| bad("no `manifest`"))?;

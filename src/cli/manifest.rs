@@ -124,7 +124,7 @@ impl Manifest {
     /// The manifest `text`, its relative paths taken from `folder`.
     pub(crate) fn parse(text: &str, folder: &Path, name: String) -> Result<Manifest, String> {
         let value: Value =
-            serde_json::from_str(text).map_err(|e| format!("not valid JSON: {e}"))?;
+            combustion::input::parse_json(text).map_err(|e| format!("not valid JSON: {e}"))?;
         let Value::Object(top) = value else {
             return Err("is not a JSON object with a `jobs` list".into());
         };
@@ -452,6 +452,14 @@ mod tests {
             ("[]", "is not a JSON object"),
             ("{\"jobs\": []}", "`jobs` is empty"),
             ("{\"job\": []}", "unknown key `job`"),
+            (
+                r#"{"jobs": [{"name": "a", "scene": "builtin:spheres"}], "jobs": [{"name": "b", "scene": "builtin:spheres"}]}"#,
+                "the key `jobs` appears twice in one object",
+            ),
+            (
+                r#"{"jobs": [{"name": "a", "scene": "builtin:spheres", "width": 8, "width": 16}]}"#,
+                "the key `width` appears twice in one object",
+            ),
             ("{\"jobs\": [{\"scene\": \"builtin:spheres\"}]}", "job 0 has no `name`"),
             (
                 r#"{"jobs": [{"name": "a", "scene": "builtin:spheres"}, {"name": "A", "scene": "builtin:spheres"}]}"#,
