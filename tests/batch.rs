@@ -532,3 +532,77 @@ fn a_job_path_traces_with_a_sample_count() {
         std::fs::read(&alone).unwrap()
     );
 }
+
+/// `--merge` takes only shards of one manifest's one split: shards of two manifests that
+/// share a file name, a results file claiming shard 0/0, and a job whose name the
+/// manifest rule refuses (it names files) are refused in one line naming the shard's
+/// results (each was merged).
+#[test]
+fn merge_refuses_what_no_split_of_one_manifest_makes() {
+    let dir = scratch("merge-refusals");
+    let job = |name: &str| {
+        format!(r#"{{"name": "{name}", "scene": "builtin:spheres", "width": 8, "height": 8}}"#)
+    };
+    let shard = |folder: &Path, manifest: &Path, which: &str| {
+        let (code, stdout, stderr) = combustion(&[
+            "batch",
+            text(manifest),
+            "-o",
+            text(folder),
+            "--shard",
+            which,
+        ]);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+    };
+    // Two manifests, both named jobs.json, of other jobs.
+    for (sub, jobs) in [("one", [job("a"), job("b")]), ("two", [job("c"), job("d")])] {
+        std::fs::create_dir_all(dir.join(sub)).unwrap();
+        std::fs::write(
+            dir.join(sub).join("jobs.json"),
+            format!(r#"{{"jobs": [{}, {}]}}"#, jobs[0], jobs[1]),
+        )
+        .unwrap();
+    }
+    let (first, second) = (dir.join("first"), dir.join("second"));
+    shard(&first, &dir.join("one").join("jobs.json"), "1/2");
+    shard(&second, &dir.join("two").join("jobs.json"), "2/2");
+    let merged = dir.join("merged");
+    let merge = |shards: &[&Path]| {
+        let mut args = vec!["batch", "--merge"];
+        args.extend(shards.iter().map(|s| text(s)));
+        args.extend(["-o", text(&merged)]);
+        combustion(&args)
+    };
+    let (code, _, stderr) = merge(&[&first, &second]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("the results of another manifest named `jobs`"),
+        "{stderr}"
+    );
+    // A results file claiming shard 0/0.
+    let own_second = dir.join("own-second");
+    shard(&own_second, &dir.join("one").join("jobs.json"), "2/2");
+    let results_file = own_second.join("results.json");
+    let honest = std::fs::read_to_string(&results_file).unwrap();
+    let mut run: Value = serde_json::from_str(&honest).unwrap();
+    run["shard"] = serde_json::json!({"index": 0, "count": 0});
+    std::fs::write(&results_file, run.to_string()).unwrap();
+    let (code, _, stderr) = merge(&[&first, &own_second]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("shard 0/0 is no shard"), "{stderr}");
+    // A job's name that names files outside the folder.
+    let mut run: Value = serde_json::from_str(&honest).unwrap();
+    run["jobs"][0]["name"] = "../evil".into();
+    std::fs::write(&results_file, run.to_string()).unwrap();
+    let (code, _, stderr) = merge(&[&first, &own_second]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("a job's result: the name `../evil`"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    // Honest, the two shards of one manifest merge.
+    std::fs::write(&results_file, honest).unwrap();
+    let (code, _, stderr) = merge(&[&first, &own_second]);
+    assert_eq!(code, 0, "{stderr}");
+}

@@ -170,6 +170,7 @@ pub(crate) fn batch(o: &BatchArgs) -> Result<(), CliError> {
     let seconds = started.elapsed().as_secs_f64();
     let run = json!({
         "manifest": manifest.name,
+        "manifest_digest": manifest.digest,
         "shard": o.shard.map(|s| json!({"index": s.index, "count": s.count})),
         "seconds": seconds,
         "jobs": results.iter().map(JobResult::json).collect::<Vec<_>>(),
@@ -769,6 +770,7 @@ fn junit(suite: &str, results: &[JobResult], seconds: f64) -> String {
 /// once, from the same manifest.
 fn merge(shards: &[PathBuf], folder: &Path) -> Result<(), CliError> {
     let mut manifest_name: Option<String> = None;
+    let mut digest: Option<String> = None;
     let mut count: Option<u64> = None;
     let mut seen = Vec::new();
     let mut results: Vec<JobResult> = Vec::new();
@@ -794,6 +796,15 @@ fn merge(shards: &[PathBuf], folder: &Path) -> Result<(), CliError> {
                 manifest_name.unwrap_or_default()
             )));
         }
+        // Two manifests of one file name are told apart by their text.
+        let ran = run["manifest_digest"].as_str().ok_or_else(|| {
+            bad("no `manifest_digest` (results of an older combustion: run the shard again)")
+        })?;
+        if *digest.get_or_insert_with(|| ran.to_owned()) != ran {
+            return Err(bad(&format!(
+                "the results of another manifest named `{name}` (its text differs from the first shard's)"
+            )));
+        }
         let shard_of = (
             run["shard"]["index"].as_u64(),
             run["shard"]["count"].as_u64(),
@@ -801,6 +812,11 @@ fn merge(shards: &[PathBuf], folder: &Path) -> Result<(), CliError> {
         let (Some(index), Some(n)) = shard_of else {
             return Err(bad("not a shard's results (run with --shard I/N)"));
         };
+        if n == 0 || index == 0 || index > n {
+            return Err(bad(&format!(
+                "shard {index}/{n} is no shard (I is 1 to N, N at least 1)"
+            )));
+        }
         if *count.get_or_insert(n) != n {
             return Err(bad(&format!(
                 "shard {index}/{n} of another split than {}",
@@ -818,6 +834,9 @@ fn merge(shards: &[PathBuf], folder: &Path) -> Result<(), CliError> {
         {
             let mut job =
                 JobResult::from_json(job).ok_or_else(|| bad("a job's result is malformed"))?;
+            // Its name names files: the manifest's rule, as when it ran.
+            super::manifest::check_name(&job.name)
+                .map_err(|why| bad(&format!("a job's result: {why}")))?;
             // Files are named from the merged folder's point of view: the shard's folder.
             for output in &mut job.outputs {
                 if let Some(file) = output["file"].as_str() {

@@ -52,6 +52,9 @@ const BATCH_OWNED: [&str; 6] = ["output", "hdr", "max-error", "device", "validat
 pub(crate) struct Manifest {
     /// The file's name without its folder and extension (JUnit's suite name).
     pub(crate) name: String,
+    /// A digest of its text ([`text_digest`]): shards' results merge only with those of
+    /// the same manifest, whatever its file is called.
+    pub(crate) digest: String,
     /// The jobs, in the manifest's order (or the shard's share of them).
     pub(crate) jobs: Vec<Job>,
 }
@@ -179,7 +182,11 @@ impl Manifest {
                 .map_err(|e| format!("job `{name}`: {e}"))?;
             parsed.push(job);
         }
-        Ok(Manifest { name, jobs: parsed })
+        Ok(Manifest {
+            name,
+            digest: text_digest(text),
+            jobs: parsed,
+        })
     }
 
     /// Keeps the jobs of `shard`: the jobs sorted by name are dealt out in turn, so
@@ -240,7 +247,16 @@ fn criteria_of(
 
 /// A job name: 1 to [`MAX_NAME_BYTES`] letters, digits, `-` and `_` (no dots, so no
 /// name's files are another's: NAME.png, NAME.exr, NAME.flip.png).
-fn check_name(name: &str) -> Result<(), String> {
+/// The 64-bit FNV-1a hash of `text`, in hex: which manifest a shard ran (not a
+/// security measure: it tells two manifests apart, it does not authenticate one).
+pub(crate) fn text_digest(text: &str) -> String {
+    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{hash:016x}")
+}
+
+pub(crate) fn check_name(name: &str) -> Result<(), String> {
     let allowed = |c: char| c.is_ascii_alphanumeric() || c == '-' || c == '_';
     if name.is_empty() || name.len() > MAX_NAME_BYTES || !name.chars().all(allowed) {
         return Err(format!(
