@@ -606,3 +606,50 @@ fn merge_refuses_what_no_split_of_one_manifest_makes() {
     let (code, _, stderr) = merge(&[&first, &own_second]);
     assert_eq!(code, 0, "{stderr}");
 }
+
+/// A run into a folder an earlier run wrote leaves none of the earlier run's images
+/// beside its own results (they stayed, as if this run had written them), and nothing
+/// else of the folder is touched; a junit.xml that cannot be written is said before any
+/// job renders (it was said once every job had rendered).
+#[test]
+fn a_run_replaces_the_earlier_runs_outputs_and_checks_its_reports_first() {
+    let dir = scratch("rerun");
+    let out = dir.join("out");
+    let manifest = |jobs: &[&str]| {
+        let path = dir.join("jobs.json");
+        let jobs: Vec<String> = jobs
+            .iter()
+            .map(|name| {
+                format!(
+                    r#"{{"name": "{name}", "scene": "builtin:spheres", "width": 8, "height": 8}}"#
+                )
+            })
+            .collect();
+        std::fs::write(&path, format!(r#"{{"jobs": [{}]}}"#, jobs.join(", "))).unwrap();
+        path
+    };
+    let first = manifest(&["old", "kept"]);
+    let (code, stdout, stderr) = combustion(&["batch", text(&first), "-o", text(&out)]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(out.join("old.png").exists() && out.join("kept.png").exists());
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let second = manifest(&["kept"]);
+    let (code, stdout, stderr) = combustion(&["batch", text(&second), "-o", text(&out)]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(
+        !out.join("old.png").exists(),
+        "the earlier run's image is gone"
+    );
+    assert!(out.join("kept.png").exists());
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    // junit.xml a folder: refused before any job renders.
+    let blocked = dir.join("blocked");
+    std::fs::create_dir_all(blocked.join("junit.xml")).unwrap();
+    let (code, _, stderr) = combustion(&["batch", text(&second), "-o", text(&blocked)]);
+    assert_ne!(code, 0, "{stderr}");
+    assert!(stderr.contains("junit.xml: it names a folder"), "{stderr}");
+    assert!(!blocked.join("kept.png").exists(), "no job rendered");
+}

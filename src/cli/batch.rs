@@ -230,6 +230,53 @@ fn prepare_folder(folder: &Path, option: &str) -> Result<(), Error> {
     output::make_folder(folder)
         .map_err(|e| Error::Usage(format!("{option} {}: {e}", folder.display())))?;
     output::check_writable(&folder.join(RESULTS_FILE))?;
+    if option == "-o" {
+        // Both reports are checked before any job renders (junit.xml was checked only
+        // once every job had rendered).
+        output::check_writable(&folder.join(JUNIT_FILE))?;
+        remove_earlier_outputs(folder)?;
+    }
+    Ok(())
+}
+
+/// Removes from `folder` the images and heat maps an earlier run's results.json there
+/// lists (plain file names in the folder, nothing else), so that none of them stands
+/// beside the new results as if this run had written it. A results.json that cannot be
+/// read as one leaves the folder as it is.
+fn remove_earlier_outputs(folder: &Path) -> Result<(), Error> {
+    let results = folder.join(RESULTS_FILE);
+    let Ok(text) = combustion::input::read_text(
+        &results,
+        super::manifest::MAX_MANIFEST_BYTES * 4,
+        "an earlier run's results",
+    ) else {
+        return Ok(());
+    };
+    let Ok(run) = combustion::input::parse_json(&text) else {
+        return Ok(());
+    };
+    let listed = run["jobs"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|job| job["outputs"].as_array())
+        .flatten()
+        .flat_map(|output| [output["file"].as_str(), output["heat_map"].as_str()])
+        .flatten();
+    for name in listed {
+        let plain = Path::new(name)
+            .file_name()
+            .is_some_and(|file| file == std::ffi::OsStr::new(name));
+        let path = folder.join(name);
+        if plain && path.symlink_metadata().is_ok_and(|m| m.is_file()) {
+            std::fs::remove_file(&path).map_err(|e| {
+                Error::Usage(format!(
+                    "-o {}: cannot remove the earlier run's {name}: {e}",
+                    folder.display()
+                ))
+            })?;
+        }
+    }
     Ok(())
 }
 
