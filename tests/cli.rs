@@ -3606,3 +3606,57 @@ fn a_supersampled_frame_too_large_names_the_options() {
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(!png.exists(), "nothing written");
 }
+
+/// `--shadows on` with more shadow-casting lights than the maps hold: the lights left
+/// without a shadow are said, by index (they cast none without a word) — a sun and seven
+/// point lights: four cascades and four cubes fill 28 of the 32 layers, the last three
+/// point lights cast none.
+#[test]
+fn lights_past_the_shadow_layers_are_said() {
+    let dir = scratch("shadow-layers");
+    let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/optics");
+    let mut gltf: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(source.join("optics.gltf")).unwrap())
+            .unwrap();
+    for file in ["optics.bin", "optics_0.png", "copper.csv"] {
+        std::fs::copy(source.join(file), dir.join(file)).unwrap();
+    }
+    for k in 0..7 {
+        let light = gltf["extensions"]["KHR_lights_punctual"]["lights"]
+            .as_array_mut()
+            .unwrap();
+        light.push(serde_json::json!({"type": "point", "intensity": 2.0}));
+        let index = light.len() - 1;
+        let nodes = gltf["nodes"].as_array_mut().unwrap();
+        nodes.push(serde_json::json!({
+            "name": format!("point {k}"),
+            "translation": [k as f64 - 3.0, 2.0, 1.0],
+            "extensions": {"KHR_lights_punctual": {"light": index}}
+        }));
+        let node = nodes.len() - 1;
+        gltf["scenes"][0]["nodes"]
+            .as_array_mut()
+            .unwrap()
+            .push(node.into());
+    }
+    let scene = dir.join("lights.gltf");
+    std::fs::write(&scene, gltf.to_string()).unwrap();
+    let png = dir.join("out.png");
+    let (code, _, stderr) = combustion(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--shadows",
+        "on",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains("--shadows on: 3 of its 8 lights that cast shadows cast none (lights 5, 6, 7): the maps hold 32 layers"),
+        "{stderr}"
+    );
+}

@@ -1391,6 +1391,34 @@ pub(crate) fn lit_as_asked(
             }
         );
     }
+    if let Some(settings) = shading.shadows() {
+        // Lights past what the maps hold cast none: said, not silent.
+        let casting: Vec<usize> = (0..scene.lights.len())
+            .filter(|&i| scene.lights[i].casts_shadows())
+            .collect();
+        let kinds = combustion::renderer::ShadowKinds::of(&scene.lights);
+        let shadowed: Vec<usize> =
+            combustion::renderer::shadowed_lights(&scene.lights, &settings, kinds)
+                .into_iter()
+                .map(|(index, _)| index)
+                .collect();
+        let left_out: Vec<String> = casting
+            .iter()
+            .filter(|i| !shadowed.contains(i))
+            .map(usize::to_string)
+            .collect();
+        if !left_out.is_empty() {
+            log::warn!(
+                "{}: --shadows on: {} of its {} lights that cast shadows cast none (lights {}): the maps hold {} layers — a sun one per cascade, a point light or wide spot six, a narrow spot one — and {} suns at most",
+                source.label(),
+                left_out.len(),
+                casting.len(),
+                left_out.join(", "),
+                combustion::renderer::MAX_SHADOW_LAYERS,
+                combustion::renderer::MAX_SHADOWED_LIGHTS
+            );
+        }
+    }
     if shading.shadows && !scene.lights.iter().any(|l| l.casts_shadows()) {
         let lights = match scene.lights.len() {
             0 => "it has no lights".to_owned(),

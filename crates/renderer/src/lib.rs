@@ -98,9 +98,9 @@ pub use results::{Frame, PassTime, PassTimings, RendererStats};
 pub use scene_edit::{EditError, MaterialId, MeshId, ObjectId, SceneEditor};
 pub use scene_upload::{GpuScene, SceneEditReport};
 pub use shadows::{
-    cascade_splits, directional_cascades, local_texel_per_metre, shadow_distance, Cascade,
-    ShadowFilter, ShadowKinds, ShadowSettings, ShadowShader, CASCADE_BLEND_BAND, LAYER_CUBE_FACE,
-    LAYER_PERSPECTIVE, MAX_CASCADES, MAX_SHADOWED_LIGHTS, MAX_SHADOW_LAYERS,
+    cascade_splits, directional_cascades, local_texel_per_metre, shadow_distance, shadowed_lights,
+    Cascade, ShadowFilter, ShadowKinds, ShadowSettings, ShadowShader, CASCADE_BLEND_BAND,
+    LAYER_CUBE_FACE, LAYER_PERSPECTIVE, MAX_CASCADES, MAX_SHADOWED_LIGHTS, MAX_SHADOW_LAYERS,
     MAX_SPOT_CONE_ONE_LAYER, MIN_SHADOW_MAP_SIZE, PCF_RADIUS_TEXELS, SHADOW_MAP_FORMAT,
     SPLIT_LOGARITHMIC_WEIGHT,
 };

@@ -417,13 +417,46 @@ pub const LAYER_PERSPECTIVE: f32 = 1.0;
 /// `GpuShadowCascade::texel_depth_slice.w` of a face of a light's cube of six layers.
 pub const LAYER_CUBE_FACE: f32 = 2.0;
 
-/// The frame's shadowed lights (those that cast shadows of the pipeline's `kinds`), in
-/// the order of `lights`: the first
-/// [`MAX_SHADOWED_LIGHTS`] directional lights (their cascades), spot lights (one
-/// perspective layer; six, as a point light, when the cone is wider than
-/// [`MAX_SPOT_CONE_ONE_LAYER`]) and point lights (six faces of a cube), as long as the
-/// layers fit [`MAX_SHADOW_LAYERS`]; a light whose layers do not fit casts none. Each
-/// with its index and its layers (light after light, in the maps' layer order).
+/// Which of `lights` get shadow maps, with the layers each takes, in the order of
+/// `lights`: of those that cast shadows of `kinds`, the first [`MAX_SHADOWED_LIGHTS`]
+/// directional lights (a layer per cascade), spot lights (one perspective layer; six, as
+/// a point light, when the cone is wider than [`MAX_SPOT_CONE_ONE_LAYER`]) and point
+/// lights (six faces of a cube), as long as the layers fit [`MAX_SHADOW_LAYERS`]; a
+/// light whose layers do not fit casts none (the command line says which).
+pub fn shadowed_lights(
+    lights: &[Light],
+    settings: &ShadowSettings,
+    kinds: ShadowKinds,
+) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut layers = 0;
+    let mut suns = 0;
+    for (index, light) in lights.iter().enumerate() {
+        if !kinds.cast_by(light) {
+            continue;
+        }
+        let count = match *light {
+            Light::Directional { .. } => {
+                if suns == MAX_SHADOWED_LIGHTS {
+                    continue;
+                }
+                suns += 1;
+                settings.cascades as usize
+            }
+            Light::Spot { outer_cone, .. } if outer_cone <= MAX_SPOT_CONE_ONE_LAYER => 1,
+            Light::Spot { .. } | Light::Point { .. } => 6,
+        };
+        if layers + count > MAX_SHADOW_LAYERS {
+            continue;
+        }
+        layers += count;
+        out.push((index, count));
+    }
+    out
+}
+
+/// The frame's shadowed lights ([`shadowed_lights`]), each with its index and its layers
+/// (light after light, in the maps' layer order).
 pub(crate) fn frame_shadows(
     lights: &[Light],
     camera: &Camera,
@@ -432,20 +465,11 @@ pub(crate) fn frame_shadows(
     settings: &ShadowSettings,
     kinds: ShadowKinds,
 ) -> Vec<(usize, Vec<ShadowLayer>)> {
-    let mut out: Vec<(usize, Vec<ShadowLayer>)> = Vec::new();
-    let mut layers = 0;
-    let mut suns = 0;
-    for (index, light) in lights.iter().enumerate() {
-        if !kinds.cast_by(light) {
-            continue;
-        }
-        let light_layers: Vec<ShadowLayer> = match *light {
-            Light::Directional { direction, .. } => {
-                if suns == MAX_SHADOWED_LIGHTS {
-                    continue;
-                }
-                suns += 1;
-                directional_cascades(
+    shadowed_lights(lights, settings, kinds)
+        .into_iter()
+        .map(|(index, count)| {
+            let layers: Vec<ShadowLayer> = match lights[index] {
+                Light::Directional { direction, .. } => directional_cascades(
                     camera,
                     aspect,
                     direction.normalize(),
@@ -458,43 +482,39 @@ pub(crate) fn frame_shadows(
                     gpu: c.gpu(),
                     local: false,
                 })
-                .collect()
-            }
-            Light::Spot {
-                position,
-                direction,
-                outer_cone,
-                range,
-                ..
-            } if outer_cone <= MAX_SPOT_CONE_ONE_LAYER => {
-                let (near, far) = local_depth_range(position, range, bounds);
-                vec![perspective_layer(
+                .collect(),
+                Light::Spot {
                     position,
-                    direction.normalize(),
+                    direction,
                     outer_cone,
-                    near,
-                    far,
-                    settings.local_map_size,
-                    LAYER_PERSPECTIVE,
-                )]
-            }
-            Light::Spot {
-                position, range, ..
-            }
-            | Light::Point {
-                position, range, ..
-            } => {
-                let (near, far) = local_depth_range(position, range, bounds);
-                cube_layers(position, near, far, settings.local_map_size)
-            }
-        };
-        if layers + light_layers.len() > MAX_SHADOW_LAYERS {
-            continue;
-        }
-        layers += light_layers.len();
-        out.push((index, light_layers));
-    }
-    out
+                    range,
+                    ..
+                } if outer_cone <= MAX_SPOT_CONE_ONE_LAYER => {
+                    let (near, far) = local_depth_range(position, range, bounds);
+                    vec![perspective_layer(
+                        position,
+                        direction.normalize(),
+                        outer_cone,
+                        near,
+                        far,
+                        settings.local_map_size,
+                        LAYER_PERSPECTIVE,
+                    )]
+                }
+                Light::Spot {
+                    position, range, ..
+                }
+                | Light::Point {
+                    position, range, ..
+                } => {
+                    let (near, far) = local_depth_range(position, range, bounds);
+                    cube_layers(position, near, far, settings.local_map_size)
+                }
+            };
+            debug_assert_eq!(layers.len(), count, "the layers shadowed_lights counted");
+            (index, layers)
+        })
+        .collect()
 }
 
 /// The side of a shadow-map texel of the spot or point `light` per metre of distance
@@ -682,6 +702,33 @@ pub(crate) fn shadow_sampler(device: &Arc<Device>) -> Result<Sampler, RenderErro
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The maps' layers go to the lights in order until they are full; the frame's layers
+    /// are the ones counted.
+    #[test]
+    fn lights_take_layers_in_order_until_the_maps_are_full() {
+        let point = |x: f32| Light::Point {
+            position: Vec3::new(x, 2.0, 0.0),
+            intensity: [1.0; 3],
+            range: None,
+            casts_shadows: true,
+            radius: 0.0,
+        };
+        let mut lights = vec![Light::Directional {
+            direction: Vec3::new(0.0, -1.0, 0.2),
+            irradiance: [1.0; 3],
+            casts_shadows: true,
+            angular_diameter: 0.0,
+        }];
+        lights.extend((0..7).map(|k| point(k as f32)));
+        let settings = ShadowSettings::default();
+        let kinds = ShadowKinds::of(&lights);
+        let shadowed = shadowed_lights(&lights, &settings, kinds);
+        assert_eq!(shadowed, vec![(0, 4), (1, 6), (2, 6), (3, 6), (4, 6)]);
+        let frame = frame_shadows(&lights, &camera(), 1.5, None, &settings, kinds);
+        let counted: Vec<(usize, usize)> = frame.iter().map(|(i, l)| (*i, l.len())).collect();
+        assert_eq!(counted, shadowed);
+    }
 
     fn camera() -> Camera {
         Camera {
