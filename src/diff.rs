@@ -44,20 +44,78 @@ pub struct DiffImage {
     pub pixels: Pixels,
 }
 
-/// Reads a PNG (8-bit or 16-bit, grey or RGB, with or without alpha; 16-bit is rounded
-/// to 8) or an OpenEXR file's first RGB(A) layer, by its extension.
-pub fn read_image(path: &Path) -> Result<DiffImage, String> {
+/// The most pixels an image compared may have: 16,777,216 (4096 × 4096, or 7680 × 2160),
+/// checked from its header before it is decoded. Comparing two takes about 100 bytes a
+/// pixel (FLIP's images among them): some 1.7 GB at this size.
+pub const MAX_PIXELS: u64 = 1 << 24;
+
+/// An image file read but not decoded: its bytes, its kind and its size from its header
+/// (within [`MAX_SIDE`] and [`MAX_PIXELS`]).
+pub struct ImageFile {
+    bytes: Vec<u8>,
+    /// OpenEXR (radiance) rather than PNG (display values).
+    pub radiance: bool,
+    /// Width in pixels, from the header.
+    pub width: u32,
+    /// Height in pixels, from the header.
+    pub height: u32,
+}
+
+/// Reads a PNG or an OpenEXR file (by its extension) and its header: its size is known,
+/// and checked, before a pixel is decoded ([`ImageFile::decode`]).
+pub fn open_image(path: &Path) -> Result<ImageFile, String> {
     let bytes = combustion_scene::read_regular_file(path, MAX_IMAGE_BYTES, "an image to compare")
         .map_err(|e| e.to_string())?;
     let extension = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    match extension.as_deref() {
-        Some("png") => read_png(&bytes),
-        Some("exr") => read_exr(&bytes),
-        _ => Err("not a .png or .exr file".into()),
+    let (radiance, (width, height)) = match extension.as_deref() {
+        Some("png") => {
+            let decoder = png::Decoder::new(std::io::Cursor::new(&bytes[..]));
+            let reader = decoder.read_info().map_err(|e| format!("PNG: {e}"))?;
+            let info = reader.info();
+            (
+                false,
+                checked_size(info.width as usize, info.height as usize)?,
+            )
+        }
+        Some("exr") => {
+            let meta =
+                exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(&bytes[..]), false)
+                    .map_err(|e| format!("OpenEXR: {e}"))?;
+            let header = meta
+                .headers
+                .first()
+                .ok_or_else(|| "OpenEXR: no layer".to_owned())?;
+            let size = header.layer_size;
+            (true, checked_size(size.width(), size.height())?)
+        }
+        _ => return Err("not a .png or .exr file".into()),
+    };
+    Ok(ImageFile {
+        bytes,
+        radiance,
+        width,
+        height,
+    })
+}
+
+impl ImageFile {
+    /// Its pixels, decoded.
+    pub fn decode(&self) -> Result<DiffImage, String> {
+        if self.radiance {
+            read_exr(&self.bytes)
+        } else {
+            read_png(&self.bytes)
+        }
     }
+}
+
+/// Reads a PNG (8-bit or 16-bit, grey or RGB, with or without alpha; 16-bit is rounded
+/// to 8) or an OpenEXR file's first RGB(A) layer, by its extension.
+pub fn read_image(path: &Path) -> Result<DiffImage, String> {
+    open_image(path)?.decode()
 }
 
 fn checked_size(width: usize, height: usize) -> Result<(u32, u32), String> {
@@ -67,7 +125,10 @@ fn checked_size(width: usize, height: usize) -> Result<(u32, u32), String> {
             .filter(|&s| (1..=MAX_SIDE).contains(&s))
     };
     match (side(width), side(height)) {
-        (Some(w), Some(h)) => Ok((w, h)),
+        (Some(w), Some(h)) if u64::from(w) * u64::from(h) <= MAX_PIXELS => Ok((w, h)),
+        (Some(_), Some(_)) => Err(format!(
+            "{width}x{height}: more than {MAX_PIXELS} pixels, the most an image compared may have"
+        )),
         _ => Err(format!(
             "{width}x{height}: each side must be between 1 and {MAX_SIDE}"
         )),

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use combustion::diff::{compare, heat_map_with_legend, read_image, Comparison};
+use combustion::diff::{compare, heat_map_with_legend, open_image, Comparison};
 use combustion::{output, Error};
 
 use super::*;
@@ -42,14 +42,13 @@ pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
             .into());
         }
     }
-    let read = |path: &Path| {
-        read_image(path).map_err(|e| {
-            CliError::Failed(format!(
-                "{}: {e}",
-                combustion::shortened(&path.display().to_string())
-            ))
-        })
+    let named = |path: &Path, e: String| {
+        CliError::Failed(format!(
+            "{}: {e}",
+            combustion::shortened(&path.display().to_string())
+        ))
     };
+    let open = |path: &Path| open_image(path).map_err(|e| named(path, e));
     let from_file = match &o.criteria_file {
         Some(path) => {
             let name = combustion::shortened(&path.display().to_string());
@@ -86,7 +85,19 @@ pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
             .into());
         }
     }
-    let (a, b) = (read(&o.a)?, read(&o.b)?);
+    // Both headers before either image is decoded: sizes that differ are said at once
+    // (two images were decoded whole to say so).
+    let (file_a, file_b) = (open(&o.a)?, open(&o.b)?);
+    if (file_a.width, file_a.height) != (file_b.width, file_b.height) {
+        return Err(CliError::Failed(format!(
+            "the images differ in size: {}x{} and {}x{}",
+            file_a.width, file_a.height, file_b.width, file_b.height
+        )));
+    }
+    let a = file_a.decode().map_err(|e| named(&o.a, e))?;
+    drop(file_a);
+    let b = file_b.decode().map_err(|e| named(&o.b, e))?;
+    drop(file_b);
     let comparison = compare(&a, &b).map_err(CliError::Failed)?;
     if let Some(heatmap) = &o.heatmap {
         let (height, pixels) = heat_map_with_legend(&comparison).map_err(CliError::Failed)?;
