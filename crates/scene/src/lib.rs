@@ -137,6 +137,30 @@ pub const MAX_RADIANCE: f32 = 1.0e30;
 /// patch, far beyond any sun).
 pub const MAX_ANGULAR_DIAMETER: f32 = std::f32::consts::FRAC_PI_6;
 
+/// A number as messages write it: its shortest form, in scientific notation past 10⁷ or
+/// below 10⁻⁴ (`3.4e38`, not 39 digits).
+pub fn message_number<T>(x: T) -> String
+where
+    T: Copy + Into<f64> + std::fmt::Display + std::fmt::LowerExp,
+{
+    let a = x.into().abs();
+    if a != 0.0 && a.is_finite() && !(1e-4..1e7).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// Numbers as messages write them, in parentheses: `(1, 0.5, 3.4e38)` (not a Rust
+/// array's debug form).
+pub fn message_numbers<T>(values: &[T]) -> String
+where
+    T: Copy + Into<f64> + std::fmt::Display + std::fmt::LowerExp,
+{
+    let written: Vec<String> = values.iter().map(|&x| message_number(x)).collect();
+    format!("({})", written.join(", "))
+}
+
 /// The window a light's `range` puts on the inverse-square law at distance `d`:
 /// (max(0, 1 − (d/range)⁴))² (Karis 2013; the KHR_lights_punctual recommendation
 /// squared, so the falloff reaches 0 with zero slope). It removes 0.8 % of the
@@ -873,6 +897,24 @@ impl Scene {
             table.material_textures.push(slots);
         }
         table
+    }
+}
+
+#[cfg(test)]
+mod message_number_tests {
+    use super::{message_number, message_numbers};
+
+    #[test]
+    fn numbers_in_messages_are_short() {
+        assert_eq!(message_number(3.4e38f32), "3.4e38");
+        assert_eq!(message_number(1e-20f32), "1e-20");
+        assert_eq!(message_number(0.5f32), "0.5");
+        assert_eq!(message_number(-2.0f32), "-2");
+        assert_eq!(message_number(0.0f32), "0");
+        assert_eq!(message_number(f32::NAN), "NaN");
+        assert_eq!(message_numbers(&[1.0f32, 0.25, -3e38]), "(1, 0.25, -3e38)");
+        assert_eq!(message_number(0.1f32), "0.1");
+        assert_eq!(message_number(1e300f64), "1e300");
     }
 }
 

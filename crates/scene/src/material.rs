@@ -781,7 +781,12 @@ impl TextureRef {
         }
         let t = &self.transform;
         if !(t.offset.iter().chain(&t.scale).all(|x| x.is_finite()) && t.rotation.is_finite()) {
-            return Err(format!("has a non-finite texture transform {t:?}"));
+            return Err(format!(
+                "has a non-finite texture transform (offset {}, scale {}, rotation {})",
+                crate::message_numbers(&t.offset),
+                crate::message_numbers(&t.scale),
+                crate::message_number(t.rotation)
+            ));
         }
         let image = &self.texture.image;
         if image.color_space != slot.color_space() {

@@ -509,7 +509,7 @@ fn transmission_and_volume_are_read_and_out_of_range_values_refused() {
             serde_json::json!({
                 "KHR_materials_volume": { "attenuationColor": [1.0, 2.0, 0.5] }
             }),
-            "attenuationColor must lie in [0, 1], found [1.0, 2.0, 0.5]",
+            "attenuationColor must lie in [0, 1], found (1, 2, 0.5)",
         ),
     ] {
         refused_in_one_line(extensions, expected);
@@ -1210,4 +1210,22 @@ fn quantized_attributes_are_read_as_their_values() {
         .transform
         .transform_point3(glam::Vec3::from(vertex(1).position));
     assert_eq!(placed, glam::Vec3::new(2.0, 0.0, 0.0));
+}
+
+/// Numbers in the importer's messages are written short (`3e38`, not 39 digits) and in
+/// parentheses (not a Rust array's `[…]` debug form).
+#[test]
+fn numbers_in_messages_are_written_short() {
+    refused_in_one_line(
+        serde_json::json!({ "KHR_materials_sheen": { "sheenRoughnessFactor": 3e38 } }),
+        "sheenRoughnessFactor must lie in [0, 1], found 3e38",
+    );
+    refused_in_one_line(
+        serde_json::json!({ "KHR_materials_sheen": { "sheenColorFactor": [0.5, 2.0, 3e38] } }),
+        "sheenColorFactor must lie in [0, 1], found (0.5, 2, 3e38)",
+    );
+    refused_in_one_line(
+        serde_json::json!({ "KHR_materials_volume": { "thicknessFactor": -1e-30 } }),
+        "thicknessFactor must be at least 0, found -1e-30",
+    );
 }

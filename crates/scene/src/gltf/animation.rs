@@ -92,7 +92,14 @@ impl Importer<'_> {
             if counts.iter().any(|&c| c != targets) {
                 return Err(self.node_error(
                     i,
-                    format!("its mesh's primitives have different numbers of morph targets ({counts:?})"),
+                    format!(
+                        "its mesh's primitives have different numbers of morph targets ({})",
+                        counts
+                            .iter()
+                            .map(usize::to_string)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
                 ));
             }
             if targets == 0 {

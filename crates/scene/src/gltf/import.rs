@@ -384,7 +384,13 @@ impl Importer<'_> {
         let q = Quat::from_array(r);
         let length = q.length();
         if length < 1e-6 {
-            return Err(self.node_error(index, format!("rotation {r:?} is not a unit quaternion")));
+            return Err(self.node_error(
+                index,
+                format!(
+                    "rotation {} is not a unit quaternion",
+                    crate::message_numbers(&r)
+                ),
+            ));
         }
         Ok(Mat4::from_scale_rotation_translation(
             Vec3::from(s),

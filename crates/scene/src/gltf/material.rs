@@ -196,7 +196,10 @@ impl Importer<'_> {
         if !emissive.iter().all(|x| x.is_finite() && *x >= 0.0) {
             return Err(self.material_error(
                 index,
-                format!("emissiveFactor must be non-negative numbers, found {emissive:?}"),
+                format!(
+                    "emissiveFactor must be non-negative numbers, found {}",
+                    crate::message_numbers(&emissive)
+                ),
             ));
         }
         material.emissive_factor = emissive;
@@ -229,7 +232,7 @@ impl Importer<'_> {
                 if !(s.is_finite() && s >= 0.0) {
                     return Err(self.material_error(
                         index,
-                        format!("KHR_materials_emissive_strength: emissiveStrength must be a non-negative number, found {s}"),
+                        format!("KHR_materials_emissive_strength: emissiveStrength must be a non-negative number, found {}", crate::message_number(s)),
                     ));
                 }
                 material.emissive_strength = s;
@@ -241,7 +244,10 @@ impl Importer<'_> {
                 if !color.iter().all(|x| x.is_finite() && *x >= 0.0) {
                     return Err(self.material_error(
                         index,
-                        format!("KHR_materials_specular: specularColorFactor must be non-negative numbers, found {color:?}"),
+                        format!(
+                            "KHR_materials_specular: specularColorFactor must be non-negative numbers, found {}",
+                            crate::message_numbers(&color)
+                        ),
                     ));
                 }
                 material.specular_color_factor = color;

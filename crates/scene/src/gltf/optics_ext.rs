@@ -118,7 +118,10 @@ fn positive(value: &Value, what: &str) -> Result<f32, String> {
     if x > 0.0 {
         Ok(x)
     } else {
-        Err(format!("{what} must be positive, found {x}"))
+        Err(format!(
+            "{what} must be positive, found {}",
+            crate::message_number(x)
+        ))
     }
 }
 
@@ -148,7 +151,10 @@ pub(crate) fn parse_material(
     if let Some(v) = map.get("polarisationWeight") {
         let w = number(v, "polarisationWeight")?;
         if !(0.0..=1.0).contains(&w) {
-            return Err(format!("polarisationWeight must lie in [0, 1], found {w}"));
+            return Err(format!(
+                "polarisationWeight must lie in [0, 1], found {}",
+                crate::message_number(w)
+            ));
         }
         optics.polarisation_weight = Some(w);
     }
@@ -273,10 +279,16 @@ fn parse_conductor(
             "conductor.k",
         )?;
         if !eta.iter().all(|&x| x > 0.0) {
-            return Err(format!("conductor.eta must be positive, found {eta:?}"));
+            return Err(format!(
+                "conductor.eta must be positive, found {}",
+                crate::message_numbers(&eta)
+            ));
         }
         if !k.iter().all(|&x| x >= 0.0) {
-            return Err(format!("conductor.k must not be negative, found {k:?}"));
+            return Err(format!(
+                "conductor.k must not be negative, found {}",
+                crate::message_numbers(&k)
+            ));
         }
         Some(ComplexIor { eta, k })
     } else {
@@ -410,7 +422,8 @@ pub(crate) fn parse_volume(
     };
     if thickness < 0.0 {
         return Err(format!(
-            "thicknessFactor must be at least 0, found {thickness}"
+            "thicknessFactor must be at least 0, found {}",
+            crate::message_number(thickness)
         ));
     }
     let attenuation_distance = match map.get("attenuationDistance") {
@@ -431,7 +444,10 @@ pub(crate) fn parse_volume(
         Some(v) => {
             let c = triple(v, "attenuationColor")?;
             if !c.iter().all(|x| (0.0..=1.0).contains(x)) {
-                return Err(format!("attenuationColor must lie in [0, 1], found {c:?}"));
+                return Err(format!(
+                    "attenuationColor must lie in [0, 1], found {}",
+                    crate::message_numbers(&c)
+                ));
             }
             c
         }
@@ -466,7 +482,10 @@ pub(crate) fn parse_clearcoat(value: &Value) -> Result<Clearcoat, String> {
         if (0.0..=1.0).contains(&x) {
             Ok(x)
         } else {
-            Err(format!("{key} must lie in [0, 1], found {x}"))
+            Err(format!(
+                "{key} must lie in [0, 1], found {}",
+                crate::message_number(x)
+            ))
         }
     };
     let normal_texture = texture_info(map, "clearcoatNormalTexture")?;
@@ -504,7 +523,10 @@ pub(crate) fn parse_sheen(value: &Value) -> Result<Sheen, String> {
         Some(v) => {
             let c = triple(v, "sheenColorFactor")?;
             if !c.iter().all(|x| (0.0..=1.0).contains(x)) {
-                return Err(format!("sheenColorFactor must lie in [0, 1], found {c:?}"));
+                return Err(format!(
+                    "sheenColorFactor must lie in [0, 1], found {}",
+                    crate::message_numbers(&c)
+                ));
             }
             c
         }
@@ -515,7 +537,8 @@ pub(crate) fn parse_sheen(value: &Value) -> Result<Sheen, String> {
             let r = number(v, "sheenRoughnessFactor")?;
             if !(0.0..=1.0).contains(&r) {
                 return Err(format!(
-                    "sheenRoughnessFactor must lie in [0, 1], found {r}"
+                    "sheenRoughnessFactor must lie in [0, 1], found {}",
+                    crate::message_number(r)
                 ));
             }
             r

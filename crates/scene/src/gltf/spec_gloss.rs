@@ -68,7 +68,10 @@ pub(crate) fn parse_spec_gloss(
         if list.iter().all(|x| (0.0..=1.0).contains(x)) {
             Ok(list)
         } else {
-            Err(format!("{key} must lie in [0, 1], found {list:?}"))
+            Err(format!(
+                "{key} must lie in [0, 1], found {}",
+                crate::message_numbers(&list)
+            ))
         }
     };
     let diffuse = numbers("diffuseFactor", &[1.0; 4])?;
