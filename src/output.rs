@@ -43,6 +43,14 @@ pub enum OutputError {
     /// The output path is empty.
     #[error("cannot write to an empty file name")]
     EmptyName,
+    /// The output's file name is longer than file systems take.
+    #[error("cannot write {path}: its file name is {bytes} bytes long, past the {MAX_FILE_NAME_BYTES} a file name may have")]
+    NameTooLong {
+        /// The output path as given.
+        path: PathBuf,
+        /// Its file name's length in bytes.
+        bytes: usize,
+    },
     /// The output path names a folder (or ends in `/`).
     #[error("cannot write {path}: it names a folder, not a file")]
     FolderName {
@@ -262,6 +270,10 @@ pub fn check_extension(
     Ok(())
 }
 
+/// The longest file name an output may have, in bytes (NAME_MAX of Linux's file
+/// systems; the name is refused before anything renders, not when it is written).
+pub const MAX_FILE_NAME_BYTES: usize = 255;
+
 /// Checks, before any work is done, that `path` can be written by the rule of this
 /// module, and returns the file that will be written: `path` itself, or the end of
 /// the symlink chain it starts.
@@ -276,6 +288,12 @@ pub fn check_writable(path: &Path) -> Result<PathBuf, OutputError> {
     let last = bytes.rsplit(|&b| b == b'/').next().unwrap_or_default();
     if bytes.ends_with(b"/") || last == b"." || last == b".." || path.file_name().is_none() {
         return Err(OutputError::FolderName { path: named });
+    }
+    if last.len() > MAX_FILE_NAME_BYTES {
+        return Err(OutputError::NameTooLong {
+            path: named,
+            bytes: last.len(),
+        });
     }
     // What the whole chain names, as the kernel resolves it: a pipe or terminal behind
     // `/dev/stdout` or `/proc/self/fd/N` ends in a name (`pipe:[N]`) that is no file.

@@ -3697,3 +3697,31 @@ fn diff_checks_sizes_before_it_decodes() {
         "{stderr}"
     );
 }
+
+/// An output whose file name is past 255 bytes is refused before anything renders: the
+/// PNG beside it is not written (it was, and then the EXR's write failed).
+#[test]
+fn a_file_name_too_long_is_refused_before_the_render() {
+    let dir = scratch("long-name");
+    let png = dir.join("out.png");
+    let exr = dir.join(format!("{}.exr", "a".repeat(252)));
+    let (code, _, stderr) = combustion(&[
+        "render",
+        "builtin:spheres",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "-o",
+        png.to_str().unwrap(),
+        "--hdr",
+        exr.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains("its file name is 256 bytes long, past the 255 a file name may have"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(!png.exists(), "nothing written");
+}
