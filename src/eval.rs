@@ -423,6 +423,13 @@ pub fn evaluate(term: &str, inputs: &Inputs) -> Result<String, Error> {
         (None, Some(r)) => Some(alpha_from_perceptual_roughness(r[0])),
         (None, None) => None,
     };
+    let anisotropic = inputs.get("--alpha-x").is_some() || inputs.get("--alpha-y").is_some();
+    if alpha.is_some() && anisotropic {
+        // One took the other's place without a word (which, by the term).
+        return Err(usage(
+            "give --alpha (or --roughness), or --alpha-x and --alpha-y, not both".into(),
+        ));
+    }
     let alphas = match (inputs.get("--alpha-x"), inputs.get("--alpha-y")) {
         (Some(x), Some(y)) => Some((x[0], y[0])),
         (None, None) => alpha.map(|a| (a, a)),
@@ -547,6 +554,11 @@ pub fn evaluate(term: &str, inputs: &Inputs) -> Result<String, Error> {
         }
         "fresnel-schlick" => {
             let c = cos_vm()?;
+            if inputs.get("--f0").is_some() && inputs.get("--eta").is_some() {
+                return Err(usage(
+                    "give --f0 or --eta (F0 from η and ηi), not both".into(),
+                ));
+            }
             let f0 = match inputs.get("--f0") {
                 Some(f) => f[0],
                 None => {

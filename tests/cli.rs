@@ -562,6 +562,37 @@ fn eval_bad_input() {
         ],
         "give --alpha or --roughness, not both",
     );
+    // Two ways of giving one quantity: one took the other's place without a word.
+    assert_clear_error(
+        &[
+            "eval",
+            "lambda-ggx",
+            "--theta-v",
+            "30",
+            "--alpha",
+            "0.3",
+            "--alpha-x",
+            "0.2",
+            "--alpha-y",
+            "0.4",
+        ],
+        "give --alpha (or --roughness), or --alpha-x and --alpha-y, not both",
+    );
+    assert_clear_error(
+        &[
+            "eval",
+            "fresnel-schlick",
+            "--theta-v",
+            "30",
+            "--theta-l",
+            "30",
+            "--f0",
+            "0.04",
+            "--eta",
+            "1.5",
+        ],
+        "give --f0 or --eta (F0 from η and ηi), not both",
+    );
 }
 
 /// Issue 28, defect 9: a direction is normalised by its largest component first, so a
