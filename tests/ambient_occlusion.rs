@@ -815,7 +815,10 @@ fn an_edited_scene_is_traced_in_its_new_shape() {
 /// panels under the studio with the sampled environment traced, common's deformed
 /// spheres under the studio, the passes on and off; and path-traced frames (the surface
 /// table bound in the lighting set, glass placed for paths alone) of the glass scene,
-/// resting and the cut-outs between them. Every binding is written every frame
+/// resting and the cut-outs between them; and traced reflections and refraction (the
+/// surface and texture tables in the lighting and forward sets, the environment's
+/// distribution) on the glass lit by the studio and not, resting and the deformed
+/// spheres, between frames without them. Every binding is written every frame
 /// (the placeholders where a pass did not run: `SetWriter::apply` checks it in debug
 /// builds), and each configuration renders the same bytes in its second round as in its
 /// first, after its images were retired and made again.
@@ -841,13 +844,26 @@ fn optional_passes_alternate_past_the_retire_delay() {
     let glass = combustion::scene::builtin_scene("glass").unwrap();
     // Path tracing: the surface table and, with glass, the instances paths alone see.
     let traced = OptionalPasses::NONE.with(optional_pass("path-trace").expect("declared"), true);
+    // Traced reflections and refraction: the surface and texture tables in the lighting
+    // set, the traced scene and those tables in the forward set.
+    let rays = OptionalPasses::NONE
+        .with(
+            optional_pass("ray-traced-reflections").expect("declared"),
+            true,
+        )
+        .with(
+            optional_pass("ray-traced-refraction").expect("declared"),
+            true,
+        );
+    let mut glass_lit = glass.clone();
+    glass_lit.environment = Some(Environment::Studio);
     let mut settings = exact_f32();
     settings.shading.optional_passes = all;
     let mut headless = crate::common::lavapipe(settings);
     let (w, h) = (96, 64);
     {
         let renderer = headless.renderer();
-        let gpus = [&resting, &spot_box, &cutouts, &deformed, &glass]
+        let gpus = [&resting, &spot_box, &cutouts, &deformed, &glass, &glass_lit]
             .map(|scene| renderer.upload(scene).expect("upload"));
         // (scene, passes, environment samples)
         let configurations = [
@@ -863,6 +879,12 @@ fn optional_passes_alternate_past_the_retire_delay() {
             (4, all, 0),
             (2, traced, 0),
             (4, OptionalPasses::NONE, 0),
+            (5, rays, 0),
+            (0, rays, 0),
+            (4, rays, 0),
+            (5, OptionalPasses::NONE, 0),
+            (3, rays, 0),
+            (5, traced, 0),
         ];
         let mut first: Vec<Option<Vec<[f32; 4]>>> = vec![None; configurations.len()];
         let mut ran: Vec<Vec<&'static str>> = vec![Vec::new(); configurations.len()];
@@ -874,7 +896,7 @@ fn optional_passes_alternate_past_the_retire_delay() {
                     ..renderer.shading()
                 };
                 renderer
-                    .set_shading(shading, &[&gpus[0], &gpus[1], &gpus[2], &gpus[3], &gpus[4]])
+                    .set_shading(shading, &gpus.each_ref())
                     .expect("set shading");
                 for _ in 0..FRAMES_PAST_THE_RETIRE_DELAY {
                     let frame = renderer.render(&gpus[scene], w, h, IMAGES).expect("frame");
@@ -906,6 +928,17 @@ fn optional_passes_alternate_past_the_retire_delay() {
             assert!(!has(config, "ray-traced occlusion"), "{:?}", ran[config]);
         }
         assert!(!has(9, "path trace") && !has(11, "path trace"));
+        // Traced reflections where an environment lights the frame (the lit glass,
+        // resting, the deformed spheres), traced refraction where there is glass.
+        for config in [12, 13, 16] {
+            assert!(has(config, "ray-traced reflections"), "{:?}", ran[config]);
+        }
+        assert!(!has(14, "ray-traced reflections"), "{:?}", ran[14]);
+        for config in [12, 14] {
+            assert!(has(config, "ray-traced refraction"), "{:?}", ran[config]);
+        }
+        assert!(!has(13, "ray-traced refraction") && !has(16, "ray-traced refraction"));
+        assert!(has(17, "path trace") && !has(15, "ray-traced reflections"));
         for config in [2, 3, 6, 11] {
             assert!(
                 !ran[config]
