@@ -314,16 +314,6 @@ vec3 through_interfaces(BrdfInputs m, Crossing entry, Crossing far_side, Crossin
 }
 
 #ifdef RAY_TRACED_REFRACTION
-// The outward normal (unit) of the interface a ray along `direction` meets at `hit`,
-// turned to face the ray's way out (path_trace.glsl's rule for a volume's exits).
-vec3 traced_outward(PathSurface hit, vec3 direction) {
-    vec3 outward = dot(hit.normal, hit.geometric) < 0.0 ? -hit.normal : hit.normal;
-    if (dot(hit.geometric, direction) < 0.0) {
-        outward = -outward;
-    }
-    return facing(outward, direction);
-}
-
 // transmitted_radiance with rays traced through the scene (RAY_TRACED_REFRACTION;
 // passes/ray_traced_refraction.rs): the same interfaces and sums, what lies behind found
 // by ray queries — a volume's exit at the interface its refracted ray meets inside

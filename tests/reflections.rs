@@ -4,21 +4,12 @@
 //! the renderer but the scene), with and without the option; and a lone object, whose
 //! rays meet nothing, unchanged by it. They fail, not skip, without ray queries.
 
-use combustion::renderer::{optional_pass, OptionalPasses, RendererSettings};
+use combustion::renderer::{optional_pass, OptionalPasses};
 use combustion::scene::{builtin_scene, ComplexIor, Material, Scene};
-use combustion_reference::path::{PathTracer, PathTracing};
 use combustion_reference::shading::SceneShading;
 use combustion_reference::SceneBvh;
 
 use crate::common;
-
-/// `exact_f32` settings, with ray-traced reflections where `traced`.
-fn settings(traced: bool) -> RendererSettings {
-    let mut settings = common::exact_f32();
-    let pass = optional_pass("ray-traced-reflections").expect("the renderer declares it");
-    settings.shading.optional_passes = OptionalPasses::NONE.with(pass, traced);
-    settings
-}
 
 /// builtin:resting with its sphere a polished silver mirror (perceptual roughness 0.05):
 /// it shows the box, the floor and the studio.
@@ -44,7 +35,6 @@ fn mirror_resting() -> Scene {
 /// tracer's over the pixels of `object` (interior pixels: the four neighbours on it too).
 fn error_on_object(
     frame: &[[f32; 4]],
-    scene: &Scene,
     (width, height): (u32, u32),
     object: usize,
     reference: &[Option<combustion_optics::environment::Estimate>],
@@ -59,7 +49,6 @@ fn error_on_object(
                 .surface(x as u32, y as u32)
                 .is_some_and(|s| s.hit.object == object)
     };
-    let _ = scene;
     let (mut error, mut weight, mut count) = (0.0, 0.0, 0usize);
     for y in 0..height {
         for x in 0..width {
@@ -89,20 +78,13 @@ fn error_on_object(
 fn a_mirror_shows_its_neighbours_as_light_that_bounces_does() {
     let scene = mirror_resting();
     let size = (64, 36);
-    let frames: Vec<_> = [false, true]
-        .into_iter()
-        .map(|traced| common::render_images(&scene, size.0, size.1, settings(traced)).hdr)
-        .collect();
+    let frames = common::radiance_without_and_with(&scene, size, "ray-traced-reflections");
+    let reference = common::f64_path_traced(&scene, size, 512);
+    // The reference's surfaces, to choose the pixels compared.
     let bvh = SceneBvh::new(&scene);
-    let casters = SceneBvh::shadow_casters(&scene);
     let shading = SceneShading::new(&scene, &bvh, &scene.lights, size.0, size.1);
-    let tracing = PathTracing {
-        samples: 512,
-        ..PathTracing::default()
-    };
-    let reference = PathTracer::new(&shading, &casters, tracing).render(2);
-    let (off, count) = error_on_object(&frames[0], &scene, size, 1, &reference, &shading);
-    let (on, _) = error_on_object(&frames[1], &scene, size, 1, &reference, &shading);
+    let (off, count) = error_on_object(&frames[0], size, 1, &reference, &shading);
+    let (on, _) = error_on_object(&frames[1], size, 1, &reference, &shading);
     println!(
         "mirror sphere, {count} pixels: mean relative error {off:.4} split sum, {on:.4} traced"
     );
@@ -119,8 +101,12 @@ fn a_lone_object_reflects_what_it_did_without_the_option() {
     scene.objects.retain(|o| o.material == 1);
     scene.validate().unwrap();
     let (w, h) = (96, 54);
-    let off = common::render_images(&scene, w, h, settings(false));
-    let on = common::render_images(&scene, w, h, settings(true));
+    let pass = optional_pass("ray-traced-reflections").expect("the renderer declares it");
+    let [off, on] = [false, true].map(|traced| {
+        let mut settings = common::exact_f32();
+        settings.shading.optional_passes = OptionalPasses::NONE.with(pass, traced);
+        common::render_images(&scene, w, h, settings)
+    });
     assert!(
         on.timings.names().contains(&"ray-traced reflections"),
         "the pass ran: {:?}",

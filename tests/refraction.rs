@@ -3,21 +3,11 @@
 //! frame with screen-space and with ray-traced refraction, against the f64 path tracer
 //! (`combustion_reference::path`). They fail, not skip, without ray queries.
 
-use combustion::renderer::{optional_pass, OptionalPasses, RendererSettings};
 use combustion::scene::builtin_scene;
-use combustion_reference::path::{PathTracer, PathTracing};
 use combustion_reference::shading::SceneShading;
 use combustion_reference::SceneBvh;
 
 use crate::common;
-
-/// `exact_f32` settings, with ray-traced refraction where `traced`.
-fn settings(traced: bool) -> RendererSettings {
-    let mut settings = common::exact_f32();
-    let pass = optional_pass("ray-traced-refraction").expect("the renderer declares it");
-    settings.shading.optional_passes = OptionalPasses::NONE.with(pass, traced);
-    settings
-}
 
 /// builtin:glass at 64×36 (a solid glass ball before a checkered wall, thin-walled
 /// spheres from smooth to rough on the floor), the pixels seen through glass — a
@@ -29,18 +19,11 @@ fn settings(traced: bool) -> RendererSettings {
 fn light_through_glass_is_traced_closer_to_light_that_bounces() {
     let scene = builtin_scene("glass").unwrap();
     let size = (64u32, 36u32);
-    let frames: Vec<_> = [false, true]
-        .into_iter()
-        .map(|traced| common::render_images(&scene, size.0, size.1, settings(traced)).hdr)
-        .collect();
+    let frames = common::radiance_without_and_with(&scene, size, "ray-traced-refraction");
+    let reference = common::f64_path_traced(&scene, size, 512);
+    // The reference's surfaces, to choose the pixels compared.
     let bvh = SceneBvh::new(&scene);
-    let casters = SceneBvh::shadow_casters(&scene);
     let shading = SceneShading::new(&scene, &bvh, &scene.lights, size.0, size.1);
-    let tracing = PathTracing {
-        samples: 512,
-        ..PathTracing::default()
-    };
-    let reference = PathTracer::new(&shading, &casters, tracing).render(2);
     // The first transmissive surface a pixel's ray meets: its object and roughness.
     let glass = |x: i64, y: i64| -> Option<(usize, f32)> {
         if x < 0 || y < 0 || x >= i64::from(size.0) || y >= i64::from(size.1) {

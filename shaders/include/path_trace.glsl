@@ -15,13 +15,6 @@
 #include "path_trace/constants.glsl"
 #include "crossing.glsl"
 
-// `n` bent towards `towards` (unit) until their cosine is at least 1e-4 (the f64
-// transmission's rule).
-vec3 path_facing(vec3 n, vec3 towards) {
-    float c = dot(n, towards);
-    return c > 1e-4 ? n : normalize(n + (1e-4 - c) * towards);
-}
-
 // Light inside a volume from `origin` along unit `direction` (the medium `eta_inside`
 // inside, `eta_outside` out, absorption `sigma`, under the entry's thin film `film`,
 // polarisation weight `w`): followed to the interface it meets next (whichever
@@ -38,11 +31,7 @@ bool path_through_volume(inout vec3 origin, inout vec3 direction, float eta_insi
             return false;
         }
         carried *= exp(-sigma * distance(origin, exit.position));
-        vec3 outward = dot(exit.normal, exit.geometric) < 0.0 ? -exit.normal : exit.normal;
-        if (dot(exit.geometric, direction) < 0.0) {
-            outward = -outward;
-        }
-        outward = path_facing(outward, direction);
+        vec3 outward = traced_outward(exit, direction);
         Crossing crossing = surface_crossing(clamp(dot(outward, direction), 0.0, 1.0), eta_inside,
                                              eta_outside, film);
         vec3 transmittance = mix(crossing.s, crossing.p, w);

@@ -335,6 +335,23 @@ vec3 path_thin_wall_direction(vec3 n, vec3 along, vec3 v, float ax, float ay, fl
     return -v;
 }
 
+// `n` bent towards `towards` (unit) until their cosine is at least 1e-4 (the f64
+// transmission's rule).
+vec3 path_facing(vec3 n, vec3 towards) {
+    float c = dot(n, towards);
+    return c > 1e-4 ? n : normalize(n + (1e-4 - c) * towards);
+}
+
+// The unit normal of the interface a ray along `direction` meets at `hit`, facing the
+// ray's way on (out of a volume it is inside), bent as path_facing bends it.
+vec3 traced_outward(PathSurface hit, vec3 direction) {
+    vec3 outward = dot(hit.normal, hit.geometric) < 0.0 ? -hit.normal : hit.normal;
+    if (dot(hit.geometric, direction) < 0.0) {
+        outward = -outward;
+    }
+    return path_facing(outward, direction);
+}
+
 // The radiance arriving at `origin` along unit `direction` from what the ray meets there:
 // the surface's emission, every light's light with shadow rays and (ENVIRONMENT) the
 // environment's split sum at its own material; the ray goes on through up to

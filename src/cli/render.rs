@@ -109,14 +109,19 @@ pub(crate) fn supersampled_size_error(
     }
 }
 
-/// What `o` averages over frames (`--samples`, `--accumulate-until`), refused where
-/// nothing it renders has noise to average.
-pub(crate) fn frames_averaged(o: &RenderArgs) -> Result<Option<Until>, Error> {
+/// Whether `o` asks for ray-traced occlusion, and for path tracing.
+fn traced_and_path_traced(o: &RenderArgs) -> (bool, bool) {
     let asked = |name: &str| {
         combustion::renderer::optional_pass(name)
             .is_some_and(|pass| o.shading.optional.passes.contains(pass))
     };
-    let (traced, path_traced) = (asked("ray-traced-occlusion"), asked("path-trace"));
+    (asked("ray-traced-occlusion"), asked("path-trace"))
+}
+
+/// What `o` averages over frames (`--samples`, `--accumulate-until`), refused where
+/// nothing it renders has noise to average.
+pub(crate) fn frames_averaged(o: &RenderArgs) -> Result<Option<Until>, Error> {
+    let (traced, path_traced) = traced_and_path_traced(o);
     if o.samples.is_some() && !path_traced {
         return Err(Error::Usage(
             "--samples needs --path-trace on (the paths a pixel averages; --environment-samples N sets the environment's)".into(),
@@ -159,11 +164,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         )));
     }
     let until = frames_averaged(o)?;
-    let asked = |name: &str| {
-        combustion::renderer::optional_pass(name)
-            .is_some_and(|pass| o.shading.optional.passes.contains(pass))
-    };
-    let (traced, path_traced) = (asked("ray-traced-occlusion"), asked("path-trace"));
+    let (traced, path_traced) = traced_and_path_traced(o);
     let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
     let png_path = o.output.clone().or(default_output);
     let targets = png_path

@@ -260,6 +260,40 @@ pub fn alternate_scenes_past_the_retire_delay(
     }
 }
 
+/// `scene`'s HDR radiance at `size` without and with the optional pass `pass` (by its
+/// name), `exact_f32` settings otherwise.
+pub fn radiance_without_and_with(
+    scene: &Scene,
+    (width, height): (u32, u32),
+    pass: &str,
+) -> [Vec<[f32; 4]>; 2] {
+    let pass = combustion::renderer::optional_pass(pass).expect("the renderer declares it");
+    [false, true].map(|on| {
+        let mut settings = exact_f32();
+        settings.shading.optional_passes =
+            combustion::renderer::OptionalPasses::NONE.with(pass, on);
+        render_images(scene, width, height, settings).hdr
+    })
+}
+
+/// The f64 path tracer's frame of `scene` at `size`, `samples` paths a pixel (its
+/// defaults otherwise), on two threads.
+pub fn f64_path_traced(
+    scene: &Scene,
+    (width, height): (u32, u32),
+    samples: u32,
+) -> Vec<Option<combustion_optics::environment::Estimate>> {
+    let bvh = combustion_reference::SceneBvh::new(scene);
+    let casters = combustion_reference::SceneBvh::shadow_casters(scene);
+    let shading =
+        combustion_reference::shading::SceneShading::new(scene, &bvh, &scene.lights, width, height);
+    let tracing = combustion_reference::path::PathTracing {
+        samples,
+        ..combustion_reference::path::PathTracing::default()
+    };
+    combustion_reference::path::PathTracer::new(&shading, &casters, tracing).render(2)
+}
+
 /// The exact model, f32 HDR, exposure 1, 2 frames in flight: what most tests render with.
 pub fn exact_f32() -> RendererSettings {
     RendererSettings {
