@@ -936,6 +936,7 @@ impl<'c> Engine<'c> {
                 pose: None,
                 environment_seed: 0,
                 anti_aliasing: combustion::renderer::AntiAliasing::None,
+                auto_exposure: None,
             };
             if let Err(e) = renderer.record(cmd, slot, scene, &inputs, &target) {
                 // SAFETY: end the (empty) recording so the buffer can be reset later.

@@ -7,6 +7,7 @@
 //   tonemap.glsl), then the
 //   exact sRGB encoding here rather than the driver's approximate conversion on write;
 // - OUTPUT_HARDWARE_SRGB (_SRGB targets): tone curve; the driver encodes on write;
+// The exposure is the push's, or in frames that meter it the auto exposure's.
 // - OUTPUT_LINEAR (float targets, e.g. R16G16B16A16_SFLOAT): radiance × exposure, no
 //   tone curve, for a host's own post-processing.
 // FXAA (display formats; a pipeline of its own for frames that ask for it): fxaa.glsl.
@@ -18,13 +19,19 @@
 layout(push_constant) uniform TonemapPush {
     float exposure;
     uint curve;  // combustion_renderer::ToneMapping as u32
+    uint metered;  // 1: the auto exposure's factor (exposure_state[0]) replaces exposure
 } push;
+
+// The frame's exposure: the one given, or the one the auto exposure metered.
+float frame_exposure() {
+    return push.metered != 0u ? uintBitsToFloat(exposure_state[0]) : push.exposure;
+}
 
 layout(location = 0) out vec4 out_color;
 
 // The display value (before sRGB encoding) of a radiance: exposure, then the frame's curve.
 vec3 display_of(vec3 radiance) {
-    return tonemap(radiance * push.exposure, push.curve);
+    return tonemap(radiance * frame_exposure(), push.curve);
 }
 
 #ifdef FXAA
@@ -34,7 +41,7 @@ vec3 display_of(vec3 radiance) {
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
 #if defined(OUTPUT_LINEAR)
-    out_color = vec4(texelFetch(hdr_image, pixel, 0).rgb * push.exposure, 1.0);
+    out_color = vec4(texelFetch(hdr_image, pixel, 0).rgb * frame_exposure(), 1.0);
 #else
 #ifdef FXAA
     vec3 display = fxaa(pixel);  // AntiAliasing::Fxaa: its own pipeline

@@ -3756,3 +3756,124 @@ fn a_file_name_too_long_is_refused_before_the_render() {
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(!png.exists(), "nothing written");
 }
+
+/// Exposure on the command line: a physical camera's PNG is, byte for byte, the PNG of
+/// `--exposure` at its factor (f/4, 1/60 s, ISO 100: EV100 log2(960), the factor
+/// 1/(1.2 · 960)); `--auto-exposure on` meters the frame (said on stdout) and its
+/// compensation moves the EV100 by the stops given; an exposure set by hand beside the
+/// metered one, metering settings without it, and values out of range are refused in one
+/// line naming the option.
+#[test]
+fn exposure_by_camera_by_hand_and_metered() {
+    let dir = scratch("exposure");
+    let frame = ["--width", "48", "--height", "27"];
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["render", "builtin:grid-7x7", "-o", out.to_str().unwrap()];
+        args.extend_from_slice(&frame);
+        args.extend_from_slice(extra);
+        let (code, stdout, stderr) = combustion(&args);
+        assert_eq!(code, 0, "{args:?}: {stderr}");
+        (std::fs::read(&out).unwrap(), stdout)
+    };
+    let factor = 1.0 / (1.2 * 960.0f64);
+    let (camera, _) = render(
+        "camera.png",
+        &[
+            "--aperture",
+            "4",
+            "--shutter",
+            "0.016666667",
+            "--iso",
+            "100",
+        ],
+    );
+    let (by_hand, _) = render("hand.png", &["--exposure", &format!("{factor}")]);
+    assert_eq!(camera, by_hand, "the physical camera's PNG is --exposure's");
+    let ev100 = |stdout: &str| -> f64 {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with("auto exposure: EV100 "))
+            .unwrap_or_else(|| panic!("no auto exposure line in {stdout}"));
+        line["auto exposure: EV100 ".len()..]
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (_, metered) = render("auto.png", &["--auto-exposure", "on"]);
+    let (_, brighter) = render(
+        "auto-plus-2.png",
+        &["--auto-exposure", "on", "--exposure-compensation", "2"],
+    );
+    assert!(
+        (ev100(&metered) - ev100(&brighter) - 2.0).abs() < 0.011,
+        "{metered}{brighter}"
+    );
+    assert_refused(
+        &["render", "--auto-exposure", "on", "--ev", "1"],
+        &["--auto-exposure on", "--ev"],
+    );
+    assert_refused(
+        &["render", "--exposure-compensation", "1"],
+        &["--exposure-compensation needs --auto-exposure on"],
+    );
+    assert_refused(
+        &[
+            "render",
+            "--auto-exposure",
+            "on",
+            "--metering-window",
+            "90,10",
+        ],
+        &["--metering-window", "low percentile 90"],
+    );
+    assert_refused(
+        &[
+            "render",
+            "--aperture",
+            "0.1",
+            "--shutter",
+            "1",
+            "--iso",
+            "100",
+        ],
+        &["--aperture", "between 0.5 and 128"],
+    );
+    assert_refused(&["render", "--aperture", "4"], &["--shutter", "--iso"]);
+    assert_refused(
+        &[
+            "render",
+            "--aperture",
+            "4",
+            "--shutter",
+            "1",
+            "--iso",
+            "100",
+            "--exposure",
+            "2",
+        ],
+        &["--aperture", "--exposure"],
+    );
+    assert_refused(
+        &[
+            "render",
+            "--iso",
+            "nan",
+            "--aperture",
+            "4",
+            "--shutter",
+            "1",
+        ],
+        &["--iso", "not a finite number"],
+    );
+    assert_refused(
+        &["view", "--adaptation-speed", "1,3"],
+        &["--adaptation-speed needs --auto-exposure on"],
+    );
+    assert_refused(
+        &["view", "--auto-exposure", "on", "--adaptation-speed", "0,3"],
+        &["--adaptation-speed", "between 0.01 and 1000"],
+    );
+}

@@ -83,7 +83,8 @@ fn every_frame(
     renderer.record(cmd, slot, &scene,
         &FrameInputs { camera, exposure, lights: &lights, overlay: &[], environment: None,
                        background: Background::None, tone_mapping: ToneMapping::Exponential,
-                       pose: None, environment_seed: n as u32, anti_aliasing: AntiAliasing::Fxaa },
+                       pose: None, environment_seed: n as u32, anti_aliasing: AntiAliasing::Fxaa,
+                       auto_exposure: None },
         &FrameTarget {
             // format, extent and usage from the create info the image was created with
             color: ColorTarget::from_create_info(image, view, &image_info, before, after)?,

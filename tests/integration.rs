@@ -27,6 +27,7 @@ mod debug_views;
 mod edits;
 mod end_to_end;
 mod environment;
+mod exposure;
 mod faults;
 mod figures;
 mod gltf;

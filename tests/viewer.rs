@@ -295,6 +295,64 @@ fn scripted_screenshot_equals_headless(
     );
 }
 
+/// Auto exposure in the viewer (`--auto-exposure on`): a scripted run whose camera holds
+/// still meters each frame's own radiance, so after its first frame (taken at once) every
+/// frame stays at that target, and the screenshot is, byte for byte, the headless render
+/// metered at once (with FXAA, as the viewer by default).
+#[test]
+fn the_viewer_meters_as_the_headless_render_does() {
+    use combustion::renderer::{AntiAliasing, AutoExposure, FrameInputs, Readback};
+    let xvfb = Xvfb::start();
+    let display = format!(":{}", xvfb.display);
+    let still = "# time eye target\n0  0 1 6  0 0 0\n1  0 1 6  0 0 0\n";
+    let (pixels, scene) = scripted_screenshot(
+        "auto-exposure",
+        |args| view(&display, args),
+        "builtin:spheres",
+        (160, 120),
+        5,
+        still,
+        &["--overlay", "off", "--auto-exposure", "on"],
+    );
+    let settings = combustion::renderer::RendererSettings::default();
+    let mut headless = common::lavapipe(settings);
+    let (reference, plain) = {
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(&scene).expect("upload");
+        let inputs = FrameInputs {
+            anti_aliasing: AntiAliasing::Fxaa,
+            auto_exposure: Some(AutoExposure::default()),
+            ..FrameInputs::of_scene(&gpu, settings.exposure)
+        };
+        let readback = Readback {
+            images: true,
+            gbuffer: false,
+        };
+        let metered = renderer
+            .render_with(&gpu, &inputs, 160, 120, readback)
+            .expect("render");
+        let plain = FrameInputs {
+            auto_exposure: None,
+            ..inputs
+        };
+        let plain = renderer
+            .render_with(&gpu, &plain, 160, 120, readback)
+            .expect("render");
+        (metered, plain)
+    };
+    common::finish(headless);
+    let differing = |other: &combustion::renderer::Frame| {
+        pixels
+            .iter()
+            .zip(&other.ldr)
+            .filter(|(a, b)| a != b)
+            .count()
+    };
+    assert_eq!(differing(&reference), 0, "the metered headless render");
+    // The metering changed the picture (it is not exposure 1's).
+    assert!(differing(&plain) > 1000, "{}", differing(&plain));
+}
+
 /// The error view (`--error-view`, as the X key): the screenshot of a scripted run is,
 /// byte for byte, the heat map of the f64 reference's relative error for the headless
 /// render of the same scene, camera and size — the viewer shows the very error map the

@@ -509,6 +509,7 @@ impl Host {
             // another sample set each frame; the split sum ignores it.
             environment_seed: (n % 1024) as u32,
             anti_aliasing: combustion::renderer::AntiAliasing::None,
+            auto_exposure: None,
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {

@@ -7,11 +7,12 @@ use std::path::PathBuf;
 use clap::builder::{OsStringValueParser, PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{ArgAction, ArgGroup, Args, Parser, Subcommand};
 
+use combustion::optics::readable;
 use combustion::renderer::{
-    AntiAliasing, Background, BaseColorStorage, Distribution, FresnelModel, GBufferStorage,
-    HdrFormat, LightCulling, OptionalPasses, RendererSettings, ShadingOptions, ShadowFilter,
-    ShadowSettings, SurfaceStorage, ToneMapping, MAX_CASCADES, MAX_FRAMES_IN_FLIGHT,
-    MAX_SUPERSAMPLE,
+    AntiAliasing, AutoExposure, Background, BaseColorStorage, Distribution, FresnelModel,
+    GBufferStorage, HdrFormat, LightCulling, OptionalPasses, PhysicalCamera, RendererSettings,
+    ShadingOptions, ShadowFilter, ShadowSettings, SurfaceStorage, ToneMapping, MAX_CASCADES,
+    MAX_FRAMES_IN_FLIGHT, MAX_SUPERSAMPLE,
 };
 use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, MetalColour};
@@ -239,12 +240,38 @@ pub(crate) struct FrameArgs {
     /// Image height in pixels (1 to 65536; the device's own limit applies too)
     #[arg(long, value_name = "N", default_value = "720", value_parser = image_side)]
     pub(crate) height: u32,
-    /// Exposure: the factor applied to radiance before tone mapping
-    #[arg(long, value_name = "X", default_value = "1", value_parser = positive_finite::<f32>)]
-    pub(crate) exposure: f32,
+    /// Exposure: the factor applied to radiance before tone mapping (1 by default)
+    #[arg(long, value_name = "X", value_parser = positive_finite::<f32>)]
+    pub(crate) exposure: Option<f32>,
     /// Exposure in stops instead: the factor 2^EV (-64 to 64)
     #[arg(long, value_name = "EV", allow_hyphen_values = true, conflicts_with = "exposure", value_parser = exposure_value)]
     pub(crate) ev: Option<f32>,
+    /// Exposure of a physical camera instead, with --shutter and --iso: the aperture's
+    /// f-number N (0.5 to 128); the factor is 1 / (1.2 · 2^EV100), EV100 = log2(N²/t) -
+    /// log2(S/100), luminance in cd/m² (docs/camera.md)
+    #[arg(long, value_name = "N", requires_all = ["shutter", "iso"], conflicts_with_all = ["exposure", "ev"], value_parser = f_number)]
+    pub(crate) aperture: Option<f32>,
+    /// The physical camera's shutter time in seconds (1e-6 to 3600), with --aperture
+    #[arg(long, value_name = "SECONDS", requires_all = ["aperture", "iso"], value_parser = shutter_time)]
+    pub(crate) shutter: Option<f32>,
+    /// The physical camera's sensitivity, ISO (1 to 1e6), with --aperture
+    #[arg(long, value_name = "S", requires_all = ["aperture", "shutter"], value_parser = iso)]
+    pub(crate) iso: Option<f32>,
+    /// Exposure metered from the frame itself: `on` or `off` (the default). A histogram
+    /// of the HDR image's log2 luminance; the mean of the pixels between the metering
+    /// window's percentiles; a reflected-light meter's EV100 (K = 12.5) less the
+    /// compensation. A still frame is exposed by its own radiance (docs/camera.md)
+    #[arg(long, value_name = "on|off", value_parser = on_off())]
+    pub(crate) auto_exposure: Option<bool>,
+    /// With --auto-exposure on: stops added to the metered exposure (-16 to 16; 0 by
+    /// default)
+    #[arg(long, value_name = "EV", allow_hyphen_values = true, value_parser = compensation)]
+    pub(crate) exposure_compensation: Option<f32>,
+    /// With --auto-exposure on: the percentiles of the counted pixels, darkest first,
+    /// whose mean log luminance is metered, LOW,HIGH (0 <= LOW < HIGH <= 100; 10,90 by
+    /// default)
+    #[arg(long, value_name = "LOW,HIGH", value_parser = metering_window)]
+    pub(crate) metering_window: Option<[f32; 2]>,
     /// The Fresnel term: the full equations, or a comparison variant
     #[arg(long, value_name = "MODEL", default_value = FresnelModel::default().name(), value_parser = named([FresnelModel::Full, FresnelModel::Schlick, FresnelModel::F82].map(|m| (m.name(), m))))]
     pub(crate) fresnel: FresnelModel,
@@ -309,6 +336,121 @@ impl PictureArgs {
     pub(crate) fn tone_mapping_for(&self, source: &SceneSource) -> ToneMapping {
         self.tone_mapping
             .unwrap_or_else(|| combustion::default_tone_mapping(source))
+    }
+}
+
+/// A finite number within `range`, else a message with the range.
+fn number_within(text: &str, [low, high]: [f32; 2], unit: &str) -> Result<f32, String> {
+    let value = finite::<f32>(text.trim())?;
+    if (low..=high).contains(&value) {
+        return Ok(value);
+    }
+    Err(format!(
+        "is not between {} and {}{unit}",
+        readable(low),
+        readable(high)
+    ))
+}
+
+/// `--aperture`: an f-number the physical camera takes.
+fn f_number(text: &str) -> Result<f32, String> {
+    number_within(text, PhysicalCamera::F_NUMBERS, "")
+}
+
+/// `--shutter`: seconds the physical camera takes.
+fn shutter_time(text: &str) -> Result<f32, String> {
+    number_within(text, PhysicalCamera::SHUTTER_SECONDS, " seconds")
+}
+
+/// `--iso`: a sensitivity the physical camera takes.
+fn iso(text: &str) -> Result<f32, String> {
+    number_within(text, PhysicalCamera::ISOS, "")
+}
+
+/// `--exposure-compensation`: stops within the auto exposure's range.
+fn compensation(text: &str) -> Result<f32, String> {
+    number_within(text, AutoExposure::COMPENSATION, " stops")
+}
+
+/// `--metering-window`: LOW,HIGH percentiles, 0 <= LOW < HIGH <= 100, as fractions.
+fn metering_window(text: &str) -> Result<[f32; 2], String> {
+    let parts: Vec<&str> = text.split(',').collect();
+    let [low, high] = parts[..] else {
+        return Err("takes two percentiles, LOW,HIGH (e.g. 10,90)".to_owned());
+    };
+    let low = number_within(low, [0.0, 100.0], " percent")?;
+    let high = number_within(high, [0.0, 100.0], " percent")?;
+    if low >= high {
+        return Err(format!(
+            "has its low percentile {} at or above its high one {}",
+            readable(low),
+            readable(high)
+        ));
+    }
+    Ok([low / 100.0, high / 100.0])
+}
+
+/// `--adaptation-speed`: RISE,FALL in EV per second, each within the auto exposure's
+/// range.
+pub(crate) fn adaptation_speed(text: &str) -> Result<[f32; 2], String> {
+    let parts: Vec<&str> = text.split(',').collect();
+    let [rise, fall] = parts[..] else {
+        return Err("takes two speeds in EV per second, RISE,FALL (e.g. 1,3)".to_owned());
+    };
+    Ok([
+        number_within(rise, AutoExposure::SPEEDS, " EV per second")?,
+        number_within(fall, AutoExposure::SPEEDS, " EV per second")?,
+    ])
+}
+
+impl FrameArgs {
+    /// The exposure factor asked for by hand: `--ev`'s 2^EV, the physical camera's, or
+    /// `--exposure` (1 by default).
+    pub(crate) fn exposure_factor(&self) -> f32 {
+        match (self.ev, self.aperture.zip(self.shutter).zip(self.iso)) {
+            (Some(ev), _) => ev.exp2(),
+            (None, Some(((f_number, shutter_seconds), iso))) => PhysicalCamera {
+                f_number,
+                shutter_seconds,
+                iso,
+            }
+            .exposure(),
+            (None, None) => self.exposure.unwrap_or(1.0),
+        }
+    }
+
+    /// The auto exposure asked for (`--auto-exposure on`), refused beside an exposure
+    /// set by hand, and its settings refused without it.
+    pub(crate) fn auto_exposure(&self) -> Result<Option<AutoExposure>, Error> {
+        let on = self.auto_exposure == Some(true);
+        let by_hand = [
+            (self.exposure.is_some(), "--exposure"),
+            (self.ev.is_some(), "--ev"),
+            (self.aperture.is_some(), "--aperture"),
+        ];
+        if let Some((_, hand)) = by_hand.iter().find(|(given, _)| *given).filter(|_| on) {
+            return Err(Error::Usage(format!(
+                "--auto-exposure on meters the exposure and {hand} sets it by hand: give one (--exposure-compensation shifts the metered one)"
+            )));
+        }
+        let settings = [
+            (
+                self.exposure_compensation.is_some(),
+                "--exposure-compensation",
+            ),
+            (self.metering_window.is_some(), "--metering-window"),
+        ];
+        if let Some((_, setting)) = settings.iter().find(|(given, _)| *given).filter(|_| !on) {
+            return Err(Error::Usage(format!(
+                "{setting} needs --auto-exposure on (it sets how the exposure is metered)"
+            )));
+        }
+        let defaults = AutoExposure::default();
+        Ok(on.then(|| AutoExposure {
+            compensation: self.exposure_compensation.unwrap_or(defaults.compensation),
+            window: self.metering_window.unwrap_or(defaults.window),
+            ..defaults
+        }))
     }
 }
 
@@ -833,7 +975,7 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_name = "METHOD", default_value = "none", value_parser = named(AntiAliasing::ALL.map(|a| (a.name(), a))))]
     pub(crate) anti_aliasing: AntiAliasing,
     /// Measure the variant sets and write the speed-against-error report to DIR
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "scene_lights", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter", OptionalPassArgs::GROUP])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "aperture", "shutter", "iso", "auto_exposure", "exposure_compensation", "metering_window", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "scene_lights", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter", OptionalPassArgs::GROUP])]
     pub(crate) report: Option<PathBuf>,
     /// With --report: add how this run reproduces an earlier report (rows with identical
     /// error columns, the spread of the frame-time ratios)
@@ -882,6 +1024,11 @@ pub(crate) struct ViewArgs {
     /// Start in the error view (the error against the f64 reference)
     #[arg(long)]
     pub(crate) error_view: bool,
+    /// With --auto-exposure on: how fast the exposure follows the metered one, RISE,FALL
+    /// in EV per second (towards a darker scene, towards a brighter one; 0.01 to 1000
+    /// each; 1,3 by default)
+    #[arg(long, value_name = "RISE,FALL", value_parser = adaptation_speed)]
+    pub(crate) adaptation_speed: Option<[f32; 2]>,
     #[command(flatten)]
     pub(crate) frame: FrameArgs,
     #[command(flatten)]
@@ -1543,7 +1690,7 @@ pub(crate) fn device_and_settings(
 /// The renderer settings `frame`'s options ask for.
 pub(crate) fn renderer_settings(frame: &FrameArgs, frames_in_flight: usize) -> RendererSettings {
     RendererSettings {
-        exposure: frame.ev.map_or(frame.exposure, f32::exp2),
+        exposure: frame.exposure_factor(),
         hdr_format: frame.hdr_format,
         gbuffer: GBufferStorage {
             base_color: frame.gbuffer_base_color,

@@ -466,6 +466,7 @@ fn render_job(
             o.picture.anti_aliasing_for(o.supersample)
         },
         pose: pose.as_ref(),
+        auto_exposure: o.frame.auto_exposure()?,
         ..FrameInputs::of_scene(gpu, settings.exposure)
     };
     let readback = Readback {
@@ -525,7 +526,11 @@ fn render_job(
             &drawn,
             &frame,
             settings.gbuffer,
-            settings.exposure,
+            // The exposure the frame's picture was made with (metered, or given).
+            match (&inputs.auto_exposure, renderer.last_metered_exposure()) {
+                (Some(_), Some(metered)) => metered.exposure,
+                _ => settings.exposure,
+            },
             tone_mapping,
         );
         result.physics = Some(json!({

@@ -131,6 +131,7 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
 }
 
 pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
+    let auto_exposure = o.frame.auto_exposure()?;
     if let Some(dir) = &o.report {
         return bench_report(o, dir);
     }
@@ -155,6 +156,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     let features = renderer.lighting_features(&gpu_scene);
     let still = combustion::renderer::FrameInputs {
         anti_aliasing: o.anti_aliasing,
+        auto_exposure,
         ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings_exposure)
     };
     // One warm-up frame (first-touch allocations, driver caches) is not counted.

@@ -78,6 +78,11 @@ pub(crate) fn accumulate(
         }
     }
     let mut frame = last.expect("at least one frame");
+    // A metered frame's exposure is its last frame's (each metered alone).
+    let exposure = match (&inputs.auto_exposure, renderer.last_metered_exposure()) {
+        (Some(_), Some(metered)) => metered.exposure,
+        _ => inputs.exposure,
+    };
     for ((out, display), m) in frame
         .hdr
         .iter_mut()
@@ -85,7 +90,7 @@ pub(crate) fn accumulate(
         .zip(averaged.mean())
     {
         *out = [m[0] as f32, m[1] as f32, m[2] as f32, out[3]];
-        let exposed = m.map(|v| v * f64::from(inputs.exposure));
+        let exposed = m.map(|v| v * f64::from(exposure));
         let [r, g, b] = inputs.tone_mapping.display_codes(exposed);
         *display = [r, g, b, display[3]];
     }
@@ -164,6 +169,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
         )));
     }
     let until = frames_averaged(o)?;
+    let auto_exposure = o.frame.auto_exposure()?;
     let (traced, path_traced) = traced_and_path_traced(o);
     let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
     let png_path = o.output.clone().or(default_output);
@@ -268,6 +274,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             tone_mapping: o.picture.tone_mapping_for(&source),
             anti_aliasing: o.picture.anti_aliasing_for(o.supersample),
             pose: pose.as_ref(),
+            auto_exposure,
             ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings.exposure)
         };
         let size = (o.frame.width, o.frame.height);
@@ -321,6 +328,15 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
                 frame
             }
         };
+        if let (Some(_), Some(metered)) = (auto_exposure, renderer.last_metered_exposure()) {
+            outln!(
+                "auto exposure: EV100 {:.2} (exposure {}), metered from {} of {} pixels",
+                metered.ev100,
+                combustion::optics::readable(metered.exposure),
+                metered.counted,
+                u64::from(frame.width) * u64::from(frame.height)
+            );
+        }
         (frame, renderer.stats())
     };
     let start_up = started.elapsed();

@@ -12,6 +12,17 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
         combustion::output::check_writable(shot)?;
     }
     combustion::viewer::check_window_size(o.frame.width, o.frame.height)?;
+    let auto_exposure = o.frame.auto_exposure()?;
+    let mut metering = auto_exposure.unwrap_or_default();
+    if let Some([rise, fall]) = o.adaptation_speed {
+        if auto_exposure.is_none() {
+            return Err(Error::Usage(
+                "--adaptation-speed needs --auto-exposure on (it sets how fast the metered exposure follows)".into(),
+            ));
+        }
+        metering.rise_per_second = rise;
+        metering.fall_per_second = fall;
+    }
     let (device, settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
     preflight(&device, &o.frame)?;
     let summary = combustion::viewer::run(&combustion::viewer::ViewerDesc {
@@ -29,6 +40,7 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
         background: o.picture.background,
         tone_mapping: o.picture.tone_mapping,
         anti_aliasing: o.picture.anti_aliasing_for(1),
+        auto_exposure: (auto_exposure.is_some(), metering),
     })?;
     // A run too short to have read back a frame's timings (--frames 1) says so.
     let median = |list: &[f64]| {

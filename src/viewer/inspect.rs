@@ -237,8 +237,10 @@ pub struct Stats<'a> {
     pub fresnel: FresnelModel,
     /// The viewer's material and medium overrides, described.
     pub overrides: &'a str,
-    /// The exposure.
-    pub exposure: f32,
+    /// The exposure, as said ([`crate::viewer`]'s exposure text).
+    pub exposure: String,
+    /// The auto exposure's histogram as a line of text ([`histogram_line`]), when on.
+    pub histogram: Option<String>,
     /// The camera shown (index from 0) and the number of cameras.
     pub camera: (usize, usize),
     /// The HDR image's format.
@@ -289,9 +291,12 @@ impl Stats<'_> {
         lines.push(timing);
         let fresnel = self.fresnel.description();
         lines.push(format!(
-            "view: {} · {fresnel} · {} · exposure {:.2}",
+            "view: {} · {fresnel} · {} · {}",
             self.view, self.overrides, self.exposure
         ));
+        if let Some(histogram) = &self.histogram {
+            lines.push(histogram.clone());
+        }
         if self.camera.1 > 1 {
             lines.push(format!("camera {} of {}", self.camera.0 + 1, self.camera.1));
         }
@@ -348,6 +353,32 @@ pub fn help_text(keys: &[(&str, &str)]) -> String {
         .map(|(key, what)| format!("{key}\t{what}"))
         .collect::<Vec<_>>()
         .join("\n")
+}
+
+/// The auto exposure's histogram as one line of text: 64 columns of 4 bins each, from
+/// the darkest luminance metered to the brightest, each a character of ` .:-=+*#%@` by
+/// its share of the fullest column, between the log2 luminances it spans.
+pub fn histogram_line(metered: &combustion_renderer::MeteredExposure) -> String {
+    const LEVELS: &[u8] = b" .:-=+*#%@";
+    let columns: Vec<u64> = metered
+        .histogram
+        .chunks(4)
+        .map(|bins| bins.iter().map(|&n| u64::from(n)).sum())
+        .collect();
+    let fullest = columns.iter().copied().max().unwrap_or(0).max(1);
+    let bars: String = columns
+        .iter()
+        .map(|&n| {
+            let level = if n == 0 {
+                0
+            } else {
+                1 + (n * (LEVELS.len() as u64 - 2) / fullest) as usize
+            };
+            char::from(LEVELS[level])
+        })
+        .collect();
+    let [low, high] = combustion_renderer::METERED_LOG2_LUMINANCE;
+    format!("log2 luminance {low} |{bars}| {high}")
 }
 
 #[cfg(test)]

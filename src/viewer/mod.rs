@@ -80,6 +80,10 @@ pub struct ViewerDesc {
     pub tone_mapping: Option<ToneMapping>,
     /// The window's anti-aliasing.
     pub anti_aliasing: combustion_renderer::AntiAliasing,
+    /// Whether the exposure is metered from the start (U toggles it), and how: the
+    /// metering window, compensation and adaptation speeds (its `elapsed_seconds` is
+    /// the viewer's: the wall clock between frames, 1/30 s a frame on a camera path).
+    pub auto_exposure: (bool, combustion_renderer::AutoExposure),
 }
 
 /// The clock of scripted runs: frame n of a camera path is at time n / 30 s.
@@ -126,7 +130,11 @@ pub const KEYS: &[(&str, &str)] = &[
         "I",
         "type the outside medium's index (digits, Enter applies, Escape cancels)",
     ),
-    ("+ / -", "exposure up / down half a stop"),
+    ("+ / -", "exposure up / down half a stop (with auto exposure: its compensation)"),
+    (
+        "U",
+        "auto exposure on / off (metered from the frame; the statistics panel shows its EV and histogram)",
+    ),
     (
         "V",
         "debug view: each G-buffer channel, the BRDF terms D, G2, F, diffuse, lights per tile",
@@ -409,6 +417,10 @@ struct State {
     original: combustion_scene::Scene,
     overrides: controls::Overrides,
     exposure: f32,
+    /// The auto exposure's settings, and whether it is on.
+    auto_exposure: (bool, combustion_renderer::AutoExposure),
+    /// When the last frame was recorded (the auto exposure adapts over the time since).
+    last_recorded: Option<Instant>,
     /// The background asked for (`None`: the environment where one lights the scene).
     background: Option<Background>,
     /// The tone curve asked for (`None`: the default of the scene's source).
@@ -528,6 +540,8 @@ impl State {
             original: scene.clone(),
             overrides: controls::Overrides::default(),
             exposure: desc.settings.exposure,
+            auto_exposure: desc.auto_exposure,
+            last_recorded: None,
             background: desc.background,
             tone_mapping: desc.tone_mapping,
             anti_aliasing: desc.anti_aliasing,
@@ -631,6 +645,8 @@ impl State {
             )?;
             self.renderer
                 .prepare_anti_aliasing(swapchain.format(), self.anti_aliasing)?;
+            // Built with the window (U may turn it on later: no frame compiles a shader).
+            self.renderer.prepare_auto_exposure()?;
             self.swapchain = Some(swapchain);
             summary.swapchains += 1;
             self.stale = false;
@@ -710,8 +726,17 @@ impl State {
             });
         }
         let pose = self.playback.pose(self.gpu_scene.scene());
+        // The auto exposure adapts over the time since the last frame (a camera path's
+        // frames are 1/30 s apart, so a scripted run is the same on any machine).
+        let recorded = Instant::now();
+        let elapsed = match (scripted, self.last_recorded.replace(recorded)) {
+            (Some(_), Some(_)) => Some(1.0 / PATH_FRAMES_PER_SECOND),
+            (None, Some(last)) => Some((recorded - last).as_secs_f32().min(3600.0)),
+            (_, None) => None,
+        };
         let inputs = FrameInputs {
             camera,
+            auto_exposure: self.metered(elapsed),
             // Debug views are written for exposure 1 (their values come back as written).
             exposure: if self.renderer.shading().debug_view == DebugView::None {
                 self.exposure
@@ -813,7 +838,13 @@ impl State {
             view: self.renderer.shading().debug_view.name(),
             fresnel: self.renderer.shading().fresnel,
             overrides: &self.overrides.describe(),
-            exposure: self.exposure,
+            exposure: self.exposure_text(),
+            histogram: self
+                .auto_exposure
+                .0
+                .then(|| self.renderer.last_metered_exposure())
+                .flatten()
+                .map(inspect::histogram_line),
             camera: (self.camera_index, self.cameras.len()),
             hdr_format: self.renderer.settings().hdr_format,
             error_view: self.error_view,
@@ -888,6 +919,8 @@ impl State {
             pose: pose.as_ref(),
             environment_seed: 0,
             anti_aliasing: combustion_renderer::AntiAliasing::None,
+            // The error is of radiance: the exposure only colours the frame shown.
+            auto_exposure: None,
         };
         let error = inspect::measure_error(
             &mut self.renderer,
@@ -995,12 +1028,41 @@ impl State {
             String::new()
         };
         format!(
-            "combustion — {} — {} — {fresnel}, {}, exposure {:.2}{camera}{error}{typing}{gpu}",
+            "combustion — {} — {} — {fresnel}, {}, {}{camera}{error}{typing}{gpu}",
             self.source.label(),
             self.renderer.shading().debug_view.name(),
             self.overrides.describe(),
-            self.exposure
+            self.exposure_text()
         )
+    }
+
+    /// The auto exposure of a frame recorded `elapsed` seconds after the previous one
+    /// (None: the first), when it is on and the view shows radiance.
+    fn metered(&self, elapsed: Option<f32>) -> Option<combustion_renderer::AutoExposure> {
+        let (on, settings) = self.auto_exposure;
+        (on && self.renderer.shading().debug_view == DebugView::None).then_some(
+            combustion_renderer::AutoExposure {
+                elapsed_seconds: elapsed,
+                ..settings
+            },
+        )
+    }
+
+    /// The exposure as the title and the statistics say it: the factor, or the auto
+    /// exposure's EV100, its target and the compensation (of the latest completed
+    /// frame).
+    fn exposure_text(&self) -> String {
+        if !self.auto_exposure.0 {
+            return format!("exposure {:.2}", self.exposure);
+        }
+        let compensation = self.auto_exposure.1.compensation;
+        match self.renderer.last_metered_exposure() {
+            Some(m) => format!(
+                "auto EV100 {:.2} → {:.2} {compensation:+}",
+                m.ev100, m.target_ev100
+            ),
+            None => format!("auto exposure {compensation:+}"),
+        }
     }
 
     /// Waits for every frame in flight and collects their GPU times.
@@ -1286,8 +1348,19 @@ impl App<'_> {
                     -controls::SCRUB_STEP
                 };
             }
+            "+" | "=" | "-" | "_" if state.auto_exposure.0 => {
+                let auto = &mut state.auto_exposure.1;
+                let step = if matches!(text, "+" | "=") { 0.5 } else { -0.5 };
+                let [low, high] = combustion_renderer::AutoExposure::COMPENSATION;
+                auto.compensation = (auto.compensation + step).clamp(low, high);
+            }
             "+" | "=" => state.exposure *= controls::EXPOSURE_STEP,
             "-" | "_" => state.exposure /= controls::EXPOSURE_STEP,
+            "u" | "U" => {
+                state.auto_exposure.0 = !state.auto_exposure.0;
+                // Metering starts from the frame's own target.
+                state.last_recorded = None;
+            }
             digit => {
                 if let Some(source) = digit.parse::<u32>().ok().and_then(controls::builtin_on_key) {
                     state.load(source)?;

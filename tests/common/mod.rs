@@ -165,6 +165,7 @@ pub fn frame_inputs<'a>(
         pose: None,
         environment_seed: 0,
         anti_aliasing: combustion::renderer::AntiAliasing::None,
+        auto_exposure: None,
     }
 }
 

@@ -797,7 +797,17 @@ pub static SHADOW_CASTERS: SetDecl = SetDecl {
 pub static OUTPUT: SetDecl = SetDecl {
     name: "output",
     set: 0,
-    bindings: &[Binding::new("hdr_image", BindingKind::Texture2D, FRAGMENT)],
+    bindings: &[
+        Binding::new("hdr_image", BindingKind::Texture2D, FRAGMENT),
+        Binding::new(
+            "exposure_state",
+            BindingKind::StorageBuffer {
+                block: "ExposureState",
+                element: "uint",
+            },
+            FRAGMENT,
+        ),
+    ],
     includes: &[],
 };
 

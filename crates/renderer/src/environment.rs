@@ -1379,6 +1379,7 @@ mod tests {
                 offsets: vec![
                     std::mem::offset_of!(crate::gpu_types::TonemapPush, exposure) as u32,
                     std::mem::offset_of!(crate::gpu_types::TonemapPush, curve) as u32,
+                    std::mem::offset_of!(crate::gpu_types::TonemapPush, metered) as u32,
                 ],
             }
         );
@@ -1386,7 +1387,11 @@ mod tests {
             crate::spirv::glsl_push_members(sources.get("tonemap.frag").unwrap()),
             Some((
                 "TonemapPush".to_owned(),
-                vec!["exposure".to_owned(), "curve".to_owned()]
+                vec![
+                    "exposure".to_owned(),
+                    "curve".to_owned(),
+                    "metered".to_owned()
+                ]
             ))
         );
         let no_push = compiler

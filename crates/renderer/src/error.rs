@@ -43,6 +43,13 @@ pub enum RenderError {
     /// An exposure (in the settings or a frame's inputs) that is not finite and positive.
     #[error("exposure {0} must be a positive finite number")]
     InvalidExposure(f32),
+    /// A physical camera's or auto exposure's setting out of its range (the message
+    /// names it).
+    #[error("{0}")]
+    InvalidExposureSettings(String),
+    /// A frame meters its exposure before [`Renderer::prepare_auto_exposure`] was called.
+    #[error("auto exposure was not prepared; call Renderer::prepare_auto_exposure before recording frames that meter their exposure")]
+    AutoExposureNotPrepared,
     /// A background colour whose radiance is not finite, negative or above
     /// [`combustion_scene::MAX_RADIANCE`].
     #[error("background colour {0:?} must be finite radiances between 0 and 1e30")]

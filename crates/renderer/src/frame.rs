@@ -155,6 +155,12 @@ impl Renderer {
         if !(inputs.exposure.is_finite() && inputs.exposure > 0.0) {
             return Err(RenderError::InvalidExposure(inputs.exposure));
         }
+        if let Some(auto) = &inputs.auto_exposure {
+            auto.validate()?;
+            if !crate::passes::auto_exposure::prepared(&self.pipelines) {
+                return Err(RenderError::AutoExposureNotPrepared);
+            }
+        }
         inputs.background.validate()?;
         inputs.camera.validate()?;
         combustion_scene::validate_lights(inputs.lights)?;
@@ -595,6 +601,7 @@ impl Renderer {
                 .zip(self.local_shadow_maps.as_ref())
                 .filter(|_| variant.shadows.is_some()),
             placement: s.placement.of(scene),
+            metering_continues: self.metering_continues,
         };
         let device = &*self.device;
         let raw = device.raw();
@@ -638,13 +645,31 @@ impl Renderer {
             let end = stamped.len() as u32 + 1;
             t.record(cmd, vk::PipelineStageFlags2::ALL_COMMANDS, end);
         }
+        // A metered frame's exposure state, for the host, beside its marker.
+        let metered = inputs.auto_exposure.is_some();
+        if metered {
+            let state = &self.shared.exposure_state;
+            let copy = crate::graph::PassUses::images("exposure readout", Vec::new())
+                .with_buffers(vec![(state.raw(), crate::graph::BufferUse::TransferSource)]);
+            states.transition(raw, cmd, &copy);
+            let region = [vk::BufferCopy {
+                src_offset: 0,
+                dst_offset: crate::slot::FRAME_END_BYTES,
+                size: crate::exposure::MeteredExposure::BYTES,
+            }];
+            // SAFETY: outside any rendering; both ranges lie within their buffers (the
+            // frame-end record holds the state after its timestamps).
+            unsafe { raw.cmd_copy_buffer(cmd, state.raw(), s.frame_end.raw(), &region) };
+        }
         // After every command: the frame's timestamps copied and its marker written into
         // the slot's host-visible frame-end record, the GPU's word that it completed.
         let marker = self.frame_number + 1;
         record_frame_end(device, cmd, s, stamped.len() as u32 + 2, marker);
         self.states = states;
+        self.metering_continues |= metered;
         self.slots[slot].stamped = stamped;
         self.slots[slot].recorded = marker;
+        self.slots[slot].metered = metered;
     }
 }
 
@@ -768,6 +793,11 @@ impl Renderer {
                 gbuffer: false,
             },
         )?;
+        // The large frame's metered exposure, where it metered one.
+        let exposure = match (&inputs.auto_exposure, &self.last_metered) {
+            (Some(_), Some(metered)) => metered.exposure,
+            _ => inputs.exposure,
+        };
         let (w, h, f) = (width as usize, height as usize, factor as usize);
         let samples = (f * f) as f64;
         let mut hdr = Vec::with_capacity(w * h);
@@ -786,7 +816,7 @@ impl Renderer {
                 }
                 let mean = sum.map(|s| s / samples);
                 hdr.push(mean.map(|m| m as f32));
-                let exposed = [0, 1, 2].map(|c| mean[c] * f64::from(inputs.exposure));
+                let exposed = [0, 1, 2].map(|c| mean[c] * f64::from(exposure));
                 let [r, g, b] = inputs.tone_mapping.display_codes(exposed);
                 ldr.push([r, g, b, 255]);
             }
@@ -901,6 +931,9 @@ impl Renderer {
         // The offscreen frames' display image: its anti-aliasing's pipeline is built
         // here, before the frame is recorded (once; later frames find it built).
         self.prepare_anti_aliasing(crate::DISPLAY_FORMAT, inputs.anti_aliasing)?;
+        if inputs.auto_exposure.is_some() {
+            self.prepare_auto_exposure()?;
+        }
         let mut offscreen = match self.offscreen.take() {
             Some(o) => o,
             None => Offscreen::new(&self.device, self.slots.len())?,

@@ -617,6 +617,8 @@ pub struct TonemapPush {
     pub exposure: f32,
     /// The tone curve (`ToneMapping as u32`).
     pub curve: u32,
+    /// 1: the exposure is the auto exposure's (`exposure_state`), not `exposure`.
+    pub metered: u32,
 }
 
 /// An environment's source radiance as the bake shaders evaluate it (`EnvironmentSource`

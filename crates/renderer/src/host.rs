@@ -226,8 +226,14 @@ pub struct FrameInputs<'a> {
     pub background: Background,
     /// The camera the frame is seen from (validated by [`crate::Renderer::record`]).
     pub camera: Camera,
-    /// Multiplies radiance before the tone curve (and in linear outputs).
+    /// Multiplies radiance before the tone curve (and in linear outputs), unless
+    /// `auto_exposure` meters the frame's own (a physical camera's:
+    /// [`crate::PhysicalCamera::exposure`]).
     pub exposure: f32,
+    /// Exposure metered from the frame's HDR image, in place of `exposure` (None: the
+    /// exposure given). Frames that meter need [`crate::Renderer::prepare_auto_exposure`]
+    /// first.
+    pub auto_exposure: Option<crate::AutoExposure>,
     /// This frame's lights (any number; validated like a scene's).
     pub lights: &'a [Light],
     /// Text panels drawn over the frame by the output pass (none: nothing drawn).
@@ -267,6 +273,7 @@ impl<'a> FrameInputs<'a> {
             pose: None,
             environment_seed: 0,
             anti_aliasing: AntiAliasing::None,
+            auto_exposure: None,
         }
     }
 }

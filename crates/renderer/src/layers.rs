@@ -24,6 +24,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "environment",
             "environment_importance",
             "error",
+            "exposure",
             "fullscreen",
             "gbuffer",
             "gpu_types",

@@ -40,6 +40,7 @@ mod compute;
 mod deform;
 mod environment_importance;
 mod error;
+mod exposure;
 mod frame;
 mod fullscreen;
 mod host;
@@ -82,6 +83,10 @@ pub use color::{
 };
 pub use environment::FrameEnvironment;
 pub use error::{RenderError, TargetImageProblem};
+pub use exposure::{
+    ev100_of_exposure, exposure_of_ev100, metered_ev100, AutoExposure, MeteredExposure,
+    PhysicalCamera, HISTOGRAM_BINS, METERED_LOG2_LUMINANCE, METER_CALIBRATION,
+};
 pub use host::{
     AntiAliasing, Background, ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding,
     ToneMapping, DISPLAY_FORMAT,
@@ -187,6 +192,11 @@ pub struct Renderer {
     /// freed when that slot is reused (its frame, and every earlier one, complete).
     last_slot: Option<usize>,
     last_timings: Option<PassTimings>,
+    /// What the latest completed frame that metered its exposure used.
+    last_metered: Option<MeteredExposure>,
+    /// Whether a frame has metered its exposure since the renderer was made (or its
+    /// unrun frames forgotten): the state the next metered frame adapts from.
+    metering_continues: bool,
     stats: RendererStats,
     /// Timings of completed frames not yet taken ([`Renderer::take_completed_timings`]).
     completed_timings: std::collections::VecDeque<PassTimings>,
@@ -241,6 +251,8 @@ impl Renderer {
             frame_number: 0,
             last_slot: None,
             last_timings: None,
+            last_metered: None,
+            metering_continues: false,
             completed_timings: std::collections::VecDeque::new(),
             stats: RendererStats::default(),
             device,
@@ -734,6 +746,24 @@ impl Renderer {
         &self.shared.overlay_font
     }
 
+    /// Builds the auto exposure's passes, so that frames whose inputs meter their
+    /// exposure ([`FrameInputs::auto_exposure`]) can be recorded (their recording never
+    /// compiles a shader); the offscreen paths call it.
+    ///
+    /// # Errors
+    /// [`RenderError::Vulkan`] if a shader does not compile or a pipeline cannot be
+    /// built.
+    pub fn prepare_auto_exposure(&mut self) -> Result<(), RenderError> {
+        passes::auto_exposure::prepare(&mut self.pipelines)
+    }
+
+    /// What the most recent completed frame that metered its exposure metered and used
+    /// (read when its frame slot is reused, or at once for [`Renderer::render_with`]):
+    /// the exposure, its EV100, the target and the histogram.
+    pub fn last_metered_exposure(&self) -> Option<&MeteredExposure> {
+        self.last_metered.as_ref()
+    }
+
     /// The GPU times of the most recent frame known to have completed (read when its
     /// frame slot is reused; at once for [`Renderer::render`]).
     pub fn last_completed_timings(&self) -> Option<PassTimings> {
@@ -793,6 +823,9 @@ impl Renderer {
     /// rendered again) and the shadow maps' contents.
     pub(crate) fn forget_abandoned_frames(&mut self) {
         self.states = graph::ImageStates::default();
+        // The exposure state may be one no frame wrote: the next metered frame starts
+        // from its own target.
+        self.metering_continues = false;
         for maps in [&mut self.shadow_maps, &mut self.local_shadow_maps]
             .into_iter()
             .flatten()
@@ -815,6 +848,10 @@ impl Renderer {
         if !s.is_free() {
             return Ok(results::SlotFrame::Pending);
         }
+        if std::mem::take(&mut s.metered) && s.recorded != 0 {
+            self.last_metered = s.completed_exposure();
+        }
+        let s = &mut self.slots[slot];
         let Some(t) = s.timestamps.as_ref().filter(|_| !s.stamped.is_empty()) else {
             return Ok(results::SlotFrame::Completed);
         };

@@ -40,6 +40,12 @@ pub(crate) struct SharedResources {
     /// An empty top-level acceleration structure and cut-out tables, bound where a set's
     /// ray queries trace nothing this frame (devices with ray queries only).
     pub(crate) no_scene: Option<(crate::accel::TopLevel, crate::accel::TracedCutouts)>,
+    /// The auto exposure's histogram of log2 luminance (zeros between frames: the
+    /// adaptation pass clears what the metering pass counted).
+    pub(crate) exposure_histogram: Buffer,
+    /// The auto exposure's state ([`crate::MeteredExposure`]'s bytes): the exposure the
+    /// output pass applies, the EV100 the next frame adapts from.
+    pub(crate) exposure_state: Buffer,
     /// A surface table of one empty entry, bound where a set could path-trace but its
     /// frame does not (devices with ray queries only).
     pub(crate) no_surfaces: Option<crate::accel::TracedSurfaces>,
@@ -71,6 +77,18 @@ impl SharedResources {
             overlay_font,
             overlay_atlas,
             overlay_image: (overlay_image_buffer(device, &[[0; 4]])?, None),
+            exposure_histogram: buffers::filled_storage_buffer(
+                device,
+                "auto exposure histogram",
+                &[0; 4 * crate::exposure::HISTOGRAM_BINS],
+            )?,
+            exposure_state: Buffer::new(
+                device,
+                "auto exposure state",
+                crate::exposure::MeteredExposure::BYTES,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+                buffers::GPU_ONLY,
+            )?,
             no_scene: if device.ray_queries() {
                 Some((
                     crate::accel::TopLevel::empty(device)?,

@@ -17,8 +17,9 @@ use crate::pipelines::SetLayouts;
 /// last command.
 pub(crate) const MAX_TIMESTAMPS: u32 = 16;
 
-/// The slot's frame-end record: the frame's marker (8 bytes), then its timestamps.
-const FRAME_END_BYTES: u64 = 8 * (1 + MAX_TIMESTAMPS as u64);
+/// The slot's frame-end record: the frame's marker (8 bytes), then its timestamps, then
+/// (at this offset, in frames that meter their exposure) the auto exposure's state.
+pub(crate) const FRAME_END_BYTES: u64 = 8 * (1 + MAX_TIMESTAMPS as u64);
 
 /// What one frame in flight owns. Reused only once the frame that used it last has
 /// completed (the host's promise when it records into the same slot again).
@@ -54,6 +55,9 @@ pub(crate) struct FrameSlot {
     /// that the frame completed: the slot check, the timings and every cache committed
     /// at record time read it, never a query.
     pub(crate) frame_end: Buffer,
+    /// Whether the slot's last recorded frame metered its exposure (its frame-end record
+    /// then holds the auto exposure's state).
+    pub(crate) metered: bool,
     /// The marker the slot's last recorded frame writes when it completes (0: no frame
     /// recorded since the slot was last known free).
     pub(crate) recorded: u64,
@@ -129,11 +133,12 @@ impl FrameSlot {
             frame_end: Buffer::new(
                 device,
                 "frame end marker and timings",
-                FRAME_END_BYTES,
+                FRAME_END_BYTES + crate::exposure::MeteredExposure::BYTES,
                 vk::BufferUsageFlags::TRANSFER_DST,
                 combustion_vk::gpu_allocator::MemoryLocation::GpuToCpu,
             )?,
             recorded: 0,
+            metered: false,
             stamped: Vec::new(),
             placement: crate::placement::SlotPlacement::new(device)?,
             joint_matrices: storage_buffer(device, JOINT_MATRICES, 64, CPU_TO_GPU)?,
@@ -164,6 +169,15 @@ impl FrameSlot {
     /// or no frame was recorded into it since it was last known free.
     pub fn is_free(&self) -> bool {
         self.recorded == 0 || self.completed_marker() >= self.recorded
+    }
+
+    /// The auto exposure's state the slot's completed frame copied (frames that
+    /// metered).
+    pub fn completed_exposure(&self) -> Option<crate::exposure::MeteredExposure> {
+        let bytes = self.frame_end.mapped().ok()?;
+        let start = FRAME_END_BYTES as usize;
+        let state = bytes.get(start..start + crate::exposure::MeteredExposure::BYTES as usize)?;
+        Some(crate::exposure::MeteredExposure::from_bytes(state))
     }
 
     /// The timestamps (ticks) the slot's completed frame copied, the first `count`.

@@ -15,6 +15,7 @@
 //! (docs/architecture.md walks through one).
 
 mod ambient_occlusion;
+pub(crate) mod auto_exposure;
 mod back_faces;
 mod behind;
 pub(crate) mod deform;
@@ -96,6 +97,9 @@ pub(crate) struct FrameContext<'a> {
     pub host_depth: Option<TrackedImage>,
     /// Where the frame's objects are (the scene's own placement, or the frame's pose).
     pub placement: crate::placement::Placement<'a>,
+    /// Whether an earlier frame of the renderer metered its exposure (its state is the
+    /// one an auto-exposed frame adapts from; else the frame takes its target at once).
+    pub metering_continues: bool,
     /// The cascades' and the local lights' shadow maps, in frames whose variant has
     /// shadows.
     pub shadow_maps: Option<(
@@ -195,6 +199,8 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &back_faces::BackFaces,
     &behind::Behind,
     &forward::Forward,
+    &auto_exposure::Metering,
+    &auto_exposure::Adaptation,
     &output::Output,
     &depth_copy::DepthCopy,
 ];

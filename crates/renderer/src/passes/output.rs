@@ -9,7 +9,7 @@ use crate::bindings::{self, SetDecl};
 use crate::error::RenderError;
 use crate::fullscreen::FullscreenPass;
 use crate::gpu_types::TonemapPush;
-use crate::graph::ImageUse;
+use crate::graph::{BufferUse, ImageUse};
 use crate::host::{AntiAliasing, OutputEncoding};
 use crate::overlay::OverlayPass;
 use crate::pass_io::PassIo;
@@ -126,6 +126,13 @@ impl FramePass for Output {
         PassIo::new(self.name())
             .slot_set(frame.slot, &bindings::OUTPUT)
             .image("hdr_image", frame.hdr, ImageUse::FragmentSampled)
+            // The auto exposure's factor, in frames that meter (bound in every frame).
+            .buffer_if(
+                frame.inputs.auto_exposure.is_some(),
+                "exposure_state",
+                &r.exposure_state,
+                BufferUse::FragmentStorageRead,
+            )
             .touches(frame.color, ImageUse::ColorAttachmentWrite)
             // The overlay's quads are the CPU's, its atlas and image made at start.
             .slot_set(frame.slot, &bindings::OVERLAY)
@@ -141,6 +148,7 @@ impl FramePass for Output {
         let push = TonemapPush {
             exposure: frame.inputs.exposure,
             curve: frame.inputs.tone_mapping as u32,
+            metered: u32::from(frame.inputs.auto_exposure.is_some()),
         };
         let passes: &OutputPasses = frame
             .registry
