@@ -937,6 +937,7 @@ impl<'c> Engine<'c> {
                 environment_seed: 0,
                 anti_aliasing: combustion::renderer::AntiAliasing::None,
                 auto_exposure: None,
+                bloom_intensity: combustion::renderer::DEFAULT_BLOOM_INTENSITY,
             };
             if let Err(e) = renderer.record(cmd, slot, scene, &inputs, &target) {
                 // SAFETY: end the (empty) recording so the buffer can be reset later.

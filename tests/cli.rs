@@ -3877,3 +3877,59 @@ fn exposure_by_camera_by_hand_and_metered() {
         &["--adaptation-speed", "between 0.01 and 1000"],
     );
 }
+
+/// Bloom on the command line: `--bloom on` renders (validation on) and changes the
+/// picture; its intensity without bloom, or out of 0 to 1, is refused in one line naming
+/// the option.
+#[test]
+fn bloom_on_the_command_line() {
+    let dir = scratch("bloom");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render",
+            "builtin:grid-7x7",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "--validate",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let (code, stdout, stderr) = combustion(&args);
+        assert_eq!(code, 0, "{args:?}: {stderr}");
+        assert!(stdout.contains("bloom "), "bloom is timed: {stdout}");
+        std::fs::read(&out).unwrap()
+    };
+    let plain = {
+        let out = dir.join("plain.png");
+        let (code, _, stderr) = combustion(&[
+            "render",
+            "builtin:grid-7x7",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        std::fs::read(&out).unwrap()
+    };
+    let glow = render("bloom.png", &["--bloom", "on", "--bloom-intensity", "0.3"]);
+    assert_ne!(glow, plain);
+    assert_refused(
+        &["render", "--bloom-intensity", "0.1"],
+        &["--bloom-intensity needs bloom"],
+    );
+    assert_refused(
+        &["render", "--bloom", "on", "--bloom-intensity", "2"],
+        &["--bloom-intensity", "between 0 and 1"],
+    );
+    assert_refused(
+        &["view", "--bloom", "off", "--bloom-intensity", "0.1"],
+        &["--bloom-intensity needs bloom"],
+    );
+}

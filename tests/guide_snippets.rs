@@ -10,7 +10,7 @@ use std::sync::{Arc, Mutex};
 
 use combustion::renderer::{
     AntiAliasing, Background, ColorTarget, DepthTarget, FrameInputs, FrameTarget, GpuScene,
-    Renderer, RendererSettings, ToneMapping,
+    Renderer, RendererSettings, ToneMapping, DEFAULT_BLOOM_INTENSITY,
 };
 use combustion::scene::{Camera, Light, Material, Mesh, Scene};
 use combustion::vk::gpu_allocator::vulkan::Allocator;
@@ -84,7 +84,7 @@ fn every_frame(
         &FrameInputs { camera, exposure, lights: &lights, overlay: &[], environment: None,
                        background: Background::None, tone_mapping: ToneMapping::Exponential,
                        pose: None, environment_seed: n as u32, anti_aliasing: AntiAliasing::Fxaa,
-                       auto_exposure: None },
+                       auto_exposure: None, bloom_intensity: DEFAULT_BLOOM_INTENSITY },
         &FrameTarget {
             // format, extent and usage from the create info the image was created with
             color: ColorTarget::from_create_info(image, view, &image_info, before, after)?,

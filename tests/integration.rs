@@ -21,6 +21,7 @@ mod animation;
 mod anti_aliasing;
 mod batch;
 mod blending;
+mod bloom;
 mod cli;
 mod cutouts;
 mod debug_views;

@@ -234,20 +234,25 @@ fn scripted_screenshot(
 }
 
 /// The headless render of `scene` at `width`×`height` as the viewer shows it by default:
-/// the default settings and FXAA (the viewer's default anti-aliasing).
+/// the default settings with bloom on (the window's default) and FXAA (the viewer's
+/// default anti-aliasing), metered by `auto_exposure` if given.
 fn headless_as_viewed(
     scene: &combustion::scene::Scene,
     width: u32,
     height: u32,
+    auto_exposure: Option<combustion::renderer::AutoExposure>,
 ) -> combustion::renderer::Frame {
     use combustion::renderer::{AntiAliasing, FrameInputs, Readback, RendererSettings};
-    let settings = RendererSettings::default();
+    let mut settings = RendererSettings::default();
+    let bloom = combustion::renderer::optional_pass("bloom").unwrap();
+    settings.shading.optional_passes = settings.shading.optional_passes.with(bloom, true);
     let mut headless = common::lavapipe(settings);
     let frame = {
         let renderer = headless.renderer();
         let gpu = renderer.upload(scene).expect("upload");
         let inputs = FrameInputs {
             anti_aliasing: AntiAliasing::Fxaa,
+            auto_exposure,
             ..FrameInputs::of_scene(&gpu, settings.exposure)
         };
         let readback = Readback {
@@ -263,7 +268,8 @@ fn headless_as_viewed(
 }
 
 /// Runs a scripted view with `run` and compares its screenshot with the headless
-/// render of the same scene, camera and size (with FXAA, as the viewer by default).
+/// render of the same scene, camera and size (with bloom and FXAA, as the viewer by
+/// default).
 fn scripted_screenshot_equals_headless(
     name: &str,
     run: impl FnOnce(&[&str]) -> (Option<i32>, String, String),
@@ -278,7 +284,7 @@ fn scripted_screenshot_equals_headless(
         path_text,
         &["--overlay", "off"],
     );
-    let reference = headless_as_viewed(&scene, 160, 120);
+    let reference = headless_as_viewed(&scene, 160, 120, None);
     let lit = pixels.iter().filter(|p| p[..3] != [0, 0, 0]).count();
     assert!(
         lit > pixels.len() / 10,
@@ -298,10 +304,10 @@ fn scripted_screenshot_equals_headless(
 /// Auto exposure in the viewer (`--auto-exposure on`): a scripted run whose camera holds
 /// still meters each frame's own radiance, so after its first frame (taken at once) every
 /// frame stays at that target, and the screenshot is, byte for byte, the headless render
-/// metered at once (with FXAA, as the viewer by default).
+/// metered at once (with bloom and FXAA, as the viewer by default).
 #[test]
 fn the_viewer_meters_as_the_headless_render_does() {
-    use combustion::renderer::{AntiAliasing, AutoExposure, FrameInputs, Readback};
+    use combustion::renderer::AutoExposure;
     let xvfb = Xvfb::start();
     let display = format!(":{}", xvfb.display);
     let still = "# time eye target\n0  0 1 6  0 0 0\n1  0 1 6  0 0 0\n";
@@ -314,33 +320,8 @@ fn the_viewer_meters_as_the_headless_render_does() {
         still,
         &["--overlay", "off", "--auto-exposure", "on"],
     );
-    let settings = combustion::renderer::RendererSettings::default();
-    let mut headless = common::lavapipe(settings);
-    let (reference, plain) = {
-        let renderer = headless.renderer();
-        let gpu = renderer.upload(&scene).expect("upload");
-        let inputs = FrameInputs {
-            anti_aliasing: AntiAliasing::Fxaa,
-            auto_exposure: Some(AutoExposure::default()),
-            ..FrameInputs::of_scene(&gpu, settings.exposure)
-        };
-        let readback = Readback {
-            images: true,
-            gbuffer: false,
-        };
-        let metered = renderer
-            .render_with(&gpu, &inputs, 160, 120, readback)
-            .expect("render");
-        let plain = FrameInputs {
-            auto_exposure: None,
-            ..inputs
-        };
-        let plain = renderer
-            .render_with(&gpu, &plain, 160, 120, readback)
-            .expect("render");
-        (metered, plain)
-    };
-    common::finish(headless);
+    let reference = headless_as_viewed(&scene, 160, 120, Some(AutoExposure::default()));
+    let plain = headless_as_viewed(&scene, 160, 120, None);
     let differing = |other: &combustion::renderer::Frame| {
         pixels
             .iter()
@@ -435,7 +416,7 @@ fn the_statistics_panel_covers_only_its_corner() {
         &[],
     );
     drop(xvfb);
-    let reference = headless_as_viewed(&scene, width, height);
+    let reference = headless_as_viewed(&scene, width, height, None);
     let differing: Vec<(u32, u32)> = (0..width * height)
         .filter(|&i| pixels[i as usize] != reference.ldr[i as usize])
         .map(|i| (i % width, i / width))

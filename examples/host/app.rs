@@ -510,6 +510,7 @@ impl Host {
             environment_seed: (n % 1024) as u32,
             anti_aliasing: combustion::renderer::AntiAliasing::None,
             auto_exposure: None,
+            bloom_intensity: combustion::renderer::DEFAULT_BLOOM_INTENSITY,
         };
         let viewport = self.viewport.as_mut().expect("ensured");
         let target = FrameTarget {

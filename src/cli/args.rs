@@ -272,6 +272,10 @@ pub(crate) struct FrameArgs {
     /// default)
     #[arg(long, value_name = "LOW,HIGH", value_parser = metering_window)]
     pub(crate) metering_window: Option<[f32; 2]>,
+    /// With bloom (`--bloom on`; the window's default): the fraction of the frame's
+    /// radiance spread into the glow, 0 to 1 (0.05 by default); the total is kept
+    #[arg(long, value_name = "X", value_parser = bloom_intensity)]
+    pub(crate) bloom_intensity: Option<f32>,
     /// The Fresnel term: the full equations, or a comparison variant
     #[arg(long, value_name = "MODEL", default_value = FresnelModel::default().name(), value_parser = named([FresnelModel::Full, FresnelModel::Schlick, FresnelModel::F82].map(|m| (m.name(), m))))]
     pub(crate) fresnel: FresnelModel,
@@ -367,6 +371,11 @@ fn iso(text: &str) -> Result<f32, String> {
     number_within(text, PhysicalCamera::ISOS, "")
 }
 
+/// `--bloom-intensity`: a fraction from 0 to 1.
+fn bloom_intensity(text: &str) -> Result<f32, String> {
+    number_within(text, [0.0, 1.0], "")
+}
+
 /// `--exposure-compensation`: stops within the auto exposure's range.
 fn compensation(text: &str) -> Result<f32, String> {
     number_within(text, AutoExposure::COMPENSATION, " stops")
@@ -404,6 +413,18 @@ pub(crate) fn adaptation_speed(text: &str) -> Result<[f32; 2], String> {
 }
 
 impl FrameArgs {
+    /// The bloom intensity asked for (else the default), refused where the frame has no
+    /// bloom (`bloom`: whether it has).
+    pub(crate) fn bloom_intensity(&self, bloom: bool) -> Result<f32, Error> {
+        match self.bloom_intensity {
+            Some(_) if !bloom => Err(Error::Usage(
+                "--bloom-intensity needs bloom (--bloom on; the window's default): there is no glow to set".into(),
+            )),
+            Some(intensity) => Ok(intensity),
+            None => Ok(combustion::renderer::DEFAULT_BLOOM_INTENSITY),
+        }
+    }
+
     /// The exposure factor asked for by hand: `--ev`'s 2^EV, the physical camera's, or
     /// `--exposure` (1 by default).
     pub(crate) fn exposure_factor(&self) -> f32 {
@@ -975,7 +996,7 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_name = "METHOD", default_value = "none", value_parser = named(AntiAliasing::ALL.map(|a| (a.name(), a))))]
     pub(crate) anti_aliasing: AntiAliasing,
     /// Measure the variant sets and write the speed-against-error report to DIR
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "aperture", "shutter", "iso", "auto_exposure", "exposure_compensation", "metering_window", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "scene_lights", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter", OptionalPassArgs::GROUP])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "aperture", "shutter", "iso", "auto_exposure", "exposure_compensation", "metering_window", "bloom_intensity", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "scene_lights", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter", OptionalPassArgs::GROUP])]
     pub(crate) report: Option<PathBuf>,
     /// With --report: add how this run reproduces an earlier report (rows with identical
     /// error columns, the spread of the frame-time ratios)
@@ -1024,6 +1045,10 @@ pub(crate) struct ViewArgs {
     /// Start in the error view (the error against the f64 reference)
     #[arg(long)]
     pub(crate) error_view: bool,
+    /// Bloom, the glow of bright things (on by default in the window; the Y key toggles
+    /// it)
+    #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
+    pub(crate) bloom: bool,
     /// With --auto-exposure on: how fast the exposure follows the metered one, RISE,FALL
     /// in EV per second (towards a darker scene, towards a brighter one; 0.01 to 1000
     /// each; 1,3 by default)

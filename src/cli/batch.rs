@@ -467,6 +467,9 @@ fn render_job(
         },
         pose: pose.as_ref(),
         auto_exposure: o.frame.auto_exposure()?,
+        bloom_intensity: o
+            .frame
+            .bloom_intensity(super::render::bloom_asked(&o.shading.optional.passes))?,
         ..FrameInputs::of_scene(gpu, settings.exposure)
     };
     let readback = Readback {

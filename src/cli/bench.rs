@@ -132,6 +132,9 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
 
 pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     let auto_exposure = o.frame.auto_exposure()?;
+    let bloom_intensity = o
+        .frame
+        .bloom_intensity(super::render::bloom_asked(&o.shading.optional.passes))?;
     if let Some(dir) = &o.report {
         return bench_report(o, dir);
     }
@@ -157,6 +160,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     let still = combustion::renderer::FrameInputs {
         anti_aliasing: o.anti_aliasing,
         auto_exposure,
+        bloom_intensity,
         ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings_exposure)
     };
     // One warm-up frame (first-touch allocations, driver caches) is not counted.

@@ -114,6 +114,11 @@ pub(crate) fn supersampled_size_error(
     }
 }
 
+/// Whether `passes` run bloom.
+pub(crate) fn bloom_asked(passes: &combustion::renderer::OptionalPasses) -> bool {
+    combustion::renderer::optional_pass("bloom").is_some_and(|bloom| passes.contains(bloom))
+}
+
 /// Whether `o` asks for ray-traced occlusion, and for path tracing.
 fn traced_and_path_traced(o: &RenderArgs) -> (bool, bool) {
     let asked = |name: &str| {
@@ -170,6 +175,9 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     }
     let until = frames_averaged(o)?;
     let auto_exposure = o.frame.auto_exposure()?;
+    let bloom_intensity = o
+        .frame
+        .bloom_intensity(bloom_asked(&o.shading.optional.passes))?;
     let (traced, path_traced) = traced_and_path_traced(o);
     let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
     let png_path = o.output.clone().or(default_output);
@@ -275,6 +283,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             anti_aliasing: o.picture.anti_aliasing_for(o.supersample),
             pose: pose.as_ref(),
             auto_exposure,
+            bloom_intensity,
             ..combustion::renderer::FrameInputs::of_scene(&gpu_scene, settings.exposure)
         };
         let size = (o.frame.width, o.frame.height);

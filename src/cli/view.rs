@@ -23,7 +23,11 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
         metering.rise_per_second = rise;
         metering.fall_per_second = fall;
     }
-    let (device, settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    let bloom_intensity = o.frame.bloom_intensity(o.bloom)?;
+    let (device, mut settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
+    if let Some(bloom) = combustion::renderer::optional_pass("bloom") {
+        settings.shading.optional_passes = settings.shading.optional_passes.with(bloom, o.bloom);
+    }
     preflight(&device, &o.frame)?;
     let summary = combustion::viewer::run(&combustion::viewer::ViewerDesc {
         scene: o.scene.source(),
@@ -41,6 +45,7 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
         tone_mapping: o.picture.tone_mapping,
         anti_aliasing: o.picture.anti_aliasing_for(1),
         auto_exposure: (auto_exposure.is_some(), metering),
+        bloom_intensity,
     })?;
     // A run too short to have read back a frame's timings (--frames 1) says so.
     let median = |list: &[f64]| {

@@ -84,6 +84,8 @@ pub struct ViewerDesc {
     /// metering window, compensation and adaptation speeds (its `elapsed_seconds` is
     /// the viewer's: the wall clock between frames, 1/30 s a frame on a camera path).
     pub auto_exposure: (bool, combustion_renderer::AutoExposure),
+    /// The fraction of radiance bloom spreads, in frames with bloom (Y toggles it).
+    pub bloom_intensity: f32,
 }
 
 /// The clock of scripted runs: frame n of a camera path is at time n / 30 s.
@@ -131,6 +133,10 @@ pub const KEYS: &[(&str, &str)] = &[
         "type the outside medium's index (digits, Enter applies, Escape cancels)",
     ),
     ("+ / -", "exposure up / down half a stop (with auto exposure: its compensation)"),
+    (
+        "Y",
+        "bloom on / off (the glow of bright things; on by default)",
+    ),
     (
         "U",
         "auto exposure on / off (metered from the frame; the statistics panel shows its EV and histogram)",
@@ -419,6 +425,8 @@ struct State {
     exposure: f32,
     /// The auto exposure's settings, and whether it is on.
     auto_exposure: (bool, combustion_renderer::AutoExposure),
+    /// The fraction of radiance bloom spreads (with bloom on).
+    bloom_intensity: f32,
     /// When the last frame was recorded (the auto exposure adapts over the time since).
     last_recorded: Option<Instant>,
     /// The background asked for (`None`: the environment where one lights the scene).
@@ -541,6 +549,7 @@ impl State {
             overrides: controls::Overrides::default(),
             exposure: desc.settings.exposure,
             auto_exposure: desc.auto_exposure,
+            bloom_intensity: desc.bloom_intensity,
             last_recorded: None,
             background: desc.background,
             tone_mapping: desc.tone_mapping,
@@ -737,6 +746,7 @@ impl State {
         let inputs = FrameInputs {
             camera,
             auto_exposure: self.metered(elapsed),
+            bloom_intensity: self.bloom_intensity,
             // Debug views are written for exposure 1 (their values come back as written).
             exposure: if self.renderer.shading().debug_view == DebugView::None {
                 self.exposure
@@ -919,8 +929,10 @@ impl State {
             pose: pose.as_ref(),
             environment_seed: 0,
             anti_aliasing: combustion_renderer::AntiAliasing::None,
-            // The error is of radiance: the exposure only colours the frame shown.
+            // The error is of radiance: the exposure only colours the frame shown, and
+            // bloom (intensity 0 leaves every pixel as it was) would count as error.
             auto_exposure: None,
+            bloom_intensity: 0.0,
         };
         let error = inspect::measure_error(
             &mut self.renderer,
@@ -1281,6 +1293,15 @@ impl App<'_> {
                     "shadows {}",
                     shading.shadows.map_or("off", |s| s.filter.name())
                 );
+            }
+            "y" | "Y" => {
+                let mut shading = state.renderer.shading();
+                if let Some(bloom) = combustion_renderer::optional_pass("bloom") {
+                    let on = !shading.optional_passes.contains(bloom);
+                    shading.optional_passes = shading.optional_passes.with(bloom, on);
+                    state.renderer.set_shading(shading, &[&state.gpu_scene])?;
+                    log::info!("bloom {}", if on { "on" } else { "off" });
+                }
             }
             "b" | "B" => {
                 let mut shading = state.renderer.shading();

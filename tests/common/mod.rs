@@ -166,6 +166,7 @@ pub fn frame_inputs<'a>(
         environment_seed: 0,
         anti_aliasing: combustion::renderer::AntiAliasing::None,
         auto_exposure: None,
+        bloom_intensity: combustion::renderer::DEFAULT_BLOOM_INTENSITY,
     }
 }
 

@@ -30,6 +30,12 @@ pub enum BindingKind {
         /// The GLSL format qualifier.
         format: &'static str,
     },
+    /// `image2D` with the given format qualifier, read and written by compute (a level
+    /// of bloom's chain built from the one beside it in the same image).
+    RwStorageImage2D {
+        /// The GLSL format qualifier.
+        format: &'static str,
+    },
     /// `uimage2D` with the given format qualifier (e.g. `r32ui`), written by compute.
     UStorageImage2D {
         /// The GLSL format qualifier.
@@ -72,6 +78,7 @@ impl BindingKind {
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER
             }
             Self::StorageImage2D { .. }
+            | Self::RwStorageImage2D { .. }
             | Self::UStorageImage2D { .. }
             | Self::StorageImage2DArray { .. } => vk::DescriptorType::STORAGE_IMAGE,
             Self::StorageBuffer { .. } | Self::RwStorageBuffer { .. } => {
@@ -207,6 +214,9 @@ impl SetDecl {
                         "layout({layout}, {format}) uniform writeonly image2D {};",
                         b.name
                     )
+                }
+                BindingKind::RwStorageImage2D { format } => {
+                    format!("layout({layout}, {format}) uniform image2D {};", b.name)
                 }
                 BindingKind::UStorageImage2D { format } => {
                     format!(

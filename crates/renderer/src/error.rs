@@ -47,6 +47,9 @@ pub enum RenderError {
     /// names it).
     #[error("{0}")]
     InvalidExposureSettings(String),
+    /// A bloom intensity that is not a number from 0 to 1.
+    #[error("bloom intensity {} must be a number from 0 to 1", combustion_optics::readable(*.0))]
+    InvalidBloomIntensity(f32),
     /// A frame meters its exposure before [`Renderer::prepare_auto_exposure`] was called.
     #[error("auto exposure was not prepared; call Renderer::prepare_auto_exposure before recording frames that meter their exposure")]
     AutoExposureNotPrepared,

@@ -155,6 +155,9 @@ impl Renderer {
         if !(inputs.exposure.is_finite() && inputs.exposure > 0.0) {
             return Err(RenderError::InvalidExposure(inputs.exposure));
         }
+        if !(0.0..=1.0).contains(&inputs.bloom_intensity) {
+            return Err(RenderError::InvalidBloomIntensity(inputs.bloom_intensity));
+        }
         if let Some(auto) = &inputs.auto_exposure {
             auto.validate()?;
             if !crate::passes::auto_exposure::prepared(&self.pipelines) {

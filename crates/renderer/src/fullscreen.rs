@@ -71,6 +71,8 @@ pub struct FullscreenPass {
     layout: PipelineLayout,
     pipeline: Pipeline,
     push_size: u32,
+    /// Its fragments are blended over what the target holds (loaded first).
+    blends: bool,
 }
 
 impl FullscreenPass {
@@ -104,6 +106,41 @@ impl FullscreenPass {
             layout,
             pipeline,
             push_size,
+            blends: false,
+        })
+    }
+
+    /// A pass whose fragments (colour, α) are blended over the target's contents:
+    /// colour · α + target · (1 − α), the target's alpha kept (bloom's composite).
+    pub fn blending(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        fragment_shader: &str,
+        set_layout: &DescriptorSetLayout,
+        push_size: u32,
+        output_format: vk::Format,
+    ) -> Result<Self, RenderError> {
+        let (layout, pipeline) = screen_pipeline(
+            device,
+            compiler,
+            cache,
+            &ScreenPipelineDesc {
+                vertex_shader: "fullscreen.vert",
+                fragment_shader,
+                defines: &[],
+                set_layout,
+                push_stages: vk::ShaderStageFlags::FRAGMENT,
+                push_size,
+                format: output_format,
+                blend: combustion_vk::ColorBlend::OverKeepingAlpha,
+            },
+        )?;
+        Ok(Self {
+            layout,
+            pipeline,
+            push_size,
+            blends: true,
         })
     }
 
@@ -111,7 +148,7 @@ impl FullscreenPass {
     /// COLOR_ATTACHMENT_OPTIMAL of `extent`), then `then` records more draws into the
     /// same rendering (e.g. the overlay over the output pass). `clear`: the value the
     /// rendering starts from, which the pixels the shader discards keep (`None`: the
-    /// shader writes every pixel, nothing is loaded).
+    /// shader writes every pixel, nothing is loaded; a blending pass loads the target).
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -127,6 +164,7 @@ impl FullscreenPass {
         debug_assert_eq!(push.len() as u32, self.push_size);
         let load = match clear {
             Some(_) => vk::AttachmentLoadOp::CLEAR,
+            None if self.blends => vk::AttachmentLoadOp::LOAD,
             None => vk::AttachmentLoadOp::DONT_CARE,
         };
         let attachment = [vk::RenderingAttachmentInfo::default()

@@ -234,6 +234,10 @@ pub struct FrameInputs<'a> {
     /// exposure given). Frames that meter need [`crate::Renderer::prepare_auto_exposure`]
     /// first.
     pub auto_exposure: Option<crate::AutoExposure>,
+    /// The fraction of the frame's radiance bloom spreads into its glow (0 to 1), in
+    /// frames whose shading runs bloom (`--bloom on`); 0.05 in
+    /// [`FrameInputs::of_scene`].
+    pub bloom_intensity: f32,
     /// This frame's lights (any number; validated like a scene's).
     pub lights: &'a [Light],
     /// Text panels drawn over the frame by the output pass (none: nothing drawn).
@@ -274,9 +278,14 @@ impl<'a> FrameInputs<'a> {
             environment_seed: 0,
             anti_aliasing: AntiAliasing::None,
             auto_exposure: None,
+            bloom_intensity: DEFAULT_BLOOM_INTENSITY,
         }
     }
 }
+
+/// The fraction of a frame's radiance bloom spreads by default (the viewer's; headless
+/// renders run no bloom unless asked).
+pub const DEFAULT_BLOOM_INTENSITY: f32 = 0.05;
 
 /// How the output pass smooths the edges of a frame (per frame,
 /// [`FrameInputs::anti_aliasing`]); its error against a 4×4-supersampled frame and its

@@ -89,7 +89,7 @@ pub use exposure::{
 };
 pub use host::{
     AntiAliasing, Background, ColorTarget, DepthTarget, FrameInputs, FrameTarget, OutputEncoding,
-    ToneMapping, DISPLAY_FORMAT,
+    ToneMapping, DEFAULT_BLOOM_INTENSITY, DISPLAY_FORMAT,
 };
 pub use light_cull::{LightCulling, MAX_CULLED_LIGHTS, TILE_SIZE};
 pub use options::{

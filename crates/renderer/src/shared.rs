@@ -46,6 +46,9 @@ pub(crate) struct SharedResources {
     /// The auto exposure's state ([`crate::MeteredExposure`]'s bytes): the exposure the
     /// output pass applies, the EV100 the next frame adapts from.
     pub(crate) exposure_state: Buffer,
+    /// Bloom's partial sums, scale and totals (`passes::bloom`; written and read within
+    /// a frame).
+    pub(crate) bloom_sums: Buffer,
     /// A surface table of one empty entry, bound where a set could path-trace but its
     /// frame does not (devices with ray queries only).
     pub(crate) no_surfaces: Option<crate::accel::TracedSurfaces>,
@@ -81,6 +84,12 @@ impl SharedResources {
                 device,
                 "auto exposure histogram",
                 &[0; 4 * crate::exposure::HISTOGRAM_BINS],
+            )?,
+            bloom_sums: buffers::storage_buffer(
+                device,
+                "bloom sums",
+                4 * 8 * (256 + 1),
+                buffers::GPU_ONLY,
             )?,
             exposure_state: Buffer::new(
                 device,

@@ -18,6 +18,7 @@ mod ambient_occlusion;
 pub(crate) mod auto_exposure;
 mod back_faces;
 mod behind;
+pub(crate) mod bloom;
 pub(crate) mod deform;
 mod depth_copy;
 mod forward;
@@ -199,6 +200,9 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &back_faces::BackFaces,
     &behind::Behind,
     &forward::Forward,
+    &bloom::BloomChain,
+    &bloom::BloomEnergy,
+    &bloom::Bloom,
     &auto_exposure::Metering,
     &auto_exposure::Adaptation,
     &output::Output,
