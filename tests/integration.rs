@@ -48,6 +48,7 @@ mod report;
 mod shading_options;
 mod shadows;
 mod specialisation;
+mod temporal;
 mod texture_transform;
 mod tone_mapping;
 mod transmission;

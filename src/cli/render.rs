@@ -114,6 +114,12 @@ pub(crate) fn supersampled_size_error(
     }
 }
 
+/// Whether `passes` run temporal anti-aliasing.
+pub(crate) fn temporal_asked(passes: &combustion::renderer::OptionalPasses) -> bool {
+    combustion::renderer::optional_pass("temporal-anti-aliasing")
+        .is_some_and(|taa| passes.contains(taa))
+}
+
 /// Whether `passes` run bloom.
 pub(crate) fn bloom_asked(passes: &combustion::renderer::OptionalPasses) -> bool {
     combustion::renderer::optional_pass("bloom").is_some_and(|bloom| passes.contains(bloom))
@@ -291,7 +297,22 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             None if o.supersample > 1 => renderer
                 .render_supersampled(&gpu_scene, &inputs, size.0, size.1, o.supersample)
                 .map_err(|e| supersampled_size_error(e, o.supersample, size))?,
-            None => renderer.render_with(&gpu_scene, &inputs, size.0, size.1, IMAGES)?,
+            None => {
+                // Temporal anti-aliasing: a still frame is the last of one period of the
+                // jitter from its camera (the history's first frames run unread).
+                if temporal_asked(&o.shading.optional.passes) {
+                    for _ in 1..combustion::renderer::TEMPORAL_JITTER_PERIOD {
+                        renderer.render_with(
+                            &gpu_scene,
+                            &inputs,
+                            size.0,
+                            size.1,
+                            combustion::renderer::Readback::default(),
+                        )?;
+                    }
+                }
+                renderer.render_with(&gpu_scene, &inputs, size.0, size.1, IMAGES)?
+            }
             Some(Until::Frames(frames)) => {
                 let (frame, frames, achieved) =
                     accumulate(renderer, &gpu_scene, &inputs, size, Until::Frames(frames))?;

@@ -134,6 +134,10 @@ pub const KEYS: &[(&str, &str)] = &[
     ),
     ("+ / -", "exposure up / down half a stop (with auto exposure: its compensation)"),
     (
+        "T",
+        "temporal anti-aliasing on / off (a jittered camera, each pixel blended with its history)",
+    ),
+    (
         "Y",
         "bloom on / off (the glow of bright things; on by default)",
     ),
@@ -1293,6 +1297,15 @@ impl App<'_> {
                     "shadows {}",
                     shading.shadows.map_or("off", |s| s.filter.name())
                 );
+            }
+            "t" | "T" => {
+                let mut shading = state.renderer.shading();
+                if let Some(taa) = combustion_renderer::optional_pass("temporal-anti-aliasing") {
+                    let on = !shading.optional_passes.contains(taa);
+                    shading.optional_passes = shading.optional_passes.with(taa, on);
+                    state.renderer.set_shading(shading, &[&state.gpu_scene])?;
+                    log::info!("temporal anti-aliasing {}", if on { "on" } else { "off" });
+                }
             }
             "y" | "Y" => {
                 let mut shading = state.renderer.shading();

@@ -453,7 +453,7 @@ impl SetWriter {
 }
 
 pub(crate) const FRAGMENT: vk::ShaderStageFlags = vk::ShaderStageFlags::FRAGMENT;
-const VERTEX: vk::ShaderStageFlags = vk::ShaderStageFlags::VERTEX;
+pub(crate) const VERTEX: vk::ShaderStageFlags = vk::ShaderStageFlags::VERTEX;
 pub(crate) const COMPUTE: vk::ShaderStageFlags = vk::ShaderStageFlags::COMPUTE;
 
 /// The material table as the lighting pass reads it (the G-buffer pass declares its own,
@@ -468,7 +468,7 @@ pub(crate) const MATERIALS: Binding = Binding::new(
 );
 
 /// The object table, read by the vertex stage of the passes that rasterise the scene.
-const OBJECTS: Binding = Binding::new(
+pub(crate) const OBJECTS: Binding = Binding::new(
     "objects",
     BindingKind::StorageBuffer {
         block: "Objects",

@@ -19,7 +19,8 @@ use crate::passes::FrameContext;
 use crate::results::Frame;
 use crate::scene_upload::GpuScene;
 use crate::slot::{
-    JOINT_MATRICES, LIGHTS, MORPH_WEIGHTS, OVERLAY_QUADS, SHADOW_CASCADES, TILE_LISTS,
+    JOINT_MATRICES, LIGHTS, MORPH_WEIGHTS, OVERLAY_QUADS, PREVIOUS_MODELS, SHADOW_CASCADES,
+    TILE_LISTS,
 };
 use crate::Renderer;
 use combustion_vk::{Image, ImageDesc, RingFrame};
@@ -128,7 +129,16 @@ impl Renderer {
         self.write_frame_lights(frame_slot, inputs, &shadowed)?;
         self.prepare_culling(frame_slot, inputs, extent)?;
         self.write_frame_overlay(frame_slot, inputs, extent)?;
-        self.record_passes(cmd, frame_slot, &requests, scene, variant, inputs, target);
+        let temporal = self.prepare_temporal(frame_slot, scene, inputs, extent, variant)?;
+        self.record_passes(
+            cmd,
+            frame_slot,
+            &requests,
+            scene,
+            (variant, temporal),
+            inputs,
+            target,
+        );
         self.frame_number += 1;
         self.last_slot = Some(frame_slot);
         self.retire_unused_images();
@@ -503,6 +513,48 @@ impl Renderer {
         Ok(())
     }
 
+    /// In frames of temporal anti-aliasing: the previous camera and each object's
+    /// previous transform (written into the slot for the motion pass), the history's
+    /// state; the renderer remembers this frame's for the next. `None` in other frames
+    /// (and the history is forgotten).
+    fn prepare_temporal(
+        &mut self,
+        slot: usize,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        extent: vk::Extent2D,
+        variant: crate::variant::ShaderVariant,
+    ) -> Result<Option<crate::passes::temporal_anti_aliasing::TemporalFrame>, RenderError> {
+        if !crate::passes::temporal_anti_aliasing::wanted(variant) {
+            self.temporal.forget();
+            return Ok(None);
+        }
+        let placement = self.slots[slot].placement.of(scene);
+        let transforms: Vec<glam::Mat4> = (0..scene.scene().objects.len())
+            .map(|i| placement.transform(scene, i))
+            .collect();
+        let unjittered = inputs
+            .camera
+            .view_projection(extent.width as f32 / extent.height as f32);
+        let key = (
+            scene as *const GpuScene as usize,
+            scene.geometry_version,
+            [extent.width, extent.height],
+        );
+        let (frame, previous) = self.temporal.advance(key, unjittered, transforms);
+        let mut table: Vec<[f32; 16]> = previous.iter().map(|m| m.to_cols_array()).collect();
+        if table.is_empty() {
+            table.push([0.0; 16]);
+        }
+        write_growing(
+            &self.device,
+            &mut self.slots[slot].previous_models,
+            PREVIOUS_MODELS,
+            bytemuck::cast_slice(&table),
+        )?;
+        Ok(Some(frame))
+    }
+
     fn write_frame_overlay(
         &mut self,
         slot: usize,
@@ -539,7 +591,10 @@ impl Renderer {
         slot: usize,
         requests: &[crate::targets::ImageRequest],
         scene: &GpuScene,
-        variant: crate::variant::ShaderVariant,
+        (variant, temporal): (
+            crate::variant::ShaderVariant,
+            Option<crate::passes::temporal_anti_aliasing::TemporalFrame>,
+        ),
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
     ) {
@@ -547,9 +602,24 @@ impl Renderer {
         // recording changes: taken out so the passes can read the renderer meanwhile.
         let mut states = std::mem::take(&mut self.states);
         let extent = target.color.extent;
-        let view_projection = inputs
+        let mut view_projection = inputs
             .camera
             .view_projection(extent.width as f32 / extent.height as f32);
+        // Temporal anti-aliasing moves every pass's camera by the frame's jitter (the
+        // history's frame index: the previous frames' were the ones before it).
+        if temporal.is_some() {
+            use crate::passes::temporal_anti_aliasing::{jitter, jittered};
+            let index = self.temporal.frames() - 1;
+            view_projection = jittered(
+                view_projection,
+                if std::env::var("NOJIT").is_ok() {
+                    [0.0; 2]
+                } else {
+                    jitter(index)
+                },
+                extent,
+            );
+        }
         let s = &self.slots[slot];
         let mut lighting_push = LightingPush::new(
             view_projection,
@@ -605,6 +675,7 @@ impl Renderer {
                 .filter(|_| variant.shadows.is_some()),
             placement: s.placement.of(scene),
             metering_continues: self.metering_continues,
+            temporal,
         };
         let device = &*self.device;
         let raw = device.raw();

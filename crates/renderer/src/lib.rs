@@ -49,6 +49,11 @@ mod layers;
 mod mesh_draw;
 mod offscreen;
 pub use offscreen::MAX_SUPERSAMPLE;
+/// Temporal anti-aliasing's jitter ([`temporal_jitter`]: Halton (2, 3), repeating every
+/// [`TEMPORAL_JITTER_PERIOD`] frames) and the share of each frame in the history.
+pub use passes::temporal_anti_aliasing::{
+    jitter as temporal_jitter, JITTER_PERIOD as TEMPORAL_JITTER_PERIOD, TEMPORAL_BLEND,
+};
 /// Paths per pixel in a path-traced frame (`--path-trace on`).
 pub use passes::PATHS_PER_FRAME;
 mod options;
@@ -194,6 +199,9 @@ pub struct Renderer {
     last_timings: Option<PassTimings>,
     /// What the latest completed frame that metered its exposure used.
     last_metered: Option<MeteredExposure>,
+    /// Temporal anti-aliasing's history between frames (the previous camera and
+    /// transforms, the jitter's index).
+    temporal: passes::temporal_anti_aliasing::TemporalState,
     /// Whether a frame has metered its exposure since the renderer was made (or its
     /// unrun frames forgotten): the state the next metered frame adapts from.
     metering_continues: bool,
@@ -253,6 +261,7 @@ impl Renderer {
             last_timings: None,
             last_metered: None,
             metering_continues: false,
+            temporal: Default::default(),
             completed_timings: std::collections::VecDeque::new(),
             stats: RendererStats::default(),
             device,
@@ -824,8 +833,9 @@ impl Renderer {
     pub(crate) fn forget_abandoned_frames(&mut self) {
         self.states = graph::ImageStates::default();
         // The exposure state may be one no frame wrote: the next metered frame starts
-        // from its own target.
+        // from its own target; likewise the temporal history.
         self.metering_continues = false;
+        self.temporal.forget();
         for maps in [&mut self.shadow_maps, &mut self.local_shadow_maps]
             .into_iter()
             .flatten()

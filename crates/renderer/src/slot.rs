@@ -15,7 +15,7 @@ use crate::pipelines::SetLayouts;
 
 /// Timestamps a frame may write: its start, the end of each pass, and the end of its
 /// last command.
-pub(crate) const MAX_TIMESTAMPS: u32 = 16;
+pub(crate) const MAX_TIMESTAMPS: u32 = 32;
 
 /// The slot's frame-end record: the frame's marker (8 bytes), then its timestamps, then
 /// (at this offset, in frames that meter their exposure) the auto exposure's state.
@@ -66,6 +66,10 @@ pub(crate) struct FrameSlot {
     pub(crate) stamped: Vec<&'static str>,
     /// Where the slot's frame places the objects (its pose's object table and boxes).
     pub(crate) placement: crate::placement::SlotPlacement,
+    /// Each object's transform in the frame before the slot's frame (host-visible;
+    /// grows), in frames of temporal anti-aliasing: what the motion pass measures
+    /// motion from.
+    pub(crate) previous_models: Buffer,
     /// The skins' joint matrices of the slot's frame (host-visible; grows), in frames of
     /// scenes with deformed objects.
     pub(crate) joint_matrices: Buffer,
@@ -142,6 +146,7 @@ impl FrameSlot {
             stamped: Vec::new(),
             placement: crate::placement::SlotPlacement::new(device)?,
             joint_matrices: storage_buffer(device, JOINT_MATRICES, 64, CPU_TO_GPU)?,
+            previous_models: storage_buffer(device, PREVIOUS_MODELS, 64, CPU_TO_GPU)?,
             morph_weights: storage_buffer(device, MORPH_WEIGHTS, 4, CPU_TO_GPU)?,
             retired: Vec::new(),
         })
@@ -206,3 +211,4 @@ pub(crate) const OVERLAY_QUADS: &str = "frame overlay quads";
 pub(crate) const SHADOW_CASCADES: &str = "frame shadow cascades";
 pub(crate) const JOINT_MATRICES: &str = "frame joint matrices";
 pub(crate) const MORPH_WEIGHTS: &str = "frame morph weights";
+pub(crate) const PREVIOUS_MODELS: &str = "frame previous object transforms";

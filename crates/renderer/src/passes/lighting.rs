@@ -249,13 +249,20 @@ impl FramePass for Lighting {
         Ok(())
     }
 
-    fn images(&self, _variant: ShaderVariant, settings: &RendererSettings) -> Vec<ImageRequest> {
+    fn images(&self, variant: ShaderVariant, settings: &RendererSettings) -> Vec<ImageRequest> {
+        // Temporal anti-aliasing copies its resolved radiance back in.
+        let resolved_into = if super::temporal_anti_aliasing::wanted(variant) {
+            vk::ImageUsageFlags::TRANSFER_DST
+        } else {
+            vk::ImageUsageFlags::empty()
+        };
         vec![ImageRequest::new(
             HDR,
             settings.hdr_format.vk(),
             vk::ImageUsageFlags::COLOR_ATTACHMENT
                 | vk::ImageUsageFlags::SAMPLED
-                | vk::ImageUsageFlags::TRANSFER_SRC,
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | resolved_into,
         )]
     }
 

@@ -33,6 +33,7 @@ pub(crate) mod ray_traced_reflections;
 pub(crate) mod ray_traced_refraction;
 mod ray_traced_shadows;
 mod shadow_maps;
+pub(crate) mod temporal_anti_aliasing;
 mod traced;
 
 use combustion_vk::vk;
@@ -98,6 +99,9 @@ pub(crate) struct FrameContext<'a> {
     pub host_depth: Option<TrackedImage>,
     /// Where the frame's objects are (the scene's own placement, or the frame's pose).
     pub placement: crate::placement::Placement<'a>,
+    /// The jitter's removal, the previous camera and the history's state, in frames of
+    /// temporal anti-aliasing.
+    pub temporal: Option<temporal_anti_aliasing::TemporalFrame>,
     /// Whether an earlier frame of the renderer metered its exposure (its state is the
     /// one an auto-exposed frame adapts from; else the frame takes its target at once).
     pub metering_continues: bool,
@@ -189,6 +193,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &deform::Deform,
     &shadow_maps::ShadowMaps,
     &gbuffer::GBuffer,
+    &temporal_anti_aliasing::Motion,
     &light_cull::LightCull,
     &ambient_occlusion::AmbientOcclusion,
     &ray_traced_occlusion::RayTracedOcclusion,
@@ -200,6 +205,8 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &back_faces::BackFaces,
     &behind::Behind,
     &forward::Forward,
+    &temporal_anti_aliasing::TemporalResolve,
+    &temporal_anti_aliasing::TemporalCopy,
     &bloom::BloomChain,
     &bloom::BloomEnergy,
     &bloom::Bloom,
