@@ -19,8 +19,8 @@ use crate::passes::FrameContext;
 use crate::results::Frame;
 use crate::scene_upload::GpuScene;
 use crate::slot::{
-    JOINT_MATRICES, LIGHTS, MORPH_WEIGHTS, OVERLAY_QUADS, PREVIOUS_MODELS, SHADOW_CASCADES,
-    TILE_LISTS,
+    JOINT_MATRICES, LIGHTS, MORPH_WEIGHTS, OVERLAY_QUADS, PREVIOUS_MODELS, PREVIOUS_VERTEX_BASES,
+    SHADOW_CASCADES, TILE_LISTS,
 };
 use crate::Renderer;
 use combustion_vk::{Image, ImageDesc, RingFrame};
@@ -529,6 +529,10 @@ impl Renderer {
             self.temporal.forget();
             return Ok(None);
         }
+        if let Some(old) = self.temporal.fit_previous_vertices(&self.device, scene)? {
+            self.states.forget_buffer(old.raw());
+            self.retire(old);
+        }
         let placement = self.slots[slot].placement.of(scene);
         let transforms: Vec<glam::Mat4> = (0..scene.scene().objects.len())
             .map(|i| placement.transform(scene, i))
@@ -551,6 +555,29 @@ impl Renderer {
             &mut self.slots[slot].previous_models,
             PREVIOUS_MODELS,
             bytemuck::cast_slice(&table),
+        )?;
+        // Each posed object's first vertex in the previous pose (vertices of 48 bytes).
+        let not_posed = crate::passes::temporal_anti_aliasing::NOT_POSED;
+        let mut bases: Vec<u32> = (0..scene.scene().objects.len())
+            .map(|i| {
+                scene
+                    .gpu
+                    .deform
+                    .as_ref()
+                    .and_then(|d| d.posed_offsets[i])
+                    .map_or(not_posed, |offset| {
+                        (offset / std::mem::size_of::<crate::gpu_types::GpuVertex>() as u64) as u32
+                    })
+            })
+            .collect();
+        if bases.is_empty() {
+            bases.push(not_posed);
+        }
+        write_growing(
+            &self.device,
+            &mut self.slots[slot].previous_vertex_bases,
+            PREVIOUS_VERTEX_BASES,
+            bytemuck::cast_slice(&bases),
         )?;
         Ok(Some(frame))
     }
@@ -676,6 +703,11 @@ impl Renderer {
             placement: s.placement.of(scene),
             metering_continues: self.metering_continues,
             temporal,
+            previous_vertices: self
+                .temporal
+                .previous_vertices
+                .as_ref()
+                .filter(|_| temporal.is_some()),
         };
         let device = &*self.device;
         let raw = device.raw();

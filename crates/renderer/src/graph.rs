@@ -277,17 +277,21 @@ impl ImageStates {
                 Some(image_barrier(image.raw, image.range, from, to))
             })
             .collect();
-        // Buffers: only those the GPU writes are tracked (data the CPU wrote before the
-        // submission is visible to all of it). A barrier after a GPU write (read after
-        // write, write after write) and before a GPU write that follows GPU reads;
-        // none after the CPU read a buffer, since it waited for the frame to do so.
+        // Buffers: data the CPU wrote before the submission is visible to all of it. A
+        // barrier after a GPU write (read after write, write after write) and before a
+        // GPU write that follows GPU reads; none after the CPU read a buffer, since it
+        // waited for the frame to do so.
         let memory: Vec<_> = pass
             .buffers
             .iter()
             .filter_map(|&(buffer, use_)| {
                 let Some(&before) = self.buffers.get(&buffer) else {
+                    // A first use: nothing to wait for. A read is remembered too, so that
+                    // a GPU write after it waits for it (a buffer read before its first
+                    // GPU write: the previous pose, read empty by a frame's first motion
+                    // pass, then written).
+                    self.buffers.insert(buffer, use_);
                     if use_.writes() {
-                        self.buffers.insert(buffer, use_);
                         self.written.insert(buffer, (use_, Vec::new()));
                     }
                     return None;

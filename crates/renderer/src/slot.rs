@@ -70,6 +70,9 @@ pub(crate) struct FrameSlot {
     /// grows), in frames of temporal anti-aliasing: what the motion pass measures
     /// motion from.
     pub(crate) previous_models: Buffer,
+    /// Per object, the index of its first vertex in the previous posed vertices
+    /// (`NOT_POSED`: it draws its mesh's own), likewise.
+    pub(crate) previous_vertex_bases: Buffer,
     /// The skins' joint matrices of the slot's frame (host-visible; grows), in frames of
     /// scenes with deformed objects.
     pub(crate) joint_matrices: Buffer,
@@ -147,6 +150,7 @@ impl FrameSlot {
             placement: crate::placement::SlotPlacement::new(device)?,
             joint_matrices: storage_buffer(device, JOINT_MATRICES, 64, CPU_TO_GPU)?,
             previous_models: storage_buffer(device, PREVIOUS_MODELS, 64, CPU_TO_GPU)?,
+            previous_vertex_bases: storage_buffer(device, PREVIOUS_VERTEX_BASES, 4, CPU_TO_GPU)?,
             morph_weights: storage_buffer(device, MORPH_WEIGHTS, 4, CPU_TO_GPU)?,
             retired: Vec::new(),
         })
@@ -212,3 +216,4 @@ pub(crate) const SHADOW_CASCADES: &str = "frame shadow cascades";
 pub(crate) const JOINT_MATRICES: &str = "frame joint matrices";
 pub(crate) const MORPH_WEIGHTS: &str = "frame morph weights";
 pub(crate) const PREVIOUS_MODELS: &str = "frame previous object transforms";
+pub(crate) const PREVIOUS_VERTEX_BASES: &str = "frame previous vertex bases";

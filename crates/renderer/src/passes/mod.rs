@@ -102,6 +102,9 @@ pub(crate) struct FrameContext<'a> {
     /// The jitter's removal, the previous camera and the history's state, in frames of
     /// temporal anti-aliasing.
     pub temporal: Option<temporal_anti_aliasing::TemporalFrame>,
+    /// The previous frame's posed vertices, in frames of temporal anti-aliasing of
+    /// scenes that deform.
+    pub previous_vertices: Option<&'a combustion_vk::Buffer>,
     /// Whether an earlier frame of the renderer metered its exposure (its state is the
     /// one an auto-exposed frame adapts from; else the frame takes its target at once).
     pub metering_continues: bool,
@@ -194,6 +197,7 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &shadow_maps::ShadowMaps,
     &gbuffer::GBuffer,
     &temporal_anti_aliasing::Motion,
+    &temporal_anti_aliasing::MotionHistory,
     &light_cull::LightCull,
     &ambient_occlusion::AmbientOcclusion,
     &ray_traced_occlusion::RayTracedOcclusion,

@@ -14,10 +14,16 @@
 //! - the copy: the resolved radiance into the HDR image, which bloom, the auto exposure
 //!   and the output pass read.
 //!
+//! (A fourth, the motion history, keeps the posed vertices for the next frame in scenes
+//! with skinned or morphed objects.)
+//!
+//! Skinned and morphed vertices move from their previous pose: the deform pass's posed
+//! vertices are copied, after the motion pass has read them, into a buffer the next
+//! frame's motion pass reads as the previous pose (the motion history pass).
+//!
 //! Rule for what the motion pass does not see: blended and transmissive surfaces (drawn
-//! by the forward pass) take the motion of the opaque surface behind them, and skinned
-//! and morphed vertices move with their object's transform only (their previous pose is
-//! not kept yet); the neighbourhood clipping bounds the ghosting of both.
+//! by the forward pass) take the motion of the opaque surface behind them; the
+//! neighbourhood clipping bounds their ghosting.
 
 use combustion_vk::{
     vk, ColorBlend, DescriptorSetLayout, Device, GraphicsPipelineDesc, Image, Pipeline,
@@ -66,6 +72,8 @@ const HISTORY: [&str; 2] = ["temporal history 0", "temporal history 1"];
 
 /// The motion pass.
 pub(crate) struct Motion;
+/// The copy of this frame's posed vertices for the next frame's motion.
+pub(crate) struct MotionHistory;
 /// The resolve.
 pub(crate) struct TemporalResolve;
 /// The copy into the HDR image.
@@ -88,9 +96,16 @@ pub(crate) struct TemporalFrame {
 /// What a history belongs to: a scene (its address and geometry version) at a size.
 pub(crate) type HistoryKey = (usize, u64, [u32; 2]);
 
+/// Marks an object without posed vertices in the previous-vertex bases.
+pub(crate) const NOT_POSED: u32 = u32::MAX;
+
 /// What the renderer keeps between frames of temporal anti-aliasing.
 #[derive(Default)]
 pub(crate) struct TemporalState {
+    /// The previous frame's posed vertices (`GpuVertex`), for scenes with skinned or
+    /// morphed objects: the scene's posed buffer copied at the end of each frame's
+    /// motion pass; made at the first such frame, the size of the scene's.
+    pub(crate) previous_vertices: Option<combustion_vk::Buffer>,
     /// The last frame's scene (its address and geometry version), size, unjittered
     /// view-projection and object transforms.
     last: Option<(HistoryKey, Mat4, Vec<Mat4>)>,
@@ -131,9 +146,42 @@ impl TemporalState {
         self.frames
     }
 
-    /// Forgets the history (frames that never ran, a change of shading).
+    /// Forgets the history (frames that never ran, a change of shading); keeps the
+    /// previous vertices' buffer (the next history starts by writing it).
     pub(crate) fn forget(&mut self) {
-        *self = Self::default();
+        self.last = None;
+        self.frames = 0;
+    }
+
+    /// A buffer for the previous posed vertices of `scene` (made, or replaced by a
+    /// larger one, here: the old one is returned to be retired), or `None` for a scene
+    /// without deformed objects.
+    pub(crate) fn fit_previous_vertices(
+        &mut self,
+        device: &Arc<Device>,
+        scene: &crate::scene_upload::GpuScene,
+    ) -> Result<Option<combustion_vk::Buffer>, RenderError> {
+        let Some(deform) = &scene.gpu.deform else {
+            return Ok(None);
+        };
+        let size = deform.posed.size();
+        if self
+            .previous_vertices
+            .as_ref()
+            .is_some_and(|b| b.size() >= size)
+        {
+            return Ok(None);
+        }
+        let made = combustion_vk::Buffer::new(
+            device,
+            "temporal previous posed vertices",
+            size,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            crate::buffers::GPU_ONLY,
+        )?;
+        // The history over the old buffer is gone with it.
+        self.forget();
+        Ok(self.previous_vertices.replace(made))
     }
 }
 
@@ -229,6 +277,22 @@ pub(crate) static MOTION_SET: SetDecl = SetDecl {
             BindingKind::StorageBuffer {
                 block: "PreviousModels",
                 element: "mat4",
+            },
+            VERTEX,
+        ),
+        Binding::new(
+            "previous_vertex_bases",
+            BindingKind::StorageBuffer {
+                block: "PreviousVertexBases",
+                element: "uint",
+            },
+            VERTEX,
+        ),
+        Binding::new(
+            "previous_vertices",
+            BindingKind::StorageBuffer {
+                block: "PreviousVertices",
+                element: "float",
             },
             VERTEX,
         ),
@@ -419,7 +483,7 @@ impl FramePass for Motion {
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        PassIo::new(self.name())
+        let io = PassIo::new(self.name())
             .slot_set(frame.slot, &MOTION_SET)
             .buffer(
                 "objects",
@@ -427,7 +491,16 @@ impl FramePass for Motion {
                 BufferUse::VertexStorageRead,
             )
             .bind_buffer("previous_models", &frame.slot.previous_models)
-            .posed_vertices(frame.scene)
+            .bind_buffer("previous_vertex_bases", &frame.slot.previous_vertex_bases);
+        // The previous pose, where the scene deforms (else a placeholder never read:
+        // every object's base says it has none).
+        let io = match (frame.previous_vertices, &frame.scene.gpu.deform) {
+            (Some(previous), Some(_)) => {
+                io.buffer("previous_vertices", previous, BufferUse::VertexStorageRead)
+            }
+            _ => io.bind_buffer("previous_vertices", &frame.slot.previous_vertex_bases),
+        };
+        io.posed_vertices(frame.scene)
             .touches(
                 frame.images.get(MOTION).into(),
                 ImageUse::ColorAttachmentWrite,
@@ -497,6 +570,59 @@ impl FramePass for Motion {
             );
             raw.cmd_end_rendering(cmd);
         }
+    }
+}
+
+impl FramePass for MotionHistory {
+    fn name(&self) -> &'static str {
+        "motion history"
+    }
+
+    fn runs(&self, frame: &FrameContext<'_>) -> bool {
+        wanted(frame.variant)
+            && frame.scene.gpu.deform.is_some()
+            && frame.previous_vertices.is_some()
+    }
+
+    /// Timed with the next timed pass.
+    fn timed(&self) -> bool {
+        false
+    }
+
+    fn io(&self, frame: &FrameContext<'_>) -> PassIo {
+        let deform = frame
+            .scene
+            .gpu
+            .deform
+            .as_ref()
+            .expect("runs only with them");
+        let previous = frame.previous_vertices.expect("runs only with it");
+        PassIo::new(self.name())
+            .uses_buffer(&deform.posed, BufferUse::TransferSource)
+            .uses_buffer(previous, BufferUse::TransferDestination)
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let deform = frame
+            .scene
+            .gpu
+            .deform
+            .as_ref()
+            .expect("runs only with them");
+        let previous = frame.previous_vertices.expect("runs only with it");
+        let region = [vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size: deform.posed.size(),
+        }];
+        // SAFETY: outside any rendering; the previous buffer is at least the posed one's
+        // size (TemporalState::fit_previous_vertices).
+        unsafe {
+            frame
+                .device
+                .raw()
+                .cmd_copy_buffer(cmd, deform.posed.raw(), previous.raw(), &region)
+        };
     }
 }
 
