@@ -23,13 +23,17 @@ pub enum Method {
     OutputPass(AntiAliasing),
     /// N×N samples a pixel (`Renderer::render_supersampled`).
     Supersample(u32),
+    /// Temporal anti-aliasing (the `temporal-anti-aliasing` pass) on a still camera: the
+    /// last of one period of its jitter (16 frames).
+    Temporal,
 }
 
 impl Method {
-    /// Every method measured: none, FXAA, 2×2 and 3×3 supersampling.
-    pub const ALL: [Method; 4] = [
+    /// Every method measured: none, FXAA, temporal, 2×2 and 3×3 supersampling.
+    pub const ALL: [Method; 5] = [
         Method::OutputPass(AntiAliasing::None),
         Method::OutputPass(AntiAliasing::Fxaa),
+        Method::Temporal,
         Method::Supersample(2),
         Method::Supersample(3),
     ];
@@ -39,6 +43,7 @@ impl Method {
         match self {
             Method::OutputPass(a) => a.name().to_owned(),
             Method::Supersample(n) => format!("supersample {n}x{n}"),
+            Method::Temporal => "temporal".to_owned(),
         }
     }
 }
@@ -109,6 +114,7 @@ pub(super) fn measure(
                         time_frames_with(renderer, &gpu, &inputs, large, desc.frames)?,
                     )
                 }
+                Method::Temporal => temporal(renderer, &gpu, &inputs, size, desc.frames)?,
             };
             let passes = PassSpreads::of(&timings);
             rows.push(AntiAliasingRow {
@@ -125,6 +131,39 @@ pub(super) fn measure(
     drop(headless);
     check_validation(&validation)?;
     Ok(rows)
+}
+
+/// A still frame of temporal anti-aliasing (the last of one period of its jitter) and
+/// the timings of `frames` more, the pass switched on for them and off again.
+fn temporal(
+    renderer: &mut combustion_renderer::Renderer,
+    gpu: &combustion_renderer::GpuScene,
+    inputs: &FrameInputs<'_>,
+    size: (u32, u32),
+    frames: u32,
+) -> Result<(Frame, Vec<PassTimings>), Error> {
+    let plain = renderer.shading();
+    let taa = combustion_renderer::optional_pass("temporal-anti-aliasing")
+        .expect("the temporal anti-aliasing pass");
+    let mut shading = plain;
+    shading.optional_passes = shading.optional_passes.with(taa, true);
+    renderer.set_shading(shading, &[gpu])?;
+    for _ in 1..combustion_renderer::TEMPORAL_JITTER_PERIOD {
+        renderer.render_with(gpu, inputs, size.0, size.1, Readback::default())?;
+    }
+    let frame = renderer.render_with(
+        gpu,
+        inputs,
+        size.0,
+        size.1,
+        Readback {
+            images: true,
+            gbuffer: false,
+        },
+    )?;
+    let timings = time_frames_with(renderer, gpu, inputs, size, frames)?;
+    renderer.set_shading(plain, &[gpu])?;
+    Ok((frame, timings))
 }
 
 /// `anti-aliasing.csv`: one line per scene and method.
@@ -150,7 +189,7 @@ pub fn markdown(rows: &[AntiAliasingRow]) -> String {
         return String::new();
     }
     let mut out = String::from(
-        "## Anti-aliasing\n\nEach way of smoothing edges against the same frame supersampled 4×4 (16 samples a pixel, their radiance averaged, then exposed and tone-mapped): mean FLIP of the display images. `fxaa`: FXAA in the output pass (a pipeline of its own, for frames that ask for it); `supersample N×N`: the frame rendered N times as wide and high, its radiance averaged per pixel (the frame and output times are the large frame's). Times: GPU medians. FLIP weighs every pixel an edge blend moves: FXAA moves the pixels it changes nearer the reference on the whole but by little in FLIP (tests/anti_aliasing.rs).\n\n| scene | method | mean FLIP against 4×4 | output ms | frame ms |\n|---|---|---|---|---|\n",
+        "## Anti-aliasing\n\nEach way of smoothing edges against the same frame supersampled 4×4 (16 samples a pixel, their radiance averaged, then exposed and tone-mapped): mean FLIP of the display images. `fxaa`: FXAA in the output pass (a pipeline of its own, for frames that ask for it); `temporal`: temporal anti-aliasing on the still camera, the last of one period of its jitter (16 frames; docs/camera.md measures it in motion against 16×16 supersampling); `supersample N×N`: the frame rendered N times as wide and high, its radiance averaged per pixel (the frame and output times are the large frame's). Times: GPU medians. FLIP weighs every pixel an edge blend moves: FXAA moves the pixels it changes nearer the reference on the whole but by little in FLIP (tests/anti_aliasing.rs).\n\n| scene | method | mean FLIP against 4×4 | output ms | frame ms |\n|---|---|---|---|---|\n",
     );
     for r in rows {
         let _ = writeln!(
