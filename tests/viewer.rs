@@ -334,6 +334,65 @@ fn the_viewer_meters_as_the_headless_render_does() {
     assert!(differing(&plain) > 1000, "{}", differing(&plain));
 }
 
+/// Temporal anti-aliasing in the viewer (`--temporal-anti-aliasing on`): a scripted run
+/// whose camera holds still for 20 frames shows, byte for byte, the 20th frame of the
+/// same sequence rendered headless (its jitter and history frame for frame; with bloom
+/// and FXAA, as the viewer by default), which differs from one frame's.
+#[test]
+fn the_viewer_accumulates_as_the_headless_frames_do() {
+    use combustion::renderer::{AntiAliasing, FrameInputs, Readback, RendererSettings};
+    let xvfb = Xvfb::start();
+    let display = format!(":{}", xvfb.display);
+    let still = "# time eye target\n0  0 1 6  0 0 0\n1  0 1 6  0 0 0\n";
+    let frames = 20;
+    let (pixels, scene) = scripted_screenshot(
+        "temporal",
+        |args| view(&display, args),
+        "builtin:spheres",
+        (160, 120),
+        frames,
+        still,
+        &["--overlay", "off", "--temporal-anti-aliasing", "on"],
+    );
+    let mut settings = RendererSettings::default();
+    for name in ["bloom", "temporal-anti-aliasing"] {
+        let pass = combustion::renderer::optional_pass(name).unwrap();
+        settings.shading.optional_passes = settings.shading.optional_passes.with(pass, true);
+    }
+    let mut headless = common::lavapipe(settings);
+    let shown = {
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(&scene).expect("upload");
+        let inputs = FrameInputs {
+            anti_aliasing: AntiAliasing::Fxaa,
+            ..FrameInputs::of_scene(&gpu, settings.exposure)
+        };
+        let readback = Readback {
+            images: true,
+            gbuffer: false,
+        };
+        let mut shown = Vec::new();
+        for _ in 0..frames {
+            shown.push(
+                renderer
+                    .render_with(&gpu, &inputs, 160, 120, readback)
+                    .expect("render"),
+            );
+        }
+        shown
+    };
+    common::finish(headless);
+    let differing = |other: &combustion::renderer::Frame| {
+        pixels
+            .iter()
+            .zip(&other.ldr)
+            .filter(|(a, b)| a != b)
+            .count()
+    };
+    assert_eq!(differing(&shown[frames as usize - 1]), 0, "the 20th frame");
+    assert!(differing(&shown[0]) > 100, "{}", differing(&shown[0]));
+}
+
 /// The error view (`--error-view`, as the X key): the screenshot of a scripted run is,
 /// byte for byte, the heat map of the f64 reference's relative error for the headless
 /// render of the same scene, camera and size — the viewer shows the very error map the

@@ -1045,6 +1045,10 @@ pub(crate) struct ViewArgs {
     /// Start in the error view (the error against the f64 reference)
     #[arg(long)]
     pub(crate) error_view: bool,
+    /// Temporal anti-aliasing: a jittered camera, each pixel blended with its history
+    /// (off by default; the T key toggles it)
+    #[arg(long, value_name = "on|off", default_value = "off", action = ArgAction::Set, value_parser = on_off())]
+    pub(crate) temporal_anti_aliasing: bool,
     /// Bloom, the glow of bright things (on by default in the window; the Y key toggles
     /// it)
     #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]

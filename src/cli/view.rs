@@ -25,8 +25,13 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
     }
     let bloom_intensity = o.frame.bloom_intensity(o.bloom)?;
     let (device, mut settings) = device_and_settings(&o.device, &o.frame, o.frames_in_flight)?;
-    if let Some(bloom) = combustion::renderer::optional_pass("bloom") {
-        settings.shading.optional_passes = settings.shading.optional_passes.with(bloom, o.bloom);
+    for (name, on) in [
+        ("bloom", o.bloom),
+        ("temporal-anti-aliasing", o.temporal_anti_aliasing),
+    ] {
+        if let Some(pass) = combustion::renderer::optional_pass(name) {
+            settings.shading.optional_passes = settings.shading.optional_passes.with(pass, on);
+        }
     }
     preflight(&device, &o.frame)?;
     let summary = combustion::viewer::run(&combustion::viewer::ViewerDesc {

@@ -87,27 +87,11 @@ impl FullscreenPass {
         push_size: u32,
         output_format: vk::Format,
     ) -> Result<Self, RenderError> {
-        let (layout, pipeline) = screen_pipeline(
-            device,
-            compiler,
-            cache,
-            &ScreenPipelineDesc {
-                vertex_shader: "fullscreen.vert",
-                fragment_shader,
-                defines,
-                set_layout,
-                push_stages: vk::ShaderStageFlags::FRAGMENT,
-                push_size,
-                format: output_format,
-                blend: combustion_vk::ColorBlend::Replace,
-            },
-        )?;
-        Ok(Self {
-            layout,
-            pipeline,
-            push_size,
-            blends: false,
-        })
+        let shader = (fragment_shader, defines);
+        let target = (output_format, combustion_vk::ColorBlend::Replace);
+        Self::build(
+            device, compiler, cache, shader, set_layout, push_size, target,
+        )
     }
 
     /// A pass whose fragments (colour, α) are blended over the target's contents:
@@ -121,26 +105,40 @@ impl FullscreenPass {
         push_size: u32,
         output_format: vk::Format,
     ) -> Result<Self, RenderError> {
-        let (layout, pipeline) = screen_pipeline(
-            device,
-            compiler,
-            cache,
-            &ScreenPipelineDesc {
-                vertex_shader: "fullscreen.vert",
-                fragment_shader,
-                defines: &[],
-                set_layout,
-                push_stages: vk::ShaderStageFlags::FRAGMENT,
-                push_size,
-                format: output_format,
-                blend: combustion_vk::ColorBlend::OverKeepingAlpha,
-            },
-        )?;
+        let target = (output_format, combustion_vk::ColorBlend::OverKeepingAlpha);
+        let shader = (fragment_shader, &[][..]);
+        Self::build(
+            device, compiler, cache, shader, set_layout, push_size, target,
+        )
+    }
+
+    /// The pass of `fragment_shader` with `defines` into `format` by `blend` (it loads
+    /// the target unless it replaces it).
+    fn build(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        (fragment_shader, defines): (&str, &[(&str, Option<&str>)]),
+        set_layout: &DescriptorSetLayout,
+        push_size: u32,
+        (format, blend): (vk::Format, combustion_vk::ColorBlend),
+    ) -> Result<Self, RenderError> {
+        let desc = ScreenPipelineDesc {
+            vertex_shader: "fullscreen.vert",
+            fragment_shader,
+            defines,
+            set_layout,
+            push_stages: vk::ShaderStageFlags::FRAGMENT,
+            push_size,
+            format,
+            blend,
+        };
+        let (layout, pipeline) = screen_pipeline(device, compiler, cache, &desc)?;
         Ok(Self {
             layout,
             pipeline,
             push_size,
-            blends: true,
+            blends: blend != combustion_vk::ColorBlend::Replace,
         })
     }
 

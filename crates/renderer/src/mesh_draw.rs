@@ -63,6 +63,71 @@ impl ExtraStream {
     }
 }
 
+/// A pipeline that rasterises the scene's objects with depth (written, `DEPTH_FORMAT`)
+/// into one colour target of `color_format`, reading the vec3 attributes of the first
+/// vertex stream (`GpuVertex`) at `attributes` (shader location, byte offset), with push
+/// constants of `push_size` bytes to `push_stages`: the back faces' pass and the motion
+/// pass.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn first_stream_pipeline(
+    device: &std::sync::Arc<combustion_vk::Device>,
+    compiler: &combustion_vk::ShaderCompiler,
+    cache: &combustion_vk::PipelineCache,
+    set_layout: &combustion_vk::DescriptorSetLayout,
+    (vertex_shader, fragment_shader): (&str, &str),
+    (push_stages, push_size): (vk::ShaderStageFlags, u32),
+    attributes: &[(u32, usize)],
+    color_format: vk::Format,
+) -> Result<(PipelineLayout, Pipeline), crate::error::RenderError> {
+    use combustion_vk::{ShaderModule, ShaderStage};
+    let push = [vk::PushConstantRange {
+        stage_flags: push_stages,
+        offset: 0,
+        size: push_size,
+    }];
+    let layout = PipelineLayout::new(device, &[set_layout], &push)?;
+    let module = |file: &str, stage| -> Result<ShaderModule, crate::error::RenderError> {
+        Ok(ShaderModule::new(
+            device,
+            &compiler.compile(file, stage, &[])?,
+            stage,
+        )?)
+    };
+    let vertex = module(vertex_shader, ShaderStage::Vertex)?;
+    let fragment = module(fragment_shader, ShaderStage::Fragment)?;
+    let bindings = [vk::VertexInputBindingDescription {
+        binding: 0,
+        stride: std::mem::size_of::<crate::gpu_types::GpuVertex>() as u32,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+    let attributes: Vec<_> = attributes
+        .iter()
+        .map(|&(location, offset)| vk::VertexInputAttributeDescription {
+            location,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: offset as u32,
+        })
+        .collect();
+    let pipeline = Pipeline::graphics(
+        device,
+        &combustion_vk::GraphicsPipelineDesc {
+            vertex: &vertex,
+            fragment: &fragment,
+            layout: &layout,
+            vertex_bindings: &bindings,
+            vertex_attributes: &attributes,
+            color_formats: &[color_format],
+            depth_format: Some(crate::gbuffer::DEPTH_FORMAT),
+            depth_write: true,
+            blend: combustion_vk::ColorBlend::Replace,
+            cache: Some(cache),
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+        },
+    )?;
+    Ok((layout, pipeline))
+}
+
 /// What a pass learns of each object before it is drawn.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ObjectDraw {

@@ -27,8 +27,7 @@ use crate::targets::{FrameImages, ImageRequest};
 use crate::variant::ShaderVariant;
 use combustion_vk::Image;
 use combustion_vk::{
-    vk, ColorBlend, DescriptorSetLayout, Device, GraphicsPipelineDesc, Pipeline, PipelineCache,
-    PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
+    vk, DescriptorSetLayout, Device, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
 };
 use std::sync::Arc;
 
@@ -174,52 +173,22 @@ impl BackFacesPass {
         cache: &PipelineCache,
         set_layout: &DescriptorSetLayout,
     ) -> Result<Self, RenderError> {
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX,
-            offset: 0,
-            size: std::mem::size_of::<GBufferPush>() as u32,
-        }];
-        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
-        let module = |file: &str, stage| -> Result<ShaderModule, RenderError> {
-            Ok(ShaderModule::new(
-                device,
-                &compiler.compile(file, stage, &[])?,
-                stage,
-            )?)
-        };
-        let vertex = module("back_faces.vert", ShaderStage::Vertex)?;
-        let fragment = module("back_faces.frag", ShaderStage::Fragment)?;
         use crate::gpu_types::GpuVertex as Vertex;
-        let bindings = [vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: std::mem::size_of::<Vertex>() as u32,
-            input_rate: vk::VertexInputRate::VERTEX,
-        }];
-        let attribute = |location, offset| vk::VertexInputAttributeDescription {
-            location,
-            binding: 0,
-            format: vk::Format::R32G32B32_SFLOAT,
-            offset: offset as u32,
-        };
-        let attributes = [
-            attribute(0, std::mem::offset_of!(Vertex, position)),
-            attribute(1, std::mem::offset_of!(Vertex, normal)),
-        ];
-        let pipeline = Pipeline::graphics(
+        let (layout, pipeline) = crate::mesh_draw::first_stream_pipeline(
             device,
-            &GraphicsPipelineDesc {
-                vertex: &vertex,
-                fragment: &fragment,
-                layout: &layout,
-                vertex_bindings: &bindings,
-                vertex_attributes: &attributes,
-                color_formats: &[BACK_FACE_NORMAL_FORMAT],
-                depth_format: Some(DEPTH_FORMAT),
-                depth_write: true,
-                blend: ColorBlend::Replace,
-                cache: Some(cache),
-                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-            },
+            compiler,
+            cache,
+            set_layout,
+            ("back_faces.vert", "back_faces.frag"),
+            (
+                vk::ShaderStageFlags::VERTEX,
+                std::mem::size_of::<GBufferPush>() as u32,
+            ),
+            &[
+                (0, std::mem::offset_of!(Vertex, position)),
+                (1, std::mem::offset_of!(Vertex, normal)),
+            ],
+            BACK_FACE_NORMAL_FORMAT,
         )?;
         Ok(Self { layout, pipeline })
     }

@@ -26,8 +26,7 @@
 //! neighbourhood clipping bounds their ghosting.
 
 use combustion_vk::{
-    vk, ColorBlend, DescriptorSetLayout, Device, GraphicsPipelineDesc, Image, Pipeline,
-    PipelineCache, PipelineLayout, ShaderCompiler, ShaderModule, ShaderStage,
+    vk, DescriptorSetLayout, Device, Image, Pipeline, PipelineCache, PipelineLayout, ShaderCompiler,
 };
 use glam::Mat4;
 use std::sync::Arc;
@@ -326,48 +325,21 @@ impl MotionPipeline {
         cache: &PipelineCache,
         set_layout: &DescriptorSetLayout,
     ) -> Result<Self, RenderError> {
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-            offset: 0,
-            size: std::mem::size_of::<MotionPush>() as u32,
-        }];
-        let layout = PipelineLayout::new(device, &[set_layout], &push)?;
-        let module = |file: &str, stage| -> Result<ShaderModule, RenderError> {
-            Ok(ShaderModule::new(
-                device,
-                &compiler.compile(file, stage, &[])?,
-                stage,
-            )?)
-        };
-        let vertex = module("motion.vert", ShaderStage::Vertex)?;
-        let fragment = module("motion.frag", ShaderStage::Fragment)?;
-        use crate::gpu_types::GpuVertex as Vertex;
-        let bindings = [vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: std::mem::size_of::<Vertex>() as u32,
-            input_rate: vk::VertexInputRate::VERTEX,
-        }];
-        let attributes = [vk::VertexInputAttributeDescription {
-            location: 0,
-            binding: 0,
-            format: vk::Format::R32G32B32_SFLOAT,
-            offset: std::mem::offset_of!(Vertex, position) as u32,
-        }];
-        let pipeline = Pipeline::graphics(
+        let (layout, pipeline) = crate::mesh_draw::first_stream_pipeline(
             device,
-            &GraphicsPipelineDesc {
-                vertex: &vertex,
-                fragment: &fragment,
-                layout: &layout,
-                vertex_bindings: &bindings,
-                vertex_attributes: &attributes,
-                color_formats: &[MOTION_FORMAT],
-                depth_format: Some(DEPTH_FORMAT),
-                depth_write: true,
-                blend: ColorBlend::Replace,
-                cache: Some(cache),
-                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-            },
+            compiler,
+            cache,
+            set_layout,
+            ("motion.vert", "motion.frag"),
+            (
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                std::mem::size_of::<MotionPush>() as u32,
+            ),
+            &[(
+                0,
+                std::mem::offset_of!(crate::gpu_types::GpuVertex, position),
+            )],
+            MOTION_FORMAT,
         )?;
         Ok(Self { layout, pipeline })
     }
