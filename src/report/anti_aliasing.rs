@@ -168,19 +168,23 @@ fn temporal(
 
 /// `anti-aliasing.csv`: one line per scene and method.
 pub fn csv(rows: &[AntiAliasingRow]) -> String {
-    let mut out = String::from("scene,method,flip_mean_against_4x4,output_ms,total_ms\n");
+    let mut table = combustion_report_csv::Table::new(&[
+        "scene",
+        "method",
+        "flip_mean_against_4x4",
+        "output_ms",
+        "total_ms",
+    ]);
     for r in rows {
-        let _ = writeln!(
-            out,
-            "{},{},{:.4e},{:.3},{:.3}",
-            super::csv_field(&r.scene),
-            r.method.name(),
-            r.flip_mean,
-            r.output.median,
-            r.total.median,
-        );
+        table.row([
+            r.scene.clone(),
+            r.method.name().to_string(),
+            format!("{:.4e}", r.flip_mean),
+            format!("{:.3}", r.output.median),
+            format!("{:.3}", r.total.median),
+        ]);
     }
-    out
+    table.finish()
 }
 
 /// The report's anti-aliasing section (empty without rows).

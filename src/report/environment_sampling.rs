@@ -333,27 +333,35 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
 
 /// `environment-sampling.csv`: one line per scene and mode.
 pub fn csv(rows: &[EnvironmentSamplingRow]) -> String {
-    let mut out = String::from(
-        "scene,mode,samples,frames,pixels_compared,mean_relative_error,median_relative_error,max_relative_error,oracle_sigma_mean,lighting_ms,total_ms\n",
-    );
+    let mut table = combustion_report_csv::Table::new(&[
+        "scene",
+        "mode",
+        "samples",
+        "frames",
+        "pixels_compared",
+        "mean_relative_error",
+        "median_relative_error",
+        "max_relative_error",
+        "oracle_sigma_mean",
+        "lighting_ms",
+        "total_ms",
+    ]);
     for r in rows {
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{},{:.4e},{:.4e},{:.4e},{:.3e},{:.3},{:.3}",
-            super::csv_field(&r.scene),
-            r.mode.name(),
-            r.mode.samples(),
-            r.mode.frames(),
-            r.compared,
-            r.mean_relative,
-            r.median_relative,
-            r.max_relative,
-            r.oracle_sigma_mean,
-            r.lighting.median,
-            r.total.median,
-        );
+        table.row([
+            r.scene.clone(),
+            r.mode.name().to_string(),
+            r.mode.samples().to_string(),
+            r.mode.frames().to_string(),
+            r.compared.to_string(),
+            format!("{:.4e}", r.mean_relative),
+            format!("{:.4e}", r.median_relative),
+            format!("{:.4e}", r.max_relative),
+            format!("{:.3e}", r.oracle_sigma_mean),
+            format!("{:.3}", r.lighting.median),
+            format!("{:.3}", r.total.median),
+        ]);
     }
-    out
+    table.finish()
 }
 
 /// The report's sampled-environment section (empty without rows).

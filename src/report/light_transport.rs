@@ -278,25 +278,31 @@ pub(super) fn measure(
 
 /// `light-transport.csv`: a row per scene and setting.
 pub fn csv(rows: &[LightTransportRow]) -> String {
-    let mut out = String::from(
-        "scene,setting,total_ms,pixels_compared,mean_relative_error,p95_relative_error,rms_relative_error_noise_removed,mean_radiance_relative,reference_noise\n",
-    );
+    let mut table = combustion_report_csv::Table::new(&[
+        "scene",
+        "setting",
+        "total_ms",
+        "pixels_compared",
+        "mean_relative_error",
+        "p95_relative_error",
+        "rms_relative_error_noise_removed",
+        "mean_radiance_relative",
+        "reference_noise",
+    ]);
     for r in rows {
-        let _ = writeln!(
-            out,
-            "{},{},{:.3},{},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e}",
-            super::csv_field(&r.scene),
-            super::csv_field(r.setting),
-            r.total.median,
-            r.compared,
-            r.mean_relative,
-            r.p95_relative,
-            r.rms_relative,
-            r.mean_radiance,
-            r.reference_noise
-        );
+        table.row([
+            r.scene.clone(),
+            r.setting.to_string(),
+            format!("{:.3}", r.total.median),
+            r.compared.to_string(),
+            format!("{:.4e}", r.mean_relative),
+            format!("{:.4e}", r.p95_relative),
+            format!("{:.4e}", r.rms_relative),
+            format!("{:.4e}", r.mean_radiance),
+            format!("{:.4e}", r.reference_noise),
+        ]);
     }
-    out
+    table.finish()
 }
 
 /// The report's light-transport section (empty without rows).

@@ -24,7 +24,6 @@ use combustion_plots::{
 };
 use combustion_reference::SceneBvh;
 use combustion_renderer::reference::{error_map, EnvironmentSampling, ErrorMap, ReferenceShading};
-use combustion_report_csv::field as csv_field;
 
 use crate::end_to_end::{precision_of, EndToEndErrors, EnvironmentReference, SceneReference};
 
@@ -265,22 +264,37 @@ impl PassSpreads {
 
 /// CSV columns `NAME_ms,NAME_p10,NAME_p90` for each of `names` (a space in a name
 /// becomes `_`).
-fn spread_columns(names: &[&str]) -> String {
+fn spread_columns(names: &[&str]) -> Vec<String> {
     names
         .iter()
-        .map(|name| {
+        .flat_map(|name| {
             let name = name.replace(' ', "_");
-            format!(",{name}_ms,{name}_p10,{name}_p90")
+            [
+                format!("{name}_ms"),
+                format!("{name}_p10"),
+                format!("{name}_p90"),
+            ]
         })
         .collect()
 }
 
 /// The CSV values of `spreads` in the columns of `names`.
-fn spread_values(spreads: &[Spread]) -> String {
+fn spread_values(spreads: &[Spread]) -> Vec<String> {
     spreads
         .iter()
-        .map(|s| format!(",{:.3},{:.3},{:.3}", s.median, s.p10, s.p90))
+        .flat_map(|s| [s.median, s.p10, s.p90].map(|ms| format!("{ms:.3}")))
         .collect()
+}
+
+/// `columns` as the header of a CSV table.
+fn table(columns: Vec<String>) -> combustion_report_csv::Table {
+    let names: Vec<&str> = columns.iter().map(String::as_str).collect();
+    combustion_report_csv::Table::new(&names)
+}
+
+/// `names` as owned column names.
+fn columns(names: &str) -> Vec<String> {
+    names.split(',').map(str::to_owned).collect()
 }
 
 /// One scene under one variant set.
@@ -1143,43 +1157,36 @@ fn points(rows: &[ReportRow]) -> Vec<SpeedErrorPoint> {
 /// The CSV: one row per scene and variant set.
 pub fn csv(rows: &[ReportRow]) -> String {
     let names = PassSpreads::names(rows.iter().map(|r| &r.passes));
-    let mut out = format!(
-        "scene,fresnel,hdr,pipeline,masking,distribution,diffuse,frames{}{},max_relative_error,mean_relative_error,rms_relative_error,pixels_compared,flip_mean,end_to_end_max_relative_error,end_to_end_mean_relative_error,end_to_end_storage_mean,end_to_end_pixels_compared,through_glass_pixels,through_glass_mean_relative_error,through_glass_max_relative_error\n",
-        spread_columns(&names),
-        spread_columns(&["total"]),
-    );
+    let mut header = columns("scene,fresnel,hdr,pipeline,masking,distribution,diffuse,frames");
+    header.extend(spread_columns(&names));
+    header.extend(spread_columns(&["total"]));
+    header.extend(columns("max_relative_error,mean_relative_error,rms_relative_error,pixels_compared,flip_mean,end_to_end_max_relative_error,end_to_end_mean_relative_error,end_to_end_storage_mean,end_to_end_pixels_compared,through_glass_pixels,through_glass_mean_relative_error,through_glass_max_relative_error"));
+    let mut out = table(header);
     for r in rows {
         // The error columns as PreviousRun::compare reads them back.
         let (_, [max, mean, rms, flip]) = csv_key_and_errors(r);
-        let _ = write!(
-            out,
-            "{},{},{}",
-            csv_field(&r.scene),
-            r.set.name().replace('/', ","),
-            r.frames
-        );
+        let mut fields = vec![r.scene.clone()];
+        fields.extend(r.set.name().split('/').map(str::to_owned));
+        fields.push(r.frames.to_string());
         let spreads: Vec<Spread> = names.iter().map(|n| r.passes.get(n)).collect();
-        out += &spread_values(&spreads);
-        out += &spread_values(&[r.total]);
-        let _ = write!(out, ",{max},{mean},{rms},{},{flip}", r.compared);
+        fields.extend(spread_values(&spreads));
+        fields.extend(spread_values(&[r.total]));
+        fields.extend([max, mean, rms, r.compared.to_string(), flip]);
         match &r.end_to_end {
-            Some(e) => {
-                let _ = writeln!(
-                    out,
-                    ",{:.3e},{:.3e},{:.3e},{},{},{:.3e},{:.3e}",
-                    e.total.max,
-                    e.total.mean,
-                    e.storage.mean,
-                    e.compared,
-                    e.through_glass,
-                    e.glass.mean,
-                    e.glass.max
-                );
-            }
-            None => out += ",,,,,,,\n",
+            Some(e) => fields.extend([
+                format!("{:.3e}", e.total.max),
+                format!("{:.3e}", e.total.mean),
+                format!("{:.3e}", e.storage.mean),
+                e.compared.to_string(),
+                e.through_glass.to_string(),
+                format!("{:.3e}", e.glass.mean),
+                format!("{:.3e}", e.glass.max),
+            ]),
+            None => fields.extend(std::iter::repeat_n(String::new(), 7)),
         }
+        out.row(fields);
     }
-    out
+    out.finish()
 }
 
 /// The section on the frame against the scene itself, default variant set: per scene,
@@ -1231,17 +1238,13 @@ fn md_cell(text: &str) -> String {
 
 /// The floors' CSV: one row per scene.
 pub fn floors_csv(floors: &[FloorRow]) -> String {
-    let mut out = String::from(
-        "scene,geometry_floor_ms,geometry_floor_p10,geometry_floor_p90,fetch_floor_ms,fetch_floor_p10,fetch_floor_p90,plain_ggx_ms,plain_ggx_p10,plain_ggx_p90\n",
-    );
+    let mut out = table(columns("scene,geometry_floor_ms,geometry_floor_p10,geometry_floor_p90,fetch_floor_ms,fetch_floor_p10,fetch_floor_p90,plain_ggx_ms,plain_ggx_p10,plain_ggx_p90"));
     for f in floors {
-        let _ = write!(out, "{}", csv_field(&f.scene));
-        for s in [f.geometry, f.fetch, f.plain_ggx] {
-            let _ = write!(out, ",{:.3},{:.3},{:.3}", s.median, s.p10, s.p90);
-        }
-        out.push('\n');
+        let mut fields = vec![f.scene.clone()];
+        fields.extend(spread_values(&[f.geometry, f.fetch, f.plain_ggx]));
+        out.row(fields);
     }
-    out
+    out.finish()
 }
 
 /// The floors and each pass of the default set ([`VariantSet::DEFAULT`]) as a multiple of
@@ -1279,22 +1282,26 @@ fn floors_markdown(m: &Measurements) -> String {
 /// The scaling measurement's CSV: one row per configuration.
 pub fn scaling_csv(rows: &[ScalingRow]) -> String {
     let names = PassSpreads::names(rows.iter().map(|r| &r.passes));
-    let mut out = format!(
-        "width,height,localised_lights,culled{}{}\n",
-        spread_columns(&names),
-        spread_columns(&["total"]),
-    );
+    let mut header = columns("width,height,localised_lights,culled");
+    header.extend(spread_columns(&names));
+    header.extend(spread_columns(&["total"]));
+    let mut out = table(header);
     for r in rows {
         let lights = r
             .localised_lights
             .map_or("scene".to_owned(), |n| n.to_string());
-        let _ = write!(out, "{},{},{lights},{}", r.width, r.height, r.culled);
+        let mut fields = vec![
+            r.width.to_string(),
+            r.height.to_string(),
+            lights,
+            r.culled.to_string(),
+        ];
         let spreads: Vec<Spread> = names.iter().map(|n| r.passes.get(n)).collect();
-        out += &spread_values(&spreads);
-        out += &spread_values(&[r.total]);
-        out.push('\n');
+        fields.extend(spread_values(&spreads));
+        fields.extend(spread_values(&[r.total]));
+        out.row(fields);
     }
-    out
+    out.finish()
 }
 
 /// The scaling section: frame time against size, and against localised lights.
@@ -1776,7 +1783,7 @@ mod tests {
         let scene = "my\r\nscenes,\"new\"\n/a.gltf";
         let row = format!(
             "{},full,f32,specialised,correlated,ggx,material,30,12.5,1,2,1e-3,1e-4,2e-4,100,0.01,5e-2,5e-3,4e-3,90,0,0,0\r\n",
-            csv_field(scene)
+            combustion_report_csv::field(scene)
         );
         let second = "builtin:spheres,full,f32,specialised,correlated,ggx,material,30,20,1,2,1e-3,1e-4,2e-4,100,0.01,5e-2,5e-3,4e-3,90,0,0,0";
         std::fs::write(dir.join("report.csv"), format!("{header}{row}{second}")).unwrap();

@@ -158,27 +158,31 @@ pub(super) fn measure(
 
 /// `occlusion.csv`: a row per scene and method.
 pub fn csv(rows: &[OcclusionRow]) -> String {
-    let mut out = String::from(
-        "scene,occlusion,total_ms,pass_ms,pixels_compared,mean_relative_error,p95_relative_error\n",
-    );
+    let mut table = combustion_report_csv::Table::new(&[
+        "scene",
+        "occlusion",
+        "total_ms",
+        "pass_ms",
+        "pixels_compared",
+        "mean_relative_error",
+        "p95_relative_error",
+    ]);
     for r in rows {
-        let _ = writeln!(
-            out,
-            "{},{},{:.3},{},{},{:.4e},{:.4e}",
-            super::csv_field(&r.scene),
-            r.method,
-            r.total.median,
+        table.row([
+            r.scene.clone(),
+            r.method.to_string(),
+            format!("{:.3}", r.total.median),
             if r.pass.median.is_finite() {
                 format!("{:.3}", r.pass.median)
             } else {
                 String::new()
             },
-            r.compared,
-            r.mean_relative,
-            r.p95_relative
-        );
+            r.compared.to_string(),
+            format!("{:.4e}", r.mean_relative),
+            format!("{:.4e}", r.p95_relative),
+        ]);
     }
-    out
+    table.finish()
 }
 
 /// The report's occlusion section (empty without rows).

@@ -282,34 +282,47 @@ pub fn plot(rows: &[ShadowRow], device: &str, desc: &ReportDesc) -> Result<Png, 
 
 /// `shadows.csv`: one row per scene and setting.
 pub fn csv(rows: &[ShadowRow]) -> String {
-    let mut out = String::from(
-        "scene,shadows,static_total_ms,moving_total_ms,shadow_maps_ms,lit_should_be_shadowed,shadowed_should_be_lit,pixels_compared,misclassified_fraction,edge_mean_abs_error,edge_max_abs_error,mean_relative_error_exact_visibility,max_relative_error_exact_visibility\n",
-    );
+    let mut table = combustion_report_csv::Table::new(&[
+        "scene",
+        "shadows",
+        "static_total_ms",
+        "moving_total_ms",
+        "shadow_maps_ms",
+        "lit_should_be_shadowed",
+        "shadowed_should_be_lit",
+        "pixels_compared",
+        "misclassified_fraction",
+        "edge_mean_abs_error",
+        "edge_max_abs_error",
+        "mean_relative_error_exact_visibility",
+        "max_relative_error_exact_visibility",
+    ]);
     for r in rows {
-        let _ = writeln!(
-            out,
-            "{},{},{:.3},{:.3},{},{},{},{},{:.5},{:.3e},{:.3e},{:.3e},{:.3e}",
-            super::csv_field(&r.scene),
-            r.setting_name(),
-            r.static_total.median,
-            r.moving_total.median,
-            // Empty where no shadow pass ran (the ray-traced row: its rays' pass).
-            if r.maps.median.is_finite() {
-                format!("{:.3}", r.maps.median)
-            } else {
-                String::new()
-            },
-            r.lit_should_be_shadowed,
-            r.shadowed_should_be_lit,
-            r.compared,
-            r.misclassified() as f64 / r.compared.max(1) as f64,
-            r.edge_error.0,
-            r.edge_error.1,
-            r.mean_relative,
-            r.max_relative
-        );
+        table.row([
+            r.scene.clone(),
+            r.setting_name().to_string(),
+            format!("{:.3}", r.static_total.median),
+            format!("{:.3}", r.moving_total.median),
+            (
+                // Empty where no shadow pass ran (the ray-traced row: its rays' pass).
+                if r.maps.median.is_finite() {
+                    format!("{:.3}", r.maps.median)
+                } else {
+                    String::new()
+                }
+            )
+            .to_string(),
+            r.lit_should_be_shadowed.to_string(),
+            r.shadowed_should_be_lit.to_string(),
+            r.compared.to_string(),
+            format!("{:.5}", r.misclassified() as f64 / r.compared.max(1) as f64),
+            format!("{:.3e}", r.edge_error.0),
+            format!("{:.3e}", r.edge_error.1),
+            format!("{:.3e}", r.mean_relative),
+            format!("{:.3e}", r.max_relative),
+        ]);
     }
-    out
+    table.finish()
 }
 
 /// The report's shadow section (empty without rows).

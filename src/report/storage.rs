@@ -110,30 +110,40 @@ pub(super) fn measure(
 
 /// `gbuffer-storage.csv`: one row per scene and storage.
 pub fn csv(rows: &[StorageRow]) -> String {
-    let mut out = String::from(
-        "scene,gbuffer_storage,bytes_per_pixel,gbuffer_ms,lighting_ms,total_ms,pixels_compared,error_mean,error_max,storage_share_mean,storage_share_max,rest_mean,rest_max\n",
-    );
+    let mut table = combustion_report_csv::Table::new(&[
+        "scene",
+        "gbuffer_storage",
+        "bytes_per_pixel",
+        "gbuffer_ms",
+        "lighting_ms",
+        "total_ms",
+        "pixels_compared",
+        "error_mean",
+        "error_max",
+        "storage_share_mean",
+        "storage_share_max",
+        "rest_mean",
+        "rest_max",
+    ]);
     for r in rows {
         let e = &r.errors;
-        let _ = writeln!(
-            out,
-            "{},{},{},{:.3},{:.3},{:.3},{},{:.3e},{:.3e},{:.3e},{:.3e},{:.3e},{:.3e}",
-            super::csv_field(&r.scene),
-            r.storage.name(),
-            r.storage.bytes_per_pixel(),
-            r.gbuffer.median,
-            r.lighting.median,
-            r.total.median,
-            e.compared,
-            e.total.mean,
-            e.total.max,
-            e.storage.mean,
-            e.storage.max,
-            e.rest.mean,
-            e.rest.max,
-        );
+        table.row([
+            r.scene.clone(),
+            r.storage.name().to_string(),
+            r.storage.bytes_per_pixel().to_string(),
+            format!("{:.3}", r.gbuffer.median),
+            format!("{:.3}", r.lighting.median),
+            format!("{:.3}", r.total.median),
+            e.compared.to_string(),
+            format!("{:.3e}", e.total.mean),
+            format!("{:.3e}", e.total.max),
+            format!("{:.3e}", e.storage.mean),
+            format!("{:.3e}", e.storage.max),
+            format!("{:.3e}", e.rest.mean),
+            format!("{:.3e}", e.rest.max),
+        ]);
     }
-    out
+    table.finish()
 }
 
 /// Per storage over the scenes: mean G-buffer, lighting and frame times, and the mean

@@ -1,71 +1,113 @@
 //! The speed-against-error report's CSV (`bench --report DIR` writes `report.csv` and
 //! its companions; `bench --against DIR` reads an earlier `report.csv` back).
 //!
-//! One quoting rule both ways: a field holding a comma, a double quote or a line break is
-//! written in double quotes with `""` for a quote ([`field`]), and [`records`] reads it
-//! back as written. [`PreviousReport::parse`] is the reader `--against` uses; it is a
+//! One quoting rule both ways, the `csv` crate's: a field holding a comma, a double quote
+//! or a line break is written in double quotes with `""` for a quote ([`Table`],
+//! [`field`]), and [`records`] reads it back as written. [`PreviousReport::parse`] is the reader `--against` uses; it is a
 //! crate of its own, with no renderer behind it, so the fuzz target `report_csv`
 //! (fuzz/fuzz_targets/report_csv.rs) runs it from bytes.
 
 use combustion_optics::shortened;
 
+/// A writer of the report's CSV: one quoting rule for every field (the `csv` crate's:
+/// a field holding a comma, a double quote or a line break in double quotes, `""` for
+/// a quote), records ended by `\n`.
+fn writer() -> csv::Writer<Vec<u8>> {
+    csv::WriterBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .flexible(true)
+        .from_writer(Vec::new())
+}
+
+/// The bytes a writer wrote, as text (what it was given was text).
+fn written(writer: csv::Writer<Vec<u8>>) -> String {
+    let bytes = writer
+        .into_inner()
+        .expect("writing to memory does not fail");
+    String::from_utf8(bytes).expect("fields of text are written as text")
+}
+
 /// A CSV field as the report writes it: quoted when it holds `,`, `"` or a line break.
 pub fn field(text: &str) -> String {
-    if text.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", text.replace('"', "\"\""))
-    } else {
-        text.to_owned()
+    let mut w = writer();
+    // A lone empty field is written as `""` (not an empty line); the report writes it
+    // among others, where it stands empty.
+    w.write_record([text])
+        .expect("writing to memory does not fail");
+    let mut out = written(w);
+    out.pop();
+    if out == "\"\"" {
+        out.clear();
+    }
+    out
+}
+
+/// A table the report writes: a header, then rows of fields ([`Table::row`]), as CSV
+/// text ([`Table::finish`]).
+pub struct Table {
+    writer: csv::Writer<Vec<u8>>,
+}
+
+impl Table {
+    /// A table of the columns `header`.
+    pub fn new(header: &[&str]) -> Self {
+        let mut writer = writer();
+        writer
+            .write_record(header)
+            .expect("writing to memory does not fail");
+        Self { writer }
+    }
+
+    /// Appends a row.
+    pub fn row<I, F>(&mut self, fields: I)
+    where
+        I: IntoIterator<Item = F>,
+        F: AsRef<[u8]>,
+    {
+        self.writer
+            .write_record(fields)
+            .expect("writing to memory does not fail");
+    }
+
+    /// The table's text.
+    pub fn finish(self) -> String {
+        written(self.writer)
     }
 }
 
-/// Splits CSV text into records of fields, as [`field`] quotes them (a field in double
+/// Splits CSV text into records of fields (the `csv` crate's reading: a field in double
 /// quotes, `""` inside, line breaks inside kept): each record with the 1-based line it
-/// starts on. A line break outside quotes ends a record (a `\r` before it is dropped); a
-/// last record without one counts; empty records are skipped.
+/// starts on. `\n`, `\r\n` or `\r` ends a record outside quotes; empty lines are
+/// skipped; records may have any number of fields.
 pub fn records(text: &str) -> Vec<(usize, Vec<String>)> {
-    let mut records = Vec::new();
-    let mut fields = vec![String::new()];
-    let (mut line, mut start) = (1, 1);
-    let mut quoted = false;
-    let mut chars = text.chars().peekable();
-    let mut finish = |fields: &mut Vec<String>, start: usize| {
-        let record = std::mem::replace(fields, vec![String::new()]);
-        if record.len() > 1 || !record[0].is_empty() {
-            records.push((start, record));
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(text.as_bytes());
+    let mut out = Vec::new();
+    let mut record = csv::StringRecord::new();
+    // The line a record starts on: the line breaks before its first byte, plus one (a
+    // break inside a quoted field counts, `\r\n` once).
+    let (mut counted_to, mut line) = (0, 1);
+    // Text in, text out: a read fails only past the text's end (or never).
+    while let Ok(true) = reader.read_record(&mut record) {
+        // The reader's position may stand on the `\n` of the `\r\n` before the record
+        // (or an empty line's): its first byte is the first after those.
+        let mut start = record.position().map_or(0, |p| p.byte() as usize);
+        while matches!(text.as_bytes().get(start), Some(b'\r' | b'\n')) {
+            start += 1;
         }
-    };
-    while let Some(c) = chars.next() {
-        match (c, quoted) {
-            ('"', true) if chars.peek() == Some(&'"') => {
-                chars.next();
-                push(&mut fields, '"');
-            }
-            ('"', _) => quoted = !quoted,
-            (',', false) => fields.push(String::new()),
-            ('\r', false) if chars.peek() == Some(&'\n') => {}
-            ('\n', false) => {
-                finish(&mut fields, start);
-                line += 1;
-                start = line;
-            }
-            (c, _) => {
-                if c == '\n' {
-                    line += 1;
-                }
-                push(&mut fields, c);
-            }
+        line += text.as_bytes()[counted_to..start]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        counted_to = start;
+        let fields: Vec<String> = record.iter().map(str::to_owned).collect();
+        if fields.len() > 1 || fields.first().is_some_and(|f| !f.is_empty()) {
+            out.push((line, fields));
         }
     }
-    finish(&mut fields, start);
-    records
-}
-
-/// Appends to the record's last field (a record always has one).
-fn push(fields: &mut Vec<String>, c: char) {
-    match fields.last_mut() {
-        Some(last) => last.push(c),
-        None => fields.push(c.to_string()),
-    }
+    out
 }
 
 /// The columns that name a row of `report.csv`: the scene and the six of its variant set.
@@ -208,6 +250,26 @@ mod tests {
         // The second record starts after the quoted line breaks of the first.
         assert_eq!(read[1].0, 4);
         assert_eq!(field("plain"), "plain");
+    }
+
+    /// A table written with the `csv` crate reads back field for field, each record
+    /// with the line it starts on (a quoted line break counts: the third record starts
+    /// on line 4); a field holding U+FFFF or a comma stands as written.
+    #[test]
+    fn a_table_reads_back_as_written() {
+        let mut table = Table::new(&["scene", "ms"]);
+        table.row(["a\nb,\"c\"", "1.5"]);
+        table.row(["\u{ffff}", ""]);
+        let text = table.finish();
+        let read = records(&text);
+        assert_eq!(
+            read,
+            [
+                (1, vec!["scene".to_owned(), "ms".to_owned()]),
+                (2, vec!["a\nb,\"c\"".to_owned(), "1.5".to_owned()]),
+                (4, vec!["\u{ffff}".to_owned(), String::new()]),
+            ]
+        );
     }
 
     #[test]

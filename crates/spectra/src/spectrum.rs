@@ -44,19 +44,40 @@ fn parse_field(line: usize, column: &'static str, text: &str) -> Result<f64, Spe
     Ok(value)
 }
 
-fn is_header(line: &str) -> bool {
-    let fields: Vec<String> = line
-        .split(',')
-        .map(|f| f.trim().to_ascii_lowercase())
-        .collect();
-    fields.len() == 3 && fields.iter().zip(COLUMNS).all(|(f, c)| f == c)
+fn is_header(fields: &[String]) -> bool {
+    fields.len() == 3
+        && fields
+            .iter()
+            .zip(COLUMNS)
+            .all(|(f, c)| f.trim().eq_ignore_ascii_case(c))
+}
+
+/// `text` with its comment lines (first non-blank character `#`) emptied, their line
+/// breaks kept, so that the CSV reader skips them and every line keeps its number.
+fn without_comments(text: &str) -> String {
+    text.split_inclusive('\n')
+        .map(|line| {
+            if line.trim_start().starts_with('#') {
+                if line.ends_with("\r\n") {
+                    "\r\n"
+                } else if line.ends_with('\n') {
+                    "\n"
+                } else {
+                    ""
+                }
+            } else {
+                line
+            }
+        })
+        .collect()
 }
 
 impl Spectrum {
     /// Reads a table in the project's CSV format.
     ///
     /// * Lines whose first non-blank character is `#` are comments; blank lines are
-    ///   skipped. Lines may end in `\r\n`.
+    ///   skipped. Lines may end in `\r\n`. Records are read by the `csv` crate (a field
+    ///   may be quoted).
     /// * The first non-comment line may be the header `wavelength_nm,n,k` (ASCII case and
     ///   spaces around fields are ignored); it is optional. A leading byte-order mark is
     ///   ignored.
@@ -73,32 +94,26 @@ impl Spectrum {
     pub fn from_csv(text: &str) -> Result<Spectrum, SpectrumError> {
         let mut samples: Vec<(f64, f64, f64)> = Vec::new();
         let mut lines_of_samples: Vec<usize> = Vec::new();
-        let mut seen_non_comment = false;
-        let mut line_count = 0;
         // A leading byte-order mark (spreadsheet exports) is not part of the first field.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        for (index, raw) in text.lines().enumerate() {
-            let line = index + 1;
-            line_count = line;
-            let trimmed = raw.trim();
-            if trimmed.is_empty() || trimmed.starts_with('#') {
+        let line_count = text.lines().count();
+        // Records through the `csv` crate (quoted fields, `\r\n`), each with its line.
+        for (index, (line, fields)) in combustion_report_csv::records(&without_comments(text))
+            .into_iter()
+            .enumerate()
+        {
+            if index == 0 && is_header(&fields) {
                 continue;
             }
-            let first_non_comment = !seen_non_comment;
-            seen_non_comment = true;
-            if first_non_comment && is_header(trimmed) {
-                continue;
-            }
-            let fields: Vec<&str> = trimmed.split(',').collect();
             if fields.len() != 3 {
                 return Err(SpectrumError::WrongFieldCount {
                     line,
                     found: fields.len(),
                 });
             }
-            let wavelength_nm = parse_field(line, COLUMNS[0], fields[0])?;
-            let n = parse_field(line, COLUMNS[1], fields[1])?;
-            let k = parse_field(line, COLUMNS[2], fields[2])?;
+            let wavelength_nm = parse_field(line, COLUMNS[0], &fields[0])?;
+            let n = parse_field(line, COLUMNS[1], &fields[1])?;
+            let k = parse_field(line, COLUMNS[2], &fields[2])?;
             if wavelength_nm <= 0.0 {
                 return Err(SpectrumError::NonPositiveWavelength {
                     line,
