@@ -73,7 +73,9 @@ pub fn open_image(path: &Path) -> Result<ImageFile, String> {
     let (radiance, (width, height)) = match extension.as_deref() {
         Some("png") => {
             let decoder = png::Decoder::new(std::io::Cursor::new(&bytes[..]));
-            let reader = decoder.read_info().map_err(|e| format!("PNG: {e}"))?;
+            let reader = decoder
+                .read_info()
+                .map_err(|e| format!("PNG: {}", combustion_scene::png_error_message(&e)))?;
             let info = reader.info();
             (
                 false,
@@ -139,7 +141,9 @@ fn read_png(bytes: &[u8]) -> Result<DiffImage, String> {
     let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
     // 16-bit samples are kept and rounded to 8 bits below (STRIP_16 would truncate).
     decoder.set_transformations(png::Transformations::EXPAND);
-    let mut reader = decoder.read_info().map_err(|e| format!("PNG: {e}"))?;
+    let mut reader = decoder
+        .read_info()
+        .map_err(|e| format!("PNG: {}", combustion_scene::png_error_message(&e)))?;
     let (width, height) = {
         let info = reader.info();
         checked_size(info.width as usize, info.height as usize)?
@@ -147,7 +151,7 @@ fn read_png(bytes: &[u8]) -> Result<DiffImage, String> {
     let mut buffer = vec![0; reader.output_buffer_size()];
     let frame = reader
         .next_frame(&mut buffer)
-        .map_err(|e| format!("PNG: {e}"))?;
+        .map_err(|e| format!("PNG: {}", combustion_scene::png_error_message(&e)))?;
     let channels = frame.color_type.samples();
     let data = &buffer[..frame.buffer_size()];
     let data: std::borrow::Cow<'_, [u8]> = match frame.bit_depth {

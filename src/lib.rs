@@ -109,6 +109,10 @@ pub enum Error {
     /// A scripted camera path that cannot be read or parsed (file and line named).
     #[error("{0}")]
     CameraPath(String),
+    /// An animation sampled to a pose that is not finite (the scene, animation and time
+    /// named).
+    #[error("{0}")]
+    Animation(String),
     /// A window cannot be opened: no display server is reached (neither Wayland nor X11),
     /// or the window has no usable handle.
     #[error("cannot open a window: {0} (set WAYLAND_DISPLAY or DISPLAY, or run under Xvfb)")]

@@ -190,9 +190,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
                 if duration > 0.0 {
                     time %= duration;
                 }
-                let pose = scene
-                    .pose_at(animation, time)
-                    .expect("an animation the scene has");
+                let pose = combustion::animation::sampled_pose(&scene, animation, time)?;
                 let inputs = combustion::renderer::FrameInputs {
                     pose: Some(&pose),
                     ..still

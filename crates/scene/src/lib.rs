@@ -45,7 +45,7 @@ pub use error::{CameraProblem, LightProblem, SceneError};
 /// The rule for every file Combustion reads (glTF files and their buffers and images,
 /// environment images, and the command line's tables, reports and camera paths): a
 /// regular file within a size limit, both checked before it is read.
-pub use gltf::{read_regular_file, read_text};
+pub use gltf::{png_error_message, read_regular_file, read_text};
 pub use material::{
     conductor_from_reflectivity, srgb_decode, srgb_encode, AlphaMode, ColorSpace, ComplexIor,
     DiffuseModel, Filter, Image, Iridescence, Material, Sampler, Texture, TextureRef, TextureSlot,

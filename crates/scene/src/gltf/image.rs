@@ -59,8 +59,28 @@ fn check_size(width: u32, height: u32, max: u32) -> Result<(), DecodeError> {
     Ok(())
 }
 
+/// A PNG decoder's error in words: the png crate's own text embeds a chunk type's
+/// `Debug` form (`ChunkType { type: ageg, critical: false, … }`), said here as
+/// ``chunk `ageg` ``.
+pub fn png_error_message(error: &png::DecodingError) -> String {
+    const DEBUG: &str = "ChunkType { type: ";
+    let text = error.to_string();
+    let mut out = String::new();
+    let mut rest = text.as_str();
+    while let Some(at) = rest.find(DEBUG) {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + DEBUG.len()..];
+        let name_end = after.find([',', ' ', '}']).unwrap_or(after.len());
+        out.push_str(&format!("chunk `{}`", &after[..name_end]));
+        rest = after.find('}').map_or("", |close| &after[close + 1..]);
+    }
+    out + rest
+}
+
 fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
-    let bad = |e: png::DecodingError| DecodeError::Other(format!("undecodable PNG: {e}"));
+    let bad = |e: png::DecodingError| {
+        DecodeError::Other(format!("undecodable PNG: {}", png_error_message(&e)))
+    };
     // Room for the largest image allowed at 16 bits per channel, plus bookkeeping.
     let limit = (u64::from(max) * u64::from(max) * 8 + (1 << 20)).min(usize::MAX as u64) as usize;
     let mut decoder =

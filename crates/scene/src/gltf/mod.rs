@@ -16,6 +16,7 @@ mod animation;
 mod error;
 mod geometry;
 mod image;
+pub use image::png_error_message;
 pub(crate) mod import;
 mod material;
 mod optics_ext;
