@@ -2,6 +2,9 @@
 //! rendered in one process on one device, each scene uploaded once for all the jobs
 //! that show it; outputs compared with goldens by the jobs' criteria; results written as
 //! JSON and JUnit XML; `--merge` combines shards' results.
+//!
+//! Its arithmetic cannot overflow: clippy's `arithmetic_side_effects` is denied here.
+#![deny(clippy::arithmetic_side_effects)]
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -294,7 +297,7 @@ impl Renderers {
             None => {
                 let renderer = Renderer::new(self.device.clone(), settings)?;
                 self.made.push((key, renderer));
-                self.made.len() - 1
+                self.made.len().saturating_sub(1)
             }
         };
         Ok(&mut self.made[i].1)
@@ -364,7 +367,11 @@ fn run_jobs(
         let upload_seconds = started.elapsed().as_secs_f64();
         for job in jobs {
             if terminal {
-                eprint!("\r\x1b[2K[{:>3}/{total}] {}", results.len() + 1, job.name);
+                eprint!(
+                    "\r\x1b[2K[{:>3}/{total}] {}",
+                    results.len().saturating_add(1),
+                    job.name
+                );
             }
             let started = Instant::now();
             let seen = validation.messages().len();

@@ -3,6 +3,9 @@
 //! declaration `render` uses, so a job takes what `render` takes and is refused for what
 //! `render` refuses), plus what the batch adds: outputs, criteria, the physics error.
 //! docs/ci-rendering.md documents it; docs/batch-manifest.schema.json is its schema.
+//!
+//! Its arithmetic cannot overflow: clippy's `arithmetic_side_effects` is denied here.
+#![deny(clippy::arithmetic_side_effects)]
 
 use std::collections::HashSet;
 use std::path::Path;
@@ -198,7 +201,7 @@ impl Manifest {
         let kept: HashSet<String> = names
             .iter()
             .enumerate()
-            .filter(|(position, _)| position % shard.count == shard.index - 1)
+            .filter(|(position, _)| position.checked_rem(shard.count) == shard.index.checked_sub(1))
             .map(|(_, name)| (*name).to_owned())
             .collect();
         self.jobs.retain(|job| kept.contains(&job.name));

@@ -768,7 +768,7 @@ fn skins_morph_targets_and_animations_are_read_and_bad_values_refused() {
     );
     refused(
         &|g| g["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"] = json!(2),
-        "JOINTS_0: accessor 2 is F32; joints are unsigned bytes or shorts",
+        "JOINTS_0: accessor 2 is floats; joints are unsigned bytes or shorts",
     );
     refused(
         &|g| {

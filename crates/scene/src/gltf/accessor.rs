@@ -1,4 +1,7 @@
-//! Reading accessors with every range checked (no trust in the JSON).
+//! Reading accessors with every range checked (no trust in the JSON). Its arithmetic
+//! on sizes and offsets from the file cannot overflow: clippy's `arithmetic_side_effects`
+//! is denied here (each element is found by `element`'s checked arithmetic).
+#![deny(clippy::arithmetic_side_effects)]
 
 use gltf::json;
 use gltf::json::accessor::{ComponentType, Type};
@@ -106,8 +109,9 @@ fn check_range(
     if count == 0 {
         return Ok(());
     }
-    let last = (count - 1)
-        .checked_mul(stride as u64)
+    let last = count
+        .checked_sub(1)
+        .and_then(|x| x.checked_mul(stride as u64))
         .and_then(|x| x.checked_add(offset))
         .and_then(|x| x.checked_add(element_size as u64));
     match last {
@@ -115,6 +119,39 @@ fn check_range(
         _ => Err(format!(
             "{count} elements of {element_size} bytes (stride {stride}) from byte {offset} need more than the buffer view's {view_length} bytes"
         )),
+    }
+}
+
+/// The `size` bytes of element `i` of a view (at `offset + i·stride`), or `None` past its
+/// end (which `check_range` refuses before any element is read).
+fn element(view: &[u8], offset: usize, i: usize, stride: usize, size: usize) -> Option<&[u8]> {
+    let start = i.checked_mul(stride)?.checked_add(offset)?;
+    view.get(start..start.checked_add(size)?)
+}
+
+/// `N` components of `csize` bytes each, read from an element's bytes.
+fn components<const N: usize>(
+    bytes: &[u8],
+    csize: usize,
+    component: ComponentType,
+    normalized: bool,
+) -> [f32; N] {
+    let mut each = bytes.chunks_exact(csize);
+    std::array::from_fn(|_| {
+        each.next()
+            .map_or(0.0, |b| read_component(b, component, normalized))
+    })
+}
+
+/// A component type in words, for messages.
+fn component_name(component: ComponentType) -> &'static str {
+    match component {
+        ComponentType::I8 => "signed bytes",
+        ComponentType::U8 => "unsigned bytes",
+        ComponentType::I16 => "signed shorts",
+        ComponentType::U16 => "unsigned shorts",
+        ComponentType::U32 => "unsigned ints",
+        ComponentType::F32 => "floats",
     }
 }
 
@@ -154,13 +191,13 @@ pub(crate) fn read_colors(
     };
     if !allowed {
         return Err(format!(
-            "accessor {index} is {}{:?}; colours are floats or normalised unsigned bytes or shorts",
+            "accessor {index} is {}{}; colours are floats or normalised unsigned bytes or shorts",
             if accessor.normalized {
                 "normalised "
             } else {
                 ""
             },
-            component
+            component_name(component)
         ));
     }
     match dimensions(*ty) {
@@ -193,7 +230,7 @@ pub(crate) fn read_floats<const N: usize>(
     }
     let count = accessor.count.0;
     let csize = component_size(component);
-    let element_size = csize * N;
+    let element_size = csize.saturating_mul(N);
     let mut out: Vec<[f32; N]> = match accessor.buffer_view {
         None => {
             let total = buffers.unbacked_elements.saturating_add(count);
@@ -222,13 +259,11 @@ pub(crate) fn read_floats<const N: usize>(
             let offset = offset as usize;
             (0..count as usize)
                 .map(|i| {
-                    let at = offset + i * stride;
-                    std::array::from_fn(|c| {
-                        let s = at + c * csize;
-                        read_component(&view[s..s + csize], component, accessor.normalized)
-                    })
+                    element(view, offset, i, stride, element_size)
+                        .map(|b| components(b, csize, component, accessor.normalized))
+                        .ok_or_else(|| format!("accessor {index}: element {i} lies past its view"))
                 })
-                .collect()
+                .collect::<Result<_, _>>()?
         }
     };
     if let Some(sparse) = &accessor.sparse {
@@ -275,8 +310,9 @@ pub(crate) fn read_floats<const N: usize>(
         .map_err(|e| format!("accessor {index} sparse values: {e}"))?;
         let mut previous: Option<usize> = None;
         for k in 0..sparse_count as usize {
-            let at = ioffset as usize + k * isize;
-            let target = read_index(&iview[at..at + isize], index_type) as usize;
+            let past = || format!("accessor {index}: sparse entry {k} lies past its view");
+            let at = element(iview, ioffset as usize, k, isize, isize).ok_or_else(past)?;
+            let target = read_index(at, index_type) as usize;
             // glTF: sparse indices strictly increase (sorted, each element once).
             if let Some(previous) = previous.filter(|&p| target <= p) {
                 return Err(format!(
@@ -289,11 +325,9 @@ pub(crate) fn read_floats<const N: usize>(
                     "accessor {index}: sparse index {target} is out of range ({count} elements)"
                 )
             })?;
-            let at = voffset as usize + k * element_size;
-            *slot = std::array::from_fn(|c| {
-                let s = at + c * csize;
-                read_component(&vview[s..s + csize], component, accessor.normalized)
-            });
+            let values =
+                element(vview, voffset as usize, k, element_size, element_size).ok_or_else(past)?;
+            *slot = components(values, csize, component, accessor.normalized);
         }
     }
     Ok(out)
@@ -313,9 +347,9 @@ pub(crate) fn read_indices(
         )
     {
         return Err(format!(
-            "index accessor {index} must be SCALAR unsigned byte, short or int, not {} {:?}",
+            "index accessor {index} must be SCALAR unsigned byte, short or int, not {} {}",
             type_name(*ty),
-            component
+            component_name(component)
         ));
     }
     if accessor.sparse.is_some() || accessor.buffer_view.is_none() {
@@ -340,12 +374,13 @@ pub(crate) fn read_indices(
     check_range(offset, count, size, stride, view.len())
         .map_err(|e| format!("index accessor {index}: {e}"))?;
     let offset = offset as usize;
-    Ok((0..count as usize)
+    (0..count as usize)
         .map(|i| {
-            let at = offset + i * stride;
-            read_index(&view[at..at + size], component)
+            element(view, offset, i, stride, size)
+                .map(|b| read_index(b, component))
+                .ok_or_else(|| format!("index accessor {index}: index {i} lies past its view"))
         })
-        .collect())
+        .collect()
 }
 
 /// Reads a `JOINTS_n` accessor: VEC4 of unsigned bytes or shorts, not normalised.
@@ -357,12 +392,13 @@ pub(crate) fn read_joints(
     let (accessor, component, _) = checked_accessor(root, index)?;
     if !matches!(component, ComponentType::U8 | ComponentType::U16) || accessor.normalized {
         return Err(format!(
-            "accessor {index} is {}{component:?}; joints are unsigned bytes or shorts",
+            "accessor {index} is {}{}; joints are unsigned bytes or shorts",
             if accessor.normalized {
                 "normalised "
             } else {
                 ""
             },
+            component_name(component),
         ));
     }
     Ok(read_floats::<4>(root, buffers, index)?
@@ -389,12 +425,13 @@ pub(crate) fn read_unit_floats<const N: usize>(
     };
     if !allowed {
         return Err(format!(
-            "accessor {index} is {}{component:?}; floats or normalised {}integers expected",
+            "accessor {index} is {}{}; floats or normalised {}integers expected",
             if accessor.normalized {
                 "normalised "
             } else {
                 ""
             },
+            component_name(component),
             if signed { "" } else { "unsigned " },
         ));
     }
@@ -411,7 +448,8 @@ pub(crate) fn read_f32<const N: usize>(
     let (_, component, _) = checked_accessor(root, index)?;
     if component != ComponentType::F32 {
         return Err(format!(
-            "accessor {index} is {component:?}; floats expected"
+            "accessor {index} is {}; floats expected",
+            component_name(component)
         ));
     }
     read_floats::<N>(root, buffers, index)
