@@ -592,6 +592,16 @@ pub enum ColorSpace {
     Linear,
 }
 
+impl ColorSpace {
+    /// Its name in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Srgb => "sRGB-encoded colour",
+            Self::Linear => "linear data",
+        }
+    }
+}
+
 /// A decoded image: RGBA, 8 bits per channel, rows top to bottom (the first row is at
 /// v = 0), no padding. `Eq`, so that comparing two `Arc<Image>`s that are one image
 /// returns at once instead of comparing every texel (scene edits compare texture tables).
@@ -791,10 +801,10 @@ impl TextureRef {
         let image = &self.texture.image;
         if image.color_space != slot.color_space() {
             return Err(format!(
-                "image `{}` is {:?} but this slot needs {:?}",
+                "image `{}` is {} but this slot needs {}",
                 image.name,
-                image.color_space,
-                slot.color_space()
+                image.color_space.name(),
+                slot.color_space().name()
             ));
         }
         Ok(())

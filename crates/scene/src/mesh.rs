@@ -288,13 +288,14 @@ impl Mesh {
             ];
             if let Some((name, values)) = attributes.iter().find(|(_, values)| !finite(values)) {
                 return Err(format!(
-                    "vertex {i} has a NaN or infinite {name} {values:?}"
+                    "vertex {i} has a NaN or infinite {name} {}",
+                    crate::message_numbers(values)
                 ));
             }
             if !v.color.iter().all(|c| (0.0..=1.0).contains(c)) {
                 return Err(format!(
-                    "vertex {i} has a colour {:?} outside [0, 1]",
-                    v.color
+                    "vertex {i} has a colour {} outside [0, 1]",
+                    crate::message_numbers(&v.color)
                 ));
             }
         }
@@ -399,7 +400,7 @@ mod tests {
                     .validate()
                     .expect_err(&format!("{name} = {bad} accepted"));
                 assert!(
-                    message.contains("vertex 2") && message.contains(&format!("infinite {name} [")),
+                    message.contains("vertex 2") && message.contains(&format!("infinite {name} (")),
                     "{name} = {bad}: {message}"
                 );
             }

@@ -187,6 +187,18 @@ pub enum Property {
     Weights,
 }
 
+impl Property {
+    /// What it animates, in words (for messages).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Translation => "translation",
+            Self::Rotation => "rotation",
+            Self::Scale => "scale",
+            Self::Weights => "morph weights",
+        }
+    }
+}
+
 /// How a sampler fills the time between keys.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Interpolation {
@@ -614,8 +626,8 @@ impl Motion {
                 };
                 if sampler.width() != width {
                     return problem(format!(
-                        "channel {c} animates {:?} of node {} ({width} values per key) with {} values per key",
-                        channel.property,
+                        "channel {c} animates the {} of node {} ({width} values per key) with {} values per key",
+                        channel.property.name(),
                         channel.node,
                         sampler.width()
                     ));

@@ -814,14 +814,14 @@ fn skins_morph_targets_and_animations_are_read_and_bad_values_refused() {
             g["animations"][0]["channels"][1] =
                 json!({ "sampler": 0, "target": { "node": 1, "path": "rotation" } })
         },
-        "animates Rotation of node 1 a second time",
+        "animates the rotation of node 1 a second time",
     );
     refused(
         &|g| {
             g["animations"][0]["channels"][1] =
                 json!({ "sampler": 0, "target": { "node": 2, "path": "translation" } })
         },
-        "sampler 0 drives both Rotation and Translation",
+        "sampler 0 drives both the rotation and the translation",
     );
     refused(
         &|g| g["animations"][0]["samplers"][1]["output"] = json!(3),

@@ -119,8 +119,9 @@ impl Importer<'_> {
                 return Err(self.node_error(
                     i,
                     format!(
-                        "has {} morph weights for {targets} morph targets, or a non-finite one: {weights:?}",
-                        weights.len()
+                        "has {} morph weights for {targets} morph targets, or a non-finite one: {}",
+                        weights.len(),
+                        crate::message_numbers(&weights)
                     ),
                 ));
             }
@@ -346,7 +347,8 @@ impl Importer<'_> {
                     .any(|other| other.node == node && other.property == property)
                 {
                     return Err(problem(format!(
-                        "channel {c} animates {property:?} of node {node} a second time"
+                        "channel {c} animates the {} of node {node} a second time",
+                        property.name()
                     )));
                 }
                 match (property, &target.local) {
@@ -368,7 +370,9 @@ impl Importer<'_> {
                     Some(&(ours, read_as)) if read_as == property => ours,
                     Some(&(_, read_as)) => {
                         return Err(problem(format!(
-                            "sampler {s} drives both {read_as:?} and {property:?}"
+                            "sampler {s} drives both the {} and the {}",
+                            read_as.name(),
+                            property.name()
                         )))
                     }
                     None => {

@@ -45,8 +45,8 @@ const UNIT_TOLERANCE: f32 = 1e-5;
 fn finite_check<const N: usize>(name: &str, values: &[[f32; N]]) -> Result<(), String> {
     match values.iter().position(|v| !v.iter().all(|x| x.is_finite())) {
         Some(i) => Err(format!(
-            "{name} of vertex {i} is not finite ({:?})",
-            values[i]
+            "{name} of vertex {i} is not finite {}",
+            crate::message_numbers(&values[i])
         )),
         None => Ok(()),
     }

@@ -93,8 +93,8 @@ fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
     let frame = reader.next_frame(&mut buffer).map_err(bad)?;
     if frame.bit_depth != png::BitDepth::Eight {
         return Err(DecodeError::Other(format!(
-            "PNG decoded to {:?} bits per channel, expected 8",
-            frame.bit_depth
+            "PNG decoded to {} bits per channel, expected 8",
+            frame.bit_depth as u8
         )));
     }
     buffer.truncate(frame.buffer_size());

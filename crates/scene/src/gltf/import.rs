@@ -460,7 +460,12 @@ impl Importer<'_> {
         };
         if counts.iter().any(|&c| c != count) {
             return Err(problem(format!(
-                "its attributes have different counts ({counts:?})"
+                "its attributes have different counts ({})",
+                counts
+                    .iter()
+                    .map(|c| c.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             )));
         }
         let mut locals = Vec::with_capacity(count);
@@ -475,7 +480,8 @@ impl Importer<'_> {
             let length = q.length();
             if length < 1e-6 {
                 return Err(problem(format!(
-                    "instance {i}'s rotation {r:?} is not a unit quaternion"
+                    "instance {i}'s rotation {} is not a unit quaternion",
+                    crate::message_numbers(&r)
                 )));
             }
             locals.push(Mat4::from_scale_rotation_translation(
@@ -1125,8 +1131,9 @@ impl Importer<'_> {
         let power = light.color.map(|c| c * light.intensity);
         if !power.iter().all(|x| x.is_finite() && *x >= 0.0) {
             return Err(err(format!(
-                "colour {:?} × intensity {} must be finite and non-negative",
-                light.color, light.intensity
+                "colour {} × intensity {} must be finite and non-negative",
+                crate::message_numbers(&light.color),
+                crate::message_number(light.intensity)
             )));
         }
         // The range is the light's own (node scale does not change it); its window on

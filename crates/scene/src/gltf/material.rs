@@ -446,10 +446,10 @@ impl Importer<'_> {
         ) && (tex_coord != 0 || turns)
         {
             self.warn(format!(
-                "material {material}: the {} texture is read on set {tex_coord} with rotation {} and scale {:?}; its tangent frame follows TEXCOORD_0 untransformed, so its directions are turned",
+                "material {material}: the {} texture is read on set {tex_coord} with rotation {} and scale {}; its tangent frame follows TEXCOORD_0 untransformed, so its directions are turned",
                 slot.name(),
-                transform.rotation,
-                transform.scale
+                crate::message_number(transform.rotation),
+                crate::message_numbers(&transform.scale)
             ));
         }
         let root = self.root;
