@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# The speed comparison with what a user would pick instead, measured side by side in one
+# run: the Bevy anchor (../shared/anchors/bevy-spheres: Bevy 0.19's deferred renderer on
+# the 7×7 sphere grid) and `combustion view` on the same workload — builtin:grid-7x7 and
+# the anchor's own scene as glTF (its twin) — each a window of W×H under Xvfb, vsync off,
+# the median wall-clock frame time of 100 frames, interleaved ROUNDS times, then the
+# ratio of Bevy's median to Combustion's. Run it alone on the machine (nothing compiling
+# beside it): two shared cores move such figures by a fifth from run to run.
+#
+#   bash scripts/side_by_side.sh            # 1280×720, two rounds
+#   W=1920 H=1080 ROUNDS=3 bash scripts/side_by_side.sh
+#
+# It installs what it needs (Xvfb, the anchor's build packages, numpy for the twin),
+# builds the anchor once into $ANCHOR_DIR (default /var/cache/combustion-anchors; 9.6
+# minutes on two cores) and Combustion (PROFILE, dev by default). Combustion's window
+# draws bloom by default; the anchor has none, so `--bloom off` here (and FXAA,
+# Combustion's default).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+W=${W:-1280}
+H=${H:-720}
+ROUNDS=${ROUNDS:-2}
+FRAMES=100
+ANCHOR_SRC=../shared/anchors/bevy-spheres
+ANCHOR_DIR=${ANCHOR_DIR:-/var/cache/combustion-anchors}
+
+if [ ! -d "$ANCHOR_SRC" ]; then
+    echo "error: $ANCHOR_SRC is not there (the shared folder beside the workspace)" >&2
+    exit 1
+fi
+
+# Debian's own Python (python3-numpy is for it, whatever python3 comes first on PATH).
+py=/usr/bin/python3
+[ -x "$py" ] || py=python3
+
+need=()
+command -v Xvfb >/dev/null || need+=(xvfb)
+command -v pkg-config >/dev/null || need+=(pkg-config)
+for lib in libwayland-dev libxkbcommon-dev libudev-dev libasound2-dev; do
+    dpkg -s "$lib" >/dev/null 2>&1 || need+=("$lib")
+done
+$py -c 'import numpy' 2>/dev/null || need+=(python3-numpy)
+if [ ${#need[@]} -gt 0 ]; then
+    apt-get update -qq
+    apt-get install -y -qq "${need[@]}" >/dev/null
+fi
+
+# The anchor, built once from a writable copy (the shared folder is read-only).
+mkdir -p "$ANCHOR_DIR"
+if [ ! -x "$ANCHOR_DIR/target/release/bevy-spheres" ]; then
+    rm -rf "$ANCHOR_DIR/bevy-spheres"
+    cp -r "$ANCHOR_SRC" "$ANCHOR_DIR/bevy-spheres"
+    chmod -R u+w "$ANCHOR_DIR/bevy-spheres"
+    (cd "$ANCHOR_DIR/bevy-spheres" &&
+        CARGO_TARGET_DIR="$ANCHOR_DIR/target" cargo build --release --locked -q)
+fi
+bevy="$ANCHOR_DIR/target/release/bevy-spheres"
+twin="$ANCHOR_DIR/twin.gltf"
+[ -f "$twin" ] || "$py" "$ANCHOR_SRC/twin/make_twin.py" "$twin" 4 >/dev/null
+
+# Combustion as its test command builds it (the dev profile: opt-level 1, its
+# dependencies 2); PROFILE=release for the release profile (a first build compiles
+# shaderc's glslang again: tens of minutes on two cores).
+PROFILE=${PROFILE:-dev}
+cargo build --profile "$PROFILE" --locked -q --bin combustion
+if [ "$PROFILE" = dev ]; then
+    combustion=target/debug/combustion
+else
+    combustion=target/$PROFILE/combustion
+fi
+
+# A display of our own.
+display=:$((90 + RANDOM % 100))
+Xvfb "$display" -screen 0 1920x1080x24 >/dev/null 2>&1 &
+xvfb=$!
+trap 'kill "$xvfb" 2>/dev/null || true' EXIT
+sleep 1
+
+export DISPLAY=$display COMBUSTION_DEVICE=llvmpipe
+driver=$("$combustion" devices | grep -m1 llvmpipe || true)
+echo "driver: ${driver:-unknown}; Combustion's $PROFILE profile; ${W}x${H}, $FRAMES frames, $ROUNDS rounds interleaved"
+
+# The median frame time (ms) each tool prints.
+bevy_ms() { W=$W H=$H "$bevy" 2>/dev/null | sed -n 's/.*median_ms=\([0-9.]*\).*/\1/p' | tail -1; }
+combustion_ms() {
+    "$combustion" view "$1" --width "$W" --height "$H" --frames "$FRAMES" --vsync off \
+        --overlay off --bloom off 2>/dev/null |
+        sed -n 's/.*wall clock per frame median \([0-9.]*\) ms.*/\1/p' | tail -1
+}
+
+printf '| round | Bevy 0.19 deferred | combustion view builtin:grid-7x7 | combustion view twin.gltf | Bevy ÷ Combustion (grid, twin) |\n'
+printf '|---|---|---|---|---|\n'
+for round in $(seq 1 "$ROUNDS"); do
+    b=$(bevy_ms)
+    g=$(combustion_ms builtin:grid-7x7)
+    t=$(combustion_ms "$twin")
+    ratio=$("$py" -c "print(f'{$b/$g:.2f}× , {$b/$t:.2f}×')" 2>/dev/null || echo "not measured")
+    printf '| %s | %s ms | %s ms | %s ms | %s |\n' "$round" "${b:-?}" "${g:-?}" "${t:-?}" "$ratio"
+done
