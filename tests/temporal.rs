@@ -240,3 +240,80 @@ fn temporal_anti_aliasing_follows_skins_and_morphs() {
     assert!(taa < fxaa, "TAA {taa} against FXAA {fxaa}");
     assert!(taa < none, "TAA {taa} against none {none}");
 }
+
+/// The camera's resources alternated past the retire delay, two rounds, validation on:
+/// temporal anti-aliasing (the motion vectors, their depth, the two histories, the slot's
+/// previous transforms and vertex bases, the renderer's previous pose, replaced by a larger
+/// one when a larger deformed scene comes), bloom (its levels, its sums) and the auto
+/// exposure (the shared histogram and state, the frame-end copy), each on the spheres,
+/// the deformed spheres and the glass, with frames that have none of them between. Every
+/// binding is written every frame (`SetWriter::apply` checks it in debug builds), no
+/// frame holds a non-finite pixel, every metered frame's exposure is finite, and each
+/// configuration renders the same bytes, frame for frame, in its second round as in its
+/// first (the history starts again, the jitter from its first element).
+#[test]
+fn camera_passes_alternate_past_the_retire_delay() {
+    use combustion::renderer::{optional_pass, AutoExposure, OptionalPasses};
+    use common::FRAMES_PAST_THE_RETIRE_DELAY;
+    let taa = OptionalPasses::NONE.with(optional_pass("temporal-anti-aliasing").unwrap(), true);
+    let bloom = OptionalPasses::NONE.with(optional_pass("bloom").unwrap(), true);
+    let both = taa.with(optional_pass("bloom").unwrap(), true);
+    let grid = common::with_coarse_grid_spheres(builtin_scene("spheres").unwrap());
+    let deformed = common::deformed_spheres();
+    let mut larger = common::deformed_spheres();
+    larger.objects.extend(deformed.objects.clone());
+    let glass = builtin_scene("glass").unwrap();
+    let mut headless = common::lavapipe(common::exact_f32());
+    {
+        let renderer = headless.renderer();
+        let gpus = [&grid, &deformed, &glass, &larger].map(|s| renderer.upload(s).unwrap());
+        // (scene, passes, auto exposure)
+        let configurations = [
+            (0, taa, false),
+            (1, taa, false),
+            (0, OptionalPasses::NONE, false),
+            (2, both, true),
+            (1, OptionalPasses::NONE, true),
+            (3, taa, false),
+            (0, bloom, true),
+            (1, both, false),
+            (2, OptionalPasses::NONE, false),
+        ];
+        let mut first: Vec<Vec<Vec<[f32; 4]>>> = vec![Vec::new(); configurations.len()];
+        for round in 0..2 {
+            for (config, &(scene, passes, metered)) in configurations.iter().enumerate() {
+                let shading = combustion::renderer::ShadingOptions {
+                    optional_passes: passes,
+                    ..renderer.shading()
+                };
+                renderer.set_shading(shading, &gpus.each_ref()).unwrap();
+                let gpu = &gpus[scene];
+                let pose = gpu.scene().pose_at(0, 0.7);
+                let inputs = FrameInputs {
+                    pose: pose.as_ref().filter(|_| scene == 1 || scene == 3),
+                    auto_exposure: metered.then(AutoExposure::default),
+                    ..FrameInputs::of_scene(gpu, 1.0)
+                };
+                for i in 0..FRAMES_PAST_THE_RETIRE_DELAY {
+                    let frame = renderer.render_with(gpu, &inputs, 80, 48, IMAGES).unwrap();
+                    assert_eq!(frame.non_finite_pixels(), 0, "configuration {config}");
+                    if metered {
+                        let exposure = renderer.last_metered_exposure().unwrap().exposure;
+                        assert!(exposure.is_finite() && exposure > 0.0, "{exposure}");
+                    }
+                    if round == 0 {
+                        first[config].push(frame.hdr);
+                    } else {
+                        assert!(
+                            first[config][i] == frame.hdr,
+                            "configuration {config}, frame {i}: another image in round 2"
+                        );
+                    }
+                }
+            }
+        }
+        // Temporal frames differ from frame to frame (the jitter), then settle.
+        assert!(first[0][0] != first[0][1]);
+    }
+    common::finish(headless);
+}
