@@ -474,9 +474,10 @@ fn render_job(
         },
         pose: pose.as_ref(),
         auto_exposure: o.frame.auto_exposure()?,
-        bloom_intensity: o
-            .frame
-            .bloom_intensity(super::render::bloom_asked(&o.shading.optional.passes))?,
+        bloom_intensity: o.frame.bloom_intensity(super::render::pass_asked(
+            &o.shading.optional.passes,
+            "bloom",
+        ))?,
         ..FrameInputs::of_scene(gpu, settings.exposure)
     };
     let readback = Readback {
@@ -537,10 +538,7 @@ fn render_job(
             &frame,
             settings.gbuffer,
             // The exposure the frame's picture was made with (metered, or given).
-            match (&inputs.auto_exposure, renderer.last_metered_exposure()) {
-                (Some(_), Some(metered)) => metered.exposure,
-                _ => settings.exposure,
-            },
+            renderer.exposure_shown(&inputs),
             tone_mapping,
         );
         result.physics = Some(json!({

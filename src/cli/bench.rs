@@ -132,9 +132,10 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
 
 pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     let auto_exposure = o.frame.auto_exposure()?;
-    let bloom_intensity = o
-        .frame
-        .bloom_intensity(super::render::bloom_asked(&o.shading.optional.passes))?;
+    let bloom_intensity = o.frame.bloom_intensity(super::render::pass_asked(
+        &o.shading.optional.passes,
+        "bloom",
+    ))?;
     if let Some(dir) = &o.report {
         return bench_report(o, dir);
     }

@@ -79,10 +79,7 @@ pub(crate) fn accumulate(
     }
     let mut frame = last.expect("at least one frame");
     // A metered frame's exposure is its last frame's (each metered alone).
-    let exposure = match (&inputs.auto_exposure, renderer.last_metered_exposure()) {
-        (Some(_), Some(metered)) => metered.exposure,
-        _ => inputs.exposure,
-    };
+    let exposure = renderer.exposure_shown(inputs);
     for ((out, display), m) in frame
         .hdr
         .iter_mut()
@@ -114,24 +111,18 @@ pub(crate) fn supersampled_size_error(
     }
 }
 
-/// Whether `passes` run temporal anti-aliasing.
-pub(crate) fn temporal_asked(passes: &combustion::renderer::OptionalPasses) -> bool {
-    combustion::renderer::optional_pass("temporal-anti-aliasing")
-        .is_some_and(|taa| passes.contains(taa))
-}
-
-/// Whether `passes` run bloom.
-pub(crate) fn bloom_asked(passes: &combustion::renderer::OptionalPasses) -> bool {
-    combustion::renderer::optional_pass("bloom").is_some_and(|bloom| passes.contains(bloom))
+/// Whether `passes` run the optional pass named `name`.
+pub(crate) fn pass_asked(passes: &combustion::renderer::OptionalPasses, name: &str) -> bool {
+    combustion::renderer::optional_pass(name).is_some_and(|pass| passes.contains(pass))
 }
 
 /// Whether `o` asks for ray-traced occlusion, and for path tracing.
 fn traced_and_path_traced(o: &RenderArgs) -> (bool, bool) {
-    let asked = |name: &str| {
-        combustion::renderer::optional_pass(name)
-            .is_some_and(|pass| o.shading.optional.passes.contains(pass))
-    };
-    (asked("ray-traced-occlusion"), asked("path-trace"))
+    let passes = &o.shading.optional.passes;
+    (
+        pass_asked(passes, "ray-traced-occlusion"),
+        pass_asked(passes, "path-trace"),
+    )
 }
 
 /// What `o` averages over frames (`--samples`, `--accumulate-until`), refused where
@@ -183,7 +174,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
     let auto_exposure = o.frame.auto_exposure()?;
     let bloom_intensity = o
         .frame
-        .bloom_intensity(bloom_asked(&o.shading.optional.passes))?;
+        .bloom_intensity(pass_asked(&o.shading.optional.passes, "bloom"))?;
     let (traced, path_traced) = traced_and_path_traced(o);
     let default_output = (o.output.is_none() && o.hdr.is_none()).then(|| PathBuf::from("out.png"));
     let png_path = o.output.clone().or(default_output);
@@ -300,7 +291,7 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
             None => {
                 // Temporal anti-aliasing: a still frame is the last of one period of the
                 // jitter from its camera (the history's first frames run unread).
-                if temporal_asked(&o.shading.optional.passes) {
+                if pass_asked(&o.shading.optional.passes, "temporal-anti-aliasing") {
                     for _ in 1..combustion::renderer::TEMPORAL_JITTER_PERIOD {
                         renderer.render_with(
                             &gpu_scene,

@@ -1052,6 +1052,20 @@ impl State {
         )
     }
 
+    /// Switches the optional pass `name` on or off for the frames to come (its pipelines
+    /// built now, between frames).
+    fn toggle_pass(&mut self, name: &str) -> Result<(), Error> {
+        let Some(pass) = combustion_renderer::optional_pass(name) else {
+            return Ok(());
+        };
+        let mut shading = self.renderer.shading();
+        let on = !shading.optional_passes.contains(pass);
+        shading.optional_passes = shading.optional_passes.with(pass, on);
+        self.renderer.set_shading(shading, &[&self.gpu_scene])?;
+        log::info!("{name} {}", if on { "on" } else { "off" });
+        Ok(())
+    }
+
     /// The auto exposure of a frame recorded `elapsed` seconds after the previous one
     /// (None: the first), when it is on and the view shows radiance.
     fn metered(&self, elapsed: Option<f32>) -> Option<combustion_renderer::AutoExposure> {
@@ -1298,24 +1312,8 @@ impl App<'_> {
                     shading.shadows.map_or("off", |s| s.filter.name())
                 );
             }
-            "t" | "T" => {
-                let mut shading = state.renderer.shading();
-                if let Some(taa) = combustion_renderer::optional_pass("temporal-anti-aliasing") {
-                    let on = !shading.optional_passes.contains(taa);
-                    shading.optional_passes = shading.optional_passes.with(taa, on);
-                    state.renderer.set_shading(shading, &[&state.gpu_scene])?;
-                    log::info!("temporal anti-aliasing {}", if on { "on" } else { "off" });
-                }
-            }
-            "y" | "Y" => {
-                let mut shading = state.renderer.shading();
-                if let Some(bloom) = combustion_renderer::optional_pass("bloom") {
-                    let on = !shading.optional_passes.contains(bloom);
-                    shading.optional_passes = shading.optional_passes.with(bloom, on);
-                    state.renderer.set_shading(shading, &[&state.gpu_scene])?;
-                    log::info!("bloom {}", if on { "on" } else { "off" });
-                }
-            }
+            "t" | "T" => state.toggle_pass("temporal-anti-aliasing")?,
+            "y" | "Y" => state.toggle_pass("bloom")?,
             "b" | "B" => {
                 let mut shading = state.renderer.shading();
                 shading.optional_passes = controls::cycle_occlusion(

@@ -900,10 +900,7 @@ impl Renderer {
             },
         )?;
         // The large frame's metered exposure, where it metered one.
-        let exposure = match (&inputs.auto_exposure, &self.last_metered) {
-            (Some(_), Some(metered)) => metered.exposure,
-            _ => inputs.exposure,
-        };
+        let exposure = self.exposure_shown(inputs);
         let (w, h, f) = (width as usize, height as usize, factor as usize);
         let samples = (f * f) as f64;
         let mut hdr = Vec::with_capacity(w * h);

@@ -773,6 +773,16 @@ impl Renderer {
         self.last_metered.as_ref()
     }
 
+    /// The exposure the latest completed frame of `inputs` was shown at: the one it
+    /// metered where `inputs` meter it, else `inputs.exposure` (what a CPU tone map of
+    /// its radiance, as supersampling and accumulation make, applies).
+    pub fn exposure_shown(&self, inputs: &FrameInputs<'_>) -> f32 {
+        match (&inputs.auto_exposure, &self.last_metered) {
+            (Some(_), Some(metered)) => metered.exposure,
+            _ => inputs.exposure,
+        }
+    }
+
     /// The GPU times of the most recent frame known to have completed (read when its
     /// frame slot is reused; at once for [`Renderer::render`]).
     pub fn last_completed_timings(&self) -> Option<PassTimings> {
