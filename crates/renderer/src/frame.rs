@@ -637,15 +637,7 @@ impl Renderer {
         if temporal.is_some() {
             use crate::passes::temporal_anti_aliasing::{jitter, jittered};
             let index = self.temporal.frames() - 1;
-            view_projection = jittered(
-                view_projection,
-                if std::env::var("NOJIT").is_ok() {
-                    [0.0; 2]
-                } else {
-                    jitter(index)
-                },
-                extent,
-            );
+            view_projection = jittered(view_projection, jitter(index), extent);
         }
         let s = &self.slots[slot];
         let mut lighting_push = LightingPush::new(
