@@ -9,6 +9,7 @@
 #
 #   bash scripts/side_by_side.sh            # 1280×720, two rounds
 #   W=1920 H=1080 ROUNDS=3 bash scripts/side_by_side.sh
+#   DEVICE_NAME=RADV bash scripts/side_by_side.sh   # another device than lavapipe
 #
 # It installs what it needs (Xvfb, the anchor's build packages, numpy for the twin),
 # builds the anchor once into $ANCHOR_DIR (default /var/cache/combustion-anchors; 9.6
@@ -77,8 +78,11 @@ xvfb=$!
 trap 'kill "$xvfb" 2>/dev/null || true' EXIT
 sleep 1
 
-export DISPLAY=$display COMBUSTION_DEVICE=llvmpipe
-driver=$("$combustion" devices | grep -m1 llvmpipe || true)
+# The device both use: lavapipe unless DEVICE_NAME names another (scripts/real_gpu.sh),
+# by part of its name (Bevy's wgpu reads WGPU_ADAPTER_NAME the same way).
+device=${DEVICE_NAME:-llvmpipe}
+export DISPLAY=$display COMBUSTION_DEVICE=$device WGPU_ADAPTER_NAME=$device
+driver=$("$combustion" devices | grep -m1 -F "$device" || true)
 echo "driver: ${driver:-unknown}; Combustion's $PROFILE profile; ${W}x${H}, $FRAMES frames, $ROUNDS rounds interleaved"
 
 # The median frame time (ms) each tool prints.

@@ -25,6 +25,9 @@
 
 #include "bindings/forward.glsl"  // set 0: see combustion_renderer::bindings::FORWARD
 #include "bindings/constants.glsl"
+// The forward pass lights the surface at once with its BRDF frame: a direction on isotropic
+// surfaces too.
+#define MATERIAL_SURFACE_DIRECTION_ALWAYS
 #include "material_surface.glsl"  // the fragment inputs and set 1, the material's textures
 
 layout(push_constant) uniform ForwardPush {

@@ -134,7 +134,13 @@ void main() {
     out_base_color_metalness = vec4(srgb_encode(s.base_color), s.metalness);
 #endif
     out_normal_roughness_anisotropy = vec4(octahedral_encode(s.normal), s.roughness, s.anisotropy);
-    out_material_direction = uvec2(in_material, anisotropy_direction_encode(stored_normal(s.normal), s.direction));
+    // The direction's angle only where the surface is anisotropic (an isotropic pixel's
+    // direction is any in its plane: code 0, the decoder's reference tangent).
+    uint direction_code = 0u;
+    if (s.anisotropy != 0.0) {
+        direction_code = anisotropy_direction_encode(stored_normal(s.normal), s.direction);
+    }
+    out_material_direction = uvec2(in_material, direction_code);
 #ifdef EMISSIVE_OCCLUSION_TARGET
     out_emissive = vec4(s.emissive, s.occlusion);
 #endif

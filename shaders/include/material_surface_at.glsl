@@ -76,22 +76,41 @@ MaterialSurface MATERIAL_SURFACE_FUNCTION(GpuMaterial material, vec3 n, vec4 tan
     ivec4 tex0 = material.textures_base_mr_normal_occlusion;
     ivec4 tex1 = material.textures_emissive_anisotropy_specular;
     MaterialSurface s;
-    vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
-    if (!(dot(t, t) > 1e-20) || any(isnan(t))) {
-        vec3 unused;
-        orthonormal_basis(n, t, unused);
-    }
-    t = normalize(t);
-    vec3 b = cross(n, t) * (tangent.w < 0.0 ? -1.0 : 1.0);
+    float strength = material.roughness_anisotropy_ior.y;
+    // The tangent frame, where a normal map or anisotropy reads it — or always, for an
+    // includer that reads `direction` on isotropic surfaces too (MATERIAL_SURFACE_
+    // DIRECTION_ALWAYS; the G-buffer stores none for them). Without it the normal is the
+    // interpolated one and `direction` is 0. On lavapipe the tangent frame's few dozen
+    // operations per 4×4 block are measurable where triangles are a few pixels large.
+#ifdef MATERIAL_SURFACE_DIRECTION_ALWAYS
+    bool framed = true;
+#else
+    bool framed = tex0.z >= 0 || strength != 0.0;
+#ifdef CLEARCOAT
+    framed = framed || material.textures_clearcoat.z >= 0;
+#endif
+#endif
+    vec3 t = vec3(0.0);
+    vec3 b = vec3(0.0);
     // The geometry's frame, before the base's normal map: the coat's.
-    mat3 geometry_frame = mat3(t, b, n);
-
-    // Normal map (tangent space, glTF convention), scaled in x and y.
-    if (tex0.z >= 0) {
-        n = normal_mapped(MATERIAL_TEXTURE(normal_texture, UV_NORMAL, tex0.z, 2u), material.emissive_normal_scale.a,
-                          geometry_frame, n);
-        t = normalize(t - n * dot(n, t));
+    mat3 geometry_frame = mat3(vec3(0.0), vec3(0.0), n);
+    if (framed) {
+        t = tangent.xyz - n * dot(n, tangent.xyz);
+        if (!(dot(t, t) > 1e-20) || any(isnan(t))) {
+            vec3 unused;
+            orthonormal_basis(n, t, unused);
+        }
+        t = normalize(t);
         b = cross(n, t) * (tangent.w < 0.0 ? -1.0 : 1.0);
+        geometry_frame = mat3(t, b, n);
+
+        // Normal map (tangent space, glTF convention), scaled in x and y.
+        if (tex0.z >= 0) {
+            n = normal_mapped(MATERIAL_TEXTURE(normal_texture, UV_NORMAL, tex0.z, 2u),
+                              material.emissive_normal_scale.a, geometry_frame, n);
+            t = normalize(t - n * dot(n, t));
+            b = cross(n, t) * (tangent.w < 0.0 ? -1.0 : 1.0);
+        }
     }
 
     vec4 base = vec4(material.base_color_metalness.rgb, material.alpha_cutoff.x);
@@ -110,23 +129,27 @@ MaterialSurface MATERIAL_SURFACE_FUNCTION(GpuMaterial material, vec3 n, vec4 tan
 
     // Anisotropy (KHR_materials_anisotropy): direction in tangent space from the texture's
     // RG (or +x), rotated by the material's rotation; strength × the texture's B.
-    float strength = material.roughness_anisotropy_ior.y;
     vec2 along = vec2(1.0, 0.0);
     if (tex1.y >= 0) {
         vec3 a = MATERIAL_TEXTURE(anisotropy_texture, UV_ANISOTROPY, tex1.y, 5u).rgb;
         along = a.rg * 2.0 - 1.0;
         strength *= a.b;
     }
-    float rotation = material.roughness_anisotropy_ior.z;
-    float c = cos(rotation), sn = sin(rotation);
-    along = vec2(c * along.x - sn * along.y, sn * along.x + c * along.y);
-    vec3 direction = along.x * t + along.y * b;
-    if (!(dot(direction, direction) > 1e-20)) {
-        direction = t;
-    }
     s.anisotropy = strength;
     s.normal = n;
-    s.direction = normalize(direction);
+    // An isotropic surface's lobe is the same about any direction in its plane: the
+    // tangent serves, and the rotation is not evaluated (on lavapipe a branch no lane
+    // takes costs nothing: the G-buffer pass of builtin:grid-7x7, docs/performance.md).
+    s.direction = t;
+    if (strength != 0.0) {
+        float rotation = material.roughness_anisotropy_ior.z;
+        float c = cos(rotation), sn = sin(rotation);
+        along = vec2(c * along.x - sn * along.y, sn * along.x + c * along.y);
+        vec3 direction = along.x * t + along.y * b;
+        if (dot(direction, direction) > 1e-20) {
+            s.direction = normalize(direction);
+        }
+    }
 
     s.emissive = vec3(0.0);
 #ifdef EMISSIVE

@@ -60,6 +60,8 @@ vec2 traced_slot_uv(GpuMaterial material, uint slot, vec4 uvs) {
 // A slot's texture as a hit reads it (material_surface_at.glsl's MATERIAL_TEXTURE).
 #define MATERIAL_TEXTURE(sampler, uv, index, slot) traced_texture(index, traced_slot_uv(material, slot, uvs))
 #define MATERIAL_SURFACE_FUNCTION material_surface_at
+// A hit is shaded at once with its BRDF frame: a direction on isotropic surfaces too.
+#define MATERIAL_SURFACE_DIRECTION_ALWAYS
 #include "material_surface_at.glsl"
 
 #endif
