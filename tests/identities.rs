@@ -148,3 +148,37 @@ fn highlights_tighten_as_roughness_falls() {
         );
     }
 }
+
+/// The G-buffer stores an anisotropy direction only where the surface is anisotropic
+/// (an isotropic lobe is the same about any direction in its plane: code 0, the
+/// decoder's reference tangent, and the pass skips the encoding). builtin:grid-7x7's
+/// aluminium row (strength 0.7) keeps directions; its six isotropic rows store 0.
+#[test]
+fn only_anisotropic_pixels_store_a_direction() {
+    let scene = builtin_scene("grid-7x7").unwrap();
+    let frame = common::render(&scene, 192, 108, common::exact_f32(), Readback::ALL);
+    let gbuffer = frame.gbuffer.as_ref().unwrap();
+    let (mut isotropic, mut isotropic_coded, mut anisotropic, mut anisotropic_coded) =
+        (0usize, 0usize, 0usize, 0usize);
+    for texel in gbuffer.texels.iter().filter(|t| t.depth < 1.0) {
+        let material = &scene.materials[usize::from(texel.material_direction[0])];
+        let coded = texel.material_direction[1] != 0;
+        if material.anisotropy_strength == 0.0 {
+            isotropic += 1;
+            isotropic_coded += usize::from(coded);
+        } else {
+            anisotropic += 1;
+            anisotropic_coded += usize::from(coded);
+        }
+    }
+    eprintln!(
+        "isotropic: {isotropic_coded} of {isotropic} coded; anisotropic: {anisotropic_coded} of {anisotropic}"
+    );
+    assert!(isotropic > 1000 && anisotropic > 150, "{isotropic}, {anisotropic}");
+    assert_eq!(isotropic_coded, 0);
+    // A direction whose angle rounds to 0 is stored as 0 too: a few pixels at most.
+    assert!(
+        anisotropic_coded as f64 > 0.99 * anisotropic as f64,
+        "{anisotropic_coded} of {anisotropic}"
+    );
+}
