@@ -14,8 +14,8 @@
 # It installs what it needs (Xvfb, the anchor's build packages, numpy for the twin),
 # builds the anchor once into $ANCHOR_DIR (default /var/cache/combustion-anchors; 9.6
 # minutes on two cores) and Combustion (PROFILE, dev by default). Combustion's window
-# draws bloom by default; the anchor has none, so `--bloom off` here (and FXAA,
-# Combustion's default).
+# draws bloom and FXAA by default; the anchor has neither (Msaa::Off, no Fxaa component),
+# so `--bloom off --anti-aliasing none` here: the same work on both sides.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -89,7 +89,7 @@ echo "driver: ${driver:-unknown}; Combustion's $PROFILE profile; ${W}x${H}, $FRA
 bevy_ms() { W=$W H=$H "$bevy" 2>/dev/null | sed -n 's/.*median_ms=\([0-9.]*\).*/\1/p' | tail -1; }
 combustion_ms() {
     "$combustion" view "$1" --width "$W" --height "$H" --frames "$FRAMES" --vsync off \
-        --overlay off --bloom off 2>/dev/null |
+        --overlay off --bloom off --anti-aliasing none 2>/dev/null |
         sed -n 's/.*wall clock per frame median \([0-9.]*\) ms.*/\1/p' | tail -1
 }
 

@@ -44,7 +44,8 @@ layout(push_constant) uniform LightingPush {
     uvec4 counts;  // x: light count; y: debug view (DEBUG_VIEWS variant; 0: none);
                    // z: tiles across (0: no culling, every light); w: tile list stride
     vec4 background;  // where no surface is: rgb radiance, or w = 1: the environment's
-    uvec4 sampling;   // x: the frame's environment sample seed
+    uvec4 sampling;   // x: the frame's environment sample seed; y: the paths' depth;
+                      // z, w: the exposure (f32 bits) and tone curve (OUTPUT_FOLDED)
 } push;
 
 #ifdef DEBUG_VIEWS
@@ -64,9 +65,19 @@ layout(push_constant) uniform LightingPush {
 #include "traced_reflections.glsl"
 #endif
 
+#ifdef OUTPUT_FOLDED
+// Frames where nothing reads the radiance between this pass and the output pass have
+// the output pass's work done here (passes/lighting.rs): the pixel's radiance written
+// as the target's format holds it (output_encoding.glsl), into the frame's target.
+#include "output_encoding.glsl"
+#endif
+
+// The pixel's radiance (alpha 0 where no surface is), or the frame target's value
+// (OUTPUT_FOLDED: written by main from the radiance).
 layout(location = 0) out vec4 out_radiance;
 
-void main() {
+// Writes the pixel's radiance into out_radiance, or discards it.
+void light_pixel() {
 #ifdef PATH_TRACE
     // The frame path traced (path_trace.glsl), not the G-buffer shaded.
     out_radiance = vec4(path_traced_pixel(gl_FragCoord.xy, vec2(textureSize(gbuffer_depth, 0)),
@@ -80,8 +91,14 @@ void main() {
         // clear (passes/lighting.rs: the background's radiance, or nothing where the
         // environment is the background) rather than shading NaN. A shader that may
         // discard is also compiled once by lavapipe, not a second time for whole tiles
-        // (docs/build.md, "Build cost").
+        // (docs/build.md, "Build cost"). Folded into the output, the pass has no clear:
+        // the pixel is written as that clear would have been shown.
+#ifdef OUTPUT_FOLDED
+        out_radiance = vec4(push.background.w != 0.0 ? vec3(0.0) : push.background.rgb, 0.0);
+        return;
+#else
         discard;
+#endif
     }
     if (depth >= 1.0) {
         // Background: nothing was drawn here (alpha 0 marks it).
@@ -329,4 +346,11 @@ void main() {
     radiance += emissive_occlusion.rgb;
 #endif
     out_radiance = vec4(radiance, 1.0);
+}
+
+void main() {
+    light_pixel();
+#ifdef OUTPUT_FOLDED
+    out_radiance = output_encoded(out_radiance.rgb, uintBitsToFloat(push.sampling.z), push.sampling.w);
+#endif
 }

@@ -11,8 +11,7 @@
 // - OUTPUT_LINEAR (float targets, e.g. R16G16B16A16_SFLOAT): radiance × exposure, no
 //   tone curve, for a host's own post-processing.
 // FXAA (display formats; a pipeline of its own for frames that ask for it): fxaa.glsl.
-#include "tonemap.glsl"
-#include "srgb.glsl"
+#include "output_encoding.glsl"
 
 #include "bindings/output.glsl"  // set 0: see combustion_renderer::bindings::OUTPUT
 
@@ -40,18 +39,14 @@ vec3 display_of(vec3 radiance) {
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-#if defined(OUTPUT_LINEAR)
-    out_color = vec4(texelFetch(hdr_image, pixel, 0).rgb * frame_exposure(), 1.0);
-#else
-#ifdef FXAA
+#if defined(FXAA) && !defined(OUTPUT_LINEAR)
     vec3 display = fxaa(pixel);  // AntiAliasing::Fxaa: its own pipeline
-#else
-    vec3 display = display_of(texelFetch(hdr_image, pixel, 0).rgb);
-#endif
 #if defined(OUTPUT_HARDWARE_SRGB)
     out_color = vec4(display, 1.0);
 #else
     out_color = vec4(srgb_encode(display), 1.0);
 #endif
+#else
+    out_color = output_encoded(texelFetch(hdr_image, pixel, 0).rgb, frame_exposure(), push.curve);
 #endif
 }

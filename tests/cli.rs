@@ -1512,12 +1512,37 @@ fn bench_reports_gpu_and_wall_clock_time_with_frames_in_flight() {
     ]);
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("3 in flight"), "{stdout}");
-    for row in ["gbuffer", "lighting", "output", "total", "wall"] {
+    for row in ["gbuffer", "lighting", "total", "wall"] {
         assert!(
             stdout.lines().any(|l| l.starts_with(row)),
             "no `{row}` row: {stdout}"
         );
     }
+    // The output's work is folded into the lighting pass, and said so; --fold-output
+    // off times the two passes apart.
+    assert!(
+        stdout.contains("output: folded into the lighting pass") && !stdout.contains("\noutput "),
+        "{stdout}"
+    );
+    let (code, apart, stderr) = combustion(&[
+        "bench",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--frames",
+        "2",
+        "--fold-output",
+        "off",
+        "--device",
+        "llvmpipe",
+        "--validate",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        apart.lines().any(|l| l.starts_with("output ")) && !apart.contains("folded"),
+        "{apart}"
+    );
     assert!(stdout.contains("wall clock:"), "{stdout}");
     // Every measured frame's timings are collected, also the last ones in flight.
     assert!(stdout.contains("n=4 frames (4 timed)"), "{stdout}");

@@ -103,8 +103,8 @@ fn edits_build_only_what_they_need_and_invalid_edits_change_nothing() {
         })
         .unwrap();
     assert_eq!(
-        report.pipelines_built, 2,
-        "G-buffer and lighting of the emissive variant"
+        report.pipelines_built, 3,
+        "G-buffer and lighting of the emissive variant, and its lighting with the output folded in (into the display format)"
     );
     let emissive = renderer.render(&gpu, W, H, IMAGES).unwrap();
     let reference = fresh(renderer, &gpu.scene().clone());

@@ -294,16 +294,10 @@ fn alternating_viewports_and_scenes_build_nothing_per_frame() {
     assert_eq!(renderer.stats().pipelines_built, pipelines);
     let timings = renderer.take_completed_timings();
     assert!(timings.len() >= 8);
-    // Offscreen frames run no depth copy: it is not among their passes.
+    // Offscreen frames run no depth copy: it is not among their passes; read back by
+    // nothing, they have the output folded into the lighting pass.
     for t in &timings {
-        assert_eq!(
-            t.names(),
-            [
-                PassTimings::GBUFFER,
-                PassTimings::LIGHTING,
-                PassTimings::OUTPUT
-            ]
-        );
+        assert_eq!(t.names(), [PassTimings::GBUFFER, PassTimings::LIGHTING]);
     }
     drop((spheres, hard));
     common::finish(headless);
@@ -541,6 +535,159 @@ fn every_output_format_holds_the_frame() {
     // The driver's conversion is ≈ 0.4 % off the exact formula (README, Conventions):
     // at most 0.004 × 255 ≈ 1 level, plus one level of rounding.
     assert!(worst <= 2, "worst {worst} levels");
+}
+
+/// One frame of the host's first scene, its inputs changed by `change`, into a new
+/// `format` image of `extent`: the image's bytes and the passes the frame ran.
+fn host_frame_into(
+    host: &mut Host,
+    (format, extent): (vk::Format, vk::Extent2D),
+    overlay: &[combustion::renderer::OverlayPanel<'_>],
+    change: impl FnOnce(&mut FrameInputs<'_>),
+) -> (Vec<u8>, Vec<&'static str>) {
+    host.renderer().prepare_output(format).unwrap();
+    let image = app::HostImage::new(
+        &host.vulkan,
+        "folded output test",
+        format,
+        extent,
+        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+    )
+    .unwrap();
+    let (slot, cmd) = host.begin_frame().unwrap();
+    let mut inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
+    inputs.overlay = overlay;
+    change(&mut inputs);
+    let renderer = host.renderer.as_mut().unwrap();
+    renderer
+        .prepare_anti_aliasing(format, inputs.anti_aliasing)
+        .unwrap();
+    let target = FrameTarget {
+        color: image
+            .color_target(ImageState::UNDEFINED, ImageState::COPY_SOURCE)
+            .unwrap(),
+        depth: None,
+    };
+    let renderer = host.renderer.as_mut().unwrap();
+    renderer
+        .record(cmd, slot, &host.scenes[0], &inputs, &target)
+        .unwrap();
+    host.submit_frame(slot).unwrap();
+    let bytes = headless::read_back(
+        host,
+        &image,
+        ImageState::COPY_SOURCE,
+        vk::ImageAspectFlags::COLOR,
+    )
+    .unwrap();
+    image.destroy(&host.vulkan);
+    host.wait_frames().unwrap();
+    let renderer = host.renderer();
+    renderer.frames_completed().unwrap();
+    let timings = renderer.take_completed_timings();
+    (bytes, timings.last().expect("the frame's timings").names())
+}
+
+/// Frames where nothing reads the radiance between the lighting and the output pass
+/// have the lighting pass write the target itself (`RendererSettings::fold_output`): the
+/// same bytes as the two passes' into every kind of target format — a UNORM display
+/// format (the exact sRGB encoding), an _SRGB one (the driver's), f32 and f16 float
+/// targets — under every tone curve, with an exposure other than 1, a background colour
+/// and an overlay panel; the output pass does not run. FXAA into a display format (it
+/// reads the neighbours' display values) and forward-drawn objects keep the output pass;
+/// FXAA into a float target (which gets none) folds.
+#[test]
+fn folded_output_frames_equal_the_two_passes_frames() {
+    use combustion::renderer::{Background, Corner, OverlayPanel, ToneMapping};
+    let extent = vk::Extent2D {
+        width: 48,
+        height: 40,
+    };
+    let formats = [
+        vk::Format::B8G8R8A8_UNORM,
+        vk::Format::R8G8B8A8_SRGB,
+        vk::Format::R32G32B32A32_SFLOAT,
+        vk::Format::R16G16B16A16_SFLOAT,
+    ];
+    let panel = [OverlayPanel {
+        text: "folded\t1.0",
+        corner: Corner::TopLeft,
+    }];
+    let scenes = [builtin_scene("spheres").unwrap()];
+    let mut frames = Vec::new();
+    for fold_output in [true, false] {
+        let vulkan = lavapipe_host();
+        let log = vulkan.message_log();
+        let settings = RendererSettings {
+            fold_output,
+            ..RendererSettings::default()
+        };
+        let mut host = Host::with_settings(vulkan, settings, &scenes).unwrap();
+        let mut of_host = Vec::new();
+        for format in formats {
+            for curve in ToneMapping::ALL {
+                of_host.push(host_frame_into(
+                    &mut host,
+                    (format, extent),
+                    &panel,
+                    |inputs| {
+                        inputs.tone_mapping = curve;
+                        inputs.exposure = 0.37;
+                        inputs.background = Background::Color([0.2, 0.05, 0.4]);
+                    },
+                ));
+            }
+        }
+        drop(host);
+        assert_no_messages(&log);
+        frames.push(of_host);
+    }
+    // No depth target here: no depth copy.
+    let expected_folded = [PassTimings::GBUFFER, PassTimings::LIGHTING];
+    let expected_apart = [
+        PassTimings::GBUFFER,
+        PassTimings::LIGHTING,
+        PassTimings::OUTPUT,
+    ];
+    for (i, ((folded, folded_passes), (apart, apart_passes))) in
+        frames[0].iter().zip(&frames[1]).enumerate()
+    {
+        let (format, curve) = (formats[i / 4], ToneMapping::ALL[i % 4]);
+        assert_eq!(folded_passes, &expected_folded, "{format:?} {curve:?}");
+        assert_eq!(apart_passes, &expected_apart, "{format:?} {curve:?}");
+        let differing = folded.iter().zip(apart).filter(|(a, b)| a != b).count();
+        assert_eq!(differing, 0, "{format:?} {curve:?}: bytes differ");
+        // Not a blank frame: the spheres, the background and the panel's text.
+        let distinct: std::collections::HashSet<&[u8]> =
+            folded.chunks_exact(folded.len() / (48 * 40)).collect();
+        assert!(
+            distinct.len() > 50,
+            "{format:?} {curve:?}: {} values",
+            distinct.len()
+        );
+    }
+
+    // Frames that keep the output pass, and FXAA into a float target, which folds.
+    let vulkan = lavapipe_host();
+    let log = vulkan.message_log();
+    let glass = [builtin_scene("glass").unwrap()];
+    let mut host = Host::with_settings(vulkan, RendererSettings::default(), &glass).unwrap();
+    let display = (vk::Format::B8G8R8A8_UNORM, extent);
+    let (_, forward) = host_frame_into(&mut host, display, &[], |_| {});
+    assert!(forward.contains(&PassTimings::OUTPUT), "{forward:?}");
+    drop(host);
+    let mut host =
+        Host::with_settings(lavapipe_host(), RendererSettings::default(), &scenes).unwrap();
+    let fxaa = |inputs: &mut FrameInputs<'_>| {
+        inputs.anti_aliasing = combustion::renderer::AntiAliasing::Fxaa;
+    };
+    let (_, smoothed) = host_frame_into(&mut host, display, &[], fxaa);
+    assert!(smoothed.contains(&PassTimings::OUTPUT), "{smoothed:?}");
+    let float = (vk::Format::R32G32B32A32_SFLOAT, extent);
+    let (_, linear) = host_frame_into(&mut host, float, &[], fxaa);
+    assert_eq!(linear, expected_folded);
+    drop(host);
+    assert_no_messages(&log);
 }
 
 /// Bad arguments to `record` are refused before anything is recorded: the command
@@ -1109,7 +1256,12 @@ fn alternating_emissive_and_plain_scenes_past_the_retire_delay_reuse_no_freed_ta
 #[test]
 fn pass_timings_are_named_after_the_passes_each_frame_ran() {
     let scenes = [builtin_scene("spheres").unwrap()];
-    let (mut host, log, mut output) = host_with_output(&scenes, 2, 32, 24);
+    // The two passes kept apart (folded frames: folded_output_frames_equal_the_two_passes_frames).
+    let settings = RendererSettings {
+        fold_output: false,
+        ..RendererSettings::default()
+    };
+    let (mut host, log, mut output) = host_with_settings(&scenes, settings, 32, 24);
     for _ in 0..4 {
         headless::frame(&mut host, &mut output, 0).unwrap();
     }

@@ -174,7 +174,10 @@ fn only_anisotropic_pixels_store_a_direction() {
     eprintln!(
         "isotropic: {isotropic_coded} of {isotropic} coded; anisotropic: {anisotropic_coded} of {anisotropic}"
     );
-    assert!(isotropic > 1000 && anisotropic > 150, "{isotropic}, {anisotropic}");
+    assert!(
+        isotropic > 1000 && anisotropic > 150,
+        "{isotropic}, {anisotropic}"
+    );
     assert_eq!(isotropic_coded, 0);
     // A direction whose angle rounds to 0 is stored as 0 too: a few pixels at most.
     assert!(

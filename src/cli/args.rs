@@ -984,6 +984,10 @@ pub(crate) struct BenchArgs {
     /// Light pipelines specialised to the scene's materials (off: the general one)
     #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
     pub(crate) specialised: bool,
+    /// The output pass's work done by the lighting pass in frames where nothing reads the
+    /// radiance between them (off: the two passes timed apart)
+    #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
+    pub(crate) fold_output: bool,
     /// Add N point lights with a range (a fifth of the scene's size) scattered through it
     #[arg(long, value_name = "N", default_value = "0", value_parser = extra_lights)]
     pub(crate) extra_lights: usize,
@@ -996,7 +1000,7 @@ pub(crate) struct BenchArgs {
     #[arg(long, value_name = "METHOD", default_value = "none", value_parser = named(AntiAliasing::ALL.map(|a| (a.name(), a))))]
     pub(crate) anti_aliasing: AntiAliasing,
     /// Measure the variant sets and write the speed-against-error report to DIR
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "aperture", "shutter", "iso", "auto_exposure", "exposure_compensation", "metering_window", "bloom_intensity", "frames_in_flight", "specialised", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "scene_lights", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter", OptionalPassArgs::GROUP])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["fresnel", "hdr_format", "anti_aliasing", "gbuffer_base_color", "gbuffer_surface", "exposure", "ev", "aperture", "shutter", "iso", "auto_exposure", "exposure_compensation", "metering_window", "bloom_intensity", "frames_in_flight", "specialised", "fold_output", "distribution", "diffuse", "extra_lights", "culling", "environment", "light_rig", "scene_lights", "energy_compensation", "shadows", "shadow_cascades", "shadow_map_size", "shadow_local_map_size", "shadow_filter", OptionalPassArgs::GROUP])]
     pub(crate) report: Option<PathBuf>,
     /// With --report: add how this run reproduces an earlier report (rows with identical
     /// error columns, the spread of the frame-time ratios)

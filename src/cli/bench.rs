@@ -147,6 +147,7 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
     );
     settings.shading = o.shading.options(settings.shading);
     settings.shading.specialised = o.specialised;
+    settings.fold_output = o.fold_output;
     let mut headless = Headless::new(&HeadlessDesc { device, settings })?;
     let device_name = {
         let renderer = headless.renderer();
@@ -264,6 +265,12 @@ pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {
                 .map_or(String::new(), |n| format!(" `{n}`")),
             a.duration()
         );
+    }
+    let ran_output = timings
+        .iter()
+        .any(|t| t.ms(combustion::renderer::PassTimings::OUTPUT).is_some());
+    if !timings.is_empty() && !ran_output {
+        outln!("output: folded into the lighting pass (--fold-output off times the two apart)");
     }
     outln!("{:<10} {:>9} {:>9} {:>9}", "pass", "median", "p10", "p90");
     let wall = combustion::report::Spread::of(wall_ms);

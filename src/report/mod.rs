@@ -475,11 +475,15 @@ pub struct ReportDesc {
 }
 
 impl ReportDesc {
-    /// A headless renderer on the report's device with `settings`.
+    /// A headless renderer on the report's device with `settings`, its lighting and
+    /// output passes kept apart (the report times them pass by pass).
     pub(crate) fn headless(&self, settings: RendererSettings) -> Result<Headless, Error> {
         Headless::new(&HeadlessDesc {
             device: self.device.clone(),
-            settings,
+            settings: RendererSettings {
+                fold_output: false,
+                ..settings
+            },
         })
     }
 

@@ -305,6 +305,7 @@ pub fn exact_f32() -> RendererSettings {
         shading: combustion::renderer::ShadingOptions::DEFAULT,
         frames_in_flight: 2,
         targets_kept_for_frames: combustion::renderer::TARGETS_KEPT_FOR_FRAMES,
+        fold_output: true,
     }
 }
 

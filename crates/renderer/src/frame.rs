@@ -102,7 +102,8 @@ impl Renderer {
         target: &FrameTarget,
     ) -> Result<(), RenderError> {
         let variant = self.check_frame(frame_slot, scene, inputs, target)?;
-        self.record_checked(cmd, frame_slot, scene, inputs, target, variant)
+        // The host's frames: nothing reads their HDR image after them.
+        self.record_checked(cmd, frame_slot, scene, inputs, target, (variant, false))
     }
 
     /// [`Renderer::record`] once its arguments have passed [`Renderer::check_frame`].
@@ -113,7 +114,7 @@ impl Renderer {
         scene: &GpuScene,
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
-        variant: crate::variant::ShaderVariant,
+        (variant, hdr_read_after): (crate::variant::ShaderVariant, bool),
     ) -> Result<(), RenderError> {
         let extent = target.color.extent;
         // The slot's previous frame has completed: read its timings, free what it
@@ -135,7 +136,7 @@ impl Renderer {
             frame_slot,
             &requests,
             scene,
-            (variant, temporal),
+            (variant, temporal, hdr_read_after),
             inputs,
             target,
         );
@@ -618,9 +619,10 @@ impl Renderer {
         slot: usize,
         requests: &[crate::targets::ImageRequest],
         scene: &GpuScene,
-        (variant, temporal): (
+        (variant, temporal, hdr_read_after): (
             crate::variant::ShaderVariant,
             Option<crate::passes::temporal_anti_aliasing::TemporalFrame>,
+            bool,
         ),
         inputs: &FrameInputs<'_>,
         target: &FrameTarget,
@@ -661,7 +663,7 @@ impl Renderer {
             }
         });
         let images = self.images.frame_images(requests, extent);
-        let frame = FrameContext {
+        let mut frame = FrameContext {
             number: self.frame_number + 1,
             device: &self.device,
             registry: &self.pipelines,
@@ -694,6 +696,8 @@ impl Renderer {
                 .filter(|_| variant.shadows.is_some()),
             placement: s.placement.of(scene),
             metering_continues: self.metering_continues,
+            hdr_read_after,
+            output_folded: false,
             temporal,
             previous_vertices: self
                 .temporal
@@ -701,6 +705,7 @@ impl Renderer {
                 .as_ref()
                 .filter(|_| temporal.is_some()),
         };
+        frame.output_folded = crate::passes::lighting::folds_output(&frame);
         let device = &*self.device;
         let raw = device.raw();
         // The host's images stand where the host left them.
@@ -1117,7 +1122,15 @@ impl Renderer {
         // Checked before the ring advances: a refused frame takes no slot.
         let variant = self.check_frame(offscreen.ring.next_slot(), scene, inputs, &target)?;
         let frame = offscreen.ring.begin()?;
-        self.record_checked(frame.cmd, frame.slot, scene, inputs, &target, variant)?;
+        let hdr_read_after = readback.is_some_and(|r| r.images);
+        self.record_checked(
+            frame.cmd,
+            frame.slot,
+            scene,
+            inputs,
+            &target,
+            (variant, hdr_read_after),
+        )?;
         *display_state = after;
         if let (Some(readback), Some(buffers)) = (readback, &offscreen.readback) {
             let requests = crate::passes::frame_images(variant, &self.settings);

@@ -555,7 +555,9 @@ pub struct LightingPush {
     /// (frames with one).
     pub background: [f32; 4],
     /// x: the frame's environment sample seed (`FrameInputs::environment_seed`); y: the
-    /// most surfaces a traced path lights (`ShadingOptions::path_depth`); z, w unused.
+    /// most surfaces a traced path lights (`ShadingOptions::path_depth`); z, w: the
+    /// exposure (`f32` bits) and tone curve (`ToneMapping as u32`) of frames whose output
+    /// is folded into the lighting pass ([`LightingPush::with_output`]).
     pub sampling: [u32; 4],
 }
 // 128 bytes: every Vulkan device takes that much (maxPushConstantsSize ≥ 128).
@@ -583,6 +585,16 @@ impl LightingPush {
     pub fn with_sampling(self, seed: u32, path_depth: u32) -> Self {
         Self {
             sampling: [seed, path_depth, 0, 0],
+            ..self
+        }
+    }
+
+    /// The frame's exposure and tone curve, for a frame whose output pass's work the
+    /// lighting pass does (`OUTPUT_FOLDED`).
+    pub fn with_output(self, exposure: f32, curve: u32) -> Self {
+        let [seed, depth, _, _] = self.sampling;
+        Self {
+            sampling: [seed, depth, exposure.to_bits(), curve],
             ..self
         }
     }

@@ -620,7 +620,7 @@ impl Renderer {
     /// [`Renderer::record`] can render into them. [`DISPLAY_FORMAT`] is prepared by
     /// [`Renderer::new`]. Formats: see [`OutputEncoding::of`].
     pub fn prepare_output(&mut self, format: vk::Format) -> Result<(), RenderError> {
-        passes::output::prepare_output(&mut self.pipelines, format)
+        passes::prepare_output(&mut self.pipelines, format, &self.settings)
     }
 
     /// Prepares `format` ([`Renderer::prepare_output`]) and what frames of
@@ -637,6 +637,7 @@ impl Renderer {
         format: vk::Format,
         anti_aliasing: AntiAliasing,
     ) -> Result<(), RenderError> {
+        self.prepare_output(format)?;
         passes::output::prepare_anti_aliasing(&mut self.pipelines, format, anti_aliasing)
     }
 

@@ -658,6 +658,15 @@ pub struct RendererSettings {
     /// [`TARGETS_KEPT_FOR_FRAMES`]. Any count is safe; 0 retires each frame's targets
     /// after it, so every frame builds its own.
     pub targets_kept_for_frames: u32,
+    /// Whether a frame in which nothing reads the radiance between the lighting and the
+    /// output pass (no forward-drawn objects, temporal anti-aliasing, bloom, auto
+    /// exposure or FXAA, and no copy of the HDR image read back) has the lighting pass
+    /// write the target itself — the output pass's exposure, tone curve and encoding
+    /// done per pixel there, and its full-screen pass saved (docs/performance.md). Its
+    /// pixels are the two passes' bit for bit with an f32 HDR format (an f16 one's
+    /// rounding is skipped). Default on; off keeps every frame's two passes apart (the
+    /// report measures them so, pass by pass).
+    pub fold_output: bool,
 }
 
 impl Default for RendererSettings {
@@ -669,6 +678,7 @@ impl Default for RendererSettings {
             shading: ShadingOptions::DEFAULT,
             frames_in_flight: 2,
             targets_kept_for_frames: TARGETS_KEPT_FOR_FRAMES,
+            fold_output: true,
         }
     }
 }

@@ -85,6 +85,8 @@ pub(crate) struct PipelineRegistry {
     entries: HashMap<PipelineKey, Box<dyn Any + Send + Sync>>,
     /// Variants every pass of the frame has prepared.
     prepared: HashSet<ShaderVariant>,
+    /// The target formats whose output passes are built, in the order they were.
+    output_formats: Vec<vk::Format>,
     /// Pipelines built so far ([`crate::RendererStats::pipelines_built`]).
     pub(crate) built: u64,
 }
@@ -108,6 +110,7 @@ impl PipelineRegistry {
             layouts: SetLayouts::new(device, sets)?,
             entries: HashMap::new(),
             prepared: HashSet::new(),
+            output_formats: Vec::new(),
             built: 0,
         })
     }
@@ -173,6 +176,23 @@ impl PipelineRegistry {
     /// Records that every pass has built its pipelines for `variant`.
     pub(crate) fn mark_prepared(&mut self, variant: ShaderVariant) {
         self.prepared.insert(variant);
+    }
+
+    /// The variants every pass has built its pipelines for.
+    pub(crate) fn prepared_variants(&self) -> Vec<ShaderVariant> {
+        self.prepared.iter().copied().collect()
+    }
+
+    /// Records that the output passes into targets of `format` are built.
+    pub(crate) fn mark_output_format(&mut self, format: vk::Format) {
+        if !self.output_formats.contains(&format) {
+            self.output_formats.push(format);
+        }
+    }
+
+    /// The target formats whose output passes are built.
+    pub(crate) fn output_formats(&self) -> Vec<vk::Format> {
+        self.output_formats.clone()
     }
 
     /// The environment bake's pipelines, built on first use.

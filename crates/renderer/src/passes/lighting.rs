@@ -10,6 +10,7 @@ use crate::error::RenderError;
 use crate::fullscreen::FullscreenPass;
 use crate::gpu_types::LightingPush;
 use crate::graph::{BufferUse, ImageUse};
+use crate::host::{AntiAliasing, OutputEncoding};
 use crate::options::RendererSettings;
 use crate::pass_io::PassIo;
 use crate::pipelines::{PipelineKey, PipelineRegistry};
@@ -126,6 +127,85 @@ fn key(variant: ShaderVariant, settings: &RendererSettings) -> PipelineKey {
     }
 }
 
+/// The lighting pipeline of `variant` with the output pass's work folded in
+/// (`OUTPUT_FOLDED`), writing targets of `format` as the output pass would.
+fn folded_key(
+    variant: ShaderVariant,
+    settings: &RendererSettings,
+    format: vk::Format,
+) -> PipelineKey {
+    let mut defines = settings.gbuffer.defines();
+    defines.push(("OUTPUT_FOLDED", None));
+    defines.extend(OutputEncoding::of(format).map_or_else(Vec::new, OutputEncoding::defines));
+    PipelineKey {
+        pass: PassTimings::LIGHTING,
+        variant: Some(variant),
+        defines,
+        formats: vec![format],
+    }
+}
+
+/// Builds the lighting pipeline of `variant` that writes targets of `format` itself
+/// (the output folded in), for renderers that fold ([`RendererSettings::fold_output`]):
+/// for every prepared variant when a format's output passes are built, and for every
+/// such format when a variant is prepared, so that no frame compiles one.
+pub(crate) fn prepare_folded(
+    registry: &mut PipelineRegistry,
+    variant: ShaderVariant,
+    settings: &RendererSettings,
+    format: vk::Format,
+) -> Result<(), RenderError> {
+    let Some(encoding) = OutputEncoding::of(format) else {
+        return Ok(());
+    };
+    if !settings.fold_output {
+        return Ok(());
+    }
+    registry.build(folded_key(variant, settings, format), |t| {
+        let mut defines = variant.defines();
+        defines.extend(settings.gbuffer.defines());
+        defines.push(("OUTPUT_FOLDED", None));
+        defines.extend(encoding.defines());
+        let pass = FullscreenPass::new(
+            t.device,
+            t.compiler,
+            t.cache,
+            "lighting.frag",
+            &defines,
+            t.layouts.of(&SET),
+            std::mem::size_of::<LightingPush>() as u32,
+            format,
+        )?;
+        Ok((pass, 1))
+    })?;
+    Ok(())
+}
+
+/// Whether `frame` has the lighting pass write its target itself, the output pass's
+/// exposure, tone curve and encoding done per pixel there and the output pass not run:
+/// where the renderer folds ([`RendererSettings::fold_output`]), the frame's HDR image
+/// is not read back after it, no pass between the two runs (none reads or adds to the
+/// radiance before it is shown), FXAA does not smooth its display values (it reads
+/// their neighbours), and the folded pipeline is built for the frame's variant and
+/// target format.
+pub(crate) fn folds_output(frame: &FrameContext<'_>) -> bool {
+    if !frame.settings.fold_output || frame.hdr_read_after {
+        return false;
+    }
+    let format = frame.target.color.format;
+    let Some(encoding) = OutputEncoding::of(format) else {
+        return false;
+    };
+    if frame.inputs.anti_aliasing == AntiAliasing::Fxaa && encoding != OutputEncoding::Linear {
+        return false;
+    }
+    frame
+        .registry
+        .get::<FullscreenPass>(&folded_key(frame.variant, frame.settings, format))
+        .is_some()
+        && super::between_lighting_and_output().all(|pass| !pass.runs(frame))
+}
+
 /// Declares what lights a surface (`bindings::LIT_BY`, lighting_terms.glsl) in `io`: the
 /// frame's lights, the conductor table, the energy table, the environment (or its
 /// placeholders) and the shadow maps (or placeholders), every binding written.
@@ -221,7 +301,8 @@ impl FramePass for Lighting {
     }
 
     fn sets(&self) -> &'static [&'static SetDecl] {
-        static SETS: [&SetDecl; 1] = [&SET];
+        // The overlay's, drawn over the target where the output is folded in.
+        static SETS: [&SetDecl; 2] = [&SET, &crate::bindings::OVERLAY];
         &SETS
     }
 
@@ -284,8 +365,14 @@ impl FramePass for Lighting {
             )
             .image("gbuffer_material_direction", g.material_direction, texel)
             .image("gbuffer_depth", g.depth, ImageUse::DepthFragmentSampled)
-            .buffer("materials", &frame.scene.gpu.materials, read)
-            .touches(frame.hdr.into(), ImageUse::ColorAttachmentWrite);
+            .buffer("materials", &frame.scene.gpu.materials, read);
+        // The HDR image, or the frame's target where the output is folded in (with the
+        // overlay drawn over it: its set declared last).
+        io = if frame.output_folded {
+            io.touches(frame.color, ImageUse::ColorAttachmentWrite)
+        } else {
+            io.touches(frame.hdr.into(), ImageUse::ColorAttachmentWrite)
+        };
         // Every binding is written, every frame: a driver may read a bound set's
         // descriptors, used or not, and a binding left as an earlier frame wrote it
         // would name an image retired since. Absent targets and environments get
@@ -350,10 +437,37 @@ impl FramePass for Lighting {
                 io = io.uses_buffer(&deform.posed, BufferUse::FragmentStorageRead);
             }
         }
-        lit_by(io, frame)
+        io = lit_by(io, frame);
+        if frame.output_folded {
+            io = super::output::overlay_io(io, frame);
+        }
+        io
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        if frame.output_folded {
+            // Every pixel written (a discarded one as the clear would have shown), then
+            // the overlay over it in the same rendering.
+            let format = frame.target.color.format;
+            let lighting: &FullscreenPass = frame
+                .registry
+                .get(&folded_key(frame.variant, frame.settings, format))
+                .expect("built: checked by folds_output");
+            let push = frame
+                .lighting_push
+                .with_output(frame.inputs.exposure, frame.inputs.tone_mapping as u32);
+            lighting.record(
+                frame.device,
+                cmd,
+                frame.target.color.view,
+                frame.extent(),
+                frame.slot.set(&SET),
+                bytemuck::bytes_of(&push),
+                None,
+                |cmd| super::output::record_overlay(frame, cmd),
+            );
+            return;
+        }
         let hdr = frame.hdr;
         // The rendering starts from the background's radiance (nothing where the
         // environment is the background), alpha 0 marking it: what a pixel lighting.frag

@@ -105,6 +105,12 @@ pub(crate) struct FrameContext<'a> {
     /// The previous frame's posed vertices, in frames of temporal anti-aliasing of
     /// scenes that deform.
     pub previous_vertices: Option<&'a combustion_vk::Buffer>,
+    /// Whether the frame's HDR image is read after its passes (copied back to the host:
+    /// an offscreen frame's readback).
+    pub hdr_read_after: bool,
+    /// Whether the lighting pass writes the frame's target itself, the output pass not
+    /// run ([`lighting::folds_output`], decided once the rest of the context is known).
+    pub output_folded: bool,
     /// Whether an earlier frame of the renderer metered its exposure (its state is the
     /// one an auto-exposed frame adapts from; else the frame takes its target at once).
     pub metering_continues: bool,
@@ -221,7 +227,8 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
 ];
 
 /// Has every pass of the frame build its pipelines for `variant` (once: the registry
-/// knows the variants prepared).
+/// knows the variants prepared), and the lighting pass its pipelines with the output
+/// folded in for each target format prepared.
 pub(crate) fn prepare_variant(
     registry: &mut PipelineRegistry,
     variant: ShaderVariant,
@@ -233,8 +240,39 @@ pub(crate) fn prepare_variant(
     for pass in FRAME {
         pass.prepare(variant, settings, registry)?;
     }
+    for format in registry.output_formats() {
+        lighting::prepare_folded(registry, variant, settings, format)?;
+    }
     registry.mark_prepared(variant);
     Ok(())
+}
+
+/// Builds the output passes into targets of `format`, and the lighting pass's pipelines
+/// with the output folded in for each variant prepared.
+pub(crate) fn prepare_output(
+    registry: &mut PipelineRegistry,
+    format: vk::Format,
+    settings: &RendererSettings,
+) -> Result<(), RenderError> {
+    output::prepare_output(registry, format)?;
+    for variant in registry.prepared_variants() {
+        lighting::prepare_folded(registry, variant, settings, format)?;
+    }
+    Ok(())
+}
+
+/// The passes between the lighting and the output pass in [`FRAME`]: those that read or
+/// add to the radiance before it is shown.
+pub(crate) fn between_lighting_and_output() -> impl Iterator<Item = &'static dyn FramePass> {
+    let position = |name: &str| {
+        FRAME
+            .iter()
+            .position(|pass| pass.name() == name)
+            .expect("a pass of the frame")
+    };
+    FRAME[position(crate::PassTimings::LIGHTING) + 1..position(crate::PassTimings::OUTPUT)]
+        .iter()
+        .copied()
 }
 
 /// The images every pass of the frame asks for in frames of `variant`.

@@ -84,6 +84,7 @@ pub(crate) fn prepare_output(
         };
         Ok((passes, 2))
     })?;
+    registry.mark_output_format(format);
     Ok(())
 }
 
@@ -111,6 +112,38 @@ pub(crate) fn prepare_anti_aliasing(
     })
 }
 
+/// Declares the overlay's set in `io` (its quads the CPU's, its atlas and image made at
+/// start): drawn over the frame's target by the pass that writes it — this one, or the
+/// lighting pass where the output is folded into it.
+pub(super) fn overlay_io(io: PassIo, frame: &FrameContext<'_>) -> PassIo {
+    let (s, r) = (frame.slot, frame.shared);
+    io.slot_set(frame.slot, &bindings::OVERLAY)
+        .bind_buffer("overlay_quads", &s.overlay_quads)
+        .bind_buffer("overlay_atlas", &r.overlay_atlas)
+        .bind_buffer("overlay_image", &r.overlay_image.0)
+}
+
+/// Draws the frame's overlay (if it has quads) into the rendering of the frame's target
+/// that `cmd` is in.
+pub(super) fn record_overlay(frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+    let (s, r) = (frame.slot, frame.shared);
+    if s.overlay_quad_count == 0 {
+        return;
+    }
+    let passes: &OutputPasses = frame
+        .registry
+        .get(&key(frame.target.color.format))
+        .expect("the target's format is prepared (checked before recording)");
+    passes.overlay.record(
+        frame.device,
+        cmd,
+        frame.extent(),
+        s.set(&bindings::OVERLAY),
+        s.overlay_quad_count,
+        r.overlay_image.1.map_or(1, |[w, _]| w),
+    );
+}
+
 impl FramePass for Output {
     fn name(&self) -> &'static str {
         PassTimings::OUTPUT
@@ -121,9 +154,15 @@ impl FramePass for Output {
         &SETS
     }
 
+    /// Not where the lighting pass writes the target itself
+    /// ([`super::lighting::folds_output`]).
+    fn runs(&self, frame: &FrameContext<'_>) -> bool {
+        !frame.output_folded
+    }
+
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let (s, r) = (frame.slot, frame.shared);
-        PassIo::new(self.name())
+        let r = frame.shared;
+        let io = PassIo::new(self.name())
             .slot_set(frame.slot, &bindings::OUTPUT)
             .image("hdr_image", frame.hdr, ImageUse::FragmentSampled)
             // The auto exposure's factor, in frames that meter (bound in every frame).
@@ -133,18 +172,12 @@ impl FramePass for Output {
                 &r.exposure_state,
                 BufferUse::FragmentStorageRead,
             )
-            .touches(frame.color, ImageUse::ColorAttachmentWrite)
-            // The overlay's quads are the CPU's, its atlas and image made at start.
-            .slot_set(frame.slot, &bindings::OVERLAY)
-            .bind_buffer("overlay_quads", &s.overlay_quads)
-            .bind_buffer("overlay_atlas", &r.overlay_atlas)
-            .bind_buffer("overlay_image", &r.overlay_image.0)
+            .touches(frame.color, ImageUse::ColorAttachmentWrite);
+        overlay_io(io, frame)
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let (s, r) = (frame.slot, frame.shared);
-        let device = frame.device;
-        let extent = frame.extent();
+        let s = frame.slot;
         let push = TonemapPush {
             exposure: frame.inputs.exposure,
             curve: frame.inputs.tone_mapping as u32,
@@ -154,7 +187,6 @@ impl FramePass for Output {
             .registry
             .get(&key(frame.target.color.format))
             .expect("the target's format is prepared (checked before recording)");
-        let image_width = r.overlay_image.1.map_or(1, |[w, _]| w);
         // AntiAliasing::Fxaa: the output pipeline with FXAA (built for display formats by
         // Renderer::prepare_anti_aliasing; linear formats have none and get the plain one).
         let output = match (frame.inputs.anti_aliasing, &passes.fxaa) {
@@ -162,25 +194,14 @@ impl FramePass for Output {
             _ => &passes.output,
         };
         output.record(
-            device,
+            frame.device,
             cmd,
             frame.target.color.view,
-            extent,
+            frame.extent(),
             s.set(&bindings::OUTPUT),
             bytemuck::bytes_of(&push),
             None,
-            |cmd| {
-                if s.overlay_quad_count > 0 {
-                    passes.overlay.record(
-                        device,
-                        cmd,
-                        extent,
-                        s.set(&bindings::OVERLAY),
-                        s.overlay_quad_count,
-                        image_width,
-                    );
-                }
-            },
+            |cmd| record_overlay(frame, cmd),
         );
     }
 }
