@@ -87,3 +87,31 @@ fn light_through_glass_is_traced_closer_to_light_that_bounces() {
     assert!(error(1, 0) < 0.85 * error(0, 0), "all the glass");
     assert!(error(1, 1) < 0.9 * error(0, 1), "the smooth glass");
 }
+
+/// Frames that trace refraction do not run the passes only screen-space refraction
+/// reads — the copy of what lies behind and the volumes' far sides; builtin:glass's
+/// screen-space frames run both. The traced frame is
+/// checked by the test above against light that bounces.
+#[test]
+fn traced_refraction_frames_run_no_screen_space_pass() {
+    use combustion::renderer::{OptionalPasses, PassTimings, Readback};
+    let scene = builtin_scene("glass").unwrap();
+    let pass = combustion::renderer::optional_pass("ray-traced-refraction").unwrap();
+    let [screen_space, traced] = [false, true].map(|on| {
+        let mut settings = common::exact_f32();
+        settings.shading.optional_passes = OptionalPasses::NONE.with(pass, on);
+        let mut headless = common::lavapipe(settings);
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(&scene).unwrap();
+        renderer.render(&gpu, 32, 18, Readback::ALL).unwrap();
+        renderer.finish_offscreen().unwrap();
+        let timings = renderer.take_completed_timings();
+        timings.last().expect("the frame's timings").names()
+    });
+    eprintln!("screen-space: {screen_space:?}; traced: {traced:?}");
+    for pass in [PassTimings::BEHIND, PassTimings::BACK_FACES] {
+        assert!(screen_space.contains(&pass), "{pass}: {screen_space:?}");
+        assert!(!traced.contains(&pass), "{pass}: {traced:?}");
+    }
+    assert!(traced.contains(&PassTimings::FORWARD), "{traced:?}");
+}

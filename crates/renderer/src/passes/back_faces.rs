@@ -60,9 +60,15 @@ impl<'a> BackFaceTargets<'a> {
 }
 
 /// Whether frames of `variant` draw the far sides: VOLUME variants with a forward pass
-/// (their frames have the back faces' images: `images`).
+/// that refract by screen-space lookups (their frames have the back faces' images:
+/// `images`; traced refraction meets the far sides by its rays).
 fn draws(variant: ShaderVariant) -> bool {
-    variant.volume && super::forward::draws(variant)
+    has_images(variant) && super::forward::draws(variant)
+}
+
+/// Whether frames of `variant` have the back faces' images.
+fn has_images(variant: ShaderVariant) -> bool {
+    variant.volume && super::behind::screen_space_refraction(variant)
 }
 
 /// Its one pipeline (variant-independent: every such variant shares it).
@@ -101,7 +107,7 @@ impl FramePass for BackFaces {
     }
 
     fn images(&self, variant: ShaderVariant, _settings: &RendererSettings) -> Vec<ImageRequest> {
-        if !variant.volume {
+        if !has_images(variant) {
             return Vec::new();
         }
         vec![

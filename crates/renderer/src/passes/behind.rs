@@ -2,7 +2,7 @@
 //! left it (the opaque surfaces and the background), copied before the forward pass
 //! draws over it, with every mip level made by linear blits (a rough transmissive
 //! surface reads a coarser level). Runs in frames whose forward pass draws transmissive
-//! objects.
+//! objects by screen-space refraction (traced refraction reads no image of it).
 
 use combustion_vk::vk;
 
@@ -21,13 +21,21 @@ pub(crate) struct Behind;
 /// levels).
 pub(crate) const BEHIND: &str = "hdr radiance behind transmissive objects";
 
+/// Whether frames of `variant` refract by looking up what lies behind on the screen:
+/// TRANSMISSION variants that do not trace refraction
+/// ([`super::ray_traced_refraction::wanted`]: forward.frag's traced variant reads
+/// neither this pass's image nor the back faces').
+pub(super) fn screen_space_refraction(variant: ShaderVariant) -> bool {
+    variant.transmission && !super::ray_traced_refraction::wanted(variant)
+}
+
 impl FramePass for Behind {
     fn name(&self) -> &'static str {
         PassTimings::BEHIND
     }
 
     fn images(&self, variant: ShaderVariant, settings: &RendererSettings) -> Vec<ImageRequest> {
-        if !variant.transmission {
+        if !screen_space_refraction(variant) {
             return Vec::new();
         }
         vec![ImageRequest::new(
@@ -41,8 +49,8 @@ impl FramePass for Behind {
     }
 
     fn runs(&self, frame: &FrameContext<'_>) -> bool {
-        // A TRANSMISSION variant's frames have the behind image (`images`).
-        frame.variant.transmission && super::forward::draws(frame.variant)
+        // Those frames have the behind image (`images`).
+        screen_space_refraction(frame.variant) && super::forward::draws(frame.variant)
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {

@@ -18,7 +18,8 @@
 //! of its two rough interfaces (the path tracer's rule). Not traced: a volume a ray meets
 //! beyond the first (shaded by what it reflects), a rough volume's spread (one ray, sharp
 //! behind it; only the environment is blurred).
-//! The behind and back-faces passes still run (their images are not read): a cost.
+//! The behind and back-faces passes, whose images only screen-space refraction reads, do
+//! not run in its frames.
 
 use super::FrameContext;
 use crate::options::OptionalPass;
