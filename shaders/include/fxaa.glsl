@@ -53,12 +53,23 @@ float fxaa_luma_at(ivec2 p) {
 
 // The anti-aliased display value of pixel `p`.
 vec3 fxaa(ivec2 p) {
-    vec3 centre = display_of(fxaa_radiance_at(p));
+    vec3 rc = fxaa_radiance_at(p);
+    vec3 rn = fxaa_radiance_at(p + ivec2(0, -1));
+    vec3 rs = fxaa_radiance_at(p + ivec2(0, 1));
+    vec3 rw = fxaa_radiance_at(p + ivec2(-1, 0));
+    vec3 re = fxaa_radiance_at(p + ivec2(1, 0));
+    vec3 centre = display_of(rc);
+    // A cross of one radiance (a flat area, the background) has no contrast: the pixel
+    // stays as it is, decided before its neighbours are tone-mapped (where a whole block
+    // of pixels is flat, lavapipe then skips the rest; NaN is never equal, so it goes on).
+    if (all(equal(rn, rc)) && all(equal(rs, rc)) && all(equal(rw, rc)) && all(equal(re, rc))) {
+        return centre;
+    }
     float lc = fxaa_luma(centre);
-    float ln = fxaa_luma_at(p + ivec2(0, -1));
-    float ls = fxaa_luma_at(p + ivec2(0, 1));
-    float lw = fxaa_luma_at(p + ivec2(-1, 0));
-    float le = fxaa_luma_at(p + ivec2(1, 0));
+    float ln = fxaa_luma(display_of(rn));
+    float ls = fxaa_luma(display_of(rs));
+    float lw = fxaa_luma(display_of(rw));
+    float le = fxaa_luma(display_of(re));
     float highest = max(lc, max(max(ln, ls), max(lw, le)));
     float lowest = min(lc, min(min(ln, ls), min(lw, le)));
     float range = highest - lowest;
