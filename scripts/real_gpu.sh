@@ -31,6 +31,9 @@ if [ -n "${DEVICE:-}" ]; then
     line=$(grep -m1 -F "$DEVICE" <<<"$devices" || true)
 else
     line=$(grep -v -m1 '(CPU,' <<<"$devices" || true)
+    if [ -z "$line" ] && [ "${ALLOW_CPU:-0}" = 1 ]; then
+        line=$(head -n1 <<<"$devices")
+    fi
 fi
 if [ -z "$line" ]; then
     echo "error: no GPU among the Vulkan devices (DEVICE=NAME picks one by name):" >&2
@@ -41,16 +44,16 @@ if grep -q '(CPU,' <<<"$line" && [ "${ALLOW_CPU:-0}" != 1 ]; then
     echo "error: '$line' is a CPU device: its figures are docs/performance.md's (ALLOW_CPU=1 to run anyway)" >&2
     exit 1
 fi
-name=$(sed 's/^[0-9]*: \(.*\) (.*/\1/' <<<"$line")
+name=$(sed 's/^[0-9]*: \(.*\) ([^()]*, Vulkan .*/\1/' <<<"$line")
 export COMBUSTION_DEVICE="$name"
-out=target/real-gpu/$(tr -c 'A-Za-z0-9._-' '_' <<<"$name")
+out=target/real-gpu/$(printf '%s' "$name" | tr -c 'A-Za-z0-9._-' '_')
 mkdir -p "$out"
 echo "device: $line"
 echo "writing $out"
 
 # Pass times and the floors of each scene (report.md, report.csv, floors.csv, …).
 for scene in $SCENES; do
-    dir="$out/$(tr -c 'A-Za-z0-9._-' '_' <<<"$scene")"
+    dir="$out/$(printf '%s' "$scene" | tr -c 'A-Za-z0-9._-' '_')"
     "$combustion" bench "$scene" --width "$W" --height "$H" --frames "$FRAMES" | tee "$dir.bench.txt"
     "$combustion" bench --report "$dir" --scene "$scene" --width "$W" --height "$H" --frames "$FRAMES"
 done
