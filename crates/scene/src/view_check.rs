@@ -32,6 +32,19 @@ pub enum ViewWarning {
         /// The spacing of f32 values there, metres.
         spacing: f32,
     },
+    /// The camera's field of view spans, at the nearest object in view, fewer than
+    /// [`MIN_PRECISION_STEPS`] steps of f32 positions there: the frame cannot resolve it
+    /// (its triangles' clip coordinates grow past what the rasteriser keeps).
+    NarrowerThanPrecision {
+        /// The vertical field of view, radians.
+        fov: f32,
+        /// How much of the scene it spans at that object's depth, metres.
+        span: f32,
+        /// The object's depth along the view, metres.
+        distance: f32,
+        /// The spacing of f32 positions there, metres.
+        spacing: f32,
+    },
 }
 
 impl std::fmt::Display for ViewWarning {
@@ -51,6 +64,19 @@ impl std::fmt::Display for ViewWarning {
                 f,
                 "object {object} is {} m across but {} m from the origin or the camera, where 32-bit positions are {} m apart; it cannot be drawn faithfully (move the scene or the camera nearer the origin)",
                 short(*size),
+                short(*distance),
+                short(*spacing)
+            ),
+            Self::NarrowerThanPrecision {
+                fov,
+                span,
+                distance,
+                spacing,
+            } => write!(
+                f,
+                "the camera's field of view of {} rad spans {} m at the nearest object in view ({} m away), where 32-bit positions are {} m apart; the frame cannot resolve it (widen the field of view)",
+                short(*fov),
+                short(*span),
                 short(*distance),
                 short(*spacing)
             ),
@@ -91,6 +117,10 @@ impl Scene {
                 objects: self.objects.len(),
             });
         }
+        let seen = boxes.iter().filter(|b| in_view(*b)).copied();
+        if let Some(narrow) = self.narrower_than_precision(seen) {
+            warnings.push(narrow);
+        }
         let camera_distance = self.camera.position.abs().max_element();
         for (object, bounds) in bounds.iter().enumerate() {
             let Some((lo, hi)) = *bounds else { continue };
@@ -107,6 +137,41 @@ impl Scene {
             }
         }
         warnings
+    }
+
+    /// [`ViewWarning::NarrowerThanPrecision`] for the nearest of the boxes in view (by
+    /// its nearest corner's depth, at least the near plane's), if the view is that narrow
+    /// there.
+    fn narrower_than_precision<'a>(
+        &self,
+        in_view: impl Iterator<Item = &'a (Vec3, Vec3)>,
+    ) -> Option<ViewWarning> {
+        let camera = &self.camera;
+        let along = (camera.target - camera.position).normalize_or_zero();
+        let (distance, reach) = in_view
+            .map(|(lo, hi)| {
+                let corners = box_corners(*lo, *hi);
+                let depth = corners
+                    .iter()
+                    .map(|c| (*c - camera.position).dot(along))
+                    .fold(f32::INFINITY, f32::min)
+                    .max(camera.near);
+                let reach = corners
+                    .iter()
+                    .map(|c| c.abs().max_element())
+                    .fold(0.0, f32::max);
+                (depth, reach)
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))?;
+        let fov = camera.vertical_fov;
+        let span = 2.0 * distance * (0.5 * fov).tan();
+        let spacing = reach.max(camera.position.abs().max_element()) * f32::EPSILON;
+        (span < MIN_PRECISION_STEPS * spacing).then_some(ViewWarning::NarrowerThanPrecision {
+            fov,
+            span,
+            distance,
+            spacing,
+        })
     }
 }
 
@@ -154,6 +219,30 @@ mod tests {
                 scene.view_warnings(1.0),
                 [ViewWarning::NothingInView { objects }]
             );
+        }
+    }
+
+    /// A camera aimed at the scene through a field of view of 1e-20 rad (glTF allows
+    /// any yfov above 0) sees objects it cannot resolve: said, where 45° says nothing.
+    #[test]
+    fn a_field_of_view_narrower_than_precision_is_said() {
+        let mut scene = spheres();
+        scene.camera = Camera::framing(scene.world_bounds());
+        assert_eq!(scene.view_warnings(1.0), []);
+        for (fov, narrow) in [(1e-20f32, true), (1e-9, true), (1e-3, false)] {
+            scene.camera.vertical_fov = fov;
+            let warnings = scene.view_warnings(1.0);
+            let said = warnings
+                .iter()
+                .any(|w| matches!(w, ViewWarning::NarrowerThanPrecision { .. }));
+            assert_eq!(said, narrow, "{fov}: {warnings:?}");
+            if narrow {
+                let message = warnings[0].to_string();
+                assert!(
+                    message.contains("field of view of") && message.contains("widen"),
+                    "{message}"
+                );
+            }
         }
     }
 
