@@ -117,7 +117,7 @@ impl Scene {
                 objects: self.objects.len(),
             });
         }
-        let seen = boxes.iter().filter(|b| in_view(*b)).copied();
+        let seen = boxes.iter().filter(|b| in_view(b)).copied();
         if let Some(narrow) = self.narrower_than_precision(seen) {
             warnings.push(narrow);
         }
