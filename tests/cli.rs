@@ -3985,3 +3985,58 @@ fn bloom_on_the_command_line() {
         &["--bloom-intensity needs bloom"],
     );
 }
+
+/// A conductor given by a spectral table whose n is 1e-300 (a band's mean rounds to 0 in
+/// 32-bit floats) is refused in one line naming the table and the bands' means — before,
+/// the scene's own check refused η ≤ 0 with "the imported scene is invalid: invalid
+/// scene: …", naming neither table nor value. A scene invalid for another reason says
+/// "invalid" once.
+#[test]
+fn a_spectral_table_beyond_32_bit_numbers_is_named() {
+    let dir = scratch("spectral-underflow");
+    let mut scene =
+        common::with_coarse_grid_spheres(combustion::scene::builtin_scene("spheres").unwrap());
+    scene.objects.truncate(1);
+    let file = dir.join("underflow.gltf");
+    combustion::scene::gltf::save_gltf(&scene, &file).unwrap();
+    let mut root: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    let material = root["meshes"][0]["primitives"][0]["material"]
+        .as_u64()
+        .unwrap_or(0) as usize;
+    root["materials"][material]["extensions"]["COMBUSTION_materials_optics"] =
+        serde_json::json!({ "conductor": { "spectrum": "tiny.csv" } });
+    root["materials"][material]["pbrMetallicRoughness"]["metallicFactor"] = serde_json::json!(1.0);
+    let used = root["extensionsUsed"]
+        .as_array_mut()
+        .expect("extensions used");
+    if !used.iter().any(|e| e == "COMBUSTION_materials_optics") {
+        used.push(serde_json::json!("COMBUSTION_materials_optics"));
+    }
+    std::fs::write(&file, serde_json::to_string(&root).unwrap()).unwrap();
+    let rows: Vec<String> = (440..=760)
+        .step_by(10)
+        .map(|nm| format!("{nm},1e-300,{}", 1.0 + f64::from(nm) / 1000.0))
+        .collect();
+    std::fs::write(
+        dir.join("tiny.csv"),
+        format!("wavelength_nm,n,k\n{}\n", rows.join("\n")),
+    )
+    .unwrap();
+    let out = dir.join("x.png");
+    let args = [
+        "render",
+        file.to_str().unwrap(),
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    assert_clear_error(
+        &args,
+        "spectral table `tiny.csv`: its bands' η (1.000e-300, 1.000e-300, 1.000e-300) are not positive 32-bit numbers",
+    );
+    assert!(!out.exists());
+}

@@ -180,11 +180,20 @@ pub enum ImportProblem {
     },
     /// The scene built fails [`Scene::validate`](crate::Scene::validate) (a check the
     /// importer's own did not catch first).
-    #[error("the imported scene is invalid: {0}")]
+    #[error("the imported scene is invalid: {}", invalid_reason(.0))]
     Scene(#[source] SceneError),
     /// The importer panicked (a bug); the panic's message.
     #[error("internal error in the importer (a bug; please report it with this file): {0}")]
     Internal(String),
+}
+
+/// What makes an imported scene invalid, said once ("invalid scene" is the sentence's
+/// start already).
+fn invalid_reason(error: &SceneError) -> String {
+    match error {
+        SceneError::Invalid(reason) => reason.clone(),
+        other => other.to_string(),
+    }
 }
 
 fn name_suffix(name: &Option<String>) -> String {
@@ -221,4 +230,31 @@ pub enum SaveProblem {
     /// An image could not be encoded as PNG.
     #[error("cannot encode the image as PNG: {0}")]
     Png(String),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An imported scene that fails the scene's own check says "invalid" once; other
+    /// scene errors keep their own words.
+    #[test]
+    fn an_invalid_imported_scene_is_said_invalid_once() {
+        let invalid = ImportProblem::Scene(SceneError::Invalid(
+            "material `m`: conductor η must be positive".into(),
+        ));
+        assert_eq!(
+            invalid.to_string(),
+            "the imported scene is invalid: material `m`: conductor η must be positive"
+        );
+        let camera = ImportProblem::Scene(SceneError::InvalidCamera(
+            crate::CameraProblem::FieldOfView(0.0),
+        ));
+        assert!(
+            camera
+                .to_string()
+                .starts_with("the imported scene is invalid: invalid camera: "),
+            "{camera}"
+        );
+    }
 }

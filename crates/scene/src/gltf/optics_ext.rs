@@ -233,13 +233,31 @@ fn parse_conductor(
         );
     }
     let reduce = |spectrum: &combustion_spectra::Spectrum, what: &str| {
-        colour
+        let c = colour
             .constants(spectrum)
-            .map(|c| ComplexIor {
-                eta: c.eta.map(|x| x as f32),
-                k: c.k.map(|x| x as f32),
-            })
-            .map_err(|e| format!("{what}: {e}"))
+            .map_err(|e| format!("{what}: {e}"))?;
+        let ior = ComplexIor {
+            eta: c.eta.map(|x| x as f32),
+            k: c.k.map(|x| x as f32),
+        };
+        // The renderer holds η and k in 32-bit floats: a band's mean that leaves their
+        // range (n = 1e-300 rounds to 0) is said here, with the bands' means.
+        let means = |v: [f64; 3]| format!("({:.3e}, {:.3e}, {:.3e})", v[0], v[1], v[2]);
+        if !ior.eta.iter().all(|&x| x > 0.0 && x.is_finite()) {
+            return Err(format!(
+                "{what}: its bands' η {} are not positive 32-bit numbers (the smallest is {:e})",
+                means(c.eta),
+                f32::MIN_POSITIVE
+            ));
+        }
+        if !ior.k.iter().all(|&x| x.is_finite()) {
+            return Err(format!(
+                "{what}: its bands' k {} exceed 32-bit numbers (the largest is {:e})",
+                means(c.k),
+                f32::MAX
+            ));
+        }
+        Ok(ior)
     };
     let ior = if let Some(v) = map.get("metal") {
         let name = v
