@@ -49,10 +49,10 @@ pub enum CameraProblem {
     #[error("its up vector is zero or along the view direction")]
     UpAlongView,
     /// The vertical field of view (radians, the value given) is not in (0, π).
-    #[error("its vertical field of view {0} rad is not in (0, π)")]
+    #[error("its vertical field of view {} rad is not in (0, π)", readable(*.0))]
     FieldOfView(f32),
     /// The clipping planes are not 0 < near < far < ∞.
-    #[error("its near and far planes {near} and {far} are not 0 < near < far < ∞")]
+    #[error("its near and far planes {} and {} are not 0 < near < far < ∞", readable(*.near), readable(*.far))]
     ClipPlanes {
         /// The near plane's distance given.
         near: f32,
@@ -75,18 +75,18 @@ pub enum LightProblem {
     #[error("its power (intensity or irradiance) {} {} {} is not between 0 and {max:e}", readable(.0[0]), readable(.0[1]), readable(.0[2]), max = crate::MAX_RADIANCE)]
     Power([f32; 3]),
     /// The range given is not finite and above 0.
-    #[error("its range {0} is not finite and above 0")]
+    #[error("its range {} is not finite and above 0", readable(*.0))]
     Range(f32),
     /// A point or spot light's radius (metres) is not finite, or outside
     /// 0 ..= [`crate::MAX_LIGHT_RADIUS`].
-    #[error("its radius {0} m is not finite and between 0 and {max}", max = crate::MAX_LIGHT_RADIUS)]
+    #[error("its radius {} m is not finite and between 0 and {max}", readable(*.0), max = crate::MAX_LIGHT_RADIUS)]
     Radius(f32),
     /// A directional light's angular diameter (radians) is not finite, or outside
     /// 0 ..= [`crate::MAX_ANGULAR_DIAMETER`].
-    #[error("its angular diameter {0} rad is not finite and between 0 and {max}", max = crate::MAX_ANGULAR_DIAMETER)]
+    #[error("its angular diameter {} rad is not finite and between 0 and {max}", readable(*.0), max = crate::MAX_ANGULAR_DIAMETER)]
     AngularDiameter(f32),
     /// A spot light's cone half-angles (radians) are not 0 ≤ inner < outer ≤ π/2.
-    #[error("its cone angles {inner} and {outer} rad are not 0 <= inner < outer <= π/2")]
+    #[error("its cone angles {} and {} rad are not 0 <= inner < outer <= π/2", readable(*.inner), readable(*.outer))]
     Cone {
         /// The inner half-angle given.
         inner: f32,

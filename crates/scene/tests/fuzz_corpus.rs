@@ -5,6 +5,8 @@
 //! that breaks an input the fuzzer had reached fails here, in the ordinary test run, with
 //! the input's name.
 
+#[path = "../../../fuzz/common/animation.rs"]
+mod animation_target;
 #[path = "../../../fuzz/common/camera_path.rs"]
 mod camera_path_target;
 #[path = "../../../fuzz/common/environment.rs"]
@@ -90,6 +92,43 @@ fn seed_files(name: &str) -> Vec<PathBuf> {
         .collect();
     files.sort();
     files
+}
+
+/// The animation sampling corpus (fuzz/seeds/animation_sampling/: the hand-made seeds
+/// its generate.py writes — each kind of channel and interpolation, morph weights, a
+/// skin, rotation keys from q to -q and all zero, times of NaN, infinity and 1e30 — and
+/// the fuzzer's minimised corpus beside them) through the sampling and posing, as the
+/// `animation_sampling` target runs them.
+#[test]
+fn the_animation_sampling_corpus_replays_without_a_panic() {
+    let (inputs, panicked) = replay::replay(
+        &seed_files("animation_sampling"),
+        animation_target::sample_animations,
+    );
+    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    assert!(inputs >= 12, "{inputs} inputs");
+    // The hand-made seeds reach the sampling — each imports, with an animation — but
+    // the two the importer refuses: keys that are not unit quaternions, and a scale of
+    // 3e38 whose scene spans more than f32 holds (its numbers written short).
+    let options = combustion_scene::gltf::ImportOptions::default();
+    let mut refused = Vec::new();
+    for file in seed_files("animation_sampling") {
+        if file.extension().is_some_and(|e| e == "seed") {
+            let data = std::fs::read(&file).unwrap();
+            match combustion_scene::gltf::import_slice(&data[8..], &options) {
+                Ok((scene, _)) => {
+                    assert!(!scene.motion.animations.is_empty(), "{}", file.display())
+                }
+                Err(e) => refused.push(e.to_string()),
+            }
+        }
+    }
+    assert!(
+        refused.len() == 2
+            && refused[0].contains("not a unit quaternion")
+            && refused[1].contains("to (3e38, 3e38, 0): more than f32 can hold"),
+        "{refused:?}"
+    );
 }
 
 /// The camera paths' corpus (fuzz/seeds/camera_path/) through the parser and the

@@ -1386,7 +1386,9 @@ impl Importer<'_> {
         if let Some((lo, hi)) = bounds {
             if !(hi - lo).length().is_finite() {
                 return Err(ImportProblem::Invalid(format!(
-                    "the scene spans from {lo} to {hi}: more than f32 can hold (each object fits; their distances apart do not)"
+                    "the scene spans from {} to {}: more than f32 can hold (each object fits; their distances apart do not)",
+                    crate::message_numbers(&lo.to_array()),
+                    crate::message_numbers(&hi.to_array())
                 )));
             }
         }
