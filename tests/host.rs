@@ -432,6 +432,20 @@ fn a_borrowed_device_is_never_waited_idle_by_combustion() {
     assert_no_messages(&log);
 }
 
+/// The size of the output tests' targets.
+const OUTPUT_TEST_EXTENT: vk::Extent2D = vk::Extent2D {
+    width: 48,
+    height: 40,
+};
+
+/// A target format of each kind: f32 and f16 float, UNORM and _SRGB display formats.
+const OUTPUT_TEST_FORMATS: [vk::Format; 4] = [
+    vk::Format::R32G32B32A32_SFLOAT,
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::B8G8R8A8_UNORM,
+    vk::Format::R8G8B8A8_SRGB,
+];
+
 /// Frames recorded into host images of every supported output format hold what
 /// Combustion's own render holds: linear radiance × exposure in float formats (RGBA32F
 /// bit for bit), the display bytes in UNORM formats (BGRA swizzled), and the same within
@@ -439,50 +453,11 @@ fn a_borrowed_device_is_never_waited_idle_by_combustion() {
 #[test]
 fn every_output_format_holds_the_frame() {
     let (mut host, log, scene) = spheres_host();
-    let extent = vk::Extent2D {
-        width: 48,
-        height: 40,
-    };
-    let formats = [
-        vk::Format::R32G32B32A32_SFLOAT,
-        vk::Format::R16G16B16A16_SFLOAT,
-        vk::Format::B8G8R8A8_UNORM,
-        vk::Format::R8G8B8A8_SRGB,
-    ];
-    let mut outputs = Vec::new();
-    for format in formats {
-        host.renderer().prepare_output(format).unwrap();
-        let image = app::HostImage::new(
-            &host.vulkan,
-            "output format test",
-            format,
-            extent,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-        )
-        .unwrap();
-        let (slot, cmd) = host.begin_frame().unwrap();
-        let inputs = FrameInputs::of_scene(&host.scenes[0], 1.0);
-        let target = FrameTarget {
-            color: image
-                .color_target(ImageState::UNDEFINED, ImageState::COPY_SOURCE)
-                .unwrap(),
-            depth: None,
-        };
-        let renderer = host.renderer.as_mut().unwrap();
-        renderer
-            .record(cmd, slot, &host.scenes[0], &inputs, &target)
-            .unwrap();
-        host.submit_frame(slot).unwrap();
-        let bytes = headless::read_back(
-            &host,
-            &image,
-            ImageState::COPY_SOURCE,
-            vk::ImageAspectFlags::COLOR,
-        )
-        .unwrap();
-        image.destroy(&host.vulkan);
-        outputs.push(bytes);
-    }
+    let extent = OUTPUT_TEST_EXTENT;
+    let outputs: Vec<Vec<u8>> = OUTPUT_TEST_FORMATS
+        .into_iter()
+        .map(|format| host_frame_into(&mut host, (format, extent), &[], |_| {}).0)
+        .collect();
     drop(host);
     assert_no_messages(&log);
     let reference = common::render(
@@ -599,16 +574,7 @@ fn host_frame_into(
 #[test]
 fn folded_output_frames_equal_the_two_passes_frames() {
     use combustion::renderer::{Background, Corner, OverlayPanel, ToneMapping};
-    let extent = vk::Extent2D {
-        width: 48,
-        height: 40,
-    };
-    let formats = [
-        vk::Format::B8G8R8A8_UNORM,
-        vk::Format::R8G8B8A8_SRGB,
-        vk::Format::R32G32B32A32_SFLOAT,
-        vk::Format::R16G16B16A16_SFLOAT,
-    ];
+    let (extent, formats) = (OUTPUT_TEST_EXTENT, OUTPUT_TEST_FORMATS);
     let panel = [OverlayPanel {
         text: "folded\t1.0",
         corner: Corner::TopLeft,

@@ -145,6 +145,29 @@ fn folded_key(
     }
 }
 
+/// The lighting pipeline of `variant` reading `settings`' G-buffer storage, with `extra`
+/// defines, into `format`.
+fn pipeline(
+    t: &crate::pipelines::PipelineTools<'_>,
+    (variant, settings): (ShaderVariant, &RendererSettings),
+    extra: &[(&'static str, Option<&'static str>)],
+    format: vk::Format,
+) -> Result<FullscreenPass, RenderError> {
+    let mut defines = variant.defines();
+    defines.extend(settings.gbuffer.defines());
+    defines.extend_from_slice(extra);
+    FullscreenPass::new(
+        t.device,
+        t.compiler,
+        t.cache,
+        "lighting.frag",
+        &defines,
+        t.layouts.of(&SET),
+        std::mem::size_of::<LightingPush>() as u32,
+        format,
+    )
+}
+
 /// Builds the lighting pipeline of `variant` that writes targets of `format` itself
 /// (the output folded in), for renderers that fold ([`RendererSettings::fold_output`]):
 /// for every prepared variant when a format's output passes are built, and for every
@@ -162,21 +185,9 @@ pub(crate) fn prepare_folded(
         return Ok(());
     }
     registry.build(folded_key(variant, settings, format), |t| {
-        let mut defines = variant.defines();
-        defines.extend(settings.gbuffer.defines());
-        defines.push(("OUTPUT_FOLDED", None));
-        defines.extend(encoding.defines());
-        let pass = FullscreenPass::new(
-            t.device,
-            t.compiler,
-            t.cache,
-            "lighting.frag",
-            &defines,
-            t.layouts.of(&SET),
-            std::mem::size_of::<LightingPush>() as u32,
-            format,
-        )?;
-        Ok((pass, 1))
+        let mut folded = vec![("OUTPUT_FOLDED", None)];
+        folded.extend(encoding.defines());
+        Ok((pipeline(t, (variant, settings), &folded, format)?, 1))
     })?;
     Ok(())
 }
@@ -313,19 +324,8 @@ impl FramePass for Lighting {
         registry: &mut PipelineRegistry,
     ) -> Result<(), RenderError> {
         registry.build(key(variant, settings), |t| {
-            let mut defines = variant.defines();
-            defines.extend(settings.gbuffer.defines());
-            let pass = FullscreenPass::new(
-                t.device,
-                t.compiler,
-                t.cache,
-                "lighting.frag",
-                &defines,
-                t.layouts.of(&SET),
-                std::mem::size_of::<LightingPush>() as u32,
-                settings.hdr_format.vk(),
-            )?;
-            Ok((pass, 1))
+            let hdr = settings.hdr_format.vk();
+            Ok((pipeline(t, (variant, settings), &[], hdr)?, 1))
         })?;
         Ok(())
     }
