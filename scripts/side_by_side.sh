@@ -2,10 +2,13 @@
 # The speed comparison with what a user would pick instead, measured side by side in one
 # run: the Bevy anchor (../shared/anchors/bevy-spheres: Bevy 0.19's deferred renderer on
 # the 7×7 sphere grid) and `combustion view` on the same workload — builtin:grid-7x7 and
-# the anchor's own scene as glTF (its twin) — each a window of W×H under Xvfb, vsync off,
-# the median wall-clock frame time of 100 frames, interleaved ROUNDS times, then the
-# ratio of Bevy's median to Combustion's. Run it alone on the machine (nothing compiling
-# beside it): two shared cores move such figures by a fifth from run to run.
+# the anchor's own scene as glTF (its twin) — and a textured Khronos model both load
+# (Avocado from ../shared/data/gltf, given a camera and two lights of its own by
+# scripts/anchors/textured_twin.py; Bevy's side is scripts/anchors/bevy-gltf, built beside
+# the anchor), each a window of W×H under Xvfb, vsync off, the median wall-clock frame
+# time of 100 frames, interleaved ROUNDS times, then the ratio of Bevy's median to
+# Combustion's. Run it alone on the machine (nothing compiling beside it): two shared
+# cores move such figures by a fifth from run to run.
 #
 #   bash scripts/side_by_side.sh            # 1280×720, two rounds
 #   W=1920 H=1080 ROUNDS=3 bash scripts/side_by_side.sh
@@ -60,6 +63,19 @@ bevy="$ANCHOR_DIR/target/release/bevy-spheres"
 twin="$ANCHOR_DIR/twin.gltf"
 [ -f "$twin" ] || "$py" "$ANCHOR_SRC/twin/make_twin.py" "$twin" 4 >/dev/null
 
+# Bevy on a glTF file, built beside the anchor with its lock (the same crates, compiled
+# once), and the textured model with its own camera and lights.
+mkdir -p "$ANCHOR_DIR/bevy-gltf"
+cp -r scripts/anchors/bevy-gltf/. "$ANCHOR_DIR/bevy-gltf/"
+sed 's/^name = "bevy-spheres"$/name = "bevy-gltf"/' "$ANCHOR_SRC/Cargo.lock" > "$ANCHOR_DIR/bevy-gltf/Cargo.lock"
+(cd "$ANCHOR_DIR/bevy-gltf" && CARGO_TARGET_DIR="$ANCHOR_DIR/target" cargo build --release -q)
+bevy_gltf="$ANCHOR_DIR/target/release/bevy-gltf"
+model=../shared/data/gltf/Avocado/glTF/Avocado.gltf
+textured=""
+if [ -f "$model" ]; then
+    textured=$("$py" scripts/anchors/textured_twin.py "$model" "$ANCHOR_DIR/avocado")
+fi
+
 # Combustion as its test command builds it (the dev profile: opt-level 1, its
 # dependencies 2); PROFILE=release for the release profile (a first build compiles
 # shaderc's glslang again: tens of minutes on two cores).
@@ -85,20 +101,29 @@ export DISPLAY=$display COMBUSTION_DEVICE=$device WGPU_ADAPTER_NAME=$device
 driver=$("$combustion" devices | grep -m1 -F "$device" || true)
 echo "driver: ${driver:-unknown}; Combustion's $PROFILE profile; ${W}x${H}, $FRAMES frames, $ROUNDS rounds interleaved"
 
-# The median frame time (ms) each tool prints.
-bevy_ms() { W=$W H=$H "$bevy" 2>/dev/null | sed -n 's/.*median_ms=\([0-9.]*\).*/\1/p' | tail -1; }
+# The median frame time (ms) each tool prints. The files are lit by their own lights
+# alone on both sides (`--environment none`: Combustion lights a glTF file with the studio
+# environment beside its lights by default, the anchors with nothing of the kind).
+bevy_ms() { W=$W H=$H "$@" 2>/dev/null | sed -n 's/.*median_ms=\([0-9.]*\).*/\1/p' | tail -1; }
 combustion_ms() {
-    "$combustion" view "$1" --width "$W" --height "$H" --frames "$FRAMES" --vsync off \
+    "$combustion" view "$@" --width "$W" --height "$H" --frames "$FRAMES" --vsync off \
         --overlay off --bloom off --anti-aliasing none 2>/dev/null |
         sed -n 's/.*wall clock per frame median \([0-9.]*\) ms.*/\1/p' | tail -1
 }
+# Bevy's median over Combustion's, two decimals.
+ratio() { "$py" -c "print(f'{$1/$2:.2f}×')" 2>/dev/null || echo "not measured"; }
 
-printf '| round | Bevy 0.19 deferred | combustion view builtin:grid-7x7 | combustion view twin.gltf | Bevy ÷ Combustion (grid, twin) |\n'
-printf '|---|---|---|---|---|\n'
+printf '| round | Bevy 0.19 deferred, grid | combustion builtin:grid-7x7 | combustion twin.gltf | Bevy, Avocado | combustion, Avocado | Bevy ÷ Combustion (grid, twin, Avocado) |\n'
+printf '|---|---|---|---|---|---|---|\n'
 for round in $(seq 1 "$ROUNDS"); do
-    b=$(bevy_ms)
+    b=$(bevy_ms "$bevy")
     g=$(combustion_ms builtin:grid-7x7)
-    t=$(combustion_ms "$twin")
-    ratio=$("$py" -c "print(f'{$b/$g:.2f}× , {$b/$t:.2f}×')" 2>/dev/null || echo "not measured")
-    printf '| %s | %s ms | %s ms | %s ms | %s |\n' "$round" "${b:-?}" "${g:-?}" "${t:-?}" "$ratio"
+    t=$(combustion_ms "$twin" --environment none)
+    ba="" ca=""
+    if [ -n "$textured" ]; then
+        ba=$(bevy_ms "$bevy_gltf" "$textured")
+        ca=$(combustion_ms "$textured" --environment none)
+    fi
+    printf '| %s | %s ms | %s ms | %s ms | %s ms | %s ms | %s, %s, %s |\n' "$round" "${b:-?}" "${g:-?}" "${t:-?}" \
+        "${ba:-?}" "${ca:-?}" "$(ratio "$b" "$g")" "$(ratio "$b" "$t")" "$(ratio "$ba" "$ca")"
 done

@@ -334,6 +334,50 @@ fn the_viewer_meters_as_the_headless_render_does() {
     assert!(differing(&plain) > 1000, "{}", differing(&plain));
 }
 
+/// `view --environment` lights the scene in place of the environment it comes with:
+/// builtin:spheres-studio (the studio environment beside its lights) viewed with
+/// `--environment none` is, byte for byte, the headless render of the scene without an
+/// environment — and differs from the scene as it comes.
+#[test]
+fn the_viewer_lights_by_the_environment_asked_for() {
+    let xvfb = Xvfb::start();
+    let display = format!(":{}", xvfb.display);
+    let still = "# time eye target\n0  0 1 6  0 0 0\n1  0 1 6  0 0 0\n";
+    let (pixels, scene) = scripted_screenshot(
+        "environment",
+        |args| view(&display, args),
+        "builtin:spheres-studio",
+        (160, 120),
+        3,
+        still,
+        &["--overlay", "off", "--environment", "none"],
+    );
+    assert!(scene.environment.is_some(), "the scene comes with one");
+    let unlit = combustion::scene::Scene {
+        environment: None,
+        ..scene.clone()
+    };
+    let differing = |other: &combustion::renderer::Frame| {
+        pixels
+            .iter()
+            .zip(&other.ldr)
+            .filter(|(a, b)| a != b)
+            .count()
+    };
+    let reference = headless_as_viewed(&unlit, 160, 120, None);
+    assert_eq!(
+        differing(&reference),
+        0,
+        "the render without an environment"
+    );
+    let as_it_comes = headless_as_viewed(&scene, 160, 120, None);
+    assert!(
+        differing(&as_it_comes) > 1000,
+        "{}",
+        differing(&as_it_comes)
+    );
+}
+
 /// Temporal anti-aliasing in the viewer (`--temporal-anti-aliasing on`): a scripted run
 /// whose camera holds still for 20 frames shows, byte for byte, the 20th frame of the
 /// same sequence rendered headless (its jitter and history frame for frame; with bloom

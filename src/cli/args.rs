@@ -1057,6 +1057,11 @@ pub(crate) struct ViewArgs {
     /// it)
     #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
     pub(crate) bloom: bool,
+    /// Light the scene by `studio`, `uniform:R,G,B` or `uniform:L`, an equirectangular
+    /// .hdr or .exr FILE, or `none`, in place of the environment it comes with (a glTF
+    /// file's: the studio, beside its own lights); kept when the scene is reloaded
+    #[arg(long, value_name = "ENVIRONMENT", value_parser = OsStringValueParser::new().try_map(EnvironmentChoice::parse))]
+    pub(crate) environment: Option<EnvironmentChoice>,
     /// With --auto-exposure on: how fast the exposure follows the metered one, RISE,FALL
     /// in EV per second (towards a darker scene, towards a brighter one; 0.01 to 1000
     /// each; 1,3 by default)

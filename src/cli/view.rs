@@ -34,6 +34,11 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
         }
     }
     preflight(&device, &o.frame)?;
+    let environment = o
+        .environment
+        .as_ref()
+        .map(EnvironmentChoice::load)
+        .transpose()?;
     let summary = combustion::viewer::run(&combustion::viewer::ViewerDesc {
         scene: o.scene.source(),
         width: o.frame.width,
@@ -51,6 +56,7 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
         anti_aliasing: o.picture.anti_aliasing_for(1),
         auto_exposure: (auto_exposure.is_some(), metering),
         bloom_intensity,
+        environment,
     })?;
     // A run too short to have read back a frame's timings (--frames 1) says so.
     let median = |list: &[f64]| {

@@ -86,6 +86,23 @@ pub struct ViewerDesc {
     pub auto_exposure: (bool, combustion_renderer::AutoExposure),
     /// The fraction of radiance bloom spreads, in frames with bloom (Y toggles it).
     pub bloom_intensity: f32,
+    /// The environment lighting the scene in place of the one it comes with (`Some(None)`:
+    /// none; a file is lit by the studio beside its own lights), kept when it is reloaded;
+    /// `None`: the scene's own.
+    pub environment: Option<Option<combustion_scene::Environment>>,
+}
+
+/// The scene of `source` and its file's cameras, lit by `environment` where one is given
+/// ([`ViewerDesc::environment`]).
+fn load_scene(
+    source: &SceneSource,
+    environment: &Option<Option<combustion_scene::Environment>>,
+) -> Result<(combustion_scene::Scene, Vec<combustion_scene::Camera>), Error> {
+    let (mut scene, cameras) = source.load_with_cameras(&Default::default())?;
+    if let Some(environment) = environment {
+        scene.environment.clone_from(environment);
+    }
+    Ok((scene, cameras))
 }
 
 /// The clock of scripted runs: frame n of a camera path is at time n / 30 s.
@@ -312,7 +329,7 @@ pub fn run(desc: &ViewerDesc) -> Result<ViewSummary, Error> {
         .map_err(Error::CameraPath)?;
     // The display before the scene: without one, nothing is loaded.
     let event_loop = EventLoop::new().map_err(|e| Error::NoWindow(window_error(e)))?;
-    let (scene, cameras) = desc.scene.load_with_cameras(&Default::default())?;
+    let (scene, cameras) = load_scene(&desc.scene, &desc.environment)?;
     let mut app = App {
         desc,
         scene: Some((scene, cameras)),
@@ -426,6 +443,8 @@ struct State {
     source: SceneSource,
     original: combustion_scene::Scene,
     overrides: controls::Overrides,
+    /// The environment asked for in place of the scene's ([`ViewerDesc::environment`]).
+    environment: Option<Option<combustion_scene::Environment>>,
     exposure: f32,
     /// The auto exposure's settings, and whether it is on.
     auto_exposure: (bool, combustion_renderer::AutoExposure),
@@ -551,6 +570,7 @@ impl State {
             source,
             original: scene.clone(),
             overrides: controls::Overrides::default(),
+            environment: desc.environment.clone(),
             exposure: desc.settings.exposure,
             auto_exposure: desc.auto_exposure,
             bloom_intensity: desc.bloom_intensity,
@@ -813,7 +833,7 @@ impl State {
     /// old upload retired until the frames in flight are done with it), the camera reset
     /// to the scene's own. On error the current scene stays.
     fn load(&mut self, source: SceneSource) -> Result<(), Error> {
-        let (scene, cameras) = source.load_with_cameras(&Default::default())?;
+        let (scene, cameras) = load_scene(&source, &self.environment)?;
         let upload = self.renderer.upload(&self.overrides.apply(&scene))?;
         let old = std::mem::replace(&mut self.gpu_scene, upload);
         self.renderer.retire(old);
