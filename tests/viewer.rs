@@ -64,10 +64,13 @@ fn run_view(mut command: Command, args: &[&str]) -> (Option<i32>, String, String
         stdout,
         stderr,
     } = child.wait_with_output().expect("combustion output");
+    let stderr = String::from_utf8_lossy(&stderr).into_owned();
+    // docs/cli.md's message rule, as for every other command.
+    common::assert_written_for_people(args, &stderr);
     (
         status.code(),
         String::from_utf8_lossy(&stdout).into_owned(),
-        String::from_utf8_lossy(&stderr).into_owned(),
+        stderr,
     )
 }
 

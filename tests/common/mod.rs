@@ -61,7 +61,9 @@ impl Drop for Scratch {
 }
 
 /// Runs the `combustion` command on lavapipe: its exit code (-1 for a signal), standard
-/// output and standard error; a panic is a failure of the test, whatever the command.
+/// output and standard error; a panic, or an `error:` or `warning:` line written for Rust
+/// rather than for people ([`assert_written_for_people`]), is a failure of the test,
+/// whatever the command.
 pub fn combustion(args: &[&str]) -> (i32, String, String) {
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_combustion"))
         .args(args)
@@ -70,11 +72,38 @@ pub fn combustion(args: &[&str]) -> (i32, String, String) {
         .expect("run combustion");
     let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
     assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    assert_written_for_people(args, &stderr);
     (
         output.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&output.stdout).into_owned(),
         stderr,
     )
+}
+
+/// docs/cli.md's message rule, on every `error:` and `warning:` line of a run: no Rust
+/// path (`module::Item`), no `Debug` output (`Some(…)`, `None`, escaped quotes, a
+/// struct's `{ field: … }`).
+pub fn assert_written_for_people(args: &[&str], stderr: &str) {
+    for line in stderr
+        .lines()
+        .filter(|l| l.starts_with("error: ") || l.starts_with("warning: "))
+    {
+        let bytes = line.as_bytes();
+        let rust_path = line.match_indices("::").any(|(at, _)| {
+            at > 0
+                && (bytes[at - 1].is_ascii_alphanumeric() || bytes[at - 1] == b'_')
+                && bytes
+                    .get(at + 2)
+                    .is_some_and(|b| b.is_ascii_alphabetic() || *b == b'_')
+        });
+        let debug = ["Some(", "None)", "Ok(", "Err(", "\\\"", ": None", " { "]
+            .iter()
+            .any(|marker| line.contains(marker));
+        assert!(
+            !rust_path && !debug,
+            "{args:?}: a message written for Rust, not for people: {line}"
+        );
+    }
 }
 
 /// The names of the files in `dir`, sorted.
