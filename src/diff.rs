@@ -18,6 +18,8 @@
 
 use std::path::Path;
 
+use combustion_optics::readable;
+
 /// The largest image file read: 1 GiB.
 pub const MAX_IMAGE_BYTES: u64 = 1 << 30;
 
@@ -416,14 +418,16 @@ pub enum Criterion {
 impl std::fmt::Display for Criterion {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            // Numbers as messages write them (`1e-300`, not 300 digits).
             Criterion::ChannelDiff {
                 relative: false,
                 tolerance,
                 share,
             } => write!(
                 f,
-                "max-channel-diff {tolerance}/255 on at most {}% of pixels",
-                share * 100.0
+                "max-channel-diff {}/255 on at most {}% of pixels",
+                readable(*tolerance),
+                readable(share * 100.0)
             ),
             Criterion::ChannelDiff {
                 relative: true,
@@ -432,10 +436,10 @@ impl std::fmt::Display for Criterion {
             } => write!(
                 f,
                 "max-relative-diff {tolerance:e} on at most {}% of pixels",
-                share * 100.0
+                readable(share * 100.0)
             ),
-            Criterion::MeanFlip(x) => write!(f, "mean-flip <= {x}"),
-            Criterion::MaxFlip(x) => write!(f, "max-flip <= {x}"),
+            Criterion::MeanFlip(x) => write!(f, "mean-flip <= {}", readable(*x)),
+            Criterion::MaxFlip(x) => write!(f, "max-flip <= {}", readable(*x)),
         }
     }
 }

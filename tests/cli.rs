@@ -4013,3 +4013,42 @@ fn a_spectral_table_beyond_32_bit_numbers_is_named() {
     );
     assert!(!out.exists());
 }
+
+/// `diff --criteria` echoes its criteria's numbers short in its verdict: `mean-flip <=
+/// 1e-300`, not 300 digits (and `1e-12/255`, not `0.000000000001/255`).
+#[test]
+fn diff_criteria_are_echoed_short() {
+    let dir = scratch("criteria-short");
+    let [a, b] = ["a.png", "b.png"].map(|n| dir.join(n));
+    for (file, exposure) in [(&a, "1"), (&b, "2")] {
+        let (code, _, stderr) = combustion(&[
+            "render",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--exposure",
+            exposure,
+            "-o",
+            file.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+    }
+    for (criteria, echoed) in [
+        ("mean-flip <= 1e-300", "mean-flip <= 1e-300: mean FLIP is"),
+        (
+            "max-channel-diff 0.000000000001/255 on at most 0.0000000000001% of pixels",
+            "max-channel-diff 1e-12/255 on at most 1e-13% of pixels:",
+        ),
+    ] {
+        let (code, _, stderr) = combustion(&[
+            "diff",
+            a.to_str().unwrap(),
+            b.to_str().unwrap(),
+            "--criteria",
+            criteria,
+        ]);
+        assert_eq!(code, 1, "{stderr}");
+        assert!(stderr.contains(echoed), "{stderr}");
+    }
+}

@@ -1076,7 +1076,7 @@ impl Importer<'_> {
         if self.mesh_bytes > budget {
             return Err(format!(
                 "the meshes, skins and animations built so far would take {} MiB, more than this file may ask for ({} MiB: {} MiB + {} × the {read} bytes of the file and its buffers)",
-                self.mesh_bytes >> 20,
+                crate::error::readable((self.mesh_bytes >> 20) as f64),
                 budget >> 20,
                 MESH_BYTES_FLOOR >> 20,
                 MESH_BYTES_PER_BYTE_READ,
