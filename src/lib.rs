@@ -41,16 +41,7 @@ use combustion_scene::gltf::{ImportError, ImportOptions};
 use combustion_scene::{Scene, SceneError};
 use combustion_vk::{Device, DeviceDesc, DeviceSelector, ValidationLog, VkError};
 
-pub use combustion_optics::shortened;
-
-/// A finite number; the error says why not, without the value (clap's message shows it).
-pub fn finite_number(text: &str) -> Result<f64, String> {
-    match text.trim().parse::<f64>() {
-        Ok(value) if value.is_finite() => Ok(value),
-        Ok(_) => Err("is not finite".to_owned()),
-        Err(_) => Err("is not a number".to_owned()),
-    }
-}
+pub use combustion_optics::{finite_number, shortened};
 
 /// A comma-separated list of finite numbers whose length is one of `lengths` (any length
 /// if `lengths` is empty): `eval`'s inputs and `plot`'s η, k and ηt lists. The error names

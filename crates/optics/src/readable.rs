@@ -11,6 +11,16 @@ pub fn readable(value: impl Into<f64>) -> Readable {
     Readable(value.into())
 }
 
+/// A finite number read from `text` (surrounding white space ignored); the error says why
+/// not, without the value (the caller's message shows it, shortened).
+pub fn finite_number(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(value) if value.is_finite() => Ok(value),
+        Ok(_) => Err("is not finite".to_owned()),
+        Err(_) => Err("is not a number".to_owned()),
+    }
+}
+
 /// `text` for a message: at most 40 characters, the rest elided with the count (a
 /// hostile or careless value of megabytes is not echoed whole).
 pub fn shortened(text: &str) -> String {
