@@ -2882,7 +2882,7 @@ fn diff_refuses_what_it_cannot_compare() {
     ] {
         assert_refused(
             &["diff", &path("a.png"), &path("a.png"), "--criteria", criteria],
-            &["criterion `max-relative-diff 1e-1 on at most 1% of pixels` does not apply to PNG images"],
+            &["criterion `max-relative-diff 0.1 on at most 1% of pixels` does not apply to PNG images"],
         );
     }
     assert_refused(

@@ -512,7 +512,7 @@ mod tests {
             ),
             (
                 r#"{"criteria": "max-relative-diff 1e-3 on at most 1% of pixels", "jobs": [{"name": "a", "scene": "builtin:spheres"}]}"#,
-                "`criteria`: `max-relative-diff 1e-3 on at most 1% of pixels` judges OpenEXR images",
+                "`criteria`: `max-relative-diff 0.001 on at most 1% of pixels` judges OpenEXR images",
             ),
             (
                 r#"{"jobs": [{"name": "a", "scene": "builtin:spheres", "outputs": ["png", "png"]}]}"#,

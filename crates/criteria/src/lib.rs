@@ -60,7 +60,8 @@ impl std::fmt::Display for Criterion {
                 share,
             } => write!(
                 f,
-                "max-relative-diff {tolerance:e} on at most {}% of pixels",
+                "max-relative-diff {} on at most {}% of pixels",
+                readable(*tolerance),
                 readable(share * 100.0)
             ),
             Criterion::MeanFlip(x) => write!(f, "mean-flip <= {}", readable(*x)),
