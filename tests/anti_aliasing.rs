@@ -102,8 +102,9 @@ fn anti_aliasing_against_the_supersampled_frame() {
     common::finish(headless);
 }
 
-/// Frames with and without FXAA (its own output pipeline) and frames at a supersampled
-/// size (targets of another size, the others retired after the 16-frame delay), in runs
+/// Frames with and without FXAA (its own output pipeline; without, the output folded into
+/// the lighting pass) and frames at a supersampled size (targets of another size, the
+/// others retired after the 16-frame delay), in runs
 /// of 24 frames, three frames in flight, under validation with synchronisation
 /// validation: no message, targets retired, and an FXAA frame at the end the same, bit
 /// for bit, as one at the start.
@@ -138,6 +139,18 @@ fn frames_alternate_anti_aliasing_and_supersampled_sizes_past_the_retire_delay()
             assert!(
                 stats.targets_retired > round,
                 "targets of the size not drawn were retired: {stats:?}"
+            );
+            // The plain frames (read back by nothing) have the output folded into the
+            // lighting pass; the FXAA frames run the output pass: both kinds alternate.
+            let timings = renderer.take_completed_timings();
+            let folded = timings
+                .iter()
+                .filter(|t| t.ms(combustion::renderer::PassTimings::OUTPUT).is_none())
+                .count();
+            assert!(
+                folded >= 48 && timings.len() - folded >= 24,
+                "{folded} folded of {}",
+                timings.len()
             );
         }
         let last = renderer.render_with(&gpu, &fxaa, w, h, IMAGES).unwrap();
