@@ -1,7 +1,13 @@
-//! Replays a corpus through what a fuzz target does with one input (the tests in
-//! crates/scene/tests/fuzz_corpus.rs and crates/spectra/tests/fuzz_corpus.rs).
+//! Replays a corpus through what a fuzz target does with one input (the tests named
+//! fuzz_corpus.rs in crates/scene, spectra, report-csv and criteria), and finds the
+//! committed corpora: `fuzz/seeds/NAME/` (inputs written by hand, and small corpora, as
+//! files) and `fuzz/seeds/NAME.tar.xz` (a target's corpus after a run, minimised with
+//! libFuzzer's `-merge=1`).
 
-use std::path::PathBuf;
+#![allow(dead_code)] // each replay test uses some of these
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 /// Runs every file of `files` through `run`; returns how many there were and the names
 /// of those that panicked.
@@ -14,4 +20,43 @@ pub fn replay(files: &[PathBuf], run: fn(&[u8])) -> (usize, Vec<String>) {
         }
     }
     (files.len(), panicked)
+}
+
+/// `fuzz/seeds`, from the including crate's folder (crates/NAME).
+pub fn seeds() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds")
+}
+
+/// The files of `dir`, sorted.
+pub fn files_in(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .collect();
+    files.sort();
+    files
+}
+
+/// The files of `fuzz/seeds/NAME/`, sorted.
+pub fn seed_folder(name: &str) -> Vec<PathBuf> {
+    files_in(&seeds().join(name))
+}
+
+/// `fuzz/seeds/NAME.tar.xz` unpacked into a fresh folder: the folder (to remove once
+/// replayed) and its files, sorted.
+pub fn unpacked_archive(name: &str) -> (PathBuf, Vec<PathBuf>) {
+    let archive = seeds().join(format!("{name}.tar.xz"));
+    let dir = std::env::temp_dir().join(format!("combustion-corpus-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let status = Command::new("tar")
+        .arg("-xJf")
+        .arg(&archive)
+        .arg("-C")
+        .arg(&dir)
+        .status()
+        .expect("tar (with xz) unpacks the corpus: scripts/dev.sh installs xz-utils");
+    assert!(status.success(), "tar -xJf {}", archive.display());
+    let files = files_in(&dir);
+    (dir, files)
 }

@@ -1,6 +1,7 @@
-//! The criteria fuzz target's corpus (fuzz/seeds/criteria/: hand-made seeds and what the
-//! fuzzer kept) replayed through the code the target runs (fuzz/common/criteria.rs): no
-//! input may panic the parser, fail its echo's round trip or the check.
+//! The criteria fuzz target's corpora — fuzz/seeds/criteria/ (hand-made seeds and its
+//! first find) and criteria.tar.xz (a run's corpus, minimised) — replayed through the
+//! code the target runs (fuzz/common/criteria.rs): no input may panic the parser, fail
+//! its echo's round trip or the check.
 
 #[path = "../../../fuzz/common/criteria.rs"]
 mod criteria_target;
@@ -9,13 +10,16 @@ mod replay;
 
 #[test]
 fn the_criteria_corpus_replays_without_a_panic() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/criteria");
-    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|entry| entry.unwrap().path())
-        .collect();
-    files.sort();
-    let (inputs, panicked) = replay::replay(&files, criteria_target::parse_and_check);
+    let (inputs, panicked) = replay::replay(
+        &replay::seed_folder("criteria"),
+        criteria_target::parse_and_check,
+    );
     assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
-    assert!(inputs >= 7, "{inputs} inputs");
+    assert!(inputs >= 8, "{inputs} inputs");
+    // And the corpus of a 30-minute run, minimised (fuzz/seeds/criteria.tar.xz).
+    let (dir, files) = replay::unpacked_archive("criteria");
+    let (inputs, panicked) = replay::replay(&files, criteria_target::parse_and_check);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    assert!(inputs > 600, "{inputs} inputs");
 }

@@ -9,20 +9,7 @@ mod fuzz_target;
 #[path = "../../../fuzz/common/replay.rs"]
 mod replay;
 
-use std::path::{Path, PathBuf};
-
-fn seeds() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds")
-}
-
-fn files_in(dir: &Path) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|entry| entry.unwrap().path())
-        .collect();
-    files.sort();
-    files
-}
+use std::path::PathBuf;
 
 fn assert_replays(name: &str, files: &[PathBuf], at_least: usize) {
     let (inputs, panicked) = replay::replay(files, fuzz_target::parse_and_round_trip);
@@ -35,26 +22,12 @@ fn assert_replays(name: &str, files: &[PathBuf], at_least: usize) {
 
 #[test]
 fn the_report_csv_seeds_replay_without_a_panic() {
-    assert_replays("seeds", &files_in(&seeds().join("report_csv")), 7);
+    assert_replays("seeds", &replay::seed_folder("report_csv"), 7);
 }
 
 #[test]
 fn the_report_csv_corpus_replays_without_a_panic() {
-    let dir = std::env::temp_dir().join(format!(
-        "combustion-corpus-{}-report_csv",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let status = std::process::Command::new("tar")
-        .arg("-xJf")
-        .arg(seeds().join("report_csv.tar.xz"))
-        .arg("-C")
-        .arg(&dir)
-        .status()
-        .expect("tar (with xz) unpacks the corpus: scripts/dev.sh installs xz-utils");
-    assert!(status.success());
-    let files = files_in(&dir);
+    let (dir, files) = replay::unpacked_archive("report_csv");
     assert_replays("report_csv.tar.xz", &files, 300);
     std::fs::remove_dir_all(&dir).unwrap();
 }

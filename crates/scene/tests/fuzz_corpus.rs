@@ -16,36 +16,9 @@ mod fuzz_target;
 #[path = "../../../fuzz/common/replay.rs"]
 mod replay;
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-/// Unpacks `fuzz/seeds/NAME.tar.xz` into a fresh folder and returns its files.
-fn corpus(name: &str) -> (PathBuf, Vec<PathBuf>) {
-    let archive = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../fuzz/seeds")
-        .join(format!("{name}.tar.xz"));
-    let dir = std::env::temp_dir().join(format!("combustion-corpus-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let status = Command::new("tar")
-        .arg("-xJf")
-        .arg(&archive)
-        .arg("-C")
-        .arg(&dir)
-        .status()
-        .expect("tar (with xz) unpacks the corpus: scripts/dev.sh installs xz-utils");
-    assert!(status.success(), "tar -xJf {}", archive.display());
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|entry| entry.unwrap().path())
-        .collect();
-    files.sort();
-    (dir, files)
-}
-
 /// Every input of `name`'s corpus through `run`; the inputs that panicked, by name.
 fn replay(name: &str, run: fn(&[u8])) -> usize {
-    let (dir, files) = corpus(name);
+    let (dir, files) = replay::unpacked_archive(name);
     let (inputs, panicked) = replay::replay(&files, run);
     std::fs::remove_dir_all(dir).unwrap();
     assert!(
@@ -81,38 +54,28 @@ fn an_internal_error_of_the_importer_is_a_crash_to_the_replay() {
     }));
 }
 
-/// The files of a corpus committed as a folder, `fuzz/seeds/NAME/`, sorted.
-fn seed_files(name: &str) -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../fuzz/seeds")
-        .join(name);
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|entry| entry.unwrap().path())
-        .collect();
-    files.sort();
-    files
-}
-
 /// The animation sampling corpus (fuzz/seeds/animation_sampling/: the hand-made seeds
 /// its generate.py writes — each kind of channel and interpolation, morph weights, a
 /// skin, rotation keys from q to -q and all zero, times of NaN, infinity and 1e30 — and
-/// the fuzzer's minimised corpus beside them) through the sampling and posing, as the
-/// `animation_sampling` target runs them.
+/// animation_sampling.tar.xz, an hour's run minimised) through the sampling and posing, as
+/// the `animation_sampling` target runs them.
 #[test]
 fn the_animation_sampling_corpus_replays_without_a_panic() {
     let (inputs, panicked) = replay::replay(
-        &seed_files("animation_sampling"),
+        &replay::seed_folder("animation_sampling"),
         animation_target::sample_animations,
     );
     assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
     assert!(inputs >= 12, "{inputs} inputs");
+    // And the corpus of an hour's run, minimised (fuzz/seeds/animation_sampling.tar.xz).
+    let archived = replay("animation_sampling", animation_target::sample_animations);
+    assert!(archived > 13_000, "{archived} inputs");
     // The hand-made seeds reach the sampling — each imports, with an animation — but
     // the two the importer refuses: keys that are not unit quaternions, and a scale of
     // 3e38 whose scene spans more than f32 holds (its numbers written short).
     let options = combustion_scene::gltf::ImportOptions::default();
     let mut refused = Vec::new();
-    for file in seed_files("animation_sampling") {
+    for file in replay::seed_folder("animation_sampling") {
         if file.extension().is_some_and(|e| e == "seed") {
             let data = std::fs::read(&file).unwrap();
             match combustion_scene::gltf::import_slice(&data[8..], &options) {
@@ -136,7 +99,7 @@ fn the_animation_sampling_corpus_replays_without_a_panic() {
 #[test]
 fn the_camera_path_corpus_replays_without_a_panic() {
     let (inputs, panicked) = replay::replay(
-        &seed_files("camera_path"),
+        &replay::seed_folder("camera_path"),
         camera_path_target::parse_and_follow,
     );
     assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
@@ -149,8 +112,10 @@ fn the_camera_path_corpus_replays_without_a_panic() {
 /// `environment_image` target runs them.
 #[test]
 fn the_environment_image_corpus_replays_without_a_panic() {
-    let (inputs, panicked) =
-        replay::replay(&seed_files("environment_image"), environment_target::decode);
+    let (inputs, panicked) = replay::replay(
+        &replay::seed_folder("environment_image"),
+        environment_target::decode,
+    );
     assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
     // And the corpus of an hour's run, minimised (fuzz/seeds/environment_image.tar.xz).
     let archived = replay("environment_image", environment_target::decode);
