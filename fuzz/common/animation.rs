@@ -9,8 +9,8 @@
 //! go on with; the rest they refuse, naming the file, animation and time) is posed: the
 //! still scene must validate or say why, and have bounds, never panic.
 
-#[path = "gltf.rs"]
-mod gltf;
+// The glTF targets' module (common/gltf.rs), declared beside this one by its includer.
+use super::gltf;
 
 use combustion_scene::gltf::{import_slice, ImportOptions};
 

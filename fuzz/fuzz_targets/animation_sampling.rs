@@ -3,6 +3,8 @@
 
 #![no_main]
 
+#[path = "../common/gltf.rs"]
+mod gltf;
 #[path = "../common/animation.rs"]
 mod common;
 

@@ -12,7 +12,7 @@ mod camera_path_target;
 #[path = "../../../fuzz/common/environment.rs"]
 mod environment_target;
 #[path = "../../../fuzz/common/gltf.rs"]
-mod fuzz_target;
+mod gltf;
 #[path = "../../../fuzz/common/replay.rs"]
 mod replay;
 
@@ -31,14 +31,14 @@ fn replay(name: &str, run: fn(&[u8])) -> usize {
 
 #[test]
 fn the_importer_corpus_replays_without_a_panic() {
-    let inputs = replay("gltf_import", fuzz_target::import_both_ways);
+    let inputs = replay("gltf_import", gltf::import_both_ways);
     // The archive holds the minimised corpus, not a stub.
     assert!(inputs > 10_000, "{inputs} inputs");
 }
 
 #[test]
 fn the_import_and_validate_corpus_replays_without_a_panic() {
-    let inputs = replay("gltf_import_validate", fuzz_target::import_and_validate);
+    let inputs = replay("gltf_import_validate", gltf::import_and_validate);
     assert!(inputs > 10_000, "{inputs} inputs");
 }
 
@@ -48,7 +48,7 @@ fn the_import_and_validate_corpus_replays_without_a_panic() {
 #[should_panic(expected = "the importer panicked: index out of bounds")]
 fn an_internal_error_of_the_importer_is_a_crash_to_the_replay() {
     use combustion_scene::gltf::{ImportError, ImportProblem};
-    fuzz_target::imported(Err(ImportError {
+    gltf::imported(Err(ImportError {
         file: "<memory>".into(),
         problem: ImportProblem::Internal("index out of bounds".into()),
     }));
