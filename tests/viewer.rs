@@ -304,6 +304,15 @@ fn scripted_screenshot_equals_headless(
     );
 }
 
+/// How many of a screenshot's `pixels` differ from `frame`'s display image.
+fn pixels_differing(pixels: &[[u8; 4]], frame: &combustion::renderer::Frame) -> usize {
+    pixels
+        .iter()
+        .zip(&frame.ldr)
+        .filter(|(a, b)| a != b)
+        .count()
+}
+
 /// Auto exposure in the viewer (`--auto-exposure on`): a scripted run whose camera holds
 /// still meters each frame's own radiance, so after its first frame (taken at once) every
 /// frame stays at that target, and the screenshot is, byte for byte, the headless render
@@ -325,13 +334,7 @@ fn the_viewer_meters_as_the_headless_render_does() {
     );
     let reference = headless_as_viewed(&scene, 160, 120, Some(AutoExposure::default()));
     let plain = headless_as_viewed(&scene, 160, 120, None);
-    let differing = |other: &combustion::renderer::Frame| {
-        pixels
-            .iter()
-            .zip(&other.ldr)
-            .filter(|(a, b)| a != b)
-            .count()
-    };
+    let differing = |other: &combustion::renderer::Frame| pixels_differing(&pixels, other);
     assert_eq!(differing(&reference), 0, "the metered headless render");
     // The metering changed the picture (it is not exposure 1's).
     assert!(differing(&plain) > 1000, "{}", differing(&plain));
@@ -360,13 +363,7 @@ fn the_viewer_lights_by_the_environment_asked_for() {
         environment: None,
         ..scene.clone()
     };
-    let differing = |other: &combustion::renderer::Frame| {
-        pixels
-            .iter()
-            .zip(&other.ldr)
-            .filter(|(a, b)| a != b)
-            .count()
-    };
+    let differing = |other: &combustion::renderer::Frame| pixels_differing(&pixels, other);
     let reference = headless_as_viewed(&unlit, 160, 120, None);
     assert_eq!(
         differing(&reference),
@@ -429,13 +426,7 @@ fn the_viewer_accumulates_as_the_headless_frames_do() {
         shown
     };
     common::finish(headless);
-    let differing = |other: &combustion::renderer::Frame| {
-        pixels
-            .iter()
-            .zip(&other.ldr)
-            .filter(|(a, b)| a != b)
-            .count()
-    };
+    let differing = |other: &combustion::renderer::Frame| pixels_differing(&pixels, other);
     assert_eq!(differing(&shown[frames as usize - 1]), 0, "the 20th frame");
     assert!(differing(&shown[0]) > 100, "{}", differing(&shown[0]));
 }
