@@ -344,15 +344,9 @@ impl Headless {
     /// Uploads `scene`, renders one frame and reads back the HDR and display images.
     pub fn render(&mut self, scene: &Scene, width: u32, height: u32) -> Result<Frame, Error> {
         let gpu_scene = self.renderer.upload(scene)?;
-        let frame = self.renderer.render(
-            &gpu_scene,
-            width,
-            height,
-            Readback {
-                images: true,
-                gbuffer: false,
-            },
-        )?;
+        let frame = self
+            .renderer
+            .render(&gpu_scene, width, height, Readback::IMAGES)?;
         Ok(frame)
     }
 

@@ -11,10 +11,7 @@ use glam::{DVec3, DVec4, Mat4, Vec3};
 use crate::common::{exact_f32, render};
 
 const RHO: f64 = 0.8;
-const IMAGES: Readback = Readback {
-    images: true,
-    gbuffer: false,
-};
+const IMAGES: Readback = Readback::IMAGES;
 const RADIUS: f64 = 1.0;
 const WIDTH: u32 = 640;
 const HEIGHT: u32 = 360;

@@ -8,10 +8,7 @@ use combustion::renderer::{AntiAliasing, FrameInputs, Readback, RenderError, Ton
 use combustion::report::flip_against_radiance;
 use combustion::scene::builtin_scene;
 
-const IMAGES: Readback = Readback {
-    images: true,
-    gbuffer: false,
-};
+const IMAGES: Readback = Readback::IMAGES;
 
 /// On the sphere grid at 480×360 (silhouettes, highlights): the pixels FXAA changes are
 /// nearer the 4×4-supersampled frame than the plain frame's, its mean FLIP no worse;

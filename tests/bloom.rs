@@ -9,10 +9,7 @@ use crate::common;
 use combustion::renderer::{Frame, FrameInputs, HdrFormat, Readback, RendererSettings};
 use combustion::scene::builtin_scene;
 
-const IMAGES: Readback = Readback {
-    images: true,
-    gbuffer: false,
-};
+const IMAGES: Readback = Readback::IMAGES;
 
 /// Frames of `scene` (its camera and lights) at `size`: without bloom, then with bloom
 /// at each of `intensities`, in an HDR image of `format`.

@@ -11,10 +11,7 @@ use glam::{Mat4, Vec3};
 
 const W: u32 = 96;
 const H: u32 = 64;
-const IMAGES: Readback = Readback {
-    images: true,
-    gbuffer: false,
-};
+const IMAGES: Readback = Readback::IMAGES;
 
 fn fresh(renderer: &mut Renderer, scene: &Scene) -> Frame {
     let gpu = renderer.upload(scene).unwrap();

@@ -894,10 +894,7 @@ fn every_gbuffer_storage_survives_its_targets_retired_and_rebuilt() {
             targets_kept_for_frames: 4,
             ..common::exact_f32()
         };
-        let images = Readback {
-            images: true,
-            gbuffer: false,
-        };
+        let images = Readback::IMAGES;
         let mut headless = common::lavapipe(settings);
         let (after, retired) = {
             let renderer = headless.renderer();

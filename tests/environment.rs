@@ -1015,10 +1015,7 @@ fn edits_bake_the_environment_for_the_edited_scene() {
                 );
             }
             edit(&mut expected);
-            let images = Readback {
-                images: true,
-                gbuffer: false,
-            };
+            let images = Readback::IMAGES;
             let edited = renderer.render(&gpu, 96, 64, images).expect("render");
             let fresh_scene = renderer.upload(&expected).expect("upload");
             let fresh = renderer
@@ -1063,10 +1060,7 @@ fn frame(
 fn a_frame_environment_lights_as_the_scenes_own_and_changes_without_an_edit() {
     use combustion::renderer::{FresnelModel, RenderError};
     let (width, height) = (48, 32);
-    let readback = Readback {
-        images: true,
-        gbuffer: false,
-    };
+    let readback = Readback::IMAGES;
     let plain = builtin_scene("spheres").expect("built in");
     assert!(plain.environment.is_none() && !plain.lights.is_empty());
     let studio = Environment::Studio;

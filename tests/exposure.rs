@@ -13,10 +13,7 @@ use combustion::renderer::{
 };
 use combustion::scene::{builtin_scene, Light, Scene};
 
-const IMAGES: Readback = Readback {
-    images: true,
-    gbuffer: false,
-};
+const IMAGES: Readback = Readback::IMAGES;
 
 /// The metering's definition in f64 on `hdr` (crate::exposure's docs): luminance
 /// Y = 0.2126 R + 0.7152 G + 0.0722 B; pixels above 0 counted in 256 bins of log2 Y,

@@ -39,10 +39,7 @@ fn within(seconds: u64, body: impl FnOnce() + Send + 'static) {
     }
 }
 
-const IMAGES: Readback = Readback {
-    images: true,
-    gbuffer: false,
-};
+const IMAGES: Readback = Readback::IMAGES;
 
 fn is_fault(error: &RenderError, fault: InjectedFault) -> bool {
     matches!(

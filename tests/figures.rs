@@ -73,10 +73,7 @@ fn render_display(figure: &Figure, exposure: f32) -> Frame {
             exposure,
             ..RendererSettings::default()
         },
-        Readback {
-            images: true,
-            gbuffer: false,
-        },
+        Readback::IMAGES,
     )
 }
 

@@ -214,10 +214,7 @@ fn sample_models_with_lights_render_their_shadows() {
                 },
                 ..common::exact_f32()
             },
-            Readback {
-                images: true,
-                gbuffer: false,
-            },
+            Readback::IMAGES,
         );
         assert!(
             frame.hdr.iter().flatten().all(|c| c.is_finite()),
@@ -246,15 +243,7 @@ fn every_authored_scene_renders_cleanly() {
         for file in files {
             let path = file.unwrap().path();
             if path.extension().and_then(|e| e.to_str()) == Some("gltf") {
-                render_file(
-                    &path,
-                    96,
-                    72,
-                    Readback {
-                        images: true,
-                        gbuffer: false,
-                    },
-                );
+                render_file(&path, 96, 72, Readback::IMAGES);
                 count += 1;
             }
         }

@@ -465,10 +465,7 @@ fn every_output_format_holds_the_frame() {
         extent.width,
         extent.height,
         RendererSettings::default(),
-        Readback {
-            images: true,
-            gbuffer: false,
-        },
+        Readback::IMAGES,
     );
     let floats: Vec<f32> = bytemuck_f32(&outputs[0]);
     for (i, (texel, hdr)) in floats.chunks_exact(4).zip(&reference.hdr).enumerate() {

@@ -47,10 +47,7 @@ fn matched_ior_plane_is_exactly_lambert() {
             64,
             64,
             common::exact_f32(),
-            Readback {
-                images: true,
-                gbuffer: false,
-            },
+            Readback::IMAGES,
         );
         let mut worst = 0.0f64;
         for pixel in &frame.hdr {
@@ -83,10 +80,7 @@ fn outside_medium_changes_dielectric_reflection() {
             32,
             32,
             common::exact_f32(),
-            Readback {
-                images: true,
-                gbuffer: false,
-            },
+            Readback::IMAGES,
         )
     };
     let (air, water) = (render(1.0), render(1.33));

@@ -19,16 +19,7 @@ const SPHERES_MAX_MEAN_FLIP: f32 = 0.0048;
 
 fn render_spheres(settings: RendererSettings) -> (Scene, combustion::renderer::Frame) {
     let scene = builtin_scene("spheres").unwrap();
-    let frame = common::render(
-        &scene,
-        WIDTH,
-        HEIGHT,
-        settings,
-        Readback {
-            images: true,
-            gbuffer: false,
-        },
-    );
+    let frame = common::render(&scene, WIDTH, HEIGHT, settings, Readback::IMAGES);
     (scene, frame)
 }
 

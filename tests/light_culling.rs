@@ -63,16 +63,7 @@ fn render_all(scene: &Scene, culling: &[LightCulling], view: DebugView) -> Vec<V
         .map(|&c| {
             renderer.set_light_culling(c);
             renderer
-                .render_with(
-                    &gpu,
-                    &inputs,
-                    W,
-                    H,
-                    Readback {
-                        images: true,
-                        gbuffer: false,
-                    },
-                )
+                .render_with(&gpu, &inputs, W, H, Readback::IMAGES)
                 .unwrap()
                 .hdr
         })

@@ -34,10 +34,7 @@ fn overlay_panels_blend_exactly_over_the_frame() {
             corner: Corner::BottomRight,
         },
     ];
-    let readback = Readback {
-        images: true,
-        gbuffer: false,
-    };
+    let readback = Readback::IMAGES;
     let plain = renderer.render(&gpu, W, H, readback).unwrap();
     let inputs = FrameInputs {
         overlay: &panels,

@@ -276,10 +276,7 @@ fn ranged_lights_parity() {
         hdr_format: HdrFormat::Rgba32Float,
         ..RendererSettings::default()
     };
-    let readback = Readback {
-        images: true,
-        gbuffer: false,
-    };
+    let readback = Readback::IMAGES;
     let with = common::render(&scene, 192, 128, settings, readback);
     let without = common::render(
         &builtin_scene("spheres").unwrap(),

@@ -18,10 +18,7 @@ use crate::common::exact_f32;
 /// sampling noise to hide it).
 const FLOAT_SPREAD: (f64, f64) = (2e-3, 1e-5);
 
-const IMAGES: Readback = Readback {
-    images: true,
-    gbuffer: false,
-};
+const IMAGES: Readback = Readback::IMAGES;
 
 /// `exact_f32` settings with the frame path traced, paths of at most `depth` surfaces.
 fn path_traced_settings(depth: u32) -> RendererSettings {

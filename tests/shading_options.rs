@@ -22,10 +22,7 @@ const H: u32 = 48;
 
 #[test]
 fn a_failed_set_shading_changes_nothing_and_a_successful_one_needs_no_prepare() {
-    let readback = Readback {
-        images: true,
-        gbuffer: false,
-    };
+    let readback = Readback::IMAGES;
     let mut headless = common::lavapipe(common::exact_f32());
     let renderer = headless.renderer();
     let spheres = builtin_scene("spheres").expect("built in");

@@ -99,10 +99,7 @@ fn shadow_factors(scene: &Scene, settings: ShadowSettings) -> Frame {
         W,
         H,
         with_shadows(settings, DebugView::ShadowFactor),
-        Readback {
-            images: true,
-            gbuffer: false,
-        },
+        Readback::IMAGES,
     )
 }
 
@@ -413,10 +410,7 @@ fn shadow_maps_are_kept_until_the_camera_or_the_scene_changes() {
     use combustion::renderer::FrameInputs;
     let scene = builtin_scene("grid-sun").unwrap();
     let settings = with_shadows(ShadowSettings::DEFAULT, DebugView::None);
-    let images = Readback {
-        images: true,
-        gbuffer: false,
-    };
+    let images = Readback::IMAGES;
     let mut moved_camera = scene.camera;
     moved_camera.position += Vec3::new(0.7, 0.3, -0.4);
     let lift = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0));
@@ -1001,19 +995,7 @@ fn shadow_resources_alternate_across_frames_in_flight() {
         }
         renderer.finish_offscreen().unwrap();
         gpus.iter()
-            .map(|gpu| {
-                renderer
-                    .render(
-                        gpu,
-                        W,
-                        H,
-                        Readback {
-                            images: true,
-                            gbuffer: false,
-                        },
-                    )
-                    .unwrap()
-            })
+            .map(|gpu| renderer.render(gpu, W, H, Readback::IMAGES).unwrap())
             .collect()
     };
     common::finish(headless);

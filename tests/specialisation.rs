@@ -25,10 +25,7 @@ fn specialised_and_general_pipelines_agree_on_every_builtin_scene() {
         ..RendererSettings::default()
     });
     let renderer = headless.renderer();
-    let readback = Readback {
-        images: true,
-        gbuffer: false,
-    };
+    let readback = Readback::IMAGES;
     let mut specialised_somewhere = false;
     for name in BUILTIN_SCENES {
         let scene = builtin_scene(name).unwrap();

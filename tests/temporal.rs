@@ -8,10 +8,7 @@ use crate::common;
 use combustion::renderer::{AntiAliasing, Frame, FrameInputs, Readback, ToneMapping};
 use combustion::scene::{builtin_scene, Camera, ObjectPoses, Scene};
 
-const IMAGES: Readback = Readback {
-    images: true,
-    gbuffer: false,
-};
+const IMAGES: Readback = Readback::IMAGES;
 
 /// How a sequence is smoothed.
 #[derive(Clone, Copy, Debug, PartialEq)]

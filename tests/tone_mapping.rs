@@ -23,10 +23,7 @@ fn every_tone_curve_is_its_mirror() {
                 tone_mapping: curve,
                 ..FrameInputs::of_scene(&gpu, exposure)
             };
-            let readback = Readback {
-                images: true,
-                gbuffer: false,
-            };
+            let readback = Readback::IMAGES;
             renderer.render_with(&gpu, &inputs, w, h, readback).unwrap()
         };
         let (mut worst, mut above_one) = (0.0f64, 0usize);

@@ -92,10 +92,7 @@ fn index_matched_glass() -> (Scene, Scene) {
 #[test]
 fn an_index_matched_clear_surface_is_invisible() {
     let (matched, without) = index_matched_glass();
-    let images = Readback {
-        images: true,
-        gbuffer: false,
-    };
+    let images = Readback::IMAGES;
     let with_glass = common::render(&matched, W, H, common::exact_f32(), images);
     let plain = common::render(&without, W, H, common::exact_f32(), images);
     let at = |x: i64, y: i64| -> Option<[f32; 4]> {

@@ -258,10 +258,7 @@ fn headless_as_viewed(
             auto_exposure,
             ..FrameInputs::of_scene(&gpu, settings.exposure)
         };
-        let readback = Readback {
-            images: true,
-            gbuffer: false,
-        };
+        let readback = Readback::IMAGES;
         renderer
             .render_with(&gpu, &inputs, width, height, readback)
             .expect("render")
@@ -411,10 +408,7 @@ fn the_viewer_accumulates_as_the_headless_frames_do() {
             anti_aliasing: AntiAliasing::Fxaa,
             ..FrameInputs::of_scene(&gpu, settings.exposure)
         };
-        let readback = Readback {
-            images: true,
-            gbuffer: false,
-        };
+        let readback = Readback::IMAGES;
         let mut shown = Vec::new();
         for _ in 0..frames {
             shown.push(

@@ -11,10 +11,7 @@ use super::*;
 use crate::write_stdout;
 
 /// The images of a frame, read back (no G-buffer).
-const IMAGES: Readback = Readback {
-    images: true,
-    gbuffer: false,
-};
+const IMAGES: Readback = Readback::IMAGES;
 
 /// Frames `--accumulate-until` averages at least (for a spread to measure) and at most.
 const ACCUMULATED_FRAMES: (u32, u32) = (4, 1024);

@@ -91,16 +91,8 @@ pub(super) fn measure(
                         anti_aliasing,
                         ..inputs
                     };
-                    let frame = renderer.render_with(
-                        &gpu,
-                        &asked,
-                        size.0,
-                        size.1,
-                        Readback {
-                            images: true,
-                            gbuffer: false,
-                        },
-                    )?;
+                    let frame =
+                        renderer.render_with(&gpu, &asked, size.0, size.1, Readback::IMAGES)?;
                     (
                         frame,
                         time_frames_with(renderer, &gpu, &asked, size, desc.frames)?,
@@ -151,16 +143,7 @@ fn temporal(
     for _ in 1..combustion_renderer::TEMPORAL_JITTER_PERIOD {
         renderer.render_with(gpu, inputs, size.0, size.1, Readback::default())?;
     }
-    let frame = renderer.render_with(
-        gpu,
-        inputs,
-        size.0,
-        size.1,
-        Readback {
-            images: true,
-            gbuffer: false,
-        },
-    )?;
+    let frame = renderer.render_with(gpu, inputs, size.0, size.1, Readback::IMAGES)?;
     let timings = time_frames_with(renderer, gpu, inputs, size, frames)?;
     renderer.set_shading(plain, &[gpu])?;
     Ok((frame, timings))

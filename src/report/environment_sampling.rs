@@ -217,10 +217,7 @@ pub(super) fn mean_of_seeds(
                 environment_seed: seed,
                 ..*inputs
             };
-            let images = Readback {
-                images: true,
-                gbuffer: false,
-            };
+            let images = Readback::IMAGES;
             let next = renderer.render_with(gpu, &seeded, width, height, images)?;
             for (s, p) in sum.iter_mut().zip(&next.hdr) {
                 for c in 0..3 {

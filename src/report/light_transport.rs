@@ -126,10 +126,7 @@ fn path_traced(
     frames: u32,
 ) -> Result<FrameMean, Error> {
     let mut averaged = FrameMean::new((width * height) as usize);
-    let images = Readback {
-        images: true,
-        gbuffer: false,
-    };
+    let images = Readback::IMAGES;
     for seed in 0..frames {
         let seeded = FrameInputs {
             environment_seed: seed,
@@ -235,10 +232,7 @@ pub(super) fn measure(
                     environment_seed: frames,
                     ..inputs
                 };
-                let images = Readback {
-                    images: true,
-                    gbuffer: false,
-                };
+                let images = Readback::IMAGES;
                 renderer.render_with(&gpu, &seeded, size.0, size.1, images)?
             } else {
                 mean_of_seeds(renderer, &gpu, &inputs, size, setting.seeds)?

@@ -351,16 +351,7 @@ pub fn exact_f32() -> RendererSettings {
 
 /// Renders `scene` with `settings` and reads back its HDR and display images.
 pub fn render_images(scene: &Scene, width: u32, height: u32, settings: RendererSettings) -> Frame {
-    render(
-        scene,
-        width,
-        height,
-        settings,
-        Readback {
-            images: true,
-            gbuffer: false,
-        },
-    )
+    render(scene, width, height, settings, Readback::IMAGES)
 }
 
 /// Pixels of two display images that differ by more than one 8-bit step in a channel.

@@ -891,10 +891,7 @@ impl Renderer {
             &plain,
             width.saturating_mul(factor),
             height.saturating_mul(factor),
-            Readback {
-                images: true,
-                gbuffer: false,
-            },
+            Readback::IMAGES,
         )?;
         // The large frame's metered exposure, where it metered one.
         let exposure = self.exposure_shown(inputs);

@@ -617,6 +617,12 @@ pub struct Readback {
 }
 
 impl Readback {
+    /// The HDR radiance and the display image: what a picture or its radiance needs.
+    pub const IMAGES: Readback = Readback {
+        images: true,
+        gbuffer: false,
+    };
+
     /// The images and the G-buffer: what a comparison with a reference reads.
     pub const ALL: Readback = Readback {
         images: true,

@@ -365,6 +365,20 @@ fn pipelines<'a>(frame: &FrameContext<'a>) -> &'a TemporalPipelines {
         .expect("prepared with the frame's variant")
 }
 
+/// The scene's deformation (its posed vertices) and the previous frame's copy of them,
+/// in frames whose motion history runs.
+fn posed_and_previous<'a>(
+    frame: &FrameContext<'a>,
+) -> (&'a crate::deform::SceneDeform, &'a combustion_vk::Buffer) {
+    let deform = frame
+        .scene
+        .gpu
+        .deform
+        .as_ref()
+        .expect("runs only with them");
+    (deform, frame.previous_vertices.expect("runs only with it"))
+}
+
 /// The frame's temporal inputs (frames that run it have them).
 fn temporal(frame: &FrameContext<'_>) -> TemporalFrame {
     frame.temporal.expect("made for every frame that runs it")
@@ -562,26 +576,14 @@ impl FramePass for MotionHistory {
     }
 
     fn io(&self, frame: &FrameContext<'_>) -> PassIo {
-        let deform = frame
-            .scene
-            .gpu
-            .deform
-            .as_ref()
-            .expect("runs only with them");
-        let previous = frame.previous_vertices.expect("runs only with it");
+        let (deform, previous) = posed_and_previous(frame);
         PassIo::new(self.name())
             .uses_buffer(&deform.posed, BufferUse::TransferSource)
             .uses_buffer(previous, BufferUse::TransferDestination)
     }
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let deform = frame
-            .scene
-            .gpu
-            .deform
-            .as_ref()
-            .expect("runs only with them");
-        let previous = frame.previous_vertices.expect("runs only with it");
+        let (deform, previous) = posed_and_previous(frame);
         let region = [vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
