@@ -380,3 +380,198 @@ fn the_gpu_path_tracer_agrees_with_the_f64_one_under_lights_with_a_size() {
         );
     }
 }
+
+/// Path-traced frames averaged on the GPU while nothing changes
+/// (`RendererSettings::accumulate_paths`, the viewer's): a still view's k-th frame is the
+/// mean of the frames of seeds 0 to k − 1 rendered one by one (to f32 rounding of the
+/// running mean), a moved camera starts again with the one frame of seed 0 from there,
+/// and so does a changed light; `Renderer::accumulated_paths` counts the paths a pixel.
+#[test]
+fn accumulated_frames_are_the_mean_of_successive_seeds_and_start_again_on_change() {
+    use combustion::renderer::{FrameInputs, Renderer};
+    use combustion::scene::Light;
+    let (width, height) = (32, 24);
+    let scene = builtin_scene("point-among").unwrap();
+    let mut moved = scene.camera;
+    moved.position += glam::Vec3::new(0.3, 0.1, 0.0);
+    let mut brighter = scene.lights.clone();
+    for light in &mut brighter {
+        if let Light::Point { intensity, .. } = light {
+            *intensity = intensity.map(|i| 2.0 * i);
+        }
+    }
+    assert_ne!(
+        brighter, scene.lights,
+        "the scene has point lights to change"
+    );
+    let inputs = crate::common::frame_inputs(&scene, &scene.lights);
+    let frame = |renderer: &mut Renderer,
+                 gpu: &combustion::renderer::GpuScene,
+                 inputs: &FrameInputs<'_>,
+                 seed: u32| {
+        let seeded = FrameInputs {
+            environment_seed: seed,
+            ..*inputs
+        };
+        renderer
+            .render_with(gpu, &seeded, width, height, IMAGES)
+            .expect("render")
+            .hdr
+    };
+    let still = inputs;
+    let from_moved = FrameInputs {
+        camera: moved,
+        ..inputs
+    };
+    let relit = FrameInputs {
+        lights: &brighter,
+        ..from_moved
+    };
+    // Each seed's frame alone.
+    let frames = 6;
+    let (singles, moved_single, relit_singles) = {
+        let mut headless = crate::common::lavapipe(path_traced_settings(4));
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(&scene).expect("upload");
+        let singles: Vec<_> = (0..frames)
+            .map(|seed| frame(renderer, &gpu, &still, seed))
+            .collect();
+        let moved_single = frame(renderer, &gpu, &from_moved, 0);
+        let relit_singles: Vec<_> = (0..2)
+            .map(|seed| frame(renderer, &gpu, &relit, seed))
+            .collect();
+        drop(gpu);
+        crate::common::finish(headless);
+        (singles, moved_single, relit_singles)
+    };
+    // The mean of `frames` against an accumulated frame: each channel within f32 rounding
+    // of the running mean; returns how many channels differ from the last frame alone.
+    let agrees = |accumulated: &[[f32; 4]], frames: &[Vec<[f32; 4]>], what: &str| {
+        let mut mean = combustion::frame_mean::FrameMean::new(accumulated.len());
+        for f in frames {
+            mean.add(f);
+        }
+        let mut unlike_last = 0;
+        for (i, (a, m)) in accumulated.iter().zip(mean.mean()).enumerate() {
+            for c in 0..3 {
+                let tolerance = 1e-6 * m[c].abs().max(1e-3) * frames.len() as f64;
+                assert!(
+                    (f64::from(a[c]) - m[c]).abs() <= tolerance,
+                    "{what}: pixel {i} channel {c}: accumulated {} against the mean {} of {} frames",
+                    a[c],
+                    m[c],
+                    frames.len()
+                );
+                unlike_last += usize::from(a[c] != frames[frames.len() - 1][i][c]);
+            }
+        }
+        unlike_last
+    };
+    let mut settings = path_traced_settings(4);
+    settings.accumulate_paths = true;
+    let mut headless = crate::common::lavapipe(settings);
+    let renderer = headless.renderer();
+    let gpu = renderer.upload(&scene).expect("upload");
+    assert_eq!(renderer.accumulated_paths(), 0);
+    for k in 1..=frames as usize {
+        let accumulated = frame(renderer, &gpu, &still, 0);
+        let unlike_last = agrees(&accumulated, &singles[..k], &format!("still, frame {k}"));
+        if k > 1 {
+            // Averaging, not the last frame's paths shown alone.
+            assert!(
+                unlike_last >= 100,
+                "still, frame {k}: only {unlike_last} channels differ from the last frame alone"
+            );
+        }
+        assert_eq!(
+            renderer.accumulated_paths(),
+            k as u64 * u64::from(combustion::renderer::PATHS_PER_FRAME)
+        );
+    }
+    // Frames equal bit for bit (else how many channels differ).
+    let same = |a: &[[f32; 4]], b: &[[f32; 4]], what: &str| {
+        let differ = a
+            .iter()
+            .zip(b)
+            .flat_map(|(p, q)| p.iter().zip(q))
+            .filter(|(x, y)| x.to_bits() != y.to_bits())
+            .count();
+        assert_eq!(differ, 0, "{what}: channels that differ");
+    };
+    // A moved camera: its first frame is its seed 0 alone, bit for bit.
+    same(
+        &frame(renderer, &gpu, &from_moved, 0),
+        &moved_single,
+        "moved",
+    );
+    assert_eq!(
+        renderer.accumulated_paths(),
+        u64::from(combustion::renderer::PATHS_PER_FRAME)
+    );
+    // A changed light likewise, then its history goes on.
+    same(
+        &frame(renderer, &gpu, &relit, 0),
+        &relit_singles[0],
+        "relit",
+    );
+    let accumulated = frame(renderer, &gpu, &relit, 0);
+    agrees(&accumulated, &relit_singles, "relit, frame 2");
+    drop(gpu);
+    crate::common::finish(headless);
+}
+
+/// The accumulation's history images, alternated with frames that have none past the
+/// retire delay: path-traced frames of resting at two sizes and plain frames between
+/// them, two rounds, validation on. Each path-traced run starts its history again (its
+/// shading or size changed) and renders, frame for frame, the same bytes in its second
+/// round as in its first, after its images were retired and made again.
+#[test]
+fn accumulated_frames_alternate_past_the_retire_delay() {
+    use crate::common::FRAMES_PAST_THE_RETIRE_DELAY;
+    let mut settings = path_traced_settings(4);
+    settings.accumulate_paths = true;
+    let traced = settings.shading.optional_passes;
+    let resting = builtin_scene("resting").unwrap();
+    let mut headless = crate::common::lavapipe(settings);
+    {
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(&resting).expect("upload");
+        // (passes, size)
+        let configurations = [
+            (traced, (48, 32)),
+            (OptionalPasses::NONE, (48, 32)),
+            (traced, (40, 24)),
+            (OptionalPasses::NONE, (40, 24)),
+        ];
+        let mut first: Vec<Vec<Vec<[f32; 4]>>> = vec![Vec::new(); configurations.len()];
+        for round in 0..2 {
+            for (config, &(passes, (w, h))) in configurations.iter().enumerate() {
+                let shading = combustion::renderer::ShadingOptions {
+                    optional_passes: passes,
+                    ..renderer.shading()
+                };
+                renderer.set_shading(shading, &[&gpu]).expect("set shading");
+                for k in 0..FRAMES_PAST_THE_RETIRE_DELAY {
+                    let frame = renderer.render(&gpu, w, h, IMAGES).expect("frame");
+                    assert_eq!(frame.non_finite_pixels(), 0);
+                    let paths = renderer.accumulated_paths();
+                    let expected = if passes == traced {
+                        (k as u64 + 1) * u64::from(combustion::renderer::PATHS_PER_FRAME)
+                    } else {
+                        0
+                    };
+                    assert_eq!(paths, expected, "configuration {config}, frame {k}");
+                    if round == 0 {
+                        first[config].push(frame.hdr);
+                    } else {
+                        assert!(
+                            first[config][k] == frame.hdr,
+                            "configuration {config}, frame {k}, round {round}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    crate::common::finish(headless);
+}

@@ -425,6 +425,59 @@ fn the_viewer_accumulates_as_the_headless_frames_do() {
     assert!(differing(&shown[0]) > 100, "{}", differing(&shown[0]));
 }
 
+/// Path tracing in the viewer (`--path-trace on`) converges while the camera rests: a
+/// scripted run holding still for 8 frames shows, byte for byte, the 8th frame of a
+/// headless renderer that averages path-traced frames on the GPU
+/// (`RendererSettings::accumulate_paths`; with bloom and FXAA, as the viewer by default),
+/// which differs from one frame's paths alone.
+#[test]
+fn the_viewer_converges_a_path_traced_view_while_it_rests() {
+    use combustion::renderer::{AntiAliasing, FrameInputs, Readback, RendererSettings};
+    let xvfb = Xvfb::start();
+    let display = format!(":{}", xvfb.display);
+    let still = "# time eye target\n0  0 1 6  0 0 0\n1  0 1 6  0 0 0\n";
+    let frames = 8;
+    let (pixels, scene) = scripted_screenshot(
+        "path traced",
+        |args| view(&display, args),
+        "builtin:spheres",
+        (160, 120),
+        frames,
+        still,
+        &["--overlay", "off", "--path-trace", "on"],
+    );
+    let mut settings = RendererSettings {
+        accumulate_paths: true,
+        ..RendererSettings::default()
+    };
+    for name in ["bloom", "path-trace"] {
+        let pass = combustion::renderer::optional_pass(name).unwrap();
+        settings.shading.optional_passes = settings.shading.optional_passes.with(pass, true);
+    }
+    let mut headless = common::lavapipe(settings);
+    let shown = {
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(&scene).expect("upload");
+        let inputs = FrameInputs {
+            anti_aliasing: AntiAliasing::Fxaa,
+            ..FrameInputs::of_scene(&gpu, settings.exposure)
+        };
+        let mut shown = Vec::new();
+        for _ in 0..frames {
+            shown.push(
+                renderer
+                    .render_with(&gpu, &inputs, 160, 120, Readback::IMAGES)
+                    .expect("render"),
+            );
+        }
+        shown
+    };
+    common::finish(headless);
+    let differing = |other: &combustion::renderer::Frame| pixels_differing(&pixels, other);
+    assert_eq!(differing(&shown[frames as usize - 1]), 0, "the 8th frame");
+    assert!(differing(&shown[0]) > 100, "{}", differing(&shown[0]));
+}
+
 /// The error view (`--error-view`, as the X key): the screenshot of a scripted run is,
 /// byte for byte, the heat map of the f64 reference's relative error for the headless
 /// render of the same scene, camera and size — the viewer shows the very error map the

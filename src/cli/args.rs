@@ -1057,6 +1057,10 @@ pub(crate) struct ViewArgs {
     /// it)
     #[arg(long, value_name = "on|off", default_value = "on", action = ArgAction::Set, value_parser = on_off())]
     pub(crate) bloom: bool,
+    /// Path tracing: light that bounces, each frame averaged with those before it while
+    /// the view rests (off by default; devices with ray queries; the J key toggles it)
+    #[arg(long, value_name = "on|off", default_value = "off", action = ArgAction::Set, value_parser = on_off())]
+    pub(crate) path_trace: bool,
     /// Light the scene by `studio`, `uniform:R,G,B` or `uniform:L`, an equirectangular
     /// .hdr or .exr FILE, or `none`, in place of the environment it comes with (a glTF
     /// file's: the studio, beside its own lights); kept when the scene is reloaded

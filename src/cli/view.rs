@@ -28,6 +28,7 @@ pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
     for (name, on) in [
         ("bloom", o.bloom),
         ("temporal-anti-aliasing", o.temporal_anti_aliasing),
+        ("path-trace", o.path_trace),
     ] {
         if let Some(pass) = combustion::renderer::optional_pass(name) {
             settings.shading.optional_passes = settings.shading.optional_passes.with(pass, on);

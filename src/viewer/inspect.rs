@@ -251,6 +251,9 @@ pub struct Stats<'a> {
     pub typing: Option<&'a str>,
     /// The animation playing, described (none for a still scene).
     pub animation: Option<String>,
+    /// Paths a pixel the frame's converging mean holds, in path-traced frames (0:
+    /// none).
+    pub accumulated_paths: u64,
 }
 
 /// Groups of three digits: 194304 → "194,304".
@@ -302,6 +305,12 @@ impl Stats<'_> {
         }
         if let Some(animation) = &self.animation {
             lines.push(animation.clone());
+        }
+        if self.accumulated_paths > 0 {
+            lines.push(format!(
+                "path traced: {} paths a pixel (converging while nothing moves)",
+                thousands(self.accumulated_paths as usize)
+            ));
         }
         if let Some(error_view) = self.error_view {
             let (lo, hi) = HEAT_MAP_RANGE;

@@ -159,6 +159,10 @@ pub const KEYS: &[(&str, &str)] = &[
         "bloom on / off (the glow of bright things; on by default)",
     ),
     (
+        "J",
+        "path tracing on / off (with ray queries: light that bounces, converging while the view rests)",
+    ),
+    (
         "U",
         "auto exposure on / off (metered from the frame; the statistics panel shows its EV and histogram)",
     ),
@@ -548,7 +552,13 @@ impl State {
         // SAFETY: the window outlives the surface: `State` drops it last (field order,
         // and `destroy` drops the surface explicitly before it).
         let surface = unsafe { Surface::new(&device, display, window_handle) }?;
-        let mut renderer = Renderer::new(device.clone(), desc.settings)?;
+        // Path-traced frames converge while the view rests, and start again when
+        // anything moves.
+        let settings = RendererSettings {
+            accumulate_paths: true,
+            ..desc.settings
+        };
+        let mut renderer = Renderer::new(device.clone(), settings)?;
         let gpu_scene = renderer.upload(scene)?;
         let ring = FrameRing::new(&device, desc.settings.frames_in_flight)?;
         Ok(State {
@@ -884,6 +894,7 @@ impl State {
             error_view: self.error_view,
             typing: self.typing.as_deref(),
             animation: self.playback.describe(self.gpu_scene.scene()),
+            accumulated_paths: self.renderer.accumulated_paths(),
         }
         .text()
     }
@@ -1082,6 +1093,9 @@ impl State {
         let on = !shading.optional_passes.contains(pass);
         shading.optional_passes = shading.optional_passes.with(pass, on);
         self.renderer.set_shading(shading, &[&self.gpu_scene])?;
+        // What the renderer took (a pass that needs ray queries is left out, with a
+        // warning, on a device without them).
+        let on = self.renderer.shading().optional_passes.contains(pass);
         log::info!("{name} {}", if on { "on" } else { "off" });
         Ok(())
     }
@@ -1334,6 +1348,7 @@ impl App<'_> {
             }
             "t" | "T" => state.toggle_pass("temporal-anti-aliasing")?,
             "y" | "Y" => state.toggle_pass("bloom")?,
+            "j" | "J" => state.toggle_pass("path-trace")?,
             "b" | "B" => {
                 let mut shading = state.renderer.shading();
                 shading.optional_passes = controls::cycle_occlusion(

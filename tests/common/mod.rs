@@ -346,6 +346,7 @@ pub fn exact_f32() -> RendererSettings {
         frames_in_flight: 2,
         targets_kept_for_frames: combustion::renderer::TARGETS_KEPT_FOR_FRAMES,
         fold_output: true,
+        accumulate_paths: false,
     }
 }
 

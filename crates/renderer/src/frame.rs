@@ -131,12 +131,13 @@ impl Renderer {
         self.prepare_culling(frame_slot, inputs, extent)?;
         self.write_frame_overlay(frame_slot, inputs, extent)?;
         let temporal = self.prepare_temporal(frame_slot, scene, inputs, extent, variant)?;
+        let accumulation = self.prepare_accumulation(scene, inputs, extent, variant);
         self.record_passes(
             cmd,
             frame_slot,
             &requests,
             scene,
-            (variant, temporal, hdr_read_after),
+            (variant, temporal, accumulation, hdr_read_after),
             inputs,
             target,
         );
@@ -583,6 +584,39 @@ impl Renderer {
         Ok(Some(frame))
     }
 
+    /// In frames whose path-traced radiance is averaged on the GPU
+    /// ([`RendererSettings::accumulate_paths`]): the frame's place in its history (the
+    /// next of the last frame's, or the first of a new one where anything its radiance
+    /// depends on changed). `None` in other frames (and the history is forgotten).
+    fn prepare_accumulation(
+        &mut self,
+        scene: &GpuScene,
+        inputs: &FrameInputs<'_>,
+        extent: vk::Extent2D,
+        variant: crate::variant::ShaderVariant,
+    ) -> Option<crate::passes::path_accumulation::AccumulationFrame> {
+        use crate::passes::path_accumulation::{wanted, AccumulationKey};
+        if !wanted(variant, &self.settings) {
+            self.accumulation.forget();
+            return None;
+        }
+        Some(
+            self.accumulation.advance(AccumulationKey {
+                scene: (scene as *const GpuScene as usize, scene.geometry_version),
+                extent: [extent.width, extent.height],
+                shading: (variant, self.settings.shading),
+                camera: inputs.camera,
+                lights: inputs.lights.to_vec(),
+                pose: inputs.pose.cloned(),
+                background: inputs.background,
+                environment: inputs
+                    .environment
+                    .map(|e| e as *const crate::environment::FrameEnvironment as usize),
+                seed: inputs.environment_seed,
+            }),
+        )
+    }
+
     fn write_frame_overlay(
         &mut self,
         slot: usize,
@@ -619,9 +653,10 @@ impl Renderer {
         slot: usize,
         requests: &[crate::targets::ImageRequest],
         scene: &GpuScene,
-        (variant, temporal, hdr_read_after): (
+        (variant, temporal, accumulation, hdr_read_after): (
             crate::variant::ShaderVariant,
             Option<crate::passes::temporal_anti_aliasing::TemporalFrame>,
+            Option<crate::passes::path_accumulation::AccumulationFrame>,
             bool,
         ),
         inputs: &FrameInputs<'_>,
@@ -649,7 +684,13 @@ impl Renderer {
             self.settings.shading.debug_view as u32,
         )
         .with_background(inputs.background)
-        .with_sampling(inputs.environment_seed, self.settings.shading.path_depth);
+        // An accumulated frame traces the seed after its history's last frame's.
+        .with_sampling(
+            accumulation.map_or(inputs.environment_seed, |a| {
+                inputs.environment_seed.wrapping_add(a.frames - 1)
+            }),
+            self.settings.shading.path_depth,
+        );
         let cull_push = s.culling.map(|(tiles_x, stride)| {
             lighting_push = lighting_push.with_tile_lists(tiles_x, stride);
             CullPush {
@@ -704,6 +745,7 @@ impl Renderer {
                 .previous_vertices
                 .as_ref()
                 .filter(|_| temporal.is_some()),
+            accumulation,
         };
         frame.output_folded = crate::passes::lighting::folds_output(&frame);
         let device = &*self.device;

@@ -38,6 +38,10 @@ pub enum ImageUse {
     TransferSource,
     /// Copied to; earlier contents are discarded.
     TransferDestination,
+    /// Blitted from (`vkCmdBlitImage`: a copy that converts the format).
+    BlitSource,
+    /// Blitted to, the whole image; earlier contents are discarded.
+    BlitDestination,
     /// Level 0 copied to and every other level blitted from the one before
     /// (`Image::record_mip_chain`, whose own barriers leave every level in
     /// TRANSFER_DST_OPTIMAL); earlier contents are discarded.
@@ -87,6 +91,10 @@ impl ImageUse {
             Self::TransferDestination => {
                 ImageState::new(S::COPY, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL)
             }
+            Self::BlitSource => ImageState::new(S::BLIT, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL),
+            Self::BlitDestination => {
+                ImageState::new(S::BLIT, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL)
+            }
             Self::MipChainWrite => ImageState::new(
                 S::ALL_TRANSFER,
                 A::from_raw(A::TRANSFER_READ.as_raw() | A::TRANSFER_WRITE.as_raw()),
@@ -116,6 +124,7 @@ impl ImageUse {
             Self::ColorAttachmentWrite
                 | Self::DepthAttachmentWrite
                 | Self::TransferDestination
+                | Self::BlitDestination
                 | Self::MipChainWrite
         )
     }

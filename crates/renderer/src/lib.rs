@@ -202,6 +202,9 @@ pub struct Renderer {
     /// Temporal anti-aliasing's history between frames (the previous camera and
     /// transforms, the jitter's index).
     temporal: passes::temporal_anti_aliasing::TemporalState,
+    /// The history of path-traced frames averaged on the GPU
+    /// ([`RendererSettings::accumulate_paths`]).
+    accumulation: passes::path_accumulation::AccumulationState,
     /// Whether a frame has metered its exposure since the renderer was made (or its
     /// unrun frames forgotten): the state the next metered frame adapts from.
     metering_continues: bool,
@@ -262,6 +265,7 @@ impl Renderer {
             last_metered: None,
             metering_continues: false,
             temporal: Default::default(),
+            accumulation: Default::default(),
             completed_timings: std::collections::VecDeque::new(),
             stats: RendererStats::default(),
             device,
@@ -767,6 +771,13 @@ impl Renderer {
         passes::auto_exposure::prepare(&mut self.pipelines)
     }
 
+    /// Paths a pixel the mean of the last frame recorded holds, where path-traced frames
+    /// are averaged on the GPU ([`RendererSettings::accumulate_paths`]): the frames of
+    /// its history × [`PATHS_PER_FRAME`]; 0 where the last frame did not accumulate.
+    pub fn accumulated_paths(&self) -> u64 {
+        self.accumulation.paths()
+    }
+
     /// What the most recent completed frame that metered its exposure metered and used
     /// (read when its frame slot is reused, or at once for [`Renderer::render_with`]):
     /// the exposure, its EV100, the target and the histogram.
@@ -847,6 +858,7 @@ impl Renderer {
         // from its own target; likewise the temporal history.
         self.metering_continues = false;
         self.temporal.forget();
+        self.accumulation.forget();
         for maps in [&mut self.shadow_maps, &mut self.local_shadow_maps]
             .into_iter()
             .flatten()

@@ -673,6 +673,14 @@ pub struct RendererSettings {
     /// rounding is skipped). Default on; off keeps every frame's two passes apart (the
     /// report measures them so, pass by pass).
     pub fold_output: bool,
+    /// Whether path-traced frames (`--path-trace on`) are averaged on the GPU while
+    /// nothing changes: each joins the mean of the frames before it since the camera,
+    /// lights, pose, scene, size, shading, background or seed last changed, its paths
+    /// drawn from the next seed, so a still view converges (the viewer's). Default off:
+    /// each frame is its own [`FrameInputs::environment_seed`]'s estimate alone (a
+    /// still render averages them itself). [`Renderer::accumulated_paths`] says how
+    /// many paths a pixel the last frame holds.
+    pub accumulate_paths: bool,
 }
 
 impl Default for RendererSettings {
@@ -685,6 +693,7 @@ impl Default for RendererSettings {
             frames_in_flight: 2,
             targets_kept_for_frames: TARGETS_KEPT_FOR_FRAMES,
             fold_output: true,
+            accumulate_paths: false,
         }
     }
 }

@@ -331,8 +331,11 @@ impl FramePass for Lighting {
     }
 
     fn images(&self, variant: ShaderVariant, settings: &RendererSettings) -> Vec<ImageRequest> {
-        // Temporal anti-aliasing copies its resolved radiance back in.
-        let resolved_into = if super::temporal_anti_aliasing::wanted(variant) {
+        // Temporal anti-aliasing copies its resolved radiance back in; the accumulation
+        // of path-traced frames, their mean.
+        let resolved_into = if super::temporal_anti_aliasing::wanted(variant)
+            || super::path_accumulation::wanted(variant, settings)
+        {
             vk::ImageUsageFlags::TRANSFER_DST
         } else {
             vk::ImageUsageFlags::empty()

@@ -26,6 +26,7 @@ mod gbuffer;
 mod light_cull;
 pub(crate) mod lighting;
 pub(crate) mod output;
+pub(crate) mod path_accumulation;
 pub(crate) mod path_trace;
 mod per_pixel;
 mod ray_traced_occlusion;
@@ -105,6 +106,9 @@ pub(crate) struct FrameContext<'a> {
     /// The previous frame's posed vertices, in frames of temporal anti-aliasing of
     /// scenes that deform.
     pub previous_vertices: Option<&'a combustion_vk::Buffer>,
+    /// The frame's place in its history of path-traced frames averaged on the GPU, in
+    /// frames that accumulate ([`RendererSettings::accumulate_paths`]).
+    pub accumulation: Option<path_accumulation::AccumulationFrame>,
     /// Whether the frame's HDR image is read after its passes (copied back to the host:
     /// an offscreen frame's readback).
     pub hdr_read_after: bool,
@@ -215,6 +219,8 @@ pub(crate) const FRAME: &[&dyn FramePass] = &[
     &back_faces::BackFaces,
     &behind::Behind,
     &forward::Forward,
+    &path_accumulation::PathAccumulation,
+    &path_accumulation::PathAccumulationCopy,
     &temporal_anti_aliasing::TemporalResolve,
     &temporal_anti_aliasing::TemporalCopy,
     &bloom::BloomChain,
