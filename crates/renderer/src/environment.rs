@@ -375,29 +375,29 @@ fn sampler_with_mips(
     Ok(Sampler::new(device, &info)?)
 }
 
+/// Texels one band of the equirectangular upload carries at most (32 MiB of RGBA32F):
+/// the staging memory an upload takes, whatever the image's size.
+const UPLOAD_BAND_TEXELS: usize = 1 << 21;
+
 /// The equirectangular source as an RGBA32F image with its sampler (wrapping in u,
-/// clamped at the poles), and the staging buffer its texels come from: a 1×1 black
-/// placeholder for analytic sources.
+/// clamped at the poles), and the texels it is uploaded from: a 1×1 black placeholder
+/// for analytic sources.
 struct Equirect {
     image: Image,
-    staging: Buffer,
     sampler: Sampler,
+    /// The scene's decoded texels (shared, not copied), if the source is an image.
+    source: Option<Arc<combustion_scene::EnvironmentImage>>,
 }
 
 impl Equirect {
     fn new(device: &Arc<Device>, environment: &Environment) -> Result<Self, RenderError> {
-        let (width, height, texels): (u32, u32, Vec<[f32; 4]>) = match environment {
-            Environment::Image(image) => (
-                image.width,
-                image.height,
-                image
-                    .texels
-                    .iter()
-                    .map(|t| [t[0], t[1], t[2], 1.0])
-                    .collect(),
-            ),
-            _ => (1, 1, vec![[0.0; 4]]),
+        let source = match environment {
+            Environment::Image(image) => Some(image.clone()),
+            _ => None,
         };
+        let (width, height) = source
+            .as_ref()
+            .map_or((1, 1), |image| (image.width, image.height));
         let max = device.max_image_dimension_2d();
         if width > max || height > max {
             return Err(RenderError::TooLarge(format!(
@@ -414,12 +414,6 @@ impl Equirect {
                 vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
             ),
         )?;
-        let staging = Buffer::with_data(
-            device,
-            "environment equirect staging",
-            bytemuck::cast_slice(&texels),
-            vk::BufferUsageFlags::TRANSFER_SRC,
-        )?;
         let info = vk::SamplerCreateInfo::default()
             .mag_filter(vk::Filter::LINEAR)
             .min_filter(vk::Filter::LINEAR)
@@ -430,29 +424,110 @@ impl Equirect {
             .max_lod(0.0);
         Ok(Self {
             image,
-            staging,
             sampler: Sampler::new(device, &info)?,
+            source,
         })
     }
 
-    /// Records the copy from the staging buffer (the barriers before the image's next
-    /// use come from `states`).
-    fn record_upload(&self, device: &Device, cmd: vk::CommandBuffer, states: &mut ImageStates) {
-        let uses = PassIo::new("environment upload")
-            .touches((&self.image).into(), ImageUse::TransferDestination)
-            .apply(device);
-        states.transition(device.raw(), cmd, &uses);
-        // SAFETY: recording state; image and buffer live until the bake's wait, and the
-        // image is in the layout the barrier above left it in.
-        unsafe {
-            device.raw().cmd_copy_buffer_to_image(
-                cmd,
-                self.staging.raw(),
-                self.image.raw(),
-                ImageUse::TransferDestination.state().layout,
-                &[self.image.level0_copy_region()],
-            );
+    /// Uploads the texels in bands of rows through one staging buffer of at most
+    /// [`UPLOAD_BAND_TEXELS`] texels, each band converted to RGBA in it, copied and
+    /// waited for (an upload step): the memory beside the scene's texels and the image
+    /// is one band's, not a second and third copy of the whole image. Leaves the image
+    /// as a copy's destination (`states` knows it).
+    fn upload(
+        &self,
+        device: &Arc<Device>,
+        commands: &mut OneShot,
+        states: &mut ImageStates,
+    ) -> Result<(), RenderError> {
+        let extent = self.image.extent();
+        let (width, height) = (extent.width as usize, extent.height as usize);
+        let rows_per_band = (UPLOAD_BAND_TEXELS / width).clamp(1, height);
+        const TEXEL_BYTES: usize = std::mem::size_of::<[f32; 4]>();
+        let mut staging = Buffer::new(
+            device,
+            "environment equirect staging",
+            (rows_per_band * width * TEXEL_BYTES) as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let mut row = vec![[0f32; 4]; width];
+        let layout = ImageUse::TransferDestination.state().layout;
+        for first in (0..height).step_by(rows_per_band) {
+            let rows = rows_per_band.min(height - first);
+            for r in 0..rows {
+                if let Some(image) = &self.source {
+                    let start = (first + r) * width;
+                    for (texel, t) in row.iter_mut().zip(&image.texels[start..start + width]) {
+                        *texel = [t[0], t[1], t[2], 1.0];
+                    }
+                }
+                staging.write(r * width * TEXEL_BYTES, bytemuck::cast_slice(&row))?;
+            }
+            let cmd = commands.begin()?;
+            let raw = device.raw();
+            if first == 0 {
+                let uses = PassIo::new("environment upload")
+                    .touches((&self.image).into(), ImageUse::TransferDestination)
+                    .apply(device);
+                states.transition(raw, cmd, &uses);
+            } else {
+                // The bands before were copied into other rows of the same layout; this
+                // copy waits for them all the same (one image, tracked whole).
+                let (stage, access) = (
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                );
+                let barrier = [vk::ImageMemoryBarrier2::default()
+                    .src_stage_mask(stage)
+                    .src_access_mask(access)
+                    .dst_stage_mask(stage)
+                    .dst_access_mask(access)
+                    .old_layout(layout)
+                    .new_layout(layout)
+                    .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                    .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                    .image(self.image.raw())
+                    .subresource_range(self.image.subresource_range())];
+                // SAFETY: recording state; the image is in `layout` since the first band.
+                unsafe {
+                    raw.cmd_pipeline_barrier2(
+                        cmd,
+                        &vk::DependencyInfo::default().image_memory_barriers(&barrier),
+                    )
+                };
+            }
+            let region = vk::BufferImageCopy::default()
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                })
+                .image_offset(vk::Offset3D {
+                    x: 0,
+                    y: first as i32,
+                    z: 0,
+                })
+                .image_extent(vk::Extent3D {
+                    width: width as u32,
+                    height: rows as u32,
+                    depth: 1,
+                });
+            // SAFETY: recording state; the staging buffer holds `rows` packed rows and
+            // lives past the wait below; the image is in the layout named.
+            unsafe {
+                raw.cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.raw(),
+                    self.image.raw(),
+                    layout,
+                    &[region],
+                )
+            };
+            commands.submit_and_wait()?;
         }
+        Ok(())
     }
 }
 
@@ -669,9 +744,9 @@ impl EnvironmentBaker {
         let mut views = Vec::new();
 
         let mut commands = OneShot::new(device)?;
-        let cmd = commands.begin()?;
         let mut states = ImageStates::default();
-        bake.equirect.record_upload(device, cmd, &mut states);
+        bake.equirect.upload(device, &mut commands, &mut states)?;
+        let cmd = commands.begin()?;
         let mut record = Recorder {
             device,
             cmd,
