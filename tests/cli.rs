@@ -3412,7 +3412,8 @@ fn a_second_process_reads_its_spirv_from_the_cache_and_renders_the_same_image() 
 /// empty cache computes them and stores one entry; a second process copies them from it
 /// and renders the same bytes (PNG and the EXR's radiance); a damaged entry is not used:
 /// the cubes are computed again, the same image comes out, and the entry is rewritten as
-/// it was; another environment is another entry. Under validation throughout.
+/// it was; so is a forged one (a NaN texel under a checksum that matches); another
+/// environment is another entry. Under validation throughout.
 #[test]
 fn a_second_process_copies_its_environment_cubes_from_the_cache_and_renders_the_same_image() {
     let dir = scratch("environment-cache");
@@ -3476,6 +3477,23 @@ fn a_second_process_copies_its_environment_cubes_from_the_cache_and_renders_the_
     assert!(
         std::fs::read(&stored[0]).unwrap() == entry,
         "the damaged entry was rewritten with the same cubes"
+    );
+    // A forged entry: a texel's radiance NaN, the checksum made to match (the cache's
+    // own checks pass): not radiance, so computed again and rewritten, never lit with.
+    let header = 32;
+    let mut forged = entry.clone();
+    forged[header + 16..header + 20].copy_from_slice(&f32::NAN.to_le_bytes());
+    let checksum = combustion_vk::Digest::new()
+        .part(&forged[header..])
+        .to_bytes();
+    forged[24..32].copy_from_slice(&checksum[..8]);
+    std::fs::write(&stored[0], &forged).unwrap();
+    let (from_cache, fourth) = run("fourth", "studio");
+    assert!(!from_cache, "the forged entry was not used");
+    assert!(fourth == first);
+    assert!(
+        std::fs::read(&stored[0]).unwrap() == entry,
+        "the forged entry was rewritten with the same cubes"
     );
     let (from_cache, _) = run("uniform", "uniform:0.5");
     assert!(!from_cache, "another environment has cubes of its own");

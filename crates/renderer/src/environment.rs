@@ -1143,7 +1143,15 @@ impl BakeResources {
         let cached_cubes = cache
             .zip(cache_key)
             .and_then(|(cache, key)| cache.entries.load(key))
-            .filter(|texels| texels.len() as u64 == cube_texels.bytes);
+            .filter(|texels| {
+                // What an entry of another size or of texels that are not radiance
+                // (forged, or damaged past its checksum's notice) would light with.
+                combustion_vk::disk_cache::bodies::is_radiance(
+                    texels,
+                    cube_texels.bytes,
+                    combustion_scene::MAX_RADIANCE,
+                )
+            });
         let gpu_materials = material_table(scene, &[]);
         // The albedo dispatch reads the materials whose tables it computes, one each.
         let (computed_materials, table_of_material) = albedo_tables(&gpu_materials);

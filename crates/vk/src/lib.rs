@@ -26,7 +26,7 @@ pub use gpu_allocator;
 
 mod commands;
 mod device;
-pub mod disk_cache;
+pub use combustion_disk_cache as disk_cache;
 mod error;
 mod pipeline;
 mod probe;

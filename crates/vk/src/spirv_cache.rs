@@ -24,8 +24,6 @@ pub const COMPILER_IDENTITY: &str =
 
 /// The entry file's magic and format version.
 const MAGIC: [u8; 8] = *b"CMBSPV01";
-/// SPIR-V's magic number, the first word of every module.
-const SPIRV_MAGIC: u32 = 0x0723_0203;
 
 /// The folder [`crate::ShaderCompiler::with_spirv_cache`] is given by default:
 /// `$COMBUSTION_SPIRV_CACHE` when set (`off` or empty: none), else
@@ -49,15 +47,7 @@ impl SpirvCache {
 
     /// The SPIR-V stored under `key`, if an intact entry is there.
     pub(crate) fn load(&self, key: Digest) -> Option<Vec<u32>> {
-        let body = self.entries.load(key)?;
-        if body.len() < 4 || body.len() % 4 != 0 {
-            return None;
-        }
-        let words: Vec<u32> = body
-            .chunks_exact(4)
-            .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]))
-            .collect();
-        (words[0] == SPIRV_MAGIC).then_some(words)
+        crate::disk_cache::bodies::spirv_words(&self.entries.load(key)?)
     }
 
     /// Stores `words` under `key`; a failure only loses the entry.

@@ -1,6 +1,7 @@
 //! Results kept on disk under a key of everything that decides them: the SPIR-V cache
-//! ([`crate::ShaderCompiler::with_spirv_cache`]) and the renderer's environment bakes
-//! use it.
+//! (combustion-vk's `ShaderCompiler::with_spirv_cache`) and the renderer's environment
+//! bakes use it. A crate of its own so that its reader is fuzzed without the renderer
+//! (fuzz/fuzz_targets/cache_entry.rs).
 //!
 //! The key is a 128-bit [`Digest`] (two FNV-1a 64 hashes with different offsets) of
 //! what decides the result. An entry is the kind's magic, the key, a checksum of the
@@ -12,6 +13,8 @@
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+pub mod bodies;
 
 /// The folder a cache of one kind is given by default: `$variable` when set (`off`, in
 /// any case, or empty: none), else `$XDG_CACHE_HOME/combustion/<folder>` when that is an
