@@ -1,5 +1,5 @@
 //! Replays a corpus through what a fuzz target does with one input (the tests named
-//! fuzz_corpus.rs in crates/scene, spectra, report-csv, criteria and disk-cache), and finds the
+//! fuzz_corpus.rs in crates/scene, spectra, report-csv, criteria, disk-cache and diff), and finds the
 //! committed corpora: `fuzz/seeds/NAME/` (inputs written by hand, and small corpora, as
 //! files) and `fuzz/seeds/NAME.tar.xz` (a target's corpus after a run, minimised with
 //! libFuzzer's `-merge=1`).

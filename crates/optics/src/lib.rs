@@ -167,6 +167,7 @@
 pub mod brdf;
 pub mod coat;
 pub mod diffuse;
+pub mod display;
 pub mod environment;
 pub mod fresnel;
 pub mod layers;

@@ -2,10 +2,10 @@
 //! transfer functions, the output pass's tone curve, and the half floats an RGBA16F
 //! image is read back as (CPU mirrors of `srgb.glsl` and `tonemap.glsl`).
 
-/// CPU mirror of `tonemap_exponential` (tonemap.glsl): the display value before sRGB encoding.
-pub fn tonemap_exponential(x: f64) -> f64 {
-    1.0 - (-x.max(0.0)).exp()
-}
+/// CPU mirror of `tonemap_exponential` (tonemap.glsl), and the sRGB encoding (IEC
+/// 61966-2-1) the tonemap pass applies (`srgb_encode`): in the optics crate, where the
+/// image comparison (combustion-diff) finds them without the renderer.
+pub use combustion_optics::display::{linear_to_srgb, tonemap_exponential};
 
 /// CPU mirror of `tonemap_pbr_neutral` (tonemap.glsl): Khronos PBR Neutral (the Khronos
 /// 3D Commerce group's tone mapper, 2024), per pixel: colours below 0.76 pass unchanged
@@ -72,15 +72,6 @@ pub fn tonemap_agx(rgb: [f64; 3]) -> [f64; 3] {
             - 0.00232
     });
     times(&AGX_OUTSET, curved).map(|c| c.max(0.0).powf(2.2).min(1.0))
-}
-
-/// The sRGB encoding (IEC 61966-2-1) the tonemap pass applies (`srgb_encode`).
-pub fn linear_to_srgb(linear: f64) -> f64 {
-    if linear <= 0.0031308 {
-        linear * 12.92
-    } else {
-        1.055 * linear.powf(1.0 / 2.4) - 0.055
-    }
 }
 
 /// The sRGB decoding (IEC 61966-2-1), as the lighting pass's table applies it.
