@@ -1,3 +1,4 @@
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 //! A glTF file's node hierarchy, skins, morph targets and animations →
 //! [`crate::motion`]: every value checked, every size charged to the importer's budget
 //! for built data before it is kept.
@@ -55,7 +56,8 @@ impl Importer<'_> {
                     let q = Quat::from_array(node.rotation.map_or([0.0, 0.0, 0.0, 1.0], |q| q.0));
                     LocalTransform::Trs {
                         translation: Vec3::from(node.translation.unwrap_or([0.0; 3])),
-                        rotation: q / q.length(),
+                        // Float division (glam's, which cannot panic), as written `q / |q|`.
+                        rotation: std::ops::Div::div(q, q.length()),
                         scale: Vec3::from(node.scale.unwrap_or([1.0; 3])),
                     }
                 };
@@ -65,7 +67,7 @@ impl Importer<'_> {
                 }
                 Ok(Node {
                     name: node.name.clone(),
-                    parent: parents[i],
+                    parent: parents.get(i).copied().flatten(),
                     local,
                     skin,
                     weights: Vec::new(),
@@ -88,7 +90,11 @@ impl Importer<'_> {
                 .iter()
                 .map(|p| p.targets.as_ref().map_or(0, Vec::len))
                 .collect();
-            let targets = counts[0];
+            // glTF gives a mesh at least one primitive; one without is left alone here
+            // (the mesh's own reading refuses it).
+            let Some(&targets) = counts.first() else {
+                continue;
+            };
             if counts.iter().any(|&c| c != targets) {
                 return Err(self.node_error(
                     i,
@@ -125,7 +131,9 @@ impl Importer<'_> {
                     ),
                 ));
             }
-            nodes[i].weights = weights;
+            if let Some(node) = nodes.get_mut(i) {
+                node.weights = weights;
+            }
         }
         Ok(())
     }
@@ -149,7 +157,7 @@ impl Importer<'_> {
             if let Some(j) = joints.iter().find(|&&j| j >= root.nodes.len()) {
                 return Err(problem(format!("its joint node {j} does not exist")));
             }
-            self.charge_mesh_bytes(joints.len() as u64 * 72)
+            self.charge_mesh_bytes((joints.len() as u64).saturating_mul(72))
                 .map_err(problem)?;
             let inverse_bind = match skin.inverse_bind_matrices {
                 None => vec![Mat4::IDENTITY; joints.len()],
@@ -169,8 +177,9 @@ impl Importer<'_> {
                     {
                         return Err(problem(format!("inverse bind matrix {m} is not finite")));
                     }
-                    matrices[..joints.len()]
+                    matrices
                         .iter()
+                        .take(joints.len())
                         .map(Mat4::from_cols_array)
                         .collect()
                 }
@@ -206,7 +215,7 @@ impl Importer<'_> {
             }
             let w = attribute(format!("WEIGHTS_{n}"))
                 .ok_or_else(|| format!("has JOINTS_{n} but no WEIGHTS_{n}"))?;
-            self.charge_mesh_bytes(sources.len() as u64 * 32)?;
+            self.charge_mesh_bytes((sources.len() as u64).saturating_mul(32))?;
             let js =
                 read_joints(root, &mut self.buffers, j).map_err(|e| format!("JOINTS_{n}: {e}"))?;
             let ws = read_unit_floats::<4>(root, &mut self.buffers, w, false)
@@ -224,13 +233,18 @@ impl Importer<'_> {
             return Err("is skinned (its node has a skin) but has no JOINTS_0".into());
         }
         let mut weights = SkinWeights {
-            offsets: Vec::with_capacity(sources.len() + 1),
+            offsets: Vec::with_capacity(sources.len().saturating_add(1)),
             ..SkinWeights::default()
         };
         weights.offsets.push(0);
         for &s in sources {
             for (n, (js, ws)) in sets.iter().enumerate() {
-                for (&j, &w) in js[s as usize].iter().zip(&ws[s as usize]) {
+                // Each set holds `count` elements (checked above), and each source is a
+                // vertex of the primitive's `count`.
+                let (Some(j4), Some(w4)) = (js.get(s as usize), ws.get(s as usize)) else {
+                    return Err(format!("vertex {s} is past the {count} of JOINTS_{n}"));
+                };
+                for (&j, &w) in j4.iter().zip(w4) {
                     if !(w.is_finite() && w >= 0.0) {
                         return Err(format!(
                             "WEIGHTS_{n} of vertex {s} has weight {w}, not finite and non-negative"
@@ -264,9 +278,11 @@ impl Importer<'_> {
         sources: &[u32],
     ) -> Result<Vec<MorphTarget>, String> {
         let root = self.root;
-        let targets = root.meshes[mesh].primitives[primitive]
-            .targets
-            .as_deref()
+        let targets = root
+            .meshes
+            .get(mesh)
+            .and_then(|m| m.primitives.get(primitive))
+            .and_then(|p| p.targets.as_deref())
             .unwrap_or_default();
         if targets.len() > MAX_MORPH_TARGETS {
             return Err(format!(
@@ -282,7 +298,7 @@ impl Importer<'_> {
                 let Some(a) = accessor else {
                     return Ok(Vec::new());
                 };
-                self.charge_mesh_bytes(sources.len() as u64 * 12)?;
+                self.charge_mesh_bytes((sources.len() as u64).saturating_mul(12))?;
                 let values = read_floats::<3>(root, &mut self.buffers, a.value())
                     .map_err(|e| format!("morph target {t} {what}: {e}"))?;
                 if values.len() != count {
@@ -296,7 +312,14 @@ impl Importer<'_> {
                         "morph target {t} {what} of vertex {v} is not finite"
                     ));
                 }
-                Ok(sources.iter().map(|&s| values[s as usize]).collect())
+                sources
+                    .iter()
+                    .map(|&s| {
+                        values.get(s as usize).copied().ok_or_else(|| {
+                            format!("morph target {t} {what}: vertex {s} is past its {count}")
+                        })
+                    })
+                    .collect()
             };
             out.push(MorphTarget {
                 positions: read(target.positions, "POSITION")?,
@@ -382,9 +405,10 @@ impl Importer<'_> {
                         let sampler = self
                             .sampler(json, property, target.weights.len())
                             .map_err(|e| problem(format!("sampler {s}: {e}")))?;
+                        let index = samplers.len();
                         samplers.push(sampler);
-                        read.insert(s, (samplers.len() - 1, property));
-                        samplers.len() - 1
+                        read.insert(s, (index, property));
+                        index
                     }
                 };
                 channels.push(Channel {
@@ -444,12 +468,15 @@ impl Importer<'_> {
         if let Some(k) = times.iter().position(|t| !t.is_finite()) {
             return Err(format!("key time {k} is not finite"));
         }
-        if let Some(k) = times.windows(2).position(|w| w[0] >= w[1]) {
+        if let Some((k, [before, after])) = times
+            .windows(2)
+            .filter_map(|w| <[f32; 2]>::try_from(w).ok())
+            .enumerate()
+            .find(|(_, [a, b])| a >= b)
+        {
             return Err(format!(
-                "key times must strictly increase, but key {} is {} after {}",
-                k + 1,
-                times[k + 1],
-                times[k]
+                "key times must strictly increase, but key {} is {after} after {before}",
+                k.saturating_add(1)
             ));
         }
         let output = json.output.value();
@@ -475,7 +502,7 @@ impl Importer<'_> {
         } else {
             1
         };
-        let expected = times.len() * groups * width;
+        let expected = times.len().saturating_mul(groups).saturating_mul(width);
         if values.len() != expected {
             return Err(format!(
                 "has {} output values for {} keys ({expected} expected: {groups} × {width} per key)",

@@ -1,3 +1,4 @@
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 //! glTF materials, textures, samplers and images → [`Material`], [`TextureRef`].
 
 use std::sync::Arc;
@@ -562,7 +563,10 @@ impl Importer<'_> {
                     }
                     ImageSource::BufferView(view) => {
                         let (data, range, _) = self.buffers.view(*view).map_err(err)?;
-                        (None, data[range].to_vec())
+                        let bytes = data.get(range).ok_or_else(|| {
+                            err("its buffer view is past its buffer's end".into())
+                        })?;
+                        (None, bytes.to_vec())
                     }
                 };
                 let mime = declared.or(mime);
@@ -625,11 +629,13 @@ impl Importer<'_> {
             specular_glossiness_texture,
         )?;
         let f = |x: f32| f64::from(x);
-        let convert = |d: [f64; 4], s: [f64; 4]| {
+        let [df0, df1, df2, diffuse_alpha] = diffuse_factor.map(f);
+        let [sf0, sf1, sf2] = specular_factor.map(f);
+        let convert = |[d0, d1, d2, _]: [f64; 4], [s0, s1, s2, gloss]: [f64; 4]| {
             metal_rough_from_spec_gloss(
-                [0, 1, 2].map(|c| f(diffuse_factor[c]) * d[c]),
-                [0, 1, 2].map(|c| f(specular_factor[c]) * s[c]),
-                f(glossiness_factor) * s[3],
+                [df0 * d0, df1 * d1, df2 * d2],
+                [sf0 * s0, sf1 * s1, sf2 * s2],
+                f(glossiness_factor) * gloss,
             )
         };
         let (Some(reference), other) = (match (&diffuse, &specular) {
@@ -638,7 +644,7 @@ impl Importer<'_> {
         }) else {
             let (base, metalness, roughness) = convert([1.0; 4], [1.0; 4]);
             material.base_color = base.map(|c| c as f32);
-            material.alpha = diffuse_factor[3];
+            material.alpha = diffuse_alpha as f32;
             material.metalness = metalness as f32;
             material.roughness = roughness as f32;
             material.base_color_texture = None;
@@ -656,36 +662,65 @@ impl Importer<'_> {
         let images = [&diffuse, &specular].map(|t| t.as_ref().map(|t| t.texture.image.clone()));
         let width = images.iter().flatten().map(|i| i.width).max().unwrap_or(1);
         let height = images.iter().flatten().map(|i| i.height).max().unwrap_or(1);
-        self.charge_pixel_count(2 * u64::from(width) * u64::from(height))
-            .map_err(|e| self.material_error(index, e))?;
+        self.charge_pixel_count(
+            u64::from(width)
+                .saturating_mul(u64::from(height))
+                .saturating_mul(2),
+        )
+        .map_err(|e| self.material_error(index, e))?;
         // The texel of `image` nearest texel (x, y) of the output's grid, as values: RGB
         // decoded from sRGB, alpha linear; white where there is no image.
         let texel = |image: &Option<Arc<Image>>, x: u32, y: u32| -> [f64; 4] {
             let Some(image) = image else {
                 return [1.0; 4];
             };
-            let ix = ((u64::from(x) * u64::from(image.width)) / u64::from(width)) as usize;
-            let iy = ((u64::from(y) * u64::from(image.height)) / u64::from(height)) as usize;
-            let at = (iy * image.width as usize + ix) * 4;
-            let p = &image.pixels[at..at + 4];
+            // x < width and the image at most `width` wide: each product fits in u64 (both
+            // sides under 2³²), its quotient under the image's width; likewise y.
+            let nearest = |x: u32, side: u32, of: u32| {
+                u64::from(x)
+                    .saturating_mul(u64::from(side))
+                    .checked_div(u64::from(of))
+                    .unwrap_or(0)
+            };
+            let (ix, iy) = (
+                nearest(x, image.width, width),
+                nearest(y, image.height, height),
+            );
+            let at = iy
+                .saturating_mul(u64::from(image.width))
+                .saturating_add(ix)
+                .saturating_mul(4);
             let code = |c: u8| f64::from(c) / 255.0;
+            // An image's pixels hold width × height RGBA texels (Image's rule); a texel
+            // past them would read as white, never panic.
+            let Some(&[r, g, b, a]) = usize::try_from(at)
+                .ok()
+                .and_then(|at| image.pixels.get(at..at.saturating_add(4)))
+                .and_then(|p| <&[u8; 4]>::try_from(p).ok())
+            else {
+                return [1.0; 4];
+            };
             [
-                srgb_decode(code(p[0])),
-                srgb_decode(code(p[1])),
-                srgb_decode(code(p[2])),
-                code(p[3]),
+                srgb_decode(code(r)),
+                srgb_decode(code(g)),
+                srgb_decode(code(b)),
+                code(a),
             ]
         };
-        let texels = (width as usize) * (height as usize);
-        let mut base_pixels = Vec::with_capacity(texels * 4);
-        let mut metal_rough_pixels = Vec::with_capacity(texels * 4);
+        let bytes = (width as usize)
+            .saturating_mul(height as usize)
+            .saturating_mul(4);
+        let mut base_pixels = Vec::with_capacity(bytes);
+        let mut metal_rough_pixels = Vec::with_capacity(bytes);
         let byte = |x: f64| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
         for y in 0..height {
             for x in 0..width {
-                let (d, s) = (texel(&images[0], x, y), texel(&images[1], x, y));
+                let [diffuse_image, specular_image] = &images;
+                let (d, s) = (texel(diffuse_image, x, y), texel(specular_image, x, y));
                 let (base, metalness, roughness) = convert(d, s);
                 base_pixels.extend(base.map(|c| byte(srgb_encode(c))));
-                base_pixels.push(byte(f(diffuse_factor[3]) * d[3]));
+                let [_, _, _, alpha] = d;
+                base_pixels.push(byte(diffuse_alpha * alpha));
                 metal_rough_pixels.extend([0, byte(roughness), byte(metalness), 255]);
             }
         }
@@ -732,12 +767,12 @@ pub const KHR_IOR_ZERO_MEANS: f32 = 1.0e4;
 impl Importer<'_> {
     /// Counts `decoded`'s pixels against `ImportOptions::max_decoded_pixels`.
     fn charge_pixels(&mut self, decoded: &Decoded) -> Result<(), String> {
-        self.charge_pixel_count(u64::from(decoded.width) * u64::from(decoded.height))
+        self.charge_pixel_count(u64::from(decoded.width).saturating_mul(u64::from(decoded.height)))
     }
 
     /// Counts `pixels` more decoded pixels against `ImportOptions::max_decoded_pixels`.
     fn charge_pixel_count(&mut self, pixels: u64) -> Result<(), String> {
-        self.decoded_pixels += pixels;
+        self.decoded_pixels = self.decoded_pixels.saturating_add(pixels);
         if self.decoded_pixels > self.options.max_decoded_pixels {
             return Err(format!(
                 "it brings the scene's image pixels (each image once per colour space it is used in) to {}, over the budget of {} for one scene",

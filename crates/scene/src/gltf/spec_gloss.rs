@@ -1,3 +1,4 @@
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 //! KHR_materials_pbrSpecularGlossiness (archived by Khronos, still in circulation),
 //! converted to the metallic-roughness model at import: per texel where the material has
 //! textures, so the renderer shades one model.
@@ -74,13 +75,22 @@ pub(crate) fn parse_spec_gloss(
             ))
         }
     };
-    let diffuse = numbers("diffuseFactor", &[1.0; 4])?;
-    let specular = numbers("specularFactor", &[1.0; 3])?;
+    // `numbers` gives as many as the default has (else an error).
+    let [diffuse_r, diffuse_g, diffuse_b, diffuse_a] = numbers("diffuseFactor", &[1.0; 4])?[..]
+    else {
+        return Err("diffuseFactor must be 4 numbers".into());
+    };
+    let [specular_r, specular_g, specular_b] = numbers("specularFactor", &[1.0; 3])?[..] else {
+        return Err("specularFactor must be 3 numbers".into());
+    };
+    let [glossiness] = numbers("glossinessFactor", &[1.0])?[..] else {
+        return Err("glossinessFactor must be a number".into());
+    };
     Ok(SpecGloss {
-        diffuse_factor: [diffuse[0], diffuse[1], diffuse[2], diffuse[3]],
+        diffuse_factor: [diffuse_r, diffuse_g, diffuse_b, diffuse_a],
         diffuse_texture: texture_info(map, "diffuseTexture")?,
-        specular_factor: [specular[0], specular[1], specular[2]],
-        glossiness_factor: numbers("glossinessFactor", &[1.0])?[0],
+        specular_factor: [specular_r, specular_g, specular_b],
+        glossiness_factor: glossiness,
         specular_glossiness_texture: texture_info(map, "specularGlossinessTexture")?,
     })
 }
@@ -88,8 +98,8 @@ pub(crate) fn parse_spec_gloss(
 /// The dielectric F₀ of the metallic-roughness model (IOR 1.5 in air).
 const DIELECTRIC_SPECULAR: f64 = 0.04;
 
-fn perceived_brightness(c: [f64; 3]) -> f64 {
-    (0.299 * c[0] * c[0] + 0.587 * c[1] * c[1] + 0.114 * c[2] * c[2]).sqrt()
+fn perceived_brightness([r, g, b]: [f64; 3]) -> f64 {
+    (0.299 * r * r + 0.587 * g * g + 0.114 * b * b).sqrt()
 }
 
 /// The metallic-roughness material of one texel (or of the factors) of a
@@ -117,19 +127,22 @@ pub fn metal_rough_from_spec_gloss(
         ((-b + discriminant.sqrt()) / (2.0 * a)).clamp(0.0, 1.0)
     };
     let epsilon = 1e-6;
-    let base = std::array::from_fn(|i| {
-        let from_diffuse = diffuse[i] * one_minus_specular
+    let channel = |diffuse: f64, specular: f64| {
+        let from_diffuse = diffuse * one_minus_specular
             / (1.0 - DIELECTRIC_SPECULAR)
             / (1.0 - metalness).max(epsilon);
         let from_specular =
-            (specular[i] - DIELECTRIC_SPECULAR * (1.0 - metalness)) / metalness.max(epsilon);
+            (specular - DIELECTRIC_SPECULAR * (1.0 - metalness)) / metalness.max(epsilon);
         let t = metalness * metalness;
         (from_diffuse + (from_specular - from_diffuse) * t).clamp(0.0, 1.0)
-    });
+    };
+    let ([dr, dg, db], [sr, sg, sb]) = (diffuse, specular);
+    let base = [channel(dr, sr), channel(dg, sg), channel(db, sb)];
     (base, metalness, (1.0 - glossiness).clamp(0.0, 1.0))
 }
 
 #[cfg(test)]
+#[allow(clippy::indexing_slicing)] // the tests' own arrays, indexed by their own ranges
 mod tests {
     use super::*;
 
