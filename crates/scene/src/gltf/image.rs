@@ -1,3 +1,4 @@
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 //! PNG, JPEG and WebP decoding to RGBA8, with the size limit checked before any pixel
 //! buffer is allocated.
 
@@ -16,7 +17,7 @@ const PNG_MAGIC: &[u8] = b"\x89PNG\r\n\x1a\n";
 
 /// Whether `bytes` begin as a WebP file does (a RIFF container of form `WEBP`).
 fn is_webp(bytes: &[u8]) -> bool {
-    bytes.len() >= 12 && &bytes[..4] == b"RIFF" && &bytes[8..12] == b"WEBP"
+    bytes.get(..4) == Some(b"RIFF".as_slice()) && bytes.get(8..12) == Some(b"WEBP".as_slice())
 }
 
 /// Decodes PNG, JPEG or WebP (told by the content; `mime` only improves the message for
@@ -67,12 +68,12 @@ pub fn png_error_message(error: &png::DecodingError) -> String {
     let text = error.to_string();
     let mut out = String::new();
     let mut rest = text.as_str();
-    while let Some(at) = rest.find(DEBUG) {
-        out.push_str(&rest[..at]);
-        let after = &rest[at + DEBUG.len()..];
-        let name_end = after.find([',', ' ', '}']).unwrap_or(after.len());
-        out.push_str(&format!("chunk `{}`", &after[..name_end]));
-        rest = after.find('}').map_or("", |close| &after[close + 1..]);
+    while let Some((before, after)) = rest.split_once(DEBUG) {
+        out.push_str(before);
+        // `find` gives a character boundary, where `split_at` splits.
+        let (name, _) = after.split_at(after.find([',', ' ', '}']).unwrap_or(after.len()));
+        out.push_str(&format!("chunk `{name}`"));
+        rest = after.split_once('}').map_or("", |(_, rest)| rest);
     }
     out + rest
 }
@@ -82,7 +83,11 @@ fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
         DecodeError::Other(format!("undecodable PNG: {}", png_error_message(&e)))
     };
     // Room for the largest image allowed at 16 bits per channel, plus bookkeeping.
-    let limit = (u64::from(max) * u64::from(max) * 8 + (1 << 20)).min(usize::MAX as u64) as usize;
+    let limit = u64::from(max)
+        .saturating_mul(u64::from(max))
+        .saturating_mul(8)
+        .saturating_add(1 << 20)
+        .min(usize::MAX as u64) as usize;
     let mut decoder =
         png::Decoder::new_with_limits(std::io::Cursor::new(bytes), png::Limits { bytes: limit });
     decoder.set_transformations(png::Transformations::normalize_to_color8());
@@ -98,18 +103,18 @@ fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
         )));
     }
     buffer.truncate(frame.buffer_size());
-    let pixels = width as usize * height as usize;
+    let pixels = (width as usize).saturating_mul(height as usize);
     let rgba = match frame.color_type {
         // The decoder's own buffer, not a copy of it: an RGBA image is held once.
         png::ColorType::Rgba => buffer,
-        png::ColorType::Rgb => expand(buffer, 3, pixels, |p| [p[0], p[1], p[2], 255]),
-        png::ColorType::GrayscaleAlpha => expand(buffer, 2, pixels, |p| [p[0], p[0], p[0], p[1]]),
-        png::ColorType::Grayscale => expand(buffer, 1, pixels, |p| [p[0], p[0], p[0], 255]),
+        png::ColorType::Rgb => expand(buffer, 3, pixels, |[r, g, b, _]| [r, g, b, 255]),
+        png::ColorType::GrayscaleAlpha => expand(buffer, 2, pixels, |[l, a, _, _]| [l, l, l, a]),
+        png::ColorType::Grayscale => expand(buffer, 1, pixels, |[l, _, _, _]| [l, l, l, 255]),
         png::ColorType::Indexed => {
             return Err(DecodeError::Other("indexed PNG was not expanded".into()))
         }
     };
-    if rgba.len() != pixels * 4 {
+    if Some(rgba.len()) != pixels.checked_mul(4) {
         return Err(DecodeError::Other(
             "PNG decoded to an unexpected size".into(),
         ));
@@ -121,7 +126,8 @@ fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
     })
 }
 
-/// `data`'s first `pixels` pixels of `channels` bytes each (1 to 4) as RGBA8 by `f`, in
+/// `data`'s first `pixels` pixels of `channels` bytes each (1 to 4; `f` is given each
+/// pixel's bytes, zeros after them, and returns RGBA8) as RGBA8 by `f`, in
 /// the decoder's own buffer: it is lengthened (glibc moves a large block's pages rather
 /// than copying them) and filled from its last pixel back, so a pixel is written only
 /// after every source at or before it was read; the decode and an RGBA copy of it are
@@ -130,18 +136,33 @@ fn expand(
     mut data: Vec<u8>,
     channels: usize,
     pixels: usize,
-    f: impl Fn(&[u8]) -> [u8; 4],
+    f: impl Fn([u8; 4]) -> [u8; 4],
 ) -> Vec<u8> {
     debug_assert!((1..=4).contains(&channels));
-    if data.len() < pixels * channels {
+    let (Some(source_bytes), Some(rgba_bytes)) =
+        (pixels.checked_mul(channels), pixels.checked_mul(4))
+    else {
+        return data;
+    };
+    if data.len() < source_bytes || !(1..=4).contains(&channels) {
         return data;
     }
-    data.truncate(pixels * channels);
-    data.resize(pixels * 4, 0);
+    data.truncate(source_bytes);
+    data.resize(rgba_bytes, 0);
+    // i < pixels: every offset below is within `rgba_bytes`, which did not overflow.
     for i in (0..pixels).rev() {
         let mut source = [0; 4];
-        source[..channels].copy_from_slice(&data[i * channels..(i + 1) * channels]);
-        data[i * 4..i * 4 + 4].copy_from_slice(&f(&source[..channels]));
+        let from = i.saturating_mul(channels);
+        if let (Some(to), Some(bytes)) = (
+            source.get_mut(..channels),
+            data.get(from..from.saturating_add(channels)),
+        ) {
+            to.copy_from_slice(bytes);
+        }
+        let at = i.saturating_mul(4);
+        if let Some(out) = data.get_mut(at..at.saturating_add(4)) {
+            out.copy_from_slice(&f(source));
+        }
     }
     data
 }
@@ -156,24 +177,29 @@ fn decode_jpeg(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
     let (width, height) = (u32::from(info.width), u32::from(info.height));
     check_size(width, height, max)?;
     decoder.set_max_decoding_buffer_size(
-        (u64::from(max) * u64::from(max) * 4).min(usize::MAX as u64) as usize,
+        u64::from(max)
+            .saturating_mul(u64::from(max))
+            .saturating_mul(4)
+            .min(usize::MAX as u64) as usize,
     );
     let data = decoder.decode().map_err(bad)?;
     let decoded_bytes = data.len();
-    let pixels = width as usize * height as usize;
+    let pixels = (width as usize).saturating_mul(height as usize);
     use jpeg_decoder::PixelFormat;
     let rgba = match info.pixel_format {
-        PixelFormat::L8 => expand(data, 1, pixels, |p| [p[0], p[0], p[0], 255]),
+        PixelFormat::L8 => expand(data, 1, pixels, |[l, _, _, _]| [l, l, l, 255]),
         // Big-endian 16-bit: keep the high byte.
-        PixelFormat::L16 => expand(data, 2, pixels, |p| [p[0], p[0], p[0], 255]),
-        PixelFormat::RGB24 => expand(data, 3, pixels, |p| [p[0], p[1], p[2], 255]),
-        PixelFormat::CMYK32 => expand(data, 4, pixels, |p| {
-            let k = u16::from(255 - p[3]);
-            let c = |x: u8| ((u16::from(255 - x) * k + 127) / 255) as u8;
-            [c(p[0]), c(p[1]), c(p[2]), 255]
+        PixelFormat::L16 => expand(data, 2, pixels, |[high, _, _, _]| [high, high, high, 255]),
+        PixelFormat::RGB24 => expand(data, 3, pixels, |[r, g, b, _]| [r, g, b, 255]),
+        PixelFormat::CMYK32 => expand(data, 4, pixels, |[c_, m, y, k]| {
+            // (255 − x)(255 − k)/255, rounded: `!x` is 255 − x for a byte, and the
+            // product is at most 255², so the sums fit in u16 and the result in a byte.
+            let k = u16::from(!k);
+            let c = |x: u8| (u16::from(!x).saturating_mul(k).saturating_add(127) / 255) as u8;
+            [c(c_), c(m), c(y), 255]
         }),
     };
-    if rgba.len() != pixels * 4 {
+    if Some(rgba.len()) != pixels.checked_mul(4) {
         return Err(DecodeError::Other(format!(
             "undecodable JPEG: {decoded_bytes} bytes of pixels for {width}×{height}"
         )));
@@ -194,20 +220,24 @@ fn decode_webp(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
     check_size(width, height, max)?;
     // The largest image allowed, as RGBA, plus bookkeeping.
     decoder.set_memory_limit(
-        (u64::from(max) * u64::from(max) * 4 + (1 << 20)).min(usize::MAX as u64) as usize,
+        u64::from(max)
+            .saturating_mul(u64::from(max))
+            .saturating_mul(4)
+            .saturating_add(1 << 20)
+            .min(usize::MAX as u64) as usize,
     );
     let size = decoder
         .output_buffer_size()
         .ok_or_else(|| DecodeError::Other("undecodable WebP: its size overflows".into()))?;
     let mut data = vec![0; size];
     decoder.read_image(&mut data).map_err(bad)?;
-    let pixels = width as usize * height as usize;
+    let pixels = (width as usize).saturating_mul(height as usize);
     let rgba = if decoder.has_alpha() {
         data
     } else {
-        expand(data, 3, pixels, |p| [p[0], p[1], p[2], 255])
+        expand(data, 3, pixels, |[r, g, b, _]| [r, g, b, 255])
     };
-    if rgba.len() != pixels * 4 {
+    if Some(rgba.len()) != pixels.checked_mul(4) {
         return Err(DecodeError::Other(format!(
             "undecodable WebP: {} bytes of pixels for {width}×{height}",
             rgba.len()
@@ -235,6 +265,7 @@ pub(crate) fn encode_png(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>
 }
 
 #[cfg(test)]
+#[allow(clippy::arithmetic_side_effects, clippy::indexing_slicing)] // the tests' own data
 mod tests {
     use super::expand;
 
@@ -247,12 +278,19 @@ mod tests {
             let data: Vec<u8> = (0..pixels * channels)
                 .map(|i| (i * 7 % 251) as u8)
                 .collect();
-            let f = |p: &[u8]| {
+            let f = move |p: [u8; 4]| {
                 let mut out = [255; 4];
-                out[..p.len()].copy_from_slice(p);
+                out[..channels].copy_from_slice(&p[..channels]);
                 out
             };
-            let copied: Vec<u8> = data.chunks_exact(channels).flat_map(f).collect();
+            let copied: Vec<u8> = data
+                .chunks_exact(channels)
+                .flat_map(|p| {
+                    let mut source = [0; 4];
+                    source[..channels].copy_from_slice(p);
+                    f(source)
+                })
+                .collect();
             assert_eq!(
                 expand(data.clone(), channels, pixels, f),
                 copied,

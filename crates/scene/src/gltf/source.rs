@@ -1,3 +1,4 @@
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 //! The container (GLB or JSON), URIs (`data:`, relative files, and what is refused) and
 //! buffers.
 
@@ -34,9 +35,8 @@ pub(crate) fn split_container<'a>(
     }
     let glb = |m: String| ImportProblem::Glb(m);
     let u32_at = |at: usize| -> Option<u32> {
-        bytes
-            .get(at..at + 4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        let word: [u8; 4] = bytes.get(at..at.checked_add(4)?)?.try_into().ok()?;
+        Some(u32::from_le_bytes(word))
     };
     let (Some(version), Some(length)) = (u32_at(4), u32_at(8)) else {
         return Err(glb(format!(
@@ -59,24 +59,30 @@ pub(crate) fn split_container<'a>(
     if length < bytes.len() {
         warnings.push(format!(
             "GLB: ignoring {} bytes after the declared length of {length}",
-            bytes.len() - length
+            bytes.len().saturating_sub(length)
         ));
     }
-    let data = &bytes[..length];
-    let mut offset = 12;
+    // Within the file: checked above.
+    let data = bytes.get(..length).unwrap_or(bytes);
+    let mut offset: usize = 12;
     let mut json = None;
     let mut bin = None;
-    let mut index = 0;
+    let mut index: usize = 0;
     while offset < data.len() {
-        let header = data.get(offset..offset + 8).ok_or_else(|| {
-            glb(format!(
-                "truncated: chunk {index} at byte {offset} has no complete 8-byte header"
-            ))
-        })?;
-        let chunk_length =
-            u32::from_le_bytes([header[0], header[1], header[2], header[3]]) as usize;
-        let kind = [header[4], header[5], header[6], header[7]];
-        let start = offset + 8;
+        // Offsets stay within the file (at most isize::MAX bytes): the sums below do not
+        // overflow, saturating if they did.
+        let start = offset.saturating_add(8);
+        let header: [u8; 8] = data
+            .get(offset..start)
+            .and_then(|h| h.try_into().ok())
+            .ok_or_else(|| {
+                glb(format!(
+                    "truncated: chunk {index} at byte {offset} has no complete 8-byte header"
+                ))
+            })?;
+        let [l0, l1, l2, l3, k0, k1, k2, k3] = header;
+        let chunk_length = u32::from_le_bytes([l0, l1, l2, l3]) as usize;
+        let kind = [k0, k1, k2, k3];
         let body = data
             .get(start..)
             .and_then(|rest| rest.get(..chunk_length))
@@ -110,25 +116,25 @@ pub(crate) fn split_container<'a>(
         // Chunks are padded to 4 bytes; tolerate a missing final padding. A chunk before
         // another whose length is not padded leaves the next header at an unknown place
         // (read at the rounded offset, it would be garbage: "truncated chunk").
-        if chunk_length % 4 != 0 && start + chunk_length < data.len() {
+        let end = start.saturating_add(chunk_length);
+        if chunk_length % 4 != 0 && end < data.len() {
             return Err(glb(format!(
                 "chunk {index} ({}) is {chunk_length} bytes, not a multiple of 4: the GLB \
                  format pads every chunk to 4 bytes, so the chunk after it cannot be found",
                 chunk_name(kind)
             )));
         }
-        offset = start + chunk_length;
-        offset = (offset + 3) & !3;
-        index += 1;
+        offset = end.saturating_add(3) & !3;
+        index = index.saturating_add(1);
     }
     let json = json.ok_or_else(|| glb("no JSON chunk".into()))?;
     // Pad bytes of the JSON chunk are spaces; some writers use NULs.
     let end = json
         .iter()
         .rposition(|&b| !matches!(b, b' ' | b'\0' | b'\n' | b'\r' | b'\t'))
-        .map_or(0, |i| i + 1);
+        .map_or(0, |i| i.saturating_add(1));
     Ok(Container {
-        json: &json[..end],
+        json: json.get(..end).unwrap_or(json),
         bin,
         is_glb: true,
     })
@@ -222,8 +228,8 @@ pub(crate) fn resolve_uri(
     for part in decoded.split(['/', '\\']) {
         match part {
             "" | "." => {}
-            ".." => depth -= 1,
-            _ => depth += 1,
+            ".." => depth = depth.saturating_sub(1),
+            _ => depth = depth.saturating_add(1),
         }
         if depth < 0 && !allow_external {
             return Err(refuse(
@@ -252,30 +258,33 @@ pub(crate) fn truncate(uri: &str) -> String {
     if uri.len() <= MAX {
         uri.to_owned()
     } else {
-        let mut end = MAX;
-        while !uri.is_char_boundary(end) {
-            end -= 1;
-        }
-        format!("{}…", &uri[..end])
+        // The last character boundary at or before MAX (0 is one).
+        let end = (0..=MAX)
+            .rev()
+            .find(|&i| uri.is_char_boundary(i))
+            .unwrap_or(0);
+        format!("{}…", uri.get(..end).unwrap_or_default())
     }
 }
 
 fn strip_prefix_ignore_case<'a>(s: &'a str, prefix: &str) -> Option<&'a str> {
     let head = s.get(..prefix.len())?;
     head.eq_ignore_ascii_case(prefix)
-        .then(|| &s[prefix.len()..])
+        .then(|| s.get(prefix.len()..))
+        .flatten()
 }
 
 fn strip_suffix_ignore_case<'a>(s: &'a str, suffix: &str) -> Option<&'a str> {
     let at = s.len().checked_sub(suffix.len())?;
     let tail = s.get(at..)?;
-    tail.eq_ignore_ascii_case(suffix).then(|| &s[..at])
+    tail.eq_ignore_ascii_case(suffix)
+        .then(|| s.get(..at))
+        .flatten()
 }
 
 /// The scheme of an absolute URI (RFC 3986: ALPHA *( ALPHA / DIGIT / "+" / "-" / "." ) ":").
 fn uri_scheme(uri: &str) -> Option<&str> {
-    let colon = uri.find(':')?;
-    let scheme = &uri[..colon];
+    let (scheme, _) = uri.split_once(':')?;
     let mut chars = scheme.chars();
     let first = chars.next()?;
     (first.is_ascii_alphabetic()
@@ -289,17 +298,17 @@ fn percent_decode(s: &str) -> Result<String, ImportProblem> {
     }
     let bytes = s.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%' {
+    let mut i: usize = 0;
+    while let Some(&byte) = bytes.get(i) {
+        if byte == b'%' {
             let hex = bytes
-                .get(i + 1..i + 3)
+                .get(i.saturating_add(1)..i.saturating_add(3))
                 .and_then(|h| std::str::from_utf8(h).ok())
                 .and_then(|h| u8::from_str_radix(h, 16).ok());
             match hex {
                 Some(b) => {
                     out.push(b);
-                    i += 3;
+                    i = i.saturating_add(3);
                     continue;
                 }
                 None => {
@@ -310,8 +319,8 @@ fn percent_decode(s: &str) -> Result<String, ImportProblem> {
                 }
             }
         }
-        out.push(bytes[i]);
-        i += 1;
+        out.push(byte);
+        i = i.saturating_add(1);
     }
     String::from_utf8(out).map_err(|_| ImportProblem::UriRefused {
         uri: truncate(s),
@@ -321,19 +330,22 @@ fn percent_decode(s: &str) -> Result<String, ImportProblem> {
 
 /// Standard base64 (RFC 4648 §4), padding optional, ASCII whitespace ignored.
 pub(crate) fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
-    let mut out = Vec::with_capacity(text.len() / 4 * 3 + 3);
+    // 3 bytes for every 4 characters (the quotient of a usize by 4 times 3 cannot
+    // overflow; saturating all the same).
+    let mut out = Vec::with_capacity((text.len() / 4).saturating_mul(3).saturating_add(3));
     let mut acc: u32 = 0;
-    let mut bits = 0;
-    let mut padding = 0;
+    let mut bits: u32 = 0;
+    let mut padding: usize = 0;
     for (i, c) in text.bytes().enumerate() {
+        // Each arm's subtraction is from within its range (c ≥ its start).
         let value = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
+            b'A'..=b'Z' => c.wrapping_sub(b'A'),
+            b'a'..=b'z' => c.wrapping_sub(b'a').wrapping_add(26),
+            b'0'..=b'9' => c.wrapping_sub(b'0').wrapping_add(52),
             b'+' => 62,
             b'/' => 63,
             b'=' => {
-                padding += 1;
+                padding = padding.saturating_add(1);
                 continue;
             }
             b' ' | b'\n' | b'\r' | b'\t' => continue,
@@ -342,12 +354,13 @@ pub(crate) fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
         if padding > 0 {
             return Err(format!("data after `=` padding at offset {i}"));
         }
+        // At most 13 bits are held (7 left over and 6 new): the shifts stay in the word.
         acc = (acc << 6) | u32::from(value);
-        bits += 6;
+        bits = bits.saturating_add(6);
         if bits >= 8 {
-            bits -= 8;
+            bits = bits.saturating_sub(8);
             out.push((acc >> bits) as u8);
-            acc &= (1 << bits) - 1;
+            acc &= (1u32 << bits).wrapping_sub(1);
         }
     }
     if bits >= 6 || padding > 2 {
@@ -357,6 +370,7 @@ pub(crate) fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
 }
 
 #[cfg(test)]
+#[allow(clippy::arithmetic_side_effects, clippy::indexing_slicing)] // the tests' encoder
 pub(crate) fn encode_base64(bytes: &[u8]) -> String {
     const TABLE: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
@@ -542,7 +556,7 @@ impl<'a> Buffers<'a> {
                             let bytes: Rc<[u8]> = Rc::from(
                                 read_resolved(uri, Resolved::File(path), self.max_file_bytes)?.1,
                             );
-                            self.bytes_read += bytes.len() as u64;
+                            self.bytes_read = self.bytes_read.saturating_add(bytes.len() as u64);
                             self.files.insert(key, bytes.clone());
                             bytes
                         }
