@@ -1,7 +1,7 @@
 //! Reading accessors with every range checked (no trust in the JSON). Its arithmetic
 //! on sizes and offsets from the file cannot overflow: clippy's `arithmetic_side_effects`
 //! is denied here (each element is found by `element`'s checked arithmetic).
-#![deny(clippy::arithmetic_side_effects)]
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 
 use gltf::json;
 use gltf::json::accessor::{ComponentType, Type};
@@ -46,12 +46,23 @@ fn dimensions(t: Type) -> usize {
     }
 }
 
+/// The first four bytes of `bytes`, zeros past its end (callers pass one component's
+/// own bytes, found by `element`'s checked ranges).
+fn first_four(bytes: &[u8]) -> [u8; 4] {
+    let mut out = [0; 4];
+    for (o, b) in out.iter_mut().zip(bytes) {
+        *o = *b;
+    }
+    out
+}
+
 fn read_component(bytes: &[u8], c: ComponentType, normalized: bool) -> f32 {
+    let [b0, b1, b2, b3] = first_four(bytes);
     match c {
-        ComponentType::F32 => f32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]),
-        ComponentType::U32 => u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as f32,
+        ComponentType::F32 => f32::from_le_bytes([b0, b1, b2, b3]),
+        ComponentType::U32 => u32::from_le_bytes([b0, b1, b2, b3]) as f32,
         ComponentType::U16 => {
-            let v = f32::from(u16::from_le_bytes([bytes[0], bytes[1]]));
+            let v = f32::from(u16::from_le_bytes([b0, b1]));
             if normalized {
                 v / 65535.0
             } else {
@@ -59,7 +70,7 @@ fn read_component(bytes: &[u8], c: ComponentType, normalized: bool) -> f32 {
             }
         }
         ComponentType::I16 => {
-            let v = f32::from(i16::from_le_bytes([bytes[0], bytes[1]]));
+            let v = f32::from(i16::from_le_bytes([b0, b1]));
             if normalized {
                 (v / 32767.0).max(-1.0)
             } else {
@@ -67,7 +78,7 @@ fn read_component(bytes: &[u8], c: ComponentType, normalized: bool) -> f32 {
             }
         }
         ComponentType::U8 => {
-            let v = f32::from(bytes[0]);
+            let v = f32::from(b0);
             if normalized {
                 v / 255.0
             } else {
@@ -75,7 +86,7 @@ fn read_component(bytes: &[u8], c: ComponentType, normalized: bool) -> f32 {
             }
         }
         ComponentType::I8 => {
-            let v = f32::from(bytes[0] as i8);
+            let v = f32::from(b0 as i8);
             if normalized {
                 (v / 127.0).max(-1.0)
             } else {
@@ -86,14 +97,11 @@ fn read_component(bytes: &[u8], c: ComponentType, normalized: bool) -> f32 {
 }
 
 fn read_index(bytes: &[u8], c: ComponentType) -> u32 {
+    let [b0, b1, b2, b3] = first_four(bytes);
     match c {
-        ComponentType::U8 | ComponentType::I8 => u32::from(bytes[0]),
-        ComponentType::U16 | ComponentType::I16 => {
-            u32::from(u16::from_le_bytes([bytes[0], bytes[1]]))
-        }
-        ComponentType::U32 | ComponentType::F32 => {
-            u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
-        }
+        ComponentType::U8 | ComponentType::I8 => u32::from(b0),
+        ComponentType::U16 | ComponentType::I16 => u32::from(u16::from_le_bytes([b0, b1])),
+        ComponentType::U32 | ComponentType::F32 => u32::from_le_bytes([b0, b1, b2, b3]),
     }
 }
 
@@ -252,7 +260,9 @@ pub(crate) fn read_floats<const N: usize>(
                     "accessor {index}: byteStride {stride} is smaller than an element ({element_size} bytes)"
                 ));
             }
-            let view = &data[range];
+            let view = data
+                .get(range)
+                .ok_or_else(|| format!("accessor {index}: its view is past its buffer's end"))?;
             let offset = accessor.byte_offset.map_or(0, |o| o.0);
             check_range(offset, count, element_size, stride, view.len())
                 .map_err(|e| format!("accessor {index}: {e}"))?;
@@ -291,14 +301,18 @@ pub(crate) fn read_floats<const N: usize>(
         let (idata, irange, _) = buffers
             .view(sparse.indices.buffer_view.value())
             .map_err(|e| format!("accessor {index} sparse indices: {e}"))?;
-        let iview = &idata[irange];
+        let iview = idata.get(irange).ok_or_else(|| {
+            format!("accessor {index} sparse indices: the view is past its buffer's end")
+        })?;
         let ioffset = sparse.indices.byte_offset.0;
         check_range(ioffset, sparse_count, isize, isize, iview.len())
             .map_err(|e| format!("accessor {index} sparse indices: {e}"))?;
         let (vdata, vrange, _) = buffers
             .view(sparse.values.buffer_view.value())
             .map_err(|e| format!("accessor {index} sparse values: {e}"))?;
-        let vview = &vdata[vrange];
+        let vview = vdata.get(vrange).ok_or_else(|| {
+            format!("accessor {index} sparse values: the view is past its buffer's end")
+        })?;
         let voffset = sparse.values.byte_offset.0;
         check_range(
             voffset,
@@ -369,7 +383,9 @@ pub(crate) fn read_indices(
             "index accessor {index}: byteStride {stride} is smaller than an index ({size} bytes)"
         ));
     }
-    let view = &data[range];
+    let view = data
+        .get(range)
+        .ok_or_else(|| format!("index accessor {index}: its view is past its buffer's end"))?;
     let offset = accessor.byte_offset.map_or(0, |o| o.0);
     check_range(offset, count, size, stride, view.len())
         .map_err(|e| format!("index accessor {index}: {e}"))?;

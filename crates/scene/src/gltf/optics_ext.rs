@@ -1,3 +1,4 @@
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 //! The raw-JSON extensions: `COMBUSTION_materials_optics` (the project's, see
 //! `docs/gltf.md`) and `KHR_materials_anisotropy` (which the `gltf` crate does not parse).
 
@@ -61,26 +62,23 @@ fn number(value: &Value, what: &str) -> Result<f32, String> {
 }
 
 fn triple(value: &Value, what: &str) -> Result<[f32; 3], String> {
-    let items = value.as_array().filter(|a| a.len() == 3).ok_or_else(|| {
-        format!(
+    let Some([r, g, b]) = value.as_array().map(|a| a.as_slice()) else {
+        return Err(format!(
             "{what} must be an array of 3 numbers (R, G, B), found {}",
             short(value)
-        )
-    })?;
-    Ok([
-        number(&items[0], what)?,
-        number(&items[1], what)?,
-        number(&items[2], what)?,
-    ])
+        ));
+    };
+    Ok([number(r, what)?, number(g, what)?, number(b, what)?])
 }
 
 fn short(value: &Value) -> String {
     let mut text = value.to_string();
     if text.len() > 60 {
-        let mut end = 60;
-        while !text.is_char_boundary(end) {
-            end -= 1;
-        }
+        // The last character boundary at or before 60 (0 is one).
+        let end = (0..=60)
+            .rev()
+            .find(|&i| text.is_char_boundary(i))
+            .unwrap_or(0);
         text.truncate(end);
         text.push('…');
     }
@@ -207,7 +205,9 @@ fn parse_conductor(
         .iter()
         .filter(|k| map.contains_key(**k))
         .count()
-        + usize::from(map.contains_key("k") && !map.contains_key("eta"));
+        .saturating_add(usize::from(
+            map.contains_key("k") && !map.contains_key("eta"),
+        ));
     if forms > 1 {
         return Err("conductor must give exactly one of `metal`, `spectrum` or `eta` + `k`".into());
     }
