@@ -1,3 +1,4 @@
+#![deny(clippy::arithmetic_side_effects)]
 //! One glTF primitive's attributes → a [`Mesh`]: checks, degenerate triangles, normals
 //! (flat when missing, glTF's rule), tangents (given, MikkTSpace, or a frame from the
 //! normal), welding.
@@ -181,10 +182,10 @@ pub(crate) fn build_mesh(
     check_attributes(&data)?;
     let count = data.positions.len();
     let total = data.indices.len() / 3;
-    let mut triangles: Vec<u32> = Vec::with_capacity(total * 3);
+    let mut triangles: Vec<u32> = Vec::with_capacity(total.saturating_mul(3));
     for t in data.indices.chunks_exact(3) {
         if degenerate(&data.positions, t[0], t[1], t[2]) {
-            stats.degenerate += 1;
+            stats.degenerate = stats.degenerate.saturating_add(1);
         } else {
             triangles.extend_from_slice(t);
         }
@@ -310,7 +311,7 @@ pub(crate) fn build_mesh(
         }
     } else {
         // Given tangents: unit xyz, w = ±1; replace unusable ones.
-        let mut repaired = 0;
+        let mut repaired: usize = 0;
         for v in &mut vertices {
             let n = Vec3::from(v.normal);
             let t = Vec3::new(v.tangent[0], v.tangent[1], v.tangent[2]);
@@ -320,7 +321,7 @@ pub(crate) fn build_mesh(
             if length <= 1e-12 || along_normal > 0.9999 {
                 let r = reference_tangent(n);
                 v.tangent = [r.x, r.y, r.z, w];
-                repaired += 1;
+                repaired = repaired.saturating_add(1);
             } else if (length - 1.0).abs() > UNIT_TOLERANCE {
                 let t = t / length;
                 v.tangent = [t.x, t.y, t.z, w];
@@ -381,7 +382,8 @@ fn weld(
             *map.entry((key, source)).or_insert_with(|| {
                 out.push(v);
                 kept.push(i);
-                out.len() as u32 - 1
+                // The vertex just pushed: `out` is not empty.
+                out.len().saturating_sub(1) as u32
             })
         })
         .collect();
@@ -394,6 +396,20 @@ struct MikkGeometry<'a> {
     tangents: Vec<Option<[f32; 4]>>,
 }
 
+/// The corner `vert` of triangle `face` in a triangle list (MikkTSpace asks for faces
+/// below `indices.len() / 3`, corners below 3: no overflow).
+fn corner(face: usize, vert: usize) -> usize {
+    face.saturating_mul(3).saturating_add(vert)
+}
+
+impl MikkGeometry<'_> {
+    /// The vertex at corner `vert` of triangle `face` (indices checked below the vertex
+    /// count when the primitive was read).
+    fn vertex(&self, face: usize, vert: usize) -> &Vertex {
+        &self.vertices[self.indices[corner(face, vert)] as usize]
+    }
+}
+
 impl bevy_mikktspace::Geometry for MikkGeometry<'_> {
     fn num_faces(&self) -> usize {
         self.indices.len() / 3
@@ -402,13 +418,13 @@ impl bevy_mikktspace::Geometry for MikkGeometry<'_> {
         3
     }
     fn position(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.vertices[self.indices[face * 3 + vert] as usize].position
+        self.vertex(face, vert).position
     }
     fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.vertices[self.indices[face * 3 + vert] as usize].normal
+        self.vertex(face, vert).normal
     }
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        self.vertices[self.indices[face * 3 + vert] as usize].uv
+        self.vertex(face, vert).uv
     }
     fn set_tangent(
         &mut self,
@@ -416,7 +432,7 @@ impl bevy_mikktspace::Geometry for MikkGeometry<'_> {
         face: usize,
         vert: usize,
     ) {
-        if let Some(slot) = self.tangents.get_mut(face * 3 + vert) {
+        if let Some(slot) = self.tangents.get_mut(corner(face, vert)) {
             *slot = tangent_space.map(|t| t.tangent_encoded());
         }
     }
@@ -450,7 +466,8 @@ fn most_triangles_on_one_edge(vertices: &[Vertex], indices: &[u32]) -> Option<us
     for t in indices.chunks_exact(3) {
         for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
             let (a, b) = (ids[a as usize], ids[b as usize]);
-            *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            let shared = edges.entry((a.min(b), a.max(b))).or_insert(0);
+            *shared = shared.saturating_add(1);
         }
     }
     edges.into_values().max()
