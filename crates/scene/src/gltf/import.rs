@@ -1,3 +1,4 @@
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 //! The import driver: container → JSON → validation → node hierarchy → materials,
 //! meshes, objects, lights, camera → a validated [`Scene`].
 
@@ -272,7 +273,7 @@ fn import_inner(
     if !problems.is_empty() {
         let shown: Vec<&str> = problems.iter().take(5).map(String::as_str).collect();
         let more = if problems.len() > 5 {
-            format!(" (and {} more)", problems.len() - 5)
+            format!(" (and {} more)", problems.len().saturating_sub(5))
         } else {
             String::new()
         };
@@ -365,7 +366,11 @@ impl Importer<'_> {
     }
 
     pub(crate) fn local_transform(&self, index: usize) -> Result<Mat4, ImportProblem> {
-        let node = &self.root.nodes[index];
+        let node = self
+            .root
+            .nodes
+            .get(index)
+            .ok_or_else(|| ImportProblem::Invalid(format!("node {index} does not exist")))?;
         if let Some(m) = node.matrix {
             if !m.iter().all(|x| x.is_finite()) {
                 return Err(self.node_error(index, "matrix has a non-finite element".into()));
@@ -405,9 +410,10 @@ impl Importer<'_> {
     /// values; rotations are normalised (a zero one is an error).
     fn gpu_instances(&mut self, index: usize) -> Result<Option<Vec<Mat4>>, ImportProblem> {
         let root = self.root;
-        let Some(value) = root.nodes[index]
-            .extensions
-            .as_ref()
+        let Some(value) = root
+            .nodes
+            .get(index)
+            .and_then(|n| n.extensions.as_ref())
             .and_then(|e| e.others.get("EXT_mesh_gpu_instancing"))
         else {
             return Ok(None);
@@ -470,9 +476,21 @@ impl Importer<'_> {
         }
         let mut locals = Vec::with_capacity(count);
         for i in 0..count {
-            let t = translations.as_ref().map_or([0.0; 3], |v| v[i]);
-            let s = scales.as_ref().map_or([1.0; 3], |v| v[i]);
-            let r = rotations.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |v| v[i]);
+            // Each attribute present has `count` elements (checked above).
+            fn at<const N: usize>(
+                values: &Option<Vec<[f32; N]>>,
+                i: usize,
+                default: [f32; N],
+            ) -> Option<[f32; N]> {
+                values.as_ref().map_or(Some(default), |v| v.get(i).copied())
+            }
+            let (Some(t), Some(s), Some(r)) = (
+                at(&translations, i, [0.0; 3]),
+                at(&scales, i, [1.0; 3]),
+                at(&rotations, i, [0.0, 0.0, 0.0, 1.0]),
+            ) else {
+                return Err(problem(format!("instance {i} is missing")));
+            };
             if !t.iter().chain(&s).chain(&r).all(|x| x.is_finite()) {
                 return Err(problem(format!("instance {i} is not finite")));
             }
@@ -501,7 +519,14 @@ impl Importer<'_> {
             .map(|s| s.value())
             .or((!root.scenes.is_empty()).then_some(0));
         let roots: Vec<usize> = match scene_index {
-            Some(s) => root.scenes[s].nodes.iter().map(|n| n.value()).collect(),
+            Some(s) => root
+                .scenes
+                .get(s)
+                .ok_or_else(|| ImportProblem::Invalid(format!("scene {s} does not exist")))?
+                .nodes
+                .iter()
+                .map(|n| n.value())
+                .collect(),
             None => {
                 let mut is_child = vec![false; root.nodes.len()];
                 for node in &root.nodes {
@@ -514,7 +539,9 @@ impl Importer<'_> {
                 if !root.nodes.is_empty() {
                     self.warn("the file has no scene; showing every root node".into());
                 }
-                (0..root.nodes.len()).filter(|&i| !is_child[i]).collect()
+                (0..root.nodes.len())
+                    .filter(|&i| is_child.get(i) == Some(&false))
+                    .collect()
             }
         };
 
@@ -527,13 +554,17 @@ impl Importer<'_> {
             HashMap::new();
         let mut cameras: Vec<(usize, usize, Mat4)> = Vec::new();
         let mut lights: Vec<(usize, Mat4)> = Vec::new();
-        let mut rigid_strokes = 0;
+        let mut rigid_strokes: usize = 0;
         while let Some((index, parent)) = stack.pop() {
             let node = root
                 .nodes
                 .get(index)
                 .ok_or_else(|| ImportProblem::Invalid(format!("node {index} does not exist")))?;
-            if std::mem::replace(&mut visited[index], true) {
+            // `index` names a node (found above): `visited` has its flag.
+            if visited
+                .get_mut(index)
+                .is_none_or(|seen| std::mem::replace(seen, true))
+            {
                 return Err(self.node_error(
                     index,
                     "is reached twice: the node hierarchy has a cycle or a node with two parents"
@@ -551,7 +582,9 @@ impl Importer<'_> {
             let skin = node.skin.map(|s| s.value());
             if let Some(mesh_index) = node.mesh {
                 let mesh_index = mesh_index.value();
-                let mesh = &root.meshes[mesh_index];
+                let mesh = root.meshes.get(mesh_index).ok_or_else(|| {
+                    self.node_error(index, format!("its mesh {mesh_index} does not exist"))
+                })?;
                 // EXT_mesh_gpu_instancing: the node's mesh at each instance's TRS within
                 // the node (world × T R S), else once at the node. A skin places every
                 // instance alike: one is kept.
@@ -589,7 +622,7 @@ impl Importer<'_> {
                         && (skin.is_some()
                             || primitive.targets.as_ref().is_some_and(|t| !t.is_empty()))
                     {
-                        rigid_strokes += 1;
+                        rigid_strokes = rigid_strokes.saturating_add(1);
                         None
                     } else {
                         skin
@@ -712,13 +745,18 @@ impl Importer<'_> {
             used
         };
         let (surface_materials, stroke_materials) = (in_order(false), in_order(true));
-        let mut materials: Vec<Material> =
-            Vec::with_capacity(surface_materials.len() + stroke_materials.len());
+        let mut materials: Vec<Material> = Vec::with_capacity(
+            surface_materials
+                .len()
+                .saturating_add(stroke_materials.len()),
+        );
         let mut material_index: HashMap<(Option<usize>, bool), usize> = HashMap::new();
         for (strokes, used) in [(false, surface_materials), (true, stroke_materials)] {
             for m in used {
                 material_index.insert((m, strokes), materials.len());
-                let material = &loaded[&m];
+                let material = loaded.get(&m).ok_or_else(|| {
+                    ImportProblem::Internal(format!("material {m:?} was used but not loaded"))
+                })?;
                 materials.push(if strokes {
                     material.for_points_and_lines()
                 } else {
@@ -726,10 +764,19 @@ impl Importer<'_> {
                 });
             }
         }
-        let material_of =
-            |instance: &Instance| material_index[&(instance.material, instance.key.is_strokes())];
+        // Every instance's material was given an index just above.
+        let material_of = |instance: &Instance| {
+            material_index
+                .get(&(instance.material, instance.key.is_strokes()))
+                .copied()
+                .ok_or_else(|| {
+                    ImportProblem::Internal("an instance's material has no index".into())
+                })
+        };
         for (_, instance) in &mut instances {
-            let m = &materials[material_of(instance)];
+            let m = materials.get(material_of(instance)?).ok_or_else(|| {
+                ImportProblem::Internal("an instance's material index is past the list".into())
+            })?;
             instance.key.uv_tangents = !instance.key.is_strokes()
                 && m.needs_uv_tangents()
                 && !instance.key.attributes.iter().any(|(s, _)| s == "TANGENT");
@@ -759,22 +806,24 @@ impl Importer<'_> {
         let boxes: Vec<_> = meshes.iter().map(crate::Mesh::bounds).collect();
         let mut bounds: Option<(Vec3, Vec3)> = None;
         let mut objects = Vec::with_capacity(instances.len());
-        let mut singular = 0;
+        let mut singular: usize = 0;
         // Nodes an animation moves (or whose ancestor it moves): their objects may be
         // singular at rest (scaled to 0 until they appear) and are kept.
         let moved = {
             let mut moved = vec![false; nodes.len()];
             for channel in animations.iter().flat_map(|a| &a.channels) {
                 if channel.property != crate::motion::Property::Weights {
-                    moved[channel.node] = true;
+                    if let Some(flag) = moved.get_mut(channel.node) {
+                        *flag = true;
+                    }
                 }
             }
             let mut under_moved = moved.clone();
-            for (i, flag) in under_moved.iter_mut().enumerate() {
-                let mut node = nodes[i].parent;
+            for (flag, own) in under_moved.iter_mut().zip(&nodes) {
+                let mut node = own.parent;
                 while let (false, Some(p)) = (*flag, node) {
-                    *flag = moved[p];
-                    node = nodes[p].parent;
+                    *flag = moved.get(p).copied().unwrap_or(false);
+                    node = nodes.get(p).and_then(|n| n.parent);
                 }
             }
             under_moved
@@ -782,12 +831,22 @@ impl Importer<'_> {
         for (_, instance) in &instances {
             // Singular relative to the transform's own scale: a node scale of 1e-4 on a
             // mesh 1e4 across (a centimetre export) is a 1 m object, kept.
-            if crate::transform_is_degenerate(&instance.world) && !moved[instance.node] {
-                singular += 1;
+            if crate::transform_is_degenerate(&instance.world)
+                && moved.get(instance.node) != Some(&true)
+            {
+                singular = singular.saturating_add(1);
                 continue;
             }
-            let mesh = mesh_index[&instance.key];
-            let placed = crate::placed_bounds(boxes[mesh], &instance.world);
+            // Every key was given a mesh just above, and each mesh a box.
+            let (Some(&mesh), Some(&bounds_of_mesh)) = (
+                mesh_index.get(&instance.key),
+                mesh_index.get(&instance.key).and_then(|&m| boxes.get(m)),
+            ) else {
+                return Err(ImportProblem::Internal(
+                    "an instance's mesh was not built".into(),
+                ));
+            };
+            let placed = crate::placed_bounds(bounds_of_mesh, &instance.world);
             if placed.is_some_and(|(lo, hi)| {
                 !(lo.is_finite() && hi.is_finite() && (hi - lo).is_finite())
             }) {
@@ -801,7 +860,7 @@ impl Importer<'_> {
             }
             objects.push(Object {
                 mesh,
-                material: material_of(instance),
+                material: material_of(instance)?,
                 transform: instance.world,
                 casts_shadows: self.node_casts_shadows(instance.node)?,
                 node: Some(crate::NodeLink {
@@ -836,7 +895,8 @@ impl Importer<'_> {
         }
 
         let name = scene_index
-            .and_then(|s| root.scenes[s].name.clone())
+            .and_then(|s| root.scenes.get(s))
+            .and_then(|s| s.name.clone())
             .or_else(|| {
                 self.file
                     .file_stem()
@@ -866,7 +926,7 @@ impl Importer<'_> {
         report.instanced_triangles = scene
             .objects
             .iter()
-            .map(|o| scene.meshes[o.mesh].triangle_count())
+            .filter_map(|o| scene.meshes.get(o.mesh).map(crate::Mesh::triangle_count))
             .sum();
         report.objects = scene.objects.len();
         report.materials = scene.materials.len();
@@ -886,7 +946,10 @@ impl Importer<'_> {
         report: &mut ImportReport,
     ) -> Result<crate::Mesh, ImportProblem> {
         let root = self.root;
-        let gltf_mesh = &root.meshes[mesh_index];
+        let gltf_mesh = root
+            .meshes
+            .get(mesh_index)
+            .ok_or_else(|| ImportProblem::Invalid(format!("mesh {mesh_index} does not exist")))?;
         let err = |message: String| ImportProblem::Primitive {
             mesh: mesh_index,
             name: gltf_mesh.name.clone(),
@@ -949,16 +1012,19 @@ impl Importer<'_> {
                 (0..n).collect()
             }
         };
-        let pairs = |count: usize, closed: bool| -> Vec<u32> {
-            let mut out = Vec::with_capacity(2 * count);
-            for i in 1..count {
-                out.extend_from_slice(&[raw[i - 1], raw[i]]);
+        let pairs = |closed: bool| -> Vec<u32> {
+            let mut out = Vec::with_capacity(raw.len().saturating_mul(2));
+            for pair in raw.windows(2) {
+                out.extend_from_slice(pair);
             }
-            if closed && count > 2 {
-                out.extend_from_slice(&[raw[count - 1], raw[0]]);
+            if let (true, [first, .., last]) = (closed && raw.len() > 2, raw.as_slice()) {
+                out.extend_from_slice(&[*last, *first]);
             }
             out
         };
+        // The whole groups of `size` indices (a trailing partial group left out).
+        let whole =
+            |size: usize| -> Vec<u32> { raw.chunks_exact(size).flatten().copied().collect() };
         let indices = match key.mode {
             0 => raw.clone(),
             1 => {
@@ -968,10 +1034,10 @@ impl Importer<'_> {
                         raw.len()
                     ));
                 }
-                raw[..raw.len() / 2 * 2].to_vec()
+                whole(2)
             }
-            2 => pairs(raw.len(), true),
-            3 => pairs(raw.len(), false),
+            2 => pairs(true),
+            3 => pairs(false),
             4 => {
                 if raw.len() % 3 != 0 {
                     self.warn(format!(
@@ -980,23 +1046,27 @@ impl Importer<'_> {
                         raw.len() % 3
                     ));
                 }
-                raw[..raw.len() / 3 * 3].to_vec()
+                whole(3)
             }
             5 => {
-                let mut out = Vec::with_capacity(raw.len().saturating_sub(2) * 3);
-                for i in 2..raw.len() {
-                    if i % 2 == 0 {
-                        out.extend_from_slice(&[raw[i - 2], raw[i - 1], raw[i]]);
-                    } else {
-                        out.extend_from_slice(&[raw[i - 1], raw[i - 2], raw[i]]);
+                // Triangle k of a strip is (k, k+1, k+2), its odd ones wound the other way.
+                let mut out = Vec::with_capacity(raw.len().saturating_sub(2).saturating_mul(3));
+                for (k, window) in raw.windows(3).enumerate() {
+                    if let &[a, b, c] = window {
+                        out.extend_from_slice(&if k % 2 == 0 { [a, b, c] } else { [b, a, c] });
                     }
                 }
                 out
             }
             _ => {
-                let mut out = Vec::with_capacity(raw.len().saturating_sub(2) * 3);
-                for i in 2..raw.len() {
-                    out.extend_from_slice(&[raw[i - 1], raw[i], raw[0]]);
+                // A fan: (k+1, k+2, 0) for each k.
+                let mut out = Vec::with_capacity(raw.len().saturating_sub(2).saturating_mul(3));
+                if let Some((&first, rest)) = raw.split_first() {
+                    for window in rest.windows(2) {
+                        if let &[b, c] = window {
+                            out.extend_from_slice(&[b, c, first]);
+                        }
+                    }
                 }
                 out
             }
@@ -1013,7 +1083,9 @@ impl Importer<'_> {
             positions.len()
         };
         self.charge_mesh_bytes(
-            (vertices * std::mem::size_of::<crate::Vertex>() + indices.len() * 4) as u64,
+            (vertices as u64)
+                .saturating_mul(std::mem::size_of::<crate::Vertex>() as u64)
+                .saturating_add((indices.len() as u64).saturating_mul(4)),
         )
         .map_err(err)?;
         let name = match &gltf_mesh.name {
@@ -1054,12 +1126,12 @@ impl Importer<'_> {
                 .morph_targets(mesh_index, primitive, vertex_count, &stats.sources)
                 .map_err(err)?;
         }
-        report.degenerate_triangles += stats.degenerate;
+        report.degenerate_triangles = report.degenerate_triangles.saturating_add(stats.degenerate);
         if stats.generated_normals || stats.repaired_normals > 0 {
-            report.generated_normals += 1;
+            report.generated_normals = report.generated_normals.saturating_add(1);
         }
         if stats.generated_tangents {
-            report.generated_tangents += 1;
+            report.generated_tangents = report.generated_tangents.saturating_add(1);
         }
         for w in stats.warnings {
             self.warn(format!("mesh {mesh_index} primitive {primitive}: {w}"));
@@ -1070,8 +1142,10 @@ impl Importer<'_> {
     /// Adds `bytes` of mesh to the file's total: an error past [`MESH_BYTES_FLOOR`] +
     /// [`MESH_BYTES_PER_BYTE_READ`] × the bytes of the file and the buffers it read.
     pub(crate) fn charge_mesh_bytes(&mut self, bytes: u64) -> Result<(), String> {
-        let read = self.file_bytes + self.buffers.bytes_read();
-        let budget = MESH_BYTES_FLOOR + MESH_BYTES_PER_BYTE_READ * read;
+        let read = self.file_bytes.saturating_add(self.buffers.bytes_read());
+        let budget = MESH_BYTES_PER_BYTE_READ
+            .saturating_mul(read)
+            .saturating_add(MESH_BYTES_FLOOR);
         self.mesh_bytes = self.mesh_bytes.saturating_add(bytes);
         if self.mesh_bytes > budget {
             return Err(format!(
@@ -1246,7 +1320,8 @@ impl Importer<'_> {
             }
         }
         if let Some(value) = scene
-            .and_then(|s| root.scenes[s].extensions.as_ref())
+            .and_then(|s| root.scenes.get(s))
+            .and_then(|s| s.extensions.as_ref())
             .and_then(|e| e.others.get(OPTICS_EXTENSION))
         {
             if let Some(ior) = parse(
@@ -1348,7 +1423,8 @@ impl Importer<'_> {
         }
         let mut target = position + forward;
         // Exact look-at written by Combustion's writer (see docs/gltf.md).
-        if let Some((t, u)) = exact_look_at(root.nodes[node].extras.as_deref()) {
+        if let Some((t, u)) = exact_look_at(root.nodes.get(node).and_then(|n| n.extras.as_deref()))
+        {
             let dir = (t - position).normalize_or_zero();
             if dir.dot(forward) > 0.9999 && u.cross(dir).length() > 1e-6 {
                 target = t;
@@ -1443,7 +1519,11 @@ impl Importer<'_> {
             .map(|view| PlacedCamera {
                 index: view.index,
                 node: view.node,
-                name: self.root.cameras[view.index].name.clone(),
+                name: self
+                    .root
+                    .cameras
+                    .get(view.index)
+                    .and_then(|c| c.name.clone()),
                 camera: view.camera(bounds),
             })
             .collect()
@@ -1496,15 +1576,10 @@ fn exact_look_at(extras: Option<&serde_json::value::RawValue>) -> Option<(Vec3, 
     let value: serde_json::Value = serde_json::from_str(extras?.get()).ok()?;
     let object = value.get("combustion")?;
     let vec = |key: &str| -> Option<Vec3> {
-        let a = object.get(key)?.as_array()?;
-        if a.len() != 3 {
+        let [x, y, z] = object.get(key)?.as_array()?.as_slice() else {
             return None;
-        }
-        let v = Vec3::new(
-            a[0].as_f64()? as f32,
-            a[1].as_f64()? as f32,
-            a[2].as_f64()? as f32,
-        );
+        };
+        let v = Vec3::new(x.as_f64()? as f32, y.as_f64()? as f32, z.as_f64()? as f32);
         v.is_finite().then_some(v)
     };
     Some((vec("target")?, vec("up")?))
@@ -1538,7 +1613,10 @@ fn animated_bounds(
         .collect();
     times.sort_by(f32::total_cmp);
     times.dedup();
-    let poses = (FRAMED_OBJECT_POSES / objects.len().max(1)).clamp(2, FRAMED_POSES);
+    let poses = FRAMED_OBJECT_POSES
+        .checked_div(objects.len())
+        .unwrap_or(FRAMED_OBJECT_POSES)
+        .clamp(2, FRAMED_POSES);
     let step = times.len().div_ceil(poses).max(1);
     let boxes: Vec<_> = meshes.iter().map(crate::Mesh::bounds).collect();
     for &time in times.iter().step_by(step).chain(times.last()) {
@@ -1548,11 +1626,18 @@ fn animated_bounds(
         let world = motion.world_transforms(&pose);
         for object in objects {
             let Some(link) = object.node else { continue };
-            if meshes[object.mesh].skin.is_some() && motion.nodes[link.node].skin.is_some() {
+            let (Some(mesh), Some(node), Some(&mesh_box), Some(&node_world)) = (
+                meshes.get(object.mesh),
+                motion.nodes.get(link.node),
+                boxes.get(object.mesh),
+                world.get(link.node),
+            ) else {
+                continue;
+            };
+            if mesh.skin.is_some() && node.skin.is_some() {
                 continue;
             }
-            let placed =
-                crate::placed_bounds(boxes[object.mesh], &(world[link.node] * link.offset));
+            let placed = crate::placed_bounds(mesh_box, &(node_world * link.offset));
             if let Some((lo, hi)) = placed.filter(|(lo, hi)| (*hi - *lo).is_finite()) {
                 bounds = Some(bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
             }
@@ -1569,8 +1654,9 @@ fn animated_bounds(
 /// lie far from a skin whose bind pose is not its rest pose.
 fn posed_bounds(scene: &Scene) -> Option<(Vec3, Vec3)> {
     let deforms = scene.objects.iter().any(|o| {
-        let mesh = &scene.meshes[o.mesh];
-        o.node.is_some() && (mesh.skin.is_some() || !mesh.morph_targets.is_empty())
+        scene.meshes.get(o.mesh).is_some_and(|mesh| {
+            o.node.is_some() && (mesh.skin.is_some() || !mesh.morph_targets.is_empty())
+        })
     });
     if !deforms {
         return None;
@@ -1629,7 +1715,8 @@ fn check_node_forest(root: &json::Root) -> Result<(), ImportProblem> {
                     "node {i} names child {c}, but there are {n} nodes"
                 )));
             }
-            if let Some(other) = parent[c].replace(i) {
+            // c < n, checked above.
+            if let Some(other) = parent.get_mut(c).and_then(|p| p.replace(i)) {
                 return Err(ImportProblem::Invalid(format!(
                     "node {c} is a child of both node {other} and node {i} (glTF nodes form trees)"
                 )));
@@ -1638,10 +1725,14 @@ fn check_node_forest(root: &json::Root) -> Result<(), ImportProblem> {
     }
     // With one parent at most, a node no root reaches lies on (or under) a cycle.
     let mut reached = vec![false; n];
-    let mut stack: Vec<usize> = (0..n).filter(|&i| parent[i].is_none()).collect();
+    let mut stack: Vec<usize> = (0..n)
+        .filter(|&i| parent.get(i).is_some_and(Option::is_none))
+        .collect();
     while let Some(i) = stack.pop() {
-        reached[i] = true;
-        stack.extend(root.nodes[i].children.iter().flatten().map(|c| c.value()));
+        if let (Some(flag), Some(node)) = (reached.get_mut(i), root.nodes.get(i)) {
+            *flag = true;
+            stack.extend(node.children.iter().flatten().map(|c| c.value()));
+        }
     }
     if let Some(i) = reached.iter().position(|r| !r) {
         return Err(ImportProblem::Invalid(format!(
