@@ -1,3 +1,4 @@
+#![deny(clippy::arithmetic_side_effects)]
 //! [`Scene`] → `.gltf` + `.bin` + PNG images, such that importing the result gives the
 //! same scene (see `docs/gltf.md`, "Writing").
 
@@ -42,7 +43,8 @@ impl Bin {
             "target": target,
         }));
         self.data.extend_from_slice(bytes);
-        self.views.len() - 1
+        // The view just pushed.
+        self.views.len().saturating_sub(1)
     }
 
     fn floats<const N: usize>(&mut self, values: &[[f32; N]], with_bounds: bool) -> usize {
@@ -76,7 +78,8 @@ impl Bin {
             accessor["max"] = nums(&hi);
         }
         self.accessors.push(accessor);
-        self.accessors.len() - 1
+        // The accessor just pushed.
+        self.accessors.len().saturating_sub(1)
     }
 
     fn indices(&mut self, indices: &[u32]) -> usize {
@@ -88,7 +91,7 @@ impl Bin {
             "count": indices.len(),
             "type": "SCALAR",
         }));
-        self.accessors.len() - 1
+        self.accessors.len().saturating_sub(1)
     }
 }
 
@@ -452,7 +455,7 @@ pub fn save_gltf(scene: &Scene, path: &Path) -> Result<(), SaveError> {
             Some(i) => i,
             None => {
                 samplers.push(entry.sampler);
-                samplers.len() - 1
+                samplers.len().saturating_sub(1)
             }
         };
         textures.push(json!({ "sampler": sampler, "source": entry.image }));
