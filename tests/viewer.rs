@@ -478,6 +478,79 @@ fn the_viewer_converges_a_path_traced_view_while_it_rests() {
     assert!(differing(&shown[0]) > 100, "{}", differing(&shown[0]));
 }
 
+/// The error view of a path-traced view (`--error-view --path-trace on`): once the mean
+/// holds 64 paths a pixel, the screenshot is, byte for byte, the heat map of the
+/// real-time frame's relative error against it — the real-time frame rendered headless
+/// with the same inputs, the mean the 17th frame of a headless renderer that averages
+/// path-traced frames on the GPU (the 16 the viewer showed, and the one the measurement
+/// reads back) — and the map shows the real-time frame missing light that bounces.
+#[test]
+fn the_error_view_of_a_path_traced_view_is_the_real_time_frame_against_its_mean() {
+    use combustion::renderer::reference::heat_map_color_in;
+    use combustion::renderer::{FrameInputs, Readback, RendererSettings};
+    use combustion::viewer::inspect::{transport_errors, TRANSPORT_HEAT_MAP_RANGE};
+    let xvfb = Xvfb::start();
+    let display = format!(":{}", xvfb.display);
+    let (w, h) = (96, 72);
+    let (pixels, scene) = scripted_screenshot(
+        "transport",
+        |args| view(&display, args),
+        "builtin:cornell-box",
+        (w, h),
+        20,
+        "0  0 1 0.95  0 0.85 -1\n1  0 1 0.95  0 0.85 -1\n",
+        &["--overlay", "off", "--error-view", "--path-trace", "on"],
+    );
+    drop(xvfb);
+    let with = |names: &[&str], accumulate: bool| {
+        let mut settings = RendererSettings {
+            accumulate_paths: accumulate,
+            ..RendererSettings::default()
+        };
+        for name in names {
+            let pass = combustion::renderer::optional_pass(name).unwrap();
+            settings.shading.optional_passes = settings.shading.optional_passes.with(pass, true);
+        }
+        settings
+    };
+    let frames = |settings: RendererSettings, count: u32| {
+        let mut headless = common::lavapipe(settings);
+        let last = {
+            let renderer = headless.renderer();
+            let gpu = renderer.upload(&scene).expect("upload");
+            let inputs = FrameInputs {
+                bloom_intensity: 0.0,
+                ..FrameInputs::of_scene(&gpu, settings.exposure)
+            };
+            let mut last = None;
+            for _ in 0..count {
+                last = Some(
+                    renderer
+                        .render_with(&gpu, &inputs, w, h, Readback::IMAGES)
+                        .expect("render"),
+                );
+            }
+            last.expect("a frame")
+        };
+        common::finish(headless);
+        last.hdr
+    };
+    let realtime = frames(with(&["bloom"], false), 1);
+    let traced = frames(with(&["bloom", "path-trace"], true), 17);
+    let (errors, summary) = transport_errors(&realtime, &traced, 68);
+    let expected: Vec<[u8; 4]> = errors
+        .iter()
+        .map(|&e| heat_map_color_in(e, TRANSPORT_HEAT_MAP_RANGE))
+        .collect();
+    let differing = pixels.iter().zip(&expected).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "{differing} pixels differ from the heat map");
+    // The real-time frame misses the box's emitter and every bounce: darker, and far
+    // from the mean over most of the lit pixels.
+    assert!(summary.compared > 3000, "{summary:?}");
+    assert!(summary.brightness < -0.3, "{summary:?}");
+    assert!(summary.mean_relative > 0.3, "{summary:?}");
+}
+
 /// The error view (`--error-view`, as the X key): the screenshot of a scripted run is,
 /// byte for byte, the heat map of the f64 reference's relative error for the headless
 /// render of the same scene, camera and size — the viewer shows the very error map the

@@ -2,7 +2,9 @@
 //! overlay, and the error view (the frame re-shaded in f64 by the optics reference, its
 //! relative error shown as a heat map).
 
-use combustion_renderer::reference::{error_map, heat_map_color, ReferenceShading, HEAT_MAP_RANGE};
+use combustion_renderer::reference::{
+    error_map, heat_map_color, heat_map_color_in, ReferenceShading, HEAT_MAP_RANGE,
+};
 use combustion_renderer::{
     FrameInputs, FresnelModel, GpuScene, HdrFormat, OverlayImage, PassTimings, Readback, Renderer,
 };
@@ -45,6 +47,96 @@ pub struct ErrorSummary {
     pub forward: Option<(usize, f64, f64)>,
     /// CPU time of the f64 re-shading, ms.
     pub reshade_ms: f64,
+}
+
+/// The relative errors the heat map of the real-time frame against light that bounces
+/// spans: 1e-3 (blue) to 1 (red) — a frame that lights each surface once misses whole
+/// terms, where the one-bounce reference's map measures rounding.
+pub const TRANSPORT_HEAT_MAP_RANGE: (f64, f64) = (1e-3, 1.0);
+
+/// Paths a pixel the path-traced mean holds before the error view first compares the
+/// real-time frame with it (then again each time they have doubled).
+pub const TRANSPORT_FIRST_PATHS: u64 = 64;
+
+/// The real-time frame against the path-traced mean of the same view, summed up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TransportSummary {
+    /// Paths a pixel the mean held.
+    pub paths: u64,
+    /// Pixels compared: where either frame has light.
+    pub compared: usize,
+    /// The mean of the per-pixel relative errors.
+    pub mean_relative: f64,
+    /// Their 95th percentile.
+    pub p95_relative: f64,
+    /// The real-time frame's total radiance over the traced one's, less 1 (below 0:
+    /// darker than light that bounces).
+    pub brightness: f64,
+}
+
+/// Per pixel, the real-time frame's relative error against the path-traced mean: the
+/// largest channel's |realtime − traced| / max(traced, 1e-4) (the report's floor), NaN
+/// (grey: not compared) where both frames are black; and the summary over the compared
+/// pixels. The mean's own noise is not removed: the more paths, the less it adds.
+pub fn transport_errors(
+    realtime: &[[f32; 4]],
+    traced: &[[f32; 4]],
+    paths: u64,
+) -> (Vec<f32>, TransportSummary) {
+    let mut compared = Vec::new();
+    let (mut total_realtime, mut total_traced) = (0.0f64, 0.0f64);
+    let errors: Vec<f32> = realtime
+        .iter()
+        .zip(traced)
+        .map(|(a, t)| {
+            let lit = (0..3).any(|c| a[c] > 0.0 || t[c] > 0.0);
+            if !lit {
+                return f32::NAN;
+            }
+            let error = (0..3)
+                .map(|c| {
+                    let (a, t) = (f64::from(a[c]), f64::from(t[c]));
+                    total_realtime += a;
+                    total_traced += t;
+                    (a - t).abs() / t.max(1e-4)
+                })
+                .fold(0.0, f64::max);
+            compared.push(error);
+            error as f32
+        })
+        .collect();
+    compared.sort_by(f64::total_cmp);
+    let mean_relative = compared.iter().sum::<f64>() / compared.len().max(1) as f64;
+    let p95_relative = compared
+        .get((compared.len().saturating_sub(1) as f64 * 0.95).round() as usize)
+        .copied()
+        .unwrap_or(0.0);
+    let brightness = if total_traced > 0.0 {
+        total_realtime / total_traced - 1.0
+    } else {
+        0.0
+    };
+    let summary = TransportSummary {
+        paths,
+        compared: compared.len(),
+        mean_relative,
+        p95_relative,
+        brightness,
+    };
+    (errors, summary)
+}
+
+/// The heat map of [`transport_errors`]' per-pixel errors over
+/// [`TRANSPORT_HEAT_MAP_RANGE`], as the overlay image.
+pub fn transport_overlay(width: u32, height: u32, errors: &[f32]) -> OverlayImage {
+    OverlayImage {
+        width,
+        height,
+        rgba: errors
+            .iter()
+            .map(|&e| heat_map_color_in(e, TRANSPORT_HEAT_MAP_RANGE))
+            .collect(),
+    }
 }
 
 /// The error view while it is on.
@@ -254,6 +346,9 @@ pub struct Stats<'a> {
     /// Paths a pixel the frame's converging mean holds, in path-traced frames (0:
     /// none).
     pub accumulated_paths: u64,
+    /// With the error view on a path-traced view: the real-time frame against the mean,
+    /// once measured (`None`: not yet, or not that view).
+    pub transport: Option<TransportSummary>,
 }
 
 /// Groups of three digits: 194304 → "194,304".
@@ -312,7 +407,23 @@ impl Stats<'_> {
                 thousands(self.accumulated_paths as usize)
             ));
         }
-        if let Some(error_view) = self.error_view {
+        if let (Some(_), Some(t)) = (self.error_view, self.transport) {
+            let (lo, hi) = TRANSPORT_HEAT_MAP_RANGE;
+            lines.push(format!(
+                "error view: the real-time frame against light that bounces ({} paths a pixel)",
+                thousands(t.paths as usize)
+            ));
+            lines.push(format!(
+                "mean {:.2e} · p95 {:.2e} · {} pixels · radiance {:+.1} %",
+                t.mean_relative,
+                t.p95_relative,
+                thousands(t.compared),
+                t.brightness * 100.0
+            ));
+            lines.push(format!(
+                "heat map, log scale: blue {lo:.0e} · cyan · green · yellow · red ≥ {hi:.0e}; grey: black in both"
+            ));
+        } else if let Some(error_view) = self.error_view {
             let (lo, hi) = HEAT_MAP_RANGE;
             let hdr = match self.hdr_format {
                 HdrFormat::Rgba16Float => "f16",

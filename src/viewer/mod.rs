@@ -105,6 +105,15 @@ fn load_scene(
     Ok((scene, cameras))
 }
 
+/// The error view of a path-traced view (the error view on, J): the view it is of,
+/// the real-time frame's HDR radiance there (empty while the view settles), and the last
+/// comparison with the path-traced mean.
+struct TransportView {
+    key: inspect::ViewKey,
+    realtime: Vec<[f32; 4]>,
+    measured: Option<inspect::TransportSummary>,
+}
+
 /// The clock of scripted runs: frame n of a camera path is at time n / 30 s.
 pub const PATH_FRAMES_PER_SECOND: f32 = 30.0;
 
@@ -172,7 +181,7 @@ pub const KEYS: &[(&str, &str)] = &[
     ),
     (
         "X",
-        "error view: the frame re-shaded in f64, relative error as a heat map",
+        "error view: the frame re-shaded in f64, relative error as a heat map; with path tracing (J), the real-time frame against the converging paths",
     ),
     ("Space", "play / pause the scene's animation"),
     ("N", "next animation of the scene"),
@@ -480,6 +489,9 @@ struct State {
     /// The help panel's text (the keys never change).
     help_text: String,
     error_view: Option<inspect::ErrorView>,
+    /// The error view of a path-traced view: its real-time frame, and the comparison
+    /// with the mean of paths last made.
+    transport: Option<TransportView>,
     /// When the view last changed while the error view was on.
     view_changed: Instant,
     /// The outside medium's index being typed (I), if any.
@@ -598,6 +610,7 @@ impl State {
             show_help: false,
             help_text: inspect::help_text(KEYS),
             error_view: desc.error_view.then(inspect::ErrorView::default),
+            transport: None,
             view_changed: Instant::now(),
             typing: None,
             playback: controls::Playback::new(),
@@ -895,8 +908,148 @@ impl State {
             typing: self.typing.as_deref(),
             animation: self.playback.describe(self.gpu_scene.scene()),
             accumulated_paths: self.renderer.accumulated_paths(),
+            transport: self
+                .transport
+                .as_ref()
+                .and_then(|t| t.measured)
+                .filter(|_| self.path_traced()),
         }
         .text()
+    }
+
+    /// Whether the frames are path traced (J, `--path-trace on`).
+    fn path_traced(&self) -> bool {
+        combustion_renderer::optional_pass("path-trace")
+            .is_some_and(|p| self.renderer.shading().optional_passes.contains(p))
+    }
+
+    /// Waits for the frames in flight (the error view's frames use the renderer's slots
+    /// too: a diagnostic pause, not part of a normal frame), their GPU times collected
+    /// first.
+    fn pause_for_a_measurement(&mut self, summary: &mut ViewSummary) -> Result<(), Error> {
+        self.ring.wait_all()?;
+        self.renderer.frames_completed()?;
+        summary.gpu_total_ms.extend(
+            self.renderer
+                .take_completed_timings()
+                .iter()
+                .map(|t| t.total_ms),
+        );
+        Ok(())
+    }
+
+    /// The error view of a path-traced view: once the view has settled, its real-time
+    /// frame (the same inputs with path tracing off, read back once); then, each time the
+    /// path-traced mean has reached [`inspect::TRANSPORT_FIRST_PATHS`] paths a pixel and
+    /// each time they double, the mean read back (the next frame of the same history)
+    /// and the real-time frame's relative error against it shown as the heat map.
+    fn update_transport_view(
+        &mut self,
+        key: inspect::ViewKey,
+        camera: combustion_scene::Camera,
+        summary: &mut ViewSummary,
+    ) -> Result<(), Error> {
+        let (width, height) = key.extent;
+        let pose = self.playback.current_pose(self.gpu_scene.scene());
+        let lights = self.gpu_scene.scene().lights.clone();
+        // The viewer's own frame's inputs, so that the mean read back is the history the
+        // frames build (anything else would start it again); bloom's share 0 and no
+        // overlay: the map is of radiance.
+        let inputs = FrameInputs {
+            camera,
+            exposure: self.exposure,
+            lights: &lights,
+            overlay: &[],
+            environment: None,
+            background: self.background(),
+            tone_mapping: self.tone_mapping(),
+            pose: pose.as_ref(),
+            environment_seed: 0,
+            anti_aliasing: self.anti_aliasing,
+            auto_exposure: None,
+            bloom_intensity: 0.0,
+        };
+        match &mut self.transport {
+            Some(view) if view.key == key && !view.realtime.is_empty() => {
+                let paths = self.renderer.accumulated_paths();
+                let next = view.measured.map_or(inspect::TRANSPORT_FIRST_PATHS, |m| {
+                    m.paths.saturating_mul(2)
+                });
+                if paths < next {
+                    return Ok(());
+                }
+                let realtime = std::mem::take(&mut view.realtime);
+                self.pause_for_a_measurement(summary)?;
+                let frame = self.renderer.render_with(
+                    &self.gpu_scene,
+                    &inputs,
+                    width,
+                    height,
+                    combustion_renderer::Readback::IMAGES,
+                )?;
+                drop(self.renderer.take_completed_timings());
+                let paths = self.renderer.accumulated_paths();
+                let (errors, measured) = inspect::transport_errors(&realtime, &frame.hdr, paths);
+                self.renderer
+                    .set_overlay_image(Some(&inspect::transport_overlay(width, height, &errors)))?;
+                log::info!(
+                    "error view: the real-time frame against {paths} paths a pixel: mean relative error {:.3e}, p95 {:.3e}, radiance {:+.1} %",
+                    measured.mean_relative,
+                    measured.p95_relative,
+                    measured.brightness * 100.0
+                );
+                if let Some(view) = self.transport.as_mut() {
+                    view.realtime = realtime;
+                    view.measured = Some(measured);
+                }
+                return Ok(());
+            }
+            Some(view) if view.key != key => {
+                // Another view: its map goes at once; measured once it has stayed put.
+                view.key = key;
+                view.realtime.clear();
+                view.measured = None;
+                self.view_changed = Instant::now();
+                self.renderer.set_overlay_image(None)?;
+                return Ok(());
+            }
+            _ => {}
+        }
+        // The real-time frame of this view (measured at once when the error view or
+        // path tracing was just turned on; after a move, once it has settled).
+        if self.view_changed.elapsed().as_secs_f32() < ERROR_VIEW_SETTLE_SECONDS
+            && self.transport.is_some()
+        {
+            return Ok(());
+        }
+        self.pause_for_a_measurement(summary)?;
+        let traced = self.renderer.shading();
+        let realtime_shading = ShadingOptions {
+            optional_passes: traced.optional_passes.with(
+                combustion_renderer::optional_pass("path-trace").expect("declared"),
+                false,
+            ),
+            ..traced
+        };
+        self.renderer
+            .set_shading(realtime_shading, &[&self.gpu_scene])?;
+        let frame = self.renderer.render_with(
+            &self.gpu_scene,
+            &inputs,
+            width,
+            height,
+            combustion_renderer::Readback::IMAGES,
+        );
+        // Back to path tracing whatever the render did (its history starts again).
+        self.renderer.set_shading(traced, &[&self.gpu_scene])?;
+        let frame = frame?;
+        drop(self.renderer.take_completed_timings());
+        self.transport = Some(TransportView {
+            key,
+            realtime: frame.hdr,
+            measured: None,
+        });
+        Ok(())
     }
 
     /// Keeps the error view's map current: a map of another view is taken away at
@@ -907,15 +1060,28 @@ impl State {
         extent: vk::Extent2D,
         summary: &mut ViewSummary,
     ) -> Result<(), Error> {
-        let Some(view) = self.error_view.as_mut() else {
+        if self.error_view.is_none() {
             return Ok(());
-        };
+        }
         let key = inspect::ViewKey {
             camera,
             extent: (extent.width, extent.height),
             scene_generation: self.scene_generation,
             fresnel: self.renderer.shading().fresnel,
             animation: (self.playback.animation, self.playback.time),
+        };
+        if self.path_traced() {
+            return self.update_transport_view(key, camera, summary);
+        }
+        if self.transport.take().is_some() {
+            // Path tracing was turned off: the one-bounce map of this view, at once.
+            self.renderer.set_overlay_image(None)?;
+            if let Some(view) = self.error_view.as_mut() {
+                *view = inspect::ErrorView::default();
+            }
+        }
+        let Some(view) = self.error_view.as_mut() else {
+            return Ok(());
         };
         match view.measured {
             Some((measured, _)) if measured == key => return Ok(()),
@@ -984,6 +1150,7 @@ impl State {
 
     /// Turns the error view on (measuring the next frame at once) or off.
     fn toggle_error_view(&mut self) -> Result<(), Error> {
+        self.transport = None;
         if self.error_view.take().is_some() {
             self.renderer.set_overlay_image(None)?;
             return Ok(());

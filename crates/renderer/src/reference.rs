@@ -996,10 +996,15 @@ pub fn shadow_mismatch(
 /// end (dark blue) through cyan, green and yellow to its upper end and above (red);
 /// pixels not compared are dark grey. sRGB-encoded RGBA8.
 pub fn heat_map_color(relative: f32) -> [u8; 4] {
+    heat_map_color_in(relative, HEAT_MAP_RANGE)
+}
+
+/// [`heat_map_color`] over the range `(lo, hi)` of relative errors (the real-time frame
+/// against light that bounces spans larger ones than the one-bounce reference).
+pub fn heat_map_color_in(relative: f32, (lo, hi): (f64, f64)) -> [u8; 4] {
     if !relative.is_finite() {
         return [24, 24, 24, 255];
     }
-    let (lo, hi) = HEAT_MAP_RANGE;
     let t = ((f64::from(relative).max(1e-30).log10() - lo.log10()) / (hi.log10() - lo.log10()))
         .clamp(0.0, 1.0);
     const STOPS: [[f64; 3]; 5] = [
