@@ -375,54 +375,96 @@ fn the_viewer_lights_by_the_environment_asked_for() {
     );
 }
 
+/// The viewer's renderer settings with the optional passes `passes` on, frames of
+/// path tracing averaged on the GPU as the viewer's are (`accumulate_paths`).
+fn viewer_settings(passes: &[&str]) -> combustion::renderer::RendererSettings {
+    let mut settings = combustion::renderer::RendererSettings {
+        accumulate_paths: true,
+        ..Default::default()
+    };
+    for name in passes {
+        let pass = combustion::renderer::optional_pass(name).unwrap();
+        settings.shading.optional_passes = settings.shading.optional_passes.with(pass, true);
+    }
+    settings
+}
+
+/// `count` successive frames of `scene` (its own camera, exposure 1) rendered headless
+/// with `settings` at `size`, the scene's inputs changed by `inputs`, each read back.
+fn headless_frames(
+    scene: &combustion::scene::Scene,
+    settings: combustion::renderer::RendererSettings,
+    (width, height): (u32, u32),
+    count: u32,
+    inputs: impl Fn(combustion::renderer::FrameInputs<'_>) -> combustion::renderer::FrameInputs<'_>,
+) -> Vec<combustion::renderer::Frame> {
+    let mut headless = common::lavapipe(settings);
+    let frames = {
+        let renderer = headless.renderer();
+        let gpu = renderer.upload(scene).expect("upload");
+        let inputs = inputs(combustion::renderer::FrameInputs::of_scene(
+            &gpu,
+            settings.exposure,
+        ));
+        (0..count)
+            .map(|_| {
+                renderer
+                    .render_with(
+                        &gpu,
+                        &inputs,
+                        width,
+                        height,
+                        combustion::renderer::Readback::IMAGES,
+                    )
+                    .expect("render")
+            })
+            .collect()
+    };
+    common::finish(headless);
+    frames
+}
+
+/// A scripted run of builtin:spheres whose camera holds still for `frames` frames, with
+/// `--OPTION on` (the optional pass `option`), shows byte for byte the last of as many
+/// frames rendered headless with the viewer's settings (bloom and FXAA, as the viewer by
+/// default, and the pass on), which differs from the first.
+fn assert_a_still_run_shows_the_headless_frame(option: &str, frames: u32) {
+    use combustion::renderer::{AntiAliasing, FrameInputs};
+    let xvfb = Xvfb::start();
+    let display = format!(":{}", xvfb.display);
+    let still = "# time eye target\n0  0 1 6  0 0 0\n1  0 1 6  0 0 0\n";
+    let flag = format!("--{option}");
+    let (pixels, scene) = scripted_screenshot(
+        option,
+        |args| view(&display, args),
+        "builtin:spheres",
+        (160, 120),
+        frames,
+        still,
+        &["--overlay", "off", &flag, "on"],
+    );
+    let shown = headless_frames(
+        &scene,
+        viewer_settings(&["bloom", option]),
+        (160, 120),
+        frames,
+        |inputs| FrameInputs {
+            anti_aliasing: AntiAliasing::Fxaa,
+            ..inputs
+        },
+    );
+    let differing = |other: &combustion::renderer::Frame| pixels_differing(&pixels, other);
+    assert_eq!(differing(&shown[frames as usize - 1]), 0, "the last frame");
+    assert!(differing(&shown[0]) > 100, "{}", differing(&shown[0]));
+}
+
 /// Temporal anti-aliasing in the viewer (`--temporal-anti-aliasing on`): a scripted run
 /// whose camera holds still for 20 frames shows, byte for byte, the 20th frame of the
 /// same sequence rendered headless (its jitter and history frame for frame; with bloom
 /// and FXAA, as the viewer by default), which differs from one frame's.
 #[test]
 fn the_viewer_accumulates_as_the_headless_frames_do() {
-    use combustion::renderer::{AntiAliasing, FrameInputs, Readback, RendererSettings};
-    let xvfb = Xvfb::start();
-    let display = format!(":{}", xvfb.display);
-    let still = "# time eye target\n0  0 1 6  0 0 0\n1  0 1 6  0 0 0\n";
-    let frames = 20;
-    let (pixels, scene) = scripted_screenshot(
-        "temporal",
-        |args| view(&display, args),
-        "builtin:spheres",
-        (160, 120),
-        frames,
-        still,
-        &["--overlay", "off", "--temporal-anti-aliasing", "on"],
-    );
-    let mut settings = RendererSettings::default();
-    for name in ["bloom", "temporal-anti-aliasing"] {
-        let pass = combustion::renderer::optional_pass(name).unwrap();
-        settings.shading.optional_passes = settings.shading.optional_passes.with(pass, true);
-    }
-    let mut headless = common::lavapipe(settings);
-    let shown = {
-        let renderer = headless.renderer();
-        let gpu = renderer.upload(&scene).expect("upload");
-        let inputs = FrameInputs {
-            anti_aliasing: AntiAliasing::Fxaa,
-            ..FrameInputs::of_scene(&gpu, settings.exposure)
-        };
-        let readback = Readback::IMAGES;
-        let mut shown = Vec::new();
-        for _ in 0..frames {
-            shown.push(
-                renderer
-                    .render_with(&gpu, &inputs, 160, 120, readback)
-                    .expect("render"),
-            );
-        }
-        shown
-    };
-    common::finish(headless);
-    let differing = |other: &combustion::renderer::Frame| pixels_differing(&pixels, other);
-    assert_eq!(differing(&shown[frames as usize - 1]), 0, "the 20th frame");
-    assert!(differing(&shown[0]) > 100, "{}", differing(&shown[0]));
+    assert_a_still_run_shows_the_headless_frame("temporal-anti-aliasing", 20);
 }
 
 /// Path tracing in the viewer (`--path-trace on`) converges while the camera rests: a
@@ -432,50 +474,7 @@ fn the_viewer_accumulates_as_the_headless_frames_do() {
 /// which differs from one frame's paths alone.
 #[test]
 fn the_viewer_converges_a_path_traced_view_while_it_rests() {
-    use combustion::renderer::{AntiAliasing, FrameInputs, Readback, RendererSettings};
-    let xvfb = Xvfb::start();
-    let display = format!(":{}", xvfb.display);
-    let still = "# time eye target\n0  0 1 6  0 0 0\n1  0 1 6  0 0 0\n";
-    let frames = 8;
-    let (pixels, scene) = scripted_screenshot(
-        "path traced",
-        |args| view(&display, args),
-        "builtin:spheres",
-        (160, 120),
-        frames,
-        still,
-        &["--overlay", "off", "--path-trace", "on"],
-    );
-    let mut settings = RendererSettings {
-        accumulate_paths: true,
-        ..RendererSettings::default()
-    };
-    for name in ["bloom", "path-trace"] {
-        let pass = combustion::renderer::optional_pass(name).unwrap();
-        settings.shading.optional_passes = settings.shading.optional_passes.with(pass, true);
-    }
-    let mut headless = common::lavapipe(settings);
-    let shown = {
-        let renderer = headless.renderer();
-        let gpu = renderer.upload(&scene).expect("upload");
-        let inputs = FrameInputs {
-            anti_aliasing: AntiAliasing::Fxaa,
-            ..FrameInputs::of_scene(&gpu, settings.exposure)
-        };
-        let mut shown = Vec::new();
-        for _ in 0..frames {
-            shown.push(
-                renderer
-                    .render_with(&gpu, &inputs, 160, 120, Readback::IMAGES)
-                    .expect("render"),
-            );
-        }
-        shown
-    };
-    common::finish(headless);
-    let differing = |other: &combustion::renderer::Frame| pixels_differing(&pixels, other);
-    assert_eq!(differing(&shown[frames as usize - 1]), 0, "the 8th frame");
-    assert!(differing(&shown[0]) > 100, "{}", differing(&shown[0]));
+    assert_a_still_run_shows_the_headless_frame("path-trace", 8);
 }
 
 /// The error view of a path-traced view (`--error-view --path-trace on`): once the mean
@@ -487,7 +486,7 @@ fn the_viewer_converges_a_path_traced_view_while_it_rests() {
 #[test]
 fn the_error_view_of_a_path_traced_view_is_the_real_time_frame_against_its_mean() {
     use combustion::renderer::reference::heat_map_color_in;
-    use combustion::renderer::{FrameInputs, Readback, RendererSettings};
+    use combustion::renderer::FrameInputs;
     use combustion::viewer::inspect::{transport_errors, TRANSPORT_HEAT_MAP_RANGE};
     let xvfb = Xvfb::start();
     let display = format!(":{}", xvfb.display);
@@ -502,41 +501,18 @@ fn the_error_view_of_a_path_traced_view_is_the_real_time_frame_against_its_mean(
         &["--overlay", "off", "--error-view", "--path-trace", "on"],
     );
     drop(xvfb);
-    let with = |names: &[&str], accumulate: bool| {
-        let mut settings = RendererSettings {
-            accumulate_paths: accumulate,
-            ..RendererSettings::default()
-        };
-        for name in names {
-            let pass = combustion::renderer::optional_pass(name).unwrap();
-            settings.shading.optional_passes = settings.shading.optional_passes.with(pass, true);
-        }
-        settings
-    };
-    let frames = |settings: RendererSettings, count: u32| {
-        let mut headless = common::lavapipe(settings);
-        let last = {
-            let renderer = headless.renderer();
-            let gpu = renderer.upload(&scene).expect("upload");
-            let inputs = FrameInputs {
+    // Radiance without bloom's share, as the error view measures it.
+    let last = |passes: &[&str], count: u32| {
+        let frames = headless_frames(&scene, viewer_settings(passes), (w, h), count, |inputs| {
+            FrameInputs {
                 bloom_intensity: 0.0,
-                ..FrameInputs::of_scene(&gpu, settings.exposure)
-            };
-            let mut last = None;
-            for _ in 0..count {
-                last = Some(
-                    renderer
-                        .render_with(&gpu, &inputs, w, h, Readback::IMAGES)
-                        .expect("render"),
-                );
+                ..inputs
             }
-            last.expect("a frame")
-        };
-        common::finish(headless);
-        last.hdr
+        });
+        frames.into_iter().last().expect("a frame").hdr
     };
-    let realtime = frames(with(&["bloom"], false), 1);
-    let traced = frames(with(&["bloom", "path-trace"], true), 17);
+    let realtime = last(&["bloom"], 1);
+    let traced = last(&["bloom", "path-trace"], 17);
     let (errors, summary) = transport_errors(&realtime, &traced, 68);
     let expected: Vec<[u8; 4]> = errors
         .iter()

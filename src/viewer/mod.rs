@@ -923,9 +923,9 @@ impl State {
             .is_some_and(|p| self.renderer.shading().optional_passes.contains(p))
     }
 
-    /// Waits for the frames in flight (the error view's frames use the renderer's slots
-    /// too: a diagnostic pause, not part of a normal frame), their GPU times collected
-    /// first.
+    /// Waits for the frames in flight and collects their GPU times: at the end, and
+    /// before the error view's frames (which use the renderer's slots too: a
+    /// diagnostic pause, not part of a normal frame).
     fn pause_for_a_measurement(&mut self, summary: &mut ViewSummary) -> Result<(), Error> {
         self.ring.wait_all()?;
         self.renderer.frames_completed()?;
@@ -1105,17 +1105,8 @@ impl State {
             }
             None => {}
         }
-        // This frame uses the renderer's frame slots too: the viewer's own frames must
-        // have completed (a diagnostic pause, not part of a normal frame). Their GPU
-        // times are collected first; the measured frame's are not the viewer's.
-        self.ring.wait_all()?;
-        self.renderer.frames_completed()?;
-        summary.gpu_total_ms.extend(
-            self.renderer
-                .take_completed_timings()
-                .iter()
-                .map(|t| t.total_ms),
-        );
+        // The measured frame's GPU times are not the viewer's.
+        self.pause_for_a_measurement(summary)?;
         let pose = self.playback.current_pose(self.gpu_scene.scene());
         let inputs = FrameInputs {
             camera,
@@ -1298,16 +1289,8 @@ impl State {
 
     /// Waits for every frame in flight and collects their GPU times.
     fn finish(&mut self, summary: &mut ViewSummary) -> Result<(), Error> {
-        self.ring.wait_all()?;
-        write_screenshot(self.pending_screenshot.take(), summary)?;
-        self.renderer.frames_completed()?;
-        summary.gpu_total_ms.extend(
-            self.renderer
-                .take_completed_timings()
-                .iter()
-                .map(|t| t.total_ms),
-        );
-        Ok(())
+        self.pause_for_a_measurement(summary)?;
+        write_screenshot(self.pending_screenshot.take(), summary)
     }
 }
 
