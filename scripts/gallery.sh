@@ -27,6 +27,7 @@ run() {
 
 run render builtin:spheres "${size[@]}" -o "$out/spheres.png"
 run render builtin:glass-underwater "${size[@]}" -o "$out/glass-underwater.png"
+run render builtin:glass-underwater --path-trace on --samples 1024 "${size[@]}" -o "$out/glass-underwater-path-traced.png"
 run render builtin:grid-sun --shadows on "${size[@]}" -o "$out/grid-sun-shadows.png"
 run render builtin:normal-mapped "${size[@]}" -o "$out/normal-mapped.png"
 run render builtin:resting --environment-occlusion ray-traced --accumulate-until 0.002 "${size[@]}" -o "$out/resting-ray-traced.png"
