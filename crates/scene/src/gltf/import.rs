@@ -755,7 +755,10 @@ impl Importer<'_> {
             for m in used {
                 material_index.insert((m, strokes), materials.len());
                 let material = loaded.get(&m).ok_or_else(|| {
-                    ImportProblem::Internal(format!("material {m:?} was used but not loaded"))
+                    ImportProblem::Internal(match m {
+                        Some(m) => format!("material {m} was used but not loaded"),
+                        None => "the default material was used but not loaded".into(),
+                    })
                 })?;
                 materials.push(if strokes {
                     material.for_points_and_lines()
