@@ -16,7 +16,11 @@
 
 #![warn(missing_docs)]
 
+// The command line's modules name the facade as its users do (`combustion::…`).
+extern crate self as combustion;
+
 pub mod animation;
+pub mod cli;
 pub mod diff;
 pub mod end_to_end;
 pub mod eval;

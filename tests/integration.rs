@@ -31,6 +31,7 @@ mod environment;
 mod exposure;
 mod faults;
 mod figures;
+mod fuzz_corpus;
 mod gltf;
 mod guide_engine;
 mod guide_snippets;

@@ -1,5 +1,6 @@
 //! Replays a corpus through what a fuzz target does with one input (the tests named
-//! fuzz_corpus.rs in crates/scene, spectra, report-csv, criteria, disk-cache and diff), and finds the
+//! fuzz_corpus.rs in crates/scene, spectra, report-csv, criteria, disk-cache and diff, and
+//! the root package's tests/fuzz_corpus.rs), and finds the
 //! committed corpora: `fuzz/seeds/NAME/` (inputs written by hand, and small corpora, as
 //! files) and `fuzz/seeds/NAME.tar.xz` (a target's corpus after a run, minimised with
 //! libFuzzer's `-merge=1`).
@@ -22,9 +23,15 @@ pub fn replay(files: &[PathBuf], run: fn(&[u8])) -> (usize, Vec<String>) {
     (files.len(), panicked)
 }
 
-/// `fuzz/seeds`, from the including crate's folder (crates/NAME).
+/// `fuzz/seeds`, from the including crate's folder (crates/NAME, or the root package).
 pub fn seeds() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds")
+    let package = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = package.join("fuzz/seeds");
+    if root.is_dir() {
+        root
+    } else {
+        package.join("../../fuzz/seeds")
+    }
 }
 
 /// The files of `dir`, sorted.

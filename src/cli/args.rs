@@ -19,7 +19,7 @@ use combustion::spectra::{BuiltinMetal, MetalColour};
 use combustion::vk::{DeviceDesc, DeviceSelector};
 use combustion::{finite_number, number_list, output, shortened, Error, SceneSource};
 
-use crate::CliError;
+use super::CliError;
 
 pub(crate) const ABOUT: &str = "Vulkan deferred renderer with physically based shading";
 

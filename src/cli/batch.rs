@@ -3,23 +3,25 @@
 //! that show it; outputs compared with goldens by the jobs' criteria; results written as
 //! JSON and JUnit XML; `--merge` combines shards' results.
 //!
-//! Its arithmetic cannot overflow: clippy's `arithmetic_side_effects` is denied here.
-#![deny(clippy::arithmetic_side_effects)]
+//! Its arithmetic cannot overflow and it indexes nothing unchecked: clippy's
+//! `arithmetic_side_effects` and `indexing_slicing` are denied here.
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use serde_json::{json, Value};
+use serde_json::{json, Map, Value};
 
 use combustion::diff::{compare, heat_map_with_legend, read_image, Comparison, Criteria};
 use combustion::renderer::{
     FrameInputs, GBufferStorage, HdrFormat, Readback, Renderer, RendererSettings,
 };
+use combustion::optics::readable::readable;
 use combustion::{output, report, shortened, Error};
 
 use super::manifest::{Job, Manifest};
 use super::*;
-use crate::{write_stdout, CliError};
+use super::{write_stdout, CliError};
 
 /// The results file each run writes in its folder (and `--merge` reads).
 pub(crate) const RESULTS_FILE: &str = "results.json";
@@ -258,14 +260,16 @@ fn remove_earlier_outputs(folder: &Path) -> Result<(), Error> {
     let Ok(run) = combustion::input::parse_json(&text) else {
         return Ok(());
     };
-    let listed = run["jobs"]
-        .as_array()
+    let listed = run
+        .get("jobs")
+        .and_then(Value::as_array)
         .into_iter()
         .flatten()
-        .filter_map(|job| job["outputs"].as_array())
+        .filter_map(|job| job.get("outputs").and_then(Value::as_array))
         .flatten()
-        .flat_map(|output| [output["file"].as_str(), output["heat_map"].as_str()])
-        .flatten();
+        .flat_map(|output| [output.get("file"), output.get("heat_map")])
+        .flatten()
+        .filter_map(Value::as_str);
     for name in listed {
         let plain = Path::new(name)
             .file_name()
@@ -292,15 +296,16 @@ struct Renderers {
 impl Renderers {
     fn get(&mut self, settings: RendererSettings) -> Result<&mut Renderer, Error> {
         let key = (settings.hdr_format, settings.gbuffer);
-        let i = match self.made.iter().position(|(k, _)| *k == key) {
-            Some(i) => i,
-            None => {
-                let renderer = Renderer::new(self.device.clone(), settings)?;
-                self.made.push((key, renderer));
-                self.made.len().saturating_sub(1)
-            }
-        };
-        Ok(&mut self.made[i].1)
+        if !self.made.iter().any(|(k, _)| *k == key) {
+            let renderer = Renderer::new(self.device.clone(), settings)?;
+            self.made.push((key, renderer));
+        }
+        let (_, renderer) = self
+            .made
+            .iter_mut()
+            .find(|(k, _)| *k == key)
+            .expect("a renderer of these settings is made above");
+        Ok(renderer)
     }
 }
 
@@ -355,7 +360,10 @@ fn run_jobs(
     let mut results = Vec::with_capacity(total);
     for (_, jobs) in &groups {
         let started = Instant::now();
-        let first = &jobs[0].render;
+        let Some(first_job) = jobs.first() else {
+            continue;
+        };
+        let first = &first_job.render;
         let source = first.scene.source();
         let loaded = loaded_as_asked(&source, first.camera.camera, &first.shading);
         let settings = renderer_settings(&first.frame, 1);
@@ -388,7 +396,7 @@ fn run_jobs(
             }
             // The group's loading and upload is charged to its first job.
             result.seconds = started.elapsed().as_secs_f64()
-                + if std::ptr::eq(job, &jobs[0]) {
+                + if std::ptr::eq(job, first_job) {
                     upload_seconds
                 } else {
                     0.0
@@ -423,7 +431,7 @@ impl JobResult {
     fn error(job: &Job, e: &Error) -> JobResult {
         JobResult {
             status: Status::Error,
-            message: Some(crate::one_line(&e.to_string())),
+            message: Some(super::one_line(&e.to_string())),
             ..JobResult::new(job)
         }
     }
@@ -571,14 +579,14 @@ fn render_job(
         } else if outcome.compared && result.status == Status::Rendered {
             result.status = Status::Passed;
         }
-        result.outputs.push(outcome.json);
+        result.outputs.push(Value::Object(outcome.json));
     }
     Ok(result)
 }
 
 /// An output checked against its golden.
 struct OutputOutcome {
-    json: Value,
+    json: Map<String, Value>,
     compared: bool,
     golden_written: bool,
     failed: Option<String>,
@@ -597,7 +605,10 @@ fn check_output(
 ) -> OutputOutcome {
     let file_name = format!("{}.{kind}", job.name);
     let mut outcome = OutputOutcome {
-        json: json!({"kind": kind, "file": file_name}),
+        json: Map::from_iter([
+            ("kind".to_owned(), Value::from(kind)),
+            ("file".to_owned(), Value::from(file_name.as_str())),
+        ]),
         compared: false,
         golden_written: false,
         failed: None,
@@ -606,7 +617,9 @@ fn check_output(
         return outcome;
     };
     let golden = goldens.join(&file_name);
-    outcome.json["golden"] = golden.display().to_string().into();
+    outcome
+        .json
+        .insert("golden".into(), golden.display().to_string().into());
     if folders.update_goldens {
         let written = std::fs::read(file)
             .map_err(|e| e.to_string())
@@ -637,10 +650,12 @@ fn check_output(
         }
     };
     outcome.compared = true;
-    outcome.json["comparison"] = figures(&comparison);
+    outcome
+        .json
+        .insert("comparison".into(), figures(&comparison));
     if let Err(why) = criteria.check(&comparison) {
         outcome.failed = Some(format!("{file_name}: {why}"));
-        outcome.json["failed"] = why.into();
+        outcome.json.insert("failed".into(), why.into());
         // The heat map shows where: NAME.flip.png, NAME.exr.flip.png.
         let map_name = match kind {
             "png" => format!("{}.flip.png", job.name),
@@ -649,7 +664,7 @@ fn check_output(
         if let Ok((height, pixels)) = heat_map_with_legend(&comparison) {
             let map = folders.output.join(&map_name);
             if output::write_png(&map, comparison.width, height, &pixels).is_ok() {
-                outcome.json["heat_map"] = map_name.into();
+                outcome.json.insert("heat_map".into(), map_name.into());
             }
         }
     }
@@ -829,109 +844,178 @@ fn junit(suite: &str, results: &[JobResult], seconds: f64) -> String {
 /// junit.xml, jobs in the manifest's order; every shard of the split must be there,
 /// once, from the same manifest.
 fn merge(shards: &[PathBuf], folder: &Path) -> Result<(), CliError> {
-    let mut manifest_name: Option<String> = None;
-    let mut digest: Option<String> = None;
-    let mut count: Option<u64> = None;
-    let mut seen = Vec::new();
-    let mut results: Vec<JobResult> = Vec::new();
-    let mut seconds = 0.0f64;
+    let mut texts = Vec::with_capacity(shards.len());
     for shard in shards {
         let file = shard.join(RESULTS_FILE);
-        let label = shortened(&file.display().to_string());
         let text = combustion::input::read_text(
             &file,
             super::manifest::MAX_MANIFEST_BYTES * 4,
             "a shard's results",
         )
-        .map_err(|e| CliError::Failed(format!("--merge {label}: {e}")))?;
-        let bad = |why: &str| CliError::Failed(format!("--merge {label}: {why}"));
-        let run: Value =
-            combustion::input::parse_json(&text).map_err(|e| bad(&format!("not JSON: {e}")))?;
-        let name = run["manifest"]
-            .as_str()
-            .ok_or_else(|| bad("no `manifest`"))?;
-        if *manifest_name.get_or_insert_with(|| name.to_owned()) != name {
-            return Err(bad(&format!(
-                "the results of manifest `{name}`, not `{}`",
-                manifest_name.unwrap_or_default()
-            )));
-        }
-        // Two manifests of one file name are told apart by their text.
-        let ran = run["manifest_digest"].as_str().ok_or_else(|| {
-            bad("no `manifest_digest` (results of an older combustion: run the shard again)")
+        .map_err(|e| {
+            CliError::Failed(format!(
+                "--merge {}: {e}",
+                shortened(&file.display().to_string())
+            ))
         })?;
-        if *digest.get_or_insert_with(|| ran.to_owned()) != ran {
-            return Err(bad(&format!(
-                "the results of another manifest named `{name}` (its text differs from the first shard's)"
-            )));
-        }
-        let shard_of = (
-            run["shard"]["index"].as_u64(),
-            run["shard"]["count"].as_u64(),
-        );
-        let (Some(index), Some(n)) = shard_of else {
-            return Err(bad("not a shard's results (run with --shard I/N)"));
-        };
-        if n == 0 || index == 0 || index > n {
-            return Err(bad(&format!(
-                "shard {index}/{n} is no shard (I is 1 to N, N at least 1)"
-            )));
-        }
-        if *count.get_or_insert(n) != n {
-            return Err(bad(&format!(
-                "shard {index}/{n} of another split than {}",
-                count.unwrap_or(0)
-            )));
-        }
-        if seen.contains(&index) {
-            return Err(bad(&format!("shard {index}/{n} is given twice")));
-        }
-        seen.push(index);
-        seconds = seconds.max(run["seconds"].as_f64().unwrap_or(0.0));
-        for job in run["jobs"]
-            .as_array()
-            .ok_or_else(|| bad("no `jobs` list"))?
-        {
-            let mut job =
-                JobResult::from_json(job).ok_or_else(|| bad("a job's result is malformed"))?;
-            // Its name names files: the manifest's rule, as when it ran.
-            super::manifest::check_name(&job.name)
-                .map_err(|why| bad(&format!("a job's result: {why}")))?;
-            // Files are named from the merged folder's point of view: the shard's folder.
-            for output in &mut job.outputs {
-                if let Some(file) = output["file"].as_str() {
-                    output["file"] = shard.join(file).display().to_string().into();
-                }
-            }
-            results.push(job);
-        }
+        texts.push((shard.clone(), text));
     }
-    let n = count.unwrap_or(0);
-    if let Some(missing) = (1..=n).find(|i| !seen.contains(i)) {
-        return Err(CliError::Failed(format!(
-            "--merge: shard {missing}/{n} is missing (give every shard's folder)"
-        )));
-    }
-    results.sort_by_key(|r| r.index);
-    if let Some(w) = results.windows(2).find(|w| w[0].index == w[1].index) {
-        return Err(CliError::Failed(format!(
-            "--merge: job {} (`{}`) is in two shards' results",
-            w[0].index, w[0].name
-        )));
-    }
+    let merged = MergedShards::of(&texts).map_err(CliError::Failed)?;
     prepare_folder(folder, "-o")?;
-    let suite = manifest_name.unwrap_or_default();
-    let run = json!({
-        "manifest": suite,
-        "shard": Value::Null,
-        "merged_shards": n,
-        "seconds": seconds,
-        "jobs": results.iter().map(JobResult::json).collect::<Vec<_>>(),
-    });
-    finish(&run, &results, &suite, folder)
+    finish(&merged.results_json(), &merged.jobs, &merged.suite, folder)
+}
+
+/// `I/N` as messages show numbers (a results file may hold any 64-bit count).
+fn shard_label(index: u64, count: u64) -> String {
+    format!("{}/{}", readable(index as f64), readable(count as f64))
+}
+
+/// The results of every shard of one batch run, combined (`batch --merge`).
+pub struct MergedShards {
+    /// The manifest's name (JUnit's suite name).
+    suite: String,
+    /// How many shards the jobs were split into.
+    shard_count: u64,
+    /// The longest shard's run time.
+    seconds: f64,
+    /// Every job's result, in the manifest's order.
+    jobs: Vec<JobResult>,
+}
+
+impl MergedShards {
+    /// Combines the shards' results: each a shard's folder and the text of its
+    /// results.json. The error is one line naming the shard's file at fault, if one is:
+    /// every shard of the split must be there, once, from the same manifest, and each job
+    /// once.
+    pub fn of(shards: &[(PathBuf, String)]) -> Result<MergedShards, String> {
+        let mut manifest_name: Option<String> = None;
+        let mut digest: Option<String> = None;
+        let mut count: Option<u64> = None;
+        let mut seen = Vec::new();
+        let mut jobs: Vec<JobResult> = Vec::new();
+        let mut seconds = 0.0f64;
+        for (shard, text) in shards {
+            let label = shortened(&shard.join(RESULTS_FILE).display().to_string());
+            let bad = |why: &str| format!("--merge {label}: {why}");
+            let run: Value =
+                combustion::input::parse_json(text).map_err(|e| bad(&format!("not JSON: {e}")))?;
+            let field = |key: &str| run.get(key).unwrap_or(&Value::Null);
+            let name = field("manifest")
+                .as_str()
+                .ok_or_else(|| bad("no `manifest`"))?;
+            if *manifest_name.get_or_insert_with(|| name.to_owned()) != name {
+                return Err(bad(&format!(
+                    "the results of manifest `{}`, not `{}`",
+                    shortened(name),
+                    shortened(&manifest_name.unwrap_or_default())
+                )));
+            }
+            // Two manifests of one file name are told apart by their text.
+            let ran = field("manifest_digest").as_str().ok_or_else(|| {
+                bad("no `manifest_digest` (results of an older combustion: run the shard again)")
+            })?;
+            if *digest.get_or_insert_with(|| ran.to_owned()) != ran {
+                return Err(bad(&format!(
+                    "the results of another manifest named `{}` (its text differs from the first shard's)",
+                    shortened(name)
+                )));
+            }
+            let shard_number = |key: &str| field("shard").get(key).and_then(Value::as_u64);
+            let shard_of = (shard_number("index"), shard_number("count"));
+            let (Some(index), Some(n)) = shard_of else {
+                return Err(bad("not a shard's results (run with --shard I/N)"));
+            };
+            if n == 0 || index == 0 || index > n {
+                return Err(bad(&format!(
+                    "shard {} is no shard (I is 1 to N, N at least 1)",
+                    shard_label(index, n)
+                )));
+            }
+            if *count.get_or_insert(n) != n {
+                return Err(bad(&format!(
+                    "shard {} of another split than {}",
+                    shard_label(index, n),
+                    readable(count.unwrap_or(0) as f64)
+                )));
+            }
+            if seen.contains(&index) {
+                return Err(bad(&format!(
+                    "shard {} is given twice",
+                    shard_label(index, n)
+                )));
+            }
+            seen.push(index);
+            seconds = seconds.max(field("seconds").as_f64().unwrap_or(0.0));
+            for job in field("jobs")
+                .as_array()
+                .ok_or_else(|| bad("no `jobs` list"))?
+            {
+                let mut job =
+                    JobResult::from_json(job).ok_or_else(|| bad("a job's result is malformed"))?;
+                // Its name names files: the manifest's rule, as when it ran.
+                super::manifest::check_name(&job.name)
+                    .map_err(|why| bad(&format!("a job's result: {why}")))?;
+                // Files are named from the merged folder's point of view: the shard's folder.
+                for fields in job.outputs.iter_mut().filter_map(Value::as_object_mut) {
+                    if let Some(file) = fields.get("file").and_then(Value::as_str) {
+                        let joined = shard.join(file).display().to_string();
+                        fields.insert("file".into(), joined.into());
+                    }
+                }
+                jobs.push(job);
+            }
+        }
+        let n = count.unwrap_or(0);
+        if let Some(missing) = (1..=n).find(|i| !seen.contains(i)) {
+            return Err(format!(
+                "--merge: shard {} is missing (give every shard's folder)",
+                shard_label(missing, n)
+            ));
+        }
+        jobs.sort_by_key(|r| r.index);
+        let twice = jobs.windows(2).find_map(|pair| match pair {
+            [a, b] if a.index == b.index => Some(a),
+            _ => None,
+        });
+        if let Some(job) = twice {
+            return Err(format!(
+                "--merge: job {} (`{}`) is in two shards' results",
+                readable(job.index as f64),
+                shortened(&job.name)
+            ));
+        }
+        Ok(MergedShards {
+            suite: manifest_name.unwrap_or_default(),
+            shard_count: n,
+            seconds,
+            jobs,
+        })
+    }
+
+    /// Each job's position in the manifest and name, in the manifest's order.
+    pub fn jobs(&self) -> impl Iterator<Item = (usize, &str)> {
+        self.jobs.iter().map(|j| (j.index, j.name.as_str()))
+    }
+
+    /// The merged results.json's content.
+    pub fn results_json(&self) -> Value {
+        json!({
+            "manifest": self.suite,
+            "shard": Value::Null,
+            "merged_shards": self.shard_count,
+            "seconds": self.seconds,
+            "jobs": self.jobs.iter().map(JobResult::json).collect::<Vec<_>>(),
+        })
+    }
+
+    /// The merged junit.xml's text.
+    pub fn junit(&self) -> String {
+        junit(&self.suite, &self.jobs, self.seconds)
+    }
 }
 
 #[cfg(test)]
+#[allow(clippy::indexing_slicing)] // a test fails by a panic
 mod tests {
     use super::*;
 

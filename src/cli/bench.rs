@@ -6,7 +6,7 @@ use combustion::renderer::Readback;
 use combustion::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
 
 use super::*;
-use crate::write_stdout;
+use super::write_stdout;
 
 /// `bench --report DIR`: every variant set on the built-in scenes (or the scene named).
 pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), Error> {

@@ -6,7 +6,7 @@ use combustion::diff::{compare, heat_map_with_legend, open_image, Comparison};
 use combustion::{output, Error};
 
 use super::*;
-use crate::{write_stdout, CliError};
+use super::{write_stdout, CliError};
 
 pub(crate) fn diff(o: &DiffArgs) -> Result<(), CliError> {
     // The heat map's destination is checked before any image is read.

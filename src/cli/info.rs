@@ -6,7 +6,7 @@ use combustion::vk::{DeviceDesc, DeviceSelector};
 use combustion::{Error, SceneSource};
 
 use super::*;
-use crate::{write_stdout, CliError};
+use super::{write_stdout, CliError};
 
 /// `info SCENE`: what the scene holds and which renderer features it needs.
 pub(crate) fn info(o: &InfoArgs) -> Result<(), CliError> {

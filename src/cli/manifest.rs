@@ -4,11 +4,12 @@
 //! `render` refuses), plus what the batch adds: outputs, criteria, the physics error.
 //! docs/ci-rendering.md documents it; docs/batch-manifest.schema.json is its schema.
 //!
-//! Its arithmetic cannot overflow: clippy's `arithmetic_side_effects` is denied here.
-#![deny(clippy::arithmetic_side_effects)]
+//! Its arithmetic cannot overflow and it indexes nothing unchecked: clippy's
+//! `arithmetic_side_effects` and `indexing_slicing` are denied here.
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 
 use std::collections::HashSet;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use clap::{CommandFactory, Parser};
 use serde_json::{Map, Value};
@@ -22,10 +23,10 @@ use super::*;
 pub(crate) const MAX_MANIFEST_BYTES: u64 = 16 << 20;
 
 /// The most jobs a manifest holds.
-pub(crate) const MAX_JOBS: usize = 100_000;
+pub const MAX_JOBS: usize = 100_000;
 
 /// The longest job name, in bytes.
-pub(crate) const MAX_NAME_BYTES: usize = 100;
+pub const MAX_NAME_BYTES: usize = 100;
 
 /// Criteria of PNG outputs when the manifest and job give none: the same bytes.
 pub(crate) const EXACT: &str = "max-channel-diff 0/255 on at most 0% of pixels";
@@ -52,7 +53,7 @@ const BATCH_OWNED: [&str; 6] = ["output", "hdr", "max-error", "device", "validat
 
 /// A manifest, read and checked: every job parsed, every scene and environment file
 /// found, names unique.
-pub(crate) struct Manifest {
+pub struct Manifest {
     /// The file's name without its folder and extension (JUnit's suite name).
     pub(crate) name: String,
     /// A digest of its text ([`text_digest`]): shards' results merge only with those of
@@ -85,13 +86,16 @@ pub(crate) struct Job {
 
 /// `--shard I/N`: the I-th of N shares of the jobs (from 1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Shard {
-    pub(crate) index: usize,
-    pub(crate) count: usize,
+pub struct Shard {
+    /// I, from 1.
+    pub index: usize,
+    /// N, at least 1.
+    pub count: usize,
 }
 
 impl Shard {
-    pub(crate) fn parse(text: &str) -> Result<Shard, String> {
+    /// `I/N`, or a one-line error echoing the text shortened.
+    pub fn parse(text: &str) -> Result<Shard, String> {
         let parsed = text
             .split_once('/')
             .and_then(|(i, n)| Some((i.trim().parse().ok()?, n.trim().parse().ok()?)));
@@ -128,7 +132,7 @@ impl Manifest {
     }
 
     /// The manifest `text`, its relative paths taken from `folder`.
-    pub(crate) fn parse(text: &str, folder: &Path, name: String) -> Result<Manifest, String> {
+    pub fn parse(text: &str, folder: &Path, name: String) -> Result<Manifest, String> {
         let value: Value =
             combustion::input::parse_json(text).map_err(|e| format!("not valid JSON: {e}"))?;
         let Value::Object(top) = value else {
@@ -192,10 +196,20 @@ impl Manifest {
         })
     }
 
+    /// Each job's position in the manifest and name, in the order kept.
+    pub fn jobs(&self) -> impl Iterator<Item = (usize, &str)> {
+        self.jobs.iter().map(|j| (j.index, j.name.as_str()))
+    }
+
+    /// A digest of its text ([`text_digest`]).
+    pub fn digest(&self) -> &str {
+        &self.digest
+    }
+
     /// Keeps the jobs of `shard`: the jobs sorted by name are dealt out in turn, so
     /// every shard's share is the same whatever the manifest's order, and shares differ
     /// by one job at most.
-    pub(crate) fn keep_shard(&mut self, shard: Shard) {
+    pub fn keep_shard(&mut self, shard: Shard) {
         let mut names: Vec<&str> = self.jobs.iter().map(|j| j.name.as_str()).collect();
         names.sort_unstable();
         let kept: HashSet<String> = names
@@ -248,18 +262,18 @@ fn criteria_of(
     Ok(Some(criteria))
 }
 
-/// A job name: 1 to [`MAX_NAME_BYTES`] letters, digits, `-` and `_` (no dots, so no
-/// name's files are another's: NAME.png, NAME.exr, NAME.flip.png).
 /// The 64-bit FNV-1a hash of `text`, in hex: which manifest a shard ran (not a
 /// security measure: it tells two manifests apart, it does not authenticate one).
-pub(crate) fn text_digest(text: &str) -> String {
+pub fn text_digest(text: &str) -> String {
     let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
         (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
     });
     format!("{hash:016x}")
 }
 
-pub(crate) fn check_name(name: &str) -> Result<(), String> {
+/// Checks a job name: 1 to [`MAX_NAME_BYTES`] letters, digits, `-` and `_` (no dots, so no
+/// name's files are another's: NAME.png, NAME.exr, NAME.flip.png).
+pub fn check_name(name: &str) -> Result<(), String> {
     let allowed = |c: char| c.is_ascii_alphanumeric() || c == '-' || c == '_';
     if name.is_empty() || name.len() > MAX_NAME_BYTES || !name.chars().all(allowed) {
         return Err(format!(
@@ -316,22 +330,13 @@ impl Job {
             None => return Err("there is no `scene` (builtin:NAME or a glTF file)".into()),
         };
         let scene = match SceneSource::parse(&scene) {
-            SceneSource::File(path) => {
-                let path = folder.join(path);
-                if !path.is_file() {
-                    return Err(format!("scene file {} is not found", path.display()));
-                }
-                SceneSource::File(path)
-            }
+            SceneSource::File(path) => SceneSource::File(file_in(folder, &path, "scene")?),
             builtin => builtin,
         };
         let mut render = render_args(&keys)?;
         render.scene.scene = Some(scene);
         if let Some(EnvironmentChoice::File(path)) = &mut render.shading.environment {
-            *path = folder.join(&*path);
-            if !path.is_file() {
-                return Err(format!("environment file {} is not found", path.display()));
-            }
+            *path = file_in(folder, path, "environment")?;
         }
         Ok(Job {
             index,
@@ -344,6 +349,25 @@ impl Job {
             error,
         })
     }
+}
+
+/// The longest path Linux resolves (`PATH_MAX`, its NUL included): a longer value names
+/// no file, and is echoed shortened, not whole as paths are.
+const MAX_PATH_BYTES: usize = 4096;
+
+/// The `what` file `value` names from `folder`, which must be a file.
+fn file_in(folder: &Path, value: &Path, what: &str) -> Result<PathBuf, String> {
+    let path = folder.join(value);
+    if path.as_os_str().len() >= MAX_PATH_BYTES {
+        return Err(format!(
+            "{what} file `{}` is longer than any path ({MAX_PATH_BYTES} bytes)",
+            shortened(&value.to_string_lossy())
+        ));
+    }
+    if !path.is_file() {
+        return Err(format!("{what} file {} is not found", path.display()));
+    }
+    Ok(path)
 }
 
 /// `render`'s options from a job's other keys, parsed by `render`'s own declaration:
@@ -394,7 +418,7 @@ fn render_args(keys: &Map<String, Value>) -> Result<RenderArgs, String> {
         }) => Ok(args),
         Ok(_) => unreachable!("the words name render"),
         Err(e) => {
-            let message = e.render().to_string();
+            let message = value_shortened(e).render().to_string();
             let first = message.lines().next().unwrap_or_default();
             Err(first.trim_start_matches("error: ").to_owned())
         }
@@ -402,6 +426,7 @@ fn render_args(keys: &Map<String, Value>) -> Result<RenderArgs, String> {
 }
 
 #[cfg(test)]
+#[allow(clippy::indexing_slicing)] // a test fails by a panic
 mod tests {
     use super::*;
 

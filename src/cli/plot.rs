@@ -7,7 +7,7 @@ use combustion::{output, Error};
 use combustion_plots::{PlotMaterial, ReflectancePlot, FIGURE_12_ETAS};
 
 use super::*;
-use crate::{write_stdout, CliError};
+use super::{write_stdout, CliError};
 
 /// Reads a `wavelength_nm,n,k` table; problems name the file and the line.
 pub(crate) fn read_spectrum(path: &Path) -> Result<Spectrum, CliError> {

@@ -3,7 +3,7 @@
 use combustion::Error;
 
 use super::*;
-use crate::write_stdout;
+use super::write_stdout;
 
 pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
     if let Some(shot) = &o.screenshot {

@@ -1,0 +1,19 @@
+//! The batch_manifest fuzz target's corpora — fuzz/seeds/batch_manifest/ (hand-made
+//! seeds) and, after a run, batch_manifest.tar.xz (its corpus, minimised) — replayed
+//! through the code the target runs (fuzz/common/batch_manifest.rs): no manifest or
+//! shard's results may panic the parser, the split or the merge, or break their rules.
+
+#[path = "../fuzz/common/batch_manifest.rs"]
+mod batch_manifest_target;
+#[path = "../fuzz/common/replay.rs"]
+mod replay;
+
+#[test]
+fn the_batch_manifest_corpus_replays_without_a_panic() {
+    let (inputs, panicked) = replay::replay(
+        &replay::seed_folder("batch_manifest"),
+        batch_manifest_target::parse_and_merge,
+    );
+    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    assert!(inputs >= 8, "{inputs} inputs");
+}
