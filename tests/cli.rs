@@ -1538,6 +1538,53 @@ fn bench_reports_gpu_and_wall_clock_time_with_frames_in_flight() {
         &["bench", "--report", "new", "--diffuse", "lambert"],
         &["the argument '--report <DIR>' cannot be used with '--diffuse <MODEL>'"],
     );
+    // Sections that cannot be measured as asked, refused before the device starts.
+    assert_clear_error(
+        &[
+            "bench",
+            "--report",
+            "new",
+            "--report-sections",
+            "light-transport",
+        ],
+        "--report-sections light-transport needs --path-traced-frames N",
+    );
+    assert_clear_error(
+        &[
+            "bench",
+            "--report",
+            "new",
+            "--report-sections",
+            "variants",
+            "--path-traced-frames",
+            "4",
+        ],
+        "--path-traced-frames measures the light-transport section, which --report-sections leaves out",
+    );
+    assert_clear_error(
+        &[
+            "bench",
+            "--report",
+            "new",
+            "--report-sections",
+            "floors,shadows",
+        ],
+        "--report-sections floors needs variants too",
+    );
+    assert_refused(
+        &[
+            "bench",
+            "--report",
+            "new",
+            "--report-sections",
+            "variants,bounces",
+        ],
+        &["invalid value 'bounces' for '--report-sections <LIST>'"],
+    );
+    assert_refused(
+        &["bench", "--report-sections", "variants"],
+        &["--report <DIR>"],
+    );
     // The report sets its own lighting too: an environment would be ignored.
     assert_refused(
         &["bench", "--report", "new", "--environment", "studio"],

@@ -737,3 +737,53 @@ fn report_measures_the_real_time_frame_against_light_that_bounces() {
     assert!(md.contains("## Against light that bounces"), "{md}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `bench --report-sections`: only the sections asked are measured and written, and the
+/// files of an earlier run's other sections are removed from the folder (they would read
+/// as this run's): here the light-transport section alone, over an earlier report's
+/// report.csv and environment-sampling.csv.
+#[test]
+fn report_sections_measure_and_write_only_what_is_asked() {
+    let dir =
+        std::env::temp_dir().join(format!("combustion-report-sections-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for earlier in ["report.csv", "environment-sampling.csv"] {
+        std::fs::write(dir.join(earlier), "an earlier run's\n").unwrap();
+    }
+    let (code, stdout, stderr) = common::combustion(&[
+        "bench",
+        "--report",
+        dir.to_str().unwrap(),
+        "--scene",
+        "builtin:cornell-box",
+        "--report-sections",
+        "light-transport",
+        "--path-traced-frames",
+        "2",
+        "--width",
+        "48",
+        "--height",
+        "27",
+        "--frames",
+        "2",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(files, ["light-transport.csv", "report.md"], "{stdout}");
+    assert!(
+        stdout.contains("light-transport.csv") && stdout.contains("light-transport in"),
+        "{stdout}"
+    );
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("## Against light that bounces"), "{md}");
+    assert!(!md.contains("## Variant sets"), "{md}");
+    // The default frame, ray-traced shadows and one path-traced frame.
+    let csv = std::fs::read_to_string(dir.join("light-transport.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4, "{csv}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -14,6 +14,7 @@ use combustion::renderer::{
     ShadingOptions, ShadowFilter, ShadowSettings, SurfaceStorage, ToneMapping, MAX_CASCADES,
     MAX_FRAMES_IN_FLIGHT, MAX_SUPERSAMPLE,
 };
+use combustion::report::ReportSection;
 use combustion::scene::{DiffuseModel, Environment, Scene, BUILTIN_SCENES};
 use combustion::spectra::{BuiltinMetal, MetalColour};
 use combustion::vk::{DeviceDesc, DeviceSelector};
@@ -1006,6 +1007,13 @@ pub(crate) struct BenchArgs {
     /// error columns, the spread of the frame-time ratios)
     #[arg(long, value_name = "PREVIOUS_DIR", requires = "report")]
     pub(crate) against: Option<PathBuf>,
+    /// With --report: the sections to measure, comma-separated: variants, floors (with
+    /// variants), scaling, shadows, storage, anti-aliasing, environment-sampling,
+    /// occlusion, light-transport (with --path-traced-frames). Default: every one,
+    /// light-transport when --path-traced-frames is given. The files of the sections not
+    /// measured are removed from DIR
+    #[arg(long, value_name = "LIST", requires = "report", value_delimiter = ',', value_parser = named(ReportSection::ALL.map(|s| (s.name(), s))))]
+    pub(crate) report_sections: Vec<ReportSection>,
     /// With --report: measure each scene's real-time frame against light that bounces,
     /// its frame path traced and N frames averaged (devices with ray queries; a traced
     /// frame costs a hundred real-time ones: off unless asked)

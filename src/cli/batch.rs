@@ -13,10 +13,10 @@ use std::time::Instant;
 use serde_json::{json, Map, Value};
 
 use combustion::diff::{compare, heat_map_with_legend, read_image, Comparison, Criteria};
+use combustion::optics::readable::readable;
 use combustion::renderer::{
     FrameInputs, GBufferStorage, HdrFormat, Readback, Renderer, RendererSettings,
 };
-use combustion::optics::readable::readable;
 use combustion::{output, report, shortened, Error};
 
 use super::manifest::{Job, Manifest};

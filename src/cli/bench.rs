@@ -5,12 +5,14 @@ use std::time::Instant;
 use combustion::renderer::Readback;
 use combustion::{check_validation, output, Error, Headless, HeadlessDesc, SceneSource};
 
-use super::*;
 use super::write_stdout;
+use super::*;
 
 /// `bench --report DIR`: every variant set on the built-in scenes (or the scene named).
 pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), Error> {
-    use combustion::report::{ReportDesc, VariantSet};
+    use combustion::report::{ReportDesc, ReportSection, VariantSet};
+    let sections = report_sections(o)?;
+    let asked = |section: ReportSection| sections.contains(&section);
     // clap refuses --report with the options it sets itself (--fresnel, --hdr-format,
     // --specialised, --distribution, --diffuse, --extra-lights, --culling).
     // An unreadable previous report and an unwritable report folder are refused before
@@ -55,24 +57,41 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
     let desc = ReportDesc {
         scenes,
         studio_scenes,
-        sets: VariantSet::all(),
+        sets: if asked(ReportSection::Variants) {
+            VariantSet::all()
+        } else {
+            Vec::new()
+        },
         width: o.frame.width,
         height: o.frame.height,
         frames: o.frames,
         device,
-        floors: true,
-        shadows: combustion::report::shadows::SHADOW_SETTINGS.to_vec(),
-        storages: combustion::report::storage::all_storages(),
-        anti_aliasing: true,
-        environment_sampling: true,
-        occlusion: true,
-        path_traced_frames: o.path_traced_frames.unwrap_or(0),
+        floors: asked(ReportSection::Floors),
+        shadows: if asked(ReportSection::Shadows) {
+            combustion::report::shadows::SHADOW_SETTINGS.to_vec()
+        } else {
+            Vec::new()
+        },
+        storages: if asked(ReportSection::Storage) {
+            combustion::report::storage::all_storages()
+        } else {
+            Vec::new()
+        },
+        anti_aliasing: asked(ReportSection::AntiAliasing),
+        environment_sampling: asked(ReportSection::EnvironmentSampling),
+        occlusion: asked(ReportSection::Occlusion),
+        path_traced_frames: if asked(ReportSection::LightTransport) {
+            o.path_traced_frames.unwrap_or(0)
+        } else {
+            0
+        },
         // Frame time against size and light count: on the scene named, else on the
         // performance scene.
-        scaling: Some(if let Some(scene) = o.scene.given() {
-            scene.clone()
-        } else {
-            SceneSource::Builtin("grid-7x7".to_owned())
+        scaling: asked(ReportSection::Scaling).then(|| {
+            o.scene
+                .given()
+                .cloned()
+                .unwrap_or_else(|| SceneSource::Builtin("grid-7x7".to_owned()))
         }),
     };
     let started = Instant::now();
@@ -96,38 +115,54 @@ pub(crate) fn bench_report(o: &BenchArgs, dir: &std::path::Path) -> Result<(), E
         }
     })?;
     let reproduction = previous.map(|p| p.compare(&measured.rows));
-    combustion::report::write(dir, &measured, &desc, reproduction.as_ref())?;
-    // The optional sections' files, where the run measured them.
-    let optional: String = [
-        (!measured.shadows.is_empty(), ", shadows.csv"),
-        (!measured.storages.is_empty(), ", gbuffer-storage.csv"),
-        (!measured.anti_aliasing.is_empty(), ", anti-aliasing.csv"),
-        (
-            !measured.environment_sampling.is_empty(),
-            ", environment-sampling.csv",
-        ),
-        (!measured.occlusion.is_empty(), ", occlusion.csv"),
-        (
-            !measured.light_transport.is_empty(),
-            ", light-transport.csv",
-        ),
-    ]
-    .iter()
-    .filter(|(written, _)| *written)
-    .map(|(_, name)| *name)
-    .collect();
+    let written = combustion::report::write(dir, &measured, &desc, reproduction.as_ref())?;
+    let measured_sections: Vec<&str> = sections.iter().map(|s| s.name()).collect();
     outln!(
-        "wrote {} (report.md, report.csv, floors.csv, speed-vs-error.png, scaling.csv, scaling-*.png{optional}): {} scene(s) × {} variant sets, the floors, the scaling, {} shadow, {} G-buffer storage, {} anti-aliasing and {} environment-sampling measurement(s) in {:.0} s",
+        "wrote {} ({}): {} scene(s); {} in {:.0} s",
         dir.display(),
-        desc.scenes.len(),
-        desc.sets.len(),
-        measured.shadows.len(),
-        measured.storages.len(),
-        measured.anti_aliasing.len(),
-        measured.environment_sampling.len(),
+        written.join(", "),
+        desc.scenes.len() + desc.studio_scenes.len(),
+        measured_sections.join(", "),
         started.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// The report's sections `--report-sections` and `--path-traced-frames` ask for, checked
+/// before the device starts: light transport needs its frame count, the floors and
+/// `--against` the variant sets they are read against.
+fn report_sections(o: &BenchArgs) -> Result<Vec<combustion::report::ReportSection>, Error> {
+    use combustion::report::ReportSection;
+    let mut sections: Vec<ReportSection> = if o.report_sections.is_empty() {
+        ReportSection::ALL
+            .into_iter()
+            .filter(|s| *s != ReportSection::LightTransport || o.path_traced_frames.is_some())
+            .collect()
+    } else {
+        o.report_sections.clone()
+    };
+    sections.sort_by_key(|s| ReportSection::ALL.iter().position(|a| a == s));
+    sections.dedup();
+    let asked = |section: ReportSection| sections.contains(&section);
+    let usage = |why: &str| Err(Error::Usage(why.to_owned()));
+    match (asked(ReportSection::LightTransport), o.path_traced_frames) {
+        (true, None) => {
+            return usage("--report-sections light-transport needs --path-traced-frames N (the path-traced frames averaged)")
+        }
+        (false, Some(_)) => {
+            return usage("--path-traced-frames measures the light-transport section, which --report-sections leaves out")
+        }
+        _ => {}
+    }
+    if asked(ReportSection::Floors) && !asked(ReportSection::Variants) {
+        return usage("--report-sections floors needs variants too (each floor is read against the default variant set's passes)");
+    }
+    if o.against.is_some() && !asked(ReportSection::Variants) {
+        return usage(
+            "--against compares the variant sets' rows, which --report-sections leaves out",
+        );
+    }
+    Ok(sections)
 }
 
 pub(crate) fn bench(o: &BenchArgs) -> Result<(), Error> {

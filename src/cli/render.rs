@@ -7,8 +7,8 @@ use combustion::renderer::{
 };
 use combustion::{check_validation, output, Error, Headless, HeadlessDesc};
 
-use super::*;
 use super::write_stdout;
+use super::*;
 
 /// The images of a frame, read back (no G-buffer).
 const IMAGES: Readback = Readback::IMAGES;

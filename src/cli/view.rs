@@ -2,8 +2,8 @@
 
 use combustion::Error;
 
-use super::*;
 use super::write_stdout;
+use super::*;
 
 pub(crate) fn view(o: &ViewArgs) -> Result<(), Error> {
     if let Some(shot) = &o.screenshot {

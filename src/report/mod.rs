@@ -428,6 +428,60 @@ fn time_frames_with(
     Ok(renderer.take_completed_timings())
 }
 
+/// A section of the report (`bench --report-sections`): each measures its own rows and
+/// writes its own files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReportSection {
+    /// The variant sets against the f64 reference (report.csv, speed-vs-error.png).
+    Variants,
+    /// The measurement floors (floors.csv).
+    Floors,
+    /// Frame time against size and light count (scaling.csv and its plots).
+    Scaling,
+    /// Shadow settings against exact visibility (shadows.csv and its plot).
+    Shadows,
+    /// G-buffer storages end to end (gbuffer-storage.csv).
+    Storage,
+    /// Anti-aliasing methods against 4×4 supersampling (anti-aliasing.csv).
+    AntiAliasing,
+    /// The split sum and the sampled environment (environment-sampling.csv).
+    EnvironmentSampling,
+    /// The environment's occlusion (occlusion.csv).
+    Occlusion,
+    /// The real-time frame against light that bounces (light-transport.csv).
+    LightTransport,
+}
+
+impl ReportSection {
+    /// Every section, in the report's order.
+    pub const ALL: [ReportSection; 9] = [
+        ReportSection::Variants,
+        ReportSection::Floors,
+        ReportSection::Scaling,
+        ReportSection::Shadows,
+        ReportSection::Storage,
+        ReportSection::AntiAliasing,
+        ReportSection::EnvironmentSampling,
+        ReportSection::Occlusion,
+        ReportSection::LightTransport,
+    ];
+
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ReportSection::Variants => "variants",
+            ReportSection::Floors => "floors",
+            ReportSection::Scaling => "scaling",
+            ReportSection::Shadows => "shadows",
+            ReportSection::Storage => "storage",
+            ReportSection::AntiAliasing => "anti-aliasing",
+            ReportSection::EnvironmentSampling => "environment-sampling",
+            ReportSection::Occlusion => "occlusion",
+            ReportSection::LightTransport => "light-transport",
+        }
+    }
+}
+
 /// What to measure.
 #[derive(Clone, Debug)]
 pub struct ReportDesc {
@@ -684,7 +738,11 @@ pub fn measure(
     // One renderer per HDR format (a renderer's HDR storage is fixed at creation).
     for hdr in [HdrFormat::Rgba32Float, HdrFormat::Rgba16Float] {
         let sets: Vec<VariantSet> = desc.sets.iter().copied().filter(|s| s.hdr == hdr).collect();
-        if sets.is_empty() {
+        // The floors, shadows and scaling are measured with the f32 renderer, variant
+        // sets or not.
+        let f32_sections = hdr == HdrFormat::Rgba32Float
+            && (desc.floors || !desc.shadows.is_empty() || scaling_scene.is_some());
+        if sets.is_empty() && !f32_sections {
             continue;
         }
         let mut headless = desc.headless(RendererSettings {
@@ -737,17 +795,25 @@ pub fn measure(
             // (the frame's, end to end; for environment lighting on the same sampled
             // pixels as the lighting pass's reference).
             let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-            let bvh = SceneBvh::new(gpu.scene());
-            let size = (desc.width, desc.height);
-            let scene_reference =
-                scene_reference(gpu.scene(), &bvh, size, GBufferStorage::DEFAULT, threads);
             let inputs = FrameInputs::of_scene(&gpu, 1.0);
-            let mut reference =
-                ReferenceShading::new(gpu.scene(), &inputs, desc.width, desc.height);
-            if let Some(environment) = &gpu.scene().environment {
-                reference = reference.with_environment(environment.clone(), ENVIRONMENT_SAMPLING);
-            }
-            for set in &sets {
+            // (Made only for variant sets: at 1280×720 each takes seconds.)
+            let bvh = (!sets.is_empty()).then(|| SceneBvh::new(gpu.scene()));
+            let references = bvh.as_ref().map(|bvh| {
+                let size = (desc.width, desc.height);
+                let scene_reference =
+                    scene_reference(gpu.scene(), bvh, size, GBufferStorage::DEFAULT, threads);
+                let mut reference =
+                    ReferenceShading::new(gpu.scene(), &inputs, desc.width, desc.height);
+                if let Some(environment) = &gpu.scene().environment {
+                    reference =
+                        reference.with_environment(environment.clone(), ENVIRONMENT_SAMPLING);
+                }
+                (scene_reference, reference)
+            });
+            for (set, (scene_reference, reference)) in sets
+                .iter()
+                .filter_map(|set| Some((set, references.as_ref()?)))
+            {
                 progress(
                     rows.len() + floors.len() + scaling.len(),
                     total,
@@ -757,7 +823,7 @@ pub fn measure(
                 // The error of one frame (read back), which is also the warm-up.
                 let frame =
                     renderer.render_with(&gpu, &inputs, desc.width, desc.height, Readback::ALL)?;
-                let map = error_map(&frame, &reference, threads);
+                let map = error_map(&frame, reference, threads);
                 let end_to_end = Some(scene_reference.compare(&frame).summary());
                 let flip_mean = flip_against_reference(&frame, &map, inputs.exposure);
                 let timings = time_frames(renderer, &gpu, desc.width, desc.height, desc.frames)?;
@@ -1254,6 +1320,9 @@ pub fn floors_csv(floors: &[FloorRow]) -> String {
 /// The floors and each pass of the default set ([`VariantSet::DEFAULT`]) as a multiple of
 /// them, per scene.
 fn floors_markdown(m: &Measurements) -> String {
+    if m.floors.is_empty() {
+        return String::new();
+    }
     let mut out = String::from(
         "## Against the floors (same run)\n\nFloors: the G-buffer pass with a trivial fragment stage (geometry), the lighting pass that only fetches the G-buffer and writes (fetch), and a lighting pass with a plain isotropic GGX, height-correlated Smith and the full conductor Fresnel per light (plain GGX); the same scene, lights, size and frames. Passes of the default set, full/f32/specialised/correlated.\n\n| scene | geometry floor ms | G-buffer ms (× floor) | fetch floor ms | plain GGX ms | lighting ms (× fetch, × plain GGX) |\n|---|---|---|---|---|---|\n",
     );
@@ -1426,6 +1495,14 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
         "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error of the lighting pass: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4). Error of the whole frame, end to end: the same frame against the scene itself ray cast and shaded in f64 (section \"End to end\" and the per-scene table's last columns). Mean FLIP (Andersson et al. 2020, 67 pixels per degree): the display image against the reference radiance through the same exposure, tone curve and sRGB encoding.\n\nVariant sets (fresnel/hdr/pipeline/masking/distribution/diffuse): Fresnel `full` (the equations with complex η + ik and the outside medium), `schlick` (Schlick's curve through the exact normal-incidence reflectance) or `f82` (Hoffman 2019: Schlick's curve less b μ(1 − μ)⁶, through the exact reflectance at normal incidence and at cos θ = 1/7); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`; masking–shadowing `correlated` (Smith height-correlated, the reference's), `separable` (G₁·G₁) or `approximate` (Hammon 2017); normal distribution `ggx` (the reference's) or `beckmann` (with Beckmann's Smith Λ, Walter et al. 2007); diffuse `material` (each material's own model, the reference's) or one model for every material (`lambert`, `oren-nayar-qualitative`, `oren-nayar-full`). The default, each term changed alone, and every cheap choice at once.\n\n",
         desc.width, desc.height, desc.frames
     );
+    if rows.is_empty() {
+        // Sections without the variant sets (`bench --report-sections`).
+        out = format!(
+            "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and setting. The variant sets were not measured in this run (`--report-sections`); the sections that were follow.\n\n",
+            desc.width, desc.height, desc.frames
+        );
+        return out + &sections_markdown(m, desc);
+    }
     let summary = summarise(rows);
     let front = pareto_front(&points(rows));
     let _ = write!(
@@ -1450,14 +1527,7 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     out += "\n![speed against error](speed-vs-error.png)\n\n";
     out += &end_to_end_markdown(rows);
     out += &environment_markdown(rows);
-    out += &floors_markdown(m);
-    out += &scaling_markdown(m);
-    out += &shadows::markdown(&m.shadows);
-    out += &storage::markdown(&m.storages);
-    out += &anti_aliasing::markdown(&m.anti_aliasing);
-    out += &environment_sampling::markdown(&m.environment_sampling);
-    out += &occlusion::markdown(&m.occlusion);
-    out += &light_transport::markdown(&m.light_transport, desc.path_traced_frames);
+    out += &sections_markdown(m, desc);
     out += &metal_colours_markdown();
     out += "## Per scene\n\nErrors of the lighting pass (from the frame's own G-buffer) and, where the scene has no environment, of the frame end to end (from the scene).\n\n| scene | variant set | G-buffer ms | lighting ms (p10–p90) | output ms | total ms | max rel. error | mean | RMS | pixels | mean FLIP | end to end: mean | max |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in rows {
@@ -1488,6 +1558,21 @@ pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
         );
     }
     out
+}
+
+/// The sections after the variant sets', each empty where it was not measured.
+fn sections_markdown(m: &Measurements, desc: &ReportDesc) -> String {
+    [
+        floors_markdown(m),
+        scaling_markdown(m),
+        shadows::markdown(&m.shadows),
+        storage::markdown(&m.storages),
+        anti_aliasing::markdown(&m.anti_aliasing),
+        environment_sampling::markdown(&m.environment_sampling),
+        occlusion::markdown(&m.occlusion),
+        light_transport::markdown(&m.light_transport, desc.path_traced_frames),
+    ]
+    .concat()
 }
 
 /// The section on scenes lit by an environment: the split sum's error against the f64
@@ -1636,36 +1721,41 @@ The same measurement run before this one (`{}`): {} scene × variant set rows in
     }
 }
 
-/// Writes `report.md`, `report.csv`, `floors.csv` and `speed-vs-error.png` into `dir`
-/// (made if needed), with the comparison against a previous run if there is one.
+/// Writes `report.md` and each measured section's files ([`REPORT_FILES`]) into `dir`
+/// (made if needed), with the comparison against a previous run if there is one, and
+/// removes the files of sections this run did not measure (an earlier run's, which would
+/// read as this one's). Returns the names written.
 pub fn write(
     dir: &Path,
     m: &Measurements,
     desc: &ReportDesc,
     reproduction: Option<&Reproduction>,
-) -> Result<(), Error> {
+) -> Result<Vec<&'static str>, Error> {
     let (rows, device) = (&m.rows[..], &m.device);
     output::make_folder(dir)?;
-    let png = plot_speed_vs_error(
-        "Speed against error",
-        &format!(
-            "{device}, {}×{}, {} scene(s); labels: what differs from the default; red: Pareto front",
-            desc.width,
-            desc.height,
-            desc.scenes.len()
-        ),
-        "frame time, GPU ms (median)",
-        combustion_plots::RELATIVE_ERROR_AXIS,
-        &points(rows),
-        1000,
-        620,
-    )?;
     // Every file made before any is written, then written as one set.
-    let mut files: Vec<(&str, Vec<u8>)> = vec![
-        ("speed-vs-error.png", png.bytes),
-        ("report.csv", csv(rows).into_bytes()),
-        ("floors.csv", floors_csv(&m.floors).into_bytes()),
-    ];
+    let mut files: Vec<(&'static str, Vec<u8>)> = Vec::new();
+    if !rows.is_empty() {
+        let png = plot_speed_vs_error(
+            "Speed against error",
+            &format!(
+                "{device}, {}×{}, {} scene(s); labels: what differs from the default; red: Pareto front",
+                desc.width,
+                desc.height,
+                desc.scenes.len()
+            ),
+            "frame time, GPU ms (median)",
+            combustion_plots::RELATIVE_ERROR_AXIS,
+            &points(rows),
+            1000,
+            620,
+        )?;
+        files.push(("speed-vs-error.png", png.bytes));
+        files.push(("report.csv", csv(rows).into_bytes()));
+    }
+    if !m.floors.is_empty() {
+        files.push(("floors.csv", floors_csv(&m.floors).into_bytes()));
+    }
     if !m.shadows.is_empty() {
         files.push(("shadows.csv", shadows::csv(&m.shadows).into_bytes()));
         let png = shadows::plot(&m.shadows, device, desc)?;
@@ -1710,12 +1800,25 @@ pub fn write(
     }
     files.push(("report.md", md.into_bytes()));
     debug_assert!(files.iter().all(|(name, _)| REPORT_FILES.contains(name)));
+    let written: Vec<&str> = files.iter().map(|(name, _)| *name).collect();
     let files: Vec<(PathBuf, Vec<u8>)> = files
         .into_iter()
         .map(|(name, bytes)| (dir.join(name), bytes))
         .collect();
     output::write_files_atomically(&files)?;
-    Ok(())
+    // An earlier report's files this one did not measure would read as this run's.
+    for name in REPORT_FILES.iter().filter(|name| !written.contains(name)) {
+        match std::fs::remove_file(dir.join(name)) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(Error::Output(output::OutputError::Io {
+                    path: dir.join(name),
+                    source: e,
+                }))
+            }
+            _ => {}
+        }
+    }
+    Ok(written)
 }
 
 /// Every file a report may write into its folder.
