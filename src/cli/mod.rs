@@ -1,4 +1,4 @@
-//! The command line, one module per command: [`args`] declares every command and option;
+//! The command line, one module per command: `args.rs` declares every command and option;
 //! the others run them. [`run_command_line`] is the `combustion` binary's `main` (src/main.rs
 //! adds the log's format), with the mapping of errors to exit codes. The library holds it so
 //! that the fuzz target of batch manifests (fuzz/fuzz_targets/batch_manifest.rs) reaches
