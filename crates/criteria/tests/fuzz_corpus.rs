@@ -16,10 +16,11 @@ fn the_criteria_corpus_replays_without_a_panic() {
     );
     assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
     assert!(inputs >= 8, "{inputs} inputs");
-    // And the corpus of a 30-minute run, minimised (fuzz/seeds/criteria.tar.xz).
+    // And the corpus of its hour (two runs of 30 minutes), minimised
+    // (fuzz/seeds/criteria.tar.xz).
     let (dir, files) = replay::unpacked_archive("criteria");
     let (inputs, panicked) = replay::replay(&files, criteria_target::parse_and_check);
     std::fs::remove_dir_all(&dir).unwrap();
     assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
-    assert!(inputs > 600, "{inputs} inputs");
+    assert!(inputs >= 550, "{inputs} inputs");
 }

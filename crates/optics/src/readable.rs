@@ -22,11 +22,26 @@ pub fn finite_number(text: &str) -> Result<f64, String> {
 }
 
 /// `text` for a message: at most 40 characters, the rest elided with the count (a
-/// hostile or careless value of megabytes is not echoed whole).
+/// hostile or careless value of megabytes is not echoed whole), control characters
+/// written as escapes (`\n`, `\u{1b}`: a message stays one line, and a terminal shows
+/// the value rather than obeying it).
 pub fn shortened(text: &str) -> String {
+    let visible = |kept: &str| -> String {
+        kept.chars()
+            .flat_map(|c| {
+                let escaped = c.is_control().then(|| c.escape_default());
+                let plain = (!c.is_control()).then_some(c);
+                escaped.into_iter().flatten().chain(plain)
+            })
+            .collect()
+    };
     match text.char_indices().nth(40) {
-        Some((cut, _)) => format!("{}… ({} characters)", &text[..cut], text.chars().count()),
-        None => text.to_owned(),
+        Some((cut, _)) => format!(
+            "{}… ({} characters)",
+            visible(&text[..cut]),
+            text.chars().count()
+        ),
+        None => visible(text),
     }
 }
 
@@ -92,6 +107,11 @@ mod tests {
     #[test]
     fn long_text_is_cut_with_its_length() {
         assert_eq!(super::shortened("short"), "short");
+        // Control characters as escapes: one line, nothing a terminal acts on.
+        assert_eq!(
+            super::shortened("a\nb\u{1b}[2J\tc"),
+            "a\\nb\\u{1b}[2J\\tc"
+        );
         let long = "é".repeat(10_000);
         assert_eq!(
             super::shortened(&long),
