@@ -1491,18 +1491,18 @@ fn scaling_plots(m: &Measurements, device: &str) -> Result<(Png, Png), Error> {
 /// The Markdown report.
 pub fn markdown(m: &Measurements, desc: &ReportDesc) -> String {
     let (rows, device) = (&m.rows[..], &m.device);
-    let mut out = format!(
-        "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error of the lighting pass: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4). Error of the whole frame, end to end: the same frame against the scene itself ray cast and shaded in f64 (section \"End to end\" and the per-scene table's last columns). Mean FLIP (Andersson et al. 2020, 67 pixels per degree): the display image against the reference radiance through the same exposure, tone curve and sRGB encoding.\n\nVariant sets (fresnel/hdr/pipeline/masking/distribution/diffuse): Fresnel `full` (the equations with complex η + ik and the outside medium), `schlick` (Schlick's curve through the exact normal-incidence reflectance) or `f82` (Hoffman 2019: Schlick's curve less b μ(1 − μ)⁶, through the exact reflectance at normal incidence and at cos θ = 1/7); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`; masking–shadowing `correlated` (Smith height-correlated, the reference's), `separable` (G₁·G₁) or `approximate` (Hammon 2017); normal distribution `ggx` (the reference's) or `beckmann` (with Beckmann's Smith Λ, Walter et al. 2007); diffuse `material` (each material's own model, the reference's) or one model for every material (`lambert`, `oren-nayar-qualitative`, `oren-nayar-full`). The default, each term changed alone, and every cheap choice at once.\n\n",
-        desc.width, desc.height, desc.frames
-    );
     if rows.is_empty() {
         // Sections without the variant sets (`bench --report-sections`).
-        out = format!(
+        let out = format!(
             "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and setting. The variant sets were not measured in this run (`--report-sections`); the sections that were follow.\n\n",
             desc.width, desc.height, desc.frames
         );
         return out + &sections_markdown(m, desc);
     }
+    let mut out = format!(
+        "# Speed against error\n\n{device}, {}×{}, GPU timestamps over {} frames after one warm-up frame per scene and variant set. Error of the lighting pass: every lit pixel of one frame re-shaded in f64 from its own G-buffer with the full Fresnel equations (`combustion_renderer::reference`); relative error per pixel = largest channel |gpu − f64| / max(|f64|, 1e-4). Error of the whole frame, end to end: the same frame against the scene itself ray cast and shaded in f64 (section \"End to end\" and the per-scene table's last columns). Mean FLIP (Andersson et al. 2020, 67 pixels per degree): the display image against the reference radiance through the same exposure, tone curve and sRGB encoding.\n\nVariant sets (fresnel/hdr/pipeline/masking/distribution/diffuse): Fresnel `full` (the equations with complex η + ik and the outside medium), `schlick` (Schlick's curve through the exact normal-incidence reflectance) or `f82` (Hoffman 2019: Schlick's curve less b μ(1 − μ)⁶, through the exact reflectance at normal incidence and at cos θ = 1/7); HDR storage `f32` or `f16`; lighting pipeline `specialised` to the scene's materials or `general`; masking–shadowing `correlated` (Smith height-correlated, the reference's), `separable` (G₁·G₁) or `approximate` (Hammon 2017); normal distribution `ggx` (the reference's) or `beckmann` (with Beckmann's Smith Λ, Walter et al. 2007); diffuse `material` (each material's own model, the reference's) or one model for every material (`lambert`, `oren-nayar-qualitative`, `oren-nayar-full`). The default, each term changed alone, and every cheap choice at once.\n\n",
+        desc.width, desc.height, desc.frames
+    );
     let summary = summarise(rows);
     let front = pareto_front(&points(rows));
     let _ = write!(
