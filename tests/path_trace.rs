@@ -353,6 +353,35 @@ fn the_gpu_path_tracer_meets_deformed_objects_in_their_pose() {
     );
 }
 
+/// A skinned or morphed object that blocks no light is met by paths in its pose too: the
+/// morphed sphere of [`the_gpu_path_tracer_meets_deformed_objects_in_their_pose`] made of
+/// thin smooth glass (transmissive: seen by paths alone, refracting the floor and the
+/// bent sphere behind it), against the f64 tracer on the scene baked in its pose.
+#[test]
+fn the_gpu_path_tracer_meets_deformed_glass_in_its_pose() {
+    let mut scene = crate::common::deformed_spheres_on_a_floor();
+    scene.materials.push(combustion::scene::Material {
+        name: "thin glass".into(),
+        base_color: [1.0; 3],
+        roughness: 0.05,
+        dielectric_ior: 1.5,
+        transmission: 1.0,
+        ..combustion::scene::Material::default()
+    });
+    // The morphed sphere (the skinned one is first, the floor last).
+    scene.objects[1].material = scene.materials.len() - 1;
+    scene.validate().unwrap();
+    let pose = scene.pose_at(0, 1.3).unwrap();
+    let still = scene.posed(&pose);
+    agrees_posed(
+        "deformed glass in its pose",
+        &still,
+        Some((&scene, &pose)),
+        (80, 60),
+        combustion::renderer::ShadingOptions::DEFAULT.path_depth,
+    );
+}
+
 /// Lights with a size: next-event estimation's shadow ray towards one point of the disc
 /// (or cone) the f64 reference samples for the light's visible fraction — a point light of
 /// radius 0.3 m among spheres on a floor, and the grid under a sun of 3° (their

@@ -848,6 +848,9 @@ impl TracedCutouts {
 struct DeformedStructure {
     /// The object it is the shape of.
     object: usize,
+    /// Whether only paths meet it (a skinned or morphed object that blocks no light:
+    /// built only in frames that path-trace).
+    paths_only: bool,
     structure: AccelerationStructure,
     /// The mesh's indices, as the build reads them.
     _indices: Buffer,
@@ -870,7 +873,7 @@ impl DeformedStructure {
     fn new(
         device: &Arc<Device>,
         scene: &Scene,
-        object: usize,
+        (object, paths_only): (usize, bool),
         deform: &crate::deform::SceneDeform,
         offset: u64,
     ) -> Result<Option<Self>, RenderError> {
@@ -898,6 +901,7 @@ impl DeformedStructure {
         )?;
         Ok(Some(Self {
             object,
+            paths_only,
             structure,
             _indices: indices,
             indices_at,
@@ -936,7 +940,7 @@ fn record_deformed_builds(
     device: &Device,
     functions: &combustion_vk::ash::khr::acceleration_structure::Device,
     cmd: vk::CommandBuffer,
-    deformed: &[DeformedStructure],
+    deformed: &[&DeformedStructure],
 ) {
     if deformed.is_empty() {
         return;
@@ -1166,10 +1170,12 @@ impl TopLevel {
 /// previous frame has completed).
 pub(crate) struct SceneStructure {
     meshes: MeshStructures,
-    /// Its skinned and morphed occluders' structures, rebuilt when the pose changes.
+    /// Its skinned and morphed objects' structures, rebuilt when the pose changes: the
+    /// occluders', and those only paths meet (built in frames that path-trace).
     deformed: Vec<DeformedStructure>,
     /// The pose (a frame's `Placement::key`) the deformed objects' structures were last
-    /// built in: frames in the same pose find them built.
+    /// built in: frames in the same pose find them built (forgotten when the surfaces
+    /// paths meet are made, so the structures only paths meet are built then).
     deformed_pose: Mutex<Option<u64>>,
     /// What the rays can hit, chosen once per scene: each object that casts shadows and
     /// is neither blended nor transmissive, with the address of its bottom-level
@@ -1177,8 +1183,9 @@ pub(crate) struct SceneStructure {
     /// entry in `cutouts` (its instance's custom index; the others are opaque).
     occluders: Vec<(usize, u64, Option<u32>)>,
     /// The objects paths see that block no light (blended, transmissive, or casting no
-    /// shadow; at rest), with their meshes' structures' addresses: placed in the top level
-    /// (instance mask [`SEEN_ONLY`]) after the occluders, in frames that path-trace only.
+    /// shadow), with their structures' addresses (their meshes', or their own when they
+    /// are deformed): placed in the top level (instance mask [`SEEN_ONLY`]) after the
+    /// occluders, in frames that path-trace only.
     seen_only: Vec<(usize, u64)>,
     /// What the shaders test the cut-outs' hits against.
     pub(crate) cutouts: TracedCutouts,
@@ -1227,16 +1234,28 @@ impl SceneStructure {
                 continue;
             }
             if !o.casts_shadows || see_through {
-                // Seen by paths, blocking no light: at rest (a deformed one is left out).
-                if let (None, Some(structure)) = (posed_at, meshes.of(o.mesh)) {
-                    seen_only.push((i, structure.address));
+                // Seen by paths, blocking no light.
+                match posed_at {
+                    Some((deform, offset)) => {
+                        if let Some(structure) =
+                            DeformedStructure::new(device, scene, (i, true), deform, offset)?
+                        {
+                            seen_only.push((i, structure.structure.address));
+                            deformed.push(structure);
+                        }
+                    }
+                    None => {
+                        if let Some(structure) = meshes.of(o.mesh) {
+                            seen_only.push((i, structure.address));
+                        }
+                    }
                 }
                 continue;
             }
             match posed_at {
                 Some((deform, offset)) => {
                     if let Some(structure) =
-                        DeformedStructure::new(device, scene, i, deform, offset)?
+                        DeformedStructure::new(device, scene, (i, false), deform, offset)?
                     {
                         occluders.push((i, structure.structure.address));
                         deformed.push(structure);
@@ -1300,6 +1319,8 @@ impl SceneStructure {
         let bytes = surfaces.bytes();
         // Set once: checked unset above, and only the renderer's `&mut self` paths call.
         let _ = self.surfaces.set(surfaces);
+        // The deformed objects only paths meet are built by the next traced frame.
+        *self.deformed_pose.lock().unwrap_or_else(|p| p.into_inner()) = None;
         Ok(bytes)
     }
 
@@ -1362,7 +1383,13 @@ impl SceneStructure {
         top.built_for = frame;
         let mut deformed_pose = self.deformed_pose.lock().unwrap_or_else(|p| p.into_inner());
         if *deformed_pose != Some(pose) {
-            record_deformed_builds(device, functions, cmd, &self.deformed);
+            let paths = self.surfaces.get().is_some();
+            let built: Vec<&DeformedStructure> = self
+                .deformed
+                .iter()
+                .filter(|d| paths || !d.paths_only)
+                .collect();
+            record_deformed_builds(device, functions, cmd, &built);
             *deformed_pose = Some(pose);
         }
         let instances: Vec<vk::AccelerationStructureInstanceKHR> = self

@@ -20,8 +20,8 @@
 //! that block no light (glass, blended, casting no shadow) are in the structure for paths
 //! alone (instance mask `accel::SEEN_ONLY`), in frames that path-trace only. A hit reads
 //! its material's textures at level 0 (the surface table holds the scene's texels) and a
-//! skinned or morphed occluder's posed vertices. Not yet traced (each said in
-//! docs/path-tracing.md): deformed blended or transmissive objects (left out).
+//! skinned or morphed object's posed vertices (an occluder's in every traced frame, one
+//! that blocks no light in frames that path-trace).
 
 use super::FrameContext;
 use crate::bindings::{Binding, BindingKind};
