@@ -108,10 +108,7 @@ mod tests {
     fn long_text_is_cut_with_its_length() {
         assert_eq!(super::shortened("short"), "short");
         // Control characters as escapes: one line, nothing a terminal acts on.
-        assert_eq!(
-            super::shortened("a\nb\u{1b}[2J\tc"),
-            "a\\nb\\u{1b}[2J\\tc"
-        );
+        assert_eq!(super::shortened("a\nb\u{1b}[2J\tc"), "a\\nb\\u{1b}[2J\\tc");
         let long = "é".repeat(10_000);
         assert_eq!(
             super::shortened(&long),
