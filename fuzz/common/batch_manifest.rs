@@ -5,10 +5,10 @@
 //! - The manifest is parsed as `combustion batch` parses it (`Manifest::parse`, relative
 //!   paths from a folder that does not exist, so a scene or environment file is never
 //!   found). A refusal is one line within [`MAX_MESSAGE_BYTES`] with no number of more
-//!   than 12 digits outside a quoted value. An accepted manifest holds 1 to `MAX_JOBS`
-//!   jobs in order, their names valid and unique without case; split into 2 and 3 shards
-//!   (and, for up to 4 jobs, into one shard more than jobs), the shards deal out every job
-//!   once; each shard's results as `batch --shard` writes them, given to the merge in
+//!   than 12 digits but the user's own text ([`check_message`]). An accepted manifest
+//!   holds 1 to `MAX_JOBS` jobs in order, their names valid and unique without case;
+//!   split into 2 and 3 shards (and, for up to 4 jobs, into one shard more than jobs),
+//!   the shards deal out every job once; each shard's results as `batch --shard` writes them, given to the merge in
 //!   reverse order, merge into every job once in the manifest's order, and the merged
 //!   junit.xml is well-formed XML with one test case a job.
 //! - The other parts are merged as `batch --merge` merges them: a refusal follows the
@@ -53,7 +53,7 @@ fn parse(text: &str) -> Result<Manifest, String> {
 fn manifest(text: &str) {
     let manifest = match parse(text) {
         Ok(manifest) => manifest,
-        Err(message) => return check_message(&message),
+        Err(message) => return check_message(&message, &[text], true),
     };
     let jobs: Vec<(usize, String)> = manifest.jobs().map(|(i, n)| (i, n.to_owned())).collect();
     assert!((1..=MAX_JOBS).contains(&jobs.len()), "{} jobs", jobs.len());
@@ -118,7 +118,10 @@ fn shard_results(share: &Manifest, shard: Shard) -> String {
 fn merge(shards: &[(PathBuf, String)]) {
     let merged = match MergedShards::of(shards) {
         Ok(merged) => merged,
-        Err(message) => return check_message(&message),
+        Err(message) => {
+            let texts: Vec<&str> = shards.iter().map(|(_, text)| text.as_str()).collect();
+            return check_message(&message, &texts, false);
+        }
     };
     let jobs: Vec<(usize, &str)> = merged.jobs().collect();
     for pair in jobs.windows(2) {
@@ -152,10 +155,13 @@ fn test_cases(xml: &str) -> usize {
     }
 }
 
-/// One line, within [`MAX_MESSAGE_BYTES`], no number of more than 12 digits outside
-/// a value quoted in backticks or single quotes or a path (the user's own text; a single
-/// quote opens a value after a space, not in "job's").
-pub fn check_message(message: &str) {
+/// One line, within [`MAX_MESSAGE_BYTES`], no number of more than 12 digits but the
+/// user's own text: a run of digits a string of `inputs` (any key or string value of
+/// theirs that parses as JSON) holds — a name or path echoed, which may hold digits and
+/// quotes of any kind — or, with `numbers_given`, one of their numbers (a manifest's
+/// option value, echoed as given); not a number the message computed or read from
+/// results (a shard index).
+pub fn check_message(message: &str, inputs: &[&str], numbers_given: bool) {
     assert!(!message.is_empty(), "an empty message");
     assert!(
         !message.contains('\n'),
@@ -167,29 +173,36 @@ pub fn check_message(message: &str) {
         message.len(),
         message.chars().take(200).collect::<String>()
     );
-    // A path is echoed whole (the user's own text): one under the target's folder, up to
-    // the reason after it, is left out of the digit rule.
-    let message = match (message.find(NO_FOLDER), message.rfind(" is not found")) {
-        (Some(start), Some(end)) if start < end => {
-            format!("{}{}", &message[..start], &message[end..])
+    let mut texts = Vec::new();
+    for input in inputs {
+        if let Ok(value) = serde_json::from_str::<serde_json::Value>(input) {
+            strings_of(&value, numbers_given, &mut texts);
         }
-        _ => message.to_owned(),
-    };
-    let mut quoted: Option<char> = None;
-    let (mut run, mut previous) = (0, ' ');
-    for c in message.chars() {
-        match quoted {
-            Some(q) if c == q => quoted = None,
-            Some(_) => {}
-            None if c == '`' || (c == '\'' && previous == ' ') => quoted = Some(c),
-            None => {}
+    }
+    let digit_runs = message
+        .split(|c: char| !c.is_ascii_digit())
+        .filter(|run| run.len() > 12);
+    for run in digit_runs {
+        assert!(
+            texts.iter().any(|t| t.contains(run)),
+            "a number of more than 12 digits: {message}"
+        );
+    }
+}
+
+/// Every key and string value of `value` (and, with `numbers`, every number as written
+/// back), into `out`.
+fn strings_of(value: &serde_json::Value, numbers: bool, out: &mut Vec<String>) {
+    match value {
+        serde_json::Value::String(text) => out.push(text.clone()),
+        serde_json::Value::Number(n) if numbers => out.push(n.to_string()),
+        serde_json::Value::Array(items) => items.iter().for_each(|v| strings_of(v, numbers, out)),
+        serde_json::Value::Object(fields) => {
+            for (key, v) in fields {
+                out.push(key.clone());
+                strings_of(v, numbers, out);
+            }
         }
-        previous = c;
-        run = if quoted.is_none() && c.is_ascii_digit() {
-            run + 1
-        } else {
-            0
-        };
-        assert!(run <= 12, "a number of more than 12 digits: {message}");
+        _ => {}
     }
 }
