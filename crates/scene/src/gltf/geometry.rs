@@ -1,7 +1,12 @@
-#![deny(clippy::arithmetic_side_effects)]
+#![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
 //! One glTF primitive's attributes → a [`Mesh`]: checks, degenerate triangles, normals
 //! (flat when missing, glTF's rule), tangents (given, MikkTSpace, or a frame from the
 //! normal), welding.
+//!
+//! Every index is checked below the vertex count as the primitive is read
+//! ([`check_attributes`]); lookups by index still go through `get` (clippy's
+//! `indexing_slicing` is denied here), a lookup that could only miss on a broken
+//! invariant giving a harmless default (a degenerate triangle, a zero normal).
 
 use std::collections::HashMap;
 
@@ -44,10 +49,14 @@ pub(crate) struct BuildStats {
 const UNIT_TOLERANCE: f32 = 1e-5;
 
 fn finite_check<const N: usize>(name: &str, values: &[[f32; N]]) -> Result<(), String> {
-    match values.iter().position(|v| !v.iter().all(|x| x.is_finite())) {
-        Some(i) => Err(format!(
+    match values
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.iter().all(|x| x.is_finite()))
+    {
+        Some((i, value)) => Err(format!(
             "{name} of vertex {i} is not finite {}",
-            crate::message_numbers(&values[i])
+            crate::message_numbers(value)
         )),
         None => Ok(()),
     }
@@ -59,8 +68,9 @@ fn degenerate(p: &[[f32; 3]], a: u32, b: u32, c: u32) -> bool {
     if a == b || b == c || a == c {
         return true;
     }
-    let v = |i: u32| glam::DVec3::from(p[i as usize].map(f64::from));
-    let (p0, p1, p2) = (v(a), v(b), v(c));
+    let (Some(p0), Some(p1), Some(p2)) = (position(p, a), position(p, b), position(p, c)) else {
+        return true;
+    };
     let e1 = p1 - p0;
     let e2 = p2 - p0;
     let cross = e1.cross(e2).length();
@@ -77,10 +87,31 @@ pub(crate) fn reference_tangent(n: Vec3) -> Vec3 {
     Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x)
 }
 
+/// Position `i` of `p` in f64 (none past the end).
+fn position(p: &[[f32; 3]], i: u32) -> Option<glam::DVec3> {
+    p.get(i as usize)
+        .map(|v| glam::DVec3::from(v.map(f64::from)))
+}
+
+/// The area-weighted normal of triangle `t` (its edges' cross product, not normalised;
+/// zero for a triangle that is not one).
+fn face_cross(p: &[[f32; 3]], t: &[u32]) -> glam::DVec3 {
+    let &[a, b, c] = t else {
+        return glam::DVec3::ZERO;
+    };
+    match (position(p, a), position(p, b), position(p, c)) {
+        (Some(p0), Some(p1), Some(p2)) => (p1 - p0).cross(p2 - p0),
+        _ => glam::DVec3::ZERO,
+    }
+}
+
 fn face_normal(p: &[[f32; 3]], t: &[u32]) -> Vec3 {
-    let v = |i: u32| glam::DVec3::from(p[i as usize].map(f64::from));
-    let n = (v(t[1]) - v(t[0])).cross(v(t[2]) - v(t[0]));
-    n.normalize_or_zero().as_vec3()
+    face_cross(p, t).normalize_or_zero().as_vec3()
+}
+
+/// Element `i` of an optional attribute, or `default` where the primitive has none.
+fn attribute<T: Copy>(values: Option<&Vec<T>>, i: usize, default: T) -> T {
+    values.and_then(|v| v.get(i)).copied().unwrap_or(default)
 }
 
 /// Checks that every attribute has one element per position, every component is
@@ -133,30 +164,35 @@ pub(crate) fn build_strokes(
     if data.indices.is_empty() {
         return Err(format!("has no {}", topology.name()));
     }
-    let vertices = (0..data.positions.len())
-        .map(|i| {
+    let vertices = data
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(i, &position)| {
             let given = data
                 .normals
                 .as_ref()
-                .map(|n| Vec3::from(n[i]))
+                .and_then(|n| n.get(i))
+                .map(|&n| Vec3::from(n))
                 .filter(|n| (n.length() - 1.0).abs() <= UNIT_TOLERANCE);
             let normal = given.unwrap_or(Vec3::Z);
             let tangent = data
                 .tangents
                 .as_ref()
-                .map(|t| t[i])
+                .and_then(|t| t.get(i))
+                .copied()
                 .filter(|t| {
                     given.is_some() && (Vec3::from_slice(t).length() - 1.0).abs() <= UNIT_TOLERANCE
                 })
                 .unwrap_or_else(|| reference_tangent(normal).extend(1.0).to_array());
-            let uv = data.uvs.as_ref().map_or([0.0; 2], |uvs| uvs[i]);
+            let uv = attribute(data.uvs.as_ref(), i, [0.0; 2]);
             Vertex {
-                position: data.positions[i],
+                position,
                 normal: normal.to_array(),
                 tangent,
                 uv,
-                uv1: data.uvs1.as_ref().map_or(uv, |uvs| uvs[i]),
-                color: data.colors.as_ref().map_or([1.0; 4], |c| c[i]),
+                uv1: attribute(data.uvs1.as_ref(), i, uv),
+                color: attribute(data.colors.as_ref(), i, [1.0; 4]),
             }
         })
         .collect();
@@ -184,7 +220,8 @@ pub(crate) fn build_mesh(
     let total = data.indices.len() / 3;
     let mut triangles: Vec<u32> = Vec::with_capacity(total.saturating_mul(3));
     for t in data.indices.chunks_exact(3) {
-        if degenerate(&data.positions, t[0], t[1], t[2]) {
+        let &[a, b, c] = t else { continue };
+        if degenerate(&data.positions, a, b, c) {
             stats.degenerate = stats.degenerate.saturating_add(1);
         } else {
             triangles.extend_from_slice(t);
@@ -204,10 +241,10 @@ pub(crate) fn build_mesh(
         ));
     }
 
-    let uv_of = |i: u32| data.uvs.as_ref().map_or([0.0; 2], |uv| uv[i as usize]);
+    let uv_of = |i: u32| attribute(data.uvs.as_ref(), i as usize, [0.0; 2]);
     // Set 1 falls back to set 0 where the primitive has none.
-    let uv1_of = |i: u32| data.uvs1.as_ref().map_or(uv_of(i), |uv| uv[i as usize]);
-    let color_of = |i: u32| data.colors.as_ref().map_or([1.0; 4], |c| c[i as usize]);
+    let uv1_of = |i: u32| attribute(data.uvs1.as_ref(), i as usize, uv_of(i));
+    let color_of = |i: u32| attribute(data.colors.as_ref(), i as usize, [1.0; 4]);
     let (mut vertices, mut indices, tangents_missing) = match &data.normals {
         None => {
             // glTF: flat normals, and given tangents are ignored.
@@ -217,7 +254,7 @@ pub(crate) fn build_mesh(
                 let n = face_normal(&data.positions, t);
                 for &i in t {
                     vertices.push(Vertex {
-                        position: data.positions[i as usize],
+                        position: attribute(Some(&data.positions), i as usize, [0.0; 3]),
                         normal: n.to_array(),
                         tangent: [0.0; 4],
                         uv: uv_of(i),
@@ -231,11 +268,15 @@ pub(crate) fn build_mesh(
             (vertices, indices, true)
         }
         Some(normals) => {
-            let mut vertices: Vec<Vertex> = (0..count)
-                .map(|i| Vertex {
-                    position: data.positions[i],
-                    normal: normals[i],
-                    tangent: data.tangents.as_ref().map_or([0.0; 4], |t| t[i]),
+            let mut vertices: Vec<Vertex> = data
+                .positions
+                .iter()
+                .zip(normals)
+                .enumerate()
+                .map(|(i, (&position, &normal))| Vertex {
+                    position,
+                    normal,
+                    tangent: attribute(data.tangents.as_ref(), i, [0.0; 4]),
                     uv: uv_of(i as u32),
                     uv1: uv1_of(i as u32),
                     color: color_of(i as u32),
@@ -258,15 +299,20 @@ pub(crate) fn build_mesh(
             if !zero.is_empty() {
                 let mut sums = vec![glam::DVec3::ZERO; count];
                 for t in triangles.chunks_exact(3) {
-                    let v = |i: u32| glam::DVec3::from(data.positions[i as usize].map(f64::from));
-                    let n = (v(t[1]) - v(t[0])).cross(v(t[2]) - v(t[0]));
+                    let n = face_cross(&data.positions, t);
                     for &i in t {
-                        sums[i as usize] += n;
+                        if let Some(sum) = sums.get_mut(i as usize) {
+                            *sum += n;
+                        }
                     }
                 }
                 for &i in &zero {
-                    let n = sums[i].normalize_or_zero().as_vec3();
-                    vertices[i].normal = if n == Vec3::ZERO { Vec3::Z } else { n }.to_array();
+                    let n = sums
+                        .get(i)
+                        .map_or(Vec3::ZERO, |s| s.normalize_or_zero().as_vec3());
+                    if let Some(v) = vertices.get_mut(i) {
+                        v.normal = if n == Vec3::ZERO { Vec3::Z } else { n }.to_array();
+                    }
                 }
                 stats.repaired_normals = zero.len();
                 stats.warnings.push(format!(
@@ -290,7 +336,10 @@ pub(crate) fn build_mesh(
     if tangents_missing {
         if from_uvs && crowded.is_none() {
             let (v, i) = mikktspace(&vertices, &indices);
-            stats.sources = indices.iter().map(|&i| stats.sources[i as usize]).collect();
+            stats.sources = indices
+                .iter()
+                .map(|&i| attribute(Some(&stats.sources), i as usize, 0))
+                .collect();
             vertices = v;
             indices = i;
             stats.generated_tangents = true;
@@ -340,7 +389,10 @@ pub(crate) fn build_mesh(
     if stats.generated_normals || stats.generated_tangents {
         let sources = data.keep_sources_apart.then_some(stats.sources.as_slice());
         let (welded, welded_indices, kept) = weld(&vertices, &indices, sources);
-        stats.sources = kept.iter().map(|&k| stats.sources[k as usize]).collect();
+        stats.sources = kept
+            .iter()
+            .map(|&k| attribute(Some(&stats.sources), k as usize, 0))
+            .collect();
         (vertices, indices) = (welded, welded_indices);
     }
     if flip {
@@ -374,11 +426,14 @@ fn weld(
     let new_indices = indices
         .iter()
         .map(|&i| {
-            let v = vertices[i as usize];
+            let v = vertices.get(i as usize).copied().unwrap_or_default();
             let words: &[u32] = bytemuck::cast_slice(std::slice::from_ref(&v));
             let mut key = [0u32; WORDS];
             key.copy_from_slice(words);
-            let source = sources.map_or(0, |s| s[i as usize]);
+            let source = sources
+                .and_then(|s| s.get(i as usize))
+                .copied()
+                .unwrap_or(0);
             *map.entry((key, source)).or_insert_with(|| {
                 out.push(v);
                 kept.push(i);
@@ -405,8 +460,12 @@ fn corner(face: usize, vert: usize) -> usize {
 impl MikkGeometry<'_> {
     /// The vertex at corner `vert` of triangle `face` (indices checked below the vertex
     /// count when the primitive was read).
-    fn vertex(&self, face: usize, vert: usize) -> &Vertex {
-        &self.vertices[self.indices[corner(face, vert)] as usize]
+    fn vertex(&self, face: usize, vert: usize) -> Vertex {
+        self.indices
+            .get(corner(face, vert))
+            .and_then(|&i| self.vertices.get(i as usize))
+            .copied()
+            .unwrap_or_default()
     }
 }
 
@@ -463,9 +522,11 @@ fn most_triangles_on_one_edge(vertices: &[Vertex], indices: &[u32]) -> Option<us
         })
         .collect();
     let mut edges: HashMap<(u32, u32), usize> = HashMap::new();
+    let id = |i: u32| ids.get(i as usize).copied().unwrap_or(u32::MAX);
     for t in indices.chunks_exact(3) {
-        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-            let (a, b) = (ids[a as usize], ids[b as usize]);
+        let &[i0, i1, i2] = t else { continue };
+        for (a, b) in [(i0, i1), (i1, i2), (i2, i0)] {
+            let (a, b) = (id(a), id(b));
             let shared = edges.entry((a.min(b), a.max(b))).or_insert(0);
             *shared = shared.saturating_add(1);
         }
@@ -486,12 +547,11 @@ fn mikktspace(vertices: &[Vertex], indices: &[u32]) -> (Vec<Vertex>, Vec<u32>) {
         .iter()
         .zip(&geometry.tangents)
         .map(|(&i, tangent)| {
-            let mut v = vertices[i as usize];
+            let mut v = vertices.get(i as usize).copied().unwrap_or_default();
             let n = Vec3::from(v.normal);
             v.tangent = match tangent {
                 Some(t)
-                    if t[..3].iter().all(|x| x.is_finite())
-                        && Vec3::new(t[0], t[1], t[2]).length() > 0.5 =>
+                    if Vec3::from_slice(t).is_finite() && Vec3::from_slice(t).length() > 0.5 =>
                 {
                     *t
                 }
@@ -508,6 +568,7 @@ fn mikktspace(vertices: &[Vertex], indices: &[u32]) -> (Vec<Vertex>, Vec<u32>) {
 }
 
 #[cfg(test)]
+#[allow(clippy::indexing_slicing)] // a test fails by a panic
 mod tests {
     use super::*;
 
