@@ -1233,37 +1233,25 @@ impl SceneStructure {
             if !fits[o.mesh] {
                 continue;
             }
-            if !o.casts_shadows || see_through {
-                // Seen by paths, blocking no light.
-                match posed_at {
-                    Some((deform, offset)) => {
-                        if let Some(structure) =
-                            DeformedStructure::new(device, scene, (i, true), deform, offset)?
-                        {
-                            seen_only.push((i, structure.structure.address));
-                            deformed.push(structure);
-                        }
-                    }
-                    None => {
-                        if let Some(structure) = meshes.of(o.mesh) {
-                            seen_only.push((i, structure.address));
-                        }
-                    }
-                }
-                continue;
-            }
+            // What blocks no light (see-through, or casting no shadow) is seen by paths alone.
+            let paths_only = !o.casts_shadows || see_through;
+            let list = if paths_only {
+                &mut seen_only
+            } else {
+                &mut occluders
+            };
             match posed_at {
                 Some((deform, offset)) => {
                     if let Some(structure) =
-                        DeformedStructure::new(device, scene, (i, false), deform, offset)?
+                        DeformedStructure::new(device, scene, (i, paths_only), deform, offset)?
                     {
-                        occluders.push((i, structure.structure.address));
+                        list.push((i, structure.structure.address));
                         deformed.push(structure);
                     }
                 }
                 None => {
                     if let Some(structure) = meshes.of(o.mesh) {
-                        occluders.push((i, structure.address));
+                        list.push((i, structure.address));
                     }
                 }
             }
