@@ -45,7 +45,7 @@ use combustion_scene::gltf::{ImportError, ImportOptions};
 use combustion_scene::{Scene, SceneError};
 use combustion_vk::{Device, DeviceDesc, DeviceSelector, ValidationLog, VkError};
 
-pub use combustion_optics::{finite_number, shortened};
+pub use combustion_optics::{escaped, finite_number, shortened};
 
 /// A comma-separated list of finite numbers whose length is one of `lengths` (any length
 /// if `lengths` is empty): `eval`'s inputs and `plot`'s η, k and ηt lists. The error names

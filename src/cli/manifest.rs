@@ -15,7 +15,7 @@ use clap::{CommandFactory, Parser};
 use serde_json::{Map, Value};
 
 use combustion::diff::{Criteria, Criterion};
-use combustion::{shortened, Error, SceneSource};
+use combustion::{escaped, shortened, Error, SceneSource};
 
 use super::*;
 
@@ -365,7 +365,10 @@ fn file_in(folder: &Path, value: &Path, what: &str) -> Result<PathBuf, String> {
         ));
     }
     if !path.is_file() {
-        return Err(format!("{what} file {} is not found", path.display()));
+        return Err(format!(
+            "{what} file {} is not found",
+            escaped(&path.display().to_string())
+        ));
     }
     Ok(path)
 }

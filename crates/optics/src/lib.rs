@@ -185,7 +185,7 @@ pub use brdf::{
     brdf_view_layered, brdf_view_with_film, BrdfInputs, BrdfView, DiffuseModel,
     UnknownDiffuseModel,
 };
-pub use readable::{finite_number, readable, shortened};
+pub use readable::{escaped, finite_number, readable, shortened};
 pub use real::Real;
 pub use vec3::{ShadingFrame, Vec3};
 

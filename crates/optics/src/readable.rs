@@ -26,23 +26,26 @@ pub fn finite_number(text: &str) -> Result<f64, String> {
 /// written as escapes (`\n`, `\u{1b}`: a message stays one line, and a terminal shows
 /// the value rather than obeying it).
 pub fn shortened(text: &str) -> String {
-    let visible = |kept: &str| -> String {
-        kept.chars()
-            .flat_map(|c| {
-                let escaped = c.is_control().then(|| c.escape_default());
-                let plain = (!c.is_control()).then_some(c);
-                escaped.into_iter().flatten().chain(plain)
-            })
-            .collect()
-    };
     match text.char_indices().nth(40) {
         Some((cut, _)) => format!(
             "{}… ({} characters)",
-            visible(&text[..cut]),
+            escaped(&text[..cut]),
             text.chars().count()
         ),
-        None => visible(text),
+        None => escaped(text),
     }
+}
+
+/// `text` whole (a path: messages show paths whole), its control characters written as
+/// escapes (`\n`, `\u{1b}`) as [`shortened`] writes them.
+pub fn escaped(text: &str) -> String {
+    text.chars()
+        .flat_map(|c| {
+            let escaped = c.is_control().then(|| c.escape_default());
+            let plain = (!c.is_control()).then_some(c);
+            escaped.into_iter().flatten().chain(plain)
+        })
+        .collect()
 }
 
 /// A number shown as [`readable`] describes.
