@@ -157,7 +157,7 @@ fn test_cases(xml: &str) -> usize {
 
 /// One line, within [`MAX_MESSAGE_BYTES`], no number of more than 12 digits but the
 /// user's own text: a run of digits a string of `inputs` (any key or string value of
-/// theirs that parses as JSON) holds — a name or path echoed, which may hold digits and
+/// theirs that parses as JSON; the whole text of one that does not) holds — a name or path echoed, which may hold digits and
 /// quotes of any kind — or, with `numbers_given`, one of their numbers (a manifest's
 /// option value, echoed as given); not a number the message computed or read from
 /// results (a shard index).
@@ -175,8 +175,10 @@ pub fn check_message(message: &str, inputs: &[&str], numbers_given: bool) {
     );
     let mut texts = Vec::new();
     for input in inputs {
-        if let Ok(value) = serde_json::from_str::<serde_json::Value>(input) {
-            strings_of(&value, numbers_given, &mut texts);
+        match serde_json::from_str::<serde_json::Value>(input) {
+            Ok(value) => strings_of(&value, numbers_given, &mut texts),
+            // Not JSON: the message is the parser's, echoing the text itself.
+            Err(_) => texts.push((*input).to_owned()),
         }
     }
     let digit_runs = message
