@@ -1,5 +1,5 @@
 //! The batch_manifest fuzz target's corpora — fuzz/seeds/batch_manifest/ (hand-made
-//! seeds) and, after a run, batch_manifest.tar.xz (its corpus, minimised) — replayed
+//! seeds, and its finds) and batch_manifest.tar.xz (its runs' corpus, minimised) — replayed
 //! through the code the target runs (fuzz/common/batch_manifest.rs): no manifest or
 //! shard's results may panic the parser, the split or the merge, or break their rules.
 
@@ -16,4 +16,10 @@ fn the_batch_manifest_corpus_replays_without_a_panic() {
     );
     assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
     assert!(inputs >= 8, "{inputs} inputs");
+    // And the corpus of its runs, minimised (fuzz/seeds/batch_manifest.tar.xz).
+    let (dir, files) = replay::unpacked_archive("batch_manifest");
+    let (inputs, panicked) = replay::replay(&files, batch_manifest_target::parse_and_merge);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    assert!(inputs > 2000, "{inputs} inputs");
 }
