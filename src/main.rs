@@ -21,8 +21,16 @@ impl log::Log for StderrLogger {
     fn log(&self, record: &log::Record<'_>) {
         if self.enabled(record.metadata()) {
             match record.level() {
-                log::Level::Error => eprintln!("error: {}", record.args()),
-                log::Level::Warn => eprintln!("warning: {}", record.args()),
+                // Control characters (a file name's) as escapes, as the errors' are.
+                log::Level::Error => {
+                    eprintln!("error: {}", combustion::escaped(&record.args().to_string()))
+                }
+                log::Level::Warn => {
+                    eprintln!(
+                        "warning: {}",
+                        combustion::escaped(&record.args().to_string())
+                    )
+                }
                 level => eprintln!("[{level} {}] {}", record.target(), record.args()),
             }
         }

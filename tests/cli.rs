@@ -4117,3 +4117,13 @@ fn diff_criteria_are_echoed_short() {
         assert!(stderr.contains(echoed), "{stderr}");
     }
 }
+
+/// A file name holding a terminal's escape sequence is shown with the sequence as an
+/// escape (`\u{1b}`) in the one error line, never written to the terminal raw.
+#[test]
+fn a_file_name_holding_an_escape_sequence_is_shown_escaped() {
+    let (code, _stdout, stderr) = combustion(&["render", "--scene", "\u{1b}[2Jscene.gltf"]);
+    assert_ne!(code, 0, "{stderr}");
+    assert!(!stderr.contains('\u{1b}'), "{stderr:?}");
+    assert!(stderr.contains("\\u{1b}[2Jscene.gltf"), "{stderr:?}");
+}

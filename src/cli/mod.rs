@@ -52,13 +52,17 @@ pub(crate) use plot::{eval, plot};
 pub(crate) use render::render;
 pub(crate) use view::{devices, view};
 
-/// `text` on one line: line breaks (an importer's or parser's detail) become "; ".
+/// `text` on one line: line breaks (an importer's or parser's detail) become "; ", and
+/// any other control character — in a file name the message shows whole, say — an escape
+/// (`\u{1b}`), so no message acts on the terminal.
 fn one_line(text: &str) -> String {
-    text.lines()
+    let joined = text
+        .lines()
         .map(str::trim)
         .filter(|l| !l.is_empty())
         .collect::<Vec<_>>()
-        .join("; ")
+        .join("; ");
+    crate::escaped(&joined)
 }
 
 /// A failure of the command: the facade's errors, or one of `plot`'s and `info`'s own
