@@ -340,14 +340,22 @@ fn the_gpu_path_tracer_agrees_with_the_f64_one_on_textures() {
 /// on the scene baked in that pose (their shapes, shadows and what bounces off them).
 #[test]
 fn the_gpu_path_tracer_meets_deformed_objects_in_their_pose() {
-    let scene = crate::common::deformed_spheres_on_a_floor();
+    agrees_at_1_3_s(
+        "deformed spheres in their pose",
+        &crate::common::deformed_spheres_on_a_floor(),
+    );
+}
+
+/// [`agrees_posed`] on `scene`'s first animation at 1.3 s, at 80 × 60 and the default
+/// depth, against the f64 tracer on the scene baked in that pose.
+fn agrees_at_1_3_s(name: &str, scene: &Scene) {
     scene.validate().unwrap();
     let pose = scene.pose_at(0, 1.3).unwrap();
     let still = scene.posed(&pose);
     agrees_posed(
-        "deformed spheres in their pose",
+        name,
         &still,
-        Some((&scene, &pose)),
+        Some((scene, &pose)),
         (80, 60),
         combustion::renderer::ShadingOptions::DEFAULT.path_depth,
     );
@@ -370,16 +378,7 @@ fn the_gpu_path_tracer_meets_deformed_glass_in_its_pose() {
     });
     // The morphed sphere (the skinned one is first, the floor last).
     scene.objects[1].material = scene.materials.len() - 1;
-    scene.validate().unwrap();
-    let pose = scene.pose_at(0, 1.3).unwrap();
-    let still = scene.posed(&pose);
-    agrees_posed(
-        "deformed glass in its pose",
-        &still,
-        Some((&scene, &pose)),
-        (80, 60),
-        combustion::renderer::ShadingOptions::DEFAULT.path_depth,
-    );
+    agrees_at_1_3_s("deformed glass in its pose", &scene);
 }
 
 /// Lights with a size: next-event estimation's shadow ray towards one point of the disc
