@@ -90,6 +90,27 @@ fn main() {
     std::fs::create_dir_all(&dir).expect("temporary folder");
     let options = ImportOptions::default();
 
+    // Spectra: a measured n, k table of 200,000 rows (first: a small case measured after
+    // large ones reuses their freed memory and reads too little).
+    let rows = 200_000;
+    let mut csv = String::from("wavelength_nm,n,k\n");
+    for i in 0..rows {
+        let wavelength = 400.0 + 400.0 * f64::from(i) / f64::from(rows);
+        csv += &format!(
+            "{wavelength:.6},{:.6},{:.6}\n",
+            0.2 + 1e-6 * f64::from(i),
+            3.0
+        );
+    }
+    let (result, rise) = peak_rise(|| combustion_spectra::Spectrum::from_csv(&csv).map(|_| ()));
+    println!("spectra: {result:?}");
+    report(
+        "spectra",
+        "200,000 rows of wavelength, n, k",
+        csv.len() as u64,
+        rise,
+    );
+
     // glTF JSON: 200,000 nodes of one scene, no geometry (the JSON is all there is).
     let json_path = dir.join("nodes.gltf");
     let nodes = 200_000;
@@ -109,6 +130,28 @@ fn main() {
     let (result, rise) = peak_rise(|| import(&json_path, &options).map(|_| ()));
     println!("glTF JSON: {result:?}");
     report("glTF JSON", "200,000 nodes", file_size(&json_path), rise);
+
+    // The same count of empty nodes (`{}`): the JSON's worst case, a parsed node and its
+    // motion node for three bytes of JSON.
+    let empty_path = dir.join("empty-nodes.gltf");
+    let mut json =
+        String::from("{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[");
+    json += &(0..nodes)
+        .map(|i| i.to_string())
+        .collect::<Vec<_>>()
+        .join(",");
+    json += "]}],\"nodes\":[";
+    json += &vec!["{}"; nodes].join(",");
+    json += "]}";
+    std::fs::write(&empty_path, &json).expect("write");
+    let (result, rise) = peak_rise(|| import(&empty_path, &options).map(|_| ()));
+    println!("glTF JSON, empty nodes: {result:?}");
+    report(
+        "glTF JSON",
+        "200,000 empty nodes",
+        file_size(&empty_path),
+        rise,
+    );
 
     // Buffers: one mesh of 1,000,000 vertices (position, normal, tangent, uv) and
     // 3,000,000 indices; the .bin is the data present.
@@ -186,6 +229,67 @@ fn main() {
         rise,
     );
 
+    // Encoded images the decoders work beside: an 8192×8192 image of one colour as JPEG
+    // (baseline and progressive, 4:2:0 and 4:4:4, by libjpeg-turbo's cjpeg) and WebP
+    // (lossy and lossless, by cwebp), each a triangle's texture; skipped where the
+    // encoders are not installed (libjpeg-turbo-progs, webp).
+    let side = 8192u32;
+    let ppm_path = dir.join("flat.ppm");
+    let mut ppm = format!("P6\n{side} {side}\n255\n").into_bytes();
+    ppm.extend([200u8, 120, 40].repeat((side * side) as usize));
+    std::fs::write(&ppm_path, &ppm).expect("write");
+    drop(ppm);
+    let encoders: [(&str, &str, &[&str]); 6] = [
+        (
+            "JPEG progressive 4:4:4",
+            "cjpeg",
+            &["-progressive", "-sample", "1x1"],
+        ),
+        (
+            "JPEG progressive 4:2:0",
+            "cjpeg",
+            &["-progressive", "-sample", "2x2"],
+        ),
+        ("JPEG baseline 4:4:4", "cjpeg", &["-sample", "1x1"]),
+        ("JPEG baseline 4:2:0", "cjpeg", &["-sample", "2x2"]),
+        ("WebP lossy", "cwebp", &["-quiet"]),
+        ("WebP lossless", "cwebp", &["-quiet", "-lossless"]),
+    ];
+    for (label, encoder, arguments) in encoders {
+        let encoded = dir.join("texture.image");
+        let mut command = std::process::Command::new(encoder);
+        command.args(arguments);
+        if encoder == "cjpeg" {
+            command.arg("-outfile").arg(&encoded).arg(&ppm_path);
+        } else {
+            command.arg(&ppm_path).arg("-o").arg(&encoded);
+        }
+        match command.status() {
+            Ok(status) if status.success() => {}
+            _ => {
+                println!("{label}: skipped ({encoder} did not run)");
+                continue;
+            }
+        }
+        let path = dir.join("textured.gltf");
+        let json = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+"meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],
+"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}],
+"textures":[{"source":0}],"images":[{"uri":"texture.image"}],
+"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
+"bufferViews":[{"buffer":0,"byteLength":36}],
+"buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]}"#;
+        std::fs::write(&path, json).expect("write");
+        let (result, rise) = peak_rise(|| import(&path, &options).map(|_| ()));
+        println!("{label}: {result:?} ({} bytes)", file_size(&encoded));
+        report(
+            label,
+            "8192×8192 RGBA8, decoded",
+            u64::from(side * side) * 4,
+            rise,
+        );
+    }
+
     // Accessors without a buffer view: zeros no byte of the file holds, capped at 2²²
     // elements per file. Two small files: 2²¹ − 2 zero positions and as many zero normals
     // (no indices), and 2²² − 1 zero indices under three positions; in each, two sparse
@@ -250,26 +354,6 @@ fn main() {
         };
         report("unbacked", label, elements * element_bytes, rise);
     }
-
-    // Spectra: a measured n, k table of 200,000 rows.
-    let rows = 200_000;
-    let mut csv = String::from("wavelength_nm,n,k\n");
-    for i in 0..rows {
-        let wavelength = 400.0 + 400.0 * f64::from(i) / f64::from(rows);
-        csv += &format!(
-            "{wavelength:.6},{:.6},{:.6}\n",
-            0.2 + 1e-6 * f64::from(i),
-            3.0
-        );
-    }
-    let (result, rise) = peak_rise(|| combustion_spectra::Spectrum::from_csv(&csv).map(|_| ()));
-    println!("spectra: {result:?}");
-    report(
-        "spectra",
-        "200,000 rows of wavelength, n, k",
-        csv.len() as u64,
-        rise,
-    );
 
     // Meshes: 100,000 vertices with normals (2.4 MB of .bin), placed by 1,000 primitives
     // whose index accessors alias one triangle: each primitive is a mesh of all 100,000

@@ -125,6 +125,83 @@ fn one_image_source_is_decoded_once_and_the_budget_holds() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `dir/scene.gltf`: one triangle textured by `dir/texture.jpg`, which holds `image`.
+fn write_textured_triangle(dir: &Path, image: &[u8]) -> PathBuf {
+    std::fs::write(dir.join("texture.jpg"), image).unwrap();
+    let positions: Vec<u8> = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
+        .collect();
+    std::fs::write(dir.join("scene.bin"), &positions).unwrap();
+    let gltf = json!({
+        "asset": { "version": "2.0" },
+        "scene": 0,
+        "scenes": [{ "nodes": [0] }],
+        "nodes": [{ "mesh": 0 }],
+        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "material": 0 }] }],
+        "materials": [{ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } } }],
+        "textures": [{ "source": 0 }],
+        "images": [{ "uri": "texture.jpg" }],
+        "accessors": [{ "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                        "min": [0, 0, 0], "max": [1, 1, 0] }],
+        "bufferViews": [{ "buffer": 0, "byteOffset": 0, "byteLength": positions.len() }],
+        "buffers": [{ "byteLength": positions.len(), "uri": "scene.bin" }],
+    });
+    let path = dir.join("scene.gltf");
+    std::fs::write(&path, serde_json::to_vec_pretty(&gltf).unwrap()).unwrap();
+    path
+}
+
+/// The budget holds a decode under way, not only the pixels kept: a JPEG is admitted
+/// only if its decoder's peak (4:4:4, 64×64 pixels: 3 planes of a byte a sample and the
+/// RGB output, 6 bytes a pixel; progressive, also 2 bytes a sample of DCT coefficients
+/// until the last scan, 12 bytes a pixel), counted as pixels of 4 bytes, fits beside the
+/// images already held — refused before decoding otherwise, with the decoder's work
+/// named. Once decoded, only its 4,096 pixels stay charged.
+#[test]
+fn a_decoders_work_counts_against_the_pixel_budget_before_it_decodes() {
+    let dir = temp_dir("decoder-work");
+    let pixels = 64 * 64;
+    for (image, name, at_once) in [
+        (
+            include_bytes!("data/gradient-64-baseline-444.jpg").as_slice(),
+            "baseline",
+            pixels * 6 / 4,
+        ),
+        (
+            include_bytes!("data/gradient-64-progressive-444.jpg").as_slice(),
+            "progressive",
+            pixels * 12 / 4,
+        ),
+    ] {
+        let path = write_textured_triangle(&dir, image);
+        for (budget, fits) in [(pixels, false), (at_once - 1, false), (at_once, true)] {
+            let options = ImportOptions {
+                max_decoded_pixels: budget,
+                ..ImportOptions::default()
+            };
+            match import(&path, &options) {
+                Ok((scene, _)) => {
+                    assert!(fits, "{name}, {budget}");
+                    let texture = scene.materials[0].base_color_texture.as_ref().unwrap();
+                    assert_eq!(texture.texture.image.pixels.len() as u64, pixels * 4);
+                }
+                Err(e) => {
+                    assert!(!fits, "{name}, {budget}: {e}");
+                    let message = e.to_string();
+                    for part in [
+                        format!("decoding it (64×64, its decoder's work beside its {pixels} pixels) takes the room of {at_once} pixels at once"),
+                        format!("over the budget of {budget} for one scene"),
+                    ] {
+                        assert!(message.contains(&part), "{name}, {budget}: {message}");
+                    }
+                }
+            }
+        }
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 #[test]
 fn only_regular_files_of_a_bounded_size_are_read() {
     let dir = temp_dir("special");

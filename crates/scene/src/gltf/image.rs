@@ -1,6 +1,6 @@
 #![deny(clippy::arithmetic_side_effects, clippy::indexing_slicing)]
-//! PNG, JPEG and WebP decoding to RGBA8, with the size limit checked before any pixel
-//! buffer is allocated.
+//! PNG, JPEG and WebP decoding to RGBA8, with the size limit and the caller's budget
+//! checked before any pixel buffer is allocated.
 
 pub(crate) enum DecodeError {
     TooLarge { width: u32, height: u32 },
@@ -13,6 +13,29 @@ pub(crate) struct Decoded {
     pub rgba: Vec<u8>,
 }
 
+/// An image's size and the most memory its decoder holds at once, known from its header
+/// before any pixel buffer is allocated; `decode` gives it to the caller's admission
+/// check first.
+pub(crate) struct Header {
+    pub width: u32,
+    pub height: u32,
+    /// Bytes held at once while decoding, at least the RGBA8 pixels kept (4 a pixel):
+    /// more for a decoder that works beside its output (a progressive JPEG holds every
+    /// DCT coefficient until its last scan).
+    pub peak_bytes: u64,
+}
+
+impl Header {
+    fn new(width: u32, height: u32, bytes_per_pixel: u64) -> Header {
+        let pixels = u64::from(width).saturating_mul(u64::from(height));
+        Header {
+            width,
+            height,
+            peak_bytes: pixels.saturating_mul(bytes_per_pixel.max(4)),
+        }
+    }
+}
+
 const PNG_MAGIC: &[u8] = b"\x89PNG\r\n\x1a\n";
 
 /// Whether `bytes` begin as a WebP file does (a RIFF container of form `WEBP`).
@@ -21,18 +44,21 @@ fn is_webp(bytes: &[u8]) -> bool {
 }
 
 /// Decodes PNG, JPEG or WebP (told by the content; `mime` only improves the message for
-/// other formats).
+/// other formats). `admit` is given the image's [`Header`] once its size is read and
+/// within `max_dimension`, before any pixel buffer is allocated; its error refuses the
+/// image undecoded.
 pub(crate) fn decode(
     bytes: &[u8],
     mime: Option<&str>,
     max_dimension: u32,
+    admit: impl FnOnce(&Header) -> Result<(), DecodeError>,
 ) -> Result<Decoded, DecodeError> {
     if bytes.starts_with(PNG_MAGIC) {
-        decode_png(bytes, max_dimension)
+        decode_png(bytes, max_dimension, admit)
     } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
-        decode_jpeg(bytes, max_dimension)
+        decode_jpeg(bytes, max_dimension, admit)
     } else if is_webp(bytes) {
-        decode_webp(bytes, max_dimension)
+        decode_webp(bytes, max_dimension, admit)
     } else {
         let head: Vec<String> = bytes.iter().take(8).map(|b| format!("{b:02X}")).collect();
         Err(DecodeError::Other(format!(
@@ -78,7 +104,11 @@ pub fn png_error_message(error: &png::DecodingError) -> String {
     out + rest
 }
 
-fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
+fn decode_png(
+    bytes: &[u8],
+    max: u32,
+    admit: impl FnOnce(&Header) -> Result<(), DecodeError>,
+) -> Result<Decoded, DecodeError> {
     let bad = |e: png::DecodingError| {
         DecodeError::Other(format!("undecodable PNG: {}", png_error_message(&e)))
     };
@@ -94,6 +124,14 @@ fn decode_png(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
     let mut reader = decoder.read_info().map_err(bad)?;
     let (width, height) = reader.info().size();
     check_size(width, height, max)?;
+    // The decode itself, at most 4 bytes a pixel after `normalize_to_color8`, widened to
+    // RGBA in its own buffer (the decoder's rows beside it are a few kilobytes).
+    admit(&Header::new(
+        width,
+        height,
+        (reader.output_buffer_size() as u64)
+            .div_ceil(u64::from(width).saturating_mul(u64::from(height)).max(1)),
+    ))?;
     let mut buffer = vec![0; reader.output_buffer_size()];
     let frame = reader.next_frame(&mut buffer).map_err(bad)?;
     if frame.bit_depth != png::BitDepth::Eight {
@@ -167,7 +205,43 @@ fn expand(
     data
 }
 
-fn decode_jpeg(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
+/// The most a JPEG's decoder holds at once, from its header (the decoder does not tell
+/// its components' sampling, so each is taken at full resolution, the size rounded up
+/// to the largest MCU, 32 pixels): every component's plane (1 byte a sample, 2 for a
+/// lossless JPEG's up to 16-bit samples), for a progressive JPEG also every DCT
+/// coefficient (2 bytes a sample) until its last scan, and the interleaved output; or
+/// the RGBA8 pixels the output is widened to, if more.
+fn jpeg_peak(info: &jpeg_decoder::ImageInfo) -> Header {
+    use jpeg_decoder::{CodingProcess, PixelFormat};
+    let (width, height) = (u32::from(info.width), u32::from(info.height));
+    let components: u64 = match info.pixel_format {
+        PixelFormat::L8 | PixelFormat::L16 => 1,
+        PixelFormat::RGB24 => 3,
+        PixelFormat::CMYK32 => 4,
+    };
+    let sample_bytes: u64 = match info.coding_process {
+        CodingProcess::DctSequential => 1,
+        CodingProcess::DctProgressive => 1 + 2,
+        CodingProcess::Lossless => 2,
+    };
+    let padded = |side: u16| u64::from(side).div_ceil(32).saturating_mul(32);
+    let pixels = u64::from(width).saturating_mul(u64::from(height));
+    let working = padded(info.width)
+        .saturating_mul(padded(info.height))
+        .saturating_mul(components.saturating_mul(sample_bytes))
+        .saturating_add(pixels.saturating_mul(info.pixel_format.pixel_bytes() as u64));
+    Header {
+        width,
+        height,
+        peak_bytes: working.max(pixels.saturating_mul(4)),
+    }
+}
+
+fn decode_jpeg(
+    bytes: &[u8],
+    max: u32,
+    admit: impl FnOnce(&Header) -> Result<(), DecodeError>,
+) -> Result<Decoded, DecodeError> {
     let bad = |e: jpeg_decoder::Error| DecodeError::Other(format!("undecodable JPEG: {e}"));
     let mut decoder = jpeg_decoder::Decoder::new(bytes);
     decoder.read_info().map_err(bad)?;
@@ -176,6 +250,7 @@ fn decode_jpeg(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
         .ok_or_else(|| DecodeError::Other("undecodable JPEG: no frame header".into()))?;
     let (width, height) = (u32::from(info.width), u32::from(info.height));
     check_size(width, height, max)?;
+    admit(&jpeg_peak(&info))?;
     decoder.set_max_decoding_buffer_size(
         u64::from(max)
             .saturating_mul(u64::from(max))
@@ -213,11 +288,24 @@ fn decode_jpeg(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
 
 /// WebP (EXT_texture_webp), lossy or lossless, with or without alpha; an animation's
 /// first frame.
-fn decode_webp(bytes: &[u8], max: u32) -> Result<Decoded, DecodeError> {
+fn decode_webp(
+    bytes: &[u8],
+    max: u32,
+    admit: impl FnOnce(&Header) -> Result<(), DecodeError>,
+) -> Result<Decoded, DecodeError> {
     let bad = |e: image_webp::DecodingError| DecodeError::Other(format!("undecodable WebP: {e}"));
     let mut decoder = image_webp::WebPDecoder::new(std::io::Cursor::new(bytes)).map_err(bad)?;
     let (width, height) = decoder.dimensions();
     check_size(width, height, max)?;
+    // The decoder's buffers at once, per pixel: its output (3 or 4 bytes) and, lossless,
+    // an ARGB decode (4); lossy, the Y, U and V planes (1.5) and an alpha channel decoded
+    // through an ARGB image (4 + 1); an animation's frame is decoded beside its canvas
+    // (4 more). At most 12 bytes a pixel, 16 for an animation.
+    admit(&Header::new(
+        width,
+        height,
+        if decoder.is_animated() { 16 } else { 12 },
+    ))?;
     // The largest image allowed, as RGBA, plus bookkeeping.
     decoder.set_memory_limit(
         u64::from(max)

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use gltf::json;
 use gltf::json::validation::Checked;
 
-use super::image::{decode, DecodeError, Decoded};
+use super::image::{decode, DecodeError, Decoded, Header};
 use super::import::{ImageSource, Importer};
 use super::optics_ext::{self, parse_texture_transform, ConductorSpec, TextureInfo};
 use super::source::{read_resolved, resolve_uri};
@@ -548,11 +548,18 @@ impl Importer<'_> {
             .find(|((s, _), _)| *s == source)
             .map(|(_, image)| image.clone());
         let decoded = match used_before {
-            Some(image) => Decoded {
-                width: image.width,
-                height: image.height,
-                rgba: image.pixels.clone(),
-            },
+            Some(image) => {
+                // Charged before the copy is made.
+                self.charge_pixel_count(
+                    u64::from(image.width).saturating_mul(u64::from(image.height)),
+                )
+                .map_err(err)?;
+                Decoded {
+                    width: image.width,
+                    height: image.height,
+                    rgba: image.pixels.clone(),
+                }
+            }
             None => {
                 let declared = json_image.mime_type.as_ref().map(|m| m.0.clone());
                 let (mime, bytes): (Option<String>, Vec<u8>) = match &source {
@@ -570,21 +577,28 @@ impl Importer<'_> {
                     }
                 };
                 let mime = declared.or(mime);
-                decode(&bytes, mime.as_deref(), self.options.max_image_dimension).map_err(|e| {
-                    match e {
-                        DecodeError::TooLarge { width, height } => ImportProblem::ImageTooLarge {
-                            index,
-                            name: name.clone(),
-                            width,
-                            height,
-                            limit: self.options.max_image_dimension,
-                        },
-                        DecodeError::Other(message) => err(message),
-                    }
-                })?
+                let (held, budget) = (self.decoded_pixels, self.options.max_decoded_pixels);
+                let admit = |header: &Header| admit_decode(header, held, budget);
+                let decoded = decode(
+                    &bytes,
+                    mime.as_deref(),
+                    self.options.max_image_dimension,
+                    admit,
+                )
+                .map_err(|e| match e {
+                    DecodeError::TooLarge { width, height } => ImportProblem::ImageTooLarge {
+                        index,
+                        name: name.clone(),
+                        width,
+                        height,
+                        limit: self.options.max_image_dimension,
+                    },
+                    DecodeError::Other(message) => err(message),
+                })?;
+                self.charge_pixels(&decoded).map_err(err)?;
+                decoded
             }
         };
-        self.charge_pixels(&decoded).map_err(err)?;
         let display_name = name.clone().unwrap_or_else(|| match &json_image.uri {
             Some(uri) if !uri.starts_with("data:") => uri.clone(),
             _ => format!("image {index}"),
@@ -781,6 +795,29 @@ impl Importer<'_> {
         }
         Ok(())
     }
+}
+
+/// Whether an image whose decoder holds `header.peak_bytes` at once may be decoded
+/// while the scene's images hold `held` pixels of `budget`: the decoder's peak counts as
+/// pixels of 4 bytes, so the images kept and a decode under way never pass the budget
+/// together; after decoding, only the pixels kept stay charged.
+fn admit_decode(header: &Header, held: u64, budget: u64) -> Result<(), DecodeError> {
+    let at_once = header.peak_bytes.div_ceil(4);
+    let total = held.saturating_add(at_once);
+    if total <= budget {
+        return Ok(());
+    }
+    let pixels = u64::from(header.width).saturating_mul(u64::from(header.height));
+    Err(DecodeError::Other(format!(
+        "decoding it ({}×{}{}) takes the room of {at_once} pixels at once, which brings the scene's image pixels (each image once per colour space it is used in) to {total}, over the budget of {budget} for one scene",
+        header.width,
+        header.height,
+        if at_once > pixels {
+            format!(", its decoder's work beside its {pixels} pixels")
+        } else {
+            String::new()
+        }
+    )))
 }
 
 /// The importer's view of a core textureInfo.

@@ -90,7 +90,10 @@ pub struct ImportOptions {
     /// Largest total of image pixels held (width × height summed over the scene's
     /// images: each distinct image source once per colour space it is used in; it is
     /// decoded once, however many images name it, and its first use keeps the decoded
-    /// pixels themselves).
+    /// pixels themselves). A decode under way counts too: an image is decoded only if
+    /// its decoder's peak memory, read from its header and counted in pixels of 4
+    /// bytes (up to 3× its pixels for a progressive JPEG), fits beside the pixels
+    /// already held.
     pub max_decoded_pixels: u64,
 }
 
