@@ -80,34 +80,41 @@ impl Table {
 /// starts on. `\n`, `\r\n` or `\r` ends a record outside quotes; empty lines are
 /// skipped; records may have any number of fields.
 pub fn records(text: &str) -> Vec<(usize, Vec<String>)> {
+    record_iter(text).collect()
+}
+
+/// [`records`] one at a time, as the text is read: a reader of a long table holds one
+/// record's fields at a time, not the table's.
+pub fn record_iter(text: &str) -> impl Iterator<Item = (usize, Vec<String>)> + '_ {
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
         .from_reader(text.as_bytes());
-    let mut out = Vec::new();
     let mut record = csv::StringRecord::new();
     // The line a record starts on: the line breaks before its first byte, plus one (a
     // break inside a quoted field counts, `\r\n` once).
     let (mut counted_to, mut line) = (0, 1);
-    // Text in, text out: a read fails only past the text's end (or never).
-    while let Ok(true) = reader.read_record(&mut record) {
-        // The reader's position may stand on the `\n` of the `\r\n` before the record
-        // (or an empty line's): its first byte is the first after those.
-        let mut start = record.position().map_or(0, |p| p.byte() as usize);
-        while matches!(text.as_bytes().get(start), Some(b'\r' | b'\n')) {
-            start += 1;
+    std::iter::from_fn(move || {
+        // Text in, text out: a read fails only past the text's end (or never).
+        while let Ok(true) = reader.read_record(&mut record) {
+            // The reader's position may stand on the `\n` of the `\r\n` before the
+            // record (or an empty line's): its first byte is the first after those.
+            let mut start = record.position().map_or(0, |p| p.byte() as usize);
+            while matches!(text.as_bytes().get(start), Some(b'\r' | b'\n')) {
+                start += 1;
+            }
+            line += text.as_bytes()[counted_to..start]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count();
+            counted_to = start;
+            let fields: Vec<String> = record.iter().map(str::to_owned).collect();
+            if fields.len() > 1 || fields.first().is_some_and(|f| !f.is_empty()) {
+                return Some((line, fields));
+            }
         }
-        line += text.as_bytes()[counted_to..start]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
-        counted_to = start;
-        let fields: Vec<String> = record.iter().map(str::to_owned).collect();
-        if fields.len() > 1 || fields.first().is_some_and(|f| !f.is_empty()) {
-            out.push((line, fields));
-        }
-    }
-    out
+        None
+    })
 }
 
 /// The columns that name a row of `report.csv`: the scene and the six of its variant set.

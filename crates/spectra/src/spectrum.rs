@@ -98,9 +98,8 @@ impl Spectrum {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let line_count = text.lines().count();
         // Records through the `csv` crate (quoted fields, `\r\n`), each with its line.
-        for (index, (line, fields)) in combustion_report_csv::records(&without_comments(text))
-            .into_iter()
-            .enumerate()
+        let uncommented = without_comments(text);
+        for (index, (line, fields)) in combustion_report_csv::record_iter(&uncommented).enumerate()
         {
             if index == 0 && is_header(&fields) {
                 continue;
