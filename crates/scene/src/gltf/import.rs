@@ -112,17 +112,33 @@ const MESH_ATTRIBUTES: [&str; 6] = [
 /// file may place one primitive two million times).
 type MeshAttributes = Rc<[(String, usize)]>;
 
-/// One placement of a primitive.
-struct Instance {
+/// What placements of one glTF primitive share: the mesh they become and their
+/// material (a file may place one primitive two million times; each placement names its
+/// kind instead of holding a copy).
+struct PlacementKind {
+    /// The glTF (mesh, primitive): meshes are ordered by their first.
+    primitive: (usize, usize),
     key: MeshKey,
     /// Index into the glTF materials, `None` for the default material.
     material: Option<usize>,
-    world: Mat4,
-    /// The node that places it.
-    node: usize,
-    /// Its transform relative to the node (an EXT_mesh_gpu_instancing instance's).
-    offset: Mat4,
 }
+
+/// What tells placement kinds apart: the mesh key, the material and the glTF (mesh,
+/// primitive).
+type KindKey = (MeshKey, Option<usize>, (usize, usize));
+
+/// One placement of a primitive: 80 bytes.
+struct Instance {
+    /// Index into the walk's placement kinds.
+    kind: u32,
+    /// The node that places it.
+    node: u32,
+    /// Index into the walk's EXT_mesh_gpu_instancing transforms (the instance's within
+    /// its node); `None`: the node's own.
+    offset: Option<u32>,
+    world: Mat4,
+}
+const _: () = assert!(std::mem::size_of::<Instance>() == 80);
 
 impl MeshKey {
     /// Whether the primitive is points or lines (glTF modes 0–3).
@@ -549,7 +565,10 @@ impl Importer<'_> {
         let mut visited = vec![false; root.nodes.len()];
         let mut stack: Vec<(usize, Option<Mat4>)> =
             roots.iter().rev().map(|&n| (n, None)).collect();
-        let mut instances = Vec::new();
+        let mut instances: Vec<Instance> = Vec::new();
+        let mut kinds: Vec<PlacementKind> = Vec::new();
+        let mut kind_index: HashMap<KindKey, u32> = HashMap::new();
+        let mut instance_offsets: Vec<Mat4> = Vec::new();
         let mut primitive_attributes: HashMap<(usize, usize, bool), MeshAttributes> =
             HashMap::new();
         let mut cameras: Vec<(usize, usize, Mat4)> = Vec::new();
@@ -588,14 +607,37 @@ impl Importer<'_> {
                 // EXT_mesh_gpu_instancing: the node's mesh at each instance's TRS within
                 // the node (world × T R S), else once at the node. A skin places every
                 // instance alike: one is kept.
-                let mut offsets = self.gpu_instances(index)?.unwrap_or(vec![Mat4::IDENTITY]);
-                if skin.is_some() && offsets.len() > 1 {
+                let mut gpu_instances = self.gpu_instances(index)?;
+                if skin.is_some() && gpu_instances.as_ref().is_some_and(|o| o.len() > 1) {
                     self.warn(format!(
                         "node {index}: {} instances of a skinned mesh: a skin places them all alike, one is drawn",
-                        offsets.len()
+                        gpu_instances.as_ref().map_or(0, Vec::len)
                     ));
-                    offsets = vec![Mat4::IDENTITY];
+                    gpu_instances = None;
                 }
+                let too_many = || {
+                    ImportProblem::Invalid(format!(
+                        "the scene places more than {MAX_OBJECTS} primitives; refused"
+                    ))
+                };
+                // Each offset with its index among the walk's instance transforms.
+                let offsets: Vec<(Option<u32>, Mat4)> = match gpu_instances {
+                    None => vec![(None, Mat4::IDENTITY)],
+                    Some(list) => {
+                        let mut numbered = Vec::with_capacity(list.len());
+                        for offset in list {
+                            let at = u32::try_from(instance_offsets.len())
+                                .ok()
+                                .filter(|&at| (at as usize) <= MAX_OBJECTS)
+                                .ok_or_else(too_many)?;
+                            instance_offsets.push(offset);
+                            numbered.push((Some(at), offset));
+                        }
+                        numbered
+                    }
+                };
+                let node_number = u32::try_from(index)
+                    .map_err(|_| self.node_error(index, "its index is past 2³² nodes".into()))?;
                 for (p, primitive) in mesh.primitives.iter().enumerate() {
                     use json::mesh::Mode;
                     let mode = match primitive.mode {
@@ -654,28 +696,52 @@ impl Importer<'_> {
                     let targets = (!strokes
                         && primitive.targets.as_ref().is_some_and(|t| !t.is_empty()))
                     .then_some((mesh_index, p));
+                    // The primitive's kind, mirrored or not, found once for this node.
+                    let mut kind_of_flip: [Option<u32>; 2] = [None; 2];
                     // Each primitive's placements one after another: the renderer
                     // draws consecutive objects of one mesh and material instanced.
-                    for &offset in &offsets {
-                        let world = world * offset;
-                        instances.push((
-                            (mesh_index, p),
-                            Instance {
-                                key: MeshKey {
+                    for &(offset, transform) in &offsets {
+                        let world = world * transform;
+                        let flip = crate::normalised_axes_determinant(&world) < 0.0;
+                        let slot = kind_of_flip
+                            .get_mut(usize::from(flip))
+                            .ok_or_else(|| ImportProblem::Internal("a flip has no slot".into()))?;
+                        let kind = match *slot {
+                            Some(kind) => kind,
+                            None => {
+                                let key = MeshKey {
                                     attributes: attributes.clone(),
                                     indices: primitive.indices.map(|i| i.value()),
                                     mode: mode_number,
-                                    flip: crate::normalised_axes_determinant(&world) < 0.0,
+                                    flip,
                                     uv_tangents: false, // set once materials are known
                                     skin,
                                     targets,
-                                },
-                                material,
-                                world,
-                                node: index,
-                                offset,
-                            },
-                        ));
+                                };
+                                let next = u32::try_from(kinds.len())
+                                    .ok()
+                                    .filter(|&next| (next as usize) <= MAX_OBJECTS)
+                                    .ok_or_else(too_many)?;
+                                let kind = *kind_index
+                                    .entry((key.clone(), material, (mesh_index, p)))
+                                    .or_insert_with(|| {
+                                        kinds.push(PlacementKind {
+                                            primitive: (mesh_index, p),
+                                            key,
+                                            material,
+                                        });
+                                        next
+                                    });
+                                *slot = Some(kind);
+                                kind
+                            }
+                        };
+                        instances.push(Instance {
+                            kind,
+                            node: node_number,
+                            offset,
+                            world,
+                        });
                         if instances.len() > MAX_OBJECTS {
                             break;
                         }
@@ -726,19 +792,19 @@ impl Importer<'_> {
         // then an unlit copy of each one points and lines use, in the same order
         // (docs/gltf.md, "Points and lines"). Each glTF material is read once.
         let mut loaded: BTreeMap<Option<usize>, Material> = BTreeMap::new();
-        for (_, instance) in &instances {
-            if let Entry::Vacant(entry) = loaded.entry(instance.material) {
-                entry.insert(match instance.material {
+        for kind in &kinds {
+            if let Entry::Vacant(entry) = loaded.entry(kind.material) {
+                entry.insert(match kind.material {
                     Some(m) => self.material(m)?,
                     None => default_material(),
                 });
             }
         }
         let in_order = |strokes: bool| -> Vec<Option<usize>> {
-            let mut used: Vec<Option<usize>> = instances
+            let mut used: Vec<Option<usize>> = kinds
                 .iter()
-                .filter(|(_, i)| i.key.is_strokes() == strokes)
-                .map(|(_, i)| i.material)
+                .filter(|k| k.key.is_strokes() == strokes)
+                .map(|k| k.material)
                 .collect();
             used.sort_unstable_by_key(|m| (m.is_none(), *m));
             used.dedup();
@@ -767,31 +833,31 @@ impl Importer<'_> {
                 });
             }
         }
-        // Every instance's material was given an index just above.
-        let material_of = |instance: &Instance| {
+        // Every kind's material was given an index just above.
+        let material_of = |kind: &PlacementKind| {
             material_index
-                .get(&(instance.material, instance.key.is_strokes()))
+                .get(&(kind.material, kind.key.is_strokes()))
                 .copied()
                 .ok_or_else(|| {
-                    ImportProblem::Internal("an instance's material has no index".into())
+                    ImportProblem::Internal("a placement's material has no index".into())
                 })
         };
-        for (_, instance) in &mut instances {
-            let m = materials.get(material_of(instance)?).ok_or_else(|| {
-                ImportProblem::Internal("an instance's material index is past the list".into())
+        for kind in &mut kinds {
+            let m = materials.get(material_of(kind)?).ok_or_else(|| {
+                ImportProblem::Internal("a placement's material index is past the list".into())
             })?;
-            instance.key.uv_tangents = !instance.key.is_strokes()
+            kind.key.uv_tangents = !kind.key.is_strokes()
                 && m.needs_uv_tangents()
-                && !instance.key.attributes.iter().any(|(s, _)| s == "TANGENT");
+                && !kind.key.attributes.iter().any(|(s, _)| s == "TANGENT");
         }
 
         // Meshes: one per distinct key, ordered by the first glTF (mesh, primitive) using it.
         let mut first_use: BTreeMap<MeshKey, (usize, usize)> = BTreeMap::new();
-        for (mp, instance) in &instances {
+        for kind in &kinds {
             first_use
-                .entry(instance.key.clone())
-                .and_modify(|e| *e = (*e).min(*mp))
-                .or_insert(*mp);
+                .entry(kind.key.clone())
+                .and_modify(|e| *e = (*e).min(kind.primitive))
+                .or_insert(kind.primitive);
         }
         let mut keys: Vec<(&MeshKey, (usize, usize))> =
             first_use.iter().map(|(k, v)| (k, *v)).collect();
@@ -831,30 +897,44 @@ impl Importer<'_> {
             }
             under_moved
         };
-        for (_, instance) in &instances {
+        // Each kind's mesh (every key was given one just above) and material, once.
+        let mut kind_mesh: Vec<(usize, usize)> = Vec::with_capacity(kinds.len());
+        for kind in &kinds {
+            let mesh = mesh_index.get(&kind.key).copied().ok_or_else(|| {
+                ImportProblem::Internal("a placement's mesh was not built".into())
+            })?;
+            kind_mesh.push((mesh, material_of(kind)?));
+        }
+        for instance in &instances {
+            let node = instance.node as usize;
             // Singular relative to the transform's own scale: a node scale of 1e-4 on a
             // mesh 1e4 across (a centimetre export) is a 1 m object, kept.
-            if crate::transform_is_degenerate(&instance.world)
-                && moved.get(instance.node) != Some(&true)
-            {
+            if crate::transform_is_degenerate(&instance.world) && moved.get(node) != Some(&true) {
                 singular = singular.saturating_add(1);
                 continue;
             }
-            // Every key was given a mesh just above, and each mesh a box.
-            let (Some(&mesh), Some(&bounds_of_mesh)) = (
-                mesh_index.get(&instance.key),
-                mesh_index.get(&instance.key).and_then(|&m| boxes.get(m)),
-            ) else {
+            // Every kind was given a mesh just above, each mesh a box, each offset an
+            // index as it was kept.
+            let offset = match instance.offset {
+                None => Some(Mat4::IDENTITY),
+                Some(at) => instance_offsets.get(at as usize).copied(),
+            };
+            let (Some(&(mesh, material)), Some(offset)) =
+                (kind_mesh.get(instance.kind as usize), offset)
+            else {
                 return Err(ImportProblem::Internal(
-                    "an instance's mesh was not built".into(),
+                    "a placement's kind or offset is past its list".into(),
                 ));
+            };
+            let Some(&bounds_of_mesh) = boxes.get(mesh) else {
+                return Err(ImportProblem::Internal("a mesh has no box".into()));
             };
             let placed = crate::placed_bounds(bounds_of_mesh, &instance.world);
             if placed.is_some_and(|(lo, hi)| {
                 !(lo.is_finite() && hi.is_finite() && (hi - lo).is_finite())
             }) {
                 return Err(self.node_error(
-                    instance.node,
+                    node,
                     "places its mesh beyond what f32 can hold: the mesh's extent times the world transform overflows".into(),
                 ));
             }
@@ -863,15 +943,13 @@ impl Importer<'_> {
             }
             objects.push(Object {
                 mesh,
-                material: material_of(instance)?,
+                material,
                 transform: instance.world,
-                casts_shadows: self.node_casts_shadows(instance.node)?,
-                node: Some(crate::NodeLink {
-                    node: instance.node,
-                    offset: instance.offset,
-                }),
+                casts_shadows: self.node_casts_shadows(node)?,
+                node: Some(crate::NodeLink { node, offset }),
             });
         }
+        drop(instances);
         if singular > 0 {
             self.warn(format!(
                 "{singular} object(s) with a singular transform (e.g. scale 0) that no animation moves left out"
