@@ -273,3 +273,28 @@ fn too_many_materials_are_refused_before_any_work() {
         .to_string();
     assert!(error.contains("70000 materials"), "{error}");
 }
+
+/// A top-level array of more than 2²¹ entries is refused from a count taken before the
+/// document's tree is built: 2²¹ + 1 empty nodes are 6 MB of JSON, which parsed would
+/// take over a gigabyte.
+#[test]
+fn a_top_level_array_past_its_limit_is_refused_before_the_tree_is_built() {
+    let dir = temp_dir("many-nodes");
+    let path = dir.join("nodes.gltf");
+    let count = (1usize << 21) + 1;
+    let mut json = String::from(r#"{"asset":{"version":"2.0"},"nodes":["#);
+    json += &vec!["{}"; count].join(",");
+    json += "]}";
+    std::fs::write(&path, json).unwrap();
+    // (Not `unwrap_err`: a scene of two million nodes is no message to print.)
+    let Err(error) = import(&path, &ImportOptions::default()) else {
+        panic!("2²¹ + 1 nodes imported");
+    };
+    let message = error.to_string();
+    assert!(
+        message
+            .contains("its `nodes` holds 2097153 entries, more than the 2097152 a file may have"),
+        "{message}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -261,6 +261,17 @@ fn import_inner(
 ) -> Result<(Scene, ImportReport), ImportProblem> {
     let mut early_warnings = Vec::new();
     let container: Container = split_container(bytes, &mut early_warnings)?;
+    // Each entry of a top-level array is hundreds of bytes parsed (and a node's motion
+    // node and place on the walk as much again), for as few as three bytes of JSON (`{},`).
+    if let Some((array, entries)) =
+        super::counts::array_over(container.json, super::counts::MAX_ARRAY_ENTRIES)
+    {
+        return Err(ImportProblem::Invalid(format!(
+            "its `{}` holds {entries} entries, more than the {} a file may have",
+            combustion_optics::shortened(&array),
+            super::counts::MAX_ARRAY_ENTRIES
+        )));
+    }
     let root: json::Root = serde_json::from_slice(container.json).map_err(|e| {
         ImportProblem::Json(if e.is_eof() {
             format!("{e} (the file is truncated)")

@@ -13,6 +13,7 @@
 
 mod accessor;
 mod animation;
+mod counts;
 mod error;
 mod geometry;
 mod image;
