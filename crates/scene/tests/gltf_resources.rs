@@ -153,11 +153,12 @@ fn write_textured_triangle(dir: &Path, image: &[u8]) -> PathBuf {
 }
 
 /// The budget holds a decode under way, not only the pixels kept: a JPEG is admitted
-/// only if its decoder's peak (4:4:4, 64×64 pixels: 3 planes of a byte a sample and the
-/// RGB output, 6 bytes a pixel; progressive, also 2 bytes a sample of DCT coefficients
-/// until the last scan, 12 bytes a pixel), counted as pixels of 4 bytes, fits beside the
-/// images already held — refused before decoding otherwise, with the decoder's work
-/// named. Once decoded, only its 4,096 pixels stay charged.
+/// only if its decoder's peak (4:4:4, 64×64 pixels: 3 planes of a byte a sample, the
+/// coefficients of rows queued to the decoder's threads, 2 bytes a sample, and the RGB
+/// output, 12 bytes a pixel; progressive, also every DCT coefficient until the last
+/// scan, 18 bytes a pixel), counted as pixels of 4 bytes, fits beside the images already
+/// held — refused before decoding otherwise, with the decoder's work named. Once
+/// decoded, only its 4,096 pixels stay charged.
 #[test]
 fn a_decoders_work_counts_against_the_pixel_budget_before_it_decodes() {
     let dir = temp_dir("decoder-work");
@@ -166,12 +167,12 @@ fn a_decoders_work_counts_against_the_pixel_budget_before_it_decodes() {
         (
             include_bytes!("data/gradient-64-baseline-444.jpg").as_slice(),
             "baseline",
-            pixels * 6 / 4,
+            pixels * 12 / 4,
         ),
         (
             include_bytes!("data/gradient-64-progressive-444.jpg").as_slice(),
             "progressive",
-            pixels * 12 / 4,
+            pixels * 18 / 4,
         ),
     ] {
         let path = write_textured_triangle(&dir, image);

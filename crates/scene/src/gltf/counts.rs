@@ -5,14 +5,35 @@
 //! hundreds of bytes parsed) is refused before its tree is built.
 
 use serde::de::{Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
+use serde_json::value::RawValue;
 
 /// Most entries a top-level array of a glTF file may hold (nodes, accessors, materials,
 /// …): the limit on what a scene places (2²¹).
 pub(crate) const MAX_ARRAY_ENTRIES: u64 = 1 << 21;
 
-/// The first top-level array of `json` with more than `limit` entries: its name and how
-/// many it holds (counted to the end). `None` when every array is within the limit, or
-/// when `json` is not a JSON object (the parse that follows says what is wrong).
+/// glTF 2.0's top-level arrays: the ones counted (others, and `extras`, are the
+/// application's, skipped as the parse skips them).
+const GLTF_ARRAYS: [&str; 15] = [
+    "accessors",
+    "animations",
+    "buffers",
+    "bufferViews",
+    "cameras",
+    "extensionsRequired",
+    "extensionsUsed",
+    "images",
+    "materials",
+    "meshes",
+    "nodes",
+    "samplers",
+    "scenes",
+    "skins",
+    "textures",
+];
+
+/// The first of glTF's top-level arrays in `json` with more than `limit` entries: its
+/// name and how many it holds. `None` when every one is within the limit, or when
+/// `json` is not a JSON object (the parse that follows says what is wrong).
 pub(crate) fn array_over(json: &[u8], limit: u64) -> Option<(String, u64)> {
     let mut deserializer = serde_json::Deserializer::from_slice(json);
     deserializer
@@ -34,33 +55,34 @@ impl<'de> Visitor<'de> for TopLevel {
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
         // The whole object read (serde_json checks it ends), the first array over kept.
+        // Each value is skipped as the parse skips what it does not read (a number out
+        // of f64's range or a lone surrogate in an application's value is no error
+        // there), and only glTF's own arrays are counted, element by element.
         let mut over = None;
         while let Some(key) = map.next_key::<String>()? {
-            let count = map.next_value::<Count>()?.0;
-            if over.is_none() && count > self.limit {
-                over = Some((key, count));
+            let value = map.next_value::<&RawValue>()?;
+            if over.is_some() || !GLTF_ARRAYS.contains(&key.as_str()) {
+                continue;
+            }
+            let mut elements = serde_json::Deserializer::from_str(value.get());
+            if let Ok(count) = elements.deserialize_seq(CountVisitor) {
+                if count > self.limit {
+                    over = Some((key, count));
+                }
             }
         }
         Ok(over)
     }
 }
 
-/// A value's entries if it is an array, else 0; nothing of it is kept.
-struct Count(u64);
-
-impl<'de> serde::Deserialize<'de> for Count {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        deserializer.deserialize_any(CountVisitor).map(Count)
-    }
-}
-
+/// An array's entries; nothing of them is kept.
 struct CountVisitor;
 
 impl<'de> Visitor<'de> for CountVisitor {
     type Value = u64;
 
     fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("a JSON value")
+        f.write_str("an array")
     }
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<u64, A::Error> {
         let mut count: u64 = 0;
@@ -68,28 +90,6 @@ impl<'de> Visitor<'de> for CountVisitor {
             count = count.saturating_add(1);
         }
         Ok(count)
-    }
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<u64, A::Error> {
-        while map.next_entry::<IgnoredAny, IgnoredAny>()?.is_some() {}
-        Ok(0)
-    }
-    fn visit_bool<E>(self, _: bool) -> Result<u64, E> {
-        Ok(0)
-    }
-    fn visit_i64<E>(self, _: i64) -> Result<u64, E> {
-        Ok(0)
-    }
-    fn visit_u64<E>(self, _: u64) -> Result<u64, E> {
-        Ok(0)
-    }
-    fn visit_f64<E>(self, _: f64) -> Result<u64, E> {
-        Ok(0)
-    }
-    fn visit_str<E>(self, _: &str) -> Result<u64, E> {
-        Ok(0)
-    }
-    fn visit_unit<E>(self) -> Result<u64, E> {
-        Ok(0)
     }
 }
 
@@ -104,6 +104,9 @@ mod tests {
         assert_eq!(array_over(json, 3), Some(("materials".into(), 4)));
         assert_eq!(array_over(json, 2), Some(("nodes".into(), 3)));
         assert_eq!(array_over(json, 4), None);
+        // Only glTF's own arrays count; values the parse skips are skipped alike.
+        let json = br#"{"extras":[1,2,3,4],"x":1e400,"y":"\ud800","nodes":[{},{},{},{"z":1e400}]}"#;
+        assert_eq!(array_over(json, 3), Some(("nodes".into(), 4)));
         // Not JSON, or not an object: the parse that follows reports it.
         assert_eq!(array_over(b"[1,2,3]", 0), None);
         assert_eq!(array_over(b"{\"nodes\":[{},", 0), None);

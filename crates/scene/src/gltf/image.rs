@@ -205,12 +205,15 @@ fn expand(
     data
 }
 
-/// The most a JPEG's decoder holds at once, from its header (the decoder does not tell
-/// its components' sampling, so each is taken at full resolution, the size rounded up
-/// to the largest MCU, 32 pixels): every component's plane (1 byte a sample, 2 for a
-/// lossless JPEG's up to 16-bit samples), for a progressive JPEG also every DCT
-/// coefficient (2 bytes a sample) until its last scan, and the interleaved output; or
-/// the RGBA8 pixels the output is widened to, if more.
+/// The most a JPEG's decoder (jpeg-decoder, without rayon) holds at once, from its
+/// header. The decoder does not tell its components' sampling, so each is taken at full
+/// resolution, the size rounded up to the largest MCU (32 pixels). Per sample: the
+/// component's plane (1 byte) and the DCT coefficients of rows queued to the decoder's
+/// threads, up to every row if they lag (2); a progressive JPEG also holds every
+/// coefficient until its last scan (2); a lossless JPEG its differences (4-byte values
+/// in vectors grown by doubling, 8), its 16-bit planes and their interleaved copy (4).
+/// Beside them the interleaved output; or, if more, the RGBA8 pixels the output is
+/// widened to.
 fn jpeg_peak(info: &jpeg_decoder::ImageInfo) -> Header {
     use jpeg_decoder::{CodingProcess, PixelFormat};
     let (width, height) = (u32::from(info.width), u32::from(info.height));
@@ -220,9 +223,9 @@ fn jpeg_peak(info: &jpeg_decoder::ImageInfo) -> Header {
         PixelFormat::CMYK32 => 4,
     };
     let sample_bytes: u64 = match info.coding_process {
-        CodingProcess::DctSequential => 1,
-        CodingProcess::DctProgressive => 1 + 2,
-        CodingProcess::Lossless => 2,
+        CodingProcess::DctSequential => 1 + 2,
+        CodingProcess::DctProgressive => 1 + 2 + 2,
+        CodingProcess::Lossless => 8 + 4,
     };
     let padded = |side: u16| u64::from(side).div_ceil(32).saturating_mul(32);
     let pixels = u64::from(width).saturating_mul(u64::from(height));

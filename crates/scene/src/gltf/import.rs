@@ -634,6 +634,8 @@ impl Importer<'_> {
                 // Each offset with its index among the walk's instance transforms.
                 let offsets: Vec<(Option<u32>, Mat4)> = match gpu_instances {
                     None => vec![(None, Mat4::IDENTITY)],
+                    // A mesh without primitives places nothing: no offset is kept.
+                    Some(_) if mesh.primitives.is_empty() => Vec::new(),
                     Some(list) => {
                         let mut numbered = Vec::with_capacity(list.len());
                         for offset in list {

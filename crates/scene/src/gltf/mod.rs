@@ -93,7 +93,7 @@ pub struct ImportOptions {
     /// decoded once, however many images name it, and its first use keeps the decoded
     /// pixels themselves). A decode under way counts too: an image is decoded only if
     /// its decoder's peak memory, read from its header and counted in pixels of 4
-    /// bytes (up to 3× its pixels for a progressive JPEG), fits beside the pixels
+    /// bytes (4.5× its pixels for a progressive RGB JPEG), fits beside the pixels
     /// already held.
     pub max_decoded_pixels: u64,
 }
