@@ -270,9 +270,12 @@ pub(crate) fn render(o: &RenderArgs) -> Result<(), Error> {
                 renderer.device().info().name
             )));
         }
-        let gpu_scene = renderer.upload(&scene)?;
+        // The scene itself goes to the renderer (the run holds it once); read back from
+        // there below.
+        let gpu_scene = renderer.upload_owned(scene)?;
+        let scene = gpu_scene.scene();
         let inputs = combustion::renderer::FrameInputs {
-            background: o.picture.background_for(&scene),
+            background: o.picture.background_for(scene),
             tone_mapping: o.picture.tone_mapping_for(&source),
             anti_aliasing: o.picture.anti_aliasing_for(o.supersample),
             pose: pose.as_ref(),

@@ -302,10 +302,21 @@ impl Renderer {
     /// [`RenderError::EnvironmentUnsupported`] for an environment the device cannot
     /// bake; [`RenderError::Vulkan`] if a pipeline, buffer or image cannot be made.
     pub fn upload(&mut self, scene: &Scene) -> Result<GpuScene, RenderError> {
+        self.upload_owned(scene.clone())
+    }
+
+    /// [`Renderer::upload`], keeping `scene` itself as the uploaded scene
+    /// ([`GpuScene::scene`]) rather than a copy of it: a caller done with its scene
+    /// does not hold it twice (a million objects are 192 MB, a mesh its vertices).
+    ///
+    /// # Errors
+    /// As [`Renderer::upload`].
+    pub fn upload_owned(&mut self, scene: Scene) -> Result<GpuScene, RenderError> {
         scene.validate()?;
-        self.prepare_variant(self.variant_of(scene_upload::scene_variant(scene)))?;
-        self.prepare_deform(scene)?;
-        let environment = self.bake_scene_environment(scene)?;
+        let scene_ref = &scene;
+        self.prepare_variant(self.variant_of(scene_upload::scene_variant(scene_ref)))?;
+        self.prepare_deform(scene_ref)?;
+        let environment = self.bake_scene_environment(scene_ref)?;
         let gpu_scene = GpuScene::new(
             &self.device,
             scene,

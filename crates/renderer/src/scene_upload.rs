@@ -514,15 +514,16 @@ impl GpuScene {
     /// renderer whose retire queue is `retire`.
     pub(crate) fn new(
         device: &Arc<Device>,
-        scene: &Scene,
+        scene: Scene,
         material_set_layout: &DescriptorSetLayout,
         environment: Option<crate::environment::GpuEnvironment>,
         retire: Arc<RetireQueue>,
     ) -> Result<Self, RenderError> {
         let (meshes, _) = mesh_buffers(device, &scene.meshes, None)?;
-        let (textures, _) = SceneTextures::new(device, scene, material_set_layout, None)?;
-        let deform = crate::deform::SceneDeform::new(device, scene)?;
-        let tables = Tables::new(device, scene, &textures, deform.as_ref())?;
+        let (textures, _) = SceneTextures::new(device, &scene, material_set_layout, None)?;
+        let deform = crate::deform::SceneDeform::new(device, &scene)?;
+        let tables = Tables::new(device, &scene, &textures, deform.as_ref())?;
+        let ids = SceneIds::new(&scene);
         Ok(Self {
             gpu: ManuallyDrop::new(SceneResources {
                 meshes,
@@ -550,8 +551,8 @@ impl GpuScene {
             mesh_bounds: tables.mesh_bounds,
             mesh_colors: tables.mesh_colors,
             geometry_version: next_geometry_version(),
-            scene: scene.clone(),
-            ids: SceneIds::new(scene),
+            scene,
+            ids,
             retire,
         })
     }
