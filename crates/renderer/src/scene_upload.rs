@@ -408,19 +408,36 @@ impl Tables {
         // A skinned object is placed by its joints, in world space: its transform is
         // the identity.
         let mesh_colors: Vec<bool> = scene.meshes.iter().map(Mesh::has_colors).collect();
-        let objects: Vec<GpuObject> = scene
-            .objects
-            .iter()
-            .enumerate()
-            .map(|(i, o)| {
-                let entry = GpuObject::new(o, mesh_colors[o.mesh]);
-                if crate::deform::deformation(scene, i).0 {
-                    entry.placed(&glam::Mat4::IDENTITY)
-                } else {
-                    entry
-                }
-            })
-            .collect();
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        // Written into the mapped table a band of entries at a time, not built whole
+        // beside it first (a million objects' table is 144 MB).
+        const BAND: usize = 4096;
+        let entry_bytes = std::mem::size_of::<GpuObject>();
+        let mut objects = Buffer::new(
+            device,
+            "object table",
+            (scene.objects.len() * entry_bytes) as u64,
+            storage,
+            combustion_vk::gpu_allocator::MemoryLocation::CpuToGpu,
+        )?;
+        let mut band: Vec<GpuObject> = Vec::with_capacity(BAND.min(scene.objects.len()));
+        for start in (0..scene.objects.len()).step_by(BAND) {
+            band.clear();
+            band.extend(
+                scene.objects[start..(start + BAND).min(scene.objects.len())]
+                    .iter()
+                    .enumerate()
+                    .map(|(k, o)| {
+                        let entry = GpuObject::new(o, mesh_colors[o.mesh]);
+                        if crate::deform::deformation(scene, start + k).0 {
+                            entry.placed(&glam::Mat4::IDENTITY)
+                        } else {
+                            entry
+                        }
+                    }),
+            );
+            objects.write(start * entry_bytes, bytemuck::cast_slice(&band))?;
+        }
         let mesh_bounds: Vec<_> = scene.meshes.iter().map(Mesh::bounds).collect();
         let mut object_bounds: Vec<_> = scene
             .objects
@@ -440,14 +457,8 @@ impl Tables {
         } else {
             &[[1.0, 0.0]]
         };
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         Ok(Self {
-            objects: Buffer::with_data(
-                device,
-                "object table",
-                bytemuck::cast_slice(&objects),
-                storage,
-            )?,
+            objects,
             materials: Buffer::with_data(
                 device,
                 "material table",
