@@ -10,3 +10,4 @@ mod gltf_conductor;
 mod gltf_resources;
 mod gltf_samples;
 mod gltf_validity;
+mod memory_bounds;

@@ -1,0 +1,197 @@
+//! The memory bounds docs/gltf.md states ("Memory bounds"), held by measurement: each
+//! case runs in a process of its own — the test runs its own binary again for that one
+//! case — where the rise of the process's peak resident memory (VmHWM, reset through
+//! /proc/self/clear_refs) over what it held just before is the case's alone, whatever
+//! else the test runner does. Linux only, as the project's tests are.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use combustion_scene::gltf::{import, ImportOptions};
+
+/// The environment variable naming the case a child process measures.
+const CHILD: &str = "COMBUSTION_MEMORY_BOUND_CASE";
+
+/// A field of /proc/self/status in bytes (`VmRSS`, `VmHWM`).
+fn status_bytes(field: &str) -> u64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix(field)?.strip_prefix(':'))
+        .and_then(|v| v.trim().trim_end_matches(" kB").trim().parse::<u64>().ok())
+        .map(|kib| kib * 1024)
+        .unwrap()
+}
+
+/// The rise of this process's peak resident memory while `work` runs, over its resident
+/// memory just before, measured in a process of its own: in the test's own process
+/// (`test`, its full name) `prepare` is not run and the rise comes back from a child
+/// running this test alone; in that child, `prepare` builds the case's input and returns
+/// the work measured, and the rise is printed for the parent (`None` there).
+fn peak_rise(test: &str, prepare: impl FnOnce() -> Box<dyn FnOnce()>) -> Option<u64> {
+    if std::env::var(CHILD).as_deref() == Ok(test) {
+        let work = prepare();
+        std::fs::write("/proc/self/clear_refs", "5").unwrap();
+        let before = status_bytes("VmRSS");
+        work();
+        let rise = status_bytes("VmHWM").saturating_sub(before);
+        // On a line of its own: the test runner's "test NAME ..." has no line break.
+        println!("\npeak rise: {rise}");
+        return None;
+    }
+    let output = Command::new(std::env::current_exe().unwrap())
+        .args([test, "--exact", "--nocapture", "--test-threads", "1"])
+        .env(CHILD, test)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{test} in its own process: {stdout}{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let rise = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("peak rise: "))
+        .and_then(|n| n.parse::<u64>().ok());
+    Some(rise.unwrap_or_else(|| panic!("{test}: no measurement in {stdout}")))
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "combustion-memory-bounds-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// One triangle, as a data URI (36 bytes of positions).
+const TRIANGLE: &str = r#""accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],"bufferViews":[{"buffer":0,"byteLength":36}],"buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]"#;
+
+/// Imports `path`, which must succeed, as measured work.
+fn importing(path: PathBuf, options: ImportOptions) -> Box<dyn FnOnce()> {
+    Box::new(move || {
+        if let Err(e) = import(&path, &options) {
+            panic!("{e}");
+        }
+    })
+}
+
+/// 1,448 nodes each placing a mesh of 1,448 primitives: 2,096,704 placements (near the
+/// 2²¹ limit) from 66 KB of JSON, each at most 320 bytes while imported — the walk's
+/// list (80 bytes a placement) beside the objects built from it (192). 911 MiB, 456
+/// bytes each, while each placement held its own mesh key and instance transform.
+#[test]
+fn two_million_placements_take_at_most_320_bytes_each() {
+    let side = 1448u64;
+    let test = "memory_bounds::two_million_placements_take_at_most_320_bytes_each";
+    let Some(rise) = peak_rise(test, || {
+        let dir = temp_dir("placements");
+        let path = dir.join("placements.gltf");
+        let list = |item: &dyn Fn(u64) -> String| (0..side).map(item).collect::<Vec<_>>().join(",");
+        let json = format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[{}]}}],"nodes":[{}],"meshes":[{{"primitives":[{}]}}],{TRIANGLE}}}"#,
+            list(&|i| i.to_string()),
+            list(&|i| format!(r#"{{"mesh":0,"translation":[{i},0,0]}}"#)),
+            list(&|_| r#"{"attributes":{"POSITION":0}}"#.into()),
+        );
+        std::fs::write(&path, json).unwrap();
+        importing(path, ImportOptions::default())
+    }) else {
+        return;
+    };
+    let placements = side * side;
+    assert!(
+        rise <= 320 * placements,
+        "{rise} bytes: {} a placement",
+        rise / placements
+    );
+}
+
+/// 200,000 nodes, each named and translated (9.8 MB of JSON), at most 750 bytes a node
+/// while imported: the parsed tree, the node's motion node and the hierarchy walk.
+#[test]
+fn two_hundred_thousand_nodes_take_at_most_750_bytes_each() {
+    let nodes = 200_000u64;
+    let test = "memory_bounds::two_hundred_thousand_nodes_take_at_most_750_bytes_each";
+    let Some(rise) = peak_rise(test, || {
+        let dir = temp_dir("nodes");
+        let path = dir.join("nodes.gltf");
+        let roots: Vec<String> = (0..nodes).map(|i| i.to_string()).collect();
+        let listed: Vec<String> = (0..nodes)
+            .map(|i| format!(r#"{{"name":"n{i}","translation":[{i},0,0]}}"#))
+            .collect();
+        let json = format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[{}]}}],"nodes":[{}]}}"#,
+            roots.join(","),
+            listed.join(",")
+        );
+        std::fs::write(&path, json).unwrap();
+        importing(path, ImportOptions::default())
+    }) else {
+        return;
+    };
+    assert!(rise <= 750 * nodes, "{rise} bytes: {} a node", rise / nodes);
+}
+
+/// A progressive 4:4:4 JPEG of 1024×1024 pixels decodes within what the budget charges
+/// for it before decoding (18 bytes a pixel: its planes, every DCT coefficient, the rows
+/// queued to the decoder's threads and the RGB output) and its file's bytes: the charge
+/// is a bound on the decode, not a guess.
+#[test]
+fn a_progressive_jpeg_decodes_within_its_charge() {
+    let test = "memory_bounds::a_progressive_jpeg_decodes_within_its_charge";
+    let image = include_bytes!("data/flat-1024-progressive-444.jpg");
+    let Some(rise) = peak_rise(test, || {
+        let dir = temp_dir("progressive");
+        std::fs::write(dir.join("texture.jpg"), image).unwrap();
+        let path = dir.join("textured.gltf");
+        let json = format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"material":0}}]}}],"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}}],"textures":[{{"source":0}}],"images":[{{"uri":"texture.jpg"}}],{TRIANGLE}}}"#
+        );
+        std::fs::write(&path, json).unwrap();
+        importing(path, ImportOptions::default())
+    }) else {
+        return;
+    };
+    let charge = 18 * 1024 * 1024;
+    let file = image.len() as u64;
+    assert!(
+        rise <= charge + file,
+        "{rise} bytes against a charge of {charge} and a file of {file}"
+    );
+}
+
+/// A spectral table of `rows` rows of wavelength, n, k (about 28 bytes a row).
+fn spectral_table(rows: u64) -> String {
+    let mut csv = String::from("wavelength_nm,n,k\n");
+    for i in 0..rows {
+        let wavelength = 400.0 + 400.0 * i as f64 / rows as f64;
+        csv += &format!("{wavelength:.6},{:.6},3.000000\n", 0.2 + 1e-6 * i as f64);
+    }
+    csv
+}
+
+/// A spectral table of 200,000 rows parses within the text once more and 64 bytes a row
+/// (a sample and its line, 32 bytes, in vectors grown by doubling). 9.3× the text while
+/// every record's fields were collected before the first was read.
+#[test]
+fn a_long_spectral_table_parses_within_its_bound() {
+    let rows = 200_000u64;
+    let test = "memory_bounds::a_long_spectral_table_parses_within_its_bound";
+    let Some(rise) = peak_rise(test, || {
+        let csv = spectral_table(rows);
+        Box::new(move || {
+            combustion_spectra::Spectrum::from_csv(&csv).unwrap();
+        })
+    }) else {
+        return;
+    };
+    let text = spectral_table(rows).len() as u64;
+    assert!(
+        rise <= text + 64 * rows,
+        "{rise} bytes for {text} bytes of text"
+    );
+}
