@@ -11,32 +11,15 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use combustion_scene::gltf::{import, save_gltf, ImportOptions};
+
+#[path = "../tests/support.rs"]
+mod support;
 use combustion_scene::{
     Camera, ColorSpace, EnvironmentImage, Image, Material, Mesh, Object, Sampler, Scene, Texture,
     TextureRef, UvTransform, Vertex,
 };
 use glam::{Mat4, Vec3};
-
-/// A field of /proc/self/status in bytes (`VmRSS`, `VmHWM`).
-fn status_bytes(field: &str) -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix(field)?.strip_prefix(':'))
-        .and_then(|v| v.trim().trim_end_matches(" kB").trim().parse::<u64>().ok())
-        .map(|kib| kib * 1024)
-        .unwrap_or_else(|| panic!("{field} in /proc/self/status"))
-}
-
-/// The rise of peak resident memory while `f` runs, over the resident memory before.
-fn peak_rise<T>(f: impl FnOnce() -> T) -> (T, u64) {
-    // Resets VmHWM to the current RSS (Linux ≥ 4.0).
-    std::fs::write("/proc/self/clear_refs", "5").expect("reset the peak (/proc/self/clear_refs)");
-    let before = status_bytes("VmRSS");
-    let out = f();
-    let peak = status_bytes("VmHWM");
-    (out, peak.saturating_sub(before))
-}
+use support::{peak_rise, placements, textured_triangle};
 
 fn report(class: &str, present: &str, present_bytes: u64, rise: u64) {
     println!(
@@ -85,9 +68,7 @@ fn file_size(path: &Path) -> u64 {
 }
 
 fn main() {
-    let dir: PathBuf =
-        std::env::temp_dir().join(format!("combustion-memory-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temporary folder");
+    let dir: PathBuf = support::temp_dir("memory", "bounds");
     let options = ImportOptions::default();
 
     // Spectra: a measured n, k table of 200,000 rows (first: a small case measured after
@@ -272,14 +253,7 @@ fn main() {
             }
         }
         let path = dir.join("textured.gltf");
-        let json = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
-"meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],
-"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}],
-"textures":[{"source":0}],"images":[{"uri":"texture.image"}],
-"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
-"bufferViews":[{"buffer":0,"byteLength":36}],
-"buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]}"#;
-        std::fs::write(&path, json).expect("write");
+        std::fs::write(&path, textured_triangle("texture.image")).expect("write");
         // A budget of 4 GiB: the decoders' worst cases charged (4.5× for a progressive
         // RGB JPEG) let even the largest image in, to measure what it takes.
         let roomy = ImportOptions {
@@ -415,25 +389,7 @@ fn main() {
     // the 2²¹ limit) from 66 KB of JSON: the limit is the bound.
     let path = dir.join("placements.gltf");
     let side = 1448;
-    let json = format!(
-        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[{}]}}],"nodes":[{}],
-"meshes":[{{"primitives":[{}]}}],
-"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}],
-"bufferViews":[{{"buffer":0,"byteLength":36}}],
-"buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}}]}}"#,
-        (0..side)
-            .map(|i| i.to_string())
-            .collect::<Vec<_>>()
-            .join(","),
-        (0..side)
-            .map(|i| format!(r#"{{"mesh":0,"translation":[{i},0,0]}}"#))
-            .collect::<Vec<_>>()
-            .join(","),
-        (0..side)
-            .map(|_| r#"{"attributes":{"POSITION":0}}"#)
-            .collect::<Vec<_>>()
-            .join(","),
-    );
+    let json = placements(side);
     std::fs::write(&path, &json).expect("write");
     let (result, rise) = peak_rise(|| import(&path, &options).map(|_| ()));
     println!("placements: {result:?}");

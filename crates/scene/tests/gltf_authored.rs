@@ -28,10 +28,7 @@ fn bless() {
 
 /// A fresh, empty temporary folder.
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("combustion-gltf-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    super::support::temp_dir("gltf", name)
 }
 
 fn assert_same_scene(expected: &Scene, actual: &Scene) {

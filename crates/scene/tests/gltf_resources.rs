@@ -9,13 +9,7 @@ use combustion_scene::gltf::{import, ImportOptions};
 use serde_json::json;
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "combustion-resources-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    super::support::temp_dir("resources", name)
 }
 
 /// A 4×4 grey PNG.
@@ -128,27 +122,8 @@ fn one_image_source_is_decoded_once_and_the_budget_holds() {
 /// `dir/scene.gltf`: one triangle textured by `dir/texture.jpg`, which holds `image`.
 fn write_textured_triangle(dir: &Path, image: &[u8]) -> PathBuf {
     std::fs::write(dir.join("texture.jpg"), image).unwrap();
-    let positions: Vec<u8> = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
-        .iter()
-        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
-        .collect();
-    std::fs::write(dir.join("scene.bin"), &positions).unwrap();
-    let gltf = json!({
-        "asset": { "version": "2.0" },
-        "scene": 0,
-        "scenes": [{ "nodes": [0] }],
-        "nodes": [{ "mesh": 0 }],
-        "meshes": [{ "primitives": [{ "attributes": { "POSITION": 0 }, "material": 0 }] }],
-        "materials": [{ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 } } }],
-        "textures": [{ "source": 0 }],
-        "images": [{ "uri": "texture.jpg" }],
-        "accessors": [{ "bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                        "min": [0, 0, 0], "max": [1, 1, 0] }],
-        "bufferViews": [{ "buffer": 0, "byteOffset": 0, "byteLength": positions.len() }],
-        "buffers": [{ "byteLength": positions.len(), "uri": "scene.bin" }],
-    });
     let path = dir.join("scene.gltf");
-    std::fs::write(&path, serde_json::to_vec_pretty(&gltf).unwrap()).unwrap();
+    std::fs::write(&path, super::support::textured_triangle("texture.jpg")).unwrap();
     path
 }
 

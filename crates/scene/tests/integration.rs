@@ -11,3 +11,4 @@ mod gltf_resources;
 mod gltf_samples;
 mod gltf_validity;
 mod memory_bounds;
+mod support;

@@ -9,32 +9,20 @@ use std::process::Command;
 
 use combustion_scene::gltf::{import, ImportOptions};
 
+use super::support::{peak_rise, placements, temp_dir as temp_dir_in, textured_triangle};
+
 /// The environment variable naming the case a child process measures.
 const CHILD: &str = "COMBUSTION_MEMORY_BOUND_CASE";
-
-/// A field of /proc/self/status in bytes (`VmRSS`, `VmHWM`).
-fn status_bytes(field: &str) -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").unwrap();
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix(field)?.strip_prefix(':'))
-        .and_then(|v| v.trim().trim_end_matches(" kB").trim().parse::<u64>().ok())
-        .map(|kib| kib * 1024)
-        .unwrap()
-}
 
 /// The rise of this process's peak resident memory while `work` runs, over its resident
 /// memory just before, measured in a process of its own: in the test's own process
 /// (`test`, its full name) `prepare` is not run and the rise comes back from a child
 /// running this test alone; in that child, `prepare` builds the case's input and returns
 /// the work measured, and the rise is printed for the parent (`None` there).
-fn peak_rise(test: &str, prepare: impl FnOnce() -> Box<dyn FnOnce()>) -> Option<u64> {
+fn peak_rise_alone(test: &str, prepare: impl FnOnce() -> Box<dyn FnOnce()>) -> Option<u64> {
     if std::env::var(CHILD).as_deref() == Ok(test) {
         let work = prepare();
-        std::fs::write("/proc/self/clear_refs", "5").unwrap();
-        let before = status_bytes("VmRSS");
-        work();
-        let rise = status_bytes("VmHWM").saturating_sub(before);
+        let ((), rise) = peak_rise(work);
         // On a line of its own: the test runner's "test NAME ..." has no line break.
         println!("\npeak rise: {rise}");
         return None;
@@ -58,17 +46,8 @@ fn peak_rise(test: &str, prepare: impl FnOnce() -> Box<dyn FnOnce()>) -> Option<
 }
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "combustion-memory-bounds-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    temp_dir_in("memory-bounds", name)
 }
-
-/// One triangle, as a data URI (36 bytes of positions).
-const TRIANGLE: &str = r#""accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],"bufferViews":[{"buffer":0,"byteLength":36}],"buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]"#;
 
 /// Imports `path`, which must succeed, as measured work.
 fn importing(path: PathBuf, options: ImportOptions) -> Box<dyn FnOnce()> {
@@ -87,17 +66,10 @@ fn importing(path: PathBuf, options: ImportOptions) -> Box<dyn FnOnce()> {
 fn two_million_placements_take_at_most_320_bytes_each() {
     let side = 1448u64;
     let test = "memory_bounds::two_million_placements_take_at_most_320_bytes_each";
-    let Some(rise) = peak_rise(test, || {
+    let Some(rise) = peak_rise_alone(test, || {
         let dir = temp_dir("placements");
         let path = dir.join("placements.gltf");
-        let list = |item: &dyn Fn(u64) -> String| (0..side).map(item).collect::<Vec<_>>().join(",");
-        let json = format!(
-            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[{}]}}],"nodes":[{}],"meshes":[{{"primitives":[{}]}}],{TRIANGLE}}}"#,
-            list(&|i| i.to_string()),
-            list(&|i| format!(r#"{{"mesh":0,"translation":[{i},0,0]}}"#)),
-            list(&|_| r#"{"attributes":{"POSITION":0}}"#.into()),
-        );
-        std::fs::write(&path, json).unwrap();
+        std::fs::write(&path, placements(side as usize)).unwrap();
         importing(path, ImportOptions::default())
     }) else {
         return;
@@ -116,7 +88,7 @@ fn two_million_placements_take_at_most_320_bytes_each() {
 fn two_hundred_thousand_nodes_take_at_most_750_bytes_each() {
     let nodes = 200_000u64;
     let test = "memory_bounds::two_hundred_thousand_nodes_take_at_most_750_bytes_each";
-    let Some(rise) = peak_rise(test, || {
+    let Some(rise) = peak_rise_alone(test, || {
         let dir = temp_dir("nodes");
         let path = dir.join("nodes.gltf");
         let roots: Vec<String> = (0..nodes).map(|i| i.to_string()).collect();
@@ -147,14 +119,11 @@ fn two_hundred_thousand_nodes_take_at_most_750_bytes_each() {
 fn a_progressive_jpeg_decodes_within_its_charge() {
     let test = "memory_bounds::a_progressive_jpeg_decodes_within_its_charge";
     let image = include_bytes!("data/flat-2048-progressive-444.jpg");
-    let Some(rise) = peak_rise(test, || {
+    let Some(rise) = peak_rise_alone(test, || {
         let dir = temp_dir("progressive");
         std::fs::write(dir.join("texture.jpg"), image).unwrap();
         let path = dir.join("textured.gltf");
-        let json = format!(
-            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"material":0}}]}}],"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}}],"textures":[{{"source":0}}],"images":[{{"uri":"texture.jpg"}}],{TRIANGLE}}}"#
-        );
-        std::fs::write(&path, json).unwrap();
+        std::fs::write(&path, textured_triangle("texture.jpg")).unwrap();
         importing(path, ImportOptions::default())
     }) else {
         return;
@@ -184,7 +153,7 @@ fn spectral_table(rows: u64) -> String {
 fn a_long_spectral_table_parses_within_its_bound() {
     let rows = 200_000u64;
     let test = "memory_bounds::a_long_spectral_table_parses_within_its_bound";
-    let Some(rise) = peak_rise(test, || {
+    let Some(rise) = peak_rise_alone(test, || {
         let csv = spectral_table(rows);
         Box::new(move || {
             combustion_spectra::Spectrum::from_csv(&csv).unwrap();
