@@ -20,19 +20,20 @@ impl log::Log for StderrLogger {
     /// with the module that logged them (`[INFO combustion_renderer::…] …`).
     fn log(&self, record: &log::Record<'_>) {
         if self.enabled(record.metadata()) {
-            match record.level() {
-                // Control characters (a file name's) as escapes, as the errors' are.
-                log::Level::Error => {
-                    eprintln!("error: {}", combustion::escaped(&record.args().to_string()))
+            // On one line, control characters (a file name's) as escapes: the rule of
+            // the command's own errors.
+            let prefix = match record.level() {
+                log::Level::Error => "error",
+                log::Level::Warn => "warning",
+                level => {
+                    eprintln!("[{level} {}] {}", record.target(), record.args());
+                    return;
                 }
-                log::Level::Warn => {
-                    eprintln!(
-                        "warning: {}",
-                        combustion::escaped(&record.args().to_string())
-                    )
-                }
-                level => eprintln!("[{level} {}] {}", record.target(), record.args()),
-            }
+            };
+            eprintln!(
+                "{prefix}: {}",
+                combustion::cli::one_line(&record.args().to_string())
+            );
         }
     }
     fn flush(&self) {}

@@ -341,6 +341,55 @@ fn a_shard_without_jobs_has_empty_results_and_merges() {
     assert_eq!(results(&merged)["jobs"].as_array().unwrap().len(), 2);
 }
 
+/// A shard's results file is read text: a message holding an escape sequence or a line
+/// break is shown by `--merge` on one line with the control characters escaped, in the
+/// table and in the merged results (it reached the terminal raw).
+#[test]
+fn merged_messages_reach_no_terminal_raw() {
+    let dir = scratch("merged-escapes");
+    let manifest = dir.join("two.json");
+    std::fs::write(dir.join("broken.gltf"), "{}").unwrap();
+    std::fs::write(
+        &manifest,
+        r#"{"jobs": [{"name": "a", "scene": "builtin:spheres", "width": 32, "height": 24},
+                      {"name": "b", "scene": "broken.gltf", "width": 32, "height": 24}]}"#,
+    )
+    .unwrap();
+    let mut shards = Vec::new();
+    for i in 1..=2 {
+        let folder = dir.join(format!("shard-{i}"));
+        let shard = format!("{i}/2");
+        combustion(&[
+            "batch",
+            text(&manifest),
+            "-o",
+            text(&folder),
+            "--shard",
+            &shard,
+        ]);
+        shards.push(folder);
+    }
+    // Job b failed to load: its message, rewritten as a hostile file would hold it.
+    let file = shards[1].join("results.json");
+    let mut written = results(&shards[1]);
+    written["jobs"][0]["message"] = "clear\u{1b}[2J\nsecond line".into();
+    std::fs::write(&file, serde_json::to_vec(&written).unwrap()).unwrap();
+    let merged = dir.join("merged");
+    let (code, stdout, stderr) = combustion(&[
+        "batch",
+        "--merge",
+        text(&shards[0]),
+        text(&shards[1]),
+        "-o",
+        text(&merged),
+    ]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    assert!(!stdout.contains('\u{1b}'), "{stdout:?}");
+    assert!(stdout.contains("clear\\u{1b}[2J; second line"), "{stdout}");
+    let message = results(&merged)["jobs"][1]["message"].clone();
+    assert_eq!(message, "clear\\u{1b}[2J; second line");
+}
+
 /// What a batch cannot do is said in one line before anything renders (a manifest's
 /// mistakes name the job; exit 2), or per job while the others go on: a scene that
 /// fails to load, a golden of another size.

@@ -107,7 +107,9 @@ impl JobResult {
             name: value.get("name")?.as_str()?.to_owned(),
             scene: value.get("scene")?.as_str()?.to_owned(),
             status: Status::from_name(value.get("status")?.as_str()?)?,
-            message: value.get("message")?.as_str().map(str::to_owned),
+            // Read from a file: on one line, control characters escaped, before the
+            // table or junit.xml shows it.
+            message: value.get("message")?.as_str().map(super::one_line),
             seconds: value.get("seconds")?.as_f64()?,
             outputs: value.get("outputs")?.as_array()?.clone(),
             physics: value.get("physics_error").filter(|v| !v.is_null()).cloned(),
@@ -209,8 +211,8 @@ fn finish(run: &Value, results: &[JobResult], suite: &str, folder: &Path) -> Res
         count(Status::GoldensWritten),
         count(Status::Failed),
         count(Status::Error),
-        folder.join(RESULTS_FILE).display(),
-        folder.join(JUNIT_FILE).display(),
+        crate::escaped(&folder.join(RESULTS_FILE).display().to_string()),
+        crate::escaped(&folder.join(JUNIT_FILE).display().to_string()),
     ));
     if bad.is_empty() {
         Ok(())

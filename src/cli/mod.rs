@@ -54,8 +54,9 @@ pub(crate) use view::{devices, view};
 
 /// `text` on one line: line breaks (an importer's or parser's detail) become "; ", and
 /// any other control character — in a file name the message shows whole, say — an escape
-/// (`\u{1b}`), so no message acts on the terminal.
-fn one_line(text: &str) -> String {
+/// (`\u{1b}`), so no message acts on the terminal. Every error the command prints, and
+/// every warning or error logged (src/main.rs), goes through it.
+pub fn one_line(text: &str) -> String {
     let joined = text
         .lines()
         .map(str::trim)

@@ -39,13 +39,15 @@ pub fn shortened(text: &str) -> String {
 /// `text` whole (a path: messages show paths whole), its control characters written as
 /// escapes (`\n`, `\u{1b}`) as [`shortened`] writes them.
 pub fn escaped(text: &str) -> String {
-    text.chars()
-        .flat_map(|c| {
-            let escaped = c.is_control().then(|| c.escape_default());
-            let plain = (!c.is_control()).then_some(c);
-            escaped.into_iter().flatten().chain(plain)
-        })
-        .collect()
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// A number shown as [`readable`] describes.

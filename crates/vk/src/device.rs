@@ -220,10 +220,24 @@ unsafe extern "system" fn validation_callback(
         vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
             | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
     ) {
+        // The message's kinds in words (not the flags' Rust form): "validation", …
+        let kinds = [
+            (vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION, "validation"),
+            (
+                vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                "performance",
+            ),
+            (vk::DebugUtilsMessageTypeFlagsEXT::GENERAL, "general"),
+        ]
+        .iter()
+        .filter(|(flag, _)| kind.contains(*flag))
+        .map(|(_, name)| *name)
+        .collect::<Vec<_>>()
+        .join(" and ");
         if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
-            log::error!(target: "vulkan", "{kind:?}: {message}");
+            log::error!(target: "vulkan", "Vulkan {kinds} message: {message}");
         } else {
-            log::warn!(target: "vulkan", "{kind:?}: {message}");
+            log::warn!(target: "vulkan", "Vulkan {kinds} message: {message}");
         }
         if !user.is_null() {
             let log = &*(user as *const Mutex<Vec<String>>);
