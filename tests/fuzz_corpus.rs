@@ -10,16 +10,10 @@ mod replay;
 
 #[test]
 fn the_batch_manifest_corpus_replays_without_a_panic() {
-    let (inputs, panicked) = replay::replay(
-        &replay::seed_folder("batch_manifest"),
-        batch_manifest_target::parse_and_merge,
-    );
-    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    let run = batch_manifest_target::parse_and_merge;
+    let inputs = replay::replay_seeds("batch_manifest", run);
     assert!(inputs >= 8, "{inputs} inputs");
     // And the corpus of its runs, minimised (fuzz/seeds/batch_manifest.tar.xz).
-    let (dir, files) = replay::unpacked_archive("batch_manifest");
-    let (inputs, panicked) = replay::replay(&files, batch_manifest_target::parse_and_merge);
-    std::fs::remove_dir_all(&dir).unwrap();
-    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    let inputs = replay::replay_archive("batch_manifest", run);
     assert!(inputs > 2000, "{inputs} inputs");
 }

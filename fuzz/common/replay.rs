@@ -67,3 +67,29 @@ pub fn unpacked_archive(name: &str) -> (PathBuf, Vec<PathBuf>) {
     let files = files_in(&dir);
     (dir, files)
 }
+
+/// Every input of `fuzz/seeds/NAME/` through `run`, none of which may panic (the names
+/// of those that did fail the test); how many there were.
+pub fn replay_seeds(name: &str, run: fn(&[u8])) -> usize {
+    assert_none_panicked(
+        &format!("fuzz/seeds/{name}/"),
+        replay(&seed_folder(name), run),
+    )
+}
+
+/// Every input of `fuzz/seeds/NAME.tar.xz` through `run`, as [`replay_seeds`].
+pub fn replay_archive(name: &str, run: fn(&[u8])) -> usize {
+    let (dir, files) = unpacked_archive(name);
+    let replayed = replay(&files, run);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_none_panicked(&format!("fuzz/seeds/{name}.tar.xz"), replayed)
+}
+
+fn assert_none_panicked(corpus: &str, (inputs, panicked): (usize, Vec<String>)) -> usize {
+    assert!(
+        panicked.is_empty(),
+        "{} of {inputs} inputs of {corpus} panicked: {panicked:?}",
+        panicked.len()
+    );
+    inputs
+}

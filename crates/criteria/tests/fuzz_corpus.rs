@@ -10,17 +10,11 @@ mod replay;
 
 #[test]
 fn the_criteria_corpus_replays_without_a_panic() {
-    let (inputs, panicked) = replay::replay(
-        &replay::seed_folder("criteria"),
-        criteria_target::parse_and_check,
-    );
-    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    let run = criteria_target::parse_and_check;
+    let inputs = replay::replay_seeds("criteria", run);
     assert!(inputs >= 8, "{inputs} inputs");
     // And the corpus of its hour (two runs of 30 minutes), minimised
     // (fuzz/seeds/criteria.tar.xz).
-    let (dir, files) = replay::unpacked_archive("criteria");
-    let (inputs, panicked) = replay::replay(&files, criteria_target::parse_and_check);
-    std::fs::remove_dir_all(&dir).unwrap();
-    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    let inputs = replay::replay_archive("criteria", run);
     assert!(inputs >= 550, "{inputs} inputs");
 }

@@ -16,29 +16,16 @@ mod gltf;
 #[path = "../../../fuzz/common/replay.rs"]
 mod replay;
 
-/// Every input of `name`'s corpus through `run`; the inputs that panicked, by name.
-fn replay(name: &str, run: fn(&[u8])) -> usize {
-    let (dir, files) = replay::unpacked_archive(name);
-    let (inputs, panicked) = replay::replay(&files, run);
-    std::fs::remove_dir_all(dir).unwrap();
-    assert!(
-        panicked.is_empty(),
-        "{} of {inputs} inputs of {name} panicked: {panicked:?}",
-        panicked.len(),
-    );
-    inputs
-}
-
 #[test]
 fn the_importer_corpus_replays_without_a_panic() {
-    let inputs = replay("gltf_import", gltf::import_both_ways);
+    let inputs = replay::replay_archive("gltf_import", gltf::import_both_ways);
     // The archive holds the minimised corpus, not a stub.
     assert!(inputs > 10_000, "{inputs} inputs");
 }
 
 #[test]
 fn the_import_and_validate_corpus_replays_without_a_panic() {
-    let inputs = replay("gltf_import_validate", gltf::import_and_validate);
+    let inputs = replay::replay_archive("gltf_import_validate", gltf::import_and_validate);
     assert!(inputs > 10_000, "{inputs} inputs");
 }
 
@@ -61,14 +48,11 @@ fn an_internal_error_of_the_importer_is_a_crash_to_the_replay() {
 /// the `animation_sampling` target runs them.
 #[test]
 fn the_animation_sampling_corpus_replays_without_a_panic() {
-    let (inputs, panicked) = replay::replay(
-        &replay::seed_folder("animation_sampling"),
-        animation_target::sample_animations,
-    );
-    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    let inputs = replay::replay_seeds("animation_sampling", animation_target::sample_animations);
     assert!(inputs >= 12, "{inputs} inputs");
     // And the corpus of an hour's run, minimised (fuzz/seeds/animation_sampling.tar.xz).
-    let archived = replay("animation_sampling", animation_target::sample_animations);
+    let archived =
+        replay::replay_archive("animation_sampling", animation_target::sample_animations);
     assert!(archived > 13_000, "{archived} inputs");
     // The hand-made seeds reach the sampling — each imports, with an animation — but
     // the two the importer refuses: keys that are not unit quaternions, and a scale of
@@ -98,11 +82,7 @@ fn the_animation_sampling_corpus_replays_without_a_panic() {
 /// cameras of every path it accepts, as the `camera_path` target runs them.
 #[test]
 fn the_camera_path_corpus_replays_without_a_panic() {
-    let (inputs, panicked) = replay::replay(
-        &replay::seed_folder("camera_path"),
-        camera_path_target::parse_and_follow,
-    );
-    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    let inputs = replay::replay_seeds("camera_path", camera_path_target::parse_and_follow);
     assert!(inputs >= 5, "{inputs} inputs");
 }
 
@@ -112,13 +92,9 @@ fn the_camera_path_corpus_replays_without_a_panic() {
 /// `environment_image` target runs them.
 #[test]
 fn the_environment_image_corpus_replays_without_a_panic() {
-    let (inputs, panicked) = replay::replay(
-        &replay::seed_folder("environment_image"),
-        environment_target::decode,
-    );
-    assert!(panicked.is_empty(), "{panicked:?} of {inputs} panicked");
+    let inputs = replay::replay_seeds("environment_image", environment_target::decode);
     // And the corpus of an hour's run, minimised (fuzz/seeds/environment_image.tar.xz).
-    let archived = replay("environment_image", environment_target::decode);
+    let archived = replay::replay_archive("environment_image", environment_target::decode);
     assert!(archived > 4_000, "{archived} inputs");
     // Both formats, accepted and refused, are in it (not a stub).
     assert!(inputs >= 6, "{inputs} inputs");
