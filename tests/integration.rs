@@ -23,6 +23,7 @@ mod batch;
 mod blending;
 mod bloom;
 mod cli;
+mod cpu_device;
 mod cutouts;
 mod debug_views;
 mod edits;

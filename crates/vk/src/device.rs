@@ -95,6 +95,56 @@ pub struct DeviceDesc {
     /// ([`RayQueries::WhenAvailable`], the default) or not ([`RayQueries::Off`]: the
     /// raster paths only, as on a device without them).
     pub ray_queries: RayQueries,
+    /// What the process's allocator does with the memory a CPU device frees at its
+    /// heap's top ([`HeapTrim::KeptOnCpuDevice`], the default, or the system's
+    /// behaviour). Only CPU devices and glibc's allocator are concerned.
+    pub heap_trim: HeapTrim,
+}
+
+/// Whether memory freed at the top of the process's heap is given back to the system
+/// when the device is a CPU (lavapipe) ([`DeviceDesc::heap_trim`]).
+///
+/// A CPU device allocates each frame's binned triangles in the process's heap and frees
+/// them when the frame is drawn. glibc gives freed memory at a heap's top back to the
+/// system beyond a threshold that it raises by itself only after a large enough mapped
+/// block was freed, so depending on what the process did before, each frame's tens of
+/// megabytes may be faulted in and zeroed anew: builtin:grid-7x7 at 1280×720 took
+/// 175,000–207,000 page faults in 30 frames and a G-buffer pass of 36–39 ms instead of
+/// 29,900 and 26–29 ms (docs/performance.md). Kept, the threshold is
+/// [`KEPT_HEAP_TRIM_THRESHOLD`] from the device's creation on — a process-wide setting
+/// of the allocator, which a host that tunes its allocator itself turns off with
+/// [`HeapTrim::SystemDefault`]. Devices made by [`Device::new`] only: a host's own
+/// device ([`HostDevice`]) leaves the allocator to the host.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HeapTrim {
+    /// On a CPU device, glibc's trim threshold is set to [`KEPT_HEAP_TRIM_THRESHOLD`]
+    /// (`mallopt(M_TRIM_THRESHOLD)`), which also stops glibc moving its mapping
+    /// threshold by itself.
+    #[default]
+    KeptOnCpuDevice,
+    /// The allocator is left as the process has it.
+    SystemDefault,
+}
+
+/// The bytes freed at a heap's top that glibc keeps for reuse on a CPU device
+/// ([`HeapTrim::KeptOnCpuDevice`]): above the ~23 MB a frame of builtin:grid-7x7 churns
+/// at 1280×720, with room for larger scenes.
+pub const KEPT_HEAP_TRIM_THRESHOLD: usize = 256 << 20;
+
+/// Applies `trim` for a device of `device_type`: see [`HeapTrim`].
+fn apply_heap_trim(trim: HeapTrim, device_type: vk::PhysicalDeviceType) {
+    if trim != HeapTrim::KeptOnCpuDevice || device_type != vk::PhysicalDeviceType::CPU {
+        return;
+    }
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        let threshold =
+            std::ffi::c_int::try_from(KEPT_HEAP_TRIM_THRESHOLD).unwrap_or(std::ffi::c_int::MAX);
+        // SAFETY: mallopt changes the allocator's parameters only; glibc serialises it
+        // with allocations. A refusal (0) leaves the system's behaviour, which is correct,
+        // only slower.
+        let _ = unsafe { libc::mallopt(libc::M_TRIM_THRESHOLD, threshold) };
+    }
 }
 
 /// Whether a device is created with ray queries ([`DeviceDesc::ray_queries`]): the
@@ -765,6 +815,7 @@ impl Device {
             guard.messenger = Some((loader, messenger));
         }
         let (physical_device, info, queue_family) = select_device(instance, &desc.selector)?;
+        apply_heap_trim(desc.heap_trim, info.device_type);
         // SAFETY: valid physical device.
         let limits = unsafe { instance.get_physical_device_properties(physical_device) }.limits;
 
