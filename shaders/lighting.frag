@@ -76,6 +76,24 @@ layout(push_constant) uniform LightingPush {
 // (OUTPUT_FOLDED: written by main from the radiance).
 layout(location = 0) out vec4 out_radiance;
 
+// The radiance where no surface is (alpha 0 marks it): the background's, or the
+// environment along the pixel's ray where it is the background.
+vec4 background_radiance() {
+    vec4 radiance = vec4(push.background.rgb, 0.0);
+#ifdef ENVIRONMENT
+    if (push.background.w != 0.0) {
+        // The environment along the pixel's ray: through a point of the view volume
+        // at depth 0.5 (finite with an infinite far plane too).
+        vec2 ndc = gl_FragCoord.xy / vec2(textureSize(gbuffer_depth, 0)) * 2.0 - 1.0;
+        vec4 along = push.inverse_view_projection * vec4(ndc, 0.5, 1.0);
+        vec3 direction = normalize(along.xyz / along.w - push.camera_position.xyz);
+        radiance = vec4(textureLod(environment_specular, direction, 0.0).rgb, 0.0);
+    }
+#endif
+    return radiance;
+}
+
+#ifndef BACKGROUND_PIXELS
 // Writes the pixel's radiance into out_radiance, or discards it.
 void light_pixel() {
 #ifdef PATH_TRACE
@@ -101,18 +119,9 @@ void light_pixel() {
 #endif
     }
     if (depth >= 1.0) {
-        // Background: nothing was drawn here (alpha 0 marks it).
-        out_radiance = vec4(push.background.rgb, 0.0);
-#ifdef ENVIRONMENT
-        if (push.background.w != 0.0) {
-            // The environment along the pixel's ray: through a point of the view volume
-            // at depth 0.5 (finite with an infinite far plane too).
-            vec2 ndc = gl_FragCoord.xy / vec2(textureSize(gbuffer_depth, 0)) * 2.0 - 1.0;
-            vec4 along = push.inverse_view_projection * vec4(ndc, 0.5, 1.0);
-            vec3 direction = normalize(along.xyz / along.w - push.camera_position.xyz);
-            out_radiance = vec4(textureLod(environment_specular, direction, 0.0).rgb, 0.0);
-        }
-#endif
+        // Background: nothing was drawn here. Depth-tested pipelines shade only where
+        // a surface is (passes/lighting.rs), the background pipeline the rest.
+        out_radiance = background_radiance();
         return;
     }
     vec4 base_metal = texelFetch(gbuffer_base_color_metalness, pixel, 0);
@@ -348,8 +357,15 @@ void light_pixel() {
     out_radiance = vec4(radiance, 1.0);
 }
 
+#endif
+
 void main() {
+#ifdef BACKGROUND_PIXELS
+    // The background pipeline: only where no surface was drawn (its depth test).
+    out_radiance = background_radiance();
+#else
     light_pixel();
+#endif
 #ifdef OUTPUT_FOLDED
     out_radiance = output_encoded(out_radiance.rgb, uintBitsToFloat(push.sampling.z), push.sampling.w);
 #endif

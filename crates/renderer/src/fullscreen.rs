@@ -10,7 +10,8 @@ use combustion_vk::{
 use crate::error::RenderError;
 
 /// What [`screen_pipeline`] builds: shaders by name, one descriptor set, push constants
-/// for `push_stages`, one colour target, no vertex input and no depth.
+/// for `push_stages`, one colour target, no vertex input, and a depth test against the
+/// frame's depth (read-only) or none.
 pub(crate) struct ScreenPipelineDesc<'a> {
     pub vertex_shader: &'a str,
     pub fragment_shader: &'a str,
@@ -21,6 +22,10 @@ pub(crate) struct ScreenPipelineDesc<'a> {
     pub push_size: u32,
     pub format: vk::Format,
     pub blend: combustion_vk::ColorBlend,
+    /// The full-screen triangle at the far plane (depth 1), compared with the depth
+    /// attachment's by this test (fragments where it fails are not shaded), or `None`:
+    /// no depth attachment.
+    pub depth_test: Option<vk::CompareOp>,
 }
 
 /// A pipeline drawing into one colour target without vertex buffers (the full-screen
@@ -37,9 +42,13 @@ pub(crate) fn screen_pipeline(
         size: desc.push_size,
     }];
     let layout = PipelineLayout::new(device, &[desc.set_layout], &push)?;
+    let vertex_defines: &[(&str, Option<&str>)] = match desc.depth_test {
+        Some(_) => &[("AT_FAR_PLANE", None)],
+        None => &[],
+    };
     let vertex = ShaderModule::new(
         device,
-        &compiler.compile(desc.vertex_shader, ShaderStage::Vertex, &[])?,
+        &compiler.compile(desc.vertex_shader, ShaderStage::Vertex, vertex_defines)?,
         ShaderStage::Vertex,
     )?;
     let fragment = ShaderModule::new(
@@ -56,8 +65,9 @@ pub(crate) fn screen_pipeline(
             vertex_bindings: &[],
             vertex_attributes: &[],
             color_formats: &[desc.format],
-            depth_format: None,
+            depth_format: desc.depth_test.map(|_| crate::gbuffer::DEPTH_FORMAT),
             depth_write: false,
+            depth_compare: desc.depth_test.unwrap_or(vk::CompareOp::ALWAYS),
             blend: desc.blend,
             cache: Some(cache),
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
@@ -75,6 +85,72 @@ pub struct FullscreenPass {
     blends: bool,
 }
 
+/// How a rendering of a full-screen target starts with the target's contents.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum TargetStart {
+    /// Cleared to this value, which the pixels no draw writes keep.
+    Clear([f32; 4]),
+    /// Loaded: what the target holds (a blending pass, or draws over an earlier rendering).
+    Load,
+    /// Undefined: every pixel is written.
+    Written,
+}
+
+/// Begins a rendering of `output` (a view in COLOR_ATTACHMENT_OPTIMAL of `extent`) that
+/// starts as `start` says, with `depth` (a view of the frame's depth, read-only in
+/// DEPTH_STENCIL_READ_ONLY_OPTIMAL) as its depth attachment for depth-tested passes;
+/// viewport, scissor and cull mode set. End it with [`end_rendering`].
+pub(crate) fn begin_screen_rendering(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    (output, extent): (vk::ImageView, vk::Extent2D),
+    start: TargetStart,
+    depth: Option<vk::ImageView>,
+) {
+    let (load, clear) = match start {
+        TargetStart::Clear(value) => (vk::AttachmentLoadOp::CLEAR, value),
+        TargetStart::Load => (vk::AttachmentLoadOp::LOAD, [0.0; 4]),
+        TargetStart::Written => (vk::AttachmentLoadOp::DONT_CARE, [0.0; 4]),
+    };
+    let attachment = [vk::RenderingAttachmentInfo::default()
+        .image_view(output)
+        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        .load_op(load)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .clear_value(vk::ClearValue {
+            color: vk::ClearColorValue { float32: clear },
+        })];
+    let depth_attachment = depth.map(|view| {
+        vk::RenderingAttachmentInfo::default()
+            .image_view(view)
+            .image_layout(vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::NONE)
+    });
+    let mut rendering = vk::RenderingInfo::default()
+        .render_area(crate::commands::whole(extent))
+        .layer_count(1)
+        .color_attachments(&attachment);
+    if let Some(depth_attachment) = &depth_attachment {
+        rendering = rendering.depth_attachment(depth_attachment);
+    }
+    let raw = device.raw();
+    // SAFETY: recording into a command buffer in the recording state.
+    unsafe {
+        raw.cmd_begin_rendering(cmd, &rendering);
+        crate::commands::set_viewport_and_scissor(raw, cmd, extent);
+        raw.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
+    }
+}
+
+/// Ends the rendering [`begin_screen_rendering`] began.
+pub(crate) fn end_rendering(device: &Device, cmd: vk::CommandBuffer) {
+    // SAFETY: recording, inside a rendering begun by begin_screen_rendering.
+    unsafe {
+        device.raw().cmd_end_rendering(cmd);
+    }
+}
+
 impl FullscreenPass {
     #[allow(clippy::too_many_arguments)]
     pub fn new(
@@ -88,7 +164,33 @@ impl FullscreenPass {
         output_format: vk::Format,
     ) -> Result<Self, RenderError> {
         let shader = (fragment_shader, defines);
-        let target = (output_format, combustion_vk::ColorBlend::Replace);
+        let target = (output_format, combustion_vk::ColorBlend::Replace, None);
+        Self::build(
+            device, compiler, cache, shader, set_layout, push_size, target,
+        )
+    }
+
+    /// A pass whose fragments are shaded only where the frame's depth passes `test`
+    /// against the far plane's depth (1): `GREATER` where a surface was drawn, `EQUAL`
+    /// where none was. Recorded with [`FullscreenPass::draw`] inside a rendering given
+    /// that depth ([`begin_screen_rendering`]).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn depth_tested(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        cache: &PipelineCache,
+        (fragment_shader, defines): (&str, &[(&str, Option<&str>)]),
+        set_layout: &DescriptorSetLayout,
+        push_size: u32,
+        output_format: vk::Format,
+        test: vk::CompareOp,
+    ) -> Result<Self, RenderError> {
+        let shader = (fragment_shader, defines);
+        let target = (
+            output_format,
+            combustion_vk::ColorBlend::Replace,
+            Some(test),
+        );
         Self::build(
             device, compiler, cache, shader, set_layout, push_size, target,
         )
@@ -105,7 +207,11 @@ impl FullscreenPass {
         push_size: u32,
         output_format: vk::Format,
     ) -> Result<Self, RenderError> {
-        let target = (output_format, combustion_vk::ColorBlend::OverKeepingAlpha);
+        let target = (
+            output_format,
+            combustion_vk::ColorBlend::OverKeepingAlpha,
+            None,
+        );
         let shader = (fragment_shader, &[][..]);
         Self::build(
             device, compiler, cache, shader, set_layout, push_size, target,
@@ -113,7 +219,7 @@ impl FullscreenPass {
     }
 
     /// The pass of `fragment_shader` with `defines` into `format` by `blend` (it loads
-    /// the target unless it replaces it).
+    /// the target unless it replaces it), depth-tested by `depth_test` or not.
     fn build(
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
@@ -121,7 +227,7 @@ impl FullscreenPass {
         (fragment_shader, defines): (&str, &[(&str, Option<&str>)]),
         set_layout: &DescriptorSetLayout,
         push_size: u32,
-        (format, blend): (vk::Format, combustion_vk::ColorBlend),
+        (format, blend, depth_test): (vk::Format, combustion_vk::ColorBlend, Option<vk::CompareOp>),
     ) -> Result<Self, RenderError> {
         let desc = ScreenPipelineDesc {
             vertex_shader: "fullscreen.vert",
@@ -132,6 +238,7 @@ impl FullscreenPass {
             push_size,
             format,
             blend,
+            depth_test,
         };
         let (layout, pipeline) = screen_pipeline(device, compiler, cache, &desc)?;
         Ok(Self {
@@ -159,35 +266,31 @@ impl FullscreenPass {
         clear: Option<[f32; 4]>,
         then: impl FnOnce(vk::CommandBuffer),
     ) {
-        debug_assert_eq!(push.len() as u32, self.push_size);
-        let load = match clear {
-            Some(_) => vk::AttachmentLoadOp::CLEAR,
-            None if self.blends => vk::AttachmentLoadOp::LOAD,
-            None => vk::AttachmentLoadOp::DONT_CARE,
+        let start = match clear {
+            Some(value) => TargetStart::Clear(value),
+            None if self.blends => TargetStart::Load,
+            None => TargetStart::Written,
         };
-        let attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(output)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(load)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue {
-                    float32: clear.unwrap_or_default(),
-                },
-            })];
-        let rendering = vk::RenderingInfo::default()
-            .render_area(vk::Rect2D {
-                offset: vk::Offset2D::default(),
-                extent,
-            })
-            .layer_count(1)
-            .color_attachments(&attachment);
+        begin_screen_rendering(device, cmd, (output, extent), start, None);
+        self.draw(device, cmd, set, push);
+        then(cmd);
+        end_rendering(device, cmd);
+    }
+
+    /// Draws the full-screen triangle through this pass's pipeline with `set` and
+    /// `push`, inside a rendering whose attachments it was built for.
+    pub(crate) fn draw(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        push: &[u8],
+    ) {
+        debug_assert_eq!(push.len() as u32, self.push_size);
         let raw = device.raw();
-        // SAFETY: recording into a command buffer in the recording state.
+        // SAFETY: recording into a command buffer in the recording state, inside a
+        // rendering.
         unsafe {
-            raw.cmd_begin_rendering(cmd, &rendering);
-            crate::commands::set_viewport_and_scissor(raw, cmd, extent);
-            raw.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
             crate::commands::bind_pass(
                 raw,
                 cmd,
@@ -199,11 +302,6 @@ impl FullscreenPass {
                 push,
             );
             raw.cmd_draw(cmd, 3, 1, 0, 0);
-        }
-        then(cmd);
-        // SAFETY: as above; ends the rendering begun here.
-        unsafe {
-            raw.cmd_end_rendering(cmd);
         }
     }
 }

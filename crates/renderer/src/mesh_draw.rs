@@ -120,6 +120,7 @@ pub(crate) fn first_stream_pipeline(
             color_formats: &[color_format],
             depth_format: Some(crate::gbuffer::DEPTH_FORMAT),
             depth_write: true,
+            depth_compare: vk::CompareOp::LESS,
             blend: combustion_vk::ColorBlend::Replace,
             cache: Some(cache),
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,

@@ -351,6 +351,7 @@ impl OverlayPass {
                 push_size: std::mem::size_of::<OverlayPush>() as u32,
                 format,
                 blend: combustion_vk::ColorBlend::OverKeepingAlpha,
+                depth_test: None,
             },
         )?;
         Ok(Self { layout, pipeline })

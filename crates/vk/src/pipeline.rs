@@ -150,11 +150,14 @@ pub struct GraphicsPipelineDesc<'a> {
     pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
     /// The formats of the colour attachments rendered to, in attachment order.
     pub color_formats: &'a [vk::Format],
-    /// Depth attachment format; the depth test (LESS) is on when set.
+    /// Depth attachment format; the depth test is on when set.
     pub depth_format: Option<vk::Format>,
     /// Whether fragments that pass the depth test write their depth (with a depth
     /// attachment; `false` tests against a depth image read-only).
     pub depth_write: bool,
+    /// The depth test's comparison of the fragment's depth with the attachment's
+    /// (`LESS` for surfaces; with a depth attachment).
+    pub depth_compare: vk::CompareOp,
     /// How the fragment's colour meets the attachment's contents.
     pub blend: ColorBlend,
     /// Where compiled pipelines are cached (saved and loaded by the host).
@@ -218,7 +221,7 @@ impl Pipeline {
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(desc.depth_format.is_some())
             .depth_write_enable(desc.depth_format.is_some() && desc.depth_write)
-            .depth_compare_op(vk::CompareOp::LESS);
+            .depth_compare_op(desc.depth_compare);
         let blend_attachments: Vec<_> = desc
             .color_formats
             .iter()

@@ -274,6 +274,7 @@ impl ForwardPass {
                 color_formats: &[hdr_format],
                 depth_format: Some(DEPTH_FORMAT),
                 depth_write: false,
+                depth_compare: vk::CompareOp::LESS,
                 blend: ColorBlend::Over,
                 cache: Some(cache),
                 topology: vk::PrimitiveTopology::TRIANGLE_LIST,

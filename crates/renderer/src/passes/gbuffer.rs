@@ -214,6 +214,7 @@ impl GBufferPass {
                     color_formats: &color_formats,
                     depth_format: Some(DEPTH_FORMAT),
                     depth_write: true,
+                    depth_compare: vk::CompareOp::LESS,
                     blend: combustion_vk::ColorBlend::Replace,
                     cache: Some(cache),
                 },

@@ -245,6 +245,7 @@ impl ShadowCasterPass {
                 color_formats: &[],
                 depth_format: Some(SHADOW_MAP_FORMAT),
                 depth_write: true,
+                depth_compare: vk::CompareOp::LESS,
                 blend: combustion_vk::ColorBlend::Replace,
                 cache: Some(cache),
                 topology: vk::PrimitiveTopology::TRIANGLE_LIST,
