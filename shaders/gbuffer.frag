@@ -97,7 +97,7 @@ void main() {
     vec2 uv = in_slot_uv[0].xy + in_slot_uv[0].zw + in_slot_uv[1].xy + in_slot_uv[1].zw + in_slot_uv[2].xy
             + in_slot_uv[2].zw;
 #else
-    vec2 uv = in_uv;
+    vec2 uv = SURFACE_UV;
 #endif
     out_base_color_metalness = vec4(
         clamp(in_world_position + in_normal + in_tangent.xyz + vec3(uv, in_tangent.w), 0.0, 1.0),

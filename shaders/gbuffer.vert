@@ -6,7 +6,9 @@
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec4 in_tangent;
-layout(location = 3) in vec2 in_uv;
+#if defined(TEXTURES) || defined(TEXTURE_TRANSFORMS)
+layout(location = 3) in vec2 in_uv;  // read where a material samples a texture
+#endif
 #ifdef TEXTURE_TRANSFORMS
 layout(location = 4) in vec2 in_uv1;
 #endif
@@ -29,7 +31,9 @@ layout(location = 3) flat out uint out_material;
 layout(location = 8) out vec4 out_color;  // glTF COLOR_0, linear RGBA (white without one)
 #endif
 #ifndef TEXTURE_TRANSFORMS
+#ifdef TEXTURES
 layout(location = 4) out vec2 out_uv;
+#endif
 #else
 // Each sampled slot's coordinates, mapped here per vertex (an affine map interpolates
 // exactly), so the fragment stage's derivatives, helper invocations included, see the
@@ -68,7 +72,9 @@ void main() {
     out_color = object.material_index.y != 0u ? in_color : vec4(1.0);
 #endif
 #ifndef TEXTURE_TRANSFORMS
+#ifdef TEXTURES
     out_uv = in_uv;
+#endif
 #else
     // Slots in combustion_scene::TextureSlot::ALL order.
     uint m = object.material_index.x;

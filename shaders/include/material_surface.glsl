@@ -16,7 +16,13 @@ layout(location = 3) flat in uint in_material;
 layout(location = 8) in vec4 in_color;  // glTF COLOR_0, multiplied into base colour and alpha
 #endif
 #ifndef TEXTURE_TRANSFORMS
+#ifdef TEXTURES
 layout(location = 4) in vec2 in_uv;
+#define SURFACE_UV in_uv
+#else
+// Without textures no slot is sampled: no coordinates are interpolated.
+#define SURFACE_UV vec2(0.0)
+#endif
 #else
 layout(location = 5) in vec4 in_slot_uv[3];  // gbuffer.vert: each slot's mapped coordinates
 #ifdef TRANSMISSION
@@ -64,23 +70,23 @@ layout(location = 14) in vec4 in_slot_uv_specular;  // the specular and its colo
 #define UV_SPECULAR in_slot_uv_specular.xy
 #define UV_SPECULAR_COLOR in_slot_uv_specular.zw
 #else
-#define UV_BASE_COLOR in_uv
-#define UV_METALLIC_ROUGHNESS in_uv
-#define UV_NORMAL in_uv
-#define UV_EMISSIVE in_uv
-#define UV_ANISOTROPY in_uv
-#define UV_OCCLUSION in_uv
-#define UV_TRANSMISSION in_uv
-#define UV_THICKNESS in_uv
-#define UV_CLEARCOAT in_uv
-#define UV_CLEARCOAT_ROUGHNESS in_uv
-#define UV_CLEARCOAT_NORMAL in_uv
-#define UV_SHEEN_COLOR in_uv
-#define UV_SHEEN_ROUGHNESS in_uv
-#define UV_IRIDESCENCE in_uv
-#define UV_IRIDESCENCE_THICKNESS in_uv
-#define UV_SPECULAR in_uv
-#define UV_SPECULAR_COLOR in_uv
+#define UV_BASE_COLOR SURFACE_UV
+#define UV_METALLIC_ROUGHNESS SURFACE_UV
+#define UV_NORMAL SURFACE_UV
+#define UV_EMISSIVE SURFACE_UV
+#define UV_ANISOTROPY SURFACE_UV
+#define UV_OCCLUSION SURFACE_UV
+#define UV_TRANSMISSION SURFACE_UV
+#define UV_THICKNESS SURFACE_UV
+#define UV_CLEARCOAT SURFACE_UV
+#define UV_CLEARCOAT_ROUGHNESS SURFACE_UV
+#define UV_CLEARCOAT_NORMAL SURFACE_UV
+#define UV_SHEEN_COLOR SURFACE_UV
+#define UV_SHEEN_ROUGHNESS SURFACE_UV
+#define UV_IRIDESCENCE SURFACE_UV
+#define UV_IRIDESCENCE_THICKNESS SURFACE_UV
+#define UV_SPECULAR SURFACE_UV
+#define UV_SPECULAR_COLOR SURFACE_UV
 #endif
 
 // The vertex colour's alpha (1 without vertex colours).
@@ -93,8 +99,14 @@ float vertex_alpha() {
 }
 
 // A slot's texture as the rasteriser samples it: its set 1 binding at the fragment's
-// mapped coordinates, with the derivatives' mip level.
+// mapped coordinates, with the derivatives' mip level. In scenes without textures
+// (no TEXTURES) every slot's index is -1 and no read is made: the reads, and the
+// coordinates they would interpolate, are compiled out.
+#ifdef TEXTURES
 #define MATERIAL_TEXTURE(sampler, uv, index, slot) texture(sampler, uv)
+#else
+#define MATERIAL_TEXTURE(sampler, uv, index, slot) vec4(1.0)
+#endif
 #define MATERIAL_SURFACE_FUNCTION material_surface_of_fragment
 #include "material_surface_at.glsl"
 

@@ -243,6 +243,10 @@ pub(crate) fn scene_variant(scene: &Scene) -> crate::variant::ShaderVariant {
             .any(|o| scene.meshes.get(o.mesh).is_some_and(Mesh::has_colors)),
         lines: draws(scene, Topology::Lines),
         points: draws(scene, Topology::Points),
+        textures: scene
+            .materials
+            .iter()
+            .any(|m| m.texture_slots().iter().any(|(_, t)| t.is_some())),
         texture_transforms: scene.materials.iter().any(|m| {
             m.texture_slots()
                 .iter()

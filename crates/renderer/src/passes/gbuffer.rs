@@ -332,7 +332,8 @@ impl GBufferPass {
 }
 
 /// The vertex streams and attributes gbuffer.vert reads in `variant`: stream 0
-/// (`GpuVertex`: position, normal, tangent, first coordinate set) at locations 0–3, the
+/// (`GpuVertex`: position, normal, tangent, and the first coordinate set where a
+/// material samples a texture) at locations 0–3, the
 /// second coordinate set at 4 (TEXTURE_TRANSFORMS) and the colours at 5 (VERTEX_COLORS),
 /// each a stream of its own read only where the shader reads it. Every pass that runs
 /// gbuffer.vert declares these.
@@ -368,13 +369,16 @@ pub(crate) fn scene_vertex_input(
             format: vk::Format::R32G32B32A32_SFLOAT,
             offset: std::mem::offset_of!(Vertex, tangent) as u32,
         },
-        vk::VertexInputAttributeDescription {
+    ];
+    // The first coordinate set where a material samples a texture (TEXTURES).
+    if variant.textures || variant.texture_transforms {
+        attributes.push(vk::VertexInputAttributeDescription {
             location: 3,
             binding: 0,
             format: vk::Format::R32G32_SFLOAT,
             offset: std::mem::offset_of!(Vertex, uv) as u32,
-        },
-    ];
+        });
+    }
     // The second coordinate set and the colours, streams of their own, only where the
     // shader reads them.
     use crate::mesh_draw::ExtraStream;
