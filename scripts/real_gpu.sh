@@ -10,7 +10,8 @@
 #
 # On lavapipe the frame's floors are the CPU's (docs/performance.md, "Where the frame's
 # time goes"): its G-buffer pass is bound by rasterising small triangles in 4×4 blocks,
-# its full-screen passes by a per-pixel cost near 5 ms at 1280×720 whatever they do. A
+# its lighting pass by the surfaces' fetches and the BRDF's arithmetic (a 4×4 block of
+# background costs it nothing but its depth test). A
 # GPU's are its memory bandwidth (the G-buffer's 24 bytes a pixel written and read) and
 # its ALU (the BRDF's per-light work): which bounds each pass there is what this run
 # says. It refuses to run on a CPU device unless ALLOW_CPU=1 (to try the script itself).
