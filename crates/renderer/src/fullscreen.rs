@@ -170,32 +170,6 @@ impl FullscreenPass {
         )
     }
 
-    /// A pass whose fragments are shaded only where the frame's depth passes `test`
-    /// against the far plane's depth (1): `GREATER` where a surface was drawn, `EQUAL`
-    /// where none was. Recorded with [`FullscreenPass::draw`] inside a rendering given
-    /// that depth ([`begin_screen_rendering`]).
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn depth_tested(
-        device: &Arc<Device>,
-        compiler: &ShaderCompiler,
-        cache: &PipelineCache,
-        (fragment_shader, defines): (&str, &[(&str, Option<&str>)]),
-        set_layout: &DescriptorSetLayout,
-        push_size: u32,
-        output_format: vk::Format,
-        test: vk::CompareOp,
-    ) -> Result<Self, RenderError> {
-        let shader = (fragment_shader, defines);
-        let target = (
-            output_format,
-            combustion_vk::ColorBlend::Replace,
-            Some(test),
-        );
-        Self::build(
-            device, compiler, cache, shader, set_layout, push_size, target,
-        )
-    }
-
     /// A pass whose fragments (colour, α) are blended over the target's contents:
     /// colour · α + target · (1 − α), the target's alpha kept (bloom's composite).
     pub fn blending(
@@ -219,8 +193,12 @@ impl FullscreenPass {
     }
 
     /// The pass of `fragment_shader` with `defines` into `format` by `blend` (it loads
-    /// the target unless it replaces it), depth-tested by `depth_test` or not.
-    fn build(
+    /// the target unless it replaces it), depth-tested by `depth_test` or not: with a
+    /// test its fragments are shaded only where the frame's depth passes it against the
+    /// far plane's depth (1) — `GREATER` where a surface was drawn, `EQUAL` where none
+    /// was — and it is recorded with [`FullscreenPass::draw`] inside a rendering given
+    /// that depth ([`begin_screen_rendering`]).
+    pub(crate) fn build(
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
         cache: &PipelineCache,

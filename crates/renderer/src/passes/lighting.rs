@@ -149,8 +149,8 @@ fn folded_key(
 /// drawn (its depth test: the frame's depth below the far plane's), the background's
 /// pixels left to the background pipeline ([`background_key`]) or to the target's clear.
 /// On lavapipe a 4×4 block that fails the test as a whole runs no shader: on
-/// builtin:grid-7x7, 80 % background, the lighting pass took 16.5 ms instead of
-/// 20.5 (docs/performance.md). Path-traced frames trace every pixel, the background's
+/// builtin:grid-7x7, 80 % background, the lighting pass takes 13.75 ms instead of
+/// 16.5 (docs/performance.md). Path-traced frames trace every pixel, the background's
 /// too (path_trace.glsl), and are not tested.
 fn shades_surfaces_only(variant: ShaderVariant) -> bool {
     !super::path_trace::wanted(variant)
@@ -167,28 +167,25 @@ fn pipeline(
     let mut defines = variant.defines();
     defines.extend(settings.gbuffer.defines());
     defines.extend_from_slice(extra);
-    let push_size = std::mem::size_of::<LightingPush>() as u32;
-    if shades_surfaces_only(variant) {
-        return FullscreenPass::depth_tested(
-            t.device,
-            t.compiler,
-            t.cache,
-            ("lighting.frag", &defines),
-            t.layouts.of(&SET),
-            push_size,
-            format,
-            vk::CompareOp::GREATER,
-        );
-    }
-    FullscreenPass::new(
+    let test = shades_surfaces_only(variant).then_some(vk::CompareOp::GREATER);
+    lighting_frag(t, &defines, format, test)
+}
+
+/// lighting.frag built with `defines` into targets of `format`, depth-tested by `test`.
+fn lighting_frag(
+    t: &crate::pipelines::PipelineTools<'_>,
+    defines: &[(&str, Option<&str>)],
+    format: vk::Format,
+    test: Option<vk::CompareOp>,
+) -> Result<FullscreenPass, RenderError> {
+    FullscreenPass::build(
         t.device,
         t.compiler,
         t.cache,
-        "lighting.frag",
-        &defines,
+        ("lighting.frag", defines),
         t.layouts.of(&SET),
-        push_size,
-        format,
+        std::mem::size_of::<LightingPush>() as u32,
+        (format, combustion_vk::ColorBlend::Replace, test),
     )
 }
 
@@ -233,16 +230,7 @@ fn prepare_background(
     let defines = key.defines.clone();
     registry.build(key, |t| {
         Ok((
-            FullscreenPass::depth_tested(
-                t.device,
-                t.compiler,
-                t.cache,
-                ("lighting.frag", &defines),
-                t.layouts.of(&SET),
-                std::mem::size_of::<LightingPush>() as u32,
-                format,
-                vk::CompareOp::EQUAL,
-            )?,
+            lighting_frag(t, &defines, format, Some(vk::CompareOp::EQUAL))?,
             1,
         ))
     })?;
