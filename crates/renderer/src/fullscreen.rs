@@ -195,7 +195,7 @@ impl FullscreenPass {
     /// The pass of `fragment_shader` with `defines` into `format` by `blend` (it loads
     /// the target unless it replaces it), depth-tested by `depth_test` or not: with a
     /// test its fragments are shaded only where the frame's depth passes it against the
-    /// far plane's depth (1) — `GREATER` where a surface was drawn, `EQUAL` where none
+    /// far plane's depth (1) — `NOT_EQUAL` where a surface was drawn, `EQUAL` where none
     /// was — and it is recorded with [`FullscreenPass::draw`] inside a rendering given
     /// that depth ([`begin_screen_rendering`]).
     pub(crate) fn build(

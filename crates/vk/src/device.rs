@@ -110,16 +110,20 @@ pub struct DeviceDesc {
 /// block was freed, so depending on what the process did before, each frame's tens of
 /// megabytes may be faulted in and zeroed anew: builtin:grid-7x7 at 1280×720 took
 /// 175,000–207,000 page faults in 30 frames and a G-buffer pass of 36–39 ms instead of
-/// 29,900 and 26–29 ms (docs/performance.md). Kept, the threshold is
-/// [`KEPT_HEAP_TRIM_THRESHOLD`] from the device's creation on — a process-wide setting
-/// of the allocator, which a host that tunes its allocator itself turns off with
-/// [`HeapTrim::SystemDefault`]. Devices made by [`Device::new`] only: a host's own
-/// device ([`HostDevice`]) leaves the allocator to the host.
+/// 29,900 and 26–29 ms (docs/performance.md). Kept, the thresholds are
+/// [`KEPT_HEAP_TRIM_THRESHOLD`] and [`KEPT_HEAP_MMAP_THRESHOLD`] from the device's
+/// creation on — a process-wide setting of the allocator, which a host that tunes its
+/// allocator itself turns off with [`HeapTrim::SystemDefault`]. A process whose
+/// environment sets either threshold (`MALLOC_TRIM_THRESHOLD_`, `MALLOC_MMAP_THRESHOLD_`
+/// or `GLIBC_TUNABLES`' `glibc.malloc.trim_threshold`, `glibc.malloc.mmap_threshold`)
+/// keeps its own. Devices made by [`Device::new`] only: a host's own device
+/// ([`HostDevice`]) leaves the allocator to the host.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum HeapTrim {
-    /// On a CPU device, glibc's trim threshold is set to [`KEPT_HEAP_TRIM_THRESHOLD`]
-    /// (`mallopt(M_TRIM_THRESHOLD)`), which also stops glibc moving its mapping
-    /// threshold by itself.
+    /// On a CPU device, glibc's trim threshold is set to [`KEPT_HEAP_TRIM_THRESHOLD`] and
+    /// its mapping threshold to [`KEPT_HEAP_MMAP_THRESHOLD`] (`mallopt`): setting one
+    /// stops glibc moving the other by itself, so both are set, or blocks of 128 KiB and
+    /// more would be mapped and unmapped at each use.
     #[default]
     KeptOnCpuDevice,
     /// The allocator is left as the process has it.
@@ -131,6 +135,11 @@ pub enum HeapTrim {
 /// at 1280×720, with room for larger scenes.
 pub const KEPT_HEAP_TRIM_THRESHOLD: usize = 256 << 20;
 
+/// The smallest block glibc maps on its own rather than takes from the heap, on a CPU
+/// device ([`HeapTrim::KeptOnCpuDevice`]): glibc's largest (32 MiB on 64-bit systems),
+/// so that a frame's blocks below it are reused from the heap, not mapped anew.
+pub const KEPT_HEAP_MMAP_THRESHOLD: usize = 32 << 20;
+
 /// Applies `trim` for a device of `device_type`: see [`HeapTrim`].
 fn apply_heap_trim(trim: HeapTrim, device_type: vk::PhysicalDeviceType) {
     if trim != HeapTrim::KeptOnCpuDevice || device_type != vk::PhysicalDeviceType::CPU {
@@ -138,12 +147,25 @@ fn apply_heap_trim(trim: HeapTrim, device_type: vk::PhysicalDeviceType) {
     }
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     {
-        let threshold =
-            std::ffi::c_int::try_from(KEPT_HEAP_TRIM_THRESHOLD).unwrap_or(std::ffi::c_int::MAX);
-        // SAFETY: mallopt changes the allocator's parameters only; glibc serialises it
-        // with allocations. A refusal (0) leaves the system's behaviour, which is correct,
-        // only slower.
-        let _ = unsafe { libc::mallopt(libc::M_TRIM_THRESHOLD, threshold) };
+        let tunables = std::env::var("GLIBC_TUNABLES").unwrap_or_default();
+        let set_by_environment = |variable: &str, tunable: &str| {
+            std::env::var_os(variable).is_some() || tunables.contains(tunable)
+        };
+        if set_by_environment("MALLOC_TRIM_THRESHOLD_", "glibc.malloc.trim_threshold")
+            || set_by_environment("MALLOC_MMAP_THRESHOLD_", "glibc.malloc.mmap_threshold")
+        {
+            return;
+        }
+        for (parameter, bytes) in [
+            (libc::M_MMAP_THRESHOLD, KEPT_HEAP_MMAP_THRESHOLD),
+            (libc::M_TRIM_THRESHOLD, KEPT_HEAP_TRIM_THRESHOLD),
+        ] {
+            let value = std::ffi::c_int::try_from(bytes).unwrap_or(std::ffi::c_int::MAX);
+            // SAFETY: mallopt changes the allocator's parameters only; glibc serialises
+            // it with allocations. A refusal (0) leaves the system's behaviour, which is
+            // correct, only slower.
+            let _ = unsafe { libc::mallopt(parameter, value) };
+        }
     }
 }
 
@@ -815,7 +837,6 @@ impl Device {
             guard.messenger = Some((loader, messenger));
         }
         let (physical_device, info, queue_family) = select_device(instance, &desc.selector)?;
-        apply_heap_trim(desc.heap_trim, info.device_type);
         // SAFETY: valid physical device.
         let limits = unsafe { instance.get_physical_device_properties(physical_device) }.limits;
 
@@ -873,6 +894,9 @@ impl Device {
             }
         };
         let (instance, messenger) = guard.disarm();
+        // Made: the process's allocator is set for its frames (not for a device that
+        // failed to be made).
+        apply_heap_trim(desc.heap_trim, info.device_type);
         let acceleration_structure =
             ray_queries.then(|| ash::khr::acceleration_structure::Device::new(&instance, &device));
         log::info!(

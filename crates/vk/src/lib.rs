@@ -41,7 +41,8 @@ mod timestamps;
 pub use commands::{FrameRing, OneShot, RingFrame};
 pub use device::{
     Device, DeviceDesc, DeviceInfo, DeviceSelector, EnabledFeatures, HeapTrim, HostDevice,
-    QueueLock, RayQueries, Requirements, SharedAllocator, ValidationLog, KEPT_HEAP_TRIM_THRESHOLD,
+    QueueLock, RayQueries, Requirements, SharedAllocator, ValidationLog, KEPT_HEAP_MMAP_THRESHOLD,
+    KEPT_HEAP_TRIM_THRESHOLD,
 };
 pub use disk_cache::{default_cache_dir, Digest, DiskCache};
 pub use error::{VkError, VkResultExt};

@@ -146,8 +146,10 @@ fn folded_key(
 }
 
 /// Whether `variant`'s lighting pipeline shades only the pixels where a surface was
-/// drawn (its depth test: the frame's depth below the far plane's), the background's
-/// pixels left to the background pipeline ([`background_key`]) or to the target's clear.
+/// drawn (its depth test: the frame's depth other than the far plane's, a depth that is
+/// not a number included, which lighting.frag handles), the background's pixels left to
+/// the background pipeline ([`background_key`]: the far plane's depth) or to the target's
+/// clear: between them the two tests pass every pixel once.
 /// On lavapipe a 4×4 block that fails the test as a whole runs no shader: on
 /// builtin:grid-7x7, 80 % background, the lighting pass takes 13.75 ms instead of
 /// 16.5 (docs/performance.md). Path-traced frames trace every pixel, the background's
@@ -167,7 +169,7 @@ fn pipeline(
     let mut defines = variant.defines();
     defines.extend(settings.gbuffer.defines());
     defines.extend_from_slice(extra);
-    let test = shades_surfaces_only(variant).then_some(vk::CompareOp::GREATER);
+    let test = shades_surfaces_only(variant).then_some(vk::CompareOp::NOT_EQUAL);
     lighting_frag(t, &defines, format, test)
 }
 
@@ -253,12 +255,15 @@ pub(crate) fn prepare_folded(
     if !settings.fold_output {
         return Ok(());
     }
+    // The background's first: a frame folds where the folded pipeline is built
+    // (folds_output), and it draws both.
+    prepare_background(registry, variant, format, Some(encoding))?;
     registry.build(folded_key(variant, settings, format), |t| {
         let mut folded = vec![("OUTPUT_FOLDED", None)];
         folded.extend(encoding.defines());
         Ok((pipeline(t, (variant, settings), &folded, format)?, 1))
     })?;
-    prepare_background(registry, variant, format, Some(encoding))
+    Ok(())
 }
 
 /// Whether `frame` has the lighting pass write its target itself, the output pass's
@@ -393,10 +398,11 @@ impl FramePass for Lighting {
         registry: &mut PipelineRegistry,
     ) -> Result<(), RenderError> {
         let hdr = settings.hdr_format.vk();
+        prepare_background(registry, variant, hdr, None)?;
         registry.build(key(variant, settings), |t| {
             Ok((pipeline(t, (variant, settings), &[], hdr)?, 1))
         })?;
-        prepare_background(registry, variant, hdr, None)
+        Ok(())
     }
 
     fn images(&self, variant: ShaderVariant, settings: &RendererSettings) -> Vec<ImageRequest> {
@@ -530,9 +536,9 @@ impl FramePass for Lighting {
         let depth = tested.then(|| frame.gbuffer.depth.view());
         let set = frame.slot.set(&SET);
         if frame.output_folded {
-            // Every pixel written: the surfaces' and the background's pipelines (tested),
-            // or the one pipeline; a pixel neither test passes (a depth that is not a
-            // number, which no draw writes) keeps the clear. Then the overlay over it.
+            // Every pixel written: by the surfaces' or the background's pipeline (tested;
+            // their tests pass every pixel once), or by the one pipeline. Then the
+            // overlay over it.
             let format = frame.target.color.format;
             let lighting: &FullscreenPass = frame
                 .registry
@@ -543,12 +549,7 @@ impl FramePass for Lighting {
                 .with_output(frame.inputs.exposure, frame.inputs.tone_mapping as u32);
             let push = bytemuck::bytes_of(&push);
             let target = (frame.target.color.view, frame.extent());
-            let start = if tested {
-                TargetStart::Clear([0.0; 4])
-            } else {
-                TargetStart::Written
-            };
-            begin_screen_rendering(frame.device, cmd, target, start, depth);
+            begin_screen_rendering(frame.device, cmd, target, TargetStart::Written, depth);
             lighting.draw(frame.device, cmd, set, push);
             if !tested {
                 super::output::record_overlay(frame, cmd);
@@ -572,7 +573,8 @@ impl FramePass for Lighting {
         // The rendering starts from the background's radiance (nothing where the
         // environment is the background), alpha 0 marking it: what a pixel lighting.frag
         // discards keeps (one whose depth is not a number), and, in tested pipelines,
-        // every background pixel unless the environment is the background.
+        // every background pixel unless the environment is the background (then drawn by
+        // the background's pipeline).
         let [r, g, b, environment] = frame.lighting_push.background;
         let lighting: &FullscreenPass = frame
             .registry
