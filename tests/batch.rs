@@ -23,6 +23,30 @@ fn results(folder: &Path) -> Value {
 }
 
 /// `combustion batch --merge SHARDS… -o MERGED`, which must succeed.
+/// Runs `batch MANIFEST --shard i/count` for i = 1..=count, each into `dir`/shard-i:
+/// each shard's folder and its exit code, standard output and error.
+fn run_shards(
+    manifest: &Path,
+    dir: &Path,
+    count: u32,
+) -> Vec<(std::path::PathBuf, (i32, String, String))> {
+    (1..=count)
+        .map(|i| {
+            let folder = dir.join(format!("shard-{i}"));
+            let shard = format!("{i}/{count}");
+            let run = combustion(&[
+                "batch",
+                text(manifest),
+                "-o",
+                text(&folder),
+                "--shard",
+                &shard,
+            ]);
+            (folder, run)
+        })
+        .collect()
+}
+
 fn merge_shards(shards: &[std::path::PathBuf], merged: &Path) {
     let mut args = vec!["batch", "--merge"];
     args.extend(shards.iter().map(|s| text(s)));
@@ -316,17 +340,7 @@ fn a_shard_without_jobs_has_empty_results_and_merges() {
     )
     .unwrap();
     let mut shards = Vec::new();
-    for i in 1..=3 {
-        let folder = dir.join(format!("shard-{i}"));
-        let shard = format!("{i}/3");
-        let (code, stdout, stderr) = combustion(&[
-            "batch",
-            text(&manifest),
-            "-o",
-            text(&folder),
-            "--shard",
-            &shard,
-        ]);
+    for (i, (folder, (code, stdout, stderr))) in (1..).zip(run_shards(&manifest, &dir, 3)) {
         assert_eq!(code, 0, "{stdout}{stderr}");
         let jobs = results(&folder)["jobs"].as_array().unwrap().len();
         assert_eq!(jobs, usize::from(i < 3), "shard {i}/3");
@@ -355,20 +369,10 @@ fn merged_messages_reach_no_terminal_raw() {
                       {"name": "b", "scene": "broken.gltf", "width": 32, "height": 24}]}"#,
     )
     .unwrap();
-    let mut shards = Vec::new();
-    for i in 1..=2 {
-        let folder = dir.join(format!("shard-{i}"));
-        let shard = format!("{i}/2");
-        combustion(&[
-            "batch",
-            text(&manifest),
-            "-o",
-            text(&folder),
-            "--shard",
-            &shard,
-        ]);
-        shards.push(folder);
-    }
+    let shards: Vec<_> = run_shards(&manifest, &dir, 2)
+        .into_iter()
+        .map(|(folder, _)| folder)
+        .collect();
     // Job b failed to load: its message, rewritten as a hostile file would hold it.
     let file = shards[1].join("results.json");
     let mut written = results(&shards[1]);

@@ -1455,6 +1455,92 @@ fn sampled_environment_applies_occlusion_as_the_split_sum() {
     }
 }
 
+/// The two scenes the alternation tests take turns with, uploaded to `renderer`: the
+/// authored textured scene lit by the studio environment alone (textures, the emissive
+/// and occlusion target, an environment), and the plain sphere grid (none of them).
+fn textured_studio_and_plain(
+    renderer: &mut combustion::renderer::Renderer,
+) -> [combustion::renderer::GpuScene; 2] {
+    let mut textured = common::authored_scene("textured");
+    textured.lights.clear();
+    textured.environment = Some(Environment::Studio);
+    let plain = common::with_coarse_grid_spheres(builtin_scene("spheres").expect("built in"));
+    [
+        renderer.upload(&textured).expect("upload"),
+        renderer.upload(&plain).expect("upload"),
+    ]
+}
+
+/// Frames whose output is folded into the lighting pass (nothing read back) — its
+/// depth-tested surfaces' pipeline and the background's own pipeline writing the target —
+/// alternate between the textured scene under the studio environment, shown as its
+/// background (the TEXTURES variant and the background pipeline with ENVIRONMENT), and
+/// the plain sphere grid on black (neither): runs of 20 frames each (past the 16-frame
+/// retire delay), twice round, under validation. Every alternated frame is folded (no
+/// output pass runs), and each scene's image after the alternation is the one before it,
+/// byte for byte, its background the environment's or black.
+#[test]
+fn folded_frames_alternate_textured_environment_scenes_with_plain_ones() {
+    use combustion::renderer::{Background, PassTimings};
+    let mut headless = common::lavapipe(common::exact_f32());
+    let renderer = headless.renderer();
+    let scenes = textured_studio_and_plain(renderer);
+    // The environment where the scene has one, as the camera sees it; else black.
+    fn inputs(gpu: &combustion::renderer::GpuScene) -> FrameInputs<'_> {
+        FrameInputs {
+            background: if gpu.scene().environment.is_some() {
+                Background::Environment
+            } else {
+                Background::None
+            },
+            ..FrameInputs::of_scene(gpu, 1.0)
+        }
+    }
+    let size = (64, 48);
+    let images = |renderer: &mut combustion::renderer::Renderer| -> Vec<Vec<[u8; 4]>> {
+        scenes
+            .iter()
+            .map(|gpu| {
+                renderer
+                    .render_with(gpu, &inputs(gpu), size.0, size.1, Readback::IMAGES)
+                    .expect("frame")
+                    .ldr
+            })
+            .collect()
+    };
+    let before = images(renderer);
+    // The top-left corner is background in both: the studio's radiance, or black.
+    assert_ne!(
+        before[0][0],
+        [0, 0, 0, 255],
+        "the environment as the background"
+    );
+    assert_eq!(before[1][0], [0, 0, 0, 255], "a black background");
+    common::alternate_scenes_past_the_retire_delay(
+        renderer,
+        &scenes,
+        (size, Readback::default()),
+        inputs,
+        |index, frame| {
+            assert_eq!(
+                frame.timings.ms(PassTimings::OUTPUT),
+                None,
+                "scene {index}: the output folded into the lighting pass ({:?})",
+                frame.timings.names()
+            );
+        },
+    );
+    let after = images(renderer);
+    assert!(
+        before == after,
+        "a scene's image changed over the alternation"
+    );
+    for gpu in scenes {
+        renderer.retire(gpu);
+    }
+    common::finish(headless);
+}
+
 /// The emissive + occlusion readback (`GBufferTexel::emissive_occlusion`) alternates with
 /// frames whose variant has no such target: runs of 20 frames each (past the 16-frame
 /// retire delay) of the textured scene under the studio environment (the target, read
@@ -1463,20 +1549,13 @@ fn sampled_environment_applies_occlusion_as_the_split_sum() {
 /// emission, no occlusion) and never a stale value of the other scene's.
 #[test]
 fn the_emissive_occlusion_readback_alternates_with_frames_without_it() {
-    let mut textured = common::authored_scene("textured");
-    textured.lights.clear();
-    textured.environment = Some(Environment::Studio);
-    let plain = common::with_coarse_grid_spheres(builtin_scene("spheres").expect("built in"));
     let mut headless = common::lavapipe(common::exact_f32());
     let renderer = headless.renderer();
-    let scenes = [
-        renderer.upload(&textured).expect("upload"),
-        renderer.upload(&plain).expect("upload"),
-    ];
+    let scenes = textured_studio_and_plain(renderer);
     common::alternate_scenes_past_the_retire_delay(
         renderer,
         &scenes,
-        (64, 48),
+        ((64, 48), Readback::ALL),
         |gpu| FrameInputs::of_scene(gpu, 1.0),
         |index, frame| {
             let texels = &frame.gbuffer.as_ref().expect("G-buffer").texels;

@@ -334,7 +334,7 @@ fn frames_with_and_without_points_and_lines_alternate() {
         common::alternate_scenes_past_the_retire_delay(
             renderer,
             &scenes,
-            (SIZE, SIZE),
+            ((SIZE, SIZE), combustion::renderer::Readback::ALL),
             |gpu| common::frame_inputs(gpu.scene(), &gpu.scene().lights),
             |index, frame| {
                 let stroke_pixels = (0..SIZE * SIZE)

@@ -281,12 +281,13 @@ pub fn with_coarse_grid_spheres(mut scene: Scene) -> Scene {
 }
 
 /// Renders `gpus` in turn, [`FRAMES_PAST_THE_RETIRE_DELAY`] frames each, twice round,
-/// each frame with `inputs` of its scene at `width` × `height` and everything read back,
-/// and hands every frame to `check` with its scene's index.
+/// each frame with `inputs` of its scene at `width` × `height` and `readback` (everything,
+/// or nothing: frames whose output is folded into the lighting pass), and hands every
+/// frame to `check` with its scene's index.
 pub fn alternate_scenes_past_the_retire_delay(
     renderer: &mut combustion::renderer::Renderer,
     gpus: &[combustion::renderer::GpuScene],
-    (width, height): (u32, u32),
+    ((width, height), readback): ((u32, u32), Readback),
     inputs: impl Fn(&combustion::renderer::GpuScene) -> combustion::renderer::FrameInputs<'_>,
     mut check: impl FnMut(usize, &Frame),
 ) {
@@ -294,7 +295,7 @@ pub fn alternate_scenes_past_the_retire_delay(
         for (index, gpu) in gpus.iter().enumerate() {
             for _ in 0..FRAMES_PAST_THE_RETIRE_DELAY {
                 let frame = renderer
-                    .render_with(gpu, &inputs(gpu), width, height, Readback::ALL)
+                    .render_with(gpu, &inputs(gpu), width, height, readback)
                     .expect("frame");
                 check(index, &frame);
             }
